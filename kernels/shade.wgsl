@@ -1,0 +1,40 @@
+// shade: V(p) += sum over this chunk's samples of weight_i * lit_i(p). Chunks (one per shadow-map
+// array or budget slice) accumulate in order, so the sum order is fixed and the CPU twin matches.
+
+struct GpuShadeChunk {
+    first_sample: u32,
+    sample_count: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(0) @binding(0) var<uniform> frame: GpuFrame;
+@group(0) @binding(1) var<uniform> chunk: GpuShadeChunk;
+@group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
+@group(0) @binding(3) var<storage, read> weights: array<f32>;
+@group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
+@group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(7) var<storage, read_write> visibility: array<f32>;
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let pixel = vec2<i32>(gid.xy);
+    let position = textureLoad(gbuffer_position, pixel, 0);
+    if (position.w == 0.0) {
+        return;
+    }
+    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    let index = gid.y * frame.width + gid.x;
+    var v = visibility[index];
+    for (var i = 0u; i < chunk.sample_count; i = i + 1u) {
+        let s = samples[chunk.first_sample + i];
+        let lookup = shadow_lookup(frame, s, position.xyz, normal);
+        let stored = textureLoad(shadow_maps, lookup.texel, i32(s.layer), 0);
+        v = v + weights[chunk.first_sample + i] * f32(shadow_compare(s, lookup, stored));
+    }
+    visibility[index] = v;
+}

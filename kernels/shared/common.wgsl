@@ -1,0 +1,84 @@
+// Shared prelude, concatenated before every kernel: WGSL twins of the Rust `Gpu*` structs
+// (src/layout.rs; a test compares their layouts) and the one shadow-map test every method uses.
+
+struct GpuFrame {
+    width: u32,
+    height: u32,
+    map_size: u32,
+    flags: u32,
+    light_center: vec4<f32>,
+    light_normal: vec4<f32>,
+    bias_constant: f32,
+    bias_slope: f32,
+    normal_offset: f32,
+    max_slope: f32,
+}
+
+struct GpuSample {
+    light_from_world: mat4x4<f32>,
+    position: vec4<f32>,
+    // Texel footprint per unit of linear depth: world size of a texel at depth z is z * texel_angle.
+    texel_angle: f32,
+    // Linear depth of a stored depth d is depth_lin_a / (d + depth_lin_b) (both negative).
+    depth_lin_a: f32,
+    depth_lin_b: f32,
+    layer: u32,
+    array: u32,
+    lattice: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+const LOOKUP_UNLIT: u32 = 0u;    // behind the light's plane, or the sample is below p's tangent plane
+const LOOKUP_OUTSIDE: u32 = 1u;  // projects outside the map: nothing there can occlude
+const LOOKUP_COMPARE: u32 = 2u;  // compare depth_limit with the map at texel
+
+struct ShadowLookup {
+    texel: vec2<i32>,
+    kind: u32,
+    depth_limit: f32,
+}
+
+// Where surface point p (normal n, facing the camera) lands in sample s's map, with the bias applied.
+// Bias is in texels at p's depth, so it does not depend on scene scale: constant + slope * tan(angle).
+fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> ShadowLookup {
+    var out: ShadowLookup;
+    out.texel = vec2<i32>(0, 0);
+    out.depth_limit = 0.0;
+    let to_light = s.position.xyz - p;
+    let light_side = dot(p - frame.light_center.xyz, frame.light_normal.xyz);
+    let facing = dot(n, to_light);
+    if (light_side <= 0.0 || facing <= 0.0) {
+        out.kind = LOOKUP_UNLIT;
+        return out;
+    }
+    let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
+    let texel_world = depth * s.texel_angle;
+    let q = p + n * (frame.normal_offset * texel_world);
+    let clip = s.light_from_world * vec4<f32>(q, 1.0);
+    let size = f32(frame.map_size);
+    let uv = vec2<f32>(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
+    let t = floor(uv * size);
+    if (clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size) {
+        out.kind = LOOKUP_OUTSIDE;
+        return out;
+    }
+    let cos_angle = facing / length(to_light);
+    let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / cos_angle, frame.max_slope);
+    out.kind = LOOKUP_COMPARE;
+    out.texel = vec2<i32>(t);
+    out.depth_limit = clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
+    return out;
+}
+
+// 1 when p is lit by the sample whose map holds `stored` at the looked-up texel.
+// Compared in linear depth without a division: limit <= a / (d + b) with d + b < 0.
+fn shadow_compare(s: GpuSample, lookup: ShadowLookup, stored: f32) -> u32 {
+    if (lookup.kind == LOOKUP_UNLIT) {
+        return 0u;
+    }
+    if (lookup.kind == LOOKUP_OUTSIDE) {
+        return 1u;
+    }
+    return select(0u, 1u, lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
+}

@@ -1,0 +1,60 @@
+//! shade: accumulates weight_i · lit_i(p) over one array's samples into the visibility buffer.
+
+use super::groups;
+use crate::gpu::{pipeline, readback, GpuContext};
+use crate::layout::GpuShadeChunk;
+use crate::render::gbuffer::GBuffer;
+use crate::Result;
+
+pub const WORKGROUP: [u32; 3] = [8, 8, 1];
+
+pub struct ShadePass {
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// Buffers and views every shade call reads.
+pub struct ShadeInputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub samples: &'a wgpu::Buffer,
+    pub weights: &'a wgpu::Buffer,
+    pub gbuffer: &'a GBuffer,
+    pub visibility: &'a wgpu::Buffer,
+}
+
+impl ShadePass {
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { pipeline: pipeline::compute_pipeline(ctx, "shade", "main")? })
+    }
+
+    /// Adds samples `first .. first + count` (all in `maps`) to the visibility buffer.
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &ShadeInputs,
+        maps: &wgpu::TextureView,
+        first: u32,
+        count: u32,
+    ) {
+        let chunk = readback::uniform_buffer(ctx, "shade chunk", &GpuShadeChunk { first_sample: first, sample_count: count, pad0: 0, pad1: 0 });
+        let bind = pipeline::bind_group(
+            ctx,
+            "shade",
+            &self.pipeline.get_bind_group_layout(0),
+            &[
+                inputs.frame.as_entire_binding(),
+                chunk.as_entire_binding(),
+                inputs.samples.as_entire_binding(),
+                inputs.weights.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
+                wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
+                wgpu::BindingResource::TextureView(maps),
+                inputs.visibility.as_entire_binding(),
+            ],
+        );
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("shade"), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(groups(inputs.gbuffer.width, WORKGROUP[0]), groups(inputs.gbuffer.height, WORKGROUP[1]), 1);
+    }
+}

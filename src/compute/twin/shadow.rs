@@ -1,0 +1,58 @@
+//! Twin of `kernels/shared/common.wgsl`: `shadow_lookup` and `shadow_compare`, same operation order.
+
+use crate::layout::{GpuFrame, GpuSample};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+pub const LOOKUP_UNLIT: u32 = 0;
+pub const LOOKUP_OUTSIDE: u32 = 1;
+pub const LOOKUP_COMPARE: u32 = 2;
+
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowLookup {
+    pub texel: [i32; 2],
+    pub kind: u32,
+    pub depth_limit: f32,
+}
+
+pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> ShadowLookup {
+    let mut out = ShadowLookup { texel: [0, 0], kind: LOOKUP_UNLIT, depth_limit: 0.0 };
+    let to_light = Vec4::from(s.position).truncate() - p;
+    let light_side = (p - Vec4::from(frame.light_center).truncate()).dot(Vec4::from(frame.light_normal).truncate());
+    let facing = n.dot(to_light);
+    if light_side <= 0.0 || facing <= 0.0 {
+        return out;
+    }
+    let m = Mat4::from_cols_array_2d(&s.light_from_world);
+    let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w).dot(Vec4::from((p, 1.0)));
+    let texel_world = depth * s.texel_angle;
+    let q = p + n * (frame.normal_offset * texel_world);
+    let clip = m * Vec4::from((q, 1.0));
+    let size = frame.map_size as f32;
+    let uv = Vec2::new(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
+    let t = (uv * size).floor();
+    if clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size {
+        out.kind = LOOKUP_OUTSIDE;
+        return out;
+    }
+    let cos_angle = facing / to_light.length();
+    let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle).min(frame.max_slope);
+    out.kind = LOOKUP_COMPARE;
+    out.texel = [t.x as i32, t.y as i32];
+    out.depth_limit = clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
+    out
+}
+
+pub fn shadow_compare(s: &GpuSample, lookup: &ShadowLookup, stored: f32) -> u32 {
+    match lookup.kind {
+        LOOKUP_UNLIT => 0,
+        LOOKUP_OUTSIDE => 1,
+        _ => (lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a) as u32,
+    }
+}
+
+/// lit_i(p) given the sample's map (row-major, `map_size²` depths).
+pub fn lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], p: Vec3, n: Vec3) -> u32 {
+    let lookup = shadow_lookup(frame, s, p, n);
+    let stored = map[(lookup.texel[1] * frame.map_size as i32 + lookup.texel[0]) as usize];
+    shadow_compare(s, &lookup, stored)
+}

@@ -1,0 +1,48 @@
+//! One error type for the library; the binary wraps it in `anyhow`.
+
+use std::path::Path;
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A scene file (or built-in scene) is malformed; `origin` names the file.
+    #[error("{origin}: {message}")]
+    Scene { origin: String, message: String },
+    /// A mesh file is missing, unreadable or malformed.
+    #[error("{origin}: {message}")]
+    Mesh { origin: String, message: String },
+    /// No usable GPU adapter.
+    #[error("{0}")]
+    NoAdapter(String),
+    /// A requested size exceeds what the device or the budget allows and cannot be split.
+    #[error("{0}")]
+    Limit(String),
+    /// A kernel failed to compile or validate.
+    #[error("kernel `{name}`: {message}")]
+    Kernel { name: String, message: String },
+    /// A GPU operation failed (device lost, validation, mapping).
+    #[error("gpu: {0}")]
+    Gpu(String),
+    /// A method name or parameter is wrong.
+    #[error("{0}")]
+    Param(String),
+    /// A counter overflowed its buffer on the GPU.
+    #[error("overflow: {0}")]
+    Overflow(String),
+    /// Reading or writing a file failed.
+    #[error("{path}: {message}")]
+    Io { path: String, message: String },
+}
+
+impl Error {
+    pub fn scene(origin: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Scene { origin: origin.into(), message: message.into() }
+    }
+    pub fn mesh(origin: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Mesh { origin: origin.into(), message: message.into() }
+    }
+    pub fn io(path: &Path, err: impl std::fmt::Display) -> Self {
+        Error::Io { path: path.display().to_string(), message: err.to_string() }
+    }
+}

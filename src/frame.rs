@@ -1,0 +1,123 @@
+//! One frame: upload, G-buffer, the method's shadow maps and compute stages, read-back.
+
+use crate::compute::shade::{ShadeInputs, ShadePass};
+use crate::gpu::{readback, GpuContext};
+use crate::layout::{GpuCamera, GpuFrame};
+use crate::methods::{self, Method};
+use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
+use crate::render::shadow_raster::ShadowRasterPass;
+use crate::render::SceneGpu;
+use crate::scene::Scene;
+use crate::timing::{StageTimer, TimingMode};
+use crate::Result;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// What a method hands back besides the visibility buffer it filled.
+pub struct MethodOutput {
+    pub shadow_maps: u32,
+    /// CPU↔GPU synchronisations the algorithm needs (read-backs), not counting timing waits.
+    pub syncs: u32,
+    pub record: serde_json::Value,
+    pub pictures: Vec<(String, image::RgbImage)>,
+}
+
+/// GPU state every method works on.
+pub struct FrameGpu<'a> {
+    pub ctx: &'a GpuContext,
+    pub scene: &'a Scene,
+    pub scene_gpu: SceneGpu,
+    pub gbuffer: GBuffer,
+    pub frame: GpuFrame,
+    pub frame_buffer: wgpu::Buffer,
+    pub raster: ShadowRasterPass,
+    pub shade: ShadePass,
+    pub visibility: wgpu::Buffer,
+}
+
+impl FrameGpu<'_> {
+    pub fn shade_inputs<'b>(&'b self, samples: &'b wgpu::Buffer, weights: &'b wgpu::Buffer) -> ShadeInputs<'b> {
+        ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, visibility: &self.visibility }
+    }
+    pub fn pixel_count(&self) -> u32 {
+        self.gbuffer.width * self.gbuffer.height
+    }
+}
+
+pub struct FrameResult {
+    pub visibility: Vec<f32>,
+    pub gbuffer: GBufferCpu,
+    pub output: MethodOutput,
+    pub stages_ms: BTreeMap<String, f64>,
+    pub total_ms: f64,
+    pub timing_waits: u32,
+}
+
+pub fn frame_uniform(scene: &Scene) -> GpuFrame {
+    let b = scene.render.bias;
+    GpuFrame {
+        width: scene.render.width,
+        height: scene.render.height,
+        map_size: scene.render.shadow_map_size,
+        flags: 0,
+        light_center: [scene.light.center.x, scene.light.center.y, scene.light.center.z, 1.0],
+        light_normal: scene.light.normal().extend(0.0).to_array(),
+        bias_constant: b.constant,
+        bias_slope: b.slope,
+        normal_offset: b.normal_offset,
+        max_slope: b.max_slope,
+    }
+}
+
+pub fn camera_uniform(scene: &Scene) -> GpuCamera {
+    let aspect = scene.render.width as f32 / scene.render.height as f32;
+    GpuCamera {
+        clip_from_world: scene.camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
+        eye: scene.camera.eye.extend(1.0).to_array(),
+    }
+}
+
+/// Renders one frame of `scene` with `method`.
+pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode) -> Result<FrameResult> {
+    let start = Instant::now();
+    let mut timer = StageTimer::new(mode);
+    let (w, h) = (scene.render.width, scene.render.height);
+    let gbuffer_pass = GBufferPass::new(ctx)?;
+    let gbuffer = GBufferPass::allocate(ctx, w, h)?;
+    let scene_gpu = timer.cpu("upload", || Ok(SceneGpu::upload(ctx, scene)))?;
+    let frame = frame_uniform(scene);
+    let fg = FrameGpu {
+        ctx,
+        scene,
+        frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
+        frame,
+        raster: ShadowRasterPass::new(ctx, scene.render.cull)?,
+        shade: ShadePass::new(ctx)?,
+        visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
+        scene_gpu,
+        gbuffer,
+    };
+    let setup_ms = start.elapsed().as_secs_f64() * 1e3;
+    let frame_start = Instant::now();
+    let camera = camera_uniform(scene);
+    timer.stage(ctx, "gbuffer", |enc| {
+        gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &camera, &fg.gbuffer);
+        Ok(())
+    })?;
+    let output = match method {
+        Method::Hard => methods::fixed::run(&fg, &mut timer, &[(0.5, 0.5)])?,
+        Method::Regular { n } => methods::fixed::run(&fg, &mut timer, &methods::fixed::regular_points(*n))?,
+        Method::Adaptive(p) => methods::adaptive::run(&fg, &mut timer, p)?,
+    };
+    timer.flush(ctx);
+    let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
+    let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
+    let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
+    // Σŵ = 1 up to rounding: clamp so V ∈ [0, 1] holds exactly; background stays 0.
+    for (i, v) in visibility.iter_mut().enumerate() {
+        *v = if gbuffer.is_geometry(i) { v.clamp(0.0, 1.0) } else { 0.0 };
+    }
+    let mut stages_ms = timer.stages_ms.clone();
+    stages_ms.insert("setup".into(), setup_ms);
+    Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits })
+}

@@ -1,0 +1,112 @@
+//! `#[repr(C)]` Pod twins of the WGSL structs. A test reads the WGSL layout through naga and
+//! compares every member offset and the size with these, so the two cannot drift apart silently.
+
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuFrame {
+    pub width: u32,
+    pub height: u32,
+    pub map_size: u32,
+    pub flags: u32,
+    pub light_center: [f32; 4],
+    pub light_normal: [f32; 4],
+    pub bias_constant: f32,
+    pub bias_slope: f32,
+    pub normal_offset: f32,
+    pub max_slope: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuSample {
+    pub light_from_world: [[f32; 4]; 4],
+    pub position: [f32; 4],
+    pub texel_angle: f32,
+    pub depth_lin_a: f32,
+    pub depth_lin_b: f32,
+    pub layer: u32,
+    pub array: u32,
+    pub lattice: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuCamera {
+    pub clip_from_world: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuShadeChunk {
+    pub first_sample: u32,
+    pub sample_count: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// Parameters of one adaptive level (reproject_count, neighbourhood, quad_count, subdivide, compact).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuLevel {
+    pub level: u32,
+    pub max_level: u32,
+    pub quad_count: u32,
+    pub p_m: u32,
+    pub words_per_row: u32,
+    pub flag_words_per_row: u32,
+    pub item_capacity: u32,
+    pub quad_capacity: u32,
+    pub local: u32,
+    pub first_quad: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// A quad of the light's lattice: corner (i, j) and side in lattice steps.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Pod, Zeroable)]
+pub struct GpuQuad {
+    pub i: u32,
+    pub j: u32,
+    pub size: u32,
+    pub parent: u32,
+}
+
+/// Member offsets and size of a Rust GPU struct, for the layout test.
+pub struct StructLayout {
+    pub name: &'static str,
+    pub size: usize,
+    pub members: Vec<(&'static str, usize)>,
+}
+
+macro_rules! layout_of {
+    ($t:ident { $($f:ident),* $(,)? }) => {
+        StructLayout {
+            name: stringify!($t),
+            size: std::mem::size_of::<$t>(),
+            members: vec![$((stringify!($f), std::mem::offset_of!($t, $f))),*],
+        }
+    };
+}
+
+/// Every struct shared with WGSL.
+pub fn all_layouts() -> Vec<StructLayout> {
+    vec![
+        layout_of!(GpuFrame {
+            width, height, map_size, flags, light_center, light_normal, bias_constant, bias_slope, normal_offset, max_slope
+        }),
+        layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
+        layout_of!(GpuCamera { clip_from_world, eye }),
+        layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
+        layout_of!(GpuLevel {
+            level, max_level, quad_count, p_m, words_per_row, flag_words_per_row, item_capacity, quad_capacity, local,
+            first_quad, pad0, pad1
+        }),
+        layout_of!(GpuQuad { i, j, size, parent }),
+    ]
+}

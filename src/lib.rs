@@ -1,0 +1,21 @@
+//! Penumbra: soft shadows from rectangular area lights on a compute-centric wgpu pipeline.
+//!
+//! Data flows one way and the modules read in that order:
+//! scene ─► GPU upload ─► G-buffer ─► light samples ─► shadow-map raster
+//! ─► compute (reproject_count ─► neighbourhood ─► quad_count ─► subdivide) ─► shade ─► run record.
+
+pub mod error;
+pub mod gpu;
+pub mod kernels;
+pub mod layout;
+pub mod light;
+pub mod scene;
+pub mod render;
+pub mod compute;
+pub mod methods;
+pub mod frame;
+pub mod output;
+pub mod timing;
+pub mod progress;
+
+pub use error::{Error, Result};

@@ -1,0 +1,42 @@
+//! Raster passes: scene upload, G-buffer, shadow-map raster.
+
+pub mod gbuffer;
+pub mod shadow_raster;
+
+use crate::gpu::GpuContext;
+use crate::scene::Scene;
+use wgpu::util::DeviceExt;
+
+/// The scene's geometry on the GPU.
+pub struct SceneGpu {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub index_count: u32,
+}
+
+impl SceneGpu {
+    pub fn upload(ctx: &GpuContext, scene: &Scene) -> Self {
+        let vertices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: bytemuck::cast_slice(&scene.vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let indices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene indices"),
+            contents: bytemuck::cast_slice(&scene.indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        Self { vertices, indices, index_count: scene.indices.len() as u32 }
+    }
+}
+
+/// Vertex layout of `scene::Vertex`: position, normal, material.
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
+
+pub fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes,
+    }
+}

@@ -1,0 +1,155 @@
+//! shadow_raster: one depth-only raster per light sample into one layer of a `Depth32Float` array.
+//! Arrays are sized by the layer limit and the memory budget; callers work chunk by chunk beyond it.
+
+use super::{SceneGpu, VERTEX_ATTRIBUTES};
+use crate::gpu::{pipeline, GpuContext};
+use crate::scene::CullMode;
+use crate::{Error, Result};
+
+pub struct ShadowMapArray {
+    pub texture: wgpu::Texture,
+    pub array_view: wgpu::TextureView,
+    pub layer_views: Vec<wgpu::TextureView>,
+}
+
+impl ShadowMapArray {
+    pub fn layers(&self) -> u32 {
+        self.layer_views.len() as u32
+    }
+}
+
+/// How many maps one array may hold: the device's layer limit and the memory budget, whichever is less.
+pub fn maps_per_array(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
+    let max_dim = ctx.limits().max_texture_dimension_2d;
+    if map_size > max_dim {
+        return Err(Error::Limit(format!(
+            "shadow_map_size {map_size} exceeds this device's texture limit of {max_dim} ({})",
+            ctx.summary.name
+        )));
+    }
+    let map_bytes = map_size as u64 * map_size as u64 * 4;
+    let budget = budget_mib as u64 * 1024 * 1024;
+    let by_budget = budget / map_bytes;
+    if by_budget == 0 {
+        return Err(Error::Limit(format!(
+            "one {map_size}x{map_size} shadow map ({} MiB) does not fit shadow_map_budget_mib = {budget_mib}",
+            map_bytes.div_ceil(1024 * 1024)
+        )));
+    }
+    Ok(by_budget.min(ctx.limits().max_texture_array_layers as u64) as u32)
+}
+
+pub fn allocate(ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray {
+    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow maps"),
+        size: wgpu::Extent3d { width: map_size, height: map_size, depth_or_array_layers: layers },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let layer_views = (0..layers)
+        .map(|l| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: l,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    ShadowMapArray { texture, array_view, layer_views }
+}
+
+pub struct ShadowRasterPass {
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl ShadowRasterPass {
+    pub fn new(ctx: &GpuContext, cull: CullMode) -> Result<Self> {
+        let module = pipeline::shader_module(ctx, "shadow_raster")?;
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let position_only = [VERTEX_ATTRIBUTES[0]];
+        let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shadow_raster"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(super::vertex_layout(&position_only))],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: match cull {
+                    CullMode::Back => Some(wgpu::Face::Back),
+                    CullMode::Front => Some(wgpu::Face::Front),
+                    CullMode::None => None,
+                },
+                ..Default::default()
+            },
+            // All bias is applied in the lookup (shared/common.wgsl), where the CPU twin can follow it.
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        pipeline::check(scope, "shadow_raster")?;
+        Ok(Self { pipeline })
+    }
+
+    /// Records one render pass per `(sample index, layer)`; `scissor` limits a map to a texel rectangle.
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        array: &ShadowMapArray,
+        jobs: &[RasterJob],
+    ) {
+        let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
+        for job in jobs {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow_raster"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &array.layer_views[job.layer as usize],
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            if let Some([x, y, w, h]) = job.scissor {
+                pass.set_scissor_rect(x, y, w, h);
+            }
+            pass.set_vertex_buffer(0, scene.vertices.slice(..));
+            pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..scene.index_count, 0, job.sample..job.sample + 1);
+        }
+    }
+}
+
+/// One shadow map to rasterize: which sample (index into the samples buffer) into which layer.
+#[derive(Clone, Copy, Debug)]
+pub struct RasterJob {
+    pub sample: u32,
+    pub layer: u32,
+    pub scissor: Option<[u32; 4]>,
+}

@@ -1,0 +1,287 @@
+//! The scene file: TOML, unknown keys rejected, every number checked finite.
+
+use super::{mesh, Camera, RenderSettings, Scene};
+use crate::light::{AreaLight, Bounds};
+use crate::{Error, Result};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDef {
+    pub name: Option<String>,
+    pub description: Option<String>,
+    /// Triangle count the author states; checked against what loads.
+    pub triangles: Option<u64>,
+    pub camera: CameraDef,
+    pub light: LightDef,
+    #[serde(default)]
+    pub render: RenderDef,
+    #[serde(default, rename = "mesh")]
+    pub meshes: Vec<MeshDef>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDef {
+    pub eye: [f32; 3],
+    pub target: [f32; 3],
+    #[serde(default = "default_up")]
+    pub up: [f32; 3],
+    pub fov_y_deg: f32,
+}
+
+/// Either `edge_u` + `edge_v` (full edge vectors), or `size` + `normal` (+ optional `u_axis`).
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct LightDef {
+    pub center: [f32; 3],
+    pub edge_u: Option<[f32; 3]>,
+    pub edge_v: Option<[f32; 3]>,
+    pub size: Option<[f32; 2]>,
+    pub normal: Option<[f32; 3]>,
+    pub u_axis: Option<[f32; 3]>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderDef {
+    pub width: u32,
+    pub height: u32,
+    pub shadow_map_size: u32,
+    pub bias: BiasDef,
+    pub cull: CullMode,
+    pub ambient: f32,
+    pub shadow_map_budget_mib: u32,
+}
+
+impl Default for RenderDef {
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+            shadow_map_size: 512,
+            bias: BiasDef::default(),
+            cull: CullMode::Back,
+            ambient: 0.15,
+            shadow_map_budget_mib: 512,
+        }
+    }
+}
+
+/// Shadow-map bias, in shadow-map texels at the receiver's depth (so independent of scene scale).
+#[derive(Deserialize, Serialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields, default)]
+pub struct BiasDef {
+    pub constant: f32,
+    pub slope: f32,
+    pub normal_offset: f32,
+    /// Cap on tan(angle) for the slope term: grazing angles would otherwise push the bias to infinity.
+    pub max_slope: f32,
+}
+
+impl Default for BiasDef {
+    fn default() -> Self {
+        Self { constant: 1.0, slope: 1.0, normal_offset: 0.5, max_slope: 4.0 }
+    }
+}
+
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum CullMode {
+    Back,
+    Front,
+    None,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDef {
+    pub builtin: Option<String>,
+    pub file: Option<String>,
+    #[serde(default)]
+    pub translate: [f32; 3],
+    #[serde(default)]
+    pub rotate_deg: [f32; 3],
+    #[serde(default)]
+    pub scale: Scale,
+    #[serde(default = "default_albedo")]
+    pub albedo: [f32; 3],
+    #[serde(default = "default_segments")]
+    pub segments: u32,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(untagged)]
+pub enum Scale {
+    Uniform(f32),
+    Axes([f32; 3]),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+fn default_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_albedo() -> [f32; 3] {
+    [0.8, 0.8, 0.8]
+}
+fn default_segments() -> u32 {
+    32
+}
+
+/// TOML text → definition, with `--set` overrides applied and one-line errors with line and column.
+pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result<SceneDef> {
+    let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e)))?;
+    super::overrides::apply_overrides(&mut table, overrides).map_err(|m| Error::scene(origin, m))?;
+    SceneDef::deserialize(toml::Value::Table(table))
+        .map_err(|e: toml::de::Error| Error::scene(origin, e.message().replace('\n', " ").trim().to_string()))
+}
+
+fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let msg = e.message().replace('\n', " ");
+    match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let col = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+            format!("TOML syntax error at line {line}, column {col}: {}", msg.trim())
+        }
+        None => format!("TOML syntax error: {}", msg.trim()),
+    }
+}
+
+fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> Result<Vec3> {
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(Error::scene(origin, format!("{what} has a NaN or infinite coordinate: {v:?}")));
+    }
+    Ok(Vec3::from_slice(&[v[0], *v.get(1).unwrap_or(&0.0), *v.get(2).unwrap_or(&0.0)]))
+}
+
+pub fn build(def: SceneDef, origin: &str, dir: Option<&Path>) -> Result<Scene> {
+    let camera = Camera {
+        eye: finite(origin, "camera.eye", def.camera.eye)?,
+        target: finite(origin, "camera.target", def.camera.target)?,
+        up: finite(origin, "camera.up", def.camera.up)?,
+        fov_y_deg: def.camera.fov_y_deg,
+    };
+    if !(camera.fov_y_deg.is_finite() && camera.fov_y_deg > 0.0 && camera.fov_y_deg < 180.0) {
+        return Err(Error::scene(origin, format!("camera.fov_y_deg must be in (0, 180), got {}", camera.fov_y_deg)));
+    }
+    let view_dir = camera.target - camera.eye;
+    if view_dir.length() < 1e-9 || view_dir.cross(camera.up).length() < 1e-9 * view_dir.length() {
+        return Err(Error::scene(origin, "camera: eye equals target, or up is parallel to the view direction"));
+    }
+    let light = build_light(&def.light, origin)?;
+    let r = &def.render;
+    for (key, v) in [("render.width", r.width), ("render.height", r.height), ("render.shadow_map_size", r.shadow_map_size)] {
+        if v == 0 {
+            return Err(Error::scene(origin, format!("{key} must be at least 1")));
+        }
+    }
+    if r.shadow_map_budget_mib == 0 {
+        return Err(Error::scene(origin, "render.shadow_map_budget_mib must be at least 1"));
+    }
+    let b = r.bias;
+    if ![b.constant, b.slope, b.normal_offset, b.max_slope, r.ambient].iter().all(|x| x.is_finite()) {
+        return Err(Error::scene(origin, "render: bias and ambient must be finite numbers"));
+    }
+    if !(0.0..=1.0).contains(&r.ambient) {
+        return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
+    }
+    let render = RenderSettings {
+        width: r.width,
+        height: r.height,
+        shadow_map_size: r.shadow_map_size,
+        bias: r.bias,
+        cull: r.cull,
+        ambient: r.ambient,
+        shadow_map_budget_mib: r.shadow_map_budget_mib,
+    };
+    if def.meshes.is_empty() {
+        return Err(Error::scene(origin, "the scene has no [[mesh]]"));
+    }
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let mut albedos = Vec::new();
+    for (k, m) in def.meshes.iter().enumerate() {
+        let albedo = finite(origin, &format!("mesh {} albedo", k + 1), m.albedo)?;
+        let (verts, idx) = mesh::instantiate(m, k, origin, dir)?;
+        let base = vertices.len() as u32;
+        vertices.extend(verts.into_iter().map(|mut v| {
+            v.material = albedos.len() as u32;
+            v
+        }));
+        indices.extend(idx.into_iter().map(|i| i + base));
+        albedos.push(albedo.to_array());
+    }
+    let mut min = Vec3::splat(f32::INFINITY);
+    let mut max = Vec3::splat(f32::NEG_INFINITY);
+    for v in &vertices {
+        min = min.min(Vec3::from(v.position));
+        max = max.max(Vec3::from(v.position));
+    }
+    if let Some(stated) = def.triangles {
+        let got = indices.len() as u64 / 3;
+        if stated != got {
+            return Err(Error::scene(origin, format!("states triangles = {stated} but its meshes have {got}")));
+        }
+    }
+    Ok(Scene {
+        name: def.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
+        origin: origin.to_string(),
+        camera,
+        light,
+        render,
+        vertices,
+        indices,
+        albedos,
+        bounds: Bounds { min, max },
+    })
+}
+
+fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
+    let center = finite(origin, "light.center", l.center)?;
+    let (edge_u, edge_v) = match (l.edge_u, l.edge_v, l.size, l.normal) {
+        (Some(u), Some(v), None, None) => (finite(origin, "light.edge_u", u)?, finite(origin, "light.edge_v", v)?),
+        (None, None, Some(size), Some(normal)) => {
+            let n = finite(origin, "light.normal", normal)?;
+            let size = finite(origin, "light.size", size)?;
+            if n.length() < 1e-12 {
+                return Err(Error::scene(origin, "light.normal is the zero vector"));
+            }
+            let n = n.normalize();
+            let hint = match l.u_axis {
+                Some(u) => finite(origin, "light.u_axis", u)?,
+                None if n.x.abs() < 0.9 => Vec3::X,
+                None => Vec3::Z,
+            };
+            let u = (hint - n * hint.dot(n)).normalize_or_zero();
+            if u == Vec3::ZERO {
+                return Err(Error::scene(origin, "light.u_axis is parallel to light.normal"));
+            }
+            // Emission side is edge_u × edge_v, so v = n × u.
+            (u * size.x, n.cross(u) * size.y)
+        }
+        _ => {
+            return Err(Error::scene(
+                origin,
+                "light: give either edge_u and edge_v, or size and normal (with optional u_axis)",
+            ))
+        }
+    };
+    let light = AreaLight { center, edge_u, edge_v };
+    let scale = edge_u.length().max(edge_v.length()).max(1e-30);
+    if !(light.edge_u.cross(light.edge_v).length() > 1e-10 * scale * scale) {
+        return Err(Error::scene(
+            origin,
+            format!("light has zero area (edge_u = {edge_u}, edge_v = {edge_v}): a soft shadow needs an area light"),
+        ));
+    }
+    Ok(light)
+}

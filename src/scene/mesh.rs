@@ -1,0 +1,164 @@
+//! Mesh instances: built-in primitives (plane, box, sphere) and OBJ files, placed by a transform.
+
+use super::format::{MeshDef, Scale};
+use super::obj;
+use crate::{Error, Result};
+use bytemuck::{Pod, Zeroable};
+use glam::{EulerRot, Mat3, Mat4, Quat, Vec3};
+use std::path::Path;
+
+/// Vertex as the G-buffer and shadow raster read it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub material: u32,
+}
+
+/// Positions + triangle indices in object space; normals are derived after the transform.
+pub struct RawMesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Option<Vec<Vec3>>,
+    pub indices: Vec<u32>,
+}
+
+pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dir: Option<&Path>) -> Result<(Vec<Vertex>, Vec<u32>)> {
+    let label = format!("{origin}: mesh {}", k + 1);
+    let raw = match (&m.builtin, &m.file) {
+        (Some(b), None) => builtin(b, m.segments).ok_or_else(|| {
+            Error::scene(origin, format!("mesh {}: unknown builtin `{b}` (plane, box, sphere)", k + 1))
+        })?,
+        (None, Some(f)) => obj::load(f, origin, dir)?,
+        _ => return Err(Error::scene(origin, format!("mesh {}: give exactly one of `builtin` or `file`", k + 1))),
+    };
+    let scale = match m.scale {
+        Scale::Uniform(s) => Vec3::splat(s),
+        Scale::Axes(a) => Vec3::from(a),
+    };
+    let nums = [m.translate, m.rotate_deg, scale.to_array()];
+    if nums.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(Error::scene(origin, format!("mesh {}: transform has a NaN or infinite number", k + 1)));
+    }
+    if scale.x * scale.y * scale.z == 0.0 {
+        return Err(Error::scene(origin, format!("mesh {}: scale has a zero axis", k + 1)));
+    }
+    let r = m.rotate_deg.map(f32::to_radians);
+    let rotation = Quat::from_euler(EulerRot::XYZ, r[0], r[1], r[2]);
+    let world = Mat4::from_scale_rotation_translation(scale, rotation, Vec3::from(m.translate));
+    let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
+    if raw.indices.is_empty() {
+        return Err(Error::mesh(label, "the mesh is empty (no triangles)"));
+    }
+    let positions: Vec<Vec3> = raw.positions.iter().map(|p| world.transform_point3(*p)).collect();
+    let normals = match &raw.normals {
+        Some(n) => n.iter().map(|n| (normal_matrix * *n).normalize_or_zero()).collect(),
+        None => smooth_normals(&positions, &raw.indices),
+    };
+    let vertices =
+        positions.iter().zip(&normals).map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array(), material: 0 }).collect();
+    Ok((vertices, raw.indices))
+}
+
+/// Area-weighted vertex normals (the cross product's length is twice the area).
+fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+    let mut n = vec![Vec3::ZERO; positions.len()];
+    for t in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
+        let face = (b - a).cross(c - a);
+        for k in 0..3 {
+            n[t[k] as usize] += face;
+        }
+    }
+    n.into_iter().map(|v| v.normalize_or_zero()).collect()
+}
+
+fn builtin(name: &str, segments: u32) -> Option<RawMesh> {
+    match name {
+        "plane" => Some(plane()),
+        "box" => Some(cube()),
+        "sphere" => Some(sphere(segments.clamp(3, 512))),
+        _ => None,
+    }
+}
+
+/// Unit square in the xz plane at y = 0, facing +y, counter-clockwise seen from above.
+fn plane() -> RawMesh {
+    let positions = vec![Vec3::new(-0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, -0.5), Vec3::new(-0.5, 0.0, -0.5)];
+    RawMesh { normals: Some(vec![Vec3::Y; 4]), positions, indices: vec![0, 1, 2, 0, 2, 3] }
+}
+
+/// Unit cube centred at the origin, flat-shaded faces.
+fn cube() -> RawMesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut indices = Vec::new();
+    for axis in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+        let u = if axis.y.abs() > 0.5 { Vec3::X } else { Vec3::Y };
+        let v = axis.cross(u);
+        let base = positions.len() as u32;
+        for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            positions.push(0.5 * (axis + a * u + b * v));
+            normals.push(axis);
+        }
+        // counter-clockwise seen from outside: (u × v) must point along the axis
+        if u.cross(v).dot(axis) > 0.0 {
+            indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        } else {
+            indices.extend([base, base + 2, base + 1, base, base + 3, base + 2]);
+        }
+    }
+    RawMesh { positions, normals: Some(normals), indices }
+}
+
+/// Unit-radius UV sphere, outward counter-clockwise.
+fn sphere(segments: u32) -> RawMesh {
+    let rings = segments.max(2);
+    let mut positions = Vec::new();
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segments {
+            let phi = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
+            positions.push(Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
+        }
+    }
+    let row = segments + 1;
+    let mut indices = Vec::new();
+    for r in 0..rings {
+        for s in 0..segments {
+            let a = r * row + s;
+            let (b, c, d) = (a + 1, a + row, a + row + 1);
+            if r != 0 {
+                indices.extend([a, b, c]);
+            }
+            if r + 1 != rings {
+                indices.extend([b, d, c]);
+            }
+        }
+    }
+    let normals = positions.clone();
+    RawMesh { positions, normals: Some(normals), indices }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outward(m: &RawMesh) -> bool {
+        m.indices.chunks_exact(3).all(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
+            let centroid = (a + b + c) / 3.0;
+            (b - a).cross(c - a).dot(centroid) > 0.0
+        })
+    }
+
+    #[test]
+    fn builtins_wind_counter_clockwise_outward() {
+        assert!(outward(&cube()));
+        assert!(outward(&sphere(16)));
+        let p = plane();
+        let [a, b, c] = [0, 1, 2].map(|k| p.positions[p.indices[k] as usize]);
+        assert!((b - a).cross(c - a).y > 0.0);
+        assert_eq!(cube().indices.len(), 36);
+    }
+}

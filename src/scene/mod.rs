@@ -1,0 +1,97 @@
+//! Scenes: a small TOML format (docs/scene-format.md), built-in named scenes, meshes.
+
+mod builtin;
+mod format;
+mod mesh;
+mod obj;
+mod overrides;
+
+pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
+pub use format::{BiasDef, CullMode};
+pub use mesh::Vertex;
+pub use overrides::apply_overrides;
+
+use crate::light::{AreaLight, Bounds};
+use crate::{Error, Result};
+use glam::{Mat4, Vec3};
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub fov_y_deg: f32,
+}
+
+impl Camera {
+    pub fn clip_from_world(&self, aspect: f32, bounds: &Bounds) -> Mat4 {
+        let dist = (bounds.min.lerp(bounds.max, 0.5) - self.eye).length() + bounds.diagonal();
+        let near = (dist * 1e-4).max(1e-4);
+        glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, near, dist * 2.0)
+            * glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
+    }
+}
+
+/// Render settings; every key can be overridden with `--set key=value`.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub shadow_map_size: u32,
+    pub bias: BiasDef,
+    pub cull: CullMode,
+    pub ambient: f32,
+    pub shadow_map_budget_mib: u32,
+}
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    /// File path or `builtin:NAME`: every error names it.
+    pub origin: String,
+    pub camera: Camera,
+    pub light: AreaLight,
+    pub render: RenderSettings,
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+    pub albedos: Vec<[f32; 3]>,
+    pub bounds: Bounds,
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// World-space triangles, for CPU tracers and tests.
+    pub fn triangles(&self) -> Vec<[Vec3; 3]> {
+        self.indices
+            .chunks_exact(3)
+            .map(|t| [0, 1, 2].map(|k| Vec3::from(self.vertices[t[k] as usize].position)))
+            .collect()
+    }
+
+    /// Loads a scene by built-in name or file path, applying `--set` overrides to its render settings.
+    pub fn load(name_or_path: &str, overrides: &[(String, String)]) -> Result<Scene> {
+        if let Some(text) = builtin_source(name_or_path) {
+            let origin = format!("builtin:{name_or_path}");
+            return Self::parse(text, &origin, None, overrides);
+        }
+        let path = PathBuf::from(name_or_path);
+        if !path.exists() {
+            return Err(Error::scene(
+                name_or_path,
+                format!("no such scene file or built-in scene (built-ins: {})", builtin_names().join(", ")),
+            ));
+        }
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
+        Self::parse(&text, name_or_path, path.parent(), overrides)
+    }
+
+    /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins).
+    pub fn parse(text: &str, origin: &str, dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Scene> {
+        let def = format::parse(text, origin, overrides)?;
+        format::build(def, origin, dir)
+    }
+}

@@ -1,0 +1,106 @@
+//! OBJ meshes through tobj, after a line-by-line check so errors name the file and line.
+
+use super::mesh::RawMesh;
+use crate::{Error, Result};
+use glam::Vec3;
+use std::path::Path;
+
+/// Meshes embedded in the binary, so built-in scenes need no files.
+const EMBEDDED: &[(&str, &str)] = &[("bunny-small.obj", include_str!("../../scenes/bunny-small.obj"))];
+
+pub fn load(file: &str, origin: &str, dir: Option<&Path>) -> Result<RawMesh> {
+    let (label, text) = if origin.starts_with("builtin:") {
+        let text = EMBEDDED
+            .iter()
+            .find(|(n, _)| *n == file)
+            .map(|(_, t)| t.to_string())
+            .ok_or_else(|| Error::mesh(file, "not an embedded mesh"))?;
+        (file.to_string(), text)
+    } else {
+        let path = dir.map(|d| d.join(file)).unwrap_or_else(|| file.into());
+        let label = path.display().to_string();
+        let bytes = std::fs::read(&path).map_err(|e| Error::mesh(&label, format!("cannot read mesh file: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|_| Error::mesh(&label, "not a text OBJ file (invalid UTF-8)"))?;
+        (label, text)
+    };
+    parse(&text, &label)
+}
+
+/// Checks every `v` and `f` line, then lets tobj triangulate.
+pub fn parse(text: &str, label: &str) -> Result<RawMesh> {
+    check_lines(text, label)?;
+    let mut reader = std::io::BufReader::new(text.as_bytes());
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
+        .map_err(|e| Error::mesh(label, format!("malformed OBJ: {e}")))?;
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    for m in models {
+        let base = positions.len() as u32;
+        positions.extend(m.mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])));
+        indices.extend(m.mesh.indices.iter().map(|i| i + base));
+    }
+    if indices.is_empty() {
+        return Err(Error::mesh(label, "the mesh is empty (no faces)"));
+    }
+    // Normals are recomputed after the transform: files disagree on whether theirs are smooth.
+    Ok(RawMesh { positions, normals: None, indices })
+}
+
+fn check_lines(text: &str, label: &str) -> Result<()> {
+    let mut vertices = 0i64;
+    for (n, line) in text.lines().enumerate() {
+        let at = |msg: String| Error::mesh(label, format!("line {}: {msg}", n + 1));
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let coords: Vec<&str> = words.collect();
+                if coords.len() < 3 {
+                    return Err(at(format!("vertex needs 3 coordinates, found {}", coords.len())));
+                }
+                for c in &coords[..3] {
+                    let x: f32 = c.parse().map_err(|_| at(format!("vertex coordinate `{c}` is not a number")))?;
+                    if !x.is_finite() {
+                        return Err(at(format!("vertex coordinate `{c}` is NaN or infinite")));
+                    }
+                }
+                vertices += 1;
+            }
+            Some("f") => {
+                let corners: Vec<&str> = words.collect();
+                if corners.len() < 3 {
+                    return Err(at(format!("face needs at least 3 corners, found {}", corners.len())));
+                }
+                for c in corners {
+                    let first = c.split('/').next().unwrap_or("");
+                    let i: i64 = first.parse().map_err(|_| at(format!("face index `{c}` is not an integer")))?;
+                    let resolved = if i < 0 { vertices + i + 1 } else { i };
+                    if i == 0 || resolved < 1 || resolved > vertices {
+                        return Err(at(format!("face references vertex {i}, but {vertices} vertices are defined so far")));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_the_line_of_a_bad_vertex_or_face() {
+        let e = parse("v 0 0 0\nv 1 0 nan\n", "x.obj").unwrap_err().to_string();
+        assert_eq!(e, "x.obj: line 2: vertex coordinate `nan` is NaN or infinite");
+        let e = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "x.obj").unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains("vertex 4"), "{e}");
+        let e = parse("v 0 0\n", "x.obj").unwrap_err().to_string();
+        assert!(e.contains("line 1: vertex needs 3 coordinates"), "{e}");
+        let e = parse("# nothing\n", "x.obj").unwrap_err().to_string();
+        assert!(e.contains("empty"), "{e}");
+        let ok = parse("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "x.obj").unwrap();
+        assert_eq!(ok.indices.len(), 6);
+    }
+}

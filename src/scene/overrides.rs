@@ -1,0 +1,54 @@
+//! `--set key=value` on the scene's `[render]` table. Short keys (`width`) and dotted keys
+//! (`bias.constant`, `render.width`) both work; `resolution` sets width and height.
+
+pub const RENDER_KEYS: &[&str] = &[
+    "width",
+    "height",
+    "resolution",
+    "shadow_map_size",
+    "cull",
+    "ambient",
+    "shadow_map_budget_mib",
+    "bias.constant",
+    "bias.slope",
+    "bias.normal_offset",
+    "bias.max_slope",
+];
+
+/// Value text as TOML (numbers, booleans), else as a string.
+pub fn parse_value(text: &str) -> toml::Value {
+    format!("v = {text}")
+        .parse::<toml::Table>()
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(text.to_string()))
+}
+
+pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)]) -> Result<(), String> {
+    for (key, value) in overrides {
+        let short = key.strip_prefix("render.").unwrap_or(key);
+        if !RENDER_KEYS.contains(&short) {
+            return Err(format!("--set {key}: unknown render setting (known: {})", RENDER_KEYS.join(", ")));
+        }
+        let v = parse_value(value);
+        let render = table
+            .entry("render")
+            .or_insert_with(|| toml::Value::Table(Default::default()))
+            .as_table_mut()
+            .ok_or("`render` is not a table")?;
+        if short == "resolution" {
+            render.insert("width".into(), v.clone());
+            render.insert("height".into(), v);
+        } else if let Some(b) = short.strip_prefix("bias.") {
+            let bias = render
+                .entry("bias")
+                .or_insert_with(|| toml::Value::Table(Default::default()))
+                .as_table_mut()
+                .ok_or("`render.bias` is not a table")?;
+            bias.insert(b.into(), v);
+        } else {
+            render.insert(short.into(), v);
+        }
+    }
+    Ok(())
+}
