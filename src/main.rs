@@ -50,6 +50,10 @@ struct RenderArgs {
 }
 
 fn main() {
+    // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
     if let Err(e) = run() {
         // One line: the chain of causes joined, so scripts and people see the whole reason.
         let msg: Vec<String> = e.chain().map(|c| c.to_string()).collect();

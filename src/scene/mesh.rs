@@ -17,6 +17,7 @@ pub struct Vertex {
 }
 
 /// Positions + triangle indices in object space; normals are derived after the transform.
+#[derive(Debug)]
 pub struct RawMesh {
     pub positions: Vec<Vec3>,
     pub normals: Option<Vec<Vec3>>,

@@ -1,0 +1,171 @@
+//! Every bad input gives one clear line naming the file and the problem, a non-zero exit, no panic
+//! and no output file.
+
+mod common;
+use common::{penumbra, temp_dir};
+use std::path::Path;
+
+const GOOD: &str = r#"
+[camera]
+eye = [0.0, 6.0, 8.0]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 45.0
+
+[light]
+center = [0.0, 8.0, 0.0]
+edge_u = [2.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, 2.0]
+
+[render]
+width = 32
+height = 32
+shadow_map_size = 64
+
+[[mesh]]
+builtin = "plane"
+scale = 10.0
+
+[[mesh]]
+file = "tri.obj"
+"#;
+
+const TRI: &str = "v 0 1 0\nv 1 1 0\nv 0 1 1\nf 1 2 3\n";
+
+/// Writes the scene and mesh, runs `render`, and checks the common contract; returns stderr.
+fn fails(case: &str, scene: &str, mesh: Option<&str>, extra: &[&str]) -> String {
+    let dir = temp_dir(case);
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    if let Some(m) = mesh {
+        std::fs::write(dir.join("tri.obj"), m).unwrap();
+    }
+    let out_dir = dir.join("out");
+    let scene_path = dir.join("scene.toml");
+    let mut args = vec!["render", "--scene", scene_path.to_str().unwrap(), "--out", out_dir.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    let out = penumbra(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!out.status.success(), "{case}: expected failure, got success");
+    assert_eq!(out.status.code(), Some(1), "{case}: exit code {:?}, stderr: {stderr}", out.status.code());
+    assert!(!stderr.contains("panicked"), "{case}: panicked: {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(lines.len(), 1, "{case}: expected one error line, got: {stderr}");
+    assert!(!Path::new(&out_dir).exists(), "{case}: output folder was created");
+    lines[0].to_string()
+}
+
+#[test]
+fn good_scene_renders() {
+    let dir = temp_dir("good");
+    std::fs::write(dir.join("scene.toml"), GOOD).unwrap();
+    std::fs::write(dir.join("tri.obj"), TRI).unwrap();
+    let out = penumbra(&["render", "--scene", dir.join("scene.toml").to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for f in ["visibility.png", "visibility.exr", "shaded.png", "run.json"] {
+        assert!(dir.join("out").join(f).exists(), "{f} missing");
+    }
+}
+
+#[test]
+fn toml_syntax_error_names_line_and_column() {
+    let e = fails("syntax", &GOOD.replace("fov_y_deg = 45.0", "fov_y_deg = = 45.0"), Some(TRI), &[]);
+    assert!(e.contains("scene.toml") && e.contains("line 5, column"), "{e}");
+}
+
+#[test]
+fn unknown_key() {
+    let e = fails("unknown", &GOOD.replace("fov_y_deg", "fov_y_deg = 45.0\nzoom"), Some(TRI), &[]);
+    assert!(e.contains("scene.toml") && e.contains("unknown field `zoom`"), "{e}");
+}
+
+#[test]
+fn missing_mesh_file() {
+    let e = fails("missing-mesh", GOOD, None, &[]);
+    assert!(e.contains("tri.obj") && e.contains("cannot read mesh file"), "{e}");
+}
+
+#[test]
+fn unreadable_mesh_file() {
+    let dir = temp_dir("unreadable-mesh");
+    std::fs::create_dir_all(dir.join("tri.obj")).unwrap(); // a folder where a file should be
+    std::fs::write(dir.join("scene.toml"), GOOD).unwrap();
+    let out = penumbra(&["render", "--scene", dir.join("scene.toml").to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(e.contains("tri.obj") && e.contains("cannot read mesh file") && !e.contains("panicked"), "{e}");
+}
+
+#[test]
+fn malformed_mesh() {
+    let e = fails("malformed-mesh", GOOD, Some("v 0 1 0\nv 1 1 0\nf 1 2 7\n"), &[]);
+    assert!(e.contains("tri.obj: line 3") && e.contains("vertex 7"), "{e}");
+}
+
+#[test]
+fn nan_coordinate_in_mesh() {
+    let e = fails("nan-mesh", GOOD, Some("v 0 1 0\nv 1 NaN 0\nv 0 1 1\nf 1 2 3\n"), &[]);
+    assert!(e.contains("tri.obj: line 2") && e.contains("NaN"), "{e}");
+}
+
+#[test]
+fn nan_coordinate_in_scene() {
+    let e = fails("nan-scene", &GOOD.replace("center = [0.0, 8.0, 0.0]", "center = [0.0, nan, 0.0]"), Some(TRI), &[]);
+    assert!(e.contains("scene.toml") && e.contains("light.center") && e.contains("NaN"), "{e}");
+}
+
+#[test]
+fn empty_mesh() {
+    let e = fails("empty-mesh", GOOD, Some("# no faces\nv 0 0 0\n"), &[]);
+    assert!(e.contains("tri.obj") && e.contains("empty"), "{e}");
+}
+
+#[test]
+fn zero_area_light() {
+    let e = fails("zero-light", &GOOD.replace("edge_v = [0.0, 0.0, 2.0]", "edge_v = [4.0, 0.0, 0.0]"), Some(TRI), &[]);
+    assert!(e.contains("scene.toml") && e.contains("zero area"), "{e}");
+}
+
+#[test]
+fn zero_resolution() {
+    let e = fails("zero-res", GOOD, Some(TRI), &["--set", "width=0"]);
+    assert!(e.contains("scene.toml") && e.contains("render.width must be at least 1"), "{e}");
+}
+
+#[test]
+fn resolution_beyond_device_limit() {
+    let e = fails("huge-res", GOOD, Some(TRI), &["--set", "resolution=100000"]);
+    assert!(e.contains("resolution 100000x100000 exceeds this device's texture limit"), "{e}");
+}
+
+#[test]
+fn shadow_map_beyond_device_limit() {
+    let e = fails("huge-map", GOOD, Some(TRI), &["--set", "shadow_map_size=100000"]);
+    assert!(e.contains("shadow_map_size 100000 exceeds"), "{e}");
+}
+
+#[test]
+fn unknown_method_and_parameter() {
+    let e = fails("bad-method", GOOD, Some(TRI), &["--method", "pcss9"]);
+    assert!(e.contains("unknown method `pcss9`"), "{e}");
+    let e = fails("bad-param", GOOD, Some(TRI), &["--method", "regular:p_m=3"]);
+    assert!(e.contains("method `regular` has no parameter `p_m`"), "{e}");
+}
+
+#[test]
+fn missing_scene_file() {
+    let out = penumbra(&["render", "--scene", "/nonexistent/scene.toml", "--out", "/tmp/never"]);
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(e.contains("/nonexistent/scene.toml") && e.contains("no such scene file"), "{e}");
+}
+
+#[test]
+fn no_adapter_says_how_to_install_the_driver() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(["info"])
+        .env("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{e}");
+    assert!(e.contains("mesa-vulkan-drivers"), "{e}");
+}
