@@ -38,3 +38,25 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     visibility[index] = v;
 }
+
+// Adaptive (scope = global): V(p) = Σ_k ŵ_k · bit_k(p) over the lattice masks, k ascending, so the
+// sum order equals the regular grid's when every lattice sample is used.
+@group(0) @binding(8) var<storage, read> masks: array<u32>;
+
+@compute @workgroup_size(8, 8, 1)
+fn from_masks(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    if (textureLoad(gbuffer_position, vec2<i32>(gid.xy), 0).w == 0.0) {
+        return;
+    }
+    let index = gid.y * frame.width + gid.x;
+    var v = 0.0;
+    for (var k = 0u; k < LATTICE_POINTS; k = k + 1u) {
+        if (((masks[index * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u) == 1u) {
+            v = v + weights[k];
+        }
+    }
+    visibility[index] = v;
+}

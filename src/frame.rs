@@ -79,6 +79,16 @@ pub fn camera_uniform(scene: &Scene) -> GpuCamera {
 
 /// Renders one frame of `scene` with `method`.
 pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode) -> Result<FrameResult> {
+    render_with(ctx, scene, method, mode, &mut None)
+}
+
+fn render_with(
+    ctx: &GpuContext,
+    scene: &Scene,
+    method: &Method,
+    mode: TimingMode,
+    trace: &mut Option<methods::adaptive::AdaptiveTrace>,
+) -> Result<FrameResult> {
     let start = Instant::now();
     let mut timer = StageTimer::new(mode);
     let (w, h) = (scene.render.width, scene.render.height);
@@ -107,7 +117,11 @@ pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode
     let output = match method {
         Method::Hard => methods::fixed::run(&fg, &mut timer, &[(0.5, 0.5)])?,
         Method::Regular { n } => methods::fixed::run(&fg, &mut timer, &methods::fixed::regular_points(*n))?,
-        Method::Adaptive(p) => methods::adaptive::run(&fg, &mut timer, p)?,
+        Method::Adaptive(p) => {
+            let (out, t) = methods::adaptive::run_traced(&fg, &mut timer, p)?;
+            *trace = Some(t);
+            out
+        }
     };
     timer.flush(ctx);
     let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
@@ -120,4 +134,11 @@ pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode
     let mut stages_ms = timer.stages_ms.clone();
     stages_ms.insert("setup".into(), setup_ms);
     Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits })
+}
+
+/// Renders with the adaptive method and returns its trace (levels, rendered samples, weights) too.
+pub fn render_traced(ctx: &GpuContext, scene: &Scene, p: &methods::AdaptiveParams) -> Result<methods::adaptive::AdaptiveTrace> {
+    let mut trace = None;
+    render_with(ctx, scene, &Method::Adaptive(p.clone()), TimingMode::Frame, &mut trace)?;
+    Ok(trace.unwrap_or_default())
 }

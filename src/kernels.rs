@@ -21,6 +21,12 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("gbuffer"),
     kernel!("shadow_raster"),
     kernel!("shade"),
+    kernel!("shadow_test"),
+    kernel!("reproject_count"),
+    kernel!("neighbourhood"),
+    kernel!("quad_count"),
+    kernel!("subdivide"),
+    kernel!("compact"),
 ];
 
 /// Full source of a kernel: prelude + body.

@@ -49,22 +49,42 @@ pub struct GpuShadeChunk {
     pub pad1: u32,
 }
 
-/// Parameters of one adaptive level (reproject_count, neighbourhood, quad_count, subdivide, compact).
+/// Parameters of one adaptive level (shadow_test, reproject_count, neighbourhood, quad_count,
+/// subdivide, compact).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuLevel {
     pub level: u32,
     pub max_level: u32,
+    /// Active quads in this dispatch (a batch of the level's quads in dense mode).
     pub quad_count: u32,
+    /// Index of the batch's first quad in the level's list.
+    pub first_quad: u32,
     pub p_m: u32,
+    /// 0: split when count > p_m, 1: always, 2: never.
+    pub split_mode: u32,
     pub words_per_row: u32,
     pub flag_words_per_row: u32,
     pub item_capacity: u32,
+    /// shadow_test: samples in the test list.
+    pub work_count: u32,
+    pub dense_groups_x: u32,
     pub quad_capacity: u32,
-    pub local: u32,
-    pub first_quad: u32,
+    /// compact: grow the scissor rectangles of the children's corner samples.
+    pub scissor: u32,
     pub pad0: u32,
     pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// Append counters shared by subdivide and compact (atomics in WGSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuControl {
+    pub next_quad_count: u32,
+    pub new_sample_count: u32,
+    pub overflow: u32,
+    pub item_count: u32,
 }
 
 /// A quad of the light's lattice: corner (i, j) and side in lattice steps.
@@ -104,9 +124,10 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
         layout_of!(GpuLevel {
-            level, max_level, quad_count, p_m, words_per_row, flag_words_per_row, item_capacity, quad_capacity, local,
-            first_quad, pad0, pad1
+            level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
+            work_count, dense_groups_x, quad_capacity, scissor, pad0, pad1, pad2
         }),
+        layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count }),
         layout_of!(GpuQuad { i, j, size, parent }),
     ]
 }

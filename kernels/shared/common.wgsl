@@ -82,3 +82,60 @@ fn shadow_compare(s: GpuSample, lookup: ShadowLookup, stored: f32) -> u32 {
     }
     return select(0u, 1u, lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
 }
+
+// ---- adaptive light-source sampling (method.md §3-4) ----
+
+// The 17x17 lattice of light points (L_max = 4); lattice index k = j * 17 + i.
+const LATTICE_SIDE: u32 = 17u;
+const LATTICE_POINTS: u32 = 289u;
+// Per-pixel bit masks over the lattice: bit k of word k / 32.
+const MASK_WORDS: u32 = 10u;
+const NO_SPLIT: u32 = 0xffffffffu;
+
+struct GpuLevel {
+    level: u32,
+    max_level: u32,
+    quad_count: u32,
+    first_quad: u32,
+    p_m: u32,
+    split_mode: u32,
+    words_per_row: u32,
+    flag_words_per_row: u32,
+    item_capacity: u32,
+    work_count: u32,
+    dense_groups_x: u32,
+    quad_capacity: u32,
+    scissor: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+struct GpuQuad {
+    i: u32,
+    j: u32,
+    size: u32,
+    parent: u32,
+}
+
+struct GpuControl {
+    next_quad_count: atomic<u32>,
+    new_sample_count: atomic<u32>,
+    overflow: atomic<u32>,
+    item_count: atomic<u32>,
+}
+
+const OVERFLOW_QUADS: u32 = 1u;
+const OVERFLOW_ITEMS: u32 = 2u;
+
+// Lattice index of corner c (0..3: (0,0), (1,0), (0,1), (1,1)) of quad q.
+fn quad_corner(q: GpuQuad, c: u32) -> u32 {
+    let i = q.i + (c & 1u) * q.size;
+    let j = q.j + (c >> 1u) * q.size;
+    return j * LATTICE_SIDE + i;
+}
+
+// Comparison-map bytes hold c + 1 (1..5); 0 means background or not evaluated for this quad.
+fn count_byte(word: u32, x: u32) -> u32 {
+    return (word >> ((x & 3u) * 8u)) & 0xffu;
+}

@@ -1,12 +1,42 @@
-//! Compute stages, one module per kernel; CPU twins live in `compute::twin`.
+//! Compute stages, one WGSL file each; the stage name is the file, the pipeline label, the CPU twin
+//! (`compute::twin`) and the timing key.
 
+pub mod buffers;
+pub mod compact;
+pub mod kernel;
+pub mod neighbourhood;
+pub mod quad_count;
+pub mod reproject_count;
 pub mod shade;
+pub mod shadow_test;
+pub mod subdivide;
 pub mod twin;
+
+pub use kernel::{ComputeKernel, Dispatch};
 
 /// Workgroups needed to cover `n` items with groups of `size` (the one place dispatch sizes are computed).
 pub fn groups(n: u32, size: u32) -> u32 {
     n.div_ceil(size)
 }
 
+/// 2D pixel kernels.
+pub const PIXEL_WORKGROUP: [u32; 3] = [8, 8, 1];
+/// 1D kernels over words, items or quads.
+pub const LINE_WORKGROUP: [u32; 3] = [64, 1, 1];
+
 /// Workgroup sizes the Rust side dispatches with; a test asserts naga reads the same from each kernel.
-pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[("shade", "main", shade::WORKGROUP)];
+pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
+    ("shade", "main", PIXEL_WORKGROUP),
+    ("shade", "from_masks", PIXEL_WORKGROUP),
+    ("shadow_test", "main", PIXEL_WORKGROUP),
+    ("reproject_count", "main", LINE_WORKGROUP),
+    ("reproject_count", "list", LINE_WORKGROUP),
+    ("neighbourhood", "main", LINE_WORKGROUP),
+    ("neighbourhood", "list", LINE_WORKGROUP),
+    ("quad_count", "main", LINE_WORKGROUP),
+    ("subdivide", "main", LINE_WORKGROUP),
+    ("compact", "main", LINE_WORKGROUP),
+    ("compact", "seed", PIXEL_WORKGROUP),
+    ("compact", "resolve", PIXEL_WORKGROUP),
+    ("compact", "begin", [1, 1, 1]),
+];

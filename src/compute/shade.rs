@@ -6,10 +6,11 @@ use crate::layout::GpuShadeChunk;
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
-pub const WORKGROUP: [u32; 3] = [8, 8, 1];
+pub const WORKGROUP: [u32; 3] = super::PIXEL_WORKGROUP;
 
 pub struct ShadePass {
     pipeline: wgpu::ComputePipeline,
+    from_masks: super::ComputeKernel,
 }
 
 /// Buffers and views every shade call reads.
@@ -23,7 +24,10 @@ pub struct ShadeInputs<'a> {
 
 impl ShadePass {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { pipeline: pipeline::compute_pipeline(ctx, "shade", "main")? })
+        Ok(Self {
+            pipeline: pipeline::compute_pipeline(ctx, "shade", "main")?,
+            from_masks: super::ComputeKernel::new(ctx, "shade", "from_masks")?,
+        })
     }
 
     /// Adds samples `first .. first + count` (all in `maps`) to the visibility buffer.
@@ -56,5 +60,31 @@ impl ShadePass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(groups(inputs.gbuffer.width, WORKGROUP[0]), groups(inputs.gbuffer.height, WORKGROUP[1]), 1);
+    }
+
+    /// Adaptive, scope = global: V = Σ_k ŵ_k · bit_k(p) from the cached lattice masks.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_masks(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        weights: &wgpu::Buffer,
+        gbuffer: &GBuffer,
+        masks: &wgpu::Buffer,
+        visibility: &wgpu::Buffer,
+    ) {
+        self.from_masks.dispatch(
+            ctx,
+            encoder,
+            &[
+                (0, frame.as_entire_binding()),
+                (3, weights.as_entire_binding()),
+                (4, wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                (7, visibility.as_entire_binding()),
+                (8, masks.as_entire_binding()),
+            ],
+            super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(gbuffer.height, WORKGROUP[1]), 1]),
+        );
     }
 }

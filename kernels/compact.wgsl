@@ -1,0 +1,108 @@
+// compact (scope = local): each evaluated (pixel, quad) item either goes on to the quad's four
+// children (the quad split and p lay in its penumbra, 0 < c < 4) or adds the quad's uniform share
+// area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
+//  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
+// With scissor on, every child corner's shadow-map texel rectangle grows to cover p.
+
+@group(0) @binding(0) var<uniform> frame: GpuFrame;
+@group(0) @binding(1) var<uniform> level: GpuLevel;
+@group(0) @binding(2) var<storage, read> items: array<vec2<u32>>;
+@group(0) @binding(3) var<storage, read> counts: array<u32>;
+@group(0) @binding(4) var<storage, read> split_base: array<u32>;
+@group(0) @binding(5) var<storage, read_write> next_items: array<vec2<u32>>;
+@group(0) @binding(6) var<storage, read_write> control: GpuControl;
+@group(0) @binding(7) var<storage, read_write> visibility_fixed: array<atomic<u32>>;
+@group(0) @binding(8) var<storage, read> next_quads: array<GpuQuad>;
+@group(0) @binding(9) var<storage, read> samples: array<GpuSample>;
+@group(0) @binding(10) var<storage, read_write> rects: array<atomic<u32>>;
+@group(0) @binding(11) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(12) var gbuffer_normal: texture_2d<f32>;
+@group(0) @binding(13) var<storage, read_write> visibility: array<f32>;
+@group(0) @binding(14) var<storage, read_write> item_total: array<u32>;
+@group(0) @binding(15) var<storage, read_write> dispatch_args: array<u32>;
+
+fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
+    let lookup = shadow_lookup(frame, samples[k], position, normal);
+    if (lookup.kind == LOOKUP_COMPARE) {
+        atomicMin(&rects[k * 4u], u32(lookup.texel.x));
+        atomicMin(&rects[k * 4u + 1u], u32(lookup.texel.y));
+        atomicMax(&rects[k * 4u + 2u], u32(lookup.texel.x));
+        atomicMax(&rects[k * 4u + 3u], u32(lookup.texel.y));
+    }
+}
+
+@compute @workgroup_size(64, 1, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= item_total[0]) {
+        return;
+    }
+    let item = items[gid.x];
+    let p = item.x;
+    let x = p % frame.width;
+    let y = p / frame.width;
+    let words = frame.height * level.words_per_row;
+    let c = count_byte(counts[item.y * words + y * level.words_per_row + x / 4u], x) - 1u;
+    let base = split_base[item.y];
+    if (base != NO_SPLIT && c > 0u && c < 4u) {
+        let slot = atomicAdd(&control.item_count, 4u);
+        if (slot + 4u > level.item_capacity) {
+            atomicOr(&control.overflow, OVERFLOW_ITEMS);
+            return;
+        }
+        for (var child = 0u; child < 4u; child = child + 1u) {
+            next_items[slot + child] = vec2<u32>(p, base + child);
+        }
+        if (level.scissor == 1u) {
+            let pixel = vec2<i32>(i32(x), i32(y));
+            let position = textureLoad(gbuffer_position, pixel, 0).xyz;
+            let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+            // the children's corners: the parent's 4 corners and its 5 new points
+            let q = next_quads[base];
+            let h = q.size;
+            for (var dj = 0u; dj <= 2u; dj = dj + 1u) {
+                for (var di = 0u; di <= 2u; di = di + 1u) {
+                    grow_rect((q.j + dj * h) * LATTICE_SIDE + q.i + di * h, position, normal);
+                }
+            }
+        }
+    } else {
+        atomicAdd(&visibility_fixed[p], c << (2u * (level.max_level - level.level)));
+    }
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    if (textureLoad(gbuffer_position, vec2<i32>(gid.xy), 0).w == 0.0) {
+        return;
+    }
+    let slot = atomicAdd(&control.item_count, 1u);
+    if (slot >= level.item_capacity) {
+        atomicOr(&control.overflow, OVERFLOW_ITEMS);
+        return;
+    }
+    next_items[slot] = vec2<u32>(gid.y * frame.width + gid.x, 0u);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let p = gid.y * frame.width + gid.x;
+    visibility[p] = f32(atomicLoad(&visibility_fixed[p])) / f32(4u << (2u * level.max_level));
+}
+
+// Starts a level: the items appended so far become this level's work (count and dispatch size),
+// and the append counter restarts, all on the GPU so no read-back is needed.
+@compute @workgroup_size(1, 1, 1)
+fn begin() {
+    let n = min(atomicLoad(&control.item_count), level.item_capacity);
+    item_total[0] = n;
+    dispatch_args[0] = (n + 63u) / 64u;
+    dispatch_args[1] = 1u;
+    dispatch_args[2] = 1u;
+    atomicStore(&control.item_count, 0u);
+}

@@ -1,0 +1,67 @@
+// neighbourhood: the low-quality test of method.md §3. Pixel p is low quality for quad q when
+// 0 < c_q(p) < 4 and all 8 neighbours (clamped at the screen edge) have the same c_q; a background
+// or unevaluated neighbour (byte 0) counts as different. One bit per pixel, 32 per flag word.
+//  main: every flag word x every active quad; list: one item each (scope = local).
+
+@group(0) @binding(0) var<uniform> frame: GpuFrame;
+@group(0) @binding(1) var<uniform> level: GpuLevel;
+@group(0) @binding(2) var<storage, read> counts: array<u32>;
+@group(0) @binding(3) var<storage, read_write> flags: array<u32>;
+@group(0) @binding(4) var<storage, read> items: array<vec2<u32>>;
+@group(0) @binding(5) var<storage, read_write> flags_atomic: array<atomic<u32>>;
+@group(0) @binding(6) var<storage, read> item_total: array<u32>;
+
+fn byte_at(q: u32, x: i32, y: i32) -> u32 {
+    let cx = u32(clamp(x, 0, i32(frame.width) - 1));
+    let cy = u32(clamp(y, 0, i32(frame.height) - 1));
+    let words = frame.height * level.words_per_row;
+    return count_byte(counts[q * words + cy * level.words_per_row + cx / 4u], cx);
+}
+
+fn low_quality(q: u32, x: i32, y: i32) -> bool {
+    let b = byte_at(q, x, y);
+    // bytes 2..4 are c = 1..3: partly lit by the quad's corners
+    if (b < 2u || b > 4u) {
+        return false;
+    }
+    for (var dy = -1; dy <= 1; dy = dy + 1) {
+        for (var dx = -1; dx <= 1; dx = dx + 1) {
+            if (byte_at(q, x + dx, y + dy) != b) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+@compute @workgroup_size(64, 1, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wg: vec3<u32>) {
+    let words = frame.height * level.flag_words_per_row;
+    if (gid.x >= words || wg.y >= level.quad_count) {
+        return;
+    }
+    let y = gid.x / level.flag_words_per_row;
+    let x0 = (gid.x % level.flag_words_per_row) * 32u;
+    var bits = 0u;
+    for (var b = 0u; b < 32u; b = b + 1u) {
+        let x = x0 + b;
+        if (x < frame.width && low_quality(wg.y, i32(x), i32(y))) {
+            bits = bits | (1u << b);
+        }
+    }
+    flags[wg.y * words + gid.x] = bits;
+}
+
+@compute @workgroup_size(64, 1, 1)
+fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= item_total[0]) {
+        return;
+    }
+    let item = items[gid.x];
+    let x = item.x % frame.width;
+    let y = item.x / frame.width;
+    if (low_quality(item.y, i32(x), i32(y))) {
+        let words = frame.height * level.flag_words_per_row;
+        atomicOr(&flags_atomic[item.y * words + y * level.flag_words_per_row + x / 32u], 1u << (x % 32u));
+    }
+}

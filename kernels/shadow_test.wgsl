@@ -1,0 +1,39 @@
+// shadow_test: each newly rendered map is tested once per pixel; the result is cached as bit k of
+// the pixel's lattice mask, so counting (reproject_count) and shading read bits, not textures.
+
+@group(0) @binding(0) var<uniform> frame: GpuFrame;
+@group(0) @binding(1) var<uniform> level: GpuLevel;
+@group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
+@group(0) @binding(3) var<storage, read> test_list: array<u32>;
+@group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
+@group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(7) var<storage, read_write> masks: array<u32>;
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let pixel = vec2<i32>(gid.xy);
+    let position = textureLoad(gbuffer_position, pixel, 0);
+    if (position.w == 0.0) {
+        return;
+    }
+    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    let base = (gid.y * frame.width + gid.x) * MASK_WORDS;
+    // Bits gathered in registers, each mask word written once.
+    var bits: array<u32, 10>;
+    for (var t = 0u; t < level.work_count; t = t + 1u) {
+        let k = test_list[t];
+        let s = samples[k];
+        let lookup = shadow_lookup(frame, s, position.xyz, normal);
+        let stored = textureLoad(shadow_maps, lookup.texel, i32(s.layer), 0);
+        bits[k / 32u] = bits[k / 32u] | (shadow_compare(s, lookup, stored) << (k % 32u));
+    }
+    for (var word = 0u; word < MASK_WORDS; word = word + 1u) {
+        if (bits[word] != 0u) {
+            masks[base + word] = masks[base + word] | bits[word];
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! GPU buffers of the adaptive method, sized in one place.
+
+use crate::gpu::{readback, GpuContext};
+use crate::layout::{GpuQuad, GpuSample};
+use crate::{Error, Result};
+
+pub const LATTICE_SIDE: u32 = 17;
+pub const LATTICE_POINTS: u32 = 289;
+pub const MASK_WORDS: u32 = 10;
+/// Quads of one level: at most 4^4 = 256 (level 4 of the 17x17 lattice).
+pub const QUAD_CAPACITY: u32 = 256;
+pub const NO_SPLIT: u32 = u32::MAX;
+
+pub struct AdaptiveBuffers {
+    pub width: u32,
+    pub height: u32,
+    pub words_per_row: u32,
+    pub flag_words_per_row: u32,
+    /// Quads whose comparison maps fit at once (dense mode batches beyond it).
+    pub count_quads: u32,
+    pub item_capacity: u32,
+    pub samples: wgpu::Buffer,
+    pub masks: wgpu::Buffer,
+    pub quads: [wgpu::Buffer; 2],
+    pub counts: wgpu::Buffer,
+    pub flags: wgpu::Buffer,
+    pub quad_counters: wgpu::Buffer,
+    pub control: wgpu::Buffer,
+    pub lattice_state: wgpu::Buffer,
+    pub new_samples: wgpu::Buffer,
+    pub sample_level: wgpu::Buffer,
+    pub split_base: wgpu::Buffer,
+    pub dispatch_args: wgpu::Buffer,
+    pub weights: wgpu::Buffer,
+    pub items: [wgpu::Buffer; 2],
+    pub item_total: wgpu::Buffer,
+    pub list_args: wgpu::Buffer,
+    pub visibility_fixed: wgpu::Buffer,
+    pub rects: wgpu::Buffer,
+}
+
+impl AdaptiveBuffers {
+    pub fn counts_bytes_per_quad(&self) -> u64 {
+        self.height as u64 * self.words_per_row as u64 * 4
+    }
+    pub fn flags_bytes_per_quad(&self) -> u64 {
+        self.height as u64 * self.flag_words_per_row as u64 * 4
+    }
+
+    /// `local`: items, fixed-point visibility and rectangles are needed, and every quad of a level
+    /// must fit in one comparison-map buffer.
+    pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool) -> Result<Self> {
+        let limits = ctx.limits();
+        let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        let words_per_row = width.div_ceil(4);
+        let flag_words_per_row = width.div_ceil(32);
+        let pixels = width as u64 * height as u64;
+        let per_quad = height as u64 * words_per_row as u64 * 4;
+        let count_quads = (max_binding / per_quad).min(QUAD_CAPACITY as u64) as u32;
+        let mask_bytes = pixels * MASK_WORDS as u64 * 4;
+        if count_quads == 0 || mask_bytes > max_binding {
+            return Err(Error::Limit(format!(
+                "adaptive at {width}x{height}: per-pixel lattice masks need {} MiB, over this device's storage binding limit of {} MiB",
+                mask_bytes >> 20,
+                max_binding >> 20
+            )));
+        }
+        if local && count_quads < QUAD_CAPACITY {
+            return Err(Error::Limit(format!(
+                "adaptive scope=local at {width}x{height}: the comparison maps of 256 level-4 quads need {} MiB, over the storage binding limit of {} MiB; use a smaller resolution or scope=global (which batches)",
+                (per_quad * 256) >> 20,
+                max_binding >> 20
+            )));
+        }
+        // Items: every penumbra pixel of a split quad becomes 4, so a pixel on a silhouette can reach
+        // ~4·2^level items; take what one binding holds. Overflow is reported, never clipped.
+        let item_capacity = if local { ((max_binding / 8).min(pixels * 128)) as u32 } else { 1 };
+        let storage = |label: &str, bytes: u64| readback::zeroed_storage(ctx, label, bytes);
+        let indirect = |label: &str| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let quad_bytes = QUAD_CAPACITY as u64 * std::mem::size_of::<GpuQuad>() as u64;
+        let batch = if local { QUAD_CAPACITY } else { count_quads } as u64;
+        Ok(Self {
+            width,
+            height,
+            words_per_row,
+            flag_words_per_row,
+            count_quads,
+            item_capacity,
+            samples: readback::storage_buffer(ctx, "lattice samples", samples, wgpu::BufferUsages::empty()),
+            masks: storage("lattice masks", mask_bytes),
+            quads: [storage("quads a", quad_bytes), storage("quads b", quad_bytes)],
+            counts: storage("comparison maps", per_quad * batch),
+            flags: storage("low-quality flags", height as u64 * flag_words_per_row as u64 * 4 * batch),
+            quad_counters: storage("quad counters", QUAD_CAPACITY as u64 * 4),
+            control: storage("control", 16),
+            lattice_state: storage("lattice state", LATTICE_POINTS as u64 * 4),
+            new_samples: storage("new samples", LATTICE_POINTS as u64 * 4),
+            sample_level: storage("sample levels", LATTICE_POINTS as u64 * 4),
+            split_base: storage("split base", QUAD_CAPACITY as u64 * 4),
+            dispatch_args: indirect("dense dispatch args"),
+            weights: storage("weights", LATTICE_POINTS as u64 * 4),
+            items: [storage("items a", item_capacity as u64 * 8), storage("items b", item_capacity as u64 * 8)],
+            item_total: storage("item total", 16),
+            list_args: indirect("list dispatch args"),
+            visibility_fixed: storage("visibility fixed", if local { pixels * 4 } else { 4 }),
+            rects: storage("scissor rects", LATTICE_POINTS as u64 * 16),
+        })
+    }
+}

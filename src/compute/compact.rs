@@ -1,0 +1,102 @@
+//! compact (scope = local): next level's items, the uniform shares of unrefined quads, scissor
+//! rectangles; `seed`, `begin` and `resolve` start the item list, start a level and finish V.
+
+use super::buffers::AdaptiveBuffers;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::frame::FrameGpu;
+use crate::Result;
+
+pub struct Compact {
+    main: ComputeKernel,
+    seed: ComputeKernel,
+    begin: ComputeKernel,
+    resolve: ComputeKernel,
+}
+
+impl Compact {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        let k = |e| ComputeKernel::new(fg.ctx, "compact", e);
+        Ok(Self { main: k("main")?, seed: k("seed")?, begin: k("begin")?, resolve: k("resolve")? })
+    }
+
+    fn pixels(b: &AdaptiveBuffers) -> Dispatch<'static> {
+        Dispatch::Direct([groups(b.width, PIXEL_WORKGROUP[0]), groups(b.height, PIXEL_WORKGROUP[1]), 1])
+    }
+
+    pub fn record_seed(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, items: &wgpu::Buffer) {
+        self.seed.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (1, level.as_entire_binding()),
+                (5, items.as_entire_binding()),
+                (6, b.control.as_entire_binding()),
+                (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+            ],
+            Self::pixels(b),
+        );
+    }
+
+    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+        self.begin.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (1, level.as_entire_binding()),
+                (6, b.control.as_entire_binding()),
+                (14, b.item_total.as_entire_binding()),
+                (15, b.list_args.as_entire_binding()),
+            ],
+            Dispatch::Direct([1, 1, 1]),
+        );
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_main(
+        &self,
+        fg: &FrameGpu,
+        enc: &mut wgpu::CommandEncoder,
+        b: &AdaptiveBuffers,
+        level: &wgpu::Buffer,
+        items: &wgpu::Buffer,
+        next_items: &wgpu::Buffer,
+        next_quads: &wgpu::Buffer,
+    ) {
+        self.main.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (1, level.as_entire_binding()),
+                (2, items.as_entire_binding()),
+                (3, b.counts.as_entire_binding()),
+                (4, b.split_base.as_entire_binding()),
+                (5, next_items.as_entire_binding()),
+                (6, b.control.as_entire_binding()),
+                (7, b.visibility_fixed.as_entire_binding()),
+                (8, next_quads.as_entire_binding()),
+                (9, b.samples.as_entire_binding()),
+                (10, b.rects.as_entire_binding()),
+                (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (12, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (14, b.item_total.as_entire_binding()),
+            ],
+            Dispatch::Indirect(&b.list_args),
+        );
+    }
+
+    pub fn record_resolve(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+        self.resolve.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (1, level.as_entire_binding()),
+                (7, b.visibility_fixed.as_entire_binding()),
+                (13, fg.visibility.as_entire_binding()),
+            ],
+            Self::pixels(b),
+        );
+    }
+}

@@ -1,0 +1,40 @@
+//! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask.
+
+use super::buffers::AdaptiveBuffers;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::frame::FrameGpu;
+use crate::gpu::readback;
+use crate::layout::GpuLevel;
+use crate::Result;
+
+pub struct ShadowTest {
+    kernel: ComputeKernel,
+}
+
+impl ShadowTest {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "shadow_test", "main")? })
+    }
+
+    /// Tests lattice samples `ks`, whose maps are layers of `maps`.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, ks: &[u32]) {
+        let ctx = fg.ctx;
+        let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: ks.len() as u32, ..Default::default() });
+        let list = readback::storage_buffer(ctx, "test list", ks, wgpu::BufferUsages::empty());
+        self.kernel.dispatch(
+            ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (1, level.as_entire_binding()),
+                (2, b.samples.as_entire_binding()),
+                (3, list.as_entire_binding()),
+                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (6, wgpu::BindingResource::TextureView(maps)),
+                (7, b.masks.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(b.width, PIXEL_WORKGROUP[0]), groups(b.height, PIXEL_WORKGROUP[1]), 1]),
+        );
+    }
+}

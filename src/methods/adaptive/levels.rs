@@ -1,0 +1,170 @@
+//! The one read-back per level, and the per-level record in run.json.
+
+use crate::methods::AdaptiveParams;
+use crate::compute::buffers::{AdaptiveBuffers, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
+use crate::frame::FrameGpu;
+use crate::gpu::readback;
+use crate::layout::GpuQuad;
+use crate::render::gbuffer::GBuffer;
+use crate::Result;
+
+/// What one level's read-back says.
+#[derive(Clone, Debug, Default)]
+pub struct LevelReport {
+    pub level: u32,
+    /// Quads evaluated at this level.
+    pub quads: Vec<GpuQuad>,
+    /// Whether the count stages ran (scope = global skips them at max_level: nothing can split).
+    pub evaluated: bool,
+    /// Low-quality pixels per evaluated quad.
+    pub low_quality: Vec<u32>,
+    /// First child index per evaluated quad, or NO_SPLIT.
+    pub split_base: Vec<u32>,
+    pub next_quad_count: u32,
+    pub next_quads: Vec<GpuQuad>,
+    /// Lattice samples requested for the next level, sorted.
+    pub new_samples: Vec<u32>,
+    /// Deepest evaluated level per lattice sample so far.
+    pub sample_level: Vec<u32>,
+    pub overflow: u32,
+    /// scope = local: (pixel, quad) items evaluated at this level.
+    pub items: u32,
+    /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
+    pub rects: Vec<[u32; 4]>,
+    /// Level 0's comparison map (packed bytes, quad 0) and this level's flags, for pictures.
+    pub counts: Option<Vec<u32>>,
+    pub flags: Option<Vec<u32>>,
+}
+
+/// Per-level summary for run.json.
+#[derive(serde::Serialize)]
+pub struct LevelRecord {
+    pub level: u32,
+    pub active_quads: usize,
+    pub low_quality_per_quad: Vec<u32>,
+    pub split_quads: usize,
+    pub new_samples: usize,
+    pub pixels_evaluated: u64,
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn read_level(
+    fg: &FrameGpu,
+    b: &AdaptiveBuffers,
+    level: u32,
+    quads: Vec<GpuQuad>,
+    next_quads: &wgpu::Buffer,
+    pictures: bool,
+    evaluated: bool,
+    local: bool,
+) -> Result<LevelReport> {
+    let ctx = fg.ctx;
+    let n = quads.len() as u64;
+    let lattice = LATTICE_POINTS as u64 * 4;
+    let quad_bytes = QUAD_CAPACITY as u64 * 16;
+    let mut parts: Vec<(&wgpu::Buffer, u64)> = vec![
+        (&b.control, 16),
+        (&b.new_samples, lattice),
+        (next_quads, quad_bytes),
+        (&b.quad_counters, QUAD_CAPACITY as u64 * 4),
+        (&b.sample_level, lattice),
+        (&b.split_base, QUAD_CAPACITY as u64 * 4),
+        (&b.rects, lattice * 4),
+        (&b.item_total, 4),
+    ];
+    if pictures {
+        parts.push((&b.counts, b.counts_bytes_per_quad()));
+        parts.push((&b.flags, b.flags_bytes_per_quad() * n));
+    }
+    let total: u64 = parts.iter().map(|(_, s)| s).sum();
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("level readback"),
+        size: total,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    let mut offset = 0;
+    for (buf, size) in &parts {
+        enc.copy_buffer_to_buffer(buf, 0, &staging, offset, *size);
+        offset += size;
+    }
+    ctx.queue.submit([enc.finish()]);
+    let words: Vec<u32> = readback::map_staging(ctx, &staging)?;
+    let mut at = 0usize;
+    let mut take = |len: u64| {
+        let s = words[at..at + (len / 4) as usize].to_vec();
+        at += (len / 4) as usize;
+        s
+    };
+    let control = take(16);
+    let new_all = take(lattice);
+    let next_raw = take(quad_bytes);
+    let counters = take(QUAD_CAPACITY as u64 * 4);
+    let sample_level = take(lattice);
+    let split_base = take(QUAD_CAPACITY as u64 * 4);
+    let rects_raw = take(lattice * 4);
+    let item_total = take(4)[0];
+    let (counts, flags) = if pictures {
+        (Some(take(b.counts_bytes_per_quad())), Some(take(b.flags_bytes_per_quad() * n)))
+    } else {
+        (None, None)
+    };
+    let next_quad_count = control[0].min(QUAD_CAPACITY);
+    let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
+    let mut new_samples = new_all[..new_count].to_vec();
+    new_samples.sort_unstable();
+    let next_quads: Vec<GpuQuad> = bytemuck::cast_slice::<u32, GpuQuad>(&next_raw)[..next_quad_count as usize].to_vec();
+    Ok(LevelReport {
+        level,
+        evaluated,
+        low_quality: if evaluated { counters[..n as usize].to_vec() } else { vec![0; n as usize] },
+        split_base: split_base[..n as usize].to_vec(),
+        quads,
+        next_quad_count,
+        next_quads,
+        new_samples,
+        sample_level,
+        overflow: control[2],
+        items: if local { item_total } else { 0 },
+        rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
+        counts,
+        flags,
+    })
+}
+
+pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, consulted: Option<&[u32]>, g: &GBuffer) -> serde_json::Value {
+    let pixels = g.width as u64 * g.height as u64;
+    let levels: Vec<LevelRecord> = trace
+        .levels
+        .iter()
+        .map(|r| LevelRecord {
+            level: r.level,
+            active_quads: r.quads.len(),
+            low_quality_per_quad: r.low_quality.clone(),
+            split_quads: r.split_base.iter().filter(|&&s| s != NO_SPLIT).count(),
+            new_samples: r.new_samples.len(),
+            pixels_evaluated: if p.scope == crate::methods::Scope::Local {
+                r.items as u64
+            } else if r.evaluated {
+                pixels * r.quads.len() as u64
+            } else {
+                0
+            },
+        })
+        .collect();
+    let mut out = serde_json::json!({
+        "levels": levels,
+        "syncs": syncs,
+        "shadow_maps_used": trace.rendered,
+        "weights": if p.scope == crate::methods::Scope::Local { "area quadrature along each pixel's quad path (scope = local)" } else if p.weights == crate::methods::Weights::Level { "level (seed rule: 1/(2^level+1)^2, normalised)" } else { "area (leaf quads, mean of corners)" },
+    });
+    if let Some(masks) = consulted {
+        let counts: Vec<u32> = masks.chunks_exact(10).map(|m| m.iter().map(|w| w.count_ones()).sum()).collect();
+        let geo: Vec<u32> = counts.iter().copied().filter(|&c| c > 0).collect();
+        let mean = geo.iter().map(|&c| c as f64).sum::<f64>() / geo.len().max(1) as f64;
+        out["samples_per_pixel_mean"] = serde_json::json!(mean);
+        out["samples_per_pixel_max"] = serde_json::json!(geo.iter().max().copied().unwrap_or(0));
+    }
+    out
+}

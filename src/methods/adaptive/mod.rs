@@ -1,0 +1,347 @@
+//! Adaptive light-source sampling (seed 000 / Schwärzler et al. 2012), GPU-driven per level:
+//!   shadow_raster (new samples) ─► shadow_test ─► reproject_count ─► neighbourhood ─► quad_count
+//!   ─► subdivide [─► compact under scope = local] ─► one small read-back ─► next level.
+//! scope = global shades every pixel with every map (the seed); scope = local refines each pixel only
+//! inside the quads whose penumbra it lies in (method.md §4.2).
+
+mod levels;
+mod pictures;
+mod weights;
+
+pub use levels::{LevelRecord, LevelReport};
+pub use weights::sample_weights;
+
+use super::{AdaptiveParams, Scope};
+use crate::compute::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
+use crate::compute::{
+    compact::Compact, groups, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
+    shadow_test::ShadowTest, subdivide::Subdivide, Dispatch, LINE_WORKGROUP,
+};
+use crate::frame::{FrameGpu, MethodOutput};
+use crate::gpu::readback;
+use crate::layout::{GpuLevel, GpuQuad, GpuSample};
+use crate::light::sample_view;
+use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
+use crate::timing::StageTimer;
+use crate::{Error, Result};
+
+/// Lattice index of (i, j).
+pub fn lattice_index(i: u32, j: u32) -> u32 {
+    j * LATTICE_SIDE + i
+}
+
+/// Views of all 289 lattice samples (layer and array are filled in when a map is rendered).
+pub fn lattice_samples(fg: &FrameGpu) -> Vec<GpuSample> {
+    let s = fg.scene;
+    (0..LATTICE_POINTS)
+        .map(|k| {
+            let (i, j) = (k % LATTICE_SIDE, k / LATTICE_SIDE);
+            let y = s.light.point(i as f32 / 16.0, j as f32 / 16.0);
+            sample_view(&s.light, y, &s.bounds, s.render.shadow_map_size, k)
+        })
+        .collect()
+}
+
+/// Everything a test may want to see of one run besides the visibility image.
+#[derive(Clone, Debug, Default)]
+pub struct AdaptiveTrace {
+    pub levels: Vec<LevelReport>,
+    /// Lattice indices in the order their maps were rendered.
+    pub rendered: Vec<u32>,
+    pub weights: Vec<f32>,
+}
+
+/// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
+/// only until shadow_test has cached them); `local` keeps every map alive in up to two arrays.
+struct MapStore {
+    arrays: Vec<ShadowMapArray>,
+    per_array: u32,
+    used: u32,
+}
+
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<MethodOutput> {
+    run_traced(fg, timer, p).map(|(out, _)| out)
+}
+
+pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<(MethodOutput, AdaptiveTrace)> {
+    let ctx = fg.ctx;
+    let scene = fg.scene;
+    let local = p.scope == Scope::Local;
+    let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
+    let mut samples = lattice_samples(fg);
+    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local)?;
+    let per_array = shadow_raster::maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
+    let mut store = if local {
+        // Every map stays alive: the lattice needs up to 289, split across two arrays at the layer limit.
+        let need = LATTICE_POINTS;
+        let budget_maps = per_array as u64 * if per_array >= need { 1 } else { 2 };
+        if (budget_maps as u32) < need && per_array < ctx.limits().max_texture_array_layers {
+            return Err(Error::Limit(format!(
+                "adaptive scope=local keeps every map alive: up to 289 maps of {0}x{0} do not fit shadow_map_budget_mib = {1}; raise the budget or use scope=global",
+                scene.render.shadow_map_size, scene.render.shadow_map_budget_mib
+            )));
+        }
+        let first = per_array.min(need);
+        let mut arrays = vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, first)];
+        if first < need {
+            arrays.push(shadow_raster::allocate(ctx, scene.render.shadow_map_size, need - first));
+        }
+        MapStore { arrays, per_array: first, used: 0 }
+    } else {
+        let chunk = per_array.min(LATTICE_POINTS);
+        MapStore { arrays: vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0 }
+    };
+    let passes = Passes {
+        shadow_test: ShadowTest::new(fg)?,
+        reproject_count: ReprojectCount::new(fg)?,
+        neighbourhood: Neighbourhood::new(fg)?,
+        quad_count: QuadCount::new(fg)?,
+        subdivide: Subdivide::new(fg)?,
+        compact: Compact::new(fg)?,
+    };
+    let (threshold, always, never) = p.threshold();
+    let split_mode = if always { 1 } else if never { 2 } else { 0 };
+    let dense_groups_x = groups(h * b.words_per_row, LINE_WORKGROUP[0]);
+    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| GpuLevel {
+        level,
+        max_level: p.max_level,
+        quad_count,
+        first_quad,
+        p_m: threshold,
+        split_mode,
+        words_per_row: b.words_per_row,
+        flag_words_per_row: b.flag_words_per_row,
+        item_capacity: b.item_capacity,
+        work_count: 0,
+        dense_groups_x,
+        quad_capacity: QUAD_CAPACITY,
+        scissor: p.scissor as u32,
+        ..Default::default()
+    };
+
+    // Level 0: the whole light, its four corners requested.
+    let root = GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX };
+    ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::bytes_of(&root));
+    let corners = [lattice_index(0, 0), lattice_index(16, 0), lattice_index(0, 16), lattice_index(16, 16)];
+    let mut state = vec![0u32; LATTICE_POINTS as usize];
+    for k in corners {
+        state[k as usize] = 1;
+    }
+    ctx.queue.write_buffer(&b.lattice_state, 0, bytemuck::cast_slice(&state));
+    if local {
+        let level = readback::uniform_buffer(ctx, "level", &level_uniform(0, 1, 0));
+        timer.stage(ctx, "compact", |enc| {
+            passes.compact.record_seed(fg, enc, &b, &level, &b.items[0]);
+            Ok(())
+        })?;
+    }
+
+    let mut trace = AdaptiveTrace::default();
+    let mut new: Vec<u32> = corners.to_vec();
+    let mut quad_count = 1u32;
+    let mut syncs = 0u32;
+    let mut rects: Option<Vec<[u32; 4]>> = None;
+    let bar = crate::progress::bar(p.max_level as u64 + 1, "adaptive levels");
+    for level in 0..=p.max_level {
+        let cur = (level % 2) as usize;
+        let nxt = 1 - cur;
+        // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
+        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace)?;
+
+        let evaluate = local || level < p.max_level;
+        ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
+        ctx.queue.write_buffer(&b.quad_counters, 0, &vec![0u8; QUAD_CAPACITY as usize * 4]);
+        if local {
+            let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
+            let items = &b.items[cur];
+            let maps = store.views();
+            timer.stage(ctx, "reproject_count", |enc| {
+                passes.compact.record_begin(fg, enc, &b, &lv);
+                enc.clear_buffer(&b.counts, 0, None);
+                enc.clear_buffer(&b.flags, 0, None);
+                passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items, maps);
+                Ok(())
+            })?;
+            timer.stage(ctx, "neighbourhood", |enc| {
+                passes.neighbourhood.record_list(fg, enc, &b, &lv, items);
+                Ok(())
+            })?;
+            timer.stage(ctx, "quad_count", |enc| {
+                passes.quad_count.record(fg, enc, &b, &lv, quad_count);
+                Ok(())
+            })?;
+        } else if evaluate {
+            // Dense: every pixel x every active quad, in batches that fit one comparison-map buffer.
+            let single = quad_count <= b.count_quads;
+            for first in (0..quad_count).step_by(b.count_quads as usize) {
+                let n = b.count_quads.min(quad_count - first);
+                let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, n, first));
+                // GPU-driven: the previous subdivide wrote this dispatch's size.
+                let dispatch =
+                    if single && level > 0 { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([dense_groups_x, n, 1]) };
+                timer.stage(ctx, "reproject_count", |enc| {
+                    passes.reproject_count.record_dense(fg, enc, &b, &lv, &b.quads[cur], dispatch);
+                    Ok(())
+                })?;
+                timer.stage(ctx, "neighbourhood", |enc| {
+                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n);
+                    Ok(())
+                })?;
+                timer.stage(ctx, "quad_count", |enc| {
+                    passes.quad_count.record(fg, enc, &b, &lv, n);
+                    Ok(())
+                })?;
+            }
+        }
+        let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
+        timer.stage(ctx, "subdivide", |enc| {
+            passes.subdivide.record(fg, enc, &b, &lv, &b.quads[cur], &b.quads[nxt]);
+            Ok(())
+        })?;
+        if local {
+            if p.scissor {
+                let init: Vec<[u32; 4]> = vec![[u32::MAX, u32::MAX, 0, 0]; LATTICE_POINTS as usize];
+                ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
+            }
+            timer.stage(ctx, "compact", |enc| {
+                passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt]);
+                Ok(())
+            })?;
+        }
+        // The one read-back of this level.
+        timer.flush(ctx);
+        let pictures = evaluate && (local || quad_count <= b.count_quads);
+        let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
+        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local))?;
+        syncs += 1;
+        if report.overflow != 0 {
+            return Err(Error::Overflow(format!(
+                "adaptive level {level}: {} (flags {:#x}); the run is not valid",
+                if report.overflow & 2 != 0 { "the (pixel, quad) item list exceeded its capacity" } else { "the quad list exceeded 256" },
+                report.overflow
+            )));
+        }
+        rects = if local && p.scissor { Some(report.rects.clone()) } else { None };
+        new = report.new_samples.clone();
+        quad_count = report.next_quad_count;
+        trace.levels.push(report);
+        bar.inc(1);
+        if quad_count == 0 {
+            break;
+        }
+    }
+    bar.finish_and_clear();
+
+    let last = trace.levels.last().cloned().unwrap_or_default();
+    let weights = sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered);
+    trace.weights = weights.clone();
+    if local {
+        let lv = readback::uniform_buffer(ctx, "level", &level_uniform(p.max_level, 0, 0));
+        timer.stage(ctx, "shade", |enc| {
+            passes.compact.record_resolve(fg, enc, &b, &lv);
+            Ok(())
+        })?;
+    } else {
+        ctx.queue.write_buffer(&b.weights, 0, bytemuck::cast_slice(&weights));
+        timer.stage(ctx, "shade", |enc| {
+            fg.shade.record_masks(ctx, enc, &fg.frame_buffer, &b.weights, &fg.gbuffer, &b.masks, &fg.visibility);
+            Ok(())
+        })?;
+    }
+    let consulted: Option<Vec<u32>> = if local {
+        timer.flush(ctx);
+        Some(timer.cpu("pictures", || readback::read_buffer(ctx, &b.masks, w as u64 * h as u64 * 40))?)
+    } else {
+        None
+    };
+    let pictures = pictures::all(fg, &trace, consulted.as_deref());
+    let record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
+    Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures }, trace))
+}
+
+struct Passes {
+    shadow_test: ShadowTest,
+    reproject_count: ReprojectCount,
+    neighbourhood: Neighbourhood,
+    quad_count: QuadCount,
+    subdivide: Subdivide,
+    compact: Compact,
+}
+
+impl MapStore {
+    fn views(&self) -> [&wgpu::TextureView; 2] {
+        let a = &self.arrays[0].array_view;
+        [a, self.arrays.get(1).map(|x| &x.array_view).unwrap_or(a)]
+    }
+}
+
+/// Rasterizes the maps of `new` (sorted, so layer assignment is deterministic) and, under
+/// scope = global, caches their shadow tests; chunks when more maps than one array holds.
+#[allow(clippy::too_many_arguments)]
+fn render_new(
+    fg: &FrameGpu,
+    timer: &mut StageTimer,
+    b: &AdaptiveBuffers,
+    store: &mut MapStore,
+    samples: &mut [GpuSample],
+    new: &[u32],
+    rects: Option<&[[u32; 4]]>,
+    local: bool,
+    passes: &Passes,
+    trace: &mut AdaptiveTrace,
+) -> Result<()> {
+    let ctx = fg.ctx;
+    let mut ks = new.to_vec();
+    ks.sort_unstable();
+    let map_size = fg.scene.render.shadow_map_size;
+    for chunk in ks.chunks(store.per_array as usize) {
+        let mut jobs: Vec<(usize, RasterJob)> = Vec::new();
+        for (n, &k) in chunk.iter().enumerate() {
+            let slot = if local { store.used + n as u32 } else { n as u32 };
+            let (array, layer) = (slot / store.per_array, slot % store.per_array);
+            samples[k as usize].layer = layer;
+            samples[k as usize].array = array;
+            let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
+            // A map none of whose pixels is tested needs no raster at all: an empty rect.
+            let skip = rects.is_some() && scissor.is_none();
+            if !skip {
+                jobs.push((array as usize, RasterJob { sample: k, layer, scissor }));
+            }
+            ctx.queue.write_buffer(&b.samples, k as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[k as usize]));
+        }
+        if local {
+            store.used += chunk.len() as u32;
+        }
+        for (a, array) in store.arrays.iter().enumerate() {
+            let mine: Vec<RasterJob> = jobs.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
+            if !mine.is_empty() {
+                timer.stage(ctx, "shadow_raster", |enc| {
+                    fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine);
+                    Ok(())
+                })?;
+            }
+        }
+        if !local {
+            timer.stage(ctx, "shadow_test", |enc| {
+                passes.shadow_test.record(fg, enc, b, &store.arrays[0].array_view, chunk);
+                Ok(())
+            })?;
+        }
+        // Sample records of the next chunk overwrite this one's layers: submit before writing them.
+        timer.flush(ctx);
+        trace.rendered.extend_from_slice(chunk);
+    }
+    Ok(())
+}
+
+/// Texel rectangle [min, max] → scissor (x, y, w, h), one texel of margin; None when empty.
+fn scissor_rect(r: [u32; 4], size: u32) -> Option<[u32; 4]> {
+    if r[0] > r[2] || r[1] > r[3] {
+        return None;
+    }
+    let x0 = r[0].saturating_sub(1);
+    let y0 = r[1].saturating_sub(1);
+    let x1 = (r[2] + 2).min(size);
+    let y1 = (r[3] + 2).min(size);
+    Some([x0, y0, x1 - x0, y1 - y0])
+}
