@@ -33,6 +33,18 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io { path: String, message: String },
+    /// The CPU ground truth failed (degenerate light, cache file unreadable).
+    #[error("reference: {0}")]
+    Reference(#[from] crate::reference::ReferenceError),
+    /// Metrics could not be computed (sizes disagree, no geometry).
+    #[error("metrics: {0}")]
+    Metrics(#[from] crate::metrics::MetricsError),
+    /// A chart could not be drawn or rasterised.
+    #[error("chart: {0}")]
+    Chart(#[from] crate::charts::ChartError),
+    /// The report could not be written.
+    #[error("report: {0}")]
+    Report(#[from] crate::report::ReportError),
 }
 
 impl Error {

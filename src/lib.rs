@@ -17,5 +17,9 @@ pub mod frame;
 pub mod output;
 pub mod timing;
 pub mod progress;
+pub mod reference;
+pub mod metrics;
+pub mod charts;
+pub mod report;
 
 pub use error::{Error, Result};

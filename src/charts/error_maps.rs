@@ -1,0 +1,45 @@
+//! Chart (c): RMSE against the number of shadow maps, one line per method.
+
+use super::scatter::{Point, Scatter, Series, render};
+use super::style::{spans_scenes, with_scene};
+use super::{ChartError, ResultRow};
+
+/// Rows with no shadow map (e.g. a ray-traced reference) are left out.
+pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
+    let multi = spans_scenes(rows.iter());
+    let mut series: Vec<Series> = Vec::new();
+    for r in rows
+        .iter()
+        .filter(|r| r.shadow_maps > 0 && r.metrics.rmse.is_finite())
+    {
+        let name = with_scene(multi, &r.scene, &r.method);
+        let point = Point {
+            x: f64::from(r.shadow_maps),
+            y: r.metrics.rmse,
+            label: None,
+            x_span: None,
+        };
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series {
+                name,
+                points: vec![point],
+            }),
+        }
+    }
+    if series.is_empty() {
+        return Err(ChartError::NoData(
+            "needs rows with at least one shadow map",
+        ));
+    }
+    render(&Scatter {
+        title: "Error against number of shadow maps".into(),
+        x_desc: "shadow maps rendered (log scale)".into(),
+        y_desc: "RMSE of visibility V (log scale)".into(),
+        series,
+        connect: true,
+        front: None,
+        x_log: true,
+        y_log: true,
+    })
+}

@@ -1,0 +1,55 @@
+//! Chart (a): RMSE against median frame time, every point labelled, Pareto front as a staircase.
+
+use super::pareto::{pareto_front, pareto_steps};
+use super::scatter::{Point, Scatter, Series, render};
+use super::style::{spans_scenes, with_scene};
+use super::{ChartError, ResultRow};
+
+/// Points grouped (coloured) by method; whiskers span min..max time; labels are `label()`.
+pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
+    let rows: Vec<&ResultRow> = rows
+        .iter()
+        .filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0 && r.metrics.rmse.is_finite())
+        .collect();
+    if rows.is_empty() {
+        return Err(ChartError::NoData(
+            "needs rows with a positive time and a finite RMSE",
+        ));
+    }
+    let multi = spans_scenes(rows.iter().copied());
+    let mut series: Vec<Series> = Vec::new();
+    for r in &rows {
+        let name = with_scene(multi, &r.scene, &r.method);
+        let point = Point {
+            x: r.total_ms,
+            y: r.metrics.rmse,
+            label: Some(r.label()),
+            x_span: (r.total_ms_min.is_finite()
+                && r.total_ms_max.is_finite()
+                && r.total_ms_min > 0.0)
+                .then_some((r.total_ms_min, r.total_ms_max)),
+        };
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series {
+                name,
+                points: vec![point],
+            }),
+        }
+    }
+    // A front across scenes would compare unlike things, so draw it only for one scene.
+    let front = (!multi).then(|| {
+        let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.total_ms, r.metrics.rmse)).collect();
+        pareto_steps(&pts, &pareto_front(&pts))
+    });
+    render(&Scatter {
+        title: "Error against time (lower left is better)".into(),
+        x_desc: "median frame time (ms), log scale; whiskers: min–max".into(),
+        y_desc: "RMSE of visibility V (log scale)".into(),
+        series,
+        connect: false,
+        front,
+        x_log: true,
+        y_log: true,
+    })
+}

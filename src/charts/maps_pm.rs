@@ -1,0 +1,57 @@
+//! Chart (b): shadow maps against the adaptive threshold P_M.
+
+use super::scatter::{Point, Scatter, Series, render};
+use super::style::{spans_scenes, with_scene};
+use super::{ChartError, ResultRow, params_short};
+
+/// Rows with method `adaptive` and a finite numeric `p_m` parameter. P_M = 0 is the seed's
+/// setting, so x is P_M + 1 on a log axis (0 lands at 1). One line per scene and per set of
+/// the other parameters. A non-numeric `p_m` (e.g. the string "inf") is skipped.
+pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
+    let multi = spans_scenes(rows.iter());
+    let mut series: Vec<Series> = Vec::new();
+    for r in rows.iter().filter(|r| r.method == "adaptive") {
+        let Some(pm) = r.param_f64("p_m").filter(|&p| p >= 0.0) else {
+            continue;
+        };
+        let mut others = r.params.clone();
+        if let Some(map) = others.as_object_mut() {
+            map.remove("p_m");
+        }
+        let rest = params_short(&others);
+        let key = if rest.is_empty() {
+            "adaptive".to_string()
+        } else {
+            format!("adaptive({rest})")
+        };
+        let name = with_scene(multi, &r.scene, &key);
+        let point = Point {
+            x: pm + 1.0,
+            y: f64::from(r.shadow_maps),
+            label: None,
+            x_span: None,
+        };
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series {
+                name,
+                points: vec![point],
+            }),
+        }
+    }
+    if series.is_empty() {
+        return Err(ChartError::NoData(
+            "needs adaptive rows with a numeric p_m parameter",
+        ));
+    }
+    render(&Scatter {
+        title: "Shadow maps against the threshold P_M (adaptive)".into(),
+        x_desc: "P_M + 1 (pixels, log scale; P_M = 0 plotted at 1)".into(),
+        y_desc: "shadow maps rendered".into(),
+        series,
+        connect: true,
+        front: None,
+        x_log: true,
+        y_log: false,
+    })
+}

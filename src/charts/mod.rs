@@ -1,0 +1,40 @@
+//! Charts of result rows as SVG strings (plotters' SVG backend), and SVG → PNG with resvg.
+//!
+//! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first.
+
+mod error_maps;
+mod error_time;
+mod maps_pm;
+mod pareto;
+mod raster;
+mod row;
+mod scatter;
+mod stages;
+mod style;
+
+pub use error_maps::error_vs_maps_svg;
+pub use error_time::error_vs_time_svg;
+pub use maps_pm::maps_vs_pm_svg;
+pub use pareto::{pareto_front, pareto_steps};
+pub use raster::svg_to_png;
+pub use row::{ResultRow, params_short};
+pub use stages::stage_breakdown_svg;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ChartError {
+    #[error("no row can be plotted on this chart: {0}")]
+    NoData(&'static str),
+    #[error("plotting failed: {0}")]
+    Plot(String),
+    #[error("SVG parse failed: {0}")]
+    Svg(String),
+    #[error("bad PNG scale {0} (must be finite, > 0, and give at most 16384 px a side)")]
+    BadScale(f32),
+    #[error("no usable font: install fonts-dejavu-core (apt) or any sans-serif font")]
+    NoFonts,
+    #[error("PNG encoding failed: {0}")]
+    Png(String),
+}
+
+#[cfg(test)]
+pub(crate) mod tests;

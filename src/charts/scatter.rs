@@ -1,0 +1,215 @@
+//! One scatter-chart renderer behind charts (a)–(c): grouped points, optional labels, x
+//! whiskers, per-group lines and a Pareto staircase, on linear or log axes.
+
+use std::ops::Range;
+
+use plotters::coord::combinators::{BindKeyPoints, LogCoord, WithKeyPoints};
+use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
+use plotters::prelude::*;
+
+use super::ChartError;
+use super::style::{AXIS_PX, FONT, LABEL_PX, SIZE, TITLE_PX, colour, plot_err};
+
+pub(super) struct Point {
+    pub x: f64,
+    pub y: f64,
+    pub label: Option<String>,
+    /// Horizontal whisker (e.g. min..max time).
+    pub x_span: Option<(f64, f64)>,
+}
+
+pub(super) struct Series {
+    pub name: String,
+    pub points: Vec<Point>,
+}
+
+pub(super) struct Scatter {
+    pub title: String,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub series: Vec<Series>,
+    /// Join each series' points in x order.
+    pub connect: bool,
+    /// Path drawn as the Pareto front, if any.
+    pub front: Option<Vec<(f64, f64)>>,
+    /// Log axes are used only when asked *and* every value on that axis is > 0.
+    pub x_log: bool,
+    pub y_log: bool,
+}
+
+impl Scatter {
+    fn values(&self, f: impl Fn(&Point) -> Vec<f64>) -> Vec<f64> {
+        self.series
+            .iter()
+            .flat_map(|s| s.points.iter().flat_map(&f))
+            .filter(|v| v.is_finite())
+            .collect()
+    }
+}
+
+/// Axis range with some air around the data; multiplicative padding on log axes.
+fn padded(values: &[f64], log: bool) -> Range<f64> {
+    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if log {
+        let (lo, hi) = if hi / lo < 10.0 {
+            (lo / 2.0, hi * 2.0)
+        } else {
+            (lo / 1.4, hi * 1.4)
+        };
+        lo..hi
+    } else {
+        let pad = if hi > lo {
+            0.08 * (hi - lo)
+        } else {
+            lo.abs().max(1.0) * 0.1
+        };
+        (lo - pad)..(hi + pad)
+    }
+}
+
+pub(super) fn render(spec: &Scatter) -> Result<String, ChartError> {
+    let xs = spec.values(|p| {
+        let mut v = vec![p.x];
+        v.extend(p.x_span.map(|(a, b)| [a, b]).into_iter().flatten());
+        v
+    });
+    let ys = spec.values(|p| vec![p.y]);
+    if xs.is_empty() || ys.is_empty() {
+        return Err(ChartError::NoData("no finite point"));
+    }
+    let x_log = spec.x_log && xs.iter().all(|&v| v > 0.0);
+    let y_log = spec.y_log && ys.iter().all(|&v| v > 0.0);
+    let (xr, yr) = (padded(&xs, x_log), padded(&ys, y_log));
+    match (x_log, y_log) {
+        (true, true) => draw(spec, log_axis(xr), log_axis(yr)),
+        (true, false) => draw(spec, log_axis(xr), yr),
+        (false, true) => draw(spec, xr, log_axis(yr)),
+        (false, false) => draw(spec, xr, yr),
+    }
+}
+
+/// Log axis with our own ticks: plotters' log key points repeat labels and crowd light lines.
+fn log_axis(r: Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
+    let (bold, light) = log_ticks(r.start, r.end);
+    r.log_scale().with_key_points(bold).with_light_points(light)
+}
+
+/// Labelled ticks at 1-2-5 × 10^k (1 × 10^k only beyond three decades, 1..9 × 10^k when the
+/// range is too narrow for two), light grid lines at 1..9 × 10^k.
+pub(super) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let within = |mult: &[f64]| -> Vec<f64> {
+        (k0..=k1)
+            .flat_map(|k| mult.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let all: Vec<f64> = (1..=9).map(f64::from).collect();
+    let mut bold = within(if k1 - k0 > 3 {
+        &[1.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    });
+    if bold.len() < 2 {
+        bold = within(&all);
+    }
+    (bold, within(&all))
+}
+
+/// Short tick label: about four significant digits, no trailing zeros ("0.005", "60", "1000").
+pub(super) fn tick_label(v: &f64) -> String {
+    if *v == 0.0 || !v.is_finite() {
+        return "0".into();
+    }
+    let decimals = (3 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn draw<XS, YS>(spec: &Scatter, x_spec: XS, y_spec: YS) -> Result<String, ChartError>
+where
+    XS: AsRangedCoord<Value = f64>,
+    YS: AsRangedCoord<Value = f64>,
+    XS::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    YS::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&spec.title, (FONT, TITLE_PX))
+            .margin(16)
+            .x_label_area_size(56)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x_spec, y_spec)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc(&spec.x_desc)
+            .y_desc(&spec.y_desc)
+            .axis_desc_style((FONT, AXIS_PX))
+            .label_style((FONT, LABEL_PX + 1))
+            .x_label_formatter(&tick_label)
+            .y_label_formatter(&tick_label)
+            .light_line_style(RGBColor(238, 238, 238))
+            .draw()
+            .map_err(plot_err)?;
+
+        if let Some(path) = &spec.front {
+            let style = RGBColor(60, 60, 60).stroke_width(2);
+            chart
+                .draw_series(LineSeries::new(path.iter().copied(), style))
+                .map_err(plot_err)?
+                .label("Pareto front")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        }
+        for (k, series) in spec.series.iter().enumerate() {
+            let c = colour(k);
+            let mut pts: Vec<&Point> = series
+                .points
+                .iter()
+                .filter(|p| p.x.is_finite() && p.y.is_finite())
+                .collect();
+            pts.sort_by(|a, b| a.x.total_cmp(&b.x));
+            if spec.connect && pts.len() > 1 {
+                chart
+                    .draw_series(LineSeries::new(
+                        pts.iter().map(|p| (p.x, p.y)),
+                        c.stroke_width(2),
+                    ))
+                    .map_err(plot_err)?;
+            }
+            let whiskers = pts.iter().filter_map(|p| {
+                p.x_span
+                    .map(|(a, b)| PathElement::new(vec![(a, p.y), (b, p.y)], c))
+            });
+            chart.draw_series(whiskers).map_err(plot_err)?;
+            let font = (FONT, LABEL_PX).into_font().color(&BLACK);
+            let marks = pts.iter().map(|p| {
+                let text = Text::new(p.label.clone().unwrap_or_default(), (7, -14), font.clone());
+                EmptyElement::at((p.x, p.y)) + Circle::new((0, 0), 5, c.filled()) + text
+            });
+            chart
+                .draw_series(marks)
+                .map_err(plot_err)?
+                .label(series.name.clone())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font((FONT, LABEL_PX + 1))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(plot_err)?;
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}

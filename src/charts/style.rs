@@ -1,0 +1,52 @@
+//! Shared look: size, fonts, palette, and the plotters error conversion.
+
+use plotters::style::RGBColor;
+
+use super::ChartError;
+
+pub(super) const SIZE: (u32, u32) = (960, 640);
+/// Generic family; `svg_to_png` maps it to DejaVu Sans, browsers to their default sans.
+pub(super) const FONT: &str = "sans-serif";
+pub(super) const TITLE_PX: u32 = 24;
+pub(super) const AXIS_PX: u32 = 18;
+pub(super) const LABEL_PX: u32 = 13;
+
+/// Tableau 10: distinguishable categorical colours.
+const PALETTE: [(u8, u8, u8); 10] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+];
+
+pub(super) fn colour(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
+pub(super) fn plot_err(e: impl std::fmt::Display) -> ChartError {
+    ChartError::Plot(e.to_string())
+}
+
+/// Name for a group of rows: the given key, prefixed with the scene when rows span scenes.
+pub(super) fn with_scene(multi_scene: bool, scene: &str, key: &str) -> String {
+    if multi_scene {
+        format!("{scene}: {key}")
+    } else {
+        key.to_string()
+    }
+}
+
+/// True when the rows come from more than one scene.
+pub(super) fn spans_scenes<'a>(mut rows: impl Iterator<Item = &'a super::ResultRow>) -> bool {
+    let Some(first) = rows.next() else {
+        return false;
+    };
+    rows.any(|r| r.scene != first.scene)
+}

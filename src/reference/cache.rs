@@ -1,0 +1,201 @@
+//! On-disk cache of reference images: a ray-traced ground truth costs minutes, the key is cheap.
+//!
+//! File `<dir>/<key>.vis`: magic `PNMBREF1`, then little-endian `u32 width`, `u32 height`,
+//! `u32 key_len`, the key's UTF-8 bytes, then `width·height` `f32` values, row-major.
+
+use super::{RefLight, ReferenceError, ReferenceMode};
+use std::fs;
+use std::io::{self, ErrorKind};
+use std::path::{Path, PathBuf};
+
+const MAGIC: &[u8; 8] = b"PNMBREF1";
+
+/// FNV-1a 64-bit over the parts, each prefixed by its length so `["ab","c"] != ["a","bc"]`.
+/// Returned as 16 lowercase hex digits. Not cryptographic: keys name cache files, nothing more.
+pub fn cache_key(parts: &[&[u8]]) -> String {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let mut h = OFFSET;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h ^= b as u64;
+            h = h.wrapping_mul(PRIME);
+        }
+    };
+    for part in parts {
+        eat(&(part.len() as u64).to_le_bytes());
+        eat(part);
+    }
+    format!("{h:016x}")
+}
+
+/// Bump when the tracer's results change (sampling, conventions), so old caches go stale.
+pub const REFERENCE_VERSION: u32 = 1;
+
+/// Key of one reference image: `scene` names the geometry and camera (e.g. the scene file's bytes
+/// and the resolution), the rest are the tracing inputs.
+pub fn reference_key(
+    scene: &[u8],
+    light: &RefLight,
+    mode: &ReferenceMode,
+    ray_offset: f32,
+) -> String {
+    let mut light_bytes = Vec::with_capacity(36);
+    for v in [light.center, light.edge_u, light.edge_v] {
+        for c in v.to_array() {
+            light_bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    cache_key(&[
+        b"penumbra-reference",
+        &REFERENCE_VERSION.to_le_bytes(),
+        scene,
+        &light_bytes,
+        &mode.key_bytes(),
+        &ray_offset.to_le_bytes(),
+    ])
+}
+
+/// Where the buffer for `key` lives in `dir`.
+pub fn cache_path(dir: &Path, key: &str) -> PathBuf {
+    dir.join(format!("{key}.vis"))
+}
+
+/// Writes the buffer (creating `dir`); written to a temporary name and renamed, so an
+/// interrupted run never leaves a truncated file under the real name.
+pub fn save_cached(
+    dir: &Path,
+    key: &str,
+    width: u32,
+    height: u32,
+    values: &[f32],
+) -> Result<PathBuf, ReferenceError> {
+    let expected = width as usize * height as usize;
+    if values.len() != expected {
+        return Err(ReferenceError::SizeMismatch {
+            expected,
+            got: values.len(),
+        });
+    }
+    fs::create_dir_all(dir)?;
+    let mut bytes = Vec::with_capacity(20 + key.len() + 4 * values.len());
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&width.to_le_bytes());
+    bytes.extend_from_slice(&height.to_le_bytes());
+    bytes.extend_from_slice(&(key.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(key.as_bytes());
+    for v in values {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let path = cache_path(dir, key);
+    let tmp = dir.join(format!("{key}.vis.tmp{}", std::process::id()));
+    fs::write(&tmp, &bytes)?;
+    fs::rename(&tmp, &path)?;
+    Ok(path)
+}
+
+/// The cached buffer, `Ok(None)` when absent or stored for another key or size (stale);
+/// `Err` for an unreadable or corrupt file.
+pub fn load_cached(
+    dir: &Path,
+    key: &str,
+    width: u32,
+    height: u32,
+) -> Result<Option<Vec<f32>>, ReferenceError> {
+    let bytes = match fs::read(cache_path(dir, key)) {
+        Ok(b) => b,
+        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e.into()),
+    };
+    let corrupt =
+        |what: &str| ReferenceError::Io(io::Error::new(ErrorKind::InvalidData, what.to_string()));
+    let u32_at = |at: usize| -> Option<u32> {
+        Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
+    };
+    if bytes.get(..8) != Some(MAGIC.as_slice()) {
+        return Err(corrupt("reference cache: bad magic"));
+    }
+    let (Some(w), Some(h), Some(key_len)) = (u32_at(8), u32_at(12), u32_at(16)) else {
+        return Err(corrupt("reference cache: truncated header"));
+    };
+    let data_at = 20 + key_len as usize;
+    let Some(stored_key) = bytes.get(20..data_at) else {
+        return Err(corrupt("reference cache: truncated key"));
+    };
+    if stored_key != key.as_bytes() || w != width || h != height {
+        return Ok(None);
+    }
+    let n = w as usize * h as usize;
+    if bytes.len() != data_at + 4 * n {
+        return Err(corrupt("reference cache: wrong data length"));
+    }
+    let values = bytes[data_at..]
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    Ok(Some(values))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn key_is_stable_and_length_prefixed() {
+        assert_eq!(cache_key(&[b"ab", b"c"]), cache_key(&[b"ab", b"c"]));
+        assert_ne!(cache_key(&[b"ab", b"c"]), cache_key(&[b"a", b"bc"]));
+        assert_eq!(cache_key(&[]), "cbf29ce484222325"); // FNV-1a offset basis
+        assert_eq!(cache_key(&[b"x"]).len(), 16);
+    }
+
+    #[test]
+    fn reference_key_depends_on_every_input() {
+        let light = RefLight {
+            center: glam::Vec3::Y,
+            edge_u: glam::Vec3::X,
+            edge_v: glam::Vec3::Z,
+        };
+        let lattice = ReferenceMode::Lattice;
+        let base = reference_key(b"scene", &light, &lattice, 1e-3);
+        assert_eq!(base, reference_key(b"scene", &light, &lattice, 1e-3));
+        assert_ne!(base, reference_key(b"other", &light, &lattice, 1e-3));
+        let moved = RefLight {
+            center: glam::Vec3::Y * 2.0,
+            ..light
+        };
+        assert_ne!(base, reference_key(b"scene", &moved, &lattice, 1e-3));
+        assert_ne!(
+            base,
+            reference_key(b"scene", &light, &ReferenceMode::DEFAULT_CONTINUOUS, 1e-3)
+        );
+        assert_ne!(base, reference_key(b"scene", &light, &lattice, 2e-3));
+    }
+
+    #[test]
+    fn round_trip_stale_and_corrupt() -> Result<(), ReferenceError> {
+        let dir = std::env::temp_dir().join(format!("penumbra-ref-cache-{}", std::process::id()));
+        let key = cache_key(&[b"scene", b"lattice"]);
+        assert!(load_cached(&dir, &key, 2, 2)?.is_none());
+        let values = [0.0, 0.25, 1.0, 0.5];
+        let path = save_cached(&dir, &key, 2, 2, &values)?;
+        assert_eq!(load_cached(&dir, &key, 2, 2)?, Some(values.to_vec()));
+        assert!(
+            load_cached(&dir, &key, 4, 1)?.is_none(),
+            "other size is stale"
+        );
+        assert!(matches!(
+            save_cached(&dir, &key, 3, 3, &values),
+            Err(ReferenceError::SizeMismatch {
+                expected: 9,
+                got: 4
+            })
+        ));
+        fs::write(&path, b"PNMBREF1\x02\x00")?;
+        assert!(
+            load_cached(&dir, &key, 2, 2).is_err(),
+            "truncated file is an error"
+        );
+        fs::remove_dir_all(&dir)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,121 @@
+//! CPU ray-traced ground truth for rectangular area-light visibility (method.md §1, §5).
+//!
+//! `V(p)` = fraction of light sample points `y` with `vis(p, y) = 1`, where `vis = 0` when
+//! - `p` is on or behind the light's plane (`(p - c)·n <= 0`),
+//! - `y` is on or below `p`'s tangent plane (`normal·(y - p) <= 0`: the surface blocks itself),
+//! - or the segment from `p` (offset by `ray_offset` along the normal, towards `y`'s side) to `y`
+//!   hits any triangle at `t ∈ (0, dist·(1 - LIGHT_END_EPS))`. Triangles are two-sided, edges closed.
+//!
+//! Samples: [`ReferenceMode::Lattice`] (the 289 points `s = i/16, t = j/16` that a perfect 17×17
+//! shadow-map method sees) or [`ReferenceMode::Continuous`] (m×m stratified jitter, decorrelated
+//! per pixel). The analytic square scene ([`analytic`]) validates both.
+
+pub mod analytic;
+pub mod cache;
+pub mod sampling;
+pub mod tracer;
+pub mod visibility;
+
+#[cfg(test)]
+mod tests;
+
+use glam::Vec3;
+
+pub use analytic::{
+    AnalyticSquareScene, analytic_lattice_margin, analytic_lattice_visibility,
+    analytic_square_visibility,
+};
+pub use cache::{
+    REFERENCE_VERSION, cache_key, cache_path, load_cached, reference_key, save_cached,
+};
+pub use tracer::{Hit, Tracer};
+pub use visibility::{LIGHT_END_EPS, point_visibility, trace_visibility, try_trace_visibility};
+
+/// Rectangular area light: `y(s,t) = center + (s-½)·edge_u + (t-½)·edge_v`, emitting on the side of
+/// `normalize(edge_u × edge_v)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefLight {
+    pub center: Vec3,
+    pub edge_u: Vec3,
+    pub edge_v: Vec3,
+}
+
+impl RefLight {
+    /// Light point at `(s, t) ∈ [0,1]²`.
+    #[inline]
+    pub fn point(&self, s: f32, t: f32) -> Vec3 {
+        self.center + (s - 0.5) * self.edge_u + (t - 0.5) * self.edge_v
+    }
+
+    /// Unit emission normal, or an error for a degenerate or non-finite light.
+    pub fn normal(&self) -> Result<Vec3, ReferenceError> {
+        let finite = self.center.is_finite() && self.edge_u.is_finite() && self.edge_v.is_finite();
+        let n = self.edge_u.cross(self.edge_v).normalize_or_zero();
+        if !finite || n == Vec3::ZERO {
+            return Err(ReferenceError::DegenerateLight);
+        }
+        Ok(n)
+    }
+}
+
+/// A visible surface point from the G-buffer. `normal` should face the viewer (the lit side).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    pub position: Vec3,
+    pub normal: Vec3,
+}
+
+/// Which light points `V` averages over.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReferenceMode {
+    /// The (2^4+1)² = 289 lattice points `s = i/16`, `t = j/16` (method.md §3).
+    Lattice,
+    /// m×m stratified jittered samples; the jitter is a deterministic hash of `(seed, pixel index)`
+    /// so neighbouring pixels do not share one pattern (which would print the strata as banding).
+    Continuous { m: u32, seed: u64 },
+}
+
+impl ReferenceMode {
+    /// The documented default: 32×32 samples, fixed seed.
+    pub const DEFAULT_CONTINUOUS: ReferenceMode = ReferenceMode::Continuous {
+        m: 32,
+        seed: 0x5eed,
+    };
+
+    /// Samples per pixel (rays per pixel at most).
+    pub fn samples_per_pixel(&self) -> usize {
+        match *self {
+            ReferenceMode::Lattice => sampling::LATTICE_POINTS,
+            ReferenceMode::Continuous { m, .. } => (m as usize) * (m as usize),
+        }
+    }
+
+    /// Bytes that identify the mode in a cache key.
+    pub fn key_bytes(&self) -> Vec<u8> {
+        match *self {
+            ReferenceMode::Lattice => b"lattice".to_vec(),
+            ReferenceMode::Continuous { m, seed } => {
+                let mut v = b"continuous".to_vec();
+                v.extend_from_slice(&m.to_le_bytes());
+                v.extend_from_slice(&seed.to_le_bytes());
+                v
+            }
+        }
+    }
+}
+
+/// Errors of this module (wrapped by the crate's `Error::Reference`).
+#[derive(Debug, thiserror::Error)]
+pub enum ReferenceError {
+    /// `edge_u × edge_v` is zero or a light field is not finite.
+    #[error("area light is degenerate (zero area) or not finite")]
+    DegenerateLight,
+    /// `Continuous { m: 0, .. }`: no samples.
+    #[error("continuous reference needs m >= 1")]
+    NoSamples,
+    /// A buffer's length is not `width × height`.
+    #[error("buffer has {got} values, image needs {expected}")]
+    SizeMismatch { expected: usize, got: usize },
+    #[error("reference cache: {0}")]
+    Io(#[from] std::io::Error),
+}

@@ -1,0 +1,165 @@
+//! The report: one self-contained `report.html` (no external resource of any kind) and a
+//! `report.md` whose images live in `report_files/` beside it.
+
+mod files;
+mod html;
+mod markdown;
+mod table;
+
+use std::path::{Path, PathBuf};
+
+use crate::charts::ResultRow;
+use files::{data_uri, is_png, unique_slugs, write_atomic};
+
+/// Folder, beside `report.md`, holding the files the Markdown links to.
+pub const FILES_DIR: &str = "report_files";
+
+/// The pictures of one method, all PNG-encoded.
+#[derive(Debug, Clone)]
+pub struct MethodImages {
+    /// Usually `ResultRow::label()`.
+    pub label: String,
+    pub shaded_png: Vec<u8>,
+    pub visibility_png: Vec<u8>,
+    pub abs_error_png: Vec<u8>,
+    /// The shaded reference this method is compared with.
+    pub reference_png: Vec<u8>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    #[error("{which} image of {label:?} is not a PNG")]
+    NotPng { label: String, which: &'static str },
+    #[error("chart {0:?} is not an SVG document")]
+    NotSvg(String),
+    #[error("template: {0}")]
+    Template(#[from] minijinja::Error),
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// Writes `report.html`, `report.md` and `report_files/*` into `out_dir` (created if missing).
+/// Everything is rendered in memory first and each file is written atomically, images before
+/// the pages that reference them, so an error never leaves a partial file.
+pub fn write_report(
+    out_dir: &Path,
+    title: &str,
+    settings: &serde_json::Value,
+    rows: &[ResultRow],
+    images: &[MethodImages],
+    charts: &[(String, String)],
+) -> Result<(), ReportError> {
+    for m in images {
+        let parts = [
+            ("shaded", &m.shaded_png),
+            ("visibility", &m.visibility_png),
+            ("abs error", &m.abs_error_png),
+            ("reference", &m.reference_png),
+        ];
+        if let Some((which, _)) = parts.iter().find(|(_, b)| !is_png(b)) {
+            return Err(ReportError::NotPng {
+                label: m.label.clone(),
+                which,
+            });
+        }
+    }
+    if let Some((name, _)) = charts
+        .iter()
+        .find(|(_, svg)| !svg.trim_start().starts_with("<svg"))
+    {
+        return Err(ReportError::NotSvg(name.clone()));
+    }
+
+    let settings = table::settings_pairs(settings);
+    let tables = table::tables(rows);
+    // (relative path, bytes) of every file the Markdown links to.
+    let mut assets: Vec<(String, Vec<u8>)> = Vec::new();
+
+    let chart_slugs = unique_slugs(charts.iter().map(|(n, _)| n.as_str()));
+    let mut chart_views = Vec::new();
+    let mut chart_links = Vec::new();
+    for ((name, svg), slug) in charts.iter().zip(&chart_slugs) {
+        let path = format!("{FILES_DIR}/chart_{slug}.svg");
+        chart_views.push(html::ChartView {
+            name: name.clone(),
+            uri: data_uri("image/svg+xml", svg.as_bytes()),
+        });
+        chart_links.push(markdown::Link {
+            caption: name.clone(),
+            path: path.clone(),
+        });
+        assets.push((path, svg.as_bytes().to_vec()));
+    }
+
+    let method_slugs = unique_slugs(images.iter().map(|m| m.label.as_str()));
+    let mut method_views = Vec::new();
+    let mut method_links = Vec::new();
+    for (m, slug) in images.iter().zip(&method_slugs) {
+        let parts = [
+            ("reference", "reference (shaded)", &m.reference_png),
+            ("shaded", "shaded", &m.shaded_png),
+            ("visibility", "visibility V", &m.visibility_png),
+            ("abs_error", "|error| of V", &m.abs_error_png),
+        ];
+        let mut tiles = Vec::new();
+        let mut links = Vec::new();
+        for (suffix, caption, bytes) in parts {
+            // Methods usually share one reference: write identical bytes once.
+            let existing = (suffix == "reference")
+                .then(|| {
+                    assets
+                        .iter()
+                        .find(|(p, b)| p.ends_with("_reference.png") && b == bytes)
+                })
+                .flatten()
+                .map(|(p, _)| p.clone());
+            let path = existing.unwrap_or_else(|| {
+                let p = format!("{FILES_DIR}/{slug}_{suffix}.png");
+                assets.push((p.clone(), bytes.clone()));
+                p
+            });
+            tiles.push(html::Figure {
+                caption: caption.into(),
+                uri: data_uri("image/png", bytes),
+            });
+            links.push(markdown::Link {
+                caption: caption.into(),
+                path,
+            });
+        }
+        method_views.push(html::MethodView {
+            label: m.label.clone(),
+            tiles,
+        });
+        method_links.push(markdown::MethodLinks {
+            label: m.label.clone(),
+            tiles: links,
+        });
+    }
+
+    let page = html::Page {
+        title,
+        settings: settings.clone(),
+        tables: &tables,
+        charts: chart_views,
+        methods: method_views,
+    };
+    let html = html::render(&page)?;
+    let md = markdown::render(title, &settings, &tables, &chart_links, &method_links);
+
+    let mkdir = |p: PathBuf| {
+        std::fs::create_dir_all(&p).map_err(|source| ReportError::Io { path: p, source })
+    };
+    mkdir(out_dir.join(FILES_DIR))?;
+    for (rel, bytes) in &assets {
+        write_atomic(&out_dir.join(rel), bytes)?;
+    }
+    write_atomic(&out_dir.join("report.md"), md.as_bytes())?;
+    write_atomic(&out_dir.join("report.html"), html.as_bytes())
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,220 @@
+//! The results table: one row per run, numbers formatted, the best value per column flagged.
+
+use serde::Serialize;
+
+use crate::charts::{ResultRow, params_short};
+
+#[derive(Debug, Clone, Serialize)]
+pub(super) struct Cell {
+    pub text: String,
+    pub best: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub(super) struct Table {
+    pub scene: String,
+    pub header: Vec<&'static str>,
+    pub rows: Vec<Vec<Cell>>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Better {
+    Lower,
+    Higher,
+}
+
+/// A numeric column: NaN means "no value" (shown as –, never best).
+struct Column {
+    name: &'static str,
+    better: Better,
+    value: fn(&ResultRow) -> f64,
+    format: fn(f64) -> String,
+}
+
+fn fixed2(v: f64) -> String {
+    format!("{v:.2}")
+}
+fn fixed4(v: f64) -> String {
+    format!("{v:.4}")
+}
+fn int(v: f64) -> String {
+    format!("{v:.0}")
+}
+fn percent(v: f64) -> String {
+    format!("{:.2}%", 100.0 * v)
+}
+/// Errors span decades: four decimals, scientific below 0.001.
+fn error(v: f64) -> String {
+    if v != 0.0 && v.abs() < 1e-3 {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+fn db(v: f64) -> String {
+    if v == f64::INFINITY {
+        "∞".into()
+    } else {
+        format!("{v:.2}")
+    }
+}
+
+const LOWER: Better = Better::Lower;
+const HIGHER: Better = Better::Higher;
+
+fn columns() -> Vec<Column> {
+    let col = |name, better, value, format| Column {
+        name,
+        better,
+        value,
+        format,
+    };
+    vec![
+        col(
+            "maps",
+            LOWER,
+            |r: &ResultRow| f64::from(r.shadow_maps),
+            int as fn(f64) -> String,
+        ),
+        col("median ms", LOWER, |r| r.total_ms, fixed2),
+        col("min ms", LOWER, |r| r.total_ms_min, fixed2),
+        col("max ms", LOWER, |r| r.total_ms_max, fixed2),
+        col("RMSE", LOWER, |r| r.metrics.rmse, error),
+        col("MAE", LOWER, |r| r.metrics.mae, error),
+        col("max err", LOWER, |r| r.metrics.max_abs, error),
+        // Infinite PSNR (identical images) is stored as None.
+        col(
+            "PSNR dB",
+            HIGHER,
+            |r| r.metrics.psnr.unwrap_or(f64::INFINITY),
+            db,
+        ),
+        col("SSIM", HIGHER, |r| r.metrics.ssim, fixed4),
+        col("FLIP mean", LOWER, |r| r.metrics.flip_mean, fixed4),
+        col("FLIP p95", LOWER, |r| r.metrics.flip_p95, fixed4),
+        col("FLIP p99", LOWER, |r| r.metrics.flip_p99, fixed4),
+        col(
+            "penumbra RMSE",
+            LOWER,
+            |r| r.metrics.penumbra_rmse.unwrap_or(f64::NAN),
+            error,
+        ),
+        col("bad share", LOWER, |r| r.metrics.bad_pixel_share, percent),
+        col("NaN", LOWER, |r| r.metrics.nan_count as f64, int),
+    ]
+}
+
+/// One table per scene, in first-appearance order.
+pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
+    let mut scenes: Vec<&str> = Vec::new();
+    for r in rows {
+        if !scenes.contains(&r.scene.as_str()) {
+            scenes.push(&r.scene);
+        }
+    }
+    scenes
+        .into_iter()
+        .map(|scene| {
+            let group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
+            table(scene, &group)
+        })
+        .collect()
+}
+
+fn table(scene: &str, rows: &[&ResultRow]) -> Table {
+    let cols = columns();
+    let mut header = vec!["method", "params"];
+    header.extend(cols.iter().map(|c| c.name));
+    let mut cells: Vec<Vec<Cell>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                Cell {
+                    text: r.method.clone(),
+                    best: false,
+                },
+                Cell {
+                    text: params_short(&r.params),
+                    best: false,
+                },
+            ]
+        })
+        .collect();
+    for c in &cols {
+        let values: Vec<f64> = rows.iter().map(|r| (c.value)(r)).collect();
+        let best = best_flags(&values, c.better);
+        for ((row, v), b) in cells.iter_mut().zip(&values).zip(best) {
+            let text = if v.is_nan() {
+                "–".to_string()
+            } else {
+                (c.format)(*v)
+            };
+            row.push(Cell { text, best: b });
+        }
+    }
+    Table {
+        scene: scene.to_string(),
+        header,
+        rows: cells,
+    }
+}
+
+/// Flags every value equal to the column's best; nothing when all values tie (no contrast).
+fn best_flags(values: &[f64], better: Better) -> Vec<bool> {
+    let present: Vec<f64> = values.iter().copied().filter(|v| !v.is_nan()).collect();
+    let pick = |a: f64, b: f64| {
+        if (better == Better::Lower) == (b < a) {
+            b
+        } else {
+            a
+        }
+    };
+    let Some(best) = present.iter().copied().reduce(pick) else {
+        return vec![false; values.len()];
+    };
+    if present.iter().all(|&v| v == best) {
+        return vec![false; values.len()];
+    }
+    values.iter().map(|&v| v == best).collect()
+}
+
+/// Settings as (key, value) pairs: top-level keys of an object, strings unquoted.
+pub(super) fn settings_pairs(settings: &serde_json::Value) -> Vec<(String, String)> {
+    let text = |v: &serde_json::Value| match v {
+        serde_json::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    };
+    match settings {
+        serde_json::Value::Object(map) => map.iter().map(|(k, v)| (k.clone(), text(v))).collect(),
+        serde_json::Value::Null => Vec::new(),
+        other => vec![("settings".into(), text(other))],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn best_flags_pick_extremes_and_skip_ties() {
+        let nan = f64::NAN;
+        assert_eq!(
+            best_flags(&[3.0, 1.0, nan, 1.0], Better::Lower),
+            vec![false, true, false, true]
+        );
+        assert_eq!(
+            best_flags(&[3.0, f64::INFINITY, 2.0], Better::Higher),
+            vec![false, true, false]
+        );
+        assert_eq!(best_flags(&[0.0, 0.0], Better::Lower), vec![false, false]);
+        assert_eq!(best_flags(&[nan], Better::Lower), vec![false]);
+    }
+
+    #[test]
+    fn number_formats() {
+        assert_eq!(error(0.0123456), "0.0123");
+        assert_eq!(error(0.00012), "1.20e-4");
+        assert_eq!(db(f64::INFINITY), "∞");
+        assert_eq!(percent(0.0125), "1.25%");
+    }
+}
