@@ -142,3 +142,15 @@ pub fn render_traced(ctx: &GpuContext, scene: &Scene, p: &methods::AdaptiveParam
     render_with(ctx, scene, &Method::Adaptive(p.clone()), TimingMode::Frame, &mut trace)?;
     Ok(trace.unwrap_or_default())
 }
+
+/// Only the camera G-buffer of `scene`: what the CPU reference traces from. Same pass, same
+/// uniforms as `render`, so its pixels are the points every method shades.
+pub fn gbuffer_only(ctx: &GpuContext, scene: &Scene) -> Result<GBufferCpu> {
+    let pass = GBufferPass::new(ctx)?;
+    let target = GBufferPass::allocate(ctx, scene.render.width, scene.render.height)?;
+    let scene_gpu = SceneGpu::upload(ctx, scene);
+    let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gbuffer") });
+    pass.record(ctx, &mut encoder, &scene_gpu, &camera_uniform(scene), &target);
+    ctx.queue.submit([encoder.finish()]);
+    gbuffer::read_back(ctx, &target)
+}

@@ -21,5 +21,7 @@ pub mod reference;
 pub mod metrics;
 pub mod charts;
 pub mod report;
+pub mod ground_truth;
+pub mod compare;
 
 pub use error::{Error, Result};

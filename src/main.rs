@@ -1,9 +1,12 @@
-//! `penumbra`: the command line. With no arguments it renders the embedded default scene.
+//! `penumbra`: the command line. With no arguments it compares the default methods on the
+//! embedded default scene against the CPU reference and writes the report.
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use penumbra::compare::{self, methods_list, sweep, CompareJob};
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
+use penumbra::ground_truth;
 use penumbra::methods::{Method, METHOD_KEYS};
 use penumbra::output;
 use penumbra::scene::{Scene, BUILTIN_SCENES};
@@ -20,6 +23,10 @@ struct Cli {
     out: PathBuf,
 }
 
+/// What `penumbra` with no arguments compares (method.md: the seed's settings, the region-local
+/// extension, and the regular grids it is measured against).
+const DEFAULT_METHODS: &str = "hard,regular:n=5,regular:n=17,adaptive,adaptive:scope=local";
+
 #[derive(Subcommand)]
 enum Command {
     /// Render one scene with one method; writes visibility.png/.exr, shaded.png and run.json.
@@ -28,6 +35,90 @@ enum Command {
     Scenes,
     /// Print the adapter and the limits in use.
     Info,
+    /// Ray-trace the ground truth from the G-buffer on the CPU (cached); writes reference.exr/.png.
+    Reference(ReferenceArgs),
+    /// Time methods against the reference; writes results.jsonl/.csv, pictures, charts, report.
+    Compare(CompareArgs),
+    /// Like compare, over parameter grids read from a TOML spec (docs/compare-and-report.md).
+    Sweep(SweepArgs),
+    /// Re-render report.html and report.md from results.jsonl files.
+    Report(ReportArgs),
+}
+
+#[derive(clap::Args)]
+struct ReferenceArgs {
+    /// Built-in scene name or path to a scene TOML file.
+    #[arg(long, default_value = "default")]
+    scene: String,
+    /// `continuous` (M×M stratified jitter, fixed seed) or `lattice` (the 289 lattice points).
+    #[arg(long, default_value = "continuous")]
+    mode: String,
+    /// M for the continuous mode.
+    #[arg(long, default_value_t = 32)]
+    samples: u32,
+    /// Override a render setting, e.g. `--set resolution=256`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder.
+    #[arg(long, default_value = "penumbra-out/reference")]
+    out: PathBuf,
+    /// Trace even when the cache holds this reference (the result is still cached).
+    #[arg(long)]
+    no_cache: bool,
+}
+
+/// Settings shared by compare and sweep.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Built-in scene name or path to a scene TOML file.
+    #[arg(long, default_value = "default")]
+    scene: String,
+    /// Timed frames per method after one warm-up (and one stages-mode frame); the median is quoted.
+    #[arg(long, default_value_t = 3)]
+    repeats: u32,
+    /// Ground truth: `continuous` or `lattice`.
+    #[arg(long, default_value = "continuous")]
+    reference: String,
+    /// M for the continuous reference (M×M samples).
+    #[arg(long, default_value_t = 32)]
+    samples: u32,
+    /// Override a render setting, e.g. `--set resolution=256` (method parameters go in --methods).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder.
+    #[arg(long, default_value = "penumbra-out")]
+    out: PathBuf,
+    /// Trace the reference even when the cache holds it.
+    #[arg(long)]
+    no_cache: bool,
+}
+
+#[derive(clap::Args)]
+struct CompareArgs {
+    /// Methods, comma-separated: `hard,regular:n=5,adaptive:p_m=0,scope=local` (repeatable).
+    #[arg(long, default_value = DEFAULT_METHODS)]
+    methods: Vec<String>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(clap::Args)]
+struct SweepArgs {
+    /// Sweep spec (TOML): `methods = [...]` and `[[grid]]` tables of parameter lists.
+    #[arg(long)]
+    spec: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(clap::Args)]
+struct ReportArgs {
+    /// results.jsonl files written by compare or sweep.
+    #[arg(required = true, value_name = "RESULTS.jsonl")]
+    results: Vec<PathBuf>,
+    /// Output folder for report.html, report.md and report_files/.
+    #[arg(long, default_value = "penumbra-out")]
+    out: PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -66,16 +157,29 @@ fn run() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
         None => {
-            let args = RenderArgs {
+            let run = RunArgs {
                 scene: "default".into(),
-                method: "hard".into(),
-                out: cli.out,
+                repeats: 3,
+                reference: "continuous".into(),
+                samples: 32,
                 set: Vec::new(),
-                timing: "stages".into(),
+                out: cli.out,
+                no_cache: false,
             };
-            render(args)
+            compare_methods(&[DEFAULT_METHODS.to_string()], run)
         }
         Some(Command::Render(args)) => render(args),
+        Some(Command::Reference(args)) => reference(args),
+        Some(Command::Compare(args)) => compare_methods(&args.methods, args.run),
+        Some(Command::Sweep(args)) => {
+            let specs = sweep::read_spec(&args.spec)?;
+            run_compare(&specs, args.run)
+        }
+        Some(Command::Report(args)) => {
+            let html = penumbra::report::results::write_from_files(&args.results, &args.out)?;
+            println!("report: {}", html.display());
+            Ok(())
+        }
         Some(Command::Scenes) => {
             for (name, about, _) in BUILTIN_SCENES {
                 println!("{name:18} {about}");
@@ -128,5 +232,61 @@ fn render(args: RenderArgs) -> Result<()> {
     for (name, _) in &files {
         println!("  {}", args.out.join(name).display());
     }
+    Ok(())
+}
+
+/// Render settings from `--set`; method parameters belong in the method specs here.
+fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
+    let (render, method) = split_sets(sets)?;
+    if let Some((k, _)) = method.first() {
+        anyhow::bail!("--set {k}=...: method parameters go in the method spec, e.g. `adaptive:{k}=...`");
+    }
+    Ok(render)
+}
+
+fn reference(args: ReferenceArgs) -> Result<()> {
+    let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
+    let mode = ground_truth::parse_mode(&args.mode, args.samples)?;
+    let ctx = GpuContext::new()?;
+    let (g, image) = ground_truth::for_scene(&ctx, &scene, mode, &ground_truth::Cache::default_for(args.no_cache))?;
+    let (w, h) = (image.width, image.height);
+    let geometry = g.geometry_count();
+    let record = serde_json::to_vec_pretty(&image.record(&scene, geometry))?;
+    let files = vec![
+        ("reference.exr".to_string(), output::visibility_exr(&image.values, w, h)?),
+        ("reference.png".to_string(), output::visibility_png(&image.values, w, h)?),
+        ("reference_shaded.png".to_string(), output::png(&output::shaded_image(&image.values, &g, &scene))?),
+        ("reference.json".to_string(), record),
+    ];
+    output::write_files(&args.out, &files)?;
+    println!("{}", compare::reference_line(&image, geometry));
+    for (name, _) in &files {
+        println!("  {}", args.out.join(name).display());
+    }
+    Ok(())
+}
+
+fn compare_methods(values: &[String], run: RunArgs) -> Result<()> {
+    let specs = methods_list::split_specs(values)?;
+    run_compare(&specs, run)
+}
+
+/// Everything the user gave is checked before the GPU starts or any file is written.
+fn run_compare(specs: &[String], run: RunArgs) -> Result<()> {
+    let methods = methods_list::parse_methods(specs)?;
+    let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
+    let mode = ground_truth::parse_mode(&run.reference, run.samples)?;
+    if run.repeats == 0 || run.repeats > 1000 {
+        anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
+    }
+    let ctx = GpuContext::new()?;
+    let cache = ground_truth::Cache::default_for(run.no_cache);
+    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache };
+    let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    let html = compare::write(&run.out, &outcome)?;
+    print!("{}", compare::table::render(&outcome.rows));
+    println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, ground_truth::mode_label(&mode));
+    println!("results: {}", run.out.join("results.jsonl").display());
+    println!("report:  {}", html.display());
     Ok(())
 }

@@ -6,17 +6,20 @@ use super::{ChartError, ResultRow, params_short};
 
 /// Rows with method `adaptive` and a finite numeric `p_m` parameter. P_M = 0 is the seed's
 /// setting, so x is P_M + 1 on a log axis (0 lands at 1). One line per scene and per set of
-/// the other parameters. A non-numeric `p_m` (e.g. the string "inf") is skipped.
+/// the other parameters that vary between the adaptive rows (a parameter every row shares would
+/// only lengthen the legend). A non-numeric `p_m` (e.g. the string "inf") is skipped.
 pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter());
+    let adaptive: Vec<&ResultRow> = rows.iter().filter(|r| r.method == "adaptive").collect();
+    let shared = |key: &str| adaptive.iter().all(|r| r.params.get(key) == adaptive[0].params.get(key));
     let mut series: Vec<Series> = Vec::new();
-    for r in rows.iter().filter(|r| r.method == "adaptive") {
+    for r in &adaptive {
         let Some(pm) = r.param_f64("p_m").filter(|&p| p >= 0.0) else {
             continue;
         };
         let mut others = r.params.clone();
         if let Some(map) = others.as_object_mut() {
-            map.remove("p_m");
+            map.retain(|k, _| k != "p_m" && !shared(k));
         }
         let rest = params_short(&others);
         let key = if rest.is_empty() {

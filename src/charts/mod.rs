@@ -4,6 +4,7 @@
 
 mod error_maps;
 mod error_time;
+mod labels;
 mod maps_pm;
 mod pareto;
 mod raster;

@@ -6,7 +6,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::metrics::Metrics;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// One row of `results.jsonl`. The keys up to `metrics` are what every chart needs; the rest
+/// (all optional when read back) say how the row was measured and where its pictures are.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ResultRow {
     pub scene: String,
     pub method: String,
@@ -22,12 +24,47 @@ pub struct ResultRow {
     /// Median time per stage, keyed by stage name (`reproject_count`, …).
     pub stages_ms: BTreeMap<String, f64>,
     pub metrics: Metrics,
+    /// The method's own short label (`adaptive:p_m=0,scope=local`); empty: derived from params.
+    #[serde(default)]
+    pub label: String,
+    /// CPU↔GPU synchronisations the method needs per frame (read-backs), timing waits excluded.
+    #[serde(default)]
+    pub syncs: u32,
+    /// Every timed frame, in run order (`total_ms` is their median).
+    #[serde(default)]
+    pub total_ms_runs: Vec<f64>,
+    /// Per-frame setup outside `total_ms` (pipelines, upload), from the stages-mode run.
+    #[serde(default)]
+    pub setup_ms: Option<f64>,
+    /// `[width, height]` of the image the metrics are taken over.
+    #[serde(default)]
+    pub resolution: Option<[u32; 2]>,
+    #[serde(default)]
+    pub shadow_map_size: Option<u32>,
+    /// The ground truth the metrics compare with, e.g. `continuous 32x32`.
+    #[serde(default)]
+    pub reference: String,
+    #[serde(default)]
+    pub repeats: u32,
+    /// Which clock the times come from and how they were taken.
+    #[serde(default)]
+    pub clock: String,
+    #[serde(default)]
+    pub version: serde_json::Value,
+    /// Picture files (`shaded`, `visibility`, `abs_error`, `signed_error`, `reference`), relative
+    /// to the results file.
+    #[serde(default)]
+    pub images: BTreeMap<String, String>,
 }
 
 impl ResultRow {
-    /// `method` plus its parameters in short form: `adaptive(p_m=0, scope=local)`; just the
-    /// method when there are none. Keys come in sorted order (serde_json's default map).
+    /// The stored label, else `method` plus its parameters in short form:
+    /// `adaptive(p_m=0, scope=local)`; just the method when there are none. Keys come in sorted
+    /// order (serde_json's default map).
     pub fn label(&self) -> String {
+        if !self.label.is_empty() {
+            return self.label.clone();
+        }
         let p = params_short(&self.params);
         if p.is_empty() {
             self.method.clone()

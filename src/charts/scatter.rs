@@ -7,6 +7,7 @@ use plotters::coord::combinators::{BindKeyPoints, LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::prelude::*;
 
+use super::labels;
 use super::ChartError;
 use super::style::{AXIS_PX, FONT, LABEL_PX, SIZE, TITLE_PX, colour, plot_err};
 
@@ -169,14 +170,25 @@ where
                 .label("Pareto front")
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
         }
-        for (k, series) in spec.series.iter().enumerate() {
+        // Label spots for every labelled point of every series at once, so no two collide.
+        let sorted: Vec<Vec<&Point>> = spec
+            .series
+            .iter()
+            .map(|s| {
+                let mut pts: Vec<&Point> = s.points.iter().filter(|p| p.x.is_finite() && p.y.is_finite()).collect();
+                pts.sort_by(|a, b| a.x.total_cmp(&b.x));
+                pts
+            })
+            .collect();
+        let all: Vec<&Point> = sorted.iter().flatten().copied().collect();
+        let at: Vec<(i32, i32)> = all.iter().map(|p| chart.backend_coord(&(p.x, p.y))).collect();
+        let widths: Vec<i32> =
+            all.iter().map(|p| labels::text_width(p.label.as_deref().unwrap_or(""), LABEL_PX)).collect();
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let label_h = LABEL_PX as i32 + 2;
+        let mut spots = labels::place(&at, &widths, label_h, (xr.start, yr.start, xr.end, yr.end)).into_iter().zip(widths);
+        for (k, pts) in sorted.iter().enumerate() {
             let c = colour(k);
-            let mut pts: Vec<&Point> = series
-                .points
-                .iter()
-                .filter(|p| p.x.is_finite() && p.y.is_finite())
-                .collect();
-            pts.sort_by(|a, b| a.x.total_cmp(&b.x));
             if spec.connect && pts.len() > 1 {
                 chart
                     .draw_series(LineSeries::new(
@@ -191,14 +203,18 @@ where
             });
             chart.draw_series(whiskers).map_err(plot_err)?;
             let font = (FONT, LABEL_PX).into_font().color(&BLACK);
-            let marks = pts.iter().map(|p| {
-                let text = Text::new(p.label.clone().unwrap_or_default(), (7, -14), font.clone());
-                EmptyElement::at((p.x, p.y)) + Circle::new((0, 0), 5, c.filled()) + text
+            let placed: Vec<(labels::Spot, i32)> = spots.by_ref().take(pts.len()).collect();
+            let marks = pts.iter().zip(placed).map(|(p, (spot, width))| {
+                let text = Text::new(p.label.clone().unwrap_or_default(), (spot.dx, spot.dy), font.clone());
+                // A label pushed away from its point gets a thin leader line back to it.
+                let end = if spot.far { spot.anchor(width, label_h) } else { (0, 0) };
+                let leader = PathElement::new(vec![(0, 0), end], RGBColor(150, 150, 150));
+                EmptyElement::at((p.x, p.y)) + leader + Circle::new((0, 0), 5, c.filled()) + text
             });
             chart
                 .draw_series(marks)
                 .map_err(plot_err)?
-                .label(series.name.clone())
+                .label(spec.series[k].name.clone())
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
         }
         chart

@@ -51,6 +51,7 @@ pub(crate) fn row(
         total_ms_max: ms * 1.2,
         stages_ms: stages,
         metrics: metrics(rmse),
+        ..Default::default()
     }
 }
 
@@ -154,10 +155,12 @@ fn error_vs_time_has_every_label_and_the_front() {
 #[test]
 fn maps_vs_pm_uses_adaptive_rows_only() {
     let svg = maps_vs_pm_svg(&sample_rows()).unwrap();
-    assert_svg(
-        &svg,
-        &["P_M + 1", "shadow maps rendered", "adaptive(scope=local)"],
-    );
+    // Every adaptive row has scope=local: the legend leaves it out.
+    assert_svg(&svg, &["P_M + 1", "shadow maps rendered", ">\nadaptive\n<"]);
+    assert!(!svg.contains("scope=local"));
+    let mut rows = sample_rows();
+    rows.push(row("adaptive", json!({"p_m": 0, "scope": "global"}), 70, 40.0, 0.006));
+    assert_svg(&maps_vs_pm_svg(&rows).unwrap(), &["adaptive(scope=local)", "adaptive(scope=global)"]);
     let no_adaptive: Vec<ResultRow> = sample_rows()
         .into_iter()
         .filter(|r| r.method != "adaptive")

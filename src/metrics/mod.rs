@@ -17,7 +17,7 @@ pub use error_image::{BACKGROUND_GREY, NAN_COLOUR, abs_error_image, signed_error
 pub const BAD_PIXEL_THRESHOLD: f64 = 1.0 / 32.0;
 
 /// Error figures of one visibility estimate. All JSON-safe: no NaN or infinity is ever stored.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// Root-mean-square error of V over valid pixels (geometry, finite estimate).
     pub rmse: f64,

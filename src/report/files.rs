@@ -53,7 +53,7 @@ pub(super) fn slug(text: &str) -> String {
 }
 
 /// Unique slugs for a list of names (`a`, `a_2`, …), in order.
-pub(super) fn unique_slugs<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
+pub(crate) fn unique_slugs<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
     let mut seen: Vec<String> = Vec::new();
     for name in names {
         let base = slug(name);

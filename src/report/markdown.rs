@@ -43,10 +43,10 @@ pub(super) fn render(
          values tie). Times: median (min–max) over repeats. PSNR ∞ = identical."
     );
     for t in tables {
-        let _ = writeln!(md, "\n### Scene: {}\n", cell(&t.scene));
+        let _ = writeln!(md, "\n### {}: {}\n", cell(&t.scene), t.kind);
         let _ = writeln!(md, "| {} |", t.header.join(" | "));
         let align: Vec<&str> = (0..t.header.len())
-            .map(|i| if i < 2 { "---" } else { "---:" })
+            .map(|i| if i < 1 { "---" } else { "---:" })
             .collect();
         let _ = writeln!(md, "| {} |", align.join(" | "));
         for r in &t.rows {

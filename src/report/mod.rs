@@ -4,12 +4,14 @@
 mod files;
 mod html;
 mod markdown;
+pub mod results;
 mod table;
 
 use std::path::{Path, PathBuf};
 
 use crate::charts::ResultRow;
-use files::{data_uri, is_png, unique_slugs, write_atomic};
+use files::{data_uri, is_png, write_atomic};
+pub(crate) use files::unique_slugs;
 
 /// Folder, beside `report.md`, holding the files the Markdown links to.
 pub const FILES_DIR: &str = "report_files";
@@ -24,6 +26,8 @@ pub struct MethodImages {
     pub abs_error_png: Vec<u8>,
     /// The shaded reference this method is compared with.
     pub reference_png: Vec<u8>,
+    /// Signed error of V (blue: too dark, red: too bright), when available.
+    pub signed_error_png: Option<Vec<u8>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -34,6 +38,9 @@ pub enum ReportError {
     NotSvg(String),
     #[error("template: {0}")]
     Template(#[from] minijinja::Error),
+    /// A results file is missing, unreadable or has a malformed line.
+    #[error("{path}: {message}")]
+    Results { path: PathBuf, message: String },
     #[error("{path}: {source}")]
     Io {
         path: PathBuf,
@@ -59,7 +66,8 @@ pub fn write_report(
             ("abs error", &m.abs_error_png),
             ("reference", &m.reference_png),
         ];
-        if let Some((which, _)) = parts.iter().find(|(_, b)| !is_png(b)) {
+        let signed = m.signed_error_png.iter().map(|b| ("signed error", b));
+        if let Some((which, _)) = parts.into_iter().chain(signed).find(|(_, b)| !is_png(b)) {
             return Err(ReportError::NotPng {
                 label: m.label.clone(),
                 which,
@@ -104,9 +112,10 @@ pub fn write_report(
             ("visibility", "visibility V", &m.visibility_png),
             ("abs_error", "|error| of V", &m.abs_error_png),
         ];
+        let signed = m.signed_error_png.iter().map(|b| ("signed_error", "signed error of V", b));
         let mut tiles = Vec::new();
         let mut links = Vec::new();
-        for (suffix, caption, bytes) in parts {
+        for (suffix, caption, bytes) in parts.into_iter().chain(signed) {
             // Methods usually share one reference: write identical bytes once.
             let existing = (suffix == "reference")
                 .then(|| {

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::charts::{ResultRow, params_short};
+use crate::charts::ResultRow;
 
 #[derive(Debug, Clone, Serialize)]
 pub(super) struct Cell {
@@ -13,6 +13,8 @@ pub(super) struct Cell {
 #[derive(Debug, Clone, Serialize)]
 pub(super) struct Table {
     pub scene: String,
+    /// `speed` or `accuracy`: two narrow tables read better than one that scrolls.
+    pub kind: &'static str,
     pub header: Vec<&'static str>,
     pub rows: Vec<Vec<Cell>>,
 }
@@ -62,49 +64,41 @@ fn db(v: f64) -> String {
 const LOWER: Better = Better::Lower;
 const HIGHER: Better = Better::Higher;
 
-fn columns() -> Vec<Column> {
-    let col = |name, better, value, format| Column {
-        name,
-        better,
-        value,
-        format,
-    };
+fn col(name: &'static str, better: Better, value: fn(&ResultRow) -> f64, format: fn(f64) -> String) -> Column {
+    Column { name, better, value, format }
+}
+
+/// Cost: how many maps, waits and milliseconds a frame takes.
+fn speed_columns() -> Vec<Column> {
     vec![
-        col(
-            "maps",
-            LOWER,
-            |r: &ResultRow| f64::from(r.shadow_maps),
-            int as fn(f64) -> String,
-        ),
+        col("maps", LOWER, |r| f64::from(r.shadow_maps), int),
+        col("syncs", LOWER, |r| f64::from(r.syncs), int),
         col("median ms", LOWER, |r| r.total_ms, fixed2),
         col("min ms", LOWER, |r| r.total_ms_min, fixed2),
         col("max ms", LOWER, |r| r.total_ms_max, fixed2),
+        col("setup ms", LOWER, |r| r.setup_ms.unwrap_or(f64::NAN), fixed2),
+    ]
+}
+
+/// Error against the reference.
+fn accuracy_columns() -> Vec<Column> {
+    vec![
         col("RMSE", LOWER, |r| r.metrics.rmse, error),
         col("MAE", LOWER, |r| r.metrics.mae, error),
         col("max err", LOWER, |r| r.metrics.max_abs, error),
         // Infinite PSNR (identical images) is stored as None.
-        col(
-            "PSNR dB",
-            HIGHER,
-            |r| r.metrics.psnr.unwrap_or(f64::INFINITY),
-            db,
-        ),
+        col("PSNR dB", HIGHER, |r| r.metrics.psnr.unwrap_or(f64::INFINITY), db),
         col("SSIM", HIGHER, |r| r.metrics.ssim, fixed4),
         col("FLIP mean", LOWER, |r| r.metrics.flip_mean, fixed4),
         col("FLIP p95", LOWER, |r| r.metrics.flip_p95, fixed4),
         col("FLIP p99", LOWER, |r| r.metrics.flip_p99, fixed4),
-        col(
-            "penumbra RMSE",
-            LOWER,
-            |r| r.metrics.penumbra_rmse.unwrap_or(f64::NAN),
-            error,
-        ),
+        col("penumbra RMSE", LOWER, |r| r.metrics.penumbra_rmse.unwrap_or(f64::NAN), error),
         col("bad share", LOWER, |r| r.metrics.bad_pixel_share, percent),
         col("NaN", LOWER, |r| r.metrics.nan_count as f64, int),
     ]
 }
 
-/// One table per scene, in first-appearance order.
+/// Two tables (speed, accuracy) per scene, scenes in first-appearance order.
 pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
     let mut scenes: Vec<&str> = Vec::new();
     for r in rows {
@@ -116,30 +110,16 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
         .into_iter()
         .map(|scene| {
             let group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
-            table(scene, &group)
+            [table(scene, "speed", speed_columns(), &group), table(scene, "accuracy", accuracy_columns(), &group)]
         })
+        .flatten()
         .collect()
 }
 
-fn table(scene: &str, rows: &[&ResultRow]) -> Table {
-    let cols = columns();
-    let mut header = vec!["method", "params"];
+fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]) -> Table {
+    let mut header = vec!["method"];
     header.extend(cols.iter().map(|c| c.name));
-    let mut cells: Vec<Vec<Cell>> = rows
-        .iter()
-        .map(|r| {
-            vec![
-                Cell {
-                    text: r.method.clone(),
-                    best: false,
-                },
-                Cell {
-                    text: params_short(&r.params),
-                    best: false,
-                },
-            ]
-        })
-        .collect();
+    let mut cells: Vec<Vec<Cell>> = rows.iter().map(|r| vec![Cell { text: r.label(), best: false }]).collect();
     for c in &cols {
         let values: Vec<f64> = rows.iter().map(|r| (c.value)(r)).collect();
         let best = best_flags(&values, c.better);
@@ -152,11 +132,7 @@ fn table(scene: &str, rows: &[&ResultRow]) -> Table {
             row.push(Cell { text, best: b });
         }
     }
-    Table {
-        scene: scene.to_string(),
-        header,
-        rows: cells,
-    }
+    Table { scene: scene.to_string(), kind, header, rows: cells }
 }
 
 /// Flags every value equal to the column's best; nothing when all values tie (no contrast).
@@ -178,12 +154,20 @@ fn best_flags(values: &[f64], better: Better) -> Vec<bool> {
     values.iter().map(|&v| v == best).collect()
 }
 
-/// Settings as (key, value) pairs: top-level keys of an object, strings unquoted.
+/// Settings as (key, value) pairs: top-level keys of an object (sorted), or an array of
+/// `[key, value]` pairs (in order); strings unquoted.
 pub(super) fn settings_pairs(settings: &serde_json::Value) -> Vec<(String, String)> {
     let text = |v: &serde_json::Value| match v {
         serde_json::Value::String(s) => s.clone(),
         other => other.to_string(),
     };
+    let pair = |v: &serde_json::Value| match v.as_array().map(Vec::as_slice) {
+        Some([k, v]) => Some((text(k), text(v))),
+        _ => None,
+    };
+    if let Some(pairs) = settings.as_array().and_then(|a| a.iter().map(pair).collect::<Option<Vec<_>>>()) {
+        return pairs;
+    }
     match settings {
         serde_json::Value::Object(map) => map.iter().map(|(k, v)| (k.clone(), text(v))).collect(),
         serde_json::Value::Null => Vec::new(),

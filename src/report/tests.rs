@@ -32,6 +32,7 @@ fn images(rows: &[ResultRow]) -> Vec<MethodImages> {
             visibility_png: png(32, 24, i as u8 * 30 + 1),
             abs_error_png: png(32, 24, i as u8 * 30 + 2),
             reference_png: reference.clone(),
+            signed_error_png: None,
         })
         .collect()
 }
@@ -102,7 +103,8 @@ fn markdown_links_files_that_exist() {
     let dir = scratch_dir("md");
     let rows = write_sample(&dir);
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(md.contains("| method | params | maps | median ms |"));
+    assert!(md.contains("| method | maps | syncs | median ms |"));
+    assert!(md.contains("| method | RMSE | MAE |"));
     assert!(md.contains("**"), "best values are bold");
     let mut links = 0;
     for part in md.split("](").skip(1) {

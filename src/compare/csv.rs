@@ -1,0 +1,80 @@
+//! `results.csv`: one line per row, the same figures as `results.jsonl` flattened, one
+//! `stage_<name>_ms` column per stage seen in any row.
+
+use crate::charts::ResultRow;
+
+fn field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+pub fn render(rows: &[ResultRow]) -> String {
+    let mut stages: Vec<&str> = Vec::new();
+    for r in rows {
+        for k in r.stages_ms.keys() {
+            if !stages.contains(&k.as_str()) {
+                stages.push(k);
+            }
+        }
+    }
+    let mut header: Vec<String> = [
+        "scene", "label", "method", "params", "adapter", "shadow_maps", "syncs", "total_ms", "total_ms_min", "total_ms_max",
+        "setup_ms", "rmse", "mae", "max_abs", "psnr", "ssim", "flip_mean", "flip_p95", "flip_p99", "penumbra_rmse",
+        "bad_pixel_share", "nan_count", "pixels", "penumbra_pixels", "reference",
+    ]
+    .map(String::from)
+    .to_vec();
+    header.extend(stages.iter().map(|s| format!("stage_{s}_ms")));
+    let mut out = header.join(",") + "\n";
+    for r in rows {
+        let m = &r.metrics;
+        let adapter = r.adapter.get("name").and_then(|v| v.as_str()).map(String::from).unwrap_or_else(|| r.adapter.to_string());
+        let mut cells = vec![
+            r.scene.clone(),
+            r.label(),
+            r.method.clone(),
+            r.params.to_string(),
+            adapter,
+            r.shadow_maps.to_string(),
+            r.syncs.to_string(),
+            r.total_ms.to_string(),
+            r.total_ms_min.to_string(),
+            r.total_ms_max.to_string(),
+            opt(r.setup_ms),
+            m.rmse.to_string(),
+            m.mae.to_string(),
+            m.max_abs.to_string(),
+            opt(m.psnr),
+            m.ssim.to_string(),
+            m.flip_mean.to_string(),
+            m.flip_p95.to_string(),
+            m.flip_p99.to_string(),
+            opt(m.penumbra_rmse),
+            m.bad_pixel_share.to_string(),
+            m.nan_count.to_string(),
+            m.pixels.to_string(),
+            m.penumbra_pixels.to_string(),
+            r.reference.clone(),
+        ];
+        cells.extend(stages.iter().map(|s| opt(r.stages_ms.get(*s).copied())));
+        out += &(cells.iter().map(|c| field(c)).collect::<Vec<_>>().join(",") + "\n");
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn quoting() {
+        assert_eq!(super::field("a,b"), "\"a,b\"");
+        assert_eq!(super::field("say \"x\""), "\"say \"\"x\"\"\"");
+        assert_eq!(super::field("plain"), "plain");
+    }
+}

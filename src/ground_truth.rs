@@ -1,0 +1,218 @@
+//! The reference image of a scene: its camera G-buffer traced on the CPU (`reference`), cached on
+//! disk under a key of everything that changes the result, so a rerun costs a hash, not minutes.
+
+use crate::gpu::GpuContext;
+use crate::reference::{self, RefLight, ReferenceMode, SurfacePoint, Tracer};
+use crate::render::gbuffer::GBufferCpu;
+use crate::scene::Scene;
+use crate::{frame, progress, Error, Result};
+use glam::Vec3;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Shadow-ray origins move this fraction of the scene's bounding-box diagonal along the normal:
+/// far above f32 rounding of G-buffer positions at any scene scale, far below any feature size.
+pub const RELATIVE_RAY_OFFSET: f32 = 1e-4;
+
+/// The fixed seed of the continuous mode (method.md §5: "fixed seed").
+pub const CONTINUOUS_SEED: u64 = 0x5eed;
+
+pub fn ray_offset(scene: &Scene) -> f32 {
+    RELATIVE_RAY_OFFSET * scene.bounds.diagonal()
+}
+
+/// `lattice` or `continuous` (with `samples` per side, M×M stratified).
+pub fn parse_mode(name: &str, samples: u32) -> Result<ReferenceMode> {
+    match name {
+        "lattice" => Ok(ReferenceMode::Lattice),
+        "continuous" if samples >= 1 && samples <= 256 => Ok(ReferenceMode::Continuous { m: samples, seed: CONTINUOUS_SEED }),
+        "continuous" => Err(Error::Param(format!("--samples must be in 1..=256, got {samples}"))),
+        _ => Err(Error::Param(format!("reference mode `{name}`: use `lattice` or `continuous`"))),
+    }
+}
+
+/// Short description for tables and records: `continuous 32x32` or `lattice 17x17`.
+pub fn mode_label(mode: &ReferenceMode) -> String {
+    match *mode {
+        ReferenceMode::Lattice => "lattice 17x17".into(),
+        ReferenceMode::Continuous { m, .. } => format!("continuous {m}x{m}"),
+    }
+}
+
+/// `$PENUMBRA_CACHE/reference`, else `$XDG_CACHE_HOME/penumbra/reference`, else
+/// `~/.cache/penumbra/reference` (the asset cache's root, one folder per kind of entry).
+pub fn default_cache_dir() -> Option<PathBuf> {
+    let var = |k| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let root = var("PENUMBRA_CACHE")
+        .or_else(|| var("XDG_CACHE_HOME").filter(|p| p.is_absolute()).map(|p| p.join("penumbra")))
+        .or_else(|| var("HOME").map(|h| h.join(".cache/penumbra")))?;
+    Some(root.join("reference"))
+}
+
+/// What the reference cache may do in one call.
+#[derive(Clone, Debug)]
+pub enum Cache {
+    /// Neither read nor write.
+    Off,
+    /// Read a stored result; store a fresh one.
+    Use(PathBuf),
+    /// Trace regardless, then store the result (`--no-cache`).
+    Refresh(PathBuf),
+}
+
+impl Cache {
+    /// The default folder, or `Off` when no folder can be named (no HOME).
+    pub fn default_for(refresh: bool) -> Cache {
+        match (default_cache_dir(), refresh) {
+            (Some(dir), false) => Cache::Use(dir),
+            (Some(dir), true) => Cache::Refresh(dir),
+            (None, _) => Cache::Off,
+        }
+    }
+}
+
+/// A traced (or cached) reference: V per pixel, row-major, 0 on background.
+pub struct ReferenceImage {
+    pub values: Vec<f32>,
+    pub width: u32,
+    pub height: u32,
+    pub mode: ReferenceMode,
+    pub ray_offset: f32,
+    pub key: String,
+    /// `Some(path)` when read from or written to the cache.
+    pub cache_file: Option<PathBuf>,
+    pub cached: bool,
+    /// Tracing figures; `None` when the image came from the cache.
+    pub trace: Option<TraceStats>,
+}
+
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct TraceStats {
+    pub seconds: f64,
+    /// Shadow rays actually traced (samples below p's tangent plane need none).
+    pub rays: u64,
+    pub rays_per_s: f64,
+    /// Geometry pixels × samples per pixel, per second: the figure comparable across scenes.
+    pub samples_per_s: f64,
+    pub bvh_build_s: f64,
+    pub threads: usize,
+}
+
+impl ReferenceImage {
+    pub fn record(&self, scene: &Scene, geometry_pixels: usize) -> serde_json::Value {
+        serde_json::json!({
+            "scene": scene.name,
+            "scene_origin": scene.origin,
+            "triangles": scene.triangle_count(),
+            "resolution": [self.width, self.height],
+            "geometry_pixels": geometry_pixels,
+            "mode": mode_label(&self.mode),
+            "samples_per_pixel": self.mode.samples_per_pixel(),
+            "seed": match self.mode { ReferenceMode::Continuous { seed, .. } => Some(seed), _ => None },
+            "ray_offset": self.ray_offset,
+            "key": self.key,
+            "cached": self.cached,
+            "cache_file": self.cache_file.as_ref().map(|p| p.display().to_string()),
+            "trace": self.trace,
+            "version": crate::output::version(),
+        })
+    }
+}
+
+/// One G-buffer pixel as the tracer sees it; background is `None`.
+pub fn surface_points(g: &GBufferCpu) -> Vec<Option<SurfacePoint>> {
+    (0..g.position.len())
+        .map(|i| {
+            g.is_geometry(i).then(|| SurfacePoint {
+                position: Vec3::from_slice(&g.position[i][..3]),
+                normal: Vec3::from_slice(&g.normal[i][..3]),
+            })
+        })
+        .collect()
+}
+
+fn light_of(scene: &Scene) -> RefLight {
+    RefLight { center: scene.light.center, edge_u: scene.light.edge_u, edge_v: scene.light.edge_v }
+}
+
+/// Cache key: triangles, camera, the G-buffer itself (it fixes the resolution and every traced
+/// point), light, mode, ray offset, the tracer's `REFERENCE_VERSION` and the crate version.
+pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f32) -> String {
+    let floats = |v: &mut Vec<u8>, xs: &[f32]| xs.iter().for_each(|x| v.extend_from_slice(&x.to_le_bytes()));
+    let mut tris = Vec::with_capacity(scene.triangle_count() * 36);
+    for t in scene.triangles() {
+        for p in t {
+            floats(&mut tris, &p.to_array());
+        }
+    }
+    let c = &scene.camera;
+    let mut camera = Vec::new();
+    floats(&mut camera, &[c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg]);
+    let size = [g.width.to_le_bytes(), g.height.to_le_bytes()].concat();
+    let digest = reference::cache_key(&[
+        env!("CARGO_PKG_VERSION").as_bytes(),
+        &tris,
+        &camera,
+        &size,
+        bytemuck::cast_slice(&g.position),
+        bytemuck::cast_slice(&g.normal),
+    ]);
+    reference::reference_key(digest.as_bytes(), &light_of(scene), mode, offset)
+}
+
+/// Traces `scene`'s reference over `g`, or reads it from the cache (written after a trace).
+pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache) -> Result<ReferenceImage> {
+    let offset = ray_offset(scene);
+    let key = cache_key(scene, g, &mode, offset);
+    let mut image = ReferenceImage {
+        values: Vec::new(),
+        width: g.width,
+        height: g.height,
+        mode,
+        ray_offset: offset,
+        key: key.clone(),
+        cache_file: None,
+        cached: false,
+        trace: None,
+    };
+    if let Cache::Use(dir) = cache {
+        // A corrupt cache file is an error worth seeing, not something to overwrite silently.
+        if let Some(values) = reference::load_cached(dir, &key, g.width, g.height)? {
+            image.values = values;
+            image.cache_file = Some(reference::cache_path(dir, &key));
+            image.cached = true;
+            return Ok(image);
+        }
+    }
+    let build = Instant::now();
+    let tracer = Tracer::new(&scene.triangles());
+    let bvh_build_s = build.elapsed().as_secs_f64();
+    let points = surface_points(g);
+    let bar = progress::bar(points.len() as u64, &format!("reference {}", mode_label(&mode)));
+    let start = Instant::now();
+    let values = reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?;
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let geometry = points.iter().filter(|p| p.is_some()).count();
+    let rays = tracer.rays_traced();
+    image.trace = Some(TraceStats {
+        seconds,
+        rays,
+        rays_per_s: rays as f64 / seconds.max(1e-9),
+        samples_per_s: (geometry * mode.samples_per_pixel()) as f64 / seconds.max(1e-9),
+        bvh_build_s,
+        threads: rayon::current_num_threads(),
+    });
+    if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
+        image.cache_file = Some(reference::save_cached(dir, &key, g.width, g.height, &values)?);
+    }
+    image.values = values;
+    Ok(image)
+}
+
+/// The G-buffer of `scene` rendered on `ctx`, then [`compute`].
+pub fn for_scene(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache) -> Result<(GBufferCpu, ReferenceImage)> {
+    let g = frame::gbuffer_only(ctx, scene)?;
+    let image = compute(scene, &g, mode, cache)?;
+    Ok((g, image))
+}

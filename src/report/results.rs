@@ -1,0 +1,168 @@
+//! Reports from result files: `results.jsonl` rows, the pictures they name, the charts, the
+//! settings they share. `compare`, `sweep` and `penumbra report` all end here, so a report
+//! re-rendered from the files equals the one the run wrote.
+
+use std::path::{Path, PathBuf};
+
+use super::{write_report, MethodImages, ReportError};
+use crate::charts::{self, ChartError, ResultRow};
+use crate::Result;
+
+/// A row and the folder its image paths are relative to.
+pub struct LoadedRow {
+    pub row: ResultRow,
+    pub base: PathBuf,
+}
+
+/// Reads one `results.jsonl`: one JSON object per line, blank lines skipped; any other line is
+/// an error naming the file and line.
+pub fn read_results(path: &Path) -> Result<Vec<LoadedRow>> {
+    let err = |message: String| ReportError::Results { path: path.to_path_buf(), message };
+    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read results file: {e}")))?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut rows = Vec::new();
+    for (n, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let row: ResultRow = serde_json::from_str(line).map_err(|e| err(format!("line {}: not a result row: {e}", n + 1)))?;
+        rows.push(LoadedRow { row, base: base.clone() });
+    }
+    if rows.is_empty() {
+        return Err(err("no result rows".into()).into());
+    }
+    Ok(rows)
+}
+
+/// Every chart the rows support, as (file stem, caption, SVG); a chart with no data for these
+/// rows is left out.
+pub fn charts(rows: &[ResultRow]) -> Result<Vec<(&'static str, String, String)>> {
+    type Chart = fn(&[ResultRow]) -> Result<String, ChartError>;
+    let all: [(&str, &str, Chart); 4] = [
+        ("error_vs_time", "Error against time, Pareto front marked", charts::error_vs_time_svg),
+        ("error_vs_maps", "Error against the number of shadow maps", charts::error_vs_maps_svg),
+        ("maps_vs_pm", "Shadow maps against P_M (adaptive)", charts::maps_vs_pm_svg),
+        ("stage_breakdown", "Stage time breakdown", charts::stage_breakdown_svg),
+    ];
+    // Maps against P_M needs P_M to vary; one value would plot a lone point per series.
+    let mut pms: Vec<f64> = rows.iter().filter(|r| r.method == "adaptive").filter_map(|r| r.param_f64("p_m")).collect();
+    pms.sort_by(f64::total_cmp);
+    pms.dedup();
+    let mut out = Vec::new();
+    for (stem, caption, draw) in all {
+        if stem == "maps_vs_pm" && pms.len() < 2 {
+            continue;
+        }
+        match draw(rows) {
+            Ok(svg) => out.push((stem, caption.to_string(), svg)),
+            Err(ChartError::NoData(_)) => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(out)
+}
+
+/// One value when all rows agree, else the distinct values joined by `; ` (first-seen order).
+fn shared(rows: &[ResultRow], f: impl Fn(&ResultRow) -> String) -> String {
+    let mut seen: Vec<String> = Vec::new();
+    for v in rows.iter().map(f).filter(|v| !v.is_empty()) {
+        if !seen.contains(&v) {
+            seen.push(v);
+        }
+    }
+    if seen.is_empty() { "–".into() } else { seen.join("; ") }
+}
+
+fn adapter_text(a: &serde_json::Value) -> String {
+    let s = |k: &str| a.get(k).and_then(|v| v.as_str()).unwrap_or("").to_string();
+    match a {
+        serde_json::Value::Object(_) => {
+            let driver = [s("driver"), s("driver_info")].join(" ").trim().to_string();
+            format!("{} ({}, {}{})", s("name"), s("backend"), s("device_type"), if driver.is_empty() { String::new() } else { format!(", {driver}") })
+        }
+        serde_json::Value::String(x) => x.clone(),
+        _ => String::new(),
+    }
+}
+
+/// The settings table of the report, from what the rows record, as ordered `[key, value]` pairs.
+pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
+    let version = |r: &ResultRow| match &r.version {
+        serde_json::Value::Object(v) => format!(
+            "penumbra {} (git {})",
+            v.get("crate").and_then(|x| x.as_str()).unwrap_or("?"),
+            v.get("git").and_then(|x| x.as_str()).unwrap_or("?")
+        ),
+        _ => String::new(),
+    };
+    let pairs = [
+        ("scene", shared(rows, |r| r.scene.clone())),
+        ("adapter", shared(rows, |r| adapter_text(&r.adapter))),
+        ("resolution", shared(rows, |r| r.resolution.map(|[w, h]| format!("{w}x{h}")).unwrap_or_default())),
+        ("shadow map size", shared(rows, |r| r.shadow_map_size.map(|s| format!("{s}x{s}")).unwrap_or_default())),
+        ("reference", shared(rows, |r| r.reference.clone())),
+        (
+            "timing",
+            shared(rows, |r| if r.repeats > 0 { format!("one warm-up frame, then the median of {} frames", r.repeats) } else { String::new() }),
+        ),
+        ("clock", shared(rows, |r| r.clock.clone())),
+        ("metrics", "geometry pixels only; FLIP on the shaded images; definitions in docs/compare-and-report.md".into()),
+        ("version", shared(rows, version)),
+        ("rows", rows.len().to_string()),
+    ];
+    serde_json::Value::Array(pairs.into_iter().map(|(k, v)| serde_json::json!([k, v])).collect())
+}
+
+/// The pictures of a row, read from the files it names; `None` when it names none (a row from
+/// elsewhere). A named file that is missing is an error.
+fn images(r: &LoadedRow) -> Result<Option<MethodImages>> {
+    let read = |key: &str| -> Result<Option<Vec<u8>>> {
+        let Some(rel) = r.row.images.get(key) else { return Ok(None) };
+        let path = r.base.join(rel);
+        let bytes = std::fs::read(&path)
+            .map_err(|e| ReportError::Results { path: path.clone(), message: format!("image `{key}` of {}: {e}", r.row.label()) })?;
+        Ok(Some(bytes))
+    };
+    let (Some(shaded_png), Some(visibility_png), Some(abs_error_png), Some(reference_png)) =
+        (read("shaded")?, read("visibility")?, read("abs_error")?, read("reference")?)
+    else {
+        return Ok(None);
+    };
+    Ok(Some(MethodImages {
+        label: r.row.label(),
+        shaded_png,
+        visibility_png,
+        abs_error_png,
+        reference_png,
+        signed_error_png: read("signed_error")?,
+    }))
+}
+
+/// Writes `report.html`, `report.md` and `report_files/` for these rows into `out_dir`;
+/// returns the path of `report.html`.
+pub fn write_from_rows(rows: &[LoadedRow], out_dir: &Path) -> Result<PathBuf> {
+    let plain: Vec<ResultRow> = rows.iter().map(|r| r.row.clone()).collect();
+    let mut scenes: Vec<&str> = Vec::new();
+    for r in &plain {
+        if !scenes.contains(&r.scene.as_str()) {
+            scenes.push(&r.scene);
+        }
+    }
+    let title = format!("Penumbra: speed against accuracy, {}", scenes.join(", "));
+    let mut pictures = Vec::new();
+    for r in rows {
+        pictures.extend(images(r)?);
+    }
+    let charts: Vec<(String, String)> = charts(&plain)?.into_iter().map(|(_, caption, svg)| (caption, svg)).collect();
+    write_report(out_dir, &title, &settings(&plain), &plain, &pictures, &charts)?;
+    Ok(out_dir.join("report.html"))
+}
+
+/// `penumbra report FILES… --out DIR`: every file is read before anything is written.
+pub fn write_from_files(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
+    if paths.is_empty() {
+        return Err(crate::Error::Param("report: give at least one results.jsonl".into()));
+    }
+    let mut rows = Vec::new();
+    for p in paths {
+        rows.extend(read_results(p)?);
+    }
+    write_from_rows(&rows, out_dir)
+}
