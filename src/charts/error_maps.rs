@@ -16,7 +16,7 @@ pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         let point = Point {
             x: f64::from(r.shadow_maps),
             y: r.metrics.rmse,
-            label: None,
+            label: Some(r.label()),
             x_span: None,
         };
         match series.iter_mut().find(|s| s.name == name) {

@@ -44,6 +44,9 @@ pub(super) fn place(at: &[(i32, i32)], widths: &[i32], height: i32, area: Box) -
     let mut out = vec![Spot { dx: GAP, dy: -height - 2, far: false }; at.len()];
     for i in order {
         let (w, h) = (widths[i], height);
+        if w == 0 {
+            continue; // no label: nothing to place
+        }
         // Rows above and below the point, nearest first; right of the point before left.
         let mut candidates = Vec::new();
         for row in 0..3 {

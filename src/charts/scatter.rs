@@ -207,7 +207,8 @@ where
             let marks = pts.iter().zip(placed).map(|(p, (spot, width))| {
                 let text = Text::new(p.label.clone().unwrap_or_default(), (spot.dx, spot.dy), font.clone());
                 // A label pushed away from its point gets a thin leader line back to it.
-                let end = if spot.far { spot.anchor(width, label_h) } else { (0, 0) };
+                let labelled = p.label.as_deref().is_some_and(|l| !l.is_empty());
+                let end = if spot.far && labelled { spot.anchor(width, label_h) } else { (0, 0) };
                 let leader = PathElement::new(vec![(0, 0), end], RGBColor(150, 150, 150));
                 EmptyElement::at((p.x, p.y)) + leader + Circle::new((0, 0), 5, c.filled()) + text
             });

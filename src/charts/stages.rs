@@ -62,7 +62,7 @@ pub fn stage_breakdown_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption("Stage time breakdown (median per stage)", (FONT, TITLE_PX))
+            .caption("Stage time breakdown (wall clock per stage)", (FONT, TITLE_PX))
             .margin(16)
             .x_label_area_size(56)
             .y_label_area_size(y_area)
@@ -73,7 +73,7 @@ pub fn stage_breakdown_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         chart
             .configure_mesh()
             .disable_y_mesh()
-            .x_desc("time (ms): sum of stage medians, stages stacked in name order")
+            .x_desc("time (ms): stage times stacked in first-seen order; compare: one stages-mode frame")
             .y_desc("method")
             .y_label_formatter(&|v| {
                 slot_row(*v)

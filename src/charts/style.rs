@@ -11,8 +11,9 @@ pub(super) const TITLE_PX: u32 = 24;
 pub(super) const AXIS_PX: u32 = 18;
 pub(super) const LABEL_PX: u32 = 13;
 
-/// Tableau 10: distinguishable categorical colours.
-const PALETTE: [(u8, u8, u8); 10] = [
+/// Tableau 10, then the light halves of Tableau 20: a frame has a dozen stages, and a repeated
+/// colour would merge two of them in the stage chart.
+const PALETTE: [(u8, u8, u8); 20] = [
     (31, 119, 180),
     (255, 127, 14),
     (44, 160, 44),
@@ -23,6 +24,16 @@ const PALETTE: [(u8, u8, u8); 10] = [
     (127, 127, 127),
     (188, 189, 34),
     (23, 190, 207),
+    (174, 199, 232),
+    (255, 187, 120),
+    (152, 223, 138),
+    (255, 152, 150),
+    (197, 176, 213),
+    (196, 156, 148),
+    (247, 182, 210),
+    (199, 199, 199),
+    (219, 219, 141),
+    (158, 218, 229),
 ];
 
 pub(super) fn colour(i: usize) -> RGBColor {
