@@ -79,7 +79,7 @@ pub fn camera_uniform(scene: &Scene) -> GpuCamera {
 
 /// Renders one frame of `scene` with `method`.
 pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode) -> Result<FrameResult> {
-    render_with(ctx, scene, method, mode, &mut None)
+    render_with(ctx, scene, method, mode, &mut None, false)
 }
 
 fn render_with(
@@ -88,6 +88,7 @@ fn render_with(
     method: &Method,
     mode: TimingMode,
     trace: &mut Option<methods::adaptive::AdaptiveTrace>,
+    capture: bool,
 ) -> Result<FrameResult> {
     let start = Instant::now();
     let mut timer = StageTimer::new(mode);
@@ -118,7 +119,7 @@ fn render_with(
         Method::Hard => methods::fixed::run(&fg, &mut timer, &[(0.5, 0.5)])?,
         Method::Regular { n } => methods::fixed::run(&fg, &mut timer, &methods::fixed::regular_points(*n))?,
         Method::Adaptive(p) => {
-            let (out, t) = methods::adaptive::run_traced(&fg, &mut timer, p)?;
+            let (out, t) = methods::adaptive::run_traced(&fg, &mut timer, p, capture)?;
             *trace = Some(t);
             out
         }
@@ -136,9 +137,15 @@ fn render_with(
     Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits })
 }
 
-/// Renders with the adaptive method and returns its trace (levels, rendered samples, weights) too.
-pub fn render_traced(ctx: &GpuContext, scene: &Scene, p: &methods::AdaptiveParams) -> Result<methods::adaptive::AdaptiveTrace> {
-    let mut trace = None;
-    render_with(ctx, scene, &Method::Adaptive(p.clone()), TimingMode::Frame, &mut trace)?;
-    Ok(trace.unwrap_or_default())
+/// Renders with the adaptive method and returns its trace too; `capture` keeps every intermediate
+/// buffer for the CPU twins (tests only: it adds read-backs).
+pub fn render_traced(
+    ctx: &GpuContext,
+    scene: &Scene,
+    p: &methods::AdaptiveParams,
+    capture: bool,
+) -> Result<(FrameResult, methods::adaptive::AdaptiveTrace)> {
+    let mut trace = Some(methods::adaptive::AdaptiveTrace::default());
+    let r = render_with(ctx, scene, &Method::Adaptive(p.clone()), TimingMode::Frame, &mut trace, capture)?;
+    Ok((r, trace.unwrap_or_default()))
 }

@@ -74,7 +74,11 @@ impl AdaptiveBuffers {
         }
         // Items: every penumbra pixel of a split quad becomes 4, so a pixel on a silhouette can reach
         // ~4·2^level items; take what one binding holds. Overflow is reported, never clipped.
-        let item_capacity = if local { ((max_binding / 8).min(pixels * 128)) as u32 } else { 1 };
+        let mut item_capacity = if local { ((max_binding / 8).min(pixels * 128)) as u32 } else { 1 };
+        // Tests shrink the list to show that overflow is reported, not clipped.
+        if let Some(cap) = std::env::var("PENUMBRA_ITEM_CAPACITY").ok().and_then(|v| v.parse::<u32>().ok()) {
+            item_capacity = item_capacity.min(cap.max(1));
+        }
         let storage = |label: &str, bytes: u64| readback::zeroed_storage(ctx, label, bytes);
         let indirect = |label: &str| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor {

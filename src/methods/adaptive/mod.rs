@@ -49,6 +49,10 @@ pub struct AdaptiveTrace {
     /// Lattice indices in the order their maps were rendered.
     pub rendered: Vec<u32>,
     pub weights: Vec<f32>,
+    /// Captured for twin tests: each rendered map (lattice index, row-major depths).
+    pub maps: Vec<(u32, Vec<f32>)>,
+    /// The sample records as the kernels saw them (layer and array filled in).
+    pub samples: Vec<GpuSample>,
 }
 
 /// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
@@ -60,10 +64,12 @@ struct MapStore {
 }
 
 pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<MethodOutput> {
-    run_traced(fg, timer, p).map(|(out, _)| out)
+    run_traced(fg, timer, p, false).map(|(out, _)| out)
 }
 
-pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<(MethodOutput, AdaptiveTrace)> {
+/// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
+/// it adds synchronisations, so it is for tests only.
+pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
     let ctx = fg.ctx;
     let scene = fg.scene;
     let local = p.scope == Scope::Local;
@@ -146,7 +152,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
         let cur = (level % 2) as usize;
         let nxt = 1 - cur;
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
-        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace)?;
+        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace, capture)?;
 
         let evaluate = local || level < p.max_level;
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
@@ -212,7 +218,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
         timer.flush(ctx);
         let pictures = evaluate && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
-        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local))?;
+        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local, capture))?;
         syncs += 1;
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
@@ -235,6 +241,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
     let last = trace.levels.last().cloned().unwrap_or_default();
     let weights = sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered);
     trace.weights = weights.clone();
+    trace.samples = samples.clone();
     if local {
         let lv = readback::uniform_buffer(ctx, "level", &level_uniform(p.max_level, 0, 0));
         timer.stage(ctx, "shade", |enc| {
@@ -289,6 +296,7 @@ fn render_new(
     local: bool,
     passes: &Passes,
     trace: &mut AdaptiveTrace,
+    capture: bool,
 ) -> Result<()> {
     let ctx = fg.ctx;
     let mut ks = new.to_vec();
@@ -329,6 +337,13 @@ fn render_new(
         }
         // Sample records of the next chunk overwrite this one's layers: submit before writing them.
         timer.flush(ctx);
+        if capture {
+            for &k in chunk {
+                let s = &samples[k as usize];
+                let map = crate::gpu::readback::read_texture(ctx, &store.arrays[s.array as usize].texture, s.layer, 4)?;
+                trace.maps.push((k, map));
+            }
+        }
         trace.rendered.extend_from_slice(chunk);
     }
     Ok(())
