@@ -90,6 +90,25 @@ fn render_with(
     trace: &mut Option<methods::adaptive::AdaptiveTrace>,
     capture: bool,
 ) -> Result<FrameResult> {
+    render_inner(ctx, scene, method, mode, trace, capture, None)
+}
+
+/// Renders with a fixed-sample method (hard, regular), keeping every map for the shade twin.
+pub fn render_fixed_captured(ctx: &GpuContext, scene: &Scene, method: &Method) -> Result<(FrameResult, methods::fixed::FixedCapture)> {
+    let mut c = methods::fixed::FixedCapture::default();
+    let r = render_inner(ctx, scene, method, TimingMode::Frame, &mut None, false, Some(&mut c))?;
+    Ok((r, c))
+}
+
+fn render_inner(
+    ctx: &GpuContext,
+    scene: &Scene,
+    method: &Method,
+    mode: TimingMode,
+    trace: &mut Option<methods::adaptive::AdaptiveTrace>,
+    capture: bool,
+    fixed_capture: Option<&mut methods::fixed::FixedCapture>,
+) -> Result<FrameResult> {
     let start = Instant::now();
     let mut timer = StageTimer::new(mode);
     let (w, h) = (scene.render.width, scene.render.height);
@@ -108,6 +127,17 @@ fn render_with(
         scene_gpu,
         gbuffer,
     };
+    // Method buffers, arrays and pipelines are made (and zero-filled) before the clock starts.
+    enum Prepared {
+        Fixed(methods::fixed::Prepared),
+        Adaptive(methods::AdaptiveParams, methods::adaptive::Prepared),
+    }
+    let prepared = match method {
+        Method::Hard => Prepared::Fixed(methods::fixed::prepare(&fg, &[(0.5, 0.5)])?),
+        Method::Regular { n } => Prepared::Fixed(methods::fixed::prepare(&fg, &methods::fixed::regular_points(*n))?),
+        Method::Adaptive(p) => Prepared::Adaptive(p.clone(), methods::adaptive::prepare(&fg, p)?),
+    };
+    ctx.wait()?;
     let setup_ms = start.elapsed().as_secs_f64() * 1e3;
     let frame_start = Instant::now();
     let camera = camera_uniform(scene);
@@ -115,14 +145,13 @@ fn render_with(
         gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &camera, &fg.gbuffer);
         Ok(())
     })?;
-    let output = match method {
-        Method::Hard => methods::fixed::run(&fg, &mut timer, &[(0.5, 0.5)])?,
-        Method::Regular { n } => methods::fixed::run(&fg, &mut timer, &methods::fixed::regular_points(*n))?,
-        Method::Adaptive(p) => {
-            let (out, t) = methods::adaptive::run_traced(&fg, &mut timer, p, capture)?;
+    let output = match prepared {
+        Prepared::Adaptive(p, prep) => {
+            let (out, t) = methods::adaptive::run(&fg, &mut timer, &p, prep, capture)?;
             *trace = Some(t);
             out
         }
+        Prepared::Fixed(prep) => methods::fixed::run(&fg, &mut timer, prep, fixed_capture)?,
     };
     timer.flush(ctx);
     let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;

@@ -234,6 +234,7 @@ pub fn build(def: SceneDef, origin: &str, dir: Option<&Path>) -> Result<Scene> {
     }
     Ok(Scene {
         name: def.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
+        description: def.description.unwrap_or_default(),
         origin: origin.to_string(),
         camera,
         light,

@@ -48,6 +48,7 @@ pub struct RenderSettings {
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub name: String,
+    pub description: String,
     /// File path or `builtin:NAME`: every error names it.
     pub origin: String,
     pub camera: Camera,

@@ -15,7 +15,7 @@ use super::{AdaptiveParams, Scope};
 use crate::compute::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
     compact::Compact, groups, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
-    shadow_test::ShadowTest, subdivide::Subdivide, Dispatch, LINE_WORKGROUP,
+    shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
 use crate::frame::{FrameGpu, MethodOutput};
 use crate::gpu::readback;
@@ -63,21 +63,25 @@ struct MapStore {
     used: u32,
 }
 
-pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<MethodOutput> {
-    run_traced(fg, timer, p, false).map(|(out, _)| out)
+/// Buffers, shadow-map arrays and pipelines, allocated (and zero-filled) before the frame's clock
+/// starts, as a renderer would keep them from frame to frame.
+pub struct Prepared {
+    b: AdaptiveBuffers,
+    store: MapStore,
+    passes: Passes,
+    samples: Vec<GpuSample>,
 }
 
-/// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
-/// it adds synchronisations, so it is for tests only.
-pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
+pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let ctx = fg.ctx;
     let scene = fg.scene;
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
-    let mut samples = lattice_samples(fg);
+    let samples = lattice_samples(fg);
     let b = AdaptiveBuffers::new(ctx, w, h, &samples, local)?;
+    b.zero_fill(ctx)?;
     let per_array = shadow_raster::maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
-    let mut store = if local {
+    let store = if local {
         // Every map stays alive: the lattice needs up to 289, split across two arrays at the layer limit.
         let need = LATTICE_POINTS;
         let budget_maps = per_array as u64 * if per_array >= need { 1 } else { 2 };
@@ -105,9 +109,22 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, cap
         subdivide: Subdivide::new(fg)?,
         compact: Compact::new(fg)?,
     };
+    for array in &store.arrays {
+        shadow_raster::clear_all(ctx, array)?;
+    }
+    Ok(Prepared { b, store, passes, samples })
+}
+
+/// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
+/// it adds synchronisations, so it is for tests only.
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: Prepared, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
+    let ctx = fg.ctx;
+    let local = p.scope == Scope::Local;
+    let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
+    let Prepared { b, mut store, passes, mut samples } = prepared;
     let (threshold, always, never) = p.threshold();
     let split_mode = if always { 1 } else if never { 2 } else { 0 };
-    let dense_groups_x = groups(h * b.words_per_row, LINE_WORKGROUP[0]);
+    let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
     let level_uniform = |level: u32, quad_count: u32, first_quad: u32| GpuLevel {
         level,
         max_level: p.max_level,
@@ -163,8 +180,9 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, cap
             let maps = store.views();
             timer.stage(ctx, "reproject_count", |enc| {
                 passes.compact.record_begin(fg, enc, &b, &lv);
-                enc.clear_buffer(&b.counts, 0, None);
-                enc.clear_buffer(&b.flags, 0, None);
+                // Only this level's quads: the buffers are sized for 256.
+                enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
+                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
                 passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items, maps);
                 Ok(())
             })?;
@@ -173,7 +191,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, cap
                 Ok(())
             })?;
             timer.stage(ctx, "quad_count", |enc| {
-                passes.quad_count.record(fg, enc, &b, &lv, quad_count);
+                passes.quad_count.record(fg, enc, &b, &lv, quad_count, false);
                 Ok(())
             })?;
         } else if evaluate {
@@ -182,19 +200,18 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, cap
             for first in (0..quad_count).step_by(b.count_quads as usize) {
                 let n = b.count_quads.min(quad_count - first);
                 let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, n, first));
-                // GPU-driven: the previous subdivide wrote this dispatch's size.
-                let dispatch =
-                    if single && level > 0 { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([dense_groups_x, n, 1]) };
                 timer.stage(ctx, "reproject_count", |enc| {
-                    passes.reproject_count.record_dense(fg, enc, &b, &lv, &b.quads[cur], dispatch);
+                    passes.reproject_count.record_dense(fg, enc, &b, &lv, &b.quads[cur]);
                     Ok(())
                 })?;
+                // GPU-driven: the previous subdivide wrote these dispatches' sizes (flag words x quads).
+                let indirect = single && level > 0;
                 timer.stage(ctx, "neighbourhood", |enc| {
-                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n);
+                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n, indirect);
                     Ok(())
                 })?;
                 timer.stage(ctx, "quad_count", |enc| {
-                    passes.quad_count.record(fg, enc, &b, &lv, n);
+                    passes.quad_count.record(fg, enc, &b, &lv, n, indirect);
                     Ok(())
                 })?;
             }
