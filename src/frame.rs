@@ -51,6 +51,8 @@ pub struct FrameResult {
     pub stages_ms: BTreeMap<String, f64>,
     pub total_ms: f64,
     pub timing_waits: u32,
+    /// GPU timestamps per stage, where the adapter's are trusted; None otherwise.
+    pub gpu_stages_ms: Option<BTreeMap<String, f64>>,
 }
 
 pub fn frame_uniform(scene: &Scene) -> GpuFrame {
@@ -110,7 +112,7 @@ fn render_inner(
     fixed_capture: Option<&mut methods::fixed::FixedCapture>,
 ) -> Result<FrameResult> {
     let start = Instant::now();
-    let mut timer = StageTimer::new(mode);
+    let mut timer = StageTimer::new(mode).with_gpu_timestamps(ctx);
     let (w, h) = (scene.render.width, scene.render.height);
     let gbuffer_pass = GBufferPass::new(ctx)?;
     let gbuffer = GBufferPass::allocate(ctx, w, h)?;
@@ -163,7 +165,8 @@ fn render_inner(
     }
     let mut stages_ms = timer.stages_ms.clone();
     stages_ms.insert("setup".into(), setup_ms);
-    Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits })
+    let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
+    Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, gpu_stages_ms })
 }
 
 /// Renders with the adaptive method and returns its trace too; `capture` keeps every intermediate

@@ -178,3 +178,17 @@ fn item_overflow_is_reported_not_clipped() {
     assert!(e.contains("overflow") && e.contains("item list exceeded its capacity"), "{e}");
     assert!(!std::path::Path::new("/tmp/penumbra-overflow-test/run.json").exists());
 }
+
+#[test]
+fn gpu_timestamps_cover_every_stage_when_enabled() {
+    // On CPU adapters the figures are not trustworthy (run.json reports null); this checks the mechanics.
+    std::env::set_var("PENUMBRA_GPU_TIMESTAMPS", "force");
+    let ctx = common::gpu();
+    let r = frame::render(&ctx, &small("default", &[]), &adaptive(AdaptiveParams::default()), TimingMode::Frame).unwrap();
+    std::env::remove_var("PENUMBRA_GPU_TIMESTAMPS");
+    let gpu = r.gpu_stages_ms.expect("timestamps recorded when forced");
+    for stage in ["gbuffer", "shadow_raster", "shadow_test", "reproject_count", "neighbourhood", "quad_count", "subdivide", "shade"] {
+        let ms = gpu.get(stage).copied();
+        assert!(ms.is_some_and(|v| v.is_finite() && v >= 0.0), "{stage}: {ms:?} in {gpu:?}");
+    }
+}
