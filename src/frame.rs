@@ -33,6 +33,17 @@ pub struct FrameGpu<'a> {
     pub raster: ShadowRasterPass,
     pub shade: ShadePass,
     pub visibility: wgpu::Buffer,
+    /// Whether methods read back what their pictures need (off for timed benchmark runs).
+    pub pictures: bool,
+}
+
+/// How to run a frame.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameOptions {
+    pub mode: TimingMode,
+    /// Read back the decision pictures (comparison map, flags, samples per pixel): this makes the
+    /// per-level read-back larger, so timed runs turn it off.
+    pub pictures: bool,
 }
 
 impl FrameGpu<'_> {
@@ -79,26 +90,31 @@ pub fn camera_uniform(scene: &Scene) -> GpuCamera {
     }
 }
 
-/// Renders one frame of `scene` with `method`.
+/// Renders one frame of `scene` with `method`, pictures included.
 pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode) -> Result<FrameResult> {
-    render_with(ctx, scene, method, mode, &mut None, false)
+    render_with(ctx, scene, method, FrameOptions { mode, pictures: true }, &mut None, false)
+}
+
+/// Renders one frame with explicit options (benchmarks: `pictures: false`).
+pub fn render_with_options(ctx: &GpuContext, scene: &Scene, method: &Method, options: FrameOptions) -> Result<FrameResult> {
+    render_with(ctx, scene, method, options, &mut None, false)
 }
 
 fn render_with(
     ctx: &GpuContext,
     scene: &Scene,
     method: &Method,
-    mode: TimingMode,
+    options: FrameOptions,
     trace: &mut Option<methods::adaptive::AdaptiveTrace>,
     capture: bool,
 ) -> Result<FrameResult> {
-    render_inner(ctx, scene, method, mode, trace, capture, None)
+    render_inner(ctx, scene, method, options, trace, capture, None)
 }
 
 /// Renders with a fixed-sample method (hard, regular), keeping every map for the shade twin.
 pub fn render_fixed_captured(ctx: &GpuContext, scene: &Scene, method: &Method) -> Result<(FrameResult, methods::fixed::FixedCapture)> {
     let mut c = methods::fixed::FixedCapture::default();
-    let r = render_inner(ctx, scene, method, TimingMode::Frame, &mut None, false, Some(&mut c))?;
+    let r = render_inner(ctx, scene, method, FrameOptions { mode: TimingMode::Frame, pictures: true }, &mut None, false, Some(&mut c))?;
     Ok((r, c))
 }
 
@@ -106,13 +122,13 @@ fn render_inner(
     ctx: &GpuContext,
     scene: &Scene,
     method: &Method,
-    mode: TimingMode,
+    options: FrameOptions,
     trace: &mut Option<methods::adaptive::AdaptiveTrace>,
     capture: bool,
     fixed_capture: Option<&mut methods::fixed::FixedCapture>,
 ) -> Result<FrameResult> {
     let start = Instant::now();
-    let mut timer = StageTimer::new(mode).with_gpu_timestamps(ctx);
+    let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx);
     let (w, h) = (scene.render.width, scene.render.height);
     let gbuffer_pass = GBufferPass::new(ctx)?;
     let gbuffer = GBufferPass::allocate(ctx, w, h)?;
@@ -128,6 +144,7 @@ fn render_inner(
         visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
         scene_gpu,
         gbuffer,
+        pictures: options.pictures,
     };
     // Method buffers, arrays and pipelines are made (and zero-filled) before the clock starts.
     enum Prepared {
@@ -178,6 +195,6 @@ pub fn render_traced(
     capture: bool,
 ) -> Result<(FrameResult, methods::adaptive::AdaptiveTrace)> {
     let mut trace = Some(methods::adaptive::AdaptiveTrace::default());
-    let r = render_with(ctx, scene, &Method::Adaptive(p.clone()), TimingMode::Frame, &mut trace, capture)?;
+    let r = render_with(ctx, scene, &Method::Adaptive(p.clone()), FrameOptions { mode: TimingMode::Frame, pictures: true }, &mut trace, capture)?;
     Ok((r, trace.unwrap_or_default()))
 }

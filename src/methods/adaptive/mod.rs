@@ -233,7 +233,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         }
         // The one read-back of this level.
         timer.flush(ctx);
-        let pictures = evaluate && (local || quad_count <= b.count_quads);
+        let pictures = fg.pictures && evaluate && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
         let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local, capture))?;
         syncs += 1;
@@ -272,13 +272,13 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             Ok(())
         })?;
     }
-    let consulted: Option<Vec<u32>> = if local {
+    let consulted: Option<Vec<u32>> = if local && fg.pictures {
         timer.flush(ctx);
         Some(timer.cpu("pictures", || readback::read_buffer(ctx, &b.masks, w as u64 * h as u64 * 40))?)
     } else {
         None
     };
-    let pictures = pictures::all(fg, &trace, consulted.as_deref());
+    let pictures = if fg.pictures { pictures::all(fg, &trace, consulted.as_deref()) } else { Vec::new() };
     let record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
     Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures }, trace))
 }
