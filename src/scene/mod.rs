@@ -7,7 +7,7 @@ mod obj;
 mod overrides;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
-pub use format::{BiasDef, CullMode};
+pub use format::{BiasDef, CullMode, RenderSettings};
 pub use mesh::Vertex;
 pub use overrides::apply_overrides;
 
@@ -31,18 +31,6 @@ impl Camera {
         glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, near, dist * 2.0)
             * glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
     }
-}
-
-/// Render settings; every key can be overridden with `--set key=value`.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct RenderSettings {
-    pub width: u32,
-    pub height: u32,
-    pub shadow_map_size: u32,
-    pub bias: BiasDef,
-    pub cull: CullMode,
-    pub ambient: f32,
-    pub shadow_map_budget_mib: u32,
 }
 
 #[derive(Clone, Debug)]
