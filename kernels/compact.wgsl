@@ -31,20 +31,41 @@ fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
     }
 }
 
+var<workgroup> group_items: atomic<u32>;
+var<workgroup> group_base: u32;
+
+// Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item
+// (a single append counter hit by every item serialises on CPU devices and stalls GPUs).
 @compute @workgroup_size(64, 1, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= item_total[0]) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let valid = gid.x < item_total[0];
+    var item = vec2<u32>(0u, 0u);
+    var c = 0u;
+    var base = NO_SPLIT;
+    var local_slot = 0u;
+    var refine = false;
+    if (valid) {
+        item = items[gid.x];
+        let x = item.x % frame.width;
+        let y = item.x / frame.width;
+        let words = frame.height * level.words_per_row;
+        c = count_byte(counts[item.y * words + y * level.words_per_row + x / 4u], x) - 1u;
+        base = split_base[item.y];
+        refine = base != NO_SPLIT && c > 0u && c < 4u;
+        if (refine) {
+            local_slot = atomicAdd(&group_items, 4u);
+        }
+    }
+    workgroupBarrier();
+    if (lid == 0u) {
+        group_base = atomicAdd(&control.item_count, atomicLoad(&group_items));
+    }
+    let slot = workgroupUniformLoad(&group_base) + local_slot;
+    if (!valid) {
         return;
     }
-    let item = items[gid.x];
     let p = item.x;
-    let x = p % frame.width;
-    let y = p / frame.width;
-    let words = frame.height * level.words_per_row;
-    let c = count_byte(counts[item.y * words + y * level.words_per_row + x / 4u], x) - 1u;
-    let base = split_base[item.y];
-    if (base != NO_SPLIT && c > 0u && c < 4u) {
-        let slot = atomicAdd(&control.item_count, 4u);
+    if (refine) {
         if (slot + 4u > level.item_capacity) {
             atomicOr(&control.overflow, OVERFLOW_ITEMS);
             return;
@@ -53,7 +74,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             next_items[slot + child] = vec2<u32>(p, base + child);
         }
         if (level.scissor == 1u) {
-            let pixel = vec2<i32>(i32(x), i32(y));
+            let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));
             let position = textureLoad(gbuffer_position, pixel, 0).xyz;
             let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
             // the children's corners: the parent's 4 corners and its 5 new points
@@ -71,14 +92,24 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
+fn seed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let inside = gid.x < frame.width && gid.y < frame.height;
+    var geometry = false;
+    var local_slot = 0u;
+    if (inside) {
+        geometry = textureLoad(gbuffer_position, vec2<i32>(gid.xy), 0).w != 0.0;
+        if (geometry) {
+            local_slot = atomicAdd(&group_items, 1u);
+        }
+    }
+    workgroupBarrier();
+    if (lid == 0u) {
+        group_base = atomicAdd(&control.item_count, atomicLoad(&group_items));
+    }
+    let slot = workgroupUniformLoad(&group_base) + local_slot;
+    if (!geometry) {
         return;
     }
-    if (textureLoad(gbuffer_position, vec2<i32>(gid.xy), 0).w == 0.0) {
-        return;
-    }
-    let slot = atomicAdd(&control.item_count, 1u);
     if (slot >= level.item_capacity) {
         atomicOr(&control.overflow, OVERFLOW_ITEMS);
         return;

@@ -42,11 +42,20 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wg
     }
     let y = gid.x / level.flag_words_per_row;
     let x0 = (gid.x % level.flag_words_per_row) * 32u;
+    let count_words = frame.height * level.words_per_row;
+    let row = wg.y * count_words + y * level.words_per_row;
     var bits = 0u;
-    for (var b = 0u; b < 32u; b = b + 1u) {
-        let x = x0 + b;
-        if (x < frame.width && low_quality(wg.y, i32(x), i32(y))) {
-            bits = bits | (1u << b);
+    for (var w = 0u; w < 8u; w = w + 1u) {
+        let wx = x0 / 4u + w;
+        // Most words hold no partly lit pixel at all: reject them four pixels at a time.
+        if (wx >= level.words_per_row || !has_partial_byte(counts[row + wx])) {
+            continue;
+        }
+        for (var b = 0u; b < 4u; b = b + 1u) {
+            let x = wx * 4u + b;
+            if (x < frame.width && low_quality(wg.y, i32(x), i32(y))) {
+                bits = bits | (1u << (w * 4u + b));
+            }
         }
     }
     flags[wg.y * words + gid.x] = bits;

@@ -9,6 +9,7 @@
 @group(0) @binding(3) var<storage, read> masks: array<u32>;
 @group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(5) var<storage, read_write> counts: array<u32>;
+// (main reads the G-buffer only through the mask summaries; list reads it directly.)
 
 @group(0) @binding(6) var<storage, read> samples: array<GpuSample>;
 @group(0) @binding(7) var gbuffer_normal: texture_2d<f32>;
@@ -19,32 +20,55 @@
 @group(0) @binding(12) var<storage, read_write> consulted: array<atomic<u32>>;
 @group(0) @binding(13) var<storage, read> item_total: array<u32>;
 
-fn mask_bit(pixel: u32, k: u32) -> u32 {
-    return (masks[pixel * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u;
-}
-
+// One thread per word (4 pixels) counts every active quad of the batch (the quads loop inside the
+// thread), so each pixel's summary is read once and uniform pixels cost one store per quad.
 @compute @workgroup_size(64, 1, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wg: vec3<u32>) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let words = frame.height * level.words_per_row;
-    if (gid.x >= words || wg.y >= level.quad_count) {
+    if (gid.x >= words) {
         return;
     }
-    let q = quads[level.first_quad + wg.y];
     let y = gid.x / level.words_per_row;
     let wx = gid.x % level.words_per_row;
-    var packed = 0u;
+    // Pixels every map agrees on have the same byte for every quad: 1 (c = 0) or 5 (c = 4).
+    var uniform_bytes = 0u;
+    var mixed = 0u;
     for (var b = 0u; b < 4u; b = b + 1u) {
         let x = wx * 4u + b;
         if (x < frame.width) {
-            if (textureLoad(gbuffer_position, vec2<i32>(i32(x), i32(y)), 0).w != 0.0) {
-                let p = y * frame.width + x;
-                let c = mask_bit(p, quad_corner(q, 0u)) + mask_bit(p, quad_corner(q, 1u))
-                    + mask_bit(p, quad_corner(q, 2u)) + mask_bit(p, quad_corner(q, 3u));
-                packed = packed | ((c + 1u) << (b * 8u));
+            let p = y * frame.width + x;
+            let summary = masks[p * MASK_WORDS + SUMMARY_WORD];
+            let all_lit = (summary & SUMMARY_ANY_UNLIT) == 0u;
+            let all_unlit = (summary & SUMMARY_ANY_LIT) == 0u;
+            if ((summary & SUMMARY_GEOMETRY) == 0u) {
+                // background: byte 0
+            } else if (all_lit || all_unlit) {
+                uniform_bytes = uniform_bytes | (select(1u, 5u, all_lit) << (b * 8u));
+            } else {
+                mixed = mixed | (1u << b);
             }
         }
     }
-    counts[wg.y * words + gid.x] = packed;
+    for (var qi = 0u; qi < level.quad_count; qi = qi + 1u) {
+        if (mixed == 0u) {
+            counts[qi * words + gid.x] = uniform_bytes;
+            continue;
+        }
+        let q = quads[level.first_quad + qi];
+        var packed = uniform_bytes;
+        for (var b = 0u; b < 4u; b = b + 1u) {
+            if ((mixed & (1u << b)) != 0u) {
+                let p = y * frame.width + wx * 4u + b;
+                var c = 0u;
+                for (var corner = 0u; corner < 4u; corner = corner + 1u) {
+                    let k = quad_corner(q, corner);
+                    c = c + ((masks[p * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u);
+                }
+                packed = packed | ((c + 1u) << (b * 8u));
+            }
+        }
+        counts[qi * words + gid.x] = packed;
+    }
 }
 
 fn lit_lattice(k: u32, position: vec3<f32>, normal: vec3<f32>) -> u32 {

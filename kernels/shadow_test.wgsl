@@ -24,13 +24,17 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let base = (gid.y * frame.width + gid.x) * MASK_WORDS;
     // Bits gathered in registers, each mask word written once.
     var bits: array<u32, 10>;
+    var summary = SUMMARY_GEOMETRY;
     for (var t = 0u; t < level.work_count; t = t + 1u) {
         let k = test_list[t];
         let s = samples[k];
         let lookup = shadow_lookup(frame, s, position.xyz, normal);
         let stored = textureLoad(shadow_maps, lookup.texel, i32(s.layer), 0);
-        bits[k / 32u] = bits[k / 32u] | (shadow_compare(s, lookup, stored) << (k % 32u));
+        let lit = shadow_compare(s, lookup, stored);
+        bits[k / 32u] = bits[k / 32u] | (lit << (k % 32u));
+        summary = summary | select(SUMMARY_ANY_UNLIT, SUMMARY_ANY_LIT, lit == 1u);
     }
+    bits[SUMMARY_WORD] = bits[SUMMARY_WORD] | summary;
     for (var word = 0u; word < MASK_WORDS; word = word + 1u) {
         if (bits[word] != 0u) {
             masks[base + word] = masks[base + word] | bits[word];

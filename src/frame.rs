@@ -33,6 +33,17 @@ pub struct FrameGpu<'a> {
     pub raster: ShadowRasterPass,
     pub shade: ShadePass,
     pub visibility: wgpu::Buffer,
+    /// Whether methods read back what their pictures need (off for timed benchmark runs).
+    pub pictures: bool,
+}
+
+/// How to run a frame.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameOptions {
+    pub mode: TimingMode,
+    /// Read back the decision pictures (comparison map, flags, samples per pixel): this makes the
+    /// per-level read-back larger, so timed runs turn it off.
+    pub pictures: bool,
 }
 
 impl FrameGpu<'_> {
@@ -51,6 +62,8 @@ pub struct FrameResult {
     pub stages_ms: BTreeMap<String, f64>,
     pub total_ms: f64,
     pub timing_waits: u32,
+    /// GPU timestamps per stage, where the adapter's are trusted; None otherwise.
+    pub gpu_stages_ms: Option<BTreeMap<String, f64>>,
 }
 
 pub fn frame_uniform(scene: &Scene) -> GpuFrame {
@@ -77,20 +90,45 @@ pub fn camera_uniform(scene: &Scene) -> GpuCamera {
     }
 }
 
-/// Renders one frame of `scene` with `method`.
+/// Renders one frame of `scene` with `method`, pictures included.
 pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode) -> Result<FrameResult> {
-    render_with(ctx, scene, method, mode, &mut None)
+    render_with(ctx, scene, method, FrameOptions { mode, pictures: true }, &mut None, false)
+}
+
+/// Renders one frame with explicit options (benchmarks: `pictures: false`).
+pub fn render_with_options(ctx: &GpuContext, scene: &Scene, method: &Method, options: FrameOptions) -> Result<FrameResult> {
+    render_with(ctx, scene, method, options, &mut None, false)
 }
 
 fn render_with(
     ctx: &GpuContext,
     scene: &Scene,
     method: &Method,
-    mode: TimingMode,
+    options: FrameOptions,
     trace: &mut Option<methods::adaptive::AdaptiveTrace>,
+    capture: bool,
+) -> Result<FrameResult> {
+    render_inner(ctx, scene, method, options, trace, capture, None)
+}
+
+/// Renders with a fixed-sample method (hard, regular), keeping every map for the shade twin.
+pub fn render_fixed_captured(ctx: &GpuContext, scene: &Scene, method: &Method) -> Result<(FrameResult, methods::fixed::FixedCapture)> {
+    let mut c = methods::fixed::FixedCapture::default();
+    let r = render_inner(ctx, scene, method, FrameOptions { mode: TimingMode::Frame, pictures: true }, &mut None, false, Some(&mut c))?;
+    Ok((r, c))
+}
+
+fn render_inner(
+    ctx: &GpuContext,
+    scene: &Scene,
+    method: &Method,
+    options: FrameOptions,
+    trace: &mut Option<methods::adaptive::AdaptiveTrace>,
+    capture: bool,
+    fixed_capture: Option<&mut methods::fixed::FixedCapture>,
 ) -> Result<FrameResult> {
     let start = Instant::now();
-    let mut timer = StageTimer::new(mode);
+    let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx);
     let (w, h) = (scene.render.width, scene.render.height);
     let gbuffer_pass = GBufferPass::new(ctx)?;
     let gbuffer = GBufferPass::allocate(ctx, w, h)?;
@@ -106,7 +144,19 @@ fn render_with(
         visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
         scene_gpu,
         gbuffer,
+        pictures: options.pictures,
     };
+    // Method buffers, arrays and pipelines are made (and zero-filled) before the clock starts.
+    enum Prepared {
+        Fixed(methods::fixed::Prepared),
+        Adaptive(methods::AdaptiveParams, methods::adaptive::Prepared),
+    }
+    let prepared = match method {
+        Method::Hard => Prepared::Fixed(methods::fixed::prepare(&fg, &[(0.5, 0.5)])?),
+        Method::Regular { n } => Prepared::Fixed(methods::fixed::prepare(&fg, &methods::fixed::regular_points(*n))?),
+        Method::Adaptive(p) => Prepared::Adaptive(p.clone(), methods::adaptive::prepare(&fg, p)?),
+    };
+    ctx.wait()?;
     let setup_ms = start.elapsed().as_secs_f64() * 1e3;
     let frame_start = Instant::now();
     let camera = camera_uniform(scene);
@@ -114,14 +164,13 @@ fn render_with(
         gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &camera, &fg.gbuffer);
         Ok(())
     })?;
-    let output = match method {
-        Method::Hard => methods::fixed::run(&fg, &mut timer, &[(0.5, 0.5)])?,
-        Method::Regular { n } => methods::fixed::run(&fg, &mut timer, &methods::fixed::regular_points(*n))?,
-        Method::Adaptive(p) => {
-            let (out, t) = methods::adaptive::run_traced(&fg, &mut timer, p)?;
+    let output = match prepared {
+        Prepared::Adaptive(p, prep) => {
+            let (out, t) = methods::adaptive::run(&fg, &mut timer, &p, prep, capture)?;
             *trace = Some(t);
             out
         }
+        Prepared::Fixed(prep) => methods::fixed::run(&fg, &mut timer, prep, fixed_capture)?,
     };
     timer.flush(ctx);
     let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
@@ -133,14 +182,21 @@ fn render_with(
     }
     let mut stages_ms = timer.stages_ms.clone();
     stages_ms.insert("setup".into(), setup_ms);
-    Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits })
+    let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
+    Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, gpu_stages_ms })
 }
 
-/// Renders with the adaptive method and returns its trace (levels, rendered samples, weights) too.
-pub fn render_traced(ctx: &GpuContext, scene: &Scene, p: &methods::AdaptiveParams) -> Result<methods::adaptive::AdaptiveTrace> {
-    let mut trace = None;
-    render_with(ctx, scene, &Method::Adaptive(p.clone()), TimingMode::Frame, &mut trace)?;
-    Ok(trace.unwrap_or_default())
+/// Renders with the adaptive method and returns its trace too; `capture` keeps every intermediate
+/// buffer for the CPU twins (tests only: it adds read-backs).
+pub fn render_traced(
+    ctx: &GpuContext,
+    scene: &Scene,
+    p: &methods::AdaptiveParams,
+    capture: bool,
+) -> Result<(FrameResult, methods::adaptive::AdaptiveTrace)> {
+    let mut trace = Some(methods::adaptive::AdaptiveTrace::default());
+    let r = render_with(ctx, scene, &Method::Adaptive(p.clone()), FrameOptions { mode: TimingMode::Frame, pictures: true }, &mut trace, capture)?;
+    Ok((r, trace.unwrap_or_default()))
 }
 
 /// Only the camera G-buffer of `scene`: what the CPU reference traces from. Same pass, same

@@ -21,11 +21,72 @@ pub struct StageTimer {
     /// Waits added only to time stages (not counted as the algorithm's syncs).
     pub timing_waits: u32,
     pending: Option<wgpu::CommandEncoder>,
+    gpu: Option<GpuTimestamps>,
 }
+
+/// GPU timestamps around every stage's commands, on adapters where they can be trusted.
+struct GpuTimestamps {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    capacity: u32,
+    labels: Vec<String>,
+    period_ns: f32,
+}
+
+/// Timestamp pairs one frame can hold; stages beyond it go untimed on the GPU clock.
+const TIMESTAMP_CAPACITY: u32 = 1024;
 
 impl StageTimer {
     pub fn new(mode: TimingMode) -> Self {
-        Self { mode, stages_ms: BTreeMap::new(), timing_waits: 0, pending: None }
+        Self { mode, stages_ms: BTreeMap::new(), timing_waits: 0, pending: None, gpu: None }
+    }
+
+    /// Also records GPU timestamps when the adapter's are trusted (or when `PENUMBRA_GPU_TIMESTAMPS=force`,
+    /// which tests use on CPU adapters where the figures mean little).
+    pub fn with_gpu_timestamps(mut self, ctx: &GpuContext) -> Self {
+        let forced = std::env::var("PENUMBRA_GPU_TIMESTAMPS").is_ok_and(|v| v == "force");
+        let features = ctx.device.features();
+        let able = features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
+        if able && (ctx.timestamps_trusted || forced) {
+            let capacity = TIMESTAMP_CAPACITY * 2;
+            self.gpu = Some(GpuTimestamps {
+                queries: ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("stage timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: capacity,
+                }),
+                resolve: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamp resolve"),
+                    size: capacity as u64 * 8,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                }),
+                capacity,
+                labels: Vec::new(),
+                period_ns: ctx.queue.get_timestamp_period(),
+            });
+        }
+        self
+    }
+
+    /// Reads the GPU timestamps back (one synchronisation, after the frame) as milliseconds per stage.
+    pub fn gpu_stages_ms(&mut self, ctx: &GpuContext) -> Result<Option<BTreeMap<String, f64>>> {
+        let Some(g) = &self.gpu else { return Ok(None) };
+        let used = g.labels.len() as u32 * 2;
+        if used == 0 {
+            return Ok(Some(BTreeMap::new()));
+        }
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        enc.resolve_query_set(&g.queries, 0..used, &g.resolve, 0);
+        let staging = crate::gpu::readback::stage_copy(ctx, &mut enc, &g.resolve, used as u64 * 8);
+        ctx.queue.submit([enc.finish()]);
+        let ticks: Vec<u64> = crate::gpu::readback::map_staging(ctx, &staging)?;
+        let mut out = BTreeMap::new();
+        for (i, label) in g.labels.iter().enumerate() {
+            let ns = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * g.period_ns as f64;
+            *out.entry(label.clone()).or_insert(0.0) += ns / 1e6;
+        }
+        Ok(Some(out))
     }
 
     /// Records one stage into an encoder; in `Stages` mode submits and waits, charging the time to `name`.
@@ -38,7 +99,19 @@ impl StageTimer {
         let start = Instant::now();
         let mut encoder =
             self.pending.take().unwrap_or_else(|| ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(name) }));
+        let slot = match &mut self.gpu {
+            Some(g) if (g.labels.len() as u32 + 1) * 2 <= g.capacity => {
+                let slot = g.labels.len() as u32 * 2;
+                g.labels.push(name.to_string());
+                encoder.write_timestamp(&g.queries, slot);
+                Some(slot)
+            }
+            _ => None,
+        };
         let out = record(&mut encoder)?;
+        if let (Some(slot), Some(g)) = (slot, &self.gpu) {
+            encoder.write_timestamp(&g.queries, slot + 1);
+        }
         match self.mode {
             TimingMode::Stages => {
                 ctx.queue.submit([encoder.finish()]);

@@ -91,6 +91,12 @@ const LATTICE_POINTS: u32 = 289u;
 // Per-pixel bit masks over the lattice: bit k of word k / 32.
 const MASK_WORDS: u32 = 10u;
 const NO_SPLIT: u32 = 0xffffffffu;
+// Word 9 of a mask holds lattice index 288 in bit 0; its top bits summarise the pixel over every map
+// tested so far, so counting can skip pixels that all maps agree on (c is 0 or 4 for every quad).
+const SUMMARY_WORD: u32 = 9u;
+const SUMMARY_GEOMETRY: u32 = 0x80000000u;
+const SUMMARY_ANY_LIT: u32 = 0x40000000u;
+const SUMMARY_ANY_UNLIT: u32 = 0x20000000u;
 
 struct GpuLevel {
     level: u32,
@@ -138,4 +144,12 @@ fn quad_corner(q: GpuQuad, c: u32) -> u32 {
 // Comparison-map bytes hold c + 1 (1..5); 0 means background or not evaluated for this quad.
 fn count_byte(word: u32, x: u32) -> u32 {
     return (word >> ((x & 3u) * 8u)) & 0xffu;
+}
+
+// Whether any of a word's four bytes is 2..4 (c = 1..3, partly lit). Bytes are at most 5, so adding
+// 126 sets a byte's top bit exactly when it is >= 2, and adding 123 exactly when it is >= 5.
+fn has_partial_byte(word: u32) -> bool {
+    let at_least_2 = (word + 0x7e7e7e7eu) & 0x80808080u;
+    let at_least_5 = (word + 0x7b7b7b7bu) & 0x80808080u;
+    return (at_least_2 & ~at_least_5) != 0u;
 }

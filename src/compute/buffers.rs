@@ -40,6 +40,20 @@ pub struct AdaptiveBuffers {
 }
 
 impl AdaptiveBuffers {
+    /// wgpu zero-fills a buffer lazily at its first use; doing it here keeps that out of the frame.
+    pub fn zero_fill(&self, ctx: &GpuContext) -> Result<()> {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        for buf in [
+            &self.masks, &self.quads[0], &self.quads[1], &self.counts, &self.flags, &self.quad_counters, &self.control,
+            &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights, &self.items[0],
+            &self.items[1], &self.item_total, &self.visibility_fixed, &self.rects,
+        ] {
+            enc.clear_buffer(buf, 0, None);
+        }
+        ctx.queue.submit([enc.finish()]);
+        ctx.wait()
+    }
+
     pub fn counts_bytes_per_quad(&self) -> u64 {
         self.height as u64 * self.words_per_row as u64 * 4
     }
@@ -74,7 +88,11 @@ impl AdaptiveBuffers {
         }
         // Items: every penumbra pixel of a split quad becomes 4, so a pixel on a silhouette can reach
         // ~4·2^level items; take what one binding holds. Overflow is reported, never clipped.
-        let item_capacity = if local { ((max_binding / 8).min(pixels * 128)) as u32 } else { 1 };
+        let mut item_capacity = if local { ((max_binding / 8).min(pixels * 32)) as u32 } else { 1 };
+        // Tests shrink the list to show that overflow is reported, not clipped.
+        if let Some(cap) = std::env::var("PENUMBRA_ITEM_CAPACITY").ok().and_then(|v| v.parse::<u32>().ok()) {
+            item_capacity = item_capacity.min(cap.max(1));
+        }
         let storage = |label: &str, bytes: u64| readback::zeroed_storage(ctx, label, bytes);
         let indirect = |label: &str| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor {

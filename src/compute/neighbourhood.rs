@@ -18,7 +18,7 @@ impl Neighbourhood {
         })
     }
 
-    pub fn record_dense(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: u32) {
+    pub fn record_dense(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: u32, indirect: bool) {
         let words = b.height * b.flag_words_per_row;
         self.dense.dispatch(
             fg.ctx,
@@ -29,7 +29,7 @@ impl Neighbourhood {
                 (2, b.counts.as_entire_binding()),
                 (3, b.flags.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]),
+            if indirect { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]) },
         );
     }
 

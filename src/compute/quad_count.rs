@@ -14,7 +14,7 @@ impl QuadCount {
         Ok(Self { kernel: ComputeKernel::new(fg.ctx, "quad_count", "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: u32) {
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: u32, indirect: bool) {
         let words = b.height * b.flag_words_per_row;
         self.kernel.dispatch(
             fg.ctx,
@@ -25,7 +25,7 @@ impl QuadCount {
                 (2, b.flags.as_entire_binding()),
                 (3, b.quad_counters.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]),
+            if indirect { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]) },
         );
     }
 }

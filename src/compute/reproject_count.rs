@@ -2,7 +2,7 @@
 //! compacted (pixel, quad) items by testing the corner maps (list, scope = local).
 
 use super::buffers::AdaptiveBuffers;
-use super::{ComputeKernel, Dispatch};
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::frame::FrameGpu;
 use crate::Result;
 
@@ -26,8 +26,8 @@ impl ReprojectCount {
         b: &AdaptiveBuffers,
         level: &wgpu::Buffer,
         quads: &wgpu::Buffer,
-        dispatch: Dispatch,
     ) {
+        let words = b.height * b.words_per_row;
         self.dense.dispatch(
             fg.ctx,
             enc,
@@ -36,10 +36,9 @@ impl ReprojectCount {
                 (1, level.as_entire_binding()),
                 (2, quads.as_entire_binding()),
                 (3, b.masks.as_entire_binding()),
-                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
                 (5, b.counts.as_entire_binding()),
             ],
-            dispatch,
+            Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 

@@ -19,8 +19,19 @@ pub fn regular_points(n: u32) -> Vec<(f32, f32)> {
     (0..n).flat_map(|j| (0..n).map(move |i| (i as f32 * step, j as f32 * step))).collect()
 }
 
-/// Samples (s, t) with equal weights, rendered and shaded in chunks of at most `maps_per_array`.
-pub fn run(fg: &FrameGpu, timer: &mut StageTimer, points: &[(f32, f32)]) -> Result<MethodOutput> {
+/// Buffers and the map array of a fixed-sample run, allocated before the frame's clock starts.
+pub struct Prepared {
+    points: usize,
+    chunk: u32,
+    samples: Vec<GpuSample>,
+    weights: Vec<f32>,
+    samples_buffer: wgpu::Buffer,
+    weights_buffer: wgpu::Buffer,
+    array: shadow_raster::ShadowMapArray,
+}
+
+/// Samples (s, t) with equal weights; the array holds at most `maps_per_array` maps.
+pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
     let per_array = shadow_raster::maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?;
@@ -38,15 +49,30 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, points: &[(f32, f32)]) -> Resu
     let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
     let weights_buffer = readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
     let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, chunk);
+    shadow_raster::clear_all(ctx, &array)?;
+    Ok(Prepared { points: points.len(), chunk, samples, weights, samples_buffer, weights_buffer, array })
+}
+
+/// Renders and shades chunk by chunk; with `capture`, every map and sample record is kept for the
+/// shade twin (tests only).
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: Prepared, mut capture: Option<&mut FixedCapture>) -> Result<MethodOutput> {
+    let ctx = fg.ctx;
+    let Prepared { points, chunk, samples, weights, samples_buffer, weights_buffer, array } = prepared;
     let inputs = fg.shade_inputs(&samples_buffer, &weights_buffer);
-    let bar = crate::progress::bar(points.len() as u64, "shadow maps");
-    for first in (0..points.len() as u32).step_by(chunk as usize) {
-        let count = chunk.min(points.len() as u32 - first);
+    let bar = crate::progress::bar(points as u64, "shadow maps");
+    for first in (0..points as u32).step_by(chunk as usize) {
+        let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
         timer.stage(ctx, "shadow_raster", |enc| {
             fg.raster.record(ctx, enc, &fg.scene_gpu, &samples_buffer, &array, &jobs);
             Ok(())
         })?;
+        if let Some(c) = capture.as_deref_mut() {
+            timer.flush(ctx);
+            for layer in 0..count {
+                c.maps.push(readback::read_texture(ctx, &array.texture, layer, 4)?);
+            }
+        }
         timer.stage(ctx, "shade", |enc| {
             fg.shade.record(ctx, enc, &inputs, &array.array_view, first, count);
             Ok(())
@@ -54,13 +80,25 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, points: &[(f32, f32)]) -> Resu
         bar.inc(count as u64);
     }
     bar.finish_and_clear();
-    let chunks = (points.len() as u32).div_ceil(chunk);
+    if let Some(c) = capture {
+        c.samples = samples;
+        c.weights = weights;
+    }
+    let chunks = (points as u32).div_ceil(chunk);
     Ok(MethodOutput {
-        shadow_maps: points.len() as u32,
+        shadow_maps: points as u32,
         syncs: 0,
         record: serde_json::json!({ "maps_per_chunk": chunk, "chunks": chunks }),
         pictures: Vec::new(),
     })
+}
+
+/// Maps, samples and weights of a fixed-sample run, for the shade twin.
+#[derive(Default)]
+pub struct FixedCapture {
+    pub maps: Vec<Vec<f32>>,
+    pub samples: Vec<GpuSample>,
+    pub weights: Vec<f32>,
 }
 
 #[cfg(test)]

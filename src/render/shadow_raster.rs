@@ -67,6 +67,28 @@ pub fn allocate(ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray 
     ShadowMapArray { texture, array_view, layer_views }
 }
 
+/// Clears every layer to the far plane. wgpu would otherwise clear layers never rendered lazily, at
+/// the first dispatch that binds the array, inside the timed frame.
+pub fn clear_all(ctx: &GpuContext, array: &ShadowMapArray) -> Result<()> {
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    for view in &array.layer_views {
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow map clear"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+    }
+    ctx.queue.submit([enc.finish()]);
+    ctx.wait()
+}
+
 pub struct ShadowRasterPass {
     pipeline: wgpu::RenderPipeline,
 }

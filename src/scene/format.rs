@@ -1,6 +1,6 @@
 //! The scene file: TOML, unknown keys rejected, every number checked finite.
 
-use super::{mesh, Camera, RenderSettings, Scene};
+use super::{mesh, Camera, Scene};
 use crate::light::{AreaLight, Bounds};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -17,7 +17,7 @@ pub struct SceneDef {
     pub camera: CameraDef,
     pub light: LightDef,
     #[serde(default)]
-    pub render: RenderDef,
+    pub render: RenderSettings,
     #[serde(default, rename = "mesh")]
     pub meshes: Vec<MeshDef>,
 }
@@ -44,9 +44,10 @@ pub struct LightDef {
     pub u_axis: Option<[f32; 3]>,
 }
 
-#[derive(Deserialize, Debug)]
+/// Render settings; every key can be overridden with `--set key=value`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields, default)]
-pub struct RenderDef {
+pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
     pub shadow_map_size: u32,
@@ -56,7 +57,7 @@ pub struct RenderDef {
     pub shadow_map_budget_mib: u32,
 }
 
-impl Default for RenderDef {
+impl Default for RenderSettings {
     fn default() -> Self {
         Self {
             width: 512,
@@ -194,15 +195,7 @@ pub fn build(def: SceneDef, origin: &str, dir: Option<&Path>) -> Result<Scene> {
     if !(0.0..=1.0).contains(&r.ambient) {
         return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
     }
-    let render = RenderSettings {
-        width: r.width,
-        height: r.height,
-        shadow_map_size: r.shadow_map_size,
-        bias: r.bias,
-        cull: r.cull,
-        ambient: r.ambient,
-        shadow_map_budget_mib: r.shadow_map_budget_mib,
-    };
+    let render = def.render.clone();
     if def.meshes.is_empty() {
         return Err(Error::scene(origin, "the scene has no [[mesh]]"));
     }
@@ -234,6 +227,7 @@ pub fn build(def: SceneDef, origin: &str, dir: Option<&Path>) -> Result<Scene> {
     }
     Ok(Scene {
         name: def.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
+        description: def.description.unwrap_or_default(),
         origin: origin.to_string(),
         camera,
         light,

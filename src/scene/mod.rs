@@ -7,7 +7,7 @@ mod obj;
 mod overrides;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
-pub use format::{BiasDef, CullMode};
+pub use format::{BiasDef, CullMode, RenderSettings};
 pub use mesh::Vertex;
 pub use overrides::apply_overrides;
 
@@ -33,21 +33,10 @@ impl Camera {
     }
 }
 
-/// Render settings; every key can be overridden with `--set key=value`.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct RenderSettings {
-    pub width: u32,
-    pub height: u32,
-    pub shadow_map_size: u32,
-    pub bias: BiasDef,
-    pub cull: CullMode,
-    pub ambient: f32,
-    pub shadow_map_budget_mib: u32,
-}
-
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub name: String,
+    pub description: String,
     /// File path or `builtin:NAME`: every error names it.
     pub origin: String,
     pub camera: Camera,

@@ -28,3 +28,60 @@ pub fn temp_dir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// Small deterministic generator (tests must not depend on an RNG crate's stream).
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    pub fn next_f32(&mut self) -> f32 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+    }
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.next_f32()
+    }
+}
+
+/// A random scene: boxes and spheres over a ground plane, a random camera, a tilted square light.
+pub fn random_scene_toml(seed: u64, size: u32, map: u32) -> String {
+    let mut r = Lcg(seed.wrapping_mul(0x9E3779B97F4A7C15) ^ 0xD1B54A32D192ED03);
+    for _ in 0..4 {
+        r.next_f32();
+    }
+    let angle = r.range(0.0, std::f32::consts::TAU);
+    let dist = r.range(14.0, 20.0);
+    let (ex, ez) = (angle.cos() * dist, angle.sin() * dist);
+    let ey = r.range(8.0, 16.0);
+    let (lx, ly, lz) = (r.range(-4.0, 4.0), r.range(9.0, 14.0), r.range(-4.0, 4.0));
+    let (su, sv) = (r.range(1.0, 4.5), r.range(1.0, 4.5));
+    let tilt = r.range(-0.25, 0.25);
+    let mut s = format!(
+        "[camera]\neye = [{ex}, {ey}, {ez}]\ntarget = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\n\n\
+         [light]\ncenter = [{lx}, {ly}, {lz}]\nedge_u = [{su}, {}, 0.0]\nedge_v = [0.0, {}, {sv}]\n\n\
+         [render]\nwidth = {size}\nheight = {size}\nshadow_map_size = {map}\n\n\
+         [[mesh]]\nbuiltin = \"plane\"\nscale = [18.0, 1.0, 18.0]\n",
+        su * tilt,
+        -sv * tilt * 0.5
+    );
+    let objects = 2 + (r.next_f32() * 3.0) as u32;
+    for _ in 0..objects {
+        let kind = if r.next_f32() < 0.5 { "box" } else { "sphere" };
+        let (x, z) = (r.range(-4.0, 4.0), r.range(-4.0, 4.0));
+        let scale = r.range(0.6, 2.0);
+        let y = r.range(scale * 0.5, 5.0);
+        s += &format!(
+            "\n[[mesh]]\nbuiltin = \"{kind}\"\nsegments = 12\ntranslate = [{x}, {y}, {z}]\nrotate_deg = [0.0, {}, 0.0]\nscale = {scale}\n",
+            r.range(0.0, 90.0)
+        );
+    }
+    s
+}
+
+pub fn penumbra_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
+    c.args(args).env("PENUMBRA_NO_PROGRESS", "1");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("run penumbra binary")
+}

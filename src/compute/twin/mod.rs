@@ -1,5 +1,18 @@
 //! CPU twins of the compute kernels, written loop for loop like the WGSL with the same inputs.
-//! Tests compare them with the GPU (exactly for counts).
+//! Tests compare them with the GPU: exactly for every count, flag, quad and sample.
 
-pub mod shadow;
+pub mod local;
+pub mod neighbourhood;
+pub mod quad_count;
+pub mod reproject_count;
 pub mod shade;
+pub mod shadow;
+pub mod shadow_test;
+pub mod subdivide;
+
+/// Lattice index of corner c (0..3: (0,0), (1,0), (0,1), (1,1)) of a quad, as `quad_corner` in WGSL.
+pub fn quad_corner(q: &crate::layout::GpuQuad, c: u32) -> u32 {
+    let i = q.i + (c & 1) * q.size;
+    let j = q.j + (c >> 1) * q.size;
+    j * 17 + i
+}

@@ -29,3 +29,21 @@ pub fn shade(
         *v = acc;
     }
 }
+
+/// Twin of `shade.wgsl` `from_masks`: Σ_k ŵ_k · bit_k(p), k ascending.
+pub fn from_masks(weights: &[f32], masks: &[u32], g: &GBufferCpu) -> Vec<f32> {
+    (0..g.position.len())
+        .map(|index| {
+            if !g.is_geometry(index) {
+                return 0.0;
+            }
+            let mut v = 0.0f32;
+            for k in 0..289u32 {
+                if super::reproject_count::mask_bit(masks, index, k) == 1 {
+                    v += weights[k as usize];
+                }
+            }
+            v
+        })
+        .collect()
+}

@@ -31,9 +31,13 @@ pub struct LevelReport {
     pub items: u32,
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
     pub rects: Vec<[u32; 4]>,
-    /// Level 0's comparison map (packed bytes, quad 0) and this level's flags, for pictures.
+    /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
+    /// level's flags, for pictures and twin tests.
     pub counts: Option<Vec<u32>>,
     pub flags: Option<Vec<u32>>,
+    /// Captured for twin tests: the per-pixel lattice masks as this level's counting read them
+    /// (scope = local: the samples consulted so far).
+    pub masks: Option<Vec<u32>>,
 }
 
 /// Per-level summary for run.json.
@@ -57,6 +61,7 @@ pub fn read_level(
     pictures: bool,
     evaluated: bool,
     local: bool,
+    capture: bool,
 ) -> Result<LevelReport> {
     let ctx = fg.ctx;
     let n = quads.len() as u64;
@@ -72,9 +77,15 @@ pub fn read_level(
         (&b.rects, lattice * 4),
         (&b.item_total, 4),
     ];
+    let pictures = pictures || capture;
+    let counts_len = b.counts_bytes_per_quad() * if capture { n } else { 1 };
     if pictures {
-        parts.push((&b.counts, b.counts_bytes_per_quad()));
+        parts.push((&b.counts, counts_len));
         parts.push((&b.flags, b.flags_bytes_per_quad() * n));
+    }
+    let mask_len = b.width as u64 * b.height as u64 * 40;
+    if capture {
+        parts.push((&b.masks, mask_len));
     }
     let total: u64 = parts.iter().map(|(_, s)| s).sum();
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -105,11 +116,8 @@ pub fn read_level(
     let split_base = take(QUAD_CAPACITY as u64 * 4);
     let rects_raw = take(lattice * 4);
     let item_total = take(4)[0];
-    let (counts, flags) = if pictures {
-        (Some(take(b.counts_bytes_per_quad())), Some(take(b.flags_bytes_per_quad() * n)))
-    } else {
-        (None, None)
-    };
+    let (counts, flags) = if pictures { (Some(take(counts_len)), Some(take(b.flags_bytes_per_quad() * n))) } else { (None, None) };
+    let masks = if capture { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
     let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
     let mut new_samples = new_all[..new_count].to_vec();
@@ -130,6 +138,7 @@ pub fn read_level(
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
         counts,
         flags,
+        masks,
     })
 }
 

@@ -15,7 +15,7 @@ use super::{AdaptiveParams, Scope};
 use crate::compute::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
     compact::Compact, groups, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
-    shadow_test::ShadowTest, subdivide::Subdivide, Dispatch, LINE_WORKGROUP,
+    shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
 use crate::frame::{FrameGpu, MethodOutput};
 use crate::gpu::readback;
@@ -49,6 +49,10 @@ pub struct AdaptiveTrace {
     /// Lattice indices in the order their maps were rendered.
     pub rendered: Vec<u32>,
     pub weights: Vec<f32>,
+    /// Captured for twin tests: each rendered map (lattice index, row-major depths).
+    pub maps: Vec<(u32, Vec<f32>)>,
+    /// The sample records as the kernels saw them (layer and array filled in).
+    pub samples: Vec<GpuSample>,
 }
 
 /// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
@@ -59,19 +63,25 @@ struct MapStore {
     used: u32,
 }
 
-pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<MethodOutput> {
-    run_traced(fg, timer, p).map(|(out, _)| out)
+/// Buffers, shadow-map arrays and pipelines, allocated (and zero-filled) before the frame's clock
+/// starts, as a renderer would keep them from frame to frame.
+pub struct Prepared {
+    b: AdaptiveBuffers,
+    store: MapStore,
+    passes: Passes,
+    samples: Vec<GpuSample>,
 }
 
-pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> Result<(MethodOutput, AdaptiveTrace)> {
+pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let ctx = fg.ctx;
     let scene = fg.scene;
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
-    let mut samples = lattice_samples(fg);
+    let samples = lattice_samples(fg);
     let b = AdaptiveBuffers::new(ctx, w, h, &samples, local)?;
+    b.zero_fill(ctx)?;
     let per_array = shadow_raster::maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
-    let mut store = if local {
+    let store = if local {
         // Every map stays alive: the lattice needs up to 289, split across two arrays at the layer limit.
         let need = LATTICE_POINTS;
         let budget_maps = per_array as u64 * if per_array >= need { 1 } else { 2 };
@@ -99,9 +109,22 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
         subdivide: Subdivide::new(fg)?,
         compact: Compact::new(fg)?,
     };
+    for array in &store.arrays {
+        shadow_raster::clear_all(ctx, array)?;
+    }
+    Ok(Prepared { b, store, passes, samples })
+}
+
+/// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
+/// it adds synchronisations, so it is for tests only.
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: Prepared, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
+    let ctx = fg.ctx;
+    let local = p.scope == Scope::Local;
+    let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
+    let Prepared { b, mut store, passes, mut samples } = prepared;
     let (threshold, always, never) = p.threshold();
     let split_mode = if always { 1 } else if never { 2 } else { 0 };
-    let dense_groups_x = groups(h * b.words_per_row, LINE_WORKGROUP[0]);
+    let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
     let level_uniform = |level: u32, quad_count: u32, first_quad: u32| GpuLevel {
         level,
         max_level: p.max_level,
@@ -146,7 +169,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
         let cur = (level % 2) as usize;
         let nxt = 1 - cur;
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
-        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace)?;
+        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace, capture)?;
 
         let evaluate = local || level < p.max_level;
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
@@ -157,8 +180,9 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
             let maps = store.views();
             timer.stage(ctx, "reproject_count", |enc| {
                 passes.compact.record_begin(fg, enc, &b, &lv);
-                enc.clear_buffer(&b.counts, 0, None);
-                enc.clear_buffer(&b.flags, 0, None);
+                // Only this level's quads: the buffers are sized for 256.
+                enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
+                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
                 passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items, maps);
                 Ok(())
             })?;
@@ -167,7 +191,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
                 Ok(())
             })?;
             timer.stage(ctx, "quad_count", |enc| {
-                passes.quad_count.record(fg, enc, &b, &lv, quad_count);
+                passes.quad_count.record(fg, enc, &b, &lv, quad_count, false);
                 Ok(())
             })?;
         } else if evaluate {
@@ -176,19 +200,18 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
             for first in (0..quad_count).step_by(b.count_quads as usize) {
                 let n = b.count_quads.min(quad_count - first);
                 let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, n, first));
-                // GPU-driven: the previous subdivide wrote this dispatch's size.
-                let dispatch =
-                    if single && level > 0 { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([dense_groups_x, n, 1]) };
                 timer.stage(ctx, "reproject_count", |enc| {
-                    passes.reproject_count.record_dense(fg, enc, &b, &lv, &b.quads[cur], dispatch);
+                    passes.reproject_count.record_dense(fg, enc, &b, &lv, &b.quads[cur]);
                     Ok(())
                 })?;
+                // GPU-driven: the previous subdivide wrote these dispatches' sizes (flag words x quads).
+                let indirect = single && level > 0;
                 timer.stage(ctx, "neighbourhood", |enc| {
-                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n);
+                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n, indirect);
                     Ok(())
                 })?;
                 timer.stage(ctx, "quad_count", |enc| {
-                    passes.quad_count.record(fg, enc, &b, &lv, n);
+                    passes.quad_count.record(fg, enc, &b, &lv, n, indirect);
                     Ok(())
                 })?;
             }
@@ -210,9 +233,9 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
         }
         // The one read-back of this level.
         timer.flush(ctx);
-        let pictures = evaluate && (local || quad_count <= b.count_quads);
+        let pictures = fg.pictures && evaluate && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
-        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local))?;
+        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local, capture))?;
         syncs += 1;
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
@@ -235,6 +258,7 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
     let last = trace.levels.last().cloned().unwrap_or_default();
     let weights = sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered);
     trace.weights = weights.clone();
+    trace.samples = samples.clone();
     if local {
         let lv = readback::uniform_buffer(ctx, "level", &level_uniform(p.max_level, 0, 0));
         timer.stage(ctx, "shade", |enc| {
@@ -248,13 +272,13 @@ pub fn run_traced(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams) -> 
             Ok(())
         })?;
     }
-    let consulted: Option<Vec<u32>> = if local {
+    let consulted: Option<Vec<u32>> = if local && fg.pictures {
         timer.flush(ctx);
         Some(timer.cpu("pictures", || readback::read_buffer(ctx, &b.masks, w as u64 * h as u64 * 40))?)
     } else {
         None
     };
-    let pictures = pictures::all(fg, &trace, consulted.as_deref());
+    let pictures = if fg.pictures { pictures::all(fg, &trace, consulted.as_deref()) } else { Vec::new() };
     let record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
     Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures }, trace))
 }
@@ -289,6 +313,7 @@ fn render_new(
     local: bool,
     passes: &Passes,
     trace: &mut AdaptiveTrace,
+    capture: bool,
 ) -> Result<()> {
     let ctx = fg.ctx;
     let mut ks = new.to_vec();
@@ -329,6 +354,13 @@ fn render_new(
         }
         // Sample records of the next chunk overwrite this one's layers: submit before writing them.
         timer.flush(ctx);
+        if capture {
+            for &k in chunk {
+                let s = &samples[k as usize];
+                let map = crate::gpu::readback::read_texture(ctx, &store.arrays[s.array as usize].texture, s.layer, 4)?;
+                trace.maps.push((k, map));
+            }
+        }
         trace.rendered.extend_from_slice(chunk);
     }
     Ok(())

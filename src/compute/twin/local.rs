@@ -1,0 +1,81 @@
+//! Twin of the whole scope = local pipeline (reproject_count `list`, neighbourhood `list`,
+//! quad_count, subdivide, compact): per-pixel adaptive quadrature in exact integers.
+
+use super::neighbourhood::{low_quality, Screen};
+use super::quad_corner;
+use super::shadow::lit;
+use super::subdivide::{subdivide, SplitRule};
+use crate::compute::buffers::{LATTICE_POINTS, NO_SPLIT};
+use crate::layout::{GpuFrame, GpuQuad, GpuSample};
+use crate::render::gbuffer::GBufferCpu;
+use glam::Vec4;
+
+#[derive(Debug, Default)]
+pub struct LocalOut {
+    /// Σ c · 4^(max_level − level) per pixel; V = value / (4 · 4^max_level).
+    pub visibility_fixed: Vec<u32>,
+    /// Per level: items evaluated, quads (sorted), low-quality count per quad (in quad order), new samples.
+    pub items: Vec<u32>,
+    pub quads: Vec<Vec<GpuQuad>>,
+    pub new_samples: Vec<Vec<u32>>,
+}
+
+pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<f32>, g: &GBufferCpu, max_level: u32, rule: SplitRule) -> LocalOut {
+    let s = Screen { width: g.width, height: g.height };
+    let wpr = s.words_per_row();
+    let words = (s.height * wpr) as usize;
+    let map_cache: Vec<Option<Vec<f32>>> = (0..LATTICE_POINTS).map(|_| None).collect();
+    let mut map_cache = map_cache;
+    let mut out = LocalOut { visibility_fixed: vec![0; g.position.len()], ..Default::default() };
+    let mut items: Vec<(u32, u32)> = (0..g.position.len() as u32).filter(|&p| g.is_geometry(p as usize)).map(|p| (p, 0)).collect();
+    let mut quads = vec![GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }];
+    let mut state = vec![0u32; LATTICE_POINTS as usize];
+    for k in [0, 16, 272, 288] {
+        state[k] = 1;
+    }
+    let mut sample_level = vec![0u32; LATTICE_POINTS as usize];
+    for level in 0..=max_level {
+        let mut counts = vec![0u32; quads.len() * words];
+        for &(p, q) in &items {
+            let (pos, n) = (Vec4::from(g.position[p as usize]).truncate(), Vec4::from(g.normal[p as usize]).truncate());
+            let mut c = 0;
+            for corner in 0..4 {
+                let k = quad_corner(&quads[q as usize], corner) as usize;
+                let map = map_cache[k].get_or_insert_with(|| maps(k as u32));
+                c += lit(frame, &samples[k], map, pos, n);
+            }
+            let (x, y) = (p % s.width, p / s.width);
+            counts[q as usize * words + (y * wpr + x / 4) as usize] |= (c + 1) << ((x & 3) * 8);
+        }
+        let mut counters = vec![0u32; quads.len()];
+        for &(p, q) in &items {
+            let (x, y) = ((p % s.width) as i32, (p / s.width) as i32);
+            counters[q as usize] += low_quality(&counts, &s, q as usize, x, y) as u32;
+        }
+        let sub = subdivide(level, max_level, rule, &quads, &counters, &mut state, &mut sample_level);
+        let mut next = Vec::new();
+        for &(p, q) in &items {
+            let x = p % s.width;
+            let byte = (counts[q as usize * words + ((p / s.width) * wpr + x / 4) as usize] >> ((x & 3) * 8)) & 0xff;
+            let c = byte - 1;
+            let base = sub.split_base[q as usize];
+            if base != NO_SPLIT && c > 0 && c < 4 {
+                next.extend((0..4).map(|child| (p, base + child)));
+            } else {
+                out.visibility_fixed[p as usize] += c << (2 * (max_level - level));
+            }
+        }
+        out.items.push(items.len() as u32);
+        let mut sorted = quads.clone();
+        sorted.iter_mut().for_each(|q| q.parent = 0);
+        sorted.sort();
+        out.quads.push(sorted);
+        out.new_samples.push(sub.new_samples.clone());
+        items = next;
+        quads = sub.next_quads;
+        if quads.is_empty() {
+            break;
+        }
+    }
+    out
+}

@@ -1,0 +1,110 @@
+//! GPU results equal the CPU twins on randomised scenes, cameras and light placements: the lattice
+//! masks (shadow_test), every comparison map (reproject_count), the low-quality flags
+//! (neighbourhood), the per-quad counters (quad_count), the quads, samples and levels appended by
+//! subdivide, the weighted shade, and the whole scope = local pipeline in exact integers.
+//! Each stage's twin is fed the GPU's own inputs, so a mismatch points at one stage.
+
+mod common;
+use penumbra::compute::twin::{self, neighbourhood::Screen, subdivide::SplitRule};
+use penumbra::frame::{self, frame_uniform};
+use penumbra::methods::{AdaptiveParams, Scope};
+use penumbra::scene::Scene;
+
+const SEEDS: [u64; 4] = [1, 7, 23, 101];
+
+fn scene(seed: u64) -> Scene {
+    Scene::parse(&common::random_scene_toml(seed, 48, 128), &format!("random-{seed}"), None, &[]).expect("random scene parses")
+}
+
+fn rule(p: &AdaptiveParams) -> SplitRule {
+    match p.threshold() {
+        (_, true, _) => SplitRule::Always,
+        (_, _, true) => SplitRule::Never,
+        (t, _, _) => SplitRule::Threshold(t),
+    }
+}
+
+fn sorted_quads(q: &[penumbra::layout::GpuQuad]) -> Vec<(u32, u32, u32)> {
+    let mut v: Vec<_> = q.iter().map(|q| (q.i, q.j, q.size)).collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn global_stages_equal_their_cpu_twins() {
+    let ctx = common::gpu();
+    let mut levels_checked = 0;
+    let mut quads_checked = 0;
+    for seed in SEEDS {
+        for p_m in [0.0, 3.0] {
+            let sc = scene(seed);
+            let p = AdaptiveParams { p_m, ..Default::default() };
+            let (r, t) = frame::render_traced(&ctx, &sc, &p, true).unwrap();
+            let g = &r.gbuffer;
+            let fr = frame_uniform(&sc);
+            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+            let screen = Screen { width: g.width, height: g.height };
+            let mut masks = vec![0u32; g.position.len() * 10];
+            let mut state = vec![0u32; 289];
+            for k in [0, 16, 272, 288] {
+                state[k] = 1;
+            }
+            let mut sample_level = vec![0u32; 289];
+            for (d, lvl) in t.levels.iter().enumerate() {
+                let new: Vec<u32> = if d == 0 { vec![0, 16, 272, 288] } else { t.levels[d - 1].new_samples.clone() };
+                twin::shadow_test::shadow_test(&fr, &t.samples, &maps, g, &new, &mut masks);
+                let gpu_masks = lvl.masks.as_ref().unwrap();
+                let wrong_bits: u32 = masks.iter().zip(gpu_masks).map(|(a, b)| (a ^ b).count_ones()).sum();
+                assert_eq!(wrong_bits, 0, "seed {seed} p_m {p_m} level {d}: shadow_test differs in {wrong_bits} bits");
+                masks.clone_from(gpu_masks);
+                let n = lvl.quads.len();
+                if lvl.evaluated {
+                    let counts = twin::reproject_count::reproject_count(&lvl.quads, gpu_masks, g);
+                    assert_eq!(&counts, lvl.counts.as_ref().unwrap(), "seed {seed} level {d}: reproject_count differs");
+                    let flags = twin::neighbourhood::neighbourhood(lvl.counts.as_ref().unwrap(), &screen, n);
+                    assert_eq!(&flags, lvl.flags.as_ref().unwrap(), "seed {seed} level {d}: neighbourhood differs");
+                    let words = (g.height * screen.flag_words_per_row()) as usize;
+                    let counters = twin::quad_count::quad_count(lvl.flags.as_ref().unwrap(), words, n);
+                    assert_eq!(counters, lvl.low_quality, "seed {seed} level {d}: quad_count differs");
+                    quads_checked += n;
+                }
+                let sub = twin::subdivide::subdivide(d as u32, p.max_level, rule(&p), &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
+                assert_eq!(sorted_quads(&sub.next_quads), sorted_quads(&lvl.next_quads), "seed {seed} level {d}: subdivide quads");
+                assert_eq!(sub.new_samples, lvl.new_samples, "seed {seed} level {d}: subdivide samples");
+                assert_eq!(sample_level, lvl.sample_level, "seed {seed} level {d}: sample levels");
+                let split_gpu: Vec<bool> = lvl.split_base.iter().map(|&s| s != u32::MAX).collect();
+                let split_cpu: Vec<bool> = sub.split_base.iter().map(|&s| s != u32::MAX).collect();
+                assert_eq!(split_cpu, split_gpu, "seed {seed} level {d}: split decisions");
+                levels_checked += 1;
+            }
+            let v = twin::shade::from_masks(&t.weights, &masks, g);
+            let worst = v.iter().zip(&r.visibility).map(|(a, b)| (a.clamp(0.0, 1.0) - b).abs()).fold(0.0f32, f32::max);
+            assert!(worst <= 1e-6, "seed {seed}: shade differs by {worst}");
+            println!("seed {seed} p_m {p_m}: {} levels, {} maps, twins equal", t.levels.len(), t.rendered.len());
+        }
+    }
+    assert!(levels_checked >= 16 && quads_checked >= 40, "too little was compared: {levels_checked} levels, {quads_checked} quads");
+}
+
+#[test]
+fn local_pipeline_equals_its_cpu_twin_exactly() {
+    let ctx = common::gpu();
+    for seed in SEEDS {
+        let sc = scene(seed);
+        let p = AdaptiveParams { scope: Scope::Local, ..Default::default() };
+        let (r, t) = frame::render_traced(&ctx, &sc, &p, true).unwrap();
+        let fr = frame_uniform(&sc);
+        let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+        let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, rule(&p));
+        let items: Vec<u32> = t.levels.iter().map(|l| l.items).collect();
+        assert_eq!(out.items, items, "seed {seed}: items per level");
+        for (d, lvl) in t.levels.iter().enumerate() {
+            assert_eq!(out.quads[d].iter().map(|q| (q.i, q.j, q.size)).collect::<Vec<_>>(), sorted_quads(&lvl.quads), "seed {seed} level {d}: quads");
+            assert_eq!(out.new_samples[d], lvl.new_samples, "seed {seed} level {d}: new samples");
+        }
+        let scale = (4u32 << (2 * p.max_level)) as f32;
+        let wrong = out.visibility_fixed.iter().zip(&r.visibility).filter(|(a, b)| **a as f32 / scale != **b).count();
+        assert_eq!(wrong, 0, "seed {seed}: {wrong} pixels differ from the twin");
+        println!("seed {seed}: local, {} levels, items {:?}, twin equal", t.levels.len(), items);
+    }
+}

@@ -1,0 +1,36 @@
+//! The `shade` kernel (hard and regular methods) equals its CPU twin on random scenes, including
+//! when the maps are split into chunks by the memory budget.
+
+mod common;
+use penumbra::compute::twin;
+use penumbra::frame::{self, frame_uniform};
+use penumbra::methods::Method;
+use penumbra::scene::Scene;
+
+#[test]
+fn shade_equals_its_cpu_twin() {
+    let ctx = common::gpu();
+    for (seed, method, budget) in [(3u64, Method::Hard, "64"), (11, Method::Regular { n: 4 }, "64"), (29, Method::Regular { n: 5 }, "1")] {
+        let sc = Scene::parse(
+            &common::random_scene_toml(seed, 48, 128),
+            "random",
+            None,
+            &[("shadow_map_budget_mib".into(), budget.into())],
+        )
+        .unwrap();
+        let (r, c) = frame::render_fixed_captured(&ctx, &sc, &method).unwrap();
+        let mut v = vec![0.0f32; r.visibility.len()];
+        let n = c.samples.len();
+        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, n, &mut v);
+        let (mut worst, mut shadowed) = (0.0f32, 0usize);
+        for i in 0..v.len() {
+            if r.gbuffer.is_geometry(i) {
+                worst = worst.max((v[i].clamp(0.0, 1.0) - r.visibility[i]).abs());
+                shadowed += (r.visibility[i] < 1.0) as usize;
+            }
+        }
+        println!("seed {seed} {method:?}: {n} maps, max |GPU - twin| = {worst:e}, {shadowed} pixels not fully lit");
+        assert!(shadowed > 20, "seed {seed}: the scene casts almost no shadow, the test would prove little");
+        assert!(worst <= 1e-6, "seed {seed}: shade differs from its twin by {worst}");
+    }
+}
