@@ -2,7 +2,7 @@
 //! (a wait after every stage, so each stage's wall time is known), then `repeats` frames in frame
 //! mode (only the waits the method needs) whose median is the figure quoted.
 
-use crate::frame::{self, FrameResult};
+use crate::frame::{self, FrameOptions, FrameResult};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::scene::Scene;
@@ -32,12 +32,14 @@ pub fn median(values: &[f64]) -> f64 {
 }
 
 pub fn measure(ctx: &GpuContext, scene: &Scene, method: &Method, repeats: u32) -> Result<Measured> {
-    frame::render(ctx, scene, method, TimingMode::Frame)?; // warm-up: driver caches, allocator
-    let staged = frame::render(ctx, scene, method, TimingMode::Stages)?;
+    // No decision pictures: their read-backs would be timed, and compare does not use them.
+    let run = |mode| frame::render_with_options(ctx, scene, method, FrameOptions { mode, pictures: false });
+    run(TimingMode::Frame)?; // warm-up: driver caches, allocator
+    let staged = run(TimingMode::Stages)?;
     let mut totals_ms = Vec::new();
     let mut last = None;
     for _ in 0..repeats.max(1) {
-        let r = frame::render(ctx, scene, method, TimingMode::Frame)?;
+        let r = run(TimingMode::Frame)?;
         totals_ms.push(r.total_ms);
         last = Some(r);
     }
