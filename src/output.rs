@@ -42,7 +42,7 @@ pub fn shaded_image(v: &[f32], g: &GBufferCpu, scene: &Scene) -> RgbImage {
             return Rgb([40, 44, 52]);
         }
         let p = Vec3::from_slice(&g.position[i][..3]);
-        let n = Vec3::from_slice(&g.normal[i][..3]);
+        let n = Vec3::from_slice(&g.shading_normal[i][..3]);
         let albedo = scene.albedos.get(g.normal[i][3] as usize).copied().unwrap_or([0.8; 3]);
         let l = (scene.light.center - p).normalize_or_zero();
         let shade = ambient + (1.0 - ambient) * v[i] * n.dot(l).max(0.0);

@@ -11,9 +11,13 @@ pub struct GBuffer {
     pub width: u32,
     pub height: u32,
     pub position: wgpu::Texture,
+    /// Geometric normal facing the camera (w = material): what every shadow test reads.
     pub normal: wgpu::Texture,
+    /// Interpolated smooth normal: shading only.
+    pub shading_normal: wgpu::Texture,
     pub position_view: wgpu::TextureView,
     pub normal_view: wgpu::TextureView,
+    shading_normal_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
 }
 
@@ -24,8 +28,10 @@ pub struct GBufferCpu {
     pub height: u32,
     /// xyz world position, w = 1 on geometry and 0 on background.
     pub position: Vec<[f32; 4]>,
-    /// xyz normal facing the camera, w = material index.
+    /// xyz geometric (flat) normal facing the camera, w = material index: shadow tests use it.
     pub normal: Vec<[f32; 4]>,
+    /// xyz interpolated smooth normal, on the same side: shading uses it.
+    pub shading_normal: Vec<[f32; 4]>,
 }
 
 impl GBufferCpu {
@@ -68,7 +74,7 @@ impl GBufferPass {
                 module: &module,
                 entry_point: Some("fs_main"),
                 compilation_options: Default::default(),
-                targets: &[target.clone(), target],
+                targets: &[target.clone(), target.clone(), target],
             }),
             multiview_mask: None,
             cache: None,
@@ -101,15 +107,18 @@ impl GBufferPass {
         let color = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let position = make("gbuffer position", POSITION_FORMAT, color);
         let normal = make("gbuffer normal", POSITION_FORMAT, color);
+        let shading_normal = make("gbuffer shading normal", POSITION_FORMAT, color);
         let depth = make("gbuffer depth", wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
         Ok(GBuffer {
             width,
             height,
             position_view: position.create_view(&Default::default()),
             normal_view: normal.create_view(&Default::default()),
+            shading_normal_view: shading_normal.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
             position,
             normal,
+            shading_normal,
         })
     }
 
@@ -120,7 +129,7 @@ impl GBufferPass {
         let attachment = |view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: clear });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
-            color_attachments: &[attachment(&g.position_view), attachment(&g.normal_view)],
+            color_attachments: &[attachment(&g.position_view), attachment(&g.normal_view), attachment(&g.shading_normal_view)],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &g.depth_view,
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
@@ -144,5 +153,6 @@ pub fn read_back(ctx: &GpuContext, g: &GBuffer) -> Result<GBufferCpu> {
         height: g.height,
         position: readback::read_texture(ctx, &g.position, 0, 16)?,
         normal: readback::read_texture(ctx, &g.normal, 0, 16)?,
+        shading_normal: readback::read_texture(ctx, &g.shading_normal, 0, 16)?,
     })
 }

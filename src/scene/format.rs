@@ -84,7 +84,7 @@ pub struct BiasDef {
 
 impl Default for BiasDef {
     fn default() -> Self {
-        Self { constant: 1.0, slope: 1.0, normal_offset: 0.5, max_slope: 4.0 }
+        Self { constant: 0.5, slope: 0.5, normal_offset: 0.5, max_slope: 4.0 }
     }
 }
 
