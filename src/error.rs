@@ -33,6 +33,9 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io { path: String, message: String },
+    /// Fetching or loading a registry asset (its message names the file and the line or element).
+    #[error(transparent)]
+    Asset(#[from] crate::assets::AssetError),
 }
 
 impl Error {

@@ -17,5 +17,6 @@ pub mod frame;
 pub mod output;
 pub mod timing;
 pub mod progress;
+pub mod assets;
 
 pub use error::{Error, Result};
