@@ -2,13 +2,17 @@
 
 mod builtin;
 mod format;
+mod instances;
 mod mesh;
+mod mesh_file;
 mod obj;
 mod overrides;
+mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use format::{BiasDef, CullMode};
 pub use mesh::Vertex;
+pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use overrides::apply_overrides;
 
 use crate::light::{AreaLight, Bounds};
@@ -89,9 +93,15 @@ impl Scene {
         Self::parse(&text, name_or_path, path.parent(), overrides)
     }
 
-    /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins).
+    /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins),
+    /// `cache:` paths against the default asset cache.
     pub fn parse(text: &str, origin: &str, dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Scene> {
+        Self::parse_in(text, origin, MeshDirs { scene_dir: dir, cache: None }, overrides)
+    }
+
+    /// As `parse`, with the folders mesh files resolve against given explicitly (tests, `--cache`).
+    pub fn parse_in(text: &str, origin: &str, dirs: MeshDirs, overrides: &[(String, String)]) -> Result<Scene> {
         let def = format::parse(text, origin, overrides)?;
-        format::build(def, origin, dir)
+        format::build(def, origin, dirs)
     }
 }
