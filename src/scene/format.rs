@@ -110,9 +110,12 @@ pub struct MeshDef {
     pub albedo: [f32; 3],
     #[serde(default = "default_segments")]
     pub segments: u32,
-    /// Rounds of midpoint subdivision (×4 triangles each, same surface): reaches a seed's triangle count.
+    /// Rounds of subdivision (×4 triangles each): reaches a seed's triangle count.
     #[serde(default)]
     pub subdivide: u32,
+    /// `midpoint` (default: the surface unchanged) or `loop` (smooth).
+    #[serde(default)]
+    pub subdivision: super::subdivide::Scheme,
     /// Placements `[x, y, z, rot_y_deg, scale]`, each applied after the mesh's own transform.
     pub instances: Option<Vec<[f32; 5]>>,
     /// A grid of placements in the xz plane (see `GridDef`); exclusive with `instances`.

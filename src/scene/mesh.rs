@@ -39,7 +39,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
     if raw.indices.is_empty() {
         return Err(Error::mesh(label, "the mesh is empty (no triangles)"));
     }
-    let raw = subdivide::midpoint(raw, m.subdivide).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
+    let raw = subdivide::subdivide(raw, m.subdivide, m.subdivision).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
     let placements = instances::placements(m).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
     let scale = match m.scale {
         Scale::Uniform(s) => Vec3::splat(s),

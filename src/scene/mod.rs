@@ -3,6 +3,7 @@
 mod builtin;
 mod format;
 mod instances;
+mod loop_subdivision;
 mod mesh;
 mod mesh_file;
 mod obj;

@@ -1,6 +1,9 @@
-//! Midpoint subdivision: each triangle into four, the surface unchanged. It only raises the triangle
-//! count (the seed's scenes are denser than the meshes the registries ship); shared edges get one
-//! midpoint so the mesh stays watertight and no shadow-map texel leaks through a crack.
+//! Subdivision: each triangle into four per level, to reach the seed's triangle counts (its scenes are
+//! denser than the meshes the registries ship). Shared edges get one new vertex, so the mesh stays
+//! watertight and no shadow-map texel leaks through a crack.
+//! - `midpoint`: new vertices at edge midpoints, old ones kept: the surface is unchanged (facets too).
+//! - `loop`: Loop's smooth scheme, the limit surface of a smooth model (a tessellated Bezier teapot
+//!   has no flat facets; flat facets make whole facets half-lit at the terminator).
 
 use super::mesh::RawMesh;
 use glam::Vec3;
@@ -9,8 +12,16 @@ use std::collections::HashMap;
 /// Triangles one mesh may reach by subdivision (memory guard: 32M triangles ≈ 1.3 GB of vertices).
 pub const MAX_TRIANGLES: u64 = 1 << 25;
 
+#[derive(serde::Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Scheme {
+    #[default]
+    Midpoint,
+    Loop,
+}
+
 /// `levels` rounds of 1→4 splits; `Err` says why when the result would be too large.
-pub fn midpoint(mesh: RawMesh, levels: u32) -> Result<RawMesh, String> {
+pub fn subdivide(mesh: RawMesh, levels: u32, scheme: Scheme) -> Result<RawMesh, String> {
     let triangles = (mesh.indices.len() / 3) as u64;
     let after = triangles.checked_shl(2 * levels).filter(|&t| levels < 16 && t <= MAX_TRIANGLES);
     if after.is_none() {
@@ -18,7 +29,10 @@ pub fn midpoint(mesh: RawMesh, levels: u32) -> Result<RawMesh, String> {
             "subdivide = {levels} would turn {triangles} triangles into more than {MAX_TRIANGLES} (each level multiplies by 4)"
         ));
     }
-    Ok((0..levels).fold(mesh, |m, _| once(m)))
+    Ok((0..levels).fold(mesh, |m, _| match scheme {
+        Scheme::Midpoint => once(m),
+        Scheme::Loop => super::loop_subdivision::once(m),
+    }))
 }
 
 fn once(mesh: RawMesh) -> RawMesh {
@@ -57,7 +71,7 @@ mod tests {
 
     #[test]
     fn four_times_the_triangles_shared_midpoints_same_area_and_winding() {
-        let m = midpoint(quad(), 2).unwrap();
+        let m = subdivide(quad(), 2, Scheme::Midpoint).unwrap();
         assert_eq!(m.indices.len() / 3, 2 * 16);
         // A 4x4 grid of quads has 5x5 vertices: every shared edge got exactly one midpoint.
         assert_eq!(m.positions.len(), 25);
@@ -73,7 +87,7 @@ mod tests {
 
     #[test]
     fn refuses_a_result_too_large() {
-        let e = midpoint(quad(), 13).err().unwrap();
+        let e = subdivide(quad(), 13, Scheme::Loop).err().unwrap();
         assert!(e.contains("subdivide = 13"), "{e}");
     }
 }
