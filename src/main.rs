@@ -155,10 +155,10 @@ fn bench(args: BenchArgs) -> Result<()> {
         regular: Method::parse(&args.regular, &[])?,
         only: args.only,
     };
-    bench::suite::selected(&opts.only)?;
+    let scenes = bench::prepare(&opts)?;
     let ctx = GpuContext::new()?;
     println!("seed-table2 on {} ({} repeats after one warm-up frame per method)", ctx.summary.name, opts.repeats);
-    let report = bench::run_seed_table2(&ctx, &opts, &mut |line| println!("{line}"))?;
+    let report = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| println!("{line}"))?;
     let files = [
         ("table2.md".to_string(), bench::table::markdown(&report).into_bytes()),
         ("results.jsonl".to_string(), bench::table::jsonl(&report).into_bytes()),

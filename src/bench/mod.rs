@@ -7,7 +7,7 @@ pub mod stats;
 pub mod suite;
 pub mod table;
 
-pub use suite::{run_seed_table2, SceneResult, SuiteOptions, SuiteReport};
+pub use suite::{prepare, run_seed_table2, SceneResult, SuiteOptions, SuiteReport, SuiteScene};
 
 /// Suites `--suite` accepts.
 pub const SUITES: &[&str] = &["seed-table2"];

@@ -122,26 +122,38 @@ pub fn selected(only: &[String]) -> Result<Vec<&'static SeedRow>> {
     Ok(TABLE2.iter().filter(|r| only.is_empty() || only.iter().any(|n| n == r.scene)).collect())
 }
 
-/// Runs the suite; `log` receives one line per frame (the bar shows the same on a terminal).
-pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, log: &mut dyn FnMut(&str)) -> Result<SuiteReport> {
+/// A seed scene, loaded.
+pub struct SuiteScene {
+    pub seed: &'static SeedRow,
+    pub file: PathBuf,
+    pub scene: Scene,
+}
+
+/// Checks the options and loads every scene, before any GPU work: a missing asset or a typo fails
+/// in a second, not after an hour of frames.
+pub fn prepare(opts: &SuiteOptions) -> Result<Vec<SuiteScene>> {
     if opts.repeats == 0 {
         return Err(Error::Param("bench: --repeats must be at least 1".into()));
     }
-    let rows = selected(&opts.only)?;
+    selected(&opts.only)?
+        .into_iter()
+        .map(|seed| {
+            let file = opts.scenes_dir.join(format!("{}.toml", seed.scene));
+            let scene = Scene::load_in(&file.to_string_lossy(), &[], opts.cache.as_deref())?;
+            Ok(SuiteScene { seed, file, scene })
+        })
+        .collect()
+}
+
+/// Runs the suite on prepared scenes; `log` receives one line per frame (the bar shows the same).
+pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteReport> {
     let started = Instant::now();
     let started_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
-    // Load every scene first: a missing asset fails now, not after an hour of frames.
-    let mut scenes = Vec::new();
-    for row in &rows {
-        let file = opts.scenes_dir.join(format!("{}.toml", row.scene));
-        let scene = Scene::load_in(&file.to_string_lossy(), &[], opts.cache.as_deref())?;
-        scenes.push((*row, file, scene));
-    }
     let frames = scenes.len() as u64 * 2 * (1 + opts.repeats as u64);
     let bar = crate::progress::bar(frames, "seed-table2");
     let mut results = Vec::new();
     let mut reference_label = None;
-    for (row, file, scene) in scenes {
+    for SuiteScene { seed: row, file, scene } in scenes {
         let methods = [&opts.adaptive, &opts.regular];
         let mut samples = [Samples::default(), Samples::default()];
         let mut reference = None;
