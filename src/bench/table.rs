@@ -171,7 +171,7 @@ pub fn jsonl(r: &SuiteReport) -> String {
                 "frame_ms": m.frame_ms,
                 "setup_ms": m.setup_ms,
                 "stages_ms": m.stages_ms,
-                "stages_note": "TimingMode::Frame: GPU work is charged to the read-backs that wait for it (readback_level, readback); the other stages show CPU recording time only. Per-stage GPU wall times: cargo bench or `penumbra render --timing stages`.",
+                "stages_note": "TimingMode::Frame: partial hints only (CPU recording and read-back waits; work done during queue submission is in no stage). Per-stage wall times: cargo bench --bench stages, or `penumbra render --timing stages`.",
                 "readbacks": m.syncs,
                 "speedup_adaptive_over_regular": s.speedup(),
                 "rmse": m.errors.map(|e| e.rmse),
