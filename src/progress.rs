@@ -1,9 +1,17 @@
 //! Progress bars for work longer than a second; hidden when stderr is not a terminal or in tests.
+//! All bars share one `MultiProgress`, so a suite's bar and a method's per-map bar stack instead of
+//! overwriting each other.
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use std::sync::OnceLock;
+
+fn multi() -> &'static MultiProgress {
+    static MULTI: OnceLock<MultiProgress> = OnceLock::new();
+    MULTI.get_or_init(MultiProgress::new)
+}
 
 pub fn bar(len: u64, what: &str) -> ProgressBar {
-    let bar = if std::env::var_os("PENUMBRA_NO_PROGRESS").is_some() { ProgressBar::hidden() } else { ProgressBar::new(len) };
+    let bar = if std::env::var_os("PENUMBRA_NO_PROGRESS").is_some() { ProgressBar::hidden() } else { multi().add(ProgressBar::new(len)) };
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg:24} [{bar:32}] {pos}/{len} {elapsed_precise}")
             .unwrap_or_else(|_| ProgressStyle::default_bar())
@@ -11,4 +19,9 @@ pub fn bar(len: u64, what: &str) -> ProgressBar {
     );
     bar.set_message(what.to_string());
     bar
+}
+
+/// Runs `f` (which prints lines) with the bars lifted off the terminal, then redraws them.
+pub fn suspend<T>(f: impl FnOnce() -> T) -> T {
+    multi().suspend(f)
 }

@@ -1,11 +1,11 @@
 //! The scene file: TOML, unknown keys rejected, every number checked finite.
 
+use super::mesh_file::MeshDirs;
 use super::{mesh, Camera, Scene};
 use crate::light::{AreaLight, Bounds};
 use crate::{Error, Result};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
-use std::path::Path;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -111,6 +111,27 @@ pub struct MeshDef {
     pub albedo: [f32; 3],
     #[serde(default = "default_segments")]
     pub segments: u32,
+    /// Rounds of subdivision (×4 triangles each): reaches a seed's triangle count.
+    #[serde(default)]
+    pub subdivide: u32,
+    /// `midpoint` (default: the surface unchanged) or `loop` (smooth).
+    #[serde(default)]
+    pub subdivision: super::subdivide::Scheme,
+    /// Placements `[x, y, z, rot_y_deg, scale]`, each applied after the mesh's own transform.
+    pub instances: Option<Vec<[f32; 5]>>,
+    /// A grid of placements in the xz plane (see `GridDef`); exclusive with `instances`.
+    pub grid: Option<GridDef>,
+}
+
+/// `grid = { count = [nx, nz], spacing = [dx, dz], rotate_step_deg = 0 }`: centred on the origin;
+/// instance k (x fastest) is turned k · rotate_step_deg about y.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct GridDef {
+    pub count: [u32; 2],
+    pub spacing: [f32; 2],
+    #[serde(default)]
+    pub rotate_step_deg: f32,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]
@@ -164,7 +185,7 @@ fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> Result<Vec3>
     Ok(Vec3::from_slice(&[v[0], *v.get(1).unwrap_or(&0.0), *v.get(2).unwrap_or(&0.0)]))
 }
 
-pub fn build(def: SceneDef, origin: &str, dir: Option<&Path>) -> Result<Scene> {
+pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     let camera = Camera {
         eye: finite(origin, "camera.eye", def.camera.eye)?,
         target: finite(origin, "camera.target", def.camera.target)?,
@@ -204,7 +225,7 @@ pub fn build(def: SceneDef, origin: &str, dir: Option<&Path>) -> Result<Scene> {
     let mut albedos = Vec::new();
     for (k, m) in def.meshes.iter().enumerate() {
         let albedo = finite(origin, &format!("mesh {} albedo", k + 1), m.albedo)?;
-        let (verts, idx) = mesh::instantiate(m, k, origin, dir)?;
+        let (verts, idx) = mesh::instantiate(m, k, origin, dirs)?;
         let base = vertices.len() as u32;
         vertices.extend(verts.into_iter().map(|mut v| {
             v.material = albedos.len() as u32;

@@ -1,11 +1,12 @@
-//! Mesh instances: built-in primitives (plane, box, sphere) and OBJ files, placed by a transform.
+//! Scene meshes: built-in primitives (plane, box, sphere) and mesh files, placed by a transform and
+//! optionally subdivided and instanced.
 
 use super::format::{MeshDef, Scale};
-use super::obj;
+use super::mesh_file::{self, MeshDirs};
+use super::{instances, subdivide};
 use crate::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use glam::{EulerRot, Mat3, Mat4, Quat, Vec3};
-use std::path::Path;
 
 /// Vertex as the G-buffer and shadow raster read it.
 #[repr(C)]
@@ -24,15 +25,22 @@ pub struct RawMesh {
     pub indices: Vec<u32>,
 }
 
-pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dir: Option<&Path>) -> Result<(Vec<Vertex>, Vec<u32>)> {
+/// Loads (or builds) one `[[mesh]]`, subdivides it, applies its transform, then places one copy per
+/// instance. Normals are computed once and turned with each placement.
+pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Result<(Vec<Vertex>, Vec<u32>)> {
     let label = format!("{origin}: mesh {}", k + 1);
     let raw = match (&m.builtin, &m.file) {
         (Some(b), None) => builtin(b, m.segments).ok_or_else(|| {
             Error::scene(origin, format!("mesh {}: unknown builtin `{b}` (plane, box, sphere)", k + 1))
         })?,
-        (None, Some(f)) => obj::load(f, origin, dir)?,
+        (None, Some(f)) => mesh_file::load(f, origin.starts_with("builtin:"), dirs)?,
         _ => return Err(Error::scene(origin, format!("mesh {}: give exactly one of `builtin` or `file`", k + 1))),
     };
+    if raw.indices.is_empty() {
+        return Err(Error::mesh(label, "the mesh is empty (no triangles)"));
+    }
+    let raw = subdivide::subdivide(raw, m.subdivide, m.subdivision).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
+    let placements = instances::placements(m).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
     let scale = match m.scale {
         Scale::Uniform(s) => Vec3::splat(s),
         Scale::Axes(a) => Vec3::from(a),
@@ -44,22 +52,40 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dir: Option<&Path>) -> R
     if scale.x * scale.y * scale.z == 0.0 {
         return Err(Error::scene(origin, format!("mesh {}: scale has a zero axis", k + 1)));
     }
+    let copies = placements.len() as u64;
+    if (raw.positions.len() as u64) * copies > u32::MAX as u64 || (raw.indices.len() as u64 / 3) * copies > MAX_SCENE_TRIANGLES {
+        return Err(Error::scene(
+            origin,
+            format!("mesh {}: {copies} instances of {} triangles exceed {MAX_SCENE_TRIANGLES} triangles", k + 1, raw.indices.len() / 3),
+        ));
+    }
     let r = m.rotate_deg.map(f32::to_radians);
     let rotation = Quat::from_euler(EulerRot::XYZ, r[0], r[1], r[2]);
     let world = Mat4::from_scale_rotation_translation(scale, rotation, Vec3::from(m.translate));
     let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
-    if raw.indices.is_empty() {
-        return Err(Error::mesh(label, "the mesh is empty (no triangles)"));
-    }
     let positions: Vec<Vec3> = raw.positions.iter().map(|p| world.transform_point3(*p)).collect();
     let normals = match &raw.normals {
         Some(n) => n.iter().map(|n| (normal_matrix * *n).normalize_or_zero()).collect(),
         None => smooth_normals(&positions, &raw.indices),
     };
-    let vertices =
-        positions.iter().zip(&normals).map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array(), material: 0 }).collect();
-    Ok((vertices, raw.indices))
+    let mut vertices = Vec::with_capacity(positions.len() * placements.len());
+    let mut indices = Vec::with_capacity(raw.indices.len() * placements.len());
+    for place in &placements {
+        // Placements are rotation + positive uniform scale: the rotation alone turns normals.
+        let turn = Mat3::from_mat4(*place);
+        let base = vertices.len() as u32;
+        vertices.extend(positions.iter().zip(&normals).map(|(p, n)| Vertex {
+            position: place.transform_point3(*p).to_array(),
+            normal: (turn * *n).normalize_or_zero().to_array(),
+            material: 0,
+        }));
+        indices.extend(raw.indices.iter().map(|i| i + base));
+    }
+    Ok((vertices, indices))
 }
+
+/// Triangles a scene may hold after instancing and subdivision (64M: 4 GB of vertices and indices).
+pub const MAX_SCENE_TRIANGLES: u64 = 1 << 26;
 
 /// Area-weighted vertex normals (the cross product's length is twice the area).
 fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {

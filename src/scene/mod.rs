@@ -2,13 +2,18 @@
 
 mod builtin;
 mod format;
+mod instances;
+mod loop_subdivision;
 mod mesh;
+mod mesh_file;
 mod obj;
 mod overrides;
+mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use format::{BiasDef, CullMode, RenderSettings};
 pub use mesh::Vertex;
+pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use overrides::apply_overrides;
 
 use crate::light::{AreaLight, Bounds};
@@ -63,9 +68,14 @@ impl Scene {
 
     /// Loads a scene by built-in name or file path, applying `--set` overrides to its render settings.
     pub fn load(name_or_path: &str, overrides: &[(String, String)]) -> Result<Scene> {
+        Self::load_in(name_or_path, overrides, None)
+    }
+
+    /// As `load`, with `cache:` mesh paths resolved in `cache` (`None`: the default asset cache).
+    pub fn load_in(name_or_path: &str, overrides: &[(String, String)], cache: Option<&Path>) -> Result<Scene> {
         if let Some(text) = builtin_source(name_or_path) {
             let origin = format!("builtin:{name_or_path}");
-            return Self::parse(text, &origin, None, overrides);
+            return Self::parse_in(text, &origin, MeshDirs { scene_dir: None, cache }, overrides);
         }
         let path = PathBuf::from(name_or_path);
         if !path.exists() {
@@ -75,12 +85,18 @@ impl Scene {
             ));
         }
         let text = std::fs::read_to_string(&path).map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
-        Self::parse(&text, name_or_path, path.parent(), overrides)
+        Self::parse_in(&text, name_or_path, MeshDirs { scene_dir: path.parent(), cache }, overrides)
     }
 
-    /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins).
+    /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins),
+    /// `cache:` paths against the default asset cache.
     pub fn parse(text: &str, origin: &str, dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Scene> {
+        Self::parse_in(text, origin, MeshDirs { scene_dir: dir, cache: None }, overrides)
+    }
+
+    /// As `parse`, with the folders mesh files resolve against given explicitly (tests, `--cache`).
+    pub fn parse_in(text: &str, origin: &str, dirs: MeshDirs, overrides: &[(String, String)]) -> Result<Scene> {
         let def = format::parse(text, origin, overrides)?;
-        format::build(def, origin, dir)
+        format::build(def, origin, dirs)
     }
 }

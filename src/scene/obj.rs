@@ -8,21 +8,20 @@ use std::path::Path;
 /// Meshes embedded in the binary, so built-in scenes need no files.
 const EMBEDDED: &[(&str, &str)] = &[("bunny-small.obj", include_str!("../../scenes/bunny-small.obj"))];
 
-pub fn load(file: &str, origin: &str, dir: Option<&Path>) -> Result<RawMesh> {
-    let (label, text) = if origin.starts_with("builtin:") {
-        let text = EMBEDDED
-            .iter()
-            .find(|(n, _)| *n == file)
-            .map(|(_, t)| t.to_string())
-            .ok_or_else(|| Error::mesh(file, "not an embedded mesh"))?;
-        (file.to_string(), text)
-    } else {
-        let path = dir.map(|d| d.join(file)).unwrap_or_else(|| file.into());
-        let label = path.display().to_string();
-        let bytes = std::fs::read(&path).map_err(|e| Error::mesh(&label, format!("cannot read mesh file: {e}")))?;
-        let text = String::from_utf8(bytes).map_err(|_| Error::mesh(&label, "not a text OBJ file (invalid UTF-8)"))?;
-        (label, text)
-    };
+/// An OBJ embedded in the binary (built-in scenes).
+pub fn load_embedded(file: &str) -> Result<RawMesh> {
+    let text = EMBEDDED
+        .iter()
+        .find(|(n, _)| *n == file)
+        .map(|(_, t)| *t)
+        .ok_or_else(|| Error::mesh(file, "not an embedded mesh"))?;
+    parse(text, file)
+}
+
+pub fn load_file(path: &Path) -> Result<RawMesh> {
+    let label = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| Error::mesh(&label, format!("cannot read mesh file: {e}")))?;
+    let text = String::from_utf8(bytes).map_err(|_| Error::mesh(&label, "not a text OBJ file (invalid UTF-8)"))?;
     parse(&text, &label)
 }
 

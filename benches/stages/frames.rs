@@ -1,0 +1,91 @@
+//! The adaptive stages and shade, timed inside whole frames (TimingMode::Stages waits after every
+//! stage, so each stage's wall time is its own). Frames are rendered on demand and shared between
+//! groups: every frame measures every stage once.
+
+use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
+use penumbra::frame;
+use penumbra::gpu::GpuContext;
+use penumbra::methods::Method;
+use penumbra::scene::Scene;
+use penumbra::timing::TimingMode;
+use std::collections::{BTreeMap, HashMap};
+use std::time::Duration;
+
+pub struct FramePool<'a> {
+    ctx: &'a GpuContext,
+    scene: Scene,
+    method: Method,
+    /// Stage wall times (ms) of every frame rendered so far.
+    frames: Vec<BTreeMap<String, f64>>,
+    cursor: HashMap<String, usize>,
+    /// From the first frame (the method is deterministic): maps, geometry pixels, Σ pixels evaluated.
+    pub maps: u64,
+    pub pixels: u64,
+    pub pixel_quads: u64,
+}
+
+impl<'a> FramePool<'a> {
+    pub fn new(ctx: &'a GpuContext, scene: Scene, method: &str) -> Self {
+        let method = Method::parse(method, &[]).expect("method");
+        let mut pool = FramePool { ctx, scene, method, frames: Vec::new(), cursor: HashMap::new(), maps: 0, pixels: 0, pixel_quads: 0 };
+        let first = frame::render(ctx, &pool.scene, &pool.method, TimingMode::Stages).expect("frame");
+        pool.maps = first.output.shadow_maps as u64;
+        pool.pixels = first.gbuffer.geometry_count() as u64;
+        pool.pixel_quads = first.output.record["levels"]
+            .as_array()
+            .map(|levels| levels.iter().filter_map(|l| l["pixels_evaluated"].as_u64()).sum())
+            .unwrap_or(0);
+        pool
+    }
+
+    /// Total wall time of `stages` over the next `iters` frames (rendering more when needed).
+    fn take(&mut self, key: &str, stages: &[&str], iters: u64) -> Duration {
+        let start = *self.cursor.get(key).unwrap_or(&0);
+        while self.frames.len() < start + iters as usize {
+            let r = frame::render(self.ctx, &self.scene, &self.method, TimingMode::Stages).expect("frame");
+            self.frames.push(r.stages_ms);
+        }
+        self.cursor.insert(key.to_string(), start + iters as usize);
+        let ms: f64 = self.frames[start..start + iters as usize].iter().map(|f| stages.iter().filter_map(|s| f.get(*s)).sum::<f64>()).sum();
+        Duration::from_secs_f64(ms / 1e3).max(Duration::from_nanos(1))
+    }
+}
+
+fn frame_group<'c>(c: &'c mut Criterion, name: &str) -> criterion::BenchmarkGroup<'c, criterion::measurement::WallTime> {
+    let mut group = c.benchmark_group(name);
+    // Each iteration is a whole frame: few, equal-sized samples.
+    group.sample_size(10).sampling_mode(SamplingMode::Flat);
+    group
+}
+
+/// reproject_count, neighbourhood, quad_count + subdivide: one iteration = one adaptive frame's
+/// worth of the stage (all levels); throughput in pixel·quad evaluations.
+pub fn adaptive_stages(c: &mut Criterion, pool: &mut FramePool) {
+    println!(
+        "adaptive stages on `{}` ({}x{}, {} maps, {} pixel·quad evaluations per frame)",
+        pool.scene.name, pool.scene.render.width, pool.scene.render.height, pool.maps, pool.pixel_quads
+    );
+    for (group_name, stages) in [
+        ("reproject_count", &["reproject_count"][..]),
+        ("neighbourhood", &["neighbourhood"][..]),
+        ("quad_count+subdivide", &["quad_count", "subdivide"][..]),
+    ] {
+        let mut group = frame_group(c, group_name);
+        group.throughput(Throughput::Elements(pool.pixel_quads));
+        group.bench_function(BenchmarkId::new("adaptive_frame", &pool.scene.name), |b| {
+            b.iter_custom(|iters| pool.take(group_name, stages, iters))
+        });
+        group.finish();
+    }
+}
+
+/// shade: one iteration = one frame's shading; throughput in pixel·map lookups (geometry pixels ×
+/// maps). Regular reads its depth maps; adaptive (scope = global) reads the cached shadow-test bits.
+pub fn shade<'a>(c: &mut Criterion, adaptive: &mut FramePool<'a>, regular: &mut FramePool<'a>) {
+    let mut group = frame_group(c, "shade");
+    for (id, pool) in [("regular_maps", regular), ("adaptive_masks", adaptive)] {
+        group.throughput(Throughput::Elements(pool.pixels * pool.maps));
+        group.bench_function(BenchmarkId::new(id, format!("{}_maps", pool.maps)), |b| b.iter_custom(|iters| pool.take("shade", &["shade"], iters)));
+    }
+    group.finish();
+}

@@ -1,0 +1,40 @@
+//! Per-stage benchmarks, one criterion group per stage: shadow_raster, gbuffer, reproject_count,
+//! neighbourhood, quad_count + subdivide, shade. Throughput is in the stage's own unit (triangles,
+//! pixels, pixel·quad evaluations, pixel·map lookups). The adapter is printed first: absolute
+//! figures mean nothing without it.
+//!
+//! shadow_raster and gbuffer drive their passes directly. The adaptive stages cannot be driven one
+//! by one from outside src/compute (their buffers and level uniforms are private to the method), so
+//! those groups render whole adaptive frames in TimingMode::Stages (submit + wait after every stage)
+//! and charge each iteration the stage's wall time from FrameResult::stages_ms.
+//!
+//! Reference tracer (rays/s): to be added here when issue 4's reference module merges.
+//!
+//! Short run: `cargo bench --bench stages -- --warm-up-time 1 --measurement-time 3`.
+
+mod frames;
+mod raster;
+mod scenes;
+
+use criterion::Criterion;
+use penumbra::gpu::GpuContext;
+
+fn main() {
+    // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    std::env::set_var("PENUMBRA_NO_PROGRESS", "1");
+    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("benches need a GPU adapter: {e}"));
+    let s = &ctx.summary;
+    println!("adapter: {} ({}, {}, {} {})", s.name, s.backend, s.device_type, s.driver, s.driver_info);
+    println!("clock: wall clock, submit → device wait (GPU timestamps are not used)");
+    let mut c = Criterion::default().configure_from_args();
+    raster::shadow_raster(&mut c, &ctx);
+    raster::gbuffer(&mut c, &ctx);
+    let mut adaptive = frames::FramePool::new(&ctx, scenes::stage_scene(), "adaptive:p_m=0");
+    frames::adaptive_stages(&mut c, &mut adaptive);
+    let mut regular = frames::FramePool::new(&ctx, scenes::stage_scene(), "regular:n=17");
+    frames::shade(&mut c, &mut adaptive, &mut regular);
+    c.final_summary();
+}

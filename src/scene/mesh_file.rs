@@ -1,0 +1,74 @@
+//! Mesh files a scene names: where `file` points (the scene's folder, the embedded meshes of
+//! built-in scenes, or the asset cache with `cache:`) and which loader reads it.
+
+use super::mesh::RawMesh;
+use super::obj;
+use crate::assets;
+use crate::{Error, Result};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// `file = "cache:meshes/cow.off"` reads `<cache>/meshes/cow.off`.
+pub const CACHE_PREFIX: &str = "cache:";
+
+pub const FORMATS: &str = ".obj, .off, .ply, .ply.gz or .js";
+
+/// Where relative and `cache:` mesh paths resolve.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MeshDirs<'a> {
+    /// The scene file's folder; `None` for built-in scenes (their meshes are embedded).
+    pub scene_dir: Option<&'a Path>,
+    /// The asset cache; `None`: `$PENUMBRA_CACHE`, else `~/.cache/penumbra` (looked up only when used).
+    pub cache: Option<&'a Path>,
+}
+
+/// Resolves a `cache:` path; a missing file is an error that says how to fetch it.
+pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
+    let rel = file.strip_prefix(CACHE_PREFIX).unwrap_or(file);
+    if rel.is_empty() || Path::new(rel).is_absolute() || rel.split(['/', '\\']).any(|c| c == "..") {
+        return Err(Error::mesh(file, "a cache path must be relative and stay inside the cache, e.g. `cache:meshes/cow.off`"));
+    }
+    let root = match cache {
+        Some(dir) => dir.to_path_buf(),
+        None => assets::default_cache_dir()?,
+    };
+    let path = root.join(rel);
+    if !path.is_file() {
+        // The first path component is the fetch group (meshes/, trees/, panoramas/).
+        let group = rel.split('/').next().filter(|g| g.parse::<assets::Group>().is_ok()).unwrap_or("all");
+        return Err(Error::mesh(
+            file,
+            format!(
+                "not in the asset cache ({} is missing): run `penumbra assets fetch --group {group}` (cache folder: --cache or $PENUMBRA_CACHE)",
+                path.display()
+            ),
+        ));
+    }
+    Ok(path)
+}
+
+/// Loads a mesh named by a scene; errors name the mesh file and the line or element.
+pub fn load(file: &str, builtin_scene: bool, dirs: MeshDirs) -> Result<RawMesh> {
+    if file.starts_with(CACHE_PREFIX) {
+        return load_path(&cache_path(file, dirs.cache)?);
+    }
+    if builtin_scene {
+        return obj::load_embedded(file);
+    }
+    let path = dirs.scene_dir.map(|d| d.join(file)).unwrap_or_else(|| file.into());
+    load_path(&path)
+}
+
+fn load_path(path: &Path) -> Result<RawMesh> {
+    let name = path.file_name().map(|n| n.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let inner = name.strip_suffix(".gz").unwrap_or(&name);
+    match Path::new(inner).extension().and_then(|e| e.to_str()) {
+        Some("obj") if inner == name => obj::load_file(path),
+        Some("off" | "ply" | "js") => {
+            let mesh = assets::load_mesh(path)?;
+            let positions = mesh.positions.iter().map(|p| Vec3::from(*p)).collect();
+            Ok(RawMesh { positions, normals: None, indices: mesh.indices })
+        }
+        _ => Err(Error::mesh(path.display().to_string(), format!("unknown mesh format (expected {FORMATS})"))),
+    }
+}
