@@ -72,7 +72,7 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
         width: scene.render.width,
         height: scene.render.height,
         map_size: scene.render.shadow_map_size,
-        flags: 0,
+        flags: if scene.render.self_shadow == crate::scene::SelfShadow::Facing { 1 } else { 0 },
         light_center: [scene.light.center.x, scene.light.center.y, scene.light.center.z, 1.0],
         light_normal: scene.light.normal().extend(0.0).to_array(),
         bias_constant: b.constant,

@@ -29,6 +29,10 @@ struct GpuSample {
     pad1: u32,
 }
 
+// GpuFrame.flags: the light point must lie above the surface's (geometric) tangent plane, as for a
+// ray; without it (self_shadow = "map") the depth test alone decides, as in classic shadow mapping.
+const FRAME_FACING_TEST: u32 = 1u;
+
 const LOOKUP_UNLIT: u32 = 0u;    // behind the light's plane, or the sample is below p's tangent plane
 const LOOKUP_OUTSIDE: u32 = 1u;  // projects outside the map: nothing there can occlude
 const LOOKUP_COMPARE: u32 = 2u;  // compare depth_limit with the map at texel
@@ -48,7 +52,7 @@ fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> S
     let to_light = s.position.xyz - p;
     let light_side = dot(p - frame.light_center.xyz, frame.light_normal.xyz);
     let facing = dot(n, to_light);
-    if (light_side <= 0.0 || facing <= 0.0) {
+    if (light_side <= 0.0 || (facing <= 0.0 && (frame.flags & FRAME_FACING_TEST) != 0u)) {
         out.kind = LOOKUP_UNLIT;
         return out;
     }
@@ -63,8 +67,8 @@ fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> S
         out.kind = LOOKUP_OUTSIDE;
         return out;
     }
-    let cos_angle = facing / length(to_light);
-    let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / cos_angle, frame.max_slope);
+    let cos_angle = abs(facing) / length(to_light);
+    let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / max(cos_angle, 1e-6), frame.max_slope);
     out.kind = LOOKUP_COMPARE;
     out.texel = vec2<i32>(t);
     out.depth_limit = clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);

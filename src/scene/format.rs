@@ -55,6 +55,19 @@ pub struct RenderSettings {
     pub cull: CullMode,
     pub ambient: f32,
     pub shadow_map_budget_mib: u32,
+    pub self_shadow: SelfShadow,
+}
+
+/// How a surface shadows itself in the shadow-map methods.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SelfShadow {
+    /// A light point below the surface's geometric tangent plane is blocked, as a ray finds it
+    /// (the ground truth's rule): attached shadows are part of V.
+    Facing,
+    /// The depth test alone decides, as in classic shadow mapping and the seed: the attached shadow
+    /// is left to the shading term max(0, n·l), and near the terminator bias reports points lit.
+    Map,
 }
 
 impl Default for RenderSettings {
@@ -67,6 +80,7 @@ impl Default for RenderSettings {
             cull: CullMode::Back,
             ambient: 0.15,
             shadow_map_budget_mib: 512,
+            self_shadow: SelfShadow::Facing,
         }
     }
 }

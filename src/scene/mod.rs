@@ -11,7 +11,7 @@ mod overrides;
 mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
-pub use format::{BiasDef, CullMode, RenderSettings};
+pub use format::{BiasDef, CullMode, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use overrides::apply_overrides;

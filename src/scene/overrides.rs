@@ -9,6 +9,7 @@ pub const RENDER_KEYS: &[&str] = &[
     "cull",
     "ambient",
     "shadow_map_budget_mib",
+    "self_shadow",
     "bias.constant",
     "bias.slope",
     "bias.normal_offset",

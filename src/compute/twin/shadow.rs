@@ -3,6 +3,8 @@
 use crate::layout::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
+pub const FRAME_FACING_TEST: u32 = 1;
+
 pub const LOOKUP_UNLIT: u32 = 0;
 pub const LOOKUP_OUTSIDE: u32 = 1;
 pub const LOOKUP_COMPARE: u32 = 2;
@@ -19,7 +21,7 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     let to_light = Vec4::from(s.position).truncate() - p;
     let light_side = (p - Vec4::from(frame.light_center).truncate()).dot(Vec4::from(frame.light_normal).truncate());
     let facing = n.dot(to_light);
-    if light_side <= 0.0 || facing <= 0.0 {
+    if light_side <= 0.0 || (facing <= 0.0 && frame.flags & FRAME_FACING_TEST != 0) {
         return out;
     }
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
@@ -34,8 +36,8 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
         out.kind = LOOKUP_OUTSIDE;
         return out;
     }
-    let cos_angle = facing / to_light.length();
-    let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle).min(frame.max_slope);
+    let cos_angle = facing.abs() / to_light.length();
+    let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
     out.kind = LOOKUP_COMPARE;
     out.texel = [t.x as i32, t.y as i32];
     out.depth_limit = clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
