@@ -1,12 +1,11 @@
-//! The error columns of the suite (RMSE and FLIP of V against the continuous reference).
-//!
-//! HOOK(issue 4): the reference tracer and the metrics live on branch `report`. Until they merge,
-//! `reference` returns `None`, every error column prints "—" and results.jsonl holds `null`.
-//! To wire them: build the `continuous` reference (method.md §5, 32x32 stratified, fixed seed) from
-//! `gbuffer` in `reference`, and compute RMSE (geometry pixels only) and FLIP of the shaded image
-//! in `errors`. Nothing else in the suite needs to change.
+//! The error columns of the suite: RMSE of V and FLIP of the shaded image against the continuous
+//! reference (method.md §5: 32x32 stratified jitter, fixed seed, CPU BVH), cached on disk.
 
 use crate::frame::FrameResult;
+use crate::ground_truth::{self, Cache};
+use crate::metrics;
+use crate::output;
+use crate::reference::ReferenceMode;
 use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
 use crate::Result;
@@ -24,15 +23,22 @@ pub struct ErrorColumns {
     pub flip: f64,
 }
 
-/// What the table prints while the hook is empty.
-pub const PENDING: &str = "pending: reference + metrics (issue 4)";
+/// What the table prints when a column has no value.
+pub const PENDING: &str = "no reference";
 
-/// HOOK(issue 4): the continuous reference for this scene, or `None` while it is not merged.
-pub fn reference(_scene: &Scene, _gbuffer: &GBufferCpu) -> Result<Option<Reference>> {
-    Ok(None)
+/// The continuous reference for this scene (traced once, then read from the cache).
+pub fn reference(scene: &Scene, gbuffer: &GBufferCpu) -> Result<Option<Reference>> {
+    let mode = ReferenceMode::DEFAULT_CONTINUOUS;
+    let image = ground_truth::compute(scene, gbuffer, mode, &Cache::default_for(false))?;
+    Ok(Some(Reference { visibility: image.values, label: format!("{}, CPU BVH", ground_truth::mode_label(&mode)) }))
 }
 
-/// HOOK(issue 4): RMSE and FLIP of one frame against the reference.
-pub fn errors(_reference: &Reference, _scene: &Scene, _frame: &FrameResult) -> Result<Option<ErrorColumns>> {
-    Ok(None)
+/// RMSE (geometry pixels) and mean FLIP of one frame against the reference.
+pub fn errors(reference: &Reference, scene: &Scene, frame: &FrameResult) -> Result<Option<ErrorColumns>> {
+    let g = &frame.gbuffer;
+    let mask: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
+    let shaded = output::shaded_image(&frame.visibility, g, scene);
+    let shaded_reference = output::shaded_image(&reference.visibility, g, scene);
+    let m = metrics::compute(&frame.visibility, &reference.visibility, &mask, &shaded, &shaded_reference, g.width, g.height)?;
+    Ok(Some(ErrorColumns { rmse: m.rmse, flip: m.flip_mean }))
 }
