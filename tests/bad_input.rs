@@ -1,33 +1,22 @@
 //! Every bad input gives one clear line naming the file and the problem, a non-zero exit, no panic
 //! and no output file.
 
+#[macro_use]
 mod common;
 use common::{penumbra, temp_dir};
 use std::path::Path;
 
-const GOOD: &str = r#"
-[camera]
-eye = [0.0, 6.0, 8.0]
-target = [0.0, 0.0, 0.0]
-fov_y_deg = 45.0
-
-[light]
-center = [0.0, 8.0, 0.0]
-edge_u = [2.0, 0.0, 0.0]
-edge_v = [0.0, 0.0, 2.0]
-
-[render]
-width = 32
-height = 32
-shadow_map_size = 64
-
+const GOOD: &str = concat!(
+    tiny_scene_head!(),
+    r#"
 [[mesh]]
 builtin = "plane"
 scale = 10.0
 
 [[mesh]]
 file = "tri.obj"
-"#;
+"#
+);
 
 const TRI: &str = "v 0 1 0\nv 1 1 0\nv 0 1 1\nf 1 2 3\n";
 

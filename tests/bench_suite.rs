@@ -2,6 +2,7 @@
 //! and `penumbra bench --suite seed-table2` writes its two files (on small stand-in scenes).
 //! Without an adapter these fail with the install hint; they never skip.
 
+#[macro_use]
 mod common;
 use common::{gpu, penumbra, temp_dir};
 use penumbra::frame;
@@ -32,23 +33,10 @@ fn pole_between_corners_is_missed_by_adaptive_and_seen_by_regular() {
     assert!((0.55..0.65).contains(&min), "regular min V = {min}");
 }
 
-const STAND_IN: &str = r#"
-triangles = 14
-[camera]
-eye = [0.0, 6.0, 8.0]
-target = [0.0, 0.0, 0.0]
-fov_y_deg = 45.0
-
-[light]
-center = [0.0, 8.0, 0.0]
-edge_u = [2.0, 0.0, 0.0]
-edge_v = [0.0, 0.0, 2.0]
-
-[render]
-width = 32
-height = 32
-shadow_map_size = 64
-
+const STAND_IN: &str = concat!(
+    "triangles = 14\n",
+    tiny_scene_head!(),
+    r#"
 [[mesh]]
 builtin = "plane"
 scale = 10.0
@@ -56,7 +44,8 @@ scale = 10.0
 [[mesh]]
 builtin = "box"
 translate = [0.0, 1.0, 0.0]
-"#;
+"#
+);
 
 #[test]
 fn seed_table2_suite_writes_table_and_jsonl() {
@@ -67,17 +56,11 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         std::fs::write(scenes.join(format!("{name}.toml")), STAND_IN).unwrap();
     }
     let out = dir.join("out");
-    let run = penumbra(&[
-        "bench",
-        "--suite",
-        "seed-table2",
-        "--repeats",
-        "2",
-        "--scenes",
-        scenes.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let cache = dir.join("cache");
+    let run = common::penumbra_env(
+        &["bench", "--suite", "seed-table2", "--repeats", "2", "--scenes", scenes.to_str().unwrap(), "--out", out.to_str().unwrap()],
+        &[("PENUMBRA_CACHE", cache.to_str().unwrap())],
+    );
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "bench failed (a GPU test: it needs an adapter): {stderr}");
     let table = std::fs::read_to_string(out.join("table2.md")).unwrap();
@@ -89,13 +72,24 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         assert!(row.contains("(289)"), "regular uses 289 maps: {row}");
     }
     assert!(table.contains("NOT the seed's 512x512"), "stand-in settings must be flagged: {table}");
-    assert!(table.contains("pending: reference + metrics (issue 4)"), "{table}");
+    // Error columns: RMSE / FLIP of each method against the continuous reference.
+    for scene in ["bunny", "grove", "cows", "teapot"] {
+        let row = table.lines().find(|l| l.starts_with(&format!("| {scene}"))).unwrap();
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        for cell in &cells[6..8] {
+            let (rmse, flip) = cell.split_once(" / ").unwrap_or_else(|| panic!("no RMSE / FLIP in {row}"));
+            let (rmse, flip): (f64, f64) = (rmse.parse().unwrap(), flip.parse().unwrap());
+            assert!(rmse > 0.0 && rmse < 0.2 && flip >= 0.0 && flip < 0.2, "{row}");
+        }
+    }
+    assert!(table.contains("continuous 32x32"), "{table}");
     let lines: Vec<serde_json::Value> =
         std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
     assert_eq!(lines.len(), 8);
     for l in &lines {
         assert_eq!(l["frame_ms"]["samples"].as_array().unwrap().len(), 2, "{l}");
-        assert!(l["rmse"].is_null() && l["flip"].is_null());
+        let (rmse, flip) = (l["rmse"].as_f64().unwrap(), l["flip"].as_f64().unwrap());
+        assert!(rmse.is_finite() && flip.is_finite(), "{l}");
         assert_eq!(l["triangles"], 14);
     }
     assert_eq!(lines[1]["method"], "regular");

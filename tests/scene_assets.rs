@@ -2,28 +2,14 @@
 //! `cache:` prefix (resolved in a temporary cache), the missing-cache message, subdivision and
 //! instancing. No GPU.
 
+#[macro_use]
 mod common;
 use common::{penumbra, temp_dir};
 use glam::Vec3;
 use penumbra::scene::{MeshDirs, Scene};
 use std::path::Path;
 
-const HEAD: &str = r#"
-[camera]
-eye = [0.0, 6.0, 8.0]
-target = [0.0, 0.0, 0.0]
-fov_y_deg = 45.0
-
-[light]
-center = [0.0, 8.0, 0.0]
-edge_u = [2.0, 0.0, 0.0]
-edge_v = [0.0, 0.0, 2.0]
-
-[render]
-width = 32
-height = 32
-shadow_map_size = 64
-"#;
+const HEAD: &str = tiny_scene_head!();
 
 /// One triangle with a vertex at the origin, in OFF.
 const TRI_OFF: &str = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 0 1\n3 0 2 1\n";

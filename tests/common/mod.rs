@@ -1,6 +1,30 @@
 //! Helpers shared by integration tests.
 #![allow(dead_code)]
 
+/// Camera, light and render settings of a tiny 32x32 test scene; tests append their meshes.
+/// A macro so that `concat!` can build whole scenes as literals.
+#[allow(unused_macros)]
+macro_rules! tiny_scene_head {
+    () => {
+        r#"
+[camera]
+eye = [0.0, 6.0, 8.0]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 45.0
+
+[light]
+center = [0.0, 8.0, 0.0]
+edge_u = [2.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, 2.0]
+
+[render]
+width = 32
+height = 32
+shadow_map_size = 64
+"#
+    };
+}
+
 use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::{Command, Output};
