@@ -270,6 +270,15 @@ fn bench(args: BenchArgs) -> Result<()> {
     for path in output::write_files(&args.out, &files)? {
         println!("  {}", path.display());
     }
+    // The report with charts, from the rows that have error figures.
+    let rows: Vec<penumbra::report::results::LoadedRow> = bench::report::rows(&report)
+        .into_iter()
+        .map(|row| penumbra::report::results::LoadedRow { row, base: args.out.clone() })
+        .collect();
+    if !rows.is_empty() {
+        let html = penumbra::report::results::write_from_rows(&rows, &args.out)?;
+        println!("  {}", html.display());
+    }
     print!("{}", bench::table::markdown(&report));
     Ok(())
 }

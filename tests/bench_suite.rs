@@ -83,6 +83,9 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         }
     }
     assert!(table.contains("continuous 32x32"), "{table}");
+    let html = std::fs::read_to_string(out.join("report.html")).expect("the suite writes report.html");
+    assert!(html.contains("<svg") || html.contains("data:image/svg+xml"), "the report has charts");
+    assert!(!html.contains("src=\"http") && !html.contains("<script src"), "self-contained");
     let lines: Vec<serde_json::Value> =
         std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
     assert_eq!(lines.len(), 8);

@@ -17,10 +17,13 @@ pub struct Reference {
     pub label: String,
 }
 
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct ErrorColumns {
     pub rmse: f64,
     pub flip: f64,
+    /// Every metric (the report's accuracy table and charts).
+    #[serde(skip)]
+    pub metrics: metrics::Metrics,
 }
 
 /// What the table prints when a column has no value.
@@ -40,5 +43,5 @@ pub fn errors(reference: &Reference, scene: &Scene, frame: &FrameResult) -> Resu
     let shaded = output::shaded_image(&frame.visibility, g, scene);
     let shaded_reference = output::shaded_image(&reference.visibility, g, scene);
     let m = metrics::compute(&frame.visibility, &reference.visibility, &mask, &shaded, &shaded_reference, g.width, g.height)?;
-    Ok(Some(ErrorColumns { rmse: m.rmse, flip: m.flip_mean }))
+    Ok(Some(ErrorColumns { rmse: m.rmse, flip: m.flip_mean, metrics: m }))
 }

@@ -2,6 +2,7 @@
 //! (Per-stage micro-benchmarks live in benches/, run with criterion.)
 
 pub mod errors;
+pub mod report;
 pub mod seed;
 pub mod stats;
 pub mod suite;

@@ -31,7 +31,7 @@ fn fps(x: f64) -> String {
 }
 
 fn errors(m: &MethodResult) -> String {
-    match m.errors {
+    match &m.errors {
         Some(e) => format!("{:.4} / {:.4}", e.rmse, e.flip),
         None => "—".into(),
     }
@@ -174,8 +174,8 @@ pub fn jsonl(r: &SuiteReport) -> String {
                 "stages_note": "TimingMode::Frame: partial hints only (CPU recording and read-back waits; work done during queue submission is in no stage). Per-stage wall times: cargo bench --bench stages, or `penumbra render --timing stages`.",
                 "readbacks": m.syncs,
                 "speedup_adaptive_over_regular": s.speedup(),
-                "rmse": m.errors.map(|e| e.rmse),
-                "flip": m.errors.map(|e| e.flip),
+                "rmse": m.errors.as_ref().map(|e| e.rmse),
+                "flip": m.errors.as_ref().map(|e| e.flip),
                 "errors_note": if m.errors.is_some() { serde_json::Value::Null } else { PENDING.into() },
                 "clock": "wall clock per frame (TimingMode::Frame), milliseconds",
                 "repeats": r.repeats,
