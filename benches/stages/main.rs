@@ -8,13 +8,15 @@
 //! those groups render whole adaptive frames in TimingMode::Stages (submit + wait after every stage)
 //! and charge each iteration the stage's wall time from FrameResult::stages_ms.
 //!
-//! Reference tracer (rays/s): to be added here when issue 4's reference module merges.
+//! reference_tracer: shadow rays per second of the CPU ground truth (obvhs BVH, rayon), counted
+//! exactly (rays the tracer reports), on the stage scene's G-buffer.
 //!
 //! Short run: `cargo bench --bench stages -- --warm-up-time 1 --measurement-time 3`.
 
 mod frames;
 mod raster;
 mod scenes;
+mod tracer;
 
 use criterion::Criterion;
 use penumbra::gpu::GpuContext;
@@ -36,5 +38,6 @@ fn main() {
     frames::adaptive_stages(&mut c, &mut adaptive);
     let mut regular = frames::FramePool::new(&ctx, scenes::stage_scene(), "regular:n=17");
     frames::shade(&mut c, &mut adaptive, &mut regular);
+    tracer::reference_tracer(&mut c, &ctx, scenes::stage_scene());
     c.final_summary();
 }
