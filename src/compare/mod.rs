@@ -89,6 +89,8 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
             files.push((path, bytes));
         }
         images.insert("reference".into(), "reference_shaded.png".into());
+        // The float image too, as `render` writes it, so every method's V can be read back exactly.
+        files.push((format!("{dir}/visibility.exr"), output::visibility_exr(&f.visibility, w, h)?));
         let record = output::run_record(scene, method, f, &ctx.summary, ctx.timestamps_trusted);
         files.push((format!("{dir}/run.json"), json_bytes(&record, "run.json")?));
         let row = ResultRow {
