@@ -1,6 +1,6 @@
 //! Chart (c): RMSE against the number of shadow maps, one line per method.
 
-use super::scatter::{Point, Scatter, Series, render};
+use super::scatter::{push_point, render, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow};
 
@@ -19,13 +19,7 @@ pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
             label: Some(r.label()),
             x_span: None,
         };
-        match series.iter_mut().find(|s| s.name == name) {
-            Some(s) => s.points.push(point),
-            None => series.push(Series {
-                name,
-                points: vec![point],
-            }),
-        }
+        push_point(&mut series, name, point);
     }
     if series.is_empty() {
         return Err(ChartError::NoData(

@@ -1,7 +1,7 @@
 //! Chart (a): RMSE against median frame time, every point labelled, Pareto front as a staircase.
 
 use super::pareto::{pareto_front, pareto_steps};
-use super::scatter::{Point, Scatter, Series, render};
+use super::scatter::{push_point, render, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow};
 
@@ -29,13 +29,7 @@ pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
                 && r.total_ms_min > 0.0)
                 .then_some((r.total_ms_min, r.total_ms_max)),
         };
-        match series.iter_mut().find(|s| s.name == name) {
-            Some(s) => s.points.push(point),
-            None => series.push(Series {
-                name,
-                points: vec![point],
-            }),
-        }
+        push_point(&mut series, name, point);
     }
     // A front across scenes would compare unlike things, so draw it only for one scene.
     let front = (!multi).then(|| {

@@ -1,6 +1,6 @@
 //! Chart (b): shadow maps against the adaptive threshold P_M.
 
-use super::scatter::{Point, Scatter, Series, render};
+use super::scatter::{push_point, render, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow, params_short};
 
@@ -34,13 +34,7 @@ pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
             label: None,
             x_span: None,
         };
-        match series.iter_mut().find(|s| s.name == name) {
-            Some(s) => s.points.push(point),
-            None => series.push(Series {
-                name,
-                points: vec![point],
-            }),
-        }
+        push_point(&mut series, name, point);
     }
     if series.is_empty() {
         return Err(ChartError::NoData(

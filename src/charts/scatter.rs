@@ -24,6 +24,14 @@ pub(super) struct Series {
     pub points: Vec<Point>,
 }
 
+/// Adds `point` to the series called `name`, starting that series if it is new (first-seen order).
+pub(super) fn push_point(series: &mut Vec<Series>, name: String, point: Point) {
+    match series.iter_mut().find(|s| s.name == name) {
+        Some(s) => s.points.push(point),
+        None => series.push(Series { name, points: vec![point] }),
+    }
+}
+
 pub(super) struct Scatter {
     pub title: String,
     pub x_desc: String,
