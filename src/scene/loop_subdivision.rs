@@ -22,9 +22,15 @@ pub fn once(mesh: RawMesh) -> RawMesh {
             edges.entry((a.min(b), a.max(b))).or_insert_with(|| Edge { opposite: Vec::new(), new_vertex: 0 }).opposite.push(c);
         }
     }
+    // Edges in sorted order: the neighbour lists (and so the float sums over them below) and the new
+    // vertices' order must not depend on the hash map's iteration order, which changes from run to
+    // run and moved vertices by an ulp or two (a few lattice-sample tests flipped at 512²).
+    let mut keys: Vec<(u32, u32)> = edges.keys().copied().collect();
+    keys.sort_unstable();
     let mut neighbours = vec![Vec::new(); n];
     let mut crease_neighbours = vec![Vec::new(); n];
-    for (&(a, b), e) in &edges {
+    for &(a, b) in &keys {
+        let e = &edges[&(a, b)];
         neighbours[a as usize].push(b);
         neighbours[b as usize].push(a);
         if e.opposite.len() != 2 {
@@ -48,9 +54,6 @@ pub fn once(mesh: RawMesh) -> RawMesh {
             }
         })
         .collect();
-    // Sorted so vertex order (and the output) does not depend on the hash map's iteration order.
-    let mut keys: Vec<(u32, u32)> = edges.keys().copied().collect();
-    keys.sort_unstable();
     for key in keys {
         let e = edges.get_mut(&key).expect("key from the map");
         let (a, b) = (p(key.0), p(key.1));
