@@ -7,7 +7,7 @@ use penumbra::assets;
 use penumbra::bench;
 use penumbra::compare::{self, methods_list, sweep, CompareJob};
 use penumbra::frame;
-use penumbra::gpu::GpuContext;
+use penumbra::gpu::{AdapterRequest, BackendChoice, GpuContext};
 use penumbra::ground_truth;
 use penumbra::methods::{Method, METHOD_KEYS};
 use penumbra::output;
@@ -23,6 +23,24 @@ struct Cli {
     /// Output folder when run without a command.
     #[arg(long, default_value = "penumbra-out")]
     out: PathBuf,
+    /// GPU backend: auto (Vulkan first), vulkan, gl, metal or dx12 [default: $WGPU_BACKEND, else auto].
+    #[arg(long, global = true, value_name = "BACKEND")]
+    backend: Option<String>,
+    /// Use the adapter whose name contains this text [default: $WGPU_ADAPTER_NAME].
+    #[arg(long, global = true, value_name = "NAME")]
+    adapter: Option<String>,
+}
+
+/// The adapter request from `--backend`/`--adapter`, else from WGPU_BACKEND/WGPU_ADAPTER_NAME.
+fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
+    let (backend, source) = match (&cli.backend, std::env::var("WGPU_BACKEND")) {
+        (Some(b), _) => (b.clone(), "--backend"),
+        (None, Ok(b)) => (b, "WGPU_BACKEND"),
+        (None, Err(_)) => ("auto".to_string(), "--backend"),
+    };
+    let backend = BackendChoice::parse(&backend).map_err(|e| anyhow::anyhow!("{source} {}", e.to_string().trim_start_matches("--backend ")))?;
+    let name = cli.adapter.clone().or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok()).filter(|n| !n.is_empty());
+    Ok(AdapterRequest { backend, name, source: Some(source.to_string()) })
 }
 
 /// What `penumbra` with no arguments compares (method.md: the seed's settings, the region-local
@@ -209,6 +227,7 @@ fn main() {
 
 fn run() -> Result<()> {
     let cli = Cli::parse();
+    let gpu = adapter_request(&cli)?;
     match cli.command {
         None => {
             let run = RunArgs {
@@ -220,14 +239,14 @@ fn run() -> Result<()> {
                 out: cli.out,
                 no_cache: false,
             };
-            compare_methods(&[DEFAULT_METHODS.to_string()], run)
+            compare_methods(&[DEFAULT_METHODS.to_string()], run, &gpu)
         }
-        Some(Command::Render(args)) => render(args),
-        Some(Command::Reference(args)) => reference(args),
-        Some(Command::Compare(args)) => compare_methods(&args.methods, args.run),
+        Some(Command::Render(args)) => render(args, &gpu),
+        Some(Command::Reference(args)) => reference(args, &gpu),
+        Some(Command::Compare(args)) => compare_methods(&args.methods, args.run, &gpu),
         Some(Command::Sweep(args)) => {
             let specs = sweep::read_spec(&args.spec)?;
-            run_compare(&specs, args.run)
+            run_compare(&specs, args.run, &gpu)
         }
         Some(Command::Report(args)) => {
             let html = penumbra::report::results::write_from_files(&args.results, &args.out)?;
@@ -241,16 +260,16 @@ fn run() -> Result<()> {
             Ok(())
         }
         Some(Command::Info) => {
-            let ctx = GpuContext::new()?;
+            let ctx = GpuContext::with_request(&gpu)?;
             println!("{}", ctx.describe());
             Ok(())
         }
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
-        Some(Command::Bench(args)) => bench(args),
+        Some(Command::Bench(args)) => bench(args, &gpu),
     }
 }
 
-fn bench(args: BenchArgs) -> Result<()> {
+fn bench(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
     let opts = bench::SuiteOptions {
         repeats: args.repeats,
         scenes_dir: args.scenes,
@@ -260,7 +279,7 @@ fn bench(args: BenchArgs) -> Result<()> {
         only: args.only,
     };
     let scenes = bench::prepare(&opts)?;
-    let ctx = GpuContext::new()?;
+    let ctx = GpuContext::with_request(gpu)?;
     println!("seed-table2 on {} ({} repeats after one warm-up frame per method)", ctx.summary.name, opts.repeats);
     let report = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| println!("{line}"))?;
     let files = [
@@ -309,12 +328,12 @@ fn split_sets(sets: &[String]) -> Result<(Vec<(String, String)>, Vec<(String, St
     Ok((render, method))
 }
 
-fn render(args: RenderArgs) -> Result<()> {
+fn render(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     let (render_sets, method_sets) = split_sets(&args.set)?;
     let scene = Scene::load(&args.scene, &render_sets)?;
     let method = Method::parse(&args.method, &method_sets)?;
     let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
-    let ctx = GpuContext::new()?;
+    let ctx = GpuContext::with_request(gpu)?;
     let result = frame::render(&ctx, &scene, &method, mode)?;
     let files = output::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted)?;
     output::write_files(&args.out, &files)?;
@@ -344,10 +363,10 @@ fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
     Ok(render)
 }
 
-fn reference(args: ReferenceArgs) -> Result<()> {
+fn reference(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
     let mode = ground_truth::parse_mode(&args.mode, args.samples)?;
-    let ctx = GpuContext::new()?;
+    let ctx = GpuContext::with_request(gpu)?;
     let (g, image) = ground_truth::for_scene(&ctx, &scene, mode, &ground_truth::Cache::default_for(args.no_cache))?;
     let (w, h) = (image.width, image.height);
     let geometry = g.geometry_count();
@@ -366,20 +385,20 @@ fn reference(args: ReferenceArgs) -> Result<()> {
     Ok(())
 }
 
-fn compare_methods(values: &[String], run: RunArgs) -> Result<()> {
+fn compare_methods(values: &[String], run: RunArgs, gpu: &AdapterRequest) -> Result<()> {
     let specs = methods_list::split_specs(values)?;
-    run_compare(&specs, run)
+    run_compare(&specs, run, gpu)
 }
 
 /// Everything the user gave is checked before the GPU starts or any file is written.
-fn run_compare(specs: &[String], run: RunArgs) -> Result<()> {
+fn run_compare(specs: &[String], run: RunArgs, gpu: &AdapterRequest) -> Result<()> {
     let methods = methods_list::parse_methods(specs)?;
     let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
     let mode = ground_truth::parse_mode(&run.reference, run.samples)?;
     if run.repeats == 0 || run.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
     }
-    let ctx = GpuContext::new()?;
+    let ctx = GpuContext::with_request(gpu)?;
     let cache = ground_truth::Cache::default_for(run.no_cache);
     let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;

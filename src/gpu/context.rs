@@ -1,10 +1,9 @@
-//! Headless device: adapter from `WGPU_BACKEND` / `WGPU_ADAPTER_NAME` when set, else Vulkan first.
+//! Headless device on the adapter `gpu::adapter::choose` picks (Vulkan first); the request is a
+//! parameter, never read from the environment here (the binary maps `--backend` and `WGPU_BACKEND`).
 
+use super::adapter::{self, AdapterRequest, BackendChoice, Candidate};
 use crate::{Error, Result};
 use serde::Serialize;
-
-pub const INSTALL_HINT: &str = "no GPU adapter found. On Debian/Ubuntu install the Vulkan software driver: \
-`sudo apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe); or set WGPU_BACKEND / WGPU_ADAPTER_NAME to pick another adapter";
 
 /// What the run record says about the adapter.
 #[derive(Clone, Debug, Serialize)]
@@ -14,6 +13,8 @@ pub struct AdapterSummary {
     pub device_type: String,
     pub driver: String,
     pub driver_info: String,
+    /// Why this adapter was chosen.
+    pub chosen_because: String,
 }
 
 pub struct GpuContext {
@@ -26,44 +27,34 @@ pub struct GpuContext {
 }
 
 impl GpuContext {
+    /// The best usable adapter, Vulkan first.
     pub fn new() -> Result<Self> {
-        pollster::block_on(Self::new_async())
+        Self::with_request(&AdapterRequest::default())
     }
 
-    async fn new_async() -> Result<Self> {
-        // Vulkan first: probing GL as well would only add noise (lavapipe exposes both).
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        let from_env = std::env::var_os("WGPU_BACKEND").is_some();
-        if !from_env {
-            desc.backends = wgpu::Backends::VULKAN;
+    pub fn with_request(req: &AdapterRequest) -> Result<Self> {
+        pollster::block_on(Self::new_async(req))
+    }
+
+    async fn enumerate(backends: wgpu::Backends) -> Vec<wgpu::Adapter> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        wgpu::Instance::new(desc).enumerate_adapters(backends).await
+    }
+
+    async fn new_async(req: &AdapterRequest) -> Result<Self> {
+        // Auto probes Vulkan alone first: probing GL as well would only add noise (lavapipe exposes
+        // both), and GL is looked at only when no Vulkan adapter can run the pipeline.
+        let mut adapters = Self::enumerate(if req.backend == BackendChoice::Auto { wgpu::Backends::VULKAN } else { req.backend.backends() }).await;
+        let mut candidates: Vec<Candidate> = adapters.iter().map(Candidate::of).collect();
+        let mut choice = adapter::choose(&candidates, req);
+        if choice.is_err() && req.backend == BackendChoice::Auto {
+            adapters = Self::enumerate(wgpu::Backends::all()).await;
+            candidates = adapters.iter().map(Candidate::of).collect();
+            choice = adapter::choose(&candidates, req);
         }
-        let mut adapters = wgpu::Instance::new(desc).enumerate_adapters(wgpu::Backends::all()).await;
-        if adapters.is_empty() && !from_env {
-            let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-            adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
-        }
-        if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
-            let wanted = wanted.to_lowercase();
-            adapters.retain(|a| a.get_info().name.to_lowercase().contains(&wanted));
-        }
-        // Prefer Vulkan, then real GPUs over CPU devices; lavapipe also exposes a GL adapter.
-        adapters.sort_by_key(|a| {
-            let info = a.get_info();
-            let backend_rank = match info.backend {
-                wgpu::Backend::Vulkan => 0,
-                wgpu::Backend::Metal | wgpu::Backend::Dx12 => 1,
-                _ => 2,
-            };
-            let type_rank = match info.device_type {
-                wgpu::DeviceType::DiscreteGpu => 0,
-                wgpu::DeviceType::IntegratedGpu => 1,
-                wgpu::DeviceType::VirtualGpu => 2,
-                wgpu::DeviceType::Cpu => 3,
-                wgpu::DeviceType::Other => 4,
-            };
-            (backend_rank, type_rank)
-        });
-        let adapter = adapters.into_iter().next().ok_or_else(|| Error::NoAdapter(INSTALL_HINT.to_string()))?;
+        let choice = choice?;
+        let adapter = adapters.swap_remove(choice.index);
         let info = adapter.get_info();
         // Request the adapter's real limits: 2048 array layers and large storage bindings matter here.
         let limits = adapter.limits();
@@ -84,6 +75,7 @@ impl GpuContext {
             device_type: format!("{:?}", info.device_type),
             driver: info.driver.clone(),
             driver_info: info.driver_info.clone(),
+            chosen_because: choice.reason,
         };
         let timestamps_trusted =
             features.contains(wgpu::Features::TIMESTAMP_QUERY) && info.device_type != wgpu::DeviceType::Cpu;
@@ -107,13 +99,14 @@ impl GpuContext {
         let l = self.limits();
         let s = &self.summary;
         format!(
-            "adapter:      {}\nbackend:      {}\ndevice type:  {}\ndriver:       {} ({})\ntimestamps:   {}\n\
+            "adapter:      {}\nbackend:      {}\nchosen:       {}\ndevice type:  {}\ndriver:       {} ({})\ntimestamps:   {}\n\
              limits in use:\n  max_texture_dimension_2d      {}\n  max_texture_array_layers      {}\n  \
              max_storage_buffer_binding    {}\n  max_buffer_size               {}\n  max_compute_invocations/wg    {}\n  \
              max_compute_workgroups/dim    {}\n  max_compute_workgroup_storage {}\n  max_bind_groups               {}\n  \
              max_sampled_textures/stage    {}\n  max_storage_buffers/stage     {}",
             s.name,
             s.backend,
+            s.chosen_because,
             s.device_type,
             s.driver,
             s.driver_info,

@@ -1,7 +1,9 @@
 //! Headless GPU access: device selection, pipelines, buffers and read-backs.
 
+pub mod adapter;
 pub mod context;
 pub mod pipeline;
 pub mod readback;
 
+pub use adapter::{AdapterRequest, BackendChoice};
 pub use context::{AdapterSummary, GpuContext};
