@@ -11,7 +11,7 @@ use penumbra::gpu::{AdapterRequest, BackendChoice, GpuContext};
 use penumbra::ground_truth;
 use penumbra::methods::{Method, METHOD_KEYS};
 use penumbra::output;
-use penumbra::scene::{Scene, BUILTIN_SCENES};
+use penumbra::scene::{catalog, Scene};
 use penumbra::timing::TimingMode;
 use std::path::PathBuf;
 
@@ -254,8 +254,14 @@ fn run() -> Result<()> {
             Ok(())
         }
         Some(Command::Scenes) => {
-            for (name, about, _) in BUILTIN_SCENES {
-                println!("{name:18} {about}");
+            println!("{:22} {:>10}  {:9}  {:44}  description", "scene", "triangles", "assets", "meshes");
+            for e in catalog(None) {
+                let tris = e.triangles.map_or("?".to_string(), |t| t.to_string());
+                let assets = if e.missing.is_empty() { "present" } else { "missing" };
+                println!("{:22} {:>10}  {:9}  {:44}  {}", e.name, tris, assets, e.sources.join(" + "), e.description);
+                if let Some(cmd) = &e.fetch {
+                    println!("{:22} fetch with `{cmd}`", "");
+                }
             }
             Ok(())
         }

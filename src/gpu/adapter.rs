@@ -146,7 +146,8 @@ pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> 
                 let mut what = Vec::new();
                 what.extend(asked.iter().map(|a| format!("{a}: no {:?} adapter", req.backend)));
                 what.extend(name.iter().map(|n| format!("adapter name \"{n}\": no adapter's name contains it")));
-                format!("{} (adapters seen: {seen})", what.join("; "))
+                let hint = if req.backend == BackendChoice::Vulkan { format!("; {INSTALL_HINT}") } else { String::new() };
+                format!("{} (adapters seen: {seen}){hint}", what.join("; "))
             }
         }));
     }

@@ -1,6 +1,7 @@
 //! Scenes: a small TOML format (docs/scene-format.md), built-in named scenes, meshes.
 
 mod builtin;
+mod catalog;
 mod format;
 mod instances;
 mod loop_subdivision;
@@ -11,6 +12,7 @@ mod overrides;
 mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
+pub use catalog::{catalog, CatalogEntry};
 pub use format::{BiasDef, CullMode, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};

@@ -5,16 +5,9 @@ use crate::{Error, Result};
 use glam::Vec3;
 use std::path::Path;
 
-/// Meshes embedded in the binary, so built-in scenes need no files.
-const EMBEDDED: &[(&str, &str)] = &[("bunny-small.obj", include_str!("../../scenes/bunny-small.obj"))];
-
-/// An OBJ embedded in the binary (built-in scenes).
+/// An OBJ embedded in the binary (built-in scenes: every scenes/*.obj).
 pub fn load_embedded(file: &str) -> Result<RawMesh> {
-    let text = EMBEDDED
-        .iter()
-        .find(|(n, _)| *n == file)
-        .map(|(_, t)| *t)
-        .ok_or_else(|| Error::mesh(file, "not an embedded mesh"))?;
+    let text = super::builtin::embedded_mesh(file).ok_or_else(|| Error::mesh(file, "not a mesh file shipped in scenes/ (built-in scenes can only name those, or `cache:` paths)"))?;
     parse(text, file)
 }
 

@@ -1,0 +1,67 @@
+//! `penumbra scenes`: every built-in scene with its triangle count, where its meshes come from and
+//! whether the cached ones are present.
+
+use super::format::{self, MeshDef};
+use super::mesh_file::CACHE_PREFIX;
+use super::{builtin, Scene};
+use crate::assets;
+use std::path::{Path, PathBuf};
+
+pub struct CatalogEntry {
+    pub name: &'static str,
+    pub description: String,
+    /// Stated in the file (`triangles = …`), else counted by loading; None when that is not possible.
+    pub triangles: Option<u64>,
+    /// Each mesh's source: `plane` (built-in shape), `embedded bunny-small.obj`, `cache:meshes/cow.off`.
+    pub sources: Vec<String>,
+    /// Cache files the scene needs that are absent.
+    pub missing: Vec<PathBuf>,
+    /// The command that fetches what is missing.
+    pub fetch: Option<String>,
+}
+
+fn source(m: &MeshDef) -> String {
+    match (&m.builtin, &m.file) {
+        (Some(b), _) => b.clone(),
+        (None, Some(f)) if f.starts_with(CACHE_PREFIX) => f.clone(),
+        (None, Some(f)) => format!("embedded {f}"),
+        (None, None) => "?".into(),
+    }
+}
+
+/// The built-in scenes; `cache` is the asset cache to look in (None: the default one).
+pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
+    let cache_dir = cache.map(Path::to_path_buf).or_else(|| assets::default_cache_dir().ok());
+    builtin::BUILTIN_SCENES
+        .iter()
+        .map(|&(name, text)| {
+            let origin = format!("builtin:{name}");
+            let (mut description, mut triangles) = (String::new(), None);
+            let (mut sources, mut missing, mut groups) = (Vec::new(), Vec::new(), Vec::<String>::new());
+            if let Ok(def) = format::parse(text, &origin, &[]) {
+                description = def.description.clone().unwrap_or_default();
+                triangles = def.triangles;
+                for m in &def.meshes {
+                    sources.push(source(m));
+                    if let Some(rel) = m.file.as_deref().and_then(|f| f.strip_prefix(CACHE_PREFIX)) {
+                        let present = cache_dir.as_ref().is_some_and(|d| d.join(rel).is_file());
+                        if !present {
+                            missing.push(cache_dir.as_ref().map(|d| d.join(rel)).unwrap_or_else(|| rel.into()));
+                            let group = rel.split('/').next().filter(|g| g.parse::<assets::Group>().is_ok()).unwrap_or("all").to_string();
+                            if !groups.contains(&group) {
+                                groups.push(group);
+                            }
+                        }
+                    }
+                }
+            }
+            if triangles.is_none() && missing.is_empty() {
+                triangles = Scene::load_in(name, &[], cache).ok().map(|s| s.triangle_count() as u64);
+            }
+            sources.dedup();
+            let fetch = (!groups.is_empty())
+                .then(|| format!("penumbra assets fetch {}", groups.iter().map(|g| format!("--group {g}")).collect::<Vec<_>>().join(" ")));
+            CatalogEntry { name, description, triangles, sources, missing, fetch }
+        })
+        .collect()
+}
