@@ -15,6 +15,7 @@ pub mod compute;
 pub mod methods;
 pub mod frame;
 pub mod output;
+pub mod output_set;
 pub mod timing;
 pub mod progress;
 pub mod reference;

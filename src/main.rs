@@ -11,6 +11,7 @@ use penumbra::gpu::{AdapterRequest, BackendChoice, GpuContext};
 use penumbra::ground_truth;
 use penumbra::methods::{Method, METHOD_KEYS};
 use penumbra::output;
+use penumbra::output_set;
 use penumbra::scene::{catalog, Scene};
 use penumbra::timing::TimingMode;
 use std::path::PathBuf;
@@ -245,10 +246,14 @@ fn run() -> Result<()> {
         Some(Command::Reference(args)) => reference(args, &gpu),
         Some(Command::Compare(args)) => compare_methods(&args.methods, args.run, &gpu),
         Some(Command::Sweep(args)) => {
+            output_set::check(&args.run.out)?;
             let specs = sweep::read_spec(&args.spec)?;
             run_compare(&specs, args.run, &gpu)
         }
         Some(Command::Report(args)) => {
+            if args.out.exists() && !args.out.is_dir() {
+                anyhow::bail!("--out {}: is a file, not a folder", args.out.display());
+            }
             let html = penumbra::report::results::write_from_files(&args.results, &args.out)?;
             println!("report: {}", html.display());
             Ok(())
@@ -276,6 +281,7 @@ fn run() -> Result<()> {
 }
 
 fn bench(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.out)?;
     let opts = bench::SuiteOptions {
         repeats: args.repeats,
         scenes_dir: args.scenes,
@@ -292,18 +298,20 @@ fn bench(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
         ("table2.md".to_string(), bench::table::markdown(&report).into_bytes()),
         ("results.jsonl".to_string(), bench::table::jsonl(&report).into_bytes()),
     ];
-    for path in output::write_files(&args.out, &files)? {
-        println!("  {}", path.display());
+    // One set: the tables and the report with charts (from the rows that have error figures).
+    let set = output_set::OutputSet::begin(&args.out)?;
+    for (name, bytes) in &files {
+        println!("  {}", set.write(name, bytes)?.display());
     }
-    // The report with charts, from the rows that have error figures.
     let rows: Vec<penumbra::report::results::LoadedRow> = bench::report::rows(&report)
         .into_iter()
-        .map(|row| penumbra::report::results::LoadedRow { row, base: args.out.clone() })
+        .map(|row| penumbra::report::results::LoadedRow { row, base: set.path().to_path_buf() })
         .collect();
     if !rows.is_empty() {
-        let html = penumbra::report::results::write_from_rows(&rows, &args.out)?;
-        println!("  {}", html.display());
+        penumbra::report::results::write_from_rows(&rows, set.path())?;
+        println!("  {}", args.out.join("report.html").display());
     }
+    set.commit()?;
     print!("{}", bench::table::markdown(&report));
     Ok(())
 }
@@ -335,6 +343,7 @@ fn split_sets(sets: &[String]) -> Result<(Vec<(String, String)>, Vec<(String, St
 }
 
 fn render(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.out)?;
     let (render_sets, method_sets) = split_sets(&args.set)?;
     let scene = Scene::load(&args.scene, &render_sets)?;
     let method = Method::parse(&args.method, &method_sets)?;
@@ -370,6 +379,7 @@ fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
 }
 
 fn reference(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.out)?;
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
     let mode = ground_truth::parse_mode(&args.mode, args.samples)?;
     let ctx = GpuContext::with_request(gpu)?;
@@ -398,6 +408,7 @@ fn compare_methods(values: &[String], run: RunArgs, gpu: &AdapterRequest) -> Res
 
 /// Everything the user gave is checked before the GPU starts or any file is written.
 fn run_compare(specs: &[String], run: RunArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&run.out)?;
     let methods = methods_list::parse_methods(specs)?;
     let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
     let mode = ground_truth::parse_mode(&run.reference, run.samples)?;

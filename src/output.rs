@@ -60,17 +60,15 @@ fn encode(img: &image::DynamicImage, format: image::ImageFormat) -> Result<Vec<u
     Ok(out.into_inner())
 }
 
-/// Writes all files, each through a temporary name; creates `dir`.
+/// Writes all files as one set (crate::output_set): `dir` ends up holding exactly these files (and
+/// whatever an earlier set did not write), or, on any failure or interrupt, what it held before.
 pub fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let set = crate::output_set::OutputSet::begin(dir)?;
     let mut written = Vec::new();
     for (name, bytes) in files {
-        let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp"));
-        std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
-        written.push(path);
+        written.push(set.write(name, bytes)?);
     }
+    set.commit()?;
     Ok(written)
 }
 

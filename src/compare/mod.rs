@@ -152,18 +152,15 @@ pub fn reference_line(r: &ReferenceImage, geometry: usize) -> String {
     }
 }
 
-/// Writes every file (creating sub-folders, each file through a temporary name), then the
-/// report from the rows just written. Returns the path of `report.html`.
+/// Writes every file and the report from the rows as one set (crate::output_set): `out` ends up
+/// holding the new set, or on any failure or interrupt the old one. Returns the path of `report.html`.
 pub fn write(out: &Path, outcome: &CompareOutcome) -> Result<PathBuf> {
+    let set = crate::output_set::OutputSet::begin(out)?;
     for (name, bytes) in &outcome.files {
-        let path = out.join(name);
-        let dir = path.parent().unwrap_or(out);
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = dir.join(format!(".{file}.tmp"));
-        std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
+        set.write(name, bytes)?;
     }
-    let rows: Vec<LoadedRow> = outcome.rows.iter().map(|r| LoadedRow { row: r.clone(), base: out.to_path_buf() }).collect();
-    report_results::write_from_rows(&rows, out)
+    let rows: Vec<LoadedRow> = outcome.rows.iter().map(|r| LoadedRow { row: r.clone(), base: set.path().to_path_buf() }).collect();
+    report_results::write_from_rows(&rows, set.path())?;
+    set.commit()?;
+    Ok(out.join("report.html"))
 }
