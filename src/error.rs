@@ -61,3 +61,11 @@ impl Error {
         Error::Io { path: path.display().to_string(), message: err.to_string() }
     }
 }
+
+/// `line L, column C` of a TOML error in `text` (1-based), when the error has a position.
+pub fn toml_position(text: &str, e: &toml::de::Error) -> Option<(usize, usize)> {
+    let start = e.span()?.start.min(text.len());
+    let before = &text[..start];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    Some((before.matches('\n').count() + 1, before[line_start..].chars().count() + 1))
+}

@@ -176,6 +176,9 @@ fn render_inner(
     let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
     let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
     let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
+    if gbuffer.geometry_count() == 0 {
+        return Err(scene.nothing_visible());
+    }
     // Σŵ = 1 up to rounding: clamp so V ∈ [0, 1] holds exactly; background stays 0.
     for (i, v) in visibility.iter_mut().enumerate() {
         *v = if gbuffer.is_geometry(i) { v.clamp(0.0, 1.0) } else { 0.0 };

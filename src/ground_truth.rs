@@ -213,6 +213,9 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
 /// The G-buffer of `scene` rendered on `ctx`, then [`compute`].
 pub fn for_scene(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache) -> Result<(GBufferCpu, ReferenceImage)> {
     let g = frame::gbuffer_only(ctx, scene)?;
+    if g.geometry_count() == 0 {
+        return Err(scene.nothing_visible());
+    }
     let image = compute(scene, &g, mode, cache)?;
     Ok((g, image))
 }

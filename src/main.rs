@@ -220,8 +220,16 @@ fn main() {
     }
     if let Err(e) = run() {
         // One line: the chain of causes joined, so scripts and people see the whole reason.
-        let msg: Vec<String> = e.chain().map(|c| c.to_string()).collect();
-        eprintln!("error: {}", msg.join(": "));
+        // A cause whose text the message already holds (thiserror's `#[from]` wrappers print their
+        // source) is left out, so no error repeats itself.
+        let mut msg = String::new();
+        for cause in e.chain().map(|c| c.to_string()) {
+            if !msg.contains(&cause) {
+                msg += if msg.is_empty() { "" } else { ": " };
+                msg += &cause;
+            }
+        }
+        eprintln!("error: {msg}");
         std::process::exit(1);
     }
 }

@@ -128,7 +128,7 @@ fn off_face_errors() {
     case(
         "fnone.off",
         "",
-        "line 6: file ends early: expected face definition",
+        "line 2: file ends early: the counts say 3 vertices and 1 faces, but only 3 lines follow",
     );
 }
 

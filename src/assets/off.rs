@@ -20,6 +20,7 @@ pub(crate) fn parse_off(text: &str) -> Result<LoadedMesh, Failure> {
         limits: Limits::MAX,
         ..Options::default()
     };
+    check_counts(text)?;
     let off = match off_rs::parse(text, options) {
         Ok(mesh) => mesh,
         Err(off_rs::Error::ParserError(e)) => return Err(reword(text, &e)),
@@ -51,6 +52,34 @@ pub(crate) fn parse_off(text: &str) -> Result<LoadedMesh, Failure> {
             .map_err(|m| Failure::at(element("face", j, line_of(2 + vertex_count + j)), m))?;
     }
     builder.finish().map_err(Failure::whole)
+}
+
+/// A header that claims more vertices or faces than the file holds would make off-rs read faces as
+/// vertices (and report an "invalid color"): compare the counts with the lines first.
+fn check_counts(text: &str) -> Result<(), Failure> {
+    let content: Vec<(usize, Vec<&str>)> =
+        text.lines().enumerate().map(|(n, l)| (n + 1, tokens(l))).filter(|(_, t)| !t.is_empty()).collect();
+    let Some((_, header)) = content.first() else { return Ok(()) };
+    if !header[0].ends_with("OFF") {
+        return Ok(()); // off-rs words the header error
+    }
+    let (line, counts, rest) = if header.len() > 1 {
+        (content[0].0, header[1..].to_vec(), &content[1..])
+    } else if let Some((line, counts)) = content.get(1) {
+        (*line, counts.clone(), content.get(2..).unwrap_or(&[]))
+    } else {
+        return Ok(());
+    };
+    let (Some(Ok(vertices)), Some(Ok(faces))) = (counts.first().map(|v| v.parse::<usize>()), counts.get(1).map(|f| f.parse::<usize>())) else {
+        return Ok(()); // off-rs words bad counts
+    };
+    if rest.len() < vertices.saturating_add(faces) {
+        return Err(Failure::at(
+            Location::Line(line),
+            format!("file ends early: the counts say {vertices} vertices and {faces} faces, but only {} lines follow", rest.len()),
+        ));
+    }
+    Ok(())
 }
 
 fn element(kind: &str, index: usize, line: Option<usize>) -> Location {

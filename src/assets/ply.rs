@@ -23,7 +23,7 @@ const FACE_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
 pub(crate) fn parse_ply(input: impl BufRead) -> Result<LoadedMesh, Failure> {
     let mut reader = Reader::new(input);
     let parser = Parser::<Item>::new();
-    let header = parser.read_header(&mut reader).map_err(|e| from_ply(&e))?;
+    let header = parser.read_header(&mut reader).map_err(|e| header_failure(&e))?;
     let (vertex_count, face_count) = check_header(&header)?;
     // After the header, the reader's line counter points at the first payload line.
     let mut line = reader.line();
@@ -175,11 +175,19 @@ fn flat(e: &ParseError) -> String {
         .join("; ")
 }
 
-fn from_ply(e: &ParseError) -> Failure {
-    Failure {
-        at: e.line().map(Location::Line),
-        message: flat(e),
-    }
+/// The header parser's errors carry a debug dump of its grammar: say instead what the line was.
+fn header_failure(e: &ParseError) -> Failure {
+    let text = e.to_string();
+    let message = match text.split("String: '").nth(1).and_then(|rest| rest.split('\'').next()) {
+        Some(line) if e.line() == Some(1) => format!("not a PLY file: the first line must be `ply` (the magic number), found `{}`", line.trim()),
+        Some(line) => format!(
+            "header line `{}` is not a PLY header line (expected ply, format, comment, obj_info, element, property or end_header); is the header cut short?",
+            line.trim()
+        ),
+        None if text.contains("Error:") || text.contains("{") => "the header is malformed or cut short before `end_header`".to_string(),
+        None => flat(e),
+    };
+    Failure { at: e.line().map(Location::Line), message }
 }
 
 /// One PLY element: only what a vertex or a face needs, whatever the declared number types.

@@ -65,10 +65,25 @@ fn expand(grid: &toml::Table, at: &str) -> std::result::Result<Vec<String>, Stri
 /// Spec text → method specs, in file order (plain `methods` first). Errors name `origin`.
 pub fn parse_spec(text: &str, origin: &str) -> Result<Vec<String>> {
     let err = |m: String| Error::Param(format!("{origin}: {m}"));
-    let spec: SweepSpec = toml::from_str(text).map_err(|e| err(e.message().replace('\n', " ").trim().to_string()))?;
-    let mut specs = spec.methods;
+    let spec: SweepSpec = toml::from_str(text).map_err(|e| {
+        let msg = e.message().replace('\n', " ").trim().to_string();
+        err(match crate::error::toml_position(text, &e) {
+            Some((line, col)) => format!("line {line}, column {col}: {msg}"),
+            None => msg,
+        })
+    })?;
+    let mut specs = Vec::new();
+    for m in spec.methods {
+        crate::methods::Method::parse(&m, &[]).map_err(|e| err(format!("methods: {e}")))?;
+        specs.push(m);
+    }
     for (i, grid) in spec.grid.iter().enumerate() {
-        specs.extend(expand(grid, &format!("grid {}", i + 1)).map_err(err)?);
+        let at = format!("grid {}", i + 1);
+        for m in expand(grid, &at).map_err(err)? {
+            // Checked here, so a bad key or value names the spec and the grid.
+            crate::methods::Method::parse(&m, &[]).map_err(|e| err(format!("{at} ({m}): {e}")))?;
+            specs.push(m);
+        }
     }
     if specs.is_empty() {
         return Err(err("no `methods` and no `[[grid]]`: nothing to run".into()));

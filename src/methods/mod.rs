@@ -35,10 +35,14 @@ impl Method {
             let (k, v) = pair
                 .split_once('=')
                 .ok_or_else(|| Error::Param(format!("method `{spec}`: `{pair}` is not key=value")))?;
-            params.insert(k.trim().to_string(), v.trim().to_string());
+            if let Some(first) = params.insert(k.trim().to_string(), v.trim().to_string()) {
+                return Err(Error::Param(format!("method `{spec}`: `{}` is given twice ({first} and {})", k.trim(), v.trim())));
+            }
         }
         for (k, v) in extra {
-            params.insert(k.clone(), v.clone());
+            if let Some(first) = params.insert(k.clone(), v.clone()) {
+                return Err(Error::Param(format!("method `{spec}`: `{k}` is given twice ({first}, and {v} with --set)")));
+            }
         }
         let allowed: &[&str] = match name {
             "hard" => &[],

@@ -24,12 +24,22 @@ pub enum Scope {
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct AdaptiveParams {
-    /// Split threshold in pixels; `inf` never splits, -1 always splits.
+    /// Split threshold in pixels; `inf` never splits, -1 always splits. JSON has no infinity, so
+    /// run records hold the string "inf" there.
+    #[serde(serialize_with = "number_or_inf")]
     pub p_m: f64,
     pub max_level: u32,
     pub weights: Weights,
     pub scope: Scope,
     pub scissor: bool,
+}
+
+fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    match *v {
+        f64::INFINITY => s.serialize_str("inf"),
+        f64::NEG_INFINITY => s.serialize_str("-inf"),
+        x => s.serialize_f64(x),
+    }
 }
 
 impl Default for AdaptiveParams {

@@ -160,6 +160,15 @@ pub fn write_from_files(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
     if paths.is_empty() {
         return Err(crate::Error::Param("report: give at least one results.jsonl".into()));
     }
+    let mut seen = Vec::new();
+    for p in paths {
+        // The same file twice would double every row in the tables and charts.
+        let id = p.canonicalize().unwrap_or_else(|_| p.clone());
+        if seen.contains(&id) {
+            return Err(crate::Error::Param(format!("report: {} is given twice", p.display())));
+        }
+        seen.push(id);
+    }
     let mut rows = Vec::new();
     for p in paths {
         rows.extend(read_results(p)?);

@@ -171,30 +171,78 @@ fn default_segments() -> u32 {
     32
 }
 
-/// TOML text → definition, with `--set` overrides applied and one-line errors with line and column.
+/// TOML text → definition, with `--set` overrides applied. Errors in the file give the line,
+/// column, key and value; errors from an override name `--set` and its key.
 pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result<SceneDef> {
-    let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e)))?;
+    let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e, "TOML syntax error")))?;
+    // The file alone first, from its text, so type errors carry a position.
+    let def: SceneDef = toml::from_str(text).map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e, "")))?;
+    if overrides.is_empty() {
+        return Ok(def);
+    }
     super::overrides::apply_overrides(&mut table, overrides).map_err(|m| Error::scene(origin, m))?;
-    SceneDef::deserialize(toml::Value::Table(table))
-        .map_err(|e: toml::de::Error| Error::scene(origin, e.message().replace('\n', " ").trim().to_string()))
+    SceneDef::deserialize(toml::Value::Table(table)).map_err(|e: toml::de::Error| {
+        // The file deserialized alone, so an override is at fault: find which.
+        let culprit = overrides.iter().find(|o| {
+            let mut t: toml::Table = text.parse().unwrap_or_default();
+            super::overrides::apply_overrides(&mut t, std::slice::from_ref(o)).is_ok()
+                && SceneDef::deserialize(toml::Value::Table(t)).is_err()
+        });
+        let msg = plain_message(&e);
+        match culprit {
+            Some((k, v)) => Error::Param(format!("--set {k}={v}: {msg}")),
+            None => Error::Param(format!("--set: {msg}")),
+        }
+    })
 }
 
-fn toml_message(text: &str, e: &toml::de::Error) -> String {
-    let msg = e.message().replace('\n', " ");
+/// serde's wording for the one untagged enum, in the format's terms.
+fn plain_message(e: &toml::de::Error) -> String {
+    let msg = e.message().replace('\n', " ").trim().to_string();
+    if msg.contains("untagged enum Scale") {
+        return "expected a number or an array [x, y, z]".into();
+    }
+    msg
+}
+
+/// `line L, column C: [table] key = value: message`, from the error's span in `text`.
+fn toml_message(text: &str, e: &toml::de::Error, lead: &str) -> String {
+    let msg = plain_message(e);
+    let lead = if lead.is_empty() { String::new() } else { format!("{lead} ") };
     match e.span() {
         Some(span) => {
-            let before = &text[..span.start.min(text.len())];
+            let start = span.start.min(text.len());
+            let before = &text[..start];
             let line = before.matches('\n').count() + 1;
-            let col = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
-            format!("TOML syntax error at line {line}, column {col}: {}", msg.trim())
+            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+            let col = start - line_start + 1;
+            let line_text = text[line_start..].lines().next().unwrap_or("").trim();
+            // The table the line sits in, e.g. `[[mesh]]` (the n-th one) or `[light]`.
+            let section = before[..line_start].lines().rev().map(str::trim).find(|l| l.starts_with('['));
+            let section = match section {
+                Some(h) if h.starts_with("[[") => {
+                    let n = before[..line_start].lines().filter(|l| l.trim() == h).count();
+                    format!("{h} #{n} ")
+                }
+                Some(h) => format!("{h} "),
+                None => String::new(),
+            };
+            let at = if line_text.is_empty() || line_text.starts_with('[') { String::new() } else { format!("{section}{line_text}: ") };
+            format!("{lead}at line {line}, column {col}: {at}{msg}")
         }
-        None => format!("TOML syntax error: {}", msg.trim()),
+        None => format!("{lead}{msg}").trim().to_string(),
     }
 }
+
+/// Scene coordinates beyond this lose all precision in f32 projections (and overflow products).
+pub const MAX_COORDINATE: f32 = 1e6;
 
 fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> Result<Vec3> {
     if v.iter().any(|x| !x.is_finite()) {
         return Err(Error::scene(origin, format!("{what} has a NaN or infinite coordinate: {v:?}")));
+    }
+    if v.iter().any(|x| x.abs() > MAX_COORDINATE) {
+        return Err(Error::scene(origin, format!("{what} = {v:?}: coordinates must be within ±{MAX_COORDINATE:e} (f32 has no precision left beyond)")));
     }
     Ok(Vec3::from_slice(&[v[0], *v.get(1).unwrap_or(&0.0), *v.get(2).unwrap_or(&0.0)]))
 }
@@ -224,8 +272,15 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         return Err(Error::scene(origin, "render.shadow_map_budget_mib must be at least 1"));
     }
     let b = r.bias;
-    if ![b.constant, b.slope, b.normal_offset, b.max_slope, r.ambient].iter().all(|x| x.is_finite()) {
-        return Err(Error::scene(origin, "render: bias and ambient must be finite numbers"));
+    let numbers = [
+        ("render.bias.constant", b.constant),
+        ("render.bias.slope", b.slope),
+        ("render.bias.normal_offset", b.normal_offset),
+        ("render.bias.max_slope", b.max_slope),
+        ("render.ambient", r.ambient),
+    ];
+    if let Some((key, v)) = numbers.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(Error::scene(origin, format!("{key} = {v}: must be a finite number")));
     }
     if !(0.0..=1.0).contains(&r.ambient) {
         return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
@@ -254,13 +309,25 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         min = min.min(Vec3::from(v.position));
         max = max.max(Vec3::from(v.position));
     }
+    // The light emits along edge_u × edge_v: with every mesh behind its plane, V = 0 everywhere.
+    let n = light.normal();
+    let corners = (0..8).map(|i| Vec3::new([min.x, max.x][i & 1], [min.y, max.y][(i >> 1) & 1], [min.z, max.z][i >> 2]));
+    if corners.map(|c| (c - light.center).dot(n)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
+        return Err(Error::scene(
+            origin,
+            format!(
+                "light: emits along {:?} (edge_u × edge_v, or `normal`), away from every mesh: nothing would be lit; flip `normal` or swap edge_u and edge_v",
+                n.to_array()
+            ),
+        ));
+    }
     if let Some(stated) = def.triangles {
         let got = indices.len() as u64 / 3;
         if stated != got {
             return Err(Error::scene(origin, format!("states triangles = {stated} but its meshes have {got}")));
         }
     }
-    Ok(Scene {
+    let scene = Scene {
         name: def.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
         description: def.description.unwrap_or_default(),
         origin: origin.to_string(),
@@ -271,7 +338,11 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         indices,
         albedos,
         bounds: Bounds { min, max },
-    })
+    };
+    if scene.bounds_outside_view() {
+        return Err(scene.nothing_visible());
+    }
+    Ok(scene)
 }
 
 fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
@@ -280,6 +351,9 @@ fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
         (Some(u), Some(v), None, None) => (finite(origin, "light.edge_u", u)?, finite(origin, "light.edge_v", v)?),
         (None, None, Some(size), Some(normal)) => {
             let n = finite(origin, "light.normal", normal)?;
+            if !(size[0] > 0.0 && size[1] > 0.0) {
+                return Err(Error::scene(origin, format!("light.size = {size:?}: both sides must be positive")));
+            }
             let size = finite(origin, "light.size", size)?;
             if n.length() < 1e-12 {
                 return Err(Error::scene(origin, "light.normal is the zero vector"));
@@ -306,6 +380,7 @@ fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
     };
     let light = AreaLight { center, edge_u, edge_v };
     let scale = edge_u.length().max(edge_v.length()).max(1e-30);
+    // Edges are within ±MAX_COORDINATE, so the area cannot overflow f32 here.
     if !(light.edge_u.cross(light.edge_v).length() > 1e-10 * scale * scale) {
         return Err(Error::scene(
             origin,

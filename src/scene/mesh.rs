@@ -29,6 +29,9 @@ pub struct RawMesh {
 /// instance. Normals are computed once and turned with each placement.
 pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Result<(Vec<Vertex>, Vec<u32>)> {
     let label = format!("{origin}: mesh {}", k + 1);
+    if m.builtin.as_deref() == Some("sphere") && !(3..=512).contains(&m.segments) {
+        return Err(Error::scene(origin, format!("mesh {}: segments = {} for a sphere: must be in 3..=512", k + 1, m.segments)));
+    }
     let raw = match (&m.builtin, &m.file) {
         (Some(b), None) => builtin(b, m.segments).ok_or_else(|| {
             Error::scene(origin, format!("mesh {}: unknown builtin `{b}` (plane, box, sphere)", k + 1))
@@ -104,7 +107,7 @@ fn builtin(name: &str, segments: u32) -> Option<RawMesh> {
     match name {
         "plane" => Some(plane()),
         "box" => Some(cube()),
-        "sphere" => Some(sphere(segments.clamp(3, 512))),
+        "sphere" => Some(sphere(segments)),
         _ => None,
     }
 }

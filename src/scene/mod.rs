@@ -60,6 +60,36 @@ impl Scene {
         self.indices.len() / 3
     }
 
+    /// The error for a camera that sees none of the meshes (also raised when the G-buffer holds no
+    /// geometry pixel): it names the camera, which is where the fix lies.
+    pub fn nothing_visible(&self) -> Error {
+        let c = &self.camera;
+        Error::scene(
+            &self.origin,
+            format!(
+                "no mesh is visible from the camera (camera.eye = {:?}, camera.target = {:?}, camera.fov_y_deg = {}; the meshes span {:?} to {:?}): point the camera at them",
+                c.eye.to_array(),
+                c.target.to_array(),
+                c.fov_y_deg,
+                self.bounds.min.to_array(),
+                self.bounds.max.to_array()
+            ),
+        )
+    }
+
+    /// Whether the meshes' bounding box lies wholly outside the camera's view (then nothing shows).
+    pub fn bounds_outside_view(&self) -> bool {
+        let aspect = self.render.width as f32 / self.render.height as f32;
+        let m = self.camera.clip_from_world(aspect, &self.bounds);
+        let (lo, hi) = (self.bounds.min, self.bounds.max);
+        let clip: Vec<glam::Vec4> =
+            (0..8).map(|i| m * Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2]).extend(1.0)).collect();
+        // One clip plane (left, right, bottom, top, near, far: depth 0..w) with every corner outside.
+        let planes: [fn(&glam::Vec4) -> bool; 6] =
+            [|c| c.x < -c.w, |c| c.x > c.w, |c| c.y < -c.w, |c| c.y > c.w, |c| c.z < 0.0, |c| c.z > c.w];
+        planes.iter().any(|outside| clip.iter().all(outside))
+    }
+
     /// World-space triangles, for CPU tracers and tests.
     pub fn triangles(&self) -> Vec<[Vec3; 3]> {
         self.indices
