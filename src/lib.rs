@@ -26,5 +26,6 @@ pub mod ground_truth;
 pub mod compare;
 pub mod assets;
 pub mod bench;
+pub mod inputs;
 
 pub use error::{Error, Result};

@@ -30,6 +30,11 @@ pub use manifest::Group;
 pub use mesh::LoadedMesh;
 pub use off::load_off;
 pub use ply::load_ply;
+// In-memory parsers for crate::inputs (fuzzing).
+pub(crate) use error::Failure;
+pub(crate) use js_arrays::parse_js_arrays;
+pub(crate) use off::parse_off;
+pub(crate) use ply::parse_ply;
 
 /// Loads `.off`, `.ply`, `.ply.gz` or `.js` (JS array module) by its name.
 pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {

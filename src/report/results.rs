@@ -20,10 +20,16 @@ pub fn read_results(path: &Path) -> Result<Vec<LoadedRow>> {
     let err = |message: String| ReportError::Results { path: path.to_path_buf(), message };
     let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read results file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok(parse_results(&text, path)?.into_iter().map(|row| LoadedRow { row, base: base.clone() }).collect())
+}
+
+/// The rows of results.jsonl text; errors name `path` and the line.
+pub fn parse_results(text: &str, path: &Path) -> Result<Vec<ResultRow>> {
+    let err = |message: String| ReportError::Results { path: path.to_path_buf(), message };
     let mut rows = Vec::new();
     for (n, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
         let row: ResultRow = serde_json::from_str(line).map_err(|e| err(format!("line {}: not a result row: {e}", n + 1)))?;
-        rows.push(LoadedRow { row, base: base.clone() });
+        rows.push(row);
     }
     if rows.is_empty() {
         return Err(err("no result rows".into()).into());

@@ -55,6 +55,11 @@ pub struct Scene {
     pub bounds: Bounds,
 }
 
+/// Parses OBJ text (as a scene's `file = "x.obj"` would); returns its triangle count.
+pub fn parse_obj(text: &str, label: &str) -> Result<usize> {
+    obj::parse(text, label).map(|m| m.indices.len() / 3)
+}
+
 impl Scene {
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3

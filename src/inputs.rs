@@ -1,0 +1,57 @@
+//! Every parser of user input, on bytes in memory, as the fuzz targets (fuzz/) and the bounded
+//! stable runs (tests/fuzz_parsers.rs) drive them. Each returns the parser's own Result: an `Err`
+//! is a rejected input (fine); a panic, hang or runaway allocation is a bug.
+
+use crate::assets::LoadedMesh;
+use crate::scene::{MeshDirs, Scene};
+use crate::Result;
+use std::path::Path;
+
+/// A folder that does not exist: mesh files named by fuzzed scenes resolve to nothing.
+const NOWHERE: &str = "/nonexistent/penumbra-inputs";
+
+/// A scene file (mesh files and `cache:` paths resolve in a folder that does not exist).
+pub fn scene_toml(text: &str) -> Result<Scene> {
+    let dirs = MeshDirs { scene_dir: Some(Path::new(NOWHERE)), cache: Some(Path::new(NOWHERE)) };
+    Scene::parse_in(text, "input.toml", dirs, &[])
+}
+
+/// A scene file with `--set` overrides.
+pub fn scene_toml_with(text: &str, overrides: &[(String, String)]) -> Result<Scene> {
+    let dirs = MeshDirs { scene_dir: Some(Path::new(NOWHERE)), cache: Some(Path::new(NOWHERE)) };
+    Scene::parse_in(text, "input.toml", dirs, overrides)
+}
+
+/// A Wavefront OBJ mesh.
+pub fn obj(text: &str) -> Result<usize> {
+    crate::scene::parse_obj(text, "input.obj")
+}
+
+fn in_file<T>(r: std::result::Result<T, crate::assets::Failure>, name: &str) -> Result<T> {
+    r.map_err(|f| f.in_file(Path::new(name)).into())
+}
+
+/// A PLY mesh (ASCII or binary).
+pub fn ply(bytes: &[u8]) -> Result<LoadedMesh> {
+    in_file(crate::assets::parse_ply(bytes), "input.ply")
+}
+
+/// An OFF mesh.
+pub fn off(text: &str) -> Result<LoadedMesh> {
+    in_file(crate::assets::parse_off(text), "input.off")
+}
+
+/// A JS-array mesh module (`positions = [...]`, `cells = [...]`).
+pub fn js_arrays(text: &str) -> Result<LoadedMesh> {
+    in_file(crate::assets::parse_js_arrays(text), "input.js")
+}
+
+/// A sweep spec.
+pub fn sweep_spec(text: &str) -> Result<Vec<String>> {
+    crate::compare::sweep::parse_spec(text, "input.toml")
+}
+
+/// A results.jsonl file.
+pub fn results_jsonl(text: &str) -> Result<usize> {
+    crate::report::results::parse_results(text, Path::new("input.jsonl")).map(|rows| rows.len())
+}
