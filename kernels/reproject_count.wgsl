@@ -2,7 +2,7 @@
 // stored as c + 1 in one byte per pixel (4 per word) of q's comparison map.
 //  main: every pixel x every active quad, from the cached lattice masks (scope = global);
 //  list: the compacted (pixel, quad) items only, testing the corner maps directly (scope = local).
-// At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §5):
+// At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §6):
 // level 0 has one quad, which every geometry pixel meets exactly once.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;

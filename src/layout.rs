@@ -72,7 +72,7 @@ pub struct GpuLevel {
     pub quad_capacity: u32,
     /// compact: grow the scissor rectangles of the children's corner samples.
     pub scissor: u32,
-    /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §5).
+    /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §6).
     pub split_share: f32,
     pub pad0: u32,
     pub pad1: u32,

@@ -11,7 +11,7 @@ use penumbra::methods::AdaptiveParams;
 use penumbra::scene::Scene;
 
 const SEEDS: [u64; 4] = [1, 7, 23, 101];
-/// The seed's pixel threshold, a level-aware share, and the error budget (method.md §5).
+/// The seed's pixel threshold, a level-aware share, and the error budget (method.md §6).
 const CRITERIA: [&str; 4] = ["p_m=0", "p_m=3", "p_share=0.002,growth=4", "tol=0.004"];
 
 fn params(spec: &str) -> AdaptiveParams {

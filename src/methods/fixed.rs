@@ -9,7 +9,7 @@ use crate::render::shadow_raster::{self, RasterJob};
 use crate::timing::StageTimer;
 use crate::Result;
 
-/// Light points (s, t) of the regular N×N grid in `layout` (docs/method.md §6):
+/// Light points (s, t) of the regular N×N grid in `layout` (docs/method.md §7):
 /// - lattice: the corners i/(N-1), edges included, so N = 17 gives exactly the 289 points of §3
 ///   (N = 1 is the centre); the mean over a closed lattice weights the light's boundary too much;
 /// - centred: the cell centres (i+½)/N, the midpoint rule;

@@ -22,7 +22,7 @@ pub enum Scope {
     Local,
 }
 
-/// When a quad is split (docs/method.md §5). Every rule compares the quad's low-quality pixel count
+/// When a quad is split (docs/method.md §6). Every rule compares the quad's low-quality pixel count
 /// with a threshold; they differ in how the threshold is set.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "criterion", rename_all = "lowercase")]
@@ -38,7 +38,7 @@ pub enum Criterion {
 
 /// RMS error of a quad's 4-corner estimate, in units of the quad's share of the light, when a
 /// straight shadow edge crosses it and its corners disagree (measured: 0.199 over 3,000 random
-/// edges; docs/method.md §5).
+/// edges; docs/method.md §6).
 pub const KAPPA: f64 = 0.2;
 
 /// What the split kernel compares at one level (subdivide and its twin).
