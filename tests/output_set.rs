@@ -152,3 +152,14 @@ fn an_interrupted_render_leaves_the_old_set_or_the_new_one() {
     assert!(render(&out, "hard").status.success());
     assert_eq!(names(&root), ["out"]);
 }
+
+#[test]
+fn an_output_name_taken_by_a_folder_is_replaced_with_no_temporary_left() {
+    let out = tmp("name_is_dir").join("out");
+    std::fs::create_dir_all(out.join("visibility.exr/inner")).unwrap();
+    let r = render(&out, "hard");
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(out.join("visibility.exr").is_file());
+    assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
+    assert_eq!(names(out.parent().unwrap()), ["out"]);
+}
