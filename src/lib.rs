@@ -25,5 +25,6 @@ pub mod ground_truth;
 pub mod compare;
 pub mod assets;
 pub mod bench;
+pub mod sequence;
 
 pub use error::{Error, Result};

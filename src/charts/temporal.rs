@@ -1,0 +1,41 @@
+//! Per-frame charts of a sequence: one line per method over the frame index (error, popping,
+//! shadow maps per frame).
+
+use super::scatter::{render, Point, Scatter, Series};
+use super::ChartError;
+
+/// One named line: (frame index, value) points.
+pub struct FrameSeries {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// A line chart over frames on linear axes; non-finite values are left out.
+pub fn per_frame_svg(title: &str, y_desc: &str, series: &[FrameSeries]) -> Result<String, ChartError> {
+    let series: Vec<Series> = series
+        .iter()
+        .map(|s| Series {
+            name: s.name.clone(),
+            points: s
+                .points
+                .iter()
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|&(x, y)| Point { x, y, label: None, x_span: None })
+                .collect(),
+        })
+        .filter(|s| !s.points.is_empty())
+        .collect();
+    if series.is_empty() {
+        return Err(ChartError::NoData("needs at least one finite per-frame value"));
+    }
+    render(&Scatter {
+        title: title.into(),
+        x_desc: "frame".into(),
+        y_desc: y_desc.into(),
+        series,
+        connect: true,
+        front: None,
+        x_log: false,
+        y_log: false,
+    })
+}
