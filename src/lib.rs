@@ -26,5 +26,6 @@ pub mod compare;
 pub mod assets;
 pub mod bench;
 pub mod sequence;
+pub mod failures;
 
 pub use error::{Error, Result};

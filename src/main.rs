@@ -52,6 +52,8 @@ enum Command {
     Assets(AssetsCommand),
     /// N frames with a moving light, camera or mesh: per-frame and temporal error, popping, charts, animations.
     Sequence(penumbra::sequence::cli::SequenceArgs),
+    /// The failure gallery: every failure scene with every method, error maps and one measured sentence each.
+    Failures(penumbra::failures::cli::FailuresArgs),
 }
 
 #[derive(clap::Args)]
@@ -222,7 +224,17 @@ fn run() -> Result<()> {
                 out: cli.out,
                 no_cache: false,
             };
-            compare_methods(&[DEFAULT_METHODS.to_string()], run)
+            let gallery = penumbra::failures::cli::FailuresArgs {
+                methods: Vec::new(),
+                resolution: penumbra::failures::cli::MAIN_JOB_RESOLUTION,
+                frames: penumbra::failures::cli::MAIN_JOB_FRAMES,
+                reference: run.reference.clone(),
+                samples: run.samples,
+                out: run.out.join("failures"),
+                no_cache: false,
+            };
+            let specs = methods_list::split_specs(&[DEFAULT_METHODS.to_string()])?;
+            run_compare_then(&specs, run, Some(gallery))
         }
         Some(Command::Render(args)) => render(args),
         Some(Command::Reference(args)) => reference(args),
@@ -254,6 +266,11 @@ fn run() -> Result<()> {
             print!("{}", penumbra::sequence::report::summary_table(&outcome.summaries));
             println!("results: {}", args.out.join("frames.jsonl").display());
             println!("report:  {}", html.display());
+            Ok(())
+        }
+        Some(Command::Failures(args)) => {
+            let (_, html) = penumbra::failures::cli::run(&args, DEFAULT_METHODS, &|line| eprintln!("{line}"))?;
+            println!("report: {}", html.display());
             Ok(())
         }
     }
@@ -380,8 +397,14 @@ fn compare_methods(values: &[String], run: RunArgs) -> Result<()> {
     run_compare(&specs, run)
 }
 
-/// Everything the user gave is checked before the GPU starts or any file is written.
 fn run_compare(specs: &[String], run: RunArgs) -> Result<()> {
+    run_compare_then(specs, run, None)
+}
+
+/// Everything the user gave is checked before the GPU starts or any file is written. With
+/// `gallery`, the failure gallery runs too and its sections join the report.
+fn run_compare_then(specs: &[String], run: RunArgs, gallery: Option<penumbra::failures::cli::FailuresArgs>) -> Result<()> {
+    let gallery_job = gallery.as_ref().map(|g| g.job(DEFAULT_METHODS)).transpose()?;
     let methods = methods_list::parse_methods(specs)?;
     let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
     let mode = ground_truth::parse_mode(&run.reference, run.samples)?;
@@ -392,7 +415,11 @@ fn run_compare(specs: &[String], run: RunArgs) -> Result<()> {
     let cache = ground_truth::Cache::default_for(run.no_cache);
     let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    let gallery = gallery_job.map(|g| penumbra::failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
     let html = compare::write(&run.out, &outcome)?;
+    if let Some(g) = &gallery {
+        penumbra::failures::cli::attach(&run.out, g)?;
+    }
     print!("{}", compare::table::render(&outcome.rows));
     println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, ground_truth::mode_label(&mode));
     println!("results: {}", run.out.join("results.jsonl").display());

@@ -39,3 +39,18 @@ pub fn per_frame_svg(title: &str, y_desc: &str, series: &[FrameSeries]) -> Resul
         y_log: false,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_line_per_series_and_no_data_is_an_error() {
+        let s = |name: &str, ys: &[f64]| FrameSeries { name: name.into(), points: ys.iter().enumerate().map(|(i, &y)| (i as f64, y)).collect() };
+        let svg = per_frame_svg("Error per frame", "RMSE of V", &[s("hard", &[0.05, 0.06, 0.055]), s("adaptive:p_m=0", &[0.02, f64::NAN, 0.03])]).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("hard") && svg.contains("adaptive:p_m=0") && svg.contains("Error per frame"));
+        // One connecting line per series (plotters writes a polyline per line series).
+        assert_eq!(svg.matches("<polyline").count(), 2, "{svg:.400}");
+        assert!(matches!(per_frame_svg("t", "y", &[s("x", &[f64::NAN])]), Err(ChartError::NoData(_))));
+    }
+}

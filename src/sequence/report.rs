@@ -90,7 +90,7 @@ pub fn pop_sentences(summaries: &[MethodSummary], pixels_per_frame: u64) -> Vec<
         .iter()
         .map(|m| match m.worst_pop_frame {
             Some((frame, pops)) if pops > 0 => format!(
-                "{} pops most in frame {frame}: {pops} of {pixels_per_frame} pixels change by more than 1/32 while the reference changes by less than 1/256 ({} popping pixels over the sequence, {:.3}%).",
+                "{} pops most in frame {frame}: {pops} of {pixels_per_frame} geometry pixels change by more than 1/32 while the reference changes by less than 1/256 ({} popping pixels over the sequence, {:.3}%).",
                 m.label,
                 m.temporal.popping_pixels,
                 100.0 * m.temporal.popping_share
@@ -98,6 +98,31 @@ pub fn pop_sentences(summaries: &[MethodSummary], pixels_per_frame: u64) -> Vec<
             _ => format!("{} never pops: no pixel changes by more than 1/32 where the reference stays within 1/256.", m.label),
         })
         .collect()
+}
+
+/// For a method whose map count changes: the largest jump between two frames, and the pops there.
+pub fn decision_sentence(label: &str, rows: &[FrameRow]) -> Option<String> {
+    let mine: Vec<&FrameRow> = rows.iter().filter(|r| r.label == label).collect();
+    let (a, b) = mine
+        .windows(2)
+        .map(|w| (w[0], w[1]))
+        .max_by(|x, y| x.0.shadow_maps.abs_diff(x.1.shadow_maps).cmp(&y.0.shadow_maps.abs_diff(y.1.shadow_maps)).then(y.1.frame.cmp(&x.1.frame)))?;
+    if a.shadow_maps == b.shadow_maps {
+        return None;
+    }
+    let pops = b.temporal.map_or(0, |t| t.popping_pixels);
+    Some(format!(
+        "{label}'s decision changes most between frames {} and {}: {} → {} shadow maps, and {pops} pixels pop in frame {}.",
+        a.frame, b.frame, a.shadow_maps, b.shadow_maps, b.frame
+    ))
+}
+
+/// Every sentence of a sequence section: pops per method, then each decision's largest jump.
+pub fn sentences(o: &SequenceOutcome) -> Vec<String> {
+    let pixels = o.rows.iter().find_map(|r| r.temporal.map(|t| t.pixels)).unwrap_or(0);
+    let mut out = pop_sentences(&o.summaries, pixels);
+    out.extend(o.summaries.iter().filter_map(|m| decision_sentence(&m.label, &o.rows)));
+    out
 }
 
 fn render(template: &str, name: &str, ctx: &impl Serialize) -> Result<String> {
@@ -126,7 +151,6 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
         })
         .collect();
     let frames = o.summaries.first().map_or(0, |m| m.frames);
-    let pixels = o.rows.iter().find_map(|r| r.temporal.map(|t| t.pixels)).unwrap_or(0);
     let view = SectionView {
         title: &o.title,
         settings: vec![
@@ -150,7 +174,7 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
         rows,
         charts: o.charts.iter().map(|(_, caption, svg)| Figure { caption: caption.clone(), uri: data_uri("image/svg+xml", svg.as_bytes()) }).collect(),
         animations: o.animations.iter().map(|(caption, bytes)| Figure { caption: caption.clone(), uri: data_uri("image/png", bytes) }).collect(),
-        sentences: pop_sentences(&o.summaries, pixels),
+        sentences: sentences(o),
     };
     render(SECTION, "section.html", &view)
 }
@@ -177,13 +201,17 @@ pub fn write_set(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
 /// Inserts sections before `</body>` of a report page written earlier (the main job's report).
 pub fn append_to_page(html: &Path, sections: &[String]) -> Result<()> {
     let text = std::fs::read_to_string(html).map_err(|e| Error::io(html, e))?;
-    let at = text
-        .rfind("</body>")
+    let merged = insert_before_body(&text, sections)
         .ok_or_else(|| Error::Io { path: html.display().to_string(), message: "no </body> to insert the sections before".into() })?;
-    let merged = format!("{}{}\n{}", &text[..at], sections.concat(), &text[at..]);
     let dir = html.parent().unwrap_or(Path::new("."));
     let name = html.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
     write_set(dir, &[(name, merged.into_bytes())])
+}
+
+/// `text` with the sections before its last `</body>`; `None` when it has none.
+pub fn insert_before_body(text: &str, sections: &[String]) -> Option<String> {
+    let at = text.rfind("</body>")?;
+    Some(format!("{}{}\n{}", &text[..at], sections.concat(), &text[at..]))
 }
 
 /// The per-method figures as a plain-text table for the terminal.
@@ -206,4 +234,44 @@ pub fn summary_table(rows: &[MethodSummary]) -> String {
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metrics::Metrics;
+    use crate::sequence::temporal::FramePair;
+
+    fn row(label: &str, frame: u32, maps: u32, pops: u64) -> FrameRow {
+        FrameRow {
+            scene: "s".into(),
+            label: label.into(),
+            method: "adaptive".into(),
+            params: serde_json::json!({}),
+            frame,
+            shadow_maps: maps,
+            total_ms: 1.0,
+            metrics: Metrics::default(),
+            temporal: (frame > 0).then_some(FramePair { popping_pixels: pops, pixels: 100, ..Default::default() }),
+            light_center: [0.0; 3],
+            camera_eye: [0.0; 3],
+        }
+    }
+
+    #[test]
+    fn the_largest_decision_jump_is_named_with_its_pops() {
+        let rows = [row("a", 0, 4, 0), row("a", 1, 4, 0), row("a", 2, 264, 37), row("a", 3, 226, 5), row("b", 0, 9, 0), row("b", 1, 9, 0)];
+        assert_eq!(
+            decision_sentence("a", &rows).unwrap(),
+            "a's decision changes most between frames 1 and 2: 4 → 264 shadow maps, and 37 pixels pop in frame 2."
+        );
+        assert_eq!(decision_sentence("b", &rows), None);
+    }
+
+    #[test]
+    fn sections_go_before_the_last_body_tag() {
+        let page = "<html><body><p>x</p></body></html>";
+        assert_eq!(insert_before_body(page, &["<s>1</s>".into(), "<s>2</s>".into()]).unwrap(), "<html><body><p>x</p><s>1</s><s>2</s>\n</body></html>");
+        assert_eq!(insert_before_body("<html>", &[]), None);
+    }
 }
