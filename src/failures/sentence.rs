@@ -48,14 +48,30 @@ impl Default for Framing {
 /// the geometry); regular:n=17 is off by more than 1/32 in 12." The subject is the candidate with
 /// the most pixels off by more than 1/32; its larger side (too bright or too dark) is stated.
 pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
-    let candidates = figures.iter().filter(|f| match framing.subject {
-        Some(name) => f.method == name,
-        None => f.method != "hard",
-    });
-    let subject = candidates.max_by(|a, b| a.off().cmp(&b.off()).then(b.rmse.total_cmp(&a.rmse)));
+    let candidates: Vec<&Figures> = figures
+        .iter()
+        .filter(|f| match framing.subject {
+            Some(name) => f.method == name,
+            None => f.method != "hard",
+        })
+        .collect();
+    // The first of the worst (list order), so ties name the earlier method.
+    let mut subject: Option<&Figures> = None;
+    for f in &candidates {
+        if subject.is_none_or(|s| f.off() > s.off() || (f.off() == s.off() && f.rmse > s.rmse)) {
+            subject = Some(f);
+        }
+    }
     let Some(s) = subject.or_else(|| figures.first()) else {
         return "No method was measured.".into();
     };
+    // Candidates with the very same counts fail the same way: name them with the subject.
+    let same: Vec<&str> = candidates
+        .iter()
+        .filter(|f| f.label != s.label && f.bright == s.bright && f.dark == s.dark)
+        .map(|f| f.label.as_str())
+        .collect();
+    let who = if same.is_empty() { s.label.clone() } else { format!("{} (likewise {})", s.label, same.join(", ")) };
     if s.off() == 0 {
         return format!(
             "{} stays within 1/32 of the reference at every pixel here (RMSE {:.4}): the failure does not show at this resolution.",
@@ -68,8 +84,8 @@ pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
         (framing.dark, s.dark, s.dark_v, s.dark_ref)
     };
     let pct = if s.pixels == 0 { 0.0 } else { 100.0 * n as f64 / s.pixels as f64 };
-    let mut text = format!("{} {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels ({pct:.1}% of the geometry)", s.label);
-    let best = figures.iter().filter(|f| f.label != s.label).min_by(|a, b| a.off().cmp(&b.off()).then(a.rmse.total_cmp(&b.rmse)));
+    let mut text = format!("{who} {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels ({pct:.1}% of the geometry)");
+    let best = figures.iter().filter(|f| f.label != s.label && !same.contains(&f.label.as_str())).min_by(|a, b| a.off().cmp(&b.off()).then(a.rmse.total_cmp(&b.rmse)));
     if let Some(b) = best {
         text += &format!("; {} is off by more than 1/32 in {} pixels", b.label, b.off());
     }
@@ -100,7 +116,12 @@ mod tests {
     fn the_subject_method_too_bright() {
         let framing = Framing { subject: Some("adaptive"), bright: "misses the pole", dark: "is too dark" };
         // hard is worse, but the framing asks about the adaptive methods; of those, the worse one.
-        let figs = [fig("hard", "hard", 500, 400), fig("regular:n=17", "regular", 3, 9), fig("adaptive:p_m=0", "adaptive", 241, 2), fig("adaptive:scope=local", "adaptive", 100, 0)];
+        let figs = [
+            fig("hard", "hard", 500, 400),
+            fig("regular:n=17", "regular", 3, 9),
+            fig("adaptive:p_m=0", "adaptive", 241, 2),
+            fig("adaptive:scope=local", "adaptive", 100, 0),
+        ];
         assert_eq!(
             sentence(&framing, &figs),
             "adaptive:p_m=0 misses the pole: V = 1.00 where the reference is 0.72 in 241 pixels (24.1% of the geometry); \
@@ -116,6 +137,17 @@ mod tests {
             sentence(&framing, &figs),
             "regular:n=5 shows acne on the ground: V = 0.25 where the reference is 0.90 in 300 pixels (30.0% of the geometry); \
              adaptive:p_m=0 is off by more than 1/32 in 125 pixels."
+        );
+    }
+
+    #[test]
+    fn methods_that_fail_identically_are_named_together() {
+        let framing = Framing { dark: "shows acne on the lit ground", ..Framing::default() };
+        let figs = [fig("hard", "hard", 0, 900), fig("regular:n=17", "regular", 2, 300), fig("adaptive:p_m=0", "adaptive", 2, 300), fig("local", "adaptive", 1, 40)];
+        assert_eq!(
+            sentence(&framing, &figs),
+            "regular:n=17 (likewise adaptive:p_m=0) shows acne on the lit ground: V = 0.25 where the reference is 0.90 in 300 pixels \
+             (30.0% of the geometry); local is off by more than 1/32 in 41 pixels."
         );
     }
 
