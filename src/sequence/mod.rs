@@ -79,6 +79,7 @@ pub struct MethodSummary {
 }
 
 pub struct SequenceOutcome {
+    pub scene: String,
     pub title: String,
     pub description: String,
     pub resolution: [u32; 2],
@@ -174,6 +175,7 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     let description = job.animation.describe(scene);
     let adapter = format!("{} ({})", ctx.summary.name, ctx.summary.backend);
     let mut outcome = SequenceOutcome {
+        scene: scene.name.clone(),
         title: format!("Temporal sequence: {}, {description}, {} frames at {w}x{h}", scene.name, job.frames),
         description,
         resolution: [w, h],
@@ -309,7 +311,8 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
 /// Writes every file, then `report.html`; returns its path.
 pub fn write(out: &std::path::Path, o: &SequenceOutcome) -> Result<std::path::PathBuf> {
     let mut files = o.files.clone();
-    files.push(("report.html".to_string(), report::page(&o.title, &[report::section(o)?])?.into_bytes()));
+    let title = format!("Penumbra: temporal sequence on {}", o.scene);
+    files.push(("report.html".to_string(), report::page(&title, &[report::section(o)?])?.into_bytes()));
     report::write_set(out, &files)?;
     Ok(out.join("report.html"))
 }
