@@ -179,10 +179,10 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
 /// The popping sequence is about the adaptive decision: the adaptive methods, and the regular grid
 /// with the most samples as the steady comparison (the others would only add time to the main job).
 pub fn popping_methods(methods: &[Method]) -> Vec<Method> {
-    let densest = methods.iter().filter_map(|m| if let Method::Regular { n } = m { Some(*n) } else { None }).max();
+    let densest = methods.iter().filter_map(|m| if let Method::Regular { n, .. } = m { Some(*n) } else { None }).max();
     let keep: Vec<Method> = methods
         .iter()
-        .filter(|m| matches!(m, Method::Adaptive(_)) || matches!(m, Method::Regular { n } if Some(*n) == densest))
+        .filter(|m| matches!(m, Method::Adaptive(_)) || matches!(m, Method::Regular { n, .. } if Some(*n) == densest))
         .cloned()
         .collect();
     if keep.is_empty() { methods.to_vec() } else { keep }
