@@ -85,10 +85,15 @@ pub struct Gallery {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-/// The scene of a scenario at the gallery's resolution.
+/// The scene of a scenario at the gallery's resolution. The shadow map shrinks with the image (the
+/// scene's map-to-image ratio is kept), so texels cover as much of the screen as at full size.
 pub fn scene(s: &Scenario, resolution: u32) -> Result<Scene> {
-    let r = resolution.to_string();
-    Scene::parse(s.text, &format!("{}.toml", s.name), None, &[("width".into(), r.clone()), ("height".into(), r)])
+    let origin = format!("{}.toml", s.name);
+    let full = Scene::parse(s.text, &origin, None, &[])?;
+    let ratio = f64::from(full.render.shadow_map_size) / f64::from(full.render.width.max(full.render.height));
+    let map = ((f64::from(resolution) * ratio).round() as u32).max(16);
+    let set = |k: &str, v: u32| (k.to_string(), v.to_string());
+    Scene::parse(s.text, &origin, None, &[set("width", resolution), set("height", resolution), set("shadow_map_size", map)])
 }
 
 /// Pixels off by more than 1/32 on either side, with the mean V and reference there.
