@@ -27,6 +27,9 @@ impl Figures {
     }
 }
 
+/// The smaller side (too bright or too dark) is stated too from this share of the geometry, in %.
+pub const MINOR_SIDE_PERCENT: f64 = 0.5;
+
 /// Which method a scene's sentence is about, and how its failure reads.
 #[derive(Debug, Clone, Copy)]
 pub struct Framing {
@@ -45,8 +48,9 @@ impl Default for Framing {
 }
 
 /// "adaptive:p_m=0 misses the pole: V = 1.00 where the reference is 0.72 in 2301 pixels (24.1% of
-/// the geometry); regular:n=17 is off by more than 1/32 in 12." The subject is the candidate with
-/// the most pixels off by more than 1/32; its larger side (too bright or too dark) is stated.
+/// the geometry); regular:n=17 is off by more than 1/32 in 12 pixels." The subject is the candidate
+/// with the most pixels off by more than 1/32; its larger side (too bright or too dark) is stated,
+/// and the other side when it covers at least `MINOR_SIDE_PERCENT` of the geometry.
 pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
     let candidates: Vec<&Figures> = figures
         .iter()
@@ -78,13 +82,20 @@ pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
             s.label, s.rmse
         );
     }
-    let (phrase, n, v, r) = if s.bright >= s.dark {
-        (framing.bright, s.bright, s.bright_v, s.bright_ref)
-    } else {
-        (framing.dark, s.dark, s.dark_v, s.dark_ref)
-    };
-    let pct = if s.pixels == 0 { 0.0 } else { 100.0 * n as f64 / s.pixels as f64 };
-    let mut text = format!("{who} {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels ({pct:.1}% of the geometry)");
+    let bright = (framing.bright, s.bright, s.bright_v, s.bright_ref);
+    let dark = (framing.dark, s.dark, s.dark_v, s.dark_ref);
+    let (main, other) = if s.bright >= s.dark { (bright, dark) } else { (dark, bright) };
+    let share = |n: u64| if s.pixels == 0 { 0.0 } else { 100.0 * n as f64 / s.pixels as f64 };
+    let (phrase, n, v, r) = main;
+    let mut text = format!(
+        "{who} {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels ({:.1}% of the geometry)",
+        share(n)
+    );
+    // The other side too, when it is no stray handful.
+    let (phrase, n, v, r) = other;
+    if share(n) >= MINOR_SIDE_PERCENT {
+        text += &format!(", and {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels");
+    }
     let best = figures.iter().filter(|f| f.label != s.label && !same.contains(&f.label.as_str())).min_by(|a, b| a.off().cmp(&b.off()).then(a.rmse.total_cmp(&b.rmse)));
     if let Some(b) = best {
         text += &format!("; {} is off by more than 1/32 in {} pixels", b.label, b.off());
@@ -135,8 +146,8 @@ mod tests {
         let figs = [fig("hard", "hard", 0, 900), fig("regular:n=5", "regular", 10, 300), fig("adaptive:p_m=0", "adaptive", 5, 120)];
         assert_eq!(
             sentence(&framing, &figs),
-            "regular:n=5 shows acne on the ground: V = 0.25 where the reference is 0.90 in 300 pixels (30.0% of the geometry); \
-             adaptive:p_m=0 is off by more than 1/32 in 125 pixels."
+            "regular:n=5 shows acne on the ground: V = 0.25 where the reference is 0.90 in 300 pixels (30.0% of the geometry), \
+             and is too bright: V = 1.00 where the reference is 0.72 in 10 pixels; adaptive:p_m=0 is off by more than 1/32 in 125 pixels."
         );
     }
 
