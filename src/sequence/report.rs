@@ -16,6 +16,15 @@ pub fn data_uri(mime: &str, bytes: &[u8]) -> String {
     format!("data:{mime};base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
 }
 
+/// A CSV field, quoted as in results.csv when it holds a comma or a quote.
+fn field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
 pub fn frames_csv(rows: &[FrameRow]) -> String {
     let mut s = String::from(
         "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels\n",
@@ -25,8 +34,8 @@ pub fn frames_csv(rows: &[FrameRow]) -> String {
         let opt = |v: Option<String>| v.unwrap_or_default();
         s += &format!(
             "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{}\n",
-            r.scene,
-            r.label.replace(',', ";"),
+            field(&r.scene),
+            field(&r.label),
             r.frame,
             r.shadow_maps,
             r.total_ms,
@@ -51,7 +60,7 @@ pub fn summary_csv(rows: &[MethodSummary]) -> String {
     for m in rows {
         s += &format!(
             "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3}\n",
-            m.label.replace(',', ";"),
+            field(&m.label),
             m.frames,
             m.mean_rmse,
             m.mean_bad_pixel_share,
