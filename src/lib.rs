@@ -20,9 +20,12 @@ pub mod progress;
 pub mod reference;
 pub mod metrics;
 pub mod charts;
+pub mod record;
 pub mod report;
 pub mod ground_truth;
 pub mod compare;
+pub mod shard;
+pub mod check;
 pub mod assets;
 pub mod bench;
 
