@@ -153,7 +153,7 @@ fn render_inner(
     }
     let prepared = match method {
         Method::Hard => Prepared::Fixed(methods::fixed::prepare(&fg, &[(0.5, 0.5)])?),
-        Method::Regular { n } => Prepared::Fixed(methods::fixed::prepare(&fg, &methods::fixed::regular_points(*n))?),
+        Method::Regular { n, layout } => Prepared::Fixed(methods::fixed::prepare(&fg, &methods::fixed::regular_points(*n, *layout))?),
         Method::Adaptive(p) => Prepared::Adaptive(p.clone(), methods::adaptive::prepare(&fg, p)?),
     };
     ctx.wait()?;

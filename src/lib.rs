@@ -26,6 +26,7 @@ pub mod ground_truth;
 pub mod compare;
 pub mod shard;
 pub mod check;
+pub mod framing;
 pub mod assets;
 pub mod bench;
 

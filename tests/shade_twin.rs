@@ -10,7 +10,7 @@ use penumbra::scene::Scene;
 #[test]
 fn shade_equals_its_cpu_twin() {
     let ctx = common::gpu();
-    for (seed, method, budget) in [(3u64, Method::Hard, "64"), (11, Method::Regular { n: 4 }, "64"), (29, Method::Regular { n: 5 }, "1")] {
+    for (seed, method, budget) in [(3u64, Method::Hard, "64"), (11, Method::regular(4), "64"), (29, Method::regular(5), "1")] {
         let sc = Scene::parse(
             &common::random_scene_toml(seed, 48, 128),
             "random",

@@ -40,6 +40,8 @@ pub struct CompareJob<'a> {
 pub struct CompareOutcome {
     pub rows: Vec<ResultRow>,
     pub reference: ReferenceImage,
+    /// Which pixels hold geometry (the metrics' mask).
+    pub geometry: Vec<bool>,
     /// Every output file but the report: (path relative to the output folder, bytes).
     pub files: Vec<(String, Vec<u8>)>,
 }
@@ -123,7 +125,8 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         rows.push(row);
     }
     files.extend(record::result_files(&rows)?);
-    Ok(CompareOutcome { rows, reference, files })
+    let geometry = judge.mask.clone();
+    Ok(CompareOutcome { rows, reference, geometry, files })
 }
 
 /// The reference's one-line summary (also printed by `penumbra reference`).

@@ -5,6 +5,7 @@ pub mod buffers;
 pub mod compact;
 pub mod kernel;
 pub mod neighbourhood;
+pub mod probe;
 pub mod quad_count;
 pub mod reproject_count;
 pub mod shade;
@@ -39,4 +40,6 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("compact", "seed", PIXEL_WORKGROUP),
     ("compact", "resolve", PIXEL_WORKGROUP),
     ("compact", "begin", [1, 1, 1]),
+    ("probe", "main", LINE_WORKGROUP),
+    ("probe", "begin", [1, 1, 1]),
 ];

@@ -5,7 +5,8 @@ pub mod adaptive;
 pub mod fixed;
 pub mod params;
 
-pub use params::{AdaptiveParams, Scope, Weights};
+pub use fixed::Layout;
+pub use params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 
 use crate::{Error, Result};
 use std::collections::BTreeMap;
@@ -14,14 +15,14 @@ use std::collections::BTreeMap;
 pub enum Method {
     /// One shadow map from the light's centre.
     Hard,
-    /// N×N grid of samples over the light (cell centres... no: lattice corners, see `fixed::regular_points`).
-    Regular { n: u32 },
+    /// N×N grid of samples over the light, in one of three layouts (`fixed::regular_points`).
+    Regular { n: u32, layout: Layout },
     /// Adaptive light-source sampling (seed 000), with this project's extensions.
     Adaptive(AdaptiveParams),
 }
 
 pub const METHOD_NAMES: &[&str] = &["hard", "regular", "adaptive"];
-pub const METHOD_KEYS: &[&str] = &["n", "p_m", "max_level", "weights", "scope", "scissor"];
+pub const METHOD_KEYS: &[&str] = &["n", "layout", "preset", "p_m", "p_share", "growth", "tol", "max_level", "weights", "scope", "scissor"];
 
 impl Method {
     /// `name` or `name:key=value,key=value`, plus `--set` pairs whose keys are method parameters.
@@ -42,8 +43,8 @@ impl Method {
         }
         let allowed: &[&str] = match name {
             "hard" => &[],
-            "regular" => &["n"],
-            "adaptive" => &["p_m", "max_level", "weights", "scope", "scissor"],
+            "regular" => &["n", "layout"],
+            "adaptive" => &["preset", "p_m", "p_share", "growth", "tol", "max_level", "weights", "scope", "scissor"],
             _ => {
                 return Err(Error::Param(format!("unknown method `{name}` (known: {})", METHOD_NAMES.join(", "))));
             }
@@ -61,10 +62,21 @@ impl Method {
                 if n == 0 || n > 128 {
                     return Err(Error::Param(format!("regular: n must be in 1..=128, got {n}")));
                 }
-                Method::Regular { n }
+                let layout = match params.get("layout").map(String::as_str) {
+                    None | Some("lattice") => Layout::Lattice,
+                    Some("centred") | Some("centered") => Layout::Centred,
+                    Some("jittered") => Layout::Jittered,
+                    Some(v) => return Err(Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
+                };
+                Method::Regular { n, layout }
             }
             _ => Method::Adaptive(AdaptiveParams::from_map(&params)?),
         })
+    }
+
+    /// Today's regular grid: the N×N lattice, corners included.
+    pub fn regular(n: u32) -> Method {
+        Method::Regular { n, layout: Layout::Lattice }
     }
 
     pub fn name(&self) -> &'static str {
@@ -79,7 +91,7 @@ impl Method {
     pub fn params_json(&self) -> serde_json::Value {
         match self {
             Method::Hard => serde_json::json!({}),
-            Method::Regular { n } => serde_json::json!({ "n": n }),
+            Method::Regular { n, layout } => serde_json::json!({ "n": n, "layout": layout }),
             Method::Adaptive(p) => serde_json::to_value(p).unwrap_or_default(),
         }
     }
@@ -88,7 +100,9 @@ impl Method {
     pub fn label(&self) -> String {
         match self {
             Method::Hard => "hard".into(),
-            Method::Regular { n } => format!("regular:n={n}"),
+            Method::Regular { n, layout: Layout::Lattice } => format!("regular:n={n}"),
+            Method::Regular { n, layout: Layout::Centred } => format!("regular:n={n},layout=centred"),
+            Method::Regular { n, layout: Layout::Jittered } => format!("regular:n={n},layout=jittered"),
             Method::Adaptive(p) => p.label(),
         }
     }
