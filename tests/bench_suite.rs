@@ -52,7 +52,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     let dir = temp_dir("bench_suite");
     let scenes = dir.join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
-    for name in ["bunny", "grove", "cows", "teapot"] {
+    for name in ["bunny", "bunny-seed-framing", "grove", "cows", "teapot"] {
         std::fs::write(scenes.join(format!("{name}.toml")), STAND_IN).unwrap();
     }
     let out = dir.join("out");
@@ -89,7 +89,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     // One schema with compare: the record layer's rows, provenance included.
     let lines: Vec<serde_json::Value> =
         std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    assert_eq!(lines.len(), 8);
+    assert_eq!(lines.len(), 10);
     for l in &lines {
         assert_eq!(l["total_ms_runs"].as_array().unwrap().len(), 2, "{l}");
         let (rmse, flip) = (l["metrics"]["rmse"].as_f64().unwrap(), l["metrics"]["flip_mean"].as_f64().unwrap());
@@ -121,7 +121,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let md = std::fs::read_to_string(both.join("report.md")).unwrap();
     assert!(md.contains("regular:n=3") && md.contains("adaptive:p_m=0") && md.contains("| produced by | compare; bench seed-table2 |"), "{md}");
-    assert!(md.contains("| rows | 10 |"), "2 compare rows and 8 bench rows: {md}");
+    assert!(md.contains("| rows | 12 |"), "2 compare rows and 10 bench rows: {md}");
 }
 
 #[test]
@@ -129,7 +129,7 @@ fn bench_input_errors_are_one_line_and_write_nothing() {
     let dir = temp_dir("bench_errors");
     let out = dir.join("out");
     for (args, expected) in [
-        (vec!["--only", "horse"], "error: bench: `horse` is not a seed-table2 scene (known: bunny, grove, cows, teapot)"),
+        (vec!["--only", "horse"], "error: bench: `horse` is not a seed-table2 scene (known: bunny, bunny-seed-framing, grove, cows, teapot)"),
         (vec!["--scenes", "/nonexistent-scenes"], "error: /nonexistent-scenes/bunny.toml: no such scene file"),
         (vec!["--repeats", "0"], "error: bench: --repeats must be at least 1"),
     ] {
