@@ -49,7 +49,11 @@ host=$(hostname -s)
 cpus=$(nproc)
 mem=$(awk '/MemTotal/ { print int($2 / 1024 * 0.9) }' /proc/meminfo)
 conf=/etc/slurm/slurm.conf
-if ! grep -q "penumbra-local" "$conf" 2>/dev/null; then
+if [ -e "$conf" ] && ! grep -q "penumbra-local" "$conf"; then
+    echo "$conf exists and was not written by this script: run it on a disposable machine, not a configured cluster" >&2
+    exit 1
+fi
+if [ ! -e "$conf" ]; then
     as_root mkdir -p /etc/slurm /var/spool/slurmctld /var/spool/slurmd /var/log/slurm
     as_root tee "$conf" >/dev/null <<CONF
 # penumbra-local: written by scripts/slurm-local-test.sh

@@ -152,21 +152,43 @@ fn concurrent_shards_on_a_cold_cache_trace_the_reference_once() {
     drop(common::gpu());
     let (dir, scene, spec) = setup("shards_concurrent");
     let cache = dir.join("cache");
-    // A slow enough trace (96x96 samples per pixel) that the two processes overlap.
+    // The reference's cache key, from a run on a cache of its own.
+    let probe = dir.join("probe");
+    ok(cmd(&dir.join("probe-cache"), &["reference", "--scene", &scene, "--out", probe.to_str().unwrap()]).output().unwrap(), "reference");
+    let record: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(probe.join("reference.json")).unwrap()).unwrap();
+    let key = record["key"].as_str().unwrap().to_string();
+    // Hold the entry's lock from this (live) process, so both shards provably start on the cold
+    // cache at once and wait together; then let them race for it.
+    let refs = cache.join("reference");
+    std::fs::create_dir_all(&refs).unwrap();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let lock = refs.join(format!("{key}.lock"));
+    std::fs::write(&lock, format!("{} {}\n", std::process::id(), host.trim())).unwrap();
     let start = |i: u32| {
         let out = dir.join(format!("shard{i}"));
-        let args = ["sweep", "--spec", &spec, "--scene", &scene, "--repeats", "1", "--samples", "96", "--shard", &format!("{i}/2"), "--out", out.to_str().unwrap()];
-        cmd(&cache, &args).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped()).spawn().unwrap()
+        let log = std::fs::File::create(dir.join(format!("shard{i}.log"))).unwrap();
+        let args = ["sweep", "--spec", &spec, "--scene", &scene, "--repeats", "1", "--shard", &format!("{i}/2"), "--out", out.to_str().unwrap()];
+        cmd(&cache, &args).stdout(std::process::Stdio::null()).stderr(log).spawn().unwrap()
     };
-    let (a, b) = (start(0), start(1));
-    let (a, b) = (ok(a.wait_with_output().unwrap(), "shard 0/2"), ok(b.wait_with_output().unwrap(), "shard 1/2"));
+    let (mut a, mut b) = (start(0), start(1));
+    let log = |i: u32| std::fs::read_to_string(dir.join(format!("shard{i}.log"))).unwrap_or_default();
+    let waiting = |i: u32| log(i).contains("reference: waiting for");
+    let t = std::time::Instant::now();
+    while !(waiting(0) && waiting(1)) {
+        assert!(t.elapsed().as_secs() < 120, "both shards should wait for the held lock:\n{}\n{}", log(0), log(1));
+        assert!(a.try_wait().unwrap().is_none() && b.try_wait().unwrap().is_none(), "a shard ended while the lock was held:\n{}\n{}", log(0), log(1));
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    std::fs::remove_file(&lock).unwrap();
+    let (sa, sb) = (a.wait().unwrap(), b.wait().unwrap());
+    assert!(sa.success() && sb.success(), "{}\n{}", log(0), log(1));
     let traced: Vec<bool> = (0..2)
         .map(|i| {
             let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(format!("shard{i}/reference.json"))).unwrap()).unwrap();
             !r["cached"].as_bool().unwrap()
         })
         .collect();
-    let logs = format!("{}\n{}", String::from_utf8_lossy(&a.stderr), String::from_utf8_lossy(&b.stderr));
+    let logs = format!("{}\n{}", log(0), log(1));
     assert_eq!(traced.iter().filter(|t| **t).count(), 1, "exactly one shard traces: {traced:?}\n{logs}");
     let files: Vec<String> = std::fs::read_dir(cache.join("reference")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert_eq!(files.len(), 1, "one cache file, no lock or temporary left: {files:?}");
@@ -181,7 +203,7 @@ fn concurrent_shards_on_a_cold_cache_trace_the_reference_once() {
 
     // `--jobs 2` runs the same two shards as local processes and merges them.
     let jobs = dir.join("jobs");
-    ok(cmd(&cache, &["sweep", "--spec", &spec, "--scene", &scene, "--repeats", "1", "--samples", "96", "--jobs", "2", "--out", jobs.to_str().unwrap()]).output().unwrap(), "--jobs 2");
+    ok(cmd(&cache, &["sweep", "--spec", &spec, "--scene", &scene, "--repeats", "1", "--jobs", "2", "--out", jobs.to_str().unwrap()]).output().unwrap(), "--jobs 2");
     let merged = rows(&jobs);
     assert_eq!(merged.len(), 6);
     let labels: Vec<&str> = merged.iter().map(|r| r["label"].as_str().unwrap()).collect();
