@@ -569,10 +569,16 @@ fn merge(args: MergeArgs) -> Result<()> {
 
 fn check(args: CheckArgs) -> Result<()> {
     let max = penumbra::check::parse_max(&args.max)?;
-    let rows = |p: &std::path::Path| -> Result<Vec<penumbra::record::ResultRow>> {
-        Ok(penumbra::report::results::read_results(p)?.into_iter().map(|l| l.row).collect())
+    let rows = |p: &std::path::Path, which: &str| -> Result<Vec<penumbra::record::ResultRow>> {
+        match penumbra::report::results::read_results(p) {
+            Ok(rows) => Ok(rows.into_iter().map(|l| l.row).collect()),
+            Err(penumbra::Error::Report(penumbra::report::ReportError::Results { path, message })) => {
+                anyhow::bail!("check: {which} {}: {message}", path.display())
+            }
+            Err(e) => Err(e.into()),
+        }
     };
-    let (old, new) = (rows(&args.baseline)?, rows(&args.results)?);
+    let (old, new) = (rows(&args.baseline, "--baseline")?, rows(&args.results, "results")?);
     let outcome = penumbra::check::check(&old, &new, &max);
     print!("{}", penumbra::check::render(&outcome));
     if outcome.regressions > 0 {

@@ -118,8 +118,9 @@ fn check_input_errors_are_one_line() {
     std::fs::write(&bad, "not json\n").unwrap();
     let g = good.to_str().unwrap();
     for (args, expected) in [
-        (vec!["check", "--baseline", "/nonexistent/results.jsonl", g], "error: report: /nonexistent/results.jsonl: cannot read results file"),
-        (vec!["check", "--baseline", bad.to_str().unwrap(), g], "line 1: not a result row"),
+        (vec!["check", "--baseline", "/nonexistent/results.jsonl", g], "error: check: --baseline /nonexistent/results.jsonl: cannot read results file"),
+        (vec!["check", "--baseline", bad.to_str().unwrap(), g], "bad.jsonl: line 1: not a result row"),
+        (vec!["check", "--baseline", g, "/nonexistent/new.jsonl"], "error: check: results /nonexistent/new.jsonl: cannot read results file"),
         (vec!["check", "--baseline", g, g, "--max", "time=10"], ""),
         (vec!["check", "--baseline", g, g, "--max", "speed=+1%"], "error: --max `speed=+1%`: unknown metric `speed`"),
         (vec!["check", "--baseline", g, g, "--max", "time=-5%"], "error: --max `time=-5%`: time gets worse upwards; write time=+5%"),
