@@ -12,7 +12,8 @@ pub mod report;
 pub mod temporal;
 
 use crate::charts::{self, svg_to_png, FrameSeries};
-use crate::compare::{measure::median, ERROR_SCALE};
+use crate::compare::ERROR_SCALE;
+use crate::record::measure::median;
 use crate::frame::{self, FrameOptions};
 use crate::ground_truth::{self, Cache};
 use crate::gpu::GpuContext;
