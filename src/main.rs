@@ -9,7 +9,7 @@ use penumbra::compare::{self, methods_list, sweep, CompareJob};
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
 use penumbra::ground_truth;
-use penumbra::methods::{Method, METHOD_KEYS};
+use penumbra::methods::{self, Method};
 use penumbra::output;
 use penumbra::scene::{Scene, BUILTIN_SCENES};
 use penumbra::timing::TimingMode;
@@ -35,6 +35,8 @@ enum Command {
     Render(RenderArgs),
     /// List the built-in scenes.
     Scenes,
+    /// List every method with its parameters, defaults and what it does.
+    Methods,
     /// Print the adapter and the limits in use.
     Info,
     /// Ray-trace the ground truth from the G-buffer on the CPU (cached); writes reference.exr/.png.
@@ -234,6 +236,10 @@ fn run() -> Result<()> {
             println!("report: {}", html.display());
             Ok(())
         }
+        Some(Command::Methods) => {
+            print!("{}", methods::describe());
+            Ok(())
+        }
         Some(Command::Scenes) => {
             for (name, about, _) in BUILTIN_SCENES {
                 println!("{name:18} {about}");
@@ -300,7 +306,7 @@ fn split_sets(sets: &[String]) -> Result<(Vec<(String, String)>, Vec<(String, St
     for s in sets {
         let (k, v) = s.split_once('=').with_context(|| format!("--set {s}: expected KEY=VALUE"))?;
         let pair = (k.trim().to_string(), v.trim().to_string());
-        if METHOD_KEYS.contains(&pair.0.as_str()) {
+        if methods::is_method_key(&pair.0) {
             method.push(pair);
         } else {
             render.push(pair);

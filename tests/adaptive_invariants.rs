@@ -17,7 +17,7 @@ fn run(scene: &Scene, method: &Method) -> FrameResult {
 }
 
 fn adaptive(p: AdaptiveParams) -> Method {
-    Method::Adaptive(p)
+    Method::adaptive(p)
 }
 
 fn rmse(a: &FrameResult, b: &FrameResult) -> f64 {
@@ -66,7 +66,7 @@ fn unoccluded_scene_needs_four_maps_and_flags_nothing() {
     let ctx = common::gpu();
     let scene = Scene::parse(UNOCCLUDED, "unoccluded", None, &[]).unwrap();
     for scope in [Scope::Global, Scope::Local] {
-        let (r, t) = frame::render_traced(&ctx, &scene, &AdaptiveParams { scope, ..Default::default() }, false).unwrap();
+        let (r, t) = common::traced(&ctx, &scene, &AdaptiveParams { scope, ..Default::default() }, false);
         assert_eq!(r.output.shadow_maps, 4, "{scope:?}");
         let flagged: u32 = t.levels.iter().flat_map(|l| &l.low_quality).sum();
         assert_eq!(flagged, 0, "{scope:?}: low-quality pixels in an unoccluded scene");
@@ -79,7 +79,7 @@ fn unoccluded_scene_needs_four_maps_and_flags_nothing() {
 #[test]
 fn always_split_equals_the_regular_17_grid() {
     let scene = small("default", &[]);
-    let reg = run(&scene, &Method::Regular { n: 17 });
+    let reg = run(&scene, &Method::regular(17));
     for scope in [Scope::Global] {
         let a = run(&scene, &adaptive(AdaptiveParams { p_m: -1.0, scope, ..Default::default() }));
         assert_eq!(a.output.shadow_maps, 289);
@@ -100,7 +100,7 @@ fn weights_sum_to_one_and_visibility_stays_in_range() {
     for weights in [Weights::Level, Weights::Area] {
         for p_m in [0.0, 20.0] {
             let p = AdaptiveParams { p_m, weights, ..Default::default() };
-            let (r, t) = frame::render_traced(&ctx, &scene, &p, false).unwrap();
+            let (r, t) = common::traced(&ctx, &scene, &p, false);
             let sum: f64 = t.weights.iter().map(|&w| w as f64).sum();
             assert!((sum - 1.0).abs() < 1e-6, "{weights:?} p_m {p_m}: Σŵ = {sum}");
             let nonzero = t.weights.iter().filter(|&&w| w > 0.0).count();
@@ -116,7 +116,7 @@ fn weights_sum_to_one_and_visibility_stays_in_range() {
 fn default_scene_uses_fewer_maps_and_stays_close_to_regular_17() {
     // The seed's settings (512x512 screen, 512² maps): the criterion counts pixels, so it depends on resolution.
     let scene = Scene::load("default", &[]).unwrap();
-    let reg = run(&scene, &Method::Regular { n: 17 });
+    let reg = run(&scene, &Method::regular(17));
     let a = run(&scene, &adaptive(AdaptiveParams::default()));
     let l = run(&scene, &adaptive(AdaptiveParams { scope: Scope::Local, ..Default::default() }));
     let (ea, el) = (rmse(&a, &reg), rmse(&l, &reg));
@@ -146,12 +146,12 @@ fn maps_beyond_the_memory_budget_are_processed_in_chunks_with_the_same_result() 
     // 256² maps are 0.25 MiB: a 2 MiB budget holds 8 maps per array.
     let full = small("default", &[]);
     let tight = small("default", &[("shadow_map_budget_mib", "2")]);
-    for method in [Method::Regular { n: 17 }, adaptive(AdaptiveParams { p_m: -1.0, ..Default::default() }), adaptive(AdaptiveParams::default())] {
+    for method in [Method::regular(17), adaptive(AdaptiveParams { p_m: -1.0, ..Default::default() }), adaptive(AdaptiveParams::default())] {
         let a = run(&full, &method);
         let b = run(&tight, &method);
         assert_eq!(a.output.shadow_maps, b.output.shadow_maps);
         assert_eq!(a.visibility, b.visibility, "{method:?}: chunked result differs");
-        if let Method::Regular { .. } = method {
+        if method.name() == "regular" {
             assert_eq!(b.output.record["maps_per_chunk"], 8);
             assert_eq!(b.output.record["chunks"], 37);
         }

@@ -6,7 +6,7 @@
 
 mod common;
 use penumbra::compute::twin::{self, neighbourhood::Screen, subdivide::SplitRule};
-use penumbra::frame::{self, frame_uniform};
+use penumbra::frame::frame_uniform;
 use penumbra::methods::{AdaptiveParams, Scope};
 use penumbra::scene::Scene;
 
@@ -39,7 +39,7 @@ fn global_stages_equal_their_cpu_twins() {
         for p_m in [0.0, 3.0] {
             let sc = scene(seed);
             let p = AdaptiveParams { p_m, ..Default::default() };
-            let (r, t) = frame::render_traced(&ctx, &sc, &p, true).unwrap();
+            let (r, t) = common::traced(&ctx, &sc, &p, true);
             let g = &r.gbuffer;
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
@@ -92,7 +92,7 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
     for seed in SEEDS {
         let sc = scene(seed);
         let p = AdaptiveParams { scope: Scope::Local, ..Default::default() };
-        let (r, t) = frame::render_traced(&ctx, &sc, &p, true).unwrap();
+        let (r, t) = common::traced(&ctx, &sc, &p, true);
         let fr = frame_uniform(&sc);
         let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
         let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, rule(&p));

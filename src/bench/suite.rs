@@ -158,10 +158,12 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         let mut samples = [Samples::default(), Samples::default()];
         let mut reference = None;
         let mut geometry_pixels = 0;
+        // Built once per scene: the repeats reuse pipelines and buffers.
+        let mut renderers = [frame::Renderer::new(ctx, &scene, &opts.adaptive)?, frame::Renderer::new(ctx, &scene, &opts.regular)?];
         for repeat in 0..=opts.repeats {
             for (m, method) in methods.iter().enumerate() {
                 bar.set_message(format!("{} {}", row.scene, method.name()));
-                let r = frame::render(ctx, &scene, method, TimingMode::Frame)?;
+                let r = renderers[m].frame(TimingMode::Frame)?;
                 let what = if repeat == 0 { "warm-up".to_string() } else { format!("{repeat}/{}", opts.repeats) };
                 let line = format!(
                     "{:7} {:18} {:8} {:>10.1} ms  {:>3} maps",

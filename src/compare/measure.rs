@@ -33,8 +33,10 @@ pub fn median(values: &[f64]) -> f64 {
 
 pub fn measure(ctx: &GpuContext, scene: &Scene, method: &Method, repeats: u32) -> Result<Measured> {
     // No decision pictures: their read-backs would be timed, and compare does not use them.
-    let run = |mode| frame::render_with_options(ctx, scene, method, FrameOptions { mode, pictures: false });
-    run(TimingMode::Frame)?; // warm-up: driver caches, allocator
+    // One renderer: pipelines and buffers are built once (the warm-up's setup) and reused.
+    let mut renderer = frame::Renderer::new(ctx, scene, method)?;
+    let mut run = |mode| renderer.frame(FrameOptions { mode, pictures: false, capture: false });
+    run(TimingMode::Frame)?; // warm-up: driver caches, allocator, pipeline build
     let staged = run(TimingMode::Stages)?;
     let mut totals_ms = Vec::new();
     let mut last = None;
@@ -45,9 +47,10 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, method: &Method, repeats: u32) -
     }
     let frame = last.expect("at least one repeat");
     let mut stages_ms = staged.stages_ms.clone();
-    // `setup` (pipelines, buffers, the `upload` inside it) runs before the frame's clock starts.
+    // `setup` (per-frame zero fills; the build was the warm-up's) runs before the frame's clock starts.
     let setup = stages_ms.remove("setup");
     stages_ms.remove("upload");
+    stages_ms.remove("build");
     Ok(Measured {
         median_ms: median(&totals_ms),
         min_ms: totals_ms.iter().copied().fold(f64::INFINITY, f64::min),

@@ -3,6 +3,7 @@
 
 pub mod buffers;
 pub mod compact;
+pub mod frame_gpu;
 pub mod kernel;
 pub mod neighbourhood;
 pub mod quad_count;
@@ -12,6 +13,7 @@ pub mod shadow_test;
 pub mod subdivide;
 pub mod twin;
 
+pub use frame_gpu::FrameGpu;
 pub use kernel::{ComputeKernel, Dispatch};
 
 /// Workgroups needed to cover `n` items with groups of `size` (the one place dispatch sizes are computed).
