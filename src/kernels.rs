@@ -27,6 +27,11 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("quad_count"),
     kernel!("subdivide"),
     kernel!("compact"),
+    kernel!("pcf"),
+    kernel!("pcss"),
+    kernel!("moments"),
+    kernel!("blur"),
+    kernel!("reconstruct"),
 ];
 
 /// Full source of a kernel: prelude + body.

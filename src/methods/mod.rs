@@ -6,8 +6,12 @@
 //! The frame driver (`crate::frame`) runs any of them without knowing which.
 
 pub mod adaptive;
+pub mod filtered;
 pub mod fixed;
 pub mod params;
+pub mod pcf;
+pub mod pcss;
+pub mod single_map;
 
 pub use params::{AdaptiveParams, Scope, Weights};
 
@@ -82,6 +86,13 @@ pub struct MethodInfo {
 /// Every method, in the order `penumbra methods` lists them.
 pub const REGISTRY: &[&MethodInfo] = &[
     &fixed::HARD,
+    &pcf::INFO,
+    &pcss::INFO,
+    &filtered::ESM,
+    &filtered::VSM,
+    &filtered::EVSM,
+    &filtered::MSM,
+    &filtered::CSM,
     &fixed::REGULAR,
     &adaptive::INFO,
 ];
