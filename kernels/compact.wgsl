@@ -1,6 +1,7 @@
 // compact (scope = local): each evaluated (pixel, quad) item either goes on to the quad's four
-// children (the quad split and p lay in its penumbra, 0 < c < 4) or adds the quad's uniform share
-// area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
+// children (the quad split and p lay in its penumbra, 0 < c < 4), or becomes a probe (the quad
+// split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
+// uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
 // With scissor on, every child corner's shadow-map texel rectangle grows to cover p.
 
@@ -20,6 +21,9 @@
 @group(0) @binding(13) var<storage, read_write> visibility: array<f32>;
 @group(0) @binding(14) var<storage, read_write> item_total: array<u32>;
 @group(0) @binding(15) var<storage, read_write> dispatch_args: array<u32>;
+@group(0) @binding(16) var<storage, read_write> probes: array<vec2<u32>>;
+
+const PROBE_LIT: u32 = 0x80000000u;
 
 fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
     let lookup = shadow_lookup(frame, samples[k], position, normal);
@@ -33,6 +37,8 @@ fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
 
 var<workgroup> group_items: atomic<u32>;
 var<workgroup> group_base: u32;
+var<workgroup> group_probes: atomic<u32>;
+var<workgroup> group_probe_base: u32;
 
 // Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item
 // (a single append counter hit by every item serialises on CPU devices and stalls GPUs).
@@ -44,6 +50,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     var base = NO_SPLIT;
     var local_slot = 0u;
     var refine = false;
+    var probe = false;
+    var probe_slot = 0u;
     if (valid) {
         item = items[gid.x];
         let x = item.x % frame.width;
@@ -52,26 +60,40 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         c = count_byte(counts[item.y * words + y * level.words_per_row + x / 4u], x) - 1u;
         base = split_base[item.y];
         refine = base != NO_SPLIT && c > 0u && c < 4u;
+        probe = base != NO_SPLIT && (c == 0u || c == 4u);
         if (refine) {
             local_slot = atomicAdd(&group_items, 4u);
+        }
+        if (probe) {
+            probe_slot = atomicAdd(&group_probes, 1u);
         }
     }
     workgroupBarrier();
     if (lid == 0u) {
         group_base = atomicAdd(&control.item_count, atomicLoad(&group_items));
+        group_probe_base = atomicAdd(&control.probe_count, atomicLoad(&group_probes));
     }
     let slot = workgroupUniformLoad(&group_base) + local_slot;
+    let probe_at = workgroupUniformLoad(&group_probe_base) + probe_slot;
     if (!valid) {
         return;
     }
     let p = item.x;
-    if (refine) {
-        if (slot + 4u > level.item_capacity) {
-            atomicOr(&control.overflow, OVERFLOW_ITEMS);
-            return;
-        }
-        for (var child = 0u; child < 4u; child = child + 1u) {
-            next_items[slot + child] = vec2<u32>(p, base + child);
+    if (refine || probe) {
+        if (refine) {
+            if (slot + 4u > level.item_capacity) {
+                atomicOr(&control.overflow, OVERFLOW_ITEMS);
+                return;
+            }
+            for (var child = 0u; child < 4u; child = child + 1u) {
+                next_items[slot + child] = vec2<u32>(p, base + child);
+            }
+        } else {
+            if (probe_at >= level.item_capacity) {
+                atomicOr(&control.overflow, OVERFLOW_PROBES);
+                return;
+            }
+            probes[probe_at] = vec2<u32>(p, base | select(0u, PROBE_LIT, c == 4u));
         }
         if (level.scissor == 1u) {
             let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));

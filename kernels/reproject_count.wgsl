@@ -2,6 +2,8 @@
 // stored as c + 1 in one byte per pixel (4 per word) of q's comparison map.
 //  main: every pixel x every active quad, from the cached lattice masks (scope = global);
 //  list: the compacted (pixel, quad) items only, testing the corner maps directly (scope = local).
+// At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §6):
+// level 0 has one quad, which every geometry pixel meets exactly once.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -19,15 +21,42 @@
 @group(0) @binding(11) var<storage, read_write> counts_atomic: array<atomic<u32>>;
 @group(0) @binding(12) var<storage, read_write> consulted: array<atomic<u32>>;
 @group(0) @binding(13) var<storage, read> item_total: array<u32>;
+@group(0) @binding(14) var<storage, read_write> control: GpuControl;
+
+var<workgroup> group_geometry: atomic<u32>;
+
+// One global atomic per workgroup. `level` is uniform, so the barrier is in uniform control flow.
+fn add_geometry(n: u32, lid: u32) {
+    if (level.level != 0u) {
+        return;
+    }
+    if (n != 0u) {
+        atomicAdd(&group_geometry, n);
+    }
+    workgroupBarrier();
+    if (lid == 0u) {
+        let total = atomicLoad(&group_geometry);
+        if (total != 0u) {
+            atomicAdd(&control.geometry_pixels, total);
+        }
+    }
+}
 
 // One thread per word (4 pixels) counts every active quad of the batch (the quads loop inside the
 // thread), so each pixel's summary is read once and uniform pixels cost one store per quad.
 @compute @workgroup_size(64, 1, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    add_geometry(count_word(gid.x), lid);
+}
+
+// Counts one word's 4 pixels for every quad of the batch; returns its geometry pixels.
+fn count_word(word: u32) -> u32 {
     let words = frame.height * level.words_per_row;
-    if (gid.x >= words) {
-        return;
+    if (word >= words) {
+        return 0u;
     }
+    let gid = vec3<u32>(word, 0u, 0u);
+    var geometry = 0u;
     let y = gid.x / level.words_per_row;
     let wx = gid.x % level.words_per_row;
     // Pixels every map agrees on have the same byte for every quad: 1 (c = 0) or 5 (c = 4).
@@ -42,7 +71,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             let all_unlit = (summary & SUMMARY_ANY_LIT) == 0u;
             if ((summary & SUMMARY_GEOMETRY) == 0u) {
                 // background: byte 0
-            } else if (all_lit || all_unlit) {
+                continue;
+            }
+            geometry = geometry + 1u;
+            if (all_lit || all_unlit) {
                 uniform_bytes = uniform_bytes | (select(1u, 5u, all_lit) << (b * 8u));
             } else {
                 mixed = mixed | (1u << b);
@@ -69,6 +101,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         counts[qi * words + gid.x] = packed;
     }
+    return geometry;
 }
 
 fn lit_lattice(k: u32, position: vec3<f32>, normal: vec3<f32>) -> u32 {
@@ -84,11 +117,16 @@ fn lit_lattice(k: u32, position: vec3<f32>, normal: vec3<f32>) -> u32 {
 }
 
 @compute @workgroup_size(64, 1, 1)
-fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= item_total[0]) {
-        return;
+fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let valid = gid.x < item_total[0];
+    if (valid) {
+        count_item(gid.x);
     }
-    let item = items[gid.x];
+    add_geometry(select(0u, 1u, valid), lid);
+}
+
+fn count_item(index: u32) {
+    let item = items[index];
     let p = item.x;
     let q = quads[item.y];
     let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));

@@ -1,5 +1,6 @@
 // subdivide: one workgroup reads every active quad's counter, records the deepest evaluated level
 // of each corner sample (the seed's weights), splits quads with count > P_M (or always / never),
+// (split_mode 3: count > split_share x geometry pixels, in f32 as the twin computes it),
 // appends the children and the new lattice samples (deduplicated with atomicOr: the thread that
 // sees the old value 0 appends), and writes the next level's dispatch arguments.
 
@@ -17,6 +18,7 @@
 const SPLIT_THRESHOLD: u32 = 0u;
 const SPLIT_ALWAYS: u32 = 1u;
 const SPLIT_NEVER: u32 = 2u;
+const SPLIT_SHARE: u32 = 3u;
 
 fn request(i: u32, j: u32) {
     let k = j * LATTICE_SIDE + i;
@@ -28,6 +30,7 @@ fn request(i: u32, j: u32) {
 
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(local_invocation_index) lid: u32) {
+    let share_threshold = f32(atomicLoad(&control.geometry_pixels)) * level.split_share;
     for (var q = lid; q < level.quad_count; q = q + 64u) {
         let quad = quads[q];
         for (var c = 0u; c < 4u; c = c + 1u) {
@@ -36,7 +39,8 @@ fn main(@builtin(local_invocation_index) lid: u32) {
         var split = false;
         if (level.level < level.max_level && quad.size > 1u) {
             split = level.split_mode == SPLIT_ALWAYS
-                || (level.split_mode == SPLIT_THRESHOLD && quad_counters[q] > level.p_m);
+                || (level.split_mode == SPLIT_THRESHOLD && quad_counters[q] > level.p_m)
+                || (level.split_mode == SPLIT_SHARE && f32(quad_counters[q]) > share_threshold);
         }
         split_base[q] = NO_SPLIT;
         if (split) {

@@ -27,6 +27,7 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("quad_count"),
     kernel!("subdivide"),
     kernel!("compact"),
+    kernel!("probe"),
     kernel!("pcf"),
     kernel!("pcss"),
     kernel!("moments"),

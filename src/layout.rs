@@ -61,7 +61,7 @@ pub struct GpuLevel {
     /// Index of the batch's first quad in the level's list.
     pub first_quad: u32,
     pub p_m: u32,
-    /// 0: split when count > p_m, 1: always, 2: never.
+    /// 0: split when count > p_m, 1: always, 2: never, 3: when count > split_share x geometry pixels.
     pub split_mode: u32,
     pub words_per_row: u32,
     pub flag_words_per_row: u32,
@@ -72,9 +72,10 @@ pub struct GpuLevel {
     pub quad_capacity: u32,
     /// compact: grow the scissor rectangles of the children's corner samples.
     pub scissor: u32,
+    /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §6).
+    pub split_share: f32,
     pub pad0: u32,
     pub pad1: u32,
-    pub pad2: u32,
 }
 
 /// Append counters shared by subdivide and compact (atomics in WGSL).
@@ -85,6 +86,12 @@ pub struct GpuControl {
     pub new_sample_count: u32,
     pub overflow: u32,
     pub item_count: u32,
+    /// Geometry pixels, counted by reproject_count at level 0 (the share criteria's denominator).
+    pub geometry_pixels: u32,
+    /// scope = local: probe items appended by compact for the next level.
+    pub probe_count: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 /// A quad of the light's lattice: corner (i, j) and side in lattice steps.
@@ -161,9 +168,9 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
-            work_count, dense_groups_x, quad_capacity, scissor, pad0, pad1, pad2
+            work_count, dense_groups_x, quad_capacity, scissor, split_share, pad0, pad1
         }),
-        layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count }),
+        layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, pad0, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),
         layout_of!(GpuFilter {
             kind, taps, blocker_taps, order, radius, darkening, light_u, light_v, c_pos, c_neg, bleed, moment_bias, layers,

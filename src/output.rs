@@ -66,7 +66,11 @@ pub fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBu
     let mut written = Vec::new();
     for (name, bytes) in files {
         let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp"));
+        // Names may hold sub-folders (`configs/…/results.jsonl`).
+        let parent = path.parent().unwrap_or(dir);
+        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+        let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = parent.join(format!(".{file}.tmp"));
         std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
         std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
         written.push(path);

@@ -2,7 +2,7 @@
 
 mod common;
 use penumbra::frame::{self, FrameResult};
-use penumbra::methods::{AdaptiveParams, Method, Scope, Weights};
+use penumbra::methods::{AdaptiveParams, Criterion, Method, Scope, Weights};
 use penumbra::scene::Scene;
 use penumbra::timing::TimingMode;
 
@@ -56,7 +56,7 @@ scale = 12.0
 
 #[test]
 fn p_m_infinite_renders_exactly_four_maps() {
-    let r = run(&small("default", &[]), &adaptive(AdaptiveParams { p_m: f64::INFINITY, ..Default::default() }));
+    let r = run(&small("default", &[]), &adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: f64::INFINITY, growth: 1.0 }, ..Default::default() }));
     assert_eq!(r.output.shadow_maps, 4);
     assert_valid(&r, "p_m = inf");
 }
@@ -81,7 +81,7 @@ fn always_split_equals_the_regular_17_grid() {
     let scene = small("default", &[]);
     let reg = run(&scene, &Method::regular(17));
     for scope in [Scope::Global] {
-        let a = run(&scene, &adaptive(AdaptiveParams { p_m: -1.0, scope, ..Default::default() }));
+        let a = run(&scene, &adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, scope, ..Default::default() }));
         assert_eq!(a.output.shadow_maps, 289);
         let worst = a.visibility.iter().zip(&reg.visibility).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
         println!("always split vs regular 17: max |dV| = {worst:e}");
@@ -89,7 +89,7 @@ fn always_split_equals_the_regular_17_grid() {
     }
     // scope = local with every quad split is the regular grid's trapezoid-free box rule per pixel:
     // it must use all 289 maps too.
-    let l = run(&scene, &adaptive(AdaptiveParams { p_m: -1.0, scope: Scope::Local, ..Default::default() }));
+    let l = run(&scene, &adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, scope: Scope::Local, ..Default::default() }));
     assert_eq!(l.output.shadow_maps, 289);
 }
 
@@ -99,7 +99,7 @@ fn weights_sum_to_one_and_visibility_stays_in_range() {
     let scene = small("default", &[]);
     for weights in [Weights::Level, Weights::Area] {
         for p_m in [0.0, 20.0] {
-            let p = AdaptiveParams { p_m, weights, ..Default::default() };
+            let p = AdaptiveParams { criterion: Criterion::Pixels { p_m, growth: 1.0 }, weights, ..Default::default() };
             let (r, t) = common::traced(&ctx, &scene, &p, false);
             let sum: f64 = t.weights.iter().map(|&w| w as f64).sum();
             assert!((sum - 1.0).abs() < 1e-6, "{weights:?} p_m {p_m}: Σŵ = {sum}");
@@ -135,7 +135,7 @@ fn default_scene_uses_fewer_maps_and_stays_close_to_regular_17() {
 #[test]
 fn max_level_bounds_the_lattice() {
     for (max_level, maps) in [(0u32, 4u32), (1, 9), (2, 25)] {
-        let r = run(&small("default", &[]), &adaptive(AdaptiveParams { p_m: -1.0, max_level, ..Default::default() }));
+        let r = run(&small("default", &[]), &adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, max_level, ..Default::default() }));
         assert_eq!(r.output.shadow_maps, maps, "max_level {max_level}");
         assert!(r.output.syncs <= max_level + 1);
     }
@@ -146,7 +146,7 @@ fn maps_beyond_the_memory_budget_are_processed_in_chunks_with_the_same_result() 
     // 256² maps are 0.25 MiB: a 2 MiB budget holds 8 maps per array.
     let full = small("default", &[]);
     let tight = small("default", &[("shadow_map_budget_mib", "2")]);
-    for method in [Method::regular(17), adaptive(AdaptiveParams { p_m: -1.0, ..Default::default() }), adaptive(AdaptiveParams::default())] {
+    for method in [Method::regular(17), adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, ..Default::default() }), adaptive(AdaptiveParams::default())] {
         let a = run(&full, &method);
         let b = run(&tight, &method);
         assert_eq!(a.output.shadow_maps, b.output.shadow_maps);
@@ -191,4 +191,56 @@ fn gpu_timestamps_cover_every_stage_when_enabled() {
         let ms = gpu.get(stage).copied();
         assert!(ms.is_some_and(|v| v.is_finite() && v >= 0.0), "{stage}: {ms:?} in {gpu:?}");
     }
+}
+
+/// pole-between-corners plus a box whose penumbra splits the root quad: under the pole, all four
+/// root corners see every ground pixel lit (c = 4), so before the probe stage scope = local added the
+/// uniform share V = 1 there although the new centre sample, rendered for the box, is blocked.
+const POLE_AND_BOX: &str = r#"
+[camera]
+eye = [6.0, 9.0, 7.0]
+target = [0.0, 0.0, 0.5]
+fov_y_deg = 50.0
+[light]
+center = [0.0, 4.0, 0.0]
+edge_u = [4.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, 4.0]
+[render]
+width = 96
+height = 96
+shadow_map_size = 256
+[[mesh]]
+builtin = "plane"
+scale = [2.2, 1.0, 12.0]
+[[mesh]]
+builtin = "plane"
+translate = [0.0, 2.0, 0.0]
+scale = [0.8, 1.0, 3.0]
+[[mesh]]
+builtin = "box"
+translate = [0.0, 0.4, 4.0]
+scale = [1.5, 0.8, 0.6]
+"#;
+
+#[test]
+fn local_scope_finds_a_shadow_between_the_corners_of_a_split_quad() {
+    let ctx = common::gpu();
+    let scene = Scene::parse(POLE_AND_BOX, "pole-and-box", None, &[]).unwrap();
+    let reg = run(&scene, &Method::regular(17));
+    let p = AdaptiveParams { scope: Scope::Local, ..Default::default() };
+    let (local, trace) = common::traced(&ctx, &scene, &p, false);
+    assert!(trace.levels[0].split_base[0] != u32::MAX, "the box must split the root quad");
+    // Pixels the root's corners see lit (comparison byte 5: c = 4) that the lattice finds shadowed.
+    let root = trace.levels[0].counts.as_ref().expect("level-0 comparison map read back");
+    let between: Vec<usize> = (0..reg.visibility.len())
+        .filter(|&i| reg.gbuffer.is_geometry(i) && (root[i / 4] >> ((i % 4) * 8)) & 0xff == 5 && reg.visibility[i] < 0.9)
+        .collect();
+    let mean = |r: &FrameResult| between.iter().map(|&i| r.visibility[i] as f64).sum::<f64>() / between.len() as f64;
+    let (v_local, v_reg) = (mean(&local), mean(&reg));
+    println!("{} pixels hidden between the root corners: mean V local {v_local:.3}, regular 17x17 {v_reg:.3}; probes per level {:?}",
+        between.len(), trace.levels.iter().map(|l| l.probes).collect::<Vec<_>>());
+    assert!(between.len() >= 100, "the pole's shadow must lie between the root corners: {} pixels", between.len());
+    // Without the probe these pixels read V = 1 (the root's uniform share). Local scope integrates
+    // with area (trapezoid) weights, the lattice mean does not, hence the tolerance.
+    assert!(v_local < 0.85 && (v_local - v_reg).abs() < 0.1, "local mean V {v_local:.3} under the pole, regular {v_reg:.3}");
 }

@@ -5,24 +5,24 @@
 //! Each stage's twin is fed the GPU's own inputs, so a mismatch points at one stage.
 
 mod common;
-use penumbra::compute::twin::{self, neighbourhood::Screen, subdivide::SplitRule};
+use penumbra::compute::twin::{self, neighbourhood::Screen};
 use penumbra::frame::frame_uniform;
-use penumbra::methods::{AdaptiveParams, Scope};
+use penumbra::methods::AdaptiveParams;
 use penumbra::scene::Scene;
 
 const SEEDS: [u64; 4] = [1, 7, 23, 101];
+/// The seed's pixel threshold, a level-aware share, and the error budget (method.md §6).
+const CRITERIA: [&str; 4] = ["p_m=0", "p_m=3", "p_share=0.002,growth=4", "tol=0.004"];
+
+fn params(spec: &str) -> AdaptiveParams {
+    let m = penumbra::methods::Method::parse(&format!("adaptive:{spec}"), &[]).expect("criterion parses");
+    m.adaptive_params().cloned().unwrap_or_else(|| panic!("{m:?} is not adaptive"))
+}
 
 fn scene(seed: u64) -> Scene {
     Scene::parse(&common::random_scene_toml(seed, 48, 128), &format!("random-{seed}"), None, &[]).expect("random scene parses")
 }
 
-fn rule(p: &AdaptiveParams) -> SplitRule {
-    match p.threshold() {
-        (_, true, _) => SplitRule::Always,
-        (_, _, true) => SplitRule::Never,
-        (t, _, _) => SplitRule::Threshold(t),
-    }
-}
 
 fn sorted_quads(q: &[penumbra::layout::GpuQuad]) -> Vec<(u32, u32, u32)> {
     let mut v: Vec<_> = q.iter().map(|q| (q.i, q.j, q.size)).collect();
@@ -36,14 +36,17 @@ fn global_stages_equal_their_cpu_twins() {
     let mut levels_checked = 0;
     let mut quads_checked = 0;
     for seed in SEEDS {
-        for p_m in [0.0, 3.0] {
+        for spec in CRITERIA {
             let sc = scene(seed);
-            let p = AdaptiveParams { p_m, ..Default::default() };
+            let p = params(spec);
+            let p_m = spec;
             let (r, t) = common::traced(&ctx, &sc, &p, true);
             let g = &r.gbuffer;
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
             let screen = Screen { width: g.width, height: g.height };
+            let geometry = (0..g.position.len()).filter(|&i| g.is_geometry(i)).count() as u32;
+            assert_eq!(t.levels[0].geometry_pixels, geometry, "seed {seed}: reproject_count's geometry pixels");
             let mut masks = vec![0u32; g.position.len() * 10];
             let mut state = vec![0u32; 289];
             for k in [0, 16, 272, 288] {
@@ -68,7 +71,7 @@ fn global_stages_equal_their_cpu_twins() {
                     assert_eq!(counters, lvl.low_quality, "seed {seed} level {d}: quad_count differs");
                     quads_checked += n;
                 }
-                let sub = twin::subdivide::subdivide(d as u32, p.max_level, rule(&p), &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
+                let sub = twin::subdivide::subdivide(d as u32, p.max_level, p.split_rule(d as u32), geometry, &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
                 assert_eq!(sorted_quads(&sub.next_quads), sorted_quads(&lvl.next_quads), "seed {seed} level {d}: subdivide quads");
                 assert_eq!(sub.new_samples, lvl.new_samples, "seed {seed} level {d}: subdivide samples");
                 assert_eq!(sample_level, lvl.sample_level, "seed {seed} level {d}: sample levels");
@@ -89,22 +92,29 @@ fn global_stages_equal_their_cpu_twins() {
 #[test]
 fn local_pipeline_equals_its_cpu_twin_exactly() {
     let ctx = common::gpu();
+    let mut probes_seen = 0;
     for seed in SEEDS {
-        let sc = scene(seed);
-        let p = AdaptiveParams { scope: Scope::Local, ..Default::default() };
-        let (r, t) = common::traced(&ctx, &sc, &p, true);
-        let fr = frame_uniform(&sc);
-        let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
-        let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, rule(&p));
-        let items: Vec<u32> = t.levels.iter().map(|l| l.items).collect();
-        assert_eq!(out.items, items, "seed {seed}: items per level");
-        for (d, lvl) in t.levels.iter().enumerate() {
-            assert_eq!(out.quads[d].iter().map(|q| (q.i, q.j, q.size)).collect::<Vec<_>>(), sorted_quads(&lvl.quads), "seed {seed} level {d}: quads");
-            assert_eq!(out.new_samples[d], lvl.new_samples, "seed {seed} level {d}: new samples");
+        for spec in ["p_m=0", "tol=0.004"] {
+            let sc = scene(seed);
+            let p = params(&format!("{spec},scope=local"));
+            let (r, t) = common::traced(&ctx, &sc, &p, true);
+            let fr = frame_uniform(&sc);
+            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+            let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));
+            let items: Vec<u32> = t.levels.iter().map(|l| l.items).collect();
+            let probes: Vec<u32> = t.levels.iter().map(|l| l.probes).collect();
+            assert_eq!(out.items, items, "seed {seed} {spec}: items per level");
+            assert_eq!(out.probes, probes, "seed {seed} {spec}: probes per level");
+            for (d, lvl) in t.levels.iter().enumerate() {
+                assert_eq!(out.quads[d].iter().map(|q| (q.i, q.j, q.size)).collect::<Vec<_>>(), sorted_quads(&lvl.quads), "seed {seed} {spec} level {d}: quads");
+                assert_eq!(out.new_samples[d], lvl.new_samples, "seed {seed} {spec} level {d}: new samples");
+            }
+            let scale = (4u32 << (2 * p.max_level)) as f32;
+            let wrong = out.visibility_fixed.iter().zip(&r.visibility).filter(|(a, b)| **a as f32 / scale != **b).count();
+            assert_eq!(wrong, 0, "seed {seed} {spec}: {wrong} pixels differ from the twin");
+            probes_seen += probes.iter().sum::<u32>();
+            println!("seed {seed} {spec}: local, {} levels, items {items:?}, probes {probes:?}, twin equal", t.levels.len());
         }
-        let scale = (4u32 << (2 * p.max_level)) as f32;
-        let wrong = out.visibility_fixed.iter().zip(&r.visibility).filter(|(a, b)| **a as f32 / scale != **b).count();
-        assert_eq!(wrong, 0, "seed {seed}: {wrong} pixels differ from the twin");
-        println!("seed {seed}: local, {} levels, items {:?}, twin equal", t.levels.len(), items);
     }
+    assert!(probes_seen > 1000, "too few probes were compared: {probes_seen}");
 }

@@ -12,7 +12,7 @@ fn later_frames_on_one_renderer_equal_the_first() {
     let ctx = common::gpu();
     let scene = Scene::parse(&common::random_scene_toml(7, 48, 128), "random-7", None, &[]).unwrap();
     let mut specs: Vec<String> = REGISTRY.iter().map(|m| m.name.to_string()).collect();
-    specs.extend(["regular:n=3", "adaptive:scope=local", "adaptive:scope=local,scissor=on", "adaptive:p_m=3"].map(String::from));
+    specs.extend(["regular:n=3", "adaptive:scope=local", "adaptive:scope=local,scissor=on", "adaptive:p_m=3", "adaptive:preset=balanced", "regular:n=4,layout=jittered"].map(String::from));
     for spec in &specs {
         let method = Method::parse(spec, &[]).unwrap();
         let mut r = Renderer::new(&ctx, &scene, &method).unwrap();

@@ -116,9 +116,9 @@ struct GpuLevel {
     dense_groups_x: u32,
     quad_capacity: u32,
     scissor: u32,
+    split_share: f32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 struct GpuQuad {
@@ -133,10 +133,15 @@ struct GpuControl {
     new_sample_count: atomic<u32>,
     overflow: atomic<u32>,
     item_count: atomic<u32>,
+    geometry_pixels: atomic<u32>,
+    probe_count: atomic<u32>,
+    pad0: u32,
+    pad1: u32,
 }
 
 const OVERFLOW_QUADS: u32 = 1u;
 const OVERFLOW_ITEMS: u32 = 2u;
+const OVERFLOW_PROBES: u32 = 4u;
 
 // Lattice index of corner c (0..3: (0,0), (1,0), (0,1), (1,1)) of quad q.
 fn quad_corner(q: GpuQuad, c: u32) -> u32 {

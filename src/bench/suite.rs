@@ -24,7 +24,7 @@ pub struct SuiteOptions {
     pub cache: Option<PathBuf>,
     pub adaptive: Method,
     pub regular: Method,
-    /// Subset of the seed scenes, in the table's order; empty: all four.
+    /// Subset of the seed scenes, in the table's order; empty: all five (the bunny twice: close-up and seed framing).
     pub only: Vec<String>,
 }
 

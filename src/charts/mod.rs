@@ -4,6 +4,7 @@
 
 mod error_maps;
 mod error_time;
+mod framing;
 mod labels;
 mod maps_pm;
 mod pareto;
@@ -15,6 +16,7 @@ mod style;
 
 pub use error_maps::error_vs_maps_svg;
 pub use error_time::error_vs_time_svg;
+pub use framing::{framing_svg, WidthAxis, WidthPoint};
 pub use maps_pm::maps_vs_pm_svg;
 pub use pareto::{pareto_front, pareto_steps};
 pub use raster::svg_to_png;

@@ -39,6 +39,8 @@ pub struct CompareJob<'a> {
 pub struct CompareOutcome {
     pub rows: Vec<ResultRow>,
     pub reference: ReferenceImage,
+    /// Which pixels hold geometry (the metrics' mask).
+    pub geometry: Vec<bool>,
     /// Every output file but the report: (path relative to the output folder, bytes).
     pub files: Vec<(String, Vec<u8>)>,
 }
@@ -133,7 +135,7 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         files.push((format!("charts/{stem}.png"), svg_to_png(&svg, 1.0)?));
         files.push((format!("charts/{stem}.svg"), svg.into_bytes()));
     }
-    Ok(CompareOutcome { rows, reference, files })
+    Ok(CompareOutcome { rows, reference, geometry: mask, files })
 }
 
 /// The reference's one-line summary (also printed by `penumbra reference`).

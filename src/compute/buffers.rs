@@ -10,6 +10,7 @@ pub const MASK_WORDS: u32 = 10;
 /// Quads of one level: at most 4^4 = 256 (level 4 of the 17x17 lattice).
 pub const QUAD_CAPACITY: u32 = 256;
 pub const NO_SPLIT: u32 = u32::MAX;
+pub const CONTROL_BYTES: u64 = std::mem::size_of::<crate::layout::GpuControl>() as u64;
 
 pub struct AdaptiveBuffers {
     pub width: u32,
@@ -35,6 +36,10 @@ pub struct AdaptiveBuffers {
     pub items: [wgpu::Buffer; 2],
     pub item_total: wgpu::Buffer,
     pub list_args: wgpu::Buffer,
+    /// scope = local: probes (uniform pixels of split quads) for the next level, their count and dispatch.
+    pub probes: wgpu::Buffer,
+    pub probe_total: wgpu::Buffer,
+    pub probe_args: wgpu::Buffer,
     pub visibility_fixed: wgpu::Buffer,
     pub rects: wgpu::Buffer,
 }
@@ -46,7 +51,7 @@ impl AdaptiveBuffers {
         for buf in [
             &self.masks, &self.quads[0], &self.quads[1], &self.counts, &self.flags, &self.quad_counters, &self.control,
             &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights, &self.items[0],
-            &self.items[1], &self.item_total, &self.visibility_fixed, &self.rects,
+            &self.items[1], &self.item_total, &self.visibility_fixed, &self.rects, &self.probes, &self.probe_total,
         ] {
             enc.clear_buffer(buf, 0, None);
         }
@@ -54,14 +59,15 @@ impl AdaptiveBuffers {
         ctx.wait()
     }
 
-    /// Between frames of one renderer: like `zero_fill`, but without the item lists and comparison
-    /// maps, which every level writes (or clears) before it reads them; they are the large ones.
+    /// Between frames of one renderer: like `zero_fill`, but without the item and probe lists and
+    /// the comparison maps, which every level writes (or clears) before it reads them; they are the
+    /// large ones.
     pub fn reset_frame(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
             &self.masks, &self.quads[0], &self.quads[1], &self.flags, &self.quad_counters, &self.control,
             &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights,
-            &self.item_total, &self.visibility_fixed, &self.rects,
+            &self.item_total, &self.visibility_fixed, &self.rects, &self.probe_total,
         ] {
             enc.clear_buffer(buf, 0, None);
         }
@@ -132,7 +138,7 @@ impl AdaptiveBuffers {
             counts: storage("comparison maps", per_quad * batch),
             flags: storage("low-quality flags", height as u64 * flag_words_per_row as u64 * 4 * batch),
             quad_counters: storage("quad counters", QUAD_CAPACITY as u64 * 4),
-            control: storage("control", 16),
+            control: storage("control", CONTROL_BYTES),
             lattice_state: storage("lattice state", LATTICE_POINTS as u64 * 4),
             new_samples: storage("new samples", LATTICE_POINTS as u64 * 4),
             sample_level: storage("sample levels", LATTICE_POINTS as u64 * 4),
@@ -142,6 +148,9 @@ impl AdaptiveBuffers {
             items: [storage("items a", item_capacity as u64 * 8), storage("items b", item_capacity as u64 * 8)],
             item_total: storage("item total", 16),
             list_args: indirect("list dispatch args"),
+            probes: storage("probes", if local { item_capacity as u64 * 8 } else { 8 }),
+            probe_total: storage("probe total", 16),
+            probe_args: indirect("probe dispatch args"),
             visibility_fixed: storage("visibility fixed", if local { pixels * 4 } else { 4 }),
             rects: storage("scissor rects", LATTICE_POINTS as u64 * 16),
         })

@@ -81,6 +81,7 @@ impl Compact {
                 (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
                 (12, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
                 (14, b.item_total.as_entire_binding()),
+                (16, b.probes.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );

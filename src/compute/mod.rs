@@ -10,6 +10,7 @@ pub mod moments;
 pub mod neighbourhood;
 pub mod pcf;
 pub mod pcss;
+pub mod probe;
 pub mod quad_count;
 pub mod reconstruct;
 pub mod reproject_count;
@@ -52,4 +53,6 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("blur", "horizontal", PIXEL_WORKGROUP),
     ("blur", "vertical", PIXEL_WORKGROUP),
     ("reconstruct", "main", PIXEL_WORKGROUP),
+    ("probe", "main", LINE_WORKGROUP),
+    ("probe", "begin", [1, 1, 1]),
 ];

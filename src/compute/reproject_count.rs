@@ -37,6 +37,7 @@ impl ReprojectCount {
                 (2, quads.as_entire_binding()),
                 (3, b.masks.as_entire_binding()),
                 (5, b.counts.as_entire_binding()),
+                (14, b.control.as_entire_binding()),
             ],
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
@@ -69,6 +70,7 @@ impl ReprojectCount {
                 (11, b.counts.as_entire_binding()),
                 (12, b.masks.as_entire_binding()),
                 (13, b.item_total.as_entire_binding()),
+                (14, b.control.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );

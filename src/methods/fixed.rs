@@ -22,10 +22,19 @@ pub const REGULAR: MethodInfo = MethodInfo {
     name: "regular",
     family: Family::MultiSample,
     summary: "N×N shadow maps on the light's lattice corners, equal weights",
-    params: &[Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" }],
+    params: &[
+        Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" },
+        Param { key: "layout", default: "lattice", help: "lattice (corners i/(N−1)), centred (cell centres) or jittered (one seeded point per cell)" },
+    ],
     parse: |p: &ParamMap| {
         let n = check_range("regular", "n", params::get_u32(p, "n", 17)?, 1, 128)?;
-        Ok(std::sync::Arc::new(Fixed::Regular { n }))
+        let layout = match p.get("layout").map(String::as_str) {
+            None | Some("lattice") => Layout::Lattice,
+            Some("centred") | Some("centered") => Layout::Centred,
+            Some("jittered") => Layout::Jittered,
+            Some(v) => return Err(crate::Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
+        };
+        Ok(std::sync::Arc::new(Fixed::Regular { n, layout }))
     },
 };
 
@@ -33,14 +42,14 @@ pub const REGULAR: MethodInfo = MethodInfo {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Fixed {
     Hard,
-    Regular { n: u32 },
+    Regular { n: u32, layout: Layout },
 }
 
 impl Fixed {
     pub fn points(&self) -> Vec<(f32, f32)> {
         match self {
             Fixed::Hard => vec![(0.5, 0.5)],
-            Fixed::Regular { n } => regular_points(*n),
+            Fixed::Regular { n, layout } => regular_points(*n, *layout),
         }
     }
 }
@@ -55,13 +64,15 @@ impl ShadowMethod for Fixed {
     fn label(&self) -> String {
         match self {
             Fixed::Hard => "hard".into(),
-            Fixed::Regular { n } => format!("regular:n={n}"),
+            Fixed::Regular { n, layout: Layout::Lattice } => format!("regular:n={n}"),
+            Fixed::Regular { n, layout: Layout::Centred } => format!("regular:n={n},layout=centred"),
+            Fixed::Regular { n, layout: Layout::Jittered } => format!("regular:n={n},layout=jittered"),
         }
     }
     fn params_json(&self) -> serde_json::Value {
         match self {
             Fixed::Hard => serde_json::json!({}),
-            Fixed::Regular { n } => serde_json::json!({ "n": n }),
+            Fixed::Regular { n, layout } => serde_json::json!({ "n": n, "layout": layout }),
         }
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
@@ -81,14 +92,52 @@ impl MethodState for Prepared {
     }
 }
 
-/// Light points (s, t) of the regular N×N grid: the lattice corners i/(N-1), edges included,
-/// so N = 17 gives exactly the 289 points of method.md §3. N = 1 is the centre.
-pub fn regular_points(n: u32) -> Vec<(f32, f32)> {
-    if n == 1 {
-        return vec![(0.5, 0.5)];
+/// Light points (s, t) of the regular N×N grid in `layout` (docs/method.md §7):
+/// - lattice: the corners i/(N-1), edges included, so N = 17 gives exactly the 289 points of §3
+///   (N = 1 is the centre); the mean over a closed lattice weights the light's boundary too much;
+/// - centred: the cell centres (i+½)/N, the midpoint rule;
+/// - jittered: one point per cell at (i+u)/N, u uniform from a fixed seed (stratified sampling).
+pub fn regular_points(n: u32, layout: Layout) -> Vec<(f32, f32)> {
+    let cells = move |offset: &dyn Fn(u32, u32) -> (f32, f32)| -> Vec<(f32, f32)> {
+        (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let (u, v) = offset(i, j);
+                ((i as f32 + u) / n as f32, (j as f32 + v) / n as f32)
+            })
+            .collect()
+    };
+    match layout {
+        Layout::Lattice if n == 1 => vec![(0.5, 0.5)],
+        Layout::Lattice => {
+            let step = 1.0 / (n - 1) as f32;
+            (0..n).flat_map(|j| (0..n).map(move |i| (i as f32 * step, j as f32 * step))).collect()
+        }
+        Layout::Centred => cells(&|_, _| (0.5, 0.5)),
+        Layout::Jittered => cells(&|i, j| {
+            let h = splitmix64(JITTER_SEED ^ ((j as u64) << 32 | i as u64));
+            ((h >> 40) as f32 / (1u64 << 24) as f32, ((h >> 16) & 0xff_ffff) as f32 / (1u64 << 24) as f32)
+        }),
     }
-    let step = 1.0 / (n - 1) as f32;
-    (0..n).flat_map(|j| (0..n).map(move |i| (i as f32 * step, j as f32 * step))).collect()
+}
+
+/// Where the N×N grid's points sit in their cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Layout {
+    Lattice,
+    Centred,
+    Jittered,
+}
+
+/// The fixed seed of `layout = jittered`, so runs repeat exactly.
+const JITTER_SEED: u64 = 0x5eed_0f_9e11;
+
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
 }
 
 /// Buffers and the map array of a fixed-sample run, allocated before the frame's clock starts.
@@ -183,9 +232,27 @@ pub struct FixedCapture {
 
 #[cfg(test)]
 mod tests {
+    use super::{regular_points, Layout};
+
+    #[test]
+    fn centred_and_jittered_are_stratified() {
+        for layout in [Layout::Centred, Layout::Jittered] {
+            let p = regular_points(9, layout);
+            assert_eq!(p.len(), 81);
+            for (k, (s, t)) in p.iter().enumerate() {
+                let (i, j) = ((k % 9) as f32, (k / 9) as f32);
+                assert!(*s > i / 9.0 && *s < (i + 1.0) / 9.0 && *t > j / 9.0 && *t < (j + 1.0) / 9.0, "{layout:?} point {k} ({s}, {t}) outside its cell");
+            }
+        }
+        assert_eq!(regular_points(2, Layout::Centred), vec![(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]);
+        let jitter = regular_points(9, Layout::Jittered);
+        assert_eq!(jitter, regular_points(9, Layout::Jittered), "jittered is seeded, so runs repeat");
+        assert!(jitter.iter().zip(regular_points(9, Layout::Centred)).filter(|(a, b)| **a != *b).count() == 81);
+    }
+
     #[test]
     fn regular_17_is_the_lattice() {
-        let p = super::regular_points(17);
+        let p = regular_points(17, Layout::Lattice);
         assert_eq!(p.len(), 289);
         for (k, (s, t)) in p.iter().enumerate() {
             assert_eq!(*s, (k % 17) as f32 / 16.0);

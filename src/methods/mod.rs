@@ -3,7 +3,7 @@
 //!
 //! A method is one module that implements [`ShadowMethod`] (its parameters) and [`MethodState`]
 //! (its pipelines and buffers, built once per scene and settings), plus one line in [`REGISTRY`].
-//! The frame driver (`crate::frame`) runs any of them without knowing which.
+//! The frame driver (src/frame.rs) runs any of them without knowing which.
 
 pub mod adaptive;
 pub mod filtered;
@@ -13,7 +13,8 @@ pub mod pcf;
 pub mod pcss;
 pub mod single_map;
 
-pub use params::{AdaptiveParams, Scope, Weights};
+pub use fixed::Layout;
+pub use params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 
 use crate::compute::FrameGpu;
 use crate::timing::StageTimer;
@@ -182,8 +183,9 @@ impl Method {
     pub fn hard() -> Method {
         Method::new(fixed::Fixed::Hard)
     }
+    /// The regular grid on the N×N lattice, corners included.
     pub fn regular(n: u32) -> Method {
-        Method::new(fixed::Fixed::Regular { n })
+        Method::new(fixed::Fixed::Regular { n, layout: Layout::Lattice })
     }
     pub fn adaptive(p: AdaptiveParams) -> Method {
         Method::new(adaptive::Adaptive(p))

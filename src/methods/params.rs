@@ -22,10 +22,49 @@ pub enum Scope {
     Local,
 }
 
+/// When a quad is split (docs/method.md §6). Every rule compares the quad's low-quality pixel count
+/// with a threshold; they differ in how the threshold is set.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "criterion", rename_all = "lowercase")]
+pub enum Criterion {
+    /// The seed: split when count > p_m pixels (x growth^level). p_m < 0 always splits, inf never.
+    Pixels { p_m: f64, growth: f64 },
+    /// Resolution-independent: split when count > p_share x geometry pixels (x growth^level).
+    Share { p_share: f64, growth: f64 },
+    /// Error budget: split when the RMSE the quad's flagged pixels are estimated to leave,
+    /// KAPPA x area share x sqrt(count / geometry pixels), exceeds tol.
+    Tol { tol: f64 },
+}
+
+/// RMS error of a quad's 4-corner estimate, in units of the quad's share of the light, when a
+/// straight shadow edge crosses it and its corners disagree (measured: 0.199 over 3,000 random
+/// edges; docs/method.md §6).
+pub const KAPPA: f64 = 0.2;
+
+/// What the split kernel compares at one level (subdivide and its twin).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitRule {
+    Threshold(u32),
+    /// count > share x geometry pixels, compared in f32 on both sides.
+    Share(f32),
+    Always,
+    Never,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// The seed's method exactly: p_m = 0, level weights, global scope.
+    Seed,
+    /// The project's recommendation, chosen from measurements (docs/bench.md).
+    Balanced,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct AdaptiveParams {
-    /// Split threshold in pixels; `inf` never splits, -1 always splits.
-    pub p_m: f64,
+    pub preset: Option<Preset>,
+    #[serde(flatten)]
+    pub criterion: Criterion,
     pub max_level: u32,
     pub weights: Weights,
     pub scope: Scope,
@@ -34,7 +73,7 @@ pub struct AdaptiveParams {
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { p_m: 0.0, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false }
     }
 }
 
@@ -45,22 +84,67 @@ pub fn get_u32(params: &BTreeMap<String, String>, key: &str, default: u32) -> Re
     }
 }
 
+fn get_f64(params: &BTreeMap<String, String>, key: &str) -> Result<Option<f64>> {
+    let Some(v) = params.get(key) else { return Ok(None) };
+    let x: f64 = match v.as_str() {
+        "inf" | "+inf" | "infinity" => f64::INFINITY,
+        _ => v.parse().map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a number")))?,
+    };
+    if x.is_nan() {
+        return Err(Error::Param(format!("parameter {key} = `{v}` must not be NaN")));
+    }
+    Ok(Some(x))
+}
+
 impl AdaptiveParams {
+    /// The recommended setting (docs/bench.md "Choosing balanced"): region-local refinement with the
+    /// error-budget criterion.
+    pub fn balanced() -> Self {
+        Self { preset: Some(Preset::Balanced), criterion: Criterion::Tol { tol: BALANCED_TOL }, weights: Weights::Area, scope: Scope::Local, ..Self::default() }
+    }
+
     pub fn from_map(params: &BTreeMap<String, String>) -> Result<Self> {
-        let mut p = Self::default();
-        if let Some(v) = params.get("p_m") {
-            p.p_m = match v.as_str() {
-                "inf" | "+inf" | "infinity" => f64::INFINITY,
-                _ => v.parse().map_err(|_| Error::Param(format!("p_m = `{v}` is not a number (or `inf`)")))?,
-            };
-            if p.p_m.is_nan() {
-                return Err(Error::Param("p_m must not be NaN".into()));
+        let mut p = match params.get("preset").map(String::as_str) {
+            None => Self::default(),
+            Some("seed") => Self { preset: Some(Preset::Seed), ..Self::default() },
+            Some("balanced") => Self::balanced(),
+            Some(v) => return Err(Error::Param(format!("preset = `{v}`: use `seed` or `balanced`"))),
+        };
+        let given: Vec<&str> = ["p_m", "p_share", "tol"].into_iter().filter(|k| params.contains_key(*k)).collect();
+        if given.len() > 1 {
+            return Err(Error::Param(format!("adaptive: give one split criterion, not {}", given.join(" and "))));
+        }
+        let growth = get_f64(params, "growth")?;
+        if let Some(g) = growth {
+            if !(1.0..=1e6).contains(&g) {
+                return Err(Error::Param(format!("growth = {g}: the level factor must be in [1, 1e6]")));
             }
         }
-        p.max_level = get_u32(params, "max_level", 4)?;
+        if let Some(p_m) = get_f64(params, "p_m")? {
+            p.criterion = Criterion::Pixels { p_m, growth: growth.unwrap_or(1.0) };
+        } else if let Some(p_share) = get_f64(params, "p_share")? {
+            if !(0.0..=1.0).contains(&p_share) {
+                return Err(Error::Param(format!("p_share = {p_share}: a share of the geometry pixels, in [0, 1]")));
+            }
+            p.criterion = Criterion::Share { p_share, growth: growth.unwrap_or(1.0) };
+        } else if let Some(tol) = get_f64(params, "tol")? {
+            if !(tol > 0.0 && tol.is_finite()) {
+                return Err(Error::Param(format!("tol = {tol}: the error budget must be a positive finite RMSE")));
+            }
+            p.criterion = Criterion::Tol { tol };
+        } else if let Some(g) = growth {
+            match &mut p.criterion {
+                Criterion::Pixels { growth, .. } | Criterion::Share { growth, .. } => *growth = g,
+                Criterion::Tol { .. } => return Err(Error::Param("growth applies to p_m or p_share; tol sets its own level factor (16)".into())),
+            }
+        }
+        if growth.is_some() && matches!(p.criterion, Criterion::Tol { .. }) {
+            return Err(Error::Param("growth applies to p_m or p_share; tol sets its own level factor (16)".into()));
+        }
+        p.max_level = get_u32(params, "max_level", p.max_level)?;
         if p.max_level > 4 {
             return Err(Error::Param(format!(
-                "max_level = {} exceeds the lattice of method.md §3 (L_max = 4, 17x17 points)",
+                "max_level = {} exceeds the lattice of docs/method.md §3 (L_max = 4, 17x17 points)",
                 p.max_level
             )));
         }
@@ -88,19 +172,44 @@ impl AdaptiveParams {
         if p.scissor && p.scope != Scope::Local {
             return Err(Error::Param("scissor = on needs scope = local (only then are a map's pixels known)".into()));
         }
+        // A preset names a setting; any parameter given beside it makes it another setting.
+        if p.preset.is_some() && params.keys().any(|k| k != "preset") {
+            p.preset = None;
+        }
         Ok(p)
     }
 
-    /// Split threshold as the kernel compares it: split when count > threshold.
-    /// -1 (or any negative) ⇒ always split; +inf ⇒ never.
-    pub fn threshold(&self) -> (u32, bool, bool) {
-        let always = self.p_m < 0.0;
-        let never = self.p_m == f64::INFINITY || self.p_m >= u32::MAX as f64;
-        (if always || never { 0 } else { self.p_m.floor() as u32 }, always, never)
+    /// The rule subdivide applies at `level` (the same function feeds the kernel and the twin).
+    pub fn split_rule(&self, level: u32) -> SplitRule {
+        match self.criterion {
+            Criterion::Pixels { p_m, growth } => {
+                if p_m < 0.0 {
+                    return SplitRule::Always;
+                }
+                let t = p_m * growth.powi(level as i32);
+                if t >= u32::MAX as f64 {
+                    SplitRule::Never
+                } else {
+                    SplitRule::Threshold(t.floor() as u32)
+                }
+            }
+            Criterion::Share { p_share, growth } => SplitRule::Share((p_share * growth.powi(level as i32)) as f32),
+            Criterion::Tol { tol } => {
+                let e = KAPPA * 0.25f64.powi(level as i32);
+                SplitRule::Share(((tol / e) * (tol / e)) as f32)
+            }
+        }
     }
 
     pub fn label(&self) -> String {
-        let mut s = format!("adaptive:p_m={}", self.p_m);
+        if let Some(preset) = self.preset {
+            return format!("adaptive:preset={}", if preset == Preset::Seed { "seed" } else { "balanced" });
+        }
+        let mut s = match self.criterion {
+            Criterion::Pixels { p_m, growth } => format!("adaptive:p_m={p_m}{}", growth_label(growth)),
+            Criterion::Share { p_share, growth } => format!("adaptive:p_share={p_share}{}", growth_label(growth)),
+            Criterion::Tol { tol } => format!("adaptive:tol={tol}"),
+        };
         if self.max_level != 4 {
             s += &format!(",max_level={}", self.max_level);
         }
@@ -115,4 +224,11 @@ impl AdaptiveParams {
         }
         s
     }
+}
+
+/// The error budget of `preset=balanced` (chosen from the measurements in docs/bench.md).
+pub const BALANCED_TOL: f64 = 0.01;
+
+fn growth_label(g: f64) -> String {
+    if g == 1.0 { String::new() } else { format!(",growth={g}") }
 }

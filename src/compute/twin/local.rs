@@ -1,4 +1,4 @@
-//! Twin of the whole scope = local pipeline (reproject_count `list`, neighbourhood `list`,
+//! Twin of the whole scope = local pipeline (probe, reproject_count `list`, neighbourhood `list`,
 //! quad_count, subdivide, compact): per-pixel adaptive quadrature in exact integers.
 
 use super::neighbourhood::{low_quality, Screen};
@@ -16,11 +16,14 @@ pub struct LocalOut {
     pub visibility_fixed: Vec<u32>,
     /// Per level: items evaluated, quads (sorted), low-quality count per quad (in quad order), new samples.
     pub items: Vec<u32>,
+    /// Per level: probes compact appended for the next level.
+    pub probes: Vec<u32>,
     pub quads: Vec<Vec<GpuQuad>>,
     pub new_samples: Vec<Vec<u32>>,
 }
 
-pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<f32>, g: &GBufferCpu, max_level: u32, rule: SplitRule) -> LocalOut {
+/// `rule(level)` is the split rule subdivide applies at each level.
+pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<f32>, g: &GBufferCpu, max_level: u32, rule: &dyn Fn(u32) -> SplitRule) -> LocalOut {
     let s = Screen { width: g.width, height: g.height };
     let wpr = s.words_per_row();
     let words = (s.height * wpr) as usize;
@@ -34,7 +37,26 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
         state[k] = 1;
     }
     let mut sample_level = vec![0u32; LATTICE_POINTS as usize];
+    let geometry = items.len() as u32;
+    // (pixel, first child, lit): uniform pixels of last level's split quads (probe.wgsl).
+    let mut probes: Vec<(u32, u32, bool)> = Vec::new();
     for level in 0..=max_level {
+        for &(p, base, expect_lit) in &probes {
+            let (pos, n) = (Vec4::from(g.position[p as usize]).truncate(), Vec4::from(g.normal[p as usize]).truncate());
+            let q = quads[base as usize];
+            let h = q.size;
+            let new_points = [(q.i + h, q.j), (q.i, q.j + h), (q.i + h, q.j + h), (q.i + 2 * h, q.j + h), (q.i + h, q.j + 2 * h)];
+            let expand = new_points.iter().any(|&(i, j)| {
+                let k = (j * 17 + i) as usize;
+                let map = map_cache[k].get_or_insert_with(|| maps(k as u32));
+                (lit(frame, &samples[k], map, pos, n) == 1) != expect_lit
+            });
+            if expand {
+                items.extend((0..4).map(|child| (p, base + child)));
+            } else if expect_lit {
+                out.visibility_fixed[p as usize] += 4 << (2 * (max_level - level + 1));
+            }
+        }
         let mut counts = vec![0u32; quads.len() * words];
         for &(p, q) in &items {
             let (pos, n) = (Vec4::from(g.position[p as usize]).truncate(), Vec4::from(g.normal[p as usize]).truncate());
@@ -52,8 +74,9 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
             let (x, y) = ((p % s.width) as i32, (p / s.width) as i32);
             counters[q as usize] += low_quality(&counts, &s, q as usize, x, y) as u32;
         }
-        let sub = subdivide(level, max_level, rule, &quads, &counters, &mut state, &mut sample_level);
+        let sub = subdivide(level, max_level, rule(level), geometry, &quads, &counters, &mut state, &mut sample_level);
         let mut next = Vec::new();
+        let mut next_probes = Vec::new();
         for &(p, q) in &items {
             let x = p % s.width;
             let byte = (counts[q as usize * words + ((p / s.width) * wpr + x / 4) as usize] >> ((x & 3) * 8)) & 0xff;
@@ -61,11 +84,15 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
             let base = sub.split_base[q as usize];
             if base != NO_SPLIT && c > 0 && c < 4 {
                 next.extend((0..4).map(|child| (p, base + child)));
+            } else if base != NO_SPLIT {
+                next_probes.push((p, base, c == 4));
             } else {
                 out.visibility_fixed[p as usize] += c << (2 * (max_level - level));
             }
         }
         out.items.push(items.len() as u32);
+        out.probes.push(next_probes.len() as u32);
+        probes = next_probes;
         let mut sorted = quads.clone();
         sorted.iter_mut().for_each(|q| q.parent = 0);
         sorted.sort();

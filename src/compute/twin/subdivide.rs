@@ -5,12 +5,7 @@ use super::quad_corner;
 use crate::compute::buffers::{NO_SPLIT, QUAD_CAPACITY};
 use crate::layout::GpuQuad;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SplitRule {
-    Threshold(u32),
-    Always,
-    Never,
-}
+pub use crate::methods::params::SplitRule;
 
 #[derive(Debug, Default)]
 pub struct SubdivideOut {
@@ -22,10 +17,13 @@ pub struct SubdivideOut {
 }
 
 /// `lattice_state` (requested samples) and `sample_level` are updated in place, as the kernel's atomics.
+/// `geometry_pixels` is the share rules' denominator (reproject_count counts it at level 0).
+#[allow(clippy::too_many_arguments)]
 pub fn subdivide(
     level: u32,
     max_level: u32,
     rule: SplitRule,
+    geometry_pixels: u32,
     quads: &[GpuQuad],
     counters: &[u32],
     lattice_state: &mut [u32],
@@ -50,6 +48,7 @@ pub fn subdivide(
                 SplitRule::Always => true,
                 SplitRule::Never => false,
                 SplitRule::Threshold(p_m) => counters[q] > p_m,
+                SplitRule::Share(share) => counters[q] as f32 > geometry_pixels as f32 * share,
             };
         out.split_base.push(NO_SPLIT);
         if split {

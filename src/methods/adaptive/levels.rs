@@ -1,7 +1,7 @@
 //! The one read-back per level, and the per-level record in run.json.
 
 use crate::methods::AdaptiveParams;
-use crate::compute::buffers::{AdaptiveBuffers, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
+use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
 use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::GpuQuad;
@@ -27,6 +27,10 @@ pub struct LevelReport {
     /// Deepest evaluated level per lattice sample so far.
     pub sample_level: Vec<u32>,
     pub overflow: u32,
+    /// Geometry pixels as reproject_count counted them at level 0 (the share criteria's denominator).
+    pub geometry_pixels: u32,
+    /// scope = local: probe items compact appended for the next level (uniform pixels of split quads).
+    pub probes: u32,
     /// scope = local: (pixel, quad) items evaluated at this level.
     pub items: u32,
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
@@ -68,7 +72,7 @@ pub fn read_level(
     let lattice = LATTICE_POINTS as u64 * 4;
     let quad_bytes = QUAD_CAPACITY as u64 * 16;
     let mut parts: Vec<(&wgpu::Buffer, u64)> = vec![
-        (&b.control, 16),
+        (&b.control, CONTROL_BYTES),
         (&b.new_samples, lattice),
         (next_quads, quad_bytes),
         (&b.quad_counters, QUAD_CAPACITY as u64 * 4),
@@ -108,7 +112,7 @@ pub fn read_level(
         at += (len / 4) as usize;
         s
     };
-    let control = take(16);
+    let control = take(CONTROL_BYTES);
     let new_all = take(lattice);
     let next_raw = take(quad_bytes);
     let counters = take(QUAD_CAPACITY as u64 * 4);
@@ -134,6 +138,8 @@ pub fn read_level(
         new_samples,
         sample_level,
         overflow: control[2],
+        geometry_pixels: control[4],
+        probes: control[5],
         items: if local { item_total } else { 0 },
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
         counts,

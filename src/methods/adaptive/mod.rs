@@ -11,10 +11,11 @@ mod weights;
 pub use levels::{LevelRecord, LevelReport};
 pub use weights::sample_weights;
 
+use super::params::SplitRule;
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
-use crate::compute::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
+use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
-    compact::Compact, groups, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
+    compact::Compact, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
 use crate::compute::FrameGpu;
@@ -30,7 +31,11 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::MultiSample,
     summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
     params: &[
-        Param { key: "p_m", default: "0", help: "split threshold in low-quality pixels per quad (-1 always, inf never)" },
+        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (region-local, error budget; docs/bench.md)" },
+        Param { key: "p_m", default: "0", help: "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)" },
+        Param { key: "p_share", default: "none", help: "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)" },
+        Param { key: "growth", default: "1", help: "threshold factor per level for p_m or p_share, 1..=1e6" },
+        Param { key: "tol", default: "none", help: "error budget: split when a quad's estimated RMSE exceeds tol (instead of p_m)" },
         Param { key: "max_level", default: "4", help: "deepest quadtree level, 0..=4 (4 = the 17×17 lattice)" },
         Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²) or area" },
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
@@ -170,6 +175,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         quad_count: QuadCount::new(fg)?,
         subdivide: Subdivide::new(fg)?,
         compact: Compact::new(fg)?,
+        probe: Probe::new(fg)?,
     };
     for array in &store.arrays {
         shadow_raster::clear_all(ctx, array)?;
@@ -184,25 +190,34 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let (b, mut store, passes, mut samples) = (&prepared.b, &mut prepared.store, &prepared.passes, &mut prepared.samples);
-    let (threshold, always, never) = p.threshold();
-    let split_mode = if always { 1 } else if never { 2 } else { 0 };
     let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
-    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| GpuLevel {
-        level,
-        max_level: p.max_level,
-        quad_count,
-        first_quad,
-        p_m: threshold,
-        split_mode,
-        words_per_row: b.words_per_row,
-        flag_words_per_row: b.flag_words_per_row,
-        item_capacity: b.item_capacity,
-        work_count: 0,
-        dense_groups_x,
-        quad_capacity: QUAD_CAPACITY,
-        scissor: p.scissor as u32,
-        ..Default::default()
+    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| {
+        let (split_mode, p_m, split_share) = match p.split_rule(level) {
+            SplitRule::Threshold(t) => (SPLIT_THRESHOLD, t, 0.0),
+            SplitRule::Always => (SPLIT_ALWAYS, 0, 0.0),
+            SplitRule::Never => (SPLIT_NEVER, 0, 0.0),
+            SplitRule::Share(s) => (SPLIT_SHARE, 0, s),
+        };
+        GpuLevel {
+            level,
+            max_level: p.max_level,
+            quad_count,
+            first_quad,
+            p_m,
+            split_mode,
+            split_share,
+            words_per_row: b.words_per_row,
+            flag_words_per_row: b.flag_words_per_row,
+            item_capacity: b.item_capacity,
+            work_count: 0,
+            dense_groups_x,
+            quad_capacity: QUAD_CAPACITY,
+            scissor: p.scissor as u32,
+            ..Default::default()
+        }
     };
+    // The counters (geometry pixels, appends) start from zero every frame.
+    ctx.queue.write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);
 
     // Level 0: the whole light, its four corners requested.
     let root = GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX };
@@ -235,6 +250,15 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
 
         let evaluate = local || level < p.max_level;
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
+        if local && level > 0 {
+            // Uniform pixels of last level's split quads test the new samples (the blind-spot fix).
+            let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
+            let maps = store.views();
+            timer.stage(ctx, "probe", |enc| {
+                passes.probe.record(fg, enc, &b, &lv, &b.quads[cur], &b.items[cur], maps);
+                Ok(())
+            })?;
+        }
         ctx.queue.write_buffer(&b.quad_counters, 0, &vec![0u8; QUAD_CAPACITY as usize * 4]);
         if local {
             let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
@@ -302,7 +326,13 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
                 "adaptive level {level}: {} (flags {:#x}); the run is not valid",
-                if report.overflow & 2 != 0 { "the (pixel, quad) item list exceeded its capacity" } else { "the quad list exceeded 256" },
+                if report.overflow & 2 != 0 {
+                    "the (pixel, quad) item list exceeded its capacity"
+                } else if report.overflow & 4 != 0 {
+                    "the probe list exceeded its capacity"
+                } else {
+                    "the quad list exceeded 256"
+                },
                 report.overflow
             )));
         }
@@ -345,6 +375,12 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures, detail: None }, trace))
 }
 
+/// subdivide's split modes (GpuLevel.split_mode).
+const SPLIT_THRESHOLD: u32 = 0;
+const SPLIT_ALWAYS: u32 = 1;
+const SPLIT_NEVER: u32 = 2;
+const SPLIT_SHARE: u32 = 3;
+
 struct Passes {
     shadow_test: ShadowTest,
     reproject_count: ReprojectCount,
@@ -352,6 +388,7 @@ struct Passes {
     quad_count: QuadCount,
     subdivide: Subdivide,
     compact: Compact,
+    probe: Probe,
 }
 
 impl MapStore {
