@@ -47,19 +47,21 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let t = shadow_lookup_uv(frame, s, position.xyz, normal);
     let limit = lookup.depth_limit;
+    let slope = slope_per_texel(frame, s, position.xyz, normal);
     var lit = 0.0;
     var count = 0u;
     if (settings.kind == PCF_BOX || settings.kind == PCF_BILINEAR) {
         let n = settings.taps;
-        // Stored depth at which the comparison sampler passes: lit when reference <= stored.
-        let reference = s.depth_lin_a / limit - s.depth_lin_b;
         let size = f32(frame.map_size);
         for (var j = 0u; j < n; j = j + 1u) {
             for (var i = 0u; i < n; i = i + 1u) {
                 let o = vec2<f32>(grid_offset(i, n, settings.radius), grid_offset(j, n, settings.radius));
+                let tap_limit = limit - length(o) * slope;
                 if (settings.kind == PCF_BOX) {
-                    lit = lit + tap_lit(frame, s, shadow_maps, limit, t + o);
+                    lit = lit + tap_lit(frame, s, shadow_maps, tap_limit, t + o);
                 } else {
+                    // Stored depth at which the comparison sampler passes: lit when reference <= stored.
+                    let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
                     lit = lit + textureSampleCompareLevel(shadow_maps, compare_sampler, (t + o) / size, i32(s.layer), reference);
                 }
             }
@@ -79,7 +81,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 let sn = sin(angle);
                 d = vec2<f32>(p.x * c + p.y * sn, -p.x * sn + p.y * c);
             }
-            lit = lit + tap_lit(frame, s, shadow_maps, limit, t + d * settings.radius);
+            let o = d * settings.radius;
+            lit = lit + tap_lit(frame, s, shadow_maps, limit - length(o) * slope, t + o);
         }
         count = settings.taps;
     }

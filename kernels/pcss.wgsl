@@ -36,6 +36,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let t = shadow_lookup_uv(frame, s, position.xyz, normal);
     let z_r = lookup.depth_limit;
+    let slope = slope_per_texel(frame, s, position.xyz, normal);
     let near = s.depth_lin_a / s.depth_lin_b;
     // Texels per unit of angular offset; a blocker at depth z shifts by o (z_r - z) / (z_r z).
     let per_angle = 1.0 / s.texel_angle;
@@ -47,12 +48,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let nb = settings.blocker_taps;
     for (var j = 0u; j < nb; j = j + 1u) {
         for (var i = 0u; i < nb; i = i + 1u) {
-            let texel = floor(t + vec2<f32>(midpoint(i, nb, search.x), midpoint(j, nb, search.y)));
+            let o = vec2<f32>(midpoint(i, nb, search.x), midpoint(j, nb, search.y));
+            let texel = floor(t + o);
             if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
                 continue;
             }
             let stored = textureLoad(shadow_maps, vec2<i32>(texel), i32(s.layer), 0);
-            if (z_r * (stored + s.depth_lin_b) < s.depth_lin_a) {
+            if ((z_r - length(o) * slope) * (stored + s.depth_lin_b) < s.depth_lin_a) {
                 blocker_sum = blocker_sum + s.depth_lin_a / (stored + s.depth_lin_b);
                 blockers = blockers + 1u;
             }
@@ -68,7 +70,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var lit = 0.0;
     for (var j = 0u; j < n; j = j + 1u) {
         for (var i = 0u; i < n; i = i + 1u) {
-            lit = lit + tap_lit(frame, s, shadow_maps, z_r, t + vec2<f32>(midpoint(i, n, r.x), midpoint(j, n, r.y)));
+            let o = vec2<f32>(midpoint(i, n, r.x), midpoint(j, n, r.y));
+            lit = lit + tap_lit(frame, s, shadow_maps, z_r - length(o) * slope, t + o);
         }
     }
     visibility[index] = lit / f32(n * n);

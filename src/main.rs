@@ -27,7 +27,7 @@ struct Cli {
 
 /// What `penumbra` with no arguments compares (method.md: the seed's settings, the region-local
 /// extension, and the regular grids it is measured against).
-const DEFAULT_METHODS: &str = "hard,regular:n=5,regular:n=17,adaptive,adaptive:scope=local";
+const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,regular:n=17,adaptive,adaptive:scope=local";
 
 #[derive(Subcommand)]
 enum Command {

@@ -194,6 +194,17 @@ fn shadow_lookup_uv(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -
     return uv * f32(frame.map_size);
 }
 
+// World depth change per texel of offset along p's tangent plane (texel size · tan of the light
+// angle, clamped like the slope bias): a tap r texels away compares against limit - r · this, so
+// filtering a sloped receiver does not shadow the receiver itself.
+fn slope_per_texel(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let to_light = s.position.xyz - p;
+    let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
+    let cos_angle = abs(dot(n, to_light)) / length(to_light);
+    let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / max(cos_angle, 1e-6), frame.max_slope);
+    return depth * s.texel_angle * tan_angle;
+}
+
 // One depth-map tap at continuous texel coordinate t: 1 when lit (outside the map counts as lit).
 fn tap_lit(frame: GpuFrame, s: GpuSample, maps: texture_depth_2d_array, limit: f32, t: vec2<f32>) -> f32 {
     let size = f32(frame.map_size);

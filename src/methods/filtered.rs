@@ -18,7 +18,7 @@ pub const EVSM_MAX_EXPONENT: f32 = 42.0;
 /// ESM stores e^{c z} with z ≤ 1: c must keep e^c finite in f32 (ln(f32::MAX) ≈ 88.7).
 pub const ESM_MAX_EXPONENT: f32 = 85.0;
 
-const RADIUS: Param = Param { key: "radius", default: "auto", help: "blur radius in texels; auto = penumbra half-width of a blocker halfway to the farthest receiver" };
+const RADIUS: Param = Param { key: "radius", default: "auto", help: "blur radius in texels; auto = penumbra half-width of a blocker 2/3 of the way to the farthest receiver" };
 
 pub const ESM: MethodInfo = MethodInfo {
     name: "esm",
@@ -157,13 +157,13 @@ impl Filtered {
     }
 
     /// Blur radius in texels: the given one, or the penumbra half-width in map texels of a
-    /// blocker halfway between the light and the farthest receiver, ½·w_light / (z_far · texel_angle)
-    /// (w_light the mean edge), between 1 and 32.
+    /// blocker two thirds of the way from the light to the farthest receiver,
+    /// ¼·w_light / (z_far · texel_angle) (w_light the mean edge), between 1 and 32.
     pub fn blur_radius(&self, fg: &FrameGpu, map: &CentreMap) -> u32 {
         self.radius.unwrap_or_else(|| {
             let (u, v) = light_size(fg);
             let z = map.far_depth().max(1e-6);
-            (0.5 * 0.5 * (u + v) / (z * map.sample.texel_angle)).round().clamp(1.0, 32.0) as u32
+            (0.25 * 0.5 * (u + v) / (z * map.sample.texel_angle)).round().clamp(1.0, 32.0) as u32
         })
     }
 }

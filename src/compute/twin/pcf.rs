@@ -40,7 +40,7 @@ pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], dis
     let w = g.width as usize;
     (0..g.position.len())
         .map(|index| {
-            let Some((lookup, t)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+            let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
             if lookup.kind != LOOKUP_COMPARE {
                 return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
             }
@@ -50,14 +50,15 @@ pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], dis
             let count;
             if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
                 let n = filter.taps;
-                let reference = s.depth_lin_a / limit - s.depth_lin_b;
                 let size = frame.map_size as f32;
                 for j in 0..n {
                     for i in 0..n {
                         let o = Vec2::new(grid_offset(i, n, filter.radius), grid_offset(j, n, filter.radius));
+                        let tap_limit = limit - o.length() * slope;
                         lit += if filter.kind == PCF_BOX {
-                            tap_lit(frame, s, map, limit, t + o)
+                            tap_lit(frame, s, map, tap_limit, t + o)
                         } else {
+                            let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
                             bilinear_lit(frame, s, map, reference, (t + o) / size * size)
                         };
                     }
@@ -78,7 +79,8 @@ pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], dis
                             Vec2::new(p.x * c + p.y * sn, -p.x * sn + p.y * c)
                         }
                     };
-                    lit += tap_lit(frame, s, map, limit, t + d * filter.radius);
+                    let o = d * filter.radius;
+                    lit += tap_lit(frame, s, map, limit - o.length() * slope, t + o);
                 }
                 count = filter.taps;
             }

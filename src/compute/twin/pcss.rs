@@ -14,7 +14,7 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
     let size = frame.map_size as f32;
     (0..g.position.len())
         .map(|index| {
-            let Some((lookup, t)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+            let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
             if lookup.kind != LOOKUP_COMPARE {
                 return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
             }
@@ -27,12 +27,13 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
             let nb = filter.blocker_taps;
             for j in 0..nb {
                 for i in 0..nb {
-                    let texel = (t + Vec2::new(midpoint(i, nb, search.x), midpoint(j, nb, search.y))).floor();
+                    let o = Vec2::new(midpoint(i, nb, search.x), midpoint(j, nb, search.y));
+                    let texel = (t + o).floor();
                     if texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size {
                         continue;
                     }
                     let stored = map[texel.y as usize * frame.map_size as usize + texel.x as usize];
-                    if z_r * (stored + s.depth_lin_b) < s.depth_lin_a {
+                    if (z_r - o.length() * slope) * (stored + s.depth_lin_b) < s.depth_lin_a {
                         blocker_sum += s.depth_lin_a / (stored + s.depth_lin_b);
                         blockers += 1;
                     }
@@ -47,7 +48,8 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
             let mut lit = 0.0f32;
             for j in 0..n {
                 for i in 0..n {
-                    lit += tap_lit(frame, s, map, z_r, t + Vec2::new(midpoint(i, n, r.x), midpoint(j, n, r.y)));
+                    let o = Vec2::new(midpoint(i, n, r.x), midpoint(j, n, r.y));
+                    lit += tap_lit(frame, s, map, z_r - o.length() * slope, t + o);
                 }
             }
             lit / (n * n) as f32

@@ -89,7 +89,7 @@ pub fn reconstruct(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, m: &[[f3
     let size = frame.map_size;
     (0..g.position.len())
         .map(|index| {
-            let Some((lookup, t)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+            let Some((lookup, t, _)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
             if lookup.kind != LOOKUP_COMPARE {
                 return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
             }

@@ -70,6 +70,16 @@ pub fn shadow_lookup_uv(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Ve
     uv * frame.map_size as f32
 }
 
+/// Twin of `slope_per_texel`: world depth change per texel of offset along p's tangent plane.
+pub fn slope_per_texel(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> f32 {
+    let to_light = Vec4::from(s.position).truncate() - p;
+    let m = Mat4::from_cols_array_2d(&s.light_from_world);
+    let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w).dot(Vec4::from((p, 1.0)));
+    let cos_angle = n.dot(to_light).abs() / to_light.length();
+    let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
+    depth * s.texel_angle * tan_angle
+}
+
 /// Twin of `tap_lit`: one tap at continuous texel coordinate `t`; outside the map counts as lit.
 pub fn tap_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, t: Vec2) -> f32 {
     let size = frame.map_size as f32;
@@ -93,12 +103,13 @@ pub fn pixel_random(x: u32, y: u32, i: u32) -> f32 {
     (pcg_hash(x ^ pcg_hash(y ^ pcg_hash(i))) >> 8) as f32 / 16777216.0
 }
 
-/// Where a geometry pixel of `g` lands in the map: None for background, else (lookup, uv).
-pub fn pixel_lookup(frame: &GpuFrame, s: &GpuSample, g: &crate::render::gbuffer::GBufferCpu, index: usize) -> Option<(ShadowLookup, Vec2)> {
+/// Where a geometry pixel of `g` lands in the map: None for background, else (lookup, uv, slope
+/// per texel).
+pub fn pixel_lookup(frame: &GpuFrame, s: &GpuSample, g: &crate::render::gbuffer::GBufferCpu, index: usize) -> Option<(ShadowLookup, Vec2, f32)> {
     if !g.is_geometry(index) {
         return None;
     }
     let p = Vec4::from(g.position[index]).truncate();
     let n = Vec4::from(g.normal[index]).truncate();
-    Some((shadow_lookup(frame, s, p, n), shadow_lookup_uv(frame, s, p, n)))
+    Some((shadow_lookup(frame, s, p, n), shadow_lookup_uv(frame, s, p, n), slope_per_texel(frame, s, p, n)))
 }
