@@ -22,22 +22,33 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
     let base = (gid.y * frame.width + gid.x) * MASK_WORDS;
-    // Bits gathered in registers, each mask word written once.
-    var bits: array<u32, 10>;
+    // The test list is sorted, so its bits arrive word by word: one running word in a register
+    // (a dynamically indexed local array spills to memory on CPU devices), written when it changes.
+    var word = MASK_WORDS;
+    var bits = 0u;
     var summary = SUMMARY_GEOMETRY;
     for (var t = 0u; t < level.work_count; t = t + 1u) {
         let k = test_list[t];
+        if (k / 32u != word) {
+            if (word < MASK_WORDS && bits != 0u) {
+                masks[base + word] = masks[base + word] | bits;
+            }
+            word = k / 32u;
+            bits = 0u;
+        }
         let s = samples[k];
         let lookup = shadow_lookup(frame, s, position.xyz, normal);
         let stored = textureLoad(shadow_maps, lookup.texel, i32(s.layer), 0);
         let lit = shadow_compare(s, lookup, stored);
-        bits[k / 32u] = bits[k / 32u] | (lit << (k % 32u));
+        bits = bits | (lit << (k % 32u));
         summary = summary | select(SUMMARY_ANY_UNLIT, SUMMARY_ANY_LIT, lit == 1u);
     }
-    bits[SUMMARY_WORD] = bits[SUMMARY_WORD] | summary;
-    for (var word = 0u; word < MASK_WORDS; word = word + 1u) {
-        if (bits[word] != 0u) {
-            masks[base + word] = masks[base + word] | bits[word];
-        }
+    if (word == SUMMARY_WORD) {
+        bits = bits | summary;
+    } else {
+        masks[base + SUMMARY_WORD] = masks[base + SUMMARY_WORD] | summary;
+    }
+    if (word < MASK_WORDS && bits != 0u) {
+        masks[base + word] = masks[base + word] | bits;
     }
 }

@@ -97,7 +97,7 @@ fn always_split_equals_the_regular_17_grid() {
 fn weights_sum_to_one_and_visibility_stays_in_range() {
     let ctx = common::gpu();
     let scene = small("default", &[]);
-    for weights in [Weights::Level, Weights::Area] {
+    for weights in [Weights::Level, Weights::Area, Weights::Coons] {
         for p_m in [0.0, 20.0] {
             let p = AdaptiveParams { criterion: Criterion::Pixels { p_m, growth: 1.0 }, weights, ..Default::default() };
             let (r, t) = common::traced(&ctx, &scene, &p, false);

@@ -49,6 +49,8 @@ pub struct LevelReport {
 pub struct LevelRecord {
     pub level: u32,
     pub active_quads: usize,
+    /// [i, j, size, parent index in the previous level] of each evaluated quad, in counter order.
+    pub quads: Vec<[u32; 4]>,
     pub low_quality_per_quad: Vec<u32>,
     pub split_quads: usize,
     pub new_samples: usize,
@@ -156,6 +158,7 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         .map(|r| LevelRecord {
             level: r.level,
             active_quads: r.quads.len(),
+            quads: r.quads.iter().map(|q| [q.i, q.j, q.size, q.parent]).collect(),
             low_quality_per_quad: r.low_quality.clone(),
             split_quads: r.split_base.iter().filter(|&&s| s != NO_SPLIT).count(),
             new_samples: r.new_samples.len(),

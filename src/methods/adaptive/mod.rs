@@ -31,13 +31,13 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::MultiSample,
     summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
     params: &[
-        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (region-local, error budget; docs/bench.md)" },
+X
         Param { key: "p_m", default: "0", help: "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)" },
         Param { key: "p_share", default: "none", help: "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)" },
         Param { key: "growth", default: "1", help: "threshold factor per level for p_m or p_share, 1..=1e6" },
         Param { key: "tol", default: "none", help: "error budget: split when a quad's estimated RMSE exceeds tol (instead of p_m)" },
         Param { key: "max_level", default: "4", help: "deepest quadtree level, 0..=4 (4 = the 17×17 lattice)" },
-        Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²) or area" },
+        Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²), area or coons" },
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
     ],
