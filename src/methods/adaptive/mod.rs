@@ -31,7 +31,7 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::MultiSample,
     summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
     params: &[
-X
+        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (p_m 0, max_level 3, Coons weights; docs/bench.md)" },
         Param { key: "p_m", default: "0", help: "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)" },
         Param { key: "p_share", default: "none", help: "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)" },
         Param { key: "growth", default: "1", help: "threshold factor per level for p_m or p_share, 1..=1e6" },
