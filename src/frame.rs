@@ -110,8 +110,8 @@ impl<'a> Renderer<'a> {
         Ok(Self { fg, gbuffer_pass, camera: camera_uniform(scene), state, build: Some((build_ms, upload_ms)) })
     }
 
-    /// Runs one frame. Per-frame state is reset before the clock starts (`setup`); `total_ms` is
-    /// the wall time from the G-buffer to the visibility read-back.
+    /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
+    /// `total_ms` is the wall time from the G-buffer (and the clear of V) to the visibility read-back.
     pub fn frame(&mut self, options: impl Into<FrameOptions>) -> Result<FrameResult> {
         let options = options.into();
         let setup_start = Instant::now();
@@ -119,11 +119,8 @@ impl<'a> Renderer<'a> {
         let (w, h) = (self.fg.gbuffer.width, self.fg.gbuffer.height);
         self.fg.pictures = options.pictures;
         let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx);
-        let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("reset") });
-        enc.clear_buffer(&self.fg.visibility, 0, None);
-        ctx.queue.submit([enc.finish()]);
+        // A method's reset waits for its own zero fills; most have nothing to reset.
         self.state.reset(&self.fg)?;
-        ctx.wait()?;
         let mut setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
         let mut build_stages = BTreeMap::new();
         if let Some((build_ms, upload_ms)) = self.build.take() {
@@ -135,6 +132,8 @@ impl<'a> Renderer<'a> {
         let frame_start = Instant::now();
         let fg = &self.fg;
         timer.stage(ctx, "gbuffer", |enc| {
+            // Methods accumulate into V: clearing it is part of every frame.
+            enc.clear_buffer(&fg.visibility, 0, None);
             self.gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
             Ok(())
         })?;
