@@ -6,6 +6,8 @@ use clap::{Parser, Subcommand};
 use penumbra::assets;
 use penumbra::bench;
 use penumbra::compare::{self, methods_list, sweep, CompareJob};
+use penumbra::record::{Provenance, SpecRef};
+use penumbra::shard::{self, Shard};
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
 use penumbra::ground_truth;
@@ -46,8 +48,12 @@ enum Command {
     Compare(CompareArgs),
     /// Like compare, over parameter grids read from a TOML spec (docs/compare-and-report.md).
     Sweep(SweepArgs),
-    /// Re-render report.html and report.md from results.jsonl files.
+    /// Re-render report.html and report.md from results.jsonl files (compare, sweep, bench, merge).
     Report(ReportArgs),
+    /// Join the shards of one sweep (`sweep --shard i/N` outputs) into one output folder.
+    Merge(MergeArgs),
+    /// Regression gate: compare results.jsonl with a baseline under per-metric tolerances.
+    Check(CheckArgs),
     /// The framing study: scenes at several resolutions and light sizes; maps and error against
     /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
     Framing(FramingArgs),
@@ -120,6 +126,12 @@ struct SweepArgs {
     /// Sweep spec (TOML): `methods = [...]` and `[[grid]]` tables of parameter lists.
     #[arg(long)]
     spec: PathBuf,
+    /// Run only shard INDEX of COUNT (from 0): a share of the grid balanced by estimated cost.
+    #[arg(long, value_name = "INDEX/COUNT")]
+    shard: Option<String>,
+    /// Run the grid as K shard processes on this machine, then merge them into --out.
+    #[arg(long, value_name = "K")]
+    jobs: Option<u32>,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -149,12 +161,41 @@ struct FramingArgs {
 
 #[derive(clap::Args)]
 struct ReportArgs {
-    /// results.jsonl files written by compare or sweep.
+    /// results.jsonl files written by compare, sweep, merge or bench.
     #[arg(required = true, value_name = "RESULTS.jsonl")]
     results: Vec<PathBuf>,
     /// Output folder for report.html, report.md and report_files/.
     #[arg(long, default_value = "penumbra-out")]
     out: PathBuf,
+    /// Show each row's change against this baseline results.jsonl.
+    #[arg(long, value_name = "OLD.jsonl")]
+    baseline: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct MergeArgs {
+    /// Shard output folders (each holds results.jsonl).
+    #[arg(required = true, value_name = "DIR")]
+    dirs: Vec<PathBuf>,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Merge despite these differences: spec, version, adapter, scene, partial (missing shards).
+    #[arg(long, value_delimiter = ',')]
+    allow: Vec<String>,
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// The baseline results.jsonl.
+    #[arg(long, value_name = "OLD.jsonl")]
+    baseline: PathBuf,
+    /// The new results.jsonl.
+    #[arg(value_name = "NEW.jsonl")]
+    results: PathBuf,
+    /// Tolerances: how much each metric may get worse, e.g. `time=+10%,rmse=+2%,maps=+0,psnr=-0.5`.
+    #[arg(long, default_value = penumbra::check::DEFAULT_MAX)]
+    max: String,
 }
 
 #[derive(clap::Args)]
@@ -254,15 +295,14 @@ fn run() -> Result<()> {
         Some(Command::Render(args)) => render(args),
         Some(Command::Reference(args)) => reference(args),
         Some(Command::Compare(args)) => compare_methods(&args.methods, args.run),
-        Some(Command::Sweep(args)) => {
-            let specs = sweep::read_spec(&args.spec)?;
-            run_compare(&specs, args.run)
-        }
+        Some(Command::Sweep(args)) => run_sweep(args),
         Some(Command::Report(args)) => {
-            let html = penumbra::report::results::write_from_files(&args.results, &args.out)?;
+            let html = penumbra::report::results::write_from_files_with_baseline(&args.results, args.baseline.as_deref(), &args.out)?;
             println!("report: {}", html.display());
             Ok(())
         }
+        Some(Command::Merge(args)) => merge(args),
+        Some(Command::Check(args)) => check(args),
         Some(Command::Methods) => {
             print!("{}", methods::describe());
             Ok(())
@@ -299,7 +339,7 @@ fn bench(args: BenchArgs) -> Result<()> {
     let report = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| println!("{line}"))?;
     let files = [
         ("table2.md".to_string(), bench::table::markdown(&report).into_bytes()),
-        ("results.jsonl".to_string(), bench::table::jsonl(&report).into_bytes()),
+        ("results.jsonl".to_string(), bench::table::jsonl(&report)?.into_bytes()),
     ];
     for path in output::write_files(&args.out, &files)? {
         println!("  {}", path.display());
@@ -433,20 +473,136 @@ fn framing(args: FramingArgs) -> Result<()> {
 
 fn compare_methods(values: &[String], run: RunArgs) -> Result<()> {
     let specs = methods_list::split_specs(values)?;
-    run_compare(&specs, run)
+    let methods = methods_list::parse_methods(&specs)?;
+    let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
+    let provenance = Provenance::of_scene("compare", &scene, &run.set, None);
+    let all = vec![provenance; methods.len()];
+    run_compare(methods, scene, all, run)
+}
+
+/// `sweep`: the whole grid, one shard of it (`--shard`), or K local shard processes (`--jobs`).
+fn run_sweep(args: SweepArgs) -> Result<()> {
+    let specs = sweep::read_spec(&args.spec)?;
+    let methods = methods_list::parse_methods(&specs)?;
+    let scene = Scene::load(&args.run.scene, &render_sets(&args.run.set)?)?;
+    let shard = match &args.shard {
+        Some(text) => Shard::parse(text)?,
+        None => Shard::WHOLE,
+    };
+    if let Some(k) = args.jobs {
+        if args.shard.is_some() {
+            anyhow::bail!("--jobs {k}: runs every shard itself; do not combine it with --shard");
+        }
+        if k == 0 || k > 64 {
+            anyhow::bail!("--jobs must be in 1..=64, got {k}");
+        }
+        return sweep_jobs(&args, k);
+    }
+    let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
+    let costs: Vec<f64> = methods.iter().map(|m| shard::estimated_cost(m, &scene)).collect();
+    let mine = shard::assign(&costs, shard.count).swap_remove(shard.index as usize);
+    if mine.is_empty() {
+        anyhow::bail!("--shard {shard}: the spec has {} configurations, too few for {} shards", methods.len(), shard.count);
+    }
+    let base = Provenance::of_scene("sweep", &scene, &args.run.set, None);
+    let spec = SpecRef {
+        file: args.spec.display().to_string(),
+        sha256: penumbra::record::provenance::sha256_hex(&text),
+        configs: methods.len(),
+        config: 0,
+        shard: [shard.index, shard.count],
+    };
+    let provenance = mine.iter().map(|&config| Provenance { spec: Some(SpecRef { config, ..spec.clone() }), ..base.clone() }).collect();
+    if shard.count > 1 {
+        let share: f64 = mine.iter().map(|&i| costs[i]).sum::<f64>() / costs.iter().sum::<f64>();
+        eprintln!("shard {shard}: {} of {} configurations, {:.0}% of the estimated cost", mine.len(), methods.len(), 100.0 * share);
+    }
+    let methods = mine.iter().map(|&i| methods[i].clone()).collect();
+    run_compare(methods, scene, provenance, args.run)
+}
+
+/// `sweep --jobs K`: this binary K times with `--shard i/K`, outputs in OUT/shards/i, then merged.
+fn sweep_jobs(args: &SweepArgs, k: u32) -> Result<()> {
+    let exe = std::env::current_exe().context("cannot find this program to start the shards")?;
+    let r = &args.run;
+    let mut children = Vec::new();
+    let dirs: Vec<PathBuf> = (0..k).map(|i| r.out.join("shards").join(i.to_string())).collect();
+    for (i, dir) in dirs.iter().enumerate() {
+        let mut cmd = std::process::Command::new(&exe);
+        cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
+        cmd.args(["--scene", &r.scene, "--repeats", &r.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
+        for s in &r.set {
+            cmd.arg("--set").arg(s);
+        }
+        if r.no_cache {
+            cmd.arg("--no-cache");
+        }
+        cmd.arg("--out").arg(dir).env("PENUMBRA_NO_PROGRESS", "1").stdout(std::process::Stdio::null());
+        children.push((i, cmd.spawn().with_context(|| format!("cannot start shard {i}/{k}"))?));
+    }
+    let mut failed = Vec::new();
+    for (i, mut child) in children {
+        let status = child.wait().with_context(|| format!("shard {i}/{k}"))?;
+        if !status.success() {
+            failed.push(format!("{i}/{k}"));
+        }
+    }
+    if !failed.is_empty() {
+        anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above; outputs in {})", failed.join(", "), r.out.join("shards").display());
+    }
+    let outcome = shard::merge::merge(&dirs, &[])?;
+    write_merged(&r.out, &outcome)
+}
+
+fn write_merged(out: &std::path::Path, outcome: &shard::merge::MergeOutcome) -> Result<()> {
+    penumbra::record::write_set(out, &outcome.files)?;
+    let rows: Vec<penumbra::report::results::LoadedRow> =
+        outcome.rows.iter().map(|r| penumbra::report::results::LoadedRow { row: r.clone(), base: out.to_path_buf() }).collect();
+    let html = penumbra::report::results::write_from_rows(&rows, out)?;
+    print!("{}", compare::table::render(&outcome.rows));
+    for line in &outcome.inputs {
+        println!("merged {line}");
+    }
+    println!("results: {}", out.join("results.jsonl").display());
+    println!("report:  {}", html.display());
+    Ok(())
+}
+
+fn merge(args: MergeArgs) -> Result<()> {
+    let allow = shard::merge::parse_allow(&args.allow)?;
+    let outcome = shard::merge::merge(&args.dirs, &allow)?;
+    write_merged(&args.out, &outcome)
+}
+
+fn check(args: CheckArgs) -> Result<()> {
+    let max = penumbra::check::parse_max(&args.max)?;
+    let rows = |p: &std::path::Path, which: &str| -> Result<Vec<penumbra::record::ResultRow>> {
+        match penumbra::report::results::read_results(p) {
+            Ok(rows) => Ok(rows.into_iter().map(|l| l.row).collect()),
+            Err(penumbra::Error::Report(penumbra::report::ReportError::Results { path, message })) => {
+                anyhow::bail!("check: {which} {}: {message}", path.display())
+            }
+            Err(e) => Err(e.into()),
+        }
+    };
+    let (old, new) = (rows(&args.baseline, "--baseline")?, rows(&args.results, "results")?);
+    let outcome = penumbra::check::check(&old, &new, &max);
+    print!("{}", penumbra::check::render(&outcome));
+    if outcome.regressions > 0 {
+        anyhow::bail!("check: {} regressions in {} against {}", outcome.regressions, args.results.display(), args.baseline.display());
+    }
+    Ok(())
 }
 
 /// Everything the user gave is checked before the GPU starts or any file is written.
-fn run_compare(specs: &[String], run: RunArgs) -> Result<()> {
-    let methods = methods_list::parse_methods(specs)?;
-    let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
+fn run_compare(methods: Vec<Method>, scene: Scene, provenance: Vec<Provenance>, run: RunArgs) -> Result<()> {
     let mode = ground_truth::parse_mode(&run.reference, run.samples)?;
     if run.repeats == 0 || run.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
     }
     let ctx = GpuContext::new()?;
     let cache = ground_truth::Cache::default_for(run.no_cache);
-    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache };
+    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     let html = compare::write(&run.out, &outcome)?;
     print!("{}", compare::table::render(&outcome.rows));

@@ -14,6 +14,7 @@ pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use format::{BiasDef, CullMode, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
+pub use obj::embedded_source;
 pub use overrides::apply_overrides;
 
 use crate::light::{AreaLight, Bounds};

@@ -8,6 +8,11 @@ use std::path::Path;
 /// Meshes embedded in the binary, so built-in scenes need no files.
 const EMBEDDED: &[(&str, &str)] = &[("bunny-small.obj", include_str!("../../scenes/bunny-small.obj"))];
 
+/// The text of a mesh embedded in the binary (provenance digests it).
+pub fn embedded_source(file: &str) -> Option<&'static str> {
+    EMBEDDED.iter().find(|(n, _)| *n == file).map(|(_, t)| *t)
+}
+
 /// An OBJ embedded in the binary (built-in scenes).
 pub fn load_embedded(file: &str) -> Result<RawMesh> {
     let text = EMBEDDED

@@ -248,7 +248,10 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
         render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace, capture)?;
 
-        let evaluate = local || level < p.max_level;
+        // Under scope = global the counts only feed the split rule: a rule that cannot depend on them
+        // (always, never) and the last level (nothing splits) skip the count stages.
+        let counted = matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_));
+        let evaluate = local || (level < p.max_level && counted);
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
         if local && level > 0 {
             // Uniform pixels of last level's split quads test the new samples (the blind-spot fix).
