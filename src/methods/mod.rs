@@ -174,7 +174,11 @@ impl Method {
                 if allowed.is_empty() { "none".to_string() } else { allowed.join(", ") }
             )));
         }
-        Ok(Method((info.parse)(&params)?))
+        // Every message names the method: `pcf: parameter kernel = `foo`: ...`.
+        (info.parse)(&params).map(Method).map_err(|e| match e {
+            Error::Param(m) if !m.starts_with(name) => Error::Param(format!("{name}: {m}")),
+            e => e,
+        })
     }
 
     pub fn new(m: impl ShadowMethod) -> Method {
