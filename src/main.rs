@@ -11,7 +11,7 @@ use penumbra::shard::{self, Shard};
 use penumbra::frame;
 use penumbra::gpu::GpuContext;
 use penumbra::ground_truth;
-use penumbra::methods::{Method, METHOD_KEYS};
+use penumbra::methods::{self, Method};
 use penumbra::output;
 use penumbra::scene::{Scene, BUILTIN_SCENES};
 use penumbra::timing::TimingMode;
@@ -28,8 +28,9 @@ struct Cli {
 }
 
 /// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
-/// recommended preset, and the regular grids they are measured against).
-const DEFAULT_METHODS: &str = "hard,regular:n=5,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
+/// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
+/// each single-map family, hard, PCF, PCSS and a moment map).
+const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
 #[derive(Subcommand)]
 enum Command {
@@ -37,6 +38,8 @@ enum Command {
     Render(RenderArgs),
     /// List the built-in scenes.
     Scenes,
+    /// List every method with its parameters, defaults and what it does.
+    Methods,
     /// Print the adapter and the limits in use.
     Info,
     /// Ray-trace the ground truth from the G-buffer on the CPU (cached); writes reference.exr/.png.
@@ -313,6 +316,10 @@ fn run() -> Result<()> {
         }
         Some(Command::Merge(args)) => merge(args),
         Some(Command::Check(args)) => check(args),
+        Some(Command::Methods) => {
+            print!("{}", methods::describe());
+            Ok(())
+        }
         Some(Command::Scenes) => {
             for (name, about, _) in BUILTIN_SCENES {
                 println!("{name:18} {about}");
@@ -392,7 +399,7 @@ fn split_sets(sets: &[String]) -> Result<(Vec<(String, String)>, Vec<(String, St
     for s in sets {
         let (k, v) = s.split_once('=').with_context(|| format!("--set {s}: expected KEY=VALUE"))?;
         let pair = (k.trim().to_string(), v.trim().to_string());
-        if METHOD_KEYS.contains(&pair.0.as_str()) {
+        if methods::is_method_key(&pair.0) {
             method.push(pair);
         } else {
             render.push(pair);

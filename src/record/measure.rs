@@ -4,7 +4,7 @@
 //! method needs) whose median is the figure quoted. Methods are interleaved round by round, so
 //! all of them see the same machine load; the last frame of each is handed to `judge`.
 
-use crate::frame::{self, FrameOptions, FrameResult};
+use crate::frame::{FrameOptions, FrameResult, Renderer};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::scene::Scene;
@@ -22,7 +22,8 @@ pub struct Timing {
     pub max_ms: f64,
     /// Wall time per stage from the stages-mode frame, setup stages removed.
     pub stages_ms: BTreeMap<String, f64>,
-    /// Pipelines, buffers and upload before the frame's clock starts (stages-mode frame).
+    /// The method's per-frame reset before the frame's clock starts, on the stages-mode frame (the
+    /// second on its renderer: pipelines and buffers were built for the warm-up).
     pub setup_ms: Option<f64>,
     /// Shadow maps of the last frame; `maps_stable`: every frame used the same number.
     pub shadow_maps: u32,
@@ -79,20 +80,24 @@ pub fn measure<T>(
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
 ) -> Result<Vec<Measured<T>>> {
     let repeats = repeats.max(1);
-    // No decision pictures: their read-backs would be timed, and nothing here uses them.
-    let run = |method, mode| frame::render_with_options(ctx, scene, method, FrameOptions { mode, pictures: false });
-    for m in methods {
-        let r = run(m, TimingMode::Frame)?; // warm-up: driver caches, allocator
+    // One renderer per method: pipelines and buffers are built once (charged to the warm-up's
+    // setup) and every later frame reuses them. No decision pictures: their read-backs would be
+    // timed, and nothing here uses them.
+    let mut renderers = methods.iter().map(|m| Renderer::new(ctx, scene, m)).collect::<Result<Vec<_>>>()?;
+    let options = |mode| FrameOptions { mode, pictures: false, capture: false };
+    for (m, renderer) in methods.iter().zip(&mut renderers) {
+        let r = renderer.frame(options(TimingMode::Frame))?; // warm-up: driver caches, allocator, build
         on_frame(m, Phase::WarmUp, &r);
     }
     let mut staged = Vec::with_capacity(methods.len());
-    for m in methods {
-        let r = run(m, TimingMode::Stages)?;
+    for (m, renderer) in methods.iter().zip(&mut renderers) {
+        let r = renderer.frame(options(TimingMode::Stages))?;
         on_frame(m, Phase::Stages, &r);
         let mut stages = r.stages_ms;
-        // `setup` (pipelines, buffers, the `upload` inside it) runs before the frame's clock starts.
+        // `setup` (the method's per-frame reset; the build was the warm-up's) runs before the clock.
         let setup = stages.remove("setup");
         stages.remove("upload");
+        stages.remove("build");
         staged.push((stages, setup));
     }
     let mut totals: Vec<Vec<f64>> = vec![Vec::new(); methods.len()];
@@ -101,7 +106,7 @@ pub fn measure<T>(
     let mut judged: Vec<Option<T>> = methods.iter().map(|_| None).collect();
     for k in 1..=repeats {
         for (i, m) in methods.iter().enumerate() {
-            let r = run(m, TimingMode::Frame)?;
+            let r = renderers[i].frame(options(TimingMode::Frame))?;
             on_frame(m, Phase::Timed(k, repeats), &r);
             totals[i].push(r.total_ms);
             maps[i].push(r.output.shadow_maps);
