@@ -137,7 +137,7 @@ fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob) -> Result<SceneOu
         error_pngs: Vec::new(),
     };
     for method in &job.methods {
-        let f = frame::render_with_options(ctx, &scene, method, FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+        let f = frame::render(ctx, &scene, method, FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
         let differ = (0..mask.len()).filter(|&i| f.gbuffer.is_geometry(i) != mask[i]).count();
         if differ > 0 {
             return Err(Error::Gpu(format!("{} on {}: the G-buffer differs from the reference's in {differ} pixels", method.label(), s.name)));
@@ -184,10 +184,11 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
 /// The popping sequence is about the adaptive decision: the adaptive methods, and the regular grid
 /// with the most samples as the steady comparison (the others would only add time to the main job).
 pub fn popping_methods(methods: &[Method]) -> Vec<Method> {
-    let densest = methods.iter().filter_map(|m| if let Method::Regular { n, .. } = m { Some(*n) } else { None }).max();
+    let regular_n = |m: &Method| if m.name() == "regular" { m.params_json().get("n").and_then(|n| n.as_u64()) } else { None };
+    let densest = methods.iter().filter_map(regular_n).max();
     let keep: Vec<Method> = methods
         .iter()
-        .filter(|m| matches!(m, Method::Adaptive(_)) || matches!(m, Method::Regular { n, .. } if Some(*n) == densest))
+        .filter(|m| m.adaptive_params().is_some() || (regular_n(m).is_some() && regular_n(m) == densest))
         .cloned()
         .collect();
     if keep.is_empty() { methods.to_vec() } else { keep }

@@ -4,7 +4,7 @@ use super::path::AnimationSpec;
 use super::{SequenceJob, SequenceOutcome};
 use crate::compare::methods_list;
 use crate::gpu::GpuContext;
-use crate::methods::METHOD_KEYS;
+use crate::methods::is_method_key;
 use crate::scene::Scene;
 use crate::{ground_truth, Error, Result};
 use std::path::PathBuf;
@@ -61,7 +61,7 @@ pub fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
     for s in sets {
         let (k, v) = s.split_once('=').ok_or_else(|| Error::Param(format!("--set {s}: expected KEY=VALUE")))?;
         let k = k.trim();
-        if METHOD_KEYS.contains(&k) {
+        if is_method_key(k) {
             return Err(Error::Param(format!("--set {k}=...: method parameters go in the method spec, e.g. `adaptive:{k}=...`")));
         }
         out.push((k.to_string(), v.trim().to_string()));

@@ -127,7 +127,7 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         let shaded_reference = output::shaded_image(&reference.values, &g, &scene_t);
         let mut line = format!("frame {}/{}: reference {}", i + 1, job.frames, if reference.cached { "cached" } else { "traced" });
         for (k, method) in job.methods.iter().enumerate() {
-            let f = frame::render_with_options(ctx, &scene_t, method, FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            let f = frame::render(ctx, &scene_t, method, FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
             let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
             if differ > 0 {
                 return Err(Error::Gpu(format!("{} frame {i}: the G-buffer differs from the reference's in {differ} pixels", method.label())));
