@@ -1,10 +1,13 @@
-//! One frame: upload, G-buffer, the method's shadow maps and compute stages, read-back.
+//! The frame driver: builds a scene's GPU state and a method's pipelines once ([`Renderer::new`]),
+//! then runs frames on them ([`Renderer::frame`]): G-buffer, the method's maps and compute
+//! stages, read-back. It knows methods only through `methods::MethodState`.
 
-use crate::compute::shade::{ShadeInputs, ShadePass};
+use crate::compute::shade::ShadePass;
+use crate::compute::FrameGpu;
 use crate::gpu::{readback, GpuContext};
 use crate::layout::{GpuCamera, GpuFrame};
-use crate::methods::{self, Method};
-use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
+use crate::methods::{Method, MethodOutput, MethodState};
+use crate::render::gbuffer::{self, GBufferCpu, GBufferPass};
 use crate::render::shadow_raster::ShadowRasterPass;
 use crate::render::SceneGpu;
 use crate::scene::Scene;
@@ -13,30 +16,6 @@ use crate::Result;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-/// What a method hands back besides the visibility buffer it filled.
-pub struct MethodOutput {
-    pub shadow_maps: u32,
-    /// CPU↔GPU synchronisations the algorithm needs (read-backs), not counting timing waits.
-    pub syncs: u32,
-    pub record: serde_json::Value,
-    pub pictures: Vec<(String, image::RgbImage)>,
-}
-
-/// GPU state every method works on.
-pub struct FrameGpu<'a> {
-    pub ctx: &'a GpuContext,
-    pub scene: &'a Scene,
-    pub scene_gpu: SceneGpu,
-    pub gbuffer: GBuffer,
-    pub frame: GpuFrame,
-    pub frame_buffer: wgpu::Buffer,
-    pub raster: ShadowRasterPass,
-    pub shade: ShadePass,
-    pub visibility: wgpu::Buffer,
-    /// Whether methods read back what their pictures need (off for timed benchmark runs).
-    pub pictures: bool,
-}
-
 /// How to run a frame.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameOptions {
@@ -44,14 +23,15 @@ pub struct FrameOptions {
     /// Read back the decision pictures (comparison map, flags, samples per pixel): this makes the
     /// per-level read-back larger, so timed runs turn it off.
     pub pictures: bool,
+    /// Keep intermediate buffers for the CPU twins in `MethodOutput::detail` (tests only: it adds
+    /// read-backs).
+    pub capture: bool,
 }
 
-impl FrameGpu<'_> {
-    pub fn shade_inputs<'b>(&'b self, samples: &'b wgpu::Buffer, weights: &'b wgpu::Buffer) -> ShadeInputs<'b> {
-        ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, visibility: &self.visibility }
-    }
-    pub fn pixel_count(&self) -> u32 {
-        self.gbuffer.width * self.gbuffer.height
+impl From<TimingMode> for FrameOptions {
+    /// Pictures on, no capture: what `penumbra render` writes.
+    fn from(mode: TimingMode) -> Self {
+        FrameOptions { mode, pictures: true, capture: false }
     }
 }
 
@@ -59,6 +39,8 @@ pub struct FrameResult {
     pub visibility: Vec<f32>,
     pub gbuffer: GBufferCpu,
     pub output: MethodOutput,
+    /// Wall time per stage. `setup` is the work before the frame's clock starts (zero fills; on
+    /// a renderer's first frame also `build`: pipelines, buffers and the upload).
     pub stages_ms: BTreeMap<String, f64>,
     pub total_ms: f64,
     pub timing_waits: u32,
@@ -90,116 +72,95 @@ pub fn camera_uniform(scene: &Scene) -> GpuCamera {
     }
 }
 
-/// Renders one frame of `scene` with `method`, pictures included.
-pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, mode: TimingMode) -> Result<FrameResult> {
-    render_with(ctx, scene, method, FrameOptions { mode, pictures: true }, &mut None, false)
+/// One scene and one method, built once: every frame reuses the pipelines and buffers.
+pub struct Renderer<'a> {
+    fg: FrameGpu<'a>,
+    gbuffer_pass: GBufferPass,
+    camera: GpuCamera,
+    state: Box<dyn MethodState>,
+    /// Wall time of building (pipelines, buffers, upload), charged to the first frame's `setup`.
+    build: Option<(f64, f64)>,
 }
 
-/// Renders one frame with explicit options (benchmarks: `pictures: false`).
-pub fn render_with_options(ctx: &GpuContext, scene: &Scene, method: &Method, options: FrameOptions) -> Result<FrameResult> {
-    render_with(ctx, scene, method, options, &mut None, false)
-}
-
-fn render_with(
-    ctx: &GpuContext,
-    scene: &Scene,
-    method: &Method,
-    options: FrameOptions,
-    trace: &mut Option<methods::adaptive::AdaptiveTrace>,
-    capture: bool,
-) -> Result<FrameResult> {
-    render_inner(ctx, scene, method, options, trace, capture, None)
-}
-
-/// Renders with a fixed-sample method (hard, regular), keeping every map for the shade twin.
-pub fn render_fixed_captured(ctx: &GpuContext, scene: &Scene, method: &Method) -> Result<(FrameResult, methods::fixed::FixedCapture)> {
-    let mut c = methods::fixed::FixedCapture::default();
-    let r = render_inner(ctx, scene, method, FrameOptions { mode: TimingMode::Frame, pictures: true }, &mut None, false, Some(&mut c))?;
-    Ok((r, c))
-}
-
-fn render_inner(
-    ctx: &GpuContext,
-    scene: &Scene,
-    method: &Method,
-    options: FrameOptions,
-    trace: &mut Option<methods::adaptive::AdaptiveTrace>,
-    capture: bool,
-    fixed_capture: Option<&mut methods::fixed::FixedCapture>,
-) -> Result<FrameResult> {
-    let start = Instant::now();
-    let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx);
-    let (w, h) = (scene.render.width, scene.render.height);
-    let gbuffer_pass = GBufferPass::new(ctx)?;
-    let gbuffer = GBufferPass::allocate(ctx, w, h)?;
-    let scene_gpu = timer.cpu("upload", || Ok(SceneGpu::upload(ctx, scene)))?;
-    let frame = frame_uniform(scene);
-    let fg = FrameGpu {
-        ctx,
-        scene,
-        frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
-        frame,
-        raster: ShadowRasterPass::new(ctx, scene.render.cull)?,
-        shade: ShadePass::new(ctx)?,
-        visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
-        scene_gpu,
-        gbuffer,
-        pictures: options.pictures,
-    };
-    // Method buffers, arrays and pipelines are made (and zero-filled) before the clock starts.
-    enum Prepared {
-        Fixed(methods::fixed::Prepared),
-        Adaptive(methods::AdaptiveParams, methods::adaptive::Prepared),
+impl<'a> Renderer<'a> {
+    pub fn new(ctx: &'a GpuContext, scene: &'a Scene, method: &Method) -> Result<Self> {
+        let start = Instant::now();
+        let (w, h) = (scene.render.width, scene.render.height);
+        let gbuffer_pass = GBufferPass::new(ctx)?;
+        let gbuffer = GBufferPass::allocate(ctx, w, h)?;
+        let upload_start = Instant::now();
+        let scene_gpu = SceneGpu::upload(ctx, scene);
+        let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
+        let frame = frame_uniform(scene);
+        let fg = FrameGpu {
+            ctx,
+            scene,
+            frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
+            frame,
+            raster: ShadowRasterPass::new(ctx, scene.render.cull)?,
+            shade: ShadePass::new(ctx)?,
+            visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
+            scene_gpu,
+            gbuffer,
+            pictures: true,
+        };
+        let state = method.build(&fg)?;
+        ctx.wait()?;
+        let build_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(Self { fg, gbuffer_pass, camera: camera_uniform(scene), state, build: Some((build_ms, upload_ms)) })
     }
-    let prepared = match method {
-        Method::Hard => Prepared::Fixed(methods::fixed::prepare(&fg, &[(0.5, 0.5)])?),
-        Method::Regular { n, layout } => Prepared::Fixed(methods::fixed::prepare(&fg, &methods::fixed::regular_points(*n, *layout))?),
-        Method::Adaptive(p) => Prepared::Adaptive(p.clone(), methods::adaptive::prepare(&fg, p)?),
-    };
-    ctx.wait()?;
-    let setup_ms = start.elapsed().as_secs_f64() * 1e3;
-    let frame_start = Instant::now();
-    let camera = camera_uniform(scene);
-    timer.stage(ctx, "gbuffer", |enc| {
-        gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &camera, &fg.gbuffer);
-        Ok(())
-    })?;
-    let output = match prepared {
-        Prepared::Adaptive(p, prep) => {
-            let (out, t) = methods::adaptive::run(&fg, &mut timer, &p, prep, capture)?;
-            *trace = Some(t);
-            out
+
+    /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
+    /// `total_ms` is the wall time from the G-buffer (and the clear of V) to the visibility read-back.
+    pub fn frame(&mut self, options: impl Into<FrameOptions>) -> Result<FrameResult> {
+        let options = options.into();
+        let setup_start = Instant::now();
+        let ctx = self.fg.ctx;
+        let (w, h) = (self.fg.gbuffer.width, self.fg.gbuffer.height);
+        self.fg.pictures = options.pictures;
+        let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx);
+        // A method's reset waits for its own zero fills; most have nothing to reset.
+        self.state.reset(&self.fg)?;
+        let mut setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
+        let mut build_stages = BTreeMap::new();
+        if let Some((build_ms, upload_ms)) = self.build.take() {
+            setup_ms += build_ms;
+            build_stages.insert("build".to_string(), build_ms);
+            build_stages.insert("upload".to_string(), upload_ms);
         }
-        Prepared::Fixed(prep) => methods::fixed::run(&fg, &mut timer, prep, fixed_capture)?,
-    };
-    timer.flush(ctx);
-    let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
-    let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
-    let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
-    if gbuffer.geometry_count() == 0 {
-        return Err(scene.nothing_visible());
+
+        let frame_start = Instant::now();
+        let fg = &self.fg;
+        timer.stage(ctx, "gbuffer", |enc| {
+            // Methods accumulate into V: clearing it is part of every frame.
+            enc.clear_buffer(&fg.visibility, 0, None);
+            self.gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
+            Ok(())
+        })?;
+        let output = self.state.run(fg, &mut timer, options.capture)?;
+        timer.flush(ctx);
+        let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
+        let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
+        let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
+        if gbuffer.geometry_count() == 0 {
+            return Err(fg.scene.nothing_visible());
+        }
+        // Σŵ = 1 up to rounding: clamp so V ∈ [0, 1] holds exactly; background stays 0.
+        for (i, v) in visibility.iter_mut().enumerate() {
+            *v = if gbuffer.is_geometry(i) { v.clamp(0.0, 1.0) } else { 0.0 };
+        }
+        let mut stages_ms = timer.stages_ms.clone();
+        stages_ms.insert("setup".into(), setup_ms);
+        stages_ms.extend(build_stages);
+        let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
+        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, gpu_stages_ms })
     }
-    // Σŵ = 1 up to rounding: clamp so V ∈ [0, 1] holds exactly; background stays 0.
-    for (i, v) in visibility.iter_mut().enumerate() {
-        *v = if gbuffer.is_geometry(i) { v.clamp(0.0, 1.0) } else { 0.0 };
-    }
-    let mut stages_ms = timer.stages_ms.clone();
-    stages_ms.insert("setup".into(), setup_ms);
-    let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
-    Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, gpu_stages_ms })
 }
 
-/// Renders with the adaptive method and returns its trace too; `capture` keeps every intermediate
-/// buffer for the CPU twins (tests only: it adds read-backs).
-pub fn render_traced(
-    ctx: &GpuContext,
-    scene: &Scene,
-    p: &methods::AdaptiveParams,
-    capture: bool,
-) -> Result<(FrameResult, methods::adaptive::AdaptiveTrace)> {
-    let mut trace = Some(methods::adaptive::AdaptiveTrace::default());
-    let r = render_with(ctx, scene, &Method::Adaptive(p.clone()), FrameOptions { mode: TimingMode::Frame, pictures: true }, &mut trace, capture)?;
-    Ok((r, trace.unwrap_or_default()))
+/// One frame of `scene` with `method` on a fresh renderer (build included in `setup`). Several
+/// frames of the same scene and method should share one [`Renderer`].
+pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, options: impl Into<FrameOptions>) -> Result<FrameResult> {
+    Renderer::new(ctx, scene, method)?.frame(options)
 }
 
 /// Only the camera G-buffer of `scene`: what the CPU reference traces from. Same pass, same

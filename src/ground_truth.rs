@@ -175,12 +175,27 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
         cached: false,
         trace: None,
     };
-    if let Cache::Use(dir) = cache {
-        // A corrupt cache file is an error worth seeing, not something to overwrite silently.
-        if let Some(values) = reference::load_cached(dir, &key, g.width, g.height)? {
+    // Concurrent runs (shards) share the cache: the first to miss traces under the entry's lock,
+    // the others wait for the lock and then read what it wrote. A corrupt cache file is an
+    // error worth seeing, not something to overwrite silently.
+    let mut _lock = None;
+    if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
+        let hit = |image: &mut ReferenceImage| -> Result<bool> {
+            if !matches!(cache, Cache::Use(_)) {
+                return Ok(false);
+            }
+            let Some(values) = reference::load_cached(dir, &key, g.width, g.height)? else { return Ok(false) };
             image.values = values;
             image.cache_file = Some(reference::cache_path(dir, &key));
             image.cached = true;
+            Ok(true)
+        };
+        if hit(&mut image)? {
+            return Ok(image);
+        }
+        let say = &mut |who: &str| progress::suspend(|| eprintln!("reference: waiting for {} (held by pid/host {who})", dir.join(format!("{key}.lock")).display()));
+        _lock = Some(reference::lock(dir, &key, say)?);
+        if hit(&mut image)? {
             return Ok(image);
         }
     }

@@ -28,6 +28,11 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("subdivide"),
     kernel!("compact"),
     kernel!("probe"),
+    kernel!("pcf"),
+    kernel!("pcss"),
+    kernel!("moments"),
+    kernel!("blur"),
+    kernel!("reconstruct"),
 ];
 
 /// Full source of a kernel: prelude + body.

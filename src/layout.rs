@@ -104,6 +104,42 @@ pub struct GpuQuad {
     pub parent: u32,
 }
 
+/// Parameters of the single-map filtering kernels (pcf, pcss, moments, blur, reconstruct).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuFilter {
+    /// pcf: the kernel (box, bilinear, poisson, stratified, rotated); filtered: the statistic.
+    pub kind: u32,
+    /// pcf box/bilinear and pcss: taps per side; pcf disk kernels: tap count.
+    pub taps: u32,
+    /// pcss: blocker-search taps per side.
+    pub blocker_taps: u32,
+    /// pcf stratified: points in the disk drawn from; csm: Fourier order M.
+    pub order: u32,
+    /// pcf: filter radius in texels.
+    pub radius: f32,
+    /// pcf: seed 004's V = 1 - darkening · (shadowed taps); 0 averages the taps.
+    pub darkening: f32,
+    /// The area light's edge lengths (world units).
+    pub light_u: f32,
+    pub light_v: f32,
+    /// esm and evsm exponents.
+    pub c_pos: f32,
+    pub c_neg: f32,
+    /// vsm and evsm: light-bleeding reduction amount.
+    pub bleed: f32,
+    /// msm: moment bias α.
+    pub moment_bias: f32,
+    /// Moment planes (vec4 each).
+    pub layers: u32,
+    /// Box prefilter radius in texels.
+    pub blur_radius: u32,
+    /// pcss: largest search and filter half-width in texels.
+    pub max_radius: f32,
+    /// csm: receiver depth moved toward the light before the expansion is evaluated.
+    pub depth_offset: f32,
+}
+
 /// Member offsets and size of a Rust GPU struct, for the layout test.
 pub struct StructLayout {
     pub name: &'static str,
@@ -136,5 +172,9 @@ pub fn all_layouts() -> Vec<StructLayout> {
         }),
         layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, pad0, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),
+        layout_of!(GpuFilter {
+            kind, taps, blocker_taps, order, radius, darkening, light_u, light_v, c_pos, c_neg, bleed, moment_bias, layers,
+            blur_radius, max_radius, depth_offset
+        }),
     ]
 }

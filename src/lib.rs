@@ -21,12 +21,17 @@ pub mod progress;
 pub mod reference;
 pub mod metrics;
 pub mod charts;
+pub mod record;
 pub mod report;
 pub mod ground_truth;
 pub mod compare;
+pub mod shard;
+pub mod check;
 pub mod framing;
 pub mod assets;
 pub mod bench;
 pub mod inputs;
+pub mod sequence;
+pub mod failures;
 
 pub use error::{Error, Result};

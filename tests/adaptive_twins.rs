@@ -6,7 +6,7 @@
 
 mod common;
 use penumbra::compute::twin::{self, neighbourhood::Screen};
-use penumbra::frame::{self, frame_uniform};
+use penumbra::frame::frame_uniform;
 use penumbra::methods::AdaptiveParams;
 use penumbra::scene::Scene;
 
@@ -15,10 +15,8 @@ const SEEDS: [u64; 4] = [1, 7, 23, 101];
 const CRITERIA: [&str; 4] = ["p_m=0", "p_m=3", "p_share=0.002,growth=4", "tol=0.004"];
 
 fn params(spec: &str) -> AdaptiveParams {
-    match penumbra::methods::Method::parse(&format!("adaptive:{spec}"), &[]).expect("criterion parses") {
-        penumbra::methods::Method::Adaptive(p) => p,
-        m => panic!("{m:?} is not adaptive"),
-    }
+    let m = penumbra::methods::Method::parse(&format!("adaptive:{spec}"), &[]).expect("criterion parses");
+    m.adaptive_params().cloned().unwrap_or_else(|| panic!("{m:?} is not adaptive"))
 }
 
 fn scene(seed: u64) -> Scene {
@@ -42,7 +40,7 @@ fn global_stages_equal_their_cpu_twins() {
             let sc = scene(seed);
             let p = params(spec);
             let p_m = spec;
-            let (r, t) = frame::render_traced(&ctx, &sc, &p, true).unwrap();
+            let (r, t) = common::traced(&ctx, &sc, &p, true);
             let g = &r.gbuffer;
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
@@ -99,7 +97,7 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
         for spec in ["p_m=0", "tol=0.004"] {
             let sc = scene(seed);
             let p = params(&format!("{spec},scope=local"));
-            let (r, t) = frame::render_traced(&ctx, &sc, &p, true).unwrap();
+            let (r, t) = common::traced(&ctx, &sc, &p, true);
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
             let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));

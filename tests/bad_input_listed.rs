@@ -4,7 +4,7 @@
 
 #[macro_use]
 mod common;
-use common::{penumbra, temp_dir};
+use common::temp_dir;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
 

@@ -52,7 +52,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     let dir = temp_dir("bench_suite");
     let scenes = dir.join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
-    for name in ["bunny", "grove", "cows", "teapot"] {
+    for name in ["bunny", "bunny-seed-framing", "grove", "cows", "teapot"] {
         std::fs::write(scenes.join(format!("{name}.toml")), STAND_IN).unwrap();
     }
     let out = dir.join("out");
@@ -86,17 +86,42 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     let html = std::fs::read_to_string(out.join("report.html")).expect("the suite writes report.html");
     assert!(html.contains("<svg") || html.contains("data:image/svg+xml"), "the report has charts");
     assert!(!html.contains("src=\"http") && !html.contains("<script src"), "self-contained");
+    // One schema with compare: the record layer's rows, provenance included.
     let lines: Vec<serde_json::Value> =
         std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    assert_eq!(lines.len(), 8);
+    assert_eq!(lines.len(), 10);
     for l in &lines {
-        assert_eq!(l["frame_ms"]["samples"].as_array().unwrap().len(), 2, "{l}");
-        let (rmse, flip) = (l["rmse"].as_f64().unwrap(), l["flip"].as_f64().unwrap());
+        assert_eq!(l["total_ms_runs"].as_array().unwrap().len(), 2, "{l}");
+        let (rmse, flip) = (l["metrics"]["rmse"].as_f64().unwrap(), l["metrics"]["flip_mean"].as_f64().unwrap());
         assert!(rmse.is_finite() && flip.is_finite(), "{l}");
-        assert_eq!(l["triangles"], 14);
+        assert_eq!(l["provenance"]["command"], "bench seed-table2");
+        assert_eq!(l["provenance"]["scene_sha256"].as_str().unwrap().len(), 64);
+        assert_eq!(l["reference"], "continuous 32x32, CPU BVH");
+        assert!(l["stages_ms"].as_object().unwrap().contains_key("shade"), "{l}");
     }
     assert_eq!(lines[1]["method"], "regular");
     assert_eq!(lines[1]["shadow_maps"], 289);
+
+    // One report from a compare output and the bench output together.
+    let compare_out = dir.join("compare");
+    let stand_in = scenes.join("teapot.toml");
+    let run = common::penumbra_env(
+        &["compare", "--scene", stand_in.to_str().unwrap(), "--methods", "hard,regular:n=3", "--repeats", "1", "--out", compare_out.to_str().unwrap()],
+        &[("PENUMBRA_CACHE", cache.to_str().unwrap())],
+    );
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let both = dir.join("both");
+    let run = penumbra(&[
+        "report",
+        compare_out.join("results.jsonl").to_str().unwrap(),
+        out.join("results.jsonl").to_str().unwrap(),
+        "--out",
+        both.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let md = std::fs::read_to_string(both.join("report.md")).unwrap();
+    assert!(md.contains("regular:n=3") && md.contains("adaptive:p_m=0") && md.contains("| produced by | compare; bench seed-table2 |"), "{md}");
+    assert!(md.contains("| rows | 12 |"), "2 compare rows and 10 bench rows: {md}");
 }
 
 #[test]
@@ -104,7 +129,7 @@ fn bench_input_errors_are_one_line_and_write_nothing() {
     let dir = temp_dir("bench_errors");
     let out = dir.join("out");
     for (args, expected) in [
-        (vec!["--only", "horse"], "error: bench: `horse` is not a seed-table2 scene (known: bunny, grove, cows, teapot)"),
+        (vec!["--only", "horse"], "error: bench: `horse` is not a seed-table2 scene (known: bunny, bunny-seed-framing, grove, cows, teapot)"),
         (vec!["--scenes", "/nonexistent-scenes"], "error: /nonexistent-scenes/bunny.toml: no such scene file"),
         (vec!["--repeats", "0"], "error: bench: --repeats must be at least 1"),
     ] {

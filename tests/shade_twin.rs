@@ -3,14 +3,15 @@
 
 mod common;
 use penumbra::compute::twin;
-use penumbra::frame::{self, frame_uniform};
-use penumbra::methods::Method;
+use penumbra::frame::{self, frame_uniform, FrameOptions};
+use penumbra::methods::{fixed, Method};
+use penumbra::timing::TimingMode;
 use penumbra::scene::Scene;
 
 #[test]
 fn shade_equals_its_cpu_twin() {
     let ctx = common::gpu();
-    for (seed, method, budget) in [(3u64, Method::Hard, "64"), (11, Method::regular(4), "64"), (29, Method::regular(5), "1")] {
+    for (seed, method, budget) in [(3u64, Method::hard(), "64"), (11, Method::regular(4), "64"), (29, Method::regular(5), "1")] {
         let sc = Scene::parse(
             &common::random_scene_toml(seed, 48, 128),
             "random",
@@ -18,7 +19,9 @@ fn shade_equals_its_cpu_twin() {
             &[("shadow_map_budget_mib".into(), budget.into())],
         )
         .unwrap();
-        let (r, c) = frame::render_fixed_captured(&ctx, &sc, &method).unwrap();
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: true, capture: true };
+        let r = frame::render(&ctx, &sc, &method, options).unwrap();
+        let c = fixed::capture_of(&r.output).expect("fixed-sample capture");
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();
         twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, n, &mut v);

@@ -162,3 +162,68 @@ fn has_partial_byte(word: u32) -> bool {
     let at_least_5 = (word + 0x7b7b7b7bu) & 0x80808080u;
     return (at_least_2 & ~at_least_5) != 0u;
 }
+
+// ---- single-map filtering (pcf, pcss, moments, blur, reconstruct) ----
+
+struct GpuFilter {
+    kind: u32,
+    taps: u32,
+    blocker_taps: u32,
+    order: u32,
+    radius: f32,
+    darkening: f32,
+    light_u: f32,
+    light_v: f32,
+    c_pos: f32,
+    c_neg: f32,
+    bleed: f32,
+    moment_bias: f32,
+    layers: u32,
+    blur_radius: u32,
+    max_radius: f32,
+    depth_offset: f32,
+}
+
+// Continuous texel coordinate of p in sample s's map: the point `shadow_lookup` floors to a texel.
+fn shadow_lookup_uv(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> vec2<f32> {
+    let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
+    let texel_world = depth * s.texel_angle;
+    let q = p + n * (frame.normal_offset * texel_world);
+    let clip = s.light_from_world * vec4<f32>(q, 1.0);
+    let uv = vec2<f32>(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
+    return uv * f32(frame.map_size);
+}
+
+// World depth change per texel of offset along p's tangent plane (texel size · tan of the light
+// angle, clamped like the slope bias): a tap r texels away compares against limit - r · this, so
+// filtering a sloped receiver does not shadow the receiver itself.
+fn slope_per_texel(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let to_light = s.position.xyz - p;
+    let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
+    let cos_angle = abs(dot(n, to_light)) / length(to_light);
+    let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / max(cos_angle, 1e-6), frame.max_slope);
+    return depth * s.texel_angle * tan_angle;
+}
+
+// One depth-map tap at continuous texel coordinate t: 1 when lit (outside the map counts as lit).
+fn tap_lit(frame: GpuFrame, s: GpuSample, maps: texture_depth_2d_array, limit: f32, t: vec2<f32>) -> f32 {
+    let size = f32(frame.map_size);
+    let texel = floor(t);
+    if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
+        return 1.0;
+    }
+    let stored = textureLoad(maps, vec2<i32>(texel), i32(s.layer), 0);
+    return select(0.0, 1.0, limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
+}
+
+// Integer hash (PCG) for per-pixel random numbers: exact on CPU and GPU alike.
+fn pcg_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Uniform in [0, 1) from pixel (x, y) and tap i.
+fn pixel_random(x: u32, y: u32, i: u32) -> f32 {
+    return f32(pcg_hash(x ^ pcg_hash(y ^ pcg_hash(i))) >> 8u) / 16777216.0;
+}

@@ -3,14 +3,18 @@
 //! one warm-up frame each, then `repeats` frames each, interleaved so that both see the same load;
 //! the figure is the median wall-clock frame time (TimingMode::Frame: only the waits the method needs).
 
-use super::errors::{self, ErrorColumns};
+use super::errors::ErrorColumns;
 use super::seed::{SeedRow, TABLE2};
 use super::stats::Summary;
-use crate::frame::{self, FrameResult};
+use crate::charts::ResultRow;
+use crate::ground_truth::{self, Cache};
 use crate::gpu::{AdapterSummary, GpuContext};
 use crate::methods::Method;
+use crate::record::judge::Judge;
+use crate::record::measure::{self, Measured, Phase};
+use crate::record::{self, Provenance, RunInfo};
+use crate::reference::ReferenceMode;
 use crate::scene::Scene;
-use crate::timing::TimingMode;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -40,6 +44,8 @@ pub struct MethodResult {
     pub stages_ms: BTreeMap<String, Summary>,
     pub syncs: u32,
     pub errors: Option<ErrorColumns>,
+    /// The row `results.jsonl` holds for this method (the schema `compare` writes).
+    pub row: ResultRow,
 }
 
 impl MethodResult {
@@ -76,40 +82,21 @@ pub struct SuiteReport {
     pub scenes: Vec<SceneResult>,
 }
 
-/// Frames measured for one method: collected, then summarised.
-#[derive(Default)]
-struct Samples {
-    frame_ms: Vec<f64>,
-    setup_ms: Vec<f64>,
-    stages_ms: BTreeMap<String, Vec<f64>>,
-    maps: Vec<u32>,
-    syncs: u32,
-    errors: Option<ErrorColumns>,
-}
-
-impl Samples {
-    fn add(&mut self, r: &FrameResult) {
-        self.frame_ms.push(r.total_ms);
-        self.setup_ms.push(r.stages_ms.get("setup").copied().unwrap_or(0.0));
-        for (k, v) in r.stages_ms.iter().filter(|(k, _)| *k != "setup") {
-            self.stages_ms.entry(k.clone()).or_default().push(*v);
+impl MethodResult {
+    fn from_measured(m: Measured<crate::metrics::Metrics>, row: ResultRow) -> MethodResult {
+        let t = m.timing;
+        let one = |v: f64| Summary { median: v, min: v, max: v, samples: vec![v] };
+        MethodResult {
+            label: row.label.clone(),
+            maps: t.shadow_maps,
+            maps_stable: t.maps_stable,
+            frame_ms: Summary { median: t.median_ms, min: t.min_ms, max: t.max_ms, samples: t.totals_ms.clone() },
+            setup_ms: one(t.setup_ms.unwrap_or(0.0)),
+            stages_ms: t.stages_ms.iter().map(|(k, v)| (k.clone(), one(*v))).collect(),
+            syncs: t.syncs,
+            errors: Some(ErrorColumns::of(&m.judged)),
+            row,
         }
-        self.maps.push(r.output.shadow_maps);
-        self.syncs = r.output.syncs;
-    }
-
-    fn finish(self, method: &Method) -> Result<MethodResult> {
-        let none = || Error::Param("bench: no frames measured (repeats must be at least 1)".into());
-        Ok(MethodResult {
-            label: method.label(),
-            maps: *self.maps.first().ok_or_else(none)?,
-            maps_stable: self.maps.windows(2).all(|w| w[0] == w[1]),
-            frame_ms: Summary::of(&self.frame_ms).ok_or_else(none)?,
-            setup_ms: Summary::of(&self.setup_ms).ok_or_else(none)?,
-            stages_ms: self.stages_ms.iter().filter_map(|(k, v)| Some((k.clone(), Summary::of(v)?))).collect(),
-            syncs: self.syncs,
-            errors: self.errors,
-        })
     }
 }
 
@@ -145,58 +132,55 @@ pub fn prepare(opts: &SuiteOptions) -> Result<Vec<SuiteScene>> {
         .collect()
 }
 
-/// Runs the suite on prepared scenes; `log` receives one line per frame (the bar shows the same).
+/// The ground truth of the suite's error columns (method.md §5: 32x32 stratified jitter, fixed
+/// seed, CPU BVH), cached on disk.
+pub const REFERENCE: ReferenceMode = ReferenceMode::DEFAULT_CONTINUOUS;
+
+/// Runs the suite on prepared scenes through the record layer (`record::measure`, one warm-up
+/// and one stages-mode frame per method, then `repeats` timed frames, the two methods
+/// interleaved); `log` receives one line per frame (the bar shows the same).
 pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteReport> {
     let started = Instant::now();
     let started_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
-    let frames = scenes.len() as u64 * 2 * (1 + opts.repeats as u64);
-    let bar = crate::progress::bar(frames, "seed-table2");
+    let bar = crate::progress::bar(scenes.len() as u64 * measure::frame_count(2, opts.repeats), "seed-table2");
+    let reference_label = format!("{}, CPU BVH", ground_truth::mode_label(&REFERENCE));
     let mut results = Vec::new();
-    let mut reference_label = None;
     for SuiteScene { seed: row, file, scene } in scenes {
-        let methods = [&opts.adaptive, &opts.regular];
-        let mut samples = [Samples::default(), Samples::default()];
-        let mut reference = None;
-        let mut geometry_pixels = 0;
-        for repeat in 0..=opts.repeats {
-            for (m, method) in methods.iter().enumerate() {
-                bar.set_message(format!("{} {}", row.scene, method.name()));
-                let r = frame::render(ctx, &scene, method, TimingMode::Frame)?;
-                let what = if repeat == 0 { "warm-up".to_string() } else { format!("{repeat}/{}", opts.repeats) };
-                let line = format!(
-                    "{:7} {:18} {:8} {:>10.1} ms  {:>3} maps",
-                    row.scene,
-                    method.label(),
-                    what,
-                    r.total_ms,
-                    r.output.shadow_maps
-                );
-                crate::progress::suspend(|| log(&line));
-                bar.inc(1);
-                if repeat == 0 {
-                    // The warm-up's G-buffer is the same for both methods (same camera, same scene).
-                    if m == 0 {
-                        geometry_pixels = r.gbuffer.geometry_count();
-                        reference = errors::reference(&scene, &r.gbuffer)?;
-                        reference_label = reference.as_ref().map(|x| x.label.clone()).or(reference_label);
-                    }
-                    continue;
-                }
-                if let (Some(reference), None) = (&reference, &samples[m].errors) {
-                    samples[m].errors = errors::errors(reference, &scene, &r)?;
-                }
-                samples[m].add(&r);
-            }
-        }
-        let [a, r] = samples;
+        let methods = [opts.adaptive.clone(), opts.regular.clone()];
+        let (g, reference) = ground_truth::for_scene(ctx, &scene, REFERENCE, &Cache::default_for(false))?;
+        let judge = Judge::new(&scene, &g, reference.values);
+        let mut on_frame = |method: &Method, phase: Phase, r: &crate::frame::FrameResult| {
+            bar.set_message(format!("{} {}", row.scene, method.name()));
+            let line = format!("{:7} {:18} {:8} {:>10.1} ms  {:>3} maps", row.scene, method.label(), phase.to_string(), r.total_ms, r.output.shadow_maps);
+            crate::progress::suspend(|| log(&line));
+            bar.inc(1);
+        };
+        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&scene, &methods[i].label(), f)?.metrics);
+        let measured = measure::measure(ctx, &scene, &methods, opts.repeats, &mut on_frame, &mut judge_frame)?;
+        let info = RunInfo {
+            scene: row.scene,
+            resolution: [scene.render.width, scene.render.height],
+            shadow_map_size: scene.render.shadow_map_size,
+            adapter: &ctx.summary,
+            reference: reference_label.clone(),
+            repeats: opts.repeats,
+        };
+        let provenance = Provenance::of_scene("bench seed-table2", &scene, &[], opts.cache.as_deref());
+        let mut done = measured.into_iter().zip(&methods).map(|(m, method)| {
+            let r = record::row(&info, method, &m.timing, m.judged.clone(), BTreeMap::new(), provenance.clone());
+            MethodResult::from_measured(m, r)
+        });
+        let (Some(adaptive), Some(regular)) = (done.next(), done.next()) else {
+            return Err(Error::Param("bench: no frames measured".into()));
+        };
         results.push(SceneResult {
             seed: row,
             file,
             settings: [scene.render.width, scene.render.height, scene.render.shadow_map_size],
             triangles: scene.triangle_count(),
-            geometry_pixels,
-            adaptive: a.finish(&opts.adaptive)?,
-            regular: r.finish(&opts.regular)?,
+            geometry_pixels: judge.geometry_pixels(),
+            adaptive,
+            regular,
         });
     }
     bar.finish_and_clear();
@@ -206,7 +190,7 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         repeats: opts.repeats,
         started_unix_s,
         wall_s: started.elapsed().as_secs_f64(),
-        reference: reference_label,
+        reference: Some(reference_label),
         scenes: results,
     })
 }

@@ -4,7 +4,6 @@
 use super::errors::PENDING;
 use super::seed::SEED_SETUP;
 use super::suite::{MethodResult, SceneResult, SuiteReport};
-use serde_json::json;
 use std::fmt::Write;
 
 /// `1234567` → `1,234,567`.
@@ -89,7 +88,7 @@ pub fn markdown(r: &SuiteReport) -> String {
     );
     let _ = writeln!(
         md,
-        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame per method, the two methods interleaved. {}\n",
+        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame and one stages-mode frame per method, the two methods interleaved. {}\n",
         r.repeats,
         if r.timestamps_trusted { "GPU timestamps: not yet wired into this table." } else { "GPU timestamps are not trustworthy on this (CPU) adapter and are not used." }
     );
@@ -149,46 +148,10 @@ pub fn markdown(r: &SuiteReport) -> String {
     md
 }
 
-/// One JSON object per line: scene × method.
-pub fn jsonl(r: &SuiteReport) -> String {
-    let mut out = String::new();
-    for s in &r.scenes {
-        for (name, m, seed_fps, seed_maps) in [
-            ("adaptive", &s.adaptive, s.seed.adaptive_fps, s.seed.adaptive_maps),
-            ("regular", &s.regular, s.seed.regular_fps, s.seed.regular_maps),
-        ] {
-            let line = json!({
-                "suite": "seed-table2",
-                "scene": s.seed.scene,
-                "scene_file": s.file.display().to_string(),
-                "triangles": s.triangles,
-                "geometry_pixels": s.geometry_pixels,
-                "method": name,
-                "label": m.label,
-                "shadow_maps": m.maps,
-                "shadow_maps_stable": m.maps_stable,
-                "fps": m.fps(),
-                "frame_ms": m.frame_ms,
-                "setup_ms": m.setup_ms,
-                "stages_ms": m.stages_ms,
-                "stages_note": "TimingMode::Frame: partial hints only (CPU recording and read-back waits; work done during queue submission is in no stage). Per-stage wall times: cargo bench --bench stages, or `penumbra render --timing stages`.",
-                "readbacks": m.syncs,
-                "speedup_adaptive_over_regular": s.speedup(),
-                "rmse": m.errors.as_ref().map(|e| e.rmse),
-                "flip": m.errors.as_ref().map(|e| e.flip),
-                "errors_note": if m.errors.is_some() { serde_json::Value::Null } else { PENDING.into() },
-                "clock": "wall clock per frame (TimingMode::Frame), milliseconds",
-                "repeats": r.repeats,
-                "adapter": r.adapter,
-                "started_utc": utc(r.started_unix_s),
-                "seed": { "triangles": s.seed.triangles, "fps": seed_fps, "shadow_maps": seed_maps, "speedup": s.seed.speedup() },
-                "version": crate::output::version(),
-            });
-            out.push_str(&line.to_string());
-            out.push('\n');
-        }
-    }
-    out
+/// `results.jsonl`: the record layer's rows (the schema of `compare` and `sweep`), one line per
+/// scene and method.
+pub fn jsonl(r: &SuiteReport) -> crate::Result<String> {
+    crate::record::jsonl(&super::report::rows(r))
 }
 
 #[cfg(test)]

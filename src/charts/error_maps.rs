@@ -2,6 +2,7 @@
 
 use super::scatter::{push_point, render, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
+use crate::methods::Family;
 use super::{ChartError, ResultRow};
 
 /// Rows with no shadow map (e.g. a ray-traced reference) are left out.
@@ -12,7 +13,7 @@ pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         .iter()
         .filter(|r| r.shadow_maps > 0 && r.metrics.rmse.is_finite())
     {
-        let name = with_scene(multi, &r.scene, &r.method);
+        let name = with_scene(multi, &r.scene, Family::of_name(&r.method).title());
         let point = Point {
             x: f64::from(r.shadow_maps),
             y: r.metrics.rmse,

@@ -4,8 +4,10 @@ use super::pareto::{pareto_front, pareto_steps};
 use super::scatter::{push_point, render, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow};
+use crate::methods::Family;
 
-/// Points grouped (coloured) by method; whiskers span min..max time; labels are `label()`.
+/// Points grouped (coloured) by method family (hard, pcf family, filtered maps, multi-sample);
+/// whiskers span min..max time; labels are `label()`.
 pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let rows: Vec<&ResultRow> = rows
         .iter()
@@ -19,7 +21,7 @@ pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter().copied());
     let mut series: Vec<Series> = Vec::new();
     for r in &rows {
-        let name = with_scene(multi, &r.scene, &r.method);
+        let name = with_scene(multi, &r.scene, Family::of_name(&r.method).title());
         let point = Point {
             x: r.total_ms,
             y: r.metrics.rmse,

@@ -13,6 +13,7 @@ mod row;
 mod scatter;
 mod stages;
 mod style;
+mod temporal;
 
 pub use error_maps::error_vs_maps_svg;
 pub use error_time::error_vs_time_svg;
@@ -22,6 +23,7 @@ pub use pareto::{pareto_front, pareto_steps};
 pub use raster::svg_to_png;
 pub use row::{ResultRow, params_short};
 pub use stages::stage_breakdown_svg;
+pub use temporal::{per_frame_svg, FrameSeries};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ChartError {

@@ -55,6 +55,9 @@ pub struct ResultRow {
     /// to the results file.
     #[serde(default)]
     pub images: BTreeMap<String, String>,
+    /// Scene and mesh digests, overrides, and the sweep spec and shard (see `record::provenance`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<crate::record::Provenance>,
 }
 
 impl ResultRow {

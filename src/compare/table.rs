@@ -1,6 +1,7 @@
 //! The table `compare` prints: the figures a reader checks first, one line per method.
 
 use crate::charts::ResultRow;
+use crate::methods::Family;
 
 fn err(v: f64) -> String {
     if v != 0.0 && v.abs() < 1e-3 { format!("{v:.2e}") } else { format!("{v:.4}") }
@@ -12,6 +13,9 @@ pub fn render(rows: &[ResultRow]) -> String {
         "{:width$}  {:>5} {:>5}  {:>10} {:>21}  {:>9} {:>7} {:>6} {:>9} {:>9} {:>7}\n",
         "method", "maps", "syncs", "median ms", "(min-max)", "RMSE", "PSNR", "SSIM", "FLIP", "pen.RMSE", "bad"
     );
+    // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
+    let mut rows: Vec<&ResultRow> = rows.iter().collect();
+    rows.sort_by_key(|r| Family::of_name(&r.method));
     for r in rows {
         let m = &r.metrics;
         out += &format!(

@@ -59,6 +59,22 @@ impl AdaptiveBuffers {
         ctx.wait()
     }
 
+    /// Between frames of one renderer: like `zero_fill`, but without the item and probe lists and
+    /// the comparison maps, which every level writes (or clears) before it reads them; they are the
+    /// large ones.
+    pub fn reset_frame(&self, ctx: &GpuContext) -> Result<()> {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        for buf in [
+            &self.masks, &self.quads[0], &self.quads[1], &self.flags, &self.quad_counters, &self.control,
+            &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights,
+            &self.item_total, &self.visibility_fixed, &self.rects, &self.probe_total,
+        ] {
+            enc.clear_buffer(buf, 0, None);
+        }
+        ctx.queue.submit([enc.finish()]);
+        ctx.wait()
+    }
+
     pub fn counts_bytes_per_quad(&self) -> u64 {
         self.height as u64 * self.words_per_row as u64 * 4
     }

@@ -1,18 +1,25 @@
 //! Compute stages, one WGSL file each; the stage name is the file, the pipeline label, the CPU twin
 //! (`compute::twin`) and the timing key.
 
+pub mod blur;
 pub mod buffers;
 pub mod compact;
+pub mod frame_gpu;
 pub mod kernel;
+pub mod moments;
 pub mod neighbourhood;
+pub mod pcf;
+pub mod pcss;
 pub mod probe;
 pub mod quad_count;
+pub mod reconstruct;
 pub mod reproject_count;
 pub mod shade;
 pub mod shadow_test;
 pub mod subdivide;
 pub mod twin;
 
+pub use frame_gpu::FrameGpu;
 pub use kernel::{ComputeKernel, Dispatch};
 
 /// Workgroups needed to cover `n` items with groups of `size` (the one place dispatch sizes are computed).
@@ -40,6 +47,12 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("compact", "seed", PIXEL_WORKGROUP),
     ("compact", "resolve", PIXEL_WORKGROUP),
     ("compact", "begin", [1, 1, 1]),
+    ("pcf", "main", PIXEL_WORKGROUP),
+    ("pcss", "main", PIXEL_WORKGROUP),
+    ("moments", "main", PIXEL_WORKGROUP),
+    ("blur", "horizontal", PIXEL_WORKGROUP),
+    ("blur", "vertical", PIXEL_WORKGROUP),
+    ("reconstruct", "main", PIXEL_WORKGROUP),
     ("probe", "main", LINE_WORKGROUP),
     ("probe", "begin", [1, 1, 1]),
 ];

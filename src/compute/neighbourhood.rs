@@ -2,7 +2,7 @@
 
 use super::buffers::AdaptiveBuffers;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
-use crate::frame::FrameGpu;
+use super::FrameGpu;
 use crate::Result;
 
 pub struct Neighbourhood {

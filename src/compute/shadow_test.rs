@@ -2,7 +2,7 @@
 
 use super::buffers::AdaptiveBuffers;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
-use crate::frame::FrameGpu;
+use super::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::GpuLevel;
 use crate::Result;

@@ -2,7 +2,7 @@
 
 use super::buffers::AdaptiveBuffers;
 use super::{ComputeKernel, Dispatch};
-use crate::frame::FrameGpu;
+use super::FrameGpu;
 use crate::Result;
 
 pub struct Subdivide {

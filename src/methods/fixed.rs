@@ -1,13 +1,96 @@
 //! Methods with a fixed sample set (hard, regular): raster every map, shade, chunk by chunk when the
 //! maps exceed the memory budget or the layer limit.
 
-use crate::frame::{FrameGpu, MethodOutput};
+use super::{check_range, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::GpuSample;
 use crate::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob};
 use crate::timing::StageTimer;
 use crate::Result;
+
+pub const HARD: MethodInfo = MethodInfo {
+    name: "hard",
+    family: Family::Hard,
+    summary: "one shadow map from the light's centre, one binary test per pixel",
+    params: &[],
+    parse: |_| Ok(std::sync::Arc::new(Fixed::Hard)),
+};
+
+pub const REGULAR: MethodInfo = MethodInfo {
+    name: "regular",
+    family: Family::MultiSample,
+    summary: "N×N shadow maps on the light's lattice corners, equal weights",
+    params: &[
+        Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" },
+        Param { key: "layout", default: "lattice", help: "lattice (corners i/(N−1)), centred (cell centres) or jittered (one seeded point per cell)" },
+    ],
+    parse: |p: &ParamMap| {
+        let n = check_range("regular", "n", params::get_u32(p, "n", 17)?, 1, 128)?;
+        let layout = match p.get("layout").map(String::as_str) {
+            None | Some("lattice") => Layout::Lattice,
+            Some("centred") | Some("centered") => Layout::Centred,
+            Some("jittered") => Layout::Jittered,
+            Some(v) => return Err(crate::Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
+        };
+        Ok(std::sync::Arc::new(Fixed::Regular { n, layout }))
+    },
+};
+
+/// Hard (one map from the centre) or the regular N×N grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fixed {
+    Hard,
+    Regular { n: u32, layout: Layout },
+}
+
+impl Fixed {
+    pub fn points(&self) -> Vec<(f32, f32)> {
+        match self {
+            Fixed::Hard => vec![(0.5, 0.5)],
+            Fixed::Regular { n, layout } => regular_points(*n, *layout),
+        }
+    }
+}
+
+impl ShadowMethod for Fixed {
+    fn name(&self) -> &'static str {
+        match self {
+            Fixed::Hard => "hard",
+            Fixed::Regular { .. } => "regular",
+        }
+    }
+    fn label(&self) -> String {
+        match self {
+            Fixed::Hard => "hard".into(),
+            Fixed::Regular { n, layout: Layout::Lattice } => format!("regular:n={n}"),
+            Fixed::Regular { n, layout: Layout::Centred } => format!("regular:n={n},layout=centred"),
+            Fixed::Regular { n, layout: Layout::Jittered } => format!("regular:n={n},layout=jittered"),
+        }
+    }
+    fn params_json(&self) -> serde_json::Value {
+        match self {
+            Fixed::Hard => serde_json::json!({}),
+            Fixed::Regular { n, layout } => serde_json::json!({ "n": n, "layout": layout }),
+        }
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        Ok(Box::new(prepare(fg, &self.points())?))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+impl MethodState for Prepared {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(()) // every raster pass clears its layer
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        run(fg, timer, self, capture)
+    }
+}
 
 /// Light points (s, t) of the regular N×N grid in `layout` (docs/method.md §7):
 /// - lattice: the corners i/(N-1), edges included, so N = 17 gives exactly the 289 points of §3
@@ -93,19 +176,21 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
 
 /// Renders and shades chunk by chunk; with `capture`, every map and sample record is kept for the
 /// shade twin (tests only).
-pub fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: Prepared, mut capture: Option<&mut FixedCapture>) -> Result<MethodOutput> {
+fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &Prepared, capture: bool) -> Result<MethodOutput> {
     let ctx = fg.ctx;
     let Prepared { points, chunk, samples, weights, samples_buffer, weights_buffer, array } = prepared;
+    let (points, chunk) = (*points, *chunk);
+    let mut capture = capture.then(FixedCapture::default);
     let inputs = fg.shade_inputs(&samples_buffer, &weights_buffer);
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
         timer.stage(ctx, "shadow_raster", |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, &samples_buffer, &array, &jobs);
+            fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs);
             Ok(())
         })?;
-        if let Some(c) = capture.as_deref_mut() {
+        if let Some(c) = capture.as_mut() {
             timer.flush(ctx);
             for layer in 0..count {
                 c.maps.push(readback::read_texture(ctx, &array.texture, layer, 4)?);
@@ -118,9 +203,9 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: Prepared, mut captur
         bar.inc(count as u64);
     }
     bar.finish_and_clear();
-    if let Some(c) = capture {
-        c.samples = samples;
-        c.weights = weights;
+    if let Some(c) = capture.as_mut() {
+        c.samples = samples.clone();
+        c.weights = weights.clone();
     }
     let chunks = (points as u32).div_ceil(chunk);
     Ok(MethodOutput {
@@ -128,7 +213,13 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: Prepared, mut captur
         syncs: 0,
         record: serde_json::json!({ "maps_per_chunk": chunk, "chunks": chunks }),
         pictures: Vec::new(),
+        detail: capture.map(|c| Box::new(c) as Box<dyn std::any::Any>),
     })
+}
+
+/// The capture of a fixed-sample run made with `capture` on.
+pub fn capture_of(out: &MethodOutput) -> Option<&FixedCapture> {
+    out.detail.as_ref()?.downcast_ref()
 }
 
 /// Maps, samples and weights of a fixed-sample run, for the shade twin.

@@ -1,28 +1,150 @@
 //! Shadow methods. Each one produces the same thing over the same G-buffer: a visibility image,
 //! a count of shadow maps and a record, so every method lands on the same charts.
+//!
+//! A method is one module that implements [`ShadowMethod`] (its parameters) and [`MethodState`]
+//! (its pipelines and buffers, built once per scene and settings), plus one line in [`REGISTRY`].
+//! The frame driver (src/frame.rs) runs any of them without knowing which.
 
 pub mod adaptive;
+pub mod filtered;
 pub mod fixed;
 pub mod params;
+pub mod pcf;
+pub mod pcss;
+pub mod single_map;
 
 pub use fixed::Layout;
 pub use params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 
+use crate::compute::FrameGpu;
+use crate::timing::StageTimer;
 use crate::{Error, Result};
+use std::any::Any;
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
-#[derive(Clone, Debug, PartialEq)]
-pub enum Method {
-    /// One shadow map from the light's centre.
-    Hard,
-    /// N×N grid of samples over the light, in one of three layouts (`fixed::regular_points`).
-    Regular { n: u32, layout: Layout },
-    /// Adaptive light-source sampling (seed 000), with this project's extensions.
-    Adaptive(AdaptiveParams),
+/// What a method hands back besides the visibility buffer it filled.
+#[derive(Default)]
+pub struct MethodOutput {
+    pub shadow_maps: u32,
+    /// CPU↔GPU synchronisations the algorithm needs (read-backs), not counting timing waits.
+    pub syncs: u32,
+    pub record: serde_json::Value,
+    pub pictures: Vec<(String, image::RgbImage)>,
+    /// Method-specific detail for tests (the adaptive trace, captured maps and intermediate
+    /// buffers for the CPU twins); read it with the method module's accessor.
+    pub detail: Option<Box<dyn Any>>,
 }
 
-pub const METHOD_NAMES: &[&str] = &["hard", "regular", "adaptive"];
-pub const METHOD_KEYS: &[&str] = &["n", "layout", "preset", "p_m", "p_share", "growth", "tol", "max_level", "weights", "scope", "scissor"];
+/// The families the charts and tables group methods by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Family {
+    /// One map, one binary test per pixel.
+    Hard,
+    /// One map, filtered at lookup (percentage-closer filtering and its relatives).
+    Pcf,
+    /// One map turned into a prefiltered statistic (exponentials, moments, Fourier terms).
+    Filtered,
+    /// Many maps over the light (regular grid, adaptive).
+    MultiSample,
+}
+
+impl Family {
+    pub const ALL: [Family; 4] = [Family::Hard, Family::Pcf, Family::Filtered, Family::MultiSample];
+    pub fn title(self) -> &'static str {
+        match self {
+            Family::Hard => "hard",
+            Family::Pcf => "pcf family (single map)",
+            Family::Filtered => "filtered maps",
+            Family::MultiSample => "multi-sample",
+        }
+    }
+    /// Family of a method name as rows store it; unknown names (older files) count as multi-sample.
+    pub fn of_name(name: &str) -> Family {
+        REGISTRY.iter().find(|m| m.name == name).map_or(Family::MultiSample, |m| m.family)
+    }
+}
+
+/// One parameter as `penumbra methods` lists it.
+pub struct Param {
+    pub key: &'static str,
+    pub default: &'static str,
+    pub help: &'static str,
+}
+
+pub type ParamMap = BTreeMap<String, String>;
+
+/// One registry line: a method's name, family, one-line summary, parameters and parser.
+pub struct MethodInfo {
+    pub name: &'static str,
+    pub family: Family,
+    pub summary: &'static str,
+    pub params: &'static [Param],
+    pub parse: fn(&ParamMap) -> Result<Arc<dyn ShadowMethod>>,
+}
+
+/// Every method, in the order `penumbra methods` lists them.
+pub const REGISTRY: &[&MethodInfo] = &[
+    &fixed::HARD,
+    &pcf::INFO,
+    &pcss::INFO,
+    &filtered::ESM,
+    &filtered::VSM,
+    &filtered::EVSM,
+    &filtered::MSM,
+    &filtered::CSM,
+    &fixed::REGULAR,
+    &adaptive::INFO,
+];
+
+/// A method with its parameters fixed.
+pub trait ShadowMethod: Send + Sync + Any {
+    fn name(&self) -> &'static str;
+    /// Short label for tables and charts: `adaptive:p_m=0,scope=local`.
+    fn label(&self) -> String;
+    /// Parameters as the run record states them (every parameter, defaults included).
+    fn params_json(&self) -> serde_json::Value;
+    /// Pipelines and buffers for this scene and settings: built once, reused by every frame.
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>>;
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// A built method. `reset` runs before the frame's clock starts (zero fills); `run` is the frame.
+pub trait MethodState {
+    fn reset(&mut self, fg: &FrameGpu) -> Result<()>;
+    /// `capture` keeps intermediate buffers in `MethodOutput::detail` for the twins (tests only:
+    /// it adds read-backs).
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput>;
+}
+
+/// A parsed method spec: cheap to clone, compared by label.
+#[derive(Clone)]
+pub struct Method(Arc<dyn ShadowMethod>);
+
+impl std::fmt::Debug for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.label())
+    }
+}
+
+impl PartialEq for Method {
+    fn eq(&self, other: &Self) -> bool {
+        self.label() == other.label()
+    }
+}
+
+/// Every parameter key of every method (`--set` routes these to the method, the rest to the scene).
+pub fn method_keys() -> Vec<&'static str> {
+    let mut keys: Vec<&str> = REGISTRY.iter().flat_map(|m| m.params.iter().map(|p| p.key)).collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys
+}
+
+pub fn is_method_key(key: &str) -> bool {
+    method_keys().contains(&key)
+}
 
 impl Method {
     /// `name` or `name:key=value,key=value`, plus `--set` pairs whose keys are method parameters.
@@ -45,69 +167,112 @@ impl Method {
                 return Err(Error::Param(format!("method `{spec}`: `{k}` is given twice ({first}, and {v} with --set)")));
             }
         }
-        let allowed: &[&str] = match name {
-            "hard" => &[],
-            "regular" => &["n", "layout"],
-            "adaptive" => &["preset", "p_m", "p_share", "growth", "tol", "max_level", "weights", "scope", "scissor"],
-            _ => {
-                return Err(Error::Param(format!("unknown method `{name}` (known: {})", METHOD_NAMES.join(", "))));
-            }
-        };
-        if let Some(k) = params.keys().find(|k| !allowed.contains(&k.as_str())) {
+        let info = REGISTRY.iter().find(|m| m.name == name).ok_or_else(|| {
+            let known: Vec<&str> = REGISTRY.iter().map(|m| m.name).collect();
+            Error::Param(format!("unknown method `{name}` (known: {})", known.join(", ")))
+        })?;
+        if let Some(k) = params.keys().find(|k| !info.params.iter().any(|p| p.key == k.as_str())) {
+            let allowed: Vec<&str> = info.params.iter().map(|p| p.key).collect();
             return Err(Error::Param(format!(
                 "method `{name}` has no parameter `{k}` (its parameters: {})",
                 if allowed.is_empty() { "none".to_string() } else { allowed.join(", ") }
             )));
         }
-        Ok(match name {
-            "hard" => Method::Hard,
-            "regular" => {
-                let n = params::get_u32(&params, "n", 17)?;
-                if n == 0 || n > 128 {
-                    return Err(Error::Param(format!("regular: n must be in 1..=128, got {n}")));
-                }
-                let layout = match params.get("layout").map(String::as_str) {
-                    None | Some("lattice") => Layout::Lattice,
-                    Some("centred") | Some("centered") => Layout::Centred,
-                    Some("jittered") => Layout::Jittered,
-                    Some(v) => return Err(Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
-                };
-                Method::Regular { n, layout }
-            }
-            _ => Method::Adaptive(AdaptiveParams::from_map(&params)?),
+        // Every message names the method: `pcf: parameter kernel = `foo`: ...`.
+        (info.parse)(&params).map(Method).map_err(|e| match e {
+            Error::Param(m) if !m.starts_with(name) => Error::Param(format!("{name}: {m}")),
+            e => e,
         })
     }
 
-    /// Today's regular grid: the N×N lattice, corners included.
+    pub fn new(m: impl ShadowMethod) -> Method {
+        Method(Arc::new(m))
+    }
+    pub fn hard() -> Method {
+        Method::new(fixed::Fixed::Hard)
+    }
+    /// The regular grid on the N×N lattice, corners included.
     pub fn regular(n: u32) -> Method {
-        Method::Regular { n, layout: Layout::Lattice }
+        Method::new(fixed::Fixed::Regular { n, layout: Layout::Lattice })
+    }
+    pub fn adaptive(p: AdaptiveParams) -> Method {
+        Method::new(adaptive::Adaptive(p))
     }
 
     pub fn name(&self) -> &'static str {
-        match self {
-            Method::Hard => "hard",
-            Method::Regular { .. } => "regular",
-            Method::Adaptive(_) => "adaptive",
-        }
+        self.0.name()
     }
-
-    /// Parameters as the run record states them (every parameter, defaults included).
     pub fn params_json(&self) -> serde_json::Value {
-        match self {
-            Method::Hard => serde_json::json!({}),
-            Method::Regular { n, layout } => serde_json::json!({ "n": n, "layout": layout }),
-            Method::Adaptive(p) => serde_json::to_value(p).unwrap_or_default(),
-        }
+        self.0.params_json()
     }
-
-    /// Short label for tables and charts: `adaptive:p_m=0,scope=local`.
     pub fn label(&self) -> String {
-        match self {
-            Method::Hard => "hard".into(),
-            Method::Regular { n, layout: Layout::Lattice } => format!("regular:n={n}"),
-            Method::Regular { n, layout: Layout::Centred } => format!("regular:n={n},layout=centred"),
-            Method::Regular { n, layout: Layout::Jittered } => format!("regular:n={n},layout=jittered"),
-            Method::Adaptive(p) => p.label(),
+        self.0.label()
+    }
+    pub fn family(&self) -> Family {
+        Family::of_name(self.name())
+    }
+    pub fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        self.0.build(fg)
+    }
+    /// The method's own type, for callers that need its parameters (`as_any().downcast_ref`).
+    pub fn as_any(&self) -> &dyn Any {
+        self.0.as_any()
+    }
+    /// The adaptive parameters, when this is the adaptive method.
+    pub fn adaptive_params(&self) -> Option<&AdaptiveParams> {
+        self.as_any().downcast_ref::<adaptive::Adaptive>().map(|a| &a.0)
+    }
+}
+
+/// `penumbra methods`: every method with its family, one line on what it does, and its parameters.
+pub fn describe() -> String {
+    let mut s = String::new();
+    for m in REGISTRY {
+        s += &format!("{:<9} [{}] {}\n", m.name, m.family.title(), m.summary);
+        for p in m.params {
+            s += &format!("    {:<12} default {:<10} {}\n", p.key, p.default, p.help);
         }
     }
+    s
+}
+
+/// Parameter helpers shared by the methods' parsers.
+pub fn get_f32(params: &ParamMap, key: &str, default: f32) -> Result<f32> {
+    match params.get(key) {
+        None => Ok(default),
+        Some(v) => match v.parse::<f32>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(Error::Param(format!("parameter {key} = `{v}` is not a finite number"))),
+        },
+    }
+}
+
+pub fn get_choice<'a>(params: &ParamMap, key: &str, default: &'a str, choices: &[&'a str]) -> Result<&'a str> {
+    match params.get(key) {
+        None => Ok(default),
+        Some(v) => choices.iter().find(|c| **c == v.as_str()).copied().ok_or_else(|| {
+            Error::Param(format!("parameter {key} = `{v}`: use one of {}", choices.join(", ")))
+        }),
+    }
+}
+
+/// `value` in `lo..=hi`, or a message naming the method, key and value.
+pub fn check_range<T: PartialOrd + std::fmt::Display>(method: &str, key: &str, value: T, lo: T, hi: T) -> Result<T> {
+    if value < lo || value > hi {
+        return Err(Error::Param(format!("{method}: {key} = {value} is outside {lo}..={hi}")));
+    }
+    Ok(value)
+}
+
+/// Label `name:k=v,...` from the parameters that differ from their defaults (registry order).
+pub fn label_from(info: &MethodInfo, values: &[(&str, String)]) -> String {
+    let mut parts = Vec::new();
+    for p in info.params {
+        if let Some((_, v)) = values.iter().find(|(k, _)| *k == p.key) {
+            if v != p.default {
+                parts.push(format!("{}={v}", p.key));
+            }
+        }
+    }
+    if parts.is_empty() { info.name.to_string() } else { format!("{}:{}", info.name, parts.join(",")) }
 }

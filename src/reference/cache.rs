@@ -94,6 +94,75 @@ pub fn save_cached(
     Ok(path)
 }
 
+/// An exclusive claim on computing one cache entry, shared by every process that uses the
+/// folder (shards on one machine, or on many through a shared file system). The lock file
+/// `<key>.lock` is created with `create_new` (atomic on local and NFSv3+ file systems) and holds
+/// the owner's pid and host; it is removed when the claim is dropped.
+pub struct CacheLock {
+    path: PathBuf,
+}
+
+impl Drop for CacheLock {
+    fn drop(&mut self) {
+        let _ = fs::remove_file(&self.path);
+    }
+}
+
+/// A lock from another host is taken for abandoned after this long (its owner cannot be asked).
+pub const FOREIGN_LOCK_STALE_S: u64 = 6 * 3600;
+
+fn host_name() -> String {
+    fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "unknown-host".into())
+}
+
+/// Whether the lock at `path` is abandoned: its owner on this host is gone, or a lock from
+/// another host is older than [`FOREIGN_LOCK_STALE_S`].
+fn abandoned(path: &Path) -> bool {
+    let Ok(text) = fs::read_to_string(path) else { return false };
+    let mut words = text.split_whitespace();
+    let (Some(pid), Some(host)) = (words.next(), words.next()) else {
+        // Being written right now, or torn by a crash: old enough means torn.
+        return age_s(path) > 60;
+    };
+    if host == host_name() {
+        return !Path::new("/proc").join(pid).exists();
+    }
+    age_s(path) > FOREIGN_LOCK_STALE_S
+}
+
+fn age_s(path: &Path) -> u64 {
+    fs::metadata(path).and_then(|m| m.modified()).ok().and_then(|t| t.elapsed().ok()).map_or(0, |d| d.as_secs())
+}
+
+/// Takes the lock for `key` in `dir`, waiting while another live process holds it; `waiting`
+/// is called once, with the holder's description, if it has to wait.
+pub fn lock(dir: &Path, key: &str, waiting: &mut dyn FnMut(&str)) -> Result<CacheLock, ReferenceError> {
+    fs::create_dir_all(dir)?;
+    let path = dir.join(format!("{key}.lock"));
+    let mut told = false;
+    loop {
+        match fs::OpenOptions::new().write(true).create_new(true).open(&path) {
+            Ok(mut f) => {
+                use std::io::Write;
+                writeln!(f, "{} {}", std::process::id(), host_name())?;
+                return Ok(CacheLock { path });
+            }
+            Err(e) if e.kind() == ErrorKind::AlreadyExists => {
+                if abandoned(&path) {
+                    let _ = fs::remove_file(&path);
+                    continue;
+                }
+                if !told {
+                    waiting(fs::read_to_string(&path).unwrap_or_default().trim());
+                    told = true;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+}
+
 /// The cached buffer, `Ok(None)` when absent or stored for another key or size (stale);
 /// `Err` for an unreadable or corrupt file.
 pub fn load_cached(
@@ -169,6 +238,35 @@ mod tests {
             reference_key(b"scene", &light, &ReferenceMode::DEFAULT_CONTINUOUS, 1e-3)
         );
         assert_ne!(base, reference_key(b"scene", &light, &lattice, 2e-3));
+    }
+
+    #[test]
+    fn lock_is_exclusive_and_abandoned_locks_are_taken() -> Result<(), ReferenceError> {
+        let dir = std::env::temp_dir().join(format!("penumbra-ref-lock-{}", std::process::id()));
+        let held = lock(&dir, "k", &mut |_| panic!("nothing holds it yet"))?;
+        let path = dir.join("k.lock");
+        assert!(fs::read_to_string(&path)?.starts_with(&format!("{} ", std::process::id())));
+        // A second claim waits until the first is dropped.
+        let (tx, rx) = std::sync::mpsc::channel();
+        let d = dir.clone();
+        let waiter = std::thread::spawn(move || {
+            let mut said = String::new();
+            let l = lock(&d, "k", &mut |who| said = who.to_string()).unwrap();
+            tx.send(said).unwrap();
+            drop(l);
+        });
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        assert!(rx.try_recv().is_err(), "the second claim must wait");
+        drop(held);
+        let said = rx.recv().unwrap();
+        assert!(said.starts_with(&std::process::id().to_string()), "{said}");
+        waiter.join().unwrap();
+        assert!(!path.exists());
+        // A lock whose owner on this host is gone is taken over.
+        fs::write(&path, format!("{} {}\n", u32::MAX - 1, host_name()))?;
+        drop(lock(&dir, "k", &mut |_| panic!("an abandoned lock must not be waited for"))?);
+        fs::remove_dir_all(&dir)?;
+        Ok(())
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub use analytic::{
     analytic_square_visibility,
 };
 pub use cache::{
-    REFERENCE_VERSION, cache_key, cache_path, load_cached, reference_key, save_cached,
+    CacheLock, REFERENCE_VERSION, cache_key, cache_path, load_cached, lock, reference_key, save_cached,
 };
 pub use tracer::{Hit, Tracer};
 pub use visibility::{LIGHT_END_EPS, point_visibility, trace_visibility, try_trace_visibility};

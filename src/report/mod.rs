@@ -1,6 +1,7 @@
 //! The report: one self-contained `report.html` (no external resource of any kind) and a
 //! `report.md` whose images live in `report_files/` beside it.
 
+mod baseline;
 mod files;
 mod html;
 mod markdown;
@@ -59,6 +60,19 @@ pub fn write_report(
     images: &[MethodImages],
     charts: &[(String, String)],
 ) -> Result<(), ReportError> {
+    write_report_with_baseline(out_dir, title, settings, rows, images, charts, None)
+}
+
+/// As [`write_report`], with a table per scene of each row's change against `baseline` rows.
+pub fn write_report_with_baseline(
+    out_dir: &Path,
+    title: &str,
+    settings: &serde_json::Value,
+    rows: &[ResultRow],
+    images: &[MethodImages],
+    charts: &[(String, String)],
+    baseline: Option<&[ResultRow]>,
+) -> Result<(), ReportError> {
     for m in images {
         let parts = [
             ("shaded", &m.shaded_png),
@@ -82,7 +96,10 @@ pub fn write_report(
     }
 
     let settings = table::settings_pairs(settings);
-    let tables = table::tables(rows);
+    let mut tables = table::tables(rows);
+    if let Some(old) = baseline {
+        tables.extend(baseline::tables(old, rows));
+    }
     // (relative path, bytes) of every file the Markdown links to.
     let mut assets: Vec<(String, Vec<u8>)> = Vec::new();
 

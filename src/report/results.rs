@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{write_report, MethodImages, ReportError};
+use super::{write_report_with_baseline, MethodImages, ReportError};
 use crate::charts::{self, ChartError, ResultRow};
 use crate::Result;
 
@@ -88,6 +88,19 @@ fn adapter_text(a: &serde_json::Value) -> String {
     }
 }
 
+/// The shards the rows came from, with the rows each gave: `0/4 (6 rows), 1/4 (6 rows)`.
+fn shard_list(rows: &[ResultRow]) -> String {
+    let mut shards: Vec<([u32; 2], usize)> = Vec::new();
+    for s in rows.iter().filter_map(|r| r.provenance.as_ref()?.spec.as_ref()) {
+        match shards.iter_mut().find(|(k, _)| *k == s.shard) {
+            Some((_, n)) => *n += 1,
+            None => shards.push((s.shard, 1)),
+        }
+    }
+    shards.sort();
+    if shards.is_empty() { "–".into() } else { shards.iter().map(|([i, n], c)| format!("{i}/{n} ({c} rows)")).collect::<Vec<_>>().join(", ") }
+}
+
 /// The settings table of the report, from what the rows record, as ordered `[key, value]` pairs.
 pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
     let version = |r: &ResultRow| match &r.version {
@@ -111,6 +124,12 @@ pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
         ("clock", shared(rows, |r| r.clock.clone())),
         ("metrics", "geometry pixels only; FLIP on the shaded images; definitions in docs/compare-and-report.md".into()),
         ("version", shared(rows, version)),
+        ("scene files", shared(rows, |r| r.provenance.as_ref().map(|p| format!("{} (sha256 {:.12})", p.scene_file, p.scene_sha256)).unwrap_or_default())),
+        ("meshes", shared(rows, |r| r.provenance.as_ref().map(|p| p.meshes.iter().map(|m| format!("{} (sha256 {:.12})", m.file, m.sha256)).collect::<Vec<_>>().join(", ")).unwrap_or_default())),
+        ("overrides", shared(rows, |r| r.provenance.as_ref().map(|p| p.overrides.join(" ")).unwrap_or_default())),
+        ("produced by", shared(rows, |r| r.provenance.as_ref().map(|p| p.command.clone()).unwrap_or_default())),
+        ("sweep spec", shared(rows, |r| r.provenance.as_ref().and_then(|p| p.spec.as_ref()).map(|s| format!("{} (sha256 {:.12}, {} configurations)", s.file, s.sha256, s.configs)).unwrap_or_default())),
+        ("shards", shard_list(rows)),
         ("rows", rows.len().to_string()),
     ];
     serde_json::Value::Array(pairs.into_iter().map(|(k, v)| serde_json::json!([k, v])).collect())
@@ -144,6 +163,10 @@ fn images(r: &LoadedRow) -> Result<Option<MethodImages>> {
 /// Writes `report.html`, `report.md` and `report_files/` for these rows into `out_dir`;
 /// returns the path of `report.html`.
 pub fn write_from_rows(rows: &[LoadedRow], out_dir: &Path) -> Result<PathBuf> {
+    write_rows(rows, None, out_dir)
+}
+
+fn write_rows(rows: &[LoadedRow], baseline: Option<&[ResultRow]>, out_dir: &Path) -> Result<PathBuf> {
     let plain: Vec<ResultRow> = rows.iter().map(|r| r.row.clone()).collect();
     let mut scenes: Vec<&str> = Vec::new();
     for r in &plain {
@@ -157,12 +180,21 @@ pub fn write_from_rows(rows: &[LoadedRow], out_dir: &Path) -> Result<PathBuf> {
         pictures.extend(images(r)?);
     }
     let charts: Vec<(String, String)> = charts(&plain)?.into_iter().map(|(_, caption, svg)| (caption, svg)).collect();
-    write_report(out_dir, &title, &settings(&plain), &plain, &pictures, &charts)?;
+    let mut settings = settings(&plain);
+    if let (Some(b), serde_json::Value::Array(pairs)) = (baseline, &mut settings) {
+        pairs.push(serde_json::json!(["baseline", format!("{} rows; changes in the tables marked \"against the baseline\"", b.len())]));
+    }
+    write_report_with_baseline(out_dir, &title, &settings, &plain, &pictures, &charts, baseline)?;
     Ok(out_dir.join("report.html"))
 }
 
 /// `penumbra report FILES… --out DIR`: every file is read before anything is written.
 pub fn write_from_files(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
+    write_from_files_with_baseline(paths, None, out_dir)
+}
+
+/// As [`write_from_files`], with the change of every row against a baseline results file.
+pub fn write_from_files_with_baseline(paths: &[PathBuf], baseline: Option<&Path>, out_dir: &Path) -> Result<PathBuf> {
     if paths.is_empty() {
         return Err(crate::Error::Param("report: give at least one results.jsonl".into()));
     }
@@ -179,5 +211,9 @@ pub fn write_from_files(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
     for p in paths {
         rows.extend(read_results(p)?);
     }
-    write_from_rows(&rows, out_dir)
+    let old = match baseline {
+        Some(b) => Some(read_results(b)?.into_iter().map(|l| l.row).collect::<Vec<_>>()),
+        None => None,
+    };
+    write_rows(&rows, old.as_deref(), out_dir)
 }

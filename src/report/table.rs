@@ -1,5 +1,6 @@
 //! The results table: one row per run, numbers formatted, the best value per column flagged.
 
+use crate::methods::Family;
 use serde::Serialize;
 
 use crate::charts::ResultRow;
@@ -109,7 +110,9 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
     scenes
         .into_iter()
         .map(|scene| {
-            let group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
+            // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
+            let mut group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
+            group.sort_by_key(|r| Family::of_name(&r.method));
             [table(scene, "speed", speed_columns(), &group), table(scene, "accuracy", accuracy_columns(), &group)]
         })
         .flatten()
@@ -117,9 +120,12 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
 }
 
 fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]) -> Table {
-    let mut header = vec!["method"];
+    let mut header = vec!["family", "method"];
     header.extend(cols.iter().map(|c| c.name));
-    let mut cells: Vec<Vec<Cell>> = rows.iter().map(|r| vec![Cell { text: r.label(), best: false }]).collect();
+    let mut cells: Vec<Vec<Cell>> = rows
+        .iter()
+        .map(|r| vec![Cell { text: Family::of_name(&r.method).title().to_string(), best: false }, Cell { text: r.label(), best: false }])
+        .collect();
     for c in &cols {
         let values: Vec<f64> = rows.iter().map(|r| (c.value)(r)).collect();
         let best = best_flags(&values, c.better);

@@ -16,6 +16,7 @@ pub use catalog::{catalog, CatalogEntry};
 pub use format::{BiasDef, CullMode, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
+pub use obj::embedded_source;
 pub use overrides::apply_overrides;
 
 use crate::light::{AreaLight, Bounds};

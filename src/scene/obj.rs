@@ -5,6 +5,11 @@ use crate::{Error, Result};
 use glam::Vec3;
 use std::path::Path;
 
+/// The text of a mesh embedded in the binary (provenance digests it).
+pub fn embedded_source(file: &str) -> Option<&'static str> {
+    super::builtin::embedded_mesh(file)
+}
+
 /// An OBJ embedded in the binary (built-in scenes: every scenes/*.obj).
 pub fn load_embedded(file: &str) -> Result<RawMesh> {
     let text = super::builtin::embedded_mesh(file).ok_or_else(|| Error::mesh(file, "not a mesh file shipped in scenes/ (built-in scenes can only name those, or `cache:` paths)"))?;

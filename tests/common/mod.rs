@@ -109,3 +109,17 @@ pub fn penumbra_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     }
     c.output().expect("run penumbra binary")
 }
+
+/// One adaptive frame with pictures, and its trace (`capture`: with the twins' intermediate buffers).
+pub fn traced(
+    ctx: &GpuContext,
+    scene: &penumbra::scene::Scene,
+    p: &penumbra::methods::AdaptiveParams,
+    capture: bool,
+) -> (penumbra::frame::FrameResult, penumbra::methods::adaptive::AdaptiveTrace) {
+    use penumbra::frame::{self, FrameOptions};
+    let options = FrameOptions { mode: penumbra::timing::TimingMode::Frame, pictures: true, capture };
+    let r = frame::render(ctx, scene, &penumbra::methods::Method::adaptive(p.clone()), options).expect("adaptive frame");
+    let t = penumbra::methods::adaptive::trace_of(&r.output).expect("the adaptive method keeps a trace").clone();
+    (r, t)
+}

@@ -1,9 +1,14 @@
 //! CPU twins of the compute kernels, written loop for loop like the WGSL with the same inputs.
 //! Tests compare them with the GPU: exactly for every count, flag, quad and sample.
 
+pub mod blur;
 pub mod local;
+pub mod moments;
 pub mod neighbourhood;
+pub mod pcf;
+pub mod pcss;
 pub mod quad_count;
+pub mod reconstruct;
 pub mod reproject_count;
 pub mod shade;
 pub mod shadow;

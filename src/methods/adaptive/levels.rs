@@ -2,7 +2,7 @@
 
 use crate::methods::AdaptiveParams;
 use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
-use crate::frame::FrameGpu;
+use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::GpuQuad;
 use crate::render::gbuffer::GBuffer;

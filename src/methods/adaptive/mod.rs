@@ -12,19 +12,85 @@ pub use levels::{LevelRecord, LevelReport};
 pub use weights::sample_weights;
 
 use super::params::SplitRule;
-use super::{AdaptiveParams, Scope};
+use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
 use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
     compact::Compact, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
-use crate::frame::{FrameGpu, MethodOutput};
+use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::{GpuLevel, GpuQuad, GpuSample};
 use crate::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::timing::StageTimer;
 use crate::{Error, Result};
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "adaptive",
+    family: Family::MultiSample,
+    summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
+    params: &[
+        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (p_m 0, max_level 3, Coons weights; docs/bench.md)" },
+        Param { key: "p_m", default: "0", help: "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)" },
+        Param { key: "p_share", default: "none", help: "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)" },
+        Param { key: "growth", default: "1", help: "threshold factor per level for p_m or p_share, 1..=1e6" },
+        Param { key: "tol", default: "none", help: "error budget: split when a quad's estimated RMSE exceeds tol (instead of p_m)" },
+        Param { key: "max_level", default: "4", help: "deepest quadtree level, 0..=4 (4 = the 17×17 lattice)" },
+        Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²), area or coons" },
+        Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
+        Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
+    ],
+    parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
+};
+
+/// The adaptive method with its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Adaptive(pub AdaptiveParams);
+
+impl ShadowMethod for Adaptive {
+    fn name(&self) -> &'static str {
+        "adaptive"
+    }
+    fn label(&self) -> String {
+        self.0.label()
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::to_value(&self.0).unwrap_or_default()
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)? }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// Built once per scene and settings; `reset` zero-fills the buffers and restores the samples.
+struct State {
+    p: AdaptiveParams,
+    prepared: Prepared,
+}
+
+impl MethodState for State {
+    fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
+        let pr = &mut self.prepared;
+        pr.samples = lattice_samples(fg);
+        fg.ctx.queue.write_buffer(&pr.b.samples, 0, bytemuck::cast_slice(&pr.samples));
+        pr.store.used = 0;
+        pr.b.reset_frame(fg.ctx)
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        let (mut out, trace) = run(fg, timer, &self.p, &mut self.prepared, capture)?;
+        out.detail = Some(Box::new(trace));
+        Ok(out)
+    }
+}
+
+/// The trace of an adaptive run (every run keeps one; `capture` adds the intermediate buffers).
+pub fn trace_of(out: &MethodOutput) -> Option<&AdaptiveTrace> {
+    out.detail.as_ref()?.downcast_ref()
+}
 
 /// Lattice index of (i, j).
 pub fn lattice_index(i: u32, j: u32) -> u32 {
@@ -119,11 +185,11 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
 
 /// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
 /// it adds synchronisations, so it is for tests only.
-pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: Prepared, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
     let ctx = fg.ctx;
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
-    let Prepared { b, mut store, passes, mut samples } = prepared;
+    let (b, mut store, passes, mut samples) = (&prepared.b, &mut prepared.store, &prepared.passes, &mut prepared.samples);
     let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
     let level_uniform = |level: u32, quad_count: u32, first_quad: u32| {
         let (split_mode, p_m, split_share) = match p.split_rule(level) {
@@ -182,7 +248,10 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
         render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace, capture)?;
 
-        let evaluate = local || level < p.max_level;
+        // Under scope = global the counts only feed the split rule: a rule that cannot depend on them
+        // (always, never) and the last level (nothing splits) skip the count stages.
+        let counted = matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_));
+        let evaluate = local || (level < p.max_level && counted);
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
         if local && level > 0 {
             // Uniform pixels of last level's split quads test the new samples (the blind-spot fix).
@@ -306,7 +375,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     };
     let pictures = if fg.pictures { pictures::all(fg, &trace, consulted.as_deref()) } else { Vec::new() };
     let record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
-    Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures }, trace))
+    Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures, detail: None }, trace))
 }
 
 /// subdivide's split modes (GpuLevel.split_mode).

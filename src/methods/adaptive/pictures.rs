@@ -3,7 +3,7 @@
 
 use super::AdaptiveTrace;
 use crate::compute::buffers::NO_SPLIT;
-use crate::frame::FrameGpu;
+use crate::compute::FrameGpu;
 use image::{Rgb, RgbImage};
 
 const SEED_COLOURS: [[u8; 3]; 5] = [[0, 0, 0], [220, 30, 30], [30, 190, 60], [40, 80, 230], [255, 255, 255]];

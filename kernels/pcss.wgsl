@@ -1,0 +1,78 @@
+// pcss: percentage-closer soft shadows (Fernando 2005). A blocker search over the region of the
+// centre map through which p sees the light, then the penumbra half-width from similar triangles,
+//   w = (d_receiver - d_blocker) * w_light / d_blocker   (world, at the receiver),
+// as texels of the map, then a box PCF of that half-width. Depths are linear (distance along the
+// light's normal); taps sit at cell midpoints of an N x N grid.
+
+@group(0) @binding(0) var<uniform> frame: GpuFrame;
+@group(0) @binding(1) var<uniform> settings: GpuFilter;
+@group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
+@group(0) @binding(3) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(4) var gbuffer_normal: texture_2d<f32>;
+@group(0) @binding(5) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(6) var<storage, read_write> visibility: array<f32>;
+
+fn midpoint(i: u32, n: u32, r: f32) -> f32 {
+    return -r + 2.0 * r * (f32(i) + 0.5) / f32(n);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let pixel = vec2<i32>(gid.xy);
+    let position = textureLoad(gbuffer_position, pixel, 0);
+    if (position.w == 0.0) {
+        return;
+    }
+    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    let index = gid.y * frame.width + gid.x;
+    let s = samples[0];
+    let lookup = shadow_lookup(frame, s, position.xyz, normal);
+    if (lookup.kind != LOOKUP_COMPARE) {
+        visibility[index] = select(0.0, 1.0, lookup.kind == LOOKUP_OUTSIDE);
+        return;
+    }
+    let t = shadow_lookup_uv(frame, s, position.xyz, normal);
+    let z_r = lookup.depth_limit;
+    let slope = slope_per_texel(frame, s, position.xyz, normal);
+    let near = s.depth_lin_a / s.depth_lin_b;
+    // Texels per unit of angular offset; a blocker at depth z shifts by o (z_r - z) / (z_r z).
+    let per_angle = 1.0 / s.texel_angle;
+    let light = vec2<f32>(settings.light_u, settings.light_v) * 0.5;
+    let search = min(light * max(z_r - near, 0.0) / (z_r * near) * per_angle, vec2<f32>(settings.max_radius));
+    let size = f32(frame.map_size);
+    var blocker_sum = 0.0;
+    var blockers = 0u;
+    let nb = settings.blocker_taps;
+    for (var j = 0u; j < nb; j = j + 1u) {
+        for (var i = 0u; i < nb; i = i + 1u) {
+            let o = vec2<f32>(midpoint(i, nb, search.x), midpoint(j, nb, search.y));
+            let texel = floor(t + o);
+            if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
+                continue;
+            }
+            let stored = textureLoad(shadow_maps, vec2<i32>(texel), i32(s.layer), 0);
+            if ((z_r - length(o) * slope) * (stored + s.depth_lin_b) < s.depth_lin_a) {
+                blocker_sum = blocker_sum + s.depth_lin_a / (stored + s.depth_lin_b);
+                blockers = blockers + 1u;
+            }
+        }
+    }
+    if (blockers == 0u) {
+        visibility[index] = 1.0;
+        return;
+    }
+    let z_b = blocker_sum / f32(blockers);
+    let r = min(light * (z_r - z_b) / (z_r * z_b) * per_angle, vec2<f32>(settings.max_radius));
+    let n = settings.taps;
+    var lit = 0.0;
+    for (var j = 0u; j < n; j = j + 1u) {
+        for (var i = 0u; i < n; i = i + 1u) {
+            let o = vec2<f32>(midpoint(i, n, r.x), midpoint(j, n, r.y));
+            lit = lit + tap_lit(frame, s, shadow_maps, z_r - length(o) * slope, t + o);
+        }
+    }
+    visibility[index] = lit / f32(n * n);
+}

@@ -1,0 +1,43 @@
+//! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
+
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::Result;
+
+pub struct Pcf {
+    kernel: ComputeKernel,
+    /// The hardware comparison sampler of `kernel = bilinear` (lit when reference <= stored).
+    sampler: wgpu::Sampler,
+}
+
+impl Pcf {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        let sampler = fg.ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("pcf comparison"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "pcf", "main")?, sampler })
+    }
+
+    /// `samples[0]` is the map's sample; `disk` the tap offsets of the disk kernels.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, disk: &wgpu::Buffer) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (1, filter.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (5, wgpu::BindingResource::TextureView(maps)),
+                (6, disk.as_entire_binding()),
+                (7, fg.visibility.as_entire_binding()),
+                (8, wgpu::BindingResource::Sampler(&self.sampler)),
+            ],
+            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+        );
+    }
+}

@@ -1,0 +1,279 @@
+//! Prefiltered shadow maps: the centre map becomes a statistic (`moments`), a separable box blur
+//! whose radius follows from the light size prefilters it (`blur`), and each pixel reconstructs V
+//! from the filtered statistic (`reconstruct`). ESM, VSM, EVSM, MSM and CSM differ only in the
+//! statistic and the reconstruction.
+
+use super::single_map::{light_size, CentreMap, SingleMapCapture};
+use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::compute::{blur::Blur, moments::Moments, reconstruct::Reconstruct, FrameGpu};
+use crate::gpu::readback;
+use crate::layout::GpuFilter;
+use crate::timing::StageTimer;
+use crate::{Error, Result};
+use std::sync::Arc;
+
+/// The largest exponent whose square e^{2c} stays finite in the f32 planes (ln(f32::MAX)/2 ≈ 44.4),
+/// with a margin for the blur's sums: EVSM clamps to it.
+pub const EVSM_MAX_EXPONENT: f32 = 42.0;
+/// ESM stores e^{c z} with z ≤ 1: c must keep e^c finite in f32 (ln(f32::MAX) ≈ 88.7).
+pub const ESM_MAX_EXPONENT: f32 = 85.0;
+
+const RADIUS: Param = Param { key: "radius", default: "auto", help: "blur radius in texels; auto = penumbra half-width of a blocker 2/3 of the way to the farthest receiver" };
+
+pub const ESM: MethodInfo = MethodInfo {
+    name: "esm",
+    family: Family::Filtered,
+    summary: "exponential shadow maps: prefiltered e^{c z}, V = min(1, E[e^{c z}]·e^{−c z_r})",
+    params: &[Param { key: "c", default: "80", help: "exponent, 1..=85 (f32 holds e^85)" }, RADIUS],
+    parse: |p| Filtered::parse(Kind::Esm, p),
+};
+pub const VSM: MethodInfo = MethodInfo {
+    name: "vsm",
+    family: Family::Filtered,
+    summary: "variance shadow maps: prefiltered (z, z²), Chebyshev's bound, light-bleeding reduction",
+    params: &[Param { key: "bleed", default: "0", help: "light-bleeding reduction: p' = clamp((p − bleed)/(1 − bleed)), 0..<1" }, RADIUS],
+    parse: |p| Filtered::parse(Kind::Vsm, p),
+};
+pub const EVSM: MethodInfo = MethodInfo {
+    name: "evsm",
+    family: Family::Filtered,
+    summary: "exponential variance shadow maps: Chebyshev on e^{c+ w} and −e^{−c− w}, the smaller bound",
+    params: &[
+        Param { key: "c_pos", default: "42", help: "positive exponent, clamped to 42 (e^{2c} must stay finite in f32)" },
+        Param { key: "c_neg", default: "42", help: "negative exponent, clamped to 42" },
+        Param { key: "bleed", default: "0", help: "light-bleeding reduction amount, 0..<1" },
+        RADIUS,
+    ],
+    parse: |p| Filtered::parse(Kind::Evsm, p),
+};
+pub const MSM: MethodInfo = MethodInfo {
+    name: "msm",
+    family: Family::Filtered,
+    summary: "moment shadow maps (Hamburger 4MSM, Peters & Klein 2015): 4 moments, 16-bit optimised quantisation",
+    params: &[Param { key: "moment_bias", default: "0.00003", help: "α: moments pulled toward 0.5 by α before the solve" }, RADIUS],
+    parse: |p| Filtered::parse(Kind::Msm, p),
+};
+pub const CSM: MethodInfo = MethodInfo {
+    name: "csm",
+    family: Family::Filtered,
+    summary: "convolution shadow maps (Annen et al. 2007): Fourier expansion of order M of the shadow test, prefiltered",
+    params: &[
+        Param { key: "order", default: "4", help: "Fourier order M, 1..=16 (2M terms)" },
+        Param { key: "offset", default: "auto", help: "receiver depth offset (normalised depth); auto = 1/(2M), half the series' rise" },
+        RADIUS,
+    ],
+    parse: |p| Filtered::parse(Kind::Csm, p),
+};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Esm,
+    Vsm,
+    Evsm,
+    Msm,
+    Csm,
+}
+
+impl Kind {
+    fn info(self) -> &'static MethodInfo {
+        match self {
+            Kind::Esm => &ESM,
+            Kind::Vsm => &VSM,
+            Kind::Evsm => &EVSM,
+            Kind::Msm => &MSM,
+            Kind::Csm => &CSM,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Filtered {
+    pub kind: Kind,
+    /// esm: c; evsm: c+.
+    pub c_pos: f32,
+    pub c_neg: f32,
+    pub bleed: f32,
+    pub moment_bias: f32,
+    pub order: u32,
+    /// csm: receiver depth offset in normalised depth.
+    pub offset: f32,
+    /// None: from the light size.
+    pub radius: Option<u32>,
+}
+
+impl Filtered {
+    fn parse(kind: Kind, p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
+        let name = kind.info().name;
+        let radius = match p.get("radius").map(String::as_str) {
+            None | Some("auto") => None,
+            Some(_) => Some(check_range(name, "radius", params::get_u32(p, "radius", 0)?, 0, 64)?),
+        };
+        let bleed = get_f32(p, "bleed", 0.0)?;
+        if !(0.0..1.0).contains(&bleed) {
+            return Err(Error::Param(format!("{name}: bleed = {bleed} is outside 0..1")));
+        }
+        let (c_pos, c_neg) = match kind {
+            Kind::Esm => (check_range(name, "c", get_f32(p, "c", 80.0)?, 1.0, ESM_MAX_EXPONENT)?, 0.0),
+            Kind::Evsm => {
+                let pos = check_range(name, "c_pos", get_f32(p, "c_pos", 42.0)?, 0.0, f32::MAX)?;
+                let neg = check_range(name, "c_neg", get_f32(p, "c_neg", 42.0)?, 0.0, f32::MAX)?;
+                (pos.min(EVSM_MAX_EXPONENT), neg.min(EVSM_MAX_EXPONENT))
+            }
+            _ => (0.0, 0.0),
+        };
+        let order = check_range(name, "order", params::get_u32(p, "order", 4)?, 1, 16)?;
+        Ok(Arc::new(Filtered {
+            kind,
+            c_pos,
+            c_neg,
+            bleed,
+            moment_bias: check_range(name, "moment_bias", get_f32(p, "moment_bias", 3e-5)?, 0.0, 0.5)?,
+            order,
+            offset: match p.get("offset").map(String::as_str) {
+                None | Some("auto") => 0.5 / order as f32,
+                Some(_) => check_range(name, "offset", get_f32(p, "offset", 0.0)?, 0.0, 0.5)?,
+            },
+            radius,
+        }))
+    }
+
+    fn layers(&self) -> u32 {
+        if self.kind == Kind::Csm { self.order.div_ceil(2) } else { 1 }
+    }
+
+    /// Parameters as (key, value) pairs in registry order, values as the label writes them.
+    fn values(&self) -> Vec<(&'static str, String)> {
+        let r = self.radius.map_or("auto".to_string(), |r| r.to_string());
+        match self.kind {
+            Kind::Esm => vec![("c", self.c_pos.to_string()), ("radius", r)],
+            Kind::Vsm => vec![("bleed", self.bleed.to_string()), ("radius", r)],
+            Kind::Evsm => vec![("c_pos", self.c_pos.to_string()), ("c_neg", self.c_neg.to_string()), ("bleed", self.bleed.to_string()), ("radius", r)],
+            Kind::Msm => vec![("moment_bias", format!("{}", self.moment_bias)), ("radius", r)],
+            Kind::Csm => {
+                let offset = if self.offset == 0.5 / self.order as f32 { "auto".to_string() } else { self.offset.to_string() };
+                vec![("order", self.order.to_string()), ("offset", offset), ("radius", r)]
+            }
+        }
+    }
+
+    /// Blur radius in texels: the given one, or the penumbra half-width in map texels of a
+    /// blocker two thirds of the way from the light to the farthest receiver,
+    /// ¼·w_light / (z_far · texel_angle) (w_light the mean edge), between 1 and 32.
+    pub fn blur_radius(&self, fg: &FrameGpu, map: &CentreMap) -> u32 {
+        self.radius.unwrap_or_else(|| {
+            let (u, v) = light_size(fg);
+            let z = map.far_depth().max(1e-6);
+            (0.25 * 0.5 * (u + v) / (z * map.sample.texel_angle)).round().clamp(1.0, 32.0) as u32
+        })
+    }
+}
+
+impl ShadowMethod for Filtered {
+    fn name(&self) -> &'static str {
+        self.kind.info().name
+    }
+    fn label(&self) -> String {
+        super::label_from(self.kind.info(), &self.values())
+    }
+    fn params_json(&self) -> serde_json::Value {
+        let mut m = serde_json::Map::new();
+        for (k, v) in self.values() {
+            let value = v.parse::<f64>().map_or(serde_json::Value::String(v), |x| serde_json::json!(x));
+            m.insert(k.to_string(), value);
+        }
+        serde_json::Value::Object(m)
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        let map = CentreMap::new(fg)?;
+        let (light_u, light_v) = light_size(fg);
+        let layers = self.layers();
+        let filter = GpuFilter {
+            kind: self.kind as u32,
+            order: self.order,
+            light_u,
+            light_v,
+            c_pos: self.c_pos,
+            c_neg: self.c_neg,
+            bleed: self.bleed,
+            moment_bias: self.moment_bias,
+            layers,
+            blur_radius: self.blur_radius(fg, &map),
+            depth_offset: self.offset,
+            ..Default::default()
+        };
+        let bytes = fg.frame.map_size as u64 * fg.frame.map_size as u64 * 16 * layers as u64;
+        let plane = |label: &str| readback::zeroed_storage(fg.ctx, label, bytes);
+        Ok(Box::new(State {
+            filter_buffer: readback::uniform_buffer(fg.ctx, "filter", &filter),
+            raw: plane("moments"),
+            scratch: plane("blur scratch"),
+            filtered: plane("filtered moments"),
+            moments: Moments::new(fg)?,
+            blur: Blur::new(fg)?,
+            reconstruct: Reconstruct::new(fg)?,
+            filter,
+            bytes,
+            map,
+        }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+struct State {
+    map: CentreMap,
+    filter: GpuFilter,
+    filter_buffer: wgpu::Buffer,
+    raw: wgpu::Buffer,
+    scratch: wgpu::Buffer,
+    filtered: wgpu::Buffer,
+    bytes: u64,
+    moments: Moments,
+    blur: Blur,
+    reconstruct: Reconstruct,
+}
+
+impl MethodState for State {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(()) // every stage writes all of its output
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        self.map.render(fg, timer)?;
+        let view = &self.map.array.array_view;
+        timer.stage(fg.ctx, "moments", |enc| {
+            self.moments.record(fg, enc, &self.filter_buffer, &self.map.samples, view, &self.raw);
+            Ok(())
+        })?;
+        timer.stage(fg.ctx, "blur", |enc| {
+            self.blur.record(fg, enc, &self.filter_buffer, self.filter.layers, &self.raw, &self.scratch, &self.filtered);
+            Ok(())
+        })?;
+        timer.stage(fg.ctx, "reconstruct", |enc| {
+            self.reconstruct.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.filtered);
+            Ok(())
+        })?;
+        let detail = if capture {
+            timer.flush(fg.ctx);
+            let c = SingleMapCapture {
+                map: self.map.read(fg)?,
+                sample: self.map.sample,
+                filter: self.filter,
+                raw: readback::read_buffer(fg.ctx, &self.raw, self.bytes)?,
+                scratch: readback::read_buffer(fg.ctx, &self.scratch, self.bytes)?,
+                filtered: readback::read_buffer(fg.ctx, &self.filtered, self.bytes)?,
+                ..Default::default()
+            };
+            Some(Box::new(c) as Box<dyn std::any::Any>)
+        } else {
+            None
+        };
+        Ok(MethodOutput {
+            shadow_maps: 1,
+            syncs: 0,
+            record: serde_json::json!({ "blur_radius_texels": self.filter.blur_radius, "planes": self.filter.layers }),
+            pictures: Vec::new(),
+            detail,
+        })
+    }
+}

@@ -1,0 +1,224 @@
+//! Percentage-closer filtering of one shadow map (seeds 001 and 004): every pixel averages the
+//! binary shadow test over taps around its place in the map.
+
+use super::single_map::{CentreMap, SingleMapCapture};
+use super::{check_range, get_choice, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::compute::pcf::Pcf as PcfPass;
+use crate::compute::FrameGpu;
+use crate::gpu::readback;
+use crate::layout::GpuFilter;
+use crate::timing::StageTimer;
+use crate::{Error, Result};
+use std::sync::Arc;
+
+pub const KERNELS: [&str; 5] = ["box", "bilinear", "poisson", "stratified", "rotated"];
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "pcf",
+    family: Family::Pcf,
+    summary: "percentage-closer filtering of the centre map: box, bilinear, Poisson, stratified or rotated taps",
+    params: &[
+        Param { key: "kernel", default: "poisson", help: "box (N×N), bilinear (N×N comparison-sampler lookups), poisson, stratified (seed 004), rotated" },
+        Param { key: "taps", default: "16", help: "box/bilinear: N per side (default 5 / 3); poisson/rotated: 4, 16, 32 or 64; stratified: 1..=64 drawn from 16 points" },
+        Param { key: "radius", default: "2", help: "filter radius in texels" },
+        Param { key: "spread", default: "none", help: "radius as a fraction of the map (seed 004: 1/700); overrides radius" },
+        Param { key: "darkening", default: "0", help: "seed 004: V = 1 − darkening·(shadowed taps); 0 averages the taps" },
+    ],
+    parse: |p| Ok(Arc::new(Pcf::from_map(p)?)),
+};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pcf {
+    pub kernel: &'static str,
+    pub taps: u32,
+    pub radius: f32,
+    pub spread: Option<f32>,
+    pub darkening: f32,
+}
+
+/// `a/b` or a plain number (seed 004 writes its spread as 1/700).
+fn fraction(params: &ParamMap, key: &str) -> Result<Option<f32>> {
+    let Some(v) = params.get(key) else { return Ok(None) };
+    let parsed = match v.split_once('/') {
+        Some((a, b)) => a.trim().parse::<f32>().ok().zip(b.trim().parse::<f32>().ok()).map(|(a, b)| a / b),
+        None => v.parse::<f32>().ok(),
+    };
+    match parsed {
+        Some(x) if x.is_finite() && x > 0.0 && x < 1.0 => Ok(Some(x)),
+        _ => Err(Error::Param(format!("pcf: {key} = `{v}` is not a fraction in (0, 1) such as 1/700"))),
+    }
+}
+
+impl Pcf {
+    pub fn from_map(p: &ParamMap) -> Result<Self> {
+        let kernel = get_choice(p, "kernel", "poisson", &KERNELS)?;
+        let default_taps = match kernel {
+            "box" => 5,
+            "bilinear" => 3,
+            _ => 16,
+        };
+        let taps = params::get_u32(p, "taps", default_taps)?;
+        match kernel {
+            "box" | "bilinear" => check_range("pcf", "taps", taps, 1, 16).map(|_| ())?,
+            "stratified" => check_range("pcf", "taps", taps, 1, 64).map(|_| ())?,
+            _ if ![4, 16, 32, 64].contains(&taps) => {
+                return Err(Error::Param(format!("pcf: taps = {taps} with kernel = {kernel}: use 4, 16, 32 or 64")));
+            }
+            _ => {}
+        }
+        let radius = check_range("pcf", "radius", get_f32(p, "radius", 2.0)?, 0.0, 64.0)?;
+        let darkening = check_range("pcf", "darkening", get_f32(p, "darkening", 0.0)?, 0.0, 1.0)?;
+        Ok(Self { kernel, taps, radius, spread: fraction(p, "spread")?, darkening })
+    }
+
+    fn default_taps(&self) -> u32 {
+        match self.kernel {
+            "box" => 5,
+            "bilinear" => 3,
+            _ => 16,
+        }
+    }
+
+    /// The tap offsets (unit disk) the kernel reads.
+    pub fn disk(&self) -> Vec<[f32; 2]> {
+        match self.kernel {
+            "box" | "bilinear" => vec![[0.0, 0.0]],
+            "stratified" => poisson_disk(16),
+            _ => poisson_disk(self.taps as usize),
+        }
+    }
+
+    pub fn filter(&self, map_size: u32) -> GpuFilter {
+        GpuFilter {
+            kind: KERNELS.iter().position(|k| *k == self.kernel).unwrap_or(2) as u32,
+            taps: self.taps,
+            order: 16,
+            radius: self.spread.map_or(self.radius, |s| s * map_size as f32),
+            darkening: self.darkening,
+            ..Default::default()
+        }
+    }
+}
+
+/// The seed's four points (opengl-tutorial / Babylon.js), else `n` points in the unit disk by
+/// Mitchell's best-candidate sampling with a fixed generator: deterministic, well spread.
+pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
+    if n == 4 {
+        return vec![[-0.94201624, -0.39906216], [0.94558609, -0.76890725], [-0.094184101, -0.92938870], [0.34495938, 0.29387760]];
+    }
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 40) as f32) / (1u64 << 24) as f32
+    };
+    let mut points: Vec<[f32; 2]> = Vec::with_capacity(n);
+    while points.len() < n {
+        let mut best = ([0.0f32; 2], -1.0f32);
+        for _ in 0..(10 * (points.len() + 1)).min(400) {
+            let (r, a) = (next().sqrt(), next() * std::f32::consts::TAU);
+            let c = [r * a.cos(), r * a.sin()];
+            let d = points.iter().map(|p| (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).fold(f32::INFINITY, f32::min);
+            if d > best.1 {
+                best = (c, d);
+            }
+        }
+        points.push(best.0);
+    }
+    points
+}
+
+impl ShadowMethod for Pcf {
+    fn name(&self) -> &'static str {
+        "pcf"
+    }
+    fn label(&self) -> String {
+        let mut s = format!("pcf:kernel={}", self.kernel);
+        if self.taps != self.default_taps() {
+            s += &format!(",taps={}", self.taps);
+        }
+        if let Some(spread) = self.spread {
+            s += &format!(",spread={spread}");
+        } else if self.radius != 2.0 {
+            s += &format!(",radius={}", self.radius);
+        }
+        if self.darkening > 0.0 {
+            s += &format!(",darkening={}", self.darkening);
+        }
+        s
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({ "kernel": self.kernel, "taps": self.taps, "radius": self.radius, "spread": self.spread, "darkening": self.darkening })
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        let filter = self.filter(fg.frame.map_size);
+        let disk = self.disk();
+        Ok(Box::new(State {
+            map: CentreMap::new(fg)?,
+            filter_buffer: readback::uniform_buffer(fg.ctx, "pcf filter", &filter),
+            disk_buffer: readback::storage_buffer(fg.ctx, "pcf disk", &disk, wgpu::BufferUsages::empty()),
+            pass: PcfPass::new(fg)?,
+            filter,
+            disk,
+        }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+struct State {
+    map: CentreMap,
+    filter: GpuFilter,
+    disk: Vec<[f32; 2]>,
+    filter_buffer: wgpu::Buffer,
+    disk_buffer: wgpu::Buffer,
+    pass: PcfPass,
+}
+
+impl MethodState for State {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(()) // the raster clears its map; pcf writes every geometry pixel
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        self.map.render(fg, timer)?;
+        timer.stage(fg.ctx, "pcf", |enc| {
+            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.map.array.array_view, &self.disk_buffer);
+            Ok(())
+        })?;
+        let detail = if capture {
+            timer.flush(fg.ctx);
+            let c = SingleMapCapture { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, disk: self.disk.clone(), ..Default::default() };
+            Some(Box::new(c) as Box<dyn std::any::Any>)
+        } else {
+            None
+        };
+        Ok(MethodOutput {
+            shadow_maps: 1,
+            syncs: 0,
+            record: serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps }),
+            pictures: Vec::new(),
+            detail,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn disks_are_in_the_unit_disk_and_spread() {
+        for n in [16, 32, 64] {
+            let d = super::poisson_disk(n);
+            assert_eq!(d.len(), n);
+            let mut closest = f32::INFINITY;
+            for (i, a) in d.iter().enumerate() {
+                assert!(a[0] * a[0] + a[1] * a[1] <= 1.0 + 1e-6);
+                for b in &d[i + 1..] {
+                    closest = closest.min(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
+                }
+            }
+            // A Poisson disk keeps points apart: at least half the spacing of a hexagonal packing.
+            let hex = (2.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
+            assert!(closest > 0.5 * hex, "{n} points: closest pair {closest}, hex spacing {hex}");
+        }
+    }
+}

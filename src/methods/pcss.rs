@@ -1,0 +1,96 @@
+//! Percentage-closer soft shadows (Fernando 2005): blocker search, penumbra width from the light
+//! size by similar triangles, then PCF of that width, all on the centre map.
+
+use super::single_map::{light_size, CentreMap, SingleMapCapture};
+use super::{check_range, get_f32, label_from, params, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
+use crate::compute::pcss::Pcss as PcssPass;
+use crate::compute::FrameGpu;
+use crate::gpu::readback;
+use crate::layout::GpuFilter;
+use crate::timing::StageTimer;
+use crate::Result;
+use std::sync::Arc;
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "pcss",
+    family: Family::Pcf,
+    summary: "percentage-closer soft shadows: blocker search, w = (d_r − d_b)·w_light/d_b, PCF of that width",
+    params: &[
+        Param { key: "taps", default: "8", help: "filter taps per side (N×N box), 1..=16" },
+        Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side, 1..=16" },
+        Param { key: "max_radius", default: "32", help: "largest search and filter half-width in texels" },
+    ],
+    parse: |p| {
+        Ok(Arc::new(Pcss {
+            taps: check_range("pcss", "taps", params::get_u32(p, "taps", 8)?, 1, 16)?,
+            blocker_taps: check_range("pcss", "blocker_taps", params::get_u32(p, "blocker_taps", 6)?, 1, 16)?,
+            max_radius: check_range("pcss", "max_radius", get_f32(p, "max_radius", 32.0)?, 1.0, 256.0)?,
+        }))
+    },
+};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pcss {
+    pub taps: u32,
+    pub blocker_taps: u32,
+    pub max_radius: f32,
+}
+
+impl ShadowMethod for Pcss {
+    fn name(&self) -> &'static str {
+        "pcss"
+    }
+    fn label(&self) -> String {
+        label_from(&INFO, &[("taps", self.taps.to_string()), ("blocker_taps", self.blocker_taps.to_string()), ("max_radius", self.max_radius.to_string())])
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({ "taps": self.taps, "blocker_taps": self.blocker_taps, "max_radius": self.max_radius })
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        let (light_u, light_v) = light_size(fg);
+        let filter = GpuFilter { taps: self.taps, blocker_taps: self.blocker_taps, max_radius: self.max_radius, light_u, light_v, ..Default::default() };
+        Ok(Box::new(State {
+            map: CentreMap::new(fg)?,
+            filter_buffer: readback::uniform_buffer(fg.ctx, "pcss filter", &filter),
+            pass: PcssPass::new(fg)?,
+            filter,
+        }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+struct State {
+    map: CentreMap,
+    filter: GpuFilter,
+    filter_buffer: wgpu::Buffer,
+    pass: PcssPass,
+}
+
+impl MethodState for State {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(())
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        self.map.render(fg, timer)?;
+        timer.stage(fg.ctx, "pcss", |enc| {
+            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.map.array.array_view);
+            Ok(())
+        })?;
+        let detail = if capture {
+            timer.flush(fg.ctx);
+            let c = SingleMapCapture { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, ..Default::default() };
+            Some(Box::new(c) as Box<dyn std::any::Any>)
+        } else {
+            None
+        };
+        Ok(MethodOutput {
+            shadow_maps: 1,
+            syncs: 0,
+            record: serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] }),
+            pictures: Vec::new(),
+            detail,
+        })
+    }
+}

@@ -1,0 +1,149 @@
+//! The one measure loop of `compare`, `sweep` and `bench` (architecture.md, Timing): every
+//! method gets one warm-up frame, then one frame in stages mode (a wait after every stage, so
+//! each stage's wall time is known), then `repeats` frames in frame mode (only the waits the
+//! method needs) whose median is the figure quoted. Methods are interleaved round by round, so
+//! all of them see the same machine load; the last frame of each is handed to `judge`.
+
+use crate::frame::{FrameOptions, FrameResult, Renderer};
+use crate::gpu::GpuContext;
+use crate::methods::Method;
+use crate::scene::Scene;
+use crate::timing::TimingMode;
+use crate::Result;
+use std::collections::BTreeMap;
+
+/// How long one method took, and what it did.
+#[derive(Clone, Debug)]
+pub struct Timing {
+    /// Every frame-mode frame, in run order.
+    pub totals_ms: Vec<f64>,
+    pub median_ms: f64,
+    pub min_ms: f64,
+    pub max_ms: f64,
+    /// Wall time per stage from the stages-mode frame, setup stages removed.
+    pub stages_ms: BTreeMap<String, f64>,
+    /// The method's per-frame reset before the frame's clock starts, on the stages-mode frame (the
+    /// second on its renderer: pipelines and buffers were built for the warm-up).
+    pub setup_ms: Option<f64>,
+    /// Shadow maps of the last frame; `maps_stable`: every frame used the same number.
+    pub shadow_maps: u32,
+    pub maps_stable: bool,
+    pub syncs: u32,
+}
+
+/// A measured method: its timing and what `judge` made of its last frame.
+pub struct Measured<T> {
+    pub timing: Timing,
+    pub judged: T,
+}
+
+/// Which frame a progress callback is told about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    WarmUp,
+    Stages,
+    /// Timed frame `k` of `n` (from 1).
+    Timed(u32, u32),
+}
+
+impl std::fmt::Display for Phase {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            Phase::WarmUp => write!(f, "warm-up"),
+            Phase::Stages => write!(f, "stages"),
+            Phase::Timed(k, n) => write!(f, "{k}/{n}"),
+        }
+    }
+}
+
+/// Frames the loop renders for `methods` methods.
+pub fn frame_count(methods: usize, repeats: u32) -> u64 {
+    methods as u64 * (2 + u64::from(repeats.max(1)))
+}
+
+/// Median of a non-empty list (mean of the middle two for an even count).
+pub fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
+}
+
+/// Runs the loop. `on_frame` sees every frame (logs, progress); `judge(i, frame)` gets the last
+/// timed frame of method `i`, once, and may keep what it needs of it.
+pub fn measure<T>(
+    ctx: &GpuContext,
+    scene: &Scene,
+    methods: &[Method],
+    repeats: u32,
+    on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
+    judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
+) -> Result<Vec<Measured<T>>> {
+    let repeats = repeats.max(1);
+    // One renderer per method: pipelines and buffers are built once (charged to the warm-up's
+    // setup) and every later frame reuses them. No decision pictures: their read-backs would be
+    // timed, and nothing here uses them.
+    let mut renderers = methods.iter().map(|m| Renderer::new(ctx, scene, m)).collect::<Result<Vec<_>>>()?;
+    let options = |mode| FrameOptions { mode, pictures: false, capture: false };
+    for (m, renderer) in methods.iter().zip(&mut renderers) {
+        let r = renderer.frame(options(TimingMode::Frame))?; // warm-up: driver caches, allocator, build
+        on_frame(m, Phase::WarmUp, &r);
+    }
+    let mut staged = Vec::with_capacity(methods.len());
+    for (m, renderer) in methods.iter().zip(&mut renderers) {
+        let r = renderer.frame(options(TimingMode::Stages))?;
+        on_frame(m, Phase::Stages, &r);
+        let mut stages = r.stages_ms;
+        // `setup` (the method's per-frame reset; the build was the warm-up's) runs before the clock.
+        let setup = stages.remove("setup");
+        stages.remove("upload");
+        stages.remove("build");
+        staged.push((stages, setup));
+    }
+    let mut totals: Vec<Vec<f64>> = vec![Vec::new(); methods.len()];
+    let mut maps: Vec<Vec<u32>> = vec![Vec::new(); methods.len()];
+    let mut syncs = vec![0; methods.len()];
+    let mut judged: Vec<Option<T>> = methods.iter().map(|_| None).collect();
+    for k in 1..=repeats {
+        for (i, m) in methods.iter().enumerate() {
+            let r = renderers[i].frame(options(TimingMode::Frame))?;
+            on_frame(m, Phase::Timed(k, repeats), &r);
+            totals[i].push(r.total_ms);
+            maps[i].push(r.output.shadow_maps);
+            syncs[i] = r.output.syncs;
+            if k == repeats {
+                judged[i] = Some(judge(i, &r)?);
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(methods.len());
+    for (i, ((stages_ms, setup_ms), judged)) in staged.into_iter().zip(judged).enumerate() {
+        let t = &totals[i];
+        out.push(Measured {
+            timing: Timing {
+                median_ms: median(t),
+                min_ms: t.iter().copied().fold(f64::INFINITY, f64::min),
+                max_ms: t.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                totals_ms: t.clone(),
+                stages_ms,
+                setup_ms,
+                shadow_maps: *maps[i].last().expect("at least one timed frame"),
+                maps_stable: maps[i].windows(2).all(|w| w[0] == w[1]),
+                syncs: syncs[i],
+            },
+            judged: judged.expect("judged on the last round"),
+        });
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn median_odd_and_even() {
+        assert_eq!(super::median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(super::median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(super::median(&[7.0]), 7.0);
+        assert_eq!(super::frame_count(3, 2), 12);
+    }
+}

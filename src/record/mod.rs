@@ -1,0 +1,99 @@
+//! One record layer for `compare`, `sweep` and `bench`: one measure loop ([`measure`]), one
+//! metrics call ([`judge`]), one row type ([`ResultRow`], with its [`Provenance`]) and one
+//! `results.jsonl` schema. `penumbra report`, `merge` and `check` read any of their outputs.
+
+pub mod csv;
+pub mod judge;
+pub mod measure;
+pub mod provenance;
+
+pub use crate::charts::ResultRow;
+pub use provenance::{Provenance, SpecRef};
+
+use crate::charts::svg_to_png;
+use crate::gpu::AdapterSummary;
+use crate::methods::Method;
+use crate::metrics::Metrics;
+use crate::{output, Error, Result};
+use measure::Timing;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// How `total_ms` and `stages_ms` were taken (stored in every row).
+pub const CLOCK: &str = "wall clock (submit to device poll wait), ms; total_ms: frame mode (only the method's own waits); \
+stages_ms: one stages-mode run (a wait after every stage)";
+
+/// What every row of one run shares.
+pub struct RunInfo<'a> {
+    pub scene: &'a str,
+    pub resolution: [u32; 2],
+    pub shadow_map_size: u32,
+    pub adapter: &'a AdapterSummary,
+    /// The ground truth, e.g. `continuous 32x32`.
+    pub reference: String,
+    pub repeats: u32,
+}
+
+/// The row of one measured method.
+pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images: BTreeMap<String, String>, provenance: Provenance) -> ResultRow {
+    ResultRow {
+        scene: run.scene.to_string(),
+        method: method.name().to_string(),
+        params: method.params_json(),
+        adapter: serde_json::to_value(run.adapter).unwrap_or_default(),
+        shadow_maps: t.shadow_maps,
+        total_ms: t.median_ms,
+        total_ms_min: t.min_ms,
+        total_ms_max: t.max_ms,
+        stages_ms: t.stages_ms.clone(),
+        metrics,
+        label: method.label(),
+        syncs: t.syncs,
+        total_ms_runs: t.totals_ms.clone(),
+        setup_ms: t.setup_ms,
+        resolution: Some(run.resolution),
+        shadow_map_size: Some(run.shadow_map_size),
+        reference: run.reference.clone(),
+        repeats: run.repeats,
+        clock: CLOCK.into(),
+        version: output::version(),
+        images,
+        provenance: Some(provenance),
+    }
+}
+
+/// `results.jsonl`: one row per line.
+pub fn jsonl(rows: &[ResultRow]) -> Result<String> {
+    let mut out = String::new();
+    for r in rows {
+        out += &serde_json::to_string(r).map_err(|e| Error::Io { path: "results.jsonl".into(), message: e.to_string() })?;
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// The files every run writes from its rows: `results.jsonl`, `results.csv` and the charts (SVG
+/// and PNG), as (path relative to the output folder, bytes).
+pub fn result_files(rows: &[ResultRow]) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut files = vec![("results.jsonl".to_string(), jsonl(rows)?.into_bytes()), ("results.csv".to_string(), csv::render(rows).into_bytes())];
+    for (stem, _, svg) in crate::report::results::charts(rows)? {
+        files.push((format!("charts/{stem}.png"), svg_to_png(&svg, 1.0)?));
+        files.push((format!("charts/{stem}.svg"), svg.into_bytes()));
+    }
+    Ok(files)
+}
+
+/// Writes every file (creating sub-folders), each through a temporary name and a rename, so a
+/// reader never sees half a file.
+pub fn write_set(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
+    for (name, bytes) in files {
+        let path = out.join(name);
+        let dir = path.parent().unwrap_or(out);
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = dir.join(format!(".{file}.tmp"));
+        std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
+        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
+    }
+    Ok(())
+}

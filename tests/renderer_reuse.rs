@@ -1,0 +1,33 @@
+//! One renderer, many frames: pipelines and buffers are built once, and every later frame on the
+//! same renderer gives exactly the first frame's image, for every registered method.
+
+mod common;
+use penumbra::frame::{FrameOptions, Renderer};
+use penumbra::methods::{Method, REGISTRY};
+use penumbra::scene::Scene;
+use penumbra::timing::TimingMode;
+
+#[test]
+fn later_frames_on_one_renderer_equal_the_first() {
+    let ctx = common::gpu();
+    let scene = Scene::parse(&common::random_scene_toml(7, 48, 128), "random-7", None, &[]).unwrap();
+    let mut specs: Vec<String> = REGISTRY.iter().map(|m| m.name.to_string()).collect();
+    specs.extend(["regular:n=3", "adaptive:scope=local", "adaptive:scope=local,scissor=on", "adaptive:p_m=3", "adaptive:preset=balanced", "regular:n=4,layout=jittered"].map(String::from));
+    for spec in &specs {
+        let method = Method::parse(spec, &[]).unwrap();
+        let mut r = Renderer::new(&ctx, &scene, &method).unwrap();
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false };
+        let first = r.frame(options).unwrap();
+        assert!(first.stages_ms.contains_key("build"), "{spec}: the first frame carries the build");
+        let shadowed = (0..first.visibility.len()).filter(|&i| first.gbuffer.is_geometry(i) && first.visibility[i] < 1.0).count();
+        assert!(shadowed > 20, "{spec}: only {shadowed} pixels not fully lit, the test would prove little");
+        for k in 2..=3 {
+            let later = r.frame(options).unwrap();
+            assert!(!later.stages_ms.contains_key("build"), "{spec}: frame {k} rebuilt the pipelines");
+            assert_eq!(later.output.shadow_maps, first.output.shadow_maps, "{spec}: frame {k} maps");
+            let differ = first.visibility.iter().zip(&later.visibility).filter(|(a, b)| a != b).count();
+            assert_eq!(differ, 0, "{spec}: frame {k} differs from frame 1 in {differ} pixels");
+        }
+        println!("{spec}: 3 frames equal, {shadowed} shadowed pixels, setup {:.1} ms then reused", first.stages_ms["setup"]);
+    }
+}

@@ -1,0 +1,211 @@
+//! `penumbra sequence` and `penumbra failures` end to end on tiny images: per-frame rows with their
+//! temporal figures, summaries, charts, APNG animations, a self-contained report, the gallery's
+//! sentences, and bad flags refused before anything is written.
+
+#[macro_use]
+mod common;
+use common::temp_dir;
+use std::path::Path;
+use std::process::{Command, Output};
+
+const SCENE: &str = concat!(
+    "name = \"tiny-seq\"\n",
+    tiny_scene_head!(),
+    r#"
+[[mesh]]
+builtin = "plane"
+scale = [10.0, 1.0, 10.0]
+
+[[mesh]]
+builtin = "box"
+translate = [0.0, 1.5, 0.0]
+scale = [1.5, 0.2, 1.5]
+"#
+);
+
+/// The binary with its own reference cache, so tests neither read nor fill the user's.
+fn penumbra(cache: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .env("PENUMBRA_CACHE", cache)
+        .output()
+        .expect("run penumbra binary")
+}
+
+fn ok(out: Output, args: &[&str]) -> String {
+    assert!(
+        out.status.success(),
+        "penumbra {args:?} failed: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn rows(dir: &Path) -> Vec<serde_json::Value> {
+    let text = std::fs::read_to_string(dir.join("frames.jsonl")).unwrap();
+    text.lines().map(|l| serde_json::from_str(l).unwrap()).collect()
+}
+
+fn assert_self_contained(html: &str) {
+    let lower = html.to_lowercase();
+    for bad in ["http://", "https://", "<script", "<link", "@import", "url(", "href="] {
+        assert!(!lower.contains(bad), "report.html contains {bad:?}");
+    }
+    let imgs = lower.matches("<img ").count();
+    assert!(imgs > 0);
+    assert_eq!(imgs, lower.matches("<img src=\"data:image/").count(), "an <img> is not a data: URI");
+}
+
+/// acTL chunk of an APNG: (frames, plays).
+fn apng_frames(bytes: &[u8]) -> (u32, u32) {
+    let at = bytes.windows(4).position(|w| w == b"acTL").expect("an APNG has acTL");
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (be(at + 4), be(at + 8))
+}
+
+#[test]
+fn a_four_frame_sequence_end_to_end() {
+    drop(common::gpu());
+    let dir = temp_dir("sequence_pipeline");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let (cache, out) = (dir.join("cache"), dir.join("out"));
+    let args = [
+        "sequence", "--scene", scene.to_str().unwrap(), "--methods", "hard,regular:n=3,adaptive", "--frames", "4",
+        "--animate", "light", "--offset", "3,0,0", "--out", out.to_str().unwrap(),
+    ];
+    let stdout = ok(penumbra(&cache, &args), &args);
+    assert!(stdout.contains("temporal RMSE") && stdout.contains("report:"), "{stdout}");
+
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 12, "3 methods × 4 frames");
+    for r in &rows {
+        let frame = r["frame"].as_u64().unwrap();
+        assert_eq!(r["temporal"].is_null(), frame == 0, "{r}");
+        assert!(r["metrics"]["rmse"].as_f64().unwrap() > 0.0);
+        assert_eq!(r["light_center"][0].as_f64().unwrap(), frame as f64, "the light moves 1 per frame: {r}");
+        if frame > 0 {
+            let t = &r["temporal"];
+            assert!(t["pixels"].as_u64().unwrap() > 0 && t["temporal_rmse"].as_f64().unwrap() > 0.0, "{r}");
+        }
+    }
+    let maps: Vec<u64> = rows.iter().filter(|r| r["label"] == "regular:n=3").map(|r| r["shadow_maps"].as_u64().unwrap()).collect();
+    assert_eq!(maps, [9, 9, 9, 9]);
+    // Each frame has its own reference: the hard shadow's error is not the same in every frame.
+    let hard: Vec<f64> = rows.iter().filter(|r| r["label"] == "hard").map(|r| r["metrics"]["rmse"].as_f64().unwrap()).collect();
+    assert!(hard.windows(2).any(|w| w[0] != w[1]), "{hard:?}");
+
+    let summary: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["frames"], 4);
+    assert_eq!(summary["animation"]["subject"], "light");
+    let methods = summary["methods"].as_array().unwrap();
+    assert_eq!(methods.len(), 3);
+    for m in methods {
+        // The pooled temporal figures cover the three frame pairs.
+        let pairs: u64 = rows.iter().filter(|r| r["label"] == m["label"]).filter_map(|r| r["temporal"]["pixels"].as_u64()).sum();
+        assert_eq!(m["temporal"]["pixels"].as_u64().unwrap(), pairs, "{m}");
+    }
+    assert_eq!(std::fs::read_to_string(out.join("frames.csv")).unwrap().lines().count(), 13);
+    for chart in ["error_per_frame", "popping_per_frame", "temporal_error_per_frame", "maps_per_frame"] {
+        for ext in ["svg", "png"] {
+            assert!(out.join(format!("charts/{chart}.{ext}")).is_file(), "missing {chart}.{ext}");
+        }
+    }
+    for anim in ["reference", "hard", "regular_n_3", "adaptive_p_m_0"] {
+        let bytes = std::fs::read(out.join(format!("animations/{anim}.png"))).unwrap();
+        assert_eq!(apng_frames(&bytes), (4, 0), "{anim}");
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert_self_contained(&html);
+    assert_eq!(html.matches("data:image/png").count(), 4, "one animation per method and the reference");
+    assert!(html.contains("Popping per frame") && html.contains("temporal RMSE"));
+}
+
+#[test]
+fn a_still_sequence_has_no_temporal_error() {
+    drop(common::gpu());
+    let dir = temp_dir("sequence_still");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let (cache, out) = (dir.join("cache"), dir.join("out"));
+    let args = [
+        "sequence", "--scene", scene.to_str().unwrap(), "--methods", "regular:n=3,adaptive", "--frames", "3",
+        "--animate", "occluder", "--offset", "0,0,0", "--out", out.to_str().unwrap(),
+    ];
+    ok(penumbra(&cache, &args), &args);
+    for r in rows(&out).iter().filter(|r| r["frame"] != 0) {
+        assert_eq!(r["temporal"]["temporal_rmse"], 0.0, "{r}");
+        assert_eq!(r["temporal"]["popping_pixels"], 0, "{r}");
+    }
+}
+
+#[test]
+fn bad_sequence_flags_are_one_line_and_write_nothing() {
+    let dir = temp_dir("sequence_bad");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    for (args, message) in [
+        (vec!["--frames", "1"], "error: --frames 1: a sequence needs 2..=1000 frames"),
+        (vec!["--animate", "sun"], "error: --animate sun: use light, camera or occluder"),
+        (vec!["--animate", "camera", "--path", "circle"], "error: --path circle: --animate camera moves along orbit or segment"),
+        (vec!["--offset", "1,x,2"], "error: --offset 1,x,2: expected three finite numbers x,y,z"),
+        (vec!["--animate", "occluder", "--mesh", "9"], "error: --mesh 9: builtin:default has meshes 1..=2"),
+        (vec!["--methods", "hard,blur"], "error: unknown method `blur`"),
+    ] {
+        let mut all = vec!["sequence", "--out", o];
+        all.extend(args.iter().copied());
+        let r = penumbra(&dir.join("cache"), &all);
+        assert_eq!(r.status.code(), Some(1), "{all:?}");
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        // One line, starting with the whole message (the list of known methods grows).
+        assert_eq!(stderr.lines().count(), 1, "{all:?}: {stderr}");
+        assert!(stderr.starts_with(message), "{all:?}: {stderr}");
+        assert!(!out.exists(), "{all:?} wrote output");
+    }
+}
+
+#[test]
+fn the_failure_gallery_states_each_failure_from_its_figures() {
+    drop(common::gpu());
+    let dir = temp_dir("failures_gallery");
+    let (cache, out) = (dir.join("cache"), dir.join("out"));
+    let args = ["failures", "--resolution", "48", "--frames", "3", "--methods", "hard,regular:n=9,adaptive", "--out", out.to_str().unwrap()];
+    ok(penumbra(&cache, &args), &args);
+    let gallery: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("gallery.json")).unwrap()).unwrap();
+    let scenes = gallery["scenes"].as_array().unwrap();
+    let names: Vec<&str> = scenes.iter().map(|s| s["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["pole-between-corners", "overlapping-occluders", "grazing-ground"]);
+    // The blind spot: adaptive keeps its 4 corner maps and sees the light unblocked under the pole.
+    let pole = &scenes[0];
+    let adaptive = pole["figures"].as_array().unwrap().iter().find(|f| f["method"] == "adaptive").unwrap();
+    assert_eq!(adaptive["shadow_maps"], 4, "{adaptive}");
+    assert!(adaptive["bright"].as_u64().unwrap() > 0 && adaptive["bright_v"].as_f64().unwrap() > 0.99, "{adaptive}");
+    let expect = format!(
+        "adaptive:p_m=0 misses the pole: V = {:.2} where the reference is {:.2} in {} pixels",
+        adaptive["bright_v"].as_f64().unwrap(),
+        adaptive["bright_ref"].as_f64().unwrap(),
+        adaptive["bright"]
+    );
+    assert!(pole["sentence"].as_str().unwrap().starts_with(&expect), "{} vs {expect}", pole["sentence"]);
+    for s in scenes {
+        let name = s["name"].as_str().unwrap();
+        assert!(out.join(format!("{name}/reference.png")).is_file());
+        for slug in ["hard", "regular_n_9", "adaptive_p_m_0"] {
+            assert!(out.join(format!("{name}/{slug}_signed_error.png")).is_file(), "{name}/{slug}");
+        }
+    }
+    // The popping sequence keeps the adaptive methods and the densest grid.
+    let labels: Vec<String> = rows(&out.join("popping-sequence")).iter().map(|r| r["label"].as_str().unwrap().to_string()).collect();
+    assert_eq!(labels.len(), 6);
+    assert!(!labels.iter().any(|l| l == "hard"), "{labels:?}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert_self_contained(&html);
+    for s in scenes {
+        // As minijinja escapes text: `'` and `/` become character references.
+        let escaped = s["sentence"].as_str().unwrap().replace('\'', "&#x27;").replace('/', "&#x2f;");
+        assert!(html.contains(&escaped), "report lacks {}", s["sentence"]);
+    }
+    assert!(html.contains("Failure gallery") && html.contains("Temporal sequence: pole-between-corners"));
+}
