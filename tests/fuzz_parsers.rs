@@ -159,3 +159,14 @@ fn results_jsonl() {
     let (_, ok) = fuzz("results_jsonl", |b| inputs::results_jsonl(&text(b)).is_ok());
     assert!(ok > 100, "{ok}");
 }
+
+/// Inputs cargo-fuzz found that once panicked: each must now be rejected with a message.
+#[test]
+fn fuzz_findings_stay_fixed() {
+    // tobj multiplied an out-of-range texture index into an overflow (obj target, 65,550 runs in).
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 5 0\n# comment\no quad\nf 1/1/1 2/1/1 3/1/1 4/1/1 -2 1/-3\n";
+    let e = inputs::obj(obj).unwrap_err().to_string();
+    assert_eq!(e, "input.obj: line 9: face mixes corner forms `1/1/1` and `-2`");
+    let e = inputs::obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nf 1/1 2/1 3/-3\n").unwrap_err().to_string();
+    assert_eq!(e, "input.obj: line 5: face references texture coordinate -3, but 1 are defined so far");
+}

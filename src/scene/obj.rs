@@ -45,7 +45,9 @@ pub fn parse(text: &str, label: &str) -> Result<RawMesh> {
 }
 
 fn check_lines(text: &str, label: &str) -> Result<()> {
-    let mut vertices = 0i64;
+    // Vertices, texture coordinates and normals defined so far: indices (also negative, relative
+    // ones) must fall inside them. tobj's own arithmetic overflows on some that do not.
+    let (mut vertices, mut texcoords, mut normals) = (0i64, 0i64, 0i64);
     for (n, line) in text.lines().enumerate() {
         let at = |msg: String| Error::mesh(label, format!("line {}: {msg}", n + 1));
         let mut words = line.split_whitespace();
@@ -63,17 +65,36 @@ fn check_lines(text: &str, label: &str) -> Result<()> {
                 }
                 vertices += 1;
             }
+            Some("vt") => texcoords += 1,
+            Some("vn") => normals += 1,
             Some("f") => {
                 let corners: Vec<&str> = words.collect();
                 if corners.len() < 3 {
                     return Err(at(format!("face needs at least 3 corners, found {}", corners.len())));
                 }
-                for c in corners {
-                    let first = c.split('/').next().unwrap_or("");
-                    let i: i64 = first.parse().map_err(|_| at(format!("face index `{c}` is not an integer")))?;
-                    let resolved = if i < 0 { vertices + i + 1 } else { i };
-                    if i == 0 || resolved < 1 || resolved > vertices {
-                        return Err(at(format!("face references vertex {i}, but {vertices} vertices are defined so far")));
+                let form = |c: &str| c.split('/').map(|p| p.is_empty()).collect::<Vec<bool>>();
+                for c in &corners {
+                    if form(c) != form(corners[0]) {
+                        return Err(at(format!("face mixes corner forms `{}` and `{c}`", corners[0])));
+                    }
+                    let parts: Vec<&str> = c.split('/').collect();
+                    if parts.len() > 3 {
+                        return Err(at(format!("face corner `{c}` has more than v/vt/vn")));
+                    }
+                    for (k, (part, count, what)) in [(parts[0], vertices, "vertex")]
+                        .into_iter()
+                        .chain(parts.get(1).map(|p| (*p, texcoords, "texture coordinate")))
+                        .chain(parts.get(2).map(|p| (*p, normals, "normal")))
+                        .enumerate()
+                    {
+                        if part.is_empty() && k > 0 {
+                            continue;
+                        }
+                        let i: i64 = part.parse().map_err(|_| at(format!("face index `{c}` is not an integer")))?;
+                        let resolved = if i < 0 { count.saturating_add(i).saturating_add(1) } else { i };
+                        if i == 0 || resolved < 1 || resolved > count {
+                            return Err(at(format!("face references {what} {i}, but {count} are defined so far")));
+                        }
                     }
                 }
             }
