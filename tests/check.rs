@@ -26,9 +26,10 @@ fn penumbra(cache: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_penumbra")).args(args).env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", cache).output().unwrap()
 }
 
-/// Frame times on a shared 2-core CPU adapter swing by tens of percent; the gates that must hold
-/// exactly are maps and error, so time gets a wide margin here.
-const MAX: &str = "time=+300%,maps=+0,rmse=+2%,flip=+2%";
+/// Frames of this tiny scene take 1-2 ms, and on a shared CPU adapter one such frame can take 4x
+/// another: no time tolerance holds reliably there, so these gates are maps and error only (the
+/// time logic is checked below with another adapter's rows).
+const MAX: &str = "maps=+0,rmse=+2%,flip=+2%";
 
 fn compare(dir: &Path, name: &str, set: &[&str]) -> PathBuf {
     let out = dir.join(name);
