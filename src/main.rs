@@ -630,10 +630,7 @@ fn sweep_jobs(args: &SweepArgs, k: u32) -> Result<()> {
 }
 
 fn write_merged(out: &std::path::Path, outcome: &shard::merge::MergeOutcome) -> Result<()> {
-    penumbra::record::write_set(out, &outcome.files)?;
-    let rows: Vec<penumbra::report::results::LoadedRow> =
-        outcome.rows.iter().map(|r| penumbra::report::results::LoadedRow { row: r.clone(), base: out.to_path_buf() }).collect();
-    let html = penumbra::report::results::write_from_rows(&rows, out)?;
+    let html = compare::write_set(out, &outcome.files, &outcome.rows)?;
     print!("{}", compare::table::render(&outcome.rows));
     for line in &outcome.inputs {
         println!("merged {line}");

@@ -148,11 +148,16 @@ pub fn reference_line(r: &ReferenceImage, geometry: usize) -> String {
 /// Writes every file and the report from the rows as one set (crate::output_set): `out` ends up
 /// holding the new set, or on any failure or interrupt the old one. Returns the path of `report.html`.
 pub fn write(out: &Path, outcome: &CompareOutcome) -> Result<PathBuf> {
+    write_set(out, &outcome.files, &outcome.rows)
+}
+
+/// Files plus the report of `rows`, as one set (compare, sweep, merge).
+pub fn write_set(out: &Path, files: &[(String, Vec<u8>)], rows: &[ResultRow]) -> Result<PathBuf> {
     let set = crate::output_set::OutputSet::begin(out)?;
-    for (name, bytes) in &outcome.files {
+    for (name, bytes) in files {
         set.write(name, bytes)?;
     }
-    let rows: Vec<LoadedRow> = outcome.rows.iter().map(|r| LoadedRow { row: r.clone(), base: set.path().to_path_buf() }).collect();
+    let rows: Vec<LoadedRow> = rows.iter().map(|r| LoadedRow { row: r.clone(), base: set.path().to_path_buf() }).collect();
     report_results::write_from_rows(&rows, set.path())?;
     set.commit()?;
     Ok(out.join("report.html"))

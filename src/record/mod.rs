@@ -17,7 +17,6 @@ use crate::metrics::Metrics;
 use crate::{output, Error, Result};
 use measure::Timing;
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// How `total_ms` and `stages_ms` were taken (stored in every row).
 pub const CLOCK: &str = "wall clock (submit to device poll wait), ms; total_ms: frame mode (only the method's own waits); \
@@ -81,19 +80,4 @@ pub fn result_files(rows: &[ResultRow]) -> Result<Vec<(String, Vec<u8>)>> {
         files.push((format!("charts/{stem}.svg"), svg.into_bytes()));
     }
     Ok(files)
-}
-
-/// Writes every file (creating sub-folders), each through a temporary name and a rename, so a
-/// reader never sees half a file.
-pub fn write_set(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    for (name, bytes) in files {
-        let path = out.join(name);
-        let dir = path.parent().unwrap_or(out);
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = dir.join(format!(".{file}.tmp"));
-        std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
-    }
-    Ok(())
 }

@@ -193,18 +193,9 @@ pub fn page(title: &str, sections: &[String]) -> Result<String> {
     render(PAGE, "page.html", &serde_json::json!({ "title": title, "sections": sections }))
 }
 
-/// Writes files (sub-folders created, each through a temporary name and a rename).
+/// Writes the files as one set (crate::output_set): all of them, or on failure what was there.
 pub fn write_set(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    for (name, bytes) in files {
-        let path = out.join(name);
-        let dir = path.parent().unwrap_or(out);
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = dir.join(format!(".{file}.tmp"));
-        std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
-    }
-    Ok(())
+    crate::output::write_files(out, files).map(|_| ())
 }
 
 /// Inserts sections before `</body>` of a report page written earlier (the main job's report).
@@ -212,9 +203,12 @@ pub fn append_to_page(html: &Path, sections: &[String]) -> Result<()> {
     let text = std::fs::read_to_string(html).map_err(|e| Error::io(html, e))?;
     let merged = insert_before_body(&text, sections)
         .ok_or_else(|| Error::Io { path: html.display().to_string(), message: "no </body> to insert the sections before".into() })?;
+    // One file of an existing set: replaced through a temporary name, the rest of the set kept.
     let dir = html.parent().unwrap_or(Path::new("."));
     let name = html.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-    write_set(dir, &[(name, merged.into_bytes())])
+    let tmp = dir.join(format!(".{name}.tmp"));
+    std::fs::write(&tmp, merged).map_err(|e| Error::io(&tmp, e))?;
+    std::fs::rename(&tmp, html).map_err(|e| Error::io(html, e))
 }
 
 /// `text` with the sections before its last `</body>`; `None` when it has none.
