@@ -100,20 +100,20 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= frame.width || gid.y >= frame.height) {
         return;
     }
-    let pixel = vec2<i32>(gid.xy);
-    let position = textureLoad(gbuffer_position, pixel, 0);
-    if (position.w == 0.0) {
-        return;
-    }
-    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
-    let index = gid.y * frame.width + gid.x;
     let s = samples[0];
-    let lookup = shadow_lookup(frame, s, position.xyz, normal);
-    if (lookup.kind != LOOKUP_COMPARE) {
-        visibility[index] = select(0.0, 1.0, lookup.kind == LOOKUP_OUTSIDE);
+    let px = map_pixel(frame, s, gbuffer_position, gbuffer_normal, vec2<i32>(gid.xy));
+    if (!px.geometry) {
         return;
     }
-    let t = shadow_lookup_uv(frame, s, position.xyz, normal);
+    let index = gid.y * frame.width + gid.x;
+    if (px.lookup.kind != LOOKUP_COMPARE) {
+        visibility[index] = select(0.0, 1.0, px.lookup.kind == LOOKUP_OUTSIDE);
+        return;
+    }
+    let position = px.position;
+    let normal = px.normal;
+    let lookup = px.lookup;
+    let t = px.uv;
     let near = s.depth_lin_a / s.depth_lin_b;
     let far = s.depth_lin_a / (1.0 + s.depth_lin_b);
     let z = clamp((lookup.depth_limit - near) / (far - near), 0.0, 1.0);

@@ -194,6 +194,32 @@ fn shadow_lookup_uv(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -
     return uv * f32(frame.map_size);
 }
 
+// One pixel of a single-map filter (pcf, pcss, reconstruct): the G-buffer point, where it lands in
+// the map and at which texel coordinate. Kernels write V directly unless lookup.kind is COMPARE.
+struct MapPixel {
+    geometry: bool,
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    lookup: ShadowLookup,
+    uv: vec2<f32>,
+}
+
+fn map_pixel(frame: GpuFrame, s: GpuSample, gbuffer_position: texture_2d<f32>, gbuffer_normal: texture_2d<f32>, pixel: vec2<i32>) -> MapPixel {
+    var out: MapPixel;
+    let position = textureLoad(gbuffer_position, pixel, 0);
+    out.geometry = position.w != 0.0;
+    if (!out.geometry) {
+        return out;
+    }
+    out.position = position.xyz;
+    out.normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    out.lookup = shadow_lookup(frame, s, out.position, out.normal);
+    if (out.lookup.kind == LOOKUP_COMPARE) {
+        out.uv = shadow_lookup_uv(frame, s, out.position, out.normal);
+    }
+    return out;
+}
+
 // World depth change per texel of offset along p's tangent plane (texel size · tan of the light
 // angle, clamped like the slope bias): a tap r texels away compares against limit - r · this, so
 // filtering a sloped receiver does not shadow the receiver itself.
