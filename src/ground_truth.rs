@@ -17,6 +17,11 @@ pub const RELATIVE_RAY_OFFSET: f32 = 1e-4;
 /// The fixed seed of the continuous mode (method.md §5: "fixed seed").
 pub const CONTINUOUS_SEED: u64 = 0x5eed;
 
+/// Environment rays are infinite; this far (100 scene diagonals) is past every triangle.
+pub fn env_ray_length(scene: &Scene) -> f32 {
+    100.0 * scene.bounds.diagonal().max(1e-6)
+}
+
 pub fn ray_offset(scene: &Scene) -> f32 {
     RELATIVE_RAY_OFFSET * scene.bounds.diagonal()
 }
@@ -84,6 +89,9 @@ pub struct ReferenceImage {
     pub cached: bool,
     /// Tracing figures; `None` when the image came from the cache.
     pub trace: Option<TraceStats>,
+    /// Environment scenes: the Monte Carlo standard error of V over geometry pixels (mean, max);
+    /// `None` when the image came from the cache or the light is an area light.
+    pub std_error: Option<(f32, f32)>,
 }
 
 #[derive(Clone, Copy, Debug, serde::Serialize)]
@@ -114,6 +122,7 @@ impl ReferenceImage {
             "cached": self.cached,
             "cache_file": self.cache_file.as_ref().map(|p| p.display().to_string()),
             "trace": self.trace,
+            "std_error_mean_max": self.std_error,
             "version": crate::output::version(),
         })
     }
@@ -157,6 +166,11 @@ pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f3
         bytemuck::cast_slice(&g.position),
         bytemuck::cast_slice(&g.normal),
     ]);
+    // An environment replaces the light: its panorama, rotation and intensity are in the key.
+    let digest = match &scene.environment {
+        Some(env) => reference::cache_key(&[digest.as_bytes(), b"environment", &env.key_bytes()]),
+        None => digest,
+    };
     reference::reference_key(digest.as_bytes(), &light_of(scene), mode, offset)
 }
 
@@ -174,6 +188,7 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
         cache_file: None,
         cached: false,
         trace: None,
+        std_error: None,
     };
     // Concurrent runs (shards) share the cache: the first to miss traces under the entry's lock,
     // the others wait for the lock and then read what it wrote. A corrupt cache file is an
@@ -205,7 +220,19 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
     let points = surface_points(g);
     let bar = progress::bar(points.len() as u64, &format!("reference {}", mode_label(&mode)));
     let start = Instant::now();
-    let values = reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?;
+    let values = match &scene.environment {
+        // Importance sampling of the panorama, M×M samples per pixel (docs/environment.md §3).
+        Some(env) => {
+            let (samples, seed) = match mode {
+                ReferenceMode::Continuous { m, seed } => (m * m, seed),
+                ReferenceMode::Lattice => return Err(Error::Param("an environment scene's reference is `continuous` (the lattice belongs to the area light)".into())),
+            };
+            let r = crate::environment::reference::trace(&tracer, env, &points, samples, offset, env_ray_length(scene), seed, &|n| bar.set_position(n as u64));
+            image.std_error = Some(crate::environment::reference::error_summary(&r, &points));
+            r.values
+        }
+        None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?,
+    };
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let geometry = points.iter().filter(|p| p.is_some()).count();

@@ -4,6 +4,8 @@
 use crate::{Error, Result};
 
 pub const PRELUDE: &str = include_str!("../kernels/shared/common.wgsl");
+/// Second prelude of the environment kernels (`env_*`, `ssao`): their structs and the BVH ray test.
+pub const ENV_PRELUDE: &str = include_str!("../kernels/shared/environment.wgsl");
 
 /// One WGSL file: the stage name is the file name, the pass module, the CPU twin and the timing key.
 pub struct KernelSource {
@@ -33,6 +35,11 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("moments"),
     kernel!("blur"),
     kernel!("reconstruct"),
+    kernel!("env_trace"),
+    kernel!("env_count"),
+    kernel!("env_split"),
+    kernel!("env_shadowmaps"),
+    kernel!("ssao"),
 ];
 
 /// Full source of a kernel: prelude + body.
@@ -41,6 +48,9 @@ pub fn source(name: &str) -> Result<String> {
         .iter()
         .find(|k| k.name == name)
         .ok_or_else(|| Error::Kernel { name: name.into(), message: "no such kernel".into() })?;
+    if k.name.starts_with("env_") || k.name == "ssao" {
+        return Ok(format!("{PRELUDE}\n{ENV_PRELUDE}\n{}", k.body));
+    }
     Ok(format!("{PRELUDE}\n{}", k.body))
 }
 

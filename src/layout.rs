@@ -140,6 +140,72 @@ pub struct GpuFilter {
     pub depth_offset: f32,
 }
 
+/// A node of the environment rays' BVH: `count` = 0 for an inner node whose children are
+/// `left_first` and `left_first + 1`; otherwise a leaf of `count` triangles from `left_first`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuBvhNode {
+    pub min: [f32; 3],
+    pub left_first: u32,
+    pub max: [f32; 3],
+    pub count: u32,
+}
+
+/// A triangle as the ray test reads it: one vertex and two edges (w unused).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTriangle {
+    pub v0: [f32; 4],
+    pub e1: [f32; 4],
+    pub e2: [f32; 4],
+}
+
+/// A directional light of the environment: xyz the unit direction towards it, w its power.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuEnvLight {
+    pub direction: [f32; 4],
+}
+
+/// Parameters of the environment kernels (env_trace, env_count, env_split, env_shadowmaps, ssao).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuEnvParams {
+    pub width: u32,
+    pub height: u32,
+    /// env_trace / env_shadowmaps: lights in the list; ssao: samples per pixel.
+    pub light_count: u32,
+    /// env_count / env_split: active cells this level.
+    pub cell_count: u32,
+    pub ray_offset: f32,
+    pub t_max: f32,
+    /// Cells per side of the finest level (the corner lattice has one more point per side).
+    pub finest_width: u32,
+    pub finest_height: u32,
+    pub max_level: u32,
+    pub p_m: u32,
+    /// env_split: split when the children's powers differ by more than this factor.
+    pub contrast: f32,
+    /// env_split: cells below this share of the total power are never split.
+    pub min_share: f32,
+    pub total_power: f32,
+    /// env_trace: 1 to multiply V by the ambient occlusion in `ao` (ssao combined).
+    pub use_ao: u32,
+    /// ssao: radius in world units; env_shadowmaps: PCF radius in texels.
+    pub radius: f32,
+    pub pad0: u32,
+}
+
+/// A cell of the environment quadtree: corner (i, j) and side in finest-lattice steps.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Pod, Zeroable)]
+pub struct GpuEnvCell {
+    pub i: u32,
+    pub j: u32,
+    pub size: u32,
+    pub level: u32,
+}
+
 /// Member offsets and size of a Rust GPU struct, for the layout test.
 pub struct StructLayout {
     pub name: &'static str,
@@ -176,5 +242,13 @@ pub fn all_layouts() -> Vec<StructLayout> {
             kind, taps, blocker_taps, order, radius, darkening, light_u, light_v, c_pos, c_neg, bleed, moment_bias, layers,
             blur_radius, max_radius, depth_offset
         }),
+        layout_of!(GpuBvhNode { min, left_first, max, count }),
+        layout_of!(GpuTriangle { v0, e1, e2 }),
+        layout_of!(GpuEnvLight { direction }),
+        layout_of!(GpuEnvParams {
+            width, height, light_count, cell_count, ray_offset, t_max, finest_width, finest_height, max_level, p_m, contrast,
+            min_share, total_power, use_ao, radius, pad0
+        }),
+        layout_of!(GpuEnvCell { i, j, size, level }),
     ]
 }

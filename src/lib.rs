@@ -9,6 +9,7 @@ pub mod gpu;
 pub mod kernels;
 pub mod layout;
 pub mod light;
+pub mod environment;
 pub mod scene;
 pub mod render;
 pub mod compute;

@@ -35,6 +35,9 @@ fn srgb(linear: f32) -> u8 {
 
 /// albedo · (ambient + (1 − ambient) · V · max(0, n·l)), l towards the light's centre (method.md §1).
 pub fn shaded_image(v: &[f32], g: &GBufferCpu, scene: &Scene) -> RgbImage {
+    if let Some(env) = &scene.environment {
+        return crate::environment::shade::shaded_image(v, g, scene, env);
+    }
     let ambient = scene.render.ambient;
     ImageBuffer::from_fn(g.width, g.height, |x, y| {
         let i = (y * g.width + x) as usize;

@@ -4,6 +4,10 @@
 pub mod blur;
 pub mod buffers;
 pub mod compact;
+pub mod env_count;
+pub mod env_shadowmaps;
+pub mod env_split;
+pub mod env_trace;
 pub mod frame_gpu;
 pub mod kernel;
 pub mod moments;
@@ -16,6 +20,7 @@ pub mod reconstruct;
 pub mod reproject_count;
 pub mod shade;
 pub mod shadow_test;
+pub mod ssao;
 pub mod subdivide;
 pub mod twin;
 
@@ -55,4 +60,9 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("reconstruct", "main", PIXEL_WORKGROUP),
     ("probe", "main", LINE_WORKGROUP),
     ("probe", "begin", [1, 1, 1]),
+    ("env_trace", "main", PIXEL_WORKGROUP),
+    ("env_count", "main", LINE_WORKGROUP),
+    ("env_split", "main", LINE_WORKGROUP),
+    ("env_shadowmaps", "main", PIXEL_WORKGROUP),
+    ("ssao", "main", PIXEL_WORKGROUP),
 ];

@@ -6,12 +6,17 @@
 //! The frame driver (src/frame.rs) runs any of them without knowing which.
 
 pub mod adaptive;
+pub mod env_adaptive;
+pub mod env_common;
+pub mod env_pixels;
+pub mod env_shadowmaps;
 pub mod filtered;
 pub mod fixed;
 pub mod params;
 pub mod pcf;
 pub mod pcss;
 pub mod single_map;
+pub mod ssao;
 
 pub use fixed::Layout;
 pub use params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
@@ -48,16 +53,19 @@ pub enum Family {
     Filtered,
     /// Many maps over the light (regular grid, adaptive).
     MultiSample,
+    /// Lit by a panorama (`[environment]`): pixel lights, median-cut maps, ssao, the adaptive quadtree.
+    Environment,
 }
 
 impl Family {
-    pub const ALL: [Family; 4] = [Family::Hard, Family::Pcf, Family::Filtered, Family::MultiSample];
+    pub const ALL: [Family; 5] = [Family::Hard, Family::Pcf, Family::Filtered, Family::MultiSample, Family::Environment];
     pub fn title(self) -> &'static str {
         match self {
             Family::Hard => "hard",
             Family::Pcf => "pcf family (single map)",
             Family::Filtered => "filtered maps",
             Family::MultiSample => "multi-sample",
+            Family::Environment => "environment",
         }
     }
     /// Family of a method name as rows store it; unknown names (older files) count as multi-sample.
@@ -96,6 +104,10 @@ pub const REGISTRY: &[&MethodInfo] = &[
     &filtered::CSM,
     &fixed::REGULAR,
     &adaptive::INFO,
+    &env_pixels::INFO,
+    &env_shadowmaps::INFO,
+    &ssao::INFO,
+    &env_adaptive::INFO,
 ];
 
 /// A method with its parameters fixed.
@@ -228,7 +240,7 @@ impl Method {
 pub fn describe() -> String {
     let mut s = String::new();
     for m in REGISTRY {
-        s += &format!("{:<9} [{}] {}\n", m.name, m.family.title(), m.summary);
+        s += &format!("{:<14} [{}] {}\n", m.name, m.family.title(), m.summary);
         for p in m.params {
             s += &format!("    {:<12} default {:<10} {}\n", p.key, p.default, p.help);
         }

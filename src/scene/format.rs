@@ -15,7 +15,9 @@ pub struct SceneDef {
     /// Triangle count the author states; checked against what loads.
     pub triangles: Option<u64>,
     pub camera: CameraDef,
-    pub light: LightDef,
+    /// Optional when `[environment]` lights the scene.
+    pub light: Option<LightDef>,
+    pub environment: Option<crate::environment::scene::EnvironmentDef>,
     #[serde(default)]
     pub render: RenderSettings,
     #[serde(default, rename = "mesh")]
@@ -261,7 +263,15 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     if view_dir.length() < 1e-9 || view_dir.cross(camera.up).length() < 1e-9 * view_dir.length() {
         return Err(Error::scene(origin, "camera: eye equals target, or up is parallel to the view direction"));
     }
-    let light = build_light(&def.light, origin)?;
+    let environment = match &def.environment {
+        Some(e) => Some(crate::environment::scene::build(e, origin, dirs)?),
+        None => None,
+    };
+    let light = match (&def.light, &environment) {
+        (Some(l), _) => build_light(l, origin)?,
+        (None, Some(_)) => crate::environment::scene::nominal_light(),
+        (None, None) => return Err(Error::scene(origin, "the scene has no [light] and no [environment]: give one")),
+    };
     let r = &def.render;
     for (key, v) in [("render.width", r.width), ("render.height", r.height), ("render.shadow_map_size", r.shadow_map_size)] {
         if v == 0 {
@@ -311,8 +321,9 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     }
     // The light emits along edge_u × edge_v: with every mesh behind its plane, V = 0 everywhere.
     let n = light.normal();
+    let nominal = def.light.is_none();
     let corners = (0..8).map(|i| Vec3::new([min.x, max.x][i & 1], [min.y, max.y][(i >> 1) & 1], [min.z, max.z][i >> 2]));
-    if corners.map(|c| (c - light.center).dot(n)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
+    if !nominal && corners.map(|c| (c - light.center).dot(n)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
         return Err(Error::scene(
             origin,
             format!(
@@ -332,7 +343,8 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         description: def.description.unwrap_or_default(),
         origin: origin.to_string(),
         camera,
-        light,
+        light: if nominal { crate::environment::scene::light_above(min, max) } else { light },
+        environment,
         render,
         vertices,
         indices,

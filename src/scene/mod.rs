@@ -49,6 +49,9 @@ pub struct Scene {
     pub origin: String,
     pub camera: Camera,
     pub light: AreaLight,
+    /// `[environment]`: the scene is lit by a panorama (docs/environment.md); `light` is then a
+    /// nominal square above the meshes that only the area-light methods read.
+    pub environment: Option<crate::environment::Environment>,
     pub render: RenderSettings,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,

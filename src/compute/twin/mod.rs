@@ -2,6 +2,10 @@
 //! Tests compare them with the GPU: exactly for every count, flag, quad and sample.
 
 pub mod blur;
+pub mod env_count;
+pub mod env_shadowmaps;
+pub mod env_split;
+pub mod env_trace;
 pub mod local;
 pub mod moments;
 pub mod neighbourhood;
@@ -13,6 +17,7 @@ pub mod reproject_count;
 pub mod shade;
 pub mod shadow;
 pub mod shadow_test;
+pub mod ssao;
 pub mod subdivide;
 
 /// Lattice index of corner c (0..3: (0,0), (1,0), (0,1), (1,1)) of a quad, as `quad_corner` in WGSL.

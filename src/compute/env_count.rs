@@ -1,0 +1,35 @@
+//! env_count: per active quadtree cell, the pixels whose rays to the cell's corners disagree.
+
+use super::env_trace::BvhBuffers;
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::Result;
+
+pub struct EnvCount {
+    kernel: ComputeKernel,
+}
+
+impl EnvCount {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_count", "main")? })
+    }
+
+    /// `counts` must be zeroed for the `cells` active cells.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, bvh: &BvhBuffers) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, params.as_entire_binding()),
+                (1, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (2, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (3, corners.as_entire_binding()),
+                (4, cells.as_entire_binding()),
+                (5, counts.as_entire_binding()),
+                (20, bvh.nodes.as_entire_binding()),
+                (21, bvh.triangles.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(fg.pixel_count(), LINE_WORKGROUP[0]), cell_count, 1]),
+        );
+    }
+}

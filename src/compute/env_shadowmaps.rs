@@ -1,0 +1,36 @@
+//! env_shadowmaps: box-PCF over K directional lights' shadow maps, power- and cosine-weighted.
+
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::Result;
+
+pub struct EnvShadowmaps {
+    kernel: ComputeKernel,
+}
+
+impl EnvShadowmaps {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_shadowmaps", "main")? })
+    }
+
+    /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
+    /// when `params.use_ao` is 1.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, frame.as_entire_binding()),
+                (1, params.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (5, wgpu::BindingResource::TextureView(maps)),
+                (6, lights.as_entire_binding()),
+                (7, fg.visibility.as_entire_binding()),
+                (8, ao.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+        );
+    }
+}

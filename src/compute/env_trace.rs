@@ -1,0 +1,63 @@
+//! env_trace: shadow rays from every G-buffer pixel to a list of directional lights through the
+//! scene's BVH, into the visibility buffer (and the blocked-ray count per pixel).
+
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::environment::bvh::Bvh;
+use crate::gpu::readback;
+use crate::Result;
+
+/// The BVH on the GPU (bindings 20 and 21 of every ray-casting env kernel).
+pub struct BvhBuffers {
+    pub nodes: wgpu::Buffer,
+    pub triangles: wgpu::Buffer,
+}
+
+impl BvhBuffers {
+    pub fn upload(fg: &FrameGpu, bvh: &Bvh) -> BvhBuffers {
+        let ctx = fg.ctx;
+        let tris = if bvh.triangles.is_empty() { vec![Default::default()] } else { bvh.triangles.clone() };
+        BvhBuffers {
+            nodes: readback::storage_buffer(ctx, "bvh nodes", &bvh.nodes, wgpu::BufferUsages::empty()),
+            triangles: readback::storage_buffer(ctx, "bvh triangles", &tris, wgpu::BufferUsages::empty()),
+        }
+    }
+}
+
+pub struct EnvTrace {
+    kernel: ComputeKernel,
+}
+
+/// What env_trace reads and writes besides the G-buffer and V.
+pub struct EnvTraceInputs<'a> {
+    pub params: &'a wgpu::Buffer,
+    pub lights: &'a wgpu::Buffer,
+    pub blocked: &'a wgpu::Buffer,
+    /// Ambient occlusion per pixel (read when `params.use_ao` is 1; any buffer otherwise).
+    pub ao: &'a wgpu::Buffer,
+    pub bvh: &'a BvhBuffers,
+}
+
+impl EnvTrace {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_trace", "main")? })
+    }
+
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, inputs: &EnvTraceInputs) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, inputs.params.as_entire_binding()),
+                (1, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (2, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (3, inputs.lights.as_entire_binding()),
+                (4, fg.visibility.as_entire_binding()),
+                (5, inputs.blocked.as_entire_binding()),
+                (6, inputs.ao.as_entire_binding()),
+                (20, inputs.bvh.nodes.as_entire_binding()),
+                (21, inputs.bvh.triangles.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+        );
+    }
+}

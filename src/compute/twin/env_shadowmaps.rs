@@ -1,0 +1,49 @@
+//! Twin of `kernels/env_shadowmaps.wgsl`.
+
+use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
+use crate::layout::{GpuEnvLight, GpuEnvParams, GpuFrame, GpuSample};
+use crate::render::gbuffer::GBufferCpu;
+use glam::{Vec2, Vec3};
+
+/// V per pixel from the K maps (`maps[k]` is sample k's map, row-major).
+pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, samples: &[GpuSample], maps: &[Vec<f32>], lights: &[GpuEnvLight], ao: &[f32], g: &GBufferCpu) -> Vec<f32> {
+    let r = params.radius as i32;
+    (0..g.position.len())
+        .map(|index| {
+            if !g.is_geometry(index) {
+                return 0.0;
+            }
+            let n = Vec3::from_slice(&g.normal[index][..3]);
+            let (mut num, mut den) = (0.0f32, 0.0f32);
+            for k in 0..params.light_count as usize {
+                let s = &samples[k];
+                let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+                let l = lights[k].direction;
+                let c = n.dot(Vec3::new(l[0], l[1], l[2]));
+                if c <= 0.0 {
+                    continue;
+                }
+                let w = l[3] * c;
+                den += w;
+                if lookup.kind == LOOKUP_OUTSIDE {
+                    num += w;
+                    continue;
+                }
+                if lookup.kind != LOOKUP_COMPARE {
+                    continue;
+                }
+                let (mut lit, mut taps) = (0.0f32, 0.0f32);
+                for dy in -r..=r {
+                    for dx in -r..=r {
+                        let o = Vec2::new(dx as f32, dy as f32);
+                        lit += tap_lit(frame, s, &maps[k], lookup.depth_limit - o.length() * slope, t + o);
+                        taps += 1.0;
+                    }
+                }
+                num += w * lit / taps;
+            }
+            let v = if den > 0.0 { num / den } else { 0.0 };
+            if params.use_ao != 0 { v * ao[index] } else { v }
+        })
+        .collect()
+}

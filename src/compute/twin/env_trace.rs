@@ -1,0 +1,51 @@
+//! Twin of `kernels/env_trace.wgsl` (with the BVH test of src/environment/bvh.rs).
+
+use crate::environment::bvh::Bvh;
+use crate::layout::{GpuEnvLight, GpuEnvParams};
+use crate::render::gbuffer::GBufferCpu;
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The ray origin: p + n · offset, per component as WGSL's `p + n * offset`.
+pub fn origin(p: [f32; 3], n: [f32; 3], offset: f32) -> [f32; 3] {
+    [p[0] + n[0] * offset, p[1] + n[1] * offset, p[2] + n[2] * offset]
+}
+
+/// (V, blocked rays) per pixel; background pixels are left at 0.
+pub fn env_trace(params: &GpuEnvParams, g: &GBufferCpu, lights: &[GpuEnvLight], ao: &[f32], bvh: &Bvh) -> (Vec<f32>, Vec<u32>) {
+    let count = g.position.len();
+    let mut visibility = vec![0.0f32; count];
+    let mut blocked = vec![0u32; count];
+    for index in 0..count {
+        if !g.is_geometry(index) {
+            continue;
+        }
+        let p = [g.position[index][0], g.position[index][1], g.position[index][2]];
+        let n = [g.normal[index][0], g.normal[index][1], g.normal[index][2]];
+        let o = origin(p, n, params.ray_offset);
+        let (mut num, mut den, mut c_blocked) = (0.0f32, 0.0f32, 0u32);
+        for l in &lights[..params.light_count as usize] {
+            let d = [l.direction[0], l.direction[1], l.direction[2]];
+            let c = dot(n, d);
+            if c <= 0.0 {
+                continue;
+            }
+            let w = l.direction[3] * c;
+            den += w;
+            if bvh.occluded(o, d, params.t_max) {
+                c_blocked += 1;
+            } else {
+                num += w;
+            }
+        }
+        let mut v = if den > 0.0 { num / den } else { 0.0 };
+        if params.use_ao != 0 {
+            v *= ao[index];
+        }
+        visibility[index] = v;
+        blocked[index] = c_blocked;
+    }
+    (visibility, blocked)
+}

@@ -1,0 +1,95 @@
+//! ssao as its own term: V = the screen-space ambient occlusion (seed 002 §2.4). Combined with the
+//! environment methods through their `ssao=on` parameter (V_env · AO).
+
+use super::env_common::{SsaoSettings, SsaoStage};
+use super::env_pixels::{AO_RADIUS, AO_SAMPLES};
+use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod};
+use crate::compute::FrameGpu;
+use crate::gpu::readback;
+use crate::layout::{GpuCamera, GpuEnvParams};
+use crate::timing::StageTimer;
+use crate::Result;
+use std::sync::Arc;
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "ssao",
+    family: Family::Environment,
+    summary: "screen-space ambient occlusion alone: V = AO from the G-buffer",
+    params: &[AO_SAMPLES, AO_RADIUS],
+    parse: |p| {
+        let samples = check_range("ssao", "ao_samples", params::get_u32(p, "ao_samples", 16)?, 1, 64)?;
+        let radius = check_range("ssao", "ao_radius", get_f32(p, "ao_radius", 0.05)?, 1e-4, 1.0)?;
+        Ok(Arc::new(SsaoMethod(SsaoSettings { samples, radius })))
+    },
+};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SsaoMethod(pub SsaoSettings);
+
+impl ShadowMethod for SsaoMethod {
+    fn name(&self) -> &'static str {
+        "ssao"
+    }
+    fn label(&self) -> String {
+        format!("ssao:ao_samples={},ao_radius={}", self.0.samples, self.0.radius)
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({ "ao_samples": self.0.samples, "ao_radius": self.0.radius })
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        Ok(Box::new(State(SsaoStage::new(fg, self.0)?)))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+struct State(SsaoStage);
+
+/// Inputs and counts of an ssao frame, for the twin.
+pub struct SsaoCapture {
+    pub params: GpuEnvParams,
+    pub camera: GpuCamera,
+    pub kernel: Vec<[f32; 4]>,
+    pub ao: Vec<f32>,
+    pub occluded: Vec<u32>,
+}
+
+pub fn capture_of(out: &MethodOutput) -> Option<&SsaoCapture> {
+    out.detail.as_ref()?.downcast_ref()
+}
+
+impl MethodState for State {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(())
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        let s = &self.0;
+        s.run(fg, timer)?;
+        let bytes = fg.pixel_count() as u64 * 4;
+        timer.stage(fg.ctx, "ssao_copy", |enc| {
+            enc.copy_buffer_to_buffer(&s.ao, 0, &fg.visibility, 0, bytes);
+            Ok(())
+        })?;
+        let detail = if capture {
+            timer.flush(fg.ctx);
+            let c = SsaoCapture {
+                params: s.params,
+                camera: s.camera,
+                kernel: s.kernel.clone(),
+                ao: readback::read_buffer(fg.ctx, &s.ao, bytes)?,
+                occluded: readback::read_buffer(fg.ctx, &s.occluded, bytes)?,
+            };
+            Some(Box::new(c) as Box<dyn std::any::Any>)
+        } else {
+            None
+        };
+        Ok(MethodOutput {
+            shadow_maps: 0,
+            syncs: 0,
+            record: serde_json::json!({ "samples": s.params.light_count, "radius_world": s.params.radius }),
+            pictures: Vec::new(),
+            detail,
+        })
+    }
+}
