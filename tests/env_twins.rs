@@ -1,0 +1,130 @@
+//! The environment kernels equal their CPU twins: env_trace (BVH traversal), env_count (counting
+//! with atomics), env_split (splitting), env_shadowmaps (median-cut maps with box PCF) and ssao.
+//! Counts are compared exactly; V within float rounding of the same sums.
+
+mod common;
+use penumbra::compute::twin;
+use penumbra::frame::{self, FrameOptions};
+use penumbra::methods::{env_pixels, env_shadowmaps, ssao, Method};
+use penumbra::scene::Scene;
+use penumbra::timing::TimingMode;
+use std::path::Path;
+
+/// A 64x32 sky: a gradient, dark below the horizon, and a 2x2 "sun" of 2000 at (u, v) ≈ (0.3, 0.25).
+fn write_sky(dir: &Path) {
+    let img = image::Rgb32FImage::from_fn(64, 32, |x, y| {
+        let sun = (19..21).contains(&x) && (7..9).contains(&y);
+        let l = if sun { 2000.0 } else if y < 16 { 0.5 + 0.04 * y as f32 } else { 0.05 };
+        image::Rgb([l, l * 0.9, l * 0.8])
+    });
+    img.save_with_format(dir.join("sky.exr"), image::ImageFormat::OpenExr).unwrap();
+}
+
+fn scene(dir: &Path, size: u32) -> Scene {
+    let text = format!(
+        "[camera]\neye = [0.0, 7.0, 9.0]\ntarget = [0.0, 0.5, 0.0]\nfov_y_deg = 45.0\n\n\
+         [environment]\npanorama = \"sky.exr\"\nrotation_deg = 30.0\n\n\
+         [render]\nwidth = {size}\nheight = {size}\nshadow_map_size = 128\n\n\
+         [[mesh]]\nbuiltin = \"plane\"\nscale = [12.0, 1.0, 12.0]\n\n\
+         [[mesh]]\nbuiltin = \"box\"\ntranslate = [0.0, 1.0, 0.0]\nrotate_deg = [0.0, 30.0, 0.0]\nscale = [2.0, 2.0, 1.0]\n\n\
+         [[mesh]]\nbuiltin = \"sphere\"\nsegments = 12\ntranslate = [2.5, 0.8, 1.5]\nscale = 1.6\n"
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, &text).unwrap();
+    Scene::load(path.to_str().unwrap(), &[]).unwrap()
+}
+
+fn setup(name: &str) -> Scene {
+    let dir = common::temp_dir(name);
+    write_sky(&dir);
+    scene(&dir, 40)
+}
+
+fn capture() -> FrameOptions {
+    FrameOptions { mode: TimingMode::Frame, pictures: false, capture: true }
+}
+
+#[test]
+fn env_trace_and_ssao_equal_their_twins() {
+    let ctx = common::gpu();
+    let sc = setup("env_twins_trace");
+    for spec in ["env-pixels:res=16x8", "env-pixels:res=32x16,ssao=on,ao_samples=12"] {
+        let r = frame::render(&ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap();
+        let c = env_pixels::capture_of(&r.output).expect("env-pixels capture");
+        let (v, blocked) = twin::env_trace::env_trace(&c.params, &r.gbuffer, &c.lights, &c.ao, &c.bvh);
+        let geometry: Vec<usize> = (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)).collect();
+        let mismatched = geometry.iter().filter(|&&i| blocked[i] != c.blocked[i]).count();
+        let worst = geometry.iter().map(|&i| (v[i].clamp(0.0, 1.0) - r.visibility[i]).abs()).fold(0.0f32, f32::max);
+        let total_blocked: u64 = geometry.iter().map(|&i| c.blocked[i] as u64).sum();
+        let partial = geometry.iter().filter(|&&i| r.visibility[i] > 0.02 && r.visibility[i] < 0.98).count();
+        println!("{spec}: {} lights, {} geometry pixels, {total_blocked} blocked rays, {partial} partly lit, max |GPU - twin| V {worst:e}", c.lights.len(), geometry.len());
+        assert_eq!(mismatched, 0, "{spec}: blocked-ray counts differ from the twin in {mismatched} pixels");
+        assert!(worst <= 1e-5, "{spec}: V differs from the twin by {worst}");
+        assert!(total_blocked > 1000 && partial > 50, "{spec}: too little shadow for the test to prove anything");
+        if spec.contains("ssao") {
+            let ao_ctx = frame::render(&ctx, &sc, &Method::parse("ssao:ao_samples=12", &[]).unwrap(), capture()).unwrap();
+            let a = ssao::capture_of(&ao_ctx.output).expect("ssao capture");
+            let (ao, occluded) = twin::ssao::ssao(&a.params, &a.camera, &a.kernel, &ao_ctx.gbuffer);
+            let differ = geometry.iter().filter(|&&i| occluded[i] != a.occluded[i]).count();
+            let occluding = geometry.iter().filter(|&&i| a.occluded[i] > 0).count();
+            println!("ssao: {occluding} pixels with an occluded sample, {differ} differ from the twin");
+            assert_eq!(differ, 0, "ssao: occluded counts differ from the twin in {differ} pixels");
+            assert!(occluding > 10, "ssao finds no crease: the test proves nothing");
+            for &i in &geometry {
+                assert_eq!(ao[i], a.ao[i], "pixel {i}: AO");
+                assert_eq!(a.ao[i], ao_ctx.visibility[i], "pixel {i}: the ssao method's V is its AO");
+            }
+        }
+    }
+}
+
+#[test]
+fn env_count_and_env_split_equal_their_twins_at_every_level() {
+    let ctx = common::gpu();
+    let sc = setup("env_twins_adaptive");
+    let method = Method::parse("env-adaptive:base=4x2,max_level=3,contrast=3", &[]).unwrap();
+    let r = frame::render(&ctx, &sc, &method, capture()).unwrap();
+    let c = env_pixels::capture_of(&r.output).expect("env-adaptive keeps the env_trace capture");
+    assert!(c.levels.len() >= 3, "only {} levels ran", c.levels.len());
+    let mut splits = 0;
+    for (level, l) in c.levels.iter().enumerate() {
+        let counts = twin::env_count::env_count(&l.params, &r.gbuffer, &l.corners, &l.cells, &c.bvh);
+        let counted = level < l.params.max_level as usize;
+        if counted {
+            assert_eq!(counts, l.counts, "level {level}: env_count differs from its twin");
+        } else {
+            assert!(l.counts.iter().all(|&x| x == 0), "level {level}: the last level is not counted");
+        }
+        let (next, leaves) = twin::env_split::env_split(&l.params, &l.cells, &l.counts, &l.cell_power);
+        assert_eq!(next, l.next, "level {level}: env_split's children differ from its twin");
+        assert_eq!(leaves, l.leaves, "level {level}: env_split's leaves differ from its twin");
+        println!("level {level}: {} cells, counts {:?}, {} children, {} leaves", l.cells.len(), &l.counts[..l.counts.len().min(16)], next.len(), leaves.len());
+        splits += next.len() / 4;
+        if counted && level == 0 {
+            assert!(l.counts.iter().any(|&x| x > 0), "no cell's corners disagree at level 0: the scene casts no shadow");
+        }
+    }
+    assert!(splits > 4, "only {splits} splits: the test proves little");
+    let (v, blocked) = twin::env_trace::env_trace(&c.params, &r.gbuffer, &c.lights, &c.ao, &c.bvh);
+    for i in (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)) {
+        assert_eq!(blocked[i], c.blocked[i], "pixel {i}: blocked rays");
+        assert!((v[i].clamp(0.0, 1.0) - r.visibility[i]).abs() <= 1e-5, "pixel {i}: V");
+    }
+}
+
+#[test]
+fn env_shadowmaps_equals_its_twin() {
+    let ctx = common::gpu();
+    let sc = setup("env_twins_maps");
+    for spec in ["env-shadowmaps:k=8,pcf_radius=0", "env-shadowmaps:k=16,pcf_radius=2,ssao=on"] {
+        let r = frame::render(&ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap();
+        let c = env_shadowmaps::capture_of(&r.output).expect("env-shadowmaps capture");
+        let v = twin::env_shadowmaps::env_shadowmaps(&c.frame, &c.params, &c.samples, &c.maps, &c.lights, &c.ao, &r.gbuffer);
+        let geometry: Vec<usize> = (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)).collect();
+        let worst = geometry.iter().map(|&i| (v[i].clamp(0.0, 1.0) - r.visibility[i]).abs()).fold(0.0f32, f32::max);
+        let shadowed = geometry.iter().filter(|&&i| r.visibility[i] < 0.98).count();
+        println!("{spec}: {} maps, {shadowed} pixels under 0.98, max |GPU - twin| {worst:e}", c.maps.len());
+        assert!(shadowed > 30, "{spec}: no shadow");
+        assert!(worst <= 1e-5, "{spec}: V differs from its twin by {worst}");
+    }
+}
