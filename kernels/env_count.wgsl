@@ -1,7 +1,8 @@
 // env_count: env-adaptive's counting. For every (pixel, active cell), the rays to the cell's four
 // corners above p's tangent plane; a pixel whose corners disagree (some lit, some blocked) adds one
 // to the cell's count with an atomic (docs/environment.md §2). Corner directions come precomputed
-// on the finest lattice, (finest_width + 1) × (finest_height + 1) points.
+// on the finest lattice, (finest_width + 1) × (finest_height + 1) points. Only every
+// count_stride-th pixel in x and y is counted (the rays of counting dominate a frame otherwise).
 
 @group(0) @binding(0) var<uniform> params: GpuEnvParams;
 @group(0) @binding(1) var gbuffer_position: texture_2d<f32>;
@@ -12,12 +13,15 @@
 
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let pixel = gid.x;
+    // Every count_stride-th pixel in x and y (docs/environment.md §2: the criterion's sample).
+    let stride = max(params.count_stride, 1u);
+    let columns = (params.width + stride - 1u) / stride;
+    let rows = (params.height + stride - 1u) / stride;
     let cell_index = gid.y;
-    if (pixel >= params.width * params.height || cell_index >= params.cell_count) {
+    if (gid.x >= columns * rows || cell_index >= params.cell_count) {
         return;
     }
-    let xy = vec2<i32>(i32(pixel % params.width), i32(pixel / params.width));
+    let xy = vec2<i32>(i32((gid.x % columns) * stride), i32((gid.x / columns) * stride));
     let position = textureLoad(gbuffer_position, xy, 0);
     if (position.w == 0.0) {
         return;

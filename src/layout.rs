@@ -193,7 +193,8 @@ pub struct GpuEnvParams {
     pub use_ao: u32,
     /// ssao: radius in world units; env_shadowmaps: PCF radius in texels.
     pub radius: f32,
-    pub pad0: u32,
+    /// env_count: counts every count_stride-th pixel in x and y.
+    pub count_stride: u32,
 }
 
 /// A cell of the environment quadtree: corner (i, j) and side in finest-lattice steps.
@@ -247,7 +248,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuEnvLight { direction }),
         layout_of!(GpuEnvParams {
             width, height, light_count, cell_count, ray_offset, t_max, finest_width, finest_height, max_level, p_m, contrast,
-            min_share, total_power, use_ao, radius, pad0
+            min_share, total_power, use_ao, radius, count_stride
         }),
         layout_of!(GpuEnvCell { i, j, size, level }),
     ]

@@ -85,6 +85,9 @@ enum Command {
     Sequence(penumbra::sequence::cli::SequenceArgs),
     /// The failure gallery: every failure scene with every method, error maps and one measured sentence each.
     Failures(penumbra::failures::cli::FailuresArgs),
+    /// Environment lighting (seed 002): the environment methods on the panorama scenes, charts, the
+    /// panoramas with their chosen lights and quadtree cells, the closing table (docs/environment.md).
+    Environment(penumbra::environment::study::EnvironmentArgs),
 }
 
 #[derive(clap::Args)]
@@ -383,6 +386,17 @@ fn run() -> Result<()> {
             Ok(())
         }
         Some(Command::Framing(args)) => framing(args, &gpu),
+        Some(Command::Environment(args)) => {
+            output_set::check(&args.out)?;
+            let overrides = render_sets(&args.set)?;
+            let ctx = GpuContext::with_request(&gpu)?;
+            let (outcomes, files) = penumbra::environment::study::run(&ctx, &args, &overrides, &|line| eprintln!("{line}"))?;
+            let html = penumbra::environment::study::write(&args.out, &outcomes, &files)?;
+            print!("{}", penumbra::environment::study::closing_table(&outcomes));
+            println!("adapter: {} ({})", ctx.summary.name, ctx.summary.backend);
+            println!("report: {}", html.display());
+            Ok(())
+        }
     }
 }
 

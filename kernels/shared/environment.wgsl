@@ -34,7 +34,7 @@ struct GpuEnvParams {
     total_power: f32,
     use_ao: u32,
     radius: f32,
-    pad0: u32,
+    count_stride: u32,
 }
 
 struct GpuEnvCell {

@@ -2,6 +2,7 @@
 //!
 //! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first.
 
+mod environment;
 mod error_maps;
 mod error_time;
 mod framing;
@@ -15,6 +16,7 @@ mod stages;
 mod style;
 mod temporal;
 
+pub use environment::{env_chart_svg, EnvAxis};
 pub use error_maps::error_vs_maps_svg;
 pub use error_time::error_vs_time_svg;
 pub use framing::{framing_svg, WidthAxis, WidthPoint};

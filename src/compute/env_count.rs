@@ -15,7 +15,7 @@ impl EnvCount {
 
     /// `counts` must be zeroed for the `cells` active cells.
     #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, bvh: &BvhBuffers) {
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, stride: u32, bvh: &BvhBuffers) {
         self.kernel.dispatch(
             fg.ctx,
             enc,
@@ -29,7 +29,13 @@ impl EnvCount {
                 (20, bvh.nodes.as_entire_binding()),
                 (21, bvh.triangles.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(fg.pixel_count(), LINE_WORKGROUP[0]), cell_count, 1]),
+            Dispatch::Direct([groups(counted_pixels(fg.gbuffer.width, fg.gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
         );
     }
+}
+
+/// Pixels counted with every `stride`-th pixel in x and y.
+pub fn counted_pixels(width: u32, height: u32, stride: u32) -> u32 {
+    let s = stride.max(1);
+    width.div_ceil(s) * height.div_ceil(s)
 }

@@ -15,6 +15,7 @@ pub mod picture;
 pub mod reference;
 pub mod scene;
 pub mod shade;
+pub mod study;
 
 pub use lights::{median_cut, pixel_lights, EnvLight};
 pub use panorama::Panorama;

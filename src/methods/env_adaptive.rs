@@ -30,6 +30,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "p_m", default: "0", help: "split when more than p_m pixels see the cell's corners disagree" },
         Param { key: "contrast", default: "4", help: "split when the cell's quadrants' powers differ by more than this factor" },
         Param { key: "min_share", default: "0.002", help: "cells under this share of the panorama's power never split" },
+        Param { key: "count_stride", default: "2", help: "count every n-th pixel in x and y (1..=8): p_m is in counted pixels" },
         SSAO,
         AO_SAMPLES,
         AO_RADIUS,
@@ -40,7 +41,8 @@ pub const INFO: MethodInfo = MethodInfo {
         let p_m = params::get_u32(p, "p_m", 0)?;
         let contrast = check_range("env-adaptive", "contrast", get_f32(p, "contrast", 4.0)?, 1.0, 1e9)?;
         let min_share = check_range("env-adaptive", "min_share", get_f32(p, "min_share", 0.002)?, 0.0, 1.0)?;
-        Ok(Arc::new(EnvAdaptive { base: (bw, bh), max_level, p_m, contrast, min_share, ssao: parse_ssao(p, "env-adaptive")? }))
+        let count_stride = check_range("env-adaptive", "count_stride", params::get_u32(p, "count_stride", 2)?, 1, 8)?;
+        Ok(Arc::new(EnvAdaptive { base: (bw, bh), max_level, p_m, contrast, min_share, count_stride, ssao: parse_ssao(p, "env-adaptive")? }))
     },
 };
 
@@ -51,6 +53,7 @@ pub struct EnvAdaptive {
     pub p_m: u32,
     pub contrast: f32,
     pub min_share: f32,
+    pub count_stride: u32,
     pub ssao: Option<SsaoSettings>,
 }
 
@@ -71,6 +74,7 @@ impl ShadowMethod for EnvAdaptive {
             ("p_m", self.p_m.to_string()),
             ("contrast", self.contrast.to_string()),
             ("min_share", self.min_share.to_string()),
+            ("count_stride", self.count_stride.to_string()),
         ];
         let mut s = super::label_from(&INFO, &values);
         if let Some(a) = self.ssao {
@@ -79,7 +83,7 @@ impl ShadowMethod for EnvAdaptive {
         s
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "base": [self.base.0, self.base.1], "max_level": self.max_level, "p_m": self.p_m, "contrast": self.contrast, "min_share": self.min_share, "ssao": self.ssao })
+        serde_json::json!({ "base": [self.base.0, self.base.1], "max_level": self.max_level, "p_m": self.p_m, "contrast": self.contrast, "min_share": self.min_share, "count_stride": self.count_stride, "ssao": self.ssao })
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let env = environment(fg, "env-adaptive")?;
@@ -114,6 +118,7 @@ impl ShadowMethod for EnvAdaptive {
         params.contrast = self.contrast;
         params.min_share = self.min_share;
         params.total_power = cell_power.iter().sum();
+        params.count_stride = self.count_stride;
         Ok(Box::new(State {
             count: EnvCount::new(fg)?,
             split: EnvSplit::new(fg)?,
@@ -250,7 +255,7 @@ impl MethodState for State {
             if counted {
                 timer.stage(ctx, "env_count", |enc| {
                     enc.clear_buffer(&self.counts, 0, Some(cell_count as u64 * 4));
-                    self.count.record(fg, enc, &self.level_params[level as usize], &self.corners_buffer, cur, &self.counts, cell_count, &self.trace.rays.buffers);
+                    self.count.record(fg, enc, &self.level_params[level as usize], &self.corners_buffer, cur, &self.counts, cell_count, self.params.count_stride, &self.trace.rays.buffers);
                     Ok(())
                 })?;
             }

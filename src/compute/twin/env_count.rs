@@ -8,8 +8,10 @@ use crate::render::gbuffer::GBufferCpu;
 /// Per cell, the pixels whose rays to the cell's corners above their tangent plane disagree.
 pub fn env_count(params: &GpuEnvParams, g: &GBufferCpu, corners: &[[f32; 4]], cells: &[GpuEnvCell], bvh: &Bvh) -> Vec<u32> {
     let mut counts = vec![0u32; cells.len()];
+    let stride = params.count_stride.max(1);
     for index in 0..g.position.len() {
-        if !g.is_geometry(index) {
+        let (x, y) = (index as u32 % params.width, index as u32 / params.width);
+        if !g.is_geometry(index) || x % stride != 0 || y % stride != 0 {
             continue;
         }
         let p = [g.position[index][0], g.position[index][1], g.position[index][2]];
