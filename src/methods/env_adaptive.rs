@@ -25,22 +25,22 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::Environment,
     summary: "a quadtree over the panorama split where visibility or radiance disagrees (GPU atomics), one ray per leaf",
     params: &[
-        Param { key: "base", default: "8x4", help: "level-0 cells, WxH; the finest lattice is base × 2^max_level and must divide the panorama" },
-        Param { key: "max_level", default: "3", help: "levels of splitting, 0..=6" },
+        Param { key: "base", default: "4x2", help: "level-0 cells, WxH; the finest lattice is base × 2^max_level and must divide the panorama" },
+        Param { key: "max_level", default: "4", help: "levels of splitting, 0..=6" },
         Param { key: "p_m", default: "0", help: "split when more than p_m pixels see the cell's corners disagree" },
         Param { key: "contrast", default: "4", help: "split when the cell's quadrants' powers differ by more than this factor" },
-        Param { key: "min_share", default: "0.002", help: "cells under this share of the panorama's power never split" },
+        Param { key: "min_share", default: "0.01", help: "cells under this share of the panorama's power never split" },
         Param { key: "count_stride", default: "2", help: "count every n-th pixel in x and y (1..=8): p_m is in counted pixels" },
         SSAO,
         AO_SAMPLES,
         AO_RADIUS,
     ],
     parse: |p| {
-        let (bw, bh) = resolution(p, "env-adaptive", "base", (8, 4))?;
-        let max_level = check_range("env-adaptive", "max_level", params::get_u32(p, "max_level", 3)?, 0, 6)?;
+        let (bw, bh) = resolution(p, "env-adaptive", "base", (4, 2))?;
+        let max_level = check_range("env-adaptive", "max_level", params::get_u32(p, "max_level", 4)?, 0, 6)?;
         let p_m = params::get_u32(p, "p_m", 0)?;
         let contrast = check_range("env-adaptive", "contrast", get_f32(p, "contrast", 4.0)?, 1.0, 1e9)?;
-        let min_share = check_range("env-adaptive", "min_share", get_f32(p, "min_share", 0.002)?, 0.0, 1.0)?;
+        let min_share = check_range("env-adaptive", "min_share", get_f32(p, "min_share", 0.01)?, 0.0, 1.0)?;
         let count_stride = check_range("env-adaptive", "count_stride", params::get_u32(p, "count_stride", 2)?, 1, 8)?;
         Ok(Arc::new(EnvAdaptive { base: (bw, bh), max_level, p_m, contrast, min_share, count_stride, ssao: parse_ssao(p, "env-adaptive")? }))
     },
