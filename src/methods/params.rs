@@ -185,6 +185,18 @@ impl AdaptiveParams {
                 _ => return Err(Error::Param(format!("scope = `{v}`: use `global` or `local`"))),
             };
         }
+        // Local scope sums each pixel's own leaf quads by area (docs/method.md §4.2); it has no use
+        // for sample weights, so a preset's weights become area there and others are refused.
+        if p.scope == Scope::Local {
+            match params.get("weights").map(String::as_str) {
+                None | Some("area") => p.weights = Weights::Area,
+                Some(v) => {
+                    return Err(Error::Param(format!(
+                        "weights = `{v}` applies to scope = global; scope = local integrates each pixel's own quads by area (use weights=area or leave it out)"
+                    )))
+                }
+            }
+        }
         if let Some(v) = params.get("scissor") {
             p.scissor = match v.as_str() {
                 "on" | "true" => true,
@@ -279,6 +291,8 @@ impl AdaptiveParams {
             s += &format!(",max_level={}", self.max_level);
         }
         match self.weights {
+            // Local scope has one rule (area along each pixel's quads); naming it adds nothing.
+            _ if self.scope == Scope::Local => {}
             Weights::Level => {}
             Weights::Area => s += ",weights=area",
             Weights::Coons => s += ",weights=coons",
@@ -298,4 +312,49 @@ impl AdaptiveParams {
 
 fn growth_label(g: f64) -> String {
     if g == 1.0 { String::new() } else { format!(",growth={g}") }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(spec: &str) -> Result<AdaptiveParams> {
+        let map: BTreeMap<String, String> = spec
+            .split(',')
+            .filter(|kv| !kv.is_empty())
+            .map(|kv| {
+                let (k, v) = kv.split_once('=').unwrap();
+                (k.to_string(), v.to_string())
+            })
+            .collect();
+        AdaptiveParams::from_map(&map)
+    }
+
+    #[test]
+    fn local_scope_integrates_by_area_and_says_so() {
+        let p = parse("preset=balanced,scope=local").unwrap();
+        assert_eq!(p.weights, Weights::Area);
+        assert_eq!(p.label(), "adaptive:p_m=0,max_level=3,scope=local");
+        assert_eq!(parse("scope=local,weights=area").unwrap().weights, Weights::Area);
+        for w in ["coons", "level"] {
+            let e = parse(&format!("scope=local,weights={w}")).unwrap_err().to_string();
+            assert!(e.contains(&format!("weights = `{w}`")) && e.contains("scope = local"), "{e}");
+        }
+        assert_eq!(parse("preset=balanced").unwrap().label(), "adaptive:preset=balanced");
+        assert_eq!(parse("weights=coons,layout=centred").unwrap().label(), "adaptive:p_m=0,weights=coons,layout=centred");
+    }
+
+    #[test]
+    fn centred_coordinates_are_the_cell_centres() {
+        for (max_level, n) in [(0u32, 2u32), (1, 3), (2, 5), (3, 9), (4, 17)] {
+            let p = AdaptiveParams { max_level, layout: Layout::Centred, weights: Weights::Area, ..Default::default() };
+            let step = 16 >> max_level;
+            for m in 0..n {
+                assert_eq!(p.light_coord(m * step), (m as f32 + 0.5) / n as f32, "L {max_level} m {m}");
+            }
+            assert_eq!(p.border_strip(), 0.5 / (1u32 << max_level) as f64);
+        }
+        let lattice = AdaptiveParams::default();
+        assert_eq!((lattice.light_coord(0), lattice.light_coord(16), lattice.border_strip()), (0.0, 1.0, 0.0));
+    }
 }
