@@ -1,6 +1,8 @@
 // env_trace: seed 002's pixel lights. For every G-buffer pixel, one shadow ray per light towards its
 // direction through the scene's BVH; V = Σ power·cos·vis / Σ power·cos over the lights above p's
 // tangent plane (docs/environment.md §2). `blocked` counts the occluded rays (the twins' exact check).
+// Lights come in chunks (one dispatch each, params.first_light..+light_count): lavapipe returned
+// wrong counts for one dispatch of 1024 or more lights per pixel (twin test), 512 were exact.
 
 @group(0) @binding(0) var<uniform> params: GpuEnvParams;
 @group(0) @binding(1) var gbuffer_position: texture_2d<f32>;
@@ -9,6 +11,8 @@
 @group(0) @binding(4) var<storage, read_write> visibility: array<f32>;
 @group(0) @binding(5) var<storage, read_write> blocked: array<u32>;
 @group(0) @binding(6) var<storage, read> ao: array<f32>;
+// Running sums (Σ power·cos·vis, Σ power·cos) between chunks of lights.
+@group(0) @binding(7) var<storage, read_write> sums: array<vec2<f32>>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -25,7 +29,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var num = 0.0;
     var den = 0.0;
     var count = 0u;
-    for (var k = 0u; k < params.light_count; k = k + 1u) {
+    if (params.first_light > 0u) {
+        num = sums[index].x;
+        den = sums[index].y;
+        count = blocked[index];
+    }
+    for (var k = params.first_light; k < params.first_light + params.light_count; k = k + 1u) {
         let l = lights[k].direction;
         let c = env_dot(n, l.xyz);
         if (c <= 0.0) {
@@ -39,10 +48,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             num = num + w;
         }
     }
+    blocked[index] = count;
+    if (params.final_chunk == 0u) {
+        sums[index] = vec2<f32>(num, den);
+        return;
+    }
     var v = select(0.0, num / den, den > 0.0);
     if (params.use_ao != 0u) {
         v = v * ao[index];
     }
     visibility[index] = v;
-    blocked[index] = count;
 }

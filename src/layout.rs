@@ -195,6 +195,12 @@ pub struct GpuEnvParams {
     pub radius: f32,
     /// env_count: counts every count_stride-th pixel in x and y.
     pub count_stride: u32,
+    /// env_trace: index of this dispatch's first light (lights go in chunks of ENV_TRACE_CHUNK).
+    pub first_light: u32,
+    /// env_trace: 1 on the last chunk, which writes V.
+    pub final_chunk: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 /// A cell of the environment quadtree: corner (i, j) and side in finest-lattice steps.
@@ -248,7 +254,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuEnvLight { direction }),
         layout_of!(GpuEnvParams {
             width, height, light_count, cell_count, ray_offset, t_max, finest_width, finest_height, max_level, p_m, contrast,
-            min_share, total_power, use_ao, radius, count_stride
+            min_share, total_power, use_ao, radius, count_stride, first_light, final_chunk, pad0, pad1
         }),
         layout_of!(GpuEnvCell { i, j, size, level }),
     ]

@@ -22,7 +22,7 @@ fn write_sky(dir: &Path) {
 
 fn scene(dir: &Path, size: u32) -> Scene {
     let text = format!(
-        "[camera]\neye = [0.0, 7.0, 9.0]\ntarget = [0.0, 0.5, 0.0]\nfov_y_deg = 45.0\n\n\
+        "name = \"envtest\"\n[camera]\neye = [0.0, 7.0, 9.0]\ntarget = [0.0, 0.5, 0.0]\nfov_y_deg = 45.0\n\n\
          [environment]\npanorama = \"sky.exr\"\nrotation_deg = 30.0\n\n\
          [render]\nwidth = {size}\nheight = {size}\nshadow_map_size = 128\n\n\
          [[mesh]]\nbuiltin = \"plane\"\nscale = [12.0, 1.0, 12.0]\n\n\
@@ -48,7 +48,7 @@ fn capture() -> FrameOptions {
 fn env_trace_and_ssao_equal_their_twins() {
     let ctx = common::gpu();
     let sc = setup("env_twins_trace");
-    for spec in ["env-pixels:res=16x8", "env-pixels:res=32x16,ssao=on,ao_samples=12"] {
+    for spec in ["env-pixels:res=16x8", "env-pixels:res=64x32", "env-pixels:res=32x16,ssao=on,ao_samples=12"] {
         let r = frame::render(&ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap();
         let c = env_pixels::capture_of(&r.output).expect("env-pixels capture");
         let (v, blocked) = twin::env_trace::env_trace(&c.params, &r.gbuffer, &c.lights, &c.ao, &c.bvh);
@@ -127,4 +127,42 @@ fn env_shadowmaps_equals_its_twin() {
         assert!(shadowed > 30, "{spec}: no shadow");
         assert!(worst <= 1e-5, "{spec}: V differs from its twin by {worst}");
     }
+}
+
+#[test]
+fn environment_methods_need_an_environment() {
+    let ctx = common::gpu();
+    let sc = Scene::parse(&common::random_scene_toml(5, 32, 64), "random", None, &[]).unwrap();
+    for spec in ["env-pixels", "env-shadowmaps", "env-adaptive"] {
+        let e = frame::render(&ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).err().expect("no environment").to_string();
+        assert!(e.contains(spec) && e.contains("has no [environment]"), "{spec}: {e}");
+    }
+}
+
+#[test]
+fn environment_command_writes_the_set_with_charts_pictures_and_table() {
+    let dir = common::temp_dir("env_command");
+    write_sky(&dir);
+    scene(&dir, 32);
+    let out = dir.join("out");
+    let cache = dir.join("cache");
+    let scene_path = dir.join("scene.toml");
+    let o = common::penumbra_env(
+        &[
+            "environment", "--scenes", scene_path.to_str().unwrap(), "--methods", "env-pixels:res=16x8,env-shadowmaps:k=4,env-adaptive:max_level=2",
+            "--samples", "4", "--repeats", "1", "--out", out.to_str().unwrap(),
+        ],
+        &[("PENUMBRA_CACHE", cache.to_str().unwrap())],
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "environment failed: {stderr}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("Environment lighting (seed 002)") && html.contains("data:image/png;base64"), "no environment section");
+    let table = std::fs::read_to_string(out.join("environment.md")).unwrap();
+    assert!(table.contains("`env-shadowmaps:k=4`") && table.contains("env-adaptive") && table.contains("Reference standard error"), "{table}");
+    for f in ["charts/env_error_vs_time.svg", "charts/env_error_vs_samples.png", "results.jsonl"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let pictures: Vec<_> = std::fs::read_dir(out.join("envtest/pictures")).unwrap().collect();
+    assert_eq!(pictures.len(), 3, "one panorama picture per environment method");
 }

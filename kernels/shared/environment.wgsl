@@ -35,6 +35,10 @@ struct GpuEnvParams {
     use_ao: u32,
     radius: f32,
     count_stride: u32,
+    first_light: u32,
+    final_chunk: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 struct GpuEnvCell {

@@ -34,7 +34,26 @@ pub struct EnvTraceInputs<'a> {
     pub blocked: &'a wgpu::Buffer,
     /// Ambient occlusion per pixel (read when `params.use_ao` is 1; any buffer otherwise).
     pub ao: &'a wgpu::Buffer,
+    /// Running sums between chunks, 8 bytes per pixel.
+    pub sums: &'a wgpu::Buffer,
     pub bvh: &'a BvhBuffers,
+}
+
+/// Lights per env_trace dispatch (see kernels/env_trace.wgsl).
+pub const ENV_TRACE_CHUNK: u32 = 256;
+
+/// The per-chunk parameter blocks of `light_count` lights (at least one, which writes V).
+pub fn chunk_params(base: &crate::layout::GpuEnvParams, light_count: u32) -> Vec<crate::layout::GpuEnvParams> {
+    let chunks = light_count.div_ceil(ENV_TRACE_CHUNK).max(1);
+    (0..chunks)
+        .map(|c| {
+            let mut p = *base;
+            p.first_light = c * ENV_TRACE_CHUNK;
+            p.light_count = ENV_TRACE_CHUNK.min(light_count - p.first_light.min(light_count));
+            p.final_chunk = (c + 1 == chunks) as u32;
+            p
+        })
+        .collect()
 }
 
 impl EnvTrace {
@@ -54,6 +73,7 @@ impl EnvTrace {
                 (4, fg.visibility.as_entire_binding()),
                 (5, inputs.blocked.as_entire_binding()),
                 (6, inputs.ao.as_entire_binding()),
+                (7, inputs.sums.as_entire_binding()),
                 (20, inputs.bvh.nodes.as_entire_binding()),
                 (21, inputs.bvh.triangles.as_entire_binding()),
             ],

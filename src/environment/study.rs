@@ -86,7 +86,7 @@ pub fn run(ctx: &GpuContext, args: &EnvironmentArgs, overrides: &[(String, Strin
         let provenance = vec![Provenance::of_scene("environment", scene, &args.set, None); methods.len()];
         let job = CompareJob { scene, methods: methods.clone(), repeats: args.repeats, reference: mode, cache: cache.clone(), provenance };
         let outcome = compare::run(ctx, &job, log)?;
-        let prefix = format!("{}/", scene.name);
+        let prefix = format!("{}/", crate::report::unique_slugs([scene.name.as_str()])[0]);
         for (name, bytes) in outcome.files {
             files.push((format!("{prefix}{name}"), bytes));
         }
@@ -116,6 +116,8 @@ pub fn run(ctx: &GpuContext, args: &EnvironmentArgs, overrides: &[(String, Strin
         files.push((format!("charts/{stem}.svg"), svg.into_bytes()));
     }
     files.push(("environment.md".into(), closing_table(&outcomes).into_bytes()));
+    // Every scene's rows in one results.jsonl/.csv at the top (each scene's own are in its folder).
+    files.extend(crate::record::result_files(&all)?);
     Ok((outcomes, files))
 }
 

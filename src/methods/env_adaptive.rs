@@ -319,7 +319,6 @@ impl MethodState for State {
         if !gpu.is_empty() {
             ctx.queue.write_buffer(&self.trace.lights_buffer, 0, bytemuck::cast_slice(&gpu));
         }
-        ctx.queue.write_buffer(&self.trace.params_buffer, 0, bytemuck::bytes_of(&self.trace.params));
         let trace_capture = self.trace.run(fg, timer, capture)?;
         let pictures = if fg.pictures { vec![("panorama_quadtree.png".to_string(), self.picture(leaves, &lights))] } else { Vec::new() };
         let detail = trace_capture.map(|mut c| {

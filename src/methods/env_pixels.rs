@@ -3,7 +3,7 @@
 
 use super::env_common::{environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage};
 use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::compute::env_trace::{EnvTrace, EnvTraceInputs};
+use crate::compute::env_trace::{chunk_params, EnvTrace, EnvTraceInputs};
 use crate::compute::FrameGpu;
 use crate::environment::{bvh::Bvh, picture, pixel_lights};
 use crate::gpu::readback;
@@ -80,7 +80,9 @@ pub struct RayLights {
     pub trace: EnvTrace,
     pub lights: Vec<GpuEnvLight>,
     pub params: GpuEnvParams,
-    pub params_buffer: wgpu::Buffer,
+    /// One parameter block per chunk of lights (enough for the most lights this state may hold).
+    pub chunk_buffers: Vec<wgpu::Buffer>,
+    sums: wgpu::Buffer,
     pub lights_buffer: wgpu::Buffer,
     pub blocked: wgpu::Buffer,
     /// Bound as `ao` when ssao is off (never read then).
@@ -98,9 +100,11 @@ impl RayLights {
         let ctx = fg.ctx;
         let ssao = ssao.map(|s| SsaoStage::new(fg, s)).transpose()?;
         let lights_buffer = readback::storage_buffer(ctx, "env lights", &if lights.is_empty() { vec![GpuEnvLight::default()] } else { lights.clone() }, wgpu::BufferUsages::empty());
+        let chunk_buffers = chunk_params(&params, lights.len() as u32).iter().map(|p| readback::uniform_buffer(ctx, "env params", p)).collect();
         Ok(RayLights {
             trace: EnvTrace::new(fg)?,
-            params_buffer: readback::uniform_buffer(ctx, "env params", &params),
+            chunk_buffers,
+            sums: readback::zeroed_storage(ctx, "env sums", fg.pixel_count() as u64 * 8),
             lights_buffer,
             blocked: readback::zeroed_storage(ctx, "env blocked", fg.pixel_count() as u64 * 4),
             no_ao: readback::zeroed_storage(ctx, "no ao", 16),
@@ -118,9 +122,15 @@ impl RayLights {
             s.run(fg, timer)?;
         }
         let ao = self.ssao.as_ref().map_or(&self.no_ao, |s| &s.ao);
+        let chunks = chunk_params(&self.params, self.params.light_count);
+        for (p, buffer) in chunks.iter().zip(&self.chunk_buffers) {
+            fg.ctx.queue.write_buffer(buffer, 0, bytemuck::bytes_of(p));
+        }
         timer.stage(fg.ctx, "env_trace", |enc| {
-            let inputs = EnvTraceInputs { params: &self.params_buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, bvh: &self.rays.buffers };
-            self.trace.record(fg, enc, &inputs);
+            for buffer in &self.chunk_buffers[..chunks.len()] {
+                let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
+                self.trace.record(fg, enc, &inputs);
+            }
             Ok(())
         })?;
         if !capture {

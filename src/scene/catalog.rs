@@ -41,9 +41,11 @@ pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
             if let Ok(def) = format::parse(text, &origin, &[]) {
                 description = def.description.clone().unwrap_or_default();
                 triangles = def.triangles;
-                for m in &def.meshes {
-                    sources.push(source(m));
-                    if let Some(rel) = m.file.as_deref().and_then(|f| f.strip_prefix(CACHE_PREFIX)) {
+                // The panorama of an [environment] is a cached asset like a mesh.
+                let files = def.meshes.iter().map(|m| (source(m), m.file.clone())).chain(def.environment.iter().map(|e| (e.panorama.clone(), Some(e.panorama.clone()))));
+                for (src, file) in files {
+                    sources.push(src);
+                    if let Some(rel) = file.as_deref().and_then(|f| f.strip_prefix(CACHE_PREFIX)) {
                         let present = cache_dir.as_ref().is_some_and(|d| d.join(rel).is_file());
                         if !present {
                             missing.push(cache_dir.as_ref().map(|d| d.join(rel)).unwrap_or_else(|| rel.into()));
