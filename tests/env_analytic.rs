@@ -106,3 +106,38 @@ fn point_beside_an_infinite_wall_under_a_uniform_sky() {
         assert!((riemann - exact).abs() < 5e-3, "d {d}: Riemann {riemann}, closed form {exact}");
     }
 }
+
+/// On the GPU: env-pixels under a uniform sky beside a long wall meets the closed form at every
+/// ground pixel within the 64x32 pixel lights' discretisation.
+#[test]
+fn env_pixels_beside_a_wall_meets_the_closed_form() {
+    let ctx = common::gpu();
+    let dir = common::temp_dir("env_wall");
+    image::Rgb32FImage::from_pixel(64, 32, image::Rgb([1.0, 1.0, 1.0])).save_with_format(dir.join("sky.exr"), image::ImageFormat::OpenExr).unwrap();
+    let text = "[camera]\neye = [2.0, 7.0, 0.5]\ntarget = [2.0, 0.0, 0.0]\nfov_y_deg = 40.0\n\n\
+                [environment]\npanorama = \"sky.exr\"\n\n[render]\nwidth = 48\nheight = 48\n\n\
+                [[mesh]]\nbuiltin = \"plane\"\nscale = [60.0, 1.0, 60.0]\n\n\
+                [[mesh]]\nbuiltin = \"box\"\ntranslate = [-0.05, 0.5, 0.0]\nscale = [0.1, 1.0, 400.0]\n";
+    let path = dir.join("wall.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = penumbra::scene::Scene::load(path.to_str().unwrap(), &[]).unwrap();
+    let options = penumbra::frame::FrameOptions { mode: penumbra::timing::TimingMode::Frame, pictures: false, capture: false };
+    let method = penumbra::methods::Method::parse("env-pixels:res=64x32", &[]).unwrap();
+    let r = penumbra::frame::render(&ctx, &scene, &method, options).unwrap();
+    let (mut worst, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);
+    for i in 0..r.visibility.len() {
+        let p = r.gbuffer.position[i];
+        // Ground pixels beside the wall (its face is x = 0).
+        if !r.gbuffer.is_geometry(i) || p[1].abs() > 1e-3 || p[0] < 0.05 {
+            continue;
+        }
+        let err = (r.visibility[i] as f64 - wall_visibility(p[0] as f64, 1.0)).abs();
+        worst = worst.max(err);
+        sum += err;
+        n += 1;
+    }
+    println!("{n} ground pixels: mean |V − closed form| {:.4}, max {worst:.4}", sum / n as f64);
+    assert!(n > 500, "only {n} ground pixels in view");
+    let mean = sum / n as f64;
+    assert!(mean < 0.01 && worst < 0.03, "mean {mean:.4}, max {worst:.4}");
+}

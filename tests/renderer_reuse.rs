@@ -11,11 +11,19 @@ use penumbra::timing::TimingMode;
 fn later_frames_on_one_renderer_equal_the_first() {
     let ctx = common::gpu();
     let scene = Scene::parse(&common::random_scene_toml(7, 48, 128), "random-7", None, &[]).unwrap();
+    // The environment methods need a panorama: the same scene under a sky with a sun.
+    let dir = common::temp_dir("renderer_reuse_env");
+    image::Rgb32FImage::from_fn(32, 16, |x, y| image::Rgb(if (x, y) == (9, 4) { [800.0; 3] } else { [0.6; 3] }))
+        .save_with_format(dir.join("sky.exr"), image::ImageFormat::OpenExr)
+        .unwrap();
+    let env_text = format!("{}\n[environment]\npanorama = \"sky.exr\"\n", common::random_scene_toml(7, 48, 128));
+    let env_scene = Scene::parse(&env_text, "random-7-env", Some(&dir), &[]).unwrap();
     let mut specs: Vec<String> = REGISTRY.iter().map(|m| m.name.to_string()).collect();
-    specs.extend(["regular:n=3", "adaptive:scope=local", "adaptive:scope=local,scissor=on", "adaptive:p_m=3", "adaptive:preset=balanced", "regular:n=4,layout=jittered"].map(String::from));
+    specs.extend(["regular:n=3", "adaptive:scope=local", "adaptive:scope=local,scissor=on", "adaptive:p_m=3", "adaptive:preset=balanced", "regular:n=4,layout=jittered", "env-pixels:ssao=on", "env-adaptive:base=8x4,max_level=2"].map(String::from));
     for spec in &specs {
         let method = Method::parse(spec, &[]).unwrap();
-        let mut r = Renderer::new(&ctx, &scene, &method).unwrap();
+        let scene = if method.family() == penumbra::methods::Family::Environment { &env_scene } else { &scene };
+        let mut r = Renderer::new(&ctx, scene, &method).unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false };
         let first = r.frame(options).unwrap();
         assert!(first.stages_ms.contains_key("build"), "{spec}: the first frame carries the build");

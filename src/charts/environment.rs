@@ -24,7 +24,9 @@ pub fn env_chart_svg(rows: &[ResultRow], axis: EnvAxis) -> Result<String, ChartE
             EnvAxis::Samples => continue,
         };
         let point = Point { x, y: r.metrics.rmse, label: Some(r.label()), x_span: None };
-        push_point(&mut series, with_scene(multi, &r.scene, &r.method), point);
+        // ssao=on is its own series: a method with a different term, not another sample count.
+        let key = if r.label().contains("ssao=on") { format!("{} + ssao", r.method) } else { r.method.clone() };
+        push_point(&mut series, with_scene(multi, &r.scene, &key), point);
     }
     if series.is_empty() {
         return Err(ChartError::NoData("needs environment rows"));
