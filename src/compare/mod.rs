@@ -131,7 +131,10 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
 
 /// The reference's one-line summary (also printed by `penumbra reference`).
 pub fn reference_line(r: &ReferenceImage, geometry: usize) -> String {
-    let what = format!("reference {} at {}x{} ({geometry} geometry pixels)", ground_truth::mode_label(&r.mode), r.width, r.height);
+    let mut what = format!("reference {} at {}x{} ({geometry} geometry pixels)", ground_truth::mode_label(&r.mode), r.width, r.height);
+    if let Some((mean, max)) = r.std_error {
+        what += &format!(", Monte Carlo standard error of V mean {mean:.4}, max {max:.4}");
+    }
     match (&r.trace, &r.cache_file) {
         (Some(t), _) => format!(
             "{what}: traced in {:.1} s, {:.1} M rays/s ({:.1} M samples/s) on {} threads",

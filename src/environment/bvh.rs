@@ -181,7 +181,7 @@ mod tests {
         };
         for _ in 0..300 {
             let c = Vec3::new(r(), r(), r()) * 5.0;
-            tris.push([c, c + Vec3::new(r(), r(), r()) * 0.5, c + Vec3::new(r(), r(), r()) * 0.5]);
+            tris.push([c, c + Vec3::new(r(), r(), r()) * 2.0, c + Vec3::new(r(), r(), r()) * 2.0]);
         }
         let bvh = Bvh::build(&tris);
         assert_eq!(bvh.triangles.len(), 300);
