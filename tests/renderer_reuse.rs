@@ -13,7 +13,7 @@ fn later_frames_on_one_renderer_equal_the_first() {
     let scene = Scene::parse(&common::random_scene_toml(7, 48, 128), "random-7", None, &[]).unwrap();
     // The environment methods need a panorama: the same scene under a sky with a sun.
     let dir = common::temp_dir("renderer_reuse_env");
-    image::Rgb32FImage::from_fn(32, 16, |x, y| image::Rgb(if (x, y) == (9, 4) { [800.0; 3] } else { [0.6; 3] }))
+    image::Rgb32FImage::from_fn(64, 32, |x, y| image::Rgb(if (x, y) == (18, 8) { [800.0; 3] } else { [0.6; 3] }))
         .save_with_format(dir.join("sky.exr"), image::ImageFormat::OpenExr)
         .unwrap();
     let env_text = format!("{}\n[environment]\npanorama = \"sky.exr\"\n", common::random_scene_toml(7, 48, 128));
