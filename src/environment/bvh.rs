@@ -29,7 +29,8 @@ struct Item {
 }
 
 impl Bvh {
-    /// Median split on the longest axis of the centroids' box; leaves of at most [`LEAF_SIZE`].
+    /// Binned SAH split (12 bins per axis), the median on the longest axis where no bin split
+    /// separates the centroids; leaves of at most [`LEAF_SIZE`].
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
         let mut items: Vec<Item> = triangles
             .iter()
@@ -74,9 +75,16 @@ impl Bvh {
             self.nodes[node] = GpuBvhNode { min: lo.to_array(), left_first: first, max: hi.to_array(), count: items.len() as u32 };
             return;
         }
-        let axis = if extent.x >= extent.y && extent.x >= extent.z { 0 } else if extent.y >= extent.z { 1 } else { 2 };
-        let mid = items.len() / 2;
-        items.select_nth_unstable_by(mid, |a, b| a.centre[axis].total_cmp(&b.centre[axis]));
+        let mid = match sah_split(items, clo, extent) {
+            Some(m) => m,
+            None => {
+                // No binned split beats the leaf's cost estimate's shape: the median on the longest axis.
+                let axis = if extent.x >= extent.y && extent.x >= extent.z { 0 } else if extent.y >= extent.z { 1 } else { 2 };
+                let mid = items.len() / 2;
+                items.select_nth_unstable_by(mid, |a, b| a.centre[axis].total_cmp(&b.centre[axis]));
+                mid
+            }
+        };
         let left = self.nodes.len();
         self.nodes.push(GpuBvhNode::default());
         self.nodes.push(GpuBvhNode::default());
@@ -113,6 +121,56 @@ impl Bvh {
         }
         false
     }
+}
+
+/// Binned surface-area heuristic: over 12 centroid bins per axis, the split with the least
+/// Σ area(child) × triangles(child); items are partitioned in place and the left count returned.
+fn sah_split(items: &mut [Item], clo: Vec3, extent: Vec3) -> Option<usize> {
+    const BINS: usize = 12;
+    let area = |lo: Vec3, hi: Vec3| {
+        let d = (hi - lo).max(Vec3::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    };
+    let mut best: Option<(f32, usize, usize)> = None;
+    for axis in 0..3 {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        let bin_of = |c: f32| (((c - clo[axis]) / extent[axis] * BINS as f32) as usize).min(BINS - 1);
+        let mut boxes = [(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0usize); BINS];
+        for it in items.iter() {
+            let b = &mut boxes[bin_of(it.centre[axis])];
+            b.0 = b.0.min(it.lo);
+            b.1 = b.1.max(it.hi);
+            b.2 += 1;
+        }
+        for cut in 1..BINS {
+            let (mut l, mut r) = ((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0usize), (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0usize));
+            for (k, b) in boxes.iter().enumerate() {
+                let side = if k < cut { &mut l } else { &mut r };
+                side.0 = side.0.min(b.0);
+                side.1 = side.1.max(b.1);
+                side.2 += b.2;
+            }
+            if l.2 == 0 || r.2 == 0 {
+                continue;
+            }
+            let cost = area(l.0, l.1) * l.2 as f32 + area(r.0, r.1) * r.2 as f32;
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, cut));
+            }
+        }
+    }
+    let (_, axis, cut) = best?;
+    let bin_of = |c: f32| (((c - clo[axis]) / extent[axis] * BINS as f32) as usize).min(BINS - 1);
+    let mut left = 0;
+    for k in 0..items.len() {
+        if bin_of(items[k].centre[axis]) < cut {
+            items.swap(k, left);
+            left += 1;
+        }
+    }
+    (left > 0 && left < items.len()).then_some(left)
 }
 
 fn slab(node: &GpuBvhNode, o: [f32; 3], inv: [f32; 3], t_max: f32) -> bool {
