@@ -5,6 +5,7 @@ pub mod blur;
 pub mod buffers;
 pub mod compact;
 pub mod frame_gpu;
+pub mod hybrid_build;
 pub mod kernel;
 pub mod moments;
 pub mod neighbourhood;
@@ -55,4 +56,8 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("reconstruct", "main", PIXEL_WORKGROUP),
     ("probe", "main", LINE_WORKGROUP),
     ("probe", "begin", [1, 1, 1]),
+    ("hybrid_build", "classify", PIXEL_WORKGROUP),
+    ("hybrid_build", "scan_rows", LINE_WORKGROUP),
+    ("hybrid_build", "scan_total", [1, 1, 1]),
+    ("hybrid_build", "emit", PIXEL_WORKGROUP),
 ];
