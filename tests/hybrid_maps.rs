@@ -10,6 +10,13 @@ use penumbra::frame::{self, frame_uniform, FrameOptions};
 use penumbra::methods::{fixed, Method};
 use penumbra::scene::Scene;
 use penumbra::timing::TimingMode;
+use std::sync::OnceLock;
+
+/// One GPU context for the whole test binary.
+fn gpu() -> &'static penumbra::gpu::GpuContext {
+    static CTX: OnceLock<penumbra::gpu::GpuContext> = OnceLock::new();
+    CTX.get_or_init(common::gpu)
+}
 
 /// 16x16 depths (4x4 coarse texels of 4x4 at levels = 2), far plane 1.0 where nothing is drawn.
 /// Each region has a known fate; see `expected_levels`.
@@ -86,14 +93,14 @@ fn synthetic_map_merges_in_the_expected_pattern() {
 
 #[test]
 fn gpu_build_and_lookup_equal_their_twins() {
-    let ctx = common::gpu();
+    let ctx = gpu();
     let opts = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: true };
     for (seed, method, base, levels) in [(3u64, Method::hard(), 256u32, 2u32), (11, Method::regular(2), 128, 1), (29, Method::regular(2), 256, 2)] {
         let set = |k: &str, v: String| (k.to_string(), v);
         let overrides = [set("maps", "hybrid".into()), set("base", base.to_string()), set("levels", levels.to_string())];
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 64), "random", None, &overrides).unwrap();
         assert_eq!(sc.render.shadow_map_size, base, "base is the raster size");
-        let r = frame::render(&ctx, &sc, &method, opts).unwrap();
+        let r = frame::render(ctx, &sc, &method, opts).unwrap();
         let c = fixed::capture_of(&r.output).expect("fixed-sample capture");
         let eps = sc.render.hybrid.eps * DEPTH_UNIT;
         let (mut full, mut merged) = (0usize, 0usize);
@@ -130,7 +137,7 @@ fn gpu_build_and_lookup_equal_their_twins() {
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect();
         let sc = Scene::parse(&common::random_scene_toml(7, 32, 64), "random", None, &overrides).unwrap();
-        let r = frame::render(&ctx, &sc, &Method::regular(4), TimingMode::Frame).unwrap();
+        let r = frame::render(ctx, &sc, &Method::regular(4), TimingMode::Frame).unwrap();
         let flushes = r.output.record["hybrid"]["flushes"].as_u64().unwrap();
         (r.visibility, flushes)
     };
@@ -139,4 +146,32 @@ fn gpu_build_and_lookup_equal_their_twins() {
     assert_eq!(one, 1, "64 MiB holds every map");
     assert!(several >= 2, "5 MiB (4 MiB of it the transient raster) needs several flushes, got {several}");
     assert_eq!(roomy, tight, "flushing the store changes nothing in V");
+}
+
+/// With eps = 0 only blocks of four equal depths merge, so the store reads back exactly the raster:
+/// every map-reading method must then give the plain map's image bit for bit (the bilinear PCF
+/// taps, computed by hand instead of by the comparison sampler, to rounding).
+#[test]
+fn every_map_reading_method_reads_hybrid_maps() {
+    let ctx = gpu();
+    let methods = ["hard", "pcf", "pcf:kernel=bilinear", "pcss", "regular:n=3", "adaptive", "adaptive:preset=balanced"];
+    for (seed, levels) in [(5u64, 2u32), (13, 1)] {
+        let scene = |overrides: &[(&str, String)]| {
+            let o: Vec<(String, String)> = overrides.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+            Scene::parse(&common::random_scene_toml(seed, 40, 256), "random", None, &o).unwrap()
+        };
+        let plain = scene(&[]);
+        let hybrid = scene(&[("maps", "hybrid".into()), ("base", "256".into()), ("levels", levels.to_string()), ("eps", "0".into())]);
+        for m in methods {
+            let method = Method::parse(m, &[]).unwrap();
+            let a = frame::render(ctx, &plain, &method, TimingMode::Frame).unwrap();
+            let b = frame::render(ctx, &hybrid, &method, TimingMode::Frame).unwrap();
+            let worst = a.visibility.iter().zip(&b.visibility).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+            let tolerance = if m.contains("bilinear") { 1e-6 } else { 0.0 };
+            let record = &b.output.record["hybrid"];
+            assert!(record["bytes_per_map"].as_f64().unwrap() > 0.0, "{m}: no hybrid record: {}", b.output.record);
+            println!("seed {seed} levels {levels} {m}: max |plain - hybrid| = {worst:e}, {:.3} of a plain map", record["share_of_plain"]);
+            assert!(worst <= tolerance, "seed {seed} levels {levels} {m}: hybrid at eps 0 differs from plain by {worst}");
+        }
+    }
 }
