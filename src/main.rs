@@ -92,12 +92,16 @@ struct ReferenceArgs {
     /// Built-in scene name or path to a scene TOML file.
     #[arg(long, default_value = "default")]
     scene: String,
-    /// `continuous` (M×M stratified jitter, fixed seed) or `lattice` (the 289 lattice points).
+    /// `continuous` (M×M stratified jitter, fixed seed), `lattice` (the 289 lattice points) or
+    /// `point` (exact hard-shadow visibility from one light point: the centre, or `--point`).
     #[arg(long, default_value = "continuous")]
     mode: String,
     /// M for the continuous mode.
     #[arg(long, default_value_t = 32)]
     samples: u32,
+    /// With `--mode point`: the light point as light coordinates `S,T` in [0, 1] (default 0.5,0.5).
+    #[arg(long, value_name = "S,T")]
+    point: Option<String>,
     /// Override a render setting, e.g. `--set resolution=256`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -118,7 +122,7 @@ struct RunArgs {
     /// Timed frames per method after one warm-up (and one stages-mode frame); the median is quoted.
     #[arg(long, default_value_t = 3)]
     repeats: u32,
-    /// Ground truth: `continuous` or `lattice`.
+    /// Ground truth: `continuous`, `lattice`, or `point` / `point:S,T` (the hard shadow from one light point).
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
@@ -487,7 +491,11 @@ fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
 fn reference(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&args.out)?;
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
-    let mode = ground_truth::parse_mode(&args.mode, args.samples)?;
+    let mode = match (&args.point, args.mode.as_str()) {
+        (None, m) => ground_truth::parse_mode(m, args.samples)?,
+        (Some(p), "point") => ground_truth::parse_mode(&format!("point:{p}"), args.samples)?,
+        (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
+    };
     let ctx = GpuContext::with_request(gpu)?;
     let (g, image) = ground_truth::for_scene(&ctx, &scene, mode, &ground_truth::Cache::default_for(args.no_cache))?;
     let (w, h) = (image.width, image.height);
