@@ -34,10 +34,10 @@ const HYBRID_CHILDREN: u32 = 0x80000000u;
 @group(0) @binding(3) var<storage, read_write> row_starts: array<u32>;
 @group(0) @binding(4) var<storage, read_write> control: GpuHybridControl;
 @group(0) @binding(5) var pool: texture_storage_2d<r32uint, write>;
-
-fn full_depth(x: u32, y: u32) -> f32 {
-    return textureLoad(raster, vec2<u32>(x, y), i32(build.layer), 0);
-}
+// classify's verdict per coarse texel, so emit reads the full texels again only where it must:
+// the merged depth (top bit 0), or HYBRID_CHILDREN for a texel that keeps children.
+@group(0) @binding(6) var<storage, read_write> coarse_nodes: array<u32>;
+@group(0) @binding(7) var gather_sampler: sampler;
 
 fn block_mean(a: f32, b: f32, c: f32, d: f32) -> f32 {
     return ((a + b) + (c + d)) * 0.25;
@@ -56,15 +56,22 @@ struct Block {
 
 fn fine_block(x: u32, y: u32) -> Block {
     var b: Block;
-    b.d = vec4<f32>(full_depth(x, y), full_depth(x + 1u, y), full_depth(x, y + 1u), full_depth(x + 1u, y + 1u));
+    // One gather at the block's shared corner fetches its four texels (w, z, x, y = top-left,
+    // top-right, bottom-left, bottom-right), exactly as stored.
+    let g = textureGather(raster, gather_sampler, vec2<f32>(f32(x + 1u), f32(y + 1u)) / f32(build.coarse << build.levels), i32(build.layer));
+    b.d = vec4<f32>(g.w, g.z, g.x, g.y);
     b.mean = block_mean(b.d.x, b.d.y, b.d.z, b.d.w);
     b.flat = block_flat(b.d.x, b.d.y, b.d.z, b.d.w, b.mean);
     return b;
 }
 
-// A coarse texel: its children (levels = 2: four fine blocks; levels = 1: one block).
+// A coarse texel: its children (levels = 2: four fine blocks b0..b3, row-major; levels = 1: b0).
+// Named fields, not an array: a dynamically indexed local array spills to memory on CPU devices.
 struct Coarse {
-    child: array<Block, 4>,
+    b0: Block,
+    b1: Block,
+    b2: Block,
+    b3: Block,
     mean: f32,
     flat: bool,
     words: u32,
@@ -73,26 +80,44 @@ struct Coarse {
 fn coarse_texel(c: vec2<u32>) -> Coarse {
     var out: Coarse;
     if (build.levels == 1u) {
-        out.child[0] = fine_block(c.x * 2u, c.y * 2u);
-        out.mean = out.child[0].mean;
-        out.flat = out.child[0].flat;
+        out.b0 = fine_block(c.x * 2u, c.y * 2u);
+        out.mean = out.b0.mean;
+        out.flat = out.b0.flat;
         out.words = select(4u, 0u, out.flat);
         return out;
     }
-    var all_flat = true;
-    var open = 0u;
-    for (var q = 0u; q < 4u; q = q + 1u) {
-        let b = fine_block(c.x * 4u + (q & 1u) * 2u, c.y * 4u + (q >> 1u) * 2u);
-        out.child[q] = b;
-        all_flat = all_flat && b.flat;
-        open = open + select(1u, 0u, b.flat);
-    }
-    let m = vec4<f32>(out.child[0].mean, out.child[1].mean, out.child[2].mean, out.child[3].mean);
-    out.mean = block_mean(m.x, m.y, m.z, m.w);
-    out.flat = all_flat && block_flat(m.x, m.y, m.z, m.w, out.mean);
+    let x = c.x * 4u;
+    let y = c.y * 4u;
+    out.b0 = fine_block(x, y);
+    out.b1 = fine_block(x + 2u, y);
+    out.b2 = fine_block(x, y + 2u);
+    out.b3 = fine_block(x + 2u, y + 2u);
+    let all_flat = out.b0.flat && out.b1.flat && out.b2.flat && out.b3.flat;
+    let open = select(1u, 0u, out.b0.flat) + select(1u, 0u, out.b1.flat) + select(1u, 0u, out.b2.flat) + select(1u, 0u, out.b3.flat);
+    out.mean = block_mean(out.b0.mean, out.b1.mean, out.b2.mean, out.b3.mean);
+    out.flat = all_flat && block_flat(out.b0.mean, out.b1.mean, out.b2.mean, out.b3.mean, out.mean);
     // A coarse node that does not merge points at 4 mid nodes, each a depth or 4 full texels.
     out.words = select(4u + 4u * open, 0u, out.flat);
     return out;
+}
+
+// Mid node q of a coarse texel's children at `first`; its full texels (if any) at `next`.
+// Returns where the next mid node's full texels go.
+fn emit_mid(first: u32, q: u32, b: Block, next: u32) -> u32 {
+    if (b.flat) {
+        store_word(first + q, bitcast<u32>(b.mean));
+        return next;
+    }
+    store_word(first + q, HYBRID_CHILDREN | next);
+    store_block(next, b);
+    return next + 4u;
+}
+
+fn store_block(a: u32, b: Block) {
+    store_word(a, bitcast<u32>(b.d.x));
+    store_word(a + 1u, bitcast<u32>(b.d.y));
+    store_word(a + 2u, bitcast<u32>(b.d.z));
+    store_word(a + 3u, bitcast<u32>(b.d.w));
 }
 
 fn store_word(a: u32, v: u32) {
@@ -105,7 +130,10 @@ fn classify(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= build.coarse || gid.y >= build.coarse) {
         return;
     }
-    offsets[gid.y * build.coarse + gid.x] = coarse_texel(gid.xy).words;
+    let c = coarse_texel(gid.xy);
+    let i = gid.y * build.coarse + gid.x;
+    offsets[i] = c.words;
+    coarse_nodes[i] = select(HYBRID_CHILDREN, bitcast<u32>(c.mean), c.flat);
 }
 
 // Row y: child words of each coarse texel become exclusive offsets within the row.
@@ -151,35 +179,23 @@ fn emit(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= build.coarse || gid.y >= build.coarse || control.overflow != 0u) {
         return;
     }
-    let c = coarse_texel(gid.xy);
     let grid = control.map_base;
-    let node = grid + gid.y * build.coarse + gid.x;
-    if (c.flat) {
-        store_word(node, bitcast<u32>(c.mean));
+    let i = gid.y * build.coarse + gid.x;
+    let node = grid + i;
+    let verdict = coarse_nodes[i];
+    if ((verdict & HYBRID_CHILDREN) == 0u) {
+        store_word(node, verdict);
         return;
     }
+    let c = coarse_texel(gid.xy);
     let first = grid + build.coarse * build.coarse + row_starts[gid.y] + offsets[gid.y * build.coarse + gid.x];
     store_word(node, HYBRID_CHILDREN | first);
     if (build.levels == 1u) {
-        let d = c.child[0].d;
-        store_word(first, bitcast<u32>(d.x));
-        store_word(first + 1u, bitcast<u32>(d.y));
-        store_word(first + 2u, bitcast<u32>(d.z));
-        store_word(first + 3u, bitcast<u32>(d.w));
+        store_block(first, c.b0);
         return;
     }
-    var next = first + 4u;
-    for (var q = 0u; q < 4u; q = q + 1u) {
-        let b = c.child[q];
-        if (b.flat) {
-            store_word(first + q, bitcast<u32>(b.mean));
-        } else {
-            store_word(first + q, HYBRID_CHILDREN | next);
-            store_word(next, bitcast<u32>(b.d.x));
-            store_word(next + 1u, bitcast<u32>(b.d.y));
-            store_word(next + 2u, bitcast<u32>(b.d.z));
-            store_word(next + 3u, bitcast<u32>(b.d.w));
-            next = next + 4u;
-        }
-    }
+    var next = emit_mid(first, 0u, c.b0, first + 4u);
+    next = emit_mid(first, 1u, c.b1, next);
+    next = emit_mid(first, 2u, c.b2, next);
+    emit_mid(first, 3u, c.b3, next);
 }

@@ -20,6 +20,8 @@ pub const FRAME_LEVELS_SHIFT: u32 = 8;
 
 /// The four entry points of `kernels/hybrid_build.wgsl`.
 pub struct HybridBuild {
+    /// Nearest, clamped: textureGather returns the four texels exactly.
+    sampler: wgpu::Sampler,
     classify: ComputeKernel,
     scan_rows: ComputeKernel,
     scan_total: ComputeKernel,
@@ -35,6 +37,7 @@ pub struct HybridStore {
     pub control: wgpu::Buffer,
     offsets: wgpu::Buffer,
     row_starts: wgpu::Buffer,
+    coarse_nodes: wgpu::Buffer,
     pub settings: HybridDef,
     pub coarse: u32,
     /// Root words at the start of the pool, one per slot.
@@ -45,6 +48,7 @@ pub struct HybridStore {
 impl HybridBuild {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
+            sampler: ctx.device.create_sampler(&wgpu::SamplerDescriptor { label: Some("hybrid_build gather"), ..Default::default() }),
             classify: ComputeKernel::new(ctx, "hybrid_build", "classify")?,
             scan_rows: ComputeKernel::new(ctx, "hybrid_build", "scan_rows")?,
             scan_total: ComputeKernel::new(ctx, "hybrid_build", "scan_total")?,
@@ -71,7 +75,13 @@ impl HybridBuild {
         self.classify.dispatch(
             ctx,
             enc,
-            &[(0, build.as_entire_binding()), (1, raster_view.clone()), (2, store.offsets.as_entire_binding())],
+            &[
+                (0, build.as_entire_binding()),
+                (1, raster_view.clone()),
+                (2, store.offsets.as_entire_binding()),
+                (6, store.coarse_nodes.as_entire_binding()),
+                (7, wgpu::BindingResource::Sampler(&self.sampler)),
+            ],
             grid,
         );
         self.scan_rows.dispatch(
@@ -102,6 +112,8 @@ impl HybridBuild {
                 (3, store.row_starts.as_entire_binding()),
                 (4, store.control.as_entire_binding()),
                 (5, wgpu::BindingResource::TextureView(&store.storage_view)),
+                (6, store.coarse_nodes.as_entire_binding()),
+                (7, wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             grid,
         );
@@ -138,7 +150,8 @@ impl HybridStore {
         let control = readback::storage_buffer(ctx, "hybrid control", &[GpuHybridControl::default()], wgpu::BufferUsages::COPY_DST);
         let offsets = readback::zeroed_storage(ctx, "hybrid offsets", coarse as u64 * coarse as u64 * 4);
         let row_starts = readback::zeroed_storage(ctx, "hybrid row starts", coarse as u64 * 4);
-        let store = Self { pool, view, storage_view, control, offsets, row_starts, settings, coarse, slots, capacity_words };
+        let coarse_nodes = readback::zeroed_storage(ctx, "hybrid coarse nodes", coarse as u64 * coarse as u64 * 4);
+        let store = Self { pool, view, storage_view, control, offsets, row_starts, coarse_nodes, settings, coarse, slots, capacity_words };
         store.reset(ctx);
         Ok(store)
     }
@@ -162,5 +175,10 @@ impl HybridStore {
 
     pub fn capacity_bytes(&self) -> u64 {
         self.capacity_words as u64 * 4
+    }
+
+    /// The build's scratch buffers (offsets, row starts, coarse verdicts): reused by every map.
+    pub fn scratch_bytes(&self) -> u64 {
+        (2 * self.coarse as u64 * self.coarse as u64 + self.coarse as u64) * 4
     }
 }

@@ -165,6 +165,7 @@ impl HybridMaps {
             "share_of_plain": bytes_per_map / plain,
             "store_peak_bytes": st.peak_words as u64 * 4,
             "store_capacity_bytes": self.store.capacity_bytes(),
+            "build_scratch_bytes": self.store.scratch_bytes(),
             "transient_layers": self.layers(),
             "transient_bytes": self.layers() as u64 * plain as u64,
             "flushes": st.flushes,
