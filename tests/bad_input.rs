@@ -180,3 +180,38 @@ fn info_says_which_backend_was_chosen_and_why() {
     let out = penumbra(&["info", "--backend", "vulkan"]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("chosen:       --backend vulkan"));
 }
+
+#[test]
+fn hybrid_map_settings_are_checked() {
+    let e = fails("hybrid-levels", GOOD, Some(TRI), &["--set", "maps=hybrid", "--set", "levels=3"]);
+    assert!(e.contains("scene.toml") && e.contains("render.hybrid.levels = 3: use 1 or 2"), "{e}");
+    let e = fails("hybrid-base", GOOD, Some(TRI), &["--set", "maps=hybrid", "--set", "base=250"]);
+    assert!(e.contains("render.hybrid.base = 250") && e.contains("multiple of 2^levels = 4"), "{e}");
+    let e = fails("hybrid-eps", GOOD, Some(TRI), &["--set", "maps=hybrid", "--set", "eps=-1"]);
+    assert!(e.contains("render.hybrid.eps = -1"), "{e}");
+    let e = fails("maps-kind", GOOD, Some(TRI), &["--set", "maps=sparse"]);
+    assert!(e.contains("maps=sparse") && e.contains("`plain` or `hybrid`"), "{e}");
+    let e = fails("hybrid-esm", GOOD, Some(TRI), &["--method", "esm", "--set", "maps=hybrid", "--set", "base=64"]);
+    assert!(e.contains("esm: maps = hybrid is not supported"), "{e}");
+    let e = fails("hybrid-local", GOOD, Some(TRI), &["--method", "adaptive:scope=local", "--set", "maps=hybrid", "--set", "base=64"]);
+    assert!(e.contains("adaptive: maps = hybrid needs scope = global"), "{e}");
+}
+
+#[test]
+fn reference_point_is_checked() {
+    let dir = temp_dir("reference-point");
+    let out_dir = dir.join("out");
+    for (args, want) in [
+        (vec!["--mode", "point", "--point", "2,0"], "reference point `2,0`: give S,T, two numbers in [0, 1]"),
+        (vec!["--mode", "lattice", "--point", "0.5,0.5"], "--point is for --mode point, not --mode lattice"),
+        (vec!["--mode", "pointy"], "reference mode `pointy`: use `lattice`, `continuous`, `point` or `point:S,T`"),
+    ] {
+        let mut all = vec!["reference", "--out", out_dir.to_str().unwrap()];
+        all.extend(args);
+        let out = penumbra(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(stderr.lines().any(|l| l.starts_with("error:") && l.contains(want)), "{stderr}");
+        assert!(!out_dir.exists(), "no output on bad input");
+    }
+}
