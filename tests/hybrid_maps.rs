@@ -175,3 +175,37 @@ fn every_map_reading_method_reads_hybrid_maps() {
         }
     }
 }
+
+/// `reference --mode point` is the exact hard shadow: binary, matched by `hard` up to a few edge
+/// pixels that shrink as the map grows, and a different point gives a different shadow.
+#[test]
+fn point_reference_is_the_hard_shadow_maps_converge_to() {
+    use penumbra::ground_truth::{self, Cache};
+    use penumbra::metrics;
+    use penumbra::reference::ReferenceMode;
+    let ctx = gpu();
+    let centre = ReferenceMode::Point { s: 0.5, t: 0.5 };
+    let base = Scene::parse(&common::random_scene_toml(17, 64, 256), "random", None, &[]).unwrap();
+    let (g, reference) = ground_truth::for_scene(ctx, &base, centre, &Cache::Off).unwrap();
+    let mask: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
+    assert!(reference.values.iter().all(|v| *v == 0.0 || *v == 1.0), "a point reference is binary");
+    let shadowed = mask.iter().zip(&reference.values).filter(|(m, v)| **m && **v == 0.0).count();
+    assert!(shadowed > 100, "the scene should cast a shadow ({shadowed} pixels)");
+    let mismatch = |overrides: &[(&str, &str)]| {
+        let o: Vec<(String, String)> = overrides.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
+        let sc = Scene::parse(&common::random_scene_toml(17, 64, 256), "random", None, &o).unwrap();
+        let r = frame::render(ctx, &sc, &Method::hard(), TimingMode::Frame).unwrap();
+        let shaded = penumbra::output::shaded_image(&r.visibility, &r.gbuffer, &sc);
+        let shaded_ref = penumbra::output::shaded_image(&reference.values, &g, &sc);
+        metrics::compute(&r.visibility, &reference.values, &mask, &shaded, &shaded_ref, 64, 64).unwrap().mismatch_share
+    };
+    let coarse = mismatch(&[("shadow_map_size", "64")]);
+    let fine = mismatch(&[("shadow_map_size", "1024")]);
+    let hybrid = mismatch(&[("maps", "hybrid"), ("base", "1024"), ("levels", "2")]);
+    println!("mismatch against the point reference: plain 64² {coarse:.4}, plain 1024² {fine:.4}, hybrid 1024→256 {hybrid:.4}");
+    assert!(fine < 0.02, "a 1024² map mismatches {fine} of the pixels");
+    assert!(coarse > fine, "a 64² map ({coarse}) should mismatch more than a 1024² map ({fine})");
+    assert!(hybrid <= fine + 1.0 / 4096.0, "hybrid 1024→256 ({hybrid}) should match plain 1024² ({fine})");
+    let (_, corner) = ground_truth::for_scene(ctx, &base, ReferenceMode::Point { s: 0.0, t: 0.0 }, &Cache::Off).unwrap();
+    assert_ne!(corner.values, reference.values, "another light point casts another shadow");
+}
