@@ -120,10 +120,10 @@ fn gpu_build_and_lookup_equal_their_twins() {
         let n = c.samples.len();
         twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, n, &mut v);
         let mut shadowed = 0;
-        for i in 0..v.len() {
+        for (i, (twin, gpu)) in v.iter().zip(&r.visibility).enumerate() {
             if r.gbuffer.is_geometry(i) {
-                assert_eq!(v[i].clamp(0.0, 1.0), r.visibility[i], "seed {seed} pixel {i}: GPU lookup differs from its twin");
-                shadowed += (r.visibility[i] < 1.0) as usize;
+                assert_eq!(twin.clamp(0.0, 1.0), *gpu, "seed {seed} pixel {i}: GPU lookup differs from its twin");
+                shadowed += (*gpu < 1.0) as usize;
             }
         }
         println!("seed {seed} {method:?} base {base} levels {levels}: {full} refined / {merged} merged coarse texels, {shadowed} pixels shadowed");

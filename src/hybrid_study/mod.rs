@@ -171,6 +171,7 @@ fn measure(ctx: &GpuContext, scenes: &[Scene], method: &Method, warmup: bool, re
     Ok(out)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn row(ctx: &GpuContext, part: &str, scene: &Scene, method: &Method, maps: Maps, m: &Measured, judge: &Judge, reference: &str) -> Result<HybridRow> {
     let f = &m.last;
     let judged = judge.judge(scene, &method.label(), f)?;

@@ -155,7 +155,7 @@ pub struct Prepared {
 /// Plain: one array of `chunk` layers, shaded chunk by chunk. Hybrid: a transient raster and a store.
 enum Maps {
     Plain { chunk: u32, array: shadow_raster::ShadowMapArray },
-    Hybrid(HybridMaps),
+    Hybrid(Box<HybridMaps>),
 }
 
 /// Samples (s, t) with equal weights; a plain array holds at most `maps_per_array` maps.
@@ -182,7 +182,7 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
     let weights_buffer = readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
     let maps = if hybrid {
-        Maps::Hybrid(HybridMaps::new(fg, points.len() as u32, points.len() as u32)?)
+        Maps::Hybrid(Box::new(HybridMaps::new(fg, points.len() as u32, points.len() as u32)?))
     } else {
         let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, chunk);
         shadow_raster::clear_all(ctx, &array)?;
@@ -202,7 +202,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
     let ctx = fg.ctx;
     let points = *points;
     let mut capture = capture.then(FixedCapture::default);
-    let inputs = fg.shade_inputs(&samples_buffer, &weights_buffer);
+    let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);

@@ -21,7 +21,7 @@ pub struct CentreMap {
 /// A depth array of one layer, or (`maps = hybrid`) one raster layer merged into a store of one slot.
 pub enum CentreMaps {
     Plain(ShadowMapArray),
-    Hybrid(HybridMaps),
+    Hybrid(Box<HybridMaps>),
 }
 
 impl CentreMap {
@@ -36,7 +36,7 @@ impl CentreMap {
                 shadow_raster::clear_all(fg.ctx, &array)?;
                 CentreMaps::Plain(array)
             }
-            MapKind::Hybrid => CentreMaps::Hybrid(HybridMaps::new(fg, 1, 1)?),
+            MapKind::Hybrid => CentreMaps::Hybrid(Box::new(HybridMaps::new(fg, 1, 1)?)),
         };
         Ok(Self { sample, samples, maps })
     }
