@@ -233,3 +233,22 @@ fn every_gpu_command_honours_the_adapter_request() {
         assert!(!out.exists(), "{args:?}: wrote output");
     }
 }
+
+#[test]
+fn hybrid_study_flags_are_checked() {
+    let dir = temp_dir("hybrid-study-flags");
+    let out_dir = dir.join("out");
+    for (flag, value, want) in [
+        ("--hybrid", "2048/3", "--hybrid: map configuration `2048/3`: levels must be 1 or 2"),
+        ("--hybrid", "1002/2", "--hybrid: map configuration `1002/2`: base must be in 8..=16384 and a multiple of 2^levels"),
+        ("--plain", "abc", "--plain: map configuration `abc`: not a whole number"),
+        ("--eps", "-1", "--eps: -1 must be a finite number >= 0"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let out = penumbra(&["hybrid", &arg, "--out", out_dir.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(1), "{flag} {value}: {stderr}");
+        assert!(stderr.lines().any(|l| l == format!("error: {want}")), "{flag} {value}: {stderr}");
+        assert!(!out_dir.exists(), "no output on bad input");
+    }
+}
