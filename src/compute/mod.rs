@@ -9,6 +9,7 @@ pub mod env_shadowmaps;
 pub mod env_split;
 pub mod env_trace;
 pub mod frame_gpu;
+pub mod hybrid_build;
 pub mod kernel;
 pub mod moments;
 pub mod neighbourhood;
@@ -65,4 +66,8 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("env_split", "main", LINE_WORKGROUP),
     ("env_shadowmaps", "main", PIXEL_WORKGROUP),
     ("ssao", "main", PIXEL_WORKGROUP),
+    ("hybrid_build", "classify", PIXEL_WORKGROUP),
+    ("hybrid_build", "scan_rows", LINE_WORKGROUP),
+    ("hybrid_build", "scan_total", [1, 1, 1]),
+    ("hybrid_build", "emit", PIXEL_WORKGROUP),
 ];

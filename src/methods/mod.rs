@@ -12,6 +12,7 @@ pub mod env_pixels;
 pub mod env_shadowmaps;
 pub mod filtered;
 pub mod fixed;
+pub mod hybrid_maps;
 pub mod params;
 pub mod pcf;
 pub mod pcss;

@@ -6,6 +6,7 @@ pub mod env_count;
 pub mod env_shadowmaps;
 pub mod env_split;
 pub mod env_trace;
+pub mod hybrid_build;
 pub mod local;
 pub mod moments;
 pub mod neighbourhood;
