@@ -82,7 +82,7 @@ fn env_trace_and_ssao_equal_their_twins() {
 fn env_count_and_env_split_equal_their_twins_at_every_level() {
     let ctx = common::gpu();
     let sc = setup("env_twins_adaptive");
-    let method = Method::parse("env-adaptive:base=4x2,max_level=3,contrast=3", &[]).unwrap();
+    let method = Method::parse("env-adaptive:cells=4x2,max_level=3,contrast=3", &[]).unwrap();
     let r = frame::render(&ctx, &sc, &method, capture()).unwrap();
     let c = env_pixels::capture_of(&r.output).expect("env-adaptive keeps the env_trace capture");
     assert!(c.levels.len() >= 3, "only {} levels ran", c.levels.len());

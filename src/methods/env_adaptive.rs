@@ -1,5 +1,5 @@
 //! env-adaptive: the environment refined like the light quad. A quadtree over the panorama
-//! (level 0: `base` cells), split where the rays to a cell's corners disagree in more than `p_m`
+//! (level 0: `cells`), split where the rays to a cell's corners disagree in more than `p_m`
 //! pixels (env_count, atomics) or where its quadrants' powers differ by more than `contrast`
 //! (env_split); cells under `min_share` of the power never split. Every leaf becomes one light at
 //! its power centroid carrying its power, and env_trace shades with them (docs/environment.md §2).
@@ -25,7 +25,7 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::Environment,
     summary: "a quadtree over the panorama split where visibility or radiance disagrees (GPU atomics), one ray per leaf",
     params: &[
-        Param { key: "base", default: "4x2", help: "level-0 cells, WxH; the finest lattice is base × 2^max_level and must divide the panorama" },
+        Param { key: "cells", default: "4x2", help: "level-0 cells, WxH; the finest lattice is cells × 2^max_level and must divide the panorama" },
         Param { key: "max_level", default: "4", help: "levels of splitting, 0..=6" },
         Param { key: "p_m", default: "0", help: "split when more than p_m pixels see the cell's corners disagree" },
         Param { key: "contrast", default: "4", help: "split when the cell's quadrants' powers differ by more than this factor" },
@@ -36,7 +36,7 @@ pub const INFO: MethodInfo = MethodInfo {
         AO_RADIUS,
     ],
     parse: |p| {
-        let (bw, bh) = resolution(p, "env-adaptive", "base", (4, 2))?;
+        let (bw, bh) = resolution(p, "env-adaptive", "cells", (4, 2))?;
         let max_level = check_range("env-adaptive", "max_level", params::get_u32(p, "max_level", 4)?, 0, 6)?;
         let p_m = params::get_u32(p, "p_m", 0)?;
         let contrast = check_range("env-adaptive", "contrast", get_f32(p, "contrast", 4.0)?, 1.0, 1e9)?;
@@ -69,7 +69,7 @@ impl ShadowMethod for EnvAdaptive {
     }
     fn label(&self) -> String {
         let values = [
-            ("base", format!("{}x{}", self.base.0, self.base.1)),
+            ("cells", format!("{}x{}", self.base.0, self.base.1)),
             ("max_level", self.max_level.to_string()),
             ("p_m", self.p_m.to_string()),
             ("contrast", self.contrast.to_string()),
@@ -83,7 +83,7 @@ impl ShadowMethod for EnvAdaptive {
         s
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "base": [self.base.0, self.base.1], "max_level": self.max_level, "p_m": self.p_m, "contrast": self.contrast, "min_share": self.min_share, "count_stride": self.count_stride, "ssao": self.ssao })
+        serde_json::json!({ "cells": [self.base.0, self.base.1], "max_level": self.max_level, "p_m": self.p_m, "contrast": self.contrast, "min_share": self.min_share, "count_stride": self.count_stride, "ssao": self.ssao })
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let env = environment(fg, "env-adaptive")?;
@@ -91,7 +91,7 @@ impl ShadowMethod for EnvAdaptive {
         let p = &env.panorama;
         if p.width % fw != 0 || p.height % fh != 0 {
             return Err(Error::Param(format!(
-                "env-adaptive: the finest lattice {fw}x{fh} (base {}x{} × 2^{}) must divide the panorama's {}x{}",
+                "env-adaptive: the finest lattice {fw}x{fh} (cells {}x{} × 2^{}) must divide the panorama's {}x{}",
                 self.base.0, self.base.1, self.max_level, p.width, p.height
             )));
         }
