@@ -28,6 +28,7 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("subdivide"),
     kernel!("compact"),
     kernel!("probe"),
+    kernel!("cull"),
     kernel!("pcf"),
     kernel!("pcss"),
     kernel!("moments"),

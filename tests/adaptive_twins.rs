@@ -118,3 +118,39 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
     }
     assert!(probes_seen > 1000, "too few probes were compared: {probes_seen}");
 }
+
+/// cull (scope = local): the triangles kept for every culled map equal the twin's count exactly,
+/// from the GPU's own rectangles and samples; culling changes no pixel and no map choice.
+#[test]
+fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
+    let ctx = common::gpu();
+    let (mut maps_checked, mut culled_away) = (0, 0u64);
+    // The random scenes' occluders fill the light's view; default's bunny sits in a small part of it.
+    let sets = [("resolution", "128"), ("shadow_map_size", "256")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let scenes = SEEDS.iter().map(|&s| (s, scene(s))).chain([(0, Scene::load("default", &sets).expect("default scene"))]);
+    for (seed, sc) in scenes {
+        let fr = frame_uniform(&sc);
+        let positions: Vec<glam::Vec3> = sc.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let whole = sc.indices.len() as u64 / 3;
+        // Always splitting reaches small quads, whose pixels test small rectangles.
+        let (on, t) = common::traced(&ctx, &sc, &params("p_m=-1,max_level=3,scope=local"), false);
+        let (off, t_off) = common::traced(&ctx, &sc, &params("p_m=-1,max_level=3,scope=local,cull=off"), false);
+        assert_eq!(on.visibility, off.visibility, "seed {seed}: culling changed V");
+        assert_eq!(t.rendered, t_off.rendered, "seed {seed}: culling changed the maps");
+        assert!(t_off.triangles.iter().all(|&n| n == whole), "seed {seed}: cull=off rasterizes the whole mesh");
+        for d in 1..t.levels.len() {
+            let ks = &t.levels[d - 1].new_samples;
+            let kept = twin::cull::cull(&fr, &t.samples, &t.levels[d - 1].rects, &positions, &sc.indices, ks);
+            for (k, tris) in ks.iter().zip(&kept) {
+                let at = t.rendered.iter().position(|r| r == k).expect("new sample rendered");
+                assert!(t.culled.contains(k), "seed {seed} level {d}: map {k} was not culled");
+                assert_eq!(t.triangles[at], tris.len() as u64, "seed {seed} level {d}: map {k}'s kept triangles");
+                culled_away += whole - tris.len() as u64;
+                maps_checked += 1;
+            }
+        }
+    }
+    assert!(maps_checked >= 8, "only {maps_checked} culled maps compared");
+    println!("{maps_checked} culled maps equal their twin; {culled_away} triangles culled in all");
+    assert!(culled_away > 0, "no triangle was culled: the comparison says nothing");
+}

@@ -4,6 +4,7 @@
 pub mod blur;
 pub mod buffers;
 pub mod compact;
+pub mod cull;
 pub mod frame_gpu;
 pub mod kernel;
 pub mod moments;
@@ -55,4 +56,5 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("reconstruct", "main", PIXEL_WORKGROUP),
     ("probe", "main", LINE_WORKGROUP),
     ("probe", "begin", [1, 1, 1]),
+    ("cull", "main", LINE_WORKGROUP),
 ];

@@ -77,6 +77,8 @@ pub struct AdaptiveParams {
     pub weights: Weights,
     pub scope: Scope,
     pub scissor: bool,
+    /// Per-map triangle culling to the map's texel rectangle (scope = local); None: on for local.
+    pub cull: Option<bool>,
 }
 
 fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -89,7 +91,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, cull: None }
     }
 }
 
@@ -187,6 +189,16 @@ impl AdaptiveParams {
                 _ => return Err(Error::Param(format!("scissor = `{v}`: use `on` or `off`"))),
             };
         }
+        if let Some(v) = params.get("cull") {
+            p.cull = Some(match v.as_str() {
+                "on" | "true" => true,
+                "off" | "false" => false,
+                _ => return Err(Error::Param(format!("cull = `{v}`: use `on` or `off`"))),
+            });
+        }
+        if p.cull == Some(true) && p.scope != Scope::Local {
+            return Err(Error::Param("cull = on needs scope = local (only then are a map's pixels known)".into()));
+        }
         if p.scissor && p.scope != Scope::Local {
             return Err(Error::Param("scissor = on needs scope = local (only then are a map's pixels known)".into()));
         }
@@ -195,6 +207,11 @@ impl AdaptiveParams {
             p.preset = None;
         }
         Ok(p)
+    }
+
+    /// Whether new maps rasterize only the triangles their texel rectangle needs (scope = local).
+    pub fn culls(&self) -> bool {
+        self.scope == Scope::Local && self.cull.unwrap_or(true)
     }
 
     /// The rule subdivide applies at `level` (the same function feeds the kernel and the twin).
@@ -241,6 +258,9 @@ impl AdaptiveParams {
         }
         if self.scissor {
             s += ",scissor=on";
+        }
+        if self.scope == Scope::Local && self.cull == Some(false) {
+            s += ",cull=off";
         }
         s
     }

@@ -35,6 +35,8 @@ pub struct LevelReport {
     pub items: u32,
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
     pub rects: Vec<[u32; 4]>,
+    /// scope = local with culling: indices kept per lattice sample so far (0 where never culled).
+    pub triangles: Vec<u32>,
     /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
     /// level's flags, for pictures and twin tests.
     pub counts: Option<Vec<u32>>,
@@ -64,6 +66,7 @@ pub fn read_level(
     level: u32,
     quads: Vec<GpuQuad>,
     next_quads: &wgpu::Buffer,
+    kept: Option<&wgpu::Buffer>,
     pictures: bool,
     evaluated: bool,
     local: bool,
@@ -83,6 +86,9 @@ pub fn read_level(
         (&b.rects, lattice * 4),
         (&b.item_total, 4),
     ];
+    if let Some(kept) = kept {
+        parts.push((kept, lattice));
+    }
     let pictures = pictures || capture;
     let counts_len = b.counts_bytes_per_quad() * if capture { n } else { 1 };
     if pictures {
@@ -122,6 +128,7 @@ pub fn read_level(
     let split_base = take(QUAD_CAPACITY as u64 * 4);
     let rects_raw = take(lattice * 4);
     let item_total = take(4)[0];
+    let triangles = if kept.is_some() { take(lattice) } else { vec![0; LATTICE_POINTS as usize] };
     let (counts, flags) = if pictures { (Some(take(counts_len)), Some(take(b.flags_bytes_per_quad() * n))) } else { (None, None) };
     let masks = if capture { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
@@ -143,6 +150,7 @@ pub fn read_level(
         geometry_pixels: control[4],
         probes: control[5],
         items: if local { item_total } else { 0 },
+        triangles,
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
         counts,
         flags,
@@ -175,6 +183,9 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         "levels": levels,
         "syncs": syncs,
         "shadow_maps_used": trace.rendered,
+        "triangles_per_map": trace.triangles,
+        "triangles_per_map_mean": trace.triangles.iter().sum::<u64>() as f64 / trace.triangles.len().max(1) as f64,
+        "culled_maps": trace.culled.len(),
         "weights": if p.scope == crate::methods::Scope::Local { "area quadrature along each pixel's quad path (scope = local)" } else if p.weights == crate::methods::Weights::Level { "level (seed rule: 1/(2^level+1)^2, normalised)" } else { "area (leaf quads, mean of corners)" },
     });
     if let Some(masks) = consulted {

@@ -15,7 +15,7 @@ use super::params::SplitRule;
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
 use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
-    compact::Compact, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
+    compact::Compact, cull::Cull, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
 use crate::compute::FrameGpu;
@@ -40,6 +40,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²), area or coons" },
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
+        Param { key: "cull", default: "on (local)", help: "scope=local only: raster each new map only with the triangles that reach the texels its pixels test" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
 };
@@ -120,6 +121,10 @@ pub struct AdaptiveTrace {
     pub maps: Vec<(u32, Vec<f32>)>,
     /// The sample records as the kernels saw them (layer and array filled in).
     pub samples: Vec<GpuSample>,
+    /// Triangles rasterized per map, in `rendered` order (the whole mesh unless culled).
+    pub triangles: Vec<u64>,
+    /// Lattice indices whose maps were drawn from a culled index list.
+    pub culled: Vec<u32>,
 }
 
 /// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
@@ -137,6 +142,9 @@ pub struct Prepared {
     store: MapStore,
     passes: Passes,
     samples: Vec<GpuSample>,
+    /// scope = local with culling: the index slots, and the indices kept per lattice sample
+    /// (copied from the draw arguments, read back with each level).
+    cull: Option<(Cull, wgpu::Buffer)>,
 }
 
 pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
@@ -180,7 +188,12 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     for array in &store.arrays {
         shadow_raster::clear_all(ctx, array)?;
     }
-    Ok(Prepared { b, store, passes, samples })
+    let cull = if p.culls() {
+        Cull::new(fg, LATTICE_POINTS)?.map(|c| (c, readback::zeroed_storage(ctx, "culled indices per sample", LATTICE_POINTS as u64 * 4)))
+    } else {
+        None
+    };
+    Ok(Prepared { b, store, passes, samples, cull })
 }
 
 /// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
@@ -190,6 +203,9 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let (b, mut store, passes, mut samples) = (&prepared.b, &mut prepared.store, &prepared.passes, &mut prepared.samples);
+    let cull = prepared.cull.as_ref();
+    // compact grows each sample's texel rectangle for the scissor and for culling.
+    let grow_rects = p.scissor || cull.is_some();
     let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
     let level_uniform = |level: u32, quad_count: u32, first_quad: u32| {
         let (split_mode, p_m, split_share) = match p.split_rule(level) {
@@ -212,7 +228,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             work_count: 0,
             dense_groups_x,
             quad_capacity: QUAD_CAPACITY,
-            scissor: p.scissor as u32,
+            scissor: grow_rects as u32,
             ..Default::default()
         }
     };
@@ -246,7 +262,9 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         let cur = (level % 2) as usize;
         let nxt = 1 - cur;
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
-        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace, capture)?;
+        // Level 0's corners precede every rectangle: they rasterize the whole mesh.
+        let culling = cull.filter(|_| level > 0);
+        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), culling, local, &passes, &mut trace, capture)?;
 
         // Under scope = global the counts only feed the split rule: a rule that cannot depend on them
         // (always, never) and the last level (nothing splits) skip the count stages.
@@ -311,7 +329,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             Ok(())
         })?;
         if local {
-            if p.scissor {
+            if grow_rects {
                 let init: Vec<[u32; 4]> = vec![[u32::MAX, u32::MAX, 0, 0]; LATTICE_POINTS as usize];
                 ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
             }
@@ -324,7 +342,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         timer.flush(ctx);
         let pictures = fg.pictures && evaluate && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
-        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local, capture))?;
+        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], cull.map(|c| &c.1), pictures, evaluate, local, capture))?;
         syncs += 1;
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
@@ -351,6 +369,8 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     bar.finish_and_clear();
 
     let last = trace.levels.last().cloned().unwrap_or_default();
+    let whole = fg.scene_gpu.index_count as u64 / 3;
+    trace.triangles = trace.rendered.iter().map(|&k| if trace.culled.contains(&k) { last.triangles[k as usize] as u64 / 3 } else { whole }).collect();
     let weights = sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered);
     trace.weights = weights.clone();
     trace.samples = samples.clone();
@@ -412,6 +432,7 @@ fn render_new(
     samples: &mut [GpuSample],
     new: &[u32],
     rects: Option<&[[u32; 4]]>,
+    cull: Option<&(Cull, wgpu::Buffer)>,
     local: bool,
     passes: &Passes,
     trace: &mut AdaptiveTrace,
@@ -441,11 +462,32 @@ fn render_new(
         }
         for (a, array) in store.arrays.iter().enumerate() {
             let mine: Vec<RasterJob> = jobs.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
-            if !mine.is_empty() {
+            if mine.is_empty() {
+                continue;
+            }
+            let Some((cull, kept)) = cull else {
                 timer.stage(ctx, "shadow_raster", |enc| {
                     fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine);
                     Ok(())
                 })?;
+                continue;
+            };
+            // Batches of slots: cull, then draw what each slot kept (the GPU writes the counts).
+            for batch in mine.chunks(cull.slots as usize) {
+                let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
+                timer.stage(ctx, "cull", |enc| {
+                    cull.record(fg, enc, &b.samples, &b.rects, &ks);
+                    Ok(())
+                })?;
+                timer.stage(ctx, "shadow_raster", |enc| {
+                    let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
+                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args);
+                    for (n, &k) in ks.iter().enumerate() {
+                        enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
+                    }
+                    Ok(())
+                })?;
+                trace.culled.extend_from_slice(&ks);
             }
         }
         if !local {
