@@ -101,6 +101,9 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "gpu_stages_ms": if timestamps_trusted { serde_json::to_value(&r.gpu_stages_ms).unwrap_or_default() } else { serde_json::Value::Null },
         "gpu_clock": if timestamps_trusted { "GPU timestamps around each stage's commands, milliseconds" } else { "none: timestamps are not trustworthy on a CPU adapter" },
         "total_ms": r.total_ms,
+        // raster / decision / shade / waits (crate::timing::split_of); from per-stage wall times, so
+        // meaningful with --timing stages.
+        "frame_split_ms": crate::timing::frame_split(&r.stages_ms),
         "decision_stages_ms": decision_ms(r),
         "decision_share": if r.total_ms > 0.0 { decision_ms(r) / r.total_ms } else { 0.0 },
         "method_record": r.output.record,
