@@ -140,7 +140,7 @@ fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
         assert!(t_off.triangles.iter().all(|&n| n == whole), "seed {seed}: cull=off rasterizes the whole mesh");
         for d in 1..t.levels.len() {
             let ks = &t.levels[d - 1].new_samples;
-            let kept = twin::cull::cull(&fr, &t.samples, &t.levels[d - 1].rects, &positions, &sc.indices, ks);
+            let kept = twin::cull::cull(&fr, &t.samples, &t.levels[d - 1].tiles, &positions, &sc.indices, ks);
             for (k, tris) in ks.iter().zip(&kept) {
                 let at = t.rendered.iter().position(|r| r == k).expect("new sample rendered");
                 assert!(t.culled.contains(k), "seed {seed} level {d}: map {k} was not culled");

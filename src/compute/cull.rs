@@ -1,4 +1,4 @@
-//! cull (scope = local): per new map, the triangles that can reach the texel rectangle its pixels
+//! cull (scope = local): per new map, the triangles that can reach the culling tiles its pixels
 //! test, compacted into an index list with draw_indexed_indirect arguments the GPU writes, so the
 //! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
 //! slots fit one storage binding; batches reuse the slots within one submission.
@@ -21,6 +21,8 @@ pub struct Cull {
     pub culled: wgpu::Buffer,
     /// ARGS_WORDS per slot (INDIRECT | STORAGE).
     pub args: wgpu::Buffer,
+    /// World bounding box of each invocation's TRIANGLES_PER_THREAD triangles.
+    bounds: wgpu::Buffer,
     /// Maps per batch.
     pub slots: u32,
     stride: u32,
@@ -46,7 +48,10 @@ impl Cull {
                 mapped_at_creation: false,
             })
         };
+        let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let bounds = super::twin::cull::bounds(&positions, &fg.scene.indices);
         Ok(Some(Self {
+            bounds: readback::storage_buffer(ctx, "cull bounds", &bounds, wgpu::BufferUsages::empty()),
             kernel: ComputeKernel::new(ctx, "cull", "main")?,
             culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
             args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
@@ -55,9 +60,9 @@ impl Cull {
         }))
     }
 
-    /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `rects` holds one
-    /// [min x, min y, max x, max y] texel rectangle per lattice sample.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, samples: &wgpu::Buffer, rects: &wgpu::Buffer, ks: &[u32]) {
+    /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
+    /// CULL_TILE_WORDS tile bits per lattice sample.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
         assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
         let ctx = fg.ctx;
         let triangles = self.stride / 3;
@@ -79,12 +84,13 @@ impl Cull {
                 (0, uniform.as_entire_binding()),
                 (1, fg.frame_buffer.as_entire_binding()),
                 (2, samples.as_entire_binding()),
-                (3, rects.as_entire_binding()),
+                (3, tiles.as_entire_binding()),
                 (4, fg.scene_gpu.vertices.as_entire_binding()),
                 (5, fg.scene_gpu.indices.as_entire_binding()),
                 (6, slots.as_entire_binding()),
                 (7, self.culled.as_entire_binding()),
                 (8, self.args.as_entire_binding()),
+                (9, self.bounds.as_entire_binding()),
             ],
             Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
         );

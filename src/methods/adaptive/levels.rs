@@ -1,7 +1,7 @@
 //! The one read-back per level, and the per-level record in run.json.
 
 use crate::methods::AdaptiveParams;
-use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
+use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
 use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::GpuQuad;
@@ -35,8 +35,10 @@ pub struct LevelReport {
     pub items: u32,
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
     pub rects: Vec<[u32; 4]>,
-    /// scope = local with culling: indices kept per lattice sample so far (0 where never culled).
+    /// scope = local with culling: indices kept per lattice sample so far (0 where never culled),
+    /// and this level's culling tiles (CULL_TILE_WORDS per lattice sample).
     pub triangles: Vec<u32>,
+    pub tiles: Vec<u32>,
     /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
     /// level's flags, for pictures and twin tests.
     pub counts: Option<Vec<u32>>,
@@ -86,8 +88,10 @@ pub fn read_level(
         (&b.rects, lattice * 4),
         (&b.item_total, 4),
     ];
+    let tile_bytes = lattice * CULL_TILE_WORDS as u64;
     if let Some(kept) = kept {
         parts.push((kept, lattice));
+        parts.push((&b.tiles, tile_bytes));
     }
     let pictures = pictures || capture;
     let counts_len = b.counts_bytes_per_quad() * if capture { n } else { 1 };
@@ -128,7 +132,7 @@ pub fn read_level(
     let split_base = take(QUAD_CAPACITY as u64 * 4);
     let rects_raw = take(lattice * 4);
     let item_total = take(4)[0];
-    let triangles = if kept.is_some() { take(lattice) } else { vec![0; LATTICE_POINTS as usize] };
+    let (triangles, tiles) = if kept.is_some() { (take(lattice), take(tile_bytes)) } else { (vec![0; LATTICE_POINTS as usize], Vec::new()) };
     let (counts, flags) = if pictures { (Some(take(counts_len)), Some(take(b.flags_bytes_per_quad() * n))) } else { (None, None) };
     let masks = if capture { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
@@ -151,6 +155,7 @@ pub fn read_level(
         probes: control[5],
         items: if local { item_total } else { 0 },
         triangles,
+        tiles,
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
         counts,
         flags,

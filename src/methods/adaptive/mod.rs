@@ -332,6 +332,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             if grow_rects {
                 let init: Vec<[u32; 4]> = vec![[u32::MAX, u32::MAX, 0, 0]; LATTICE_POINTS as usize];
                 ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
+                ctx.queue.write_buffer(&b.tiles, 0, &vec![0u8; b.tiles.size() as usize]);
             }
             timer.stage(ctx, "compact", |enc| {
                 passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt]);
@@ -476,7 +477,7 @@ fn render_new(
             for batch in mine.chunks(cull.slots as usize) {
                 let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
                 timer.stage(ctx, "cull", |enc| {
-                    cull.record(fg, enc, &b.samples, &b.rects, &ks);
+                    cull.record(fg, enc, &b.samples, &b.tiles, &ks);
                     Ok(())
                 })?;
                 timer.stage(ctx, "shadow_raster", |enc| {
