@@ -56,8 +56,8 @@ pub struct GpuCull {
     pub triangle_count: u32,
     /// Index capacity of one slot: the whole mesh, so no slot can overflow.
     pub slot_stride: u32,
-    /// u32 words per vertex (scene::Vertex).
-    pub vertex_words: u32,
+    /// 0: the raster culls no face; 1: back faces; 2: front faces.
+    pub cull_face: u32,
     /// Workgroups along x; z carries the rest of the triangles.
     pub groups_x: u32,
 }
@@ -179,7 +179,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
-        layout_of!(GpuCull { triangle_count, slot_stride, vertex_words, groups_x }),
+        layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, scissor, split_share, pad0, pad1

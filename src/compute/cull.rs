@@ -10,8 +10,8 @@ use crate::Result;
 
 /// u32 words of one slot's draw_indexed_indirect arguments.
 pub const ARGS_WORDS: u32 = 5;
-/// Triangles one invocation tests (TRIANGLES_PER_THREAD in the kernel).
-pub const TRIANGLES_PER_THREAD: u32 = 32;
+/// Consecutive triangles culled together (CULL_RUN in the kernel): one invocation each.
+pub const CULL_RUN: u32 = 32;
 /// Index memory the slots may take together.
 const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
 
@@ -21,8 +21,10 @@ pub struct Cull {
     pub culled: wgpu::Buffer,
     /// ARGS_WORDS per slot (INDIRECT | STORAGE).
     pub args: wgpu::Buffer,
-    /// World bounding box of each invocation's TRIANGLES_PER_THREAD triangles.
-    bounds: wgpu::Buffer,
+    /// Bounding box and normal cone of each run (twin::cull::runs).
+    runs: wgpu::Buffer,
+    /// GpuCull.cull_face: the face the shadow raster culls.
+    cull_face: u32,
     /// Maps per batch.
     pub slots: u32,
     stride: u32,
@@ -49,9 +51,10 @@ impl Cull {
             })
         };
         let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
-        let bounds = super::twin::cull::bounds(&positions, &fg.scene.indices);
+        let runs = super::twin::cull::runs(&positions, &fg.scene.indices);
         Ok(Some(Self {
-            bounds: readback::storage_buffer(ctx, "cull bounds", &bounds, wgpu::BufferUsages::empty()),
+            runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
+            cull_face: cull_face(fg.scene.render.cull),
             kernel: ComputeKernel::new(ctx, "cull", "main")?,
             culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
             args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
@@ -66,12 +69,12 @@ impl Cull {
         assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
         let ctx = fg.ctx;
         let triangles = self.stride / 3;
-        let total = groups(triangles.div_ceil(TRIANGLES_PER_THREAD), LINE_WORKGROUP[0]).max(1);
+        let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);
         let groups_x = total.min(ctx.limits().max_compute_workgroups_per_dimension);
         let uniform = GpuCull {
             triangle_count: triangles,
             slot_stride: self.stride,
-            vertex_words: (std::mem::size_of::<crate::scene::Vertex>() / 4) as u32,
+            cull_face: self.cull_face,
             groups_x,
         };
         let uniform = readback::uniform_buffer(ctx, "cull", &uniform);
@@ -85,19 +88,31 @@ impl Cull {
                 (1, fg.frame_buffer.as_entire_binding()),
                 (2, samples.as_entire_binding()),
                 (3, tiles.as_entire_binding()),
-                (4, fg.scene_gpu.vertices.as_entire_binding()),
+                (4, self.runs.as_entire_binding()),
                 (5, fg.scene_gpu.indices.as_entire_binding()),
                 (6, slots.as_entire_binding()),
                 (7, self.culled.as_entire_binding()),
                 (8, self.args.as_entire_binding()),
-                (9, self.bounds.as_entire_binding()),
             ],
             Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
         );
     }
 
+    pub fn cull_face(&self) -> u32 {
+        self.cull_face
+    }
+
     /// Byte offset of slot n's draw arguments.
     pub fn args_offset(slot: u32) -> u64 {
         slot as u64 * ARGS_WORDS as u64 * 4
+    }
+}
+
+/// GpuCull.cull_face for the shadow raster's cull mode.
+pub fn cull_face(mode: crate::scene::CullMode) -> u32 {
+    match mode {
+        crate::scene::CullMode::None => 0,
+        crate::scene::CullMode::Back => 1,
+        crate::scene::CullMode::Front => 2,
     }
 }

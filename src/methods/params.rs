@@ -77,7 +77,8 @@ pub struct AdaptiveParams {
     pub weights: Weights,
     pub scope: Scope,
     pub scissor: bool,
-    /// Per-map triangle culling to the map's texel rectangle (scope = local); None: on for local.
+    /// Per-map triangle culling to the tiles the map's pixels test (scope = local); off by default
+    /// (docs/gpu-frame.md: on lavapipe it costs more than it saves).
     pub cull: Option<bool>,
 }
 
@@ -211,7 +212,7 @@ impl AdaptiveParams {
 
     /// Whether new maps rasterize only the triangles their texel rectangle needs (scope = local).
     pub fn culls(&self) -> bool {
-        self.scope == Scope::Local && self.cull.unwrap_or(true)
+        self.scope == Scope::Local && self.cull.unwrap_or(false)
     }
 
     /// The rule subdivide applies at `level` (the same function feeds the kernel and the twin).
@@ -259,8 +260,8 @@ impl AdaptiveParams {
         if self.scissor {
             s += ",scissor=on";
         }
-        if self.scope == Scope::Local && self.cull == Some(false) {
-            s += ",cull=off";
+        if self.culls() {
+            s += ",cull=on";
         }
         s
     }

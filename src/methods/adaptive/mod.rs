@@ -40,7 +40,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²), area or coons" },
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
-        Param { key: "cull", default: "on (local)", help: "scope=local only: raster each new map only with the triangles that reach the texels its pixels test" },
+        Param { key: "cull", default: "off", help: "scope=local only: raster each new map only with the runs of triangles that can reach the tiles its pixels test" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
 };
