@@ -1,5 +1,5 @@
 // compact (scope = local): each evaluated (pixel, quad) item either goes on to the quad's four
-// children (the quad split and p lay in its penumbra, 0 < c < 4), or becomes a probe (the quad
+// children (the quad split and p lay in its penumbra, 0 < c < 4, or beside a pixel that does), or becomes a probe (the quad
 // split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
 // uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
@@ -64,7 +64,24 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         c = count_byte(counts[item.y * words + y * level.words_per_row + x / 4u], x) - 1u;
         base = split_base[item.y];
         refine = base != NO_SPLIT && c > 0u && c < 4u;
-        probe = base != NO_SPLIT && (c == 0u || c == 4u);
+        // The halo: a uniform pixel beside a pixel in this quad's penumbra refines too. Penumbrae
+        // narrower than the lattice's spacing otherwise hide between its samples at silhouettes
+        // and contacts (docs/method.md §4.4).
+        if (base != NO_SPLIT && !refine) {
+            for (var dy = -1; dy <= 1; dy = dy + 1) {
+                for (var dx = -1; dx <= 1; dx = dx + 1) {
+                    let nx = i32(x) + dx;
+                    let ny = i32(y) + dy;
+                    if (nx >= 0 && ny >= 0 && nx < i32(frame.width) && ny < i32(frame.height)) {
+                        let nb = count_byte(counts[item.y * words + u32(ny) * level.words_per_row + u32(nx) / 4u], u32(nx));
+                        if (nb >= 2u && nb <= 4u) {
+                            refine = true;
+                        }
+                    }
+                }
+            }
+        }
+        probe = base != NO_SPLIT && !refine;
         if (refine) {
             local_slot = atomicAdd(&group_items, 4u);
         }

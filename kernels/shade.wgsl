@@ -52,10 +52,17 @@ fn from_masks(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let index = gid.y * frame.width + gid.x;
+    // Only the set bits are visited (lowest first), so the additions are the same, in the same
+    // order, as a loop over all 289 k; the summary flags above bit 288 are masked off.
     var v = 0.0;
-    for (var k = 0u; k < LATTICE_POINTS; k = k + 1u) {
-        if (((masks[index * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u) == 1u) {
-            v = v + weights[k];
+    for (var w = 0u; w < MASK_WORDS; w = w + 1u) {
+        var bits = masks[index * MASK_WORDS + w];
+        if (w == LATTICE_POINTS / 32u) {
+            bits = bits & ((1u << (LATTICE_POINTS % 32u)) - 1u);
+        }
+        while (bits != 0u) {
+            v = v + weights[w * 32u + firstTrailingBit(bits)];
+            bits = bits & (bits - 1u);
         }
     }
     visibility[index] = v;

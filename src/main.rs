@@ -371,14 +371,14 @@ fn run() -> Result<()> {
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
         Some(Command::Bench(args)) => bench(args, &gpu),
         Some(Command::Sequence(args)) => {
-            let (outcome, html) = penumbra::sequence::cli::run(&args, &|line| eprintln!("{line}"))?;
+            let (outcome, html) = penumbra::sequence::cli::run(&args, &gpu, &|line| eprintln!("{line}"))?;
             print!("{}", penumbra::sequence::report::summary_table(&outcome.summaries));
             println!("results: {}", args.out.join("frames.jsonl").display());
             println!("report:  {}", html.display());
             Ok(())
         }
         Some(Command::Failures(args)) => {
-            let (_, html) = penumbra::failures::cli::run(&args, DEFAULT_METHODS, &|line| eprintln!("{line}"))?;
+            let (_, html) = penumbra::failures::cli::run(&args, DEFAULT_METHODS, &gpu, &|line| eprintln!("{line}"))?;
             println!("report: {}", html.display());
             Ok(())
         }
@@ -571,7 +571,7 @@ fn run_sweep(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
         if k == 0 || k > 64 {
             anyhow::bail!("--jobs must be in 1..=64, got {k}");
         }
-        return sweep_jobs(&args, k);
+        return sweep_jobs(&args, k, gpu);
     }
     let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
     let costs: Vec<f64> = methods.iter().map(|m| shard::estimated_cost(m, &scene)).collect();
@@ -597,13 +597,18 @@ fn run_sweep(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
 }
 
 /// `sweep --jobs K`: this binary K times with `--shard i/K`, outputs in OUT/shards/i, then merged.
-fn sweep_jobs(args: &SweepArgs, k: u32) -> Result<()> {
+fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
     let exe = std::env::current_exe().context("cannot find this program to start the shards")?;
     let r = &args.run;
     let mut children = Vec::new();
     let dirs: Vec<PathBuf> = (0..k).map(|i| r.out.join("shards").join(i.to_string())).collect();
     for (i, dir) in dirs.iter().enumerate() {
         let mut cmd = std::process::Command::new(&exe);
+        // The shards use the adapter this run was asked for, not the environment's default.
+        cmd.arg("--backend").arg(gpu.backend.name());
+        if let Some(name) = &gpu.name {
+            cmd.arg("--adapter").arg(name);
+        }
         cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
         cmd.args(["--scene", &r.scene, "--repeats", &r.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
         for s in &r.set {

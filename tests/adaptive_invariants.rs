@@ -2,7 +2,7 @@
 
 mod common;
 use penumbra::frame::{self, FrameResult};
-use penumbra::methods::{AdaptiveParams, Criterion, Method, Scope, Weights};
+use penumbra::methods::{AdaptiveParams, Criterion, Layout, Method, Scope, Weights};
 use penumbra::scene::Scene;
 use penumbra::timing::TimingMode;
 
@@ -91,6 +91,44 @@ fn always_split_equals_the_regular_17_grid() {
     // it must use all 289 maps too.
     let l = run(&scene, &adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, scope: Scope::Local, ..Default::default() }));
     assert_eq!(l.output.shadow_maps, 289);
+}
+
+#[test]
+fn centred_layout_fully_split_is_the_centred_regular_grid() {
+    // The inset lattice's points at max_level L are the cell centres of the (2^L+1)² grid, and the
+    // border strips make every weight equal (docs/method.md §7.1): same maps, same V.
+    let ctx = common::gpu();
+    let scene = small("default", &[]);
+    for (max_level, n) in [(1u32, 3u32), (2, 5)] {
+        let reg = run(&scene, &Method::parse(&format!("regular:n={n},layout=centred"), &[]).unwrap());
+        for weights in [Weights::Area, Weights::Coons] {
+            let p = AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, max_level, weights, layout: Layout::Centred, ..Default::default() };
+            let (a, t) = common::traced(&ctx, &scene, &p, false);
+            assert_eq!(a.output.shadow_maps, n * n, "L {max_level} {weights:?}");
+            let w0 = t.weights[t.rendered[0] as usize];
+            assert!(t.rendered.iter().all(|&k| t.weights[k as usize] == w0), "L {max_level} {weights:?}: unequal weights {:?}", t.weights);
+            assert_eq!(w0, 1.0 / (n * n) as f32);
+            let worst = a.visibility.iter().zip(&reg.visibility).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+            assert!(worst <= 1e-6, "L {max_level} {weights:?}: max |V_adaptive - V_centred {n}x{n}| = {worst}");
+        }
+    }
+    // Partly split: the weights still sum to one and every rendered sample carries weight.
+    let p = AdaptiveParams { criterion: Criterion::Pixels { p_m: 20.0, growth: 1.0 }, max_level: 3, weights: Weights::Coons, layout: Layout::Centred, ..Default::default() };
+    let (r, t) = common::traced(&ctx, &scene, &p, false);
+    assert!(t.rendered.len() < 81, "p_m 20 split everything ({} maps)", t.rendered.len());
+    let sum: f64 = t.weights.iter().map(|&w| w as f64).sum();
+    assert!((sum - 1.0).abs() < 1e-6, "centred partial: Σŵ = {sum}");
+    assert_eq!(t.weights.iter().filter(|&&w| w > 0.0).count(), t.rendered.len());
+    assert_valid(&r, "centred partial");
+}
+
+#[test]
+fn centred_layout_rejects_what_it_cannot_weigh() {
+    for spec in ["adaptive:layout=centred,scope=local", "adaptive:layout=centred", "adaptive:layout=jittered", "adaptive:layout=grid"] {
+        let e = Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} was accepted")).to_string();
+        assert!(e.contains("layout"), "{spec}: {e}");
+    }
+    assert!(Method::parse("adaptive:layout=centred,weights=coons", &[]).is_ok());
 }
 
 #[test]

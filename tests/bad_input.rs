@@ -180,3 +180,21 @@ fn info_says_which_backend_was_chosen_and_why() {
     let out = penumbra(&["info", "--backend", "vulkan"]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("chosen:       --backend vulkan"));
 }
+
+#[test]
+fn every_gpu_command_honours_the_adapter_request() {
+    // sequence and failures used to open the default adapter whatever --adapter said.
+    let dir = temp_dir("adapter-request");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    for args in [
+        vec!["--adapter", "no-such-adapter-anywhere", "sequence", "--scene", "default", "--methods", "hard", "--frames", "2", "--out", o],
+        vec!["--adapter", "no-such-adapter-anywhere", "failures", "--out", o],
+    ] {
+        let r = penumbra(&args);
+        let e = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{args:?}: {e}");
+        assert!(e.contains("adapter name \"no-such-adapter-anywhere\""), "{args:?}: {e}");
+        assert!(!out.exists(), "{args:?}: wrote output");
+    }
+}

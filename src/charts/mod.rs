@@ -35,8 +35,6 @@ pub enum ChartError {
     Svg(String),
     #[error("bad PNG scale {0} (must be finite, > 0, and give at most 16384 px a side)")]
     BadScale(f32),
-    #[error("no usable font: install fonts-dejavu-core (apt) or any sans-serif font")]
-    NoFonts,
     #[error("PNG encoding failed: {0}")]
     Png(String),
 }

@@ -1,4 +1,4 @@
-//! SVG → PNG with resvg, with fonts resolved so chart text is not silently dropped.
+//! SVG → PNG with resvg, with an embedded font so chart text is never silently dropped.
 
 use std::sync::{Arc, OnceLock};
 
@@ -7,46 +7,33 @@ use resvg::usvg::{self, fontdb};
 
 use super::ChartError;
 
-/// The family generic `sans-serif` (plotters' default) resolves to; fontdb's own default
-/// ("Arial") is usually absent on Linux, and unresolved text is dropped without an error.
+/// The one family every chart uses, built into the binary (the `dejavu` crate) so that text renders
+/// identically on every machine, including ones with no fonts installed (GPU servers, containers).
 const SANS: &str = "DejaVu Sans";
 
-/// System fonts, loaded once (a scan takes tens of ms), and the family `sans-serif` maps to.
-/// `None` when no font face exists at all.
-fn fonts() -> Option<(Arc<fontdb::Database>, String)> {
-    static FONTS: OnceLock<Option<(Arc<fontdb::Database>, String)>> = OnceLock::new();
+/// The embedded faces, loaded once; `sans-serif` (plotters' default) maps to them.
+fn fonts() -> Arc<fontdb::Database> {
+    static FONTS: OnceLock<Arc<fontdb::Database>> = OnceLock::new();
     FONTS
         .get_or_init(|| {
             let mut db = fontdb::Database::new();
-            db.load_system_fonts();
-            let has_sans = db
-                .faces()
-                .any(|f| f.families.iter().any(|(name, _)| name == SANS));
-            // Without DejaVu Sans take any installed family: some font beats no text.
-            let family = if has_sans {
-                SANS.to_string()
-            } else {
-                db.faces()
-                    .find_map(|f| f.families.first())
-                    .map(|(name, _)| name.clone())?
-            };
-            db.set_sans_serif_family(family.clone());
-            Some((Arc::new(db), family))
+            db.load_font_data(dejavu::sans::regular().to_vec());
+            db.load_font_data(dejavu::sans::bold().to_vec());
+            db.set_sans_serif_family(SANS);
+            Arc::new(db)
         })
         .clone()
 }
 
-/// Rasterises `svg` at `scale` × its size onto white. Errors when no font is installed
-/// (text would vanish) rather than returning a chart without labels.
+/// Rasterises `svg` at `scale` × its size onto white, text in the embedded DejaVu Sans.
 pub fn svg_to_png(svg: &str, scale: f32) -> Result<Vec<u8>, ChartError> {
     if !(scale.is_finite() && scale > 0.0) {
         return Err(ChartError::BadScale(scale));
     }
-    let (fontdb, font_family) = fonts().ok_or(ChartError::NoFonts)?;
     // `font_family` covers text with no family attribute at all.
     let options = usvg::Options {
-        font_family,
-        fontdb,
+        font_family: SANS.to_string(),
+        fontdb: fonts(),
         ..Default::default()
     };
     let tree = usvg::Tree::from_str(svg, &options).map_err(|e| ChartError::Svg(e.to_string()))?;

@@ -2,7 +2,7 @@
 
 use super::{Gallery, GalleryJob};
 use crate::compare::methods_list;
-use crate::gpu::GpuContext;
+use crate::gpu::{AdapterRequest, GpuContext};
 use crate::sequence::report::{append_to_page, write_set};
 use crate::{ground_truth, Result};
 use std::path::{Path, PathBuf};
@@ -59,9 +59,9 @@ impl FailuresArgs {
 }
 
 /// `penumbra failures`: checks the flags, runs, writes the set and its own report.
-pub fn run(args: &FailuresArgs, default_methods: &str, log: &dyn Fn(&str)) -> Result<(Gallery, PathBuf)> {
+pub fn run(args: &FailuresArgs, default_methods: &str, gpu: &AdapterRequest, log: &dyn Fn(&str)) -> Result<(Gallery, PathBuf)> {
     let job = args.job(default_methods)?;
-    let ctx = GpuContext::new()?;
+    let ctx = GpuContext::with_request(gpu)?;
     let gallery = super::run(&ctx, &job, log)?;
     let html = super::write(&args.out, &gallery)?;
     Ok((gallery, html))

@@ -36,6 +36,17 @@ impl BackendChoice {
         })
     }
 
+    /// The `--backend` value that asks for this choice.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Vulkan => "vulkan",
+            Self::Gl => "gl",
+            Self::Metal => "metal",
+            Self::Dx12 => "dx12",
+        }
+    }
+
     pub fn backends(self) -> wgpu::Backends {
         match self {
             Self::Auto => wgpu::Backends::all(),

@@ -1,5 +1,6 @@
 //! Adaptive method parameters (`--set p_m=0`, `adaptive:scope=local`).
 
+use super::Layout;
 use crate::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -80,6 +81,10 @@ pub struct AdaptiveParams {
     /// Per-map triangle culling to the tiles the map's pixels test (scope = local); off by default
     /// (docs/gpu-frame.md: on lavapipe it costs more than it saves).
     pub cull: Option<bool>,
+    /// Where the quadtree's lattice sits on the light (docs/method.md §7.1): `lattice` spans the
+    /// light corner to corner (the seed); `centred` is inset by half a finest cell, so that the full
+    /// lattice at max_level is the centred (midpoint-rule) grid.
+    pub layout: Layout,
 }
 
 fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -92,7 +97,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, cull: None }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None }
     }
 }
 
@@ -183,6 +188,18 @@ impl AdaptiveParams {
                 _ => return Err(Error::Param(format!("scope = `{v}`: use `global` or `local`"))),
             };
         }
+        // Local scope sums each pixel's own leaf quads by area (docs/method.md §4.2); it has no use
+        // for sample weights, so a preset's weights become area there and others are refused.
+        if p.scope == Scope::Local {
+            match params.get("weights").map(String::as_str) {
+                None | Some("area") => p.weights = Weights::Area,
+                Some(v) => {
+                    return Err(Error::Param(format!(
+                        "weights = `{v}` applies to scope = global; scope = local integrates each pixel's own quads by area (use weights=area or leave it out)"
+                    )))
+                }
+            }
+        }
         if let Some(v) = params.get("scissor") {
             p.scissor = match v.as_str() {
                 "on" | "true" => true,
@@ -200,6 +217,20 @@ impl AdaptiveParams {
         if p.cull == Some(true) && p.scope != Scope::Local {
             return Err(Error::Param("cull = on needs scope = local (only then are a map's pixels known)".into()));
         }
+        if let Some(v) = params.get("layout") {
+            p.layout = match v.as_str() {
+                "lattice" => Layout::Lattice,
+                "centred" | "centered" => Layout::Centred,
+                "jittered" => return Err(Error::Param("adaptive: layout = `jittered`: the quadtree needs nested samples; use `lattice` or `centred`".into())),
+                _ => return Err(Error::Param(format!("adaptive: layout = `{v}`: use `lattice` or `centred`"))),
+            };
+        }
+        if p.layout == Layout::Centred && p.scope == Scope::Local {
+            return Err(Error::Param("adaptive: layout = centred needs scope = global (local scope counts uniform quad shares; the border strips are not uniform)".into()));
+        }
+        if p.layout == Layout::Centred && p.weights == Weights::Level {
+            return Err(Error::Param("adaptive: layout = centred needs weights = area or coons (the level rule has no border strips)".into()));
+        }
         if p.scissor && p.scope != Scope::Local {
             return Err(Error::Param("scissor = on needs scope = local (only then are a map's pixels known)".into()));
         }
@@ -210,9 +241,37 @@ impl AdaptiveParams {
         Ok(p)
     }
 
-    /// Whether new maps rasterize only the triangles their texel rectangle needs (scope = local).
+    /// Whether new maps rasterize only the runs of triangles their tiles need (scope = local).
     pub fn culls(&self) -> bool {
         self.scope == Scope::Local && self.cull.unwrap_or(false)
+    }
+
+    /// Light coordinate (s or t, in [0, 1]) of lattice column or row `i` (0..=16). Lattice: i/16.
+    /// Centred: the lattice inset by h = 1/(2n), n = 2^max_level + 1, so the points the quadtree can
+    /// reach are the cell centres (m + ½)/n of the n×n grid (written that way, to match `regular`
+    /// bit for bit).
+    pub fn light_coord(&self, i: u32) -> f32 {
+        match self.layout {
+            Layout::Centred => {
+                let n = (1u32 << self.max_level) + 1;
+                if (i * (n - 1)) % 16 == 0 {
+                    ((i * (n - 1) / 16) as f32 + 0.5) / n as f32
+                } else {
+                    let h = 0.5 / n as f64;
+                    (h + i as f64 / 16.0 * (1.0 - 2.0 * h)) as f32
+                }
+            }
+            _ => i as f32 / 16.0,
+        }
+    }
+
+    /// Width of the border strip outside the inset lattice, in units of the lattice's side
+    /// (half the finest spacing); 0 for the corner-to-corner lattice.
+    pub fn border_strip(&self) -> f64 {
+        match self.layout {
+            Layout::Centred => 0.5 / (1u64 << self.max_level) as f64,
+            _ => 0.0,
+        }
     }
 
     /// The rule subdivide applies at `level` (the same function feeds the kernel and the twin).
@@ -250,9 +309,14 @@ impl AdaptiveParams {
             s += &format!(",max_level={}", self.max_level);
         }
         match self.weights {
+            // Local scope has one rule (area along each pixel's quads); naming it adds nothing.
+            _ if self.scope == Scope::Local => {}
             Weights::Level => {}
             Weights::Area => s += ",weights=area",
             Weights::Coons => s += ",weights=coons",
+        }
+        if self.layout == Layout::Centred {
+            s += ",layout=centred";
         }
         if self.scope == Scope::Local {
             s += ",scope=local";
@@ -269,4 +333,49 @@ impl AdaptiveParams {
 
 fn growth_label(g: f64) -> String {
     if g == 1.0 { String::new() } else { format!(",growth={g}") }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(spec: &str) -> Result<AdaptiveParams> {
+        let map: BTreeMap<String, String> = spec
+            .split(',')
+            .filter(|kv| !kv.is_empty())
+            .map(|kv| {
+                let (k, v) = kv.split_once('=').unwrap();
+                (k.to_string(), v.to_string())
+            })
+            .collect();
+        AdaptiveParams::from_map(&map)
+    }
+
+    #[test]
+    fn local_scope_integrates_by_area_and_says_so() {
+        let p = parse("preset=balanced,scope=local").unwrap();
+        assert_eq!(p.weights, Weights::Area);
+        assert_eq!(p.label(), "adaptive:p_m=0,max_level=3,scope=local");
+        assert_eq!(parse("scope=local,weights=area").unwrap().weights, Weights::Area);
+        for w in ["coons", "level"] {
+            let e = parse(&format!("scope=local,weights={w}")).unwrap_err().to_string();
+            assert!(e.contains(&format!("weights = `{w}`")) && e.contains("scope = local"), "{e}");
+        }
+        assert_eq!(parse("preset=balanced").unwrap().label(), "adaptive:preset=balanced");
+        assert_eq!(parse("weights=coons,layout=centred").unwrap().label(), "adaptive:p_m=0,weights=coons,layout=centred");
+    }
+
+    #[test]
+    fn centred_coordinates_are_the_cell_centres() {
+        for (max_level, n) in [(0u32, 2u32), (1, 3), (2, 5), (3, 9), (4, 17)] {
+            let p = AdaptiveParams { max_level, layout: Layout::Centred, weights: Weights::Area, ..Default::default() };
+            let step = 16 >> max_level;
+            for m in 0..n {
+                assert_eq!(p.light_coord(m * step), (m as f32 + 0.5) / n as f32, "L {max_level} m {m}");
+            }
+            assert_eq!(p.border_strip(), 0.5 / (1u32 << max_level) as f64);
+        }
+        let lattice = AdaptiveParams::default();
+        assert_eq!((lattice.light_coord(0), lattice.light_coord(16), lattice.border_strip()), (0.0, 1.0, 0.0));
+    }
 }

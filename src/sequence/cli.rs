@@ -3,7 +3,7 @@
 use super::path::AnimationSpec;
 use super::{SequenceJob, SequenceOutcome};
 use crate::compare::methods_list;
-use crate::gpu::GpuContext;
+use crate::gpu::{AdapterRequest, GpuContext};
 use crate::methods::is_method_key;
 use crate::scene::Scene;
 use crate::{ground_truth, Error, Result};
@@ -70,7 +70,7 @@ pub fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
 }
 
 /// Checks everything the user gave before the GPU starts, runs, writes the set; returns the outcome.
-pub fn run(args: &SequenceArgs, log: &dyn Fn(&str)) -> Result<(SequenceOutcome, PathBuf)> {
+pub fn run(args: &SequenceArgs, gpu: &AdapterRequest, log: &dyn Fn(&str)) -> Result<(SequenceOutcome, PathBuf)> {
     let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
     let spec = AnimationSpec {
@@ -85,7 +85,7 @@ pub fn run(args: &SequenceArgs, log: &dyn Fn(&str)) -> Result<(SequenceOutcome, 
     let reference = ground_truth::parse_mode(&args.reference, args.samples)?;
     let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: ground_truth::Cache::default_for(args.no_cache) };
     super::check(&job)?;
-    let ctx = GpuContext::new()?;
+    let ctx = GpuContext::with_request(gpu)?;
     log(&format!("{} on {}", job.animation.describe(&scene), ctx.summary.name));
     let outcome = super::run(&ctx, &job, log)?;
     let html = super::write(&args.out, &outcome)?;

@@ -82,7 +82,7 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
             let byte = (counts[q as usize * words + ((p / s.width) * wpr + x / 4) as usize] >> ((x & 3) * 8)) & 0xff;
             let c = byte - 1;
             let base = sub.split_base[q as usize];
-            if base != NO_SPLIT && c > 0 && c < 4 {
+            if base != NO_SPLIT && ((c > 0 && c < 4) || beside_penumbra(&counts, &s, wpr, words, q, p)) {
                 next.extend((0..4).map(|child| (p, base + child)));
             } else if base != NO_SPLIT {
                 next_probes.push((p, base, c == 4));
@@ -105,4 +105,20 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
         }
     }
     out
+}
+
+/// compact's halo: whether any 3x3 neighbour of `p` evaluated quad `q` and found it partly lit
+/// (its count byte is 2..=4, c = 1..3).
+fn beside_penumbra(counts: &[u32], s: &Screen, wpr: u32, words: usize, q: u32, p: u32) -> bool {
+    let (x, y) = ((p % s.width) as i32, (p / s.width) as i32);
+    (-1..=1).any(|dy| {
+        (-1..=1).any(|dx| {
+            let (nx, ny) = (x + dx, y + dy);
+            if nx < 0 || ny < 0 || nx >= s.width as i32 || ny >= s.height as i32 {
+                return false;
+            }
+            let byte = (counts[q as usize * words + (ny as u32 * wpr + nx as u32 / 4) as usize] >> ((nx as u32 & 3) * 8)) & 0xff;
+            (2..=4).contains(&byte)
+        })
+    })
 }

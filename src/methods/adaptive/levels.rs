@@ -191,7 +191,7 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         "triangles_per_map": trace.triangles,
         "triangles_per_map_mean": trace.triangles.iter().sum::<u64>() as f64 / trace.triangles.len().max(1) as f64,
         "culled_maps": trace.culled.len(),
-        "weights": if p.scope == crate::methods::Scope::Local { "area quadrature along each pixel's quad path (scope = local)" } else if p.weights == crate::methods::Weights::Level { "level (seed rule: 1/(2^level+1)^2, normalised)" } else { "area (leaf quads, mean of corners)" },
+        "weights": weights_rule(p),
     });
     if let Some(masks) = consulted {
         let counts: Vec<u32> = masks.chunks_exact(10).map(|m| m.iter().map(|w| w.count_ones()).sum()).collect();
@@ -201,4 +201,20 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         out["samples_per_pixel_max"] = serde_json::json!(geo.iter().max().copied().unwrap_or(0));
     }
     out
+}
+
+/// The weight rule a run used, in words, for run.json.
+fn weights_rule(p: &crate::methods::AdaptiveParams) -> String {
+    use crate::methods::{Layout, Scope, Weights};
+    let rule = match (p.scope, p.weights) {
+        (Scope::Local, _) => "area quadrature along each pixel's quad path (scope = local)",
+        (_, Weights::Level) => "level (seed rule: 1/(2^level+1)^2, normalised)",
+        (_, Weights::Area) => "area (leaf quads, mean of corners)",
+        (_, Weights::Coons) => "coons (leaf quads through every rendered sample on their edges)",
+    };
+    if p.layout == Layout::Centred {
+        format!("{rule}, plus the border strips of the centred layout")
+    } else {
+        rule.to_string()
+    }
 }

@@ -39,6 +39,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "max_level", default: "4", help: "deepest quadtree level, 0..=4 (4 = the 17×17 lattice)" },
         Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²), area or coons" },
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
+        Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
         Param { key: "cull", default: "off", help: "scope=local only: raster each new map only with the runs of triangles that can reach the tiles its pixels test" },
     ],
@@ -76,7 +77,7 @@ struct State {
 impl MethodState for State {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
         let pr = &mut self.prepared;
-        pr.samples = lattice_samples(fg);
+        pr.samples = lattice_samples(fg, &self.p);
         fg.ctx.queue.write_buffer(&pr.b.samples, 0, bytemuck::cast_slice(&pr.samples));
         pr.store.used = 0;
         pr.b.reset_frame(fg.ctx)
@@ -99,12 +100,12 @@ pub fn lattice_index(i: u32, j: u32) -> u32 {
 }
 
 /// Views of all 289 lattice samples (layer and array are filled in when a map is rendered).
-pub fn lattice_samples(fg: &FrameGpu) -> Vec<GpuSample> {
+pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
     let s = fg.scene;
     (0..LATTICE_POINTS)
         .map(|k| {
             let (i, j) = (k % LATTICE_SIDE, k / LATTICE_SIDE);
-            let y = s.light.point(i as f32 / 16.0, j as f32 / 16.0);
+            let y = s.light.point(p.light_coord(i), p.light_coord(j));
             sample_view(&s.light, y, &s.bounds, s.render.shadow_map_size, k)
         })
         .collect()
@@ -152,7 +153,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let scene = fg.scene;
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
-    let samples = lattice_samples(fg);
+    let samples = lattice_samples(fg, p);
     let b = AdaptiveBuffers::new(ctx, w, h, &samples, local)?;
     b.zero_fill(ctx)?;
     let per_array = shadow_raster::maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;

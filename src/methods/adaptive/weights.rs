@@ -44,8 +44,55 @@ pub fn sample_weights(p: &AdaptiveParams, levels: &[LevelReport], sample_level: 
             }
         }
     }
+    border_strips(p, levels, rendered, &mut w);
     let total: f64 = w.iter().sum();
     w.iter().map(|x| (x / total) as f32).collect()
+}
+
+/// Layout centred: the light outside the inset lattice, a strip of width η = `border_strip` along
+/// each side plus η² squares at the corners, with V extended outwards from the nearest lattice edge
+/// (docs/method.md §7.1). Each leaf's boundary edge adds η × its 1-D rule along that edge: the two
+/// corners for area weights, every rendered sample on the edge for Coons. Fully split, every sample
+/// then weighs the same: the midpoint rule of the centred grid.
+fn border_strips(p: &AdaptiveParams, levels: &[LevelReport], rendered: &[u32], w: &mut [f64]) {
+    let eta = p.border_strip();
+    if eta == 0.0 {
+        return;
+    }
+    let mut have = vec![false; LATTICE_POINTS as usize];
+    for &k in rendered {
+        have[k as usize] = true;
+    }
+    let k = |x: u32, y: u32| (y * 17 + x) as usize;
+    for r in levels {
+        for (q, quad) in r.quads.iter().enumerate() {
+            if !r.split_base.get(q).is_none_or(|&s| s == NO_SPLIT) {
+                continue;
+            }
+            let (i, j, size) = (quad.i, quad.j, quad.size);
+            let len = size as f64 / 16.0;
+            // Boundary edges of this leaf as (start, step).
+            let mut edges = Vec::new();
+            if j == 0 { edges.push(((i, 0), (1, 0))); }
+            if j + size == 16 { edges.push(((i, 16), (1, 0))); }
+            if i == 0 { edges.push(((0, j), (0, 1))); }
+            if i + size == 16 { edges.push(((16, j), (0, 1))); }
+            for ((x0, y0), (dx, dy)) in edges {
+                let on: Vec<u32> = match p.weights {
+                    Weights::Coons => (0..=size).filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)]).collect(),
+                    _ => vec![0, size],
+                };
+                for (n, &t) in on.iter().enumerate() {
+                    let before = if n == 0 { t } else { on[n - 1] };
+                    let after = if n + 1 == on.len() { t } else { on[n + 1] };
+                    w[k(x0 + t * dx, y0 + t * dy)] += eta * len * (after - before) as f64 / (2.0 * size as f64);
+                }
+            }
+        }
+    }
+    for (x, y) in [(0, 0), (16, 0), (0, 16), (16, 16)] {
+        w[k(x, y)] += eta * eta;
+    }
 }
 
 /// The integral of the Coons patch over one leaf (docs/method.md §3): half the composite
