@@ -9,6 +9,9 @@
 @group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(7) var<storage, read_write> masks: array<u32>;
+// Listed samples not requested (0) have no map this frame: the GPU-steered loop lists every
+// candidate of a level and skips those subdivide did not request.
+@group(0) @binding(8) var<storage, read> lattice_state: array<u32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -35,6 +38,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             word = k / 32u;
             bits = 0u;
+        }
+        if (lattice_state[k] == 0u) {
+            continue;
         }
         let s = samples[k];
         let lookup = shadow_lookup(frame, s, position.xyz, normal);

@@ -29,6 +29,7 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("compact"),
     kernel!("probe"),
     kernel!("cull"),
+    kernel!("weights"),
     kernel!("pcf"),
     kernel!("pcss"),
     kernel!("moments"),

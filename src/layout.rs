@@ -62,6 +62,16 @@ pub struct GpuCull {
     pub groups_x: u32,
 }
 
+/// The weights pass's rule (kernels/weights.wgsl): 0 level, 1 area, 2 Coons.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuWeights {
+    pub rule: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
 /// Parameters of one adaptive level (shadow_test, reproject_count, neighbourhood, quad_count,
 /// subdivide, compact).
 #[repr(C)]
@@ -180,6 +190,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
+        layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, scissor, split_share, pad0, pad1

@@ -115,7 +115,7 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
 /// The adaptive decision stages (issue 3): counting, the neighbourhood test, the per-quad counters,
 /// subdivision, compaction, the probe (scope = local) and the per-level read-backs. Meaningful with
 /// `--timing stages`.
-pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "readback_level"];
+pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "weights", "readback_level"];
 
 pub fn decision_ms(r: &FrameResult) -> f64 {
     DECISION_STAGES.iter().filter_map(|k| r.stages_ms.get(*k)).sum()

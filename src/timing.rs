@@ -146,12 +146,12 @@ impl StageTimer {
 
 /// Where a stage's time belongs. Every frame splits into raster (the G-buffer, shadow maps and
 /// what prepares them: cull, moments, blur), decision (the adaptive counting, subdivision,
-/// compaction and probe), shade (every lookup of a map: shadow_test, shade and the filters) and
+/// compaction, probe and weights), shade (every lookup of a map: shadow_test, shade and the filters) and
 /// waits (the read-backs: per level, pictures, V). Work outside the frame (setup) has none.
 pub fn split_of(stage: &str) -> Option<&'static str> {
     Some(match stage {
         "gbuffer" | "shadow_raster" | "cull" | "moments" | "blur" => "raster",
-        "reproject_count" | "neighbourhood" | "quad_count" | "subdivide" | "compact" | "probe" => "decision",
+        "reproject_count" | "neighbourhood" | "quad_count" | "subdivide" | "compact" | "probe" | "weights" => "decision",
         "shade" | "shadow_test" | "pcf" | "pcss" | "reconstruct" => "shade",
         "readback_level" | "readback" | "pictures" => "waits",
         "setup" | "build" | "upload" => return None,

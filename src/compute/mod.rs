@@ -18,6 +18,7 @@ pub mod reproject_count;
 pub mod shade;
 pub mod shadow_test;
 pub mod subdivide;
+pub mod weights;
 pub mod twin;
 
 pub use frame_gpu::FrameGpu;
@@ -57,4 +58,6 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("probe", "main", LINE_WORKGROUP),
     ("probe", "begin", [1, 1, 1]),
     ("cull", "main", LINE_WORKGROUP),
+    ("weights", "leaves_of_level", LINE_WORKGROUP),
+    ("weights", "main", [1, 1, 1]),
 ];

@@ -16,7 +16,8 @@ impl ShadowTest {
         Ok(Self { kernel: ComputeKernel::new(fg.ctx, "shadow_test", "main")? })
     }
 
-    /// Tests lattice samples `ks`, whose maps are layers of `maps`.
+    /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps`; skips those not
+    /// requested this frame.
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, ks: &[u32]) {
         let ctx = fg.ctx;
         let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: ks.len() as u32, ..Default::default() });
@@ -33,6 +34,7 @@ impl ShadowTest {
                 (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
                 (6, wgpu::BindingResource::TextureView(maps)),
                 (7, b.masks.as_entire_binding()),
+                (8, b.lattice_state.as_entire_binding()),
             ],
             Dispatch::Direct([groups(b.width, PIXEL_WORKGROUP[0]), groups(b.height, PIXEL_WORKGROUP[1]), 1]),
         );

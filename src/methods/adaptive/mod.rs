@@ -5,6 +5,7 @@
 //! inside the quads whose penumbra it lies in (method.md §4.2).
 
 mod levels;
+mod steer;
 mod pictures;
 mod weights;
 
@@ -41,6 +42,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
+        Param { key: "steer", default: "gpu", help: "gpu: the levels drive each other on the GPU, no read-back (scope=global, lattice layout); cpu: one read-back per level" },
         Param { key: "cull", default: "off", help: "scope=local only: raster each new map only with the runs of triangles that can reach the tiles its pixels test" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
@@ -61,7 +63,7 @@ impl ShadowMethod for Adaptive {
         serde_json::to_value(&self.0).unwrap_or_default()
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
-        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)? }))
+        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -72,6 +74,8 @@ impl ShadowMethod for Adaptive {
 struct State {
     p: AdaptiveParams,
     prepared: Prepared,
+    /// A GPU-steered frame's record, read in `finish`.
+    pending: Option<steer::Pending>,
 }
 
 impl MethodState for State {
@@ -83,9 +87,20 @@ impl MethodState for State {
         pr.b.reset_frame(fg.ctx)
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        if !capture && self.prepared.steer.is_some() {
+            let (out, pending) = steer::run(fg, timer, &self.p, &mut self.prepared)?;
+            self.pending = Some(pending);
+            return Ok(out);
+        }
         let (mut out, trace) = run(fg, timer, &self.p, &mut self.prepared, capture)?;
         out.detail = Some(Box::new(trace));
         Ok(out)
+    }
+    fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
+        match self.pending.take() {
+            Some(pending) => steer::finish(fg, &self.p, &self.prepared, pending, out),
+            None => Ok(()),
+        }
     }
 }
 
@@ -146,6 +161,8 @@ pub struct Prepared {
     /// scope = local with culling: the index slots, and the indices kept per lattice sample
     /// (copied from the draw arguments, read back with each level).
     cull: Option<(Cull, wgpu::Buffer)>,
+    /// The GPU-steered loop's state, where this setting allows it (steer::eligible).
+    steer: Option<steer::Steer>,
 }
 
 pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
@@ -194,7 +211,8 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     } else {
         None
     };
-    Ok(Prepared { b, store, passes, samples, cull })
+    let steer = if steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
+    Ok(Prepared { b, store, passes, samples, cull, steer })
 }
 
 /// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
@@ -208,31 +226,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     // compact grows each sample's texel rectangle for the scissor and for culling.
     let grow_rects = p.scissor || cull.is_some();
     let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
-    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| {
-        let (split_mode, p_m, split_share) = match p.split_rule(level) {
-            SplitRule::Threshold(t) => (SPLIT_THRESHOLD, t, 0.0),
-            SplitRule::Always => (SPLIT_ALWAYS, 0, 0.0),
-            SplitRule::Never => (SPLIT_NEVER, 0, 0.0),
-            SplitRule::Share(s) => (SPLIT_SHARE, 0, s),
-        };
-        GpuLevel {
-            level,
-            max_level: p.max_level,
-            quad_count,
-            first_quad,
-            p_m,
-            split_mode,
-            split_share,
-            words_per_row: b.words_per_row,
-            flag_words_per_row: b.flag_words_per_row,
-            item_capacity: b.item_capacity,
-            work_count: 0,
-            dense_groups_x,
-            quad_capacity: QUAD_CAPACITY,
-            scissor: grow_rects as u32,
-            ..Default::default()
-        }
-    };
+    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| gpu_level(p, b, dense_groups_x, grow_rects, level, quad_count, first_quad);
     // The counters (geometry pixels, appends) start from zero every frame.
     ctx.queue.write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);
 
@@ -398,6 +392,33 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     let pictures = if fg.pictures { pictures::all(fg, &trace, consulted.as_deref()) } else { Vec::new() };
     let record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
     Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures, detail: None }, trace))
+}
+
+/// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode).
+fn gpu_level(p: &AdaptiveParams, b: &AdaptiveBuffers, dense_groups_x: u32, grow_rects: bool, level: u32, quad_count: u32, first_quad: u32) -> GpuLevel {
+    let (split_mode, p_m, split_share) = match p.split_rule(level) {
+        SplitRule::Threshold(t) => (SPLIT_THRESHOLD, t, 0.0),
+        SplitRule::Always => (SPLIT_ALWAYS, 0, 0.0),
+        SplitRule::Never => (SPLIT_NEVER, 0, 0.0),
+        SplitRule::Share(s) => (SPLIT_SHARE, 0, s),
+    };
+    GpuLevel {
+        level,
+        max_level: p.max_level,
+        quad_count,
+        first_quad,
+        p_m,
+        split_mode,
+        split_share,
+        words_per_row: b.words_per_row,
+        flag_words_per_row: b.flag_words_per_row,
+        item_capacity: b.item_capacity,
+        work_count: 0,
+        dense_groups_x,
+        quad_capacity: QUAD_CAPACITY,
+        scissor: grow_rects as u32,
+        ..Default::default()
+    }
 }
 
 /// subdivide's split modes (GpuLevel.split_mode).
