@@ -155,3 +155,38 @@ fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
     println!("{maps_checked} culled maps equal their twin; {culled_away} triangles culled in all");
     assert!(culled_away > 0, "no triangle was culled: the comparison says nothing");
 }
+
+/// The GPU-steered loop (no read-back in the frame) equals the waiting loop exactly: the same maps
+/// in the same order, the same levels, the GPU weights equal the CPU weights (their twin) bit for
+/// bit, and V is bit-identical; it needs no sync.
+#[test]
+fn steered_frame_equals_the_waiting_loop() {
+    let ctx = common::gpu();
+    let sets = [("resolution", "96"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let scenes = SEEDS.iter().map(|&s| (s, scene(s))).chain([(0, Scene::load("default", &sets).expect("default scene"))]);
+    let mut frames = 0;
+    for (seed, sc) in scenes {
+        for spec in ["preset=seed", "preset=balanced", "p_m=3,weights=area", "tol=0.004,weights=coons", "p_m=-1,max_level=2"] {
+            let (gpu, t) = common::traced(&ctx, &sc, &params(spec), false);
+            let (cpu, t_cpu) = common::traced(&ctx, &sc, &params(&format!("{spec},steer=cpu")), false);
+            assert_eq!(gpu.output.syncs, 0, "seed {seed} {spec}: the steered frame waited");
+            assert!(cpu.output.syncs > 0, "seed {seed} {spec}: the waiting loop did not wait");
+            assert_eq!(t.rendered, t_cpu.rendered, "seed {seed} {spec}: maps");
+            assert_eq!(t.levels.len(), t_cpu.levels.len(), "seed {seed} {spec}: levels");
+            for (a, b) in t.levels.iter().zip(&t_cpu.levels) {
+                assert_eq!(sorted_quads(&a.quads), sorted_quads(&b.quads), "seed {seed} {spec} level {}: quads", a.level);
+                assert_eq!(a.low_quality.iter().sum::<u32>(), b.low_quality.iter().sum::<u32>(), "seed {seed} {spec} level {}: low-quality pixels", a.level);
+            }
+            let p = params(spec);
+            let last = t.levels.last().unwrap();
+            let twin = penumbra::methods::adaptive::sample_weights(&p, &t.levels, &last.sample_level, &t.rendered);
+            let bits = |w: &[f32]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&t.weights), bits(&twin), "seed {seed} {spec}: GPU weights differ from the CPU's");
+            assert_eq!(bits(&t.weights), bits(&t_cpu.weights), "seed {seed} {spec}: weights differ from the waiting loop's");
+            let changed = gpu.visibility.iter().zip(&cpu.visibility).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+            assert_eq!(changed, 0, "seed {seed} {spec}: V differs in {changed} pixels");
+            frames += 1;
+        }
+    }
+    assert_eq!(frames, 25);
+}
