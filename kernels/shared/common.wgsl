@@ -127,7 +127,8 @@ struct GpuLevel {
     quad_capacity: u32,
     scissor: u32,
     split_share: f32,
-    pad0: u32,
+    // shadow_test: 1 takes the test list's length from the append counter (control word 1).
+    requested: u32,
     pad1: u32,
 }
 

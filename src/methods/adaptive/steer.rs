@@ -172,7 +172,12 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 Ok(())
             })?;
             timer.stage(ctx, "shadow_test", |enc| {
-                passes.shadow_test.record(fg, enc, b, &array.array_view, chunk);
+                if level > 0 && cand.len() <= per_array {
+                    // One chunk: test only what subdivide requested (its list and count).
+                    passes.shadow_test.record_requested(fg, enc, b, &array.array_view);
+                } else {
+                    passes.shadow_test.record(fg, enc, b, &array.array_view, chunk);
+                }
                 Ok(())
             })?;
         }
