@@ -74,6 +74,11 @@ fn level_read(fg: &FrameGpu, level: u32, evaluate: bool) -> LevelRead {
     LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, capture: false }
 }
 
+/// One level's record: what the waiting loop reads back, with the next level's quads.
+fn record_parts(b: &AdaptiveBuffers, read: LevelRead) -> Vec<(&wgpu::Buffer, u64)> {
+    levels::level_parts(b, &b.quads[0], None, read)
+}
+
 fn evaluates(p: &AdaptiveParams, level: u32) -> bool {
     level < p.max_level && matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_))
 }
@@ -86,12 +91,9 @@ impl Steer {
             Weights::Area => RULE_AREA,
             Weights::Coons => RULE_COONS,
         };
-        let mut bytes = LATTICE_POINTS as u64 * 4;
-        for level in 0..=p.max_level {
-            let parts = levels::level_parts(b, &b.quads[0], None, LevelRead { pictures: true, ..level_read(fg, 0, true) });
-            let _ = level;
-            bytes += parts.iter().map(|(_, s)| s).sum::<u64>();
-        }
+        // Every level's record (with pictures: an upper bound), then the weights.
+        let level_bytes: u64 = record_parts(b, LevelRead { pictures: true, ..level_read(fg, 0, true) }).iter().map(|(_, s)| s).sum();
+        let bytes = level_bytes * (p.max_level as u64 + 1) + LATTICE_POINTS as u64 * 4;
         Ok(Self {
             weights: WeightsPass::new(fg, rule)?,
             raster_args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -202,6 +204,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             })?;
         }
         let read = level_read(fg, level, evaluate);
+        reads.push((read, evaluate, history_at));
         timer.stage(ctx, "subdivide", |enc| {
             if !evaluate {
                 clear(enc);
@@ -213,7 +216,6 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             }
             Ok(())
         })?;
-        reads.push((read, evaluate, history_at - levels::level_parts(b, &b.quads[nxt], None, read).iter().map(|(_, s)| s).sum::<u64>()));
         timer.stage(ctx, "weights", |enc| {
             steer.weights.record_leaves(fg, enc, b, &lv, &b.quads[cur]);
             Ok(())
