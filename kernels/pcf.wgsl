@@ -14,7 +14,7 @@ const TAU: f32 = 6.283185307179586;
 @group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
 @group(0) @binding(3) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(5) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(5) var shadow_maps: ShadowMaps;
 @group(0) @binding(6) var<storage, read> disk: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read_write> visibility: array<f32>;
 @group(0) @binding(8) var compare_sampler: sampler_comparison;
@@ -52,7 +52,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var count = 0u;
     if (settings.kind == PCF_BOX || settings.kind == PCF_BILINEAR) {
         let n = settings.taps;
-        let size = f32(frame.map_size);
         for (var j = 0u; j < n; j = j + 1u) {
             for (var i = 0u; i < n; i = i + 1u) {
                 let o = vec2<f32>(grid_offset(i, n, settings.radius), grid_offset(j, n, settings.radius));
@@ -62,7 +61,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 } else {
                     // Stored depth at which the comparison sampler passes: lit when reference <= stored.
                     let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
-                    lit = lit + textureSampleCompareLevel(shadow_maps, compare_sampler, (t + o) / size, i32(s.layer), reference);
+                    lit = lit + map_compare_bilinear(frame, shadow_maps, compare_sampler, s, t + o, reference);
                 }
             }
         }

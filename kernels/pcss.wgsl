@@ -9,7 +9,7 @@
 @group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
 @group(0) @binding(3) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(5) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(5) var shadow_maps: ShadowMaps;
 @group(0) @binding(6) var<storage, read_write> visibility: array<f32>;
 
 fn midpoint(i: u32, n: u32, r: f32) -> f32 {
@@ -53,7 +53,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
                 continue;
             }
-            let stored = textureLoad(shadow_maps, vec2<i32>(texel), i32(s.layer), 0);
+            let stored = map_depth(frame, shadow_maps, s, vec2<i32>(texel));
             if ((z_r - length(o) * slope) * (stored + s.depth_lin_b) < s.depth_lin_a) {
                 blocker_sum = blocker_sum + s.depth_lin_a / (stored + s.depth_lin_b);
                 blockers = blockers + 1u;

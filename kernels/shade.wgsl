@@ -14,7 +14,7 @@ struct GpuShadeChunk {
 @group(0) @binding(3) var<storage, read> weights: array<f32>;
 @group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(6) var shadow_maps: ShadowMaps;
 @group(0) @binding(7) var<storage, read_write> visibility: array<f32>;
 
 @compute @workgroup_size(8, 8, 1)
@@ -33,7 +33,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var i = 0u; i < chunk.sample_count; i = i + 1u) {
         let s = samples[chunk.first_sample + i];
         let lookup = shadow_lookup(frame, s, position.xyz, normal);
-        let stored = textureLoad(shadow_maps, lookup.texel, i32(s.layer), 0);
+        let stored = map_depth(frame, shadow_maps, s, lookup.texel);
         v = v + weights[chunk.first_sample + i] * f32(shadow_compare(s, lookup, stored));
     }
     visibility[index] = v;

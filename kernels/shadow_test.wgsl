@@ -7,7 +7,7 @@
 @group(0) @binding(3) var<storage, read> test_list: array<u32>;
 @group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(6) var shadow_maps: ShadowMaps;
 @group(0) @binding(7) var<storage, read_write> masks: array<u32>;
 // Listed samples not requested (0) have no map this frame: the GPU-steered loop lists every
 // candidate of a level and skips those subdivide did not request.
@@ -47,7 +47,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         let s = samples[k];
         let lookup = shadow_lookup(frame, s, position.xyz, normal);
-        let stored = textureLoad(shadow_maps, lookup.texel, i32(s.layer), 0);
+        let stored = map_depth(frame, shadow_maps, s, lookup.texel);
         let lit = shadow_compare(s, lookup, stored);
         bits = bits | (lit << (k % 32u));
         summary = summary | select(SUMMARY_ANY_UNLIT, SUMMARY_ANY_LIT, lit == 1u);

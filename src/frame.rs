@@ -54,7 +54,11 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
         width: scene.render.width,
         height: scene.render.height,
         map_size: scene.render.shadow_map_size,
-        flags: if scene.render.self_shadow == crate::scene::SelfShadow::Facing { 1 } else { 0 },
+        flags: if scene.render.self_shadow == crate::scene::SelfShadow::Facing { 1 } else { 0 }
+            | match scene.render.maps {
+                crate::scene::MapKind::Plain => 0,
+                crate::scene::MapKind::Hybrid => scene.render.hybrid.levels << crate::compute::hybrid_build::FRAME_LEVELS_SHIFT,
+            },
         light_center: [scene.light.center.x, scene.light.center.y, scene.light.center.z, 1.0],
         light_normal: scene.light.normal().extend(0.0).to_array(),
         bias_constant: b.constant,
@@ -98,7 +102,7 @@ impl<'a> Renderer<'a> {
             frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
             frame,
             raster: ShadowRasterPass::new(ctx, scene.render.cull)?,
-            shade: ShadePass::new(ctx)?,
+            shade: ShadePass::new(ctx, scene.render.maps)?,
             visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
             scene_gpu,
             gbuffer,

@@ -21,14 +21,27 @@ pub fn ray_offset(scene: &Scene) -> f32 {
     RELATIVE_RAY_OFFSET * scene.bounds.diagonal()
 }
 
-/// `lattice` or `continuous` (with `samples` per side, M×M stratified).
+/// `lattice`, `continuous` (with `samples` per side, M×M stratified), or `point` (the light's
+/// centre) / `point:S,T` (light coordinates in [0, 1]).
 pub fn parse_mode(name: &str, samples: u32) -> Result<ReferenceMode> {
     match name {
         "lattice" => Ok(ReferenceMode::Lattice),
         "continuous" if samples >= 1 && samples <= 256 => Ok(ReferenceMode::Continuous { m: samples, seed: CONTINUOUS_SEED }),
         "continuous" => Err(Error::Param(format!("--samples must be in 1..=256, got {samples}"))),
-        _ => Err(Error::Param(format!("reference mode `{name}`: use `lattice` or `continuous`"))),
+        "point" => Ok(ReferenceMode::Point { s: 0.5, t: 0.5 }),
+        _ => match name.strip_prefix("point:") {
+            Some(at) => parse_point(at).map(|(s, t)| ReferenceMode::Point { s, t }),
+            None => Err(Error::Param(format!("reference mode `{name}`: use `lattice`, `continuous`, `point` or `point:S,T`"))),
+        },
     }
+}
+
+/// `S,T` light coordinates, each in [0, 1].
+fn parse_point(at: &str) -> Result<(f32, f32)> {
+    let bad = || Error::Param(format!("reference point `{at}`: give S,T, two numbers in [0, 1] (0.5,0.5 is the light's centre)"));
+    let (s, t) = at.split_once(',').ok_or_else(bad)?;
+    let parse = |v: &str| v.trim().parse::<f32>().ok().filter(|x| (0.0..=1.0).contains(x));
+    Ok((parse(s).ok_or_else(bad)?, parse(t).ok_or_else(bad)?))
 }
 
 /// Short description for tables and records: `continuous 32x32` or `lattice 17x17`.
@@ -36,6 +49,8 @@ pub fn mode_label(mode: &ReferenceMode) -> String {
     match *mode {
         ReferenceMode::Lattice => "lattice 17x17".into(),
         ReferenceMode::Continuous { m, .. } => format!("continuous {m}x{m}"),
+        ReferenceMode::Point { s, t } if s == 0.5 && t == 0.5 => "point (light centre)".into(),
+        ReferenceMode::Point { s, t } => format!("point ({s}, {t})"),
     }
 }
 
@@ -109,6 +124,7 @@ impl ReferenceImage {
             "mode": mode_label(&self.mode),
             "samples_per_pixel": self.mode.samples_per_pixel(),
             "seed": match self.mode { ReferenceMode::Continuous { seed, .. } => Some(seed), _ => None },
+            "point": match self.mode { ReferenceMode::Point { s, t } => Some([s, t]), _ => None },
             "ray_offset": self.ray_offset,
             "key": self.key,
             "cached": self.cached,

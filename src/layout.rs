@@ -72,6 +72,34 @@ pub struct GpuWeights {
     pub pad2: u32,
 }
 
+/// One map of hybrid_build: which raster layer merges into which store slot (docs/hybrid.md).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuHybridBuild {
+    pub levels: u32,
+    /// Coarse texels per side: the raster size / 2^levels.
+    pub coarse: u32,
+    pub layer: u32,
+    pub slot: u32,
+    /// Pool words.
+    pub capacity: u32,
+    /// Merge tolerance in depth units (the setting's 16-bit units / 65535).
+    pub eps: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// The hybrid store's allocation state: words used, the overflow flag, the last map's base and the
+/// maps built since the last reset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuHybridControl {
+    pub used: u32,
+    pub overflow: u32,
+    pub map_base: u32,
+    pub built: u32,
+}
+
 /// Parameters of one adaptive level (shadow_test, reproject_count, neighbourhood, quad_count,
 /// subdivide, compact).
 #[repr(C)]
@@ -198,6 +226,8 @@ pub fn all_layouts() -> Vec<StructLayout> {
         }),
         layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, pad0, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),
+        layout_of!(GpuHybridBuild { levels, coarse, layer, slot, capacity, eps, pad0, pad1 }),
+        layout_of!(GpuHybridControl { used, overflow, map_base, built }),
         layout_of!(GpuFilter {
             kind, taps, blocker_taps, order, radius, darkening, light_u, light_v, c_pos, c_neg, bleed, moment_bias, layers,
             blur_radius, max_radius, depth_offset

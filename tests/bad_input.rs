@@ -182,6 +182,41 @@ fn info_says_which_backend_was_chosen_and_why() {
 }
 
 #[test]
+fn hybrid_map_settings_are_checked() {
+    let e = fails("hybrid-levels", GOOD, Some(TRI), &["--set", "maps=hybrid", "--set", "levels=3"]);
+    assert!(e.contains("scene.toml") && e.contains("render.hybrid.levels = 3: use 1 or 2"), "{e}");
+    let e = fails("hybrid-base", GOOD, Some(TRI), &["--set", "maps=hybrid", "--set", "base=250"]);
+    assert!(e.contains("render.hybrid.base = 250") && e.contains("multiple of 2^levels = 4"), "{e}");
+    let e = fails("hybrid-eps", GOOD, Some(TRI), &["--set", "maps=hybrid", "--set", "eps=-1"]);
+    assert!(e.contains("render.hybrid.eps = -1"), "{e}");
+    let e = fails("maps-kind", GOOD, Some(TRI), &["--set", "maps=sparse"]);
+    assert!(e.contains("maps=sparse") && e.contains("`plain` or `hybrid`"), "{e}");
+    let e = fails("hybrid-esm", GOOD, Some(TRI), &["--method", "esm", "--set", "maps=hybrid", "--set", "base=64"]);
+    assert!(e.contains("esm: maps = hybrid is not supported"), "{e}");
+    let e = fails("hybrid-local", GOOD, Some(TRI), &["--method", "adaptive:scope=local", "--set", "maps=hybrid", "--set", "base=64"]);
+    assert!(e.contains("adaptive: maps = hybrid needs scope = global"), "{e}");
+}
+
+#[test]
+fn reference_point_is_checked() {
+    let dir = temp_dir("reference-point");
+    let out_dir = dir.join("out");
+    for (args, want) in [
+        (vec!["--mode", "point", "--point", "2,0"], "reference point `2,0`: give S,T, two numbers in [0, 1]"),
+        (vec!["--mode", "lattice", "--point", "0.5,0.5"], "--point is for --mode point, not --mode lattice"),
+        (vec!["--mode", "pointy"], "reference mode `pointy`: use `lattice`, `continuous`, `point` or `point:S,T`"),
+    ] {
+        let mut all = vec!["reference", "--out", out_dir.to_str().unwrap()];
+        all.extend(args);
+        let out = penumbra(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(stderr.lines().any(|l| l.starts_with("error:") && l.contains(want)), "{stderr}");
+        assert!(!out_dir.exists(), "no output on bad input");
+    }
+}
+
+#[test]
 fn every_gpu_command_honours_the_adapter_request() {
     // sequence and failures used to open the default adapter whatever --adapter said.
     let dir = temp_dir("adapter-request");
@@ -196,5 +231,24 @@ fn every_gpu_command_honours_the_adapter_request() {
         assert_eq!(r.status.code(), Some(1), "{args:?}: {e}");
         assert!(e.contains("adapter name \"no-such-adapter-anywhere\""), "{args:?}: {e}");
         assert!(!out.exists(), "{args:?}: wrote output");
+    }
+}
+
+#[test]
+fn hybrid_study_flags_are_checked() {
+    let dir = temp_dir("hybrid-study-flags");
+    let out_dir = dir.join("out");
+    for (flag, value, want) in [
+        ("--hybrid", "2048/3", "--hybrid: map configuration `2048/3`: levels must be 1 or 2"),
+        ("--hybrid", "1002/2", "--hybrid: map configuration `1002/2`: base must be in 8..=16384 and a multiple of 2^levels"),
+        ("--plain", "abc", "--plain: map configuration `abc`: not a whole number"),
+        ("--eps", "-1", "--eps: -1 must be a finite number >= 0"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let out = penumbra(&["hybrid", &arg, "--out", out_dir.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(1), "{flag} {value}: {stderr}");
+        assert!(stderr.lines().any(|l| l == format!("error: {want}")), "{flag} {value}: {stderr}");
+        assert!(!out_dir.exists(), "no output on bad input");
     }
 }

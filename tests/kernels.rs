@@ -12,6 +12,42 @@ fn every_kernel_validates_with_naga() {
 }
 
 #[test]
+fn map_reading_kernels_validate_for_hybrid_maps() {
+    use penumbra::scene::MapKind;
+    let readers: Vec<&str> = KERNELS.iter().filter(|k| k.reads_maps).map(|k| k.name).collect();
+    assert_eq!(readers, ["shade", "shadow_test", "pcf", "pcss"], "the kernels that read maps through map_depth");
+    let errors: Vec<String> = readers.iter().filter_map(|k| kernels::validate_for(k, MapKind::Hybrid).err().map(|e| e.to_string())).collect();
+    assert!(errors.is_empty(), "hybrid forms failed naga validation:\n{}", errors.join("\n"));
+    assert!(kernels::source_for("moments", MapKind::Hybrid).is_err(), "a kernel reading the raster directly has no hybrid form");
+    // The hybrid form reads a u32 pool where the plain one reads a depth array, at the same binding.
+    let (module, _) = kernels::validate_for("shade", MapKind::Hybrid).unwrap();
+    let maps = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("shadow_maps")).unwrap().1;
+    assert!(matches!(
+        module.types[maps.ty].inner,
+        naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Uint, .. } }
+    ));
+}
+
+#[test]
+fn hybrid_constants_match_rust() {
+    use penumbra::compute::hybrid_build::{CHILDREN, FRAME_LEVELS_SHIFT, POOL_WIDTH_LOG2};
+    use penumbra::scene::MapKind;
+    let constant = |kernel: &str, maps: MapKind, name: &str| -> u32 {
+        let (module, _) = kernels::validate_for(kernel, maps).unwrap();
+        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("{kernel}: no `{name}`"));
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref e => panic!("{kernel}: `{name}` is {e:?}"),
+        }
+    };
+    for (kernel, maps) in [("shade", MapKind::Hybrid), ("hybrid_build", MapKind::Plain)] {
+        assert_eq!(constant(kernel, maps, "HYBRID_POOL_WIDTH_LOG2"), POOL_WIDTH_LOG2, "{kernel}");
+        assert_eq!(constant(kernel, maps, "HYBRID_CHILDREN"), CHILDREN, "{kernel}");
+    }
+    assert_eq!(constant("shade", MapKind::Hybrid, "FRAME_HYBRID_LEVELS_SHIFT"), FRAME_LEVELS_SHIFT);
+}
+
+#[test]
 fn rust_structs_match_wgsl_layouts() {
     let mut problems = Vec::new();
     let mut checked = 0;

@@ -89,3 +89,29 @@ pub fn shade<'a>(c: &mut Criterion, adaptive: &mut FramePool<'a>, regular: &mut 
     }
     group.finish();
 }
+
+/// hybrid_build and the hard shadow's lookup on hybrid maps (docs/hybrid.md): one iteration = one
+/// `hard` frame's merge of its 2048² map into 512² (throughput in full-resolution texels), and its
+/// shade on the hybrid store against a plain 2048² map (throughput in pixel lookups).
+pub fn hybrid(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
+    let mut plain = scene.clone();
+    plain.render.shadow_map_size = 2048;
+    let mut hybrid = scene;
+    hybrid.render.maps = penumbra::scene::MapKind::Hybrid;
+    hybrid.render.hybrid = penumbra::scene::HybridDef { base: 2048, levels: 2, eps: 0.25 };
+    hybrid.render.shadow_map_size = 2048;
+    let mut plain = FramePool::new(ctx, plain, "hard");
+    let mut hybrid = FramePool::new(ctx, hybrid, "hard");
+    let mut group = frame_group(c, "hybrid_build");
+    group.throughput(Throughput::Elements(2048 * 2048));
+    group.bench_function(BenchmarkId::new("hard_2048_to_512", &hybrid.scene.name), |b| {
+        b.iter_custom(|iters| hybrid.take("hybrid_build", &["hybrid_build"], iters))
+    });
+    group.finish();
+    let mut group = frame_group(c, "shade_hard");
+    for (id, pool) in [("plain_2048", &mut plain), ("hybrid_2048_to_512", &mut hybrid)] {
+        group.throughput(Throughput::Elements(pool.pixels));
+        group.bench_function(BenchmarkId::new(id, &pool.scene.name), |b| b.iter_custom(|iters| pool.take("shade", &["shade"], iters)));
+    }
+    group.finish();
+}

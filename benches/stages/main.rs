@@ -1,5 +1,5 @@
 //! Per-stage benchmarks, one criterion group per stage: shadow_raster, gbuffer, reproject_count,
-//! neighbourhood, quad_count + subdivide, shade. Throughput is in the stage's own unit (triangles,
+//! neighbourhood, quad_count + subdivide, shade, hybrid_build (and shade on hybrid maps). Throughput is in the stage's own unit (triangles,
 //! pixels, pixel·quad evaluations, pixel·map lookups). The adapter is printed first: absolute
 //! figures mean nothing without it.
 //!
@@ -38,6 +38,7 @@ fn main() {
     frames::adaptive_stages(&mut c, &mut adaptive);
     let mut regular = frames::FramePool::new(&ctx, scenes::stage_scene(), "regular:n=17");
     frames::shade(&mut c, &mut adaptive, &mut regular);
+    frames::hybrid(&mut c, &ctx, scenes::stage_scene());
     tracer::reference_tracer(&mut c, &ctx, scenes::stage_scene());
     c.final_summary();
 }

@@ -1,5 +1,7 @@
 // Shared prelude, concatenated before every kernel: WGSL twins of the Rust `Gpu*` structs
 // (src/layout.rs; a test compares their layouts) and the one shadow-map test every method uses.
+// Depths are read through `map_depth` (kernels/shared/maps_plain.wgsl or maps_hybrid.wgsl, one of
+// which is concatenated after this prelude), so every method works on either representation.
 
 struct GpuFrame {
     width: u32,
@@ -243,13 +245,13 @@ fn slope_per_texel(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) ->
 }
 
 // One depth-map tap at continuous texel coordinate t: 1 when lit (outside the map counts as lit).
-fn tap_lit(frame: GpuFrame, s: GpuSample, maps: texture_depth_2d_array, limit: f32, t: vec2<f32>) -> f32 {
+fn tap_lit(frame: GpuFrame, s: GpuSample, maps: ShadowMaps, limit: f32, t: vec2<f32>) -> f32 {
     let size = f32(frame.map_size);
     let texel = floor(t);
     if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
         return 1.0;
     }
-    let stored = textureLoad(maps, vec2<i32>(texel), i32(s.layer), 0);
+    let stored = map_depth(frame, maps, s, vec2<i32>(texel));
     return select(0.0, 1.0, limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
 }
 

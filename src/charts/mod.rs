@@ -5,6 +5,7 @@
 mod error_maps;
 mod error_time;
 mod framing;
+mod hybrid;
 mod labels;
 mod maps_pm;
 mod pareto;
@@ -18,6 +19,7 @@ mod temporal;
 pub use error_maps::error_vs_maps_svg;
 pub use error_time::error_vs_time_svg;
 pub use framing::{framing_svg, WidthAxis, WidthPoint};
+pub use hybrid::{error_memory_svg, MemoryPoint};
 pub use maps_pm::maps_vs_pm_svg;
 pub use pareto::{pareto_front, pareto_steps};
 pub use raster::svg_to_png;

@@ -22,6 +22,7 @@ pub(crate) fn metrics(rmse: f64) -> Metrics {
         nan_count: 0,
         pixels: 1000,
         penumbra_pixels: 200,
+        mismatch_share: rmse,
     }
 }
 

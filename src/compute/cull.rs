@@ -98,10 +98,6 @@ impl Cull {
         );
     }
 
-    pub fn cull_face(&self) -> u32 {
-        self.cull_face
-    }
-
     /// Byte offset of slot n's draw arguments.
     pub fn args_offset(slot: u32) -> u64 {
         slot as u64 * ARGS_WORDS as u64 * 4

@@ -17,7 +17,12 @@ pub enum Dispatch<'a> {
 
 impl ComputeKernel {
     pub fn new(ctx: &GpuContext, name: &'static str, entry: &'static str) -> Result<Self> {
-        Ok(Self { name, entry, pipeline: pipeline::compute_pipeline(ctx, name, entry)? })
+        Self::new_for(ctx, name, entry, crate::scene::MapKind::Plain)
+    }
+
+    /// A map-reading kernel built for the scene's shadow-map representation.
+    pub fn new_for(ctx: &GpuContext, name: &'static str, entry: &'static str, maps: crate::scene::MapKind) -> Result<Self> {
+        Ok(Self { name, entry, pipeline: pipeline::compute_pipeline_for(ctx, name, entry, maps)? })
     }
 
     pub fn dispatch(

@@ -6,6 +6,7 @@ pub mod buffers;
 pub mod compact;
 pub mod cull;
 pub mod frame_gpu;
+pub mod hybrid_build;
 pub mod kernel;
 pub mod moments;
 pub mod neighbourhood;
@@ -60,4 +61,8 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("cull", "main", LINE_WORKGROUP),
     ("weights", "leaves_of_level", LINE_WORKGROUP),
     ("weights", "main", [1, 1, 1]),
+    ("hybrid_build", "classify", PIXEL_WORKGROUP),
+    ("hybrid_build", "scan_rows", LINE_WORKGROUP),
+    ("hybrid_build", "scan_total", [1, 1, 1]),
+    ("hybrid_build", "emit", PIXEL_WORKGROUP),
 ];

@@ -18,7 +18,7 @@ impl Pcf {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "pcf", "main")?, sampler })
+        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "pcf", "main", fg.scene.render.maps)?, sampler })
     }
 
     /// `samples[0]` is the map's sample; `disk` the tap offsets of the disk kernels.

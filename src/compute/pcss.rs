@@ -9,7 +9,7 @@ pub struct Pcss {
 
 impl Pcss {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "pcss", "main")? })
+        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "pcss", "main", fg.scene.render.maps)? })
     }
 
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView) {

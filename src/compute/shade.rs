@@ -23,14 +23,16 @@ pub struct ShadeInputs<'a> {
 }
 
 impl ShadePass {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    /// `maps`: the representation `main` reads (from_masks reads no maps).
+    pub fn new(ctx: &GpuContext, maps: crate::scene::MapKind) -> Result<Self> {
         Ok(Self {
-            pipeline: pipeline::compute_pipeline(ctx, "shade", "main")?,
+            pipeline: pipeline::compute_pipeline_for(ctx, "shade", "main", maps)?,
             from_masks: super::ComputeKernel::new(ctx, "shade", "from_masks")?,
         })
     }
 
-    /// Adds samples `first .. first + count` (all in `maps`) to the visibility buffer.
+    /// Adds samples `first .. first + count` (all in `maps`: a depth array, or a hybrid store's view)
+    /// to the visibility buffer.
     pub fn record(
         &self,
         ctx: &GpuContext,

@@ -13,11 +13,11 @@ pub struct ShadowTest {
 
 impl ShadowTest {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "shadow_test", "main")? })
+        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "shadow_test", "main", fg.scene.render.maps)? })
     }
 
-    /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps`; skips those not
-    /// requested this frame.
+    /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a
+    /// hybrid store's view); skips those not requested this frame.
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, ks: &[u32]) {
         let ctx = fg.ctx;
         let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: ks.len() as u32, ..Default::default() });

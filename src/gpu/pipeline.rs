@@ -1,10 +1,16 @@
 //! Pipelines are created inside a validation error scope so a bad kernel is a readable error.
 
 use super::GpuContext;
+use crate::scene::MapKind;
 use crate::{kernels, Error, Result};
 
 pub fn shader_module(ctx: &GpuContext, kernel: &str) -> Result<wgpu::ShaderModule> {
-    let src = kernels::source(kernel)?;
+    shader_module_for(ctx, kernel, MapKind::Plain)
+}
+
+/// The kernel built for one shadow-map representation (kernels::source_for).
+pub fn shader_module_for(ctx: &GpuContext, kernel: &str, maps: MapKind) -> Result<wgpu::ShaderModule> {
+    let src = kernels::source_for(kernel, maps)?;
     let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(kernel),
@@ -15,7 +21,11 @@ pub fn shader_module(ctx: &GpuContext, kernel: &str) -> Result<wgpu::ShaderModul
 }
 
 pub fn compute_pipeline(ctx: &GpuContext, kernel: &str, entry: &str) -> Result<wgpu::ComputePipeline> {
-    let module = shader_module(ctx, kernel)?;
+    compute_pipeline_for(ctx, kernel, entry, MapKind::Plain)
+}
+
+pub fn compute_pipeline_for(ctx: &GpuContext, kernel: &str, entry: &str, maps: MapKind) -> Result<wgpu::ComputePipeline> {
+    let module = shader_module_for(ctx, kernel, maps)?;
     let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(kernel),

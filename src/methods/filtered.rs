@@ -184,6 +184,12 @@ impl ShadowMethod for Filtered {
         serde_json::Value::Object(m)
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        if fg.scene.render.maps == crate::scene::MapKind::Hybrid {
+            return Err(crate::Error::Param(format!(
+                "{}: maps = hybrid is not supported: a prefiltered map reads the full-resolution raster once into its statistic (docs/hybrid.md); use maps = plain",
+                self.name()
+            )));
+        }
         let map = CentreMap::new(fg)?;
         let (light_u, light_v) = light_size(fg);
         let layers = self.layers();
@@ -240,7 +246,7 @@ impl MethodState for State {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
-        let view = &self.map.array.array_view;
+        let view = self.map.view();
         timer.stage(fg.ctx, "moments", |enc| {
             self.moments.record(fg, enc, &self.filter_buffer, &self.map.samples, view, &self.raw);
             Ok(())

@@ -1,6 +1,8 @@
 //! Methods with a fixed sample set (hard, regular): raster every map, shade, chunk by chunk when the
-//! maps exceed the memory budget or the layer limit.
+//! maps exceed the memory budget or the layer limit. With `maps = hybrid` the maps are rasterized a
+//! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
+use super::hybrid_maps::HybridMaps;
 use super::{check_range, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::compute::FrameGpu;
 use crate::gpu::readback;
@@ -140,28 +142,38 @@ fn splitmix64(mut x: u64) -> u64 {
     x ^ (x >> 31)
 }
 
-/// Buffers and the map array of a fixed-sample run, allocated before the frame's clock starts.
+/// Buffers and the maps of a fixed-sample run, allocated before the frame's clock starts.
 pub struct Prepared {
     points: usize,
-    chunk: u32,
     samples: Vec<GpuSample>,
     weights: Vec<f32>,
     samples_buffer: wgpu::Buffer,
     weights_buffer: wgpu::Buffer,
-    array: shadow_raster::ShadowMapArray,
+    maps: Maps,
 }
 
-/// Samples (s, t) with equal weights; the array holds at most `maps_per_array` maps.
+/// Plain: one array of `chunk` layers, shaded chunk by chunk. Hybrid: a transient raster and a store.
+enum Maps {
+    Plain { chunk: u32, array: shadow_raster::ShadowMapArray },
+    Hybrid(Box<HybridMaps>),
+}
+
+/// Samples (s, t) with equal weights; a plain array holds at most `maps_per_array` maps.
 pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
-    let per_array = shadow_raster::maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?;
-    let chunk = per_array.min(points.len() as u32).max(1);
+    let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
+    let chunk = if hybrid {
+        u32::MAX
+    } else {
+        shadow_raster::maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(points.len() as u32).max(1)
+    };
     let samples: Vec<GpuSample> = points
         .iter()
         .enumerate()
         .map(|(i, &(u, v))| {
             let mut g = sample_view(&s.light, s.light.point(u, v), &s.bounds, s.render.shadow_map_size, u32::MAX);
+            // Hybrid: the layer is the sample's slot in the store.
             g.layer = i as u32 % chunk;
             g
         })
@@ -169,19 +181,28 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let weights = vec![1.0 / points.len() as f32; points.len()];
     let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
     let weights_buffer = readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
-    let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, chunk);
-    shadow_raster::clear_all(ctx, &array)?;
-    Ok(Prepared { points: points.len(), chunk, samples, weights, samples_buffer, weights_buffer, array })
+    let maps = if hybrid {
+        Maps::Hybrid(Box::new(HybridMaps::new(fg, points.len() as u32, points.len() as u32)?))
+    } else {
+        let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, chunk);
+        shadow_raster::clear_all(ctx, &array)?;
+        Maps::Plain { chunk, array }
+    };
+    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps })
 }
 
 /// Renders and shades chunk by chunk; with `capture`, every map and sample record is kept for the
 /// shade twin (tests only).
-fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &Prepared, capture: bool) -> Result<MethodOutput> {
+fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: bool) -> Result<MethodOutput> {
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps } = prepared;
+    let (chunk, array) = match maps {
+        Maps::Plain { chunk, array } => (*chunk, &*array),
+        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, capture),
+    };
     let ctx = fg.ctx;
-    let Prepared { points, chunk, samples, weights, samples_buffer, weights_buffer, array } = prepared;
-    let (points, chunk) = (*points, *chunk);
+    let points = *points;
     let mut capture = capture.then(FixedCapture::default);
-    let inputs = fg.shade_inputs(&samples_buffer, &weights_buffer);
+    let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
@@ -222,15 +243,82 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &Prepared, capture: bool
     })
 }
 
+/// `run` with `maps = hybrid`: batches of the transient raster's layers, merged into the store; the
+/// store is shaded whenever it is full and once at the end. Samples are contiguous, so each shade
+/// is one range.
+#[allow(clippy::too_many_arguments)]
+fn run_hybrid(
+    fg: &FrameGpu,
+    timer: &mut StageTimer,
+    points: usize,
+    samples: &[GpuSample],
+    weights: &[f32],
+    samples_buffer: &wgpu::Buffer,
+    weights_buffer: &wgpu::Buffer,
+    maps: &mut HybridMaps,
+    capture: bool,
+) -> Result<MethodOutput> {
+    let ctx = fg.ctx;
+    maps.reset(fg);
+    let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
+    let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
+        debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
+        timer.stage(ctx, "shade", |enc| {
+            fg.shade.record(ctx, enc, &inputs, view, slots[0], slots.len() as u32);
+            Ok(())
+        })
+    };
+    let mut cap = capture.then(FixedCapture::default);
+    let layers = maps.layers();
+    let bar = crate::progress::bar(points as u64, "shadow maps");
+    for first in (0..points as u32).step_by(layers as usize) {
+        let ks: Vec<u32> = (first..first + layers.min(points as u32 - first)).collect();
+        let flushes = maps.stats.flushes;
+        maps.render(fg, timer, samples_buffer, &ks, &mut consume)?;
+        if let Some(c) = cap.as_mut() {
+            // Tests only: the batch's full-resolution maps and the store that holds them.
+            timer.flush(ctx);
+            if maps.stats.flushes != flushes {
+                return Err(crate::Error::Limit("capture with maps=hybrid needs a store that holds each raster batch".into()));
+            }
+            let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
+            let (base, levels) = (maps.store.settings.base, maps.store.settings.levels);
+            for (layer, &k) in ks.iter().enumerate() {
+                c.raw_maps.push(readback::read_texture(ctx, &maps.raster.texture, layer as u32, 4)?);
+                c.maps.push(crate::compute::twin::hybrid_build::decode(&pool, k, base, levels));
+            }
+            c.hybrid_pool = pool;
+        }
+        bar.inc(ks.len() as u64);
+    }
+    maps.flush(fg, timer, &mut consume)?;
+    bar.finish_and_clear();
+    if let Some(c) = cap.as_mut() {
+        c.samples = samples.to_vec();
+        c.weights = weights.to_vec();
+    }
+    Ok(MethodOutput {
+        shadow_maps: points as u32,
+        syncs: maps.stats.syncs,
+        record: serde_json::json!({ "maps_per_chunk": layers, "chunks": maps.stats.flushes, "hybrid": maps.record() }),
+        pictures: Vec::new(),
+        detail: cap.map(|c| Box::new(c) as Box<dyn std::any::Any>),
+    })
+}
+
 /// The capture of a fixed-sample run made with `capture` on.
 pub fn capture_of(out: &MethodOutput) -> Option<&FixedCapture> {
     out.detail.as_ref()?.downcast_ref()
 }
 
-/// Maps, samples and weights of a fixed-sample run, for the shade twin.
+/// Maps, samples and weights of a fixed-sample run, for the shade twin. With `maps = hybrid`,
+/// `maps` are what the lookup twin reads from the store, `raw_maps` the rasterized maps and
+/// `hybrid_pool` the store after the last batch.
 #[derive(Default)]
 pub struct FixedCapture {
     pub maps: Vec<Vec<f32>>,
+    pub raw_maps: Vec<Vec<f32>>,
+    pub hybrid_pool: Vec<u32>,
     pub samples: Vec<GpuSample>,
     pub weights: Vec<f32>,
 }

@@ -8,6 +8,7 @@
 pub mod adaptive;
 pub mod filtered;
 pub mod fixed;
+pub mod hybrid_maps;
 pub mod params;
 pub mod pcf;
 pub mod pcss;

@@ -182,7 +182,7 @@ impl MethodState for State {
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, "pcf", |enc| {
-            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.map.array.array_view, &self.disk_buffer);
+            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer);
             Ok(())
         })?;
         let detail = if capture {
@@ -194,8 +194,8 @@ impl MethodState for State {
         };
         Ok(MethodOutput {
             shadow_maps: 1,
-            syncs: 0,
-            record: serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps }),
+            syncs: self.map.syncs(),
+            record: self.map.with_record(serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps })),
             pictures: Vec::new(),
             detail,
         })

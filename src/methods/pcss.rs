@@ -75,7 +75,7 @@ impl MethodState for State {
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, "pcss", |enc| {
-            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.map.array.array_view);
+            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view());
             Ok(())
         })?;
         let detail = if capture {
@@ -87,8 +87,8 @@ impl MethodState for State {
         };
         Ok(MethodOutput {
             shadow_maps: 1,
-            syncs: 0,
-            record: serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] }),
+            syncs: self.map.syncs(),
+            record: self.map.with_record(serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] })),
             pictures: Vec::new(),
             detail,
         })

@@ -1,11 +1,13 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
 //! light's centre, the filter uniform, and the capture their twin tests read.
 
+use super::hybrid_maps::HybridMaps;
 use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::{GpuFilter, GpuSample};
 use crate::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
+use crate::scene::MapKind;
 use crate::timing::StageTimer;
 use crate::Result;
 
@@ -13,7 +15,13 @@ use crate::Result;
 pub struct CentreMap {
     pub sample: GpuSample,
     pub samples: wgpu::Buffer,
-    pub array: ShadowMapArray,
+    pub maps: CentreMaps,
+}
+
+/// A depth array of one layer, or (`maps = hybrid`) one raster layer merged into a store of one slot.
+pub enum CentreMaps {
+    Plain(ShadowMapArray),
+    Hybrid(Box<HybridMaps>),
 }
 
 impl CentreMap {
@@ -22,21 +30,66 @@ impl CentreMap {
         let mut sample = sample_view(&s.light, s.light.point(0.5, 0.5), &s.bounds, s.render.shadow_map_size, u32::MAX);
         sample.layer = 0;
         let samples = readback::storage_buffer(fg.ctx, "centre sample", &[sample], wgpu::BufferUsages::empty());
-        let array = shadow_raster::allocate(fg.ctx, s.render.shadow_map_size, 1);
-        shadow_raster::clear_all(fg.ctx, &array)?;
-        Ok(Self { sample, samples, array })
+        let maps = match s.render.maps {
+            MapKind::Plain => {
+                let array = shadow_raster::allocate(fg.ctx, s.render.shadow_map_size, 1);
+                shadow_raster::clear_all(fg.ctx, &array)?;
+                CentreMaps::Plain(array)
+            }
+            MapKind::Hybrid => CentreMaps::Hybrid(Box::new(HybridMaps::new(fg, 1, 1)?)),
+        };
+        Ok(Self { sample, samples, maps })
     }
 
-    /// The `shadow_raster` stage: one map.
-    pub fn render(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
-        timer.stage(fg.ctx, "shadow_raster", |enc| {
-            fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, &self.array, &[RasterJob { sample: 0, layer: 0, scissor: None }]);
-            Ok(())
-        })
+    /// The `shadow_raster` stage: one map (with `maps = hybrid`, then `hybrid_build`).
+    pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
+        match &mut self.maps {
+            CentreMaps::Plain(array) => timer.stage(fg.ctx, "shadow_raster", |enc| {
+                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &[RasterJob { sample: 0, layer: 0, scissor: None }]);
+                Ok(())
+            }),
+            CentreMaps::Hybrid(h) => {
+                h.reset(fg);
+                // One map always fits a store sized for it, so nothing is handed over early.
+                h.render(fg, timer, &self.samples, &[0], &mut |_, _, _, _| Ok(()))?;
+                h.flush(fg, timer, &mut |_, _, _, _| Ok(()))
+            }
+        }
     }
 
+    /// What the filter kernels bind as `shadow_maps`.
+    pub fn view(&self) -> &wgpu::TextureView {
+        match &self.maps {
+            CentreMaps::Plain(array) => &array.array_view,
+            CentreMaps::Hybrid(h) => &h.store.view,
+        }
+    }
+
+    /// The map as the kernels read it: the raster, or what the lookup twin reads from the store.
     pub fn read(&self, fg: &FrameGpu) -> Result<Vec<f32>> {
-        readback::read_texture(fg.ctx, &self.array.texture, 0, 4)
+        match &self.maps {
+            CentreMaps::Plain(array) => readback::read_texture(fg.ctx, &array.texture, 0, 4),
+            CentreMaps::Hybrid(h) => {
+                let pool = h.store.read_words(fg.ctx, h.store.capacity_words)?;
+                Ok(crate::compute::twin::hybrid_build::decode(&pool, 0, h.store.settings.base, h.store.settings.levels))
+            }
+        }
+    }
+
+    /// Read-backs the representation needs (the hybrid store's allocation state).
+    pub fn syncs(&self) -> u32 {
+        match &self.maps {
+            CentreMaps::Plain(_) => 0,
+            CentreMaps::Hybrid(h) => h.stats.syncs,
+        }
+    }
+
+    /// A method's record with the `hybrid` entry added when the maps are hybrid.
+    pub fn with_record(&self, mut record: serde_json::Value) -> serde_json::Value {
+        if let CentreMaps::Hybrid(h) = &self.maps {
+            record["hybrid"] = h.record();
+        }
+        record
     }
 
     /// The map's far plane: linear depth a / (1 + b) of the cleared depth 1.

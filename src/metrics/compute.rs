@@ -86,7 +86,7 @@ pub fn compute(
     }
 
     let (mut sq, mut abs, mut max_abs, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0u64);
-    let (mut pen_sq, mut penumbra_pixels) = (0.0f64, 0u64);
+    let (mut pen_sq, mut penumbra_pixels, mut mismatched) = (0.0f64, 0u64, 0u64);
     for i in (0..n).filter(|&i| valid[i]) {
         let (r, e) = (f64::from(reference[i]), f64::from(estimate[i]));
         let d = e - r;
@@ -94,6 +94,7 @@ pub fn compute(
         abs += d.abs();
         max_abs = max_abs.max(d.abs());
         bad += u64::from(d.abs() > BAD_PIXEL_THRESHOLD);
+        mismatched += u64::from((e >= 0.5) != (r >= 0.5));
         if r > 0.0 && r < 1.0 {
             pen_sq += d * d;
             penumbra_pixels += 1;
@@ -116,6 +117,7 @@ pub fn compute(
         nan_count,
         pixels,
         penumbra_pixels,
+        mismatch_share: mismatched as f64 / pixels as f64,
     })
 }
 

@@ -53,6 +53,10 @@ pub struct Metrics {
     /// Valid pixels inside the reference penumbra (the `penumbra_rmse` population).
     #[serde(default)]
     pub penumbra_pixels: u64,
+    /// Share (0..1) of valid pixels lit in one image and shadowed in the other (V thresholded at
+    /// 1/2): against a point reference (`--reference point`) the hard shadow's mismatched pixels.
+    #[serde(default)]
+    pub mismatch_share: f64,
 }
 
 #[derive(Debug, thiserror::Error)]

@@ -245,3 +245,21 @@ fn write_samples_when_asked() {
         .save(format!("{dir}/signed.png"))
         .unwrap();
 }
+
+#[test]
+fn mismatch_share_counts_pixels_on_the_other_side_of_one_half() {
+    let n = (W * H) as usize;
+    let r: Vec<f32> = (0..n).map(|i| if i % 4 == 0 { 0.0 } else { 1.0 }).collect();
+    let mut e = r.clone();
+    // Flip every 8th pixel; nudge the others by less than one half (no mismatch).
+    for (i, v) in e.iter_mut().enumerate() {
+        if i % 8 == 0 {
+            *v = 1.0 - *v;
+        } else {
+            *v = (*v - 0.4).abs();
+        }
+    }
+    let m = run(&e, &r, &all_geometry());
+    assert_eq!(m.mismatch_share, (n / 8) as f64 / n as f64);
+    assert_eq!(run(&r, &r, &all_geometry()).mismatch_share, 0.0);
+}

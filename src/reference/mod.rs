@@ -7,8 +7,9 @@
 //!   hits any triangle at `t ∈ (0, dist·(1 - LIGHT_END_EPS))`. Triangles are two-sided, edges closed.
 //!
 //! Samples: [`ReferenceMode::Lattice`] (the 289 points `s = i/16, t = j/16` that a perfect 17×17
-//! shadow-map method sees) or [`ReferenceMode::Continuous`] (m×m stratified jitter, decorrelated
-//! per pixel). The analytic square scene ([`analytic`]) validates both.
+//! shadow-map method sees), [`ReferenceMode::Continuous`] (m×m stratified jitter, decorrelated
+//! per pixel) or [`ReferenceMode::Point`] (one light point: the exact hard shadow a perfect map
+//! from that point gives, so V is 0 or 1). The analytic square scene ([`analytic`]) validates both.
 
 pub mod analytic;
 pub mod cache;
@@ -66,13 +67,15 @@ pub struct SurfacePoint {
 }
 
 /// Which light points `V` averages over.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ReferenceMode {
     /// The (2^4+1)² = 289 lattice points `s = i/16`, `t = j/16` (method.md §3).
     Lattice,
     /// m×m stratified jittered samples; the jitter is a deterministic hash of `(seed, pixel index)`
     /// so neighbouring pixels do not share one pattern (which would print the strata as banding).
     Continuous { m: u32, seed: u64 },
+    /// One light point `(s, t) ∈ [0,1]²` (the centre is (0.5, 0.5)): exact hard-shadow visibility.
+    Point { s: f32, t: f32 },
 }
 
 impl ReferenceMode {
@@ -87,6 +90,7 @@ impl ReferenceMode {
         match *self {
             ReferenceMode::Lattice => sampling::LATTICE_POINTS,
             ReferenceMode::Continuous { m, .. } => (m as usize) * (m as usize),
+            ReferenceMode::Point { .. } => 1,
         }
     }
 
@@ -98,6 +102,12 @@ impl ReferenceMode {
                 let mut v = b"continuous".to_vec();
                 v.extend_from_slice(&m.to_le_bytes());
                 v.extend_from_slice(&seed.to_le_bytes());
+                v
+            }
+            ReferenceMode::Point { s, t } => {
+                let mut v = b"point".to_vec();
+                v.extend_from_slice(&s.to_le_bytes());
+                v.extend_from_slice(&t.to_le_bytes());
                 v
             }
         }

@@ -59,6 +59,7 @@ pub fn fill_light_samples(mode: &ReferenceMode, light: &RefLight, pixel: u64, ou
                 }
             }
         }
+        ReferenceMode::Point { s, t } => out.push(light.point(s, t)),
         ReferenceMode::Continuous { m, seed } => {
             let mut rng = PixelRng::new(seed, pixel);
             let inv_m = 1.0 / m as f32;

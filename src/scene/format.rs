@@ -56,6 +56,39 @@ pub struct RenderSettings {
     pub ambient: f32,
     pub shadow_map_budget_mib: u32,
     pub self_shadow: SelfShadow,
+    /// Shadow-map representation (docs/hybrid.md): `plain` depth arrays or `hybrid` merged maps.
+    pub maps: MapKind,
+    pub hybrid: HybridDef,
+}
+
+/// How every map-reading method stores its shadow maps.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum MapKind {
+    /// One `Depth32Float` layer of `shadow_map_size`² per map.
+    Plain,
+    /// Hybrid-resolution maps (seed 003): rasterized at `hybrid.base`², flat 2x2 blocks merged over
+    /// `hybrid.levels` levels into a compact store with an index (docs/hybrid.md).
+    Hybrid,
+}
+
+/// `maps = "hybrid"` settings. With them the raster size is `base` (it replaces `shadow_map_size`).
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct HybridDef {
+    /// Full (raster) resolution per side; the coarse grid is base / 2^levels.
+    pub base: u32,
+    /// Merge levels, 1 or 2 (2048 → 1024 or 2048 → 512).
+    pub levels: u32,
+    /// Merge tolerance in 16-bit depth units (1/65535 of the [0, 1] depth range): a 2x2 block merges
+    /// when each depth differs from the block's mean by at most eps. The seed's ε0 = 0.25.
+    pub eps: f32,
+}
+
+impl Default for HybridDef {
+    fn default() -> Self {
+        Self { base: 2048, levels: 2, eps: 0.25 }
+    }
 }
 
 /// How a surface shadows itself in the shadow-map methods.
@@ -81,6 +114,8 @@ impl Default for RenderSettings {
             ambient: 0.15,
             shadow_map_budget_mib: 512,
             self_shadow: SelfShadow::Facing,
+            maps: MapKind::Plain,
+            hybrid: HybridDef::default(),
         }
     }
 }
@@ -285,7 +320,21 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     if !(0.0..=1.0).contains(&r.ambient) {
         return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
     }
-    let render = def.render.clone();
+    let mut render = def.render.clone();
+    if render.maps == MapKind::Hybrid {
+        let hy = render.hybrid;
+        if !(1..=2).contains(&hy.levels) {
+            return Err(Error::scene(origin, format!("render.hybrid.levels = {}: use 1 or 2", hy.levels)));
+        }
+        if hy.base == 0 || hy.base % (1 << hy.levels) != 0 {
+            return Err(Error::scene(origin, format!("render.hybrid.base = {}: must be a positive multiple of 2^levels = {}", hy.base, 1 << hy.levels)));
+        }
+        if !(hy.eps.is_finite() && hy.eps >= 0.0) {
+            return Err(Error::scene(origin, format!("render.hybrid.eps = {}: must be a finite number >= 0", hy.eps)));
+        }
+        // The raster (and every lookup's texel grid) is the full resolution.
+        render.shadow_map_size = hy.base;
+    }
     if def.meshes.is_empty() {
         return Err(Error::scene(origin, "the scene has no [[mesh]]"));
     }

@@ -13,7 +13,7 @@ mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use catalog::{catalog, CatalogEntry};
-pub use format::{BiasDef, CullMode, RenderSettings, SelfShadow};
+pub use format::{BiasDef, CullMode, HybridDef, MapKind, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use obj::embedded_source;

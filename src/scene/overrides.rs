@@ -14,6 +14,13 @@ pub const RENDER_KEYS: &[&str] = &[
     "bias.slope",
     "bias.normal_offset",
     "bias.max_slope",
+    "maps",
+    "hybrid.base",
+    "hybrid.levels",
+    "hybrid.eps",
+    "base",
+    "levels",
+    "eps",
 ];
 
 /// Value text as TOML (numbers, booleans), else as a string.
@@ -40,6 +47,14 @@ pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)]) 
         if short == "resolution" {
             render.insert("width".into(), v.clone());
             render.insert("height".into(), v);
+        } else if let Some(h) = short.strip_prefix("hybrid.").or(["base", "levels", "eps"].into_iter().find(|k| *k == short)) {
+            // `base`, `levels` and `eps` are the hybrid map's: `--set maps=hybrid --set base=2048`.
+            let hybrid = render
+                .entry("hybrid")
+                .or_insert_with(|| toml::Value::Table(Default::default()))
+                .as_table_mut()
+                .ok_or("`render.hybrid` is not a table")?;
+            hybrid.insert(h.into(), v);
         } else if let Some(b) = short.strip_prefix("bias.") {
             let bias = render
                 .entry("bias")

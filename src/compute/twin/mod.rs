@@ -3,6 +3,7 @@
 
 pub mod blur;
 pub mod cull;
+pub mod hybrid_build;
 pub mod local;
 pub mod moments;
 pub mod neighbourhood;

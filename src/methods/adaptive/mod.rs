@@ -12,6 +12,7 @@ mod weights;
 pub use levels::{LevelRecord, LevelReport};
 pub use weights::sample_weights;
 
+use super::hybrid_maps::{self, HybridMaps};
 use super::params::SplitRule;
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
 use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
@@ -84,6 +85,9 @@ impl MethodState for State {
         pr.samples = lattice_samples(fg, &self.p);
         fg.ctx.queue.write_buffer(&pr.b.samples, 0, bytemuck::cast_slice(&pr.samples));
         pr.store.used = 0;
+        if let Some(h) = pr.store.hybrid.as_mut() {
+            h.reset(fg);
+        }
         pr.b.reset_frame(fg.ctx)
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
@@ -149,6 +153,8 @@ struct MapStore {
     arrays: Vec<ShadowMapArray>,
     per_array: u32,
     used: u32,
+    /// `maps = hybrid` (scope = global): a few raster layers merged into a store, tested, dropped.
+    hybrid: Option<HybridMaps>,
 }
 
 /// Buffers, shadow-map arrays and pipelines, allocated (and zero-filled) before the frame's clock
@@ -173,8 +179,18 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let samples = lattice_samples(fg, p);
     let b = AdaptiveBuffers::new(ctx, w, h, &samples, local)?;
     b.zero_fill(ctx)?;
+    let hybrid = scene.render.maps == crate::scene::MapKind::Hybrid;
+    if hybrid && local {
+        return Err(Error::Param(
+            "adaptive: maps = hybrid needs scope = global (scope = local keeps every map alive for probe and reproject_count, which read depth arrays)".into(),
+        ));
+    }
     let per_array = shadow_raster::maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
-    let store = if local {
+    let store = if hybrid {
+        // Maps live only until shadow_test has cached them: one raster batch per store.
+        let maps = HybridMaps::new(fg, LATTICE_POINTS, hybrid_maps::TRANSIENT_LAYERS)?;
+        MapStore { arrays: Vec::new(), per_array: maps.layers(), used: 0, hybrid: Some(maps) }
+    } else if local {
         // Every map stays alive: the lattice needs up to 289, split across two arrays at the layer limit.
         let need = LATTICE_POINTS;
         let budget_maps = per_array as u64 * if per_array >= need { 1 } else { 2 };
@@ -189,10 +205,10 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         if first < need {
             arrays.push(shadow_raster::allocate(ctx, scene.render.shadow_map_size, need - first));
         }
-        MapStore { arrays, per_array: first, used: 0 }
+        MapStore { arrays, per_array: first, used: 0, hybrid: None }
     } else {
         let chunk = per_array.min(LATTICE_POINTS);
-        MapStore { arrays: vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0 }
+        MapStore { arrays: vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
     };
     let passes = Passes {
         shadow_test: ShadowTest::new(fg)?,
@@ -211,7 +227,8 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     } else {
         None
     };
-    let steer = if steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
+    // maps = hybrid merges each batch into a store whose allocation the CPU reads: it waits.
+    let steer = if !hybrid && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
     Ok(Prepared { b, store, passes, samples, cull, steer })
 }
 
@@ -390,7 +407,12 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         None
     };
     let pictures = if fg.pictures { pictures::all(fg, &trace, consulted.as_deref()) } else { Vec::new() };
-    let record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
+    // The hybrid store's allocation read-backs are syncs the representation needs.
+    syncs += store.hybrid.as_ref().map_or(0, |h| h.stats.syncs);
+    let mut record = levels::record(p, &trace, syncs, consulted.as_deref(), &fg.gbuffer);
+    if let Some(h) = &store.hybrid {
+        record["hybrid"] = h.record();
+    }
     Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures, detail: None }, trace))
 }
 
@@ -464,6 +486,9 @@ fn render_new(
     let ctx = fg.ctx;
     let mut ks = new.to_vec();
     ks.sort_unstable();
+    if let Some(h) = store.hybrid.as_mut() {
+        return render_new_hybrid(fg, timer, b, h, samples, &ks, passes, trace, capture);
+    }
     let map_size = fg.scene.render.shadow_map_size;
     for chunk in ks.chunks(store.per_array as usize) {
         let mut jobs: Vec<(usize, RasterJob)> = Vec::new();
@@ -526,6 +551,49 @@ fn render_new(
                 let s = &samples[k as usize];
                 let map = crate::gpu::readback::read_texture(ctx, &store.arrays[s.array as usize].texture, s.layer, 4)?;
                 trace.maps.push((k, map));
+            }
+        }
+        trace.rendered.extend_from_slice(chunk);
+    }
+    Ok(())
+}
+
+/// `render_new` with `maps = hybrid` (scope = global): each batch of the transient raster is merged
+/// into the store, tested by shadow_test (slot = lattice index) and dropped.
+#[allow(clippy::too_many_arguments)]
+fn render_new_hybrid(
+    fg: &FrameGpu,
+    timer: &mut StageTimer,
+    b: &AdaptiveBuffers,
+    maps: &mut HybridMaps,
+    samples: &mut [GpuSample],
+    ks: &[u32],
+    passes: &Passes,
+    trace: &mut AdaptiveTrace,
+    capture: bool,
+) -> Result<()> {
+    let ctx = fg.ctx;
+    let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
+        timer.stage(ctx, "shadow_test", |enc| {
+            passes.shadow_test.record(fg, enc, b, view, slots);
+            Ok(())
+        })
+    };
+    for chunk in ks.chunks(maps.layers() as usize) {
+        for &k in chunk {
+            samples[k as usize].layer = k;
+            samples[k as usize].array = 0;
+            ctx.queue.write_buffer(&b.samples, k as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[k as usize]));
+        }
+        maps.render(fg, timer, &b.samples, chunk, &mut test)?;
+        maps.flush(fg, timer, &mut test)?;
+        if capture {
+            // Tests only: the maps as the lookup reads them (the pool keeps them until the next build).
+            timer.flush(ctx);
+            let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
+            let h = maps.store.settings;
+            for &k in chunk {
+                trace.maps.push((k, crate::compute::twin::hybrid_build::decode(&pool, k, h.base, h.levels)));
             }
         }
         trace.rendered.extend_from_slice(chunk);

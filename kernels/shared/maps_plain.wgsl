@@ -1,0 +1,16 @@
+// Shadow-map access, plain representation: one Depth32Float layer per map (GpuSample.layer).
+// Every map-reading kernel reads depths only through these functions; kernels/shared/maps_hybrid.wgsl
+// defines the same names for hybrid-resolution maps (docs/hybrid.md).
+
+alias ShadowMaps = texture_depth_2d_array;
+
+// Stored depth of sample s's map at a texel inside the map.
+fn map_depth(frame: GpuFrame, maps: ShadowMaps, s: GpuSample, texel: vec2<i32>) -> f32 {
+    return textureLoad(maps, texel, i32(s.layer), 0);
+}
+
+// Bilinear percentage-closer tap at continuous texel coordinate t: the hardware comparison sampler
+// (lit where reference <= stored, clamped to the edge).
+fn map_compare_bilinear(frame: GpuFrame, maps: ShadowMaps, compare: sampler_comparison, s: GpuSample, t: vec2<f32>, reference: f32) -> f32 {
+    return textureSampleCompareLevel(maps, compare, t / f32(frame.map_size), i32(s.layer), reference);
+}
