@@ -37,7 +37,7 @@ impl Cull {
         let ctx = fg.ctx;
         let stride = fg.scene_gpu.index_count;
         let slot_bytes = stride as u64 * 4;
-        let binding = ctx.limits().max_storage_buffer_binding_size as u64;
+        let binding = ctx.limits().max_storage_buffer_binding_size;
         let slots = (binding.min(SLOTS_BUDGET_BYTES) / slot_bytes.max(4)).min(max_maps as u64) as u32;
         if slots == 0 || !ctx.device.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE) {
             return Ok(None);

@@ -8,6 +8,7 @@
 //! - each level's uniform takes its quad count from the previous subdivide by a buffer copy, and
 //!   neighbourhood and quad_count dispatch indirectly, as subdivide sizes them;
 //! - the weights pass computes ŵ from the leaves and the rendered samples; shade follows.
+//!
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
 
 use super::levels::{self, LevelRead};

@@ -145,7 +145,7 @@ pub fn lattice_numerators(p: &AdaptiveParams, levels: &[LevelReport], sample_lev
     }
     for r in levels {
         for (q, quad) in r.quads.iter().enumerate() {
-            if !r.split_base.get(q).is_none_or(|&s| s == NO_SPLIT) {
+            if r.split_base.get(q).is_some_and(|&s| s != NO_SPLIT) {
                 continue;
             }
             let (i, j, size) = (quad.i, quad.j, quad.size);
