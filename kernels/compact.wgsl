@@ -3,7 +3,8 @@
 // split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
 // uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
-// With scissor on, every child corner's shadow-map texel rectangle grows to cover p.
+// With scissor or cull on, every child corner's shadow-map texel rectangle grows to cover p, and
+// the culling tile p looks up in is marked.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -22,6 +23,7 @@
 @group(0) @binding(14) var<storage, read_write> item_total: array<u32>;
 @group(0) @binding(15) var<storage, read_write> dispatch_args: array<u32>;
 @group(0) @binding(16) var<storage, read_write> probes: array<vec2<u32>>;
+@group(0) @binding(17) var<storage, read_write> tiles: array<atomic<u32>>;
 
 const PROBE_LIT: u32 = 0x80000000u;
 
@@ -32,6 +34,8 @@ fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
         atomicMin(&rects[k * 4u + 1u], u32(lookup.texel.y));
         atomicMax(&rects[k * 4u + 2u], u32(lookup.texel.x));
         atomicMax(&rects[k * 4u + 3u], u32(lookup.texel.y));
+        let bit = cull_tile_bit(lookup.texel, frame.map_size);
+        atomicOr(&tiles[k * CULL_TILE_WORDS + bit / 32u], 1u << (bit % 32u));
     }
 }
 

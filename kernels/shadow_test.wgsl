@@ -9,6 +9,11 @@
 @group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(6) var shadow_maps: ShadowMaps;
 @group(0) @binding(7) var<storage, read_write> masks: array<u32>;
+// Listed samples not requested (0) have no map this frame: the GPU-steered loop lists every
+// candidate of a level and skips those subdivide did not request.
+@group(0) @binding(8) var<storage, read> lattice_state: array<u32>;
+// GpuControl's words; word 1 counts the samples subdivide requested (level.requested = 1).
+@group(0) @binding(9) var<storage, read> control_words: array<u32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -27,7 +32,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var word = MASK_WORDS;
     var bits = 0u;
     var summary = SUMMARY_GEOMETRY;
-    for (var t = 0u; t < level.work_count; t = t + 1u) {
+    let count = select(level.work_count, control_words[1], level.requested == 1u);
+    for (var t = 0u; t < count; t = t + 1u) {
         let k = test_list[t];
         if (k / 32u != word) {
             if (word < MASK_WORDS && bits != 0u) {
@@ -35,6 +41,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             word = k / 32u;
             bits = 0u;
+        }
+        if (lattice_state[k] == 0u) {
+            continue;
         }
         let s = samples[k];
         let lookup = shadow_lookup(frame, s, position.xyz, normal);

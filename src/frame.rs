@@ -141,10 +141,11 @@ impl<'a> Renderer<'a> {
             self.gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
             Ok(())
         })?;
-        let output = self.state.run(fg, &mut timer, options.capture)?;
+        let mut output = self.state.run(fg, &mut timer, options.capture)?;
         timer.flush(ctx);
         let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
+        self.state.finish(fg, &mut output)?;
         let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
         if gbuffer.geometry_count() == 0 {
             return Err(fg.scene.nothing_visible());

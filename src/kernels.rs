@@ -41,6 +41,8 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("subdivide"),
     kernel!("compact"),
     kernel!("probe"),
+    kernel!("cull"),
+    kernel!("weights"),
     kernel!("pcf", maps),
     kernel!("pcss", maps),
     kernel!("moments"),

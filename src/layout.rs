@@ -49,6 +49,29 @@ pub struct GpuShadeChunk {
     pub pad1: u32,
 }
 
+/// One batch of the cull pass (kernels/cull.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuCull {
+    pub triangle_count: u32,
+    /// Index capacity of one slot: the whole mesh, so no slot can overflow.
+    pub slot_stride: u32,
+    /// 0: the raster culls no face; 1: back faces; 2: front faces.
+    pub cull_face: u32,
+    /// Workgroups along x; z carries the rest of the triangles.
+    pub groups_x: u32,
+}
+
+/// The weights pass's rule (kernels/weights.wgsl): 0 level, 1 area, 2 Coons.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuWeights {
+    pub rule: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
 /// One map of hybrid_build: which raster layer merges into which store slot (docs/hybrid.md).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -102,7 +125,8 @@ pub struct GpuLevel {
     pub scissor: u32,
     /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §6).
     pub split_share: f32,
-    pub pad0: u32,
+    /// shadow_test: 1 takes the test list's length from the append counter (GpuControl word 1).
+    pub requested: u32,
     pub pad1: u32,
 }
 
@@ -267,9 +291,11 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
+        layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
+        layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
-            work_count, dense_groups_x, quad_capacity, scissor, split_share, pad0, pad1
+            work_count, dense_groups_x, quad_capacity, scissor, split_share, requested, pad1
         }),
         layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, pad0, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),

@@ -104,6 +104,9 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "gpu_stages_ms": if timestamps_trusted { serde_json::to_value(&r.gpu_stages_ms).unwrap_or_default() } else { serde_json::Value::Null },
         "gpu_clock": if timestamps_trusted { "GPU timestamps around each stage's commands, milliseconds" } else { "none: timestamps are not trustworthy on a CPU adapter" },
         "total_ms": r.total_ms,
+        // raster / decision / shade / waits (crate::timing::split_of); from per-stage wall times, so
+        // meaningful with --timing stages.
+        "frame_split_ms": crate::timing::frame_split(&r.stages_ms),
         "decision_stages_ms": decision_ms(r),
         "decision_share": if r.total_ms > 0.0 { decision_ms(r) / r.total_ms } else { 0.0 },
         "method_record": r.output.record,
@@ -115,7 +118,7 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
 /// The adaptive decision stages (issue 3): counting, the neighbourhood test, the per-quad counters,
 /// subdivision, compaction, the probe (scope = local) and the per-level read-backs. Meaningful with
 /// `--timing stages`.
-pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "readback_level"];
+pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "weights", "readback_level"];
 
 pub fn decision_ms(r: &FrameResult) -> f64 {
     DECISION_STAGES.iter().filter_map(|k| r.stages_ms.get(*k)).sum()

@@ -143,3 +143,50 @@ impl StageTimer {
         Ok(out)
     }
 }
+
+/// Where a stage's time belongs. Every frame splits into raster (the G-buffer, shadow maps and
+/// what prepares them: cull, moments, blur), decision (the adaptive counting, subdivision,
+/// compaction, probe and weights), shade (every lookup of a map: shadow_test, shade and the filters) and
+/// waits (the read-backs: per level, pictures, V). Work outside the frame (setup) has none.
+pub fn split_of(stage: &str) -> Option<&'static str> {
+    Some(match stage {
+        "gbuffer" | "shadow_raster" | "cull" | "moments" | "blur" => "raster",
+        "reproject_count" | "neighbourhood" | "quad_count" | "subdivide" | "compact" | "probe" | "weights" => "decision",
+        "shade" | "shadow_test" | "pcf" | "pcss" | "reconstruct" => "shade",
+        "readback_level" | "readback" | "pictures" => "waits",
+        "setup" | "build" | "upload" => return None,
+        _ => "other",
+    })
+}
+
+/// The frame split (raster, decision, shade, waits; `other` only for a stage `split_of` does not
+/// know) from per-stage times. Meaningful from a stages-mode frame, whose stages hold their waits.
+pub fn frame_split(stages_ms: &BTreeMap<String, f64>) -> BTreeMap<&'static str, f64> {
+    let mut out: BTreeMap<&'static str, f64> = ["raster", "decision", "shade", "waits"].into_iter().map(|k| (k, 0.0)).collect();
+    for (stage, ms) in stages_ms {
+        if let Some(part) = split_of(stage) {
+            *out.entry(part).or_insert(0.0) += ms;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_frame_stage_has_a_part_and_setup_has_none() {
+        let stages: BTreeMap<String, f64> =
+            [("gbuffer", 1.0), ("shadow_raster", 2.0), ("cull", 4.0), ("subdivide", 8.0), ("shadow_test", 16.0), ("readback_level", 32.0), ("setup", 64.0)]
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect();
+        let split = frame_split(&stages);
+        assert_eq!(split["raster"], 7.0);
+        assert_eq!(split["decision"], 8.0);
+        assert_eq!(split["shade"], 16.0);
+        assert_eq!(split["waits"], 32.0);
+        assert!(!split.contains_key("other"));
+    }
+}

@@ -282,3 +282,27 @@ fn local_scope_finds_a_shadow_between_the_corners_of_a_split_quad() {
     // with area (trapezoid) weights, the lattice mean does not, hence the tolerance.
     assert!(v_local < 0.85 && (v_local - v_reg).abs() < 0.1, "local mean V {v_local:.3} under the pole, regular {v_reg:.3}");
 }
+
+/// run.json of a stages-mode frame: the steered loop has no sync (only timing waits), the frame
+/// splits into raster, decision, shade and waits within its total, and every map drew the whole
+/// mesh (no culling under global scope).
+#[test]
+fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
+    let ctx = common::gpu();
+    let scene = small("default", &[]);
+    let method = adaptive(AdaptiveParams::default());
+    let r = frame::render(&ctx, &scene, &method, TimingMode::Stages).unwrap();
+    assert_eq!(r.output.syncs, 0);
+    assert!(r.timing_waits > 10, "stages mode waits per stage: {}", r.timing_waits);
+    let rec = penumbra::output::run_record(&scene, &method, &r, &ctx.summary, false);
+    let split = rec["frame_split_ms"].as_object().expect("frame_split_ms");
+    let parts: Vec<&str> = split.keys().map(String::as_str).collect();
+    assert_eq!(parts, ["decision", "raster", "shade", "waits"]);
+    for part in ["decision", "raster", "shade"] {
+        assert!(split[part].as_f64().unwrap() > 0.0, "{part}: {split:?}");
+    }
+    let sum: f64 = split.values().map(|v| v.as_f64().unwrap()).sum();
+    assert!(sum <= r.total_ms + 1.0, "split {sum} ms over the frame's {} ms", r.total_ms);
+    assert_eq!(rec["method_record"]["triangles_per_map_mean"].as_f64(), Some(scene.triangle_count() as f64));
+    assert_eq!(rec["method_record"]["syncs"], 0);
+}

@@ -118,3 +118,75 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
     }
     assert!(probes_seen > 1000, "too few probes were compared: {probes_seen}");
 }
+
+/// cull (scope = local): the triangles kept for every culled map equal the twin's count exactly,
+/// from the GPU's own rectangles and samples; culling changes no pixel and no map choice.
+#[test]
+fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
+    let ctx = common::gpu();
+    let (mut maps_checked, mut culled_away) = (0, 0u64);
+    // The random scenes' occluders fill the light's view; default's bunny sits in a small part of it.
+    let sets = [("resolution", "128"), ("shadow_map_size", "256")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let scenes = SEEDS.iter().map(|&s| (s, scene(s))).chain([(0, Scene::load("default", &sets).expect("default scene"))]);
+    for (seed, sc) in scenes {
+        let fr = frame_uniform(&sc);
+        let positions: Vec<glam::Vec3> = sc.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let whole = sc.indices.len() as u64 / 3;
+        // Always splitting reaches small quads, whose pixels test small rectangles.
+        let (on, t) = common::traced(&ctx, &sc, &params("p_m=-1,max_level=3,scope=local,cull=on"), false);
+        let (off, t_off) = common::traced(&ctx, &sc, &params("p_m=-1,max_level=3,scope=local"), false);
+        let changed = on.visibility.iter().zip(&off.visibility).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+        assert_eq!(changed, 0, "seed {seed}: culling changed V in {changed} pixels");
+        assert_eq!(t.rendered, t_off.rendered, "seed {seed}: culling changed the maps");
+        assert!(t_off.triangles.iter().all(|&n| n == whole), "seed {seed}: cull=off rasterizes the whole mesh");
+        for d in 1..t.levels.len() {
+            let ks = &t.levels[d - 1].new_samples;
+            let kept = twin::cull::cull(&fr, &t.samples, &t.levels[d - 1].tiles, &positions, &sc.indices, ks, penumbra::compute::cull::cull_face(sc.render.cull));
+            for (k, tris) in ks.iter().zip(&kept) {
+                let at = t.rendered.iter().position(|r| r == k).expect("new sample rendered");
+                assert!(t.culled.contains(k), "seed {seed} level {d}: map {k} was not culled");
+                assert_eq!(t.triangles[at], tris.len() as u64, "seed {seed} level {d}: map {k}'s kept triangles");
+                culled_away += whole - tris.len() as u64;
+                maps_checked += 1;
+            }
+        }
+    }
+    assert!(maps_checked >= 8, "only {maps_checked} culled maps compared");
+    println!("{maps_checked} culled maps equal their twin; {culled_away} triangles culled in all");
+    assert!(culled_away > 0, "no triangle was culled: the comparison says nothing");
+}
+
+/// The GPU-steered loop (no read-back in the frame) equals the waiting loop exactly: the same maps
+/// in the same order, the same levels, the GPU weights equal the CPU weights (their twin) bit for
+/// bit, and V is bit-identical; it needs no sync.
+#[test]
+fn steered_frame_equals_the_waiting_loop() {
+    let ctx = common::gpu();
+    let sets = [("resolution", "96"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let scenes = SEEDS.iter().map(|&s| (s, scene(s))).chain([(0, Scene::load("default", &sets).expect("default scene"))]);
+    let mut frames = 0;
+    for (seed, sc) in scenes {
+        for spec in ["preset=seed", "preset=balanced", "p_m=3,weights=area", "tol=0.004,weights=coons", "p_m=-1,max_level=2"] {
+            let (gpu, t) = common::traced(&ctx, &sc, &params(spec), false);
+            let (cpu, t_cpu) = common::traced(&ctx, &sc, &params(&format!("{spec},steer=cpu")), false);
+            assert_eq!(gpu.output.syncs, 0, "seed {seed} {spec}: the steered frame waited");
+            assert!(cpu.output.syncs > 0, "seed {seed} {spec}: the waiting loop did not wait");
+            assert_eq!(t.rendered, t_cpu.rendered, "seed {seed} {spec}: maps");
+            assert_eq!(t.levels.len(), t_cpu.levels.len(), "seed {seed} {spec}: levels");
+            for (a, b) in t.levels.iter().zip(&t_cpu.levels) {
+                assert_eq!(sorted_quads(&a.quads), sorted_quads(&b.quads), "seed {seed} {spec} level {}: quads", a.level);
+                assert_eq!(a.low_quality.iter().sum::<u32>(), b.low_quality.iter().sum::<u32>(), "seed {seed} {spec} level {}: low-quality pixels", a.level);
+            }
+            let p = params(spec);
+            let last = t.levels.last().unwrap();
+            let twin = penumbra::methods::adaptive::sample_weights(&p, &t.levels, &last.sample_level, &t.rendered);
+            let bits = |w: &[f32]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&t.weights), bits(&twin), "seed {seed} {spec}: GPU weights differ from the CPU's");
+            assert_eq!(bits(&t.weights), bits(&t_cpu.weights), "seed {seed} {spec}: weights differ from the waiting loop's");
+            let changed = gpu.visibility.iter().zip(&cpu.visibility).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+            assert_eq!(changed, 0, "seed {seed} {spec}: V differs in {changed} pixels");
+            frames += 1;
+        }
+    }
+    assert_eq!(frames, 25);
+}

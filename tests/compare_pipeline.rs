@@ -78,7 +78,7 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4);
     assert!(csv.starts_with("scene,label,method,params,"));
-    for f in ["reference.exr", "reference.png", "reference_shaded.png", "charts/error_vs_time.png", "charts/error_vs_time.svg", "charts/stage_breakdown.png", "report.md"] {
+    for f in ["reference.exr", "reference.png", "reference_shaded.png", "charts/error_vs_time.png", "charts/error_vs_time.svg", "charts/stage_breakdown.png", "charts/frame_split.svg", "report.md"] {
         assert!(out.join(f).is_file(), "missing {f}");
     }
 
@@ -88,7 +88,7 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
         assert!(html.contains(label), "report lacks {label}");
     }
     let images = html.matches("<img ").count();
-    assert_eq!(images, 3 + 5 * rows.len(), "charts (3: one p_m, so no P_M chart) + 5 tiles per method");
+    assert_eq!(images, 4 + 5 * rows.len(), "charts (4: one p_m, so no P_M chart) + 5 tiles per method");
 
     // `penumbra report` re-renders the same page from the results file alone.
     let again = dir.join("again");

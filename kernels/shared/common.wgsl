@@ -97,6 +97,16 @@ const LATTICE_POINTS: u32 = 289u;
 // Per-pixel bit masks over the lattice: bit k of word k / 32.
 const MASK_WORDS: u32 = 10u;
 const NO_SPLIT: u32 = 0xffffffffu;
+
+// Culling tiles (scope = local): each lattice sample's map is cut into CULL_TILES x CULL_TILES
+// tiles, one bit each, set where a pixel that tests the sample looks up a texel.
+const CULL_TILES: u32 = 64u;
+const CULL_TILE_WORDS: u32 = 128u;
+
+fn cull_tile_bit(texel: vec2<i32>, map_size: u32) -> u32 {
+    let t = vec2<u32>(texel) * CULL_TILES / map_size;
+    return t.y * CULL_TILES + t.x;
+}
 // Word 9 of a mask holds lattice index 288 in bit 0; its top bits summarise the pixel over every map
 // tested so far, so counting can skip pixels that all maps agree on (c is 0 or 4 for every quad).
 const SUMMARY_WORD: u32 = 9u;
@@ -119,7 +129,8 @@ struct GpuLevel {
     quad_capacity: u32,
     scissor: u32,
     split_share: f32,
-    pad0: u32,
+    // shadow_test: 1 takes the test list's length from the append counter (control word 1).
+    requested: u32,
     pad1: u32,
 }
 

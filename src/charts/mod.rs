@@ -26,7 +26,7 @@ pub use maps_pm::maps_vs_pm_svg;
 pub use pareto::{pareto_front, pareto_steps};
 pub use raster::svg_to_png;
 pub use row::{ResultRow, params_short};
-pub use stages::stage_breakdown_svg;
+pub use stages::{frame_split_svg, stage_breakdown_svg};
 pub use temporal::{per_frame_svg, FrameSeries};
 
 #[derive(Debug, thiserror::Error)]

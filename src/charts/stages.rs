@@ -7,6 +7,20 @@ use super::scatter::tick_label;
 use super::style::{AXIS_PX, FONT, LABEL_PX, TITLE_PX, colour, plot_err, spans_scenes, with_scene};
 use super::{ChartError, ResultRow};
 
+/// Chart (d'): each row's stages summed into the frame split (raster, decision, shade, waits;
+/// `crate::timing::split_of`), drawn like the stage breakdown.
+pub fn frame_split_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
+    let split: Vec<ResultRow> = rows
+        .iter()
+        .map(|r| {
+            let mut r = r.clone();
+            r.stages_ms = crate::timing::frame_split(&r.stages_ms).into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+            r
+        })
+        .collect();
+    stage_breakdown_svg(&split)
+}
+
 /// Rows top to bottom in the given order. Stages are stacked in the order of their first
 /// appearance over the rows (each row's `stages_ms` is sorted by name); negative or
 /// non-finite stage times are skipped.

@@ -183,6 +183,16 @@ fn error_vs_maps_has_axes_and_methods() {
 }
 
 #[test]
+fn frame_split_sums_stages_into_four_parts() {
+    let rows = sample_rows();
+    let svg = frame_split_svg(&rows).unwrap();
+    assert_svg(&svg, &["raster", "decision", "shade", "waits"]);
+    for stage in rows[0].stages_ms.keys() {
+        assert!(!svg.contains(&format!(">{stage}<")) || ["shade"].contains(&stage.as_str()), "stage {stage} drawn on its own");
+    }
+}
+
+#[test]
 fn stage_breakdown_has_rows_and_stages() {
     let rows = sample_rows();
     let svg = stage_breakdown_svg(&rows).unwrap();

@@ -10,6 +10,9 @@ pub const MASK_WORDS: u32 = 10;
 /// Quads of one level: at most 4^4 = 256 (level 4 of the 17x17 lattice).
 pub const QUAD_CAPACITY: u32 = 256;
 pub const NO_SPLIT: u32 = u32::MAX;
+/// Culling tiles per side of a map, and the u32 words of one sample's tile bits (common.wgsl).
+pub const CULL_TILES: u32 = 64;
+pub const CULL_TILE_WORDS: u32 = CULL_TILES * CULL_TILES / 32;
 pub const CONTROL_BYTES: u64 = std::mem::size_of::<crate::layout::GpuControl>() as u64;
 
 pub struct AdaptiveBuffers {
@@ -42,6 +45,8 @@ pub struct AdaptiveBuffers {
     pub probe_args: wgpu::Buffer,
     pub visibility_fixed: wgpu::Buffer,
     pub rects: wgpu::Buffer,
+    /// scope = local: CULL_TILE_WORDS per lattice sample, a bit per culling tile its pixels look up in.
+    pub tiles: wgpu::Buffer,
 }
 
 impl AdaptiveBuffers {
@@ -153,6 +158,7 @@ impl AdaptiveBuffers {
             probe_args: indirect("probe dispatch args"),
             visibility_fixed: storage("visibility fixed", if local { pixels * 4 } else { 4 }),
             rects: storage("scissor rects", LATTICE_POINTS as u64 * 16),
+            tiles: storage("cull tiles", if local { LATTICE_POINTS as u64 * CULL_TILE_WORDS as u64 * 4 } else { 16 }),
         })
     }
 }

@@ -78,6 +78,7 @@ impl Compact {
                 (8, next_quads.as_entire_binding()),
                 (9, b.samples.as_entire_binding()),
                 (10, b.rects.as_entire_binding()),
+                (17, b.tiles.as_entire_binding()),
                 (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
                 (12, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
                 (14, b.item_total.as_entire_binding()),

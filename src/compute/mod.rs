@@ -4,6 +4,7 @@
 pub mod blur;
 pub mod buffers;
 pub mod compact;
+pub mod cull;
 pub mod env_count;
 pub mod env_shadowmaps;
 pub mod env_split;
@@ -23,6 +24,7 @@ pub mod shade;
 pub mod shadow_test;
 pub mod ssao;
 pub mod subdivide;
+pub mod weights;
 pub mod twin;
 
 pub use frame_gpu::FrameGpu;
@@ -66,6 +68,9 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("env_split", "main", LINE_WORKGROUP),
     ("env_shadowmaps", "main", PIXEL_WORKGROUP),
     ("ssao", "main", PIXEL_WORKGROUP),
+    ("cull", "main", LINE_WORKGROUP),
+    ("weights", "leaves_of_level", LINE_WORKGROUP),
+    ("weights", "main", [1, 1, 1]),
     ("hybrid_build", "classify", PIXEL_WORKGROUP),
     ("hybrid_build", "scan_rows", LINE_WORKGROUP),
     ("hybrid_build", "scan_total", [1, 1, 1]),

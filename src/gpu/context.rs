@@ -58,7 +58,10 @@ impl GpuContext {
         let info = adapter.get_info();
         // Request the adapter's real limits: 2048 array layers and large storage bindings matter here.
         let limits = adapter.limits();
-        let wanted_features = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        // INDIRECT_FIRST_INSTANCE: culled shadow-map draws select their sample by first instance.
+        let wanted_features = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::INDIRECT_FIRST_INSTANCE;
         let features = adapter.features() & wanted_features;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {

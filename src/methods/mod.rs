@@ -129,6 +129,11 @@ pub trait MethodState {
     /// `capture` keeps intermediate buffers in `MethodOutput::detail` for the twins (tests only:
     /// it adds read-backs).
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput>;
+    /// After the frame's clock stopped (V is read back): a method whose frame needed no read-back
+    /// reads its record here (decisions, maps used, pictures), outside the timed frame.
+    fn finish(&mut self, _fg: &FrameGpu, _out: &mut MethodOutput) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// A parsed method spec: cheap to clone, compared by label.

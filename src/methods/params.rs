@@ -78,6 +78,12 @@ pub struct AdaptiveParams {
     pub weights: Weights,
     pub scope: Scope,
     pub scissor: bool,
+    /// Per-map triangle culling to the tiles the map's pixels test (scope = local); off by default
+    /// (docs/gpu-frame.md: on lavapipe it costs more than it saves).
+    pub cull: Option<bool>,
+    /// `steer = cpu`: read each level back and record the next from the CPU (the waiting loop);
+    /// otherwise the GPU steers the levels where it can (docs/gpu-frame.md).
+    pub steer_cpu: bool,
     /// Where the quadtree's lattice sits on the light (docs/method.md §7.1): `lattice` spans the
     /// light corner to corner (the seed); `centred` is inset by half a finest cell, so that the full
     /// lattice at max_level is the centred (midpoint-rule) grid.
@@ -94,7 +100,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: false }
     }
 }
 
@@ -204,6 +210,23 @@ impl AdaptiveParams {
                 _ => return Err(Error::Param(format!("scissor = `{v}`: use `on` or `off`"))),
             };
         }
+        if let Some(v) = params.get("cull") {
+            p.cull = Some(match v.as_str() {
+                "on" | "true" => true,
+                "off" | "false" => false,
+                _ => return Err(Error::Param(format!("cull = `{v}`: use `on` or `off`"))),
+            });
+        }
+        if let Some(v) = params.get("steer") {
+            p.steer_cpu = match v.as_str() {
+                "gpu" => false,
+                "cpu" => true,
+                _ => return Err(Error::Param(format!("adaptive: steer = `{v}`: use `gpu` or `cpu`"))),
+            };
+        }
+        if p.cull == Some(true) && p.scope != Scope::Local {
+            return Err(Error::Param("cull = on needs scope = local (only then are a map's pixels known)".into()));
+        }
         if let Some(v) = params.get("layout") {
             p.layout = match v.as_str() {
                 "lattice" => Layout::Lattice,
@@ -226,6 +249,11 @@ impl AdaptiveParams {
             p.preset = None;
         }
         Ok(p)
+    }
+
+    /// Whether new maps rasterize only the runs of triangles their tiles need (scope = local).
+    pub fn culls(&self) -> bool {
+        self.scope == Scope::Local && self.cull.unwrap_or(false)
     }
 
     /// Light coordinate (s or t, in [0, 1]) of lattice column or row `i` (0..=16). Lattice: i/16.
@@ -305,6 +333,12 @@ impl AdaptiveParams {
         }
         if self.scissor {
             s += ",scissor=on";
+        }
+        if self.culls() {
+            s += ",cull=on";
+        }
+        if self.steer_cpu {
+            s += ",steer=cpu";
         }
         s
     }

@@ -19,12 +19,13 @@ impl SceneGpu {
         let vertices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("scene vertices"),
             contents: bytemuck::cast_slice(&scene.vertices),
-            usage: wgpu::BufferUsages::VERTEX,
+            // STORAGE: the cull pass reads positions and triangles.
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
         });
         let indices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("scene indices"),
             contents: bytemuck::cast_slice(&scene.indices),
-            usage: wgpu::BufferUsages::INDEX,
+            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
         });
         Self { vertices, indices, index_count: scene.indices.len() as u32 }
     }

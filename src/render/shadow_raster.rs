@@ -168,6 +168,48 @@ impl ShadowRasterPass {
     }
 }
 
+impl ShadowRasterPass {
+    /// Like `record`, but each job draws the triangles the cull pass kept: indices and draw
+    /// arguments (count, first index, the sample as first instance) come from the GPU, the
+    /// arguments at the byte offset given with each job.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_culled(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        array: &ShadowMapArray,
+        jobs: &[(RasterJob, u64)],
+        culled: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+    ) {
+        let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
+        for (job, offset) in jobs {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow_raster"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &array.layer_views[job.layer as usize],
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            if let Some([x, y, w, h]) = job.scissor {
+                pass.set_scissor_rect(x, y, w, h);
+            }
+            pass.set_vertex_buffer(0, scene.vertices.slice(..));
+            pass.set_index_buffer(culled.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed_indirect(args, *offset);
+        }
+    }
+}
+
 /// One shadow map to rasterize: which sample (index into the samples buffer) into which layer.
 #[derive(Clone, Copy, Debug)]
 pub struct RasterJob {

@@ -41,11 +41,12 @@ pub fn parse_results(text: &str, path: &Path) -> Result<Vec<ResultRow>> {
 /// rows is left out.
 pub fn charts(rows: &[ResultRow]) -> Result<Vec<(&'static str, String, String)>> {
     type Chart = fn(&[ResultRow]) -> Result<String, ChartError>;
-    let all: [(&str, &str, Chart); 4] = [
+    let all: [(&str, &str, Chart); 5] = [
         ("error_vs_time", "Error against time, Pareto front marked", charts::error_vs_time_svg),
         ("error_vs_maps", "Error against the number of shadow maps", charts::error_vs_maps_svg),
         ("maps_vs_pm", "Shadow maps against P_M (adaptive)", charts::maps_vs_pm_svg),
         ("stage_breakdown", "Stage time breakdown", charts::stage_breakdown_svg),
+        ("frame_split", "Frame split: raster, decision, shade, waits", charts::frame_split_svg),
     ];
     // Maps against P_M needs P_M to vary; one value would plot a lone point per series.
     let mut pms: Vec<f64> = rows.iter().filter(|r| r.method == "adaptive").filter_map(|r| r.param_f64("p_m")).collect();

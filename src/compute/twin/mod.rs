@@ -2,6 +2,7 @@
 //! Tests compare them with the GPU: exactly for every count, flag, quad and sample.
 
 pub mod blur;
+pub mod cull;
 pub mod env_count;
 pub mod env_shadowmaps;
 pub mod env_split;

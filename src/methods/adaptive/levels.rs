@@ -1,7 +1,7 @@
 //! The one read-back per level, and the per-level record in run.json.
 
 use crate::methods::AdaptiveParams;
-use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
+use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
 use crate::compute::FrameGpu;
 use crate::gpu::readback;
 use crate::layout::GpuQuad;
@@ -35,6 +35,10 @@ pub struct LevelReport {
     pub items: u32,
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
     pub rects: Vec<[u32; 4]>,
+    /// scope = local with culling: indices kept per lattice sample so far (0 where never culled),
+    /// and this level's culling tiles (CULL_TILE_WORDS per lattice sample).
+    pub triangles: Vec<u32>,
+    pub tiles: Vec<u32>,
     /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
     /// level's flags, for pictures and twin tests.
     pub counts: Option<Vec<u32>>,
@@ -57,6 +61,44 @@ pub struct LevelRecord {
     pub pixels_evaluated: u64,
 }
 
+/// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling
+/// counts and tiles, the pictures' comparison map and flags, the twins' capture.
+#[derive(Clone, Copy, Debug)]
+pub struct LevelRead {
+    pub n: u64,
+    pub kept: bool,
+    pub pictures: bool,
+    pub capture: bool,
+}
+
+/// The buffers (and byte counts) of one level's record, in the order `parse_level` reads them.
+pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kept: Option<&'a wgpu::Buffer>, r: LevelRead) -> Vec<(&'a wgpu::Buffer, u64)> {
+    let lattice = LATTICE_POINTS as u64 * 4;
+    let mut parts: Vec<(&wgpu::Buffer, u64)> = vec![
+        (&b.control, CONTROL_BYTES),
+        (&b.new_samples, lattice),
+        (next_quads, QUAD_CAPACITY as u64 * 16),
+        (&b.quad_counters, QUAD_CAPACITY as u64 * 4),
+        (&b.sample_level, lattice),
+        (&b.split_base, QUAD_CAPACITY as u64 * 4),
+        (&b.rects, lattice * 4),
+        (&b.item_total, 4),
+    ];
+    if let Some(kept) = kept.filter(|_| r.kept) {
+        parts.push((kept, lattice));
+        parts.push((&b.tiles, lattice * CULL_TILE_WORDS as u64));
+    }
+    if r.pictures {
+        parts.push((&b.counts, b.counts_bytes_per_quad() * if r.capture { r.n } else { 1 }));
+        parts.push((&b.flags, b.flags_bytes_per_quad() * r.n));
+    }
+    if r.capture {
+        parts.push((&b.masks, b.width as u64 * b.height as u64 * 40));
+    }
+    parts
+}
+
+/// The one read-back of a level (the waiting loop).
 #[allow(clippy::too_many_arguments)]
 pub fn read_level(
     fg: &FrameGpu,
@@ -64,35 +106,15 @@ pub fn read_level(
     level: u32,
     quads: Vec<GpuQuad>,
     next_quads: &wgpu::Buffer,
+    kept: Option<&wgpu::Buffer>,
     pictures: bool,
     evaluated: bool,
     local: bool,
     capture: bool,
 ) -> Result<LevelReport> {
     let ctx = fg.ctx;
-    let n = quads.len() as u64;
-    let lattice = LATTICE_POINTS as u64 * 4;
-    let quad_bytes = QUAD_CAPACITY as u64 * 16;
-    let mut parts: Vec<(&wgpu::Buffer, u64)> = vec![
-        (&b.control, CONTROL_BYTES),
-        (&b.new_samples, lattice),
-        (next_quads, quad_bytes),
-        (&b.quad_counters, QUAD_CAPACITY as u64 * 4),
-        (&b.sample_level, lattice),
-        (&b.split_base, QUAD_CAPACITY as u64 * 4),
-        (&b.rects, lattice * 4),
-        (&b.item_total, 4),
-    ];
-    let pictures = pictures || capture;
-    let counts_len = b.counts_bytes_per_quad() * if capture { n } else { 1 };
-    if pictures {
-        parts.push((&b.counts, counts_len));
-        parts.push((&b.flags, b.flags_bytes_per_quad() * n));
-    }
-    let mask_len = b.width as u64 * b.height as u64 * 40;
-    if capture {
-        parts.push((&b.masks, mask_len));
-    }
+    let r = LevelRead { n: quads.len() as u64, kept: kept.is_some(), pictures: pictures || capture, capture };
+    let parts = level_parts(b, next_quads, kept, r);
     let total: u64 = parts.iter().map(|(_, s)| s).sum();
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("level readback"),
@@ -108,6 +130,17 @@ pub fn read_level(
     }
     ctx.queue.submit([enc.finish()]);
     let words: Vec<u32> = readback::map_staging(ctx, &staging)?;
+    Ok(parse_level(b, &words, level, quads, evaluated, local, r))
+}
+
+/// Reads one level's record (`level_parts`' layout) from `words`.
+pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<GpuQuad>, evaluated: bool, local: bool, r: LevelRead) -> LevelReport {
+    let n = r.n;
+    let lattice = LATTICE_POINTS as u64 * 4;
+    let quad_bytes = QUAD_CAPACITY as u64 * 16;
+    let tile_bytes = lattice * CULL_TILE_WORDS as u64;
+    let counts_len = b.counts_bytes_per_quad() * if r.capture { n } else { 1 };
+    let mask_len = b.width as u64 * b.height as u64 * 40;
     let mut at = 0usize;
     let mut take = |len: u64| {
         let s = words[at..at + (len / 4) as usize].to_vec();
@@ -122,14 +155,15 @@ pub fn read_level(
     let split_base = take(QUAD_CAPACITY as u64 * 4);
     let rects_raw = take(lattice * 4);
     let item_total = take(4)[0];
-    let (counts, flags) = if pictures { (Some(take(counts_len)), Some(take(b.flags_bytes_per_quad() * n))) } else { (None, None) };
-    let masks = if capture { Some(take(mask_len)) } else { None };
+    let (triangles, tiles) = if r.kept { (take(lattice), take(tile_bytes)) } else { (vec![0; LATTICE_POINTS as usize], Vec::new()) };
+    let (counts, flags) = if r.pictures { (Some(take(counts_len)), Some(take(b.flags_bytes_per_quad() * n))) } else { (None, None) };
+    let masks = if r.capture { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
     let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
     let mut new_samples = new_all[..new_count].to_vec();
     new_samples.sort_unstable();
     let next_quads: Vec<GpuQuad> = bytemuck::cast_slice::<u32, GpuQuad>(&next_raw)[..next_quad_count as usize].to_vec();
-    Ok(LevelReport {
+    LevelReport {
         level,
         evaluated,
         low_quality: if evaluated { counters[..n as usize].to_vec() } else { vec![0; n as usize] },
@@ -143,11 +177,13 @@ pub fn read_level(
         geometry_pixels: control[4],
         probes: control[5],
         items: if local { item_total } else { 0 },
+        triangles,
+        tiles,
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
         counts,
         flags,
         masks,
-    })
+    }
 }
 
 pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, consulted: Option<&[u32]>, g: &GBuffer) -> serde_json::Value {
@@ -175,6 +211,9 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         "levels": levels,
         "syncs": syncs,
         "shadow_maps_used": trace.rendered,
+        "triangles_per_map": trace.triangles,
+        "triangles_per_map_mean": trace.triangles.iter().sum::<u64>() as f64 / trace.triangles.len().max(1) as f64,
+        "culled_maps": trace.culled.len(),
         "weights": weights_rule(p),
     });
     if let Some(masks) = consulted {

@@ -5,6 +5,7 @@
 //! inside the quads whose penumbra it lies in (method.md §4.2).
 
 mod levels;
+mod steer;
 mod pictures;
 mod weights;
 
@@ -16,7 +17,7 @@ use super::params::SplitRule;
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
 use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
-    compact::Compact, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
+    compact::Compact, cull::Cull, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
 use crate::compute::FrameGpu;
@@ -42,6 +43,8 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
+        Param { key: "steer", default: "gpu", help: "gpu: the levels drive each other on the GPU, no read-back (scope=global, lattice layout); cpu: one read-back per level" },
+        Param { key: "cull", default: "off", help: "scope=local only: raster each new map only with the runs of triangles that can reach the tiles its pixels test" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
 };
@@ -61,7 +64,7 @@ impl ShadowMethod for Adaptive {
         serde_json::to_value(&self.0).unwrap_or_default()
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
-        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)? }))
+        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -72,6 +75,8 @@ impl ShadowMethod for Adaptive {
 struct State {
     p: AdaptiveParams,
     prepared: Prepared,
+    /// A GPU-steered frame's record, read in `finish`.
+    pending: Option<steer::Pending>,
 }
 
 impl MethodState for State {
@@ -86,9 +91,20 @@ impl MethodState for State {
         pr.b.reset_frame(fg.ctx)
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        if !capture && self.prepared.steer.is_some() {
+            let (out, pending) = steer::run(fg, timer, &self.p, &mut self.prepared)?;
+            self.pending = Some(pending);
+            return Ok(out);
+        }
         let (mut out, trace) = run(fg, timer, &self.p, &mut self.prepared, capture)?;
         out.detail = Some(Box::new(trace));
         Ok(out)
+    }
+    fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
+        match self.pending.take() {
+            Some(pending) => steer::finish(fg, &self.p, &self.prepared, pending, out),
+            None => Ok(()),
+        }
     }
 }
 
@@ -125,6 +141,10 @@ pub struct AdaptiveTrace {
     pub maps: Vec<(u32, Vec<f32>)>,
     /// The sample records as the kernels saw them (layer and array filled in).
     pub samples: Vec<GpuSample>,
+    /// Triangles rasterized per map, in `rendered` order (the whole mesh unless culled).
+    pub triangles: Vec<u64>,
+    /// Lattice indices whose maps were drawn from a culled index list.
+    pub culled: Vec<u32>,
 }
 
 /// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
@@ -144,6 +164,11 @@ pub struct Prepared {
     store: MapStore,
     passes: Passes,
     samples: Vec<GpuSample>,
+    /// scope = local with culling: the index slots, and the indices kept per lattice sample
+    /// (copied from the draw arguments, read back with each level).
+    cull: Option<(Cull, wgpu::Buffer)>,
+    /// The GPU-steered loop's state, where this setting allows it (steer::eligible).
+    steer: Option<steer::Steer>,
 }
 
 pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
@@ -197,7 +222,14 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     for array in &store.arrays {
         shadow_raster::clear_all(ctx, array)?;
     }
-    Ok(Prepared { b, store, passes, samples })
+    let cull = if p.culls() {
+        Cull::new(fg, LATTICE_POINTS)?.map(|c| (c, readback::zeroed_storage(ctx, "culled indices per sample", LATTICE_POINTS as u64 * 4)))
+    } else {
+        None
+    };
+    // maps = hybrid merges each batch into a store whose allocation the CPU reads: it waits.
+    let steer = if !hybrid && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
+    Ok(Prepared { b, store, passes, samples, cull, steer })
 }
 
 /// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
@@ -207,32 +239,11 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let (b, mut store, passes, mut samples) = (&prepared.b, &mut prepared.store, &prepared.passes, &mut prepared.samples);
+    let cull = prepared.cull.as_ref();
+    // compact grows each sample's texel rectangle for the scissor and for culling.
+    let grow_rects = p.scissor || cull.is_some();
     let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
-    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| {
-        let (split_mode, p_m, split_share) = match p.split_rule(level) {
-            SplitRule::Threshold(t) => (SPLIT_THRESHOLD, t, 0.0),
-            SplitRule::Always => (SPLIT_ALWAYS, 0, 0.0),
-            SplitRule::Never => (SPLIT_NEVER, 0, 0.0),
-            SplitRule::Share(s) => (SPLIT_SHARE, 0, s),
-        };
-        GpuLevel {
-            level,
-            max_level: p.max_level,
-            quad_count,
-            first_quad,
-            p_m,
-            split_mode,
-            split_share,
-            words_per_row: b.words_per_row,
-            flag_words_per_row: b.flag_words_per_row,
-            item_capacity: b.item_capacity,
-            work_count: 0,
-            dense_groups_x,
-            quad_capacity: QUAD_CAPACITY,
-            scissor: p.scissor as u32,
-            ..Default::default()
-        }
-    };
+    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| gpu_level(p, b, dense_groups_x, grow_rects, level, quad_count, first_quad);
     // The counters (geometry pixels, appends) start from zero every frame.
     ctx.queue.write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);
 
@@ -263,7 +274,9 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         let cur = (level % 2) as usize;
         let nxt = 1 - cur;
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
-        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), local, &passes, &mut trace, capture)?;
+        // Level 0's corners precede every rectangle: they rasterize the whole mesh.
+        let culling = cull.filter(|_| level > 0);
+        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), culling, local, &passes, &mut trace, capture)?;
 
         // Under scope = global the counts only feed the split rule: a rule that cannot depend on them
         // (always, never) and the last level (nothing splits) skip the count stages.
@@ -328,9 +341,10 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             Ok(())
         })?;
         if local {
-            if p.scissor {
+            if grow_rects {
                 let init: Vec<[u32; 4]> = vec![[u32::MAX, u32::MAX, 0, 0]; LATTICE_POINTS as usize];
                 ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
+                ctx.queue.write_buffer(&b.tiles, 0, &vec![0u8; b.tiles.size() as usize]);
             }
             timer.stage(ctx, "compact", |enc| {
                 passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt]);
@@ -341,7 +355,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         timer.flush(ctx);
         let pictures = fg.pictures && evaluate && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
-        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], pictures, evaluate, local, capture))?;
+        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], cull.map(|c| &c.1), pictures, evaluate, local, capture))?;
         syncs += 1;
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
@@ -368,6 +382,8 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     bar.finish_and_clear();
 
     let last = trace.levels.last().cloned().unwrap_or_default();
+    let whole = fg.scene_gpu.index_count as u64 / 3;
+    trace.triangles = trace.rendered.iter().map(|&k| if trace.culled.contains(&k) { last.triangles[k as usize] as u64 / 3 } else { whole }).collect();
     let weights = sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered);
     trace.weights = weights.clone();
     trace.samples = samples.clone();
@@ -398,6 +414,33 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         record["hybrid"] = h.record();
     }
     Ok((MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures, detail: None }, trace))
+}
+
+/// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode).
+fn gpu_level(p: &AdaptiveParams, b: &AdaptiveBuffers, dense_groups_x: u32, grow_rects: bool, level: u32, quad_count: u32, first_quad: u32) -> GpuLevel {
+    let (split_mode, p_m, split_share) = match p.split_rule(level) {
+        SplitRule::Threshold(t) => (SPLIT_THRESHOLD, t, 0.0),
+        SplitRule::Always => (SPLIT_ALWAYS, 0, 0.0),
+        SplitRule::Never => (SPLIT_NEVER, 0, 0.0),
+        SplitRule::Share(s) => (SPLIT_SHARE, 0, s),
+    };
+    GpuLevel {
+        level,
+        max_level: p.max_level,
+        quad_count,
+        first_quad,
+        p_m,
+        split_mode,
+        split_share,
+        words_per_row: b.words_per_row,
+        flag_words_per_row: b.flag_words_per_row,
+        item_capacity: b.item_capacity,
+        work_count: 0,
+        dense_groups_x,
+        quad_capacity: QUAD_CAPACITY,
+        scissor: grow_rects as u32,
+        ..Default::default()
+    }
 }
 
 /// subdivide's split modes (GpuLevel.split_mode).
@@ -434,6 +477,7 @@ fn render_new(
     samples: &mut [GpuSample],
     new: &[u32],
     rects: Option<&[[u32; 4]]>,
+    cull: Option<&(Cull, wgpu::Buffer)>,
     local: bool,
     passes: &Passes,
     trace: &mut AdaptiveTrace,
@@ -466,11 +510,32 @@ fn render_new(
         }
         for (a, array) in store.arrays.iter().enumerate() {
             let mine: Vec<RasterJob> = jobs.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
-            if !mine.is_empty() {
+            if mine.is_empty() {
+                continue;
+            }
+            let Some((cull, kept)) = cull else {
                 timer.stage(ctx, "shadow_raster", |enc| {
                     fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine);
                     Ok(())
                 })?;
+                continue;
+            };
+            // Batches of slots: cull, then draw what each slot kept (the GPU writes the counts).
+            for batch in mine.chunks(cull.slots as usize) {
+                let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
+                timer.stage(ctx, "cull", |enc| {
+                    cull.record(fg, enc, &b.samples, &b.tiles, &ks);
+                    Ok(())
+                })?;
+                timer.stage(ctx, "shadow_raster", |enc| {
+                    let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
+                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args);
+                    for (n, &k) in ks.iter().enumerate() {
+                        enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
+                    }
+                    Ok(())
+                })?;
+                trace.culled.extend_from_slice(&ks);
             }
         }
         if !local {

@@ -1,0 +1,114 @@
+//! cull (scope = local): per new map, the triangles that can reach the culling tiles its pixels
+//! test, compacted into an index list with draw_indexed_indirect arguments the GPU writes, so the
+//! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
+//! slots fit one storage binding; batches reuse the slots within one submission.
+
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::readback;
+use crate::layout::GpuCull;
+use crate::Result;
+
+/// u32 words of one slot's draw_indexed_indirect arguments.
+pub const ARGS_WORDS: u32 = 5;
+/// Consecutive triangles culled together (CULL_RUN in the kernel): one invocation each.
+pub const CULL_RUN: u32 = 32;
+/// Index memory the slots may take together.
+const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
+
+pub struct Cull {
+    kernel: ComputeKernel,
+    /// One slot of `stride` indices per map of a batch (INDEX | STORAGE).
+    pub culled: wgpu::Buffer,
+    /// ARGS_WORDS per slot (INDIRECT | STORAGE).
+    pub args: wgpu::Buffer,
+    /// Bounding box and normal cone of each run (twin::cull::runs).
+    runs: wgpu::Buffer,
+    /// GpuCull.cull_face: the face the shadow raster culls.
+    cull_face: u32,
+    /// Maps per batch.
+    pub slots: u32,
+    stride: u32,
+}
+
+impl Cull {
+    /// None when the adapter cannot draw indirectly with a first instance, or when one whole-mesh
+    /// slot does not fit a storage binding: maps are then rasterized whole.
+    pub fn new(fg: &FrameGpu, max_maps: u32) -> Result<Option<Self>> {
+        let ctx = fg.ctx;
+        let stride = fg.scene_gpu.index_count;
+        let slot_bytes = stride as u64 * 4;
+        let binding = ctx.limits().max_storage_buffer_binding_size;
+        let slots = (binding.min(SLOTS_BUDGET_BYTES) / slot_bytes.max(4)).min(max_maps as u64) as u32;
+        if slots == 0 || !ctx.device.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE) {
+            return Ok(None);
+        }
+        let storage = |label, bytes: u64, extra| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST | extra,
+                mapped_at_creation: false,
+            })
+        };
+        let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let runs = super::twin::cull::runs(&positions, &fg.scene.indices);
+        Ok(Some(Self {
+            runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
+            cull_face: cull_face(fg.scene.render.cull),
+            kernel: ComputeKernel::new(ctx, "cull", "main")?,
+            culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
+            args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
+            slots,
+            stride,
+        }))
+    }
+
+    /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
+    /// CULL_TILE_WORDS tile bits per lattice sample.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
+        assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
+        let ctx = fg.ctx;
+        let triangles = self.stride / 3;
+        let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);
+        let groups_x = total.min(ctx.limits().max_compute_workgroups_per_dimension);
+        let uniform = GpuCull {
+            triangle_count: triangles,
+            slot_stride: self.stride,
+            cull_face: self.cull_face,
+            groups_x,
+        };
+        let uniform = readback::uniform_buffer(ctx, "cull", &uniform);
+        let slots = readback::storage_buffer(ctx, "cull slots", ks, wgpu::BufferUsages::empty());
+        enc.clear_buffer(&self.args, 0, None);
+        self.kernel.dispatch(
+            ctx,
+            enc,
+            &[
+                (0, uniform.as_entire_binding()),
+                (1, fg.frame_buffer.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, tiles.as_entire_binding()),
+                (4, self.runs.as_entire_binding()),
+                (5, fg.scene_gpu.indices.as_entire_binding()),
+                (6, slots.as_entire_binding()),
+                (7, self.culled.as_entire_binding()),
+                (8, self.args.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
+        );
+    }
+
+    /// Byte offset of slot n's draw arguments.
+    pub fn args_offset(slot: u32) -> u64 {
+        slot as u64 * ARGS_WORDS as u64 * 4
+    }
+}
+
+/// GpuCull.cull_face for the shadow raster's cull mode.
+pub fn cull_face(mode: crate::scene::CullMode) -> u32 {
+    match mode {
+        crate::scene::CullMode::None => 0,
+        crate::scene::CullMode::Back => 1,
+        crate::scene::CullMode::Front => 2,
+    }
+}

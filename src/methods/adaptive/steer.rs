@@ -1,0 +1,273 @@
+//! The GPU-steered level loop (scope = global, corner-to-corner lattice; docs/gpu-frame.md).
+//! Every level is recorded up front and the GPU's decisions drive the next level without a
+//! read-back:
+//! - each level rasterizes every sample it could need (its candidates: the points of its grid
+//!   not on the coarser one), with draw_indexed_indirect arguments whose instance count is copied
+//!   from the sample's request flag, which subdivide sets: 0 draws nothing;
+//! - shadow_test lists the candidates and skips those not requested;
+//! - each level's uniform takes its quad count from the previous subdivide by a buffer copy, and
+//!   neighbourhood and quad_count dispatch indirectly, as subdivide sizes them;
+//! - the weights pass computes ŵ from the leaves and the rendered samples; shade follows.
+//!
+//! Each level's record is copied aside on the GPU and read after the frame (`finish`).
+
+use super::levels::{self, LevelRead};
+use super::{gpu_level, lattice_index, pictures, AdaptiveTrace, Prepared};
+use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS};
+use crate::compute::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
+use crate::compute::{groups, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::readback;
+use crate::layout::GpuQuad;
+use crate::methods::params::SplitRule;
+use crate::methods::{AdaptiveParams, MethodOutput, Scope, Weights};
+use crate::render::shadow_raster::RasterJob;
+use crate::timing::StageTimer;
+use crate::{Error, Result};
+
+/// u32 words of one draw_indexed_indirect argument set.
+const ARGS_WORDS: u64 = 5;
+
+/// Lattice indices level `d` can render, ascending: level 0 the light's corners; level d ≥ 1 the
+/// points of the level-d grid (spacing 2^(4−d)) that are not on the level-(d−1) grid. A quad that
+/// splits at level d−1 requests only such points (its edge midpoints and centre).
+pub fn candidates(d: u32) -> Vec<u32> {
+    if d == 0 {
+        return vec![lattice_index(0, 0), lattice_index(16, 0), lattice_index(0, 16), lattice_index(16, 16)];
+    }
+    let step = 16 >> d;
+    let mut out = Vec::new();
+    for j in (0..=16).step_by(step as usize) {
+        for i in (0..=16).step_by(step as usize) {
+            if i % (2 * step) != 0 || j % (2 * step) != 0 {
+                out.push(lattice_index(i, j));
+            }
+        }
+    }
+    out
+}
+
+/// Whether the GPU can steer this setting: global scope on the corner-to-corner lattice (the GPU
+/// weights cover its rules), unless `steer = cpu`, and every level's quads fit one batch of
+/// comparison maps.
+pub fn eligible(p: &AdaptiveParams, b: &AdaptiveBuffers) -> bool {
+    let most_quads = 1u32 << (2 * p.max_level.saturating_sub(1));
+    !p.steer_cpu && p.scope == Scope::Global && p.border_strip() == 0.0 && b.count_quads >= most_quads
+}
+
+/// Built once with the method: the weights pass, the raster arguments and the record buffer.
+pub struct Steer {
+    weights: WeightsPass,
+    /// ARGS_WORDS per lattice sample: whole-mesh indexed draw, first instance = the sample.
+    raster_args: wgpu::Buffer,
+    /// Each level's record (levels::level_parts), then the weights; read after the frame.
+    history: wgpu::Buffer,
+}
+
+/// What `finish` needs of one steered frame.
+pub struct Pending {
+    /// Per level: the record's layout, whether it was counted, its byte offset in the history.
+    reads: Vec<(LevelRead, bool, u64)>,
+    weights_at: u64,
+}
+
+fn level_read(fg: &FrameGpu, level: u32, evaluate: bool) -> LevelRead {
+    // Pictures need level 0's comparison map and flags (one quad); deeper levels' flags are left out.
+    LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, capture: false }
+}
+
+/// One level's record: what the waiting loop reads back, with the next level's quads.
+fn record_parts(b: &AdaptiveBuffers, read: LevelRead) -> Vec<(&wgpu::Buffer, u64)> {
+    levels::level_parts(b, &b.quads[0], None, read)
+}
+
+fn evaluates(p: &AdaptiveParams, level: u32) -> bool {
+    level < p.max_level && matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_))
+}
+
+impl Steer {
+    pub fn new(fg: &FrameGpu, p: &AdaptiveParams, b: &AdaptiveBuffers) -> Result<Self> {
+        let ctx = fg.ctx;
+        let rule = match p.weights {
+            Weights::Level => RULE_LEVEL,
+            Weights::Area => RULE_AREA,
+            Weights::Coons => RULE_COONS,
+        };
+        // Every level's record (with pictures: an upper bound), then the weights.
+        let level_bytes: u64 = record_parts(b, LevelRead { pictures: true, ..level_read(fg, 0, true) }).iter().map(|(_, s)| s).sum();
+        let bytes = level_bytes * (p.max_level as u64 + 1) + LATTICE_POINTS as u64 * 4;
+        Ok(Self {
+            weights: WeightsPass::new(fg, rule)?,
+            raster_args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("steered raster arguments"),
+                size: LATTICE_POINTS as u64 * ARGS_WORDS * 4,
+                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            history: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("level records"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        })
+    }
+}
+
+/// Records the whole frame; nothing waits (in stages mode the timer still waits per stage).
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared) -> Result<(MethodOutput, Pending)> {
+    let ctx = fg.ctx;
+    let (b, store, passes) = (&prepared.b, &prepared.store, &prepared.passes);
+    let steer = prepared.steer.as_ref().expect("steered run without its state");
+    let h = fg.gbuffer.height;
+    let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
+    let per_array = store.per_array as usize;
+    let array = &store.arrays[0];
+
+    // Before the frame's commands (queue writes land first): every candidate's layer is its place
+    // in its level's chunk, the draws are the whole mesh with no instance but the corners', and
+    // the counters, root quad and corner requests start the frame.
+    let samples = &mut prepared.samples;
+    let mut args = vec![0u32; (LATTICE_POINTS as u64 * ARGS_WORDS) as usize];
+    for level in 0..=p.max_level {
+        for (n, &k) in candidates(level).iter().enumerate() {
+            samples[k as usize].layer = (n % per_array) as u32;
+            samples[k as usize].array = 0;
+            let a = &mut args[k as usize * ARGS_WORDS as usize..][..ARGS_WORDS as usize];
+            a.copy_from_slice(&[fg.scene_gpu.index_count, (level == 0) as u32, 0, 0, k]);
+        }
+    }
+    ctx.queue.write_buffer(&b.samples, 0, bytemuck::cast_slice(samples));
+    ctx.queue.write_buffer(&steer.raster_args, 0, bytemuck::cast_slice(&args));
+    ctx.queue.write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);
+    ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::bytes_of(&GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }));
+    let mut state = vec![0u32; LATTICE_POINTS as usize];
+    for k in candidates(0) {
+        state[k as usize] = 1;
+    }
+    ctx.queue.write_buffer(&b.lattice_state, 0, bytemuck::cast_slice(&state));
+
+    let mut reads = Vec::new();
+    let mut history_at = 0u64;
+    for level in 0..=p.max_level {
+        let (cur, nxt) = ((level % 2) as usize, 1 - (level % 2) as usize);
+        // Level 0 has the root; deeper levels take the previous subdivide's count (copied below).
+        let lv = readback::uniform_buffer(ctx, "level", &gpu_level(p, b, dense_groups_x, false, level, (level == 0) as u32, 0));
+        let cand = candidates(level);
+        for (c, chunk) in cand.chunks(per_array).enumerate() {
+            timer.stage(ctx, "shadow_raster", |enc| {
+                if level == 0 && c == 0 {
+                    steer.weights.record_begin(enc);
+                }
+                if level > 0 && c == 0 {
+                    // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
+                    enc.copy_buffer_to_buffer(&b.control, 0, &lv, 8, 4);
+                }
+                let mut jobs = Vec::with_capacity(chunk.len());
+                for &k in chunk {
+                    let at = k as u64 * ARGS_WORDS * 4;
+                    if level > 0 {
+                        // instance count ← the request flag subdivide set (0 or 1).
+                        enc.copy_buffer_to_buffer(&b.lattice_state, k as u64 * 4, &steer.raster_args, at + 4, 4);
+                    }
+                    jobs.push((RasterJob { sample: k, layer: samples[k as usize].layer, scissor: None }, at));
+                }
+                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &fg.scene_gpu.indices, &steer.raster_args);
+                Ok(())
+            })?;
+            timer.stage(ctx, "shadow_test", |enc| {
+                if level > 0 && cand.len() <= per_array {
+                    // One chunk: test only what subdivide requested (its list and count).
+                    passes.shadow_test.record_requested(fg, enc, b, &array.array_view);
+                } else {
+                    passes.shadow_test.record(fg, enc, b, &array.array_view, chunk);
+                }
+                Ok(())
+            })?;
+        }
+        let evaluate = evaluates(p, level);
+        let clear = |enc: &mut wgpu::CommandEncoder| {
+            enc.clear_buffer(&b.control, 0, Some(8));
+            enc.clear_buffer(&b.quad_counters, 0, None);
+        };
+        if evaluate {
+            timer.stage(ctx, "reproject_count", |enc| {
+                clear(enc);
+                passes.reproject_count.record_dense(fg, enc, b, &lv, &b.quads[cur]);
+                Ok(())
+            })?;
+            timer.stage(ctx, "neighbourhood", |enc| {
+                passes.neighbourhood.record_dense(fg, enc, b, &lv, 1, level > 0);
+                Ok(())
+            })?;
+            timer.stage(ctx, "quad_count", |enc| {
+                passes.quad_count.record(fg, enc, b, &lv, 1, level > 0);
+                Ok(())
+            })?;
+        }
+        let read = level_read(fg, level, evaluate);
+        reads.push((read, evaluate, history_at));
+        timer.stage(ctx, "subdivide", |enc| {
+            if !evaluate {
+                clear(enc);
+            }
+            passes.subdivide.record(fg, enc, b, &lv, &b.quads[cur], &b.quads[nxt]);
+            for (buf, size) in levels::level_parts(b, &b.quads[nxt], None, read) {
+                enc.copy_buffer_to_buffer(buf, 0, &steer.history, history_at, size);
+                history_at += size;
+            }
+            Ok(())
+        })?;
+        timer.stage(ctx, "weights", |enc| {
+            steer.weights.record_leaves(fg, enc, b, &lv, &b.quads[cur]);
+            Ok(())
+        })?;
+    }
+    let weights_at = history_at;
+    timer.stage(ctx, "weights", |enc| {
+        steer.weights.record(fg, enc, b);
+        enc.copy_buffer_to_buffer(&b.weights, 0, &steer.history, weights_at, LATTICE_POINTS as u64 * 4);
+        Ok(())
+    })?;
+    timer.stage(ctx, "shade", |enc| {
+        fg.shade.record_masks(ctx, enc, &fg.frame_buffer, &b.weights, &fg.gbuffer, &b.masks, &fg.visibility);
+        Ok(())
+    })?;
+    // shadow_maps and the record come in `finish`, after the frame.
+    let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new(), detail: None };
+    Ok((out, Pending { reads, weights_at }))
+}
+
+/// After the frame: reads the level records and the weights (one read-back, outside the frame's
+/// clock) and fills in what the waiting loop reports.
+pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: Pending, out: &mut MethodOutput) -> Result<()> {
+    let steer = prepared.steer.as_ref().expect("steered frame without its state");
+    let words: Vec<u32> = readback::map_staging(fg.ctx, &steer.history)?;
+    let mut trace = AdaptiveTrace::default();
+    let mut quads = vec![GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }];
+    trace.rendered = candidates(0);
+    for (level, &(read, evaluated, at)) in pending.reads.iter().enumerate() {
+        let read = LevelRead { n: quads.len() as u64, ..read };
+        let report = levels::parse_level(&prepared.b, &words[(at / 4) as usize..], level as u32, quads, evaluated, false, read);
+        if report.overflow != 0 {
+            return Err(Error::Overflow(format!("adaptive level {level}: the quad list exceeded 256 (flags {:#x}); the run is not valid", report.overflow)));
+        }
+        quads = report.next_quads.clone();
+        let done = report.next_quad_count == 0;
+        trace.rendered.extend_from_slice(&report.new_samples);
+        trace.levels.push(report);
+        if done {
+            break;
+        }
+    }
+    let w = (pending.weights_at / 4) as usize;
+    trace.weights = bytemuck::cast_slice::<u32, f32>(&words[w..w + LATTICE_POINTS as usize]).to_vec();
+    trace.samples = prepared.samples.clone();
+    trace.triangles = vec![fg.scene_gpu.index_count as u64 / 3; trace.rendered.len()];
+    out.shadow_maps = trace.rendered.len() as u32;
+    out.syncs = 0;
+    out.record = levels::record(p, &trace, 0, None, &fg.gbuffer);
+    out.record["steer"] = serde_json::json!("gpu: no read-back in the frame; the level records are read after it");
+    out.pictures = if fg.pictures { pictures::all(fg, &trace, None) } else { Vec::new() };
+    out.detail = Some(Box::new(trace));
+    Ok(())
+}
