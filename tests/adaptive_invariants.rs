@@ -290,7 +290,7 @@ fn local_scope_finds_a_shadow_between_the_corners_of_a_split_quad() {
 fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     let ctx = common::gpu();
     let scene = small("default", &[]);
-    let method = adaptive(AdaptiveParams::default());
+    let method = adaptive(AdaptiveParams { steer_cpu: false, ..Default::default() });
     let r = frame::render(&ctx, &scene, &method, TimingMode::Stages).unwrap();
     assert_eq!(r.output.syncs, 0);
     assert!(r.timing_waits > 10, "stages mode waits per stage: {}", r.timing_waits);

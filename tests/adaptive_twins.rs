@@ -167,7 +167,7 @@ fn steered_frame_equals_the_waiting_loop() {
     let mut frames = 0;
     for (seed, sc) in scenes {
         for spec in ["preset=seed", "preset=balanced", "p_m=3,weights=area", "tol=0.004,weights=coons", "p_m=-1,max_level=2"] {
-            let (gpu, t) = common::traced(&ctx, &sc, &params(spec), false);
+            let (gpu, t) = common::traced(&ctx, &sc, &params(&format!("{spec},steer=gpu")), false);
             let (cpu, t_cpu) = common::traced(&ctx, &sc, &params(&format!("{spec},steer=cpu")), false);
             assert_eq!(gpu.output.syncs, 0, "seed {seed} {spec}: the steered frame waited");
             assert!(cpu.output.syncs > 0, "seed {seed} {spec}: the waiting loop did not wait");

@@ -81,8 +81,10 @@ pub struct AdaptiveParams {
     /// Per-map triangle culling to the tiles the map's pixels test (scope = local); off by default
     /// (docs/gpu-frame.md: on lavapipe it costs more than it saves).
     pub cull: Option<bool>,
-    /// `steer = cpu`: read each level back and record the next from the CPU (the waiting loop);
-    /// otherwise the GPU steers the levels where it can (docs/gpu-frame.md).
+    /// `steer = cpu` (the default): read each level back and record the next from the CPU (the
+    /// waiting loop); `steer = gpu`: the GPU steers the levels where it can, with no read-back
+    /// (docs/gpu-frame.md). The waiting loop is the default because it measured faster on an
+    /// H100 and no slower on lavapipe (docs/bench.md).
     pub steer_cpu: bool,
     /// Where the quadtree's lattice sits on the light (docs/method.md §7.1): `lattice` spans the
     /// light corner to corner (the seed); `centred` is inset by half a finest cell, so that the full
@@ -100,7 +102,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: false }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true }
     }
 }
 
@@ -337,8 +339,8 @@ impl AdaptiveParams {
         if self.culls() {
             s += ",cull=on";
         }
-        if self.steer_cpu {
-            s += ",steer=cpu";
+        if !self.steer_cpu {
+            s += ",steer=gpu";
         }
         s
     }
