@@ -3,6 +3,7 @@
 
 use crate::gpu::GpuContext;
 use crate::reference::{self, RefLight, ReferenceMode, SurfacePoint, Tracer};
+pub use crate::reference::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};
 use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
 use crate::{frame, progress, Error, Result};
@@ -10,21 +11,9 @@ use glam::Vec3;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Shadow-ray origins move this fraction of the scene's bounding-box diagonal along the normal:
-/// far above f32 rounding of G-buffer positions at any scene scale, far below any feature size.
-pub const RELATIVE_RAY_OFFSET: f32 = 1e-4;
 
 /// The fixed seed of the continuous mode (method.md §5: "fixed seed").
 pub const CONTINUOUS_SEED: u64 = 0x5eed;
-
-/// Environment rays are infinite; this far (100 scene diagonals) is past every triangle.
-pub fn env_ray_length(scene: &Scene) -> f32 {
-    100.0 * scene.bounds.diagonal().max(1e-6)
-}
-
-pub fn ray_offset(scene: &Scene) -> f32 {
-    RELATIVE_RAY_OFFSET * scene.bounds.diagonal()
-}
 
 /// `lattice`, `continuous` (with `samples` per side, M×M stratified), or `point` (the light's
 /// centre) / `point:S,T` (light coordinates in [0, 1]).

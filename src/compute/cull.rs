@@ -7,6 +7,7 @@ use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
 use crate::gpu::readback;
 use crate::layout::GpuCull;
 use crate::Result;
+use glam::Vec3;
 
 /// u32 words of one slot's draw_indexed_indirect arguments.
 pub const ARGS_WORDS: u32 = 5;
@@ -21,7 +22,7 @@ pub struct Cull {
     pub culled: wgpu::Buffer,
     /// ARGS_WORDS per slot (INDIRECT | STORAGE).
     pub args: wgpu::Buffer,
-    /// Bounding box and normal cone of each run (twin::cull::runs).
+    /// Bounding box and normal cone of each run (`runs`).
     runs: wgpu::Buffer,
     /// GpuCull.cull_face: the face the shadow raster culls.
     cull_face: u32,
@@ -51,7 +52,7 @@ impl Cull {
             })
         };
         let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
-        let runs = super::twin::cull::runs(&positions, &fg.scene.indices);
+        let runs = runs(&positions, &fg.scene.indices);
         Ok(Some(Self {
             runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
             cull_face: cull_face(fg.scene.render.cull),
@@ -111,4 +112,35 @@ pub fn cull_face(mode: crate::scene::CullMode) -> u32 {
         crate::scene::CullMode::Back => 1,
         crate::scene::CullMode::Front => 2,
     }
+}
+
+/// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
+/// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
+/// little so the cone holds every normal despite rounding.
+pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
+    indices
+        .chunks(3 * CULL_RUN as usize)
+        .flat_map(|run| {
+            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+            for &v in run {
+                lo = lo.min(positions[v as usize]);
+                hi = hi.max(positions[v as usize]);
+            }
+            let normals: Vec<Vec3> = run
+                .chunks_exact(3)
+                .map(|t| {
+                    let [a, b, c] = [0, 1, 2].map(|i| positions[t[i] as usize]);
+                    (b - a).cross(c - a).normalize_or_zero()
+                })
+                .collect();
+            let sum: Vec3 = normals.iter().sum();
+            let axis = sum.normalize_or_zero();
+            let min_cos = normals.iter().map(|n| if *n == Vec3::ZERO { -1.0 } else { n.dot(axis) }).fold(1.0f32, f32::min);
+            // Widen by ~0.01 rad; a cone of 80° or more is not worth testing.
+            let cos = (min_cos.clamp(-1.0, 1.0).acos() + 0.01).cos();
+            let valid = axis != Vec3::ZERO && min_cos > 0.2;
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            [lo.extend(cos).to_array(), hi.extend(sin).to_array(), axis.extend(if valid { 1.0 } else { 0.0 }).to_array()]
+        })
+        .collect()
 }

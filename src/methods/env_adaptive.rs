@@ -7,6 +7,7 @@
 use super::env_common::{environment, gpu_lights, resolution, SceneRays};
 use super::env_pixels::{parse_ssao, RayLights, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::env_common::SsaoSettings;
+pub use super::env_common::LevelCapture;
 use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
 use crate::compute::env_count::EnvCount;
 use crate::compute::env_split::{EnvSplit, EnvSplitIo};
@@ -216,19 +217,6 @@ struct State {
     control: wgpu::Buffer,
     level_params: Vec<wgpu::Buffer>,
     trace: RayLights,
-}
-
-/// One level of env-adaptive, captured for the twins.
-#[derive(Clone, Debug)]
-pub struct LevelCapture {
-    pub params: GpuEnvParams,
-    pub cells: Vec<GpuEnvCell>,
-    pub counts: Vec<u32>,
-    pub next: Vec<GpuEnvCell>,
-    /// Leaves appended by this level.
-    pub leaves: Vec<GpuEnvCell>,
-    pub corners: Vec<[f32; 4]>,
-    pub cell_power: Vec<f32>,
 }
 
 impl MethodState for State {

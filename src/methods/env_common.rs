@@ -8,7 +8,7 @@ use crate::compute::FrameGpu;
 use crate::environment::bvh::Bvh;
 use crate::environment::{EnvLight, Environment};
 use crate::gpu::readback;
-use crate::layout::{GpuCamera, GpuEnvLight, GpuEnvParams};
+use crate::layout::{GpuCamera, GpuEnvCell, GpuEnvLight, GpuEnvParams};
 use crate::timing::StageTimer;
 use crate::{Error, Result};
 use std::sync::Arc;
@@ -31,7 +31,7 @@ impl SceneRays {
     pub fn build(fg: &FrameGpu) -> SceneRays {
         let bvh = Arc::new(Bvh::build(&fg.scene.triangles()));
         let buffers = BvhBuffers::upload(fg, &bvh);
-        SceneRays { bvh, buffers, ray_offset: crate::ground_truth::ray_offset(fg.scene), t_max: crate::ground_truth::env_ray_length(fg.scene) }
+        SceneRays { bvh, buffers, ray_offset: crate::reference::ray_offset(fg.scene), t_max: crate::reference::env_ray_length(fg.scene) }
     }
 
     pub fn params(&self, fg: &FrameGpu) -> GpuEnvParams {
@@ -119,4 +119,17 @@ pub fn resolution(params: &super::ParamMap, method: &str, key: &str, default: (u
         Some((w, h)) if w >= 1 && h >= 1 && w <= 4096 && h <= 2048 => Ok((w, h)),
         _ => Err(Error::Param(format!("{method}: {key} = `{v}`: give WxH, e.g. 32x16 (at most 4096x2048)"))),
     }
+}
+
+/// One level of env-adaptive, captured for the twins.
+#[derive(Clone, Debug)]
+pub struct LevelCapture {
+    pub params: GpuEnvParams,
+    pub cells: Vec<GpuEnvCell>,
+    pub counts: Vec<u32>,
+    pub next: Vec<GpuEnvCell>,
+    /// Leaves appended by this level.
+    pub leaves: Vec<GpuEnvCell>,
+    pub corners: Vec<[f32; 4]>,
+    pub cell_power: Vec<f32>,
 }

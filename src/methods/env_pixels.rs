@@ -160,7 +160,7 @@ pub struct EnvTraceCapture {
     pub bvh: Arc<Bvh>,
     pub blocked: Vec<u32>,
     pub ao: Vec<f32>,
-    pub levels: Vec<super::env_adaptive::LevelCapture>,
+    pub levels: Vec<super::env_common::LevelCapture>,
 }
 
 pub fn capture_of(out: &MethodOutput) -> Option<&EnvTraceCapture> {

@@ -2,7 +2,7 @@
 //! the per-run bounds and normal cones the kernel reads.
 
 use crate::compute::buffers::{CULL_TILES, CULL_TILE_WORDS};
-use crate::compute::cull::CULL_RUN;
+use crate::compute::cull::{runs, CULL_RUN};
 use crate::layout::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -32,36 +32,6 @@ fn touches(frame: &GpuFrame, tiles: &[u32], lo: Vec2, hi: Vec2) -> bool {
     false
 }
 
-/// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
-/// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
-/// little so the cone holds every normal despite rounding.
-pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
-    indices
-        .chunks(3 * CULL_RUN as usize)
-        .flat_map(|run| {
-            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-            for &v in run {
-                lo = lo.min(positions[v as usize]);
-                hi = hi.max(positions[v as usize]);
-            }
-            let normals: Vec<Vec3> = run
-                .chunks_exact(3)
-                .map(|t| {
-                    let [a, b, c] = [0, 1, 2].map(|i| positions[t[i] as usize]);
-                    (b - a).cross(c - a).normalize_or_zero()
-                })
-                .collect();
-            let sum: Vec3 = normals.iter().sum();
-            let axis = sum.normalize_or_zero();
-            let min_cos = normals.iter().map(|n| if *n == Vec3::ZERO { -1.0 } else { n.dot(axis) }).fold(1.0f32, f32::min);
-            // Widen by ~0.01 rad; a cone of 80° or more is not worth testing.
-            let cos = (min_cos.clamp(-1.0, 1.0).acos() + 0.01).cos();
-            let valid = axis != Vec3::ZERO && min_cos > 0.2;
-            let sin = (1.0 - cos * cos).max(0.0).sqrt();
-            [lo.extend(cos).to_array(), hi.extend(sin).to_array(), axis.extend(if valid { 1.0 } else { 0.0 }).to_array()]
-        })
-        .collect()
-}
 
 fn faces_away(eye: Vec3, lo: Vec4, hi: Vec4, axis: Vec4) -> bool {
     if axis.w != 1.0 {
