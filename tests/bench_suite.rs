@@ -64,7 +64,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "bench failed (a GPU test: it needs an adapter): {stderr}");
     let table = std::fs::read_to_string(out.join("table2.md")).unwrap();
-    let adapter = gpu().summary.name;
+    let adapter = gpu().summary.name.clone();
     assert!(table.contains(&format!("Adapter: **{adapter}**")), "{table}");
     for (scene, seed) in [("bunny 兔子", "19.89 (45) | 1.73 (289) | 11.5x"), ("grove", "0.9x"), ("cows", "4.8x"), ("teapot", "3.2x")] {
         let row = table.lines().find(|l| l.starts_with(&format!("| {scene}"))).unwrap_or_else(|| panic!("no row {scene}: {table}"));

@@ -10,12 +10,10 @@ use penumbra::frame::{self, frame_uniform, FrameOptions};
 use penumbra::methods::{fixed, Method};
 use penumbra::scene::Scene;
 use penumbra::timing::TimingMode;
-use std::sync::OnceLock;
 
-/// One GPU context for the whole test binary.
+/// The test binary's shared GPU context.
 fn gpu() -> &'static penumbra::gpu::GpuContext {
-    static CTX: OnceLock<penumbra::gpu::GpuContext> = OnceLock::new();
-    CTX.get_or_init(common::gpu)
+    common::gpu()
 }
 
 /// 16x16 depths (4x4 coarse texels of 4x4 at levels = 2), far plane 1.0 where nothing is drawn.

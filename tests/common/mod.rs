@@ -29,9 +29,12 @@ use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-/// The GPU context; a missing adapter fails the test with instructions, never skips it.
-pub fn gpu() -> GpuContext {
-    match GpuContext::new() {
+/// The test binary's one GPU context, opened on first use and shared by every test (opening a
+/// device costs more than most tests); a missing adapter fails each test with instructions, never
+/// skips it.
+pub fn gpu() -> &'static GpuContext {
+    static CTX: std::sync::OnceLock<Result<GpuContext, String>> = std::sync::OnceLock::new();
+    match CTX.get_or_init(|| GpuContext::new().map_err(|e| e.to_string())) {
         Ok(ctx) => ctx,
         Err(e) => panic!("GPU test needs an adapter: {e}"),
     }
