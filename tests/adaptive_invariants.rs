@@ -207,14 +207,15 @@ fn scissor_changes_no_pixel() {
 
 #[test]
 fn item_overflow_is_reported_not_clipped() {
+    let dir = common::temp_dir("item-overflow").join("out");
     let out = common::penumbra_env(
-        &["render", "--scene", "default", "--method", "adaptive:scope=local", "--set", "resolution=64", "--out", "/tmp/penumbra-overflow-test"],
+        &["render", "--scene", "default", "--method", "adaptive:scope=local", "--set", "resolution=64", "--out", dir.to_str().unwrap()],
         &[("PENUMBRA_ITEM_CAPACITY", "100")],
     );
     let e = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{e}");
     assert!(e.contains("overflow") && e.contains("item list exceeded its capacity"), "{e}");
-    assert!(!std::path::Path::new("/tmp/penumbra-overflow-test/run.json").exists());
+    assert!(!dir.join("run.json").exists());
 }
 
 #[test]
