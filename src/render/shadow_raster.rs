@@ -144,27 +144,43 @@ impl ShadowRasterPass {
     ) {
         let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
         for job in jobs {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow_raster"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &array.layer_views[job.layer as usize],
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            if let Some([x, y, w, h]) = job.scissor {
-                pass.set_scissor_rect(x, y, w, h);
-            }
-            pass.set_vertex_buffer(0, scene.vertices.slice(..));
+            let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..scene.index_count, 0, job.sample..job.sample + 1);
         }
+    }
+}
+
+impl ShadowRasterPass {
+    /// One layer's pass, cleared, with the pipeline, samples, scissor and vertices set: what
+    /// `record` and `record_culled` share before their draws.
+    fn begin_layer<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        array: &ShadowMapArray,
+        job: &RasterJob,
+        bind: &wgpu::BindGroup,
+        scene: &SceneGpu,
+    ) -> wgpu::RenderPass<'e> {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow_raster"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &array.layer_views[job.layer as usize],
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        if let Some([x, y, w, h]) = job.scissor {
+            pass.set_scissor_rect(x, y, w, h);
+        }
+        pass.set_vertex_buffer(0, scene.vertices.slice(..));
+        pass
     }
 }
 
@@ -186,24 +202,7 @@ impl ShadowRasterPass {
     ) {
         let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
         for (job, offset) in jobs {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow_raster"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &array.layer_views[job.layer as usize],
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            if let Some([x, y, w, h]) = job.scissor {
-                pass.set_scissor_rect(x, y, w, h);
-            }
-            pass.set_vertex_buffer(0, scene.vertices.slice(..));
+            let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(culled.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed_indirect(args, *offset);
         }
