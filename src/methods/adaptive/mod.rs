@@ -326,7 +326,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 // GPU-driven: the previous subdivide wrote these dispatches' sizes (flag words x quads).
                 let indirect = single && level > 0;
                 timer.stage(ctx, "neighbourhood", |enc| {
-                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n, indirect);
+                    passes.neighbourhood.record_dense(fg, enc, &b, &lv);
                     Ok(())
                 })?;
                 timer.stage(ctx, "quad_count", |enc| {
