@@ -104,7 +104,8 @@ impl AdaptiveBuffers {
 
     /// `local`: items, fixed-point visibility and rectangles are needed, and every quad of a level
     /// must fit in one comparison-map buffer.
-    pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool) -> Result<Self> {
+    /// `item_cap` lowers the item list's capacity (`adaptive:items`).
+    pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool, item_cap: Option<u32>) -> Result<Self> {
         let limits = ctx.limits();
         let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
         let words_per_row = width.div_ceil(4);
@@ -130,8 +131,7 @@ impl AdaptiveBuffers {
         // Items: every penumbra pixel of a split quad becomes 4, so a pixel on a silhouette can reach
         // ~4·2^level items; take what one binding holds. Overflow is reported, never clipped.
         let mut item_capacity = if local { ((max_binding / 8).min(pixels * 32)) as u32 } else { 1 };
-        // Tests shrink the list to show that overflow is reported, not clipped.
-        if let Some(cap) = std::env::var("PENUMBRA_ITEM_CAPACITY").ok().and_then(|v| v.parse::<u32>().ok()) {
+        if let Some(cap) = item_cap {
             item_capacity = item_capacity.min(cap.max(1));
         }
         let storage = |label: &str, bytes: u64| readback::zeroed_storage(ctx, label, bytes);
