@@ -257,22 +257,24 @@ fn chart_png_decodes_and_is_not_uniform() {
     ));
 }
 
-/// Writes every chart as SVG and PNG for eyeballing: `PENUMBRA_WRITE_SAMPLES=dir cargo test`.
+/// Every chart renders to an SVG file and a PNG that decodes at a sane size.
 #[test]
-fn write_samples_when_asked() {
-    let Ok(dir) = std::env::var("PENUMBRA_WRITE_SAMPLES") else {
-        return;
-    };
+fn every_chart_writes_svg_and_png() {
+    let dir = tempfile::tempdir().unwrap();
     let rows = sample_rows();
     let charts = [
         ("error_time", error_vs_time_svg(&rows).unwrap()),
         ("maps_pm", maps_vs_pm_svg(&rows).unwrap()),
         ("error_maps", error_vs_maps_svg(&rows).unwrap()),
         ("stages", stage_breakdown_svg(&rows).unwrap()),
+        ("frame_split", frame_split_svg(&rows).unwrap()),
     ];
     for (name, svg) in charts {
-        std::fs::write(format!("{dir}/{name}.svg"), &svg).unwrap();
-        std::fs::write(format!("{dir}/{name}.png"), svg_to_png(&svg, 1.0).unwrap()).unwrap();
+        std::fs::write(dir.path().join(format!("{name}.svg")), &svg).unwrap();
+        std::fs::write(dir.path().join(format!("{name}.png")), svg_to_png(&svg, 1.0).unwrap()).unwrap();
+        let png = image::open(dir.path().join(format!("{name}.png"))).unwrap();
+        assert!(png.width() >= 320 && png.height() >= 200, "{name}: {}x{}", png.width(), png.height());
+        assert!(std::fs::read_to_string(dir.path().join(format!("{name}.svg"))).unwrap().starts_with("<svg"), "{name}");
     }
 }
 

@@ -221,29 +221,30 @@ fn error_images_layout_and_colours() {
     ));
 }
 
-/// Writes sample error images for eyeballing: `PENUMBRA_WRITE_SAMPLES=dir cargo test`.
+/// The error images survive a PNG round trip at their size, the masked rows in the background
+/// colour (the files are kept under the temp folder only while the test runs).
 #[test]
-fn write_samples_when_asked() {
-    let Ok(dir) = std::env::var("PENUMBRA_WRITE_SAMPLES") else {
-        return;
-    };
+fn error_images_round_trip_through_png() {
+    let dir = tempfile::tempdir().unwrap();
     let (w, h) = (256u32, 160u32);
     let n = (w * h) as usize;
-    let r: Vec<f32> = (0..n)
-        .map(|i| (i as u32 % w) as f32 / (w - 1) as f32)
-        .collect();
-    let e: Vec<f32> = (0..n)
-        .map(|i| r[i] + 0.2 * ((i as u32 / w) as f32 / h as f32 - 0.5))
-        .collect();
+    let r: Vec<f32> = (0..n).map(|i| (i as u32 % w) as f32 / (w - 1) as f32).collect();
+    let e: Vec<f32> = (0..n).map(|i| r[i] + 0.2 * ((i as u32 / w) as f32 / h as f32 - 0.5)).collect();
     let mask: Vec<bool> = (0..n).map(|i| (i as u32 / w) > 10).collect();
-    abs_error_image(&e, &r, &mask, w, h, 0.1)
-        .unwrap()
-        .save(format!("{dir}/abs.png"))
-        .unwrap();
-    signed_error_image(&e, &r, &mask, w, h, 0.1)
-        .unwrap()
-        .save(format!("{dir}/signed.png"))
-        .unwrap();
+    for (name, img) in [
+        ("abs.png", abs_error_image(&e, &r, &mask, w, h, 0.1).unwrap()),
+        ("signed.png", signed_error_image(&e, &r, &mask, w, h, 0.1).unwrap()),
+    ] {
+        let path = dir.path().join(name);
+        img.save(&path).unwrap();
+        let back = image::open(&path).unwrap().to_rgb8();
+        // The picture is the screen plus its colour bar underneath.
+        assert_eq!(back.width(), w, "{name}");
+        assert!(back.height() > h && back.height() == img.height(), "{name}: {}x{}", back.width(), back.height());
+        assert_eq!(back.as_raw(), img.as_raw(), "{name}: PNG is lossless");
+        // Row 0 is masked out, row 100 is not: they must look different.
+        assert_ne!(back.get_pixel(5, 0), back.get_pixel(5, 100), "{name}");
+    }
 }
 
 #[test]
