@@ -243,7 +243,7 @@ pub struct GpuEnvParams {
     pub total_power: f32,
     /// env_trace: 1 to multiply V by the ambient occlusion in `ao` (ssao combined).
     pub use_ao: u32,
-    /// ssao: radius in world units; env_shadowmaps: PCF radius in texels.
+    /// ssao: radius in world units.
     pub radius: f32,
     /// env_count: counts every count_stride-th pixel in x and y.
     pub count_stride: u32,
