@@ -51,6 +51,8 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("blur"),
     kernel!("reconstruct"),
     kernel!("env_trace"),
+    kernel!("barycentrics"),
+    kernel!("env_vertex_interp"),
     kernel!("env_count"),
     kernel!("env_split"),
     kernel!("env_shadowmaps"),

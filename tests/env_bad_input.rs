@@ -50,6 +50,7 @@ fn environment_method_parameters_are_checked() {
     for (spec, wanted) in [
         ("env-pixels:res=32", "env-pixels: res = `32`"),
         ("env-pixels:ssao=yes", "env-pixels: ssao = `yes`"),
+        ("env-pixels:at=face", "env-pixels: parameter at = `face`: use one of pixel, vertex"),
         ("env-shadowmaps:k=3", "k = 3"),
         ("env-shadowmaps:pcf_radius=9", "pcf_radius = 9"),
         ("env-shadowmaps:filter=gauss", "env-shadowmaps: parameter filter = `gauss`: use one of box, bilinear, poisson, stratified, rotated"),
@@ -67,6 +68,8 @@ fn environment_method_parameters_are_checked() {
     }
     assert_eq!(Method::parse("env-adaptive", &[]).unwrap().label(), "env-adaptive");
     assert_eq!(Method::parse("env-shadowmaps:filter=box,taps=3", &[]).unwrap().label(), "env-shadowmaps:k=16");
+    assert_eq!(Method::parse("env-pixels:at=pixel", &[]).unwrap().label(), "env-pixels:res=32x16");
+    assert_eq!(Method::parse("env-pixels:res=16x8,at=vertex", &[]).unwrap().label(), "env-pixels:res=16x8,at=vertex");
     assert_eq!(Method::parse("env-shadowmaps:filter=poisson,pcf_radius=2", &[]).unwrap().label(), "env-shadowmaps:k=16,filter=poisson,pcf_radius=2");
     assert_eq!(Method::parse("env-pixels:res=64x32,ssao=on", &[]).unwrap().label(), "env-pixels:res=64x32,ssao=on,ao_samples=16,ao_radius=0.05");
 }
