@@ -40,8 +40,7 @@ fn bilinear_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], reference: f32, t:
 #[allow(clippy::too_many_arguments)]
 pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], t: Vec2, limit: f32, slope: f32, (x, y): (u32, u32)) -> (f32, f32) {
     let mut lit = 0.0f32;
-    let count;
-    if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
+    let count = if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
         let n = filter.taps;
         let size = frame.map_size as f32;
         for j in 0..n {
@@ -56,7 +55,7 @@ pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32]
                 };
             }
         }
-        count = n * n;
+        n * n
     } else {
         for i in 0..filter.taps {
             let d = match filter.kind {
@@ -75,8 +74,8 @@ pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32]
             let o = d * filter.radius;
             lit += tap_lit(frame, s, map, limit - o.length() * slope, t + o);
         }
-        count = filter.taps;
-    }
+        filter.taps
+    };
     (lit, count as f32)
 }
 
