@@ -1,5 +1,6 @@
 //! Environment-lighting charts: RMSE against time and against samples with one series per method
-//! (not per family: the four environment methods share one), one line per scene.
+//! and estimator variant (not per family: the four environment methods share one), one line per
+//! scene.
 
 use super::scatter::{push_point, render, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
