@@ -1,16 +1,19 @@
 // env_shadowmaps: the seed's baseline. K directional lights from median cut, one near-orthographic
-// shadow map each, box-PCF filtered like pcf.wgsl (taps within `radius` texels, the tap's limit
-// moved by the receiver's slope); V = Σ power·cos·pcf / Σ power·cos (docs/environment.md §2).
+// shadow map each, filtered by the PCF family's patterns (shared/pcf_taps.wgsl, the same code as
+// pcf.wgsl); V = Σ power·cos·pcf / Σ power·cos (docs/environment.md §2).
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> params: GpuEnvParams;
 @group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
 @group(0) @binding(3) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(5) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(5) var shadow_maps: ShadowMaps;
 @group(0) @binding(6) var<storage, read> lights: array<GpuEnvLight>;
 @group(0) @binding(7) var<storage, read_write> visibility: array<f32>;
 @group(0) @binding(8) var<storage, read> ao: array<f32>;
+@group(0) @binding(9) var<uniform> settings: GpuFilter;
+@group(0) @binding(10) var<storage, read> disk: array<vec2<f32>>;
+@group(0) @binding(11) var compare_sampler: sampler_comparison;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -18,7 +21,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let index = gid.y * frame.width + gid.x;
-    let r = i32(params.radius);
     var num = 0.0;
     var den = 0.0;
     var geometry = false;
@@ -43,16 +45,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             continue;
         }
         let slope = slope_per_texel(frame, s, px.position, px.normal);
-        var lit = 0.0;
-        var taps = 0.0;
-        for (var dy = -r; dy <= r; dy = dy + 1) {
-            for (var dx = -r; dx <= r; dx = dx + 1) {
-                let o = vec2<f32>(f32(dx), f32(dy));
-                lit = lit + tap_lit(frame, s, shadow_maps, px.lookup.depth_limit - length(o) * slope, px.uv + o);
-                taps = taps + 1.0;
-            }
-        }
-        num = num + w * lit / taps;
+        let taps = pcf_taps(frame, s, shadow_maps, compare_sampler, settings, px.uv, px.lookup.depth_limit, slope, gid.xy);
+        num = num + w * taps.x / taps.y;
     }
     var v = select(0.0, num / den, den > 0.0);
     if (params.use_ao != 0u) {

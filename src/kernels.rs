@@ -8,6 +8,8 @@ use crate::{Error, Result};
 pub const PRELUDE: &str = include_str!("../kernels/shared/common.wgsl");
 /// Second prelude of the environment kernels (`env_*`, `ssao`): their structs and the BVH ray test.
 pub const ENV_PRELUDE: &str = include_str!("../kernels/shared/environment.wgsl");
+/// The PCF family's tap patterns, shared by `pcf` and `env_shadowmaps`.
+pub const PCF_TAPS: &str = include_str!("../kernels/shared/pcf_taps.wgsl");
 /// `map_depth` and friends over `Depth32Float` arrays (the default for every kernel).
 pub const MAPS_PLAIN: &str = include_str!("../kernels/shared/maps_plain.wgsl");
 /// The same functions over a hybrid store (docs/hybrid.md), for kernels that read shadow maps.
@@ -49,6 +51,8 @@ pub const KERNELS: &[KernelSource] = &[
     kernel!("blur"),
     kernel!("reconstruct"),
     kernel!("env_trace"),
+    kernel!("barycentrics"),
+    kernel!("env_vertex_interp"),
     kernel!("env_count"),
     kernel!("env_split"),
     kernel!("env_shadowmaps"),
@@ -74,7 +78,8 @@ pub fn source_for(name: &str, maps: MapKind) -> Result<String> {
     };
     // The environment kernels add their own prelude (their structs and the BVH ray test).
     let environment = if k.name.starts_with("env_") || k.name == "ssao" { ENV_PRELUDE } else { "" };
-    Ok(format!("{PRELUDE}\n{access}\n{environment}\n{}", k.body))
+    let taps = if matches!(k.name, "pcf" | "env_shadowmaps") { PCF_TAPS } else { "" };
+    Ok(format!("{PRELUDE}\n{access}\n{environment}\n{taps}\n{}", k.body))
 }
 
 /// Parses and validates one kernel with naga (all validation flags), returning every error as text.

@@ -243,7 +243,7 @@ pub struct GpuEnvParams {
     pub total_power: f32,
     /// env_trace: 1 to multiply V by the ambient occlusion in `ao` (ssao combined).
     pub use_ao: u32,
-    /// ssao: radius in world units; env_shadowmaps: PCF radius in texels.
+    /// ssao: radius in world units.
     pub radius: f32,
     /// env_count: counts every count_stride-th pixel in x and y.
     pub count_stride: u32,
@@ -251,7 +251,8 @@ pub struct GpuEnvParams {
     pub first_light: u32,
     /// env_trace: 1 on the last chunk, which writes V.
     pub final_chunk: u32,
-    pub pad0: u32,
+    /// env_trace `vertex`: mesh vertices traced (the per-vertex variant).
+    pub vertex_count: u32,
     pub pad1: u32,
 }
 
@@ -310,7 +311,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuEnvLight { direction }),
         layout_of!(GpuEnvParams {
             width, height, light_count, cell_count, ray_offset, t_max, finest_width, finest_height, max_level, p_m, contrast,
-            min_share, total_power, use_ao, radius, count_stride, first_light, final_chunk, pad0, pad1
+            min_share, total_power, use_ao, radius, count_stride, first_light, final_chunk, vertex_count, pad1
         }),
         layout_of!(GpuEnvCell { i, j, size, level }),
     ]

@@ -144,6 +144,16 @@ fn unknown_method_and_parameter() {
 }
 
 #[test]
+fn bad_environment_method_values() {
+    let e = fails("bad-env-at", GOOD, Some(TRI), &["--method", "env-pixels:at=face"]);
+    assert!(e.contains("env-pixels: parameter at = `face`: use one of pixel, vertex"), "{e}");
+    let e = fails("bad-env-filter", GOOD, Some(TRI), &["--method", "env-shadowmaps:filter=gauss"]);
+    assert!(e.contains("env-shadowmaps: parameter filter = `gauss`: use one of box, bilinear, poisson, stratified, rotated"), "{e}");
+    let e = fails("bad-env-taps", GOOD, Some(TRI), &["--method", "env-shadowmaps:filter=rotated,taps=7"]);
+    assert!(e.contains("env-shadowmaps: taps = 7 with filter = rotated: use 4, 16, 32 or 64"), "{e}");
+}
+
+#[test]
 fn missing_scene_file() {
     let out = penumbra(&["render", "--scene", "/nonexistent/scene.toml", "--out", "/tmp/never"]);
     let e = String::from_utf8_lossy(&out.stderr);

@@ -50,8 +50,12 @@ fn environment_method_parameters_are_checked() {
     for (spec, wanted) in [
         ("env-pixels:res=32", "env-pixels: res = `32`"),
         ("env-pixels:ssao=yes", "env-pixels: ssao = `yes`"),
+        ("env-pixels:at=face", "env-pixels: parameter at = `face`: use one of pixel, vertex"),
         ("env-shadowmaps:k=3", "k = 3"),
         ("env-shadowmaps:pcf_radius=9", "pcf_radius = 9"),
+        ("env-shadowmaps:filter=gauss", "env-shadowmaps: parameter filter = `gauss`: use one of box, bilinear, poisson, stratified, rotated"),
+        ("env-shadowmaps:filter=poisson,taps=5", "env-shadowmaps: taps = 5 with filter = poisson: use 4, 16, 32 or 64"),
+        ("env-shadowmaps:filter=box,taps=17", "env-shadowmaps: taps = 17 is outside 1..=16"),
         ("env-adaptive:max_level=7", "max_level = 7"),
         ("env-adaptive:contrast=0.5", "contrast = 0.5"),
         ("env-adaptive:count_stride=0", "count_stride = 0"),
@@ -59,8 +63,13 @@ fn environment_method_parameters_are_checked() {
         ("ssao:k=4", "has no parameter `k`"),
     ] {
         let e = Method::parse(spec, &[]).unwrap_err().to_string();
+        assert!(!e.contains('\n'), "{spec}: one line: {e}");
         assert!(e.contains(wanted), "{spec}: `{e}` lacks `{wanted}`");
     }
     assert_eq!(Method::parse("env-adaptive", &[]).unwrap().label(), "env-adaptive");
+    assert_eq!(Method::parse("env-shadowmaps:filter=box,taps=3", &[]).unwrap().label(), "env-shadowmaps:k=16");
+    assert_eq!(Method::parse("env-pixels:at=pixel", &[]).unwrap().label(), "env-pixels:res=32x16");
+    assert_eq!(Method::parse("env-pixels:res=16x8,at=vertex", &[]).unwrap().label(), "env-pixels:res=16x8,at=vertex");
+    assert_eq!(Method::parse("env-shadowmaps:filter=poisson,pcf_radius=2", &[]).unwrap().label(), "env-shadowmaps:k=16,filter=poisson,pcf_radius=2");
     assert_eq!(Method::parse("env-pixels:res=64x32,ssao=on", &[]).unwrap().label(), "env-pixels:res=64x32,ssao=on,ao_samples=16,ao_radius=0.05");
 }

@@ -37,7 +37,7 @@ struct GpuEnvParams {
     count_stride: u32,
     first_light: u32,
     final_chunk: u32,
-    pad0: u32,
+    vertex_count: u32,
     pad1: u32,
 }
 

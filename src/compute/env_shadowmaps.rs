@@ -1,21 +1,30 @@
-//! env_shadowmaps: box-PCF over K directional lights' shadow maps, power- and cosine-weighted.
+//! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
+//! power- and cosine-weighted.
 
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct EnvShadowmaps {
     kernel: ComputeKernel,
+    /// The comparison sampler of `filter=bilinear`, as pcf's.
+    sampler: wgpu::Sampler,
+}
+
+/// The filter's uniform and tap offsets (the pcf family's `GpuFilter` and disk).
+pub struct FilterBuffers<'a> {
+    pub settings: &'a wgpu::Buffer,
+    pub disk: &'a wgpu::Buffer,
 }
 
 impl EnvShadowmaps {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_shadowmaps", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_shadowmaps", "main")?, sampler: super::pcf::comparison_sampler(fg.ctx) })
     }
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
     /// when `params.use_ao` is 1.
     #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer) {
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer, filter: &FilterBuffers) {
         self.kernel.dispatch(
             fg.ctx,
             enc,
@@ -29,6 +38,9 @@ impl EnvShadowmaps {
                 (6, lights.as_entire_binding()),
                 (7, fg.visibility.as_entire_binding()),
                 (8, ao.as_entire_binding()),
+                (9, filter.settings.as_entire_binding()),
+                (10, filter.disk.as_entire_binding()),
+                (11, wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );

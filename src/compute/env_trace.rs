@@ -1,7 +1,7 @@
-//! env_trace: shadow rays from every G-buffer pixel to a list of directional lights through the
-//! scene's BVH, into the visibility buffer (and the blocked-ray count per pixel).
+//! env_trace: shadow rays from every G-buffer pixel (`main`) or every mesh vertex (`vertex`) to a
+//! list of directional lights through the scene's BVH, into V (and the blocked-ray counts).
 
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::environment::bvh::Bvh;
 use crate::gpu::readback;
 use crate::Result;
@@ -25,6 +25,18 @@ impl BvhBuffers {
 
 pub struct EnvTrace {
     kernel: ComputeKernel,
+}
+
+/// The `vertex` entry point (the per-vertex variant), built only where a method asks for it.
+pub struct EnvTraceVertex {
+    kernel: ComputeKernel,
+}
+
+/// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
+pub struct VertexOutputs<'a> {
+    pub visibility: &'a wgpu::Buffer,
+    pub blocked: &'a wgpu::Buffer,
+    pub sums: &'a wgpu::Buffer,
 }
 
 /// What env_trace reads and writes besides the G-buffer and V.
@@ -78,6 +90,31 @@ impl EnvTrace {
                 (21, inputs.bvh.triangles.as_entire_binding()),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+        );
+    }
+}
+
+impl EnvTraceVertex {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_trace", "vertex")? })
+    }
+
+    /// One chunk of lights at every mesh vertex (`params.vertex_count` of them).
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, lights: &wgpu::Buffer, bvh: &BvhBuffers, out: &VertexOutputs) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, params.as_entire_binding()),
+                (3, lights.as_entire_binding()),
+                (5, out.blocked.as_entire_binding()),
+                (7, out.sums.as_entire_binding()),
+                (8, fg.scene_gpu.vertices.as_entire_binding()),
+                (9, out.visibility.as_entire_binding()),
+                (20, bvh.nodes.as_entire_binding()),
+                (21, bvh.triangles.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(fg.scene.vertices.len() as u32, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 }

@@ -9,6 +9,7 @@ pub mod env_count;
 pub mod env_shadowmaps;
 pub mod env_split;
 pub mod env_trace;
+pub mod env_vertex_interp;
 pub mod frame_gpu;
 pub mod hybrid_build;
 pub mod kernel;
@@ -64,6 +65,8 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("probe", "main", LINE_WORKGROUP),
     ("probe", "begin", [1, 1, 1]),
     ("env_trace", "main", PIXEL_WORKGROUP),
+    ("env_trace", "vertex", LINE_WORKGROUP),
+    ("env_vertex_interp", "main", PIXEL_WORKGROUP),
     ("env_count", "main", LINE_WORKGROUP),
     ("env_split", "main", LINE_WORKGROUP),
     ("env_shadowmaps", "main", PIXEL_WORKGROUP),

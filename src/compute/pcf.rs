@@ -9,16 +9,20 @@ pub struct Pcf {
     sampler: wgpu::Sampler,
 }
 
+/// The hardware comparison sampler of the bilinear pattern (lit when reference <= stored).
+pub fn comparison_sampler(ctx: &crate::gpu::GpuContext) -> wgpu::Sampler {
+    ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("pcf comparison"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        compare: Some(wgpu::CompareFunction::LessEqual),
+        ..Default::default()
+    })
+}
+
 impl Pcf {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        let sampler = fg.ctx.device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("pcf comparison"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
-        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "pcf", "main", fg.scene.render.maps)?, sampler })
+        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "pcf", "main", fg.scene.render.maps)?, sampler: comparison_sampler(fg.ctx) })
     }
 
     /// `samples[0]` is the map's sample; `disk` the tap offsets of the disk kernels.

@@ -16,7 +16,7 @@ use base64::Engine;
 use std::path::{Path, PathBuf};
 
 pub const DEFAULT_SCENES: &str = "env-bunny,env-dragon";
-pub const DEFAULT_METHODS: &str = "env-pixels:res=16x8,env-pixels:res=32x16,env-pixels:res=64x32,\
+pub const DEFAULT_METHODS: &str = "env-pixels:res=16x8,env-pixels:res=32x16,env-pixels:res=64x32,env-pixels:res=32x16;at=vertex,\
 env-shadowmaps:k=4,env-shadowmaps:k=16,env-shadowmaps:k=64,env-shadowmaps:k=256,ssao,env-pixels:res=32x16;ssao=on,\
 env-adaptive:max_level=2;min_share=0.02,env-adaptive:max_level=3;min_share=0.02,env-adaptive";
 

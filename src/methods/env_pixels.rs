@@ -1,8 +1,10 @@
 //! env-pixels (seed 002): every pixel of the panorama, downsampled to `res` with solid-angle
-//! weights, is a directional light; V by one shadow ray per light and pixel through the BVH.
+//! weights, is a directional light; V by one shadow ray per light and pixel through the BVH, or
+//! (`at=vertex`, the seed's variant) per mesh vertex, interpolated to the pixels.
 
 use super::env_common::{environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage};
-use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use super::env_vertex::{VertexCapture, VertexStage};
+use super::{check_range, get_choice, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::compute::env_trace::{chunk_params, EnvTrace, EnvTraceInputs};
 use crate::compute::FrameGpu;
 use crate::environment::{bvh::Bvh, picture, pixel_lights};
@@ -22,13 +24,15 @@ pub const INFO: MethodInfo = MethodInfo {
     summary: "seed 002: every (downsampled) panorama pixel a light, shadow rays through a GPU BVH",
     params: &[
         Param { key: "res", default: "32x16", help: "panorama resolution of the pixel lights, WxH dividing the panorama's" },
+        Param { key: "at", default: "pixel", help: "pixel: rays from every screen pixel; vertex: from every mesh vertex (the seed's variant), V interpolated by barycentrics" },
         SSAO,
         AO_SAMPLES,
         AO_RADIUS,
     ],
     parse: |p| {
         let (w, h) = resolution(p, "env-pixels", "res", (32, 16))?;
-        Ok(Arc::new(EnvPixels { width: w, height: h, ssao: parse_ssao(p, "env-pixels")? }))
+        let at = get_choice(p, "at", "pixel", &["pixel", "vertex"]).map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
+        Ok(Arc::new(EnvPixels { width: w, height: h, per_vertex: at == "vertex", ssao: parse_ssao(p, "env-pixels")? }))
     },
 };
 
@@ -43,6 +47,8 @@ pub fn parse_ssao(p: &ParamMap, method: &str) -> Result<Option<SsaoSettings>> {
 pub struct EnvPixels {
     pub width: u32,
     pub height: u32,
+    /// `at=vertex`: trace at the mesh vertices and interpolate.
+    pub per_vertex: bool,
     pub ssao: Option<SsaoSettings>,
 }
 
@@ -52,13 +58,16 @@ impl ShadowMethod for EnvPixels {
     }
     fn label(&self) -> String {
         let mut s = format!("env-pixels:res={}x{}", self.width, self.height);
+        if self.per_vertex {
+            s += ",at=vertex";
+        }
         if let Some(a) = self.ssao {
             s += &format!(",ssao=on,ao_samples={},ao_radius={}", a.samples, a.radius);
         }
         s
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "res": [self.width, self.height], "ssao": self.ssao })
+        serde_json::json!({ "res": [self.width, self.height], "at": if self.per_vertex { "vertex" } else { "pixel" }, "ssao": self.ssao })
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let env = environment(fg, "env-pixels")?;
@@ -67,7 +76,8 @@ impl ShadowMethod for EnvPixels {
         for l in &lights {
             picture::mark(&mut picture, env, l.direction, picture::level_colour(3));
         }
-        Ok(Box::new(RayLights::new(fg, gpu_lights(&lights), self.ssao, vec![("panorama_lights.png".into(), picture)])?))
+        let rays = RayLights::new(fg, gpu_lights(&lights), self.ssao, vec![("panorama_lights.png".into(), picture)])?;
+        Ok(Box::new(if self.per_vertex { rays.at_vertices(fg)? } else { rays }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -89,6 +99,8 @@ pub struct RayLights {
     no_ao: wgpu::Buffer,
     pub ssao: Option<SsaoStage>,
     pub pictures: Vec<(String, image::RgbImage)>,
+    /// `at=vertex`: rays from the mesh vertices instead of the pixels.
+    pub vertex: Option<VertexStage>,
 }
 
 impl RayLights {
@@ -113,7 +125,16 @@ impl RayLights {
             rays,
             ssao,
             pictures,
+            vertex: None,
         })
+    }
+
+    /// The per-vertex variant: the same lights, traced from every mesh vertex.
+    pub fn at_vertices(mut self, fg: &FrameGpu) -> Result<RayLights> {
+        let stage = VertexStage::new(fg)?;
+        self.params.vertex_count = stage.vertex_count;
+        self.vertex = Some(stage);
+        Ok(self)
     }
 
     /// ssao (if on), then env_trace; with `capture`, what the twins need.
@@ -126,13 +147,17 @@ impl RayLights {
         for (p, buffer) in chunks.iter().zip(&self.chunk_buffers) {
             fg.ctx.queue.write_buffer(buffer, 0, bytemuck::bytes_of(p));
         }
-        timer.stage(fg.ctx, "env_trace", |enc| {
-            for buffer in &self.chunk_buffers[..chunks.len()] {
-                let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
-                self.trace.record(fg, enc, &inputs);
-            }
-            Ok(())
-        })?;
+        if let Some(v) = &self.vertex {
+            v.run(fg, timer, &self.chunk_buffers[..chunks.len()], &self.lights_buffer, &self.rays.buffers, ao)?;
+        } else {
+            timer.stage(fg.ctx, "env_trace", |enc| {
+                for buffer in &self.chunk_buffers[..chunks.len()] {
+                    let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
+                    self.trace.record(fg, enc, &inputs);
+                }
+                Ok(())
+            })?;
+        }
         if !capture {
             return Ok(None);
         }
@@ -149,6 +174,7 @@ impl RayLights {
             blocked: readback::read_buffer(fg.ctx, &self.blocked, bytes)?,
             ao,
             levels: Vec::new(),
+            vertex: self.vertex.as_ref().map(|v| v.capture(fg)).transpose()?,
         }))
     }
 }
@@ -161,6 +187,8 @@ pub struct EnvTraceCapture {
     pub blocked: Vec<u32>,
     pub ao: Vec<f32>,
     pub levels: Vec<super::env_common::LevelCapture>,
+    /// `at=vertex`: the ids, V and blocked rays per vertex.
+    pub vertex: Option<VertexCapture>,
 }
 
 pub fn capture_of(out: &MethodOutput) -> Option<&EnvTraceCapture> {
@@ -177,7 +205,10 @@ impl MethodState for RayLights {
         Ok(MethodOutput {
             shadow_maps: n,
             syncs: 0,
-            record: serde_json::json!({ "samples": n, "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
+            record: match &self.vertex {
+                None => serde_json::json!({ "samples": n, "at": "pixel", "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
+                Some(v) => serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
+            },
             pictures: if fg.pictures { self.pictures.clone() } else { Vec::new() },
             detail: c.map(|c| Box::new(c) as Box<dyn std::any::Any>),
         })

@@ -1,15 +1,17 @@
 //! env-shadowmaps (seed 002's baseline): K directional lights from median cut, one shadow map each
-//! from a point 50 scene diagonals away along the light (near-orthographic), box-PCF filtered.
+//! from a point 50 scene diagonals away along the light (near-orthographic), filtered by the pcf
+//! family's tap patterns (box by default).
 
 use super::env_common::{environment, gpu_lights};
 use super::env_pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::env_common::{SsaoSettings, SsaoStage};
-use super::{check_range, params, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::compute::env_shadowmaps::EnvShadowmaps as Pass;
+use super::pcf::{poisson_disk, KERNELS};
+use super::{check_range, get_choice, params, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
+use crate::compute::env_shadowmaps::{EnvShadowmaps as Pass, FilterBuffers};
 use crate::compute::FrameGpu;
 use crate::environment::{median_cut, picture};
 use crate::gpu::readback;
-use crate::layout::{GpuEnvLight, GpuEnvParams, GpuFrame, GpuSample};
+use crate::layout::{GpuEnvLight, GpuEnvParams, GpuFilter, GpuFrame, GpuSample};
 use crate::light::{sample_view, AreaLight};
 use crate::render::shadow_raster::{self, RasterJob};
 use crate::timing::StageTimer;
@@ -20,10 +22,12 @@ use std::sync::Arc;
 pub const INFO: MethodInfo = MethodInfo {
     name: "env-shadowmaps",
     family: Family::Environment,
-    summary: "seed 002's baseline: K median-cut directional lights, a shadow map each, box PCF",
+    summary: "seed 002's baseline: K median-cut directional lights, a shadow map each, PCF-filtered (pcf's patterns)",
     params: &[
         Param { key: "k", default: "16", help: "lights from median cut, a power of two 1..=256" },
-        Param { key: "pcf_radius", default: "1", help: "box PCF half-width in texels, 0..=4 ((2r+1)² taps)" },
+        Param { key: "filter", default: "box", help: "the pcf family's tap pattern: box, bilinear, poisson, stratified or rotated (as pcf:kernel)" },
+        Param { key: "pcf_radius", default: "1", help: "filter radius in texels, 0..=4 (box: (2r+1)² taps)" },
+        Param { key: "taps", default: "2r+1 | 16", help: "box/bilinear: N per side (default 2·pcf_radius+1), 1..=16; poisson/rotated: 4, 16, 32 or 64; stratified: 1..=64" },
         SSAO,
         AO_SAMPLES,
         AO_RADIUS,
@@ -34,15 +38,59 @@ pub const INFO: MethodInfo = MethodInfo {
             return Err(Error::Param(format!("env-shadowmaps: k = {k}: median cut gives a power of two (1, 2, 4, … 256)")));
         }
         let pcf_radius = check_range("env-shadowmaps", "pcf_radius", params::get_u32(p, "pcf_radius", 1)?, 0, 4)?;
-        Ok(Arc::new(EnvShadowmaps { k, pcf_radius, ssao: parse_ssao(p, "env-shadowmaps")? }))
+        let filter = get_choice(p, "filter", "box", &KERNELS).map_err(|e| Error::Param(format!("env-shadowmaps: {e}")))?;
+        let taps = check_taps(filter, params::get_u32(p, "taps", default_taps(filter, pcf_radius))?)?;
+        Ok(Arc::new(EnvShadowmaps { k, filter, pcf_radius, taps, ssao: parse_ssao(p, "env-shadowmaps")? }))
     },
 };
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvShadowmaps {
     pub k: u32,
+    /// One of the pcf family's patterns ([`KERNELS`]).
+    pub filter: &'static str,
     pub pcf_radius: u32,
+    pub taps: u32,
     pub ssao: Option<SsaoSettings>,
+}
+
+/// Box keeps the (2r+1)² texel grid it always had; the disk patterns default to 16 taps (as pcf's).
+fn default_taps(filter: &str, radius: u32) -> u32 {
+    match filter {
+        "box" | "bilinear" => 2 * radius + 1,
+        _ => 16,
+    }
+}
+
+fn check_taps(filter: &str, taps: u32) -> Result<u32> {
+    match filter {
+        "box" | "bilinear" => check_range("env-shadowmaps", "taps", taps, 1, 16),
+        "stratified" => check_range("env-shadowmaps", "taps", taps, 1, 64),
+        _ if ![4, 16, 32, 64].contains(&taps) => Err(Error::Param(format!("env-shadowmaps: taps = {taps} with filter = {filter}: use 4, 16, 32 or 64"))),
+        _ => Ok(taps),
+    }
+}
+
+impl EnvShadowmaps {
+    /// The pcf family's uniform: same kinds, tap counts and stratified order as `pcf`.
+    pub fn settings(&self) -> GpuFilter {
+        GpuFilter {
+            kind: KERNELS.iter().position(|k| *k == self.filter).unwrap_or(0) as u32,
+            taps: self.taps,
+            order: 16,
+            radius: self.pcf_radius as f32,
+            ..Default::default()
+        }
+    }
+
+    /// The unit-disk offsets the disk patterns read (one unused point for the grids).
+    pub fn disk(&self) -> Vec<[f32; 2]> {
+        match self.filter {
+            "box" | "bilinear" => vec![[0.0, 0.0]],
+            "stratified" => poisson_disk(16),
+            _ => poisson_disk(self.taps as usize),
+        }
+    }
 }
 
 /// Distance of a directional light's map viewpoint, in scene diagonals: far enough that the
@@ -71,8 +119,14 @@ impl ShadowMethod for EnvShadowmaps {
     }
     fn label(&self) -> String {
         let mut s = format!("env-shadowmaps:k={}", self.k);
+        if self.filter != "box" {
+            s += &format!(",filter={}", self.filter);
+        }
         if self.pcf_radius != 1 {
             s += &format!(",pcf_radius={}", self.pcf_radius);
+        }
+        if self.taps != default_taps(self.filter, self.pcf_radius) {
+            s += &format!(",taps={}", self.taps);
         }
         if let Some(a) = self.ssao {
             s += &format!(",ssao=on,ao_samples={},ao_radius={}", a.samples, a.radius);
@@ -80,7 +134,7 @@ impl ShadowMethod for EnvShadowmaps {
         s
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "k": self.k, "pcf_radius": self.pcf_radius, "ssao": self.ssao })
+        serde_json::json!({ "k": self.k, "filter": self.filter, "pcf_radius": self.pcf_radius, "taps": self.taps, "ssao": self.ssao })
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let env = environment(fg, "env-shadowmaps")?;
@@ -110,12 +164,16 @@ impl ShadowMethod for EnvShadowmaps {
             width: fg.gbuffer.width,
             height: fg.gbuffer.height,
             light_count: lights.len() as u32,
-            radius: self.pcf_radius as f32,
             use_ao: self.ssao.is_some() as u32,
             ..Default::default()
         };
+        let (filter, disk) = (self.settings(), self.disk());
         Ok(Box::new(State {
             pass: Pass::new(fg)?,
+            filter_buffer: readback::uniform_buffer(ctx, "env shadowmaps filter", &filter),
+            disk_buffer: readback::storage_buffer(ctx, "env shadowmaps disk", &disk, wgpu::BufferUsages::empty()),
+            filter,
+            disk,
             frame_buffer: readback::uniform_buffer(ctx, "env shadowmaps frame", &frame),
             params_buffer: readback::uniform_buffer(ctx, "env shadowmaps params", &params),
             samples_buffer: readback::storage_buffer(ctx, "env shadowmaps samples", &samples, wgpu::BufferUsages::empty()),
@@ -136,6 +194,10 @@ impl ShadowMethod for EnvShadowmaps {
 
 struct State {
     pass: Pass,
+    filter: GpuFilter,
+    disk: Vec<[f32; 2]>,
+    filter_buffer: wgpu::Buffer,
+    disk_buffer: wgpu::Buffer,
     frame: GpuFrame,
     params: GpuEnvParams,
     samples: Vec<GpuSample>,
@@ -153,6 +215,8 @@ struct State {
 pub struct EnvShadowmapsCapture {
     pub frame: GpuFrame,
     pub params: GpuEnvParams,
+    pub filter: GpuFilter,
+    pub disk: Vec<[f32; 2]>,
     pub samples: Vec<GpuSample>,
     pub lights: Vec<GpuEnvLight>,
     pub maps: Vec<Vec<f32>>,
@@ -180,7 +244,7 @@ impl MethodState for State {
         }
         let ao = self.ssao.as_ref().map_or(&self.lights_buffer, |s| &s.ao);
         timer.stage(ctx, "env_shadowmaps", |enc| {
-            self.pass.record(fg, enc, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao);
+            self.pass.record(fg, enc, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer });
             Ok(())
         })?;
         let detail = if capture {
@@ -193,7 +257,7 @@ impl MethodState for State {
                 Some(s) => readback::read_buffer(ctx, &s.ao, fg.pixel_count() as u64 * 4)?,
                 None => Vec::new(),
             };
-            let c = EnvShadowmapsCapture { frame: self.frame, params: self.params, samples: self.samples.clone(), lights: self.lights.clone(), maps, ao };
+            let c = EnvShadowmapsCapture { frame: self.frame, params: self.params, filter: self.filter, disk: self.disk.clone(), samples: self.samples.clone(), lights: self.lights.clone(), maps, ao };
             Some(Box::new(c) as Box<dyn std::any::Any>)
         } else {
             None
@@ -201,7 +265,7 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: k,
             syncs: 0,
-            record: serde_json::json!({ "samples": k, "lights": k, "pcf_taps": (2 * self.params.radius as u32 + 1).pow(2), "ssao": self.ssao.is_some() }),
+            record: serde_json::json!({ "samples": k, "lights": k, "filter": KERNELS[self.filter.kind as usize], "pcf_taps": self.filter.taps.pow(if self.filter.kind <= 1 { 2 } else { 1 }), "ssao": self.ssao.is_some() }),
             pictures: if fg.pictures { vec![("panorama_lights.png".into(), self.picture.clone())] } else { Vec::new() },
             detail,
         })

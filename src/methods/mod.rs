@@ -9,6 +9,7 @@ pub mod adaptive;
 pub mod env_adaptive;
 pub mod env_common;
 pub mod env_pixels;
+pub mod env_vertex;
 pub mod env_shadowmaps;
 pub mod filtered;
 pub mod fixed;

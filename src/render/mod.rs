@@ -1,5 +1,6 @@
 //! Raster passes: scene upload, G-buffer, shadow-map raster.
 
+pub mod barycentrics;
 pub mod gbuffer;
 pub mod shadow_raster;
 

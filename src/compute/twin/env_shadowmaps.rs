@@ -1,13 +1,21 @@
 //! Twin of `kernels/env_shadowmaps.wgsl`.
 
-use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
-use crate::layout::{GpuEnvLight, GpuEnvParams, GpuFrame, GpuSample};
+use super::pcf::pcf_taps;
+use super::shadow::{pixel_lookup, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
+use crate::layout::{GpuEnvLight, GpuEnvParams, GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
+
+/// The filter's settings and tap offsets (the PCF family's, as `pcf` takes them).
+pub struct Filter<'a> {
+    pub settings: &'a GpuFilter,
+    pub disk: &'a [[f32; 2]],
+}
 
 /// V per pixel from the K maps (`maps[k]` is sample k's map, row-major).
-pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, samples: &[GpuSample], maps: &[Vec<f32>], lights: &[GpuEnvLight], ao: &[f32], g: &GBufferCpu) -> Vec<f32> {
-    let r = params.radius as i32;
+#[allow(clippy::too_many_arguments)]
+pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, samples: &[GpuSample], maps: &[Vec<f32>], lights: &[GpuEnvLight], ao: &[f32], g: &GBufferCpu) -> Vec<f32> {
+    let width = g.width as usize;
     (0..g.position.len())
         .map(|index| {
             if !g.is_geometry(index) {
@@ -32,14 +40,8 @@ pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, samples: &[GpuSam
                 if lookup.kind != LOOKUP_COMPARE {
                     continue;
                 }
-                let (mut lit, mut taps) = (0.0f32, 0.0f32);
-                for dy in -r..=r {
-                    for dx in -r..=r {
-                        let o = Vec2::new(dx as f32, dy as f32);
-                        lit += tap_lit(frame, s, &maps[k], lookup.depth_limit - o.length() * slope, t + o);
-                        taps += 1.0;
-                    }
-                }
+                let pixel = ((index % width) as u32, (index / width) as u32);
+                let (lit, taps) = pcf_taps(frame, filter.settings, s, &maps[k], filter.disk, t, lookup.depth_limit, slope, pixel);
                 num += w * lit / taps;
             }
             let v = if den > 0.0 { num / den } else { 0.0 };

@@ -7,6 +7,7 @@ pub mod env_count;
 pub mod env_shadowmaps;
 pub mod env_split;
 pub mod env_trace;
+pub mod env_vertex_interp;
 pub mod hybrid_build;
 pub mod local;
 pub mod moments;

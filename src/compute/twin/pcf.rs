@@ -35,6 +35,50 @@ fn bilinear_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], reference: f32, t:
     top * (1.0 - f.y) + bottom * f.y
 }
 
+/// Lit taps and tap count of `filter`'s pattern around map position `t` (pixel (x, y) seeds the
+/// stratified and rotated patterns), as `shared/pcf_taps.wgsl` `pcf_taps` sums them.
+#[allow(clippy::too_many_arguments)]
+pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], t: Vec2, limit: f32, slope: f32, (x, y): (u32, u32)) -> (f32, f32) {
+    let mut lit = 0.0f32;
+    let count = if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
+        let n = filter.taps;
+        let size = frame.map_size as f32;
+        for j in 0..n {
+            for i in 0..n {
+                let o = Vec2::new(grid_offset(i, n, filter.radius), grid_offset(j, n, filter.radius));
+                let tap_limit = limit - o.length() * slope;
+                lit += if filter.kind == PCF_BOX {
+                    tap_lit(frame, s, map, tap_limit, t + o)
+                } else {
+                    let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
+                    bilinear_lit(frame, s, map, reference, (t + o) / size * size)
+                };
+            }
+        }
+        n * n
+    } else {
+        for i in 0..filter.taps {
+            let d = match filter.kind {
+                PCF_POISSON => Vec2::from(disk[i as usize]),
+                PCF_STRATIFIED => {
+                    let k = (filter.order as f32 * pixel_random(x, y, i)) as u32 % filter.order;
+                    Vec2::from(disk[k as usize])
+                }
+                _ => {
+                    let p = Vec2::from(disk[i as usize]);
+                    let angle = std::f32::consts::TAU * pixel_random(x, y, i);
+                    let (sn, c) = angle.sin_cos();
+                    Vec2::new(p.x * c + p.y * sn, -p.x * sn + p.y * c)
+                }
+            };
+            let o = d * filter.radius;
+            lit += tap_lit(frame, s, map, limit - o.length() * slope, t + o);
+        }
+        filter.taps
+    };
+    (lit, count as f32)
+}
+
 /// V for every pixel (background 0), as `pcf.wgsl` `main` writes it.
 pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], g: &GBufferCpu) -> Vec<f32> {
     let w = g.width as usize;
@@ -44,50 +88,12 @@ pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], dis
             if lookup.kind != LOOKUP_COMPARE {
                 return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
             }
-            let (x, y) = ((index % w) as u32, (index / w) as u32);
-            let limit = lookup.depth_limit;
-            let mut lit = 0.0f32;
-            let count;
-            if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
-                let n = filter.taps;
-                let size = frame.map_size as f32;
-                for j in 0..n {
-                    for i in 0..n {
-                        let o = Vec2::new(grid_offset(i, n, filter.radius), grid_offset(j, n, filter.radius));
-                        let tap_limit = limit - o.length() * slope;
-                        lit += if filter.kind == PCF_BOX {
-                            tap_lit(frame, s, map, tap_limit, t + o)
-                        } else {
-                            let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
-                            bilinear_lit(frame, s, map, reference, (t + o) / size * size)
-                        };
-                    }
-                }
-                count = n * n;
-            } else {
-                for i in 0..filter.taps {
-                    let d = match filter.kind {
-                        PCF_POISSON => Vec2::from(disk[i as usize]),
-                        PCF_STRATIFIED => {
-                            let k = (filter.order as f32 * pixel_random(x, y, i)) as u32 % filter.order;
-                            Vec2::from(disk[k as usize])
-                        }
-                        _ => {
-                            let p = Vec2::from(disk[i as usize]);
-                            let angle = std::f32::consts::TAU * pixel_random(x, y, i);
-                            let (sn, c) = angle.sin_cos();
-                            Vec2::new(p.x * c + p.y * sn, -p.x * sn + p.y * c)
-                        }
-                    };
-                    let o = d * filter.radius;
-                    lit += tap_lit(frame, s, map, limit - o.length() * slope, t + o);
-                }
-                count = filter.taps;
-            }
+            let pixel = ((index % w) as u32, (index / w) as u32);
+            let (lit, count) = pcf_taps(frame, filter, s, map, disk, t, lookup.depth_limit, slope, pixel);
             if filter.darkening > 0.0 {
-                (1.0 - filter.darkening * (count as f32 - lit)).clamp(0.0, 1.0)
+                (1.0 - filter.darkening * (count - lit)).clamp(0.0, 1.0)
             } else {
-                lit / count as f32
+                lit / count
             }
         })
         .collect()

@@ -1,0 +1,111 @@
+//! barycentrics: a second camera raster that writes, per pixel, the triangle it sees and the
+//! pixel's barycentrics in it (for per-vertex methods). The G-buffer pass is untouched, so every
+//! other method's inputs stay bit-identical; this pass runs only where a method asks for it.
+
+use super::SceneGpu;
+use crate::gpu::{pipeline, readback, GpuContext};
+use crate::layout::GpuCamera;
+use crate::Result;
+
+pub const IDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+/// The pass's target: ids (triangle + 1, b1 bits, b2 bits, 0) and its own depth buffer.
+pub struct TriangleIds {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+}
+
+pub struct BarycentricsPass {
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl BarycentricsPass {
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        let module = pipeline::shader_module(ctx, "barycentrics")?;
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("barycentrics"),
+            layout: None,
+            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
+            // As the G-buffer: no culling, depth Less, so the same fragment wins every pixel.
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState { format: IDS_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        pipeline::check(scope, "barycentrics")?;
+        Ok(Self { pipeline })
+    }
+
+    pub fn allocate(ctx: &GpuContext, width: u32, height: u32) -> TriangleIds {
+        let make = |label, format, usage| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let texture = make("triangle ids", IDS_FORMAT, usage);
+        let depth = make("triangle ids depth", wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        TriangleIds { view: texture.create_view(&Default::default()), depth_view: depth.create_view(&Default::default()), texture }
+    }
+
+    pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, camera: &wgpu::Buffer, target: &TriangleIds) {
+        let bind = pipeline::bind_group(
+            ctx,
+            "barycentrics",
+            &self.pipeline.get_bind_group_layout(0),
+            &[camera.as_entire_binding(), scene.vertices.as_entire_binding(), scene.indices.as_entire_binding()],
+        );
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("barycentrics"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth_view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..scene.index_count, 0..1);
+    }
+}
+
+/// The ids texture on the CPU, one `[triangle + 1, b1 bits, b2 bits, 0]` per pixel.
+pub fn read_back(ctx: &GpuContext, ids: &TriangleIds) -> Result<Vec<[u32; 4]>> {
+    readback::read_texture(ctx, &ids.texture, 0, 16)
+}
+
+/// `camera`'s uniform buffer.
+pub fn camera_buffer(ctx: &GpuContext, camera: &GpuCamera) -> wgpu::Buffer {
+    readback::uniform_buffer(ctx, "barycentrics camera", camera)
+}
