@@ -25,8 +25,6 @@
 @group(0) @binding(16) var<storage, read_write> probes: array<vec2<u32>>;
 @group(0) @binding(17) var<storage, read_write> tiles: array<atomic<u32>>;
 
-const PROBE_LIT: u32 = 0x80000000u;
-
 fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
     let lookup = shadow_lookup(frame, samples[k], position, normal);
     if (lookup.kind == LOOKUP_COMPARE) {

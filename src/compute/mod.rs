@@ -45,6 +45,8 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("shade", "main", PIXEL_WORKGROUP),
     ("shade", "from_masks", PIXEL_WORKGROUP),
     ("shadow_test", "main", PIXEL_WORKGROUP),
+    ("shadow_test", "list", LINE_WORKGROUP),
+    ("shadow_test", "probes", LINE_WORKGROUP),
     ("reproject_count", "main", LINE_WORKGROUP),
     ("reproject_count", "list", LINE_WORKGROUP),
     ("neighbourhood", "main", LINE_WORKGROUP),
