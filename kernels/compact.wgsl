@@ -3,8 +3,8 @@
 // split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
 // uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
-// With scissor or cull on, every child corner's shadow-map texel rectangle grows to cover p, and
-// the culling tile p looks up in is marked.
+// With scissor or cull on (main_rects), every child corner's shadow-map texel rectangle grows to
+// cover p, and the culling tile p looks up in is marked.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -42,11 +42,22 @@ var<workgroup> group_base: u32;
 var<workgroup> group_probes: atomic<u32>;
 var<workgroup> group_probe_base: u32;
 
-// Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item
-// (a single append counter hit by every item serialises on CPU devices and stalls GPUs).
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let valid = gid.x < item_total[0];
+    compact_item(gid.x, lid, false);
+}
+
+// With scissor or cull on. A separate entry point because the rectangle code, even never run,
+// made main more than twice as slow on a CPU device (lavapipe); `grow` is a constant in each.
+@compute @workgroup_size(64, 1, 1)
+fn main_rects(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    compact_item(gid.x, lid, true);
+}
+
+// Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item
+// (a single append counter hit by every item serialises on CPU devices and stalls GPUs).
+fn compact_item(index: u32, lid: u32, grow: bool) {
+    let valid = index < item_total[0];
     var item = vec2<u32>(0u, 0u);
     var c = 0u;
     var base = NO_SPLIT;
@@ -55,7 +66,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     var probe = false;
     var probe_slot = 0u;
     if (valid) {
-        item = items[gid.x];
+        item = items[index];
         let x = item.x % frame.width;
         let y = item.x / frame.width;
         let words = frame.height * level.words_per_row;
@@ -114,7 +125,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
             }
             probes[probe_at] = vec2<u32>(p, base | select(0u, PROBE_LIT, c == 4u));
         }
-        if (level.scissor == 1u) {
+        if (grow) {
             let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));
             let position = textureLoad(gbuffer_position, pixel, 0).xyz;
             let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;

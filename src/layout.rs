@@ -121,7 +121,8 @@ pub struct GpuLevel {
     pub work_count: u32,
     pub dense_groups_x: u32,
     pub quad_capacity: u32,
-    /// compact: grow the scissor rectangles of the children's corner samples.
+    /// 1 when compact grows the scissor rectangles of the children's corner samples (the host then
+    /// dispatches compact's `main_rects`).
     pub scissor: u32,
     /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §6).
     pub split_share: f32,

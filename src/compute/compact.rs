@@ -8,6 +8,8 @@ use crate::Result;
 
 pub struct Compact {
     main: ComputeKernel,
+    /// `main` that also grows the scissor rectangles and culling tiles (scissor or cull on).
+    main_rects: ComputeKernel,
     seed: ComputeKernel,
     begin: ComputeKernel,
     resolve: ComputeKernel,
@@ -16,7 +18,7 @@ pub struct Compact {
 impl Compact {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
         let k = |e| ComputeKernel::new(fg.ctx, "compact", e);
-        Ok(Self { main: k("main")?, seed: k("seed")?, begin: k("begin")?, resolve: k("resolve")? })
+        Ok(Self { main: k("main")?, main_rects: k("main_rects")?, seed: k("seed")?, begin: k("begin")?, resolve: k("resolve")? })
     }
 
     fn pixels(b: &AdaptiveBuffers) -> Dispatch<'static> {
@@ -62,8 +64,11 @@ impl Compact {
         items: &wgpu::Buffer,
         next_items: &wgpu::Buffer,
         next_quads: &wgpu::Buffer,
+        grow_rects: bool,
     ) {
-        self.main.dispatch(
+        // Both entry points share the item code, so both take every binding.
+        let kernel = if grow_rects { &self.main_rects } else { &self.main };
+        kernel.dispatch(
             fg.ctx,
             enc,
             &[
@@ -78,11 +83,11 @@ impl Compact {
                 (8, next_quads.as_entire_binding()),
                 (9, b.samples.as_entire_binding()),
                 (10, b.rects.as_entire_binding()),
-                (17, b.tiles.as_entire_binding()),
                 (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
                 (12, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
                 (14, b.item_total.as_entire_binding()),
                 (16, b.probes.as_entire_binding()),
+                (17, b.tiles.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );

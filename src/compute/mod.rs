@@ -54,6 +54,7 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("quad_count", "main", LINE_WORKGROUP),
     ("subdivide", "main", LINE_WORKGROUP),
     ("compact", "main", LINE_WORKGROUP),
+    ("compact", "main_rects", LINE_WORKGROUP),
     ("compact", "seed", PIXEL_WORKGROUP),
     ("compact", "resolve", PIXEL_WORKGROUP),
     ("compact", "begin", [1, 1, 1]),

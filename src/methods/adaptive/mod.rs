@@ -367,7 +367,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 ctx.queue.write_buffer(&b.tiles, 0, &vec![0u8; b.tiles.size() as usize]);
             }
             timer.stage(ctx, "compact", |enc| {
-                passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt]);
+                passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt], grow_rects);
                 Ok(())
             })?;
         }
