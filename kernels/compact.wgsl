@@ -3,6 +3,7 @@
 // split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
 // uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
+// (reproject_count `begin` makes the appended items a level's work.)
 // With scissor or cull on (main_rects), every child corner's shadow-map texel rectangle grows to
 // cover p, and the culling tile p looks up in is marked.
 
@@ -20,8 +21,7 @@
 @group(0) @binding(11) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(12) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(13) var<storage, read_write> visibility: array<f32>;
-@group(0) @binding(14) var<storage, read_write> item_total: array<u32>;
-@group(0) @binding(15) var<storage, read_write> dispatch_args: array<u32>;
+@group(0) @binding(14) var<storage, read> item_total: array<u32>;
 @group(0) @binding(16) var<storage, read_write> probes: array<vec2<u32>>;
 @group(0) @binding(17) var<storage, read_write> tiles: array<atomic<u32>>;
 
@@ -176,16 +176,4 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let p = gid.y * frame.width + gid.x;
     visibility[p] = f32(atomicLoad(&visibility_fixed[p])) / f32(4u << (2u * level.max_level));
-}
-
-// Starts a level: the items appended so far become this level's work (count and dispatch size),
-// and the append counter restarts, all on the GPU so no read-back is needed.
-@compute @workgroup_size(1, 1, 1)
-fn begin() {
-    let n = min(atomicLoad(&control.item_count), level.item_capacity);
-    item_total[0] = n;
-    dispatch_args[0] = (n + 63u) / 64u;
-    dispatch_args[1] = 1u;
-    dispatch_args[2] = 1u;
-    atomicStore(&control.item_count, 0u);
 }

@@ -2,7 +2,7 @@
 // stored as c + 1 in one byte per pixel (4 per word) of q's comparison map.
 //  main: every pixel x every active quad, from the cached lattice masks (scope = global);
 //  list: the compacted (pixel, quad) items only (scope = local), from the lattice masks that
-//  shadow_test `list` has just filled with each item's corner samples.
+//  shadow_test `list` has just filled with each item's corner samples; begin starts its level.
 // At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §6):
 // level 0 has one quad, which every geometry pixel meets exactly once.
 
@@ -15,8 +15,10 @@
 
 @group(0) @binding(10) var<storage, read> items: array<vec2<u32>>;
 @group(0) @binding(11) var<storage, read_write> counts_atomic: array<atomic<u32>>;
-@group(0) @binding(13) var<storage, read> item_total: array<u32>;
+@group(0) @binding(13) var<storage, read_write> item_total: array<u32>;
 @group(0) @binding(14) var<storage, read_write> control: GpuControl;
+// begin: the indirect dispatch size of the level's item passes (list, neighbourhood, compact).
+@group(0) @binding(16) var<storage, read_write> list_args: array<u32>;
 // main: each word's state (common.wgsl MIXED_WORD): uniform words are written here once, not per quad.
 @group(0) @binding(15) var<storage, read_write> word_state: array<u32>;
 
@@ -125,4 +127,16 @@ fn count_item(index: u32) {
     let x = p % frame.width;
     let y = p / frame.width;
     atomicOr(&counts_atomic[item.y * words + y * level.words_per_row + x / 4u], (c + 1u) << ((x & 3u) * 8u));
+}
+
+// Starts a level (scope = local): the items compact and probe appended become this level's work
+// (count and dispatch size), and the append counter restarts, all on the GPU (no read-back).
+@compute @workgroup_size(1, 1, 1)
+fn begin() {
+    let n = min(atomicLoad(&control.item_count), level.item_capacity);
+    item_total[0] = n;
+    list_args[0] = (n + 63u) / 64u;
+    list_args[1] = 1u;
+    list_args[2] = 1u;
+    atomicStore(&control.item_count, 0u);
 }

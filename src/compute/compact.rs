@@ -1,5 +1,6 @@
 //! compact (scope = local): next level's items, the uniform shares of unrefined quads, scissor
-//! rectangles; `seed`, `begin` and `resolve` start the item list, start a level and finish V.
+//! rectangles; `seed` and `resolve` start the item list and finish V (reproject_count `begin`
+//! starts each level's list).
 
 use super::buffers::AdaptiveBuffers;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
@@ -11,14 +12,13 @@ pub struct Compact {
     /// `main` that also grows the scissor rectangles and culling tiles (scissor or cull on).
     main_rects: ComputeKernel,
     seed: ComputeKernel,
-    begin: ComputeKernel,
     resolve: ComputeKernel,
 }
 
 impl Compact {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
         let k = |e| ComputeKernel::new(fg.ctx, "compact", e);
-        Ok(Self { main: k("main")?, main_rects: k("main_rects")?, seed: k("seed")?, begin: k("begin")?, resolve: k("resolve")? })
+        Ok(Self { main: k("main")?, main_rects: k("main_rects")?, seed: k("seed")?, resolve: k("resolve")? })
     }
 
     fn pixels(b: &AdaptiveBuffers) -> Dispatch<'static> {
@@ -37,20 +37,6 @@ impl Compact {
                 (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
             ],
             Self::pixels(b),
-        );
-    }
-
-    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
-        self.begin.dispatch(
-            fg.ctx,
-            enc,
-            &[
-                (1, level.as_entire_binding()),
-                (6, b.control.as_entire_binding()),
-                (14, b.item_total.as_entire_binding()),
-                (15, b.list_args.as_entire_binding()),
-            ],
-            Dispatch::Direct([1, 1, 1]),
         );
     }
 

@@ -9,6 +9,7 @@ use crate::Result;
 pub struct ReprojectCount {
     dense: ComputeKernel,
     list: ComputeKernel,
+    begin: ComputeKernel,
 }
 
 impl ReprojectCount {
@@ -16,6 +17,7 @@ impl ReprojectCount {
         Ok(Self {
             dense: ComputeKernel::new(fg.ctx, "reproject_count", "main")?,
             list: ComputeKernel::new(fg.ctx, "reproject_count", "list")?,
+            begin: ComputeKernel::new(fg.ctx, "reproject_count", "begin")?,
         })
     }
 
@@ -41,6 +43,22 @@ impl ReprojectCount {
                 (15, b.word_state.as_entire_binding()),
             ],
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
+        );
+    }
+
+    /// scope = local: the items appended so far become this level's list (`b.item_total`,
+    /// `b.list_args`), read by list, neighbourhood and compact.
+    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+        self.begin.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (1, level.as_entire_binding()),
+                (13, b.item_total.as_entire_binding()),
+                (14, b.control.as_entire_binding()),
+                (16, b.list_args.as_entire_binding()),
+            ],
+            Dispatch::Direct([1, 1, 1]),
         );
     }
 

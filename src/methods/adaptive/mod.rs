@@ -309,9 +309,11 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
             let items = &b.items[cur];
             let maps = store.views();
-            // The items compact (and probe) appended become this level's work.
-            timer.stage(ctx, "compact", |enc| {
-                passes.compact.record_begin(fg, enc, &b, &lv);
+            timer.stage(ctx, "reproject_count", |enc| {
+                // The items compact (and probe) appended become this level's work.
+                passes.reproject_count.record_begin(fg, enc, &b, &lv);
+                // Only this level's quads: the buffers are sized for 256.
+                enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
                 Ok(())
             })?;
             timer.stage(ctx, "shadow_test", |enc| {
@@ -319,18 +321,13 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 Ok(())
             })?;
             timer.stage(ctx, "reproject_count", |enc| {
-                // Only this level's quads: the buffers are sized for 256.
-                enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
-                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
                 passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items);
                 Ok(())
             })?;
+            // neighbourhood's list also counts each quad's low-quality pixels: no quad_count pass.
             timer.stage(ctx, "neighbourhood", |enc| {
+                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
                 passes.neighbourhood.record_list(fg, enc, &b, &lv, items);
-                Ok(())
-            })?;
-            timer.stage(ctx, "quad_count", |enc| {
-                passes.quad_count.record(fg, enc, &b, &lv, quad_count, false);
                 Ok(())
             })?;
         } else if evaluate {
