@@ -3,8 +3,9 @@
 // split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
 // uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
-// With scissor or cull on, every child corner's shadow-map texel rectangle grows to cover p, and
-// the culling tile p looks up in is marked.
+// (reproject_count `begin` makes the appended items a level's work.)
+// With scissor or cull on (main_rects), every child corner's shadow-map texel rectangle grows to
+// cover p, and the culling tile p looks up in is marked.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -20,12 +21,9 @@
 @group(0) @binding(11) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(12) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(13) var<storage, read_write> visibility: array<f32>;
-@group(0) @binding(14) var<storage, read_write> item_total: array<u32>;
-@group(0) @binding(15) var<storage, read_write> dispatch_args: array<u32>;
+@group(0) @binding(14) var<storage, read> item_total: array<u32>;
 @group(0) @binding(16) var<storage, read_write> probes: array<vec2<u32>>;
 @group(0) @binding(17) var<storage, read_write> tiles: array<atomic<u32>>;
-
-const PROBE_LIT: u32 = 0x80000000u;
 
 fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
     let lookup = shadow_lookup(frame, samples[k], position, normal);
@@ -44,11 +42,22 @@ var<workgroup> group_base: u32;
 var<workgroup> group_probes: atomic<u32>;
 var<workgroup> group_probe_base: u32;
 
-// Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item
-// (a single append counter hit by every item serialises on CPU devices and stalls GPUs).
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let valid = gid.x < item_total[0];
+    compact_item(gid.x, lid, false);
+}
+
+// With scissor or cull on. A separate entry point because the rectangle code, even never run,
+// made main more than twice as slow on a CPU device (lavapipe); `grow` is a constant in each.
+@compute @workgroup_size(64, 1, 1)
+fn main_rects(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    compact_item(gid.x, lid, true);
+}
+
+// Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item
+// (a single append counter hit by every item serialises on CPU devices and stalls GPUs).
+fn compact_item(index: u32, lid: u32, grow: bool) {
+    let valid = index < item_total[0];
     var item = vec2<u32>(0u, 0u);
     var c = 0u;
     var base = NO_SPLIT;
@@ -57,7 +66,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     var probe = false;
     var probe_slot = 0u;
     if (valid) {
-        item = items[gid.x];
+        item = items[index];
         let x = item.x % frame.width;
         let y = item.x / frame.width;
         let words = frame.height * level.words_per_row;
@@ -116,7 +125,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
             }
             probes[probe_at] = vec2<u32>(p, base | select(0u, PROBE_LIT, c == 4u));
         }
-        if (level.scissor == 1u) {
+        if (grow) {
             let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));
             let position = textureLoad(gbuffer_position, pixel, 0).xyz;
             let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
@@ -167,16 +176,4 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let p = gid.y * frame.width + gid.x;
     visibility[p] = f32(atomicLoad(&visibility_fixed[p])) / f32(4u << (2u * level.max_level));
-}
-
-// Starts a level: the items appended so far become this level's work (count and dispatch size),
-// and the append counter restarts, all on the GPU so no read-back is needed.
-@compute @workgroup_size(1, 1, 1)
-fn begin() {
-    let n = min(atomicLoad(&control.item_count), level.item_capacity);
-    item_total[0] = n;
-    dispatch_args[0] = (n + 63u) / 64u;
-    dispatch_args[1] = 1u;
-    dispatch_args[2] = 1u;
-    atomicStore(&control.item_count, 0u);
 }

@@ -1,7 +1,8 @@
 // neighbourhood: the low-quality test of method.md §3. Pixel p is low quality for quad q when
 // 0 < c_q(p) < 4 and all 8 neighbours (clamped at the screen edge) have the same c_q; a background
 // or unevaluated neighbour (byte 0) counts as different. One bit per pixel, 32 per flag word.
-//  main: every flag word, looping over the batch's quads; list: one item each (scope = local).
+//  main: every flag word, looping over the batch's quads; list: one item each (scope = local),
+//  which also counts the quads' low-quality pixels (quad_count's job under scope = global).
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -13,6 +14,9 @@
 // Per comparison-map word: its bytes when uniform, else MIXED_WORD (reproject_count main; all
 // MIXED_WORD under scope = local, whose comparison maps are dense).
 @group(0) @binding(7) var<storage, read> word_state: array<u32>;
+// list: each low-quality item also adds 1 to its quad's counter, so scope = local needs no
+// quad_count pass over every flag word of every quad (low-quality items are few).
+@group(0) @binding(8) var<storage, read_write> quad_counters: array<atomic<u32>>;
 
 fn byte_at(q: u32, x: i32, y: i32) -> u32 {
     let cx = u32(clamp(x, 0, i32(frame.width) - 1));
@@ -92,5 +96,6 @@ fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (low_quality(item.y, i32(x), i32(y))) {
         let words = frame.height * level.flag_words_per_row;
         atomicOr(&flags_atomic[item.y * words + y * level.flag_words_per_row + x / 32u], 1u << (x % 32u));
+        atomicAdd(&quad_counters[item.y], 1u);
     }
 }

@@ -1,7 +1,8 @@
 // reproject_count: c_q(p) in 0..4, the number of quad q's corner samples that light pixel p,
 // stored as c + 1 in one byte per pixel (4 per word) of q's comparison map.
 //  main: every pixel x every active quad, from the cached lattice masks (scope = global);
-//  list: the compacted (pixel, quad) items only, testing the corner maps directly (scope = local).
+//  list: the compacted (pixel, quad) items only (scope = local), from the lattice masks that
+//  shadow_test `list` has just filled with each item's corner samples; begin starts its level.
 // At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §6):
 // level 0 has one quad, which every geometry pixel meets exactly once.
 
@@ -9,19 +10,15 @@
 @group(0) @binding(1) var<uniform> level: GpuLevel;
 @group(0) @binding(2) var<storage, read> quads: array<GpuQuad>;
 @group(0) @binding(3) var<storage, read> masks: array<u32>;
-@group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(5) var<storage, read_write> counts: array<u32>;
-// (main reads the G-buffer only through the mask summaries; list reads it directly.)
+// (Neither reads the G-buffer: main finds geometry in the mask summaries, list is given its pixels.)
 
-@group(0) @binding(6) var<storage, read> samples: array<GpuSample>;
-@group(0) @binding(7) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(8) var maps_a: texture_depth_2d_array;
-@group(0) @binding(9) var maps_b: texture_depth_2d_array;
 @group(0) @binding(10) var<storage, read> items: array<vec2<u32>>;
 @group(0) @binding(11) var<storage, read_write> counts_atomic: array<atomic<u32>>;
-@group(0) @binding(12) var<storage, read_write> consulted: array<atomic<u32>>;
-@group(0) @binding(13) var<storage, read> item_total: array<u32>;
+@group(0) @binding(13) var<storage, read_write> item_total: array<u32>;
 @group(0) @binding(14) var<storage, read_write> control: GpuControl;
+// begin: the indirect dispatch size of the level's item passes (list, neighbourhood, compact).
+@group(0) @binding(16) var<storage, read_write> list_args: array<u32>;
 // main: each word's state (common.wgsl MIXED_WORD): uniform words are written here once, not per quad.
 @group(0) @binding(15) var<storage, read_write> word_state: array<u32>;
 
@@ -108,18 +105,6 @@ fn count_word(word: u32) -> u32 {
     return geometry;
 }
 
-fn lit_lattice(k: u32, position: vec3<f32>, normal: vec3<f32>) -> u32 {
-    let s = samples[k];
-    let lookup = shadow_lookup(frame, s, position, normal);
-    var stored: f32;
-    if (s.array == 0u) {
-        stored = textureLoad(maps_a, lookup.texel, i32(s.layer), 0);
-    } else {
-        stored = textureLoad(maps_b, lookup.texel, i32(s.layer), 0);
-    }
-    return shadow_compare(s, lookup, stored);
-}
-
 @compute @workgroup_size(64, 1, 1)
 fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let valid = gid.x < item_total[0];
@@ -133,17 +118,25 @@ fn count_item(index: u32) {
     let item = items[index];
     let p = item.x;
     let q = quads[item.y];
-    let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));
-    let position = textureLoad(gbuffer_position, pixel, 0).xyz;
-    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
     var c = 0u;
     for (var corner = 0u; corner < 4u; corner = corner + 1u) {
         let k = quad_corner(q, corner);
-        c = c + lit_lattice(k, position, normal);
-        atomicOr(&consulted[p * MASK_WORDS + k / 32u], 1u << (k % 32u));
+        c = c + ((masks[p * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u);
     }
     let words = frame.height * level.words_per_row;
     let x = p % frame.width;
     let y = p / frame.width;
     atomicOr(&counts_atomic[item.y * words + y * level.words_per_row + x / 4u], (c + 1u) << ((x & 3u) * 8u));
+}
+
+// Starts a level (scope = local): the items compact and probe appended become this level's work
+// (count and dispatch size), and the append counter restarts, all on the GPU (no read-back).
+@compute @workgroup_size(1, 1, 1)
+fn begin() {
+    let n = min(atomicLoad(&control.item_count), level.item_capacity);
+    item_total[0] = n;
+    list_args[0] = (n + 63u) / 64u;
+    list_args[1] = 1u;
+    list_args[2] = 1u;
+    atomicStore(&control.item_count, 0u);
 }

@@ -1,5 +1,8 @@
 // shadow_test: each newly rendered map is tested once per pixel; the result is cached as bit k of
 // the pixel's lattice mask, so counting (reproject_count) and shading read bits, not textures.
+//  main (scope = global): every pixel x the listed samples.
+//  list, probes (scope = local): only the samples a pixel consults, each (pixel, sample) once per
+//  frame: an item's four quad corners, a probe's five new samples.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -60,4 +63,100 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (word < MASK_WORDS && bits != 0u) {
         masks[base + word] = masks[base + word] | bits;
     }
+}
+
+// ---- scope = local ----
+// A pixel's (pixel, sample) pairs are claimed in `consulted` (same layout as the masks): the one
+// invocation whose atomicOr set the bit looks the sample up and ORs the lit bit into the mask. Pixels
+// of a split quad's four children share 9 samples among 16 corners, and a level's corners include
+// its parents', so most claims find the bit set and cost no lookup. The next dispatch
+// (reproject_count `list`, probe) reads the bits.
+@group(0) @binding(10) var<storage, read_write> consulted: array<atomic<u32>>;
+@group(0) @binding(11) var<storage, read_write> lattice_lit: array<atomic<u32>>;
+// Every map stays alive under local scope, in up to two arrays (GpuSample.array).
+@group(0) @binding(12) var maps_a: texture_depth_2d_array;
+@group(0) @binding(13) var maps_b: texture_depth_2d_array;
+// The level's items (pixel, quad) or probes (pixel, first child | PROBE_LIT), and their count.
+@group(0) @binding(14) var<storage, read> work: array<vec2<u32>>;
+@group(0) @binding(15) var<storage, read> work_total: array<u32>;
+@group(0) @binding(16) var<storage, read> quads: array<GpuQuad>;
+@group(0) @binding(17) var<storage, read_write> control: GpuControl;
+
+var<workgroup> group_lookups: atomic<u32>;
+
+// Claims up to 5 samples `ks` (n of them) of pixel p and tests those this invocation claimed;
+// returns the number of lookups.
+fn test_claimed(p: u32, ks: array<u32, 5>, n: u32) -> u32 {
+    var mine = 0u;
+    for (var i = 0u; i < n; i = i + 1u) {
+        let k = ks[i];
+        let bit = 1u << (k % 32u);
+        if ((atomicOr(&consulted[p * MASK_WORDS + k / 32u], bit) & bit) == 0u) {
+            mine = mine | (1u << i);
+        }
+    }
+    if (mine == 0u) {
+        return 0u;
+    }
+    let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));
+    let position = textureLoad(gbuffer_position, pixel, 0).xyz;
+    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    for (var i = 0u; i < n; i = i + 1u) {
+        if ((mine & (1u << i)) == 0u) {
+            continue;
+        }
+        let k = ks[i];
+        let s = samples[k];
+        let lookup = shadow_lookup(frame, s, position, normal);
+        var stored: f32;
+        if (s.array == 0u) {
+            stored = textureLoad(maps_a, lookup.texel, i32(s.layer), 0);
+        } else {
+            stored = textureLoad(maps_b, lookup.texel, i32(s.layer), 0);
+        }
+        if (shadow_compare(s, lookup, stored) == 1u) {
+            atomicOr(&lattice_lit[p * MASK_WORDS + k / 32u], 1u << (k % 32u));
+        }
+    }
+    return countOneBits(mine);
+}
+
+// One global atomic per workgroup for the level's lookup count (a test compares it with the twin).
+fn add_lookups(n: u32, lid: u32) {
+    if (n != 0u) {
+        atomicAdd(&group_lookups, n);
+    }
+    workgroupBarrier();
+    if (lid == 0u) {
+        let total = atomicLoad(&group_lookups);
+        if (total != 0u) {
+            atomicAdd(&control.lookups, total);
+        }
+    }
+}
+
+// One item each: the four corners of its quad.
+@compute @workgroup_size(64, 1, 1)
+fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    var n = 0u;
+    if (gid.x < work_total[0]) {
+        let item = work[gid.x];
+        let q = quads[item.y];
+        let ks = array<u32, 5>(quad_corner(q, 0u), quad_corner(q, 1u), quad_corner(q, 2u), quad_corner(q, 3u), 0u);
+        n = test_claimed(item.x, ks, 4u);
+    }
+    add_lookups(n, lid);
+}
+
+// One probe each: its parent's five new samples.
+@compute @workgroup_size(64, 1, 1)
+fn probes(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    var n = 0u;
+    if (gid.x < work_total[0]) {
+        let probe = work[gid.x];
+        let q = quads[probe.y & ~PROBE_LIT];
+        let ks = array<u32, 5>(probe_point(q, 0u), probe_point(q, 1u), probe_point(q, 2u), probe_point(q, 3u), probe_point(q, 4u));
+        n = test_claimed(probe.x, ks, 5u);
+    }
+    add_lookups(n, lid);
 }

@@ -121,7 +121,8 @@ pub struct GpuLevel {
     pub work_count: u32,
     pub dense_groups_x: u32,
     pub quad_capacity: u32,
-    /// compact: grow the scissor rectangles of the children's corner samples.
+    /// 1 when compact grows the scissor rectangles of the children's corner samples (the host then
+    /// dispatches compact's `main_rects`).
     pub scissor: u32,
     /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §6).
     pub split_share: f32,
@@ -142,7 +143,8 @@ pub struct GpuControl {
     pub geometry_pixels: u32,
     /// scope = local: probe items appended by compact for the next level.
     pub probe_count: u32,
-    pub pad0: u32,
+    /// scope = local: shadow-map lookups of this level (shadow_test `list` and `probes`).
+    pub lookups: u32,
     pub pad1: u32,
 }
 
@@ -298,7 +300,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
             level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, scissor, split_share, requested, pad1
         }),
-        layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, pad0, pad1 }),
+        layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, lookups, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),
         layout_of!(GpuHybridBuild { levels, coarse, layer, slot, capacity, eps, pad0, pad1 }),
         layout_of!(GpuHybridControl { used, overflow, map_base, built }),

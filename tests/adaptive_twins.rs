@@ -127,6 +127,44 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
     assert!(probes_seen > 1000, "too few probes were compared: {probes_seen}");
 }
 
+/// shadow_test `list` and `probes` (scope = local) look each (pixel, sample) pair up once per frame:
+/// at every level the GPU's lookups equal the twin's and the number of pairs consulted for the first
+/// time (new bits of the GPU's own consulted masks); the consulted samples and the lattice masks
+/// equal the twin's bit for bit; level 0 looks up the root's 4 corners of every geometry pixel.
+#[test]
+fn local_lookups_equal_the_distinct_pairs_consulted() {
+    let ctx = common::gpu();
+    let (mut lookups, mut per_item) = (0u64, 0u64);
+    for seed in [SEEDS[0], SEEDS[2]] {
+        for spec in ["p_m=0", "p_m=-1,max_level=3"] {
+            let sc = scene(seed);
+            let p = params(&format!("{spec},scope=local"));
+            let (r, t) = common::traced(&ctx, &sc, &p, true);
+            let fr = frame_uniform(&sc);
+            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+            let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));
+            let geometry = (0..r.gbuffer.position.len()).filter(|&i| r.gbuffer.is_geometry(i)).count() as u32;
+            assert_eq!(t.levels[0].lookups, 4 * geometry, "seed {seed} {spec}: level 0 looks up the root's corners once per pixel");
+            let mut before = 0u32;
+            for (d, lvl) in t.levels.iter().enumerate() {
+                let consulted = lvl.consulted.as_ref().expect("consulted captured");
+                let now: u32 = consulted.iter().map(|w| w.count_ones()).sum();
+                assert_eq!(lvl.lookups, now - before, "seed {seed} {spec} level {d}: lookups against the pairs first consulted");
+                assert_eq!(lvl.lookups, out.lookups[d], "seed {seed} {spec} level {d}: lookups against the twin");
+                assert!(consulted == &out.consulted[d], "seed {seed} {spec} level {d}: consulted samples differ from the twin");
+                assert!(lvl.masks.as_ref().unwrap() == &out.masks[d], "seed {seed} {spec} level {d}: lattice masks differ from the twin");
+                before = now;
+                lookups += lvl.lookups as u64;
+                // What testing every item's corners and every probe's samples would look up.
+                per_item += 4 * lvl.items as u64 + if d > 0 { 5 * t.levels[d - 1].probes as u64 } else { 0 };
+            }
+            println!("seed {seed} {spec}: lookups per level {:?}", out.lookups);
+        }
+    }
+    println!("{lookups} lookups, {per_item} with a lookup per item corner and probe sample");
+    assert!(lookups * 2 < per_item, "deduplication saved too little: {lookups} of {per_item}");
+}
+
 /// cull (scope = local): the triangles kept for every culled map equal the twin's count exactly,
 /// from the GPU's own rectangles and samples; culling changes no pixel and no map choice.
 #[test]

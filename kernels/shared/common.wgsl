@@ -148,7 +148,8 @@ struct GpuControl {
     item_count: atomic<u32>,
     geometry_pixels: atomic<u32>,
     probe_count: atomic<u32>,
-    pad0: u32,
+    // scope = local: shadow-map lookups this level (shadow_test `list` and `probes`).
+    lookups: atomic<u32>,
     pad1: u32,
 }
 
@@ -161,6 +162,20 @@ fn quad_corner(q: GpuQuad, c: u32) -> u32 {
     let i = q.i + (c & 1u) * q.size;
     let j = q.j + (c >> 1u) * q.size;
     return j * LATTICE_SIDE + i;
+}
+
+// A probe's second word: its parent's first child in this level's quads, | PROBE_LIT when the
+// parent's corners were all lit (else all unlit).
+const PROBE_LIT: u32 = 0x80000000u;
+
+// Lattice index of new point n (0..4: the edge midpoints and the centre) of the parent quad whose
+// first child is q: the children's corners that are not the parent's (probe.wgsl).
+fn probe_point(q: GpuQuad, n: u32) -> u32 {
+    let h = q.size;
+    let points = array<vec2<u32>, 5>(
+        vec2<u32>(q.i + h, q.j), vec2<u32>(q.i, q.j + h), vec2<u32>(q.i + h, q.j + h),
+        vec2<u32>(q.i + 2u * h, q.j + h), vec2<u32>(q.i + h, q.j + 2u * h));
+    return points[n].y * LATTICE_SIDE + points[n].x;
 }
 
 // Comparison-map bytes hold c + 1 (1..5); 0 means background or not evaluated for this quad.

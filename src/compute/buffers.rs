@@ -26,7 +26,10 @@ pub struct AdaptiveBuffers {
     pub count_quads: u32,
     pub item_capacity: u32,
     pub samples: wgpu::Buffer,
+    /// Per pixel, MASK_WORDS words: bit k = lattice sample k lights the pixel (tested samples only).
     pub masks: wgpu::Buffer,
+    /// scope = local: the same layout, bit k = the pixel consulted sample k (shadow_test tested it).
+    pub consulted: wgpu::Buffer,
     pub quads: [wgpu::Buffer; 2],
     pub counts: wgpu::Buffer,
     /// One word per comparison-map word: its bytes when uniform (the same in every quad's map, which
@@ -59,7 +62,7 @@ impl AdaptiveBuffers {
     pub fn zero_fill(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
-            &self.masks, &self.quads[0], &self.quads[1], &self.counts, &self.flags, &self.quad_counters, &self.control,
+            &self.masks, &self.consulted, &self.quads[0], &self.quads[1], &self.counts, &self.flags, &self.quad_counters, &self.control,
             &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights, &self.items[0],
             &self.items[1], &self.item_total, &self.visibility_fixed, &self.rects, &self.probes, &self.probe_total,
         ] {
@@ -75,7 +78,7 @@ impl AdaptiveBuffers {
     pub fn reset_frame(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
-            &self.masks, &self.quads[0], &self.quads[1], &self.flags, &self.quad_counters, &self.control,
+            &self.masks, &self.consulted, &self.quads[0], &self.quads[1], &self.flags, &self.quad_counters, &self.control,
             &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights,
             &self.item_total, &self.visibility_fixed, &self.rects, &self.probe_total,
         ] {
@@ -154,6 +157,7 @@ impl AdaptiveBuffers {
             item_capacity,
             samples: readback::storage_buffer(ctx, "lattice samples", samples, wgpu::BufferUsages::empty()),
             masks: storage("lattice masks", mask_bytes),
+            consulted: storage("consulted samples", if local { mask_bytes } else { 4 }),
             quads: [storage("quads a", quad_bytes), storage("quads b", quad_bytes)],
             counts: storage("comparison maps", per_quad * batch),
             word_state: readback::storage_buffer(ctx, "comparison word states", &vec![MIXED_WORD; (per_quad / 4) as usize], wgpu::BufferUsages::empty()),

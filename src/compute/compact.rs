@@ -1,5 +1,6 @@
 //! compact (scope = local): next level's items, the uniform shares of unrefined quads, scissor
-//! rectangles; `seed`, `begin` and `resolve` start the item list, start a level and finish V.
+//! rectangles; `seed` and `resolve` start the item list and finish V (reproject_count `begin`
+//! starts each level's list).
 
 use super::buffers::AdaptiveBuffers;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
@@ -8,15 +9,16 @@ use crate::Result;
 
 pub struct Compact {
     main: ComputeKernel,
+    /// `main` that also grows the scissor rectangles and culling tiles (scissor or cull on).
+    main_rects: ComputeKernel,
     seed: ComputeKernel,
-    begin: ComputeKernel,
     resolve: ComputeKernel,
 }
 
 impl Compact {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
         let k = |e| ComputeKernel::new(fg.ctx, "compact", e);
-        Ok(Self { main: k("main")?, seed: k("seed")?, begin: k("begin")?, resolve: k("resolve")? })
+        Ok(Self { main: k("main")?, main_rects: k("main_rects")?, seed: k("seed")?, resolve: k("resolve")? })
     }
 
     fn pixels(b: &AdaptiveBuffers) -> Dispatch<'static> {
@@ -38,20 +40,6 @@ impl Compact {
         );
     }
 
-    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
-        self.begin.dispatch(
-            fg.ctx,
-            enc,
-            &[
-                (1, level.as_entire_binding()),
-                (6, b.control.as_entire_binding()),
-                (14, b.item_total.as_entire_binding()),
-                (15, b.list_args.as_entire_binding()),
-            ],
-            Dispatch::Direct([1, 1, 1]),
-        );
-    }
-
     #[allow(clippy::too_many_arguments)]
     pub fn record_main(
         &self,
@@ -62,8 +50,11 @@ impl Compact {
         items: &wgpu::Buffer,
         next_items: &wgpu::Buffer,
         next_quads: &wgpu::Buffer,
+        grow_rects: bool,
     ) {
-        self.main.dispatch(
+        // Both entry points share the item code, so both take every binding.
+        let kernel = if grow_rects { &self.main_rects } else { &self.main };
+        kernel.dispatch(
             fg.ctx,
             enc,
             &[
@@ -78,11 +69,11 @@ impl Compact {
                 (8, next_quads.as_entire_binding()),
                 (9, b.samples.as_entire_binding()),
                 (10, b.rects.as_entire_binding()),
-                (17, b.tiles.as_entire_binding()),
                 (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
                 (12, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
                 (14, b.item_total.as_entire_binding()),
                 (16, b.probes.as_entire_binding()),
+                (17, b.tiles.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );

@@ -36,6 +36,8 @@ impl Neighbourhood {
         );
     }
 
+    /// scope = local: one item each; also counts each quad's low-quality pixels (`b.quad_counters`,
+    /// which the level cleared), so no quad_count pass follows.
     pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, items: &wgpu::Buffer) {
         self.list.dispatch(
             fg.ctx,
@@ -48,6 +50,7 @@ impl Neighbourhood {
                 (5, b.flags.as_entire_binding()),
                 (6, b.item_total.as_entire_binding()),
                 (7, b.word_state.as_entire_binding()),
+                (8, b.quad_counters.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );

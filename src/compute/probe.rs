@@ -1,5 +1,6 @@
-//! probe (scope = local): uniform pixels of split quads test the quads' new samples; agreement adds
-//! the uniform share, disagreement makes the pixel four child items of this level.
+//! probe (scope = local): uniform pixels of split quads read the quads' new samples' lit bits
+//! (shadow_test `probes` cached them); agreement adds the uniform share, disagreement makes the
+//! pixel four child items of this level.
 
 use super::buffers::AdaptiveBuffers;
 use super::{ComputeKernel, Dispatch};
@@ -16,17 +17,8 @@ impl Probe {
         Ok(Self { main: ComputeKernel::new(fg.ctx, "probe", "main")?, begin: ComputeKernel::new(fg.ctx, "probe", "begin")? })
     }
 
-    /// `quads`: this level's quads (the probed parents' children); `items`: this level's item list.
-    pub fn record(
-        &self,
-        fg: &FrameGpu,
-        enc: &mut wgpu::CommandEncoder,
-        b: &AdaptiveBuffers,
-        level: &wgpu::Buffer,
-        quads: &wgpu::Buffer,
-        items: &wgpu::Buffer,
-        maps: [&wgpu::TextureView; 2],
-    ) {
+    /// Makes the probes compact appended this level's work (their count and dispatch size).
+    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
         self.begin.dispatch(
             fg.ctx,
             enc,
@@ -38,23 +30,21 @@ impl Probe {
             ],
             Dispatch::Direct([1, 1, 1]),
         );
+    }
+
+    /// `quads`: this level's quads (the probed parents' children); `items`: this level's item list.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, items: &wgpu::Buffer) {
         self.main.dispatch(
             fg.ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
                 (1, level.as_entire_binding()),
                 (2, b.probes.as_entire_binding()),
                 (3, quads.as_entire_binding()),
-                (4, b.samples.as_entire_binding()),
-                (5, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (6, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (7, wgpu::BindingResource::TextureView(maps[0])),
-                (8, wgpu::BindingResource::TextureView(maps[1])),
+                (4, b.masks.as_entire_binding()),
                 (9, items.as_entire_binding()),
                 (10, b.control.as_entire_binding()),
                 (11, b.visibility_fixed.as_entire_binding()),
-                (12, b.masks.as_entire_binding()),
                 (13, b.probe_total.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.probe_args),

@@ -1,5 +1,5 @@
 //! reproject_count: c_q(p) for every (pixel, active quad) from the cached masks (dense), or for the
-//! compacted (pixel, quad) items by testing the corner maps (list, scope = local).
+//! compacted (pixel, quad) items from the corners' bits shadow_test `list` cached (scope = local).
 
 use super::buffers::AdaptiveBuffers;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
@@ -9,6 +9,7 @@ use crate::Result;
 pub struct ReprojectCount {
     dense: ComputeKernel,
     list: ComputeKernel,
+    begin: ComputeKernel,
 }
 
 impl ReprojectCount {
@@ -16,6 +17,7 @@ impl ReprojectCount {
         Ok(Self {
             dense: ComputeKernel::new(fg.ctx, "reproject_count", "main")?,
             list: ComputeKernel::new(fg.ctx, "reproject_count", "list")?,
+            begin: ComputeKernel::new(fg.ctx, "reproject_count", "begin")?,
         })
     }
 
@@ -44,17 +46,23 @@ impl ReprojectCount {
         );
     }
 
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_list(
-        &self,
-        fg: &FrameGpu,
-        enc: &mut wgpu::CommandEncoder,
-        b: &AdaptiveBuffers,
-        level: &wgpu::Buffer,
-        quads: &wgpu::Buffer,
-        items: &wgpu::Buffer,
-        maps: [&wgpu::TextureView; 2],
-    ) {
+    /// scope = local: the items appended so far become this level's list (`b.item_total`,
+    /// `b.list_args`), read by list, neighbourhood and compact.
+    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+        self.begin.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (1, level.as_entire_binding()),
+                (13, b.item_total.as_entire_binding()),
+                (14, b.control.as_entire_binding()),
+                (16, b.list_args.as_entire_binding()),
+            ],
+            Dispatch::Direct([1, 1, 1]),
+        );
+    }
+
+    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, items: &wgpu::Buffer) {
         self.list.dispatch(
             fg.ctx,
             enc,
@@ -62,14 +70,9 @@ impl ReprojectCount {
                 (0, fg.frame_buffer.as_entire_binding()),
                 (1, level.as_entire_binding()),
                 (2, quads.as_entire_binding()),
-                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (6, b.samples.as_entire_binding()),
-                (7, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (8, wgpu::BindingResource::TextureView(maps[0])),
-                (9, wgpu::BindingResource::TextureView(maps[1])),
+                (3, b.masks.as_entire_binding()),
                 (10, items.as_entire_binding()),
                 (11, b.counts.as_entire_binding()),
-                (12, b.masks.as_entire_binding()),
                 (13, b.item_total.as_entire_binding()),
                 (14, b.control.as_entire_binding()),
             ],

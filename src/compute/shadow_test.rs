@@ -1,4 +1,5 @@
-//! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask.
+//! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask; under
+//! scope = local only for the (pixel, sample) pairs the level's items and probes consult, once each.
 
 use super::buffers::AdaptiveBuffers;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
@@ -9,11 +10,67 @@ use crate::Result;
 
 pub struct ShadowTest {
     kernel: ComputeKernel,
+    /// scope = local: `list` (items) and `probes`.
+    local: Option<[ComputeKernel; 2]>,
 }
 
 impl ShadowTest {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "shadow_test", "main", fg.scene.render.maps)? })
+    /// `local`: also the entry points of scope = local (which reads plain depth arrays).
+    pub fn new(fg: &FrameGpu, local: bool) -> Result<Self> {
+        let local = if local {
+            Some([ComputeKernel::new(fg.ctx, "shadow_test", "list")?, ComputeKernel::new(fg.ctx, "shadow_test", "probes")?])
+        } else {
+            None
+        };
+        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "shadow_test", "main", fg.scene.render.maps)?, local })
+    }
+
+    /// scope = local: tests the four corners of each of this level's items (`items`, counted by
+    /// `b.item_total`) that no earlier item or probe of the frame tested for that pixel.
+    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, quads: &wgpu::Buffer, items: &wgpu::Buffer, maps: [&wgpu::TextureView; 2]) {
+        let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
+        self.dispatch_local(fg, enc, b, &kernels[0], quads, items, &b.item_total, &b.list_args, maps);
+    }
+
+    /// scope = local: tests the five new samples of each of this level's probes (`b.probes`,
+    /// counted by `b.probe_total`; `quads` holds the probed parents' children), once per pixel.
+    pub fn record_probes(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, quads: &wgpu::Buffer, maps: [&wgpu::TextureView; 2]) {
+        let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
+        self.dispatch_local(fg, enc, b, &kernels[1], quads, &b.probes, &b.probe_total, &b.probe_args, maps);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn dispatch_local(
+        &self,
+        fg: &FrameGpu,
+        enc: &mut wgpu::CommandEncoder,
+        b: &AdaptiveBuffers,
+        kernel: &ComputeKernel,
+        quads: &wgpu::Buffer,
+        work: &wgpu::Buffer,
+        total: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+        maps: [&wgpu::TextureView; 2],
+    ) {
+        kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (2, b.samples.as_entire_binding()),
+                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (10, b.consulted.as_entire_binding()),
+                (11, b.masks.as_entire_binding()),
+                (12, wgpu::BindingResource::TextureView(maps[0])),
+                (13, wgpu::BindingResource::TextureView(maps[1])),
+                (14, work.as_entire_binding()),
+                (15, total.as_entire_binding()),
+                (16, quads.as_entire_binding()),
+                (17, b.control.as_entire_binding()),
+            ],
+            Dispatch::Indirect(args),
+        );
     }
 
     /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a

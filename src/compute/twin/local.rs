@@ -1,14 +1,14 @@
-//! Twin of the whole scope = local pipeline (probe, reproject_count `list`, neighbourhood `list`,
-//! quad_count, subdivide, compact): per-pixel adaptive quadrature in exact integers.
+//! Twin of the whole scope = local pipeline (shadow_test `probes`, probe, shadow_test `list`,
+//! reproject_count `list`, neighbourhood `list`, quad_count, subdivide, compact): per-pixel
+//! adaptive quadrature in exact integers.
 
 use super::neighbourhood::{low_quality, Screen};
-use super::quad_corner;
-use super::shadow::lit;
+use super::shadow_test::{LocalTest, Maps};
 use super::subdivide::{subdivide, SplitRule};
-use crate::compute::buffers::{LATTICE_POINTS, NO_SPLIT};
+use super::{probe_point, quad_corner};
+use crate::compute::buffers::{LATTICE_POINTS, MASK_WORDS, NO_SPLIT};
 use crate::layout::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
-use glam::Vec4;
 
 #[derive(Debug, Default)]
 pub struct LocalOut {
@@ -20,6 +20,11 @@ pub struct LocalOut {
     pub probes: Vec<u32>,
     pub quads: Vec<Vec<GpuQuad>>,
     pub new_samples: Vec<Vec<u32>>,
+    /// Per level: shadow-map lookups (shadow_test `probes` and `list`).
+    pub lookups: Vec<u32>,
+    /// Per level, after it: the consulted samples and the lattice masks of every pixel.
+    pub consulted: Vec<Vec<u32>>,
+    pub masks: Vec<Vec<u32>>,
 }
 
 /// `rule(level)` is the split rule subdivide applies at each level.
@@ -27,8 +32,8 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
     let s = Screen { width: g.width, height: g.height };
     let wpr = s.words_per_row();
     let words = (s.height * wpr) as usize;
-    let map_cache: Vec<Option<Vec<f32>>> = (0..LATTICE_POINTS).map(|_| None).collect();
-    let mut map_cache = map_cache;
+    let mask_words = g.position.len() * MASK_WORDS as usize;
+    let mut test = LocalTest { frame, samples, g, maps: Maps::new(maps), consulted: vec![0; mask_words], masks: vec![0; mask_words] };
     let mut out = LocalOut { visibility_fixed: vec![0; g.position.len()], ..Default::default() };
     let mut items: Vec<(u32, u32)> = (0..g.position.len() as u32).filter(|&p| g.is_geometry(p as usize)).map(|p| (p, 0)).collect();
     let mut quads = vec![GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }];
@@ -41,31 +46,21 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
     // (pixel, first child, lit): uniform pixels of last level's split quads (probe.wgsl).
     let mut probes: Vec<(u32, u32, bool)> = Vec::new();
     for level in 0..=max_level {
+        let probe_items: Vec<(u32, u32)> = probes.iter().map(|&(p, base, _)| (p, base)).collect();
+        let mut lookups = test.probes(&quads, &probe_items);
         for &(p, base, expect_lit) in &probes {
-            let (pos, n) = (Vec4::from(g.position[p as usize]).truncate(), Vec4::from(g.normal[p as usize]).truncate());
             let q = quads[base as usize];
-            let h = q.size;
-            let new_points = [(q.i + h, q.j), (q.i, q.j + h), (q.i + h, q.j + h), (q.i + 2 * h, q.j + h), (q.i + h, q.j + 2 * h)];
-            let expand = new_points.iter().any(|&(i, j)| {
-                let k = (j * 17 + i) as usize;
-                let map = map_cache[k].get_or_insert_with(|| maps(k as u32));
-                (lit(frame, &samples[k], map, pos, n) == 1) != expect_lit
-            });
+            let expand = (0..5).any(|n| (test.bit(p, probe_point(&q, n)) == 1) != expect_lit);
             if expand {
                 items.extend((0..4).map(|child| (p, base + child)));
             } else if expect_lit {
                 out.visibility_fixed[p as usize] += 4 << (2 * (max_level - level + 1));
             }
         }
+        lookups += test.list(&quads, &items);
         let mut counts = vec![0u32; quads.len() * words];
         for &(p, q) in &items {
-            let (pos, n) = (Vec4::from(g.position[p as usize]).truncate(), Vec4::from(g.normal[p as usize]).truncate());
-            let mut c = 0;
-            for corner in 0..4 {
-                let k = quad_corner(&quads[q as usize], corner) as usize;
-                let map = map_cache[k].get_or_insert_with(|| maps(k as u32));
-                c += lit(frame, &samples[k], map, pos, n);
-            }
+            let c: u32 = (0..4).map(|corner| test.bit(p, quad_corner(&quads[q as usize], corner))).sum();
             let (x, y) = (p % s.width, p / s.width);
             counts[q as usize * words + (y * wpr + x / 4) as usize] |= (c + 1) << ((x & 3) * 8);
         }
@@ -98,6 +93,9 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
         sorted.sort();
         out.quads.push(sorted);
         out.new_samples.push(sub.new_samples.clone());
+        out.lookups.push(lookups);
+        out.consulted.push(test.consulted.clone());
+        out.masks.push(test.masks.clone());
         items = next;
         quads = sub.next_quads;
         if quads.is_empty() {

@@ -1,8 +1,10 @@
-//! Twin of `kernels/shadow_test.wgsl`: ORs lit_k(p) of samples `ks` into the lattice masks.
+//! Twin of `kernels/shadow_test.wgsl`: ORs lit_k(p) of samples `ks` into the lattice masks (`main`),
+//! or of the samples each item and probe consults, once per (pixel, sample) (`list`, `probes`).
 
 use super::shadow::lit;
-use crate::compute::buffers::MASK_WORDS;
-use crate::layout::{GpuFrame, GpuSample};
+use super::{probe_point, quad_corner};
+use crate::compute::buffers::{LATTICE_POINTS, MASK_WORDS};
+use crate::layout::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::Vec4;
 
@@ -29,5 +31,77 @@ pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -
             summary |= if bit == 1 { SUMMARY_ANY_LIT } else { SUMMARY_ANY_UNLIT };
         }
         masks[base + SUMMARY_WORD] |= summary;
+    }
+}
+
+/// Each lattice sample's map, loaded on first use.
+pub struct Maps<'a> {
+    load: &'a dyn Fn(u32) -> Vec<f32>,
+    cache: Vec<Option<Vec<f32>>>,
+}
+
+impl<'a> Maps<'a> {
+    pub fn new(load: &'a dyn Fn(u32) -> Vec<f32>) -> Self {
+        Self { load, cache: (0..LATTICE_POINTS).map(|_| None).collect() }
+    }
+    fn get(&mut self, k: u32) -> &[f32] {
+        let load = self.load;
+        self.cache[k as usize].get_or_insert_with(|| load(k))
+    }
+}
+
+/// What the local entry points read and write: the frame's per-pixel masks and the lookup count.
+pub struct LocalTest<'a> {
+    pub frame: &'a GpuFrame,
+    pub samples: &'a [GpuSample],
+    pub g: &'a GBufferCpu,
+    pub maps: Maps<'a>,
+    /// Bit k: the pixel consulted sample k (claimed).
+    pub consulted: Vec<u32>,
+    /// Bit k: sample k lights the pixel (claimed samples only).
+    pub masks: Vec<u32>,
+}
+
+impl LocalTest<'_> {
+    /// Twin of `list`: the four corners of each item (pixel, quad index); returns the lookups.
+    pub fn list(&mut self, quads: &[GpuQuad], items: &[(u32, u32)]) -> u32 {
+        items.iter().map(|&(p, q)| self.test_claimed(p, &(0..4).map(|c| quad_corner(&quads[q as usize], c)).collect::<Vec<_>>())).sum()
+    }
+
+    /// Twin of `probes`: the five new samples of each probe (pixel, first child); returns the lookups.
+    pub fn probes(&mut self, quads: &[GpuQuad], probes: &[(u32, u32)]) -> u32 {
+        probes.iter().map(|&(p, base)| self.test_claimed(p, &(0..5).map(|n| probe_point(&quads[base as usize], n)).collect::<Vec<_>>())).sum()
+    }
+
+    /// Claims `ks` for pixel p and tests those not claimed before.
+    fn test_claimed(&mut self, p: u32, ks: &[u32]) -> u32 {
+        let mut mine = 0u32;
+        for (i, &k) in ks.iter().enumerate() {
+            let (word, bit) = ((p * MASK_WORDS + k / 32) as usize, 1u32 << (k % 32));
+            if self.consulted[word] & bit == 0 {
+                mine |= 1 << i;
+            }
+            self.consulted[word] |= bit;
+        }
+        if mine == 0 {
+            return 0;
+        }
+        let position = Vec4::from(self.g.position[p as usize]).truncate();
+        let normal = Vec4::from(self.g.normal[p as usize]).truncate();
+        for (i, &k) in ks.iter().enumerate() {
+            if mine & (1 << i) == 0 {
+                continue;
+            }
+            let (frame, samples) = (self.frame, self.samples);
+            if lit(frame, &samples[k as usize], self.maps.get(k), position, normal) == 1 {
+                self.masks[(p * MASK_WORDS + k / 32) as usize] |= 1 << (k % 32);
+            }
+        }
+        mine.count_ones()
+    }
+
+    /// Whether sample k lights pixel p, as the masks cached it.
+    pub fn bit(&self, p: u32, k: u32) -> u32 {
+        (self.masks[(p * MASK_WORDS + k / 32) as usize] >> (k % 32)) & 1
     }
 }

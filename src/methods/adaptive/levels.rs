@@ -45,9 +45,13 @@ pub struct LevelReport {
     /// The word states reproject_count wrote (`counts` is already made whole with them).
     pub word_state: Option<Vec<u32>>,
     pub flags: Option<Vec<u32>>,
-    /// Captured for twin tests: the per-pixel lattice masks as this level's counting read them
-    /// (scope = local: the samples consulted so far).
+    /// Captured for twin tests: the per-pixel lattice masks as this level's counting read them.
     pub masks: Option<Vec<u32>>,
+    /// Captured for twin tests (scope = local): the samples each pixel consulted so far.
+    pub consulted: Option<Vec<u32>>,
+    /// scope = local: shadow-map lookups at this level, one per (pixel, sample) pair consulted for
+    /// the first time in the frame.
+    pub lookups: u32,
 }
 
 /// Per-level summary for run.json.
@@ -61,6 +65,9 @@ pub struct LevelRecord {
     pub split_quads: usize,
     pub new_samples: usize,
     pub pixels_evaluated: u64,
+    /// scope = local: shadow-map lookups (pixel, sample pairs tested for the first time).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lookups: Option<u64>,
 }
 
 /// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling
@@ -71,6 +78,8 @@ pub struct LevelRead {
     pub kept: bool,
     pub pictures: bool,
     pub capture: bool,
+    /// scope = local: the capture also holds the consulted samples.
+    pub local: bool,
 }
 
 /// The buffers (and byte counts) of one level's record, in the order `parse_level` reads them.
@@ -97,6 +106,9 @@ pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kep
     }
     if r.capture {
         parts.push((&b.masks, b.width as u64 * b.height as u64 * 40));
+        if r.local {
+            parts.push((&b.consulted, b.width as u64 * b.height as u64 * 40));
+        }
     }
     parts
 }
@@ -116,7 +128,7 @@ pub fn read_level(
     capture: bool,
 ) -> Result<LevelReport> {
     let ctx = fg.ctx;
-    let r = LevelRead { n: quads.len() as u64, kept: kept.is_some(), pictures: pictures || capture, capture };
+    let r = LevelRead { n: quads.len() as u64, kept: kept.is_some(), pictures: pictures || capture, capture, local };
     let parts = level_parts(b, next_quads, kept, r);
     let total: u64 = parts.iter().map(|(_, s)| s).sum();
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -133,11 +145,11 @@ pub fn read_level(
     }
     ctx.queue.submit([enc.finish()]);
     let words: Vec<u32> = readback::map_staging(ctx, &staging)?;
-    Ok(parse_level(b, &words, level, quads, evaluated, local, r))
+    Ok(parse_level(b, &words, level, quads, evaluated, r))
 }
 
 /// Reads one level's record (`level_parts`' layout) from `words`.
-pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<GpuQuad>, evaluated: bool, local: bool, r: LevelRead) -> LevelReport {
+pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<GpuQuad>, evaluated: bool, r: LevelRead) -> LevelReport {
     let n = r.n;
     let lattice = LATTICE_POINTS as u64 * 4;
     let quad_bytes = QUAD_CAPACITY as u64 * 16;
@@ -168,6 +180,7 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
         (None, None, None)
     };
     let masks = if r.capture { Some(take(mask_len)) } else { None };
+    let consulted = if r.capture && r.local { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
     let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
     let mut new_samples = new_all[..new_count].to_vec();
@@ -186,7 +199,8 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
         overflow: control[2],
         geometry_pixels: control[4],
         probes: control[5],
-        items: if local { item_total } else { 0 },
+        items: if r.local { item_total } else { 0 },
+        lookups: if r.local { control[6] } else { 0 },
         triangles,
         tiles,
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
@@ -194,6 +208,7 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
         word_state,
         flags,
         masks,
+        consulted,
     }
 }
 
@@ -209,6 +224,7 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
             low_quality_per_quad: r.low_quality.clone(),
             split_quads: r.split_base.iter().filter(|&&s| s != NO_SPLIT).count(),
             new_samples: r.new_samples.len(),
+            lookups: (p.scope == crate::methods::Scope::Local).then_some(r.lookups as u64),
             pixels_evaluated: if p.scope == crate::methods::Scope::Local {
                 r.items as u64
             } else if r.evaluated {

@@ -22,7 +22,7 @@ use crate::compute::{
 };
 use crate::compute::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::{GpuLevel, GpuQuad, GpuSample};
+use crate::layout::{GpuControl, GpuLevel, GpuQuad, GpuSample};
 use crate::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::timing::StageTimer;
@@ -212,7 +212,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         MapStore { arrays: vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
     };
     let passes = Passes {
-        shadow_test: ShadowTest::new(fg)?,
+        shadow_test: ShadowTest::new(fg, local)?,
         reproject_count: ReprojectCount::new(fg)?,
         neighbourhood: Neighbourhood::new(fg)?,
         quad_count: QuadCount::new(fg)?,
@@ -284,12 +284,23 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         let counted = matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_));
         let evaluate = local || (level < p.max_level && counted);
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
+        if local {
+            ctx.queue.write_buffer(&b.control, std::mem::offset_of!(GpuControl, lookups) as u64, &[0u8; 4]);
+        }
         if local && level > 0 {
             // Uniform pixels of last level's split quads test the new samples (the blind-spot fix).
             let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
             let maps = store.views();
             timer.stage(ctx, "probe", |enc| {
-                passes.probe.record(fg, enc, &b, &lv, &b.quads[cur], &b.items[cur], maps);
+                passes.probe.record_begin(fg, enc, &b, &lv);
+                Ok(())
+            })?;
+            timer.stage(ctx, "shadow_test", |enc| {
+                passes.shadow_test.record_probes(fg, enc, &b, &b.quads[cur], maps);
+                Ok(())
+            })?;
+            timer.stage(ctx, "probe", |enc| {
+                passes.probe.record(fg, enc, &b, &lv, &b.quads[cur], &b.items[cur]);
                 Ok(())
             })?;
         }
@@ -299,19 +310,24 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             let items = &b.items[cur];
             let maps = store.views();
             timer.stage(ctx, "reproject_count", |enc| {
-                passes.compact.record_begin(fg, enc, &b, &lv);
+                // The items compact (and probe) appended become this level's work.
+                passes.reproject_count.record_begin(fg, enc, &b, &lv);
                 // Only this level's quads: the buffers are sized for 256.
                 enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
-                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
-                passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items, maps);
                 Ok(())
             })?;
+            timer.stage(ctx, "shadow_test", |enc| {
+                passes.shadow_test.record_list(fg, enc, &b, &b.quads[cur], items, maps);
+                Ok(())
+            })?;
+            timer.stage(ctx, "reproject_count", |enc| {
+                passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items);
+                Ok(())
+            })?;
+            // neighbourhood's list also counts each quad's low-quality pixels: no quad_count pass.
             timer.stage(ctx, "neighbourhood", |enc| {
+                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
                 passes.neighbourhood.record_list(fg, enc, &b, &lv, items);
-                Ok(())
-            })?;
-            timer.stage(ctx, "quad_count", |enc| {
-                passes.quad_count.record(fg, enc, &b, &lv, quad_count, false);
                 Ok(())
             })?;
         } else if evaluate {
@@ -348,7 +364,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 ctx.queue.write_buffer(&b.tiles, 0, &vec![0u8; b.tiles.size() as usize]);
             }
             timer.stage(ctx, "compact", |enc| {
-                passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt]);
+                passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt], grow_rects);
                 Ok(())
             })?;
         }
@@ -403,7 +419,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     }
     let consulted: Option<Vec<u32>> = if local && fg.pictures {
         timer.flush(ctx);
-        Some(timer.cpu("pictures", || readback::read_buffer(ctx, &b.masks, w as u64 * h as u64 * 40))?)
+        Some(timer.cpu("pictures", || readback::read_buffer(ctx, &b.consulted, w as u64 * h as u64 * 40))?)
     } else {
         None
     };

@@ -73,7 +73,7 @@ pub struct Pending {
 
 fn level_read(fg: &FrameGpu, level: u32, evaluate: bool) -> LevelRead {
     // Pictures need level 0's comparison map and flags (one quad); deeper levels' flags are left out.
-    LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, capture: false }
+    LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, capture: false, local: false }
 }
 
 /// One level's record: what the waiting loop reads back, with the next level's quads.
@@ -248,7 +248,7 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
     trace.rendered = candidates(0);
     for (level, &(read, evaluated, at)) in pending.reads.iter().enumerate() {
         let read = LevelRead { n: quads.len() as u64, ..read };
-        let report = levels::parse_level(&prepared.b, &words[(at / 4) as usize..], level as u32, quads, evaluated, false, read);
+        let report = levels::parse_level(&prepared.b, &words[(at / 4) as usize..], level as u32, quads, evaluated, read);
         if report.overflow != 0 {
             return Err(Error::Overflow(format!("adaptive level {level}: the quad list exceeded 256 (flags {:#x}); the run is not valid", report.overflow)));
         }
