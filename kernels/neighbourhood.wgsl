@@ -1,7 +1,7 @@
 // neighbourhood: the low-quality test of method.md §3. Pixel p is low quality for quad q when
 // 0 < c_q(p) < 4 and all 8 neighbours (clamped at the screen edge) have the same c_q; a background
 // or unevaluated neighbour (byte 0) counts as different. One bit per pixel, 32 per flag word.
-//  main: every flag word x every active quad; list: one item each (scope = local).
+//  main: every flag word, looping over the batch's quads; list: one item each (scope = local).
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -10,12 +10,20 @@
 @group(0) @binding(4) var<storage, read> items: array<vec2<u32>>;
 @group(0) @binding(5) var<storage, read_write> flags_atomic: array<atomic<u32>>;
 @group(0) @binding(6) var<storage, read> item_total: array<u32>;
+// Per comparison-map word: its bytes when uniform, else MIXED_WORD (reproject_count main; all
+// MIXED_WORD under scope = local, whose comparison maps are dense).
+@group(0) @binding(7) var<storage, read> word_state: array<u32>;
 
 fn byte_at(q: u32, x: i32, y: i32) -> u32 {
     let cx = u32(clamp(x, 0, i32(frame.width) - 1));
     let cy = u32(clamp(y, 0, i32(frame.height) - 1));
+    let at = cy * level.words_per_row + cx / 4u;
+    let state = word_state[at];
+    if (state != MIXED_WORD) {
+        return count_byte(state, cx);
+    }
     let words = frame.height * level.words_per_row;
-    return count_byte(counts[q * words + cy * level.words_per_row + cx / 4u], cx);
+    return count_byte(counts[q * words + at], cx);
 }
 
 fn low_quality(q: u32, x: i32, y: i32) -> bool {
@@ -34,31 +42,43 @@ fn low_quality(q: u32, x: i32, y: i32) -> bool {
     return true;
 }
 
+// One thread per flag word (32 pixels) tests every quad of the batch (the quads loop inside the
+// thread), so the word states are read once: a flag word without a mixed comparison-map word has no
+// low-quality pixel for any quad and costs one zero store per quad.
 @compute @workgroup_size(64, 1, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wg: vec3<u32>) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let words = frame.height * level.flag_words_per_row;
-    if (gid.x >= words || wg.y >= level.quad_count) {
+    if (gid.x >= words) {
         return;
     }
     let y = gid.x / level.flag_words_per_row;
     let x0 = (gid.x % level.flag_words_per_row) * 32u;
     let count_words = frame.height * level.words_per_row;
-    let row = wg.y * count_words + y * level.words_per_row;
-    var bits = 0u;
+    let row = y * level.words_per_row;
+    var mixed = 0u;
     for (var w = 0u; w < 8u; w = w + 1u) {
         let wx = x0 / 4u + w;
-        // Most words hold no partly lit pixel at all: reject them four pixels at a time.
-        if (wx >= level.words_per_row || !has_partial_byte(counts[row + wx])) {
-            continue;
-        }
-        for (var b = 0u; b < 4u; b = b + 1u) {
-            let x = wx * 4u + b;
-            if (x < frame.width && low_quality(wg.y, i32(x), i32(y))) {
-                bits = bits | (1u << (w * 4u + b));
-            }
+        if (wx < level.words_per_row && word_state[row + wx] == MIXED_WORD) {
+            mixed = mixed | (1u << w);
         }
     }
-    flags[wg.y * words + gid.x] = bits;
+    for (var qi = 0u; qi < level.quad_count; qi = qi + 1u) {
+        var bits = 0u;
+        for (var w = 0u; w < 8u; w = w + 1u) {
+            let wx = x0 / 4u + w;
+            // Most mixed words hold no partly lit pixel for this quad: reject them four pixels at a time.
+            if ((mixed & (1u << w)) == 0u || !has_partial_byte(counts[qi * count_words + row + wx])) {
+                continue;
+            }
+            for (var b = 0u; b < 4u; b = b + 1u) {
+                let x = wx * 4u + b;
+                if (x < frame.width && low_quality(qi, i32(x), i32(y))) {
+                    bits = bits | (1u << (w * 4u + b));
+                }
+            }
+        }
+        flags[qi * words + gid.x] = bits;
+    }
 }
 
 @compute @workgroup_size(64, 1, 1)

@@ -22,6 +22,8 @@
 @group(0) @binding(12) var<storage, read_write> consulted: array<atomic<u32>>;
 @group(0) @binding(13) var<storage, read> item_total: array<u32>;
 @group(0) @binding(14) var<storage, read_write> control: GpuControl;
+// main: each word's state (common.wgsl MIXED_WORD): uniform words are written here once, not per quad.
+@group(0) @binding(15) var<storage, read_write> word_state: array<u32>;
 
 var<workgroup> group_geometry: atomic<u32>;
 
@@ -43,7 +45,9 @@ fn add_geometry(n: u32, lid: u32) {
 }
 
 // One thread per word (4 pixels) counts every active quad of the batch (the quads loop inside the
-// thread), so each pixel's summary is read once and uniform pixels cost one store per quad.
+// thread), so each pixel's summary is read once. A word whose pixels every map agrees on has the
+// same bytes for every quad: it costs one word_state store, and its comparison-map words are not
+// written (neighbourhood reads word_state first).
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     add_geometry(count_word(gid.x), lid);
@@ -81,11 +85,11 @@ fn count_word(word: u32) -> u32 {
             }
         }
     }
+    word_state[gid.x] = select(uniform_bytes, MIXED_WORD, mixed != 0u);
+    if (mixed == 0u) {
+        return geometry;
+    }
     for (var qi = 0u; qi < level.quad_count; qi = qi + 1u) {
-        if (mixed == 0u) {
-            counts[qi * words + gid.x] = uniform_bytes;
-            continue;
-        }
         let q = quads[level.first_quad + qi];
         var packed = uniform_bytes;
         for (var b = 0u; b < 4u; b = b + 1u) {

@@ -84,6 +84,8 @@ pub struct Renderer<'a> {
     state: Box<dyn MethodState>,
     /// Wall time of building (pipelines, buffers, upload), charged to the first frame's `setup`.
     build: Option<(f64, f64)>,
+    /// Record GPU timestamps even where the adapter's are not trusted (tests of the mechanics).
+    force_timestamps: bool,
 }
 
 impl<'a> Renderer<'a> {
@@ -111,7 +113,13 @@ impl<'a> Renderer<'a> {
         let state = method.build(&fg)?;
         ctx.wait()?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(Self { fg, gbuffer_pass, camera: camera_uniform(scene), state, build: Some((build_ms, upload_ms)) })
+        Ok(Self { fg, gbuffer_pass, camera: camera_uniform(scene), state, build: Some((build_ms, upload_ms)), force_timestamps: false })
+    }
+
+    /// Records GPU timestamps from now on even on a CPU adapter, where the figures mean little
+    /// (run.json never does this); tests use it to check the mechanics.
+    pub fn force_gpu_timestamps(&mut self) {
+        self.force_timestamps = true;
     }
 
     /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
@@ -122,7 +130,7 @@ impl<'a> Renderer<'a> {
         let ctx = self.fg.ctx;
         let (w, h) = (self.fg.gbuffer.width, self.fg.gbuffer.height);
         self.fg.pictures = options.pictures;
-        let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx);
+        let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx, self.force_timestamps);
         // A method's reset waits for its own zero fills; most have nothing to reset.
         self.state.reset(&self.fg)?;
         let mut setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;

@@ -41,10 +41,9 @@ impl StageTimer {
         Self { mode, stages_ms: BTreeMap::new(), timing_waits: 0, pending: None, gpu: None }
     }
 
-    /// Also records GPU timestamps when the adapter's are trusted (or when `PENUMBRA_GPU_TIMESTAMPS=force`,
-    /// which tests use on CPU adapters where the figures mean little).
-    pub fn with_gpu_timestamps(mut self, ctx: &GpuContext) -> Self {
-        let forced = std::env::var("PENUMBRA_GPU_TIMESTAMPS").is_ok_and(|v| v == "force");
+    /// Also records GPU timestamps when the adapter's are trusted, or when `forced` (tests, on CPU
+    /// adapters where the figures mean little).
+    pub fn with_gpu_timestamps(mut self, ctx: &GpuContext, forced: bool) -> Self {
         let features = ctx.device.features();
         let able = features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
         if able && (ctx.timestamps_trusted || forced) {

@@ -208,10 +208,7 @@ fn scissor_changes_no_pixel() {
 #[test]
 fn item_overflow_is_reported_not_clipped() {
     let dir = common::temp_dir("item-overflow").join("out");
-    let out = common::penumbra_env(
-        &["render", "--scene", "default", "--method", "adaptive:scope=local", "--set", "resolution=64", "--out", dir.to_str().unwrap()],
-        &[("PENUMBRA_ITEM_CAPACITY", "100")],
-    );
+    let out = common::penumbra(&["render", "--scene", "default", "--method", "adaptive:scope=local,items=100", "--set", "resolution=64", "--out", dir.to_str().unwrap()]);
     let e = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{e}");
     assert!(e.contains("overflow") && e.contains("item list exceeded its capacity"), "{e}");
@@ -221,10 +218,12 @@ fn item_overflow_is_reported_not_clipped() {
 #[test]
 fn gpu_timestamps_cover_every_stage_when_enabled() {
     // On CPU adapters the figures are not trustworthy (run.json reports null); this checks the mechanics.
-    std::env::set_var("PENUMBRA_GPU_TIMESTAMPS", "force");
     let ctx = common::gpu();
-    let r = frame::render(&ctx, &small("default", &[]), &adaptive(AdaptiveParams::default()), TimingMode::Frame).unwrap();
-    std::env::remove_var("PENUMBRA_GPU_TIMESTAMPS");
+    let scene = small("default", &[]);
+    let method = adaptive(AdaptiveParams::default());
+    let mut renderer = frame::Renderer::new(ctx, &scene, &method).unwrap();
+    renderer.force_gpu_timestamps();
+    let r = renderer.frame(TimingMode::Frame).unwrap();
     let gpu = r.gpu_stages_ms.expect("timestamps recorded when forced");
     for stage in ["gbuffer", "shadow_raster", "shadow_test", "reproject_count", "neighbourhood", "quad_count", "subdivide", "shade"] {
         let ms = gpu.get(stage).copied();

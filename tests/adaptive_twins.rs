@@ -5,7 +5,7 @@
 //! Each stage's twin is fed the GPU's own inputs, so a mismatch points at one stage.
 
 mod common;
-use penumbra::compute::buffers::{CULL_TILE_WORDS, LATTICE_POINTS};
+use penumbra::compute::buffers::{CULL_TILE_WORDS, LATTICE_POINTS, MIXED_WORD};
 use penumbra::compute::twin::{self, neighbourhood::Screen};
 use penumbra::frame::frame_uniform;
 use penumbra::methods::AdaptiveParams;
@@ -36,6 +36,7 @@ fn global_stages_equal_their_cpu_twins() {
     let ctx = common::gpu();
     let mut levels_checked = 0;
     let mut quads_checked = 0;
+    let (mut mixed_words, mut uniform_words) = (0, 0);
     for seed in SEEDS {
         for spec in CRITERIA {
             let sc = scene(seed);
@@ -64,6 +65,10 @@ fn global_stages_equal_their_cpu_twins() {
                 let n = lvl.quads.len();
                 if lvl.evaluated {
                     let counts = twin::reproject_count::reproject_count(&lvl.quads, gpu_masks, g);
+                    let states = twin::reproject_count::word_state(gpu_masks, g.width, g.height);
+                    assert_eq!(&states, lvl.word_state.as_ref().unwrap(), "seed {seed} level {d}: reproject_count's word states differ");
+                    mixed_words += states.iter().filter(|&&s| s == MIXED_WORD).count();
+                    uniform_words += states.iter().filter(|&&s| s != MIXED_WORD).count();
                     assert_eq!(&counts, lvl.counts.as_ref().unwrap(), "seed {seed} level {d}: reproject_count differs");
                     let flags = twin::neighbourhood::neighbourhood(lvl.counts.as_ref().unwrap(), &screen, n);
                     assert_eq!(&flags, lvl.flags.as_ref().unwrap(), "seed {seed} level {d}: neighbourhood differs");
@@ -88,6 +93,8 @@ fn global_stages_equal_their_cpu_twins() {
         }
     }
     assert!(levels_checked >= 16 && quads_checked >= 40, "too little was compared: {levels_checked} levels, {quads_checked} quads");
+    // Both kinds of word were compared: maps read through word_state and through the quads' own words.
+    assert!(mixed_words > 100 && uniform_words > 100, "word states: {mixed_words} mixed, {uniform_words} uniform");
 }
 
 #[test]

@@ -137,6 +137,10 @@ fn unknown_method_and_parameter() {
     assert!(e.contains("unknown method `pcss9`"), "{e}");
     let e = fails("bad-param", GOOD, Some(TRI), &["--method", "regular:p_m=3"]);
     assert!(e.contains("method `regular` has no parameter `p_m`"), "{e}");
+    let e = fails("bad-items", GOOD, Some(TRI), &["--method", "adaptive:scope=local,items=0"]);
+    assert!(e.contains("items = `0`") && e.contains("at least 1"), "{e}");
+    let e = fails("items-global", GOOD, Some(TRI), &["--method", "adaptive:items=100"]);
+    assert!(e.contains("items needs scope = local"), "{e}");
 }
 
 #[test]

@@ -165,6 +165,11 @@ fn quad_corner(q: GpuQuad, c: u32) -> u32 {
 }
 
 // Comparison-map bytes hold c + 1 (1..5); 0 means background or not evaluated for this quad.
+// word_state of a comparison-map word (scope = global): the word's 4 bytes, the same for every quad,
+// when no pixel in it is mixed (all its maps agree); MIXED_WORD when the quads' words differ and
+// only the comparison maps hold them. Bytes are at most 5, so MIXED_WORD is never a uniform word.
+const MIXED_WORD: u32 = 0xffffffffu;
+
 fn count_byte(word: u32, x: u32) -> u32 {
     return (word >> ((x & 3u) * 8u)) & 0xffu;
 }

@@ -18,13 +18,17 @@ pub fn frame_split_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
             r
         })
         .collect();
-    stage_breakdown_svg(&split)
+    bars_svg(&split, "Frame split: raster, decision, shade, waits (wall clock)")
 }
 
 /// Rows top to bottom in the given order. Stages are stacked in the order of their first
 /// appearance over the rows (each row's `stages_ms` is sorted by name); negative or
 /// non-finite stage times are skipped.
 pub fn stage_breakdown_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
+    bars_svg(rows, "Stage time breakdown (wall clock per stage)")
+}
+
+fn bars_svg(rows: &[ResultRow], title: &str) -> Result<String, ChartError> {
     let rows: Vec<&ResultRow> = rows.iter().filter(|r| !r.stages_ms.is_empty()).collect();
     if rows.is_empty() {
         return Err(ChartError::NoData("needs rows with stage times"));
@@ -76,7 +80,7 @@ pub fn stage_breakdown_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption("Stage time breakdown (wall clock per stage)", (FONT, TITLE_PX))
+            .caption(title, (FONT, TITLE_PX))
             .margin(16)
             .x_label_area_size(56)
             .y_label_area_size(y_area)

@@ -186,7 +186,8 @@ fn error_vs_maps_has_axes_and_methods() {
 fn frame_split_sums_stages_into_four_parts() {
     let rows = sample_rows();
     let svg = frame_split_svg(&rows).unwrap();
-    assert_svg(&svg, &["raster", "decision", "shade", "waits"]);
+    assert_svg(&svg, &["Frame split", "raster", "decision", "shade", "waits"]);
+    assert!(!svg.contains("Stage time breakdown"), "the frame split carries the stage chart's title");
     for stage in rows[0].stages_ms.keys() {
         assert!(!svg.contains(&format!(">{stage}<")) || ["shade"].contains(&stage.as_str()), "stage {stage} drawn on its own");
     }

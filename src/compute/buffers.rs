@@ -14,6 +14,8 @@ pub const NO_SPLIT: u32 = u32::MAX;
 /// tile 0, or the largest depth limit its pixels test (f32 bits).
 pub const CULL_TILES: u32 = 256;
 pub const CULL_TILE_WORDS: u32 = CULL_TILES * CULL_TILES;
+/// word_state of a word whose comparison-map words differ by quad (common.wgsl MIXED_WORD).
+pub const MIXED_WORD: u32 = u32::MAX;
 pub const CONTROL_BYTES: u64 = std::mem::size_of::<crate::layout::GpuControl>() as u64;
 
 pub struct AdaptiveBuffers {
@@ -28,6 +30,9 @@ pub struct AdaptiveBuffers {
     pub masks: wgpu::Buffer,
     pub quads: [wgpu::Buffer; 2],
     pub counts: wgpu::Buffer,
+    /// One word per comparison-map word: its bytes when uniform (the same in every quad's map, which
+    /// then holds nothing for it), else MIXED_WORD. Scope = local never writes it: all MIXED_WORD.
+    pub word_state: wgpu::Buffer,
     pub flags: wgpu::Buffer,
     pub quad_counters: wgpu::Buffer,
     pub control: wgpu::Buffer,
@@ -84,13 +89,24 @@ impl AdaptiveBuffers {
     pub fn counts_bytes_per_quad(&self) -> u64 {
         self.height as u64 * self.words_per_row as u64 * 4
     }
+    /// The comparison maps of `n` quads as every quad's full map: uniform words from `word_state`.
+    pub fn dense_counts(&self, counts: &mut [u32], word_state: &[u32]) {
+        for map in counts.chunks_exact_mut(word_state.len()) {
+            for (c, &s) in map.iter_mut().zip(word_state) {
+                if s != MIXED_WORD {
+                    *c = s;
+                }
+            }
+        }
+    }
     pub fn flags_bytes_per_quad(&self) -> u64 {
         self.height as u64 * self.flag_words_per_row as u64 * 4
     }
 
     /// `local`: items, fixed-point visibility and rectangles are needed, and every quad of a level
     /// must fit in one comparison-map buffer.
-    pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool) -> Result<Self> {
+    /// `item_cap` lowers the item list's capacity (`adaptive:items`).
+    pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool, item_cap: Option<u32>) -> Result<Self> {
         let limits = ctx.limits();
         let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
         let words_per_row = width.div_ceil(4);
@@ -116,8 +132,7 @@ impl AdaptiveBuffers {
         // Items: every penumbra pixel of a split quad becomes 4, so a pixel on a silhouette can reach
         // ~4·2^level items; take what one binding holds. Overflow is reported, never clipped.
         let mut item_capacity = if local { ((max_binding / 8).min(pixels * 32)) as u32 } else { 1 };
-        // Tests shrink the list to show that overflow is reported, not clipped.
-        if let Some(cap) = std::env::var("PENUMBRA_ITEM_CAPACITY").ok().and_then(|v| v.parse::<u32>().ok()) {
+        if let Some(cap) = item_cap {
             item_capacity = item_capacity.min(cap.max(1));
         }
         let storage = |label: &str, bytes: u64| readback::zeroed_storage(ctx, label, bytes);
@@ -142,6 +157,7 @@ impl AdaptiveBuffers {
             masks: storage("lattice masks", mask_bytes),
             quads: [storage("quads a", quad_bytes), storage("quads b", quad_bytes)],
             counts: storage("comparison maps", per_quad * batch),
+            word_state: readback::storage_buffer(ctx, "comparison word states", &vec![MIXED_WORD; (per_quad / 4) as usize], wgpu::BufferUsages::empty()),
             flags: storage("low-quality flags", height as u64 * flag_words_per_row as u64 * 4 * batch),
             quad_counters: storage("quad counters", QUAD_CAPACITY as u64 * 4),
             control: storage("control", CONTROL_BYTES),

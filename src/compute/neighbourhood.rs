@@ -18,7 +18,9 @@ impl Neighbourhood {
         })
     }
 
-    pub fn record_dense(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: u32, indirect: bool) {
+    /// One pass over the flag words; the level uniform's quad count (a GPU copy in the steered
+    /// loop) bounds the quads each thread tests.
+    pub fn record_dense(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
         let words = b.height * b.flag_words_per_row;
         self.dense.dispatch(
             fg.ctx,
@@ -28,8 +30,9 @@ impl Neighbourhood {
                 (1, level.as_entire_binding()),
                 (2, b.counts.as_entire_binding()),
                 (3, b.flags.as_entire_binding()),
+                (7, b.word_state.as_entire_binding()),
             ],
-            if indirect { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]) },
+            Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 
@@ -44,6 +47,7 @@ impl Neighbourhood {
                 (4, items.as_entire_binding()),
                 (5, b.flags.as_entire_binding()),
                 (6, b.item_total.as_entire_binding()),
+                (7, b.word_state.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );

@@ -38,6 +38,7 @@ impl ReprojectCount {
                 (3, b.masks.as_entire_binding()),
                 (5, b.counts.as_entire_binding()),
                 (14, b.control.as_entire_binding()),
+                (15, b.word_state.as_entire_binding()),
             ],
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );

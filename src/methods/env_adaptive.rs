@@ -299,7 +299,11 @@ impl MethodState for State {
         // The leaves become lights: one read-back, the centroids from the summed-area tables.
         let leaves: Vec<GpuEnvCell> = timer.cpu("env_readback", || readback::read_buffer(ctx, &self.leaves, (leaves_so_far as u64 * cell_size).max(16)))?;
         syncs += 1;
-        let leaves = &leaves[..leaves_so_far as usize];
+        // Leaves arrive in atomic-append order, which varies from frame to frame; the light list
+        // (and so the order env_trace sums in) must not, or V differs in its last bits.
+        let mut leaves = leaves[..leaves_so_far as usize].to_vec();
+        leaves.sort();
+        let leaves = &leaves[..];
         let lights: Vec<EnvLight> = timer.cpu("env_lights", || Ok(leaves.iter().filter_map(|c| self.tables.leaf_light(c, fw, fh)).collect()))?;
         let gpu = gpu_lights(&lights);
         self.trace.params.light_count = gpu.len() as u32;

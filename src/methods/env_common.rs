@@ -3,7 +3,7 @@
 
 use crate::compute::env_trace::BvhBuffers;
 use crate::compute::ssao::Ssao;
-use crate::compute::twin::ssao::hemisphere_kernel;
+use crate::compute::ssao::hemisphere_kernel;
 use crate::compute::FrameGpu;
 use crate::environment::bvh::Bvh;
 use crate::environment::{EnvLight, Environment};

@@ -90,6 +90,10 @@ pub struct AdaptiveParams {
     /// light corner to corner (the seed); `centred` is inset by half a finest cell, so that the full
     /// lattice at max_level is the centred (midpoint-rule) grid.
     pub layout: Layout,
+    /// scope = local: a cap on the (pixel, quad) item list, below what one storage binding holds
+    /// (memory; tests use it to show that an overflow is reported, never clipped).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub items: Option<u32>,
 }
 
 fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -102,7 +106,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true, items: None }
     }
 }
 
@@ -226,6 +230,15 @@ impl AdaptiveParams {
                 _ => return Err(Error::Param(format!("adaptive: steer = `{v}`: use `gpu` or `cpu`"))),
             };
         }
+        if let Some(v) = params.get("items") {
+            match v.parse::<u32>() {
+                Ok(n) if n >= 1 => p.items = Some(n),
+                _ => return Err(Error::Param(format!("adaptive: items = `{v}`: use a whole number of items, at least 1"))),
+            }
+            if p.scope != Scope::Local {
+                return Err(Error::Param("adaptive: items needs scope = local (only it keeps an item list)".into()));
+            }
+        }
         if p.cull == Some(true) && p.scope != Scope::Local {
             return Err(Error::Param("cull = on needs scope = local (only then are a map's pixels known)".into()));
         }
@@ -341,6 +354,9 @@ impl AdaptiveParams {
         }
         if !self.steer_cpu {
             s += ",steer=gpu";
+        }
+        if let Some(n) = self.items {
+            s += &format!(",items={n}");
         }
         s
     }

@@ -42,6 +42,8 @@ pub struct LevelReport {
     /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
     /// level's flags, for pictures and twin tests.
     pub counts: Option<Vec<u32>>,
+    /// The word states reproject_count wrote (`counts` is already made whole with them).
+    pub word_state: Option<Vec<u32>>,
     pub flags: Option<Vec<u32>>,
     /// Captured for twin tests: the per-pixel lattice masks as this level's counting read them
     /// (scope = local: the samples consulted so far).
@@ -92,6 +94,7 @@ pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kep
     }
     if r.pictures {
         parts.push((&b.counts, b.counts_bytes_per_quad() * if r.capture { r.n } else { 1 }));
+        parts.push((&b.word_state, b.counts_bytes_per_quad()));
         parts.push((&b.flags, b.flags_bytes_per_quad() * r.n));
     }
     if r.capture {
@@ -159,7 +162,14 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     let item_total = take(4)[0];
     let triangles = if r.kept { take(lattice) } else { vec![0; LATTICE_POINTS as usize] };
     let tiles = if r.kept && r.pictures { take(tile_bytes) } else { Vec::new() };
-    let (counts, flags) = if r.pictures { (Some(take(counts_len)), Some(take(b.flags_bytes_per_quad() * n))) } else { (None, None) };
+    let (counts, word_state, flags) = if r.pictures {
+        let mut counts = take(counts_len);
+        let word_state = take(b.counts_bytes_per_quad());
+        b.dense_counts(&mut counts, &word_state);
+        (Some(counts), Some(word_state), Some(take(b.flags_bytes_per_quad() * n)))
+    } else {
+        (None, None, None)
+    };
     let masks = if r.capture { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
     let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
@@ -184,6 +194,7 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
         tiles,
         rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
         counts,
+        word_state,
         flags,
         masks,
     }

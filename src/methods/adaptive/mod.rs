@@ -45,6 +45,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
         Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global, lattice layout; slower on an H100 today, docs/bench.md)" },
         Param { key: "cull", default: "off", help: "scope=local only: raster each new map only with the runs of triangles that can reach the tiles its pixels test" },
+        Param { key: "items", default: "what one binding holds", help: "scope=local only: cap on the (pixel, quad) item list; past it the frame fails with an overflow, never clips" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
 };
@@ -177,7 +178,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let samples = lattice_samples(fg, p);
-    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local)?;
+    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local, p.items)?;
     b.zero_fill(ctx)?;
     let hybrid = scene.render.maps == crate::scene::MapKind::Hybrid;
     if hybrid && local {
@@ -334,7 +335,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 // GPU-driven: the previous subdivide wrote these dispatches' sizes (flag words x quads).
                 let indirect = single && level > 0;
                 timer.stage(ctx, "neighbourhood", |enc| {
-                    passes.neighbourhood.record_dense(fg, enc, &b, &lv, n, indirect);
+                    passes.neighbourhood.record_dense(fg, enc, &b, &lv);
                     Ok(())
                 })?;
                 timer.stage(ctx, "quad_count", |enc| {

@@ -6,7 +6,8 @@
 //!   from the sample's request flag, which subdivide sets: 0 draws nothing;
 //! - shadow_test lists the candidates and skips those not requested;
 //! - each level's uniform takes its quad count from the previous subdivide by a buffer copy, and
-//!   neighbourhood and quad_count dispatch indirectly, as subdivide sizes them;
+//!   quad_count dispatches indirectly, as subdivide sizes it, and neighbourhood loops over the
+//!   uniform's quads;
 //! - the weights pass computes ŵ from the leaves and the rendered samples; shade follows.
 //!
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
@@ -196,7 +197,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 Ok(())
             })?;
             timer.stage(ctx, "neighbourhood", |enc| {
-                passes.neighbourhood.record_dense(fg, enc, b, &lv, 1, level > 0);
+                passes.neighbourhood.record_dense(fg, enc, b, &lv);
                 Ok(())
             })?;
             timer.stage(ctx, "quad_count", |enc| {
