@@ -5,7 +5,7 @@
 //  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
 // (reproject_count `begin` makes the appended items a level's work.)
 // With scissor or cull on (main_rects), every child corner's shadow-map texel rectangle grows to
-// cover p, and the culling tile p looks up in is marked.
+// cover p, and the culling tile p looks up in keeps the largest depth limit tested in it.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -32,8 +32,10 @@ fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
         atomicMin(&rects[k * 4u + 1u], u32(lookup.texel.y));
         atomicMax(&rects[k * 4u + 2u], u32(lookup.texel.x));
         atomicMax(&rects[k * 4u + 3u], u32(lookup.texel.y));
-        let bit = cull_tile_bit(lookup.texel, frame.map_size);
-        atomicOr(&tiles[k * CULL_TILE_WORDS + bit / 32u], 1u << (bit % 32u));
+        // Positive floats order as their bits. A limit <= 0 is lit whatever the map holds.
+        if (lookup.depth_limit > 0.0) {
+            atomicMax(&tiles[k * CULL_TILE_WORDS + cull_tile(lookup.texel, frame.map_size)], bitcast<u32>(lookup.depth_limit));
+        }
     }
 }
 

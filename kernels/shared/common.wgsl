@@ -99,11 +99,12 @@ const MASK_WORDS: u32 = 10u;
 const NO_SPLIT: u32 = 0xffffffffu;
 
 // Culling tiles (scope = local): each lattice sample's map is cut into CULL_TILES x CULL_TILES
-// tiles, one bit each, set where a pixel that tests the sample looks up a texel.
-const CULL_TILES: u32 = 64u;
-const CULL_TILE_WORDS: u32 = 128u;
+// tiles, one word each: 0 where no pixel that tests the sample looks up a texel, else the largest
+// depth limit (f32 bits, > 0) those pixels compare the map with.
+const CULL_TILES: u32 = 256u;
+const CULL_TILE_WORDS: u32 = 65536u;
 
-fn cull_tile_bit(texel: vec2<i32>, map_size: u32) -> u32 {
+fn cull_tile(texel: vec2<i32>, map_size: u32) -> u32 {
     let t = vec2<u32>(texel) * CULL_TILES / map_size;
     return t.y * CULL_TILES + t.x;
 }

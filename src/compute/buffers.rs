@@ -10,9 +10,10 @@ pub const MASK_WORDS: u32 = 10;
 /// Quads of one level: at most 4^4 = 256 (level 4 of the 17x17 lattice).
 pub const QUAD_CAPACITY: u32 = 256;
 pub const NO_SPLIT: u32 = u32::MAX;
-/// Culling tiles per side of a map, and the u32 words of one sample's tile bits (common.wgsl).
-pub const CULL_TILES: u32 = 64;
-pub const CULL_TILE_WORDS: u32 = CULL_TILES * CULL_TILES / 32;
+/// Culling tiles per side of a map, and the u32 words of one sample's tiles (common.wgsl): per
+/// tile 0, or the largest depth limit its pixels test (f32 bits).
+pub const CULL_TILES: u32 = 256;
+pub const CULL_TILE_WORDS: u32 = CULL_TILES * CULL_TILES;
 /// word_state of a word whose comparison-map words differ by quad (common.wgsl MIXED_WORD).
 pub const MIXED_WORD: u32 = u32::MAX;
 pub const CONTROL_BYTES: u64 = std::mem::size_of::<crate::layout::GpuControl>() as u64;
@@ -53,7 +54,7 @@ pub struct AdaptiveBuffers {
     pub probe_args: wgpu::Buffer,
     pub visibility_fixed: wgpu::Buffer,
     pub rects: wgpu::Buffer,
-    /// scope = local: CULL_TILE_WORDS per lattice sample, a bit per culling tile its pixels look up in.
+    /// scope = local: CULL_TILE_WORDS per lattice sample, per culling tile the largest depth limit its pixels test.
     pub tiles: wgpu::Buffer,
 }
 

@@ -1,5 +1,5 @@
-//! cull (scope = local): per new map, the triangles that can reach the culling tiles its pixels
-//! test, compacted into an index list with draw_indexed_indirect arguments the GPU writes, so the
+//! cull (scope = local): per new map, the triangles that can change a texel its pixels test,
+//! compacted into an index list with draw_indexed_indirect arguments the GPU writes, so the
 //! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
 //! slots fit one storage binding; batches reuse the slots within one submission.
 
@@ -11,19 +11,25 @@ use glam::Vec3;
 
 /// u32 words of one slot's draw_indexed_indirect arguments.
 pub const ARGS_WORDS: u32 = 5;
-/// Consecutive triangles culled together (CULL_RUN in the kernel): one invocation each.
+/// Consecutive triangles whose box is tested first (CULL_RUN in the kernel).
 pub const CULL_RUN: u32 = 32;
 /// Index memory the slots may take together.
 const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
 
 pub struct Cull {
-    kernel: ComputeKernel,
+    runs_phase: ComputeKernel,
+    begin: ComputeKernel,
+    triangles: ComputeKernel,
     /// One slot of `stride` indices per map of a batch (INDEX | STORAGE).
     pub culled: wgpu::Buffer,
     /// ARGS_WORDS per slot (INDIRECT | STORAGE).
     pub args: wgpu::Buffer,
     /// Bounding box and normal cone of each run (`runs`).
     runs: wgpu::Buffer,
+    /// The runs phase 1 passes (a word per run of every slot), its count and phase 2's dispatch.
+    kept_runs: wgpu::Buffer,
+    control: wgpu::Buffer,
+    dispatch: wgpu::Buffer,
     /// GpuCull.cull_face: the face the shadow raster culls.
     cull_face: u32,
     /// Maps per batch.
@@ -52,11 +58,18 @@ impl Cull {
             })
         };
         let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
-        let runs = runs(&positions, &fg.scene.indices);
+        // The shadow raster's order: its runs are compact in space.
+        let runs = runs(&positions, &fg.scene_gpu.shadow_order);
+        let run_count = (stride / 3).div_ceil(CULL_RUN) as u64;
         Ok(Some(Self {
             runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
+            kept_runs: storage("cull kept runs", run_count * slots as u64 * 4, wgpu::BufferUsages::empty()),
+            control: storage("cull control", 16, wgpu::BufferUsages::empty()),
+            dispatch: storage("cull dispatch", 16, wgpu::BufferUsages::INDIRECT),
             cull_face: cull_face(fg.scene.render.cull),
-            kernel: ComputeKernel::new(ctx, "cull", "main")?,
+            runs_phase: ComputeKernel::new(ctx, "cull", "main")?,
+            begin: ComputeKernel::new(ctx, "cull", "begin")?,
+            triangles: ComputeKernel::new(ctx, "cull", "triangles")?,
             culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
             args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
             slots,
@@ -65,7 +78,7 @@ impl Cull {
     }
 
     /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
-    /// CULL_TILE_WORDS tile bits per lattice sample.
+    /// CULL_TILE_WORDS words per lattice sample.
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
         assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
         let ctx = fg.ctx;
@@ -81,7 +94,8 @@ impl Cull {
         let uniform = readback::uniform_buffer(ctx, "cull", &uniform);
         let slots = readback::storage_buffer(ctx, "cull slots", ks, wgpu::BufferUsages::empty());
         enc.clear_buffer(&self.args, 0, None);
-        self.kernel.dispatch(
+        enc.clear_buffer(&self.control, 0, None);
+        self.runs_phase.dispatch(
             ctx,
             enc,
             &[
@@ -90,12 +104,36 @@ impl Cull {
                 (2, samples.as_entire_binding()),
                 (3, tiles.as_entire_binding()),
                 (4, self.runs.as_entire_binding()),
-                (5, fg.scene_gpu.indices.as_entire_binding()),
+                (6, slots.as_entire_binding()),
+                (8, self.args.as_entire_binding()),
+                (10, self.kept_runs.as_entire_binding()),
+                (11, self.control.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
+        );
+        self.begin.dispatch(
+            ctx,
+            enc,
+            &[(11, self.control.as_entire_binding()), (12, self.dispatch.as_entire_binding())],
+            Dispatch::Direct([1, 1, 1]),
+        );
+        self.triangles.dispatch(
+            ctx,
+            enc,
+            &[
+                (0, uniform.as_entire_binding()),
+                (1, fg.frame_buffer.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, tiles.as_entire_binding()),
+                (5, fg.scene_gpu.shadow_indices.as_entire_binding()),
                 (6, slots.as_entire_binding()),
                 (7, self.culled.as_entire_binding()),
                 (8, self.args.as_entire_binding()),
+                (9, fg.scene_gpu.vertices.as_entire_binding()),
+                (10, self.kept_runs.as_entire_binding()),
+                (11, self.control.as_entire_binding()),
             ],
-            Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
+            Dispatch::Indirect(&self.dispatch),
         );
     }
 

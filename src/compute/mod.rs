@@ -75,6 +75,8 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("env_shadowmaps", "main", PIXEL_WORKGROUP),
     ("ssao", "main", PIXEL_WORKGROUP),
     ("cull", "main", LINE_WORKGROUP),
+    ("cull", "begin", [1, 1, 1]),
+    ("cull", "triangles", [cull::CULL_RUN, 1, 1]),
     ("weights", "leaves_of_level", LINE_WORKGROUP),
     ("weights", "main", [1, 1, 1]),
     ("hybrid_build", "classify", PIXEL_WORKGROUP),

@@ -2,6 +2,7 @@
 
 pub mod barycentrics;
 pub mod gbuffer;
+pub mod shadow_order;
 pub mod shadow_raster;
 
 use crate::gpu::GpuContext;
@@ -12,6 +13,11 @@ use wgpu::util::DeviceExt;
 pub struct SceneGpu {
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
+    /// The same triangles in the shadow raster's order (`shadow_order`): what shadow maps draw and
+    /// the cull pass reads.
+    pub shadow_indices: wgpu::Buffer,
+    /// `shadow_indices` on the CPU (the cull pass's runs are built from it).
+    pub shadow_order: Vec<u32>,
     pub index_count: u32,
 }
 
@@ -28,7 +34,14 @@ impl SceneGpu {
             contents: bytemuck::cast_slice(&scene.indices),
             usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
         });
-        Self { vertices, indices, index_count: scene.indices.len() as u32 }
+        let positions: Vec<glam::Vec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let shadow_order = shadow_order::shadow_order(&positions, &scene.indices);
+        let shadow_indices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene shadow indices"),
+            contents: bytemuck::cast_slice(&shadow_order),
+            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
+        });
+        Self { vertices, indices, shadow_indices, shadow_order, index_count: scene.indices.len() as u32 }
     }
 }
 

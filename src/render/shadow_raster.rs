@@ -145,7 +145,7 @@ impl ShadowRasterPass {
         let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
         for job in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
-            pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.set_index_buffer(scene.shadow_indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..scene.index_count, 0, job.sample..job.sample + 1);
         }
     }

@@ -1,37 +1,75 @@
-//! Twin of `kernels/cull.wgsl`: the runs of triangles each slot keeps, same operation order, and
-//! the per-run bounds and normal cones the kernel reads.
+//! Twin of `kernels/cull.wgsl`: the triangles each slot keeps, same operation order, and the
+//! per-run bounds and normal cones the kernel reads.
 
+use super::shadow::{shadow_compare, ShadowLookup, LOOKUP_COMPARE};
 use crate::compute::buffers::{CULL_TILES, CULL_TILE_WORDS};
 use crate::compute::cull::{runs, CULL_RUN};
 use crate::layout::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-/// Texels of slack around a box (CULL_MARGIN in the kernel).
-pub const CULL_MARGIN: f32 = 2.0;
+/// Texels of slack around projected bounds, stored-depth slack below their least depth, and the
+/// most tiles scanned (CULL_MARGIN, CULL_DEPTH_SLACK and CULL_SCAN_TILES in the kernel, which
+/// says why).
+pub const CULL_MARGIN: f32 = 0.0625;
+pub const CULL_DEPTH_SLACK: f32 = 1.52587890625e-5;
+pub const CULL_SCAN_TILES: u32 = 256;
 
-/// Whether the texel box [lo, hi], widened by CULL_MARGIN, touches a marked tile in `tiles`
-/// (one sample's CULL_TILE_WORDS).
-fn touches(frame: &GpuFrame, tiles: &[u32], lo: Vec2, hi: Vec2) -> bool {
-    let size = frame.map_size as f32;
-    let (a, b) = (lo - CULL_MARGIN, hi + CULL_MARGIN);
-    if b.x < 0.0 || b.y < 0.0 || a.x >= size || a.y >= size {
+/// Projected bounds: texel box, least stored depth, and whether a point lies at or behind the
+/// sample's plane.
+struct Bounds {
+    lo: Vec2,
+    hi: Vec2,
+    z: f32,
+    behind: bool,
+}
+
+impl Bounds {
+    fn new() -> Self {
+        Self { lo: Vec2::splat(3.0e38), hi: Vec2::splat(-3.0e38), z: 3.0e38, behind: false }
+    }
+
+    fn add(&mut self, frame: &GpuFrame, m: &Mat4, p: Vec3) {
+        let clip = *m * p.extend(1.0);
+        if clip.w <= 0.0 {
+            self.behind = true;
+            return;
+        }
+        let size = frame.map_size as f32;
+        let t = Vec2::new((clip.x / clip.w * 0.5 + 0.5) * size, (0.5 - clip.y / clip.w * 0.5) * size);
+        self.lo = self.lo.min(t);
+        self.hi = self.hi.max(t);
+        self.z = self.z.min(clip.z / clip.w);
+    }
+}
+
+/// Whether geometry within `b` can shadow a tested pixel: a texel centre near its box lies in a
+/// tile of `tiles` (one sample's CULL_TILE_WORDS) whose largest tested limit its depth shadows.
+fn reaches(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], b: &Bounds) -> bool {
+    if b.behind {
+        return true;
+    }
+    let last = (frame.map_size - 1) as f32;
+    let (a, c) = ((b.lo - CULL_MARGIN - 0.5).ceil(), (b.hi + CULL_MARGIN - 0.5).floor());
+    if c.x < 0.0 || c.y < 0.0 || a.x > last || a.y > last || a.x > c.x || a.y > c.y {
         return false;
     }
-    let tile = size / CULL_TILES as f32;
-    let last = (CULL_TILES - 1) as f32;
-    let t0 = (a / tile).floor().clamp(Vec2::ZERO, Vec2::splat(last));
-    let t1 = (b / tile).floor().clamp(Vec2::ZERO, Vec2::splat(last));
-    for y in t0.y as u32..=t1.y as u32 {
-        for x in t0.x as u32..=t1.x as u32 {
-            let bit = y * CULL_TILES + x;
-            if (tiles[(bit / 32) as usize] >> (bit % 32)) & 1 == 1 {
+    let tile = |v: f32| v.clamp(0.0, last) as u32 * CULL_TILES / frame.map_size;
+    let (x0, x1, y0, y1) = (tile(a.x), tile(c.x), tile(a.y), tile(c.y));
+    if (x1 - x0 + 1) * (y1 - y0 + 1) > CULL_SCAN_TILES {
+        return true;
+    }
+    let z_lo = b.z - CULL_DEPTH_SLACK;
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            let limit = tiles[(y * CULL_TILES + x) as usize];
+            let nearest = ShadowLookup { texel: [0, 0], kind: LOOKUP_COMPARE, depth_limit: f32::from_bits(limit) };
+            if limit != 0 && shadow_compare(s, &nearest, z_lo) == 0 {
                 return true;
             }
         }
     }
     false
 }
-
 
 fn faces_away(eye: Vec3, lo: Vec4, hi: Vec4, axis: Vec4) -> bool {
     if axis.w != 1.0 {
@@ -55,24 +93,25 @@ fn run_keeps(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], runs: &[[f32; 4]], 
         return false;
     }
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
-    let size = frame.map_size as f32;
-    let (mut a, mut b) = (Vec2::splat(3.0e38), Vec2::splat(-3.0e38));
+    let mut b = Bounds::new();
     for c in 0..8u32 {
-        let p = Vec3::new(if c & 1 != 0 { hi.x } else { lo.x }, if c & 2 != 0 { hi.y } else { lo.y }, if c & 4 != 0 { hi.z } else { lo.z });
-        let clip = m * p.extend(1.0);
-        if clip.w <= 0.0 {
-            return true;
-        }
-        let t = Vec2::new((clip.x / clip.w * 0.5 + 0.5) * size, (0.5 - clip.y / clip.w * 0.5) * size);
-        a = a.min(t);
-        b = b.max(t);
+        b.add(frame, &m, Vec3::new(if c & 1 != 0 { hi.x } else { lo.x }, if c & 2 != 0 { hi.y } else { lo.y }, if c & 4 != 0 { hi.z } else { lo.z }));
     }
-    touches(frame, tiles, a, b)
+    reaches(frame, s, tiles, &b)
 }
 
-/// For each slot's lattice sample `ks[slot]`, the kept triangle indices in ascending order (the
-/// kernel appends runs in any order; the set is what must match). `tiles` holds CULL_TILE_WORDS
-/// per lattice sample.
+fn triangle_keeps(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], positions: &[Vec3], indices: &[u32], t: usize) -> bool {
+    let m = Mat4::from_cols_array_2d(&s.light_from_world);
+    let mut b = Bounds::new();
+    for j in 0..3 {
+        b.add(frame, &m, positions[indices[t * 3 + j] as usize]);
+    }
+    reaches(frame, s, tiles, &b)
+}
+
+/// For each slot's lattice sample `ks[slot]`, the kept triangles (their places in `indices`, the
+/// shadow raster's order) ascending: the kernel appends them in any order; the set is what must
+/// match. `tiles` holds CULL_TILE_WORDS per lattice sample.
 pub fn cull(frame: &GpuFrame, samples: &[GpuSample], tiles: &[u32], positions: &[Vec3], indices: &[u32], ks: &[u32], cull_face: u32) -> Vec<Vec<u32>> {
     let runs = runs(positions, indices);
     let (run, triangles) = (CULL_RUN as usize, indices.len() / 3);
@@ -83,7 +122,9 @@ pub fn cull(frame: &GpuFrame, samples: &[GpuSample], tiles: &[u32], positions: &
             let s = &samples[k as usize];
             (0..triangles.div_ceil(run))
                 .filter(|&r| run_keeps(frame, s, mine, &runs, r, cull_face))
-                .flat_map(|r| (r * run..((r + 1) * run).min(triangles)).map(|t| t as u32))
+                .flat_map(|r| r * run..((r + 1) * run).min(triangles))
+                .filter(|&t| triangle_keeps(frame, s, mine, positions, indices, t))
+                .map(|t| t as u32)
                 .collect()
         })
         .collect()

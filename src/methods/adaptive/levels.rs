@@ -36,7 +36,7 @@ pub struct LevelReport {
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
     pub rects: Vec<[u32; 4]>,
     /// scope = local with culling: indices kept per lattice sample so far (0 where never culled),
-    /// and this level's culling tiles (CULL_TILE_WORDS per lattice sample).
+    /// and, with pictures, this level's culling tiles (CULL_TILE_WORDS per lattice sample).
     pub triangles: Vec<u32>,
     pub tiles: Vec<u32>,
     /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
@@ -97,7 +97,9 @@ pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kep
     ];
     if let Some(kept) = kept.filter(|_| r.kept) {
         parts.push((kept, lattice));
-        parts.push((&b.tiles, lattice * CULL_TILE_WORDS as u64));
+        if r.pictures {
+            parts.push((&b.tiles, lattice * CULL_TILE_WORDS as u64));
+        }
     }
     if r.pictures {
         parts.push((&b.counts, b.counts_bytes_per_quad() * if r.capture { r.n } else { 1 }));
@@ -170,7 +172,8 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     let split_base = take(QUAD_CAPACITY as u64 * 4);
     let rects_raw = take(lattice * 4);
     let item_total = take(4)[0];
-    let (triangles, tiles) = if r.kept { (take(lattice), take(tile_bytes)) } else { (vec![0; LATTICE_POINTS as usize], Vec::new()) };
+    let triangles = if r.kept { take(lattice) } else { vec![0; LATTICE_POINTS as usize] };
+    let tiles = if r.kept && r.pictures { take(tile_bytes) } else { Vec::new() };
     let (counts, word_state, flags) = if r.pictures {
         let mut counts = take(counts_len);
         let word_state = take(b.counts_bytes_per_quad());

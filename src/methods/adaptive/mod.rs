@@ -15,7 +15,7 @@ pub use weights::sample_weights;
 use super::hybrid_maps::{self, HybridMaps};
 use super::params::SplitRule;
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
-use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
+use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
 use crate::compute::{
     compact::Compact, cull::Cull, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
@@ -265,6 +265,15 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         })?;
     }
 
+    if cull.is_some() {
+        // Every pixel tests the corners: each of their tiles takes an infinite limit, so their cull
+        // drops only what can change no texel (triangles that cover no texel centre, back faces).
+        let every = vec![f32::INFINITY.to_bits(); CULL_TILE_WORDS as usize];
+        for k in corners {
+            ctx.queue.write_buffer(&b.tiles, k as u64 * CULL_TILE_WORDS as u64 * 4, bytemuck::cast_slice(&every));
+        }
+    }
+
     let mut trace = AdaptiveTrace::default();
     let mut new: Vec<u32> = corners.to_vec();
     let mut quad_count = 1u32;
@@ -275,9 +284,8 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         let cur = (level % 2) as usize;
         let nxt = 1 - cur;
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
-        // Level 0's corners precede every rectangle: they rasterize the whole mesh.
-        let culling = cull.filter(|_| level > 0);
-        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), culling, local, &passes, &mut trace, capture)?;
+        // Level 0's corners precede every rectangle: no scissor.
+        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), cull, local, &passes, &mut trace, capture)?;
 
         // Under scope = global the counts only feed the split rule: a rule that cannot depend on them
         // (always, never) and the last level (nothing splits) skip the count stages.
@@ -361,9 +369,11 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             if grow_rects {
                 let init: Vec<[u32; 4]> = vec![[u32::MAX, u32::MAX, 0, 0]; LATTICE_POINTS as usize];
                 ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
-                ctx.queue.write_buffer(&b.tiles, 0, &vec![0u8; b.tiles.size() as usize]);
             }
             timer.stage(ctx, "compact", |enc| {
+                if cull.is_some() {
+                    enc.clear_buffer(&b.tiles, 0, None);
+                }
                 passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt], grow_rects);
                 Ok(())
             })?;

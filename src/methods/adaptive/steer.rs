@@ -172,7 +172,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                     }
                     jobs.push((RasterJob { sample: k, layer: samples[k as usize].layer, scissor: None }, at));
                 }
-                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &fg.scene_gpu.indices, &steer.raster_args);
+                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &fg.scene_gpu.shadow_indices, &steer.raster_args);
                 Ok(())
             })?;
             timer.stage(ctx, "shadow_test", |enc| {
