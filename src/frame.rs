@@ -68,13 +68,7 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
     }
 }
 
-pub fn camera_uniform(scene: &Scene) -> GpuCamera {
-    let aspect = scene.render.width as f32 / scene.render.height as f32;
-    GpuCamera {
-        clip_from_world: scene.camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
-        eye: scene.camera.eye.extend(1.0).to_array(),
-    }
-}
+pub use crate::render::gbuffer::camera_uniform;
 
 /// One scene and one method, built once: every frame reuses the pipelines and buffers.
 pub struct Renderer<'a> {

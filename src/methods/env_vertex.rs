@@ -41,7 +41,7 @@ impl VertexStage {
         Ok(VertexStage {
             raster: BarycentricsPass::new(ctx)?,
             ids: BarycentricsPass::allocate(ctx, fg.gbuffer.width, fg.gbuffer.height),
-            camera: barycentrics::camera_buffer(ctx, &crate::frame::camera_uniform(fg.scene)),
+            camera: barycentrics::camera_buffer(ctx, &crate::render::gbuffer::camera_uniform(fg.scene)),
             trace: EnvTraceVertex::new(fg)?,
             interp: EnvVertexInterp::new(fg)?,
             vertex_count,

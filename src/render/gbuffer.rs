@@ -156,3 +156,12 @@ pub fn read_back(ctx: &GpuContext, g: &GBuffer) -> Result<GBufferCpu> {
         shading_normal: readback::read_texture(ctx, &g.shading_normal, 0, 16)?,
     })
 }
+
+/// The camera the G-buffer raster (and any pass that must match its pixels) draws with.
+pub fn camera_uniform(scene: &crate::scene::Scene) -> GpuCamera {
+    let aspect = scene.render.width as f32 / scene.render.height as f32;
+    GpuCamera {
+        clip_from_world: scene.camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
+        eye: scene.camera.eye.extend(1.0).to_array(),
+    }
+}
