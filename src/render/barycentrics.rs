@@ -52,18 +52,7 @@ impl BarycentricsPass {
     }
 
     pub fn allocate(ctx: &GpuContext, width: u32, height: u32) -> TriangleIds {
-        let make = |label, format, usage| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let make = |label, format, usage| super::gbuffer::screen_texture(ctx, label, width, height, format, usage);
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let texture = make("triangle ids", IDS_FORMAT, usage);
         let depth = make("triangle ids depth", wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);

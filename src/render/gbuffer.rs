@@ -92,18 +92,7 @@ impl GBufferPass {
                 ctx.summary.name
             )));
         }
-        let make = |label, format, usage| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let make = |label, format, usage| screen_texture(ctx, label, width, height, format, usage);
         let color = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let position = make("gbuffer position", POSITION_FORMAT, color);
         let normal = make("gbuffer normal", POSITION_FORMAT, color);
@@ -164,4 +153,18 @@ pub fn camera_uniform(scene: &crate::scene::Scene) -> GpuCamera {
         clip_from_world: scene.camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
         eye: scene.camera.eye.extend(1.0).to_array(),
     }
+}
+
+/// One screen-sized 2D texture (the G-buffer's attachments, and passes that must match its pixels).
+pub fn screen_texture(ctx: &GpuContext, label: &str, width: u32, height: u32, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
