@@ -44,6 +44,9 @@ pub struct FrameResult {
     pub stages_ms: BTreeMap<String, f64>,
     pub total_ms: f64,
     pub timing_waits: u32,
+    /// How the frame was timed: `stages_ms` holds every stage only in stages mode; in frame mode
+    /// it holds the frame's waits.
+    pub timing: TimingMode,
     /// GPU timestamps per stage, where the adapter's are trusted; None otherwise.
     pub gpu_stages_ms: Option<BTreeMap<String, f64>>,
 }
@@ -160,7 +163,7 @@ impl<'a> Renderer<'a> {
         stages_ms.insert("setup".into(), setup_ms);
         stages_ms.extend(build_stages);
         let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
-        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, gpu_stages_ms })
+        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms })
     }
 }
 

@@ -335,6 +335,10 @@ struct RenderArgs {
     /// `stages`: wait after each stage to time it; `frame`: only the waits the method needs.
     #[arg(long, default_value = "stages", value_parser = ["stages", "frame"])]
     timing: String,
+    /// Untimed frames first, on the same renderer: a device that compiles shaders at first use
+    /// (lavapipe) would otherwise charge the compile to the stages. 0 times the very first frame.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=100))]
+    warm_up: u32,
 }
 
 fn main() {
@@ -573,11 +577,15 @@ fn render(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     let method = Method::parse(&args.method, &method_sets)?;
     let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
     let ctx = GpuContext::with_request(gpu)?;
-    let result = frame::render(&ctx, &scene, &method, mode)?;
-    let files = output::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted)?;
+    let mut renderer = frame::Renderer::new(&ctx, &scene, &method)?;
+    for _ in 0..args.warm_up {
+        renderer.frame(TimingMode::Frame)?;
+    }
+    let result = renderer.frame(mode)?;
+    let files = output::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up)?;
     output::write_files(&args.out, &files)?;
     println!(
-        "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {})",
+        "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {}, after {} warm-up frame{})",
         args.out.display(),
         method.label(),
         scene.name,
@@ -585,7 +593,9 @@ fn render(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
         scene.render.height,
         result.output.shadow_maps,
         result.total_ms,
-        ctx.summary.name
+        ctx.summary.name,
+        args.warm_up,
+        if args.warm_up == 1 { "" } else { "s" }
     );
     for (name, _) in &files {
         println!("  {}", args.out.join(name).display());

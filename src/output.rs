@@ -10,6 +10,7 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 use glam::Vec3;
 use image::{ImageBuffer, Luma, Rgb, Rgb32FImage, RgbImage};
+use std::collections::BTreeMap;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
@@ -82,6 +83,7 @@ pub fn version() -> serde_json::Value {
 /// The run record (run.json).
 pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, timestamps_trusted: bool) -> serde_json::Value {
     let geometry = r.gbuffer.geometry_count();
+    let staged = r.timing == crate::timing::TimingMode::Stages;
     serde_json::json!({
         "scene": scene.name,
         "scene_origin": scene.origin,
@@ -98,17 +100,18 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "syncs": r.output.syncs,
         "timing_waits": r.timing_waits,
         "clock": "wall clock (submit → device poll wait), milliseconds",
+        "timing": r.timing,
         "stages_ms": r.stages_ms,
         // GPU timestamps are recorded only on real GPUs; on CPU adapters they are not trustworthy.
         // GPU timestamps only where trusted: on CPU adapters they report ~0.1 ms for ~1 s dispatches.
         "gpu_stages_ms": if timestamps_trusted { serde_json::to_value(&r.gpu_stages_ms).unwrap_or_default() } else { serde_json::Value::Null },
         "gpu_clock": if timestamps_trusted { "GPU timestamps around each stage's commands, milliseconds" } else { "none: timestamps are not trustworthy on a CPU adapter" },
         "total_ms": r.total_ms,
-        // raster / decision / shade / waits (crate::timing::split_of); from per-stage wall times, so
-        // meaningful with --timing stages.
-        "frame_split_ms": crate::timing::frame_split(&r.stages_ms),
-        "decision_stages_ms": decision_ms(r),
-        "decision_share": if r.total_ms > 0.0 { decision_ms(r) / r.total_ms } else { 0.0 },
+        // raster / decision / shade / waits (crate::timing::split_of) need per-stage wall times: a
+        // frame-mode frame has only its waits, so it gets no split (null) rather than a false one.
+        "frame_split_ms": staged.then(|| crate::timing::frame_split(&r.stages_ms)),
+        "decision_stages_ms": staged.then(|| decision_ms(&r.stages_ms)),
+        "decision_share": staged.then(|| if r.total_ms > 0.0 { decision_ms(&r.stages_ms) / r.total_ms } else { 0.0 }),
         "method_record": r.output.record,
         "mean_visibility": mean(&r.visibility, &r.gbuffer),
         "version": version(),
@@ -120,8 +123,32 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
 /// `--timing stages`.
 pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "weights", "readback_level"];
 
-pub fn decision_ms(r: &FrameResult) -> f64 {
-    DECISION_STAGES.iter().filter_map(|k| r.stages_ms.get(*k)).sum()
+pub fn decision_ms(stages_ms: &BTreeMap<String, f64>) -> f64 {
+    DECISION_STAGES.iter().filter_map(|k| stages_ms.get(*k)).sum()
+}
+
+/// run.json of a measured method (compare, sweep): its last timed frame's record, with the
+/// timing of the whole measurement. A timed frame runs in frame mode and knows only its waits, so
+/// the stages, the split and the decision share come from the method's stages-mode frame, and
+/// the share is over that frame's stages; `total_ms` is the timed frames' median.
+pub fn measured_record(mut record: serde_json::Value, t: &crate::record::measure::Timing) -> serde_json::Value {
+    let staged: f64 = t.stages_ms.values().sum();
+    let decision = decision_ms(&t.stages_ms);
+    let fields = serde_json::json!({
+        "timing": "median of the frame-mode frames; stages from one stages-mode frame",
+        "total_ms": t.median_ms,
+        "total_ms_min": t.min_ms,
+        "total_ms_max": t.max_ms,
+        "totals_ms": t.totals_ms,
+        "stages_ms": t.stages_ms,
+        "frame_split_ms": crate::timing::frame_split(&t.stages_ms),
+        "decision_stages_ms": decision,
+        "decision_share": if staged > 0.0 { decision / staged } else { 0.0 },
+    });
+    if let (Some(out), serde_json::Value::Object(add)) = (record.as_object_mut(), fields) {
+        out.extend(add);
+    }
+    record
 }
 
 fn mean(v: &[f32], g: &GBufferCpu) -> f64 {
@@ -136,7 +163,9 @@ fn mean(v: &[f32], g: &GBufferCpu) -> f64 {
 }
 
 /// Encodes the standard files of one run.
-pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, ts: bool) -> Result<Vec<(String, Vec<u8>)>> {
+/// `warm_up_frames`: untimed frames that ran before `r` on the same renderer (its `setup` then
+/// holds no build).
+pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, ts: bool, warm_up_frames: u32) -> Result<Vec<(String, Vec<u8>)>> {
     let (w, h) = (scene.render.width, scene.render.height);
     let mut files = vec![
         ("visibility.png".to_string(), visibility_png(&r.visibility, w, h)?),
@@ -146,7 +175,8 @@ pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Adap
     for (name, img) in &r.output.pictures {
         files.push((name.clone(), png(img)?));
     }
-    let record = run_record(scene, method, r, adapter, ts);
+    let mut record = run_record(scene, method, r, adapter, ts);
+    record["warm_up_frames"] = warm_up_frames.into();
     let json = serde_json::to_vec_pretty(&record).map_err(|e| Error::Io { path: "run.json".into(), message: e.to_string() })?;
     files.push(("run.json".to_string(), json));
     Ok(files)

@@ -305,4 +305,14 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     assert!(sum <= r.total_ms + 1.0, "split {sum} ms over the frame's {} ms", r.total_ms);
     assert_eq!(rec["method_record"]["triangles_per_map_mean"].as_f64(), Some(scene.triangle_count() as f64));
     assert_eq!(rec["method_record"]["syncs"], 0);
+    assert_eq!(rec["timing"], "stages");
+    assert!(rec["decision_share"].as_f64().unwrap() > 0.0, "{}", rec["decision_share"]);
+    // A frame-mode frame times only its waits: no split or share is claimed from them.
+    let f = frame::render(&ctx, &scene, &method, TimingMode::Frame).unwrap();
+    let rec = penumbra::output::run_record(&scene, &method, &f, &ctx.summary, false);
+    assert_eq!(rec["timing"], "frame");
+    for key in ["frame_split_ms", "decision_stages_ms", "decision_share"] {
+        assert!(rec[key].is_null(), "{key} of a frame-mode frame: {}", rec[key]);
+    }
+    assert_eq!(f.visibility, r.visibility, "the timing mode changed V");
 }

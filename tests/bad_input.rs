@@ -266,3 +266,14 @@ fn hybrid_study_flags_are_checked() {
         assert!(!out_dir.exists(), "no output on bad input");
     }
 }
+
+#[test]
+fn warm_up_out_of_range_is_refused_naming_the_flag() {
+    let dir = temp_dir("warm-up");
+    let out_dir = dir.join("out");
+    let out = penumbra(&["render", "--warm-up", "1000", "--out", out_dir.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("'1000'") && stderr.contains("--warm-up") && stderr.contains("0..=100"), "{stderr}");
+    assert!(!out_dir.exists(), "no output on bad input");
+}

@@ -69,6 +69,24 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
             assert!(out.join(path.as_str().unwrap()).is_file(), "missing {path}");
         }
     }
+    // Each method's run.json carries the measurement's timing, not its last (frame-mode) frame's
+    // waits: the row's median and stages, and a split and decision share over those stages.
+    for (r, slug) in rows.iter().zip(["hard", "regular_n_3", "adaptive_p_m_0"]) {
+        let path = out.join(format!("images/{slug}/run.json"));
+        let run: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+        assert_eq!(run["total_ms"], r["total_ms"], "{}", path.display());
+        assert_eq!(run["stages_ms"], r["stages_ms"], "{}", path.display());
+        let split: f64 = run["frame_split_ms"].as_object().unwrap().values().map(|v| v.as_f64().unwrap()).sum();
+        let stages: f64 = r["stages_ms"].as_object().unwrap().values().map(|v| v.as_f64().unwrap()).sum();
+        assert!((split - stages).abs() < 1e-6, "{}: split {split} ms, stages {stages} ms", path.display());
+        let share = run["decision_share"].as_f64().unwrap();
+        let decision = ["reproject_count", "neighbourhood", "quad_count", "subdivide", "readback_level"]
+            .iter()
+            .filter_map(|k| r["stages_ms"][*k].as_f64())
+            .sum::<f64>();
+        assert!((share - decision / stages).abs() < 1e-9, "{}: share {share}", path.display());
+        assert_eq!(share > 0.0, slug.starts_with("adaptive"), "{}: share {share}", path.display());
+    }
     assert_eq!(rows[0]["shadow_maps"], 1);
     assert_eq!(rows[1]["shadow_maps"], 9);
     // More light samples, less error than one hard shadow.

@@ -86,6 +86,9 @@ fn a_render_replaces_an_earlier_adaptive_runs_pictures() {
     assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
     let record: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
     assert_eq!((record["method"].as_str(), record["params"]["n"].as_u64()), (Some("regular"), Some(3)), "{record}");
+    // The timed frame follows a warm-up on the same renderer, so no build is charged to it.
+    assert_eq!(record["warm_up_frames"], 1, "{record}");
+    assert!(record["stages_ms"]["shade"].as_f64().unwrap() > 0.0 && record["stages_ms"].get("build").is_none(), "{record}");
 }
 
 #[test]

@@ -74,7 +74,7 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
     let slugs = crate::report::unique_slugs(labels.iter().map(String::as_str));
     let bar = crate::progress::bar(measure::frame_count(job.methods.len(), job.repeats), "frames");
     // Each method's last frame is judged and pictured as it arrives, then dropped.
-    let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| -> Result<(crate::metrics::Metrics, BTreeMap<String, String>, Vec<(String, Vec<u8>)>)> {
+    let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| -> Result<(crate::metrics::Metrics, BTreeMap<String, String>, Vec<(String, Vec<u8>)>, serde_json::Value)> {
         let method = &job.methods[i];
         let judged = judge.judge(scene, &method.label(), f)?;
         let abs = abs_error_image(&f.visibility, &judge.reference, &judge.mask, w, h, ERROR_SCALE)?;
@@ -95,9 +95,9 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         images.insert("reference".into(), "reference_shaded.png".into());
         // The float image too, as `render` writes it, so every method's V can be read back exactly.
         own.push((format!("{dir}/visibility.exr"), output::visibility_exr(&f.visibility, w, h)?));
+        // run.json waits for the measurement's timing (below): this frame only knows its waits.
         let record = output::run_record(scene, method, f, &ctx.summary, ctx.timestamps_trusted);
-        own.push((format!("{dir}/run.json"), json_bytes(&record, "run.json")?));
-        Ok((judged.metrics, images, own))
+        Ok((judged.metrics, images, own, record))
     };
     let mut on_frame = |m: &Method, phase: Phase, _: &crate::frame::FrameResult| {
         bar.set_message(format!("{} {phase}", m.label()));
@@ -114,9 +114,11 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         repeats: job.repeats,
     };
     let mut rows = Vec::new();
-    for ((method, m), provenance) in job.methods.iter().zip(measured).zip(&job.provenance) {
-        let (metrics, images, own) = m.judged;
+    for (((method, m), provenance), slug) in job.methods.iter().zip(measured).zip(&job.provenance).zip(&slugs) {
+        let (metrics, images, own, record) = m.judged;
         files.extend(own);
+        let record = output::measured_record(record, &m.timing);
+        files.push((format!("images/{slug}/run.json"), json_bytes(&record, "run.json")?));
         let row = record::row(&info, method, &m.timing, metrics, images, provenance.clone());
         log(&format!(
             "{}: {} shadow maps, median {:.1} ms (min {:.1}, max {:.1}), RMSE {:.4}",
