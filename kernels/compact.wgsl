@@ -28,13 +28,19 @@
 fn grow_rect(k: u32, position: vec3<f32>, normal: vec3<f32>) {
     let lookup = shadow_lookup(frame, samples[k], position, normal);
     if (lookup.kind == LOOKUP_COMPARE) {
-        atomicMin(&rects[k * 4u], u32(lookup.texel.x));
-        atomicMin(&rects[k * 4u + 1u], u32(lookup.texel.y));
-        atomicMax(&rects[k * 4u + 2u], u32(lookup.texel.x));
-        atomicMax(&rects[k * 4u + 3u], u32(lookup.texel.y));
+        // Most items land inside what earlier items already grew: a plain load first, so only the
+        // few that grow a bound pay for an atomic (the bounds only grow, so the result is the same).
+        let t = vec2<u32>(lookup.texel);
+        let r = k * 4u;
+        if (t.x < atomicLoad(&rects[r])) { atomicMin(&rects[r], t.x); }
+        if (t.y < atomicLoad(&rects[r + 1u])) { atomicMin(&rects[r + 1u], t.y); }
+        if (t.x > atomicLoad(&rects[r + 2u])) { atomicMax(&rects[r + 2u], t.x); }
+        if (t.y > atomicLoad(&rects[r + 3u])) { atomicMax(&rects[r + 3u], t.y); }
         // Positive floats order as their bits. A limit <= 0 is lit whatever the map holds.
-        if (lookup.depth_limit > 0.0) {
-            atomicMax(&tiles[k * CULL_TILE_WORDS + cull_tile(lookup.texel, frame.map_size)], bitcast<u32>(lookup.depth_limit));
+        let limit = bitcast<u32>(lookup.depth_limit);
+        let tile = k * CULL_TILE_WORDS + cull_tile(lookup.texel, frame.map_size);
+        if (lookup.depth_limit > 0.0 && limit > atomicLoad(&tiles[tile])) {
+            atomicMax(&tiles[tile], limit);
         }
     }
 }
@@ -131,14 +137,17 @@ fn compact_item(index: u32, lid: u32, grow: bool) {
             let pixel = vec2<i32>(i32(p % frame.width), i32(p / frame.width));
             let position = textureLoad(gbuffer_position, pixel, 0).xyz;
             let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
-            // the children's corners: the parent's 4 corners and its 5 new points
+            // Only the split's 5 new points: the next level renders nothing else, and the parent's
+            // 4 corners were rendered already (rects and tiles serve maps still to be rendered).
             let q = next_quads[base];
             let h = q.size;
-            for (var dj = 0u; dj <= 2u; dj = dj + 1u) {
-                for (var di = 0u; di <= 2u; di = di + 1u) {
-                    grow_rect((q.j + dj * h) * LATTICE_SIDE + q.i + di * h, position, normal);
-                }
-            }
+            let row = h * LATTICE_SIDE;
+            let k = q.j * LATTICE_SIDE + q.i;
+            grow_rect(k + h, position, normal);
+            grow_rect(k + row, position, normal);
+            grow_rect(k + row + h, position, normal);
+            grow_rect(k + row + 2u * h, position, normal);
+            grow_rect(k + 2u * row + h, position, normal);
         }
     } else {
         atomicAdd(&visibility_fixed[p], c << (2u * (level.max_level - level.level)));

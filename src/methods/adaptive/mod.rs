@@ -371,8 +371,14 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
             }
             timer.stage(ctx, "compact", |enc| {
-                if cull.is_some() {
-                    enc.clear_buffer(&b.tiles, 0, None);
+                // compact grows the tiles of the next level's new samples only, all of them among
+                // its candidates: clear those (a twentieth to three quarters of the 289 samples'
+                // tiles). The last level splits nothing and grows no tile.
+                if cull.is_some() && level < p.max_level {
+                    let bytes = CULL_TILE_WORDS as u64 * 4;
+                    for k in steer::candidates(level + 1) {
+                        enc.clear_buffer(&b.tiles, k as u64 * bytes, Some(bytes));
+                    }
                 }
                 passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt], grow_rects);
                 Ok(())
