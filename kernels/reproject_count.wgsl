@@ -2,7 +2,8 @@
 // stored as c + 1 in one byte per pixel (4 per word) of q's comparison map.
 //  main: every pixel x every active quad, from the cached lattice masks (scope = global);
 //  list: the compacted (pixel, quad) items only (scope = local), from the lattice masks that
-//  shadow_test `list` has just filled with each item's corner samples; begin starts its level.
+//  shadow_test `list` has just filled with each item's corner samples; begin starts its level;
+//  last: the last level's items, whose counts add to V at once (nothing splits there).
 // At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §6):
 // level 0 has one quad, which every geometry pixel meets exactly once.
 
@@ -15,6 +16,8 @@
 
 @group(0) @binding(10) var<storage, read> items: array<vec2<u32>>;
 @group(0) @binding(11) var<storage, read_write> counts_atomic: array<atomic<u32>>;
+// last: V's exact integer sums (compact.wgsl), to which each item adds its quad's uniform share.
+@group(0) @binding(12) var<storage, read_write> visibility_fixed: array<atomic<u32>>;
 @group(0) @binding(13) var<storage, read_write> item_total: array<u32>;
 @group(0) @binding(14) var<storage, read_write> control: GpuControl;
 // begin: the indirect dispatch size of the level's item passes (list, neighbourhood, compact).
@@ -114,19 +117,41 @@ fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     add_geometry(select(0u, 1u, valid), lid);
 }
 
-fn count_item(index: u32) {
-    let item = items[index];
-    let p = item.x;
+// c_q(p) of one item: its quad's corner bits in the pixel's lattice mask.
+fn item_count(item: vec2<u32>) -> u32 {
     let q = quads[item.y];
     var c = 0u;
     for (var corner = 0u; corner < 4u; corner = corner + 1u) {
         let k = quad_corner(q, corner);
-        c = c + ((masks[p * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u);
+        c = c + ((masks[item.x * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u);
     }
+    return c;
+}
+
+fn count_item(index: u32) {
+    let item = items[index];
+    let p = item.x;
+    let c = item_count(item);
     let words = frame.height * level.words_per_row;
     let x = p % frame.width;
     let y = p / frame.width;
     atomicOr(&counts_atomic[item.y * words + y * level.words_per_row + x / 4u], (c + 1u) << ((x & 3u) * 8u));
+}
+
+// The last level (scope = local): no quad splits there, so no comparison map, neighbourhood or
+// compact is needed. Each item adds its quad's uniform share area(q)/area(light) * c/4 to p, as
+// compact's resolve does, kept as the integer c * 4^(max_level - level) (= c at max_level).
+@compute @workgroup_size(64, 1, 1)
+fn last(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let valid = gid.x < item_total[0];
+    if (valid) {
+        let item = items[gid.x];
+        let c = item_count(item);
+        if (c != 0u) {
+            atomicAdd(&visibility_fixed[item.x], c << (2u * (level.max_level - level.level)));
+        }
+    }
+    add_geometry(select(0u, 1u, valid), lid);
 }
 
 // Starts a level (scope = local): the items compact and probe appended become this level's work

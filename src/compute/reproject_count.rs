@@ -9,6 +9,7 @@ use crate::Result;
 pub struct ReprojectCount {
     dense: ComputeKernel,
     list: ComputeKernel,
+    last: ComputeKernel,
     begin: ComputeKernel,
 }
 
@@ -17,6 +18,7 @@ impl ReprojectCount {
         Ok(Self {
             dense: ComputeKernel::new(fg.ctx, "reproject_count", "main")?,
             list: ComputeKernel::new(fg.ctx, "reproject_count", "list")?,
+            last: ComputeKernel::new(fg.ctx, "reproject_count", "last")?,
             begin: ComputeKernel::new(fg.ctx, "reproject_count", "begin")?,
         })
     }
@@ -73,6 +75,24 @@ impl ReprojectCount {
                 (3, b.masks.as_entire_binding()),
                 (10, items.as_entire_binding()),
                 (11, b.counts.as_entire_binding()),
+                (13, b.item_total.as_entire_binding()),
+                (14, b.control.as_entire_binding()),
+            ],
+            Dispatch::Indirect(&b.list_args),
+        );
+    }
+
+    /// The last level's items (scope = local): counts go straight into V's integer sums.
+    pub fn record_last(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, items: &wgpu::Buffer) {
+        self.last.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (1, level.as_entire_binding()),
+                (2, quads.as_entire_binding()),
+                (3, b.masks.as_entire_binding()),
+                (10, items.as_entire_binding()),
+                (12, b.visibility_fixed.as_entire_binding()),
                 (13, b.item_total.as_entire_binding()),
                 (14, b.control.as_entire_binding()),
             ],

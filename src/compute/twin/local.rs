@@ -1,6 +1,6 @@
 //! Twin of the whole scope = local pipeline (shadow_test `probes`, probe, shadow_test `list`,
-//! reproject_count `list`, neighbourhood `list`, quad_count, subdivide, compact): per-pixel
-//! adaptive quadrature in exact integers.
+//! reproject_count `list`, neighbourhood `list`, quad_count, subdivide, compact; at the last level
+//! reproject_count `last`): per-pixel adaptive quadrature in exact integers.
 
 use super::neighbourhood::{low_quality, Screen};
 use super::shadow_test::{LocalTest, Maps};
@@ -58,6 +58,15 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
             }
         }
         lookups += test.list(&quads, &items);
+        if level == max_level {
+            // reproject_count `last`: nothing splits, so each item adds its count to V at once.
+            for &(p, q) in &items {
+                let c: u32 = (0..4).map(|corner| test.bit(p, quad_corner(&quads[q as usize], corner))).sum();
+                out.visibility_fixed[p as usize] += c;
+            }
+            out.push_level(&items, 0, &quads, Vec::new(), lookups, &test);
+            break;
+        }
         let mut counts = vec![0u32; quads.len() * words];
         for &(p, q) in &items {
             let c: u32 = (0..4).map(|corner| test.bit(p, quad_corner(&quads[q as usize], corner))).sum();
@@ -85,17 +94,8 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
                 out.visibility_fixed[p as usize] += c << (2 * (max_level - level));
             }
         }
-        out.items.push(items.len() as u32);
-        out.probes.push(next_probes.len() as u32);
+        out.push_level(&items, next_probes.len() as u32, &quads, sub.new_samples.clone(), lookups, &test);
         probes = next_probes;
-        let mut sorted = quads.clone();
-        sorted.iter_mut().for_each(|q| q.parent = 0);
-        sorted.sort();
-        out.quads.push(sorted);
-        out.new_samples.push(sub.new_samples.clone());
-        out.lookups.push(lookups);
-        out.consulted.push(test.consulted.clone());
-        out.masks.push(test.masks.clone());
         items = next;
         quads = sub.next_quads;
         if quads.is_empty() {
@@ -103,6 +103,22 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
         }
     }
     out
+}
+
+impl LocalOut {
+    /// One level's record, after it.
+    fn push_level(&mut self, items: &[(u32, u32)], probes: u32, quads: &[GpuQuad], new_samples: Vec<u32>, lookups: u32, test: &LocalTest) {
+        self.items.push(items.len() as u32);
+        self.probes.push(probes);
+        let mut sorted = quads.to_vec();
+        sorted.iter_mut().for_each(|q| q.parent = 0);
+        sorted.sort();
+        self.quads.push(sorted);
+        self.new_samples.push(new_samples);
+        self.lookups.push(lookups);
+        self.consulted.push(test.consulted.clone());
+        self.masks.push(test.masks.clone());
+    }
 }
 
 /// compact's halo: whether any 3x3 neighbour of `p` evaluated quad `q` and found it partly lit

@@ -291,6 +291,9 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         // (always, never) and the last level (nothing splits) skip the count stages.
         let counted = matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_));
         let evaluate = local || (level < p.max_level && counted);
+        // Under scope = local the last level splits nothing either: its items add their counts to V
+        // at once (reproject_count `last`), with no comparison map, neighbourhood or compact.
+        let last_local = local && level == p.max_level;
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
         if local {
             ctx.queue.write_buffer(&b.control, std::mem::offset_of!(GpuControl, lookups) as u64, &[0u8; 4]);
@@ -320,8 +323,10 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             timer.stage(ctx, "reproject_count", |enc| {
                 // The items compact (and probe) appended become this level's work.
                 passes.reproject_count.record_begin(fg, enc, &b, &lv);
-                // Only this level's quads: the buffers are sized for 256.
-                enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
+                // Only this level's quads: the buffers are sized for 256. The last level writes none.
+                if !last_local {
+                    enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
+                }
                 Ok(())
             })?;
             timer.stage(ctx, "shadow_test", |enc| {
@@ -329,15 +334,21 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 Ok(())
             })?;
             timer.stage(ctx, "reproject_count", |enc| {
-                passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items);
+                if last_local {
+                    passes.reproject_count.record_last(fg, enc, &b, &lv, &b.quads[cur], items);
+                } else {
+                    passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items);
+                }
                 Ok(())
             })?;
             // neighbourhood's list also counts each quad's low-quality pixels: no quad_count pass.
-            timer.stage(ctx, "neighbourhood", |enc| {
-                enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
-                passes.neighbourhood.record_list(fg, enc, &b, &lv, items);
-                Ok(())
-            })?;
+            if !last_local {
+                timer.stage(ctx, "neighbourhood", |enc| {
+                    enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
+                    passes.neighbourhood.record_list(fg, enc, &b, &lv, items);
+                    Ok(())
+                })?;
+            }
         } else if evaluate {
             // Dense: every pixel x every active quad, in batches that fit one comparison-map buffer.
             let single = quad_count <= b.count_quads;
@@ -365,7 +376,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             passes.subdivide.record(fg, enc, &b, &lv, &b.quads[cur], &b.quads[nxt]);
             Ok(())
         })?;
-        if local {
+        if local && !last_local {
             if grow_rects {
                 let init: Vec<[u32; 4]> = vec![[u32::MAX, u32::MAX, 0, 0]; LATTICE_POINTS as usize];
                 ctx.queue.write_buffer(&b.rects, 0, bytemuck::cast_slice(&init));
@@ -386,9 +397,11 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         }
         // The one read-back of this level.
         timer.flush(ctx);
-        let pictures = fg.pictures && evaluate && (local || quad_count <= b.count_quads);
+        // The local last level has no comparison maps or low-quality flags to report.
+        let flagged = evaluate && !last_local;
+        let pictures = fg.pictures && flagged && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
-        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], cull.map(|c| &c.1), pictures, evaluate, local, capture))?;
+        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], cull.map(|c| &c.1), pictures, flagged, local, capture))?;
         syncs += 1;
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
