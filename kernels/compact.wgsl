@@ -2,7 +2,7 @@
 // children (the quad split and p lay in its penumbra, 0 < c < 4, or beside a pixel that does), or becomes a probe (the quad
 // split but p's corners agree: probe.wgsl tests the new samples next level), or adds the quad's
 // uniform share area(q)/area(light) * c/4 to p, kept exactly as the integer c * 4^(max_level - level).
-//  seed: the level-0 items, one per geometry pixel; main: one item each; resolve: integer -> V.
+//  seed: the level-0 items, one per geometry pixel (it counts them too); main: one item each; resolve: integer -> V.
 // (reproject_count `begin` makes the appended items a level's work.)
 // With scissor or cull on (main_rects), every child corner's shadow-map texel rectangle grows to
 // cover p, and the culling tile p looks up in keeps the largest depth limit tested in it.
@@ -167,7 +167,10 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     }
     workgroupBarrier();
     if (lid == 0u) {
-        group_base = atomicAdd(&control.item_count, atomicLoad(&group_items));
+        // The level-0 items are the geometry pixels: their count is the share criteria's denominator.
+        let n = atomicLoad(&group_items);
+        group_base = atomicAdd(&control.item_count, n);
+        atomicAdd(&control.geometry_pixels, n);
     }
     let slot = workgroupUniformLoad(&group_base) + local_slot;
     if (!geometry) {

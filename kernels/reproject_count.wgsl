@@ -4,8 +4,8 @@
 //  list: the compacted (pixel, quad) items only (scope = local), from the lattice masks that
 //  shadow_test `list` has just filled with each item's corner samples; begin starts its level;
 //  last: the last level's items, whose counts add to V at once (nothing splits there).
-// At level 0 both also count the geometry pixels (the share criteria's denominator, method.md §6):
-// level 0 has one quad, which every geometry pixel meets exactly once.
+// At level 0 main also counts the geometry pixels (the share criteria's denominator, method.md §6);
+// under scope = local compact `seed` counts them as it lists them.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> level: GpuLevel;
@@ -108,13 +108,13 @@ fn count_word(word: u32) -> u32 {
     return geometry;
 }
 
+// No workgroup barrier here (nor in last): on CPU devices a barrier splits every workgroup into
+// resumable pieces, which costs even when the code around it does nothing.
 @compute @workgroup_size(64, 1, 1)
-fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let valid = gid.x < item_total[0];
-    if (valid) {
+fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x < item_total[0]) {
         count_item(gid.x);
     }
-    add_geometry(select(0u, 1u, valid), lid);
 }
 
 // c_q(p) of one item: its quad's corner bits in the pixel's lattice mask.
@@ -142,16 +142,15 @@ fn count_item(index: u32) {
 // compact is needed. Each item adds its quad's uniform share area(q)/area(light) * c/4 to p, as
 // compact's resolve does, kept as the integer c * 4^(max_level - level) (= c at max_level).
 @compute @workgroup_size(64, 1, 1)
-fn last(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let valid = gid.x < item_total[0];
-    if (valid) {
-        let item = items[gid.x];
-        let c = item_count(item);
-        if (c != 0u) {
-            atomicAdd(&visibility_fixed[item.x], c << (2u * (level.max_level - level.level)));
-        }
+fn last(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= item_total[0]) {
+        return;
     }
-    add_geometry(select(0u, 1u, valid), lid);
+    let item = items[gid.x];
+    let c = item_count(item);
+    if (c != 0u) {
+        atomicAdd(&visibility_fixed[item.x], c << (2u * (level.max_level - level.level)));
+    }
 }
 
 // Starts a level (scope = local): the items compact and probe appended become this level's work

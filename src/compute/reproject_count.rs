@@ -76,7 +76,6 @@ impl ReprojectCount {
                 (10, items.as_entire_binding()),
                 (11, b.counts.as_entire_binding()),
                 (13, b.item_total.as_entire_binding()),
-                (14, b.control.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );
@@ -94,7 +93,6 @@ impl ReprojectCount {
                 (10, items.as_entire_binding()),
                 (12, b.visibility_fixed.as_entire_binding()),
                 (13, b.item_total.as_entire_binding()),
-                (14, b.control.as_entire_binding()),
             ],
             Dispatch::Indirect(&b.list_args),
         );
