@@ -182,34 +182,30 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) l
     kept_runs[atomicAdd(&control[0], 1u)] = slot * run_count + r;
 }
 
-// Runs of listed triangles per phase-2 workgroup. A workgroup per run cost more to start than its
-// 32 tests on a CPU device (lavapipe): 8 per workgroup made phase 2 several times faster there.
-const CULL_RUNS_PER_GROUP: u32 = 8u;
-
-// Between the phases: phase 2's dispatch, a workgroup per CULL_RUNS_PER_GROUP listed runs, in rows
-// of at most 32768 workgroups (control[1] holds the row length).
+// Between the phases: phase 2's dispatch, a workgroup per listed run, in rows of at most 32768
+// workgroups (control[1] holds the row length).
 @compute @workgroup_size(1, 1, 1)
 fn begin() {
-    let needed = (atomicLoad(&control[0]) + CULL_RUNS_PER_GROUP - 1u) / CULL_RUNS_PER_GROUP;
-    let row = max(min(needed, 32768u), 1u);
+    let listed = atomicLoad(&control[0]);
+    let row = max(min(listed, 32768u), 1u);
     atomicStore(&control[1], row);
     dispatch[0] = row;
-    dispatch[1] = (needed + row - 1u) / row;
+    dispatch[1] = (listed + row - 1u) / row;
     dispatch[2] = 1u;
 }
 
-// Phase 2, an invocation per triangle of the listed runs: a kept triangle is appended to its
-// slot's list with one atomic.
-@compute @workgroup_size(256, 1, 1)
+// Phase 2, a workgroup per listed run and an invocation per triangle of it: a kept triangle is
+// appended to its slot's list with one atomic.
+@compute @workgroup_size(32, 1, 1)
 fn triangles(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let listed = (wg.y * atomicLoad(&control[1]) + wg.x) * CULL_RUNS_PER_GROUP + lid / CULL_RUN;
+    let listed = wg.y * atomicLoad(&control[1]) + wg.x;
     if (listed >= atomicLoad(&control[0])) {
         return;
     }
     let run_count = (cull.triangle_count + CULL_RUN - 1u) / CULL_RUN;
     let packed = kept_runs[listed];
     let slot = packed / run_count;
-    let t = (packed % run_count) * CULL_RUN + lid % CULL_RUN;
+    let t = (packed % run_count) * CULL_RUN + lid;
     let k = slots[slot];
     if (t >= cull.triangle_count || !triangle_keeps(samples[k], k, t)) {
         return;

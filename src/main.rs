@@ -49,7 +49,7 @@ fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
 /// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
 /// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
 /// each single-map family, hard, PCF, PCSS and a moment map).
-const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
+const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
 #[derive(Subcommand)]
 enum Command {

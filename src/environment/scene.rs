@@ -10,7 +10,7 @@
 use super::panorama::Panorama;
 use super::Environment;
 use crate::light::AreaLight;
-use crate::scene::{cache_path, MeshDirs, CACHE_PREFIX};
+use crate::scene::mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 use crate::{Error, Result};
 use glam::Vec3;
 use serde::Deserialize;

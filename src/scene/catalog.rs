@@ -1,9 +1,11 @@
 //! `penumbra scenes`: every built-in scene with its triangle count, where its meshes come from and
 //! whether the cached ones are present.
 
-use super::format::{self, MeshDef};
+use super::format;
+use super::mesh_def::MeshDef;
 use super::mesh_file::CACHE_PREFIX;
-use super::{builtin, Scene};
+use super::builtin;
+use super::model::Scene;
 use crate::assets;
 use std::path::{Path, PathBuf};
 

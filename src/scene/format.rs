@@ -1,11 +1,14 @@
 //! The scene file: TOML, unknown keys rejected, every number checked finite.
 
+use super::mesh_def::MeshDef;
 use super::mesh_file::MeshDirs;
-use super::{mesh, Camera, Scene};
+use super::settings::{MapKind, RenderSettings};
+use super::mesh;
+use super::model::{Camera, Scene};
 use crate::light::{AreaLight, Bounds};
 use crate::{Error, Result};
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -46,166 +49,8 @@ pub struct LightDef {
     pub u_axis: Option<[f32; 3]>,
 }
 
-/// Render settings; every key can be overridden with `--set key=value`.
-#[derive(Deserialize, Serialize, Debug, Clone)]
-#[serde(deny_unknown_fields, default)]
-pub struct RenderSettings {
-    pub width: u32,
-    pub height: u32,
-    pub shadow_map_size: u32,
-    pub bias: BiasDef,
-    pub cull: CullMode,
-    pub ambient: f32,
-    pub shadow_map_budget_mib: u32,
-    pub self_shadow: SelfShadow,
-    /// Shadow-map representation (docs/hybrid.md): `plain` depth arrays or `hybrid` merged maps.
-    pub maps: MapKind,
-    pub hybrid: HybridDef,
-}
-
-/// How every map-reading method stores its shadow maps.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum MapKind {
-    /// One `Depth32Float` layer of `shadow_map_size`² per map.
-    Plain,
-    /// Hybrid-resolution maps (seed 003): rasterized at `hybrid.base`², flat 2x2 blocks merged over
-    /// `hybrid.levels` levels into a compact store with an index (docs/hybrid.md).
-    Hybrid,
-}
-
-/// `maps = "hybrid"` settings. With them the raster size is `base` (it replaces `shadow_map_size`).
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq)]
-#[serde(deny_unknown_fields, default)]
-pub struct HybridDef {
-    /// Full (raster) resolution per side; the coarse grid is base / 2^levels.
-    pub base: u32,
-    /// Merge levels, 1 or 2 (2048 → 1024 or 2048 → 512).
-    pub levels: u32,
-    /// Merge tolerance in 16-bit depth units (1/65535 of the [0, 1] depth range): a 2x2 block merges
-    /// when each depth differs from the block's mean by at most eps. The seed's ε0 = 0.25.
-    pub eps: f32,
-}
-
-impl Default for HybridDef {
-    fn default() -> Self {
-        Self { base: 2048, levels: 2, eps: 0.25 }
-    }
-}
-
-/// How a surface shadows itself in the shadow-map methods.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum SelfShadow {
-    /// A light point below the surface's geometric tangent plane is blocked, as a ray finds it
-    /// (the ground truth's rule): attached shadows are part of V.
-    Facing,
-    /// The depth test alone decides, as in classic shadow mapping and the seed: the attached shadow
-    /// is left to the shading term max(0, n·l), and near the terminator bias reports points lit.
-    Map,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        Self {
-            width: 512,
-            height: 512,
-            shadow_map_size: 512,
-            bias: BiasDef::default(),
-            cull: CullMode::Back,
-            ambient: 0.15,
-            shadow_map_budget_mib: 512,
-            self_shadow: SelfShadow::Facing,
-            maps: MapKind::Plain,
-            hybrid: HybridDef::default(),
-        }
-    }
-}
-
-/// Shadow-map bias, in shadow-map texels at the receiver's depth (so independent of scene scale).
-#[derive(Deserialize, Serialize, Debug, Clone, Copy)]
-#[serde(deny_unknown_fields, default)]
-pub struct BiasDef {
-    pub constant: f32,
-    pub slope: f32,
-    pub normal_offset: f32,
-    /// Cap on tan(angle) for the slope term: grazing angles would otherwise push the bias to infinity.
-    pub max_slope: f32,
-}
-
-impl Default for BiasDef {
-    fn default() -> Self {
-        Self { constant: 0.5, slope: 0.5, normal_offset: 0.5, max_slope: 4.0 }
-    }
-}
-
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum CullMode {
-    Back,
-    Front,
-    None,
-}
-
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-pub struct MeshDef {
-    pub builtin: Option<String>,
-    pub file: Option<String>,
-    #[serde(default)]
-    pub translate: [f32; 3],
-    #[serde(default)]
-    pub rotate_deg: [f32; 3],
-    #[serde(default)]
-    pub scale: Scale,
-    #[serde(default = "default_albedo")]
-    pub albedo: [f32; 3],
-    #[serde(default = "default_segments")]
-    pub segments: u32,
-    /// Rounds of subdivision (×4 triangles each): reaches a seed's triangle count.
-    #[serde(default)]
-    pub subdivide: u32,
-    /// `midpoint` (default: the surface unchanged) or `loop` (smooth).
-    #[serde(default)]
-    pub subdivision: super::subdivide::Scheme,
-    /// Placements `[x, y, z, rot_y_deg, scale]`, each applied after the mesh's own transform.
-    pub instances: Option<Vec<[f32; 5]>>,
-    /// A grid of placements in the xz plane (see `GridDef`); exclusive with `instances`.
-    pub grid: Option<GridDef>,
-}
-
-/// `grid = { count = [nx, nz], spacing = [dx, dz], rotate_step_deg = 0 }`: centred on the origin;
-/// instance k (x fastest) is turned k · rotate_step_deg about y.
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-pub struct GridDef {
-    pub count: [u32; 2],
-    pub spacing: [f32; 2],
-    #[serde(default)]
-    pub rotate_step_deg: f32,
-}
-
-#[derive(Deserialize, Debug, Clone, Copy)]
-#[serde(untagged)]
-pub enum Scale {
-    Uniform(f32),
-    Axes([f32; 3]),
-}
-
-impl Default for Scale {
-    fn default() -> Self {
-        Scale::Uniform(1.0)
-    }
-}
-
 fn default_up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
-}
-fn default_albedo() -> [f32; 3] {
-    [0.8, 0.8, 0.8]
-}
-fn default_segments() -> u32 {
-    32
 }
 
 /// TOML text → definition, with `--set` overrides applied. Errors in the file give the line,

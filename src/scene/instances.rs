@@ -1,7 +1,7 @@
 //! Instancing: one loaded mesh placed many times (a herd, a grove) without repeating it in the file.
 //! Each placement is applied after the mesh's own transform: world = placement · mesh transform.
 
-use super::format::{GridDef, MeshDef};
+use super::mesh_def::{GridDef, MeshDef};
 use glam::{Mat4, Quat, Vec3};
 
 /// Placements a scene may ask for in one `[[mesh]]` (a guard against a typo such as `count = [600, 600]`).

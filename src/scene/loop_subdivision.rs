@@ -2,7 +2,7 @@
 //! closed 2-manifold, boundary edges (and non-manifold ones) kept as creases with the cubic B-spline
 //! curve rule, so both sides of an open seam land on the same points and no crack opens.
 
-use super::mesh::RawMesh;
+use super::raw_mesh::RawMesh;
 use glam::Vec3;
 use std::collections::HashMap;
 

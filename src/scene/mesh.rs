@@ -1,7 +1,8 @@
 //! Scene meshes: built-in primitives (plane, box, sphere) and mesh files, placed by a transform and
 //! optionally subdivided and instanced.
 
-use super::format::{MeshDef, Scale};
+use super::mesh_def::{MeshDef, Scale};
+use super::raw_mesh::RawMesh;
 use super::mesh_file::{self, MeshDirs};
 use super::{instances, subdivide};
 use crate::{Error, Result};
@@ -15,14 +16,6 @@ pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub material: u32,
-}
-
-/// Positions + triangle indices in object space; normals are derived after the transform.
-#[derive(Debug)]
-pub struct RawMesh {
-    pub positions: Vec<Vec3>,
-    pub normals: Option<Vec<Vec3>>,
-    pub indices: Vec<u32>,
 }
 
 /// Loads (or builds) one `[[mesh]]`, subdivides it, applies its transform, then places one copy per

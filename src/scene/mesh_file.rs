@@ -1,7 +1,7 @@
 //! Mesh files a scene names: where `file` points (the scene's folder, the embedded meshes of
 //! built-in scenes, or the asset cache with `cache:`) and which loader reads it.
 
-use super::mesh::RawMesh;
+use super::raw_mesh::RawMesh;
 use super::obj;
 use crate::assets;
 use crate::{Error, Result};

@@ -6,58 +6,26 @@ mod format;
 mod instances;
 mod loop_subdivision;
 mod mesh;
-mod mesh_file;
+mod mesh_def;
+pub(crate) mod mesh_file;
+mod model;
 mod obj;
 mod overrides;
+mod raw_mesh;
+mod settings;
 mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use catalog::{catalog, CatalogEntry};
-pub use format::{BiasDef, CullMode, HybridDef, MapKind, RenderSettings, SelfShadow};
+pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
+pub use model::{Camera, Scene};
 pub use obj::embedded_source;
 pub use overrides::apply_overrides;
 
-use crate::light::{AreaLight, Bounds};
 use crate::{Error, Result};
-use glam::{Mat4, Vec3};
 use std::path::{Path, PathBuf};
-
-#[derive(Clone, Debug)]
-pub struct Camera {
-    pub eye: Vec3,
-    pub target: Vec3,
-    pub up: Vec3,
-    pub fov_y_deg: f32,
-}
-
-impl Camera {
-    pub fn clip_from_world(&self, aspect: f32, bounds: &Bounds) -> Mat4 {
-        let dist = (bounds.min.lerp(bounds.max, 0.5) - self.eye).length() + bounds.diagonal();
-        let near = (dist * 1e-4).max(1e-4);
-        glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, near, dist * 2.0)
-            * glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
-    }
-}
-
-#[derive(Clone, Debug)]
-pub struct Scene {
-    pub name: String,
-    pub description: String,
-    /// File path or `builtin:NAME`: every error names it.
-    pub origin: String,
-    pub camera: Camera,
-    pub light: AreaLight,
-    /// `[environment]`: the scene is lit by a panorama (docs/environment.md); `light` is then a
-    /// nominal square above the meshes that only the area-light methods read.
-    pub environment: Option<crate::environment::Environment>,
-    pub render: RenderSettings,
-    pub vertices: Vec<Vertex>,
-    pub indices: Vec<u32>,
-    pub albedos: Vec<[f32; 3]>,
-    pub bounds: Bounds,
-}
 
 /// Parses OBJ text (as a scene's `file = "x.obj"` would); returns its triangle count.
 pub fn parse_obj(text: &str, label: &str) -> Result<usize> {
@@ -65,48 +33,6 @@ pub fn parse_obj(text: &str, label: &str) -> Result<usize> {
 }
 
 impl Scene {
-    pub fn triangle_count(&self) -> usize {
-        self.indices.len() / 3
-    }
-
-    /// The error for a camera that sees none of the meshes (also raised when the G-buffer holds no
-    /// geometry pixel): it names the camera, which is where the fix lies.
-    pub fn nothing_visible(&self) -> Error {
-        let c = &self.camera;
-        Error::scene(
-            &self.origin,
-            format!(
-                "no mesh is visible from the camera (camera.eye = {:?}, camera.target = {:?}, camera.fov_y_deg = {}; the meshes span {:?} to {:?}): point the camera at them",
-                c.eye.to_array(),
-                c.target.to_array(),
-                c.fov_y_deg,
-                self.bounds.min.to_array(),
-                self.bounds.max.to_array()
-            ),
-        )
-    }
-
-    /// Whether the meshes' bounding box lies wholly outside the camera's view (then nothing shows).
-    pub fn bounds_outside_view(&self) -> bool {
-        let aspect = self.render.width as f32 / self.render.height as f32;
-        let m = self.camera.clip_from_world(aspect, &self.bounds);
-        let (lo, hi) = (self.bounds.min, self.bounds.max);
-        let clip: Vec<glam::Vec4> =
-            (0..8).map(|i| m * Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2]).extend(1.0)).collect();
-        // One clip plane (left, right, bottom, top, near, far: depth 0..w) with every corner outside.
-        let planes: [fn(&glam::Vec4) -> bool; 6] =
-            [|c| c.x < -c.w, |c| c.x > c.w, |c| c.y < -c.w, |c| c.y > c.w, |c| c.z < 0.0, |c| c.z > c.w];
-        planes.iter().any(|outside| clip.iter().all(outside))
-    }
-
-    /// World-space triangles, for CPU tracers and tests.
-    pub fn triangles(&self) -> Vec<[Vec3; 3]> {
-        self.indices
-            .chunks_exact(3)
-            .map(|t| [0, 1, 2].map(|k| Vec3::from(self.vertices[t[k] as usize].position)))
-            .collect()
-    }
-
     /// Loads a scene by built-in name or file path, applying `--set` overrides to its render settings.
     pub fn load(name_or_path: &str, overrides: &[(String, String)]) -> Result<Scene> {
         Self::load_in(name_or_path, overrides, None)

@@ -1,6 +1,6 @@
 //! OBJ meshes through tobj, after a line-by-line check so errors name the file and line.
 
-use super::mesh::RawMesh;
+use super::raw_mesh::RawMesh;
 use crate::{Error, Result};
 use glam::Vec3;
 use std::path::Path;

@@ -5,7 +5,7 @@
 //! - `loop`: Loop's smooth scheme, the limit surface of a smooth model (a tessellated Bezier teapot
 //!   has no flat facets; flat facets make whole facets half-lit at the terminator).
 
-use super::mesh::RawMesh;
+use super::raw_mesh::RawMesh;
 use glam::Vec3;
 use std::collections::HashMap;
 
