@@ -50,6 +50,7 @@ pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("shadow_test", "probes", LINE_WORKGROUP),
     ("reproject_count", "main", LINE_WORKGROUP),
     ("reproject_count", "list", LINE_WORKGROUP),
+    ("reproject_count", "last", LINE_WORKGROUP),
     ("reproject_count", "begin", [1, 1, 1]),
     ("neighbourhood", "main", LINE_WORKGROUP),
     ("neighbourhood", "list", LINE_WORKGROUP),
