@@ -48,6 +48,17 @@ fn hybrid_constants_match_rust() {
 }
 
 #[test]
+fn shade_block_matches_rust() {
+    let (module, _) = kernels::validate("shade").unwrap();
+    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some("SHADE_BLOCK")).expect("shade: no `SHADE_BLOCK`");
+    let wgsl = match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => v,
+        ref e => panic!("shade: `SHADE_BLOCK` is {e:?}"),
+    };
+    assert_eq!(wgsl, penumbra::compute::shade::SHADE_BLOCK);
+}
+
+#[test]
 fn rust_structs_match_wgsl_layouts() {
     let mut problems = Vec::new();
     let mut checked = 0;
