@@ -124,7 +124,8 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
 pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "weights", "readback_level"];
 
 pub fn decision_ms(stages_ms: &BTreeMap<String, f64>) -> f64 {
-    DECISION_STAGES.iter().filter_map(|k| stages_ms.get(*k)).sum()
+    // An empty f64 sum is -0.0; + 0.0 makes a method without decisions report 0.
+    DECISION_STAGES.iter().filter_map(|k| stages_ms.get(*k)).sum::<f64>() + 0.0
 }
 
 /// run.json of a measured method (compare, sweep): its last timed frame's record, with the

@@ -86,6 +86,7 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
             .sum::<f64>();
         assert!((share - decision / stages).abs() < 1e-9, "{}: share {share}", path.display());
         assert_eq!(share > 0.0, slug.starts_with("adaptive"), "{}: share {share}", path.display());
+        assert!(share.is_sign_positive(), "{}: share {share}", path.display());
     }
     assert_eq!(rows[0]["shadow_maps"], 1);
     assert_eq!(rows[1]["shadow_maps"], 9);
