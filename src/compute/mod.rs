@@ -45,7 +45,12 @@ pub const LINE_WORKGROUP: [u32; 3] = [64, 1, 1];
 pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
     ("shade", "main", PIXEL_WORKGROUP),
     ("shade", "from_masks", PIXEL_WORKGROUP),
-    ("shadow_test", "main", PIXEL_WORKGROUP),
+    ("shadow_test", "fill_blocks", [1, 1, 1]),
+    ("shadow_test", "block16", PIXEL_WORKGROUP),
+    ("shadow_test", "block8", PIXEL_WORKGROUP),
+    ("shadow_test", "block4", PIXEL_WORKGROUP),
+    ("shadow_test", "block2", PIXEL_WORKGROUP),
+    ("shadow_test", "block1", PIXEL_WORKGROUP),
     ("shadow_test", "list", LINE_WORKGROUP),
     ("shadow_test", "probes", LINE_WORKGROUP),
     ("reproject_count", "main", LINE_WORKGROUP),

@@ -212,7 +212,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         MapStore { arrays: vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
     };
     let passes = Passes {
-        shadow_test: ShadowTest::new(fg, local)?,
+        shadow_test: ShadowTest::new(fg.ctx, fg.scene.render.maps, local)?,
         reproject_count: ReprojectCount::new(fg)?,
         neighbourhood: Neighbourhood::new(fg)?,
         quad_count: QuadCount::new(fg)?,
