@@ -49,15 +49,17 @@ pub struct GpuShadeChunk {
     pub pad1: u32,
 }
 
-/// One slot of shadow_test's uniform sample blocks (kernels/shadow_test.wgsl), 2048 bytes so that
-/// slots of one buffer start at 256-byte-aligned offsets.
+/// shadow_test's uniform list of the requested samples (kernels/shadow_test.wgsl), in list order;
+/// each sample's `lattice` is its lattice index.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuTestBlock {
-    /// Lattice index of the block's sample j at `ks[j / 4][j % 4]`.
-    pub ks: [[u32; 4]; 4],
-    pub samples: [GpuSample; 16],
-    pub pad: [[u32; 4]; 12],
+pub struct GpuTestList {
+    pub count: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+    /// LATTICE_POINTS = 17 × 17 records.
+    pub samples: [[GpuSample; 17]; 17],
 }
 
 /// One batch of the cull pass (kernels/cull.wgsl).
@@ -128,7 +130,7 @@ pub struct GpuLevel {
     pub words_per_row: u32,
     pub flag_words_per_row: u32,
     pub item_capacity: u32,
-    /// shadow_test: samples in the test list; with `requested`, the most it can hold.
+    /// shadow_test: samples in the test list.
     pub work_count: u32,
     pub dense_groups_x: u32,
     pub quad_capacity: u32,
@@ -305,7 +307,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
-        layout_of!(GpuTestBlock { ks, samples, pad }),
+        layout_of!(GpuTestList { count, pad0, pad1, pad2, samples }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
