@@ -28,9 +28,14 @@ impl ShadowTest {
         } else {
             None
         };
+        let size = std::mem::size_of::<GpuTestList>() as u64;
+        let limit = ctx.limits().max_uniform_buffer_binding_size as u64;
+        if size > limit {
+            return Err(crate::Error::Gpu(format!("shadow_test's uniform list needs {size} bytes, the adapter binds at most {limit}")));
+        }
         let list = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shadow_test list"),
-            size: std::mem::size_of::<GpuTestList>() as u64,
+            size,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
