@@ -7,9 +7,9 @@
 // lanes anyway: 25 samples as 16 + 16 cost 32 lookups, as 16 + 8 + 1 they cost 25).
 
 // The block's samples and weights are copied into uniform buffers and the block is unrolled, so
-// every read has a constant offset: a CPU device loads it once per SIMD row. Read from a storage
-// buffer at a loop counter's index, each sample was gathered lane by lane and component by
-// component (about 30% of the stage on default, docs/bench.md). Rust's SHADE_BLOCK
+// every read has a constant offset: a CPU device loads it once per SIMD row, as long as no branch
+// is open around the read (see shade_block). Read from a storage buffer at a loop counter's index,
+// each sample was gathered lane by lane and component by component. Rust's SHADE_BLOCK
 // (src/compute/shade.rs) is this number.
 const SHADE_BLOCK: u32 = 16u;
 
@@ -48,25 +48,27 @@ fn add16(v: f32, j: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
 }
 
 // Adds the block's first `count` samples (a constant in every entry point, so each unrolls).
+// No early return: on a CPU device the code after a branch runs under a lane mask, and under a
+// mask Mesa's llvmpipe reads even a constant-offset uniform lane by lane, with a bounds check per
+// lane (the samples' reads were then most of the stage's instructions). Pixels outside the image
+// or without geometry compute like the others; only their store is skipped.
 fn shade_block(gid: vec3<u32>, count: u32) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
-        return;
-    }
+    let inside = gid.x < frame.width && gid.y < frame.height;
     let pixel = vec2<i32>(gid.xy);
     let position = textureLoad(gbuffer_position, pixel, 0);
-    if (position.w == 0.0) {
-        return;
-    }
     let p = position.xyz;
     let n = textureLoad(gbuffer_normal, pixel, 0).xyz;
     let index = gid.y * frame.width + gid.x;
-    let v = visibility[index];
+    var v = visibility[index];
     switch (count) {
-        case 16u: { visibility[index] = add16(v, 0u, p, n); }
-        case 8u: { visibility[index] = add8(v, 0u, p, n); }
-        case 4u: { visibility[index] = add4(v, 0u, p, n); }
-        case 2u: { visibility[index] = add2(v, 0u, p, n); }
-        default: { visibility[index] = add1(v, 0u, p, n); }
+        case 16u: { v = add16(v, 0u, p, n); }
+        case 8u: { v = add8(v, 0u, p, n); }
+        case 4u: { v = add4(v, 0u, p, n); }
+        case 2u: { v = add2(v, 0u, p, n); }
+        default: { v = add1(v, 0u, p, n); }
+    }
+    if (inside && position.w != 0.0) {
+        visibility[index] = v;
     }
 }
 
