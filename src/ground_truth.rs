@@ -20,7 +20,7 @@ pub const CONTINUOUS_SEED: u64 = 0x5eed;
 pub fn parse_mode(name: &str, samples: u32) -> Result<ReferenceMode> {
     match name {
         "lattice" => Ok(ReferenceMode::Lattice),
-        "continuous" if samples >= 1 && samples <= 256 => Ok(ReferenceMode::Continuous { m: samples, seed: CONTINUOUS_SEED }),
+        "continuous" if (1..=256).contains(&samples) => Ok(ReferenceMode::Continuous { m: samples, seed: CONTINUOUS_SEED }),
         "continuous" => Err(Error::Param(format!("--samples must be in 1..=256, got {samples}"))),
         "point" => Ok(ReferenceMode::Point { s: 0.5, t: 0.5 }),
         _ => match name.strip_prefix("point:") {

@@ -40,15 +40,6 @@ pub struct GpuCamera {
     pub eye: [f32; 4],
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuShadeChunk {
-    pub first_sample: u32,
-    pub sample_count: u32,
-    pub pad0: u32,
-    pub pad1: u32,
-}
-
 /// shadow_test's uniform list of the requested samples (kernels/shadow_test.wgsl), in list order;
 /// each sample's `lattice` is its lattice index.
 #[repr(C)]
@@ -306,7 +297,6 @@ pub fn all_layouts() -> Vec<StructLayout> {
         }),
         layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),
-        layout_of!(GpuShadeChunk { first_sample, sample_count, pad0, pad1 }),
         layout_of!(GpuTestList { count, pad0, pad1, pad2, samples }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),

@@ -13,7 +13,7 @@ fn small(name: &str, extra: &[(&str, &str)]) -> Scene {
 }
 
 fn run(scene: &Scene, method: &Method) -> FrameResult {
-    frame::render(&common::gpu(), scene, method, TimingMode::Frame).unwrap()
+    frame::render(common::gpu(), scene, method, TimingMode::Frame).unwrap()
 }
 
 fn adaptive(p: AdaptiveParams) -> Method {
@@ -66,7 +66,7 @@ fn unoccluded_scene_needs_four_maps_and_flags_nothing() {
     let ctx = common::gpu();
     let scene = Scene::parse(UNOCCLUDED, "unoccluded", None, &[]).unwrap();
     for scope in [Scope::Global, Scope::Local] {
-        let (r, t) = common::traced(&ctx, &scene, &AdaptiveParams { scope, ..Default::default() }, false);
+        let (r, t) = common::traced(ctx, &scene, &AdaptiveParams { scope, ..Default::default() }, false);
         assert_eq!(r.output.shadow_maps, 4, "{scope:?}");
         let flagged: u32 = t.levels.iter().flat_map(|l| &l.low_quality).sum();
         assert_eq!(flagged, 0, "{scope:?}: low-quality pixels in an unoccluded scene");
@@ -80,7 +80,8 @@ fn unoccluded_scene_needs_four_maps_and_flags_nothing() {
 fn always_split_equals_the_regular_17_grid() {
     let scene = small("default", &[]);
     let reg = run(&scene, &Method::regular(17));
-    for scope in [Scope::Global] {
+    {
+        let scope = Scope::Global;
         let a = run(&scene, &adaptive(AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, scope, ..Default::default() }));
         assert_eq!(a.output.shadow_maps, 289);
         let worst = a.visibility.iter().zip(&reg.visibility).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
@@ -103,7 +104,7 @@ fn centred_layout_fully_split_is_the_centred_regular_grid() {
         let reg = run(&scene, &Method::parse(&format!("regular:n={n},layout=centred"), &[]).unwrap());
         for weights in [Weights::Area, Weights::Coons] {
             let p = AdaptiveParams { criterion: Criterion::Pixels { p_m: -1.0, growth: 1.0 }, max_level, weights, layout: Layout::Centred, ..Default::default() };
-            let (a, t) = common::traced(&ctx, &scene, &p, false);
+            let (a, t) = common::traced(ctx, &scene, &p, false);
             assert_eq!(a.output.shadow_maps, n * n, "L {max_level} {weights:?}");
             let w0 = t.weights[t.rendered[0] as usize];
             assert!(t.rendered.iter().all(|&k| t.weights[k as usize] == w0), "L {max_level} {weights:?}: unequal weights {:?}", t.weights);
@@ -114,7 +115,7 @@ fn centred_layout_fully_split_is_the_centred_regular_grid() {
     }
     // Partly split: the weights still sum to one and every rendered sample carries weight.
     let p = AdaptiveParams { criterion: Criterion::Pixels { p_m: 20.0, growth: 1.0 }, max_level: 3, weights: Weights::Coons, layout: Layout::Centred, ..Default::default() };
-    let (r, t) = common::traced(&ctx, &scene, &p, false);
+    let (r, t) = common::traced(ctx, &scene, &p, false);
     assert!(t.rendered.len() < 81, "p_m 20 split everything ({} maps)", t.rendered.len());
     let sum: f64 = t.weights.iter().map(|&w| w as f64).sum();
     assert!((sum - 1.0).abs() < 1e-6, "centred partial: Σŵ = {sum}");
@@ -138,7 +139,7 @@ fn weights_sum_to_one_and_visibility_stays_in_range() {
     for weights in [Weights::Level, Weights::Area, Weights::Coons] {
         for p_m in [0.0, 20.0] {
             let p = AdaptiveParams { criterion: Criterion::Pixels { p_m, growth: 1.0 }, weights, ..Default::default() };
-            let (r, t) = common::traced(&ctx, &scene, &p, false);
+            let (r, t) = common::traced(ctx, &scene, &p, false);
             let sum: f64 = t.weights.iter().map(|&w| w as f64).sum();
             assert!((sum - 1.0).abs() < 1e-6, "{weights:?} p_m {p_m}: Σŵ = {sum}");
             let nonzero = t.weights.iter().filter(|&&w| w > 0.0).count();
@@ -266,7 +267,7 @@ fn local_scope_finds_a_shadow_between_the_corners_of_a_split_quad() {
     let scene = Scene::parse(POLE_AND_BOX, "pole-and-box", None, &[]).unwrap();
     let reg = run(&scene, &Method::regular(17));
     let p = AdaptiveParams { scope: Scope::Local, ..Default::default() };
-    let (local, trace) = common::traced(&ctx, &scene, &p, false);
+    let (local, trace) = common::traced(ctx, &scene, &p, false);
     assert!(trace.levels[0].split_base[0] != u32::MAX, "the box must split the root quad");
     // Pixels the root's corners see lit (comparison byte 5: c = 4) that the lattice finds shadowed.
     let root = trace.levels[0].counts.as_ref().expect("level-0 comparison map read back");
@@ -291,7 +292,7 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     let ctx = common::gpu();
     let scene = small("default", &[]);
     let method = adaptive(AdaptiveParams { steer_cpu: false, ..Default::default() });
-    let r = frame::render(&ctx, &scene, &method, TimingMode::Stages).unwrap();
+    let r = frame::render(ctx, &scene, &method, TimingMode::Stages).unwrap();
     assert_eq!(r.output.syncs, 0);
     assert!(r.timing_waits > 10, "stages mode waits per stage: {}", r.timing_waits);
     let rec = penumbra::output::run_record(&scene, &method, &r, &ctx.summary, false);
@@ -308,7 +309,7 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     assert_eq!(rec["timing"], "stages");
     assert!(rec["decision_share"].as_f64().unwrap() > 0.0, "{}", rec["decision_share"]);
     // A frame-mode frame times only its waits: no split or share is claimed from them.
-    let f = frame::render(&ctx, &scene, &method, TimingMode::Frame).unwrap();
+    let f = frame::render(ctx, &scene, &method, TimingMode::Frame).unwrap();
     let rec = penumbra::output::run_record(&scene, &method, &f, &ctx.summary, false);
     assert_eq!(rec["timing"], "frame");
     for key in ["frame_split_ms", "decision_stages_ms", "decision_share"] {

@@ -11,7 +11,7 @@ use penumbra::scene::Scene;
 use penumbra::timing::TimingMode;
 
 fn run(scene: &Scene, spec: &str) -> FrameResult {
-    frame::render(&common::gpu(), scene, &Method::parse(spec, &[]).unwrap(), TimingMode::Frame).unwrap()
+    frame::render(common::gpu(), scene, &Method::parse(spec, &[]).unwrap(), TimingMode::Frame).unwrap()
 }
 
 #[test]

@@ -52,7 +52,7 @@ fn pcf_and_pcss_equal_their_cpu_twins() {
     for seed in [3u64, 11] {
         let sc = scene(seed);
         for (spec, share, tol) in specs {
-            let (r, c) = captured(&ctx, &sc, spec);
+            let (r, c) = captured(ctx, &sc, spec);
             let fr = frame_uniform(&sc);
             let cpu = if spec.starts_with("pcss") {
                 twin::pcss::pcss(&fr, &c.filter, &c.sample, &c.map, &r.gbuffer)
@@ -81,7 +81,7 @@ fn filtered_stages_equal_their_cpu_twins() {
         let sc = scene(seed);
         let fr = frame_uniform(&sc);
         for spec in ["esm", "vsm", "evsm", "msm", "csm", "csm:order=7"] {
-            let (r, c) = captured(&ctx, &sc, spec);
+            let (r, c) = captured(ctx, &sc, spec);
             let f = &c.filter;
             let size = fr.map_size;
             let raw = twin::moments::moments(f, &c.sample, &c.map, size);

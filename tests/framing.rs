@@ -23,7 +23,7 @@ fn framing_study_measures_width_maps_and_error_per_configuration() {
         reference: ReferenceMode::Continuous { m: 16, seed: 1 },
         cache: Cache::Off,
     };
-    let outcome = run(&ctx, &job, &|_| {}).unwrap();
+    let outcome = run(ctx, &job, &|_| {}).unwrap();
     assert_eq!(outcome.rows.len(), 2 * 2 * 2, "configurations x methods");
     let width = |res: u32, scale: f32| outcome.rows.iter().find(|r| r.resolution == res && r.light_scale == scale).unwrap().penumbra_width_px.expect("a penumbra");
     let (small, fine, big) = (width(64, 4.0), width(128, 4.0), width(64, 8.0));

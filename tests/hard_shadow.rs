@@ -35,7 +35,7 @@ fn hits(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
 fn hard_matches_the_exact_hard_shadow_away_from_its_boundary() {
     let ctx = common::gpu();
     let scene = Scene::load("analytic-square", &[]).unwrap();
-    let r = frame::render(&ctx, &scene, &Method::hard(), TimingMode::Frame).unwrap();
+    let r = frame::render(ctx, &scene, &Method::hard(), TimingMode::Frame).unwrap();
     let g = &r.gbuffer;
     let (w, h) = (g.width as i32, g.height as i32);
     let tris = scene.triangles();

@@ -80,7 +80,7 @@ fn ground_pixels(g: &penumbra::render::gbuffer::GBufferCpu, offset: f32) -> Vec<
 fn continuous_reference_matches_the_closed_form() {
     let ctx = common::gpu();
     for (name, scene, exact) in family() {
-        let g = frame::gbuffer_only(&ctx, &scene).unwrap();
+        let g = frame::gbuffer_only(ctx, &scene).unwrap();
         let r = ground_truth::compute(&scene, &g, ReferenceMode::DEFAULT_CONTINUOUS, &Cache::Off).unwrap();
         let ground = ground_pixels(&g, r.ray_offset);
         let (mut sum, mut sum_penumbra, mut penumbra, mut max) = (0.0f64, 0.0f64, 0usize, 0.0f64);
@@ -110,7 +110,7 @@ fn continuous_reference_matches_the_closed_form() {
 fn lattice_reference_equals_the_closed_form_count() {
     let ctx = common::gpu();
     for (name, scene, exact) in family() {
-        let g = frame::gbuffer_only(&ctx, &scene).unwrap();
+        let g = frame::gbuffer_only(ctx, &scene).unwrap();
         let r = ground_truth::compute(&scene, &g, ReferenceMode::Lattice, &Cache::Off).unwrap();
         let ground = ground_pixels(&g, r.ray_offset);
         let (mut compared, mut skipped, mut partial, mut wrong) = (0, 0, 0, Vec::new());

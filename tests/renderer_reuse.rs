@@ -23,7 +23,7 @@ fn later_frames_on_one_renderer_equal_the_first() {
     for spec in &specs {
         let method = Method::parse(spec, &[]).unwrap();
         let scene = if method.family() == penumbra::methods::Family::Environment { &env_scene } else { &scene };
-        let mut r = Renderer::new(&ctx, scene, &method).unwrap();
+        let mut r = Renderer::new(ctx, scene, &method).unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false };
         let first = r.frame(options).unwrap();
         assert!(first.stages_ms.contains_key("build"), "{spec}: the first frame carries the build");

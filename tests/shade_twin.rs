@@ -2,7 +2,7 @@
 //! when the maps are split into chunks by the memory budget.
 
 mod common;
-use penumbra::compute::shade::SHADE_BLOCK;
+use penumbra::compute::shade::{blocks, SHADE_BLOCK};
 use penumbra::compute::twin;
 use penumbra::frame::{self, frame_uniform, FrameOptions};
 use penumbra::methods::{fixed, Method};
@@ -26,8 +26,10 @@ fn shade_equals_its_cpu_twin() {
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();
         if seed == 29 {
-            // Shade adds blocks of SHADE_BLOCK samples: this case has a full block and a short one.
-            assert!(n > SHADE_BLOCK as usize && n % SHADE_BLOCK as usize != 0, "seed {seed}: {n} samples");
+            // Shade adds full blocks of SHADE_BLOCK samples, then the rest in smaller blocks: this
+            // case has a full block and two tail blocks (25 = 16 + 8 + 1).
+            let sizes: Vec<u32> = blocks(0, n as u32).iter().map(|&(_, size)| size).collect();
+            assert_eq!(sizes, [SHADE_BLOCK, 8, 1], "seed {seed}: {n} samples");
         }
         twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, n, &mut v);
         let (mut worst, mut shadowed) = (0.0f32, 0usize);

@@ -47,17 +47,13 @@ struct ShadowLookup {
 
 // Where surface point p (normal n, facing the camera) lands in sample s's map, with the bias applied.
 // Bias is in texels at p's depth, so it does not depend on scene scale: constant + slope * tan(angle).
+// Straight-line code, the cases chosen by select: a CPU device runs both sides of a branch anyway,
+// and inside one (a mask) it reads every uniform lane by lane (docs/gpu-frame.md §4).
 fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> ShadowLookup {
-    var out: ShadowLookup;
-    out.texel = vec2<i32>(0, 0);
-    out.depth_limit = 0.0;
     let to_light = s.position.xyz - p;
     let light_side = dot(p - frame.light_center.xyz, frame.light_normal.xyz);
     let facing = dot(n, to_light);
-    if (light_side <= 0.0 || (facing <= 0.0 && (frame.flags & FRAME_FACING_TEST) != 0u)) {
-        out.kind = LOOKUP_UNLIT;
-        return out;
-    }
+    let unlit = light_side <= 0.0 || (facing <= 0.0 && (frame.flags & FRAME_FACING_TEST) != 0u);
     let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
     let texel_world = depth * s.texel_angle;
     let q = p + n * (frame.normal_offset * texel_world);
@@ -65,28 +61,23 @@ fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> S
     let size = f32(frame.map_size);
     let uv = vec2<f32>(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
     let t = floor(uv * size);
-    if (clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size) {
-        out.kind = LOOKUP_OUTSIDE;
-        return out;
-    }
+    let outside = clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size;
     let cos_angle = abs(facing) / length(to_light);
     let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / max(cos_angle, 1e-6), frame.max_slope);
-    out.kind = LOOKUP_COMPARE;
-    out.texel = vec2<i32>(t);
-    out.depth_limit = clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
+    var out: ShadowLookup;
+    out.kind = select(select(LOOKUP_COMPARE, LOOKUP_OUTSIDE, outside), LOOKUP_UNLIT, unlit);
+    let compare = out.kind == LOOKUP_COMPARE;
+    // Texel (0, 0) and limit 0 unless compared, as the twin returns them.
+    out.texel = select(vec2<i32>(0, 0), vec2<i32>(t), compare);
+    out.depth_limit = select(0.0, clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle), compare);
     return out;
 }
 
 // 1 when p is lit by the sample whose map holds `stored` at the looked-up texel.
 // Compared in linear depth without a division: limit <= a / (d + b) with d + b < 0.
 fn shadow_compare(s: GpuSample, lookup: ShadowLookup, stored: f32) -> u32 {
-    if (lookup.kind == LOOKUP_UNLIT) {
-        return 0u;
-    }
-    if (lookup.kind == LOOKUP_OUTSIDE) {
-        return 1u;
-    }
-    return select(0u, 1u, lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
+    let lit = select(0u, 1u, lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
+    return select(select(0u, 1u, lookup.kind == LOOKUP_OUTSIDE), lit, lookup.kind == LOOKUP_COMPARE);
 }
 
 // ---- adaptive light-source sampling (method.md §3-4) ----

@@ -43,7 +43,11 @@ pub const LINE_WORKGROUP: [u32; 3] = [64, 1, 1];
 
 /// Workgroup sizes the Rust side dispatches with; a test asserts naga reads the same from each kernel.
 pub const WORKGROUP_SIZES: &[(&str, &str, [u32; 3])] = &[
-    ("shade", "main", PIXEL_WORKGROUP),
+    ("shade", "block16", PIXEL_WORKGROUP),
+    ("shade", "block8", PIXEL_WORKGROUP),
+    ("shade", "block4", PIXEL_WORKGROUP),
+    ("shade", "block2", PIXEL_WORKGROUP),
+    ("shade", "block1", PIXEL_WORKGROUP),
     ("shade", "from_masks", PIXEL_WORKGROUP),
     ("shadow_test", "gather", [1, 1, 1]),
     ("shadow_test", "main", PIXEL_WORKGROUP),

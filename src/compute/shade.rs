@@ -1,18 +1,40 @@
 //! shade: accumulates weight_i · lit_i(p) over one array's samples into the visibility buffer.
 
 use super::groups;
-use crate::gpu::{pipeline, readback, GpuContext};
-use crate::layout::{GpuSample, GpuShadeChunk};
+use crate::gpu::{pipeline, GpuContext};
+use crate::layout::GpuSample;
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 pub const WORKGROUP: [u32; 3] = super::PIXEL_WORKGROUP;
-/// Samples per `main` dispatch (`SHADE_BLOCK` in kernels/shade.wgsl, which unrolls them).
+/// Samples per full block (`SHADE_BLOCK` in kernels/shade.wgsl, which unrolls them).
 pub const SHADE_BLOCK: u32 = 16;
+/// The block sizes, largest first; `block{size}` is the entry point that adds `size` samples.
+pub const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
 
 pub struct ShadePass {
-    pipeline: wgpu::ComputePipeline,
+    /// One pipeline per entry of `BLOCK_SIZES`.
+    blocks: Vec<wgpu::ComputePipeline>,
     from_masks: super::ComputeKernel,
+}
+
+/// `first .. first + count` as blocks `(start, size)` in sample order: full blocks of SHADE_BLOCK,
+/// then the rest's binary decomposition, largest first (25 = 16 + 8 + 1), so no block is short and
+/// the additions are a plain loop's, in its order.
+pub fn blocks(first: u32, count: u32) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    let mut start = first;
+    let end = first + count;
+    for size in BLOCK_SIZES {
+        while end - start >= size {
+            out.push((start, size));
+            start += size;
+            if size != SHADE_BLOCK {
+                break;
+            }
+        }
+    }
+    out
 }
 
 /// Buffers and views every shade call reads.
@@ -28,7 +50,10 @@ impl ShadePass {
     /// `maps`: the representation `main` reads (from_masks reads no maps).
     pub fn new(ctx: &GpuContext, maps: crate::scene::MapKind) -> Result<Self> {
         Ok(Self {
-            pipeline: pipeline::compute_pipeline_for(ctx, "shade", "main", maps)?,
+            blocks: BLOCK_SIZES
+                .iter()
+                .map(|size| pipeline::compute_pipeline_for(ctx, "shade", &format!("block{size}"), maps))
+                .collect::<Result<_>>()?,
             from_masks: super::ComputeKernel::new(ctx, "shade", "from_masks")?,
         })
     }
@@ -46,11 +71,10 @@ impl ShadePass {
     ) {
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         // Blocks in order, each adding to V in sample order: the sum order is the single loop's.
-        for block in (first..first + count).step_by(SHADE_BLOCK as usize) {
-            let block_count = SHADE_BLOCK.min(first + count - block);
-            let chunk = readback::uniform_buffer(ctx, "shade chunk", &GpuShadeChunk { first_sample: block, sample_count: block_count, pad0: 0, pad1: 0 });
-            // The block's samples and weights as uniforms (see kernels/shade.wgsl); a short last
-            // block leaves the tail zero, and the kernel adds nothing for it.
+        for (block, block_count) in blocks(first, count) {
+            let pipeline = &self.blocks[BLOCK_SIZES.iter().position(|&size| size == block_count).expect("a block size")];
+            // The block's samples and weights as uniforms (see kernels/shade.wgsl); a smaller block
+            // reads only the first `block_count` of each.
             let block_samples = block_uniform(ctx, "shade block samples", SHADE_BLOCK as u64 * sample_bytes);
             let block_weights = block_uniform(ctx, "shade block weights", SHADE_BLOCK as u64 * 4);
             encoder.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &block_samples, 0, block_count as u64 * sample_bytes);
@@ -58,10 +82,9 @@ impl ShadePass {
             let bind = pipeline::bind_group(
                 ctx,
                 "shade",
-                &self.pipeline.get_bind_group_layout(0),
+                &pipeline.get_bind_group_layout(0),
                 &[
                     inputs.frame.as_entire_binding(),
-                    chunk.as_entire_binding(),
                     block_samples.as_entire_binding(),
                     block_weights.as_entire_binding(),
                     wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
@@ -71,7 +94,7 @@ impl ShadePass {
                 ],
             );
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("shade"), timestamp_writes: None });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(groups(inputs.gbuffer.width, WORKGROUP[0]), groups(inputs.gbuffer.height, WORKGROUP[1]), 1);
         }
@@ -94,10 +117,10 @@ impl ShadePass {
             encoder,
             &[
                 (0, frame.as_entire_binding()),
-                (9, weights.as_entire_binding()),
-                (4, wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                (7, visibility.as_entire_binding()),
-                (8, masks.as_entire_binding()),
+                (8, weights.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                (6, visibility.as_entire_binding()),
+                (7, masks.as_entire_binding()),
             ],
             super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(gbuffer.height, WORKGROUP[1]), 1]),
         );
@@ -112,4 +135,33 @@ fn block_uniform(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_cover_the_range_in_sample_order_with_full_blocks() {
+        assert_eq!(blocks(0, 25), [(0, 16), (16, 8), (24, 1)]);
+        assert_eq!(blocks(5, 15), [(5, 8), (13, 4), (17, 2), (19, 1)]);
+        assert_eq!(blocks(0, 1), [(0, 1)]);
+        assert_eq!(blocks(3, 0), []);
+        for (first, count) in [(0u32, 289u32), (0, 16), (7, 31), (100, 63), (0, 2048)] {
+            let b = blocks(first, count);
+            // Contiguous and ascending: block i + 1 starts where block i ends, so the additions
+            // are a plain loop's over first .. first + count.
+            let mut next = first;
+            for &(start, size) in &b {
+                assert_eq!(start, next, "{first}+{count}: {b:?}");
+                assert!(BLOCK_SIZES.contains(&size), "{first}+{count}: size {size}");
+                next += size;
+            }
+            assert_eq!(next, first + count, "{first}+{count}: {b:?}");
+            // Full blocks first, then each smaller size at most once, largest first.
+            let tail: Vec<u32> = b.iter().map(|&(_, size)| size).skip_while(|&s| s == SHADE_BLOCK).collect();
+            assert!(tail.windows(2).all(|w| w[0] > w[1]), "{first}+{count}: {b:?}");
+            assert_eq!(b.len() as u32, count / SHADE_BLOCK + (count % SHADE_BLOCK).count_ones());
+        }
+    }
 }

@@ -213,7 +213,7 @@ fn hit(t: &GpuTriangle, o: [f32; 3], d: [f32; 3], t_max: f32) -> bool {
     let inv = 1.0 / det;
     let s = [o[0] - v0[0], o[1] - v0[1], o[2] - v0[2]];
     let u = dot(s, p) * inv;
-    if u < 0.0 || u > 1.0 {
+    if !(0.0..=1.0).contains(&u) {
         return false;
     }
     let q = cross(s, e1);

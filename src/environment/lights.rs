@@ -86,7 +86,7 @@ pub fn median_cut(env: &Environment, k: u32) -> Vec<(EnvLight, [u32; 4])> {
             }
             let direction = centroid.normalize_or_zero();
             (power > 0.0 && direction != Vec3::ZERO)
-                .then(|| (EnvLight { direction, power: power as f32 * env.intensity }, [x0 as u32, y0 as u32, x1 as u32, y1 as u32]))
+                .then_some((EnvLight { direction, power: power as f32 * env.intensity }, [x0 as u32, y0 as u32, x1 as u32, y1 as u32]))
         })
         .collect()
 }

@@ -133,7 +133,7 @@ pub enum Layout {
 }
 
 /// The fixed seed of `layout = jittered`, so runs repeat exactly.
-const JITTER_SEED: u64 = 0x5eed_0f_9e11;
+const JITTER_SEED: u64 = 0x005e_ed0f_9e11;
 
 fn splitmix64(mut x: u64) -> u64 {
     x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);

@@ -104,7 +104,7 @@ impl Pcf {
 /// Mitchell's best-candidate sampling with a fixed generator: deterministic, well spread.
 pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
     if n == 4 {
-        return vec![[-0.94201624, -0.39906216], [0.94558609, -0.76890725], [-0.094184101, -0.92938870], [0.34495938, 0.29387760]];
+        return vec![[-0.94201624, -0.39906216], [0.945_586_1, -0.76890725], [-0.094_184_1, -0.929_388_7], [0.34495938, 0.293_877_6]];
     }
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = || {

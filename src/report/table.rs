@@ -109,13 +109,12 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
     }
     scenes
         .into_iter()
-        .map(|scene| {
+        .flat_map(|scene| {
             // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
             let mut group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
             group.sort_by_key(|r| Family::of_name(&r.method));
             [table(scene, "speed", speed_columns(), &group), table(scene, "accuracy", accuracy_columns(), &group)]
         })
-        .flatten()
         .collect()
 }
 

@@ -286,8 +286,11 @@ fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
     };
     let light = AreaLight { center, edge_u, edge_v };
     let scale = edge_u.length().max(edge_v.length()).max(1e-30);
-    // Edges are within ±MAX_COORDINATE, so the area cannot overflow f32 here.
-    if !(light.edge_u.cross(light.edge_v).length() > 1e-10 * scale * scale) {
+    // Edges are within ±MAX_COORDINATE, so the area cannot overflow f32 here. Negated so that a NaN
+    // area is refused too.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let degenerate = !(light.edge_u.cross(light.edge_v).length() > 1e-10 * scale * scale);
+    if degenerate {
         return Err(Error::scene(
             origin,
             format!("light has zero area (edge_u = {edge_u}, edge_v = {edge_v}): a soft shadow needs an area light"),

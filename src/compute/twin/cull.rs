@@ -11,7 +11,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 /// most tiles scanned (CULL_MARGIN, CULL_DEPTH_SLACK and CULL_SCAN_TILES in the kernel, which
 /// says why).
 pub const CULL_MARGIN: f32 = 0.0625;
-pub const CULL_DEPTH_SLACK: f32 = 1.52587890625e-5;
+pub const CULL_DEPTH_SLACK: f32 = 1.525_878_9e-5;
 pub const CULL_SCAN_TILES: u32 = 256;
 
 /// Projected bounds: texel box, least stored depth, and whether a point lies at or behind the

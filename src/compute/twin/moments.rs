@@ -16,6 +16,8 @@ pub fn normalised_depth(s: &GpuSample, linear: f32) -> f32 {
 }
 
 /// Peters & Klein's optimised 4-moment basis, rounded to 16 bits (row vector times the matrix).
+// The paper's digits, as in the kernel, so the two read alike (f32 rounds them the same).
+#[allow(clippy::excessive_precision)]
 pub fn msm_encode(z: f32) -> [f32; 4] {
     let z2 = z * z;
     let b = [z, z2, z2 * z, z2 * z2];

@@ -43,6 +43,8 @@ fn reduce_bleeding(p: f32, bleed: f32) -> f32 {
     ((p - bleed) / (1.0 - bleed)).clamp(0.0, 1.0)
 }
 
+// The paper's digits, as in the kernel, so the two read alike (f32 rounds them the same).
+#[allow(clippy::excessive_precision)]
 pub fn msm_decode(m: Vec4) -> Vec4 {
     let q = Vec4::new(m.x - 0.035955884801, m.y, m.z, m.w);
     Vec4::new(

@@ -72,7 +72,7 @@ fn border_strips(p: &AdaptiveParams, levels: &[LevelReport], rendered: &[u32], w
     let k = |x: u32, y: u32| (y * 17 + x) as usize;
     for r in levels {
         for (q, quad) in r.quads.iter().enumerate() {
-            if !r.split_base.get(q).is_none_or(|&s| s == NO_SPLIT) {
+            if r.split_base.get(q).is_some_and(|&s| s != NO_SPLIT) {
                 continue;
             }
             let (i, j, size) = (quad.i, quad.j, quad.size);
