@@ -1,10 +1,11 @@
 // shadow_test: each newly rendered map is tested once per pixel; the result is cached as bit k of
 // the pixel's lattice mask, so counting (reproject_count) and shading read bits, not textures.
-//  gather, main (scope = global): every pixel x the listed samples.
+//  fill_blocks, block16 .. block1 (scope = global): every pixel x the listed samples.
 //  list, probes (scope = local): only the samples a pixel consults, each (pixel, sample) once per
 //  frame: an item's four quad corners, a probe's five new samples.
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
+// work_count: the test list's length, or with requested = 1 the most it can hold (the block slots).
 @group(0) @binding(1) var<uniform> level: GpuLevel;
 @group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
 @group(0) @binding(3) var<storage, read> test_list: array<u32>;
@@ -18,84 +19,226 @@
 // GpuControl's words; word 1 counts the samples subdivide requested (level.requested = 1).
 @group(0) @binding(9) var<storage, read> control_words: array<u32>;
 
-// ---- scope = global ----
+// ---- scope = global: the listed samples in uniform blocks ----
 // A sample read from a storage buffer at a per-invocation index is gathered lane by lane and
-// component by component on a CPU device; read from a uniform buffer it is loaded once per SIMD
-// row. So `gather` copies the requested samples of the test list into one uniform list, and `main`
-// loops over it. (A loop over the uniform list measured faster on llvmpipe than unrolled blocks of
-// 16, one dispatch each: docs/bench.md.)
-struct GpuTestList {
-    count: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-    // In list order; `lattice` is the sample's lattice index k (gather sets it).
-    samples: array<GpuSample, LATTICE_POINTS>,
+// component by component on a CPU device; read from a uniform buffer at a constant offset it is
+// loaded once per SIMD row, but only where no lane mask is open (no early return, loop or `if`
+// around the read; docs/gpu-frame.md §4). So `fill_blocks` copies the requested samples of the
+// list into blocks of a uniform buffer, and one dispatch per block tests them, unrolled, for every
+// pixel of the dispatch: only the stores are conditional. llvmpipe runs every line of an unrolled
+// block, so a block is exactly full: slots of TEST_BLOCK, then one each of 8, 4, 2 and 1 samples.
+// Rust's TEST_BLOCK, TEST_SLOTS and TEST_BLOCK_BYTES (src/compute/shadow_test.rs) are these numbers.
+const TEST_BLOCK: u32 = 16u;
+const TEST_TAILS: u32 = 4u;
+const TEST_SLOTS: u32 = 22u;
+// 2048 bytes: slots at 256-byte-aligned offsets of one buffer.
+struct GpuTestBlock {
+    // Lattice index of the block's sample j: ks[j / 4][j % 4] (uniform arrays have a 16-byte stride).
+    ks: array<vec4<u32>, 4>,
+    samples: array<GpuSample, TEST_BLOCK>,
+    pad: array<vec4<u32>, 12>,
 }
 
-@group(0) @binding(18) var<uniform> test_samples: GpuTestList;
-@group(0) @binding(19) var<storage, read_write> gathered: GpuTestList;
+// The dispatched slot's block (a 2048-byte range of `blocks`).
+@group(0) @binding(18) var<uniform> block: GpuTestBlock;
+@group(0) @binding(19) var<storage, read_write> blocks: array<GpuTestBlock, TEST_SLOTS>;
+// Slot s's dispatch_workgroups_indirect arguments at words 3s .. 3s + 2 (x = 0: nothing to test).
+@group(0) @binding(20) var<storage, read_write> block_args: array<u32>;
 
-// One invocation: the list is at most LATTICE_POINTS long and keeps its order.
+// Slot of the requested sample i of m (in list order) and its place in the slot: the full blocks
+// first, then the tails of m % TEST_BLOCK, largest first.
+fn block_place(i: u32, m: u32) -> vec2<u32> {
+    let full = m / TEST_BLOCK;
+    if (i < full * TEST_BLOCK) {
+        return vec2<u32>(i / TEST_BLOCK, i % TEST_BLOCK);
+    }
+    var o = i - full * TEST_BLOCK;
+    let rest = m % TEST_BLOCK;
+    let slots = level.work_count / TEST_BLOCK;
+    for (var n = 0u; n < TEST_TAILS; n = n + 1u) {
+        let size = (TEST_BLOCK / 2u) >> n;
+        if ((rest & size) != 0u) {
+            if (o < size) {
+                return vec2<u32>(slots + n, o);
+            }
+            o = o - size;
+        }
+    }
+    // Not reached: the tails hold exactly m % TEST_BLOCK samples.
+    return vec2<u32>(TEST_SLOTS, 0u);
+}
+
+// One invocation: the list is at most LATTICE_POINTS long, and the order of the copies is fixed.
 @compute @workgroup_size(1, 1, 1)
-fn gather() {
+fn fill_blocks() {
     let listed = select(level.work_count, control_words[1], level.requested == 1u);
     var m = 0u;
+    for (var t = 0u; t < listed; t = t + 1u) {
+        m = m + select(0u, 1u, lattice_state[test_list[t]] != 0u);
+    }
+    var i = 0u;
     for (var t = 0u; t < listed; t = t + 1u) {
         let k = test_list[t];
         if (lattice_state[k] == 0u) {
             continue;
         }
-        var s = samples[k];
-        s.lattice = k;
-        gathered.samples[m] = s;
-        m = m + 1u;
+        let at = block_place(i, m);
+        blocks[at.x].ks[at.y / 4u][at.y % 4u] = k;
+        blocks[at.x].samples[at.y] = samples[k];
+        i = i + 1u;
     }
-    gathered.count = m;
+    // Every slot the host may dispatch: the full blocks of the longest list, then the tails.
+    let groups_x = (frame.width + 7u) / 8u;
+    let groups_y = (frame.height + 7u) / 8u;
+    let slots = level.work_count / TEST_BLOCK;
+    let full = m / TEST_BLOCK;
+    let rest = m % TEST_BLOCK;
+    for (var s = 0u; s < slots + TEST_TAILS; s = s + 1u) {
+        var used = s < full;
+        if (s >= slots) {
+            used = (rest & ((TEST_BLOCK / 2u) >> (s - slots))) != 0u;
+        }
+        block_args[3u * s] = select(0u, groups_x, used);
+        block_args[3u * s + 1u] = groups_y;
+        block_args[3u * s + 2u] = 1u;
+    }
+}
+
+// A pixel's running mask word: a block's samples keep the list's order (sorted in the waiting loop),
+// so its bits arrive word by word and one word stays in a register (a dynamically indexed local
+// array spills to memory on CPU devices), ORed into the mask when the word changes.
+struct Running {
+    base: u32,
+    word: u32,
+    bits: u32,
+    summary: u32,
+    // Inside the image and on geometry: the pixel's words are written.
+    geometry: bool,
+}
+
+fn flush_word(r: Running) {
+    if (r.geometry && r.word < MASK_WORDS && r.bits != 0u) {
+        masks[r.base + r.word] = masks[r.base + r.word] | r.bits;
+    }
+}
+
+// The block's sample j tested at p (normal n): its lit bit joins the running word. The reads come
+// first, outside the flush's `if`.
+fn test_sample(r: Running, j: u32, p: vec3<f32>, n: vec3<f32>) -> Running {
+    var out = r;
+    let k = block.ks[j / 4u][j % 4u];
+    let s = block.samples[j];
+    let lookup = shadow_lookup(frame, s, p, n);
+    let stored = map_depth(frame, shadow_maps, s, lookup.texel);
+    let lit = shadow_compare(s, lookup, stored);
+    if (k / 32u != out.word) {
+        flush_word(out);
+    }
+    out.bits = select(out.bits, 0u, k / 32u != out.word) | (lit << (k % 32u));
+    out.word = k / 32u;
+    out.summary = out.summary | select(SUMMARY_ANY_UNLIT, SUMMARY_ANY_LIT, lit == 1u);
+    return out;
+}
+
+// The pixel's G-buffer point; outside the image the edge pixel's, never written.
+struct BlockPixel {
+    position: vec4<f32>,
+    normal: vec3<f32>,
+    running: Running,
+}
+
+fn block_pixel(gid: vec3<u32>) -> BlockPixel {
+    var out: BlockPixel;
+    let inside = gid.x < frame.width && gid.y < frame.height;
+    let pixel = vec2<i32>(min(gid.xy, vec2<u32>(frame.width - 1u, frame.height - 1u)));
+    out.position = textureLoad(gbuffer_position, pixel, 0);
+    out.normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    out.running = Running((gid.y * frame.width + gid.x) * MASK_WORDS, MASK_WORDS, 0u, SUMMARY_GEOMETRY, inside && out.position.w != 0.0);
+    return out;
+}
+
+// The last running word and the summary flags (in word SUMMARY_WORD, above the lattice's bits).
+fn finish_block(r: Running) {
+    if (!r.geometry) {
+        return;
+    }
+    var last = r;
+    if (last.word == SUMMARY_WORD) {
+        last.bits = last.bits | last.summary;
+    } else {
+        masks[last.base + SUMMARY_WORD] = masks[last.base + SUMMARY_WORD] | last.summary;
+    }
+    flush_word(last);
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
-        return;
-    }
-    let pixel = vec2<i32>(gid.xy);
-    let position = textureLoad(gbuffer_position, pixel, 0);
-    if (position.w == 0.0) {
-        return;
-    }
-    let normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
-    let base = (gid.y * frame.width + gid.x) * MASK_WORDS;
-    // The list keeps the test list's order (sorted in the waiting loop), so its bits arrive word by
-    // word: one running word in a register (a dynamically indexed local array spills to memory on
-    // CPU devices), written when it changes.
-    var word = MASK_WORDS;
-    var bits = 0u;
-    var summary = SUMMARY_GEOMETRY;
-    for (var t = 0u; t < test_samples.count; t = t + 1u) {
-        let s = test_samples.samples[t];
-        let k = s.lattice;
-        if (k / 32u != word) {
-            if (word < MASK_WORDS && bits != 0u) {
-                masks[base + word] = masks[base + word] | bits;
-            }
-            word = k / 32u;
-            bits = 0u;
-        }
-        let lookup = shadow_lookup(frame, s, position.xyz, normal);
-        let stored = map_depth(frame, shadow_maps, s, lookup.texel);
-        let lit = shadow_compare(s, lookup, stored);
-        bits = bits | (lit << (k % 32u));
-        summary = summary | select(SUMMARY_ANY_UNLIT, SUMMARY_ANY_LIT, lit == 1u);
-    }
-    if (word == SUMMARY_WORD) {
-        bits = bits | summary;
-    } else {
-        masks[base + SUMMARY_WORD] = masks[base + SUMMARY_WORD] | summary;
-    }
-    if (word < MASK_WORDS && bits != 0u) {
-        masks[base + word] = masks[base + word] | bits;
-    }
+fn block16(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = block_pixel(gid);
+    let p = px.position.xyz;
+    var r = px.running;
+    r = test_sample(r, 0u, p, px.normal);
+    r = test_sample(r, 1u, p, px.normal);
+    r = test_sample(r, 2u, p, px.normal);
+    r = test_sample(r, 3u, p, px.normal);
+    r = test_sample(r, 4u, p, px.normal);
+    r = test_sample(r, 5u, p, px.normal);
+    r = test_sample(r, 6u, p, px.normal);
+    r = test_sample(r, 7u, p, px.normal);
+    r = test_sample(r, 8u, p, px.normal);
+    r = test_sample(r, 9u, p, px.normal);
+    r = test_sample(r, 10u, p, px.normal);
+    r = test_sample(r, 11u, p, px.normal);
+    r = test_sample(r, 12u, p, px.normal);
+    r = test_sample(r, 13u, p, px.normal);
+    r = test_sample(r, 14u, p, px.normal);
+    r = test_sample(r, 15u, p, px.normal);
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn block8(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = block_pixel(gid);
+    let p = px.position.xyz;
+    var r = px.running;
+    r = test_sample(r, 0u, p, px.normal);
+    r = test_sample(r, 1u, p, px.normal);
+    r = test_sample(r, 2u, p, px.normal);
+    r = test_sample(r, 3u, p, px.normal);
+    r = test_sample(r, 4u, p, px.normal);
+    r = test_sample(r, 5u, p, px.normal);
+    r = test_sample(r, 6u, p, px.normal);
+    r = test_sample(r, 7u, p, px.normal);
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn block4(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = block_pixel(gid);
+    let p = px.position.xyz;
+    var r = px.running;
+    r = test_sample(r, 0u, p, px.normal);
+    r = test_sample(r, 1u, p, px.normal);
+    r = test_sample(r, 2u, p, px.normal);
+    r = test_sample(r, 3u, p, px.normal);
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn block2(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = block_pixel(gid);
+    let p = px.position.xyz;
+    var r = px.running;
+    r = test_sample(r, 0u, p, px.normal);
+    r = test_sample(r, 1u, p, px.normal);
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn block1(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = block_pixel(gid);
+    var r = px.running;
+    r = test_sample(r, 0u, px.position.xyz, px.normal);
+    finish_block(r);
 }
 
 // ---- scope = local ----

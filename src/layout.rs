@@ -40,17 +40,15 @@ pub struct GpuCamera {
     pub eye: [f32; 4],
 }
 
-/// shadow_test's uniform list of the requested samples (kernels/shadow_test.wgsl), in list order;
-/// each sample's `lattice` is its lattice index.
+/// One slot of shadow_test's uniform sample blocks (kernels/shadow_test.wgsl), 2048 bytes so that
+/// slots of one buffer start at 256-byte-aligned offsets.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuTestList {
-    pub count: u32,
-    pub pad0: u32,
-    pub pad1: u32,
-    pub pad2: u32,
-    /// LATTICE_POINTS = 17 × 17 records.
-    pub samples: [[GpuSample; 17]; 17],
+pub struct GpuTestBlock {
+    /// Lattice index of the block's sample j at `ks[j / 4][j % 4]`.
+    pub ks: [[u32; 4]; 4],
+    pub samples: [GpuSample; 16],
+    pub pad: [[u32; 4]; 12],
 }
 
 /// One batch of the cull pass (kernels/cull.wgsl).
@@ -297,7 +295,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         }),
         layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),
-        layout_of!(GpuTestList { count, pad0, pad1, pad2, samples }),
+        layout_of!(GpuTestBlock { ks, samples, pad }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {

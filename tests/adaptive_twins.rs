@@ -37,9 +37,13 @@ fn global_stages_equal_their_cpu_twins() {
     let mut levels_checked = 0;
     let mut quads_checked = 0;
     let (mut mixed_words, mut uniform_words) = (0, 0);
-    for seed in SEEDS {
-        for spec in CRITERIA {
-            let sc = scene(seed);
+    let mut block_sizes = std::collections::BTreeSet::new();
+    // Seed 0: the default scene at 512², whose balanced lists need every block size of shadow_test.
+    let sets = [("resolution", "512"), ("shadow_map_size", "512")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let cases = SEEDS.iter().flat_map(|&s| CRITERIA.map(|c| (s, c))).chain([(0, "preset=balanced")]);
+    for (seed, spec) in cases {
+        {
+            let sc = if seed == 0 { Scene::load("default", &sets).expect("default scene") } else { scene(seed) };
             let p = params(spec);
             let p_m = spec;
             let (r, t) = common::traced(&ctx, &sc, &p, true);
@@ -57,6 +61,8 @@ fn global_stages_equal_their_cpu_twins() {
             let mut sample_level = vec![0u32; 289];
             for (d, lvl) in t.levels.iter().enumerate() {
                 let new: Vec<u32> = if d == 0 { vec![0, 16, 272, 288] } else { t.levels[d - 1].new_samples.clone() };
+                let blocks = twin::shadow_test::fill_blocks(&new, &[1; LATTICE_POINTS as usize], new.len() as u32);
+                block_sizes.extend(blocks.iter().map(|b| b.len()).filter(|&n| n > 0));
                 twin::shadow_test::shadow_test(&fr, &t.samples, &maps, g, &new, &mut masks);
                 let gpu_masks = lvl.masks.as_ref().unwrap();
                 let wrong_bits: u32 = masks.iter().zip(gpu_masks).map(|(a, b)| (a ^ b).count_ones()).sum();
@@ -95,6 +101,8 @@ fn global_stages_equal_their_cpu_twins() {
     assert!(levels_checked >= 16 && quads_checked >= 40, "too little was compared: {levels_checked} levels, {quads_checked} quads");
     // Both kinds of word were compared: maps read through word_state and through the quads' own words.
     assert!(mixed_words > 100 && uniform_words > 100, "word states: {mixed_words} mixed, {uniform_words} uniform");
+    // shadow_test's masks were compared through every block entry point.
+    assert_eq!(block_sizes.into_iter().collect::<Vec<_>>(), [1, 2, 4, 8, 16], "block sizes used");
 }
 
 #[test]
@@ -245,52 +253,79 @@ fn steered_frame_equals_the_waiting_loop() {
     assert_eq!(frames, 25);
 }
 
-/// shadow_test `gather` (scope = global) equals its twin exactly: the requested samples of the
-/// list, in list order, as byte-identical records with `lattice` set, for listed and requested
-/// counts (the steered loop's).
+/// shadow_test `fill_blocks` (scope = global) equals its twin exactly: which requested samples go
+/// to which block slot, in which order, byte-identical sample records, and workgroups for exactly
+/// the slots that hold samples among those the host dispatches; for listed and requested counts.
 #[test]
-fn gather_equals_its_cpu_twin() {
-    use penumbra::compute::shadow_test::ShadowTest;
+fn fill_blocks_equals_its_cpu_twin() {
+    use penumbra::compute::shadow_test::{block_slots, ShadowTest, TEST_BLOCK, TEST_BLOCK_BYTES, TEST_SLOTS};
     use penumbra::gpu::readback;
-    use penumbra::layout::{GpuControl, GpuLevel, GpuSample, GpuTestList};
+    use penumbra::layout::{GpuControl, GpuFrame, GpuLevel, GpuSample, GpuTestBlock};
     let ctx = common::gpu();
     let test = ShadowTest::new(ctx, penumbra::scene::MapKind::Plain, false).expect("shadow_test kernels");
-    // Every record distinct, and `lattice` not yet the index, so a wrong copy shows.
+    let frame = GpuFrame { width: 100, height: 37, ..Default::default() };
+    let (groups_x, groups_y) = (13, 5);
+    // Every record distinct, so a sample copied from the wrong index shows.
     let samples: Vec<GpuSample> = (0..LATTICE_POINTS)
-        .map(|k| GpuSample { texel_angle: k as f32 + 0.5, layer: 1000 + k, lattice: 7777, light_from_world: [[k as f32 * 3.0; 4]; 4], ..Default::default() })
+        .map(|k| GpuSample { texel_angle: k as f32 + 0.5, layer: 1000 + k, lattice: k, light_from_world: [[k as f32 * 3.0; 4]; 4], ..Default::default() })
         .collect();
     let mut rng = common::Lcg(5);
-    let (mut gathered, mut skipped) = (0, 0);
-    for case in 0..24u32 {
+    let mut sizes_used = std::collections::BTreeSet::new();
+    let mut cases = 0;
+    for case in 0..40u32 {
+        // A sorted list; the listed length and the bound vary, and some samples are not requested.
         let keep = [0.08, 0.3, 0.9, 1.0][case as usize % 4];
-        let listed: Vec<u32> = (0..LATTICE_POINTS).filter(|_| rng.next_f32() < keep).collect();
+        let mut listed: Vec<u32> = (0..LATTICE_POINTS).filter(|_| rng.next_f32() < keep).collect();
+        listed.truncate(1 + (rng.next_f32() * 80.0) as usize);
         let state: Vec<u32> = (0..LATTICE_POINTS).map(|_| (rng.next_f32() < 0.75) as u32).collect();
-        // Requested: the count is GpuControl word 1 and the buffer holds more.
         let requested = case % 2 == 1;
-        let count = if requested { listed.len() as u32 / 2 } else { listed.len() as u32 };
-        let level = GpuLevel { work_count: if requested { 0 } else { count }, requested: requested as u32, ..Default::default() };
-        let control = GpuControl { new_sample_count: count, ..Default::default() };
+        let bound = if requested { listed.len() as u32 + (rng.next_f32() * 20.0) as u32 } else { listed.len() as u32 };
+        let level = GpuLevel { work_count: bound, requested: requested as u32, ..Default::default() };
+        let control = GpuControl { new_sample_count: listed.len() as u32, ..Default::default() };
         let mut list = listed.clone();
-        list.push(0);
-        let level = readback::uniform_buffer(ctx, "level", &level);
-        let samples_buf = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
-        let list_buf = readback::storage_buffer(ctx, "list", &list, wgpu::BufferUsages::empty());
-        let state_buf = readback::storage_buffer(ctx, "state", &state, wgpu::BufferUsages::empty());
-        let control_buf = readback::storage_buffer(ctx, "control", &[control], wgpu::BufferUsages::empty());
+        list.resize(bound.max(1) as usize, 7);
+        let buffers = (
+            readback::uniform_buffer(ctx, "frame", &frame),
+            readback::uniform_buffer(ctx, "level", &level),
+            readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty()),
+            readback::storage_buffer(ctx, "list", &list, wgpu::BufferUsages::empty()),
+            readback::storage_buffer(ctx, "state", &state, wgpu::BufferUsages::empty()),
+            readback::storage_buffer(ctx, "control", &[control], wgpu::BufferUsages::empty()),
+        );
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        test.record_gather(ctx, &mut enc, &level, &samples_buf, &list_buf, &state_buf, &control_buf);
+        enc.clear_buffer(&test.block_buffer, 0, None);
+        enc.clear_buffer(&test.block_args, 0, None);
+        test.record_fill(ctx, &mut enc, &buffers.0, &buffers.1, &buffers.2, &buffers.3, &buffers.4, &buffers.5);
         ctx.queue.submit([enc.finish()]);
-        let out: Vec<GpuTestList> = readback::read_buffer(ctx, &test.list, std::mem::size_of::<GpuTestList>() as u64).unwrap();
-        let twin = twin::shadow_test::gather(&listed[..count as usize], &state);
-        assert_eq!(out[0].count as usize, twin.len(), "case {case}: count");
-        let gpu: Vec<&GpuSample> = out[0].samples.iter().flatten().take(twin.len()).collect();
-        for (j, (&k, s)) in twin.iter().zip(gpu).enumerate() {
-            let mut want = samples[k as usize];
-            want.lattice = k;
-            assert_eq!(bytemuck::bytes_of(s), bytemuck::bytes_of(&want), "case {case}: sample {j} (lattice {k})");
+        let blocks: Vec<GpuTestBlock> = readback::read_buffer(ctx, &test.block_buffer, TEST_SLOTS as u64 * TEST_BLOCK_BYTES).unwrap();
+        let args: Vec<u32> = readback::read_buffer(ctx, &test.block_args, TEST_SLOTS as u64 * 12).unwrap();
+        let slots = twin::shadow_test::fill_blocks(&listed, &state, bound);
+        let dispatched = block_slots(bound);
+        for (s, ks) in slots.iter().enumerate() {
+            if ks.is_empty() {
+                continue;
+            }
+            assert!(dispatched.contains(&(s as u32, ks.len() as u32)), "case {case}: slot {s} of {} samples is not dispatched as such ({dispatched:?})", ks.len());
+            sizes_used.insert(ks.len());
+            let gpu_ks: Vec<u32> = (0..ks.len()).map(|j| blocks[s].ks[j / 4][j % 4]).collect();
+            assert_eq!(&gpu_ks, ks, "case {case} slot {s}: lattice indices");
+            for (j, &k) in ks.iter().enumerate() {
+                assert_eq!(bytemuck::bytes_of(&blocks[s].samples[j]), bytemuck::bytes_of(&samples[k as usize]), "case {case} slot {s}: sample {j}");
+            }
         }
-        gathered += twin.len();
-        skipped += count as usize - twin.len();
+        for &(s, _) in &dispatched {
+            let used = !slots[s as usize].is_empty();
+            let x = args[3 * s as usize];
+            assert_eq!(x, if used { groups_x } else { 0 }, "case {case} slot {s}: workgroups in x");
+            if used {
+                assert_eq!(args[3 * s as usize + 1..3 * s as usize + 3], [groups_y, 1], "case {case} slot {s}: workgroups in y, z");
+            }
+        }
+        let total: usize = slots.iter().map(|b| b.len()).sum();
+        assert_eq!(total, listed.iter().filter(|&&k| state[k as usize] != 0).count(), "case {case}: samples placed");
+        assert!(slots.iter().all(|b| b.len() as u32 <= TEST_BLOCK));
+        cases += 1;
     }
-    assert!(gathered > 500 && skipped > 100, "too little compared: {gathered} gathered, {skipped} skipped");
+    assert_eq!(cases, 40);
+    assert_eq!(sizes_used.into_iter().collect::<Vec<_>>(), [1, 2, 4, 8, 16], "every block size was filled");
 }

@@ -48,14 +48,29 @@ fn hybrid_constants_match_rust() {
 }
 
 #[test]
-fn shade_block_matches_rust() {
-    let (module, _) = kernels::validate("shade").unwrap();
-    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some("SHADE_BLOCK")).expect("shade: no `SHADE_BLOCK`");
-    let wgsl = match module.global_expressions[c.init] {
-        naga::Expression::Literal(naga::Literal::U32(v)) => v,
-        ref e => panic!("shade: `SHADE_BLOCK` is {e:?}"),
+fn block_constants_match_rust() {
+    use penumbra::compute::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
+    let constant = |kernel: &str, name: &str| -> u32 {
+        let (module, _) = kernels::validate(kernel).unwrap();
+        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("{kernel}: no `{name}`"));
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref e => panic!("{kernel}: `{name}` is {e:?}"),
+        }
     };
-    assert_eq!(wgsl, penumbra::compute::shade::SHADE_BLOCK);
+    assert_eq!(constant("shade", "SHADE_BLOCK"), penumbra::compute::shade::SHADE_BLOCK);
+    assert_eq!(constant("shadow_test", "TEST_BLOCK"), TEST_BLOCK);
+    assert_eq!(constant("shadow_test", "TEST_SLOTS"), TEST_SLOTS);
+    assert_eq!(constant("shadow_test", "TEST_TAILS"), TEST_TAILS.len() as u32);
+    // The tails halve from half a block down to one sample, as fill_blocks places them.
+    assert_eq!(TEST_TAILS, [TEST_BLOCK / 2, TEST_BLOCK / 4, TEST_BLOCK / 8, TEST_BLOCK / 16]);
+    // One entry point per block size, each unrolling exactly its size.
+    let (module, _) = kernels::validate("shadow_test").unwrap();
+    for size in std::iter::once(TEST_BLOCK).chain(TEST_TAILS) {
+        let entry = module.entry_points.iter().find(|e| e.name == format!("block{size}")).unwrap_or_else(|| panic!("no `block{size}`"));
+        let calls = entry.function.body.iter().filter(|s| matches!(s, naga::Statement::Call { function, .. } if module.functions[*function].name.as_deref() == Some("test_sample"))).count();
+        assert_eq!(calls as u32, size, "block{size} calls test_sample {calls} times");
+    }
 }
 
 #[test]

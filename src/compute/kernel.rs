@@ -13,6 +13,8 @@ pub struct ComputeKernel {
 pub enum Dispatch<'a> {
     Direct([u32; 3]),
     Indirect(&'a wgpu::Buffer),
+    /// Arguments at a byte offset of the buffer.
+    IndirectAt(&'a wgpu::Buffer, u64),
 }
 
 impl ComputeKernel {
@@ -49,6 +51,7 @@ impl ComputeKernel {
                 }
             }
             Dispatch::Indirect(args) => pass.dispatch_workgroups_indirect(args, 0),
+            Dispatch::IndirectAt(args, offset) => pass.dispatch_workgroups_indirect(args, offset),
         }
     }
 }

@@ -1,10 +1,11 @@
 //! Twin of `kernels/shadow_test.wgsl`: ORs lit_k(p) of samples `ks` into the lattice masks
-//! (`main`; `gather`, which lists the requested samples for it, has a twin of its own),
+//! (the block entry points; `fill_blocks`, which fills their blocks, has a twin of its own),
 //! or of the samples each item and probe consults, once per (pixel, sample) (`list`, `probes`).
 
 use super::shadow::lit;
 use super::{probe_point, quad_corner};
 use crate::compute::buffers::{LATTICE_POINTS, MASK_WORDS};
+use crate::compute::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
 use crate::layout::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::Vec4;
@@ -35,9 +36,25 @@ pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -
     }
 }
 
-/// Twin of `gather`: the requested samples (state ≠ 0) of `listed`, in list order.
-pub fn gather(listed: &[u32], state: &[u32]) -> Vec<u32> {
-    listed.iter().copied().filter(|&k| state[k as usize] != 0).collect()
+/// Twin of `fill_blocks`: each block slot's lattice indices. The requested samples of `listed`
+/// (state ≠ 0) keep the list's order: full blocks of TEST_BLOCK first, then the tails of the rest,
+/// largest first, in the slots after the full blocks of a list of `bound`. Empty: not dispatched.
+pub fn fill_blocks(listed: &[u32], state: &[u32], bound: u32) -> Vec<Vec<u32>> {
+    let requested: Vec<u32> = listed.iter().copied().filter(|&k| state[k as usize] != 0).collect();
+    let mut slots = vec![Vec::new(); TEST_SLOTS as usize];
+    let mut chunks = requested.chunks_exact(TEST_BLOCK as usize);
+    for (s, block) in chunks.by_ref().enumerate() {
+        slots[s] = block.to_vec();
+    }
+    let mut rest = chunks.remainder();
+    for (n, &size) in TEST_TAILS.iter().enumerate() {
+        if rest.len() as u32 & size != 0 {
+            let (block, after) = rest.split_at(size as usize);
+            slots[(bound / TEST_BLOCK) as usize + n] = block.to_vec();
+            rest = after;
+        }
+    }
+    slots
 }
 
 /// Each lattice sample's map, loaded on first use.

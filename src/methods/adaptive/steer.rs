@@ -178,7 +178,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             timer.stage(ctx, "shadow_test", |enc| {
                 if level > 0 && cand.len() <= per_array {
                     // One chunk: test only what subdivide requested (its list and count).
-                    passes.shadow_test.record_requested(fg, enc, b, &array.array_view);
+                    passes.shadow_test.record_requested(fg, enc, b, &array.array_view, cand.len() as u32);
                 } else {
                     passes.shadow_test.record(fg, enc, b, &array.array_view, chunk);
                 }
