@@ -119,7 +119,8 @@ pub struct GpuLevel {
     pub words_per_row: u32,
     pub flag_words_per_row: u32,
     pub item_capacity: u32,
-    /// shadow_test: samples in the test list.
+    /// shadow_test: samples in the test list; with `requested`, the most it can hold (which block
+    /// slots are dispatched).
     pub work_count: u32,
     pub dense_groups_x: u32,
     pub quad_capacity: u32,
