@@ -1,7 +1,7 @@
 //! shade: accumulates weight_i · lit_i(p) over one array's samples into the visibility buffer.
 
 use super::groups;
-use crate::gpu::{pipeline, GpuContext};
+use crate::gpu::{pipeline, readback, GpuContext};
 use crate::layout::GpuSample;
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
@@ -15,7 +15,21 @@ pub const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
 pub struct ShadePass {
     /// One pipeline per entry of `BLOCK_SIZES`.
     blocks: Vec<wgpu::ComputePipeline>,
+    geometry_tiles: super::ComputeKernel,
     from_masks: super::ComputeKernel,
+}
+
+/// Words before the tile indices in a tile list: the blocks' indirect dispatch (count, 1, 1) and a
+/// pad (`TILE_LIST_HEADER` in kernels/shade.wgsl).
+pub const TILE_LIST_HEADER: usize = 4;
+/// Side of a tile: the blocks' workgroup.
+pub const TILE: u32 = 8;
+
+/// The 8x8 tiles that hold a geometry pixel, listed on the GPU once per frame (`geometry_tiles`);
+/// the blocks run one workgroup per listed tile, in any order (pixels are independent).
+pub struct GeometryTiles {
+    pub list: wgpu::Buffer,
+    pub bytes: u64,
 }
 
 /// `first .. first + count` as blocks `(start, size)` in sample order: full blocks of SHADE_BLOCK,
@@ -54,8 +68,33 @@ impl ShadePass {
                 .iter()
                 .map(|size| pipeline::compute_pipeline_for(ctx, "shade", &format!("block{size}"), maps))
                 .collect::<Result<_>>()?,
+            geometry_tiles: super::ComputeKernel::new(ctx, "shade", "geometry_tiles")?,
             from_masks: super::ComputeKernel::new(ctx, "shade", "from_masks")?,
         })
+    }
+
+    /// An empty tile list for an image of the G-buffer's size: count 0, then y = z = 1.
+    pub fn tile_list(&self, ctx: &GpuContext, gbuffer: &GBuffer) -> GeometryTiles {
+        let tiles = groups(gbuffer.width, TILE) * groups(gbuffer.height, TILE);
+        let mut words = vec![0u32; TILE_LIST_HEADER + tiles as usize];
+        words[1] = 1;
+        words[2] = 1;
+        let list = readback::storage_buffer(ctx, "shade tile list", &words, wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC);
+        GeometryTiles { list, bytes: words.len() as u64 * 4 }
+    }
+
+    /// Lists the tiles with a geometry pixel into `tiles` (made by `tile_list` for this frame).
+    pub fn record_geometry_tiles(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, inputs: &ShadeInputs, tiles: &GeometryTiles) {
+        self.geometry_tiles.dispatch(
+            ctx,
+            encoder,
+            &[
+                (0, inputs.frame.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
+                (10, tiles.list.as_entire_binding()),
+            ],
+            super::Dispatch::Direct([groups(inputs.gbuffer.width, TILE), groups(inputs.gbuffer.height, TILE), 1]),
+        );
     }
 
     /// Adds samples `first .. first + count` (all in `maps`: a depth array, or a hybrid store's view)
@@ -66,6 +105,7 @@ impl ShadePass {
         encoder: &mut wgpu::CommandEncoder,
         inputs: &ShadeInputs,
         maps: &wgpu::TextureView,
+        tiles: &GeometryTiles,
         first: u32,
         count: u32,
     ) {
@@ -79,24 +119,23 @@ impl ShadePass {
             let block_weights = block_uniform(ctx, "shade block weights", SHADE_BLOCK as u64 * 4);
             encoder.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &block_samples, 0, block_count as u64 * sample_bytes);
             encoder.copy_buffer_to_buffer(inputs.weights, block as u64 * 4, &block_weights, 0, block_count as u64 * 4);
-            let bind = pipeline::bind_group(
-                ctx,
-                "shade",
-                &pipeline.get_bind_group_layout(0),
-                &[
-                    inputs.frame.as_entire_binding(),
-                    block_samples.as_entire_binding(),
-                    block_weights.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
-                    wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
-                    wgpu::BindingResource::TextureView(maps),
-                    inputs.visibility.as_entire_binding(),
-                ],
-            );
+            let resources = [
+                inputs.frame.as_entire_binding(),
+                block_samples.as_entire_binding(),
+                block_weights.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
+                wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
+                wgpu::BindingResource::TextureView(maps),
+                inputs.visibility.as_entire_binding(),
+            ];
+            let mut entries: Vec<wgpu::BindGroupEntry> =
+                resources.into_iter().enumerate().map(|(i, resource)| wgpu::BindGroupEntry { binding: i as u32, resource }).collect();
+            entries.push(wgpu::BindGroupEntry { binding: 11, resource: tiles.list.as_entire_binding() });
+            let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("shade"), layout: &pipeline.get_bind_group_layout(0), entries: &entries });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("shade"), timestamp_writes: None });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(groups(inputs.gbuffer.width, WORKGROUP[0]), groups(inputs.gbuffer.height, WORKGROUP[1]), 1);
+            pass.dispatch_workgroups_indirect(&tiles.list, 0);
         }
     }
 

@@ -47,3 +47,17 @@ pub fn from_masks(weights: &[f32], masks: &[u32], g: &GBufferCpu) -> Vec<f32> {
         })
         .collect()
 }
+
+/// `geometry_tiles`: the 8×8 tiles (row-major index over the image's tiles) that hold a geometry
+/// pixel, ascending.
+pub fn geometry_tiles(g: &GBufferCpu) -> Vec<u32> {
+    let tile = crate::compute::shade::TILE;
+    let tiles_x = g.width.div_ceil(tile);
+    let mut tiles: Vec<u32> = (0..g.position.len())
+        .filter(|&i| g.is_geometry(i))
+        .map(|i| (i as u32 / g.width / tile) * tiles_x + (i as u32 % g.width) / tile)
+        .collect();
+    tiles.sort_unstable();
+    tiles.dedup();
+    tiles
+}
