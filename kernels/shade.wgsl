@@ -72,12 +72,7 @@ fn shade_block(gid: vec3<u32>, count: u32) {
     }
 }
 
-// ---- geometry tiles ----
-// The blocks run one workgroup per 8x8 tile that holds a geometry pixel, listed once per frame by
-// `geometry_tiles`: a CPU device computes every lane of a workgroup, so tiles of background only
-// would cost as much as any other (about half the image on default). Words 0..2 of the list are
-// the blocks' indirect dispatch (tile count, 1, 1), word 3 is padding, tiles follow.
-const TILE_LIST_HEADER: u32 = 4u;
+// ---- geometry tiles (kernels/shared/common.wgsl) ----
 @group(0) @binding(10) var<storage, read_write> tile_list_build: array<atomic<u32>>;
 @group(0) @binding(11) var<storage, read> tile_list: array<u32>;
 
@@ -97,36 +92,29 @@ fn geometry_tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgr
     }
 }
 
-// Pixel (x, y) of lane lid in the t-th listed tile.
-fn tile_pixel(t: u32, lid: vec3<u32>) -> vec3<u32> {
-    let tile = tile_list[TILE_LIST_HEADER + t];
-    let tiles_x = (frame.width + 7u) / 8u;
-    return vec3<u32>((tile % tiles_x) * 8u + lid.x, (tile / tiles_x) * 8u + lid.y, 0u);
-}
-
 @compute @workgroup_size(8, 8, 1)
 fn block16(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    shade_block(tile_pixel(group.x, lid), 16u);
+    shade_block(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width), 16u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn block8(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    shade_block(tile_pixel(group.x, lid), 8u);
+    shade_block(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width), 8u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn block4(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    shade_block(tile_pixel(group.x, lid), 4u);
+    shade_block(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width), 4u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn block2(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    shade_block(tile_pixel(group.x, lid), 2u);
+    shade_block(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width), 2u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn block1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    shade_block(tile_pixel(group.x, lid), 1u);
+    shade_block(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width), 1u);
 }
 
 // Adaptive (scope = global): V(p) = Σ_k ŵ_k · bit_k(p) over the lattice masks, k ascending, so the

@@ -42,8 +42,10 @@ struct GpuTestBlock {
 // The dispatched slot's block (a 2048-byte range of `blocks`).
 @group(0) @binding(18) var<uniform> block: GpuTestBlock;
 @group(0) @binding(19) var<storage, read_write> blocks: array<GpuTestBlock, TEST_SLOTS>;
-// Slot s's dispatch_workgroups_indirect arguments at words 3s .. 3s + 2 (x = 0: nothing to test).
+// Slot s's dispatch_workgroups_indirect arguments at words 3s .. 3s + 2 (x = 0: nothing to test):
+// one workgroup per geometry tile of the frame's list (kernels/shared/common.wgsl).
 @group(0) @binding(20) var<storage, read_write> block_args: array<u32>;
+@group(0) @binding(21) var<storage, read> tile_list: array<u32>;
 
 // Slot of the requested sample i of m (in list order) and its place in the slot: the full blocks
 // first, then the tails of m % TEST_BLOCK, largest first.
@@ -88,8 +90,7 @@ fn fill_blocks() {
         i = i + 1u;
     }
     // Every slot the host may dispatch: the full blocks of the longest list, then the tails.
-    let groups_x = (frame.width + 7u) / 8u;
-    let groups_y = (frame.height + 7u) / 8u;
+    let tiles = tile_list[0];
     let slots = level.work_count / TEST_BLOCK;
     let full = m / TEST_BLOCK;
     let rest = m % TEST_BLOCK;
@@ -98,8 +99,8 @@ fn fill_blocks() {
         if (s >= slots) {
             used = (rest & ((TEST_BLOCK / 2u) >> (s - slots))) != 0u;
         }
-        block_args[3u * s] = select(0u, groups_x, used);
-        block_args[3u * s + 1u] = groups_y;
+        block_args[3u * s] = select(0u, tiles, used);
+        block_args[3u * s + 1u] = 1u;
         block_args[3u * s + 2u] = 1u;
     }
 }
@@ -172,8 +173,8 @@ fn finish_block(r: Running) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn block16(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let px = block_pixel(gid);
+fn block16(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
     r = test_sample(r, 0u, p, px.normal);
@@ -196,8 +197,8 @@ fn block16(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn block8(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let px = block_pixel(gid);
+fn block8(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
     r = test_sample(r, 0u, p, px.normal);
@@ -212,8 +213,8 @@ fn block8(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn block4(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let px = block_pixel(gid);
+fn block4(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
     r = test_sample(r, 0u, p, px.normal);
@@ -224,8 +225,8 @@ fn block4(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn block2(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let px = block_pixel(gid);
+fn block2(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
     r = test_sample(r, 0u, p, px.normal);
@@ -234,8 +235,8 @@ fn block2(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn block1(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let px = block_pixel(gid);
+fn block1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     var r = px.running;
     r = test_sample(r, 0u, px.position.xyz, px.normal);
     finish_block(r);

@@ -95,13 +95,16 @@ impl<'a> Renderer<'a> {
         let scene_gpu = SceneGpu::upload(ctx, scene);
         let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
         let frame = frame_uniform(scene);
+        let shade = ShadePass::new(ctx, scene.render.maps)?;
+        let geometry_tiles = shade.tile_list(ctx, &gbuffer);
         let fg = FrameGpu {
             ctx,
             scene,
             frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
             frame,
             raster: ShadowRasterPass::new(ctx, scene.render.cull)?,
-            shade: ShadePass::new(ctx, scene.render.maps)?,
+            shade,
+            geometry_tiles,
             visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
             scene_gpu,
             gbuffer,
@@ -144,6 +147,7 @@ impl<'a> Renderer<'a> {
             // Methods accumulate into V: clearing it is part of every frame.
             enc.clear_buffer(&fg.visibility, 0, None);
             self.gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
+            fg.shade.record_geometry_tiles(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
             Ok(())
         })?;
         let mut output = self.state.run(fg, &mut timer, options.capture)?;

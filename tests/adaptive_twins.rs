@@ -264,7 +264,8 @@ fn fill_blocks_equals_its_cpu_twin() {
     let ctx = common::gpu();
     let test = ShadowTest::new(ctx, penumbra::scene::MapKind::Plain, false).expect("shadow_test kernels");
     let frame = GpuFrame { width: 100, height: 37, ..Default::default() };
-    let (groups_x, groups_y) = (13, 5);
+    // The blocks' workgroups: one per listed geometry tile (a list of 29 tiles here).
+    let tiles = 29u32;
     // Every record distinct, so a sample copied from the wrong index shows.
     let samples: Vec<GpuSample> = (0..LATTICE_POINTS)
         .map(|k| GpuSample { texel_angle: k as f32 + 0.5, layer: 1000 + k, lattice: k, light_from_world: [[k as f32 * 3.0; 4]; 4], ..Default::default() })
@@ -291,11 +292,12 @@ fn fill_blocks_equals_its_cpu_twin() {
             readback::storage_buffer(ctx, "list", &list, wgpu::BufferUsages::empty()),
             readback::storage_buffer(ctx, "state", &state, wgpu::BufferUsages::empty()),
             readback::storage_buffer(ctx, "control", &[control], wgpu::BufferUsages::empty()),
+            readback::storage_buffer(ctx, "tiles", &[tiles, 1, 1, 0], wgpu::BufferUsages::empty()),
         );
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&test.block_buffer, 0, None);
         enc.clear_buffer(&test.block_args, 0, None);
-        test.record_fill(ctx, &mut enc, &buffers.0, &buffers.1, &buffers.2, &buffers.3, &buffers.4, &buffers.5);
+        test.record_fill(ctx, &mut enc, &buffers.1, &buffers.2, &buffers.3, &buffers.4, &buffers.5, &buffers.6);
         ctx.queue.submit([enc.finish()]);
         let blocks: Vec<GpuTestBlock> = readback::read_buffer(ctx, &test.block_buffer, TEST_SLOTS as u64 * TEST_BLOCK_BYTES).unwrap();
         let args: Vec<u32> = readback::read_buffer(ctx, &test.block_args, TEST_SLOTS as u64 * 12).unwrap();
@@ -316,9 +318,9 @@ fn fill_blocks_equals_its_cpu_twin() {
         for &(s, _) in &dispatched {
             let used = !slots[s as usize].is_empty();
             let x = args[3 * s as usize];
-            assert_eq!(x, if used { groups_x } else { 0 }, "case {case} slot {s}: workgroups in x");
+            assert_eq!(x, if used { tiles } else { 0 }, "case {case} slot {s}: workgroups in x");
             if used {
-                assert_eq!(args[3 * s as usize + 1..3 * s as usize + 3], [groups_y, 1], "case {case} slot {s}: workgroups in y, z");
+                assert_eq!(args[3 * s as usize + 1..3 * s as usize + 3], [1, 1], "case {case} slot {s}: workgroups in y, z");
             }
         }
         let total: usize = slots.iter().map(|b| b.len()).sum();

@@ -80,6 +80,20 @@ fn shadow_compare(s: GpuSample, lookup: ShadowLookup, stored: f32) -> u32 {
     return select(select(0u, 1u, lookup.kind == LOOKUP_OUTSIDE), lit, lookup.kind == LOOKUP_COMPARE);
 }
 
+// ---- geometry tiles ----
+// Per-pixel kernels that run without branches (shade's and shadow_test's blocks) run one 8x8
+// workgroup per tile that holds a geometry pixel: a CPU device computes every lane of a workgroup,
+// so a tile of background only would cost as much as any other (about half the image on default).
+// The list is made once per frame with the G-buffer (shade.wgsl `geometry_tiles`). Words 0..2 are
+// the indirect dispatch (tile count, 1, 1), word 3 is padding, the tile indices follow.
+const TILE_LIST_HEADER: u32 = 4u;
+
+// Pixel of lane lid in tile `tile` (row-major over the image's 8x8 tiles).
+fn tile_pixel(tile: u32, lid: vec3<u32>, width: u32) -> vec3<u32> {
+    let tiles_x = (width + 7u) / 8u;
+    return vec3<u32>((tile % tiles_x) * 8u + lid.x, (tile / tiles_x) * 8u + lid.y, 0u);
+}
+
 // ---- adaptive light-source sampling (method.md §3-4) ----
 
 // The 17x17 lattice of light points (L_max = 4); lattice index k = j * 17 + i.

@@ -2,7 +2,7 @@
 //! G-buffer, the frame uniform, the shared raster and shade passes and the visibility buffer. It
 //! lives below the methods and the passes, so data flows one way: frame driver ─► methods ─► passes.
 
-use super::shade::{ShadeInputs, ShadePass};
+use super::shade::{GeometryTiles, ShadeInputs, ShadePass};
 use crate::gpu::GpuContext;
 use crate::layout::GpuFrame;
 use crate::render::gbuffer::GBuffer;
@@ -19,6 +19,8 @@ pub struct FrameGpu<'a> {
     pub frame_buffer: wgpu::Buffer,
     pub raster: ShadowRasterPass,
     pub shade: ShadePass,
+    /// This frame's 8x8 tiles with a geometry pixel, listed with the G-buffer.
+    pub geometry_tiles: GeometryTiles,
     pub visibility: wgpu::Buffer,
     /// Whether methods read back what their pictures need (off for timed benchmark runs).
     pub pictures: bool,

@@ -25,10 +25,13 @@ pub const TILE_LIST_HEADER: usize = 4;
 /// Side of a tile: the blocks' workgroup.
 pub const TILE: u32 = 8;
 
-/// The 8x8 tiles that hold a geometry pixel, listed on the GPU once per frame (`geometry_tiles`);
-/// the blocks run one workgroup per listed tile, in any order (pixels are independent).
+/// The 8x8 tiles that hold a geometry pixel, listed on the GPU once per frame with the G-buffer
+/// (`geometry_tiles`); shade's and shadow_test's blocks run one workgroup per listed tile, in any
+/// order (pixels are independent).
 pub struct GeometryTiles {
     pub list: wgpu::Buffer,
+    /// The list's header before any tile: count 0, then y = z = 1; copied in every frame.
+    header: wgpu::Buffer,
     pub bytes: u64,
 }
 
@@ -73,32 +76,38 @@ impl ShadePass {
         })
     }
 
-    /// An empty tile list for an image of the G-buffer's size: count 0, then y = z = 1.
+    /// A tile list for images of the G-buffer's size.
     pub fn tile_list(&self, ctx: &GpuContext, gbuffer: &GBuffer) -> GeometryTiles {
         let tiles = groups(gbuffer.width, TILE) * groups(gbuffer.height, TILE);
-        let mut words = vec![0u32; TILE_LIST_HEADER + tiles as usize];
-        words[1] = 1;
-        words[2] = 1;
-        let list = readback::storage_buffer(ctx, "shade tile list", &words, wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC);
-        GeometryTiles { list, bytes: words.len() as u64 * 4 }
+        let bytes = (TILE_LIST_HEADER as u64 + tiles as u64) * 4;
+        let list = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("geometry tiles"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let header = readback::storage_buffer(ctx, "geometry tiles header", &[0u32, 1, 1, 0], wgpu::BufferUsages::COPY_SRC);
+        GeometryTiles { list, header, bytes }
     }
 
-    /// Lists the tiles with a geometry pixel into `tiles` (made by `tile_list` for this frame).
-    pub fn record_geometry_tiles(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, inputs: &ShadeInputs, tiles: &GeometryTiles) {
+    /// Lists this frame's tiles with a geometry pixel (after the G-buffer pass) into `tiles`.
+    pub fn record_geometry_tiles(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles) {
+        encoder.copy_buffer_to_buffer(&tiles.header, 0, &tiles.list, 0, TILE_LIST_HEADER as u64 * 4);
         self.geometry_tiles.dispatch(
             ctx,
             encoder,
             &[
-                (0, inputs.frame.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
+                (0, frame.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&gbuffer.position_view)),
                 (10, tiles.list.as_entire_binding()),
             ],
-            super::Dispatch::Direct([groups(inputs.gbuffer.width, TILE), groups(inputs.gbuffer.height, TILE), 1]),
+            super::Dispatch::Direct([groups(gbuffer.width, TILE), groups(gbuffer.height, TILE), 1]),
         );
     }
 
     /// Adds samples `first .. first + count` (all in `maps`: a depth array, or a hybrid store's view)
     /// to the visibility buffer.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         ctx: &GpuContext,

@@ -139,18 +139,17 @@ impl ShadowTest {
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
-        frame: &wgpu::Buffer,
         level: &wgpu::Buffer,
         samples: &wgpu::Buffer,
         list: &wgpu::Buffer,
         lattice_state: &wgpu::Buffer,
         control: &wgpu::Buffer,
+        tiles: &wgpu::Buffer,
     ) {
         self.fill.dispatch(
             ctx,
             enc,
             &[
-                (0, frame.as_entire_binding()),
                 (1, level.as_entire_binding()),
                 (2, samples.as_entire_binding()),
                 (3, list.as_entire_binding()),
@@ -158,6 +157,7 @@ impl ShadowTest {
                 (9, control.as_entire_binding()),
                 (19, self.block_buffer.as_entire_binding()),
                 (20, self.block_args.as_entire_binding()),
+                (21, tiles.as_entire_binding()),
             ],
             Dispatch::Direct([1, 1, 1]),
         );
@@ -166,7 +166,7 @@ impl ShadowTest {
     #[allow(clippy::too_many_arguments)]
     fn dispatch(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, level: &wgpu::Buffer, list: &wgpu::Buffer, bound: u32) {
         let ctx = fg.ctx;
-        self.record_fill(ctx, enc, &fg.frame_buffer, level, &b.samples, list, &b.lattice_state, &b.control);
+        self.record_fill(ctx, enc, level, &b.samples, list, &b.lattice_state, &b.control, &fg.geometry_tiles.list);
         for (slot, size) in block_slots(bound) {
             let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
             let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
@@ -180,6 +180,7 @@ impl ShadowTest {
                     (6, wgpu::BindingResource::TextureView(maps)),
                     (7, b.masks.as_entire_binding()),
                     (18, wgpu::BindingResource::Buffer(block)),
+                    (21, fg.geometry_tiles.list.as_entire_binding()),
                 ],
                 Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
             );

@@ -204,7 +204,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
     let points = *points;
     let mut capture = capture.then(FixedCapture::default);
     let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
-    let tiles = list_geometry_tiles(fg, timer, &inputs)?;
+    let tiles = &fg.geometry_tiles;
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
@@ -220,7 +220,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
             }
         }
         timer.stage(ctx, "shade", |enc| {
-            fg.shade.record(ctx, enc, &inputs, &array.array_view, &tiles, first, count);
+            fg.shade.record(ctx, enc, &inputs, &array.array_view, tiles, first, count);
             Ok(())
         })?;
         bar.inc(count as u64);
@@ -229,7 +229,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
     if let Some(c) = capture.as_mut() {
         c.samples = samples.clone();
         c.weights = weights.clone();
-        c.tiles = read_tiles(fg, &tiles)?;
+        c.tiles = read_tiles(fg, tiles)?;
     }
     let chunks = (points as u32).div_ceil(chunk);
     Ok(MethodOutput {
@@ -264,11 +264,11 @@ fn run_hybrid(
     let ctx = fg.ctx;
     maps.reset(fg);
     let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
-    let tiles = list_geometry_tiles(fg, timer, &inputs)?;
+    let tiles = &fg.geometry_tiles;
     let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
         timer.stage(ctx, "shade", |enc| {
-            fg.shade.record(ctx, enc, &inputs, view, &tiles, slots[0], slots.len() as u32);
+            fg.shade.record(ctx, enc, &inputs, view, tiles, slots[0], slots.len() as u32);
             Ok(())
         })
     };
@@ -300,7 +300,7 @@ fn run_hybrid(
     if let Some(c) = cap.as_mut() {
         c.samples = samples.to_vec();
         c.weights = weights.to_vec();
-        c.tiles = read_tiles(fg, &tiles)?;
+        c.tiles = read_tiles(fg, tiles)?;
     }
     Ok(MethodOutput {
         shadow_maps: points as u32,
@@ -314,16 +314,6 @@ fn run_hybrid(
 /// The capture of a fixed-sample run made with `capture` on.
 pub fn capture_of(out: &MethodOutput) -> Option<&FixedCapture> {
     out.detail.as_ref()?.downcast_ref()
-}
-
-/// The frame's geometry tiles, listed once and shaded by every block; timed as part of shade.
-fn list_geometry_tiles(fg: &FrameGpu, timer: &mut StageTimer, inputs: &crate::compute::shade::ShadeInputs) -> Result<GeometryTiles> {
-    let tiles = fg.shade.tile_list(fg.ctx, inputs.gbuffer);
-    timer.stage(fg.ctx, "shade", |enc| {
-        fg.shade.record_geometry_tiles(fg.ctx, enc, inputs, &tiles);
-        Ok(())
-    })?;
-    Ok(tiles)
 }
 
 /// Tests only: the listed tiles, sorted (the GPU appends them in any order).
