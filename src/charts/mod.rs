@@ -2,6 +2,7 @@
 //!
 //! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first.
 
+mod dominance;
 mod environment;
 mod error_maps;
 mod error_time;
@@ -17,6 +18,7 @@ mod stages;
 mod style;
 mod temporal;
 
+pub use dominance::{verdicts, Point as DominancePoint, Verdict};
 pub use environment::{env_chart_svg, EnvAxis};
 pub use error_maps::error_vs_maps_svg;
 pub use error_time::error_vs_time_svg;

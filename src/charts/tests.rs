@@ -304,3 +304,26 @@ fn single_row_charts() {
     assert!(maps_vs_pm_svg(&rows).is_ok());
     assert!(error_vs_maps_svg(&rows).is_ok());
 }
+
+#[test]
+fn dominance_on_known_points() {
+    let rows = sample_rows();
+    let v = verdicts(&rows);
+    // One verdict per regular row, in row order.
+    assert_eq!(v.iter().map(|v| v.regular.label.as_str()).collect::<Vec<_>>(), ["regular(n=9)", "regular(n=17)"]);
+    // n = 9 (40 ms, 0.02): the fastest adaptive row with RMSE <= 0.02 and time <= 40 ms is p_m=16.
+    let by = v[0].dominated_by.as_ref().expect("n=9 is dominated");
+    assert_eq!((by.maps, by.median_ms, by.rmse), (25, 14.0, 0.015));
+    // n = 17 (140 ms, 0.004): every adaptive row is faster but none is as accurate.
+    assert!(v[1].dominated_by.is_none() && v[1].fastest_as_accurate.is_none());
+    let near = v[1].most_accurate_as_fast.as_ref().expect("some adaptive row is as fast");
+    assert_eq!((near.maps, near.rmse), (61, 0.006));
+
+    // A tie on both counts dominates; a row from another adapter does not take part.
+    let mut tie = vec![row("regular", json!({"n": 5}), 25, 10.0, 0.03), row("adaptive", json!({"p_m": 0}), 25, 10.0, 0.03)];
+    assert_eq!(verdicts(&tie)[0].dominated_by.as_ref().map(|p| p.maps), Some(25));
+    tie[1].adapter = json!({"name": "other"});
+    assert!(verdicts(&tie).is_empty());
+    // A scene without adaptive rows gets no verdict.
+    assert!(verdicts(&rows[..4]).is_empty());
+}

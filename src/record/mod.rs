@@ -75,6 +75,12 @@ pub fn jsonl(rows: &[ResultRow]) -> Result<String> {
 /// and PNG), as (path relative to the output folder, bytes).
 pub fn result_files(rows: &[ResultRow]) -> Result<Vec<(String, Vec<u8>)>> {
     let mut files = vec![("results.jsonl".to_string(), jsonl(rows)?.into_bytes()), ("results.csv".to_string(), csv::render(rows).into_bytes())];
+    // For scripts: each regular grid, and the adaptive rows that dominate or nearly dominate it.
+    let verdicts = crate::charts::verdicts(rows);
+    if !verdicts.is_empty() {
+        let json = serde_json::to_vec_pretty(&verdicts).map_err(|e| crate::Error::Io { path: "dominance.json".into(), message: e.to_string() })?;
+        files.push(("dominance.json".to_string(), json));
+    }
     for (stem, _, svg) in crate::report::results::charts(rows)? {
         files.push((format!("charts/{stem}.png"), svg_to_png(&svg, 1.0)?));
         files.push((format!("charts/{stem}.svg"), svg.into_bytes()));

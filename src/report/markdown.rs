@@ -40,7 +40,9 @@ pub(super) fn render(
     let _ = writeln!(
         md,
         "\n## Results\n\n**Bold**: best in its column (lower is better except PSNR and SSIM; no mark when all \
-         values tie). Times: median (min–max) over repeats. PSNR ∞ = identical."
+         values tie). Times: median (min–max) over repeats. PSNR ∞ = identical. Adaptive against the regular \
+         grids: an adaptive row dominates a grid when its median frame and its RMSE are both at most the \
+         grid's (same run, same adapter); ratios are to the grid."
     );
     for t in tables {
         let _ = writeln!(md, "\n### {}: {}\n", cell(&t.scene), t.kind);

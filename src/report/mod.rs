@@ -2,6 +2,7 @@
 //! `report.md` whose images live in `report_files/` beside it.
 
 mod baseline;
+mod dominance;
 mod files;
 mod html;
 mod markdown;
@@ -97,6 +98,7 @@ pub fn write_report_with_baseline(
 
     let settings = table::settings_pairs(settings);
     let mut tables = table::tables(rows);
+    tables.extend(dominance::tables(rows));
     if let Some(old) = baseline {
         tables.extend(baseline::tables(old, rows));
     }

@@ -1,0 +1,71 @@
+//! Adaptive against the regular grids, scene by scene: for every `regular` row, the adaptive rows
+//! that are at least as fast (median frame) and at least as accurate (RMSE), and, when none is,
+//! the two nearest misses. Times are compared only between rows measured on the same adapter.
+
+use serde::Serialize;
+
+use super::ResultRow;
+
+/// One row as the verdicts name it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Point {
+    pub label: String,
+    pub maps: u32,
+    pub rmse: f64,
+    pub median_ms: f64,
+    pub min_ms: f64,
+    pub max_ms: f64,
+}
+
+impl Point {
+    fn of(r: &ResultRow) -> Self {
+        Self { label: r.label(), maps: r.shadow_maps, rmse: r.metrics.rmse, median_ms: r.total_ms, min_ms: r.total_ms_min, max_ms: r.total_ms_max }
+    }
+}
+
+/// The verdict on one regular grid.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verdict {
+    pub scene: String,
+    pub regular: Point,
+    /// The fastest adaptive row with RMSE and median frame both at most the grid's, if any.
+    pub dominated_by: Option<Point>,
+    /// The fastest adaptive row at most as inaccurate as the grid, whatever its time.
+    pub fastest_as_accurate: Option<Point>,
+    /// The most accurate adaptive row at most as slow as the grid, whatever its error.
+    pub most_accurate_as_fast: Option<Point>,
+}
+
+/// One verdict per `regular` row of a scene that also has `adaptive` rows on the same adapter, in
+/// row order; empty when no scene has both.
+pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
+    let usable = |r: &ResultRow| r.total_ms.is_finite() && r.metrics.rmse.is_finite();
+    rows.iter()
+        .filter(|g| g.method == "regular" && usable(g))
+        .filter_map(|g| {
+            let rivals: Vec<&ResultRow> =
+                rows.iter().filter(|a| a.method == "adaptive" && a.scene == g.scene && a.adapter == g.adapter && usable(a)).collect();
+            if rivals.is_empty() {
+                return None;
+            }
+            let accurate = |a: &&&ResultRow| a.metrics.rmse <= g.metrics.rmse;
+            let fast = |a: &&&ResultRow| a.total_ms <= g.total_ms;
+            // Ties on time go to the more accurate row, ties on error to the faster one.
+            let fastest = |it: &mut dyn Iterator<Item = &&ResultRow>| {
+                it.min_by(|a, b| a.total_ms.total_cmp(&b.total_ms).then(a.metrics.rmse.total_cmp(&b.metrics.rmse))).map(|r| Point::of(r))
+            };
+            let most_accurate = rivals
+                .iter()
+                .filter(fast)
+                .min_by(|a, b| a.metrics.rmse.total_cmp(&b.metrics.rmse).then(a.total_ms.total_cmp(&b.total_ms)))
+                .map(|r| Point::of(r));
+            Some(Verdict {
+                scene: g.scene.clone(),
+                regular: Point::of(g),
+                dominated_by: fastest(&mut rivals.iter().filter(accurate).filter(fast)),
+                fastest_as_accurate: fastest(&mut rivals.iter().filter(accurate)),
+                most_accurate_as_fast: most_accurate,
+            })
+        })
+        .collect()
+}
