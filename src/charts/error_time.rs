@@ -6,7 +6,8 @@ use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow};
 use crate::methods::Family;
 
-/// Points grouped (coloured) by method family (hard, pcf family, filtered maps, multi-sample);
+/// Points grouped (coloured) by method family (hard, pcf family, filtered maps, multi-sample),
+/// multi-sample split by method, so regular grids and adaptive settings read apart on the front;
 /// whiskers span min..max time; labels are `label()`.
 pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let rows: Vec<&ResultRow> = rows
@@ -21,7 +22,12 @@ pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter().copied());
     let mut series: Vec<Series> = Vec::new();
     for r in &rows {
-        let name = with_scene(multi, &r.scene, Family::of_name(&r.method).title());
+        let family = Family::of_name(&r.method);
+        let group = match family {
+            Family::MultiSample => format!("{} ({})", family.title(), r.method),
+            _ => family.title().to_string(),
+        };
+        let name = with_scene(multi, &r.scene, &group);
         let point = Point {
             x: r.total_ms,
             y: r.metrics.rmse,
