@@ -101,6 +101,17 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
         assert!(out.join(f).is_file(), "missing {f}");
     }
 
+    // One verdict, on the one regular grid; the adaptive row dominates it exactly when it is at
+    // most as slow and at most as inaccurate in the rows just read.
+    let dominance: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("dominance.json")).unwrap()).unwrap();
+    let verdicts = dominance.as_array().unwrap();
+    assert_eq!(verdicts.len(), 1, "{dominance}");
+    assert_eq!(verdicts[0]["regular"]["label"], "regular:n=3");
+    let ms = |i: usize| rows[i]["total_ms"].as_f64().unwrap();
+    let dominated = rmse(2) <= rmse(1) && ms(2) <= ms(1);
+    assert_eq!(!verdicts[0]["dominated_by"].is_null(), dominated, "{dominance}");
+    assert_eq!(verdicts[0]["fastest_as_accurate"]["label"].as_str(), (rmse(2) <= rmse(1)).then_some("adaptive:p_m=0"), "{dominance}");
+
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert_self_contained(&html);
     for label in labels {
