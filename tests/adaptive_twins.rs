@@ -46,7 +46,7 @@ fn global_stages_equal_their_cpu_twins() {
             let sc = if seed == 0 { Scene::load("default", &sets).expect("default scene") } else { scene(seed) };
             let p = params(spec);
             let p_m = spec;
-            let (r, t) = common::traced(&ctx, &sc, &p, true);
+            let (r, t) = common::traced(ctx, &sc, &p, true);
             let g = &r.gbuffer;
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
@@ -113,7 +113,7 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
         for spec in ["p_m=0", "tol=0.004"] {
             let sc = scene(seed);
             let p = params(&format!("{spec},scope=local"));
-            let (r, t) = common::traced(&ctx, &sc, &p, true);
+            let (r, t) = common::traced(ctx, &sc, &p, true);
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
             let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));
@@ -147,7 +147,7 @@ fn local_lookups_equal_the_distinct_pairs_consulted() {
         for spec in ["p_m=0", "p_m=-1,max_level=3"] {
             let sc = scene(seed);
             let p = params(&format!("{spec},scope=local"));
-            let (r, t) = common::traced(&ctx, &sc, &p, true);
+            let (r, t) = common::traced(ctx, &sc, &p, true);
             let fr = frame_uniform(&sc);
             let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
             let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));
@@ -188,8 +188,8 @@ fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
         let whole = sc.indices.len() as u64 / 3;
         let order = penumbra::render::shadow_order::shadow_order(&positions, &sc.indices);
         // Always splitting reaches small quads, whose pixels test small rectangles.
-        let (on, t) = common::traced(&ctx, &sc, &params("p_m=-1,max_level=3,scope=local,cull=on"), false);
-        let (off, t_off) = common::traced(&ctx, &sc, &params("p_m=-1,max_level=3,scope=local"), false);
+        let (on, t) = common::traced(ctx, &sc, &params("p_m=-1,max_level=3,scope=local,cull=on"), false);
+        let (off, t_off) = common::traced(ctx, &sc, &params("p_m=-1,max_level=3,scope=local"), false);
         let changed = on.visibility.iter().zip(&off.visibility).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
         assert_eq!(changed, 0, "seed {seed}: culling changed V in {changed} pixels");
         assert_eq!(t.rendered, t_off.rendered, "seed {seed}: culling changed the maps");
@@ -229,8 +229,8 @@ fn steered_frame_equals_the_waiting_loop() {
     let mut frames = 0;
     for (seed, sc) in scenes {
         for spec in ["preset=seed", "preset=balanced", "p_m=3,weights=area", "tol=0.004,weights=coons", "p_m=-1,max_level=2"] {
-            let (gpu, t) = common::traced(&ctx, &sc, &params(&format!("{spec},steer=gpu")), false);
-            let (cpu, t_cpu) = common::traced(&ctx, &sc, &params(&format!("{spec},steer=cpu")), false);
+            let (gpu, t) = common::traced(ctx, &sc, &params(&format!("{spec},steer=gpu")), false);
+            let (cpu, t_cpu) = common::traced(ctx, &sc, &params(&format!("{spec},steer=cpu")), false);
             assert_eq!(gpu.output.syncs, 0, "seed {seed} {spec}: the steered frame waited");
             assert!(cpu.output.syncs > 0, "seed {seed} {spec}: the waiting loop did not wait");
             assert_eq!(t.rendered, t_cpu.rendered, "seed {seed} {spec}: maps");

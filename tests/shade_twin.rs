@@ -21,7 +21,7 @@ fn shade_equals_its_cpu_twin() {
         )
         .unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: true, capture: true };
-        let r = frame::render(&ctx, &sc, &method, options).unwrap();
+        let r = frame::render(ctx, &sc, &method, options).unwrap();
         let c = fixed::capture_of(&r.output).expect("fixed-sample capture");
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();

@@ -111,7 +111,7 @@ impl AdaptiveBuffers {
     /// `item_cap` lowers the item list's capacity (`adaptive:items`).
     pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool, item_cap: Option<u32>) -> Result<Self> {
         let limits = ctx.limits();
-        let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        let max_binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         let words_per_row = width.div_ceil(4);
         let flag_words_per_row = width.div_ceil(32);
         let pixels = width as u64 * height as u64;

@@ -239,7 +239,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     let ctx = fg.ctx;
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
-    let (b, mut store, passes, mut samples) = (&prepared.b, &mut prepared.store, &prepared.passes, &mut prepared.samples);
+    let (b, store, passes, samples) = (&prepared.b, &mut prepared.store, &prepared.passes, &mut prepared.samples);
     let cull = prepared.cull.as_ref();
     // compact grows each sample's texel rectangle for the scissor and for culling.
     let grow_rects = p.scissor || cull.is_some();
@@ -260,7 +260,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     if local {
         let level = readback::uniform_buffer(ctx, "level", &level_uniform(0, 1, 0));
         timer.stage(ctx, "compact", |enc| {
-            passes.compact.record_seed(fg, enc, &b, &level, &b.items[0]);
+            passes.compact.record_seed(fg, enc, b, &level, &b.items[0]);
             Ok(())
         })?;
     }
@@ -285,7 +285,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         let nxt = 1 - cur;
         // New maps: raster (with scissor under scope = local) and, under scope = global, cache their tests.
         // Level 0's corners precede every rectangle: no scissor.
-        render_new(fg, timer, &b, &mut store, &mut samples, &new, rects.as_deref(), cull, local, &passes, &mut trace, capture)?;
+        render_new(fg, timer, b, store, samples, &new, rects.as_deref(), cull, local, passes, &mut trace, capture)?;
 
         // Under scope = global the counts only feed the split rule: a rule that cannot depend on them
         // (always, never) and the last level (nothing splits) skip the count stages.
@@ -303,15 +303,15 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
             let maps = store.views();
             timer.stage(ctx, "probe", |enc| {
-                passes.probe.record_begin(fg, enc, &b, &lv);
+                passes.probe.record_begin(fg, enc, b, &lv);
                 Ok(())
             })?;
             timer.stage(ctx, "shadow_test", |enc| {
-                passes.shadow_test.record_probes(fg, enc, &b, &b.quads[cur], maps);
+                passes.shadow_test.record_probes(fg, enc, b, &b.quads[cur], maps);
                 Ok(())
             })?;
             timer.stage(ctx, "probe", |enc| {
-                passes.probe.record(fg, enc, &b, &lv, &b.quads[cur], &b.items[cur]);
+                passes.probe.record(fg, enc, b, &lv, &b.quads[cur], &b.items[cur]);
                 Ok(())
             })?;
         }
@@ -322,7 +322,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             let maps = store.views();
             timer.stage(ctx, "reproject_count", |enc| {
                 // The items compact (and probe) appended become this level's work.
-                passes.reproject_count.record_begin(fg, enc, &b, &lv);
+                passes.reproject_count.record_begin(fg, enc, b, &lv);
                 // Only this level's quads: the buffers are sized for 256. The last level writes none.
                 if !last_local {
                     enc.clear_buffer(&b.counts, 0, Some(b.counts_bytes_per_quad() * quad_count as u64));
@@ -330,14 +330,14 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 Ok(())
             })?;
             timer.stage(ctx, "shadow_test", |enc| {
-                passes.shadow_test.record_list(fg, enc, &b, &b.quads[cur], items, maps);
+                passes.shadow_test.record_list(fg, enc, b, &b.quads[cur], items, maps);
                 Ok(())
             })?;
             timer.stage(ctx, "reproject_count", |enc| {
                 if last_local {
-                    passes.reproject_count.record_last(fg, enc, &b, &lv, &b.quads[cur], items);
+                    passes.reproject_count.record_last(fg, enc, b, &lv, &b.quads[cur], items);
                 } else {
-                    passes.reproject_count.record_list(fg, enc, &b, &lv, &b.quads[cur], items);
+                    passes.reproject_count.record_list(fg, enc, b, &lv, &b.quads[cur], items);
                 }
                 Ok(())
             })?;
@@ -345,7 +345,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
             if !last_local {
                 timer.stage(ctx, "neighbourhood", |enc| {
                     enc.clear_buffer(&b.flags, 0, Some(b.flags_bytes_per_quad() * quad_count as u64));
-                    passes.neighbourhood.record_list(fg, enc, &b, &lv, items);
+                    passes.neighbourhood.record_list(fg, enc, b, &lv, items);
                     Ok(())
                 })?;
             }
@@ -356,24 +356,24 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                 let n = b.count_quads.min(quad_count - first);
                 let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, n, first));
                 timer.stage(ctx, "reproject_count", |enc| {
-                    passes.reproject_count.record_dense(fg, enc, &b, &lv, &b.quads[cur]);
+                    passes.reproject_count.record_dense(fg, enc, b, &lv, &b.quads[cur]);
                     Ok(())
                 })?;
                 // GPU-driven: the previous subdivide wrote these dispatches' sizes (flag words x quads).
                 let indirect = single && level > 0;
                 timer.stage(ctx, "neighbourhood", |enc| {
-                    passes.neighbourhood.record_dense(fg, enc, &b, &lv);
+                    passes.neighbourhood.record_dense(fg, enc, b, &lv);
                     Ok(())
                 })?;
                 timer.stage(ctx, "quad_count", |enc| {
-                    passes.quad_count.record(fg, enc, &b, &lv, n, indirect);
+                    passes.quad_count.record(fg, enc, b, &lv, n, indirect);
                     Ok(())
                 })?;
             }
         }
         let lv = readback::uniform_buffer(ctx, "level", &level_uniform(level, quad_count, 0));
         timer.stage(ctx, "subdivide", |enc| {
-            passes.subdivide.record(fg, enc, &b, &lv, &b.quads[cur], &b.quads[nxt]);
+            passes.subdivide.record(fg, enc, b, &lv, &b.quads[cur], &b.quads[nxt]);
             Ok(())
         })?;
         if local && !last_local {
@@ -391,7 +391,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
                         enc.clear_buffer(&b.tiles, k as u64 * bytes, Some(bytes));
                     }
                 }
-                passes.compact.record_main(fg, enc, &b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt], grow_rects);
+                passes.compact.record_main(fg, enc, b, &lv, &b.items[cur], &b.items[nxt], &b.quads[nxt], grow_rects);
                 Ok(())
             })?;
         }
@@ -401,7 +401,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         let flagged = evaluate && !last_local;
         let pictures = fg.pictures && flagged && (local || quad_count <= b.count_quads);
         let evaluated = trace.levels.last().map_or_else(|| vec![root], |r: &LevelReport| r.next_quads.clone());
-        let report = timer.cpu("readback_level", || levels::read_level(fg, &b, level, evaluated, &b.quads[nxt], cull.map(|c| &c.1), pictures, flagged, local, capture))?;
+        let report = timer.cpu("readback_level", || levels::read_level(fg, b, level, evaluated, &b.quads[nxt], cull.map(|c| &c.1), pictures, flagged, local, capture))?;
         syncs += 1;
         if report.overflow != 0 {
             return Err(Error::Overflow(format!(
@@ -436,7 +436,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     if local {
         let lv = readback::uniform_buffer(ctx, "level", &level_uniform(p.max_level, 0, 0));
         timer.stage(ctx, "shade", |enc| {
-            passes.compact.record_resolve(fg, enc, &b, &lv);
+            passes.compact.record_resolve(fg, enc, b, &lv);
             Ok(())
         })?;
     } else {
