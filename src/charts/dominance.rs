@@ -1,6 +1,7 @@
 //! Adaptive against the regular grids, scene by scene: for every `regular` row, the adaptive rows
-//! that are at least as fast (median frame) and at least as accurate (RMSE), and, when none is,
-//! the two nearest misses. Times are compared only between rows measured on the same adapter.
+//! that are at least as fast (median frame) and at least as accurate (RMSE), whether one is faster
+//! beyond the repeats' spread, and the two nearest misses. Times are compared only between rows
+//! measured on the same adapter.
 
 use serde::Serialize;
 
@@ -30,6 +31,9 @@ pub struct Verdict {
     pub regular: Point,
     /// The fastest adaptive row with RMSE and median frame both at most the grid's, if any.
     pub dominated_by: Option<Point>,
+    /// The fastest adaptive row at most as inaccurate whose slowest frame is at most the grid's
+    /// fastest: dominated beyond the spread of the repeats, not only on the medians.
+    pub firmly_dominated_by: Option<Point>,
     /// The fastest adaptive row at most as inaccurate as the grid, whatever its time.
     pub fastest_as_accurate: Option<Point>,
     /// The most accurate adaptive row at most as slow as the grid, whatever its error.
@@ -63,6 +67,7 @@ pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
                 scene: g.scene.clone(),
                 regular: Point::of(g),
                 dominated_by: fastest(&mut rivals.iter().filter(accurate).filter(fast)),
+                firmly_dominated_by: fastest(&mut rivals.iter().filter(accurate).filter(|a| a.total_ms_max <= g.total_ms_min)),
                 fastest_as_accurate: fastest(&mut rivals.iter().filter(accurate)),
                 most_accurate_as_fast: most_accurate,
             })

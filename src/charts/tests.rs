@@ -314,6 +314,8 @@ fn dominance_on_known_points() {
     // n = 9 (40 ms, 0.02): the fastest adaptive row with RMSE <= 0.02 and time <= 40 ms is p_m=16.
     let by = v[0].dominated_by.as_ref().expect("n=9 is dominated");
     assert_eq!((by.maps, by.median_ms, by.rmse), (25, 14.0, 0.015));
+    // Its slowest frame (16.8 ms) is under the grid's fastest (36 ms): firmly dominated too.
+    assert_eq!(v[0].firmly_dominated_by.as_ref().map(|p| p.max_ms), Some(14.0 * 1.2));
     // n = 17 (140 ms, 0.004): every adaptive row is faster but none is as accurate.
     assert!(v[1].dominated_by.is_none() && v[1].fastest_as_accurate.is_none());
     let near = v[1].most_accurate_as_fast.as_ref().expect("some adaptive row is as fast");
@@ -322,6 +324,8 @@ fn dominance_on_known_points() {
     // A tie on both counts dominates; a row from another adapter does not take part.
     let mut tie = vec![row("regular", json!({"n": 5}), 25, 10.0, 0.03), row("adaptive", json!({"p_m": 0}), 25, 10.0, 0.03)];
     assert_eq!(verdicts(&tie)[0].dominated_by.as_ref().map(|p| p.maps), Some(25));
+    // Equal medians with overlapping spreads (9-12 ms each) are not firm.
+    assert!(verdicts(&tie)[0].firmly_dominated_by.is_none());
     tie[1].adapter = json!({"name": "other"});
     assert!(verdicts(&tie).is_empty());
     // A scene without adaptive rows gets no verdict.

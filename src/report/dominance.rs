@@ -39,7 +39,14 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
                         cell(g.maps.to_string(), false),
                         cell(format!("{:.5}", g.rmse), false),
                         cell(format!("{:.1} ({:.1}–{:.1})", g.median_ms, g.min_ms, g.max_ms), false),
-                        cell(if v.dominated_by.is_some() { "yes".into() } else { "no".into() }, v.dominated_by.is_some()),
+                        cell(
+                            match (&v.firmly_dominated_by, &v.dominated_by) {
+                                (Some(p), _) => format!("yes, beyond the spread: {} (slowest {:.1} ms)", p.label, p.max_ms),
+                                (None, Some(_)) => "yes, within the spread".into(),
+                                (None, None) => "no".into(),
+                            },
+                            v.firmly_dominated_by.is_some(),
+                        ),
                         cell(rival(&v.dominated_by), false),
                         cell(rival(&v.fastest_as_accurate), false),
                         cell(rival(&v.most_accurate_as_fast), false),
