@@ -124,9 +124,9 @@ pub struct GpuLevel {
     pub work_count: u32,
     pub dense_groups_x: u32,
     pub quad_capacity: u32,
-    /// 1 when compact grows the scissor rectangles of the children's corner samples (the host then
-    /// dispatches compact's `main_rects`).
-    pub scissor: u32,
+    /// Unused: whether compact grows rectangles is which entry point the host dispatches
+    /// (`main_rects`), not a uniform.
+    pub pad0: u32,
     /// split_mode 3: this level's threshold as a share of the geometry pixels (docs/method.md §6).
     pub split_share: f32,
     /// shadow_test: 1 takes the test list's length from the append counter (GpuControl word 1).
@@ -301,7 +301,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
-            work_count, dense_groups_x, quad_capacity, scissor, split_share, requested, pad1
+            work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, pad1
         }),
         layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, lookups, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),

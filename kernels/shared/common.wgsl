@@ -133,7 +133,7 @@ struct GpuLevel {
     work_count: u32,
     dense_groups_x: u32,
     quad_capacity: u32,
-    scissor: u32,
+    pad0: u32,
     split_share: f32,
     // shadow_test: 1 takes the test list's length from the append counter (control word 1).
     requested: u32,

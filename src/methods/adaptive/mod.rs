@@ -244,7 +244,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     // compact grows each sample's texel rectangle for the scissor and for culling.
     let grow_rects = p.scissor || cull.is_some();
     let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
-    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| gpu_level(p, b, dense_groups_x, grow_rects, level, quad_count, first_quad);
+    let level_uniform = |level: u32, quad_count: u32, first_quad: u32| gpu_level(p, b, dense_groups_x, level, quad_count, first_quad);
     // The counters (geometry pixels, appends) start from zero every frame.
     ctx.queue.write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);
 
@@ -463,7 +463,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
 }
 
 /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode).
-fn gpu_level(p: &AdaptiveParams, b: &AdaptiveBuffers, dense_groups_x: u32, grow_rects: bool, level: u32, quad_count: u32, first_quad: u32) -> GpuLevel {
+fn gpu_level(p: &AdaptiveParams, b: &AdaptiveBuffers, dense_groups_x: u32, level: u32, quad_count: u32, first_quad: u32) -> GpuLevel {
     let (split_mode, p_m, split_share) = match p.split_rule(level) {
         SplitRule::Threshold(t) => (SPLIT_THRESHOLD, t, 0.0),
         SplitRule::Always => (SPLIT_ALWAYS, 0, 0.0),
@@ -484,7 +484,7 @@ fn gpu_level(p: &AdaptiveParams, b: &AdaptiveBuffers, dense_groups_x: u32, grow_
         work_count: 0,
         dense_groups_x,
         quad_capacity: QUAD_CAPACITY,
-        scissor: grow_rects as u32,
+        pad0: 0,
         ..Default::default()
     }
 }

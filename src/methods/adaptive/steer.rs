@@ -152,7 +152,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     for level in 0..=p.max_level {
         let (cur, nxt) = ((level % 2) as usize, 1 - (level % 2) as usize);
         // Level 0 has the root; deeper levels take the previous subdivide's count (copied below).
-        let lv = readback::uniform_buffer(ctx, "level", &gpu_level(p, b, dense_groups_x, false, level, (level == 0) as u32, 0));
+        let lv = readback::uniform_buffer(ctx, "level", &gpu_level(p, b, dense_groups_x, level, (level == 0) as u32, 0));
         let cand = candidates(level);
         for (c, chunk) in cand.chunks(per_array).enumerate() {
             timer.stage(ctx, "shadow_raster", |enc| {
