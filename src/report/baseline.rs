@@ -2,19 +2,13 @@
 //! same scene, method and parameters (as `penumbra check` matches them). Times are compared only
 //! when both rows were measured on the same adapter.
 
-use super::table::{Cell, Table};
+use super::table::{scenes, Cell, Table};
 use crate::charts::ResultRow;
 use crate::check::{change, row_key};
 
 pub(super) fn tables(baseline: &[ResultRow], rows: &[ResultRow]) -> Vec<Table> {
-    let mut scenes: Vec<&str> = Vec::new();
-    for r in rows {
-        if !scenes.contains(&r.scene.as_str()) {
-            scenes.push(&r.scene);
-        }
-    }
     let cell = |text: String| Cell { text, best: false };
-    scenes
+    scenes(rows.iter().map(|r| r.scene.as_str()))
         .into_iter()
         .map(|scene| {
             let body = rows

@@ -2,19 +2,13 @@
 //! is at least as fast and at least as accurate as each regular grid (charts::verdicts), and
 //! otherwise how far the nearest adaptive rows miss on time or on error.
 
-use super::table::{Cell, Table};
+use super::table::{scenes, Cell, Table};
 use crate::charts::{verdicts, DominancePoint, ResultRow};
 
 pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
     let all = verdicts(rows);
-    let mut scenes: Vec<&str> = Vec::new();
-    for v in &all {
-        if !scenes.contains(&v.scene.as_str()) {
-            scenes.push(&v.scene);
-        }
-    }
     let cell = |text: String, best: bool| Cell { text, best };
-    scenes
+    scenes(all.iter().map(|v| v.scene.as_str()))
         .into_iter()
         .map(|scene| {
             let body = all

@@ -169,13 +169,7 @@ pub fn write_from_rows(rows: &[LoadedRow], out_dir: &Path) -> Result<PathBuf> {
 
 fn write_rows(rows: &[LoadedRow], baseline: Option<&[ResultRow]>, out_dir: &Path) -> Result<PathBuf> {
     let plain: Vec<ResultRow> = rows.iter().map(|r| r.row.clone()).collect();
-    let mut scenes: Vec<&str> = Vec::new();
-    for r in &plain {
-        if !scenes.contains(&r.scene.as_str()) {
-            scenes.push(&r.scene);
-        }
-    }
-    let title = format!("Penumbra: speed against accuracy, {}", scenes.join(", "));
+    let title = format!("Penumbra: speed against accuracy, {}", super::table::scenes(plain.iter().map(|r| r.scene.as_str())).join(", "));
     let mut pictures = Vec::new();
     for r in rows {
         pictures.extend(images(r)?);

@@ -99,15 +99,20 @@ fn accuracy_columns() -> Vec<Column> {
     ]
 }
 
-/// Two tables (speed, accuracy) per scene, scenes in first-appearance order.
-pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
+/// The distinct scenes, in first-appearance order (every per-scene table follows it).
+pub(super) fn scenes<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<&'a str> {
     let mut scenes: Vec<&str> = Vec::new();
-    for r in rows {
-        if !scenes.contains(&r.scene.as_str()) {
-            scenes.push(&r.scene);
+    for s in names {
+        if !scenes.contains(&s) {
+            scenes.push(s);
         }
     }
     scenes
+}
+
+/// Two tables (speed, accuracy) per scene, scenes in first-appearance order.
+pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
+    scenes(rows.iter().map(|r| r.scene.as_str()))
         .into_iter()
         .flat_map(|scene| {
             // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
