@@ -778,6 +778,7 @@ fn write_merged(out: &std::path::Path, outcome: &shard::merge::MergeOutcome) -> 
 }
 
 fn merge(args: MergeArgs) -> Result<()> {
+    output_set::check(&args.out)?;
     let allow = shard::merge::parse_allow(&args.allow)?;
     let outcome = shard::merge::merge(&args.dirs, &allow)?;
     write_merged(&args.out, &outcome)

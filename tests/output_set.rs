@@ -1,4 +1,5 @@
-//! Outputs are written as a set (src/output_set.rs): staged beside --out and swapped in at the end.
+//! Outputs are written as a set (src/output_set/): staged inside --out and moved in at the end, user
+//! entries left where they are.
 
 mod common;
 use penumbra::output_set::{check, OutputSet, MARKER};
@@ -59,17 +60,27 @@ fn a_killed_runs_staging_folder_is_swept_by_the_next_run() {
 }
 
 #[test]
-fn out_that_is_a_file_or_the_current_folder_is_refused() {
+fn out_that_is_a_file_is_refused() {
     let root = tmp("refuse");
     std::fs::write(root.join("f"), "x").unwrap();
     let e = check(&root.join("f")).unwrap_err().to_string();
     assert!(e.starts_with("--out ") && e.ends_with("f: is a file, not a folder: give a folder for the output set"), "{e}");
-    let e = check(Path::new(".")).unwrap_err().to_string();
-    assert!(e.contains("is the current folder"), "{e}");
     let e = check(&root.join("f/inner")).unwrap_err().to_string();
     assert!(e.contains("is a file, not a folder"), "{e}");
 }
 
+#[test]
+fn a_folder_name_longer_than_the_file_system_takes_is_refused_before_any_work() {
+    let root = tmp("long_name");
+    let e = check(&root.join("n".repeat(256)).join("inner")).unwrap_err().to_string();
+    assert!(e.ends_with("a folder name of 256 bytes is longer than the file system's limit of 255"), "{e}");
+    // 245 bytes fit: the staging folder's name no longer grows with it.
+    let out = root.join("n".repeat(245));
+    let s = OutputSet::begin(&out).unwrap();
+    s.write("a.png", b"1").unwrap();
+    s.commit().unwrap();
+    assert_eq!(names(&out), [MARKER, "a.png"]);
+}
 
 fn render(out: &Path, method: &str) -> std::process::Output {
     common::penumbra(&["render", "--scene", "default", "--method", method, "--set", "resolution=32", "--set", "shadow_map_size=64", "--out", out.to_str().unwrap()])
@@ -137,7 +148,8 @@ fn an_interrupted_render_leaves_the_old_set_or_the_new_one() {
         // SAFETY: signalling our own child by its id.
         unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
         child.wait().unwrap();
-        let files = names(&out);
+        // A killed run's staging folder stays inside `out` until the next run finishes or drops it.
+        let files: Vec<String> = names(&out).into_iter().filter(|n| !n.starts_with(".penumbra-stage-")).collect();
         let record: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
         match record["method"].as_str() {
             Some("hard") => {
@@ -154,6 +166,7 @@ fn an_interrupted_render_leaves_the_old_set_or_the_new_one() {
     // The next run sweeps any staging folder a killed run left.
     assert!(render(&out, "hard").status.success());
     assert_eq!(names(&root), ["out"]);
+    assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
 }
 
 #[test]
@@ -165,4 +178,75 @@ fn an_output_name_taken_by_a_folder_is_replaced_with_no_temporary_left() {
     assert!(out.join("visibility.exr").is_file());
     assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
     assert_eq!(names(out.parent().unwrap()), ["out"]);
+}
+
+fn render_in(cwd: &Path, out: &str, method: &str) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(["render", "--scene", "default", "--method", method, "--set", "resolution=32", "--set", "shadow_map_size=64", "--out", out])
+        .current_dir(cwd)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .output()
+        .unwrap()
+}
+
+/// A Slurm merge job runs with `--chdir=OUT` and writes `--out OUT`: the folder is never replaced,
+/// so it may be the current one, and what else it holds stays.
+#[test]
+fn out_may_be_the_current_folder_and_its_other_entries_stay() {
+    let out = tmp("cwd").join("out");
+    std::fs::create_dir_all(out.join("shards/0")).unwrap();
+    std::fs::write(out.join("shards/0/results.jsonl"), "{}").unwrap();
+    std::fs::write(out.join("penumbra-merge-2.out"), "log").unwrap();
+    for method in ["adaptive", "hard"] {
+        let r = render_in(&out, ".", method);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    assert_eq!(names(&out), [MARKER, "penumbra-merge-2.out", "run.json", "shaded.png", "shards", "visibility.exr", "visibility.png"]);
+    assert_eq!(std::fs::read_to_string(out.join("shards/0/results.jsonl")).unwrap(), "{}");
+}
+
+#[test]
+fn a_current_folder_inside_an_entry_the_set_replaces_is_refused_before_any_work() {
+    let out = tmp("cwd_inside").join("out");
+    let s = OutputSet::begin(&out).unwrap();
+    s.write("images/a.png", b"1").unwrap();
+    s.commit().unwrap();
+    let r = render_in(&out.join("images"), "..", "hard");
+    assert_eq!(r.status.code(), Some(1));
+    assert_eq!(String::from_utf8_lossy(&r.stderr).trim(), "error: --out ..: the current folder is inside images, which the new set replaces: run from elsewhere");
+    assert_eq!(names(&out), [MARKER, "images"]);
+}
+
+/// As an unprivileged user (CI runs as root, so the test drops to `nobody`), a read-only `--out`
+/// is refused before any work, and the old set stays with no debris.
+#[test]
+fn a_read_only_out_is_refused_before_any_work() {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::CommandExt;
+    let root = tmp("read_only");
+    let out = root.join("out");
+    assert!(render(&out, "hard").status.success());
+    let before = names(&out);
+    let cache = root.join("cache");
+    std::fs::create_dir_all(&cache).unwrap();
+    for dir in [&root, &cache] {
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o777)).unwrap();
+    }
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"));
+    cmd.args(["render", "--scene", "default", "--method", "hard", "--set", "resolution=32", "--out"]).arg(&out);
+    cmd.env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", &cache).env("HOME", &cache);
+    // SAFETY: reading our own effective user id.
+    if unsafe { libc::geteuid() } == 0 {
+        cmd.uid(65534).gid(65534);
+    }
+    let r = cmd.output().unwrap();
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let e = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{e}");
+    let want = format!("error: --out {}: cannot write in {}: Permission denied (os error 13)", out.display(), out.display());
+    assert_eq!(e.trim(), want);
+    assert!(r.stdout.is_empty(), "worked before failing: {}", String::from_utf8_lossy(&r.stdout));
+    assert_eq!(names(&out), before);
+    assert_eq!(names(&root), ["cache", "out"]);
 }
