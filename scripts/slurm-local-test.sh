@@ -9,7 +9,8 @@
 #
 # Defaults: scripts/slurm/sweep-default-24.toml on `default` at --set resolution=128 --repeats 1.
 # The local node has no gres GPU: the test sets GRES empty (lavapipe runs on the CPUs).
-# Daemons it started are stopped at the end unless KEEP_SLURM=1.
+# Daemons it started are stopped at the end unless KEEP_SLURM=1. It prints which build it tested:
+# the checkout's git hash (`-dirty` when the tree has changes) and the binary's version and git hash.
 set -euo pipefail
 cd "$(dirname "$(realpath "$0")")/.."
 spec=$(realpath "${1:-scripts/slurm/sweep-default-24.toml}")
@@ -107,11 +108,20 @@ echo "daemons up: $(since "$t1") s ($(sinfo -h -o '%N, %c CPUs, %T'))"
 
 cargo build --release --quiet
 export PENUMBRA_CACHE="$work/cache" PENUMBRA_NO_PROGRESS=1
+# Which build is tested: the checkout (its hash, `-dirty` when the tree differs from it; under sudo
+# the tree belongs to another user, hence safe.directory) and the git hash the binary was built
+# from (`--version`; the same as every row's `version.git`).
+git_() { git -c safe.directory="$PWD" "$@"; }
+tree=$(git_ rev-parse --short=12 HEAD 2>/dev/null || echo "no git checkout")
+[ -z "$(git_ status --porcelain 2>/dev/null)" ] || tree+="-dirty"
+echo "checkout: $tree; binary: $(target/release/penumbra --version)"
 
 t2=$(now)
 target/release/penumbra sweep --spec "$spec" "${args[@]}" --out "$work/single" >"$work/single.log" 2>&1
 single_s=$(since "$t2")
 echo "single process: $single_s s wall clock ($(wc -l <"$work/single/results.jsonl") rows; reference traced here)"
+built=$(jq -r '.version.git' "$work/single/results.jsonl" | sort -u | paste -sd ';')
+[[ $tree == "$built"* ]] || echo "note: the rows' git hash $built is not the checkout's $tree" >&2
 
 # The shards get a cold cache of their own, so they trace the reference once between them.
 export PENUMBRA_CACHE="$work/cache-shards"
@@ -134,4 +144,4 @@ else
     exit 1
 fi
 [ "$traced" = 1 ] || { echo "FAIL: $traced shards traced the reference (expected 1)" >&2; exit 1; }
-echo "outputs: $work (single/, sharded/report.html)"
+echo "outputs: $work (single/, sharded/report.html); tested build: penumbra $built, checkout $tree"

@@ -19,7 +19,7 @@ use penumbra::timing::TimingMode;
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(name = "penumbra", version, about = "Soft shadows from area lights: adaptive light-source sampling and baselines on wgpu")]
+#[command(name = "penumbra", version = concat!(env!("CARGO_PKG_VERSION"), " (git ", env!("PENUMBRA_GIT_HASH"), ")"), about = "Soft shadows from area lights: adaptive light-source sampling and baselines on wgpu")]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,

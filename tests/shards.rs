@@ -4,58 +4,14 @@
 
 #[macro_use]
 mod common;
-use common::temp_dir;
+use common::{ok, rows, temp_dir, untimed, SWEEP_SCENE as SCENE, SWEEP_SPEC as SPEC};
 use std::path::Path;
-use std::process::{Command, Output};
-
-const SCENE: &str = concat!(
-    "name = \"tiny\"\n",
-    tiny_scene_head!(),
-    r#"
-[[mesh]]
-builtin = "plane"
-scale = 10.0
-
-[[mesh]]
-builtin = "box"
-translate = [0.0, 1.0, 0.0]
-"#
-);
-
-const SPEC: &str = r#"
-methods = ["hard"]
-[[grid]]
-method = "regular"
-n = [2, 3, 5]
-[[grid]]
-method = "adaptive"
-p_m = [0, 5]
-"#;
+use std::process::Command;
 
 fn cmd(cache: &Path, args: &[&str]) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
     c.args(args).env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", cache);
     c
-}
-
-fn ok(out: Output, what: &str) -> Output {
-    assert!(out.status.success(), "{what} failed: {}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    out
-}
-
-fn rows(dir: &Path) -> Vec<serde_json::Value> {
-    std::fs::read_to_string(dir.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect()
-}
-
-/// A row without what differs between runs: timings, and the shard it came from.
-fn untimed(r: &serde_json::Value) -> serde_json::Value {
-    let mut r = r.clone();
-    let o = r.as_object_mut().unwrap();
-    for k in ["total_ms", "total_ms_min", "total_ms_max", "total_ms_runs", "stages_ms", "setup_ms"] {
-        o.remove(k);
-    }
-    o["provenance"]["spec"].as_object_mut().unwrap().remove("shard");
-    r
 }
 
 fn setup(name: &str) -> (std::path::PathBuf, String, String) {

@@ -29,6 +29,55 @@ use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+/// The tiny scene of the sharded-sweep tests (tests/shards.rs, tests/slurm_scripts.rs): a box over
+/// a plane at 32x32 with 64² shadow maps.
+pub const SWEEP_SCENE: &str = concat!(
+    "name = \"tiny\"\n",
+    tiny_scene_head!(),
+    r#"
+[[mesh]]
+builtin = "plane"
+scale = 10.0
+
+[[mesh]]
+builtin = "box"
+translate = [0.0, 1.0, 0.0]
+"#
+);
+
+/// Their sweep spec: six configurations, from 1 to 25 shadow maps.
+pub const SWEEP_SPEC: &str = r#"
+methods = ["hard"]
+[[grid]]
+method = "regular"
+n = [2, 3, 5]
+[[grid]]
+method = "adaptive"
+p_m = [0, 5]
+"#;
+
+/// The rows of `dir/results.jsonl`.
+pub fn rows(dir: &std::path::Path) -> Vec<serde_json::Value> {
+    std::fs::read_to_string(dir.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect()
+}
+
+/// A row without what differs between runs of one sweep: timings, and the shard it came from.
+pub fn untimed(r: &serde_json::Value) -> serde_json::Value {
+    let mut r = r.clone();
+    let o = r.as_object_mut().unwrap();
+    for k in ["total_ms", "total_ms_min", "total_ms_max", "total_ms_runs", "stages_ms", "setup_ms"] {
+        o.remove(k);
+    }
+    o["provenance"]["spec"].as_object_mut().unwrap().remove("shard");
+    r
+}
+
+/// `out`, after checking that its command succeeded (else fails with its stdout and stderr).
+pub fn ok(out: Output, what: &str) -> Output {
+    assert!(out.status.success(), "{what} failed: {}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    out
+}
+
 /// The test binary's one GPU context, opened on first use and shared by every test (opening a
 /// device costs more than most tests); a missing adapter fails each test with instructions, never
 /// skips it.
