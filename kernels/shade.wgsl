@@ -10,7 +10,7 @@
 // every read has a constant offset: a CPU device loads it once per SIMD row, as long as no branch
 // is open around the read (see shade_block). Read from a storage buffer at a loop counter's index,
 // each sample was gathered lane by lane and component by component. Rust's SHADE_BLOCK
-// (src/compute/shade.rs) is this number.
+// (src/stages/shade.rs) is this number.
 const SHADE_BLOCK: u32 = 16u;
 
 @group(0) @binding(0) var<uniform> frame: GpuFrame;

@@ -27,7 +27,7 @@
 // list into blocks of a uniform buffer, and one dispatch per block tests them, unrolled, for every
 // pixel of the dispatch: only the stores are conditional. llvmpipe runs every line of an unrolled
 // block, so a block is exactly full: slots of TEST_BLOCK, then one each of 8, 4, 2 and 1 samples.
-// Rust's TEST_BLOCK, TEST_SLOTS and TEST_BLOCK_BYTES (src/compute/shadow_test.rs) are these numbers.
+// Rust's TEST_BLOCK, TEST_SLOTS and TEST_BLOCK_BYTES (src/stages/shadow_test.rs) are these numbers.
 const TEST_BLOCK: u32 = 16u;
 const TEST_TAILS: u32 = 4u;
 const TEST_SLOTS: u32 = 22u;

@@ -41,13 +41,13 @@ pub enum Error {
     Metrics(#[from] crate::metrics::MetricsError),
     /// A chart could not be drawn or rasterised.
     #[error("chart: {0}")]
-    Chart(#[from] crate::charts::ChartError),
+    Chart(#[from] crate::report::charts::ChartError),
     /// The report could not be written.
     #[error("report: {0}")]
     Report(#[from] crate::report::ReportError),
     /// Fetching or loading a registry asset (its message names the file and the line or element).
     #[error(transparent)]
-    Asset(#[from] crate::assets::AssetError),
+    Asset(#[from] crate::scene::assets::AssetError),
 }
 
 impl Error {

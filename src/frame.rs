@@ -2,16 +2,16 @@
 //! then runs frames on them ([`Renderer::frame`]): G-buffer, the method's maps and compute
 //! stages, read-back. It knows methods only through `methods::MethodState`.
 
-use crate::compute::shade::ShadePass;
-use crate::compute::FrameGpu;
+use crate::stages::shade::ShadePass;
+use crate::stages::FrameGpu;
 use crate::gpu::{readback, GpuContext};
-use crate::layout::{GpuCamera, GpuFrame};
+use crate::gpu::structs::{GpuCamera, GpuFrame};
 use crate::methods::{Method, MethodOutput, MethodState};
 use crate::render::gbuffer::{self, GBufferCpu, GBufferPass};
 use crate::render::shadow_raster::ShadowRasterPass;
 use crate::render::SceneGpu;
 use crate::scene::Scene;
-use crate::timing::{StageTimer, TimingMode};
+use crate::gpu::timing::{StageTimer, TimingMode};
 use crate::Result;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -60,7 +60,7 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
         flags: if scene.render.self_shadow == crate::scene::SelfShadow::Facing { 1 } else { 0 }
             | match scene.render.maps {
                 crate::scene::MapKind::Plain => 0,
-                crate::scene::MapKind::Hybrid => scene.render.hybrid.levels << crate::compute::hybrid_build::FRAME_LEVELS_SHIFT,
+                crate::scene::MapKind::Hybrid => scene.render.hybrid.levels << crate::stages::hybrid_build::FRAME_LEVELS_SHIFT,
             },
         light_center: [scene.light.center.x, scene.light.center.y, scene.light.center.z, 1.0],
         light_normal: scene.light.normal().extend(0.0).to_array(),

@@ -2,7 +2,7 @@
 //! stable runs (tests/fuzz_parsers.rs) drive them. Each returns the parser's own Result: an `Err`
 //! is a rejected input (fine); a panic, hang or runaway allocation is a bug.
 
-use crate::assets::LoadedMesh;
+use crate::scene::assets::LoadedMesh;
 use crate::scene::{MeshDirs, Scene};
 use crate::Result;
 use std::path::Path;
@@ -27,28 +27,28 @@ pub fn obj(text: &str) -> Result<usize> {
     crate::scene::parse_obj(text, "input.obj")
 }
 
-fn in_file<T>(r: std::result::Result<T, crate::assets::Failure>, name: &str) -> Result<T> {
+fn in_file<T>(r: std::result::Result<T, crate::scene::assets::Failure>, name: &str) -> Result<T> {
     r.map_err(|f| f.in_file(Path::new(name)).into())
 }
 
 /// A PLY mesh (ASCII or binary).
 pub fn ply(bytes: &[u8]) -> Result<LoadedMesh> {
-    in_file(crate::assets::parse_ply(bytes), "input.ply")
+    in_file(crate::scene::assets::parse_ply(bytes), "input.ply")
 }
 
 /// An OFF mesh.
 pub fn off(text: &str) -> Result<LoadedMesh> {
-    in_file(crate::assets::parse_off(text), "input.off")
+    in_file(crate::scene::assets::parse_off(text), "input.off")
 }
 
 /// A JS-array mesh module (`positions = [...]`, `cells = [...]`).
 pub fn js_arrays(text: &str) -> Result<LoadedMesh> {
-    in_file(crate::assets::parse_js_arrays(text), "input.js")
+    in_file(crate::scene::assets::parse_js_arrays(text), "input.js")
 }
 
 /// A sweep spec.
 pub fn sweep_spec(text: &str) -> Result<Vec<String>> {
-    crate::compare::sweep::parse_spec(text, "input.toml")
+    crate::studies::compare::sweep::parse_spec(text, "input.toml")
 }
 
 /// A results.jsonl file.

@@ -3,19 +3,19 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use penumbra::assets;
-use penumbra::bench;
-use penumbra::compare::{self, methods_list, sweep, CompareJob};
+use penumbra::scene::assets;
+use penumbra::studies::bench;
+use penumbra::studies::compare::{self, methods_list, sweep, CompareJob};
 use penumbra::record::{Provenance, SpecRef};
-use penumbra::shard::{self, Shard};
+use penumbra::studies::shard::{self, Shard};
 use penumbra::frame;
 use penumbra::gpu::{AdapterRequest, BackendChoice, GpuContext};
-use penumbra::ground_truth;
+use penumbra::reference::truth;
 use penumbra::methods::{self, Method};
-use penumbra::output;
-use penumbra::output_set;
+use penumbra::record::run_files;
+use penumbra::record::output_set;
 use penumbra::scene::{catalog, Scene};
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -86,12 +86,12 @@ enum Command {
     #[command(subcommand)]
     Assets(AssetsCommand),
     /// N frames with a moving light, camera or mesh: per-frame and temporal error, popping, charts, animations.
-    Sequence(penumbra::sequence::cli::SequenceArgs),
+    Sequence(penumbra::studies::sequence::cli::SequenceArgs),
     /// The failure gallery: every failure scene with every method, error maps and one measured sentence each.
-    Failures(penumbra::failures::cli::FailuresArgs),
+    Failures(penumbra::studies::failures::cli::FailuresArgs),
     /// Environment lighting (seed 002): the environment methods on the panorama scenes, charts, the
     /// panoramas with their chosen lights and quadtree cells, the closing table (docs/environment.md).
-    Environment(penumbra::environment::study::EnvironmentArgs),
+    Environment(penumbra::studies::environment::EnvironmentArgs),
 }
 
 #[derive(clap::Args)]
@@ -267,7 +267,7 @@ struct CheckArgs {
     #[arg(value_name = "NEW.jsonl")]
     results: PathBuf,
     /// Tolerances: how much each metric may get worse, e.g. `time=+10%,rmse=+2%,maps=+0,psnr=-0.5`.
-    #[arg(long, default_value = penumbra::check::DEFAULT_MAX)]
+    #[arg(long, default_value = penumbra::record::regression::DEFAULT_MAX)]
     max: String,
 }
 
@@ -376,10 +376,10 @@ fn run() -> Result<()> {
                 out: cli.out,
                 no_cache: false,
             };
-            let gallery = penumbra::failures::cli::FailuresArgs {
+            let gallery = penumbra::studies::failures::cli::FailuresArgs {
                 methods: Vec::new(),
-                resolution: penumbra::failures::cli::MAIN_JOB_RESOLUTION,
-                frames: penumbra::failures::cli::MAIN_JOB_FRAMES,
+                resolution: penumbra::studies::failures::cli::MAIN_JOB_RESOLUTION,
+                frames: penumbra::studies::failures::cli::MAIN_JOB_FRAMES,
                 reference: run.reference.clone(),
                 samples: run.samples,
                 out: run.out.join("failures"),
@@ -425,14 +425,14 @@ fn run() -> Result<()> {
         Some(Command::Assets(AssetsCommand::Fetch(args))) => fetch(args),
         Some(Command::Bench(args)) => bench(args, &gpu),
         Some(Command::Sequence(args)) => {
-            let (outcome, html) = penumbra::sequence::cli::run(&args, &gpu, &|line| eprintln!("{line}"))?;
-            print!("{}", penumbra::sequence::report::summary_table(&outcome.summaries));
+            let (outcome, html) = penumbra::studies::sequence::cli::run(&args, &gpu, &|line| eprintln!("{line}"))?;
+            print!("{}", penumbra::studies::sequence::report::summary_table(&outcome.summaries));
             println!("results: {}", args.out.join("frames.jsonl").display());
             println!("report:  {}", html.display());
             Ok(())
         }
         Some(Command::Failures(args)) => {
-            let (_, html) = penumbra::failures::cli::run(&args, DEFAULT_METHODS, &gpu, &|line| eprintln!("{line}"))?;
+            let (_, html) = penumbra::studies::failures::cli::run(&args, DEFAULT_METHODS, &gpu, &|line| eprintln!("{line}"))?;
             println!("report: {}", html.display());
             Ok(())
         }
@@ -441,9 +441,9 @@ fn run() -> Result<()> {
             output_set::check(&args.out)?;
             let overrides = render_sets(&args.set)?;
             let ctx = GpuContext::with_request(&gpu)?;
-            let (outcomes, files) = penumbra::environment::study::run(&ctx, &args, &overrides, &|line| eprintln!("{line}"))?;
-            let html = penumbra::environment::study::write(&args.out, &outcomes, &files)?;
-            print!("{}", penumbra::environment::study::closing_table(&outcomes));
+            let (outcomes, files) = penumbra::studies::environment::run(&ctx, &args, &overrides, &|line| eprintln!("{line}"))?;
+            let html = penumbra::studies::environment::write(&args.out, &outcomes, &files)?;
+            print!("{}", penumbra::studies::environment::closing_table(&outcomes));
             println!("adapter: {} ({})", ctx.summary.name, ctx.summary.backend);
             println!("report: {}", html.display());
             Ok(())
@@ -453,7 +453,7 @@ fn run() -> Result<()> {
 }
 
 fn hybrid(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
-    use penumbra::hybrid_study::{self, parse_maps};
+    use penumbra::studies::hybrid::{self, parse_maps};
     output_set::check(&args.out)?;
     if !(8..=4096).contains(&args.resolution) {
         anyhow::bail!("--resolution: {} is not in 8..=4096", args.resolution);
@@ -483,12 +483,12 @@ fn hybrid(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
         .iter()
         .filter(|s| !s.trim().is_empty())
         .map(|p| match parse_maps(p, false) {
-            Ok(hybrid_study::Maps::Plain(size)) => Ok(size),
+            Ok(hybrid::Maps::Plain(size)) => Ok(size),
             Ok(_) => unreachable!("plain sizes parse as plain maps"),
             Err(e) => Err(anyhow::Error::from(e).context("--multi-plain")),
         })
         .collect::<Result<Vec<u32>>>()?;
-    let job = hybrid_study::HybridJob {
+    let job = hybrid::HybridJob {
         scene,
         hard,
         eps: args.eps,
@@ -497,12 +497,12 @@ fn hybrid(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
         multi_hybrid: parse_maps(&args.multi_hybrid, true).with_context(|| "--multi-hybrid")?,
         multi_plain,
         multi_repeats: args.multi_repeats,
-        cache: ground_truth::Cache::default_for(false),
+        cache: truth::Cache::default_for(false),
     };
     let ctx = GpuContext::with_request(gpu)?;
-    let outcome = hybrid_study::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    output::write_files(&args.out, &outcome.files)?;
-    print!("{}", hybrid_study::report::markdown(&outcome.rows));
+    let outcome = hybrid::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    run_files::write_files(&args.out, &outcome.files)?;
+    print!("{}", hybrid::report::markdown(&outcome.rows));
     println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
     println!("study: {}", args.out.join("hybrid.md").display());
     Ok(())
@@ -582,8 +582,8 @@ fn render(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
         renderer.frame(TimingMode::Frame)?;
     }
     let result = renderer.frame(mode)?;
-    let files = output::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up)?;
-    output::write_files(&args.out, &files)?;
+    let files = run_files::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up)?;
+    run_files::write_files(&args.out, &files)?;
     println!(
         "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {}, after {} warm-up frame{})",
         args.out.display(),
@@ -616,22 +616,22 @@ fn reference(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&args.out)?;
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
     let mode = match (&args.point, args.mode.as_str()) {
-        (None, m) => ground_truth::parse_mode(m, args.samples)?,
-        (Some(p), "point") => ground_truth::parse_mode(&format!("point:{p}"), args.samples)?,
+        (None, m) => truth::parse_mode(m, args.samples)?,
+        (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples)?,
         (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
     };
     let ctx = GpuContext::with_request(gpu)?;
-    let (g, image) = ground_truth::for_scene(&ctx, &scene, mode, &ground_truth::Cache::default_for(args.no_cache))?;
+    let (g, image) = truth::for_scene(&ctx, &scene, mode, &truth::Cache::default_for(args.no_cache))?;
     let (w, h) = (image.width, image.height);
     let geometry = g.geometry_count();
     let record = serde_json::to_vec_pretty(&image.record(&scene, geometry))?;
     let files = vec![
-        ("reference.exr".to_string(), output::visibility_exr(&image.values, w, h)?),
-        ("reference.png".to_string(), output::visibility_png(&image.values, w, h)?),
-        ("reference_shaded.png".to_string(), output::png(&output::shaded_image(&image.values, &g, &scene))?),
+        ("reference.exr".to_string(), run_files::visibility_exr(&image.values, w, h)?),
+        ("reference.png".to_string(), run_files::visibility_png(&image.values, w, h)?),
+        ("reference_shaded.png".to_string(), run_files::png(&run_files::shaded_image(&image.values, &g, &scene))?),
         ("reference.json".to_string(), record),
     ];
-    output::write_files(&args.out, &files)?;
+    run_files::write_files(&args.out, &files)?;
     println!("{}", compare::reference_line(&image, geometry));
     for (name, _) in &files {
         println!("  {}", args.out.join(name).display());
@@ -654,18 +654,18 @@ fn framing(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", args.repeats);
     }
     let ctx = GpuContext::with_request(gpu)?;
-    let job = penumbra::framing::FramingJob {
+    let job = penumbra::studies::framing::FramingJob {
         scenes,
         resolutions: args.resolutions,
         light_scales: args.light_scales,
         methods,
         repeats: args.repeats,
-        reference: ground_truth::parse_mode("continuous", 32)?,
-        cache: ground_truth::Cache::default_for(false),
+        reference: truth::parse_mode("continuous", 32)?,
+        cache: truth::Cache::default_for(false),
     };
-    let outcome = penumbra::framing::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    output::write_files(&args.out, &outcome.files)?;
-    print!("{}", penumbra::framing::markdown(&outcome.rows));
+    let outcome = penumbra::studies::framing::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    run_files::write_files(&args.out, &outcome.files)?;
+    print!("{}", penumbra::studies::framing::markdown(&outcome.rows));
     println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
     println!("study: {}", args.out.join("framing.md").display());
     Ok(())
@@ -675,7 +675,7 @@ fn compare_methods(values: &[String], run: RunArgs, gpu: &AdapterRequest) -> Res
     compare_methods_then(values, run, None, gpu)
 }
 
-fn compare_methods_then(values: &[String], run: RunArgs, gallery: Option<penumbra::failures::cli::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
+fn compare_methods_then(values: &[String], run: RunArgs, gallery: Option<penumbra::studies::failures::cli::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&run.out)?;
     let gallery_job = gallery.as_ref().map(|g| g.job(DEFAULT_METHODS)).transpose()?;
     let specs = methods_list::split_specs(values)?;
@@ -785,7 +785,7 @@ fn merge(args: MergeArgs) -> Result<()> {
 }
 
 fn check(args: CheckArgs) -> Result<()> {
-    let max = penumbra::check::parse_max(&args.max)?;
+    let max = penumbra::record::regression::parse_max(&args.max)?;
     let rows = |p: &std::path::Path, which: &str| -> Result<Vec<penumbra::record::ResultRow>> {
         match penumbra::report::results::read_results(p) {
             Ok(rows) => Ok(rows.into_iter().map(|l| l.row).collect()),
@@ -796,8 +796,8 @@ fn check(args: CheckArgs) -> Result<()> {
         }
     };
     let (old, new) = (rows(&args.baseline, "--baseline")?, rows(&args.results, "results")?);
-    let outcome = penumbra::check::check(&old, &new, &max);
-    print!("{}", penumbra::check::render(&outcome));
+    let outcome = penumbra::record::regression::check(&old, &new, &max);
+    print!("{}", penumbra::record::regression::render(&outcome));
     if outcome.regressions > 0 {
         anyhow::bail!("check: {} regressions in {} against {}", outcome.regressions, args.results.display(), args.baseline.display());
     }
@@ -815,24 +815,24 @@ fn run_compare_then(
     scene: Scene,
     provenance: Vec<Provenance>,
     run: RunArgs,
-    gallery_job: Option<penumbra::failures::GalleryJob>,
+    gallery_job: Option<penumbra::studies::failures::GalleryJob>,
     gpu: &AdapterRequest,
 ) -> Result<()> {
-    let mode = ground_truth::parse_mode(&run.reference, run.samples)?;
+    let mode = truth::parse_mode(&run.reference, run.samples)?;
     if run.repeats == 0 || run.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
     }
     let ctx = GpuContext::with_request(gpu)?;
-    let cache = ground_truth::Cache::default_for(run.no_cache);
+    let cache = truth::Cache::default_for(run.no_cache);
     let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    let gallery = gallery_job.map(|g| penumbra::failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
+    let gallery = gallery_job.map(|g| penumbra::studies::failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
     let html = compare::write(&run.out, &outcome)?;
     if let Some(g) = &gallery {
-        penumbra::failures::cli::attach(&run.out, g)?;
+        penumbra::studies::failures::cli::attach(&run.out, g)?;
     }
     print!("{}", compare::table::render(&outcome.rows));
-    println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, ground_truth::mode_label(&mode));
+    println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, truth::mode_label(&mode));
     println!("results: {}", run.out.join("results.jsonl").display());
     println!("report:  {}", html.display());
     Ok(())

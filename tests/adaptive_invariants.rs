@@ -4,7 +4,7 @@ mod common;
 use penumbra::frame::{self, FrameResult};
 use penumbra::methods::{AdaptiveParams, Criterion, Layout, Method, Scope, Weights};
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 fn small(name: &str, extra: &[(&str, &str)]) -> Scene {
     let mut sets = vec![("resolution".to_string(), "128".to_string()), ("shadow_map_size".to_string(), "256".to_string())];
@@ -295,7 +295,7 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     let r = frame::render(ctx, &scene, &method, TimingMode::Stages).unwrap();
     assert_eq!(r.output.syncs, 0);
     assert!(r.timing_waits > 10, "stages mode waits per stage: {}", r.timing_waits);
-    let rec = penumbra::output::run_record(&scene, &method, &r, &ctx.summary, false);
+    let rec = penumbra::record::run_files::run_record(&scene, &method, &r, &ctx.summary, false);
     let split = rec["frame_split_ms"].as_object().expect("frame_split_ms");
     let parts: Vec<&str> = split.keys().map(String::as_str).collect();
     assert_eq!(parts, ["decision", "raster", "shade", "waits"]);
@@ -310,7 +310,7 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     assert!(rec["decision_share"].as_f64().unwrap() > 0.0, "{}", rec["decision_share"]);
     // A frame-mode frame times only its waits: no split or share is claimed from them.
     let f = frame::render(ctx, &scene, &method, TimingMode::Frame).unwrap();
-    let rec = penumbra::output::run_record(&scene, &method, &f, &ctx.summary, false);
+    let rec = penumbra::record::run_files::run_record(&scene, &method, &f, &ctx.summary, false);
     assert_eq!(rec["timing"], "frame");
     for key in ["frame_split_ms", "decision_stages_ms", "decision_share"] {
         assert!(rec[key].is_null(), "{key} of a frame-mode frame: {}", rec[key]);

@@ -5,8 +5,8 @@
 //! Each stage's twin is fed the GPU's own inputs, so a mismatch points at one stage.
 
 mod common;
-use penumbra::compute::buffers::{CULL_TILE_WORDS, LATTICE_POINTS, MIXED_WORD};
-use penumbra::compute::twin::{self, neighbourhood::Screen};
+use penumbra::methods::adaptive::buffers::{CULL_TILE_WORDS, LATTICE_POINTS, MIXED_WORD};
+use penumbra::stages::twin::{self, neighbourhood::Screen};
 use penumbra::frame::frame_uniform;
 use penumbra::methods::AdaptiveParams;
 use penumbra::scene::Scene;
@@ -25,7 +25,7 @@ fn scene(seed: u64) -> Scene {
 }
 
 
-fn sorted_quads(q: &[penumbra::layout::GpuQuad]) -> Vec<(u32, u32, u32)> {
+fn sorted_quads(q: &[penumbra::gpu::structs::GpuQuad]) -> Vec<(u32, u32, u32)> {
     let mut v: Vec<_> = q.iter().map(|q| (q.i, q.j, q.size)).collect();
     v.sort();
     v
@@ -203,7 +203,7 @@ fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
         }
         for d in 0..t.levels.len() {
             let (ks, tiles) = if d == 0 { (&corners.to_vec(), &every) } else { (&t.levels[d - 1].new_samples, &t.levels[d - 1].tiles) };
-            let kept = twin::cull::cull(&fr, &t.samples, tiles, &positions, &order, ks, penumbra::compute::cull::cull_face(sc.render.cull));
+            let kept = twin::cull::cull(&fr, &t.samples, tiles, &positions, &order, ks, penumbra::stages::cull::cull_face(sc.render.cull));
             for (k, tris) in ks.iter().zip(&kept) {
                 let at = t.rendered.iter().position(|r| r == k).expect("new sample rendered");
                 assert!(t.culled.contains(k), "seed {seed} level {d}: map {k} was not culled");
@@ -258,9 +258,9 @@ fn steered_frame_equals_the_waiting_loop() {
 /// the slots that hold samples among those the host dispatches; for listed and requested counts.
 #[test]
 fn fill_blocks_equals_its_cpu_twin() {
-    use penumbra::compute::shadow_test::{block_slots, ShadowTest, TEST_BLOCK, TEST_BLOCK_BYTES, TEST_SLOTS};
+    use penumbra::stages::shadow_test::{block_slots, ShadowTest, TEST_BLOCK, TEST_BLOCK_BYTES, TEST_SLOTS};
     use penumbra::gpu::readback;
-    use penumbra::layout::{GpuControl, GpuFrame, GpuLevel, GpuSample, GpuTestBlock};
+    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuLevel, GpuSample, GpuTestBlock};
     let ctx = common::gpu();
     let test = ShadowTest::new(ctx, penumbra::scene::MapKind::Plain, false).expect("shadow_test kernels");
     let frame = GpuFrame { width: 100, height: 37, ..Default::default() };

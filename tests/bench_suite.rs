@@ -8,7 +8,7 @@ use common::{gpu, penumbra, temp_dir};
 use penumbra::frame;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 use std::path::Path;
 
 fn scene_file(name: &str) -> String {

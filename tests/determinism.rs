@@ -6,7 +6,7 @@ mod common;
 use penumbra::frame;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 fn vertex_bits(s: &Scene) -> Vec<[u32; 3]> {
     s.vertices.iter().map(|v| v.position.map(f32::to_bits)).collect()

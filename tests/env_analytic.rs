@@ -6,9 +6,9 @@
 
 mod common;
 use glam::Vec3;
-use penumbra::environment::panorama::band_solid_angle;
-use penumbra::environment::reference::{self, PanoramaSampler};
-use penumbra::environment::{Environment, Panorama};
+use penumbra::scene::environment::panorama::band_solid_angle;
+use penumbra::reference::environment::{self, PanoramaSampler};
+use penumbra::scene::environment::{Environment, Panorama};
 use penumbra::reference::sampling::PixelRng;
 use penumbra::reference::{SurfacePoint, Tracer};
 use std::f64::consts::PI;
@@ -42,7 +42,7 @@ fn unoccluded_point_under_a_uniform_environment_receives_pi_l() {
         // And V = 1 with nothing to block it.
         let tracer = Tracer::new(&[]);
         let p = SurfacePoint { position: Vec3::ZERO, normal: n };
-        let (v, err, rays) = reference::point(&tracer, &env, &PanoramaSampler::new(&env), &p, 256, 1e-4, 100.0, PixelRng::new(1, 2));
+        let (v, err, rays) = environment::point(&tracer, &env, &PanoramaSampler::new(&env), &p, 256, 1e-4, 100.0, PixelRng::new(1, 2));
         assert_eq!((v, err), (1.0, 0.0));
         assert!(rays > 100);
     }
@@ -73,7 +73,7 @@ fn single_pixel_environment_gives_its_cosine_term() {
         vec![[c - u - v, c + u - v, c + u + v], [c - u - v, c + u + v, c - u + v]]
     };
     let tracer = Tracer::new(&plate(Vec3::ZERO));
-    let at = |q: Vec3| reference::point(&tracer, &env, &PanoramaSampler::new(&env), &SurfacePoint { position: q, normal: Vec3::Y }, 64, 1e-4, 100.0, PixelRng::new(3, 4)).0;
+    let at = |q: Vec3| environment::point(&tracer, &env, &PanoramaSampler::new(&env), &SurfacePoint { position: q, normal: Vec3::Y }, 64, 1e-4, 100.0, PixelRng::new(3, 4)).0;
     assert_eq!(at(Vec3::ZERO), 0.0);
     assert_eq!(at(Vec3::new(0.0, 0.0, 0.0) + centre.any_orthonormal_vector() * 5.0), 1.0);
 }
@@ -97,9 +97,9 @@ fn point_beside_an_infinite_wall_under_a_uniform_sky() {
     for d in [0.25f32, 1.0, 3.0] {
         let exact = wall_visibility(d as f64, h as f64);
         let p = SurfacePoint { position: Vec3::new(d, 0.0, 0.0), normal: Vec3::Y };
-        let (v, se, _) = reference::point(&tracer, &env, &sampler, &p, 4096, 1e-4, 1e5, PixelRng::new(11, d.to_bits() as u64));
+        let (v, se, _) = environment::point(&tracer, &env, &sampler, &p, 4096, 1e-4, 1e5, PixelRng::new(11, d.to_bits() as u64));
         // The Riemann sum over pixel centres with the exact blocking test.
-        let riemann = reference::riemann_visibility(&env, Vec3::Y, &|w| w.x < 0.0 && (w.y as f64) / (-(w.x as f64)) < h as f64 / d as f64);
+        let riemann = environment::riemann_visibility(&env, Vec3::Y, &|w| w.x < 0.0 && (w.y as f64) / (-(w.x as f64)) < h as f64 / d as f64);
         println!("d {d}: reference {v:.4} ± {se:.4}, Riemann {riemann:.4}, closed form {exact:.4}");
         assert!((v as f64 - exact).abs() < 4.0 * se as f64 + 1e-3, "d {d}: reference {v} ± {se}, closed form {exact}");
         assert!(se < 0.02, "d {d}: standard error {se}");
@@ -121,7 +121,7 @@ fn env_pixels_beside_a_wall_meets_the_closed_form() {
     let path = dir.join("wall.toml");
     std::fs::write(&path, text).unwrap();
     let scene = penumbra::scene::Scene::load(path.to_str().unwrap(), &[]).unwrap();
-    let options = penumbra::frame::FrameOptions { mode: penumbra::timing::TimingMode::Frame, pictures: false, capture: false };
+    let options = penumbra::frame::FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: false, capture: false };
     let method = penumbra::methods::Method::parse("env-pixels:res=64x32", &[]).unwrap();
     let r = penumbra::frame::render(ctx, &scene, &method, options).unwrap();
     let (mut worst, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);

@@ -4,11 +4,12 @@
 //! Counts are compared exactly; V within float rounding of the same sums.
 
 mod common;
-use penumbra::compute::twin;
+use penumbra::stages::twin;
 use penumbra::frame::{self, FrameOptions};
-use penumbra::methods::{env_pixels, env_shadowmaps, ssao, Method};
+use penumbra::methods::environment::{pixels as env_pixels, shadowmaps as env_shadowmaps};
+use penumbra::methods::{ssao, Method};
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 use std::path::Path;
 
 /// A 64x32 sky: a gradient, dark below the horizon, and a 2x2 "sun" of 2000 at (u, v) ≈ (0.3, 0.25).

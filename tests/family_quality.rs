@@ -8,7 +8,7 @@ use penumbra::frame::{self, FrameResult};
 use penumbra::methods::Method;
 use penumbra::reference::AnalyticSquareScene;
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 fn run(scene: &Scene, spec: &str) -> FrameResult {
     frame::render(common::gpu(), scene, &Method::parse(spec, &[]).unwrap(), TimingMode::Frame).unwrap()

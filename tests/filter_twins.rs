@@ -3,11 +3,11 @@
 //! twin fed the GPU's own inputs so a mismatch points at one stage.
 
 mod common;
-use penumbra::compute::twin;
+use penumbra::stages::twin;
 use penumbra::frame::{self, frame_uniform, FrameOptions, FrameResult};
 use penumbra::methods::{single_map, Method};
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 fn scene(seed: u64) -> Scene {
     Scene::parse(&common::random_scene_toml(seed, 48, 128), &format!("random-{seed}"), None, &[]).unwrap()

@@ -2,9 +2,9 @@
 //! width growing with resolution and light size, and the charts written.
 
 mod common;
-use penumbra::compare::methods_list;
-use penumbra::framing::{run, FramingJob};
-use penumbra::ground_truth::Cache;
+use penumbra::studies::compare::methods_list;
+use penumbra::studies::framing::{run, FramingJob};
+use penumbra::reference::truth::Cache;
 use penumbra::reference::ReferenceMode;
 use penumbra::scene::Scene;
 

@@ -6,7 +6,7 @@ use glam::Vec3;
 use penumbra::frame;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 /// Möller–Trumbore: does the segment origin → origin + dir (t in (0, 1)) hit the triangle?
 fn hits(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> bool {

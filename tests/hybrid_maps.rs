@@ -4,12 +4,12 @@
 //! the same image through flushes.
 
 mod common;
-use penumbra::compute::hybrid_build::{CHILDREN, DEPTH_UNIT};
-use penumbra::compute::twin::{self, hybrid_build as hy};
+use penumbra::stages::hybrid_build::{CHILDREN, DEPTH_UNIT};
+use penumbra::stages::twin::{self, hybrid_build as hy};
 use penumbra::frame::{self, frame_uniform, FrameOptions};
-use penumbra::methods::{fixed, Method};
+use penumbra::methods::{fixed_samples, Method};
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 /// The test binary's shared GPU context.
 fn gpu() -> &'static penumbra::gpu::GpuContext {
@@ -99,7 +99,7 @@ fn gpu_build_and_lookup_equal_their_twins() {
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 64), "random", None, &overrides).unwrap();
         assert_eq!(sc.render.shadow_map_size, base, "base is the raster size");
         let r = frame::render(ctx, &sc, &method, opts).unwrap();
-        let c = fixed::capture_of(&r.output).expect("fixed-sample capture");
+        let c = fixed_samples::capture_of(&r.output).expect("fixed-sample capture");
         let eps = sc.render.hybrid.eps * DEPTH_UNIT;
         let (mut full, mut merged) = (0usize, 0usize);
         for (slot, raw) in c.raw_maps.iter().enumerate() {
@@ -178,13 +178,13 @@ fn every_map_reading_method_reads_hybrid_maps() {
 /// pixels that shrink as the map grows, and a different point gives a different shadow.
 #[test]
 fn point_reference_is_the_hard_shadow_maps_converge_to() {
-    use penumbra::ground_truth::{self, Cache};
+    use penumbra::reference::truth::{self, Cache};
     use penumbra::metrics;
     use penumbra::reference::ReferenceMode;
     let ctx = gpu();
     let centre = ReferenceMode::Point { s: 0.5, t: 0.5 };
     let base = Scene::parse(&common::random_scene_toml(17, 64, 256), "random", None, &[]).unwrap();
-    let (g, reference) = ground_truth::for_scene(ctx, &base, centre, &Cache::Off).unwrap();
+    let (g, reference) = truth::for_scene(ctx, &base, centre, &Cache::Off).unwrap();
     let mask: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
     assert!(reference.values.iter().all(|v| *v == 0.0 || *v == 1.0), "a point reference is binary");
     let shadowed = mask.iter().zip(&reference.values).filter(|(m, v)| **m && **v == 0.0).count();
@@ -193,8 +193,8 @@ fn point_reference_is_the_hard_shadow_maps_converge_to() {
         let o: Vec<(String, String)> = overrides.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
         let sc = Scene::parse(&common::random_scene_toml(17, 64, 256), "random", None, &o).unwrap();
         let r = frame::render(ctx, &sc, &Method::hard(), TimingMode::Frame).unwrap();
-        let shaded = penumbra::output::shaded_image(&r.visibility, &r.gbuffer, &sc);
-        let shaded_ref = penumbra::output::shaded_image(&reference.values, &g, &sc);
+        let shaded = penumbra::record::run_files::shaded_image(&r.visibility, &r.gbuffer, &sc);
+        let shaded_ref = penumbra::record::run_files::shaded_image(&reference.values, &g, &sc);
         metrics::compute(&r.visibility, &reference.values, &mask, &shaded, &shaded_ref, 64, 64).unwrap().mismatch_share
     };
     let coarse = mismatch(&[("shadow_map_size", "64")]);
@@ -204,6 +204,6 @@ fn point_reference_is_the_hard_shadow_maps_converge_to() {
     assert!(fine < 0.02, "a 1024² map mismatches {fine} of the pixels");
     assert!(coarse > fine, "a 64² map ({coarse}) should mismatch more than a 1024² map ({fine})");
     assert!(hybrid <= fine + 1.0 / 4096.0, "hybrid 1024→256 ({hybrid}) should match plain 1024² ({fine})");
-    let (_, corner) = ground_truth::for_scene(ctx, &base, ReferenceMode::Point { s: 0.0, t: 0.0 }, &Cache::Off).unwrap();
+    let (_, corner) = truth::for_scene(ctx, &base, ReferenceMode::Point { s: 0.0, t: 0.0 }, &Cache::Off).unwrap();
     assert_ne!(corner.values, reference.values, "another light point casts another shadow");
 }

@@ -6,7 +6,7 @@
 //! `PENUMBRA_TORTURE_FILES=100000 PENUMBRA_TORTURE_POINTS=30 cargo test --release --test interrupt_torture -- --nocapture`.
 
 mod common;
-use penumbra::output_set::MARKER;
+use penumbra::record::output_set::MARKER;
 use penumbra::record::provenance::sha256_hex;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -1,8 +1,8 @@
 //! No GPU needed: every kernel parses and validates with naga, the Rust `Gpu*` structs match the
 //! WGSL layouts member by member, and Rust dispatches with the workgroup sizes the kernels declare.
 
-use penumbra::kernels::{self, KERNELS};
-use penumbra::layout::all_layouts;
+use penumbra::gpu::kernels::{self, KERNELS};
+use penumbra::gpu::structs::all_layouts;
 
 #[test]
 fn every_kernel_validates_with_naga() {
@@ -30,7 +30,7 @@ fn map_reading_kernels_validate_for_hybrid_maps() {
 
 #[test]
 fn hybrid_constants_match_rust() {
-    use penumbra::compute::hybrid_build::{CHILDREN, FRAME_LEVELS_SHIFT, POOL_WIDTH_LOG2};
+    use penumbra::stages::hybrid_build::{CHILDREN, FRAME_LEVELS_SHIFT, POOL_WIDTH_LOG2};
     use penumbra::scene::MapKind;
     let constant = |kernel: &str, maps: MapKind, name: &str| -> u32 {
         let (module, _) = kernels::validate_for(kernel, maps).unwrap();
@@ -49,7 +49,7 @@ fn hybrid_constants_match_rust() {
 
 #[test]
 fn block_constants_match_rust() {
-    use penumbra::compute::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
+    use penumbra::stages::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
     let constant = |kernel: &str, name: &str| -> u32 {
         let (module, _) = kernels::validate(kernel).unwrap();
         let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("{kernel}: no `{name}`"));
@@ -58,7 +58,7 @@ fn block_constants_match_rust() {
             ref e => panic!("{kernel}: `{name}` is {e:?}"),
         }
     };
-    assert_eq!(constant("shade", "SHADE_BLOCK"), penumbra::compute::shade::SHADE_BLOCK);
+    assert_eq!(constant("shade", "SHADE_BLOCK"), penumbra::stages::shade::SHADE_BLOCK);
     assert_eq!(constant("shadow_test", "TEST_BLOCK"), TEST_BLOCK);
     assert_eq!(constant("shadow_test", "TEST_SLOTS"), TEST_SLOTS);
     assert_eq!(constant("shadow_test", "TEST_TAILS"), TEST_TAILS.len() as u32);
@@ -116,7 +116,7 @@ fn rust_structs_match_wgsl_layouts() {
 
 #[test]
 fn dispatch_sizes_match_kernel_workgroup_sizes() {
-    for (kernel, entry, size) in penumbra::compute::WORKGROUP_SIZES {
+    for (kernel, entry, size) in penumbra::stages::WORKGROUP_SIZES {
         let declared = kernels::workgroup_size(kernel, entry).expect("kernel has the entry point");
         assert_eq!(declared, *size, "{kernel}::{entry}: Rust dispatches with {size:?}, WGSL declares {declared:?}");
     }

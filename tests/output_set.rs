@@ -1,8 +1,8 @@
-//! Outputs are written as a set (src/output_set/): staged inside --out and moved in at the end, user
+//! Outputs are written as a set (src/record/output_set/): staged inside --out and moved in at the end, user
 //! entries left where they are.
 
 mod common;
-use penumbra::output_set::{check, OutputSet, MARKER};
+use penumbra::record::output_set::{check, OutputSet, MARKER};
 use std::path::{Path, PathBuf};
 
 fn tmp(name: &str) -> PathBuf {

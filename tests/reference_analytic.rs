@@ -6,7 +6,7 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame;
-use penumbra::ground_truth::{self, Cache};
+use penumbra::reference::truth::{self, Cache};
 use penumbra::reference::{AnalyticSquareScene, ReferenceMode};
 use penumbra::scene::Scene;
 
@@ -81,7 +81,7 @@ fn continuous_reference_matches_the_closed_form() {
     let ctx = common::gpu();
     for (name, scene, exact) in family() {
         let g = frame::gbuffer_only(ctx, &scene).unwrap();
-        let r = ground_truth::compute(&scene, &g, ReferenceMode::DEFAULT_CONTINUOUS, &Cache::Off).unwrap();
+        let r = truth::compute(&scene, &g, ReferenceMode::DEFAULT_CONTINUOUS, &Cache::Off).unwrap();
         let ground = ground_pixels(&g, r.ray_offset);
         let (mut sum, mut sum_penumbra, mut penumbra, mut max) = (0.0f64, 0.0f64, 0usize, 0.0f64);
         for &(i, p) in &ground {
@@ -111,7 +111,7 @@ fn lattice_reference_equals_the_closed_form_count() {
     let ctx = common::gpu();
     for (name, scene, exact) in family() {
         let g = frame::gbuffer_only(ctx, &scene).unwrap();
-        let r = ground_truth::compute(&scene, &g, ReferenceMode::Lattice, &Cache::Off).unwrap();
+        let r = truth::compute(&scene, &g, ReferenceMode::Lattice, &Cache::Off).unwrap();
         let ground = ground_pixels(&g, r.ray_offset);
         let (mut compared, mut skipped, mut partial, mut wrong) = (0, 0, 0, Vec::new());
         for &(i, p) in &ground {

@@ -5,7 +5,7 @@ mod common;
 use penumbra::frame::{FrameOptions, Renderer};
 use penumbra::methods::{Method, REGISTRY};
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 
 #[test]
 fn later_frames_on_one_renderer_equal_the_first() {

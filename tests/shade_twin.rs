@@ -2,11 +2,11 @@
 //! when the maps are split into chunks by the memory budget.
 
 mod common;
-use penumbra::compute::shade::{blocks, SHADE_BLOCK};
-use penumbra::compute::twin;
+use penumbra::stages::shade::{blocks, SHADE_BLOCK};
+use penumbra::stages::twin;
 use penumbra::frame::{self, frame_uniform, FrameOptions};
-use penumbra::methods::{fixed, Method};
-use penumbra::timing::TimingMode;
+use penumbra::methods::{fixed_samples, Method};
+use penumbra::gpu::timing::TimingMode;
 use penumbra::scene::Scene;
 
 #[test]
@@ -22,7 +22,7 @@ fn shade_equals_its_cpu_twin() {
         .unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: true, capture: true };
         let r = frame::render(ctx, &sc, &method, options).unwrap();
-        let c = fixed::capture_of(&r.output).expect("fixed-sample capture");
+        let c = fixed_samples::capture_of(&r.output).expect("fixed-sample capture");
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();
         if seed == 29 {

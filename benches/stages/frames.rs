@@ -7,7 +7,7 @@ use penumbra::frame;
 use penumbra::gpu::GpuContext;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::timing::TimingMode;
+use penumbra::gpu::timing::TimingMode;
 use std::collections::{BTreeMap, HashMap};
 use std::time::Duration;
 

@@ -4,7 +4,7 @@
 //! figures mean nothing without it.
 //!
 //! shadow_raster and gbuffer drive their passes directly. The adaptive stages cannot be driven one
-//! by one from outside src/compute (their buffers and level uniforms are private to the method), so
+//! by one from outside src/stages (their buffers and level uniforms are private to the method), so
 //! those groups render whole adaptive frames in TimingMode::Stages (submit + wait after every stage)
 //! and charge each iteration the stage's wall time from FrameResult::stages_ms.
 //!

@@ -3,7 +3,7 @@
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
 use penumbra::frame;
-use penumbra::ground_truth::{ray_offset, surface_points};
+use penumbra::reference::truth::{ray_offset, surface_points};
 use penumbra::gpu::GpuContext;
 use penumbra::reference::{trace_visibility, RefLight, ReferenceMode, Tracer};
 use penumbra::scene::Scene;

@@ -1,5 +1,5 @@
 // Shared prelude, concatenated before every kernel: WGSL twins of the Rust `Gpu*` structs
-// (src/layout.rs; a test compares their layouts) and the one shadow-map test every method uses.
+// (src/gpu/structs.rs; a test compares their layouts) and the one shadow-map test every method uses.
 // Depths are read through `map_depth` (kernels/shared/maps_plain.wgsl or maps_hybrid.wgsl, one of
 // which is concatenated after this prelude), so every method works on either representation.
 

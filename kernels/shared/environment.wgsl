@@ -1,5 +1,5 @@
 // Environment prelude (env_* kernels and ssao): WGSL twins of the Rust Gpu* structs of
-// src/layout.rs and the BVH ray test, written like src/environment/bvh.rs operation for operation.
+// src/gpu/structs.rs and the BVH ray test, written like src/render/bvh.rs operation for operation.
 
 struct GpuBvhNode {
     min: vec3<f32>,

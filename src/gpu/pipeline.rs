@@ -2,7 +2,8 @@
 
 use super::GpuContext;
 use crate::scene::MapKind;
-use crate::{kernels, Error, Result};
+use crate::gpu::kernels;
+use crate::{Error, Result};
 
 pub fn shader_module(ctx: &GpuContext, kernel: &str) -> Result<wgpu::ShaderModule> {
     shader_module_for(ctx, kernel, MapKind::Plain)

@@ -4,11 +4,11 @@
 //! statistic and the reconstruction.
 
 use super::single_map::{light_size, CentreMap, SingleMapCapture};
-use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::compute::{blur::Blur, moments::Moments, reconstruct::Reconstruct, FrameGpu};
+use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::stages::{blur::Blur, moments::Moments, reconstruct::Reconstruct, FrameGpu};
 use crate::gpu::readback;
-use crate::layout::GpuFilter;
-use crate::timing::StageTimer;
+use crate::gpu::structs::GpuFilter;
+use crate::gpu::timing::StageTimer;
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -106,7 +106,7 @@ impl Filtered {
         let name = kind.info().name;
         let radius = match p.get("radius").map(String::as_str) {
             None | Some("auto") => None,
-            Some(_) => Some(check_range(name, "radius", params::get_u32(p, "radius", 0)?, 0, 64)?),
+            Some(_) => Some(check_range(name, "radius", get_u32(p, "radius", 0)?, 0, 64)?),
         };
         let bleed = get_f32(p, "bleed", 0.0)?;
         if !(0.0..1.0).contains(&bleed) {
@@ -121,7 +121,7 @@ impl Filtered {
             }
             _ => (0.0, 0.0),
         };
-        let order = check_range(name, "order", params::get_u32(p, "order", 4)?, 1, 16)?;
+        let order = check_range(name, "order", get_u32(p, "order", 4)?, 1, 16)?;
         Ok(Arc::new(Filtered {
             kind,
             c_pos,

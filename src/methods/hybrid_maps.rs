@@ -3,10 +3,10 @@
 //! handed to the method (shade, shadow_test) and the store starts again, so the memory a method
 //! holds is the raster's few layers plus the store, not a full-resolution layer per map.
 
-use crate::compute::hybrid_build::{HybridBuild, HybridStore};
-use crate::compute::FrameGpu;
+use crate::stages::hybrid_build::{HybridBuild, HybridStore};
+use crate::stages::FrameGpu;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
-use crate::timing::StageTimer;
+use crate::gpu::timing::StageTimer;
 use crate::{Error, Result};
 
 /// Full-resolution layers rasterized before they are merged (at most; fewer when the budget is small).

@@ -6,25 +6,20 @@
 //! The frame driver (src/frame.rs) runs any of them without knowing which.
 
 pub mod adaptive;
-pub mod env_adaptive;
-pub mod env_common;
-pub mod env_pixels;
-pub mod env_vertex;
-pub mod env_shadowmaps;
+pub mod environment;
 pub mod filtered;
-pub mod fixed;
+pub mod fixed_samples;
 pub mod hybrid_maps;
-pub mod params;
 pub mod pcf;
 pub mod pcss;
 pub mod single_map;
 pub mod ssao;
 
-pub use fixed::Layout;
-pub use params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
+pub use fixed_samples::Layout;
+pub use adaptive::params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 
-use crate::compute::FrameGpu;
-use crate::timing::StageTimer;
+use crate::stages::FrameGpu;
+use crate::gpu::timing::StageTimer;
 use crate::{Error, Result};
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -96,7 +91,7 @@ pub struct MethodInfo {
 
 /// Every method, in the order `penumbra methods` lists them.
 pub const REGISTRY: &[&MethodInfo] = &[
-    &fixed::HARD,
+    &fixed_samples::HARD,
     &pcf::INFO,
     &pcss::INFO,
     &filtered::ESM,
@@ -104,12 +99,12 @@ pub const REGISTRY: &[&MethodInfo] = &[
     &filtered::EVSM,
     &filtered::MSM,
     &filtered::CSM,
-    &fixed::REGULAR,
+    &fixed_samples::REGULAR,
     &adaptive::INFO,
-    &env_pixels::INFO,
-    &env_shadowmaps::INFO,
+    &environment::pixels::INFO,
+    &environment::shadowmaps::INFO,
     &ssao::INFO,
-    &env_adaptive::INFO,
+    &environment::adaptive::INFO,
 ];
 
 /// A method with its parameters fixed.
@@ -208,11 +203,11 @@ impl Method {
         Method(Arc::new(m))
     }
     pub fn hard() -> Method {
-        Method::new(fixed::Fixed::Hard)
+        Method::new(fixed_samples::Fixed::Hard)
     }
     /// The regular grid on the N×N lattice, corners included.
     pub fn regular(n: u32) -> Method {
-        Method::new(fixed::Fixed::Regular { n, layout: Layout::Lattice })
+        Method::new(fixed_samples::Fixed::Regular { n, layout: Layout::Lattice })
     }
     pub fn adaptive(p: AdaptiveParams) -> Method {
         Method::new(adaptive::Adaptive(p))
@@ -253,6 +248,13 @@ pub fn describe() -> String {
         }
     }
     s
+}
+
+pub fn get_u32(params: &ParamMap, key: &str, default: u32) -> Result<u32> {
+    match params.get(key) {
+        None => Ok(default),
+        Some(v) => v.parse().map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a non-negative integer"))),
+    }
 }
 
 /// Parameter helpers shared by the methods' parsers.

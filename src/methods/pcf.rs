@@ -2,12 +2,12 @@
 //! binary shadow test over taps around its place in the map.
 
 use super::single_map::{CentreMap, SingleMapCapture};
-use super::{check_range, get_choice, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::compute::pcf::Pcf as PcfPass;
-use crate::compute::FrameGpu;
+use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::stages::pcf::Pcf as PcfPass;
+use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::GpuFilter;
-use crate::timing::StageTimer;
+use crate::gpu::structs::GpuFilter;
+use crate::gpu::timing::StageTimer;
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -57,7 +57,7 @@ impl Pcf {
             "bilinear" => 3,
             _ => 16,
         };
-        let taps = params::get_u32(p, "taps", default_taps)?;
+        let taps = get_u32(p, "taps", default_taps)?;
         match kernel {
             "box" | "bilinear" => check_range("pcf", "taps", taps, 1, 16).map(|_| ())?,
             "stratified" => check_range("pcf", "taps", taps, 1, 64).map(|_| ())?,

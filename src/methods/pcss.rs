@@ -2,12 +2,12 @@
 //! size by similar triangles, then PCF of that width, all on the centre map.
 
 use super::single_map::{light_size, CentreMap, SingleMapCapture};
-use super::{check_range, get_f32, label_from, params, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::compute::pcss::Pcss as PcssPass;
-use crate::compute::FrameGpu;
+use super::{check_range, get_f32, label_from, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
+use crate::stages::pcss::Pcss as PcssPass;
+use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::GpuFilter;
-use crate::timing::StageTimer;
+use crate::gpu::structs::GpuFilter;
+use crate::gpu::timing::StageTimer;
 use crate::Result;
 use std::sync::Arc;
 
@@ -22,8 +22,8 @@ pub const INFO: MethodInfo = MethodInfo {
     ],
     parse: |p| {
         Ok(Arc::new(Pcss {
-            taps: check_range("pcss", "taps", params::get_u32(p, "taps", 8)?, 1, 16)?,
-            blocker_taps: check_range("pcss", "blocker_taps", params::get_u32(p, "blocker_taps", 6)?, 1, 16)?,
+            taps: check_range("pcss", "taps", get_u32(p, "taps", 8)?, 1, 16)?,
+            blocker_taps: check_range("pcss", "blocker_taps", get_u32(p, "blocker_taps", 6)?, 1, 16)?,
             max_radius: check_range("pcss", "max_radius", get_f32(p, "max_radius", 32.0)?, 1.0, 256.0)?,
         }))
     },

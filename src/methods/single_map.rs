@@ -2,13 +2,13 @@
 //! light's centre, the filter uniform, and the capture their twin tests read.
 
 use super::hybrid_maps::HybridMaps;
-use crate::compute::FrameGpu;
+use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::{GpuFilter, GpuSample};
-use crate::light::sample_view;
+use crate::gpu::structs::{GpuFilter, GpuSample};
+use crate::scene::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::scene::MapKind;
-use crate::timing::StageTimer;
+use crate::gpu::timing::StageTimer;
 use crate::Result;
 
 /// The map from the light's centre, allocated once per scene and settings.
@@ -71,7 +71,7 @@ impl CentreMap {
             CentreMaps::Plain(array) => readback::read_texture(fg.ctx, &array.texture, 0, 4),
             CentreMaps::Hybrid(h) => {
                 let pool = h.store.read_words(fg.ctx, h.store.capacity_words)?;
-                Ok(crate::compute::twin::hybrid_build::decode(&pool, 0, h.store.settings.base, h.store.settings.levels))
+                Ok(crate::stages::twin::hybrid_build::decode(&pool, 0, h.store.settings.base, h.store.settings.levels))
             }
         }
     }

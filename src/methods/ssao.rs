@@ -1,13 +1,13 @@
 //! ssao as its own term: V = the screen-space ambient occlusion (seed 002 §2.4). Combined with the
 //! environment methods through their `ssao=on` parameter (V_env · AO).
 
-use super::env_common::{SsaoSettings, SsaoStage};
-use super::env_pixels::{AO_RADIUS, AO_SAMPLES};
-use super::{check_range, get_f32, params, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod};
-use crate::compute::FrameGpu;
+use super::environment::common::{SsaoSettings, SsaoStage};
+use super::environment::pixels::{AO_RADIUS, AO_SAMPLES};
+use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod};
+use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::{GpuCamera, GpuEnvParams};
-use crate::timing::StageTimer;
+use crate::gpu::structs::{GpuCamera, GpuEnvParams};
+use crate::gpu::timing::StageTimer;
 use crate::Result;
 use std::sync::Arc;
 
@@ -17,7 +17,7 @@ pub const INFO: MethodInfo = MethodInfo {
     summary: "screen-space ambient occlusion alone: V = AO from the G-buffer",
     params: &[AO_SAMPLES, AO_RADIUS],
     parse: |p| {
-        let samples = check_range("ssao", "ao_samples", params::get_u32(p, "ao_samples", 16)?, 1, 64)?;
+        let samples = check_range("ssao", "ao_samples", get_u32(p, "ao_samples", 16)?, 1, 64)?;
         let radius = check_range("ssao", "ao_radius", get_f32(p, "ao_radius", 0.05)?, 1e-4, 1.0)?;
         Ok(Arc::new(SsaoMethod(SsaoSettings { samples, radius })))
     },

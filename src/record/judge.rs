@@ -3,7 +3,7 @@
 
 use crate::frame::FrameResult;
 use crate::metrics::{self, Metrics};
-use crate::output;
+use crate::record::run_files;
 use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -28,7 +28,7 @@ pub struct Judged {
 impl Judge {
     pub fn new(scene: &Scene, g: &GBufferCpu, reference: Vec<f32>) -> Judge {
         let mask = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
-        let shaded_reference = output::shaded_image(&reference, g, scene);
+        let shaded_reference = run_files::shaded_image(&reference, g, scene);
         Judge { reference, shaded_reference, mask, width: g.width, height: g.height }
     }
 
@@ -42,7 +42,7 @@ impl Judge {
         if differ > 0 || f.visibility.len() != self.mask.len() {
             return Err(Error::Gpu(format!("{label}: the G-buffer differs from the reference's in {differ} pixels")));
         }
-        let shaded = output::shaded_image(&f.visibility, &f.gbuffer, scene);
+        let shaded = run_files::shaded_image(&f.visibility, &f.gbuffer, scene);
         let metrics = metrics::compute(&f.visibility, &self.reference, &self.mask, &shaded, &self.shaded_reference, self.width, self.height)?;
         Ok(Judged { metrics, shaded })
     }

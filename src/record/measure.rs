@@ -8,7 +8,7 @@ use crate::frame::{FrameOptions, FrameResult, Renderer};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::scene::Scene;
-use crate::timing::TimingMode;
+use crate::gpu::timing::TimingMode;
 use crate::Result;
 use std::collections::BTreeMap;
 

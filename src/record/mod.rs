@@ -3,18 +3,23 @@
 //! `results.jsonl` schema. `penumbra report`, `merge` and `check` read any of their outputs.
 
 pub mod csv;
+pub mod output_set;
+pub mod regression;
+pub mod row;
+pub mod run_files;
+pub mod shaded_environment;
 pub mod judge;
 pub mod measure;
 pub mod provenance;
 
-pub use crate::charts::ResultRow;
+pub use row::ResultRow;
 pub use provenance::{Provenance, SpecRef};
 
-use crate::charts::svg_to_png;
+use crate::report::charts::svg_to_png;
 use crate::gpu::AdapterSummary;
 use crate::methods::Method;
 use crate::metrics::Metrics;
-use crate::{output, Error, Result};
+use crate::{Error, Result};
 use measure::Timing;
 use std::collections::BTreeMap;
 
@@ -55,7 +60,7 @@ pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images:
         reference: run.reference.clone(),
         repeats: run.repeats,
         clock: CLOCK.into(),
-        version: output::version(),
+        version: run_files::version(),
         images,
         provenance: Some(provenance),
     }
@@ -76,7 +81,7 @@ pub fn jsonl(rows: &[ResultRow]) -> Result<String> {
 pub fn result_files(rows: &[ResultRow]) -> Result<Vec<(String, Vec<u8>)>> {
     let mut files = vec![("results.jsonl".to_string(), jsonl(rows)?.into_bytes()), ("results.csv".to_string(), csv::render(rows).into_bytes())];
     // For scripts: each regular grid, and the adaptive rows that dominate or nearly dominate it.
-    let verdicts = crate::charts::verdicts(rows);
+    let verdicts = crate::report::charts::verdicts(rows);
     if !verdicts.is_empty() {
         let json = serde_json::to_vec_pretty(&verdicts).map_err(|e| crate::Error::Io { path: "dominance.json".into(), message: e.to_string() })?;
         files.push(("dominance.json".to_string(), json));

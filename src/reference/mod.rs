@@ -13,8 +13,10 @@
 
 pub mod analytic;
 pub mod cache;
+pub mod environment;
 pub mod sampling;
 pub mod tracer;
+pub mod truth;
 pub mod visibility;
 
 #[cfg(test)]

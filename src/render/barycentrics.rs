@@ -4,7 +4,7 @@
 
 use super::SceneGpu;
 use crate::gpu::{pipeline, readback, GpuContext};
-use crate::layout::GpuCamera;
+use crate::gpu::structs::GpuCamera;
 use crate::Result;
 
 pub const IDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;

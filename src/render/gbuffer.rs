@@ -2,7 +2,7 @@
 
 use super::{vertex_layout, SceneGpu, VERTEX_ATTRIBUTES};
 use crate::gpu::{pipeline, readback, GpuContext};
-use crate::layout::GpuCamera;
+use crate::gpu::structs::GpuCamera;
 use crate::{Error, Result};
 
 pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;

@@ -1,6 +1,7 @@
 //! Raster passes: scene upload, G-buffer, shadow-map raster.
 
 pub mod barycentrics;
+pub mod bvh;
 pub mod gbuffer;
 pub mod shadow_order;
 pub mod shadow_raster;

@@ -3,8 +3,8 @@
 //! when both rows were measured on the same adapter.
 
 use super::table::{scenes, Cell, Table};
-use crate::charts::ResultRow;
-use crate::check::{change, row_key};
+use crate::report::charts::ResultRow;
+use crate::record::regression::{change, row_key};
 
 pub(super) fn tables(baseline: &[ResultRow], rows: &[ResultRow]) -> Vec<Table> {
     let cell = |text: String| Cell { text, best: false };

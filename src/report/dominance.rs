@@ -3,7 +3,7 @@
 //! otherwise how far the nearest adaptive rows miss on time or on error.
 
 use super::table::{scenes, Cell, Table};
-use crate::charts::{verdicts, DominancePoint, ResultRow};
+use crate::report::charts::{verdicts, DominancePoint, ResultRow};
 
 pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
     let all = verdicts(rows);

@@ -2,6 +2,7 @@
 //! `report.md` whose images live in `report_files/` beside it.
 
 mod baseline;
+pub mod charts;
 mod dominance;
 mod files;
 mod html;
@@ -11,7 +12,7 @@ mod table;
 
 use std::path::{Path, PathBuf};
 
-use crate::charts::ResultRow;
+use crate::report::charts::ResultRow;
 use files::{data_uri, is_png, write_atomic};
 pub(crate) use files::unique_slugs;
 

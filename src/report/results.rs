@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::{write_report_with_baseline, MethodImages, ReportError};
-use crate::charts::{self, ChartError, ResultRow};
+use crate::report::charts::{self, ChartError, ResultRow};
 use crate::Result;
 
 /// A row and the folder its image paths are relative to.

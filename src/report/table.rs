@@ -3,7 +3,7 @@
 use crate::methods::Family;
 use serde::Serialize;
 
-use crate::charts::ResultRow;
+use crate::report::charts::ResultRow;
 
 #[derive(Debug, Clone, Serialize)]
 pub(super) struct Cell {

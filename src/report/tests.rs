@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use serde_json::json;
 
 use super::*;
-use crate::charts::{error_vs_time_svg, stage_breakdown_svg, tests::sample_rows};
+use crate::report::charts::{error_vs_time_svg, stage_breakdown_svg, tests::sample_rows};
 
 fn png(w: u32, h: u32, seed: u8) -> Vec<u8> {
     let img = image::RgbImage::from_fn(w, h, |x, y| {

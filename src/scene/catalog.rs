@@ -6,7 +6,7 @@ use super::mesh_def::MeshDef;
 use super::mesh_file::CACHE_PREFIX;
 use super::builtin;
 use super::model::Scene;
-use crate::assets;
+use crate::scene::assets;
 use std::path::{Path, PathBuf};
 
 pub struct CatalogEntry {

@@ -5,7 +5,7 @@ use super::mesh_file::MeshDirs;
 use super::settings::{MapKind, RenderSettings};
 use super::mesh;
 use super::model::{Camera, Scene};
-use crate::light::{AreaLight, Bounds};
+use crate::scene::light::{AreaLight, Bounds};
 use crate::{Error, Result};
 use glam::Vec3;
 use serde::Deserialize;
@@ -20,7 +20,7 @@ pub struct SceneDef {
     pub camera: CameraDef,
     /// Optional when `[environment]` lights the scene.
     pub light: Option<LightDef>,
-    pub environment: Option<crate::environment::scene::EnvironmentDef>,
+    pub environment: Option<crate::scene::environment::scene::EnvironmentDef>,
     #[serde(default)]
     pub render: RenderSettings,
     #[serde(default, rename = "mesh")]
@@ -144,12 +144,12 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         return Err(Error::scene(origin, "camera: eye equals target, or up is parallel to the view direction"));
     }
     let environment = match &def.environment {
-        Some(e) => Some(crate::environment::scene::build(e, origin, dirs)?),
+        Some(e) => Some(crate::scene::environment::scene::build(e, origin, dirs)?),
         None => None,
     };
     let light = match (&def.light, &environment) {
         (Some(l), _) => build_light(l, origin)?,
-        (None, Some(_)) => crate::environment::scene::nominal_light(),
+        (None, Some(_)) => crate::scene::environment::scene::nominal_light(),
         (None, None) => return Err(Error::scene(origin, "the scene has no [light] and no [environment]: give one")),
     };
     let r = &def.render;
@@ -237,7 +237,7 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         description: def.description.unwrap_or_default(),
         origin: origin.to_string(),
         camera,
-        light: if nominal { crate::environment::scene::light_above(min, max) } else { light },
+        light: if nominal { crate::scene::environment::scene::light_above(min, max) } else { light },
         environment,
         render,
         vertices,

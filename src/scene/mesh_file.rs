@@ -3,7 +3,7 @@
 
 use super::raw_mesh::RawMesh;
 use super::obj;
-use crate::assets;
+use crate::scene::assets;
 use crate::{Error, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};

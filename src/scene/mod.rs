@@ -1,6 +1,9 @@
 //! Scenes: a small TOML format (docs/scene-format.md), built-in named scenes, meshes.
 
+pub mod assets;
 mod builtin;
+pub mod environment;
+pub mod light;
 mod catalog;
 mod format;
 mod instances;

@@ -3,7 +3,7 @@
 
 use super::settings::RenderSettings;
 use super::mesh::Vertex;
-use crate::light::{AreaLight, Bounds};
+use crate::scene::light::{AreaLight, Bounds};
 use crate::Error;
 use glam::{Mat4, Vec3};
 
@@ -34,7 +34,7 @@ pub struct Scene {
     pub light: AreaLight,
     /// `[environment]`: the scene is lit by a panorama (docs/environment.md); `light` is then a
     /// nominal square above the meshes that only the area-light methods read.
-    pub environment: Option<crate::environment::Environment>,
+    pub environment: Option<crate::scene::environment::Environment>,
     pub render: RenderSettings,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,

@@ -170,7 +170,7 @@ pub fn traced(
     capture: bool,
 ) -> (penumbra::frame::FrameResult, penumbra::methods::adaptive::AdaptiveTrace) {
     use penumbra::frame::{self, FrameOptions};
-    let options = FrameOptions { mode: penumbra::timing::TimingMode::Frame, pictures: true, capture };
+    let options = FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: true, capture };
     let r = frame::render(ctx, scene, &penumbra::methods::Method::adaptive(p.clone()), options).expect("adaptive frame");
     let t = penumbra::methods::adaptive::trace_of(&r.output).expect("the adaptive method keeps a trace").clone();
     (r, t)

@@ -1,10 +1,10 @@
 //! The one read-back per level, and the per-level record in run.json.
 
 use crate::methods::AdaptiveParams;
-use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
-use crate::compute::FrameGpu;
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
+use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::GpuQuad;
+use crate::gpu::structs::GpuQuad;
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 

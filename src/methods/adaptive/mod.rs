@@ -4,7 +4,9 @@
 //! scope = global shades every pixel with every map (the seed); scope = local refines each pixel only
 //! inside the quads whose penumbra it lies in (method.md §4.2).
 
+pub mod buffers;
 mod levels;
+pub mod params;
 mod steer;
 mod pictures;
 mod weights;
@@ -13,19 +15,19 @@ pub use levels::{LevelRecord, LevelReport};
 pub use weights::sample_weights;
 
 use super::hybrid_maps::{self, HybridMaps};
-use super::params::SplitRule;
+use params::SplitRule;
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
-use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
-use crate::compute::{
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, LATTICE_SIDE, QUAD_CAPACITY};
+use crate::stages::{
     compact::Compact, cull::Cull, groups, probe::Probe, neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide, LINE_WORKGROUP,
 };
-use crate::compute::FrameGpu;
+use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::layout::{GpuControl, GpuLevel, GpuQuad, GpuSample};
-use crate::light::sample_view;
+use crate::gpu::structs::{GpuControl, GpuLevel, GpuQuad, GpuSample};
+use crate::scene::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
-use crate::timing::StageTimer;
+use crate::gpu::timing::StageTimer;
 use crate::{Error, Result};
 
 pub const INFO: MethodInfo = MethodInfo {
@@ -639,7 +641,7 @@ fn render_new_hybrid(
             let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
             let h = maps.store.settings;
             for &k in chunk {
-                trace.maps.push((k, crate::compute::twin::hybrid_build::decode(&pool, k, h.base, h.levels)));
+                trace.maps.push((k, crate::stages::twin::hybrid_build::decode(&pool, k, h.base, h.levels)));
             }
         }
         trace.rendered.extend_from_slice(chunk);

@@ -2,8 +2,8 @@
 //! low-quality pixels of every level, the light's quadtree, and samples per pixel (scope = local).
 
 use super::AdaptiveTrace;
-use crate::compute::buffers::NO_SPLIT;
-use crate::compute::FrameGpu;
+use crate::methods::adaptive::buffers::NO_SPLIT;
+use crate::stages::FrameGpu;
 use image::{Rgb, RgbImage};
 
 const SEED_COLOURS: [[u8; 3]; 5] = [[0, 0, 0], [220, 30, 30], [30, 190, 60], [40, 80, 230], [255, 255, 255]];

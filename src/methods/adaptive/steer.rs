@@ -14,15 +14,15 @@
 
 use super::levels::{self, LevelRead};
 use super::{gpu_level, lattice_index, pictures, AdaptiveTrace, Prepared};
-use crate::compute::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS};
-use crate::compute::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
-use crate::compute::{groups, FrameGpu, LINE_WORKGROUP};
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS};
+use crate::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
+use crate::stages::{groups, FrameGpu, LINE_WORKGROUP};
 use crate::gpu::readback;
-use crate::layout::GpuQuad;
-use crate::methods::params::SplitRule;
+use crate::gpu::structs::GpuQuad;
+use crate::methods::adaptive::params::SplitRule;
 use crate::methods::{AdaptiveParams, MethodOutput, Scope, Weights};
 use crate::render::shadow_raster::RasterJob;
-use crate::timing::StageTimer;
+use crate::gpu::timing::StageTimer;
 use crate::{Error, Result};
 
 /// u32 words of one draw_indexed_indirect argument set.

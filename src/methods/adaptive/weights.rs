@@ -2,7 +2,7 @@
 
 use super::levels::LevelReport;
 use crate::methods::{AdaptiveParams, Weights};
-use crate::compute::buffers::{LATTICE_POINTS, NO_SPLIT};
+use crate::methods::adaptive::buffers::{LATTICE_POINTS, NO_SPLIT};
 
 /// ŵ_k for every lattice index (0 where no map was rendered); Σ ŵ = 1.
 pub fn sample_weights(p: &AdaptiveParams, levels: &[LevelReport], sample_level: &[u32], rendered: &[u32]) -> Vec<f32> {

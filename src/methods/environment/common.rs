@@ -1,0 +1,135 @@
+//! What the environment methods share: the scene's BVH on both sides, the kernels' parameter
+//! block, and the ssao stage (its own method, and a factor the others can multiply in).
+
+use crate::stages::env_trace::BvhBuffers;
+use crate::stages::ssao::Ssao;
+use crate::stages::ssao::hemisphere_kernel;
+use crate::stages::FrameGpu;
+use crate::render::bvh::Bvh;
+use crate::scene::environment::{EnvLight, Environment};
+use crate::gpu::readback;
+use crate::gpu::structs::{GpuCamera, GpuEnvCell, GpuEnvLight, GpuEnvParams};
+use crate::gpu::timing::StageTimer;
+use crate::{Error, Result};
+use std::sync::Arc;
+
+pub fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment> {
+    fg.scene.environment.as_ref().ok_or_else(|| {
+        Error::Param(format!("{method}: scene `{}` has no [environment] (see docs/environment.md)", fg.scene.name))
+    })
+}
+
+/// The BVH, built once per scene and settings, kept on the CPU for the twins.
+pub struct SceneRays {
+    pub bvh: Arc<Bvh>,
+    pub buffers: BvhBuffers,
+    pub ray_offset: f32,
+    pub t_max: f32,
+}
+
+impl SceneRays {
+    pub fn build(fg: &FrameGpu) -> SceneRays {
+        let bvh = Arc::new(Bvh::build(&fg.scene.triangles()));
+        let buffers = BvhBuffers::upload(fg, &bvh);
+        SceneRays { bvh, buffers, ray_offset: crate::reference::ray_offset(fg.scene), t_max: crate::reference::env_ray_length(fg.scene) }
+    }
+
+    pub fn params(&self, fg: &FrameGpu) -> GpuEnvParams {
+        GpuEnvParams { width: fg.gbuffer.width, height: fg.gbuffer.height, ray_offset: self.ray_offset, t_max: self.t_max, ..Default::default() }
+    }
+}
+
+pub fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
+    lights.iter().map(|l| GpuEnvLight { direction: [l.direction.x, l.direction.y, l.direction.z, l.power] }).collect()
+}
+
+/// ssao: parameters, buffers and pass. AO lands in `ao` (1 = open).
+pub struct SsaoStage {
+    pub pass: Ssao,
+    pub params: GpuEnvParams,
+    pub camera: GpuCamera,
+    pub kernel: Vec<[f32; 4]>,
+    pub params_buffer: wgpu::Buffer,
+    pub camera_buffer: wgpu::Buffer,
+    pub kernel_buffer: wgpu::Buffer,
+    pub ao: wgpu::Buffer,
+    pub occluded: wgpu::Buffer,
+}
+
+/// ssao settings: samples per pixel and radius as a share of the scene's bounding-box diagonal.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SsaoSettings {
+    pub samples: u32,
+    pub radius: f32,
+}
+
+impl SsaoStage {
+    pub fn new(fg: &FrameGpu, settings: SsaoSettings) -> Result<SsaoStage> {
+        let s = fg.scene;
+        let aspect = s.render.width as f32 / s.render.height as f32;
+        let camera = GpuCamera { clip_from_world: s.camera.clip_from_world(aspect, &s.bounds).to_cols_array_2d(), eye: s.camera.eye.extend(1.0).to_array() };
+        let diag = s.bounds.diagonal();
+        let params = GpuEnvParams {
+            width: fg.gbuffer.width,
+            height: fg.gbuffer.height,
+            light_count: settings.samples,
+            radius: settings.radius * diag,
+            // Depth tolerance: the surface itself must not occlude its own samples.
+            ray_offset: 1e-3 * diag,
+            ..Default::default()
+        };
+        let kernel = hemisphere_kernel(settings.samples);
+        let ctx = fg.ctx;
+        let bytes = fg.pixel_count() as u64 * 4;
+        Ok(SsaoStage {
+            pass: Ssao::new(fg)?,
+            params_buffer: readback::uniform_buffer(ctx, "ssao params", &params),
+            camera_buffer: readback::uniform_buffer(ctx, "ssao camera", &camera),
+            kernel_buffer: readback::storage_buffer(ctx, "ssao kernel", &kernel, wgpu::BufferUsages::empty()),
+            ao: readback::zeroed_storage(ctx, "ao", bytes),
+            occluded: readback::zeroed_storage(ctx, "ssao occluded", bytes),
+            params,
+            camera,
+            kernel,
+        })
+    }
+
+    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
+        timer.stage(fg.ctx, "ssao", |enc| {
+            self.pass.record(fg, enc, &self.params_buffer, &self.camera_buffer, &self.kernel_buffer, &self.ao, &self.occluded);
+            Ok(())
+        })
+    }
+}
+
+/// `on` / `off`.
+pub fn on_off(params: &crate::methods::ParamMap, method: &str, key: &str) -> Result<bool> {
+    match params.get(key).map(String::as_str) {
+        None | Some("off") => Ok(false),
+        Some("on") => Ok(true),
+        Some(v) => Err(Error::Param(format!("{method}: {key} = `{v}`: use `on` or `off`"))),
+    }
+}
+
+/// `WxH` (a panorama resolution).
+pub fn resolution(params: &crate::methods::ParamMap, method: &str, key: &str, default: (u32, u32)) -> Result<(u32, u32)> {
+    let Some(v) = params.get(key) else { return Ok(default) };
+    let parsed = v.split_once('x').and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?)));
+    match parsed {
+        Some((w, h)) if w >= 1 && h >= 1 && w <= 4096 && h <= 2048 => Ok((w, h)),
+        _ => Err(Error::Param(format!("{method}: {key} = `{v}`: give WxH, e.g. 32x16 (at most 4096x2048)"))),
+    }
+}
+
+/// One level of env-adaptive, captured for the twins.
+#[derive(Clone, Debug)]
+pub struct LevelCapture {
+    pub params: GpuEnvParams,
+    pub cells: Vec<GpuEnvCell>,
+    pub counts: Vec<u32>,
+    pub next: Vec<GpuEnvCell>,
+    /// Leaves appended by this level.
+    pub leaves: Vec<GpuEnvCell>,
+    pub corners: Vec<[f32; 4]>,
+    pub cell_power: Vec<f32>,
+}

@@ -1,0 +1,218 @@
+//! env-pixels (seed 002): every pixel of the panorama, downsampled to `res` with solid-angle
+//! weights, is a directional light; V by one shadow ray per light and pixel through the BVH, or
+//! (`at=vertex`, the seed's variant) per mesh vertex, interpolated to the pixels.
+
+use super::common::{environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage};
+use super::vertex::{VertexCapture, VertexStage};
+use crate::methods::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::stages::env_trace::{chunk_params, EnvTrace, EnvTraceInputs};
+use crate::stages::FrameGpu;
+use super::picture;
+use crate::render::bvh::Bvh;
+use crate::scene::environment::pixel_lights;
+use crate::gpu::readback;
+use crate::gpu::structs::{GpuEnvLight, GpuEnvParams};
+use crate::gpu::timing::StageTimer;
+use crate::Result;
+use std::sync::Arc;
+
+pub const SSAO: Param = Param { key: "ssao", default: "off", help: "on: multiply V by screen-space ambient occlusion (the seed's creases)" };
+pub const AO_SAMPLES: Param = Param { key: "ao_samples", default: "16", help: "ssao samples per pixel, 1..=64" };
+pub const AO_RADIUS: Param = Param { key: "ao_radius", default: "0.05", help: "ssao radius as a share of the scene's bounding-box diagonal" };
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "env-pixels",
+    family: Family::Environment,
+    summary: "seed 002: every (downsampled) panorama pixel a light, shadow rays through a GPU BVH",
+    params: &[
+        Param { key: "res", default: "32x16", help: "panorama resolution of the pixel lights, WxH dividing the panorama's" },
+        Param { key: "at", default: "pixel", help: "pixel: rays from every screen pixel; vertex: from every mesh vertex (the seed's variant), V interpolated by barycentrics" },
+        SSAO,
+        AO_SAMPLES,
+        AO_RADIUS,
+    ],
+    parse: |p| {
+        let (w, h) = resolution(p, "env-pixels", "res", (32, 16))?;
+        let at = get_choice(p, "at", "pixel", &["pixel", "vertex"]).map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
+        Ok(Arc::new(EnvPixels { width: w, height: h, per_vertex: at == "vertex", ssao: parse_ssao(p, "env-pixels")? }))
+    },
+};
+
+/// `ssao=on` with its settings, or None.
+pub fn parse_ssao(p: &ParamMap, method: &str) -> Result<Option<SsaoSettings>> {
+    let samples = check_range(method, "ao_samples", get_u32(p, "ao_samples", 16)?, 1, 64)?;
+    let radius = check_range(method, "ao_radius", get_f32(p, "ao_radius", 0.05)?, 1e-4, 1.0)?;
+    Ok(on_off(p, method, "ssao")?.then_some(SsaoSettings { samples, radius }))
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvPixels {
+    pub width: u32,
+    pub height: u32,
+    /// `at=vertex`: trace at the mesh vertices and interpolate.
+    pub per_vertex: bool,
+    pub ssao: Option<SsaoSettings>,
+}
+
+impl ShadowMethod for EnvPixels {
+    fn name(&self) -> &'static str {
+        "env-pixels"
+    }
+    fn label(&self) -> String {
+        let mut s = format!("env-pixels:res={}x{}", self.width, self.height);
+        if self.per_vertex {
+            s += ",at=vertex";
+        }
+        if let Some(a) = self.ssao {
+            s += &format!(",ssao=on,ao_samples={},ao_radius={}", a.samples, a.radius);
+        }
+        s
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({ "res": [self.width, self.height], "at": if self.per_vertex { "vertex" } else { "pixel" }, "ssao": self.ssao })
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        let env = environment(fg, "env-pixels")?;
+        let lights = pixel_lights(env, self.width, self.height).map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
+        let mut picture = picture::panorama_picture(env, 512);
+        for l in &lights {
+            picture::mark(&mut picture, env, l.direction, picture::level_colour(3));
+        }
+        let rays = RayLights::new(fg, gpu_lights(&lights), self.ssao, vec![("panorama_lights.png".into(), picture)])?;
+        Ok(Box::new(if self.per_vertex { rays.at_vertices(fg)? } else { rays }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// Fixed lights traced every frame (env-pixels; env-adaptive's final pass uses the same parts).
+pub struct RayLights {
+    pub rays: SceneRays,
+    pub trace: EnvTrace,
+    pub lights: Vec<GpuEnvLight>,
+    pub params: GpuEnvParams,
+    /// One parameter block per chunk of lights (enough for the most lights this state may hold).
+    pub chunk_buffers: Vec<wgpu::Buffer>,
+    sums: wgpu::Buffer,
+    pub lights_buffer: wgpu::Buffer,
+    pub blocked: wgpu::Buffer,
+    /// Bound as `ao` when ssao is off (never read then).
+    no_ao: wgpu::Buffer,
+    pub ssao: Option<SsaoStage>,
+    pub pictures: Vec<(String, image::RgbImage)>,
+    /// `at=vertex`: rays from the mesh vertices instead of the pixels.
+    pub vertex: Option<VertexStage>,
+}
+
+impl RayLights {
+    pub fn new(fg: &FrameGpu, lights: Vec<GpuEnvLight>, ssao: Option<SsaoSettings>, pictures: Vec<(String, image::RgbImage)>) -> Result<RayLights> {
+        let rays = SceneRays::build(fg);
+        let mut params = rays.params(fg);
+        params.light_count = lights.len() as u32;
+        params.use_ao = ssao.is_some() as u32;
+        let ctx = fg.ctx;
+        let ssao = ssao.map(|s| SsaoStage::new(fg, s)).transpose()?;
+        let lights_buffer = readback::storage_buffer(ctx, "env lights", &if lights.is_empty() { vec![GpuEnvLight::default()] } else { lights.clone() }, wgpu::BufferUsages::empty());
+        let chunk_buffers = chunk_params(&params, lights.len() as u32).iter().map(|p| readback::uniform_buffer(ctx, "env params", p)).collect();
+        Ok(RayLights {
+            trace: EnvTrace::new(fg)?,
+            chunk_buffers,
+            sums: readback::zeroed_storage(ctx, "env sums", fg.pixel_count() as u64 * 8),
+            lights_buffer,
+            blocked: readback::zeroed_storage(ctx, "env blocked", fg.pixel_count() as u64 * 4),
+            no_ao: readback::zeroed_storage(ctx, "no ao", 16),
+            params,
+            lights,
+            rays,
+            ssao,
+            pictures,
+            vertex: None,
+        })
+    }
+
+    /// The per-vertex variant: the same lights, traced from every mesh vertex.
+    pub fn at_vertices(mut self, fg: &FrameGpu) -> Result<RayLights> {
+        let stage = VertexStage::new(fg)?;
+        self.params.vertex_count = stage.vertex_count;
+        self.vertex = Some(stage);
+        Ok(self)
+    }
+
+    /// ssao (if on), then env_trace; with `capture`, what the twins need.
+    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<Option<EnvTraceCapture>> {
+        if let Some(s) = &self.ssao {
+            s.run(fg, timer)?;
+        }
+        let ao = self.ssao.as_ref().map_or(&self.no_ao, |s| &s.ao);
+        let chunks = chunk_params(&self.params, self.params.light_count);
+        for (p, buffer) in chunks.iter().zip(&self.chunk_buffers) {
+            fg.ctx.queue.write_buffer(buffer, 0, bytemuck::bytes_of(p));
+        }
+        if let Some(v) = &self.vertex {
+            v.run(fg, timer, &self.chunk_buffers[..chunks.len()], &self.lights_buffer, &self.rays.buffers, ao)?;
+        } else {
+            timer.stage(fg.ctx, "env_trace", |enc| {
+                for buffer in &self.chunk_buffers[..chunks.len()] {
+                    let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
+                    self.trace.record(fg, enc, &inputs);
+                }
+                Ok(())
+            })?;
+        }
+        if !capture {
+            return Ok(None);
+        }
+        timer.flush(fg.ctx);
+        let bytes = fg.pixel_count() as u64 * 4;
+        let ao = match &self.ssao {
+            Some(s) => readback::read_buffer(fg.ctx, &s.ao, bytes)?,
+            None => Vec::new(),
+        };
+        Ok(Some(EnvTraceCapture {
+            params: self.params,
+            lights: self.lights.clone(),
+            bvh: self.rays.bvh.clone(),
+            blocked: readback::read_buffer(fg.ctx, &self.blocked, bytes)?,
+            ao,
+            levels: Vec::new(),
+            vertex: self.vertex.as_ref().map(|v| v.capture(fg)).transpose()?,
+        }))
+    }
+}
+
+/// env_trace's inputs and counts (and env-adaptive's levels), for the twins.
+pub struct EnvTraceCapture {
+    pub params: GpuEnvParams,
+    pub lights: Vec<GpuEnvLight>,
+    pub bvh: Arc<Bvh>,
+    pub blocked: Vec<u32>,
+    pub ao: Vec<f32>,
+    pub levels: Vec<super::common::LevelCapture>,
+    /// `at=vertex`: the ids, V and blocked rays per vertex.
+    pub vertex: Option<VertexCapture>,
+}
+
+pub fn capture_of(out: &MethodOutput) -> Option<&EnvTraceCapture> {
+    out.detail.as_ref()?.downcast_ref()
+}
+
+impl MethodState for RayLights {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(())
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        let c = RayLights::run(self, fg, timer, capture)?;
+        let n = self.lights.len() as u32;
+        Ok(MethodOutput {
+            shadow_maps: n,
+            syncs: 0,
+            record: match &self.vertex {
+                None => serde_json::json!({ "samples": n, "at": "pixel", "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
+                Some(v) => serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
+            },
+            pictures: if fg.pictures { self.pictures.clone() } else { Vec::new() },
+            detail: c.map(|c| Box::new(c) as Box<dyn std::any::Any>),
+        })
+    }
+}

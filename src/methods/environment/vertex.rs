@@ -1,0 +1,82 @@
+//! env-pixels:at=vertex, the seed's per-vertex variant: env_trace's `vertex` entry point sums the
+//! pixel lights at every mesh vertex, the barycentrics raster finds each pixel's triangle and
+//! barycentrics, and env_vertex_interp interpolates the three vertex values (docs/environment.md §2).
+
+use crate::stages::env_trace::{BvhBuffers, EnvTraceVertex, VertexOutputs};
+use crate::stages::env_vertex_interp::EnvVertexInterp;
+use crate::stages::FrameGpu;
+use crate::gpu::readback;
+use crate::render::barycentrics::{self, BarycentricsPass, TriangleIds};
+use crate::gpu::timing::StageTimer;
+use crate::Result;
+
+pub struct VertexStage {
+    raster: BarycentricsPass,
+    ids: TriangleIds,
+    camera: wgpu::Buffer,
+    trace: EnvTraceVertex,
+    interp: EnvVertexInterp,
+    pub vertex_count: u32,
+    visibility: wgpu::Buffer,
+    blocked: wgpu::Buffer,
+    sums: wgpu::Buffer,
+}
+
+/// What the twins need of a per-vertex frame.
+#[derive(Clone, Debug)]
+pub struct VertexCapture {
+    /// Per pixel: triangle + 1 (0 on background), bits of b1, bits of b2, 0.
+    pub ids: Vec<[u32; 4]>,
+    /// V per vertex and blocked rays per vertex.
+    pub visibility: Vec<f32>,
+    pub blocked: Vec<u32>,
+}
+
+impl VertexStage {
+    pub fn new(fg: &FrameGpu) -> Result<VertexStage> {
+        let ctx = fg.ctx;
+        let vertex_count = fg.scene.vertices.len() as u32;
+        // At least one element: wgpu has no empty bindings.
+        let bytes = vertex_count.max(1) as u64 * 4;
+        Ok(VertexStage {
+            raster: BarycentricsPass::new(ctx)?,
+            ids: BarycentricsPass::allocate(ctx, fg.gbuffer.width, fg.gbuffer.height),
+            camera: barycentrics::camera_buffer(ctx, &crate::render::gbuffer::camera_uniform(fg.scene)),
+            trace: EnvTraceVertex::new(fg)?,
+            interp: EnvVertexInterp::new(fg)?,
+            vertex_count,
+            visibility: readback::zeroed_storage(ctx, "vertex visibility", bytes),
+            blocked: readback::zeroed_storage(ctx, "vertex blocked", bytes),
+            sums: readback::zeroed_storage(ctx, "vertex sums", bytes * 2),
+        })
+    }
+
+    /// barycentrics, then env_trace at the vertices (one dispatch per chunk of lights, `chunks`
+    /// holding `vertex_count`), then env_vertex_interp into V.
+    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer, chunks: &[wgpu::Buffer], lights: &wgpu::Buffer, bvh: &BvhBuffers, ao: &wgpu::Buffer) -> Result<()> {
+        timer.stage(fg.ctx, "barycentrics", |enc| {
+            self.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.camera, &self.ids);
+            Ok(())
+        })?;
+        let out = VertexOutputs { visibility: &self.visibility, blocked: &self.blocked, sums: &self.sums };
+        timer.stage(fg.ctx, "env_trace", |enc| {
+            for params in chunks {
+                self.trace.record(fg, enc, params, lights, bvh, &out);
+            }
+            Ok(())
+        })?;
+        timer.stage(fg.ctx, "env_vertex_interp", |enc| {
+            self.interp.record(fg, enc, &chunks[0], &self.ids, &self.visibility, ao);
+            Ok(())
+        })
+    }
+
+    pub fn capture(&self, fg: &FrameGpu) -> Result<VertexCapture> {
+        let bytes = self.vertex_count as u64 * 4;
+        Ok(VertexCapture {
+            ids: barycentrics::read_back(fg.ctx, &self.ids)?,
+            visibility: readback::read_buffer(fg.ctx, &self.visibility, bytes)?,
+            blocked: readback::read_buffer(fg.ctx, &self.blocked, bytes)?,
+        })
+    }
+}

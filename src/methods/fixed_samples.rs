@@ -1,0 +1,371 @@
+//! Methods with a fixed sample set (hard, regular): raster every map, shade, chunk by chunk when the
+//! maps exceed the memory budget or the layer limit. With `maps = hybrid` the maps are rasterized a
+//! few at a time and merged into a hybrid store, which is shaded whenever it is full.
+
+use super::hybrid_maps::HybridMaps;
+use super::{check_range, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
+use crate::stages::FrameGpu;
+use crate::gpu::readback;
+use crate::gpu::structs::GpuSample;
+use crate::scene::light::sample_view;
+use crate::render::shadow_raster::{self, RasterJob};
+use crate::gpu::timing::StageTimer;
+use crate::Result;
+
+pub const HARD: MethodInfo = MethodInfo {
+    name: "hard",
+    family: Family::Hard,
+    summary: "one shadow map from the light's centre, one binary test per pixel",
+    params: &[],
+    parse: |_| Ok(std::sync::Arc::new(Fixed::Hard)),
+};
+
+pub const REGULAR: MethodInfo = MethodInfo {
+    name: "regular",
+    family: Family::MultiSample,
+    summary: "N×N shadow maps on the light's lattice corners, equal weights",
+    params: &[
+        Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" },
+        Param { key: "layout", default: "lattice", help: "lattice (corners i/(N−1)), centred (cell centres) or jittered (one seeded point per cell)" },
+    ],
+    parse: |p: &ParamMap| {
+        let n = check_range("regular", "n", get_u32(p, "n", 17)?, 1, 128)?;
+        let layout = match p.get("layout").map(String::as_str) {
+            None | Some("lattice") => Layout::Lattice,
+            Some("centred") | Some("centered") => Layout::Centred,
+            Some("jittered") => Layout::Jittered,
+            Some(v) => return Err(crate::Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
+        };
+        Ok(std::sync::Arc::new(Fixed::Regular { n, layout }))
+    },
+};
+
+/// Hard (one map from the centre) or the regular N×N grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fixed {
+    Hard,
+    Regular { n: u32, layout: Layout },
+}
+
+impl Fixed {
+    pub fn points(&self) -> Vec<(f32, f32)> {
+        match self {
+            Fixed::Hard => vec![(0.5, 0.5)],
+            Fixed::Regular { n, layout } => regular_points(*n, *layout),
+        }
+    }
+}
+
+impl ShadowMethod for Fixed {
+    fn name(&self) -> &'static str {
+        match self {
+            Fixed::Hard => "hard",
+            Fixed::Regular { .. } => "regular",
+        }
+    }
+    fn label(&self) -> String {
+        match self {
+            Fixed::Hard => "hard".into(),
+            Fixed::Regular { n, layout: Layout::Lattice } => format!("regular:n={n}"),
+            Fixed::Regular { n, layout: Layout::Centred } => format!("regular:n={n},layout=centred"),
+            Fixed::Regular { n, layout: Layout::Jittered } => format!("regular:n={n},layout=jittered"),
+        }
+    }
+    fn params_json(&self) -> serde_json::Value {
+        match self {
+            Fixed::Hard => serde_json::json!({}),
+            Fixed::Regular { n, layout } => serde_json::json!({ "n": n, "layout": layout }),
+        }
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        Ok(Box::new(prepare(fg, &self.points())?))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+impl MethodState for Prepared {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(()) // every raster pass clears its layer
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+        run(fg, timer, self, capture)
+    }
+}
+
+/// Light points (s, t) of the regular N×N grid in `layout` (docs/method.md §7):
+/// - lattice: the corners i/(N-1), edges included, so N = 17 gives exactly the 289 points of §3
+///   (N = 1 is the centre); the mean over a closed lattice weights the light's boundary too much;
+/// - centred: the cell centres (i+½)/N, the midpoint rule;
+/// - jittered: one point per cell at (i+u)/N, u uniform from a fixed seed (stratified sampling).
+pub fn regular_points(n: u32, layout: Layout) -> Vec<(f32, f32)> {
+    let cells = move |offset: &dyn Fn(u32, u32) -> (f32, f32)| -> Vec<(f32, f32)> {
+        (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let (u, v) = offset(i, j);
+                ((i as f32 + u) / n as f32, (j as f32 + v) / n as f32)
+            })
+            .collect()
+    };
+    match layout {
+        Layout::Lattice if n == 1 => vec![(0.5, 0.5)],
+        Layout::Lattice => {
+            let step = 1.0 / (n - 1) as f32;
+            (0..n).flat_map(|j| (0..n).map(move |i| (i as f32 * step, j as f32 * step))).collect()
+        }
+        Layout::Centred => cells(&|_, _| (0.5, 0.5)),
+        Layout::Jittered => cells(&|i, j| {
+            let h = splitmix64(JITTER_SEED ^ ((j as u64) << 32 | i as u64));
+            ((h >> 40) as f32 / (1u64 << 24) as f32, ((h >> 16) & 0xff_ffff) as f32 / (1u64 << 24) as f32)
+        }),
+    }
+}
+
+/// Where the N×N grid's points sit in their cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Layout {
+    Lattice,
+    Centred,
+    Jittered,
+}
+
+/// The fixed seed of `layout = jittered`, so runs repeat exactly.
+const JITTER_SEED: u64 = 0x005e_ed0f_9e11;
+
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
+/// Buffers and the maps of a fixed-sample run, allocated before the frame's clock starts.
+pub struct Prepared {
+    points: usize,
+    samples: Vec<GpuSample>,
+    weights: Vec<f32>,
+    samples_buffer: wgpu::Buffer,
+    weights_buffer: wgpu::Buffer,
+    maps: Maps,
+}
+
+/// Plain: one array of `chunk` layers, shaded chunk by chunk. Hybrid: a transient raster and a store.
+enum Maps {
+    Plain { chunk: u32, array: shadow_raster::ShadowMapArray },
+    Hybrid(Box<HybridMaps>),
+}
+
+/// Samples (s, t) with equal weights; a plain array holds at most `maps_per_array` maps.
+pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
+    let ctx = fg.ctx;
+    let s = &fg.scene;
+    let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
+    let chunk = if hybrid {
+        u32::MAX
+    } else {
+        shadow_raster::maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(points.len() as u32).max(1)
+    };
+    let samples: Vec<GpuSample> = points
+        .iter()
+        .enumerate()
+        .map(|(i, &(u, v))| {
+            let mut g = sample_view(&s.light, s.light.point(u, v), &s.bounds, s.render.shadow_map_size, u32::MAX);
+            // Hybrid: the layer is the sample's slot in the store.
+            g.layer = i as u32 % chunk;
+            g
+        })
+        .collect();
+    let weights = vec![1.0 / points.len() as f32; points.len()];
+    let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+    let weights_buffer = readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
+    let maps = if hybrid {
+        Maps::Hybrid(Box::new(HybridMaps::new(fg, points.len() as u32, points.len() as u32)?))
+    } else {
+        let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, chunk);
+        shadow_raster::clear_all(ctx, &array)?;
+        Maps::Plain { chunk, array }
+    };
+    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps })
+}
+
+/// Renders and shades chunk by chunk; with `capture`, every map and sample record is kept for the
+/// shade twin (tests only).
+fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: bool) -> Result<MethodOutput> {
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps } = prepared;
+    let (chunk, array) = match maps {
+        Maps::Plain { chunk, array } => (*chunk, &*array),
+        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, capture),
+    };
+    let ctx = fg.ctx;
+    let points = *points;
+    let mut capture = capture.then(FixedCapture::default);
+    let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
+    let tiles = &fg.geometry_tiles;
+    let bar = crate::progress::bar(points as u64, "shadow maps");
+    for first in (0..points as u32).step_by(chunk as usize) {
+        let count = chunk.min(points as u32 - first);
+        let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
+        timer.stage(ctx, "shadow_raster", |enc| {
+            fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs);
+            Ok(())
+        })?;
+        if let Some(c) = capture.as_mut() {
+            timer.flush(ctx);
+            for layer in 0..count {
+                c.maps.push(readback::read_texture(ctx, &array.texture, layer, 4)?);
+            }
+        }
+        timer.stage(ctx, "shade", |enc| {
+            fg.shade.record(ctx, enc, &inputs, &array.array_view, tiles, first, count);
+            Ok(())
+        })?;
+        bar.inc(count as u64);
+    }
+    bar.finish_and_clear();
+    if let Some(c) = capture.as_mut() {
+        c.samples = samples.clone();
+        c.weights = weights.clone();
+        c.tiles = read_tiles(fg, tiles)?;
+    }
+    let chunks = (points as u32).div_ceil(chunk);
+    Ok(MethodOutput {
+        shadow_maps: points as u32,
+        syncs: 0,
+        record: serde_json::json!({
+            "maps_per_chunk": chunk,
+            "chunks": chunks,
+            // Every map rasterizes the whole mesh.
+            "triangles_per_map_mean": fg.scene_gpu.index_count as f64 / 3.0,
+        }),
+        pictures: Vec::new(),
+        detail: capture.map(|c| Box::new(c) as Box<dyn std::any::Any>),
+    })
+}
+
+/// `run` with `maps = hybrid`: batches of the transient raster's layers, merged into the store; the
+/// store is shaded whenever it is full and once at the end. Samples are contiguous, so each shade
+/// is one range.
+#[allow(clippy::too_many_arguments)]
+fn run_hybrid(
+    fg: &FrameGpu,
+    timer: &mut StageTimer,
+    points: usize,
+    samples: &[GpuSample],
+    weights: &[f32],
+    samples_buffer: &wgpu::Buffer,
+    weights_buffer: &wgpu::Buffer,
+    maps: &mut HybridMaps,
+    capture: bool,
+) -> Result<MethodOutput> {
+    let ctx = fg.ctx;
+    maps.reset(fg);
+    let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
+    let tiles = &fg.geometry_tiles;
+    let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
+        debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
+        timer.stage(ctx, "shade", |enc| {
+            fg.shade.record(ctx, enc, &inputs, view, tiles, slots[0], slots.len() as u32);
+            Ok(())
+        })
+    };
+    let mut cap = capture.then(FixedCapture::default);
+    let layers = maps.layers();
+    let bar = crate::progress::bar(points as u64, "shadow maps");
+    for first in (0..points as u32).step_by(layers as usize) {
+        let ks: Vec<u32> = (first..first + layers.min(points as u32 - first)).collect();
+        let flushes = maps.stats.flushes;
+        maps.render(fg, timer, samples_buffer, &ks, &mut consume)?;
+        if let Some(c) = cap.as_mut() {
+            // Tests only: the batch's full-resolution maps and the store that holds them.
+            timer.flush(ctx);
+            if maps.stats.flushes != flushes {
+                return Err(crate::Error::Limit("capture with maps=hybrid needs a store that holds each raster batch".into()));
+            }
+            let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
+            let (base, levels) = (maps.store.settings.base, maps.store.settings.levels);
+            for (layer, &k) in ks.iter().enumerate() {
+                c.raw_maps.push(readback::read_texture(ctx, &maps.raster.texture, layer as u32, 4)?);
+                c.maps.push(crate::stages::twin::hybrid_build::decode(&pool, k, base, levels));
+            }
+            c.hybrid_pool = pool;
+        }
+        bar.inc(ks.len() as u64);
+    }
+    maps.flush(fg, timer, &mut consume)?;
+    bar.finish_and_clear();
+    if let Some(c) = cap.as_mut() {
+        c.samples = samples.to_vec();
+        c.weights = weights.to_vec();
+        c.tiles = read_tiles(fg, tiles)?;
+    }
+    Ok(MethodOutput {
+        shadow_maps: points as u32,
+        syncs: maps.stats.syncs,
+        record: serde_json::json!({ "maps_per_chunk": layers, "chunks": maps.stats.flushes, "hybrid": maps.record() }),
+        pictures: Vec::new(),
+        detail: cap.map(|c| Box::new(c) as Box<dyn std::any::Any>),
+    })
+}
+
+/// The capture of a fixed-sample run made with `capture` on.
+pub fn capture_of(out: &MethodOutput) -> Option<&FixedCapture> {
+    out.detail.as_ref()?.downcast_ref()
+}
+
+/// Tests only: the listed tiles, sorted (the GPU appends them in any order).
+fn read_tiles(fg: &FrameGpu, tiles: &GeometryTiles) -> Result<Vec<u32>> {
+    let words: Vec<u32> = readback::read_buffer(fg.ctx, &tiles.list, tiles.bytes)?;
+    let count = words[0] as usize;
+    let mut list = words[TILE_LIST_HEADER..TILE_LIST_HEADER + count].to_vec();
+    list.sort_unstable();
+    Ok(list)
+}
+
+/// Maps, samples and weights of a fixed-sample run, for the shade twin. With `maps = hybrid`,
+/// `maps` are what the lookup twin reads from the store, `raw_maps` the rasterized maps and
+/// `hybrid_pool` the store after the last batch.
+#[derive(Default)]
+pub struct FixedCapture {
+    /// The tiles shade ran on (sorted), for the geometry_tiles twin.
+    pub tiles: Vec<u32>,
+    pub maps: Vec<Vec<f32>>,
+    pub raw_maps: Vec<Vec<f32>>,
+    pub hybrid_pool: Vec<u32>,
+    pub samples: Vec<GpuSample>,
+    pub weights: Vec<f32>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{regular_points, Layout};
+
+    #[test]
+    fn centred_and_jittered_are_stratified() {
+        for layout in [Layout::Centred, Layout::Jittered] {
+            let p = regular_points(9, layout);
+            assert_eq!(p.len(), 81);
+            for (k, (s, t)) in p.iter().enumerate() {
+                let (i, j) = ((k % 9) as f32, (k / 9) as f32);
+                assert!(*s > i / 9.0 && *s < (i + 1.0) / 9.0 && *t > j / 9.0 && *t < (j + 1.0) / 9.0, "{layout:?} point {k} ({s}, {t}) outside its cell");
+            }
+        }
+        assert_eq!(regular_points(2, Layout::Centred), vec![(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]);
+        let jitter = regular_points(9, Layout::Jittered);
+        assert_eq!(jitter, regular_points(9, Layout::Jittered), "jittered is seeded, so runs repeat");
+        assert!(jitter.iter().zip(regular_points(9, Layout::Centred)).filter(|(a, b)| **a != *b).count() == 81);
+    }
+
+    #[test]
+    fn regular_17_is_the_lattice() {
+        let p = regular_points(17, Layout::Lattice);
+        assert_eq!(p.len(), 289);
+        for (k, (s, t)) in p.iter().enumerate() {
+            assert_eq!(*s, (k % 17) as f32 / 16.0);
+            assert_eq!(*t, (k / 17) as f32 / 16.0);
+        }
+    }
+}

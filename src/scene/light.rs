@@ -1,0 +1,132 @@
+//! The rectangular area light and the view of one light sample (method.md §1-2).
+
+use crate::gpu::structs::GpuSample;
+use glam::{Mat4, Vec3, Vec4};
+
+/// `y(s,t) = center + (s-½)·edge_u + (t-½)·edge_v`, emitting on the side of `normalize(edge_u × edge_v)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaLight {
+    pub center: Vec3,
+    pub edge_u: Vec3,
+    pub edge_v: Vec3,
+}
+
+impl AreaLight {
+    pub fn point(&self, s: f32, t: f32) -> Vec3 {
+        self.center + (s - 0.5) * self.edge_u + (t - 0.5) * self.edge_v
+    }
+    pub fn normal(&self) -> Vec3 {
+        self.edge_u.cross(self.edge_v).normalize()
+    }
+    pub fn area(&self) -> f32 {
+        self.edge_u.cross(self.edge_v).length()
+    }
+}
+
+/// Axis-aligned bounds of the scene, used to fit every sample's frustum.
+#[derive(Clone, Copy, Debug)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Bounds {
+    pub fn corners(&self) -> [Vec3; 8] {
+        let (a, b) = (self.min, self.max);
+        [
+            Vec3::new(a.x, a.y, a.z),
+            Vec3::new(b.x, a.y, a.z),
+            Vec3::new(a.x, b.y, a.z),
+            Vec3::new(b.x, b.y, a.z),
+            Vec3::new(a.x, a.y, b.z),
+            Vec3::new(b.x, a.y, b.z),
+            Vec3::new(a.x, b.y, b.z),
+            Vec3::new(b.x, b.y, b.z),
+        ]
+    }
+    pub fn diagonal(&self) -> f32 {
+        (self.max - self.min).length()
+    }
+}
+
+/// Widest field of view a sample's frustum may take (tan of the half-angle): beyond it the map's
+/// texels grow too large to be useful; geometry outside counts as unoccluding.
+const MAX_TAN_HALF: f32 = 6.0;
+
+/// Perspective view from light point `y` looking along the light's normal, with an off-axis frustum
+/// fitted to the scene bounds (so every sample's map covers the scene with the same axes).
+pub fn sample_view(light: &AreaLight, y: Vec3, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+    let forward = light.normal();
+    let right = (light.edge_u - forward * light.edge_u.dot(forward)).normalize();
+    let up = forward.cross(right).normalize() * -1.0;
+    // view space: x = right, y = up, looking down -z (right-handed, as glam's look_to_rh).
+    let view = glam::camera::rh::view::look_to_mat4(y, forward, up);
+    let diag = bounds.diagonal().max(1e-6);
+    let mut far: f32 = 0.0;
+    let mut near = f32::INFINITY;
+    let (mut l, mut r, mut b, mut t) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
+    for c in bounds.corners() {
+        let v = view.transform_point3(c);
+        let depth = -v.z;
+        far = far.max(depth);
+        near = near.min(depth);
+        let d = depth.max(diag * 1e-3);
+        l = l.min(v.x / d);
+        r = r.max(v.x / d);
+        b = b.min(v.y / d);
+        t = t.max(v.y / d);
+    }
+    far = far.max(diag * 1e-2) * 1.01;
+    // Margin so geometry at the bounds' nearest corner is not clipped; geometry at the light's plane
+    // would need near = 0, so keep depth precision and clip that sliver.
+    let near = (near * 0.95).max(far * 1e-3);
+    let clamp = |x: f32| x.clamp(-MAX_TAN_HALF, MAX_TAN_HALF);
+    let (l, r, b, t) = (clamp(l) * 1.001, clamp(r) * 1.001, clamp(b) * 1.001, clamp(t) * 1.001);
+    let proj = off_axis_perspective(l * near, r * near, b * near, t * near, near, far);
+    let texel_angle = (r - l).max(t - b) / map_size as f32;
+    let rr = far / (near - far);
+    GpuSample {
+        light_from_world: (proj * view).to_cols_array_2d(),
+        position: Vec4::from((y, 1.0)).to_array(),
+        texel_angle,
+        depth_lin_a: rr * near,
+        depth_lin_b: rr,
+        layer: 0,
+        array: 0,
+        lattice,
+        pad0: 0,
+        pad1: 0,
+    }
+}
+
+/// Right-handed off-axis perspective with depth in [0, 1] (wgpu), like glam's `perspective_rh`.
+fn off_axis_perspective(left: f32, right: f32, bottom: f32, top: f32, near: f32, far: f32) -> Mat4 {
+    let rr = far / (near - far);
+    Mat4::from_cols(
+        Vec4::new(2.0 * near / (right - left), 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 2.0 * near / (top - bottom), 0.0, 0.0),
+        Vec4::new((right + left) / (right - left), (top + bottom) / (top - bottom), rr, -1.0),
+        Vec4::new(0.0, 0.0, rr * near, 0.0),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frustum_contains_the_bounds_and_depth_linearises() {
+        let light = AreaLight { center: Vec3::new(0.0, 10.0, 0.0), edge_u: Vec3::X * 2.0, edge_v: Vec3::Z * 2.0 };
+        assert!((light.normal() - Vec3::NEG_Y).length() < 1e-6);
+        let bounds = Bounds { min: Vec3::new(-5.0, 0.0, -5.0), max: Vec3::new(5.0, 3.0, 5.0) };
+        let s = sample_view(&light, light.point(0.0, 1.0), &bounds, 256, 0);
+        let m = Mat4::from_cols_array_2d(&s.light_from_world);
+        for c in bounds.corners() {
+            let clip = m * Vec4::from((c, 1.0));
+            let ndc = clip.truncate() / clip.w;
+            assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z), "{c} -> {ndc}");
+            let lin = s.depth_lin_a / (ndc.z + s.depth_lin_b);
+            assert!((lin - clip.w).abs() < 1e-3 * clip.w, "linear depth {lin} vs {}", clip.w);
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! cull (scope = local): per new map, the triangles that can change a texel its pixels test,
+//! compacted into an index list with draw_indexed_indirect arguments the GPU writes, so the
+//! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
+//! slots fit one storage binding; batches reuse the slots within one submission.
+
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::readback;
+use crate::gpu::structs::GpuCull;
+use crate::Result;
+use glam::Vec3;
+
+/// u32 words of one slot's draw_indexed_indirect arguments.
+pub const ARGS_WORDS: u32 = 5;
+/// Consecutive triangles whose box is tested first (CULL_RUN in the kernel).
+pub const CULL_RUN: u32 = 32;
+/// Index memory the slots may take together.
+const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
+
+pub struct Cull {
+    runs_phase: ComputeKernel,
+    begin: ComputeKernel,
+    triangles: ComputeKernel,
+    /// One slot of `stride` indices per map of a batch (INDEX | STORAGE).
+    pub culled: wgpu::Buffer,
+    /// ARGS_WORDS per slot (INDIRECT | STORAGE).
+    pub args: wgpu::Buffer,
+    /// Bounding box and normal cone of each run (`runs`).
+    runs: wgpu::Buffer,
+    /// The runs phase 1 passes (a word per run of every slot), its count and phase 2's dispatch.
+    kept_runs: wgpu::Buffer,
+    control: wgpu::Buffer,
+    dispatch: wgpu::Buffer,
+    /// GpuCull.cull_face: the face the shadow raster culls.
+    cull_face: u32,
+    /// Maps per batch.
+    pub slots: u32,
+    stride: u32,
+}
+
+impl Cull {
+    /// None when the adapter cannot draw indirectly with a first instance, or when one whole-mesh
+    /// slot does not fit a storage binding: maps are then rasterized whole.
+    pub fn new(fg: &FrameGpu, max_maps: u32) -> Result<Option<Self>> {
+        let ctx = fg.ctx;
+        let stride = fg.scene_gpu.index_count;
+        let slot_bytes = stride as u64 * 4;
+        let binding = ctx.limits().max_storage_buffer_binding_size;
+        let slots = (binding.min(SLOTS_BUDGET_BYTES) / slot_bytes.max(4)).min(max_maps as u64) as u32;
+        if slots == 0 || !ctx.device.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE) {
+            return Ok(None);
+        }
+        let storage = |label, bytes: u64, extra| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST | extra,
+                mapped_at_creation: false,
+            })
+        };
+        let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        // The shadow raster's order: its runs are compact in space.
+        let runs = runs(&positions, &fg.scene_gpu.shadow_order);
+        let run_count = (stride / 3).div_ceil(CULL_RUN) as u64;
+        Ok(Some(Self {
+            runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
+            kept_runs: storage("cull kept runs", run_count * slots as u64 * 4, wgpu::BufferUsages::empty()),
+            control: storage("cull control", 16, wgpu::BufferUsages::empty()),
+            dispatch: storage("cull dispatch", 16, wgpu::BufferUsages::INDIRECT),
+            cull_face: cull_face(fg.scene.render.cull),
+            runs_phase: ComputeKernel::new(ctx, "cull", "main")?,
+            begin: ComputeKernel::new(ctx, "cull", "begin")?,
+            triangles: ComputeKernel::new(ctx, "cull", "triangles")?,
+            culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
+            args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
+            slots,
+            stride,
+        }))
+    }
+
+    /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
+    /// CULL_TILE_WORDS words per lattice sample.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
+        assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
+        let ctx = fg.ctx;
+        let triangles = self.stride / 3;
+        let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);
+        let groups_x = total.min(ctx.limits().max_compute_workgroups_per_dimension);
+        let uniform = GpuCull {
+            triangle_count: triangles,
+            slot_stride: self.stride,
+            cull_face: self.cull_face,
+            groups_x,
+        };
+        let uniform = readback::uniform_buffer(ctx, "cull", &uniform);
+        let slots = readback::storage_buffer(ctx, "cull slots", ks, wgpu::BufferUsages::empty());
+        enc.clear_buffer(&self.args, 0, None);
+        enc.clear_buffer(&self.control, 0, None);
+        self.runs_phase.dispatch(
+            ctx,
+            enc,
+            &[
+                (0, uniform.as_entire_binding()),
+                (1, fg.frame_buffer.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, tiles.as_entire_binding()),
+                (4, self.runs.as_entire_binding()),
+                (6, slots.as_entire_binding()),
+                (8, self.args.as_entire_binding()),
+                (10, self.kept_runs.as_entire_binding()),
+                (11, self.control.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
+        );
+        self.begin.dispatch(
+            ctx,
+            enc,
+            &[(11, self.control.as_entire_binding()), (12, self.dispatch.as_entire_binding())],
+            Dispatch::Direct([1, 1, 1]),
+        );
+        self.triangles.dispatch(
+            ctx,
+            enc,
+            &[
+                (0, uniform.as_entire_binding()),
+                (1, fg.frame_buffer.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, tiles.as_entire_binding()),
+                (5, fg.scene_gpu.shadow_indices.as_entire_binding()),
+                (6, slots.as_entire_binding()),
+                (7, self.culled.as_entire_binding()),
+                (8, self.args.as_entire_binding()),
+                (9, fg.scene_gpu.vertices.as_entire_binding()),
+                (10, self.kept_runs.as_entire_binding()),
+                (11, self.control.as_entire_binding()),
+            ],
+            Dispatch::Indirect(&self.dispatch),
+        );
+    }
+
+    /// Byte offset of slot n's draw arguments.
+    pub fn args_offset(slot: u32) -> u64 {
+        slot as u64 * ARGS_WORDS as u64 * 4
+    }
+}
+
+/// GpuCull.cull_face for the shadow raster's cull mode.
+pub fn cull_face(mode: crate::scene::CullMode) -> u32 {
+    match mode {
+        crate::scene::CullMode::None => 0,
+        crate::scene::CullMode::Back => 1,
+        crate::scene::CullMode::Front => 2,
+    }
+}
+
+/// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
+/// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
+/// little so the cone holds every normal despite rounding.
+pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
+    indices
+        .chunks(3 * CULL_RUN as usize)
+        .flat_map(|run| {
+            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+            for &v in run {
+                lo = lo.min(positions[v as usize]);
+                hi = hi.max(positions[v as usize]);
+            }
+            let normals: Vec<Vec3> = run
+                .chunks_exact(3)
+                .map(|t| {
+                    let [a, b, c] = [0, 1, 2].map(|i| positions[t[i] as usize]);
+                    (b - a).cross(c - a).normalize_or_zero()
+                })
+                .collect();
+            let sum: Vec3 = normals.iter().sum();
+            let axis = sum.normalize_or_zero();
+            let min_cos = normals.iter().map(|n| if *n == Vec3::ZERO { -1.0 } else { n.dot(axis) }).fold(1.0f32, f32::min);
+            // Widen by ~0.01 rad; a cone of 80° or more is not worth testing.
+            let cos = (min_cos.clamp(-1.0, 1.0).acos() + 0.01).cos();
+            let valid = axis != Vec3::ZERO && min_cos > 0.2;
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            [lo.extend(cos).to_array(), hi.extend(sin).to_array(), axis.extend(if valid { 1.0 } else { 0.0 }).to_array()]
+        })
+        .collect()
+}

@@ -1,0 +1,120 @@
+//! env_trace: shadow rays from every G-buffer pixel (`main`) or every mesh vertex (`vertex`) to a
+//! list of directional lights through the scene's BVH, into V (and the blocked-ray counts).
+
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP, PIXEL_WORKGROUP};
+use crate::render::bvh::Bvh;
+use crate::gpu::readback;
+use crate::Result;
+
+/// The BVH on the GPU (bindings 20 and 21 of every ray-casting env kernel).
+pub struct BvhBuffers {
+    pub nodes: wgpu::Buffer,
+    pub triangles: wgpu::Buffer,
+}
+
+impl BvhBuffers {
+    pub fn upload(fg: &FrameGpu, bvh: &Bvh) -> BvhBuffers {
+        let ctx = fg.ctx;
+        let tris = if bvh.triangles.is_empty() { vec![Default::default()] } else { bvh.triangles.clone() };
+        BvhBuffers {
+            nodes: readback::storage_buffer(ctx, "bvh nodes", &bvh.nodes, wgpu::BufferUsages::empty()),
+            triangles: readback::storage_buffer(ctx, "bvh triangles", &tris, wgpu::BufferUsages::empty()),
+        }
+    }
+}
+
+pub struct EnvTrace {
+    kernel: ComputeKernel,
+}
+
+/// The `vertex` entry point (the per-vertex variant), built only where a method asks for it.
+pub struct EnvTraceVertex {
+    kernel: ComputeKernel,
+}
+
+/// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
+pub struct VertexOutputs<'a> {
+    pub visibility: &'a wgpu::Buffer,
+    pub blocked: &'a wgpu::Buffer,
+    pub sums: &'a wgpu::Buffer,
+}
+
+/// What env_trace reads and writes besides the G-buffer and V.
+pub struct EnvTraceInputs<'a> {
+    pub params: &'a wgpu::Buffer,
+    pub lights: &'a wgpu::Buffer,
+    pub blocked: &'a wgpu::Buffer,
+    /// Ambient occlusion per pixel (read when `params.use_ao` is 1; any buffer otherwise).
+    pub ao: &'a wgpu::Buffer,
+    /// Running sums between chunks, 8 bytes per pixel.
+    pub sums: &'a wgpu::Buffer,
+    pub bvh: &'a BvhBuffers,
+}
+
+/// Lights per env_trace dispatch (see kernels/env_trace.wgsl).
+pub const ENV_TRACE_CHUNK: u32 = 256;
+
+/// The per-chunk parameter blocks of `light_count` lights (at least one, which writes V).
+pub fn chunk_params(base: &crate::gpu::structs::GpuEnvParams, light_count: u32) -> Vec<crate::gpu::structs::GpuEnvParams> {
+    let chunks = light_count.div_ceil(ENV_TRACE_CHUNK).max(1);
+    (0..chunks)
+        .map(|c| {
+            let mut p = *base;
+            p.first_light = c * ENV_TRACE_CHUNK;
+            p.light_count = ENV_TRACE_CHUNK.min(light_count - p.first_light.min(light_count));
+            p.final_chunk = (c + 1 == chunks) as u32;
+            p
+        })
+        .collect()
+}
+
+impl EnvTrace {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_trace", "main")? })
+    }
+
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, inputs: &EnvTraceInputs) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, inputs.params.as_entire_binding()),
+                (1, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (2, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (3, inputs.lights.as_entire_binding()),
+                (4, fg.visibility.as_entire_binding()),
+                (5, inputs.blocked.as_entire_binding()),
+                (6, inputs.ao.as_entire_binding()),
+                (7, inputs.sums.as_entire_binding()),
+                (20, inputs.bvh.nodes.as_entire_binding()),
+                (21, inputs.bvh.triangles.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+        );
+    }
+}
+
+impl EnvTraceVertex {
+    pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_trace", "vertex")? })
+    }
+
+    /// One chunk of lights at every mesh vertex (`params.vertex_count` of them).
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, lights: &wgpu::Buffer, bvh: &BvhBuffers, out: &VertexOutputs) {
+        self.kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, params.as_entire_binding()),
+                (3, lights.as_entire_binding()),
+                (5, out.blocked.as_entire_binding()),
+                (7, out.sums.as_entire_binding()),
+                (8, fg.scene_gpu.vertices.as_entire_binding()),
+                (9, out.visibility.as_entire_binding()),
+                (20, bvh.nodes.as_entire_binding()),
+                (21, bvh.triangles.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(fg.scene.vertices.len() as u32, LINE_WORKGROUP[0]), 1, 1]),
+        );
+    }
+}

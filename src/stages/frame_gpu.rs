@@ -1,0 +1,36 @@
+//! The GPU state of one scene that every method and pass works on: uploaded geometry, the camera
+//! G-buffer, the frame uniform, the shared raster and shade passes and the visibility buffer. It
+//! lives below the methods and the passes, so data flows one way: frame driver ─► methods ─► passes.
+
+use super::shade::{GeometryTiles, ShadeInputs, ShadePass};
+use crate::gpu::GpuContext;
+use crate::gpu::structs::GpuFrame;
+use crate::render::gbuffer::GBuffer;
+use crate::render::shadow_raster::ShadowRasterPass;
+use crate::render::SceneGpu;
+use crate::scene::Scene;
+
+pub struct FrameGpu<'a> {
+    pub ctx: &'a GpuContext,
+    pub scene: &'a Scene,
+    pub scene_gpu: SceneGpu,
+    pub gbuffer: GBuffer,
+    pub frame: GpuFrame,
+    pub frame_buffer: wgpu::Buffer,
+    pub raster: ShadowRasterPass,
+    pub shade: ShadePass,
+    /// This frame's 8x8 tiles with a geometry pixel, listed with the G-buffer.
+    pub geometry_tiles: GeometryTiles,
+    pub visibility: wgpu::Buffer,
+    /// Whether methods read back what their pictures need (off for timed benchmark runs).
+    pub pictures: bool,
+}
+
+impl FrameGpu<'_> {
+    pub fn shade_inputs<'b>(&'b self, samples: &'b wgpu::Buffer, weights: &'b wgpu::Buffer) -> ShadeInputs<'b> {
+        ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, visibility: &self.visibility }
+    }
+    pub fn pixel_count(&self) -> u32 {
+        self.gbuffer.width * self.gbuffer.height
+    }
+}

@@ -1,0 +1,189 @@
+//! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask; under
+//! scope = local only for the (pixel, sample) pairs the level's items and probes consult, once each.
+
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS};
+use super::{ComputeKernel, Dispatch};
+use super::FrameGpu;
+use crate::gpu::{readback, GpuContext};
+use crate::gpu::structs::{GpuLevel, GpuTestBlock};
+use crate::scene::MapKind;
+use crate::Result;
+
+/// Samples of a full block (`TEST_BLOCK` in kernels/shadow_test.wgsl, whose `block16` unrolls them).
+pub const TEST_BLOCK: u32 = 16;
+/// The entry points of the tails (the rest of a list, largest first), in slot order after the
+/// full blocks; each unrolls exactly its size (llvmpipe would run the lines of a padded block too).
+pub const TEST_TAILS: [u32; 4] = [8, 4, 2, 1];
+/// Block slots: the full blocks of the longest list and the tails (`TEST_SLOTS` in the kernel).
+pub const TEST_SLOTS: u32 = LATTICE_POINTS / TEST_BLOCK + TEST_TAILS.len() as u32;
+pub const TEST_BLOCK_BYTES: u64 = std::mem::size_of::<GpuTestBlock>() as u64;
+/// One slot's `dispatch_workgroups_indirect` arguments.
+const ARGS_BYTES: u64 = 12;
+
+/// The slots a list of at most `bound` samples can fill, with their block sizes: the host dispatches
+/// each (indirectly; `fill_blocks` gives the unused ones no workgroups).
+pub fn block_slots(bound: u32) -> Vec<(u32, u32)> {
+    let full = bound / TEST_BLOCK;
+    let mut slots: Vec<(u32, u32)> = (0..full).map(|s| (s, TEST_BLOCK)).collect();
+    for (n, &size) in TEST_TAILS.iter().enumerate() {
+        if size <= bound {
+            slots.push((full + n as u32, size));
+        }
+    }
+    slots
+}
+
+pub struct ShadowTest {
+    /// scope = global: `fill_blocks`, then `block16`, `block8`, `block4`, `block2`, `block1`.
+    fill: ComputeKernel,
+    blocks: [ComputeKernel; 5],
+    /// TEST_SLOTS blocks (uniform in the block dispatches, written by `fill_blocks`).
+    pub block_buffer: wgpu::Buffer,
+    /// Indirect arguments of each slot, written by `fill_blocks`.
+    pub block_args: wgpu::Buffer,
+    /// scope = local: `list` (items) and `probes`.
+    local: Option<[ComputeKernel; 2]>,
+}
+
+impl ShadowTest {
+    /// `maps`: the representation the block kernels read; `local`: also the entry points of
+    /// scope = local (which reads plain depth arrays).
+    pub fn new(ctx: &GpuContext, maps: MapKind, local: bool) -> Result<Self> {
+        let local = if local {
+            Some([ComputeKernel::new(ctx, "shadow_test", "list")?, ComputeKernel::new(ctx, "shadow_test", "probes")?])
+        } else {
+            None
+        };
+        let block = |entry| ComputeKernel::new_for(ctx, "shadow_test", entry, maps);
+        let buffer = |label, size, usage| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false })
+        };
+        Ok(Self {
+            fill: ComputeKernel::new(ctx, "shadow_test", "fill_blocks")?,
+            blocks: [block("block16")?, block("block8")?, block("block4")?, block("block2")?, block("block1")?],
+            block_buffer: buffer("shadow_test blocks", TEST_SLOTS as u64 * TEST_BLOCK_BYTES, wgpu::BufferUsages::UNIFORM),
+            block_args: buffer("shadow_test block args", TEST_SLOTS as u64 * ARGS_BYTES, wgpu::BufferUsages::INDIRECT),
+            local,
+        })
+    }
+
+    /// scope = local: tests the four corners of each of this level's items (`items`, counted by
+    /// `b.item_total`) that no earlier item or probe of the frame tested for that pixel.
+    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, quads: &wgpu::Buffer, items: &wgpu::Buffer, maps: [&wgpu::TextureView; 2]) {
+        let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
+        self.dispatch_local(fg, enc, b, &kernels[0], quads, items, &b.item_total, &b.list_args, maps);
+    }
+
+    /// scope = local: tests the five new samples of each of this level's probes (`b.probes`,
+    /// counted by `b.probe_total`; `quads` holds the probed parents' children), once per pixel.
+    pub fn record_probes(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, quads: &wgpu::Buffer, maps: [&wgpu::TextureView; 2]) {
+        let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
+        self.dispatch_local(fg, enc, b, &kernels[1], quads, &b.probes, &b.probe_total, &b.probe_args, maps);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn dispatch_local(
+        &self,
+        fg: &FrameGpu,
+        enc: &mut wgpu::CommandEncoder,
+        b: &AdaptiveBuffers,
+        kernel: &ComputeKernel,
+        quads: &wgpu::Buffer,
+        work: &wgpu::Buffer,
+        total: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+        maps: [&wgpu::TextureView; 2],
+    ) {
+        kernel.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, fg.frame_buffer.as_entire_binding()),
+                (2, b.samples.as_entire_binding()),
+                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                (10, b.consulted.as_entire_binding()),
+                (11, b.masks.as_entire_binding()),
+                (12, wgpu::BindingResource::TextureView(maps[0])),
+                (13, wgpu::BindingResource::TextureView(maps[1])),
+                (14, work.as_entire_binding()),
+                (15, total.as_entire_binding()),
+                (16, quads.as_entire_binding()),
+                (17, b.control.as_entire_binding()),
+            ],
+            Dispatch::Indirect(args),
+        );
+    }
+
+    /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a
+    /// hybrid store's view); skips those not requested this frame.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, ks: &[u32]) {
+        let ctx = fg.ctx;
+        let bound = ks.len() as u32;
+        let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, ..Default::default() });
+        let list = readback::storage_buffer(ctx, "test list", ks, wgpu::BufferUsages::empty());
+        self.dispatch(fg, enc, b, maps, &level, &list, bound);
+    }
+
+    /// Tests the samples the last subdivide requested (`b.new_samples`, as many as it appended, at
+    /// most `bound`): the GPU-steered loop, when a level's maps fit one array.
+    pub fn record_requested(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, bound: u32) {
+        let level = readback::uniform_buffer(fg.ctx, "level", &GpuLevel { work_count: bound, requested: 1, ..Default::default() });
+        self.dispatch(fg, enc, b, maps, &level, &b.new_samples, bound);
+    }
+
+    /// `fill_blocks`: the requested samples of `list` (see `level`) into the block slots, and each
+    /// slot's dispatch arguments.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_fill(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        level: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        list: &wgpu::Buffer,
+        lattice_state: &wgpu::Buffer,
+        control: &wgpu::Buffer,
+        tiles: &wgpu::Buffer,
+    ) {
+        self.fill.dispatch(
+            ctx,
+            enc,
+            &[
+                (1, level.as_entire_binding()),
+                (2, samples.as_entire_binding()),
+                (3, list.as_entire_binding()),
+                (8, lattice_state.as_entire_binding()),
+                (9, control.as_entire_binding()),
+                (19, self.block_buffer.as_entire_binding()),
+                (20, self.block_args.as_entire_binding()),
+                (21, tiles.as_entire_binding()),
+            ],
+            Dispatch::Direct([1, 1, 1]),
+        );
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn dispatch(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, level: &wgpu::Buffer, list: &wgpu::Buffer, bound: u32) {
+        let ctx = fg.ctx;
+        self.record_fill(ctx, enc, level, &b.samples, list, &b.lattice_state, &b.control, &fg.geometry_tiles.list);
+        for (slot, size) in block_slots(bound) {
+            let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
+            let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
+            kernel.dispatch(
+                ctx,
+                enc,
+                &[
+                    (0, fg.frame_buffer.as_entire_binding()),
+                    (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                    (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                    (6, wgpu::BindingResource::TextureView(maps)),
+                    (7, b.masks.as_entire_binding()),
+                    (18, wgpu::BindingResource::Buffer(block)),
+                    (21, fg.geometry_tiles.list.as_entire_binding()),
+                ],
+                Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
+            );
+        }
+    }
+}

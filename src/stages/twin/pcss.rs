@@ -1,0 +1,58 @@
+//! Twin of `kernels/pcss.wgsl`.
+
+use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
+use crate::gpu::structs::{GpuFilter, GpuFrame, GpuSample};
+use crate::render::gbuffer::GBufferCpu;
+use glam::Vec2;
+
+fn midpoint(i: u32, n: u32, r: f32) -> f32 {
+    -r + 2.0 * r * (i as f32 + 0.5) / n as f32
+}
+
+/// V for every pixel (background 0), as `pcss.wgsl` writes it.
+pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g: &GBufferCpu) -> Vec<f32> {
+    let size = frame.map_size as f32;
+    (0..g.position.len())
+        .map(|index| {
+            let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+            if lookup.kind != LOOKUP_COMPARE {
+                return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
+            }
+            let z_r = lookup.depth_limit;
+            let near = s.depth_lin_a / s.depth_lin_b;
+            let per_angle = 1.0 / s.texel_angle;
+            let light = Vec2::new(filter.light_u, filter.light_v) * 0.5;
+            let search = (light * (z_r - near).max(0.0) / (z_r * near) * per_angle).min(Vec2::splat(filter.max_radius));
+            let (mut blocker_sum, mut blockers) = (0.0f32, 0u32);
+            let nb = filter.blocker_taps;
+            for j in 0..nb {
+                for i in 0..nb {
+                    let o = Vec2::new(midpoint(i, nb, search.x), midpoint(j, nb, search.y));
+                    let texel = (t + o).floor();
+                    if texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size {
+                        continue;
+                    }
+                    let stored = map[texel.y as usize * frame.map_size as usize + texel.x as usize];
+                    if (z_r - o.length() * slope) * (stored + s.depth_lin_b) < s.depth_lin_a {
+                        blocker_sum += s.depth_lin_a / (stored + s.depth_lin_b);
+                        blockers += 1;
+                    }
+                }
+            }
+            if blockers == 0 {
+                return 1.0;
+            }
+            let z_b = blocker_sum / blockers as f32;
+            let r = (light * (z_r - z_b) / (z_r * z_b) * per_angle).min(Vec2::splat(filter.max_radius));
+            let n = filter.taps;
+            let mut lit = 0.0f32;
+            for j in 0..n {
+                for i in 0..n {
+                    let o = Vec2::new(midpoint(i, n, r.x), midpoint(j, n, r.y));
+                    lit += tap_lit(frame, s, map, z_r - o.length() * slope, t + o);
+                }
+            }
+            lit / (n * n) as f32
+        })
+        .collect()
+}

@@ -1,0 +1,78 @@
+//! weights (scope = global, corner-to-corner lattice): the sample weights on the GPU, from the
+//! leaves each level appends and the rendered samples, so shade needs no read-back.
+
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS, QUAD_CAPACITY};
+use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::readback;
+use crate::gpu::structs::{GpuQuad, GpuWeights};
+use crate::Result;
+
+/// GpuWeights.rule.
+pub const RULE_LEVEL: u32 = 0;
+pub const RULE_AREA: u32 = 1;
+pub const RULE_COONS: u32 = 2;
+
+pub struct WeightsPass {
+    leaves_of_level: ComputeKernel,
+    main: ComputeKernel,
+    leaves: wgpu::Buffer,
+    leaf_count: wgpu::Buffer,
+    /// The integer numerators (i32 per lattice sample), kept for tests.
+    pub numerators: wgpu::Buffer,
+    rule: wgpu::Buffer,
+}
+
+impl WeightsPass {
+    pub fn new(fg: &FrameGpu, rule: u32) -> Result<Self> {
+        let ctx = fg.ctx;
+        // Leaves of all levels: at most 1 + 4 + 16 + 64 + 256.
+        let capacity = QUAD_CAPACITY as u64 * 2;
+        Ok(Self {
+            leaves_of_level: ComputeKernel::new(ctx, "weights", "leaves_of_level")?,
+            main: ComputeKernel::new(ctx, "weights", "main")?,
+            leaves: readback::zeroed_storage(ctx, "leaves", capacity * std::mem::size_of::<GpuQuad>() as u64),
+            leaf_count: readback::zeroed_storage(ctx, "leaf count", 4),
+            numerators: readback::zeroed_storage(ctx, "weight numerators", LATTICE_POINTS as u64 * 4),
+            rule: readback::uniform_buffer(ctx, "weights rule", &GpuWeights { rule, ..Default::default() }),
+        })
+    }
+
+    /// Starts a frame: no leaves yet.
+    pub fn record_begin(&self, enc: &mut wgpu::CommandEncoder) {
+        enc.clear_buffer(&self.leaf_count, 0, None);
+    }
+
+    /// After a level's subdivide: appends the level's unsplit quads (`level.quad_count` of `quads`).
+    pub fn record_leaves(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer) {
+        self.leaves_of_level.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (0, level.as_entire_binding()),
+                (1, quads.as_entire_binding()),
+                (2, b.split_base.as_entire_binding()),
+                (3, self.leaves.as_entire_binding()),
+                (4, self.leaf_count.as_entire_binding()),
+            ],
+            Dispatch::Direct([groups(QUAD_CAPACITY, LINE_WORKGROUP[0]), 1, 1]),
+        );
+    }
+
+    /// After the last level: writes ŵ into `b.weights`.
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers) {
+        self.main.dispatch(
+            fg.ctx,
+            enc,
+            &[
+                (4, self.leaf_count.as_entire_binding()),
+                (3, self.leaves.as_entire_binding()),
+                (5, self.rule.as_entire_binding()),
+                (6, b.lattice_state.as_entire_binding()),
+                (7, b.sample_level.as_entire_binding()),
+                (8, self.numerators.as_entire_binding()),
+                (9, b.weights.as_entire_binding()),
+            ],
+            Dispatch::Direct([1, 1, 1]),
+        );
+    }
+}

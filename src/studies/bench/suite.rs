@@ -1,0 +1,196 @@
+//! `penumbra bench --suite seed-table2`: seed 000's Table 2 on this machine. For each of its four
+//! scenes, adaptive (p_m = 0) and regular 17x17 in the same run, on the same device and settings:
+//! one warm-up frame each, then `repeats` frames each, interleaved so that both see the same load;
+//! the figure is the median wall-clock frame time (TimingMode::Frame: only the waits the method needs).
+
+use super::errors::ErrorColumns;
+use super::seed::{SeedRow, TABLE2};
+use super::stats::Summary;
+use crate::report::charts::ResultRow;
+use crate::reference::truth::{self, Cache};
+use crate::gpu::{AdapterSummary, GpuContext};
+use crate::methods::Method;
+use crate::record::judge::Judge;
+use crate::record::measure::{self, Measured, Phase};
+use crate::record::{self, Provenance, RunInfo};
+use crate::reference::ReferenceMode;
+use crate::scene::Scene;
+use crate::{Error, Result};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+pub struct SuiteOptions {
+    pub repeats: u32,
+    /// Folder holding `<scene>.toml` for each seed scene.
+    pub scenes_dir: PathBuf,
+    /// Asset cache for `cache:` meshes (`None`: the default cache).
+    pub cache: Option<PathBuf>,
+    pub adaptive: Method,
+    pub regular: Method,
+    /// Subset of the seed scenes, in the table's order; empty: all five (the bunny twice: close-up and seed framing).
+    pub only: Vec<String>,
+}
+
+/// One method on one scene.
+pub struct MethodResult {
+    pub label: String,
+    pub maps: u32,
+    /// Every measured frame used the same number of maps (the method is deterministic).
+    pub maps_stable: bool,
+    pub frame_ms: Summary,
+    /// Pipeline creation and upload before each frame (not in `frame_ms`).
+    pub setup_ms: Summary,
+    pub stages_ms: BTreeMap<String, Summary>,
+    pub syncs: u32,
+    pub errors: Option<ErrorColumns>,
+    /// The row `results.jsonl` holds for this method (the schema `compare` writes).
+    pub row: ResultRow,
+}
+
+impl MethodResult {
+    pub fn fps(&self) -> f64 {
+        1000.0 / self.frame_ms.median
+    }
+}
+
+pub struct SceneResult {
+    pub seed: &'static SeedRow,
+    pub file: PathBuf,
+    /// Screen width, height and shadow-map size the scene file sets.
+    pub settings: [u32; 3],
+    pub triangles: usize,
+    pub geometry_pixels: usize,
+    pub adaptive: MethodResult,
+    pub regular: MethodResult,
+}
+
+impl SceneResult {
+    /// As the seed states it: adaptive fps over regular fps (> 1: adaptive is faster).
+    pub fn speedup(&self) -> f64 {
+        self.regular.frame_ms.median / self.adaptive.frame_ms.median
+    }
+}
+
+pub struct SuiteReport {
+    pub adapter: AdapterSummary,
+    pub timestamps_trusted: bool,
+    pub repeats: u32,
+    pub started_unix_s: u64,
+    pub wall_s: f64,
+    pub reference: Option<String>,
+    pub scenes: Vec<SceneResult>,
+}
+
+impl MethodResult {
+    fn from_measured(m: Measured<crate::metrics::Metrics>, row: ResultRow) -> MethodResult {
+        let t = m.timing;
+        let one = |v: f64| Summary { median: v, min: v, max: v, samples: vec![v] };
+        MethodResult {
+            label: row.label.clone(),
+            maps: t.shadow_maps,
+            maps_stable: t.maps_stable,
+            frame_ms: Summary { median: t.median_ms, min: t.min_ms, max: t.max_ms, samples: t.totals_ms.clone() },
+            setup_ms: one(t.setup_ms.unwrap_or(0.0)),
+            stages_ms: t.stages_ms.iter().map(|(k, v)| (k.clone(), one(*v))).collect(),
+            syncs: t.syncs,
+            errors: Some(ErrorColumns::of(&m.judged)),
+            row,
+        }
+    }
+}
+
+/// The seed rows to run, in the table's order; an unknown name is an error that lists the known.
+pub fn selected(only: &[String]) -> Result<Vec<&'static SeedRow>> {
+    if let Some(bad) = only.iter().find(|n| !TABLE2.iter().any(|r| r.scene == n.as_str())) {
+        let known: Vec<&str> = TABLE2.iter().map(|r| r.scene).collect();
+        return Err(Error::Param(format!("bench: `{bad}` is not a seed-table2 scene (known: {})", known.join(", "))));
+    }
+    Ok(TABLE2.iter().filter(|r| only.is_empty() || only.iter().any(|n| n == r.scene)).collect())
+}
+
+/// A seed scene, loaded.
+pub struct SuiteScene {
+    pub seed: &'static SeedRow,
+    pub file: PathBuf,
+    pub scene: Scene,
+}
+
+/// Checks the options and loads every scene, before any GPU work: a missing asset or a typo fails
+/// in a second, not after an hour of frames.
+pub fn prepare(opts: &SuiteOptions) -> Result<Vec<SuiteScene>> {
+    if opts.repeats == 0 {
+        return Err(Error::Param("bench: --repeats must be at least 1".into()));
+    }
+    selected(&opts.only)?
+        .into_iter()
+        .map(|seed| {
+            let file = opts.scenes_dir.join(format!("{}.toml", seed.scene));
+            let scene = Scene::load_in(&file.to_string_lossy(), &[], opts.cache.as_deref())?;
+            Ok(SuiteScene { seed, file, scene })
+        })
+        .collect()
+}
+
+/// The ground truth of the suite's error columns (method.md §5: 32x32 stratified jitter, fixed
+/// seed, CPU BVH), cached on disk.
+pub const REFERENCE: ReferenceMode = ReferenceMode::DEFAULT_CONTINUOUS;
+
+/// Runs the suite on prepared scenes through the record layer (`record::measure`, one warm-up
+/// and one stages-mode frame per method, then `repeats` timed frames, the two methods
+/// interleaved); `log` receives one line per frame (the bar shows the same).
+pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteReport> {
+    let started = Instant::now();
+    let started_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    let bar = crate::progress::bar(scenes.len() as u64 * measure::frame_count(2, opts.repeats), "seed-table2");
+    let reference_label = format!("{}, CPU BVH", truth::mode_label(&REFERENCE));
+    let mut results = Vec::new();
+    for SuiteScene { seed: row, file, scene } in scenes {
+        let methods = [opts.adaptive.clone(), opts.regular.clone()];
+        let (g, reference) = truth::for_scene(ctx, &scene, REFERENCE, &Cache::default_for(false))?;
+        let judge = Judge::new(&scene, &g, reference.values);
+        let mut on_frame = |method: &Method, phase: Phase, r: &crate::frame::FrameResult| {
+            bar.set_message(format!("{} {}", row.scene, method.name()));
+            let line = format!("{:7} {:18} {:8} {:>10.1} ms  {:>3} maps", row.scene, method.label(), phase.to_string(), r.total_ms, r.output.shadow_maps);
+            crate::progress::suspend(|| log(&line));
+            bar.inc(1);
+        };
+        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&scene, &methods[i].label(), f)?.metrics);
+        let measured = measure::measure(ctx, &scene, &methods, opts.repeats, &mut on_frame, &mut judge_frame)?;
+        let info = RunInfo {
+            scene: row.scene,
+            resolution: [scene.render.width, scene.render.height],
+            shadow_map_size: scene.render.shadow_map_size,
+            adapter: &ctx.summary,
+            reference: reference_label.clone(),
+            repeats: opts.repeats,
+        };
+        let provenance = Provenance::of_scene("bench seed-table2", &scene, &[], opts.cache.as_deref());
+        let mut done = measured.into_iter().zip(&methods).map(|(m, method)| {
+            let r = record::row(&info, method, &m.timing, m.judged.clone(), BTreeMap::new(), provenance.clone());
+            MethodResult::from_measured(m, r)
+        });
+        let (Some(adaptive), Some(regular)) = (done.next(), done.next()) else {
+            return Err(Error::Param("bench: no frames measured".into()));
+        };
+        results.push(SceneResult {
+            seed: row,
+            file,
+            settings: [scene.render.width, scene.render.height, scene.render.shadow_map_size],
+            triangles: scene.triangle_count(),
+            geometry_pixels: judge.geometry_pixels(),
+            adaptive,
+            regular,
+        });
+    }
+    bar.finish_and_clear();
+    Ok(SuiteReport {
+        adapter: ctx.summary.clone(),
+        timestamps_trusted: ctx.timestamps_trusted,
+        repeats: opts.repeats,
+        started_unix_s,
+        wall_s: started.elapsed().as_secs_f64(),
+        reference: Some(reference_label),
+        scenes: results,
+    })
+}

@@ -1,0 +1,12 @@
+//! Studies: each runs methods over scenes and settings and writes a set of results (rows, charts,
+//! a report): compare and sweep, the benchmark suites, the framing and hybrid-map studies,
+//! sequences, the failure gallery, sharded sweeps and the environment study.
+
+pub mod bench;
+pub mod compare;
+pub mod environment;
+pub mod failures;
+pub mod framing;
+pub mod hybrid;
+pub mod sequence;
+pub mod shard;
