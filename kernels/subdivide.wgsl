@@ -15,11 +15,6 @@
 @group(0) @binding(8) var<storage, read_write> split_base: array<u32>;
 @group(0) @binding(9) var<storage, read_write> dispatch_args: array<u32>;
 
-const SPLIT_THRESHOLD: u32 = 0u;
-const SPLIT_ALWAYS: u32 = 1u;
-const SPLIT_NEVER: u32 = 2u;
-const SPLIT_SHARE: u32 = 3u;
-
 fn request(i: u32, j: u32) {
     let k = j * LATTICE_SIDE + i;
     if (atomicOr(&lattice_state[k], 1u) == 0u) {
@@ -39,7 +34,7 @@ fn main(@builtin(local_invocation_index) lid: u32) {
         var split = false;
         if (level.level < level.max_level && quad.size > 1u) {
             split = level.split_mode == SPLIT_ALWAYS
-                || (level.split_mode == SPLIT_THRESHOLD && quad_counters[q] > level.p_m)
+                || (level.split_mode == SPLIT_THRESHOLD && quad_counters[q] > level.split_threshold)
                 || (level.split_mode == SPLIT_SHARE && f32(quad_counters[q]) > share_threshold);
         }
         split_base[q] = NO_SPLIT;

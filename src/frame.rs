@@ -4,13 +4,14 @@
 
 use crate::stages::shade::ShadePass;
 use crate::stages::FrameGpu;
-use crate::gpu::{readback, GpuContext};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
 use crate::methods::{Method, MethodOutput, MethodState};
-use crate::render::gbuffer::{self, GBufferCpu, GBufferPass};
+use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
 use crate::render::shadow_raster::ShadowRasterPass;
 use crate::render::SceneGpu;
-use crate::scene::Scene;
+use crate::scene::{CullMode, MapKind, Scene, Vertex};
+use crate::stages::shade::GeometryTiles;
 use crate::gpu::timing::{StageTimer, TimingMode};
 use crate::Result;
 use std::collections::BTreeMap;
@@ -73,11 +74,16 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
 
 pub use crate::render::gbuffer::camera_uniform;
 
-/// One scene and one method, built once: every frame reuses the pipelines and buffers.
+/// One scene and one method, built once: every frame reuses the pipelines and buffers. A study
+/// whose scene changes between frames moves it to the next scene with [`Renderer::detach`] and
+/// [`Detached::attach`] rather than building a new one.
 pub struct Renderer<'a> {
     fg: FrameGpu<'a>,
+    method: Method,
     gbuffer_pass: GBufferPass,
     camera: GpuCamera,
+    /// The camera `set_camera` gave, when it is no longer the scene's: errors must name it.
+    moved_camera: Option<crate::scene::Camera>,
     state: Box<dyn MethodState>,
     /// Wall time of building (pipelines, buffers, upload), charged to the first frame's `setup`.
     build: Option<(f64, f64)>,
@@ -87,25 +93,65 @@ pub struct Renderer<'a> {
 
 impl<'a> Renderer<'a> {
     pub fn new(ctx: &'a GpuContext, scene: &'a Scene, method: &Method) -> Result<Self> {
+        Self::assemble(ctx, scene, method, None)
+    }
+
+    /// Builds what `kept` lacks for `scene`. The method's state is always built anew: methods
+    /// place their samples and frusta from the light and the bounds when they are built, so a
+    /// fresh state is what keeps V exactly that of a new renderer.
+    fn assemble(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
         let start = Instant::now();
         let (w, h) = (scene.render.width, scene.render.height);
-        let gbuffer_pass = GBufferPass::new(ctx)?;
-        let gbuffer = GBufferPass::allocate(ctx, w, h)?;
+        let mut force_timestamps = false;
+        let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
+        if let Some(k) = kept {
+            force_timestamps = k.force_timestamps;
+            gbuffer_pass = Some(k.gbuffer_pass);
+            // The G-buffer, the tile list and V are cleared or rewritten by every frame.
+            if (k.gbuffer.width, k.gbuffer.height) == (w, h) {
+                targets = Some((k.gbuffer, k.geometry_tiles, k.visibility));
+            }
+            shade = (k.maps == scene.render.maps).then_some(k.shade);
+            raster = (k.cull == scene.render.cull).then_some(k.raster);
+            let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
+            meshes = same_mesh.then_some(k.scene_gpu);
+        }
+        let gbuffer_pass = match gbuffer_pass {
+            Some(p) => p,
+            None => GBufferPass::new(ctx)?,
+        };
         let upload_start = Instant::now();
-        let scene_gpu = SceneGpu::upload(ctx, scene);
+        let scene_gpu = match meshes {
+            Some(m) => m,
+            None => SceneGpu::upload(ctx, scene),
+        };
         let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
         let frame = frame_uniform(scene);
-        let shade = ShadePass::new(ctx, scene.render.maps)?;
-        let geometry_tiles = shade.tile_list(ctx, &gbuffer);
+        let shade = match shade {
+            Some(s) => s,
+            None => ShadePass::new(ctx, scene.render.maps)?,
+        };
+        let (gbuffer, geometry_tiles, visibility) = match targets {
+            Some(t) => t,
+            None => {
+                let gbuffer = GBufferPass::allocate(ctx, w, h)?;
+                let tiles = shade.tile_list(ctx, &gbuffer);
+                (gbuffer, tiles, readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4))
+            }
+        };
+        let raster = match raster {
+            Some(r) => r,
+            None => ShadowRasterPass::new(ctx, scene.render.cull)?,
+        };
         let fg = FrameGpu {
             ctx,
             scene,
             frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
             frame,
-            raster: ShadowRasterPass::new(ctx, scene.render.cull)?,
+            raster,
             shade,
             geometry_tiles,
-            visibility: readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
+            visibility,
             scene_gpu,
             gbuffer,
             pictures: true,
@@ -113,7 +159,37 @@ impl<'a> Renderer<'a> {
         let state = method.build(&fg)?;
         ctx.wait()?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(Self { fg, gbuffer_pass, camera: camera_uniform(scene), state, build: Some((build_ms, upload_ms)), force_timestamps: false })
+        let camera = camera_uniform(scene);
+        Ok(Self { fg, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some((build_ms, upload_ms)), force_timestamps })
+    }
+
+    /// Lets go of the scene and the method's state, keeping what another scene can reuse.
+    pub fn detach(self) -> Detached {
+        let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility, pictures: _ } = self.fg;
+        Detached {
+            device: ctx.device.clone(),
+            method: self.method,
+            gbuffer_pass: self.gbuffer_pass,
+            maps: scene.render.maps,
+            shade,
+            cull: scene.render.cull,
+            raster,
+            gbuffer,
+            geometry_tiles,
+            visibility,
+            scene_gpu,
+            vertices: scene.vertices.clone(),
+            indices: scene.indices.clone(),
+            force_timestamps: self.force_timestamps,
+        }
+    }
+
+    /// Draws from `camera` from the next frame on. Only the G-buffer reads the camera, and it is
+    /// drawn every frame: nothing is rebuilt. (The light, by contrast, is baked into the methods'
+    /// shadow-map frusta when they are built.)
+    pub fn set_camera(&mut self, camera: &crate::scene::Camera) {
+        self.camera = crate::render::gbuffer::camera_uniform_for(self.fg.scene, camera);
+        self.moved_camera = Some(camera.clone());
     }
 
     /// Records GPU timestamps from now on even on a CPU adapter, where the figures mean little
@@ -137,13 +213,13 @@ impl<'a> Renderer<'a> {
         let mut build_stages = BTreeMap::new();
         if let Some((build_ms, upload_ms)) = self.build.take() {
             setup_ms += build_ms;
-            build_stages.insert("build".to_string(), build_ms);
-            build_stages.insert("upload".to_string(), upload_ms);
+            build_stages.insert(Stage::BUILD.name.to_string(), build_ms);
+            build_stages.insert(Stage::UPLOAD.name.to_string(), upload_ms);
         }
 
         let frame_start = Instant::now();
         let fg = &self.fg;
-        timer.stage(ctx, "gbuffer", |enc| {
+        timer.stage(ctx, Stage::GBUFFER, |enc| {
             // Methods accumulate into V: clearing it is part of every frame.
             enc.clear_buffer(&fg.visibility, 0, None);
             self.gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
@@ -152,22 +228,62 @@ impl<'a> Renderer<'a> {
         })?;
         let mut output = self.state.run(fg, &mut timer, options.capture)?;
         timer.flush(ctx);
-        let mut visibility: Vec<f32> = timer.cpu("readback", || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
+        let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
         self.state.finish(fg, &mut output)?;
         let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
         if gbuffer.geometry_count() == 0 {
-            return Err(fg.scene.nothing_visible());
+            return Err(match &self.moved_camera {
+                Some(c) => fg.scene.nothing_visible_from(c),
+                None => fg.scene.nothing_visible(),
+            });
         }
         // Σŵ = 1 up to rounding: clamp so V ∈ [0, 1] holds exactly; background stays 0.
         for (i, v) in visibility.iter_mut().enumerate() {
             *v = if gbuffer.is_geometry(i) { v.clamp(0.0, 1.0) } else { 0.0 };
         }
         let mut stages_ms = timer.stages_ms.clone();
-        stages_ms.insert("setup".into(), setup_ms);
+        stages_ms.insert(Stage::SETUP.name.into(), setup_ms);
         stages_ms.extend(build_stages);
         let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
         Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms })
+    }
+}
+
+/// A renderer between two scenes (frames of a sequence whose light, camera or mesh moves, the
+/// scenes of a gallery): its G-buffer, shade and raster passes, targets, V and uploaded meshes,
+/// without a method state. The shade kernels are most of what a new renderer compiles besides the
+/// method's own.
+pub struct Detached {
+    /// The device every kept object belongs to.
+    device: wgpu::Device,
+    method: Method,
+    gbuffer_pass: GBufferPass,
+    /// `shade` was built for these maps, `raster` for this culling.
+    maps: MapKind,
+    shade: ShadePass,
+    cull: CullMode,
+    raster: ShadowRasterPass,
+    gbuffer: GBuffer,
+    geometry_tiles: GeometryTiles,
+    visibility: wgpu::Buffer,
+    scene_gpu: SceneGpu,
+    /// What `scene_gpu` holds: a scene with the same meshes is not uploaded again.
+    vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    force_timestamps: bool,
+}
+
+impl Detached {
+    /// The same method's renderer for `scene`, on the context it was built on: what the scene
+    /// changes is built again, the method's state always (see `Renderer::assemble`). Its first frame
+    /// carries `build`.
+    pub fn attach<'a>(self, ctx: &'a GpuContext, scene: &'a Scene) -> Result<Renderer<'a>> {
+        if self.device != ctx.device {
+            return Err(crate::Error::Gpu("a detached renderer was attached on another device than its own".into()));
+        }
+        let method = self.method.clone();
+        Renderer::assemble(ctx, scene, &method, Some(self))
     }
 }
 
@@ -183,7 +299,7 @@ pub fn gbuffer_only(ctx: &GpuContext, scene: &Scene) -> Result<GBufferCpu> {
     let pass = GBufferPass::new(ctx)?;
     let target = GBufferPass::allocate(ctx, scene.render.width, scene.render.height)?;
     let scene_gpu = SceneGpu::upload(ctx, scene);
-    let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gbuffer") });
+    let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(Stage::GBUFFER.name) });
     pass.record(ctx, &mut encoder, &scene_gpu, &camera_uniform(scene), &target);
     ctx.queue.submit([encoder.finish()]);
     gbuffer::read_back(ctx, &target)

@@ -1,11 +1,16 @@
 //! Penumbra: soft shadows from rectangular area lights on a compute-centric wgpu pipeline.
 //!
+//! **To embed it** in a program with its own wgpu device, start at the [`api`] module: its types
+//! are re-exported here ([`Shadows`], [`SceneBuilder`], [`ShadowRenderer`], …). The other modules
+//! serve the `penumbra` binary, its tests and benches.
+//!
 //! Data flows one way and the modules read in that order:
 //! scene ─► GPU upload ─► G-buffer ─► light samples ─► shadow-map raster
 //! ─► compute (reproject_count ─► neighbourhood ─► quad_count ─► subdivide) ─► shade ─► run record.
 
-pub mod error;
-pub mod progress;
+pub mod api;
+pub(crate) mod error;
+pub(crate) mod progress;
 pub mod gpu;
 pub mod scene;
 pub mod render;
@@ -19,4 +24,10 @@ pub mod report;
 pub mod studies;
 pub mod inputs;
 
+pub use api::{required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
 pub use error::{Error, Result};
+
+/// The crate version and the git hash it was built from, as every record carries them.
+pub fn version() -> serde_json::Value {
+    serde_json::json!({ "crate": env!("CARGO_PKG_VERSION"), "git": env!("PENUMBRA_GIT_HASH") })
+}

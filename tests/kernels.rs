@@ -1,20 +1,22 @@
 //! No GPU needed: every kernel parses and validates with naga, the Rust `Gpu*` structs match the
-//! WGSL layouts member by member, and Rust dispatches with the workgroup sizes the kernels declare.
+//! WGSL layouts member by member, the stage table's entry points, workgroup sizes and bindings are
+//! the kernels', and every constant mirrored between Rust and WGSL has the same value on both sides.
 
-use penumbra::gpu::kernels::{self, KERNELS};
+use penumbra::gpu::kernels;
 use penumbra::gpu::structs::all_layouts;
+use penumbra::scene::MapKind;
+use std::collections::BTreeSet;
 
 #[test]
 fn every_kernel_validates_with_naga() {
-    let errors: Vec<String> = KERNELS.iter().filter_map(|k| kernels::validate(k.name).err().map(|e| e.to_string())).collect();
-    assert!(KERNELS.len() >= 3, "kernel registry is unexpectedly small");
+    let errors: Vec<String> = kernels::all().filter_map(|(s, _)| kernels::validate(s.name).err().map(|e| e.to_string())).collect();
+    assert!(kernels::all().count() >= 3, "kernel registry is unexpectedly small");
     assert!(errors.is_empty(), "{} kernel(s) failed naga validation:\n{}", errors.len(), errors.join("\n"));
 }
 
 #[test]
 fn map_reading_kernels_validate_for_hybrid_maps() {
-    use penumbra::scene::MapKind;
-    let readers: Vec<&str> = KERNELS.iter().filter(|k| k.reads_maps).map(|k| k.name).collect();
+    let readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| s.name).collect();
     assert_eq!(readers, ["shade", "shadow_test", "pcf", "pcss"], "the kernels that read maps through map_depth");
     let errors: Vec<String> = readers.iter().filter_map(|k| kernels::validate_for(k, MapKind::Hybrid).err().map(|e| e.to_string())).collect();
     assert!(errors.is_empty(), "hybrid forms failed naga validation:\n{}", errors.join("\n"));
@@ -28,40 +30,10 @@ fn map_reading_kernels_validate_for_hybrid_maps() {
     ));
 }
 
+/// The shadow test's blocks (their constants are among `mirrored_constants_match_rust`'s).
 #[test]
-fn hybrid_constants_match_rust() {
-    use penumbra::stages::hybrid_build::{CHILDREN, FRAME_LEVELS_SHIFT, POOL_WIDTH_LOG2};
-    use penumbra::scene::MapKind;
-    let constant = |kernel: &str, maps: MapKind, name: &str| -> u32 {
-        let (module, _) = kernels::validate_for(kernel, maps).unwrap();
-        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("{kernel}: no `{name}`"));
-        match module.global_expressions[c.init] {
-            naga::Expression::Literal(naga::Literal::U32(v)) => v,
-            ref e => panic!("{kernel}: `{name}` is {e:?}"),
-        }
-    };
-    for (kernel, maps) in [("shade", MapKind::Hybrid), ("hybrid_build", MapKind::Plain)] {
-        assert_eq!(constant(kernel, maps, "HYBRID_POOL_WIDTH_LOG2"), POOL_WIDTH_LOG2, "{kernel}");
-        assert_eq!(constant(kernel, maps, "HYBRID_CHILDREN"), CHILDREN, "{kernel}");
-    }
-    assert_eq!(constant("shade", MapKind::Hybrid, "FRAME_HYBRID_LEVELS_SHIFT"), FRAME_LEVELS_SHIFT);
-}
-
-#[test]
-fn block_constants_match_rust() {
-    use penumbra::stages::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
-    let constant = |kernel: &str, name: &str| -> u32 {
-        let (module, _) = kernels::validate(kernel).unwrap();
-        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("{kernel}: no `{name}`"));
-        match module.global_expressions[c.init] {
-            naga::Expression::Literal(naga::Literal::U32(v)) => v,
-            ref e => panic!("{kernel}: `{name}` is {e:?}"),
-        }
-    };
-    assert_eq!(constant("shade", "SHADE_BLOCK"), penumbra::stages::shade::SHADE_BLOCK);
-    assert_eq!(constant("shadow_test", "TEST_BLOCK"), TEST_BLOCK);
-    assert_eq!(constant("shadow_test", "TEST_SLOTS"), TEST_SLOTS);
-    assert_eq!(constant("shadow_test", "TEST_TAILS"), TEST_TAILS.len() as u32);
+fn block_entry_points_unroll_their_sizes() {
+    use penumbra::stages::shadow_test::{TEST_BLOCK, TEST_TAILS};
     // The tails halve from half a block down to one sample, as fill_blocks places them.
     assert_eq!(TEST_TAILS, [TEST_BLOCK / 2, TEST_BLOCK / 4, TEST_BLOCK / 8, TEST_BLOCK / 16]);
     // One entry point per block size, each unrolling exactly its size.
@@ -80,7 +52,7 @@ fn rust_structs_match_wgsl_layouts() {
     for layout in all_layouts() {
         // Find the struct in the first kernel that declares it (the prelude is in every kernel).
         let mut found = false;
-        for k in KERNELS {
+        for (k, _) in kernels::all() {
             let (module, _) = kernels::validate(k.name).expect("kernel validates");
             let Some(ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(layout.name)) else { continue };
             found = true;
@@ -114,10 +86,145 @@ fn rust_structs_match_wgsl_layouts() {
     assert!(checked >= 4, "only {checked} structs checked");
 }
 
+/// The stage table (src/gpu/stages.rs) against every kernel, in each form it is built for: the same
+/// entry points, each with the workgroup size naga reads (what the passes dispatch with), and the
+/// same bindings: every global variable the entry point uses, by name, at the @binding the pass
+/// binds it to (passes bind by name through the table), and no binding the entry point does not use.
 #[test]
-fn dispatch_sizes_match_kernel_workgroup_sizes() {
-    for (kernel, entry, size) in penumbra::stages::WORKGROUP_SIZES {
-        let declared = kernels::workgroup_size(kernel, entry).expect("kernel has the entry point");
-        assert_eq!(declared, *size, "{kernel}::{entry}: Rust dispatches with {size:?}, WGSL declares {declared:?}");
+fn stage_table_matches_every_entry_point() {
+    let mut problems = Vec::new();
+    let mut checked = 0;
+    for (stage, kernel) in kernels::all() {
+        let forms: &[MapKind] = if kernel.reads_maps { &[MapKind::Plain, MapKind::Hybrid] } else { &[MapKind::Plain] };
+        for &maps in forms {
+            let (module, info) = kernels::validate_for(stage.name, maps).expect("kernel validates");
+            let names = |v: Vec<&str>| v.into_iter().map(String::from).collect::<BTreeSet<String>>();
+            let in_kernel = names(module.entry_points.iter().map(|e| e.name.as_str()).collect());
+            let in_table = names(stage.entries.iter().map(|e| e.name).collect());
+            if in_kernel != in_table {
+                problems.push(format!("{stage} ({maps:?}): entry points {in_kernel:?} in WGSL, {in_table:?} in the table"));
+            }
+            for (i, ep) in module.entry_points.iter().enumerate() {
+                let Some(entry) = stage.entry(&ep.name) else { continue };
+                let workgroup = (ep.stage == naga::ShaderStage::Compute).then_some(ep.workgroup_size);
+                if workgroup != entry.workgroup {
+                    problems.push(format!("{stage}::{}: workgroup {:?} in the table, {workgroup:?} in WGSL", ep.name, entry.workgroup));
+                }
+                let uses = info.get_entry_point(i);
+                let mut used = BTreeSet::new();
+                for (handle, global) in module.global_variables.iter() {
+                    let (Some(binding), false) = (&global.binding, uses[handle].is_empty()) else { continue };
+                    if binding.group != 0 {
+                        problems.push(format!("{stage}::{}: `{:?}` in group {}, the passes bind group 0 only", ep.name, global.name, binding.group));
+                    }
+                    used.insert((global.name.clone().unwrap_or_default(), binding.binding));
+                }
+                let table: BTreeSet<(String, u32)> = entry.bindings.iter().map(|&(n, b)| (n.to_string(), b)).collect();
+                if used != table {
+                    problems.push(format!(
+                        "{stage}::{} ({maps:?}): WGSL uses {:?} the table lacks; the table has {:?} WGSL does not use",
+                        ep.name,
+                        used.difference(&table).collect::<Vec<_>>(),
+                        table.difference(&used).collect::<Vec<_>>()
+                    ));
+                }
+                checked += 1;
+            }
+        }
     }
+    assert!(problems.is_empty(), "the stage table disagrees with the kernels:\n{}", problems.join("\n"));
+    assert!(checked >= 50, "only {checked} entry points checked");
+}
+
+/// A `const` as naga reads it from one kernel (None where the kernel does not declare it).
+fn wgsl_constant(module: &naga::Module, name: &str) -> Option<f64> {
+    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name))?;
+    Some(match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => v as f64,
+        naga::Expression::Literal(naga::Literal::I32(v)) => v as f64,
+        naga::Expression::Literal(naga::Literal::F32(v)) => v as f64,
+        ref e => panic!("`{name}` is {e:?}, not a literal"),
+    })
+}
+
+/// Every constant that Rust and WGSL both hold, with the Rust value: each kernel (in each form)
+/// that declares it must declare this value, and at least one must declare it.
+#[test]
+fn mirrored_constants_match_rust() {
+    use penumbra::gpu::structs as gs;
+    use penumbra::methods::adaptive::buffers as ab;
+    use penumbra::stages::twin;
+    let mirrored: &[(&str, f64)] = &[
+        // kernels/shared/common.wgsl
+        ("LATTICE_SIDE", ab::LATTICE_SIDE as f64),
+        ("LATTICE_POINTS", ab::LATTICE_POINTS as f64),
+        ("MASK_WORDS", ab::MASK_WORDS as f64),
+        ("NO_SPLIT", ab::NO_SPLIT as f64),
+        ("MIXED_WORD", ab::MIXED_WORD as f64),
+        ("CULL_TILES", ab::CULL_TILES as f64),
+        ("CULL_TILE_WORDS", ab::CULL_TILE_WORDS as f64),
+        ("SPLIT_THRESHOLD", gs::SPLIT_THRESHOLD as f64),
+        ("SPLIT_ALWAYS", gs::SPLIT_ALWAYS as f64),
+        ("SPLIT_NEVER", gs::SPLIT_NEVER as f64),
+        ("SPLIT_SHARE", gs::SPLIT_SHARE as f64),
+        ("OVERFLOW_QUADS", gs::OVERFLOW_QUADS as f64),
+        ("OVERFLOW_ITEMS", gs::OVERFLOW_ITEMS as f64),
+        ("OVERFLOW_PROBES", gs::OVERFLOW_PROBES as f64),
+        ("SUMMARY_WORD", twin::shadow_test::SUMMARY_WORD as f64),
+        ("SUMMARY_GEOMETRY", twin::shadow_test::SUMMARY_GEOMETRY as f64),
+        ("SUMMARY_ANY_LIT", twin::shadow_test::SUMMARY_ANY_LIT as f64),
+        ("SUMMARY_ANY_UNLIT", twin::shadow_test::SUMMARY_ANY_UNLIT as f64),
+        ("FRAME_FACING_TEST", twin::shadow::FRAME_FACING_TEST as f64),
+        ("LOOKUP_UNLIT", twin::shadow::LOOKUP_UNLIT as f64),
+        ("LOOKUP_OUTSIDE", twin::shadow::LOOKUP_OUTSIDE as f64),
+        ("LOOKUP_COMPARE", twin::shadow::LOOKUP_COMPARE as f64),
+        ("TILE_LIST_HEADER", penumbra::stages::shade::TILE_LIST_HEADER as f64),
+        // stage kernels
+        ("SHADE_BLOCK", penumbra::stages::shade::SHADE_BLOCK as f64),
+        ("TEST_BLOCK", penumbra::stages::shadow_test::TEST_BLOCK as f64),
+        ("TEST_SLOTS", penumbra::stages::shadow_test::TEST_SLOTS as f64),
+        ("TEST_TAILS", penumbra::stages::shadow_test::TEST_TAILS.len() as f64),
+        ("CULL_RUN", penumbra::gpu::stages::CULL_RUN as f64),
+        ("CULL_MARGIN", twin::cull::CULL_MARGIN as f64),
+        ("CULL_DEPTH_SLACK", twin::cull::CULL_DEPTH_SLACK as f64),
+        ("CULL_SCAN_TILES", twin::cull::CULL_SCAN_TILES as f64),
+        ("VERTEX_WORDS", (std::mem::size_of::<penumbra::scene::Vertex>() / 4) as f64),
+        ("RULE_LEVEL", penumbra::stages::weights::RULE_LEVEL as f64),
+        ("RULE_AREA", penumbra::stages::weights::RULE_AREA as f64),
+        ("RULE_COONS", penumbra::stages::weights::RULE_COONS as f64),
+        ("LEVEL_LCM", penumbra::methods::adaptive::LEVEL_LCM as f64),
+        ("FILTERED_ESM", twin::moments::FILTERED_ESM as f64),
+        ("FILTERED_VSM", twin::moments::FILTERED_VSM as f64),
+        ("FILTERED_EVSM", twin::moments::FILTERED_EVSM as f64),
+        ("FILTERED_MSM", twin::moments::FILTERED_MSM as f64),
+        ("FILTERED_CSM", twin::moments::FILTERED_CSM as f64),
+        ("PCF_BOX", twin::pcf::PCF_BOX as f64),
+        ("PCF_BILINEAR", twin::pcf::PCF_BILINEAR as f64),
+        ("PCF_POISSON", twin::pcf::PCF_POISSON as f64),
+        ("PCF_STRATIFIED", twin::pcf::PCF_STRATIFIED as f64),
+        ("PCF_ROTATED", twin::pcf::PCF_ROTATED as f64),
+        ("BVH_STACK", penumbra::render::bvh::STACK_DEPTH as f64),
+        ("HYBRID_POOL_WIDTH_LOG2", penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64),
+        ("HYBRID_CHILDREN", penumbra::stages::hybrid_build::CHILDREN as f64),
+        ("FRAME_HYBRID_LEVELS_SHIFT", penumbra::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64),
+    ];
+    let mut modules = Vec::new();
+    for (stage, kernel) in kernels::all() {
+        for maps in [MapKind::Plain, MapKind::Hybrid] {
+            if maps == MapKind::Plain || kernel.reads_maps {
+                modules.push((format!("{stage} ({maps:?})"), kernels::validate_for(stage.name, maps).expect("kernel validates").0));
+            }
+        }
+    }
+    let mut problems = Vec::new();
+    for &(name, rust) in mirrored {
+        let declared: Vec<(&String, f64)> = modules.iter().filter_map(|(kernel, module)| Some((kernel, wgsl_constant(module, name)?))).collect();
+        let differ: Vec<String> = declared.iter().filter(|(_, wgsl)| *wgsl != rust).map(|(kernel, wgsl)| format!("{wgsl} in {kernel}")).collect();
+        if declared.is_empty() {
+            problems.push(format!("{name}: no kernel declares it"));
+        } else if !differ.is_empty() {
+            problems.push(format!("{name}: {rust} in Rust, {} of {} kernels differ: {}", differ.len(), declared.len(), differ.join(", ")));
+        }
+    }
+    assert!(problems.is_empty(), "mirrored constants differ:\n{}", problems.join("\n"));
 }

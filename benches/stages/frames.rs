@@ -4,7 +4,7 @@
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
 use penumbra::frame;
-use penumbra::gpu::GpuContext;
+use penumbra::gpu::{GpuContext, Stage};
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
 use penumbra::gpu::timing::TimingMode;
@@ -39,14 +39,14 @@ impl<'a> FramePool<'a> {
     }
 
     /// Total wall time of `stages` over the next `iters` frames (rendering more when needed).
-    fn take(&mut self, key: &str, stages: &[&str], iters: u64) -> Duration {
+    fn take(&mut self, key: &str, stages: &[Stage], iters: u64) -> Duration {
         let start = *self.cursor.get(key).unwrap_or(&0);
         while self.frames.len() < start + iters as usize {
             let r = frame::render(self.ctx, &self.scene, &self.method, TimingMode::Stages).expect("frame");
             self.frames.push(r.stages_ms);
         }
         self.cursor.insert(key.to_string(), start + iters as usize);
-        let ms: f64 = self.frames[start..start + iters as usize].iter().map(|f| stages.iter().filter_map(|s| f.get(*s)).sum::<f64>()).sum();
+        let ms: f64 = self.frames[start..start + iters as usize].iter().map(|f| stages.iter().filter_map(|s| f.get(s.name)).sum::<f64>()).sum();
         Duration::from_secs_f64(ms / 1e3).max(Duration::from_nanos(1))
     }
 }
@@ -66,9 +66,9 @@ pub fn adaptive_stages(c: &mut Criterion, pool: &mut FramePool) {
         pool.scene.name, pool.scene.render.width, pool.scene.render.height, pool.maps, pool.pixel_quads
     );
     for (group_name, stages) in [
-        ("reproject_count", &["reproject_count"][..]),
-        ("neighbourhood", &["neighbourhood"][..]),
-        ("quad_count+subdivide", &["quad_count", "subdivide"][..]),
+        ("reproject_count", &[Stage::REPROJECT_COUNT][..]),
+        ("neighbourhood", &[Stage::NEIGHBOURHOOD][..]),
+        ("quad_count+subdivide", &[Stage::QUAD_COUNT, Stage::SUBDIVIDE][..]),
     ] {
         let mut group = frame_group(c, group_name);
         group.throughput(Throughput::Elements(pool.pixel_quads));
@@ -85,7 +85,7 @@ pub fn shade<'a>(c: &mut Criterion, adaptive: &mut FramePool<'a>, regular: &mut 
     let mut group = frame_group(c, "shade");
     for (id, pool) in [("regular_maps", regular), ("adaptive_masks", adaptive)] {
         group.throughput(Throughput::Elements(pool.pixels * pool.maps));
-        group.bench_function(BenchmarkId::new(id, format!("{}_maps", pool.maps)), |b| b.iter_custom(|iters| pool.take("shade", &["shade"], iters)));
+        group.bench_function(BenchmarkId::new(id, format!("{}_maps", pool.maps)), |b| b.iter_custom(|iters| pool.take("shade", &[Stage::SHADE], iters)));
     }
     group.finish();
 }
@@ -105,13 +105,13 @@ pub fn hybrid(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
     let mut group = frame_group(c, "hybrid_build");
     group.throughput(Throughput::Elements(2048 * 2048));
     group.bench_function(BenchmarkId::new("hard_2048_to_512", &hybrid.scene.name), |b| {
-        b.iter_custom(|iters| hybrid.take("hybrid_build", &["hybrid_build"], iters))
+        b.iter_custom(|iters| hybrid.take("hybrid_build", &[Stage::HYBRID_BUILD], iters))
     });
     group.finish();
     let mut group = frame_group(c, "shade_hard");
     for (id, pool) in [("plain_2048", &mut plain), ("hybrid_2048_to_512", &mut hybrid)] {
         group.throughput(Throughput::Elements(pool.pixels));
-        group.bench_function(BenchmarkId::new(id, &pool.scene.name), |b| b.iter_custom(|iters| pool.take("shade", &["shade"], iters)));
+        group.bench_function(BenchmarkId::new(id, &pool.scene.name), |b| b.iter_custom(|iters| pool.take("shade", &[Stage::SHADE], iters)));
     }
     group.finish();
 }

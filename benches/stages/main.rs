@@ -3,16 +3,17 @@
 //! pixels, pixel·quad evaluations, pixel·map lookups). The adapter is printed first: absolute
 //! figures mean nothing without it.
 //!
-//! shadow_raster and gbuffer drive their passes directly. The adaptive stages cannot be driven one
-//! by one from outside src/stages (their buffers and level uniforms are private to the method), so
-//! those groups render whole adaptive frames in TimingMode::Stages (submit + wait after every stage)
-//! and charge each iteration the stage's wall time from FrameResult::stages_ms.
+//! shadow_raster and gbuffer drive their passes directly. The adaptive count stages are measured
+//! twice: inside whole adaptive frames in TimingMode::Stages (submit + wait after every stage,
+//! each iteration charged the stage's wall time from FrameResult::stages_ms: the real inputs), and
+//! driven alone on synthetic inputs (`adaptive_stage_alone`: typed inputs, one pass per iteration).
 //!
 //! reference_tracer: shadow rays per second of the CPU ground truth (obvhs BVH, rayon), counted
 //! exactly (rays the tracer reports), on the stage scene's G-buffer.
 //!
 //! Short run: `cargo bench --bench stages -- --warm-up-time 1 --measurement-time 3`.
 
+mod alone;
 mod frames;
 mod raster;
 mod scenes;
@@ -36,6 +37,7 @@ fn main() {
     raster::gbuffer(&mut c, &ctx);
     let mut adaptive = frames::FramePool::new(&ctx, scenes::stage_scene(), "adaptive:p_m=0");
     frames::adaptive_stages(&mut c, &mut adaptive);
+    alone::adaptive_stages_alone(&mut c, &ctx);
     let mut regular = frames::FramePool::new(&ctx, scenes::stage_scene(), "regular:n=17");
     frames::shade(&mut c, &mut adaptive, &mut regular);
     frames::hybrid(&mut c, &ctx, scenes::stage_scene());

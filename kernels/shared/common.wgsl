@@ -125,7 +125,7 @@ struct GpuLevel {
     max_level: u32,
     quad_count: u32,
     first_quad: u32,
-    p_m: u32,
+    split_threshold: u32,
     split_mode: u32,
     words_per_row: u32,
     flag_words_per_row: u32,
@@ -139,6 +139,13 @@ struct GpuLevel {
     requested: u32,
     pad1: u32,
 }
+
+// GpuLevel.split_mode (Rust: gpu::structs::SPLIT_*): split when the count exceeds
+// split_threshold, always, never, or when it exceeds split_share x the geometry pixels.
+const SPLIT_THRESHOLD: u32 = 0u;
+const SPLIT_ALWAYS: u32 = 1u;
+const SPLIT_NEVER: u32 = 2u;
+const SPLIT_SHARE: u32 = 3u;
 
 struct GpuQuad {
     i: u32,
@@ -159,6 +166,7 @@ struct GpuControl {
     pad1: u32,
 }
 
+// GpuControl.overflow's bits (Rust: gpu::structs::OVERFLOW_*, decoded by LevelReport::overflow_error).
 const OVERFLOW_QUADS: u32 = 1u;
 const OVERFLOW_ITEMS: u32 = 2u;
 const OVERFLOW_PROBES: u32 = 4u;

@@ -4,6 +4,9 @@
 
 use crate::{Error, Result};
 
+/// The G-buffer's position and normal format: adapters must render to it (render::gbuffer).
+pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
 /// How to install a Vulkan driver on Debian/Ubuntu; every "no usable adapter" message ends with it.
 pub const INSTALL_HINT: &str = "install the Vulkan driver with `bash scripts/setup.sh` \
 (on Debian/Ubuntu it installs mesa-vulkan-drivers and libvulkan1: lavapipe, Mesa's CPU Vulkan device)";
@@ -102,7 +105,7 @@ pub fn missing_capabilities(adapter: &wgpu::Adapter) -> Vec<String> {
     if !down.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
         missing.push("compute shaders".to_string());
     }
-    let position = crate::render::gbuffer::POSITION_FORMAT;
+    let position = POSITION_FORMAT;
     let usages = adapter.get_texture_format_features(position).allowed_usages;
     if !usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT) {
         missing.push(format!("the G-buffer format {position:?} is not renderable"));

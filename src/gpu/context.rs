@@ -72,17 +72,24 @@ impl GpuContext {
             })
             .await
             .map_err(|e| Error::Gpu(format!("request_device on {}: {e}", info.name)))?;
+        Ok(Self::from_device(adapter, device, queue, choice.reason))
+    }
+
+    /// A context on a device someone else requested (the embedding API: the caller's device);
+    /// `chosen_because` is the run record's reason for the adapter.
+    pub fn from_device(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue, chosen_because: String) -> Self {
+        let info = adapter.get_info();
         let summary = AdapterSummary {
             name: info.name.clone(),
             backend: format!("{:?}", info.backend),
             device_type: format!("{:?}", info.device_type),
             driver: info.driver.clone(),
             driver_info: info.driver_info.clone(),
-            chosen_because: choice.reason,
+            chosen_because,
         };
         let timestamps_trusted =
-            features.contains(wgpu::Features::TIMESTAMP_QUERY) && info.device_type != wgpu::DeviceType::Cpu;
-        Ok(Self { adapter, device, queue, summary, timestamps_trusted })
+            device.features().contains(wgpu::Features::TIMESTAMP_QUERY) && info.device_type != wgpu::DeviceType::Cpu;
+        Self { adapter, device, queue, summary, timestamps_trusted }
     }
 
     pub fn limits(&self) -> wgpu::Limits {

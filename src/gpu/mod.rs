@@ -1,12 +1,14 @@
 //! Headless GPU access: device selection, pipelines, buffers and read-backs.
 
-pub mod adapter;
-pub mod context;
+pub(crate) mod adapter;
+pub(crate) mod context;
 pub mod kernels;
 pub mod pipeline;
 pub mod readback;
+pub mod stages;
 pub mod structs;
 pub mod timing;
 
 pub use adapter::{AdapterRequest, BackendChoice};
 pub use context::{AdapterSummary, GpuContext};
+pub use stages::Stage;

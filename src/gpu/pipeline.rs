@@ -1,7 +1,7 @@
 //! Pipelines are created inside a validation error scope so a bad kernel is a readable error.
 
-use super::GpuContext;
-use crate::scene::MapKind;
+use super::{GpuContext, Stage};
+use crate::gpu::kernels::MapKind;
 use crate::gpu::kernels;
 use crate::{Error, Result};
 
@@ -47,17 +47,20 @@ pub fn check(scope: wgpu::ErrorScopeGuard, what: &str) -> Result<()> {
     }
 }
 
-/// Bind group from a list of resources at bindings 0, 1, 2, … of group 0.
+/// Bind group 0 of a render stage, its resources named by WGSL variable; the stage table gives
+/// their bindings (the union of the stage's vertex and fragment entry points).
 pub fn bind_group(
     ctx: &GpuContext,
-    label: &str,
+    stage: Stage,
     layout: &wgpu::BindGroupLayout,
-    resources: &[wgpu::BindingResource],
+    resources: &[(&str, wgpu::BindingResource)],
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = resources
         .iter()
-        .enumerate()
-        .map(|(i, r)| wgpu::BindGroupEntry { binding: i as u32, resource: r.clone() })
+        .map(|(name, r)| wgpu::BindGroupEntry {
+            binding: stage.binding(name).unwrap_or_else(|| panic!("{stage} has no binding `{name}` (gpu::stages)")),
+            resource: r.clone(),
+        })
         .collect();
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(stage.name), layout, entries: &entries })
 }

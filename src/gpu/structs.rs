@@ -113,8 +113,9 @@ pub struct GpuLevel {
     pub quad_count: u32,
     /// Index of the batch's first quad in the level's list.
     pub first_quad: u32,
-    pub p_m: u32,
-    /// 0: split when count > p_m, 1: always, 2: never, 3: when count > split_share x geometry pixels.
+    /// This level's threshold (`SPLIT_THRESHOLD`): a quad splits when its count exceeds it.
+    pub split_threshold: u32,
+    /// One of `SPLIT_*`.
     pub split_mode: u32,
     pub words_per_row: u32,
     pub flag_words_per_row: u32,
@@ -134,6 +135,13 @@ pub struct GpuLevel {
     pub pad1: u32,
 }
 
+/// `GpuLevel::split_mode` (`SPLIT_*` in kernels/shared/common.wgsl): a quad splits when its count
+/// exceeds `split_threshold`, always, never, or when it exceeds `split_share` x the geometry pixels.
+pub const SPLIT_THRESHOLD: u32 = 0;
+pub const SPLIT_ALWAYS: u32 = 1;
+pub const SPLIT_NEVER: u32 = 2;
+pub const SPLIT_SHARE: u32 = 3;
+
 /// Append counters shared by subdivide and compact (atomics in WGSL).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -150,6 +158,12 @@ pub struct GpuControl {
     pub lookups: u32,
     pub pad1: u32,
 }
+
+/// `GpuControl::overflow`'s bits (`OVERFLOW_*` in kernels/shared/common.wgsl): the quad list (256),
+/// the (pixel, quad) item list and the probe list exceeded their capacity.
+pub const OVERFLOW_QUADS: u32 = 1;
+pub const OVERFLOW_ITEMS: u32 = 2;
+pub const OVERFLOW_PROBES: u32 = 4;
 
 /// A quad of the light's lattice: corner (i, j) and side in lattice steps.
 #[repr(C)]
@@ -300,7 +314,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
-            level, max_level, quad_count, first_quad, p_m, split_mode, words_per_row, flag_words_per_row, item_capacity,
+            level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, pad1
         }),
         layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, lookups, pad1 }),

@@ -1,7 +1,7 @@
 //! Wall-clock per stage (submit → wait) and per frame. On CPU adapters GPU timestamps are not
 //! trustworthy, so wall clock is the figure every report quotes, labelled as such.
 
-use crate::gpu::GpuContext;
+use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -88,13 +88,14 @@ impl StageTimer {
         Ok(Some(out))
     }
 
-    /// Records one stage into an encoder; in `Stages` mode submits and waits, charging the time to `name`.
+    /// Records one stage into an encoder; in `Stages` mode submits and waits, charging the time to `stage`.
     pub fn stage<T>(
         &mut self,
         ctx: &GpuContext,
-        name: &str,
+        stage: Stage,
         record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>,
     ) -> Result<T> {
+        let name = stage.name;
         let start = Instant::now();
         let mut encoder =
             self.pending.take().unwrap_or_else(|| ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(name) }));
@@ -119,7 +120,7 @@ impl StageTimer {
             }
             TimingMode::Frame => self.pending = Some(encoder),
         }
-        self.add(name, start.elapsed().as_secs_f64() * 1e3);
+        self.add(stage, start.elapsed().as_secs_f64() * 1e3);
         Ok(out)
     }
 
@@ -130,62 +131,16 @@ impl StageTimer {
         }
     }
 
-    pub fn add(&mut self, name: &str, ms: f64) {
-        *self.stages_ms.entry(name.to_string()).or_insert(0.0) += ms;
+    /// Charges `ms` to `stage` (its name is the `stages_ms` key).
+    pub fn add(&mut self, stage: Stage, ms: f64) {
+        *self.stages_ms.entry(stage.name.to_string()).or_insert(0.0) += ms;
     }
 
-    /// Times CPU-side work (and read-backs) under `name`.
-    pub fn cpu<T>(&mut self, name: &str, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    /// Times CPU-side work (and read-backs) under `stage`.
+    pub fn cpu<T>(&mut self, stage: Stage, f: impl FnOnce() -> Result<T>) -> Result<T> {
         let start = Instant::now();
         let out = f()?;
-        self.add(name, start.elapsed().as_secs_f64() * 1e3);
+        self.add(stage, start.elapsed().as_secs_f64() * 1e3);
         Ok(out)
-    }
-}
-
-/// Where a stage's time belongs. Every frame splits into raster (the G-buffer, shadow maps and
-/// what prepares them: cull, moments, blur), decision (the adaptive counting, subdivision,
-/// compaction, probe and weights), shade (every lookup of a map: shadow_test, shade and the filters) and
-/// waits (the read-backs: per level, pictures, V). Work outside the frame (setup) has none.
-pub fn split_of(stage: &str) -> Option<&'static str> {
-    Some(match stage {
-        "gbuffer" | "shadow_raster" | "cull" | "moments" | "blur" => "raster",
-        "reproject_count" | "neighbourhood" | "quad_count" | "subdivide" | "compact" | "probe" | "weights" => "decision",
-        "shade" | "shadow_test" | "pcf" | "pcss" | "reconstruct" => "shade",
-        "readback_level" | "readback" | "pictures" => "waits",
-        "setup" | "build" | "upload" => return None,
-        _ => "other",
-    })
-}
-
-/// The frame split (raster, decision, shade, waits; `other` only for a stage `split_of` does not
-/// know) from per-stage times. Meaningful from a stages-mode frame, whose stages hold their waits.
-pub fn frame_split(stages_ms: &BTreeMap<String, f64>) -> BTreeMap<&'static str, f64> {
-    let mut out: BTreeMap<&'static str, f64> = ["raster", "decision", "shade", "waits"].into_iter().map(|k| (k, 0.0)).collect();
-    for (stage, ms) in stages_ms {
-        if let Some(part) = split_of(stage) {
-            *out.entry(part).or_insert(0.0) += ms;
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_frame_stage_has_a_part_and_setup_has_none() {
-        let stages: BTreeMap<String, f64> =
-            [("gbuffer", 1.0), ("shadow_raster", 2.0), ("cull", 4.0), ("subdivide", 8.0), ("shadow_test", 16.0), ("readback_level", 32.0), ("setup", 64.0)]
-                .into_iter()
-                .map(|(k, v)| (k.to_string(), v))
-                .collect();
-        let split = frame_split(&stages);
-        assert_eq!(split["raster"], 7.0);
-        assert_eq!(split["decision"], 8.0);
-        assert_eq!(split["shade"], 16.0);
-        assert_eq!(split["waits"], 32.0);
-        assert!(!split.contains_key("other"));
     }
 }

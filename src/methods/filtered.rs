@@ -3,6 +3,7 @@
 //! from the filtered statistic (`reconstruct`). ESM, VSM, EVSM, MSM and CSM differ only in the
 //! statistic and the reconstruction.
 
+use crate::gpu::Stage;
 use super::single_map::{light_size, CentreMap, SingleMapCapture};
 use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::{blur::Blur, moments::Moments, reconstruct::Reconstruct, FrameGpu};
@@ -247,15 +248,15 @@ impl MethodState for State {
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         let view = self.map.view();
-        timer.stage(fg.ctx, "moments", |enc| {
+        timer.stage(fg.ctx, Stage::MOMENTS, |enc| {
             self.moments.record(fg, enc, &self.filter_buffer, &self.map.samples, view, &self.raw);
             Ok(())
         })?;
-        timer.stage(fg.ctx, "blur", |enc| {
+        timer.stage(fg.ctx, Stage::BLUR, |enc| {
             self.blur.record(fg, enc, &self.filter_buffer, self.filter.layers, &self.raw, &self.scratch, &self.filtered);
             Ok(())
         })?;
-        timer.stage(fg.ctx, "reconstruct", |enc| {
+        timer.stage(fg.ctx, Stage::RECONSTRUCT, |enc| {
             self.reconstruct.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.filtered);
             Ok(())
         })?;

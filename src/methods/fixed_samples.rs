@@ -2,6 +2,7 @@
 //! maps exceed the memory budget or the layer limit. With `maps = hybrid` the maps are rasterized a
 //! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
+use crate::gpu::Stage;
 use super::hybrid_maps::HybridMaps;
 use super::{check_range, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
@@ -209,7 +210,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
-        timer.stage(ctx, "shadow_raster", |enc| {
+        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
             fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs);
             Ok(())
         })?;
@@ -219,7 +220,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
                 c.maps.push(readback::read_texture(ctx, &array.texture, layer, 4)?);
             }
         }
-        timer.stage(ctx, "shade", |enc| {
+        timer.stage(ctx, Stage::SHADE, |enc| {
             fg.shade.record(ctx, enc, &inputs, &array.array_view, tiles, first, count);
             Ok(())
         })?;
@@ -267,7 +268,7 @@ fn run_hybrid(
     let tiles = &fg.geometry_tiles;
     let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
-        timer.stage(ctx, "shade", |enc| {
+        timer.stage(ctx, Stage::SHADE, |enc| {
             fg.shade.record(ctx, enc, &inputs, view, tiles, slots[0], slots.len() as u32);
             Ok(())
         })

@@ -3,6 +3,7 @@
 //! handed to the method (shade, shadow_test) and the store starts again, so the memory a method
 //! holds is the raster's few layers plus the store, not a full-resolution layer per map.
 
+use crate::gpu::Stage;
 use crate::stages::hybrid_build::{HybridBuild, HybridStore};
 use crate::stages::FrameGpu;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
@@ -92,21 +93,21 @@ impl HybridMaps {
         let ctx = fg.ctx;
         assert!(ks.len() <= self.layers() as usize, "a raster batch holds at most {} maps", self.layers());
         let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(i, &k)| RasterJob { sample: k, layer: i as u32, scissor: None }).collect();
-        timer.stage(ctx, "shadow_raster", |enc| {
+        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
             fg.raster.record(ctx, enc, &fg.scene_gpu, samples, &self.raster, &jobs);
             Ok(())
         })?;
         let mut from = 0;
         while from < ks.len() {
             let (build, store, raster) = (&self.build, &self.store, &self.raster);
-            timer.stage(ctx, "hybrid_build", |enc| {
+            timer.stage(ctx, Stage::HYBRID_BUILD, |enc| {
                 for (i, &k) in ks.iter().enumerate().skip(from) {
                     build.record(ctx, enc, store, raster, i as u32, k);
                 }
                 Ok(())
             })?;
             timer.flush(ctx);
-            let control = timer.cpu("hybrid_build", || self.store.read_control(ctx))?;
+            let control = timer.cpu(Stage::HYBRID_BUILD, || self.store.read_control(ctx))?;
             self.stats.syncs += 1;
             let ok = control.built as usize - self.pending.len();
             self.pending.extend_from_slice(&ks[from..from + ok]);

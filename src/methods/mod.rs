@@ -7,11 +7,11 @@
 
 pub mod adaptive;
 pub mod environment;
-pub mod filtered;
+pub(crate) mod filtered;
 pub mod fixed_samples;
-pub mod hybrid_maps;
-pub mod pcf;
-pub mod pcss;
+pub(crate) mod hybrid_maps;
+pub(crate) mod pcf;
+pub(crate) mod pcss;
 pub mod single_map;
 pub mod ssao;
 

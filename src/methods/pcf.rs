@@ -1,6 +1,7 @@
 //! Percentage-closer filtering of one shadow map (seeds 001 and 004): every pixel averages the
 //! binary shadow test over taps around its place in the map.
 
+use crate::gpu::Stage;
 use super::single_map::{CentreMap, SingleMapCapture};
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::pcf::Pcf as PcfPass;
@@ -181,7 +182,7 @@ impl MethodState for State {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
-        timer.stage(fg.ctx, "pcf", |enc| {
+        timer.stage(fg.ctx, Stage::PCF, |enc| {
             self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer);
             Ok(())
         })?;

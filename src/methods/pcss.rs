@@ -1,6 +1,7 @@
 //! Percentage-closer soft shadows (Fernando 2005): blocker search, penumbra width from the light
 //! size by similar triangles, then PCF of that width, all on the centre map.
 
+use crate::gpu::Stage;
 use super::single_map::{light_size, CentreMap, SingleMapCapture};
 use super::{check_range, get_f32, label_from, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
 use crate::stages::pcss::Pcss as PcssPass;
@@ -74,7 +75,7 @@ impl MethodState for State {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
-        timer.stage(fg.ctx, "pcss", |enc| {
+        timer.stage(fg.ctx, Stage::PCSS, |enc| {
             self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view());
             Ok(())
         })?;

@@ -1,6 +1,7 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
 //! light's centre, the filter uniform, and the capture their twin tests read.
 
+use crate::gpu::Stage;
 use super::hybrid_maps::HybridMaps;
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
@@ -44,7 +45,7 @@ impl CentreMap {
     /// The `shadow_raster` stage: one map (with `maps = hybrid`, then `hybrid_build`).
     pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         match &mut self.maps {
-            CentreMaps::Plain(array) => timer.stage(fg.ctx, "shadow_raster", |enc| {
+            CentreMaps::Plain(array) => timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| {
                 fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &[RasterJob { sample: 0, layer: 0, scissor: None }]);
                 Ok(())
             }),

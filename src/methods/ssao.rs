@@ -1,6 +1,7 @@
 //! ssao as its own term: V = the screen-space ambient occlusion (seed 002 §2.4). Combined with the
 //! environment methods through their `ssao=on` parameter (V_env · AO).
 
+use crate::gpu::Stage;
 use super::environment::common::{SsaoSettings, SsaoStage};
 use super::environment::pixels::{AO_RADIUS, AO_SAMPLES};
 use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod};
@@ -67,7 +68,7 @@ impl MethodState for State {
         let s = &self.0;
         s.run(fg, timer)?;
         let bytes = fg.pixel_count() as u64 * 4;
-        timer.stage(fg.ctx, "ssao_copy", |enc| {
+        timer.stage(fg.ctx, Stage::SSAO_COPY, |enc| {
             enc.copy_buffer_to_buffer(&s.ao, 0, &fg.visibility, 0, bytes);
             Ok(())
         })?;

@@ -1,7 +1,7 @@
 //! `results.csv`: one line per row, the same figures as `results.jsonl` flattened, one
 //! `stage_<name>_ms` column per stage seen in any row.
 
-use crate::report::charts::ResultRow;
+use crate::record::row::ResultRow;
 
 fn field(text: &str) -> String {
     if text.contains([',', '"', '\n', '\r']) {

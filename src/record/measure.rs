@@ -4,6 +4,7 @@
 //! method needs) whose median is the figure quoted. Methods are interleaved round by round, so
 //! all of them see the same machine load; the last frame of each is handed to `judge`.
 
+use crate::gpu::stages::{outside_frame, Stage};
 use crate::frame::{FrameOptions, FrameResult, Renderer};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
@@ -79,6 +80,18 @@ pub fn measure<T>(
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
 ) -> Result<Vec<Measured<T>>> {
+    measure_keeping(ctx, scene, methods, repeats, on_frame, judge).map(|(measured, _)| measured)
+}
+
+/// As [`measure`], handing back each method's renderer for untimed frames after the loop.
+pub fn measure_keeping<'a, T>(
+    ctx: &'a GpuContext,
+    scene: &'a Scene,
+    methods: &[Method],
+    repeats: u32,
+    on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
+    judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
+) -> Result<(Vec<Measured<T>>, Vec<Renderer<'a>>)> {
     let repeats = repeats.max(1);
     // One renderer per method: pipelines and buffers are built once (charged to the warm-up's
     // setup) and every later frame reuses them. No decision pictures: their read-backs would be
@@ -95,9 +108,8 @@ pub fn measure<T>(
         on_frame(m, Phase::Stages, &r);
         let mut stages = r.stages_ms;
         // `setup` (the method's per-frame reset; the build was the warm-up's) runs before the clock.
-        let setup = stages.remove("setup");
-        stages.remove("upload");
-        stages.remove("build");
+        let setup = stages.remove(Stage::SETUP.name);
+        stages.retain(|k, _| !outside_frame(k));
         staged.push((stages, setup));
     }
     let mut totals: Vec<Vec<f64>> = vec![Vec::new(); methods.len()];
@@ -134,7 +146,7 @@ pub fn measure<T>(
             judged: judged.expect("judged on the last round"),
         });
     }
-    Ok(out)
+    Ok((out, renderers))
 }
 
 #[cfg(test)]

@@ -1,15 +1,15 @@
-//! One record layer for `compare`, `sweep` and `bench`: one measure loop ([`measure`]), one
-//! metrics call ([`judge`]), one row type ([`ResultRow`], with its [`Provenance`]) and one
+//! One record layer for `compare`, `sweep` and `bench`: one measure loop (`measure.rs`), one
+//! metrics call (`judge.rs`), one row type ([`ResultRow`], with its [`Provenance`]) and one
 //! `results.jsonl` schema. `penumbra report`, `merge` and `check` read any of their outputs.
 
-pub mod csv;
+pub(crate) mod csv;
 pub mod output_set;
 pub mod regression;
-pub mod row;
+pub(crate) mod row;
 pub mod run_files;
-pub mod shaded_environment;
-pub mod judge;
-pub mod measure;
+pub(crate) mod shaded_environment;
+pub(crate) mod judge;
+pub(crate) mod measure;
 pub mod provenance;
 
 pub use row::ResultRow;

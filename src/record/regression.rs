@@ -3,7 +3,7 @@
 //! worse than its tolerance, or a baseline row with no match. Timing counts only when both rows
 //! were measured on the same adapter.
 
-use crate::report::charts::ResultRow;
+use crate::record::row::ResultRow;
 use crate::{Error, Result};
 use std::fmt::Write;
 

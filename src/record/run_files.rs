@@ -10,7 +10,6 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 use glam::Vec3;
 use image::{ImageBuffer, Luma, Rgb, Rgb32FImage, RgbImage};
-use std::collections::BTreeMap;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
@@ -76,9 +75,7 @@ pub fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBu
     Ok(written)
 }
 
-pub fn version() -> serde_json::Value {
-    serde_json::json!({ "crate": env!("CARGO_PKG_VERSION"), "git": env!("PENUMBRA_GIT_HASH") })
-}
+pub use crate::version;
 
 /// The run record (run.json).
 pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, timestamps_trusted: bool) -> serde_json::Value {
@@ -107,9 +104,9 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "gpu_stages_ms": if timestamps_trusted { serde_json::to_value(&r.gpu_stages_ms).unwrap_or_default() } else { serde_json::Value::Null },
         "gpu_clock": if timestamps_trusted { "GPU timestamps around each stage's commands, milliseconds" } else { "none: timestamps are not trustworthy on a CPU adapter" },
         "total_ms": r.total_ms,
-        // raster / decision / shade / waits (crate::gpu::timing::split_of) need per-stage wall times: a
+        // raster / decision / shade / waits (the stage table's split) need per-stage wall times: a
         // frame-mode frame has only its waits, so it gets no split (null) rather than a false one.
-        "frame_split_ms": staged.then(|| crate::gpu::timing::frame_split(&r.stages_ms)),
+        "frame_split_ms": staged.then(|| crate::gpu::stages::frame_split(&r.stages_ms)),
         "decision_stages_ms": staged.then(|| decision_ms(&r.stages_ms)),
         "decision_share": staged.then(|| if r.total_ms > 0.0 { decision_ms(&r.stages_ms) / r.total_ms } else { 0.0 }),
         "method_record": r.output.record,
@@ -118,15 +115,9 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
     })
 }
 
-/// The adaptive decision stages (issue 3): counting, the neighbourhood test, the per-quad counters,
-/// subdivision, compaction, the probe (scope = local) and the per-level read-backs. Meaningful with
-/// `--timing stages`.
-pub const DECISION_STAGES: &[&str] = &["reproject_count", "neighbourhood", "quad_count", "subdivide", "compact", "probe", "weights", "readback_level"];
-
-pub fn decision_ms(stages_ms: &BTreeMap<String, f64>) -> f64 {
-    // An empty f64 sum is -0.0; + 0.0 makes a method without decisions report 0.
-    DECISION_STAGES.iter().filter_map(|k| stages_ms.get(*k)).sum::<f64>() + 0.0
-}
+/// The decision stages' time: the frame split's decision part (the stage table's `Decision`
+/// stages, docs/gpu-frame.md §3). Meaningful with `--timing stages`.
+pub use crate::gpu::stages::decision_ms;
 
 /// run.json of a measured method (compare, sweep): its last timed frame's record, with the
 /// timing of the whole measurement. A timed frame runs in frame mode and knows only its waits, so
@@ -142,7 +133,7 @@ pub fn measured_record(mut record: serde_json::Value, t: &crate::record::measure
         "total_ms_max": t.max_ms,
         "totals_ms": t.totals_ms,
         "stages_ms": t.stages_ms,
-        "frame_split_ms": crate::gpu::timing::frame_split(&t.stages_ms),
+        "frame_split_ms": crate::gpu::stages::frame_split(&t.stages_ms),
         "decision_stages_ms": decision,
         "decision_share": if staged > 0.0 { decision / staged } else { 0.0 },
     });

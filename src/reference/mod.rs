@@ -9,15 +9,15 @@
 //! Samples: [`ReferenceMode::Lattice`] (the 289 points `s = i/16, t = j/16` that a perfect 17×17
 //! shadow-map method sees), [`ReferenceMode::Continuous`] (m×m stratified jitter, decorrelated
 //! per pixel) or [`ReferenceMode::Point`] (one light point: the exact hard shadow a perfect map
-//! from that point gives, so V is 0 or 1). The analytic square scene ([`analytic`]) validates both.
+//! from that point gives, so V is 0 or 1). The analytic square scene (`analytic.rs`) validates both.
 
-pub mod analytic;
-pub mod cache;
+pub(crate) mod analytic;
+pub(crate) mod cache;
 pub mod environment;
 pub mod sampling;
-pub mod tracer;
+pub(crate) mod tracer;
 pub mod truth;
-pub mod visibility;
+pub(crate) mod visibility;
 
 #[cfg(test)]
 mod tests;
@@ -132,15 +132,4 @@ pub enum ReferenceError {
     Io(#[from] std::io::Error),
 }
 
-/// Shadow-ray origins move this fraction of the scene's bounding-box diagonal along the normal:
-/// far above f32 rounding of G-buffer positions at any scene scale, far below any feature size.
-pub const RELATIVE_RAY_OFFSET: f32 = 1e-4;
-
-/// Environment rays are infinite; this far (100 scene diagonals) is past every triangle.
-pub fn env_ray_length(scene: &crate::scene::Scene) -> f32 {
-    100.0 * scene.bounds.diagonal().max(1e-6)
-}
-
-pub fn ray_offset(scene: &crate::scene::Scene) -> f32 {
-    RELATIVE_RAY_OFFSET * scene.bounds.diagonal()
-}
+pub use crate::scene::rays::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};

@@ -128,7 +128,7 @@ impl ReferenceImage {
             "cache_file": self.cache_file.as_ref().map(|p| p.display().to_string()),
             "trace": self.trace,
             "std_error_mean_max": self.std_error,
-            "version": crate::record::run_files::version(),
+            "version": crate::version(),
         })
     }
 }

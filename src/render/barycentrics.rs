@@ -3,7 +3,7 @@
 //! other method's inputs stay bit-identical; this pass runs only where a method asks for it.
 
 use super::SceneGpu;
-use crate::gpu::{pipeline, readback, GpuContext};
+use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::gpu::structs::GpuCamera;
 use crate::Result;
 
@@ -22,10 +22,10 @@ pub struct BarycentricsPass {
 
 impl BarycentricsPass {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        let module = pipeline::shader_module(ctx, "barycentrics")?;
+        let module = pipeline::shader_module(ctx, Stage::BARYCENTRICS.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("barycentrics"),
+            label: Some(Stage::BARYCENTRICS.name),
             layout: None,
             vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
             // As the G-buffer: no culling, depth Less, so the same fragment wins every pixel.
@@ -47,7 +47,7 @@ impl BarycentricsPass {
             multiview_mask: None,
             cache: None,
         });
-        pipeline::check(scope, "barycentrics")?;
+        pipeline::check(scope, Stage::BARYCENTRICS.name)?;
         Ok(Self { pipeline })
     }
 
@@ -62,12 +62,12 @@ impl BarycentricsPass {
     pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, camera: &wgpu::Buffer, target: &TriangleIds) {
         let bind = pipeline::bind_group(
             ctx,
-            "barycentrics",
+            Stage::BARYCENTRICS,
             &self.pipeline.get_bind_group_layout(0),
-            &[camera.as_entire_binding(), scene.vertices.as_entire_binding(), scene.indices.as_entire_binding()],
+            &[("camera", camera.as_entire_binding()), ("scene_vertices", scene.vertices.as_entire_binding()), ("scene_indices", scene.indices.as_entire_binding())],
         );
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("barycentrics"),
+            label: Some(Stage::BARYCENTRICS.name),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &target.view,
                 depth_slice: None,

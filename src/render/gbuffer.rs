@@ -1,11 +1,11 @@
 //! gbuffer: camera raster of world position and camera-facing normal, one texel per pixel.
 
 use super::{vertex_layout, SceneGpu, VERTEX_ATTRIBUTES};
-use crate::gpu::{pipeline, readback, GpuContext};
+use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::gpu::structs::GpuCamera;
 use crate::{Error, Result};
 
-pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub use crate::gpu::adapter::POSITION_FORMAT;
 
 pub struct GBuffer {
     pub width: u32,
@@ -49,11 +49,11 @@ pub struct GBufferPass {
 
 impl GBufferPass {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        let module = pipeline::shader_module(ctx, "gbuffer")?;
+        let module = pipeline::shader_module(ctx, Stage::GBUFFER.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let target = Some(wgpu::ColorTargetState { format: POSITION_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
         let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("gbuffer"),
+            label: Some(Stage::GBUFFER.name),
             layout: None,
             vertex: wgpu::VertexState {
                 module: &module,
@@ -79,7 +79,7 @@ impl GBufferPass {
             multiview_mask: None,
             cache: None,
         });
-        pipeline::check(scope, "gbuffer")?;
+        pipeline::check(scope, Stage::GBUFFER.name)?;
         Ok(Self { pipeline })
     }
 
@@ -113,11 +113,11 @@ impl GBufferPass {
 
     pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, camera: &GpuCamera, g: &GBuffer) {
         let camera_buffer = readback::uniform_buffer(ctx, "camera", camera);
-        let bind = pipeline::bind_group(ctx, "gbuffer", &self.pipeline.get_bind_group_layout(0), &[camera_buffer.as_entire_binding()]);
+        let bind = pipeline::bind_group(ctx, Stage::GBUFFER, &self.pipeline.get_bind_group_layout(0), &[("camera", camera_buffer.as_entire_binding())]);
         let clear = wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store };
         let attachment = |view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: clear });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("gbuffer"),
+            label: Some(Stage::GBUFFER.name),
             color_attachments: &[attachment(&g.position_view), attachment(&g.normal_view), attachment(&g.shading_normal_view)],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &g.depth_view,
@@ -148,10 +148,15 @@ pub fn read_back(ctx: &GpuContext, g: &GBuffer) -> Result<GBufferCpu> {
 
 /// The camera the G-buffer raster (and any pass that must match its pixels) draws with.
 pub fn camera_uniform(scene: &crate::scene::Scene) -> GpuCamera {
+    camera_uniform_for(scene, &scene.camera)
+}
+
+/// [`camera_uniform`] for another camera over the same meshes (a renderer whose camera moved).
+pub fn camera_uniform_for(scene: &crate::scene::Scene, camera: &crate::scene::Camera) -> GpuCamera {
     let aspect = scene.render.width as f32 / scene.render.height as f32;
     GpuCamera {
-        clip_from_world: scene.camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
-        eye: scene.camera.eye.extend(1.0).to_array(),
+        clip_from_world: camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
+        eye: camera.eye.extend(1.0).to_array(),
     }
 }
 

@@ -1,6 +1,6 @@
 //! Raster passes: scene upload, G-buffer, shadow-map raster.
 
-pub mod barycentrics;
+pub(crate) mod barycentrics;
 pub mod bvh;
 pub mod gbuffer;
 pub mod shadow_order;

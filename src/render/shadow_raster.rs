@@ -2,7 +2,7 @@
 //! Arrays are sized by the layer limit and the memory budget; callers work chunk by chunk beyond it.
 
 use super::{SceneGpu, VERTEX_ATTRIBUTES};
-use crate::gpu::{pipeline, GpuContext};
+use crate::gpu::{pipeline, GpuContext, Stage};
 use crate::scene::CullMode;
 use crate::{Error, Result};
 
@@ -95,11 +95,11 @@ pub struct ShadowRasterPass {
 
 impl ShadowRasterPass {
     pub fn new(ctx: &GpuContext, cull: CullMode) -> Result<Self> {
-        let module = pipeline::shader_module(ctx, "shadow_raster")?;
+        let module = pipeline::shader_module(ctx, Stage::SHADOW_RASTER.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let position_only = [VERTEX_ATTRIBUTES[0]];
         let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow_raster"),
+            label: Some(Stage::SHADOW_RASTER.name),
             layout: None,
             vertex: wgpu::VertexState {
                 module: &module,
@@ -128,7 +128,7 @@ impl ShadowRasterPass {
             multiview_mask: None,
             cache: None,
         });
-        pipeline::check(scope, "shadow_raster")?;
+        pipeline::check(scope, Stage::SHADOW_RASTER.name)?;
         Ok(Self { pipeline })
     }
 
@@ -142,7 +142,7 @@ impl ShadowRasterPass {
         array: &ShadowMapArray,
         jobs: &[RasterJob],
     ) {
-        let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
+        let bind = pipeline::bind_group(ctx, Stage::SHADOW_RASTER, &self.pipeline.get_bind_group_layout(0), &[("samples", samples.as_entire_binding())]);
         for job in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(scene.shadow_indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -163,7 +163,7 @@ impl ShadowRasterPass {
         scene: &SceneGpu,
     ) -> wgpu::RenderPass<'e> {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow_raster"),
+            label: Some(Stage::SHADOW_RASTER.name),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &array.layer_views[job.layer as usize],
@@ -200,7 +200,7 @@ impl ShadowRasterPass {
         culled: &wgpu::Buffer,
         args: &wgpu::Buffer,
     ) {
-        let bind = pipeline::bind_group(ctx, "shadow_raster", &self.pipeline.get_bind_group_layout(0), &[samples.as_entire_binding()]);
+        let bind = pipeline::bind_group(ctx, Stage::SHADOW_RASTER, &self.pipeline.get_bind_group_layout(0), &[("samples", samples.as_entire_binding())]);
         for (job, offset) in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(culled.slice(..), wgpu::IndexFormat::Uint32);

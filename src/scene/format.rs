@@ -3,7 +3,7 @@
 use super::mesh_def::MeshDef;
 use super::mesh_file::MeshDirs;
 use super::settings::{MapKind, RenderSettings};
-use super::mesh;
+use super::mesh::{self, Vertex};
 use super::model::{Camera, Scene};
 use crate::scene::light::{AreaLight, Bounds};
 use crate::{Error, Result};
@@ -119,7 +119,7 @@ fn toml_message(text: &str, e: &toml::de::Error, lead: &str) -> String {
 /// Scene coordinates beyond this lose all precision in f32 projections (and overflow products).
 pub const MAX_COORDINATE: f32 = 1e6;
 
-fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> Result<Vec3> {
+pub(super) fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> Result<Vec3> {
     if v.iter().any(|x| !x.is_finite()) {
         return Err(Error::scene(origin, format!("{what} has a NaN or infinite coordinate: {v:?}")));
     }
@@ -130,11 +130,50 @@ fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> Result<Vec3>
 }
 
 pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
+    let camera = camera(origin, &def.camera)?;
+    let environment = match &def.environment {
+        Some(e) => Some(crate::scene::environment::scene::build(e, origin, dirs)?),
+        None => None,
+    };
+    let light = match (&def.light, &environment) {
+        (Some(l), _) => Some(build_light(l, origin)?),
+        (None, Some(_)) => None,
+        (None, None) => return Err(Error::scene(origin, "the scene has no [light] and no [environment]: give one")),
+    };
+    let render = render_settings(origin, &def.render)?;
+    if def.meshes.is_empty() {
+        return Err(Error::scene(origin, "the scene has no [[mesh]]"));
+    }
+    let mut meshes = Vec::new();
+    for (k, m) in def.meshes.iter().enumerate() {
+        let albedo = finite(origin, &format!("mesh {} albedo", k + 1), m.albedo)?;
+        let (verts, idx) = mesh::instantiate(m, k, origin, dirs)?;
+        meshes.push((verts, idx, albedo.to_array()));
+    }
+    let parts = Parts { name: def.name, description: def.description, stated_triangles: def.triangles, camera, light, environment, render };
+    assemble(parts, meshes, origin)
+}
+
+/// A scene's checked parts besides its meshes: what [`assemble`] joins to the meshes.
+pub(crate) struct Parts {
+    pub name: Option<String>,
+    pub description: Option<String>,
+    /// Triangle count the author states; checked against the meshes.
+    pub stated_triangles: Option<u64>,
+    pub camera: Camera,
+    /// `None`: a panorama lights the scene and the light is a nominal square above the meshes.
+    pub light: Option<AreaLight>,
+    pub environment: Option<crate::scene::environment::Environment>,
+    pub render: RenderSettings,
+}
+
+/// The checked `[camera]`.
+pub(crate) fn camera(origin: &str, def: &CameraDef) -> Result<Camera> {
     let camera = Camera {
-        eye: finite(origin, "camera.eye", def.camera.eye)?,
-        target: finite(origin, "camera.target", def.camera.target)?,
-        up: finite(origin, "camera.up", def.camera.up)?,
-        fov_y_deg: def.camera.fov_y_deg,
+        eye: finite(origin, "camera.eye", def.eye)?,
+        target: finite(origin, "camera.target", def.target)?,
+        up: finite(origin, "camera.up", def.up)?,
+        fov_y_deg: def.fov_y_deg,
     };
     if !(camera.fov_y_deg.is_finite() && camera.fov_y_deg > 0.0 && camera.fov_y_deg < 180.0) {
         return Err(Error::scene(origin, format!("camera.fov_y_deg must be in (0, 180), got {}", camera.fov_y_deg)));
@@ -143,16 +182,11 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     if view_dir.length() < 1e-9 || view_dir.cross(camera.up).length() < 1e-9 * view_dir.length() {
         return Err(Error::scene(origin, "camera: eye equals target, or up is parallel to the view direction"));
     }
-    let environment = match &def.environment {
-        Some(e) => Some(crate::scene::environment::scene::build(e, origin, dirs)?),
-        None => None,
-    };
-    let light = match (&def.light, &environment) {
-        (Some(l), _) => build_light(l, origin)?,
-        (None, Some(_)) => crate::scene::environment::scene::nominal_light(),
-        (None, None) => return Err(Error::scene(origin, "the scene has no [light] and no [environment]: give one")),
-    };
-    let r = &def.render;
+    Ok(camera)
+}
+
+/// The checked `[render]` table, with a hybrid map's raster size in `shadow_map_size`.
+pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<RenderSettings> {
     for (key, v) in [("render.width", r.width), ("render.height", r.height), ("render.shadow_map_size", r.shadow_map_size)] {
         if v == 0 {
             return Err(Error::scene(origin, format!("{key} must be at least 1")));
@@ -175,7 +209,7 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     if !(0.0..=1.0).contains(&r.ambient) {
         return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
     }
-    let mut render = def.render.clone();
+    let mut render = r.clone();
     if render.maps == MapKind::Hybrid {
         let hy = render.hybrid;
         if !(1..=2).contains(&hy.levels) {
@@ -190,22 +224,23 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         // The raster (and every lookup's texel grid) is the full resolution.
         render.shadow_map_size = hy.base;
     }
-    if def.meshes.is_empty() {
-        return Err(Error::scene(origin, "the scene has no [[mesh]]"));
-    }
+    Ok(render)
+}
+
+/// Joins checked parts and meshes (vertices, indices, albedo; material indices are assigned here
+/// in mesh order) into a scene: bounds, the light's side, the stated triangle count, the view.
+pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3])>, origin: &str) -> Result<Scene> {
     let mut vertices = Vec::new();
     let mut indices = Vec::new();
     let mut albedos = Vec::new();
-    for (k, m) in def.meshes.iter().enumerate() {
-        let albedo = finite(origin, &format!("mesh {} albedo", k + 1), m.albedo)?;
-        let (verts, idx) = mesh::instantiate(m, k, origin, dirs)?;
+    for (verts, idx, albedo) in meshes {
         let base = vertices.len() as u32;
         vertices.extend(verts.into_iter().map(|mut v| {
             v.material = albedos.len() as u32;
             v
         }));
         indices.extend(idx.into_iter().map(|i| i + base));
-        albedos.push(albedo.to_array());
+        albedos.push(albedo);
     }
     let mut min = Vec3::splat(f32::INFINITY);
     let mut max = Vec3::splat(f32::NEG_INFINITY);
@@ -213,33 +248,27 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         min = min.min(Vec3::from(v.position));
         max = max.max(Vec3::from(v.position));
     }
-    // The light emits along edge_u × edge_v: with every mesh behind its plane, V = 0 everywhere.
-    let n = light.normal();
-    let nominal = def.light.is_none();
-    let corners = (0..8).map(|i| Vec3::new([min.x, max.x][i & 1], [min.y, max.y][(i >> 1) & 1], [min.z, max.z][i >> 2]));
-    if !nominal && corners.map(|c| (c - light.center).dot(n)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
-        return Err(Error::scene(
-            origin,
-            format!(
-                "light: emits along {:?} (edge_u × edge_v, or `normal`), away from every mesh: nothing would be lit; flip `normal` or swap edge_u and edge_v",
-                n.to_array()
-            ),
-        ));
-    }
-    if let Some(stated) = def.triangles {
+    let light = match parts.light {
+        Some(light) => {
+            check_light_side(origin, &light, &Bounds { min, max })?;
+            light
+        }
+        None => crate::scene::environment::scene::light_above(min, max),
+    };
+    if let Some(stated) = parts.stated_triangles {
         let got = indices.len() as u64 / 3;
         if stated != got {
             return Err(Error::scene(origin, format!("states triangles = {stated} but its meshes have {got}")));
         }
     }
     let scene = Scene {
-        name: def.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
-        description: def.description.unwrap_or_default(),
+        name: parts.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
+        description: parts.description.unwrap_or_default(),
         origin: origin.to_string(),
-        camera,
-        light: if nominal { crate::scene::environment::scene::light_above(min, max) } else { light },
-        environment,
-        render,
+        camera: parts.camera,
+        light,
+        environment: parts.environment,
+        render: parts.render,
         vertices,
         indices,
         albedos,
@@ -251,7 +280,22 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     Ok(scene)
 }
 
-fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
+/// The light emits along edge_u × edge_v: with every mesh behind its plane, V = 0 everywhere.
+pub(super) fn check_light_side(origin: &str, light: &AreaLight, bounds: &Bounds) -> Result<()> {
+    let n = light.normal();
+    if bounds.corners().iter().map(|c| (*c - light.center).dot(n)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
+        return Err(Error::scene(
+            origin,
+            format!(
+                "light: emits along {:?} (edge_u × edge_v, or `normal`), away from every mesh: nothing would be lit; flip `normal` or swap edge_u and edge_v",
+                n.to_array()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+pub(super) fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
     let center = finite(origin, "light.center", l.center)?;
     let (edge_u, edge_v) = match (l.edge_u, l.edge_v, l.size, l.normal) {
         (Some(u), Some(v), None, None) => (finite(origin, "light.edge_u", u)?, finite(origin, "light.edge_v", v)?),

@@ -84,7 +84,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
 pub const MAX_SCENE_TRIANGLES: u64 = 1 << 26;
 
 /// Area-weighted vertex normals (the cross product's length is twice the area).
-fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+pub(super) fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
     let mut n = vec![Vec3::ZERO; positions.len()];
     for t in indices.chunks_exact(3) {
         let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);

@@ -50,7 +50,11 @@ impl Scene {
     /// The error for a camera that sees none of the meshes (also raised when the G-buffer holds no
     /// geometry pixel): it names the camera, which is where the fix lies.
     pub fn nothing_visible(&self) -> Error {
-        let c = &self.camera;
+        self.nothing_visible_from(&self.camera)
+    }
+
+    /// [`Self::nothing_visible`] for another camera over these meshes (the embedding API moves it).
+    pub fn nothing_visible_from(&self, c: &Camera) -> Error {
         Error::scene(
             &self.origin,
             format!(
@@ -66,8 +70,13 @@ impl Scene {
 
     /// Whether the meshes' bounding box lies wholly outside the camera's view (then nothing shows).
     pub fn bounds_outside_view(&self) -> bool {
+        self.bounds_outside(&self.camera)
+    }
+
+    /// [`Self::bounds_outside_view`] for another camera.
+    pub fn bounds_outside(&self, camera: &Camera) -> bool {
         let aspect = self.render.width as f32 / self.render.height as f32;
-        let m = self.camera.clip_from_world(aspect, &self.bounds);
+        let m = camera.clip_from_world(aspect, &self.bounds);
         let (lo, hi) = (self.bounds.min, self.bounds.max);
         let clip: Vec<glam::Vec4> =
             (0..8).map(|i| m * Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2]).extend(1.0)).collect();

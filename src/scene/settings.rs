@@ -20,16 +20,7 @@ pub struct RenderSettings {
     pub hybrid: HybridDef,
 }
 
-/// How every map-reading method stores its shadow maps.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum MapKind {
-    /// One `Depth32Float` layer of `shadow_map_size`² per map.
-    Plain,
-    /// Hybrid-resolution maps (seed 003): rasterized at `hybrid.base`², flat 2x2 blocks merged over
-    /// `hybrid.levels` levels into a compact store with an index (docs/hybrid.md).
-    Hybrid,
-}
+pub use crate::gpu::kernels::MapKind;
 
 /// `maps = "hybrid"` settings. With them the raster size is `base` (it replaces `shadow_map_size`).
 #[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq)]

@@ -1,5 +1,6 @@
 //! blur: separable box prefilter of the moment planes (horizontal into `scratch`, vertical back).
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -10,7 +11,7 @@ pub struct Blur {
 
 impl Blur {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { horizontal: ComputeKernel::new(fg.ctx, "blur", "horizontal")?, vertical: ComputeKernel::new(fg.ctx, "blur", "vertical")? })
+        Ok(Self { horizontal: ComputeKernel::new(fg.ctx, Stage::BLUR, "horizontal")?, vertical: ComputeKernel::new(fg.ctx, Stage::BLUR, "vertical")? })
     }
 
     /// `source` → (horizontal) → `scratch` → (vertical) → `target`.
@@ -31,10 +32,10 @@ impl Blur {
                 fg.ctx,
                 enc,
                 &[
-                    (0, fg.frame_buffer.as_entire_binding()),
-                    (1, filter.as_entire_binding()),
-                    (2, from.as_entire_binding()),
-                    (3, to.as_entire_binding()),
+                    ("frame", fg.frame_buffer.as_entire_binding()),
+                    ("settings", filter.as_entire_binding()),
+                    ("source", from.as_entire_binding()),
+                    ("destination", to.as_entire_binding()),
                 ],
                 Dispatch::Direct(size3),
             );

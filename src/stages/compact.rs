@@ -2,9 +2,10 @@
 //! rectangles; `seed` and `resolve` start the item list and finish V (reproject_count `begin`
 //! starts each level's list).
 
-use crate::methods::adaptive::buffers::AdaptiveBuffers;
+use crate::gpu::{GpuContext, Stage};
+use crate::stages::adaptive_buffers::{CountMaps, Decisions, Footprints, ItemLists, Level};
+use crate::render::gbuffer::GBuffer;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
-use super::FrameGpu;
 use crate::Result;
 
 pub struct Compact {
@@ -16,80 +17,92 @@ pub struct Compact {
 }
 
 impl Compact {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        let k = |e| ComputeKernel::new(fg.ctx, "compact", e);
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        let k = |e| ComputeKernel::new(ctx, Stage::COMPACT, e);
         Ok(Self { main: k("main")?, main_rects: k("main_rects")?, seed: k("seed")?, resolve: k("resolve")? })
     }
 
-    fn pixels(b: &AdaptiveBuffers) -> Dispatch<'static> {
-        Dispatch::Direct([groups(b.width, PIXEL_WORKGROUP[0]), groups(b.height, PIXEL_WORKGROUP[1]), 1])
+    fn pixels(g: &GBuffer) -> Dispatch<'static> {
+        Dispatch::Direct([groups(g.width, PIXEL_WORKGROUP[0]), groups(g.height, PIXEL_WORKGROUP[1]), 1])
     }
 
-    pub fn record_seed(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, items: &wgpu::Buffer) {
+    /// Every geometry pixel of `g` becomes an item of the root (`items.items[0]`), counted in `control`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_seed(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
         self.seed.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (5, items.as_entire_binding()),
-                (6, b.control.as_entire_binding()),
-                (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("frame", frame.as_entire_binding()),
+                ("level", level.as_entire_binding()),
+                ("next_items", items.items[0].as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
             ],
-            Self::pixels(b),
+            Self::pixels(g),
         );
     }
 
+    /// From this level's items (`items.items[cur]`, their counts and the split decisions): the
+    /// next level's items and quads' probes, the uniform shares of unrefined quads, and (`grow_rects`)
+    /// the footprints of the next maps.
     #[allow(clippy::too_many_arguments)]
     pub fn record_main(
         &self,
-        fg: &FrameGpu,
+        ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
-        b: &AdaptiveBuffers,
-        level: &wgpu::Buffer,
-        items: &wgpu::Buffer,
-        next_items: &wgpu::Buffer,
+        lv: &Level,
+        g: &GBuffer,
+        counts: &CountMaps,
+        decisions: &Decisions,
         next_quads: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        control: &wgpu::Buffer,
+        items: &ItemLists,
+        cur: usize,
+        footprints: &Footprints,
         grow_rects: bool,
     ) {
         // Both entry points share the item code, so both take every binding.
         let kernel = if grow_rects { &self.main_rects } else { &self.main };
         kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (2, items.as_entire_binding()),
-                (3, b.counts.as_entire_binding()),
-                (4, b.split_base.as_entire_binding()),
-                (5, next_items.as_entire_binding()),
-                (6, b.control.as_entire_binding()),
-                (7, b.visibility_fixed.as_entire_binding()),
-                (8, next_quads.as_entire_binding()),
-                (9, b.samples.as_entire_binding()),
-                (10, b.rects.as_entire_binding()),
-                (11, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (12, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (14, b.item_total.as_entire_binding()),
-                (16, b.probes.as_entire_binding()),
-                (17, b.tiles.as_entire_binding()),
+                ("frame", lv.frame.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("items", items.items[cur].as_entire_binding()),
+                ("counts", counts.maps.as_entire_binding()),
+                ("split_base", decisions.split_base.as_entire_binding()),
+                ("next_items", items.items[1 - cur].as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
+                ("next_quads", next_quads.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("rects", footprints.rects.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&g.normal_view)),
+                ("item_total", items.total.as_entire_binding()),
+                ("probes", items.probes.as_entire_binding()),
+                ("tiles", footprints.tiles.as_entire_binding()),
             ],
-            Dispatch::Indirect(&b.list_args),
+            Dispatch::Indirect(&items.list_args),
         );
     }
 
-    pub fn record_resolve(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+    /// V from the integer sums (`items.visibility_fixed`) into `visibility`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_resolve(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, level: &wgpu::Buffer, items: &ItemLists, visibility: &wgpu::Buffer) {
         self.resolve.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (7, b.visibility_fixed.as_entire_binding()),
-                (13, fg.visibility.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
+                ("level", level.as_entire_binding()),
+                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
+                ("visibility", visibility.as_entire_binding()),
             ],
-            Self::pixels(b),
+            Self::pixels(g),
         );
     }
 }

@@ -3,6 +3,7 @@
 //! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
 //! slots fit one storage binding; batches reuse the slots within one submission.
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuCull;
@@ -11,8 +12,7 @@ use glam::Vec3;
 
 /// u32 words of one slot's draw_indexed_indirect arguments.
 pub const ARGS_WORDS: u32 = 5;
-/// Consecutive triangles whose box is tested first (CULL_RUN in the kernel).
-pub const CULL_RUN: u32 = 32;
+pub use crate::gpu::stages::CULL_RUN;
 /// Index memory the slots may take together.
 const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
 
@@ -67,9 +67,9 @@ impl Cull {
             control: storage("cull control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("cull dispatch", 16, wgpu::BufferUsages::INDIRECT),
             cull_face: cull_face(fg.scene.render.cull),
-            runs_phase: ComputeKernel::new(ctx, "cull", "main")?,
-            begin: ComputeKernel::new(ctx, "cull", "begin")?,
-            triangles: ComputeKernel::new(ctx, "cull", "triangles")?,
+            runs_phase: ComputeKernel::new(ctx, Stage::CULL, "main")?,
+            begin: ComputeKernel::new(ctx, Stage::CULL, "begin")?,
+            triangles: ComputeKernel::new(ctx, Stage::CULL, "triangles")?,
             culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
             args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
             slots,
@@ -99,39 +99,39 @@ impl Cull {
             ctx,
             enc,
             &[
-                (0, uniform.as_entire_binding()),
-                (1, fg.frame_buffer.as_entire_binding()),
-                (2, samples.as_entire_binding()),
-                (3, tiles.as_entire_binding()),
-                (4, self.runs.as_entire_binding()),
-                (6, slots.as_entire_binding()),
-                (8, self.args.as_entire_binding()),
-                (10, self.kept_runs.as_entire_binding()),
-                (11, self.control.as_entire_binding()),
+                ("cull", uniform.as_entire_binding()),
+                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("tiles", tiles.as_entire_binding()),
+                ("runs", self.runs.as_entire_binding()),
+                ("slots", slots.as_entire_binding()),
+                ("args", self.args.as_entire_binding()),
+                ("kept_runs", self.kept_runs.as_entire_binding()),
+                ("control", self.control.as_entire_binding()),
             ],
             Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
         );
         self.begin.dispatch(
             ctx,
             enc,
-            &[(11, self.control.as_entire_binding()), (12, self.dispatch.as_entire_binding())],
+            &[("control", self.control.as_entire_binding()), ("dispatch", self.dispatch.as_entire_binding())],
             Dispatch::Direct([1, 1, 1]),
         );
         self.triangles.dispatch(
             ctx,
             enc,
             &[
-                (0, uniform.as_entire_binding()),
-                (1, fg.frame_buffer.as_entire_binding()),
-                (2, samples.as_entire_binding()),
-                (3, tiles.as_entire_binding()),
-                (5, fg.scene_gpu.shadow_indices.as_entire_binding()),
-                (6, slots.as_entire_binding()),
-                (7, self.culled.as_entire_binding()),
-                (8, self.args.as_entire_binding()),
-                (9, fg.scene_gpu.vertices.as_entire_binding()),
-                (10, self.kept_runs.as_entire_binding()),
-                (11, self.control.as_entire_binding()),
+                ("cull", uniform.as_entire_binding()),
+                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("tiles", tiles.as_entire_binding()),
+                ("indices", fg.scene_gpu.shadow_indices.as_entire_binding()),
+                ("slots", slots.as_entire_binding()),
+                ("culled", self.culled.as_entire_binding()),
+                ("args", self.args.as_entire_binding()),
+                ("vertices", fg.scene_gpu.vertices.as_entire_binding()),
+                ("kept_runs", self.kept_runs.as_entire_binding()),
+                ("control", self.control.as_entire_binding()),
             ],
             Dispatch::Indirect(&self.dispatch),
         );

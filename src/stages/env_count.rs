@@ -1,5 +1,6 @@
 //! env_count: per active quadtree cell, the pixels whose rays to the cell's corners disagree.
 
+use crate::gpu::Stage;
 use super::env_trace::BvhBuffers;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
 use crate::Result;
@@ -10,7 +11,7 @@ pub struct EnvCount {
 
 impl EnvCount {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_count", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_COUNT, "main")? })
     }
 
     /// `counts` must be zeroed for the `cells` active cells.
@@ -20,14 +21,14 @@ impl EnvCount {
             fg.ctx,
             enc,
             &[
-                (0, params.as_entire_binding()),
-                (1, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (2, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (3, corners.as_entire_binding()),
-                (4, cells.as_entire_binding()),
-                (5, counts.as_entire_binding()),
-                (20, bvh.nodes.as_entire_binding()),
-                (21, bvh.triangles.as_entire_binding()),
+                ("params", params.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("corners", corners.as_entire_binding()),
+                ("cells", cells.as_entire_binding()),
+                ("counts", counts.as_entire_binding()),
+                ("bvh_nodes", bvh.nodes.as_entire_binding()),
+                ("bvh_triangles", bvh.triangles.as_entire_binding()),
             ],
             Dispatch::Direct([groups(counted_pixels(fg.gbuffer.width, fg.gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
         );

@@ -1,6 +1,7 @@
 //! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
 //! power- and cosine-weighted.
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -18,7 +19,7 @@ pub struct FilterBuffers<'a> {
 
 impl EnvShadowmaps {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_shadowmaps", "main")?, sampler: super::pcf::comparison_sampler(fg.ctx) })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_SHADOWMAPS, "main")?, sampler: super::pcf::comparison_sampler(fg.ctx) })
     }
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
@@ -29,18 +30,18 @@ impl EnvShadowmaps {
             fg.ctx,
             enc,
             &[
-                (0, frame.as_entire_binding()),
-                (1, params.as_entire_binding()),
-                (2, samples.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (5, wgpu::BindingResource::TextureView(maps)),
-                (6, lights.as_entire_binding()),
-                (7, fg.visibility.as_entire_binding()),
-                (8, ao.as_entire_binding()),
-                (9, filter.settings.as_entire_binding()),
-                (10, filter.disk.as_entire_binding()),
-                (11, wgpu::BindingResource::Sampler(&self.sampler)),
+                ("frame", frame.as_entire_binding()),
+                ("params", params.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                ("lights", lights.as_entire_binding()),
+                ("visibility", fg.visibility.as_entire_binding()),
+                ("ao", ao.as_entire_binding()),
+                ("settings", filter.settings.as_entire_binding()),
+                ("disk", filter.disk.as_entire_binding()),
+                ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );

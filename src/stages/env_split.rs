@@ -1,5 +1,6 @@
 //! env_split: split or keep every active quadtree cell; children and leaves appended with atomics.
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
 use crate::Result;
 
@@ -21,7 +22,7 @@ pub struct EnvSplitIo<'a> {
 
 impl EnvSplit {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_split", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_SPLIT, "main")? })
     }
 
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, io: &EnvSplitIo, cell_count: u32) {
@@ -29,13 +30,13 @@ impl EnvSplit {
             fg.ctx,
             enc,
             &[
-                (0, io.params.as_entire_binding()),
-                (1, io.cells.as_entire_binding()),
-                (2, io.counts.as_entire_binding()),
-                (3, io.cell_power.as_entire_binding()),
-                (4, io.next_cells.as_entire_binding()),
-                (5, io.leaves.as_entire_binding()),
-                (6, io.control.as_entire_binding()),
+                ("params", io.params.as_entire_binding()),
+                ("cells", io.cells.as_entire_binding()),
+                ("counts", io.counts.as_entire_binding()),
+                ("cell_power", io.cell_power.as_entire_binding()),
+                ("next_cells", io.next_cells.as_entire_binding()),
+                ("leaves", io.leaves.as_entire_binding()),
+                ("control", io.control.as_entire_binding()),
             ],
             Dispatch::Direct([groups(cell_count, LINE_WORKGROUP[0]), 1, 1]),
         );

@@ -1,6 +1,7 @@
 //! env_trace: shadow rays from every G-buffer pixel (`main`) or every mesh vertex (`vertex`) to a
 //! list of directional lights through the scene's BVH, into V (and the blocked-ray counts).
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::render::bvh::Bvh;
 use crate::gpu::readback;
@@ -70,7 +71,7 @@ pub fn chunk_params(base: &crate::gpu::structs::GpuEnvParams, light_count: u32) 
 
 impl EnvTrace {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_trace", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_TRACE, "main")? })
     }
 
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, inputs: &EnvTraceInputs) {
@@ -78,16 +79,16 @@ impl EnvTrace {
             fg.ctx,
             enc,
             &[
-                (0, inputs.params.as_entire_binding()),
-                (1, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (2, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (3, inputs.lights.as_entire_binding()),
-                (4, fg.visibility.as_entire_binding()),
-                (5, inputs.blocked.as_entire_binding()),
-                (6, inputs.ao.as_entire_binding()),
-                (7, inputs.sums.as_entire_binding()),
-                (20, inputs.bvh.nodes.as_entire_binding()),
-                (21, inputs.bvh.triangles.as_entire_binding()),
+                ("params", inputs.params.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("lights", inputs.lights.as_entire_binding()),
+                ("visibility", fg.visibility.as_entire_binding()),
+                ("blocked", inputs.blocked.as_entire_binding()),
+                ("ao", inputs.ao.as_entire_binding()),
+                ("sums", inputs.sums.as_entire_binding()),
+                ("bvh_nodes", inputs.bvh.nodes.as_entire_binding()),
+                ("bvh_triangles", inputs.bvh.triangles.as_entire_binding()),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
@@ -96,7 +97,7 @@ impl EnvTrace {
 
 impl EnvTraceVertex {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_trace", "vertex")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_TRACE, "vertex")? })
     }
 
     /// One chunk of lights at every mesh vertex (`params.vertex_count` of them).
@@ -105,14 +106,14 @@ impl EnvTraceVertex {
             fg.ctx,
             enc,
             &[
-                (0, params.as_entire_binding()),
-                (3, lights.as_entire_binding()),
-                (5, out.blocked.as_entire_binding()),
-                (7, out.sums.as_entire_binding()),
-                (8, fg.scene_gpu.vertices.as_entire_binding()),
-                (9, out.visibility.as_entire_binding()),
-                (20, bvh.nodes.as_entire_binding()),
-                (21, bvh.triangles.as_entire_binding()),
+                ("params", params.as_entire_binding()),
+                ("lights", lights.as_entire_binding()),
+                ("blocked", out.blocked.as_entire_binding()),
+                ("sums", out.sums.as_entire_binding()),
+                ("scene_vertices", fg.scene_gpu.vertices.as_entire_binding()),
+                ("vertex_visibility", out.visibility.as_entire_binding()),
+                ("bvh_nodes", bvh.nodes.as_entire_binding()),
+                ("bvh_triangles", bvh.triangles.as_entire_binding()),
             ],
             Dispatch::Direct([groups(fg.scene.vertices.len() as u32, LINE_WORKGROUP[0]), 1, 1]),
         );

@@ -1,6 +1,7 @@
 //! env_vertex_interp: V per pixel from V per mesh vertex, by the pixel's barycentrics
 //! (env-pixels:at=vertex).
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::render::barycentrics::TriangleIds;
 use crate::Result;
@@ -11,7 +12,7 @@ pub struct EnvVertexInterp {
 
 impl EnvVertexInterp {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "env_vertex_interp", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_VERTEX_INTERP, "main")? })
     }
 
     /// `ao` is read when `params.use_ao` is 1 (any buffer otherwise).
@@ -20,12 +21,12 @@ impl EnvVertexInterp {
             fg.ctx,
             enc,
             &[
-                (0, params.as_entire_binding()),
-                (1, wgpu::BindingResource::TextureView(&ids.view)),
-                (2, fg.scene_gpu.indices.as_entire_binding()),
-                (3, vertex_visibility.as_entire_binding()),
-                (4, ao.as_entire_binding()),
-                (5, fg.visibility.as_entire_binding()),
+                ("params", params.as_entire_binding()),
+                ("triangle_ids", wgpu::BindingResource::TextureView(&ids.view)),
+                ("scene_indices", fg.scene_gpu.indices.as_entire_binding()),
+                ("vertex_visibility", vertex_visibility.as_entire_binding()),
+                ("ao", ao.as_entire_binding()),
+                ("visibility", fg.visibility.as_entire_binding()),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );

@@ -2,7 +2,7 @@
 //! the compact representation `kernels/shared/maps_hybrid.wgsl` reads (docs/hybrid.md).
 
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
-use crate::gpu::{readback, GpuContext};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuHybridBuild, GpuHybridControl};
 use crate::render::shadow_raster::ShadowMapArray;
 use crate::scene::HybridDef;
@@ -49,10 +49,10 @@ impl HybridBuild {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             sampler: ctx.device.create_sampler(&wgpu::SamplerDescriptor { label: Some("hybrid_build gather"), ..Default::default() }),
-            classify: ComputeKernel::new(ctx, "hybrid_build", "classify")?,
-            scan_rows: ComputeKernel::new(ctx, "hybrid_build", "scan_rows")?,
-            scan_total: ComputeKernel::new(ctx, "hybrid_build", "scan_total")?,
-            emit: ComputeKernel::new(ctx, "hybrid_build", "emit")?,
+            classify: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "classify")?,
+            scan_rows: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "scan_rows")?,
+            scan_total: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "scan_total")?,
+            emit: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "emit")?,
         })
     }
 
@@ -76,28 +76,28 @@ impl HybridBuild {
             ctx,
             enc,
             &[
-                (0, build.as_entire_binding()),
-                (1, raster_view.clone()),
-                (2, store.offsets.as_entire_binding()),
-                (6, store.coarse_nodes.as_entire_binding()),
-                (7, wgpu::BindingResource::Sampler(&self.sampler)),
+                ("build", build.as_entire_binding()),
+                ("raster", raster_view.clone()),
+                ("offsets", store.offsets.as_entire_binding()),
+                ("coarse_nodes", store.coarse_nodes.as_entire_binding()),
+                ("gather_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             grid,
         );
         self.scan_rows.dispatch(
             ctx,
             enc,
-            &[(0, build.as_entire_binding()), (2, store.offsets.as_entire_binding()), (3, store.row_starts.as_entire_binding())],
+            &[("build", build.as_entire_binding()), ("offsets", store.offsets.as_entire_binding()), ("row_starts", store.row_starts.as_entire_binding())],
             Dispatch::Direct([groups(c, LINE_WORKGROUP[0]), 1, 1]),
         );
         self.scan_total.dispatch(
             ctx,
             enc,
             &[
-                (0, build.as_entire_binding()),
-                (3, store.row_starts.as_entire_binding()),
-                (4, store.control.as_entire_binding()),
-                (5, wgpu::BindingResource::TextureView(&store.storage_view)),
+                ("build", build.as_entire_binding()),
+                ("row_starts", store.row_starts.as_entire_binding()),
+                ("control", store.control.as_entire_binding()),
+                ("pool", wgpu::BindingResource::TextureView(&store.storage_view)),
             ],
             Dispatch::Direct([1, 1, 1]),
         );
@@ -106,14 +106,14 @@ impl HybridBuild {
             ctx,
             enc,
             &[
-                (0, build.as_entire_binding()),
-                (1, raster_view),
-                (2, store.offsets.as_entire_binding()),
-                (3, store.row_starts.as_entire_binding()),
-                (4, store.control.as_entire_binding()),
-                (5, wgpu::BindingResource::TextureView(&store.storage_view)),
-                (6, store.coarse_nodes.as_entire_binding()),
-                (7, wgpu::BindingResource::Sampler(&self.sampler)),
+                ("build", build.as_entire_binding()),
+                ("raster", raster_view),
+                ("offsets", store.offsets.as_entire_binding()),
+                ("row_starts", store.row_starts.as_entire_binding()),
+                ("control", store.control.as_entire_binding()),
+                ("pool", wgpu::BindingResource::TextureView(&store.storage_view)),
+                ("coarse_nodes", store.coarse_nodes.as_entire_binding()),
+                ("gather_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             grid,
         );

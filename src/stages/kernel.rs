@@ -1,12 +1,15 @@
-//! A compute entry point with its pipeline; bindings are given as (binding, resource) pairs so each
-//! stage module states exactly what its kernel reads and writes.
+//! A compute entry point with its pipeline. Bindings are given by the WGSL variable's name, and
+//! the stage table (`gpu::stages`, checked against the kernels by tests/kernels.rs) gives their
+//! indices, so each stage module states exactly what its kernel reads and writes and no index is
+//! written twice.
 
+use crate::gpu::stages::{Entry, Stage};
 use crate::gpu::{pipeline, GpuContext};
-use crate::Result;
+use crate::{Error, Result};
 
 pub struct ComputeKernel {
-    pub name: &'static str,
-    pub entry: &'static str,
+    pub stage: Stage,
+    pub entry: &'static Entry,
     pipeline: wgpu::ComputePipeline,
 }
 
@@ -18,30 +21,49 @@ pub enum Dispatch<'a> {
 }
 
 impl ComputeKernel {
-    pub fn new(ctx: &GpuContext, name: &'static str, entry: &'static str) -> Result<Self> {
-        Self::new_for(ctx, name, entry, crate::scene::MapKind::Plain)
+    pub fn new(ctx: &GpuContext, stage: Stage, entry: &str) -> Result<Self> {
+        Self::new_for(ctx, stage, entry, crate::scene::MapKind::Plain)
     }
 
     /// A map-reading kernel built for the scene's shadow-map representation.
-    pub fn new_for(ctx: &GpuContext, name: &'static str, entry: &'static str, maps: crate::scene::MapKind) -> Result<Self> {
-        Ok(Self { name, entry, pipeline: pipeline::compute_pipeline_for(ctx, name, entry, maps)? })
+    pub fn new_for(ctx: &GpuContext, stage: Stage, entry: &str, maps: crate::scene::MapKind) -> Result<Self> {
+        let table = stage
+            .entry(entry)
+            .ok_or_else(|| Error::Kernel { name: stage.name.into(), message: format!("no entry point `{entry}` in the stage table") })?;
+        Ok(Self { stage, entry: table, pipeline: pipeline::compute_pipeline_for(ctx, stage.name, entry, maps)? })
+    }
+
+    /// The @binding of the WGSL variable `name`. A name the entry point does not use is a bug in
+    /// the pass (the stage table lists every binding naga finds), so it panics.
+    pub fn binding(&self, name: &str) -> u32 {
+        self.entry.binding(name).unwrap_or_else(|| panic!("{}::{} has no binding `{name}` (gpu::stages)", self.stage, self.entry.name))
     }
 
     pub fn dispatch(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        bindings: &[(u32, wgpu::BindingResource)],
+        bindings: &[(&str, wgpu::BindingResource)],
         dispatch: Dispatch,
     ) {
         let entries: Vec<wgpu::BindGroupEntry> =
-            bindings.iter().map(|(b, r)| wgpu::BindGroupEntry { binding: *b, resource: r.clone() }).collect();
+            bindings.iter().map(|(b, r)| wgpu::BindGroupEntry { binding: self.binding(b), resource: r.clone() }).collect();
+        // The layout is the entry point's own: every variable it uses must be bound.
+        assert_eq!(
+            entries.len(),
+            self.entry.bindings.len(),
+            "{}::{} binds {:?}, the kernel uses {:?}",
+            self.stage,
+            self.entry.name,
+            entries.iter().map(|e| e.binding).collect::<Vec<_>>(),
+            self.entry.bindings
+        );
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(self.name),
+            label: Some(self.stage.name),
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.stage.name), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         match dispatch {

@@ -1,5 +1,6 @@
 //! moments: the centre map's depths as the statistic a filtered method prefilters.
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -9,7 +10,7 @@ pub struct Moments {
 
 impl Moments {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "moments", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::MOMENTS, "main")? })
     }
 
     pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, out: &wgpu::Buffer) {
@@ -18,11 +19,11 @@ impl Moments {
             fg.ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, filter.as_entire_binding()),
-                (2, samples.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(maps)),
-                (4, out.as_entire_binding()),
+                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("settings", filter.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                ("moments", out.as_entire_binding()),
             ],
             Dispatch::Direct([groups(size, PIXEL_WORKGROUP[0]), groups(size, PIXEL_WORKGROUP[1]), 1]),
         );

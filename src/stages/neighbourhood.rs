@@ -1,8 +1,8 @@
 //! neighbourhood: the uniform-3x3 low-quality test, one flag bit per (pixel, quad).
 
-use crate::methods::adaptive::buffers::AdaptiveBuffers;
+use crate::gpu::{GpuContext, Stage};
+use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, LowQuality};
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
-use super::FrameGpu;
 use crate::Result;
 
 pub struct Neighbourhood {
@@ -11,48 +11,49 @@ pub struct Neighbourhood {
 }
 
 impl Neighbourhood {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
-            dense: ComputeKernel::new(fg.ctx, "neighbourhood", "main")?,
-            list: ComputeKernel::new(fg.ctx, "neighbourhood", "list")?,
+            dense: ComputeKernel::new(ctx, Stage::NEIGHBOURHOOD, "main")?,
+            list: ComputeKernel::new(ctx, Stage::NEIGHBOURHOOD, "list")?,
         })
     }
 
-    /// One pass over the flag words; the level uniform's quad count (a GPU copy in the steered
-    /// loop) bounds the quads each thread tests.
-    pub fn record_dense(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
-        let words = b.height * b.flag_words_per_row;
+    /// One pass over the flag words (writes `out.flags`); the level uniform's quad count (a GPU
+    /// copy in the steered loop) bounds the quads each thread tests.
+    pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, out: &LowQuality) {
+        let words = lv.shape.height * lv.shape.flag_words_per_row;
         self.dense.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (2, b.counts.as_entire_binding()),
-                (3, b.flags.as_entire_binding()),
-                (7, b.word_state.as_entire_binding()),
+                ("frame", lv.frame.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("counts", counts.maps.as_entire_binding()),
+                ("flags", out.flags.as_entire_binding()),
+                ("word_state", counts.word_state.as_entire_binding()),
             ],
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 
-    /// scope = local: one item each; also counts each quad's low-quality pixels (`b.quad_counters`,
-    /// which the level cleared), so no quad_count pass follows.
-    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, items: &wgpu::Buffer) {
+    /// scope = local: one item of `items.items[cur]` each; also counts each quad's low-quality
+    /// pixels (`out.per_quad`, which the level cleared), so no quad_count pass follows.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, items: &ItemLists, cur: usize, out: &LowQuality) {
         self.list.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (2, b.counts.as_entire_binding()),
-                (4, items.as_entire_binding()),
-                (5, b.flags.as_entire_binding()),
-                (6, b.item_total.as_entire_binding()),
-                (7, b.word_state.as_entire_binding()),
-                (8, b.quad_counters.as_entire_binding()),
+                ("frame", lv.frame.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("counts", counts.maps.as_entire_binding()),
+                ("items", items.items[cur].as_entire_binding()),
+                ("flags_atomic", out.flags.as_entire_binding()),
+                ("item_total", items.total.as_entire_binding()),
+                ("word_state", counts.word_state.as_entire_binding()),
+                ("quad_counters", out.per_quad.as_entire_binding()),
             ],
-            Dispatch::Indirect(&b.list_args),
+            Dispatch::Indirect(&items.list_args),
         );
     }
 }

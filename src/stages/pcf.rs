@@ -1,5 +1,6 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -22,7 +23,7 @@ pub fn comparison_sampler(ctx: &crate::gpu::GpuContext) -> wgpu::Sampler {
 
 impl Pcf {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, "pcf", "main", fg.scene.render.maps)?, sampler: comparison_sampler(fg.ctx) })
+        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, Stage::PCF, "main", fg.scene.render.maps)?, sampler: comparison_sampler(fg.ctx) })
     }
 
     /// `samples[0]` is the map's sample; `disk` the tap offsets of the disk kernels.
@@ -31,15 +32,15 @@ impl Pcf {
             fg.ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, filter.as_entire_binding()),
-                (2, samples.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (5, wgpu::BindingResource::TextureView(maps)),
-                (6, disk.as_entire_binding()),
-                (7, fg.visibility.as_entire_binding()),
-                (8, wgpu::BindingResource::Sampler(&self.sampler)),
+                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("settings", filter.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                ("disk", disk.as_entire_binding()),
+                ("visibility", fg.visibility.as_entire_binding()),
+                ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );

@@ -2,9 +2,9 @@
 //! (shadow_test `probes` cached them); agreement adds the uniform share, disagreement makes the
 //! pixel four child items of this level.
 
-use crate::methods::adaptive::buffers::AdaptiveBuffers;
+use crate::gpu::{GpuContext, Stage};
+use crate::stages::adaptive_buffers::{ItemLists, Level, Masks};
 use super::{ComputeKernel, Dispatch};
-use super::FrameGpu;
 use crate::Result;
 
 pub struct Probe {
@@ -13,41 +13,42 @@ pub struct Probe {
 }
 
 impl Probe {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { main: ComputeKernel::new(fg.ctx, "probe", "main")?, begin: ComputeKernel::new(fg.ctx, "probe", "begin")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { main: ComputeKernel::new(ctx, Stage::PROBE, "main")?, begin: ComputeKernel::new(ctx, Stage::PROBE, "begin")? })
     }
 
     /// Makes the probes compact appended this level's work (their count and dispatch size).
-    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+    pub fn record_begin(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
         self.begin.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (1, level.as_entire_binding()),
-                (10, b.control.as_entire_binding()),
-                (13, b.probe_total.as_entire_binding()),
-                (14, b.probe_args.as_entire_binding()),
+                ("level", level.as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("probe_total", items.probe_total.as_entire_binding()),
+                ("probe_args", items.probe_args.as_entire_binding()),
             ],
             Dispatch::Direct([1, 1, 1]),
         );
     }
 
-    /// `quads`: this level's quads (the probed parents' children); `items`: this level's item list.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, items: &wgpu::Buffer) {
+    /// `lv.quads`: this level's quads (the probed parents' children); `items.items[cur]`: this level's item list.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, control: &wgpu::Buffer, items: &ItemLists, cur: usize) {
         self.main.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (1, level.as_entire_binding()),
-                (2, b.probes.as_entire_binding()),
-                (3, quads.as_entire_binding()),
-                (4, b.masks.as_entire_binding()),
-                (9, items.as_entire_binding()),
-                (10, b.control.as_entire_binding()),
-                (11, b.visibility_fixed.as_entire_binding()),
-                (13, b.probe_total.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("probes", items.probes.as_entire_binding()),
+                ("quads", lv.quads.as_entire_binding()),
+                ("masks", masks.lit.as_entire_binding()),
+                ("items", items.items[cur].as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
+                ("probe_total", items.probe_total.as_entire_binding()),
             ],
-            Dispatch::Indirect(&b.probe_args),
+            Dispatch::Indirect(&items.probe_args),
         );
     }
 }

@@ -1,8 +1,8 @@
 //! quad_count: low-quality pixels per quad, one atomic counter each.
 
-use crate::methods::adaptive::buffers::AdaptiveBuffers;
+use crate::gpu::{GpuContext, Stage};
+use crate::stages::adaptive_buffers::{Level, LowQuality};
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
-use super::FrameGpu;
 use crate::Result;
 
 pub struct QuadCount {
@@ -10,22 +10,27 @@ pub struct QuadCount {
 }
 
 impl QuadCount {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "quad_count", "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::QUAD_COUNT, "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: u32, indirect: bool) {
-        let words = b.height * b.flag_words_per_row;
+    /// Counts `low.flags` into `low.per_quad`: over `quads` quads, or as the previous subdivide
+    /// sized it (`indirect`: its dispatch arguments).
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, quads: u32, indirect: Option<&wgpu::Buffer>) {
+        let words = lv.shape.height * lv.shape.flag_words_per_row;
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (2, b.flags.as_entire_binding()),
-                (3, b.quad_counters.as_entire_binding()),
+                ("frame", lv.frame.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("flags", low.flags.as_entire_binding()),
+                ("quad_counters", low.per_quad.as_entire_binding()),
             ],
-            if indirect { Dispatch::Indirect(&b.dispatch_args) } else { Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]) },
+            match indirect {
+                Some(args) => Dispatch::Indirect(args),
+                None => Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]),
+            },
         );
     }
 }

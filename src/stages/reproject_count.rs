@@ -1,9 +1,9 @@
 //! reproject_count: c_q(p) for every (pixel, active quad) from the cached masks (dense), or for the
 //! compacted (pixel, quad) items from the corners' bits shadow_test `list` cached (scope = local).
 
-use crate::methods::adaptive::buffers::AdaptiveBuffers;
+use crate::gpu::{GpuContext, Stage};
+use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, Masks};
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
-use super::FrameGpu;
 use crate::Result;
 
 pub struct ReprojectCount {
@@ -14,87 +14,84 @@ pub struct ReprojectCount {
 }
 
 impl ReprojectCount {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
-            dense: ComputeKernel::new(fg.ctx, "reproject_count", "main")?,
-            list: ComputeKernel::new(fg.ctx, "reproject_count", "list")?,
-            last: ComputeKernel::new(fg.ctx, "reproject_count", "last")?,
-            begin: ComputeKernel::new(fg.ctx, "reproject_count", "begin")?,
+            dense: ComputeKernel::new(ctx, Stage::REPROJECT_COUNT, "main")?,
+            list: ComputeKernel::new(ctx, Stage::REPROJECT_COUNT, "list")?,
+            last: ComputeKernel::new(ctx, Stage::REPROJECT_COUNT, "last")?,
+            begin: ComputeKernel::new(ctx, Stage::REPROJECT_COUNT, "begin")?,
         })
     }
 
-    pub fn record_dense(
-        &self,
-        fg: &FrameGpu,
-        enc: &mut wgpu::CommandEncoder,
-        b: &AdaptiveBuffers,
-        level: &wgpu::Buffer,
-        quads: &wgpu::Buffer,
-    ) {
-        let words = b.height * b.words_per_row;
+    /// Every (pixel, quad) of `lv` from `masks.lit` into `out`; `control` counts geometry pixels.
+    pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, control: &wgpu::Buffer, out: &CountMaps) {
+        let words = lv.shape.height * lv.shape.words_per_row;
         self.dense.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (2, quads.as_entire_binding()),
-                (3, b.masks.as_entire_binding()),
-                (5, b.counts.as_entire_binding()),
-                (14, b.control.as_entire_binding()),
-                (15, b.word_state.as_entire_binding()),
+                ("frame", lv.frame.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("quads", lv.quads.as_entire_binding()),
+                ("masks", masks.lit.as_entire_binding()),
+                ("counts", out.maps.as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("word_state", out.word_state.as_entire_binding()),
             ],
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 
-    /// scope = local: the items appended so far become this level's list (`b.item_total`,
-    /// `b.list_args`), read by list, neighbourhood and compact.
-    pub fn record_begin(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer) {
+    /// scope = local: the items appended so far become this level's list (`items.total`,
+    /// `items.list_args`), read by list, neighbourhood and compact.
+    pub fn record_begin(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
         self.begin.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (1, level.as_entire_binding()),
-                (13, b.item_total.as_entire_binding()),
-                (14, b.control.as_entire_binding()),
-                (16, b.list_args.as_entire_binding()),
+                ("level", level.as_entire_binding()),
+                ("item_total", items.total.as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("list_args", items.list_args.as_entire_binding()),
             ],
             Dispatch::Direct([1, 1, 1]),
         );
     }
 
-    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, items: &wgpu::Buffer) {
+    /// scope = local: the counts of `items.items[cur]` into `out`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists, cur: usize, out: &CountMaps) {
         self.list.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (1, level.as_entire_binding()),
-                (2, quads.as_entire_binding()),
-                (3, b.masks.as_entire_binding()),
-                (10, items.as_entire_binding()),
-                (11, b.counts.as_entire_binding()),
-                (13, b.item_total.as_entire_binding()),
+                ("frame", lv.frame.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("quads", lv.quads.as_entire_binding()),
+                ("masks", masks.lit.as_entire_binding()),
+                ("items", items.items[cur].as_entire_binding()),
+                ("counts_atomic", out.maps.as_entire_binding()),
+                ("item_total", items.total.as_entire_binding()),
             ],
-            Dispatch::Indirect(&b.list_args),
+            Dispatch::Indirect(&items.list_args),
         );
     }
 
-    /// The last level's items (scope = local): counts go straight into V's integer sums.
-    pub fn record_last(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, items: &wgpu::Buffer) {
+    /// The last level's items (scope = local): counts go straight into V's integer sums
+    /// (`items.visibility_fixed`).
+    pub fn record_last(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists, cur: usize) {
         self.last.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (1, level.as_entire_binding()),
-                (2, quads.as_entire_binding()),
-                (3, b.masks.as_entire_binding()),
-                (10, items.as_entire_binding()),
-                (12, b.visibility_fixed.as_entire_binding()),
-                (13, b.item_total.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("quads", lv.quads.as_entire_binding()),
+                ("masks", masks.lit.as_entire_binding()),
+                ("items", items.items[cur].as_entire_binding()),
+                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
+                ("item_total", items.total.as_entire_binding()),
             ],
-            Dispatch::Indirect(&b.list_args),
+            Dispatch::Indirect(&items.list_args),
         );
     }
 }

@@ -1,7 +1,7 @@
 //! shade: accumulates weight_i · lit_i(p) over one array's samples into the visibility buffer.
 
 use super::groups;
-use crate::gpu::{pipeline, readback, GpuContext};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::GpuSample;
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
@@ -13,8 +13,8 @@ pub const SHADE_BLOCK: u32 = 16;
 pub const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
 
 pub struct ShadePass {
-    /// One pipeline per entry of `BLOCK_SIZES`.
-    blocks: Vec<wgpu::ComputePipeline>,
+    /// One kernel per entry of `BLOCK_SIZES`.
+    blocks: Vec<super::ComputeKernel>,
     geometry_tiles: super::ComputeKernel,
     from_masks: super::ComputeKernel,
 }
@@ -69,10 +69,10 @@ impl ShadePass {
         Ok(Self {
             blocks: BLOCK_SIZES
                 .iter()
-                .map(|size| pipeline::compute_pipeline_for(ctx, "shade", &format!("block{size}"), maps))
+                .map(|size| super::ComputeKernel::new_for(ctx, Stage::SHADE, &format!("block{size}"), maps))
                 .collect::<Result<_>>()?,
-            geometry_tiles: super::ComputeKernel::new(ctx, "shade", "geometry_tiles")?,
-            from_masks: super::ComputeKernel::new(ctx, "shade", "from_masks")?,
+            geometry_tiles: super::ComputeKernel::new(ctx, Stage::SHADE, "geometry_tiles")?,
+            from_masks: super::ComputeKernel::new(ctx, Stage::SHADE, "from_masks")?,
         })
     }
 
@@ -97,9 +97,9 @@ impl ShadePass {
             ctx,
             encoder,
             &[
-                (0, frame.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                (10, tiles.list.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("tile_list_build", tiles.list.as_entire_binding()),
             ],
             super::Dispatch::Direct([groups(gbuffer.width, TILE), groups(gbuffer.height, TILE), 1]),
         );
@@ -121,30 +121,28 @@ impl ShadePass {
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         // Blocks in order, each adding to V in sample order: the sum order is the single loop's.
         for (block, block_count) in blocks(first, count) {
-            let pipeline = &self.blocks[BLOCK_SIZES.iter().position(|&size| size == block_count).expect("a block size")];
+            let kernel = &self.blocks[BLOCK_SIZES.iter().position(|&size| size == block_count).expect("a block size")];
             // The block's samples and weights as uniforms (see kernels/shade.wgsl); a smaller block
             // reads only the first `block_count` of each.
             let block_samples = block_uniform(ctx, "shade block samples", SHADE_BLOCK as u64 * sample_bytes);
             let block_weights = block_uniform(ctx, "shade block weights", SHADE_BLOCK as u64 * 4);
             encoder.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &block_samples, 0, block_count as u64 * sample_bytes);
             encoder.copy_buffer_to_buffer(inputs.weights, block as u64 * 4, &block_weights, 0, block_count as u64 * 4);
-            let resources = [
-                inputs.frame.as_entire_binding(),
-                block_samples.as_entire_binding(),
-                block_weights.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
-                wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
-                wgpu::BindingResource::TextureView(maps),
-                inputs.visibility.as_entire_binding(),
-            ];
-            let mut entries: Vec<wgpu::BindGroupEntry> =
-                resources.into_iter().enumerate().map(|(i, resource)| wgpu::BindGroupEntry { binding: i as u32, resource }).collect();
-            entries.push(wgpu::BindGroupEntry { binding: 11, resource: tiles.list.as_entire_binding() });
-            let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("shade"), layout: &pipeline.get_bind_group_layout(0), entries: &entries });
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("shade"), timestamp_writes: None });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups_indirect(&tiles.list, 0);
+            kernel.dispatch(
+                ctx,
+                encoder,
+                &[
+                    ("frame", inputs.frame.as_entire_binding()),
+                    ("block_samples", block_samples.as_entire_binding()),
+                    ("block_weights", block_weights.as_entire_binding()),
+                    ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
+                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
+                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                    ("visibility", inputs.visibility.as_entire_binding()),
+                    ("tile_list", tiles.list.as_entire_binding()),
+                ],
+                super::Dispatch::Indirect(&tiles.list),
+            );
         }
     }
 
@@ -164,11 +162,11 @@ impl ShadePass {
             ctx,
             encoder,
             &[
-                (0, frame.as_entire_binding()),
-                (8, weights.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                (6, visibility.as_entire_binding()),
-                (7, masks.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
+                ("weights", weights.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("visibility", visibility.as_entire_binding()),
+                ("masks", masks.as_entire_binding()),
             ],
             super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(gbuffer.height, WORKGROUP[1]), 1]),
         );

@@ -1,10 +1,10 @@
 //! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask; under
 //! scope = local only for the (pixel, sample) pairs the level's items and probes consult, once each.
 
-use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS};
+use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS};
 use super::{ComputeKernel, Dispatch};
 use super::FrameGpu;
-use crate::gpu::{readback, GpuContext};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuLevel, GpuTestBlock};
 use crate::scene::MapKind;
 use crate::Result;
@@ -50,16 +50,16 @@ impl ShadowTest {
     /// scope = local (which reads plain depth arrays).
     pub fn new(ctx: &GpuContext, maps: MapKind, local: bool) -> Result<Self> {
         let local = if local {
-            Some([ComputeKernel::new(ctx, "shadow_test", "list")?, ComputeKernel::new(ctx, "shadow_test", "probes")?])
+            Some([ComputeKernel::new(ctx, Stage::SHADOW_TEST, "list")?, ComputeKernel::new(ctx, Stage::SHADOW_TEST, "probes")?])
         } else {
             None
         };
-        let block = |entry| ComputeKernel::new_for(ctx, "shadow_test", entry, maps);
+        let block = |entry| ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, entry, maps);
         let buffer = |label, size, usage| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false })
         };
         Ok(Self {
-            fill: ComputeKernel::new(ctx, "shadow_test", "fill_blocks")?,
+            fill: ComputeKernel::new(ctx, Stage::SHADOW_TEST, "fill_blocks")?,
             blocks: [block("block16")?, block("block8")?, block("block4")?, block("block2")?, block("block1")?],
             block_buffer: buffer("shadow_test blocks", TEST_SLOTS as u64 * TEST_BLOCK_BYTES, wgpu::BufferUsages::UNIFORM),
             block_args: buffer("shadow_test block args", TEST_SLOTS as u64 * ARGS_BYTES, wgpu::BufferUsages::INDIRECT),
@@ -67,18 +67,20 @@ impl ShadowTest {
         })
     }
 
-    /// scope = local: tests the four corners of each of this level's items (`items`, counted by
-    /// `b.item_total`) that no earlier item or probe of the frame tested for that pixel.
-    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, quads: &wgpu::Buffer, items: &wgpu::Buffer, maps: [&wgpu::TextureView; 2]) {
+    /// scope = local: tests the four corners of each of this level's items (`items.items[cur]`,
+    /// counted by `items.total`) that no earlier item or probe of the frame tested for that pixel.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, cur: usize, out: &Masks, maps: [&wgpu::TextureView; 2]) {
         let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
-        self.dispatch_local(fg, enc, b, &kernels[0], quads, items, &b.item_total, &b.list_args, maps);
+        self.dispatch_local(fg, enc, rq, out, &kernels[0], quads, &items.items[cur], &items.total, &items.list_args, maps);
     }
 
-    /// scope = local: tests the five new samples of each of this level's probes (`b.probes`,
-    /// counted by `b.probe_total`; `quads` holds the probed parents' children), once per pixel.
-    pub fn record_probes(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, quads: &wgpu::Buffer, maps: [&wgpu::TextureView; 2]) {
+    /// scope = local: tests the five new samples of each of this level's probes (`items.probes`,
+    /// counted by `items.probe_total`; `quads` holds the probed parents' children), once per pixel.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_probes(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, out: &Masks, maps: [&wgpu::TextureView; 2]) {
         let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
-        self.dispatch_local(fg, enc, b, &kernels[1], quads, &b.probes, &b.probe_total, &b.probe_args, maps);
+        self.dispatch_local(fg, enc, rq, out, &kernels[1], quads, &items.probes, &items.probe_total, &items.probe_args, maps);
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -86,7 +88,8 @@ impl ShadowTest {
         &self,
         fg: &FrameGpu,
         enc: &mut wgpu::CommandEncoder,
-        b: &AdaptiveBuffers,
+        rq: Requests,
+        out: &Masks,
         kernel: &ComputeKernel,
         quads: &wgpu::Buffer,
         work: &wgpu::Buffer,
@@ -98,18 +101,18 @@ impl ShadowTest {
             fg.ctx,
             enc,
             &[
-                (0, fg.frame_buffer.as_entire_binding()),
-                (2, b.samples.as_entire_binding()),
-                (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (10, b.consulted.as_entire_binding()),
-                (11, b.masks.as_entire_binding()),
-                (12, wgpu::BindingResource::TextureView(maps[0])),
-                (13, wgpu::BindingResource::TextureView(maps[1])),
-                (14, work.as_entire_binding()),
-                (15, total.as_entire_binding()),
-                (16, quads.as_entire_binding()),
-                (17, b.control.as_entire_binding()),
+                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("samples", rq.samples.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("consulted", out.consulted.as_entire_binding()),
+                ("lattice_lit", out.lit.as_entire_binding()),
+                ("maps_a", wgpu::BindingResource::TextureView(maps[0])),
+                ("maps_b", wgpu::BindingResource::TextureView(maps[1])),
+                ("work", work.as_entire_binding()),
+                ("work_total", total.as_entire_binding()),
+                ("quads", quads.as_entire_binding()),
+                ("control", rq.control.as_entire_binding()),
             ],
             Dispatch::Indirect(args),
         );
@@ -117,19 +120,19 @@ impl ShadowTest {
 
     /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a
     /// hybrid store's view); skips those not requested this frame.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, ks: &[u32]) {
+    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, out: &Masks, maps: &wgpu::TextureView, ks: &[u32]) {
         let ctx = fg.ctx;
         let bound = ks.len() as u32;
         let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, ..Default::default() });
         let list = readback::storage_buffer(ctx, "test list", ks, wgpu::BufferUsages::empty());
-        self.dispatch(fg, enc, b, maps, &level, &list, bound);
+        self.dispatch(fg, enc, rq, out, maps, &level, &list, bound);
     }
 
-    /// Tests the samples the last subdivide requested (`b.new_samples`, as many as it appended, at
-    /// most `bound`): the GPU-steered loop, when a level's maps fit one array.
-    pub fn record_requested(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, bound: u32) {
+    /// Tests the samples the last subdivide requested (`rq.decisions.new_samples`, as many as it
+    /// appended, at most `bound`): the GPU-steered loop, when a level's maps fit one array.
+    pub fn record_requested(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, out: &Masks, maps: &wgpu::TextureView, bound: u32) {
         let level = readback::uniform_buffer(fg.ctx, "level", &GpuLevel { work_count: bound, requested: 1, ..Default::default() });
-        self.dispatch(fg, enc, b, maps, &level, &b.new_samples, bound);
+        self.dispatch(fg, enc, rq, out, maps, &level, &rq.decisions.new_samples, bound);
     }
 
     /// `fill_blocks`: the requested samples of `list` (see `level`) into the block slots, and each
@@ -150,23 +153,23 @@ impl ShadowTest {
             ctx,
             enc,
             &[
-                (1, level.as_entire_binding()),
-                (2, samples.as_entire_binding()),
-                (3, list.as_entire_binding()),
-                (8, lattice_state.as_entire_binding()),
-                (9, control.as_entire_binding()),
-                (19, self.block_buffer.as_entire_binding()),
-                (20, self.block_args.as_entire_binding()),
-                (21, tiles.as_entire_binding()),
+                ("level", level.as_entire_binding()),
+                ("samples", samples.as_entire_binding()),
+                ("test_list", list.as_entire_binding()),
+                ("lattice_state", lattice_state.as_entire_binding()),
+                ("control_words", control.as_entire_binding()),
+                ("blocks", self.block_buffer.as_entire_binding()),
+                ("block_args", self.block_args.as_entire_binding()),
+                ("tile_list", tiles.as_entire_binding()),
             ],
             Dispatch::Direct([1, 1, 1]),
         );
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn dispatch(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, maps: &wgpu::TextureView, level: &wgpu::Buffer, list: &wgpu::Buffer, bound: u32) {
+    fn dispatch(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, out: &Masks, maps: &wgpu::TextureView, level: &wgpu::Buffer, list: &wgpu::Buffer, bound: u32) {
         let ctx = fg.ctx;
-        self.record_fill(ctx, enc, level, &b.samples, list, &b.lattice_state, &b.control, &fg.geometry_tiles.list);
+        self.record_fill(ctx, enc, level, rq.samples, list, &rq.decisions.lattice_state, rq.control, &fg.geometry_tiles.list);
         for (slot, size) in block_slots(bound) {
             let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
             let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
@@ -174,13 +177,13 @@ impl ShadowTest {
                 ctx,
                 enc,
                 &[
-                    (0, fg.frame_buffer.as_entire_binding()),
-                    (4, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                    (5, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                    (6, wgpu::BindingResource::TextureView(maps)),
-                    (7, b.masks.as_entire_binding()),
-                    (18, wgpu::BindingResource::Buffer(block)),
-                    (21, fg.geometry_tiles.list.as_entire_binding()),
+                    ("frame", fg.frame_buffer.as_entire_binding()),
+                    ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                    ("masks", out.lit.as_entire_binding()),
+                    ("block", wgpu::BindingResource::Buffer(block)),
+                    ("tile_list", fg.geometry_tiles.list.as_entire_binding()),
                 ],
                 Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
             );

@@ -1,5 +1,6 @@
 //! ssao: screen-space ambient occlusion from the G-buffer into an AO buffer (and occluded counts).
 
+use crate::gpu::Stage;
 use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -9,7 +10,7 @@ pub struct Ssao {
 
 impl Ssao {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "ssao", "main")? })
+        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::SSAO, "main")? })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -18,13 +19,13 @@ impl Ssao {
             fg.ctx,
             enc,
             &[
-                (0, params.as_entire_binding()),
-                (1, camera.as_entire_binding()),
-                (2, wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                (3, wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
-                (4, kernel.as_entire_binding()),
-                (5, ao.as_entire_binding()),
-                (6, occluded.as_entire_binding()),
+                ("params", params.as_entire_binding()),
+                ("camera", camera.as_entire_binding()),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("kernel", kernel.as_entire_binding()),
+                ("ao", ao.as_entire_binding()),
+                ("occluded", occluded.as_entire_binding()),
             ],
             Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );

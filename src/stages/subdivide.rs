@@ -1,34 +1,46 @@
 //! subdivide: split decisions, children, new lattice samples, corner levels, dispatch arguments.
 
-use crate::methods::adaptive::buffers::AdaptiveBuffers;
+use crate::gpu::{GpuContext, Stage};
+use crate::stages::adaptive_buffers::{Decisions, Level, LowQuality};
 use super::{ComputeKernel, Dispatch};
-use super::FrameGpu;
 use crate::Result;
+
+/// What the split kernel compares at one level (subdivide and its twin).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitRule {
+    Threshold(u32),
+    /// count > share x geometry pixels, compared in f32 on both sides.
+    Share(f32),
+    Always,
+    Never,
+}
 
 pub struct Subdivide {
     kernel: ComputeKernel,
 }
 
 impl Subdivide {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, "subdivide", "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SUBDIVIDE, "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer, next: &wgpu::Buffer) {
+    /// Splits `lv.quads` by `low.per_quad` into `next` (counted in `control`) and updates `out`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, next: &wgpu::Buffer, control: &wgpu::Buffer, out: &Decisions) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, level.as_entire_binding()),
-                (1, quads.as_entire_binding()),
-                (2, b.quad_counters.as_entire_binding()),
-                (3, next.as_entire_binding()),
-                (4, b.control.as_entire_binding()),
-                (5, b.lattice_state.as_entire_binding()),
-                (6, b.new_samples.as_entire_binding()),
-                (7, b.sample_level.as_entire_binding()),
-                (8, b.split_base.as_entire_binding()),
-                (9, b.dispatch_args.as_entire_binding()),
+                ("level", lv.uniform.as_entire_binding()),
+                ("quads", lv.quads.as_entire_binding()),
+                ("quad_counters", low.per_quad.as_entire_binding()),
+                ("next_quads", next.as_entire_binding()),
+                ("control", control.as_entire_binding()),
+                ("lattice_state", out.lattice_state.as_entire_binding()),
+                ("new_samples", out.new_samples.as_entire_binding()),
+                ("sample_level", out.sample_level.as_entire_binding()),
+                ("split_base", out.split_base.as_entire_binding()),
+                ("dispatch_args", out.dispatch_args.as_entire_binding()),
             ],
             Dispatch::Direct([1, 1, 1]),
         );

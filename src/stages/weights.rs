@@ -1,8 +1,10 @@
 //! weights (scope = global, corner-to-corner lattice): the sample weights on the GPU, from the
 //! leaves each level appends and the rendered samples, so shade needs no read-back.
 
-use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS, QUAD_CAPACITY};
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::Stage;
+use crate::gpu::GpuContext;
+use crate::stages::adaptive_buffers::{Decisions, LATTICE_POINTS, QUAD_CAPACITY};
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuQuad, GpuWeights};
 use crate::Result;
@@ -23,13 +25,12 @@ pub struct WeightsPass {
 }
 
 impl WeightsPass {
-    pub fn new(fg: &FrameGpu, rule: u32) -> Result<Self> {
-        let ctx = fg.ctx;
+    pub fn new(ctx: &GpuContext, rule: u32) -> Result<Self> {
         // Leaves of all levels: at most 1 + 4 + 16 + 64 + 256.
         let capacity = QUAD_CAPACITY as u64 * 2;
         Ok(Self {
-            leaves_of_level: ComputeKernel::new(ctx, "weights", "leaves_of_level")?,
-            main: ComputeKernel::new(ctx, "weights", "main")?,
+            leaves_of_level: ComputeKernel::new(ctx, Stage::WEIGHTS, "leaves_of_level")?,
+            main: ComputeKernel::new(ctx, Stage::WEIGHTS, "main")?,
             leaves: readback::zeroed_storage(ctx, "leaves", capacity * std::mem::size_of::<GpuQuad>() as u64),
             leaf_count: readback::zeroed_storage(ctx, "leaf count", 4),
             numerators: readback::zeroed_storage(ctx, "weight numerators", LATTICE_POINTS as u64 * 4),
@@ -43,34 +44,34 @@ impl WeightsPass {
     }
 
     /// After a level's subdivide: appends the level's unsplit quads (`level.quad_count` of `quads`).
-    pub fn record_leaves(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers, level: &wgpu::Buffer, quads: &wgpu::Buffer) {
+    pub fn record_leaves(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, level: &wgpu::Buffer, quads: &wgpu::Buffer, decisions: &Decisions) {
         self.leaves_of_level.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (0, level.as_entire_binding()),
-                (1, quads.as_entire_binding()),
-                (2, b.split_base.as_entire_binding()),
-                (3, self.leaves.as_entire_binding()),
-                (4, self.leaf_count.as_entire_binding()),
+                ("level", level.as_entire_binding()),
+                ("quads", quads.as_entire_binding()),
+                ("split_base", decisions.split_base.as_entire_binding()),
+                ("leaves", self.leaves.as_entire_binding()),
+                ("leaf_count", self.leaf_count.as_entire_binding()),
             ],
             Dispatch::Direct([groups(QUAD_CAPACITY, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 
-    /// After the last level: writes ŵ into `b.weights`.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, b: &AdaptiveBuffers) {
+    /// After the last level: writes ŵ into `weights`.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, decisions: &Decisions, weights: &wgpu::Buffer) {
         self.main.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                (4, self.leaf_count.as_entire_binding()),
-                (3, self.leaves.as_entire_binding()),
-                (5, self.rule.as_entire_binding()),
-                (6, b.lattice_state.as_entire_binding()),
-                (7, b.sample_level.as_entire_binding()),
-                (8, self.numerators.as_entire_binding()),
-                (9, b.weights.as_entire_binding()),
+                ("leaf_count", self.leaf_count.as_entire_binding()),
+                ("leaves", self.leaves.as_entire_binding()),
+                ("rule", self.rule.as_entire_binding()),
+                ("lattice_state", decisions.lattice_state.as_entire_binding()),
+                ("sample_level", decisions.sample_level.as_entire_binding()),
+                ("numerators", self.numerators.as_entire_binding()),
+                ("weights", weights.as_entire_binding()),
             ],
             Dispatch::Direct([1, 1, 1]),
         );

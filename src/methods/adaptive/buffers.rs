@@ -4,58 +4,21 @@ use crate::gpu::{readback, GpuContext};
 use crate::gpu::structs::{GpuQuad, GpuSample};
 use crate::{Error, Result};
 
-pub const LATTICE_SIDE: u32 = 17;
-pub const LATTICE_POINTS: u32 = 289;
-pub const MASK_WORDS: u32 = 10;
-/// Quads of one level: at most 4^4 = 256 (level 4 of the 17x17 lattice).
-pub const QUAD_CAPACITY: u32 = 256;
-pub const NO_SPLIT: u32 = u32::MAX;
-/// Culling tiles per side of a map, and the u32 words of one sample's tiles (common.wgsl): per
-/// tile 0, or the largest depth limit its pixels test (f32 bits).
-pub const CULL_TILES: u32 = 256;
-pub const CULL_TILE_WORDS: u32 = CULL_TILES * CULL_TILES;
-/// word_state of a word whose comparison-map words differ by quad (common.wgsl MIXED_WORD).
-pub const MIXED_WORD: u32 = u32::MAX;
-pub const CONTROL_BYTES: u64 = std::mem::size_of::<crate::gpu::structs::GpuControl>() as u64;
+pub use crate::stages::adaptive_buffers::*;
 
+/// The adaptive method's buffers, grouped by the passes that write them.
 pub struct AdaptiveBuffers {
-    pub width: u32,
-    pub height: u32,
-    pub words_per_row: u32,
-    pub flag_words_per_row: u32,
-    /// Quads whose comparison maps fit at once (dense mode batches beyond it).
-    pub count_quads: u32,
-    pub item_capacity: u32,
+    pub shape: Shape,
     pub samples: wgpu::Buffer,
-    /// Per pixel, MASK_WORDS words: bit k = lattice sample k lights the pixel (tested samples only).
-    pub masks: wgpu::Buffer,
-    /// scope = local: the same layout, bit k = the pixel consulted sample k (shadow_test tested it).
-    pub consulted: wgpu::Buffer,
     pub quads: [wgpu::Buffer; 2],
-    pub counts: wgpu::Buffer,
-    /// One word per comparison-map word: its bytes when uniform (the same in every quad's map, which
-    /// then holds nothing for it), else MIXED_WORD. Scope = local never writes it: all MIXED_WORD.
-    pub word_state: wgpu::Buffer,
-    pub flags: wgpu::Buffer,
-    pub quad_counters: wgpu::Buffer,
     pub control: wgpu::Buffer,
-    pub lattice_state: wgpu::Buffer,
-    pub new_samples: wgpu::Buffer,
-    pub sample_level: wgpu::Buffer,
-    pub split_base: wgpu::Buffer,
-    pub dispatch_args: wgpu::Buffer,
+    pub masks: Masks,
+    pub counts: CountMaps,
+    pub low: LowQuality,
+    pub decisions: Decisions,
+    pub items: ItemLists,
+    pub footprints: Footprints,
     pub weights: wgpu::Buffer,
-    pub items: [wgpu::Buffer; 2],
-    pub item_total: wgpu::Buffer,
-    pub list_args: wgpu::Buffer,
-    /// scope = local: probes (uniform pixels of split quads) for the next level, their count and dispatch.
-    pub probes: wgpu::Buffer,
-    pub probe_total: wgpu::Buffer,
-    pub probe_args: wgpu::Buffer,
-    pub visibility_fixed: wgpu::Buffer,
-    pub rects: wgpu::Buffer,
-    /// scope = local: CULL_TILE_WORDS per lattice sample, per culling tile the largest depth limit its pixels test.
-    pub tiles: wgpu::Buffer,
 }
 
 impl AdaptiveBuffers {
@@ -63,9 +26,10 @@ impl AdaptiveBuffers {
     pub fn zero_fill(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
-            &self.masks, &self.consulted, &self.quads[0], &self.quads[1], &self.counts, &self.flags, &self.quad_counters, &self.control,
-            &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights, &self.items[0],
-            &self.items[1], &self.item_total, &self.visibility_fixed, &self.rects, &self.probes, &self.probe_total,
+            &self.masks.lit, &self.masks.consulted, &self.quads[0], &self.quads[1], &self.counts.maps, &self.low.flags, &self.low.per_quad,
+            &self.control, &self.decisions.lattice_state, &self.decisions.new_samples, &self.decisions.sample_level,
+            &self.decisions.split_base, &self.weights, &self.items.items[0], &self.items.items[1], &self.items.total,
+            &self.items.visibility_fixed, &self.footprints.rects, &self.items.probes, &self.items.probe_total,
         ] {
             enc.clear_buffer(buf, 0, None);
         }
@@ -79,31 +43,14 @@ impl AdaptiveBuffers {
     pub fn reset_frame(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
-            &self.masks, &self.consulted, &self.quads[0], &self.quads[1], &self.flags, &self.quad_counters, &self.control,
-            &self.lattice_state, &self.new_samples, &self.sample_level, &self.split_base, &self.weights,
-            &self.item_total, &self.visibility_fixed, &self.rects, &self.probe_total,
+            &self.masks.lit, &self.masks.consulted, &self.quads[0], &self.quads[1], &self.low.flags, &self.low.per_quad, &self.control,
+            &self.decisions.lattice_state, &self.decisions.new_samples, &self.decisions.sample_level, &self.decisions.split_base,
+            &self.weights, &self.items.total, &self.items.visibility_fixed, &self.footprints.rects, &self.items.probe_total,
         ] {
             enc.clear_buffer(buf, 0, None);
         }
         ctx.queue.submit([enc.finish()]);
         ctx.wait()
-    }
-
-    pub fn counts_bytes_per_quad(&self) -> u64 {
-        self.height as u64 * self.words_per_row as u64 * 4
-    }
-    /// The comparison maps of `n` quads as every quad's full map: uniform words from `word_state`.
-    pub fn dense_counts(&self, counts: &mut [u32], word_state: &[u32]) {
-        for map in counts.chunks_exact_mut(word_state.len()) {
-            for (c, &s) in map.iter_mut().zip(word_state) {
-                if s != MIXED_WORD {
-                    *c = s;
-                }
-            }
-        }
-    }
-    pub fn flags_bytes_per_quad(&self) -> u64 {
-        self.height as u64 * self.flag_words_per_row as u64 * 4
     }
 
     /// `local`: items, fixed-point visibility and rectangles are needed, and every quad of a level
@@ -150,36 +97,46 @@ impl AdaptiveBuffers {
         let quad_bytes = QUAD_CAPACITY as u64 * std::mem::size_of::<GpuQuad>() as u64;
         let batch = if local { QUAD_CAPACITY } else { count_quads } as u64;
         Ok(Self {
-            width,
-            height,
-            words_per_row,
-            flag_words_per_row,
-            count_quads,
-            item_capacity,
+            shape: Shape { width, height, words_per_row, flag_words_per_row, count_quads, item_capacity },
             samples: readback::storage_buffer(ctx, "lattice samples", samples, wgpu::BufferUsages::empty()),
-            masks: storage("lattice masks", mask_bytes),
-            consulted: storage("consulted samples", if local { mask_bytes } else { 4 }),
             quads: [storage("quads a", quad_bytes), storage("quads b", quad_bytes)],
-            counts: storage("comparison maps", per_quad * batch),
-            word_state: readback::storage_buffer(ctx, "comparison word states", &vec![MIXED_WORD; (per_quad / 4) as usize], wgpu::BufferUsages::empty()),
-            flags: storage("low-quality flags", height as u64 * flag_words_per_row as u64 * 4 * batch),
-            quad_counters: storage("quad counters", QUAD_CAPACITY as u64 * 4),
             control: storage("control", CONTROL_BYTES),
-            lattice_state: storage("lattice state", LATTICE_POINTS as u64 * 4),
-            new_samples: storage("new samples", LATTICE_POINTS as u64 * 4),
-            sample_level: storage("sample levels", LATTICE_POINTS as u64 * 4),
-            split_base: storage("split base", QUAD_CAPACITY as u64 * 4),
-            dispatch_args: indirect("dense dispatch args"),
+            masks: Masks { lit: storage("lattice masks", mask_bytes), consulted: storage("consulted samples", if local { mask_bytes } else { 4 }) },
+            counts: CountMaps {
+                maps: storage("counts", per_quad * batch),
+                word_state: readback::storage_buffer(ctx, "comparison word states", &vec![MIXED_WORD; (per_quad / 4) as usize], wgpu::BufferUsages::empty()),
+            },
+            low: LowQuality {
+                flags: storage("low-quality flags", height as u64 * flag_words_per_row as u64 * 4 * batch),
+                per_quad: storage("quad counters", QUAD_CAPACITY as u64 * 4),
+            },
+            decisions: Decisions {
+                lattice_state: storage("lattice state", LATTICE_POINTS as u64 * 4),
+                new_samples: storage("new samples", LATTICE_POINTS as u64 * 4),
+                sample_level: storage("sample levels", LATTICE_POINTS as u64 * 4),
+                split_base: storage("split base", QUAD_CAPACITY as u64 * 4),
+                dispatch_args: indirect("dense dispatch args"),
+            },
+            items: ItemLists {
+                items: [storage("items a", item_capacity as u64 * 8), storage("items b", item_capacity as u64 * 8)],
+                total: storage("item total", 16),
+                list_args: indirect("list dispatch args"),
+                probes: storage("probes", if local { item_capacity as u64 * 8 } else { 8 }),
+                probe_total: storage("probe total", 16),
+                probe_args: indirect("probe dispatch args"),
+                visibility_fixed: storage("visibility fixed", if local { pixels * 4 } else { 4 }),
+            },
+            footprints: Footprints {
+                rects: storage("scissor rects", LATTICE_POINTS as u64 * 16),
+                tiles: storage("cull tiles", if local { LATTICE_POINTS as u64 * CULL_TILE_WORDS as u64 * 4 } else { 16 }),
+            },
             weights: storage("weights", LATTICE_POINTS as u64 * 4),
-            items: [storage("items a", item_capacity as u64 * 8), storage("items b", item_capacity as u64 * 8)],
-            item_total: storage("item total", 16),
-            list_args: indirect("list dispatch args"),
-            probes: storage("probes", if local { item_capacity as u64 * 8 } else { 8 }),
-            probe_total: storage("probe total", 16),
-            probe_args: indirect("probe dispatch args"),
-            visibility_fixed: storage("visibility fixed", if local { pixels * 4 } else { 4 }),
-            rects: storage("scissor rects", LATTICE_POINTS as u64 * 16),
-            tiles: storage("cull tiles", if local { LATTICE_POINTS as u64 * CULL_TILE_WORDS as u64 * 4 } else { 16 }),
         })
+    }
+}
+
+impl AdaptiveBuffers {
+    pub fn requests(&self) -> Requests<'_> {
+        Requests { samples: &self.samples, decisions: &self.decisions, control: &self.control }
     }
 }

@@ -1,12 +1,12 @@
 //! The one read-back per level, and the per-level record in run.json.
 
 use crate::methods::AdaptiveParams;
-use crate::methods::adaptive::buffers::{AdaptiveBuffers, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, Shape, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
-use crate::gpu::structs::GpuQuad;
+use crate::gpu::structs::{GpuQuad, OVERFLOW_ITEMS, OVERFLOW_PROBES, OVERFLOW_QUADS};
 use crate::render::gbuffer::GBuffer;
-use crate::Result;
+use crate::{Error, Result};
 
 /// What one level's read-back says.
 #[derive(Clone, Debug, Default)]
@@ -54,6 +54,25 @@ pub struct LevelReport {
     pub lookups: u32,
 }
 
+impl LevelReport {
+    /// The run's error when a counter overflowed its buffer at this level (GpuControl.overflow's
+    /// bits, the one place they are decoded): overflow is reported, never clipped.
+    pub fn overflow_error(&self, level: u32) -> Option<Error> {
+        let cause = if self.overflow & OVERFLOW_ITEMS != 0 {
+            "the (pixel, quad) item list exceeded its capacity"
+        } else if self.overflow & OVERFLOW_PROBES != 0 {
+            "the probe list exceeded its capacity"
+        } else if self.overflow & OVERFLOW_QUADS != 0 {
+            "the quad list exceeded 256"
+        } else if self.overflow != 0 {
+            "an unknown counter overflowed"
+        } else {
+            return None;
+        };
+        Some(Error::Overflow(format!("adaptive level {level}: {cause} (flags {:#x}); the run is not valid", self.overflow)))
+    }
+}
+
 /// Per-level summary for run.json.
 #[derive(serde::Serialize)]
 pub struct LevelRecord {
@@ -87,29 +106,29 @@ pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kep
     let lattice = LATTICE_POINTS as u64 * 4;
     let mut parts: Vec<(&wgpu::Buffer, u64)> = vec![
         (&b.control, CONTROL_BYTES),
-        (&b.new_samples, lattice),
+        (&b.decisions.new_samples, lattice),
         (next_quads, QUAD_CAPACITY as u64 * 16),
-        (&b.quad_counters, QUAD_CAPACITY as u64 * 4),
-        (&b.sample_level, lattice),
-        (&b.split_base, QUAD_CAPACITY as u64 * 4),
-        (&b.rects, lattice * 4),
-        (&b.item_total, 4),
+        (&b.low.per_quad, QUAD_CAPACITY as u64 * 4),
+        (&b.decisions.sample_level, lattice),
+        (&b.decisions.split_base, QUAD_CAPACITY as u64 * 4),
+        (&b.footprints.rects, lattice * 4),
+        (&b.items.total, 4),
     ];
     if let Some(kept) = kept.filter(|_| r.kept) {
         parts.push((kept, lattice));
         if r.pictures {
-            parts.push((&b.tiles, lattice * CULL_TILE_WORDS as u64));
+            parts.push((&b.footprints.tiles, lattice * CULL_TILE_WORDS as u64));
         }
     }
     if r.pictures {
-        parts.push((&b.counts, b.counts_bytes_per_quad() * if r.capture { r.n } else { 1 }));
-        parts.push((&b.word_state, b.counts_bytes_per_quad()));
-        parts.push((&b.flags, b.flags_bytes_per_quad() * r.n));
+        parts.push((&b.counts.maps, b.shape.counts_bytes_per_quad() * if r.capture { r.n } else { 1 }));
+        parts.push((&b.counts.word_state, b.shape.counts_bytes_per_quad()));
+        parts.push((&b.low.flags, b.shape.flags_bytes_per_quad() * r.n));
     }
     if r.capture {
-        parts.push((&b.masks, b.width as u64 * b.height as u64 * 40));
+        parts.push((&b.masks.lit, b.shape.mask_bytes()));
         if r.local {
-            parts.push((&b.consulted, b.width as u64 * b.height as u64 * 40));
+            parts.push((&b.masks.consulted, b.shape.mask_bytes()));
         }
     }
     parts
@@ -156,8 +175,8 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     let lattice = LATTICE_POINTS as u64 * 4;
     let quad_bytes = QUAD_CAPACITY as u64 * 16;
     let tile_bytes = lattice * CULL_TILE_WORDS as u64;
-    let counts_len = b.counts_bytes_per_quad() * if r.capture { n } else { 1 };
-    let mask_len = b.width as u64 * b.height as u64 * 40;
+    let counts_len = b.shape.counts_bytes_per_quad() * if r.capture { n } else { 1 };
+    let mask_len = b.shape.mask_bytes();
     let mut at = 0usize;
     let mut take = |len: u64| {
         let s = words[at..at + (len / 4) as usize].to_vec();
@@ -176,9 +195,9 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     let tiles = if r.kept && r.pictures { take(tile_bytes) } else { Vec::new() };
     let (counts, word_state, flags) = if r.pictures {
         let mut counts = take(counts_len);
-        let word_state = take(b.counts_bytes_per_quad());
-        b.dense_counts(&mut counts, &word_state);
-        (Some(counts), Some(word_state), Some(take(b.flags_bytes_per_quad() * n)))
+        let word_state = take(b.shape.counts_bytes_per_quad());
+        Shape::dense_counts(&mut counts, &word_state);
+        (Some(counts), Some(word_state), Some(take(b.shape.flags_bytes_per_quad() * n)))
     } else {
         (None, None, None)
     };

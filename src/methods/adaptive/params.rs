@@ -50,15 +50,7 @@ pub enum Criterion {
 /// edges; docs/method.md §6).
 pub const KAPPA: f64 = 0.2;
 
-/// What the split kernel compares at one level (subdivide and its twin).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SplitRule {
-    Threshold(u32),
-    /// count > share x geometry pixels, compared in f32 on both sides.
-    Share(f32),
-    Always,
-    Never,
-}
+pub use crate::stages::subdivide::SplitRule;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

@@ -12,18 +12,19 @@
 //!
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
 
+use crate::gpu::Stage;
+use super::frame::{self, Frame, Steering, CORNERS, ROOT};
 use super::levels::{self, LevelRead};
-use super::{gpu_level, lattice_index, pictures, AdaptiveTrace, Prepared};
-use crate::methods::adaptive::buffers::{AdaptiveBuffers, CONTROL_BYTES, LATTICE_POINTS};
-use crate::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
-use crate::stages::{groups, FrameGpu, LINE_WORKGROUP};
+use super::{lattice_index, pictures, AdaptiveTrace, Prepared};
 use crate::gpu::readback;
-use crate::gpu::structs::GpuQuad;
-use crate::methods::adaptive::params::SplitRule;
-use crate::methods::{AdaptiveParams, MethodOutput, Scope, Weights};
-use crate::render::shadow_raster::RasterJob;
+use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
-use crate::{Error, Result};
+use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS};
+use crate::methods::{AdaptiveParams, MethodOutput, Scope, Weights};
+use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
+use crate::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
+use crate::stages::FrameGpu;
+use crate::Result;
 
 /// u32 words of one draw_indexed_indirect argument set.
 const ARGS_WORDS: u64 = 5;
@@ -33,7 +34,7 @@ const ARGS_WORDS: u64 = 5;
 /// splits at level d−1 requests only such points (its edge midpoints and centre).
 pub fn candidates(d: u32) -> Vec<u32> {
     if d == 0 {
-        return vec![lattice_index(0, 0), lattice_index(16, 0), lattice_index(0, 16), lattice_index(16, 16)];
+        return CORNERS.to_vec();
     }
     let step = 16 >> d;
     let mut out = Vec::new();
@@ -52,7 +53,7 @@ pub fn candidates(d: u32) -> Vec<u32> {
 /// comparison maps.
 pub fn eligible(p: &AdaptiveParams, b: &AdaptiveBuffers) -> bool {
     let most_quads = 1u32 << (2 * p.max_level.saturating_sub(1));
-    !p.steer_cpu && p.scope == Scope::Global && p.border_strip() == 0.0 && b.count_quads >= most_quads
+    !p.steer_cpu && p.scope == Scope::Global && p.border_strip() == 0.0 && b.shape.count_quads >= most_quads
 }
 
 /// Built once with the method: the weights pass, the raster arguments and the record buffer.
@@ -81,10 +82,6 @@ fn record_parts(b: &AdaptiveBuffers, read: LevelRead) -> Vec<(&wgpu::Buffer, u64
     levels::level_parts(b, &b.quads[0], None, read)
 }
 
-fn evaluates(p: &AdaptiveParams, level: u32) -> bool {
-    level < p.max_level && matches!(p.split_rule(level), SplitRule::Threshold(_) | SplitRule::Share(_))
-}
-
 impl Steer {
     pub fn new(fg: &FrameGpu, p: &AdaptiveParams, b: &AdaptiveBuffers) -> Result<Self> {
         let ctx = fg.ctx;
@@ -97,7 +94,7 @@ impl Steer {
         let level_bytes: u64 = record_parts(b, LevelRead { pictures: true, ..level_read(fg, 0, true) }).iter().map(|(_, s)| s).sum();
         let bytes = level_bytes * (p.max_level as u64 + 1) + LATTICE_POINTS as u64 * 4;
         Ok(Self {
-            weights: WeightsPass::new(fg, rule)?,
+            weights: WeightsPass::new(ctx, rule)?,
             raster_args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("steered raster arguments"),
                 size: LATTICE_POINTS as u64 * ARGS_WORDS * 4,
@@ -114,20 +111,103 @@ impl Steer {
     }
 }
 
+/// The GPU-steered loop's state: each level renders all its candidates, drawing and testing only
+/// those subdivide requested, and copies its record aside.
+struct Steered<'a> {
+    steer: &'a Steer,
+    array: &'a ShadowMapArray,
+    per_array: usize,
+    samples: &'a [GpuSample],
+    reads: Vec<(LevelRead, bool, u64)>,
+    history_at: u64,
+}
+
+impl Steering for Steered<'_> {
+    fn uniform(&mut self, fx: &Frame, level: u32) -> wgpu::Buffer {
+        // Level 0 has the root; deeper levels take the previous subdivide's count (copied in new_maps).
+        fx.uniform(level, (level == 0) as u32, 0)
+    }
+
+    fn new_maps(&mut self, fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer) -> Result<()> {
+        let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
+        let (steer, array, per_array) = (self.steer, self.array, self.per_array);
+        let cand = candidates(level);
+        let chunks = cand.len().div_ceil(per_array);
+        for (c, chunk) in cand.chunks(per_array).enumerate() {
+            timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                if level == 0 && c == 0 {
+                    steer.weights.record_begin(enc);
+                }
+                if level > 0 && c == 0 {
+                    // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
+                    enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
+                }
+                let mut jobs = Vec::with_capacity(chunk.len());
+                for &k in chunk {
+                    let at = k as u64 * ARGS_WORDS * 4;
+                    if level > 0 {
+                        // instance count ← the request flag subdivide set (0 or 1).
+                        enc.copy_buffer_to_buffer(&b.decisions.lattice_state, k as u64 * 4, &steer.raster_args, at + 4, 4);
+                    }
+                    jobs.push((RasterJob { sample: k, layer: self.samples[k as usize].layer, scissor: None }, at));
+                }
+                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &fg.scene_gpu.shadow_indices, &steer.raster_args);
+                Ok(())
+            })?;
+            timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
+                if level > 0 && cand.len() <= per_array {
+                    // One chunk: test only what subdivide requested (its list and count).
+                    fx.passes.shadow_test.record_requested(fg, enc, b.requests(), &b.masks, &array.array_view, cand.len() as u32);
+                } else {
+                    fx.passes.shadow_test.record(fg, enc, b.requests(), &b.masks, &array.array_view, chunk);
+                }
+                if c + 1 == chunks {
+                    // The level's counters, after the test read the request count.
+                    enc.clear_buffer(&b.control, 0, Some(8));
+                    enc.clear_buffer(&b.low.per_quad, 0, None);
+                }
+                Ok(())
+            })?;
+        }
+        Ok(())
+    }
+
+    fn quad_count(&self) -> Option<u32> {
+        None
+    }
+
+    fn maps(&self) -> [&wgpu::TextureView; 2] {
+        [&self.array.array_view, &self.array.array_view]
+    }
+
+    fn end_level(&mut self, fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer, evaluated: bool) -> Result<bool> {
+        let (fg, b) = (fx.fg, fx.b);
+        let read = level_read(fg, level, evaluated);
+        self.reads.push((read, evaluated, self.history_at));
+        let cur = (level % 2) as usize;
+        timer.stage(fg.ctx, Stage::WEIGHTS, |enc| {
+            for (buf, size) in levels::level_parts(b, &b.quads[1 - cur], None, read) {
+                enc.copy_buffer_to_buffer(buf, 0, &self.steer.history, self.history_at, size);
+                self.history_at += size;
+            }
+            self.steer.weights.record_leaves(fg.ctx, enc, lv, &b.quads[cur], &b.decisions);
+            Ok(())
+        })?;
+        // Every level is recorded: a level with no quads left does nothing.
+        Ok(true)
+    }
+}
+
 /// Records the whole frame; nothing waits (in stages mode the timer still waits per stage).
 pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared) -> Result<(MethodOutput, Pending)> {
     let ctx = fg.ctx;
-    let (b, store, passes) = (&prepared.b, &prepared.store, &prepared.passes);
-    let steer = prepared.steer.as_ref().expect("steered run without its state");
-    let h = fg.gbuffer.height;
-    let dense_groups_x = groups(h * b.flag_words_per_row, LINE_WORKGROUP[0]);
+    let Prepared { b, store, passes, samples, steer, .. } = prepared;
+    let steer = steer.as_ref().expect("steered run without its state");
     let per_array = store.per_array as usize;
-    let array = &store.arrays[0];
 
     // Before the frame's commands (queue writes land first): every candidate's layer is its place
     // in its level's chunk, the draws are the whole mesh with no instance but the corners', and
     // the counters, root quad and corner requests start the frame.
-    let samples = &mut prepared.samples;
     let mut args = vec![0u32; (LATTICE_POINTS as u64 * ARGS_WORDS) as usize];
     for level in 0..=p.max_level {
         for (n, &k) in candidates(level).iter().enumerate() {
@@ -139,103 +219,20 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     }
     ctx.queue.write_buffer(&b.samples, 0, bytemuck::cast_slice(samples));
     ctx.queue.write_buffer(&steer.raster_args, 0, bytemuck::cast_slice(&args));
-    ctx.queue.write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);
-    ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::bytes_of(&GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }));
-    let mut state = vec![0u32; LATTICE_POINTS as usize];
-    for k in candidates(0) {
-        state[k as usize] = 1;
-    }
-    ctx.queue.write_buffer(&b.lattice_state, 0, bytemuck::cast_slice(&state));
-
-    let mut reads = Vec::new();
-    let mut history_at = 0u64;
-    for level in 0..=p.max_level {
-        let (cur, nxt) = ((level % 2) as usize, 1 - (level % 2) as usize);
-        // Level 0 has the root; deeper levels take the previous subdivide's count (copied below).
-        let lv = readback::uniform_buffer(ctx, "level", &gpu_level(p, b, dense_groups_x, level, (level == 0) as u32, 0));
-        let cand = candidates(level);
-        for (c, chunk) in cand.chunks(per_array).enumerate() {
-            timer.stage(ctx, "shadow_raster", |enc| {
-                if level == 0 && c == 0 {
-                    steer.weights.record_begin(enc);
-                }
-                if level > 0 && c == 0 {
-                    // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
-                    enc.copy_buffer_to_buffer(&b.control, 0, &lv, 8, 4);
-                }
-                let mut jobs = Vec::with_capacity(chunk.len());
-                for &k in chunk {
-                    let at = k as u64 * ARGS_WORDS * 4;
-                    if level > 0 {
-                        // instance count ← the request flag subdivide set (0 or 1).
-                        enc.copy_buffer_to_buffer(&b.lattice_state, k as u64 * 4, &steer.raster_args, at + 4, 4);
-                    }
-                    jobs.push((RasterJob { sample: k, layer: samples[k as usize].layer, scissor: None }, at));
-                }
-                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &fg.scene_gpu.shadow_indices, &steer.raster_args);
-                Ok(())
-            })?;
-            timer.stage(ctx, "shadow_test", |enc| {
-                if level > 0 && cand.len() <= per_array {
-                    // One chunk: test only what subdivide requested (its list and count).
-                    passes.shadow_test.record_requested(fg, enc, b, &array.array_view, cand.len() as u32);
-                } else {
-                    passes.shadow_test.record(fg, enc, b, &array.array_view, chunk);
-                }
-                Ok(())
-            })?;
-        }
-        let evaluate = evaluates(p, level);
-        let clear = |enc: &mut wgpu::CommandEncoder| {
-            enc.clear_buffer(&b.control, 0, Some(8));
-            enc.clear_buffer(&b.quad_counters, 0, None);
-        };
-        if evaluate {
-            timer.stage(ctx, "reproject_count", |enc| {
-                clear(enc);
-                passes.reproject_count.record_dense(fg, enc, b, &lv, &b.quads[cur]);
-                Ok(())
-            })?;
-            timer.stage(ctx, "neighbourhood", |enc| {
-                passes.neighbourhood.record_dense(fg, enc, b, &lv);
-                Ok(())
-            })?;
-            timer.stage(ctx, "quad_count", |enc| {
-                passes.quad_count.record(fg, enc, b, &lv, 1, level > 0);
-                Ok(())
-            })?;
-        }
-        let read = level_read(fg, level, evaluate);
-        reads.push((read, evaluate, history_at));
-        timer.stage(ctx, "subdivide", |enc| {
-            if !evaluate {
-                clear(enc);
-            }
-            passes.subdivide.record(fg, enc, b, &lv, &b.quads[cur], &b.quads[nxt]);
-            for (buf, size) in levels::level_parts(b, &b.quads[nxt], None, read) {
-                enc.copy_buffer_to_buffer(buf, 0, &steer.history, history_at, size);
-                history_at += size;
-            }
-            Ok(())
-        })?;
-        timer.stage(ctx, "weights", |enc| {
-            steer.weights.record_leaves(fg, enc, b, &lv, &b.quads[cur]);
-            Ok(())
-        })?;
-    }
-    let weights_at = history_at;
-    timer.stage(ctx, "weights", |enc| {
-        steer.weights.record(fg, enc, b);
+    let fx = Frame::new(fg, p, b, passes, None);
+    fx.begin();
+    let mut steered = Steered { steer, array: &store.arrays[0], per_array, samples, reads: Vec::new(), history_at: 0 };
+    frame::levels(&fx, timer, &mut steered)?;
+    let weights_at = steered.history_at;
+    timer.stage(ctx, Stage::WEIGHTS, |enc| {
+        steer.weights.record(ctx, enc, &b.decisions, &b.weights);
         enc.copy_buffer_to_buffer(&b.weights, 0, &steer.history, weights_at, LATTICE_POINTS as u64 * 4);
         Ok(())
     })?;
-    timer.stage(ctx, "shade", |enc| {
-        fg.shade.record_masks(ctx, enc, &fg.frame_buffer, &b.weights, &fg.gbuffer, &b.masks, &fg.visibility);
-        Ok(())
-    })?;
+    frame::shade(&fx, timer)?;
     // shadow_maps and the record come in `finish`, after the frame.
     let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new(), detail: None };
-    Ok((out, Pending { reads, weights_at }))
+    Ok((out, Pending { reads: steered.reads, weights_at }))
 }
 
 /// After the frame: reads the level records and the weights (one read-back, outside the frame's
@@ -244,13 +241,13 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
     let steer = prepared.steer.as_ref().expect("steered frame without its state");
     let words: Vec<u32> = readback::map_staging(fg.ctx, &steer.history)?;
     let mut trace = AdaptiveTrace::default();
-    let mut quads = vec![GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }];
+    let mut quads = vec![ROOT];
     trace.rendered = candidates(0);
     for (level, &(read, evaluated, at)) in pending.reads.iter().enumerate() {
         let read = LevelRead { n: quads.len() as u64, ..read };
         let report = levels::parse_level(&prepared.b, &words[(at / 4) as usize..], level as u32, quads, evaluated, read);
-        if report.overflow != 0 {
-            return Err(Error::Overflow(format!("adaptive level {level}: the quad list exceeded 256 (flags {:#x}); the run is not valid", report.overflow)));
+        if let Some(e) = report.overflow_error(level as u32) {
+            return Err(e);
         }
         quads = report.next_quads.clone();
         let done = report.next_quad_count == 0;

@@ -4,6 +4,7 @@
 //! (env_split); cells under `min_share` of the power never split. Every leaf becomes one light at
 //! its power centroid carrying its power, and env_trace shades with them (docs/environment.md §2).
 
+use crate::gpu::Stage;
 use super::common::{environment, gpu_lights, resolution, SceneRays};
 use super::pixels::{parse_ssao, RayLights, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::SsaoSettings;
@@ -242,13 +243,13 @@ impl MethodState for State {
             let (cur, next) = (&self.cells[level as usize % 2], &self.cells[(level as usize + 1) % 2]);
             let counted = level < self.params.max_level;
             if counted {
-                timer.stage(ctx, "env_count", |enc| {
+                timer.stage(ctx, Stage::ENV_COUNT, |enc| {
                     enc.clear_buffer(&self.counts, 0, Some(cell_count as u64 * 4));
                     self.count.record(fg, enc, &self.level_params[level as usize], &self.corners_buffer, cur, &self.counts, cell_count, self.params.count_stride, &self.trace.rays.buffers);
                     Ok(())
                 })?;
             }
-            timer.stage(ctx, "env_split", |enc| {
+            timer.stage(ctx, Stage::ENV_SPLIT, |enc| {
                 if !counted {
                     enc.clear_buffer(&self.counts, 0, Some(cell_count as u64 * 4));
                 }
@@ -262,7 +263,7 @@ impl MethodState for State {
                 Ok(())
             })?;
             timer.flush(ctx);
-            let control: Vec<u32> = timer.cpu("env_readback", || readback::read_buffer(ctx, &self.control, 16))?;
+            let control: Vec<u32> = timer.cpu(Stage::ENV_READBACK, || readback::read_buffer(ctx, &self.control, 16))?;
             syncs += 1;
             let (next_count, leaf_count) = (control[0], control[1]);
             if capture {
@@ -298,14 +299,14 @@ impl MethodState for State {
             }
         }
         // The leaves become lights: one read-back, the centroids from the summed-area tables.
-        let leaves: Vec<GpuEnvCell> = timer.cpu("env_readback", || readback::read_buffer(ctx, &self.leaves, (leaves_so_far as u64 * cell_size).max(16)))?;
+        let leaves: Vec<GpuEnvCell> = timer.cpu(Stage::ENV_READBACK, || readback::read_buffer(ctx, &self.leaves, (leaves_so_far as u64 * cell_size).max(16)))?;
         syncs += 1;
         // Leaves arrive in atomic-append order, which varies from frame to frame; the light list
         // (and so the order env_trace sums in) must not, or V differs in its last bits.
         let mut leaves = leaves[..leaves_so_far as usize].to_vec();
         leaves.sort();
         let leaves = &leaves[..];
-        let lights: Vec<EnvLight> = timer.cpu("env_lights", || Ok(leaves.iter().filter_map(|c| self.tables.leaf_light(c, fw, fh)).collect()))?;
+        let lights: Vec<EnvLight> = timer.cpu(Stage::ENV_LIGHTS, || Ok(leaves.iter().filter_map(|c| self.tables.leaf_light(c, fw, fh)).collect()))?;
         let gpu = gpu_lights(&lights);
         self.trace.params.light_count = gpu.len() as u32;
         self.trace.lights = gpu.clone();

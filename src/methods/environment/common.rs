@@ -1,6 +1,7 @@
 //! What the environment methods share: the scene's BVH on both sides, the kernels' parameter
 //! block, and the ssao stage (its own method, and a factor the others can multiply in).
 
+use crate::gpu::Stage;
 use crate::stages::env_trace::BvhBuffers;
 use crate::stages::ssao::Ssao;
 use crate::stages::ssao::hemisphere_kernel;
@@ -31,7 +32,7 @@ impl SceneRays {
     pub fn build(fg: &FrameGpu) -> SceneRays {
         let bvh = Arc::new(Bvh::build(&fg.scene.triangles()));
         let buffers = BvhBuffers::upload(fg, &bvh);
-        SceneRays { bvh, buffers, ray_offset: crate::reference::ray_offset(fg.scene), t_max: crate::reference::env_ray_length(fg.scene) }
+        SceneRays { bvh, buffers, ray_offset: crate::scene::rays::ray_offset(fg.scene), t_max: crate::scene::rays::env_ray_length(fg.scene) }
     }
 
     pub fn params(&self, fg: &FrameGpu) -> GpuEnvParams {
@@ -95,7 +96,7 @@ impl SsaoStage {
     }
 
     pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
-        timer.stage(fg.ctx, "ssao", |enc| {
+        timer.stage(fg.ctx, Stage::SSAO, |enc| {
             self.pass.record(fg, enc, &self.params_buffer, &self.camera_buffer, &self.kernel_buffer, &self.ao, &self.occluded);
             Ok(())
         })

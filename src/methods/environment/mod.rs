@@ -1,8 +1,8 @@
 //! The environment methods (seed 002): lit by a panorama rather than a rectangle.
 
-pub mod adaptive;
-pub mod common;
-pub mod picture;
+pub(crate) mod adaptive;
+pub(crate) mod common;
+pub(crate) mod picture;
 pub mod pixels;
 pub mod shadowmaps;
-pub mod vertex;
+pub(crate) mod vertex;

@@ -2,6 +2,7 @@
 //! weights, is a directional light; V by one shadow ray per light and pixel through the BVH, or
 //! (`at=vertex`, the seed's variant) per mesh vertex, interpolated to the pixels.
 
+use crate::gpu::Stage;
 use super::common::{environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage};
 use super::vertex::{VertexCapture, VertexStage};
 use crate::methods::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
@@ -152,7 +153,7 @@ impl RayLights {
         if let Some(v) = &self.vertex {
             v.run(fg, timer, &self.chunk_buffers[..chunks.len()], &self.lights_buffer, &self.rays.buffers, ao)?;
         } else {
-            timer.stage(fg.ctx, "env_trace", |enc| {
+            timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
                 for buffer in &self.chunk_buffers[..chunks.len()] {
                     let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
                     self.trace.record(fg, enc, &inputs);

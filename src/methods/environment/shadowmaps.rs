@@ -2,6 +2,7 @@
 //! from a point 50 scene diagonals away along the light (near-orthographic), filtered by the pcf
 //! family's tap patterns (box by default).
 
+use crate::gpu::Stage;
 use super::common::{environment, gpu_lights};
 use super::pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::{SsaoSettings, SsaoStage};
@@ -48,7 +49,7 @@ pub const INFO: MethodInfo = MethodInfo {
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvShadowmaps {
     pub k: u32,
-    /// One of the pcf family's patterns ([`KERNELS`]).
+    /// One of the pcf family's patterns (`pcf::KERNELS`).
     pub filter: &'static str,
     pub pcf_radius: u32,
     pub taps: u32,
@@ -236,7 +237,7 @@ impl MethodState for State {
         let ctx = fg.ctx;
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-        timer.stage(ctx, "shadow_raster", |enc| {
+        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
             fg.raster.record(ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs);
             Ok(())
         })?;
@@ -244,7 +245,7 @@ impl MethodState for State {
             s.run(fg, timer)?;
         }
         let ao = self.ssao.as_ref().map_or(&self.lights_buffer, |s| &s.ao);
-        timer.stage(ctx, "env_shadowmaps", |enc| {
+        timer.stage(ctx, Stage::ENV_SHADOWMAPS, |enc| {
             self.pass.record(fg, enc, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer });
             Ok(())
         })?;

@@ -2,6 +2,7 @@
 //! pixel lights at every mesh vertex, the barycentrics raster finds each pixel's triangle and
 //! barycentrics, and env_vertex_interp interpolates the three vertex values (docs/environment.md §2).
 
+use crate::gpu::Stage;
 use crate::stages::env_trace::{BvhBuffers, EnvTraceVertex, VertexOutputs};
 use crate::stages::env_vertex_interp::EnvVertexInterp;
 use crate::stages::FrameGpu;
@@ -54,18 +55,18 @@ impl VertexStage {
     /// barycentrics, then env_trace at the vertices (one dispatch per chunk of lights, `chunks`
     /// holding `vertex_count`), then env_vertex_interp into V.
     pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer, chunks: &[wgpu::Buffer], lights: &wgpu::Buffer, bvh: &BvhBuffers, ao: &wgpu::Buffer) -> Result<()> {
-        timer.stage(fg.ctx, "barycentrics", |enc| {
+        timer.stage(fg.ctx, Stage::BARYCENTRICS, |enc| {
             self.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.camera, &self.ids);
             Ok(())
         })?;
         let out = VertexOutputs { visibility: &self.visibility, blocked: &self.blocked, sums: &self.sums };
-        timer.stage(fg.ctx, "env_trace", |enc| {
+        timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
             for params in chunks {
                 self.trace.record(fg, enc, params, lights, bvh, &out);
             }
             Ok(())
         })?;
-        timer.stage(fg.ctx, "env_vertex_interp", |enc| {
+        timer.stage(fg.ctx, Stage::ENV_VERTEX_INTERP, |enc| {
             self.interp.record(fg, enc, &chunks[0], &self.ids, &self.visibility, ao);
             Ok(())
         })

@@ -8,13 +8,13 @@ use super::style::{AXIS_PX, FONT, LABEL_PX, TITLE_PX, colour, plot_err, spans_sc
 use super::{ChartError, ResultRow};
 
 /// Chart (d'): each row's stages summed into the frame split (raster, decision, shade, waits;
-/// `crate::gpu::timing::split_of`), drawn like the stage breakdown.
+/// `crate::gpu::stages`), drawn like the stage breakdown.
 pub fn frame_split_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let split: Vec<ResultRow> = rows
         .iter()
         .map(|r| {
             let mut r = r.clone();
-            r.stages_ms = crate::gpu::timing::frame_split(&r.stages_ms).into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+            r.stages_ms = crate::gpu::stages::frame_split(&r.stages_ms).into_iter().map(|(k, v)| (k.to_string(), v)).collect();
             r
         })
         .collect();

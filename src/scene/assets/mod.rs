@@ -12,7 +12,7 @@ mod extract;
 mod fetch;
 mod input;
 mod js_arrays;
-pub mod manifest;
+pub(crate) mod manifest;
 mod mesh;
 mod off;
 mod ply;

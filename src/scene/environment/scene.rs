@@ -55,11 +55,6 @@ pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Envir
     Ok(Environment::new(def.panorama.clone(), panorama, def.rotation_deg, def.intensity))
 }
 
-/// Placeholder while the meshes load; replaced by [`light_above`].
-pub fn nominal_light() -> AreaLight {
-    AreaLight { center: Vec3::new(0.0, 1.0, 0.0), edge_u: Vec3::X, edge_v: Vec3::Z }
-}
-
 /// A square light one diagonal above the meshes, facing down: what the area-light methods (and
 /// shadow-map frusta) read in an environment-lit scene. Environment methods ignore it.
 pub fn light_above(min: Vec3, max: Vec3) -> AreaLight {

@@ -2,7 +2,7 @@
 //! per-run bounds and normal cones the kernel reads.
 
 use super::shadow::{shadow_compare, ShadowLookup, LOOKUP_COMPARE};
-use crate::methods::adaptive::buffers::{CULL_TILES, CULL_TILE_WORDS};
+use crate::stages::adaptive_buffers::{CULL_TILES, CULL_TILE_WORDS};
 use crate::stages::cull::{runs, CULL_RUN};
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};

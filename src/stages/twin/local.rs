@@ -6,7 +6,7 @@ use super::neighbourhood::{low_quality, Screen};
 use super::shadow_test::{LocalTest, Maps};
 use super::subdivide::{subdivide, SplitRule};
 use super::{probe_point, quad_corner};
-use crate::methods::adaptive::buffers::{LATTICE_POINTS, MASK_WORDS, NO_SPLIT};
+use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS, NO_SPLIT};
 use crate::gpu::structs::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 

@@ -22,6 +22,7 @@ pub mod shadow;
 pub mod shadow_test;
 pub mod ssao;
 pub mod subdivide;
+pub mod synthetic;
 
 /// Lattice index of corner c (0..3: (0,0), (1,0), (0,1), (1,1)) of a quad, as `quad_corner` in WGSL.
 pub fn quad_corner(q: &crate::gpu::structs::GpuQuad, c: u32) -> u32 {

@@ -4,7 +4,7 @@
 
 use super::quad_corner;
 use super::shadow_test::{SUMMARY_ANY_LIT, SUMMARY_ANY_UNLIT, SUMMARY_GEOMETRY, SUMMARY_WORD};
-use crate::methods::adaptive::buffers::{MASK_WORDS, MIXED_WORD};
+use crate::stages::adaptive_buffers::{MASK_WORDS, MIXED_WORD};
 use crate::gpu::structs::GpuQuad;
 use crate::render::gbuffer::GBufferCpu;
 

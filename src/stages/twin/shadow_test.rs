@@ -4,7 +4,7 @@
 
 use super::shadow::lit;
 use super::{probe_point, quad_corner};
-use crate::methods::adaptive::buffers::{LATTICE_POINTS, MASK_WORDS};
+use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS};
 use crate::stages::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
 use crate::gpu::structs::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;

@@ -2,10 +2,10 @@
 //! children and new samples as sorted sets.
 
 use super::quad_corner;
-use crate::methods::adaptive::buffers::{NO_SPLIT, QUAD_CAPACITY};
+use crate::stages::adaptive_buffers::{NO_SPLIT, QUAD_CAPACITY};
 use crate::gpu::structs::GpuQuad;
 
-pub use crate::methods::adaptive::params::SplitRule;
+pub use crate::stages::subdivide::SplitRule;
 
 #[derive(Debug, Default)]
 pub struct SubdivideOut {

@@ -2,13 +2,12 @@
 //! (Per-stage micro-benchmarks live in benches/, run with criterion.)
 
 pub mod errors;
-pub mod report;
 pub mod seed;
 pub mod stats;
 pub mod suite;
 pub mod table;
 
-pub use suite::{prepare, run_seed_table2, SceneResult, SuiteOptions, SuiteReport, SuiteScene};
+pub use suite::{prepare, run_seed_table2, SceneResult, SuiteOptions, SuiteResults, SuiteScene};
 
 /// Suites `--suite` accepts.
 pub const SUITES: &[&str] = &["seed-table2"];

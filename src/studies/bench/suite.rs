@@ -72,7 +72,8 @@ impl SceneResult {
     }
 }
 
-pub struct SuiteReport {
+/// One run of a suite: every scene's adaptive and regular results.
+pub struct SuiteResults {
     pub adapter: AdapterSummary,
     pub timestamps_trusted: bool,
     pub repeats: u32,
@@ -80,6 +81,14 @@ pub struct SuiteReport {
     pub wall_s: f64,
     pub reference: Option<String>,
     pub scenes: Vec<SceneResult>,
+}
+
+impl SuiteResults {
+    /// One report row per scene and method, adaptive first (the record layer's rows, one schema
+    /// with `compare`), so `report.html` shows its tables and charts like `compare` does.
+    pub fn rows(&self) -> Vec<ResultRow> {
+        self.scenes.iter().flat_map(|s| [s.adaptive.row.clone(), s.regular.row.clone()]).collect()
+    }
 }
 
 impl MethodResult {
@@ -139,7 +148,7 @@ pub const REFERENCE: ReferenceMode = ReferenceMode::DEFAULT_CONTINUOUS;
 /// Runs the suite on prepared scenes through the record layer (`record::measure`, one warm-up
 /// and one stages-mode frame per method, then `repeats` timed frames, the two methods
 /// interleaved); `log` receives one line per frame (the bar shows the same).
-pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteReport> {
+pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteResults> {
     let started = Instant::now();
     let started_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
     let bar = crate::progress::bar(scenes.len() as u64 * measure::frame_count(2, opts.repeats), "seed-table2");
@@ -184,7 +193,7 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         });
     }
     bar.finish_and_clear();
-    Ok(SuiteReport {
+    Ok(SuiteResults {
         adapter: ctx.summary.clone(),
         timestamps_trusted: ctx.timestamps_trusted,
         repeats: opts.repeats,

@@ -3,7 +3,7 @@
 
 use super::errors::PENDING;
 use super::seed::SEED_SETUP;
-use super::suite::{MethodResult, SceneResult, SuiteReport};
+use super::suite::{MethodResult, SceneResult, SuiteResults};
 use std::fmt::Write;
 
 /// `1234567` → `1,234,567`.
@@ -56,7 +56,7 @@ pub fn utc(unix_s: u64) -> String {
     format!("{y:04}-{m:02}-{d:02} {h:02}:{mi:02} UTC")
 }
 
-pub fn markdown(r: &SuiteReport) -> String {
+pub fn markdown(r: &SuiteResults) -> String {
     let a = &r.adapter;
     let first = r.scenes.first();
     let label = |f: fn(&SceneResult) -> &MethodResult| first.map(|s| f(s).label.clone()).unwrap_or_default();
@@ -150,8 +150,8 @@ pub fn markdown(r: &SuiteReport) -> String {
 
 /// `results.jsonl`: the record layer's rows (the schema of `compare` and `sweep`), one line per
 /// scene and method.
-pub fn jsonl(r: &SuiteReport) -> crate::Result<String> {
-    crate::record::jsonl(&super::report::rows(r))
+pub fn jsonl(r: &SuiteResults) -> crate::Result<String> {
+    crate::record::jsonl(&r.rows())
 }
 
 #[cfg(test)]

@@ -9,6 +9,8 @@ pub mod table;
 
 use crate::report::charts::ResultRow;
 use crate::reference::truth::{self, Cache, ReferenceImage};
+use crate::frame::FrameOptions;
+use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::metrics::{abs_error_image, signed_error_image};
@@ -16,7 +18,7 @@ use crate::record::judge::Judge;
 use crate::record::measure::{self, Phase};
 use crate::record::{self, Provenance, RunInfo};
 use crate::reference::ReferenceMode;
-use crate::report::results::{self as report_results, LoadedRow};
+use crate::report::results::{write_from_rows, LoadedRow};
 use crate::scene::Scene;
 use crate::record::run_files;
 use crate::{Error, Result};
@@ -36,6 +38,9 @@ pub struct CompareJob<'a> {
     pub cache: Cache,
     /// One per method: where its row comes from (scene digests, spec and shard).
     pub provenance: Vec<Provenance>,
+    /// After the measurement, one untimed frame per method with its decision pictures on, on
+    /// the method's own renderer ([`CompareOutcome::pictures`]).
+    pub pictures: bool,
 }
 
 pub struct CompareOutcome {
@@ -45,6 +50,8 @@ pub struct CompareOutcome {
     pub geometry: Vec<bool>,
     /// Every output file but the report: (path relative to the output folder, bytes).
     pub files: Vec<(String, Vec<u8>)>,
+    /// Per method, the decision pictures of its pictures frame (empty unless the job asked).
+    pub pictures: Vec<Vec<(String, image::RgbImage)>>,
 }
 
 fn json_bytes(v: &impl serde::Serialize, what: &str) -> Result<Vec<u8>> {
@@ -104,8 +111,15 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         bar.set_message(format!("{} {phase}", m.label()));
         bar.inc(1);
     };
-    let measured = measure::measure(ctx, scene, &job.methods, job.repeats, &mut on_frame, &mut judge_frame)?;
+    let (measured, renderers) = measure::measure_keeping(ctx, scene, &job.methods, job.repeats, &mut on_frame, &mut judge_frame)?;
     bar.finish_and_clear();
+    let pictures = if job.pictures {
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: true, capture: false };
+        renderers.into_iter().map(|mut r| Ok(r.frame(options)?.output.pictures)).collect::<Result<Vec<_>>>()?
+    } else {
+        drop(renderers);
+        Vec::new()
+    };
     let info = RunInfo {
         scene: &scene.name,
         resolution: [w, h],
@@ -129,7 +143,7 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
     }
     files.extend(record::result_files(&rows)?);
     let geometry = judge.mask.clone();
-    Ok(CompareOutcome { rows, reference, geometry, files })
+    Ok(CompareOutcome { rows, reference, geometry, files, pictures })
 }
 
 /// The reference's one-line summary (also printed by `penumbra reference`).
@@ -164,7 +178,7 @@ pub fn write_set(out: &Path, files: &[(String, Vec<u8>)], rows: &[ResultRow]) ->
         set.write(name, bytes)?;
     }
     let rows: Vec<LoadedRow> = rows.iter().map(|r| LoadedRow { row: r.clone(), base: set.path().to_path_buf() }).collect();
-    report_results::write_from_rows(&rows, set.path())?;
+    write_from_rows(&rows, set.path())?;
     set.commit()?;
     Ok(out.join("report.html"))
 }

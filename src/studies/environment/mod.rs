@@ -6,15 +6,13 @@
 
 use crate::report::charts::{env_chart_svg, svg_to_png, EnvAxis, ResultRow};
 use crate::studies::compare::{self, CompareJob};
-use crate::frame::{self, FrameOptions};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::record::Provenance;
 use crate::scene::Scene;
-use crate::gpu::timing::TimingMode;
 use crate::reference::truth;
 use crate::{Error, Result};
-use base64::Engine;
+use crate::report::page::data_uri;
 use std::path::{Path, PathBuf};
 
 pub const DEFAULT_SCENES: &str = "env-bunny,env-dragon";
@@ -22,27 +20,20 @@ pub const DEFAULT_METHODS: &str = "env-pixels:res=16x8,env-pixels:res=32x16,env-
 env-shadowmaps:k=4,env-shadowmaps:k=16,env-shadowmaps:k=64,env-shadowmaps:k=256,ssao,env-pixels:res=32x16;ssao=on,\
 env-adaptive:max_level=2;min_share=0.02,env-adaptive:max_level=3;min_share=0.02,env-adaptive";
 
-#[derive(clap::Args, Debug, Clone)]
-pub struct EnvironmentArgs {
+/// What `penumbra environment` runs: the lists as given, checked by [`run`] before any frame.
+#[derive(Debug, Clone)]
+pub struct EnvironmentJob {
     /// Scenes with an [environment], comma-separated.
-    #[arg(long, default_value = DEFAULT_SCENES)]
     pub scenes: String,
     /// Methods, comma-separated as in compare (a method's own parameters joined by `;`).
-    #[arg(long, default_value = DEFAULT_METHODS)]
     pub methods: String,
     /// Timed frames per method (median reported).
-    #[arg(long, default_value_t = 3)]
     pub repeats: u32,
     /// M: the reference takes M×M importance samples per pixel.
-    #[arg(long, default_value_t = 32)]
     pub samples: u32,
-    /// `--set key=value` render overrides for every scene (e.g. width=64).
-    #[arg(long)]
+    /// `key=value` render overrides as given (the rows' provenance records them).
     pub set: Vec<String>,
-    #[arg(long, default_value = "penumbra-out/environment")]
-    pub out: PathBuf,
     /// Trace the references even when the cache holds them.
-    #[arg(long)]
     pub no_cache: bool,
 }
 
@@ -63,15 +54,15 @@ pub fn parse_methods(list: &str) -> Result<Vec<Method>> {
     Ok(methods)
 }
 
-pub fn run(ctx: &GpuContext, args: &EnvironmentArgs, overrides: &[(String, String)], log: &dyn Fn(&str)) -> Result<(Vec<SceneOutcome>, Vec<(String, Vec<u8>)>)> {
-    let methods = parse_methods(&args.methods)?;
-    let mode = truth::parse_mode("continuous", args.samples)?;
-    if args.repeats == 0 || args.repeats > 100 {
-        return Err(Error::Param(format!("--repeats must be in 1..=100, got {}", args.repeats)));
+pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)], log: &dyn Fn(&str)) -> Result<(Vec<SceneOutcome>, Vec<(String, Vec<u8>)>)> {
+    let methods = parse_methods(&job.methods)?;
+    let mode = truth::parse_mode("continuous", job.samples)?;
+    if job.repeats == 0 || job.repeats > 100 {
+        return Err(Error::Param(format!("--repeats must be in 1..=100, got {}", job.repeats)));
     }
     // Every scene loads (and has an environment) before anything runs.
     let mut scenes = Vec::new();
-    for name in args.scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+    for name in job.scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let scene = Scene::load(name, overrides)?;
         if scene.environment.is_none() {
             return Err(Error::Param(format!("--scenes: `{name}` has no [environment] (docs/environment.md)")));
@@ -81,13 +72,13 @@ pub fn run(ctx: &GpuContext, args: &EnvironmentArgs, overrides: &[(String, Strin
     if scenes.is_empty() {
         return Err(Error::Param("--scenes: no scene given".into()));
     }
-    let cache = truth::Cache::default_for(args.no_cache);
+    let cache = truth::Cache::default_for(job.no_cache);
     let mut outcomes = Vec::new();
     let mut files = Vec::new();
     for scene in &scenes {
-        let provenance = vec![Provenance::of_scene("environment", scene, &args.set, None); methods.len()];
-        let job = CompareJob { scene, methods: methods.clone(), repeats: args.repeats, reference: mode, cache: cache.clone(), provenance };
-        let outcome = compare::run(ctx, &job, log)?;
+        let provenance = vec![Provenance::of_scene("environment", scene, &job.set, None); methods.len()];
+        let compare_job = CompareJob { scene, methods: methods.clone(), repeats: job.repeats, reference: mode, cache: cache.clone(), provenance, pictures: true };
+        let outcome = compare::run(ctx, &compare_job, log)?;
         let prefix = format!("{}/", crate::report::unique_slugs([scene.name.as_str()])[0]);
         for (name, bytes) in outcome.files {
             files.push((format!("{prefix}{name}"), bytes));
@@ -98,11 +89,10 @@ pub fn run(ctx: &GpuContext, args: &EnvironmentArgs, overrides: &[(String, Strin
                 *path = format!("{prefix}{path}");
             }
         }
-        // The decision pictures: one untimed frame with pictures on, per method that draws any.
+        // The decision pictures: compare's untimed pictures frame, per method that draws any.
         let mut pictures = Vec::new();
-        for m in &methods {
-            let f = frame::render(ctx, scene, m, FrameOptions { mode: TimingMode::Frame, pictures: true, capture: false })?;
-            for (name, img) in &f.output.pictures {
+        for (m, drawn) in methods.iter().zip(&outcome.pictures) {
+            for (name, img) in drawn {
                 let path = format!("{prefix}pictures/{}/{name}", crate::report::unique_slugs([m.label().as_str()])[0]);
                 let bytes = crate::record::run_files::png(img)?;
                 files.push((path.clone(), bytes.clone()));
@@ -159,10 +149,6 @@ pub fn closing_table(outcomes: &[SceneOutcome]) -> String {
     s
 }
 
-fn data_uri(png: &[u8]) -> String {
-    format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png))
-}
-
 /// The environment section appended to report.html: charts, panorama pictures, the table.
 pub fn section(outcomes: &[SceneOutcome], files: &[(String, Vec<u8>)]) -> String {
     let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
@@ -173,7 +159,7 @@ pub fn section(outcomes: &[SceneOutcome], files: &[(String, Vec<u8>)]) -> String
     for o in outcomes {
         h += &format!("<h3>{} panorama: the lights and cells each method chose</h3>\n<div class=\"gallery\">", esc(&o.scene));
         for (caption, png) in &o.pictures {
-            h += &format!("<figure><img src=\"{}\" width=\"512\" alt=\"{}\"><figcaption>{}</figcaption></figure>", data_uri(png), esc(caption), esc(caption));
+            h += &format!("<figure><img src=\"{}\" width=\"512\" alt=\"{}\"><figcaption>{}</figcaption></figure>", data_uri("image/png", png), esc(caption), esc(caption));
         }
         h += "</div>\n";
     }
@@ -185,6 +171,6 @@ pub fn section(outcomes: &[SceneOutcome], files: &[(String, Vec<u8>)]) -> String
 pub fn write(out: &Path, outcomes: &[SceneOutcome], files: &[(String, Vec<u8>)]) -> Result<PathBuf> {
     let rows: Vec<ResultRow> = outcomes.iter().flat_map(|o| o.rows.clone()).collect();
     let html = compare::write_set(out, files, &rows)?;
-    crate::studies::sequence::report::append_to_page(&html, &[section(outcomes, files)])?;
+    crate::report::page::append_to_page(&html, &[section(outcomes, files)])?;
     Ok(html)
 }

@@ -3,11 +3,10 @@
 //! the report shows the signed error maps side by side with one sentence per scene generated from
 //! the figures (`sentence`), and a short sequence where the adaptive decision pops.
 
-pub mod cli;
 pub mod sentence;
 
 use crate::studies::compare::ERROR_SCALE;
-use crate::frame::{self, FrameOptions};
+use crate::frame::{Detached, FrameOptions, Renderer};
 use crate::reference::truth::{self, Cache};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
@@ -15,7 +14,7 @@ use crate::metrics::signed_error_image;
 use crate::reference::ReferenceMode;
 use crate::scene::Scene;
 use crate::studies::sequence::path::{Animation, Path, Subject};
-use crate::studies::sequence::report::{data_uri, write_set};
+use crate::report::page::data_uri;
 use crate::studies::sequence::{self, SequenceJob, SequenceOutcome};
 use crate::gpu::timing::TimingMode;
 use crate::record::run_files;
@@ -124,7 +123,8 @@ pub fn figures(label: &str, method: &str, maps: u32, v: &[f32], r: &[f32], mask:
     f
 }
 
-fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob) -> Result<SceneOutcome> {
+/// `kept` holds each method's renderer from the scene before, moved to this one.
+fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob, kept: &mut [Option<Detached>]) -> Result<SceneOutcome> {
     let scene = scene(s, job.resolution)?;
     let (w, h) = (scene.render.width, scene.render.height);
     let (g, reference) = truth::for_scene(ctx, &scene, job.reference, &job.cache)?;
@@ -137,8 +137,13 @@ fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob) -> Result<SceneOu
         reference_png: run_files::png(&run_files::shaded_image(&reference.values, &g, &scene))?,
         error_pngs: Vec::new(),
     };
-    for method in &job.methods {
-        let f = frame::render(ctx, &scene, method, FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+    for (method, kept) in job.methods.iter().zip(kept) {
+        let mut renderer = match kept.take() {
+            Some(d) => d.attach(ctx, &scene)?,
+            None => Renderer::new(ctx, &scene, method)?,
+        };
+        let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+        *kept = Some(renderer.detach());
         let differ = (0..mask.len()).filter(|&i| f.gbuffer.is_geometry(i) != mask[i]).count();
         if differ > 0 {
             return Err(Error::Gpu(format!("{} on {}: the G-buffer differs from the reference's in {differ} pixels", method.label(), s.name)));
@@ -157,8 +162,9 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
         return Err(Error::Param(format!("--resolution {}: must be in 16..=2048", job.resolution)));
     }
     let mut scenes = Vec::new();
+    let mut kept: Vec<Option<Detached>> = job.methods.iter().map(|_| None).collect();
     for s in &SCENARIOS {
-        let outcome = run_scene(ctx, s, job)?;
+        let outcome = run_scene(ctx, s, job, &mut kept)?;
         log(&format!("failure gallery, {}: {}", s.name, outcome.sentence));
         scenes.push(outcome);
     }
@@ -172,7 +178,7 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
         None
     };
     if let Some(seq) = &sequence {
-        for line in sequence::report::sentences(seq) {
+        for line in sequence::section::sentences(seq) {
             log(&format!("failure gallery, popping sequence: {line}"));
         }
     }
@@ -276,7 +282,7 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
     env.add_template("failures.html", include_str!("section.html")).map_err(err)?;
     let mut out = vec![env.get_template("failures.html").map_err(err)?.render(Value::from(Serde(&view))).map_err(err)?];
     if let Some(seq) = &g.sequence {
-        out.push(sequence::report::section(seq)?);
+        out.push(sequence::section::section(seq)?);
     }
     Ok(out)
 }
@@ -284,8 +290,14 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
 /// `penumbra failures --out DIR`: the files, then `report.html` with the gallery alone.
 pub fn write(out: &std::path::Path, g: &Gallery) -> Result<std::path::PathBuf> {
     let mut files = g.files.clone();
-    let page = sequence::report::page("Penumbra: failure gallery", &sections(g)?)?;
+    let page = crate::report::page::page("Penumbra: failure gallery", &sections(g)?)?;
     files.push(("report.html".to_string(), page.into_bytes()));
-    write_set(out, &files)?;
+    run_files::write_files(out, &files)?;
     Ok(out.join("report.html"))
+}
+
+/// The main job: the gallery's files under `out/failures/`, its sections in `out/report.html`.
+pub fn attach(out: &std::path::Path, gallery: &Gallery) -> Result<()> {
+    run_files::write_files(&out.join("failures"), &gallery.files)?;
+    crate::report::page::append_to_page(&out.join("report.html"), &sections(gallery)?)
 }

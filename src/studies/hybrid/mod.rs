@@ -7,8 +7,10 @@
 //! - Multi-map methods (regular:n=17, adaptive) with hybrid maps against plain maps of a fixed size
 //!   and of the hybrid maps' measured memory, against the continuous reference.
 
-pub mod report;
+pub mod files;
 
+use crate::gpu::kernels;
+use crate::gpu::stages::{outside_frame, Stage};
 use crate::frame::{FrameOptions, FrameResult, Renderer};
 use crate::reference::truth::{self, Cache};
 use crate::gpu::GpuContext;
@@ -132,8 +134,6 @@ pub struct HybridOutcome {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-/// Stages that read the maps (the lookup), per method.
-const LOOKUP_STAGES: [&str; 4] = ["shade", "shadow_test", "pcf", "pcss"];
 
 struct Measured {
     totals: Vec<f64>,
@@ -203,10 +203,11 @@ fn row(ctx: &GpuContext, part: &str, scene: &Scene, method: &Method, maps: Maps,
         total_ms: median(&totals),
         total_ms_min: totals.iter().copied().fold(f64::INFINITY, f64::min),
         total_ms_max: totals.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        raster_ms: stage("shadow_raster"),
-        build_ms: stage("hybrid_build"),
-        lookup_ms: LOOKUP_STAGES.iter().map(|k| stage(k)).sum(),
-        stages_ms: m.stages.iter().filter(|(k, _)| !matches!(k.as_str(), "setup" | "build" | "upload")).map(|(k, v)| (k.clone(), *v)).collect(),
+        raster_ms: stage(Stage::SHADOW_RASTER.name),
+        build_ms: stage(Stage::HYBRID_BUILD.name),
+        // The lookup: the stages whose kernels read the maps (shade, shadow_test, pcf, pcss).
+        lookup_ms: kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| stage(s.name)).sum(),
+        stages_ms: m.stages.iter().filter(|(k, _)| !outside_frame(k)).map(|(k, v)| (k.clone(), *v)).collect(),
         store,
         resolution: scene.render.width,
         adapter: ctx.summary.name.clone(),
@@ -271,6 +272,6 @@ pub fn run(ctx: &GpuContext, job: &HybridJob, log: &dyn Fn(&str)) -> Result<Hybr
             }
         }
     }
-    let files = report::files(&rows)?;
+    let files = files::files(&rows)?;
     Ok(HybridOutcome { rows, files })
 }

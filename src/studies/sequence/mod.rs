@@ -6,15 +6,15 @@
 //! self-contained report; everything is encoded in memory before the first file is written.
 
 pub mod apng;
-pub mod cli;
 pub mod path;
-pub mod report;
+pub mod section;
+pub mod tables;
 pub mod temporal;
 
 use crate::report::charts::{self, svg_to_png, FrameSeries};
 use crate::studies::compare::ERROR_SCALE;
 use crate::record::measure::median;
-use crate::frame::{self, FrameOptions};
+use crate::frame::{Detached, FrameOptions, Renderer};
 use crate::reference::truth::{self, Cache};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
@@ -97,7 +97,8 @@ pub struct SequenceOutcome {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-pub(crate) fn check(job: &SequenceJob) -> Result<()> {
+/// The job's own checks, before the GPU starts (`run` makes them too).
+pub fn check(job: &SequenceJob) -> Result<()> {
     if job.frames < 2 || job.frames > MAX_FRAMES {
         return Err(Error::Param(format!("--frames {}: a sequence needs 2..={MAX_FRAMES} frames", job.frames)));
     }
@@ -118,6 +119,8 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     let mut reference_frames = Vec::new();
     let mut previous_v: Vec<Option<Vec<f32>>> = vec![None; n];
     let mut previous_reference: Option<(Vec<f32>, Vec<bool>)> = None;
+    // One renderer per method for the whole sequence, moved from frame to frame.
+    let mut kept: Vec<Option<Detached>> = job.methods.iter().map(|_| None).collect();
     let mut reference_label = String::new();
     let bar = progress::bar(u64::from(job.frames), "sequence frames");
     for i in 0..job.frames {
@@ -128,7 +131,12 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         let shaded_reference = run_files::shaded_image(&reference.values, &g, &scene_t);
         let mut line = format!("frame {}/{}: reference {}", i + 1, job.frames, if reference.cached { "cached" } else { "traced" });
         for (k, method) in job.methods.iter().enumerate() {
-            let f = frame::render(ctx, &scene_t, method, FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+            let mut renderer = match kept[k].take() {
+                Some(d) => d.attach(ctx, &scene_t)?,
+                None => Renderer::new(ctx, &scene_t, method)?,
+            };
+            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+            kept[k] = Some(renderer.detach());
             let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
             if differ > 0 {
                 return Err(Error::Gpu(format!("{} frame {i}: the G-buffer differs from the reference's in {differ} pixels", method.label())));
@@ -281,7 +289,7 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
         jsonl.push('\n');
     }
     files.push(("frames.jsonl".to_string(), jsonl.into_bytes()));
-    files.push(("frames.csv".to_string(), report::frames_csv(&o.rows).into_bytes()));
+    files.push(("frames.csv".to_string(), tables::frames_csv(&o.rows).into_bytes()));
     let summary = serde_json::json!({
         "scene": job.scene.name,
         "scene_origin": job.scene.origin,
@@ -298,7 +306,7 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
     });
     let pretty = serde_json::to_vec_pretty(&summary).map_err(|e| Error::Io { path: "summary.json".into(), message: e.to_string() })?;
     files.push(("summary.json".to_string(), pretty));
-    files.push(("summary.csv".to_string(), report::summary_csv(&o.summaries).into_bytes()));
+    files.push(("summary.csv".to_string(), tables::summary_csv(&o.summaries).into_bytes()));
     for (stem, _, svg) in &o.charts {
         files.push((format!("charts/{stem}.png"), svg_to_png(svg, 1.0)?));
         files.push((format!("charts/{stem}.svg"), svg.clone().into_bytes()));
@@ -314,7 +322,7 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
 pub fn write(out: &std::path::Path, o: &SequenceOutcome) -> Result<std::path::PathBuf> {
     let mut files = o.files.clone();
     let title = format!("Penumbra: temporal sequence on {}", o.scene);
-    files.push(("report.html".to_string(), report::page(&title, &[report::section(o)?])?.into_bytes()));
-    report::write_set(out, &files)?;
+    files.push(("report.html".to_string(), crate::report::page::page(&title, &[section::section(o)?])?.into_bytes()));
+    run_files::write_files(out, &files)?;
     Ok(out.join("report.html"))
 }

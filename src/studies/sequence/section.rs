@@ -1,80 +1,12 @@
-//! The sequence's tables and HTML: CSV of frames and summaries, a report section (an HTML fragment
-//! that the main job's report also embeds) and a self-contained page around sections.
+//! The sequence's report section: an HTML fragment (settings, the per-method table, sentences,
+//! charts, animations) that its own page, the failure gallery and the main job's report embed.
 
 use super::{FrameRow, MethodSummary, SequenceOutcome};
-use crate::{Error, Result};
-use base64::Engine;
-use minijinja::value::{Serde, Value};
-use minijinja::Environment;
+use crate::report::page::{data_uri, render};
+use crate::Result;
 use serde::Serialize;
-use std::path::Path;
 
 const SECTION: &str = include_str!("section.html");
-const PAGE: &str = include_str!("page.html");
-
-pub fn data_uri(mime: &str, bytes: &[u8]) -> String {
-    format!("data:{mime};base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
-}
-
-/// A CSV field, quoted as in results.csv when it holds a comma or a quote.
-fn field(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_string()
-    }
-}
-
-pub fn frames_csv(rows: &[FrameRow]) -> String {
-    let mut s = String::from(
-        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels\n",
-    );
-    for r in rows {
-        let t = r.temporal;
-        let opt = |v: Option<String>| v.unwrap_or_default();
-        s += &format!(
-            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{}\n",
-            field(&r.scene),
-            field(&r.label),
-            r.frame,
-            r.shadow_maps,
-            r.total_ms,
-            r.metrics.rmse,
-            r.metrics.mae,
-            r.metrics.max_abs,
-            r.metrics.bad_pixel_share,
-            r.metrics.flip_mean,
-            opt(t.map(|t| format!("{:.6}", t.temporal_rmse))),
-            opt(t.map(|t| format!("{:.6}", t.popping_share))),
-            opt(t.map(|t| t.popping_pixels.to_string())),
-            opt(t.map(|t| t.pixels.to_string())),
-        );
-    }
-    s
-}
-
-pub fn summary_csv(rows: &[MethodSummary]) -> String {
-    let mut s = String::from(
-        "label,frames,mean_rmse,mean_bad_pixel_share,temporal_rmse,popping_share,popping_pixels,maps_mean,maps_min,maps_max,median_ms\n",
-    );
-    for m in rows {
-        s += &format!(
-            "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3}\n",
-            field(&m.label),
-            m.frames,
-            m.mean_rmse,
-            m.mean_bad_pixel_share,
-            m.temporal.temporal_rmse,
-            m.temporal.popping_share,
-            m.temporal.popping_pixels,
-            m.maps_mean,
-            m.maps_min,
-            m.maps_max,
-            m.median_ms
-        );
-    }
-    s
-}
 
 #[derive(Serialize)]
 struct Figure {
@@ -134,13 +66,6 @@ pub fn sentences(o: &SequenceOutcome) -> Vec<String> {
     out
 }
 
-fn render(template: &str, name: &str, ctx: &impl Serialize) -> Result<String> {
-    let mut env = Environment::new();
-    let err = |e: minijinja::Error| Error::Io { path: format!("<{name} template>"), message: e.to_string() };
-    env.add_template(name, template).map_err(err)?;
-    env.get_template(name).map_err(err)?.render(Value::from(Serde(ctx))).map_err(err)
-}
-
 /// The section: settings, the per-method table, the charts and the animations.
 pub fn section(o: &SequenceOutcome) -> Result<String> {
     let rows = o
@@ -188,57 +113,6 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
     render(SECTION, "section.html", &view)
 }
 
-/// A whole self-contained page around rendered sections.
-pub fn page(title: &str, sections: &[String]) -> Result<String> {
-    render(PAGE, "page.html", &serde_json::json!({ "title": title, "sections": sections }))
-}
-
-/// Writes the files as one set (crate::record::output_set): all of them, or on failure what was there.
-pub fn write_set(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    crate::record::run_files::write_files(out, files).map(|_| ())
-}
-
-/// Inserts sections before `</body>` of a report page written earlier (the main job's report).
-pub fn append_to_page(html: &Path, sections: &[String]) -> Result<()> {
-    let text = std::fs::read_to_string(html).map_err(|e| Error::io(html, e))?;
-    let merged = insert_before_body(&text, sections)
-        .ok_or_else(|| Error::Io { path: html.display().to_string(), message: "no </body> to insert the sections before".into() })?;
-    // One file of an existing set: replaced through a temporary name, the rest of the set kept.
-    let dir = html.parent().unwrap_or(Path::new("."));
-    let name = html.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp"));
-    std::fs::write(&tmp, merged).map_err(|e| Error::io(&tmp, e))?;
-    std::fs::rename(&tmp, html).map_err(|e| Error::io(html, e))
-}
-
-/// `text` with the sections before its last `</body>`; `None` when it has none.
-pub fn insert_before_body(text: &str, sections: &[String]) -> Option<String> {
-    let at = text.rfind("</body>")?;
-    Some(format!("{}{}\n{}", &text[..at], sections.concat(), &text[at..]))
-}
-
-/// The per-method figures as a plain-text table for the terminal.
-pub fn summary_table(rows: &[MethodSummary]) -> String {
-    let mut s = format!(
-        "{:<28} {:>10} {:>13} {:>10} {:>8} {:>16} {:>10}\n",
-        "method", "mean RMSE", "temporal RMSE", "popping %", "pops", "maps per frame", "median ms"
-    );
-    for m in rows {
-        let maps = if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}-{})", m.maps_mean, m.maps_min, m.maps_max) };
-        s += &format!(
-            "{:<28} {:>10.4} {:>13.4} {:>10.3} {:>8} {:>16} {:>10.1}\n",
-            m.label,
-            m.mean_rmse,
-            m.temporal.temporal_rmse,
-            100.0 * m.temporal.popping_share,
-            m.temporal.popping_pixels,
-            maps,
-            m.median_ms
-        );
-    }
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -269,12 +143,5 @@ mod tests {
             "a's decision changes most between frames 1 and 2: 4 → 264 shadow maps, and 37 pixels pop in frame 2."
         );
         assert_eq!(decision_sentence("b", &rows), None);
-    }
-
-    #[test]
-    fn sections_go_before_the_last_body_tag() {
-        let page = "<html><body><p>x</p></body></html>";
-        assert_eq!(insert_before_body(page, &["<s>1</s>".into(), "<s>2</s>".into()]).unwrap(), "<html><body><p>x</p><s>1</s><s>2</s>\n</body></html>");
-        assert_eq!(insert_before_body("<html>", &[]), None);
     }
 }

@@ -1,0 +1,100 @@
+//! `penumbra compare` (and the main job, `penumbra` with no command): every method on one scene,
+//! timed and judged against the reference; results, pictures, charts and the report.
+
+use super::{render_sets, DEFAULT_METHODS};
+use anyhow::Result;
+use penumbra::gpu::{AdapterRequest, GpuContext};
+use penumbra::methods::Method;
+use penumbra::record::{output_set, Provenance};
+use penumbra::reference::truth;
+use penumbra::scene::Scene;
+use penumbra::studies::compare::{self, methods_list, CompareJob};
+use penumbra::studies::failures::{self, GalleryJob};
+use std::path::PathBuf;
+
+/// Settings shared by compare and sweep.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// Built-in scene name or path to a scene TOML file.
+    #[arg(long, default_value = "default")]
+    pub scene: String,
+    /// Timed frames per method after one warm-up (and one stages-mode frame); the median is quoted.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: u32,
+    /// Ground truth: `continuous`, `lattice`, or `point` / `point:S,T` (the hard shadow from one light point).
+    #[arg(long, default_value = "continuous")]
+    pub reference: String,
+    /// M for the continuous reference (M×M samples).
+    #[arg(long, default_value_t = 32)]
+    pub samples: u32,
+    /// Override a render setting, e.g. `--set resolution=256` (method parameters go in --methods).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output folder.
+    #[arg(long, default_value = "penumbra-out")]
+    pub out: PathBuf,
+    /// Trace the reference even when the cache holds it.
+    #[arg(long)]
+    pub no_cache: bool,
+}
+
+#[derive(clap::Args)]
+pub struct CompareArgs {
+    /// Methods, comma-separated: `hard,regular:n=5,adaptive:p_m=0,scope=local` (repeatable).
+    #[arg(long, default_value = DEFAULT_METHODS)]
+    methods: Vec<String>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+pub fn run(args: CompareArgs, gpu: &AdapterRequest) -> Result<()> {
+    compare_methods(&args.methods, args.run, None, gpu)
+}
+
+/// `penumbra` with no command: the default methods on `default`, with the failure gallery.
+pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
+    let run = RunArgs { scene: "default".into(), repeats: 3, reference: "continuous".into(), samples: 32, set: Vec::new(), out, no_cache: false };
+    let gallery = super::failures::FailuresArgs::main_job(&run);
+    compare_methods(&[DEFAULT_METHODS.to_string()], run, Some(gallery), gpu)
+}
+
+fn compare_methods(values: &[String], run: RunArgs, gallery: Option<super::failures::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&run.out)?;
+    let gallery_job = gallery.as_ref().map(|g| g.job()).transpose()?;
+    let specs = methods_list::split_specs(values)?;
+    let methods = methods_list::parse_methods(&specs)?;
+    let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
+    let provenance = Provenance::of_scene("compare", &scene, &run.set, None);
+    let all = vec![provenance; methods.len()];
+    run_compare(methods, scene, all, run, gallery_job, gpu)
+}
+
+/// Everything the user gave is checked before the GPU starts or any file is written. With
+/// `gallery_job`, the failure gallery runs too and its sections join the report.
+pub fn run_compare(
+    methods: Vec<Method>,
+    scene: Scene,
+    provenance: Vec<Provenance>,
+    run: RunArgs,
+    gallery_job: Option<GalleryJob>,
+    gpu: &AdapterRequest,
+) -> Result<()> {
+    let mode = truth::parse_mode(&run.reference, run.samples)?;
+    if run.repeats == 0 || run.repeats > 1000 {
+        anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
+    }
+    let ctx = GpuContext::with_request(gpu)?;
+    let cache = truth::Cache::default_for(run.no_cache);
+    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance, pictures: false };
+    let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
+    let gallery = gallery_job.map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
+    let html = compare::write(&run.out, &outcome)?;
+    if let Some(g) = &gallery {
+        failures::attach(&run.out, g)?;
+    }
+    print!("{}", compare::table::render(&outcome.rows));
+    println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, truth::mode_label(&mode));
+    println!("results: {}", run.out.join("results.jsonl").display());
+    println!("report:  {}", html.display());
+    Ok(())
+}

@@ -1,0 +1,106 @@
+//! `penumbra sweep`: compare over parameter grids from a TOML spec; the whole grid, one shard of
+//! it (`--shard`), or K local shard processes merged into one set (`--jobs`).
+
+use super::compare::{run_compare, RunArgs};
+use super::render_sets;
+use anyhow::{Context, Result};
+use penumbra::gpu::AdapterRequest;
+use penumbra::record::{output_set, Provenance, SpecRef};
+use penumbra::scene::Scene;
+use penumbra::studies::compare::{methods_list, sweep};
+use penumbra::studies::shard::{self, Shard};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct SweepArgs {
+    /// Sweep spec (TOML): `methods = [...]` and `[[grid]]` tables of parameter lists.
+    #[arg(long)]
+    spec: PathBuf,
+    /// Run only shard INDEX of COUNT (from 0): a share of the grid balanced by estimated cost.
+    #[arg(long, value_name = "INDEX/COUNT")]
+    shard: Option<String>,
+    /// Run the grid as K shard processes on this machine, then merge them into --out.
+    #[arg(long, value_name = "K")]
+    jobs: Option<u32>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.run.out)?;
+    let specs = sweep::read_spec(&args.spec)?;
+    let methods = methods_list::parse_methods(&specs)?;
+    let scene = Scene::load(&args.run.scene, &render_sets(&args.run.set)?)?;
+    let shard = match &args.shard {
+        Some(text) => Shard::parse(text)?,
+        None => Shard::WHOLE,
+    };
+    if let Some(k) = args.jobs {
+        if args.shard.is_some() {
+            anyhow::bail!("--jobs {k}: runs every shard itself; do not combine it with --shard");
+        }
+        if k == 0 || k > 64 {
+            anyhow::bail!("--jobs must be in 1..=64, got {k}");
+        }
+        return sweep_jobs(&args, k, gpu);
+    }
+    let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
+    let costs: Vec<f64> = methods.iter().map(|m| shard::estimated_cost(m, &scene)).collect();
+    let mine = shard::assign(&costs, shard.count).swap_remove(shard.index as usize);
+    if mine.is_empty() {
+        anyhow::bail!("--shard {shard}: the spec has {} configurations, too few for {} shards", methods.len(), shard.count);
+    }
+    let base = Provenance::of_scene("sweep", &scene, &args.run.set, None);
+    let spec = SpecRef {
+        file: args.spec.display().to_string(),
+        sha256: penumbra::record::provenance::sha256_hex(&text),
+        configs: methods.len(),
+        config: 0,
+        shard: [shard.index, shard.count],
+    };
+    let provenance = mine.iter().map(|&config| Provenance { spec: Some(SpecRef { config, ..spec.clone() }), ..base.clone() }).collect();
+    if shard.count > 1 {
+        let share: f64 = mine.iter().map(|&i| costs[i]).sum::<f64>() / costs.iter().sum::<f64>();
+        eprintln!("shard {shard}: {} of {} configurations, {:.0}% of the estimated cost", mine.len(), methods.len(), 100.0 * share);
+    }
+    let methods = mine.iter().map(|&i| methods[i].clone()).collect();
+    run_compare(methods, scene, provenance, args.run, None, gpu)
+}
+
+/// `sweep --jobs K`: this binary K times with `--shard i/K`, outputs in OUT/shards/i, then merged.
+fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
+    let exe = std::env::current_exe().context("cannot find this program to start the shards")?;
+    let r = &args.run;
+    let mut children = Vec::new();
+    let dirs: Vec<PathBuf> = (0..k).map(|i| r.out.join("shards").join(i.to_string())).collect();
+    for (i, dir) in dirs.iter().enumerate() {
+        let mut cmd = std::process::Command::new(&exe);
+        // The shards use the adapter this run was asked for, not the environment's default.
+        cmd.arg("--backend").arg(gpu.backend.name());
+        if let Some(name) = &gpu.name {
+            cmd.arg("--adapter").arg(name);
+        }
+        cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
+        cmd.args(["--scene", &r.scene, "--repeats", &r.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
+        for s in &r.set {
+            cmd.arg("--set").arg(s);
+        }
+        if r.no_cache {
+            cmd.arg("--no-cache");
+        }
+        cmd.arg("--out").arg(dir).env("PENUMBRA_NO_PROGRESS", "1").stdout(std::process::Stdio::null());
+        children.push((i, cmd.spawn().with_context(|| format!("cannot start shard {i}/{k}"))?));
+    }
+    let mut failed = Vec::new();
+    for (i, mut child) in children {
+        let status = child.wait().with_context(|| format!("shard {i}/{k}"))?;
+        if !status.success() {
+            failed.push(format!("{i}/{k}"));
+        }
+    }
+    if !failed.is_empty() {
+        anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above; outputs in {})", failed.join(", "), r.out.join("shards").display());
+    }
+    let outcome = shard::merge::merge(&dirs, &[])?;
+    super::merge::write_merged(&r.out, &outcome)
+}

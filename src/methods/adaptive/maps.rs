@@ -1,0 +1,165 @@
+//! The adaptive method's shadow maps: where each new map lives (layer, array) and how it is
+//! rasterized (whole, scissored, culled) and, under scope = global, cached by shadow_test.
+
+use crate::gpu::Stage;
+use super::frame::Frame;
+use super::AdaptiveTrace;
+use crate::gpu::structs::GpuSample;
+use crate::gpu::timing::StageTimer;
+use crate::methods::hybrid_maps::HybridMaps;
+use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
+use crate::stages::cull::Cull;
+use crate::stages::FrameGpu;
+use crate::Result;
+
+/// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
+/// only until shadow_test has cached them); `local` keeps every map alive in up to two arrays.
+pub(super) struct MapStore {
+    pub arrays: Vec<ShadowMapArray>,
+    pub per_array: u32,
+    pub used: u32,
+    /// `maps = hybrid` (scope = global): a few raster layers merged into a store, tested, dropped.
+    pub hybrid: Option<HybridMaps>,
+}
+
+impl MapStore {
+    pub fn views(&self) -> [&wgpu::TextureView; 2] {
+        let a = &self.arrays[0].array_view;
+        [a, self.arrays.get(1).map(|x| &x.array_view).unwrap_or(a)]
+    }
+}
+
+/// Rasterizes the maps of `new` (sorted, so layer assignment is deterministic) and, under
+/// scope = global, caches their shadow tests; chunks when more maps than one array holds.
+/// `capture` (tests) reads every map back into the trace.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn render_new(
+    fx: &Frame,
+    timer: &mut StageTimer,
+    store: &mut MapStore,
+    samples: &mut [GpuSample],
+    new: &[u32],
+    rects: Option<&[[u32; 4]]>,
+    trace: &mut AdaptiveTrace,
+    capture: bool,
+) -> Result<()> {
+    let (fg, b, local) = (fx.fg, fx.b, fx.local);
+    let ctx = fg.ctx;
+    let mut ks = new.to_vec();
+    ks.sort_unstable();
+    if let Some(h) = store.hybrid.as_mut() {
+        return render_new_hybrid(fx, timer, h, samples, &ks, trace, capture);
+    }
+    let map_size = fg.scene.render.shadow_map_size;
+    for chunk in ks.chunks(store.per_array as usize) {
+        let mut jobs: Vec<(usize, RasterJob)> = Vec::new();
+        for (n, &k) in chunk.iter().enumerate() {
+            let slot = if local { store.used + n as u32 } else { n as u32 };
+            let (array, layer) = (slot / store.per_array, slot % store.per_array);
+            samples[k as usize].layer = layer;
+            samples[k as usize].array = array;
+            let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
+            // A map none of whose pixels is tested needs no raster at all: an empty rect.
+            let skip = rects.is_some() && scissor.is_none();
+            if !skip {
+                jobs.push((array as usize, RasterJob { sample: k, layer, scissor }));
+            }
+            ctx.queue.write_buffer(&b.samples, k as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[k as usize]));
+        }
+        if local {
+            store.used += chunk.len() as u32;
+        }
+        for (a, array) in store.arrays.iter().enumerate() {
+            let mine: Vec<RasterJob> = jobs.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let Some((cull, kept)) = fx.cull else {
+                timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                    fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine);
+                    Ok(())
+                })?;
+                continue;
+            };
+            // Batches of slots: cull, then draw what each slot kept (the GPU writes the counts).
+            for batch in mine.chunks(cull.slots as usize) {
+                let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
+                timer.stage(ctx, Stage::CULL, |enc| {
+                    cull.record(fg, enc, &b.samples, &b.footprints.tiles, &ks);
+                    Ok(())
+                })?;
+                timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                    let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
+                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args);
+                    for (n, &k) in ks.iter().enumerate() {
+                        enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
+                    }
+                    Ok(())
+                })?;
+                trace.culled.extend_from_slice(&ks);
+            }
+        }
+        if !local {
+            timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
+                fx.passes.shadow_test.record(fg, enc, b.requests(), &b.masks, &store.arrays[0].array_view, chunk);
+                Ok(())
+            })?;
+        }
+        // Sample records of the next chunk overwrite this one's layers: submit before writing them.
+        timer.flush(ctx);
+        if capture {
+            for &k in chunk {
+                let s = &samples[k as usize];
+                let map = crate::gpu::readback::read_texture(ctx, &store.arrays[s.array as usize].texture, s.layer, 4)?;
+                trace.maps.push((k, map));
+            }
+        }
+        trace.rendered.extend_from_slice(chunk);
+    }
+    Ok(())
+}
+
+/// `render_new` with `maps = hybrid` (scope = global): each batch of the transient raster is merged
+/// into the store, tested by shadow_test (slot = lattice index) and dropped.
+fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, samples: &mut [GpuSample], ks: &[u32], trace: &mut AdaptiveTrace, capture: bool) -> Result<()> {
+    let (fg, b) = (fx.fg, fx.b);
+    let ctx = fg.ctx;
+    let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
+        timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
+            fx.passes.shadow_test.record(fg, enc, b.requests(), &b.masks, view, slots);
+            Ok(())
+        })
+    };
+    for chunk in ks.chunks(maps.layers() as usize) {
+        for &k in chunk {
+            samples[k as usize].layer = k;
+            samples[k as usize].array = 0;
+            ctx.queue.write_buffer(&b.samples, k as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[k as usize]));
+        }
+        maps.render(fg, timer, &b.samples, chunk, &mut test)?;
+        maps.flush(fg, timer, &mut test)?;
+        if capture {
+            // Tests only: the maps as the lookup reads them (the pool keeps them until the next build).
+            timer.flush(ctx);
+            let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
+            let h = maps.store.settings;
+            for &k in chunk {
+                trace.maps.push((k, crate::stages::twin::hybrid_build::decode(&pool, k, h.base, h.levels)));
+            }
+        }
+        trace.rendered.extend_from_slice(chunk);
+    }
+    Ok(())
+}
+
+/// Texel rectangle [min, max] → scissor (x, y, w, h), one texel of margin; None when empty.
+fn scissor_rect(r: [u32; 4], size: u32) -> Option<[u32; 4]> {
+    if r[0] > r[2] || r[1] > r[3] {
+        return None;
+    }
+    let x0 = r[0].saturating_sub(1);
+    let y0 = r[1].saturating_sub(1);
+    let x1 = (r[2] + 2).min(size);
+    let y1 = (r[3] + 2).min(size);
+    Some([x0, y0, x1 - x0, y1 - y0])
+}

@@ -1,0 +1,100 @@
+//! Scenes from meshes a caller hands over in memory (the embedding API, src/api.rs), checked by the
+//! same rules as a scene file: one set of checks, one way to assemble a [`Scene`].
+
+use super::format::{self, CameraDef, LightDef, Parts};
+use super::mesh::{smooth_normals, Vertex, MAX_SCENE_TRIANGLES};
+use super::model::{Camera, Scene};
+use super::overrides::apply_overrides;
+use super::settings::RenderSettings;
+use crate::scene::light::AreaLight;
+use crate::{Error, Result};
+use glam::Vec3;
+
+/// One mesh in world space, as a caller gives it.
+pub struct GivenMesh<'a> {
+    pub positions: &'a [[f32; 3]],
+    /// Three indices per triangle, counter-clockwise seen from the front.
+    pub indices: &'a [u32],
+    /// Per-vertex normals; `None`: area-weighted smooth normals, as for a mesh file without them.
+    pub normals: Option<&'a [[f32; 3]]>,
+    pub albedo: [f32; 3],
+}
+
+/// Render settings from `--set`-style pairs over the defaults (the keys of `penumbra render --set`).
+pub fn settings_from_pairs(origin: &str, pairs: &[(String, String)]) -> Result<RenderSettings> {
+    let mut table = toml::Table::new();
+    apply_overrides(&mut table, pairs).map_err(|m| Error::scene(origin, m))?;
+    let render = match table.remove("render") {
+        Some(v) => v.try_into::<RenderSettings>().map_err(|e| Error::Param(format!("{origin}: render setting: {}", e.message().trim())))?,
+        None => RenderSettings::default(),
+    };
+    format::render_settings(origin, &render)
+}
+
+fn camera_def(c: &Camera) -> CameraDef {
+    CameraDef { eye: c.eye.to_array(), target: c.target.to_array(), up: c.up.to_array(), fov_y_deg: c.fov_y_deg }
+}
+
+fn light_def(l: &AreaLight) -> LightDef {
+    LightDef { center: l.center.to_array(), edge_u: Some(l.edge_u.to_array()), edge_v: Some(l.edge_v.to_array()), size: None, normal: None, u_axis: None }
+}
+
+impl Scene {
+    /// A scene of `meshes` under a rectangular light; `render` comes from [`settings_from_pairs`].
+    pub fn from_meshes(origin: &str, camera: &Camera, light: &AreaLight, render: RenderSettings, meshes: &[GivenMesh]) -> Result<Scene> {
+        let camera = format::camera(origin, &camera_def(camera))?;
+        let light = format::build_light(&light_def(light), origin)?;
+        if meshes.is_empty() {
+            return Err(Error::scene(origin, "the scene has no mesh"));
+        }
+        let (mut vertex_total, mut triangle_total) = (0u64, 0u64);
+        let mut parts = Vec::with_capacity(meshes.len());
+        for (k, m) in meshes.iter().enumerate() {
+            let what = |field: &str| format!("mesh {} {field}", k + 1);
+            let albedo = format::finite(origin, &what("albedo"), m.albedo)?;
+            if m.indices.is_empty() || m.indices.len() % 3 != 0 {
+                return Err(Error::scene(origin, format!("mesh {}: {} indices: give three per triangle, at least one triangle", k + 1, m.indices.len())));
+            }
+            if let Some(i) = m.indices.iter().find(|&&i| i as usize >= m.positions.len()) {
+                return Err(Error::scene(origin, format!("mesh {}: index {i} is out of range ({} positions)", k + 1, m.positions.len())));
+            }
+            vertex_total += m.positions.len() as u64;
+            triangle_total += m.indices.len() as u64 / 3;
+            if vertex_total > u32::MAX as u64 || triangle_total > MAX_SCENE_TRIANGLES {
+                return Err(Error::scene(origin, format!("the meshes exceed {MAX_SCENE_TRIANGLES} triangles or 2^32 vertices")));
+            }
+            let positions = m.positions.iter().map(|p| format::finite(origin, &what("position"), *p)).collect::<Result<Vec<Vec3>>>()?;
+            let normals = match m.normals {
+                Some(n) if n.len() != positions.len() => {
+                    return Err(Error::scene(origin, format!("mesh {}: {} normals for {} positions", k + 1, n.len(), positions.len())));
+                }
+                Some(n) => n.iter().map(|v| format::finite(origin, &what("normal"), *v).map(Vec3::normalize_or_zero)).collect::<Result<Vec<Vec3>>>()?,
+                None => smooth_normals(&positions, m.indices),
+            };
+            let vertices = positions
+                .iter()
+                .zip(&normals)
+                .map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array(), material: 0 })
+                .collect();
+            parts.push((vertices, m.indices.to_vec(), albedo.to_array()));
+        }
+        let scene_parts = Parts { name: None, description: None, stated_triangles: None, camera, light: Some(light), environment: None, render };
+        format::assemble(scene_parts, parts, origin)
+    }
+
+    /// `camera` checked as a scene file's `[camera]` is, and against these meshes' bounds.
+    pub fn check_camera(&self, camera: &Camera) -> Result<Camera> {
+        let camera = format::camera(&self.origin, &camera_def(camera))?;
+        if self.bounds_outside(&camera) {
+            return Err(self.nothing_visible_from(&camera));
+        }
+        Ok(camera)
+    }
+
+    /// `light` checked as a scene file's `[light]` is, and against these meshes' side of it.
+    pub fn check_light(&self, light: &AreaLight) -> Result<AreaLight> {
+        let light = format::build_light(&light_def(light), &self.origin)?;
+        format::check_light_side(&self.origin, &light, &self.bounds)?;
+        Ok(light)
+    }
+}

@@ -1,0 +1,86 @@
+//! The sequence's text tables: CSV of frames and of per-method summaries, and the summary as a
+//! plain-text table for the terminal.
+
+use super::{FrameRow, MethodSummary};
+
+/// A CSV field, quoted as in results.csv when it holds a comma or a quote.
+fn field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+pub fn frames_csv(rows: &[FrameRow]) -> String {
+    let mut s = String::from(
+        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels\n",
+    );
+    for r in rows {
+        let t = r.temporal;
+        let opt = |v: Option<String>| v.unwrap_or_default();
+        s += &format!(
+            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{}\n",
+            field(&r.scene),
+            field(&r.label),
+            r.frame,
+            r.shadow_maps,
+            r.total_ms,
+            r.metrics.rmse,
+            r.metrics.mae,
+            r.metrics.max_abs,
+            r.metrics.bad_pixel_share,
+            r.metrics.flip_mean,
+            opt(t.map(|t| format!("{:.6}", t.temporal_rmse))),
+            opt(t.map(|t| format!("{:.6}", t.popping_share))),
+            opt(t.map(|t| t.popping_pixels.to_string())),
+            opt(t.map(|t| t.pixels.to_string())),
+        );
+    }
+    s
+}
+
+pub fn summary_csv(rows: &[MethodSummary]) -> String {
+    let mut s = String::from(
+        "label,frames,mean_rmse,mean_bad_pixel_share,temporal_rmse,popping_share,popping_pixels,maps_mean,maps_min,maps_max,median_ms\n",
+    );
+    for m in rows {
+        s += &format!(
+            "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3}\n",
+            field(&m.label),
+            m.frames,
+            m.mean_rmse,
+            m.mean_bad_pixel_share,
+            m.temporal.temporal_rmse,
+            m.temporal.popping_share,
+            m.temporal.popping_pixels,
+            m.maps_mean,
+            m.maps_min,
+            m.maps_max,
+            m.median_ms
+        );
+    }
+    s
+}
+
+/// The per-method figures as a plain-text table for the terminal.
+pub fn summary_table(rows: &[MethodSummary]) -> String {
+    let mut s = format!(
+        "{:<28} {:>10} {:>13} {:>10} {:>8} {:>16} {:>10}\n",
+        "method", "mean RMSE", "temporal RMSE", "popping %", "pops", "maps per frame", "median ms"
+    );
+    for m in rows {
+        let maps = if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}-{})", m.maps_mean, m.maps_min, m.maps_max) };
+        s += &format!(
+            "{:<28} {:>10.4} {:>13.4} {:>10.3} {:>8} {:>16} {:>10.1}\n",
+            m.label,
+            m.mean_rmse,
+            m.temporal.temporal_rmse,
+            100.0 * m.temporal.popping_share,
+            m.temporal.popping_pixels,
+            maps,
+            m.median_ms
+        );
+    }
+    s
+}
