@@ -24,15 +24,12 @@ pub struct FrameOptions {
     /// Read back the decision pictures (comparison map, flags, samples per pixel): this makes the
     /// per-level read-back larger, so timed runs turn it off.
     pub pictures: bool,
-    /// Keep intermediate buffers for the CPU twins in `MethodOutput::detail` (tests only: it adds
-    /// read-backs).
-    pub capture: bool,
 }
 
 impl From<TimingMode> for FrameOptions {
-    /// Pictures on, no capture: what `penumbra render` writes.
+    /// Pictures on: what `penumbra render` writes.
     fn from(mode: TimingMode) -> Self {
-        FrameOptions { mode, pictures: true, capture: false }
+        FrameOptions { mode, pictures: true }
     }
 }
 
@@ -198,6 +195,19 @@ impl<'a> Renderer<'a> {
         self.force_timestamps = true;
     }
 
+    /// Tests: from the next frame on, the method keeps what its frame overwrites as it goes (each
+    /// chunk's maps, each level's buffers) for [`Renderer::inspect`]. It adds read-backs.
+    pub fn keep_intermediates(&mut self) {
+        self.state.keep_intermediates();
+    }
+
+    /// After a frame: the method's maps and intermediate buffers as its CPU twins read them
+    /// (`fixed_samples::FixedBuffers`, `single_map::SingleMapBuffers`, `adaptive::AdaptiveTrace`…);
+    /// None when the method shows none or `T` is not its type.
+    pub fn inspect<T: std::any::Any>(&mut self) -> Result<Option<T>> {
+        Ok(self.state.inspect(&self.fg)?.and_then(|b| b.downcast::<T>().ok()).map(|b| *b))
+    }
+
     /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
     /// `total_ms` is the wall time from the G-buffer (and the clear of V) to the visibility read-back.
     pub fn frame(&mut self, options: impl Into<FrameOptions>) -> Result<FrameResult> {
@@ -226,7 +236,7 @@ impl<'a> Renderer<'a> {
             fg.shade.record_geometry_tiles(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
             Ok(())
         })?;
-        let mut output = self.state.run(fg, &mut timer, options.capture)?;
+        let mut output = self.state.run(fg, &mut timer)?;
         timer.flush(ctx);
         let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;

@@ -49,7 +49,7 @@ fn global_stages_equal_their_cpu_twins() {
             let (r, t) = common::traced(ctx, &sc, &p, true);
             let g = &r.gbuffer;
             let fr = frame_uniform(&sc);
-            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map kept").1.clone();
             let screen = Screen { width: g.width, height: g.height };
             let geometry = (0..g.position.len()).filter(|&i| g.is_geometry(i)).count() as u32;
             assert_eq!(t.levels[0].geometry_pixels, geometry, "seed {seed}: reproject_count's geometry pixels");
@@ -115,7 +115,7 @@ fn local_pipeline_equals_its_cpu_twin_exactly() {
             let p = params(&format!("{spec},scope=local"));
             let (r, t) = common::traced(ctx, &sc, &p, true);
             let fr = frame_uniform(&sc);
-            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map kept").1.clone();
             let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));
             let items: Vec<u32> = t.levels.iter().map(|l| l.items).collect();
             let probes: Vec<u32> = t.levels.iter().map(|l| l.probes).collect();
@@ -149,13 +149,13 @@ fn local_lookups_equal_the_distinct_pairs_consulted() {
             let p = params(&format!("{spec},scope=local"));
             let (r, t) = common::traced(ctx, &sc, &p, true);
             let fr = frame_uniform(&sc);
-            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map captured").1.clone();
+            let maps = |k: u32| t.maps.iter().find(|(m, _)| *m == k).expect("map kept").1.clone();
             let out = twin::local::local(&fr, &t.samples, &maps, &r.gbuffer, p.max_level, &|l| p.split_rule(l));
             let geometry = (0..r.gbuffer.position.len()).filter(|&i| r.gbuffer.is_geometry(i)).count() as u32;
             assert_eq!(t.levels[0].lookups, 4 * geometry, "seed {seed} {spec}: level 0 looks up the root's corners once per pixel");
             let mut before = 0u32;
             for (d, lvl) in t.levels.iter().enumerate() {
-                let consulted = lvl.consulted.as_ref().expect("consulted captured");
+                let consulted = lvl.consulted.as_ref().expect("consulted kept");
                 let now: u32 = consulted.iter().map(|w| w.count_ones()).sum();
                 assert_eq!(lvl.lookups, now - before, "seed {seed} {spec} level {d}: lookups against the pairs first consulted");
                 assert_eq!(lvl.lookups, out.lookups[d], "seed {seed} {spec} level {d}: lookups against the twin");

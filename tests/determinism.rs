@@ -34,7 +34,7 @@ fn two_512_renders_are_bit_identical() {
         let run = || {
             let scene = Scene::load("default", &[]).unwrap();
             assert_eq!((scene.render.width, scene.render.height, scene.render.shadow_map_size), (512, 512, 512));
-            frame::render(ctx, &scene, &method, frame::FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false }).unwrap()
+            frame::render(ctx, &scene, &method, frame::FrameOptions { mode: TimingMode::Frame, pictures: false }).unwrap()
         };
         let (a, b) = (run(), run());
         let differ: Vec<usize> = (0..a.visibility.len()).filter(|&i| a.visibility[i].to_bits() != b.visibility[i].to_bits()).collect();

@@ -121,7 +121,7 @@ fn env_pixels_beside_a_wall_meets_the_closed_form() {
     let path = dir.join("wall.toml");
     std::fs::write(&path, text).unwrap();
     let scene = penumbra::scene::Scene::load(path.to_str().unwrap(), &[]).unwrap();
-    let options = penumbra::frame::FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: false, capture: false };
+    let options = penumbra::frame::FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: false };
     let method = penumbra::methods::Method::parse("env-pixels:res=64x32", &[]).unwrap();
     let r = penumbra::frame::render(ctx, &scene, &method, options).unwrap();
     let (mut worst, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);

@@ -42,8 +42,8 @@ fn setup(name: &str) -> Scene {
     scene(&dir, 40)
 }
 
-fn capture() -> FrameOptions {
-    FrameOptions { mode: TimingMode::Frame, pictures: false, capture: true }
+fn options() -> FrameOptions {
+    FrameOptions { mode: TimingMode::Frame, pictures: false }
 }
 
 #[test]
@@ -51,8 +51,7 @@ fn env_trace_and_ssao_equal_their_twins() {
     let ctx = common::gpu();
     let sc = setup("env_twins_trace");
     for spec in ["env-pixels:res=16x8", "env-pixels:res=64x32", "env-pixels:res=32x16,ssao=on,ao_samples=12"] {
-        let r = frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap();
-        let c = env_pixels::capture_of(&r.output).expect("env-pixels capture");
+        let (r, c): (_, env_pixels::EnvTraceBuffers) = common::inspected(ctx, &sc, &Method::parse(spec, &[]).unwrap(), options());
         let (v, blocked) = twin::env_trace::env_trace(&c.params, &r.gbuffer, &c.lights, &c.ao, &c.bvh);
         let geometry: Vec<usize> = (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)).collect();
         let mismatched = geometry.iter().filter(|&&i| blocked[i] != c.blocked[i]).count();
@@ -64,8 +63,7 @@ fn env_trace_and_ssao_equal_their_twins() {
         assert!(worst <= 1e-5, "{spec}: V differs from the twin by {worst}");
         assert!(total_blocked > 1000 && partial > 50, "{spec}: too little shadow for the test to prove anything");
         if spec.contains("ssao") {
-            let ao_ctx = frame::render(ctx, &sc, &Method::parse("ssao:ao_samples=12", &[]).unwrap(), capture()).unwrap();
-            let a = ssao::capture_of(&ao_ctx.output).expect("ssao capture");
+            let (ao_ctx, a): (_, ssao::SsaoBuffers) = common::inspected(ctx, &sc, &Method::parse("ssao:ao_samples=12", &[]).unwrap(), options());
             let (ao, occluded) = twin::ssao::ssao(&a.params, &a.camera, &a.kernel, &ao_ctx.gbuffer);
             let differ = geometry.iter().filter(|&&i| occluded[i] != a.occluded[i]).count();
             let occluding = geometry.iter().filter(|&&i| a.occluded[i] > 0).count();
@@ -85,8 +83,7 @@ fn env_count_and_env_split_equal_their_twins_at_every_level() {
     let ctx = common::gpu();
     let sc = setup("env_twins_adaptive");
     let method = Method::parse("env-adaptive:cells=4x2,max_level=3,contrast=3", &[]).unwrap();
-    let r = frame::render(ctx, &sc, &method, capture()).unwrap();
-    let c = env_pixels::capture_of(&r.output).expect("env-adaptive keeps the env_trace capture");
+    let (r, c): (_, env_pixels::EnvTraceBuffers) = common::inspected(ctx, &sc, &method, options());
     assert!(c.levels.len() >= 3, "only {} levels ran", c.levels.len());
     let mut splits = 0;
     for (level, l) in c.levels.iter().enumerate() {
@@ -120,8 +117,8 @@ fn env_count_and_env_split_equal_their_twins_at_every_level() {
 fn barycentrics_rebuild_the_gbuffer() {
     let ctx = common::gpu();
     let sc = setup("env_twins_bary");
-    let r = frame::render(ctx, &sc, &Method::parse("env-pixels:res=8x4,at=vertex", &[]).unwrap(), capture()).unwrap();
-    let v = env_pixels::capture_of(&r.output).and_then(|c| c.vertex.clone()).expect("per-vertex capture");
+    let (r, c): (_, env_pixels::EnvTraceBuffers) = common::inspected(ctx, &sc, &Method::parse("env-pixels:res=8x4,at=vertex", &[]).unwrap(), options());
+    let v = c.vertex.expect("per-vertex buffers");
     let diag = sc.bounds.diagonal();
     let (mut covered, mut worst) = (0, 0.0f32);
     for (i, id) in v.ids.iter().enumerate() {
@@ -149,9 +146,8 @@ fn env_trace_vertex_and_interp_equal_their_twins() {
     let ctx = common::gpu();
     let sc = setup("env_twins_vertex");
     for spec in ["env-pixels:res=16x8,at=vertex", "env-pixels:res=64x32,at=vertex", "env-pixels:res=16x8,at=vertex,ssao=on"] {
-        let r = frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap();
-        let c = env_pixels::capture_of(&r.output).expect("env-pixels capture");
-        let v = c.vertex.as_ref().expect("per-vertex capture");
+        let (r, c): (_, env_pixels::EnvTraceBuffers) = common::inspected(ctx, &sc, &Method::parse(spec, &[]).unwrap(), options());
+        let v = c.vertex.as_ref().expect("per-vertex buffers");
         assert_eq!(r.output.record["vertices_traced"], sc.vertices.len(), "{spec}: record");
         let (vv, blocked) = twin::env_trace::env_trace_vertices(&c.params, &sc.vertices, &c.lights, &c.bvh);
         assert_eq!(blocked, v.blocked, "{spec}: blocked rays per vertex");
@@ -186,8 +182,7 @@ fn env_shadowmaps_equals_its_twin() {
         ("env-shadowmaps:k=8,filter=bilinear", 0.0, 1e-4),
     ];
     for (spec, share, tol) in specs {
-        let r = frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap();
-        let c = env_shadowmaps::capture_of(&r.output).expect("env-shadowmaps capture");
+        let (r, c): (_, env_shadowmaps::EnvShadowmapsBuffers) = common::inspected(ctx, &sc, &Method::parse(spec, &[]).unwrap(), options());
         let filter = twin::env_shadowmaps::Filter { settings: &c.filter, disk: &c.disk };
         let v = twin::env_shadowmaps::env_shadowmaps(&c.frame, &c.params, filter, &c.samples, &c.maps, &c.lights, &c.ao, &r.gbuffer);
         let geometry: Vec<usize> = (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)).collect();
@@ -207,7 +202,7 @@ fn env_shadowmaps_equals_its_twin() {
 fn env_shadowmaps_default_filter_is_box() {
     let ctx = common::gpu();
     let sc = setup("env_twins_box");
-    let run = |spec: &str| frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).unwrap().visibility;
+    let run = |spec: &str| frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), options()).unwrap().visibility;
     let default = run("env-shadowmaps:k=8");
     assert_eq!(default, run("env-shadowmaps:k=8,filter=box,taps=3,pcf_radius=1"));
     let poisson = run("env-shadowmaps:k=8,filter=poisson");
@@ -220,7 +215,7 @@ fn environment_methods_need_an_environment() {
     let ctx = common::gpu();
     let sc = Scene::parse(&common::random_scene_toml(5, 32, 64), "random", None, &[]).unwrap();
     for spec in ["env-pixels", "env-shadowmaps", "env-adaptive"] {
-        let e = frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), capture()).err().expect("no environment").to_string();
+        let e = frame::render(ctx, &sc, &Method::parse(spec, &[]).unwrap(), options()).err().expect("no environment").to_string();
         assert!(e.contains(spec) && e.contains("has no [environment]"), "{spec}: {e}");
     }
 }

@@ -4,7 +4,7 @@
 
 mod common;
 use penumbra::stages::twin;
-use penumbra::frame::{self, frame_uniform, FrameOptions, FrameResult};
+use penumbra::frame::{frame_uniform, FrameOptions, FrameResult};
 use penumbra::methods::{single_map, Method};
 use penumbra::scene::Scene;
 use penumbra::gpu::timing::TimingMode;
@@ -13,11 +13,9 @@ fn scene(seed: u64) -> Scene {
     Scene::parse(&common::random_scene_toml(seed, 48, 128), &format!("random-{seed}"), None, &[]).unwrap()
 }
 
-fn captured(ctx: &penumbra::gpu::GpuContext, sc: &Scene, spec: &str) -> (FrameResult, single_map::SingleMapCapture) {
-    let options = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: true };
-    let r = frame::render(ctx, sc, &Method::parse(spec, &[]).unwrap(), options).unwrap();
-    let c = single_map::capture_of(&r.output).expect("single-map capture").clone();
-    (r, c)
+fn inspected(ctx: &penumbra::gpu::GpuContext, sc: &Scene, spec: &str) -> (FrameResult, single_map::SingleMapBuffers) {
+    let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
+    common::inspected(ctx, sc, &Method::parse(spec, &[]).unwrap(), options)
 }
 
 /// (pixels differing by more than `tol`, largest difference) over geometry pixels.
@@ -52,7 +50,7 @@ fn pcf_and_pcss_equal_their_cpu_twins() {
     for seed in [3u64, 11] {
         let sc = scene(seed);
         for (spec, share, tol) in specs {
-            let (r, c) = captured(ctx, &sc, spec);
+            let (r, c) = inspected(ctx, &sc, spec);
             let fr = frame_uniform(&sc);
             let cpu = if spec.starts_with("pcss") {
                 twin::pcss::pcss(&fr, &c.filter, &c.sample, &c.map, &r.gbuffer)
@@ -81,7 +79,7 @@ fn filtered_stages_equal_their_cpu_twins() {
         let sc = scene(seed);
         let fr = frame_uniform(&sc);
         for spec in ["esm", "vsm", "evsm", "msm", "csm", "csm:order=7"] {
-            let (r, c) = captured(ctx, &sc, spec);
+            let (r, c) = inspected(ctx, &sc, spec);
             let f = &c.filter;
             let size = fr.map_size;
             let raw = twin::moments::moments(f, &c.sample, &c.map, size);

@@ -92,14 +92,13 @@ fn synthetic_map_merges_in_the_expected_pattern() {
 #[test]
 fn gpu_build_and_lookup_equal_their_twins() {
     let ctx = gpu();
-    let opts = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: true };
+    let opts = FrameOptions { mode: TimingMode::Frame, pictures: false };
     for (seed, method, base, levels) in [(3u64, Method::hard(), 256u32, 2u32), (11, Method::regular(2), 128, 1), (29, Method::regular(2), 256, 2)] {
         let set = |k: &str, v: String| (k.to_string(), v);
         let overrides = [set("maps", "hybrid".into()), set("base", base.to_string()), set("levels", levels.to_string())];
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 64), "random", None, &overrides).unwrap();
         assert_eq!(sc.render.shadow_map_size, base, "base is the raster size");
-        let r = frame::render(ctx, &sc, &method, opts).unwrap();
-        let c = fixed_samples::capture_of(&r.output).expect("fixed-sample capture");
+        let (r, c): (_, fixed_samples::FixedBuffers) = common::inspected(ctx, &sc, &method, opts);
         let eps = sc.render.hybrid.eps * DEPTH_UNIT;
         let (mut full, mut merged) = (0usize, 0usize);
         for (slot, raw) in c.raw_maps.iter().enumerate() {

@@ -25,7 +25,7 @@ fn later_frames_on_one_renderer_equal_the_first() {
         let method = Method::parse(spec, &[]).unwrap();
         let scene = if method.family() == penumbra::methods::Family::Environment { &env_scene } else { &scene };
         let mut r = Renderer::new(ctx, scene, &method).unwrap();
-        let options = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false };
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
         let first = r.frame(options).unwrap();
         assert!(first.stages_ms.contains_key(Stage::BUILD.name), "{spec}: the first frame carries the build");
         let shadowed = (0..first.visibility.len()).filter(|&i| first.gbuffer.is_geometry(i) && first.visibility[i] < 1.0).count();
@@ -66,7 +66,7 @@ fn a_renderer_moved_to_another_scene_equals_a_new_one() {
         scenes
     };
     let (plain, lit) = (scenes_of(""), scenes_of("\n[environment]\npanorama = \"sky.exr\"\n"));
-    let options = FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false };
+    let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
     let specs = ["hard", "pcss", "vsm", "regular:n=3", "adaptive", "adaptive:scope=local,cull=on", "adaptive:preset=balanced", "env-pixels:res=16x8,at=vertex", "env-shadowmaps:k=4"];
     for spec in specs {
         let method = Method::parse(spec, &[]).unwrap();

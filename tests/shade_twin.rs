@@ -4,7 +4,7 @@
 mod common;
 use penumbra::stages::shade::{blocks, SHADE_BLOCK};
 use penumbra::stages::twin;
-use penumbra::frame::{self, frame_uniform, FrameOptions};
+use penumbra::frame::{frame_uniform, FrameOptions};
 use penumbra::methods::{fixed_samples, Method};
 use penumbra::gpu::timing::TimingMode;
 use penumbra::scene::Scene;
@@ -20,9 +20,8 @@ fn shade_equals_its_cpu_twin() {
             &[("shadow_map_budget_mib".into(), budget.into())],
         )
         .unwrap();
-        let options = FrameOptions { mode: TimingMode::Frame, pictures: true, capture: true };
-        let r = frame::render(ctx, &sc, &method, options).unwrap();
-        let c = fixed_samples::capture_of(&r.output).expect("fixed-sample capture");
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
+        let (r, c): (_, fixed_samples::FixedBuffers) = common::inspected(ctx, &sc, &method, options);
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();
         if seed == 29 {

@@ -330,7 +330,7 @@ impl<'a> ShadowRenderer<'a> {
     /// Renders one frame and returns V. Fails when no mesh covers a pixel.
     pub fn render(&mut self) -> Result<Visibility> {
         // Frame timing and no decision pictures: the fewest waits and read-backs.
-        let r = self.inner.frame(FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+        let r = self.inner.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
         Ok(Visibility { width: r.gbuffer.width, height: r.gbuffer.height, values: r.visibility, shadow_maps: r.output.shadow_maps })
     }
 

@@ -4,7 +4,7 @@
 //! statistic and the reconstruction.
 
 use crate::gpu::Stage;
-use super::single_map::{light_size, CentreMap, SingleMapCapture};
+use super::single_map::{light_size, CentreMap, SingleMapBuffers};
 use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::{blur::Blur, moments::Moments, reconstruct::Reconstruct, FrameGpu};
 use crate::gpu::readback;
@@ -245,7 +245,7 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // every stage writes all of its output
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         let view = self.map.view();
         timer.stage(fg.ctx, Stage::MOMENTS, |enc| {
@@ -260,27 +260,24 @@ impl MethodState for State {
             self.reconstruct.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.filtered);
             Ok(())
         })?;
-        let detail = if capture {
-            timer.flush(fg.ctx);
-            let c = SingleMapCapture {
-                map: self.map.read(fg)?,
-                sample: self.map.sample,
-                filter: self.filter,
-                raw: readback::read_buffer(fg.ctx, &self.raw, self.bytes)?,
-                scratch: readback::read_buffer(fg.ctx, &self.scratch, self.bytes)?,
-                filtered: readback::read_buffer(fg.ctx, &self.filtered, self.bytes)?,
-                ..Default::default()
-            };
-            Some(Box::new(c) as Box<dyn std::any::Any>)
-        } else {
-            None
-        };
         Ok(MethodOutput {
             shadow_maps: 1,
             syncs: 0,
             record: serde_json::json!({ "blur_radius_texels": self.filter.blur_radius, "planes": self.filter.layers }),
             pictures: Vec::new(),
-            detail,
         })
+    }
+    /// [`SingleMapBuffers`]: the map and the statistic after each filter stage.
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let c = SingleMapBuffers {
+            map: self.map.read(fg)?,
+            sample: self.map.sample,
+            filter: self.filter,
+            raw: readback::read_buffer(fg.ctx, &self.raw, self.bytes)?,
+            scratch: readback::read_buffer(fg.ctx, &self.scratch, self.bytes)?,
+            filtered: readback::read_buffer(fg.ctx, &self.filtered, self.bytes)?,
+            ..Default::default()
+        };
+        Ok(Some(Box::new(c)))
     }
 }

@@ -91,8 +91,15 @@ impl MethodState for Prepared {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // every raster pass clears its layer
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
-        run(fg, timer, self, capture)
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+        run(fg, timer, self)
+    }
+    fn keep_intermediates(&mut self) {
+        self.keep = true;
+    }
+    /// The last frame's [`FixedBuffers`], when `keep_intermediates` was called before it.
+    fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        Ok(self.kept.take().map(|c| Box::new(c) as Box<dyn std::any::Any>))
     }
 }
 
@@ -152,6 +159,9 @@ pub struct Prepared {
     samples_buffer: wgpu::Buffer,
     weights_buffer: wgpu::Buffer,
     maps: Maps,
+    /// Tests: every chunk's maps are kept, since the next chunk overwrites them.
+    keep: bool,
+    kept: Option<FixedBuffers>,
 }
 
 /// Plain: one array of `chunk` layers, shaded chunk by chunk. Hybrid: a transient raster and a store.
@@ -190,20 +200,20 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
-    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps })
+    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps, keep: false, kept: None })
 }
 
-/// Renders and shades chunk by chunk; with `capture`, every map and sample record is kept for the
+/// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the
 /// shade twin (tests only).
-fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: bool) -> Result<MethodOutput> {
-    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps } = prepared;
+fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result<MethodOutput> {
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, keep, kept } = prepared;
     let (chunk, array) = match maps {
         Maps::Plain { chunk, array } => (*chunk, &*array),
-        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, capture),
+        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, *keep, kept),
     };
     let ctx = fg.ctx;
     let points = *points;
-    let mut capture = capture.then(FixedCapture::default);
+    let mut buffers = keep.then(FixedBuffers::default);
     let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
     let tiles = &fg.geometry_tiles;
     let bar = crate::progress::bar(points as u64, "shadow maps");
@@ -214,7 +224,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
             fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs);
             Ok(())
         })?;
-        if let Some(c) = capture.as_mut() {
+        if let Some(c) = buffers.as_mut() {
             timer.flush(ctx);
             for layer in 0..count {
                 c.maps.push(readback::read_texture(ctx, &array.texture, layer, 4)?);
@@ -227,13 +237,13 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
         bar.inc(count as u64);
     }
     bar.finish_and_clear();
-    if let Some(c) = capture.as_mut() {
+    if let Some(c) = buffers.as_mut() {
         c.samples = samples.clone();
         c.weights = weights.clone();
         c.tiles = read_tiles(fg, tiles)?;
     }
     let chunks = (points as u32).div_ceil(chunk);
-    Ok(MethodOutput {
+    let out = Ok(MethodOutput {
         shadow_maps: points as u32,
         syncs: 0,
         record: serde_json::json!({
@@ -243,8 +253,9 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared, capture: 
             "triangles_per_map_mean": fg.scene_gpu.index_count as f64 / 3.0,
         }),
         pictures: Vec::new(),
-        detail: capture.map(|c| Box::new(c) as Box<dyn std::any::Any>),
-    })
+    });
+    *kept = buffers;
+    out
 }
 
 /// `run` with `maps = hybrid`: batches of the transient raster's layers, merged into the store; the
@@ -260,7 +271,8 @@ fn run_hybrid(
     samples_buffer: &wgpu::Buffer,
     weights_buffer: &wgpu::Buffer,
     maps: &mut HybridMaps,
-    capture: bool,
+    keep: bool,
+    kept: &mut Option<FixedBuffers>,
 ) -> Result<MethodOutput> {
     let ctx = fg.ctx;
     maps.reset(fg);
@@ -273,7 +285,7 @@ fn run_hybrid(
             Ok(())
         })
     };
-    let mut cap = capture.then(FixedCapture::default);
+    let mut cap = keep.then(FixedBuffers::default);
     let layers = maps.layers();
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(layers as usize) {
@@ -284,7 +296,7 @@ fn run_hybrid(
             // Tests only: the batch's full-resolution maps and the store that holds them.
             timer.flush(ctx);
             if maps.stats.flushes != flushes {
-                return Err(crate::Error::Limit("capture with maps=hybrid needs a store that holds each raster batch".into()));
+                return Err(crate::Error::Limit("keeping the maps with maps=hybrid needs a store that holds each raster batch".into()));
             }
             let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
             let (base, levels) = (maps.store.settings.base, maps.store.settings.levels);
@@ -303,18 +315,14 @@ fn run_hybrid(
         c.weights = weights.to_vec();
         c.tiles = read_tiles(fg, tiles)?;
     }
-    Ok(MethodOutput {
+    let out = Ok(MethodOutput {
         shadow_maps: points as u32,
         syncs: maps.stats.syncs,
         record: serde_json::json!({ "maps_per_chunk": layers, "chunks": maps.stats.flushes, "hybrid": maps.record() }),
         pictures: Vec::new(),
-        detail: cap.map(|c| Box::new(c) as Box<dyn std::any::Any>),
-    })
-}
-
-/// The capture of a fixed-sample run made with `capture` on.
-pub fn capture_of(out: &MethodOutput) -> Option<&FixedCapture> {
-    out.detail.as_ref()?.downcast_ref()
+    });
+    *kept = cap;
+    out
 }
 
 /// Tests only: the listed tiles, sorted (the GPU appends them in any order).
@@ -330,7 +338,7 @@ fn read_tiles(fg: &FrameGpu, tiles: &GeometryTiles) -> Result<Vec<u32>> {
 /// `maps` are what the lookup twin reads from the store, `raw_maps` the rasterized maps and
 /// `hybrid_pool` the store after the last batch.
 #[derive(Default)]
-pub struct FixedCapture {
+pub struct FixedBuffers {
     /// The tiles shade ran on (sorted), for the geometry_tiles twin.
     pub tiles: Vec<u32>,
     pub maps: Vec<Vec<f32>>,

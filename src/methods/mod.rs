@@ -33,9 +33,6 @@ pub struct MethodOutput {
     pub syncs: u32,
     pub record: serde_json::Value,
     pub pictures: Vec<(String, image::RgbImage)>,
-    /// Method-specific detail for tests (the adaptive trace, captured maps and intermediate
-    /// buffers for the CPU twins); read it with the method module's accessor.
-    pub detail: Option<Box<dyn Any>>,
 }
 
 /// The families the charts and tables group methods by.
@@ -122,13 +119,20 @@ pub trait ShadowMethod: Send + Sync + Any {
 /// A built method. `reset` runs before the frame's clock starts (zero fills); `run` is the frame.
 pub trait MethodState {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()>;
-    /// `capture` keeps intermediate buffers in `MethodOutput::detail` for the twins (tests only:
-    /// it adds read-backs).
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput>;
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput>;
     /// After the frame's clock stopped (V is read back): a method whose frame needed no read-back
     /// reads its record here (decisions, maps used, pictures), outside the timed frame.
     fn finish(&mut self, _fg: &FrameGpu, _out: &mut MethodOutput) -> Result<()> {
         Ok(())
+    }
+    /// Tests: from the next frame on, keep what a frame overwrites as it goes (each chunk's maps,
+    /// each level's buffers) for `inspect`. It adds read-backs, so only the methods whose buffers
+    /// do not outlive the frame implement it.
+    fn keep_intermediates(&mut self) {}
+    /// After a frame (tests, benches): the maps and intermediate buffers the CPU twins compare,
+    /// read back from what the state holds; `Renderer::inspect` downcasts it to the method's type.
+    fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn Any>>> {
+        Ok(None)
     }
 }
 

@@ -2,7 +2,7 @@
 //! binary shadow test over taps around its place in the map.
 
 use crate::gpu::Stage;
-use super::single_map::{CentreMap, SingleMapCapture};
+use super::single_map::{CentreMap, SingleMapBuffers};
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::pcf::Pcf as PcfPass;
 use crate::stages::FrameGpu;
@@ -180,26 +180,23 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // the raster clears its map; pcf writes every geometry pixel
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCF, |enc| {
             self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer);
             Ok(())
         })?;
-        let detail = if capture {
-            timer.flush(fg.ctx);
-            let c = SingleMapCapture { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, disk: self.disk.clone(), ..Default::default() };
-            Some(Box::new(c) as Box<dyn std::any::Any>)
-        } else {
-            None
-        };
         Ok(MethodOutput {
             shadow_maps: 1,
             syncs: self.map.syncs(),
             record: self.map.with_record(serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps })),
             pictures: Vec::new(),
-            detail,
         })
+    }
+    /// [`SingleMapBuffers`]: the map and the kernel pcf read.
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let c = SingleMapBuffers { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, disk: self.disk.clone(), ..Default::default() };
+        Ok(Some(Box::new(c)))
     }
 }
 

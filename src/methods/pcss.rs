@@ -2,7 +2,7 @@
 //! size by similar triangles, then PCF of that width, all on the centre map.
 
 use crate::gpu::Stage;
-use super::single_map::{light_size, CentreMap, SingleMapCapture};
+use super::single_map::{light_size, CentreMap, SingleMapBuffers};
 use super::{check_range, get_f32, label_from, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
 use crate::stages::pcss::Pcss as PcssPass;
 use crate::stages::FrameGpu;
@@ -73,25 +73,22 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCSS, |enc| {
             self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view());
             Ok(())
         })?;
-        let detail = if capture {
-            timer.flush(fg.ctx);
-            let c = SingleMapCapture { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, ..Default::default() };
-            Some(Box::new(c) as Box<dyn std::any::Any>)
-        } else {
-            None
-        };
         Ok(MethodOutput {
             shadow_maps: 1,
             syncs: self.map.syncs(),
             record: self.map.with_record(serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] })),
             pictures: Vec::new(),
-            detail,
         })
+    }
+    /// [`SingleMapBuffers`]: the map pcss read.
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let c = SingleMapBuffers { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, ..Default::default() };
+        Ok(Some(Box::new(c)))
     }
 }

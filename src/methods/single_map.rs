@@ -1,5 +1,5 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
-//! light's centre, the filter uniform, and the capture their twin tests read.
+//! light's centre, the filter uniform, and the buffers their twin tests read.
 
 use crate::gpu::Stage;
 use super::hybrid_maps::HybridMaps;
@@ -104,9 +104,9 @@ pub fn light_size(fg: &FrameGpu) -> (f32, f32) {
     (fg.scene.light.edge_u.length(), fg.scene.light.edge_v.length())
 }
 
-/// Inputs and intermediate buffers of one single-map frame, kept for the twins (`capture`).
+/// Inputs and intermediate buffers of one single-map frame, read after it for the twins (`inspect`).
 #[derive(Clone, Debug, Default)]
-pub struct SingleMapCapture {
+pub struct SingleMapBuffers {
     pub map: Vec<f32>,
     pub sample: GpuSample,
     pub filter: GpuFilter,
@@ -118,7 +118,3 @@ pub struct SingleMapCapture {
     pub filtered: Vec<[f32; 4]>,
 }
 
-/// The capture of a single-map run made with `capture` on.
-pub fn capture_of(out: &crate::methods::MethodOutput) -> Option<&SingleMapCapture> {
-    out.detail.as_ref()?.downcast_ref()
-}

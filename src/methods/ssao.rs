@@ -48,7 +48,7 @@ impl ShadowMethod for SsaoMethod {
 struct State(SsaoStage);
 
 /// Inputs and counts of an ssao frame, for the twin.
-pub struct SsaoCapture {
+pub struct SsaoBuffers {
     pub params: GpuEnvParams,
     pub camera: GpuCamera,
     pub kernel: Vec<[f32; 4]>,
@@ -56,15 +56,11 @@ pub struct SsaoCapture {
     pub occluded: Vec<u32>,
 }
 
-pub fn capture_of(out: &MethodOutput) -> Option<&SsaoCapture> {
-    out.detail.as_ref()?.downcast_ref()
-}
-
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
         let s = &self.0;
         s.run(fg, timer)?;
         let bytes = fg.pixel_count() as u64 * 4;
@@ -72,25 +68,24 @@ impl MethodState for State {
             enc.copy_buffer_to_buffer(&s.ao, 0, &fg.visibility, 0, bytes);
             Ok(())
         })?;
-        let detail = if capture {
-            timer.flush(fg.ctx);
-            let c = SsaoCapture {
-                params: s.params,
-                camera: s.camera,
-                kernel: s.kernel.clone(),
-                ao: readback::read_buffer(fg.ctx, &s.ao, bytes)?,
-                occluded: readback::read_buffer(fg.ctx, &s.occluded, bytes)?,
-            };
-            Some(Box::new(c) as Box<dyn std::any::Any>)
-        } else {
-            None
-        };
         Ok(MethodOutput {
             shadow_maps: 0,
             syncs: 0,
             record: serde_json::json!({ "samples": s.params.light_count, "radius_world": s.params.radius }),
             pictures: Vec::new(),
-            detail,
         })
+    }
+    /// [`SsaoBuffers`].
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let s = &self.0;
+        let bytes = fg.pixel_count() as u64 * 4;
+        let c = SsaoBuffers {
+            params: s.params,
+            camera: s.camera,
+            kernel: s.kernel.clone(),
+            ao: readback::read_buffer(fg.ctx, &s.ao, bytes)?,
+            occluded: readback::read_buffer(fg.ctx, &s.occluded, bytes)?,
+        };
+        Ok(Some(Box::new(c)))
     }
 }

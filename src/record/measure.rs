@@ -97,7 +97,7 @@ pub fn measure_keeping<'a, T>(
     // setup) and every later frame reuses them. No decision pictures: their read-backs would be
     // timed, and nothing here uses them.
     let mut renderers = methods.iter().map(|m| Renderer::new(ctx, scene, m)).collect::<Result<Vec<_>>>()?;
-    let options = |mode| FrameOptions { mode, pictures: false, capture: false };
+    let options = |mode| FrameOptions { mode, pictures: false };
     for (m, renderer) in methods.iter().zip(&mut renderers) {
         let r = renderer.frame(options(TimingMode::Frame))?; // warm-up: driver caches, allocator, build
         on_frame(m, Phase::WarmUp, &r);

@@ -3,21 +3,21 @@
 
 pub mod adaptive_buffers;
 pub(crate) mod blur;
-pub mod compact;
+pub(crate) mod compact;
 pub mod cull;
 pub(crate) mod env_count;
 pub(crate) mod env_shadowmaps;
 pub(crate) mod env_split;
 pub(crate) mod env_trace;
 pub(crate) mod env_vertex_interp;
-pub mod frame_gpu;
+pub(crate) mod frame_gpu;
 pub mod hybrid_build;
 pub(crate) mod kernel;
 pub(crate) mod moments;
 pub mod neighbourhood;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
-pub mod probe;
+pub(crate) mod probe;
 pub mod quad_count;
 pub(crate) mod reconstruct;
 pub mod reproject_count;

@@ -162,16 +162,35 @@ pub fn penumbra_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     c.output().expect("run penumbra binary")
 }
 
-/// One adaptive frame with pictures, and its trace (`capture`: with the twins' intermediate buffers).
+/// One frame of `method` with the intermediates it would overwrite kept, and its buffers as
+/// `Renderer::inspect` reads them after the frame (the CPU twins' inputs).
+pub fn inspected<T: 'static>(
+    ctx: &GpuContext,
+    scene: &penumbra::scene::Scene,
+    method: &penumbra::methods::Method,
+    options: penumbra::frame::FrameOptions,
+) -> (penumbra::frame::FrameResult, T) {
+    let mut renderer = penumbra::frame::Renderer::new(ctx, scene, method).expect("renderer");
+    renderer.keep_intermediates();
+    let r = renderer.frame(options).expect("frame");
+    let t = renderer.inspect::<T>().expect("read back").unwrap_or_else(|| panic!("{method:?} shows no {}", std::any::type_name::<T>()));
+    (r, t)
+}
+
+/// One adaptive frame with pictures, and its trace (`keep`: with the twins' intermediate buffers).
 pub fn traced(
     ctx: &GpuContext,
     scene: &penumbra::scene::Scene,
     p: &penumbra::methods::AdaptiveParams,
-    capture: bool,
+    keep: bool,
 ) -> (penumbra::frame::FrameResult, penumbra::methods::adaptive::AdaptiveTrace) {
-    use penumbra::frame::{self, FrameOptions};
-    let options = FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: true, capture };
-    let r = frame::render(ctx, scene, &penumbra::methods::Method::adaptive(p.clone()), options).expect("adaptive frame");
-    let t = penumbra::methods::adaptive::trace_of(&r.output).expect("the adaptive method keeps a trace").clone();
+    let options = penumbra::frame::FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: true };
+    let method = penumbra::methods::Method::adaptive(p.clone());
+    if keep {
+        return inspected(ctx, scene, &method, options);
+    }
+    let mut renderer = penumbra::frame::Renderer::new(ctx, scene, &method).expect("renderer");
+    let r = renderer.frame(options).expect("adaptive frame");
+    let t = renderer.inspect().expect("read back").expect("the adaptive method keeps a trace");
     (r, t)
 }

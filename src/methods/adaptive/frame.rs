@@ -246,7 +246,7 @@ struct Waiting<'a> {
     store: &'a mut MapStore,
     samples: &'a mut [GpuSample],
     /// Tests: every map and each level's masks (and consulted samples) into the trace.
-    capture: bool,
+    keep: bool,
     trace: AdaptiveTrace,
     /// The samples this level renders, its quad count, and (scissor) the rectangles they serve.
     new: Vec<u32>,
@@ -257,9 +257,9 @@ struct Waiting<'a> {
 }
 
 impl<'a> Waiting<'a> {
-    fn new(fx: &Frame, store: &'a mut MapStore, samples: &'a mut [GpuSample], capture: bool) -> Self {
+    fn new(fx: &Frame, store: &'a mut MapStore, samples: &'a mut [GpuSample], keep: bool) -> Self {
         let bar = crate::progress::bar(fx.p.max_level as u64 + 1, "adaptive levels");
-        Waiting { store, samples, capture, trace: AdaptiveTrace::default(), new: CORNERS.to_vec(), quad_count: 1, rects: None, syncs: 0, bar }
+        Waiting { store, samples, keep, trace: AdaptiveTrace::default(), new: CORNERS.to_vec(), quad_count: 1, rects: None, syncs: 0, bar }
     }
 }
 
@@ -270,7 +270,7 @@ impl Steering for Waiting<'_> {
 
     fn new_maps(&mut self, fx: &Frame, timer: &mut StageTimer, _level: u32, _lv: &wgpu::Buffer) -> Result<()> {
         // Level 0's corners precede every rectangle: no scissor.
-        render_new(fx, timer, self.store, self.samples, &self.new, self.rects.as_deref(), &mut self.trace, self.capture)?;
+        render_new(fx, timer, self.store, self.samples, &self.new, self.rects.as_deref(), &mut self.trace, self.keep)?;
         // Queue writes: they land before the level's next submission, after the maps' tests.
         let (ctx, b) = (fx.fg.ctx, fx.b);
         ctx.queue.write_buffer(&b.control, 0, &[0u8; 8]);
@@ -297,8 +297,8 @@ impl Steering for Waiting<'_> {
         let quads = self.trace.levels.last().map_or_else(|| vec![ROOT], |r: &LevelReport| r.next_quads.clone());
         let nxt = 1 - (level % 2) as usize;
         let kept = fx.cull.map(|c| &c.1);
-        let capture = self.capture;
-        let report = timer.cpu(Stage::READBACK_LEVEL, || levels::read_level(fg, b, level, quads, &b.quads[nxt], kept, pictures, evaluated, local, capture))?;
+        let keep = self.keep;
+        let report = timer.cpu(Stage::READBACK_LEVEL, || levels::read_level(fg, b, level, quads, &b.quads[nxt], kept, pictures, evaluated, local, keep))?;
         self.syncs += 1;
         if let Some(e) = report.overflow_error(level) {
             return Err(e);
@@ -313,13 +313,13 @@ impl Steering for Waiting<'_> {
 }
 
 /// A host-steered frame of either scope (steer = cpu, or a setting the GPU cannot steer).
-/// `capture` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
+/// `keep` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
 /// it adds synchronisations, so it is for tests only.
-pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, capture: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
+pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, keep: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
     let Prepared { b, store, passes, samples, cull, .. } = prepared;
     let fx = Frame::new(fg, p, b, passes, cull.as_ref());
     fx.begin();
-    let mut waiting = Waiting::new(&fx, store, samples, capture);
+    let mut waiting = Waiting::new(&fx, store, samples, keep);
     if fx.local {
         begin_local(&fx, timer)?;
     }
@@ -399,7 +399,7 @@ fn output(fx: &Frame, trace: &AdaptiveTrace, syncs: u32, store: &MapStore, consu
     if let Some(h) = &store.hybrid {
         record["hybrid"] = h.record();
     }
-    MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures, detail: None }
+    MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures }
 }
 
 /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode) on

@@ -39,7 +39,7 @@ pub struct LevelReport {
     /// and, with pictures, this level's culling tiles (CULL_TILE_WORDS per lattice sample).
     pub triangles: Vec<u32>,
     pub tiles: Vec<u32>,
-    /// Level 0's comparison map (packed bytes, quad 0; every quad's when captured) and this
+    /// Level 0's comparison map (packed bytes, quad 0; every quad's when kept) and this
     /// level's flags, for pictures and twin tests.
     pub counts: Option<Vec<u32>>,
     /// The word states reproject_count wrote (`counts` is already made whole with them).
@@ -90,14 +90,14 @@ pub struct LevelRecord {
 }
 
 /// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling
-/// counts and tiles, the pictures' comparison map and flags, the twins' capture.
+/// counts and tiles, the pictures' comparison map and flags, the twins' kept buffers.
 #[derive(Clone, Copy, Debug)]
 pub struct LevelRead {
     pub n: u64,
     pub kept: bool,
     pub pictures: bool,
-    pub capture: bool,
-    /// scope = local: the capture also holds the consulted samples.
+    pub intermediates: bool,
+    /// scope = local: the kept buffers include the consulted samples.
     pub local: bool,
 }
 
@@ -121,11 +121,11 @@ pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kep
         }
     }
     if r.pictures {
-        parts.push((&b.counts.maps, b.shape.counts_bytes_per_quad() * if r.capture { r.n } else { 1 }));
+        parts.push((&b.counts.maps, b.shape.counts_bytes_per_quad() * if r.intermediates { r.n } else { 1 }));
         parts.push((&b.counts.word_state, b.shape.counts_bytes_per_quad()));
         parts.push((&b.low.flags, b.shape.flags_bytes_per_quad() * r.n));
     }
-    if r.capture {
+    if r.intermediates {
         parts.push((&b.masks.lit, b.shape.mask_bytes()));
         if r.local {
             parts.push((&b.masks.consulted, b.shape.mask_bytes()));
@@ -146,10 +146,10 @@ pub fn read_level(
     pictures: bool,
     evaluated: bool,
     local: bool,
-    capture: bool,
+    keep: bool,
 ) -> Result<LevelReport> {
     let ctx = fg.ctx;
-    let r = LevelRead { n: quads.len() as u64, kept: kept.is_some(), pictures: pictures || capture, capture, local };
+    let r = LevelRead { n: quads.len() as u64, kept: kept.is_some(), pictures: pictures || keep, intermediates: keep, local };
     let parts = level_parts(b, next_quads, kept, r);
     let total: u64 = parts.iter().map(|(_, s)| s).sum();
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -175,7 +175,7 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     let lattice = LATTICE_POINTS as u64 * 4;
     let quad_bytes = QUAD_CAPACITY as u64 * 16;
     let tile_bytes = lattice * CULL_TILE_WORDS as u64;
-    let counts_len = b.shape.counts_bytes_per_quad() * if r.capture { n } else { 1 };
+    let counts_len = b.shape.counts_bytes_per_quad() * if r.intermediates { n } else { 1 };
     let mask_len = b.shape.mask_bytes();
     let mut at = 0usize;
     let mut take = |len: u64| {
@@ -201,8 +201,8 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     } else {
         (None, None, None)
     };
-    let masks = if r.capture { Some(take(mask_len)) } else { None };
-    let consulted = if r.capture && r.local { Some(take(mask_len)) } else { None };
+    let masks = if r.intermediates { Some(take(mask_len)) } else { None };
+    let consulted = if r.intermediates && r.local { Some(take(mask_len)) } else { None };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
     let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
     let mut new_samples = new_all[..new_count].to_vec();

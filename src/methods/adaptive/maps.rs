@@ -31,7 +31,7 @@ impl MapStore {
 
 /// Rasterizes the maps of `new` (sorted, so layer assignment is deterministic) and, under
 /// scope = global, caches their shadow tests; chunks when more maps than one array holds.
-/// `capture` (tests) reads every map back into the trace.
+/// `keep` (tests) reads every map back into the trace.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn render_new(
     fx: &Frame,
@@ -41,14 +41,14 @@ pub(super) fn render_new(
     new: &[u32],
     rects: Option<&[[u32; 4]]>,
     trace: &mut AdaptiveTrace,
-    capture: bool,
+    keep: bool,
 ) -> Result<()> {
     let (fg, b, local) = (fx.fg, fx.b, fx.local);
     let ctx = fg.ctx;
     let mut ks = new.to_vec();
     ks.sort_unstable();
     if let Some(h) = store.hybrid.as_mut() {
-        return render_new_hybrid(fx, timer, h, samples, &ks, trace, capture);
+        return render_new_hybrid(fx, timer, h, samples, &ks, trace, keep);
     }
     let map_size = fg.scene.render.shadow_map_size;
     for chunk in ks.chunks(store.per_array as usize) {
@@ -107,7 +107,7 @@ pub(super) fn render_new(
         }
         // Sample records of the next chunk overwrite this one's layers: submit before writing them.
         timer.flush(ctx);
-        if capture {
+        if keep {
             for &k in chunk {
                 let s = &samples[k as usize];
                 let map = crate::gpu::readback::read_texture(ctx, &store.arrays[s.array as usize].texture, s.layer, 4)?;
@@ -121,7 +121,7 @@ pub(super) fn render_new(
 
 /// `render_new` with `maps = hybrid` (scope = global): each batch of the transient raster is merged
 /// into the store, tested by shadow_test (slot = lattice index) and dropped.
-fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, samples: &mut [GpuSample], ks: &[u32], trace: &mut AdaptiveTrace, capture: bool) -> Result<()> {
+fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, samples: &mut [GpuSample], ks: &[u32], trace: &mut AdaptiveTrace, keep: bool) -> Result<()> {
     let (fg, b) = (fx.fg, fx.b);
     let ctx = fg.ctx;
     let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
@@ -138,7 +138,7 @@ fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, 
         }
         maps.render(fg, timer, &b.samples, chunk, &mut test)?;
         maps.flush(fg, timer, &mut test)?;
-        if capture {
+        if keep {
             // Tests only: the maps as the lookup reads them (the pool keeps them until the next build).
             timer.flush(ctx);
             let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;

@@ -8,7 +8,7 @@ pub mod buffers;
 mod frame;
 mod levels;
 mod maps;
-pub mod params;
+pub(crate) mod params;
 mod steer;
 mod pictures;
 mod weights;
@@ -70,7 +70,7 @@ impl ShadowMethod for Adaptive {
         serde_json::to_value(&self.0).unwrap_or_default()
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
-        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None }))
+        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None, keep: false, trace: None }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -83,6 +83,11 @@ struct State {
     prepared: Prepared,
     /// A GPU-steered frame's record, read in `finish`.
     pending: Option<steer::Pending>,
+    /// Tests: every map and each level's masks (and consulted samples) go into the trace; the
+    /// frame is host-steered, since only a level read-back sees them.
+    keep: bool,
+    /// The last frame's trace, for `inspect`.
+    trace: Option<AdaptiveTrace>,
 }
 
 impl MethodState for State {
@@ -96,27 +101,31 @@ impl MethodState for State {
         }
         pr.b.reset_frame(fg.ctx)
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
-        if !capture && self.prepared.steer.is_some() {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+        self.trace = None;
+        if !self.keep && self.prepared.steer.is_some() {
             let (out, pending) = steer::run(fg, timer, &self.p, &mut self.prepared)?;
             self.pending = Some(pending);
             return Ok(out);
         }
-        let (mut out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, capture)?;
-        out.detail = Some(Box::new(trace));
+        let (out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep)?;
+        self.trace = Some(trace);
         Ok(out)
     }
     fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
-        match self.pending.take() {
-            Some(pending) => steer::finish(fg, &self.p, &self.prepared, pending, out),
-            None => Ok(()),
+        if let Some(pending) = self.pending.take() {
+            self.trace = Some(steer::finish(fg, &self.p, &self.prepared, pending, out)?);
         }
+        Ok(())
     }
-}
-
-/// The trace of an adaptive run (every run keeps one; `capture` adds the intermediate buffers).
-pub fn trace_of(out: &MethodOutput) -> Option<&AdaptiveTrace> {
-    out.detail.as_ref()?.downcast_ref()
+    fn keep_intermediates(&mut self) {
+        self.keep = true;
+    }
+    /// The last frame's [`AdaptiveTrace`] (every frame keeps one; `keep_intermediates` adds the
+    /// maps and per-level buffers).
+    fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        Ok(self.trace.clone().map(|t| Box::new(t) as Box<dyn std::any::Any>))
+    }
 }
 
 /// Lattice index of (i, j).

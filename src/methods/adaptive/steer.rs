@@ -74,7 +74,7 @@ pub struct Pending {
 
 fn level_read(fg: &FrameGpu, level: u32, evaluate: bool) -> LevelRead {
     // Pictures need level 0's comparison map and flags (one quad); deeper levels' flags are left out.
-    LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, capture: false, local: false }
+    LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, intermediates: false, local: false }
 }
 
 /// One level's record: what the waiting loop reads back, with the next level's quads.
@@ -231,13 +231,13 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     })?;
     frame::shade(&fx, timer)?;
     // shadow_maps and the record come in `finish`, after the frame.
-    let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new(), detail: None };
+    let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new() };
     Ok((out, Pending { reads: steered.reads, weights_at }))
 }
 
 /// After the frame: reads the level records and the weights (one read-back, outside the frame's
 /// clock) and fills in what the waiting loop reports.
-pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: Pending, out: &mut MethodOutput) -> Result<()> {
+pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: Pending, out: &mut MethodOutput) -> Result<AdaptiveTrace> {
     let steer = prepared.steer.as_ref().expect("steered frame without its state");
     let words: Vec<u32> = readback::map_staging(fg.ctx, &steer.history)?;
     let mut trace = AdaptiveTrace::default();
@@ -266,6 +266,5 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
     out.record = levels::record(p, &trace, 0, None, &fg.gbuffer);
     out.record["steer"] = serde_json::json!("gpu: no read-back in the frame; the level records are read after it");
     out.pictures = if fg.pictures { pictures::all(fg, &trace, None) } else { Vec::new() };
-    out.detail = Some(Box::new(trace));
-    Ok(())
+    Ok(trace)
 }

@@ -8,7 +8,7 @@ use crate::gpu::Stage;
 use super::common::{environment, gpu_lights, resolution, SceneRays};
 use super::pixels::{parse_ssao, RayLights, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::SsaoSettings;
-pub use super::common::LevelCapture;
+pub use super::common::EnvLevelBuffers;
 use crate::methods::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
 use crate::stages::env_count::EnvCount;
 use crate::stages::env_split::{EnvSplit, EnvSplitIo};
@@ -139,6 +139,8 @@ impl ShadowMethod for EnvAdaptive {
             tables,
             env: env.clone(),
             trace,
+            keep: false,
+            kept: Vec::new(),
         }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
@@ -219,6 +221,9 @@ struct State {
     control: wgpu::Buffer,
     level_params: Vec<wgpu::Buffer>,
     trace: RayLights,
+    /// Tests: each level's cells and counts are kept, since the next level overwrites them.
+    keep: bool,
+    kept: Vec<EnvLevelBuffers>,
 }
 
 impl MethodState for State {
@@ -227,12 +232,12 @@ impl MethodState for State {
         Ok(())
     }
 
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
         let ctx = fg.ctx;
         let (fw, fh) = (self.params.finest_width, self.params.finest_height);
         let mut cell_count = self.base.len() as u32;
         let mut levels = Vec::new();
-        let mut captured = Vec::new();
+        self.kept.clear();
         let mut syncs = 0;
         let mut leaves_so_far = 0u32;
         let cell_size = std::mem::size_of::<GpuEnvCell>() as u64;
@@ -266,7 +271,7 @@ impl MethodState for State {
             let control: Vec<u32> = timer.cpu(Stage::ENV_READBACK, || readback::read_buffer(ctx, &self.control, 16))?;
             syncs += 1;
             let (next_count, leaf_count) = (control[0], control[1]);
-            if capture {
+            if self.keep {
                 let read_cells = |b: &wgpu::Buffer, n: u32, skip: u32| -> Result<Vec<GpuEnvCell>> {
                     let all: Vec<GpuEnvCell> = readback::read_buffer(ctx, b, ((skip + n) as u64 * cell_size).max(16))?;
                     let mut v = all[skip as usize..(skip + n) as usize].to_vec();
@@ -275,7 +280,7 @@ impl MethodState for State {
                 };
                 let counts: Vec<u32> = readback::read_buffer(ctx, &self.counts, (cell_count as u64 * 4).max(16))?;
                 let unsorted: Vec<GpuEnvCell> = readback::read_buffer(ctx, cur, (cell_count as u64 * cell_size).max(16))?;
-                captured.push(LevelCapture {
+                self.kept.push(EnvLevelBuffers {
                     params,
                     cells: unsorted[..cell_count as usize].to_vec(),
                     counts: counts[..cell_count as usize].to_vec(),
@@ -313,12 +318,8 @@ impl MethodState for State {
         if !gpu.is_empty() {
             ctx.queue.write_buffer(&self.trace.lights_buffer, 0, bytemuck::cast_slice(&gpu));
         }
-        let trace_capture = self.trace.run(fg, timer, capture)?;
+        self.trace.run(fg, timer)?;
         let pictures = if fg.pictures { vec![("panorama_quadtree.png".to_string(), self.picture(leaves, &lights))] } else { Vec::new() };
-        let detail = trace_capture.map(|mut c| {
-            c.levels = captured;
-            Box::new(c) as Box<dyn std::any::Any>
-        });
         let mut per_level = vec![0u32; self.params.max_level as usize + 1];
         for c in leaves {
             per_level[c.level as usize] += 1;
@@ -334,8 +335,17 @@ impl MethodState for State {
                 "levels": levels,
             }),
             pictures,
-            detail,
         })
+    }
+    fn keep_intermediates(&mut self) {
+        self.keep = true;
+    }
+    /// env_trace's [`EnvTraceBuffers`](super::pixels::EnvTraceBuffers), with the levels kept when
+    /// `keep_intermediates` was called before the frame.
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let mut c = self.trace.read(fg)?;
+        c.levels = self.kept.clone();
+        Ok(Some(Box::new(c)))
     }
 }
 

@@ -122,9 +122,9 @@ pub fn resolution(params: &crate::methods::ParamMap, method: &str, key: &str, de
     }
 }
 
-/// One level of env-adaptive, captured for the twins.
+/// One level of env-adaptive, kept for the twins.
 #[derive(Clone, Debug)]
-pub struct LevelCapture {
+pub struct EnvLevelBuffers {
     pub params: GpuEnvParams,
     pub cells: Vec<GpuEnvCell>,
     pub counts: Vec<u32>,

@@ -4,7 +4,7 @@
 
 use crate::gpu::Stage;
 use super::common::{environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage};
-use super::vertex::{VertexCapture, VertexStage};
+use super::vertex::{VertexBuffers, VertexStage};
 use crate::methods::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::env_trace::{chunk_params, EnvTrace, EnvTraceInputs};
 use crate::stages::FrameGpu;
@@ -140,8 +140,8 @@ impl RayLights {
         Ok(self)
     }
 
-    /// ssao (if on), then env_trace; with `capture`, what the twins need.
-    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<Option<EnvTraceCapture>> {
+    /// ssao (if on), then env_trace.
+    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         if let Some(s) = &self.ssao {
             s.run(fg, timer)?;
         }
@@ -161,49 +161,46 @@ impl RayLights {
                 Ok(())
             })?;
         }
-        if !capture {
-            return Ok(None);
-        }
-        timer.flush(fg.ctx);
+        Ok(())
+    }
+
+    /// After a frame: env_trace's inputs and counts, for the twins.
+    pub fn read(&self, fg: &FrameGpu) -> Result<EnvTraceBuffers> {
         let bytes = fg.pixel_count() as u64 * 4;
         let ao = match &self.ssao {
             Some(s) => readback::read_buffer(fg.ctx, &s.ao, bytes)?,
             None => Vec::new(),
         };
-        Ok(Some(EnvTraceCapture {
+        Ok(EnvTraceBuffers {
             params: self.params,
             lights: self.lights.clone(),
             bvh: self.rays.bvh.clone(),
             blocked: readback::read_buffer(fg.ctx, &self.blocked, bytes)?,
             ao,
             levels: Vec::new(),
-            vertex: self.vertex.as_ref().map(|v| v.capture(fg)).transpose()?,
-        }))
+            vertex: self.vertex.as_ref().map(|v| v.read(fg)).transpose()?,
+        })
     }
 }
 
 /// env_trace's inputs and counts (and env-adaptive's levels), for the twins.
-pub struct EnvTraceCapture {
+pub struct EnvTraceBuffers {
     pub params: GpuEnvParams,
     pub lights: Vec<GpuEnvLight>,
     pub bvh: Arc<Bvh>,
     pub blocked: Vec<u32>,
     pub ao: Vec<f32>,
-    pub levels: Vec<super::common::LevelCapture>,
+    pub levels: Vec<super::common::EnvLevelBuffers>,
     /// `at=vertex`: the ids, V and blocked rays per vertex.
-    pub vertex: Option<VertexCapture>,
-}
-
-pub fn capture_of(out: &MethodOutput) -> Option<&EnvTraceCapture> {
-    out.detail.as_ref()?.downcast_ref()
+    pub vertex: Option<VertexBuffers>,
 }
 
 impl MethodState for RayLights {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
-        let c = RayLights::run(self, fg, timer, capture)?;
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+        RayLights::run(self, fg, timer)?;
         let n = self.lights.len() as u32;
         Ok(MethodOutput {
             shadow_maps: n,
@@ -213,7 +210,10 @@ impl MethodState for RayLights {
                 Some(v) => serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
             },
             pictures: if fg.pictures { self.pictures.clone() } else { Vec::new() },
-            detail: c.map(|c| Box::new(c) as Box<dyn std::any::Any>),
         })
+    }
+    /// [`EnvTraceBuffers`].
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        Ok(Some(Box::new(self.read(fg)?)))
     }
 }

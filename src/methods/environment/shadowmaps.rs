@@ -214,7 +214,7 @@ struct State {
 }
 
 /// Maps and inputs of an env-shadowmaps frame, for its twin.
-pub struct EnvShadowmapsCapture {
+pub struct EnvShadowmapsBuffers {
     pub frame: GpuFrame,
     pub params: GpuEnvParams,
     pub filter: GpuFilter,
@@ -225,15 +225,11 @@ pub struct EnvShadowmapsCapture {
     pub ao: Vec<f32>,
 }
 
-pub fn capture_of(out: &MethodOutput) -> Option<&EnvShadowmapsCapture> {
-    out.detail.as_ref()?.downcast_ref()
-}
-
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, capture: bool) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
         let ctx = fg.ctx;
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
@@ -249,27 +245,25 @@ impl MethodState for State {
             self.pass.record(fg, enc, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer });
             Ok(())
         })?;
-        let detail = if capture {
-            timer.flush(ctx);
-            let mut maps = Vec::new();
-            for layer in 0..k {
-                maps.push(readback::read_texture(ctx, &self.array.texture, layer, 4)?);
-            }
-            let ao = match &self.ssao {
-                Some(s) => readback::read_buffer(ctx, &s.ao, fg.pixel_count() as u64 * 4)?,
-                None => Vec::new(),
-            };
-            let c = EnvShadowmapsCapture { frame: self.frame, params: self.params, filter: self.filter, disk: self.disk.clone(), samples: self.samples.clone(), lights: self.lights.clone(), maps, ao };
-            Some(Box::new(c) as Box<dyn std::any::Any>)
-        } else {
-            None
-        };
         Ok(MethodOutput {
             shadow_maps: k,
             syncs: 0,
             record: serde_json::json!({ "samples": k, "lights": k, "filter": KERNELS[self.filter.kind as usize], "pcf_taps": self.filter.taps.pow(if self.filter.kind <= 1 { 2 } else { 1 }), "ssao": self.ssao.is_some() }),
             pictures: if fg.pictures { vec![("panorama_lights.png".into(), self.picture.clone())] } else { Vec::new() },
-            detail,
         })
+    }
+    /// [`EnvShadowmapsBuffers`]: every light's map, and the ambient occlusion where it is on.
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let ctx = fg.ctx;
+        let mut maps = Vec::new();
+        for layer in 0..self.samples.len() as u32 {
+            maps.push(readback::read_texture(ctx, &self.array.texture, layer, 4)?);
+        }
+        let ao = match &self.ssao {
+            Some(s) => readback::read_buffer(ctx, &s.ao, fg.pixel_count() as u64 * 4)?,
+            None => Vec::new(),
+        };
+        let c = EnvShadowmapsBuffers { frame: self.frame, params: self.params, filter: self.filter, disk: self.disk.clone(), samples: self.samples.clone(), lights: self.lights.clone(), maps, ao };
+        Ok(Some(Box::new(c)))
     }
 }

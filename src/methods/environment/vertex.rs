@@ -25,7 +25,7 @@ pub struct VertexStage {
 
 /// What the twins need of a per-vertex frame.
 #[derive(Clone, Debug)]
-pub struct VertexCapture {
+pub struct VertexBuffers {
     /// Per pixel: triangle + 1 (0 on background), bits of b1, bits of b2, 0.
     pub ids: Vec<[u32; 4]>,
     /// V per vertex and blocked rays per vertex.
@@ -72,9 +72,9 @@ impl VertexStage {
         })
     }
 
-    pub fn capture(&self, fg: &FrameGpu) -> Result<VertexCapture> {
+    pub fn read(&self, fg: &FrameGpu) -> Result<VertexBuffers> {
         let bytes = self.vertex_count as u64 * 4;
-        Ok(VertexCapture {
+        Ok(VertexBuffers {
             ids: barycentrics::read_back(fg.ctx, &self.ids)?,
             visibility: readback::read_buffer(fg.ctx, &self.visibility, bytes)?,
             blocked: readback::read_buffer(fg.ctx, &self.blocked, bytes)?,

@@ -1,10 +1,10 @@
 //! Benchmark suites run by `penumbra bench`: whole frames, side by side, on real scenes.
 //! (Per-stage micro-benchmarks live in benches/, run with criterion.)
 
-pub mod errors;
-pub mod seed;
-pub mod stats;
-pub mod suite;
+pub(crate) mod errors;
+pub(crate) mod seed;
+pub(crate) mod stats;
+pub(crate) mod suite;
 pub mod table;
 
 pub use suite::{prepare, run_seed_table2, SceneResult, SuiteOptions, SuiteResults, SuiteScene};

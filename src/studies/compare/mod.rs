@@ -114,7 +114,7 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
     let (measured, renderers) = measure::measure_keeping(ctx, scene, &job.methods, job.repeats, &mut on_frame, &mut judge_frame)?;
     bar.finish_and_clear();
     let pictures = if job.pictures {
-        let options = FrameOptions { mode: TimingMode::Frame, pictures: true, capture: false };
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
         renderers.into_iter().map(|mut r| Ok(r.frame(options)?.output.pictures)).collect::<Result<Vec<_>>>()?
     } else {
         drop(renderers);

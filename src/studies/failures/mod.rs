@@ -3,7 +3,7 @@
 //! the report shows the signed error maps side by side with one sentence per scene generated from
 //! the figures (`sentence`), and a short sequence where the adaptive decision pops.
 
-pub mod sentence;
+pub(crate) mod sentence;
 
 use crate::studies::compare::ERROR_SCALE;
 use crate::frame::{Detached, FrameOptions, Renderer};
@@ -142,7 +142,7 @@ fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob, kept: &mut [Optio
             Some(d) => d.attach(ctx, &scene)?,
             None => Renderer::new(ctx, &scene, method)?,
         };
-        let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+        let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
         *kept = Some(renderer.detach());
         let differ = (0..mask.len()).filter(|&i| f.gbuffer.is_geometry(i) != mask[i]).count();
         if differ > 0 {

@@ -2,7 +2,7 @@
 //! screen resolutions and light sizes, so the penumbra's width on screen varies; every method is
 //! run through `compare` at each configuration, and maps and error are charted against the width.
 
-pub mod width;
+pub(crate) mod width;
 
 use crate::report::charts::{framing_svg, svg_to_png, ResultRow, WidthAxis, WidthPoint};
 use crate::studies::compare::{self, CompareJob};

@@ -143,7 +143,7 @@ struct Measured {
 
 /// Warm-up (optional), one stages-mode frame, then `repeats` frame-mode rounds over all `scenes`.
 fn measure(ctx: &GpuContext, scenes: &[Scene], method: &Method, warmup: bool, repeats: u32, log: &dyn Fn(&str)) -> Result<Vec<Measured>> {
-    let options = |mode| FrameOptions { mode, pictures: false, capture: false };
+    let options = |mode| FrameOptions { mode, pictures: false };
     let mut renderers = scenes.iter().map(|s| Renderer::new(ctx, s, method)).collect::<Result<Vec<_>>>()?;
     let bar = crate::progress::bar(scenes.len() as u64 * (1 + warmup as u64 + repeats as u64), "frames");
     if warmup {

@@ -5,11 +5,11 @@
 //! docs/sequence.md). Writes per-frame rows, per-method summaries, charts, animations (APNG) and a
 //! self-contained report; everything is encoded in memory before the first file is written.
 
-pub mod apng;
+pub(crate) mod apng;
 pub mod path;
-pub mod section;
+pub(crate) mod section;
 pub mod tables;
-pub mod temporal;
+pub(crate) mod temporal;
 
 use crate::report::charts::{self, svg_to_png, FrameSeries};
 use crate::studies::compare::ERROR_SCALE;
@@ -135,7 +135,7 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 Some(d) => d.attach(ctx, &scene_t)?,
                 None => Renderer::new(ctx, &scene_t, method)?,
             };
-            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false, capture: false })?;
+            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
             kept[k] = Some(renderer.detach());
             let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
             if differ > 0 {
