@@ -1,6 +1,6 @@
 //! `penumbra failures`: the failure gallery alone, with its own report (the main job runs it too).
 
-use super::compare::RunArgs;
+use super::run_args::RunArgs;
 use super::DEFAULT_METHODS;
 use anyhow::Result;
 use penumbra::gpu::{AdapterRequest, GpuContext};

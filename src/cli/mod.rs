@@ -14,6 +14,7 @@ pub mod info;
 pub mod merge;
 pub mod methods;
 pub mod reference;
+pub mod run_args;
 pub mod render;
 pub mod report;
 pub mod scenes;

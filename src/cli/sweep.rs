@@ -1,7 +1,8 @@
 //! `penumbra sweep`: compare over parameter grids from a TOML spec; the whole grid, one shard of
 //! it (`--shard`), or K local shard processes merged into one set (`--jobs`).
 
-use super::compare::{run_compare, RunArgs};
+use super::compare::run_compare;
+use super::run_args::RunArgs;
 use super::render_sets;
 use anyhow::{Context, Result};
 use penumbra::gpu::AdapterRequest;

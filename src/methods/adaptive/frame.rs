@@ -4,35 +4,20 @@
 //! level itself (`steer::Steered`, steer = gpu) is the `Steering` it runs with; the steps are the same.
 
 use crate::gpu::Stage;
-use super::buffers::{AdaptiveBuffers, Level, Shape, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, QUAD_CAPACITY};
+use super::buffers::{Level, Shape, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, QUAD_CAPACITY};
 use super::levels::{self, LevelReport};
 use super::maps::{render_new, MapStore};
 use super::params::SplitRule;
-use super::{lattice_index, pictures, sample_weights, steer, AdaptiveTrace, Passes, Prepared};
+pub(super) use super::context::Frame;
+use super::{candidates, pictures, sample_weights, AdaptiveTrace, Prepared, CORNERS, ROOT};
 use crate::gpu::readback;
-use crate::gpu::structs::{GpuControl, GpuLevel, GpuQuad, GpuSample, SPLIT_ALWAYS, SPLIT_NEVER, SPLIT_SHARE, SPLIT_THRESHOLD};
+use crate::gpu::structs::{GpuControl, GpuLevel, GpuSample, SPLIT_ALWAYS, SPLIT_NEVER, SPLIT_SHARE, SPLIT_THRESHOLD};
 use crate::gpu::timing::StageTimer;
-use crate::methods::{AdaptiveParams, MethodOutput, Scope};
-use crate::stages::cull::Cull;
+use crate::methods::{AdaptiveParams, MethodOutput};
 use crate::stages::{groups, FrameGpu, LINE_WORKGROUP};
 use crate::Result;
 
-/// What every step of one frame reads: the scene's GPU state, the settings, the method's buffers
-/// and passes.
-pub(super) struct Frame<'a> {
-    pub fg: &'a FrameGpu<'a>,
-    pub p: &'a AdaptiveParams,
-    pub b: &'a AdaptiveBuffers,
-    pub passes: &'a Passes,
-    pub local: bool,
-    /// scope = local with culling: the index slots and the indices kept per lattice sample.
-    pub cull: Option<&'a (Cull, wgpu::Buffer)>,
-}
-
 impl<'a> Frame<'a> {
-    pub fn new(fg: &'a FrameGpu<'a>, p: &'a AdaptiveParams, b: &'a AdaptiveBuffers, passes: &'a Passes, cull: Option<&'a (Cull, wgpu::Buffer)>) -> Self {
-        Frame { fg, p, b, passes, local: p.scope == Scope::Local, cull }
-    }
 
     /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode).
     pub fn uniform(&self, level: u32, quad_count: u32, first_quad: u32) -> wgpu::Buffer {
@@ -58,10 +43,6 @@ impl<'a> Frame<'a> {
     }
 }
 
-/// The whole light, level 0's one quad.
-pub(super) const ROOT: GpuQuad = GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX };
-/// Its corners, the samples level 0 renders.
-pub(super) const CORNERS: [u32; 4] = [lattice_index(0, 0), lattice_index(16, 0), lattice_index(0, 16), lattice_index(16, 16)];
 
 /// How the level loop learns each level's decisions.
 pub(super) trait Steering {
@@ -226,7 +207,7 @@ fn compact(fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer, cu
         // candidates: clear those (a twentieth to three quarters of the 289 samples' tiles).
         if fx.cull.is_some() {
             let bytes = CULL_TILE_WORDS as u64 * 4;
-            for k in steer::candidates(level + 1) {
+            for k in candidates(level + 1) {
                 enc.clear_buffer(&b.footprints.tiles, k as u64 * bytes, Some(bytes));
             }
         }

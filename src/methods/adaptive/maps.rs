@@ -2,7 +2,7 @@
 //! rasterized (whole, scissored, culled) and, under scope = global, cached by shadow_test.
 
 use crate::gpu::Stage;
-use super::frame::Frame;
+use super::context::Frame;
 use super::AdaptiveTrace;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;

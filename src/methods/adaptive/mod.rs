@@ -5,6 +5,7 @@
 //! inside the quads whose penumbra it lies in (method.md §4.2).
 
 pub mod buffers;
+mod context;
 mod frame;
 mod levels;
 mod maps;
@@ -126,6 +127,30 @@ impl MethodState for State {
     fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         Ok(self.trace.clone().map(|t| Box::new(t) as Box<dyn std::any::Any>))
     }
+}
+
+/// The whole light, level 0's one quad.
+pub(super) const ROOT: crate::gpu::structs::GpuQuad = crate::gpu::structs::GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX };
+/// Its corners, the samples level 0 renders.
+pub(super) const CORNERS: [u32; 4] = [lattice_index(0, 0), lattice_index(16, 0), lattice_index(0, 16), lattice_index(16, 16)];
+
+/// Lattice indices level `d` can render, ascending: level 0 the light's corners; level d ≥ 1 the
+/// points of the level-d grid (spacing 2^(4−d)) that are not on the level-(d−1) grid. A quad that
+/// splits at level d−1 requests only such points (its edge midpoints and centre).
+pub fn candidates(d: u32) -> Vec<u32> {
+    if d == 0 {
+        return CORNERS.to_vec();
+    }
+    let step = 16 >> d;
+    let mut out = Vec::new();
+    for j in (0..=16).step_by(step as usize) {
+        for i in (0..=16).step_by(step as usize) {
+            if i % (2 * step) != 0 || j % (2 * step) != 0 {
+                out.push(lattice_index(i, j));
+            }
+        }
+    }
+    out
 }
 
 /// Lattice index of (i, j).

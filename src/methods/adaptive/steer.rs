@@ -13,9 +13,10 @@
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
 
 use crate::gpu::Stage;
-use super::frame::{self, Frame, Steering, CORNERS, ROOT};
+use super::context::Frame;
+use super::frame::{self, Steering};
 use super::levels::{self, LevelRead};
-use super::{lattice_index, pictures, AdaptiveTrace, Prepared};
+use super::{candidates, pictures, AdaptiveTrace, Prepared, ROOT};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
@@ -29,24 +30,6 @@ use crate::Result;
 /// u32 words of one draw_indexed_indirect argument set.
 const ARGS_WORDS: u64 = 5;
 
-/// Lattice indices level `d` can render, ascending: level 0 the light's corners; level d ≥ 1 the
-/// points of the level-d grid (spacing 2^(4−d)) that are not on the level-(d−1) grid. A quad that
-/// splits at level d−1 requests only such points (its edge midpoints and centre).
-pub fn candidates(d: u32) -> Vec<u32> {
-    if d == 0 {
-        return CORNERS.to_vec();
-    }
-    let step = 16 >> d;
-    let mut out = Vec::new();
-    for j in (0..=16).step_by(step as usize) {
-        for i in (0..=16).step_by(step as usize) {
-            if i % (2 * step) != 0 || j % (2 * step) != 0 {
-                out.push(lattice_index(i, j));
-            }
-        }
-    }
-    out
-}
 
 /// Whether the GPU can steer this setting: global scope on the corner-to-corner lattice (the GPU
 /// weights cover its rules), unless `steer = cpu`, and every level's quads fit one batch of
