@@ -151,7 +151,6 @@ impl<'a> Renderer<'a> {
             visibility,
             scene_gpu,
             gbuffer,
-            pictures: true,
         };
         let state = method.build(&fg)?;
         ctx.wait()?;
@@ -162,7 +161,7 @@ impl<'a> Renderer<'a> {
 
     /// Lets go of the scene and the method's state, keeping what another scene can reuse.
     pub fn detach(self) -> Detached {
-        let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility, pictures: _ } = self.fg;
+        let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility } = self.fg;
         Detached {
             device: ctx.device.clone(),
             method: self.method,
@@ -215,7 +214,6 @@ impl<'a> Renderer<'a> {
         let setup_start = Instant::now();
         let ctx = self.fg.ctx;
         let (w, h) = (self.fg.gbuffer.width, self.fg.gbuffer.height);
-        self.fg.pictures = options.pictures;
         let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx, self.force_timestamps);
         // A method's reset waits for its own zero fills; most have nothing to reset.
         self.state.reset(&self.fg)?;
@@ -236,7 +234,7 @@ impl<'a> Renderer<'a> {
             fg.shade.record_geometry_tiles(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
             Ok(())
         })?;
-        let mut output = self.state.run(fg, &mut timer)?;
+        let mut output = self.state.run(fg, &mut timer, options.pictures)?;
         timer.flush(ctx);
         let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;

@@ -424,3 +424,357 @@ fn count_stages_alone_equal_their_twins() {
     // The inputs exercised the stages: flags were raised and quads split, not all of them.
     assert!(flagged > 100 && split > 10, "too little happened: {flagged} low-quality pixels, {split} splits");
 }
+
+/// compact (`main`) and then probe (`begin`, `main`) driven alone under scope = local: synthetic
+/// items over the quads of a level (counts only at the items' pixels, as reproject_count `list`
+/// leaves them), every other quad split; the next items, probes, V's integer sums, and then the
+/// probes' expanded items and lit shares compared with their twins exactly (as sets: the GPU
+/// appends in any order).
+#[test]
+fn local_stages_alone_equal_their_twins() {
+    use penumbra::gpu::readback;
+    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuSample};
+    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Level, CONTROL_BYTES};
+    use penumbra::methods::adaptive::level_uniform;
+    use penumbra::render::gbuffer::GBufferPass;
+    use penumbra::stages::{compact::Compact, probe::Probe};
+    use twin::probe::PROBE_LIT;
+    let ctx = common::gpu();
+    let (compact, probe) = (Compact::new(ctx).unwrap(), Probe::new(ctx).unwrap());
+    let run = |record: &dyn Fn(&mut wgpu::CommandEncoder)| {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        record(&mut enc);
+        ctx.queue.submit([enc.finish()]);
+    };
+    let read = |buf: &wgpu::Buffer, words: u32| if words == 0 { Vec::new() } else { readback::read_buffer::<u32>(ctx, buf, words as u64 * 4).unwrap() };
+    let pairs = |v: &[u32]| -> Vec<(u32, u32)> {
+        let mut p: Vec<_> = v.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+        p.sort_unstable();
+        p
+    };
+    let sorted = |v: &[(u32, u32)]| {
+        let mut v = v.to_vec();
+        v.sort_unstable();
+        v
+    };
+    let p = params("p_m=0");
+    let (mut refined, mut probes_lit, mut probes_unlit, mut shares, mut expanded, mut probe_shares, mut compared) = (0, 0, 0, 0, 0, 0, 0);
+    for (seed, (w, h)) in [(4u64, (48u32, 40u32)), (5, (64, 64))] {
+        let e = twin::synthetic::edge_masks(w, h, seed);
+        let g = e.gbuffer();
+        let b = AdaptiveBuffers::new(ctx, w, h, &[GpuSample::default(); LATTICE_POINTS as usize], true, None).unwrap();
+        // compact `main` binds the G-buffer but reads it only in `main_rects`.
+        let gb = GBufferPass::allocate(ctx, w, h).unwrap();
+        let frame = readback::uniform_buffer(ctx, "frame", &GpuFrame { width: w, height: h, ..Default::default() });
+        let screen = Screen { width: w, height: h };
+        let words = (h * screen.words_per_row()) as usize;
+        for level in [0u32, 1, 2] {
+            let case = format!("seed {seed} {w}x{h} level {level}");
+            let quads = twin::synthetic::level_quads(level);
+            let n = quads.len() as u32;
+            // Every other quad splits.
+            let (split_base, next_quads) = twin::synthetic::split(&quads, |q| q % 2 == 0);
+            // Items: each geometry pixel in about two quads of three (in 4x4 blocks), so the halo
+            // sees both evaluated and unevaluated neighbours.
+            let items: Vec<(u32, u32)> = (0..w * h)
+                .filter(|&px| e.geometry[px as usize])
+                .flat_map(|px| (0..n).filter(move |q| n == 1 || (px % w / 4 + px / w / 4 + q) % 3 != 0).map(move |q| (px, q)))
+                .collect();
+            let dense = twin::reproject_count::reproject_count(&quads, &e.masks, &g);
+            let mut counts = vec![0u32; n as usize * words];
+            for &(px, q) in &items {
+                let (x, y) = (px % w, px / w);
+                let at = q as usize * words + (y * screen.words_per_row() + x / 4) as usize;
+                counts[at] |= dense[at] & (0xff << ((x & 3) * 8));
+            }
+            let fixed: Vec<u32> = (0..w * h).map(|px| px % 5).collect();
+            let flat: Vec<u32> = items.iter().flat_map(|&(a, b)| [a, b]).collect();
+            ctx.queue.write_buffer(&b.items.items[0], 0, bytemuck::cast_slice(&flat));
+            ctx.queue.write_buffer(&b.items.total, 0, bytemuck::bytes_of(&(items.len() as u32)));
+            ctx.queue.write_buffer(&b.items.list_args, 0, bytemuck::cast_slice(&[(items.len() as u32).div_ceil(64), 1, 1]));
+            ctx.queue.write_buffer(&b.counts.maps, 0, bytemuck::cast_slice(&counts));
+            ctx.queue.write_buffer(&b.decisions.split_base, 0, bytemuck::cast_slice(&split_base));
+            ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::cast_slice(&quads));
+            ctx.queue.write_buffer(&b.quads[1], 0, bytemuck::cast_slice(&next_quads));
+            ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl::default()));
+            ctx.queue.write_buffer(&b.items.visibility_fixed, 0, bytemuck::cast_slice(&fixed));
+            let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, n, 0));
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+            run(&|enc| compact.record_main(ctx, enc, &lv, &gb, &b.counts, &b.decisions, &b.quads[1], &b.samples, &b.control, &b.items, 0, &b.footprints, false));
+
+            let mut twin_fixed = fixed.clone();
+            let out = twin::compact::compact(&screen, level, p.max_level, &items, &counts, &split_base, &mut twin_fixed);
+            let control = read(&b.control, (CONTROL_BYTES / 4) as u32);
+            assert_eq!(control[2], 0, "{case}: compact overflowed");
+            assert_eq!(pairs(&read(&b.items.items[1], control[3] * 2)), sorted(&out.next_items), "{case}: compact's next items");
+            let gpu_probes: Vec<(u32, u32)> = pairs(&read(&b.items.probes, control[5] * 2));
+            let twin_probes: Vec<(u32, u32)> = out.probes.iter().map(|&(px, base, lit)| (px, base | if lit { PROBE_LIT } else { 0 })).collect();
+            assert_eq!(gpu_probes, sorted(&twin_probes), "{case}: compact's probes");
+            assert_eq!(read(&b.items.visibility_fixed, w * h), twin_fixed, "{case}: compact's integer sums");
+            refined += out.next_items.len() / 4;
+            probes_lit += out.probes.iter().filter(|x| x.2).count();
+            probes_unlit += out.probes.iter().filter(|x| !x.2).count();
+            shares += fixed.iter().zip(&twin_fixed).filter(|(a, b)| a != b).count();
+
+            // probe, one level down: the compacted probes over the children, with the centre sample
+            // of every third probe's pixel flipped so that some probes disagree and expand.
+            let mut masks = e.masks.clone();
+            for &(px, base, _) in out.probes.iter().step_by(3) {
+                let k = twin::probe_point(&next_quads[base as usize], 2);
+                masks[(px * 10 + k / 32) as usize] ^= 1 << (k % 32);
+            }
+            let encoded: Vec<u32> = twin_probes.iter().flat_map(|&(a, b)| [a, b]).collect();
+            ctx.queue.write_buffer(&b.masks.lit, 0, bytemuck::cast_slice(&masks));
+            ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::cast_slice(&next_quads));
+            ctx.queue.write_buffer(&b.items.probes, 0, bytemuck::cast_slice(&encoded));
+            ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl { probe_count: out.probes.len() as u32, ..Default::default() }));
+            let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level + 1, next_quads.len() as u32, 0));
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+            run(&|enc| {
+                probe.record_begin(ctx, enc, &uniform, &b.control, &b.items);
+                probe.record(ctx, enc, &lv, &b.masks, &b.control, &b.items, 1);
+            });
+            let mut twin_items = Vec::new();
+            let before = twin_fixed.clone();
+            twin::probe::probe(&out.probes, &next_quads, &masks, level + 1, p.max_level, &mut twin_items, &mut twin_fixed);
+            let control = read(&b.control, (CONTROL_BYTES / 4) as u32);
+            assert_eq!((control[2], control[5]), (0, 0), "{case}: probe overflowed or did not restart the probe counter");
+            assert_eq!(read(&b.items.probe_total, 1), [out.probes.len() as u32], "{case}: probe begin's count");
+            assert_eq!(pairs(&read(&b.items.items[1], control[3] * 2)), sorted(&twin_items), "{case}: probe's items");
+            assert_eq!(read(&b.items.visibility_fixed, w * h), twin_fixed, "{case}: probe's integer sums");
+            expanded += twin_items.len() / 4;
+            probe_shares += before.iter().zip(&twin_fixed).filter(|(a, b)| a != b).count();
+            compared += 1;
+        }
+    }
+    println!("{compared} levels: compact refined {refined} items, made {probes_lit} lit and {probes_unlit} unlit probes, added {shares} shares; probe expanded {expanded}, added {probe_shares} shares");
+    assert_eq!(compared, 6);
+    // Every branch of both kernels ran, and the probes' three outcomes all happened.
+    assert!(refined > 100 && probes_lit > 100 && probes_unlit > 100 && shares > 100, "compact: too little happened");
+    assert!(expanded > 50 && probe_shares > 50 && expanded + probe_shares < probes_lit + probes_unlit, "probe: too little happened");
+}
+
+/// weights driven alone: random quadtrees down to level 4, each level's leaves appended by
+/// `leaves_of_level` from its quads and split decisions, then `main`: the integer numerators equal
+/// `lattice_numerators` and ŵ equals `sample_weights` bit for bit, for the level, area and Coons rules.
+#[test]
+fn weights_alone_equal_their_twin() {
+    use penumbra::gpu::readback;
+    use penumbra::gpu::structs::{GpuQuad, GpuSample};
+    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, NO_SPLIT};
+    use penumbra::methods::adaptive::{lattice_numerators, level_uniform, sample_weights, LevelReport};
+    use penumbra::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
+    let ctx = common::gpu();
+    let b = AdaptiveBuffers::new(ctx, 32, 32, &[GpuSample::default(); LATTICE_POINTS as usize], false, None).unwrap();
+    let run = |record: &dyn Fn(&mut wgpu::CommandEncoder)| {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        record(&mut enc);
+        ctx.queue.submit([enc.finish()]);
+    };
+    let mut rng = common::Lcg(11);
+    let (mut trees, mut deepest, mut leaves, mut negative) = (0, 0, 0, 0);
+    for (spec, rule) in [("weights=level", RULE_LEVEL), ("weights=area", RULE_AREA), ("weights=coons", RULE_COONS)] {
+        let p = params(spec);
+        let pass = WeightsPass::new(ctx, rule).unwrap();
+        for tree in 0..6 {
+            let mut levels = Vec::new();
+            let mut quads = vec![GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX }];
+            let mut state = vec![0u32; LATTICE_POINTS as usize];
+            let mut sample_level = vec![0u32; LATTICE_POINTS as usize];
+            run(&|enc| pass.record_begin(enc));
+            for level in 0..=4u32 {
+                for quad in &quads {
+                    for c in 0..4 {
+                        let k = twin::quad_corner(quad, c) as usize;
+                        state[k] = 1;
+                        sample_level[k] = sample_level[k].max(level);
+                    }
+                }
+                let (split_base, next) = twin::synthetic::split(&quads, |_| level < 4 && rng.next_f32() < [0.95, 0.6, 0.45, 0.35][level as usize]);
+                // Each level's leaves are appended before the next level's quads take the buffers.
+                ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::cast_slice(&quads));
+                ctx.queue.write_buffer(&b.decisions.split_base, 0, bytemuck::cast_slice(&split_base));
+                let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, quads.len() as u32, 0));
+                run(&|enc| pass.record_leaves(ctx, enc, &uniform, &b.quads[0], &b.decisions));
+                leaves += split_base.iter().filter(|&&s| s == NO_SPLIT).count();
+                deepest = deepest.max(level);
+                levels.push(LevelReport { level, quads: std::mem::take(&mut quads), split_base, evaluated: true, ..Default::default() });
+                quads = next;
+                if quads.is_empty() {
+                    break;
+                }
+            }
+            ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&state));
+            ctx.queue.write_buffer(&b.decisions.sample_level, 0, bytemuck::cast_slice(&sample_level));
+            run(&|enc| pass.record(ctx, enc, &b.decisions, &b.weights));
+            let rendered: Vec<u32> = (0..LATTICE_POINTS).filter(|&k| state[k as usize] != 0).collect();
+            let numerators: Vec<i32> = readback::read_buffer(ctx, &pass.numerators, LATTICE_POINTS as u64 * 4).unwrap();
+            let twin_numerators = lattice_numerators(&p, &levels, &sample_level, &rendered);
+            let numerators: Vec<i64> = numerators.iter().map(|&x| x as i64).collect();
+            assert_eq!(numerators, twin_numerators, "{spec} tree {tree}: numerators");
+            let weights: Vec<f32> = readback::read_buffer(ctx, &b.weights, LATTICE_POINTS as u64 * 4).unwrap();
+            let bits = |w: &[f32]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&weights), bits(&sample_weights(&p, &levels, &sample_level, &rendered)), "{spec} tree {tree}: weights");
+            negative += twin_numerators.iter().filter(|&&x| x < 0).count();
+            trees += 1;
+        }
+    }
+    println!("{trees} quadtrees, {leaves} leaves, deepest level {deepest}, {negative} negative Coons numerators: weights equal their twin bit for bit");
+    assert_eq!(trees, 18);
+    assert!(deepest == 4 && leaves > 100, "the quadtrees were too shallow: {leaves} leaves, deepest level {deepest}");
+}
+
+/// cull driven alone: a random scene uploaded (no G-buffer, frame or method), the lattice's sample
+/// views, and synthetic culling tiles (a disc of tiles per map with random depth limits; one map
+/// with every tile infinite, as level 0's corners); each slot's kept index triples equal the twin's
+/// exactly (as a multiset: the kernel appends in any order), and its draw arguments count them.
+#[test]
+fn cull_alone_equals_its_twin() {
+    use penumbra::gpu::readback;
+    use penumbra::gpu::structs::GpuSample;
+    use penumbra::methods::adaptive::buffers::{CULL_TILES, LATTICE_SIDE};
+    use penumbra::render::SceneGpu;
+    use penumbra::scene::light::sample_view;
+    use penumbra::stages::cull::{cull_face, Cull, ARGS_WORDS};
+    let ctx = common::gpu();
+    let p = params("p_m=0");
+    let mut rng = common::Lcg(29);
+    let (mut kept_all, mut culled_away, mut slots_checked) = (0usize, 0usize, 0);
+    for seed in [7u64, 23] {
+        let sc = scene(seed);
+        let scene_gpu = SceneGpu::upload(ctx, &sc);
+        let fr = frame_uniform(&sc);
+        let samples: Vec<GpuSample> = (0..LATTICE_POINTS)
+            .map(|k| {
+                let y = sc.light.point(p.light_coord(k % LATTICE_SIDE), p.light_coord(k / LATTICE_SIDE));
+                sample_view(&sc.light, y, &sc.bounds, sc.render.shadow_map_size, k)
+            })
+            .collect();
+        // Tiles only up to the largest lattice index culled for: the kernel reads no further.
+        let ks = [0u32, 8, 16, 18, 26, 34];
+        let words = CULL_TILE_WORDS as usize;
+        let mut tiles = vec![0u32; (ks.iter().max().unwrap() + 1) as usize * words];
+        for (n, &k) in ks.iter().enumerate() {
+            let mine = &mut tiles[k as usize * words..(k as usize + 1) * words];
+            if n == 0 {
+                mine.fill(f32::INFINITY.to_bits());
+                continue;
+            }
+            let (cx, cy, r) = (rng.range(40.0, 216.0), rng.range(40.0, 216.0), rng.range(20.0, 90.0));
+            for (t, word) in mine.iter_mut().enumerate() {
+                let (x, y) = ((t as u32 % CULL_TILES) as f32, (t as u32 / CULL_TILES) as f32);
+                if (x - cx).powi(2) + (y - cy).powi(2) < r * r {
+                    *word = rng.range(0.3, 1.0).to_bits();
+                }
+            }
+        }
+        let cull = Cull::new(ctx, &sc, &scene_gpu, ks.len() as u32).unwrap().expect("lavapipe culls (indirect first instance)");
+        let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+        let frame = readback::uniform_buffer(ctx, "frame", &fr);
+        let tiles_buffer = readback::storage_buffer(ctx, "tiles", &tiles, wgpu::BufferUsages::empty());
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        cull.record(ctx, &mut enc, &frame, &scene_gpu, &samples_buffer, &tiles_buffer, &ks);
+        ctx.queue.submit([enc.finish()]);
+        let stride = scene_gpu.index_count as usize;
+        let args: Vec<u32> = readback::read_buffer(ctx, &cull.args, ks.len() as u64 * ARGS_WORDS as u64 * 4).unwrap();
+        let culled: Vec<u32> = readback::read_buffer(ctx, &cull.culled, (ks.len() * stride) as u64 * 4).unwrap();
+        let order = &scene_gpu.shadow_order;
+        let positions: Vec<glam::Vec3> = sc.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let twin_kept = twin::cull::cull(&fr, &samples, &tiles, &positions, order, &ks, cull_face(sc.render.cull));
+        let triples = |v: &[u32]| {
+            let mut t: Vec<[u32; 3]> = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            t.sort_unstable();
+            t
+        };
+        for (n, (&k, kept)) in ks.iter().zip(&twin_kept).enumerate() {
+            let count = args[n * ARGS_WORDS as usize] as usize;
+            assert_eq!(count, kept.len() * 3, "seed {seed} map {k}: indices in the draw arguments");
+            let gpu = triples(&culled[n * stride..n * stride + count]);
+            let twin: Vec<u32> = kept.iter().flat_map(|&t| order[t as usize * 3..t as usize * 3 + 3].iter().copied()).collect();
+            assert_eq!(gpu, triples(&twin), "seed {seed} map {k}: kept triangles");
+            kept_all += kept.len();
+            culled_away += stride / 3 - kept.len();
+            slots_checked += 1;
+        }
+        // The disc maps keep a part of the mesh: culling decided something for them.
+        assert!(twin_kept[1..].iter().any(|t| !t.is_empty() && t.len() < stride / 3), "seed {seed}: no map kept part of the mesh");
+    }
+    println!("{slots_checked} culled maps equal their twin: {kept_all} triangles kept, {culled_away} culled");
+    assert_eq!(slots_checked, 12);
+    assert!(kept_all > 100 && culled_away > 100, "too little happened: {kept_all} kept, {culled_away} culled");
+}
+
+/// shadow_test (scope = global) driven alone: a random scene's G-buffer and geometry tiles, 36
+/// lattice samples rasterized into one map array through the shadow raster pass, no frame or
+/// method. Two calls OR into the same masks, the first of 31 samples (every block size:
+/// 16 + 8 + 4 + 2 + 1), the second of 5; the masks equal the twin's bit for bit after each.
+#[test]
+fn shadow_test_alone_equals_its_twin() {
+    use penumbra::gpu::readback;
+    use penumbra::gpu::structs::GpuSample;
+    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Requests, LATTICE_SIDE};
+    use penumbra::render::gbuffer::{self, GBufferPass};
+    use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+    use penumbra::render::SceneGpu;
+    use penumbra::scene::light::sample_view;
+    use penumbra::scene::MapKind;
+    use penumbra::stages::shade::ShadePass;
+    use penumbra::stages::shadow_test::ShadowTest;
+    let ctx = common::gpu();
+    let p = params("p_m=0");
+    let test = ShadowTest::new(ctx, MapKind::Plain, false).expect("shadow_test kernels");
+    let (mut lit_bits, mut unlit_bits, mut calls) = (0u32, 0u32, 0);
+    for seed in [1u64, 23] {
+        let sc = Scene::parse(&common::random_scene_toml(seed, 48, 128), &format!("random-{seed}"), None, &[]).expect("random scene parses");
+        let scene_gpu = SceneGpu::upload(ctx, &sc);
+        let fr = frame_uniform(&sc);
+        let frame = readback::uniform_buffer(ctx, "frame", &fr);
+        // Every eighth lattice index: 36 samples, spread over the light.
+        let ks: Vec<u32> = (0..LATTICE_POINTS).step_by(8).take(36).collect();
+        let mut samples: Vec<GpuSample> = (0..LATTICE_POINTS)
+            .map(|k| {
+                let y = sc.light.point(p.light_coord(k % LATTICE_SIDE), p.light_coord(k / LATTICE_SIDE));
+                sample_view(&sc.light, y, &sc.bounds, sc.render.shadow_map_size, k)
+            })
+            .collect();
+        for (layer, &k) in ks.iter().enumerate() {
+            samples[k as usize].layer = layer as u32;
+        }
+        let b = AdaptiveBuffers::new(ctx, fr.width, fr.height, &samples, false, None).unwrap();
+        ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&[1u32; LATTICE_POINTS as usize]));
+        let g = GBufferPass::allocate(ctx, fr.width, fr.height).unwrap();
+        let shade = ShadePass::new(ctx, MapKind::Plain).unwrap();
+        let tiles = shade.tile_list(ctx, &g);
+        let array = shadow_raster::allocate(ctx, sc.render.shadow_map_size, ks.len() as u32);
+        let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(layer, &k)| RasterJob { sample: k, layer: layer as u32, scissor: None }).collect();
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        GBufferPass::new(ctx).unwrap().record(ctx, &mut enc, &scene_gpu, &gbuffer::camera_uniform(&sc), &g);
+        shade.record_geometry_tiles(ctx, &mut enc, &frame, &g, &tiles);
+        ShadowRasterPass::new(ctx, sc.render.cull).unwrap().record(ctx, &mut enc, &scene_gpu, &b.samples, &array, &jobs);
+        enc.clear_buffer(&b.masks.lit, 0, None);
+        ctx.queue.submit([enc.finish()]);
+        let gcpu = gbuffer::read_back(ctx, &g).unwrap();
+        let maps = |k: u32| readback::read_texture::<f32>(ctx, &array.texture, ks.iter().position(|&x| x == k).unwrap() as u32, 4).unwrap();
+        let rq = Requests { samples: &b.samples, decisions: &b.decisions, control: &b.control };
+        let mut masks = vec![0u32; (fr.width * fr.height * 10) as usize];
+        for list in [&ks[..31], &ks[31..]] {
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            test.record(ctx, &mut enc, &frame, &g, &tiles, rq, &b.masks, &array.array_view, list);
+            ctx.queue.submit([enc.finish()]);
+            twin::shadow_test::shadow_test(&fr, &samples, &maps, &gcpu, list, &mut masks);
+            let gpu: Vec<u32> = readback::read_buffer(ctx, &b.masks.lit, b.shape.mask_bytes()).unwrap();
+            let wrong: u32 = masks.iter().zip(&gpu).map(|(a, b)| (a ^ b).count_ones()).sum();
+            assert_eq!(wrong, 0, "seed {seed}, a list of {}: shadow_test differs in {wrong} bits", list.len());
+            calls += 1;
+        }
+        // Lit and unlit (pixel, sample) pairs both occur among the geometry pixels.
+        for px in (0..gcpu.position.len()).filter(|&i| gcpu.is_geometry(i)) {
+            let lit: u32 = ks.iter().map(|&k| (masks[px * 10 + k as usize / 32] >> (k % 32)) & 1).sum();
+            lit_bits += lit;
+            unlit_bits += ks.len() as u32 - lit;
+        }
+    }
+    println!("{calls} shadow_test calls equal their twin: {lit_bits} lit and {unlit_bits} unlit (pixel, sample) pairs");
+    assert_eq!(calls, 4);
+    assert!(lit_bits > 1000 && unlit_bits > 1000, "too little happened: {lit_bits} lit, {unlit_bits} unlit");
+}

@@ -170,6 +170,7 @@ fn mirrored_constants_match_rust() {
         ("OVERFLOW_QUADS", gs::OVERFLOW_QUADS as f64),
         ("OVERFLOW_ITEMS", gs::OVERFLOW_ITEMS as f64),
         ("OVERFLOW_PROBES", gs::OVERFLOW_PROBES as f64),
+        ("PROBE_LIT", twin::probe::PROBE_LIT as f64),
         ("SUMMARY_WORD", twin::shadow_test::SUMMARY_WORD as f64),
         ("SUMMARY_GEOMETRY", twin::shadow_test::SUMMARY_GEOMETRY as f64),
         ("SUMMARY_ANY_LIT", twin::shadow_test::SUMMARY_ANY_LIT as f64),

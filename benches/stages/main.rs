@@ -6,7 +6,8 @@
 //! shadow_raster and gbuffer drive their passes directly. The adaptive count stages are measured
 //! twice: inside whole adaptive frames in TimingMode::Stages (submit + wait after every stage,
 //! each iteration charged the stage's wall time from FrameResult::stages_ms: the real inputs), and
-//! driven alone on synthetic inputs (`adaptive_stage_alone`: typed inputs, one pass per iteration).
+//! driven alone on synthetic inputs (`adaptive_stage_alone`, and compact, probe and weights in
+//! `adaptive_local_stage_alone`: typed inputs, one pass per iteration).
 //!
 //! reference_tracer: shadow rays per second of the CPU ground truth (obvhs BVH, rayon), counted
 //! exactly (rays the tracer reports), on the stage scene's G-buffer.
@@ -38,6 +39,7 @@ fn main() {
     let mut adaptive = frames::FramePool::new(&ctx, scenes::stage_scene(), "adaptive:p_m=0");
     frames::adaptive_stages(&mut c, &mut adaptive);
     alone::adaptive_stages_alone(&mut c, &ctx);
+    alone::local_stages_alone(&mut c, &ctx);
     let mut regular = frames::FramePool::new(&ctx, scenes::stage_scene(), "regular:n=17");
     frames::shade(&mut c, &mut adaptive, &mut regular);
     frames::hybrid(&mut c, &ctx, scenes::stage_scene());

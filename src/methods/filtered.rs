@@ -215,9 +215,9 @@ impl ShadowMethod for Filtered {
             raw: plane("moments"),
             scratch: plane("blur scratch"),
             filtered: plane("filtered moments"),
-            moments: Moments::new(fg)?,
-            blur: Blur::new(fg)?,
-            reconstruct: Reconstruct::new(fg)?,
+            moments: Moments::new(fg.ctx)?,
+            blur: Blur::new(fg.ctx)?,
+            reconstruct: Reconstruct::new(fg.ctx)?,
             filter,
             bytes,
             map,
@@ -245,19 +245,19 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // every stage writes all of its output
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         let view = self.map.view();
         timer.stage(fg.ctx, Stage::MOMENTS, |enc| {
-            self.moments.record(fg, enc, &self.filter_buffer, &self.map.samples, view, &self.raw);
+            self.moments.record(fg.ctx, enc, &fg.frame_buffer, fg.frame.map_size, &self.filter_buffer, &self.map.samples, view, &self.raw);
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::BLUR, |enc| {
-            self.blur.record(fg, enc, &self.filter_buffer, self.filter.layers, &self.raw, &self.scratch, &self.filtered);
+            self.blur.record(fg.ctx, enc, &fg.frame_buffer, fg.frame.map_size, &self.filter_buffer, self.filter.layers, &self.raw, &self.scratch, &self.filtered);
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::RECONSTRUCT, |enc| {
-            self.reconstruct.record(fg, enc, &self.filter_buffer, &self.map.samples, &self.filtered);
+            self.reconstruct.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &self.filter_buffer, &self.map.samples, &self.filtered, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

@@ -91,7 +91,7 @@ impl MethodState for Prepared {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // every raster pass clears its layer
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         run(fg, timer, self)
     }
     fn keep_intermediates(&mut self) {

@@ -119,7 +119,9 @@ pub trait ShadowMethod: Send + Sync + Any {
 /// A built method. `reset` runs before the frame's clock starts (zero fills); `run` is the frame.
 pub trait MethodState {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()>;
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput>;
+    /// `pictures`: read back what the decision pictures need. A per-frame request (timed runs turn
+    /// it off), so it is an argument, not part of the shared [`FrameGpu`].
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput>;
     /// After the frame's clock stopped (V is read back): a method whose frame needed no read-back
     /// reads its record here (decisions, maps used, pictures), outside the timed frame.
     fn finish(&mut self, _fg: &FrameGpu, _out: &mut MethodOutput) -> Result<()> {

@@ -157,7 +157,7 @@ impl ShadowMethod for Pcf {
             map: CentreMap::new(fg)?,
             filter_buffer: readback::uniform_buffer(fg.ctx, "pcf filter", &filter),
             disk_buffer: readback::storage_buffer(fg.ctx, "pcf disk", &disk, wgpu::BufferUsages::empty()),
-            pass: PcfPass::new(fg)?,
+            pass: PcfPass::new(fg.ctx, fg.scene.render.maps)?,
             filter,
             disk,
         }))
@@ -180,10 +180,10 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // the raster clears its map; pcf writes every geometry pixel
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCF, |enc| {
-            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer);
+            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

@@ -53,7 +53,7 @@ impl ShadowMethod for Pcss {
         Ok(Box::new(State {
             map: CentreMap::new(fg)?,
             filter_buffer: readback::uniform_buffer(fg.ctx, "pcss filter", &filter),
-            pass: PcssPass::new(fg)?,
+            pass: PcssPass::new(fg.ctx, fg.scene.render.maps)?,
             filter,
         }))
     }
@@ -73,10 +73,10 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCSS, |enc| {
-            self.pass.record(fg, enc, &self.filter_buffer, &self.map.samples, self.map.view());
+            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &self.filter_buffer, &self.map.samples, self.map.view(), &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

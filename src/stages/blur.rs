@@ -1,7 +1,7 @@
 //! blur: separable box prefilter of the moment planes (horizontal into `scratch`, vertical back).
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Blur {
@@ -10,29 +10,33 @@ pub struct Blur {
 }
 
 impl Blur {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { horizontal: ComputeKernel::new(fg.ctx, Stage::BLUR, "horizontal")?, vertical: ComputeKernel::new(fg.ctx, Stage::BLUR, "vertical")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { horizontal: ComputeKernel::new(ctx, Stage::BLUR, "horizontal")?, vertical: ComputeKernel::new(ctx, Stage::BLUR, "vertical")? })
     }
 
-    /// `source` → (horizontal) → `scratch` → (vertical) → `target`.
+    /// `source` → (horizontal) → `scratch` → (vertical) → `target`; `frame` is the frame uniform
+    /// and `map_size` its `map_size` (the dispatch covers the map).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
-        fg: &FrameGpu,
+        ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        map_size: u32,
         filter: &wgpu::Buffer,
         layers: u32,
         source: &wgpu::Buffer,
         scratch: &wgpu::Buffer,
         target: &wgpu::Buffer,
     ) {
-        let size = fg.frame.map_size;
+        let size = map_size;
         let size3 = [groups(size, PIXEL_WORKGROUP[0]), groups(size, PIXEL_WORKGROUP[1]), layers];
         for (kernel, from, to) in [(&self.horizontal, source, scratch), (&self.vertical, scratch, target)] {
             kernel.dispatch(
-                fg.ctx,
+                ctx,
                 enc,
                 &[
-                    ("frame", fg.frame_buffer.as_entire_binding()),
+                    ("frame", frame.as_entire_binding()),
                     ("settings", filter.as_entire_binding()),
                     ("source", from.as_entire_binding()),
                     ("destination", to.as_entire_binding()),

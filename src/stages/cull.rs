@@ -3,8 +3,10 @@
 //! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
 //! slots fit one storage binding; batches reuse the slots within one submission.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::render::SceneGpu;
+use crate::scene::Scene;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuCull;
 use crate::Result;
@@ -39,10 +41,10 @@ pub struct Cull {
 
 impl Cull {
     /// None when the adapter cannot draw indirectly with a first instance, or when one whole-mesh
-    /// slot does not fit a storage binding: maps are then rasterized whole.
-    pub fn new(fg: &FrameGpu, max_maps: u32) -> Result<Option<Self>> {
-        let ctx = fg.ctx;
-        let stride = fg.scene_gpu.index_count;
+    /// slot does not fit a storage binding: maps are then rasterized whole. `scene_gpu` is
+    /// `scene` uploaded (its shadow order gives the runs).
+    pub fn new(ctx: &GpuContext, scene: &Scene, scene_gpu: &SceneGpu, max_maps: u32) -> Result<Option<Self>> {
+        let stride = scene_gpu.index_count;
         let slot_bytes = stride as u64 * 4;
         let binding = ctx.limits().max_storage_buffer_binding_size;
         let slots = (binding.min(SLOTS_BUDGET_BYTES) / slot_bytes.max(4)).min(max_maps as u64) as u32;
@@ -57,16 +59,16 @@ impl Cull {
                 mapped_at_creation: false,
             })
         };
-        let positions: Vec<glam::Vec3> = fg.scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let positions: Vec<glam::Vec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
         // The shadow raster's order: its runs are compact in space.
-        let runs = runs(&positions, &fg.scene_gpu.shadow_order);
+        let runs = runs(&positions, &scene_gpu.shadow_order);
         let run_count = (stride / 3).div_ceil(CULL_RUN) as u64;
         Ok(Some(Self {
             runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
             kept_runs: storage("cull kept runs", run_count * slots as u64 * 4, wgpu::BufferUsages::empty()),
             control: storage("cull control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("cull dispatch", 16, wgpu::BufferUsages::INDIRECT),
-            cull_face: cull_face(fg.scene.render.cull),
+            cull_face: cull_face(scene.render.cull),
             runs_phase: ComputeKernel::new(ctx, Stage::CULL, "main")?,
             begin: ComputeKernel::new(ctx, Stage::CULL, "begin")?,
             triangles: ComputeKernel::new(ctx, Stage::CULL, "triangles")?,
@@ -78,10 +80,11 @@ impl Cull {
     }
 
     /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
-    /// CULL_TILE_WORDS words per lattice sample.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
+    /// CULL_TILE_WORDS words per lattice sample; `frame` is the frame uniform and `scene_gpu` the
+    /// scene `new` was built for (its shadow indices and vertices).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, scene_gpu: &SceneGpu, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
         assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
-        let ctx = fg.ctx;
         let triangles = self.stride / 3;
         let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);
         let groups_x = total.min(ctx.limits().max_compute_workgroups_per_dimension);
@@ -100,7 +103,7 @@ impl Cull {
             enc,
             &[
                 ("cull", uniform.as_entire_binding()),
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
                 ("tiles", tiles.as_entire_binding()),
                 ("runs", self.runs.as_entire_binding()),
@@ -122,14 +125,14 @@ impl Cull {
             enc,
             &[
                 ("cull", uniform.as_entire_binding()),
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
                 ("tiles", tiles.as_entire_binding()),
-                ("indices", fg.scene_gpu.shadow_indices.as_entire_binding()),
+                ("indices", scene_gpu.shadow_indices.as_entire_binding()),
                 ("slots", slots.as_entire_binding()),
                 ("culled", self.culled.as_entire_binding()),
                 ("args", self.args.as_entire_binding()),
-                ("vertices", fg.scene_gpu.vertices.as_entire_binding()),
+                ("vertices", scene_gpu.vertices.as_entire_binding()),
                 ("kept_runs", self.kept_runs.as_entire_binding()),
                 ("control", self.control.as_entire_binding()),
             ],

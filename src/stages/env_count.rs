@@ -1,8 +1,9 @@
 //! env_count: per active quadtree cell, the pixels whose rays to the cell's corners disagree.
 
-use crate::gpu::Stage;
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
 use super::env_trace::BvhBuffers;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
 pub struct EnvCount {
@@ -10,27 +11,27 @@ pub struct EnvCount {
 }
 
 impl EnvCount {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_COUNT, "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_COUNT, "main")? })
     }
 
     /// `counts` must be zeroed for the `cells` active cells.
     #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, stride: u32, bvh: &BvhBuffers) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, stride: u32, bvh: &BvhBuffers) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
                 ("params", params.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("corners", corners.as_entire_binding()),
                 ("cells", cells.as_entire_binding()),
                 ("counts", counts.as_entire_binding()),
                 ("bvh_nodes", bvh.nodes.as_entire_binding()),
                 ("bvh_triangles", bvh.triangles.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(counted_pixels(fg.gbuffer.width, fg.gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
+            Dispatch::Direct([groups(counted_pixels(gbuffer.width, gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
         );
     }
 }

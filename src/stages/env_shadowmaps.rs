@@ -1,8 +1,9 @@
 //! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
 //! power- and cosine-weighted.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct EnvShadowmaps {
@@ -18,32 +19,32 @@ pub struct FilterBuffers<'a> {
 }
 
 impl EnvShadowmaps {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_SHADOWMAPS, "main")?, sampler: super::pcf::comparison_sampler(fg.ctx) })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_SHADOWMAPS, "main")?, sampler: super::pcf::comparison_sampler(ctx) })
     }
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
-    /// when `params.use_ao` is 1.
+    /// when `params.use_ao` is 1. Writes `visibility` at every `gbuffer` pixel.
     #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer, filter: &FilterBuffers) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer, filter: &FilterBuffers, visibility: &wgpu::Buffer) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
                 ("frame", frame.as_entire_binding()),
                 ("params", params.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
                 ("lights", lights.as_entire_binding()),
-                ("visibility", fg.visibility.as_entire_binding()),
+                ("visibility", visibility.as_entire_binding()),
                 ("ao", ao.as_entire_binding()),
                 ("settings", filter.settings.as_entire_binding()),
                 ("disk", filter.disk.as_entire_binding()),
                 ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
-            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }

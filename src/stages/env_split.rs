@@ -1,7 +1,7 @@
 //! env_split: split or keep every active quadtree cell; children and leaves appended with atomics.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
 pub struct EnvSplit {
@@ -21,13 +21,13 @@ pub struct EnvSplitIo<'a> {
 }
 
 impl EnvSplit {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_SPLIT, "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_SPLIT, "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, io: &EnvSplitIo, cell_count: u32) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, io: &EnvSplitIo, cell_count: u32) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
                 ("params", io.params.as_entire_binding()),

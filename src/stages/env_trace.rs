@@ -1,8 +1,9 @@
 //! env_trace: shadow rays from every G-buffer pixel (`main`) or every mesh vertex (`vertex`) to a
 //! list of directional lights through the scene's BVH, into V (and the blocked-ray counts).
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, LINE_WORKGROUP, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::render::bvh::Bvh;
 use crate::gpu::readback;
 use crate::Result;
@@ -14,8 +15,7 @@ pub struct BvhBuffers {
 }
 
 impl BvhBuffers {
-    pub fn upload(fg: &FrameGpu, bvh: &Bvh) -> BvhBuffers {
-        let ctx = fg.ctx;
+    pub fn upload(ctx: &GpuContext, bvh: &Bvh) -> BvhBuffers {
         let tris = if bvh.triangles.is_empty() { vec![Default::default()] } else { bvh.triangles.clone() };
         BvhBuffers {
             nodes: readback::storage_buffer(ctx, "bvh nodes", &bvh.nodes, wgpu::BufferUsages::empty()),
@@ -70,52 +70,55 @@ pub fn chunk_params(base: &crate::gpu::structs::GpuEnvParams, light_count: u32) 
 }
 
 impl EnvTrace {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_TRACE, "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, inputs: &EnvTraceInputs) {
+    /// Writes `visibility` at every `gbuffer` pixel.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvTraceInputs, visibility: &wgpu::Buffer) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
                 ("params", inputs.params.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("lights", inputs.lights.as_entire_binding()),
-                ("visibility", fg.visibility.as_entire_binding()),
+                ("visibility", visibility.as_entire_binding()),
                 ("blocked", inputs.blocked.as_entire_binding()),
                 ("ao", inputs.ao.as_entire_binding()),
                 ("sums", inputs.sums.as_entire_binding()),
                 ("bvh_nodes", inputs.bvh.nodes.as_entire_binding()),
                 ("bvh_triangles", inputs.bvh.triangles.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }
 
 impl EnvTraceVertex {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::ENV_TRACE, "vertex")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "vertex")? })
     }
 
-    /// One chunk of lights at every mesh vertex (`params.vertex_count` of them).
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, lights: &wgpu::Buffer, bvh: &BvhBuffers, out: &VertexOutputs) {
+    /// One chunk of lights at every mesh vertex (`params.vertex_count` of them): `scene_vertices`
+    /// is the scene's vertex buffer, `vertex_count` its length (the dispatch covers it).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene_vertices: &wgpu::Buffer, vertex_count: u32, params: &wgpu::Buffer, lights: &wgpu::Buffer, bvh: &BvhBuffers, out: &VertexOutputs) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
                 ("params", params.as_entire_binding()),
                 ("lights", lights.as_entire_binding()),
                 ("blocked", out.blocked.as_entire_binding()),
                 ("sums", out.sums.as_entire_binding()),
-                ("scene_vertices", fg.scene_gpu.vertices.as_entire_binding()),
+                ("scene_vertices", scene_vertices.as_entire_binding()),
                 ("vertex_visibility", out.visibility.as_entire_binding()),
                 ("bvh_nodes", bvh.nodes.as_entire_binding()),
                 ("bvh_triangles", bvh.triangles.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(fg.scene.vertices.len() as u32, LINE_WORKGROUP[0]), 1, 1]),
+            Dispatch::Direct([groups(vertex_count, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 }

@@ -1,6 +1,8 @@
-//! The GPU state of one scene that every method and pass works on: uploaded geometry, the camera
-//! G-buffer, the frame uniform, the shared raster and shade passes and the visibility buffer. It
-//! lives below the methods and the passes, so data flows one way: frame driver ─► methods ─► passes.
+//! The GPU state of one scene that every method works on: uploaded geometry, the camera G-buffer,
+//! the frame uniform, the shared raster and shade passes and the visibility buffer. It lives below
+//! the methods and the passes, so data flows one way: frame driver ─► methods ─► passes. Only what
+//! every frame shares belongs here (per-run options such as pictures are `run` arguments), and the
+//! passes take the parts they read, not the whole, so a test can drive one without building it.
 
 use super::shade::{GeometryTiles, ShadeInputs, ShadePass};
 use crate::gpu::GpuContext;
@@ -22,8 +24,6 @@ pub struct FrameGpu<'a> {
     /// This frame's 8x8 tiles with a geometry pixel, listed with the G-buffer.
     pub geometry_tiles: GeometryTiles,
     pub visibility: wgpu::Buffer,
-    /// Whether methods read back what their pictures need (off for timed benchmark runs).
-    pub pictures: bool,
 }
 
 impl FrameGpu<'_> {

@@ -3,7 +3,7 @@
 
 pub mod adaptive_buffers;
 pub(crate) mod blur;
-pub(crate) mod compact;
+pub mod compact;
 pub mod cull;
 pub(crate) mod env_count;
 pub(crate) mod env_shadowmaps;
@@ -17,7 +17,7 @@ pub(crate) mod moments;
 pub mod neighbourhood;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
-pub(crate) mod probe;
+pub mod probe;
 pub mod quad_count;
 pub(crate) mod reconstruct;
 pub mod reproject_count;

@@ -1,7 +1,7 @@
 //! moments: the centre map's depths as the statistic a filtered method prefilters.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Moments {
@@ -9,17 +9,19 @@ pub struct Moments {
 }
 
 impl Moments {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::MOMENTS, "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::MOMENTS, "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, out: &wgpu::Buffer) {
-        let size = fg.frame.map_size;
+    /// `frame`: the frame uniform; `map_size`: its `map_size` (the dispatch covers the map).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, map_size: u32, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, out: &wgpu::Buffer) {
+        let size = map_size;
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("settings", filter.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
                 ("shadow_maps", wgpu::BindingResource::TextureView(maps)),

@@ -1,7 +1,9 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use crate::scene::MapKind;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Pcf {
@@ -11,7 +13,7 @@ pub struct Pcf {
 }
 
 /// The hardware comparison sampler of the bilinear pattern (lit when reference <= stored).
-pub fn comparison_sampler(ctx: &crate::gpu::GpuContext) -> wgpu::Sampler {
+pub fn comparison_sampler(ctx: &GpuContext) -> wgpu::Sampler {
     ctx.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("pcf comparison"),
         mag_filter: wgpu::FilterMode::Linear,
@@ -22,27 +24,30 @@ pub fn comparison_sampler(ctx: &crate::gpu::GpuContext) -> wgpu::Sampler {
 }
 
 impl Pcf {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, Stage::PCF, "main", fg.scene.render.maps)?, sampler: comparison_sampler(fg.ctx) })
+    /// `maps`: the scene's shadow-map kind (the kernel's map binding follows it).
+    pub fn new(ctx: &GpuContext, maps: MapKind) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::PCF, "main", maps)?, sampler: comparison_sampler(ctx) })
     }
 
-    /// `samples[0]` is the map's sample; `disk` the tap offsets of the disk kernels.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, disk: &wgpu::Buffer) {
+    /// `frame`: the frame uniform; `samples[0]` is the map's sample; `disk` the tap offsets of the
+    /// disk kernels. Writes `visibility` at every G-buffer pixel.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, disk: &wgpu::Buffer, visibility: &wgpu::Buffer) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("settings", filter.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
                 ("disk", disk.as_entire_binding()),
-                ("visibility", fg.visibility.as_entire_binding()),
+                ("visibility", visibility.as_entire_binding()),
                 ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
-            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }

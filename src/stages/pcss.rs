@@ -1,7 +1,9 @@
 //! pcss: blocker search, penumbra width, then PCF of that width, into the visibility buffer.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use crate::scene::MapKind;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Pcss {
@@ -9,24 +11,27 @@ pub struct Pcss {
 }
 
 impl Pcss {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(fg.ctx, Stage::PCSS, "main", fg.scene.render.maps)? })
+    /// `maps`: the scene's shadow-map kind (the kernel's map binding follows it).
+    pub fn new(ctx: &GpuContext, maps: MapKind) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::PCSS, "main", maps)? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView) {
+    /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, visibility: &wgpu::Buffer) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("settings", filter.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                ("visibility", fg.visibility.as_entire_binding()),
+                ("visibility", visibility.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }

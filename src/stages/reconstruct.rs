@@ -1,7 +1,8 @@
 //! reconstruct: visibility from the prefiltered statistic at each pixel's place in the map.
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Reconstruct {
@@ -9,24 +10,26 @@ pub struct Reconstruct {
 }
 
 impl Reconstruct {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::RECONSTRUCT, "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::RECONSTRUCT, "main")? })
     }
 
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer) {
+    /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer, visibility: &wgpu::Buffer) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("settings", filter.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("moments", filtered.as_entire_binding()),
-                ("visibility", fg.visibility.as_entire_binding()),
+                ("visibility", visibility.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }

@@ -2,10 +2,11 @@
 //! scope = local only for the (pixel, sample) pairs the level's items and probes consult, once each.
 
 use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS};
+use super::shade::GeometryTiles;
 use super::{ComputeKernel, Dispatch};
-use super::FrameGpu;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuLevel, GpuTestBlock};
+use crate::render::gbuffer::GBuffer;
 use crate::scene::MapKind;
 use crate::Result;
 
@@ -70,24 +71,26 @@ impl ShadowTest {
     /// scope = local: tests the four corners of each of this level's items (`items.items[cur]`,
     /// counted by `items.total`) that no earlier item or probe of the frame tested for that pixel.
     #[allow(clippy::too_many_arguments)]
-    pub fn record_list(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, cur: usize, out: &Masks, maps: [&wgpu::TextureView; 2]) {
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, cur: usize, out: &Masks, maps: [&wgpu::TextureView; 2]) {
         let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
-        self.dispatch_local(fg, enc, rq, out, &kernels[0], quads, &items.items[cur], &items.total, &items.list_args, maps);
+        self.dispatch_local(ctx, enc, frame, gbuffer, rq, out, &kernels[0], quads, &items.items[cur], &items.total, &items.list_args, maps);
     }
 
     /// scope = local: tests the five new samples of each of this level's probes (`items.probes`,
     /// counted by `items.probe_total`; `quads` holds the probed parents' children), once per pixel.
     #[allow(clippy::too_many_arguments)]
-    pub fn record_probes(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, out: &Masks, maps: [&wgpu::TextureView; 2]) {
+    pub fn record_probes(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, out: &Masks, maps: [&wgpu::TextureView; 2]) {
         let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
-        self.dispatch_local(fg, enc, rq, out, &kernels[1], quads, &items.probes, &items.probe_total, &items.probe_args, maps);
+        self.dispatch_local(ctx, enc, frame, gbuffer, rq, out, &kernels[1], quads, &items.probes, &items.probe_total, &items.probe_args, maps);
     }
 
     #[allow(clippy::too_many_arguments)]
     fn dispatch_local(
         &self,
-        fg: &FrameGpu,
+        ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        gbuffer: &GBuffer,
         rq: Requests,
         out: &Masks,
         kernel: &ComputeKernel,
@@ -98,13 +101,13 @@ impl ShadowTest {
         maps: [&wgpu::TextureView; 2],
     ) {
         kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
-                ("frame", fg.frame_buffer.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("samples", rq.samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("consulted", out.consulted.as_entire_binding()),
                 ("lattice_lit", out.lit.as_entire_binding()),
                 ("maps_a", wgpu::BindingResource::TextureView(maps[0])),
@@ -119,20 +122,22 @@ impl ShadowTest {
     }
 
     /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a
-    /// hybrid store's view); skips those not requested this frame.
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, out: &Masks, maps: &wgpu::TextureView, ks: &[u32]) {
-        let ctx = fg.ctx;
+    /// hybrid store's view); skips those not requested this frame. `tiles`: this frame's geometry
+    /// tiles (the blocks run over them).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, rq: Requests, out: &Masks, maps: &wgpu::TextureView, ks: &[u32]) {
         let bound = ks.len() as u32;
         let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, ..Default::default() });
         let list = readback::storage_buffer(ctx, "test list", ks, wgpu::BufferUsages::empty());
-        self.dispatch(fg, enc, rq, out, maps, &level, &list, bound);
+        self.dispatch(ctx, enc, frame, gbuffer, tiles, rq, out, maps, &level, &list, bound);
     }
 
     /// Tests the samples the last subdivide requested (`rq.decisions.new_samples`, as many as it
     /// appended, at most `bound`): the GPU-steered loop, when a level's maps fit one array.
-    pub fn record_requested(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, out: &Masks, maps: &wgpu::TextureView, bound: u32) {
-        let level = readback::uniform_buffer(fg.ctx, "level", &GpuLevel { work_count: bound, requested: 1, ..Default::default() });
-        self.dispatch(fg, enc, rq, out, maps, &level, &rq.decisions.new_samples, bound);
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, rq: Requests, out: &Masks, maps: &wgpu::TextureView, bound: u32) {
+        let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, requested: 1, ..Default::default() });
+        self.dispatch(ctx, enc, frame, gbuffer, tiles, rq, out, maps, &level, &rq.decisions.new_samples, bound);
     }
 
     /// `fill_blocks`: the requested samples of `list` (see `level`) into the block slots, and each
@@ -167,9 +172,21 @@ impl ShadowTest {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn dispatch(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, rq: Requests, out: &Masks, maps: &wgpu::TextureView, level: &wgpu::Buffer, list: &wgpu::Buffer, bound: u32) {
-        let ctx = fg.ctx;
-        self.record_fill(ctx, enc, level, rq.samples, list, &rq.decisions.lattice_state, rq.control, &fg.geometry_tiles.list);
+    fn dispatch(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        gbuffer: &GBuffer,
+        tiles: &GeometryTiles,
+        rq: Requests,
+        out: &Masks,
+        maps: &wgpu::TextureView,
+        level: &wgpu::Buffer,
+        list: &wgpu::Buffer,
+        bound: u32,
+    ) {
+        self.record_fill(ctx, enc, level, rq.samples, list, &rq.decisions.lattice_state, rq.control, &tiles.list);
         for (slot, size) in block_slots(bound) {
             let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
             let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
@@ -177,13 +194,13 @@ impl ShadowTest {
                 ctx,
                 enc,
                 &[
-                    ("frame", fg.frame_buffer.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                    ("frame", frame.as_entire_binding()),
+                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                     ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
                     ("masks", out.lit.as_entire_binding()),
                     ("block", wgpu::BindingResource::Buffer(block)),
-                    ("tile_list", fg.geometry_tiles.list.as_entire_binding()),
+                    ("tile_list", tiles.list.as_entire_binding()),
                 ],
                 Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
             );

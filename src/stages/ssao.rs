@@ -1,7 +1,8 @@
 //! ssao: screen-space ambient occlusion from the G-buffer into an AO buffer (and occluded counts).
 
-use crate::gpu::Stage;
-use super::{groups, ComputeKernel, Dispatch, FrameGpu, PIXEL_WORKGROUP};
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Ssao {
@@ -9,25 +10,25 @@ pub struct Ssao {
 }
 
 impl Ssao {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(fg.ctx, Stage::SSAO, "main")? })
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SSAO, "main")? })
     }
 
     #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, fg: &FrameGpu, enc: &mut wgpu::CommandEncoder, params: &wgpu::Buffer, camera: &wgpu::Buffer, kernel: &wgpu::Buffer, ao: &wgpu::Buffer, occluded: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, params: &wgpu::Buffer, camera: &wgpu::Buffer, kernel: &wgpu::Buffer, ao: &wgpu::Buffer, occluded: &wgpu::Buffer) {
         self.kernel.dispatch(
-            fg.ctx,
+            ctx,
             enc,
             &[
                 ("params", params.as_entire_binding()),
                 ("camera", camera.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&fg.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&fg.gbuffer.normal_view)),
+                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                 ("kernel", kernel.as_entire_binding()),
                 ("ao", ao.as_entire_binding()),
                 ("occluded", occluded.as_entire_binding()),
             ],
-            Dispatch::Direct([groups(fg.gbuffer.width, PIXEL_WORKGROUP[0]), groups(fg.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }

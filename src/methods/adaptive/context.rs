@@ -15,12 +15,14 @@ pub(super) struct Frame<'a> {
     pub b: &'a AdaptiveBuffers,
     pub passes: &'a Passes,
     pub local: bool,
+    /// This frame reads back what the decision pictures need (the frame driver's request).
+    pub pictures: bool,
     /// scope = local with culling: the index slots and the indices kept per lattice sample.
     pub cull: Option<&'a (Cull, wgpu::Buffer)>,
 }
 
 impl<'a> Frame<'a> {
-    pub fn new(fg: &'a FrameGpu<'a>, p: &'a AdaptiveParams, b: &'a AdaptiveBuffers, passes: &'a Passes, cull: Option<&'a (Cull, wgpu::Buffer)>) -> Self {
-        Frame { fg, p, b, passes, local: p.scope == Scope::Local, cull }
+    pub fn new(fg: &'a FrameGpu<'a>, p: &'a AdaptiveParams, b: &'a AdaptiveBuffers, passes: &'a Passes, cull: Option<&'a (Cull, wgpu::Buffer)>, pictures: bool) -> Self {
+        Frame { fg, p, b, passes, local: p.scope == Scope::Local, pictures, cull }
     }
 }

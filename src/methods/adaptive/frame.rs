@@ -145,7 +145,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
             Ok(())
         })?;
         timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            passes.shadow_test.record_probes(fg, enc, b.requests(), quads, items, &b.masks, maps);
+            passes.shadow_test.record_probes(ctx, enc, &fg.frame_buffer, &fg.gbuffer, b.requests(), quads, items, &b.masks, maps);
             Ok(())
         })?;
         timer.stage(ctx, Stage::PROBE, |enc| {
@@ -163,7 +163,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
         Ok(())
     })?;
     timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-        passes.shadow_test.record_list(fg, enc, b.requests(), quads, items, cur, &b.masks, maps);
+        passes.shadow_test.record_list(ctx, enc, &fg.frame_buffer, &fg.gbuffer, b.requests(), quads, items, cur, &b.masks, maps);
         Ok(())
     })?;
     timer.stage(ctx, Stage::REPROJECT_COUNT, |enc| {
@@ -274,7 +274,7 @@ impl Steering for Waiting<'_> {
         let (fg, b, local) = (fx.fg, fx.b, fx.local);
         // The one read-back of this level.
         timer.flush(fg.ctx);
-        let pictures = fg.pictures && evaluated && (local || self.quad_count <= b.shape.count_quads);
+        let pictures = fx.pictures && evaluated && (local || self.quad_count <= b.shape.count_quads);
         let quads = self.trace.levels.last().map_or_else(|| vec![ROOT], |r: &LevelReport| r.next_quads.clone());
         let nxt = 1 - (level % 2) as usize;
         let kept = fx.cull.map(|c| &c.1);
@@ -296,9 +296,9 @@ impl Steering for Waiting<'_> {
 /// A host-steered frame of either scope (steer = cpu, or a setting the GPU cannot steer).
 /// `keep` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
 /// it adds synchronisations, so it is for tests only.
-pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, keep: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
+pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, keep: bool, pictures: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
     let Prepared { b, store, passes, samples, cull, .. } = prepared;
-    let fx = Frame::new(fg, p, b, passes, cull.as_ref());
+    let fx = Frame::new(fg, p, b, passes, cull.as_ref(), pictures);
     fx.begin();
     let mut waiting = Waiting::new(&fx, store, samples, keep);
     if fx.local {
@@ -362,7 +362,7 @@ fn end_local(fx: &Frame, timer: &mut StageTimer) -> Result<Option<Vec<u32>>> {
         fx.passes.compact.record_resolve(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &lv, &b.items, &fg.visibility);
         Ok(())
     })?;
-    if !fg.pictures {
+    if !fx.pictures {
         return Ok(None);
     }
     timer.flush(ctx);
@@ -373,7 +373,7 @@ fn end_local(fx: &Frame, timer: &mut StageTimer) -> Result<Option<Vec<u32>>> {
 /// The method's output of a host-steered frame: pictures and the record.
 fn output(fx: &Frame, trace: &AdaptiveTrace, syncs: u32, store: &MapStore, consulted: Option<&[u32]>) -> MethodOutput {
     let fg = fx.fg;
-    let pictures = if fg.pictures { pictures::all(fg, trace, consulted) } else { Vec::new() };
+    let pictures = if fx.pictures { pictures::all(fg, trace, consulted) } else { Vec::new() };
     // The hybrid store's allocation read-backs are syncs the representation needs.
     let syncs = syncs + store.hybrid.as_ref().map_or(0, |h| h.stats.syncs);
     let mut record = levels::record(fx.p, trace, syncs, consulted, &fg.gbuffer);

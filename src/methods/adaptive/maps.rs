@@ -85,7 +85,7 @@ pub(super) fn render_new(
             for batch in mine.chunks(cull.slots as usize) {
                 let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
                 timer.stage(ctx, Stage::CULL, |enc| {
-                    cull.record(fg, enc, &b.samples, &b.footprints.tiles, &ks);
+                    cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &b.samples, &b.footprints.tiles, &ks);
                     Ok(())
                 })?;
                 timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
@@ -101,7 +101,7 @@ pub(super) fn render_new(
         }
         if !local {
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-                fx.passes.shadow_test.record(fg, enc, b.requests(), &b.masks, &store.arrays[0].array_view, chunk);
+                fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &store.arrays[0].array_view, chunk);
                 Ok(())
             })?;
         }
@@ -126,7 +126,7 @@ fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, 
     let ctx = fg.ctx;
     let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            fx.passes.shadow_test.record(fg, enc, b.requests(), &b.masks, view, slots);
+            fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, view, slots);
             Ok(())
         })
     };

@@ -17,7 +17,7 @@ mod weights;
 pub use frame::level_uniform;
 pub use levels::{LevelRecord, LevelReport};
 // LEVEL_LCM mirrors weights.wgsl's (tests/kernels.rs checks them).
-pub use weights::{sample_weights, LEVEL_LCM};
+pub use weights::{lattice_numerators, sample_weights, LEVEL_LCM};
 
 use super::hybrid_maps::{self, HybridMaps};
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
@@ -102,14 +102,14 @@ impl MethodState for State {
         }
         pr.b.reset_frame(fg.ctx)
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
         self.trace = None;
         if !self.keep && self.prepared.steer.is_some() {
-            let (out, pending) = steer::run(fg, timer, &self.p, &mut self.prepared)?;
+            let (out, pending) = steer::run(fg, timer, &self.p, &mut self.prepared, pictures)?;
             self.pending = Some(pending);
             return Ok(out);
         }
-        let (out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep)?;
+        let (out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep, pictures)?;
         self.trace = Some(trace);
         Ok(out)
     }
@@ -253,7 +253,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         shadow_raster::clear_all(ctx, array)?;
     }
     let cull = if p.culls() {
-        Cull::new(fg, LATTICE_POINTS)?.map(|c| (c, readback::zeroed_storage(ctx, "culled indices per sample", LATTICE_POINTS as u64 * 4)))
+        Cull::new(ctx, fg.scene, &fg.scene_gpu, LATTICE_POINTS)?.map(|c| (c, readback::zeroed_storage(ctx, "culled indices per sample", LATTICE_POINTS as u64 * 4)))
     } else {
         None
     };

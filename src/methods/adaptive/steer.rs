@@ -53,11 +53,13 @@ pub struct Pending {
     /// Per level: the record's layout, whether it was counted, its byte offset in the history.
     reads: Vec<(LevelRead, bool, u64)>,
     weights_at: u64,
+    /// The frame asked for pictures: `finish` draws them from the records.
+    pictures: bool,
 }
 
-fn level_read(fg: &FrameGpu, level: u32, evaluate: bool) -> LevelRead {
+fn level_read(pictures: bool, level: u32, evaluate: bool) -> LevelRead {
     // Pictures need level 0's comparison map and flags (one quad); deeper levels' flags are left out.
-    LevelRead { n: 1, kept: false, pictures: fg.pictures && level == 0 && evaluate, intermediates: false, local: false }
+    LevelRead { n: 1, kept: false, pictures: pictures && level == 0 && evaluate, intermediates: false, local: false }
 }
 
 /// One level's record: what the waiting loop reads back, with the next level's quads.
@@ -74,7 +76,7 @@ impl Steer {
             Weights::Coons => RULE_COONS,
         };
         // Every level's record (with pictures: an upper bound), then the weights.
-        let level_bytes: u64 = record_parts(b, LevelRead { pictures: true, ..level_read(fg, 0, true) }).iter().map(|(_, s)| s).sum();
+        let level_bytes: u64 = record_parts(b, level_read(true, 0, true)).iter().map(|(_, s)| s).sum();
         let bytes = level_bytes * (p.max_level as u64 + 1) + LATTICE_POINTS as u64 * 4;
         Ok(Self {
             weights: WeightsPass::new(ctx, rule)?,
@@ -140,9 +142,9 @@ impl Steering for Steered<'_> {
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
                 if level > 0 && cand.len() <= per_array {
                     // One chunk: test only what subdivide requested (its list and count).
-                    fx.passes.shadow_test.record_requested(fg, enc, b.requests(), &b.masks, &array.array_view, cand.len() as u32);
+                    fx.passes.shadow_test.record_requested(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &array.array_view, cand.len() as u32);
                 } else {
-                    fx.passes.shadow_test.record(fg, enc, b.requests(), &b.masks, &array.array_view, chunk);
+                    fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &array.array_view, chunk);
                 }
                 if c + 1 == chunks {
                     // The level's counters, after the test read the request count.
@@ -165,7 +167,7 @@ impl Steering for Steered<'_> {
 
     fn end_level(&mut self, fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer, evaluated: bool) -> Result<bool> {
         let (fg, b) = (fx.fg, fx.b);
-        let read = level_read(fg, level, evaluated);
+        let read = level_read(fx.pictures, level, evaluated);
         self.reads.push((read, evaluated, self.history_at));
         let cur = (level % 2) as usize;
         timer.stage(fg.ctx, Stage::WEIGHTS, |enc| {
@@ -182,7 +184,7 @@ impl Steering for Steered<'_> {
 }
 
 /// Records the whole frame; nothing waits (in stages mode the timer still waits per stage).
-pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared) -> Result<(MethodOutput, Pending)> {
+pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, pictures: bool) -> Result<(MethodOutput, Pending)> {
     let ctx = fg.ctx;
     let Prepared { b, store, passes, samples, steer, .. } = prepared;
     let steer = steer.as_ref().expect("steered run without its state");
@@ -202,7 +204,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     }
     ctx.queue.write_buffer(&b.samples, 0, bytemuck::cast_slice(samples));
     ctx.queue.write_buffer(&steer.raster_args, 0, bytemuck::cast_slice(&args));
-    let fx = Frame::new(fg, p, b, passes, None);
+    let fx = Frame::new(fg, p, b, passes, None, pictures);
     fx.begin();
     let mut steered = Steered { steer, array: &store.arrays[0], per_array, samples, reads: Vec::new(), history_at: 0 };
     frame::levels(&fx, timer, &mut steered)?;
@@ -215,7 +217,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     frame::shade(&fx, timer)?;
     // shadow_maps and the record come in `finish`, after the frame.
     let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new() };
-    Ok((out, Pending { reads: steered.reads, weights_at }))
+    Ok((out, Pending { reads: steered.reads, weights_at, pictures }))
 }
 
 /// After the frame: reads the level records and the weights (one read-back, outside the frame's
@@ -248,6 +250,6 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
     out.syncs = 0;
     out.record = levels::record(p, &trace, 0, None, &fg.gbuffer);
     out.record["steer"] = serde_json::json!("gpu: no read-back in the frame; the level records are read after it");
-    out.pictures = if fg.pictures { pictures::all(fg, &trace, None) } else { Vec::new() };
+    out.pictures = if pending.pictures { pictures::all(fg, &trace, None) } else { Vec::new() };
     Ok(trace)
 }

@@ -123,8 +123,8 @@ impl ShadowMethod for EnvAdaptive {
         params.total_power = cell_power.iter().sum();
         params.count_stride = self.count_stride;
         Ok(Box::new(State {
-            count: EnvCount::new(fg)?,
-            split: EnvSplit::new(fg)?,
+            count: EnvCount::new(ctx)?,
+            split: EnvSplit::new(ctx)?,
             corners_buffer: readback::storage_buffer(ctx, "env corners", &corners, wgpu::BufferUsages::empty()),
             power_buffer: readback::storage_buffer(ctx, "env cell power", &cell_power, wgpu::BufferUsages::empty()),
             cells: [readback::zeroed_storage(ctx, "env cells a", cell_bytes), readback::zeroed_storage(ctx, "env cells b", cell_bytes)],
@@ -232,7 +232,7 @@ impl MethodState for State {
         Ok(())
     }
 
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
         let ctx = fg.ctx;
         let (fw, fh) = (self.params.finest_width, self.params.finest_height);
         let mut cell_count = self.base.len() as u32;
@@ -250,7 +250,7 @@ impl MethodState for State {
             if counted {
                 timer.stage(ctx, Stage::ENV_COUNT, |enc| {
                     enc.clear_buffer(&self.counts, 0, Some(cell_count as u64 * 4));
-                    self.count.record(fg, enc, &self.level_params[level as usize], &self.corners_buffer, cur, &self.counts, cell_count, self.params.count_stride, &self.trace.rays.buffers);
+                    self.count.record(ctx, enc, &fg.gbuffer, &self.level_params[level as usize], &self.corners_buffer, cur, &self.counts, cell_count, self.params.count_stride, &self.trace.rays.buffers);
                     Ok(())
                 })?;
             }
@@ -264,7 +264,7 @@ impl MethodState for State {
                     enc.clear_buffer(&self.control, 4, Some(4));
                 }
                 let io = EnvSplitIo { params: &self.level_params[level as usize], cells: cur, counts: &self.counts, cell_power: &self.power_buffer, next_cells: next, leaves: &self.leaves, control: &self.control };
-                self.split.record(fg, enc, &io, cell_count);
+                self.split.record(ctx, enc, &io, cell_count);
                 Ok(())
             })?;
             timer.flush(ctx);
@@ -319,7 +319,7 @@ impl MethodState for State {
             ctx.queue.write_buffer(&self.trace.lights_buffer, 0, bytemuck::cast_slice(&gpu));
         }
         self.trace.run(fg, timer)?;
-        let pictures = if fg.pictures { vec![("panorama_quadtree.png".to_string(), self.picture(leaves, &lights))] } else { Vec::new() };
+        let pictures = if pictures { vec![("panorama_quadtree.png".to_string(), self.picture(leaves, &lights))] } else { Vec::new() };
         let mut per_level = vec![0u32; self.params.max_level as usize + 1];
         for c in leaves {
             per_level[c.level as usize] += 1;

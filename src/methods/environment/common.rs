@@ -31,7 +31,7 @@ pub struct SceneRays {
 impl SceneRays {
     pub fn build(fg: &FrameGpu) -> SceneRays {
         let bvh = Arc::new(Bvh::build(&fg.scene.triangles()));
-        let buffers = BvhBuffers::upload(fg, &bvh);
+        let buffers = BvhBuffers::upload(fg.ctx, &bvh);
         SceneRays { bvh, buffers, ray_offset: crate::scene::rays::ray_offset(fg.scene), t_max: crate::scene::rays::env_ray_length(fg.scene) }
     }
 
@@ -83,7 +83,7 @@ impl SsaoStage {
         let ctx = fg.ctx;
         let bytes = fg.pixel_count() as u64 * 4;
         Ok(SsaoStage {
-            pass: Ssao::new(fg)?,
+            pass: Ssao::new(ctx)?,
             params_buffer: readback::uniform_buffer(ctx, "ssao params", &params),
             camera_buffer: readback::uniform_buffer(ctx, "ssao camera", &camera),
             kernel_buffer: readback::storage_buffer(ctx, "ssao kernel", &kernel, wgpu::BufferUsages::empty()),
@@ -97,7 +97,7 @@ impl SsaoStage {
 
     pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         timer.stage(fg.ctx, Stage::SSAO, |enc| {
-            self.pass.record(fg, enc, &self.params_buffer, &self.camera_buffer, &self.kernel_buffer, &self.ao, &self.occluded);
+            self.pass.record(fg.ctx, enc, &fg.gbuffer, &self.params_buffer, &self.camera_buffer, &self.kernel_buffer, &self.ao, &self.occluded);
             Ok(())
         })
     }

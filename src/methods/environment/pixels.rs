@@ -117,7 +117,7 @@ impl RayLights {
         let lights_buffer = readback::storage_buffer(ctx, "env lights", &if lights.is_empty() { vec![GpuEnvLight::default()] } else { lights.clone() }, wgpu::BufferUsages::empty());
         let chunk_buffers = chunk_params(&params, lights.len() as u32).iter().map(|p| readback::uniform_buffer(ctx, "env params", p)).collect();
         Ok(RayLights {
-            trace: EnvTrace::new(fg)?,
+            trace: EnvTrace::new(fg.ctx)?,
             chunk_buffers,
             sums: readback::zeroed_storage(ctx, "env sums", fg.pixel_count() as u64 * 8),
             lights_buffer,
@@ -156,7 +156,7 @@ impl RayLights {
             timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
                 for buffer in &self.chunk_buffers[..chunks.len()] {
                     let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
-                    self.trace.record(fg, enc, &inputs);
+                    self.trace.record(fg.ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
                 }
                 Ok(())
             })?;
@@ -199,7 +199,7 @@ impl MethodState for RayLights {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
         RayLights::run(self, fg, timer)?;
         let n = self.lights.len() as u32;
         Ok(MethodOutput {
@@ -209,7 +209,7 @@ impl MethodState for RayLights {
                 None => serde_json::json!({ "samples": n, "at": "pixel", "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
                 Some(v) => serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
             },
-            pictures: if fg.pictures { self.pictures.clone() } else { Vec::new() },
+            pictures: if pictures { self.pictures.clone() } else { Vec::new() },
         })
     }
     /// [`EnvTraceBuffers`].

@@ -171,7 +171,7 @@ impl ShadowMethod for EnvShadowmaps {
         };
         let (filter, disk) = (self.settings(), self.disk());
         Ok(Box::new(State {
-            pass: Pass::new(fg)?,
+            pass: Pass::new(ctx)?,
             filter_buffer: readback::uniform_buffer(ctx, "env shadowmaps filter", &filter),
             disk_buffer: readback::storage_buffer(ctx, "env shadowmaps disk", &disk, wgpu::BufferUsages::empty()),
             filter,
@@ -229,7 +229,7 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
         let ctx = fg.ctx;
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
@@ -242,14 +242,14 @@ impl MethodState for State {
         }
         let ao = self.ssao.as_ref().map_or(&self.lights_buffer, |s| &s.ao);
         timer.stage(ctx, Stage::ENV_SHADOWMAPS, |enc| {
-            self.pass.record(fg, enc, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer });
+            self.pass.record(ctx, enc, &fg.gbuffer, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer }, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {
             shadow_maps: k,
             syncs: 0,
             record: serde_json::json!({ "samples": k, "lights": k, "filter": KERNELS[self.filter.kind as usize], "pcf_taps": self.filter.taps.pow(if self.filter.kind <= 1 { 2 } else { 1 }), "ssao": self.ssao.is_some() }),
-            pictures: if fg.pictures { vec![("panorama_lights.png".into(), self.picture.clone())] } else { Vec::new() },
+            pictures: if pictures { vec![("panorama_lights.png".into(), self.picture.clone())] } else { Vec::new() },
         })
     }
     /// [`EnvShadowmapsBuffers`]: every light's map, and the ambient occlusion where it is on.

@@ -43,8 +43,8 @@ impl VertexStage {
             raster: BarycentricsPass::new(ctx)?,
             ids: BarycentricsPass::allocate(ctx, fg.gbuffer.width, fg.gbuffer.height),
             camera: barycentrics::camera_buffer(ctx, &crate::render::gbuffer::camera_uniform(fg.scene)),
-            trace: EnvTraceVertex::new(fg)?,
-            interp: EnvVertexInterp::new(fg)?,
+            trace: EnvTraceVertex::new(ctx)?,
+            interp: EnvVertexInterp::new(ctx)?,
             vertex_count,
             visibility: readback::zeroed_storage(ctx, "vertex visibility", bytes),
             blocked: readback::zeroed_storage(ctx, "vertex blocked", bytes),
@@ -62,12 +62,12 @@ impl VertexStage {
         let out = VertexOutputs { visibility: &self.visibility, blocked: &self.blocked, sums: &self.sums };
         timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
             for params in chunks {
-                self.trace.record(fg, enc, params, lights, bvh, &out);
+                self.trace.record(fg.ctx, enc, &fg.scene_gpu.vertices, fg.scene.vertices.len() as u32, params, lights, bvh, &out);
             }
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::ENV_VERTEX_INTERP, |enc| {
-            self.interp.record(fg, enc, &chunks[0], &self.ids, &self.visibility, ao);
+            self.interp.record(fg.ctx, enc, &fg.gbuffer, &fg.scene_gpu.indices, &chunks[0], &self.ids, &self.visibility, ao, &fg.visibility);
             Ok(())
         })
     }

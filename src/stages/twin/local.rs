@@ -5,8 +5,8 @@
 use super::neighbourhood::{low_quality, Screen};
 use super::shadow_test::{LocalTest, Maps};
 use super::subdivide::{subdivide, SplitRule};
-use super::{probe_point, quad_corner};
-use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS, NO_SPLIT};
+use super::quad_corner;
+use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS};
 use crate::gpu::structs::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 
@@ -48,15 +48,7 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
     for level in 0..=max_level {
         let probe_items: Vec<(u32, u32)> = probes.iter().map(|&(p, base, _)| (p, base)).collect();
         let mut lookups = test.probes(&quads, &probe_items);
-        for &(p, base, expect_lit) in &probes {
-            let q = quads[base as usize];
-            let expand = (0..5).any(|n| (test.bit(p, probe_point(&q, n)) == 1) != expect_lit);
-            if expand {
-                items.extend((0..4).map(|child| (p, base + child)));
-            } else if expect_lit {
-                out.visibility_fixed[p as usize] += 4 << (2 * (max_level - level + 1));
-            }
-        }
+        super::probe::probe(&probes, &quads, &test.masks, level, max_level, &mut items, &mut out.visibility_fixed);
         lookups += test.list(&quads, &items);
         if level == max_level {
             // reproject_count `last`: nothing splits, so each item adds its count to V at once.
@@ -79,24 +71,10 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
             counters[q as usize] += low_quality(&counts, &s, q as usize, x, y) as u32;
         }
         let sub = subdivide(level, max_level, rule(level), geometry, &quads, &counters, &mut state, &mut sample_level);
-        let mut next = Vec::new();
-        let mut next_probes = Vec::new();
-        for &(p, q) in &items {
-            let x = p % s.width;
-            let byte = (counts[q as usize * words + ((p / s.width) * wpr + x / 4) as usize] >> ((x & 3) * 8)) & 0xff;
-            let c = byte - 1;
-            let base = sub.split_base[q as usize];
-            if base != NO_SPLIT && ((c > 0 && c < 4) || beside_penumbra(&counts, &s, wpr, words, q, p)) {
-                next.extend((0..4).map(|child| (p, base + child)));
-            } else if base != NO_SPLIT {
-                next_probes.push((p, base, c == 4));
-            } else {
-                out.visibility_fixed[p as usize] += c << (2 * (max_level - level));
-            }
-        }
-        out.push_level(&items, next_probes.len() as u32, &quads, sub.new_samples.clone(), lookups, &test);
-        probes = next_probes;
-        items = next;
+        let next = super::compact::compact(&s, level, max_level, &items, &counts, &sub.split_base, &mut out.visibility_fixed);
+        out.push_level(&items, next.probes.len() as u32, &quads, sub.new_samples.clone(), lookups, &test);
+        probes = next.probes;
+        items = next.next_items;
         quads = sub.next_quads;
         if quads.is_empty() {
             break;
@@ -119,20 +97,4 @@ impl LocalOut {
         self.consulted.push(test.consulted.clone());
         self.masks.push(test.masks.clone());
     }
-}
-
-/// compact's halo: whether any 3x3 neighbour of `p` evaluated quad `q` and found it partly lit
-/// (its count byte is 2..=4, c = 1..3).
-fn beside_penumbra(counts: &[u32], s: &Screen, wpr: u32, words: usize, q: u32, p: u32) -> bool {
-    let (x, y) = ((p % s.width) as i32, (p / s.width) as i32);
-    (-1..=1).any(|dy| {
-        (-1..=1).any(|dx| {
-            let (nx, ny) = (x + dx, y + dy);
-            if nx < 0 || ny < 0 || nx >= s.width as i32 || ny >= s.height as i32 {
-                return false;
-            }
-            let byte = (counts[q as usize * words + (ny as u32 * wpr + nx as u32 / 4) as usize] >> ((nx as u32 & 3) * 8)) & 0xff;
-            (2..=4).contains(&byte)
-        })
-    })
 }

@@ -2,6 +2,7 @@
 //! Tests compare them with the GPU: exactly for every count, flag, quad and sample.
 
 pub mod blur;
+pub mod compact;
 pub mod cull;
 pub mod env_count;
 pub mod env_shadowmaps;
@@ -14,6 +15,7 @@ pub mod moments;
 pub mod neighbourhood;
 pub mod pcf;
 pub mod pcss;
+pub mod probe;
 pub mod quad_count;
 pub mod reconstruct;
 pub mod reproject_count;

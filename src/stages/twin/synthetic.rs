@@ -1,10 +1,11 @@
 //! Synthetic inputs that drive the adaptive count stages alone (tests and benches), without a
 //! scene or a frame: the lattice masks of two soft shadow edges that move with the light sample,
-//! so the comparison maps hold every count, uniform regions and background.
+//! so the comparison maps hold every count, uniform regions and background; and quads, their
+//! splits and children.
 
 use super::shadow_test::{SUMMARY_ANY_LIT, SUMMARY_ANY_UNLIT, SUMMARY_GEOMETRY, SUMMARY_WORD};
 use crate::gpu::structs::GpuQuad;
-use crate::stages::adaptive_buffers::{LATTICE_POINTS, LATTICE_SIDE, MASK_WORDS};
+use crate::stages::adaptive_buffers::{LATTICE_POINTS, LATTICE_SIDE, MASK_WORDS, NO_SPLIT};
 use crate::render::gbuffer::GBufferCpu;
 
 /// Per pixel MASK_WORDS words as shadow_test leaves them once every lattice sample is tested.
@@ -67,4 +68,20 @@ pub fn level_quads(level: u32) -> Vec<GpuQuad> {
             GpuQuad { i: qi * size, j: qj * size, size, parent }
         })
         .collect()
+}
+
+/// The quads `split` picks split, the others not: each quad's first child index (NO_SPLIT where
+/// it does not split) and the children, the four of split quad r at 4r..4r+3 with the first at
+/// its origin (which probe's `probe_point` reads).
+pub fn split(quads: &[GpuQuad], mut split: impl FnMut(usize) -> bool) -> (Vec<u32>, Vec<GpuQuad>) {
+    let mut split_base = vec![NO_SPLIT; quads.len()];
+    let mut children = Vec::new();
+    for (q, quad) in quads.iter().enumerate() {
+        if split(q) {
+            split_base[q] = children.len() as u32;
+            let s = quad.size / 2;
+            children.extend((0..4).map(|c| GpuQuad { i: quad.i + (c & 1) * s, j: quad.j + (c >> 1) * s, size: s, parent: q as u32 }));
+        }
+    }
+    (split_base, children)
 }
