@@ -42,24 +42,7 @@ pub fn adaptive_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
             subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.control, &b.decisions)
         }),
     ];
-    let mut group = c.benchmark_group("adaptive_stage_alone");
-    group.sample_size(10);
-    for (name, elements, record) in stages {
-        group.throughput(Throughput::Elements(elements));
-        group.bench_function(BenchmarkId::new(name, format!("{SIDE}x{SIDE}_{n}_quads")), |bench| {
-            bench.iter_custom(|iters| {
-                let start = Instant::now();
-                for _ in 0..iters {
-                    let mut enc = ctx.device.create_command_encoder(&Default::default());
-                    record(&mut enc);
-                    ctx.queue.submit([enc.finish()]);
-                    ctx.wait().expect("device wait");
-                }
-                start.elapsed().max(Duration::from_nanos(1))
-            })
-        });
-    }
-    group.finish();
+    time_alone(c, ctx, "adaptive_stage_alone", &format!("{SIDE}x{SIDE}_{n}_quads"), &stages);
 }
 
 const LOCAL_SIDE: u32 = 256;
@@ -117,11 +100,16 @@ pub fn local_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
         }),
         ("weights", n as u64, &|enc| weights.record(ctx, enc, &b.decisions, &b.weights)),
     ];
-    let mut group = c.benchmark_group("adaptive_local_stage_alone");
+    time_alone(c, ctx, "adaptive_local_stage_alone", &format!("{side}x{side}_{n}_quads"), &stages);
+}
+
+/// Each stage recorded alone, submitted and waited for: wall clock per dispatch, its elements.
+fn time_alone(c: &mut Criterion, ctx: &GpuContext, group_name: &str, label: &str, stages: &[(&str, u64, Record)]) {
+    let mut group = c.benchmark_group(group_name);
     group.sample_size(10);
     for (name, elements, record) in stages {
-        group.throughput(Throughput::Elements(elements));
-        group.bench_function(BenchmarkId::new(name, format!("{side}x{side}_{n}_quads")), |bench| {
+        group.throughput(Throughput::Elements(*elements));
+        group.bench_function(BenchmarkId::new(*name, label), |bench| {
             bench.iter_custom(|iters| {
                 let start = Instant::now();
                 for _ in 0..iters {
