@@ -18,10 +18,10 @@ pub struct SweepArgs {
     #[arg(long)]
     spec: PathBuf,
     /// Run only shard INDEX of COUNT (from 0): a share of the grid balanced by estimated cost.
-    #[arg(long, value_name = "INDEX/COUNT")]
+    #[arg(long, allow_hyphen_values = true, value_name = "INDEX/COUNT")]
     shard: Option<String>,
     /// Run the grid as K shard processes on this machine, then merge them into --out.
-    #[arg(long, value_name = "K")]
+    #[arg(long, allow_negative_numbers = true, value_name = "K")]
     jobs: Option<u32>,
     #[command(flatten)]
     run: RunArgs,
