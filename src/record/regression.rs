@@ -79,8 +79,9 @@ pub fn parse_max(text: &str) -> Result<Vec<Tolerance>> {
         let (key, value) = item.split_once('=').ok_or_else(|| bad("expected METRIC=+AMOUNT or METRIC=+PERCENT%, e.g. time=+10%".into()))?;
         let def = METRICS.iter().find(|m| m.name == key.trim()).ok_or_else(|| bad(format!("unknown metric `{}` (known: {})", key.trim(), names())))?;
         let mut v = value.trim();
+        // One `%` at most: `+2%%` is a typo, not a percentage.
         let relative = v.ends_with('%');
-        v = v.trim_end_matches('%');
+        v = v.strip_suffix('%').unwrap_or(v);
         let wrong = match def.worse {
             Worse::Up => v.starts_with('-'),
             Worse::Down => v.starts_with('+'),
@@ -149,9 +150,10 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
         };
         matched += 1;
         if old.resolution != cur.resolution || old.reference != cur.reference {
+            let size = |r: Option<[u32; 2]>| r.map_or("an unknown size".to_string(), |[w, h]| format!("{w}x{h}"));
             notes.push(format!(
-                "REGRESSION: `{}` on {} was measured differently ({:?} against {}, now {:?} against {}): not comparable",
-                old.label(), old.scene, old.resolution, old.reference, cur.resolution, cur.reference
+                "REGRESSION: `{}` on {} was measured differently ({} against {}, now {} against {}): not comparable",
+                old.label(), old.scene, size(old.resolution), old.reference, size(cur.resolution), cur.reference
             ));
             regressions += 1;
             continue;

@@ -70,7 +70,11 @@ pub fn merge(dirs: &[PathBuf], allow: &[String]) -> Result<MergeOutcome> {
         if !path.is_file() {
             return Err(Error::io(&path, "no results.jsonl in this folder (is it a sweep's --out?)"));
         }
-        let rows = read_results(&path)?;
+        // A shard's unreadable rows are merge's error, not the report's.
+        let rows = read_results(&path).map_err(|e| match e {
+            Error::Report(crate::report::ReportError::Results { path, message }) => Error::Param(format!("merge: {}: {message}", path.display())),
+            e => e,
+        })?;
         let (_, spec) = spec_of(&path, &rows[0].row)?;
         let spec = spec.clone();
         for r in &rows {
