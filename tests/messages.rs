@@ -41,3 +41,16 @@ fn check_says_sizes_in_words_and_refuses_a_doubled_percent() {
     assert_eq!(stderr.trim(), "error: --max `rmse=+2%%`: `+2%%` is not a number");
     assert!(stdout.is_empty(), "{stdout}");
 }
+
+#[test]
+fn a_scene_name_that_is_not_utf8_names_the_flag() {
+    use std::os::unix::ffi::OsStrExt;
+    let name = std::ffi::OsStr::from_bytes(b"\xff.toml");
+    for command in ["render", "reference", "compare", "sequence"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra")).args([command, "--scene"]).arg(name).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{command}: {stderr}");
+        assert_eq!(stderr.lines().next(), Some("error: invalid value '\u{FFFD}.toml' for '--scene <SCENE>': not valid UTF-8: \u{FFFD}.toml"), "{command}");
+        assert!(!stderr.contains("Usage:") && out.stdout.is_empty(), "{command}: {stderr}");
+    }
+}

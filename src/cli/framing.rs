@@ -14,7 +14,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct FramingArgs {
     /// Scenes (built-in names or TOML files), repeatable or comma-separated.
-    #[arg(long = "scene", value_delimiter = ',', required = true)]
+    #[arg(long = "scene", value_delimiter = ',', required = true, value_parser = crate::cli::utf8())]
     scenes: Vec<String>,
     /// Square screen sizes in pixels, comma-separated.
     #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "128,256,512")]

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct HybridArgs {
     /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default")]
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     scene: String,
     /// Square screen size in pixels.
     #[arg(long, allow_negative_numbers = true, default_value_t = 256)]

@@ -23,6 +23,13 @@ pub mod sweep;
 
 use anyhow::{Context, Result};
 
+/// Parses a text flag (a scene name or path) from the raw argument, so a value that is not UTF-8 is
+/// an error naming its flag, not clap's usage block.
+pub fn utf8() -> impl clap::builder::TypedValueParser<Value = String> {
+    use clap::builder::TypedValueParser;
+    clap::builder::OsStringValueParser::new().try_map(|s| s.into_string().map_err(|s| format!("not valid UTF-8: {}", s.to_string_lossy())))
+}
+
 /// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
 /// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
 /// each single-map family, hard, PCF, PCSS and a moment map).

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct ReferenceArgs {
     /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default")]
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     scene: String,
     /// `continuous` (M×M stratified jitter, fixed seed), `lattice` (the 289 lattice points) or
     /// `point` (exact hard-shadow visibility from one light point: the centre, or `--point`).

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct RenderArgs {
     /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default")]
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     scene: String,
     /// hard | regular | adaptive, optionally with parameters: `adaptive:p_m=0,scope=local`.
     #[arg(long, default_value = "hard")]

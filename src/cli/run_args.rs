@@ -6,7 +6,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct RunArgs {
     /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default")]
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     pub scene: String,
     /// Timed frames per method after one warm-up (and one stages-mode frame); the median is quoted.
     #[arg(long, allow_negative_numbers = true, default_value_t = 3)]

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug, Clone)]
 pub struct SequenceArgs {
     /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default")]
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     scene: String,
     /// Methods, comma-separated as in compare (repeatable).
     #[arg(long, default_value = "hard,regular:n=17,adaptive")]
