@@ -23,6 +23,9 @@ struct Cli {
     /// Use the adapter whose name contains this text [default: $WGPU_ADAPTER_NAME].
     #[arg(long, global = true, value_name = "NAME")]
     adapter: Option<String>,
+    /// Refuse mesh files larger than this many MiB (decompressed, for gzip) [default: 2048].
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=1 << 40))]
+    max_mesh_mib: Option<u64>,
 }
 
 /// The adapter request from `--backend`/`--adapter`, else from WGPU_BACKEND/WGPU_ADAPTER_NAME.
@@ -103,6 +106,10 @@ fn main() {
 
 fn run() -> Result<()> {
     let parsed = Cli::parse();
+    // Set once, before any scene loads; the loaders read it as the run's cap.
+    if let Some(mib) = parsed.max_mesh_mib {
+        penumbra::scene::assets::set_max_mesh_mib(mib);
+    }
     let gpu = adapter_request(&parsed)?;
     match parsed.command {
         None => cli::compare::main_job(parsed.out, &gpu),

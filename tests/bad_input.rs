@@ -80,7 +80,7 @@ fn unreadable_mesh_file() {
     let out = penumbra(&["render", "--scene", dir.join("scene.toml").to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
     let e = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1));
-    assert!(e.contains("tri.obj") && e.contains("cannot read mesh file") && !e.contains("panicked"), "{e}");
+    assert!(e.contains("mesh 2: file = \"tri.obj\": ") && e.contains("tri.obj is a folder, not a regular file") && !e.contains("panicked"), "{e}");
 }
 
 #[test]

@@ -185,3 +185,113 @@ fn set_errors_through_the_cli_name_set() {
     let e = cli_fails("set_abc", &[("s.toml", BASE)], &["render", "--scene", "s.toml", "--set", "resolution=abc", "--out", "out"]);
     assert_eq!(e, "--set resolution=abc: invalid type: string \"abc\", expected u32");
 }
+
+/// Mesh files must be regular files under the cap (`--max-mesh-mib`): a FIFO would block the
+/// open forever, a link to /dev/zero would be read until memory runs out.
+#[cfg(target_os = "linux")]
+mod mesh_files {
+    use super::*;
+    use std::time::{Duration, Instant};
+
+    fn scene_with(file: &str) -> String {
+        BASE.replace("builtin = \"sphere\"", &format!("file = \"{file}\""))
+    }
+
+    /// As `cli_fails`, for a case whose files the caller made, and within a time limit: a
+    /// blocked open must fail the test, not hang it.
+    fn cli_fails_promptly(dir: &std::path::Path, args: &[&str]) -> String {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+            .current_dir(dir)
+            .args(args)
+            .env("PENUMBRA_NO_PROGRESS", "1")
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let start = Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            if start.elapsed() > Duration::from_secs(60) {
+                child.kill().unwrap();
+                panic!("penumbra {args:?} still runs after 60 s");
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let out = child.wait_with_output().unwrap();
+        let e = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(1), "{e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(!dir.join("out").exists(), "output written");
+        e.trim().strip_prefix("error: ").unwrap_or(&e).to_string()
+    }
+
+    /// One triangle padded with comment lines to `bytes`.
+    fn padded_obj(bytes: usize) -> String {
+        let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n");
+        while text.len() < bytes {
+            text.push_str("# padding to make the file large enough to cross a small cap\n");
+        }
+        text
+    }
+
+    #[test]
+    fn a_fifo_is_refused_without_opening_it() {
+        let dir = temp_dir("listed_fifo");
+        std::fs::write(dir.join("s.toml"), scene_with("x.obj")).unwrap();
+        let fifo = std::ffi::CString::new(dir.join("x.obj").to_str().unwrap()).unwrap();
+        assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o644) }, 0);
+        let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out"]);
+        assert_eq!(e, "s.toml: mesh 2: file = \"x.obj\": x.obj is a FIFO, not a regular file");
+    }
+
+    #[test]
+    fn a_link_to_dev_zero_is_refused() {
+        let dir = temp_dir("listed_dev_zero");
+        std::fs::write(dir.join("s.toml"), scene_with("z.obj")).unwrap();
+        std::os::unix::fs::symlink("/dev/zero", dir.join("z.obj")).unwrap();
+        let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out"]);
+        assert_eq!(e, "s.toml: mesh 2: file = \"z.obj\": z.obj (a link to /dev/zero) is a character device, not a regular file");
+    }
+
+    #[test]
+    fn a_folder_is_refused() {
+        let dir = temp_dir("listed_mesh_folder");
+        std::fs::write(dir.join("s.toml"), scene_with("d.obj")).unwrap();
+        std::fs::create_dir(dir.join("d.obj")).unwrap();
+        let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out"]);
+        assert_eq!(e, "s.toml: mesh 2: file = \"d.obj\": d.obj is a folder, not a regular file");
+    }
+
+    #[test]
+    fn a_file_over_the_cap_is_refused_and_loads_under_the_default() {
+        let dir = temp_dir("listed_mesh_cap");
+        let text = padded_obj(3 << 19);
+        std::fs::write(dir.join("s.toml"), scene_with("big.obj")).unwrap();
+        std::fs::write(dir.join("big.obj"), &text).unwrap();
+        let len = text.len();
+        let e = cli_fails_promptly(&dir, &["--max-mesh-mib", "1", "render", "--scene", "s.toml", "--out", "out"]);
+        assert_eq!(
+            e,
+            format!("s.toml: mesh 2: file = \"big.obj\": big.obj is 1.5 MiB ({len} bytes), over the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)")
+        );
+        // The flag is global: after the command too.
+        let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out", "--max-mesh-mib", "1"]);
+        assert!(e.ends_with("over the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"), "{e}");
+        let scene = Scene::load(dir.join("s.toml").to_str().unwrap(), &[]).unwrap();
+        assert!(scene.triangle_count() > 2);
+    }
+
+    #[test]
+    fn a_gzip_bomb_stops_at_the_cap() {
+        use penumbra::scene::MeshDirs;
+        use std::io::Write;
+        let dir = temp_dir("listed_gzip_bomb");
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+        gz.write_all(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\ncomment ").unwrap();
+        gz.write_all(&vec![b'a'; 3 << 20]).unwrap();
+        std::fs::write(dir.join("m.ply.gz"), gz.finish().unwrap()).unwrap();
+        let dirs = MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: Some(1 << 20) };
+        let e = Scene::parse_in(&scene_with("m.ply.gz"), "s.toml", dirs, &[]).unwrap_err().to_string();
+        assert_one_line(&e);
+        assert!(e.contains("decompresses to more than the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"), "{e}");
+    }
+}

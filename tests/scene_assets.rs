@@ -16,7 +16,7 @@ const TRI_OFF: &str = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 0 1\n3 0 2 1\n";
 
 fn parse(dir: &Path, cache: Option<&Path>, meshes: &str) -> penumbra::Result<Scene> {
     let text = format!("{HEAD}\n{meshes}");
-    Scene::parse_in(&text, "test.toml", MeshDirs { scene_dir: Some(dir), cache }, &[])
+    Scene::parse_in(&text, "test.toml", MeshDirs { scene_dir: Some(dir), cache, max_mesh_bytes: None }, &[])
 }
 
 fn centroid(scene: &Scene) -> Vec3 {
@@ -37,7 +37,7 @@ fn every_registry_format_loads_from_the_scene_folder() {
     std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\n").unwrap();
     for file in ["tri.off", "tri.ply", "tri.ply.gz", "tri.js", "tri.obj"] {
         let text = format!("triangles = 1\n{HEAD}\n[[mesh]]\nfile = \"{file}\"\n");
-        let scene = Scene::parse_in(&text, "test.toml", MeshDirs { scene_dir: Some(&dir), cache: None }, &[]);
+        let scene = Scene::parse_in(&text, "test.toml", MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: None }, &[]);
         let scene = scene.unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(scene.triangle_count(), 1, "{file}");
         assert_eq!(scene.vertices[0].position, [0.0, 0.0, 0.0], "{file}");
@@ -139,12 +139,12 @@ fn instances_place_copies_after_the_mesh_transform() {
 fn grid_is_centred_and_counts_match_the_stated_triangles() {
     let dir = temp_dir("scene_grid");
     let text = format!("triangles = 72\n{HEAD}\n[[mesh]]\nbuiltin = \"box\"\ngrid = {{ count = [3, 2], spacing = [4.0, 6.0], rotate_step_deg = 30.0 }}\n");
-    let scene = Scene::parse_in(&text, "grid.toml", MeshDirs { scene_dir: Some(&dir), cache: None }, &[]).unwrap();
+    let scene = Scene::parse_in(&text, "grid.toml", MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: None }, &[]).unwrap();
     assert_eq!(scene.triangle_count(), 6 * 12);
     assert!(centroid(&scene).length() < 1e-5);
     assert!((scene.bounds.max.x - 4.0 - 0.5 * 2f32.sqrt()).abs() < 0.2, "{:?}", scene.bounds);
     let wrong = text.replace("triangles = 72", "triangles = 70");
-    let e = Scene::parse_in(&wrong, "grid.toml", MeshDirs { scene_dir: Some(&dir), cache: None }, &[]).unwrap_err().to_string();
+    let e = Scene::parse_in(&wrong, "grid.toml", MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: None }, &[]).unwrap_err().to_string();
     assert_eq!(e, "grid.toml: states triangles = 70 but its meshes have 72");
 }
 

@@ -29,7 +29,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
         (Some(b), None) => builtin(b, m.segments).ok_or_else(|| {
             Error::scene(origin, format!("mesh {}: unknown builtin `{b}` (plane, box, sphere)", k + 1))
         })?,
-        (None, Some(f)) => mesh_file::load(f, origin.starts_with("builtin:"), dirs)?,
+        (None, Some(f)) => mesh_file::load(f, origin, &format!("mesh {}", k + 1), dirs)?,
         _ => return Err(Error::scene(origin, format!("mesh {}: give exactly one of `builtin` or `file`", k + 1))),
     };
     if raw.indices.is_empty() {

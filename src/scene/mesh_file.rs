@@ -20,6 +20,9 @@ pub struct MeshDirs<'a> {
     pub scene_dir: Option<&'a Path>,
     /// The asset cache; `None`: `$PENUMBRA_CACHE`, else `~/.cache/penumbra` (looked up only when used).
     pub cache: Option<&'a Path>,
+    /// The cap on a mesh file's size in bytes (decompressed, for gzip); `None`: the run's cap
+    /// (`--max-mesh-mib`, else 2 GiB).
+    pub max_mesh_bytes: Option<u64>,
 }
 
 /// Resolves a `cache:` path; a missing file is an error that says how to fetch it.
@@ -33,7 +36,7 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
         None => assets::default_cache_dir()?,
     };
     let path = root.join(rel);
-    if !path.is_file() {
+    if !path.exists() {
         // The first path component is the fetch group (meshes/, trees/, panoramas/).
         let group = rel.split('/').next().filter(|g| g.parse::<assets::Group>().is_ok()).unwrap_or("all");
         return Err(Error::mesh(
@@ -47,25 +50,31 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     Ok(path)
 }
 
-/// Loads a mesh named by a scene; errors name the mesh file and the line or element.
-pub fn load(file: &str, builtin_scene: bool, dirs: MeshDirs) -> Result<RawMesh> {
-    if file.starts_with(CACHE_PREFIX) {
-        return load_path(&cache_path(file, dirs.cache)?);
-    }
-    if builtin_scene {
+/// Loads a mesh named by a scene; errors name the mesh file and the line or element. `origin`
+/// (the scene file) and `which` (`mesh 2`) name the key in errors about the file itself.
+pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<RawMesh> {
+    let path = if file.starts_with(CACHE_PREFIX) {
+        cache_path(file, dirs.cache)?
+    } else if origin.starts_with("builtin:") {
         return obj::load_embedded(file);
+    } else {
+        dirs.scene_dir.map(|d| d.join(file)).unwrap_or_else(|| file.into())
+    };
+    let max = dirs.max_mesh_bytes.unwrap_or_else(assets::max_mesh_bytes);
+    // Metadata first: a FIFO would block the open, a device or a huge file would fill memory.
+    if path.exists() {
+        assets::check_mesh_file(&path, max).map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
     }
-    let path = dirs.scene_dir.map(|d| d.join(file)).unwrap_or_else(|| file.into());
-    load_path(&path)
+    load_path(&path, max)
 }
 
-fn load_path(path: &Path) -> Result<RawMesh> {
+fn load_path(path: &Path, max: u64) -> Result<RawMesh> {
     let name = path.file_name().map(|n| n.to_string_lossy().to_lowercase()).unwrap_or_default();
     let inner = name.strip_suffix(".gz").unwrap_or(&name);
     match Path::new(inner).extension().and_then(|e| e.to_str()) {
-        Some("obj") if inner == name => obj::load_file(path),
+        Some("obj") if inner == name => obj::load_file(path, max),
         Some("off" | "ply" | "js") => {
-            let mesh = assets::load_mesh(path)?;
+            let mesh = assets::load_mesh_capped(path, max)?;
             let positions = mesh.positions.iter().map(|p| Vec3::from(*p)).collect();
             Ok(RawMesh { positions, normals: None, indices: mesh.indices })
         }

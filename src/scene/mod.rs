@@ -48,7 +48,7 @@ impl Scene {
     pub fn load_in(name_or_path: &str, overrides: &[(String, String)], cache: Option<&Path>) -> Result<Scene> {
         if let Some(text) = builtin_source(name_or_path) {
             let origin = format!("builtin:{name_or_path}");
-            return Self::parse_in(text, &origin, MeshDirs { scene_dir: None, cache }, overrides);
+            return Self::parse_in(text, &origin, MeshDirs { scene_dir: None, cache, max_mesh_bytes: None }, overrides);
         }
         let path = PathBuf::from(name_or_path);
         if !path.exists() {
@@ -58,13 +58,13 @@ impl Scene {
             ));
         }
         let text = std::fs::read_to_string(&path).map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
-        Self::parse_in(&text, name_or_path, MeshDirs { scene_dir: path.parent(), cache }, overrides)
+        Self::parse_in(&text, name_or_path, MeshDirs { scene_dir: path.parent(), cache, max_mesh_bytes: None }, overrides)
     }
 
     /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins),
     /// `cache:` paths against the default asset cache.
     pub fn parse(text: &str, origin: &str, dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Scene> {
-        Self::parse_in(text, origin, MeshDirs { scene_dir: dir, cache: None }, overrides)
+        Self::parse_in(text, origin, MeshDirs { scene_dir: dir, cache: None, max_mesh_bytes: None }, overrides)
     }
 
     /// As `parse`, with the folders mesh files resolve against given explicitly (tests, `--cache`).

@@ -1,5 +1,6 @@
 //! OBJ meshes through tobj, after a line-by-line check so errors name the file and line.
 
+use super::assets;
 use super::raw_mesh::RawMesh;
 use crate::{Error, Result};
 use glam::Vec3;
@@ -16,9 +17,17 @@ pub fn load_embedded(file: &str) -> Result<RawMesh> {
     parse(text, file)
 }
 
-pub fn load_file(path: &Path) -> Result<RawMesh> {
+/// Reads at most `max` bytes; the caller has checked it is a regular file within the cap, and
+/// the read stays bounded should it grow meanwhile.
+pub fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
+    use std::io::Read;
     let label = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| Error::mesh(&label, format!("cannot read mesh file: {e}")))?;
+    let cannot = |e: std::io::Error| Error::mesh(&label, format!("cannot read mesh file: {e}"));
+    let mut bytes = Vec::new();
+    assets::open_regular(path, max).map_err(cannot)?.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(cannot)?;
+    if bytes.len() as u64 > max {
+        return Err(Error::mesh(&label, format!("grew past the {} MiB cap on mesh files while being read (raise it with --max-mesh-mib N)", max >> 20)));
+    }
     let text = String::from_utf8(bytes).map_err(|_| Error::mesh(&label, "not a text OBJ file (invalid UTF-8)"))?;
     parse(&text, &label)
 }

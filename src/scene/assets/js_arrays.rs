@@ -4,11 +4,15 @@
 use std::path::Path;
 
 use super::error::{Failure, Location, Result};
-use super::input::read_text;
+use super::input::{max_mesh_bytes, read_text_capped};
 use super::mesh::{LoadedMesh, MeshBuilder};
 
 pub fn load_js_arrays(path: &Path) -> Result<LoadedMesh> {
-    let text = read_text(path)?;
+    load_js_arrays_capped(path, max_mesh_bytes())
+}
+
+pub(crate) fn load_js_arrays_capped(path: &Path, max: u64) -> Result<LoadedMesh> {
+    let text = read_text_capped(path, max)?;
     parse_js_arrays(&text).map_err(|failure| failure.in_file(path))
 }
 

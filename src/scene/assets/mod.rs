@@ -28,6 +28,8 @@ pub use fetch::{Action, FetchReport, FetchedFile, Progress, fetch_all, fetch_gro
 pub use js_arrays::load_js_arrays;
 pub use manifest::Group;
 pub use mesh::LoadedMesh;
+pub use input::{max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB};
+pub(crate) use input::{check_mesh_file, open_regular};
 pub use off::load_off;
 pub use ply::load_ply;
 // In-memory parsers for crate::inputs (fuzzing).
@@ -38,15 +40,20 @@ pub(crate) use ply::parse_ply;
 
 /// Loads `.off`, `.ply`, `.ply.gz` or `.js` (JS array module) by its name.
 pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {
+    load_mesh_capped(path, max_mesh_bytes())
+}
+
+/// As `load_mesh`, reading at most `max` bytes (decompressed, for gzip).
+pub fn load_mesh_capped(path: &Path, max: u64) -> Result<LoadedMesh> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_lowercase())
         .unwrap_or_default();
     let name = name.strip_suffix(".gz").unwrap_or(&name);
     match Path::new(name).extension().and_then(|e| e.to_str()) {
-        Some("off") => load_off(path),
-        Some("ply") => load_ply(path),
-        Some("js") => load_js_arrays(path),
+        Some("off") => off::load_off_capped(path, max),
+        Some("ply") => ply::load_ply_capped(path, max),
+        Some("js") => js_arrays::load_js_arrays_capped(path, max),
         _ => Err(AssetError::Invalid {
             file: path.to_path_buf(),
             message: "unknown mesh format (expected .off, .ply, .ply.gz or .js)".into(),

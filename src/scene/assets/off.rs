@@ -6,11 +6,15 @@ use off_rs::parser::error::{Error as OffError, Kind};
 use off_rs::parser::options::{Limits, Options};
 
 use super::error::{Failure, Location, Result};
-use super::input::read_text;
+use super::input::{max_mesh_bytes, read_text_capped};
 use super::mesh::{LoadedMesh, MeshBuilder};
 
 pub fn load_off(path: &Path) -> Result<LoadedMesh> {
-    let text = read_text(path)?;
+    load_off_capped(path, max_mesh_bytes())
+}
+
+pub(crate) fn load_off_capped(path: &Path, max: u64) -> Result<LoadedMesh> {
+    let text = read_text_capped(path, max)?;
     parse_off(&text).map_err(|failure| failure.in_file(path))
 }
 

@@ -15,7 +15,11 @@ use super::input;
 use super::mesh::{LoadedMesh, MeshBuilder};
 
 pub fn load_ply(path: &Path) -> Result<LoadedMesh> {
-    parse_ply(input::open(path)?).map_err(|failure| failure.in_file(path))
+    load_ply_capped(path, input::max_mesh_bytes())
+}
+
+pub(crate) fn load_ply_capped(path: &Path, max: u64) -> Result<LoadedMesh> {
+    parse_ply(input::open_capped(path, max)?).map_err(|failure| failure.in_file(path))
 }
 
 const FACE_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
