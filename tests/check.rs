@@ -2,25 +2,10 @@
 //! many more maps and a run with worse error are caught, bad input gets one-line messages, and
 //! `penumbra report --baseline` shows the changes.
 
-#[macro_use]
 mod common;
 use common::temp_dir;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-const SCENE: &str = concat!(
-    "name = \"tiny\"\n",
-    tiny_scene_head!(),
-    r#"
-[[mesh]]
-builtin = "plane"
-scale = 10.0
-
-[[mesh]]
-builtin = "box"
-translate = [0.0, 1.0, 0.0]
-"#
-);
 
 fn penumbra(cache: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_penumbra")).args(args).env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", cache).output().unwrap()
@@ -60,7 +45,7 @@ fn verdict<'a>(table: &'a str, row: &str, metric: &str) -> &'a str {
 fn check_passes_a_rerun_and_catches_more_maps_and_worse_error() {
     let _ = common::gpu(); // fails here, with instructions, when no adapter exists
     let dir = temp_dir("check_gates");
-    std::fs::write(dir.join("tiny.toml"), SCENE).unwrap();
+    std::fs::write(dir.join("tiny.toml"), common::SWEEP_SCENE).unwrap();
     // The baseline shadows self-intersections from the map alone: adaptive sees no penumbra
     // to refine and stops at 4 maps. Without that setting it refines to 68 maps: "slowed".
     let base = compare(&dir, "base", &["self_shadow=map"]);

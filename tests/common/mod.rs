@@ -29,7 +29,7 @@ use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-/// The tiny scene of the sharded-sweep tests (tests/shards.rs, tests/slurm_scripts.rs): a box over
+/// The tiny scene of the sweep and gate tests (tests/shards.rs, slurm_scripts.rs, check.rs): a box over
 /// a plane at 32x32 with 64² shadow maps.
 pub const SWEEP_SCENE: &str = concat!(
     "name = \"tiny\"\n",
