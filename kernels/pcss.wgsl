@@ -17,7 +17,10 @@ fn midpoint(i: u32, n: u32, r: f32) -> f32 {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(global_invocation_id) band_gid: vec3<u32>) {
+    // One dispatch per band of rows (docs/gpu-frame.md §8): the pixel is the band's, V is bound from
+    // the band's first pixel.
+    let gid = vec3<u32>(band_gid.x, band_gid.y + frame.band_first_row, band_gid.z);
     if (gid.x >= frame.width || gid.y >= frame.height) {
         return;
     }
@@ -26,7 +29,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!px.geometry) {
         return;
     }
-    let index = gid.y * frame.width + gid.x;
+    let index = gid.y * frame.width + gid.x - band_base(frame);
     if (px.lookup.kind != LOOKUP_COMPARE) {
         visibility[index] = select(0.0, 1.0, px.lookup.kind == LOOKUP_OUTSIDE);
         return;

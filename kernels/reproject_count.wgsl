@@ -53,13 +53,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     add_geometry(count_word(gid.x), lid);
 }
 
-// Counts one word's 4 pixels for every quad of the batch; returns its geometry pixels.
+// Counts one word's 4 pixels for every quad of the batch; returns its geometry pixels. `word`
+// counts from the dispatch's band (masks are bound from its first pixel); the comparison maps
+// and word states cover the whole image.
 fn count_word(word: u32) -> u32 {
     let words = frame.height * level.words_per_row;
-    if (word >= words) {
+    if (word >= band_height(frame) * level.words_per_row) {
         return 0u;
     }
-    let gid = vec3<u32>(word, 0u, 0u);
+    let gid = vec3<u32>(word + frame.band_first_row * level.words_per_row, 0u, 0u);
+    let base = band_base(frame);
     var geometry = 0u;
     let y = gid.x / level.words_per_row;
     let wx = gid.x % level.words_per_row;
@@ -70,7 +73,7 @@ fn count_word(word: u32) -> u32 {
         let x = wx * 4u + b;
         if (x < frame.width) {
             let p = y * frame.width + x;
-            let summary = masks[p * MASK_WORDS + SUMMARY_WORD];
+            let summary = masks[(p - base) * MASK_WORDS + SUMMARY_WORD];
             let all_lit = (summary & SUMMARY_ANY_UNLIT) == 0u;
             let all_unlit = (summary & SUMMARY_ANY_LIT) == 0u;
             if ((summary & SUMMARY_GEOMETRY) == 0u) {
@@ -98,7 +101,7 @@ fn count_word(word: u32) -> u32 {
                 var c = 0u;
                 for (var corner = 0u; corner < 4u; corner = corner + 1u) {
                     let k = quad_corner(q, corner);
-                    c = c + ((masks[p * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u);
+                    c = c + ((masks[(p - base) * MASK_WORDS + k / 32u] >> (k % 32u)) & 1u);
                 }
                 packed = packed | ((c + 1u) << (b * 8u));
             }

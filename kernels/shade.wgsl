@@ -58,7 +58,7 @@ fn shade_block(gid: vec3<u32>, count: u32) {
     let position = textureLoad(gbuffer_position, pixel, 0);
     let p = position.xyz;
     let n = textureLoad(gbuffer_normal, pixel, 0).xyz;
-    let index = gid.y * frame.width + gid.x;
+    let index = gid.y * frame.width + gid.x - band_base(frame);
     var v = visibility[index];
     switch (count) {
         case 16u: { v = add16(v, 0u, p, n); }
@@ -87,8 +87,10 @@ fn geometry_tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgr
     }
     workgroupBarrier();
     if (lid == 0u && atomicLoad(&tile_has_geometry) != 0u) {
-        let slot = atomicAdd(&tile_list_build[0], 1u);
-        atomicStore(&tile_list_build[TILE_LIST_HEADER + slot], group.y * groups.x + group.x);
+        // The section of the tile's band (bands are whole tiles high; one section without bands).
+        let section = select(0u, group.y * 8u / max(frame.band_rows, 1u), frame.band_rows != 0u) * frame.tile_section_words;
+        let slot = atomicAdd(&tile_list_build[section], 1u);
+        atomicStore(&tile_list_build[section + TILE_LIST_HEADER + slot], group.y * groups.x + group.x);
     }
 }
 
@@ -124,10 +126,12 @@ fn block1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
 
 @compute @workgroup_size(8, 8, 1)
 fn from_masks(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
+    // One dispatch per band: rows band_first_row .. + band_height; masks and V bound from its start.
+    let y = gid.y + frame.band_first_row;
+    if (gid.x >= frame.width || gid.y >= band_height(frame)) {
         return;
     }
-    if (textureLoad(gbuffer_position, vec2<i32>(gid.xy), 0).w == 0.0) {
+    if (textureLoad(gbuffer_position, vec2<i32>(i32(gid.x), i32(y)), 0).w == 0.0) {
         return;
     }
     let index = gid.y * frame.width + gid.x;

@@ -154,7 +154,7 @@ fn block_pixel(gid: vec3<u32>) -> BlockPixel {
     let pixel = vec2<i32>(min(gid.xy, vec2<u32>(frame.width - 1u, frame.height - 1u)));
     out.position = textureLoad(gbuffer_position, pixel, 0);
     out.normal = textureLoad(gbuffer_normal, pixel, 0).xyz;
-    out.running = Running((gid.y * frame.width + gid.x) * MASK_WORDS, MASK_WORDS, 0u, SUMMARY_GEOMETRY, inside && out.position.w != 0.0);
+    out.running = Running((gid.y * frame.width + gid.x - band_base(frame)) * MASK_WORDS, MASK_WORDS, 0u, SUMMARY_GEOMETRY, inside && out.position.w != 0.0);
     return out;
 }
 

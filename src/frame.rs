@@ -66,6 +66,8 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
         bias_slope: b.slope,
         normal_offset: b.normal_offset,
         max_slope: b.max_slope,
+        // One band until the frame's tile list says otherwise (`GeometryTiles::stamp`).
+        ..Default::default()
     }
 }
 
@@ -97,15 +99,19 @@ impl<'a> Renderer<'a> {
     /// place their samples and frusta from the light and the bounds when they are built, so a
     /// fresh state is what keeps V exactly that of a new renderer.
     fn assemble(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
+        // Every size against the device and the host first: one line, not a wgpu panic later.
+        crate::methods::sizes::check(ctx, scene, method)?;
         let start = Instant::now();
         let (w, h) = (scene.render.width, scene.render.height);
+        // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).
+        let band_rows = crate::methods::sizes::band_rows(scene, method, &ctx.limits());
         let mut force_timestamps = false;
         let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
         if let Some(k) = kept {
             force_timestamps = k.force_timestamps;
             gbuffer_pass = Some(k.gbuffer_pass);
             // The G-buffer, the tile list and V are cleared or rewritten by every frame.
-            if (k.gbuffer.width, k.gbuffer.height) == (w, h) {
+            if (k.gbuffer.width, k.gbuffer.height) == (w, h) && k.geometry_tiles.band_rows == band_rows {
                 targets = Some((k.gbuffer, k.geometry_tiles, k.visibility));
             }
             shade = (k.maps == scene.render.maps).then_some(k.shade);
@@ -123,7 +129,7 @@ impl<'a> Renderer<'a> {
             None => SceneGpu::upload(ctx, scene),
         };
         let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
-        let frame = frame_uniform(scene);
+        let mut frame = frame_uniform(scene);
         let shade = match shade {
             Some(s) => s,
             None => ShadePass::new(ctx, scene.render.maps)?,
@@ -132,10 +138,11 @@ impl<'a> Renderer<'a> {
             Some(t) => t,
             None => {
                 let gbuffer = GBufferPass::allocate(ctx, w, h)?;
-                let tiles = shade.tile_list(ctx, &gbuffer);
+                let tiles = shade.tile_list_in_bands(ctx, &gbuffer, band_rows);
                 (gbuffer, tiles, readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4))
             }
         };
+        geometry_tiles.stamp(ctx, &mut frame);
         let raster = match raster {
             Some(r) => r,
             None => ShadowRasterPass::new(ctx, scene.render.cull)?,
@@ -186,6 +193,14 @@ impl<'a> Renderer<'a> {
     pub fn set_camera(&mut self, camera: &crate::scene::Camera) {
         self.camera = crate::render::gbuffer::camera_uniform_for(self.fg.scene, camera);
         self.moved_camera = Some(camera.clone());
+    }
+
+    /// The screen-sized buffers the frame and the method created, by label (the size plan's
+    /// names: tests check that `methods::sizes::plan` agrees).
+    pub fn buffer_sizes(&self) -> Vec<(String, u64)> {
+        let mut out = vec![("visibility".to_string(), self.fg.visibility.size()), ("geometry tiles".to_string(), self.fg.geometry_tiles.bytes)];
+        out.extend(self.state.buffer_sizes());
+        out
     }
 
     /// Records GPU timestamps from now on even on a CPU adapter, where the figures mean little
@@ -287,11 +302,18 @@ impl Detached {
     /// changes is built again, the method's state always (see `Renderer::assemble`). Its first frame
     /// carries `build`.
     pub fn attach<'a>(self, ctx: &'a GpuContext, scene: &'a Scene) -> Result<Renderer<'a>> {
+        let method = self.method.clone();
+        self.attach_as(ctx, scene, &method)
+    }
+
+    /// As [`Detached::attach`], for any method: nothing kept here belongs to a method (what a
+    /// method's sizes change, `assemble` builds again), so the configurations of a sweep hand it
+    /// from one to the next.
+    pub fn attach_as<'a>(self, ctx: &'a GpuContext, scene: &'a Scene, method: &Method) -> Result<Renderer<'a>> {
         if self.device != ctx.device {
             return Err(crate::Error::Gpu("a detached renderer was attached on another device than its own".into()));
         }
-        let method = self.method.clone();
-        Renderer::assemble(ctx, scene, &method, Some(self))
+        Renderer::assemble(ctx, scene, method, Some(self))
     }
 }
 
@@ -304,6 +326,7 @@ pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, options: impl In
 /// Only the camera G-buffer of `scene`: what the CPU reference traces from. Same pass, same
 /// uniforms as `render`, so its pixels are the points every method shades.
 pub fn gbuffer_only(ctx: &GpuContext, scene: &Scene) -> Result<GBufferCpu> {
+    crate::methods::sizes::check(ctx, scene, &Method::hard())?;
     let pass = GBufferPass::new(ctx)?;
     let target = GBufferPass::allocate(ctx, scene.render.width, scene.render.height)?;
     let scene_gpu = SceneGpu::upload(ctx, scene);

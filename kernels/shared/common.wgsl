@@ -14,6 +14,25 @@ struct GpuFrame {
     bias_slope: f32,
     normal_offset: f32,
     max_slope: f32,
+    // Bands of rows (docs/gpu-frame.md §8): a per-pixel buffer too large for one binding is bound
+    // a band at a time. A band's dispatch gets a copy of the frame whose band_first_row is its
+    // first row; band_rows is every band's height (0: one band, the whole image), and the geometry
+    // tile list holds one section of tile_section_words words per band.
+    band_first_row: u32,
+    band_rows: u32,
+    tile_section_words: u32,
+    bands: u32,
+}
+
+// The pixel index where the dispatch's band starts: buffers bound by band are indexed from it.
+fn band_base(frame: GpuFrame) -> u32 {
+    return frame.band_first_row * frame.width;
+}
+
+// Rows of the dispatch's band.
+fn band_height(frame: GpuFrame) -> u32 {
+    let rest = frame.height - min(frame.band_first_row, frame.height);
+    return select(rest, min(frame.band_rows, rest), frame.band_rows != 0u);
 }
 
 struct GpuSample {

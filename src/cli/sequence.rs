@@ -74,6 +74,8 @@ pub fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: truth::Cache::default_for(args.no_cache) };
     sequence::check(&job)?;
     let ctx = GpuContext::with_request(gpu)?;
+    // Every method's frame sizes before the first reference is traced.
+    penumbra::methods::sizes::check_all(&ctx, &scene, &job.methods)?;
     log(&format!("{} on {}", job.animation.describe(&scene), ctx.summary.name));
     let outcome = sequence::run(&ctx, &job, &log)?;
     let html = sequence::write(&args.out, &outcome)?;

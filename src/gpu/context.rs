@@ -33,7 +33,13 @@ impl GpuContext {
     }
 
     pub fn with_request(req: &AdapterRequest) -> Result<Self> {
-        pollster::block_on(Self::new_async(req))
+        pollster::block_on(Self::new_async(req, None))
+    }
+
+    /// Tests: a device whose storage bindings are capped at `bytes` (a multiple of 256), so a small
+    /// frame takes the chunked paths a large one takes on the real limit.
+    pub fn with_binding_cap(req: &AdapterRequest, bytes: u64) -> Result<Self> {
+        pollster::block_on(Self::new_async(req, Some(bytes)))
     }
 
     async fn enumerate(backends: wgpu::Backends) -> Vec<wgpu::Adapter> {
@@ -42,7 +48,7 @@ impl GpuContext {
         wgpu::Instance::new(desc).enumerate_adapters(backends).await
     }
 
-    async fn new_async(req: &AdapterRequest) -> Result<Self> {
+    async fn new_async(req: &AdapterRequest, binding_cap: Option<u64>) -> Result<Self> {
         // Auto probes Vulkan alone first: probing GL as well would only add noise (lavapipe exposes
         // both), and GL is looked at only when no Vulkan adapter can run the pipeline.
         let mut adapters = Self::enumerate(if req.backend == BackendChoice::Auto { wgpu::Backends::VULKAN } else { req.backend.backends() }).await;
@@ -57,7 +63,10 @@ impl GpuContext {
         let adapter = adapters.swap_remove(choice.index);
         let info = adapter.get_info();
         // Request the adapter's real limits: 2048 array layers and large storage bindings matter here.
-        let limits = adapter.limits();
+        let mut limits = adapter.limits();
+        if let Some(cap) = binding_cap {
+            limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(cap);
+        }
         // INDIRECT_FIRST_INSTANCE: culled shadow-map draws select their sample by first instance.
         let wanted_features = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
@@ -111,7 +120,7 @@ impl GpuContext {
         format!(
             "adapter:      {}\nbackend:      {}\nchosen:       {}\ndevice type:  {}\ndriver:       {} ({})\ntimestamps:   {}\n\
              limits in use:\n  max_texture_dimension_2d      {}\n  max_texture_array_layers      {}\n  \
-             max_storage_buffer_binding    {}\n  max_buffer_size               {}\n  max_compute_invocations/wg    {}\n  \
+             max_storage_buffer_binding_size {}\n  min_storage_buffer_offset_alignment {}\n  max_buffer_size               {}\n  max_compute_invocations/wg    {}\n  \
              max_compute_workgroups/dim    {}\n  max_compute_workgroup_storage {}\n  max_bind_groups               {}\n  \
              max_sampled_textures/stage    {}\n  max_storage_buffers/stage     {}",
             s.name,
@@ -124,6 +133,7 @@ impl GpuContext {
             l.max_texture_dimension_2d,
             l.max_texture_array_layers,
             l.max_storage_buffer_binding_size,
+            l.min_storage_buffer_offset_alignment,
             l.max_buffer_size,
             l.max_compute_invocations_per_workgroup,
             l.max_compute_workgroups_per_dimension,

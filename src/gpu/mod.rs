@@ -5,6 +5,7 @@ pub(crate) mod context;
 pub mod kernels;
 pub mod pipeline;
 pub mod readback;
+pub mod size_plan;
 pub mod stages;
 pub mod structs;
 pub mod timing;

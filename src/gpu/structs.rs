@@ -16,6 +16,12 @@ pub struct GpuFrame {
     pub bias_slope: f32,
     pub normal_offset: f32,
     pub max_slope: f32,
+    /// Bands of rows (`stages::shade::Band`): the band's first row in its dispatches' copy, every
+    /// band's height (0: one band), the tile list's words per band and the number of bands.
+    pub band_first_row: u32,
+    pub band_rows: u32,
+    pub tile_section_words: u32,
+    pub bands: u32,
 }
 
 #[repr(C)]
@@ -306,7 +312,8 @@ macro_rules! layout_of {
 pub fn all_layouts() -> Vec<StructLayout> {
     vec![
         layout_of!(GpuFrame {
-            width, height, map_size, flags, light_center, light_normal, bias_constant, bias_slope, normal_offset, max_slope
+            width, height, map_size, flags, light_center, light_normal, bias_constant, bias_slope, normal_offset, max_slope,
+            band_first_row, band_rows, tile_section_words, bands
         }),
         layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),

@@ -184,6 +184,12 @@ impl ShadowMethod for Filtered {
         }
         serde_json::Value::Object(m)
     }
+    /// V by bands of rows (reconstruct), and the prefiltered statistic's planes: 16 bytes per map
+    /// texel and layer, bound whole.
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        let map = scene.render.shadow_map_size as u64;
+        vec![crate::methods::sizes::visibility(scene, true, limits), crate::gpu::size_plan::SizeNeed::binding("moments", map * map * 16 * self.layers() as u64).sized_by(format!("shadow_map_size = {map}"))]
+    }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         if fg.scene.render.maps == crate::scene::MapKind::Hybrid {
             return Err(crate::Error::Param(format!(
@@ -257,7 +263,7 @@ impl MethodState for State {
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::RECONSTRUCT, |enc| {
-            self.reconstruct.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &self.filter_buffer, &self.map.samples, &self.filtered, &fg.visibility);
+            self.reconstruct.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &self.filter_buffer, &self.map.samples, &self.filtered, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

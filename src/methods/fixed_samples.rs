@@ -82,6 +82,10 @@ impl ShadowMethod for Fixed {
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         Ok(Box::new(prepare(fg, &self.points())?))
     }
+    /// Shade binds V by bands of rows (stages::shade::Band): any resolution whose V fits one buffer.
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![crate::methods::sizes::visibility(scene, true, limits)]
+    }
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }

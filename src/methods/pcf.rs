@@ -150,6 +150,10 @@ impl ShadowMethod for Pcf {
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "kernel": self.kernel, "taps": self.taps, "radius": self.radius, "spread": self.spread, "darkening": self.darkening })
     }
+    /// Its pass binds V by bands of rows (stages::shade::Band).
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![crate::methods::sizes::visibility(scene, true, limits)]
+    }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let filter = self.filter(fg.frame.map_size);
         let disk = self.disk();
@@ -183,7 +187,7 @@ impl MethodState for State {
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCF, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer, &fg.visibility);
+            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &self.filter_buffer, &self.map.samples, self.map.view(), &self.disk_buffer, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

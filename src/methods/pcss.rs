@@ -47,6 +47,10 @@ impl ShadowMethod for Pcss {
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "taps": self.taps, "blocker_taps": self.blocker_taps, "max_radius": self.max_radius })
     }
+    /// Its pass binds V by bands of rows (stages::shade::Band).
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![crate::methods::sizes::visibility(scene, true, limits)]
+    }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let (light_u, light_v) = light_size(fg);
         let filter = GpuFilter { taps: self.taps, blocker_taps: self.blocker_taps, max_radius: self.max_radius, light_u, light_v, ..Default::default() };
@@ -76,7 +80,7 @@ impl MethodState for State {
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCSS, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &self.filter_buffer, &self.map.samples, self.map.view(), &fg.visibility);
+            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &self.filter_buffer, &self.map.samples, self.map.view(), &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

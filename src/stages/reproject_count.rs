@@ -2,7 +2,8 @@
 //! compacted (pixel, quad) items from the corners' bits shadow_test `list` cached (scope = local).
 
 use crate::gpu::{GpuContext, Stage};
-use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, Masks};
+use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, Masks, MASK_WORDS};
+use super::shade::GeometryTiles;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -26,14 +27,29 @@ impl ReprojectCount {
     /// Every (pixel, quad) of `lv` from `masks.lit` into `out`; `control` counts geometry pixels.
     pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, control: &wgpu::Buffer, out: &CountMaps) {
         let words = lv.shape.height * lv.shape.words_per_row;
+        self.dispatch_dense(ctx, enc, lv, lv.frame, masks.lit.as_entire_binding(), control, out, words);
+    }
+
+    /// [`Self::record_dense`] a band of rows at a time (`tiles.bands`), the masks bound by band.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_dense_bands(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, tiles: &GeometryTiles, masks: &Masks, control: &wgpu::Buffer, out: &CountMaps) {
+        let mask_bytes = MASK_WORDS as u64 * 4;
+        for band in &tiles.bands {
+            let lit = band.pixels(tiles, &masks.lit, lv.shape.width, mask_bytes);
+            self.dispatch_dense(ctx, enc, lv, band.frame(lv.frame), lit, control, out, band.rows * lv.shape.words_per_row);
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn dispatch_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, frame: &wgpu::Buffer, lit: wgpu::BindingResource, control: &wgpu::Buffer, out: &CountMaps, words: u32) {
         self.dense.dispatch(
             ctx,
             enc,
             &[
-                ("frame", lv.frame.as_entire_binding()),
+                ("frame", frame.as_entire_binding()),
                 ("level", lv.uniform.as_entire_binding()),
                 ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
+                ("masks", lit),
                 ("counts", out.maps.as_entire_binding()),
                 ("control", control.as_entire_binding()),
                 ("word_state", out.word_state.as_entire_binding()),

@@ -27,12 +27,94 @@ pub const TILE: u32 = 8;
 
 /// The 8x8 tiles that hold a geometry pixel, listed on the GPU once per frame with the G-buffer
 /// (`geometry_tiles`); shade's and shadow_test's blocks run one workgroup per listed tile, in any
-/// order (pixels are independent).
+/// order (pixels are independent). With bands, each band's tiles are listed in its own section.
 pub struct GeometryTiles {
     pub list: wgpu::Buffer,
     /// The list's header before any tile: count 0, then y = z = 1; copied in every frame.
     header: wgpu::Buffer,
     pub bytes: u64,
+    /// Rows per band (0: one band) and the bands, top to bottom.
+    pub band_rows: u32,
+    pub bands: Vec<Band>,
+}
+
+/// A band of rows. A per-pixel storage buffer larger than one binding may be (V at 5,793² and up
+/// on lavapipe's 128 MiB, adaptive's lattice masks at 1,832²) is bound a band at a time: the
+/// passes dispatch once per band, with the band's frame uniform (its `band_first_row`), its range
+/// of the buffer and its section of the tile list. Each pixel is computed as without bands, so V
+/// is the same bit for bit (tests/large_frames.rs).
+pub struct Band {
+    pub first_row: u32,
+    pub rows: u32,
+    /// The frame uniform with this band's first row; None for a single band (the frame's own).
+    frame: Option<wgpu::Buffer>,
+    tiles_offset: u64,
+    tiles_bytes: u64,
+}
+
+impl Band {
+    /// The frame uniform this band's dispatches bind.
+    pub fn frame<'b>(&'b self, whole: &'b wgpu::Buffer) -> &'b wgpu::Buffer {
+        self.frame.as_ref().unwrap_or(whole)
+    }
+
+    /// This band's section of the tile list (header and tiles).
+    pub fn tiles<'b>(&self, tiles: &'b GeometryTiles) -> wgpu::BindingResource<'b> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &tiles.list, offset: self.tiles_offset, size: wgpu::BufferSize::new(self.tiles_bytes) })
+    }
+
+    /// The indirect dispatch arguments of this band's tiles: (count, 1, 1) at its section's start.
+    pub fn tiles_args<'b>(&self, tiles: &'b GeometryTiles) -> super::Dispatch<'b> {
+        super::Dispatch::IndirectAt(&tiles.list, self.tiles_offset)
+    }
+
+    /// This band's rows of a per-pixel buffer of `bytes_per_pixel` (the whole buffer for a single band).
+    pub fn pixels<'b>(&self, tiles: &GeometryTiles, buffer: &'b wgpu::Buffer, width: u32, bytes_per_pixel: u64) -> wgpu::BindingResource<'b> {
+        if tiles.bands.len() == 1 {
+            return buffer.as_entire_binding();
+        }
+        let row = width as u64 * bytes_per_pixel;
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer, offset: self.first_row as u64 * row, size: wgpu::BufferSize::new(self.rows as u64 * row) })
+    }
+}
+
+impl GeometryTiles {
+    /// Sets the frame uniform's band fields and writes each band's copy of it: the main frame
+    /// buffer (made from `frame` after this) lists the tiles by band.
+    pub fn stamp(&self, ctx: &GpuContext, frame: &mut crate::gpu::structs::GpuFrame) {
+        frame.band_rows = self.band_rows;
+        frame.bands = self.bands.len() as u32;
+        frame.tile_section_words = (self.bytes / 4 / self.bands.len() as u64) as u32;
+        frame.band_first_row = 0;
+        for band in &self.bands {
+            if let Some(buffer) = &band.frame {
+                let copy = crate::gpu::structs::GpuFrame { band_first_row: band.first_row, ..*frame };
+                ctx.queue.write_buffer(buffer, 0, bytemuck::bytes_of(&copy));
+            }
+        }
+    }
+}
+
+/// Rows per band for per-pixel buffers of `row_bytes` bytes per row under `max_binding`: whole
+/// tiles high and aligned for binding offsets of every per-pixel buffer (a multiple of 4 bytes per
+/// pixel); 0 when the image fits one binding. None when not even one band's minimum fits.
+pub fn band_rows(width: u32, height: u32, row_bytes: u64, max_binding: u64, offset_alignment: u32) -> Option<u32> {
+    if row_bytes * height as u64 <= max_binding {
+        return Some(0);
+    }
+    let granule = band_granule(width, offset_alignment);
+    let rows = (max_binding / row_bytes) as u32 / granule * granule;
+    (rows > 0).then_some(rows)
+}
+
+/// The least band height: a multiple of the tile side whose rows of 4 bytes per pixel start at an
+/// aligned offset.
+pub fn band_granule(width: u32, offset_alignment: u32) -> u32 {
+    let mut rows = TILE;
+    while (rows as u64 * width as u64 * 4) % offset_alignment.max(1) as u64 != 0 {
+        rows += TILE;
+    }
+    rows
 }
 
 /// `first .. first + count` as blocks `(start, size)` in sample order: full blocks of SHADE_BLOCK,
@@ -76,10 +158,23 @@ impl ShadePass {
         })
     }
 
-    /// A tile list for images of the G-buffer's size.
+    /// A tile list for images of the G-buffer's size, one band.
     pub fn tile_list(&self, ctx: &GpuContext, gbuffer: &GBuffer) -> GeometryTiles {
-        let tiles = groups(gbuffer.width, TILE) * groups(gbuffer.height, TILE);
-        let bytes = (TILE_LIST_HEADER as u64 + tiles as u64) * 4;
+        self.tile_list_in_bands(ctx, gbuffer, 0)
+    }
+
+    /// A tile list with a section per band of `band_rows` rows (0: one band, no section padding).
+    pub fn tile_list_in_bands(&self, ctx: &GpuContext, gbuffer: &GBuffer, band_rows: u32) -> GeometryTiles {
+        let (w, h) = (gbuffer.width, gbuffer.height);
+        let tiles_x = groups(w, TILE) as u64;
+        let (count, section_words) = if band_rows == 0 || band_rows >= h {
+            (1, TILE_LIST_HEADER as u64 + tiles_x * groups(h, TILE) as u64)
+        } else {
+            // Sections start at 256-byte offsets (the largest binding-offset alignment).
+            (h.div_ceil(band_rows), (TILE_LIST_HEADER as u64 + tiles_x * (band_rows / TILE) as u64).div_ceil(64) * 64)
+        };
+        let band_rows = if count == 1 { 0 } else { band_rows };
+        let bytes = count as u64 * section_words * 4;
         let list = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("geometry tiles"),
             size: bytes,
@@ -87,12 +182,31 @@ impl ShadePass {
             mapped_at_creation: false,
         });
         let header = readback::storage_buffer(ctx, "geometry tiles header", &[0u32, 1, 1, 0], wgpu::BufferUsages::COPY_SRC);
-        GeometryTiles { list, header, bytes }
+        let bands = (0..count)
+            .map(|b| Band {
+                first_row: b * band_rows,
+                rows: if count == 1 { h } else { band_rows.min(h - b * band_rows) },
+                frame: (count > 1).then(|| {
+                    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("band frame"),
+                        size: std::mem::size_of::<crate::gpu::structs::GpuFrame>() as u64,
+                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    })
+                }),
+                tiles_offset: b as u64 * section_words * 4,
+                tiles_bytes: section_words * 4,
+            })
+            .collect();
+        GeometryTiles { list, header, bytes, band_rows, bands }
     }
 
-    /// Lists this frame's tiles with a geometry pixel (after the G-buffer pass) into `tiles`.
+    /// Lists this frame's tiles with a geometry pixel (after the G-buffer pass) into `tiles`, each
+    /// in its band's section.
     pub fn record_geometry_tiles(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles) {
-        encoder.copy_buffer_to_buffer(&tiles.header, 0, &tiles.list, 0, TILE_LIST_HEADER as u64 * 4);
+        for band in &tiles.bands {
+            encoder.copy_buffer_to_buffer(&tiles.header, 0, &tiles.list, band.tiles_offset, TILE_LIST_HEADER as u64 * 4);
+        }
         self.geometry_tiles.dispatch(
             ctx,
             encoder,
@@ -128,25 +242,28 @@ impl ShadePass {
             let block_weights = block_uniform(ctx, "shade block weights", SHADE_BLOCK as u64 * 4);
             encoder.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &block_samples, 0, block_count as u64 * sample_bytes);
             encoder.copy_buffer_to_buffer(inputs.weights, block as u64 * 4, &block_weights, 0, block_count as u64 * 4);
-            kernel.dispatch(
-                ctx,
-                encoder,
-                &[
-                    ("frame", inputs.frame.as_entire_binding()),
-                    ("block_samples", block_samples.as_entire_binding()),
-                    ("block_weights", block_weights.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                    ("visibility", inputs.visibility.as_entire_binding()),
-                    ("tile_list", tiles.list.as_entire_binding()),
-                ],
-                super::Dispatch::Indirect(&tiles.list),
-            );
+            for band in &tiles.bands {
+                kernel.dispatch(
+                    ctx,
+                    encoder,
+                    &[
+                        ("frame", band.frame(inputs.frame).as_entire_binding()),
+                        ("block_samples", block_samples.as_entire_binding()),
+                        ("block_weights", block_weights.as_entire_binding()),
+                        ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
+                        ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
+                        ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                        ("visibility", band.pixels(tiles, inputs.visibility, inputs.gbuffer.width, 4)),
+                        ("tile_list", band.tiles(tiles)),
+                    ],
+                    band.tiles_args(tiles),
+                );
+            }
         }
     }
 
-    /// Adaptive, scope = global: V = Σ_k ŵ_k · bit_k(p) from the cached lattice masks.
+    /// Adaptive, scope = global: V = Σ_k ŵ_k · bit_k(p) from the cached lattice masks, a band of
+    /// rows per dispatch (`tiles.bands`).
     #[allow(clippy::too_many_arguments)]
     pub fn record_masks(
         &self,
@@ -155,21 +272,25 @@ impl ShadePass {
         frame: &wgpu::Buffer,
         weights: &wgpu::Buffer,
         gbuffer: &GBuffer,
+        tiles: &GeometryTiles,
         masks: &wgpu::Buffer,
         visibility: &wgpu::Buffer,
     ) {
-        self.from_masks.dispatch(
-            ctx,
-            encoder,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("weights", weights.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("visibility", visibility.as_entire_binding()),
-                ("masks", masks.as_entire_binding()),
-            ],
-            super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(gbuffer.height, WORKGROUP[1]), 1]),
-        );
+        let mask_bytes = crate::stages::adaptive_buffers::MASK_WORDS as u64 * 4;
+        for band in &tiles.bands {
+            self.from_masks.dispatch(
+                ctx,
+                encoder,
+                &[
+                    ("frame", band.frame(frame).as_entire_binding()),
+                    ("weights", weights.as_entire_binding()),
+                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
+                    ("masks", band.pixels(tiles, masks, gbuffer.width, mask_bytes)),
+                ],
+                super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(band.rows, WORKGROUP[1]), 1]),
+            );
+        }
     }
 }
 

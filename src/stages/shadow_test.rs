@@ -1,7 +1,7 @@
 //! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask; under
 //! scope = local only for the (pixel, sample) pairs the level's items and probes consult, once each.
 
-use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS};
+use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS, MASK_WORDS};
 use super::shade::GeometryTiles;
 use super::{ComputeKernel, Dispatch};
 use crate::gpu::{readback, GpuContext, Stage};
@@ -186,24 +186,43 @@ impl ShadowTest {
         list: &wgpu::Buffer,
         bound: u32,
     ) {
-        self.record_fill(ctx, enc, level, rq.samples, list, &rq.decisions.lattice_state, rq.control, &tiles.list);
-        for (slot, size) in block_slots(bound) {
-            let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
-            let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
-            kernel.dispatch(
+        // A band at a time (`tiles.bands`): fill_blocks sizes each slot's dispatch by the band's
+        // tiles, and the blocks write the band's rows of the masks.
+        for band in &tiles.bands {
+            self.fill.dispatch(
                 ctx,
                 enc,
                 &[
-                    ("frame", frame.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                    ("masks", out.lit.as_entire_binding()),
-                    ("block", wgpu::BindingResource::Buffer(block)),
-                    ("tile_list", tiles.list.as_entire_binding()),
+                    ("level", level.as_entire_binding()),
+                    ("samples", rq.samples.as_entire_binding()),
+                    ("test_list", list.as_entire_binding()),
+                    ("lattice_state", rq.decisions.lattice_state.as_entire_binding()),
+                    ("control_words", rq.control.as_entire_binding()),
+                    ("blocks", self.block_buffer.as_entire_binding()),
+                    ("block_args", self.block_args.as_entire_binding()),
+                    ("tile_list", band.tiles(tiles)),
                 ],
-                Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
+                Dispatch::Direct([1, 1, 1]),
             );
+            let masks = band.pixels(tiles, &out.lit, gbuffer.width, MASK_WORDS as u64 * 4);
+            for (slot, size) in block_slots(bound) {
+                let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
+                let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
+                kernel.dispatch(
+                    ctx,
+                    enc,
+                    &[
+                        ("frame", band.frame(frame).as_entire_binding()),
+                        ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                        ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
+                        ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                        ("masks", masks.clone()),
+                        ("block", wgpu::BindingResource::Buffer(block)),
+                        ("tile_list", band.tiles(tiles)),
+                    ],
+                    Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
+                );
+            }
         }
     }
 }

@@ -1,6 +1,7 @@
 //! GPU buffers of the adaptive method, sized in one place.
 
 use crate::gpu::{readback, GpuContext};
+use crate::gpu::size_plan::SizeNeed;
 use crate::gpu::structs::{GpuQuad, GpuSample};
 use crate::{Error, Result};
 
@@ -63,9 +64,10 @@ impl AdaptiveBuffers {
         let flag_words_per_row = width.div_ceil(32);
         let pixels = width as u64 * height as u64;
         let per_quad = height as u64 * words_per_row as u64 * 4;
-        let count_quads = (max_binding / per_quad).min(QUAD_CAPACITY as u64) as u32;
+        let count_quads = count_quads(width, height, &limits);
         let mask_bytes = pixels * MASK_WORDS as u64 * 4;
-        if count_quads == 0 || mask_bytes > max_binding {
+        // Global scope binds the masks by bands of rows (stages::shade::Band); local scope whole.
+        if count_quads == 0 || (local && mask_bytes > max_binding) {
             return Err(Error::Limit(format!(
                 "adaptive at {width}x{height}: per-pixel lattice masks need {} MiB, over this device's storage binding limit of {} MiB",
                 mask_bytes >> 20,
@@ -135,7 +137,54 @@ impl AdaptiveBuffers {
     }
 }
 
+/// Quads whose comparison maps (one byte per pixel each) fit one binding, at most a level's.
+fn count_quads(width: u32, height: u32, limits: &wgpu::Limits) -> u32 {
+    let max_binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    let per_quad = height as u64 * width.div_ceil(4) as u64 * 4;
+    (max_binding / per_quad).min(QUAD_CAPACITY as u64) as u32
+}
+
+/// The screen-sized buffers `AdaptiveBuffers::new` creates, by their labels (the masks by bands
+/// of rows under global scope, the rest whole):
+/// the frame's size plan (`methods::sizes`) checks them before anything is built.
+pub fn size_needs(scene: &crate::scene::Scene, local: bool, limits: &wgpu::Limits) -> Vec<SizeNeed> {
+    let (width, height) = (scene.render.width, scene.render.height);
+    let pixels = width as u64 * height as u64;
+    let per_quad = height as u64 * width.div_ceil(4) as u64 * 4;
+    let flags_per_quad = height as u64 * width.div_ceil(32) as u64 * 4;
+    // At least one quad's map must fit; local scope needs a whole level's at once.
+    let batch = if local { QUAD_CAPACITY } else { count_quads(width, height, limits).max(1) } as u64;
+    let mask_bytes = pixels * MASK_WORDS as u64 * 4;
+    let mut needs = vec![
+        crate::methods::sizes::per_pixel_in(scene, "lattice masks", MASK_WORDS as u64 * 4, !local, limits),
+        SizeNeed::binding("counts", per_quad * batch),
+        SizeNeed::binding("comparison word states", per_quad),
+        SizeNeed::binding("low-quality flags", flags_per_quad * batch),
+    ];
+    if local {
+        needs.push(SizeNeed::binding("consulted samples", mask_bytes));
+        needs.push(SizeNeed::binding("visibility fixed", pixels * 4));
+    }
+    needs
+}
+
 impl AdaptiveBuffers {
+    /// The screen-sized buffers, by label, as [`size_needs`] plans them.
+    pub fn screen_sized(&self) -> Vec<(String, u64)> {
+        let mut out = vec![
+            ("lattice masks".to_string(), self.masks.lit.size()),
+            ("counts".to_string(), self.counts.maps.size()),
+            ("comparison word states".to_string(), self.counts.word_state.size()),
+            ("low-quality flags".to_string(), self.low.flags.size()),
+        ];
+        // Local scope: the consulted masks are as large as the lit ones (4 bytes otherwise).
+        if self.masks.consulted.size() == self.masks.lit.size() {
+            out.push(("consulted samples".to_string(), self.masks.consulted.size()));
+            out.push(("visibility fixed".to_string(), self.items.visibility_fixed.size()));
+        }
+        out
+    }
+
     pub fn requests(&self) -> Requests<'_> {
         Requests { samples: &self.samples, decisions: &self.decisions, control: &self.control }
     }

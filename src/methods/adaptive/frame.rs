@@ -117,7 +117,7 @@ fn count_batch(fx: &Frame, timer: &mut StageTimer, uniform: &wgpu::Buffer, cur: 
     let (b, passes, ctx) = (fx.b, fx.passes, fx.fg.ctx);
     let lv = &fx.level(uniform, cur);
     timer.stage(ctx, Stage::REPROJECT_COUNT, |enc| {
-        passes.reproject_count.record_dense(ctx, enc, lv, &b.masks, &b.control, &b.counts);
+        passes.reproject_count.record_dense_bands(ctx, enc, lv, &fx.fg.geometry_tiles, &b.masks, &b.control, &b.counts);
         Ok(())
     })?;
     timer.stage(ctx, Stage::NEIGHBOURHOOD, |enc| {
@@ -347,7 +347,7 @@ fn end_global(fx: &Frame, timer: &mut StageTimer, weights: &[f32]) -> Result<Opt
 pub(super) fn shade(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
     timer.stage(ctx, Stage::SHADE, |enc| {
-        fg.shade.record_masks(ctx, enc, &fg.frame_buffer, &b.weights, &fg.gbuffer, &b.masks.lit, &fg.visibility);
+        fg.shade.record_masks(ctx, enc, &fg.frame_buffer, &b.weights, &fg.gbuffer, &fg.geometry_tiles, &b.masks.lit, &fg.visibility);
         Ok(())
     })
 }

@@ -73,6 +73,14 @@ impl ShadowMethod for Adaptive {
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None, keep: false, trace: None }))
     }
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        // Global scope binds V and the masks by bands of rows (stages::shade::Band); local scope's
+        // item passes reach any pixel, so there they are bound whole.
+        let local = self.0.scope == Scope::Local;
+        let mut needs = vec![crate::methods::sizes::visibility(scene, !local, limits)];
+        needs.extend(buffers::size_needs(scene, local, limits));
+        needs
+    }
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
@@ -118,6 +126,9 @@ impl MethodState for State {
             self.trace = Some(steer::finish(fg, &self.p, &self.prepared, pending, out)?);
         }
         Ok(())
+    }
+    fn buffer_sizes(&self) -> Vec<(String, u64)> {
+        self.prepared.b.screen_sized()
     }
     fn keep_intermediates(&mut self) {
         self.keep = true;

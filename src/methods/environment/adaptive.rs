@@ -70,6 +70,11 @@ impl ShadowMethod for EnvAdaptive {
     fn name(&self) -> &'static str {
         "env-adaptive"
     }
+    /// RayLights' per-pixel sums (8 bytes) and blocked counts, besides V.
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        use crate::methods::sizes::{per_pixel, visibility};
+        vec![visibility(scene, false, limits), per_pixel(scene, "env sums", 8), per_pixel(scene, "env blocked", 4)]
+    }
     fn label(&self) -> String {
         let values = [
             ("cells", format!("{}x{}", self.base.0, self.base.1)),

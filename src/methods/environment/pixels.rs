@@ -59,6 +59,11 @@ impl ShadowMethod for EnvPixels {
     fn name(&self) -> &'static str {
         "env-pixels"
     }
+    /// RayLights' per-pixel sums (8 bytes) and blocked counts, besides V.
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        use crate::methods::sizes::{per_pixel, visibility};
+        vec![visibility(scene, false, limits), per_pixel(scene, "env sums", 8), per_pixel(scene, "env blocked", 4)]
+    }
     fn label(&self) -> String {
         let mut s = format!("env-pixels:res={}x{}", self.width, self.height);
         if self.per_vertex {
