@@ -46,9 +46,10 @@ pub fn js_arrays(text: &str) -> Result<LoadedMesh> {
     in_file(crate::scene::assets::parse_js_arrays(text), "input.js")
 }
 
-/// A sweep spec.
+/// A sweep spec, under the command line's default configuration limit (as `sweep` parses it).
 pub fn sweep_spec(text: &str) -> Result<Vec<String>> {
-    crate::studies::compare::sweep::parse_spec(text, "input.toml")
+    use crate::studies::compare::{plan, sweep};
+    sweep::parse_spec_within(text, "input.toml", plan::DEFAULT_MAX_CONFIGS)
 }
 
 /// A results.jsonl file.

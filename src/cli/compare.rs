@@ -9,7 +9,7 @@ use penumbra::methods::Method;
 use penumbra::record::{output_set, Provenance};
 use penumbra::reference::truth;
 use penumbra::scene::Scene;
-use penumbra::studies::compare::{self, methods_list, CompareJob};
+use penumbra::studies::compare::{self, methods_list, plan, CompareJob};
 use penumbra::studies::failures::{self, GalleryJob};
 use std::path::PathBuf;
 
@@ -19,34 +19,41 @@ pub struct CompareArgs {
     /// Methods, comma-separated: `hard,regular:n=5,adaptive:p_m=0,scope=local` (repeatable).
     #[arg(long, default_value = DEFAULT_METHODS)]
     methods: Vec<String>,
+    /// Refuse more methods than N (a guard against a list that would run for hours).
+    #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
+    max_configs: usize,
     #[command(flatten)]
     run: RunArgs,
 }
 
 pub fn run(args: CompareArgs, gpu: &AdapterRequest) -> Result<()> {
-    compare_methods(&args.methods, args.run, None, gpu)
+    compare_methods(&args.methods, args.max_configs, args.run, None, gpu)
 }
 
 /// `penumbra` with no command: the default methods on `default`, with the failure gallery.
 pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
     let run = RunArgs { scene: "default".into(), repeats: 3, reference: "continuous".into(), samples: 32, set: Vec::new(), out, no_cache: false };
     let gallery = super::failures::FailuresArgs::main_job(&run);
-    compare_methods(&[DEFAULT_METHODS.to_string()], run, Some(gallery), gpu)
+    compare_methods(&[DEFAULT_METHODS.to_string()], plan::DEFAULT_MAX_CONFIGS, run, Some(gallery), gpu)
 }
 
-fn compare_methods(values: &[String], run: RunArgs, gallery: Option<super::failures::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
+fn compare_methods(values: &[String], max_configs: usize, run: RunArgs, gallery: Option<super::failures::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&run.out)?;
     let gallery_job = gallery.as_ref().map(|g| g.job()).transpose()?;
     let specs = methods_list::split_specs(values)?;
+    plan::check_count(specs.len(), max_configs, "--methods")?;
     let methods = methods_list::parse_methods(&specs)?;
     let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
     let provenance = Provenance::of_scene("compare", &scene, &run.set, None);
     let all = vec![provenance; methods.len()];
-    run_compare(methods, scene, all, run, gallery_job, gpu)
+    // A short list needs no forecast: its per-method lines follow within a minute or so.
+    let announce = methods.len() > plan::COMPARE_ANNOUNCE_OVER;
+    run_compare(methods, scene, all, run, gallery_job, gpu, announce)
 }
 
 /// Everything the user gave is checked before the GPU starts or any file is written. With
-/// `gallery_job`, the failure gallery runs too and its sections join the report.
+/// `gallery_job`, the failure gallery runs too and its sections join the report. With `announce`,
+/// the count and the time estimate are printed first (`plan::line`).
 pub fn run_compare(
     methods: Vec<Method>,
     scene: Scene,
@@ -54,12 +61,18 @@ pub fn run_compare(
     run: RunArgs,
     gallery_job: Option<GalleryJob>,
     gpu: &AdapterRequest,
+    announce: bool,
 ) -> Result<()> {
     let mode = truth::parse_mode(&run.reference, run.samples)?;
     if run.repeats == 0 || run.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
     }
+    if announce {
+        eprintln!("{}", plan::line(&methods, &scene, run.repeats));
+    }
     let ctx = GpuContext::with_request(gpu)?;
+    // Every method's frame sizes before the reference is traced or anything is written.
+    penumbra::methods::sizes::check_all(&ctx, &scene, &methods)?;
     let cache = truth::Cache::default_for(run.no_cache);
     let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance, pictures: false };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;

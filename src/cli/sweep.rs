@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use penumbra::gpu::AdapterRequest;
 use penumbra::record::{output_set, Provenance, SpecRef};
 use penumbra::scene::Scene;
-use penumbra::studies::compare::{methods_list, sweep};
+use penumbra::studies::compare::{methods_list, plan, sweep};
 use penumbra::studies::shard::{self, Shard};
 use std::path::PathBuf;
 
@@ -23,13 +23,16 @@ pub struct SweepArgs {
     /// Run the grid as K shard processes on this machine, then merge them into --out.
     #[arg(long, allow_negative_numbers = true, value_name = "K")]
     jobs: Option<u32>,
+    /// Refuse a spec of more configurations than N (a guard against a grid that would run for hours).
+    #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
+    max_configs: usize,
     #[command(flatten)]
     run: RunArgs,
 }
 
 pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&args.run.out)?;
-    let specs = sweep::read_spec(&args.spec)?;
+    let specs = sweep::read_spec(&args.spec, args.max_configs)?;
     let methods = methods_list::parse_methods(&specs)?;
     let scene = Scene::load(&args.run.scene, &render_sets(&args.run.set)?)?;
     let shard = match &args.shard {
@@ -65,7 +68,7 @@ pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
         eprintln!("shard {shard}: {} of {} configurations, {:.0}% of the estimated cost", mine.len(), methods.len(), 100.0 * share);
     }
     let methods = mine.iter().map(|&i| methods[i].clone()).collect();
-    run_compare(methods, scene, provenance, args.run, None, gpu)
+    run_compare(methods, scene, provenance, args.run, None, gpu, true)
 }
 
 /// `sweep --jobs K`: this binary K times with `--shard i/K`, outputs in OUT/shards/i, then merged.
@@ -82,6 +85,7 @@ fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
             cmd.arg("--adapter").arg(name);
         }
         cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
+        cmd.arg("--max-configs").arg(args.max_configs.to_string());
         cmd.args(["--scene", &r.scene, "--repeats", &r.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
         for s in &r.set {
             cmd.arg("--set").arg(s);

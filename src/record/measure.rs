@@ -1,11 +1,17 @@
 //! The one measure loop of `compare`, `sweep` and `bench` (architecture.md, Timing): every
 //! method gets one warm-up frame, then one frame in stages mode (a wait after every stage, so
 //! each stage's wall time is known), then `repeats` frames in frame mode (only the waits the
-//! method needs) whose median is the figure quoted. Methods are interleaved round by round, so
-//! all of them see the same machine load; the last frame of each is handed to `judge`.
+//! method needs) whose median is the figure quoted. The last frame of each is handed to `judge`.
+//!
+//! Methods are measured in windows of [`WINDOW`]: a window's renderers are built, warmed up,
+//! staged and timed interleaved round by round (so they see the same machine load), handed to
+//! `after`, then dropped before the next window is built. Memory is that of one window whatever
+//! the number of methods. What no method owns (scene upload, G-buffer targets and pass, shade and
+//! raster passes) is detached from each finished renderer and carried into the next window's,
+//! so a sweep builds it at most [`WINDOW`] times.
 
 use crate::gpu::stages::{outside_frame, Stage};
-use crate::frame::{FrameOptions, FrameResult, Renderer};
+use crate::frame::{Detached, FrameOptions, FrameResult, Renderer};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::scene::Scene;
@@ -70,6 +76,11 @@ pub fn median(values: &[f64]) -> f64 {
     if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
 }
 
+/// Methods alive at once. Each holds its method state (an adaptive one at 64² held about 340 MB
+/// on lavapipe), so this bounds a sweep's memory; within a window methods still share the machine
+/// load round by round, and 4 is what a typical compare (a few baselines and an adaptive) fits.
+pub const WINDOW: usize = 4;
+
 /// Runs the loop. `on_frame` sees every frame (logs, progress); `judge(i, frame)` gets the last
 /// timed frame of method `i`, once, and may keep what it needs of it.
 pub fn measure<T>(
@@ -80,30 +91,64 @@ pub fn measure<T>(
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
 ) -> Result<Vec<Measured<T>>> {
-    measure_keeping(ctx, scene, methods, repeats, on_frame, judge).map(|(measured, _)| measured)
+    measure_with(ctx, scene, methods, repeats, on_frame, judge, &mut |_, _| Ok(()))
 }
 
-/// As [`measure`], handing back each method's renderer for untimed frames after the loop.
-pub fn measure_keeping<'a, T>(
-    ctx: &'a GpuContext,
-    scene: &'a Scene,
+/// As [`measure`]; `after(i, renderer)` gets method `i`'s renderer once its window's timed rounds
+/// are done and before it is dropped, for untimed frames (compare's decision pictures).
+pub fn measure_with<T>(
+    ctx: &GpuContext,
+    scene: &Scene,
     methods: &[Method],
     repeats: u32,
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
-) -> Result<(Vec<Measured<T>>, Vec<Renderer<'a>>)> {
+    after: &mut dyn FnMut(usize, &mut Renderer) -> Result<()>,
+) -> Result<Vec<Measured<T>>> {
+    let mut out = Vec::with_capacity(methods.len());
+    // What the finished renderers leave that any method can use (`Detached::attach_as`).
+    let mut kept: Vec<Detached> = Vec::new();
+    for (w, window) in methods.chunks(WINDOW).enumerate() {
+        let first = w * WINDOW;
+        let mut renderers = Vec::with_capacity(window.len());
+        for m in window {
+            renderers.push(match kept.pop() {
+                Some(k) => k.attach_as(ctx, scene, m)?,
+                None => Renderer::new(ctx, scene, m)?,
+            });
+        }
+        let mut judge_window = |i: usize, f: &FrameResult| judge(first + i, f);
+        out.extend(measure_window(window, &mut renderers, repeats, on_frame, &mut judge_window)?);
+        for (i, r) in renderers.iter_mut().enumerate() {
+            after(first + i, r)?;
+        }
+        kept.extend(renderers.into_iter().map(Renderer::detach));
+        // wgpu frees dropped buffers and pipelines when the device is polled: before the next
+        // window allocates, so the two never coexist.
+        ctx.wait()?;
+    }
+    Ok(out)
+}
+
+/// One window: warm-up, stages and timed rounds, interleaved across its renderers.
+fn measure_window<T>(
+    methods: &[Method],
+    renderers: &mut [Renderer],
+    repeats: u32,
+    on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
+    judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
+) -> Result<Vec<Measured<T>>> {
     let repeats = repeats.max(1);
-    // One renderer per method: pipelines and buffers are built once (charged to the warm-up's
-    // setup) and every later frame reuses them. No decision pictures: their read-backs would be
-    // timed, and nothing here uses them.
-    let mut renderers = methods.iter().map(|m| Renderer::new(ctx, scene, m)).collect::<Result<Vec<_>>>()?;
+    // Pipelines and buffers are built once per renderer (charged to the warm-up's setup) and every
+    // later frame reuses them. No decision pictures: their read-backs would be timed, and nothing
+    // here uses them.
     let options = |mode| FrameOptions { mode, pictures: false };
-    for (m, renderer) in methods.iter().zip(&mut renderers) {
+    for (m, renderer) in methods.iter().zip(renderers.iter_mut()) {
         let r = renderer.frame(options(TimingMode::Frame))?; // warm-up: driver caches, allocator, build
         on_frame(m, Phase::WarmUp, &r);
     }
     let mut staged = Vec::with_capacity(methods.len());
-    for (m, renderer) in methods.iter().zip(&mut renderers) {
+    for (m, renderer) in methods.iter().zip(renderers.iter_mut()) {
         let r = renderer.frame(options(TimingMode::Stages))?;
         on_frame(m, Phase::Stages, &r);
         let mut stages = r.stages_ms;
@@ -146,7 +191,7 @@ pub fn measure_keeping<'a, T>(
             judged: judged.expect("judged on the last round"),
         });
     }
-    Ok((out, renderers))
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ pub(crate) mod row;
 pub mod run_files;
 pub(crate) mod shaded_environment;
 pub(crate) mod judge;
-pub(crate) mod measure;
+pub mod measure;
 pub mod provenance;
 
 pub use row::ResultRow;

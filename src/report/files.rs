@@ -52,20 +52,30 @@ pub(super) fn slug(text: &str) -> String {
     if out.is_empty() { "item".into() } else { out }
 }
 
-/// Unique slugs for a list of names (`a`, `a_2`, …), in order.
+/// Unique slugs for a list of names (`a`, `a_2`, …), in order. Linear: a sweep may name tens of
+/// thousands of configurations.
 pub(crate) fn unique_slugs<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
-    let mut seen: Vec<String> = Vec::new();
+    let mut out: Vec<String> = Vec::new();
+    let mut seen: std::collections::HashSet<String> = std::collections::HashSet::new();
+    // Per base, the suffix to try next: the taken set only grows, so smaller ones stay taken.
+    let mut next: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
     for name in names {
         let base = slug(name);
         let mut s = base.clone();
-        let mut k = 2;
-        while seen.contains(&s) {
-            s = format!("{base}_{k}");
-            k += 1;
+        if seen.contains(&s) {
+            let k = next.entry(base.clone()).or_insert(2);
+            loop {
+                s = format!("{base}_{k}");
+                *k += 1;
+                if !seen.contains(&s) {
+                    break;
+                }
+            }
         }
-        seen.push(s);
+        seen.insert(s.clone());
+        out.push(s);
     }
-    seen
+    out
 }
 
 pub(super) fn is_png(bytes: &[u8]) -> bool {
@@ -95,5 +105,9 @@ mod tests {
             unique_slugs(["a b", "a-b", "a  b"]),
             vec!["a_b", "a-b", "a_b_2"]
         );
+        // A name that is already a suffixed slug is skipped over, as are repeated names.
+        assert_eq!(unique_slugs(["x_2", "x", "x", "x", "x_3"]), vec!["x_2", "x", "x_3", "x_4", "x_3_2"]);
+        let many = unique_slugs(std::iter::repeat_n("z", 20_000));
+        assert_eq!((many[1].as_str(), many[19_999].as_str()), ("z_2", "z_20000"));
     }
 }

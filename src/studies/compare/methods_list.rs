@@ -36,13 +36,17 @@ pub fn split_specs(values: &[String]) -> Result<Vec<String>> {
 }
 
 /// Parses every spec; the same label twice is an error (its rows and pictures would collide).
+/// Linear in the count: a sweep may list tens of thousands.
 pub fn parse_methods(specs: &[String]) -> Result<Vec<Method>> {
-    let mut methods: Vec<Method> = Vec::new();
+    let mut methods: Vec<Method> = Vec::with_capacity(specs.len());
+    let mut labels: std::collections::HashSet<String> = std::collections::HashSet::with_capacity(specs.len());
     for spec in specs {
         let m = Method::parse(spec, &[])?;
-        if let Some(prev) = methods.iter().find(|p| p.label() == m.label()) {
-            return Err(Error::Param(format!("method `{spec}` is listed twice (both are `{}`)", prev.label())));
+        let label = m.label();
+        if labels.contains(&label) {
+            return Err(Error::Param(format!("method `{spec}` is listed twice (both are `{label}`)")));
         }
+        labels.insert(label);
         methods.push(m);
     }
     Ok(methods)

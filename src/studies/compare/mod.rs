@@ -4,6 +4,7 @@
 //! written, so bad input or a failed run leaves no partial output.
 
 pub mod methods_list;
+pub mod plan;
 pub mod sweep;
 pub mod table;
 
@@ -38,8 +39,8 @@ pub struct CompareJob<'a> {
     pub cache: Cache,
     /// One per method: where its row comes from (scene digests, spec and shard).
     pub provenance: Vec<Provenance>,
-    /// After the measurement, one untimed frame per method with its decision pictures on, on
-    /// the method's own renderer ([`CompareOutcome::pictures`]).
+    /// After its timing, one untimed frame per method with its decision pictures on, on the
+    /// method's own renderer ([`CompareOutcome::pictures`]).
     pub pictures: bool,
 }
 
@@ -111,15 +112,16 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         bar.set_message(format!("{} {phase}", m.label()));
         bar.inc(1);
     };
-    let (measured, renderers) = measure::measure_keeping(ctx, scene, &job.methods, job.repeats, &mut on_frame, &mut judge_frame)?;
-    bar.finish_and_clear();
-    let pictures = if job.pictures {
-        let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
-        renderers.into_iter().map(|mut r| Ok(r.frame(options)?.output.pictures)).collect::<Result<Vec<_>>>()?
-    } else {
-        drop(renderers);
-        Vec::new()
+    // The pictures frame runs in the method's measure window, on its own renderer, after the timing.
+    let mut pictures = Vec::new();
+    let mut after = |_: usize, r: &mut crate::frame::Renderer| -> Result<()> {
+        if job.pictures {
+            pictures.push(r.frame(FrameOptions { mode: TimingMode::Frame, pictures: true })?.output.pictures);
+        }
+        Ok(())
     };
+    let measured = measure::measure_with(ctx, scene, &job.methods, job.repeats, &mut on_frame, &mut judge_frame, &mut after)?;
+    bar.finish_and_clear();
     let info = RunInfo {
         scene: &scene.name,
         resolution: [w, h],

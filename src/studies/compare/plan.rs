@@ -1,0 +1,87 @@
+//! Before a sweep (or a compare of many methods) measures anything: one line with the number of
+//! configurations and an estimate of the run time, and the limit on that number
+//! (`--max-configs`).
+
+use crate::methods::Method;
+use crate::record::measure;
+use crate::scene::Scene;
+use crate::studies::shard;
+use crate::{Error, Result};
+
+/// Configurations one run measures unless `--max-configs` raises it. At the measured 0.5 s per
+/// adaptive configuration at 64² on a 2-core CPU device (docs/robustness.md, "Sweep memory"),
+/// 10,000 is about an hour and a half, and their 60,000 result files are held in memory until the
+/// set is written; a grid past that is more often one axis too many than a plan.
+pub const DEFAULT_MAX_CONFIGS: usize = 10_000;
+
+/// `compare` prints the line only for more methods than this; `sweep` always does.
+pub const COMPARE_ANNOUNCE_OVER: usize = 16;
+
+/// Seconds a configuration costs besides its frames (building its pipelines and buffers, judging
+/// its last frame, encoding its files): sweeps of 40 and 400 adaptive configurations on
+/// `analytic-square` at 64², whose frames cost next to nothing, took 0.5 s each (llvmpipe, 2
+/// cores, wall clock).
+const CONFIG_S: f64 = 0.5;
+/// Seconds per unit of `shard::estimated_cost` (shadow maps × triangles × pixels) per frame:
+/// `regular:n=17` on `default` at 128² took 1.8 s a frame for 2.8e11 units (llvmpipe, 2 cores).
+const COST_S: f64 = 7e-12;
+
+/// Estimated wall time of measuring `methods` on `scene`, in seconds: every configuration's fixed
+/// cost plus its frames (warm-up, stages, `repeats`) at its estimated cost. The reference trace
+/// (cached after its first run) is not included.
+pub fn estimated_seconds(methods: &[Method], scene: &Scene, repeats: u32) -> f64 {
+    let frames_each = measure::frame_count(1, repeats) as f64;
+    methods.iter().map(|m| CONFIG_S + frames_each * COST_S * shard::estimated_cost(m, scene)).sum()
+}
+
+/// `s` as the largest unit that keeps it readable: `45 s`, `12 min`, `3.4 h`.
+pub fn duration(s: f64) -> String {
+    if s < 90.0 {
+        format!("{s:.0} s")
+    } else if s < 5400.0 {
+        format!("{:.0} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}
+
+/// The line printed before measuring: the count, the frames and the estimate, saying what the
+/// estimate rests on.
+pub fn line(methods: &[Method], scene: &Scene, repeats: u32) -> String {
+    let n = methods.len();
+    format!(
+        "{n} configuration{}, {} frames: about {} of measuring (estimated from each method's shadow maps, the scene's {} triangles and {}x{} pixels, as timed on a 2-core CPU device; a GPU is faster)",
+        if n == 1 { "" } else { "s" },
+        measure::frame_count(n, repeats),
+        duration(estimated_seconds(methods, scene, repeats)),
+        scene.triangle_count(),
+        scene.render.width,
+        scene.render.height,
+    )
+}
+
+/// Refuses `count` configurations over `max`; `what` names where they come from (the spec file,
+/// `--methods`).
+pub fn check_count(count: usize, max: usize, what: &str) -> Result<()> {
+    if count <= max {
+        return Ok(());
+    }
+    Err(Error::Param(format!(
+        "{what}: {count} configurations, more than --max-configs {max}; pass --max-configs {count} to run them all"
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_and_the_limit() {
+        assert_eq!(duration(45.2), "45 s");
+        assert_eq!(duration(720.0), "12 min");
+        assert_eq!(duration(3.4 * 3600.0), "3.4 h");
+        assert!(check_count(10_000, DEFAULT_MAX_CONFIGS, "s.toml").is_ok());
+        let e = check_count(10_001, DEFAULT_MAX_CONFIGS, "s.toml").unwrap_err().to_string();
+        assert_eq!(e, "s.toml: 10001 configurations, more than --max-configs 10000; pass --max-configs 10001 to run them all");
+    }
+}
