@@ -102,7 +102,7 @@ fn duplicate_method_parameters_are_rejected() {
     let e = Method::parse("adaptive:p_m=1,p_m=2", &[]).unwrap_err().to_string();
     assert_eq!(e, "method `adaptive:p_m=1,p_m=2`: `p_m` is given twice (1 and 2)");
     let e = Method::parse("adaptive:p_m=1", &[("p_m".into(), "2".into())]).unwrap_err().to_string();
-    assert_eq!(e, "method `adaptive:p_m=1`: `p_m` is given twice (1, and 2 with --set)");
+    assert_eq!(e, "method `adaptive:p_m=1`: `p_m` is given twice (1, and 2 with --param)");
 }
 
 #[test]

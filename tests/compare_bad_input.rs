@@ -51,7 +51,7 @@ fn bad_compare_settings() {
         ("repeats 0", vec!["compare", "--repeats", "0"], "--repeats"),
         ("reference mode", vec!["compare", "--reference", "exact"], "reference mode `exact`"),
         ("samples 0", vec!["compare", "--samples", "0"], "--samples"),
-        ("method key in --set", vec!["compare", "--set", "p_m=3"], "method parameters go in the method spec"),
+        ("method key in --set", vec!["compare", "--set", "p_m=3"], "--set p_m=3: p_m is a parameter of methods adaptive, env-adaptive, not a render setting; write it in the method spec (adaptive:p_m=3)"),
         ("missing scene", vec!["compare", "--scene", "no-such-scene.toml"], "no-such-scene.toml"),
         ("reference mode (reference)", vec!["reference", "--mode", "exact"], "reference mode `exact`"),
     ] {

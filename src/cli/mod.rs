@@ -35,26 +35,40 @@ pub fn utf8() -> impl clap::builder::TypedValueParser<Value = String> {
 /// each single-map family, hard, PCF, PCSS and a moment map).
 pub const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
-/// Splits `--set` pairs into render settings and method parameters.
-pub fn split_sets(sets: &[String]) -> Result<(Vec<(String, String)>, Vec<(String, String)>)> {
-    let (mut render, mut method) = (Vec::new(), Vec::new());
+/// `--set` pairs: render settings only, in every command (`cull=none` is the shadow raster's
+/// culling, never adaptive's `cull=on|off`). A key that only a method knows gets a line saying where
+/// it goes; `param_flag` names the command's own flag for its method's parameters, if it has one.
+pub fn render_sets_or(sets: &[String], method: Option<&str>, param_flag: Option<&str>) -> Result<Vec<(String, String)>> {
+    let mut render = Vec::new();
     for s in sets {
         let (k, v) = s.split_once('=').with_context(|| format!("--set {s}: expected KEY=VALUE"))?;
-        let pair = (k.trim().to_string(), v.trim().to_string());
-        if penumbra::methods::is_method_key(&pair.0) {
-            method.push(pair);
-        } else {
-            render.push(pair);
+        let (k, v) = (k.trim(), v.trim());
+        let short = k.strip_prefix("render.").unwrap_or(k);
+        let owners = penumbra::methods::methods_with_param(short);
+        if !penumbra::scene::is_render_key(short) && !owners.is_empty() {
+            // The command's own method first, when it has the key.
+            let owner = method.filter(|m| owners.contains(m)).unwrap_or(owners[0]);
+            let noun = if owners.len() == 1 { format!("method {owner}") } else { format!("methods {}", owners.join(", ")) };
+            let flag = param_flag.map(|f| format!(" or {f} {short}={v}")).unwrap_or_default();
+            anyhow::bail!("--set {k}={v}: {short} is a parameter of {noun}, not a render setting; write it in the method spec ({owner}:{short}={v}){flag}");
         }
-    }
-    Ok((render, method))
-}
-
-/// Render settings from `--set`; method parameters belong in the method specs here.
-pub fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
-    let (render, method) = split_sets(sets)?;
-    if let Some((k, _)) = method.first() {
-        anyhow::bail!("--set {k}=...: method parameters go in the method spec, e.g. `adaptive:{k}=...`");
+        render.push((k.to_string(), v.to_string()));
     }
     Ok(render)
+}
+
+/// Render settings from `--set`, for commands whose methods take parameters only in their specs.
+pub fn render_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
+    render_sets_or(sets, None, None)
+}
+
+/// `--param KEY=VALUE` pairs for a command's one method.
+pub fn param_pairs(params: &[String]) -> Result<Vec<(String, String)>> {
+    params
+        .iter()
+        .map(|s| {
+            let (k, v) = s.split_once('=').with_context(|| format!("--param {s}: expected KEY=VALUE"))?;
+            Ok((k.trim().to_string(), v.trim().to_string()))
+        })
+        .collect()
 }

@@ -1,6 +1,6 @@
 //! `penumbra render`: one scene, one method, one frame (after warm-up frames on the same renderer).
 
-use super::split_sets;
+use super::{param_pairs, render_sets_or};
 use anyhow::Result;
 use penumbra::frame;
 use penumbra::gpu::timing::TimingMode;
@@ -21,9 +21,13 @@ pub struct RenderArgs {
     /// Output folder.
     #[arg(long, default_value = "penumbra-out")]
     out: PathBuf,
-    /// Override a render setting or method parameter, e.g. `--set resolution=256 --set p_m=10`.
+    /// Override a render setting (the scene's `[render]` table), e.g. `--set resolution=256 --set
+    /// cull=none`. Method parameters go in --method or --param.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// A parameter of --method, e.g. `--param p_m=10` (the same as `--method adaptive:p_m=10`).
+    #[arg(long = "param", value_name = "KEY=VALUE")]
+    param: Vec<String>,
     /// `stages`: wait after each stage to time it; `frame`: only the waits the method needs.
     #[arg(long, default_value = "stages", value_parser = ["stages", "frame"])]
     timing: String,
@@ -35,9 +39,10 @@ pub struct RenderArgs {
 
 pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&args.out)?;
-    let (render_sets, method_sets) = split_sets(&args.set)?;
+    let name = args.method.split(':').next().unwrap_or_default();
+    let render_sets = render_sets_or(&args.set, Some(name), Some("--param"))?;
     let scene = Scene::load(&args.scene, &render_sets)?;
-    let method = Method::parse(&args.method, &method_sets)?;
+    let method = Method::parse(&args.method, &param_pairs(&args.param)?)?;
     let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
     let ctx = GpuContext::with_request(gpu)?;
     let mut renderer = frame::Renderer::new(&ctx, &scene, &method)?;
@@ -63,5 +68,24 @@ pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     for (name, _) in &files {
         println!("  {}", args.out.join(name).display());
     }
+    if let Some(n) = all_dark(&result) {
+        eprintln!("warning: {}: V = 0 at all {n} geometry pixels: no light reaches any visible surface (is the light enclosed by a mesh?)", scene.origin);
+    }
     Ok(())
+}
+
+/// The geometry pixel count when V is 0 at every one of them: a light shut in, which no scene check
+/// sees up front (the frame is the cheap test).
+fn all_dark(result: &frame::FrameResult) -> Option<usize> {
+    let g = &result.gbuffer;
+    let mut geometry = (0..result.visibility.len()).filter(|&i| g.is_geometry(i)).peekable();
+    geometry.peek()?;
+    let mut n = 0;
+    for i in geometry {
+        if result.visibility[i] != 0.0 {
+            return None;
+        }
+        n += 1;
+    }
+    Some(n)
 }

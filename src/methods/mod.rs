@@ -13,6 +13,7 @@ pub(crate) mod hybrid_maps;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
 pub mod single_map;
+pub mod sizes;
 pub mod ssao;
 
 pub use fixed_samples::Layout;
@@ -114,6 +115,11 @@ pub trait ShadowMethod: Send + Sync + Any {
     /// Pipelines and buffers for this scene and settings: built once, reused by every frame.
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>>;
     fn as_any(&self) -> &dyn Any;
+    /// The storage buffers it sizes by the screen, V among them, for the frame's size plan
+    /// (`sizes::plan`, checked before anything is built): by default V alone, bound whole.
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![sizes::visibility(scene, false, limits)]
+    }
 }
 
 /// A built method. `reset` runs before the frame's clock starts (zero fills); `run` is the frame.
@@ -136,6 +142,11 @@ pub trait MethodState {
     fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn Any>>> {
         Ok(None)
     }
+    /// The screen-sized buffers it created, by label, as `ShadowMethod::size_needs` plans them
+    /// (tests check the two agree).
+    fn buffer_sizes(&self) -> Vec<(String, u64)> {
+        Vec::new()
+    }
 }
 
 /// A parsed method spec: cheap to clone, compared by label.
@@ -154,20 +165,14 @@ impl PartialEq for Method {
     }
 }
 
-/// Every parameter key of every method (`--set` routes these to the method, the rest to the scene).
-pub fn method_keys() -> Vec<&'static str> {
-    let mut keys: Vec<&str> = REGISTRY.iter().flat_map(|m| m.params.iter().map(|p| p.key)).collect();
-    keys.sort_unstable();
-    keys.dedup();
-    keys
-}
-
-pub fn is_method_key(key: &str) -> bool {
-    method_keys().contains(&key)
+/// The methods that take parameter `key`, in registry order (the CLI's `--set` names them when a
+/// method parameter is given as a render setting).
+pub fn methods_with_param(key: &str) -> Vec<&'static str> {
+    REGISTRY.iter().filter(|m| m.params.iter().any(|p| p.key == key)).map(|m| m.name).collect()
 }
 
 impl Method {
-    /// `name` or `name:key=value,key=value`, plus `--set` pairs whose keys are method parameters.
+    /// `name` or `name:key=value,key=value`, plus `extra` pairs (`penumbra render --param`).
     pub fn parse(spec: &str, extra: &[(String, String)]) -> Result<Method> {
         let (name, inline) = match spec.split_once(':') {
             Some((n, rest)) => (n, rest),
@@ -184,7 +189,7 @@ impl Method {
         }
         for (k, v) in extra {
             if let Some(first) = params.insert(k.clone(), v.clone()) {
-                return Err(Error::Param(format!("method `{spec}`: `{k}` is given twice ({first}, and {v} with --set)")));
+                return Err(Error::Param(format!("method `{spec}`: `{k}` is given twice ({first}, and {v} with --param)")));
             }
         }
         let info = REGISTRY.iter().find(|m| m.name == name).ok_or_else(|| {

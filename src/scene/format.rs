@@ -129,6 +129,15 @@ pub(super) fn finite<const N: usize>(origin: &str, what: &str, v: [f32; N]) -> R
     Ok(Vec3::from_slice(&[v[0], *v.get(1).unwrap_or(&0.0), *v.get(2).unwrap_or(&0.0)]))
 }
 
+/// A mesh's albedo: reflectance, so each component in [0, 1] (more would reflect more light than
+/// arrives).
+pub(super) fn albedo(origin: &str, k: usize, v: [f32; 3]) -> Result<Vec3> {
+    if !v.iter().all(|c| (0.0..=1.0).contains(c)) {
+        return Err(Error::scene(origin, format!("mesh {} albedo = {v:?}: each component must be in [0, 1]", k + 1)));
+    }
+    Ok(Vec3::from(v))
+}
+
 pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     let camera = camera(origin, &def.camera)?;
     let environment = match &def.environment {
@@ -146,7 +155,7 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     }
     let mut meshes = Vec::new();
     for (k, m) in def.meshes.iter().enumerate() {
-        let albedo = finite(origin, &format!("mesh {} albedo", k + 1), m.albedo)?;
+        let albedo = albedo(origin, k, m.albedo)?;
         let (verts, idx) = mesh::instantiate(m, k, origin, dirs)?;
         meshes.push((verts, idx, albedo.to_array()));
     }
@@ -175,22 +184,49 @@ pub(crate) fn camera(origin: &str, def: &CameraDef) -> Result<Camera> {
         up: finite(origin, "camera.up", def.up)?,
         fov_y_deg: def.fov_y_deg,
     };
-    if !(camera.fov_y_deg.is_finite() && camera.fov_y_deg > 0.0 && camera.fov_y_deg < 180.0) {
-        return Err(Error::scene(origin, format!("camera.fov_y_deg must be in (0, 180), got {}", camera.fov_y_deg)));
+    let fov = camera.fov_y_deg;
+    if !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&fov) {
+        return Err(Error::scene(
+            origin,
+            format!("camera.fov_y_deg = {fov:?}: must be in [{MIN_FOV_DEG}, {MAX_FOV_DEG}] degrees (near 180 the whole scene shrinks to a point; 180 has no projection)"),
+        ));
     }
     let view_dir = camera.target - camera.eye;
-    if view_dir.length() < 1e-9 || view_dir.cross(camera.up).length() < 1e-9 * view_dir.length() {
-        return Err(Error::scene(origin, "camera: eye equals target, or up is parallel to the view direction"));
+    let (eye, target, up) = (camera.eye.to_array(), camera.target.to_array(), camera.up.to_array());
+    if view_dir.length() < 1e-9 * camera.eye.abs().max(camera.target.abs()).max_element().max(1.0) {
+        return Err(Error::scene(origin, format!("camera.eye = {eye:?} and camera.target = {target:?} coincide: the camera has no view direction")));
+    }
+    let up_dir = camera.up.normalize_or_zero();
+    if up_dir == Vec3::ZERO {
+        return Err(Error::scene(origin, format!("camera.up = {up:?}: has no direction; give the way up on screen, e.g. [0.0, 1.0, 0.0]")));
+    }
+    if view_dir.normalize().cross(up_dir).length() < 1e-6 {
+        return Err(Error::scene(
+            origin,
+            format!("camera.up = {up:?} is parallel to the view direction (camera.target − camera.eye = {:?}): give an up across it", view_dir.to_array()),
+        ));
     }
     Ok(camera)
 }
 
+/// The camera's vertical field of view, in degrees: near 180 the scene shrinks to a point, and at
+/// tiny angles the projection's scale (1/tan) overflows f32 with coordinates of ±MAX_COORDINATE.
+pub const MIN_FOV_DEG: f32 = 0.01;
+pub const MAX_FOV_DEG: f32 = 179.0;
+
+/// Smallest shadow map per side: below it a map holds a handful of texels (1² or 3² maps were
+/// accepted and rendered nonsense); the failure gallery's smallest map is the same.
+pub const MIN_SHADOW_MAP_SIZE: u32 = 16;
+
 /// The checked `[render]` table, with a hybrid map's raster size in `shadow_map_size`.
 pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<RenderSettings> {
-    for (key, v) in [("render.width", r.width), ("render.height", r.height), ("render.shadow_map_size", r.shadow_map_size)] {
+    for (key, v) in [("render.width", r.width), ("render.height", r.height)] {
         if v == 0 {
             return Err(Error::scene(origin, format!("{key} must be at least 1")));
         }
+    }
+    if r.shadow_map_size < MIN_SHADOW_MAP_SIZE {
+        return Err(Error::scene(origin, format!("render.shadow_map_size = {}: must be at least {MIN_SHADOW_MAP_SIZE}", r.shadow_map_size)));
     }
     if r.shadow_map_budget_mib == 0 {
         return Err(Error::scene(origin, "render.shadow_map_budget_mib must be at least 1"));
@@ -206,6 +242,11 @@ pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<Render
     if let Some((key, v)) = numbers.iter().find(|(_, v)| !v.is_finite()) {
         return Err(Error::scene(origin, format!("{key} = {v}: must be a finite number")));
     }
+    // A negative bias moves the depth test in front of the receiver: every surface shadows itself
+    // (a constant of -1 put 98% of pixels in shadow). No use of the method needs it; 0 turns a term off.
+    if let Some((key, v)) = numbers[..4].iter().find(|(_, v)| *v < 0.0) {
+        return Err(Error::scene(origin, format!("{key} = {v}: must be >= 0 (a negative bias shadows every surface with itself)")));
+    }
     if !(0.0..=1.0).contains(&r.ambient) {
         return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
     }
@@ -215,7 +256,10 @@ pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<Render
         if !(1..=2).contains(&hy.levels) {
             return Err(Error::scene(origin, format!("render.hybrid.levels = {}: use 1 or 2", hy.levels)));
         }
-        if hy.base == 0 || hy.base % (1 << hy.levels) != 0 {
+        if hy.base < MIN_SHADOW_MAP_SIZE {
+            return Err(Error::scene(origin, format!("render.hybrid.base = {}: must be at least {MIN_SHADOW_MAP_SIZE}", hy.base)));
+        }
+        if hy.base % (1 << hy.levels) != 0 {
             return Err(Error::scene(origin, format!("render.hybrid.base = {}: must be a positive multiple of 2^levels = {}", hy.base, 1 << hy.levels)));
         }
         if !(hy.eps.is_finite() && hy.eps >= 0.0) {
@@ -260,6 +304,9 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
         if stated != got {
             return Err(Error::scene(origin, format!("states triangles = {stated} but its meshes have {got}")));
         }
+    }
+    if parts.name.as_deref().is_some_and(|n| n.trim().is_empty()) {
+        return Err(Error::scene(origin, format!("name = {:?}: a scene's name must not be empty (leave `name` out to use the file's)", parts.name.unwrap_or_default())));
     }
     let scene = Scene {
         name: parts.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),

@@ -51,7 +51,7 @@ impl Scene {
         let mut parts = Vec::with_capacity(meshes.len());
         for (k, m) in meshes.iter().enumerate() {
             let what = |field: &str| format!("mesh {} {field}", k + 1);
-            let albedo = format::finite(origin, &what("albedo"), m.albedo)?;
+            let albedo = format::albedo(origin, k, m.albedo)?;
             if m.indices.is_empty() || m.indices.len() % 3 != 0 {
                 return Err(Error::scene(origin, format!("mesh {}: {} indices: give three per triangle, at least one triangle", k + 1, m.indices.len())));
             }

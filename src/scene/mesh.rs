@@ -5,6 +5,7 @@ use super::mesh_def::{MeshDef, Scale};
 use super::raw_mesh::RawMesh;
 use super::mesh_file::{self, MeshDirs};
 use super::{instances, subdivide};
+use super::format::MAX_COORDINATE;
 use crate::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use glam::{EulerRot, Mat3, Mat4, Quat, Vec3};
@@ -41,13 +42,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
         Scale::Uniform(s) => Vec3::splat(s),
         Scale::Axes(a) => Vec3::from(a),
     };
-    let nums = [m.translate, m.rotate_deg, scale.to_array()];
-    if nums.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(Error::scene(origin, format!("mesh {}: transform has a NaN or infinite number", k + 1)));
-    }
-    if scale.x * scale.y * scale.z == 0.0 {
-        return Err(Error::scene(origin, format!("mesh {}: scale has a zero axis", k + 1)));
-    }
+    check_transform(m, k, origin)?;
     let copies = placements.len() as u64;
     if (raw.positions.len() as u64) * copies > u32::MAX as u64 || (raw.indices.len() as u64 / 3) * copies > MAX_SCENE_TRIANGLES {
         return Err(Error::scene(
@@ -64,7 +59,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
         Some(n) => n.iter().map(|n| (normal_matrix * *n).normalize_or_zero()).collect(),
         None => smooth_normals(&positions, &raw.indices),
     };
-    let mut vertices = Vec::with_capacity(positions.len() * placements.len());
+    let mut vertices: Vec<Vertex> = Vec::with_capacity(positions.len() * placements.len());
     let mut indices = Vec::with_capacity(raw.indices.len() * placements.len());
     for place in &placements {
         // Placements are rotation + positive uniform scale: the rotation alone turns normals.
@@ -77,7 +72,52 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
         }));
         indices.extend(raw.indices.iter().map(|i| i + base));
     }
+    // Each factor is bounded, but together (a big mesh file, scale 1e6, instances far out) they can
+    // still leave f32's useful range: the placed vertices obey the scene file's coordinate bound.
+    if let Some(v) = vertices.iter().find(|v| !v.position.iter().all(|x| x.abs() <= MAX_COORDINATE)) {
+        return Err(Error::scene(
+            origin,
+            format!("mesh {}: a placed vertex lands at {:?}, beyond ±{MAX_COORDINATE:e}: shrink translate, scale or the instances", k + 1, v.position),
+        ));
+    }
     Ok((vertices, indices))
+}
+
+/// Scale factors per axis, by size (0 flattens the mesh; beyond 1e6 f32 loses it).
+pub const SCALE_RANGE: [f32; 2] = [1e-6, 1e6];
+/// `rotate_deg` per axis: ten turns; larger angles are typos, and lose precision in f32.
+pub const MAX_ROTATE_DEG: f32 = 3600.0;
+
+/// The `[[mesh]]` transform: every message names the mesh, the key and its value.
+fn check_transform(m: &MeshDef, k: usize, origin: &str) -> Result<()> {
+    let fail = |msg: String| Err(Error::scene(origin, format!("mesh {}: {msg}", k + 1)));
+    let scale_text = match m.scale {
+        Scale::Uniform(s) => format!("{s:?}"),
+        Scale::Axes(a) => format!("{a:?}"),
+    };
+    let scale = match m.scale {
+        Scale::Uniform(s) => [s; 3],
+        Scale::Axes(a) => a,
+    };
+    let keys: [(&str, String, [f32; 3]); 3] = [
+        ("translate", format!("{:?}", m.translate), m.translate),
+        ("rotate_deg", format!("{:?}", m.rotate_deg), m.rotate_deg),
+        ("scale", scale_text.clone(), scale),
+    ];
+    if let Some((key, text, _)) = keys.iter().find(|(_, _, v)| v.iter().any(|x| !x.is_finite())) {
+        return fail(format!("{key} = {text}: has a NaN or infinite number"));
+    }
+    if m.translate.iter().any(|x| x.abs() > MAX_COORDINATE) {
+        return fail(format!("translate = {:?}: each component must be within ±{MAX_COORDINATE:e} (f32 has no precision left beyond)", m.translate));
+    }
+    if m.rotate_deg.iter().any(|x| x.abs() > MAX_ROTATE_DEG) {
+        return fail(format!("rotate_deg = {:?}: each angle must be within ±{MAX_ROTATE_DEG} degrees", m.rotate_deg));
+    }
+    let [lo, hi] = SCALE_RANGE;
+    if scale.iter().any(|x| !(lo..=hi).contains(&x.abs())) {
+        return fail(format!("scale = {scale_text}: each factor's size must be within [{lo:e}, {hi:e}]"));
+    }
+    Ok(())
 }
 
 /// Triangles a scene may hold after instancing and subdivision (64M: 4 GB of vertices and indices).

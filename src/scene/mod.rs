@@ -28,7 +28,8 @@ pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use model::{Camera, Scene};
 pub use obj::embedded_source;
-pub use overrides::apply_overrides;
+pub use format::MAX_COORDINATE;
+pub use overrides::{apply_overrides, is_render_key};
 
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -46,6 +47,12 @@ impl Scene {
 
     /// As `load`, with `cache:` mesh paths resolved in `cache` (`None`: the default asset cache).
     pub fn load_in(name_or_path: &str, overrides: &[(String, String)], cache: Option<&Path>) -> Result<Scene> {
+        if name_or_path.trim().is_empty() {
+            return Err(Error::Param(format!(
+                "--scene {name_or_path:?}: empty; give a built-in scene ({}) or a path to a scene TOML file",
+                builtin_names().join(", ")
+            )));
+        }
         if let Some(text) = builtin_source(name_or_path) {
             let origin = format!("builtin:{name_or_path}");
             return Self::parse_in(text, &origin, MeshDirs { scene_dir: None, cache, max_mesh_bytes: None }, overrides);

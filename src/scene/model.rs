@@ -55,6 +55,19 @@ impl Scene {
 
     /// [`Self::nothing_visible`] for another camera over these meshes (the embedding API moves it).
     pub fn nothing_visible_from(&self, c: &Camera) -> Error {
+        if self.bounds_within_a_pixel(c) {
+            // In view, but smaller than a pixel (a field of view near 180°, or a far camera).
+            return Error::scene(
+                &self.origin,
+                format!(
+                    "the meshes are in view but smaller than one pixel at {}x{} (camera.fov_y_deg = {}, camera.eye = {:?}): narrow the field of view, move the camera closer or raise the resolution",
+                    self.render.width,
+                    self.render.height,
+                    c.fov_y_deg,
+                    c.eye.to_array()
+                ),
+            );
+        }
         Error::scene(
             &self.origin,
             format!(
@@ -84,6 +97,24 @@ impl Scene {
         let planes: [fn(&glam::Vec4) -> bool; 6] =
             [|c| c.x < -c.w, |c| c.x > c.w, |c| c.y < -c.w, |c| c.y > c.w, |c| c.z < 0.0, |c| c.z > c.w];
         planes.iter().any(|outside| clip.iter().all(outside))
+    }
+
+    /// Whether the meshes' bounding box lies wholly in front of `c` and projects within one pixel.
+    fn bounds_within_a_pixel(&self, c: &Camera) -> bool {
+        let (w, h) = (self.render.width as f32, self.render.height as f32);
+        let m = c.clip_from_world(w / h, &self.bounds);
+        let (lo, hi) = (self.bounds.min, self.bounds.max);
+        let (mut min, mut max) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+        for i in 0..8 {
+            let p = m * Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2]).extend(1.0);
+            if !(p.w > 0.0 && p.z >= 0.0) {
+                return false;
+            }
+            let ndc = glam::Vec2::new(p.x, p.y) / p.w;
+            (min, max) = (min.min(ndc), max.max(ndc));
+        }
+        // NDC spans 2 across the screen.
+        (max.x - min.x) * w / 2.0 < 1.0 && (max.y - min.y) * h / 2.0 < 1.0
     }
 
     /// World-space triangles, for CPU tracers and tests.

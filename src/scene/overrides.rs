@@ -23,6 +23,11 @@ pub const RENDER_KEYS: &[&str] = &[
     "eps",
 ];
 
+/// Whether `key` (without its `render.` prefix) is a render setting `--set` may override.
+pub fn is_render_key(key: &str) -> bool {
+    RENDER_KEYS.contains(&key)
+}
+
 /// Value text as TOML (numbers, booleans), else as a string.
 pub fn parse_value(text: &str) -> toml::Value {
     format!("v = {text}")

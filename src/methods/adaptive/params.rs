@@ -1,4 +1,4 @@
-//! Adaptive method parameters (`--set p_m=0`, `adaptive:scope=local`).
+//! Adaptive method parameters (`adaptive:p_m=0,scope=local`, or `penumbra render --param p_m=0`).
 
 use super::super::{get_u32, Layout};
 use crate::{Error, Result};

@@ -61,6 +61,30 @@ fn parse_vec3(text: &str) -> Result<[f32; 3]> {
     Ok([nums[0], nums[1], nums[2]])
 }
 
+/// A path may reach this many scene diagonals: farther, the subject has left the scene (and an
+/// offset of 1e30 put the light beyond f32's useful range: the frames are not checked as the file is).
+pub const MAX_REACH_DIAGONALS: f32 = 100.0;
+
+/// Checks how far a path reaches (an offset's largest component, a radius) against the scene's size, and the moved subject against the scene
+/// file's coordinate bound.
+fn within_reach(given: &str, length: f32, subject: Subject, scene: &Scene) -> Result<()> {
+    let diagonal = scene.bounds.diagonal();
+    let limit = MAX_REACH_DIAGONALS * diagonal;
+    if length > limit {
+        return Err(param(format!("{given}: reaches {length:e}, beyond {MAX_REACH_DIAGONALS} × the scene's diagonal of {diagonal:.1} (at most {limit:.1})")));
+    }
+    let (what, far) = match subject {
+        Subject::Light => ("light", scene.light.center.abs().max_element()),
+        Subject::Camera => ("camera", scene.camera.eye.abs().max(scene.camera.target.abs()).max_element()),
+        Subject::Occluder => ("mesh", scene.bounds.min.abs().max(scene.bounds.max.abs()).max_element()),
+    };
+    let bound = crate::scene::MAX_COORDINATE;
+    if far + length > bound {
+        return Err(param(format!("{given}: moves the {what} beyond ±{bound:e}, the scene file's coordinate bound")));
+    }
+    Ok(())
+}
+
 impl AnimationSpec {
     /// Checks the words and fills in the defaults (docs/sequence.md): the light moves two light
     /// widths along its u edge, the camera orbits 30°, the last mesh moves a tenth of the scene's
@@ -92,7 +116,12 @@ impl AnimationSpec {
                 unused("--radius", self.radius.is_some())?;
                 unused("--degrees", self.degrees.is_some())?;
                 let offset = match &self.offset {
-                    Some(text) => parse_vec3(text)?,
+                    Some(text) => {
+                        let offset = parse_vec3(text)?;
+                        // The largest component: the length of 1e30 overflows f32.
+                        within_reach(&format!("--offset {text}"), Vec3::from(offset).abs().max_element(), subject, scene)?;
+                        offset
+                    }
                     None => match subject {
                         Subject::Light => (scene.light.edge_u * 2.0).to_array(),
                         _ => [scene.bounds.diagonal() * 0.1, 0.0, 0.0],
@@ -110,6 +139,7 @@ impl AnimationSpec {
                 if !(radius.is_finite() && radius > 0.0) {
                     return Err(param(format!("--radius {radius}: must be a finite number > 0")));
                 }
+                within_reach(&format!("--radius {radius}"), radius, subject, scene)?;
                 Path::Circle { radius }
             }
             _ => {
