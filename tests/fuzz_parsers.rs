@@ -169,4 +169,10 @@ fn fuzz_findings_stay_fixed() {
     assert_eq!(e, "input.obj: line 9: face mixes corner forms `1/1/1` and `-2`");
     let e = inputs::obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nf 1/1 2/1 3/-3\n").unwrap_err().to_string();
     assert_eq!(e, "input.obj: line 5: face references texture coordinate -3, but 1 are defined so far");
+    // tobj reads `l` lines as faces: this one-corner line element, whose relative normal index
+    // lies before the first normal, overflowed the same multiplication (obj target, about 419,000
+    // runs in; the input as found, not minimised).
+    let found = include_bytes!("fuzz-findings/obj-line-element.obj");
+    let e = inputs::obj(std::str::from_utf8(found).unwrap()).unwrap_err().to_string();
+    assert_eq!(e, "input.obj: line 11: line element needs at least 2 corners, found 1");
 }

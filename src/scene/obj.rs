@@ -76,19 +76,21 @@ fn check_lines(text: &str, label: &str) -> Result<()> {
             }
             Some("vt") => texcoords += 1,
             Some("vn") => normals += 1,
-            Some("f") => {
+            // tobj reads line elements (`l`) as faces, with the same index arithmetic.
+            Some(kind @ ("f" | "l")) => {
                 let corners: Vec<&str> = words.collect();
-                if corners.len() < 3 {
-                    return Err(at(format!("face needs at least 3 corners, found {}", corners.len())));
+                let (least, element) = if kind == "f" { (3, "face") } else { (2, "line element") };
+                if corners.len() < least {
+                    return Err(at(format!("{element} needs at least {least} corners, found {}", corners.len())));
                 }
                 let form = |c: &str| c.split('/').map(|p| p.is_empty()).collect::<Vec<bool>>();
                 for c in &corners {
                     if form(c) != form(corners[0]) {
-                        return Err(at(format!("face mixes corner forms `{}` and `{c}`", corners[0])));
+                        return Err(at(format!("{element} mixes corner forms `{}` and `{c}`", corners[0])));
                     }
                     let parts: Vec<&str> = c.split('/').collect();
                     if parts.len() > 3 {
-                        return Err(at(format!("face corner `{c}` has more than v/vt/vn")));
+                        return Err(at(format!("{element} corner `{c}` has more than v/vt/vn")));
                     }
                     for (k, (part, count, what)) in [(parts[0], vertices, "vertex")]
                         .into_iter()
@@ -99,10 +101,10 @@ fn check_lines(text: &str, label: &str) -> Result<()> {
                         if part.is_empty() && k > 0 {
                             continue;
                         }
-                        let i: i64 = part.parse().map_err(|_| at(format!("face index `{c}` is not an integer")))?;
+                        let i: i64 = part.parse().map_err(|_| at(format!("{element} index `{c}` is not an integer")))?;
                         let resolved = if i < 0 { count.saturating_add(i).saturating_add(1) } else { i };
                         if i == 0 || resolved < 1 || resolved > count {
-                            return Err(at(format!("face references {what} {i}, but {count} are defined so far")));
+                            return Err(at(format!("{element} references {what} {i}, but {count} are defined so far")));
                         }
                     }
                 }
@@ -127,6 +129,12 @@ mod tests {
         assert!(e.contains("line 1: vertex needs 3 coordinates"), "{e}");
         let e = parse("# nothing\n", "x.obj").unwrap_err().to_string();
         assert!(e.contains("empty"), "{e}");
+        // Found by the OBJ fuzz target: a line element's relative normal index before any normal
+        // overflowed tobj's index arithmetic.
+        let e = parse("v 0 0 1\nv 0 0 0\nv 0 2 0\nvt 0 0\nvn 0 0 1\nl 3/1/-3 1/1/1\n", "x.obj").unwrap_err().to_string();
+        assert_eq!(e, "x.obj: line 6: line element references normal -3, but 1 are defined so far");
+        let e = parse("v 0 0 0\nl 1\n", "x.obj").unwrap_err().to_string();
+        assert_eq!(e, "x.obj: line 2: line element needs at least 2 corners, found 1");
         let ok = parse("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "x.obj").unwrap();
         assert_eq!(ok.indices.len(), 6);
     }
