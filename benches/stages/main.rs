@@ -1,4 +1,5 @@
-//! Per-stage benchmarks, one criterion group per stage: shadow_raster, gbuffer, reproject_count,
+//! Per-stage benchmarks, one criterion group per stage: shadow_raster, gbuffer, raster_compute
+//! (against shadow_raster on the same 25 maps), reproject_count,
 //! neighbourhood, quad_count + subdivide, shade, hybrid_build (and shade on hybrid maps). Throughput is in the stage's own unit (triangles,
 //! pixels, pixel·quad evaluations, pixel·map lookups). The adapter is printed first: absolute
 //! figures mean nothing without it.
@@ -17,6 +18,7 @@
 mod alone;
 mod frames;
 mod raster;
+mod raster_compute;
 mod scenes;
 mod tracer;
 
@@ -36,6 +38,7 @@ fn main() {
     let mut c = Criterion::default().configure_from_args();
     raster::shadow_raster(&mut c, &ctx);
     raster::gbuffer(&mut c, &ctx);
+    raster_compute::raster_compute(&mut c, &ctx);
     let mut adaptive = frames::FramePool::new(&ctx, scenes::stage_scene(), "adaptive:p_m=0");
     frames::adaptive_stages(&mut c, &mut adaptive);
     alone::adaptive_stages_alone(&mut c, &ctx);

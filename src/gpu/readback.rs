@@ -22,10 +22,15 @@ pub fn uniform_buffer<T: Pod>(ctx: &GpuContext, label: &str, data: &T) -> wgpu::
 }
 
 pub fn zeroed_storage(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+    zeroed_storage_with(ctx, label, bytes, wgpu::BufferUsages::empty())
+}
+
+/// As [`zeroed_storage`], with `extra` usages (`INDIRECT` for dispatch arguments).
+pub fn zeroed_storage_with(ctx: &GpuContext, label: &str, bytes: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
     ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes.max(16),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST | extra,
         mapped_at_creation: false,
     })
 }

@@ -238,6 +238,13 @@ stage_table! {
         compute("leaves_of_level", LINE, &[("level", 0), ("quads", 1), ("split_base", 2), ("leaves", 3), ("leaf_count", 4)]),
         compute("main", SINGLE, &[("leaves", 3), ("leaf_count", 4), ("rule", 5), ("lattice_state", 6), ("sample_level", 7), ("numerators", 8), ("weights", 9)]),
     ];
+    /// Depth-only shadow maps in compute kernels, many maps per chain, exact rules (docs/gpu-frame.md §7).
+    RASTER_COMPUTE = "raster_compute" kernel, Some(Raster), [
+        compute("clear", LINE, &[("params", 0), ("depth", 5)]),
+        compute("main", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("vertices", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
+        compute("begin", SINGLE, &[("params", 0), ("control", 7), ("dispatch", 8)]),
+        compute("large_tiles", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("vertices", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
+    ];
     /// Percentage-closer filtering.
     PCF = "pcf" kernel { reads_maps: true, pcf_taps: true }, Some(Shade), [
         compute("main", PIXEL, &[("frame", 0), ("settings", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("disk", 6), ("visibility", 7), ("compare_sampler", 8)]),

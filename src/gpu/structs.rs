@@ -70,6 +70,22 @@ pub struct GpuCull {
     pub groups_x: u32,
 }
 
+/// One dispatch chain of raster_compute (kernels/raster_compute.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuRasterCompute {
+    pub map_size: u32,
+    pub triangle_count: u32,
+    /// 0: no face is skipped; 1: back faces; 2: front faces.
+    pub cull_face: u32,
+    pub map_count: u32,
+    pub large_capacity: u32,
+    /// Always 0: the kernel XORs it into products so that none is fused into an fma.
+    pub fence: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
 /// The weights pass's rule (kernels/weights.wgsl): 0 level, 1 area, 2 Coons.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -320,6 +336,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuTestBlock { ks, samples, pad }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
+        layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, pad0, pad1 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, pad1

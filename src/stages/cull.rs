@@ -51,14 +51,7 @@ impl Cull {
         if slots == 0 || !ctx.device.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE) {
             return Ok(None);
         }
-        let storage = |label, bytes: u64, extra| {
-            ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes.max(16),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST | extra,
-                mapped_at_creation: false,
-            })
-        };
+        let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
         let positions: Vec<glam::Vec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
         // The shadow raster's order: its runs are compact in space.
         let runs = runs(&positions, &scene_gpu.shadow_order);

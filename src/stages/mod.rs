@@ -19,6 +19,7 @@ pub(crate) mod pcf;
 pub(crate) mod pcss;
 pub mod probe;
 pub mod quad_count;
+pub mod raster_compute;
 pub(crate) mod reconstruct;
 pub mod reproject_count;
 pub mod shade;

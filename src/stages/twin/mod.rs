@@ -17,6 +17,7 @@ pub mod pcf;
 pub mod pcss;
 pub mod probe;
 pub mod quad_count;
+pub mod raster_compute;
 pub mod reconstruct;
 pub mod reproject_count;
 pub mod shade;

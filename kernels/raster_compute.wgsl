@@ -1,0 +1,295 @@
+// raster_compute: a depth-only shadow-map raster in compute kernels, many maps per dispatch, with
+// exact rules (docs/gpu-frame.md §7) that the CPU twin (src/stages/twin/raster_compute.rs) repeats
+// bit for bit:
+// - vertices are projected with the sample's matrix and snapped to 1/256 texel (16.8 fixed point);
+// - a texel is covered when its centre is inside the snapped triangle by integer edge functions,
+//   with the top-left rule on ties, so a shared edge covers each texel once;
+// - its depth is the triangle's plane at the centre, from the integer edge values as weights;
+// - depths go into one u32 per texel (the bits of a non-negative f32 order like the values) by
+//   atomicMin, over a buffer cleared to the far value 1.0.
+// Edge values need 49 bits: they are two-word integers (`Wide`), exact, as i64 on the CPU.
+// Every f32 product that feeds an addition goes through `fence`, so no compiler can fuse it into an
+// fma and round it differently from the twin.
+// Work items are (triangle, map) pairs: `main` sets each up and rejects it when its box holds no
+// texel centre; a small one (box at most RASTER_SMALL_SIDE² texels) is rasterized in its
+// invocation, a large one is queued for `large_tiles`, a workgroup per queued pair over tiles of
+// RASTER_LARGE_TILE² texels.
+
+struct GpuRasterCompute {
+    map_size: u32,
+    triangle_count: u32,
+    // 0: no face is skipped; 1: back faces; 2: front faces (as the fixed-function raster culls).
+    cull_face: u32,
+    // Maps in this dispatch chain (the rows of `jobs` and of `depth`).
+    map_count: u32,
+    // Pairs `large` can hold; beyond it `main` rasterizes a large triangle itself.
+    large_capacity: u32,
+    // Always 0: XORed into a product's bits, which hides the product from the compiler's fma fusion.
+    fence: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+// f32 words per vertex (scene::Vertex: position, normal, material); the position comes first.
+const VERTEX_WORDS: u32 = 7u;
+// Sub-texel bits of the snapped vertices.
+const RASTER_SUBTEXEL_BITS: u32 = 8u;
+// Largest |coordinate| of a snapped vertex, in 1/256 texels: 2^23 (32768 texels). Edge values stay
+// below 2^49 and steps below 2^32 in magnitude.
+const RASTER_COORD_LIMIT: f32 = 8388608.0;
+// A triangle whose box is at most this many texel centres on each side is small.
+const RASTER_SMALL_SIDE: i32 = 4;
+// Side of `large`'s tiles, in texels.
+const RASTER_LARGE_TILE: i32 = 8;
+// Words each invocation of `clear` sets, 64 apart: a CPU device (lavapipe) pays a fixed cost per
+// workgroup that one-word invocations spend most of their time in.
+const RASTER_CLEAR_RUN: u32 = 16u;
+// The stored word of the far value, 1.0.
+const RASTER_FAR: u32 = 0x3f800000u;
+
+@group(0) @binding(0) var<uniform> params: GpuRasterCompute;
+@group(0) @binding(1) var<storage, read> samples: array<GpuSample>;
+// The sample of each map of the chain.
+@group(0) @binding(2) var<storage, read> jobs: array<u32>;
+@group(0) @binding(3) var<storage, read> vertices: array<f32>;
+@group(0) @binding(4) var<storage, read> indices: array<u32>;
+// map_count maps of map_size² words, row-major, row 0 at the top (NDC y = 1).
+@group(0) @binding(5) var<storage, read_write> depth: array<atomic<u32>>;
+// Queued large pairs: (map, triangle).
+@group(0) @binding(6) var<storage, read_write> large: array<u32>;
+// [pairs queued].
+@group(0) @binding(7) var<storage, read_write> control: array<atomic<u32>>;
+// `large`'s indirect dispatch (x, y, z).
+@group(0) @binding(8) var<storage, read_write> dispatch: array<u32>;
+
+fn fence(x: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(x) ^ params.fence);
+}
+
+// A two's-complement 64-bit integer: (low word, high word).
+alias Wide = vec2<u32>;
+
+fn wide_add(a: Wide, b: Wide) -> Wide {
+    let lo = a.x + b.x;
+    return Wide(lo, a.y + b.y + select(0u, 1u, lo < a.x));
+}
+
+fn wide_neg(a: Wide) -> Wide {
+    let lo = ~a.x + 1u;
+    return Wide(lo, ~a.y + select(0u, 1u, lo == 0u));
+}
+
+// a · b exactly, from four 16 × 16-bit products of the magnitudes.
+fn wide_mul(a: i32, b: i32) -> Wide {
+    let ua = u32(abs(a));
+    let ub = u32(abs(b));
+    let a0 = ua & 0xffffu;
+    let a1 = ua >> 16u;
+    let b0 = ub & 0xffffu;
+    let b1 = ub >> 16u;
+    let p00 = a0 * b0;
+    let p01 = a0 * b1;
+    let mid = p01 + a1 * b0;
+    let mid_carry = select(0u, 0x10000u, mid < p01);
+    let lo = p00 + (mid << 16u);
+    let hi = a1 * b1 + (mid >> 16u) + mid_carry + select(0u, 1u, lo < p00);
+    let m = Wide(lo, hi);
+    return select(m, wide_neg(m), (a < 0) != (b < 0));
+}
+
+// The nearest f32: the high word exactly (|value| < 2^49), scaled by 2^32 exactly, plus the low word rounded.
+fn wide_f32(a: Wide) -> f32 {
+    return f32(bitcast<i32>(a.y)) * 4294967296.0 + f32(a.x);
+}
+
+// value > 0, or value = 0 on a top-left edge.
+fn edge_covers(e: Wide, top_left: bool) -> bool {
+    let negative = bitcast<i32>(e.y) < 0;
+    let zero = e.x == 0u && e.y == 0u;
+    return !negative && (!zero || top_left);
+}
+
+// (m · (p, 1)) with each product fenced and the sums in a fixed order.
+fn project(m: mat4x4<f32>, p: vec3<f32>) -> vec4<f32> {
+    var c: vec4<f32>;
+    for (var r = 0; r < 4; r = r + 1) {
+        c[r] = ((fence(m[0][r] * p.x) + fence(m[1][r] * p.y)) + fence(m[2][r] * p.z)) + m[3][r];
+    }
+    return c;
+}
+
+// A triangle set up for one map: snapped vertices (positive area in texel space, y down), their
+// depths, its texel box (inclusive), and the reciprocal of its area.
+struct Tri {
+    v0: vec2<i32>,
+    v1: vec2<i32>,
+    v2: vec2<i32>,
+    z: vec3<f32>,
+    lo: vec2<i32>,
+    hi: vec2<i32>,
+    inv_area: f32,
+    ok: bool,
+}
+
+fn setup(s: GpuSample, t: u32) -> Tri {
+    var tri: Tri;
+    tri.ok = false;
+    var v: array<vec2<i32>, 3>;
+    var z: vec3<f32>;
+    let scale = f32(params.map_size) * 128.0;
+    for (var j = 0u; j < 3u; j = j + 1u) {
+        let w = indices[t * 3u + j] * VERTEX_WORDS;
+        let c = project(s.light_from_world, vec3<f32>(vertices[w], vertices[w + 1u], vertices[w + 2u]));
+        if (!(c.w > 0.0)) {
+            return tri;
+        }
+        let rw = 1.0 / c.w;
+        let f = vec2<f32>(((c.x + c.w) * rw) * scale, ((c.w - c.y) * rw) * scale);
+        if (!(abs(f.x) <= RASTER_COORD_LIMIT && abs(f.y) <= RASTER_COORD_LIMIT)) {
+            return tri;
+        }
+        v[j] = vec2<i32>(round(f));
+        z[j] = c.z * rw;
+    }
+    // Texel i's centre is at 256 i + 128: the first centre at or after lo, the last at or before
+    // hi. Most triangles of a fine mesh hold none and leave here, before any wide product.
+    let last = i32(params.map_size) - 1;
+    tri.lo = max((min(min(v[0], v[1]), v[2]) + 127) >> vec2<u32>(RASTER_SUBTEXEL_BITS), vec2<i32>(0));
+    tri.hi = min((max(max(v[0], v[1]), v[2]) - 128) >> vec2<u32>(RASTER_SUBTEXEL_BITS), vec2<i32>(last));
+    if (tri.lo.x > tri.hi.x || tri.lo.y > tri.hi.y) {
+        return tri;
+    }
+    let area = wide_add(wide_mul(v[1].x - v[0].x, v[2].y - v[0].y), wide_neg(wide_mul(v[1].y - v[0].y, v[2].x - v[0].x)));
+    let zero = area.x == 0u && area.y == 0u;
+    // Texel space has y down: a face counter-clockwise in NDC (wgpu's front face) has negative area.
+    let front = bitcast<i32>(area.y) < 0;
+    if (zero || (params.cull_face == 1u && !front) || (params.cull_face == 2u && front)) {
+        return tri;
+    }
+    tri.v0 = v[0];
+    tri.v1 = select(v[1], v[2], vec2<bool>(front));
+    tri.v2 = select(v[2], v[1], vec2<bool>(front));
+    tri.z = select(z, z.xzy, vec3<bool>(front));
+    tri.inv_area = 1.0 / wide_f32(select(area, wide_neg(area), front));
+    tri.ok = true;
+    return tri;
+}
+
+struct Edge {
+    value: Wide,
+    step_x: Wide,
+    step_y: Wide,
+    top_left: bool,
+}
+
+// The edge a → b at texel centre p (1/256 texels): positive inside, the weight of the third vertex.
+fn edge(a: vec2<i32>, b: vec2<i32>, p: vec2<i32>) -> Edge {
+    let d = b - a;
+    var e: Edge;
+    e.value = wide_add(wide_mul(d.x, p.y - a.y), wide_neg(wide_mul(d.y, p.x - a.x)));
+    e.step_x = wide_mul(d.y, -256);
+    e.step_y = wide_mul(d.x, 256);
+    e.top_left = d.y < 0 || (d.y == 0 && d.x > 0);
+    return e;
+}
+
+fn depth_at(e0: Wide, e1: Wide, e2: Wide, tri: Tri) -> f32 {
+    let sum = fence(wide_f32(e0) * tri.z.x) + fence(wide_f32(e1) * tri.z.y);
+    return (sum + fence(wide_f32(e2) * tri.z.z)) * tri.inv_area;
+}
+
+// Every texel of [lo, hi] (inclusive) that the triangle covers.
+fn raster_rect(map: u32, tri: Tri, lo: vec2<i32>, hi: vec2<i32>) {
+    let p = lo * 256 + 128;
+    let a = edge(tri.v1, tri.v2, p);
+    let b = edge(tri.v2, tri.v0, p);
+    let c = edge(tri.v0, tri.v1, p);
+    var row = array<Wide, 3>(a.value, b.value, c.value);
+    let base = map * params.map_size * params.map_size;
+    for (var y = lo.y; y <= hi.y; y = y + 1) {
+        var e0 = row[0];
+        var e1 = row[1];
+        var e2 = row[2];
+        for (var x = lo.x; x <= hi.x; x = x + 1) {
+            if (edge_covers(e0, a.top_left) && edge_covers(e1, b.top_left) && edge_covers(e2, c.top_left)) {
+                let d = depth_at(e0, e1, e2, tri);
+                if (d >= 0.0 && d < 1.0) {
+                    // The load skips the atomic where the word is already as near: the same minimum.
+                    let word = bitcast<u32>(d) & 0x7fffffffu;
+                    let i = base + u32(y) * params.map_size + u32(x);
+                    if (word < atomicLoad(&depth[i])) {
+                        atomicMin(&depth[i], word);
+                    }
+                }
+            }
+            e0 = wide_add(e0, a.step_x);
+            e1 = wide_add(e1, b.step_x);
+            e2 = wide_add(e2, c.step_x);
+        }
+        row[0] = wide_add(row[0], a.step_y);
+        row[1] = wide_add(row[1], b.step_y);
+        row[2] = wide_add(row[2], c.step_y);
+    }
+}
+
+// Every word of the chain's maps to the far value: RASTER_CLEAR_RUN words per invocation, 64
+// apart, a run of 64 · RASTER_CLEAR_RUN per workgroup x + z · rows.
+@compute @workgroup_size(64, 1, 1)
+fn clear(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let first = (wg.z * groups.x + wg.x) * 64u * RASTER_CLEAR_RUN + lid;
+    let words = params.map_count * params.map_size * params.map_size;
+    for (var word = first; word < min(first + 64u * RASTER_CLEAR_RUN, words); word = word + 64u) {
+        atomicStore(&depth[word], RASTER_FAR);
+    }
+}
+
+// One invocation per (triangle, map): the map is the workgroup row, the triangle x + z · rows.
+@compute @workgroup_size(64, 1, 1)
+fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let t = (wg.z * groups.x + wg.x) * 64u + lid;
+    let map = wg.y;
+    if (t >= params.triangle_count) {
+        return;
+    }
+    let tri = setup(samples[jobs[map]], t);
+    if (!tri.ok) {
+        return;
+    }
+    let side = tri.hi - tri.lo + 1;
+    if (side.x > RASTER_SMALL_SIDE || side.y > RASTER_SMALL_SIDE) {
+        let slot = atomicAdd(&control[0], 1u);
+        if (slot < params.large_capacity) {
+            large[slot * 2u] = map;
+            large[slot * 2u + 1u] = t;
+            return;
+        }
+    }
+    raster_rect(map, tri, tri.lo, tri.hi);
+}
+
+// Between the passes: `large_tiles`' dispatch, a workgroup per queued pair, in rows of at most 32768
+// (x along a row, z across rows).
+@compute @workgroup_size(1, 1, 1)
+fn begin() {
+    let queued = min(atomicLoad(&control[0]), params.large_capacity);
+    let row = max(min(queued, 32768u), 1u);
+    dispatch[0] = row;
+    dispatch[1] = 1u;
+    dispatch[2] = (queued + row - 1u) / row;
+}
+
+// A workgroup per queued pair; its invocations take the triangle's tiles in turn.
+@compute @workgroup_size(64, 1, 1)
+fn large_tiles(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let slot = wg.z * groups.x + wg.x;
+    if (slot >= min(atomicLoad(&control[0]), params.large_capacity)) {
+        return;
+    }
+    let map = large[slot * 2u];
+    let tri = setup(samples[jobs[map]], large[slot * 2u + 1u]);
+    let tiles = (tri.hi - tri.lo + RASTER_LARGE_TILE) / RASTER_LARGE_TILE;
+    for (var k = i32(lid); k < tiles.x * tiles.y; k = k + 64) {
+        let lo = tri.lo + vec2<i32>(k % tiles.x, k / tiles.x) * RASTER_LARGE_TILE;
+        raster_rect(map, tri, lo, min(lo + RASTER_LARGE_TILE - 1, tri.hi));
+    }
+}

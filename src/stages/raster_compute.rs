@@ -1,0 +1,152 @@
+//! raster_compute: depth-only shadow maps in compute kernels, many maps per dispatch chain, by
+//! exact rules its CPU twin (`twin::raster_compute`) repeats bit for bit (docs/gpu-frame.md §7).
+//! A chain clears its maps, sets up every (triangle, map) pair, rasterizes the small ones at once
+//! and queues the large ones, then rasterizes the queued ones tile by tile. Depth is one u32 per
+//! texel: the bits of a non-negative f32, which order like the values, written by atomicMin.
+
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::readback;
+use crate::gpu::structs::GpuRasterCompute;
+use crate::gpu::{GpuContext, Stage};
+use crate::render::SceneGpu;
+use crate::scene::CullMode;
+use crate::{Error, Result};
+
+/// The stored word of the far value (1.0), which every map is cleared to.
+pub const FAR: u32 = 0x3f80_0000;
+/// Large (triangle, map) pairs one chain can queue; beyond it `main` rasterizes them itself.
+pub const LARGE_CAPACITY: u32 = 1 << 18;
+/// Words each invocation of `clear` sets (the kernel's RASTER_CLEAR_RUN).
+pub const CLEAR_RUN: u32 = 16;
+/// Workgroups along x of a 2D dispatch over many items (rows of at most this many).
+const ROW: u32 = 32768;
+
+pub struct RasterCompute {
+    clear: ComputeKernel,
+    main: ComputeKernel,
+    begin: ComputeKernel,
+    large_tiles: ComputeKernel,
+    /// `capacity` maps of `map_size`² words.
+    pub depth: wgpu::Buffer,
+    large: wgpu::Buffer,
+    control: wgpu::Buffer,
+    dispatch: wgpu::Buffer,
+    pub map_size: u32,
+    /// Maps one chain holds.
+    pub capacity: u32,
+    cull_face: u32,
+}
+
+/// Maps one chain may hold: the memory budget and the storage-binding limit, whichever is less.
+pub fn maps_per_chain(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
+    let map_bytes = map_size as u64 * map_size as u64 * 4;
+    let binding = ctx.limits().max_storage_buffer_binding_size;
+    let by_budget = (budget_mib as u64 * 1024 * 1024) / map_bytes;
+    if by_budget == 0 {
+        return Err(Error::Limit(format!(
+            "one {map_size}x{map_size} shadow map ({} MiB) does not fit shadow_map_budget_mib = {budget_mib}",
+            map_bytes.div_ceil(1024 * 1024)
+        )));
+    }
+    let by_binding = binding / map_bytes;
+    if by_binding == 0 {
+        return Err(Error::Limit(format!(
+            "shadow_map_size {map_size}: one map ({map_bytes} bytes) exceeds this device's storage binding limit of {binding} bytes ({})",
+            ctx.summary.name
+        )));
+    }
+    let rows = ctx.limits().max_compute_workgroups_per_dimension as u64;
+    Ok(by_budget.min(by_binding).min(rows) as u32)
+}
+
+impl RasterCompute {
+    /// A chain of at most `maps` maps (fewer where `shadow_map_budget_mib` or the device allows fewer).
+    pub fn new(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32) -> Result<Self> {
+        let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
+        let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
+        Ok(Self {
+            clear: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "clear")?,
+            main: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "main")?,
+            begin: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "begin")?,
+            large_tiles: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "large_tiles")?,
+            depth: storage("raster_compute depth", capacity as u64 * map_size as u64 * map_size as u64 * 4, wgpu::BufferUsages::empty()),
+            large: storage("raster_compute large pairs", LARGE_CAPACITY as u64 * 8, wgpu::BufferUsages::empty()),
+            control: storage("raster_compute control", 16, wgpu::BufferUsages::empty()),
+            dispatch: storage("raster_compute dispatch", 16, wgpu::BufferUsages::INDIRECT),
+            map_size,
+            capacity,
+            cull_face: super::cull::cull_face(cull),
+        })
+    }
+
+    /// Rasterizes `scene` into maps 0..jobs.len() of `depth`, map m from sample `jobs[m]` of
+    /// `samples` (the hardware raster's `GpuSample`s: the same view-projections).
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[u32]) {
+        let maps = jobs.len() as u32;
+        assert!(maps >= 1 && maps <= self.capacity, "raster_compute chain of {maps} maps, capacity {}", self.capacity);
+        let triangles = scene.index_count / 3;
+        let uniform = GpuRasterCompute {
+            map_size: self.map_size,
+            triangle_count: triangles,
+            cull_face: self.cull_face,
+            map_count: maps,
+            large_capacity: LARGE_CAPACITY,
+            fence: 0,
+            pad0: 0,
+            pad1: 0,
+        };
+        let params = readback::uniform_buffer(ctx, "raster_compute", &uniform);
+        let jobs = readback::storage_buffer(ctx, "raster_compute jobs", jobs, wgpu::BufferUsages::empty());
+        enc.clear_buffer(&self.control, 0, None);
+        let words = groups(maps * self.map_size * self.map_size, LINE_WORKGROUP[0] * CLEAR_RUN);
+        self.clear.dispatch(
+            ctx,
+            enc,
+            &[("params", params.as_entire_binding()), ("depth", self.depth.as_entire_binding())],
+            Dispatch::Direct(rows(words)),
+        );
+        let all = [
+            ("params", params.as_entire_binding()),
+            ("samples", samples.as_entire_binding()),
+            ("jobs", jobs.as_entire_binding()),
+            ("vertices", scene.vertices.as_entire_binding()),
+            ("indices", scene.shadow_indices.as_entire_binding()),
+            ("depth", self.depth.as_entire_binding()),
+            ("large", self.large.as_entire_binding()),
+            ("control", self.control.as_entire_binding()),
+        ];
+        let [x, _, z] = rows(groups(triangles, LINE_WORKGROUP[0]));
+        self.main.dispatch(ctx, enc, &all, Dispatch::Direct([x, maps, z]));
+        self.begin.dispatch(
+            ctx,
+            enc,
+            &[("params", params.as_entire_binding()), ("control", self.control.as_entire_binding()), ("dispatch", self.dispatch.as_entire_binding())],
+            Dispatch::Direct([1, 1, 1]),
+        );
+        self.large_tiles.dispatch(ctx, enc, &all, Dispatch::Indirect(&self.dispatch));
+    }
+
+    /// The depths of maps 0..maps of the last chain, one row-major `map_size`² map each (a read-back).
+    pub fn read_depths(&self, ctx: &GpuContext, maps: u32) -> Result<Vec<Vec<f32>>> {
+        let words: Vec<u32> = self.read_words(ctx, maps)?;
+        let texels = (self.map_size * self.map_size) as usize;
+        Ok(words.chunks(texels).map(|m| m.iter().map(|&w| depth_of(w)).collect()).collect())
+    }
+
+    /// The stored words of maps 0..maps, as the kernel wrote them.
+    pub fn read_words(&self, ctx: &GpuContext, maps: u32) -> Result<Vec<u32>> {
+        assert!(maps <= self.capacity);
+        readback::read_buffer(ctx, &self.depth, maps as u64 * self.map_size as u64 * self.map_size as u64 * 4)
+    }
+}
+
+/// A stored word's depth.
+pub fn depth_of(word: u32) -> f32 {
+    f32::from_bits(word)
+}
+
+/// `n` workgroups as (x, 1, z) with x at most ROW: the kernels index them as z · x + x.
+fn rows(n: u32) -> [u32; 3] {
+    let x = n.clamp(1, ROW);
+    [x, 1, n.div_ceil(x)]
+}
