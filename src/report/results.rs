@@ -120,7 +120,7 @@ pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
         ("reference", shared(rows, |r| r.reference.clone())),
         (
             "timing",
-            shared(rows, |r| if r.repeats > 0 { format!("one warm-up frame, then the median of {} frames", r.repeats) } else { String::new() }),
+            shared(rows, |r| if r.repeats > 0 { format!("one warm-up frame, then the median of {} frames; methods interleaved round by round in windows of {}", r.repeats, crate::record::measure::WINDOW) } else { String::new() }),
         ),
         ("clock", shared(rows, |r| r.clock.clone())),
         ("metrics", "geometry pixels only; FLIP on the shaded images; definitions in docs/compare-and-report.md".into()),
