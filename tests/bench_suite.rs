@@ -9,6 +9,7 @@ use penumbra::frame;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
 use penumbra::gpu::timing::TimingMode;
+use penumbra::studies::bench::fair::grid_n;
 use std::path::Path;
 
 fn scene_file(name: &str) -> String {
@@ -89,7 +90,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     // One schema with compare: the record layer's rows, provenance included.
     let lines: Vec<serde_json::Value> =
         std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    assert_eq!(lines.len(), 10);
+    assert_eq!(lines.len(), 15, "adaptive, lattice and fair grid per scene");
     for l in &lines {
         assert_eq!(l["total_ms_runs"].as_array().unwrap().len(), 2, "{l}");
         let (rmse, flip) = (l["metrics"]["rmse"].as_f64().unwrap(), l["metrics"]["flip_mean"].as_f64().unwrap());
@@ -101,6 +102,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     }
     assert_eq!(lines[1]["method"], "regular");
     assert_eq!(lines[1]["shadow_maps"], 289);
+    check_fair_rows(&table, &lines);
 
     // One report from a compare output and the bench output together.
     let compare_out = dir.join("compare");
@@ -121,7 +123,52 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let md = std::fs::read_to_string(both.join("report.md")).unwrap();
     assert!(md.contains("regular:n=3") && md.contains("adaptive:p_m=0") && md.contains("| produced by | compare; bench seed-table2 |"), "{md}");
-    assert!(md.contains("| rows | 12 |"), "2 compare rows and 10 bench rows: {md}");
+    assert!(md.contains("| rows | 17 |"), "2 compare rows and 15 bench rows: {md}");
+}
+
+/// Per scene: the third row is the centred grid with N² the square nearest to the adaptive row's
+/// maps, and the fair-rows table gives both comparisons the verdict their measured figures imply.
+fn check_fair_rows(table: &str, lines: &[serde_json::Value]) {
+    let scenes = ["bunny", "bunny-seed-framing", "grove", "cows", "teapot"];
+    for (scene, rows) in scenes.iter().zip(lines.chunks(3)) {
+        let [adaptive, lattice, fair] = rows else { panic!("three rows per scene: {rows:?}") };
+        for r in rows {
+            assert_eq!(r["scene"], *scene, "{r}");
+        }
+        let maps = adaptive["shadow_maps"].as_u64().unwrap() as u32;
+        let n = grid_n(maps);
+        // The rule in full: no other N ≥ 2 puts N² nearer to the adaptive count.
+        let dist = |k: u32| (i64::from(k * k) - i64::from(maps)).abs();
+        assert!((2..40).all(|k| dist(k) >= dist(n)), "{maps} maps: n = {n}");
+        assert_eq!(fair["label"], format!("regular:n={n},layout=centred"), "{fair}");
+        assert_eq!(fair["shadow_maps"].as_u64().unwrap(), u64::from(n * n), "{fair}");
+        for grid in [lattice, fair] {
+            let label = grid["label"].as_str().unwrap();
+            let line = table
+                .lines()
+                .find(|l| l.starts_with(&format!("| {scene} | `{label}` |")))
+                .unwrap_or_else(|| panic!("no fair-rows line for {scene} {label}: {table}"));
+            let (a_ms, g_ms) = (adaptive["total_ms"].as_f64().unwrap(), grid["total_ms"].as_f64().unwrap());
+            let (a_rmse, g_rmse) = (adaptive["metrics"]["rmse"].as_f64().unwrap(), grid["metrics"]["rmse"].as_f64().unwrap());
+            let expected = if a_ms <= g_ms && a_rmse <= g_rmse {
+                "adaptive dominates".to_string()
+            } else if a_ms > g_ms && a_rmse >= g_rmse {
+                "grid dominates".to_string()
+            } else {
+                format!("trade-off: adaptive {:.2}× faster at {:.2}× the RMSE", g_ms / a_ms, a_rmse / g_rmse)
+            };
+            assert!(line.ends_with(&format!("| {expected} |")), "expected `{expected}`: {line}");
+            assert!(line.contains(&format!("| {:.2}x |", g_ms / a_ms)), "speed-up of {scene} {label}: {line}");
+        }
+    }
+}
+
+#[test]
+fn fair_grid_is_the_nearest_square_of_at_least_four() {
+    // 1 and 2 sit nearest 1², floored to 2x2; 45 is 4 from 49 and 9 from 36; 111 is 10 from 121, 11 from 100.
+    for (maps, n) in [(1, 2), (2, 2), (6, 2), (7, 3), (35, 6), (36, 6), (42, 6), (43, 7), (45, 7), (62, 8), (85, 9), (111, 11), (289, 17)] {
+        assert_eq!(grid_n(maps), n, "{maps} maps");
+    }
 }
 
 #[test]

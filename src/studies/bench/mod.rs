@@ -2,6 +2,7 @@
 //! (Per-stage micro-benchmarks live in benches/, run with criterion.)
 
 pub(crate) mod errors;
+pub mod fair;
 pub(crate) mod seed;
 pub(crate) mod stats;
 pub(crate) mod suite;

@@ -1,9 +1,11 @@
 //! `penumbra bench --suite seed-table2`: seed 000's Table 2 on this machine. For each of its four
-//! scenes, adaptive (p_m = 0) and regular 17x17 in the same run, on the same device and settings:
-//! one warm-up frame each, then `repeats` frames each, interleaved so that both see the same load;
+//! scenes, adaptive (p_m = 0), regular 17x17 and the fair grid (centred, about the adaptive run's
+//! map count: fair.rs) in the same run, on the same device and settings: one warm-up frame each,
+//! then `repeats` frames each, interleaved so that all three see the same load;
 //! the figure is the median wall-clock frame time (TimingMode::Frame: only the waits the method needs).
 
 use super::errors::ErrorColumns;
+use super::fair;
 use super::seed::{SeedRow, TABLE2};
 use super::stats::Summary;
 use crate::report::charts::ResultRow;
@@ -63,6 +65,10 @@ pub struct SceneResult {
     pub geometry_pixels: usize,
     pub adaptive: MethodResult,
     pub regular: MethodResult,
+    /// The centred grid with N² nearest to `probe_maps` (fair::grid_n).
+    pub fair: MethodResult,
+    /// The adaptive method's map count in one untimed frame before the measured ones.
+    pub probe_maps: u32,
 }
 
 impl SceneResult {
@@ -70,9 +76,19 @@ impl SceneResult {
     pub fn speedup(&self) -> f64 {
         self.regular.frame_ms.median / self.adaptive.frame_ms.median
     }
+
+    /// The same ratio against the fair grid.
+    pub fn fair_speedup(&self) -> f64 {
+        self.fair.frame_ms.median / self.adaptive.frame_ms.median
+    }
+
+    /// The timed adaptive frames used the map count the fair grid was chosen from.
+    pub fn probe_held(&self) -> bool {
+        self.adaptive.maps_stable && self.adaptive.maps == self.probe_maps
+    }
 }
 
-/// One run of a suite: every scene's adaptive and regular results.
+/// One run of a suite: every scene's adaptive, regular and fair-grid results.
 pub struct SuiteResults {
     pub adapter: AdapterSummary,
     pub timestamps_trusted: bool,
@@ -84,10 +100,10 @@ pub struct SuiteResults {
 }
 
 impl SuiteResults {
-    /// One report row per scene and method, adaptive first (the record layer's rows, one schema
-    /// with `compare`), so `report.html` shows its tables and charts like `compare` does.
+    /// One report row per scene and method, adaptive, lattice, fair grid (the record layer's rows,
+    /// one schema with `compare`), so `report.html` shows its tables and charts like `compare` does.
     pub fn rows(&self) -> Vec<ResultRow> {
-        self.scenes.iter().flat_map(|s| [s.adaptive.row.clone(), s.regular.row.clone()]).collect()
+        self.scenes.iter().flat_map(|s| [s.adaptive.row.clone(), s.regular.row.clone(), s.fair.row.clone()]).collect()
     }
 }
 
@@ -146,16 +162,21 @@ pub fn prepare(opts: &SuiteOptions) -> Result<Vec<SuiteScene>> {
 pub const REFERENCE: ReferenceMode = ReferenceMode::DEFAULT_CONTINUOUS;
 
 /// Runs the suite on prepared scenes through the record layer (`record::measure`, one warm-up
-/// and one stages-mode frame per method, then `repeats` timed frames, the two methods
-/// interleaved); `log` receives one line per frame (the bar shows the same).
+/// and one stages-mode frame per method, then `repeats` timed frames, the three methods
+/// interleaved), after one untimed adaptive frame that picks the fair grid; `log` receives one
+/// line per frame (the bar shows the same).
 pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteResults> {
     let started = Instant::now();
     let started_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
-    let bar = crate::progress::bar(scenes.len() as u64 * measure::frame_count(2, opts.repeats), "seed-table2");
+    let bar = crate::progress::bar(scenes.len() as u64 * (1 + measure::frame_count(3, opts.repeats)), "seed-table2");
     let reference_label = format!("{}, CPU BVH", truth::mode_label(&REFERENCE));
     let mut results = Vec::new();
     for SuiteScene { seed: row, file, scene } in scenes {
-        let methods = [opts.adaptive.clone(), opts.regular.clone()];
+        let probe = crate::frame::render(ctx, &scene, &opts.adaptive, crate::gpu::timing::TimingMode::Frame)?;
+        let probe_maps = probe.output.shadow_maps;
+        bar.inc(1);
+        crate::progress::suspend(|| log(&format!("{:7} {:18} {:8} {:>3} maps: fair grid {}", row.scene, opts.adaptive.label(), "probe", probe_maps, fair::grid_method(probe_maps))));
+        let methods = [opts.adaptive.clone(), opts.regular.clone(), Method::parse(&fair::grid_method(probe_maps), &[])?];
         let (g, reference) = truth::for_scene(ctx, &scene, REFERENCE, &Cache::default_for(false))?;
         let judge = Judge::new(&scene, &g, reference.values);
         let mut on_frame = |method: &Method, phase: Phase, r: &crate::frame::FrameResult| {
@@ -179,7 +200,7 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
             let r = record::row(&info, method, &m.timing, m.judged.clone(), BTreeMap::new(), provenance.clone());
             MethodResult::from_measured(m, r)
         });
-        let (Some(adaptive), Some(regular)) = (done.next(), done.next()) else {
+        let (Some(adaptive), Some(regular), Some(fair)) = (done.next(), done.next(), done.next()) else {
             return Err(Error::Param("bench: no frames measured".into()));
         };
         results.push(SceneResult {
@@ -190,6 +211,8 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
             geometry_pixels: judge.geometry_pixels(),
             adaptive,
             regular,
+            fair,
+            probe_maps,
         });
     }
     bar.finish_and_clear();

@@ -2,6 +2,7 @@
 //! results.jsonl (one line per scene and method, every figure the table is made from).
 
 use super::errors::PENDING;
+use super::fair;
 use super::seed::SEED_SETUP;
 use super::suite::{MethodResult, SceneResult, SuiteResults};
 use std::fmt::Write;
@@ -88,7 +89,7 @@ pub fn markdown(r: &SuiteResults) -> String {
     );
     let _ = writeln!(
         md,
-        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame and one stages-mode frame per method, the two methods interleaved. {}\n",
+        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame and one stages-mode frame per method, the three methods (adaptive, regular, fair grid) interleaved. {}\n",
         r.repeats,
         if r.timestamps_trusted { "GPU timestamps: not yet wired into this table." } else { "GPU timestamps are not trustworthy on this (CPU) adapter and are not used." }
     );
@@ -124,11 +125,12 @@ pub fn markdown(r: &SuiteResults) -> String {
         None => format!("Error columns: {PENDING}."),
     };
     let _ = writeln!(md, "\n{errs}\n");
+    fair_rows(&mut md, r);
     let _ = writeln!(md, "## Frame times (ms, wall clock)\n");
     let _ = writeln!(md, "| scene | method | maps | median | min | max | setup (not in the frame) | read-backs |");
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
     for s in &r.scenes {
-        for m in [&s.adaptive, &s.regular] {
+        for m in [&s.adaptive, &s.regular, &s.fair] {
             let f = &m.frame_ms;
             let _ = writeln!(
                 md,
@@ -146,6 +148,35 @@ pub fn markdown(r: &SuiteResults) -> String {
     }
     let _ = writeln!(md, "\nScene files: {}. Per-stage times and every sample: results.jsonl.", r.scenes.iter().map(|s| format!("`{}`", s.file.display())).collect::<Vec<_>>().join(", "));
     md
+}
+
+/// Adaptive against the seed's lattice and against the centred grid with about its map count:
+/// both speed-ups (median frame times), both RMSEs and a verdict per row (fair::verdict).
+fn fair_rows(md: &mut String, r: &SuiteResults) {
+    let _ = writeln!(md, "## Fair rows: adaptive against the seed's lattice and the centred grid of about its map count\n");
+    let _ = writeln!(md, "Speed-up = grid median frame / adaptive median frame (> 1: adaptive is faster). Fair grid: `regular:n=N,layout=centred`, N² the square nearest to the adaptive maps of one untimed frame (N ≥ 2).\n");
+    let _ = writeln!(md, "| scene | grid | grid maps | adaptive maps | speed-up | seed speed-up | adaptive RMSE | grid RMSE | verdict |");
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---|");
+    let rmse = |m: &MethodResult| m.errors.as_ref().map_or("—".to_string(), |e| format!("{:.5}", e.rmse));
+    for s in &r.scenes {
+        let adaptive_maps = if s.probe_held() { maps(&s.adaptive) } else { format!("{} (untimed frame: {})", maps(&s.adaptive), s.probe_maps) };
+        for (grid, speedup, seed) in [(&s.regular, s.speedup(), format!("{:.1}x", s.seed.speedup())), (&s.fair, s.fair_speedup(), "—".to_string())] {
+            let _ = writeln!(
+                md,
+                "| {} | `{}` | {} | {} | {:.2}x | {} | {} | {} | {} |",
+                s.seed.scene,
+                grid.label,
+                maps(grid),
+                adaptive_maps,
+                speedup,
+                seed,
+                rmse(&s.adaptive),
+                rmse(grid),
+                fair::verdict(&s.adaptive.row, &grid.row)
+            );
+        }
+    }
+    let _ = writeln!(md, "\nVerdict: `adaptive dominates` when its median frame and RMSE are both at most the grid's; `grid dominates` when it is slower and its RMSE at least the grid's; otherwise the trade-off (speed-up, RMSE ratio).\n");
 }
 
 /// `results.jsonl`: the record layer's rows (the schema of `compare` and `sweep`), one line per
