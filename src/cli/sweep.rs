@@ -49,7 +49,7 @@ pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
         return sweep_jobs(&args, k, gpu);
     }
     let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
-    let costs: Vec<f64> = methods.iter().map(|m| shard::estimated_cost(m, &scene)).collect();
+    let costs: Vec<f64> = methods.iter().map(|m| plan::estimated_cost(m, &scene)).collect();
     let mine = shard::assign(&costs, shard.count).swap_remove(shard.index as usize);
     if mine.is_empty() {
         anyhow::bail!("--shard {shard}: the spec has {} configurations, too few for {} shards", methods.len(), shard.count);

@@ -5,7 +5,6 @@
 use crate::methods::Method;
 use crate::record::measure;
 use crate::scene::Scene;
-use crate::studies::shard;
 use crate::{Error, Result};
 
 /// Configurations one run measures unless `--max-configs` raises it. At the measured 0.5 s per
@@ -22,7 +21,7 @@ pub const COMPARE_ANNOUNCE_OVER: usize = 16;
 /// `analytic-square` at 64², whose frames cost next to nothing, took 0.5 s each (llvmpipe, 2
 /// cores, wall clock).
 const CONFIG_S: f64 = 0.5;
-/// Seconds per unit of `shard::estimated_cost` (shadow maps × triangles × pixels) per frame:
+/// Seconds per unit of `estimated_cost` (shadow maps × triangles × pixels) per frame:
 /// `regular:n=17` on `default` at 128² took 1.8 s a frame for 2.8e11 units (llvmpipe, 2 cores).
 const COST_S: f64 = 7e-12;
 
@@ -31,7 +30,7 @@ const COST_S: f64 = 7e-12;
 /// (cached after its first run) is not included.
 pub fn estimated_seconds(methods: &[Method], scene: &Scene, repeats: u32) -> f64 {
     let frames_each = measure::frame_count(1, repeats) as f64;
-    methods.iter().map(|m| CONFIG_S + frames_each * COST_S * shard::estimated_cost(m, scene)).sum()
+    methods.iter().map(|m| CONFIG_S + frames_each * COST_S * estimated_cost(m, scene)).sum()
 }
 
 /// `s` as the largest unit that keeps it readable: `45 s`, `12 min`, `3.4 h`.
@@ -71,6 +70,36 @@ pub fn check_count(count: usize, max: usize, what: &str) -> Result<()> {
     )))
 }
 
+/// Shadow maps a method is expected to render: exact for `hard` and `regular`, a rough guess for
+/// `adaptive` (it decides at run time), and the lattice's 289 for a method this file does not
+/// know. It only balances shards; nothing is reported from it.
+pub fn estimated_maps(method: &Method) -> f64 {
+    let p = method.params_json();
+    let num = |k: &str| p.get(k).and_then(|v| v.as_f64());
+    match method.name() {
+        "hard" => 1.0,
+        "regular" => num("n").unwrap_or(17.0).powi(2),
+        "adaptive" => {
+            let full = (2f64.powi(num("max_level").unwrap_or(4.0) as i32) + 1.0).powi(2);
+            // `p_m = inf` is stored as null: never splits, the four corners.
+            match num("p_m") {
+                None => 4.0,
+                Some(pm) if pm < 0.0 => full,
+                // Measured on the seed scenes: p_m = 0 renders about a sixth of the lattice; larger
+                // thresholds split fewer quads.
+                Some(pm) => 4.0 + (full - 4.0) * 0.15 / (1.0 + (1.0 + pm).log10()),
+            }
+        }
+        _ => num("n").map(|n| n * n).unwrap_or(289.0),
+    }
+}
+
+/// Estimated cost of one configuration: (maps + the G-buffer pass) × triangles × pixels.
+pub fn estimated_cost(method: &Method, scene: &Scene) -> f64 {
+    let pixels = f64::from(scene.render.width) * f64::from(scene.render.height);
+    (estimated_maps(method) + 1.0) * scene.triangle_count().max(1) as f64 * pixels
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,5 +112,16 @@ mod tests {
         assert!(check_count(10_000, DEFAULT_MAX_CONFIGS, "s.toml").is_ok());
         let e = check_count(10_001, DEFAULT_MAX_CONFIGS, "s.toml").unwrap_err().to_string();
         assert_eq!(e, "s.toml: 10001 configurations, more than --max-configs 10000; pass --max-configs 10001 to run them all");
+    }
+
+    #[test]
+    fn map_estimates() {
+        let m = |s: &str| estimated_maps(&Method::parse(s, &[]).unwrap());
+        assert_eq!(m("hard"), 1.0);
+        assert_eq!(m("regular:n=5"), 25.0);
+        assert_eq!(m("adaptive:p_m=-1"), 289.0);
+        assert_eq!(m("adaptive:p_m=inf"), 4.0);
+        assert!(m("adaptive:p_m=0") > m("adaptive:p_m=100"));
+        assert_eq!(m("adaptive:p_m=-1,max_level=2"), 25.0);
     }
 }

@@ -4,8 +4,6 @@
 
 pub mod merge;
 
-use crate::methods::Method;
-use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// Shard `index` of `count`, numbered from 0 (Slurm's `--array=0-(N-1)` task ids).
@@ -38,36 +36,6 @@ impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         write!(f, "{}/{}", self.index, self.count)
     }
-}
-
-/// Shadow maps a method is expected to render: exact for `hard` and `regular`, a rough guess for
-/// `adaptive` (it decides at run time), and the lattice's 289 for a method this file does not
-/// know. It only balances shards; nothing is reported from it.
-pub fn estimated_maps(method: &Method) -> f64 {
-    let p = method.params_json();
-    let num = |k: &str| p.get(k).and_then(|v| v.as_f64());
-    match method.name() {
-        "hard" => 1.0,
-        "regular" => num("n").unwrap_or(17.0).powi(2),
-        "adaptive" => {
-            let full = (2f64.powi(num("max_level").unwrap_or(4.0) as i32) + 1.0).powi(2);
-            // `p_m = inf` is stored as null: never splits, the four corners.
-            match num("p_m") {
-                None => 4.0,
-                Some(pm) if pm < 0.0 => full,
-                // Measured on the seed scenes: p_m = 0 renders about a sixth of the lattice; larger
-                // thresholds split fewer quads.
-                Some(pm) => 4.0 + (full - 4.0) * 0.15 / (1.0 + (1.0 + pm).log10()),
-            }
-        }
-        _ => num("n").map(|n| n * n).unwrap_or(289.0),
-    }
-}
-
-/// Estimated cost of one configuration: (maps + the G-buffer pass) × triangles × pixels.
-pub fn estimated_cost(method: &Method, scene: &Scene) -> f64 {
-    let pixels = f64::from(scene.render.width) * f64::from(scene.render.height);
-    (estimated_maps(method) + 1.0) * scene.triangle_count().max(1) as f64 * pixels
 }
 
 /// Which configurations (indices into `costs`) each of `count` shards runs: longest first onto
@@ -126,16 +94,5 @@ mod tests {
         let loads: Vec<f64> = assign(&costs, 4).iter().map(|s| s.iter().map(|&i| costs[i]).sum()).collect();
         let (lo, hi) = (loads.iter().copied().fold(f64::MAX, f64::min), loads.iter().copied().fold(0.0, f64::max));
         assert!(hi - lo <= 576.0 && hi / lo < 1.05, "{loads:?}");
-    }
-
-    #[test]
-    fn map_estimates() {
-        let m = |s: &str| estimated_maps(&Method::parse(s, &[]).unwrap());
-        assert_eq!(m("hard"), 1.0);
-        assert_eq!(m("regular:n=5"), 25.0);
-        assert_eq!(m("adaptive:p_m=-1"), 289.0);
-        assert_eq!(m("adaptive:p_m=inf"), 4.0);
-        assert!(m("adaptive:p_m=0") > m("adaptive:p_m=100"));
-        assert_eq!(m("adaptive:p_m=-1,max_level=2"), 25.0);
     }
 }
