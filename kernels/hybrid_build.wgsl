@@ -29,7 +29,7 @@ const HYBRID_POOL_WIDTH_LOG2: u32 = 12u;
 const HYBRID_CHILDREN: u32 = 0x80000000u;
 
 @group(0) @binding(0) var<uniform> build: GpuHybridBuild;
-@group(0) @binding(1) var raster: texture_depth_2d_array;
+@group(0) @binding(1) var raster: ShadowMaps;
 @group(0) @binding(2) var<storage, read_write> offsets: array<u32>;
 @group(0) @binding(3) var<storage, read_write> row_starts: array<u32>;
 @group(0) @binding(4) var<storage, read_write> control: GpuHybridControl;
@@ -37,7 +37,6 @@ const HYBRID_CHILDREN: u32 = 0x80000000u;
 // classify's verdict per coarse texel, so emit reads the full texels again only where it must:
 // the merged depth (top bit 0), or HYBRID_CHILDREN for a texel that keeps children.
 @group(0) @binding(6) var<storage, read_write> coarse_nodes: array<u32>;
-@group(0) @binding(7) var gather_sampler: sampler;
 
 fn block_mean(a: f32, b: f32, c: f32, d: f32) -> f32 {
     return ((a + b) + (c + d)) * 0.25;
@@ -56,10 +55,15 @@ struct Block {
 
 fn fine_block(x: u32, y: u32) -> Block {
     var b: Block;
-    // One gather at the block's shared corner fetches its four texels (w, z, x, y = top-left,
-    // top-right, bottom-left, bottom-right), exactly as stored.
-    let g = textureGather(raster, gather_sampler, vec2<f32>(f32(x + 1u), f32(y + 1u)) / f32(build.coarse << build.levels), i32(build.layer));
-    b.d = vec4<f32>(g.w, g.z, g.x, g.y);
+    // Its four texels (top-left, top-right, bottom-left, bottom-right), exactly as stored, read
+    // through the raster's map access (a depth texture, or the words of the compute raster).
+    let t = vec2<i32>(i32(x), i32(y));
+    b.d = vec4<f32>(
+        layer_depth(raster, t, build.layer),
+        layer_depth(raster, t + vec2<i32>(1, 0), build.layer),
+        layer_depth(raster, t + vec2<i32>(0, 1), build.layer),
+        layer_depth(raster, t + vec2<i32>(1, 1), build.layer),
+    );
     b.mean = block_mean(b.d.x, b.d.y, b.d.z, b.d.w);
     b.flat = block_flat(b.d.x, b.d.y, b.d.z, b.d.w, b.mean);
     return b;

@@ -17,7 +17,7 @@ const PI: f32 = 3.141592653589793;
 @group(0) @binding(0) var<uniform> frame: GpuFrame;
 @group(0) @binding(1) var<uniform> settings: GpuFilter;
 @group(0) @binding(2) var<storage, read> samples: array<GpuSample>;
-@group(0) @binding(3) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(3) var shadow_maps: ShadowMaps;
 @group(0) @binding(4) var<storage, read_write> moments: array<vec4<f32>>;
 
 // Row-vector product b * M of the optimised quantisation (Peters & Klein 2015, 4 x 16 bit).
@@ -40,7 +40,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let s = samples[0];
-    let d = textureLoad(shadow_maps, vec2<i32>(gid.xy), i32(s.layer), 0);
+    let d = map_depth(frame, shadow_maps, s, vec2<i32>(gid.xy));
     let near = s.depth_lin_a / s.depth_lin_b;
     let far = s.depth_lin_a / (1.0 + s.depth_lin_b);
     let z = clamp((s.depth_lin_a / (d + s.depth_lin_b) - near) / (far - near), 0.0, 1.0);

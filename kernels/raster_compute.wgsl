@@ -30,6 +30,19 @@ struct GpuRasterCompute {
     pad1: u32,
 }
 
+// One map of the chain: its sample and the texel rectangle [first, last] (inclusive) it is
+// rasterized in. Texels outside keep the far value, as outside a fixed-function scissor.
+struct GpuRasterJob {
+    sample: u32,
+    first_x: u32,
+    first_y: u32,
+    last_x: u32,
+    last_y: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
 // f32 words per vertex (scene::Vertex: position, normal, material); the position comes first.
 const VERTEX_WORDS: u32 = 7u;
 // Sub-texel bits of the snapped vertices.
@@ -49,8 +62,8 @@ const RASTER_FAR: u32 = 0x3f800000u;
 
 @group(0) @binding(0) var<uniform> params: GpuRasterCompute;
 @group(0) @binding(1) var<storage, read> samples: array<GpuSample>;
-// The sample of each map of the chain.
-@group(0) @binding(2) var<storage, read> jobs: array<u32>;
+// Each map of the chain.
+@group(0) @binding(2) var<storage, read> jobs: array<GpuRasterJob>;
 @group(0) @binding(3) var<storage, read> vertices: array<f32>;
 @group(0) @binding(4) var<storage, read> indices: array<u32>;
 // map_count maps of map_size² words, row-major, row 0 at the top (NDC y = 1).
@@ -131,7 +144,8 @@ struct Tri {
     ok: bool,
 }
 
-fn setup(s: GpuSample, t: u32) -> Tri {
+fn setup(job: GpuRasterJob, t: u32) -> Tri {
+    let s = samples[job.sample];
     var tri: Tri;
     tri.ok = false;
     var v: array<vec2<i32>, 3>;
@@ -152,10 +166,12 @@ fn setup(s: GpuSample, t: u32) -> Tri {
         z[j] = c.z * rw;
     }
     // Texel i's centre is at 256 i + 128: the first centre at or after lo, the last at or before
-    // hi. Most triangles of a fine mesh hold none and leave here, before any wide product.
-    let last = i32(params.map_size) - 1;
-    tri.lo = max((min(min(v[0], v[1]), v[2]) + 127) >> vec2<u32>(RASTER_SUBTEXEL_BITS), vec2<i32>(0));
-    tri.hi = min((max(max(v[0], v[1]), v[2]) - 128) >> vec2<u32>(RASTER_SUBTEXEL_BITS), vec2<i32>(last));
+    // hi, inside the job's rectangle. Most triangles of a fine mesh hold none and leave here,
+    // before any wide product.
+    let first = vec2<i32>(i32(job.first_x), i32(job.first_y));
+    let last = vec2<i32>(i32(job.last_x), i32(job.last_y));
+    tri.lo = max((min(min(v[0], v[1]), v[2]) + 127) >> vec2<u32>(RASTER_SUBTEXEL_BITS), first);
+    tri.hi = min((max(max(v[0], v[1]), v[2]) - 128) >> vec2<u32>(RASTER_SUBTEXEL_BITS), last);
     if (tri.lo.x > tri.hi.x || tri.lo.y > tri.hi.y) {
         return tri;
     }
@@ -251,7 +267,7 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: v
     if (t >= params.triangle_count) {
         return;
     }
-    let tri = setup(samples[jobs[map]], t);
+    let tri = setup(jobs[map], t);
     if (!tri.ok) {
         return;
     }
@@ -286,7 +302,7 @@ fn large_tiles(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) gr
         return;
     }
     let map = large[slot * 2u];
-    let tri = setup(samples[jobs[map]], large[slot * 2u + 1u]);
+    let tri = setup(jobs[map], large[slot * 2u + 1u]);
     let tiles = (tri.hi - tri.lo + RASTER_LARGE_TILE) / RASTER_LARGE_TILE;
     for (var k = i32(lid); k < tiles.x * tiles.y; k = k + 64) {
         let lo = tri.lo + vec2<i32>(k % tiles.x, k / tiles.x) * RASTER_LARGE_TILE;

@@ -251,8 +251,8 @@ fn block1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
 @group(0) @binding(10) var<storage, read_write> consulted: array<atomic<u32>>;
 @group(0) @binding(11) var<storage, read_write> lattice_lit: array<atomic<u32>>;
 // Every map stays alive under local scope, in up to two arrays (GpuSample.array).
-@group(0) @binding(12) var maps_a: texture_depth_2d_array;
-@group(0) @binding(13) var maps_b: texture_depth_2d_array;
+@group(0) @binding(12) var maps_a: ShadowMaps;
+@group(0) @binding(13) var maps_b: ShadowMaps;
 // The level's items (pixel, quad) or probes (pixel, first child | PROBE_LIT), and their count.
 @group(0) @binding(14) var<storage, read> work: array<vec2<u32>>;
 @group(0) @binding(15) var<storage, read> work_total: array<u32>;
@@ -287,9 +287,9 @@ fn test_claimed(p: u32, ks: array<u32, 5>, n: u32) -> u32 {
         let lookup = shadow_lookup(frame, s, position, normal);
         var stored: f32;
         if (s.array == 0u) {
-            stored = textureLoad(maps_a, lookup.texel, i32(s.layer), 0);
+            stored = map_depth(frame, maps_a, s, lookup.texel);
         } else {
-            stored = textureLoad(maps_b, lookup.texel, i32(s.layer), 0);
+            stored = map_depth(frame, maps_b, s, lookup.texel);
         }
         if (shadow_compare(s, lookup, stored) == 1u) {
             atomicOr(&lattice_lit[p * MASK_WORDS + k / 32u], 1u << (k % 32u));

@@ -4,13 +4,14 @@
 
 use crate::stages::shade::ShadePass;
 use crate::stages::FrameGpu;
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
 use crate::methods::{Method, MethodOutput, MethodState};
 use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
-use crate::render::shadow_raster::ShadowRasterPass;
 use crate::render::SceneGpu;
-use crate::scene::{CullMode, MapKind, Scene, Vertex};
+use crate::scene::{CullMode, Scene, Vertex};
+use crate::stages::raster::Raster;
 use crate::stages::shade::GeometryTiles;
 use crate::gpu::timing::{StageTimer, TimingMode};
 use crate::Result;
@@ -114,8 +115,8 @@ impl<'a> Renderer<'a> {
             if (k.gbuffer.width, k.gbuffer.height) == (w, h) && k.geometry_tiles.band_rows == band_rows {
                 targets = Some((k.gbuffer, k.geometry_tiles, k.visibility));
             }
-            shade = (k.maps == scene.render.maps).then_some(k.shade);
-            raster = (k.cull == scene.render.cull).then_some(k.raster);
+            shade = Some((k.maps, k.shade));
+            raster = Some((k.cull, k.budget_mib, k.raster));
             let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
             meshes = same_mesh.then_some(k.scene_gpu);
         }
@@ -130,9 +131,16 @@ impl<'a> Renderer<'a> {
         };
         let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
         let mut frame = frame_uniform(scene);
+        // The raster first: whether it is compute decides how every kernel reads the maps.
+        let compute = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
+        let raster = match raster {
+            Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
+            _ => Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?,
+        };
+        let access = raster.access(scene.render.maps);
         let shade = match shade {
-            Some(s) => s,
-            None => ShadePass::new(ctx, scene.render.maps)?,
+            Some((a, s)) if a == access => s,
+            _ => ShadePass::new(ctx, access)?,
         };
         let (gbuffer, geometry_tiles, visibility) = match targets {
             Some(t) => t,
@@ -143,10 +151,6 @@ impl<'a> Renderer<'a> {
             }
         };
         geometry_tiles.stamp(ctx, &mut frame);
-        let raster = match raster {
-            Some(r) => r,
-            None => ShadowRasterPass::new(ctx, scene.render.cull)?,
-        };
         let fg = FrameGpu {
             ctx,
             scene,
@@ -173,7 +177,8 @@ impl<'a> Renderer<'a> {
             device: ctx.device.clone(),
             method: self.method,
             gbuffer_pass: self.gbuffer_pass,
-            maps: scene.render.maps,
+            maps: raster.access(scene.render.maps),
+            budget_mib: scene.render.shadow_map_budget_mib,
             shade,
             cull: scene.render.cull,
             raster,
@@ -220,6 +225,11 @@ impl<'a> Renderer<'a> {
     /// None when the method shows none or `T` is not its type.
     pub fn inspect<T: std::any::Any>(&mut self) -> Result<Option<T>> {
         Ok(self.state.inspect(&self.fg)?.and_then(|b| b.downcast::<T>().ok()).map(|b| *b))
+    }
+
+    /// `hardware` or `compute`: who rasterizes this renderer's maps (the `raster` setting, `auto` resolved).
+    pub fn raster_name(&self) -> &'static str {
+        self.fg.raster.name()
     }
 
     /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
@@ -282,11 +292,12 @@ pub struct Detached {
     device: wgpu::Device,
     method: Method,
     gbuffer_pass: GBufferPass,
-    /// `shade` was built for these maps, `raster` for this culling.
-    maps: MapKind,
+    /// `shade` was built for this map access, `raster` for this culling and budget.
+    maps: MapAccess,
+    budget_mib: u32,
     shade: ShadePass,
     cull: CullMode,
-    raster: ShadowRasterPass,
+    raster: Raster,
     gbuffer: GBuffer,
     geometry_tiles: GeometryTiles,
     visibility: wgpu::Buffer,

@@ -262,7 +262,7 @@ fn fill_blocks_equals_its_cpu_twin() {
     use penumbra::gpu::readback;
     use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuLevel, GpuSample, GpuTestBlock};
     let ctx = common::gpu();
-    let test = ShadowTest::new(ctx, penumbra::scene::MapKind::Plain, false).expect("shadow_test kernels");
+    let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false).expect("shadow_test kernels");
     let frame = GpuFrame { width: 100, height: 37, ..Default::default() };
     // The blocks' workgroups: one per listed geometry tile (a list of 29 tiles here).
     let tiles = 29u32;
@@ -400,7 +400,13 @@ fn count_stages_alone_equal_their_twins() {
             let sub = twin::subdivide::subdivide(level, p.max_level, p.split_rule(level), geometry, &quads, &per_quad, &mut state, &mut sample_level);
             let control: Vec<u32> = readback::read_buffer(ctx, &b.control, CONTROL_BYTES).unwrap();
             // A read-back of nothing is no list.
-            let read = |buf: &wgpu::Buffer, bytes: u64| if bytes == 0 { Vec::new() } else { readback::read_buffer::<u32>(ctx, buf, bytes).unwrap() };
+            let read = |buf: &wgpu::Buffer, bytes: u64| {
+                if bytes == 0 {
+                    Vec::new()
+                } else {
+                    readback::read_buffer::<u32>(ctx, buf, bytes).unwrap()
+                }
+            };
             let next: Vec<GpuQuad> = bytemuck::cast_slice(&read(&b.quads[1], control[0] as u64 * 16)).to_vec();
             let mut new = read(&b.decisions.new_samples, control[1] as u64 * 4);
             new.sort_unstable();
@@ -446,7 +452,13 @@ fn local_stages_alone_equal_their_twins() {
         record(&mut enc);
         ctx.queue.submit([enc.finish()]);
     };
-    let read = |buf: &wgpu::Buffer, words: u32| if words == 0 { Vec::new() } else { readback::read_buffer::<u32>(ctx, buf, words as u64 * 4).unwrap() };
+    let read = |buf: &wgpu::Buffer, words: u32| {
+        if words == 0 {
+            Vec::new()
+        } else {
+            readback::read_buffer::<u32>(ctx, buf, words as u64 * 4).unwrap()
+        }
+    };
     let pairs = |v: &[u32]| -> Vec<(u32, u32)> {
         let mut p: Vec<_> = v.chunks_exact(2).map(|c| (c[0], c[1])).collect();
         p.sort_unstable();
@@ -717,12 +729,11 @@ fn shadow_test_alone_equals_its_twin() {
     use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
     use penumbra::render::SceneGpu;
     use penumbra::scene::light::sample_view;
-    use penumbra::scene::MapKind;
     use penumbra::stages::shade::ShadePass;
     use penumbra::stages::shadow_test::ShadowTest;
     let ctx = common::gpu();
     let p = params("p_m=0");
-    let test = ShadowTest::new(ctx, MapKind::Plain, false).expect("shadow_test kernels");
+    let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false).expect("shadow_test kernels");
     let (mut lit_bits, mut unlit_bits, mut calls) = (0u32, 0u32, 0);
     for seed in [1u64, 23] {
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 128), &format!("random-{seed}"), None, &[]).expect("random scene parses");
@@ -743,7 +754,7 @@ fn shadow_test_alone_equals_its_twin() {
         let b = AdaptiveBuffers::new(ctx, fr.width, fr.height, &samples, false, None).unwrap();
         ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&[1u32; LATTICE_POINTS as usize]));
         let g = GBufferPass::allocate(ctx, fr.width, fr.height).unwrap();
-        let shade = ShadePass::new(ctx, MapKind::Plain).unwrap();
+        let shade = ShadePass::new(ctx, penumbra::gpu::kernels::MapAccess::Depth).unwrap();
         let tiles = shade.tile_list(ctx, &g);
         let array = shadow_raster::allocate(ctx, sc.render.shadow_map_size, ks.len() as u32);
         let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(layer, &k)| RasterJob { sample: k, layer: layer as u32, scissor: None }).collect();

@@ -3,8 +3,8 @@
 //! the kernels', and every constant mirrored between Rust and WGSL has the same value on both sides.
 
 use penumbra::gpu::kernels;
+use penumbra::gpu::kernels::MapAccess;
 use penumbra::gpu::structs::all_layouts;
-use penumbra::scene::MapKind;
 use std::collections::BTreeSet;
 
 #[test]
@@ -15,19 +15,32 @@ fn every_kernel_validates_with_naga() {
 }
 
 #[test]
-fn map_reading_kernels_validate_for_hybrid_maps() {
+fn map_reading_kernels_validate_for_every_map_access() {
     let readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| s.name).collect();
     assert_eq!(readers, ["shade", "shadow_test", "pcf", "pcss"], "the kernels that read maps through map_depth");
-    let errors: Vec<String> = readers.iter().filter_map(|k| kernels::validate_for(k, MapKind::Hybrid).err().map(|e| e.to_string())).collect();
-    assert!(errors.is_empty(), "hybrid forms failed naga validation:\n{}", errors.join("\n"));
-    assert!(kernels::source_for("moments", MapKind::Hybrid).is_err(), "a kernel reading the raster directly has no hybrid form");
-    // The hybrid form reads a u32 pool where the plain one reads a depth array, at the same binding.
-    let (module, _) = kernels::validate_for("shade", MapKind::Hybrid).unwrap();
-    let maps = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("shadow_maps")).unwrap().1;
-    assert!(matches!(
-        module.types[maps.ty].inner,
-        naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Uint, .. } }
-    ));
+    let raster_readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_raster).map(|(s, _)| s.name).collect();
+    assert_eq!(raster_readers, ["moments", "env_shadowmaps", "hybrid_build"], "the kernels that read the raster's layers through layer_depth");
+    let mut errors = Vec::new();
+    for k in &readers {
+        for access in [MapAccess::Words, MapAccess::Hybrid] {
+            errors.extend(kernels::validate_for(k, access).err().map(|e| format!("{k} ({access:?}): {e}")));
+        }
+    }
+    for k in &raster_readers {
+        errors.extend(kernels::validate_for(k, MapAccess::Words).err().map(|e| format!("{k} (Words): {e}")));
+    }
+    assert!(errors.is_empty(), "map access forms failed naga validation:\n{}", errors.join("\n"));
+    assert!(kernels::source_for("moments", MapAccess::Hybrid).is_err(), "a kernel reading the raster has no hybrid form");
+    assert!(kernels::source_for("gbuffer", MapAccess::Words).is_err(), "a kernel reading no maps has one form");
+    // The same binding holds a depth array, an R32Uint array of depth bits, or the hybrid u32 pool.
+    let image = |access| {
+        let (module, _) = kernels::validate_for("shade", access).unwrap();
+        let maps = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("shadow_maps")).unwrap().1;
+        module.types[maps.ty].inner.clone()
+    };
+    assert!(matches!(image(MapAccess::Depth), naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: true, class: naga::ImageClass::Depth { .. } }));
+    assert!(matches!(image(MapAccess::Words), naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: true, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Uint, .. } }));
+    assert!(matches!(image(MapAccess::Hybrid), naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Uint, .. } }));
 }
 
 /// The shadow test's blocks (their constants are among `mirrored_constants_match_rust`'s).
@@ -54,7 +67,9 @@ fn rust_structs_match_wgsl_layouts() {
         let mut found = false;
         for (k, _) in kernels::all() {
             let (module, _) = kernels::validate(k.name).expect("kernel validates");
-            let Some(ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(layout.name)) else { continue };
+            let Some(ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(layout.name)) else {
+                continue;
+            };
             found = true;
             let naga::TypeInner::Struct { members, span } = &ty.1.inner else {
                 problems.push(format!("{}: not a struct in WGSL", layout.name));
@@ -95,8 +110,7 @@ fn stage_table_matches_every_entry_point() {
     let mut problems = Vec::new();
     let mut checked = 0;
     for (stage, kernel) in kernels::all() {
-        let forms: &[MapKind] = if kernel.reads_maps { &[MapKind::Plain, MapKind::Hybrid] } else { &[MapKind::Plain] };
-        for &maps in forms {
+        for &maps in MapAccess::forms(&kernel) {
             let (module, info) = kernels::validate_for(stage.name, maps).expect("kernel validates");
             let names = |v: Vec<&str>| v.into_iter().map(String::from).collect::<BTreeSet<String>>();
             let in_kernel = names(module.entry_points.iter().map(|e| e.name.as_str()).collect());
@@ -105,7 +119,9 @@ fn stage_table_matches_every_entry_point() {
                 problems.push(format!("{stage} ({maps:?}): entry points {in_kernel:?} in WGSL, {in_table:?} in the table"));
             }
             for (i, ep) in module.entry_points.iter().enumerate() {
-                let Some(entry) = stage.entry(&ep.name) else { continue };
+                let Some(entry) = stage.entry(&ep.name) else {
+                    continue;
+                };
                 let workgroup = (ep.stage == naga::ShaderStage::Compute).then_some(ep.workgroup_size);
                 if workgroup != entry.workgroup {
                     problems.push(format!("{stage}::{}: workgroup {:?} in the table, {workgroup:?} in WGSL", ep.name, entry.workgroup));
@@ -113,7 +129,9 @@ fn stage_table_matches_every_entry_point() {
                 let uses = info.get_entry_point(i);
                 let mut used = BTreeSet::new();
                 for (handle, global) in module.global_variables.iter() {
-                    let (Some(binding), false) = (&global.binding, uses[handle].is_empty()) else { continue };
+                    let (Some(binding), false) = (&global.binding, uses[handle].is_empty()) else {
+                        continue;
+                    };
                     if binding.group != 0 {
                         problems.push(format!("{stage}::{}: `{:?}` in group {}, the passes bind group 0 only", ep.name, global.name, binding.group));
                     }
@@ -211,10 +229,8 @@ fn mirrored_constants_match_rust() {
     ];
     let mut modules = Vec::new();
     for (stage, kernel) in kernels::all() {
-        for maps in [MapKind::Plain, MapKind::Hybrid] {
-            if maps == MapKind::Plain || kernel.reads_maps {
-                modules.push((format!("{stage} ({maps:?})"), kernels::validate_for(stage.name, maps).expect("kernel validates").0));
-            }
+        for &maps in MapAccess::forms(&kernel) {
+            modules.push((format!("{stage} ({maps:?})"), kernels::validate_for(stage.name, maps).expect("kernel validates").0));
         }
     }
     let mut problems = Vec::new();

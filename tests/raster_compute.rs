@@ -6,7 +6,7 @@
 mod common;
 
 use glam::Vec3;
-use penumbra::gpu::structs::GpuSample;
+use penumbra::gpu::structs::{GpuRasterJob, GpuSample};
 use penumbra::gpu::{kernels, readback, GpuContext};
 use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
 use penumbra::render::SceneGpu;
@@ -58,7 +58,7 @@ fn gpu_words(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, samples: &[GpuSamp
     let pass = RasterCompute::new(ctx, MAP, cull, samples.len() as u32, scene.render.shadow_map_budget_mib).unwrap();
     assert_eq!(pass.capacity, samples.len() as u32, "one chain holds every map");
     let buffer = readback::storage_buffer(ctx, "samples", samples, wgpu::BufferUsages::empty());
-    let jobs: Vec<u32> = (0..samples.len() as u32).collect();
+    let jobs: Vec<GpuRasterJob> = (0..samples.len() as u32).map(|k| GpuRasterJob::whole(k, MAP)).collect();
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     pass.record(ctx, &mut enc, gpu, &buffer, &jobs);
     ctx.queue.submit([enc.finish()]);
@@ -130,6 +130,47 @@ fn gpu_equals_twin_on_default() {
     assert!(covered > (MAP * MAP) as usize, "{covered} texels covered over 4 maps");
 }
 
+/// Jobs with rectangles (the fixed-function scissor's job): inside each map's rectangle the GPU
+/// equals the twin bit for bit, and every texel outside keeps the far value.
+#[test]
+fn rectangles_limit_each_map_and_equal_the_twin() {
+    let ctx = common::gpu();
+    let scene = soup(4, 3000);
+    let samples = samples(&scene, &[(0.0, 0.0), (1.0, 0.0), (0.3, 0.8), (0.5, 0.5)]);
+    let rects = [[0, 0, 256, 256], [10, 20, 100, 37], [200, 3, 56, 250], [128, 128, 1, 1]];
+    let jobs: Vec<GpuRasterJob> = rects.iter().enumerate().map(|(k, &r)| GpuRasterJob::new(k as u32, MAP, Some(r))).collect();
+    let gpu = SceneGpu::upload(ctx, &scene);
+    let pass = RasterCompute::new(ctx, MAP, CullMode::Back, 4, scene.render.shadow_map_budget_mib).unwrap();
+    let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    pass.record(ctx, &mut enc, &gpu, &buffer, &jobs);
+    ctx.queue.submit([enc.finish()]);
+    let words = pass.read_words(ctx, 4).unwrap();
+    let pos = positions(&scene);
+    for (m, job) in jobs.iter().enumerate() {
+        let whole = twin::rasterize(&pos, &gpu.shadow_order, &samples[m], MAP, CullMode::Back);
+        let want = twin::rasterize_in(&pos, &gpu.shadow_order, &samples[m], MAP, job.rect(), CullMode::Back);
+        let got = &words[m * (MAP * MAP) as usize..(m + 1) * (MAP * MAP) as usize];
+        assert_eq!(got, &want[..], "map {m}: GPU and twin inside {:?}", rects[m]);
+        let [x0, y0, x1, y1] = job.rect();
+        let (mut inside, mut outside_covered) = (0, 0);
+        for (i, &w) in want.iter().enumerate() {
+            let (x, y) = ((i % MAP as usize) as i32, (i / MAP as usize) as i32);
+            if (x0..=x1).contains(&x) && (y0..=y1).contains(&y) {
+                assert_eq!(w, whole[i], "map {m}: texel ({x}, {y}) inside the rectangle is the whole map's");
+                inside += usize::from(w != FAR);
+            } else {
+                assert_eq!(w, FAR, "map {m}: texel ({x}, {y}) outside the rectangle");
+                outside_covered += usize::from(whole[i] != FAR);
+            }
+        }
+        assert!(inside > 0, "map {m}: the rectangle holds covered texels");
+        if m > 0 {
+            assert!(outside_covered > 0, "map {m}: the rectangle cuts covered texels away");
+        }
+    }
+}
+
 /// A chain whose words are not a whole number of `clear`'s runs (3 maps of 20², 1,200 words) is
 /// cleared to the end: recorded over the maps of other samples, it still equals the twin.
 #[test]
@@ -149,7 +190,8 @@ fn a_second_chain_of_odd_size_clears_the_first() {
     let twin: Vec<Vec<u32>> = samples.iter().map(|s| twin::rasterize(&pos, &gpu.shadow_order, s, size, scene.render.cull)).collect();
     // The stale chain must differ from the wanted one, or a missing clear would go unseen.
     assert_ne!(twin[0], twin[2], "maps 0 and 2 differ");
-    for jobs in [[2, 1, 0], [0, 1, 2]] {
+    for order in [[2, 1, 0], [0, 1, 2]] {
+        let jobs = order.map(|k| GpuRasterJob::whole(k, size));
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         pass.record(ctx, &mut enc, &gpu, &buffer, &jobs);
         ctx.queue.submit([enc.finish()]);

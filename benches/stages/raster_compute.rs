@@ -5,7 +5,7 @@
 //! (`penumbra assets fetch`), else on `default` (said in the benchmark's name).
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use penumbra::gpu::structs::GpuSample;
+use penumbra::gpu::structs::{GpuRasterJob, GpuSample};
 use penumbra::gpu::{readback, GpuContext};
 use penumbra::methods::fixed_samples::{regular_points, Layout};
 use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
@@ -40,7 +40,7 @@ pub fn raster_compute(c: &mut Criterion, ctx: &GpuContext) {
         let compute = RasterCompute::new(ctx, map_size, scene.render.cull, maps, scene.render.shadow_map_budget_mib).expect("raster_compute");
         assert_eq!(compute.capacity, maps, "one chain of {maps} maps");
         let jobs: Vec<RasterJob> = (0..maps).map(|k| RasterJob { sample: k, layer: k, scissor: None }).collect();
-        let chain: Vec<u32> = (0..maps).collect();
+        let chain: Vec<GpuRasterJob> = (0..maps).map(|k| GpuRasterJob::whole(k, map_size)).collect();
 
         group.throughput(Throughput::Elements(scene.triangle_count() as u64 * maps as u64));
         let name = |stage: &str| BenchmarkId::new(format!("{stage}_{maps}_maps_{map_size}"), &scene.name);

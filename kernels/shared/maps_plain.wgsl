@@ -1,12 +1,18 @@
 // Shadow-map access, plain representation: one Depth32Float layer per map (GpuSample.layer).
-// Every map-reading kernel reads depths only through these functions; kernels/shared/maps_hybrid.wgsl
-// defines the same names for hybrid-resolution maps (docs/hybrid.md).
+// Every map-reading kernel reads depths only through these functions; kernels/shared/maps_words.wgsl
+// defines the same names for maps rasterized by compute kernels, and maps_hybrid.wgsl for
+// hybrid-resolution maps (docs/hybrid.md).
 
 alias ShadowMaps = texture_depth_2d_array;
 
+// Stored depth of a texel of layer `layer`: the raster reads, hybrid_build and moments use it directly.
+fn layer_depth(maps: ShadowMaps, texel: vec2<i32>, layer: u32) -> f32 {
+    return textureLoad(maps, texel, i32(layer), 0);
+}
+
 // Stored depth of sample s's map at a texel inside the map.
 fn map_depth(frame: GpuFrame, maps: ShadowMaps, s: GpuSample, texel: vec2<i32>) -> f32 {
-    return textureLoad(maps, texel, i32(s.layer), 0);
+    return layer_depth(maps, texel, s.layer);
 }
 
 // Bilinear percentage-closer tap at continuous texel coordinate t: the hardware comparison sampler

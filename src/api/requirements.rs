@@ -6,7 +6,7 @@
 use crate::gpu::kernels;
 use crate::render::gbuffer::POSITION_FORMAT;
 use crate::render::VERTEX_ATTRIBUTES;
-use crate::scene::{MapKind, Vertex};
+use crate::scene::Vertex;
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
@@ -45,10 +45,11 @@ fn compute() -> Vec<Need> {
     need("max_vertex_buffer_array_stride", std::mem::size_of::<Vertex>() as u64, "the scene's vertex".into());
 
     for (stage, kernel) in kernels::all() {
-        let forms: &[MapKind] = if kernel.reads_maps { &[MapKind::Plain, MapKind::Hybrid] } else { &[MapKind::Plain] };
-        for &maps in forms {
+        for &maps in kernels::MapAccess::forms(&kernel) {
             // A kernel that does not validate fails at pipeline creation with naga's message.
-            let Ok((module, info)) = kernels::validate_for(stage.name, maps) else { continue };
+            let Ok((module, info)) = kernels::validate_for(stage.name, maps) else {
+                continue;
+            };
             let mut layouter = naga::proc::Layouter::default();
             if layouter.update(module.to_ctx()).is_err() {
                 continue;

@@ -16,6 +16,47 @@ pub enum MapKind {
     Hybrid,
 }
 
+/// How a kernel reads shadow maps: the map access module prepended to it. The user's `maps` and
+/// `raster` settings decide it (`MapAccess::of`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MapAccess {
+    /// `Depth32Float` layers from the fixed-function raster (kernels/shared/maps_plain.wgsl).
+    Depth,
+    /// `R32Uint` layers of depth bits from the compute raster (kernels/shared/maps_words.wgsl).
+    Words,
+    /// A hybrid store (kernels/shared/maps_hybrid.wgsl).
+    Hybrid,
+}
+
+impl MapAccess {
+    /// The form map-reading kernels take for `maps`, over a raster that is compute or not. A hybrid
+    /// store is read the same whichever raster filled it; its build reads the raster (`raster_of`).
+    pub fn of(maps: MapKind, compute_raster: bool) -> Self {
+        match maps {
+            MapKind::Hybrid => MapAccess::Hybrid,
+            MapKind::Plain => Self::raster_of(compute_raster),
+        }
+    }
+    /// How the raster's own layers are read (moments, hybrid_build).
+    pub fn raster_of(compute_raster: bool) -> Self {
+        if compute_raster {
+            MapAccess::Words
+        } else {
+            MapAccess::Depth
+        }
+    }
+    /// Every form a kernel is built in.
+    pub fn forms(k: &Kernel) -> &'static [MapAccess] {
+        if k.reads_maps {
+            &[MapAccess::Depth, MapAccess::Words, MapAccess::Hybrid]
+        } else if k.reads_raster {
+            &[MapAccess::Depth, MapAccess::Words]
+        } else {
+            &[MapAccess::Depth]
+        }
+    }
+}
+
 pub const PRELUDE: &str = include_str!("../../kernels/shared/common.wgsl");
 /// Second prelude of the kernels the stage table marks `environment`: their structs and the BVH ray test.
 pub const ENV_PRELUDE: &str = include_str!("../../kernels/shared/environment.wgsl");
@@ -23,28 +64,33 @@ pub const ENV_PRELUDE: &str = include_str!("../../kernels/shared/environment.wgs
 pub const PCF_TAPS: &str = include_str!("../../kernels/shared/pcf_taps.wgsl");
 /// `map_depth` and friends over `Depth32Float` arrays (the default for every kernel).
 pub const MAPS_PLAIN: &str = include_str!("../../kernels/shared/maps_plain.wgsl");
+/// The same functions over the compute raster's R32Uint layers of depth bits.
+pub const MAPS_WORDS: &str = include_str!("../../kernels/shared/maps_words.wgsl");
 /// The same functions over a hybrid store (docs/hybrid.md), for kernels that read shadow maps.
 pub const MAPS_HYBRID: &str = include_str!("../../kernels/shared/maps_hybrid.wgsl");
+/// The comparison-sampler tap from four loads, for the forms without a depth texture.
+pub const MAPS_LOADED_COMPARE: &str = include_str!("../../kernels/shared/maps_loaded_compare.wgsl");
 
 /// Every stage with a kernel, with it (the stage table's kernels, in table order).
 pub fn all() -> impl Iterator<Item = (Stage, Kernel)> {
     STAGES.iter().filter_map(|s| s.kernel.map(|k| (*s, k)))
 }
 
-/// Full source of a kernel over plain maps: prelude + map access + body.
+/// Full source of a kernel over depth-texture maps: prelude + map access + body.
 pub fn source(name: &str) -> Result<String> {
-    source_for(name, MapKind::Plain)
+    source_for(name, MapAccess::Depth)
 }
 
-/// Full source of a kernel for one map representation; only map-reading kernels have a hybrid form.
-pub fn source_for(name: &str, maps: MapKind) -> Result<String> {
-    let k = Stage::named(name)
-        .and_then(|s| s.kernel)
-        .ok_or_else(|| Error::Kernel { name: name.into(), message: "no such kernel".into() })?;
+/// Full source of a kernel for one map access form (`MapAccess::forms` lists a kernel's).
+pub fn source_for(name: &str, maps: MapAccess) -> Result<String> {
+    let k = Stage::named(name).and_then(|s| s.kernel).ok_or_else(|| Error::Kernel { name: name.into(), message: "no such kernel".into() })?;
+    if !MapAccess::forms(&k).contains(&maps) {
+        return Err(Error::Kernel { name: name.into(), message: format!("reads no maps through map_depth: no {maps:?} form") });
+    }
     let access = match maps {
-        MapKind::Plain => MAPS_PLAIN,
-        MapKind::Hybrid if k.reads_maps => MAPS_HYBRID,
-        MapKind::Hybrid => return Err(Error::Kernel { name: name.into(), message: "does not read maps through map_depth: no hybrid form".into() }),
+        MapAccess::Depth => MAPS_PLAIN.to_string(),
+        MapAccess::Words => format!("{MAPS_WORDS}\n{MAPS_LOADED_COMPARE}"),
+        MapAccess::Hybrid => format!("{MAPS_HYBRID}\n{MAPS_LOADED_COMPARE}"),
     };
     let environment = if k.environment { ENV_PRELUDE } else { "" };
     let taps = if k.pcf_taps { PCF_TAPS } else { "" };
@@ -53,11 +99,11 @@ pub fn source_for(name: &str, maps: MapKind) -> Result<String> {
 
 /// Parses and validates one kernel with naga (all validation flags), returning every error as text.
 pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
-    validate_for(name, MapKind::Plain)
+    validate_for(name, MapAccess::Depth)
 }
 
-/// [`validate`] for one map representation.
-pub fn validate_for(name: &str, maps: MapKind) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
+/// [`validate`] for one map access form.
+pub fn validate_for(name: &str, maps: MapAccess) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
     let src = source_for(name, maps)?;
     let module = naga::front::wgsl::parse_str(&src)
         .map_err(|e| Error::Kernel { name: name.into(), message: e.emit_to_string(&src) })?;

@@ -1,16 +1,16 @@
 //! Pipelines are created inside a validation error scope so a bad kernel is a readable error.
 
 use super::{GpuContext, Stage};
-use crate::gpu::kernels::MapKind;
 use crate::gpu::kernels;
+use crate::gpu::kernels::MapAccess;
 use crate::{Error, Result};
 
 pub fn shader_module(ctx: &GpuContext, kernel: &str) -> Result<wgpu::ShaderModule> {
-    shader_module_for(ctx, kernel, MapKind::Plain)
+    shader_module_for(ctx, kernel, MapAccess::Depth)
 }
 
-/// The kernel built for one shadow-map representation (kernels::source_for).
-pub fn shader_module_for(ctx: &GpuContext, kernel: &str, maps: MapKind) -> Result<wgpu::ShaderModule> {
+/// The kernel built for one map access form (kernels::source_for).
+pub fn shader_module_for(ctx: &GpuContext, kernel: &str, maps: MapAccess) -> Result<wgpu::ShaderModule> {
     let src = kernels::source_for(kernel, maps)?;
     let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -22,10 +22,10 @@ pub fn shader_module_for(ctx: &GpuContext, kernel: &str, maps: MapKind) -> Resul
 }
 
 pub fn compute_pipeline(ctx: &GpuContext, kernel: &str, entry: &str) -> Result<wgpu::ComputePipeline> {
-    compute_pipeline_for(ctx, kernel, entry, MapKind::Plain)
+    compute_pipeline_for(ctx, kernel, entry, MapAccess::Depth)
 }
 
-pub fn compute_pipeline_for(ctx: &GpuContext, kernel: &str, entry: &str, maps: MapKind) -> Result<wgpu::ComputePipeline> {
+pub fn compute_pipeline_for(ctx: &GpuContext, kernel: &str, entry: &str, maps: MapAccess) -> Result<wgpu::ComputePipeline> {
     let module = shader_module_for(ctx, kernel, maps)?;
     let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

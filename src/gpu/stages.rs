@@ -47,8 +47,11 @@ impl Split {
 #[derive(Clone, Copy, Debug)]
 pub struct Kernel {
     pub body: &'static str,
-    /// Reads shadow maps through `map_depth`: built for either map representation.
+    /// Reads shadow maps through `map_depth`: built for every map access form (`MapAccess::forms`).
     pub reads_maps: bool,
+    /// Reads the raster's own layers through `layer_depth` (moments, hybrid_build): built for the
+    /// depth and words forms.
+    pub reads_raster: bool,
     /// Needs the environment prelude (its structs and the BVH ray test).
     pub environment: bool,
     /// Needs the PCF family's tap patterns.
@@ -57,7 +60,7 @@ pub struct Kernel {
 
 impl Kernel {
     pub const fn plain(body: &'static str) -> Self {
-        Self { body, reads_maps: false, environment: false, pcf_taps: false }
+        Self { body, reads_maps: false, reads_raster: false, environment: false, pcf_taps: false }
     }
 }
 
@@ -254,7 +257,7 @@ stage_table! {
         compute("main", PIXEL, &[("frame", 0), ("settings", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("visibility", 6)]),
     ];
     /// The filtered methods' moment maps from the raster.
-    MOMENTS = "moments" kernel, Some(Raster), [
+    MOMENTS = "moments" kernel { reads_raster: true }, Some(Raster), [
         compute("main", PIXEL, &[("frame", 0), ("settings", 1), ("samples", 2), ("shadow_maps", 3), ("moments", 4)]),
     ];
     /// Separable blur of the moment maps.
@@ -286,7 +289,7 @@ stage_table! {
         compute("main", LINE, &[("params", 0), ("cells", 1), ("counts", 2), ("cell_power", 3), ("next_cells", 4), ("leaves", 5), ("control", 6)]),
     ];
     /// Environment lighting from one shadow map per light, PCF-filtered.
-    ENV_SHADOWMAPS = "env_shadowmaps" kernel { environment: true, pcf_taps: true }, Some(Shade), [
+    ENV_SHADOWMAPS = "env_shadowmaps" kernel { environment: true, pcf_taps: true, reads_raster: true }, Some(Shade), [
         compute("main", PIXEL, &[("frame", 0), ("params", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("lights", 6), ("visibility", 7), ("ao", 8), ("settings", 9), ("disk", 10), ("compare_sampler", 11)]),
     ];
     /// Screen-space ambient occlusion.
@@ -294,11 +297,11 @@ stage_table! {
         compute("main", PIXEL, &[("params", 0), ("camera", 1), ("gbuffer_position", 2), ("gbuffer_normal", 3), ("kernel", 4), ("ao", 5), ("occluded", 6)]),
     ];
     /// The hybrid map store built from the raster (docs/hybrid.md).
-    HYBRID_BUILD = "hybrid_build" kernel, Some(Raster), [
-        compute("classify", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("coarse_nodes", 6), ("gather_sampler", 7)]),
+    HYBRID_BUILD = "hybrid_build" kernel { reads_raster: true }, Some(Raster), [
+        compute("classify", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("coarse_nodes", 6)]),
         compute("scan_rows", LINE, &[("build", 0), ("offsets", 2), ("row_starts", 3)]),
         compute("scan_total", SINGLE, &[("build", 0), ("row_starts", 3), ("control", 4), ("pool", 5)]),
-        compute("emit", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("row_starts", 3), ("control", 4), ("pool", 5), ("coarse_nodes", 6), ("gather_sampler", 7)]),
+        compute("emit", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("row_starts", 3), ("control", 4), ("pool", 5), ("coarse_nodes", 6)]),
     ];
     /// SSAO's copy of V before it multiplies.
     SSAO_COPY = "ssao_copy" none, Some(Shade), [];

@@ -86,6 +86,36 @@ pub struct GpuRasterCompute {
     pub pad1: u32,
 }
 
+/// One map of a raster_compute chain: its sample and the texel rectangle (inclusive) it is
+/// rasterized in; texels outside keep the far value.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuRasterJob {
+    pub sample: u32,
+    pub first_x: u32,
+    pub first_y: u32,
+    pub last_x: u32,
+    pub last_y: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+impl GpuRasterJob {
+    /// Sample `sample` over the whole map, or over a scissor `[x, y, w, h]`.
+    pub fn new(sample: u32, map_size: u32, scissor: Option<[u32; 4]>) -> Self {
+        let [x, y, w, h] = scissor.unwrap_or([0, 0, map_size, map_size]);
+        Self { sample, first_x: x, first_y: y, last_x: x + w - 1, last_y: y + h - 1, ..Default::default() }
+    }
+    pub fn whole(sample: u32, map_size: u32) -> Self {
+        Self::new(sample, map_size, None)
+    }
+    /// [first_x, first_y, last_x, last_y].
+    pub fn rect(&self) -> [i32; 4] {
+        [self.first_x as i32, self.first_y as i32, self.last_x as i32, self.last_y as i32]
+    }
+}
+
 /// The weights pass's rule (kernels/weights.wgsl): 0 level, 1 area, 2 Coons.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -337,6 +367,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, pad0, pad1 }),
+        layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, pad1

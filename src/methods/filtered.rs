@@ -221,7 +221,7 @@ impl ShadowMethod for Filtered {
             raw: plane("moments"),
             scratch: plane("blur scratch"),
             filtered: plane("filtered moments"),
-            moments: Moments::new(fg.ctx)?,
+            moments: Moments::new(fg.ctx, fg.raster.raster_access())?,
             blur: Blur::new(fg.ctx)?,
             reconstruct: Reconstruct::new(fg.ctx)?,
             filter,

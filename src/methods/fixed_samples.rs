@@ -179,11 +179,7 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
     let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
-    let chunk = if hybrid {
-        u32::MAX
-    } else {
-        shadow_raster::maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(points.len() as u32).max(1)
-    };
+    let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(points.len() as u32).max(1) };
     let samples: Vec<GpuSample> = points
         .iter()
         .enumerate()
@@ -200,7 +196,7 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let maps = if hybrid {
         Maps::Hybrid(Box::new(HybridMaps::new(fg, points.len() as u32, points.len() as u32)?))
     } else {
-        let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, chunk);
+        let array = fg.raster.allocate(ctx, s.render.shadow_map_size, chunk);
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
@@ -225,7 +221,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
         timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs);
+            fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs)?;
             Ok(())
         })?;
         if let Some(c) = buffers.as_mut() {

@@ -54,7 +54,7 @@ impl HybridMaps {
         let h = r.hybrid;
         let layer_bytes = h.base as u64 * h.base as u64 * 4;
         let budget = r.shadow_map_budget_mib as u64 * 1024 * 1024;
-        let layers = shadow_raster::maps_per_array(ctx, h.base, r.shadow_map_budget_mib)?.min(TRANSIENT_LAYERS).min(maps.max(1));
+        let layers = fg.raster.maps_per_array(ctx, h.base, r.shadow_map_budget_mib)?.min(TRANSIENT_LAYERS).min(maps.max(1));
         let coarse = (h.base >> h.levels) as u64;
         let left = budget.saturating_sub(layers as u64 * layer_bytes);
         let wanted = (slots as u64 + maps as u64 * worst_map_words(coarse, h.levels)) * 4;
@@ -67,10 +67,10 @@ impl HybridMaps {
                 r.shadow_map_budget_mib
             )));
         }
-        let raster = shadow_raster::allocate(ctx, h.base, layers);
+        let raster = fg.raster.allocate(ctx, h.base, layers);
         shadow_raster::clear_all(ctx, &raster)?;
         let store = HybridStore::new(ctx, h, slots, capacity)?;
-        Ok(Self { raster, store, build: HybridBuild::new(ctx)?, pending: Vec::new(), used: slots, stats: HybridStats::default() })
+        Ok(Self { raster, store, build: HybridBuild::new(ctx, fg.raster.raster_access())?, pending: Vec::new(), used: slots, stats: HybridStats::default() })
     }
 
     /// Maps rasterized at once.
@@ -94,7 +94,7 @@ impl HybridMaps {
         assert!(ks.len() <= self.layers() as usize, "a raster batch holds at most {} maps", self.layers());
         let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(i, &k)| RasterJob { sample: k, layer: i as u32, scissor: None }).collect();
         timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, samples, &self.raster, &jobs);
+            fg.raster.record(ctx, enc, &fg.scene_gpu, samples, &self.raster, &jobs)?;
             Ok(())
         })?;
         let mut from = 0;

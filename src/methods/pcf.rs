@@ -39,7 +39,9 @@ pub struct Pcf {
 
 /// `a/b` or a plain number (seed 004 writes its spread as 1/700).
 fn fraction(params: &ParamMap, key: &str) -> Result<Option<f32>> {
-    let Some(v) = params.get(key) else { return Ok(None) };
+    let Some(v) = params.get(key) else {
+        return Ok(None);
+    };
     let parsed = match v.split_once('/') {
         Some((a, b)) => a.trim().parse::<f32>().ok().zip(b.trim().parse::<f32>().ok()).map(|(a, b)| a / b),
         None => v.parse::<f32>().ok(),
@@ -161,7 +163,7 @@ impl ShadowMethod for Pcf {
             map: CentreMap::new(fg)?,
             filter_buffer: readback::uniform_buffer(fg.ctx, "pcf filter", &filter),
             disk_buffer: readback::storage_buffer(fg.ctx, "pcf disk", &disk, wgpu::BufferUsages::empty()),
-            pass: PcfPass::new(fg.ctx, fg.scene.render.maps)?,
+            pass: PcfPass::new(fg.ctx, fg.map_access())?,
             filter,
             disk,
         }))

@@ -54,12 +54,7 @@ impl ShadowMethod for Pcss {
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let (light_u, light_v) = light_size(fg);
         let filter = GpuFilter { taps: self.taps, blocker_taps: self.blocker_taps, max_radius: self.max_radius, light_u, light_v, ..Default::default() };
-        Ok(Box::new(State {
-            map: CentreMap::new(fg)?,
-            filter_buffer: readback::uniform_buffer(fg.ctx, "pcss filter", &filter),
-            pass: PcssPass::new(fg.ctx, fg.scene.render.maps)?,
-            filter,
-        }))
+        Ok(Box::new(State { map: CentreMap::new(fg)?, filter_buffer: readback::uniform_buffer(fg.ctx, "pcss filter", &filter), pass: PcssPass::new(fg.ctx, fg.map_access())?, filter }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self

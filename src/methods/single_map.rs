@@ -33,7 +33,7 @@ impl CentreMap {
         let samples = readback::storage_buffer(fg.ctx, "centre sample", &[sample], wgpu::BufferUsages::empty());
         let maps = match s.render.maps {
             MapKind::Plain => {
-                let array = shadow_raster::allocate(fg.ctx, s.render.shadow_map_size, 1);
+                let array = fg.raster.allocate(fg.ctx, s.render.shadow_map_size, 1);
                 shadow_raster::clear_all(fg.ctx, &array)?;
                 CentreMaps::Plain(array)
             }
@@ -46,7 +46,7 @@ impl CentreMap {
     pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         match &mut self.maps {
             CentreMaps::Plain(array) => timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| {
-                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &[RasterJob { sample: 0, layer: 0, scissor: None }]);
+                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &[RasterJob { sample: 0, layer: 0, scissor: None }])?;
                 Ok(())
             }),
             CentreMaps::Hybrid(h) => {

@@ -7,6 +7,7 @@ use crate::scene::CullMode;
 use crate::{Error, Result};
 
 pub struct ShadowMapArray {
+    /// `Depth32Float` (this raster's) or `R32Uint` depth bits (the compute raster's, copied in).
     pub texture: wgpu::Texture,
     pub array_view: wgpu::TextureView,
     pub layer_views: Vec<wgpu::TextureView>,
@@ -40,14 +41,21 @@ pub fn maps_per_array(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Resul
 }
 
 pub fn allocate(ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray {
+    allocate_as(ctx, map_size, layers, false)
+}
+
+/// `words`: R32Uint layers the compute raster's depth bits are copied into, read through
+/// kernels/shared/maps_words.wgsl; otherwise `Depth32Float` layers this raster renders.
+pub fn allocate_as(ctx: &GpuContext, map_size: u32, layers: u32, words: bool) -> ShadowMapArray {
+    let (format, usage) = if words { (wgpu::TextureFormat::R32Uint, wgpu::TextureUsages::COPY_DST) } else { (wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT) };
     let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("shadow maps"),
         size: wgpu::Extent3d { width: map_size, height: map_size, depth_or_array_layers: layers },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        format,
+        usage: usage | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
     let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
@@ -70,6 +78,20 @@ pub fn allocate(ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray 
 /// Clears every layer to the far plane. wgpu would otherwise clear layers never rendered lazily, at
 /// the first dispatch that binds the array, inside the timed frame.
 pub fn clear_all(ctx: &GpuContext, array: &ShadowMapArray) -> Result<()> {
+    if array.texture.format() == wgpu::TextureFormat::R32Uint {
+        // The far value's bits (1.0), layer by layer: one layer of staging at a time.
+        let size = array.texture.width();
+        let far = vec![1.0f32.to_bits(); size as usize * size as usize];
+        for layer in 0..array.layers() {
+            ctx.queue.write_texture(
+                wgpu::TexelCopyTextureInfo { texture: &array.texture, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
+                bytemuck::cast_slice(&far),
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size * 4), rows_per_image: Some(size) },
+                wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+            );
+        }
+        return ctx.wait();
+    }
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     for view in &array.layer_views {
         enc.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -23,7 +23,7 @@ mod subdivide;
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use catalog::{catalog, CatalogEntry};
 pub use given::{settings_from_pairs, GivenMesh};
-pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RenderSettings, SelfShadow};
+pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use model::{Camera, Scene};

@@ -15,6 +15,7 @@ pub const RENDER_KEYS: &[&str] = &[
     "bias.normal_offset",
     "bias.max_slope",
     "maps",
+    "raster",
     "hybrid.base",
     "hybrid.levels",
     "hybrid.eps",

@@ -18,9 +18,22 @@ pub struct RenderSettings {
     /// Shadow-map representation (docs/hybrid.md): `plain` depth arrays or `hybrid` merged maps.
     pub maps: MapKind,
     pub hybrid: HybridDef,
+    /// Who rasterizes the shadow maps (docs/gpu-frame.md §7): the fixed-function `hardware` raster,
+    /// the `compute` kernels, or `auto`, whichever this adapter runs faster on the scene.
+    pub raster: RasterChoice,
 }
 
 pub use crate::gpu::kernels::MapKind;
+
+/// The `raster` setting.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum RasterChoice {
+    #[default]
+    Hardware,
+    Compute,
+    Auto,
+}
 
 /// `maps = "hybrid"` settings. With them the raster size is `base` (it replaces `shadow_map_size`).
 #[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq)]
@@ -66,6 +79,7 @@ impl Default for RenderSettings {
             self_shadow: SelfShadow::Facing,
             maps: MapKind::Plain,
             hybrid: HybridDef::default(),
+            raster: RasterChoice::Hardware,
         }
     }
 }

@@ -1,9 +1,10 @@
 //! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
 //! power- and cosine-weighted.
 
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
-use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct EnvShadowmaps {
@@ -19,8 +20,9 @@ pub struct FilterBuffers<'a> {
 }
 
 impl EnvShadowmaps {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_SHADOWMAPS, "main")?, sampler: super::pcf::comparison_sampler(ctx) })
+    /// `raster`: how the raster's layers are read (`Raster::raster_access`).
+    pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::ENV_SHADOWMAPS, "main", raster)?, sampler: super::pcf::comparison_sampler(ctx) })
     }
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read

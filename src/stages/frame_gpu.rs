@@ -4,11 +4,12 @@
 //! every frame shares belongs here (per-run options such as pictures are `run` arguments), and the
 //! passes take the parts they read, not the whole, so a test can drive one without building it.
 
+use super::raster::Raster;
 use super::shade::{GeometryTiles, ShadeInputs, ShadePass};
-use crate::gpu::GpuContext;
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::GpuFrame;
+use crate::gpu::GpuContext;
 use crate::render::gbuffer::GBuffer;
-use crate::render::shadow_raster::ShadowRasterPass;
 use crate::render::SceneGpu;
 use crate::scene::Scene;
 
@@ -19,7 +20,8 @@ pub struct FrameGpu<'a> {
     pub gbuffer: GBuffer,
     pub frame: GpuFrame,
     pub frame_buffer: wgpu::Buffer,
-    pub raster: ShadowRasterPass,
+    /// The shadow-map raster the `raster` setting chose; methods allocate their arrays from it.
+    pub raster: Raster,
     pub shade: ShadePass,
     /// This frame's 8x8 tiles with a geometry pixel, listed with the G-buffer.
     pub geometry_tiles: GeometryTiles,
@@ -29,6 +31,10 @@ pub struct FrameGpu<'a> {
 impl FrameGpu<'_> {
     pub fn shade_inputs<'b>(&'b self, samples: &'b wgpu::Buffer, weights: &'b wgpu::Buffer) -> ShadeInputs<'b> {
         ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, visibility: &self.visibility }
+    }
+    /// How this frame's map-reading kernels read the scene's maps.
+    pub fn map_access(&self) -> MapAccess {
+        self.raster.access(self.scene.render.maps)
     }
     pub fn pixel_count(&self) -> u32 {
         self.gbuffer.width * self.gbuffer.height

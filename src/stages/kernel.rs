@@ -3,6 +3,7 @@
 //! indices, so each stage module states exactly what its kernel reads and writes and no index is
 //! written twice.
 
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::stages::{Entry, Stage};
 use crate::gpu::{pipeline, GpuContext};
 use crate::{Error, Result};
@@ -22,14 +23,12 @@ pub enum Dispatch<'a> {
 
 impl ComputeKernel {
     pub fn new(ctx: &GpuContext, stage: Stage, entry: &str) -> Result<Self> {
-        Self::new_for(ctx, stage, entry, crate::scene::MapKind::Plain)
+        Self::new_for(ctx, stage, entry, MapAccess::Depth)
     }
 
-    /// A map-reading kernel built for the scene's shadow-map representation.
-    pub fn new_for(ctx: &GpuContext, stage: Stage, entry: &str, maps: crate::scene::MapKind) -> Result<Self> {
-        let table = stage
-            .entry(entry)
-            .ok_or_else(|| Error::Kernel { name: stage.name.into(), message: format!("no entry point `{entry}` in the stage table") })?;
+    /// A map-reading kernel built for one map access form (`FrameGpu::map_access`).
+    pub fn new_for(ctx: &GpuContext, stage: Stage, entry: &str, maps: MapAccess) -> Result<Self> {
+        let table = stage.entry(entry).ok_or_else(|| Error::Kernel { name: stage.name.into(), message: format!("no entry point `{entry}` in the stage table") })?;
         Ok(Self { stage, entry: table, pipeline: pipeline::compute_pipeline_for(ctx, stage.name, entry, maps)? })
     }
 

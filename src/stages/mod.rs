@@ -19,6 +19,8 @@ pub(crate) mod pcf;
 pub(crate) mod pcss;
 pub mod probe;
 pub mod quad_count;
+pub mod raster;
+pub mod raster_auto;
 pub mod raster_compute;
 pub(crate) mod reconstruct;
 pub mod reproject_count;

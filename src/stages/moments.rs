@@ -1,7 +1,8 @@
 //! moments: the centre map's depths as the statistic a filtered method prefilters.
 
-use crate::gpu::{GpuContext, Stage};
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::kernels::MapAccess;
+use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
 pub struct Moments {
@@ -9,8 +10,9 @@ pub struct Moments {
 }
 
 impl Moments {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::MOMENTS, "main")? })
+    /// `raster`: how the raster's layers are read (`Raster::raster_access`).
+    pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::MOMENTS, "main", raster)? })
     }
 
     /// `frame`: the frame uniform; `map_size`: its `map_size` (the dispatch covers the map).

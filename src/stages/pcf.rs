@@ -1,10 +1,10 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
+use super::shade::GeometryTiles;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
-use super::shade::GeometryTiles;
-use crate::scene::MapKind;
-use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Pcf {
@@ -25,8 +25,8 @@ pub fn comparison_sampler(ctx: &GpuContext) -> wgpu::Sampler {
 }
 
 impl Pcf {
-    /// `maps`: the scene's shadow-map kind (the kernel's map binding follows it).
-    pub fn new(ctx: &GpuContext, maps: MapKind) -> Result<Self> {
+    /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
+    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::PCF, "main", maps)?, sampler: comparison_sampler(ctx) })
     }
 

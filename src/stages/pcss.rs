@@ -1,10 +1,10 @@
 //! pcss: blocker search, penumbra width, then PCF of that width, into the visibility buffer.
 
+use super::shade::GeometryTiles;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
-use super::shade::GeometryTiles;
-use crate::scene::MapKind;
-use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Pcss {
@@ -12,8 +12,8 @@ pub struct Pcss {
 }
 
 impl Pcss {
-    /// `maps`: the scene's shadow-map kind (the kernel's map binding follows it).
-    pub fn new(ctx: &GpuContext, maps: MapKind) -> Result<Self> {
+    /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
+    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::PCSS, "main", maps)? })
     }
 

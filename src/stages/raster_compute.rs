@@ -6,7 +6,7 @@
 
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::gpu::readback;
-use crate::gpu::structs::GpuRasterCompute;
+use crate::gpu::structs::{GpuRasterCompute, GpuRasterJob};
 use crate::gpu::{GpuContext, Stage};
 use crate::render::SceneGpu;
 use crate::scene::CullMode;
@@ -79,9 +79,9 @@ impl RasterCompute {
         })
     }
 
-    /// Rasterizes `scene` into maps 0..jobs.len() of `depth`, map m from sample `jobs[m]` of
-    /// `samples` (the hardware raster's `GpuSample`s: the same view-projections).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[u32]) {
+    /// Rasterizes `scene` into maps 0..jobs.len() of `depth`, map m from sample `jobs[m].sample` of
+    /// `samples` (the hardware raster's `GpuSample`s: the same view-projections) inside its rectangle.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob]) {
         let maps = jobs.len() as u32;
         assert!(maps >= 1 && maps <= self.capacity, "raster_compute chain of {maps} maps, capacity {}", self.capacity);
         let triangles = scene.index_count / 3;
@@ -124,6 +124,27 @@ impl RasterCompute {
             Dispatch::Direct([1, 1, 1]),
         );
         self.large_tiles.dispatch(ctx, enc, &all, Dispatch::Indirect(&self.dispatch));
+    }
+
+    /// Copies map `m` of the chain into layer `layer` of an R32Uint array of the same size (after
+    /// `record`, in the same encoder). Rows go in one copy where their bytes meet the copy
+    /// alignment (map sizes that are multiples of 64), else one copy per row.
+    pub fn copy_map(&self, enc: &mut wgpu::CommandEncoder, m: u32, texture: &wgpu::Texture, layer: u32) {
+        let size = self.map_size;
+        let row = size * 4;
+        let map_at = m as u64 * size as u64 * row as u64;
+        let whole = row % wgpu::COPY_BYTES_PER_ROW_ALIGNMENT == 0;
+        let (copies, rows) = if whole { (1, size) } else { (size, 1) };
+        for r in 0..copies {
+            enc.copy_buffer_to_texture(
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &self.depth,
+                    layout: wgpu::TexelCopyBufferLayout { offset: map_at + r as u64 * row as u64, bytes_per_row: whole.then_some(row), rows_per_image: whole.then_some(size) },
+                },
+                wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: r, z: layer }, aspect: wgpu::TextureAspect::All },
+                wgpu::Extent3d { width: size, height: rows, depth_or_array_layers: 1 },
+            );
+        }
     }
 
     /// The depths of maps 0..maps of the last chain, one row-major `map_size`² map each (a read-back).

@@ -147,7 +147,7 @@ pub struct ShadeInputs<'a> {
 
 impl ShadePass {
     /// `maps`: the representation `main` reads (from_masks reads no maps).
-    pub fn new(ctx: &GpuContext, maps: crate::scene::MapKind) -> Result<Self> {
+    pub fn new(ctx: &GpuContext, maps: crate::gpu::kernels::MapAccess) -> Result<Self> {
         Ok(Self {
             blocks: BLOCK_SIZES
                 .iter()

@@ -4,10 +4,10 @@
 use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS, MASK_WORDS};
 use super::shade::GeometryTiles;
 use super::{ComputeKernel, Dispatch};
-use crate::gpu::{readback, GpuContext, Stage};
+use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::{GpuLevel, GpuTestBlock};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
-use crate::scene::MapKind;
 use crate::Result;
 
 /// Samples of a full block (`TEST_BLOCK` in kernels/shadow_test.wgsl, whose `block16` unrolls them).
@@ -47,14 +47,9 @@ pub struct ShadowTest {
 }
 
 impl ShadowTest {
-    /// `maps`: the representation the block kernels read; `local`: also the entry points of
-    /// scope = local (which reads plain depth arrays).
-    pub fn new(ctx: &GpuContext, maps: MapKind, local: bool) -> Result<Self> {
-        let local = if local {
-            Some([ComputeKernel::new(ctx, Stage::SHADOW_TEST, "list")?, ComputeKernel::new(ctx, Stage::SHADOW_TEST, "probes")?])
-        } else {
-            None
-        };
+    /// `maps`: how every entry point reads maps; `local`: also the entry points of scope = local.
+    pub fn new(ctx: &GpuContext, maps: MapAccess, local: bool) -> Result<Self> {
+        let local = if local { Some([ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "list", maps)?, ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "probes", maps)?]) } else { None };
         let block = |entry| ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, entry, maps);
         let buffer = |label, size, usage| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false })

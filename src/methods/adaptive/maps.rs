@@ -76,7 +76,7 @@ pub(super) fn render_new(
             }
             let Some((cull, kept)) = fx.cull else {
                 timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-                    fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine);
+                    fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine)?;
                     Ok(())
                 })?;
                 continue;
@@ -90,7 +90,7 @@ pub(super) fn render_new(
                 })?;
                 timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
                     let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
-                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args);
+                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args)?;
                     for (n, &k) in ks.iter().enumerate() {
                         enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
                     }

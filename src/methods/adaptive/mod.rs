@@ -226,7 +226,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
             "adaptive: maps = hybrid needs scope = global (scope = local keeps every map alive for probe and reproject_count, which read depth arrays)".into(),
         ));
     }
-    let per_array = shadow_raster::maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
+    let per_array = fg.raster.maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
     let store = if hybrid {
         // Maps live only until shadow_test has cached them: one raster batch per store.
         let maps = HybridMaps::new(fg, LATTICE_POINTS, hybrid_maps::TRANSIENT_LAYERS)?;
@@ -242,17 +242,17 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
             )));
         }
         let first = per_array.min(need);
-        let mut arrays = vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, first)];
+        let mut arrays = vec![fg.raster.allocate(ctx, scene.render.shadow_map_size, first)];
         if first < need {
-            arrays.push(shadow_raster::allocate(ctx, scene.render.shadow_map_size, need - first));
+            arrays.push(fg.raster.allocate(ctx, scene.render.shadow_map_size, need - first));
         }
         maps::MapStore { arrays, per_array: first, used: 0, hybrid: None }
     } else {
         let chunk = per_array.min(LATTICE_POINTS);
-        maps::MapStore { arrays: vec![shadow_raster::allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
+        maps::MapStore { arrays: vec![fg.raster.allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
     };
     let passes = Passes {
-        shadow_test: ShadowTest::new(fg.ctx, fg.scene.render.maps, local)?,
+        shadow_test: ShadowTest::new(fg.ctx, fg.map_access(), local)?,
         reproject_count: ReprojectCount::new(ctx)?,
         neighbourhood: Neighbourhood::new(ctx)?,
         quad_count: QuadCount::new(ctx)?,

@@ -151,11 +151,11 @@ impl ShadowMethod for EnvShadowmaps {
         let samples: Vec<GpuSample> = lights.iter().enumerate().map(|(k, l)| directional_sample(fg, Vec3::new(l.direction[0], l.direction[1], l.direction[2]), k as u32)).collect();
         let ctx = fg.ctx;
         let s = fg.scene;
-        let per_array = shadow_raster::maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?;
+        let per_array = fg.raster.maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?;
         if (samples.len() as u32) > per_array {
             return Err(Error::Limit(format!("env-shadowmaps: k = {} maps of {}² exceed the shadow-map budget ({per_array} maps)", samples.len(), s.render.shadow_map_size)));
         }
-        let array = shadow_raster::allocate(ctx, s.render.shadow_map_size, samples.len().max(1) as u32);
+        let array = fg.raster.allocate(ctx, s.render.shadow_map_size, samples.len().max(1) as u32);
         // Every point lies on the light side of a plane under the scene: the lights' own facing
         // test (cos > 0) decides what each light reaches.
         let mut frame = fg.frame;
@@ -171,7 +171,7 @@ impl ShadowMethod for EnvShadowmaps {
         };
         let (filter, disk) = (self.settings(), self.disk());
         Ok(Box::new(State {
-            pass: Pass::new(ctx)?,
+            pass: Pass::new(ctx, fg.raster.raster_access())?,
             filter_buffer: readback::uniform_buffer(ctx, "env shadowmaps filter", &filter),
             disk_buffer: readback::storage_buffer(ctx, "env shadowmaps disk", &disk, wgpu::BufferUsages::empty()),
             filter,
@@ -234,7 +234,7 @@ impl MethodState for State {
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
         timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs);
+            fg.raster.record(ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs)?;
             Ok(())
         })?;
         if let Some(s) = &self.ssao {

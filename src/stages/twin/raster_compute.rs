@@ -53,11 +53,17 @@ pub fn wide_f32(e: i64) -> f32 {
     ((e >> 32) as i32 as f32) * 4_294_967_296.0 + (e as u32 as f32)
 }
 
-/// 0: no face skipped; 1: back faces; 2: front faces (`stages::cull::cull_face`).
-pub fn setup_snapped(v: [[i32; 2]; 3], z: [f32; 3], map_size: u32, cull_face: u32) -> Option<Tri> {
+/// The whole map as a job rectangle [first_x, first_y, last_x, last_y].
+pub fn whole(map_size: u32) -> [i32; 4] {
     let last = map_size as i32 - 1;
-    let lo: [i32; 2] = std::array::from_fn(|k| ((v[0][k].min(v[1][k]).min(v[2][k]) + 127) >> RASTER_SUBTEXEL_BITS).max(0));
-    let hi: [i32; 2] = std::array::from_fn(|k| ((v[0][k].max(v[1][k]).max(v[2][k]) - 128) >> RASTER_SUBTEXEL_BITS).min(last));
+    [0, 0, last, last]
+}
+
+/// `rect`: the job's texel rectangle [first_x, first_y, last_x, last_y] (inclusive).
+/// `cull_face` 0: no face skipped; 1: back faces; 2: front faces (`stages::cull::cull_face`).
+pub fn setup_snapped(v: [[i32; 2]; 3], z: [f32; 3], rect: [i32; 4], cull_face: u32) -> Option<Tri> {
+    let lo: [i32; 2] = std::array::from_fn(|k| ((v[0][k].min(v[1][k]).min(v[2][k]) + 127) >> RASTER_SUBTEXEL_BITS).max(rect[k]));
+    let hi: [i32; 2] = std::array::from_fn(|k| ((v[0][k].max(v[1][k]).max(v[2][k]) - 128) >> RASTER_SUBTEXEL_BITS).min(rect[2 + k]));
     if lo[0] > hi[0] || lo[1] > hi[1] {
         return None;
     }
@@ -70,14 +76,14 @@ pub fn setup_snapped(v: [[i32; 2]; 3], z: [f32; 3], map_size: u32, cull_face: u3
     Some(Tri { v, z, lo, hi, inv_area: 1.0 / wide_f32(area.abs()), front })
 }
 
-/// Triangle `t` of `indices` over `positions` set up for sample `s`.
-pub fn setup(s: &GpuSample, map_size: u32, cull_face: u32, positions: &[[f32; 3]], indices: &[u32], t: usize) -> Option<Tri> {
+/// Triangle `t` of `indices` over `positions` set up for sample `s` inside `rect`.
+pub fn setup(s: &GpuSample, map_size: u32, rect: [i32; 4], cull_face: u32, positions: &[[f32; 3]], indices: &[u32], t: usize) -> Option<Tri> {
     let mut v = [[0; 2]; 3];
     let mut z = [0.0; 3];
     for j in 0..3 {
         (v[j], z[j]) = snap(s, map_size, positions[indices[t * 3 + j] as usize])?;
     }
-    setup_snapped(v, z, map_size, cull_face)
+    setup_snapped(v, z, rect, cull_face)
 }
 
 /// Edge a → b at point p (1/256 texels), and whether it is a top or left edge.
@@ -112,11 +118,16 @@ pub fn for_each_texel(tri: &Tri, mut f: impl FnMut(i32, i32, f32)) {
 
 /// One map's words, as `raster_compute` writes them: row-major, FAR where nothing is nearer.
 pub fn rasterize(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_size: u32, cull: CullMode) -> Vec<u32> {
+    rasterize_in(positions, indices, s, map_size, whole(map_size), cull)
+}
+
+/// [`rasterize`] inside a job's rectangle: texels outside keep FAR.
+pub fn rasterize_in(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_size: u32, rect: [i32; 4], cull: CullMode) -> Vec<u32> {
     let n = map_size as usize;
     let mut words = vec![FAR; n * n];
     let cull_face = crate::stages::cull::cull_face(cull);
     for t in 0..indices.len() / 3 {
-        if let Some(tri) = setup(s, map_size, cull_face, positions, indices, t) {
+        if let Some(tri) = setup(s, map_size, rect, cull_face, positions, indices, t) {
             for_each_texel(&tri, |x, y, d| {
                 if (0.0..1.0).contains(&d) {
                     let w = &mut words[y as usize * n + x as usize];
@@ -133,7 +144,7 @@ pub fn face_hits(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_siz
     let n = map_size as usize;
     let (mut front, mut back) = (vec![0; n * n], vec![0; n * n]);
     for t in 0..indices.len() / 3 {
-        if let Some(tri) = setup(s, map_size, 0, positions, indices, t) {
+        if let Some(tri) = setup(s, map_size, whole(map_size), 0, positions, indices, t) {
             let counts = if tri.front { &mut front } else { &mut back };
             for_each_texel(&tri, |x, y, _| counts[y as usize * n + x as usize] += 1);
         }
@@ -157,7 +168,7 @@ mod tests {
             // Alternate the winding: the rule must not depend on the face's orientation.
             let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
             let v = if k % 2 == 0 { [centre, a, b] } else { [centre, b, a] };
-            let tri = setup_snapped(v, [0.5; 3], 32, 0).expect("a fan triangle covers texels");
+            let tri = setup_snapped(v, [0.5; 3], whole(32), 0).expect("a fan triangle covers texels");
             for_each_texel(&tri, |x, y, d| {
                 assert_eq!(d, 0.5, "a flat triangle's plane is flat");
                 counts[y as usize * 32 + x as usize] += 1;

@@ -1,0 +1,154 @@
+//! The frame's shadow-map raster, by the `raster` setting: the fixed-function `shadow_raster`, or
+//! the `raster_compute` kernels whose maps are copied, chain by chain, into R32Uint layers that every
+//! map-reading kernel reads through kernels/shared/maps_words.wgsl. Methods ask this for their map
+//! arrays, so the layers' format always matches the raster that fills them.
+
+use super::raster_compute::RasterCompute;
+use crate::gpu::kernels::MapAccess;
+use crate::gpu::structs::GpuRasterJob;
+use crate::gpu::GpuContext;
+use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray, ShadowRasterPass};
+use crate::render::SceneGpu;
+use crate::scene::{CullMode, MapKind};
+use crate::{Error, Result};
+use std::cell::RefCell;
+
+/// Maps one compute chain holds at most: enough (triangle, map) pairs to fill a large GPU, and a
+/// small share of the map budget.
+pub const CHAIN_MAPS: u32 = 32;
+
+pub enum Raster {
+    Hardware(ShadowRasterPass),
+    Compute(ComputeRaster),
+}
+
+/// The compute raster: a chain per map size in use (a hybrid method rasterizes at `hybrid.base`).
+pub struct ComputeRaster {
+    cull: CullMode,
+    budget_mib: u32,
+    chains: RefCell<Vec<RasterCompute>>,
+}
+
+impl Raster {
+    /// `budget_mib`: the scene's `shadow_map_budget_mib`, which a compute chain takes its share of.
+    pub fn new(ctx: &GpuContext, cull: CullMode, compute: bool, budget_mib: u32) -> Result<Self> {
+        Ok(if compute { Raster::Compute(ComputeRaster { cull, budget_mib, chains: RefCell::new(Vec::new()) }) } else { Raster::Hardware(ShadowRasterPass::new(ctx, cull)?) })
+    }
+
+    pub fn is_compute(&self) -> bool {
+        matches!(self, Raster::Compute(_))
+    }
+
+    /// `hardware` or `compute`, as run.json and the report name it.
+    pub fn name(&self) -> &'static str {
+        if self.is_compute() {
+            "compute"
+        } else {
+            "hardware"
+        }
+    }
+
+    /// How map-reading kernels read maps of representation `maps` filled by this raster.
+    pub fn access(&self, maps: MapKind) -> MapAccess {
+        MapAccess::of(maps, self.is_compute())
+    }
+
+    /// How kernels read this raster's own layers (moments, hybrid_build).
+    pub fn raster_access(&self) -> MapAccess {
+        MapAccess::raster_of(self.is_compute())
+    }
+
+    /// Maps one array may hold. The compute raster's chain takes its share of the budget first.
+    pub fn maps_per_array(&self, ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
+        let all = shadow_raster::maps_per_array(ctx, map_size, budget_mib)?;
+        if !self.is_compute() {
+            return Ok(all);
+        }
+        let chain = chain_maps(ctx, map_size, budget_mib)?;
+        let budget_maps = (budget_mib as u64 * 1024 * 1024) / (map_size as u64 * map_size as u64 * 4);
+        let left = budget_maps.saturating_sub(chain as u64).min(all as u64) as u32;
+        if left == 0 {
+            return Err(Error::Limit(format!(
+                "raster = compute needs two {map_size}x{map_size} maps (one rasterized, one read) and shadow_map_budget_mib = {budget_mib} holds one; raise the budget or use raster = hardware"
+            )));
+        }
+        Ok(left)
+    }
+
+    /// An array of `layers` maps in the format this raster fills.
+    pub fn allocate(&self, ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray {
+        shadow_raster::allocate_as(ctx, map_size, layers, self.is_compute())
+    }
+
+    /// Rasterizes `jobs` (sample → layer, optionally inside a scissor rectangle) into `array`.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+        match self {
+            Raster::Hardware(pass) => {
+                pass.record(ctx, enc, scene, samples, array, jobs);
+                Ok(())
+            }
+            Raster::Compute(c) => c.record(ctx, enc, scene, samples, array, jobs),
+        }
+    }
+
+    /// The hardware raster draws the triangles the cull pass kept (arguments from the GPU); the
+    /// compute raster rejects the same triangles itself, by each job's rectangle, so it takes
+    /// the jobs alone. Whether a caller culls first is `culls_apart`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_culled(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        array: &ShadowMapArray,
+        jobs: &[(RasterJob, u64)],
+        culled: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+    ) -> Result<()> {
+        match self {
+            Raster::Hardware(pass) => {
+                pass.record_culled(ctx, enc, scene, samples, array, jobs, culled, args);
+                Ok(())
+            }
+            Raster::Compute(c) => {
+                let plain: Vec<RasterJob> = jobs.iter().map(|(j, _)| *j).collect();
+                c.record(ctx, enc, scene, samples, array, &plain)
+            }
+        }
+    }
+
+    /// Whether a separate cull pass serves this raster: the compute raster's box reject already
+    /// skips every triangle outside a job's rectangle, at about the cost of the cull's own test.
+    pub fn culls_apart(&self) -> bool {
+        !self.is_compute()
+    }
+}
+
+/// Maps per compute chain: CHAIN_MAPS, or fewer where a quarter of the budget or the device allows fewer.
+pub fn chain_maps(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
+    let map_bytes = map_size as u64 * map_size as u64 * 4;
+    let quarter = ((budget_mib as u64 * 1024 * 1024) / 4 / map_bytes).max(1) as u32;
+    Ok(super::raster_compute::maps_per_chain(ctx, map_size, budget_mib)?.min(quarter).min(CHAIN_MAPS))
+}
+
+impl ComputeRaster {
+    fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+        let size = array.texture.width();
+        let mut chains = self.chains.borrow_mut();
+        if !chains.iter().any(|c| c.map_size == size) {
+            // The share `maps_per_array` left out of the method's arrays.
+            let maps = chain_maps(ctx, size, self.budget_mib)?;
+            chains.push(RasterCompute::new(ctx, size, self.cull, maps, self.budget_mib)?);
+        }
+        let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
+        for part in jobs.chunks(chain.capacity as usize) {
+            let words: Vec<GpuRasterJob> = part.iter().map(|j| GpuRasterJob::new(j.sample, size, j.scissor)).collect();
+            chain.record(ctx, enc, scene, samples, &words);
+            for (m, job) in part.iter().enumerate() {
+                chain.copy_map(enc, m as u32, &array.texture, job.layer);
+            }
+        }
+        Ok(())
+    }
+}
