@@ -48,6 +48,17 @@ pub struct FrameResult {
     pub timing: TimingMode,
     /// GPU timestamps per stage, where the adapter's are trusted; None otherwise.
     pub gpu_stages_ms: Option<BTreeMap<String, f64>>,
+    /// Who rasterized the maps, and why (run.json's `raster`).
+    pub raster: RasterUsed,
+}
+
+/// The raster a frame used: `hardware` or `compute`, the `raster` setting that chose it, and what
+/// `auto` measured when it chose.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RasterUsed {
+    pub used: &'static str,
+    pub setting: crate::scene::RasterChoice,
+    pub auto: Option<crate::stages::raster_auto::AutoTiming>,
 }
 
 pub fn frame_uniform(scene: &Scene) -> GpuFrame {
@@ -279,7 +290,12 @@ impl<'a> Renderer<'a> {
         stages_ms.insert(Stage::SETUP.name.into(), setup_ms);
         stages_ms.extend(build_stages);
         let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
-        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms })
+        let raster = RasterUsed {
+            used: self.fg.raster.name(),
+            setting: self.fg.scene.render.raster,
+            auto: crate::stages::raster_auto::remembered_timing(ctx, self.fg.scene),
+        };
+        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster })
     }
 }
 

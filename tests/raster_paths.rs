@@ -60,3 +60,54 @@ fn every_method_renders_the_same_v_from_compute_maps() {
     }
     assert!(checked >= 20, "only {checked} cases compared");
 }
+
+/// The documented paths: `--set raster=compute|auto` in `render` and `compare`, what run.json,
+/// results.jsonl/.csv and the report say of it, and a bad value refused with nothing written.
+#[test]
+fn the_raster_setting_is_recorded_and_checked() {
+    let dir = common::temp_dir("raster_setting");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, common::random_scene_toml(3, 48, 128)).unwrap();
+    let scene = scene.to_str().unwrap();
+    for raster in ["hardware", "compute", "auto"] {
+        let out = dir.join(format!("render-{raster}"));
+        common::ok(common::penumbra(&["render", "--scene", scene, "--method", "regular:n=3", "--set", &format!("raster={raster}"), "--out", out.to_str().unwrap()]), "render");
+        let run: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+        assert_eq!(run["raster"]["setting"], raster, "{}", run["raster"]);
+        assert_eq!(run["render"]["raster"], raster);
+        match raster {
+            "auto" => {
+                let auto = &run["raster"]["auto"];
+                let (hw, cs) = (auto["hardware_ms"].as_f64().unwrap(), auto["compute_ms"].as_f64().unwrap());
+                assert!(hw > 0.0 && cs > 0.0 && auto["maps"] == 8 && auto["map_size"] == 128, "{auto}");
+                // auto keeps whichever raster it timed faster.
+                assert_eq!(run["raster"]["used"], if cs < hw { "compute" } else { "hardware" }, "{auto}");
+            }
+            _ => {
+                assert_eq!(run["raster"]["used"], raster);
+                assert!(run["raster"]["auto"].is_null());
+            }
+        }
+    }
+    let out = dir.join("compare");
+    common::ok(
+        common::penumbra(&["compare", "--scene", scene, "--methods", "hard,regular:n=3", "--repeats", "1", "--samples", "8", "--set", "raster=compute", "--out", out.to_str().unwrap()]),
+        "compare",
+    );
+    let rows = common::rows(&out);
+    assert_eq!(rows.len(), 2);
+    assert!(rows.iter().all(|r| r["raster"] == "compute"), "{rows:?}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    // The raster column follows the reference (the adapter's quoted name holds commas).
+    assert!(csv.lines().next().unwrap().contains(",reference,raster,"), "{csv}");
+    assert!(csv.lines().skip(1).all(|l| l.contains(",continuous 8x8,compute,")), "{csv}");
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("| shadow-map raster | compute |"), "{md}");
+
+    let bad = dir.join("bad");
+    let run = common::penumbra(&["render", "--scene", scene, "--set", "raster=gpu", "--out", bad.to_str().unwrap()]);
+    assert_eq!(run.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("--set raster=gpu") && err.contains("`hardware`, `compute`, `auto`"), "{err}");
+    assert!(!bad.exists(), "nothing written");
+}

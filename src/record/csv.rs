@@ -27,7 +27,7 @@ pub fn render(rows: &[ResultRow]) -> String {
     let mut header: Vec<String> = [
         "scene", "label", "method", "params", "adapter", "shadow_maps", "syncs", "total_ms", "total_ms_min", "total_ms_max",
         "setup_ms", "rmse", "mae", "max_abs", "psnr", "ssim", "flip_mean", "flip_p95", "flip_p99", "penumbra_rmse",
-        "bad_pixel_share", "nan_count", "pixels", "penumbra_pixels", "mismatch_share", "reference",
+        "bad_pixel_share", "nan_count", "pixels", "penumbra_pixels", "mismatch_share", "reference", "raster",
     ]
     .map(String::from)
     .to_vec();
@@ -63,6 +63,7 @@ pub fn render(rows: &[ResultRow]) -> String {
             m.penumbra_pixels.to_string(),
             m.mismatch_share.to_string(),
             r.reference.clone(),
+            r.raster.clone().unwrap_or_default(),
         ];
         cells.extend(stages.iter().map(|s| opt(r.stages_ms.get(*s).copied())));
         out += &(cells.iter().map(|c| field(c)).collect::<Vec<_>>().join(",") + "\n");

@@ -36,6 +36,8 @@ pub struct Timing {
     pub shadow_maps: u32,
     pub maps_stable: bool,
     pub syncs: u32,
+    /// `hardware` or `compute`: who rasterized the maps.
+    pub raster: &'static str,
 }
 
 /// A measured method: its timing and what `judge` made of its last frame.
@@ -160,6 +162,7 @@ fn measure_window<T>(
     let mut totals: Vec<Vec<f64>> = vec![Vec::new(); methods.len()];
     let mut maps: Vec<Vec<u32>> = vec![Vec::new(); methods.len()];
     let mut syncs = vec![0; methods.len()];
+    let mut raster = vec![""; methods.len()];
     let mut judged: Vec<Option<T>> = methods.iter().map(|_| None).collect();
     for k in 1..=repeats {
         for (i, m) in methods.iter().enumerate() {
@@ -168,6 +171,7 @@ fn measure_window<T>(
             totals[i].push(r.total_ms);
             maps[i].push(r.output.shadow_maps);
             syncs[i] = r.output.syncs;
+            raster[i] = r.raster.used;
             if k == repeats {
                 judged[i] = Some(judge(i, &r)?);
             }
@@ -187,6 +191,7 @@ fn measure_window<T>(
                 shadow_maps: *maps[i].last().expect("at least one timed frame"),
                 maps_stable: maps[i].windows(2).all(|w| w[0] == w[1]),
                 syncs: syncs[i],
+                raster: raster[i],
             },
             judged: judged.expect("judged on the last round"),
         });

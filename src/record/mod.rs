@@ -57,6 +57,7 @@ pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images:
         setup_ms: t.setup_ms,
         resolution: Some(run.resolution),
         shadow_map_size: Some(run.shadow_map_size),
+        raster: Some(t.raster.to_string()),
         reference: run.reference.clone(),
         repeats: run.repeats,
         clock: CLOCK.into(),

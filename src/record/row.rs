@@ -41,6 +41,9 @@ pub struct ResultRow {
     pub resolution: Option<[u32; 2]>,
     #[serde(default)]
     pub shadow_map_size: Option<u32>,
+    /// `hardware` or `compute`: who rasterized the maps (the `raster` setting, `auto` resolved).
+    #[serde(default)]
+    pub raster: Option<String>,
     /// The ground truth the metrics compare with, e.g. `continuous 32x32`.
     #[serde(default)]
     pub reference: String,

@@ -93,6 +93,7 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "geometry_pixels": geometry,
         "shadow_map_size": scene.render.shadow_map_size,
         "render": scene.render,
+        "raster": r.raster,
         "shadow_maps": r.output.shadow_maps,
         "syncs": r.output.syncs,
         "timing_waits": r.timing_waits,

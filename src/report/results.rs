@@ -117,6 +117,7 @@ pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
         ("adapter", shared(rows, |r| adapter_text(&r.adapter))),
         ("resolution", shared(rows, |r| r.resolution.map(|[w, h]| format!("{w}x{h}")).unwrap_or_default())),
         ("shadow map size", shared(rows, |r| r.shadow_map_size.map(|s| format!("{s}x{s}")).unwrap_or_default())),
+        ("shadow-map raster", shared(rows, |r| r.raster.clone().unwrap_or_default())),
         ("reference", shared(rows, |r| r.reference.clone())),
         (
             "timing",
