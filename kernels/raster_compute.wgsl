@@ -10,6 +10,9 @@
 // Edge values need 49 bits: they are two-word integers (`Wide`), exact, as i64 on the CPU.
 // Every f32 product that feeds an addition goes through `fence`, so no compiler can fuse it into an
 // fma and round it differently from the twin.
+// Under the GPU-steered loop (`requested`), the chain's jobs and the dispatch sizes of `clear`, `main`
+// and `store` come from subdivide's request list, so only the maps a level asked for are cleared,
+// rasterized and stored, and nothing waits.
 // Work items are (triangle, map) pairs: `main` sets each up and rejects it when its box holds no
 // texel centre; a small one (box at most RASTER_SMALL_SIDE² texels) is rasterized in its
 // invocation, a large one is queued for `large_tiles`, a workgroup per queued pair over tiles of
@@ -26,7 +29,8 @@ struct GpuRasterCompute {
     large_capacity: u32,
     // Always 0: XORed into a product's bits, which hides the product from the compiler's fma fusion.
     fence: u32,
-    pad0: u32,
+    // `requested`: the first request of this chain (its index in the level's request list).
+    first_request: u32,
     pad1: u32,
 }
 
@@ -62,8 +66,8 @@ const RASTER_FAR: u32 = 0x3f800000u;
 
 @group(0) @binding(0) var<uniform> params: GpuRasterCompute;
 @group(0) @binding(1) var<storage, read> samples: array<GpuSample>;
-// Each map of the chain.
-@group(0) @binding(2) var<storage, read> jobs: array<GpuRasterJob>;
+// Each map of the chain (written by `requested` under the GPU-steered loop).
+@group(0) @binding(2) var<storage, read_write> jobs: array<GpuRasterJob>;
 @group(0) @binding(3) var<storage, read> vertices: array<f32>;
 @group(0) @binding(4) var<storage, read> indices: array<u32>;
 // map_count maps of map_size² words, row-major, row 0 at the top (NDC y = 1).
@@ -74,6 +78,19 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(7) var<storage, read_write> control: array<atomic<u32>>;
 // `large`'s indirect dispatch (x, y, z).
 @group(0) @binding(8) var<storage, read_write> dispatch: array<u32>;
+// `requested`: the level's request count (GpuControl.new_sample_count, word 1) and list (subdivide's
+// new_samples); what it writes: the chain's map count, then the indirect dispatches of `clear`,
+// `main` and `store`, three words each (STEER_ARGS_* word offsets).
+@group(0) @binding(9) var<storage, read> request_control: array<u32>;
+@group(0) @binding(10) var<storage, read> request_list: array<u32>;
+@group(0) @binding(11) var<storage, read_write> steer_args: array<u32>;
+// `store`: the method's R32Uint layers; map m goes to its sample's layer.
+@group(0) @binding(12) var layers: texture_storage_2d_array<r32uint, write>;
+@group(0) @binding(13) var<storage, read> layer_samples: array<GpuSample>;
+
+const STEER_ARGS_CLEAR: u32 = 1u;
+const STEER_ARGS_MAIN: u32 = 4u;
+const STEER_ARGS_STORE: u32 = 7u;
 
 fn fence(x: f32) -> f32 {
     return bitcast<f32>(bitcast<u32>(x) ^ params.fence);
@@ -246,6 +263,46 @@ fn raster_rect(map: u32, tri: Tri, lo: vec2<i32>, hi: vec2<i32>) {
         row[1] = wide_add(row[1], b.step_y);
         row[2] = wide_add(row[2], c.step_y);
     }
+}
+
+// (x, 1, z) workgroups of a 2D dispatch of n, x at most 32768 (the Rust `rows`), with y = maps.
+fn dispatch_rows(at: u32, n: u32, maps: u32) {
+    let x = max(min(n, 32768u), 1u);
+    steer_args[at] = x;
+    steer_args[at + 1u] = maps;
+    steer_args[at + 2u] = (n + x - 1u) / x;
+}
+
+// One invocation: this chain's share of the level's requests (at most map_count of them, from
+// first_request on), as jobs over whole maps, and the dispatches that do only those maps. A chain
+// past the last request gets empty dispatches.
+@compute @workgroup_size(1, 1, 1)
+fn requested() {
+    let count = request_control[1];
+    let maps = min(count - min(count, params.first_request), params.map_count);
+    let last = params.map_size - 1u;
+    for (var m = 0u; m < maps; m = m + 1u) {
+        jobs[m] = GpuRasterJob(request_list[params.first_request + m], 0u, 0u, last, last, 0u, 0u, 0u);
+    }
+    steer_args[0] = maps;
+    let words = maps * params.map_size * params.map_size;
+    dispatch_rows(STEER_ARGS_CLEAR, (words + 64u * RASTER_CLEAR_RUN - 1u) / (64u * RASTER_CLEAR_RUN), 1u);
+    dispatch_rows(STEER_ARGS_MAIN, (params.triangle_count + 63u) / 64u, maps);
+    dispatch_rows(STEER_ARGS_STORE, (params.map_size * params.map_size + 63u) / 64u, maps);
+}
+
+// One invocation per (texel, map): the word into layer `layer_samples[job.sample].layer`.
+@compute @workgroup_size(64, 1, 1)
+fn store(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let texel = (wg.z * groups.x + wg.x) * 64u + lid;
+    let map = wg.y;
+    let texels = params.map_size * params.map_size;
+    if (texel >= texels) {
+        return;
+    }
+    let word = atomicLoad(&depth[map * texels + texel]);
+    let layer = layer_samples[jobs[map].sample].layer;
+    textureStore(layers, vec2<u32>(texel % params.map_size, texel / params.map_size), layer, vec4<u32>(word, 0u, 0u, 0u));
 }
 
 // Every word of the chain's maps to the far value: RASTER_CLEAR_RUN words per invocation, 64

@@ -366,5 +366,52 @@ fn twin_constants_match_the_kernel() {
     assert_eq!(constant("RASTER_FAR"), FAR as f64);
     assert_eq!(constant("RASTER_CLEAR_RUN"), raster_compute::CLEAR_RUN as f64);
     assert_eq!(constant("VERTEX_WORDS"), (std::mem::size_of::<Vertex>() / 4) as f64);
+    assert_eq!(constant("STEER_ARGS_CLEAR"), raster_compute::STEER_ARGS_CLEAR as f64);
+    assert_eq!(constant("STEER_ARGS_MAIN"), raster_compute::STEER_ARGS_MAIN as f64);
+    assert_eq!(constant("STEER_ARGS_STORE"), raster_compute::STEER_ARGS_STORE as f64);
 }
 
+
+/// Under the GPU-steered loop the chain's jobs and dispatches come from a level's request list:
+/// `requested` equals its twin for chains before, across and past the list's end, and `store`
+/// puts each requested map, equal to the twin's raster, into the layer its sample names, leaving
+/// every other layer as it was.
+#[test]
+fn requested_maps_go_to_their_samples_layers() {
+    let ctx = common::gpu();
+    let scene = soup(5, 2000);
+    let points: Vec<(f32, f32)> = (0..10).map(|k| ((k % 4) as f32 / 3.0, (k / 4) as f32 / 2.0)).collect();
+    let mut samples = samples(&scene, &points);
+    // Layers are a permutation of the samples, as the steered loop assigns them per candidate.
+    for (k, s) in samples.iter_mut().enumerate() {
+        s.layer = ((k * 7 + 3) % 10) as u32;
+    }
+    let list = [7u32, 3, 9, 1, 4, 8];
+    let control = [0u32, list.len() as u32, 0, 0, 0, 0, 0, 0];
+    let gpu = SceneGpu::upload(ctx, &scene);
+    let pass = RasterCompute::new(ctx, MAP, CullMode::Back, 4, scene.render.shadow_map_budget_mib).unwrap();
+    assert_eq!(pass.capacity, 4);
+    let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+    let control_buffer = readback::storage_buffer(ctx, "control", &control, wgpu::BufferUsages::empty());
+    let list_buffer = readback::storage_buffer(ctx, "list", &list, wgpu::BufferUsages::empty());
+    let array = shadow_raster::allocate_as(ctx, MAP, 10, true);
+    shadow_raster::clear_all(ctx, &array).unwrap();
+    for first in [0u32, 4, 8] {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        pass.record_requested(ctx, &mut enc, &gpu, &buffer, (&control_buffer, &list_buffer), first, &array.array_view);
+        ctx.queue.submit([enc.finish()]);
+        let (_, want) = twin::requested(list.len() as u32, &list, first, 4, MAP, scene.triangle_count() as u32);
+        assert_eq!(pass.read_steer_args(ctx).unwrap(), want, "chain from request {first}");
+    }
+    let pos = positions(&scene);
+    for (k, s) in samples.iter().enumerate() {
+        let layer: Vec<u32> = readback::read_texture(ctx, &array.texture, s.layer, 4).unwrap();
+        if list.contains(&(k as u32)) {
+            let want = twin::rasterize(&pos, &gpu.shadow_order, s, MAP, CullMode::Back);
+            assert!(want.iter().any(|&w| w != FAR), "sample {k} covers texels");
+            assert_eq!(layer, want, "requested sample {k} in layer {}", s.layer);
+        } else {
+            assert!(layer.iter().all(|&w| w == FAR), "sample {k} was not requested: layer {} untouched", s.layer);
+        }
+    }
+}

@@ -111,3 +111,35 @@ fn the_raster_setting_is_recorded_and_checked() {
     assert!(err.contains("--set raster=gpu") && err.contains("`hardware`, `compute`, `auto`"), "{err}");
     assert!(!bad.exists(), "nothing written");
 }
+
+/// The GPU-steered loop over compute maps: no wait in frame mode, V bit-identical to the waiting
+/// loop's and to the fixed-function raster's, the same maps, and the record says only the
+/// requested maps were rasterized.
+#[test]
+fn the_steered_frame_over_compute_maps_equals_the_waiting_loop() {
+    let ctx = common::gpu();
+    let dir = common::temp_dir("raster_steered");
+    let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
+    for (spec, seed) in [("adaptive", 11), ("adaptive:p_m=0", 5), ("adaptive:max_level=3", 9), ("adaptive:preset=balanced", 13)] {
+        let text = common::random_scene_toml(seed, 64, 128);
+        let run = |raster: &str, steer: &str| {
+            let method = Method::parse(&format!("{spec},steer={steer}").replace("adaptive,", "adaptive:"), &[]).unwrap();
+            let s = scene(&text, &dir, raster, &[]);
+            let mut r = Renderer::new(ctx, &s, &method).unwrap();
+            r.frame(options).unwrap()
+        };
+        let steered = run("compute", "gpu");
+        let waiting = run("compute", "cpu");
+        let fixed = run("hardware", "gpu");
+        assert_eq!(steered.output.syncs, 0, "{spec}: the steered frame reads nothing back");
+        assert!(waiting.output.syncs > 0, "{spec}: the waiting loop reads back each level");
+        assert_eq!(steered.output.shadow_maps, waiting.output.shadow_maps, "{spec}: maps");
+        assert!(steered.output.shadow_maps > 9, "{spec}: {} maps, the loop refined", steered.output.shadow_maps);
+        assert_eq!(steered.output.record["steer_raster"].as_str().unwrap().split(':').next(), Some("compute"), "{spec}");
+        for (other, name) in [(&waiting, "the waiting loop"), (&fixed, "the fixed-function raster")] {
+            let differ = steered.visibility.iter().zip(&other.visibility).filter(|(a, b)| a != b).count();
+            assert_eq!(differ, 0, "{spec}: V differs from {name} at {differ} pixels");
+        }
+        println!("{spec}: {} maps, V equal to the waiting loop's and the hardware raster's", steered.output.shadow_maps);
+    }
+}

@@ -247,6 +247,8 @@ stage_table! {
         compute("main", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("vertices", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
         compute("begin", SINGLE, &[("params", 0), ("control", 7), ("dispatch", 8)]),
         compute("large_tiles", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("vertices", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
+        compute("requested", SINGLE, &[("params", 0), ("jobs", 2), ("request_control", 9), ("request_list", 10), ("steer_args", 11)]),
+        compute("store", LINE, &[("params", 0), ("jobs", 2), ("depth", 5), ("layers", 12), ("layer_samples", 13)]),
     ];
     /// Percentage-closer filtering.
     PCF = "pcf" kernel { reads_maps: true, pcf_taps: true }, Some(Shade), [

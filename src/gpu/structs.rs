@@ -82,7 +82,8 @@ pub struct GpuRasterCompute {
     pub large_capacity: u32,
     /// Always 0: the kernel XORs it into products so that none is fused into an fma.
     pub fence: u32,
-    pub pad0: u32,
+    /// `requested`: this chain's first request in the level's list.
+    pub first_request: u32,
     pub pad1: u32,
 }
 
@@ -366,7 +367,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuTestBlock { ks, samples, pad }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
-        layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, pad0, pad1 }),
+        layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, first_request, pad1 }),
         layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, pad0, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,

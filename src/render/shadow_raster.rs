@@ -47,7 +47,12 @@ pub fn allocate(ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray 
 /// `words`: R32Uint layers the compute raster's depth bits are copied into, read through
 /// kernels/shared/maps_words.wgsl; otherwise `Depth32Float` layers this raster renders.
 pub fn allocate_as(ctx: &GpuContext, map_size: u32, layers: u32, words: bool) -> ShadowMapArray {
-    let (format, usage) = if words { (wgpu::TextureFormat::R32Uint, wgpu::TextureUsages::COPY_DST) } else { (wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT) };
+    // STORAGE_BINDING: under the GPU-steered loop a kernel stores maps into their layers.
+    let (format, usage) = if words {
+        (wgpu::TextureFormat::R32Uint, wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::STORAGE_BINDING)
+    } else {
+        (wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT)
+    };
     let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("shadow maps"),
         size: wgpu::Extent3d { width: map_size, height: map_size, depth_or_array_layers: layers },

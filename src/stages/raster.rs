@@ -125,6 +125,36 @@ impl Raster {
     }
 }
 
+impl Raster {
+    /// Under the GPU-steered loop: rasterizes only the maps a level's request list names (among
+    /// `candidates` possible), into the layers their sample records name, with dispatches the GPU
+    /// sizes from the list's count. The compute raster alone can: the fixed-function one draws
+    /// every candidate layer (`record_culled` with GPU instance counts).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_requested(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        requests: (&wgpu::Buffer, &wgpu::Buffer),
+        candidates: u32,
+        array: &ShadowMapArray,
+    ) -> Result<()> {
+        let Raster::Compute(c) = self else {
+            return Err(Error::Param("record_requested needs raster = compute".into()));
+        };
+        let size = array.texture.width();
+        let chains = c.chain(ctx, size)?;
+        let chain = chains.iter().find(|r| r.map_size == size).expect("a chain of this size");
+        // As many chains as the candidates could fill; those past the level's count do nothing.
+        for first in (0..candidates).step_by(chain.capacity as usize) {
+            chain.record_requested(ctx, enc, scene, samples, requests, first, &array.array_view);
+        }
+        Ok(())
+    }
+}
+
 /// Maps per compute chain: CHAIN_MAPS, or fewer where a quarter of the budget or the device allows fewer.
 pub fn chain_maps(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
     let map_bytes = map_size as u64 * map_size as u64 * 4;
@@ -133,14 +163,20 @@ pub fn chain_maps(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u3
 }
 
 impl ComputeRaster {
-    fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
-        let size = array.texture.width();
+    /// The chains, with one of `size` built if there was none.
+    fn chain(&self, ctx: &GpuContext, size: u32) -> Result<std::cell::RefMut<'_, Vec<RasterCompute>>> {
         let mut chains = self.chains.borrow_mut();
         if !chains.iter().any(|c| c.map_size == size) {
             // The share `maps_per_array` left out of the method's arrays.
             let maps = chain_maps(ctx, size, self.budget_mib)?;
             chains.push(RasterCompute::new(ctx, size, self.cull, maps, self.budget_mib)?);
         }
+        Ok(chains)
+    }
+
+    fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+        let size = array.texture.width();
+        let chains = self.chain(ctx, size)?;
         let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
         for part in jobs.chunks(chain.capacity as usize) {
             let words: Vec<GpuRasterJob> = part.iter().map(|j| GpuRasterJob::new(j.sample, size, j.scissor)).collect();

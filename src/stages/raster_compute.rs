@@ -16,6 +16,11 @@ use crate::{Error, Result};
 pub const FAR: u32 = 0x3f80_0000;
 /// Large (triangle, map) pairs one chain can queue; beyond it `main` rasterizes them itself.
 pub const LARGE_CAPACITY: u32 = 1 << 18;
+/// `requested`'s output words (the kernel's STEER_ARGS_*: the map count, then three dispatches).
+pub const STEER_ARGS_WORDS: u64 = 10;
+pub const STEER_ARGS_CLEAR: u64 = 1;
+pub const STEER_ARGS_MAIN: u64 = 4;
+pub const STEER_ARGS_STORE: u64 = 7;
 /// Words each invocation of `clear` sets (the kernel's RASTER_CLEAR_RUN).
 pub const CLEAR_RUN: u32 = 16;
 /// Workgroups along x of a 2D dispatch over many items (rows of at most this many).
@@ -26,11 +31,15 @@ pub struct RasterCompute {
     main: ComputeKernel,
     begin: ComputeKernel,
     large_tiles: ComputeKernel,
+    requested: ComputeKernel,
+    store: ComputeKernel,
     /// `capacity` maps of `map_size`² words.
     pub depth: wgpu::Buffer,
     large: wgpu::Buffer,
     control: wgpu::Buffer,
     dispatch: wgpu::Buffer,
+    /// `requested`'s output: the chain's map count, then the dispatches of clear, main and store.
+    steer_args: wgpu::Buffer,
     pub map_size: u32,
     /// Maps one chain holds.
     pub capacity: u32,
@@ -69,14 +78,31 @@ impl RasterCompute {
             main: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "main")?,
             begin: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "begin")?,
             large_tiles: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "large_tiles")?,
+            requested: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "requested")?,
+            store: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "store")?,
             depth: storage("raster_compute depth", capacity as u64 * map_size as u64 * map_size as u64 * 4, wgpu::BufferUsages::empty()),
             large: storage("raster_compute large pairs", LARGE_CAPACITY as u64 * 8, wgpu::BufferUsages::empty()),
             control: storage("raster_compute control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("raster_compute dispatch", 16, wgpu::BufferUsages::INDIRECT),
+            steer_args: storage("raster_compute steered dispatches", STEER_ARGS_WORDS * 4, wgpu::BufferUsages::INDIRECT),
             map_size,
             capacity,
             cull_face: super::cull::cull_face(cull),
         })
+    }
+
+    fn uniform(&self, ctx: &GpuContext, scene: &SceneGpu, maps: u32, first_request: u32) -> wgpu::Buffer {
+        let uniform = GpuRasterCompute {
+            map_size: self.map_size,
+            triangle_count: scene.index_count / 3,
+            cull_face: self.cull_face,
+            map_count: maps,
+            large_capacity: LARGE_CAPACITY,
+            fence: 0,
+            first_request,
+            pad1: 0,
+        };
+        readback::uniform_buffer(ctx, "raster_compute", &uniform)
     }
 
     /// Rasterizes `scene` into maps 0..jobs.len() of `depth`, map m from sample `jobs[m].sample` of
@@ -84,27 +110,18 @@ impl RasterCompute {
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob]) {
         let maps = jobs.len() as u32;
         assert!(maps >= 1 && maps <= self.capacity, "raster_compute chain of {maps} maps, capacity {}", self.capacity);
-        let triangles = scene.index_count / 3;
-        let uniform = GpuRasterCompute {
-            map_size: self.map_size,
-            triangle_count: triangles,
-            cull_face: self.cull_face,
-            map_count: maps,
-            large_capacity: LARGE_CAPACITY,
-            fence: 0,
-            pad0: 0,
-            pad1: 0,
-        };
-        let params = readback::uniform_buffer(ctx, "raster_compute", &uniform);
+        let params = self.uniform(ctx, scene, maps, 0);
         let jobs = readback::storage_buffer(ctx, "raster_compute jobs", jobs, wgpu::BufferUsages::empty());
-        enc.clear_buffer(&self.control, 0, None);
         let words = groups(maps * self.map_size * self.map_size, LINE_WORKGROUP[0] * CLEAR_RUN);
-        self.clear.dispatch(
-            ctx,
-            enc,
-            &[("params", params.as_entire_binding()), ("depth", self.depth.as_entire_binding())],
-            Dispatch::Direct(rows(words)),
-        );
+        let [x, _, z] = rows(groups(scene.index_count / 3, LINE_WORKGROUP[0]));
+        self.record_chain(ctx, enc, scene, samples, &params, &jobs, Dispatch::Direct(rows(words)), Dispatch::Direct([x, maps, z]));
+    }
+
+    /// clear, main, begin and large_tiles over the chain's jobs, with clear's and main's dispatches.
+    #[allow(clippy::too_many_arguments)]
+    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, params: &wgpu::Buffer, jobs: &wgpu::Buffer, clear: Dispatch, main: Dispatch) {
+        enc.clear_buffer(&self.control, 0, None);
+        self.clear.dispatch(ctx, enc, &[("params", params.as_entire_binding()), ("depth", self.depth.as_entire_binding())], clear);
         let all = [
             ("params", params.as_entire_binding()),
             ("samples", samples.as_entire_binding()),
@@ -115,8 +132,7 @@ impl RasterCompute {
             ("large", self.large.as_entire_binding()),
             ("control", self.control.as_entire_binding()),
         ];
-        let [x, _, z] = rows(groups(triangles, LINE_WORKGROUP[0]));
-        self.main.dispatch(ctx, enc, &all, Dispatch::Direct([x, maps, z]));
+        self.main.dispatch(ctx, enc, &all, main);
         self.begin.dispatch(
             ctx,
             enc,
@@ -124,6 +140,56 @@ impl RasterCompute {
             Dispatch::Direct([1, 1, 1]),
         );
         self.large_tiles.dispatch(ctx, enc, &all, Dispatch::Indirect(&self.dispatch));
+    }
+
+    /// Under the GPU-steered loop: rasterizes the requests `first_request ..` (at most `capacity`)
+    /// of a level's list (`request_control` word 1 counts them, `request_list` names the samples)
+    /// and stores each map into the layer its sample record names, with dispatches the GPU sizes:
+    /// a chain past the last request does nothing. Nothing is read back.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_requested(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        requests: (&wgpu::Buffer, &wgpu::Buffer),
+        first_request: u32,
+        layers: &wgpu::TextureView,
+    ) {
+        let params = self.uniform(ctx, scene, self.capacity, first_request);
+        let jobs = readback::zeroed_storage(ctx, "raster_compute requested jobs", self.capacity as u64 * std::mem::size_of::<GpuRasterJob>() as u64);
+        self.requested.dispatch(
+            ctx,
+            enc,
+            &[
+                ("params", params.as_entire_binding()),
+                ("jobs", jobs.as_entire_binding()),
+                ("request_control", requests.0.as_entire_binding()),
+                ("request_list", requests.1.as_entire_binding()),
+                ("steer_args", self.steer_args.as_entire_binding()),
+            ],
+            Dispatch::Direct([1, 1, 1]),
+        );
+        let at = |words: u64| Dispatch::IndirectAt(&self.steer_args, words * 4);
+        self.record_chain(ctx, enc, scene, samples, &params, &jobs, at(STEER_ARGS_CLEAR), at(STEER_ARGS_MAIN));
+        self.store.dispatch(
+            ctx,
+            enc,
+            &[
+                ("params", params.as_entire_binding()),
+                ("jobs", jobs.as_entire_binding()),
+                ("depth", self.depth.as_entire_binding()),
+                ("layers", wgpu::BindingResource::TextureView(layers)),
+                ("layer_samples", samples.as_entire_binding()),
+            ],
+            at(STEER_ARGS_STORE),
+        );
+    }
+
+    /// `requested`'s output of the last chain: [maps, clear x y z, main x y z, store x y z] (a read-back).
+    pub fn read_steer_args(&self, ctx: &GpuContext) -> Result<Vec<u32>> {
+        readback::read_buffer(ctx, &self.steer_args, STEER_ARGS_WORDS * 4)
     }
 
     /// Copies map `m` of the chain into layer `layer` of an R32Uint array of the same size (after

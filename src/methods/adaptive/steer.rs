@@ -118,6 +118,8 @@ impl Steering for Steered<'_> {
         let (steer, array, per_array) = (self.steer, self.array, self.per_array);
         let cand = candidates(level);
         let chunks = cand.len().div_ceil(per_array);
+        // The compute raster rasterizes only what subdivide requested, in one chunk of layers.
+        let requested_only = level > 0 && chunks == 1 && fg.raster.is_compute();
         for (c, chunk) in cand.chunks(per_array).enumerate() {
             timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
                 if level == 0 && c == 0 {
@@ -126,6 +128,9 @@ impl Steering for Steered<'_> {
                 if level > 0 && c == 0 {
                     // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
                     enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
+                }
+                if requested_only {
+                    return fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array);
                 }
                 let mut jobs = Vec::with_capacity(chunk.len());
                 for &k in chunk {
@@ -250,6 +255,13 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
     out.syncs = 0;
     out.record = levels::record(p, &trace, 0, None, &fg.gbuffer);
     out.record["steer"] = serde_json::json!("gpu: no read-back in the frame; the level records are read after it");
+    // What each level rasterized past level 0 (new_maps' `requested_only`).
+    let one_chunk = (1..=p.max_level).all(|l| candidates(l).len() <= prepared.store.per_array as usize);
+    out.record["steer_raster"] = serde_json::json!(if fg.raster.is_compute() && one_chunk {
+        "compute: only the maps subdivide requested, dispatches sized on the GPU"
+    } else {
+        "every candidate layer cleared, drawn with the request flag as instance count"
+    });
     out.pictures = if pending.pictures { pictures::all(fg, &trace, None) } else { Vec::new() };
     Ok(trace)
 }

@@ -152,6 +152,25 @@ pub fn face_hits(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_siz
     (front, back)
 }
 
+/// `requested`: a chain's jobs (whole maps) for requests `first ..` of a level's list of `count`
+/// (at most `capacity`), and its output words [maps, clear x y z, main x y z, store x y z].
+pub fn requested(count: u32, list: &[u32], first: u32, capacity: u32, map_size: u32, triangles: u32) -> (Vec<crate::gpu::structs::GpuRasterJob>, [u32; 10]) {
+    let maps = count.saturating_sub(first).min(capacity);
+    let jobs = (first..first + maps).map(|r| crate::gpu::structs::GpuRasterJob::whole(list[r as usize], map_size)).collect();
+    let rows = |n: u32, y: u32| {
+        let x = n.clamp(1, 32768);
+        [x, y, n.div_ceil(x)]
+    };
+    let words = maps * map_size * map_size;
+    let run = 64 * crate::stages::raster_compute::CLEAR_RUN;
+    let mut out = [0; 10];
+    out[0] = maps;
+    out[1..4].copy_from_slice(&rows(words.div_ceil(run), 1));
+    out[4..7].copy_from_slice(&rows(triangles.div_ceil(64), maps));
+    out[7..10].copy_from_slice(&rows((map_size * map_size).div_ceil(64), maps));
+    (jobs, out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
