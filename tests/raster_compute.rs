@@ -301,34 +301,27 @@ fn few_texels_differ_from_the_fixed_function_raster() {
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     pass.record(ctx, &mut enc, &gpu, &buffer, &array, &jobs);
     ctx.queue.submit([enc.finish()]);
-    let (mut coverage, mut covered, mut tenth, mut hundredth, mut exact) = (0usize, 0usize, 0usize, 0usize, 0usize);
+    let mut d = raster_compute::RasterDifference::default();
     for (k, s) in samples.iter().enumerate() {
         let hw: Vec<f32> = readback::read_texture(ctx, &array.texture, k as u32, 4).unwrap();
-        let linear = |d: f32| s.depth_lin_a / (d + s.depth_lin_b);
-        for (t, &h) in hw.iter().enumerate() {
-            let c = raster_compute::depth_of(words[k][t]);
-            match (h < 1.0, c < 1.0) {
-                (true, true) => {
-                    covered += 1;
-                    exact += usize::from(h == c);
-                    let texels = (linear(h) - linear(c)).abs() / (linear(h) * s.texel_angle);
-                    tenth += usize::from(texels > 0.1);
-                    hundredth += usize::from(texels > 0.01);
-                }
-                (false, false) => {}
-                _ => coverage += 1,
-            }
-        }
+        d.add(s, &hw, &words[k]);
     }
     let texels = points.len() * (MAP * MAP) as usize;
-    let share = |n: usize| n as f64 / texels as f64;
+    assert_eq!(d.texels, texels);
     println!(
-        "raster_compute vs shadow_raster, default 256², 5 maps, {texels} texels: covered by both {covered} ({exact} equal); \
-         coverage differs {coverage} ({:.4}%); depth by > 0.1 texel {tenth} ({:.4}%), by > 0.01 texel {hundredth} ({:.4}%)",
-        100.0 * share(coverage),
-        100.0 * share(tenth),
-        100.0 * share(hundredth)
+        "raster_compute vs shadow_raster, default 256², 5 maps, {texels} texels: covered by both {} ({} equal); \
+         coverage differs {} ({:.4}%); depth by > 0.1 texel {} ({:.4}%), by > 0.01 texel {} ({:.4}%)",
+        d.covered,
+        d.exact,
+        d.coverage,
+        100.0 * d.share(d.coverage),
+        d.tenth,
+        100.0 * d.share(d.tenth),
+        d.hundredth,
+        100.0 * d.share(d.hundredth)
     );
+    let (covered, coverage, tenth) = (d.covered, d.coverage, d.tenth);
+    let share = |n: usize| d.share(n);
     assert!(covered > texels / 4, "{covered} texels covered");
     // Measured on lavapipe: coverage differs at 0 texels, depth by > 0.1 texel at 3 (0.0009%);
     // the bound leaves ten times that for another driver's snap and interpolation.

@@ -227,6 +227,45 @@ impl RasterCompute {
     }
 }
 
+/// Texel by texel, one compute map (`words`) against the fixed-function raster's map of the same
+/// sample (`fixed`, depths): where one covers and the other does not, and where both cover but the
+/// depths differ, in linear depth, by more than a tenth or a hundredth of a texel's width at that
+/// depth (docs/gpu-frame.md §7; the lookup's constant bias is half a texel).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct RasterDifference {
+    pub texels: usize,
+    pub covered: usize,
+    pub exact: usize,
+    pub coverage: usize,
+    pub tenth: usize,
+    pub hundredth: usize,
+}
+
+impl RasterDifference {
+    pub fn add(&mut self, s: &crate::gpu::structs::GpuSample, fixed: &[f32], words: &[u32]) {
+        let linear = |d: f32| s.depth_lin_a / (d + s.depth_lin_b);
+        self.texels += fixed.len();
+        for (&h, &w) in fixed.iter().zip(words) {
+            let c = depth_of(w);
+            match (h < 1.0, c < 1.0) {
+                (true, true) => {
+                    self.covered += 1;
+                    self.exact += usize::from(h == c);
+                    let texels = (linear(h) - linear(c)).abs() / (linear(h) * s.texel_angle);
+                    self.tenth += usize::from(texels > 0.1);
+                    self.hundredth += usize::from(texels > 0.01);
+                }
+                (false, false) => {}
+                _ => self.coverage += 1,
+            }
+        }
+    }
+    /// A count as a share of all texels.
+    pub fn share(&self, n: usize) -> f64 {
+        n as f64 / self.texels.max(1) as f64
+    }
+}
+
 /// A stored word's depth.
 pub fn depth_of(word: u32) -> f32 {
     f32::from_bits(word)
