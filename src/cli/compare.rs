@@ -67,6 +67,7 @@ pub fn run_compare(
     if run.repeats == 0 || run.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
     }
+    penumbra::methods::check_lights(&scene, &methods)?;
     if announce {
         eprintln!("{}", plan::line(&methods, &scene, run.repeats));
     }

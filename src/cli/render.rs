@@ -43,6 +43,7 @@ pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     let render_sets = render_sets_or(&args.set, Some(name), Some("--param"))?;
     let scene = Scene::load(&args.scene, &render_sets)?;
     let method = Method::parse(&args.method, &param_pairs(&args.param)?)?;
+    method.check_light(&scene)?;
     let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
     let ctx = GpuContext::with_request(gpu)?;
     let mut renderer = frame::Renderer::new(&ctx, &scene, &method)?;

@@ -73,6 +73,7 @@ pub fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let reference = truth::parse_mode(&args.reference, args.samples)?;
     let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: truth::Cache::default_for(args.no_cache) };
     sequence::check(&job)?;
+    penumbra::methods::check_lights(&scene, &job.methods)?;
     let ctx = GpuContext::with_request(gpu)?;
     // Every method's frame sizes before the first reference is traced.
     penumbra::methods::sizes::check_all(&ctx, &scene, &job.methods)?;

@@ -170,6 +170,9 @@ impl Filtered {
 }
 
 impl ShadowMethod for Filtered {
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        (kind != crate::scene::LightKind::Rect).then_some(super::FROM_THE_CENTRE)
+    }
     fn name(&self) -> &'static str {
         self.kind.info().name
     }

@@ -59,6 +59,13 @@ impl Fixed {
 }
 
 impl ShadowMethod for Fixed {
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        let why = match self {
+            Fixed::Hard => super::FROM_THE_CENTRE,
+            Fixed::Regular { .. } => super::ON_A_RECTANGLE,
+        };
+        (kind != crate::scene::LightKind::Rect).then_some(why)
+    }
     fn name(&self) -> &'static str {
         match self {
             Fixed::Hard => "hard",

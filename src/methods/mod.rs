@@ -21,6 +21,7 @@ pub use adaptive::params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 
 use crate::stages::FrameGpu;
 use crate::gpu::timing::StageTimer;
+use crate::scene::LightKind;
 use crate::{Error, Result};
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -120,6 +121,23 @@ pub trait ShadowMethod: Send + Sync + Any {
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![sizes::visibility(scene, false, limits)]
     }
+    /// Why the method cannot run under a light of `kind` yet, or `None` when it can. By default a
+    /// method places its samples on the rectangle (`Scene::light`), so it takes `rect` alone.
+    fn unsupported_light(&self, kind: LightKind) -> Option<&'static str> {
+        (kind != LightKind::Rect).then_some(ON_A_RECTANGLE)
+    }
+}
+
+/// Why the many-sample methods refuse the other kinds (docs/lights.md, "Methods and kinds").
+pub const ON_A_RECTANGLE: &str = "samples are placed on a rectangle";
+/// Why the one-map methods refuse them.
+pub const FROM_THE_CENTRE: &str = "its map looks from the rectangle's centre along the rectangle's normal";
+/// Why pcss refuses them: its map, and the light size its search and filter scale with.
+pub const PCSS_RECTANGLE: &str = "its map looks from the rectangle's centre and its search spans the rectangle's sides";
+
+/// Each method against the scene's light kind, before anything is built, traced or written.
+pub fn check_lights(scene: &crate::scene::Scene, methods: &[Method]) -> Result<()> {
+    methods.iter().try_for_each(|m| m.check_light(scene))
 }
 
 /// A built method. `reset` runs before the frame's clock starts (zero fills); `run` is the frame.
@@ -237,7 +255,21 @@ impl Method {
         Family::of_name(self.name())
     }
     pub fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        self.check_light(fg.scene)?;
         self.0.build(fg)
+    }
+    /// `regular: light kind `disk` is not supported yet (samples are placed on a rectangle)`.
+    pub fn check_light(&self, scene: &crate::scene::Scene) -> Result<()> {
+        let kind = scene.emitter.kind();
+        match self.0.unsupported_light(kind) {
+            None => Ok(()),
+            Some(why) => Err(Error::Param(format!(
+                "{}: light kind `{}` is not supported yet ({why}); scene {} (docs/lights.md lists the pairs)",
+                self.name(),
+                kind.name(),
+                scene.origin
+            ))),
+        }
     }
     /// The method's own type, for callers that need its parameters (`as_any().downcast_ref`).
     pub fn as_any(&self) -> &dyn Any {

@@ -131,6 +131,9 @@ pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
 }
 
 impl ShadowMethod for Pcf {
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        (kind != crate::scene::LightKind::Rect).then_some(super::FROM_THE_CENTRE)
+    }
     fn name(&self) -> &'static str {
         "pcf"
     }

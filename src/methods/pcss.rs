@@ -38,6 +38,9 @@ pub struct Pcss {
 }
 
 impl ShadowMethod for Pcss {
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        (kind != crate::scene::LightKind::Rect).then_some(super::PCSS_RECTANGLE)
+    }
     fn name(&self) -> &'static str {
         "pcss"
     }

@@ -28,6 +28,10 @@ pub const INFO: MethodInfo = MethodInfo {
 pub struct SsaoMethod(pub SsaoSettings);
 
 impl ShadowMethod for SsaoMethod {
+    /// Screen-space occlusion reads no light.
+    fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
+        None
+    }
     fn name(&self) -> &'static str {
         "ssao"
     }

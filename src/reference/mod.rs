@@ -10,9 +10,14 @@
 //! shadow-map method sees), [`ReferenceMode::Continuous`] (m×m stratified jitter, decorrelated
 //! per pixel) or [`ReferenceMode::Point`] (one light point: the exact hard shadow a perfect map
 //! from that point gives, so V is 0 or 1). The analytic square scene (`analytic.rs`) validates both.
+//! The other light kinds (disk, sun, the sphere of a spot or point) map the same unit-square
+//! samples onto their own disk (`emitter.rs`, docs/lights.md); `analytic_lights.rs` holds their
+//! closed forms.
 
 pub(crate) mod analytic;
+pub mod analytic_lights;
 pub(crate) mod cache;
+pub mod emitter;
 pub mod environment;
 pub mod sampling;
 pub(crate) mod tracer;
@@ -31,6 +36,7 @@ pub use analytic::{
 pub use cache::{
     CacheLock, REFERENCE_VERSION, cache_key, cache_path, load_cached, lock, reference_key, save_cached,
 };
+pub use emitter::{RefEmitter, try_trace_emitter};
 pub use tracer::{Hit, Tracer};
 pub use visibility::{LIGHT_END_EPS, point_visibility, trace_visibility, try_trace_visibility};
 

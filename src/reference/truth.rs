@@ -2,7 +2,8 @@
 //! disk under a key of everything that changes the result, so a rerun costs a hash, not minutes.
 
 use crate::gpu::GpuContext;
-use crate::reference::{self, RefLight, ReferenceMode, SurfacePoint, Tracer};
+use crate::reference::{self, RefEmitter, RefLight, ReferenceMode, SurfacePoint, Tracer};
+use crate::scene::Emitter;
 pub use crate::reference::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};
 use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
@@ -149,6 +150,17 @@ fn light_of(scene: &Scene) -> RefLight {
     RefLight { center: scene.light.center, edge_u: scene.light.edge_u, edge_v: scene.light.edge_v }
 }
 
+/// The emitter the reference samples when it is not the rectangle (`None`: `light_of`).
+pub fn emitter_of(scene: &Scene) -> Option<RefEmitter> {
+    match scene.emitter {
+        Emitter::Rect => None,
+        Emitter::Disk(d) => Some(RefEmitter::Disk { center: d.center, normal: d.normal, radius: d.radius }),
+        Emitter::Sun(s) => Some(RefEmitter::Sun { toward: s.toward(), tan_half: s.tan_half_angle(), reach: env_ray_length(scene) }),
+        Emitter::Spot(s) => Some(RefEmitter::Sphere { center: s.position, radius: s.radius }),
+        Emitter::Point(p) => Some(RefEmitter::Sphere { center: p.position, radius: p.radius }),
+    }
+}
+
 /// Cache key: triangles, camera, the G-buffer itself (it fixes the resolution and every traced
 /// point), light, mode, ray offset, the tracer's `REFERENCE_VERSION` and the crate version.
 pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f32) -> String {
@@ -174,6 +186,11 @@ pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f3
     // An environment replaces the light: its panorama, rotation and intensity are in the key.
     let digest = match &scene.environment {
         Some(env) => reference::cache_key(&[digest.as_bytes(), b"environment", &env.key_bytes()]),
+        None => digest,
+    };
+    // Another kind than the rectangle: its shape joins the key (a rectangle's key is as before).
+    let digest = match emitter_of(scene) {
+        Some(e) => reference::cache_key(&[digest.as_bytes(), b"emitter", &e.key_bytes()]),
         None => digest,
     };
     reference::reference_key(digest.as_bytes(), &light_of(scene), mode, offset)
@@ -238,7 +255,10 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
             image.std_error = Some(crate::reference::environment::error_summary(&r, &points));
             r.values
         }
-        None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?,
+        None => match emitter_of(scene) {
+            None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?,
+            Some(e) => reference::try_trace_emitter(&tracer, &points, &e, &mode, offset, &|n| bar.set_position(n as u64))?,
+        },
     };
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();

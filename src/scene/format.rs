@@ -5,6 +5,7 @@ use super::mesh_file::MeshDirs;
 use super::settings::{MapKind, RenderSettings};
 use super::mesh::{self, Vertex};
 use super::model::{Camera, Scene};
+use crate::scene::emitter::{Emitter, LightKind};
 use crate::scene::light::{AreaLight, Bounds};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -37,16 +38,26 @@ pub struct CameraDef {
     pub fov_y_deg: f32,
 }
 
-/// Either `edge_u` + `edge_v` (full edge vectors), or `size` + `normal` (+ optional `u_axis`).
-#[derive(Deserialize, Debug)]
+/// `kind` (default `rect`) and its keys (docs/lights.md). A rectangle is either `edge_u` + `edge_v`
+/// (full edge vectors), or `size` + `normal` (+ optional `u_axis`); `emitter_def.rs` checks which
+/// keys belong to which kind.
+#[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
 pub struct LightDef {
-    pub center: [f32; 3],
+    #[serde(default)]
+    pub kind: LightKind,
+    pub center: Option<[f32; 3]>,
     pub edge_u: Option<[f32; 3]>,
     pub edge_v: Option<[f32; 3]>,
     pub size: Option<[f32; 2]>,
     pub normal: Option<[f32; 3]>,
     pub u_axis: Option<[f32; 3]>,
+    pub radius: Option<f32>,
+    pub position: Option<[f32; 3]>,
+    pub direction: Option<[f32; 3]>,
+    pub angular_diameter_deg: Option<f32>,
+    pub inner_cone_deg: Option<f32>,
+    pub outer_cone_deg: Option<f32>,
 }
 
 fn default_up() -> [f32; 3] {
@@ -144,9 +155,9 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         Some(e) => Some(crate::scene::environment::scene::build(e, origin, dirs)?),
         None => None,
     };
-    let light = match (&def.light, &environment) {
-        (Some(l), _) => Some(build_light(l, origin)?),
-        (None, Some(_)) => None,
+    let (light, emitter) = match (&def.light, &environment) {
+        (Some(l), _) => super::emitter_def::build(l, origin)?,
+        (None, Some(_)) => (None, Emitter::Rect),
         (None, None) => return Err(Error::scene(origin, "the scene has no [light] and no [environment]: give one")),
     };
     let render = render_settings(origin, &def.render)?;
@@ -159,7 +170,7 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         let (verts, idx) = mesh::instantiate(m, k, origin, dirs)?;
         meshes.push((verts, idx, albedo.to_array()));
     }
-    let parts = Parts { name: def.name, description: def.description, stated_triangles: def.triangles, camera, light, environment, render };
+    let parts = Parts { name: def.name, description: def.description, stated_triangles: def.triangles, camera, light, emitter, environment, render };
     assemble(parts, meshes, origin)
 }
 
@@ -170,8 +181,10 @@ pub(crate) struct Parts {
     /// Triangle count the author states; checked against the meshes.
     pub stated_triangles: Option<u64>,
     pub camera: Camera,
-    /// `None`: a panorama lights the scene and the light is a nominal square above the meshes.
+    /// `None`: a panorama lights the scene and the light is a nominal square above the meshes, or
+    /// the emitter is not a rectangle and the light is its stand-in.
     pub light: Option<AreaLight>,
+    pub emitter: Emitter,
     pub environment: Option<crate::scene::environment::Environment>,
     pub render: RenderSettings,
 }
@@ -292,12 +305,17 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
         min = min.min(Vec3::from(v.position));
         max = max.max(Vec3::from(v.position));
     }
-    let light = match parts.light {
-        Some(light) => {
-            check_light_side(origin, &light, &Bounds { min, max })?;
+    let bounds = Bounds { min, max };
+    let light = match (parts.emitter.stand_in(&bounds), parts.light) {
+        (Some(stand_in), _) => {
+            super::emitter_def::check_side(origin, &parts.emitter, &bounds)?;
+            stand_in
+        }
+        (None, Some(light)) => {
+            check_light_side(origin, &light, &bounds)?;
             light
         }
-        None => crate::scene::environment::scene::light_above(min, max),
+        (None, None) => crate::scene::environment::scene::light_above(min, max),
     };
     if let Some(stated) = parts.stated_triangles {
         let got = indices.len() as u64 / 3;
@@ -314,12 +332,13 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
         origin: origin.to_string(),
         camera: parts.camera,
         light,
+        emitter: parts.emitter,
         environment: parts.environment,
         render: parts.render,
         vertices,
         indices,
         albedos,
-        bounds: Bounds { min, max },
+        bounds,
     };
     if scene.bounds_outside_view() {
         return Err(scene.nothing_visible());
@@ -343,7 +362,7 @@ pub(super) fn check_light_side(origin: &str, light: &AreaLight, bounds: &Bounds)
 }
 
 pub(super) fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
-    let center = finite(origin, "light.center", l.center)?;
+    let center = finite(origin, "light.center", l.center.ok_or_else(|| Error::scene(origin, "light.center is missing: kind `rect` needs center, and edge_u + edge_v or size + normal"))?)?;
     let (edge_u, edge_v) = match (l.edge_u, l.edge_v, l.size, l.normal) {
         (Some(u), Some(v), None, None) => (finite(origin, "light.edge_u", u)?, finite(origin, "light.edge_v", v)?),
         (None, None, Some(size), Some(normal)) => {

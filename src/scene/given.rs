@@ -36,7 +36,7 @@ fn camera_def(c: &Camera) -> CameraDef {
 }
 
 fn light_def(l: &AreaLight) -> LightDef {
-    LightDef { center: l.center.to_array(), edge_u: Some(l.edge_u.to_array()), edge_v: Some(l.edge_v.to_array()), size: None, normal: None, u_axis: None }
+    LightDef { center: Some(l.center.to_array()), edge_u: Some(l.edge_u.to_array()), edge_v: Some(l.edge_v.to_array()), ..LightDef::default() }
 }
 
 impl Scene {
@@ -78,7 +78,7 @@ impl Scene {
                 .collect();
             parts.push((vertices, m.indices.to_vec(), albedo.to_array()));
         }
-        let scene_parts = Parts { name: None, description: None, stated_triangles: None, camera, light: Some(light), environment: None, render };
+        let scene_parts = Parts { name: None, description: None, stated_triangles: None, camera, light: Some(light), emitter: crate::scene::Emitter::Rect, environment: None, render };
         format::assemble(scene_parts, parts, origin)
     }
 

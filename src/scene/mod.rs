@@ -5,6 +5,8 @@ mod builtin;
 pub mod environment;
 pub mod light;
 mod catalog;
+pub mod emitter;
+mod emitter_def;
 mod format;
 mod given;
 mod instances;
@@ -22,6 +24,7 @@ mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use catalog::{catalog, CatalogEntry};
+pub use emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
 pub use given::{settings_from_pairs, GivenMesh};
 pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow};
 pub use mesh::Vertex;

@@ -32,6 +32,8 @@ pub struct Scene {
     pub origin: String,
     pub camera: Camera,
     pub light: AreaLight,
+    /// The light's kind and shape; for `Rect` the rectangle is `light` (docs/lights.md).
+    pub emitter: crate::scene::emitter::Emitter,
     /// `[environment]`: the scene is lit by a panorama (docs/environment.md); `light` is then a
     /// nominal square above the meshes that only the area-light methods read.
     pub environment: Option<crate::scene::environment::Environment>,

@@ -67,6 +67,10 @@ impl EnvAdaptive {
 }
 
 impl ShadowMethod for EnvAdaptive {
+    /// The panorama lights it; `[light]` is not read.
+    fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
+        None
+    }
     fn name(&self) -> &'static str {
         "env-adaptive"
     }

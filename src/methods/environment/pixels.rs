@@ -56,6 +56,10 @@ pub struct EnvPixels {
 }
 
 impl ShadowMethod for EnvPixels {
+    /// The panorama lights it; `[light]` is not read.
+    fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
+        None
+    }
     fn name(&self) -> &'static str {
         "env-pixels"
     }

@@ -1,0 +1,182 @@
+//! The light's kind and shape (docs/lights.md): the rectangle every method samples today, and the
+//! disk, the sun, the spot and the point that only the reference samples so far.
+
+use super::light::{AreaLight, Bounds};
+use glam::Vec3;
+
+/// The `kind` key of `[light]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LightKind {
+    #[default]
+    Rect,
+    Disk,
+    Sun,
+    Spot,
+    Point,
+}
+
+impl LightKind {
+    pub const ALL: [LightKind; 5] = [LightKind::Rect, LightKind::Disk, LightKind::Sun, LightKind::Spot, LightKind::Point];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LightKind::Rect => "rect",
+            LightKind::Disk => "disk",
+            LightKind::Sun => "sun",
+            LightKind::Spot => "spot",
+            LightKind::Point => "point",
+        }
+    }
+}
+
+/// A disk of `radius` around `center`, emitting on the side of the unit `normal`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiskLight {
+    pub center: Vec3,
+    pub normal: Vec3,
+    pub radius: f32,
+}
+
+/// The area light at infinity: a disk of directions of `angular_diameter_deg` around the unit
+/// `direction` the light travels in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunLight {
+    pub direction: Vec3,
+    pub angular_diameter_deg: f32,
+}
+
+impl SunLight {
+    /// Unit vector towards the sun's centre.
+    pub fn toward(&self) -> Vec3 {
+        -self.direction
+    }
+    /// Tangent of the angular radius: the radius of the disk of directions one unit away.
+    pub fn tan_half_angle(&self) -> f32 {
+        (0.5 * self.angular_diameter_deg).to_radians().tan()
+    }
+}
+
+/// An emitter sphere of `radius` at `position`, lighting the cone around the unit `direction`:
+/// fully inside `inner_cone_deg`, not at all beyond `outer_cone_deg` (half-angles from the axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotLight {
+    pub position: Vec3,
+    pub direction: Vec3,
+    pub inner_cone_deg: f32,
+    pub outer_cone_deg: f32,
+    pub radius: f32,
+}
+
+impl SpotLight {
+    /// The cone's illumination factor at `p`: 1 inside the inner cone, 0 beyond the outer one,
+    /// smoothstep in the cosine between. It scales the lighting, not V (docs/lights.md).
+    pub fn cone_factor(&self, p: Vec3) -> f32 {
+        let to_p = (p - self.position).normalize_or_zero();
+        let cos = to_p.dot(self.direction);
+        let (cos_in, cos_out) = (self.inner_cone_deg.to_radians().cos(), self.outer_cone_deg.to_radians().cos());
+        if cos >= cos_in {
+            return 1.0;
+        }
+        if cos <= cos_out {
+            return 0.0;
+        }
+        let x = (cos - cos_out) / (cos_in - cos_out);
+        x * x * (3.0 - 2.0 * x)
+    }
+}
+
+/// An emitter sphere of `radius` at `position`, lighting every direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    pub position: Vec3,
+    pub radius: f32,
+}
+
+/// The scene's light. `Rect` carries nothing: its rectangle is `Scene::light`, which every
+/// rectangle method reads (and studies move). For the other kinds `Scene::light` is a stand-in
+/// square ([`Emitter::stand_in`]) that only the frame's shading direction reads; the methods that
+/// sample the rectangle refuse them (`ShadowMethod::unsupported_light`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum Emitter {
+    #[default]
+    Rect,
+    Disk(DiskLight),
+    Sun(SunLight),
+    Spot(SpotLight),
+    Point(PointLight),
+}
+
+impl Emitter {
+    pub fn kind(&self) -> LightKind {
+        match self {
+            Emitter::Rect => LightKind::Rect,
+            Emitter::Disk(_) => LightKind::Disk,
+            Emitter::Sun(_) => LightKind::Sun,
+            Emitter::Spot(_) => LightKind::Spot,
+            Emitter::Point(_) => LightKind::Point,
+        }
+    }
+
+    /// A square with the emitter's place and size, facing the meshes: the shading direction of
+    /// the frame (and the nominal light of the checks that read `Scene::light`). `None` for `Rect`.
+    pub fn stand_in(&self, bounds: &Bounds) -> Option<AreaLight> {
+        let mid = bounds.min.lerp(bounds.max, 0.5);
+        let (center, normal, side) = match *self {
+            Emitter::Rect => return None,
+            Emitter::Disk(d) => (d.center, d.normal, 2.0 * d.radius),
+            Emitter::Sun(s) => {
+                // One scene diagonal out along the sun: every corner lies in front of it.
+                let far = bounds.diagonal().max(1e-3);
+                (mid - s.direction * far, s.direction, 2.0 * far * s.tan_half_angle())
+            }
+            Emitter::Spot(s) => (s.position, s.direction, 2.0 * s.radius),
+            Emitter::Point(p) => {
+                let to_mid = (mid - p.position).normalize_or_zero();
+                (p.position, if to_mid == Vec3::ZERO { Vec3::NEG_Y } else { to_mid }, 2.0 * p.radius)
+            }
+        };
+        let (edge_u, edge_v) = square_edges(normal, side);
+        Some(AreaLight { center, edge_u, edge_v })
+    }
+}
+
+/// Edges of a square of `side` whose `edge_u × edge_v` points along the unit `normal` (the `size`
+/// form's rule: u along +x, or +z when the normal is close to x).
+pub fn square_edges(normal: Vec3, side: f32) -> (Vec3, Vec3) {
+    let hint = if normal.x.abs() < 0.9 { Vec3::X } else { Vec3::Z };
+    let u = (hint - normal * hint.dot(normal)).normalize();
+    (u * side, normal.cross(u) * side)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stand_ins_face_the_emitters_way_and_take_its_size() {
+        let bounds = Bounds { min: Vec3::new(-5.0, 0.0, -5.0), max: Vec3::new(5.0, 2.0, 5.0) };
+        let disk = Emitter::Disk(DiskLight { center: Vec3::new(0.0, 6.0, 0.0), normal: Vec3::NEG_Y, radius: 1.5 });
+        let l = disk.stand_in(&bounds).unwrap();
+        assert!((l.normal() - Vec3::NEG_Y).length() < 1e-6 && (l.edge_u.length() - 3.0).abs() < 1e-6);
+        let sun = Emitter::Sun(SunLight { direction: Vec3::new(0.0, -1.0, 0.0), angular_diameter_deg: 2.0 });
+        let l = sun.stand_in(&bounds).unwrap();
+        assert!(l.center.y > bounds.max.y && (l.normal() - Vec3::NEG_Y).length() < 1e-6);
+        let point = Emitter::Point(PointLight { position: Vec3::new(3.0, 8.0, 0.0), radius: 0.5 });
+        let l = point.stand_in(&bounds).unwrap();
+        assert!(l.normal().dot(Vec3::new(0.0, 1.0, 0.0) - l.center) > 0.0);
+        assert_eq!(Emitter::Rect.stand_in(&bounds), None);
+    }
+
+    #[test]
+    fn the_cone_factor_is_one_inside_zero_outside_and_smooth_between() {
+        let s = SpotLight { position: Vec3::ZERO, direction: Vec3::NEG_Y, inner_cone_deg: 20.0, outer_cone_deg: 40.0, radius: 0.1 };
+        let at = |deg: f32| s.cone_factor(Vec3::new(deg.to_radians().sin(), -deg.to_radians().cos(), 0.0));
+        assert_eq!(at(0.0), 1.0);
+        assert_eq!(at(19.9), 1.0);
+        assert_eq!(at(40.1), 0.0);
+        let mid = at(30.0);
+        assert!(mid > 0.2 && mid < 0.8, "{mid}");
+        assert!(at(25.0) > mid && mid > at(35.0));
+    }
+}
