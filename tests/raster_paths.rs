@@ -143,3 +143,24 @@ fn the_steered_frame_over_compute_maps_equals_the_waiting_loop() {
         println!("{spec}: {} maps, V equal to the waiting loop's and the hardware raster's", steered.output.shadow_maps);
     }
 }
+
+/// Map storage stays inside `shadow_map_budget_mib` under the compute raster: its chain takes a
+/// quarter of the budget (at most 32 maps) and the method's arrays the rest; a budget of one map
+/// is refused with one line naming the setting.
+#[test]
+fn compute_maps_stay_inside_the_budget() {
+    use penumbra::scene::CullMode;
+    use penumbra::stages::raster::{chain_maps, Raster};
+    let ctx = common::gpu();
+    let (hardware, compute) = (Raster::new(ctx, CullMode::Back, false, 4).unwrap(), Raster::new(ctx, CullMode::Back, true, 4).unwrap());
+    // 256² maps are 256 KiB: 4 MiB holds 16, of which the chain takes 4.
+    assert_eq!(hardware.maps_per_array(ctx, 256, 4).unwrap(), 16);
+    assert_eq!(chain_maps(ctx, 256, 4).unwrap(), 4);
+    assert_eq!(compute.maps_per_array(ctx, 256, 4).unwrap(), 12);
+    // 512 MiB of 512² maps: 512 in all, a chain of 32 (not a quarter: the cap), 480 for the arrays.
+    assert_eq!(chain_maps(ctx, 512, 512).unwrap(), 32);
+    assert_eq!(compute.maps_per_array(ctx, 512, 512).unwrap(), 480.min(ctx.limits().max_texture_array_layers));
+    let e = compute.maps_per_array(ctx, 1024, 4).unwrap_err().to_string();
+    assert!(e.contains("raster = compute needs two 1024x1024 maps") && e.contains("shadow_map_budget_mib = 4"), "{e}");
+    assert!(hardware.maps_per_array(ctx, 1024, 4).is_ok(), "the fixed-function raster needs one");
+}
