@@ -121,20 +121,6 @@ fn reaches(s: GpuSample, k: u32, b: Bounds) -> bool {
     return false;
 }
 
-// Whether every triangle of the run faces away from `eye` (back faces) by a safe margin: each
-// normal lies within the cone, every point within the box's bounding sphere.
-fn faces_away(eye: vec3<f32>, lo: vec4<f32>, hi: vec4<f32>, axis: vec4<f32>) -> bool {
-    if (axis.w != 1.0) {
-        return false;
-    }
-    let centre = (lo.xyz + hi.xyz) * 0.5;
-    let radius = length(hi.xyz - lo.xyz) * 0.5;
-    let v = centre - eye;
-    let along = dot(v, axis.xyz);
-    let across = sqrt(max(dot(v, v) - along * along, 0.0));
-    return along * lo.w - across * hi.w > radius * 1.01 + length(v) * 1e-3;
-}
-
 fn run_keeps(s: GpuSample, k: u32, r: u32) -> bool {
     let lo = runs[r * 3u];
     let hi = runs[r * 3u + 1u];

@@ -13,7 +13,8 @@
 // Under the GPU-steered loop (`requested`), the chain's jobs and the dispatch sizes of `clear`, `main`
 // and `store` come from subdivide's request list, so only the maps a level asked for are cleared,
 // rasterized and stored, and nothing waits.
-// Work items are (triangle, map) pairs: `main` sets each up and rejects it when its box holds no
+// Work items are (triangle, map) pairs: `main` drops those of runs facing away (the scene's cull
+// mode), then sets each up and rejects it when its box holds no
 // texel centre; a small one (box at most RASTER_SMALL_SIDE² texels) is rasterized in its
 // invocation, a large one is queued for `large_tiles`, a workgroup per queued pair over tiles of
 // RASTER_LARGE_TILE² texels.
@@ -61,6 +62,8 @@ const RASTER_LARGE_TILE: i32 = 8;
 // Words each invocation of `clear` sets, 64 apart: a CPU device (lavapipe) pays a fixed cost per
 // workgroup that one-word invocations spend most of their time in.
 const RASTER_CLEAR_RUN: u32 = 16u;
+// Triangles per run of `runs` (the cull pass's CULL_RUN).
+const RASTER_RUN: u32 = 32u;
 // The stored word of the far value, 1.0.
 const RASTER_FAR: u32 = 0x3f800000u;
 
@@ -84,6 +87,8 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(9) var<storage, read> request_control: array<u32>;
 @group(0) @binding(10) var<storage, read> request_list: array<u32>;
 @group(0) @binding(11) var<storage, read_write> steer_args: array<u32>;
+// Per run of RASTER_RUN triangles of the shadow order: box and normal cone (faces_away).
+@group(0) @binding(14) var<storage, read> runs: array<vec4<f32>>;
 // `store`: the method's R32Uint layers; map m goes to its sample's layer.
 @group(0) @binding(12) var layers: texture_storage_2d_array<r32uint, write>;
 @group(0) @binding(13) var<storage, read> layer_samples: array<GpuSample>;
@@ -323,6 +328,17 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: v
     let map = wg.y;
     if (t >= params.triangle_count) {
         return;
+    }
+    // A run whose every triangle faces the way the scene culls, by a margin no snap can cross, is
+    // dropped before any vertex is read: about half of a closed mesh, for the price of one test
+    // that the run's invocations share.
+    if (params.cull_face != 0u) {
+        let r = t / RASTER_RUN;
+        let axis = runs[r * 3u + 2u];
+        let facing = select(axis, vec4<f32>(-axis.xyz, axis.w), params.cull_face == 2u);
+        if (faces_away(samples[jobs[map].sample].position.xyz, runs[r * 3u], runs[r * 3u + 1u], facing)) {
+            return;
+        }
     }
     let tri = setup(jobs[map], t);
     if (!tri.ok) {

@@ -319,3 +319,19 @@ fn pcg_hash(v: u32) -> u32 {
 fn pixel_random(x: u32, y: u32, i: u32) -> f32 {
     return f32(pcg_hash(x ^ pcg_hash(y ^ pcg_hash(i))) >> 8u) / 16777216.0;
 }
+
+// A run of the shadow order (render::shadow_order::runs): (box min, cos of the cone's half angle),
+// (box max, its sine), (cone axis, 1 when every face normal lies within the cone).
+// Whether every triangle of the run faces away from `eye` (back faces) by a safe margin: each
+// normal lies within the cone, every point within the box's bounding sphere.
+fn faces_away(eye: vec3<f32>, lo: vec4<f32>, hi: vec4<f32>, axis: vec4<f32>) -> bool {
+    if (axis.w != 1.0) {
+        return false;
+    }
+    let centre = (lo.xyz + hi.xyz) * 0.5;
+    let radius = length(hi.xyz - lo.xyz) * 0.5;
+    let v = centre - eye;
+    let along = dot(v, axis.xyz);
+    let across = sqrt(max(dot(v, v) - along * along, 0.0));
+    return along * lo.w - across * hi.w > radius * 1.01 + length(v) * 1e-3;
+}

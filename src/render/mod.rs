@@ -19,6 +19,9 @@ pub struct SceneGpu {
     pub shadow_indices: wgpu::Buffer,
     /// `shadow_indices` on the CPU (the cull pass's runs are built from it).
     pub shadow_order: Vec<u32>,
+    /// Box and normal cone of each run of CULL_RUN triangles of the shadow order
+    /// (`shadow_order::runs`): the cull pass and the compute raster drop runs facing away.
+    pub runs: wgpu::Buffer,
     pub index_count: u32,
 }
 
@@ -42,7 +45,12 @@ impl SceneGpu {
             contents: bytemuck::cast_slice(&shadow_order),
             usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
         });
-        Self { vertices, indices, shadow_indices, shadow_order, index_count: scene.indices.len() as u32 }
+        let runs = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene shadow runs"),
+            contents: bytemuck::cast_slice(&shadow_order::runs(&positions, &shadow_order)),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        Self { vertices, indices, shadow_indices, shadow_order, runs, index_count: scene.indices.len() as u32 }
     }
 }
 

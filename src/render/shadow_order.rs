@@ -57,3 +57,34 @@ mod tests {
         assert_eq!(ordered, (0..12).collect::<Vec<u32>>());
     }
 }
+
+/// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
+/// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
+/// little so the cone holds every normal despite rounding.
+pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
+    indices
+        .chunks(3 * crate::gpu::stages::CULL_RUN as usize)
+        .flat_map(|run| {
+            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+            for &v in run {
+                lo = lo.min(positions[v as usize]);
+                hi = hi.max(positions[v as usize]);
+            }
+            let normals: Vec<Vec3> = run
+                .chunks_exact(3)
+                .map(|t| {
+                    let [a, b, c] = [0, 1, 2].map(|i| positions[t[i] as usize]);
+                    (b - a).cross(c - a).normalize_or_zero()
+                })
+                .collect();
+            let sum: Vec3 = normals.iter().sum();
+            let axis = sum.normalize_or_zero();
+            let min_cos = normals.iter().map(|n| if *n == Vec3::ZERO { -1.0 } else { n.dot(axis) }).fold(1.0f32, f32::min);
+            // Widen by ~0.01 rad; a cone of 80° or more is not worth testing.
+            let cos = (min_cos.clamp(-1.0, 1.0).acos() + 0.01).cos();
+            let valid = axis != Vec3::ZERO && min_cos > 0.2;
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            [lo.extend(cos).to_array(), hi.extend(sin).to_array(), axis.extend(if valid { 1.0 } else { 0.0 }).to_array()]
+        })
+        .collect()
+}

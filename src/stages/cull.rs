@@ -10,7 +10,6 @@ use crate::scene::Scene;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuCull;
 use crate::Result;
-use glam::Vec3;
 
 /// u32 words of one slot's draw_indexed_indirect arguments.
 pub const ARGS_WORDS: u32 = 5;
@@ -26,8 +25,6 @@ pub struct Cull {
     pub culled: wgpu::Buffer,
     /// ARGS_WORDS per slot (INDIRECT | STORAGE).
     pub args: wgpu::Buffer,
-    /// Bounding box and normal cone of each run (`runs`).
-    runs: wgpu::Buffer,
     /// The runs phase 1 passes (a word per run of every slot), its count and phase 2's dispatch.
     kept_runs: wgpu::Buffer,
     control: wgpu::Buffer,
@@ -52,12 +49,8 @@ impl Cull {
             return Ok(None);
         }
         let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
-        let positions: Vec<glam::Vec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
-        // The shadow raster's order: its runs are compact in space.
-        let runs = runs(&positions, &scene_gpu.shadow_order);
         let run_count = (stride / 3).div_ceil(CULL_RUN) as u64;
         Ok(Some(Self {
-            runs: readback::storage_buffer(ctx, "cull runs", &runs, wgpu::BufferUsages::empty()),
             kept_runs: storage("cull kept runs", run_count * slots as u64 * 4, wgpu::BufferUsages::empty()),
             control: storage("cull control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("cull dispatch", 16, wgpu::BufferUsages::INDIRECT),
@@ -99,7 +92,7 @@ impl Cull {
                 ("frame", frame.as_entire_binding()),
                 ("samples", samples.as_entire_binding()),
                 ("tiles", tiles.as_entire_binding()),
-                ("runs", self.runs.as_entire_binding()),
+                ("runs", scene_gpu.runs.as_entire_binding()),
                 ("slots", slots.as_entire_binding()),
                 ("args", self.args.as_entire_binding()),
                 ("kept_runs", self.kept_runs.as_entire_binding()),
@@ -148,33 +141,3 @@ pub fn cull_face(mode: crate::scene::CullMode) -> u32 {
     }
 }
 
-/// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
-/// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
-/// little so the cone holds every normal despite rounding.
-pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
-    indices
-        .chunks(3 * CULL_RUN as usize)
-        .flat_map(|run| {
-            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-            for &v in run {
-                lo = lo.min(positions[v as usize]);
-                hi = hi.max(positions[v as usize]);
-            }
-            let normals: Vec<Vec3> = run
-                .chunks_exact(3)
-                .map(|t| {
-                    let [a, b, c] = [0, 1, 2].map(|i| positions[t[i] as usize]);
-                    (b - a).cross(c - a).normalize_or_zero()
-                })
-                .collect();
-            let sum: Vec3 = normals.iter().sum();
-            let axis = sum.normalize_or_zero();
-            let min_cos = normals.iter().map(|n| if *n == Vec3::ZERO { -1.0 } else { n.dot(axis) }).fold(1.0f32, f32::min);
-            // Widen by ~0.01 rad; a cone of 80° or more is not worth testing.
-            let cos = (min_cos.clamp(-1.0, 1.0).acos() + 0.01).cos();
-            let valid = axis != Vec3::ZERO && min_cos > 0.2;
-            let sin = (1.0 - cos * cos).max(0.0).sqrt();
-            [lo.extend(cos).to_array(), hi.extend(sin).to_array(), axis.extend(if valid { 1.0 } else { 0.0 }).to_array()]
-        })
-        .collect()
-}

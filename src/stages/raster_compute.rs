@@ -132,7 +132,9 @@ impl RasterCompute {
             ("large", self.large.as_entire_binding()),
             ("control", self.control.as_entire_binding()),
         ];
-        self.main.dispatch(ctx, enc, &all, main);
+        let mut with_runs = all.to_vec();
+        with_runs.push(("runs", scene.runs.as_entire_binding()));
+        self.main.dispatch(ctx, enc, &with_runs, main);
         self.begin.dispatch(
             ctx,
             enc,

@@ -3,7 +3,8 @@
 
 use super::shadow::{shadow_compare, ShadowLookup, LOOKUP_COMPARE};
 use crate::stages::adaptive_buffers::{CULL_TILES, CULL_TILE_WORDS};
-use crate::stages::cull::{runs, CULL_RUN};
+use crate::render::shadow_order::runs;
+use crate::stages::cull::CULL_RUN;
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
