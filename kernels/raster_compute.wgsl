@@ -43,7 +43,9 @@ struct GpuRasterJob {
     first_y: u32,
     last_x: u32,
     last_y: u32,
-    pad0: u32,
+    // The cull pass's slot whose kept triangles the map draws (`indices` is then the pass's kept
+    // lists, a slot per whole mesh, and `kept_counts` its draw arguments), or RASTER_WHOLE_MESH.
+    kept_slot: u32,
     pad1: u32,
     pad2: u32,
 }
@@ -62,6 +64,10 @@ const RASTER_LARGE_TILE: i32 = 8;
 // Words each invocation of `clear` sets, 64 apart: a CPU device (lavapipe) pays a fixed cost per
 // workgroup that one-word invocations spend most of their time in.
 const RASTER_CLEAR_RUN: u32 = 16u;
+// GpuRasterJob.kept_slot of a map that draws the whole mesh.
+const RASTER_WHOLE_MESH: u32 = 0xffffffffu;
+// u32 words per slot of `kept_counts` (draw_indexed_indirect arguments: the index count first).
+const RASTER_KEPT_ARGS: u32 = 5u;
 // Triangles per run of `runs` (the cull pass's CULL_RUN).
 const RASTER_RUN: u32 = 32u;
 // The stored word of the far value, 1.0.
@@ -89,6 +95,8 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(11) var<storage, read_write> steer_args: array<u32>;
 // Per run of RASTER_RUN triangles of the shadow order: box and normal cone (faces_away).
 @group(0) @binding(14) var<storage, read> runs: array<vec4<f32>>;
+// The cull pass's draw arguments, RASTER_KEPT_ARGS words per slot (maps with a kept_slot).
+@group(0) @binding(15) var<storage, read> kept_counts: array<u32>;
 // `store`: the method's R32Uint layers; map m goes to its sample's layer.
 @group(0) @binding(12) var layers: texture_storage_2d_array<r32uint, write>;
 @group(0) @binding(13) var<storage, read> layer_samples: array<GpuSample>;
@@ -166,15 +174,30 @@ struct Tri {
     ok: bool,
 }
 
+// Where the job's triangles start in `indices`: a kept list is one whole-mesh slot of the cull
+// pass's buffer.
+fn first_index(job: GpuRasterJob) -> u32 {
+    return select(job.kept_slot * params.triangle_count * 3u, 0u, job.kept_slot == RASTER_WHOLE_MESH);
+}
+
+// The job's triangle count: the whole mesh, or what the cull pass kept.
+fn job_triangles(job: GpuRasterJob) -> u32 {
+    if (job.kept_slot == RASTER_WHOLE_MESH) {
+        return params.triangle_count;
+    }
+    return kept_counts[job.kept_slot * RASTER_KEPT_ARGS] / 3u;
+}
+
 fn setup(job: GpuRasterJob, t: u32) -> Tri {
     let s = samples[job.sample];
+    let base = first_index(job);
     var tri: Tri;
     tri.ok = false;
     var v: array<vec2<i32>, 3>;
     var z: vec3<f32>;
     let scale = f32(params.map_size) * 128.0;
     for (var j = 0u; j < 3u; j = j + 1u) {
-        let w = indices[t * 3u + j] * VERTEX_WORDS;
+        let w = indices[base + t * 3u + j] * VERTEX_WORDS;
         let c = project(s.light_from_world, vec3<f32>(vertices[w], vertices[w + 1u], vertices[w + 2u]));
         if (!(c.w > 0.0)) {
             return tri;
@@ -287,13 +310,24 @@ fn requested() {
     let maps = min(count - min(count, params.first_request), params.map_count);
     let last = params.map_size - 1u;
     for (var m = 0u; m < maps; m = m + 1u) {
-        jobs[m] = GpuRasterJob(request_list[params.first_request + m], 0u, 0u, last, last, 0u, 0u, 0u);
+        jobs[m] = GpuRasterJob(request_list[params.first_request + m], 0u, 0u, last, last, RASTER_WHOLE_MESH, 0u, 0u);
     }
     steer_args[0] = maps;
     let words = maps * params.map_size * params.map_size;
     dispatch_rows(STEER_ARGS_CLEAR, (words + 64u * RASTER_CLEAR_RUN - 1u) / (64u * RASTER_CLEAR_RUN), 1u);
     dispatch_rows(STEER_ARGS_MAIN, (params.triangle_count + 63u) / 64u, maps);
     dispatch_rows(STEER_ARGS_STORE, (params.map_size * params.map_size + 63u) / 64u, maps);
+}
+
+// One invocation: `main`'s dispatch over a chain whose jobs draw kept lists, as wide as the longest
+// list (written where `requested` writes it), so the pairs past every list cost no workgroup.
+@compute @workgroup_size(1, 1, 1)
+fn kept_extent() {
+    var most = 0u;
+    for (var m = 0u; m < params.map_count; m = m + 1u) {
+        most = max(most, job_triangles(jobs[m]));
+    }
+    dispatch_rows(STEER_ARGS_MAIN, (most + 63u) / 64u, params.map_count);
 }
 
 // One invocation per (texel, map): the word into layer `layer_samples[job.sample].layer`.
@@ -326,13 +360,14 @@ fn clear(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: 
 fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let t = (wg.z * groups.x + wg.x) * 64u + lid;
     let map = wg.y;
-    if (t >= params.triangle_count) {
+    let job = jobs[map];
+    if (t >= job_triangles(job)) {
         return;
     }
     // A run whose every triangle faces the way the scene culls, by a margin no snap can cross, is
     // dropped before any vertex is read: about half of a closed mesh, for the price of one test
-    // that the run's invocations share.
-    if (params.cull_face != 0u) {
+    // that the run's invocations share. (A kept list was tested so by the cull pass.)
+    if (params.cull_face != 0u && job.kept_slot == RASTER_WHOLE_MESH) {
         let r = t / RASTER_RUN;
         let axis = runs[r * 3u + 2u];
         let facing = select(axis, vec4<f32>(-axis.xyz, axis.w), params.cull_face == 2u);

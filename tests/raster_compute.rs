@@ -362,6 +362,9 @@ fn twin_constants_match_the_kernel() {
     assert_eq!(constant("STEER_ARGS_CLEAR"), raster_compute::STEER_ARGS_CLEAR as f64);
     assert_eq!(constant("STEER_ARGS_MAIN"), raster_compute::STEER_ARGS_MAIN as f64);
     assert_eq!(constant("STEER_ARGS_STORE"), raster_compute::STEER_ARGS_STORE as f64);
+    assert_eq!(constant("RASTER_WHOLE_MESH"), GpuRasterJob::WHOLE_MESH as f64);
+    assert_eq!(constant("RASTER_KEPT_ARGS"), penumbra::stages::cull::ARGS_WORDS as f64);
+    assert_eq!(constant("RASTER_RUN"), penumbra::stages::cull::CULL_RUN as f64);
 }
 
 
@@ -407,4 +410,51 @@ fn requested_maps_go_to_their_samples_layers() {
             assert!(layer.iter().all(|&w| w == FAR), "sample {k} was not requested: layer {} untouched", s.layer);
         }
     }
+}
+
+/// Jobs that draw the cull pass's kept lists: each map reads its slot's triangles (a whole-mesh
+/// slot of indices) and count (the draw arguments' first word), and equals the twin over that list.
+#[test]
+fn kept_lists_are_drawn_per_slot() {
+    let ctx = common::gpu();
+    let scene = soup(6, 1500);
+    let samples = samples(&scene, &[(0.0, 0.0), (1.0, 1.0), (0.5, 0.5)]);
+    let gpu = SceneGpu::upload(ctx, &scene);
+    let order = &gpu.shadow_order;
+    let triangles = order.len() / 3;
+    // Slot 0 keeps every other triangle, slot 1 the first third, slot 2 nothing; slot 3's list is
+    // the whole mesh. Past each count the slot holds stale indices that must not be drawn.
+    let keep: [Vec<usize>; 4] = [(0..triangles).step_by(2).collect(), (0..triangles / 3).collect(), vec![], (0..triangles).collect()];
+    let mut lists = vec![0u32; 4 * order.len()];
+    let mut args = vec![0u32; 4 * 5];
+    for (slot, kept) in keep.iter().enumerate() {
+        for (i, &t) in kept.iter().enumerate() {
+            lists[slot * order.len() + i * 3..][..3].copy_from_slice(&order[t * 3..t * 3 + 3]);
+        }
+        for i in kept.len() * 3..order.len() {
+            lists[slot * order.len() + i] = order[i];
+        }
+        args[slot * 5] = kept.len() as u32 * 3;
+    }
+    let lists_buffer = readback::storage_buffer(ctx, "kept lists", &lists, wgpu::BufferUsages::empty());
+    let args_buffer = readback::storage_buffer(ctx, "kept arguments", &args, wgpu::BufferUsages::empty());
+    // Maps: sample 0 with slot 0, sample 1 with slot 1, sample 2 with slot 2, sample 0 with slot 3.
+    let jobs: Vec<GpuRasterJob> = [(0, 0), (1, 1), (2, 2), (0, 3)].iter().map(|&(s, slot)| GpuRasterJob { kept_slot: slot, ..GpuRasterJob::whole(s, MAP) }).collect();
+    let pass = RasterCompute::new(ctx, MAP, CullMode::Back, 4, scene.render.shadow_map_budget_mib).unwrap();
+    let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    pass.record_kept(ctx, &mut enc, &gpu, &buffer, &jobs, Some((&lists_buffer, &args_buffer)));
+    ctx.queue.submit([enc.finish()]);
+    let words = pass.read_words(ctx, 4).unwrap();
+    let pos = positions(&scene);
+    for (m, job) in jobs.iter().enumerate() {
+        let slot = job.kept_slot as usize;
+        let list: Vec<u32> = keep[slot].iter().flat_map(|&t| order[t * 3..t * 3 + 3].to_vec()).collect();
+        let want = twin::rasterize(&pos, &list, &samples[job.sample as usize], MAP, CullMode::Back);
+        assert_eq!(&words[m * (MAP * MAP) as usize..][..(MAP * MAP) as usize], &want[..], "map {m} (slot {slot}, {} triangles)", keep[slot].len());
+        let covered = want.iter().filter(|&&w| w != FAR).count();
+        assert_eq!(covered == 0, slot == 2, "map {m}: {covered} texels covered");
+    }
+    // The whole-mesh slot equals the whole mesh drawn without lists.
+    assert_eq!(&words[3 * (MAP * MAP) as usize..], &twin::rasterize(&pos, order, &samples[0], MAP, CullMode::Back)[..]);
 }

@@ -97,7 +97,8 @@ pub struct GpuRasterJob {
     pub first_y: u32,
     pub last_x: u32,
     pub last_y: u32,
-    pub pad0: u32,
+    /// The cull pass's slot whose kept triangles the map draws, or `WHOLE_MESH`.
+    pub kept_slot: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -106,8 +107,10 @@ impl GpuRasterJob {
     /// Sample `sample` over the whole map, or over a scissor `[x, y, w, h]`.
     pub fn new(sample: u32, map_size: u32, scissor: Option<[u32; 4]>) -> Self {
         let [x, y, w, h] = scissor.unwrap_or([0, 0, map_size, map_size]);
-        Self { sample, first_x: x, first_y: y, last_x: x + w - 1, last_y: y + h - 1, ..Default::default() }
+        Self { sample, first_x: x, first_y: y, last_x: x + w - 1, last_y: y + h - 1, kept_slot: Self::WHOLE_MESH, ..Default::default() }
     }
+    /// `kept_slot` of a map that draws the whole mesh (the kernel's RASTER_WHOLE_MESH).
+    pub const WHOLE_MESH: u32 = u32::MAX;
     pub fn whole(sample: u32, map_size: u32) -> Self {
         Self::new(sample, map_size, None)
     }
@@ -368,7 +371,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
         layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, first_request, pad1 }),
-        layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, pad0, pad1, pad2 }),
+        layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, kept_slot, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,
             work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, pad1

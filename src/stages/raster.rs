@@ -91,9 +91,8 @@ impl Raster {
         }
     }
 
-    /// The hardware raster draws the triangles the cull pass kept (arguments from the GPU); the
-    /// compute raster rejects the same triangles itself, by each job's rectangle, so it takes
-    /// the jobs alone. Whether a caller culls first is `culls_apart`.
+    /// Each job draws the triangles the cull pass kept for it: its slot's index list, whose draw
+    /// arguments (index count first) sit at the byte offset given with the job, in `args`.
     #[allow(clippy::too_many_arguments)]
     pub fn record_culled(
         &self,
@@ -112,16 +111,37 @@ impl Raster {
                 Ok(())
             }
             Raster::Compute(c) => {
-                let plain: Vec<RasterJob> = jobs.iter().map(|(j, _)| *j).collect();
-                c.record(ctx, enc, scene, samples, array, &plain)
+                let slot_bytes = crate::stages::cull::ARGS_WORDS as u64 * 4;
+                let kept: Vec<(RasterJob, u32)> = jobs.iter().map(|(j, at)| (*j, (at / slot_bytes) as u32)).collect();
+                c.record_jobs(ctx, enc, scene, samples, array, &kept, Some((culled, args)))
             }
         }
     }
 
-    /// Whether a separate cull pass serves this raster: the compute raster's box reject already
-    /// skips every triangle outside a job's rectangle, at about the cost of the cull's own test.
-    pub fn culls_apart(&self) -> bool {
-        !self.is_compute()
+    /// The GPU-steered loop's draws over the whole mesh, each job's instance count a request flag
+    /// the GPU set (`args` at the job's offset). The compute raster rasterizes every job instead
+    /// (its own steered path is `record_requested`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_flagged(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        array: &ShadowMapArray,
+        jobs: &[(RasterJob, u64)],
+        args: &wgpu::Buffer,
+    ) -> Result<()> {
+        match self {
+            Raster::Hardware(pass) => {
+                pass.record_culled(ctx, enc, scene, samples, array, jobs, &scene.shadow_indices, args);
+                Ok(())
+            }
+            Raster::Compute(c) => {
+                let plain: Vec<RasterJob> = jobs.iter().map(|(j, _)| *j).collect();
+                c.record(ctx, enc, scene, samples, array, &plain)
+            }
+        }
     }
 }
 
@@ -175,13 +195,30 @@ impl ComputeRaster {
     }
 
     fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+        let whole: Vec<(RasterJob, u32)> = jobs.iter().map(|j| (*j, GpuRasterJob::WHOLE_MESH)).collect();
+        self.record_jobs(ctx, enc, scene, samples, array, &whole, None)
+    }
+
+    /// Chain by chain: rasterize, then copy each map into its layer. A job's second field is its
+    /// cull slot (`kept` holds the pass's lists and arguments) or GpuRasterJob::WHOLE_MESH.
+    #[allow(clippy::too_many_arguments)]
+    fn record_jobs(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        array: &ShadowMapArray,
+        jobs: &[(RasterJob, u32)],
+        kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
+    ) -> Result<()> {
         let size = array.texture.width();
         let chains = self.chain(ctx, size)?;
         let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
         for part in jobs.chunks(chain.capacity as usize) {
-            let words: Vec<GpuRasterJob> = part.iter().map(|j| GpuRasterJob::new(j.sample, size, j.scissor)).collect();
-            chain.record(ctx, enc, scene, samples, &words);
-            for (m, job) in part.iter().enumerate() {
+            let words: Vec<GpuRasterJob> = part.iter().map(|(j, slot)| GpuRasterJob { kept_slot: *slot, ..GpuRasterJob::new(j.sample, size, j.scissor) }).collect();
+            chain.record_kept(ctx, enc, scene, samples, &words, kept);
+            for (m, (job, _)) in part.iter().enumerate() {
                 chain.copy_map(enc, m as u32, &array.texture, job.layer);
             }
         }

@@ -32,6 +32,7 @@ pub struct RasterCompute {
     begin: ComputeKernel,
     large_tiles: ComputeKernel,
     requested: ComputeKernel,
+    kept_extent: ComputeKernel,
     store: ComputeKernel,
     /// `capacity` maps of `map_size`² words.
     pub depth: wgpu::Buffer,
@@ -79,6 +80,7 @@ impl RasterCompute {
             begin: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "begin")?,
             large_tiles: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "large_tiles")?,
             requested: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "requested")?,
+            kept_extent: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "kept_extent")?,
             store: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "store")?,
             depth: storage("raster_compute depth", capacity as u64 * map_size as u64 * map_size as u64 * 4, wgpu::BufferUsages::empty()),
             large: storage("raster_compute large pairs", LARGE_CAPACITY as u64 * 8, wgpu::BufferUsages::empty()),
@@ -108,18 +110,45 @@ impl RasterCompute {
     /// Rasterizes `scene` into maps 0..jobs.len() of `depth`, map m from sample `jobs[m].sample` of
     /// `samples` (the hardware raster's `GpuSample`s: the same view-projections) inside its rectangle.
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob]) {
+        self.record_kept(ctx, enc, scene, samples, jobs, None)
+    }
+
+    /// [`record`](Self::record) where jobs with a `kept_slot` draw the cull pass's kept triangles
+    /// of that slot: `kept` is the pass's (kept index lists, draw arguments).
+    pub fn record_kept(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob], kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>) {
         let maps = jobs.len() as u32;
         assert!(maps >= 1 && maps <= self.capacity, "raster_compute chain of {maps} maps, capacity {}", self.capacity);
         let params = self.uniform(ctx, scene, maps, 0);
         let jobs = readback::storage_buffer(ctx, "raster_compute jobs", jobs, wgpu::BufferUsages::empty());
         let words = groups(maps * self.map_size * self.map_size, LINE_WORKGROUP[0] * CLEAR_RUN);
         let [x, _, z] = rows(groups(scene.index_count / 3, LINE_WORKGROUP[0]));
-        self.record_chain(ctx, enc, scene, samples, &params, &jobs, Dispatch::Direct(rows(words)), Dispatch::Direct([x, maps, z]));
+        let main = match kept {
+            None => Dispatch::Direct([x, maps, z]),
+            Some((_, counts)) => {
+                // As wide as the longest kept list: lavapipe pays for every workgroup, even one that returns at once.
+                self.kept_extent.dispatch(
+                    ctx,
+                    enc,
+                    &[
+                        ("params", params.as_entire_binding()),
+                        ("jobs", jobs.as_entire_binding()),
+                        ("steer_args", self.steer_args.as_entire_binding()),
+                        ("kept_counts", counts.as_entire_binding()),
+                    ],
+                    Dispatch::Direct([1, 1, 1]),
+                );
+                Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4)
+            }
+        };
+        self.record_chain(ctx, enc, scene, samples, kept, &params, &jobs, Dispatch::Direct(rows(words)), main);
     }
 
     /// clear, main, begin and large_tiles over the chain's jobs, with clear's and main's dispatches.
     #[allow(clippy::too_many_arguments)]
-    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, params: &wgpu::Buffer, jobs: &wgpu::Buffer, clear: Dispatch, main: Dispatch) {
+    /// `kept`: the cull pass's kept lists and draw arguments, which jobs with a kept_slot read;
+    /// otherwise the shadow order alone is bound (as the unread counts too).
+    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>, params: &wgpu::Buffer, jobs: &wgpu::Buffer, clear: Dispatch, main: Dispatch) {
+        let (indices, counts) = kept.unwrap_or((&scene.shadow_indices, &scene.shadow_indices));
         enc.clear_buffer(&self.control, 0, None);
         self.clear.dispatch(ctx, enc, &[("params", params.as_entire_binding()), ("depth", self.depth.as_entire_binding())], clear);
         let all = [
@@ -127,13 +156,14 @@ impl RasterCompute {
             ("samples", samples.as_entire_binding()),
             ("jobs", jobs.as_entire_binding()),
             ("vertices", scene.vertices.as_entire_binding()),
-            ("indices", scene.shadow_indices.as_entire_binding()),
+            ("indices", indices.as_entire_binding()),
             ("depth", self.depth.as_entire_binding()),
             ("large", self.large.as_entire_binding()),
             ("control", self.control.as_entire_binding()),
         ];
         let mut with_runs = all.to_vec();
         with_runs.push(("runs", scene.runs.as_entire_binding()));
+        with_runs.push(("kept_counts", counts.as_entire_binding()));
         self.main.dispatch(ctx, enc, &with_runs, main);
         self.begin.dispatch(
             ctx,
@@ -174,7 +204,7 @@ impl RasterCompute {
             Dispatch::Direct([1, 1, 1]),
         );
         let at = |words: u64| Dispatch::IndirectAt(&self.steer_args, words * 4);
-        self.record_chain(ctx, enc, scene, samples, &params, &jobs, at(STEER_ARGS_CLEAR), at(STEER_ARGS_MAIN));
+        self.record_chain(ctx, enc, scene, samples, None, &params, &jobs, at(STEER_ARGS_CLEAR), at(STEER_ARGS_MAIN));
         self.store.dispatch(
             ctx,
             enc,

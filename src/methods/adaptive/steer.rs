@@ -141,7 +141,7 @@ impl Steering for Steered<'_> {
                     }
                     jobs.push((RasterJob { sample: k, layer: self.samples[k as usize].layer, scissor: None }, at));
                 }
-                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &fg.scene_gpu.shadow_indices, &steer.raster_args)?;
+                fg.raster.record_flagged(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &steer.raster_args)?;
                 Ok(())
             })?;
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
