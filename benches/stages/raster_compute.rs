@@ -65,17 +65,7 @@ pub fn raster_compute(c: &mut Criterion, ctx: &GpuContext) {
             let fixed: Vec<f32> = readback::read_texture(ctx, &array.texture, k as u32, 4).expect("read a map");
             d.add(s, &fixed, &words[k * (map_size * map_size) as usize..][..(map_size * map_size) as usize]);
         }
-        println!(
-            "raster_compute vs shadow_raster, {} {map_size}², {maps} maps: coverage differs at {} of {} texels ({:.5}%), depth by > 0.1 texel at {} ({:.5}%), by > 0.01 at {} ({:.5}%)",
-            scene.name,
-            d.coverage,
-            d.texels,
-            100.0 * d.share(d.coverage),
-            d.tenth,
-            100.0 * d.share(d.tenth),
-            d.hundredth,
-            100.0 * d.share(d.hundredth)
-        );
+        println!("raster_compute vs shadow_raster, {} {map_size}², {maps} maps: {}", scene.name, d.summary());
     }
     group.finish();
 }

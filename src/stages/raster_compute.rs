@@ -296,6 +296,19 @@ impl RasterDifference {
     pub fn share(&self, n: usize) -> f64 {
         n as f64 / self.texels.max(1) as f64
     }
+    /// One line: each count and its share.
+    pub fn summary(&self) -> String {
+        let pc = |n: usize| format!("{n} ({:.5}%)", 100.0 * self.share(n));
+        format!(
+            "{} texels, covered by both {} ({} equal); coverage differs at {}; depth by > 0.1 texel at {}, by > 0.01 at {}",
+            self.texels,
+            self.covered,
+            self.exact,
+            pc(self.coverage),
+            pc(self.tenth),
+            pc(self.hundredth)
+        )
+    }
 }
 
 /// A stored word's depth.
