@@ -37,6 +37,8 @@ const HYBRID_CHILDREN: u32 = 0x80000000u;
 // classify's verdict per coarse texel, so emit reads the full texels again only where it must:
 // the merged depth (top bit 0), or HYBRID_CHILDREN for a texel that keeps children.
 @group(0) @binding(6) var<storage, read_write> coarse_nodes: array<u32>;
+// Nearest, clamped: a gather returns the four texels exactly (unused by the words form).
+@group(0) @binding(7) var gather_sampler: sampler;
 
 fn block_mean(a: f32, b: f32, c: f32, d: f32) -> f32 {
     return ((a + b) + (c + d)) * 0.25;
@@ -55,15 +57,9 @@ struct Block {
 
 fn fine_block(x: u32, y: u32) -> Block {
     var b: Block;
-    // Its four texels (top-left, top-right, bottom-left, bottom-right), exactly as stored, read
-    // through the raster's map access (a depth texture, or the words of the compute raster).
-    let t = vec2<i32>(i32(x), i32(y));
-    b.d = vec4<f32>(
-        layer_depth(raster, t, build.layer),
-        layer_depth(raster, t + vec2<i32>(1, 0), build.layer),
-        layer_depth(raster, t + vec2<i32>(0, 1), build.layer),
-        layer_depth(raster, t + vec2<i32>(1, 1), build.layer),
-    );
+    // The block's four texels (top-left, top-right, bottom-left, bottom-right), exactly as stored,
+    // through the raster's map access: one gather from a depth texture, four loads of words.
+    b.d = layer_block(raster, gather_sampler, vec2<u32>(x, y), build.layer, build.coarse << build.levels);
     b.mean = block_mean(b.d.x, b.d.y, b.d.z, b.d.w);
     b.flat = block_flat(b.d.x, b.d.y, b.d.z, b.d.w, b.mean);
     return b;

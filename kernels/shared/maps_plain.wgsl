@@ -10,6 +10,14 @@ fn layer_depth(maps: ShadowMaps, texel: vec2<i32>, layer: u32) -> f32 {
     return textureLoad(maps, texel, i32(layer), 0);
 }
 
+// The 2x2 block of layer `layer` whose top-left texel is t: (top-left, top-right, bottom-left,
+// bottom-right), by one gather at the block's shared corner (`gather`: nearest, clamped; `size`: the
+// layer's side).
+fn layer_block(maps: ShadowMaps, gather: sampler, t: vec2<u32>, layer: u32, size: u32) -> vec4<f32> {
+    let g = textureGather(maps, gather, vec2<f32>(t + 1u) / f32(size), i32(layer));
+    return vec4<f32>(g.w, g.z, g.x, g.y);
+}
+
 // Stored depth of sample s's map at a texel inside the map.
 fn map_depth(frame: GpuFrame, maps: ShadowMaps, s: GpuSample, texel: vec2<i32>) -> f32 {
     return layer_depth(maps, texel, s.layer);

@@ -10,6 +10,18 @@ fn layer_depth(maps: ShadowMaps, texel: vec2<i32>, layer: u32) -> f32 {
     return bitcast<f32>(textureLoad(maps, texel, i32(layer), 0).x);
 }
 
+// The 2x2 block of layer `layer` whose top-left texel is t: (top-left, top-right, bottom-left,
+// bottom-right), by four loads (`gather` is unused: words cannot be sampled).
+fn layer_block(maps: ShadowMaps, gather: sampler, t: vec2<u32>, layer: u32, size: u32) -> vec4<f32> {
+    let p = vec2<i32>(t);
+    return vec4<f32>(
+        layer_depth(maps, p, layer),
+        layer_depth(maps, p + vec2<i32>(1, 0), layer),
+        layer_depth(maps, p + vec2<i32>(0, 1), layer),
+        layer_depth(maps, p + vec2<i32>(1, 1), layer),
+    );
+}
+
 fn map_depth(frame: GpuFrame, maps: ShadowMaps, s: GpuSample, texel: vec2<i32>) -> f32 {
     return layer_depth(maps, texel, s.layer);
 }

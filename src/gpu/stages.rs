@@ -301,10 +301,10 @@ stage_table! {
     ];
     /// The hybrid map store built from the raster (docs/hybrid.md).
     HYBRID_BUILD = "hybrid_build" kernel { reads_raster: true }, Some(Raster), [
-        compute("classify", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("coarse_nodes", 6)]),
+        compute("classify", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("coarse_nodes", 6), ("gather_sampler", 7)]),
         compute("scan_rows", LINE, &[("build", 0), ("offsets", 2), ("row_starts", 3)]),
         compute("scan_total", SINGLE, &[("build", 0), ("row_starts", 3), ("control", 4), ("pool", 5)]),
-        compute("emit", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("row_starts", 3), ("control", 4), ("pool", 5), ("coarse_nodes", 6)]),
+        compute("emit", PIXEL, &[("build", 0), ("raster", 1), ("offsets", 2), ("row_starts", 3), ("control", 4), ("pool", 5), ("coarse_nodes", 6), ("gather_sampler", 7)]),
     ];
     /// SSAO's copy of V before it multiplies.
     SSAO_COPY = "ssao_copy" none, Some(Shade), [];

@@ -2,9 +2,9 @@
 //! the compact representation `kernels/shared/maps_hybrid.wgsl` reads (docs/hybrid.md).
 
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::{GpuHybridBuild, GpuHybridControl};
-use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::shadow_raster::ShadowMapArray;
 use crate::scene::HybridDef;
 use crate::{Error, Result};
@@ -21,6 +21,8 @@ pub const FRAME_LEVELS_SHIFT: u32 = 8;
 
 /// The four entry points of `kernels/hybrid_build.wgsl`.
 pub struct HybridBuild {
+    /// Nearest, clamped: textureGather returns the four texels exactly.
+    sampler: wgpu::Sampler,
     classify: ComputeKernel,
     scan_rows: ComputeKernel,
     scan_total: ComputeKernel,
@@ -48,6 +50,7 @@ impl HybridBuild {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
     pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
         Ok(Self {
+            sampler: ctx.device.create_sampler(&wgpu::SamplerDescriptor { label: Some("hybrid_build gather"), ..Default::default() }),
             classify: ComputeKernel::new_for(ctx, Stage::HYBRID_BUILD, "classify", raster)?,
             scan_rows: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "scan_rows")?,
             scan_total: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "scan_total")?,
@@ -74,7 +77,13 @@ impl HybridBuild {
         self.classify.dispatch(
             ctx,
             enc,
-            &[("build", build.as_entire_binding()), ("raster", raster_view.clone()), ("offsets", store.offsets.as_entire_binding()), ("coarse_nodes", store.coarse_nodes.as_entire_binding())],
+            &[
+                ("build", build.as_entire_binding()),
+                ("raster", raster_view.clone()),
+                ("offsets", store.offsets.as_entire_binding()),
+                ("coarse_nodes", store.coarse_nodes.as_entire_binding()),
+                ("gather_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
+            ],
             grid,
         );
         self.scan_rows.dispatch(
@@ -106,6 +115,7 @@ impl HybridBuild {
                 ("control", store.control.as_entire_binding()),
                 ("pool", wgpu::BindingResource::TextureView(&store.storage_view)),
                 ("coarse_nodes", store.coarse_nodes.as_entire_binding()),
+                ("gather_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
             ],
             grid,
         );
