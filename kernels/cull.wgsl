@@ -128,7 +128,8 @@ fn run_keeps(s: GpuSample, k: u32, r: u32) -> bool {
     if (cull.cull_face == 2u) {
         axis = vec4<f32>(-axis.xyz, axis.w);
     }
-    if (cull.cull_face != 0u && faces_away(s.position.xyz, lo, hi, axis)) {
+    // A light at infinity (an orthographic map) culls no run: it has no eye to face away from.
+    if (cull.cull_face != 0u && s.position.w == 1.0 && faces_away(s.position.xyz, lo, hi, axis)) {
         return false;
     }
     var b = empty_bounds();

@@ -40,11 +40,14 @@ fn main(@builtin(global_invocation_id) band_gid: vec3<u32>) {
     let t = px.uv;
     let z_r = lookup.depth_limit;
     let slope = slope_per_texel(frame, s, position.xyz, normal);
-    let near = s.depth_lin_a / s.depth_lin_b;
+    let ortho = s.orthographic != 0u;
+    let near = select(s.depth_lin_a / s.depth_lin_b, s.depth_lin_b, ortho);
     // Texels per unit of angular offset; a blocker at depth z shifts by o (z_r - z) / (z_r z).
+    // Orthographic: light is tan of the sun's angular radius and a texel a world size, so the
+    // shift is o (z_r - z): the division by z_r z becomes one.
     let per_angle = 1.0 / s.texel_angle;
     let light = vec2<f32>(settings.light_u, settings.light_v) * 0.5;
-    let search = min(light * max(z_r - near, 0.0) / (z_r * near) * per_angle, vec2<f32>(settings.max_radius));
+    let search = min(light * max(z_r - near, 0.0) / select(z_r * near, 1.0, ortho) * per_angle, vec2<f32>(settings.max_radius));
     let size = f32(frame.map_size);
     var blocker_sum = 0.0;
     var blockers = 0u;
@@ -57,8 +60,8 @@ fn main(@builtin(global_invocation_id) band_gid: vec3<u32>) {
                 continue;
             }
             let stored = map_depth(frame, shadow_maps, s, vec2<i32>(texel));
-            if ((z_r - length(o) * slope) * (stored + s.depth_lin_b) < s.depth_lin_a) {
-                blocker_sum = blocker_sum + s.depth_lin_a / (stored + s.depth_lin_b);
+            if (!depth_passes(s, z_r - length(o) * slope, stored)) {
+                blocker_sum = blocker_sum + select(s.depth_lin_a / (stored + s.depth_lin_b), s.depth_lin_a * stored + s.depth_lin_b, ortho);
                 blockers = blockers + 1u;
             }
         }
@@ -68,7 +71,7 @@ fn main(@builtin(global_invocation_id) band_gid: vec3<u32>) {
         return;
     }
     let z_b = blocker_sum / f32(blockers);
-    let r = min(light * (z_r - z_b) / (z_r * z_b) * per_angle, vec2<f32>(settings.max_radius));
+    let r = min(light * (z_r - z_b) / select(z_r * z_b, 1.0, ortho) * per_angle, vec2<f32>(settings.max_radius));
     let n = settings.taps;
     var lit = 0.0;
     for (var j = 0u; j < n; j = j + 1u) {

@@ -367,11 +367,13 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: v
     // A run whose every triangle faces the way the scene culls, by a margin no snap can cross, is
     // dropped before any vertex is read: about half of a closed mesh, for the price of one test
     // that the run's invocations share. (A kept list was tested so by the cull pass.)
-    if (params.cull_face != 0u && job.kept_slot == RASTER_WHOLE_MESH) {
+    // A light at infinity (an orthographic map, position.w = 0) has no eye to face away from.
+    let eye = samples[job.sample].position;
+    if (params.cull_face != 0u && job.kept_slot == RASTER_WHOLE_MESH && eye.w == 1.0) {
         let r = t / RASTER_RUN;
         let axis = runs[r * 3u + 2u];
         let facing = select(axis, vec4<f32>(-axis.xyz, axis.w), params.cull_face == 2u);
-        if (faces_away(samples[jobs[map].sample].position.xyz, runs[r * 3u], runs[r * 3u + 1u], facing)) {
+        if (faces_away(eye.xyz, runs[r * 3u], runs[r * 3u + 1u], facing)) {
             return;
         }
     }

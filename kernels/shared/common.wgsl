@@ -37,17 +37,33 @@ fn band_height(frame: GpuFrame) -> u32 {
 
 struct GpuSample {
     light_from_world: mat4x4<f32>,
+    // The light point (w = 1); for an orthographic map the unit direction towards the light (w = 0).
     position: vec4<f32>,
     // Texel footprint per unit of linear depth: world size of a texel at depth z is z * texel_angle.
+    // An orthographic map's clip.w is 1, so there it is the texel's world size, the same at every depth.
     texel_angle: f32,
-    // Linear depth of a stored depth d is depth_lin_a / (d + depth_lin_b) (both negative).
+    // Linear depth of a stored depth d is depth_lin_a / (d + depth_lin_b) (both negative);
+    // orthographic: depth_lin_a * d + depth_lin_b (the depth range and the near plane).
     depth_lin_a: f32,
     depth_lin_b: f32,
     layer: u32,
     array: u32,
     lattice: u32,
-    pad0: u32,
+    orthographic: u32,
     pad1: u32,
+}
+
+// The way from p to the sample's light: to the light point, or the orthographic map's direction.
+fn toward_light(s: GpuSample, p: vec3<f32>) -> vec3<f32> {
+    return s.position.xyz - p * s.position.w;
+}
+
+// True when linear depth `limit` is at or in front of the stored depth d (lit): limit <= linear(d),
+// compared without a division for a perspective map (d + depth_lin_b < 0).
+fn depth_passes(s: GpuSample, limit: f32, stored: f32) -> bool {
+    let perspective = limit * (stored + s.depth_lin_b) >= s.depth_lin_a;
+    let orthographic = limit <= s.depth_lin_a * stored + s.depth_lin_b;
+    return select(perspective, orthographic, s.orthographic != 0u);
 }
 
 // GpuFrame.flags: the light point must lie above the surface's (geometric) tangent plane, as for a
@@ -69,7 +85,7 @@ struct ShadowLookup {
 // Straight-line code, the cases chosen by select: a CPU device runs both sides of a branch anyway,
 // and inside one (a mask) it reads every uniform lane by lane (docs/gpu-frame.md §4).
 fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> ShadowLookup {
-    let to_light = s.position.xyz - p;
+    let to_light = toward_light(s, p);
     let light_side = dot(p - frame.light_center.xyz, frame.light_normal.xyz);
     let facing = dot(n, to_light);
     let unlit = light_side <= 0.0 || (facing <= 0.0 && (frame.flags & FRAME_FACING_TEST) != 0u);
@@ -88,14 +104,16 @@ fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> S
     let compare = out.kind == LOOKUP_COMPARE;
     // Texel (0, 0) and limit 0 unless compared, as the twin returns them.
     out.texel = select(vec2<i32>(0, 0), vec2<i32>(t), compare);
-    out.depth_limit = select(0.0, clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle), compare);
+    // Linear depth: clip.w for a perspective map, the depth range's share for an orthographic one.
+    let linear = select(clip.w, s.depth_lin_a * clip.z + s.depth_lin_b, s.orthographic != 0u);
+    out.depth_limit = select(0.0, linear - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle), compare);
     return out;
 }
 
 // 1 when p is lit by the sample whose map holds `stored` at the looked-up texel.
 // Compared in linear depth without a division: limit <= a / (d + b) with d + b < 0.
 fn shadow_compare(s: GpuSample, lookup: ShadowLookup, stored: f32) -> u32 {
-    let lit = select(0u, 1u, lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
+    let lit = select(0u, 1u, depth_passes(s, lookup.depth_limit, stored));
     return select(select(0u, 1u, lookup.kind == LOOKUP_OUTSIDE), lit, lookup.kind == LOOKUP_COMPARE);
 }
 
@@ -290,7 +308,7 @@ fn map_pixel(frame: GpuFrame, s: GpuSample, gbuffer_position: texture_2d<f32>, g
 // angle, clamped like the slope bias): a tap r texels away compares against limit - r · this, so
 // filtering a sloped receiver does not shadow the receiver itself.
 fn slope_per_texel(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> f32 {
-    let to_light = s.position.xyz - p;
+    let to_light = toward_light(s, p);
     let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
     let cos_angle = abs(dot(n, to_light)) / length(to_light);
     let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / max(cos_angle, 1e-6), frame.max_slope);
@@ -305,7 +323,7 @@ fn tap_lit(frame: GpuFrame, s: GpuSample, maps: ShadowMaps, limit: f32, t: vec2<
         return 1.0;
     }
     let stored = map_depth(frame, maps, s, vec2<i32>(texel));
-    return select(0.0, 1.0, limit * (stored + s.depth_lin_b) >= s.depth_lin_a);
+    return select(0.0, 1.0, depth_passes(s, limit, stored));
 }
 
 // Integer hash (PCG) for per-pixel random numbers: exact on CPU and GPU alike.

@@ -31,7 +31,8 @@ fn pcf_taps(frame: GpuFrame, s: GpuSample, maps: ShadowMaps, compare: sampler_co
                     lit = lit + tap_lit(frame, s, maps, tap_limit, t + o);
                 } else {
                     // Stored depth at which the comparison sampler passes: lit when reference <= stored.
-                    let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
+                    // Orthographic: the stored depth is linear, (limit - near) / range.
+                    let reference = select(s.depth_lin_a / tap_limit - s.depth_lin_b, (tap_limit - s.depth_lin_b) / s.depth_lin_a, s.orthographic != 0u);
                     lit = lit + map_compare_bilinear(frame, maps, compare, s, t + o, reference);
                 }
             }

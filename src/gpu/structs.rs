@@ -35,7 +35,9 @@ pub struct GpuSample {
     pub layer: u32,
     pub array: u32,
     pub lattice: u32,
-    pub pad0: u32,
+    /// 1: an orthographic map (the sun's): `position` is the unit direction towards the light
+    /// (w = 0), `texel_angle` the texel's world size and linear depth `depth_lin_a·d + depth_lin_b`.
+    pub orthographic: u32,
     pub pad1: u32,
 }
 
@@ -365,7 +367,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
             width, height, map_size, flags, light_center, light_normal, bias_constant, bias_slope, normal_offset, max_slope,
             band_first_row, band_rows, tile_section_words, bands
         }),
-        layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, pad0, pad1 }),
+        layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, orthographic, pad1 }),
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuTestBlock { ks, samples, pad }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),

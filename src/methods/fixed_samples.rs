@@ -9,7 +9,6 @@ use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
-use crate::scene::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob};
 use crate::gpu::timing::StageTimer;
 use crate::Result;
@@ -60,11 +59,13 @@ impl Fixed {
 
 impl ShadowMethod for Fixed {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        // The disk's lattice and the sun's directions are the square's through the concentric map
+        // (`Emitter::sample_map`); hard takes its centre.
         let why = match self {
             Fixed::Hard => super::FROM_THE_CENTRE,
             Fixed::Regular { .. } => super::ON_A_RECTANGLE,
         };
-        (kind != crate::scene::LightKind::Rect).then_some(why)
+        (!super::maps_from_the_emitter(kind)).then_some(why)
     }
     fn name(&self) -> &'static str {
         match self {
@@ -191,7 +192,7 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
         .iter()
         .enumerate()
         .map(|(i, &(u, v))| {
-            let mut g = sample_view(&s.light, s.light.point(u, v), &s.bounds, s.render.shadow_map_size, u32::MAX);
+            let mut g = s.emitter.sample_map(&s.light, u, v, &s.bounds, s.render.shadow_map_size, u32::MAX);
             // Hybrid: the layer is the sample's slot in the store.
             g.layer = i as u32 % chunk;
             g

@@ -135,6 +135,12 @@ pub const FROM_THE_CENTRE: &str = "its map looks from the rectangle's centre alo
 /// Why pcss refuses them: its map, and the light size its search and filter scale with.
 pub const PCSS_RECTANGLE: &str = "its map looks from the rectangle's centre and its search spans the rectangle's sides";
 
+/// The kinds whose maps `Emitter::sample_map` makes: the rectangle, the disk (perspective maps
+/// from points on it) and the sun (orthographic maps along directions in its cone).
+pub fn maps_from_the_emitter(kind: LightKind) -> bool {
+    matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sun)
+}
+
 /// Each method against the scene's light kind, before anything is built, traced or written.
 pub fn check_lights(scene: &crate::scene::Scene, methods: &[Method]) -> Result<()> {
     methods.iter().try_for_each(|m| m.check_light(scene))

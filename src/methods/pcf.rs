@@ -132,7 +132,7 @@ pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
 
 impl ShadowMethod for Pcf {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
-        (kind != crate::scene::LightKind::Rect).then_some(super::FROM_THE_CENTRE)
+        (!super::maps_from_the_emitter(kind)).then_some(super::FROM_THE_CENTRE)
     }
     fn name(&self) -> &'static str {
         "pcf"

@@ -39,7 +39,8 @@ pub struct Pcss {
 
 impl ShadowMethod for Pcss {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
-        (kind != crate::scene::LightKind::Rect).then_some(super::PCSS_RECTANGLE)
+        // The disk's radius, or the sun's angle (`single_map::light_size`).
+        (!super::maps_from_the_emitter(kind)).then_some(super::PCSS_RECTANGLE)
     }
     fn name(&self) -> &'static str {
         "pcss"

@@ -6,7 +6,6 @@ use super::hybrid_maps::HybridMaps;
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuFilter, GpuSample};
-use crate::scene::light::sample_view;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::scene::MapKind;
 use crate::gpu::timing::StageTimer;
@@ -28,7 +27,8 @@ pub enum CentreMaps {
 impl CentreMap {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
         let s = fg.scene;
-        let mut sample = sample_view(&s.light, s.light.point(0.5, 0.5), &s.bounds, s.render.shadow_map_size, u32::MAX);
+        // The disk's centre, or the sun's central direction (orthographic): `Emitter::sample_map`.
+        let mut sample = s.emitter.sample_map(&s.light, 0.5, 0.5, &s.bounds, s.render.shadow_map_size, u32::MAX);
         sample.layer = 0;
         let samples = readback::storage_buffer(fg.ctx, "centre sample", &[sample], wgpu::BufferUsages::empty());
         let maps = match s.render.maps {
@@ -101,7 +101,13 @@ impl CentreMap {
 
 /// The area light's edge lengths: the light size every single-map method takes from the scene.
 pub fn light_size(fg: &FrameGpu) -> (f32, f32) {
-    (fg.scene.light.edge_u.length(), fg.scene.light.edge_v.length())
+    match fg.scene.emitter {
+        // The sun's size is its angle: the disk of directions one unit out, 2·tan(α/2), which
+        // PCSS on an orthographic map scales by depth differences alone (docs/lights.md §4).
+        crate::scene::Emitter::Sun(sun) => (2.0 * sun.tan_half_angle(), 2.0 * sun.tan_half_angle()),
+        // The rectangle's sides; the disk's stand-in square is its diameter on each side.
+        _ => (fg.scene.light.edge_u.length(), fg.scene.light.edge_v.length()),
+    }
 }
 
 /// Inputs and intermediate buffers of one single-map frame, read after it for the twins (`inspect`).

@@ -51,17 +51,8 @@ impl RefEmitter {
     }
 }
 
-/// Shirley and Chiu's concentric map: the unit square onto the unit disk, area-preserving, with
-/// compact strata (a square's centre goes to the disk's centre).
-pub fn concentric(s: f32, t: f32) -> (f32, f32) {
-    let (a, b) = (2.0 * s - 1.0, 2.0 * t - 1.0);
-    if a == 0.0 && b == 0.0 {
-        return (0.0, 0.0);
-    }
-    let q = std::f32::consts::FRAC_PI_4;
-    let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
-    (r * phi.cos(), r * phi.sin())
-}
+/// The concentric map lives with the emitters, which the methods' samples share.
+pub use crate::scene::emitter::concentric;
 
 /// The unit-square points of `mode` for `pixel`: the rectangle's (s, t), in its order and seeds.
 pub fn fill_unit_samples(mode: &ReferenceMode, pixel: u64, out: &mut Vec<(f32, f32)>) {

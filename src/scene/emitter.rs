@@ -1,7 +1,9 @@
-//! The light's kind and shape (docs/lights.md): the rectangle every method samples today, and the
-//! disk, the sun, the spot and the point that only the reference samples so far.
+//! The light's kind and shape (docs/lights.md): the rectangle, the disk and the sun, which the
+//! map-based methods sample through `Emitter::sample_map`, and the spot and the point, which only
+//! the reference samples so far.
 
-use super::light::{AreaLight, Bounds};
+use super::light::{orthographic_view, sample_view, AreaLight, Bounds};
+use crate::gpu::structs::GpuSample;
 use glam::Vec3;
 
 /// The `kind` key of `[light]`.
@@ -95,8 +97,9 @@ pub struct PointLight {
 
 /// The scene's light. `Rect` carries nothing: its rectangle is `Scene::light`, which every
 /// rectangle method reads (and studies move). For the other kinds `Scene::light` is a stand-in
-/// square ([`Emitter::stand_in`]) that only the frame's shading direction reads; the methods that
-/// sample the rectangle refuse them (`ShadowMethod::unsupported_light`).
+/// square ([`Emitter::stand_in`]): the frame's shading direction and lit side, and the axes and
+/// size `sample_map` takes for the disk and the sun; the methods refuse the pairs they cannot run
+/// (`ShadowMethod::unsupported_light`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Emitter {
     #[default]
@@ -139,6 +142,49 @@ impl Emitter {
         let (edge_u, edge_v) = square_edges(normal, side);
         Some(AreaLight { center, edge_u, edge_v })
     }
+    /// The light point of unit-square sample `(s, t)` for a method that rasterizes maps from
+    /// points on the emitter: the rectangle's `light.point(s, t)`; on the disk the point the
+    /// concentric map sends `(s, t)` to, as the reference samples it (`light` is the disk's
+    /// stand-in square, whose half-edges are the disk's radius). The methods refuse the other kinds.
+    pub fn sample_point(&self, light: &AreaLight, s: f32, t: f32) -> Vec3 {
+        match self {
+            Emitter::Disk(_) => {
+                let (x, y) = concentric(s, t);
+                light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y)
+            }
+            _ => light.point(s, t),
+        }
+    }
+}
+
+impl Emitter {
+    /// The map of unit-square sample `(s, t)` for the methods that rasterize maps from the emitter:
+    /// a perspective map from `sample_point` (rectangle, disk); for the sun an orthographic map
+    /// along the direction the concentric map sends `(s, t)` to on the sun's disk of directions
+    /// (radius `tan(α/2)` around `toward`, as the reference samples it). Each is fitted to `bounds`.
+    pub fn sample_map(&self, light: &AreaLight, s: f32, t: f32, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+        match self {
+            Emitter::Sun(sun) => {
+                let (x, y) = concentric(s, t);
+                let (u, v) = (light.edge_u.normalize(), light.edge_v.normalize());
+                let toward = (sun.toward() + sun.tan_half_angle() * (u * x + v * y)).normalize();
+                orthographic_view(toward, u, bounds, map_size, lattice)
+            }
+            _ => sample_view(light, self.sample_point(light, s, t), bounds, map_size, lattice),
+        }
+    }
+}
+
+/// Shirley and Chiu's concentric map: the unit square onto the unit disk, area-preserving, with
+/// compact strata (a square's centre goes to the disk's centre).
+pub fn concentric(s: f32, t: f32) -> (f32, f32) {
+    let (a, b) = (2.0 * s - 1.0, 2.0 * t - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let q = std::f32::consts::FRAC_PI_4;
+    let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
+    (r * phi.cos(), r * phi.sin())
 }
 
 /// Edges of a square of `side` whose `edge_u × edge_v` points along the unit `normal` (the `size`

@@ -94,9 +94,58 @@ pub fn sample_view(light: &AreaLight, y: Vec3, bounds: &Bounds, map_size: u32, l
         layer: 0,
         array: 0,
         lattice,
-        pad0: 0,
+        orthographic: 0,
         pad1: 0,
     }
+}
+
+/// Orthographic view along `-toward` (a light at infinity, the sun's), its box fitted to the scene
+/// bounds, x along `right_hint` across the view. Depth is linear: `depth_lin_a·d + depth_lin_b`;
+/// `texel_angle` is the texel's world size (clip.w is 1, so the lookup's `depth·texel_angle` is
+/// that size at every depth: bias in texels is a fixed world distance); `position` is `toward`
+/// with w = 0, the direction the lookup's facing test and slope read.
+pub fn orthographic_view(toward: Vec3, right_hint: Vec3, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+    let forward = -toward;
+    let right = (right_hint - forward * right_hint.dot(forward)).normalize();
+    let up = forward.cross(right).normalize() * -1.0;
+    let diag = bounds.diagonal().max(1e-6);
+    let eye = bounds.min.lerp(bounds.max, 0.5) + toward * diag;
+    let view = glam::camera::rh::view::look_to_mat4(eye, forward, up);
+    let (mut l, mut r, mut b, mut t) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
+    let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
+    for c in bounds.corners() {
+        let v = view.transform_point3(c);
+        (l, r, b, t) = (l.min(v.x), r.max(v.x), b.min(v.y), t.max(v.y));
+        (near, far) = (near.min(-v.z), far.max(-v.z));
+    }
+    // The same margins as the perspective fit: nothing at the bounds is clipped.
+    let m = 1e-3 * diag;
+    let (l, r, b, t) = (l - m, r + m, b - m, t + m);
+    let (near, far) = (near - 1e-2 * diag, far + 1e-2 * diag);
+    let proj = off_axis_orthographic(l, r, b, t, near, far);
+    GpuSample {
+        light_from_world: (proj * view).to_cols_array_2d(),
+        position: Vec4::from((toward, 0.0)).to_array(),
+        texel_angle: (r - l).max(t - b) / map_size as f32,
+        depth_lin_a: far - near,
+        depth_lin_b: near,
+        layer: 0,
+        array: 0,
+        lattice,
+        orthographic: 1,
+        pad1: 0,
+    }
+}
+
+/// Right-handed orthographic box with depth in [0, 1] (wgpu): d = (depth − near) / (far − near).
+fn off_axis_orthographic(left: f32, right: f32, bottom: f32, top: f32, near: f32, far: f32) -> Mat4 {
+    let rr = 1.0 / (near - far);
+    Mat4::from_cols(
+        Vec4::new(2.0 / (right - left), 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 2.0 / (top - bottom), 0.0, 0.0),
+        Vec4::new(0.0, 0.0, rr, 0.0),
+        Vec4::new(-(right + left) / (right - left), -(top + bottom) / (top - bottom), rr * near, 1.0),
+    )
 }
 
 /// Right-handed off-axis perspective with depth in [0, 1] (wgpu), like glam's `perspective_rh`.
@@ -128,5 +177,30 @@ mod tests {
             let lin = s.depth_lin_a / (ndc.z + s.depth_lin_b);
             assert!((lin - clip.w).abs() < 1e-3 * clip.w, "linear depth {lin} vs {}", clip.w);
         }
+    }
+
+    #[test]
+    fn orthographic_box_contains_the_bounds_and_depth_is_linear() {
+        let bounds = Bounds { min: Vec3::new(-5.0, 0.0, -5.0), max: Vec3::new(5.0, 3.0, 5.0) };
+        let toward = Vec3::new(0.3, 1.0, -0.2).normalize();
+        let s = orthographic_view(toward, Vec3::X, &bounds, 256, 0);
+        let m = Mat4::from_cols_array_2d(&s.light_from_world);
+        let eye = Vec3::new(0.0, 1.5, 0.0) + toward * bounds.diagonal();
+        for c in bounds.corners() {
+            let clip = m * Vec4::from((c, 1.0));
+            assert_eq!(clip.w, 1.0);
+            assert!(clip.x.abs() <= 1.0 && clip.y.abs() <= 1.0 && (0.0..=1.0).contains(&clip.z), "{c} -> {clip}");
+            let lin = s.depth_lin_a * clip.z + s.depth_lin_b;
+            let depth = (c - eye).dot(-toward);
+            assert!((lin - depth).abs() < 1e-4 * bounds.diagonal(), "linear depth {lin} vs {depth}");
+        }
+        // A texel's world size: the box's wider side over the map.
+        let a = m * Vec4::new(0.0, 0.0, 0.0, 1.0);
+        let across = (Vec3::X - toward * toward.x).normalize();
+        let b = m * Vec4::from((across * s.texel_angle, 1.0));
+        // One texel_angle across is at most one texel (the wider side sets it), and here, with a
+        // near-square footprint, close to one.
+        let texels = (b.x - a.x).abs() * 0.5 * 256.0;
+        assert!(texels <= 1.0 + 1e-3 && texels > 0.8, "{texels} texels");
     }
 }

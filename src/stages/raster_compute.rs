@@ -275,7 +275,8 @@ pub struct RasterDifference {
 
 impl RasterDifference {
     pub fn add(&mut self, s: &crate::gpu::structs::GpuSample, fixed: &[f32], words: &[u32]) {
-        let linear = |d: f32| s.depth_lin_a / (d + s.depth_lin_b);
+        // Linear depth as shadow_lookup takes it: perspective, or an orthographic map's range.
+        let linear = |d: f32| if s.orthographic != 0 { s.depth_lin_a * d + s.depth_lin_b } else { s.depth_lin_a / (d + s.depth_lin_b) };
         self.texels += fixed.len();
         for (&h, &w) in fixed.iter().zip(words) {
             let c = depth_of(w);

@@ -26,7 +26,6 @@ use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE};
 use crate::render::shadow_raster;
-use crate::scene::light::sample_view;
 use crate::stages::{
     compact::Compact, cull::Cull, neighbourhood::Neighbourhood, probe::Probe, quad_count::QuadCount, reproject_count::ReprojectCount,
     shadow_test::ShadowTest, subdivide::Subdivide,
@@ -61,6 +60,9 @@ pub const INFO: MethodInfo = MethodInfo {
 pub struct Adaptive(pub AdaptiveParams);
 
 impl ShadowMethod for Adaptive {
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        (!super::maps_from_the_emitter(kind)).then_some(super::ON_A_RECTANGLE)
+    }
     fn name(&self) -> &'static str {
         "adaptive"
     }
@@ -175,8 +177,9 @@ pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
     (0..LATTICE_POINTS)
         .map(|k| {
             let (i, j) = (k % LATTICE_SIDE, k / LATTICE_SIDE);
-            let y = s.light.point(p.light_coord(i), p.light_coord(j));
-            sample_view(&s.light, y, &s.bounds, s.render.shadow_map_size, k)
+            // The quad tree lives on the unit square; the disk and the sun take its points through
+            // the concentric map, which keeps area, so the area weights stay right.
+            s.emitter.sample_map(&s.light, p.light_coord(i), p.light_coord(j), &s.bounds, s.render.shadow_map_size, k)
         })
         .collect()
 }

@@ -90,7 +90,7 @@ fn run_keeps(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], runs: &[[f32; 4]], 
     if cull_face == 2 {
         axis = (-axis.truncate()).extend(axis.w);
     }
-    if cull_face != 0 && faces_away(Vec4::from(s.position).truncate(), lo, hi, axis) {
+    if cull_face != 0 && s.position[3] == 1.0 && faces_away(Vec4::from(s.position).truncate(), lo, hi, axis) {
         return false;
     }
     let m = Mat4::from_cols_array_2d(&s.light_from_world);

@@ -50,7 +50,7 @@ pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32]
                 lit += if filter.kind == PCF_BOX {
                     tap_lit(frame, s, map, tap_limit, t + o)
                 } else {
-                    let reference = s.depth_lin_a / tap_limit - s.depth_lin_b;
+                    let reference = if s.orthographic != 0 { (tap_limit - s.depth_lin_b) / s.depth_lin_a } else { s.depth_lin_a / tap_limit - s.depth_lin_b };
                     bilinear_lit(frame, s, map, reference, (t + o) / size * size)
                 };
             }

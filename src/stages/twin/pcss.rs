@@ -1,6 +1,6 @@
 //! Twin of `kernels/pcss.wgsl`.
 
-use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
+use super::shadow::{depth_passes, pixel_lookup, tap_lit, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
 use crate::gpu::structs::{GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::Vec2;
@@ -19,10 +19,11 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
                 return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
             }
             let z_r = lookup.depth_limit;
-            let near = s.depth_lin_a / s.depth_lin_b;
+            let ortho = s.orthographic != 0;
+            let near = if ortho { s.depth_lin_b } else { s.depth_lin_a / s.depth_lin_b };
             let per_angle = 1.0 / s.texel_angle;
             let light = Vec2::new(filter.light_u, filter.light_v) * 0.5;
-            let search = (light * (z_r - near).max(0.0) / (z_r * near) * per_angle).min(Vec2::splat(filter.max_radius));
+            let search = (light * (z_r - near).max(0.0) / if ortho { 1.0 } else { z_r * near } * per_angle).min(Vec2::splat(filter.max_radius));
             let (mut blocker_sum, mut blockers) = (0.0f32, 0u32);
             let nb = filter.blocker_taps;
             for j in 0..nb {
@@ -33,8 +34,8 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
                         continue;
                     }
                     let stored = map[texel.y as usize * frame.map_size as usize + texel.x as usize];
-                    if (z_r - o.length() * slope) * (stored + s.depth_lin_b) < s.depth_lin_a {
-                        blocker_sum += s.depth_lin_a / (stored + s.depth_lin_b);
+                    if !depth_passes(s, z_r - o.length() * slope, stored) {
+                        blocker_sum += if ortho { s.depth_lin_a * stored + s.depth_lin_b } else { s.depth_lin_a / (stored + s.depth_lin_b) };
                         blockers += 1;
                     }
                 }
@@ -43,7 +44,7 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
                 return 1.0;
             }
             let z_b = blocker_sum / blockers as f32;
-            let r = (light * (z_r - z_b) / (z_r * z_b) * per_angle).min(Vec2::splat(filter.max_radius));
+            let r = (light * (z_r - z_b) / if ortho { 1.0 } else { z_r * z_b } * per_angle).min(Vec2::splat(filter.max_radius));
             let n = filter.taps;
             let mut lit = 0.0f32;
             for j in 0..n {

@@ -18,7 +18,7 @@ pub struct ShadowLookup {
 
 pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> ShadowLookup {
     let mut out = ShadowLookup { texel: [0, 0], kind: LOOKUP_UNLIT, depth_limit: 0.0 };
-    let to_light = Vec4::from(s.position).truncate() - p;
+    let to_light = toward_light(s, p);
     let light_side = (p - Vec4::from(frame.light_center).truncate()).dot(Vec4::from(frame.light_normal).truncate());
     let facing = n.dot(to_light);
     if light_side <= 0.0 || (facing <= 0.0 && frame.flags & FRAME_FACING_TEST != 0) {
@@ -40,15 +40,30 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
     out.kind = LOOKUP_COMPARE;
     out.texel = [t.x as i32, t.y as i32];
-    out.depth_limit = clip.w - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
+    let linear = if s.orthographic != 0 { s.depth_lin_a * clip.z + s.depth_lin_b } else { clip.w };
+    out.depth_limit = linear - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
     out
+}
+
+/// Twin of `toward_light`: to the light point, or the orthographic map's direction.
+pub fn toward_light(s: &GpuSample, p: Vec3) -> Vec3 {
+    Vec4::from(s.position).truncate() - p * s.position[3]
+}
+
+/// Twin of `depth_passes`: linear depth `limit` at or in front of stored depth `stored`.
+pub fn depth_passes(s: &GpuSample, limit: f32, stored: f32) -> bool {
+    if s.orthographic != 0 {
+        limit <= s.depth_lin_a * stored + s.depth_lin_b
+    } else {
+        limit * (stored + s.depth_lin_b) >= s.depth_lin_a
+    }
 }
 
 pub fn shadow_compare(s: &GpuSample, lookup: &ShadowLookup, stored: f32) -> u32 {
     match lookup.kind {
         LOOKUP_UNLIT => 0,
         LOOKUP_OUTSIDE => 1,
-        _ => (lookup.depth_limit * (stored + s.depth_lin_b) >= s.depth_lin_a) as u32,
+        _ => depth_passes(s, lookup.depth_limit, stored) as u32,
     }
 }
 
@@ -72,7 +87,7 @@ pub fn shadow_lookup_uv(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Ve
 
 /// Twin of `slope_per_texel`: world depth change per texel of offset along p's tangent plane.
 pub fn slope_per_texel(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> f32 {
-    let to_light = Vec4::from(s.position).truncate() - p;
+    let to_light = toward_light(s, p);
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
     let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w).dot(Vec4::from((p, 1.0)));
     let cos_angle = n.dot(to_light).abs() / to_light.length();
@@ -88,7 +103,7 @@ pub fn tap_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, t: Vec2
         return 1.0;
     }
     let stored = map[(texel.y as usize) * frame.map_size as usize + texel.x as usize];
-    if limit * (stored + s.depth_lin_b) >= s.depth_lin_a { 1.0 } else { 0.0 }
+    if depth_passes(s, limit, stored) { 1.0 } else { 0.0 }
 }
 
 /// Twin of `pcg_hash`.
