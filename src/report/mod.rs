@@ -7,6 +7,7 @@ mod dominance;
 mod files;
 mod html;
 mod markdown;
+pub mod md_page;
 pub(crate) mod page;
 pub mod results;
 mod table;

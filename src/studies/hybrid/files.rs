@@ -36,7 +36,8 @@ pub fn files(rows: &[HybridRow]) -> Result<Vec<(String, Vec<u8>)>> {
         files.push(("charts/error_memory.svg".to_string(), chart.clone().into_bytes()));
         svg = Some(chart);
     }
-    files.push(("report.html".to_string(), html(&md, svg.as_deref()).into_bytes()));
+    let charts: Vec<(&str, &str)> = svg.iter().map(|c| ("Error against memory", c.as_str())).collect();
+    files.push(("report.html".to_string(), crate::report::md_page::page("Hybrid-resolution shadow maps", &md, &charts).into_bytes()));
     files.push(("hybrid.md".to_string(), md.into_bytes()));
     Ok(files)
 }
@@ -110,52 +111,4 @@ pub fn markdown(rows: &[HybridRow]) -> String {
         }
     }
     s
-}
-
-/// The Markdown tables as HTML with the chart inline: opens offline, no scripts.
-fn html(md: &str, svg: Option<&str>) -> String {
-    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
-    let mut body = String::new();
-    let mut in_table = false;
-    for line in md.lines() {
-        if let Some(rest) = line.strip_prefix("|") {
-            if line.starts_with("|---") {
-                continue;
-            }
-            let tag = if in_table { "td" } else { "th" };
-            if !in_table {
-                body += "<table>\n";
-                in_table = true;
-            }
-            body += "<tr>";
-            for cell in rest.trim_end_matches('|').split('|') {
-                body += &format!("<{tag}>{}</{tag}>", esc(cell.trim()));
-            }
-            body += "</tr>\n";
-            continue;
-        }
-        if in_table {
-            body += "</table>\n";
-            in_table = false;
-        }
-        if let Some(h) = line.strip_prefix("## ") {
-            body += &format!("<h2>{}</h2>\n", esc(h));
-        } else if let Some(h) = line.strip_prefix("# ") {
-            body += &format!("<h1>{}</h1>\n", esc(h));
-        } else if !line.trim().is_empty() {
-            body += &format!("<p>{}</p>\n", esc(line));
-        }
-    }
-    if in_table {
-        body += "</table>\n";
-    }
-    if let Some(svg) = svg {
-        body += &format!("<h2>Error against memory</h2>\n<div class=\"chart\">{svg}</div>\n");
-    }
-    format!(
-        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>Hybrid-resolution shadow maps</title>\n<style>\
-         body{{font-family:sans-serif;max-width:1100px;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}\
-         td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}th{{background:#eee}}.chart svg{{max-width:100%;height:auto}}\
-         </style></head><body>\n{body}</body></html>\n"
-    )
 }

@@ -1,0 +1,51 @@
+//! A study's Markdown tables as one self-contained HTML page with its SVG charts inline: opens
+//! offline, no scripts, no links (the hybrid and frontier studies' `report.html`).
+
+/// `md`: `#`/`##` headings, paragraphs and pipe tables; `charts`: (heading, SVG) after the tables.
+pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
+    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let mut body = String::new();
+    let mut in_table = false;
+    for line in md.lines() {
+        if let Some(rest) = line.strip_prefix("|") {
+            if line.starts_with("|---") {
+                continue;
+            }
+            let tag = if in_table { "td" } else { "th" };
+            if !in_table {
+                body += "<table>\n";
+                in_table = true;
+            }
+            body += "<tr>";
+            for cell in rest.trim_end_matches('|').split('|') {
+                body += &format!("<{tag}>{}</{tag}>", esc(cell.trim()));
+            }
+            body += "</tr>\n";
+            continue;
+        }
+        if in_table {
+            body += "</table>\n";
+            in_table = false;
+        }
+        if let Some(h) = line.strip_prefix("## ") {
+            body += &format!("<h2>{}</h2>\n", esc(h));
+        } else if let Some(h) = line.strip_prefix("# ") {
+            body += &format!("<h1>{}</h1>\n", esc(h));
+        } else if !line.trim().is_empty() {
+            body += &format!("<p>{}</p>\n", esc(line));
+        }
+    }
+    if in_table {
+        body += "</table>\n";
+    }
+    for (heading, svg) in charts {
+        body += &format!("<h2>{}</h2>\n<div class=\"chart\">{svg}</div>\n", esc(heading));
+    }
+    format!(
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>{}</title>\n<style>\
+         body{{font-family:sans-serif;max-width:1100px;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}\
+         td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}th{{background:#eee}}.chart svg{{max-width:100%;height:auto}}\
+         </style></head><body>\n{body}</body></html>\n",
+        esc(title)
+    )
+}

@@ -1,0 +1,109 @@
+//! The frontier's output set: `frontier.jsonl` (one line per setting), `frontier.md` (the
+//! tables), `charts/frontier.svg`/`.png` and a self-contained `report.html`.
+
+use super::{front, FrontierLine};
+use crate::report::charts::{frontier_svg, svg_to_png, FrontierPoint};
+use crate::{Error, Result};
+
+pub fn files(lines: &[FrontierLine]) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut jsonl = String::new();
+    for l in lines {
+        jsonl += &serde_json::to_string(l).map_err(|e| Error::Io { path: "frontier.jsonl".into(), message: e.to_string() })?;
+        jsonl.push('\n');
+    }
+    let scene = lines.first().map_or("", |l| l.scene.as_str());
+    let points: Vec<FrontierPoint> = lines
+        .iter()
+        .map(|l| FrontierPoint {
+            kind: if l.map_config.starts_with("hybrid") { format!("{}, hybrid maps", l.kind) } else { l.kind.clone() },
+            label: format!("{} @{}", l.spec, short_maps(&l.map_config)),
+            ms: l.frame_ms,
+            ms_span: (l.frame_ms_min, l.frame_ms_max),
+            rmse: l.rmse,
+            on_frontier: l.on_frontier,
+        })
+        .collect();
+    let svg = frontier_svg(scene, &points)?;
+    let md = markdown(lines);
+    let html = crate::report::md_page::page(&format!("Frontier of fixed settings: {scene}"), &md, &[("Error against time", &svg)]);
+    Ok(vec![
+        ("frontier.jsonl".to_string(), jsonl.into_bytes()),
+        ("frontier.md".to_string(), md.into_bytes()),
+        ("charts/frontier.png".to_string(), svg_to_png(&svg, 1.0)?),
+        ("charts/frontier.svg".to_string(), svg.into_bytes()),
+        ("report.html".to_string(), html.into_bytes()),
+    ])
+}
+
+/// `plain 512` → `512`, `hybrid 2048→512` → `h2048→512`: chart labels stay short.
+fn short_maps(config: &str) -> String {
+    config.strip_prefix("plain ").map(str::to_string).unwrap_or_else(|| config.replace("hybrid ", "h"))
+}
+
+fn flip(l: &FrontierLine) -> String {
+    l.flip.map_or("-".into(), |f| format!("{f:.4}"))
+}
+
+/// The frontier as a ladder of error levels, adaptive settings against it, then every setting.
+pub fn markdown(lines: &[FrontierLine]) -> String {
+    let Some(first) = lines.first() else { return "# Frontier of fixed settings\n\nNo settings.\n".into() };
+    let mut s = format!(
+        "# Frontier of fixed settings: {}\n\n{} settings ({}); {}x{} screen; reference {}; median of {} timed frames; {} on {}.\n",
+        first.scene,
+        lines.len(),
+        first.thinning,
+        first.resolution[0],
+        first.resolution[1],
+        first.reference,
+        first.repeats,
+        first.clock.split(';').next().unwrap_or(&first.clock),
+        first.adapter
+    );
+    let points: Vec<(f64, f64)> = lines.iter().map(|l| (l.frame_ms, l.rmse)).collect();
+    s += "\n## The frontier: the cheapest setting for each error level\n\n\
+          | RMSE at most | cheapest setting | maps | map size | median ms (min–max) | FLIP |\n|---:|---|---:|---:|---:|---:|\n";
+    for i in front::ladder(&points) {
+        let l = &lines[i];
+        s += &format!(
+            "| {:.5} | {} | {} | {} | {:.1} ({:.1}–{:.1}) | {} |\n",
+            l.rmse, l.setting(), l.maps, l.map_size, l.frame_ms, l.frame_ms_min, l.frame_ms_max, flip(l)
+        );
+    }
+    let adaptive: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_adaptive()).collect();
+    if !adaptive.is_empty() {
+        s += "\n## Adaptive and local refinement against the frontier\n\n\
+              | setting | maps | RMSE | median ms | on the frontier | beaten by | its RMSE | its ms |\n|---|---:|---:|---:|---|---|---:|---:|\n";
+        for l in adaptive {
+            let rival = l.beaten_by.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
+            let (name, e, t) = match rival {
+                Some(r) => (r.setting(), format!("{:.5} ({:.2}×)", r.rmse, r.rmse / l.rmse), format!("{:.1} ({:.2}×)", r.frame_ms, r.frame_ms / l.frame_ms)),
+                None => ("-".into(), "-".into(), "-".into()),
+            };
+            s += &format!(
+                "| {} | {} | {:.5} | {:.1} | {} | {name} | {e} | {t} |\n",
+                l.setting(),
+                l.maps,
+                l.rmse,
+                l.frame_ms,
+                if l.on_frontier { "yes" } else { "no" }
+            );
+        }
+    }
+    s += "\n## Every setting\n\n| setting | kind | maps | map size | RMSE | FLIP | median ms (min–max) | on the frontier |\n|---|---|---:|---:|---:|---:|---:|---|\n";
+    for l in lines {
+        s += &format!(
+            "| {} | {} | {} | {} | {:.5} | {} | {:.1} ({:.1}–{:.1}) | {} |\n",
+            l.setting(),
+            l.kind,
+            l.maps,
+            l.map_size,
+            l.rmse,
+            flip(l),
+            l.frame_ms,
+            l.frame_ms_min,
+            l.frame_ms_max,
+            if l.on_frontier { "yes" } else { "" }
+        );
+    }
+    s
+}

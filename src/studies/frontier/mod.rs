@@ -1,0 +1,154 @@
+//! `penumbra frontier` (docs/frontier.md): every fixed setting of one scene (regular grids in both
+//! layouts, map sizes, hybrid maps, the adaptive presets in both scopes, the single-map family)
+//! measured by the one measure loop (`record::measure`, one run per map configuration), judged
+//! against one reference, and the frontier of error against time: the settings no other setting
+//! beats on both.
+
+pub mod files;
+pub mod front;
+pub mod grid;
+
+use crate::gpu::GpuContext;
+use crate::methods::{Family, Method};
+use crate::record::judge::Judge;
+use crate::record::measure::{self, Phase};
+use crate::reference::truth::{self, Cache};
+use crate::reference::ReferenceMode;
+use crate::scene::Scene;
+use crate::Result;
+use serde::{Deserialize, Serialize};
+
+pub struct FrontierJob<'a> {
+    pub scene: &'a Scene,
+    /// Settings grouped by map configuration (grid::settings).
+    pub groups: Vec<grid::Group>,
+    /// How the grid was chosen, with its axes (`Thinning::describe`).
+    pub thinning: String,
+    pub repeats: u32,
+    pub reference: ReferenceMode,
+    pub cache: Cache,
+}
+
+/// One line of `frontier.jsonl`: one setting.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FrontierLine {
+    pub scene: String,
+    /// The method spec as the grid writes it and its map configuration (`plain 512`, `hybrid 2048→512`).
+    pub spec: String,
+    pub map_config: String,
+    /// `regular lattice`, `regular centred`, `adaptive global`, `adaptive local`, `single map` or
+    /// `filtered maps`.
+    pub kind: String,
+    /// The method's label (`penumbra compare`'s name for it; a preset may be spelt out).
+    pub label: String,
+    /// Shadow maps of the judged frame.
+    pub maps: u32,
+    /// Raster size of a map per side (the base of hybrid maps).
+    pub map_size: u32,
+    pub rmse: f64,
+    /// Mean FLIP of the shaded image; `null` when not computed.
+    pub flip: Option<f64>,
+    /// Median, min and max frame time over the timed frames.
+    pub frame_ms: f64,
+    pub frame_ms_min: f64,
+    pub frame_ms_max: f64,
+    pub on_frontier: bool,
+    /// Off the frontier: the fastest frontier setting at most as slow and at most as wrong
+    /// (`spec @ map_config`).
+    pub beaten_by: Option<String>,
+    pub thinning: String,
+    pub resolution: [u32; 2],
+    pub reference: String,
+    pub repeats: u32,
+    pub clock: String,
+    pub adapter: String,
+}
+
+impl FrontierLine {
+    /// `spec @ map_config`: a setting's name across map configurations.
+    pub fn setting(&self) -> String {
+        format!("{} @ {}", self.spec, self.map_config)
+    }
+
+    /// Adaptive rows, the ones the chart and the table single out.
+    pub fn is_adaptive(&self) -> bool {
+        self.kind.starts_with("adaptive")
+    }
+}
+
+fn kind(m: &Method) -> String {
+    if let Some(p) = m.adaptive_params() {
+        return if p.scope == crate::methods::Scope::Local { "adaptive local".into() } else { "adaptive global".into() };
+    }
+    match (m.name(), m.params_json().get("layout").and_then(|v| v.as_str())) {
+        ("regular", Some(layout)) => format!("regular {layout}"),
+        _ => match m.family() {
+            Family::Hard | Family::Pcf => "single map".into(),
+            f => f.title().to_string(),
+        },
+    }
+}
+
+/// Marks the frontier and each line's nearest frontier setting, from the lines' own figures.
+pub fn mark(lines: &mut [FrontierLine]) {
+    let points: Vec<(f64, f64)> = lines.iter().map(|l| (l.frame_ms, l.rmse)).collect();
+    let on = front::on_frontier(&points);
+    let names: Vec<String> = lines.iter().map(FrontierLine::setting).collect();
+    for (i, l) in lines.iter_mut().enumerate() {
+        l.on_frontier = on[i];
+        l.beaten_by = if on[i] { None } else { front::beaten_by(&points, &on, i).map(|j| names[j].clone()) };
+    }
+}
+
+/// Measures every group (one `record::measure` run each, its scene under the group's maps) and
+/// returns one line per setting, frontier marked. `log` gets one line per measured setting.
+pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Vec<FrontierLine>> {
+    let scene = job.scene;
+    let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
+    let judge = Judge::new(scene, &g, reference.values.clone());
+    log(&crate::studies::compare::reference_line(&reference, judge.geometry_pixels()));
+    let total = grid::count(&job.groups);
+    let bar = crate::progress::bar(measure::frame_count(total, job.repeats), "frontier");
+    let mut lines = Vec::with_capacity(total);
+    for grid::Group { maps, specs, methods } in &job.groups {
+        // eps: the hybrid study's and the seed's 0.25 (docs/hybrid.md).
+        let s = maps.apply(scene, 0.25);
+        let mut on_frame = |m: &Method, phase: Phase, _: &crate::frame::FrameResult| {
+            bar.set_message(format!("{} {} {phase}", maps.label(), m.label()));
+            bar.inc(1);
+        };
+        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&s, &methods[i].label(), f)?.metrics);
+        let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
+        for ((m, spec), r) in methods.iter().zip(specs).zip(measured) {
+            let line = FrontierLine {
+                scene: scene.name.clone(),
+                spec: spec.clone(),
+                map_config: maps.label(),
+                kind: kind(m),
+                label: m.label(),
+                maps: r.timing.shadow_maps,
+                map_size: s.render.shadow_map_size,
+                rmse: r.judged.rmse,
+                flip: Some(r.judged.flip_mean).filter(|f| f.is_finite()),
+                frame_ms: r.timing.median_ms,
+                frame_ms_min: r.timing.min_ms,
+                frame_ms_max: r.timing.max_ms,
+                on_frontier: false,
+                beaten_by: None,
+                thinning: job.thinning.clone(),
+                resolution: [scene.render.width, scene.render.height],
+                reference: truth::mode_label(&reference.mode),
+                repeats: job.repeats,
+                clock: crate::record::CLOCK.to_string(),
+                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+            };
+            crate::progress::suspend(|| {
+                log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse))
+            });
+            lines.push(line);
+        }
+    }
+    bar.finish_and_clear();
+    mark(&mut lines);
+    Ok(lines)
+}

@@ -1,0 +1,112 @@
+//! `penumbra frontier` (docs/frontier.md) on a small scene at 64² with a thinned grid: one line per
+//! setting, the frontier flags agree with a recomputation from the lines' own figures, the chart
+//! and the report are written; bad input is refused before the GPU starts, with no output.
+
+mod common;
+use common::{ok, temp_dir};
+use std::path::Path;
+use std::process::Command;
+
+fn penumbra(args: &[&str], cache: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .env("PENUMBRA_CACHE", cache)
+        .output()
+        .expect("run penumbra")
+}
+
+/// The documented small run: n in {2, 3}, plain maps 64² and 128², hybrid 128→64, one timed frame.
+#[test]
+fn a_thinned_frontier_on_a_small_scene() {
+    let dir = temp_dir("frontier_small");
+    let out = dir.join("out");
+    let args = [
+        "frontier", "--scene", "overlapping-occluders", "--set", "resolution=64", "--thin", "--n", "2,3", "--sizes", "64,128",
+        "--hybrid", "128/1", "--repeats", "1", "--out", out.to_str().unwrap(),
+    ];
+    let run = ok(penumbra(&args, &dir.join("cache")), "frontier");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("## The frontier: the cheapest setting for each error level"), "{stdout}");
+
+    let text = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    // Per plain size: 2 n × 2 layouts + 4 adaptive + 8 single-map; hybrid: 4 regular, 2 global adaptive, hard, pcf, pcss.
+    assert_eq!(lines.len(), 2 * 16 + 9, "{text}");
+    let f = |l: &serde_json::Value, k: &str| l[k].as_f64().unwrap_or_else(|| panic!("{k} in {l}"));
+    let points: Vec<(f64, f64)> = lines.iter().map(|l| (f(l, "frame_ms"), f(l, "rmse"))).collect();
+    for (i, l) in lines.iter().enumerate() {
+        for key in ["spec", "map_config", "kind", "thinning", "clock", "adapter"] {
+            assert!(l[key].is_string(), "{key} in {l}");
+        }
+        assert!(points[i].0 > 0.0 && points[i].1 > 0.0 && points[i].1 < 1.0, "{l}");
+        assert!(l["flip"].as_f64().is_some_and(|v| (0.0..=1.0).contains(&v)), "{l}");
+        // Recomputed from the lines: nothing at most as slow and at most as wrong, one strictly
+        // (of exact duplicates the first counts).
+        let beaten = points.iter().enumerate().any(|(j, q)| {
+            j != i && q.0 <= points[i].0 && q.1 <= points[i].1 && (q.0 < points[i].0 || q.1 < points[i].1 || j < i)
+        });
+        assert_eq!(l["on_frontier"].as_bool(), Some(!beaten), "{l}");
+        assert_eq!(l["beaten_by"].is_null(), !beaten, "{l}");
+        assert!(l["thinning"].as_str().unwrap().starts_with("thinned grid (--thin): n in [2, 3], plain maps [64, 128], hybrid maps [hybrid 128→64]"), "{l}");
+    }
+    let find = |spec: &str, maps: &str| lines.iter().find(|l| l["spec"] == spec && l["map_config"] == maps).unwrap_or_else(|| panic!("{spec} @ {maps}"));
+    assert_eq!(find("hard", "plain 64")["maps"], 1);
+    assert_eq!(find("regular:n=3,layout=centred", "plain 128")["maps"], 9);
+    assert_eq!(find("regular:n=3", "hybrid 128→64")["map_size"], 128);
+    assert_eq!(find("adaptive:preset=balanced,scope=local,cull=on", "plain 128")["kind"], "adaptive local");
+    let on = lines.iter().filter(|l| l["on_frontier"] == true).count();
+    let (hard, balanced) = (find("hard", "plain 128"), find("adaptive:preset=balanced", "plain 128"));
+    eprintln!(
+        "{} settings, {on} on the frontier; hard @128 RMSE {:.4}, adaptive:preset=balanced @128 RMSE {:.4} ({} maps)",
+        lines.len(),
+        f(hard, "rmse"),
+        f(balanced, "rmse"),
+        balanced["maps"]
+    );
+    assert!(on >= 2, "a frontier of one setting on this scene: {text}");
+    assert!(f(balanced, "rmse") < 0.5 * f(hard, "rmse"), "soft shadows beat the hard one: {text}");
+
+    let svg = std::fs::read_to_string(out.join("charts/frontier.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("Pareto front") && svg.contains("adaptive local"), "chart");
+    assert!(std::fs::read(out.join("charts/frontier.png")).unwrap().starts_with(b"\x89PNG"));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("<h2>The frontier: the cheapest setting for each error level</h2>") && html.contains("<svg"), "report");
+    assert!(html.contains("Adaptive and local refinement against the frontier"));
+    // Opens offline: no scripts, links or sources outside the page (the SVG namespace is a name).
+    for bad in ["<script", "<link", "src=\"http", "href=\"http", "url("] {
+        assert!(!html.contains(bad), "report holds {bad}");
+    }
+}
+
+#[test]
+fn bad_frontier_input_is_refused_with_no_output() {
+    let dir = temp_dir("frontier_bad");
+    let out = dir.join("out");
+    for (case, extra, needle) in [
+        ("unknown scene", vec!["--scene", "no-such-scene"], "no-such-scene"),
+        ("n zero", vec!["--n", "0"], "--n `0`: n must be in 1..=128"),
+        ("n negative", vec!["--n", "-2"], "--n `-2`: n must be in 1..=128"),
+        ("n twice", vec!["--n", "3,3"], "--n `3`: listed twice"),
+        ("size not a number", vec!["--sizes", "big"], "--sizes: map configuration `big`: not a whole number"),
+        ("size too small", vec!["--sizes", "4"], "--sizes: map configuration `4`: size must be in 8..=16384"),
+        ("hybrid levels", vec!["--hybrid", "2048/3"], "--hybrid: map configuration `2048/3`: levels must be 1 or 2"),
+        ("map size in --set", vec!["--set", "shadow_map_size=512"], "--set shadow_map_size=512: the frontier sets the map size"),
+        ("method key in --set", vec!["--set", "p_m=3"], "--set p_m=3: p_m is a parameter of"),
+        ("thin and full", vec!["--thin", "--full"], "--thin and --full"),
+        ("repeats 0", vec!["--repeats", "0"], "--repeats must be in 1..=1000, got 0"),
+        ("reference mode", vec!["--reference", "exact"], "reference mode `exact`"),
+        ("max configs", vec!["--thin", "--max-configs", "10"], "frontier: 75 configurations, more than --max-configs 10; pass --max-configs 75"),
+    ] {
+        let mut args = vec!["frontier", "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        let o = penumbra(&args, &dir.join("cache"));
+        let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+        assert_eq!(o.status.code(), Some(1), "{case}: {stderr}");
+        let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+        assert_eq!(lines.len(), 1, "{case}: one line: {stderr}");
+        assert!(lines[0].starts_with("error: ") && lines[0].contains(needle), "{case}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{case}: {stderr}");
+        assert!(!out.exists() && !dir.join("cache").exists(), "{case}: output written");
+    }
+}
