@@ -9,7 +9,6 @@
 //! `(0, dist·(1 - LIGHT_END_EPS))`; and `V = 0` for `p` on or behind the disk's plane, or inside
 //! the sphere.
 
-use super::sampling::{LATTICE_DIVISIONS, PixelRng, lattice_coord};
 use super::visibility::LIGHT_END_EPS;
 use super::{ReferenceError, ReferenceMode, SurfacePoint, Tracer};
 use glam::Vec3;
@@ -57,27 +56,7 @@ pub use crate::scene::emitter::concentric;
 /// The unit-square points of `mode` for `pixel`: the rectangle's (s, t), in its order and seeds.
 pub fn fill_unit_samples(mode: &ReferenceMode, pixel: u64, out: &mut Vec<(f32, f32)>) {
     out.clear();
-    match *mode {
-        ReferenceMode::Lattice => {
-            for j in 0..=LATTICE_DIVISIONS {
-                for i in 0..=LATTICE_DIVISIONS {
-                    out.push((lattice_coord(i), lattice_coord(j)));
-                }
-            }
-        }
-        ReferenceMode::Point { s, t } => out.push((s, t)),
-        ReferenceMode::Continuous { m, seed } => {
-            let mut rng = PixelRng::new(seed, pixel);
-            let inv_m = 1.0 / m as f32;
-            for b in 0..m {
-                for a in 0..m {
-                    let s = (a as f32 + rng.next_f32()) * inv_m;
-                    let t = (b as f32 + rng.next_f32()) * inv_m;
-                    out.push((s, t));
-                }
-            }
-        }
-    }
+    super::sampling::for_each_unit_sample(mode, pixel, |s, t| out.push((s, t)));
 }
 
 /// Two unit vectors across the unit `n` (Duff et al. 2017: continuous except at one sign flip).

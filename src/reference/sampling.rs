@@ -47,19 +47,19 @@ impl PixelRng {
     }
 }
 
-/// Fills `out` with the light points of `mode` for pixel `pixel` (cleared first).
+/// Calls `f(s, t)` for each unit-square point of `mode` for pixel `pixel`, in a fixed order with
+/// the pixel's own seed: what every emitter's reference samples start from.
 /// `Continuous { m: 0 }` yields no points; callers reject it before tracing.
-pub fn fill_light_samples(mode: &ReferenceMode, light: &RefLight, pixel: u64, out: &mut Vec<Vec3>) {
-    out.clear();
+pub fn for_each_unit_sample(mode: &ReferenceMode, pixel: u64, mut f: impl FnMut(f32, f32)) {
     match *mode {
         ReferenceMode::Lattice => {
             for j in 0..=LATTICE_DIVISIONS {
                 for i in 0..=LATTICE_DIVISIONS {
-                    out.push(light.point(lattice_coord(i), lattice_coord(j)));
+                    f(lattice_coord(i), lattice_coord(j));
                 }
             }
         }
-        ReferenceMode::Point { s, t } => out.push(light.point(s, t)),
+        ReferenceMode::Point { s, t } => f(s, t),
         ReferenceMode::Continuous { m, seed } => {
             let mut rng = PixelRng::new(seed, pixel);
             let inv_m = 1.0 / m as f32;
@@ -67,11 +67,17 @@ pub fn fill_light_samples(mode: &ReferenceMode, light: &RefLight, pixel: u64, ou
                 for a in 0..m {
                     let s = (a as f32 + rng.next_f32()) * inv_m;
                     let t = (b as f32 + rng.next_f32()) * inv_m;
-                    out.push(light.point(s, t));
+                    f(s, t);
                 }
             }
         }
     }
+}
+
+/// Fills `out` with the light points of `mode` for pixel `pixel` (cleared first).
+pub fn fill_light_samples(mode: &ReferenceMode, light: &RefLight, pixel: u64, out: &mut Vec<Vec3>) {
+    out.clear();
+    for_each_unit_sample(mode, pixel, |s, t| out.push(light.point(s, t)));
 }
 
 #[cfg(test)]
