@@ -1,11 +1,35 @@
 //! `[light]` by kind: which keys each kind takes, and the checks on each (docs/lights.md). A
-//! rectangle is checked by `format::build_light`, as before kinds existed.
+//! rectangle is checked by `build_light`, as before kinds existed.
 
 use super::emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
-use super::format::{build_light, finite, LightDef, MAX_COORDINATE};
+use super::coords::{finite, MAX_COORDINATE};
 use super::light::{AreaLight, Bounds};
 use crate::{Error, Result};
 use glam::Vec3;
+use serde::Deserialize;
+
+/// `kind` (default `rect`) and its keys (docs/lights.md). A rectangle is either `edge_u` + `edge_v`
+/// (full edge vectors), or `size` + `normal` (+ optional `u_axis`); `emitter_def.rs` checks which
+/// keys belong to which kind.
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub struct LightDef {
+    #[serde(default)]
+    pub kind: LightKind,
+    pub center: Option<[f32; 3]>,
+    pub edge_u: Option<[f32; 3]>,
+    pub edge_v: Option<[f32; 3]>,
+    pub size: Option<[f32; 2]>,
+    pub normal: Option<[f32; 3]>,
+    pub u_axis: Option<[f32; 3]>,
+    pub radius: Option<f32>,
+    pub position: Option<[f32; 3]>,
+    pub direction: Option<[f32; 3]>,
+    pub angular_diameter_deg: Option<f32>,
+    pub inner_cone_deg: Option<f32>,
+    pub outer_cone_deg: Option<f32>,
+}
+
 
 /// The keys of each kind besides `kind` itself.
 pub const KIND_KEYS: [(LightKind, &[&str]); 5] = [
@@ -145,4 +169,52 @@ pub(super) fn check_side(origin: &str, emitter: &Emitter, bounds: &Bounds) -> Re
         return Err(Error::scene(origin, format!("light: {what} = {:?}, away from every mesh: nothing would be lit; turn it towards the meshes", along.to_array())));
     }
     Ok(())
+}
+
+pub(super) fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
+    let center = finite(origin, "light.center", l.center.ok_or_else(|| Error::scene(origin, "light.center is missing: kind `rect` needs center, and edge_u + edge_v or size + normal"))?)?;
+    let (edge_u, edge_v) = match (l.edge_u, l.edge_v, l.size, l.normal) {
+        (Some(u), Some(v), None, None) => (finite(origin, "light.edge_u", u)?, finite(origin, "light.edge_v", v)?),
+        (None, None, Some(size), Some(normal)) => {
+            let n = finite(origin, "light.normal", normal)?;
+            if !(size[0] > 0.0 && size[1] > 0.0) {
+                return Err(Error::scene(origin, format!("light.size = {size:?}: both sides must be positive")));
+            }
+            let size = finite(origin, "light.size", size)?;
+            if n.length() < 1e-12 {
+                return Err(Error::scene(origin, "light.normal is the zero vector"));
+            }
+            let n = n.normalize();
+            let hint = match l.u_axis {
+                Some(u) => finite(origin, "light.u_axis", u)?,
+                None if n.x.abs() < 0.9 => Vec3::X,
+                None => Vec3::Z,
+            };
+            let u = (hint - n * hint.dot(n)).normalize_or_zero();
+            if u == Vec3::ZERO {
+                return Err(Error::scene(origin, "light.u_axis is parallel to light.normal"));
+            }
+            // Emission side is edge_u × edge_v, so v = n × u.
+            (u * size.x, n.cross(u) * size.y)
+        }
+        _ => {
+            return Err(Error::scene(
+                origin,
+                "light: give either edge_u and edge_v, or size and normal (with optional u_axis)",
+            ))
+        }
+    };
+    let light = AreaLight { center, edge_u, edge_v };
+    let scale = edge_u.length().max(edge_v.length()).max(1e-30);
+    // Edges are within ±MAX_COORDINATE, so the area cannot overflow f32 here. Negated so that a NaN
+    // area is refused too.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let degenerate = !(light.edge_u.cross(light.edge_v).length() > 1e-10 * scale * scale);
+    if degenerate {
+        return Err(Error::scene(
+            origin,
+            format!("light has zero area (edge_u = {edge_u}, edge_v = {edge_v}): a soft shadow needs an area light"),
+        ));
+    }
+    Ok(light)
 }

@@ -1,7 +1,9 @@
 //! Scenes from meshes a caller hands over in memory (the embedding API, src/api.rs), checked by the
 //! same rules as a scene file: one set of checks, one way to assemble a [`Scene`].
 
-use super::format::{self, CameraDef, LightDef, Parts};
+use super::coords::finite;
+use super::emitter_def::{build_light, LightDef};
+use super::format::{self, CameraDef, Parts};
 use super::mesh::{smooth_normals, Vertex, MAX_SCENE_TRIANGLES};
 use super::model::{Camera, Scene};
 use super::overrides::apply_overrides;
@@ -43,7 +45,7 @@ impl Scene {
     /// A scene of `meshes` under a rectangular light; `render` comes from [`settings_from_pairs`].
     pub fn from_meshes(origin: &str, camera: &Camera, light: &AreaLight, render: RenderSettings, meshes: &[GivenMesh]) -> Result<Scene> {
         let camera = format::camera(origin, &camera_def(camera))?;
-        let light = format::build_light(&light_def(light), origin)?;
+        let light = build_light(&light_def(light), origin)?;
         if meshes.is_empty() {
             return Err(Error::scene(origin, "the scene has no mesh"));
         }
@@ -63,12 +65,12 @@ impl Scene {
             if vertex_total > u32::MAX as u64 || triangle_total > MAX_SCENE_TRIANGLES {
                 return Err(Error::scene(origin, format!("the meshes exceed {MAX_SCENE_TRIANGLES} triangles or 2^32 vertices")));
             }
-            let positions = m.positions.iter().map(|p| format::finite(origin, &what("position"), *p)).collect::<Result<Vec<Vec3>>>()?;
+            let positions = m.positions.iter().map(|p| finite(origin, &what("position"), *p)).collect::<Result<Vec<Vec3>>>()?;
             let normals = match m.normals {
                 Some(n) if n.len() != positions.len() => {
                     return Err(Error::scene(origin, format!("mesh {}: {} normals for {} positions", k + 1, n.len(), positions.len())));
                 }
-                Some(n) => n.iter().map(|v| format::finite(origin, &what("normal"), *v).map(Vec3::normalize_or_zero)).collect::<Result<Vec<Vec3>>>()?,
+                Some(n) => n.iter().map(|v| finite(origin, &what("normal"), *v).map(Vec3::normalize_or_zero)).collect::<Result<Vec<Vec3>>>()?,
                 None => smooth_normals(&positions, m.indices),
             };
             let vertices = positions
@@ -93,7 +95,7 @@ impl Scene {
 
     /// `light` checked as a scene file's `[light]` is, and against these meshes' side of it.
     pub fn check_light(&self, light: &AreaLight) -> Result<AreaLight> {
-        let light = format::build_light(&light_def(light), &self.origin)?;
+        let light = build_light(&light_def(light), &self.origin)?;
         format::check_light_side(&self.origin, &light, &self.bounds)?;
         Ok(light)
     }

@@ -5,7 +5,7 @@ use super::mesh_def::{MeshDef, Scale};
 use super::raw_mesh::RawMesh;
 use super::mesh_file::{self, MeshDirs};
 use super::{instances, subdivide};
-use super::format::MAX_COORDINATE;
+use super::coords::MAX_COORDINATE;
 use crate::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use glam::{EulerRot, Mat3, Mat4, Quat, Vec3};

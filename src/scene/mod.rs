@@ -5,6 +5,7 @@ mod builtin;
 pub mod environment;
 pub mod light;
 mod catalog;
+mod coords;
 pub mod emitter;
 mod emitter_def;
 mod format;
@@ -31,7 +32,7 @@ pub use mesh::Vertex;
 pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
 pub use model::{Camera, Scene};
 pub use obj::embedded_source;
-pub use format::MAX_COORDINATE;
+pub use coords::MAX_COORDINATE;
 pub use overrides::{apply_overrides, is_render_key};
 
 use crate::{Error, Result};
