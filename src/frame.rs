@@ -100,6 +100,8 @@ pub struct Renderer<'a> {
     build: Option<(f64, f64)>,
     /// Record GPU timestamps even where the adapter's are not trusted (tests of the mechanics).
     force_timestamps: bool,
+    /// What `raster = auto` measured when it chose this renderer's raster.
+    raster_auto: Option<crate::stages::raster_auto::AutoTiming>,
 }
 
 impl<'a> Renderer<'a> {
@@ -143,7 +145,7 @@ impl<'a> Renderer<'a> {
         let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
         let mut frame = frame_uniform(scene);
         // The raster first: whether it is compute decides how every kernel reads the maps.
-        let compute = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
+        let (compute, raster_auto) = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
         let raster = match raster {
             Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
             _ => Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?,
@@ -178,7 +180,7 @@ impl<'a> Renderer<'a> {
         ctx.wait()?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
         let camera = camera_uniform(scene);
-        Ok(Self { fg, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some((build_ms, upload_ms)), force_timestamps })
+        Ok(Self { fg, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some((build_ms, upload_ms)), force_timestamps, raster_auto })
     }
 
     /// Lets go of the scene and the method's state, keeping what another scene can reuse.
@@ -293,7 +295,7 @@ impl<'a> Renderer<'a> {
         let raster = RasterUsed {
             used: self.fg.raster.name(),
             setting: self.fg.scene.render.raster,
-            auto: crate::stages::raster_auto::remembered_timing(ctx, self.fg.scene),
+            auto: self.raster_auto,
         };
         Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster })
     }

@@ -53,18 +53,17 @@ fn key(ctx: &GpuContext, scene: &Scene) -> Key {
     (ctx.summary.name.clone(), h.finish(), raster_size(scene), format!("{:?}", scene.render.cull), scene.render.shadow_map_budget_mib)
 }
 
-/// Whether the frame rasterizes in compute kernels, by the scene's `raster` setting.
-pub fn compute_raster(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu) -> Result<bool> {
+/// Whether the frame rasterizes in compute kernels, by the scene's `raster` setting, and what
+/// `auto` measured when it chose.
+pub fn compute_raster(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu) -> Result<(bool, Option<AutoTiming>)> {
     Ok(match scene.render.raster {
-        RasterChoice::Hardware => false,
-        RasterChoice::Compute => true,
-        RasterChoice::Auto => timing(ctx, scene, gpu)?.compute,
+        RasterChoice::Hardware => (false, None),
+        RasterChoice::Compute => (true, None),
+        RasterChoice::Auto => {
+            let t = timing(ctx, scene, gpu)?;
+            (t.compute, Some(t))
+        }
     })
-}
-
-/// What `auto` measured for this scene in this process, if it did.
-pub fn remembered_timing(ctx: &GpuContext, scene: &Scene) -> Option<AutoTiming> {
-    (scene.render.raster == RasterChoice::Auto).then(|| remembered().lock().ok()?.get(&key(ctx, scene)).copied()).flatten()
 }
 
 fn timing(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu) -> Result<AutoTiming> {
