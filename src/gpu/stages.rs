@@ -230,7 +230,11 @@ stage_table! {
         compute("main", LINE, &[("level", 1), ("probes", 2), ("quads", 3), ("masks", 4), ("items", 9), ("control", 10), ("visibility_fixed", 11), ("probe_total", 13)]),
         compute("begin", SINGLE, &[("level", 1), ("control", 10), ("probe_total", 13), ("probe_args", 14)]),
     ];
-    /// scope = local: per new map, the triangles that can change a texel its pixels test.
+    /// cull = on where every geometry pixel tests every map: the culling tiles of a batch of maps.
+    FOOTPRINT = "footprint" kernel, Some(Raster), [
+        compute("main", PIXEL, &[("frame", 0), ("samples", 1), ("gbuffer_position", 2), ("gbuffer_normal", 3), ("tiles", 4)]),
+    ];
+    /// Per new map, the triangles that can change a texel its pixels test.
     CULL = "cull" kernel, Some(Raster), [
         compute("main", LINE, &[("cull", 0), ("frame", 1), ("samples", 2), ("tiles", 3), ("runs", 4), ("slots", 6), ("args", 8), ("kept_runs", 10), ("control", 11)]),
         compute("begin", SINGLE, &[("control", 11), ("dispatch", 12)]),

@@ -3,6 +3,7 @@
 //! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
 use crate::gpu::Stage;
+use super::culled_maps::CulledMaps;
 use super::hybrid_maps::HybridMaps;
 use super::{check_range, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
@@ -28,6 +29,7 @@ pub const REGULAR: MethodInfo = MethodInfo {
     params: &[
         Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" },
         Param { key: "layout", default: "lattice", help: "lattice (corners i/(N−1)), centred (cell centres) or jittered (one seeded point per cell)" },
+        Param { key: "cull", default: "off", help: "on: raster each map only with the triangles that can change a texel some geometry pixel tests (the same V; docs/gpu-frame.md)" },
     ],
     parse: |p: &ParamMap| {
         let n = check_range("regular", "n", get_u32(p, "n", 17)?, 1, 128)?;
@@ -37,7 +39,12 @@ pub const REGULAR: MethodInfo = MethodInfo {
             Some("jittered") => Layout::Jittered,
             Some(v) => return Err(crate::Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
         };
-        Ok(std::sync::Arc::new(Fixed::Regular { n, layout }))
+        let cull = match p.get("cull").map(String::as_str) {
+            None | Some("off") => false,
+            Some("on") => true,
+            Some(v) => return Err(crate::Error::Param(format!("regular: cull = `{v}`: use `on` or `off`"))),
+        };
+        Ok(std::sync::Arc::new(Fixed::Regular { n, layout, cull }))
     },
 };
 
@@ -45,14 +52,15 @@ pub const REGULAR: MethodInfo = MethodInfo {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Fixed {
     Hard,
-    Regular { n: u32, layout: Layout },
+    /// `cull`: each map rasterizes only what can change a tested texel (`CulledMaps`).
+    Regular { n: u32, layout: Layout, cull: bool },
 }
 
 impl Fixed {
     pub fn points(&self) -> Vec<(f32, f32)> {
         match self {
             Fixed::Hard => vec![(0.5, 0.5)],
-            Fixed::Regular { n, layout } => regular_points(*n, *layout),
+            Fixed::Regular { n, layout, .. } => regular_points(*n, *layout),
         }
     }
 }
@@ -76,19 +84,32 @@ impl ShadowMethod for Fixed {
     fn label(&self) -> String {
         match self {
             Fixed::Hard => "hard".into(),
-            Fixed::Regular { n, layout: Layout::Lattice } => format!("regular:n={n}"),
-            Fixed::Regular { n, layout: Layout::Centred } => format!("regular:n={n},layout=centred"),
-            Fixed::Regular { n, layout: Layout::Jittered } => format!("regular:n={n},layout=jittered"),
+            Fixed::Regular { n, layout, cull } => {
+                let layout = match layout {
+                    Layout::Lattice => "",
+                    Layout::Centred => ",layout=centred",
+                    Layout::Jittered => ",layout=jittered",
+                };
+                format!("regular:n={n}{layout}{}", if *cull { ",cull=on" } else { "" })
+            }
         }
     }
     fn params_json(&self) -> serde_json::Value {
         match self {
             Fixed::Hard => serde_json::json!({}),
-            Fixed::Regular { n, layout } => serde_json::json!({ "n": n, "layout": layout }),
+            Fixed::Regular { n, layout, cull } => serde_json::json!({ "n": n, "layout": layout, "cull": cull }),
         }
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
-        Ok(Box::new(prepare(fg, &self.points())?))
+        let cull = matches!(self, Fixed::Regular { cull: true, .. });
+        if cull && fg.scene.render.maps == crate::scene::MapKind::Hybrid {
+            return Err(crate::Error::Param("regular: cull = on rasterizes plain maps; it cannot run with maps = hybrid".into()));
+        }
+        let mut prepared = prepare(fg, &self.points())?;
+        if cull {
+            prepared.culled = Some(CulledMaps::new(fg, prepared.points as u32)?);
+        }
+        Ok(Box::new(prepared))
     }
     /// Shade binds V by bands of rows (stages::shade::Band): any resolution whose V fits one buffer.
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
@@ -171,6 +192,8 @@ pub struct Prepared {
     samples_buffer: wgpu::Buffer,
     weights_buffer: wgpu::Buffer,
     maps: Maps,
+    /// `cull = on`: the passes that cull each map's triangles.
+    culled: Option<CulledMaps>,
     /// Tests: every chunk's maps are kept, since the next chunk overwrites them.
     keep: bool,
     kept: Option<FixedBuffers>,
@@ -208,13 +231,13 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
-    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps, keep: false, kept: None })
+    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps, culled: None, keep: false, kept: None })
 }
 
 /// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the
 /// shade twin (tests only).
 fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result<MethodOutput> {
-    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, keep, kept } = prepared;
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, keep, kept } = prepared;
     let (chunk, array) = match maps {
         Maps::Plain { chunk, array } => (*chunk, &*array),
         Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, *keep, kept),
@@ -228,10 +251,13 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs)?;
-            Ok(())
-        })?;
+        match culled.as_ref() {
+            Some(c) => c.record(fg, timer, samples_buffer, array, &jobs)?,
+            None => timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs)?;
+                Ok(())
+            })?,
+        }
         if let Some(c) = buffers.as_mut() {
             timer.flush(ctx);
             for layer in 0..count {
@@ -251,15 +277,26 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         c.tiles = read_tiles(fg, tiles)?;
     }
     let chunks = (points as u32).div_ceil(chunk);
+    let mut record = serde_json::json!({ "maps_per_chunk": chunk, "chunks": chunks });
+    let mut syncs = 0;
+    match culled.as_ref() {
+        Some(c) => {
+            // The counts the GPU wrote: one read-back after the last map.
+            timer.flush(ctx);
+            let ks: Vec<u32> = (0..points as u32).collect();
+            let triangles = timer.cpu(Stage::READBACK, || c.triangles(fg, &ks))?;
+            syncs = 1;
+            record["triangles_per_map_mean"] = serde_json::json!(triangles.iter().sum::<u64>() as f64 / points as f64);
+            record["triangles_per_map"] = serde_json::json!(triangles);
+            record["culled_maps"] = serde_json::json!(points);
+        }
+        // Every map rasterizes the whole mesh.
+        None => record["triangles_per_map_mean"] = serde_json::json!(fg.scene_gpu.index_count as f64 / 3.0),
+    }
     let out = Ok(MethodOutput {
         shadow_maps: points as u32,
-        syncs: 0,
-        record: serde_json::json!({
-            "maps_per_chunk": chunk,
-            "chunks": chunks,
-            // Every map rasterizes the whole mesh.
-            "triangles_per_map_mean": fg.scene_gpu.index_count as f64 / 3.0,
-        }),
+        syncs,
+        record,
         pictures: Vec::new(),
     });
     *kept = buffers;

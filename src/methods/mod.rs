@@ -7,6 +7,7 @@
 
 pub mod adaptive;
 pub mod environment;
+pub mod culled_maps;
 pub(crate) mod filtered;
 pub mod fixed_samples;
 pub(crate) mod hybrid_maps;
@@ -242,7 +243,7 @@ impl Method {
     }
     /// The regular grid on the N×N lattice, corners included.
     pub fn regular(n: u32) -> Method {
-        Method::new(fixed_samples::Fixed::Regular { n, layout: Layout::Lattice })
+        Method::new(fixed_samples::Fixed::Regular { n, layout: Layout::Lattice, cull: false })
     }
     pub fn adaptive(p: AdaptiveParams) -> Method {
         Method::new(adaptive::Adaptive(p))

@@ -10,6 +10,7 @@ pub(crate) mod env_shadowmaps;
 pub(crate) mod env_split;
 pub(crate) mod env_trace;
 pub(crate) mod env_vertex_interp;
+pub mod footprint;
 pub(crate) mod frame_gpu;
 pub mod hybrid_build;
 pub(crate) mod kernel;

@@ -306,10 +306,18 @@ pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, pre
     }
     levels(&fx, timer, &mut waiting)?;
     waiting.bar.finish_and_clear();
-    let Waiting { mut trace, syncs, store, samples, .. } = waiting;
+    let Waiting { mut trace, mut syncs, store, samples, .. } = waiting;
     let last = trace.levels.last().cloned().unwrap_or_default();
     let whole = fg.scene_gpu.index_count as u64 / 3;
-    trace.triangles = trace.rendered.iter().map(|&k| if trace.culled.contains(&k) { last.triangles[k as usize] as u64 / 3 } else { whole }).collect();
+    trace.triangles = match fx.passes.culled_maps.as_ref() {
+        // The counts the GPU wrote (scope = global): one read-back after the last level.
+        Some(c) => {
+            timer.flush(fg.ctx);
+            syncs += 1;
+            timer.cpu(Stage::READBACK, || c.triangles(fg, &trace.rendered))?
+        }
+        None => trace.rendered.iter().map(|&k| if trace.culled.contains(&k) { last.triangles[k as usize] as u64 / 3 } else { whole }).collect(),
+    };
     trace.weights = sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered);
     trace.samples = samples.to_vec();
     let consulted = if fx.local { end_local(&fx, timer)? } else { end_global(&fx, timer, &trace.weights)? };

@@ -74,6 +74,11 @@ pub(super) fn render_new(
             if mine.is_empty() {
                 continue;
             }
+            if let Some(culled) = fx.passes.culled_maps.as_ref() {
+                culled.record(fg, timer, &b.samples, array, &mine)?;
+                trace.culled.extend(mine.iter().map(|j| j.sample));
+                continue;
+            }
             let Some((cull, kept)) = fx.cull else {
                 timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
                     fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine)?;

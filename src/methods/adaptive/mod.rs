@@ -19,6 +19,7 @@ pub use levels::{LevelRecord, LevelReport};
 // LEVEL_LCM mirrors weights.wgsl's (tests/kernels.rs checks them).
 pub use weights::{lattice_numerators, sample_weights, LEVEL_LCM};
 
+use super::culled_maps::CulledMaps;
 use super::hybrid_maps::{self, HybridMaps};
 use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
 use crate::gpu::readback;
@@ -49,7 +50,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
         Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global, lattice layout; slower on an H100 today, docs/bench.md)" },
-        Param { key: "cull", default: "off", help: "scope=local only: raster each map only with the triangles that can change a texel its pixels test (docs/gpu-frame.md)" },
+        Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
         Param { key: "items", default: "what one binding holds", help: "scope=local only: cap on the (pixel, quad) item list; past it the frame fails with an overflow, never clips" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
@@ -262,7 +263,11 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         subdivide: Subdivide::new(ctx)?,
         compact: Compact::new(ctx)?,
         probe: Probe::new(ctx)?,
+        culled_maps: if p.culls_every_pixel() { Some(CulledMaps::new(fg, LATTICE_POINTS)?) } else { None },
     };
+    if hybrid && p.culls_every_pixel() {
+        return Err(crate::Error::Param("adaptive: cull = on under scope = global rasterizes plain maps; it cannot run with maps = hybrid".into()));
+    }
     for array in &store.arrays {
         shadow_raster::clear_all(ctx, array)?;
     }
@@ -272,7 +277,8 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         None
     };
     // maps = hybrid merges each batch into a store whose allocation the CPU reads: it waits.
-    let steer = if !hybrid && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
+    // cull = on (global) culls between the waiting loop's levels: the steered loop does not.
+    let steer = if !hybrid && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
     Ok(Prepared { b, store, passes, samples, cull, steer })
 }
 
@@ -285,4 +291,6 @@ struct Passes {
     subdivide: Subdivide,
     compact: Compact,
     probe: Probe,
+    /// cull = on under scope = global: footprint, cull and the culled raster.
+    culled_maps: Option<CulledMaps>,
 }

@@ -224,9 +224,6 @@ impl AdaptiveParams {
                 return Err(Error::Param("adaptive: items needs scope = local (only it keeps an item list)".into()));
             }
         }
-        if p.cull == Some(true) && p.scope != Scope::Local {
-            return Err(Error::Param("cull = on needs scope = local (only then are a map's pixels known)".into()));
-        }
         if let Some(v) = params.get("layout") {
             p.layout = match v.as_str() {
                 "lattice" => Layout::Lattice,
@@ -254,6 +251,12 @@ impl AdaptiveParams {
     /// Whether new maps rasterize only the runs of triangles their tiles need (scope = local).
     pub fn culls(&self) -> bool {
         self.scope == Scope::Local && self.cull.unwrap_or(false)
+    }
+
+    /// Whether each map rasterizes only the triangles the footprint of every geometry pixel needs
+    /// (scope = global, where every pixel tests every map: `methods::culled_maps`).
+    pub fn culls_every_pixel(&self) -> bool {
+        self.scope == Scope::Global && self.cull == Some(true)
     }
 
     /// Light coordinate (s or t, in [0, 1]) of lattice column or row `i` (0..=16). Lattice: i/16.
@@ -334,7 +337,7 @@ impl AdaptiveParams {
         if self.scissor {
             s += ",scissor=on";
         }
-        if self.culls() {
+        if self.cull == Some(true) {
             s += ",cull=on";
         }
         if !self.steer_cpu {

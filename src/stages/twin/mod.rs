@@ -9,6 +9,7 @@ pub mod env_shadowmaps;
 pub mod env_split;
 pub mod env_trace;
 pub mod env_vertex_interp;
+pub mod footprint;
 pub mod hybrid_build;
 pub mod local;
 pub mod moments;

@@ -1,0 +1,35 @@
+// footprint: the culling tiles of a batch of maps where every geometry pixel tests every map (the
+// fixed-sample methods and scope = global, with cull = on). One invocation per (pixel, slot): the
+// tile its lookup lands in keeps the largest depth limit tested there, as compact grows them for
+// scope = local, so `cull` then drops every triangle that can change no tested texel's outcome.
+// Slot z reads samples[z]: the batch's own copy of its sample records, so `cull` reads the same
+// slot for both (its slots list is 0..n).
+
+@group(0) @binding(0) var<uniform> frame: GpuFrame;
+@group(0) @binding(1) var<storage, read> samples: array<GpuSample>;
+@group(0) @binding(2) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(3) var gbuffer_normal: texture_2d<f32>;
+@group(0) @binding(4) var<storage, read_write> tiles: array<atomic<u32>>;
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let pixel = vec2<i32>(gid.xy);
+    let position = textureLoad(gbuffer_position, pixel, 0);
+    if (position.w == 0.0) {
+        return;
+    }
+    let lookup = shadow_lookup(frame, samples[gid.z], position.xyz, textureLoad(gbuffer_normal, pixel, 0).xyz);
+    // Positive floats order as their bits. A limit <= 0 is lit whatever the map holds.
+    if (lookup.kind == LOOKUP_COMPARE && lookup.depth_limit > 0.0) {
+        let tile = gid.z * CULL_TILE_WORDS + cull_tile(lookup.texel, frame.map_size);
+        let limit = bitcast<u32>(lookup.depth_limit);
+        // Neighbouring pixels mostly share a tile and a limit: a plain load first, so only a pixel
+        // that raises the tile pays for an atomic.
+        if (limit > atomicLoad(&tiles[tile])) {
+            atomicMax(&tiles[tile], limit);
+        }
+    }
+}
