@@ -1,5 +1,5 @@
 // footprint: the culling tiles of a batch of maps where every geometry pixel tests every map (the
-// fixed-sample methods and scope = global, with cull = on). One invocation per (pixel, slot): the
+// fixed-sample methods and scope = global, with cull = on). For each (pixel, slot), the
 // tile its lookup lands in keeps the largest depth limit tested there, as compact grows them for
 // scope = local, so `cull` then drops every triangle that can change no tested texel's outcome.
 // Slot z reads samples[z]: the batch's own copy of its sample records, so `cull` reads the same
@@ -10,7 +10,11 @@
 @group(0) @binding(2) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(3) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(4) var<storage, read_write> tiles: array<atomic<u32>>;
+// x: the batch's slots.
+@group(0) @binding(5) var<uniform> batch: vec4<u32>;
 
+// One invocation per pixel loops over the batch's slots: the G-buffer is read once, and the loop
+// bound is uniform (a dispatch over (pixel, slot) was four times slower on a CPU device).
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= frame.width || gid.y >= frame.height) {
@@ -21,15 +25,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (position.w == 0.0) {
         return;
     }
-    let lookup = shadow_lookup(frame, samples[gid.z], position.xyz, textureLoad(gbuffer_normal, pixel, 0).xyz);
-    // Positive floats order as their bits. A limit <= 0 is lit whatever the map holds.
-    if (lookup.kind == LOOKUP_COMPARE && lookup.depth_limit > 0.0) {
-        let tile = gid.z * CULL_TILE_WORDS + cull_tile(lookup.texel, frame.map_size);
-        let limit = bitcast<u32>(lookup.depth_limit);
-        // Neighbouring pixels mostly share a tile and a limit: a plain load first, so only a pixel
-        // that raises the tile pays for an atomic.
-        if (limit > atomicLoad(&tiles[tile])) {
-            atomicMax(&tiles[tile], limit);
+    let n = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    for (var z = 0u; z < batch.x; z = z + 1u) {
+        let lookup = shadow_lookup(frame, samples[z], position.xyz, n);
+        // Positive floats order as their bits. A limit <= 0 is lit whatever the map holds.
+        if (lookup.kind == LOOKUP_COMPARE && lookup.depth_limit > 0.0) {
+            let tile = z * CULL_TILE_WORDS + cull_tile(lookup.texel, frame.map_size);
+            let limit = bitcast<u32>(lookup.depth_limit);
+            // Neighbouring pixels mostly share a tile and a limit: a plain load first, so only a
+            // pixel that raises the tile pays for an atomic.
+            if (limit > atomicLoad(&tiles[tile])) {
+                atomicMax(&tiles[tile], limit);
+            }
         }
     }
 }

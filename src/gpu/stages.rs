@@ -232,7 +232,7 @@ stage_table! {
     ];
     /// cull = on where every geometry pixel tests every map: the culling tiles of a batch of maps.
     FOOTPRINT = "footprint" kernel, Some(Raster), [
-        compute("main", PIXEL, &[("frame", 0), ("samples", 1), ("gbuffer_position", 2), ("gbuffer_normal", 3), ("tiles", 4)]),
+        compute("main", PIXEL, &[("frame", 0), ("samples", 1), ("gbuffer_position", 2), ("gbuffer_normal", 3), ("tiles", 4), ("batch", 5)]),
     ];
     /// Per new map, the triangles that can change a texel its pixels test.
     CULL = "cull" kernel, Some(Raster), [

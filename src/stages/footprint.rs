@@ -2,7 +2,7 @@
 //! of maps, slot z from sample record z of the batch (docs/gpu-frame.md §7).
 
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
-use crate::gpu::{GpuContext, Stage};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
@@ -28,8 +28,9 @@ impl Footprint {
                 ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
                 ("gbuffer_normal", wgpu::BindingResource::TextureView(&g.normal_view)),
                 ("tiles", tiles.as_entire_binding()),
+                ("batch", readback::uniform_buffer(ctx, "footprint batch", &[slots, 0, 0, 0]).as_entire_binding()),
             ],
-            Dispatch::Direct([groups(g.width, PIXEL_WORKGROUP[0]), groups(g.height, PIXEL_WORKGROUP[1]), slots]),
+            Dispatch::Direct([groups(g.width, PIXEL_WORKGROUP[0]), groups(g.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
 }
