@@ -253,6 +253,47 @@ fn steered_frame_equals_the_waiting_loop() {
     assert_eq!(frames, 25);
 }
 
+/// scope = local under the GPU-steered loop: no read-back in the frame, and the same maps, levels,
+/// quads, lookups and bit-identical V as the waiting loop, over both rasters (the compute raster
+/// rasterizes only the requested maps, the fixed-function one draws every candidate layer with its
+/// request flag as the instance count).
+#[test]
+fn local_steered_frame_equals_the_waiting_loop() {
+    let ctx = common::gpu();
+    let (mut frames, mut deeper) = (0usize, 0usize);
+    for raster in ["compute", "hardware"] {
+        let sets = [("resolution", "96"), ("shadow_map_size", "128"), ("raster", raster)].map(|(k, v)| (k.to_string(), v.to_string()));
+        let scenes = SEEDS[..2].iter().map(|&s| (s, Scene::parse(&common::random_scene_toml(s, 48, 128), &format!("random-{s}"), None, &sets[2..]).unwrap())).chain([(0, Scene::load("default", &sets).expect("default scene"))]);
+        for (seed, sc) in scenes {
+            for spec in ["scope=local", "preset=balanced,scope=local", "p_m=3,scope=local"] {
+                let (gpu, t) = common::traced(ctx, &sc, &params(&format!("{spec},steer=gpu")), false);
+                let (cpu, t_cpu) = common::traced(ctx, &sc, &params(&format!("{spec},steer=cpu")), false);
+                assert_eq!(gpu.output.syncs, 0, "{raster} seed {seed} {spec}: the steered frame waited");
+                assert!(gpu.output.record["steer"].as_str().is_some_and(|s| s.starts_with("gpu")), "{raster} seed {seed} {spec}: not steered: {}", gpu.output.record);
+                assert!(cpu.output.syncs > 0, "{raster} seed {seed} {spec}: the waiting loop did not wait");
+                let sorted = |v: &[u32]| {
+                    let mut v = v.to_vec();
+                    v.sort_unstable();
+                    v
+                };
+                assert_eq!(sorted(&t.rendered), sorted(&t_cpu.rendered), "{raster} seed {seed} {spec}: maps");
+                assert_eq!(t.levels.len(), t_cpu.levels.len(), "{raster} seed {seed} {spec}: levels");
+                for (a, b) in t.levels.iter().zip(&t_cpu.levels) {
+                    assert_eq!(sorted_quads(&a.quads), sorted_quads(&b.quads), "{raster} seed {seed} {spec} level {}: quads", a.level);
+                    assert_eq!(a.lookups, b.lookups, "{raster} seed {seed} {spec} level {}: lookups", a.level);
+                }
+                let changed = gpu.visibility.iter().zip(&cpu.visibility).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+                assert_eq!(changed, 0, "{raster} seed {seed} {spec}: V differs in {changed} pixels");
+                deeper += (t.rendered.len() > 4) as usize;
+                frames += 1;
+            }
+        }
+    }
+    println!("{frames} steered local frames equal the waiting loop; {deeper} of them went past the corners");
+    assert_eq!(frames, 2 * 3 * 3);
+    assert!(deeper >= frames / 2, "only {deeper} of {frames} frames refined past the corners");
+}
+
 /// shadow_test `fill_blocks` (scope = global) equals its twin exactly: which requested samples go
 /// to which block slot, in which order, byte-identical sample records, and workgroups for exactly
 /// the slots that hold samples among those the host dispatches; for listed and requested counts.

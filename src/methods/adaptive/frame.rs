@@ -67,8 +67,7 @@ pub(super) fn levels(fx: &Frame, timer: &mut StageTimer, steering: &mut impl Ste
         let lv = steering.uniform(fx, level);
         steering.new_maps(fx, timer, level, &lv)?;
         let evaluated = if fx.local {
-            let quad_count = steering.quad_count().expect("scope = local reads each level back");
-            count_items(fx, timer, level, &lv, cur, quad_count, steering.maps())?;
+            count_items(fx, timer, level, &lv, cur, steering.quad_count(), steering.maps())?;
             // The last level adds its counts to V at once: no comparison maps, no flags.
             level < max_level
         } else {
@@ -133,7 +132,9 @@ fn count_batch(fx: &Frame, timer: &mut StageTimer, uniform: &wgpu::Buffer, cur: 
 /// scope = local: probes (level > 0), then the level's (pixel, quad) items: their corners'
 /// tests, counts and (before the last level) low-quality flags and per-quad counters.
 #[allow(clippy::too_many_arguments)]
-fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::Buffer, cur: usize, quad_count: u32, maps: [&wgpu::TextureView; 2]) -> Result<()> {
+/// `quad_count`: the level's quads where the host knows them (the clears cover only those), None
+/// under the GPU-steered loop (they cover the buffers).
+fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::Buffer, cur: usize, quad_count: Option<u32>, maps: [&wgpu::TextureView; 2]) -> Result<()> {
     let (fg, b, passes, ctx) = (fx.fg, fx.b, fx.passes, fx.fg.ctx);
     let last = level == fx.p.max_level;
     let lv = &fx.level(uniform, cur);
@@ -158,7 +159,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
         passes.reproject_count.record_begin(ctx, enc, uniform, &b.control, items);
         // Only this level's quads: the buffers are sized for 256. The last level writes none.
         if !last {
-            enc.clear_buffer(&b.counts.maps, 0, Some(b.shape.counts_bytes_per_quad() * quad_count as u64));
+            enc.clear_buffer(&b.counts.maps, 0, quad_count.map(|q| b.shape.counts_bytes_per_quad() * q as u64));
         }
         Ok(())
     })?;
@@ -177,7 +178,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
     // neighbourhood's list also counts each quad's low-quality pixels: no quad_count pass.
     if !last {
         timer.stage(ctx, Stage::NEIGHBOURHOOD, |enc| {
-            enc.clear_buffer(&b.low.flags, 0, Some(b.shape.flags_bytes_per_quad() * quad_count as u64));
+            enc.clear_buffer(&b.low.flags, 0, quad_count.map(|q| b.shape.flags_bytes_per_quad() * q as u64));
             passes.neighbourhood.record_list(ctx, enc, lv, &b.counts, items, cur, &b.low);
             Ok(())
         })?;
@@ -328,7 +329,7 @@ pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, pre
 /// scope = local before level 0: every geometry pixel becomes an item of the root, and (cull) the
 /// corners' tiles take an infinite limit, so their cull drops only what can change no texel
 /// (triangles that cover no texel centre, back faces).
-fn begin_local(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
+pub(super) fn begin_local(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
     let level = fx.uniform(0, 1, 0);
     timer.stage(ctx, Stage::COMPACT, |enc| {
@@ -360,16 +361,21 @@ pub(super) fn shade(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     })
 }
 
-/// scope = local after the last level: V from the integer sums; with pictures, the samples each
-/// pixel consulted.
-fn end_local(fx: &Frame, timer: &mut StageTimer) -> Result<Option<Vec<u32>>> {
+/// scope = local after the last level: V from the integer sums.
+pub(super) fn resolve_local(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
     let lv = fx.uniform(fx.p.max_level, 0, 0);
     // compact's `resolve` entry point: its time is compact's (no shade pass runs under local scope).
     timer.stage(ctx, Stage::COMPACT, |enc| {
         fx.passes.compact.record_resolve(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &lv, &b.items, &fg.visibility);
         Ok(())
-    })?;
+    })
+}
+
+/// scope = local after the last level: V, and with pictures the samples each pixel consulted.
+fn end_local(fx: &Frame, timer: &mut StageTimer) -> Result<Option<Vec<u32>>> {
+    let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
+    resolve_local(fx, timer)?;
     if !fx.pictures {
         return Ok(None);
     }

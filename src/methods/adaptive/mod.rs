@@ -49,7 +49,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
-        Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global, lattice layout; slower on an H100 today, docs/bench.md)" },
+        Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, docs/bench.md)" },
         Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
         Param { key: "items", default: "what one binding holds", help: "scope=local only: cap on the (pixel, quad) item list; past it the frame fails with an overflow, never clips" },
     ],

@@ -1,4 +1,5 @@
-//! The GPU-steered level loop (scope = global, corner-to-corner lattice; docs/gpu-frame.md).
+//! The GPU-steered level loop (scope = global on the corner-to-corner lattice, and scope = local
+//! without scissor or cull; docs/gpu-frame.md).
 //! Every level is recorded up front and the GPU's decisions drive the next level without a
 //! read-back:
 //! - each level rasterizes every sample it could need (its candidates: the points of its grid
@@ -9,6 +10,10 @@
 //!   quad_count dispatches indirectly, as subdivide sizes it, and neighbourhood loops over the
 //!   uniform's quads;
 //! - the weights pass computes ŵ from the leaves and the rendered samples; shade follows.
+//!
+//! Under scope = local every map stays alive, so each candidate of every level has its own layer
+//! across the store's two arrays; the item passes already dispatch indirectly, and compact's
+//! `resolve` ends the frame.
 //!
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
 
@@ -22,6 +27,8 @@ use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS};
 use crate::methods::{AdaptiveParams, MethodOutput, Scope, Weights};
+use super::maps::MapStore;
+use crate::gpu::structs::GpuControl;
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
 use crate::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
 use crate::stages::FrameGpu;
@@ -31,12 +38,17 @@ use crate::Result;
 const ARGS_WORDS: u64 = 5;
 
 
-/// Whether the GPU can steer this setting: global scope on the corner-to-corner lattice (the GPU
-/// weights cover its rules), unless `steer = cpu`, and every level's quads fit one batch of
-/// comparison maps.
+/// Whether the GPU can steer this setting, unless `steer = cpu`: global scope on the
+/// corner-to-corner lattice (the GPU weights cover its rules) where every level's quads fit one
+/// batch of comparison maps; local scope without scissor or cull (compact grows their rectangles
+/// and tiles for the host's list of new maps).
 pub fn eligible(p: &AdaptiveParams, b: &AdaptiveBuffers) -> bool {
     let most_quads = 1u32 << (2 * p.max_level.saturating_sub(1));
-    !p.steer_cpu && p.scope == Scope::Global && p.border_strip() == 0.0 && b.shape.count_quads >= most_quads
+    !p.steer_cpu
+        && match p.scope {
+            Scope::Global => p.border_strip() == 0.0 && b.shape.count_quads >= most_quads,
+            Scope::Local => !p.scissor && p.cull != Some(true),
+        }
 }
 
 /// Built once with the method: the weights pass, the raster arguments and the record buffer.
@@ -57,9 +69,9 @@ pub struct Pending {
     pictures: bool,
 }
 
-fn level_read(pictures: bool, level: u32, evaluate: bool) -> LevelRead {
+fn level_read(pictures: bool, level: u32, evaluate: bool, local: bool) -> LevelRead {
     // Pictures need level 0's comparison map and flags (one quad); deeper levels' flags are left out.
-    LevelRead { n: 1, kept: false, pictures: pictures && level == 0 && evaluate, intermediates: false, local: false }
+    LevelRead { n: 1, kept: false, pictures: pictures && level == 0 && evaluate, intermediates: false, local }
 }
 
 /// One level's record: what the waiting loop reads back, with the next level's quads.
@@ -76,7 +88,7 @@ impl Steer {
             Weights::Coons => RULE_COONS,
         };
         // Every level's record (with pictures: an upper bound), then the weights.
-        let level_bytes: u64 = record_parts(b, level_read(true, 0, true)).iter().map(|(_, s)| s).sum();
+        let level_bytes: u64 = record_parts(b, level_read(true, 0, true, p.scope == Scope::Local)).iter().map(|(_, s)| s).sum();
         let bytes = level_bytes * (p.max_level as u64 + 1) + LATTICE_POINTS as u64 * 4;
         Ok(Self {
             weights: WeightsPass::new(ctx, rule)?,
@@ -100,11 +112,60 @@ impl Steer {
 /// those subdivide requested, and copies its record aside.
 struct Steered<'a> {
     steer: &'a Steer,
-    array: &'a ShadowMapArray,
+    store: &'a MapStore,
     per_array: usize,
     samples: &'a [GpuSample],
     reads: Vec<(LevelRead, bool, u64)>,
     history_at: u64,
+}
+
+impl Steered<'_> {
+    /// The candidates of `chunk` (all in `array`) drawn whole, each with its request flag as the
+    /// instance count (the compute raster rasterizes them all).
+    fn record_flagged(&self, fx: &Frame, enc: &mut wgpu::CommandEncoder, level: u32, chunk: &[u32], array: &ShadowMapArray) -> Result<()> {
+        let (fg, b) = (fx.fg, fx.b);
+        let mut jobs = Vec::with_capacity(chunk.len());
+        for &k in chunk {
+            let at = k as u64 * ARGS_WORDS * 4;
+            if level > 0 {
+                // instance count ← the request flag subdivide set (0 or 1).
+                enc.copy_buffer_to_buffer(&b.decisions.lattice_state, k as u64 * 4, &self.steer.raster_args, at + 4, 4);
+            }
+            jobs.push((RasterJob { sample: k, layer: self.samples[k as usize].layer, scissor: None }, at));
+        }
+        fg.raster.record_flagged(fx.fg.ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &self.steer.raster_args)
+    }
+
+    /// scope = local: the level's requested maps into their own layers (kept for the rest of the
+    /// frame), then the level's counters cleared, as the waiting loop's queue writes do.
+    fn new_maps_local(&mut self, fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer) -> Result<()> {
+        let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
+        let cand = candidates(level);
+        let array_of = |k: u32| self.samples[k as usize].array as usize;
+        let one_array = cand.iter().all(|&k| array_of(k) == array_of(cand[0]));
+        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+            if level > 0 {
+                // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
+                enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
+            }
+            if level > 0 && one_array && fg.raster.is_compute() {
+                let array = &self.store.arrays[array_of(cand[0])];
+                fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array)?;
+            } else {
+                for (a, array) in self.store.arrays.iter().enumerate() {
+                    let mine: Vec<u32> = cand.iter().copied().filter(|&k| array_of(k) == a).collect();
+                    if !mine.is_empty() {
+                        self.record_flagged(fx, enc, level, &mine, array)?;
+                    }
+                }
+            }
+            // The level's counters, after the raster read the request count.
+            enc.clear_buffer(&b.control, 0, Some(8));
+            enc.clear_buffer(&b.control, std::mem::offset_of!(GpuControl, lookups) as u64, Some(4));
+            enc.clear_buffer(&b.low.per_quad, 0, None);
+            Ok(())
+        })
+    }
 }
 
 impl Steering for Steered<'_> {
@@ -114,8 +175,11 @@ impl Steering for Steered<'_> {
     }
 
     fn new_maps(&mut self, fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer) -> Result<()> {
+        if fx.local {
+            return self.new_maps_local(fx, timer, level, lv);
+        }
         let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
-        let (steer, array, per_array) = (self.steer, self.array, self.per_array);
+        let (steer, array, per_array) = (self.steer, &self.store.arrays[0], self.per_array);
         let cand = candidates(level);
         let chunks = cand.len().div_ceil(per_array);
         // The compute raster rasterizes only what subdivide requested, in one chunk of layers.
@@ -132,17 +196,7 @@ impl Steering for Steered<'_> {
                 if requested_only {
                     return fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array);
                 }
-                let mut jobs = Vec::with_capacity(chunk.len());
-                for &k in chunk {
-                    let at = k as u64 * ARGS_WORDS * 4;
-                    if level > 0 {
-                        // instance count ← the request flag subdivide set (0 or 1).
-                        enc.copy_buffer_to_buffer(&b.decisions.lattice_state, k as u64 * 4, &steer.raster_args, at + 4, 4);
-                    }
-                    jobs.push((RasterJob { sample: k, layer: self.samples[k as usize].layer, scissor: None }, at));
-                }
-                fg.raster.record_flagged(ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &steer.raster_args)?;
-                Ok(())
+                self.record_flagged(fx, enc, level, chunk, array)
             })?;
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
                 if level > 0 && cand.len() <= per_array {
@@ -167,12 +221,12 @@ impl Steering for Steered<'_> {
     }
 
     fn maps(&self) -> [&wgpu::TextureView; 2] {
-        [&self.array.array_view, &self.array.array_view]
+        self.store.views()
     }
 
     fn end_level(&mut self, fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer, evaluated: bool) -> Result<bool> {
         let (fg, b) = (fx.fg, fx.b);
-        let read = level_read(fx.pictures, level, evaluated);
+        let read = level_read(fx.pictures, level, evaluated, fx.local);
         self.reads.push((read, evaluated, self.history_at));
         let cur = (level % 2) as usize;
         timer.stage(fg.ctx, Stage::WEIGHTS, |enc| {
@@ -180,7 +234,10 @@ impl Steering for Steered<'_> {
                 enc.copy_buffer_to_buffer(buf, 0, &self.steer.history, self.history_at, size);
                 self.history_at += size;
             }
-            self.steer.weights.record_leaves(fg.ctx, enc, lv, &b.quads[cur], &b.decisions);
+            // scope = local sums each pixel's own quads: it needs no weights.
+            if !fx.local {
+                self.steer.weights.record_leaves(fg.ctx, enc, lv, &b.quads[cur], &b.decisions);
+            }
             Ok(())
         })?;
         // Every level is recorded: a level with no quads left does nothing.
@@ -198,11 +255,16 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     // Before the frame's commands (queue writes land first): every candidate's layer is its place
     // in its level's chunk, the draws are the whole mesh with no instance but the corners', and
     // the counters, root quad and corner requests start the frame.
+    // Under scope = local each candidate keeps its own layer: the store's slots in level order.
+    let local = p.scope == Scope::Local;
+    let mut slot = 0;
     let mut args = vec![0u32; (LATTICE_POINTS as u64 * ARGS_WORDS) as usize];
     for level in 0..=p.max_level {
         for (n, &k) in candidates(level).iter().enumerate() {
-            samples[k as usize].layer = (n % per_array) as u32;
-            samples[k as usize].array = 0;
+            let (array, layer) = if local { (slot / per_array, slot % per_array) } else { (0, n % per_array) };
+            slot += 1;
+            samples[k as usize].layer = layer as u32;
+            samples[k as usize].array = array as u32;
             let a = &mut args[k as usize * ARGS_WORDS as usize..][..ARGS_WORDS as usize];
             a.copy_from_slice(&[fg.scene_gpu.index_count, (level == 0) as u32, 0, 0, k]);
         }
@@ -211,15 +273,23 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
     ctx.queue.write_buffer(&steer.raster_args, 0, bytemuck::cast_slice(&args));
     let fx = Frame::new(fg, p, b, passes, None, pictures);
     fx.begin();
-    let mut steered = Steered { steer, array: &store.arrays[0], per_array, samples, reads: Vec::new(), history_at: 0 };
+    if local {
+        frame::begin_local(&fx, timer)?;
+    }
+    let mut steered = Steered { steer, store, per_array, samples, reads: Vec::new(), history_at: 0 };
     frame::levels(&fx, timer, &mut steered)?;
     let weights_at = steered.history_at;
-    timer.stage(ctx, Stage::WEIGHTS, |enc| {
-        steer.weights.record(ctx, enc, &b.decisions, &b.weights);
-        enc.copy_buffer_to_buffer(&b.weights, 0, &steer.history, weights_at, LATTICE_POINTS as u64 * 4);
-        Ok(())
-    })?;
-    frame::shade(&fx, timer)?;
+    if local {
+        // V from the integer sums; the pictures' consulted samples are read in `finish`.
+        frame::resolve_local(&fx, timer)?;
+    } else {
+        timer.stage(ctx, Stage::WEIGHTS, |enc| {
+            steer.weights.record(ctx, enc, &b.decisions, &b.weights);
+            enc.copy_buffer_to_buffer(&b.weights, 0, &steer.history, weights_at, LATTICE_POINTS as u64 * 4);
+            Ok(())
+        })?;
+        frame::shade(&fx, timer)?;
+    }
     // shadow_maps and the record come in `finish`, after the frame.
     let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new() };
     Ok((out, Pending { reads: steered.reads, weights_at, pictures }))
@@ -247,21 +317,37 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
             break;
         }
     }
-    let w = (pending.weights_at / 4) as usize;
-    trace.weights = bytemuck::cast_slice::<u32, f32>(&words[w..w + LATTICE_POINTS as usize]).to_vec();
+    let local = p.scope == Scope::Local;
+    trace.weights = if local {
+        let last = trace.levels.last().cloned().unwrap_or_default();
+        super::sample_weights(p, &trace.levels, &last.sample_level, &trace.rendered)
+    } else {
+        let w = (pending.weights_at / 4) as usize;
+        bytemuck::cast_slice::<u32, f32>(&words[w..w + LATTICE_POINTS as usize]).to_vec()
+    };
     trace.samples = prepared.samples.clone();
     trace.triangles = vec![fg.scene_gpu.index_count as u64 / 3; trace.rendered.len()];
+    // scope = local's pictures show the samples each pixel consulted: read after the frame too.
+    let consulted = if local && pending.pictures {
+        let bytes = fg.gbuffer.width as u64 * fg.gbuffer.height as u64 * 40;
+        Some(readback::read_buffer::<u32>(fg.ctx, &prepared.b.masks.consulted, bytes)?)
+    } else {
+        None
+    };
     out.shadow_maps = trace.rendered.len() as u32;
     out.syncs = 0;
-    out.record = levels::record(p, &trace, 0, None, &fg.gbuffer);
+    out.record = levels::record(p, &trace, 0, consulted.as_deref(), &fg.gbuffer);
     out.record["steer"] = serde_json::json!("gpu: no read-back in the frame; the level records are read after it");
     // What each level rasterized past level 0 (new_maps' `requested_only`).
-    let one_chunk = (1..=p.max_level).all(|l| candidates(l).len() <= prepared.store.per_array as usize);
+    let one_chunk = (1..=p.max_level).all(|l| {
+        let arrays: std::collections::BTreeSet<u32> = candidates(l).iter().map(|&k| prepared.samples[k as usize].array).collect();
+        candidates(l).len() <= prepared.store.per_array as usize && arrays.len() == 1
+    });
     out.record["steer_raster"] = serde_json::json!(if fg.raster.is_compute() && one_chunk {
         "compute: only the maps subdivide requested, dispatches sized on the GPU"
     } else {
         "every candidate layer cleared, drawn with the request flag as instance count"
     });
-    out.pictures = if pending.pictures { pictures::all(fg, &trace, None) } else { Vec::new() };
+    out.pictures = if pending.pictures { pictures::all(fg, &trace, consulted.as_deref()) } else { Vec::new() };
     Ok(trace)
 }
