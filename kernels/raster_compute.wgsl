@@ -51,7 +51,6 @@ struct GpuRasterJob {
 }
 
 // f32 words per vertex (scene::Vertex: position, normal, material); the position comes first.
-const VERTEX_WORDS: u32 = 7u;
 // Sub-texel bits of the snapped vertices.
 const RASTER_SUBTEXEL_BITS: u32 = 8u;
 // Largest |coordinate| of a snapped vertex, in 1/256 texels: 2^23 (32768 texels). Edge values stay
@@ -77,7 +76,10 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(1) var<storage, read> samples: array<GpuSample>;
 // Each map of the chain (written by `requested` under the GPU-steered loop).
 @group(0) @binding(2) var<storage, read_write> jobs: array<GpuRasterJob>;
-@group(0) @binding(3) var<storage, read> vertices: array<f32>;
+// Vertex positions, one vec4 each (w unused): one load per vertex where the scene's interleaved
+// vertices take three bounds-checked word loads on a CPU device (about a tenth of the stage on
+// bunny-seed-framing; packing each triangle's indices into a vec4 as well gained nothing more).
+@group(0) @binding(3) var<storage, read> positions: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> indices: array<u32>;
 // map_count maps of map_size² words, row-major, row 0 at the top (NDC y = 1).
 @group(0) @binding(5) var<storage, read_write> depth: array<atomic<u32>>;
@@ -197,8 +199,7 @@ fn setup(job: GpuRasterJob, t: u32) -> Tri {
     var z: vec3<f32>;
     let scale = f32(params.map_size) * 128.0;
     for (var j = 0u; j < 3u; j = j + 1u) {
-        let w = indices[base + t * 3u + j] * VERTEX_WORDS;
-        let c = project(s.light_from_world, vec3<f32>(vertices[w], vertices[w + 1u], vertices[w + 2u]));
+        let c = project(s.light_from_world, positions[indices[base + t * 3u + j]].xyz);
         if (!(c.w > 0.0)) {
             return tri;
         }

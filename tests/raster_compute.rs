@@ -347,7 +347,6 @@ fn twin_constants_match_the_kernel() {
     assert_eq!(constant("RASTER_LARGE_TILE"), twin::RASTER_LARGE_TILE as f64);
     assert_eq!(constant("RASTER_FAR"), FAR as f64);
     assert_eq!(constant("RASTER_CLEAR_RUN"), raster_compute::CLEAR_RUN as f64);
-    assert_eq!(constant("VERTEX_WORDS"), (std::mem::size_of::<Vertex>() / 4) as f64);
     assert_eq!(constant("STEER_ARGS_CLEAR"), raster_compute::STEER_ARGS_CLEAR as f64);
     assert_eq!(constant("STEER_ARGS_MAIN"), raster_compute::STEER_ARGS_MAIN as f64);
     assert_eq!(constant("STEER_ARGS_STORE"), raster_compute::STEER_ARGS_STORE as f64);

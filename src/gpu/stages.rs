@@ -248,9 +248,9 @@ stage_table! {
     /// Depth-only shadow maps in compute kernels, many maps per chain, exact rules (docs/gpu-frame.md §7).
     RASTER_COMPUTE = "raster_compute" kernel, Some(Raster), [
         compute("clear", LINE, &[("params", 0), ("depth", 5)]),
-        compute("main", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("vertices", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7), ("runs", 14), ("kept_counts", 15)]),
+        compute("main", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("positions", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7), ("runs", 14), ("kept_counts", 15)]),
         compute("begin", SINGLE, &[("params", 0), ("control", 7), ("dispatch", 8)]),
-        compute("large_tiles", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("vertices", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
+        compute("large_tiles", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("positions", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
         compute("requested", SINGLE, &[("params", 0), ("jobs", 2), ("request_control", 9), ("request_list", 10), ("steer_args", 11)]),
         compute("kept_extent", SINGLE, &[("params", 0), ("jobs", 2), ("steer_args", 11), ("kept_counts", 15)]),
         compute("store", LINE, &[("params", 0), ("jobs", 2), ("depth", 5), ("layers", 12), ("layer_samples", 13)]),

@@ -22,6 +22,8 @@ pub struct SceneGpu {
     /// Box and normal cone of each run of CULL_RUN triangles of the shadow order
     /// (`shadow_order::runs`): the cull pass and the compute raster drop runs facing away.
     pub runs: wgpu::Buffer,
+    /// Vertex positions alone, a vec4 each: what the compute raster reads.
+    pub positions: wgpu::Buffer,
     pub index_count: u32,
 }
 
@@ -50,7 +52,13 @@ impl SceneGpu {
             contents: bytemuck::cast_slice(&shadow_order::runs(&positions, &shadow_order)),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        Self { vertices, indices, shadow_indices, shadow_order, runs, index_count: scene.indices.len() as u32 }
+        let padded: Vec<glam::Vec4> = positions.iter().map(|p| p.extend(1.0)).collect();
+        let positions = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene positions"),
+            contents: bytemuck::cast_slice(&padded),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        Self { vertices, indices, shadow_indices, shadow_order, runs, positions, index_count: scene.indices.len() as u32 }
     }
 }
 

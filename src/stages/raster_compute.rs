@@ -155,7 +155,7 @@ impl RasterCompute {
             ("params", params.as_entire_binding()),
             ("samples", samples.as_entire_binding()),
             ("jobs", jobs.as_entire_binding()),
-            ("vertices", scene.vertices.as_entire_binding()),
+            ("positions", scene.positions.as_entire_binding()),
             ("indices", indices.as_entire_binding()),
             ("depth", self.depth.as_entire_binding()),
             ("large", self.large.as_entire_binding()),
