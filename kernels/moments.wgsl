@@ -1,5 +1,6 @@
 // moments: turns the centre map's depths into the statistic a filtered method prefilters. Depth is
-// linear and normalised to the frustum, z = (d_lin - near) / (far - near) in [0, 1]; `layers`
+// linear and normalised to the frustum (or the sun's orthographic box, whose stored depth is already
+// linear), z = (d_lin - near) / (far - near) in [0, 1]; `layers`
 // vec4 planes of map_size^2 texels each.
 //   esm : exp(c z)
 //   vsm : (z, z^2)
@@ -41,9 +42,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let s = samples[0];
     let d = map_depth(frame, shadow_maps, s, vec2<i32>(gid.xy));
-    let near = s.depth_lin_a / s.depth_lin_b;
-    let far = s.depth_lin_a / (1.0 + s.depth_lin_b);
-    let z = clamp((s.depth_lin_a / (d + s.depth_lin_b) - near) / (far - near), 0.0, 1.0);
+    let ortho = s.orthographic != 0u;
+    let near = select(s.depth_lin_a / s.depth_lin_b, s.depth_lin_b, ortho);
+    let far = select(s.depth_lin_a / (1.0 + s.depth_lin_b), s.depth_lin_a + s.depth_lin_b, ortho);
+    let linear = select(s.depth_lin_a / (d + s.depth_lin_b), s.depth_lin_a * d + s.depth_lin_b, ortho);
+    let z = clamp((linear - near) / (far - near), 0.0, 1.0);
     let texel = gid.y * size + gid.x;
     let plane = size * size;
     if (settings.kind == FILTERED_ESM) {

@@ -117,15 +117,19 @@ fn main(@builtin(global_invocation_id) band_gid: vec3<u32>) {
     let normal = px.normal;
     let lookup = px.lookup;
     let t = px.uv;
-    let near = s.depth_lin_a / s.depth_lin_b;
-    let far = s.depth_lin_a / (1.0 + s.depth_lin_b);
+    // Normalised as `moments` does it: the frustum's near and far, or the orthographic box's.
+    let ortho = s.orthographic != 0u;
+    let near = select(s.depth_lin_a / s.depth_lin_b, s.depth_lin_b, ortho);
+    let far = select(s.depth_lin_a / (1.0 + s.depth_lin_b), s.depth_lin_a + s.depth_lin_b, ortho);
     let z = clamp((lookup.depth_limit - near) / (far - near), 0.0, 1.0);
     let m = bilinear(0u, t);
     var v = 1.0;
     if (settings.kind == FILTERED_ESM) {
         // ESM needs no bias (its exponential falls off smoothly) and a bias would scale V by
-        // e^{c·bias}: it reads p's own depth.
-        let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(position.xyz, 1.0));
+        // e^{c·bias}: it reads p's own depth (clip.w, or the orthographic map's linear clip.z).
+        let depth_w = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(position.xyz, 1.0));
+        let depth_z = dot(vec4<f32>(s.light_from_world[0].z, s.light_from_world[1].z, s.light_from_world[2].z, s.light_from_world[3].z), vec4<f32>(position.xyz, 1.0));
+        let depth = select(depth_w, s.depth_lin_a * depth_z + s.depth_lin_b, ortho);
         let zp = clamp((depth - near) / (far - near), 0.0, 1.0);
         v = min(m.x * exp(-settings.c_pos * zp), 1.0);
     } else if (settings.kind == FILTERED_VSM) {

@@ -182,18 +182,18 @@ fn the_methods_refuse_the_kinds_they_cannot_sample_as_docs_lights_md_lists() {
             }
         }
     }
-    // Ten rectangle methods, four kinds each, less hard, pcf, pcss, regular and adaptive on the
-    // disk and the sun.
-    assert_eq!(refused, 30);
+    // Ten rectangle methods, four kinds each, less every one of them on the disk, the sun and the
+    // spot: the point's alone.
+    assert_eq!(refused, 10);
 }
 
 #[test]
 fn render_and_compare_refuse_a_pair_with_one_line_and_no_output() {
     let dir = common::temp_dir("light_kinds_refused");
-    std::fs::write(dir.join("disk.toml"), text(DISK)).unwrap();
+    std::fs::write(dir.join("point.toml"), text(POINT)).unwrap();
     for args in [
-        &["render", "--scene", "disk.toml", "--method", "vsm", "--out", "out"][..],
-        &["compare", "--scene", "disk.toml", "--methods", "esm,vsm", "--out", "out"][..],
+        &["render", "--scene", "point.toml", "--method", "vsm", "--out", "out"][..],
+        &["compare", "--scene", "point.toml", "--methods", "esm,vsm", "--out", "out"][..],
     ] {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra")).current_dir(&dir).args(args).env("PENUMBRA_NO_PROGRESS", "1").output().unwrap();
         let e = String::from_utf8_lossy(&out.stderr).to_string();
@@ -201,12 +201,12 @@ fn render_and_compare_refuse_a_pair_with_one_line_and_no_output() {
         let errors: Vec<&str> = e.lines().filter(|l| l.starts_with("error:")).collect();
         assert_eq!(errors.len(), 1, "{e}");
         assert!(!e.contains("panicked"), "{e}");
-        let want = if args[0] == "render" { "error: vsm: light kind `disk` is not supported yet (its map looks from" } else { "error: esm: light kind `disk` is not supported yet (its map looks from" };
+        let want = if args[0] == "render" { "error: vsm: light kind `point` is not supported yet (its map looks from" } else { "error: esm: light kind `point` is not supported yet (its map looks from" };
         assert!(errors[0].starts_with(want), "{}", errors[0]);
         assert!(!dir.join("out").exists(), "{args:?}: output written");
     }
     // The example docs/lights.md §4 shows, on the built-in scene.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra")).current_dir(&dir).args(["render", "--scene", "sun-edge", "--method", "vsm", "--out", "out"]).env("PENUMBRA_NO_PROGRESS", "1").output().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra")).current_dir(&dir).args(["render", "--scene", "point-edge", "--method", "vsm", "--out", "out"]).env("PENUMBRA_NO_PROGRESS", "1").output().unwrap();
     let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/lights.md")).unwrap();
     let shown = doc.lines().map(str::trim).find(|l| l.starts_with("error: vsm: light kind")).expect("docs/lights.md shows the message");
     assert_eq!(String::from_utf8_lossy(&out.stderr).trim(), shown);

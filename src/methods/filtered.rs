@@ -159,19 +159,30 @@ impl Filtered {
 
     /// Blur radius in texels: the given one, or the penumbra half-width in map texels of a
     /// blocker two thirds of the way from the light to the farthest receiver,
-    /// ¼·w_light / (z_far · texel_angle) (w_light the mean edge), between 1 and 32.
+    /// ¼·w_light / (z_far · texel_angle) (w_light the mean edge), between 1 and 32. On the sun's
+    /// orthographic map the way is the box's depth range and w_light the angle's 2·tan(α/2): a
+    /// blocker a third of the range in front casts ⅓·range·½·w_light each side, over the texel's
+    /// world size.
     pub fn blur_radius(&self, fg: &FrameGpu, map: &CentreMap) -> u32 {
         self.radius.unwrap_or_else(|| {
             let (u, v) = light_size(fg);
-            let z = map.far_depth().max(1e-6);
-            (0.25 * 0.5 * (u + v) / (z * map.sample.texel_angle)).round().clamp(1.0, 32.0) as u32
+            let w = 0.5 * (u + v);
+            let s = &map.sample;
+            let texels = if s.orthographic != 0 {
+                w * s.depth_lin_a / (6.0 * s.texel_angle)
+            } else {
+                0.25 * w / (map.far_depth().max(1e-6) * s.texel_angle)
+            };
+            texels.round().clamp(1.0, 32.0) as u32
         })
     }
 }
 
 impl ShadowMethod for Filtered {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
-        (kind != crate::scene::LightKind::Rect).then_some(super::FROM_THE_CENTRE)
+        // One map from the emitter's centre (`Emitter::sample_map` at (½, ½)): the disk's and the
+        // spot's perspective map, the sun's orthographic one.
+        (!super::maps_from_the_emitter(kind)).then_some(super::FROM_THE_CENTRE)
     }
     fn name(&self) -> &'static str {
         self.kind.info().name

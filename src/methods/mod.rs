@@ -136,10 +136,11 @@ pub const FROM_THE_CENTRE: &str = "its map looks from the rectangle's centre alo
 /// Why pcss refuses them: its map, and the light size its search and filter scale with.
 pub const PCSS_RECTANGLE: &str = "its map looks from the rectangle's centre and its search spans the rectangle's sides";
 
-/// The kinds whose maps `Emitter::sample_map` makes: the rectangle, the disk (perspective maps
-/// from points on it) and the sun (orthographic maps along directions in its cone).
+/// The kinds whose maps `Emitter::sample_map` makes: the rectangle, the disk and the spot
+/// (perspective maps from points on the disk, or on the sphere's disk across the spot's axis) and
+/// the sun (orthographic maps along directions in its cone).
 pub fn maps_from_the_emitter(kind: LightKind) -> bool {
-    matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sun)
+    matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sun | LightKind::Spot)
 }
 
 /// Each method against the scene's light kind, before anything is built, traced or written.

@@ -27,7 +27,8 @@ pub enum CentreMaps {
 impl CentreMap {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
         let s = fg.scene;
-        // The disk's centre, or the sun's central direction (orthographic): `Emitter::sample_map`.
+        // The disk's or the spot's centre, or the sun's central direction (orthographic):
+        // `Emitter::sample_map`.
         let mut sample = s.emitter.sample_map(&s.light, 0.5, 0.5, &s.bounds, s.render.shadow_map_size, u32::MAX);
         sample.layer = 0;
         let samples = readback::storage_buffer(fg.ctx, "centre sample", &[sample], wgpu::BufferUsages::empty());
@@ -93,9 +94,11 @@ impl CentreMap {
         record
     }
 
-    /// The map's far plane: linear depth a / (1 + b) of the cleared depth 1.
+    /// The map's far plane: linear depth of the cleared depth 1, a / (1 + b), or a + b on an
+    /// orthographic map.
     pub fn far_depth(&self) -> f32 {
-        self.sample.depth_lin_a / (1.0 + self.sample.depth_lin_b)
+        let s = &self.sample;
+        if s.orthographic != 0 { s.depth_lin_a + s.depth_lin_b } else { s.depth_lin_a / (1.0 + s.depth_lin_b) }
     }
 }
 
@@ -105,7 +108,8 @@ pub fn light_size(fg: &FrameGpu) -> (f32, f32) {
         // The sun's size is its angle: the disk of directions one unit out, 2·tan(α/2), which
         // PCSS on an orthographic map scales by depth differences alone (docs/lights.md §4).
         crate::scene::Emitter::Sun(sun) => (2.0 * sun.tan_half_angle(), 2.0 * sun.tan_half_angle()),
-        // The rectangle's sides; the disk's stand-in square is its diameter on each side.
+        // The rectangle's sides; the disk's and the spot's stand-in squares are the disk's or the
+        // sphere's diameter on each side.
         _ => (fg.scene.light.edge_u.length(), fg.scene.light.edge_v.length()),
     }
 }

@@ -1,6 +1,6 @@
-//! The light's kind and shape (docs/lights.md): the rectangle, the disk and the sun, which the
-//! map-based methods sample through `Emitter::sample_map`, and the spot and the point, which only
-//! the reference samples so far.
+//! The light's kind and shape (docs/lights.md): the rectangle, the disk, the sun and the spot,
+//! which the map-based methods sample through `Emitter::sample_map`, and the point, which only the
+//! reference samples so far.
 
 use super::light::{orthographic_view, sample_view, AreaLight, Bounds};
 use crate::gpu::structs::GpuSample;
@@ -98,8 +98,8 @@ pub struct PointLight {
 /// The scene's light. `Rect` carries nothing: its rectangle is `Scene::light`, which every
 /// rectangle method reads (and studies move). For the other kinds `Scene::light` is a stand-in
 /// square ([`Emitter::stand_in`]): the frame's shading direction and lit side, and the axes and
-/// size `sample_map` takes for the disk and the sun; the methods refuse the pairs they cannot run
-/// (`ShadowMethod::unsupported_light`).
+/// size `sample_map` takes for the disk, the sun and the spot; the methods refuse the pairs they
+/// cannot run (`ShadowMethod::unsupported_light`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Emitter {
     #[default]
@@ -145,10 +145,12 @@ impl Emitter {
     /// The light point of unit-square sample `(s, t)` for a method that rasterizes maps from
     /// points on the emitter: the rectangle's `light.point(s, t)`; on the disk the point the
     /// concentric map sends `(s, t)` to, as the reference samples it (`light` is the disk's
-    /// stand-in square, whose half-edges are the disk's radius). The methods refuse the other kinds.
+    /// stand-in square, whose half-edges are the disk's radius). The spot's sphere is sampled on
+    /// its disk through `position` facing along `direction` (its stand-in square the same way):
+    /// the silhouette the reference samples, seen from the cone's axis (docs/lights.md §4).
     pub fn sample_point(&self, light: &AreaLight, s: f32, t: f32) -> Vec3 {
         match self {
-            Emitter::Disk(_) => {
+            Emitter::Disk(_) | Emitter::Spot(_) => {
                 let (x, y) = concentric(s, t);
                 light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y)
             }
@@ -159,7 +161,7 @@ impl Emitter {
 
 impl Emitter {
     /// The map of unit-square sample `(s, t)` for the methods that rasterize maps from the emitter:
-    /// a perspective map from `sample_point` (rectangle, disk); for the sun an orthographic map
+    /// a perspective map from `sample_point` (rectangle, disk, spot); for the sun an orthographic map
     /// along the direction the concentric map sends `(s, t)` to on the sun's disk of directions
     /// (radius `tan(α/2)` around `toward`, as the reference samples it). Each is fitted to `bounds`.
     pub fn sample_map(&self, light: &AreaLight, s: f32, t: f32, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {

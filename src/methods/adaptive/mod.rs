@@ -178,8 +178,8 @@ pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
     (0..LATTICE_POINTS)
         .map(|k| {
             let (i, j) = (k % LATTICE_SIDE, k / LATTICE_SIDE);
-            // The quad tree lives on the unit square; the disk and the sun take its points through
-            // the concentric map, which keeps area, so the area weights stay right.
+            // The quad tree lives on the unit square; the disk, the sun and the spot take its points
+            // through the concentric map, which keeps area, so the area weights stay right.
             s.emitter.sample_map(&s.light, p.light_coord(i), p.light_coord(j), &s.bounds, s.render.shadow_map_size, k)
         })
         .collect()

@@ -8,10 +8,16 @@ pub const FILTERED_EVSM: u32 = 2;
 pub const FILTERED_MSM: u32 = 3;
 pub const FILTERED_CSM: u32 = 4;
 
-/// Linear depth normalised to the frustum: (d_lin - near) / (far - near), clamped to [0, 1].
+/// Linear depth of stored depth `d`: a / (d + b), or a·d + b on an orthographic map.
+pub fn linear_depth(s: &GpuSample, d: f32) -> f32 {
+    if s.orthographic != 0 { s.depth_lin_a * d + s.depth_lin_b } else { s.depth_lin_a / (d + s.depth_lin_b) }
+}
+
+/// Linear depth normalised to the frustum (or the orthographic box): (d_lin - near) / (far - near),
+/// clamped to [0, 1]; near and far are the linear depths of stored 0 and 1.
 pub fn normalised_depth(s: &GpuSample, linear: f32) -> f32 {
-    let near = s.depth_lin_a / s.depth_lin_b;
-    let far = s.depth_lin_a / (1.0 + s.depth_lin_b);
+    let near = linear_depth(s, 0.0);
+    let far = linear_depth(s, 1.0);
     ((linear - near) / (far - near)).clamp(0.0, 1.0)
 }
 
@@ -35,7 +41,7 @@ pub fn moments(filter: &GpuFilter, s: &GpuSample, map: &[f32], map_size: u32) ->
     let plane = (map_size * map_size) as usize;
     let mut out = vec![[0.0f32; 4]; plane * filter.layers as usize];
     for (texel, &d) in map.iter().enumerate() {
-        let z = normalised_depth(s, s.depth_lin_a / (d + s.depth_lin_b));
+        let z = normalised_depth(s, linear_depth(s, d));
         match filter.kind {
             FILTERED_ESM => out[texel] = [(filter.c_pos * z).exp(), 0.0, 0.0, 0.0],
             FILTERED_VSM => out[texel] = [z, z * z, 0.0, 0.0],

@@ -102,6 +102,8 @@ pub fn reconstruct(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, m: &[[f3
                     let m = glam::Mat4::from_cols_array_2d(&s.light_from_world);
                     let p = Vec4::from(g.position[index]).truncate();
                     let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w).dot(Vec4::from((p, 1.0)));
+                    let depth_z = Vec4::new(m.x_axis.z, m.y_axis.z, m.z_axis.z, m.w_axis.z).dot(Vec4::from((p, 1.0)));
+                    let depth = if s.orthographic != 0 { s.depth_lin_a * depth_z + s.depth_lin_b } else { depth };
                     (e.x * (-filter.c_pos * normalised_depth(s, depth)).exp()).min(1.0)
                 }
                 FILTERED_VSM => reduce_bleeding(chebyshev(e.x, e.y, z, 1e-6), filter.bleed),
