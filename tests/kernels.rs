@@ -17,7 +17,7 @@ fn every_kernel_validates_with_naga() {
 #[test]
 fn map_reading_kernels_validate_for_every_map_access() {
     let readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| s.name).collect();
-    assert_eq!(readers, ["shade", "shadow_test", "pcf", "pcss"], "the kernels that read maps through map_depth");
+    assert_eq!(readers, ["shade", "shadow_test", "pcf", "cascades", "pcss"], "the kernels that read maps through map_depth");
     let raster_readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_raster).map(|(s, _)| s.name).collect();
     assert_eq!(raster_readers, ["moments", "env_shadowmaps", "hybrid_build"], "the kernels that read the raster's layers through layer_depth");
     let mut errors = Vec::new();
@@ -222,6 +222,9 @@ fn mirrored_constants_match_rust() {
         ("PCF_POISSON", twin::pcf::PCF_POISSON as f64),
         ("PCF_STRATIFIED", twin::pcf::PCF_STRATIFIED as f64),
         ("PCF_ROTATED", twin::pcf::PCF_ROTATED as f64),
+        ("CASCADE_FILTER_HARD", penumbra::stages::cascades::FILTER_HARD as f64),
+        ("CASCADE_FILTER_PCF", penumbra::stages::cascades::FILTER_PCF as f64),
+        ("NO_CASCADE", penumbra::stages::cascades::NO_CASCADE as f64),
         ("BVH_STACK", penumbra::render::bvh::STACK_DEPTH as f64),
         ("HYBRID_POOL_WIDTH_LOG2", penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64),
         ("HYBRID_CHILDREN", penumbra::stages::hybrid_build::CHILDREN as f64),

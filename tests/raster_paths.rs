@@ -23,7 +23,7 @@ fn every_method_renders_the_same_v_from_compute_maps() {
     let plain = common::random_scene_toml(7, 64, 128);
     let lit = format!("{plain}\n[environment]\npanorama = \"sky.exr\"\n");
     let mut specs: Vec<String> = REGISTRY.iter().map(|m| m.name.to_string()).collect();
-    specs.extend(["regular:n=4", "adaptive:scope=local", "adaptive:scope=local,cull=on", "adaptive:preset=balanced", "adaptive:steer=cpu", "env-shadowmaps:k=4"].map(String::from));
+    specs.extend(["cascades:filter=pcf", "regular:n=4", "adaptive:scope=local", "adaptive:scope=local,cull=on", "adaptive:preset=balanced", "adaptive:steer=cpu", "env-shadowmaps:k=4"].map(String::from));
     let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
     let hybrid = [("maps", "hybrid"), ("hybrid.base", "128"), ("hybrid.levels", "1")];
     let mut cases: Vec<(String, &[(&str, &str)])> = specs.iter().map(|s| (s.clone(), &[][..])).collect();
@@ -36,7 +36,9 @@ fn every_method_renders_the_same_v_from_compute_maps() {
         if method.family() == Family::Environment && !spec.starts_with("env-shadowmaps") {
             continue;
         }
-        let text = if method.family() == Family::Environment { &lit } else { &plain };
+        // cascades takes the sun alone: the same scene under a sun.
+        let sun = common::with_sun(&plain);
+        let text = if method.family() == Family::Environment { &lit } else if spec.starts_with("cascades") { &sun } else { &plain };
         let [hw, cs] = ["hardware", "compute"].map(|r| {
             let s = scene(text, &dir, r, extra);
             let mut renderer = Renderer::new(ctx, &s, &method).unwrap_or_else(|e| panic!("{label}, raster = {r}: {e}"));

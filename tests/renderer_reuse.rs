@@ -19,11 +19,13 @@ fn later_frames_on_one_renderer_equal_the_first() {
         .unwrap();
     let env_text = format!("{}\n[environment]\npanorama = \"sky.exr\"\n", common::random_scene_toml(7, 48, 128));
     let env_scene = Scene::parse(&env_text, "random-7-env", Some(&dir), &[]).unwrap();
+    // cascades takes the sun alone: the same scene under a sun.
+    let sun_scene = Scene::parse(&common::with_sun(&common::random_scene_toml(7, 48, 128)), "random-7-sun", None, &[]).unwrap();
     let mut specs: Vec<String> = REGISTRY.iter().map(|m| m.name.to_string()).collect();
     specs.extend(["regular:n=3", "adaptive:scope=local", "adaptive:scope=local,scissor=on", "adaptive:p_m=3", "adaptive:preset=balanced", "regular:n=4,layout=jittered", "env-pixels:ssao=on", "env-adaptive:cells=8x4,max_level=2"].map(String::from));
     for spec in &specs {
         let method = Method::parse(spec, &[]).unwrap();
-        let scene = if method.family() == penumbra::methods::Family::Environment { &env_scene } else { &scene };
+        let scene = if method.family() == penumbra::methods::Family::Environment { &env_scene } else if spec == "cascades" { &sun_scene } else { &scene };
         let mut r = Renderer::new(ctx, scene, &method).unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
         let first = r.frame(options).unwrap();

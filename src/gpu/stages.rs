@@ -259,6 +259,10 @@ stage_table! {
     PCF = "pcf" kernel { reads_maps: true, pcf_taps: true }, Some(Shade), [
         compute("main", PIXEL, &[("frame", 0), ("settings", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("disk", 6), ("visibility", 7), ("compare_sampler", 8)]),
     ];
+    /// The sun's cascaded shadow maps: a cascade per pixel by view depth, then its map.
+    CASCADES = "cascades" kernel { reads_maps: true, pcf_taps: true }, Some(Shade), [
+        compute("main", PIXEL, &[("frame", 0), ("settings", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("disk", 6), ("visibility", 7), ("compare_sampler", 8), ("cascades", 9), ("chosen", 10)]),
+    ];
     /// Percentage-closer soft shadows.
     PCSS = "pcss" kernel { reads_maps: true }, Some(Shade), [
         compute("main", PIXEL, &[("frame", 0), ("settings", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("visibility", 6)]),

@@ -269,6 +269,23 @@ pub struct GpuFilter {
     pub depth_offset: f32,
 }
 
+/// The cascades kernel's uniform: the camera that picks a cascade by view depth, and the far end
+/// of each cascade's slice of that depth (cascade i ends at `ends[i / 4][i % 4]`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCascades {
+    /// The camera's eye (w unused).
+    pub eye: [f32; 4],
+    /// The camera's unit forward: view depth is `dot(p − eye, forward)`.
+    pub forward: [f32; 4],
+    pub ends: [[f32; 4]; 2],
+    pub count: u32,
+    /// 0: one test per pixel (`hard`); 1: pcf's taps.
+    pub filtering: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
 /// A node of the environment rays' BVH: `count` = 0 for an inner node whose children are
 /// `left_first` and `left_first + 1`; otherwise a leaf of `count` triangles from `left_first`.
 #[repr(C)]
@@ -386,6 +403,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
             kind, taps, blocker_taps, order, radius, darkening, light_u, light_v, c_pos, c_neg, bleed, moment_bias, layers,
             blur_radius, max_radius, depth_offset
         }),
+        layout_of!(GpuCascades { eye, forward, ends, count, filtering, pad0, pad1 }),
         layout_of!(GpuBvhNode { min, left_first, max, count }),
         layout_of!(GpuTriangle { v0, e1, e2 }),
         layout_of!(GpuEnvLight { direction }),

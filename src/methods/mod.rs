@@ -6,6 +6,7 @@
 //! The frame driver (src/frame.rs) runs any of them without knowing which.
 
 pub mod adaptive;
+pub mod cascades;
 pub mod environment;
 pub mod culled_maps;
 pub(crate) mod filtered;
@@ -94,6 +95,7 @@ pub const REGISTRY: &[&MethodInfo] = &[
     &fixed_samples::HARD,
     &pcf::INFO,
     &pcss::INFO,
+    &cascades::INFO,
     &filtered::ESM,
     &filtered::VSM,
     &filtered::EVSM,

@@ -137,6 +137,42 @@ pub fn orthographic_view(toward: Vec3, right_hint: Vec3, bounds: &Bounds, map_si
     }
 }
 
+/// Orthographic view along `-toward` over a square of half-side `half` around `centre` (a cascade,
+/// docs/lights.md "Cascades"), with the axes and the depth range of [`orthographic_view`] over the
+/// same bounds. The light-space frame is fixed by the bounds alone, and the square's centre is
+/// moved to a whole number of texels in it, so every texel edge keeps its world place while the
+/// square follows the camera: the map does not shimmer.
+pub fn orthographic_square(toward: Vec3, right_hint: Vec3, bounds: &Bounds, centre: Vec3, half: f32, map_size: u32, layer: u32) -> GpuSample {
+    let forward = -toward;
+    let right = (right_hint - forward * right_hint.dot(forward)).normalize();
+    let up = forward.cross(right).normalize() * -1.0;
+    let diag = bounds.diagonal().max(1e-6);
+    let eye = bounds.min.lerp(bounds.max, 0.5) + toward * diag;
+    let view = glam::camera::rh::view::look_to_mat4(eye, forward, up);
+    let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
+    for c in bounds.corners() {
+        let v = view.transform_point3(c);
+        (near, far) = (near.min(-v.z), far.max(-v.z));
+    }
+    let (near, far) = (near - 1e-2 * diag, far + 1e-2 * diag);
+    let texel = 2.0 * half / map_size as f32;
+    let c = view.transform_point3(centre);
+    let (x, y) = ((c.x / texel).round() * texel, (c.y / texel).round() * texel);
+    let proj = off_axis_orthographic(x - half, x + half, y - half, y + half, near, far);
+    GpuSample {
+        light_from_world: (proj * view).to_cols_array_2d(),
+        position: Vec4::from((toward, 0.0)).to_array(),
+        texel_angle: texel,
+        depth_lin_a: far - near,
+        depth_lin_b: near,
+        layer,
+        array: 0,
+        lattice: u32::MAX,
+        orthographic: 1,
+        pad1: 0,
+    }
+}
+
 /// Right-handed orthographic box with depth in [0, 1] (wgpu): d = (depth − near) / (far − near).
 fn off_axis_orthographic(left: f32, right: f32, bottom: f32, top: f32, near: f32, far: f32) -> Mat4 {
     let rr = 1.0 / (near - far);

@@ -3,6 +3,7 @@
 
 pub mod adaptive_buffers;
 pub(crate) mod blur;
+pub mod cascades;
 pub mod compact;
 pub mod cull;
 pub(crate) mod env_count;

@@ -1,8 +1,9 @@
 //! Studies: each runs methods over scenes and settings and writes a set of results (rows, charts,
-//! a report): compare and sweep, the benchmark suites, the framing and hybrid-map studies,
+//! a report): compare and sweep, the benchmark suites, the framing, hybrid-map and cascade studies,
 //! sequences, the failure gallery, sharded sweeps and the environment study.
 
 pub mod bench;
+pub mod cascades;
 pub mod compare;
 pub mod environment;
 pub mod failures;

@@ -194,3 +194,11 @@ pub fn traced(
     let t = renderer.inspect().expect("read back").expect("the adaptive method keeps a trace");
     (r, t)
 }
+
+/// `text` (a scene with a `[light]` table before `[render]`, as `random_scene_toml` writes it)
+/// under a sun instead: for the methods that take the sun alone (`cascades`).
+pub fn with_sun(text: &str) -> String {
+    let (head, rest) = text.split_once("[light]\n").expect("a [light] table");
+    let (_, tail) = rest.split_once("\n\n[render]").expect("[render] after [light]");
+    format!("{head}[light]\nkind = \"sun\"\ndirection = [-0.4, -1.0, 0.3]\nangular_diameter_deg = 3.0\n\n[render]{tail}")
+}

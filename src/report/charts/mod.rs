@@ -2,6 +2,7 @@
 //!
 //! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first.
 
+mod cascades;
 mod dominance;
 mod environment;
 mod error_maps;
@@ -18,6 +19,7 @@ mod stages;
 mod style;
 mod temporal;
 
+pub use cascades::{cascades_svg, CascadePoint};
 pub use dominance::{verdicts, Point as DominancePoint, Verdict};
 pub use environment::{env_chart_svg, EnvAxis};
 pub use error_maps::error_vs_maps_svg;

@@ -2,6 +2,7 @@
 //! Tests compare them with the GPU: exactly for every count, flag, quad and sample.
 
 pub mod blur;
+pub mod cascades;
 pub mod compact;
 pub mod cull;
 pub mod env_count;

@@ -1,0 +1,246 @@
+//! Cascaded shadow maps for the sun (seed 004; docs/lights.md "Cascades"): the camera's depth
+//! range is cut into N slices (`split`), each slice gets an orthographic map along the sun fitted
+//! to its bounding sphere and snapped to whole texels, and every pixel reads the map of the slice
+//! it lies in (`stages::cascades`), with one test or pcf's taps.
+
+pub mod split;
+
+use super::pcf::Pcf;
+use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::gpu::readback;
+use crate::gpu::structs::{GpuCascades, GpuFilter, GpuSample};
+use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
+use crate::scene::light::orthographic_square;
+use crate::scene::{Emitter, LightKind, MapKind, Scene};
+use crate::stages::cascades::{CascadeInputs, Cascades as CascadesPass, FILTER_HARD, FILTER_PCF};
+use crate::stages::FrameGpu;
+use crate::{Error, Result};
+use split::Scheme;
+use std::sync::Arc;
+
+/// The most cascades: two vec4s of slice ends in the kernel's uniform.
+pub const MAX_CASCADES: u32 = 8;
+pub const FILTERS: [&str; 2] = ["hard", "pcf"];
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "cascades",
+    family: Family::Pcf,
+    summary: "the sun's cascaded shadow maps: the view's depth range split into N slices, an orthographic map per slice",
+    params: &[
+        Param { key: "n", default: "4", help: "cascades, 1..=8" },
+        Param { key: "split", default: "practical", help: "uniform, log or practical (λ·log + (1−λ)·uniform)" },
+        Param { key: "lambda", default: "0.5", help: "practical: the log split's weight, 0..=1" },
+        Param { key: "filter", default: "hard", help: "hard (one test per pixel) or pcf (pcf's default taps: Poisson 16, radius 2 texels)" },
+    ],
+    parse: |p| Ok(Arc::new(CascadeMaps::from_map(p)?)),
+};
+
+/// Why every kind but the sun is refused.
+pub const SUN_ONLY: &str = "cascades are orthographic maps along the sun's direction";
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CascadeMaps {
+    pub n: u32,
+    pub split: Scheme,
+    pub lambda: f32,
+    pub filter: &'static str,
+}
+
+impl CascadeMaps {
+    pub fn from_map(p: &ParamMap) -> Result<Self> {
+        let n = check_range("cascades", "n", get_u32(p, "n", 4)?, 1, MAX_CASCADES)?;
+        let split = Scheme::parse(get_choice(p, "split", "practical", &Scheme::NAMES)?).expect("a listed scheme");
+        let lambda = check_range("cascades", "lambda", get_f32(p, "lambda", 0.5)?, 0.0, 1.0)?;
+        let filter = get_choice(p, "filter", "hard", &FILTERS)?;
+        Ok(Self { n, split, lambda, filter })
+    }
+
+    /// Where the cascades lie for `scene`'s camera: the slice ends, and one map per slice
+    /// (`layer` i), each fitted to its slice's sphere and snapped to its texels.
+    pub fn place(&self, scene: &Scene) -> Placement {
+        let (near, far) = split::depth_range(&scene.camera, &scene.bounds);
+        let ends = split::split_depths(self.split, self.lambda, self.n, near, far);
+        let aspect = scene.render.width as f32 / scene.render.height as f32;
+        let toward = match scene.emitter {
+            Emitter::Sun(sun) => sun.toward(),
+            _ => -scene.light.normal(),
+        };
+        let right = scene.light.edge_u.normalize();
+        let samples = ends
+            .windows(2)
+            .enumerate()
+            .map(|(i, z)| {
+                let (centre, radius) = split::slice_sphere(&scene.camera, aspect, z[0], z[1]);
+                orthographic_square(toward, right, &scene.bounds, centre, split::quantize(radius), scene.render.shadow_map_size, i as u32)
+            })
+            .collect();
+        Placement { ends, samples }
+    }
+
+    /// The kernel's uniform for `placement`.
+    pub fn uniform(&self, scene: &Scene, placement: &Placement) -> GpuCascades {
+        let mut ends = [[0.0f32; 4]; 2];
+        for (i, z) in placement.ends[1..].iter().enumerate() {
+            ends[i / 4][i % 4] = *z;
+        }
+        GpuCascades {
+            eye: scene.camera.eye.extend(1.0).to_array(),
+            forward: split::forward(&scene.camera).extend(0.0).to_array(),
+            ends,
+            count: self.n,
+            filtering: if self.filter == "hard" { FILTER_HARD } else { FILTER_PCF },
+            ..Default::default()
+        }
+    }
+}
+
+/// The slices' ends z_0 … z_N and the map of each slice.
+#[derive(Clone, Debug)]
+pub struct Placement {
+    pub ends: Vec<f32>,
+    pub samples: Vec<GpuSample>,
+}
+
+impl Placement {
+    /// run.json's figures: the slice ends and each map's texel in world units.
+    pub fn record(&self, m: &CascadeMaps) -> serde_json::Value {
+        serde_json::json!({
+            "split_depths": self.ends,
+            "texel_world": self.samples.iter().map(|s| s.texel_angle).collect::<Vec<_>>(),
+            "n": m.n,
+            "split": m.split.name(),
+            "lambda": m.lambda,
+            "filter": m.filter,
+        })
+    }
+}
+
+impl ShadowMethod for CascadeMaps {
+    fn unsupported_light(&self, kind: LightKind) -> Option<&'static str> {
+        (kind != LightKind::Sun).then_some(SUN_ONLY)
+    }
+    fn name(&self) -> &'static str {
+        "cascades"
+    }
+    fn label(&self) -> String {
+        let mut parts = vec![format!("n={}", self.n), format!("split={}", self.split.name())];
+        if self.split == Scheme::Practical && self.lambda != 0.5 {
+            parts.push(format!("lambda={}", self.lambda));
+        }
+        if self.filter != "hard" {
+            parts.push(format!("filter={}", self.filter));
+        }
+        format!("cascades:{}", parts.join(","))
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({ "n": self.n, "split": self.split.name(), "lambda": self.lambda, "filter": self.filter })
+    }
+    /// V and the cascade index are bound by bands of rows, as pcf's V.
+    fn size_needs(&self, scene: &Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![super::sizes::visibility(scene, true, limits), super::sizes::per_pixel_in(scene, CHOSEN, 4, true, limits)]
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        let s = fg.scene;
+        if s.render.maps == MapKind::Hybrid {
+            return Err(Error::Param(format!(
+                "cascades: maps = hybrid is not supported (each cascade is a layer of the plain map array); scene {}: use maps = plain",
+                s.origin
+            )));
+        }
+        let placement = self.place(s);
+        let uniform = self.uniform(s, &placement);
+        let pcf = Pcf::from_map(&ParamMap::new())?;
+        let (filter, disk) = (pcf.filter(s.render.shadow_map_size), pcf.disk());
+        let array = fg.raster.allocate(fg.ctx, s.render.shadow_map_size, self.n);
+        shadow_raster::clear_all(fg.ctx, &array)?;
+        let pixels = fg.pixel_count() as u64;
+        Ok(Box::new(State {
+            method: *self,
+            samples_buffer: readback::storage_buffer(fg.ctx, "cascade samples", &placement.samples, wgpu::BufferUsages::empty()),
+            cascades_buffer: readback::uniform_buffer(fg.ctx, "cascades", &uniform),
+            filter_buffer: readback::uniform_buffer(fg.ctx, "cascades filter", &filter),
+            disk_buffer: readback::storage_buffer(fg.ctx, "cascades disk", &disk, wgpu::BufferUsages::empty()),
+            chosen: readback::zeroed_storage(fg.ctx, CHOSEN, pixels * 4),
+            pass: CascadesPass::new(fg.ctx, fg.map_access())?,
+            array,
+            placement,
+            uniform,
+            filter,
+            disk,
+        }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// The per-pixel buffer of the cascade each pixel took (its label in the size plan).
+pub const CHOSEN: &str = "cascade index";
+
+struct State {
+    method: CascadeMaps,
+    placement: Placement,
+    uniform: GpuCascades,
+    filter: GpuFilter,
+    disk: Vec<[f32; 2]>,
+    samples_buffer: wgpu::Buffer,
+    cascades_buffer: wgpu::Buffer,
+    filter_buffer: wgpu::Buffer,
+    disk_buffer: wgpu::Buffer,
+    chosen: wgpu::Buffer,
+    array: ShadowMapArray,
+    pass: CascadesPass,
+}
+
+/// A frame's inputs and outputs for the twin and the cascade study (`Renderer::inspect`).
+#[derive(Clone, Debug)]
+pub struct CascadeBuffers {
+    pub placement: Placement,
+    pub uniform: GpuCascades,
+    pub filter: GpuFilter,
+    pub disk: Vec<[f32; 2]>,
+    /// Cascade i's map, row by row.
+    pub maps: Vec<Vec<f32>>,
+    /// The cascade of every pixel (`stages::cascades::NO_CASCADE` on background).
+    pub chosen: Vec<u32>,
+}
+
+impl MethodState for State {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(()) // the raster clears its layers; the kernel writes every pixel's cascade
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+        let jobs: Vec<RasterJob> = (0..self.method.n).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
+        timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs))?;
+        let inputs = CascadeInputs {
+            filter: &self.filter_buffer,
+            disk: &self.disk_buffer,
+            samples: &self.samples_buffer,
+            maps: &self.array.array_view,
+            cascades: &self.cascades_buffer,
+            chosen: &self.chosen,
+        };
+        timer.stage(fg.ctx, Stage::CASCADES, |enc| {
+            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &inputs, &fg.visibility);
+            Ok(())
+        })?;
+        Ok(MethodOutput { shadow_maps: self.method.n, syncs: 0, record: self.placement.record(&self.method), pictures: Vec::new() })
+    }
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let maps = (0..self.method.n).map(|i| readback::read_texture(fg.ctx, &self.array.texture, i, 4)).collect::<Result<Vec<Vec<f32>>>>()?;
+        let chosen = readback::read_buffer(fg.ctx, &self.chosen, fg.pixel_count() as u64 * 4)?;
+        Ok(Some(Box::new(CascadeBuffers {
+            placement: self.placement.clone(),
+            uniform: self.uniform,
+            filter: self.filter,
+            disk: self.disk.clone(),
+            maps,
+            chosen,
+        })))
+    }
+    fn buffer_sizes(&self) -> Vec<(String, u64)> {
+        vec![(CHOSEN.to_string(), self.chosen.size())]
+    }
+}

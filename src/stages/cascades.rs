@@ -1,0 +1,66 @@
+//! cascades: the sun's cascaded shadow maps into the visibility buffer, with the cascade each
+//! pixel took.
+
+use super::pcf::comparison_sampler;
+use super::shade::GeometryTiles;
+use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::kernels::MapAccess;
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use crate::Result;
+
+/// `chosen` on background pixels (`NO_CASCADE` in the kernel).
+pub const NO_CASCADE: u32 = u32::MAX;
+/// `GpuCascades.filter`.
+pub const FILTER_HARD: u32 = 0;
+pub const FILTER_PCF: u32 = 1;
+
+pub struct Cascades {
+    kernel: ComputeKernel,
+    sampler: wgpu::Sampler,
+}
+
+/// What the kernel reads besides the frame's buffers.
+pub struct CascadeInputs<'a> {
+    /// pcf's filter uniform and tap offsets (read when `filter = pcf`).
+    pub filter: &'a wgpu::Buffer,
+    pub disk: &'a wgpu::Buffer,
+    /// One sample per cascade, `samples[i].layer = i`.
+    pub samples: &'a wgpu::Buffer,
+    pub maps: &'a wgpu::TextureView,
+    /// The `GpuCascades` uniform.
+    pub cascades: &'a wgpu::Buffer,
+    /// One u32 per pixel: the cascade taken, `NO_CASCADE` on background.
+    pub chosen: &'a wgpu::Buffer,
+}
+
+impl Cascades {
+    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
+        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::CASCADES, "main", maps)?, sampler: comparison_sampler(ctx) })
+    }
+
+    /// Writes `visibility` and `chosen` at every pixel of the G-buffer (V at geometry pixels).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, inputs: &CascadeInputs, visibility: &wgpu::Buffer) {
+        for band in &tiles.bands {
+            self.kernel.dispatch(
+                ctx,
+                enc,
+                &[
+                    ("frame", band.frame(frame).as_entire_binding()),
+                    ("settings", inputs.filter.as_entire_binding()),
+                    ("samples", inputs.samples.as_entire_binding()),
+                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
+                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
+                    ("shadow_maps", wgpu::BindingResource::TextureView(inputs.maps)),
+                    ("disk", inputs.disk.as_entire_binding()),
+                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
+                    ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
+                    ("cascades", inputs.cascades.as_entire_binding()),
+                    ("chosen", band.pixels(tiles, inputs.chosen, gbuffer.width, 4)),
+                ],
+                Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
+            );
+        }
+    }
+}
