@@ -112,6 +112,16 @@ fn culling_every_pixel_changes_no_pixel() {
             checked += 1;
         }
     }
+    // A light at infinity: the sun's orthographic maps (linear depth, no face cull).
+    let sets = [("resolution", "64"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let sun = Scene::load("sun-edge", &sets).expect("sun-edge");
+    let [a, b] = ["regular:n=4", "regular:n=4,cull=on"].map(|spec| Renderer::new(ctx, &sun, &Method::parse(spec, &[]).unwrap()).unwrap().frame(options).unwrap());
+    let differ = a.visibility.iter().zip(&b.visibility).filter(|(x, y)| x != y).count();
+    let shadowed = (0..a.visibility.len()).filter(|&i| a.gbuffer.is_geometry(i) && a.visibility[i] < 1.0).count();
+    let mean = b.output.record["triangles_per_map_mean"].as_f64().unwrap();
+    println!("regular:n=4,cull=on on sun-edge: {differ} pixels differ ({shadowed} shadowed), {mean:.1} triangles per map");
+    assert_eq!(differ, 0, "sun-edge: V differs with cull = on");
+    assert!(shadowed > 20, "sun-edge: only {shadowed} shadowed pixels");
     assert_eq!(checked, 6);
 }
 
