@@ -24,7 +24,8 @@ fn main(@builtin(global_invocation_id) band_gid: vec3<u32>) {
     if (gid.x >= frame.width || gid.y >= frame.height) {
         return;
     }
-    let s = samples[0];
+    // One map, or the face of a point light's cube that holds the pixel's direction.
+    let s = samples[face_offset(frame, samples[0], textureLoad(gbuffer_position, vec2<i32>(gid.xy), 0).xyz)];
     let px = map_pixel(frame, s, gbuffer_position, gbuffer_normal, vec2<i32>(gid.xy));
     if (!px.geometry) {
         return;

@@ -65,6 +65,9 @@ enum Command {
     /// The framing study: scenes at several resolutions and light sizes; maps and error against
     /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
     Framing(cli::framing::FramingArgs),
+    /// A point light's cube-map seams: V's error in a band of pixels near the face edges against
+    /// the rest, per method and map size (seams.json/.csv/.md, band_SIZE.png; docs/lights.md).
+    Seams(cli::seams::SeamsArgs),
     /// Hybrid-resolution shadow maps (seed 003) against plain maps: hard-shadow error against map
     /// memory (point reference), build and lookup time, multi-map methods (hybrid.jsonl/.csv/.md,
     /// charts/error_memory.svg/png, report.html; docs/hybrid.md).
@@ -134,6 +137,7 @@ fn run() -> Result<()> {
         Some(Command::Merge(args)) => cli::merge::run(args),
         Some(Command::Check(args)) => cli::check::run(args),
         Some(Command::Framing(args)) => cli::framing::run(args, &gpu),
+        Some(Command::Seams(args)) => cli::seams::run(args, &gpu),
         Some(Command::Hybrid(args)) => cli::hybrid::run(args, &gpu),
         Some(Command::Bench(args)) => cli::bench::run(args, &gpu),
         Some(Command::Assets(command)) => cli::assets::run(command),

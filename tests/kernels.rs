@@ -194,6 +194,7 @@ fn mirrored_constants_match_rust() {
         ("SUMMARY_ANY_LIT", twin::shadow_test::SUMMARY_ANY_LIT as f64),
         ("SUMMARY_ANY_UNLIT", twin::shadow_test::SUMMARY_ANY_UNLIT as f64),
         ("FRAME_FACING_TEST", twin::shadow::FRAME_FACING_TEST as f64),
+        ("FRAME_EVERY_WAY", twin::shadow::FRAME_EVERY_WAY as f64),
         ("LOOKUP_UNLIT", twin::shadow::LOOKUP_UNLIT as f64),
         ("LOOKUP_OUTSIDE", twin::shadow::LOOKUP_OUTSIDE as f64),
         ("LOOKUP_COMPARE", twin::shadow::LOOKUP_COMPARE as f64),

@@ -161,7 +161,7 @@ fn the_methods_refuse_the_kinds_they_cannot_sample_as_docs_lights_md_lists() {
     let rect = Scene::parse(&text("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]\n"), "bad.toml", None, &[]).unwrap();
     let doc = documented_pairs();
     assert_eq!(doc.len(), REGISTRY.len(), "one row per method: {:?}", doc.iter().map(|d| &d.0).collect::<Vec<_>>());
-    let reasons = [penumbra::methods::ON_A_RECTANGLE, penumbra::methods::FROM_THE_CENTRE, penumbra::methods::PCSS_RECTANGLE, penumbra::methods::cascades::SUN_ONLY];
+    let reasons = [penumbra::methods::ON_A_RECTANGLE, penumbra::methods::FROM_THE_CENTRE, penumbra::methods::PCSS_RECTANGLE, penumbra::methods::cascades::SUN_ONLY, penumbra::methods::ONE_MAP_PER_POINT];
     let mut refused = 0;
     for info in REGISTRY {
         let m = Method::parse(info.name, &[]).unwrap();
@@ -182,9 +182,9 @@ fn the_methods_refuse_the_kinds_they_cannot_sample_as_docs_lights_md_lists() {
             }
         }
     }
-    // Ten rectangle methods, four kinds each, less every one of them on the disk, the sun and the
-    // spot: the point's alone; and cascades on every kind but the sun.
-    assert_eq!(refused, 14);
+    // Refused: the filtered maps (five) and adaptive on the point, which has cube maps; and
+    // cascades on every kind but the sun.
+    assert_eq!(refused, 10);
 }
 
 #[test]

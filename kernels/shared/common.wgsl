@@ -50,7 +50,8 @@ struct GpuSample {
     array: u32,
     lattice: u32,
     orthographic: u32,
-    pad1: u32,
+    // 0, or 1 + the cube face (0..5: +x, -x, +y, -y, +z, -z) of a point light's map (cube_face).
+    cube_face: u32,
 }
 
 // The way from p to the sample's light: to the light point, or the orthographic map's direction.
@@ -66,9 +67,29 @@ fn depth_passes(s: GpuSample, limit: f32, stored: f32) -> bool {
     return select(perspective, orthographic, s.orthographic != 0u);
 }
 
+// The cube face (0..5: +x, -x, +y, -y, +z, -z) whose axis dominates d; ties go to the earlier axis,
+// so every direction has exactly one face.
+fn cube_face(d: vec3<f32>) -> u32 {
+    let a = abs(d);
+    let x = a.x >= a.y && a.x >= a.z;
+    let y = !x && a.y >= a.z;
+    let axis = select(select(2u, 1u, y), 0u, x);
+    let along = select(select(d.z, d.y, y), d.x, x);
+    return axis * 2u + select(0u, 1u, along < 0.0);
+}
+
+// A point light's sample is six consecutive cube faces, face 0 first: the one of them that holds
+// p's direction from the sphere's centre (frame.light_center), the same for every sample, so the
+// faces share the receivers out exactly. Any other sample is its own.
+fn face_offset(frame: GpuFrame, s: GpuSample, p: vec3<f32>) -> u32 {
+    return select(0u, cube_face(p - frame.light_center.xyz), s.cube_face != 0u);
+}
+
 // GpuFrame.flags: the light point must lie above the surface's (geometric) tangent plane, as for a
 // ray; without it (self_shadow = "map") the depth test alone decides, as in classic shadow mapping.
 const FRAME_FACING_TEST: u32 = 1u;
+// GpuFrame.flags: a point light lights every way, so no plane through light_center bounds its lit side.
+const FRAME_EVERY_WAY: u32 = 2u;
 
 const LOOKUP_UNLIT: u32 = 0u;    // behind the light's plane, or the sample is below p's tangent plane
 const LOOKUP_OUTSIDE: u32 = 1u;  // projects outside the map: nothing there can occlude
@@ -88,14 +109,19 @@ fn shadow_lookup(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) -> S
     let to_light = toward_light(s, p);
     let light_side = dot(p - frame.light_center.xyz, frame.light_normal.xyz);
     let facing = dot(n, to_light);
-    let unlit = light_side <= 0.0 || (facing <= 0.0 && (frame.flags & FRAME_FACING_TEST) != 0u);
+    // A cube face other than the one holding p's direction: p is counted by that face instead.
+    let other_face = s.cube_face != 0u && cube_face(p - frame.light_center.xyz) + 1u != s.cube_face;
+    let unlit = (light_side <= 0.0 && (frame.flags & FRAME_EVERY_WAY) == 0u) || (facing <= 0.0 && (frame.flags & FRAME_FACING_TEST) != 0u) || other_face;
     let depth = dot(vec4<f32>(s.light_from_world[0].w, s.light_from_world[1].w, s.light_from_world[2].w, s.light_from_world[3].w), vec4<f32>(p, 1.0));
     let texel_world = depth * s.texel_angle;
     let q = p + n * (frame.normal_offset * texel_world);
     let clip = s.light_from_world * vec4<f32>(q, 1.0);
     let size = f32(frame.map_size);
     let uv = vec2<f32>(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
-    let t = floor(uv * size);
+    // A cube face never leaves its receiver outside: where rounding or the normal offset carries p
+    // just across the face's edge, the edge texel answers.
+    let cube = s.cube_face != 0u;
+    let t = select(floor(uv * size), clamp(floor(uv * size), vec2<f32>(0.0), vec2<f32>(size - 1.0)), cube);
     let outside = clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size;
     let cos_angle = abs(facing) / length(to_light);
     let tan_angle = min(sqrt(max(1.0 - cos_angle * cos_angle, 0.0)) / max(cos_angle, 1e-6), frame.max_slope);
@@ -316,9 +342,10 @@ fn slope_per_texel(frame: GpuFrame, s: GpuSample, p: vec3<f32>, n: vec3<f32>) ->
 }
 
 // One depth-map tap at continuous texel coordinate t: 1 when lit (outside the map counts as lit).
+// On a cube face a tap across the face's edge reads the edge texel (clamped), not the next face.
 fn tap_lit(frame: GpuFrame, s: GpuSample, maps: ShadowMaps, limit: f32, t: vec2<f32>) -> f32 {
     let size = f32(frame.map_size);
-    let texel = floor(t);
+    let texel = select(floor(t), clamp(floor(t), vec2<f32>(0.0), vec2<f32>(size - 1.0)), s.cube_face != 0u);
     if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
         return 1.0;
     }

@@ -20,6 +20,7 @@ pub mod run_args;
 pub mod render;
 pub mod report;
 pub mod scenes;
+pub mod seams;
 pub mod sequence;
 pub mod sweep;
 

@@ -38,7 +38,10 @@ pub struct GpuSample {
     /// 1: an orthographic map (the sun's): `position` is the unit direction towards the light
     /// (w = 0), `texel_angle` the texel's world size and linear depth `depth_lin_a·d + depth_lin_b`.
     pub orthographic: u32,
-    pub pad1: u32,
+    /// 0, or 1 + the cube face (0..5: +x, −x, +y, −y, +z, −z) of a point light's map: the face
+    /// looks up only the receivers whose direction from `position` has its axis dominant
+    /// (docs/lights.md, "Cube maps for the point").
+    pub cube_face: u32,
 }
 
 #[repr(C)]
@@ -384,7 +387,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
             width, height, map_size, flags, light_center, light_normal, bias_constant, bias_slope, normal_offset, max_slope,
             band_first_row, band_rows, tile_section_words, bands
         }),
-        layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, orthographic, pad1 }),
+        layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, orthographic, cube_face }),
         layout_of!(GpuCamera { clip_from_world, eye }),
         layout_of!(GpuTestBlock { ks, samples, pad }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),

@@ -73,7 +73,7 @@ impl ShadowMethod for Fixed {
             Fixed::Hard => super::FROM_THE_CENTRE,
             Fixed::Regular { .. } => super::ON_A_RECTANGLE,
         };
-        (!super::maps_from_the_emitter(kind)).then_some(why)
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(why)
     }
     fn name(&self) -> &'static str {
         match self {
@@ -186,6 +186,7 @@ fn splitmix64(mut x: u64) -> u64 {
 
 /// Buffers and the maps of a fixed-sample run, allocated before the frame's clock starts.
 pub struct Prepared {
+    /// Maps per frame: the samples, six per sample of a point light.
     points: usize,
     samples: Vec<GpuSample>,
     weights: Vec<f32>,
@@ -210,28 +211,26 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
     let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
-    let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(points.len() as u32).max(1) };
-    let samples: Vec<GpuSample> = points
-        .iter()
-        .enumerate()
-        .map(|(i, &(u, v))| {
-            let mut g = s.emitter.sample_map(&s.light, u, v, &s.bounds, s.render.shadow_map_size, u32::MAX);
-            // Hybrid: the layer is the sample's slot in the store.
-            g.layer = i as u32 % chunk;
-            g
-        })
-        .collect();
-    let weights = vec![1.0 / points.len() as f32; points.len()];
+    // A point light's sample is six maps (its cube faces): layers, chunks and the budget count maps.
+    let mut samples: Vec<GpuSample> = points.iter().flat_map(|&(u, v)| s.emitter.sample_maps(&s.light, u, v, &s.bounds, s.render.shadow_map_size, u32::MAX)).collect();
+    let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(samples.len() as u32).max(1) };
+    for (i, g) in samples.iter_mut().enumerate() {
+        // Hybrid: the layer is the sample's slot in the store.
+        g.layer = i as u32 % chunk;
+    }
+    // Each face of a cube carries its sample's weight: the lookup counts one face per receiver.
+    let weights = vec![1.0 / points.len() as f32; samples.len()];
+    let points = samples.len();
     let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
     let weights_buffer = readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
     let maps = if hybrid {
-        Maps::Hybrid(Box::new(HybridMaps::new(fg, points.len() as u32, points.len() as u32)?))
+        Maps::Hybrid(Box::new(HybridMaps::new(fg, points as u32, points as u32)?))
     } else {
         let array = fg.raster.allocate(ctx, s.render.shadow_map_size, chunk);
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
-    Ok(Prepared { points: points.len(), samples, weights, samples_buffer, weights_buffer, maps, culled: None, keep: false, kept: None })
+    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, keep: false, kept: None })
 }
 
 /// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the

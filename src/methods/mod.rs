@@ -145,6 +145,14 @@ pub fn maps_from_the_emitter(kind: LightKind) -> bool {
     matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sun | LightKind::Spot)
 }
 
+/// The point light, whose samples `Emitter::sample_maps` makes as six cube faces each: hard, pcf,
+/// pcss and regular shade them (docs/lights.md, "Cube maps for the point").
+pub fn cube_maps(kind: LightKind) -> bool {
+    kind == LightKind::Point
+}
+/// Why adaptive refuses the point light.
+pub const ONE_MAP_PER_POINT: &str = "its lattice masks hold one map per light point, and a point light's sample is six cube faces";
+
 /// Each method against the scene's light kind, before anything is built, traced or written.
 pub fn check_lights(scene: &crate::scene::Scene, methods: &[Method]) -> Result<()> {
     methods.iter().try_for_each(|m| m.check_light(scene))

@@ -132,7 +132,7 @@ pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
 
 impl ShadowMethod for Pcf {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
-        (!super::maps_from_the_emitter(kind)).then_some(super::FROM_THE_CENTRE)
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::FROM_THE_CENTRE)
     }
     fn name(&self) -> &'static str {
         "pcf"
@@ -196,7 +196,7 @@ impl MethodState for State {
             Ok(())
         })?;
         Ok(MethodOutput {
-            shadow_maps: 1,
+            shadow_maps: self.map.count(),
             syncs: self.map.syncs(),
             record: self.map.with_record(serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps })),
             pictures: Vec::new(),
@@ -205,6 +205,7 @@ impl MethodState for State {
     /// [`SingleMapBuffers`]: the map and the kernel pcf read.
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         let c = SingleMapBuffers { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, disk: self.disk.clone(), ..Default::default() };
+        let c = if self.map.count() > 1 { SingleMapBuffers { faces: self.map.faces.clone(), face_maps: self.map.read_all(fg)?, ..c } } else { c };
         Ok(Some(Box::new(c)))
     }
 }

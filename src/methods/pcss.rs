@@ -40,7 +40,7 @@ pub struct Pcss {
 impl ShadowMethod for Pcss {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         // The disk's radius, or the sun's angle (`single_map::light_size`).
-        (!super::maps_from_the_emitter(kind)).then_some(super::PCSS_RECTANGLE)
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::PCSS_RECTANGLE)
     }
     fn name(&self) -> &'static str {
         "pcss"
@@ -83,7 +83,7 @@ impl MethodState for State {
             Ok(())
         })?;
         Ok(MethodOutput {
-            shadow_maps: 1,
+            shadow_maps: self.map.count(),
             syncs: self.map.syncs(),
             record: self.map.with_record(serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] })),
             pictures: Vec::new(),
@@ -92,6 +92,7 @@ impl MethodState for State {
     /// [`SingleMapBuffers`]: the map pcss read.
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         let c = SingleMapBuffers { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, ..Default::default() };
+        let c = if self.map.count() > 1 { SingleMapBuffers { faces: self.map.faces.clone(), face_maps: self.map.read_all(fg)?, ..c } } else { c };
         Ok(Some(Box::new(c)))
     }
 }

@@ -11,9 +11,14 @@ use crate::scene::MapKind;
 use crate::gpu::timing::StageTimer;
 use crate::Result;
 
-/// The map from the light's centre, allocated once per scene and settings.
+/// The map from the light's centre, allocated once per scene and settings; for a point light the
+/// six faces of the cube from its centre (layers 0..5), of which the kernels read the one that
+/// holds the pixel's direction (`face_offset` in kernels/shared/common.wgsl).
 pub struct CentreMap {
+    /// The first (or only) map's sample.
     pub sample: GpuSample,
+    /// Every map's sample: one, or the point light's six faces.
+    pub faces: Vec<GpuSample>,
     pub samples: wgpu::Buffer,
     pub maps: CentreMaps,
 }
@@ -29,31 +34,50 @@ impl CentreMap {
         let s = fg.scene;
         // The disk's or the spot's centre, or the sun's central direction (orthographic):
         // `Emitter::sample_map`.
-        let mut sample = s.emitter.sample_map(&s.light, 0.5, 0.5, &s.bounds, s.render.shadow_map_size, u32::MAX);
-        sample.layer = 0;
-        let samples = readback::storage_buffer(fg.ctx, "centre sample", &[sample], wgpu::BufferUsages::empty());
+        // A point light's six cube faces (`Emitter::sample_maps`), each in its own layer.
+        let mut faces = s.emitter.sample_maps(&s.light, 0.5, 0.5, &s.bounds, s.render.shadow_map_size, u32::MAX);
+        for (layer, f) in faces.iter_mut().enumerate() {
+            f.layer = layer as u32;
+        }
+        let n = faces.len() as u32;
+        let samples = readback::storage_buffer(fg.ctx, "centre sample", &faces, wgpu::BufferUsages::empty());
         let maps = match s.render.maps {
             MapKind::Plain => {
-                let array = fg.raster.allocate(fg.ctx, s.render.shadow_map_size, 1);
+                let array = fg.raster.allocate(fg.ctx, s.render.shadow_map_size, n);
                 shadow_raster::clear_all(fg.ctx, &array)?;
                 CentreMaps::Plain(array)
             }
-            MapKind::Hybrid => CentreMaps::Hybrid(Box::new(HybridMaps::new(fg, 1, 1)?)),
+            MapKind::Hybrid => CentreMaps::Hybrid(Box::new(HybridMaps::new(fg, n, n)?)),
         };
-        Ok(Self { sample, samples, maps })
+        Ok(Self { sample: faces[0], faces, samples, maps })
     }
 
-    /// The `shadow_raster` stage: one map (with `maps = hybrid`, then `hybrid_build`).
+    /// Maps per frame: 1, or 6 for a point light's cube.
+    pub fn count(&self) -> u32 {
+        self.faces.len() as u32
+    }
+
+    /// The `shadow_raster` stage: one map, or six (with `maps = hybrid`, then `hybrid_build`).
     pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         match &mut self.maps {
             CentreMaps::Plain(array) => timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| {
-                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &[RasterJob { sample: 0, layer: 0, scissor: None }])?;
+                let jobs: Vec<RasterJob> = (0..self.faces.len() as u32).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
+                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &jobs)?;
                 Ok(())
             }),
             CentreMaps::Hybrid(h) => {
                 h.reset(fg);
-                // One map always fits a store sized for it, so nothing is handed over early.
-                h.render(fg, timer, &self.samples, &[0], &mut |_, _, _, _| Ok(()))?;
+                // One map always fits a store sized for it; a cube's six faces are rasterized a
+                // batch of transient layers at a time and must all fit, since the kernel reads one
+                // store: one that fills up early is an error, never maps dropped. The last flush
+                // hands over what the kernel then reads.
+                let mut full = |_: &FrameGpu, _: &mut StageTimer, _: &wgpu::TextureView, _: &[u32]| -> Result<()> {
+                    Err(crate::Error::Limit("maps=hybrid: the point light's six cube faces do not fit one store; raise shadow_map_budget_mib".into()))
+                };
+                let slots: Vec<u32> = (0..self.faces.len() as u32).collect();
+                for batch in slots.chunks(h.layers() as usize) {
+                    h.render(fg, timer, &self.samples, batch, &mut full)?;
+                }
                 h.flush(fg, timer, &mut |_, _, _, _| Ok(()))
             }
         }
@@ -69,11 +93,20 @@ impl CentreMap {
 
     /// The map as the kernels read it: the raster, or what the lookup twin reads from the store.
     pub fn read(&self, fg: &FrameGpu) -> Result<Vec<f32>> {
+        self.read_layer(fg, 0)
+    }
+
+    /// Every map (the point light's six faces), as `read`.
+    pub fn read_all(&self, fg: &FrameGpu) -> Result<Vec<Vec<f32>>> {
+        (0..self.count()).map(|k| self.read_layer(fg, k)).collect()
+    }
+
+    fn read_layer(&self, fg: &FrameGpu, k: u32) -> Result<Vec<f32>> {
         match &self.maps {
-            CentreMaps::Plain(array) => readback::read_texture(fg.ctx, &array.texture, 0, 4),
+            CentreMaps::Plain(array) => readback::read_texture(fg.ctx, &array.texture, k, 4),
             CentreMaps::Hybrid(h) => {
                 let pool = h.store.read_words(fg.ctx, h.store.capacity_words)?;
-                Ok(crate::stages::twin::hybrid_build::decode(&pool, 0, h.store.settings.base, h.store.settings.levels))
+                Ok(crate::stages::twin::hybrid_build::decode(&pool, k, h.store.settings.base, h.store.settings.levels))
             }
         }
     }
@@ -119,6 +152,9 @@ pub fn light_size(fg: &FrameGpu) -> (f32, f32) {
 pub struct SingleMapBuffers {
     pub map: Vec<f32>,
     pub sample: GpuSample,
+    /// A point light's six faces and their maps (face 0 is `sample` and `map`); empty otherwise.
+    pub faces: Vec<GpuSample>,
+    pub face_maps: Vec<Vec<f32>>,
     pub filter: GpuFilter,
     /// pcf: tap offsets of the disk kernels.
     pub disk: Vec<[f32; 2]>,

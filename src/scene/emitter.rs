@@ -1,8 +1,8 @@
 //! The light's kind and shape (docs/lights.md): the rectangle, the disk, the sun and the spot,
-//! which the map-based methods sample through `Emitter::sample_map`, and the point, which only the
-//! reference samples so far.
+//! which the map-based methods sample through `Emitter::sample_map`, and the point, whose samples
+//! are cube maps (`Emitter::sample_maps`).
 
-use super::light::{orthographic_view, sample_view, AreaLight, Bounds};
+use super::light::{cube_face_view, orthographic_view, sample_view, AreaLight, Bounds};
 use crate::gpu::structs::GpuSample;
 use glam::Vec3;
 
@@ -173,6 +173,31 @@ impl Emitter {
                 orthographic_view(toward, u, bounds, map_size, lattice)
             }
             _ => sample_view(light, self.sample_point(light, s, t), bounds, map_size, lattice),
+        }
+    }
+}
+
+impl Emitter {
+    /// Every map of unit-square sample `(s, t)`, in the order they are rasterized and shaded: the
+    /// one `sample_map` for most kinds; for the point light the six cube faces (+x, −x, +y, −y,
+    /// +z, −z), of which the lookup counts exactly one per receiver. Face f's map looks from the
+    /// point the concentric map sends `(s, t)` to on the sphere's disk across f's axis: the
+    /// silhouette the receivers f holds see, to within 55° of tilt (docs/lights.md, "Cube maps
+    /// for the point"); (½, ½) is the centre for every face.
+    pub fn sample_maps(&self, light: &AreaLight, s: f32, t: f32, bounds: &Bounds, map_size: u32, lattice: u32) -> Vec<GpuSample> {
+        match self {
+            Emitter::Point(point) => {
+                let (x, y) = concentric(s, t);
+                let axes = [Vec3::X, Vec3::Y, Vec3::Z];
+                (0..6u32)
+                    .map(|face| {
+                        let a = (face / 2) as usize;
+                        let (u, v) = (axes[(a + 1) % 3], axes[(a + 2) % 3]);
+                        cube_face_view(point.position + point.radius * (u * x + v * y), face, bounds, map_size, lattice)
+                    })
+                    .collect()
+            }
+            _ => vec![self.sample_map(light, s, t, bounds, map_size, lattice)],
         }
     }
 }

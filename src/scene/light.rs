@@ -95,7 +95,36 @@ pub fn sample_view(light: &AreaLight, y: Vec3, bounds: &Bounds, map_size: u32, l
         array: 0,
         lattice,
         orthographic: 0,
-        pad1: 0,
+        cube_face: 0,
+    }
+}
+
+/// Face `face` (0..5: +x, −x, +y, −y, +z, −z) of the cube map from light point `y`: a symmetric 90°
+/// perspective frustum along the face's axis, so a receiver whose direction from `y` has that axis
+/// dominant projects inside it. Far reaches the bounds' farthest corner, near the bounds' nearest
+/// point (for depth precision), and `cube_face` is `face + 1` (the lookup's face test).
+pub fn cube_face_view(y: Vec3, face: u32, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+    let axis = [Vec3::X, Vec3::Y, Vec3::Z][(face / 2) as usize];
+    let forward = if face % 2 == 0 { axis } else { -axis };
+    let up = if face / 2 == 1 { Vec3::Z } else { Vec3::Y };
+    let view = glam::camera::rh::view::look_to_mat4(y, forward, up);
+    let diag = bounds.diagonal().max(1e-6);
+    let far = bounds.corners().iter().map(|c| (*c - y).length()).fold(0.0f32, f32::max).max(diag * 1e-2) * 1.01;
+    let nearest = (y.clamp(bounds.min, bounds.max) - y).length();
+    let near = (nearest * 0.95).max(far * 1e-3);
+    let proj = off_axis_perspective(-near, near, -near, near, near, far);
+    let rr = far / (near - far);
+    GpuSample {
+        light_from_world: (proj * view).to_cols_array_2d(),
+        position: Vec4::from((y, 1.0)).to_array(),
+        texel_angle: 2.0 / map_size as f32,
+        depth_lin_a: rr * near,
+        depth_lin_b: rr,
+        layer: 0,
+        array: 0,
+        lattice,
+        orthographic: 0,
+        cube_face: face + 1,
     }
 }
 
@@ -133,7 +162,7 @@ pub fn orthographic_view(toward: Vec3, right_hint: Vec3, bounds: &Bounds, map_si
         array: 0,
         lattice,
         orthographic: 1,
-        pad1: 0,
+        cube_face: 0,
     }
 }
 
@@ -169,7 +198,7 @@ pub fn orthographic_square(toward: Vec3, right_hint: Vec3, bounds: &Bounds, cent
         array: 0,
         lattice: u32::MAX,
         orthographic: 1,
-        pad1: 0,
+        cube_face: 0,
     }
 }
 
@@ -211,6 +240,30 @@ mod tests {
             let ndc = clip.truncate() / clip.w;
             assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z), "{c} -> {ndc}");
             let lin = s.depth_lin_a / (ndc.z + s.depth_lin_b);
+            assert!((lin - clip.w).abs() < 1e-3 * clip.w, "linear depth {lin} vs {}", clip.w);
+        }
+    }
+
+    #[test]
+    fn each_cube_face_holds_the_directions_its_axis_dominates() {
+        let bounds = Bounds { min: Vec3::new(-5.0, 0.0, -5.0), max: Vec3::new(5.0, 3.0, 5.0) };
+        let y = Vec3::new(0.5, 2.0, -1.0);
+        let faces: Vec<GpuSample> = (0..6).map(|f| cube_face_view(y, f, &bounds, 256, 0)).collect();
+        let mut state = 7u32;
+        for _ in 0..2000 {
+            let mut r = || {
+                state = state.wrapping_mul(1664525).wrapping_add(1013904223);
+                (state >> 8) as f32 / (1u32 << 24) as f32
+            };
+            let p = bounds.min + (bounds.max - bounds.min) * Vec3::new(r(), r(), r());
+            let d = p - y;
+            let axis = if d.x.abs() >= d.y.abs() && d.x.abs() >= d.z.abs() { 0 } else if d.y.abs() >= d.z.abs() { 1 } else { 2 };
+            let f = axis * 2 + (d[axis] < 0.0) as usize;
+            let clip = Mat4::from_cols_array_2d(&faces[f].light_from_world) * Vec4::from((p, 1.0));
+            let ndc = clip.truncate() / clip.w;
+            assert!(clip.w > 0.0 && ndc.x.abs() <= 1.0 + 1e-5 && ndc.y.abs() <= 1.0 + 1e-5 && (0.0..=1.0).contains(&ndc.z), "{p} on face {f}: {ndc}");
+            // clip.w is the depth along the face's axis, which the linear-depth constants recover.
+            let lin = faces[f].depth_lin_a / (ndc.z + faces[f].depth_lin_b);
             assert!((lin - clip.w).abs() < 1e-3 * clip.w, "linear depth {lin} vs {}", clip.w);
         }
     }

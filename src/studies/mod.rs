@@ -10,5 +10,6 @@ pub mod failures;
 pub mod framing;
 pub mod frontier;
 pub mod hybrid;
+pub mod seams;
 pub mod sequence;
 pub mod shard;

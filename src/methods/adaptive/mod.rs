@@ -62,6 +62,9 @@ pub struct Adaptive(pub AdaptiveParams);
 
 impl ShadowMethod for Adaptive {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        if super::cube_maps(kind) {
+            return Some(super::ONE_MAP_PER_POINT);
+        }
         (!super::maps_from_the_emitter(kind)).then_some(super::ON_A_RECTANGLE)
     }
     fn name(&self) -> &'static str {

@@ -4,6 +4,8 @@ use crate::gpu::structs::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 pub const FRAME_FACING_TEST: u32 = 1;
+/// A point light lights every way: no plane through `light_center` bounds its lit side.
+pub const FRAME_EVERY_WAY: u32 = 2;
 
 pub const LOOKUP_UNLIT: u32 = 0;
 pub const LOOKUP_OUTSIDE: u32 = 1;
@@ -21,7 +23,8 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     let to_light = toward_light(s, p);
     let light_side = (p - Vec4::from(frame.light_center).truncate()).dot(Vec4::from(frame.light_normal).truncate());
     let facing = n.dot(to_light);
-    if light_side <= 0.0 || (facing <= 0.0 && frame.flags & FRAME_FACING_TEST != 0) {
+    let other_face = s.cube_face != 0 && cube_face(p - Vec4::from(frame.light_center).truncate()) + 1 != s.cube_face;
+    if (light_side <= 0.0 && frame.flags & FRAME_EVERY_WAY == 0) || (facing <= 0.0 && frame.flags & FRAME_FACING_TEST != 0) || other_face {
         return out;
     }
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
@@ -31,7 +34,7 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     let clip = m * Vec4::from((q, 1.0));
     let size = frame.map_size as f32;
     let uv = Vec2::new(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
-    let t = (uv * size).floor();
+    let t = if s.cube_face != 0 { (uv * size).floor().clamp(Vec2::ZERO, Vec2::splat(size - 1.0)) } else { (uv * size).floor() };
     if clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size {
         out.kind = LOOKUP_OUTSIDE;
         return out;
@@ -43,6 +46,22 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     let linear = if s.orthographic != 0 { s.depth_lin_a * clip.z + s.depth_lin_b } else { clip.w };
     out.depth_limit = linear - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
     out
+}
+
+/// Twin of `cube_face`: the face (0..5: +x, −x, +y, −y, +z, −z) whose axis dominates `d`, ties
+/// to the earlier axis.
+pub fn cube_face(d: Vec3) -> u32 {
+    let a = d.abs();
+    let x = a.x >= a.y && a.x >= a.z;
+    let y = !x && a.y >= a.z;
+    let (axis, along) = if x { (0, d.x) } else if y { (1, d.y) } else { (2, d.z) };
+    axis * 2 + (along < 0.0) as u32
+}
+
+/// Twin of `face_offset`: which of a point light's six consecutive faces holds `p`, by its
+/// direction from the sphere's centre (0 for any other sample).
+pub fn face_offset(frame: &GpuFrame, s: &GpuSample, p: Vec3) -> usize {
+    if s.cube_face != 0 { cube_face(p - Vec4::from(frame.light_center).truncate()) as usize } else { 0 }
 }
 
 /// Twin of `toward_light`: to the light point, or the orthographic map's direction.
@@ -98,7 +117,7 @@ pub fn slope_per_texel(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> f32
 /// Twin of `tap_lit`: one tap at continuous texel coordinate `t`; outside the map counts as lit.
 pub fn tap_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, t: Vec2) -> f32 {
     let size = frame.map_size as f32;
-    let texel = t.floor();
+    let texel = if s.cube_face != 0 { t.floor().clamp(Vec2::ZERO, Vec2::splat(size - 1.0)) } else { t.floor() };
     if texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size {
         return 1.0;
     }
@@ -127,4 +146,11 @@ pub fn pixel_lookup(frame: &GpuFrame, s: &GpuSample, g: &crate::render::gbuffer:
     let p = Vec4::from(g.position[index]).truncate();
     let n = Vec4::from(g.normal[index]).truncate();
     Some((shadow_lookup(frame, s, p, n), shadow_lookup_uv(frame, s, p, n), slope_per_texel(frame, s, p, n)))
+}
+
+/// The one-map kernels (pcf, pcss) on a point light's cube: each pixel takes what `one` computes
+/// on the face that holds it, as the kernels read `samples[face_offset(samples[0], p)]`.
+pub fn by_face(frame: &GpuFrame, faces: &[GpuSample], maps: &[Vec<f32>], g: &crate::render::gbuffer::GBufferCpu, one: impl Fn(&GpuSample, &[f32]) -> Vec<f32>) -> Vec<f32> {
+    let per: Vec<Vec<f32>> = faces.iter().zip(maps).map(|(s, m)| one(s, m)).collect();
+    (0..g.position.len()).map(|i| per[face_offset(frame, &faces[0], Vec4::from(g.position[i]).truncate())][i]).collect()
 }
