@@ -35,8 +35,6 @@ const CULL_DEPTH_SLACK: f32 = 1.52587890625e-5;
 // scanning them would cost more than drawing them).
 const CULL_SCAN_TILES: u32 = 256u;
 const CULL_RUN: u32 = 32u;
-// f32 words per vertex (scene::Vertex: position, normal, material); the position comes first.
-const VERTEX_WORDS: u32 = 7u;
 
 @group(0) @binding(0) var<uniform> cull: GpuCull;
 @group(0) @binding(1) var<uniform> frame: GpuFrame;
@@ -51,7 +49,8 @@ const VERTEX_WORDS: u32 = 7u;
 @group(0) @binding(7) var<storage, read_write> culled: array<u32>;
 // Five words per slot: index count, instance count, first index, base vertex, first instance.
 @group(0) @binding(8) var<storage, read_write> args: array<atomic<u32>>;
-@group(0) @binding(9) var<storage, read> vertices: array<f32>;
+// Vertex positions, one vec4 each (w unused): one load per vertex (SceneGpu::positions).
+@group(0) @binding(9) var<storage, read> positions: array<vec4<f32>>;
 // The runs phase 1 kept, as slot * run count + run.
 @group(0) @binding(10) var<storage, read_write> kept_runs: array<u32>;
 // [runs listed, phase 2's workgroups per row].
@@ -142,8 +141,7 @@ fn run_keeps(s: GpuSample, k: u32, r: u32) -> bool {
 fn triangle_keeps(s: GpuSample, k: u32, t: u32) -> bool {
     var b = empty_bounds();
     for (var j = 0u; j < 3u; j = j + 1u) {
-        let v = indices[t * 3u + j] * VERTEX_WORDS;
-        add_point(s, &b, vec3<f32>(vertices[v], vertices[v + 1u], vertices[v + 2u]));
+        add_point(s, &b, positions[indices[t * 3u + j]].xyz);
     }
     return reaches(s, k, b);
 }

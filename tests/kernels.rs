@@ -208,7 +208,6 @@ fn mirrored_constants_match_rust() {
         ("CULL_MARGIN", twin::cull::CULL_MARGIN as f64),
         ("CULL_DEPTH_SLACK", twin::cull::CULL_DEPTH_SLACK as f64),
         ("CULL_SCAN_TILES", twin::cull::CULL_SCAN_TILES as f64),
-        ("VERTEX_WORDS", (std::mem::size_of::<penumbra::scene::Vertex>() / 4) as f64),
         ("RULE_LEVEL", penumbra::stages::weights::RULE_LEVEL as f64),
         ("RULE_AREA", penumbra::stages::weights::RULE_AREA as f64),
         ("RULE_COONS", penumbra::stages::weights::RULE_COONS as f64),

@@ -238,7 +238,7 @@ stage_table! {
     CULL = "cull" kernel, Some(Raster), [
         compute("main", LINE, &[("cull", 0), ("frame", 1), ("samples", 2), ("tiles", 3), ("runs", 4), ("slots", 6), ("args", 8), ("kept_runs", 10), ("control", 11)]),
         compute("begin", SINGLE, &[("control", 11), ("dispatch", 12)]),
-        compute("triangles", [CULL_RUN, 1, 1], &[("cull", 0), ("frame", 1), ("samples", 2), ("tiles", 3), ("indices", 5), ("slots", 6), ("culled", 7), ("args", 8), ("vertices", 9), ("kept_runs", 10), ("control", 11)]),
+        compute("triangles", [CULL_RUN, 1, 1], &[("cull", 0), ("frame", 1), ("samples", 2), ("tiles", 3), ("indices", 5), ("slots", 6), ("culled", 7), ("args", 8), ("positions", 9), ("kept_runs", 10), ("control", 11)]),
     ];
     /// The samples' weights from the leaves of the quad tree, on the GPU.
     WEIGHTS = "weights" kernel, Some(Decision), [

@@ -118,7 +118,7 @@ impl Cull {
                 ("slots", slots.as_entire_binding()),
                 ("culled", self.culled.as_entire_binding()),
                 ("args", self.args.as_entire_binding()),
-                ("vertices", scene_gpu.vertices.as_entire_binding()),
+                ("positions", scene_gpu.positions.as_entire_binding()),
                 ("kept_runs", self.kept_runs.as_entire_binding()),
                 ("control", self.control.as_entire_binding()),
             ],
