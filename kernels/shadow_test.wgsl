@@ -128,7 +128,12 @@ fn flush_word(r: Running) {
 fn test_sample(r: Running, j: u32, p: vec3<f32>, n: vec3<f32>) -> Running {
     var out = r;
     let k = block.ks[j / 4u][j % 4u];
-    let s = block.samples[j];
+    var s = block.samples[j];
+    // A point light's lattice sample is six cube faces, face f's record at samples[k + 289 f] (the
+    // block holds face 0's): p is tested on the face that holds its direction.
+    if (s.cube_face != 0u) {
+        s = samples[k + LATTICE_POINTS * face_offset(frame, s, p)];
+    }
     let lookup = shadow_lookup(frame, s, p, n);
     let stored = map_depth(frame, shadow_maps, s, lookup.texel);
     let lit = shadow_compare(s, lookup, stored);

@@ -218,7 +218,7 @@ fn the_seams_study_refuses_other_lights_and_bad_bands() {
         (vec!["seams", "--scene", "disk-bar"], "error: --scene disk-bar: its light is `disk`; the seams are a point light's cube faces (kind = \"point\")"),
         (vec!["seams", "--scene", "point-room", "--band", "0"], "error: --band 0: not in (0, 64] texels"),
         (vec!["seams", "--scene", "point-room", "--band", "NaN"], "error: --band NaN: not in (0, 64] texels"),
-        (vec!["seams", "--scene", "point-room", "--methods", "adaptive"], "error: adaptive: light kind `point` is not supported yet"),
+        (vec!["seams", "--scene", "point-room", "--methods", "adaptive:scope=local"], "error: adaptive: light kind `point` is not supported yet"),
     ] {
         let mut a = args.clone();
         a.extend(["--out", out.to_str().unwrap()]);
@@ -230,4 +230,105 @@ fn the_seams_study_refuses_other_lights_and_bad_bands() {
         assert!(errors[0].starts_with(want), "{args:?}: {}", errors[0]);
         assert!(!e.contains("panicked") && !out.exists(), "{args:?}: {e}");
     }
+}
+
+/// adaptive's shadow_test (scope = global) on a point light's cube maps equals its twin bit for
+/// bit: each lattice sample is six faces (records k + 289 f), and each pixel's bit k comes from the
+/// face that holds its direction.
+#[test]
+fn shadow_test_on_the_cube_faces_equals_its_twin() {
+    use penumbra::gpu::readback;
+    use penumbra::gpu::structs::GpuSample;
+    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Requests, LATTICE_POINTS, LATTICE_SIDE};
+    use penumbra::render::gbuffer::{self, GBufferPass};
+    use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+    use penumbra::render::SceneGpu;
+    use penumbra::stages::shade::ShadePass;
+    use penumbra::stages::shadow_test::ShadowTest;
+    let ctx = common::gpu();
+    let sets = [("resolution", "64"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let sc = Scene::load("point-room", &sets).expect("point-room");
+    let scene_gpu = SceneGpu::upload(ctx, &sc);
+    let fr = frame_uniform(&sc);
+    let frame = readback::uniform_buffer(ctx, "frame", &fr);
+    let faces: Vec<Vec<GpuSample>> = (0..LATTICE_POINTS)
+        .map(|k| {
+            let (s, t) = ((k % LATTICE_SIDE) as f32 / 16.0, (k / LATTICE_SIDE) as f32 / 16.0);
+            sc.emitter.sample_maps(&sc.light, s, t, &sc.bounds, sc.render.shadow_map_size, k)
+        })
+        .collect();
+    let mut samples: Vec<GpuSample> = (0..6).flat_map(|f| faces.iter().map(move |k| k[f])).collect();
+    let ks: Vec<u32> = (0..LATTICE_POINTS).step_by(24).collect();
+    let mut jobs = Vec::new();
+    for (n, &k) in ks.iter().enumerate() {
+        for f in 0..6u32 {
+            let i = (k + LATTICE_POINTS * f) as usize;
+            samples[i].layer = n as u32 * 6 + f;
+            jobs.push(RasterJob { sample: i as u32, layer: samples[i].layer, scissor: None });
+        }
+    }
+    let b = AdaptiveBuffers::new(ctx, fr.width, fr.height, &samples, false, None).unwrap();
+    ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&[1u32; LATTICE_POINTS as usize]));
+    let g = GBufferPass::allocate(ctx, fr.width, fr.height).unwrap();
+    let shade = ShadePass::new(ctx, penumbra::gpu::kernels::MapAccess::Depth).unwrap();
+    let tiles = shade.tile_list(ctx, &g);
+    let array = shadow_raster::allocate(ctx, sc.render.shadow_map_size, jobs.len() as u32);
+    let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false).expect("shadow_test kernels");
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    GBufferPass::new(ctx).unwrap().record(ctx, &mut enc, &scene_gpu, &gbuffer::camera_uniform(&sc), &g);
+    shade.record_geometry_tiles(ctx, &mut enc, &frame, &g, &tiles);
+    ShadowRasterPass::new(ctx, sc.render.cull).unwrap().record(ctx, &mut enc, &scene_gpu, &b.samples, &array, &jobs);
+    enc.clear_buffer(&b.masks.lit, 0, None);
+    let rq = Requests { samples: &b.samples, decisions: &b.decisions, control: &b.control };
+    test.record(ctx, &mut enc, &frame, &g, &tiles, rq, &b.masks, &array.array_view, &ks);
+    ctx.queue.submit([enc.finish()]);
+    let gcpu = gbuffer::read_back(ctx, &g).unwrap();
+    let maps = |i: u32| readback::read_texture::<f32>(ctx, &array.texture, samples[i as usize].layer, 4).unwrap();
+    let mut masks = vec![0u32; (fr.width * fr.height * 10) as usize];
+    twin::shadow_test::shadow_test(&fr, &samples, &maps, &gcpu, &ks, &mut masks);
+    let gpu: Vec<u32> = readback::read_buffer(ctx, &b.masks.lit, b.shape.mask_bytes()).unwrap();
+    let wrong: u32 = masks.iter().zip(&gpu).map(|(a, b)| (a ^ b).count_ones()).sum();
+    let (mut lit, mut unlit) = (0u32, 0u32);
+    for px in (0..gcpu.position.len()).filter(|&i| gcpu.is_geometry(i)) {
+        let l: u32 = ks.iter().map(|&k| (masks[px * 10 + k as usize / 32] >> (k % 32)) & 1).sum();
+        lit += l;
+        unlit += ks.len() as u32 - l;
+    }
+    println!("shadow_test on {} cube faces ({} lattice samples): {wrong} bits differ from the twin; {lit} lit and {unlit} unlit (pixel, sample) pairs", jobs.len(), ks.len());
+    assert_eq!(wrong, 0, "shadow_test on the cube faces differs from its twin in {wrong} bits");
+    assert!(lit > 1000 && unlit > 500, "too little happened: {lit} lit, {unlit} unlit");
+}
+
+/// adaptive on the point light (scope = global): always split to level 3 it is the 9×9 lattice of
+/// cube maps exactly, and with p_m = 0 it stays near the 17×17 lattice with fewer maps; scope =
+/// local is refused by name.
+#[test]
+fn adaptive_on_the_point_refines_the_lattice_of_cube_maps() {
+    let ctx = common::gpu();
+    let sets = [("resolution", "96"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let sc = Scene::load("point-edge", &sets).expect("point-edge");
+    let options = FrameOptions { mode: TimingMode::Frame, pictures: false };
+    let v = |spec: &str| {
+        let f = frame::Renderer::new(ctx, &sc, &Method::parse(spec, &[]).unwrap()).unwrap().frame(options).unwrap();
+        (f.visibility, f.gbuffer, f.output.shadow_maps)
+    };
+    let (nine, g, nine_maps) = v("regular:n=9");
+    let (split, _, split_maps) = v("adaptive:p_m=-1,max_level=3");
+    let (lattice, _, lattice_maps) = v("regular:n=17");
+    let (adaptive, _, maps) = v("adaptive:p_m=0");
+    let geometry: Vec<usize> = (0..g.position.len()).filter(|&i| g.is_geometry(i)).collect();
+    let rms = |a: &[f32], b: &[f32]| (geometry.iter().map(|&i| ((a[i] - b[i]) as f64).powi(2)).sum::<f64>() / geometry.len() as f64).sqrt();
+    let shadowed = geometry.iter().filter(|&&i| adaptive[i] < 0.99).count();
+    println!(
+        "adaptive on point-edge: always split to level 3 {split_maps} maps, {:.6} from regular:n=9 ({nine_maps}); p_m=0 {maps} maps, {:.4} from regular:n=17 ({lattice_maps}); {shadowed} shadowed",
+        rms(&split, &nine),
+        rms(&adaptive, &lattice)
+    );
+    assert_eq!(split_maps, nine_maps, "always splitting to level 3 renders the 9x9 lattice's cubes");
+    assert!(rms(&split, &nine) < 1e-5, "always split: {:.6} from the lattice", rms(&split, &nine));
+    assert!(maps % 6 == 0 && maps < lattice_maps, "{maps} maps");
+    assert!(shadowed > 100, "only {shadowed} shadowed pixels");
+    assert!(rms(&adaptive, &lattice) < 0.02, "adaptive: {:.4} from the lattice", rms(&adaptive, &lattice));
+    let e = Method::parse("adaptive:scope=local", &[]).unwrap().check_light(&sc).expect_err("scope = local refused on a point light").to_string();
+    assert!(e.contains("point") && e.contains("scope = local"), "{e}");
 }

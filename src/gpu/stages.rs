@@ -162,7 +162,7 @@ const SHADE_BLOCK: &[(&str, u32)] = &[
     ("frame", 0), ("block_samples", 1), ("block_weights", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("visibility", 6), ("tile_list", 11),
 ];
 const TEST_BLOCK: &[(&str, u32)] =
-    &[("frame", 0), ("gbuffer_position", 4), ("gbuffer_normal", 5), ("shadow_maps", 6), ("masks", 7), ("block", 18), ("tile_list", 21)];
+    &[("frame", 0), ("samples", 2), ("gbuffer_position", 4), ("gbuffer_normal", 5), ("shadow_maps", 6), ("masks", 7), ("block", 18), ("tile_list", 21)];
 const TEST_LOCAL: &[(&str, u32)] = &[
     ("frame", 0), ("samples", 2), ("gbuffer_position", 4), ("gbuffer_normal", 5), ("consulted", 10), ("lattice_lit", 11), ("maps_a", 12), ("maps_b", 13), ("work", 14), ("work_total", 15), ("quads", 16), ("control", 17),
 ];

@@ -151,7 +151,7 @@ pub fn cube_maps(kind: LightKind) -> bool {
     kind == LightKind::Point
 }
 /// Why adaptive refuses the point light.
-pub const ONE_MAP_PER_POINT: &str = "its lattice masks hold one map per light point, and a point light's sample is six cube faces";
+pub const ONE_MAP_PER_POINT: &str = "with scope = local or cull = on it keeps one map per light point, and a point light's sample is six cube faces (scope = global runs)";
 
 /// Each method against the scene's light kind, before anything is built, traced or written.
 pub fn check_lights(scene: &crate::scene::Scene, methods: &[Method]) -> Result<()> {

@@ -208,6 +208,7 @@ impl ShadowTest {
                     enc,
                     &[
                         ("frame", band.frame(frame).as_entire_binding()),
+                        ("samples", rq.samples.as_entire_binding()),
                         ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
                         ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
                         ("shadow_maps", wgpu::BindingResource::TextureView(maps)),

@@ -394,7 +394,9 @@ fn output(fx: &Frame, trace: &AdaptiveTrace, syncs: u32, store: &MapStore, consu
     if let Some(h) = &store.hybrid {
         record["hybrid"] = h.record();
     }
-    MethodOutput { shadow_maps: trace.rendered.len() as u32, syncs, record, pictures }
+    // A point light's lattice sample is its cube's six maps.
+    let maps = trace.rendered.len() as u32 * super::faces_per_sample(&trace.samples).max(1);
+    MethodOutput { shadow_maps: maps, syncs, record, pictures }
 }
 
 /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode) on

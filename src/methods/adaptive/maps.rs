@@ -8,6 +8,7 @@ use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::methods::hybrid_maps::HybridMaps;
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
+use crate::methods::adaptive::buffers::LATTICE_POINTS;
 use crate::stages::cull::Cull;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -51,20 +52,26 @@ pub(super) fn render_new(
         return render_new_hybrid(fx, timer, h, samples, &ks, trace, keep);
     }
     let map_size = fg.scene.render.shadow_map_size;
-    for chunk in ks.chunks(store.per_array as usize) {
+    // A point light's lattice sample is `faces` maps (its cube, records k + 289 f): a chunk holds
+    // whole cubes (scope = global only).
+    let faces = super::faces_per_sample(samples);
+    for chunk in ks.chunks((store.per_array / faces).max(1) as usize) {
         let mut jobs: Vec<(usize, RasterJob)> = Vec::new();
         for (n, &k) in chunk.iter().enumerate() {
-            let slot = if local { store.used + n as u32 } else { n as u32 };
-            let (array, layer) = (slot / store.per_array, slot % store.per_array);
-            samples[k as usize].layer = layer;
-            samples[k as usize].array = array;
-            let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
-            // A map none of whose pixels is tested needs no raster at all: an empty rect.
-            let skip = rects.is_some() && scissor.is_none();
-            if !skip {
-                jobs.push((array as usize, RasterJob { sample: k, layer, scissor }));
+            for f in 0..faces {
+                let slot = if local { store.used + n as u32 } else { n as u32 * faces + f };
+                let (array, layer) = (slot / store.per_array, slot % store.per_array);
+                let i = (k + LATTICE_POINTS * f) as usize;
+                samples[i].layer = layer;
+                samples[i].array = array;
+                let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
+                // A map none of whose pixels is tested needs no raster at all: an empty rect.
+                let skip = rects.is_some() && scissor.is_none();
+                if !skip {
+                    jobs.push((array as usize, RasterJob { sample: i as u32, layer, scissor }));
+                }
+                ctx.queue.write_buffer(&b.samples, i as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[i]));
             }
-            ctx.queue.write_buffer(&b.samples, k as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[k as usize]));
         }
         if local {
             store.used += chunk.len() as u32;

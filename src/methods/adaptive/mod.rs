@@ -62,8 +62,9 @@ pub struct Adaptive(pub AdaptiveParams);
 
 impl ShadowMethod for Adaptive {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        // The point's six faces per lattice sample go through scope = global's waiting loop only.
         if super::cube_maps(kind) {
-            return Some(super::ONE_MAP_PER_POINT);
+            return (self.0.scope == Scope::Local || self.0.cull == Some(true)).then_some(super::ONE_MAP_PER_POINT);
         }
         (!super::maps_from_the_emitter(kind)).then_some(super::ON_A_RECTANGLE)
     }
@@ -178,14 +179,22 @@ pub const fn lattice_index(i: u32, j: u32) -> u32 {
 /// Views of all 289 lattice samples (layer and array are filled in when a map is rendered).
 pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
     let s = fg.scene;
-    (0..LATTICE_POINTS)
+    // The quad tree lives on the unit square; the disk, the sun, the spot and the point take its
+    // points through the concentric map, which keeps area, so the area weights stay right. A point
+    // light's sample is six cube faces: face f of lattice sample k is record k + 289 f, so records
+    // 0..289 are face 0's and every kernel that reads one record per lattice sample reads those.
+    let faces: Vec<Vec<GpuSample>> = (0..LATTICE_POINTS)
         .map(|k| {
             let (i, j) = (k % LATTICE_SIDE, k / LATTICE_SIDE);
-            // The quad tree lives on the unit square; the disk, the sun and the spot take its points
-            // through the concentric map, which keeps area, so the area weights stay right.
-            s.emitter.sample_map(&s.light, p.light_coord(i), p.light_coord(j), &s.bounds, s.render.shadow_map_size, k)
+            s.emitter.sample_maps(&s.light, p.light_coord(i), p.light_coord(j), &s.bounds, s.render.shadow_map_size, k)
         })
-        .collect()
+        .collect();
+    (0..faces[0].len()).flat_map(|f| faces.iter().map(move |k| k[f])).collect()
+}
+
+/// Maps per lattice sample: six for a point light's cube, else one (`lattice_samples`).
+pub fn faces_per_sample(samples: &[GpuSample]) -> u32 {
+    samples.len() as u32 / LATTICE_POINTS
 }
 
 /// Everything a test may want to see of one run besides the visibility image.
@@ -281,7 +290,11 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     };
     // maps = hybrid merges each batch into a store whose allocation the CPU reads: it waits.
     // cull = on (global) culls between the waiting loop's levels: the steered loop does not.
-    let steer = if !hybrid && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
+    let cube = faces_per_sample(&samples) > 1;
+    if cube && hybrid {
+        return Err(Error::Param("adaptive: a point light's cube maps need maps = plain (the hybrid store keeps one map per lattice sample)".into()));
+    }
+    let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
     Ok(Prepared { b, store, passes, samples, cull, steer })
 }
 

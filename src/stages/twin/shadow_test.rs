@@ -2,7 +2,7 @@
 //! (the block entry points; `fill_blocks`, which fills their blocks, has a twin of its own),
 //! or of the samples each item and probe consults, once per (pixel, sample) (`list`, `probes`).
 
-use super::shadow::lit;
+use super::shadow::{face_offset, lit};
 use super::{probe_point, quad_corner};
 use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS};
 use crate::stages::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
@@ -16,9 +16,11 @@ pub const SUMMARY_GEOMETRY: u32 = 0x8000_0000;
 pub const SUMMARY_ANY_LIT: u32 = 0x4000_0000;
 pub const SUMMARY_ANY_UNLIT: u32 = 0x2000_0000;
 
-/// `samples` and `maps` are indexed by lattice index (maps only needed for `ks`).
+/// `samples` and `maps` are indexed by lattice index (maps only needed for `ks`); a point light's
+/// face f of lattice sample k is record (and map) k + 289 f.
 pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<f32>, g: &GBufferCpu, ks: &[u32], masks: &mut [u32]) {
-    let loaded: Vec<(u32, Vec<f32>)> = ks.iter().map(|&k| (k, maps(k))).collect();
+    let faces = |k: u32| if samples[k as usize].cube_face != 0 { 6 } else { 1 };
+    let loaded: std::collections::HashMap<u32, Vec<f32>> = ks.iter().flat_map(|&k| (0..faces(k)).map(move |f| k + LATTICE_POINTS * f)).map(|i| (i, maps(i))).collect();
     for index in 0..g.position.len() {
         if !g.is_geometry(index) {
             continue;
@@ -27,8 +29,9 @@ pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -
         let n = Vec4::from(g.normal[index]).truncate();
         let base = index * MASK_WORDS as usize;
         let mut summary = SUMMARY_GEOMETRY;
-        for (k, map) in &loaded {
-            let bit = lit(frame, &samples[*k as usize], map, p, n);
+        for k in ks {
+            let i = *k as usize + LATTICE_POINTS as usize * face_offset(frame, &samples[*k as usize], p);
+            let bit = lit(frame, &samples[i], &loaded[&(i as u32)], p, n);
             masks[base + (*k / 32) as usize] |= bit << (k % 32);
             summary |= if bit == 1 { SUMMARY_ANY_LIT } else { SUMMARY_ANY_UNLIT };
         }
