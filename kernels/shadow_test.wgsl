@@ -125,13 +125,15 @@ fn flush_word(r: Running) {
 
 // The block's sample j tested at p (normal n): its lit bit joins the running word. The reads come
 // first, outside the flush's `if`.
-fn test_sample(r: Running, j: u32, p: vec3<f32>, n: vec3<f32>) -> Running {
+// `cube` (a constant in each entry point: the cube* entries; the branch, even never taken, made the
+// block entries twice as slow on a CPU device): a point light's lattice sample is six cube faces,
+// face f's record at samples[k + 289 f] (the block holds face 0's), and p is tested on the face
+// that holds its direction.
+fn test_sample(r: Running, j: u32, p: vec3<f32>, n: vec3<f32>, cube: bool) -> Running {
     var out = r;
     let k = block.ks[j / 4u][j % 4u];
     var s = block.samples[j];
-    // A point light's lattice sample is six cube faces, face f's record at samples[k + 289 f] (the
-    // block holds face 0's): p is tested on the face that holds its direction.
-    if (s.cube_face != 0u) {
+    if (cube) {
         s = samples[k + LATTICE_POINTS * face_offset(frame, s, p)];
     }
     let lookup = shadow_lookup(frame, s, p, n);
@@ -182,22 +184,22 @@ fn block16(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id
     let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
-    r = test_sample(r, 0u, p, px.normal);
-    r = test_sample(r, 1u, p, px.normal);
-    r = test_sample(r, 2u, p, px.normal);
-    r = test_sample(r, 3u, p, px.normal);
-    r = test_sample(r, 4u, p, px.normal);
-    r = test_sample(r, 5u, p, px.normal);
-    r = test_sample(r, 6u, p, px.normal);
-    r = test_sample(r, 7u, p, px.normal);
-    r = test_sample(r, 8u, p, px.normal);
-    r = test_sample(r, 9u, p, px.normal);
-    r = test_sample(r, 10u, p, px.normal);
-    r = test_sample(r, 11u, p, px.normal);
-    r = test_sample(r, 12u, p, px.normal);
-    r = test_sample(r, 13u, p, px.normal);
-    r = test_sample(r, 14u, p, px.normal);
-    r = test_sample(r, 15u, p, px.normal);
+    r = test_sample(r, 0u, p, px.normal, false);
+    r = test_sample(r, 1u, p, px.normal, false);
+    r = test_sample(r, 2u, p, px.normal, false);
+    r = test_sample(r, 3u, p, px.normal, false);
+    r = test_sample(r, 4u, p, px.normal, false);
+    r = test_sample(r, 5u, p, px.normal, false);
+    r = test_sample(r, 6u, p, px.normal, false);
+    r = test_sample(r, 7u, p, px.normal, false);
+    r = test_sample(r, 8u, p, px.normal, false);
+    r = test_sample(r, 9u, p, px.normal, false);
+    r = test_sample(r, 10u, p, px.normal, false);
+    r = test_sample(r, 11u, p, px.normal, false);
+    r = test_sample(r, 12u, p, px.normal, false);
+    r = test_sample(r, 13u, p, px.normal, false);
+    r = test_sample(r, 14u, p, px.normal, false);
+    r = test_sample(r, 15u, p, px.normal, false);
     finish_block(r);
 }
 
@@ -206,14 +208,14 @@ fn block8(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
     let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
-    r = test_sample(r, 0u, p, px.normal);
-    r = test_sample(r, 1u, p, px.normal);
-    r = test_sample(r, 2u, p, px.normal);
-    r = test_sample(r, 3u, p, px.normal);
-    r = test_sample(r, 4u, p, px.normal);
-    r = test_sample(r, 5u, p, px.normal);
-    r = test_sample(r, 6u, p, px.normal);
-    r = test_sample(r, 7u, p, px.normal);
+    r = test_sample(r, 0u, p, px.normal, false);
+    r = test_sample(r, 1u, p, px.normal, false);
+    r = test_sample(r, 2u, p, px.normal, false);
+    r = test_sample(r, 3u, p, px.normal, false);
+    r = test_sample(r, 4u, p, px.normal, false);
+    r = test_sample(r, 5u, p, px.normal, false);
+    r = test_sample(r, 6u, p, px.normal, false);
+    r = test_sample(r, 7u, p, px.normal, false);
     finish_block(r);
 }
 
@@ -222,10 +224,10 @@ fn block4(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
     let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
-    r = test_sample(r, 0u, p, px.normal);
-    r = test_sample(r, 1u, p, px.normal);
-    r = test_sample(r, 2u, p, px.normal);
-    r = test_sample(r, 3u, p, px.normal);
+    r = test_sample(r, 0u, p, px.normal, false);
+    r = test_sample(r, 1u, p, px.normal, false);
+    r = test_sample(r, 2u, p, px.normal, false);
+    r = test_sample(r, 3u, p, px.normal, false);
     finish_block(r);
 }
 
@@ -234,8 +236,8 @@ fn block2(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
     let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     let p = px.position.xyz;
     var r = px.running;
-    r = test_sample(r, 0u, p, px.normal);
-    r = test_sample(r, 1u, p, px.normal);
+    r = test_sample(r, 0u, p, px.normal, false);
+    r = test_sample(r, 1u, p, px.normal, false);
     finish_block(r);
 }
 
@@ -243,7 +245,55 @@ fn block2(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
 fn block1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
     let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     var r = px.running;
-    r = test_sample(r, 0u, px.position.xyz, px.normal);
+    r = test_sample(r, 0u, px.position.xyz, px.normal, false);
+    finish_block(r);
+}
+
+// The blocks for a point light's cube maps (`test_sample`'s `cube`).
+@compute @workgroup_size(8, 8, 1)
+fn cube16(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
+    var r = px.running;
+    for (var j = 0u; j < 16u; j = j + 1u) {
+        r = test_sample(r, j, px.position.xyz, px.normal, true);
+    }
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn cube8(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
+    var r = px.running;
+    for (var j = 0u; j < 8u; j = j + 1u) {
+        r = test_sample(r, j, px.position.xyz, px.normal, true);
+    }
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn cube4(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
+    var r = px.running;
+    for (var j = 0u; j < 4u; j = j + 1u) {
+        r = test_sample(r, j, px.position.xyz, px.normal, true);
+    }
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn cube2(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
+    var r = px.running;
+    r = test_sample(r, 0u, px.position.xyz, px.normal, true);
+    r = test_sample(r, 1u, px.position.xyz, px.normal, true);
+    finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn cube1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
+    var r = px.running;
+    r = test_sample(r, 0u, px.position.xyz, px.normal, true);
     finish_block(r);
 }
 

@@ -273,7 +273,7 @@ fn shadow_test_on_the_cube_faces_equals_its_twin() {
     let shade = ShadePass::new(ctx, penumbra::gpu::kernels::MapAccess::Depth).unwrap();
     let tiles = shade.tile_list(ctx, &g);
     let array = shadow_raster::allocate(ctx, sc.render.shadow_map_size, jobs.len() as u32);
-    let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false).expect("shadow_test kernels");
+    let test = ShadowTest::new_cube(ctx, penumbra::gpu::kernels::MapAccess::Depth).expect("shadow_test kernels");
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     GBufferPass::new(ctx).unwrap().record(ctx, &mut enc, &scene_gpu, &gbuffer::camera_uniform(&sc), &g);
     shade.record_geometry_tiles(ctx, &mut enc, &frame, &g, &tiles);

@@ -194,6 +194,11 @@ stage_table! {
         compute("block4", PIXEL, TEST_BLOCK),
         compute("block2", PIXEL, TEST_BLOCK),
         compute("block1", PIXEL, TEST_BLOCK),
+        compute("cube16", PIXEL, TEST_BLOCK),
+        compute("cube8", PIXEL, TEST_BLOCK),
+        compute("cube4", PIXEL, TEST_BLOCK),
+        compute("cube2", PIXEL, TEST_BLOCK),
+        compute("cube1", PIXEL, TEST_BLOCK),
         compute("list", LINE, TEST_LOCAL),
         compute("probes", LINE, TEST_LOCAL),
     ];

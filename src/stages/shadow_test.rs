@@ -49,6 +49,16 @@ pub struct ShadowTest {
 impl ShadowTest {
     /// `maps`: how every entry point reads maps; `local`: also the entry points of scope = local.
     pub fn new(ctx: &GpuContext, maps: MapAccess, local: bool) -> Result<Self> {
+        Self::build(ctx, maps, local, ["block16", "block8", "block4", "block2", "block1"])
+    }
+
+    /// scope = global over a point light's cube maps: the blocks test each pixel on the face that
+    /// holds its direction (`cube16` .. `cube1`).
+    pub fn new_cube(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
+        Self::build(ctx, maps, false, ["cube16", "cube8", "cube4", "cube2", "cube1"])
+    }
+
+    fn build(ctx: &GpuContext, maps: MapAccess, local: bool, blocks: [&str; 5]) -> Result<Self> {
         let local = if local { Some([ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "list", maps)?, ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "probes", maps)?]) } else { None };
         let block = |entry| ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, entry, maps);
         let buffer = |label, size, usage| {
@@ -56,7 +66,7 @@ impl ShadowTest {
         };
         Ok(Self {
             fill: ComputeKernel::new(ctx, Stage::SHADOW_TEST, "fill_blocks")?,
-            blocks: [block("block16")?, block("block8")?, block("block4")?, block("block2")?, block("block1")?],
+            blocks: [block(blocks[0])?, block(blocks[1])?, block(blocks[2])?, block(blocks[3])?, block(blocks[4])?],
             block_buffer: buffer("shadow_test blocks", TEST_SLOTS as u64 * TEST_BLOCK_BYTES, wgpu::BufferUsages::UNIFORM),
             block_args: buffer("shadow_test block args", TEST_SLOTS as u64 * ARGS_BYTES, wgpu::BufferUsages::INDIRECT),
             local,

@@ -268,7 +268,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         maps::MapStore { arrays: vec![fg.raster.allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
     };
     let passes = Passes {
-        shadow_test: ShadowTest::new(fg.ctx, fg.map_access(), local)?,
+        shadow_test: if faces_per_sample(&samples) > 1 { ShadowTest::new_cube(fg.ctx, fg.map_access())? } else { ShadowTest::new(fg.ctx, fg.map_access(), local)? },
         reproject_count: ReprojectCount::new(ctx)?,
         neighbourhood: Neighbourhood::new(ctx)?,
         quad_count: QuadCount::new(ctx)?,
