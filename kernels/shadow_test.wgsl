@@ -249,52 +249,40 @@ fn block1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id)
     finish_block(r);
 }
 
-// The blocks for a point light's cube maps (`test_sample`'s `cube`).
-@compute @workgroup_size(8, 8, 1)
-fn cube16(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+// The blocks for a point light's cube maps (`test_sample`'s `cube`): the first `count` samples of
+// the block.
+fn cube_block(group: vec3<u32>, lid: vec3<u32>, count: u32) {
     let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
     var r = px.running;
-    for (var j = 0u; j < 16u; j = j + 1u) {
+    for (var j = 0u; j < count; j = j + 1u) {
         r = test_sample(r, j, px.position.xyz, px.normal, true);
     }
     finish_block(r);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn cube16(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    cube_block(group, lid, 16u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn cube8(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
-    var r = px.running;
-    for (var j = 0u; j < 8u; j = j + 1u) {
-        r = test_sample(r, j, px.position.xyz, px.normal, true);
-    }
-    finish_block(r);
+    cube_block(group, lid, 8u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn cube4(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
-    var r = px.running;
-    for (var j = 0u; j < 4u; j = j + 1u) {
-        r = test_sample(r, j, px.position.xyz, px.normal, true);
-    }
-    finish_block(r);
+    cube_block(group, lid, 4u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn cube2(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
-    var r = px.running;
-    r = test_sample(r, 0u, px.position.xyz, px.normal, true);
-    r = test_sample(r, 1u, px.position.xyz, px.normal, true);
-    finish_block(r);
+    cube_block(group, lid, 2u);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn cube1(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let px = block_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width));
-    var r = px.running;
-    r = test_sample(r, 0u, px.position.xyz, px.normal, true);
-    finish_block(r);
+    cube_block(group, lid, 1u);
 }
 
 // ---- scope = local ----
