@@ -186,6 +186,10 @@ stage_table! {
         compute("block1", PIXEL, SHADE_BLOCK),
         compute("from_masks", PIXEL, &[("frame", 0), ("gbuffer_position", 3), ("visibility", 6), ("masks", 7), ("weights", 8)]),
     ];
+    /// The sums of the error estimate of a fixed sample set (docs/error-estimate.md).
+    ESTIMATE = "estimate" kernel { reads_maps: true }, Some(Shade), [
+        compute("main", PIXEL, &[("frame", 0), ("range", 1), ("samples", 2), ("weights", 3), ("split", 4), ("gbuffer_position", 5), ("gbuffer_normal", 6), ("shadow_maps", 7), ("sums", 8)]),
+    ];
     /// Adaptive's map lookups: lit bits of each pixel's lattice mask.
     SHADOW_TEST = "shadow_test" kernel { reads_maps: true }, Some(Shade), [
         compute("fill_blocks", SINGLE, &[("level", 1), ("samples", 2), ("test_list", 3), ("lattice_state", 8), ("control_words", 9), ("blocks", 19), ("block_args", 20), ("tile_list", 21)]),

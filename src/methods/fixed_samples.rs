@@ -30,6 +30,7 @@ pub const REGULAR: MethodInfo = MethodInfo {
         Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" },
         Param { key: "layout", default: "lattice", help: "lattice (corners i/(N−1)), centred (cell centres) or jittered (one seeded point per cell)" },
         Param { key: "cull", default: "off", help: "on: raster each map only with the triangles that can change a texel some geometry pixel tests (the same V; docs/gpu-frame.md)" },
+        Param { key: "estimate", default: "off", help: "on: predict the frame's error without a reference (run.json predicted_rmse, predicted_sampling, predicted_map, error-bound.png; docs/error-estimate.md)" },
     ],
     parse: |p: &ParamMap| {
         let n = check_range("regular", "n", get_u32(p, "n", 17)?, 1, 128)?;
@@ -44,7 +45,15 @@ pub const REGULAR: MethodInfo = MethodInfo {
             Some("on") => true,
             Some(v) => return Err(crate::Error::Param(format!("regular: cull = `{v}`: use `on` or `off`"))),
         };
-        Ok(std::sync::Arc::new(Fixed::Regular { n, layout, cull }))
+        let estimate = match p.get("estimate").map(String::as_str) {
+            None | Some("off") => false,
+            Some("on") => true,
+            Some(v) => return Err(crate::Error::Param(format!("regular: estimate = `{v}`: use `on` or `off`"))),
+        };
+        if estimate && cull {
+            return Err(crate::Error::Param("regular: estimate = on reads texels around each lookup, which cull = on may leave out; use one of them".into()));
+        }
+        Ok(std::sync::Arc::new(Fixed::Regular { n, layout, cull, estimate }))
     },
 };
 
@@ -53,7 +62,8 @@ pub const REGULAR: MethodInfo = MethodInfo {
 pub enum Fixed {
     Hard,
     /// `cull`: each map rasterizes only what can change a tested texel (`CulledMaps`).
-    Regular { n: u32, layout: Layout, cull: bool },
+    /// `estimate`: the frame also predicts its own error (`methods::estimate`).
+    Regular { n: u32, layout: Layout, cull: bool, estimate: bool },
 }
 
 impl Fixed {
@@ -84,20 +94,20 @@ impl ShadowMethod for Fixed {
     fn label(&self) -> String {
         match self {
             Fixed::Hard => "hard".into(),
-            Fixed::Regular { n, layout, cull } => {
+            Fixed::Regular { n, layout, cull, estimate } => {
                 let layout = match layout {
                     Layout::Lattice => "",
                     Layout::Centred => ",layout=centred",
                     Layout::Jittered => ",layout=jittered",
                 };
-                format!("regular:n={n}{layout}{}", if *cull { ",cull=on" } else { "" })
+                format!("regular:n={n}{layout}{}{}", if *cull { ",cull=on" } else { "" }, if *estimate { ",estimate=on" } else { "" })
             }
         }
     }
     fn params_json(&self) -> serde_json::Value {
         match self {
             Fixed::Hard => serde_json::json!({}),
-            Fixed::Regular { n, layout, cull } => serde_json::json!({ "n": n, "layout": layout, "cull": cull }),
+            Fixed::Regular { n, layout, cull, estimate } => serde_json::json!({ "n": n, "layout": layout, "cull": cull, "estimate": estimate }),
         }
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
@@ -108,6 +118,9 @@ impl ShadowMethod for Fixed {
         let mut prepared = prepare(fg, &self.points())?;
         if cull {
             prepared.culled = Some(CulledMaps::new(fg, prepared.points as u32)?);
+        }
+        if let Fixed::Regular { n, layout, estimate: true, .. } = *self {
+            prepared.estimate = Some(Estimate::new(fg, n, layout, prepared.points)?);
         }
         Ok(Box::new(prepared))
     }
@@ -121,8 +134,28 @@ impl ShadowMethod for Fixed {
 }
 
 impl MethodState for Prepared {
-    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
-        Ok(()) // every raster pass clears its layer
+    fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
+        // Every raster pass clears its layer; the estimate's sums start at zero.
+        if let Some(e) = &self.estimate {
+            e.clear(fg)?;
+        }
+        Ok(())
+    }
+    /// The estimate's sums, read after the clock stopped: the prediction and the bound picture.
+    fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
+        let Some(e) = &self.estimate else { return Ok(()) };
+        let sums = e.read(fg)?;
+        let (prediction, picture) = e.predict(fg, &sums)?;
+        if let Some(kept) = self.kept.as_mut() {
+            kept.estimate_sums = sums;
+            kept.split = e.split.clone();
+        }
+        let fields = serde_json::to_value(prediction).map_err(|err| crate::Error::Limit(err.to_string()))?;
+        for (k, v) in fields.as_object().into_iter().flatten() {
+            out.record[k] = v.clone();
+        }
+        out.pictures.push(("error-bound.png".into(), picture));
+        Ok(())
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         run(fg, timer, self)
@@ -195,6 +228,8 @@ pub struct Prepared {
     maps: Maps,
     /// `cull = on`: the passes that cull each map's triangles.
     culled: Option<CulledMaps>,
+    /// `estimate = on`: the error estimate's pass and buffers.
+    estimate: Option<Estimate>,
     /// Tests: every chunk's maps are kept, since the next chunk overwrites them.
     keep: bool,
     kept: Option<FixedBuffers>,
@@ -230,16 +265,17 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
-    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, keep: false, kept: None })
+    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, keep: false, kept: None })
 }
 
 /// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the
 /// shade twin (tests only).
 fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result<MethodOutput> {
-    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, keep, kept } = prepared;
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, estimate, keep, kept } = prepared;
+    let estimate = estimate.as_ref();
     let (chunk, array) = match maps {
         Maps::Plain { chunk, array } => (*chunk, &*array),
-        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, *keep, kept),
+        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, estimate, *keep, kept),
     };
     let ctx = fg.ctx;
     let points = *points;
@@ -267,6 +303,9 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             fg.shade.record(ctx, enc, &inputs, &array.array_view, tiles, first, count);
             Ok(())
         })?;
+        if let Some(e) = estimate {
+            e.record(fg, timer, samples_buffer, weights_buffer, &array.array_view, first, count)?;
+        }
         bar.inc(count as u64);
     }
     bar.finish_and_clear();
@@ -315,6 +354,7 @@ fn run_hybrid(
     samples_buffer: &wgpu::Buffer,
     weights_buffer: &wgpu::Buffer,
     maps: &mut HybridMaps,
+    estimate: Option<&Estimate>,
     keep: bool,
     kept: &mut Option<FixedBuffers>,
 ) -> Result<MethodOutput> {
@@ -327,7 +367,11 @@ fn run_hybrid(
         timer.stage(ctx, Stage::SHADE, |enc| {
             fg.shade.record(ctx, enc, &inputs, view, tiles, slots[0], slots.len() as u32);
             Ok(())
-        })
+        })?;
+        match estimate {
+            Some(e) => e.record(fg, timer, samples_buffer, weights_buffer, view, slots[0], slots.len() as u32),
+            None => Ok(()),
+        }
     };
     let mut cap = keep.then(FixedBuffers::default);
     let layers = maps.layers();
@@ -390,6 +434,63 @@ pub struct FixedBuffers {
     pub hybrid_pool: Vec<u32>,
     pub samples: Vec<GpuSample>,
     pub weights: Vec<f32>,
+    /// `estimate = on`: the sums after the frame, and each sample's half-set weights.
+    pub estimate_sums: Vec<[f32; 4]>,
+    pub split: Vec<[f32; 2]>,
+}
+
+/// `estimate = on`: the pass, each sample's half-set weights and the per-pixel sums.
+pub struct Estimate {
+    pass: crate::stages::estimate::EstimatePass,
+    layout: Layout,
+    split: Vec<[f32; 2]>,
+    split_buffer: wgpu::Buffer,
+    sums: wgpu::Buffer,
+}
+
+impl Estimate {
+    fn new(fg: &FrameGpu, n: u32, layout: Layout, maps: usize) -> Result<Estimate> {
+        crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
+        let split = super::estimate::split_weights(n, maps / (n * n) as usize);
+        let split_buffer = readback::storage_buffer(fg.ctx, "estimate split", &split, wgpu::BufferUsages::empty());
+        let sums = readback::zeroed_storage(fg.ctx, "estimate sums", fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES);
+        Ok(Estimate { pass: crate::stages::estimate::EstimatePass::new(fg.ctx, fg.map_access())?, layout, split, split_buffer, sums })
+    }
+
+    fn clear(&self, fg: &FrameGpu) -> Result<()> {
+        let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&self.sums, 0, None);
+        fg.ctx.queue.submit([enc.finish()]);
+        Ok(())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record(&self, fg: &FrameGpu, timer: &mut StageTimer, samples: &wgpu::Buffer, weights: &wgpu::Buffer, maps: &wgpu::TextureView, first: u32, count: u32) -> Result<()> {
+        let inputs = crate::stages::estimate::EstimateInputs {
+            frame: &fg.frame_buffer,
+            samples,
+            weights,
+            split: &self.split_buffer,
+            gbuffer: &fg.gbuffer,
+            sums: &self.sums,
+        };
+        timer.stage(fg.ctx, Stage::ESTIMATE, |enc| {
+            self.pass.record(fg.ctx, enc, &inputs, maps, first, count);
+            Ok(())
+        })
+    }
+
+    fn read(&self, fg: &FrameGpu) -> Result<Vec<[f32; 4]>> {
+        readback::read_buffer(fg.ctx, &self.sums, fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES)
+    }
+
+    /// The frame's prediction and the bound's picture from the sums.
+    fn predict(&self, fg: &FrameGpu, sums: &[[f32; 4]]) -> Result<(super::estimate::Prediction, image::RgbImage)> {
+        let g = crate::render::gbuffer::read_back(fg.ctx, &fg.gbuffer)?;
+        let geometry: Vec<bool> = (0..sums.len()).map(|i| g.is_geometry(i)).collect();
+        let (prediction, bound) = super::estimate::predict(sums, &geometry, self.layout)?;
+        Ok((prediction, super::estimate::bound_picture(&bound, &geometry, fg.gbuffer.width, fg.gbuffer.height)?))
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 pub mod adaptive;
 pub mod cascades;
 pub mod environment;
+pub mod estimate;
 pub mod culled_maps;
 pub(crate) mod filtered;
 pub mod fixed_samples;
@@ -254,7 +255,7 @@ impl Method {
     }
     /// The regular grid on the N×N lattice, corners included.
     pub fn regular(n: u32) -> Method {
-        Method::new(fixed_samples::Fixed::Regular { n, layout: Layout::Lattice, cull: false })
+        Method::new(fixed_samples::Fixed::Regular { n, layout: Layout::Lattice, cull: false, estimate: false })
     }
     pub fn adaptive(p: AdaptiveParams) -> Method {
         Method::new(adaptive::Adaptive(p))

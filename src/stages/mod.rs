@@ -6,6 +6,7 @@ pub(crate) mod blur;
 pub mod cascades;
 pub mod compact;
 pub mod cull;
+pub mod estimate;
 pub(crate) mod env_count;
 pub(crate) mod env_shadowmaps;
 pub(crate) mod env_split;

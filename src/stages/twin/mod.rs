@@ -10,6 +10,7 @@ pub mod env_shadowmaps;
 pub mod env_split;
 pub mod env_trace;
 pub mod env_vertex_interp;
+pub mod estimate;
 pub mod footprint;
 pub mod hybrid_build;
 pub mod local;

@@ -1,0 +1,119 @@
+//! The error estimate without a reference (docs/error-estimate.md): from the per-pixel sums of
+//! the `estimate` stage, the predicted RMSE of V split into the light-sampling part and the maps'
+//! part, and a per-pixel bound on |V − V_true|.
+
+use super::Layout;
+use crate::Result;
+
+/// RMS error of the full grid per unit of RMS half-set difference, by layout (§2). Fitted on
+/// `default`, `cows` and `disk-bar` and checked on every scene (docs/error-estimate.md §5).
+pub fn sampling_scale(layout: Layout) -> f64 {
+    match layout {
+        Layout::Centred => 0.175,
+        Layout::Lattice => 0.30,
+        Layout::Jittered => 0.12,
+    }
+}
+
+/// The per-pixel bound is this many predicted standard errors …
+pub const BOUND_SIGMAS: f32 = 3.0;
+/// … plus this floor: the continuous reference's own error and the maps' error that neither
+/// term sees (§4).
+pub const BOUND_FLOOR: f32 = 0.01;
+
+/// Sample i's signed weights in the two half-set differences: +1/|even| for an even column
+/// (row) of the n×n grid, −1/|odd| for an odd one. A point light's sample is `faces` consecutive
+/// maps, each with its sample's weights. n = 1 has no halves: all zero.
+pub fn split_weights(n: u32, faces: usize) -> Vec<[f32; 2]> {
+    let even = n.div_ceil(2) as f32 * n as f32;
+    let odd = (n / 2) as f32 * n as f32;
+    let signed = |i: u32| if i % 2 == 0 { 1.0 / even } else { -1.0 / odd };
+    (0..n * n)
+        .flat_map(|k| {
+            let w = if n < 2 { [0.0, 0.0] } else { [signed(k % n), signed(k / n)] };
+            std::iter::repeat_n(w, faces)
+        })
+        .collect()
+}
+
+/// The frame's predicted errors (RMS over geometry pixels, as the measured RMSE).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Prediction {
+    pub predicted_rmse: f64,
+    pub predicted_sampling: f64,
+    pub predicted_map: f64,
+}
+
+/// Per pixel: predicted sampling and map error (root of the mean square over pixels gives the
+/// frame's figures) from the sums (x, y: half-set differences; z: quantization; w: bias).
+pub fn pixel_terms(sum: [f32; 4], layout: Layout) -> (f64, f64) {
+    let c = sampling_scale(layout);
+    let (dx, dy, q, b) = (sum[0] as f64, sum[1] as f64, sum[2] as f64, sum[3] as f64);
+    (c * (dx * dx + dy * dy).sqrt(), (q * q + b * b).sqrt())
+}
+
+/// The frame's prediction and each pixel's bound (0 off geometry).
+pub fn predict(sums: &[[f32; 4]], geometry: &[bool], layout: Layout) -> Result<(Prediction, Vec<f32>)> {
+    if sums.len() != geometry.len() {
+        return Err(crate::Error::Limit(format!("estimate: {} sums for {} pixels", sums.len(), geometry.len())));
+    }
+    let (mut s2, mut m2, mut pixels) = (0.0f64, 0.0f64, 0usize);
+    let mut bound = vec![0.0f32; sums.len()];
+    for (i, sum) in sums.iter().enumerate().filter(|(i, _)| geometry[*i]) {
+        let (s, m) = pixel_terms(*sum, layout);
+        s2 += s * s;
+        m2 += m * m;
+        pixels += 1;
+        bound[i] = BOUND_SIGMAS * (s * s + m * m).sqrt() as f32 + BOUND_FLOOR;
+    }
+    let n = pixels.max(1) as f64;
+    let (sampling, map) = ((s2 / n).sqrt(), (m2 / n).sqrt());
+    let p = Prediction { predicted_rmse: (sampling * sampling + map * map).sqrt(), predicted_sampling: sampling, predicted_map: map };
+    Ok((p, bound))
+}
+
+/// The bound as a picture (magma over [0, 0.25], legend below), as the error images are drawn.
+pub fn bound_picture(bound: &[f32], geometry: &[bool], width: u32, height: u32) -> Result<image::RgbImage> {
+    let zeros = vec![0.0f32; bound.len()];
+    crate::metrics::abs_error_image(bound, &zeros, geometry, width, height, 0.25)
+        .map_err(|e| crate::Error::Limit(format!("estimate: bound picture: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halves_balance() {
+        for n in [2u32, 3, 5, 8] {
+            let w = split_weights(n, 1);
+            assert_eq!(w.len(), (n * n) as usize);
+            for axis in 0..2 {
+                let sum: f32 = w.iter().map(|x| x[axis]).sum();
+                assert!(sum.abs() < 1e-5, "n = {n}: the halves' weights cancel on a constant V ({sum})");
+                let pos: f32 = w.iter().map(|x| x[axis].max(0.0)).sum();
+                assert!((pos - 1.0).abs() < 1e-5, "n = {n}: each half is a mean ({pos})");
+            }
+        }
+        assert_eq!(split_weights(1, 6), vec![[0.0, 0.0]; 6]);
+        let cube = split_weights(2, 6);
+        assert_eq!(cube.len(), 24);
+        assert_eq!(cube[5], cube[0], "the six faces of a point's sample share its weights");
+        assert_eq!(cube[6], [-0.5, 0.5], "sample 1 is column 1, row 0 of the 2×2 grid");
+    }
+
+    #[test]
+    fn prediction_adds_the_terms_in_quadrature() {
+        let sums = vec![[0.2, 0.0, 0.03, 0.04], [0.0, 0.0, 0.0, 0.0], [9.0, 9.0, 9.0, 9.0]];
+        let geometry = vec![true, true, false];
+        let (p, bound) = predict(&sums, &geometry, Layout::Centred).unwrap();
+        let s = sampling_scale(Layout::Centred) * 0.2;
+        assert!((p.predicted_sampling - (s * s / 2.0).sqrt()).abs() < 1e-7);
+        assert!((p.predicted_map - (0.05f64 * 0.05 / 2.0).sqrt()).abs() < 1e-7);
+        assert!((p.predicted_rmse - (p.predicted_sampling.powi(2) + p.predicted_map.powi(2)).sqrt()).abs() < 1e-12);
+        assert_eq!(bound[2], 0.0, "no bound off geometry");
+        assert_eq!(bound[1], BOUND_FLOOR);
+        assert!((bound[0] - (BOUND_SIGMAS * (s * s + 0.0025).sqrt() as f32 + BOUND_FLOOR)).abs() < 1e-6);
+        assert!(predict(&sums, &[true], Layout::Centred).is_err());
+    }
+}

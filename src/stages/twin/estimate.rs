@@ -1,0 +1,71 @@
+//! Twin of `kernels/estimate.wgsl`: per pixel, the sums the error estimate is made of
+//! (docs/error-estimate.md).
+
+use super::shadow::{lit, shadow_lookup, shadow_lookup_uv, slope_per_texel, tap_lit, LOOKUP_COMPARE};
+use crate::gpu::structs::{GpuFrame, GpuSample};
+use crate::render::gbuffer::GBufferCpu;
+use glam::{Vec2, Vec3, Vec4};
+
+/// Twin of `bilinear`: the four texels around the lookup point, each compared against the limit
+/// moved along the receiver's slope by the tap's distance, weighted by the point's place between
+/// their centres.
+pub fn bilinear(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, p: Vec3, n: Vec3) -> f32 {
+    let uv = shadow_lookup_uv(frame, s, p, n);
+    let slope = slope_per_texel(frame, s, p, n);
+    let base = (uv - Vec2::splat(0.5)).floor();
+    let frac = uv - Vec2::splat(0.5) - base;
+    let mut f = 0.0f32;
+    for c in 0..4u32 {
+        let t = base + Vec2::new((c & 1) as f32, (c >> 1) as f32) + Vec2::splat(0.5);
+        let tap = tap_lit(frame, s, map, limit - (t - uv).length() * slope, t);
+        let w = if c & 1 == 1 { frac.x } else { 1.0 - frac.x } * if c >> 1 == 1 { frac.y } else { 1.0 - frac.y };
+        f += w * tap;
+    }
+    f
+}
+
+/// Sample i at p: the frame's test v, the bilinear test f (v where the lookup compares nothing)
+/// and the test v₂ with doubled bias and normal offset.
+pub fn tests(frame: &GpuFrame, s: &GpuSample, map: &[f32], p: Vec3, n: Vec3) -> (f32, f32, f32) {
+    let v = lit(frame, s, map, p, n) as f32;
+    let lookup = shadow_lookup(frame, s, p, n);
+    let f = if lookup.kind == LOOKUP_COMPARE { bilinear(frame, s, map, lookup.depth_limit, p, n) } else { v };
+    let doubled = GpuFrame {
+        bias_constant: frame.bias_constant * 2.0,
+        bias_slope: frame.bias_slope * 2.0,
+        normal_offset: frame.normal_offset * 2.0,
+        ..*frame
+    };
+    // The doubled lookup reads the same map: `lit` indexes it with the frame's map size.
+    let v2 = lit(&doubled, s, map, p, n) as f32;
+    (v, f, v2)
+}
+
+/// `sums[p] += Σ_{i in first..first+count}` (split[i].x · v_i, split[i].y · v_i,
+/// weights[i] · (v_i − f_i), weights[i] · (v₂_i − v_i)), sample by sample.
+#[allow(clippy::too_many_arguments)]
+pub fn estimate(
+    frame: &GpuFrame,
+    samples: &[GpuSample],
+    weights: &[f32],
+    split: &[[f32; 2]],
+    maps: &[Vec<f32>],
+    g: &GBufferCpu,
+    first: usize,
+    count: usize,
+    sums: &mut [[f32; 4]],
+) {
+    for (index, acc) in sums.iter_mut().enumerate() {
+        if !g.is_geometry(index) {
+            continue;
+        }
+        let p = Vec4::from(g.position[index]).truncate();
+        let n = Vec4::from(g.normal[index]).truncate();
+        let mut a = *acc;
+        for i in first..first + count {
+            let (v, f, v2) = tests(frame, &samples[i], &maps[i], p, n);
+            a = [a[0] + split[i][0] * v, a[1] + split[i][1] * v, a[2] + weights[i] * (v - f), a[3] + weights[i] * (v2 - v)];
+        }
+        *acc = a;
+    }
+}
