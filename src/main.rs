@@ -76,6 +76,10 @@ enum Command {
     /// single-map methods) and the frontier of error against time (frontier.jsonl, charts/frontier.svg,
     /// report.html; docs/frontier.md).
     Frontier(cli::frontier::FrontierArgs),
+    /// The error estimate (`regular:…,estimate=on`) against the truth on scenes × grid settings:
+    /// predicted against measured RMSE, the per-pixel bound's coverage, the split into sampling
+    /// and map error (estimate.jsonl, charts/estimate.svg, report.html; docs/error-estimate.md).
+    Estimate(cli::estimate::EstimateArgs),
     /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
     /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
     /// charts/cascades.svg, report.html; docs/lights.md).
@@ -126,6 +130,7 @@ fn run() -> Result<()> {
         None => cli::compare::main_job(parsed.out, &gpu),
         Some(Command::Render(args)) => cli::render::run(args, &gpu),
         Some(Command::Frontier(args)) => cli::frontier::run(args, &gpu),
+        Some(Command::Estimate(args)) => cli::estimate::run(args, &gpu),
         Some(Command::Cascades(args)) => cli::cascades::run(args, &gpu),
         Some(Command::Scenes) => cli::scenes::run(),
         Some(Command::Methods) => cli::methods::run(),

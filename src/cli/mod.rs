@@ -10,6 +10,7 @@ pub mod compare;
 pub mod environment;
 pub mod failures;
 pub mod framing;
+pub mod estimate;
 pub mod frontier;
 pub mod hybrid;
 pub mod info;

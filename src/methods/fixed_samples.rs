@@ -145,11 +145,13 @@ impl MethodState for Prepared {
     fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
         let Some(e) = &self.estimate else { return Ok(()) };
         let sums = e.read(fg)?;
-        let (prediction, picture) = e.predict(fg, &sums)?;
-        if let Some(kept) = self.kept.as_mut() {
-            kept.estimate_sums = sums;
-            kept.split = e.split.clone();
-        }
+        let geometry = geometry_mask(fg)?;
+        let (prediction, bound) = e.predict(&sums, &geometry)?;
+        let picture = super::estimate::bound_picture(&bound, &geometry, fg.gbuffer.width, fg.gbuffer.height)?;
+        // Kept for `inspect` (the twin test, and the estimate study's per-pixel bound).
+        let kept = self.kept.get_or_insert_with(FixedBuffers::default);
+        kept.estimate_sums = sums;
+        kept.split = e.split.clone();
         let fields = serde_json::to_value(prediction).map_err(|err| crate::Error::Limit(err.to_string()))?;
         for (k, v) in fields.as_object().into_iter().flatten() {
             out.record[k] = v.clone();
@@ -163,7 +165,8 @@ impl MethodState for Prepared {
     fn keep_intermediates(&mut self) {
         self.keep = true;
     }
-    /// The last frame's [`FixedBuffers`], when `keep_intermediates` was called before it.
+    /// The last frame's [`FixedBuffers`], when `keep_intermediates` was called before it; with
+    /// `estimate = on` and without it, the estimate's sums alone.
     fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         Ok(self.kept.take().map(|c| Box::new(c) as Box<dyn std::any::Any>))
     }
@@ -217,6 +220,13 @@ fn splitmix64(mut x: u64) -> u64 {
     x ^ (x >> 31)
 }
 
+impl Prepared {
+    /// Maps per frame (six per sample of a point light).
+    pub fn map_count(&self) -> usize {
+        self.points
+    }
+}
+
 /// Buffers and the maps of a fixed-sample run, allocated before the frame's clock starts.
 pub struct Prepared {
     /// Maps per frame: the samples, six per sample of a point light.
@@ -229,7 +239,9 @@ pub struct Prepared {
     /// `cull = on`: the passes that cull each map's triangles.
     culled: Option<CulledMaps>,
     /// `estimate = on`: the error estimate's pass and buffers.
-    estimate: Option<Estimate>,
+    pub(crate) estimate: Option<Estimate>,
+    /// The frame uniform of another map size than the scene's (`prepare_sized`).
+    frame: Option<wgpu::Buffer>,
     /// Tests: every chunk's maps are kept, since the next chunk overwrites them.
     keep: bool,
     kept: Option<FixedBuffers>,
@@ -243,12 +255,22 @@ enum Maps {
 
 /// Samples (s, t) with equal weights; a plain array holds at most `maps_per_array` maps.
 pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
+    prepare_sized(fg, points, fg.scene.render.shadow_map_size, None)
+}
+
+/// `prepare` with plain maps of `map_size` instead of the scene's, and `frame` (the frame uniform
+/// with that map size) for every pass that reads them: one renderer tries several map sizes
+/// (`methods::auto`). `frame` None: the frame's own.
+pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: Option<wgpu::Buffer>) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
     let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
+    if hybrid && frame.is_some() {
+        return Err(crate::Error::Param("a map size other than the scene's runs on plain maps (maps = plain)".into()));
+    }
     // A point light's sample is six maps (its cube faces): layers, chunks and the budget count maps.
-    let mut samples: Vec<GpuSample> = points.iter().flat_map(|&(u, v)| s.emitter.sample_maps(&s.light, u, v, &s.bounds, s.render.shadow_map_size, u32::MAX)).collect();
-    let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?.min(samples.len() as u32).max(1) };
+    let mut samples: Vec<GpuSample> = points.iter().flat_map(|&(u, v)| s.emitter.sample_maps(&s.light, u, v, &s.bounds, map_size, u32::MAX)).collect();
+    let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, map_size, s.render.shadow_map_budget_mib)?.min(samples.len() as u32).max(1) };
     for (i, g) in samples.iter_mut().enumerate() {
         // Hybrid: the layer is the sample's slot in the store.
         g.layer = i as u32 % chunk;
@@ -261,18 +283,19 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
     let maps = if hybrid {
         Maps::Hybrid(Box::new(HybridMaps::new(fg, points as u32, points as u32)?))
     } else {
-        let array = fg.raster.allocate(ctx, s.render.shadow_map_size, chunk);
+        let array = fg.raster.allocate(ctx, map_size, chunk);
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
-    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, keep: false, kept: None })
+    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, frame, keep: false, kept: None })
 }
 
 /// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the
 /// shade twin (tests only).
 fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result<MethodOutput> {
-    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, estimate, keep, kept } = prepared;
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, estimate, frame, keep, kept } = prepared;
     let estimate = estimate.as_ref();
+    let frame = frame.as_ref().unwrap_or(&fg.frame_buffer);
     let (chunk, array) = match maps {
         Maps::Plain { chunk, array } => (*chunk, &*array),
         Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, estimate, *keep, kept),
@@ -280,7 +303,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     let ctx = fg.ctx;
     let points = *points;
     let mut buffers = keep.then(FixedBuffers::default);
-    let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
+    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, visibility: &fg.visibility };
     let tiles = &fg.geometry_tiles;
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
@@ -304,7 +327,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             Ok(())
         })?;
         if let Some(e) = estimate {
-            e.record(fg, timer, samples_buffer, weights_buffer, &array.array_view, first, count)?;
+            e.record(fg, timer, frame, samples_buffer, weights_buffer, &array.array_view, first, count)?;
         }
         bar.inc(count as u64);
     }
@@ -369,7 +392,7 @@ fn run_hybrid(
             Ok(())
         })?;
         match estimate {
-            Some(e) => e.record(fg, timer, samples_buffer, weights_buffer, view, slots[0], slots.len() as u32),
+            Some(e) => e.record(fg, timer, &fg.frame_buffer, samples_buffer, weights_buffer, view, slots[0], slots.len() as u32),
             None => Ok(()),
         }
     };
@@ -449,7 +472,7 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    fn new(fg: &FrameGpu, n: u32, layout: Layout, maps: usize) -> Result<Estimate> {
+    pub(crate) fn new(fg: &FrameGpu, n: u32, layout: Layout, maps: usize) -> Result<Estimate> {
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let split = super::estimate::split_weights(n, maps / (n * n) as usize);
         let split_buffer = readback::storage_buffer(fg.ctx, "estimate split", &split, wgpu::BufferUsages::empty());
@@ -457,7 +480,7 @@ impl Estimate {
         Ok(Estimate { pass: crate::stages::estimate::EstimatePass::new(fg.ctx, fg.map_access())?, layout, split, split_buffer, sums })
     }
 
-    fn clear(&self, fg: &FrameGpu) -> Result<()> {
+    pub(crate) fn clear(&self, fg: &FrameGpu) -> Result<()> {
         let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&self.sums, 0, None);
         fg.ctx.queue.submit([enc.finish()]);
@@ -465,9 +488,9 @@ impl Estimate {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn record(&self, fg: &FrameGpu, timer: &mut StageTimer, samples: &wgpu::Buffer, weights: &wgpu::Buffer, maps: &wgpu::TextureView, first: u32, count: u32) -> Result<()> {
+    fn record(&self, fg: &FrameGpu, timer: &mut StageTimer, frame: &wgpu::Buffer, samples: &wgpu::Buffer, weights: &wgpu::Buffer, maps: &wgpu::TextureView, first: u32, count: u32) -> Result<()> {
         let inputs = crate::stages::estimate::EstimateInputs {
-            frame: &fg.frame_buffer,
+            frame,
             samples,
             weights,
             split: &self.split_buffer,
@@ -480,17 +503,20 @@ impl Estimate {
         })
     }
 
-    fn read(&self, fg: &FrameGpu) -> Result<Vec<[f32; 4]>> {
+    pub(crate) fn read(&self, fg: &FrameGpu) -> Result<Vec<[f32; 4]>> {
         readback::read_buffer(fg.ctx, &self.sums, fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES)
     }
 
     /// The frame's prediction and the bound's picture from the sums.
-    fn predict(&self, fg: &FrameGpu, sums: &[[f32; 4]]) -> Result<(super::estimate::Prediction, image::RgbImage)> {
-        let g = crate::render::gbuffer::read_back(fg.ctx, &fg.gbuffer)?;
-        let geometry: Vec<bool> = (0..sums.len()).map(|i| g.is_geometry(i)).collect();
-        let (prediction, bound) = super::estimate::predict(sums, &geometry, self.layout)?;
-        Ok((prediction, super::estimate::bound_picture(&bound, &geometry, fg.gbuffer.width, fg.gbuffer.height)?))
+    pub(crate) fn predict(&self, sums: &[[f32; 4]], geometry: &[bool]) -> Result<(super::estimate::Prediction, Vec<f32>)> {
+        super::estimate::predict(sums, geometry, self.layout)
     }
+}
+
+/// The frame's geometry pixels, read back from the G-buffer.
+pub(crate) fn geometry_mask(fg: &FrameGpu) -> Result<Vec<bool>> {
+    let g = crate::render::gbuffer::read_back(fg.ctx, &fg.gbuffer)?;
+    Ok((0..g.position.len()).map(|i| g.is_geometry(i)).collect())
 }
 
 #[cfg(test)]

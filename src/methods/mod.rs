@@ -6,6 +6,7 @@
 //! The frame driver (src/frame.rs) runs any of them without knowing which.
 
 pub mod adaptive;
+pub mod auto;
 pub mod cascades;
 pub mod environment;
 pub mod estimate;
@@ -104,6 +105,7 @@ pub const REGISTRY: &[&MethodInfo] = &[
     &filtered::CSM,
     &fixed_samples::REGULAR,
     &adaptive::INFO,
+    &auto::INFO,
     &environment::pixels::INFO,
     &environment::shadowmaps::INFO,
     &ssao::INFO,

@@ -6,6 +6,7 @@ pub mod bench;
 pub mod cascades;
 pub mod compare;
 pub mod environment;
+pub mod estimate;
 pub mod failures;
 pub mod framing;
 pub mod frontier;

@@ -29,6 +29,7 @@ pub fn cascades_svg(scene: &str, points: &[CascadePoint]) -> Result<String, Char
         series,
         connect: true,
         front: None,
+        front_label: "Pareto front",
         x_log: false,
         y_log: true,
     })

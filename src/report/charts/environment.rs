@@ -50,7 +50,7 @@ pub fn env_chart_svg(rows: &[ResultRow], axis: EnvAxis) -> Result<String, ChartE
         EnvAxis::Time => ("Environment: error against time", "median frame time, ms, wall clock (log scale)"),
         EnvAxis::Samples => ("Environment: error against samples", "light samples: pixel lights, median-cut maps or quadtree leaves (log scale)"),
     };
-    render(&Scatter { title: title.into(), x_desc: x_desc.into(), y_desc: "RMSE of V (log scale)".into(), series, connect: true, front: None, x_log: true, y_log: true })
+    render(&Scatter { title: title.into(), x_desc: x_desc.into(), y_desc: "RMSE of V (log scale)".into(), series, connect: true, front: None, front_label: "Pareto front", x_log: true, y_log: true })
 }
 
 #[cfg(test)]

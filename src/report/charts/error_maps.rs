@@ -34,6 +34,7 @@ pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         series,
         connect: true,
         front: None,
+        front_label: "Pareto front",
         x_log: true,
         y_log: true,
     })

@@ -51,6 +51,7 @@ pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         series,
         connect: false,
         front,
+        front_label: "Pareto front",
         x_log: true,
         y_log: true,
     })

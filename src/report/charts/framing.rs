@@ -44,6 +44,7 @@ pub fn framing_svg(points: &[WidthPoint], axis: WidthAxis) -> Result<String, Cha
         series,
         connect: true,
         front: None,
+        front_label: "Pareto front",
         x_log: true,
         y_log,
     })

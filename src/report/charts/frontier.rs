@@ -54,6 +54,7 @@ pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, Cha
         series,
         connect: false,
         front: Some(pareto_steps(&pts, &pareto_front(&pts))),
+        front_label: "Pareto front",
         x_log: true,
         y_log: true,
     })

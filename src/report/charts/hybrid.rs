@@ -32,6 +32,7 @@ pub fn error_memory_svg(points: &[MemoryPoint]) -> Result<String, ChartError> {
         series,
         connect: true,
         front: None,
+        front_label: "Pareto front",
         x_log: true,
         y_log: false,
     })

@@ -48,6 +48,7 @@ pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         series,
         connect: true,
         front: None,
+        front_label: "Pareto front",
         x_log: true,
         y_log: false,
     })

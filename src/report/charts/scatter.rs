@@ -41,6 +41,8 @@ pub(super) struct Scatter {
     pub connect: bool,
     /// Path drawn as the Pareto front, if any.
     pub front: Option<Vec<(f64, f64)>>,
+    /// The path's legend entry.
+    pub front_label: &'static str,
     /// Log axes are used only when asked *and* every value on that axis is > 0.
     pub x_log: bool,
     pub y_log: bool,
@@ -175,7 +177,7 @@ where
             chart
                 .draw_series(LineSeries::new(path.iter().copied(), style))
                 .map_err(plot_err)?
-                .label("Pareto front")
+                .label(spec.front_label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
         }
         // Label spots for every labelled point of every series at once, so no two collide.

@@ -35,6 +35,7 @@ pub fn per_frame_svg(title: &str, y_desc: &str, series: &[FrameSeries]) -> Resul
         series,
         connect: true,
         front: None,
+        front_label: "Pareto front",
         x_log: false,
         y_log: false,
     })

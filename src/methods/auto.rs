@@ -1,0 +1,253 @@
+//! auto: an error budget (docs/error-estimate.md §6). Frame by frame it chooses the sample count
+//! and the map size of the centred grid whose predicted RMSE of V (the estimate, no reference)
+//! meets `target`: it renders the current choice with the estimate, and while the prediction
+//! misses the target it raises whichever part of it is over its share, n for the sampling error
+//! and the map size for the maps' error. The choice carries over to the next frame and only
+//! rises, so a sequence's decisions do not flicker.
+
+use super::estimate::Prediction;
+use super::fixed_samples::{self, regular_points, Layout, Prepared};
+use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::gpu::timing::StageTimer;
+use crate::stages::FrameGpu;
+use crate::Result;
+use std::collections::BTreeMap;
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "auto",
+    family: Family::MultiSample,
+    summary: "error budget: the centred grid's n and map size chosen per frame until the predicted RMSE of V meets the target",
+    params: &[
+        Param { key: "target", default: "0.015", help: "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)" },
+        Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
+        Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
+    ],
+    parse: |p: &ParamMap| {
+        let target = check_range("auto", "target", get_f32(p, "target", 0.015)?, 0.0005, 0.5)?;
+        let max_n = check_range("auto", "max_n", get_u32(p, "max_n", 17)?, 2, 32)?;
+        let max_size = get_u32(p, "max_size", 2048)?;
+        if !SIZES.contains(&max_size) {
+            return Err(crate::Error::Param(format!("auto: max_size = {max_size}: use one of 256, 512, 1024, 2048")));
+        }
+        Ok(std::sync::Arc::new(Auto { target, max_n, max_size }))
+    },
+};
+
+/// The map sizes it steps through.
+pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
+/// The first frame's choice: the smallest grid with half sets in both axes at 512² maps.
+const START: (u32, u32) = (3, 512);
+/// At most this many tries in one frame (each a full render of a grid).
+const MAX_TRIES: usize = 8;
+/// Sampling error falls about as n^-1.5 on the scenes measured (docs/error-estimate.md §6).
+const SAMPLING_ORDER: f64 = 1.5;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Auto {
+    pub target: f32,
+    pub max_n: u32,
+    pub max_size: u32,
+}
+
+impl ShadowMethod for Auto {
+    fn name(&self) -> &'static str {
+        "auto"
+    }
+    fn label(&self) -> String {
+        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string())])
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size })
+    }
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::ON_A_RECTANGLE)
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        if fg.scene.render.maps == crate::scene::MapKind::Hybrid {
+            return Err(crate::Error::Param("auto: it chooses plain map sizes itself; it cannot run with maps = hybrid".into()));
+        }
+        crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
+        let start = (START.0.min(self.max_n), START.1.min(self.max_size));
+        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, last: None }))
+    }
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![crate::methods::sizes::visibility(scene, true, limits)]
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// One try of a frame: the grid, its maps and the prediction.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct Try {
+    pub n: u32,
+    pub map_size: u32,
+    pub maps: u32,
+    #[serde(flatten)]
+    pub prediction: Prediction,
+}
+
+pub struct AutoState {
+    method: Auto,
+    /// The grid the next frame starts with.
+    choice: (u32, u32),
+    /// The grid last tried: one at a time, as each may hold the whole map budget.
+    grid: Option<((u32, u32), Prepared)>,
+    /// The frame uniform of each map size.
+    frames: BTreeMap<u32, wgpu::Buffer>,
+    warned: bool,
+    /// The last frame's tries and its final bound (for the record and the picture).
+    last: Option<(Vec<Try>, Vec<f32>, Vec<bool>)>,
+}
+
+/// The next grid after a try that missed `target`, or None when nothing that can grow would
+/// reach it. The maps' error gets half the target's square while the map size can double; the
+/// sampling error gets the rest, and n grows to what its order says reaches that (at least one
+/// more). Where n is at its largest the maps take the excess; where the maps are at their
+/// largest and their error alone misses the target, nothing can reach it.
+pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
+    let share = target / std::f64::consts::SQRT_2;
+    let (can_n, can_size) = (n < max_n, size < max_size);
+    let mut grow_size = p.predicted_map > share && can_size;
+    if !can_size && p.predicted_map >= target {
+        return None;
+    }
+    let sampling_share = if grow_size { share } else { (target * target - p.predicted_map * p.predicted_map).sqrt() };
+    let grow_n = p.predicted_sampling > sampling_share && can_n;
+    if p.predicted_sampling > sampling_share && !can_n {
+        grow_size = can_size;
+    }
+    if !grow_n && !grow_size {
+        return None;
+    }
+    let n2 = if grow_n {
+        let want = n as f64 * (p.predicted_sampling / sampling_share).powf(1.0 / SAMPLING_ORDER);
+        (want.ceil() as u32).max(n + 1).min(max_n)
+    } else {
+        n
+    };
+    Some((n2, if grow_size { size * 2 } else { size }))
+}
+
+impl AutoState {
+    /// One grid rendered into V (cleared first) with the estimate; its prediction and bound.
+    fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
+        if !self.frames.contains_key(&size) {
+            let frame = crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame };
+            self.frames.insert(size, crate::gpu::readback::uniform_buffer(fg.ctx, "auto frame", &frame));
+        }
+        if self.grid.as_ref().is_none_or(|(key, _)| *key != (n, size)) {
+            // The previous grid's maps go before the next one's are allocated.
+            self.grid = None;
+            let frame = self.frames[&size].clone();
+            let mut grid = fixed_samples::prepare_sized(fg, &regular_points(n, Layout::Centred), size, Some(frame))?;
+            grid.estimate = Some(fixed_samples::Estimate::new(fg, n, Layout::Centred, grid.map_count())?);
+            self.grid = Some(((n, size), grid));
+        }
+        let grid = &mut self.grid.as_mut().expect("built above").1;
+        let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&fg.visibility, 0, None);
+        fg.ctx.queue.submit([enc.finish()]);
+        grid.reset(fg)?;
+        let out = grid.run(fg, timer, false)?;
+        let e = grid.estimate.as_ref().expect("built with the estimate");
+        timer.flush(fg.ctx);
+        let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
+        let (prediction, bound) = e.predict(&sums, geometry)?;
+        Ok((Try { n, map_size: size, maps: out.shadow_maps, prediction }, bound))
+    }
+}
+
+impl MethodState for AutoState {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(())
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+        let target = self.method.target as f64;
+        let geometry = timer.cpu(crate::gpu::Stage::READBACK, || fixed_samples::geometry_mask(fg))?;
+        let mut tries = Vec::new();
+        let mut bound;
+        loop {
+            let (t, b) = self.try_grid(fg, timer, &geometry, self.choice)?;
+            bound = b;
+            tries.push(t);
+            if t.prediction.predicted_rmse <= target || tries.len() == MAX_TRIES {
+                break;
+            }
+            match next_choice(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size) {
+                Some(next) => self.choice = next,
+                None => break,
+            }
+        }
+        let last = *tries.last().expect("one try at least");
+        let met = last.prediction.predicted_rmse <= target;
+        if !met && !self.warned {
+            self.warned = true;
+            crate::progress::suspend(|| {
+                eprintln!(
+                    "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the best predicted is {:.5} (regular:n={},layout=centred at {}² maps)",
+                    self.method.target, self.method.max_n, self.method.max_size, last.prediction.predicted_rmse, last.n, last.map_size
+                )
+            });
+        }
+        let maps: u32 = tries.iter().map(|t| t.maps).sum();
+        let mut record = serde_json::json!({
+            "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },
+            "target": target,
+            "target_met": met,
+            "tries": tries,
+            "predicted_rmse": last.prediction.predicted_rmse,
+            "predicted_sampling": last.prediction.predicted_sampling,
+            "predicted_map": last.prediction.predicted_map,
+        });
+        record["maps_rendered"] = maps.into();
+        self.last = Some((tries.clone(), bound, geometry));
+        Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new() })
+    }
+    fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
+        if let Some((_, bound, geometry)) = &self.last {
+            out.pictures.push(("error-bound.png".into(), super::estimate::bound_picture(bound, geometry, fg.gbuffer.width, fg.gbuffer.height)?));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(sampling: f64, map: f64) -> Prediction {
+        Prediction { predicted_rmse: (sampling * sampling + map * map).sqrt(), predicted_sampling: sampling, predicted_map: map }
+    }
+
+    #[test]
+    fn the_part_over_its_share_grows() {
+        // Maps well under their share: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
+        // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7.
+        let share = 0.01 / std::f64::consts::SQRT_2;
+        assert_eq!(next_choice(5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048), Some((7, 512)));
+        // Map error over its share: the map size doubles.
+        assert_eq!(next_choice(5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048), Some((5, 1024)));
+        // Both over.
+        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048), Some((4, 512)));
+        // Maps at their largest, their error under the target: n takes the rest of it.
+        // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2.
+        assert_eq!(next_choice(5, 2048, &p(0.006, 0.009), 0.01, 17, 2048), Some((7, 2048)));
+        // Maps at their largest and their error alone over the target: out of reach.
+        assert_eq!(next_choice(5, 2048, &p(0.001, 0.011), 0.01, 17, 2048), None);
+        // n at its largest: the maps take the excess.
+        assert_eq!(next_choice(17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), Some((17, 1024)));
+        // Nothing left to grow.
+        assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), None);
+    }
+
+    #[test]
+    fn parameters_are_checked() {
+        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target")] {
+            let e = super::super::Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} parsed")).to_string();
+            assert!(e.contains("auto") && e.contains(expect), "{spec}: {e}");
+        }
+        assert_eq!(super::super::Method::parse("auto:target=0.01", &[]).unwrap().label(), "auto:target=0.01");
+    }
+}

@@ -1,0 +1,255 @@
+//! `penumbra estimate` (docs/error-estimate.md §5): the error estimate checked against the truth.
+//! For each scene and grid setting one frame with `estimate = on`; its predicted RMSE against the
+//! RMSE measured with the continuous reference, its per-pixel bound against the true error, and
+//! its split against the maps' own error (V against the exact visibility at the grid's own
+//! points: the lattice reference for `regular:n=17`, else the mean of the point references).
+
+use crate::frame::{FrameOptions, Renderer};
+use crate::gpu::timing::TimingMode;
+use crate::gpu::GpuContext;
+use crate::methods::fixed_samples::{regular_points, FixedBuffers, Layout};
+use crate::methods::{estimate, Method};
+use crate::record::judge::Judge;
+use crate::reference::truth::{self, Cache};
+use crate::reference::ReferenceMode;
+use crate::report::charts::{estimate_svg, svg_to_png, EstimatePoint};
+use crate::scene::Scene;
+use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// The six settings of the check: centred grids from 9 to 81 maps at two map sizes, the lattice
+/// and the jittered grid (spec without `estimate`, map size).
+pub const DEFAULT_SETTINGS: [(&str, u32); 6] = [
+    ("regular:n=3,layout=centred", 512),
+    ("regular:n=5,layout=centred", 512),
+    ("regular:n=5,layout=centred", 1024),
+    ("regular:n=9,layout=centred", 1024),
+    ("regular:n=17", 512),
+    ("regular:n=8,layout=jittered", 512),
+];
+
+/// The band a frame's predicted/measured ratio must fall in (issue 23).
+pub const RATIO_BAND: (f64, f64) = (0.8, 1.25);
+
+/// One setting: a `regular` spec and a map size.
+#[derive(Clone, Debug)]
+pub struct Setting {
+    pub spec: String,
+    pub map_size: u32,
+}
+
+impl Setting {
+    /// `SPEC@SIZE`, e.g. `regular:n=5,layout=centred@1024`.
+    pub fn parse(text: &str) -> Result<Setting> {
+        let bad = |why: &str| Error::Param(format!("--settings `{text}`: {why}; give SPEC@SIZE, e.g. regular:n=5,layout=centred@1024"));
+        let (spec, size) = text.rsplit_once('@').ok_or_else(|| bad("no @SIZE"))?;
+        let map_size: u32 = size.parse().ok().filter(|s| (16..=8192).contains(s)).ok_or_else(|| bad("SIZE is not a map size in 16..=8192"))?;
+        let method = Method::parse(spec, &[]).map_err(|e| bad(&e.to_string()))?;
+        if method.name() != "regular" || method.params_json()["estimate"] == true || method.params_json()["cull"] == true {
+            return Err(bad("the estimate is built for `regular` grids (without cull; estimate = on is added)"));
+        }
+        if method.params_json()["n"] == 1 {
+            return Err(bad("n = 1 has no half sets to compare"));
+        }
+        Ok(Setting { spec: spec.to_string(), map_size })
+    }
+}
+
+/// One line of `estimate.jsonl`: one (scene, setting) pair.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct EstimateLine {
+    pub scene: String,
+    pub spec: String,
+    pub layout: String,
+    pub map_size: u32,
+    pub maps: u32,
+    pub measured_rmse: f64,
+    pub predicted_rmse: f64,
+    pub predicted_sampling: f64,
+    pub predicted_map: f64,
+    /// predicted / measured, and whether it lies in RATIO_BAND.
+    pub ratio: f64,
+    pub within: bool,
+    /// Share of geometry pixels whose |V − reference| is at most the bound.
+    pub bound_coverage: f64,
+    /// V against the exact visibility at the grid's points (the maps' error), and that against
+    /// the continuous reference (the sampling error); `exact` names the reference used.
+    pub measured_map: f64,
+    pub measured_sampling: f64,
+    pub exact: String,
+    pub resolution: [u32; 2],
+    pub reference: String,
+    pub adapter: String,
+}
+
+fn rms(a: &[f32], b: &[f32], mask: &[bool]) -> f64 {
+    let (sum, n) = a.iter().zip(b).zip(mask).filter(|(_, m)| **m).fold((0.0f64, 0usize), |(s, n), ((x, y), _)| {
+        let d = f64::from(*x) - f64::from(*y);
+        (s + d * d, n + 1)
+    });
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// The exact visibility at the grid's own points, and its name.
+fn exact_reference(scene: &Scene, g: &crate::render::gbuffer::GBufferCpu, n: u32, layout: Layout) -> Result<(Vec<f32>, String)> {
+    if n == 17 && layout == Layout::Lattice {
+        let image = truth::compute(scene, g, ReferenceMode::Lattice, &Cache::default_for(false))?;
+        return Ok((image.values, "lattice".into()));
+    }
+    let points = regular_points(n, layout);
+    let mut mean = vec![0.0f32; g.position.len()];
+    for &(s, t) in &points {
+        // Not cached: hundreds of one-point images would fill the cache for one study.
+        let image = truth::compute(scene, g, ReferenceMode::Point { s, t }, &Cache::Off)?;
+        for (m, v) in mean.iter_mut().zip(image.values) {
+            *m += v / points.len() as f32;
+        }
+    }
+    Ok((mean, format!("mean of {} point references", points.len())))
+}
+
+/// Runs every setting on `scene` (loaded with `sets`; each setting adds its map size).
+pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], settings: &[Setting], mode: ReferenceMode, cache: &Cache, log: &dyn Fn(&str)) -> Result<Vec<EstimateLine>> {
+    let base = Scene::load(name, sets)?;
+    let (g, reference) = truth::for_scene(ctx, &base, mode, cache)?;
+    let judge = Judge::new(&base, &g, reference.values.clone());
+    let mask: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
+    let mut lines = Vec::new();
+    for setting in settings {
+        let mut with_size = sets.to_vec();
+        with_size.push(("shadow_map_size".into(), setting.map_size.to_string()));
+        let scene = Scene::load(name, &with_size)?;
+        let method = Method::parse(&format!("{},estimate=on", setting.spec), &[])?;
+        let mut renderer = Renderer::new(ctx, &scene, &method)?;
+        let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+        let kept: FixedBuffers = renderer.inspect()?.ok_or_else(|| Error::Limit(format!("{}: no estimate sums", method.label())))?;
+        let params = method.params_json();
+        let layout = match params["layout"].as_str() {
+            Some("centred") => Layout::Centred,
+            Some("jittered") => Layout::Jittered,
+            _ => Layout::Lattice,
+        };
+        let n = params["n"].as_u64().unwrap_or(1) as u32;
+        let (p, bound) = estimate::predict(&kept.estimate_sums, &mask, layout)?;
+        let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
+        let covered = (0..mask.len()).filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i]).count();
+        let (exact, exact_name) = exact_reference(&scene, &g, n, layout)?;
+        let ratio = p.predicted_rmse / measured.max(1e-12);
+        let line = EstimateLine {
+            scene: scene.name.clone(),
+            spec: setting.spec.clone(),
+            layout: params["layout"].as_str().unwrap_or("lattice").to_string(),
+            map_size: setting.map_size,
+            maps: f.output.shadow_maps,
+            measured_rmse: measured,
+            predicted_rmse: p.predicted_rmse,
+            predicted_sampling: p.predicted_sampling,
+            predicted_map: p.predicted_map,
+            ratio,
+            within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
+            bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
+            measured_map: rms(&f.visibility, &exact, &mask),
+            measured_sampling: rms(&exact, &reference.values, &mask),
+            exact: exact_name,
+            resolution: [scene.render.width, scene.render.height],
+            reference: truth::mode_label(&reference.mode),
+            adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+        };
+        log(&format!(
+            "{} {} @{}: measured {:.5}, predicted {:.5} ({:.2}×), bound covers {:.1}%",
+            line.scene, line.spec, line.map_size, line.measured_rmse, line.predicted_rmse, line.ratio, 100.0 * line.bound_coverage
+        ));
+        lines.push(line);
+    }
+    Ok(lines)
+}
+
+/// `estimate.jsonl`, `estimate.md`, `charts/estimate.svg`/`.png` and `report.html`, as one set.
+pub fn files(lines: &[EstimateLine]) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut jsonl = String::new();
+    for l in lines {
+        jsonl += &serde_json::to_string(l).map_err(|e| Error::Io { path: "estimate.jsonl".into(), message: e.to_string() })?;
+        jsonl.push('\n');
+    }
+    let points: Vec<EstimatePoint> = lines
+        .iter()
+        .map(|l| EstimatePoint { layout: l.layout.clone(), label: format!("{} {}@{}", l.scene, short(&l.spec), l.map_size), measured: l.measured_rmse, predicted: l.predicted_rmse })
+        .collect();
+    let svg = estimate_svg(&points)?;
+    let md = markdown(lines);
+    let html = crate::report::md_page::page("Error estimate against the truth", &md, &[("Predicted against measured RMSE", &svg)]);
+    Ok(vec![
+        ("estimate.jsonl".to_string(), jsonl.into_bytes()),
+        ("estimate.md".to_string(), md.into_bytes()),
+        ("charts/estimate.png".to_string(), svg_to_png(&svg, 1.0)?),
+        ("charts/estimate.svg".to_string(), svg.into_bytes()),
+        ("report.html".to_string(), html.into_bytes()),
+    ])
+}
+
+/// `regular:n=5,layout=centred` → `n=5 centred`.
+fn short(spec: &str) -> String {
+    spec.trim_start_matches("regular:").replace(",layout=", " ")
+}
+
+/// The summary (pairs in the band, pixels covered) and one row per pair.
+pub fn markdown(lines: &[EstimateLine]) -> String {
+    let Some(first) = lines.first() else { return "# Error estimate against the truth\n\nNo pairs.\n".into() };
+    let within = lines.iter().filter(|l| l.within).count();
+    let covered = lines.iter().filter(|l| l.bound_coverage >= 0.9).count();
+    let mut s = format!(
+        "# Error estimate against the truth\n\n{} (scene, setting) pairs; {}x{} screen; reference {}; {}.\n\n\
+         - predicted/measured RMSE in [{}, {}]: **{} of {} pairs ({:.0}%)**;\n\
+         - the per-pixel bound covers the true error on at least 90% of geometry pixels: **{} of {} pairs**.\n\n",
+        lines.len(),
+        first.resolution[0],
+        first.resolution[1],
+        first.reference,
+        first.adapter,
+        RATIO_BAND.0,
+        RATIO_BAND.1,
+        within,
+        lines.len(),
+        100.0 * within as f64 / lines.len() as f64,
+        covered,
+        lines.len()
+    );
+    s += "| scene | setting | maps | measured | predicted | ratio | bound covers | sampling: predicted / measured | maps: predicted / measured |\n";
+    s += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for l in lines {
+        s += &format!(
+            "| {} | {} @{} | {} | {:.5} | {:.5} | {}{:.2}{} | {:.1}% | {:.5} / {:.5} | {:.5} / {:.5} |\n",
+            l.scene,
+            short(&l.spec),
+            l.map_size,
+            l.maps,
+            l.measured_rmse,
+            l.predicted_rmse,
+            if l.within { "" } else { "**" },
+            l.ratio,
+            if l.within { "" } else { "**" },
+            100.0 * l.bound_coverage,
+            l.predicted_sampling,
+            l.measured_sampling,
+            l.predicted_map,
+            l.measured_map
+        );
+    }
+    s += "\nMeasured split: sampling = exact visibility at the grid's points against the continuous reference; maps = V against that exact visibility (the lattice reference for n=17, else the mean of the point references).\n";
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Setting;
+
+    #[test]
+    fn settings_parse_and_refuse() {
+        let s = Setting::parse("regular:n=5,layout=centred@1024").unwrap();
+        assert_eq!((s.spec.as_str(), s.map_size), ("regular:n=5,layout=centred", 1024));
+        for bad in ["regular:n=5", "regular:n=5@big", "regular:n=5@8", "hard@512", "regular:n=1@512", "regular:n=3,cull=on@512", "regular:n=3,estimate=on@512", "regular:n=0@512"] {
+            let e = Setting::parse(bad).err().unwrap_or_else(|| panic!("{bad} parsed")).to_string();
+            assert!(e.contains(bad) && e.contains("SPEC@SIZE"), "{bad}: {e}");
+        }
+    }
+}
