@@ -124,6 +124,8 @@ impl<'a> Renderer<'a> {
         let band_rows = crate::methods::sizes::band_rows(scene, method, &ctx.limits());
         let mut force_timestamps = false;
         let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
+        // What the same method's last state remembered (auto's choice), handed to the new one.
+        let memory = kept.as_ref().filter(|k| k.method == *method).and_then(|k| k.memory.clone());
         if let Some(k) = kept {
             force_timestamps = k.force_timestamps;
             gbuffer_pass = Some(k.gbuffer_pass);
@@ -179,7 +181,10 @@ impl<'a> Renderer<'a> {
             scene_gpu,
             gbuffer,
         };
-        let state = method.build(&fg)?;
+        let mut state = method.build(&fg)?;
+        if let Some(m) = &memory {
+            state.recall(m);
+        }
         ctx.wait()?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
         let camera = camera_uniform(scene);
@@ -191,6 +196,7 @@ impl<'a> Renderer<'a> {
         let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility } = self.fg;
         Detached {
             device: ctx.device.clone(),
+            memory: self.state.memory(),
             method: self.method,
             gbuffer_pass: self.gbuffer_pass,
             maps: raster.access(scene.render.maps),
@@ -312,6 +318,8 @@ pub struct Detached {
     /// The device every kept object belongs to.
     device: wgpu::Device,
     method: Method,
+    /// The method state's memory across frames (`MethodState::memory`).
+    memory: Option<serde_json::Value>,
     gbuffer_pass: GBufferPass,
     /// `shade` was built for this map access, `raster` for this culling and budget.
     maps: MapAccess,

@@ -165,6 +165,8 @@ impl MethodState for AutoState {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         let target = self.method.target as f64;
+        // The G-buffer pass is recorded, not yet submitted: flush before reading it.
+        timer.flush(fg.ctx);
         let geometry = timer.cpu(crate::gpu::Stage::READBACK, || fixed_samples::geometry_mask(fg))?;
         let mut tries = Vec::new();
         let mut bound;
@@ -194,7 +196,7 @@ impl MethodState for AutoState {
         let maps: u32 = tries.iter().map(|t| t.maps).sum();
         let mut record = serde_json::json!({
             "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },
-            "target": target,
+            "target": self.method.target,
             "target_met": met,
             "tries": tries,
             "predicted_rmse": last.prediction.predicted_rmse,
@@ -204,6 +206,15 @@ impl MethodState for AutoState {
         record["maps_rendered"] = maps.into();
         self.last = Some((tries.clone(), bound, geometry));
         Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new() })
+    }
+    /// The choice, so the next frame of a sequence starts from it (and only rises from there).
+    fn memory(&self) -> Option<serde_json::Value> {
+        Some(serde_json::json!([self.choice.0, self.choice.1]))
+    }
+    fn recall(&mut self, memory: &serde_json::Value) {
+        if let (Some(n), Some(size)) = (memory[0].as_u64(), memory[1].as_u64()) {
+            self.choice = (n as u32, size as u32);
+        }
     }
     fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
         if let Some((_, bound, geometry)) = &self.last {

@@ -172,6 +172,13 @@ pub trait MethodState {
     fn finish(&mut self, _fg: &FrameGpu, _out: &mut MethodOutput) -> Result<()> {
         Ok(())
     }
+    /// What a state decided that the same method's next state should start from when a renderer
+    /// moves to the next frame of a sequence (its state is built again): auto's choice.
+    fn memory(&self) -> Option<serde_json::Value> {
+        None
+    }
+    /// Takes over what `memory` gave, before the first frame.
+    fn recall(&mut self, _memory: &serde_json::Value) {}
     /// Tests: from the next frame on, keep what a frame overwrites as it goes (each chunk's maps,
     /// each level's buffers) for `inspect`. It adds read-backs, so only the methods whose buffers
     /// do not outlive the frame implement it.

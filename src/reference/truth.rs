@@ -288,3 +288,28 @@ pub fn for_scene(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &C
     let image = compute(scene, &g, mode, cache)?;
     Ok((g, image))
 }
+
+/// The visibility of `scene` over `g` for each of `modes` (area lights only), uncached, with one
+/// tracer built for all of them: the estimate study's exact visibility at a grid's points is the
+/// mean of hundreds of point modes, and a million-triangle scene's BVH takes seconds to build.
+pub fn trace_modes(scene: &Scene, g: &GBufferCpu, modes: &[ReferenceMode]) -> Result<Vec<Vec<f32>>> {
+    if scene.environment.is_some() {
+        return Err(Error::Param("trace_modes: an environment scene's reference is `continuous`".into()));
+    }
+    let offset = ray_offset(scene);
+    let tracer = Tracer::new(&scene.triangles());
+    let points = surface_points(g);
+    let bar = progress::bar(modes.len() as u64, "exact visibility");
+    let images = modes
+        .iter()
+        .map(|mode| {
+            bar.inc(1);
+            Ok(match emitter_of(scene) {
+                None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), mode, offset, &|_| {})?,
+                Some(e) => reference::try_trace_emitter(&tracer, &points, &e, mode, offset, &|_| {})?,
+            })
+        })
+        .collect();
+    bar.finish_and_clear();
+    images
+}

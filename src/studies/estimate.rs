@@ -97,11 +97,11 @@ fn exact_reference(scene: &Scene, g: &crate::render::gbuffer::GBufferCpu, n: u32
         return Ok((image.values, "lattice".into()));
     }
     let points = regular_points(n, layout);
+    // Not cached: hundreds of one-point images would fill the cache for one study.
+    let modes: Vec<ReferenceMode> = points.iter().map(|&(s, t)| ReferenceMode::Point { s, t }).collect();
     let mut mean = vec![0.0f32; g.position.len()];
-    for &(s, t) in &points {
-        // Not cached: hundreds of one-point images would fill the cache for one study.
-        let image = truth::compute(scene, g, ReferenceMode::Point { s, t }, &Cache::Off)?;
-        for (m, v) in mean.iter_mut().zip(image.values) {
+    for image in truth::trace_modes(scene, g, &modes)? {
+        for (m, v) in mean.iter_mut().zip(image) {
             *m += v / points.len() as f32;
         }
     }

@@ -1,0 +1,76 @@
+//! `auto:target=T` (docs/error-estimate.md §6): it searches on its first frame, starts the next
+//! frame from its choice (also across a renderer moved to the next frame of a sequence), renders
+//! exactly the grid it names, and says when a target is out of reach.
+
+mod common;
+use penumbra::frame::{FrameOptions, Renderer};
+use penumbra::gpu::timing::TimingMode;
+use penumbra::methods::Method;
+use penumbra::scene::Scene;
+
+fn options() -> FrameOptions {
+    FrameOptions { mode: TimingMode::Frame, pictures: false }
+}
+
+#[test]
+fn auto_renders_its_choice_and_keeps_it() {
+    let ctx = common::gpu();
+    let sets = [("resolution".to_string(), "64".to_string())];
+    let scene = Scene::load("overlapping-occluders", &sets).unwrap();
+    let method = Method::parse("auto:target=0.03,max_size=1024", &[]).unwrap();
+    let mut r = Renderer::new(ctx, &scene, &method).unwrap();
+    let first = r.frame(options()).unwrap();
+    let rec = &first.output.record;
+    let tries = rec["tries"].as_array().unwrap();
+    println!("first frame: {}", serde_json::to_string(rec).unwrap());
+    assert!(tries.len() >= 2, "the start (3×3 at 512²) should miss 0.03 on this scene: {rec}");
+    assert_eq!(rec["target_met"], true, "{rec}");
+    let last = tries.last().unwrap();
+    assert!(last["predicted_rmse"].as_f64().unwrap() <= 0.03);
+    for t in &tries[..tries.len() - 1] {
+        assert!(t["predicted_rmse"].as_f64().unwrap() > 0.03, "it stops at the first try that meets the target: {rec}");
+    }
+    let (n, size) = (rec["chosen"]["n"].as_u64().unwrap(), rec["chosen"]["map_size"].as_u64().unwrap());
+    assert_eq!((last["n"].as_u64(), last["map_size"].as_u64()), (Some(n), Some(size)));
+    assert_eq!(first.output.shadow_maps as u64, tries.iter().map(|t| t["maps"].as_u64().unwrap()).sum::<u64>(), "every try's maps count");
+
+    // The next frame starts from the choice: one try, and V is the fixed grid's, bit for bit.
+    let second = r.frame(options()).unwrap();
+    assert_eq!(second.output.record["tries"].as_array().unwrap().len(), 1, "{}", second.output.record);
+    let mut fixed_sets = sets.to_vec();
+    fixed_sets.push(("shadow_map_size".into(), size.to_string()));
+    let fixed_scene = Scene::load("overlapping-occluders", &fixed_sets).unwrap();
+    let fixed = penumbra::frame::render(ctx, &fixed_scene, &Method::parse(&format!("regular:n={n},layout=centred"), &[]).unwrap(), options()).unwrap();
+    assert!(fixed.visibility == second.visibility, "auto's V is regular:n={n},layout=centred at {size}² maps");
+
+    // A renderer moved to the next frame of a sequence (its state built again) keeps the choice.
+    let moved = r.detach().attach(ctx, &scene).unwrap().frame(options()).unwrap();
+    let tries = moved.output.record["tries"].as_array().unwrap();
+    assert_eq!(tries.len(), 1, "{}", moved.output.record);
+    assert_eq!((tries[0]["n"].as_u64(), tries[0]["map_size"].as_u64()), (Some(n), Some(size)));
+}
+
+#[test]
+fn an_unreachable_target_says_so() {
+    let out = tempfile_dir("auto-unreachable");
+    let o = common::penumbra(&["render", "--scene", "overlapping-occluders", "--set", "resolution=64", "--method", "auto:target=0.001,max_n=3,max_size=256", "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("auto: target RMSE 0.001 is out of reach within n ≤ 3 and 256² maps: the best predicted is"), "{stderr}");
+    let run: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["method_record"]["target_met"], false);
+    assert_eq!(run["method_record"]["chosen"]["n"], 3);
+    assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
+    assert!(out.join("error-bound.png").is_file());
+    for (spec, expect) in [("auto:target=2", "target = 2 is outside"), ("auto:max_size=300", "max_size = 300")] {
+        let o = common::penumbra(&["render", "--scene", "overlapping-occluders", "--set", "resolution=64", "--method", spec, "--out", out.join("bad").to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{spec}: {stderr}");
+        assert!(stderr.contains(expect), "{spec}: {stderr}");
+        assert!(!out.join("bad").exists(), "{spec}: nothing written");
+    }
+}
+
+fn tempfile_dir(name: &str) -> std::path::PathBuf {
+    common::temp_dir(name).join("out")
+}
