@@ -43,6 +43,10 @@ pub struct FrontierArgs {
     /// Override a render setting, e.g. `--set resolution=128` (map sizes come from the grid).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Error-budget targets (RMSE of V): `auto:target=T` for each, measured beside the plain-512
+    /// settings and judged against the frontier of the fixed ones, e.g. `--budget 0.03,0.02,0.015`.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    budget: Vec<String>,
     /// Refuse a grid of more settings than N.
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
     max_configs: usize,
@@ -77,7 +81,17 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     axes.hybrid = hybrid;
     let budget = scene.render.shadow_map_budget_mib;
     plan::check_count(grid::count_of(&axes, budget), args.max_configs, "frontier")?;
-    let groups = grid::settings(&axes, budget)?;
+    let mut groups = grid::settings(&axes, budget)?;
+    let targets = grid::parse_budget(&args.budget)?;
+    if !targets.is_empty() {
+        // The budget chooses its own map sizes; it runs in the first plain group's window.
+        let group = groups.iter_mut().find(|g| g.maps.label().starts_with("plain")).ok_or_else(|| anyhow::anyhow!("--budget needs a plain map size in --sizes"))?;
+        for t in targets {
+            let spec = format!("auto:target={t}");
+            group.methods.push(penumbra::methods::Method::parse(&spec, &[])?);
+            group.specs.push(spec);
+        }
+    }
     if let Some(size) = axes.sizes.iter().find(|&&s| !grid::local_fits(s, budget)) {
         eprintln!("adaptive scope=local left out from {size}² up: 289 maps do not fit shadow_map_budget_mib = {budget} (raise it with --set to run them)");
     }

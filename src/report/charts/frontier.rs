@@ -1,6 +1,6 @@
 //! The frontier chart (docs/frontier.md): RMSE against median frame time on log axes for every
-//! fixed setting of one scene, the frontier as a staircase; adaptive settings (both scopes) lead
-//! the legend and, with the frontier's settings, carry labels (200 labels would hide the points).
+//! fixed setting of one scene, the frontier as a staircase; the error budget's rows and the adaptive
+//! settings (both scopes) lead the legend and, with the frontier's settings, carry labels (200 labels would hide the points).
 
 use super::pareto::{pareto_front, pareto_steps};
 use super::scatter::{push_point, render, Point, Scatter, Series};
@@ -19,14 +19,19 @@ pub struct FrontierPoint {
 
 /// Series order: adaptive first (the palette's strongest colours), then the rest as they come.
 fn rank(kind: &str) -> usize {
-    if kind.starts_with("adaptive local") {
+    if kind == BUDGET {
         0
-    } else if kind.starts_with("adaptive global") {
+    } else if kind.starts_with("adaptive local") {
         1
-    } else {
+    } else if kind.starts_with("adaptive global") {
         2
+    } else {
+        3
     }
 }
+
+/// The series of the error budget's rows: drawn and labelled, but not part of the staircase.
+const BUDGET: &str = "error budget";
 
 pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, ChartError> {
     let usable: Vec<&FrontierPoint> = points.iter().filter(|p| p.ms.is_finite() && p.ms > 0.0 && p.rmse.is_finite()).collect();
@@ -37,7 +42,7 @@ pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, Cha
     ordered.sort_by_key(|p| rank(&p.kind));
     let mut series: Vec<Series> = Vec::new();
     for p in &ordered {
-        let labelled = p.on_frontier || rank(&p.kind) < 2;
+        let labelled = p.on_frontier || rank(&p.kind) < 3;
         let point = Point {
             x: p.ms,
             y: p.rmse,
@@ -46,7 +51,7 @@ pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, Cha
         };
         push_point(&mut series, p.kind.clone(), point);
     }
-    let pts: Vec<(f64, f64)> = usable.iter().map(|p| (p.ms, p.rmse)).collect();
+    let pts: Vec<(f64, f64)> = usable.iter().filter(|p| p.kind != BUDGET).map(|p| (p.ms, p.rmse)).collect();
     render(&Scatter {
         title: format!("{scene}: every fixed setting, the frontier as a staircase"),
         x_desc: "median frame time (ms, wall clock), log scale; whiskers: min–max".into(),

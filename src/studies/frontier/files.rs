@@ -69,6 +69,22 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             l.rmse, l.setting(), l.maps, l.map_size, l.frame_ms, l.frame_ms_min, l.frame_ms_max, flip(l)
         );
     }
+    let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget()).collect();
+    if !budget.is_empty() {
+        s += "\n## The error budget against the frontier\n\n\
+              `auto:target=T` chooses its grid per frame from the estimate (no reference); its RMSE is \
+              measured, and its time set against the cheapest fixed setting that reaches the same RMSE.\n\n\
+              | setting | maps | RMSE | RMSE / target | median ms | cheapest fixed setting at this RMSE | its RMSE | its ms | time ratio |\n|---|---:|---:|---:|---:|---|---:|---:|---:|\n";
+        for l in budget {
+            let target: f64 = l.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok()).unwrap_or(f64::NAN);
+            let rival = l.beaten_by.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
+            let (name, e, t, ratio) = match rival {
+                Some(r) => (r.setting(), format!("{:.5}", r.rmse), format!("{:.1}", r.frame_ms), format!("{:.2}×", l.frame_ms / r.frame_ms)),
+                None => ("none reaches it".into(), "-".into(), "-".into(), "-".into()),
+            };
+            s += &format!("| {} | {} | {:.5} | {:.2} | {:.1} | {name} | {e} | {t} | {ratio} |\n", l.spec, l.maps, l.rmse, l.rmse / target, l.frame_ms);
+        }
+    }
     let adaptive: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_adaptive()).collect();
     if !adaptive.is_empty() {
         s += "\n## Adaptive and local refinement against the frontier\n\n\

@@ -177,6 +177,15 @@ pub fn local_fits(size: u32, budget_mib: u32) -> bool {
 
 /// The settings of one map configuration: method specs as written (a label may spell a preset
 /// out) and the methods parsed from them.
+/// `--budget T1,T2,…`: error-budget targets, each an RMSE of V in auto's range.
+pub fn parse_budget(list: &[String]) -> Result<Vec<f32>> {
+    list.iter()
+        .map(|t| {
+            t.trim().parse::<f32>().ok().filter(|v| (0.0005..=0.5).contains(v)).ok_or_else(|| Error::Param(format!("--budget `{t}`: a target RMSE of V in 0.0005..=0.5")))
+        })
+        .collect()
+}
+
 #[derive(Clone, Debug)]
 pub struct Group {
     pub maps: Maps,

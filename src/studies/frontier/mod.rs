@@ -74,9 +74,21 @@ impl FrontierLine {
     pub fn is_adaptive(&self) -> bool {
         self.kind.starts_with("adaptive")
     }
+
+    /// The error budget's rows (`--budget`): measured beside the fixed settings, judged against
+    /// their frontier, never on it.
+    pub fn is_budget(&self) -> bool {
+        self.kind == BUDGET
+    }
 }
 
+/// The kind of `auto:target=T` rows.
+pub const BUDGET: &str = "error budget";
+
 fn kind(m: &Method) -> String {
+    if m.name() == "auto" {
+        return BUDGET.into();
+    }
     if let Some(p) = m.adaptive_params() {
         return if p.scope == crate::methods::Scope::Local { "adaptive local".into() } else { "adaptive global".into() };
     }
@@ -89,14 +101,23 @@ fn kind(m: &Method) -> String {
     }
 }
 
-/// Marks the frontier and each line's nearest frontier setting, from the lines' own figures.
+/// Marks the frontier of the fixed settings and each line's nearest frontier setting, from the
+/// lines' own figures. A budget row's `beaten_by` is the cheapest fixed setting whose RMSE is at
+/// most its own (what it is judged against), faster or not.
 pub fn mark(lines: &mut [FrontierLine]) {
-    let points: Vec<(f64, f64)> = lines.iter().map(|l| (l.frame_ms, l.rmse)).collect();
+    // Budget rows get an infinite time here, so they neither join nor shape the frontier.
+    let points: Vec<(f64, f64)> = lines.iter().map(|l| (if l.is_budget() { f64::INFINITY } else { l.frame_ms }, l.rmse)).collect();
     let on = front::on_frontier(&points);
     let names: Vec<String> = lines.iter().map(FrontierLine::setting).collect();
     for (i, l) in lines.iter_mut().enumerate() {
-        l.on_frontier = on[i];
-        l.beaten_by = if on[i] { None } else { front::beaten_by(&points, &on, i).map(|j| names[j].clone()) };
+        l.on_frontier = on[i] && !l.is_budget();
+        l.beaten_by = if l.is_budget() {
+            front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && points[j].0.is_finite()).map(|j| names[j].clone())
+        } else if on[i] {
+            None
+        } else {
+            front::beaten_by(&points, &on, i).map(|j| names[j].clone())
+        };
     }
 }
 
