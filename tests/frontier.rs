@@ -16,6 +16,45 @@ fn penumbra(args: &[&str], cache: &Path) -> std::process::Output {
         .expect("run penumbra")
 }
 
+/// `--budget`: the error budget's row is measured beside the fixed settings, never joins their
+/// frontier, and is set against the cheapest fixed setting that reaches its RMSE.
+#[test]
+fn the_error_budget_against_the_frontier() {
+    let dir = temp_dir("frontier_budget");
+    let out = dir.join("out");
+    let o = ok(
+        penumbra(
+            &["frontier", "--scene", "overlapping-occluders", "--set", "resolution=64", "--n", "2,4", "--sizes", "64", "--hybrid", "none", "--repeats", "1", "--budget", "0.05", "--out", out.to_str().unwrap()],
+            &dir.join("cache"),
+        ),
+        "frontier --budget",
+    );
+    assert!(o.status.success());
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let budget: Vec<&serde_json::Value> = lines.iter().filter(|l| l["kind"] == "error budget").collect();
+    assert_eq!(budget.len(), 1, "one budget row");
+    let b = budget[0];
+    assert_eq!(b["spec"], "auto:target=0.05");
+    assert_eq!(b["on_frontier"], false);
+    let fixed: Vec<&serde_json::Value> = lines.iter().filter(|l| l["kind"] != "error budget").collect();
+    let rmse = |l: &serde_json::Value| l["rmse"].as_f64().unwrap();
+    let ms = |l: &serde_json::Value| l["frame_ms"].as_f64().unwrap();
+    // The fixed settings' frontier, recomputed without the budget row.
+    for l in &fixed {
+        let dominated = fixed.iter().any(|o| ms(o) <= ms(l) && rmse(o) <= rmse(l) && (ms(o) < ms(l) || rmse(o) < rmse(l)));
+        let duplicated = fixed.iter().filter(|o| ms(o) == ms(l) && rmse(o) == rmse(l)).count() > 1;
+        match l["on_frontier"].as_bool().unwrap() {
+            true => assert!(!dominated, "{l}"),
+            false => assert!(dominated || duplicated, "{l}"),
+        }
+    }
+    let cheapest = fixed.iter().filter(|l| rmse(l) <= rmse(b)).min_by(|a, c| ms(a).total_cmp(&ms(c)));
+    let name = |l: &serde_json::Value| format!("{} @ {}", l["spec"].as_str().unwrap(), l["map_config"].as_str().unwrap());
+    assert_eq!(b["beaten_by"].as_str().map(str::to_string), cheapest.map(|l| name(l)), "{b}");
+    let md = std::fs::read_to_string(out.join("frontier.md")).unwrap();
+    assert!(md.contains("## The error budget against the frontier") && md.contains("| auto:target=0.05 |"), "{md}");
+}
+
 /// The documented small run: n in {2, 3}, plain maps 64² and 128², hybrid 128→64, one timed frame.
 #[test]
 fn a_thinned_frontier_on_a_small_scene() {
@@ -96,6 +135,7 @@ fn bad_frontier_input_is_refused_with_no_output() {
         ("thin and full", vec!["--thin", "--full"], "--thin and --full"),
         ("repeats 0", vec!["--repeats", "0"], "--repeats must be in 1..=1000, got 0"),
         ("reference mode", vec!["--reference", "exact"], "reference mode `exact`"),
+        ("budget out of range", vec!["--budget", "0.9"], "--budget `0.9`: a target RMSE of V in 0.0005..=0.5"),
         ("max configs", vec!["--thin", "--max-configs", "10"], "frontier: 75 configurations, more than --max-configs 10; pass --max-configs 75"),
     ] {
         let mut args = vec!["frontier", "--out", out.to_str().unwrap()];
