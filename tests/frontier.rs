@@ -53,6 +53,8 @@ fn the_error_budget_against_the_frontier() {
     assert_eq!(b["beaten_by"].as_str().map(str::to_string), cheapest.map(|l| name(l)), "{b}");
     let md = std::fs::read_to_string(out.join("frontier.md")).unwrap();
     assert!(md.contains("## The error budget against the frontier") && md.contains("| auto:target=0.05 |"), "{md}");
+    let ladder = md.split("## The frontier: the cheapest").nth(1).and_then(|t| t.split("\n## ").next()).unwrap();
+    assert!(!ladder.contains("auto:"), "the ladder is the fixed settings' frontier: {ladder}");
 }
 
 /// The documented small run: n in {2, 3}, plain maps 64² and 128², hybrid 128→64, one timed frame.
