@@ -61,7 +61,7 @@ fn an_unreachable_target_says_so() {
     assert_eq!(run["method_record"]["target_met"], false);
     assert_eq!(run["method_record"]["chosen"]["n"], 3);
     assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
-    assert!(out.join("error-bound.png").is_file());
+    assert!(out.join("error-bound.png").is_file() && out.join("error-bound.exr").is_file());
     for (spec, expect) in [("auto:target=2", "target = 2 is outside"), ("auto:max_size=300", "max_size = 300")] {
         let o = common::penumbra(&["render", "--scene", "overlapping-occluders", "--set", "resolution=64", "--method", spec, "--out", out.join("bad").to_str().unwrap()]);
         let stderr = String::from_utf8_lossy(&o.stderr);

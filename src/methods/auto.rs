@@ -68,7 +68,7 @@ impl ShadowMethod for Auto {
         }
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
-        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, last: None }))
+        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -97,8 +97,6 @@ pub struct AutoState {
     /// The frame uniform of each map size.
     frames: BTreeMap<u32, wgpu::Buffer>,
     warned: bool,
-    /// The last frame's tries and its final bound (for the record and the picture).
-    last: Option<(Vec<Try>, Vec<f32>, Vec<bool>)>,
 }
 
 /// The next grid after a try that missed `target`, or None when nothing that can grow would
@@ -131,8 +129,8 @@ pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, m
 }
 
 impl AutoState {
-    /// One grid rendered into V (cleared first) with the estimate; its prediction and bound.
-    fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
+    /// The grid (n, size) with the estimate, built unless it is the one held.
+    fn hold(&mut self, fg: &FrameGpu, (n, size): (u32, u32)) -> Result<()> {
         if !self.frames.contains_key(&size) {
             let frame = crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame };
             self.frames.insert(size, crate::gpu::readback::uniform_buffer(fg.ctx, "auto frame", &frame));
@@ -145,6 +143,12 @@ impl AutoState {
             grid.estimate = Some(fixed_samples::Estimate::new(fg, n, Layout::Centred, grid.map_count())?);
             self.grid = Some(((n, size), grid));
         }
+        Ok(())
+    }
+
+    /// One grid rendered into V (cleared first) with the estimate; its prediction and bound.
+    fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
+        self.hold(fg, (n, size))?;
         let grid = &mut self.grid.as_mut().expect("built above").1;
         let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&fg.visibility, 0, None);
@@ -160,8 +164,10 @@ impl AutoState {
 }
 
 impl MethodState for AutoState {
-    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
-        Ok(())
+    /// The grid the frame starts with is built before the clock, as a fixed method's is; only the
+    /// grids a search moves on to are built inside the frame.
+    fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
+        self.hold(fg, self.choice)
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         let target = self.method.target as f64;
@@ -204,8 +210,7 @@ impl MethodState for AutoState {
             "predicted_map": last.prediction.predicted_map,
         });
         record["maps_rendered"] = maps.into();
-        self.last = Some((tries.clone(), bound, geometry));
-        Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new() })
+        Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new(), bound: Some(bound) })
     }
     /// The choice, so the next frame of a sequence starts from it (and only rises from there).
     fn memory(&self) -> Option<serde_json::Value> {
@@ -216,12 +221,7 @@ impl MethodState for AutoState {
             self.choice = (n as u32, size as u32);
         }
     }
-    fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
-        if let Some((_, bound, geometry)) = &self.last {
-            out.pictures.push(("error-bound.png".into(), super::estimate::bound_picture(bound, geometry, fg.gbuffer.width, fg.gbuffer.height)?));
-        }
-        Ok(())
-    }
+
 }
 
 #[cfg(test)]

@@ -73,13 +73,6 @@ pub fn predict(sums: &[[f32; 4]], geometry: &[bool], layout: Layout) -> Result<(
     Ok((p, bound))
 }
 
-/// The bound as a picture (magma over [0, 0.25], legend below), as the error images are drawn.
-pub fn bound_picture(bound: &[f32], geometry: &[bool], width: u32, height: u32) -> Result<image::RgbImage> {
-    let zeros = vec![0.0f32; bound.len()];
-    crate::metrics::abs_error_image(bound, &zeros, geometry, width, height, 0.25)
-        .map_err(|e| crate::Error::Limit(format!("estimate: bound picture: {e}")))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -285,6 +285,7 @@ impl MethodState for State {
             syncs: 0,
             record: serde_json::json!({ "blur_radius_texels": self.filter.blur_radius, "planes": self.filter.layers }),
             pictures: Vec::new(),
+            bound: None,
         })
     }
     /// [`SingleMapBuffers`]: the map and the statistic after each filter stage.

@@ -147,7 +147,6 @@ impl MethodState for Prepared {
         let sums = e.read(fg)?;
         let geometry = geometry_mask(fg)?;
         let (prediction, bound) = e.predict(&sums, &geometry)?;
-        let picture = super::estimate::bound_picture(&bound, &geometry, fg.gbuffer.width, fg.gbuffer.height)?;
         // Kept for `inspect` (the twin test, and the estimate study's per-pixel bound).
         let kept = self.kept.get_or_insert_with(FixedBuffers::default);
         kept.estimate_sums = sums;
@@ -156,7 +155,7 @@ impl MethodState for Prepared {
         for (k, v) in fields.as_object().into_iter().flatten() {
             out.record[k] = v.clone();
         }
-        out.pictures.push(("error-bound.png".into(), picture));
+        out.bound = Some(bound);
         Ok(())
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
@@ -359,6 +358,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         syncs,
         record,
         pictures: Vec::new(),
+        bound: None,
     });
     *kept = buffers;
     out
@@ -431,6 +431,7 @@ fn run_hybrid(
         syncs: maps.stats.syncs,
         record: serde_json::json!({ "maps_per_chunk": layers, "chunks": maps.stats.flushes, "hybrid": maps.record() }),
         pictures: Vec::new(),
+        bound: None,
     });
     *kept = cap;
     out

@@ -39,6 +39,9 @@ pub struct MethodOutput {
     pub syncs: u32,
     pub record: serde_json::Value,
     pub pictures: Vec<(String, image::RgbImage)>,
+    /// The error estimate's per-pixel bound on |V − V_true| (`estimate = on`, `auto`), which the
+    /// run files draw as `error-bound.png` and keep as `error-bound.exr`.
+    pub bound: Option<Vec<f32>>,
 }
 
 /// The families the charts and tables group methods by.

@@ -200,6 +200,7 @@ impl MethodState for State {
             syncs: self.map.syncs(),
             record: self.map.with_record(serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps })),
             pictures: Vec::new(),
+            bound: None,
         })
     }
     /// [`SingleMapBuffers`]: the map and the kernel pcf read.

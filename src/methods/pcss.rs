@@ -87,6 +87,7 @@ impl MethodState for State {
             syncs: self.map.syncs(),
             record: self.map.with_record(serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] })),
             pictures: Vec::new(),
+            bound: None,
         })
     }
     /// [`SingleMapBuffers`]: the map pcss read.

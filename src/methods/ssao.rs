@@ -77,6 +77,7 @@ impl MethodState for State {
             syncs: 0,
             record: serde_json::json!({ "samples": s.params.light_count, "radius_world": s.params.radius }),
             pictures: Vec::new(),
+            bound: None,
         })
     }
     /// [`SsaoBuffers`].

@@ -168,6 +168,14 @@ pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Adap
     for (name, img) in &r.output.pictures {
         files.push((name.clone(), png(img)?));
     }
+    if let Some(bound) = &r.output.bound {
+        // The error estimate's bound on |V − V_true|, drawn as the error images are (magma, 0..0.25).
+        let mask: Vec<bool> = (0..bound.len()).map(|i| r.gbuffer.is_geometry(i)).collect();
+        let zeros = vec![0.0f32; bound.len()];
+        let picture = crate::metrics::abs_error_image(bound, &zeros, &mask, w, h, 0.25).map_err(|e| Error::Limit(format!("error-bound.png: {e}")))?;
+        files.push(("error-bound.png".to_string(), png(&picture)?));
+        files.push(("error-bound.exr".to_string(), visibility_exr(bound, w, h)?));
+    }
     let mut record = run_record(scene, method, r, adapter, ts);
     record["warm_up_frames"] = warm_up_frames.into();
     let json = serde_json::to_vec_pretty(&record).map_err(|e| Error::Io { path: "run.json".into(), message: e.to_string() })?;

@@ -396,7 +396,7 @@ fn output(fx: &Frame, trace: &AdaptiveTrace, syncs: u32, store: &MapStore, consu
     }
     // A point light's lattice sample is its cube's six maps.
     let maps = trace.rendered.len() as u32 * super::faces_per_sample(&trace.samples).max(1);
-    MethodOutput { shadow_maps: maps, syncs, record, pictures }
+    MethodOutput { shadow_maps: maps, syncs, record, pictures, bound: None }
 }
 
 /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode) on

@@ -291,7 +291,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
         frame::shade(&fx, timer)?;
     }
     // shadow_maps and the record come in `finish`, after the frame.
-    let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new() };
+    let out = MethodOutput { shadow_maps: 0, syncs: 0, record: serde_json::Value::Null, pictures: Vec::new(), bound: None };
     Ok((out, Pending { reads: steered.reads, weights_at, pictures }))
 }
 

@@ -226,7 +226,7 @@ impl MethodState for State {
             self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &inputs, &fg.visibility);
             Ok(())
         })?;
-        Ok(MethodOutput { shadow_maps: self.method.n, syncs: 0, record: self.placement.record(&self.method), pictures: Vec::new() })
+        Ok(MethodOutput { shadow_maps: self.method.n, syncs: 0, record: self.placement.record(&self.method), pictures: Vec::new(), bound: None })
     }
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         let maps = (0..self.method.n).map(|i| readback::read_texture(fg.ctx, &self.array.texture, i, 4)).collect::<Result<Vec<Vec<f32>>>>()?;

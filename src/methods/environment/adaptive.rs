@@ -344,6 +344,7 @@ impl MethodState for State {
                 "levels": levels,
             }),
             pictures,
+            bound: None,
         })
     }
     fn keep_intermediates(&mut self) {

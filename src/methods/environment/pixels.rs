@@ -219,6 +219,7 @@ impl MethodState for RayLights {
                 Some(v) => serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
             },
             pictures: if pictures { self.pictures.clone() } else { Vec::new() },
+            bound: None,
         })
     }
     /// [`EnvTraceBuffers`].

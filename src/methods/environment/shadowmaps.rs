@@ -254,6 +254,7 @@ impl MethodState for State {
             syncs: 0,
             record: serde_json::json!({ "samples": k, "lights": k, "filter": KERNELS[self.filter.kind as usize], "pcf_taps": self.filter.taps.pow(if self.filter.kind <= 1 { 2 } else { 1 }), "ssao": self.ssao.is_some() }),
             pictures: if pictures { vec![("panorama_lights.png".into(), self.picture.clone())] } else { Vec::new() },
+            bound: None,
         })
     }
     /// [`EnvShadowmapsBuffers`]: every light's map, and the ambient occlusion where it is on.
