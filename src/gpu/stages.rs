@@ -169,6 +169,9 @@ const TEST_LOCAL: &[(&str, u32)] = &[
 const COMPACT_MAIN: &[(&str, u32)] = &[
     ("frame", 0), ("level", 1), ("items", 2), ("counts", 3), ("split_base", 4), ("next_items", 5), ("control", 6), ("visibility_fixed", 7), ("next_quads", 8), ("samples", 9), ("rects", 10), ("gbuffer_position", 11), ("gbuffer_normal", 12), ("item_total", 14), ("probes", 16), ("tiles", 17),
 ];
+const ESTIMATE_BLOCK: &[(&str, u32)] = &[
+    ("frame", 0), ("block_samples", 1), ("block_weights", 2), ("block_split", 3), ("gbuffer_position", 4), ("gbuffer_normal", 5), ("shadow_maps", 6), ("sums", 7), ("tile_list", 8),
+];
 const BLUR: &[(&str, u32)] = &[("frame", 0), ("settings", 1), ("source", 2), ("destination", 3)];
 
 stage_table! {
@@ -188,7 +191,11 @@ stage_table! {
     ];
     /// The sums of the error estimate of a fixed sample set (docs/error-estimate.md).
     ESTIMATE = "estimate" kernel { reads_maps: true }, Some(Shade), [
-        compute("main", PIXEL, &[("frame", 0), ("range", 1), ("samples", 2), ("weights", 3), ("split", 4), ("gbuffer_position", 5), ("gbuffer_normal", 6), ("shadow_maps", 7), ("sums", 8)]),
+        compute("block16", PIXEL, ESTIMATE_BLOCK),
+        compute("block8", PIXEL, ESTIMATE_BLOCK),
+        compute("block4", PIXEL, ESTIMATE_BLOCK),
+        compute("block2", PIXEL, ESTIMATE_BLOCK),
+        compute("block1", PIXEL, ESTIMATE_BLOCK),
     ];
     /// Adaptive's map lookups: lit bits of each pixel's lattice mask.
     SHADOW_TEST = "shadow_test" kernel { reads_maps: true }, Some(Shade), [

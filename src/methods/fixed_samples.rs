@@ -496,6 +496,7 @@ impl Estimate {
             weights,
             split: &self.split_buffer,
             gbuffer: &fg.gbuffer,
+            tiles: &fg.geometry_tiles,
             sums: &self.sums,
         };
         timer.stage(fg.ctx, Stage::ESTIMATE, |enc| {

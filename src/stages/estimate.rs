@@ -1,10 +1,12 @@
 //! estimate: adds one range of a fixed sample set's maps to the per-pixel sums of the error
-//! estimate (kernels/estimate.wgsl; what they mean: docs/error-estimate.md).
+//! estimate (kernels/estimate.wgsl; what they mean: docs/error-estimate.md). Blocks of samples in
+//! sample order, as shade adds them (`shade::blocks`), one workgroup per geometry tile.
 
-use super::shade::GeometryTiles;
-use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use super::shade::{blocks, GeometryTiles, BLOCK_SIZES, SHADE_BLOCK};
+use super::ComputeKernel;
 use crate::gpu::kernels::MapAccess;
-use crate::gpu::{readback, GpuContext, Stage};
+use crate::gpu::structs::GpuSample;
+use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
@@ -12,7 +14,8 @@ use crate::Result;
 pub const SUM_BYTES: u64 = 16;
 
 pub struct EstimatePass {
-    kernel: ComputeKernel,
+    /// One kernel per entry of `shade::BLOCK_SIZES`.
+    blocks: Vec<ComputeKernel>,
 }
 
 /// What every range reads and the sums it adds to.
@@ -23,37 +26,61 @@ pub struct EstimateInputs<'a> {
     /// Each sample's signed weights in the column and row half-set differences (vec2 of f32).
     pub split: &'a wgpu::Buffer,
     pub gbuffer: &'a GBuffer,
+    pub tiles: &'a GeometryTiles,
     pub sums: &'a wgpu::Buffer,
 }
 
 impl EstimatePass {
     /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
     pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::ESTIMATE, "main", maps)? })
+        Ok(Self {
+            blocks: BLOCK_SIZES.iter().map(|size| ComputeKernel::new_for(ctx, Stage::ESTIMATE, &format!("block{size}"), maps)).collect::<Result<_>>()?,
+        })
     }
 
     /// Adds samples `first .. first + count` (all in `maps`) to the sums. The sums are bound
     /// whole, so the frame must be one band (`check_bands`).
     #[allow(clippy::too_many_arguments)]
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &EstimateInputs, maps: &wgpu::TextureView, first: u32, count: u32) {
-        let range = readback::uniform_buffer(ctx, "estimate range", &[first, count, 0, 0]);
-        self.kernel.dispatch(
-            ctx,
-            enc,
-            &[
-                ("frame", inputs.frame.as_entire_binding()),
-                ("range", range.as_entire_binding()),
-                ("samples", inputs.samples.as_entire_binding()),
-                ("weights", inputs.weights.as_entire_binding()),
-                ("split", inputs.split.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
-                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                ("sums", inputs.sums.as_entire_binding()),
-            ],
-            Dispatch::Direct([groups(inputs.gbuffer.width, PIXEL_WORKGROUP[0]), groups(inputs.gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
-        );
+        let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
+        let band = &inputs.tiles.bands[0];
+        for (block, size) in blocks(first, count) {
+            let kernel = &self.blocks[BLOCK_SIZES.iter().position(|&s| s == size).expect("a block size")];
+            // The block's samples, weights and splits as uniforms read at constant offsets.
+            let samples = block_uniform(ctx, "estimate block samples", SHADE_BLOCK as u64 * sample_bytes);
+            let weights = block_uniform(ctx, "estimate block weights", SHADE_BLOCK as u64 * 4);
+            let split = block_uniform(ctx, "estimate block split", SHADE_BLOCK as u64 * 8);
+            enc.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &samples, 0, size as u64 * sample_bytes);
+            enc.copy_buffer_to_buffer(inputs.weights, block as u64 * 4, &weights, 0, size as u64 * 4);
+            enc.copy_buffer_to_buffer(inputs.split, block as u64 * 8, &split, 0, size as u64 * 8);
+            kernel.dispatch(
+                ctx,
+                enc,
+                &[
+                    ("frame", inputs.frame.as_entire_binding()),
+                    ("block_samples", samples.as_entire_binding()),
+                    ("block_weights", weights.as_entire_binding()),
+                    ("block_split", split.as_entire_binding()),
+                    ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
+                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
+                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
+                    ("sums", inputs.sums.as_entire_binding()),
+                    ("tile_list", band.tiles(inputs.tiles)),
+                ],
+                band.tiles_args(inputs.tiles),
+            );
+        }
     }
+}
+
+/// A uniform buffer that a block's copy fills.
+fn block_uniform(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 /// The sums are bound whole: a frame whose V is split into bands of rows is refused.

@@ -8,19 +8,17 @@ use glam::{Vec2, Vec3, Vec4};
 
 /// Twin of `bilinear`: the four texels around the lookup point, each compared against the limit
 /// moved along the receiver's slope by the tap's distance, weighted by the point's place between
-/// their centres.
+/// their centres; the same operations in the same order.
 pub fn bilinear(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, p: Vec3, n: Vec3) -> f32 {
     let uv = shadow_lookup_uv(frame, s, p, n);
     let slope = slope_per_texel(frame, s, p, n);
-    let base = (uv - Vec2::splat(0.5)).floor();
-    let frac = uv - Vec2::splat(0.5) - base;
-    let mut f = 0.0f32;
-    for c in 0..4u32 {
-        let t = base + Vec2::new((c & 1) as f32, (c >> 1) as f32) + Vec2::splat(0.5);
-        let tap = tap_lit(frame, s, map, limit - (t - uv).length() * slope, t);
-        let w = if c & 1 == 1 { frac.x } else { 1.0 - frac.x } * if c >> 1 == 1 { frac.y } else { 1.0 - frac.y };
-        f += w * tap;
-    }
+    let base = (uv - Vec2::splat(0.5)).floor() + Vec2::splat(0.5);
+    let frac = uv - base;
+    let tap = |t: Vec2| tap_lit(frame, s, map, limit - (t - uv).length() * slope, t);
+    let mut f = (1.0 - frac.x) * (1.0 - frac.y) * tap(base);
+    f += frac.x * (1.0 - frac.y) * tap(base + Vec2::new(1.0, 0.0));
+    f += (1.0 - frac.x) * frac.y * tap(base + Vec2::new(0.0, 1.0));
+    f += frac.x * frac.y * tap(base + Vec2::new(1.0, 1.0));
     f
 }
 
