@@ -2,7 +2,7 @@
 //! estimate (kernels/estimate.wgsl; what they mean: docs/error-estimate.md). Blocks of samples in
 //! sample order, as shade adds them (`shade::blocks`), one workgroup per geometry tile.
 
-use super::shade::{blocks, GeometryTiles, BLOCK_SIZES, SHADE_BLOCK};
+use super::shade::{block_uniform, blocks, GeometryTiles, BLOCK_SIZES, SHADE_BLOCK};
 use super::ComputeKernel;
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::GpuSample;
@@ -71,16 +71,6 @@ impl EstimatePass {
             );
         }
     }
-}
-
-/// A uniform buffer that a block's copy fills.
-fn block_uniform(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
-    ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 /// The sums are bound whole: a frame whose V is split into bands of rows is refused.

@@ -294,8 +294,8 @@ impl ShadePass {
     }
 }
 
-/// A zeroed uniform buffer that a block's copy fills.
-fn block_uniform(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+/// A zeroed uniform buffer that a block's copy fills (shade's and estimate's blocks).
+pub(super) fn block_uniform(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
     ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes,
