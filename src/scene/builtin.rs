@@ -18,13 +18,3 @@ pub fn builtin_names() -> Vec<&'static str> {
 pub fn embedded_mesh(file: &str) -> Option<&'static str> {
     MESH_FILES.iter().find(|(n, _)| *n == file).map(|(_, t)| *t)
 }
-
-/// The built-in scenes lit by an area light (not a panorama), read from their files alone, so
-/// no mesh or panorama has to be present.
-pub fn area_light_names() -> Vec<&'static str> {
-    BUILTIN_SCENES
-        .iter()
-        .filter(|(name, text)| super::format::parse(text, &format!("builtin:{name}"), &[]).is_ok_and(|d| d.environment.is_none()))
-        .map(|(n, _)| *n)
-        .collect()
-}

@@ -69,3 +69,13 @@ pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
         })
         .collect()
 }
+
+/// The built-in scenes lit by an area light (not a panorama), read from their files alone, so
+/// no mesh or panorama has to be present.
+pub fn area_light_names() -> Vec<&'static str> {
+    builtin::BUILTIN_SCENES
+        .iter()
+        .filter(|(name, text)| format::parse(text, &format!("builtin:{name}"), &[]).is_ok_and(|d| d.environment.is_none()))
+        .map(|(n, _)| *n)
+        .collect()
+}

@@ -23,8 +23,8 @@ pub(crate) mod rays;
 mod settings;
 mod subdivide;
 
-pub use builtin::{area_light_names, builtin_names, builtin_source, BUILTIN_SCENES};
-pub use catalog::{catalog, CatalogEntry};
+pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
+pub use catalog::{area_light_names, catalog, CatalogEntry};
 pub use emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
 pub use given::{settings_from_pairs, GivenMesh};
 pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow};
