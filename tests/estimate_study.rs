@@ -32,7 +32,7 @@ fn estimate_study_writes_its_set() {
     let md = std::fs::read_to_string(out.join("estimate.md")).unwrap();
     assert!(md.contains("| overlapping-occluders | n=3 centred @256 |"), "{md}");
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
-    assert!(html.contains("data:image/svg+xml") || html.contains("<svg"), "the chart is inline");
+    assert!(html.contains("src=\"data:image/svg+xml;base64,") && !html.contains("http://"), "the chart is a data URI, and nothing is named by address");
     assert!(!html.contains("src=\"http") && !html.contains("<script"), "self-contained");
     for f in ["charts/estimate.svg", "charts/estimate.png"] {
         assert!(out.join(f).is_file(), "{f}");

@@ -1,4 +1,4 @@
-//! A study's Markdown tables as one self-contained HTML page with its SVG charts inline: opens
+//! A study's Markdown tables as one self-contained HTML page with its SVG charts as data URIs: opens
 //! offline, no scripts, no links (the hybrid and frontier studies' `report.html`).
 
 /// `md`: `#`/`##` headings, paragraphs and pipe tables; `charts`: (heading, SVG) after the tables.
@@ -39,12 +39,13 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
         body += "</table>\n";
     }
     for (heading, svg) in charts {
-        body += &format!("<h2>{}</h2>\n<div class=\"chart\">{svg}</div>\n", esc(heading));
+        // As a data URI: the page names no resource, not even the SVG namespace.
+        body += &format!("<h2>{}</h2>\n<div class=\"chart\"><img src=\"{}\" alt=\"{}\"></div>\n", esc(heading), super::files::data_uri("image/svg+xml", svg.as_bytes()), esc(heading));
     }
     format!(
         "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>{}</title>\n<style>\
          body{{font-family:sans-serif;max-width:1100px;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}\
-         td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}th{{background:#eee}}.chart svg{{max-width:100%;height:auto}}\
+         td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}th{{background:#eee}}.chart img{{max-width:100%;height:auto}}\
          </style></head><body>\n{body}</body></html>\n",
         esc(title)
     )

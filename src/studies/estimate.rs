@@ -199,8 +199,8 @@ pub fn markdown(lines: &[EstimateLine]) -> String {
     let covered = lines.iter().filter(|l| l.bound_coverage >= 0.9).count();
     let mut s = format!(
         "# Error estimate against the truth\n\n{} (scene, setting) pairs; {}x{} screen; reference {}; {}.\n\n\
-         - predicted/measured RMSE in [{}, {}]: **{} of {} pairs ({:.0}%)**;\n\
-         - the per-pixel bound covers the true error on at least 90% of geometry pixels: **{} of {} pairs**.\n\n",
+         - predicted/measured RMSE in [{}, {}]: {} of {} pairs ({:.0}%);\n\
+         - the per-pixel bound covers the true error on at least 90% of geometry pixels: {} of {} pairs.\n\n",
         lines.len(),
         first.resolution[0],
         first.resolution[1],
@@ -218,16 +218,15 @@ pub fn markdown(lines: &[EstimateLine]) -> String {
     s += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
     for l in lines {
         s += &format!(
-            "| {} | {} @{} | {} | {:.5} | {:.5} | {}{:.2}{} | {:.1}% | {:.5} / {:.5} | {:.5} / {:.5} |\n",
+            "| {} | {} @{} | {} | {:.5} | {:.5} | {:.2}{} | {:.1}% | {:.5} / {:.5} | {:.5} / {:.5} |\n",
             l.scene,
             short(&l.spec),
             l.map_size,
             l.maps,
             l.measured_rmse,
             l.predicted_rmse,
-            if l.within { "" } else { "**" },
             l.ratio,
-            if l.within { "" } else { "**" },
+            if l.within { "" } else { " (out)" },
             100.0 * l.bound_coverage,
             l.predicted_sampling,
             l.measured_sampling,
