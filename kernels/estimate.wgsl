@@ -41,6 +41,10 @@ fn bilinear(s: GpuSample, lookup: ShadowLookup, p: vec3<f32>, n: vec3<f32>) -> f
     return f;
 }
 
+// The frame with doubled bias and normal offset, made once per invocation (estimate_block), not
+// once per sample.
+var<private> doubled: GpuFrame;
+
 // acc + sample j's four terms at p (normal n).
 fn add1(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
     let s = block_samples[j];
@@ -50,10 +54,6 @@ fn add1(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
     let lookup = shadow_lookup(frame, s, p, n);
     let v = f32(shadow_compare(s, lookup, map_depth(frame, shadow_maps, s, lookup.texel)));
     let f = select(v, bilinear(s, lookup, p, n), lookup.kind == LOOKUP_COMPARE);
-    var doubled = frame;
-    doubled.bias_constant = frame.bias_constant * 2.0;
-    doubled.bias_slope = frame.bias_slope * 2.0;
-    doubled.normal_offset = frame.normal_offset * 2.0;
     let wide = shadow_lookup(doubled, s, p, n);
     let v2 = f32(shadow_compare(s, wide, map_depth(frame, shadow_maps, s, wide.texel)));
     return vec4<f32>(acc.x + split.x * v, acc.y + split.y * v, acc.z + w * (v - f), acc.w + w * (v2 - v));
@@ -83,6 +83,10 @@ fn estimate_block(gid: vec3<u32>, count: u32) {
     let position = textureLoad(gbuffer_position, pixel, 0);
     let p = position.xyz;
     let n = textureLoad(gbuffer_normal, pixel, 0).xyz;
+    doubled = frame;
+    doubled.bias_constant = frame.bias_constant * 2.0;
+    doubled.bias_slope = frame.bias_slope * 2.0;
+    doubled.normal_offset = frame.normal_offset * 2.0;
     let index = gid.y * frame.width + gid.x;
     var acc = sums[min(index, arrayLength(&sums) - 1u)];
     switch (count) {
