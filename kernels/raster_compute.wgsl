@@ -13,8 +13,10 @@
 // Under the GPU-steered loop (`requested`), the chain's jobs and the dispatch sizes of `clear`, `main`
 // and `store` come from subdivide's request list, so only the maps a level asked for are cleared,
 // rasterized and stored, and nothing waits.
-// Work items are (triangle, map) pairs: `main` drops those of runs facing away (the scene's cull
-// mode), then sets each up and rejects it when its box holds no
+// Work items are (triangle, map) pairs. `main_maps` takes a triangle per invocation and loops over
+// the chain's maps, so its vertices are read once per chain, not once per map (`main`, a pair per
+// invocation, serves kept lists, which differ from map to map). Each pair of a run facing away
+// (the scene's cull mode) is dropped; the others are set up and rejected when their box holds no
 // texel centre; a small one (box at most RASTER_SMALL_SIDE² texels) is rasterized in its
 // invocation, a large one is queued for `large_tiles`, a workgroup per queued pair over tiles of
 // RASTER_LARGE_TILE² texels.
@@ -32,7 +34,8 @@ struct GpuRasterCompute {
     fence: u32,
     // `requested`: the first request of this chain (its index in the level's request list).
     first_request: u32,
-    pad1: u32,
+    // 1 under the GPU-steered loop: the chain's maps are its share of the requests (`chain_maps`).
+    steered: u32,
 }
 
 // One map of the chain: its sample and the texel rectangle [first, last] (inclusive) it is
@@ -190,27 +193,50 @@ fn job_triangles(job: GpuRasterJob) -> u32 {
     return kept_counts[job.kept_slot * RASTER_KEPT_ARGS] / 3u;
 }
 
+// A vertex projected and snapped for one map; ok is false where w <= 0 or it lies past the limit.
+struct Snapped {
+    v: vec2<i32>,
+    z: f32,
+    ok: bool,
+}
+
+fn snap(m: mat4x4<f32>, p: vec3<f32>, scale: f32) -> Snapped {
+    var s = Snapped(vec2<i32>(0), 0.0, false);
+    let c = project(m, p);
+    if (!(c.w > 0.0)) {
+        return s;
+    }
+    let rw = 1.0 / c.w;
+    let f = vec2<f32>(((c.x + c.w) * rw) * scale, ((c.w - c.y) * rw) * scale);
+    if (!(abs(f.x) <= RASTER_COORD_LIMIT && abs(f.y) <= RASTER_COORD_LIMIT)) {
+        return s;
+    }
+    s.v = vec2<i32>(round(f));
+    s.z = c.z * rw;
+    s.ok = true;
+    return s;
+}
+
+// The triangle of pair (t, job): its three vertices read, then set up.
 fn setup(job: GpuRasterJob, t: u32) -> Tri {
-    let s = samples[job.sample];
-    let base = first_index(job);
+    let at = first_index(job) + t * 3u;
+    return setup_points(job, positions[indices[at]].xyz, positions[indices[at + 1u]].xyz, positions[indices[at + 2u]].xyz);
+}
+
+// The triangle p0 p1 p2 set up for the job's map.
+fn setup_points(job: GpuRasterJob, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>) -> Tri {
+    let m = samples[job.sample].light_from_world;
+    let scale = f32(params.map_size) * 128.0;
     var tri: Tri;
     tri.ok = false;
-    var v: array<vec2<i32>, 3>;
-    var z: vec3<f32>;
-    let scale = f32(params.map_size) * 128.0;
-    for (var j = 0u; j < 3u; j = j + 1u) {
-        let c = project(s.light_from_world, positions[indices[base + t * 3u + j]].xyz);
-        if (!(c.w > 0.0)) {
-            return tri;
-        }
-        let rw = 1.0 / c.w;
-        let f = vec2<f32>(((c.x + c.w) * rw) * scale, ((c.w - c.y) * rw) * scale);
-        if (!(abs(f.x) <= RASTER_COORD_LIMIT && abs(f.y) <= RASTER_COORD_LIMIT)) {
-            return tri;
-        }
-        v[j] = vec2<i32>(round(f));
-        z[j] = c.z * rw;
+    let s0 = snap(m, p0, scale);
+    let s1 = snap(m, p1, scale);
+    let s2 = snap(m, p2, scale);
+    if (!(s0.ok && s1.ok && s2.ok)) {
+        return tri;
     }
+    let v = array<vec2<i32>, 3>(s0.v, s1.v, s2.v);
+    let z = vec3<f32>(s0.z, s1.z, s2.z);
     // Texel i's centre is at 256 i + 128: the first centre at or after lo, the last at or before
     // hi, inside the job's rectangle. Most triangles of a fine mesh hold none and leave here,
     // before any wide product.
@@ -294,6 +320,15 @@ fn raster_rect(map: u32, tri: Tri, lo: vec2<i32>, hi: vec2<i32>) {
     }
 }
 
+// The chain's maps: all of them, or under the GPU-steered loop its share of the level's requests.
+fn chain_maps() -> u32 {
+    if (params.steered == 0u) {
+        return params.map_count;
+    }
+    let count = request_control[1];
+    return min(count - min(count, params.first_request), params.map_count);
+}
+
 // (x, 1, z) workgroups of a 2D dispatch of n, x at most 32768 (the Rust `rows`), with y = maps.
 fn dispatch_rows(at: u32, n: u32, maps: u32) {
     let x = max(min(n, 32768u), 1u);
@@ -307,8 +342,7 @@ fn dispatch_rows(at: u32, n: u32, maps: u32) {
 // past the last request gets empty dispatches.
 @compute @workgroup_size(1, 1, 1)
 fn requested() {
-    let count = request_control[1];
-    let maps = min(count - min(count, params.first_request), params.map_count);
+    let maps = chain_maps();
     let last = params.map_size - 1u;
     for (var m = 0u; m < maps; m = m + 1u) {
         jobs[m] = GpuRasterJob(request_list[params.first_request + m], 0u, 0u, last, last, RASTER_WHOLE_MESH, 0u, 0u);
@@ -316,7 +350,7 @@ fn requested() {
     steer_args[0] = maps;
     let words = maps * params.map_size * params.map_size;
     dispatch_rows(STEER_ARGS_CLEAR, (words + 64u * RASTER_CLEAR_RUN - 1u) / (64u * RASTER_CLEAR_RUN), 1u);
-    dispatch_rows(STEER_ARGS_MAIN, (params.triangle_count + 63u) / 64u, maps);
+    dispatch_rows(STEER_ARGS_MAIN, select(0u, (params.triangle_count + 63u) / 64u, maps > 0u), 1u);
     dispatch_rows(STEER_ARGS_STORE, (params.map_size * params.map_size + 63u) / 64u, maps);
 }
 
@@ -356,7 +390,8 @@ fn clear(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: 
     }
 }
 
-// One invocation per (triangle, map): the map is the workgroup row, the triangle x + z · rows.
+// One invocation per (triangle, map) of a chain whose jobs draw kept lists: the map is the workgroup
+// row, the triangle x + z · rows.
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let t = (wg.z * groups.x + wg.x) * 64u + lid;
@@ -418,5 +453,43 @@ fn large_tiles(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) gr
     for (var k = i32(lid); k < tiles.x * tiles.y; k = k + 64) {
         let lo = tri.lo + vec2<i32>(k % tiles.x, k / tiles.x) * RASTER_LARGE_TILE;
         raster_rect(map, tri, lo, min(lo + RASTER_LARGE_TILE - 1, tri.hi));
+    }
+}
+
+// One invocation per triangle over every map of a chain that draws the whole mesh: the vertices are
+// read once for all the maps, and each pair is set up, rejected, rasterized or queued as in `main`.
+@compute @workgroup_size(64, 1, 1)
+fn main_maps(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let t = (wg.z * groups.x + wg.x) * 64u + lid;
+    if (t >= params.triangle_count) {
+        return;
+    }
+    let p0 = positions[indices[t * 3u]].xyz;
+    let p1 = positions[indices[t * 3u + 1u]].xyz;
+    let p2 = positions[indices[t * 3u + 2u]].xyz;
+    let r = t / RASTER_RUN;
+    let axis = runs[r * 3u + 2u];
+    let facing = select(axis, vec4<f32>(-axis.xyz, axis.w), params.cull_face == 2u);
+    let maps = chain_maps();
+    for (var map = 0u; map < maps; map = map + 1u) {
+        let job = jobs[map];
+        let eye = samples[job.sample].position;
+        if (params.cull_face != 0u && eye.w == 1.0 && faces_away(eye.xyz, runs[r * 3u], runs[r * 3u + 1u], facing)) {
+            continue;
+        }
+        let tri = setup_points(job, p0, p1, p2);
+        if (!tri.ok) {
+            continue;
+        }
+        let side = tri.hi - tri.lo + 1;
+        if (side.x > RASTER_SMALL_SIDE || side.y > RASTER_SMALL_SIDE) {
+            let slot = atomicAdd(&control[0], 1u);
+            if (slot < params.large_capacity) {
+                large[slot * 2u] = map;
+                large[slot * 2u + 1u] = t;
+                continue;
+            }
+        }
+        raster_rect(map, tri, tri.lo, tri.hi);
     }
 }

@@ -265,6 +265,7 @@ stage_table! {
     RASTER_COMPUTE = "raster_compute" kernel, Some(Raster), [
         compute("clear", LINE, &[("params", 0), ("depth", 5)]),
         compute("main", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("positions", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7), ("runs", 14), ("kept_counts", 15)]),
+        compute("main_maps", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("positions", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7), ("request_control", 9), ("runs", 14)]),
         compute("begin", SINGLE, &[("params", 0), ("control", 7), ("dispatch", 8)]),
         compute("large_tiles", LINE, &[("params", 0), ("samples", 1), ("jobs", 2), ("positions", 3), ("indices", 4), ("depth", 5), ("large", 6), ("control", 7)]),
         compute("requested", SINGLE, &[("params", 0), ("jobs", 2), ("request_control", 9), ("request_list", 10), ("steer_args", 11)]),

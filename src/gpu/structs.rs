@@ -89,7 +89,8 @@ pub struct GpuRasterCompute {
     pub fence: u32,
     /// `requested`: this chain's first request in the level's list.
     pub first_request: u32,
-    pub pad1: u32,
+    /// 1 under the GPU-steered loop: the chain's maps are its share of the level's requests.
+    pub steered: u32,
 }
 
 /// One map of a raster_compute chain: its sample and the texel rectangle (inclusive) it is
@@ -392,7 +393,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuTestBlock { ks, samples, pad }),
         layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
         layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
-        layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, first_request, pad1 }),
+        layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, first_request, steered }),
         layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, kept_slot, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,

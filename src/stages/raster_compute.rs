@@ -1,7 +1,8 @@
 //! raster_compute: depth-only shadow maps in compute kernels, many maps per dispatch chain, by
 //! exact rules its CPU twin (`twin::raster_compute`) repeats bit for bit (docs/gpu-frame.md §7).
-//! A chain clears its maps, sets up every (triangle, map) pair, rasterizes the small ones at once
-//! and queues the large ones, then rasterizes the queued ones tile by tile. Depth is one u32 per
+//! A chain clears its maps, sets up every (triangle, map) pair (a triangle per invocation over all
+//! the chain's maps, so vertices are read once per chain), rasterizes the small ones at once and
+//! queues the large ones, then rasterizes the queued ones tile by tile. Depth is one u32 per
 //! texel: the bits of a non-negative f32, which order like the values, written by atomicMin.
 
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
@@ -29,6 +30,7 @@ const ROW: u32 = 32768;
 pub struct RasterCompute {
     clear: ComputeKernel,
     main: ComputeKernel,
+    main_maps: ComputeKernel,
     begin: ComputeKernel,
     large_tiles: ComputeKernel,
     requested: ComputeKernel,
@@ -77,6 +79,7 @@ impl RasterCompute {
         Ok(Self {
             clear: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "clear")?,
             main: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "main")?,
+            main_maps: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "main_maps")?,
             begin: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "begin")?,
             large_tiles: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "large_tiles")?,
             requested: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "requested")?,
@@ -93,7 +96,7 @@ impl RasterCompute {
         })
     }
 
-    fn uniform(&self, ctx: &GpuContext, scene: &SceneGpu, maps: u32, first_request: u32) -> wgpu::Buffer {
+    fn uniform(&self, ctx: &GpuContext, scene: &SceneGpu, maps: u32, first_request: u32, steered: bool) -> wgpu::Buffer {
         let uniform = GpuRasterCompute {
             map_size: self.map_size,
             triangle_count: scene.index_count / 3,
@@ -102,7 +105,7 @@ impl RasterCompute {
             large_capacity: LARGE_CAPACITY,
             fence: 0,
             first_request,
-            pad1: 0,
+            steered: u32::from(steered),
         };
         readback::uniform_buffer(ctx, "raster_compute", &uniform)
     }
@@ -118,12 +121,13 @@ impl RasterCompute {
     pub fn record_kept(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob], kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>) {
         let maps = jobs.len() as u32;
         assert!(maps >= 1 && maps <= self.capacity, "raster_compute chain of {maps} maps, capacity {}", self.capacity);
-        let params = self.uniform(ctx, scene, maps, 0);
+        let params = self.uniform(ctx, scene, maps, 0, false);
         let jobs = readback::storage_buffer(ctx, "raster_compute jobs", jobs, wgpu::BufferUsages::empty());
         let words = groups(maps * self.map_size * self.map_size, LINE_WORKGROUP[0] * CLEAR_RUN);
         let [x, _, z] = rows(groups(scene.index_count / 3, LINE_WORKGROUP[0]));
         let main = match kept {
-            None => Dispatch::Direct([x, maps, z]),
+            // A triangle per invocation over every map: its vertices are read once per chain.
+            None => (&self.main_maps, Dispatch::Direct([x, 1, z])),
             Some((_, counts)) => {
                 // As wide as the longest kept list: lavapipe pays for every workgroup, even one that returns at once.
                 self.kept_extent.dispatch(
@@ -137,17 +141,17 @@ impl RasterCompute {
                     ],
                     Dispatch::Direct([1, 1, 1]),
                 );
-                Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4)
+                (&self.main, Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4))
             }
         };
-        self.record_chain(ctx, enc, scene, samples, kept, &params, &jobs, Dispatch::Direct(rows(words)), main);
+        self.record_chain(ctx, enc, scene, samples, kept, &params, &jobs, Dispatch::Direct(rows(words)), main, None);
     }
 
     /// clear, main, begin and large_tiles over the chain's jobs, with clear's and main's dispatches.
     #[allow(clippy::too_many_arguments)]
     /// `kept`: the cull pass's kept lists and draw arguments, which jobs with a kept_slot read;
     /// otherwise the shadow order alone is bound (as the unread counts too).
-    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>, params: &wgpu::Buffer, jobs: &wgpu::Buffer, clear: Dispatch, main: Dispatch) {
+    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>, params: &wgpu::Buffer, jobs: &wgpu::Buffer, clear: Dispatch, main: (&ComputeKernel, Dispatch), requests: Option<&wgpu::Buffer>) {
         let (indices, counts) = kept.unwrap_or((&scene.shadow_indices, &scene.shadow_indices));
         enc.clear_buffer(&self.control, 0, None);
         self.clear.dispatch(ctx, enc, &[("params", params.as_entire_binding()), ("depth", self.depth.as_entire_binding())], clear);
@@ -163,8 +167,13 @@ impl RasterCompute {
         ];
         let mut with_runs = all.to_vec();
         with_runs.push(("runs", scene.runs.as_entire_binding()));
-        with_runs.push(("kept_counts", counts.as_entire_binding()));
-        self.main.dispatch(ctx, enc, &with_runs, main);
+        if std::ptr::eq(main.0, &self.main) {
+            with_runs.push(("kept_counts", counts.as_entire_binding()));
+        } else {
+            // Read only when steered; otherwise any read-only buffer fills the binding.
+            with_runs.push(("request_control", requests.unwrap_or(samples).as_entire_binding()));
+        }
+        main.0.dispatch(ctx, enc, &with_runs, main.1);
         self.begin.dispatch(
             ctx,
             enc,
@@ -189,7 +198,7 @@ impl RasterCompute {
         first_request: u32,
         layers: &wgpu::TextureView,
     ) {
-        let params = self.uniform(ctx, scene, self.capacity, first_request);
+        let params = self.uniform(ctx, scene, self.capacity, first_request, true);
         let jobs = readback::zeroed_storage(ctx, "raster_compute requested jobs", self.capacity as u64 * std::mem::size_of::<GpuRasterJob>() as u64);
         self.requested.dispatch(
             ctx,
@@ -204,7 +213,7 @@ impl RasterCompute {
             Dispatch::Direct([1, 1, 1]),
         );
         let at = |words: u64| Dispatch::IndirectAt(&self.steer_args, words * 4);
-        self.record_chain(ctx, enc, scene, samples, None, &params, &jobs, at(STEER_ARGS_CLEAR), at(STEER_ARGS_MAIN));
+        self.record_chain(ctx, enc, scene, samples, None, &params, &jobs, at(STEER_ARGS_CLEAR), (&self.main_maps, at(STEER_ARGS_MAIN)), Some(requests.0));
         self.store.dispatch(
             ctx,
             enc,

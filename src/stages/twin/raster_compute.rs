@@ -166,7 +166,8 @@ pub fn requested(count: u32, list: &[u32], first: u32, capacity: u32, map_size: 
     let mut out = [0; 10];
     out[0] = maps;
     out[1..4].copy_from_slice(&rows(words.div_ceil(run), 1));
-    out[4..7].copy_from_slice(&rows(triangles.div_ceil(64), maps));
+    // `main_maps`: a triangle per invocation over every requested map, nothing when none is.
+    out[4..7].copy_from_slice(&rows(if maps > 0 { triangles.div_ceil(64) } else { 0 }, 1));
     out[7..10].copy_from_slice(&rows((map_size * map_size).div_ceil(64), maps));
     (jobs, out)
 }
