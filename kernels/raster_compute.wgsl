@@ -10,7 +10,7 @@
 // Edge values need 49 bits: they are two-word integers (`Wide`), exact, as i64 on the CPU.
 // Every f32 product that feeds an addition goes through `fence`, so no compiler can fuse it into an
 // fma and round it differently from the twin.
-// Under the GPU-steered loop (`requested`), the chain's jobs and the dispatch sizes of `clear`, `main`
+// Under the GPU-steered loop (`requested`), the chain's jobs and the dispatch sizes of `clear`, `main_maps`
 // and `store` come from subdivide's request list, so only the maps a level asked for are cleared,
 // rasterized and stored, and nothing waits.
 // Work items are (triangle, map) pairs. `main_maps` takes a triangle per invocation and loops over
@@ -28,7 +28,7 @@ struct GpuRasterCompute {
     cull_face: u32,
     // Maps in this dispatch chain (the rows of `jobs` and of `depth`).
     map_count: u32,
-    // Pairs `large` can hold; beyond it `main` rasterizes a large triangle itself.
+    // Pairs `large` can hold; beyond it `main_maps` or `main` rasterizes a large triangle itself.
     large_capacity: u32,
     // Always 0: XORed into a product's bits, which hides the product from the compiler's fma fusion.
     fence: u32,
@@ -94,7 +94,7 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(8) var<storage, read_write> dispatch: array<u32>;
 // `requested`: the level's request count (GpuControl.new_sample_count, word 1) and list (subdivide's
 // new_samples); what it writes: the chain's map count, then the indirect dispatches of `clear`,
-// `main` and `store`, three words each (STEER_ARGS_* word offsets).
+// `main_maps` and `store`, three words each (STEER_ARGS_* word offsets).
 @group(0) @binding(9) var<storage, read> request_control: array<u32>;
 @group(0) @binding(10) var<storage, read> request_list: array<u32>;
 @group(0) @binding(11) var<storage, read_write> steer_args: array<u32>;
