@@ -69,6 +69,7 @@ fn a_thinned_frontier_on_a_small_scene() {
     let run = ok(penumbra(&args, &dir.join("cache")), "frontier");
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(stdout.contains("## The frontier: the cheapest setting for each error level"), "{stdout}");
+    assert!(stdout.contains("Shadow-map raster: hardware (plain 64, plain 128, hybrid 128→64)."), "{stdout}");
 
     let text = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap();
     let lines: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
@@ -80,6 +81,8 @@ fn a_thinned_frontier_on_a_small_scene() {
         for key in ["spec", "map_config", "kind", "thinning", "clock", "adapter"] {
             assert!(l[key].is_string(), "{key} in {l}");
         }
+        // The scene's default raster drew every map.
+        assert_eq!(l["raster"], "hardware", "{l}");
         assert!(points[i].0 > 0.0 && points[i].1 > 0.0 && points[i].1 < 1.0, "{l}");
         assert!(l["flip"].as_f64().is_some_and(|v| (0.0..=1.0).contains(&v)), "{l}");
         // Recomputed from the lines: nothing at most as slow and at most as wrong, one strictly

@@ -44,6 +44,24 @@ fn flip(l: &FrontierLine) -> String {
     l.flip.map_or("-".into(), |f| format!("{f:.4}"))
 }
 
+/// Which raster drew each map configuration's maps (`raster = auto` may pick per map size), as
+/// one line: `Shadow-map raster: compute (plain 512, plain 1024); hardware (hybrid 2048→512).`
+fn rasters(lines: &[FrontierLine]) -> String {
+    let mut by: Vec<(String, Vec<String>)> = Vec::new();
+    for l in lines.iter().filter(|l| !l.raster.is_empty()) {
+        match by.iter_mut().find(|(r, _)| *r == l.raster) {
+            Some((_, configs)) if configs.contains(&l.map_config) => {}
+            Some((_, configs)) => configs.push(l.map_config.clone()),
+            None => by.push((l.raster.clone(), vec![l.map_config.clone()])),
+        }
+    }
+    if by.is_empty() {
+        return String::new();
+    }
+    let parts: Vec<String> = by.iter().map(|(r, c)| format!("{r} ({})", c.join(", "))).collect();
+    format!("\nShadow-map raster: {}.\n", parts.join("; "))
+}
+
 /// The frontier as a ladder of error levels, adaptive settings against it, then every setting.
 pub fn markdown(lines: &[FrontierLine]) -> String {
     let Some(first) = lines.first() else { return "# Frontier of fixed settings\n\nNo settings.\n".into() };
@@ -59,6 +77,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
         first.clock.split(';').next().unwrap_or(&first.clock),
         first.adapter
     );
+    s += &rasters(lines);
     // The budget's rows are judged against the frontier of the fixed settings, not part of it.
     let points: Vec<(f64, f64)> = lines.iter().map(|l| (if l.is_budget() { f64::INFINITY } else { l.frame_ms }, l.rmse)).collect();
     s += "\n## The frontier: the cheapest setting for each error level\n\n\

@@ -62,6 +62,10 @@ pub struct FrontierLine {
     pub repeats: u32,
     pub clock: String,
     pub adapter: String,
+    /// `hardware` or `compute`: who rasterized the setting's maps (`--set raster=auto` picks per
+    /// map size, so the times of one frontier may come from both).
+    #[serde(default)]
+    pub raster: String,
 }
 
 impl FrontierLine {
@@ -162,6 +166,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 repeats: job.repeats,
                 clock: crate::record::CLOCK.to_string(),
                 adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+                raster: r.timing.raster.to_string(),
             };
             crate::progress::suspend(|| {
                 log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse))
