@@ -329,6 +329,21 @@ fn chain_maps() -> u32 {
     return min(count - min(count, params.first_request), params.map_count);
 }
 
+// A set-up pair: a small triangle is rasterized here, a large one queued for `large_tiles` (or
+// rasterized here too once the queue is full).
+fn draw(map: u32, t: u32, tri: Tri) {
+    let side = tri.hi - tri.lo + 1;
+    if (side.x > RASTER_SMALL_SIDE || side.y > RASTER_SMALL_SIDE) {
+        let slot = atomicAdd(&control[0], 1u);
+        if (slot < params.large_capacity) {
+            large[slot * 2u] = map;
+            large[slot * 2u + 1u] = t;
+            return;
+        }
+    }
+    raster_rect(map, tri, tri.lo, tri.hi);
+}
+
 // (x, 1, z) workgroups of a 2D dispatch of n, x at most 32768 (the Rust `rows`), with y = maps.
 fn dispatch_rows(at: u32, n: u32, maps: u32) {
     let x = max(min(n, 32768u), 1u);
@@ -414,19 +429,9 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: v
         }
     }
     let tri = setup(jobs[map], t);
-    if (!tri.ok) {
-        return;
+    if (tri.ok) {
+        draw(map, t, tri);
     }
-    let side = tri.hi - tri.lo + 1;
-    if (side.x > RASTER_SMALL_SIDE || side.y > RASTER_SMALL_SIDE) {
-        let slot = atomicAdd(&control[0], 1u);
-        if (slot < params.large_capacity) {
-            large[slot * 2u] = map;
-            large[slot * 2u + 1u] = t;
-            return;
-        }
-    }
-    raster_rect(map, tri, tri.lo, tri.hi);
 }
 
 // Between the passes: `large_tiles`' dispatch, a workgroup per queued pair, in rows of at most 32768
@@ -478,18 +483,8 @@ fn main_maps(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) grou
             continue;
         }
         let tri = setup_points(job, p0, p1, p2);
-        if (!tri.ok) {
-            continue;
+        if (tri.ok) {
+            draw(map, t, tri);
         }
-        let side = tri.hi - tri.lo + 1;
-        if (side.x > RASTER_SMALL_SIDE || side.y > RASTER_SMALL_SIDE) {
-            let slot = atomicAdd(&control[0], 1u);
-            if (slot < params.large_capacity) {
-                large[slot * 2u] = map;
-                large[slot * 2u + 1u] = t;
-                continue;
-            }
-        }
-        raster_rect(map, tri, tri.lo, tri.hi);
     }
 }
