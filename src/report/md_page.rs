@@ -3,7 +3,7 @@
 
 /// `md`: `#`/`##` headings, paragraphs and pipe tables; `charts`: (heading, SVG) after the tables.
 pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
-    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let esc = |t: &str| code_spans(&escape(t));
     let mut body = String::new();
     let mut in_table = false;
     for line in md.lines() {
@@ -47,6 +47,37 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
          body{{font-family:sans-serif;max-width:1100px;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}\
          td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}th{{background:#eee}}.chart img{{max-width:100%;height:auto}}\
          </style></head><body>\n{body}</body></html>\n",
-        esc(title)
+        escape(title)
     )
+}
+
+fn escape(t: &str) -> String {
+    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// Markdown's `code` spans as <code>: each pair of backticks; an unpaired last one stays as it is.
+fn code_spans(t: &str) -> String {
+    let parts: Vec<&str> = t.split('`').collect();
+    let mut out = String::new();
+    for (i, part) in parts.iter().enumerate() {
+        let closed = i % 2 == 1 && i + 1 < parts.len();
+        match (i % 2, closed) {
+            (1, true) => out += &format!("<code>{part}</code>"),
+            (1, false) => out += &format!("`{part}"),
+            _ => out += part,
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn code_spans_become_code_elements() {
+        assert_eq!(super::code_spans("`auto:target=T` chooses `n`"), "<code>auto:target=T</code> chooses <code>n</code>");
+        assert_eq!(super::code_spans("one ` alone"), "one ` alone");
+        let page = super::page("t", "a `b<c` d\n\n| x |\n|---|\n| `y` |", &[]);
+        assert!(page.contains("<p>a <code>b&lt;c</code> d</p>"), "{page}");
+        assert!(page.contains("<td><code>y</code></td>"), "{page}");
+    }
 }
