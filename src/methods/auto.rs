@@ -103,7 +103,10 @@ pub struct AutoState {
 /// reach it. The maps' error gets half the target's square while the map size can double; the
 /// sampling error gets the rest, and n grows to what its order says reaches that (at least one
 /// more). Where n is at its largest the maps take the excess; where the maps are at their
-/// largest and their error alone misses the target, nothing can reach it.
+/// largest and their error alone misses the target, nothing can reach it. Where even the largest
+/// maps would miss it (their error falling at best as the texel size), the sampling error need
+/// only stay under half that floor, which adds at most 12% to it: n does not chase a target the
+/// maps put out of reach.
 pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
     let share = target / std::f64::consts::SQRT_2;
     let (can_n, can_size) = (n < max_n, size < max_size);
@@ -111,7 +114,9 @@ pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, m
     if !can_size && p.predicted_map >= target {
         return None;
     }
+    let floor = p.predicted_map * 0.5f64.powi((max_size / size.max(1)).max(1).trailing_zeros() as i32);
     let sampling_share = if grow_size { share } else { (target * target - p.predicted_map * p.predicted_map).sqrt() };
+    let sampling_share = if floor > target { sampling_share.max(0.5 * floor) } else { sampling_share };
     let grow_n = p.predicted_sampling > sampling_share && can_n;
     if p.predicted_sampling > sampling_share && !can_n {
         grow_size = can_size;
@@ -251,6 +256,14 @@ mod tests {
         assert_eq!(next_choice(17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), Some((17, 1024)));
         // Nothing left to grow.
         assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), None);
+        // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
+        // floor 0.049 against 0.012): n grows only to keep sampling under half the floor,
+        // 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 4, not to 0.012 / √2 (which asks for 8).
+        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048), Some((4, 1024)));
+        assert_eq!(next_choice(4, 1024, &p(0.024, 0.150), 0.012, 17, 2048), Some((4, 2048)));
+        assert_eq!(next_choice(4, 2048, &p(0.020, 0.117), 0.012, 17, 2048), None);
+        // The same maps under a target the floor meets: the shares are the usual ones.
+        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048), Some((3, 1024)));
     }
 
     #[test]
