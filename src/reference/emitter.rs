@@ -23,8 +23,12 @@ pub enum RefEmitter {
     /// Directions `normalize(toward + tan_half·q)`, `q` in the unit disk across `toward`; rays
     /// end `reach` away (past every triangle).
     Sun { toward: Vec3, tan_half: f32, reach: f32 },
-    /// An emitter sphere (a point or spot light; the spot's cone scales lighting, not V).
+    /// An emitter sphere (a spot light; its cone scales lighting, not V).
     Sphere { center: Vec3, radius: f32 },
+    /// The point light's emitter sphere: sampled as `Sphere` by the continuous reference; the
+    /// lattice and point modes take the cube maps' own light points (`point_light_point` on the
+    /// face that holds the receiver), so they are the exact visibility at a grid's points.
+    Point { center: Vec3, radius: f32 },
 }
 
 impl RefEmitter {
@@ -34,6 +38,7 @@ impl RefEmitter {
             RefEmitter::Disk { center, normal, radius } => (b"disk", [center.to_array(), normal.to_array()].concat().into_iter().chain([radius]).collect()),
             RefEmitter::Sun { toward, tan_half, reach } => (b"sun", toward.to_array().into_iter().chain([tan_half, reach]).collect()),
             RefEmitter::Sphere { center, radius } => (b"sphere", center.to_array().into_iter().chain([radius]).collect()),
+            RefEmitter::Point { center, radius } => (b"point-sphere", center.to_array().into_iter().chain([radius]).collect()),
         };
         let mut v = tag.to_vec();
         xs.iter().for_each(|x| v.extend_from_slice(&x.to_le_bytes()));
@@ -44,7 +49,7 @@ impl RefEmitter {
         let ok = match *self {
             RefEmitter::Disk { center, normal, radius } => center.is_finite() && normal.is_normalized() && radius > 0.0 && radius.is_finite(),
             RefEmitter::Sun { toward, tan_half, reach } => toward.is_normalized() && tan_half > 0.0 && tan_half.is_finite() && reach > 0.0,
-            RefEmitter::Sphere { center, radius } => center.is_finite() && radius > 0.0 && radius.is_finite(),
+            RefEmitter::Sphere { center, radius } | RefEmitter::Point { center, radius } => center.is_finite() && radius > 0.0 && radius.is_finite(),
         };
         if ok { Ok(()) } else { Err(ReferenceError::DegenerateLight) }
     }
@@ -52,6 +57,8 @@ impl RefEmitter {
 
 /// The concentric map lives with the emitters, which the methods' samples share.
 pub use crate::scene::emitter::concentric;
+use crate::scene::emitter::{cube_face, point_light_point};
+use crate::scene::PointLight;
 
 /// The unit-square points of `mode` for `pixel`: the rectangle's (s, t), in its order and seeds.
 pub fn fill_unit_samples(mode: &ReferenceMode, pixel: u64, out: &mut Vec<(f32, f32)>) {
@@ -81,6 +88,11 @@ pub fn try_trace_emitter(
     if mode.samples_per_pixel() == 0 {
         return Err(ReferenceError::NoSamples);
     }
+    // The lattice and point modes of the point light trace to its cube maps' own light points.
+    let cube = match (*emitter, mode) {
+        (RefEmitter::Point { center, radius }, ReferenceMode::Lattice | ReferenceMode::Point { .. }) => Some(PointLight { position: center, radius }),
+        _ => None,
+    };
     const CHUNK: usize = 256;
     let mut out = vec![0.0f32; points.len()];
     let done = Mutex::new(0usize);
@@ -90,7 +102,10 @@ pub fn try_trace_emitter(
         for (k, (v, point)) in out.iter_mut().zip(points).enumerate() {
             let Some(point) = point else { continue };
             fill_unit_samples(mode, (chunk * CHUNK + k) as u64, &mut unit);
-            let (value, n) = emitter_visibility(tracer, point, emitter, &unit, ray_offset);
+            let (value, n) = match &cube {
+                Some(light) => cube_point_visibility(tracer, point, light, &unit, ray_offset),
+                None => emitter_visibility(tracer, point, emitter, &unit, ray_offset),
+            };
             *v = value;
             rays += n;
         }
@@ -119,7 +134,7 @@ pub fn emitter_visibility(tracer: &Tracer, point: &SurfacePoint, emitter: &RefEm
             (n, radius, End::Disk { center })
         }
         RefEmitter::Sun { toward, tan_half, reach } => (toward, tan_half, End::Far { reach }),
-        RefEmitter::Sphere { center, radius } => {
+        RefEmitter::Sphere { center, radius } | RefEmitter::Point { center, radius } => {
             let to_c = center - p;
             let d2 = to_c.length_squared();
             if d2 <= radius * radius {
@@ -167,6 +182,35 @@ pub fn emitter_visibility(tracer: &Tracer, point: &SurfacePoint, emitter: &RefEm
         let blocked = dist > 0.0 && {
             rays += 1;
             tracer.occluded_uncounted(origin, dir, dist * (1.0 - LIGHT_END_EPS))
+        };
+        lit += (!blocked) as u32;
+    }
+    (lit as f32 / unit.len() as f32, rays)
+}
+
+/// `(V, rays traced)` at one point for the point light's cube-map light points of unit-square
+/// samples `unit` (`point_light_point` on the face that holds `point`): the rules of
+/// `emitter_visibility` (unlit inside the sphere or at or below the tangent plane).
+pub fn cube_point_visibility(tracer: &Tracer, point: &SurfacePoint, light: &PointLight, unit: &[(f32, f32)], ray_offset: f32) -> (f32, u64) {
+    let p = point.position;
+    let normal = point.normal.normalize_or_zero();
+    let to_p = p - light.position;
+    if unit.is_empty() || !p.is_finite() || normal == Vec3::ZERO || !ray_offset.is_finite() || to_p.length_squared() <= light.radius * light.radius {
+        return (0.0, 0);
+    }
+    let origin = p + normal * ray_offset;
+    let face = cube_face(to_p);
+    let (mut lit, mut rays) = (0u32, 0u64);
+    for &(s, t) in unit {
+        let y = point_light_point(light, face, s, t);
+        if normal.dot(y - p) <= 0.0 {
+            continue;
+        }
+        let seg = y - origin;
+        let dist = seg.length();
+        let blocked = dist > 0.0 && {
+            rays += 1;
+            tracer.occluded_uncounted(origin, seg / dist, dist * (1.0 - LIGHT_END_EPS))
         };
         lit += (!blocked) as u32;
     }
@@ -271,5 +315,36 @@ mod tests {
             let (v, _) = emitter_visibility(&tracer, &point, &sun, &unit, 0.0);
             assert_eq!(v, if x < 0.0 { 1.0 } else { 0.0 }, "x = {x}");
         }
+    }
+
+    #[test]
+    fn the_point_lights_lattice_and_point_modes_trace_to_its_cube_points() {
+        // The sphere at height 6 over a half-plane x > 0 at height 3; ground receivers hold face −y.
+        // Each lattice point y is blocked iff the segment from p crosses y = 3 at x > 0: counted
+        // exactly from `point_light_point`, while the continuous mode still samples the silhouette.
+        let (h, g) = (3.0f32, 50.0f32);
+        let tracer = Tracer::new(&[
+            [Vec3::new(0.0, h, -g), Vec3::new(g, h, -g), Vec3::new(g, h, g)],
+            [Vec3::new(0.0, h, -g), Vec3::new(g, h, g), Vec3::new(0.0, h, g)],
+        ]);
+        let light = PointLight { position: Vec3::new(1.0, 6.0, 0.5), radius: 1.5 };
+        let emitter = RefEmitter::Point { center: light.position, radius: light.radius };
+        let points: Vec<Option<SurfacePoint>> = [-2.2f32, -1.4, -0.9, -0.3].iter().map(|&x| Some(SurfacePoint { position: Vec3::new(x, 0.0, 3.5), normal: Vec3::Y })).collect();
+        let v = try_trace_emitter(&tracer, &points, &emitter, &ReferenceMode::Lattice, 0.0, &|_| {}).unwrap();
+        let mut unit = Vec::new();
+        fill_unit_samples(&ReferenceMode::Lattice, 0, &mut unit);
+        for (p, v) in points.iter().flatten().zip(&v) {
+            let lit = unit.iter().filter(|&&(s, t)| {
+                let y = point_light_point(&light, 3, s, t);
+                let x_at = p.position.x + (y.x - p.position.x) * h / y.y;
+                x_at <= 0.0
+            });
+            let lit = lit.count();
+            assert_eq!(*v, lit as f32 / 289.0, "x = {}", p.position.x);
+            assert!(lit > 0 && lit < 289, "x = {}: not in the penumbra", p.position.x);
+        }
+        let centre = try_trace_emitter(&tracer, &points, &emitter, &ReferenceMode::Point { s: 0.5, t: 0.5 }, 0.0, &|_| {}).unwrap();
+        // The centre alone: the hard shadow's edge at x = 1 − 1·6/3 = −1.
+        assert_eq!(centre, [1.0, 1.0, 0.0, 0.0]);
     }
 }

@@ -157,7 +157,7 @@ pub fn emitter_of(scene: &Scene) -> Option<RefEmitter> {
         Emitter::Disk(d) => Some(RefEmitter::Disk { center: d.center, normal: d.normal, radius: d.radius }),
         Emitter::Sun(s) => Some(RefEmitter::Sun { toward: s.toward(), tan_half: s.tan_half_angle(), reach: env_ray_length(scene) }),
         Emitter::Spot(s) => Some(RefEmitter::Sphere { center: s.position, radius: s.radius }),
-        Emitter::Point(p) => Some(RefEmitter::Sphere { center: p.position, radius: p.radius }),
+        Emitter::Point(p) => Some(RefEmitter::Point { center: p.position, radius: p.radius }),
     }
 }
 

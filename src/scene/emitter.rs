@@ -180,26 +180,57 @@ impl Emitter {
 impl Emitter {
     /// Every map of unit-square sample `(s, t)`, in the order they are rasterized and shaded: the
     /// one `sample_map` for most kinds; for the point light the six cube faces (+x, −x, +y, −y,
-    /// +z, −z), of which the lookup counts exactly one per receiver. Face f's map looks from the
-    /// point the concentric map sends `(s, t)` to on the sphere's disk across f's axis: the
-    /// silhouette the receivers f holds see, to within 55° of tilt (docs/lights.md, "Cube maps
-    /// for the point"); (½, ½) is the centre for every face.
+    /// +z, −z), of which the lookup counts exactly one per receiver. Face f's map looks from
+    /// `point_light_point(f, s, t)`: a point of the ball whose projection towards any receiver is,
+    /// over the samples, the silhouette it sees (docs/lights.md, "Cube maps for the point");
+    /// (½, ½) is the centre for every face.
     pub fn sample_maps(&self, light: &AreaLight, s: f32, t: f32, bounds: &Bounds, map_size: u32, lattice: u32) -> Vec<GpuSample> {
         match self {
             Emitter::Point(point) => {
-                let (x, y) = concentric(s, t);
-                let axes = [Vec3::X, Vec3::Y, Vec3::Z];
                 (0..6u32)
                     .map(|face| {
-                        let a = (face / 2) as usize;
-                        let (u, v) = (axes[(a + 1) % 3], axes[(a + 2) % 3]);
-                        cube_face_view(point.position + point.radius * (u * x + v * y), face, bounds, map_size, lattice)
+                        cube_face_view(point_light_point(point, face, s, t), face, bounds, map_size, lattice)
                     })
                     .collect()
             }
             _ => vec![self.sample_map(light, s, t, bounds, map_size, lattice)],
         }
     }
+}
+
+/// The cube face (0..5: +x, −x, +y, −y, +z, −z) whose axis dominates `d`, ties to the earlier
+/// axis: the face that holds a receiver at `d` from the point light's centre. The kernels'
+/// `cube_face` (kernels/shared/common.wgsl) is its GPU twin.
+pub fn cube_face(d: Vec3) -> u32 {
+    let a = d.abs();
+    let x = a.x >= a.y && a.x >= a.z;
+    let y = !x && a.y >= a.z;
+    let (axis, along) = if x { (0, d.x) } else if y { (1, d.y) } else { (2, d.z) };
+    axis * 2 + (along < 0.0) as u32
+}
+
+/// Face `face`'s light point for unit-square sample `(s, t)` of the point light: `c + r·(u·x + v·y +
+/// a·z)`, (u, v) the two axes across the face's axis a, (x, y) the concentric map of (s, t) and
+/// z = √(1 − x² − y²)·sin(π(w − ½)) a depth along a from the pseudo-random `w = ball_w(s, t)`.
+/// Over the samples these points have the density 1/√(1 − |q|²) in the unit ball, whose projection
+/// along every direction is the uniform disk: a receiver tilted from the face's axis sees, on
+/// average, its whole silhouette, where the flat disk (z = 0) showed it foreshortened by the tilt's
+/// cosine. A receiver on the axis sees the flat disk's points (docs/lights.md, "The light points").
+pub fn point_light_point(point: &PointLight, face: u32, s: f32, t: f32) -> Vec3 {
+    let (x, y) = concentric(s, t);
+    let axes = [Vec3::X, Vec3::Y, Vec3::Z];
+    let a = (face / 2) as usize;
+    let (u, v, along) = (axes[(a + 1) % 3], axes[(a + 2) % 3], axes[a]);
+    let z = (1.0 - x * x - y * y).max(0.0).sqrt() * (std::f32::consts::PI * (ball_w(s, t) - 0.5)).sin();
+    point.position + point.radius * (u * x + v * y + along * z)
+}
+
+/// The depth coordinate's uniform variate for sample `(s, t)`: ½ at the centre (the hard shadow's
+/// point stays the sphere's centre), 1 − w at the point mirrored through it (the depths of a
+/// symmetric grid cancel in pairs), otherwise spread by irrational slopes.
+pub fn ball_w(s: f32, t: f32) -> f32 {
+    let w = 0.5 + (s - 0.5) * 16.180_34 + (t - 0.5) * 14.142_136;
+    w - w.floor()
 }
 
 /// Shirley and Chiu's concentric map: the unit square onto the unit disk, area-preserving, with
@@ -251,5 +282,27 @@ mod tests {
         let mid = at(30.0);
         assert!(mid > 0.2 && mid < 0.8, "{mid}");
         assert!(at(25.0) > mid && mid > at(35.0));
+    }
+
+    #[test]
+    fn the_point_lights_points_project_to_the_whole_disk_along_tilted_directions() {
+        // A 64×64 grid on face 3 (−y). Seen along a direction tilted 50° from the face's axis the
+        // unit disk's second moments are 1/4 across both axes; the flat disk (z = 0) would give
+        // cos²50°/4 = 0.103 across the tilt.
+        let light = PointLight { position: Vec3::new(1.0, 6.0, 0.5), radius: 1.5 };
+        let n = 64;
+        let pts: Vec<Vec3> = (0..n * n).map(|k| point_light_point(&light, 3, ((k % n) as f32 + 0.5) / n as f32, ((k / n) as f32 + 0.5) / n as f32)).collect();
+        assert!(pts.iter().all(|p| (*p - light.position).length() <= light.radius * (1.0 + 1e-5)), "a point outside the sphere");
+        for tilt in [0.0f32, 30.0, 50.0] {
+            let d = Vec3::new(0.0, -tilt.to_radians().cos(), tilt.to_radians().sin());
+            let (e1, e2) = (Vec3::X, d.cross(Vec3::X).normalize());
+            let m = |e: Vec3| pts.iter().map(|p| ((*p - light.position).dot(e) / light.radius).powi(2)).sum::<f32>() / pts.len() as f32;
+            assert!((m(e1) - 0.25).abs() < 0.01 && (m(e2) - 0.25).abs() < 0.01, "tilt {tilt}: {} {}", m(e1), m(e2));
+        }
+        // The centre is the sphere's centre; a mirrored pair has opposite depths.
+        assert_eq!(point_light_point(&light, 0, 0.5, 0.5), light.position);
+        let (a, b) = (point_light_point(&light, 3, 0.3, 0.8) - light.position, point_light_point(&light, 3, 0.7, 0.2) - light.position);
+        assert!((a + b).length() < 1e-4, "{a} {b}");
+        assert_eq!(cube_face(Vec3::new(0.2, -3.0, 1.0)), 3);
     }
 }

@@ -48,15 +48,8 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     out
 }
 
-/// Twin of `cube_face`: the face (0..5: +x, −x, +y, −y, +z, −z) whose axis dominates `d`, ties
-/// to the earlier axis.
-pub fn cube_face(d: Vec3) -> u32 {
-    let a = d.abs();
-    let x = a.x >= a.y && a.x >= a.z;
-    let y = !x && a.y >= a.z;
-    let (axis, along) = if x { (0, d.x) } else if y { (1, d.y) } else { (2, d.z) };
-    axis * 2 + (along < 0.0) as u32
-}
+/// Twin of `cube_face` (the reference picks its light points' face by the same rule).
+pub use crate::scene::emitter::cube_face;
 
 /// Twin of `face_offset`: which of a point light's six consecutive faces holds `p`, by its
 /// direction from the sphere's centre (0 for any other sample).
