@@ -234,7 +234,7 @@ mod tests {
     use super::*;
 
     fn p(sampling: f64, map: f64) -> Prediction {
-        Prediction { predicted_rmse: (sampling * sampling + map * map).sqrt(), predicted_sampling: sampling, predicted_map: map }
+        Prediction { predicted_rmse: (sampling * sampling + map * map).sqrt(), predicted_sampling: sampling, predicted_map: map, predicted_quantization: map, predicted_bias: 0.0 }
     }
 
     #[test]

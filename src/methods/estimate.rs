@@ -43,6 +43,9 @@ pub struct Prediction {
     pub predicted_rmse: f64,
     pub predicted_sampling: f64,
     pub predicted_map: f64,
+    /// The maps' part's two terms: quantization (RMS Q) and bias (RMS B), m² = Q² + B².
+    pub predicted_quantization: f64,
+    pub predicted_bias: f64,
 }
 
 /// Per pixel: predicted sampling and map error (root of the mean square over pixels gives the
@@ -58,18 +61,26 @@ pub fn predict(sums: &[[f32; 4]], geometry: &[bool], layout: Layout) -> Result<(
     if sums.len() != geometry.len() {
         return Err(crate::Error::Limit(format!("estimate: {} sums for {} pixels", sums.len(), geometry.len())));
     }
-    let (mut s2, mut m2, mut pixels) = (0.0f64, 0.0f64, 0usize);
+    let (mut s2, mut m2, mut q2, mut pixels) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     let mut bound = vec![0.0f32; sums.len()];
     for (i, sum) in sums.iter().enumerate().filter(|(i, _)| geometry[*i]) {
         let (s, m) = pixel_terms(*sum, layout);
         s2 += s * s;
         m2 += m * m;
+        q2 += (sum[2] as f64).powi(2);
         pixels += 1;
         bound[i] = BOUND_SIGMAS * (s * s + m * m).sqrt() as f32 + BOUND_FLOOR;
     }
     let n = pixels.max(1) as f64;
     let (sampling, map) = ((s2 / n).sqrt(), (m2 / n).sqrt());
-    let p = Prediction { predicted_rmse: (sampling * sampling + map * map).sqrt(), predicted_sampling: sampling, predicted_map: map };
+    let quantization = (q2 / n).sqrt();
+    let p = Prediction {
+        predicted_rmse: (sampling * sampling + map * map).sqrt(),
+        predicted_sampling: sampling,
+        predicted_map: map,
+        predicted_quantization: quantization,
+        predicted_bias: (map * map - quantization * quantization).max(0.0).sqrt(),
+    };
     Ok((p, bound))
 }
 

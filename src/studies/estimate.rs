@@ -67,6 +67,11 @@ pub struct EstimateLine {
     pub predicted_rmse: f64,
     pub predicted_sampling: f64,
     pub predicted_map: f64,
+    /// The maps' part's quantization and bias terms (m² = Q² + B²).
+    #[serde(default)]
+    pub predicted_quantization: f64,
+    #[serde(default)]
+    pub predicted_bias: f64,
     /// predicted / measured, and whether it lies in RATIO_BAND.
     pub ratio: f64,
     pub within: bool,
@@ -145,6 +150,8 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], settin
             predicted_rmse: p.predicted_rmse,
             predicted_sampling: p.predicted_sampling,
             predicted_map: p.predicted_map,
+            predicted_quantization: p.predicted_quantization,
+            predicted_bias: p.predicted_bias,
             ratio,
             within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
             bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
