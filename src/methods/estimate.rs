@@ -115,6 +115,9 @@ mod tests {
         let s = sampling_scale(Layout::Centred) * 0.2;
         assert!((p.predicted_sampling - (s * s / 2.0).sqrt()).abs() < 1e-7);
         assert!((p.predicted_map - (0.05f64 * 0.05 / 2.0).sqrt()).abs() < 1e-7);
+        // Its two terms: RMS Q = 0.03/√2, RMS B = 0.04/√2.
+        assert!((p.predicted_quantization - 0.03 / 2f64.sqrt()).abs() < 1e-7);
+        assert!((p.predicted_bias - 0.04 / 2f64.sqrt()).abs() < 1e-7);
         assert!((p.predicted_rmse - (p.predicted_sampling.powi(2) + p.predicted_map.powi(2)).sqrt()).abs() < 1e-12);
         assert_eq!(bound[2], 0.0, "no bound off geometry");
         assert_eq!(bound[1], BOUND_FLOOR);
