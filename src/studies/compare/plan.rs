@@ -21,9 +21,15 @@ pub const COMPARE_ANNOUNCE_OVER: usize = 16;
 /// `analytic-square` at 64², whose frames cost next to nothing, took 0.5 s each (llvmpipe, 2
 /// cores, wall clock).
 const CONFIG_S: f64 = 0.5;
-/// Seconds per unit of `estimated_cost` (shadow maps × triangles × pixels) per frame:
-/// `regular:n=17` on `default` at 128² took 1.8 s a frame for 2.8e11 units (llvmpipe, 2 cores).
-const COST_S: f64 = 7e-12;
+/// Seconds per unit of `estimated_cost` (per map: a triangle rasterized, or `PIXEL_WEIGHT`
+/// pixels shaded) per frame: the fixed-function raster of `bunny-seed-framing` (1.2 M triangles)
+/// took 87 ms a map at 512² (docs/bench.md, 2026-11-26; llvmpipe, 2 cores).
+const COST_S: f64 = 7e-8;
+/// A pixel shaded against one map costs about this many triangles rasterized into it: shade took
+/// 5.5 ms a map for 512² pixels in the same frames (2.1e-8 s a pixel). The cost is a sum, not a
+/// product: the first model (maps × triangles × pixels) said 22.7 h for a thinned frontier of
+/// that scene at 512² that took 12 minutes.
+const PIXEL_WEIGHT: f64 = 0.3;
 
 /// Estimated wall time of measuring `methods` on `scene`, in seconds: every configuration's fixed
 /// cost plus its frames (warm-up, stages, `repeats`) at its estimated cost. The reference trace
@@ -94,10 +100,11 @@ pub fn estimated_maps(method: &Method) -> f64 {
     }
 }
 
-/// Estimated cost of one configuration: (maps + the G-buffer pass) × triangles × pixels.
+/// Estimated cost of one configuration: (maps + the G-buffer pass) × (triangles + pixels weighted
+/// as triangles): every map rasterizes the whole mesh and is read once per pixel.
 pub fn estimated_cost(method: &Method, scene: &Scene) -> f64 {
     let pixels = f64::from(scene.render.width) * f64::from(scene.render.height);
-    (estimated_maps(method) + 1.0) * scene.triangle_count().max(1) as f64 * pixels
+    (estimated_maps(method) + 1.0) * (scene.triangle_count().max(1) as f64 + PIXEL_WEIGHT * pixels)
 }
 
 #[cfg(test)]
@@ -123,5 +130,18 @@ mod tests {
         assert_eq!(m("adaptive:p_m=inf"), 4.0);
         assert!(m("adaptive:p_m=0") > m("adaptive:p_m=100"));
         assert_eq!(m("adaptive:p_m=-1,max_level=2"), 25.0);
+    }
+
+    #[test]
+    fn frame_estimates_follow_the_measured_frames() {
+        // `regular:n=17` on `default` (59k triangles) at 128² took 1.8 s a frame (llvmpipe, the
+        // fixed-function raster); the estimate is a frame's cost at that rate, within 1.5× of it.
+        let scene = Scene::load("default", &[("resolution".into(), "128".into())]).unwrap();
+        let frame = COST_S * estimated_cost(&Method::parse("regular:n=17", &[]).unwrap(), &scene);
+        assert!((1.8 / 1.5..=1.8 * 1.5).contains(&frame), "{frame} s a frame");
+        // Four times the pixels add a fraction, not four times the frame: the mesh's raster stays.
+        let big = Scene::load("default", &[("resolution".into(), "256".into())]).unwrap();
+        let ratio = estimated_cost(&Method::parse("regular:n=17", &[]).unwrap(), &big) / (frame / COST_S);
+        assert!(ratio > 1.1 && ratio < 1.5, "{ratio}");
     }
 }
