@@ -291,14 +291,20 @@ mod tests {
         }
     }
 
-    #[test]
-    fn lattice_and_point_modes_count_the_mapped_points_exactly() {
-        // The sun overhead, a half-plane x > 0 at height 1 (two large triangles).
-        let (h, g) = (1.0f32, 50.0f32);
-        let tracer = Tracer::new(&[
+    /// The half-plane x > 0 at height `h`, two triangles 50 units across.
+    fn half_plane(h: f32) -> Tracer {
+        let g = 50.0f32;
+        Tracer::new(&[
             [Vec3::new(0.0, h, -g), Vec3::new(g, h, -g), Vec3::new(g, h, g)],
             [Vec3::new(0.0, h, -g), Vec3::new(g, h, g), Vec3::new(0.0, h, g)],
-        ]);
+        ])
+    }
+
+    #[test]
+    fn lattice_and_point_modes_count_the_mapped_points_exactly() {
+        // The sun overhead, a half-plane x > 0 at height 1.
+        let h = 1.0f32;
+        let tracer = half_plane(h);
         let sun = RefEmitter::Sun { toward: Vec3::Y, tan_half: 0.2, reach: 100.0 };
         let mut unit = Vec::new();
         for x in [-0.173f32, -0.061, 0.052, 0.149] {
@@ -322,11 +328,8 @@ mod tests {
         // The sphere at height 6 over a half-plane x > 0 at height 3; ground receivers hold face −y.
         // Each lattice point y is blocked iff the segment from p crosses y = 3 at x > 0: counted
         // exactly from `point_light_point`, while the continuous mode still samples the silhouette.
-        let (h, g) = (3.0f32, 50.0f32);
-        let tracer = Tracer::new(&[
-            [Vec3::new(0.0, h, -g), Vec3::new(g, h, -g), Vec3::new(g, h, g)],
-            [Vec3::new(0.0, h, -g), Vec3::new(g, h, g), Vec3::new(0.0, h, g)],
-        ]);
+        let h = 3.0f32;
+        let tracer = half_plane(h);
         let light = PointLight { position: Vec3::new(1.0, 6.0, 0.5), radius: 1.5 };
         let emitter = RefEmitter::Point { center: light.position, radius: light.radius };
         let points: Vec<Option<SurfacePoint>> = [-2.2f32, -1.4, -0.9, -0.3].iter().map(|&x| Some(SurfacePoint { position: Vec3::new(x, 0.0, 3.5), normal: Vec3::Y })).collect();
