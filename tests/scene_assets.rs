@@ -234,3 +234,31 @@ fn committed_scene_files_state_their_triangles_and_resolve_through_the_cache() {
     }
     assert!(seen >= 10, "only {seen} scene files");
 }
+
+#[test]
+fn an_open_mesh_under_back_face_culling_is_warned_about_once() {
+    // The one-triangle OFF is open (3 boundary edges); a tetrahedron wound outwards is closed.
+    const TETRA_OFF: &str = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    let dir = temp_dir("scene_open_mesh");
+    std::fs::write(dir.join("tri.off"), TRI_OFF).unwrap();
+    std::fs::write(dir.join("tetra.off"), TETRA_OFF).unwrap();
+    let run = |mesh: &str, sets: &[&str]| {
+        let scene = dir.join("scene.toml");
+        std::fs::write(&scene, format!("{HEAD}\n[[mesh]]\nbuiltin = \"plane\"\nscale = [10.0, 1.0, 10.0]\n\n[[mesh]]\nfile = \"{mesh}\"\ntranslate = [0.0, 1.0, 0.0]\n")).unwrap();
+        let out = dir.join("out");
+        let _ = std::fs::remove_dir_all(&out);
+        let mut args = vec!["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        args.extend_from_slice(sets);
+        let o = penumbra(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{stderr}");
+        stderr.lines().filter(|l| l.starts_with("warning:") && l.contains("is open")).map(String::from).collect::<Vec<_>>()
+    };
+    let open = run("tri.off", &[]);
+    assert_eq!(open.len(), 1, "{open:?}");
+    assert!(open[0].contains("mesh 2 (tri.off) is open (3 boundary edges)") && open[0].contains("cull = \"none\""), "{}", open[0]);
+    // The ground plane (a built-in, open by design) is not named; nor is anything without culling
+    // or a closed mesh.
+    assert!(run("tri.off", &["--set", "cull=none"]).is_empty());
+    assert!(run("tetra.off", &[]).is_empty());
+}

@@ -20,8 +20,9 @@ pub struct Vertex {
 }
 
 /// Loads (or builds) one `[[mesh]]`, subdivides it, applies its transform, then places one copy per
-/// instance. Normals are computed once and turned with each placement.
-pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Result<(Vec<Vertex>, Vec<u32>)> {
+/// instance. Normals are computed once and turned with each placement. Also returns a mesh file's
+/// boundary edges as loaded (0 for the built-ins: the plane is open by design).
+pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Result<(Vec<Vertex>, Vec<u32>, usize)> {
     let label = format!("{origin}: mesh {}", k + 1);
     if m.builtin.as_deref() == Some("sphere") && !(3..=512).contains(&m.segments) {
         return Err(Error::scene(origin, format!("mesh {}: segments = {} for a sphere: must be in 3..=512", k + 1, m.segments)));
@@ -36,6 +37,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
     if raw.indices.is_empty() {
         return Err(Error::mesh(label, "the mesh is empty (no triangles)"));
     }
+    let open_edges = if m.file.is_some() { raw.boundary_edges() } else { 0 };
     let raw = subdivide::subdivide(raw, m.subdivide, m.subdivision).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
     let placements = instances::placements(m).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
     let scale = match m.scale {
@@ -80,7 +82,7 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
             format!("mesh {}: a placed vertex lands at {:?}, beyond ±{MAX_COORDINATE:e}: shrink translate, scale or the instances", k + 1, v.position),
         ));
     }
-    Ok((vertices, indices))
+    Ok((vertices, indices, open_edges))
 }
 
 /// Scale factors per axis, by size (0 flattens the mesh; beyond 1e6 f32 loses it).
