@@ -23,8 +23,12 @@ pub enum RefEmitter {
     /// Directions `normalize(toward + tan_half·q)`, `q` in the unit disk across `toward`; rays
     /// end `reach` away (past every triangle).
     Sun { toward: Vec3, tan_half: f32, reach: f32 },
-    /// An emitter sphere (a spot light; its cone scales lighting, not V).
+    /// An emitter sphere, sampled as seen from each receiver.
     Sphere { center: Vec3, radius: f32 },
+    /// The spot light's emitter sphere (its cone scales lighting, not V): sampled as `Sphere` by
+    /// the continuous reference; the lattice and point modes take its maps' own light points
+    /// (`spot_light_point` from the stand-in square `light`).
+    Spot { light: AreaLight, spot: SpotLight },
     /// The point light's emitter sphere: sampled as `Sphere` by the continuous reference; the
     /// lattice and point modes take the cube maps' own light points (`point_light_point` on the
     /// face that holds the receiver), so they are the exact visibility at a grid's points.
@@ -39,6 +43,10 @@ impl RefEmitter {
             RefEmitter::Sun { toward, tan_half, reach } => (b"sun", toward.to_array().into_iter().chain([tan_half, reach]).collect()),
             RefEmitter::Sphere { center, radius } => (b"sphere", center.to_array().into_iter().chain([radius]).collect()),
             RefEmitter::Point { center, radius } => (b"point-sphere", center.to_array().into_iter().chain([radius]).collect()),
+            RefEmitter::Spot { light, spot } => (
+                b"spot-ball",
+                [spot.position, spot.direction, light.center, light.edge_u, light.edge_v].iter().flat_map(|v| v.to_array()).chain([spot.radius]).collect(),
+            ),
         };
         let mut v = tag.to_vec();
         xs.iter().for_each(|x| v.extend_from_slice(&x.to_le_bytes()));
@@ -50,6 +58,9 @@ impl RefEmitter {
             RefEmitter::Disk { center, normal, radius } => center.is_finite() && normal.is_normalized() && radius > 0.0 && radius.is_finite(),
             RefEmitter::Sun { toward, tan_half, reach } => toward.is_normalized() && tan_half > 0.0 && tan_half.is_finite() && reach > 0.0,
             RefEmitter::Sphere { center, radius } | RefEmitter::Point { center, radius } => center.is_finite() && radius > 0.0 && radius.is_finite(),
+            RefEmitter::Spot { light, spot } => {
+                spot.position.is_finite() && spot.radius > 0.0 && spot.radius.is_finite() && spot.direction.is_normalized() && light.edge_u.is_finite() && light.edge_v.is_finite()
+            }
         };
         if ok { Ok(()) } else { Err(ReferenceError::DegenerateLight) }
     }
@@ -57,8 +68,43 @@ impl RefEmitter {
 
 /// The concentric map lives with the emitters, which the methods' samples share.
 pub use crate::scene::emitter::concentric;
-use crate::scene::emitter::{cube_face, point_light_point};
-use crate::scene::PointLight;
+use crate::scene::emitter::{cube_face, point_light_point, spot_light_point};
+use crate::scene::light::AreaLight;
+use crate::scene::{PointLight, SpotLight};
+
+/// The maps' own light points, which the lattice and point modes of the point and the spot trace
+/// to, so that they are the exact visibility at a grid's points.
+enum MapPoints {
+    /// `point_light_point` on the face that holds the receiver.
+    Cube(PointLight),
+    Spot(AreaLight, SpotLight),
+}
+
+impl MapPoints {
+    fn of(emitter: &RefEmitter, mode: &ReferenceMode) -> Option<MapPoints> {
+        match (*emitter, mode) {
+            (RefEmitter::Point { center, radius }, ReferenceMode::Lattice | ReferenceMode::Point { .. }) => Some(MapPoints::Cube(PointLight { position: center, radius })),
+            (RefEmitter::Spot { light, spot }, ReferenceMode::Lattice | ReferenceMode::Point { .. }) => Some(MapPoints::Spot(light, spot)),
+            _ => None,
+        }
+    }
+
+    /// The emitter sphere's centre and radius.
+    fn sphere(&self) -> (Vec3, f32) {
+        match self {
+            MapPoints::Cube(l) => (l.position, l.radius),
+            MapPoints::Spot(_, spot) => (spot.position, spot.radius),
+        }
+    }
+
+    /// Sample `(s, t)`'s light point for a receiver at `to_p` from the centre.
+    fn point(&self, to_p: Vec3, s: f32, t: f32) -> Vec3 {
+        match self {
+            MapPoints::Cube(l) => point_light_point(l, cube_face(to_p), s, t),
+            MapPoints::Spot(light, spot) => spot_light_point(light, spot, s, t),
+        }
+    }
+}
 
 /// The unit-square points of `mode` for `pixel`: the rectangle's (s, t), in its order and seeds.
 pub fn fill_unit_samples(mode: &ReferenceMode, pixel: u64, out: &mut Vec<(f32, f32)>) {
@@ -88,11 +134,7 @@ pub fn try_trace_emitter(
     if mode.samples_per_pixel() == 0 {
         return Err(ReferenceError::NoSamples);
     }
-    // The lattice and point modes of the point light trace to its cube maps' own light points.
-    let cube = match (*emitter, mode) {
-        (RefEmitter::Point { center, radius }, ReferenceMode::Lattice | ReferenceMode::Point { .. }) => Some(PointLight { position: center, radius }),
-        _ => None,
-    };
+    let map_points = MapPoints::of(emitter, mode);
     const CHUNK: usize = 256;
     let mut out = vec![0.0f32; points.len()];
     let done = Mutex::new(0usize);
@@ -102,8 +144,8 @@ pub fn try_trace_emitter(
         for (k, (v, point)) in out.iter_mut().zip(points).enumerate() {
             let Some(point) = point else { continue };
             fill_unit_samples(mode, (chunk * CHUNK + k) as u64, &mut unit);
-            let (value, n) = match &cube {
-                Some(light) => cube_point_visibility(tracer, point, light, &unit, ray_offset),
+            let (value, n) = match &map_points {
+                Some(points) => map_point_visibility(tracer, point, points, &unit, ray_offset),
                 None => emitter_visibility(tracer, point, emitter, &unit, ray_offset),
             };
             *v = value;
@@ -134,7 +176,7 @@ pub fn emitter_visibility(tracer: &Tracer, point: &SurfacePoint, emitter: &RefEm
             (n, radius, End::Disk { center })
         }
         RefEmitter::Sun { toward, tan_half, reach } => (toward, tan_half, End::Far { reach }),
-        RefEmitter::Sphere { center, radius } | RefEmitter::Point { center, radius } => {
+        RefEmitter::Sphere { center, radius } | RefEmitter::Point { center, radius } | RefEmitter::Spot { spot: SpotLight { position: center, radius, .. }, .. } => {
             let to_c = center - p;
             let d2 = to_c.length_squared();
             if d2 <= radius * radius {
@@ -188,21 +230,20 @@ pub fn emitter_visibility(tracer: &Tracer, point: &SurfacePoint, emitter: &RefEm
     (lit as f32 / unit.len() as f32, rays)
 }
 
-/// `(V, rays traced)` at one point for the point light's cube-map light points of unit-square
-/// samples `unit` (`point_light_point` on the face that holds `point`): the rules of
-/// `emitter_visibility` (unlit inside the sphere or at or below the tangent plane).
-pub fn cube_point_visibility(tracer: &Tracer, point: &SurfacePoint, light: &PointLight, unit: &[(f32, f32)], ray_offset: f32) -> (f32, u64) {
+/// `(V, rays traced)` at one point for the maps' own light points of unit-square samples `unit`:
+/// the rules of `emitter_visibility` (unlit inside the sphere or at or below the tangent plane).
+fn map_point_visibility(tracer: &Tracer, point: &SurfacePoint, points: &MapPoints, unit: &[(f32, f32)], ray_offset: f32) -> (f32, u64) {
     let p = point.position;
     let normal = point.normal.normalize_or_zero();
-    let to_p = p - light.position;
-    if unit.is_empty() || !p.is_finite() || normal == Vec3::ZERO || !ray_offset.is_finite() || to_p.length_squared() <= light.radius * light.radius {
+    let (center, radius) = points.sphere();
+    let to_p = p - center;
+    if unit.is_empty() || !p.is_finite() || normal == Vec3::ZERO || !ray_offset.is_finite() || to_p.length_squared() <= radius * radius {
         return (0.0, 0);
     }
     let origin = p + normal * ray_offset;
-    let face = cube_face(to_p);
     let (mut lit, mut rays) = (0u32, 0u64);
     for &(s, t) in unit {
-        let y = point_light_point(light, face, s, t);
+        let y = points.point(to_p, s, t);
         if normal.dot(y - p) <= 0.0 {
             continue;
         }
@@ -349,5 +390,32 @@ mod tests {
         let centre = try_trace_emitter(&tracer, &points, &emitter, &ReferenceMode::Point { s: 0.5, t: 0.5 }, 0.0, &|_| {}).unwrap();
         // The centre alone: the hard shadow's edge at x = 1 − 1·6/3 = −1.
         assert_eq!(centre, [1.0, 1.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn the_spots_lattice_mode_traces_to_its_maps_points() {
+        // The point light's case with a spot tilted 20° off the vertical: each lattice point from
+        // `spot_light_point` is counted exactly; the continuous mode differs from that count.
+        use crate::scene::Emitter;
+        let h = 3.0f32;
+        let tracer = half_plane(h);
+        let spot = SpotLight { position: Vec3::new(1.0, 6.0, 0.5), direction: Vec3::new(0.342, -0.94, 0.0).normalize(), inner_cone_deg: 30.0, outer_cone_deg: 50.0, radius: 1.5 };
+        let light = Emitter::Spot(spot).stand_in(&crate::scene::light::Bounds { min: Vec3::splat(-5.0), max: Vec3::splat(5.0) }).unwrap();
+        let emitter = RefEmitter::Spot { light, spot };
+        let points: Vec<Option<SurfacePoint>> = [-2.2f32, -1.4, -0.9, -0.3].iter().map(|&x| Some(SurfacePoint { position: Vec3::new(x, 0.0, 3.5), normal: Vec3::Y })).collect();
+        let v = try_trace_emitter(&tracer, &points, &emitter, &ReferenceMode::Lattice, 0.0, &|_| {}).unwrap();
+        let continuous = try_trace_emitter(&tracer, &points, &emitter, &ReferenceMode::Continuous { m: 17, seed: 1 }, 0.0, &|_| {}).unwrap();
+        let mut unit = Vec::new();
+        fill_unit_samples(&ReferenceMode::Lattice, 0, &mut unit);
+        for ((p, v), c) in points.iter().flatten().zip(&v).zip(&continuous) {
+            let lit = unit.iter().filter(|&&(s, t)| {
+                let y = spot_light_point(&light, &spot, s, t);
+                p.position.x + (y.x - p.position.x) * h / y.y <= 0.0
+            });
+            let lit = lit.count();
+            assert_eq!(*v, lit as f32 / 289.0, "x = {}", p.position.x);
+            assert!(lit > 0 && lit < 289, "x = {}: not in the penumbra", p.position.x);
+            assert_ne!(v, c, "x = {}: the continuous mode traced the same points", p.position.x);
+        }
     }
 }

@@ -156,7 +156,7 @@ pub fn emitter_of(scene: &Scene) -> Option<RefEmitter> {
         Emitter::Rect => None,
         Emitter::Disk(d) => Some(RefEmitter::Disk { center: d.center, normal: d.normal, radius: d.radius }),
         Emitter::Sun(s) => Some(RefEmitter::Sun { toward: s.toward(), tan_half: s.tan_half_angle(), reach: env_ray_length(scene) }),
-        Emitter::Spot(s) => Some(RefEmitter::Sphere { center: s.position, radius: s.radius }),
+        Emitter::Spot(s) => Some(RefEmitter::Spot { light: scene.light, spot: s }),
         Emitter::Point(p) => Some(RefEmitter::Point { center: p.position, radius: p.radius }),
     }
 }

@@ -145,15 +145,16 @@ impl Emitter {
     /// The light point of unit-square sample `(s, t)` for a method that rasterizes maps from
     /// points on the emitter: the rectangle's `light.point(s, t)`; on the disk the point the
     /// concentric map sends `(s, t)` to, as the reference samples it (`light` is the disk's
-    /// stand-in square, whose half-edges are the disk's radius). The spot's sphere is sampled on
-    /// its disk through `position` facing along `direction` (its stand-in square the same way):
-    /// the silhouette the reference samples, seen from the cone's axis (docs/lights.md §4).
+    /// stand-in square, whose half-edges are the disk's radius). The spot's sphere is sampled in
+    /// its ball (`spot_light_point`), whose projection towards every receiver is, over the samples,
+    /// the silhouette the reference samples (docs/lights.md, "Maps on the spot").
     pub fn sample_point(&self, light: &AreaLight, s: f32, t: f32) -> Vec3 {
         match self {
-            Emitter::Disk(_) | Emitter::Spot(_) => {
+            Emitter::Disk(_) => {
                 let (x, y) = concentric(s, t);
                 light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y)
             }
+            Emitter::Spot(spot) => spot_light_point(light, spot, s, t),
             _ => light.point(s, t),
         }
     }
@@ -221,8 +222,23 @@ pub fn point_light_point(point: &PointLight, face: u32, s: f32, t: f32) -> Vec3 
     let axes = [Vec3::X, Vec3::Y, Vec3::Z];
     let a = (face / 2) as usize;
     let (u, v, along) = (axes[(a + 1) % 3], axes[(a + 2) % 3], axes[a]);
-    let z = (1.0 - x * x - y * y).max(0.0).sqrt() * (std::f32::consts::PI * (ball_w(s, t) - 0.5)).sin();
-    point.position + point.radius * (u * x + v * y + along * z)
+    point.position + point.radius * (u * x + v * y + along * ball_depth(x, y, s, t))
+}
+
+/// The spot's light point for unit-square sample `(s, t)`: the point the concentric map sends it
+/// to on the disk across `direction` (the stand-in square `light`, half-edges the radius), moved
+/// along `direction` by `radius · ball_depth`: the point light's ball points (`point_light_point`)
+/// with the cone's axis for the face's. A receiver off the axis sees, on average, the sphere's
+/// whole silhouette, where the flat disk showed it foreshortened by the angle's cosine.
+pub fn spot_light_point(light: &AreaLight, spot: &SpotLight, s: f32, t: f32) -> Vec3 {
+    let (x, y) = concentric(s, t);
+    light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y) + spot.direction * (spot.radius * ball_depth(x, y, s, t))
+}
+
+/// The depth across the disk of a ball point over disk point (x, y) = concentric(s, t):
+/// √(1 − x² − y²)·sin(π(w − ½)) with w = `ball_w(s, t)`, the arcsine law on the chord.
+pub fn ball_depth(x: f32, y: f32, s: f32, t: f32) -> f32 {
+    (1.0 - x * x - y * y).max(0.0).sqrt() * (std::f32::consts::PI * (ball_w(s, t) - 0.5)).sin()
 }
 
 /// The depth coordinate's uniform variate for sample `(s, t)`: ½ at the centre (the hard shadow's
@@ -304,5 +320,33 @@ mod tests {
         let (a, b) = (point_light_point(&light, 3, 0.3, 0.8) - light.position, point_light_point(&light, 3, 0.7, 0.2) - light.position);
         assert!((a + b).length() < 1e-4, "{a} {b}");
         assert_eq!(cube_face(Vec3::new(0.2, -3.0, 1.0)), 3);
+    }
+
+    #[test]
+    fn the_spots_points_fill_its_ball_and_keep_the_disk_along_its_axis() {
+        // The same moments as the point light's, about the cone's axis; along the axis each point
+        // projects onto the flat disk the spot sampled before (the stand-in square's concentric point).
+        let spot = SpotLight { position: Vec3::new(-1.0, 7.0, -0.5), direction: Vec3::new(0.2, -1.0, 0.0).normalize(), inner_cone_deg: 25.0, outer_cone_deg: 40.0, radius: 1.0 };
+        let emitter = Emitter::Spot(spot);
+        let light = emitter.stand_in(&Bounds { min: Vec3::splat(-10.0), max: Vec3::splat(10.0) }).unwrap();
+        let n = 64;
+        let st = |k: usize| (((k % n) as f32 + 0.5) / n as f32, ((k / n) as f32 + 0.5) / n as f32);
+        let pts: Vec<Vec3> = (0..n * n).map(|k| emitter.sample_point(&light, st(k).0, st(k).1) - spot.position).collect();
+        assert!(pts.iter().all(|q| q.length() <= spot.radius * (1.0 + 1e-5)), "a point outside the sphere");
+        for (k, q) in pts.iter().enumerate() {
+            let (x, y) = concentric(st(k).0, st(k).1);
+            let flat = light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y) - spot.position;
+            assert!((*q - spot.direction * q.dot(spot.direction) - flat).length() < 1e-5, "sample {k}");
+        }
+        let (u, v) = (light.edge_u.normalize(), light.edge_v.normalize());
+        for tilt in [0.0f32, 30.0, 50.0] {
+            let d = spot.direction * tilt.to_radians().cos() + v * tilt.to_radians().sin();
+            let (e1, e2) = (u, d.cross(u).normalize());
+            let m = |e: Vec3| pts.iter().map(|q| (q.dot(e) / spot.radius).powi(2)).sum::<f32>() / pts.len() as f32;
+            assert!((m(e1) - 0.25).abs() < 0.01 && (m(e2) - 0.25).abs() < 0.01, "tilt {tilt}: {} {}", m(e1), m(e2));
+        }
+        assert_eq!(emitter.sample_point(&light, 0.5, 0.5), spot.position);
+        let (a, b) = (pts[10 * n + 20], pts[(n - 1 - 10) * n + (n - 1 - 20)]);
+        assert!((a + b).length() < 1e-4, "{a} {b}");
     }
 }
