@@ -6,7 +6,7 @@ use anyhow::Result;
 use penumbra::gpu::{AdapterRequest, GpuContext};
 use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
-use penumbra::scene::Scene;
+use penumbra::scene::{Scene, MAX_SUN_DIAMETER_DEG};
 use penumbra::studies::compare::methods_list;
 use penumbra::studies::framing::{self, FramingJob};
 use std::path::PathBuf;
@@ -44,6 +44,19 @@ pub fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
     }
     if let Some(k) = args.light_scales.iter().find(|&&k| !(k.is_finite() && k > 0.0 && k <= 100.0)) {
         anyhow::bail!("--light-scales: {k} is not in (0, 100]");
+    }
+    // A sun scaled past the widest sun a scene may state is a sky, not a sun.
+    for scene in &scenes {
+        if let penumbra::scene::Emitter::Sun(sun) = scene.emitter {
+            if let Some(k) = args.light_scales.iter().find(|&&k| sun.angular_diameter_deg * k > MAX_SUN_DIAMETER_DEG) {
+                anyhow::bail!(
+                    "--light-scales: {k} makes {}'s sun {}° across (light.angular_diameter_deg = {} times {k}), over the {MAX_SUN_DIAMETER_DEG}° a sun may be",
+                    scene.name,
+                    sun.angular_diameter_deg * k,
+                    sun.angular_diameter_deg
+                );
+            }
+        }
     }
     if args.repeats == 0 || args.repeats > 1000 {
         anyhow::bail!("--repeats must be in 1..=1000, got {}", args.repeats);

@@ -121,6 +121,18 @@ impl Emitter {
         }
     }
 
+    /// The same emitter `k` times the size: the disk's, the spot's and the point's radius, the
+    /// sun's angular diameter (the framing study's light scale). The rectangle is `Scene::light`.
+    pub fn scaled(&self, k: f32) -> Emitter {
+        match *self {
+            Emitter::Rect => Emitter::Rect,
+            Emitter::Disk(d) => Emitter::Disk(DiskLight { radius: d.radius * k, ..d }),
+            Emitter::Sun(s) => Emitter::Sun(SunLight { angular_diameter_deg: s.angular_diameter_deg * k, ..s }),
+            Emitter::Spot(s) => Emitter::Spot(SpotLight { radius: s.radius * k, ..s }),
+            Emitter::Point(p) => Emitter::Point(PointLight { radius: p.radius * k, ..p }),
+        }
+    }
+
     /// A square with the emitter's place and size, facing the meshes: the shading direction of
     /// the frame (and the nominal light of the checks that read `Scene::light`). `None` for `Rect`.
     pub fn stand_in(&self, bounds: &Bounds) -> Option<AreaLight> {

@@ -26,6 +26,7 @@ mod subdivide;
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use catalog::{area_light_names, catalog, CatalogEntry};
 pub use emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
+pub use emitter_def::MAX_SUN_DIAMETER_DEG;
 pub use given::{settings_from_pairs, GivenMesh};
 pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow};
 pub use mesh::Vertex;

@@ -53,13 +53,24 @@ fn io_error(what: &str, e: impl std::fmt::Display) -> Error {
     Error::Io { path: what.into(), message: e.to_string() }
 }
 
-/// The scene at one configuration: square screen of `resolution`, light edges times `scale`.
+/// The scene at one configuration: square screen of `resolution`, the light `scale` times the size.
+/// The rectangle is `Scene::light`; another kind scales its emitter, which the reference traces,
+/// and its stand-in square follows (scaling the stand-in alone moved the methods' light points
+/// and left the reference's emitter as it was).
 pub fn configure(scene: &Scene, resolution: u32, scale: f32) -> Scene {
     let mut s = scene.clone();
     s.render.width = resolution;
     s.render.height = resolution;
-    s.light.edge_u *= scale;
-    s.light.edge_v *= scale;
+    match s.emitter.scaled(scale).stand_in(&s.bounds) {
+        Some(stand_in) => {
+            s.emitter = s.emitter.scaled(scale);
+            s.light = stand_in;
+        }
+        None => {
+            s.light.edge_u *= scale;
+            s.light.edge_v *= scale;
+        }
+    }
     s
 }
 
