@@ -99,6 +99,14 @@ enum Command {
 }
 
 fn main() {
+    // A reader that goes away (`penumbra compare 2>&1 | head`) ends the run as it ends other tools.
+    // Rust ignores SIGPIPE, so the next log line failed with EPIPE and `eprintln!` panicked (exit
+    // 101). The output set is staged and renamed, so the end leaves no partial set.
+    #[cfg(unix)]
+    // SAFETY: one call at start-up, before any thread exists; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
