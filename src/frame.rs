@@ -220,6 +220,7 @@ impl<'a> Renderer<'a> {
     pub fn set_camera(&mut self, camera: &crate::scene::Camera) {
         self.camera = crate::render::gbuffer::camera_uniform_for(self.fg.scene, camera);
         self.moved_camera = Some(camera.clone());
+        self.state.camera_moved();
     }
 
     /// The screen-sized buffers the frame and the method created, by label (the size plan's

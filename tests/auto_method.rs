@@ -1,6 +1,7 @@
-//! `auto:target=T` (docs/error-estimate.md §6): it searches on its first frame, starts the next
-//! frame from its choice (also across a renderer moved to the next frame of a sequence), renders
-//! exactly the grid it names, and says when a target is out of reach.
+//! `auto:target=T` (docs/error-estimate.md §6): it searches on its first frame, renders the
+//! settled grid alone while the inputs stay, estimates again when the camera moves, starts from
+//! its choice across a renderer moved to the next frame of a sequence, renders exactly the grid it
+//! names, and says when a target is out of reach.
 
 mod common;
 use penumbra::frame::{FrameOptions, Renderer};
@@ -34,14 +35,28 @@ fn auto_renders_its_choice_and_keeps_it() {
     assert_eq!((last["n"].as_u64(), last["map_size"].as_u64()), (Some(n), Some(size)));
     assert_eq!(first.output.shadow_maps as u64, tries.iter().map(|t| t["maps"].as_u64().unwrap()).sum::<u64>(), "every try's maps count");
 
-    // The next frame starts from the choice: one try, and V is the fixed grid's, bit for bit.
+    // The next frame, same inputs: the settled grid alone, no estimate, and V is the first
+    // frame's and the fixed grid's, bit for bit; the record keeps the settling frame's prediction.
     let second = r.frame(options()).unwrap();
-    assert_eq!(second.output.record["tries"].as_array().unwrap().len(), 1, "{}", second.output.record);
+    let rec2 = &second.output.record;
+    assert_eq!(rec2["tries"].as_array().unwrap().len(), 0, "{rec2}");
+    assert_eq!((rec2["estimated"].as_bool(), first.output.record["estimated"].as_bool()), (Some(false), Some(true)), "{rec2}");
+    assert_eq!(rec2["predicted_rmse"], rec["predicted_rmse"]);
+    assert_eq!(second.output.shadow_maps as u64, n * n, "{rec2}");
+    assert!(second.visibility == first.visibility, "the settled frame's V is the first frame's");
+    assert_eq!(second.output.bound, first.output.bound, "the settling frame's bound");
     let mut fixed_sets = sets.to_vec();
     fixed_sets.push(("shadow_map_size".into(), size.to_string()));
     let fixed_scene = Scene::load("overlapping-occluders", &fixed_sets).unwrap();
     let fixed = penumbra::frame::render(ctx, &fixed_scene, &Method::parse(&format!("regular:n={n},layout=centred"), &[]).unwrap(), options()).unwrap();
     assert!(fixed.visibility == second.visibility, "auto's V is regular:n={n},layout=centred at {size}² maps");
+
+    // A moved camera unsettles it: the next frame estimates again, starting from the choice.
+    r.set_camera(&scene.camera);
+    let third = r.frame(options()).unwrap();
+    let tries = third.output.record["tries"].as_array().unwrap();
+    assert_eq!((tries.len(), third.output.record["estimated"].as_bool()), (1, Some(true)), "{}", third.output.record);
+    assert!(third.visibility == first.visibility, "the same camera, the same V");
 
     // A renderer moved to the next frame of a sequence (its state built again) keeps the choice.
     let moved = r.detach().attach(ctx, &scene).unwrap().frame(options()).unwrap();

@@ -3,7 +3,9 @@
 //! meets `target`: it renders the current choice with the estimate, and while the prediction
 //! misses the target it raises whichever part of it is over its share, n for the sampling error
 //! and the map size for the maps' error. The choice carries over to the next frame and only
-//! rises, so a sequence's decisions do not flicker.
+//! rises, so a sequence's decisions do not flicker. Once a frame has settled the choice (its
+//! prediction met the target, or nothing could grow), the state's later frames have the same
+//! inputs until the camera moves, so they render the chosen grid without the estimate.
 
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
@@ -68,7 +70,7 @@ impl ShadowMethod for Auto {
         }
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
-        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false }))
+        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -97,6 +99,9 @@ pub struct AutoState {
     /// The frame uniform of each map size.
     frames: BTreeMap<u32, wgpu::Buffer>,
     warned: bool,
+    /// The frame that settled `choice`: its record and bound. Later frames of this state (same
+    /// scene, light and camera) would predict the same, so they render the grid alone.
+    settled: Option<(serde_json::Value, Vec<f32>)>,
 }
 
 /// The next grid after a try that missed `target`, or None when nothing that can grow would
@@ -151,6 +156,24 @@ impl AutoState {
         Ok(())
     }
 
+    /// A frame after the one that settled the choice: the grid alone (its V is the settling
+    /// frame's, bit for bit), and that frame's prediction and bound.
+    fn run_settled(&mut self, fg: &FrameGpu, timer: &mut StageTimer, mut record: serde_json::Value, bound: Vec<f32>) -> Result<MethodOutput> {
+        let (_, grid) = self.grid.as_mut().expect("reset holds the settled grid");
+        let estimate = grid.estimate.take();
+        let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&fg.visibility, 0, None);
+        fg.ctx.queue.submit([enc.finish()]);
+        grid.reset(fg)?;
+        let out = grid.run(fg, timer, false);
+        grid.estimate = estimate;
+        let out = out?;
+        record["tries"] = serde_json::json!([]);
+        record["maps_rendered"] = out.shadow_maps.into();
+        record["estimated"] = false.into();
+        Ok(MethodOutput { shadow_maps: out.shadow_maps, syncs: 0, record, pictures: Vec::new(), bound: Some(bound) })
+    }
+
     /// One grid rendered into V (cleared first) with the estimate; its prediction and bound.
     fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
         self.hold(fg, (n, size))?;
@@ -175,6 +198,9 @@ impl MethodState for AutoState {
         self.hold(fg, self.choice)
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+        if let Some((record, bound)) = &self.settled {
+            return self.run_settled(fg, timer, record.clone(), bound.clone());
+        }
         let target = self.method.target as f64;
         // The G-buffer pass is recorded, not yet submitted: flush before reading it.
         timer.flush(fg.ctx);
@@ -215,7 +241,12 @@ impl MethodState for AutoState {
             "predicted_map": last.prediction.predicted_map,
         });
         record["maps_rendered"] = maps.into();
+        record["estimated"] = true.into();
+        self.settled = Some((record.clone(), bound.clone()));
         Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new(), bound: Some(bound) })
+    }
+    fn camera_moved(&mut self) {
+        self.settled = None;
     }
     /// The choice, so the next frame of a sequence starts from it (and only rises from there).
     fn memory(&self) -> Option<serde_json::Value> {

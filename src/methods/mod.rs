@@ -182,6 +182,9 @@ pub trait MethodState {
     }
     /// Takes over what `memory` gave, before the first frame.
     fn recall(&mut self, _memory: &serde_json::Value) {}
+    /// The renderer's camera moved (`Renderer::set_camera`): what a state kept about the last
+    /// frame's pixels no longer holds (auto's settled choice).
+    fn camera_moved(&mut self) {}
     /// Tests: from the next frame on, keep what a frame overwrites as it goes (each chunk's maps,
     /// each level's buffers) for `inspect`. It adds read-backs, so only the methods whose buffers
     /// do not outlive the frame implement it.
