@@ -157,7 +157,7 @@ impl AutoState {
     }
 
     /// A frame after the one that settled the choice: the grid alone (its V is the settling
-    /// frame's, bit for bit), and that frame's prediction and bound.
+    /// frame's, bit for bit), and that frame's record (its tries and prediction) and bound.
     fn run_settled(&mut self, fg: &FrameGpu, timer: &mut StageTimer, mut record: serde_json::Value, bound: Vec<f32>) -> Result<MethodOutput> {
         let (_, grid) = self.grid.as_mut().expect("reset holds the settled grid");
         let estimate = grid.estimate.take();
@@ -168,7 +168,7 @@ impl AutoState {
         let out = grid.run(fg, timer, false);
         grid.estimate = estimate;
         let out = out?;
-        record["tries"] = serde_json::json!([]);
+        // `tries` stays the settling frame's: how the choice was made.
         record["maps_rendered"] = out.shadow_maps.into();
         record["estimated"] = false.into();
         Ok(MethodOutput { shadow_maps: out.shadow_maps, syncs: 0, record, pictures: Vec::new(), bound: Some(bound) })
