@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 pub const INFO: MethodInfo = MethodInfo {
     name: "auto",
     family: Family::MultiSample,
-    summary: "error budget: the centred grid's n and map size chosen per frame until the predicted RMSE of V meets the target",
+    summary: "error budget: the centred grid's n and map size grown until the predicted RMSE of V meets the target, then kept while the camera stays",
     params: &[
         Param { key: "target", default: "0.015", help: "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)" },
         Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
