@@ -207,18 +207,23 @@ impl MethodState for AutoState {
         let geometry = timer.cpu(crate::gpu::Stage::READBACK, || fixed_samples::geometry_mask(fg))?;
         let mut tries = Vec::new();
         let mut bound;
-        loop {
+        // Settled: the target met, or nothing left to grow. A search cut at MAX_TRIES goes on
+        // next frame.
+        let settles = loop {
             let (t, b) = self.try_grid(fg, timer, &geometry, self.choice)?;
             bound = b;
             tries.push(t);
-            if t.prediction.predicted_rmse <= target || tries.len() == MAX_TRIES {
-                break;
+            if t.prediction.predicted_rmse <= target {
+                break true;
+            }
+            if tries.len() == MAX_TRIES {
+                break false;
             }
             match next_choice(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size) {
                 Some(next) => self.choice = next,
-                None => break,
+                None => break true,
             }
-        }
+        };
         let last = *tries.last().expect("one try at least");
         let met = last.prediction.predicted_rmse <= target;
         if !met && !self.warned {
@@ -242,7 +247,9 @@ impl MethodState for AutoState {
         });
         record["maps_rendered"] = maps.into();
         record["estimated"] = true.into();
-        self.settled = Some((record.clone(), bound.clone()));
+        if settles {
+            self.settled = Some((record.clone(), bound.clone()));
+        }
         Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new(), bound: Some(bound) })
     }
     fn camera_moved(&mut self) {
