@@ -161,11 +161,7 @@ impl AutoState {
     fn run_settled(&mut self, fg: &FrameGpu, timer: &mut StageTimer, mut record: serde_json::Value, bound: Vec<f32>) -> Result<MethodOutput> {
         let (_, grid) = self.grid.as_mut().expect("reset holds the settled grid");
         let estimate = grid.estimate.take();
-        let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
-        enc.clear_buffer(&fg.visibility, 0, None);
-        fg.ctx.queue.submit([enc.finish()]);
-        grid.reset(fg)?;
-        let out = grid.run(fg, timer, false);
+        let out = render_into_cleared_v(grid, fg, timer);
         grid.estimate = estimate;
         let out = out?;
         // `tries` stays the settling frame's: how the choice was made.
@@ -178,17 +174,22 @@ impl AutoState {
     fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
         self.hold(fg, (n, size))?;
         let grid = &mut self.grid.as_mut().expect("built above").1;
-        let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
-        enc.clear_buffer(&fg.visibility, 0, None);
-        fg.ctx.queue.submit([enc.finish()]);
-        grid.reset(fg)?;
-        let out = grid.run(fg, timer, false)?;
+        let out = render_into_cleared_v(grid, fg, timer)?;
         let e = grid.estimate.as_ref().expect("built with the estimate");
         timer.flush(fg.ctx);
         let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
         let (prediction, bound) = e.predict(&sums, geometry)?;
         Ok((Try { n, map_size: size, maps: out.shadow_maps, prediction }, bound))
     }
+}
+
+/// One grid's frame into V cleared first: a try replaces the one before it, and shade adds.
+fn render_into_cleared_v(grid: &mut Prepared, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
+    enc.clear_buffer(&fg.visibility, 0, None);
+    fg.ctx.queue.submit([enc.finish()]);
+    grid.reset(fg)?;
+    grid.run(fg, timer, false)
 }
 
 impl MethodState for AutoState {

@@ -61,9 +61,10 @@ pub fn configure(scene: &Scene, resolution: u32, scale: f32) -> Scene {
     let mut s = scene.clone();
     s.render.width = resolution;
     s.render.height = resolution;
-    match s.emitter.scaled(scale).stand_in(&s.bounds) {
+    let emitter = s.emitter.scaled(scale);
+    match emitter.stand_in(&s.bounds) {
         Some(stand_in) => {
-            s.emitter = s.emitter.scaled(scale);
+            s.emitter = emitter;
             s.light = stand_in;
         }
         None => {
