@@ -3,7 +3,9 @@
 //  x, y: the two half-set differences of V, between the grid's even and odd columns and rows
 //        (sample i's signed weight in each is its split);
 //  z:    Σ w (v − f), the nearest-texel test against the bilinear one (the maps' quantization);
-//  w:    Σ w (v₂ − v), the test with doubled bias and normal offset against the frame's (the bias).
+//  w:    Σ w (v₂ − v), the test with doubled bias and normal offset against the frame's (the bias);
+// and, in `maps`, the half-set differences of z and w (columns, rows, as x and y split V): the
+// part of the maps' error that averages out over samples (docs/error-estimate.md §3).
 // Blocks of consecutive samples in sample order, as shade adds them (kernels/shade.wgsl): full
 // blocks of ESTIMATE_BLOCK, then 8, 4, 2, 1, one entry point per size, each unrolled, the block's
 // samples, weights and splits in uniform buffers read at constant offsets, one workgroup per
@@ -18,7 +20,14 @@ const ESTIMATE_BLOCK: u32 = 16u;
 @group(0) @binding(4) var gbuffer_position: texture_2d<f32>;
 @group(0) @binding(5) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(6) var shadow_maps: ShadowMaps;
-@group(0) @binding(7) var<storage, read_write> sums: array<vec4<f32>>;
+struct EstimateSums {
+    // x, y, z, w above.
+    terms: vec4<f32>,
+    // (column, row) half-set differences of z, then of w.
+    maps: vec4<f32>,
+}
+
+@group(0) @binding(7) var<storage, read_write> sums: array<EstimateSums>;
 @group(0) @binding(8) var<storage, read> tile_list: array<u32>;
 
 // One tap of the bilinear test: texel centre t, compared against the limit moved along the
@@ -45,8 +54,8 @@ fn bilinear(s: GpuSample, lookup: ShadowLookup, p: vec3<f32>, n: vec3<f32>) -> f
 // once per sample.
 var<private> doubled: GpuFrame;
 
-// acc + sample j's four terms at p (normal n).
-fn add1(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
+// acc + sample j's eight terms at p (normal n).
+fn add1(acc: EstimateSums, j: u32, p: vec3<f32>, n: vec3<f32>) -> EstimateSums {
     let s = block_samples[j];
     let w = block_weights[j / 4u][j % 4u];
     let pair = block_split[j / 2u];
@@ -56,22 +65,29 @@ fn add1(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
     let f = select(v, bilinear(s, lookup, p, n), lookup.kind == LOOKUP_COMPARE);
     let wide = shadow_lookup(doubled, s, p, n);
     let v2 = f32(shadow_compare(s, wide, map_depth(frame, shadow_maps, s, wide.texel)));
-    return vec4<f32>(acc.x + split.x * v, acc.y + split.y * v, acc.z + w * (v - f), acc.w + w * (v2 - v));
+    let q = v - f;
+    let b = v2 - v;
+    let t = acc.terms;
+    let m = acc.maps;
+    return EstimateSums(
+        vec4<f32>(t.x + split.x * v, t.y + split.y * v, t.z + w * q, t.w + w * b),
+        vec4<f32>(m.x + split.x * q, m.y + split.y * q, m.z + split.x * b, m.w + split.y * b),
+    );
 }
 
-fn add2(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
+fn add2(acc: EstimateSums, j: u32, p: vec3<f32>, n: vec3<f32>) -> EstimateSums {
     return add1(add1(acc, j, p, n), j + 1u, p, n);
 }
 
-fn add4(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
+fn add4(acc: EstimateSums, j: u32, p: vec3<f32>, n: vec3<f32>) -> EstimateSums {
     return add2(add2(acc, j, p, n), j + 2u, p, n);
 }
 
-fn add8(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
+fn add8(acc: EstimateSums, j: u32, p: vec3<f32>, n: vec3<f32>) -> EstimateSums {
     return add4(add4(acc, j, p, n), j + 4u, p, n);
 }
 
-fn add16(acc: vec4<f32>, j: u32, p: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
+fn add16(acc: EstimateSums, j: u32, p: vec3<f32>, n: vec3<f32>) -> EstimateSums {
     return add8(add8(acc, j, p, n), j + 8u, p, n);
 }
 

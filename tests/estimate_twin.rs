@@ -18,11 +18,11 @@ fn estimate_equals_its_cpu_twin() {
         let (r, c): (_, fixed_samples::FixedBuffers) = common::inspected(ctx, &sc, &method, options);
         let n = c.samples.len();
         assert_eq!(c.split.len(), n);
-        let mut sums = vec![[0.0f32; 4]; r.visibility.len()];
+        let mut sums = vec![[0.0f32; 8]; r.visibility.len()];
         twin::estimate::estimate(&frame_uniform(&sc), &c.samples, &c.weights, &c.split, &c.maps, &r.gbuffer, 0, n, &mut sums);
-        let (mut worst, mut active) = (0.0f32, [0usize; 4]);
+        let (mut worst, mut active) = (0.0f32, [0usize; 8]);
         for (gpu, cpu) in c.estimate_sums.iter().zip(&sums) {
-            for k in 0..4 {
+            for k in 0..8 {
                 worst = worst.max((gpu[k] - cpu[k]).abs());
                 active[k] += (cpu[k] != 0.0) as usize;
             }
@@ -37,12 +37,13 @@ fn estimate_equals_its_cpu_twin() {
             "jittered" => fixed_samples::Layout::Jittered,
             _ => fixed_samples::Layout::Lattice,
         }).unwrap();
-        let (p, bound) = estimate::predict(&c.estimate_sums, &geometry, layout).unwrap();
+        let side = method.params_json()["n"].as_u64().unwrap() as u32;
+        let (p, bound) = estimate::predict(&c.estimate_sums, &geometry, layout, side).unwrap();
         let rec = &r.output.record;
-        for (key, value) in [("predicted_rmse", p.predicted_rmse), ("predicted_sampling", p.predicted_sampling), ("predicted_map", p.predicted_map)] {
+        for (key, value) in [("predicted_rmse", p.predicted_rmse), ("predicted_sampling", p.predicted_sampling), ("predicted_map", p.predicted_map), ("predicted_map_averaging", p.predicted_map_averaging)] {
             assert_eq!(rec[key].as_f64(), Some(value), "seed {seed}: run record's {key}");
         }
-        assert!(p.predicted_sampling > 0.0 && p.predicted_map > 0.0);
+        assert!(p.predicted_sampling > 0.0 && p.predicted_map > 0.0 && p.predicted_map_averaging > 0.0);
         assert!(bound.iter().zip(&geometry).all(|(b, g)| if *g { *b >= estimate::BOUND_FLOOR } else { *b == 0.0 }));
         assert_eq!(r.output.bound.as_deref(), Some(&bound[..]), "seed {seed}: the frame's bound is the sums'");
     }

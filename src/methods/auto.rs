@@ -1,8 +1,9 @@
 //! auto: an error budget (docs/error-estimate.md §6). Frame by frame it chooses the sample count
 //! and the map size of the centred grid whose predicted RMSE of V (the estimate, no reference)
 //! meets `target`: it renders the current choice with the estimate, and while the prediction
-//! misses the target it raises whichever part of it is over its share, n for the sampling error
-//! and the map size for the maps' error. The choice carries over to the next frame and only
+//! misses the target it moves to the cheapest grid that the prediction says meets it (more
+//! samples lower the sampling error and the part of the maps' error that averages over samples;
+//! larger maps lower all of the maps' error). The choice carries over to the next frame and only
 //! rises, so a sequence's decisions do not flicker. Once a frame has settled the choice (its
 //! prediction met the target, or nothing could grow), the state's later frames have the same
 //! inputs until the camera moves, so they render the chosen grid without the estimate.
@@ -104,15 +105,54 @@ pub struct AutoState {
     settled: Option<(serde_json::Value, Vec<f32>)>,
 }
 
+/// Relative cost of one map of side `size`: double per doubling of the side. Measured at 128²
+/// from 512² to 1024² maps, a map cost 1.1–1.3× more on the meshes and 1.6–2.9× on the small
+/// analytic scenes (docs/error-estimate.md §6).
+fn map_cost(size: u32) -> f64 {
+    size as f64 / 512.0
+}
+
+/// The predicted RMSE of the centred grid (n2, size2), from a try at (n, size): the sampling
+/// error falls as n^−1.5; of the maps' error, the part that averages over samples falls as 1/n
+/// (`Prediction::predicted_map_averaging`), and all of it at best as the texel size.
+pub fn predicted_at(n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f64 {
+    let doublings = (size2 / size.max(1)).max(1).trailing_zeros() as i32;
+    let s = p.predicted_sampling * (n as f64 / n2 as f64).powf(SAMPLING_ORDER);
+    let kept = 1.0 - (n * n) as f64 / (n2 * n2) as f64;
+    let m2 = (p.predicted_map.powi(2) - p.predicted_map_averaging.powi(2) * kept).max(0.0) * 0.25f64.powi(doublings);
+    (s * s + m2).sqrt()
+}
+
+/// The cheapest grid (fewest maps, each weighed by `map_cost`) at n ≥ `n` and maps ≥ `size`,
+/// other than (n, size), that `predicted_at` says meets `target`; None if none does.
+fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
+    let mut best: Option<(f64, (u32, u32))> = None;
+    for &size2 in SIZES.iter().filter(|&&z| z >= size && z <= max_size) {
+        // At one size the prediction only falls with n: the first n that meets it is that size's cheapest.
+        let meets = (n..=max_n).filter(|&n2| (n2, size2) != (n, size)).find(|&n2| predicted_at(n, size, p, n2, size2) <= target);
+        if let Some(n2) = meets {
+            let cost = (n2 * n2) as f64 * map_cost(size2);
+            if best.is_none_or(|(c, _)| cost < c) {
+                best = Some((cost, (n2, size2)));
+            }
+        }
+    }
+    best.map(|(_, choice)| choice)
+}
+
 /// The next grid after a try that missed `target`, or None when nothing that can grow would
-/// reach it. The maps' error gets half the target's square while the map size can double; the
-/// sampling error gets the rest, and n grows to what its order says reaches that (at least one
-/// more). Where n is at its largest the maps take the excess; where the maps are at their
+/// reach it. First the cheapest grid predicted to meet it (`cheapest_meeting`). Where none is,
+/// the target is out of reach by the prediction, and shares decide what grows: the maps' error
+/// gets half the target's square while the map size can double; the sampling error gets the
+/// rest, and n grows to what its order says reaches that (at least one more). Where n is at its largest the maps take the excess; where the maps are at their
 /// largest and their error alone misses the target, nothing can reach it. Where even the largest
 /// maps would miss it (their error falling at best as the texel size), the sampling error need
 /// only stay under half that floor, which adds at most 12% to it: n does not chase a target the
 /// maps put out of reach.
 pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
+    if let Some(choice) = cheapest_meeting(n, size, p, target, max_n, max_size) {
+        return Some(choice);
+    }
     let share = target / std::f64::consts::SQRT_2;
     let (can_n, can_size) = (n < max_n, size < max_size);
     let mut grow_size = p.predicted_map > share && can_size;
@@ -273,36 +313,68 @@ mod tests {
     use super::*;
 
     fn p(sampling: f64, map: f64) -> Prediction {
-        Prediction { predicted_rmse: (sampling * sampling + map * map).sqrt(), predicted_sampling: sampling, predicted_map: map, predicted_quantization: map, predicted_bias: 0.0 }
+        pa(sampling, map, 0.0)
+    }
+
+    /// With `averaging` of the maps' error falling with n.
+    fn pa(sampling: f64, map: f64, averaging: f64) -> Prediction {
+        Prediction {
+            predicted_rmse: (sampling * sampling + map * map).sqrt(),
+            predicted_sampling: sampling,
+            predicted_map: map,
+            predicted_quantization: map,
+            predicted_bias: 0.0,
+            predicted_map_averaging: averaging,
+        }
     }
 
     #[test]
-    fn the_part_over_its_share_grows() {
-        // Maps well under their share: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
-        // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7.
+    fn the_cheapest_grid_predicted_to_meet_the_target() {
+        // Maps well under the target: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
+        // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7, at the same maps.
         let share = 0.01 / std::f64::consts::SQRT_2;
         assert_eq!(next_choice(5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048), Some((7, 512)));
-        // Map error over its share: the map size doubles.
+        // The maps alone over the target: doubling them (predicted 0.0053 + 0.0035) meets it.
         assert_eq!(next_choice(5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048), Some((5, 1024)));
-        // Both over.
-        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048), Some((4, 512)));
+        // Both at 0.0078: 4×4 at 256² is predicted to meet 0.01 (16 maps of cost ½), cheaper
+        // than any grid at 512².
+        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048), Some((4, 256)));
         // Maps at their largest, their error under the target: n takes the rest of it.
         // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2.
         assert_eq!(next_choice(5, 2048, &p(0.006, 0.009), 0.01, 17, 2048), Some((7, 2048)));
         // Maps at their largest and their error alone over the target: out of reach.
         assert_eq!(next_choice(5, 2048, &p(0.001, 0.011), 0.01, 17, 2048), None);
-        // n at its largest: the maps take the excess.
+        // n at its largest: nothing is predicted to meet it, and the maps take the excess.
         assert_eq!(next_choice(17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), Some((17, 1024)));
         // Nothing left to grow.
         assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), None);
         // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
-        // floor 0.049 against 0.012): n grows only to keep sampling under half the floor,
-        // 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 4, not to 0.012 / √2 (which asks for 8).
+        // floor 0.049 against 0.012): nothing meets it, so n grows only to keep sampling under
+        // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 4, not to 0.012 / √2 (which asks for 8).
         assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048), Some((4, 1024)));
         assert_eq!(next_choice(4, 1024, &p(0.024, 0.150), 0.012, 17, 2048), Some((4, 2048)));
         assert_eq!(next_choice(4, 2048, &p(0.020, 0.117), 0.012, 17, 2048), None);
-        // The same maps under a target the floor meets: the shares are the usual ones.
-        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048), Some((3, 1024)));
+        // The same maps under a target that 2048² meets (0.049 and 0.031 against 0.06) and 1024²
+        // cannot (0.098): straight to 2048².
+        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048), Some((3, 2048)));
+    }
+
+    #[test]
+    fn maps_error_that_averages_over_samples_buys_samples_not_texels() {
+        // overlapping-occluders-like at 3×3, 512²: sampling 0.02, maps 0.023 of which 0.021
+        // averages over samples. Against 0.012: with the averaging part, 6×6 at 1024² (predicted
+        // maps 0.0070, sampling 0.0071; cost 72); without it the maps must shrink by texels alone,
+        // and 5×5 at 2048² (cost 100) is the cheapest.
+        let with = pa(0.02, 0.023, 0.021);
+        assert_eq!(next_choice(3, 512, &with, 0.012, 17, 2048), Some((6, 1024)));
+        assert!((predicted_at(3, 512, &with, 6, 1024) - 0.00998).abs() < 1e-4, "{}", predicted_at(3, 512, &with, 6, 1024));
+        assert_eq!(next_choice(3, 512, &p(0.02, 0.023), 0.012, 17, 2048), Some((5, 2048)));
+        // Every bit of it averaging: at the same maps, m falls as 1/n: 3 → 9 thirds it.
+        let all = pa(0.0, 0.03, 0.03);
+        assert!((predicted_at(3, 512, &all, 9, 512) - 0.01).abs() < 1e-12);
+        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 512), Some((9, 512)));
+        // With larger maps allowed, 3×3 at 2048² (0.0075, cost 36) is cheaper than 9×9 at 512² (81).
+        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 2048), Some((3, 2048)));
     }
 
     #[test]

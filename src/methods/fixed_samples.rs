@@ -459,7 +459,7 @@ pub struct FixedBuffers {
     pub samples: Vec<GpuSample>,
     pub weights: Vec<f32>,
     /// `estimate = on`: the sums after the frame, and each sample's half-set weights.
-    pub estimate_sums: Vec<[f32; 4]>,
+    pub estimate_sums: Vec<crate::stages::estimate::Sums>,
     pub split: Vec<[f32; 2]>,
 }
 
@@ -467,6 +467,8 @@ pub struct FixedBuffers {
 pub struct Estimate {
     pass: crate::stages::estimate::EstimatePass,
     layout: Layout,
+    /// The grid's side.
+    n: u32,
     split: Vec<[f32; 2]>,
     split_buffer: wgpu::Buffer,
     sums: wgpu::Buffer,
@@ -478,7 +480,7 @@ impl Estimate {
         let split = super::estimate::split_weights(n, maps / (n * n) as usize);
         let split_buffer = readback::storage_buffer(fg.ctx, "estimate split", &split, wgpu::BufferUsages::empty());
         let sums = readback::zeroed_storage(fg.ctx, "estimate sums", fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES);
-        Ok(Estimate { pass: crate::stages::estimate::EstimatePass::new(fg.ctx, fg.map_access())?, layout, split, split_buffer, sums })
+        Ok(Estimate { pass: crate::stages::estimate::EstimatePass::new(fg.ctx, fg.map_access())?, layout, n, split, split_buffer, sums })
     }
 
     pub(crate) fn clear(&self, fg: &FrameGpu) -> Result<()> {
@@ -505,13 +507,13 @@ impl Estimate {
         })
     }
 
-    pub(crate) fn read(&self, fg: &FrameGpu) -> Result<Vec<[f32; 4]>> {
+    pub(crate) fn read(&self, fg: &FrameGpu) -> Result<Vec<crate::stages::estimate::Sums>> {
         readback::read_buffer(fg.ctx, &self.sums, fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES)
     }
 
     /// The frame's prediction and the bound's picture from the sums.
-    pub(crate) fn predict(&self, sums: &[[f32; 4]], geometry: &[bool]) -> Result<(super::estimate::Prediction, Vec<f32>)> {
-        super::estimate::predict(sums, geometry, self.layout)
+    pub(crate) fn predict(&self, sums: &[crate::stages::estimate::Sums], geometry: &[bool]) -> Result<(super::estimate::Prediction, Vec<f32>)> {
+        super::estimate::predict(sums, geometry, self.layout, self.n)
     }
 }
 

@@ -10,8 +10,12 @@ use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
-/// Bytes per pixel of the sums (a vec4 of f32).
-pub const SUM_BYTES: u64 = 16;
+/// One pixel's sums: V's half-set differences (columns, rows), Q, B, then the half-set
+/// differences of Q (columns, rows) and of B (kernels/estimate.wgsl `EstimateSums`).
+pub type Sums = [f32; 8];
+
+/// Bytes per pixel of the sums (two vec4 of f32).
+pub const SUM_BYTES: u64 = 32;
 
 pub struct EstimatePass {
     /// One kernel per entry of `shade::BLOCK_SIZES`.

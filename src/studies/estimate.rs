@@ -72,6 +72,9 @@ pub struct EstimateLine {
     pub predicted_quantization: f64,
     #[serde(default)]
     pub predicted_bias: f64,
+    /// The maps' part that averages out over samples (`Prediction::predicted_map_averaging`).
+    #[serde(default)]
+    pub predicted_map_averaging: f64,
     /// predicted / measured, and whether it lies in RATIO_BAND.
     pub ratio: f64,
     pub within: bool,
@@ -135,7 +138,7 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], settin
             _ => Layout::Lattice,
         };
         let n = params["n"].as_u64().unwrap_or(1) as u32;
-        let (p, bound) = estimate::predict(&kept.estimate_sums, &mask, layout)?;
+        let (p, bound) = estimate::predict(&kept.estimate_sums, &mask, layout, n)?;
         let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
         let covered = (0..mask.len()).filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i]).count();
         let (exact, exact_name) = exact_reference(&scene, &g, n, layout)?;
@@ -152,6 +155,7 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], settin
             predicted_map: p.predicted_map,
             predicted_quantization: p.predicted_quantization,
             predicted_bias: p.predicted_bias,
+            predicted_map_averaging: p.predicted_map_averaging,
             ratio,
             within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
             bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,

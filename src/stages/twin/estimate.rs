@@ -40,7 +40,8 @@ pub fn tests(frame: &GpuFrame, s: &GpuSample, map: &[f32], p: Vec3, n: Vec3) -> 
 }
 
 /// `sums[p] += Σ_{i in first..first+count}` (split[i].x · v_i, split[i].y · v_i,
-/// weights[i] · (v_i − f_i), weights[i] · (v₂_i − v_i)), sample by sample.
+/// weights[i] · q_i, weights[i] · b_i, split[i].x · q_i, split[i].y · q_i, split[i].x · b_i,
+/// split[i].y · b_i), q_i = v_i − f_i and b_i = v₂_i − v_i, sample by sample.
 #[allow(clippy::too_many_arguments)]
 pub fn estimate(
     frame: &GpuFrame,
@@ -51,7 +52,7 @@ pub fn estimate(
     g: &GBufferCpu,
     first: usize,
     count: usize,
-    sums: &mut [[f32; 4]],
+    sums: &mut [crate::stages::estimate::Sums],
 ) {
     for (index, acc) in sums.iter_mut().enumerate() {
         if !g.is_geometry(index) {
@@ -62,7 +63,8 @@ pub fn estimate(
         let mut a = *acc;
         for i in first..first + count {
             let (v, f, v2) = tests(frame, &samples[i], &maps[i], p, n);
-            a = [a[0] + split[i][0] * v, a[1] + split[i][1] * v, a[2] + weights[i] * (v - f), a[3] + weights[i] * (v2 - v)];
+            let (q, b, [sx, sy]) = (v - f, v2 - v, split[i]);
+            a = [a[0] + sx * v, a[1] + sy * v, a[2] + weights[i] * q, a[3] + weights[i] * b, a[4] + sx * q, a[5] + sy * q, a[6] + sx * b, a[7] + sy * b];
         }
         *acc = a;
     }
