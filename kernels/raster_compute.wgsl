@@ -63,6 +63,10 @@ const RASTER_COORD_LIMIT: f32 = 8388608.0;
 const RASTER_SMALL_SIDE: i32 = 4;
 // Side of `large`'s tiles, in texels.
 const RASTER_LARGE_TILE: i32 = 8;
+// Tiles one workgroup of `large_tiles` takes of a queued pair (32 per invocation): a CPU device
+// (lavapipe) stops a shader's loops after 65,535 iterations in all, and a pair over a whole 2048²
+// map is 65,536 tiles, so a pair's tiles are spread over as many workgroups as its blocks.
+const RASTER_TILE_BLOCK: i32 = 2048;
 // Words each invocation of `clear` sets, 64 apart: a CPU device (lavapipe) pays a fixed cost per
 // workgroup that one-word invocations spend most of their time in.
 const RASTER_CLEAR_RUN: u32 = 16u;
@@ -88,7 +92,7 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(5) var<storage, read_write> depth: array<atomic<u32>>;
 // Queued large pairs: (map, triangle).
 @group(0) @binding(6) var<storage, read_write> large: array<u32>;
-// [pairs queued].
+// [pairs queued, the most tiles of one queued pair].
 @group(0) @binding(7) var<storage, read_write> control: array<atomic<u32>>;
 // `large`'s indirect dispatch (x, y, z).
 @group(0) @binding(8) var<storage, read_write> dispatch: array<u32>;
@@ -338,6 +342,8 @@ fn draw(map: u32, t: u32, tri: Tri) {
         if (slot < params.large_capacity) {
             large[slot * 2u] = map;
             large[slot * 2u + 1u] = t;
+            let tiles = (side + RASTER_LARGE_TILE - 1) / RASTER_LARGE_TILE;
+            atomicMax(&control[1], u32(tiles.x * tiles.y));
             return;
         }
     }
@@ -434,18 +440,19 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: v
     }
 }
 
-// Between the passes: `large_tiles`' dispatch, a workgroup per queued pair, in rows of at most 32768
-// (x along a row, z across rows).
+// Between the passes: `large_tiles`' dispatch, a workgroup per queued pair and block of
+// RASTER_TILE_BLOCK tiles (y: as many blocks as the largest pair has), the pairs in rows of at
+// most 32768 (x along a row, z across rows).
 @compute @workgroup_size(1, 1, 1)
 fn begin() {
     let queued = min(atomicLoad(&control[0]), params.large_capacity);
     let row = max(min(queued, 32768u), 1u);
     dispatch[0] = row;
-    dispatch[1] = 1u;
+    dispatch[1] = max((atomicLoad(&control[1]) + u32(RASTER_TILE_BLOCK) - 1u) / u32(RASTER_TILE_BLOCK), 1u);
     dispatch[2] = (queued + row - 1u) / row;
 }
 
-// A workgroup per queued pair; its invocations take the triangle's tiles in turn.
+// A workgroup per queued pair and block of its tiles; its invocations take the block's tiles in turn.
 @compute @workgroup_size(64, 1, 1)
 fn large_tiles(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let slot = wg.z * groups.x + wg.x;
@@ -455,7 +462,9 @@ fn large_tiles(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) gr
     let map = large[slot * 2u];
     let tri = setup(jobs[map], large[slot * 2u + 1u]);
     let tiles = (tri.hi - tri.lo + RASTER_LARGE_TILE) / RASTER_LARGE_TILE;
-    for (var k = i32(lid); k < tiles.x * tiles.y; k = k + 64) {
+    let first = i32(wg.y) * RASTER_TILE_BLOCK;
+    let end = min(first + RASTER_TILE_BLOCK, tiles.x * tiles.y);
+    for (var k = first + i32(lid); k < end; k = k + 64) {
         let lo = tri.lo + vec2<i32>(k % tiles.x, k / tiles.x) * RASTER_LARGE_TILE;
         raster_rect(map, tri, lo, min(lo + RASTER_LARGE_TILE - 1, tri.hi));
     }

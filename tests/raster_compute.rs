@@ -55,7 +55,12 @@ fn samples(scene: &Scene, points: &[(f32, f32)]) -> Vec<GpuSample> {
 
 /// Every map's words from one chain on the GPU.
 fn gpu_words(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, samples: &[GpuSample], cull: CullMode) -> Vec<Vec<u32>> {
-    let pass = RasterCompute::new(ctx, MAP, cull, samples.len() as u32, scene.render.shadow_map_budget_mib).unwrap();
+    gpu_words_queue(ctx, scene, gpu, samples, cull, None)
+}
+
+/// The same with a large-pair queue of `pairs` (None: the pass's own size).
+fn gpu_words_queue(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, samples: &[GpuSample], cull: CullMode, pairs: Option<u32>) -> Vec<Vec<u32>> {
+    let pass = RasterCompute::with_queue(ctx, MAP, cull, samples.len() as u32, scene.render.shadow_map_budget_mib, pairs).unwrap();
     assert_eq!(pass.capacity, samples.len() as u32, "one chain holds every map");
     let buffer = readback::storage_buffer(ctx, "samples", samples, wgpu::BufferUsages::empty());
     let jobs: Vec<GpuRasterJob> = (0..samples.len() as u32).map(|k| GpuRasterJob::whole(k, MAP)).collect();
@@ -121,6 +126,56 @@ fn gpu_equals_twin_on_random_soups_several_maps_per_chain() {
     }
 }
 
+/// Past a full queue each large pair is rasterized by the invocation that set it up: with a
+/// queue of 8 pairs nearly every large pair of a soup goes that way, and the words are still
+/// the twin's, the same as with the pass's own queue. The soup's triangles span 10 to 40 texels
+/// (every one large), so an invocation's loops stay within what a CPU device runs (below).
+#[test]
+fn pairs_past_a_full_queue_equal_the_twin() {
+    let ctx = common::gpu();
+    let mut scene = scene("[[mesh]]\nbuiltin = \"box\"\nscale = 4.0\n");
+    let mut rng = Rng(4);
+    let mut vertices = Vec::new();
+    for _ in 0..3000 {
+        let size = 0.15 + 0.35 * rng.unit();
+        let centre = Vec3::new(rng.range(-2.6, 2.6), rng.range(-2.0, 2.0), rng.range(-2.6, 2.6));
+        for _ in 0..3 {
+            let p = centre + size * Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+            vertices.push(Vertex { position: p.to_array(), normal: [0.0, 1.0, 0.0], material: 0 });
+        }
+    }
+    scene.indices = (0..vertices.len() as u32).collect();
+    scene.vertices = vertices;
+    let gpu = SceneGpu::upload(ctx, &scene);
+    let samples = samples(&scene, &[(0.0, 0.0), (0.5, 0.5), (1.0, 1.0)]);
+    let pos = positions(&scene);
+    // Large pairs: boxes over 4 × 4 texel centres (the kernel's RASTER_SMALL_SIDE).
+    let large: usize = samples
+        .iter()
+        .map(|s| {
+            (0..pos.len() / 3)
+                .filter_map(|t| twin::setup(s, MAP, twin::whole(MAP), 0, &pos, &gpu.shadow_order, t))
+                .filter(|tri| tri.hi[0] - tri.lo[0] >= 4 || tri.hi[1] - tri.lo[1] >= 4)
+                .count()
+        })
+        .sum();
+    assert!(large > 1000, "the soup should overflow a queue of 8 many times over: {large} large pairs");
+    let own = gpu_words(ctx, &scene, &gpu, &samples, CullMode::None);
+    let small_queue = gpu_words_queue(ctx, &scene, &gpu, &samples, CullMode::None, Some(8));
+    for (m, s) in samples.iter().enumerate() {
+        let want = twin::rasterize(&pos, &gpu.shadow_order, s, MAP, CullMode::None);
+        let covered = want.iter().filter(|&&w| w != FAR).count();
+        assert!(covered > (MAP * MAP) as usize / 4, "map {m}: {covered} texels covered");
+        let differ = |words: &[u32]| (0..want.len()).filter(|&i| words[i] != want[i]).count();
+        assert_eq!(differ(&small_queue[m]), 0, "map {m}: past a full queue, texels differ from the twin");
+        assert_eq!(differ(&own[m]), 0, "map {m}: with the pass's own queue, texels differ from the twin");
+    }
+    assert_eq!(penumbra::stages::raster_compute::large_capacity(289, 2 << 30), 1 << 24);
+    assert_eq!(penumbra::stages::raster_compute::large_capacity(2, 2 << 30), 1 << 18);
+    assert_eq!(penumbra::stages::raster_compute::large_capacity(25, 2 << 30), 25 << 16);
+    assert_eq!(penumbra::stages::raster_compute::large_capacity(289, 1 << 20), 1 << 17, "one binding holds the queue");
+}
+
 #[test]
 fn gpu_equals_twin_on_default() {
     let ctx = common::gpu();
@@ -169,6 +224,30 @@ fn rectangles_limit_each_map_and_equal_the_twin() {
             assert!(outside_covered > 0, "map {m}: the rectangle cuts covered texels away");
         }
     }
+}
+
+/// A 2048² map filled by a plane's two triangles: each queued pair's box is 65,536 tiles. The words
+/// are the twin's. A CPU device (lavapipe) stops a shader's loops after 65,535 iterations in all,
+/// so one workgroup per pair left 954,964 of 4,186,116 texels unwritten; the tiles now spread over
+/// workgroups of RASTER_TILE_BLOCK (docs/gpu-frame.md §7).
+#[test]
+fn a_map_filling_triangle_at_2048_equals_the_twin() {
+    let ctx = common::gpu();
+    let scene = scene("[[mesh]]\nbuiltin = \"plane\"\nscale = 4.0\n");
+    let size = 2048;
+    let samples: Vec<GpuSample> = [(0.5, 0.5)].iter().enumerate().map(|(k, &(u, v))| sample_view(&scene.light, scene.light.point(u, v), &scene.bounds, size, k as u32)).collect();
+    let gpu = SceneGpu::upload(ctx, &scene);
+    let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+    let pass = RasterCompute::new(ctx, size, scene.render.cull, 1, scene.render.shadow_map_budget_mib).unwrap();
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    pass.record(ctx, &mut enc, &gpu, &buffer, &[GpuRasterJob::whole(0, size)]);
+    ctx.queue.submit([enc.finish()]);
+    let words = pass.read_words(ctx, 1).unwrap();
+    let want = twin::rasterize(&positions(&scene), &gpu.shadow_order, &samples[0], size, scene.render.cull);
+    let covered = want.iter().filter(|&&w| w != FAR).count();
+    assert!(covered > (size * size) as usize * 9 / 10, "the plane fills the map: {covered}");
+    let differ = (0..want.len()).filter(|&i| words[i] != want[i]).count();
+    assert_eq!(differ, 0, "{differ} of {covered} covered texels differ from the twin");
 }
 
 /// A chain whose words are not a whole number of `clear`'s runs (3 maps of 20², 1,200 words) is

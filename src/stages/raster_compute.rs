@@ -15,8 +15,13 @@ use crate::{Error, Result};
 
 /// The stored word of the far value (1.0), which every map is cleared to.
 pub const FAR: u32 = 0x3f80_0000;
-/// Large (triangle, map) pairs one chain can queue; beyond it `main` rasterizes them itself.
-pub const LARGE_CAPACITY: u32 = 1 << 18;
+/// Large (triangle, map) pairs one chain can queue per map of the chain, between a least and a
+/// most; beyond it `main` rasterizes them itself, one invocation a pair, which a GPU runs badly:
+/// `grove`'s leaves make 66–70 k large pairs per 512² map, and with a queue of 2^18 for its 289
+/// maps a lattice frame took 10 s on an H100 against 147 ms with 2^24 (docs/bench.md).
+pub const LARGE_PAIRS_PER_MAP: u64 = 1 << 16;
+pub const LARGE_CAPACITY_MIN: u64 = 1 << 18;
+pub const LARGE_CAPACITY_MAX: u64 = 1 << 24;
 /// `requested`'s output words (the kernel's STEER_ARGS_*: the map count, then three dispatches).
 pub const STEER_ARGS_WORDS: u64 = 10;
 pub const STEER_ARGS_CLEAR: u64 = 1;
@@ -39,6 +44,8 @@ pub struct RasterCompute {
     /// `capacity` maps of `map_size`² words.
     pub depth: wgpu::Buffer,
     large: wgpu::Buffer,
+    /// Pairs `large` holds.
+    pub large_capacity: u32,
     control: wgpu::Buffer,
     dispatch: wgpu::Buffer,
     /// `requested`'s output: the chain's map count, then the dispatches of clear, main and store.
@@ -71,10 +78,23 @@ pub fn maps_per_chain(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Resul
     Ok(by_budget.min(by_binding).min(rows) as u32)
 }
 
+/// The large-pair queue's size for a chain of `maps` maps: LARGE_PAIRS_PER_MAP each, within
+/// [LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX] and one storage binding (`binding` bytes, 8 a pair).
+pub fn large_capacity(maps: u32, binding: u64) -> u32 {
+    (maps as u64 * LARGE_PAIRS_PER_MAP).clamp(LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX).min(binding / 8) as u32
+}
+
 impl RasterCompute {
     /// A chain of at most `maps` maps (fewer where `shadow_map_budget_mib` or the device allows fewer).
     pub fn new(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32) -> Result<Self> {
+        Self::with_queue(ctx, map_size, cull, maps, budget_mib, None)
+    }
+
+    /// As `new`, with a large-pair queue of `pairs` instead of `large_capacity`'s (a test drives
+    /// the path past a full queue with it).
+    pub fn with_queue(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32, pairs: Option<u32>) -> Result<Self> {
         let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
+        let large_capacity = pairs.unwrap_or_else(|| large_capacity(capacity, ctx.limits().max_storage_buffer_binding_size as u64)).max(1);
         let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
         Ok(Self {
             clear: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "clear")?,
@@ -86,7 +106,8 @@ impl RasterCompute {
             kept_extent: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "kept_extent")?,
             store: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "store")?,
             depth: storage("raster_compute depth", capacity as u64 * map_size as u64 * map_size as u64 * 4, wgpu::BufferUsages::empty()),
-            large: storage("raster_compute large pairs", LARGE_CAPACITY as u64 * 8, wgpu::BufferUsages::empty()),
+            large: storage("raster_compute large pairs", large_capacity as u64 * 8, wgpu::BufferUsages::empty()),
+            large_capacity,
             control: storage("raster_compute control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("raster_compute dispatch", 16, wgpu::BufferUsages::INDIRECT),
             steer_args: storage("raster_compute steered dispatches", STEER_ARGS_WORDS * 4, wgpu::BufferUsages::INDIRECT),
@@ -102,7 +123,7 @@ impl RasterCompute {
             triangle_count: scene.index_count / 3,
             cull_face: self.cull_face,
             map_count: maps,
-            large_capacity: LARGE_CAPACITY,
+            large_capacity: self.large_capacity,
             fence: 0,
             first_request,
             steered: u32::from(steered),
