@@ -92,7 +92,7 @@ const RASTER_FAR: u32 = 0x3f800000u;
 @group(0) @binding(5) var<storage, read_write> depth: array<atomic<u32>>;
 // Queued large pairs: (map, triangle).
 @group(0) @binding(6) var<storage, read_write> large: array<u32>;
-// [pairs queued, the most tiles of one queued pair].
+// [pairs queued, the most tiles of one queued pair past RASTER_TILE_BLOCK (else 0)].
 @group(0) @binding(7) var<storage, read_write> control: array<atomic<u32>>;
 // `large`'s indirect dispatch (x, y, z).
 @group(0) @binding(8) var<storage, read_write> dispatch: array<u32>;
@@ -342,8 +342,11 @@ fn draw(map: u32, t: u32, tri: Tri) {
         if (slot < params.large_capacity) {
             large[slot * 2u] = map;
             large[slot * 2u + 1u] = t;
+            // Only a pair past one block counts: every leaf of a canopy on one word would contend.
             let tiles = (side + RASTER_LARGE_TILE - 1) / RASTER_LARGE_TILE;
-            atomicMax(&control[1], u32(tiles.x * tiles.y));
+            if (tiles.x * tiles.y > RASTER_TILE_BLOCK) {
+                atomicMax(&control[1], u32(tiles.x * tiles.y));
+            }
             return;
         }
     }
