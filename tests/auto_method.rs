@@ -62,6 +62,7 @@ fn auto_renders_its_choice_and_keeps_it() {
     let moved = r.detach().attach(ctx, &scene).unwrap().frame(options()).unwrap();
     let tries = moved.output.record["tries"].as_array().unwrap();
     assert_eq!(tries.len(), 1, "{}", moved.output.record);
+    assert_eq!(moved.output.record["kept"], false, "its prediction meets the target itself: {}", moved.output.record);
     assert_eq!((tries[0]["n"].as_u64(), tries[0]["map_size"].as_u64()), (Some(n), Some(size)));
 }
 

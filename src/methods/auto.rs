@@ -44,6 +44,11 @@ const START: (u32, u32) = (3, 512);
 const MAX_TRIES: usize = 8;
 /// Sampling error falls about as n^-1.5 on the scenes measured (docs/error-estimate.md §6).
 const SAMPLING_ORDER: f64 = 1.5;
+/// A choice handed on from the previous frame of a sequence is kept while its prediction is
+/// within this factor of the target: the prediction moves by about a tenth from frame to frame as
+/// the light moves, and a choice that only rises would otherwise ratchet up on that noise, each
+/// step a pop (docs/error-estimate.md §6).
+const KEEP: f64 = 1.15;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Auto {
@@ -71,7 +76,7 @@ impl ShadowMethod for Auto {
         }
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
-        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None }))
+        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -103,6 +108,9 @@ pub struct AutoState {
     /// The frame that settled `choice`: its record and bound. Later frames of this state (same
     /// scene, light and camera) would predict the same, so they render the grid alone.
     settled: Option<(serde_json::Value, Vec<f32>)>,
+    /// The choice came from the previous frame of a sequence (`recall`): its first try is kept
+    /// within KEEP of the target.
+    recalled: bool,
 }
 
 /// Relative cost of one map of side `size`: double per doubling of the side. Measured at 128²
@@ -223,6 +231,12 @@ impl AutoState {
     }
 }
 
+/// Whether a try's prediction settles the frame: at most the target, or within KEEP of it for the
+/// choice handed on from the previous frame of a sequence (`handed_on`).
+fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
+    predicted <= if handed_on { target * KEEP } else { target }
+}
+
 /// One grid's frame into V cleared first: a try replaces the one before it, and shade adds.
 fn render_into_cleared_v(grid: &mut Prepared, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
     let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
@@ -254,7 +268,7 @@ impl MethodState for AutoState {
             let (t, b) = self.try_grid(fg, timer, &geometry, self.choice)?;
             bound = b;
             tries.push(t);
-            if t.prediction.predicted_rmse <= target {
+            if acceptable(t.prediction.predicted_rmse, target, self.recalled && tries.len() == 1) {
                 break true;
             }
             if tries.len() == MAX_TRIES {
@@ -266,7 +280,9 @@ impl MethodState for AutoState {
             }
         };
         let last = *tries.last().expect("one try at least");
-        let met = last.prediction.predicted_rmse <= target;
+        // The previous frame's choice, kept within KEEP of the target.
+        let kept = self.recalled && tries.len() == 1 && last.prediction.predicted_rmse > target && acceptable(last.prediction.predicted_rmse, target, true);
+        let met = last.prediction.predicted_rmse <= target || kept;
         if !met && !self.warned {
             self.warned = true;
             crate::progress::suspend(|| {
@@ -288,6 +304,7 @@ impl MethodState for AutoState {
         });
         record["maps_rendered"] = maps.into();
         record["estimated"] = true.into();
+        record["kept"] = kept.into();
         if settles {
             self.settled = Some((record.clone(), bound.clone()));
         }
@@ -303,6 +320,7 @@ impl MethodState for AutoState {
     fn recall(&mut self, memory: &serde_json::Value) {
         if let (Some(n), Some(size)) = (memory[0].as_u64(), memory[1].as_u64()) {
             self.choice = (n as u32, size as u32);
+            self.recalled = true;
         }
     }
 
@@ -375,6 +393,13 @@ mod tests {
         assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 512), Some((9, 512)));
         // With larger maps allowed, 3×3 at 2048² (0.0075, cost 36) is cheaper than 9×9 at 512² (81).
         assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 2048), Some((3, 2048)));
+    }
+
+    #[test]
+    fn a_handed_on_choice_is_kept_within_a_margin() {
+        assert!(acceptable(0.015, 0.015, false) && !acceptable(0.0151, 0.015, false));
+        assert!(acceptable(0.017, 0.015, true), "within 15%: the previous frame's grid stays");
+        assert!(!acceptable(0.0175, 0.015, true), "past 15%: it grows");
     }
 
     #[test]
