@@ -152,11 +152,11 @@ fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, 
 /// reach it. First the cheapest grid predicted to meet it (`cheapest_meeting`). Where none is,
 /// the target is out of reach by the prediction, and shares decide what grows: the maps' error
 /// gets half the target's square while the map size can double; the sampling error gets the
-/// rest, and n grows to what its order says reaches that (at least one more). Where n is at its largest the maps take the excess; where the maps are at their
-/// largest and their error alone misses the target, nothing can reach it. Where even the largest
-/// maps would miss it (their error falling at best as the texel size), the sampling error need
-/// only stay under half that floor, which adds at most 12% to it: n does not chase a target the
-/// maps put out of reach.
+/// rest, and n grows to what its order says reaches that (at least one more). Where n is at its
+/// largest the maps take the excess; where the maps are at their largest and their error alone
+/// misses the target, nothing can reach it. Where even the largest maps would miss it (their
+/// error falling at best as the texel size), the sampling error need only stay under half that
+/// floor, which adds at most 12% to it: n does not chase a target the maps put out of reach.
 pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
     if let Some(choice) = cheapest_meeting(n, size, p, target, max_n, max_size) {
         return Some(choice);
