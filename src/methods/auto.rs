@@ -45,8 +45,8 @@ const MAX_TRIES: usize = 8;
 /// Sampling error falls about as n^-1.5 on the scenes measured (docs/error-estimate.md §6).
 const SAMPLING_ORDER: f64 = 1.5;
 /// A choice handed on from the previous frame of a sequence is kept while its prediction is
-/// within this factor of the target: the prediction moves by about a tenth from frame to frame as
-/// the light moves, and a choice that only rises would otherwise ratchet up on that noise
+/// within this factor of the target: the prediction moves from frame to frame as the light moves,
+/// and a choice that only rises would otherwise ratchet up on that noise
 /// (docs/error-estimate.md §6).
 const KEEP: f64 = 1.15;
 
