@@ -24,6 +24,7 @@ pub mod probe;
 pub mod quad_count;
 pub mod raster;
 pub mod raster_auto;
+pub mod raster_timing;
 pub mod raster_compute;
 pub(crate) mod reconstruct;
 pub mod reproject_count;

@@ -4,17 +4,12 @@
 //! method of a comparison or a sweep rasterizes the same way.
 
 use super::raster::Raster;
-use crate::gpu::readback;
 use crate::gpu::GpuContext;
-use crate::render::shadow_raster::RasterJob;
 use crate::render::SceneGpu;
-use crate::scene::light::sample_view;
 use crate::scene::{MapKind, RasterChoice, Scene};
 use crate::Result;
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
 use std::sync::{Mutex, OnceLock};
-use std::time::Instant;
 
 /// Maps each raster draws per round: enough to amortise a submission, few enough to stay quick.
 pub const AUTO_MAPS: u32 = 8;
@@ -47,10 +42,7 @@ pub fn raster_size(scene: &Scene) -> u32 {
 }
 
 fn key(ctx: &GpuContext, scene: &Scene) -> Key {
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    bytemuck::cast_slice::<_, u8>(&scene.vertices).hash(&mut h);
-    scene.indices.hash(&mut h);
-    (ctx.summary.name.clone(), h.finish(), raster_size(scene), format!("{:?}", scene.render.cull), scene.render.shadow_map_budget_mib)
+    (ctx.summary.name.clone(), super::raster_timing::mesh_hash(scene), raster_size(scene), format!("{:?}", scene.render.cull), scene.render.shadow_map_budget_mib)
 }
 
 /// Whether the frame rasterizes in compute kernels, by the scene's `raster` setting, and what
@@ -75,30 +67,7 @@ fn timing(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu) -> Result<AutoTiming>
     let budget = scene.render.shadow_map_budget_mib;
     let rasters = [Raster::new(ctx, scene.render.cull, false, budget)?, Raster::new(ctx, scene.render.cull, true, budget)?];
     let maps = rasters.iter().map(|r| r.maps_per_array(ctx, size, budget)).collect::<Result<Vec<_>>>()?.into_iter().min().unwrap_or(1).min(AUTO_MAPS);
-    // Light points spread over the light, as a grid's would be.
-    let samples: Vec<_> = (0..maps)
-        .map(|k| {
-            let (u, v) = ((k % 3) as f32 * 0.5, (k / 3 % 3) as f32 * 0.5);
-            sample_view(&scene.light, scene.light.point(u, v), &scene.bounds, size, k)
-        })
-        .collect();
-    let buffer = readback::storage_buffer(ctx, "raster auto samples", &samples, wgpu::BufferUsages::empty());
-    let jobs: Vec<RasterJob> = (0..maps).map(|k| RasterJob { sample: k, layer: k, scissor: None }).collect();
-    let arrays: Vec<_> = rasters.iter().map(|r| r.allocate(ctx, size, maps)).collect();
-    let mut best = [f64::INFINITY; 2];
-    // Round 0 warms both up (pipelines, chains, first touches) and is not counted.
-    for round in 0..=AUTO_ROUNDS {
-        for (i, r) in rasters.iter().enumerate() {
-            let start = Instant::now();
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            r.record(ctx, &mut enc, gpu, &buffer, &arrays[i], &jobs)?;
-            ctx.queue.submit([enc.finish()]);
-            ctx.wait()?;
-            if round > 0 {
-                best[i] = best[i].min(start.elapsed().as_secs_f64() * 1e3);
-            }
-        }
-    }
+    let best = super::raster_timing::least_ms(ctx, scene, gpu, &[&rasters[0], &rasters[1]], size, maps, AUTO_ROUNDS)?;
     let t = AutoTiming { hardware_ms: best[0], compute_ms: best[1], maps, map_size: size, compute: best[1] < best[0] };
     if let Ok(mut m) = remembered().lock() {
         m.insert(k, t);
