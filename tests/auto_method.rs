@@ -66,6 +66,50 @@ fn auto_renders_its_choice_and_keeps_it() {
     assert_eq!((tries[0]["n"].as_u64(), tries[0]["map_size"].as_u64()), (Some(n), Some(size)));
 }
 
+/// Each try after the first is the grid `next_choice` picks from the try before, at the prices
+/// the record gives: measured (positive, for every size up to max_size) or by texels.
+#[test]
+fn auto_prices_maps_by_measure_or_by_texels() {
+    use penumbra::methods::auto::{next_choice, Costs};
+    use penumbra::methods::estimate::Prediction;
+    let ctx = common::gpu();
+    let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "64".to_string())]).unwrap();
+    for (spec, model) in [("auto:target=0.02,max_size=1024", "measured"), ("auto:target=0.02,max_size=1024,cost=texels", "texels")] {
+        let method = Method::parse(spec, &[]).unwrap();
+        let rec = Renderer::new(ctx, &scene, &method).unwrap().frame(options()).unwrap().output.record;
+        assert_eq!(rec["map_cost"]["model"], model, "{rec}");
+        let prices: Vec<(u32, f64)> = rec["map_cost"]["per_map"].as_object().unwrap().iter().map(|(k, v)| (k.parse().unwrap(), v.as_f64().unwrap())).collect();
+        let mut sizes: Vec<u32> = prices.iter().map(|p| p.0).collect();
+        sizes.sort();
+        assert_eq!(sizes, vec![256, 512, 1024], "every size up to max_size is priced: {rec}");
+        assert!(prices.iter().all(|p| p.1.is_finite() && p.1 > 0.0), "{rec}");
+        if model == "texels" {
+            assert!(prices.iter().all(|&(z, c)| c == z as f64 / 512.0), "{rec}");
+        }
+        let mut ordered = prices.clone();
+        ordered.sort_by_key(|p| p.0);
+        let costs = Costs(ordered);
+        let tries = rec["tries"].as_array().unwrap();
+        assert!(tries.len() >= 2, "3×3 at 512² misses 0.02 on this scene: {rec}");
+        for pair in tries.windows(2) {
+            let t = &pair[0];
+            let f = |k: &str| t[k].as_f64().unwrap();
+            let p = Prediction {
+                predicted_rmse: f("predicted_rmse"),
+                predicted_sampling: f("predicted_sampling"),
+                predicted_map: f("predicted_map"),
+                predicted_quantization: f("predicted_quantization"),
+                predicted_bias: f("predicted_bias"),
+                predicted_map_averaging: f("predicted_map_averaging"),
+            };
+            let (n, size) = (t["n"].as_u64().unwrap() as u32, t["map_size"].as_u64().unwrap() as u32);
+            let next = (pair[1]["n"].as_u64().unwrap() as u32, pair[1]["map_size"].as_u64().unwrap() as u32);
+            assert_eq!(next_choice(n, size, &p, 0.02f32 as f64, 17, 1024, &costs), Some(next), "{model}: {rec}");
+            assert!(t["ms"].as_f64().unwrap() > 0.0, "each try's wall clock: {rec}");
+        }
+    }
+}
+
 #[test]
 fn an_unreachable_target_says_so() {
     let out = tempfile_dir("auto-unreachable");

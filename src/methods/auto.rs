@@ -10,7 +10,7 @@
 
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
-use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::gpu::timing::StageTimer;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -24,6 +24,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "target", default: "0.015", help: "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)" },
         Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
         Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
+        Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (this scene's maps timed on this device before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
     ],
     parse: |p: &ParamMap| {
         let target = check_range("auto", "target", get_f32(p, "target", 0.015)?, 0.0005, 0.5)?;
@@ -32,7 +33,11 @@ pub const INFO: MethodInfo = MethodInfo {
         if !SIZES.contains(&max_size) {
             return Err(crate::Error::Param(format!("auto: max_size = {max_size}: use one of 256, 512, 1024, 2048")));
         }
-        Ok(std::sync::Arc::new(Auto { target, max_n, max_size }))
+        let cost = match get_choice(p, "cost", "measured", &["measured", "texels"])? {
+            "texels" => CostModel::Texels,
+            _ => CostModel::Measured,
+        };
+        Ok(std::sync::Arc::new(Auto { target, max_n, max_size, cost }))
     },
 };
 
@@ -55,6 +60,25 @@ pub struct Auto {
     pub target: f32,
     pub max_n: u32,
     pub max_size: u32,
+    pub cost: CostModel,
+}
+
+/// How a map of each size is priced in the search (docs/error-estimate.md §6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CostModel {
+    /// This scene's maps of each size timed with the frame's raster on this device.
+    Measured,
+    /// Double per doubling of the side, on every device.
+    Texels,
+}
+
+impl CostModel {
+    fn name(self) -> &'static str {
+        match self {
+            CostModel::Measured => "measured",
+            CostModel::Texels => "texels",
+        }
+    }
 }
 
 impl ShadowMethod for Auto {
@@ -62,10 +86,10 @@ impl ShadowMethod for Auto {
         "auto"
     }
     fn label(&self) -> String {
-        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string())])
+        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string()), ("cost", self.cost.name().to_string())])
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size })
+        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size, "cost": self.cost.name() })
     }
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::ON_A_RECTANGLE)
@@ -76,7 +100,8 @@ impl ShadowMethod for Auto {
         }
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
-        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false }))
+        let costs = map_costs(fg, self.cost, self.max_size)?;
+        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -92,6 +117,8 @@ pub struct Try {
     pub n: u32,
     pub map_size: u32,
     pub maps: u32,
+    /// Wall clock from the first map to the estimate read back, ms.
+    pub ms: f64,
     #[serde(flatten)]
     pub prediction: Prediction,
 }
@@ -111,13 +138,37 @@ pub struct AutoState {
     /// The choice came from the previous frame of a sequence (`recall`): its first try is kept
     /// within KEEP of the target.
     recalled: bool,
+    /// The price of one map of each size.
+    costs: Costs,
 }
 
-/// Relative cost of one map of side `size`: double per doubling of the side. Measured at 128²
-/// from 512² to 1024² maps, a map cost 1.1–1.3× more on the meshes and 1.6–2.9× on the small
-/// analytic scenes (docs/error-estimate.md §6).
-fn map_cost(size: u32) -> f64 {
-    size as f64 / 512.0
+/// The price of one map of each size the search may choose (ms under `measured`, relative under
+/// `texels`), in SIZES order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Costs(pub Vec<(u32, f64)>);
+
+impl Costs {
+    /// Double per doubling of the side. From 512² to 1024² maps a map costs 1.1–1.3× more on the
+    /// meshes and 1.6–2.9× on the small analytic scenes on lavapipe (docs/error-estimate.md §6).
+    pub fn texels(max_size: u32) -> Costs {
+        Costs(SIZES.iter().filter(|&&z| z <= max_size).map(|&z| (z, z as f64 / 512.0)).collect())
+    }
+    fn of(&self, size: u32) -> f64 {
+        self.0.iter().find(|(z, _)| *z == size).map_or(f64::INFINITY, |(_, c)| *c)
+    }
+}
+
+/// Each size's price under `model`: `measured` times this scene's maps with the frame's raster,
+/// before the clock (once per process and scene).
+fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<Costs> {
+    match model {
+        CostModel::Texels => Ok(Costs::texels(max_size)),
+        CostModel::Measured => {
+            let sizes = SIZES.iter().filter(|&&z| z <= max_size);
+            let priced = sizes.map(|&z| crate::stages::raster_timing::map_ms(fg.ctx, fg.scene, &fg.scene_gpu, &fg.raster, z).map(|ms| (z, ms)));
+            Ok(Costs(priced.collect::<Result<_>>()?))
+        }
+    }
 }
 
 /// The predicted RMSE of the centred grid (n2, size2), from a try at (n, size): the sampling
@@ -131,15 +182,15 @@ pub fn predicted_at(n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f
     (s * s + m2).sqrt()
 }
 
-/// The cheapest grid (fewest maps, each weighed by `map_cost`) at n ≥ `n` and maps ≥ `size`,
-/// other than (n, size), that `predicted_at` says meets `target`; None if none does.
-fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
+/// The cheapest grid (its maps at `costs`' price) at n ≥ `n` and maps ≥ `size`, other than
+/// (n, size), that `predicted_at` says meets `target`; None if none does.
+fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
     let mut best: Option<(f64, (u32, u32))> = None;
     for &size2 in SIZES.iter().filter(|&&z| z >= size && z <= max_size) {
         // At one size the prediction only falls with n: the first n that meets it is that size's cheapest.
         let meets = (n..=max_n).filter(|&n2| (n2, size2) != (n, size)).find(|&n2| predicted_at(n, size, p, n2, size2) <= target);
         if let Some(n2) = meets {
-            let cost = (n2 * n2) as f64 * map_cost(size2);
+            let cost = (n2 * n2) as f64 * costs.of(size2);
             if best.is_none_or(|(c, _)| cost < c) {
                 best = Some((cost, (n2, size2)));
             }
@@ -157,8 +208,8 @@ fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, 
 /// misses the target, nothing can reach it. Where even the largest maps would miss it (their
 /// error falling at best as the texel size), the sampling error need only stay under half that
 /// floor, which adds at most 12% to it: n does not chase a target the maps put out of reach.
-pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32) -> Option<(u32, u32)> {
-    if let Some(choice) = cheapest_meeting(n, size, p, target, max_n, max_size) {
+pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
+    if let Some(choice) = cheapest_meeting(n, size, p, target, max_n, max_size, costs) {
         return Some(choice);
     }
     let share = target / std::f64::consts::SQRT_2;
@@ -222,12 +273,14 @@ impl AutoState {
     fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
         self.hold(fg, (n, size))?;
         let grid = &mut self.grid.as_mut().expect("built above").1;
+        let start = std::time::Instant::now();
         let out = render_into_cleared_v(grid, fg, timer)?;
         let e = grid.estimate.as_ref().expect("built with the estimate");
         timer.flush(fg.ctx);
         let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
         let (prediction, bound) = e.predict(&sums, geometry)?;
-        Ok((Try { n, map_size: size, maps: out.shadow_maps, prediction }, bound))
+        Ok((Try { n, map_size: size, maps: out.shadow_maps, ms, prediction }, bound))
     }
 }
 
@@ -274,7 +327,7 @@ impl MethodState for AutoState {
             if tries.len() == MAX_TRIES {
                 break false;
             }
-            match next_choice(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size) {
+            match next_choice(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs) {
                 Some(next) => self.choice = next,
                 None => break true,
             }
@@ -301,6 +354,7 @@ impl MethodState for AutoState {
             "predicted_rmse": last.prediction.predicted_rmse,
             "predicted_sampling": last.prediction.predicted_sampling,
             "predicted_map": last.prediction.predicted_map,
+            "map_cost": { "model": self.method.cost.name(), "per_map": self.costs.0.iter().map(|(z, c)| (z.to_string(), serde_json::json!(c))).collect::<serde_json::Map<_, _>>() },
         });
         record["maps_rendered"] = maps.into();
         record["estimated"] = true.into();
@@ -330,6 +384,10 @@ impl MethodState for AutoState {
 mod tests {
     use super::*;
 
+    fn tx() -> Costs {
+        Costs::texels(2048)
+    }
+
     fn p(sampling: f64, map: f64) -> Prediction {
         pa(sampling, map, 0.0)
     }
@@ -351,30 +409,30 @@ mod tests {
         // Maps well under the target: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
         // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7, at the same maps.
         let share = 0.01 / std::f64::consts::SQRT_2;
-        assert_eq!(next_choice(5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048), Some((7, 512)));
+        assert_eq!(next_choice(5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048, &tx()), Some((7, 512)));
         // The maps alone over the target: doubling them (predicted 0.0053 + 0.0035) meets it.
-        assert_eq!(next_choice(5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048), Some((5, 1024)));
+        assert_eq!(next_choice(5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048, &tx()), Some((5, 1024)));
         // Both at 0.0078: 4×4 at 256² is predicted to meet 0.01 (16 maps of cost ½), cheaper
         // than any grid at 512².
-        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048), Some((4, 256)));
+        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048, &tx()), Some((4, 256)));
         // Maps at their largest, their error under the target: n takes the rest of it.
         // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2.
-        assert_eq!(next_choice(5, 2048, &p(0.006, 0.009), 0.01, 17, 2048), Some((7, 2048)));
+        assert_eq!(next_choice(5, 2048, &p(0.006, 0.009), 0.01, 17, 2048, &tx()), Some((7, 2048)));
         // Maps at their largest and their error alone over the target: out of reach.
-        assert_eq!(next_choice(5, 2048, &p(0.001, 0.011), 0.01, 17, 2048), None);
+        assert_eq!(next_choice(5, 2048, &p(0.001, 0.011), 0.01, 17, 2048, &tx()), None);
         // n at its largest: nothing is predicted to meet it, and the maps take the excess.
-        assert_eq!(next_choice(17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), Some((17, 1024)));
+        assert_eq!(next_choice(17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), Some((17, 1024)));
         // Nothing left to grow.
-        assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048), None);
+        assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), None);
         // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
         // floor 0.049 against 0.012): nothing meets it, so n grows only to keep sampling under
         // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 4, not to 0.012 / √2 (which asks for 8).
-        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048), Some((4, 1024)));
-        assert_eq!(next_choice(4, 1024, &p(0.024, 0.150), 0.012, 17, 2048), Some((4, 2048)));
-        assert_eq!(next_choice(4, 2048, &p(0.020, 0.117), 0.012, 17, 2048), None);
+        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048, &tx()), Some((4, 1024)));
+        assert_eq!(next_choice(4, 1024, &p(0.024, 0.150), 0.012, 17, 2048, &tx()), Some((4, 2048)));
+        assert_eq!(next_choice(4, 2048, &p(0.020, 0.117), 0.012, 17, 2048, &tx()), None);
         // The same maps under a target that 2048² meets (0.049 and 0.031 against 0.06) and 1024²
         // cannot (0.098): straight to 2048².
-        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048), Some((3, 2048)));
+        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048, &tx()), Some((3, 2048)));
     }
 
     #[test]
@@ -384,15 +442,33 @@ mod tests {
         // maps 0.0070, sampling 0.0071; cost 72); without it the maps must shrink by texels alone,
         // and 5×5 at 2048² (cost 100) is the cheapest.
         let with = pa(0.02, 0.023, 0.021);
-        assert_eq!(next_choice(3, 512, &with, 0.012, 17, 2048), Some((6, 1024)));
+        assert_eq!(next_choice(3, 512, &with, 0.012, 17, 2048, &tx()), Some((6, 1024)));
         assert!((predicted_at(3, 512, &with, 6, 1024) - 0.00998).abs() < 1e-4, "{}", predicted_at(3, 512, &with, 6, 1024));
-        assert_eq!(next_choice(3, 512, &p(0.02, 0.023), 0.012, 17, 2048), Some((5, 2048)));
+        assert_eq!(next_choice(3, 512, &p(0.02, 0.023), 0.012, 17, 2048, &tx()), Some((5, 2048)));
         // Every bit of it averaging: at the same maps, m falls as 1/n: 3 → 9 thirds it.
         let all = pa(0.0, 0.03, 0.03);
         assert!((predicted_at(3, 512, &all, 9, 512) - 0.01).abs() < 1e-12);
-        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 512), Some((9, 512)));
+        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 512, &tx()), Some((9, 512)));
         // With larger maps allowed, 3×3 at 2048² (0.0075, cost 36) is cheaper than 9×9 at 512² (81).
-        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 2048), Some((3, 2048)));
+        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 2048, &tx()), Some((3, 2048)));
+    }
+
+    #[test]
+    fn measured_prices_move_the_choice_to_larger_maps_where_they_cost_little_more() {
+        // bunny at 128² from 3×3 at 512² (predicted 0.0315: sampling 0.0161, maps 0.0270 of which
+        // 0.0218 averages), priced as lavapipe's compute raster timed it: 31.0, 36.2 and 51.6 ms per
+        // map at 512², 1024² and 2048². Under `texels` a 2048² map costs four 512² ones; measured, 1.7.
+        let bunny = pa(0.0161, 0.0270, 0.0218);
+        let timed = Costs(vec![(256, 30.5), (512, 31.0), (1024, 36.2), (2048, 51.6)]);
+        assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &tx()), Some((4, 512)));
+        assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &timed), Some((3, 1024)));
+        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 2048, &tx()), Some((4, 1024)));
+        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 2048, &timed), Some((3, 2048)));
+        // Where only the largest maps meet it, both agree.
+        assert_eq!(next_choice(3, 512, &bunny, 0.012, 17, 2048, &timed), next_choice(3, 512, &bunny, 0.012, 17, 2048, &tx()));
+        // A size above max_size is never priced, so never chosen.
+        assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![256, 512, 1024]);
+        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((4, 1024)));
     }
 
     #[test]
@@ -404,7 +480,7 @@ mod tests {
 
     #[test]
     fn parameters_are_checked() {
-        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target")] {
+        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target"), ("auto:cost=guess", "cost")] {
             let e = super::super::Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} parsed")).to_string();
             assert!(e.contains("auto") && e.contains(expect), "{spec}: {e}");
         }
