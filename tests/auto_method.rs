@@ -28,9 +28,14 @@ fn auto_renders_its_choice_and_keeps_it() {
     assert_eq!(rec["target_met"], true, "{rec}");
     let last = tries.last().unwrap();
     assert!(last["predicted_rmse"].as_f64().unwrap() <= 0.03);
-    for t in &tries[..tries.len() - 1] {
-        assert!(t["predicted_rmse"].as_f64().unwrap() > 0.03, "it stops at the first try that meets the target: {rec}");
+    // It rises until a try meets the target; past that only steps down to cheaper grids (the
+    // state's first search), so the last try meets it.
+    let first_met = tries.iter().position(|t| t["predicted_rmse"].as_f64().unwrap() <= 0.03).unwrap();
+    for t in &tries[..first_met] {
+        assert!(t["predicted_rmse"].as_f64().unwrap() > 0.03, "{rec}");
     }
+    let cost = |t: &serde_json::Value| t["maps"].as_f64().unwrap() * rec["map_cost"]["per_map"][t["map_size"].to_string()].as_f64().unwrap();
+    assert!(tries[first_met..].iter().all(|t| cost(t) <= cost(&tries[first_met])), "steps down only: {rec}");
     let (n, size) = (rec["chosen"]["n"].as_u64().unwrap(), rec["chosen"]["map_size"].as_u64().unwrap());
     assert_eq!((last["n"].as_u64(), last["map_size"].as_u64()), (Some(n), Some(size)));
     assert_eq!(first.output.shadow_maps as u64, tries.iter().map(|t| t["maps"].as_u64().unwrap()).sum::<u64>(), "every try's maps count");
@@ -66,11 +71,13 @@ fn auto_renders_its_choice_and_keeps_it() {
     assert_eq!((tries[0]["n"].as_u64(), tries[0]["map_size"].as_u64()), (Some(n), Some(size)));
 }
 
-/// Each try after the first is the grid `next_choice` picks from the try before, at the prices
-/// the record gives: measured (positive, for every size up to max_size) or by texels.
+/// Each try after the first is the grid the search picks from the try before, at the prices the
+/// record gives (measured: positive, for every size up to max_size, never less for a larger map;
+/// or by texels): `next_choice` after a miss, `cheaper_meeting` (a step down) after a try that
+/// met the target, and after a step down that missed, the cheapest grid that met it.
 #[test]
 fn auto_prices_maps_by_measure_or_by_texels() {
-    use penumbra::methods::auto::{next_choice, Costs};
+    use penumbra::methods::auto::{cheaper_meeting, next_choice, Costs};
     use penumbra::methods::estimate::Prediction;
     let ctx = common::gpu();
     let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "64".to_string())]).unwrap();
@@ -88,10 +95,14 @@ fn auto_prices_maps_by_measure_or_by_texels() {
         }
         let mut ordered = prices.clone();
         ordered.sort_by_key(|p| p.0);
+        assert!(ordered.windows(2).all(|w| w[1].1 >= w[0].1), "{rec}");
         let costs = Costs(ordered);
         let tries = rec["tries"].as_array().unwrap();
         assert!(tries.len() >= 2, "3×3 at 512² misses 0.02 on this scene: {rec}");
-        for pair in tries.windows(2) {
+        let target = 0.02f32 as f64;
+        let mut met: Option<(u32, u32)> = None;
+        let mut back = false;
+        for (k, pair) in tries.windows(2).enumerate() {
             let t = &pair[0];
             let f = |k: &str| t[k].as_f64().unwrap();
             let p = Prediction {
@@ -104,7 +115,17 @@ fn auto_prices_maps_by_measure_or_by_texels() {
             };
             let (n, size) = (t["n"].as_u64().unwrap() as u32, t["map_size"].as_u64().unwrap() as u32);
             let next = (pair[1]["n"].as_u64().unwrap() as u32, pair[1]["map_size"].as_u64().unwrap() as u32);
-            assert_eq!(next_choice(n, size, &p, 0.02f32 as f64, 17, 1024, &costs), Some(next), "{model}: {rec}");
+            let tried: Vec<(u32, u32)> = tries[..=k].iter().map(|t| (t["n"].as_u64().unwrap() as u32, t["map_size"].as_u64().unwrap() as u32)).collect();
+            let expect = if p.predicted_rmse <= target {
+                met = Some((n, size));
+                cheaper_meeting(n, size, &p, target, 17, 1024, &costs, &tried)
+            } else if met.is_some() && !back {
+                back = true;
+                met
+            } else {
+                next_choice(n, size, &p, target, 17, 1024, &costs)
+            };
+            assert_eq!(expect, Some(next), "{model}, try {k}: {rec}");
             assert!(t["ms"].as_f64().unwrap() > 0.0, "each try's wall clock: {rec}");
         }
     }

@@ -3,10 +3,12 @@
 //! meets `target`: it renders the current choice with the estimate, and while the prediction
 //! misses the target it moves to the cheapest grid that the prediction says meets it (more
 //! samples lower the sampling error and the part of the maps' error that averages over samples;
-//! larger maps lower all of the maps' error). The choice carries over to the next frame and only
-//! rises, so a sequence's decisions do not flicker. Once a frame has settled the choice (its
-//! prediction met the target, or nothing could grow), the state's later frames have the same
-//! inputs until the camera moves, so they render the chosen grid without the estimate.
+//! larger maps lower all of the maps' error). The state's first search also steps down from a try
+//! that meets the target to a cheaper grid predicted to meet it. The choice carries over to the
+//! next frame and from there only rises, so a sequence's decisions do not flicker. Once a frame
+//! has settled the choice (its prediction met the target, or nothing could grow), the state's
+//! later frames have the same inputs until the camera moves, so they render the chosen grid
+//! without the estimate.
 
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
@@ -101,7 +103,7 @@ impl ShadowMethod for Auto {
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
         let costs = map_costs(fg, self.cost, self.max_size)?;
-        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs }))
+        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -140,6 +142,9 @@ pub struct AutoState {
     recalled: bool,
     /// The price of one map of each size.
     costs: Costs,
+    /// A frame has searched: only the state's first search steps down (a later one, after the
+    /// camera moved or handed on in a sequence, only rises, so decisions do not flicker).
+    searched: bool,
 }
 
 /// The price of one map of each size the search may choose (ms under `measured`, relative under
@@ -164,9 +169,15 @@ fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<Costs> {
     match model {
         CostModel::Texels => Ok(Costs::texels(max_size)),
         CostModel::Measured => {
-            let sizes = SIZES.iter().filter(|&&z| z <= max_size);
-            let priced = sizes.map(|&z| crate::stages::raster_timing::map_ms(fg.ctx, fg.scene, &fg.scene_gpu, &fg.raster, z).map(|ms| (z, ms)));
-            Ok(Costs(priced.collect::<Result<_>>()?))
+            let mut priced = Vec::new();
+            for &z in SIZES.iter().filter(|&&z| z <= max_size) {
+                let ms = crate::stages::raster_timing::map_ms(fg.ctx, fg.scene, &fg.scene_gpu, &fg.raster, z)?;
+                // A larger map never costs less to raster than a smaller one; a timing that says so
+                // is the clock's noise (a busy CPU device), and would send the search to it.
+                let floor = priced.last().map_or(0.0, |&(_, c)| c);
+                priced.push((z, f64::max(ms, floor)));
+            }
+            Ok(Costs(priced))
         }
     }
 }
@@ -175,11 +186,31 @@ fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<Costs> {
 /// error falls as n^−1.5; of the maps' error, the part that averages over samples falls as 1/n
 /// (`Prediction::predicted_map_averaging`), and all of it at best as the texel size.
 pub fn predicted_at(n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f64 {
-    let doublings = (size2 / size.max(1)).max(1).trailing_zeros() as i32;
     let s = p.predicted_sampling * (n as f64 / n2 as f64).powf(SAMPLING_ORDER);
+    // Fewer samples or smaller maps (a step down) raise both parts by the same laws.
     let kept = 1.0 - (n * n) as f64 / (n2 * n2) as f64;
-    let m2 = (p.predicted_map.powi(2) - p.predicted_map_averaging.powi(2) * kept).max(0.0) * 0.25f64.powi(doublings);
+    let texel = size as f64 / size2 as f64;
+    let m2 = (p.predicted_map.powi(2) - p.predicted_map_averaging.powi(2) * kept).max(0.0) * texel * texel;
     (s * s + m2).sqrt()
+}
+
+/// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), with n ≥ 2 and maps up
+/// to `max_size`, that `predicted_at` says meets `target` too; None if none does.
+pub fn cheaper_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs, tried: &[(u32, u32)]) -> Option<(u32, u32)> {
+    let here = (n * n) as f64 * costs.of(size);
+    let mut best: Option<(f64, (u32, u32))> = None;
+    for &size2 in SIZES.iter().filter(|&&z| z <= max_size) {
+        for n2 in 2..=max_n {
+            let cost = (n2 * n2) as f64 * costs.of(size2);
+            if cost >= here {
+                break;
+            }
+            if !tried.contains(&(n2, size2)) && predicted_at(n, size, p, n2, size2) <= target && best.is_none_or(|(c, _)| cost < c) {
+                best = Some((cost, (n2, size2)));
+            }
+        }
+    }
+    best.map(|(_, choice)| choice)
 }
 
 /// The cheapest grid (its maps at `costs`' price) at n ≥ `n` and maps ≥ `size`, other than
@@ -313,8 +344,13 @@ impl MethodState for AutoState {
         // The G-buffer pass is recorded, not yet submitted: flush before reading it.
         timer.flush(fg.ctx);
         let geometry = timer.cpu(crate::gpu::Stage::READBACK, || fixed_samples::geometry_mask(fg))?;
-        let mut tries = Vec::new();
+        let mut tries: Vec<Try> = Vec::new();
         let mut bound;
+        // The state's first search also steps down: from a try that meets the target, to a cheaper
+        // grid predicted to meet it; where that one misses, back to the cheapest that met.
+        let mut down = !self.recalled && !self.searched;
+        self.searched = true;
+        let mut met: Option<(u32, u32)> = None;
         // Settled: the target met, or nothing left to grow. A search cut at MAX_TRIES goes on
         // next frame.
         let settles = loop {
@@ -322,7 +358,22 @@ impl MethodState for AutoState {
             bound = b;
             tries.push(t);
             if acceptable(t.prediction.predicted_rmse, target, self.recalled && tries.len() == 1) {
-                break true;
+                // A step down is only taken with a try to spare for the way back.
+                let tried: Vec<(u32, u32)> = tries.iter().map(|t| (t.n, t.map_size)).collect();
+                let step = if down && tries.len() + 1 < MAX_TRIES { cheaper_meeting(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs, &tried) } else { None };
+                met = Some((t.n, t.map_size));
+                match step {
+                    Some(next) => {
+                        self.choice = next;
+                        continue;
+                    }
+                    None => break true,
+                }
+            }
+            if let Some(back) = met.filter(|_| down) {
+                down = false;
+                self.choice = back;
+                continue;
             }
             if tries.len() == MAX_TRIES {
                 break false;
@@ -469,6 +520,21 @@ mod tests {
         // A size above max_size is never priced, so never chosen.
         assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![256, 512, 1024]);
         assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((4, 1024)));
+    }
+
+    #[test]
+    fn a_first_search_steps_down_to_a_cheaper_grid_predicted_to_meet_the_target() {
+        // default at 128², 3×3 at 512²: 0.0276 meets 0.03. 2×2 at 1024² is predicted at 0.0222
+        // (sampling 0.0081 · 1.5^1.5, maps sqrt(0.0264² + 0.0176² · 1.25) / 2) for 8 units against 9.
+        let default = pa(0.0081, 0.0264, 0.0176);
+        assert!((predicted_at(3, 512, &default, 2, 1024) - 0.02219).abs() < 1e-4, "{}", predicted_at(3, 512, &default, 2, 1024));
+        assert_eq!(cheaper_meeting(3, 512, &default, 0.03, 17, 2048, &tx(), &[(3, 512)]), Some((2, 1024)));
+        // Tried already (it missed): nothing else cheaper is predicted to meet it.
+        assert_eq!(cheaper_meeting(3, 512, &default, 0.03, 17, 2048, &tx(), &[(3, 512), (2, 1024)]), None);
+        // A smaller map raises the maps' error as a larger one lowers it: 4× its square per halving.
+        assert!((predicted_at(3, 512, &p(0.0, 0.01), 3, 256) - 0.02).abs() < 1e-12);
+        // At 0.02 no grid of fewer than 9 units is predicted to meet it (2×2 at 1024²: 0.0222).
+        assert_eq!(cheaper_meeting(3, 512, &default, 0.02, 17, 2048, &tx(), &[(3, 512)]), None);
     }
 
     #[test]

@@ -53,7 +53,7 @@ pub fn mesh_hash(scene: &Scene) -> u64 {
 
 /// Maps a round of `map_ms` draws, and its timed rounds after the warm-up.
 const MAP_MS_MAPS: u32 = 4;
-const MAP_MS_ROUNDS: usize = 2;
+const MAP_MS_ROUNDS: usize = 3;
 
 type MapKey = (String, u64, String, &'static str, u32, u32);
 
