@@ -58,6 +58,27 @@ fn the_error_budget_against_the_frontier() {
 }
 
 /// The documented small run: n in {2, 3}, plain maps 64² and 128², hybrid 128→64, one timed frame.
+/// A point light: the settings that refuse it (local adaptive scope, the prefiltered maps, the
+/// adaptive presets under hybrid maps) are left out up front and named, and the rest run.
+#[test]
+fn a_point_light_frontier_leaves_out_what_refuses_the_light() {
+    let dir = temp_dir("frontier_point");
+    let out = dir.join("out");
+    let o = ok(
+        penumbra(&["frontier", "--scene", "point-edge", "--set", "resolution=64", "--n", "2", "--sizes", "64", "--hybrid", "256/1", "--repeats", "1", "--out", out.to_str().unwrap()], &dir.join("cache")),
+        "frontier on a point light",
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    let left: Vec<&str> = stderr.lines().filter(|l| l.contains(" left out: ")).collect();
+    assert_eq!(left.len(), 9, "2 local adaptive + 5 prefiltered at plain 64, 2 adaptive under hybrid maps:\n{stderr}");
+    assert!(left.iter().any(|l| l.starts_with("adaptive:preset=seed @ hybrid") && l.contains("cube maps need maps = plain")), "{stderr}");
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    // Plain: 2 grids + 2 global adaptive + hard, pcf, pcss; hybrid: 2 grids + hard, pcf, pcss.
+    assert_eq!(lines.len(), 7 + 5, "{lines:?}");
+    assert!(lines.iter().all(|l| l["thinning"].as_str().unwrap().contains("left out, refusing the point light: adaptive:preset=seed,scope=local,cull=on @ plain 64")));
+    assert!(lines.iter().any(|l| l["spec"] == "adaptive:preset=balanced" && l["map_config"] == "plain 64" && l["rmse"].as_f64().unwrap() < 0.2));
+}
+
 #[test]
 fn a_thinned_frontier_on_a_small_scene() {
     let dir = temp_dir("frontier_small");

@@ -92,11 +92,20 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
             group.specs.push(spec);
         }
     }
+    let refused = grid::drop_refused(&mut groups, &scene);
+    for (spec, why) in &refused {
+        eprintln!("{spec} left out: {why}");
+    }
     if let Some(size) = axes.sizes.iter().find(|&&s| !grid::local_fits(s, budget)) {
         eprintln!("adaptive scope=local left out from {size}² up: 289 maps do not fit shadow_map_budget_mib = {budget} (raise it with --set to run them)");
     }
     let all: Vec<_> = groups.iter().flat_map(|g| g.methods.iter().cloned()).collect();
-    let thinning = thinning.describe(&axes);
+    let mut thinning = thinning.describe(&axes);
+    if !refused.is_empty() {
+        // Recorded with the grid, so frontier.jsonl and frontier.md say what the light ruled out.
+        let specs: Vec<&str> = refused.iter().map(|(s, _)| s.as_str()).collect();
+        thinning = format!("{thinning}; left out, refusing the {} light: {}", scene.emitter.kind().name(), specs.join(", "));
+    }
     eprintln!("{} ({thinning})", plan::line(&all, &scene, args.repeats));
     let ctx = GpuContext::with_request(gpu)?;
     // Every setting's frame sizes before the reference is traced or anything is written.

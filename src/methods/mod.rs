@@ -135,6 +135,11 @@ pub trait ShadowMethod: Send + Sync + Any {
     fn unsupported_light(&self, kind: LightKind) -> Option<&'static str> {
         (kind != LightKind::Rect).then_some(ON_A_RECTANGLE)
     }
+    /// Why the method cannot run a light of `kind` from maps of kind `maps`, where the light alone
+    /// does not refuse it; checked with the light, before anything is built.
+    fn unsupported_maps(&self, _kind: LightKind, _maps: crate::scene::MapKind) -> Option<&'static str> {
+        None
+    }
 }
 
 /// Why the many-sample methods refuse the other kinds (docs/lights.md, "Methods and kinds").
@@ -157,6 +162,7 @@ pub fn cube_maps(kind: LightKind) -> bool {
     kind == LightKind::Point
 }
 /// Why adaptive refuses the point light.
+pub const CUBE_MAPS_ARE_PLAIN: &str = "a point light's cube maps need maps = plain: the hybrid store keeps one map per lattice sample";
 pub const ONE_MAP_PER_POINT: &str = "with scope = local or cull = on it keeps one map per light point, and a point light's sample is six cube faces (scope = global runs)";
 
 /// Each method against the scene's light kind, before anything is built, traced or written.
@@ -295,7 +301,7 @@ impl Method {
     /// `regular: light kind `disk` is not supported yet (samples are placed on a rectangle)`.
     pub fn check_light(&self, scene: &crate::scene::Scene) -> Result<()> {
         let kind = scene.emitter.kind();
-        match self.0.unsupported_light(kind) {
+        match self.0.unsupported_light(kind).or_else(|| self.0.unsupported_maps(kind, scene.render.maps)) {
             None => Ok(()),
             Some(why) => Err(Error::Param(format!(
                 "{}: light kind `{}` is not supported yet ({why}); scene {} (docs/lights.md lists the pairs)",

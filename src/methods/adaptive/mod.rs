@@ -68,6 +68,9 @@ impl ShadowMethod for Adaptive {
         }
         (!super::maps_from_the_emitter(kind)).then_some(super::ON_A_RECTANGLE)
     }
+    fn unsupported_maps(&self, kind: crate::scene::LightKind, maps: crate::scene::MapKind) -> Option<&'static str> {
+        (super::cube_maps(kind) && maps == crate::scene::MapKind::Hybrid).then_some(super::CUBE_MAPS_ARE_PLAIN)
+    }
     fn name(&self) -> &'static str {
         "adaptive"
     }
@@ -292,7 +295,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     // cull = on (global) culls between the waiting loop's levels: the steered loop does not.
     let cube = faces_per_sample(&samples) > 1;
     if cube && hybrid {
-        return Err(Error::Param("adaptive: a point light's cube maps need maps = plain (the hybrid store keeps one map per lattice sample)".into()));
+        return Err(Error::Param(format!("adaptive: {}", super::CUBE_MAPS_ARE_PLAIN)));
     }
     let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
     Ok(Prepared { b, store, passes, samples, cull, steer })

@@ -167,6 +167,27 @@ pub fn settings(axes: &Axes, budget_mib: u32) -> Result<Vec<Group>> {
     Ok(groups)
 }
 
+/// Leaves out the settings whose method refuses the scene's light (docs/lights.md lists the pairs:
+/// local scope keeps one map per light point, which a point light's six cube faces do not allow),
+/// and a point light's cube maps, which the hybrid store cannot hold), so one refusal does not
+/// stop the whole grid after minutes of measuring. Returns each refused `spec @ maps` with the reason.
+pub fn drop_refused(groups: &mut [Group], scene: &crate::scene::Scene) -> Vec<(String, String)> {
+    let mut refused: Vec<(String, String)> = Vec::new();
+    for g in groups.iter_mut() {
+        let under = g.maps.apply(scene, 0.25);
+        let label = g.maps.label();
+        let kept = std::mem::take(&mut g.specs).into_iter().zip(std::mem::take(&mut g.methods)).filter(|(s, m)| match m.check_light(&under) {
+            Ok(()) => true,
+            Err(e) => {
+                refused.push((format!("{s} @ {label}"), e.to_string()));
+                false
+            }
+        });
+        (g.specs, g.methods) = kept.unzip();
+    }
+    refused
+}
+
 /// Local scope keeps all 289 lattice maps alive in at most two arrays of the map budget
 /// (`shadow_map_budget_mib`, default 512 MiB): at 1024² and up they do not fit, and the adaptive
 /// method refuses them, so those settings are left out (docs/frontier.md).
@@ -235,6 +256,34 @@ mod tests {
         assert_eq!(Thinning::choose(false, false, 1_000_000).unwrap(), Thinning::Automatic(1_000_000));
         assert_eq!(Thinning::choose(false, true, 1_000_000).unwrap(), Thinning::Full);
         assert!(Thinning::choose(true, true, 10).is_err());
+    }
+
+    #[test]
+    fn settings_that_refuse_the_light_are_left_out_and_named() {
+        let axes = Axes::of(&Thinning::Asked);
+        let point = crate::scene::Scene::load("point-edge", &[]).unwrap();
+        let mut groups = settings(&axes, 512).unwrap();
+        let before = count(&groups);
+        let refused = drop_refused(&mut groups, &point);
+        // Local scope at 512² (1024² is already out by the map budget), the prefiltered maps at
+        // both sizes, and the global presets under hybrid maps; the regular grids, hard, pcf and
+        // pcss read a point light's cube maps of either kind.
+        let names: Vec<&str> = refused.iter().map(|(s, _)| s.as_str()).collect();
+        let mut want = vec!["adaptive:preset=seed,scope=local,cull=on @ plain 512".to_string(), "adaptive:preset=balanced,scope=local,cull=on @ plain 512".to_string()];
+        for size in [512, 1024] {
+            want.extend(["esm", "vsm", "evsm", "msm", "csm"].iter().map(|m| format!("{m} @ plain {size}")));
+        }
+        want.extend(["adaptive:preset=seed @ hybrid 2048→512".to_string(), "adaptive:preset=balanced @ hybrid 2048→512".to_string()]);
+        assert_eq!(names, want);
+        assert!(refused.iter().all(|(_, why)| why.contains("light kind `point`") && why.contains("point-edge")), "{refused:?}");
+        assert!(refused[12].1.contains("cube maps need maps = plain"), "{}", refused[12].1);
+        assert_eq!(count(&groups), before - 14);
+        assert!(groups.iter().all(|g| g.specs.len() == g.methods.len()));
+        assert!(groups[0].specs.iter().any(|s| s == "adaptive:preset=seed"), "global scope runs on a point light's plain maps");
+        let area = crate::scene::Scene::load("default", &[]).unwrap();
+        let mut groups = settings(&axes, 512).unwrap();
+        assert!(drop_refused(&mut groups, &area).is_empty());
+        assert_eq!(count(&groups), before);
     }
 
     #[test]
