@@ -291,7 +291,9 @@ impl AutoState {
     fn run_settled(&mut self, fg: &FrameGpu, timer: &mut StageTimer, mut record: serde_json::Value, bound: Vec<f32>) -> Result<MethodOutput> {
         let (_, grid) = self.grid.as_mut().expect("reset holds the settled grid");
         let estimate = grid.estimate.take();
-        let out = render_into_cleared_v(grid, fg, timer);
+        // The frame cleared V, as for a fixed grid: no clear of its own (a submission more), so the
+        // settled frame is that grid's frame, pass for pass.
+        let out = grid.run(fg, timer, false);
         grid.estimate = estimate;
         let out = out?;
         // `tries` stays the settling frame's: how the choice was made.
