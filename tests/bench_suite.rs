@@ -59,7 +59,8 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     let out = dir.join("out");
     let cache = dir.join("cache");
     let run = common::penumbra_env(
-        &["bench", "--suite", "seed-table2", "--repeats", "2", "--scenes", scenes.to_str().unwrap(), "--out", out.to_str().unwrap()],
+        // `--set` goes over every scene file: the compute raster here, named under the table.
+        &["bench", "--suite", "seed-table2", "--repeats", "2", "--scenes", scenes.to_str().unwrap(), "--set", "raster=compute", "--out", out.to_str().unwrap()],
         &[("PENUMBRA_CACHE", cache.to_str().unwrap())],
     );
     let stderr = String::from_utf8_lossy(&run.stderr);
@@ -84,6 +85,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         }
     }
     assert!(table.contains("continuous 32x32"), "{table}");
+    assert!(table.contains(", with `--set raster=compute`. Per-stage times"), "{table}");
     let html = std::fs::read_to_string(out.join("report.html")).expect("the suite writes report.html");
     assert!(html.contains("<svg") || html.contains("data:image/svg+xml"), "the report has charts");
     assert!(!html.contains("src=\"http") && !html.contains("<script src"), "self-contained");
@@ -99,6 +101,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         assert_eq!(l["provenance"]["scene_sha256"].as_str().unwrap().len(), 64);
         assert_eq!(l["reference"], "continuous 32x32, CPU BVH");
         assert!(l["stages_ms"].as_object().unwrap().contains_key("shade"), "{l}");
+        assert_eq!(l["raster"], "compute", "--set raster=compute reaches every scene");
     }
     assert_eq!(lines[1]["method"], "regular");
     assert_eq!(lines[1]["shadow_maps"], 289);
@@ -179,6 +182,8 @@ fn bench_input_errors_are_one_line_and_write_nothing() {
         (vec!["--only", "horse"], "error: bench: `horse` is not a seed-table2 scene (known: bunny, bunny-seed-framing, grove, cows, teapot)"),
         (vec!["--scenes", "/nonexistent-scenes"], "error: /nonexistent-scenes/bunny.toml: no such scene file"),
         (vec!["--repeats", "0"], "error: bench: --repeats must be at least 1"),
+        (vec!["--set", "raster=sideways"], "error: --set raster=sideways: unknown variant `sideways`"),
+        (vec!["--set", "nonsense=1"], "error: scenes/bunny.toml: --set nonsense: unknown render setting"),
     ] {
         let mut all = vec!["bench", "--suite", "seed-table2", "--out", out.to_str().unwrap()];
         all.extend(args);

@@ -34,6 +34,9 @@ pub struct BenchArgs {
     /// The baseline.
     #[arg(long, default_value = "regular:n=17")]
     regular: String,
+    /// Override a render setting in every scene file, e.g. `--set raster=auto` (named under the table).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
 }
 
 pub fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
@@ -45,6 +48,7 @@ pub fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
         adaptive: Method::parse(&args.adaptive, &[])?,
         regular: Method::parse(&args.regular, &[])?,
         only: args.only,
+        sets: super::render_sets(&args.set)?,
     };
     let scenes = bench::prepare(&opts)?;
     let ctx = GpuContext::with_request(gpu)?;

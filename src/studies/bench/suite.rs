@@ -32,6 +32,8 @@ pub struct SuiteOptions {
     pub regular: Method,
     /// Subset of the seed scenes, in the table's order; empty: all five (the bunny twice: close-up and seed framing).
     pub only: Vec<String>,
+    /// Render settings set over every scene file (`--set raster=auto`), as (key, value).
+    pub sets: Vec<(String, String)>,
 }
 
 /// One method on one scene.
@@ -97,6 +99,8 @@ pub struct SuiteResults {
     pub wall_s: f64,
     pub reference: Option<String>,
     pub scenes: Vec<SceneResult>,
+    /// The `--set` overrides, `key=value`, written under the table beside the scene files.
+    pub sets: Vec<String>,
 }
 
 impl SuiteResults {
@@ -151,7 +155,7 @@ pub fn prepare(opts: &SuiteOptions) -> Result<Vec<SuiteScene>> {
         .into_iter()
         .map(|seed| {
             let file = opts.scenes_dir.join(format!("{}.toml", seed.scene));
-            let scene = Scene::load_in(&file.to_string_lossy(), &[], opts.cache.as_deref())?;
+            let scene = Scene::load_in(&file.to_string_lossy(), &opts.sets, opts.cache.as_deref())?;
             Ok(SuiteScene { seed, file, scene })
         })
         .collect()
@@ -224,5 +228,6 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         wall_s: started.elapsed().as_secs_f64(),
         reference: Some(reference_label),
         scenes: results,
+        sets: opts.sets.iter().map(|(k, v)| format!("{k}={v}")).collect(),
     })
 }

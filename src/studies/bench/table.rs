@@ -146,7 +146,9 @@ pub fn markdown(r: &SuiteResults) -> String {
             );
         }
     }
-    let _ = writeln!(md, "\nScene files: {}. Per-stage times and every sample: results.jsonl.", r.scenes.iter().map(|s| format!("`{}`", s.file.display())).collect::<Vec<_>>().join(", "));
+    let files = r.scenes.iter().map(|s| format!("`{}`", s.file.display())).collect::<Vec<_>>().join(", ");
+    let sets = if r.sets.is_empty() { String::new() } else { format!(", with {}", r.sets.iter().map(|s| format!("`--set {s}`")).collect::<Vec<_>>().join(" ")) };
+    let _ = writeln!(md, "\nScene files: {files}{sets}. Per-stage times and every sample: results.jsonl.");
     md
 }
 
