@@ -38,7 +38,15 @@ fn auto_renders_its_choice_and_keeps_it() {
     assert!(tries[first_met..].iter().all(|t| cost(t) <= cost(&tries[first_met])), "steps down only: {rec}");
     let (n, size) = (rec["chosen"]["n"].as_u64().unwrap(), rec["chosen"]["map_size"].as_u64().unwrap());
     assert_eq!((last["n"].as_u64(), last["map_size"].as_u64()), (Some(n), Some(size)));
-    assert_eq!(first.output.shadow_maps as u64, tries.iter().map(|t| t["maps"].as_u64().unwrap()).sum::<u64>(), "every try's maps count");
+    // pcss (about 0.06 here) is checked against the grid that met 0.03, and refused.
+    let checks = rec["filter"]["checks"].as_array().unwrap();
+    assert_eq!((checks.len(), &checks[0]["method"], &checks[0]["accepted"], &rec["filter"]["chosen"]), (1, &"pcss".into(), &false.into(), &serde_json::Value::Null), "{rec}");
+    assert!(checks[0]["predicted_rmse"].as_f64().unwrap() > 0.03, "{rec}");
+    // It was judged against a finer grid, predicted from the last try to err by at most 0.015.
+    let reference = &rec["filter"]["reference"];
+    assert!(reference["maps"].as_u64().unwrap() > tries.last().unwrap()["maps"].as_u64().unwrap() || reference["map_size"].as_u64() > tries.last().unwrap()["map_size"].as_u64(), "{rec}");
+    let check_maps = checks[0]["maps"].as_u64().unwrap() + reference["maps"].as_u64().unwrap();
+    assert_eq!(first.output.shadow_maps as u64, tries.iter().map(|t| t["maps"].as_u64().unwrap()).sum::<u64>() + check_maps, "every try's, the reference's and the check's maps count");
 
     // The next frame, same inputs: the settled grid alone, no estimate, and V is the first
     // frame's and the fixed grid's, bit for bit; the record keeps the settling frame's prediction.
@@ -131,6 +139,64 @@ fn auto_prices_maps_by_measure_or_by_texels() {
     }
 }
 
+/// Where one filtered map is predicted to meet the target (pcss on a square over a plane), auto
+/// renders it: the frame's V is pcss's, bit for bit, in the settling frame and the settled ones,
+/// the record names it and keeps the grid it was judged by, and a sequence's next frame keeps it.
+/// `filters=none` renders the grid.
+#[test]
+fn auto_renders_one_filtered_map_where_it_meets_the_target() {
+    let ctx = common::gpu();
+    let sets = [("resolution".to_string(), "96".to_string())];
+    let scene = Scene::load("analytic-square", &sets).unwrap();
+    let pcss = penumbra::frame::render(ctx, &scene, &Method::parse("pcss", &[]).unwrap(), options()).unwrap();
+    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,cost=texels", &[]).unwrap()).unwrap();
+    let first = r.frame(options()).unwrap();
+    let rec = &first.output.record;
+    println!("first frame: {}", serde_json::to_string(rec).unwrap());
+    assert_eq!((&rec["renders"], &rec["filter"]["chosen"], &rec["target_met"]), (&"pcss".into(), &"pcss".into(), &true.into()), "{rec}");
+    let check = &rec["filter"]["checks"][0];
+    assert!(check["accepted"] == true && check["predicted_rmse"].as_f64().unwrap() <= 0.03, "{rec}");
+    // Judged against a finer grid than the one that met the target; the bound is the reference's.
+    let reference = &rec["filter"]["reference"];
+    assert!(reference["maps"].as_u64().unwrap() * reference["map_size"].as_u64().unwrap() > rec["chosen"]["n"].as_u64().unwrap().pow(2) * rec["chosen"]["map_size"].as_u64().unwrap(), "{rec}");
+    assert!(check["ms"].as_f64().unwrap() < rec["tries"].as_array().unwrap().last().unwrap()["ms"].as_f64().unwrap(), "{rec}");
+    assert_eq!(rec["predicted_rmse"], check["predicted_rmse"]);
+    assert!(rec["chosen"]["n"].as_u64().unwrap() >= 2, "the grid it was judged by stays named: {rec}");
+    assert!(first.visibility == pcss.visibility, "the settling frame's V is pcss's");
+    // Without candidates: the same grid, no check.
+    let alone = penumbra::frame::render(ctx, &scene, &Method::parse("auto:target=0.03,cost=texels,filters=none", &[]).unwrap(), options()).unwrap();
+    assert_eq!((&alone.output.record["filter"], alone.output.record.get("renders")), (&serde_json::Value::Null, None), "{}", alone.output.record);
+    assert_eq!(alone.output.record["chosen"], rec["chosen"]);
+    assert!(alone.visibility != pcss.visibility);
+    // The bound is |V_pcss − V_reference| plus the reference grid's bound.
+    let (rn, rsize) = (reference["n"].as_u64().unwrap(), reference["map_size"].as_u64().unwrap());
+    let mut reference_sets = sets.to_vec();
+    reference_sets.push(("shadow_map_size".into(), rsize.to_string()));
+    let reference_scene = Scene::load("analytic-square", &reference_sets).unwrap();
+    let grid = penumbra::frame::render(ctx, &reference_scene, &Method::parse(&format!("regular:n={rn},layout=centred,estimate=on"), &[]).unwrap(), options()).unwrap();
+    let bound = first.output.bound.clone().unwrap();
+    let grid_bound = grid.output.bound.clone().unwrap();
+    let mut geometry = 0;
+    for i in 0..bound.len() {
+        if grid_bound[i] > 0.0 {
+            geometry += 1;
+            let expect = (pcss.visibility[i] - grid.visibility[i]).abs() + grid_bound[i];
+            assert!((bound[i] - expect).abs() < 1e-5, "pixel {i}: bound {} against {expect}", bound[i]);
+        } else {
+            assert_eq!(bound[i], 0.0);
+        }
+    }
+    assert!(geometry > 1000, "{geometry} geometry pixels");
+    let second = r.frame(options()).unwrap();
+    assert_eq!((second.output.shadow_maps, &second.output.record["estimated"]), (1, &false.into()), "{}", second.output.record);
+    assert!(second.visibility == pcss.visibility, "the settled frame renders pcss alone");
+    assert_eq!(second.output.bound.as_ref(), Some(&bound));
+    // The next frame of a sequence: the grid is tried again (the reference), and pcss kept.
+    let moved = r.detach().attach(ctx, &scene).unwrap().frame(options()).unwrap();
+    assert_eq!(moved.output.record["renders"], "pcss", "{}", moved.output.record);
+    assert!(moved.visibility == pcss.visibility);
+}
+
 #[test]
 fn an_unreachable_target_says_so() {
     let out = tempfile_dir("auto-unreachable");
@@ -143,7 +209,7 @@ fn an_unreachable_target_says_so() {
     assert_eq!(run["method_record"]["chosen"]["n"], 3);
     assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
     assert!(out.join("error-bound.png").is_file() && out.join("error-bound.exr").is_file());
-    for (spec, expect) in [("auto:target=2", "target = 2 is outside"), ("auto:max_size=300", "max_size = 300")] {
+    for (spec, expect) in [("auto:target=2", "target = 2 is outside"), ("auto:max_size=300", "max_size = 300"), ("auto:filters=regular", "filters = regular")] {
         let o = common::penumbra(&["render", "--scene", "overlapping-occluders", "--set", "resolution=64", "--method", spec, "--out", out.join("bad").to_str().unwrap()]);
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{spec}: {stderr}");

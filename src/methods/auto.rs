@@ -10,6 +10,7 @@
 //! later frames have the same inputs until the camera moves, so they render the chosen grid
 //! without the estimate.
 
+use super::auto_filter::{Candidates, Grid};
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
@@ -27,6 +28,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
         Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
         Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (this scene's maps timed on this device before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
+        Param { key: "filters", default: "pcss", help: "one-map methods checked against the grid that meets the target, joined by + (e.g. pcss+msm), or none: one that is predicted to meet it and took less time is rendered instead" },
     ],
     parse: |p: &ParamMap| {
         let target = check_range("auto", "target", get_f32(p, "target", 0.015)?, 0.0005, 0.5)?;
@@ -39,7 +41,9 @@ pub const INFO: MethodInfo = MethodInfo {
             "texels" => CostModel::Texels,
             _ => CostModel::Measured,
         };
-        Ok(std::sync::Arc::new(Auto { target, max_n, max_size, cost }))
+        let filters = p.get("filters").map_or("pcss", String::as_str).to_string();
+        super::auto_filter::parse_list(&filters)?;
+        Ok(std::sync::Arc::new(Auto { target, max_n, max_size, cost, filters }))
     },
 };
 
@@ -56,13 +60,18 @@ const SAMPLING_ORDER: f64 = 1.5;
 /// and a choice that only rises would otherwise ratchet up on that noise
 /// (docs/error-estimate.md §6).
 const KEEP: f64 = 1.15;
+/// The grid a filter is judged against is predicted to err by at most this share of the target,
+/// so that its own error, taken out of the difference, cannot hide a filter's (docs/error-estimate.md §6).
+const REFERENCE: f64 = 0.5;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Auto {
     pub target: f32,
     pub max_n: u32,
     pub max_size: u32,
     pub cost: CostModel,
+    /// `none`, or one-map methods joined by `+` (auto_filter::parse_list).
+    pub filters: String,
 }
 
 /// How a map of each size is priced in the search (docs/error-estimate.md §6).
@@ -88,10 +97,10 @@ impl ShadowMethod for Auto {
         "auto"
     }
     fn label(&self) -> String {
-        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string()), ("cost", self.cost.name().to_string())])
+        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string()), ("cost", self.cost.name().to_string()), ("filters", self.filters.clone())])
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size, "cost": self.cost.name() })
+        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size, "cost": self.cost.name(), "filters": self.filters })
     }
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::ON_A_RECTANGLE)
@@ -103,7 +112,8 @@ impl ShadowMethod for Auto {
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
         let costs = map_costs(fg, self.cost, self.max_size)?;
-        Ok(Box::new(AutoState { method: *self, choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false }))
+        let filters = Candidates::new(super::auto_filter::parse_list(&self.filters)?);
+        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false, filters, filter: None, handed_filter: None }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -145,6 +155,12 @@ pub struct AutoState {
     /// A frame has searched: only the state's first search steps down (a later one, after the
     /// camera moved or handed on in a sequence, only rises, so decisions do not flicker).
     searched: bool,
+    /// The one-map methods checked against the grid that met the target (auto_filter).
+    filters: Candidates,
+    /// The candidate the settling frame chose: the settled frames render it instead of the grid.
+    filter: Option<usize>,
+    /// The filter the previous frame of a sequence chose (`recall`), kept within KEEP.
+    handed_filter: Option<String>,
 }
 
 /// The price of one map of each size the search may choose (ms under `measured`, relative under
@@ -289,6 +305,13 @@ impl AutoState {
     /// A frame after the one that settled the choice: the grid alone (its V is the settling
     /// frame's, bit for bit), and that frame's record (its tries and prediction) and bound.
     fn run_settled(&mut self, fg: &FrameGpu, timer: &mut StageTimer, mut record: serde_json::Value, bound: Vec<f32>) -> Result<MethodOutput> {
+        if let Some(i) = self.filter {
+            // The frame cleared V; the filter writes it, as its fixed method does.
+            let out = self.filters.run(i, fg, timer)?;
+            record["maps_rendered"] = out.shadow_maps.into();
+            record["estimated"] = false.into();
+            return Ok(MethodOutput { shadow_maps: out.shadow_maps, syncs: 0, record, pictures: Vec::new(), bound: Some(bound) });
+        }
         let (_, grid) = self.grid.as_mut().expect("reset holds the settled grid");
         let estimate = grid.estimate.take();
         // The frame cleared V, as for a fixed grid: no clear of its own (a submission more), so the
@@ -319,7 +342,7 @@ impl AutoState {
 
 /// Whether a try's prediction settles the frame: at most the target, or within KEEP of it for the
 /// choice handed on from the previous frame of a sequence (`handed_on`).
-fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
+pub(crate) fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
     predicted <= if handed_on { target * KEEP } else { target }
 }
 
@@ -336,6 +359,10 @@ impl MethodState for AutoState {
     /// The grid the frame starts with is built before the clock, as a fixed method's is; only the
     /// grids a search moves on to are built inside the frame.
     fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
+        if self.settled.is_some() && self.filter.is_some() {
+            // A settled filter renders alone; a search builds what it tries.
+            return Ok(());
+        }
         self.hold(fg, self.choice)
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
@@ -398,17 +425,46 @@ impl MethodState for AutoState {
                 )
             });
         }
-        let maps: u32 = tries.iter().map(|t| t.maps).sum();
+        let mut maps: u32 = tries.iter().map(|t| t.maps).sum();
+        // The one-map candidates, judged against a finer grid. A sequence's later frames check
+        // them only where the previous frame chose one: a grid does not turn into a filter there.
+        self.filter = None;
+        let mut filter_record = serde_json::Value::Null;
+        let mut predicted = last.prediction.predicted_rmse;
+        if met && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some()) {
+            let reference = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, self.method.max_n, self.method.max_size, &self.costs);
+            filter_record = serde_json::json!({ "reference": null, "chosen": null });
+            if let Some(reference) = reference {
+                timer.flush(fg.ctx);
+                let chosen_v = timer.cpu(crate::gpu::Stage::READBACK, || crate::gpu::readback::read_buffer(fg.ctx, &fg.visibility, fg.pixel_count() as u64 * 4))?;
+                let (r, reference_bound) = self.try_grid(fg, timer, &geometry, reference)?;
+                maps += r.maps;
+                let grid = Grid { rmse: r.prediction.predicted_rmse, bound: &reference_bound, ms: last.ms, restore: &chosen_v };
+                let outcome = self.filters.check(fg, timer, &geometry, grid, target, self.handed_filter.as_deref())?;
+                maps += outcome.maps;
+                if let Some((i, p, b)) = outcome.chosen {
+                    self.filter = Some(i);
+                    predicted = p;
+                    bound = b;
+                }
+                filter_record = serde_json::json!({ "reference": r, "chosen": self.filter.map(|i| self.filters.label(i)), "checks": outcome.checks });
+            }
+        }
         let mut record = serde_json::json!({
             "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },
             "target": self.method.target,
             "target_met": met,
             "tries": tries,
-            "predicted_rmse": last.prediction.predicted_rmse,
+            "predicted_rmse": predicted,
             "predicted_sampling": last.prediction.predicted_sampling,
             "predicted_map": last.prediction.predicted_map,
             "map_cost": { "model": self.method.cost.name(), "per_map": self.costs.0.iter().map(|(z, c)| (z.to_string(), serde_json::json!(c))).collect::<serde_json::Map<_, _>>() },
         });
+        record["filter"] = filter_record;
+        if let Some(i) = self.filter {
+            // What the frame renders: the grid stays in `chosen` as the reference it was judged by.
+            record["renders"] = self.filters.label(i).into();
+        }
         record["maps_rendered"] = maps.into();
         record["estimated"] = true.into();
         record["kept"] = kept.into();
@@ -422,12 +478,13 @@ impl MethodState for AutoState {
     }
     /// The choice, so the next frame of a sequence starts from it (and only rises from there).
     fn memory(&self) -> Option<serde_json::Value> {
-        Some(serde_json::json!([self.choice.0, self.choice.1]))
+        Some(serde_json::json!([self.choice.0, self.choice.1, self.filter.map(|i| self.filters.name(i))]))
     }
     fn recall(&mut self, memory: &serde_json::Value) {
         if let (Some(n), Some(size)) = (memory[0].as_u64(), memory[1].as_u64()) {
             self.choice = (n as u32, size as u32);
             self.recalled = true;
+            self.handed_filter = memory[2].as_str().map(String::from);
         }
     }
 

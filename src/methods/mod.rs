@@ -7,6 +7,7 @@
 
 pub mod adaptive;
 pub mod auto;
+pub mod auto_filter;
 pub mod cascades;
 pub mod environment;
 pub mod estimate;
