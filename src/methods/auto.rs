@@ -342,7 +342,7 @@ impl AutoState {
 
 /// Whether a try's prediction settles the frame: at most the target, or within KEEP of it for the
 /// choice handed on from the previous frame of a sequence (`handed_on`).
-pub(crate) fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
+fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
     predicted <= if handed_on { target * KEEP } else { target }
 }
 
@@ -440,7 +440,8 @@ impl MethodState for AutoState {
                 let (r, reference_bound) = self.try_grid(fg, timer, &geometry, reference)?;
                 maps += r.maps;
                 let grid = Grid { rmse: r.prediction.predicted_rmse, bound: &reference_bound, ms: last.ms, restore: &chosen_v };
-                let outcome = self.filters.check(fg, timer, &geometry, grid, target, self.handed_filter.as_deref())?;
+                let accept = |p: f64, handed: bool| acceptable(p, target, handed);
+                let outcome = self.filters.check(fg, timer, &geometry, grid, &accept, self.handed_filter.as_deref())?;
                 maps += outcome.maps;
                 if let Some((i, p, b)) = outcome.chosen {
                     self.filter = Some(i);

@@ -120,9 +120,10 @@ impl Candidates {
     }
 
     /// Every candidate against the reference grid whose V is in the frame's V now. V is left
-    /// holding what the frame renders: the chosen candidate's, else `grid.restore`. `handed_on`: the filter the
+    /// holding what the frame renders: the chosen candidate's, else `grid.restore`.
+    /// `accept(F, handed)`: whether a prediction meets the target (auto's rule, KEEP included). `handed_on`: the filter the
     /// previous frame of a sequence chose, kept within KEEP of the target as a grid is.
-    pub fn check(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], grid: Grid, target: f64, handed_on: Option<&str>) -> Result<Outcome> {
+    pub fn check(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], grid: Grid, accept: &dyn Fn(f64, bool) -> bool, handed_on: Option<&str>) -> Result<Outcome> {
         let bytes = fg.pixel_count() as u64 * 4;
         timer.flush(fg.ctx);
         let v_grid: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(fg.ctx, &fg.visibility, bytes))?;
@@ -135,7 +136,7 @@ impl Candidates {
             let ms = start.elapsed().as_secs_f64() * 1e3;
             maps += shadow_maps;
             let (predicted_rmse, difference) = predicted(&v, &v_grid, geometry, grid.rmse);
-            let accepted = super::auto::acceptable(predicted_rmse, target, handed_on == Some(self.name(i))) && ms < grid.ms;
+            let accepted = accept(predicted_rmse, handed_on == Some(self.name(i))) && ms < grid.ms;
             checks.push(Check { method: self.label(i), maps: shadow_maps, ms, difference, predicted_rmse, accepted });
             if accepted && chosen.as_ref().is_none_or(|c| predicted_rmse < c.1) {
                 chosen = Some((i, predicted_rmse, bound(&v, &v_grid, grid.bound)));
