@@ -10,7 +10,7 @@
 //! later frames have the same inputs until the camera moves, so they render the chosen grid
 //! without the estimate.
 
-use super::auto_filter::{Candidates, Grid};
+use super::auto_filter::{Candidates, Met, Reference};
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
@@ -63,6 +63,9 @@ const KEEP: f64 = 1.15;
 /// The grid a filter is judged against is predicted to err by at most this share of the target,
 /// so that its own error, taken out of the difference, cannot hide a filter's (docs/error-estimate.md §6).
 const REFERENCE: f64 = 0.5;
+/// A filter read against the grid that met the target at more than this many times the target is
+/// not worth the reference (docs/error-estimate.md §6).
+const SCREEN: f64 = 1.5;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Auto {
@@ -432,24 +435,27 @@ impl MethodState for AutoState {
         let mut filter_record = serde_json::Value::Null;
         let mut predicted = last.prediction.predicted_rmse;
         if met && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some()) {
-            let reference = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, self.method.max_n, self.method.max_size, &self.costs);
-            filter_record = serde_json::json!({ "reference": null, "chosen": null });
-            if let Some(reference) = reference {
-                timer.flush(fg.ctx);
-                let chosen_v = timer.cpu(crate::gpu::Stage::READBACK, || crate::gpu::readback::read_buffer(fg.ctx, &fg.visibility, fg.pixel_count() as u64 * 4))?;
-                let (r, reference_bound) = self.try_grid(fg, timer, &geometry, reference)?;
-                maps += r.maps;
-                let grid = Grid { rmse: r.prediction.predicted_rmse, bound: &reference_bound, ms: last.ms, restore: &chosen_v };
-                let accept = |p: f64, handed: bool| acceptable(p, target, handed);
-                let outcome = self.filters.check(fg, timer, &geometry, grid, &accept, self.handed_filter.as_deref())?;
-                maps += outcome.maps;
-                if let Some((i, p, b)) = outcome.chosen {
-                    self.filter = Some(i);
-                    predicted = p;
-                    bound = b;
-                }
-                filter_record = serde_json::json!({ "reference": r, "chosen": self.filter.map(|i| self.filters.label(i)), "checks": outcome.checks });
+            let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new()));
+            let handed = self.handed_filter.clone();
+            let (max_n, max_size) = (self.method.max_n, self.method.max_size);
+            let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
+                let Some(grid) = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
+                let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
+                let record = serde_json::to_value(r).map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
+                Ok(Some(Reference { rmse: r.prediction.predicted_rmse, bound, maps: r.maps, record }))
+            };
+            let accept = |p: f64, handed: bool| acceptable(p, target, handed);
+            let met = Met { rmse: last.prediction.predicted_rmse, ms: last.ms };
+            let outcome = filters.check(fg, timer, &geometry, met, target * SCREEN, &mut reference, &accept, handed.as_deref());
+            self.filters = filters;
+            let outcome = outcome?;
+            maps += outcome.maps;
+            if let Some((i, p, b)) = outcome.chosen {
+                self.filter = Some(i);
+                predicted = p;
+                bound = b;
             }
+            filter_record = serde_json::json!({ "reference": outcome.reference, "chosen": self.filter.map(|i| self.filters.label(i)), "checks": outcome.checks });
         }
         let mut record = serde_json::json!({
             "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },

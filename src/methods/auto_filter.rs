@@ -65,20 +65,29 @@ pub struct Check {
     pub maps: u32,
     /// Wall clock from its render to its V read back, ms (the grid's try: `tries[…].ms`).
     pub ms: f64,
-    /// RMS of V_f − V_grid over geometry pixels.
-    pub difference: f64,
-    pub predicted_rmse: f64,
+    /// Its predicted RMSE against the grid that met the target (the screen).
+    pub screened: f64,
+    /// Against the reference: RMS of V_f − V_r over geometry pixels, and the predicted RMSE F.
+    /// None where the screen or the time ruled it out, or no reference was rendered.
+    pub difference: Option<f64>,
+    pub predicted_rmse: Option<f64>,
     pub accepted: bool,
 }
 
-/// The reference grid (in the frame's V now): its predicted RMSE and its bound; the time of the
-/// grid that met the target, which a filter must beat; that grid's V, which the frame renders
-/// unless a filter is chosen.
-pub struct Grid<'a> {
+/// The grid that met the target, its V in the frame's V now: its predicted RMSE and the wall
+/// clock of its try, which a filter must beat.
+pub struct Met {
     pub rmse: f64,
-    pub bound: &'a [f32],
     pub ms: f64,
-    pub restore: &'a [f32],
+}
+
+/// The reference grid, rendered into V by auto when asked: its predicted RMSE, bound and maps,
+/// and its try as the record keeps it.
+pub struct Reference {
+    pub rmse: f64,
+    pub bound: Vec<f32>,
+    pub maps: u32,
+    pub record: serde_json::Value,
 }
 
 /// The check's outcome: the chosen candidate with its prediction and bound.
@@ -86,6 +95,7 @@ pub struct Outcome {
     pub chosen: Option<(usize, f64, Vec<f32>)>,
     pub checks: Vec<Check>,
     pub maps: u32,
+    pub reference: Option<serde_json::Value>,
 }
 
 /// The candidates and their states (built on first use, then kept for the settled frames).
@@ -119,36 +129,66 @@ impl Candidates {
         state.run(fg, timer, false)
     }
 
-    /// Every candidate against the reference grid whose V is in the frame's V now. V is left
-    /// holding what the frame renders: the chosen candidate's, else `grid.restore`.
-    /// `accept(F, handed)`: whether a prediction meets the target (auto's rule, KEEP included). `handed_on`: the filter the
-    /// previous frame of a sequence chose, kept within KEEP of the target as a grid is.
-    pub fn check(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], grid: Grid, accept: &dyn Fn(f64, bool) -> bool, handed_on: Option<&str>) -> Result<Outcome> {
-        let bytes = fg.pixel_count() as u64 * 4;
-        timer.flush(fg.ctx);
-        let v_grid: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(fg.ctx, &fg.visibility, bytes))?;
-        let (mut checks, mut maps, mut chosen) = (Vec::new(), 0, None::<(usize, f64, Vec<f32>)>);
+    /// Every candidate, in two steps. The screen: each is rendered and predicted against the grid
+    /// that met the target (σ ≈ T, so only a rough reading); one over `screen` or slower than
+    /// that grid's try is out. Then, if any is left, `reference` renders the finer grid into V
+    /// and those left are predicted against it, and taken where `accept(F, handed)` (auto's
+    /// rule; `handed` for the filter the previous frame of a sequence chose). V is left holding
+    /// what the frame renders: the chosen candidate's, else the grid that met the target.
+    pub fn check(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        geometry: &[bool],
+        met: Met,
+        screen: f64,
+        reference: &mut dyn FnMut(&mut StageTimer) -> Result<Option<Reference>>,
+        accept: &dyn Fn(f64, bool) -> bool,
+        handed_on: Option<&str>,
+    ) -> Result<Outcome> {
+        let v_met = read_v(fg, timer)?;
+        let (mut checks, mut maps) = (Vec::new(), 0);
         for i in 0..self.methods.len() {
-            let start = std::time::Instant::now();
-            let shadow_maps = self.run_into_cleared(i, fg, timer)?;
-            timer.flush(fg.ctx);
-            let v: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(fg.ctx, &fg.visibility, bytes))?;
-            let ms = start.elapsed().as_secs_f64() * 1e3;
-            maps += shadow_maps;
-            let (predicted_rmse, difference) = predicted(&v, &v_grid, geometry, grid.rmse);
-            let accepted = accept(predicted_rmse, handed_on == Some(self.name(i))) && ms < grid.ms;
-            checks.push(Check { method: self.label(i), maps: shadow_maps, ms, difference, predicted_rmse, accepted });
-            if accepted && chosen.as_ref().is_none_or(|c| predicted_rmse < c.1) {
-                chosen = Some((i, predicted_rmse, bound(&v, &v_grid, grid.bound)));
+            let (m, v, ms) = self.render_read(i, fg, timer)?;
+            maps += m;
+            let screened = predicted(&v, &v_met, geometry, met.rmse).0;
+            checks.push(Check { method: self.label(i), maps: m, ms, screened, difference: None, predicted_rmse: None, accepted: false });
+        }
+        let left: Vec<usize> = (0..checks.len()).filter(|&i| checks[i].screened <= screen && checks[i].ms < met.ms).collect();
+        let r = if left.is_empty() { None } else { reference(timer)? };
+        let Some(r) = r else {
+            fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v_met));
+            return Ok(Outcome { chosen: None, checks, maps, reference: None });
+        };
+        maps += r.maps;
+        let v_r = read_v(fg, timer)?;
+        let mut chosen = None::<(usize, f64, Vec<f32>)>;
+        for &i in &left {
+            let (m, v, _) = self.render_read(i, fg, timer)?;
+            maps += m;
+            let (f, d) = predicted(&v, &v_r, geometry, r.rmse);
+            let c = &mut checks[i];
+            (c.difference, c.predicted_rmse) = (Some(d), Some(f));
+            c.accepted = accept(f, handed_on == Some(self.methods[i].name()));
+            if c.accepted && chosen.as_ref().is_none_or(|x| f < x.1) {
+                chosen = Some((i, f, bound(&v, &v_r, &r.bound)));
             }
         }
-        // V holds the last candidate's: write back what the frame renders, unless it is that one.
+        // V holds the last candidate's: put there what the frame renders, unless it is that one.
         match &chosen {
-            Some((i, _, _)) if *i + 1 == self.methods.len() => {}
+            Some((i, _, _)) if Some(i) == left.last() => {}
             Some((i, _, _)) => maps += self.run_into_cleared(*i, fg, timer)?,
-            None => fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(grid.restore)),
+            None => fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v_met)),
         }
-        Ok(Outcome { chosen, checks, maps })
+        Ok(Outcome { chosen, checks, maps, reference: Some(r.record) })
+    }
+
+    /// Candidate `i` into V cleared first: its maps, V, and the wall clock to V read back.
+    fn render_read(&mut self, i: usize, fg: &FrameGpu, timer: &mut StageTimer) -> Result<(u32, Vec<f32>, f64)> {
+        let start = std::time::Instant::now();
+        let maps = self.run_into_cleared(i, fg, timer)?;
+        let v = read_v(fg, timer)?;
+        Ok((maps, v, start.elapsed().as_secs_f64() * 1e3))
     }
 
     /// Candidate `i` into V cleared first; its maps.
@@ -160,6 +200,12 @@ impl Candidates {
         fg.ctx.queue.submit([enc.finish()]);
         Ok(self.run(i, fg, timer)?.shadow_maps)
     }
+}
+
+/// The frame's V as it stands, after what is pending.
+pub fn read_v(fg: &FrameGpu, timer: &mut StageTimer) -> Result<Vec<f32>> {
+    timer.flush(fg.ctx);
+    timer.cpu(Stage::READBACK, || readback::read_buffer(fg.ctx, &fg.visibility, fg.pixel_count() as u64 * 4))
 }
 
 #[cfg(test)]
