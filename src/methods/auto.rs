@@ -8,7 +8,8 @@
 //! next frame and from there only rises, so a sequence's decisions do not flicker. Once a frame
 //! has settled the choice (its prediction met the target, or nothing could grow), the state's
 //! later frames have the same inputs until the camera moves, so they render the chosen grid
-//! without the estimate.
+//! without the estimate. A grid that meets the target also judges one-map methods
+//! (auto_filter): one predicted to meet it is rendered instead.
 
 use super::auto_filter::{Candidates, Met, Reference};
 use super::estimate::Prediction;
@@ -22,7 +23,7 @@ use std::collections::BTreeMap;
 pub const INFO: MethodInfo = MethodInfo {
     name: "auto",
     family: Family::MultiSample,
-    summary: "error budget: the centred grid's n and map size grown until the predicted RMSE of V meets the target, then kept while the camera stays",
+    summary: "error budget: the centred grid's n and map size grown until the predicted RMSE of V meets the target (or one filtered map, where it is predicted to), then kept while the camera stays",
     params: &[
         Param { key: "target", default: "0.015", help: "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)" },
         Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
