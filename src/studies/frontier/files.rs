@@ -92,8 +92,8 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
     let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget()).collect();
     if !budget.is_empty() {
         s += "\n## The error budget against the frontier\n\n\
-              `auto:target=T` chooses its grid per frame from the estimate (no reference); its RMSE is \
-              measured, and its time set against the cheapest fixed setting that reaches the same RMSE.\n\n\
+              `auto:target=T` chooses its grid per frame from the estimate (no reference), or one \
+              filtered map where a finer grid predicts it meets T (1 map); its RMSE is measured, and its time set against the cheapest fixed setting that reaches the same RMSE.\n\n\
               | setting | maps | RMSE | RMSE / target | median ms | cheapest fixed setting at this RMSE | its RMSE | its ms | time ratio |\n|---|---:|---:|---:|---:|---|---:|---:|---:|\n";
         for l in budget {
             let target: f64 = l.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok()).unwrap_or(f64::NAN);
