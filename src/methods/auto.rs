@@ -352,9 +352,7 @@ fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
 
 /// One grid's frame into V cleared first: a try replaces the one before it, and shade adds.
 fn render_into_cleared_v(grid: &mut Prepared, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
-    let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
-    enc.clear_buffer(&fg.visibility, 0, None);
-    fg.ctx.queue.submit([enc.finish()]);
+    fg.clear_visibility();
     grid.reset(fg)?;
     grid.run(fg, timer, false)
 }

@@ -1,6 +1,6 @@
 //! auto's single-map check (docs/error-estimate.md §6): once a grid meets the target, each
-//! candidate one-map method (`filters`, pcss by default) is rendered and set against the V of a
-//! finer grid, one predicted to err by half the target. The estimate has no reading of a filter's
+//! candidate one-map method (`filters`, pcss by default) is screened against that grid, and those
+//! left are set against the V of a finer grid, one predicted to err by half the target. The estimate has no reading of a filter's
 //! own error, but that grid is a reference whose error it does know: the grid's and the filter's
 //! errors come from unrelated causes (where the points fall, against one map's blocker estimate),
 //! so with D the RMS over geometry pixels of their difference and σ the grid's predicted RMSE,
@@ -195,9 +195,7 @@ impl Candidates {
     fn run_into_cleared(&mut self, i: usize, fg: &FrameGpu, timer: &mut StageTimer) -> Result<u32> {
         // Pending passes (the grid's) go first: the clear is submitted on its own.
         timer.flush(fg.ctx);
-        let mut enc = fg.ctx.device.create_command_encoder(&Default::default());
-        enc.clear_buffer(&fg.visibility, 0, None);
-        fg.ctx.queue.submit([enc.finish()]);
+        fg.clear_visibility();
         Ok(self.run(i, fg, timer)?.shadow_maps)
     }
 }

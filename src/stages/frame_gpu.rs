@@ -36,6 +36,13 @@ impl FrameGpu<'_> {
     pub fn map_access(&self) -> MapAccess {
         self.raster.access(self.scene.render.maps)
     }
+    /// V cleared in a submission of its own, ahead of what is recorded after it (a method that
+    /// renders V more than once a frame: auto's tries and one-map checks).
+    pub fn clear_visibility(&self) {
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&self.visibility, 0, None);
+        self.ctx.queue.submit([enc.finish()]);
+    }
     pub fn pixel_count(&self) -> u32 {
         self.gbuffer.width * self.gbuffer.height
     }
