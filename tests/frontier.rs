@@ -51,8 +51,15 @@ fn the_error_budget_against_the_frontier() {
     let cheapest = fixed.iter().filter(|l| rmse(l) <= rmse(b)).min_by(|a, c| ms(a).total_cmp(&ms(c)));
     let name = |l: &serde_json::Value| format!("{} @ {}", l["spec"].as_str().unwrap(), l["map_config"].as_str().unwrap());
     assert_eq!(b["beaten_by"].as_str().map(str::to_string), cheapest.map(|l| name(l)), "{b}");
+    // The oracle: the cheapest fixed setting within the band's upper edge, 1.2 × the target.
+    let oracle = fixed.iter().filter(|l| rmse(l) <= 1.2 * 0.05).min_by(|a, c| ms(a).total_cmp(&ms(c)));
+    assert_eq!(b["oracle"].as_str().map(str::to_string), oracle.map(|l| name(l)), "{b}");
+    let oracle = oracle.expect("a fixed setting within 0.06 on overlapping-occluders at 64²");
+    let in_band = |e: f64| ((e - 0.05f64).abs() <= 0.2 * 0.05) as usize;
     let md = std::fs::read_to_string(out.join("frontier.md")).unwrap();
     assert!(md.contains("## The error budget against the frontier") && md.contains("| auto:target=0.05 |"), "{md}");
+    let summary = format!("RMSE within ±20% of the target: auto {} of 1, the oracle {} of 1.", in_band(rmse(b)), in_band(rmse(oracle)));
+    assert!(md.contains(&summary) && md.contains(&format!("| {} | {:.2} |", name(oracle), rmse(oracle) / 0.05)), "{summary}\n{md}");
     let ladder = md.split("## The frontier: the cheapest").nth(1).and_then(|t| t.split("\n## ").next()).unwrap();
     assert!(!ladder.contains("auto:"), "the ladder is the fixed settings' frontier: {ladder}");
 }

@@ -62,6 +62,33 @@ fn rasters(lines: &[FrontierLine]) -> String {
     format!("\nShadow-map raster: {}.\n", parts.join("; "))
 }
 
+/// The budget rows against the oracle: per target, the cheapest fixed setting within the band's
+/// upper edge, and how many rows of each land in the band. Where the oracle lands under it, no
+/// fixed setting that cheap is in the band; where auto does and the oracle does not, the
+/// estimate cost the band.
+fn oracle(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
+    let mut s = format!(
+        "\nThe oracle: the cheapest fixed setting whose RMSE is at most {:.1} × the target, what a method that knew the truth would render.\n\n\
+         | setting | RMSE / target | median ms | oracle | its RMSE / target | its ms |\n|---|---:|---:|---|---:|---:|\n",
+        1.0 + super::BAND
+    );
+    let (mut auto_in, mut oracle_in) = (0, 0);
+    for l in budget {
+        let Some(target) = l.target() else { continue };
+        auto_in += usize::from(l.in_band(target));
+        let o = l.oracle.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
+        let (name, e, t) = match o {
+            Some(o) => {
+                oracle_in += usize::from(o.in_band(target));
+                (o.setting(), format!("{:.2}", o.rmse / target), format!("{:.1}", o.frame_ms))
+            }
+            None => ("none reaches it".into(), "-".into(), "-".into()),
+        };
+        s += &format!("| {} | {:.2} | {:.1} | {name} | {e} | {t} |\n", l.spec, l.rmse / target, l.frame_ms);
+    }
+    s + &format!("\nRMSE within ±{:.0}% of the target: auto {auto_in} of {n}, the oracle {oracle_in} of {n}.\n", super::BAND * 100.0, n = budget.len())
+}
+
 /// The frontier as a ladder of error levels, adaptive settings against it, then every setting.
 pub fn markdown(lines: &[FrontierLine]) -> String {
     let Some(first) = lines.first() else { return "# Frontier of fixed settings\n\nNo settings.\n".into() };
@@ -95,8 +122,8 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
               `auto:target=T` chooses its grid per frame from the estimate (no reference), or one \
               filtered map where a finer grid predicts it meets T (1 map); its RMSE is measured, and its time set against the cheapest fixed setting that reaches the same RMSE.\n\n\
               | setting | maps | RMSE | RMSE / target | median ms | cheapest fixed setting at this RMSE | its RMSE | its ms | time ratio |\n|---|---:|---:|---:|---:|---|---:|---:|---:|\n";
-        for l in budget {
-            let target: f64 = l.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok()).unwrap_or(f64::NAN);
+        for l in &budget {
+            let target = l.target().unwrap_or(f64::NAN);
             let rival = l.beaten_by.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
             let (name, e, t, ratio) = match rival {
                 Some(r) => (r.setting(), format!("{:.5}", r.rmse), format!("{:.1}", r.frame_ms), format!("{:.2}×", l.frame_ms / r.frame_ms)),
@@ -104,6 +131,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             };
             s += &format!("| {} | {} | {:.5} | {:.2} | {:.1} | {name} | {e} | {t} | {ratio} |\n", l.spec, l.maps, l.rmse, l.rmse / target, l.frame_ms);
         }
+        s += &oracle(lines, &budget);
     }
     let adaptive: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_adaptive()).collect();
     if !adaptive.is_empty() {

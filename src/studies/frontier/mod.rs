@@ -66,6 +66,10 @@ pub struct FrontierLine {
     /// map size, so the times of one frontier may come from both).
     #[serde(default)]
     pub raster: String,
+    /// A budget row's oracle: the cheapest fixed setting whose RMSE is at most (1 + BAND) × the
+    /// target, what a method that knew the truth would render (`spec @ map_config`).
+    #[serde(default)]
+    pub oracle: Option<String>,
 }
 
 impl FrontierLine {
@@ -84,10 +88,23 @@ impl FrontierLine {
     pub fn is_budget(&self) -> bool {
         self.kind == BUDGET
     }
+
+    /// A budget row's target T (`auto:target=T,…`).
+    pub fn target(&self) -> Option<f64> {
+        self.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok())
+    }
+
+    /// Whether the RMSE lies within ±BAND of `target` (issue 23's band).
+    pub fn in_band(&self, target: f64) -> bool {
+        (self.rmse - target).abs() <= BAND * target
+    }
 }
 
 /// The kind of `auto:target=T` rows.
 pub const BUDGET: &str = "error budget";
+
+/// The budget's band: a row's RMSE within ±20% of its target meets it.
+pub const BAND: f64 = 0.2;
 
 fn kind(m: &Method) -> String {
     if m.name() == "auto" {
@@ -115,6 +132,7 @@ pub fn mark(lines: &mut [FrontierLine]) {
     let names: Vec<String> = lines.iter().map(FrontierLine::setting).collect();
     for (i, l) in lines.iter_mut().enumerate() {
         l.on_frontier = on[i] && !l.is_budget();
+        l.oracle = l.target().filter(|_| l.is_budget()).and_then(|t| front::cheapest_reaching(&points, (1.0 + BAND) * t)).map(|j| names[j].clone());
         l.beaten_by = if l.is_budget() {
             front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && points[j].0.is_finite()).map(|j| names[j].clone())
         } else if on[i] {
@@ -167,6 +185,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 clock: crate::record::CLOCK.to_string(),
                 adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
                 raster: r.timing.raster.to_string(),
+                oracle: None,
             };
             crate::progress::suspend(|| {
                 log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse))
