@@ -29,7 +29,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
         Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
         Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (this scene's maps timed on this device before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
-        Param { key: "filters", default: "pcss", help: "one-map methods checked against the grid that meets the target, joined by + (e.g. pcss+msm), or none: one that is predicted to meet it and took less time is rendered instead" },
+        Param { key: "filters", default: "pcss+msm", help: "one-map methods checked against the grid that meets the target (or, out of reach, the best grid tried), joined by + (e.g. pcss, or pcss+msm+vsm), or none: one predicted to meet it (out of reach: to err no more than that grid) that took less time is rendered instead; the default leaves out those that refuse the scene's light" },
     ],
     parse: |p: &ParamMap| {
         let target = check_range("auto", "target", get_f32(p, "target", 0.015)?, 0.0005, 0.5)?;
@@ -42,11 +42,15 @@ pub const INFO: MethodInfo = MethodInfo {
             "texels" => CostModel::Texels,
             _ => CostModel::Measured,
         };
-        let filters = p.get("filters").map_or("pcss", String::as_str).to_string();
+        let filters = p.get("filters").map_or(DEFAULT_FILTERS, String::as_str).to_string();
         super::auto_filter::parse_list(&filters)?;
         Ok(std::sync::Arc::new(Auto { target, max_n, max_size, cost, filters }))
     },
 };
+
+/// The one-map candidates unless `filters` says otherwise: `pcss` for the soft edges of small
+/// scenes, `msm` for the acne-prone ones (`grazing-ground`: 0.126 against the grid's 0.189).
+pub const DEFAULT_FILTERS: &str = "pcss+msm";
 
 /// The map sizes it steps through.
 pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
@@ -116,7 +120,17 @@ impl ShadowMethod for Auto {
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
         let costs = map_costs(fg, self.cost, self.max_size)?;
-        let filters = Candidates::new(super::auto_filter::parse_list(&self.filters)?);
+        // Candidates that refuse the light: an error where the list was given, left out (and
+        // recorded) from the default one.
+        let (mut kept, mut left_out) = (Vec::new(), Vec::new());
+        for m in super::auto_filter::parse_list(&self.filters)? {
+            match m.check_light(fg.scene) {
+                Ok(()) => kept.push(m),
+                Err(_) if self.filters == DEFAULT_FILTERS => left_out.push(m.label()),
+                Err(e) => return Err(crate::Error::Param(format!("auto: filters = {}: {e}", self.filters))),
+            }
+        }
+        let filters = Candidates::new(kept, left_out);
         Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false, filters, filter: None, handed_filter: None }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
@@ -418,43 +432,58 @@ impl MethodState for AutoState {
         // The previous frame's choice, kept within KEEP of the target.
         let kept = self.recalled && tries.len() == 1 && last.prediction.predicted_rmse > target && acceptable(last.prediction.predicted_rmse, target, true);
         let met = last.prediction.predicted_rmse <= target || kept;
-        if !met && !self.warned {
-            self.warned = true;
-            crate::progress::suspend(|| {
-                eprintln!(
-                    "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the best predicted is {:.5} (regular:n={},layout=centred at {}² maps)",
-                    self.method.target, self.method.max_n, self.method.max_size, last.prediction.predicted_rmse, last.n, last.map_size
-                )
-            });
-        }
         let mut maps: u32 = tries.iter().map(|t| t.maps).sum();
-        // The one-map candidates, judged against a finer grid. A sequence's later frames check
-        // them only where the previous frame chose one: a grid does not turn into a filter there.
+        // The one-map candidates: where a grid met the target, judged against a finer grid; where
+        // none can, against the grid the frame renders. A sequence's later frames check them only
+        // where the previous frame chose one: a grid does not turn into a filter there.
         self.filter = None;
         let mut filter_record = serde_json::Value::Null;
         let mut predicted = last.prediction.predicted_rmse;
-        if met && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some()) {
-            let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new()));
+        let mut difference = 0.0;
+        let check = (met || settles) && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some());
+        if check {
+            let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
             let handed = self.handed_filter.clone();
-            let (max_n, max_size) = (self.method.max_n, self.method.max_size);
-            let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
-                let Some(grid) = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
-                let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
-                let record = serde_json::to_value(r).map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
-                Ok(Some(Reference { rmse: r.prediction.predicted_rmse, bound, maps: r.maps, record }))
+            let grid = Met { rmse: last.prediction.predicted_rmse, ms: last.ms };
+            let outcome = if met {
+                let (max_n, max_size) = (self.method.max_n, self.method.max_size);
+                let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
+                    let Some(grid) = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
+                    let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
+                    let record = serde_json::to_value(r).map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
+                    Ok(Some(Reference { rmse: r.prediction.predicted_rmse, bound, maps: r.maps, record }))
+                };
+                let accept = |p: f64, handed: bool| acceptable(p, target, handed);
+                filters.check(fg, timer, &geometry, grid, target * SCREEN, &mut reference, &accept, handed.as_deref())
+            } else {
+                // Out of reach: a candidate no worse than the grid, as far as the estimate can tell.
+                filters.check_out_of_reach(fg, timer, &geometry, grid, &bound, KEEP, handed.as_deref())
             };
-            let accept = |p: f64, handed: bool| acceptable(p, target, handed);
-            let met = Met { rmse: last.prediction.predicted_rmse, ms: last.ms };
-            let outcome = filters.check(fg, timer, &geometry, met, target * SCREEN, &mut reference, &accept, handed.as_deref());
             self.filters = filters;
             let outcome = outcome?;
             maps += outcome.maps;
             if let Some((i, p, b)) = outcome.chosen {
                 self.filter = Some(i);
-                predicted = p;
+                // Met: the filter's F. Out of reach, p is its difference from the grid, and the
+                // filter is read as no worse than the grid's prediction, which stays.
+                if met {
+                    predicted = p;
+                } else {
+                    difference = p;
+                }
                 bound = b;
             }
-            filter_record = serde_json::json!({ "reference": outcome.reference, "chosen": self.filter.map(|i| self.filters.label(i)), "checks": outcome.checks });
+            filter_record = serde_json::json!({ "reference": outcome.reference, "chosen": self.filter.map(|i| self.filters.label(i)), "checks": outcome.checks, "left_out": self.filters.left_out() });
+        }
+        if !met && !self.warned {
+            self.warned = true;
+            let renders = self.filter.map_or(String::new(), |i| format!("; {} differs from that grid by {difference:.5} (RMS), within its predicted error, and is rendered instead", self.filters.label(i)));
+            crate::progress::suspend(|| {
+                eprintln!(
+                    "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the best predicted is {:.5} (regular:n={},layout=centred at {}² maps){renders}",
+                    self.method.target, self.method.max_n, self.method.max_size, last.prediction.predicted_rmse, last.n, last.map_size
+                )
+            });
         }
         let mut record = serde_json::json!({
             "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },
