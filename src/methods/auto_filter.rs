@@ -184,12 +184,7 @@ impl Candidates {
                 chosen = Some((i, f, bound(&v, &v_r, &r.bound)));
             }
         }
-        // V holds the last candidate's: put there what the frame renders, unless it is that one.
-        match &chosen {
-            Some((i, _, _)) if Some(i) == left.last() => {}
-            Some((i, _, _)) => maps += self.run_into_cleared(*i, fg, timer)?,
-            None => fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v_met)),
-        }
+        maps += self.leave_in_v(chosen.as_ref().map(|c| c.0), left.last().copied(), &v_met, fg, timer)?;
         Ok(Outcome { chosen, checks, maps, reference: Some(r.record) })
     }
 
@@ -217,12 +212,21 @@ impl Candidates {
                 chosen = Some((i, d, bound(&v, &v_met, met_bound)));
             }
         }
-        match &chosen {
-            Some((i, _, _)) if *i + 1 == self.methods.len() => {}
-            Some((i, _, _)) => maps += self.run_into_cleared(*i, fg, timer)?,
-            None => fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v_met)),
-        }
+        maps += self.leave_in_v(chosen.as_ref().map(|c| c.0), self.methods.len().checked_sub(1), &v_met, fg, timer)?;
         Ok(Outcome { chosen, checks, maps, reference: None })
+    }
+
+    /// V holds candidate `last`'s: put there what the frame renders, the chosen candidate's
+    /// (rendered again unless it is that one) or the grid's `v_met`. The maps it rendered.
+    fn leave_in_v(&mut self, chosen: Option<usize>, last: Option<usize>, v_met: &[f32], fg: &FrameGpu, timer: &mut StageTimer) -> Result<u32> {
+        match chosen {
+            Some(i) if Some(i) == last => Ok(0),
+            Some(i) => self.run_into_cleared(i, fg, timer),
+            None => {
+                fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(v_met));
+                Ok(0)
+            }
+        }
     }
 
     /// Candidate `i` into V cleared first: its maps (a first render's warm-up included), V, and
