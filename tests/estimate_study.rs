@@ -31,6 +31,24 @@ fn estimate_study_writes_its_set() {
     }
     let md = std::fs::read_to_string(out.join("estimate.md")).unwrap();
     assert!(md.contains("| overlapping-occluders | n=3 centred @256 |"), "{md}");
+    // Which part limits the count: recomputed from the lines' own figures.
+    let f = |l: &serde_json::Value, k: &str| l[k].as_f64().unwrap();
+    let band = |x: f64, y: f64| (0.8..=1.25).contains(&(x / y));
+    let count = |g: &dyn Fn(&serde_json::Value) -> bool| lines.iter().filter(|l| g(l)).count();
+    let parts = (
+        count(&|l| band(f(l, "predicted_sampling"), f(l, "measured_sampling"))),
+        count(&|l| band(f(l, "predicted_map"), f(l, "measured_map"))),
+    );
+    let swapped = (
+        count(&|l| band(f(l, "measured_sampling").hypot(f(l, "predicted_map")), f(l, "measured_rmse"))),
+        count(&|l| band(f(l, "predicted_sampling").hypot(f(l, "measured_map")), f(l, "measured_rmse"))),
+        count(&|l| band(f(l, "measured_sampling").hypot(f(l, "measured_map")), f(l, "measured_rmse"))),
+    );
+    let expect = format!(
+        "the sampling part's own ratio is in the band on {} pairs and the maps' on {}; with the measured sampling error in place of its prediction, the total is in the band on {}, with the measured maps' error on {}, with both (the measured parts' squares added) on {}.",
+        parts.0, parts.1, swapped.0, swapped.1, swapped.2
+    );
+    assert!(md.contains(&expect) && stdout.contains(&expect), "{expect}\n{md}");
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("src=\"data:image/svg+xml;base64,") && !html.contains("http://"), "the chart is a data URI, and nothing is named by address");
     assert!(!html.contains("src=\"http") && !html.contains("<script"), "self-contained");

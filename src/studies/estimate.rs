@@ -198,6 +198,30 @@ pub fn files(lines: &[EstimateLine]) -> Result<Vec<(String, Vec<u8>)>> {
     ])
 }
 
+/// Which part limits the count in RATIO_BAND: each part's own predicted/measured ratio in the
+/// band, and the total's count with the measured sampling error, the measured maps' error, or
+/// both in place of the predictions (added in quadrature as the prediction is).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PartLimits {
+    pub sampling_within: usize,
+    pub map_within: usize,
+    pub with_measured_sampling: usize,
+    pub with_measured_map: usize,
+    pub with_both_measured: usize,
+}
+
+pub fn part_limits(lines: &[EstimateLine]) -> PartLimits {
+    let within = |x: f64, y: f64| (RATIO_BAND.0..=RATIO_BAND.1).contains(&(x / y.max(1e-12)));
+    let count = |f: &dyn Fn(&EstimateLine) -> bool| lines.iter().filter(|l| f(l)).count();
+    PartLimits {
+        sampling_within: count(&|l| within(l.predicted_sampling, l.measured_sampling)),
+        map_within: count(&|l| within(l.predicted_map, l.measured_map)),
+        with_measured_sampling: count(&|l| within(l.measured_sampling.hypot(l.predicted_map), l.measured_rmse)),
+        with_measured_map: count(&|l| within(l.predicted_sampling.hypot(l.measured_map), l.measured_rmse)),
+        with_both_measured: count(&|l| within(l.measured_sampling.hypot(l.measured_map), l.measured_rmse)),
+    }
+}
+
 /// `regular:n=5,layout=centred` → `n=5 centred`.
 fn short(spec: &str) -> String {
     spec.trim_start_matches("regular:").replace(",layout=", " ")
@@ -208,10 +232,14 @@ pub fn markdown(lines: &[EstimateLine]) -> String {
     let Some(first) = lines.first() else { return "# Error estimate against the truth\n\nNo pairs.\n".into() };
     let within = lines.iter().filter(|l| l.within).count();
     let covered = lines.iter().filter(|l| l.bound_coverage >= 0.9).count();
+    let limits = part_limits(lines);
     let mut s = format!(
         "# Error estimate against the truth\n\n{} (scene, setting) pairs; {}x{} screen; reference {}; {}.\n\n\
          - predicted/measured RMSE in [{}, {}]: {} of {} pairs ({:.0}%);\n\
-         - the per-pixel bound covers the true error on at least 90% of geometry pixels: {} of {} pairs.\n\n",
+         - the per-pixel bound covers the true error on at least 90% of geometry pixels: {} of {} pairs;\n\
+         - which part limits it: the sampling part's own ratio is in the band on {} pairs and the maps' on {}; \
+         with the measured sampling error in place of its prediction, the total is in the band on {}, with the measured \
+         maps' error on {}, with both (the measured parts' squares added) on {}.\n\n",
         lines.len(),
         first.resolution[0],
         first.resolution[1],
@@ -223,7 +251,12 @@ pub fn markdown(lines: &[EstimateLine]) -> String {
         lines.len(),
         100.0 * within as f64 / lines.len() as f64,
         covered,
-        lines.len()
+        lines.len(),
+        limits.sampling_within,
+        limits.map_within,
+        limits.with_measured_sampling,
+        limits.with_measured_map,
+        limits.with_both_measured
     );
     s += "| scene | setting | maps | measured | predicted | ratio | bound covers | sampling: predicted / measured | maps: predicted / measured |\n";
     s += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -251,7 +284,54 @@ pub fn markdown(lines: &[EstimateLine]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::Setting;
+    use super::{part_limits, EstimateLine, PartLimits, Setting};
+
+    fn line(measured: f64, sampling: (f64, f64), map: (f64, f64)) -> EstimateLine {
+        let predicted = sampling.0.hypot(map.0);
+        EstimateLine {
+            scene: "s".into(),
+            spec: "regular:n=3,layout=centred".into(),
+            layout: "centred".into(),
+            map_size: 512,
+            maps: 9,
+            measured_rmse: measured,
+            predicted_rmse: predicted,
+            predicted_sampling: sampling.0,
+            predicted_map: map.0,
+            predicted_quantization: 0.0,
+            predicted_bias: map.0,
+            predicted_map_averaging: 0.0,
+            ratio: predicted / measured,
+            within: false,
+            bound_coverage: 1.0,
+            measured_map: map.1,
+            measured_sampling: sampling.1,
+            exact: "mean of 9 point references".into(),
+            resolution: [64, 64],
+            reference: "continuous 32x32".into(),
+            adapter: "none".into(),
+        }
+    }
+
+    #[test]
+    fn part_limits_count_each_substitution() {
+        // (predicted, measured) sampling and maps parts; measured RMSE as given.
+        let lines = [
+            // Sampling read right (0.03 / 0.03), maps over-read 2×: only the measured maps' part
+            // brings the total (hypot 0.03, 0.04 = 0.05) into the band.
+            line(0.05, (0.03, 0.03), (0.08, 0.04)),
+            // Both parts right and the total their quadrature sum: in the band every way.
+            line(0.05, (0.04, 0.04), (0.03, 0.03)),
+            // Both parts right, but they cancel in the frame (measured 0.035 against 0.05 added).
+            line(0.035, (0.04, 0.04), (0.03, 0.03)),
+            // Sampling under-read 2×, maps right: the measured sampling part fixes it.
+            line(0.05, (0.02, 0.04), (0.03, 0.03)),
+        ];
+        assert_eq!(
+            part_limits(&lines),
+            PartLimits { sampling_within: 3, map_within: 3, with_measured_sampling: 2, with_measured_map: 2, with_both_measured: 3 }
+        );
+    }
 
     #[test]
     fn settings_parse_and_refuse() {
