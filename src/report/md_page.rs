@@ -1,12 +1,41 @@
 //! A study's Markdown tables as one self-contained HTML page with its SVG charts as data URIs: opens
 //! offline, no scripts, no links (the hybrid and frontier studies' `report.html`).
 
-/// `md`: `#`/`##` headings, paragraphs and pipe tables; `charts`: (heading, SVG) after the tables.
+/// `md`: `#`/`##` headings, paragraphs, `- ` lists (a line indented two spaces goes on the item
+/// above) and pipe tables; `charts`: (heading, SVG) after the tables.
 pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
     let esc = |t: &str| code_spans(&escape(t));
     let mut body = String::new();
     let mut in_table = false;
+    let mut item: Option<String> = None;
+    let mut in_list = false;
     for line in md.lines() {
+        if in_list {
+            if let (Some(text), Some(more)) = (item.as_mut(), line.strip_prefix("  ")) {
+                *text += " ";
+                *text += more.trim();
+                continue;
+            }
+            if let Some(text) = item.take() {
+                body += &format!("<li>{}</li>\n", esc(&text));
+            }
+            if let Some(next) = line.strip_prefix("- ") {
+                item = Some(next.to_string());
+                continue;
+            }
+            body += "</ul>\n";
+            in_list = false;
+        }
+        if let Some(first) = line.strip_prefix("- ") {
+            if in_table {
+                body += "</table>\n";
+                in_table = false;
+            }
+            body += "<ul>\n";
+            in_list = true;
+            item = Some(first.to_string());
+            continue;
+        }
         if let Some(rest) = line.strip_prefix("|") {
             if line.starts_with("|---") {
                 continue;
@@ -37,6 +66,12 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
     }
     if in_table {
         body += "</table>\n";
+    }
+    if let Some(text) = item {
+        body += &format!("<li>{}</li>\n", esc(&text));
+    }
+    if in_list {
+        body += "</ul>\n";
     }
     for (heading, svg) in charts {
         // As a data URI: the page names no resource, not even the SVG namespace.
@@ -79,5 +114,15 @@ mod tests {
         let page = super::page("t", "a `b<c` d\n\n| x |\n|---|\n| `y` |", &[]);
         assert!(page.contains("<p>a <code>b&lt;c</code> d</p>"), "{page}");
         assert!(page.contains("<td><code>y</code></td>"), "{page}");
+    }
+
+    #[test]
+    fn dash_lines_become_one_list() {
+        let page = super::page("t", "Intro.\n\n- one `a`;\n- two,\n  carried on;\n- three.\n\nAfter.\n- last", &[]);
+        assert!(
+            page.contains("<p>Intro.</p>\n<ul>\n<li>one <code>a</code>;</li>\n<li>two, carried on;</li>\n<li>three.</li>\n</ul>\n<p>After.</p>\n<ul>\n<li>last</li>\n</ul>\n"),
+            "{page}"
+        );
+        assert!(!page.contains("<p>- "), "{page}");
     }
 }
