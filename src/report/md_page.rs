@@ -7,24 +7,20 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
     let esc = |t: &str| code_spans(&escape(t));
     let mut body = String::new();
     let mut in_table = false;
+    // The list item being read: a list is open while there is one.
     let mut item: Option<String> = None;
-    let mut in_list = false;
     for line in md.lines() {
-        if in_list {
-            if let (Some(text), Some(more)) = (item.as_mut(), line.strip_prefix("  ")) {
-                *text += " ";
-                *text += more.trim();
+        if let Some(text) = item.take() {
+            if let Some(more) = line.strip_prefix("  ") {
+                item = Some(format!("{text} {}", more.trim()));
                 continue;
             }
-            if let Some(text) = item.take() {
-                body += &format!("<li>{}</li>\n", esc(&text));
-            }
+            body += &format!("<li>{}</li>\n", esc(&text));
             if let Some(next) = line.strip_prefix("- ") {
                 item = Some(next.to_string());
                 continue;
             }
             body += "</ul>\n";
-            in_list = false;
         }
         if let Some(first) = line.strip_prefix("- ") {
             if in_table {
@@ -32,7 +28,6 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
                 in_table = false;
             }
             body += "<ul>\n";
-            in_list = true;
             item = Some(first.to_string());
             continue;
         }
@@ -68,10 +63,7 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
         body += "</table>\n";
     }
     if let Some(text) = item {
-        body += &format!("<li>{}</li>\n", esc(&text));
-    }
-    if in_list {
-        body += "</ul>\n";
+        body += &format!("<li>{}</li>\n</ul>\n", esc(&text));
     }
     for (heading, svg) in charts {
         // As a data URI: the page names no resource, not even the SVG namespace.
