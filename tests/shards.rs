@@ -175,6 +175,7 @@ fn bad_shard_and_jobs_are_one_line_errors() {
         (vec!["--shard", "x"], "error: --shard `x`: expected INDEX/COUNT, e.g. 0/4"),
         (vec!["--shard", "0/0"], "error: --shard `0/0`: the count must be in 1..=10000"),
         (vec!["--shard", "6/7"], "error: --shard 6/7: the spec has 6 configurations, too few for 7 shards"),
+        (vec!["--shard", "99999999999/7"], "error: --shard `99999999999/7`: the index must be below the count (shards are numbered 0..6)"),
         (vec!["--jobs", "0"], "error: --jobs must be in 1..=64, got 0"),
         (vec!["--jobs", "2", "--shard", "0/2"], "error: --jobs 2: runs every shard itself; do not combine it with --shard"),
     ] {
