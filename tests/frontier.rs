@@ -160,6 +160,8 @@ fn bad_frontier_input_is_refused_with_no_output() {
         ("n zero", vec!["--n", "0"], "--n `0`: n must be in 1..=128"),
         ("n negative", vec!["--n", "-2"], "--n `-2`: n must be in 1..=128"),
         ("n twice", vec!["--n", "3,3"], "--n `3`: listed twice"),
+        ("hybrid twice", vec!["--hybrid", "2048/2,2048/2"], "--hybrid `2048/2`: listed twice"),
+        ("budget twice", vec!["--budget", "0.03,0.03"], "--budget `0.03`: listed twice"),
         ("size not a number", vec!["--sizes", "big"], "--sizes: map configuration `big`: not a whole number"),
         ("size too small", vec!["--sizes", "4"], "--sizes: map configuration `4`: size must be in 8..=16384"),
         ("hybrid levels", vec!["--hybrid", "2048/3"], "--hybrid: map configuration `2048/3`: levels must be 1 or 2"),

@@ -7,7 +7,9 @@ use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
 use penumbra::scene::Scene;
 use penumbra::studies::compare::methods_list;
+use penumbra::methods::Method;
 use penumbra::studies::hybrid::{self, parse_maps};
+use penumbra::studies::lists::listed_once;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -65,32 +67,37 @@ pub fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
     let mut sets = render_sets(&args.set)?;
     sets.push(("resolution".into(), args.resolution.to_string()));
     let scene = Scene::load(&args.scene, &sets)?;
-    let mut hard = Vec::new();
-    for p in args.plain.iter().filter(|s| !s.trim().is_empty()) {
-        hard.push(parse_maps(p, false).with_context(|| "--plain")?);
-    }
-    for h in args.hybrid.iter().filter(|s| !s.trim().is_empty()) {
-        hard.push(parse_maps(h, true).with_context(|| "--hybrid")?);
-    }
+    let plain = maps_list("--plain", &args.plain, false)?;
+    let hybrids = maps_list("--hybrid", &args.hybrid, true)?;
     let multi_specs: Vec<String> = args.multi.iter().filter(|s| !s.trim().is_empty()).cloned().collect();
     let multi = methods_list::parse_methods(&multi_specs)?;
-    let multi_plain = args
-        .multi_plain
-        .iter()
-        .filter(|s| !s.trim().is_empty())
-        .map(|p| match parse_maps(p, false) {
-            Ok(hybrid::Maps::Plain(size)) => Ok(size),
-            Ok(_) => unreachable!("plain sizes parse as plain maps"),
-            Err(e) => Err(anyhow::Error::from(e).context("--multi-plain")),
+    let multi_plain: Vec<u32> = maps_list("--multi-plain", &args.multi_plain, false)?
+        .into_iter()
+        .map(|(_, m)| match m {
+            hybrid::Maps::Plain(size) => size,
+            hybrid::Maps::Hybrid { .. } => unreachable!("plain sizes parse as plain maps"),
         })
-        .collect::<Result<Vec<u32>>>()?;
+        .collect();
+    let multi_hybrid = parse_maps(&args.multi_hybrid, true).with_context(|| "--multi-hybrid")?;
+    // Every (method, maps) pair the flags fix is checked against the light now: a refusal after
+    // the hard part's minutes of measuring would throw them away.
+    for (flag, list) in [("--plain", &plain), ("--hybrid", &hybrids)] {
+        for (text, maps) in list {
+            Method::hard().check_light(&maps.apply(&scene, args.eps)).with_context(|| format!("{flag} {text}"))?;
+        }
+    }
+    for (spec, method) in multi_specs.iter().zip(&multi) {
+        method.check_light(&multi_hybrid.apply(&scene, args.eps)).with_context(|| format!("--multi {spec} with --multi-hybrid {}", args.multi_hybrid))?;
+        // The plain sizes (given and of equal memory) differ only in size, which no light refuses.
+        method.check_light(&hybrid::Maps::Plain(scene.render.shadow_map_size).apply(&scene, args.eps)).with_context(|| format!("--multi {spec}"))?;
+    }
     let job = hybrid::HybridJob {
         scene,
-        hard,
+        hard: plain.iter().chain(&hybrids).map(|(_, m)| *m).collect(),
         eps: args.eps,
         repeats: args.repeats,
         multi,
-        multi_hybrid: parse_maps(&args.multi_hybrid, true).with_context(|| "--multi-hybrid")?,
+        multi_hybrid,
         multi_plain,
         multi_repeats: args.multi_repeats,
         cache: truth::Cache::default_for(false),
@@ -102,4 +109,11 @@ pub fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
     println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
     println!("study: {}", args.out.join("hybrid.md").display());
     Ok(())
+}
+
+/// A comma list of map configurations (blank entries skipped), each with its text, given once each.
+fn maps_list(flag: &str, values: &[String], hybrid: bool) -> Result<Vec<(String, hybrid::Maps)>> {
+    let maps = values.iter().filter(|s| !s.trim().is_empty()).map(|v| Ok((v.trim().to_string(), parse_maps(v, hybrid).with_context(|| flag.to_string())?))).collect::<Result<Vec<_>>>()?;
+    listed_once(flag, maps.iter().map(|(t, m)| (t, *m)))?;
+    Ok(maps)
 }

@@ -3,6 +3,7 @@
 
 use crate::methods::{Family, Method};
 use crate::studies::hybrid::{parse_maps, Maps};
+use crate::studies::lists::listed_once;
 use crate::{Error, Result};
 
 /// `n` of the full grid: every regular grid from 2×2 to the 17×17 lattice.
@@ -85,15 +86,12 @@ pub fn parse_n(values: &[String]) -> Result<Vec<u32>> {
         if !(1..=128).contains(&n) {
             return Err(Error::Param(format!("--n `{v}`: n must be in 1..=128")));
         }
-        let n = n as u32;
-        if out.contains(&n) {
-            return Err(Error::Param(format!("--n `{v}`: listed twice")));
-        }
-        out.push(n);
+        out.push(n as u32);
     }
     if out.is_empty() {
         return Err(Error::Param("--n: no value given".into()));
     }
+    listed_once("--n", values.iter().zip(out.iter().copied()))?;
     Ok(out)
 }
 
@@ -104,14 +102,12 @@ pub fn parse_sizes(values: &[String]) -> Result<Vec<u32>> {
         let Maps::Plain(size) = parse_maps(v, false).map_err(|e| Error::Param(format!("--sizes: {e}")))? else {
             unreachable!("plain sizes parse as plain maps")
         };
-        if out.contains(&size) {
-            return Err(Error::Param(format!("--sizes `{v}`: listed twice")));
-        }
         out.push(size);
     }
     if out.is_empty() {
         return Err(Error::Param("--sizes: no value given".into()));
     }
+    listed_once("--sizes", values.iter().zip(out.iter().copied()))?;
     Ok(out)
 }
 
@@ -120,7 +116,9 @@ pub fn parse_hybrid(values: &[String]) -> Result<Vec<Maps>> {
     if values.len() == 1 && values[0].trim() == "none" {
         return Ok(Vec::new());
     }
-    values.iter().map(|v| parse_maps(v, true).map_err(|e| Error::Param(format!("--hybrid: {e}")))).collect()
+    let maps = values.iter().map(|v| parse_maps(v, true).map_err(|e| Error::Param(format!("--hybrid: {e}")))).collect::<Result<Vec<_>>>()?;
+    listed_once("--hybrid", values.iter().zip(maps.iter().copied()))?;
+    Ok(maps)
 }
 
 /// One fixed setting: a method under one map configuration.
@@ -200,11 +198,14 @@ pub fn local_fits(size: u32, budget_mib: u32) -> bool {
 /// out) and the methods parsed from them.
 /// `--budget T1,T2,…`: error-budget targets, each an RMSE of V in auto's range.
 pub fn parse_budget(list: &[String]) -> Result<Vec<f32>> {
-    list.iter()
+    let targets = list
+        .iter()
         .map(|t| {
             t.trim().parse::<f32>().ok().filter(|v| (0.0005..=0.5).contains(v)).ok_or_else(|| Error::Param(format!("--budget `{t}`: a target RMSE of V in 0.0005..=0.5")))
         })
-        .collect()
+        .collect::<Result<Vec<f32>>>()?;
+    listed_once("--budget", list.iter().zip(targets.iter().copied()))?;
+    Ok(targets)
 }
 
 #[derive(Clone, Debug)]
