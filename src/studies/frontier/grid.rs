@@ -165,16 +165,18 @@ pub fn settings(axes: &Axes, budget_mib: u32) -> Result<Vec<Group>> {
     Ok(groups)
 }
 
-/// Leaves out the settings whose method refuses the scene's light (docs/lights.md lists the pairs:
-/// local scope keeps one map per light point, which a point light's six cube faces do not allow),
-/// and a point light's cube maps, which the hybrid store cannot hold), so one refusal does not
-/// stop the whole grid after minutes of measuring. Returns each refused `spec @ maps` with the reason.
-pub fn drop_refused(groups: &mut [Group], scene: &crate::scene::Scene) -> Vec<(String, String)> {
+/// Leaves out the settings that `check` refuses under their map configuration, so one refusal
+/// does not stop the whole grid: the methods that refuse the scene's light (docs/lights.md lists
+/// the pairs: local scope keeps one map per light point, which a point light's six cube faces do
+/// not allow, and a point light's cube maps, which the hybrid store cannot hold), and the frames
+/// over the device's limits (the prefiltered maps' moments at 4096²). Returns each refused
+/// `spec @ maps` with the reason.
+pub fn drop_refused(groups: &mut [Group], scene: &crate::scene::Scene, check: impl Fn(&crate::scene::Scene, &Method) -> Result<()>) -> Vec<(String, String)> {
     let mut refused: Vec<(String, String)> = Vec::new();
     for g in groups.iter_mut() {
         let under = g.maps.apply(scene, 0.25);
         let label = g.maps.label();
-        let kept = std::mem::take(&mut g.specs).into_iter().zip(std::mem::take(&mut g.methods)).filter(|(s, m)| match m.check_light(&under) {
+        let kept = std::mem::take(&mut g.specs).into_iter().zip(std::mem::take(&mut g.methods)).filter(|(s, m)| match check(&under, m) {
             Ok(()) => true,
             Err(e) => {
                 refused.push((format!("{s} @ {label}"), e.to_string()));
@@ -265,7 +267,7 @@ mod tests {
         let point = crate::scene::Scene::load("point-edge", &[]).unwrap();
         let mut groups = settings(&axes, 512).unwrap();
         let before = count(&groups);
-        let refused = drop_refused(&mut groups, &point);
+        let refused = drop_refused(&mut groups, &point, |s, m| m.check_light(s));
         // Local scope at 512² (1024² is already out by the map budget), the prefiltered maps at
         // both sizes, and the global presets under hybrid maps; the regular grids, hard, pcf and
         // pcss read a point light's cube maps of either kind.
@@ -283,7 +285,7 @@ mod tests {
         assert!(groups[0].specs.iter().any(|s| s == "adaptive:preset=seed"), "global scope runs on a point light's plain maps");
         let area = crate::scene::Scene::load("default", &[]).unwrap();
         let mut groups = settings(&axes, 512).unwrap();
-        assert!(drop_refused(&mut groups, &area).is_empty());
+        assert!(drop_refused(&mut groups, &area, |s, m| m.check_light(s)).is_empty());
         assert_eq!(count(&groups), before);
     }
 
