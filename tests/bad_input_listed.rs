@@ -310,6 +310,7 @@ mod mesh_files {
         let dirs = MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: Some(1 << 20) };
         let e = Scene::parse_in(&scene_with("m.ply.gz"), "s.toml", dirs, &[]).unwrap_err().to_string();
         assert_one_line(&e);
+        assert!(e.starts_with("s.toml: mesh 2: file = \"m.ply.gz\": decompresses to more"), "{e}");
         assert!(e.contains("decompresses to more than the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"), "{e}");
     }
 }
