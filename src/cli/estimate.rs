@@ -21,7 +21,7 @@ pub struct EstimateArgs {
     #[arg(long)]
     settings: Option<String>,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Override a render setting, e.g. `--set resolution=128` (map sizes come from the settings).
     #[arg(long = "set", value_name = "KEY=VALUE")]

@@ -18,15 +18,15 @@ pub struct FramingArgs {
     #[arg(long = "scene", value_delimiter = ',', required = true, value_parser = crate::cli::utf8())]
     scenes: Vec<String>,
     /// Square screen sizes in pixels, comma-separated.
-    #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "128,256,512")]
+    #[arg(long, value_delimiter = ',', default_value = "128,256,512")]
     resolutions: Vec<u32>,
     /// Factors on the light's edges, comma-separated.
-    #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "1")]
+    #[arg(long, value_delimiter = ',', default_value = "1")]
     light_scales: Vec<f32>,
     /// Methods, as for compare (repeatable).
     #[arg(long, default_value = "regular:n=17,regular:n=9,layout=centred,adaptive:preset=seed,adaptive:preset=balanced")]
     methods: Vec<String>,
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    #[arg(long, default_value_t = 1)]
     repeats: u32,
     /// Override a render setting of every scene, e.g. `--set shadow_map_size=256`.
     #[arg(long = "set", value_name = "KEY=VALUE")]

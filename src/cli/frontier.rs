@@ -23,29 +23,29 @@ pub struct FrontierArgs {
     #[arg(long)]
     full: bool,
     /// Regular grid sizes n (both layouts), replacing the grid's list, e.g. `--n 2,3,5`.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',')]
     n: Vec<String>,
     /// Plain map sizes, replacing the grid's list, e.g. `--sizes 512,1024`.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',')]
     sizes: Vec<String>,
     /// Hybrid maps as BASE/LEVELS (comma-separated), or `none`.
     #[arg(long, value_delimiter = ',', default_value = grid::DEFAULT_HYBRID)]
     hybrid: Vec<String>,
     /// Timed frames per setting after one warm-up (and one stages-mode frame); the median is quoted.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 3)]
+    #[arg(long, default_value_t = 3)]
     repeats: u32,
     /// Ground truth: `continuous` or `lattice`.
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Override a render setting, e.g. `--set resolution=128` (map sizes come from the grid).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
     /// Error-budget targets (RMSE of V): `auto:target=T` for each, measured beside the plain-512
     /// settings and judged against the frontier of the fixed ones, e.g. `--budget 0.03,0.02,0.015`.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',')]
     budget: Vec<String>,
     /// Refuse a grid of more settings than N.
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]

@@ -18,7 +18,7 @@ pub struct HybridArgs {
     #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     scene: String,
     /// Square screen size in pixels.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 256)]
+    #[arg(long, default_value_t = 256)]
     resolution: u32,
     /// Plain map sizes of the hard-shadow part, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "512,1024,2048,4096")]
@@ -27,10 +27,10 @@ pub struct HybridArgs {
     #[arg(long, value_delimiter = ',', default_value = "1024/1,2048/1,2048/2,4096/2")]
     hybrid: Vec<String>,
     /// Merge tolerance in 16-bit depth units (the seed's 0.25).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25)]
     eps: f32,
     /// Timed hard-shadow frames per configuration after a warm-up and a stages-mode frame.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 3)]
+    #[arg(long, default_value_t = 3)]
     repeats: u32,
     /// Multi-map methods (comma-separated; empty for none), e.g. `regular:n=17,adaptive:preset=balanced`.
     #[arg(long, value_delimiter = ',', default_value = "")]
@@ -42,7 +42,7 @@ pub struct HybridArgs {
     #[arg(long, value_delimiter = ',', default_value = "512")]
     multi_plain: Vec<String>,
     /// Timed multi-map frames per configuration after one stages-mode frame (no warm-up: slow scenes).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    #[arg(long, default_value_t = 1)]
     multi_repeats: u32,
     /// Override a render setting, e.g. `--set shadow_map_budget_mib=1024`.
     #[arg(long = "set", value_name = "KEY=VALUE")]

@@ -19,7 +19,7 @@ pub struct ReferenceArgs {
     #[arg(long, default_value = "continuous")]
     mode: String,
     /// M for the continuous mode.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// With `--mode point`: the light point as light coordinates `S,T` in [0, 1] (default 0.5,0.5).
     #[arg(long, value_name = "S,T")]

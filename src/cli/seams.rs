@@ -19,7 +19,7 @@ pub struct SeamsArgs {
     #[arg(long, default_value = "hard,pcf,regular:n=8")]
     methods: Vec<String>,
     /// Shadow-map sizes (each cube face's side), comma-separated.
-    #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "256,512")]
+    #[arg(long, value_delimiter = ',', default_value = "256,512")]
     map_sizes: Vec<u32>,
     /// The band: pixels whose direction lies within this many texels of a face edge.
     #[arg(long, allow_hyphen_values = true, default_value_t = 2.0)]

@@ -21,7 +21,7 @@ pub struct SweepArgs {
     #[arg(long, allow_hyphen_values = true, value_name = "INDEX/COUNT")]
     shard: Option<String>,
     /// Run the grid as K shard processes on this machine, then merge them into --out.
-    #[arg(long, allow_negative_numbers = true, value_name = "K")]
+    #[arg(long, value_name = "K")]
     jobs: Option<u32>,
     /// Refuse a spec of more configurations than N (a guard against a grid that would run for hours).
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
