@@ -128,7 +128,7 @@ fn main() {
 }
 
 fn run() -> Result<()> {
-    let parsed = Cli::parse();
+    let parsed: Cli = cli::parse::parse()?;
     // Set once, before any scene loads; the loaders read it as the run's cap.
     if let Some(mib) = parsed.max_mesh_mib {
         penumbra::scene::assets::set_max_mesh_mib(mib);

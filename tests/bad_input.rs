@@ -69,7 +69,7 @@ fn unknown_key() {
 #[test]
 fn missing_mesh_file() {
     let e = fails("missing-mesh", GOOD, None, &[]);
-    assert!(e.contains("tri.obj") && e.contains("cannot read mesh file"), "{e}");
+    assert!(e.contains("scene.toml: mesh 2: file = \"tri.obj\": cannot read: No such file or directory") && e.matches("tri.obj").count() == 1, "{e}");
 }
 
 #[test]
@@ -86,13 +86,13 @@ fn unreadable_mesh_file() {
 #[test]
 fn malformed_mesh() {
     let e = fails("malformed-mesh", GOOD, Some("v 0 1 0\nv 1 1 0\nf 1 2 7\n"), &[]);
-    assert!(e.contains("tri.obj: line 3") && e.contains("vertex 7"), "{e}");
+    assert!(e.contains("mesh 2: file = \"tri.obj\": line 3") && e.contains("vertex 7"), "{e}");
 }
 
 #[test]
 fn nan_coordinate_in_mesh() {
     let e = fails("nan-mesh", GOOD, Some("v 0 1 0\nv 1 NaN 0\nv 0 1 1\nf 1 2 3\n"), &[]);
-    assert!(e.contains("tri.obj: line 2") && e.contains("NaN"), "{e}");
+    assert!(e.contains("mesh 2: file = \"tri.obj\": line 2") && e.contains("NaN"), "{e}");
 }
 
 #[test]
@@ -273,7 +273,7 @@ fn warm_up_out_of_range_is_refused_naming_the_flag() {
     let out_dir = dir.join("out");
     let out = penumbra(&["render", "--warm-up", "1000", "--out", out_dir.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("'1000'") && stderr.contains("--warm-up") && stderr.contains("0..=100"), "{stderr}");
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr, "error: --warm-up: 1000 is not in 0..=100\n");
     assert!(!out_dir.exists(), "no output on bad input");
 }

@@ -151,14 +151,32 @@ fn a_camera_inside_the_bounds_that_sees_nothing_fails_after_the_g_buffer() {
 fn off_header_claiming_more_vertices_says_so() {
     let scene = BASE.replace("builtin = \"sphere\"", "file = \"m.off\"");
     let e = cli_fails("off", &[("s.toml", &scene), ("m.off", "OFF\n10 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")], &["render", "--scene", "s.toml", "--out", "out"]);
-    assert_eq!(e, "m.off: line 2: file ends early: the counts say 10 vertices and 1 faces, but only 4 lines follow");
+    assert_eq!(e, "s.toml: mesh 2: file = \"m.off\": line 2: file ends early: the counts say 10 vertices and 1 faces, but only 4 lines follow");
+}
+
+/// A mesh that cannot be read or parsed: one line naming the scene file, the mesh (its `[[mesh]]`
+/// table, counted from 1) and the mesh file once.
+#[test]
+fn mesh_read_errors_name_the_scene_the_mesh_and_the_file_once() {
+    for (case, file, text, want) in [
+        ("missing_obj", "gone.obj", None, "s.toml: mesh 2: file = \"gone.obj\": cannot read: No such file or directory (os error 2)"),
+        ("missing_off", "gone.off", None, "s.toml: mesh 2: file = \"gone.off\": cannot read: No such file or directory (os error 2)"),
+        ("bad_obj", "bad.obj", Some("v 1 2\nf 1 2 3\n"), "s.toml: mesh 2: file = \"bad.obj\": line 1: vertex needs 3 coordinates, found 2"),
+    ] {
+        let scene = BASE.replace("builtin = \"sphere\"", &format!("file = \"{file}\""));
+        let mut files = vec![("s.toml", scene.as_str())];
+        files.extend(text.map(|t| (file, t)));
+        let e = cli_fails(case, &files, &["render", "--scene", "s.toml", "--out", "out"]);
+        assert_eq!(e, want, "{case}");
+        assert_eq!(e.matches(file).count(), 1, "{case}: the path once: {e}");
+    }
 }
 
 #[test]
 fn truncated_ply_header_is_one_plain_line() {
     let scene = BASE.replace("builtin = \"sphere\"", "file = \"m.ply\"");
     let e = cli_fails("ply", &[("s.toml", &scene), ("m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop")], &["render", "--scene", "s.toml", "--out", "out"]);
-    assert!(e.starts_with("m.ply: line 4: header line `prop` is not a PLY header line"), "{e}");
+    assert!(e.starts_with("s.toml: mesh 2: file = \"m.ply\": line 4: header line `prop` is not a PLY header line"), "{e}");
     assert!(!e.contains("ParseError") && !e.contains("ExpectedSet"), "{e}");
 }
 
@@ -292,6 +310,7 @@ mod mesh_files {
         let dirs = MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: Some(1 << 20) };
         let e = Scene::parse_in(&scene_with("m.ply.gz"), "s.toml", dirs, &[]).unwrap_err().to_string();
         assert_one_line(&e);
+        assert!(e.starts_with("s.toml: mesh 2: file = \"m.ply.gz\": decompresses to more"), "{e}");
         assert!(e.contains("decompresses to more than the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"), "{e}");
     }
 }

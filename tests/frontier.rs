@@ -86,6 +86,42 @@ fn a_point_light_frontier_leaves_out_what_refuses_the_light() {
     assert!(lines.iter().any(|l| l["spec"] == "adaptive:preset=balanced" && l["map_config"] == "plain 64" && l["rmse"].as_f64().unwrap() < 0.2));
 }
 
+/// `--sizes 4096`: the prefiltered maps' moments there are over lavapipe's 128 MiB binding; those
+/// settings are left out with a line saying why, as local adaptive is over the map budget, and
+/// the rest of the grid runs (it used to refuse the whole run).
+#[test]
+fn settings_over_the_device_limits_are_left_out() {
+    let limit = u64::from(common::gpu().limits().max_storage_buffer_binding_size);
+    let dir = temp_dir("frontier_4096");
+    let out = dir.join("out");
+    let o = ok(
+        penumbra(
+            &["frontier", "--scene", "analytic-square", "--set", "resolution=16", "--n", "2", "--sizes", "4096", "--hybrid", "none", "--samples", "4", "--repeats", "1", "--out", out.to_str().unwrap()],
+            &dir.join("cache"),
+        ),
+        "frontier --sizes 4096",
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    // The moments of a 4096² map: 16 bytes a texel, csm's two sets 32.
+    let over: Vec<(&str, u64)> = [("esm", 16), ("vsm", 16), ("evsm", 16), ("msm", 16), ("csm", 32)].into_iter().map(|(m, b)| (m, 4096 * 4096 * b)).filter(|(_, bytes)| *bytes > limit).collect();
+    for bytes in [268435456u64, 536870912] {
+        let names: Vec<&str> = over.iter().filter(|(_, b)| *b == bytes).map(|(m, _)| *m).collect();
+        if !names.is_empty() {
+            let want = format!("{} left out at plain 4096: shadow_map_size = 4096: moments needs {bytes} bytes, over this device's max_storage_buffer_binding_size {limit}", names.join(", "));
+            assert!(stderr.lines().any(|l| l == want), "no line `{want}`:\n{stderr}");
+        }
+    }
+    assert!(stderr.contains("adaptive scope=local left out from 4096² up: 289 maps do not fit shadow_map_budget_mib = 512"), "{stderr}");
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    // 2 regular grids, 2 global adaptive presets, 8 single-map methods, less those over the limit.
+    assert_eq!(lines.len(), 12 - over.len(), "{stderr}");
+    for (m, _) in &over {
+        assert!(!lines.iter().any(|l| l["spec"] == *m), "{m} ran");
+        assert!(lines.iter().all(|l| l["thinning"].as_str().unwrap().contains(&format!("{m} @ plain 4096"))), "{m} not recorded as left out");
+    }
+    assert!(lines.iter().any(|l| l["spec"] == "hard" && l["map_config"] == "plain 4096"));
+}
+
 #[test]
 fn a_thinned_frontier_on_a_small_scene() {
     let dir = temp_dir("frontier_small");
@@ -160,6 +196,8 @@ fn bad_frontier_input_is_refused_with_no_output() {
         ("n zero", vec!["--n", "0"], "--n `0`: n must be in 1..=128"),
         ("n negative", vec!["--n", "-2"], "--n `-2`: n must be in 1..=128"),
         ("n twice", vec!["--n", "3,3"], "--n `3`: listed twice"),
+        ("hybrid twice", vec!["--hybrid", "2048/2,2048/2"], "--hybrid `2048/2`: listed twice"),
+        ("budget twice", vec!["--budget", "0.03,0.03"], "--budget `0.03`: listed twice"),
         ("size not a number", vec!["--sizes", "big"], "--sizes: map configuration `big`: not a whole number"),
         ("size too small", vec!["--sizes", "4"], "--sizes: map configuration `4`: size must be in 8..=16384"),
         ("hybrid levels", vec!["--hybrid", "2048/3"], "--hybrid: map configuration `2048/3`: levels must be 1 or 2"),

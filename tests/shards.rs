@@ -175,6 +175,7 @@ fn bad_shard_and_jobs_are_one_line_errors() {
         (vec!["--shard", "x"], "error: --shard `x`: expected INDEX/COUNT, e.g. 0/4"),
         (vec!["--shard", "0/0"], "error: --shard `0/0`: the count must be in 1..=10000"),
         (vec!["--shard", "6/7"], "error: --shard 6/7: the spec has 6 configurations, too few for 7 shards"),
+        (vec!["--shard", "99999999999/7"], "error: --shard `99999999999/7`: the index must be below the count (shards are numbered 0..6)"),
         (vec!["--jobs", "0"], "error: --jobs must be in 1..=64, got 0"),
         (vec!["--jobs", "2", "--shard", "0/2"], "error: --jobs 2: runs every shard itself; do not combine it with --shard"),
     ] {
@@ -187,4 +188,35 @@ fn bad_shard_and_jobs_are_one_line_errors() {
         assert!(stderr.starts_with(expected), "{stderr}");
         assert!(!out.exists());
     }
+}
+
+/// `--jobs K` on a spec of fewer configurations runs one shard per configuration and says so
+/// (a shard with nothing to run used to fail after the others had run); when a shard fails, the
+/// run writes nothing, not even the shards' folders.
+#[test]
+fn jobs_beyond_the_configurations_and_a_failed_shard() {
+    let _ = common::gpu(); // fails here, with instructions, when no adapter exists
+    let (dir, scene, _) = setup("shards_jobs_few");
+    let spec = dir.join("two.toml");
+    std::fs::write(&spec, "methods = [\"hard\", \"regular:n=2\"]\n").unwrap();
+    let spec = spec.to_str().unwrap();
+    let cache = dir.join("cache");
+    let out = dir.join("out");
+    let o = ok(cmd(&cache, &["sweep", "--spec", spec, "--scene", &scene, "--repeats", "1", "--jobs", "3", "--out", out.to_str().unwrap()]).output().unwrap(), "--jobs 3");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(stderr.lines().next(), Some("--jobs 3: the spec has 2 configurations; running 2 shards"), "{stderr}");
+    let labels: Vec<String> = rows(&out).iter().map(|r| r["label"].as_str().unwrap().to_string()).collect();
+    assert_eq!(labels, ["hard", "regular:n=2"]);
+    let mut shards: Vec<String> = std::fs::read_dir(out.join("shards")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    shards.sort();
+    assert_eq!(shards, ["0", "1"]);
+
+    // Each shard fails opening its adapter, after the parent started them.
+    let failed = dir.join("failed");
+    let o = cmd(&cache, &["--adapter", "no-such-adapter-anywhere", "sweep", "--spec", spec, "--scene", &scene, "--jobs", "2", "--out", failed.to_str().unwrap()]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().last(), Some("error: sweep --jobs 2: shards 0/2, 1/2 failed (their messages are above); nothing is written"), "{stderr}");
+    assert_eq!(stderr.lines().filter(|l| l.contains("no adapter's name contains it")).count(), 2, "{stderr}");
+    assert!(!failed.exists(), "wrote {:?}", std::fs::read_dir(&failed).map(|d| d.count()));
 }

@@ -14,7 +14,7 @@ pub struct BenchArgs {
     #[arg(long, value_parser = ["seed-table2"])]
     suite: String,
     /// Measured frames per method and scene, after one warm-up frame each.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 5)]
+    #[arg(long, default_value_t = 5)]
     repeats: u32,
     /// Output folder for table2.md and results.jsonl.
     #[arg(long, default_value = "bench-out/seed-table2")]

@@ -19,7 +19,7 @@ pub struct CascadesArgs {
     #[arg(long, default_value = "sun-grove", value_parser = crate::cli::utf8())]
     scene: String,
     /// Numbers of cascades, each in 1..=8, e.g. `--n 1,2,4`.
-    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4", allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4")]
     n: Vec<String>,
     /// Split schemes: uniform, log, practical.
     #[arg(long, value_delimiter = ',', default_value = "uniform,log,practical")]
@@ -34,7 +34,7 @@ pub struct CascadesArgs {
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Override a render setting, e.g. `--set resolution=128 --set shadow_map_size=256`.
     #[arg(long = "set", value_name = "KEY=VALUE")]

@@ -16,10 +16,10 @@ pub struct EnvironmentArgs {
     #[arg(long, default_value = DEFAULT_METHODS)]
     methods: String,
     /// Timed frames per method (median reported).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 3)]
+    #[arg(long, default_value_t = 3)]
     repeats: u32,
     /// M: the reference takes M×M importance samples per pixel.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// `--set key=value` render overrides for every scene (e.g. width=64).
     #[arg(long)]

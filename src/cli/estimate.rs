@@ -8,6 +8,7 @@ use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
 use penumbra::scene::Scene;
 use penumbra::studies::estimate::{self, Setting};
+use penumbra::studies::lists::listed_once;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -20,7 +21,7 @@ pub struct EstimateArgs {
     #[arg(long)]
     settings: Option<String>,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Override a render setting, e.g. `--set resolution=128` (map sizes come from the settings).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -40,12 +41,18 @@ pub fn run(args: EstimateArgs, gpu: &AdapterRequest) -> Result<()> {
         anyhow::bail!("--set {k}={v}: each setting names its map size (SPEC@SIZE in --settings)");
     }
     let settings: Vec<Setting> = match &args.settings {
-        Some(text) => text.split(';').map(|s| Setting::parse(s.trim())).collect::<penumbra::Result<_>>()?,
+        Some(text) => {
+            let settings = text.split(';').map(|s| Setting::parse(s.trim())).collect::<penumbra::Result<Vec<_>>>()?;
+            // One setting however it is spelled: the method's label and the map size.
+            listed_once("--settings", text.split(';').zip(settings.iter().map(Setting::key)))?;
+            settings
+        }
         None => estimate::DEFAULT_SETTINGS.iter().map(|(spec, size)| Setting { spec: spec.to_string(), map_size: *size }).collect(),
     };
     let scenes: Vec<String> = if args.scenes.is_empty() {
         penumbra::scene::area_light_names().iter().map(|s| s.to_string()).collect()
     } else {
+        listed_once("--scenes", args.scenes.iter().map(|s| (s, s.trim())))?;
         args.scenes.clone()
     };
     // Every scene loads and is lit by an area light before anything is traced.

@@ -21,16 +21,16 @@ pub struct FailuresArgs {
     #[arg(long)]
     methods: Vec<String>,
     /// Width and height of every gallery image.
-    #[arg(long, allow_negative_numbers = true, default_value_t = MAIN_JOB_RESOLUTION)]
+    #[arg(long, default_value_t = MAIN_JOB_RESOLUTION)]
     resolution: u32,
     /// Frames of the popping sequence (0: none).
-    #[arg(long, allow_negative_numbers = true, default_value_t = MAIN_JOB_FRAMES)]
+    #[arg(long, default_value_t = MAIN_JOB_FRAMES)]
     frames: u32,
     /// Ground truth: `continuous` or `lattice`.
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Output folder.
     #[arg(long, default_value = "penumbra-out/failures")]

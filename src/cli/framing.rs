@@ -2,13 +2,14 @@
 //! resolutions and light sizes.
 
 use super::render_sets;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use penumbra::gpu::{AdapterRequest, GpuContext};
 use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
 use penumbra::scene::{Scene, MAX_SUN_DIAMETER_DEG};
 use penumbra::studies::compare::methods_list;
 use penumbra::studies::framing::{self, FramingJob};
+use penumbra::studies::lists::listed_once;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -17,15 +18,15 @@ pub struct FramingArgs {
     #[arg(long = "scene", value_delimiter = ',', required = true, value_parser = crate::cli::utf8())]
     scenes: Vec<String>,
     /// Square screen sizes in pixels, comma-separated.
-    #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "128,256,512")]
+    #[arg(long, value_delimiter = ',', default_value = "128,256,512")]
     resolutions: Vec<u32>,
     /// Factors on the light's edges, comma-separated.
-    #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "1")]
+    #[arg(long, value_delimiter = ',', default_value = "1")]
     light_scales: Vec<f32>,
     /// Methods, as for compare (repeatable).
     #[arg(long, default_value = "regular:n=17,regular:n=9,layout=centred,adaptive:preset=seed,adaptive:preset=balanced")]
     methods: Vec<String>,
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    #[arg(long, default_value_t = 1)]
     repeats: u32,
     /// Override a render setting of every scene, e.g. `--set shadow_map_size=256`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -36,9 +37,19 @@ pub struct FramingArgs {
 
 pub fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
     output_set::check(&args.out)?;
-    let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
+    let specs = methods_list::split_specs(&args.methods)?;
+    let methods = methods_list::parse_methods(&specs)?;
     let sets = render_sets(&args.set)?;
+    listed_once("--scene", args.scenes.iter().map(|s| (s, s.trim())))?;
+    listed_once("--resolutions", args.resolutions.iter().map(|r| (r.to_string(), *r)))?;
+    listed_once("--light-scales", args.light_scales.iter().map(|k| (k.to_string(), *k)))?;
     let scenes = args.scenes.iter().map(|s| Scene::load(s, &sets)).collect::<penumbra::Result<Vec<_>>>()?;
+    // Each method against each scene's light, before any reference is traced.
+    for (scene, name) in scenes.iter().zip(&args.scenes) {
+        for (spec, method) in specs.iter().zip(&methods) {
+            method.check_light(scene).with_context(|| format!("--methods {spec} on --scene {name}"))?;
+        }
+    }
     if let Some(r) = args.resolutions.iter().find(|&&r| !(8..=4096).contains(&r)) {
         anyhow::bail!("--resolutions: {r} is not in 8..=4096");
     }

@@ -23,29 +23,29 @@ pub struct FrontierArgs {
     #[arg(long)]
     full: bool,
     /// Regular grid sizes n (both layouts), replacing the grid's list, e.g. `--n 2,3,5`.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',')]
     n: Vec<String>,
     /// Plain map sizes, replacing the grid's list, e.g. `--sizes 512,1024`.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',')]
     sizes: Vec<String>,
     /// Hybrid maps as BASE/LEVELS (comma-separated), or `none`.
     #[arg(long, value_delimiter = ',', default_value = grid::DEFAULT_HYBRID)]
     hybrid: Vec<String>,
     /// Timed frames per setting after one warm-up (and one stages-mode frame); the median is quoted.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 3)]
+    #[arg(long, default_value_t = 3)]
     repeats: u32,
     /// Ground truth: `continuous` or `lattice`.
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Override a render setting, e.g. `--set resolution=128` (map sizes come from the grid).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
     /// Error-budget targets (RMSE of V): `auto:target=T` for each, measured beside the plain-512
     /// settings and judged against the frontier of the fixed ones, e.g. `--budget 0.03,0.02,0.015`.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',')]
     budget: Vec<String>,
     /// Refuse a grid of more settings than N.
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
@@ -92,26 +92,35 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
             group.specs.push(spec);
         }
     }
-    let refused = grid::drop_refused(&mut groups, &scene);
+    let refused = grid::drop_refused(&mut groups, &scene, |s, m| m.check_light(s));
     for (spec, why) in &refused {
         eprintln!("{spec} left out: {why}");
     }
     if let Some(size) = axes.sizes.iter().find(|&&s| !grid::local_fits(s, budget)) {
         eprintln!("adaptive scope=local left out from {size}² up: 289 maps do not fit shadow_map_budget_mib = {budget} (raise it with --set to run them)");
     }
+    let ctx = GpuContext::with_request(gpu)?;
+    // Every setting's frame sizes before the reference is traced or anything is written; a
+    // setting over the device's limits is left out like local adaptive over the map budget.
+    let unfit = grid::drop_refused(&mut groups, &scene, |s, m| penumbra::methods::sizes::check(&ctx, s, m));
+    for line in left_out_lines(&unfit) {
+        eprintln!("{line}");
+    }
+    groups.retain(|g| !g.methods.is_empty());
+    if groups.is_empty() {
+        let why = unfit.first().map_or("the light refuses every method".to_string(), |(s, why)| format!("{s}: {why}"));
+        anyhow::bail!("frontier: no setting is left to run ({why})");
+    }
     let all: Vec<_> = groups.iter().flat_map(|g| g.methods.iter().cloned()).collect();
     let mut thinning = thinning.describe(&axes);
-    if !refused.is_empty() {
-        // Recorded with the grid, so frontier.jsonl and frontier.md say what the light ruled out.
-        let specs: Vec<&str> = refused.iter().map(|(s, _)| s.as_str()).collect();
-        thinning = format!("{thinning}; left out, refusing the {} light: {}", scene.emitter.kind().name(), specs.join(", "));
+    // Recorded with the grid, so frontier.jsonl and frontier.md say what was ruled out.
+    for (what, left) in [(format!("refusing the {} light", scene.emitter.kind().name()), &refused), ("over this device's limits".to_string(), &unfit)] {
+        if !left.is_empty() {
+            let specs: Vec<&str> = left.iter().map(|(s, _)| s.as_str()).collect();
+            thinning = format!("{thinning}; left out, {what}: {}", specs.join(", "));
+        }
     }
     eprintln!("{} ({thinning})", plan::line(&all, &scene, args.repeats));
-    let ctx = GpuContext::with_request(gpu)?;
-    // Every setting's frame sizes before the reference is traced or anything is written.
-    for g in &groups {
-        penumbra::methods::sizes::check_all(&ctx, &g.maps.apply(&scene, 0.25), &g.methods)?;
-    }
     let job = FrontierJob { scene: &scene, groups, thinning, repeats: args.repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.out, &files::files(&lines)?)?;
@@ -121,4 +130,18 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     println!("\nfrontier: {}", args.out.join("frontier.jsonl").display());
     println!("report:   {}", args.out.join("report.html").display());
     Ok(())
+}
+
+/// One line per map configuration and reason, as local adaptive's: `esm, vsm left out at plain
+/// 4096: shadow_map_size = 4096: moments needs … bytes, over this device's …`.
+fn left_out_lines(refused: &[(String, String)]) -> Vec<String> {
+    let mut lines: Vec<(String, Vec<&str>, &str)> = Vec::new();
+    for (setting, why) in refused {
+        let (spec, maps) = setting.rsplit_once(" @ ").unwrap_or((setting, ""));
+        match lines.iter_mut().find(|(m, _, w)| m == maps && *w == why) {
+            Some((_, specs, _)) => specs.push(spec),
+            None => lines.push((maps.to_string(), vec![spec], why)),
+        }
+    }
+    lines.into_iter().map(|(maps, specs, why)| format!("{} left out at {maps}: {why}", specs.join(", "))).collect()
 }

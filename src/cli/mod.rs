@@ -16,6 +16,7 @@ pub mod hybrid;
 pub mod info;
 pub mod merge;
 pub mod methods;
+pub mod parse;
 pub mod reference;
 pub mod run_args;
 pub mod render;

@@ -1,7 +1,7 @@
 //! `penumbra reference`: the CPU ground truth of one scene (cached), as EXR, PNG and a record.
 
 use super::render_sets;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use penumbra::gpu::{AdapterRequest, GpuContext};
 use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
@@ -19,7 +19,7 @@ pub struct ReferenceArgs {
     #[arg(long, default_value = "continuous")]
     mode: String,
     /// M for the continuous mode.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// With `--mode point`: the light point as light coordinates `S,T` in [0, 1] (default 0.5,0.5).
     #[arg(long, value_name = "S,T")]
@@ -40,7 +40,7 @@ pub fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
     let mode = match (&args.point, args.mode.as_str()) {
         (None, m) => truth::parse_mode(m, args.samples)?,
-        (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples)?,
+        (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples).context("--point")?,
         (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
     };
     let ctx = GpuContext::with_request(gpu)?;

@@ -33,7 +33,7 @@ pub struct RenderArgs {
     timing: String,
     /// Untimed frames first, on the same renderer: a device that compiles shaders at first use
     /// (lavapipe) would otherwise charge the compile to the stages. 0 times the very first frame.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=100))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=100))]
     warm_up: u32,
 }
 

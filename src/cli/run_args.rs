@@ -9,13 +9,13 @@ pub struct RunArgs {
     #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
     pub scene: String,
     /// Timed frames per method after one warm-up (and one stages-mode frame); the median is quoted.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 3)]
+    #[arg(long, default_value_t = 3)]
     pub repeats: u32,
     /// Ground truth: `continuous`, `lattice`, or `point` / `point:S,T` (the hard shadow from one light point).
     #[arg(long, default_value = "continuous")]
     pub reference: String,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     pub samples: u32,
     /// Override a render setting, e.g. `--set resolution=256` (method parameters go in --methods).
     #[arg(long = "set", value_name = "KEY=VALUE")]

@@ -6,6 +6,7 @@ use penumbra::gpu::{AdapterRequest, GpuContext};
 use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
 use penumbra::studies::compare::methods_list;
+use penumbra::studies::lists::listed_once;
 use penumbra::studies::seams::{self, SeamsJob};
 use std::path::PathBuf;
 
@@ -18,7 +19,7 @@ pub struct SeamsArgs {
     #[arg(long, default_value = "hard,pcf,regular:n=8")]
     methods: Vec<String>,
     /// Shadow-map sizes (each cube face's side), comma-separated.
-    #[arg(long, allow_hyphen_values = true, value_delimiter = ',', default_value = "256,512")]
+    #[arg(long, value_delimiter = ',', default_value = "256,512")]
     map_sizes: Vec<u32>,
     /// The band: pixels whose direction lies within this many texels of a face edge.
     #[arg(long, allow_hyphen_values = true, default_value_t = 2.0)]
@@ -44,8 +45,13 @@ pub fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
     if args.map_sizes.is_empty() {
         anyhow::bail!("--map-sizes: give at least one size");
     }
+    listed_once("--map-sizes", args.map_sizes.iter().map(|s| (s.to_string(), *s)))?;
     let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
     let sets = render_sets(&args.set)?;
+    // Each run's map size comes from --map-sizes and would silently win over this one.
+    if let Some((k, v)) = sets.iter().find(|(k, _)| k.strip_prefix("render.").unwrap_or(k) == "shadow_map_size") {
+        anyhow::bail!("--set {k}={v}: seams runs each map size of --map-sizes; give the sizes there (--map-sizes {v})");
+    }
     // Every map size, the scene's kind and each method's support are checked before the GPU starts.
     for &size in &args.map_sizes {
         let mut s = sets.clone();

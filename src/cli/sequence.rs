@@ -19,7 +19,7 @@ pub struct SequenceArgs {
     #[arg(long, default_value = "hard,regular:n=17,adaptive")]
     methods: Vec<String>,
     /// Frames (2..=1000); each has its own CPU reference.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 24)]
+    #[arg(long, default_value_t = 24)]
     frames: u32,
     /// What moves: light, camera or occluder (one `[[mesh]]`, see --mesh).
     #[arg(long, default_value = "light")]
@@ -31,19 +31,19 @@ pub struct SequenceArgs {
     #[arg(long, allow_hyphen_values = true)]
     offset: Option<String>,
     /// Circle radius (default: light |edge_u|; mesh 0.05 × scene diagonal).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long)]
     radius: Option<f32>,
     /// Orbit angle in all, degrees (default 30).
     #[arg(long, allow_hyphen_values = true)]
     degrees: Option<f32>,
     /// The moving mesh for --animate occluder, counted from 1 in file order (default: the last).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long)]
     mesh: Option<u32>,
     /// Ground truth: `continuous` or `lattice`.
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 32)]
+    #[arg(long, default_value_t = 32)]
     samples: u32,
     /// Override a render setting, e.g. `--set resolution=256`.
     #[arg(long = "set", value_name = "KEY=VALUE")]

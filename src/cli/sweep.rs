@@ -21,7 +21,7 @@ pub struct SweepArgs {
     #[arg(long, allow_hyphen_values = true, value_name = "INDEX/COUNT")]
     shard: Option<String>,
     /// Run the grid as K shard processes on this machine, then merge them into --out.
-    #[arg(long, allow_negative_numbers = true, value_name = "K")]
+    #[arg(long, value_name = "K")]
     jobs: Option<u32>,
     /// Refuse a spec of more configurations than N (a guard against a grid that would run for hours).
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
@@ -46,7 +46,12 @@ pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
         if k == 0 || k > 64 {
             anyhow::bail!("--jobs must be in 1..=64, got {k}");
         }
-        return sweep_jobs(&args, k, gpu);
+        // A shard with no configuration would fail after the others ran: run one per configuration.
+        let configs = u32::try_from(methods.len()).unwrap_or(u32::MAX);
+        if k > configs {
+            eprintln!("--jobs {k}: the spec has {configs} configurations; running {configs} shards");
+        }
+        return sweep_jobs(&args, k.min(configs), gpu);
     }
     let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
     let costs: Vec<f64> = methods.iter().map(|m| plan::estimated_cost(m, &scene)).collect();
@@ -72,11 +77,31 @@ pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
 }
 
 /// `sweep --jobs K`: this binary K times with `--shard i/K`, outputs in OUT/shards/i, then merged.
+/// The merged set is written or nothing is: when a shard or the merge fails, the shard folders
+/// this run made are removed again (the shards' own messages are above).
 fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
+    let shards = args.run.out.join("shards");
+    let dirs: Vec<PathBuf> = (0..k).map(|i| shards.join(i.to_string())).collect();
+    let made: Vec<PathBuf> = std::iter::once(&args.run.out).chain([&shards]).chain(&dirs).filter(|d| !d.exists()).cloned().collect();
+    let result = run_shards(args, &dirs, gpu);
+    if result.is_err() {
+        // Deepest first; a folder that holds anything else (a user's file) stays.
+        for dir in made.iter().rev() {
+            if dirs.contains(dir) {
+                let _ = std::fs::remove_dir_all(dir);
+            } else {
+                let _ = std::fs::remove_dir(dir);
+            }
+        }
+    }
+    result
+}
+
+fn run_shards(args: &SweepArgs, dirs: &[PathBuf], gpu: &AdapterRequest) -> Result<()> {
     let exe = std::env::current_exe().context("cannot find this program to start the shards")?;
     let r = &args.run;
+    let k = dirs.len();
     let mut children = Vec::new();
-    let dirs: Vec<PathBuf> = (0..k).map(|i| r.out.join("shards").join(i.to_string())).collect();
     for (i, dir) in dirs.iter().enumerate() {
         let mut cmd = std::process::Command::new(&exe);
         // The shards use the adapter this run was asked for, not the environment's default.
@@ -104,8 +129,8 @@ fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
         }
     }
     if !failed.is_empty() {
-        anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above; outputs in {})", failed.join(", "), r.out.join("shards").display());
+        anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above); nothing is written", failed.join(", "));
     }
-    let outcome = shard::merge::merge(&dirs, &[])?;
+    let outcome = shard::merge::merge(dirs, &[])?;
     super::merge::write_merged(&r.out, &outcome)
 }

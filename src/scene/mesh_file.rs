@@ -52,11 +52,19 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
 
 /// Loads a mesh named by a scene; errors name the mesh file and the line or element. `origin`
 /// (the scene file) and `which` (`mesh 2`) name the key in errors about the file itself.
+/// Every error is one line naming the scene file, the mesh and its `file` once:
+/// `s.toml: mesh 2: file = "m.off": line 2: file ends early: …`.
 pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<RawMesh> {
+    // The loaders lead with what they read (`lead`: the path, or `file` itself); `file = …` names it.
+    let named = |lead: &str, e: Error| {
+        let text = e.to_string();
+        let why = text.strip_prefix(lead).and_then(|t| t.strip_prefix(": ")).unwrap_or(&text);
+        Error::scene(origin, format!("{which}: file = {file:?}: {why}"))
+    };
     let path = if file.starts_with(CACHE_PREFIX) {
-        cache_path(file, dirs.cache)?
+        cache_path(file, dirs.cache).map_err(|e| named(file, e))?
     } else if origin.starts_with("builtin:") {
-        return obj::load_embedded(file);
+        return obj::load_embedded(file).map_err(|e| named(file, e));
     } else {
         dirs.scene_dir.map(|d| d.join(file)).unwrap_or_else(|| file.into())
     };
@@ -65,7 +73,7 @@ pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<Raw
     if path.exists() {
         assets::check_mesh_file(&path, max).map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
     }
-    load_path(&path, max)
+    load_path(&path, max).map_err(|e| named(&path.display().to_string(), e))
 }
 
 fn load_path(path: &Path, max: u64) -> Result<RawMesh> {

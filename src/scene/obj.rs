@@ -22,7 +22,7 @@ pub fn load_embedded(file: &str) -> Result<RawMesh> {
 pub fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
     use std::io::Read;
     let label = path.display().to_string();
-    let cannot = |e: std::io::Error| Error::mesh(&label, format!("cannot read mesh file: {e}"));
+    let cannot = |e: std::io::Error| Error::mesh(&label, format!("cannot read: {e}"));
     let mut bytes = Vec::new();
     assets::open_regular(path, max).map_err(cannot)?.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(cannot)?;
     if bytes.len() as u64 > max {

@@ -45,13 +45,24 @@ impl Setting {
         let (spec, size) = text.rsplit_once('@').ok_or_else(|| bad("no @SIZE"))?;
         let map_size: u32 = size.parse().ok().filter(|s| (16..=8192).contains(s)).ok_or_else(|| bad("SIZE is not a map size in 16..=8192"))?;
         let method = Method::parse(spec, &[]).map_err(|e| bad(&e.to_string()))?;
-        if method.name() != "regular" || method.params_json()["estimate"] == true || method.params_json()["cull"] == true {
+        // The study adds `estimate=on` itself; a spec that sets it either way would be quoted
+        // back later as `…,estimate=off,estimate=on`, a spec nobody wrote.
+        if spec.split_once(':').is_some_and(|(_, params)| params.split(',').any(|kv| kv.split('=').next().is_some_and(|k| k.trim() == "estimate"))) {
+            return Err(bad("`estimate` is set by the study (estimate = on is added); leave it out of the spec"));
+        }
+        if method.name() != "regular" || method.params_json()["cull"] == true {
             return Err(bad("the estimate is built for `regular` grids (without cull; estimate = on is added)"));
         }
         if method.params_json()["n"] == 1 {
             return Err(bad("n = 1 has no half sets to compare"));
         }
         Ok(Setting { spec: spec.to_string(), map_size })
+    }
+
+    /// What makes two settings the same: the method's label (presets and defaults spelled out)
+    /// and the map size.
+    pub fn key(&self) -> (String, u32) {
+        (Method::parse(&self.spec, &[]).map_or_else(|_| self.spec.clone(), |m| m.label()), self.map_size)
     }
 }
 
@@ -337,7 +348,7 @@ mod tests {
     fn settings_parse_and_refuse() {
         let s = Setting::parse("regular:n=5,layout=centred@1024").unwrap();
         assert_eq!((s.spec.as_str(), s.map_size), ("regular:n=5,layout=centred", 1024));
-        for bad in ["regular:n=5", "regular:n=5@big", "regular:n=5@8", "hard@512", "regular:n=1@512", "regular:n=3,cull=on@512", "regular:n=3,estimate=on@512", "regular:n=0@512"] {
+        for bad in ["regular:n=5", "regular:n=5@big", "regular:n=5@8", "hard@512", "regular:n=1@512", "regular:n=3,cull=on@512", "regular:n=3,estimate=on@512", "regular:n=3,estimate=off@512", "regular:n=0@512"] {
             let e = Setting::parse(bad).err().unwrap_or_else(|| panic!("{bad} parsed")).to_string();
             assert!(e.contains(bad) && e.contains("SPEC@SIZE"), "{bad}: {e}");
         }

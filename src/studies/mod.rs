@@ -11,6 +11,7 @@ pub mod failures;
 pub mod framing;
 pub mod frontier;
 pub mod hybrid;
+pub mod lists;
 pub mod seams;
 pub mod sequence;
 pub mod shard;

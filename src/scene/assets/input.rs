@@ -42,7 +42,8 @@ pub(crate) fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), 
         }
         _ => path.display().to_string(),
     };
-    let meta = std::fs::metadata(path).map_err(|e| format!("{}: cannot read mesh file: {e}", path.display()))?;
+    // The callers name the file and say "cannot read"; the reason alone, so neither repeats.
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if !meta.is_file() {
         return Err(format!("{} is {}, not a regular file", shown(), kind(&meta.file_type())));
     }

@@ -3,6 +3,7 @@
 
 use crate::methods::{Family, Method};
 use crate::studies::hybrid::{parse_maps, Maps};
+use crate::studies::lists::listed_once;
 use crate::{Error, Result};
 
 /// `n` of the full grid: every regular grid from 2×2 to the 17×17 lattice.
@@ -85,15 +86,12 @@ pub fn parse_n(values: &[String]) -> Result<Vec<u32>> {
         if !(1..=128).contains(&n) {
             return Err(Error::Param(format!("--n `{v}`: n must be in 1..=128")));
         }
-        let n = n as u32;
-        if out.contains(&n) {
-            return Err(Error::Param(format!("--n `{v}`: listed twice")));
-        }
-        out.push(n);
+        out.push(n as u32);
     }
     if out.is_empty() {
         return Err(Error::Param("--n: no value given".into()));
     }
+    listed_once("--n", values.iter().zip(out.iter().copied()))?;
     Ok(out)
 }
 
@@ -104,14 +102,12 @@ pub fn parse_sizes(values: &[String]) -> Result<Vec<u32>> {
         let Maps::Plain(size) = parse_maps(v, false).map_err(|e| Error::Param(format!("--sizes: {e}")))? else {
             unreachable!("plain sizes parse as plain maps")
         };
-        if out.contains(&size) {
-            return Err(Error::Param(format!("--sizes `{v}`: listed twice")));
-        }
         out.push(size);
     }
     if out.is_empty() {
         return Err(Error::Param("--sizes: no value given".into()));
     }
+    listed_once("--sizes", values.iter().zip(out.iter().copied()))?;
     Ok(out)
 }
 
@@ -120,7 +116,9 @@ pub fn parse_hybrid(values: &[String]) -> Result<Vec<Maps>> {
     if values.len() == 1 && values[0].trim() == "none" {
         return Ok(Vec::new());
     }
-    values.iter().map(|v| parse_maps(v, true).map_err(|e| Error::Param(format!("--hybrid: {e}")))).collect()
+    let maps = values.iter().map(|v| parse_maps(v, true).map_err(|e| Error::Param(format!("--hybrid: {e}")))).collect::<Result<Vec<_>>>()?;
+    listed_once("--hybrid", values.iter().zip(maps.iter().copied()))?;
+    Ok(maps)
 }
 
 /// One fixed setting: a method under one map configuration.
@@ -167,16 +165,18 @@ pub fn settings(axes: &Axes, budget_mib: u32) -> Result<Vec<Group>> {
     Ok(groups)
 }
 
-/// Leaves out the settings whose method refuses the scene's light (docs/lights.md lists the pairs:
-/// local scope keeps one map per light point, which a point light's six cube faces do not allow),
-/// and a point light's cube maps, which the hybrid store cannot hold), so one refusal does not
-/// stop the whole grid after minutes of measuring. Returns each refused `spec @ maps` with the reason.
-pub fn drop_refused(groups: &mut [Group], scene: &crate::scene::Scene) -> Vec<(String, String)> {
+/// Leaves out the settings that `check` refuses under their map configuration, so one refusal
+/// does not stop the whole grid: the methods that refuse the scene's light (docs/lights.md lists
+/// the pairs: local scope keeps one map per light point, which a point light's six cube faces do
+/// not allow, and a point light's cube maps, which the hybrid store cannot hold), and the frames
+/// over the device's limits (the prefiltered maps' moments at 4096²). Returns each refused
+/// `spec @ maps` with the reason.
+pub fn drop_refused(groups: &mut [Group], scene: &crate::scene::Scene, check: impl Fn(&crate::scene::Scene, &Method) -> Result<()>) -> Vec<(String, String)> {
     let mut refused: Vec<(String, String)> = Vec::new();
     for g in groups.iter_mut() {
         let under = g.maps.apply(scene, 0.25);
         let label = g.maps.label();
-        let kept = std::mem::take(&mut g.specs).into_iter().zip(std::mem::take(&mut g.methods)).filter(|(s, m)| match m.check_light(&under) {
+        let kept = std::mem::take(&mut g.specs).into_iter().zip(std::mem::take(&mut g.methods)).filter(|(s, m)| match check(&under, m) {
             Ok(()) => true,
             Err(e) => {
                 refused.push((format!("{s} @ {label}"), e.to_string()));
@@ -200,11 +200,14 @@ pub fn local_fits(size: u32, budget_mib: u32) -> bool {
 /// out) and the methods parsed from them.
 /// `--budget T1,T2,…`: error-budget targets, each an RMSE of V in auto's range.
 pub fn parse_budget(list: &[String]) -> Result<Vec<f32>> {
-    list.iter()
+    let targets = list
+        .iter()
         .map(|t| {
             t.trim().parse::<f32>().ok().filter(|v| (0.0005..=0.5).contains(v)).ok_or_else(|| Error::Param(format!("--budget `{t}`: a target RMSE of V in 0.0005..=0.5")))
         })
-        .collect()
+        .collect::<Result<Vec<f32>>>()?;
+    listed_once("--budget", list.iter().zip(targets.iter().copied()))?;
+    Ok(targets)
 }
 
 #[derive(Clone, Debug)]
@@ -264,7 +267,7 @@ mod tests {
         let point = crate::scene::Scene::load("point-edge", &[]).unwrap();
         let mut groups = settings(&axes, 512).unwrap();
         let before = count(&groups);
-        let refused = drop_refused(&mut groups, &point);
+        let refused = drop_refused(&mut groups, &point, |s, m| m.check_light(s));
         // Local scope at 512² (1024² is already out by the map budget), the prefiltered maps at
         // both sizes, and the global presets under hybrid maps; the regular grids, hard, pcf and
         // pcss read a point light's cube maps of either kind.
@@ -282,7 +285,7 @@ mod tests {
         assert!(groups[0].specs.iter().any(|s| s == "adaptive:preset=seed"), "global scope runs on a point light's plain maps");
         let area = crate::scene::Scene::load("default", &[]).unwrap();
         let mut groups = settings(&axes, 512).unwrap();
-        assert!(drop_refused(&mut groups, &area).is_empty());
+        assert!(drop_refused(&mut groups, &area, |s, m| m.check_light(s)).is_empty());
         assert_eq!(count(&groups), before);
     }
 

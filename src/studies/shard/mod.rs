@@ -20,15 +20,17 @@ impl Shard {
     pub fn parse(text: &str) -> Result<Shard> {
         let bad = |why: &str| Error::Param(format!("--shard `{text}`: {why}"));
         let (i, n) = text.split_once('/').ok_or_else(|| bad("expected INDEX/COUNT, e.g. 0/4"))?;
-        let index: u32 = i.trim().parse().map_err(|_| bad("the index is not a non-negative integer"))?;
-        let count: u32 = n.trim().parse().map_err(|_| bad("the count is not a positive integer"))?;
+        // Any run of digits is a whole number: one too large for u32 gets the range message.
+        let whole = |t: &str| (!t.is_empty() && t.bytes().all(|b| b.is_ascii_digit())).then(|| t.parse::<u128>().unwrap_or(u128::MAX));
+        let index = whole(i.trim()).ok_or_else(|| bad("the index is not a non-negative integer"))?;
+        let count = whole(n.trim()).ok_or_else(|| bad("the count is not a positive integer"))?;
         if count == 0 || count > 10_000 {
             return Err(bad("the count must be in 1..=10000"));
         }
         if index >= count {
             return Err(bad(&format!("the index must be below the count (shards are numbered 0..{})", count - 1)));
         }
-        Ok(Shard { index, count })
+        Ok(Shard { index: index as u32, count: count as u32 })
     }
 }
 
@@ -71,6 +73,8 @@ mod tests {
             ("-1/4", "the index is not"),
             ("0/0", "the count must be in"),
             ("a/b", "the index is not"),
+            ("99999999999/4", "the index must be below the count (shards are numbered 0..3)"),
+            ("0/99999999999999999999999999999999999999999", "the count must be in 1..=10000"),
         ] {
             let e = Shard::parse(bad).unwrap_err().to_string();
             assert!(e.starts_with(&format!("--shard `{bad}`: {why}")), "{e}");
