@@ -115,8 +115,16 @@ fn an_unreadable_entry_is_one_error_naming_the_file_and_no_cache() {
     assert_eq!(lines.len(), 1, "{err}");
     assert!(
         lines[0].starts_with(&format!("error: reference: cannot read the reference cache file {}: ", file.display()))
-            && lines[0].ends_with("; run with --no-cache to trace it afresh and replace it"),
+            && lines[0].ends_with("; remove it, or run with --no-cache to trace the reference afresh and replace it"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(out.join("results.jsonl")).unwrap(), before, "the old set stays");
+    // --no-cache does not read it; the fresh result cannot replace a folder, and says where.
+    let mut args = vec!["--no-cache"];
+    args.extend(["compare", "--scene", scene.to_str().unwrap(), "--methods", "hard", "--reference", "lattice", "--repeats", "1", "--out", out.to_str().unwrap()]);
+    args.rotate_left(1);
+    let o = common::penumbra_env(&args, &[("PENUMBRA_CACHE", cache.to_str().unwrap())]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains(&format!("error: reference: cannot write the reference cache file {}: ", file.display())), "{err}");
 }

@@ -102,11 +102,15 @@ pub fn save_cached(
             got: values.len(),
         });
     }
-    fs::create_dir_all(dir)?;
     let path = cache_path(dir, key);
+    let failed = |source| ReferenceError::CacheWrite { path: path.clone(), source };
+    fs::create_dir_all(dir).map_err(failed)?;
     let tmp = dir.join(format!("{key}.vis.tmp{}", std::process::id()));
-    fs::write(&tmp, encode(key, width, height, values))?;
-    fs::rename(&tmp, &path)?;
+    fs::write(&tmp, encode(key, width, height, values)).map_err(failed)?;
+    fs::rename(&tmp, &path).map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        failed(e)
+    })?;
     Ok(path)
 }
 
