@@ -56,3 +56,23 @@ pub fn sweep_spec(text: &str) -> Result<Vec<String>> {
 pub fn results_jsonl(text: &str) -> Result<usize> {
     crate::report::results::parse_results(text, Path::new("input.jsonl")).map(|rows| rows.len())
 }
+
+/// A reference cache file (`<key>.vis`, src/reference/cache.rs) as it is read: the number of
+/// values, or what is wrong with it.
+pub fn reference_cache(bytes: &[u8]) -> Result<usize> {
+    crate::reference::parse_cache_file(bytes)
+        .map(|e| e.values.len())
+        .map_err(|message| crate::Error::Io { path: "input.vis".into(), message })
+}
+
+/// The same with its last 32 bytes replaced by the digest of the rest, so that mutated inputs
+/// reach the checks behind the digest (the size and the values) instead of stopping at it.
+pub fn reference_cache_resealed(bytes: &[u8]) -> Result<usize> {
+    use sha2::{Digest, Sha256};
+    let mut sealed = bytes.to_vec();
+    if let Some(body) = bytes.len().checked_sub(32) {
+        let digest = Sha256::digest(&bytes[..body]);
+        sealed[body..].copy_from_slice(&digest);
+    }
+    reference_cache(&sealed)
+}

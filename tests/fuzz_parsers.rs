@@ -160,6 +160,17 @@ fn results_jsonl() {
     assert!(ok > 100, "{ok}");
 }
 
+#[test]
+fn reference_cache() {
+    // As given, almost every mutation breaks the digest; resealed, it reaches the size and the
+    // value checks (a flipped byte in a value often leaves [0, 1]).
+    let (_, ok) = fuzz("reference_cache", |b| {
+        let _ = inputs::reference_cache(b);
+        inputs::reference_cache_resealed(b).is_ok()
+    });
+    assert!(ok > 100, "{ok}");
+}
+
 /// Inputs cargo-fuzz found that once panicked: each must now be rejected with a message.
 #[test]
 fn fuzz_findings_stay_fixed() {

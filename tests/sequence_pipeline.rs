@@ -166,6 +166,46 @@ fn bad_sequence_flags_are_one_line_and_write_nothing() {
     }
 }
 
+/// A moved light goes through the scene file's light checks in every frame, before any frame is
+/// traced or rendered; a sun, which has no position, is not moved at all.
+#[test]
+fn moved_lights_are_checked_before_any_frame() {
+    let dir = temp_dir("sequence_lights");
+    let out = dir.join("out");
+    let disk = dir.join("disk.toml");
+    let head = tiny_scene_head!().replace(
+        "center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]",
+        "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 1.0",
+    );
+    std::fs::write(&disk, format!("{head}[[mesh]]\nbuiltin = \"plane\"\nscale = 10.0\n")).unwrap();
+    let d = disk.display();
+    for (args, message) in [
+        (
+            vec!["--scene", "sun-edge"],
+            "error: --animate light: builtin:sun-edge's light is a sun (kind = \"sun\"), which has a direction but no position, so moving it changes nothing; animate the camera (--animate camera) or a mesh (--animate occluder)".to_string(),
+        ),
+        // The disk ends 2 below the ground, facing down: the file would be refused the same way.
+        (
+            vec!["--scene", disk.to_str().unwrap(), "--frames", "3", "--offset", "0,-10,0"],
+            format!("error: --animate: frame 3 of 3 (light along a segment by (0, -10, 0), the light's centre at [0.0, -2.0, 0.0]): {d}: light: the disk emits along light.normal = [0.0, -1.0, 0.0], away from every mesh: nothing would be lit; turn it towards the meshes"),
+        ),
+        // Halfway, the sphere (radius 1.5) reaches into the ground.
+        (
+            vec!["--scene", "point-edge", "--frames", "3", "--offset", "0,-10,0"],
+            "error: --animate: frame 2 of 3 (light along a segment by (0, -10, 0), the light's centre at [1.0, 1.0, 0.5]): builtin:point-edge: light.position = [1.0, 1.0, 0.5], light.radius = 1.5: the emitter's sphere reaches into mesh 1 (a triangle of it is 1 from the centre)".to_string(),
+        ),
+    ] {
+        let mut all = vec!["sequence", "--methods", "hard", "--out", out.to_str().unwrap()];
+        all.extend(args.iter().copied());
+        let r = penumbra(&dir.join("cache"), &all);
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{all:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{all:?}: {stderr}");
+        assert!(stderr.starts_with(&message), "{all:?}:\n{stderr}\n{message}");
+        assert!(!out.exists() && !dir.join("cache").exists(), "{all:?} wrote output or traced a reference");
+    }
+}
+
 #[test]
 fn the_failure_gallery_states_each_failure_from_its_figures() {
     let _ = common::gpu(); // fails here, with instructions, when no adapter exists

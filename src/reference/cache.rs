@@ -1,14 +1,23 @@
 //! On-disk cache of reference images: a ray-traced ground truth costs minutes, the key is cheap.
 //!
-//! File `<dir>/<key>.vis`: magic `PNMBREF1`, then little-endian `u32 width`, `u32 height`,
-//! `u32 key_len`, the key's UTF-8 bytes, then `width·height` `f32` values, row-major.
+//! File `<dir>/<key>.vis` (format 2): magic `PNMBREF2`, then little-endian `u32 width`,
+//! `u32 height`, `u32 key_len`, the key's UTF-8 bytes, `width·height` `f32` values (row-major),
+//! and last the sha256 of every byte before it. A figure is only as good as its reference, so an
+//! entry is used only when its digest matches and every value is a visibility (finite, in [0, 1]);
+//! anything else is [`Lookup::Damaged`], which the caller traces again (docs/robustness.md).
+//! Format 1 (`PNMBREF1`) had no digest: such a file is damaged by definition and traced again.
 
 use super::{RefLight, ReferenceError, ReferenceMode};
+use sha2::{Digest, Sha256};
 use std::fs;
-use std::io::{self, ErrorKind};
+use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
 
-const MAGIC: &[u8; 8] = b"PNMBREF1";
+const MAGIC: &[u8; 8] = b"PNMBREF2";
+/// The format before digests: never trusted.
+const OLD_MAGIC: &[u8; 8] = b"PNMBREF1";
+const HEADER: usize = 20;
+const DIGEST: usize = 32;
 
 /// FNV-1a 64-bit over the parts, each prefixed by its length so `["ab","c"] != ["a","bc"]`.
 /// Returned as 16 lowercase hex digits. Not cryptographic: keys name cache files, nothing more.
@@ -61,6 +70,22 @@ pub fn cache_path(dir: &Path, key: &str) -> PathBuf {
     dir.join(format!("{key}.vis"))
 }
 
+/// The bytes of one cache file: header, key, values and their digest.
+pub fn encode(key: &str, width: u32, height: u32, values: &[f32]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(HEADER + key.len() + 4 * values.len() + DIGEST);
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&width.to_le_bytes());
+    bytes.extend_from_slice(&height.to_le_bytes());
+    bytes.extend_from_slice(&(key.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(key.as_bytes());
+    for v in values {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let digest = Sha256::digest(&bytes);
+    bytes.extend_from_slice(&digest);
+    bytes
+}
+
 /// Writes the buffer (creating `dir`); written to a temporary name and renamed, so an
 /// interrupted run never leaves a truncated file under the real name.
 pub fn save_cached(
@@ -77,20 +102,15 @@ pub fn save_cached(
             got: values.len(),
         });
     }
-    fs::create_dir_all(dir)?;
-    let mut bytes = Vec::with_capacity(20 + key.len() + 4 * values.len());
-    bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&width.to_le_bytes());
-    bytes.extend_from_slice(&height.to_le_bytes());
-    bytes.extend_from_slice(&(key.len() as u32).to_le_bytes());
-    bytes.extend_from_slice(key.as_bytes());
-    for v in values {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
     let path = cache_path(dir, key);
+    let failed = |source| ReferenceError::CacheWrite { path: path.clone(), source };
+    fs::create_dir_all(dir).map_err(failed)?;
     let tmp = dir.join(format!("{key}.vis.tmp{}", std::process::id()));
-    fs::write(&tmp, &bytes)?;
-    fs::rename(&tmp, &path)?;
+    fs::write(&tmp, encode(key, width, height, values)).map_err(failed)?;
+    fs::rename(&tmp, &path).map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        failed(e)
+    })?;
     Ok(path)
 }
 
@@ -163,46 +183,75 @@ pub fn lock(dir: &Path, key: &str, waiting: &mut dyn FnMut(&str)) -> Result<Cach
     }
 }
 
-/// The cached buffer, `Ok(None)` when absent or stored for another key or size (stale);
-/// `Err` for an unreadable or corrupt file.
-pub fn load_cached(
-    dir: &Path,
-    key: &str,
-    width: u32,
-    height: u32,
-) -> Result<Option<Vec<f32>>, ReferenceError> {
-    let bytes = match fs::read(cache_path(dir, key)) {
+/// One parsed cache file.
+#[derive(Debug, PartialEq)]
+pub struct CacheEntry {
+    pub width: u32,
+    pub height: u32,
+    pub key: Vec<u8>,
+    pub values: Vec<f32>,
+}
+
+/// Parses a cache file's bytes; `Err` says what is wrong, in words that follow the file's name.
+/// Never panics and allocates no more than the input's size (the fuzz target `reference_cache`).
+pub fn parse(bytes: &[u8]) -> Result<CacheEntry, String> {
+    match bytes.get(..8) {
+        Some(m) if m == MAGIC => {}
+        Some(m) if m == OLD_MAGIC => return Err("is in the old cache format (PNMBREF1, no digest)".into()),
+        _ => return Err("is not a reference cache file (no PNMBREF2 magic)".into()),
+    }
+    let u32_at = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    let (Some(width), Some(height), Some(key_len)) = (u32_at(8), u32_at(12), u32_at(16)) else {
+        return Err(format!("is cut short in its header ({} bytes)", bytes.len()));
+    };
+    let n = width as u64 * height as u64;
+    let expected = HEADER as u64 + key_len as u64 + 4 * n + DIGEST as u64;
+    if bytes.len() as u64 != expected {
+        return Err(format!("has {} bytes, but its header ({width}x{height} values, a key of {key_len} bytes) says {expected}", bytes.len()));
+    }
+    let (body, digest) = bytes.split_at(bytes.len() - DIGEST);
+    if Sha256::digest(body).as_slice() != digest {
+        return Err("does not match its sha256 digest: its bytes were damaged".into());
+    }
+    let data_at = HEADER + key_len as usize;
+    let mut values = Vec::with_capacity(n as usize);
+    for (i, c) in body[data_at..].chunks_exact(4).enumerate() {
+        let v = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+        // Written by a bug rather than damaged on disk: the digest matches, the value cannot.
+        if !(0.0..=1.0).contains(&v) {
+            let (x, y) = (i as u64 % width as u64, i as u64 / width as u64);
+            return Err(format!("holds V = {v} at pixel ({x}, {y}), outside [0, 1]"));
+        }
+        values.push(v);
+    }
+    Ok(CacheEntry { width, height, key: body[HEADER..data_at].to_vec(), values })
+}
+
+/// What the cache holds for one key.
+#[derive(Debug, PartialEq)]
+pub enum Lookup {
+    Hit(Vec<f32>),
+    /// No file, or one stored for another key or size (stale): trace.
+    Miss,
+    /// A file that must not be used (damaged, out of range, the old format): the reason, to be
+    /// said once with the file's name before it is traced again.
+    Damaged(String),
+}
+
+/// The cached buffer for `key` at `width`×`height`. `Err` only when the file exists but cannot
+/// be read (permissions, I/O): one line naming it and `--no-cache`.
+pub fn load_cached(dir: &Path, key: &str, width: u32, height: u32) -> Result<Lookup, ReferenceError> {
+    let path = cache_path(dir, key);
+    let bytes = match fs::read(&path) {
         Ok(b) => b,
-        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(e.into()),
+        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(Lookup::Miss),
+        Err(source) => return Err(ReferenceError::CacheRead { path, source }),
     };
-    let corrupt =
-        |what: &str| ReferenceError::Io(io::Error::new(ErrorKind::InvalidData, what.to_string()));
-    let u32_at = |at: usize| -> Option<u32> {
-        Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
-    };
-    if bytes.get(..8) != Some(MAGIC.as_slice()) {
-        return Err(corrupt("reference cache: bad magic"));
-    }
-    let (Some(w), Some(h), Some(key_len)) = (u32_at(8), u32_at(12), u32_at(16)) else {
-        return Err(corrupt("reference cache: truncated header"));
-    };
-    let data_at = 20 + key_len as usize;
-    let Some(stored_key) = bytes.get(20..data_at) else {
-        return Err(corrupt("reference cache: truncated key"));
-    };
-    if stored_key != key.as_bytes() || w != width || h != height {
-        return Ok(None);
-    }
-    let n = w as usize * h as usize;
-    if bytes.len() != data_at + 4 * n {
-        return Err(corrupt("reference cache: wrong data length"));
-    }
-    let values = bytes[data_at..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    Ok(Some(values))
+    Ok(match parse(&bytes) {
+        Ok(e) if e.key == key.as_bytes() && e.width == width && e.height == height => Lookup::Hit(e.values),
+        Ok(_) => Lookup::Miss,
+        Err(why) => Lookup::Damaged(why),
+    })
 }
 
 #[cfg(test)]
@@ -270,17 +319,14 @@ mod tests {
     }
 
     #[test]
-    fn round_trip_stale_and_corrupt() -> Result<(), ReferenceError> {
+    fn round_trip_stale_and_cut_short() -> Result<(), ReferenceError> {
         let dir = std::env::temp_dir().join(format!("penumbra-ref-cache-{}", std::process::id()));
         let key = cache_key(&[b"scene", b"lattice"]);
-        assert!(load_cached(&dir, &key, 2, 2)?.is_none());
+        assert_eq!(load_cached(&dir, &key, 2, 2)?, Lookup::Miss);
         let values = [0.0, 0.25, 1.0, 0.5];
         let path = save_cached(&dir, &key, 2, 2, &values)?;
-        assert_eq!(load_cached(&dir, &key, 2, 2)?, Some(values.to_vec()));
-        assert!(
-            load_cached(&dir, &key, 4, 1)?.is_none(),
-            "other size is stale"
-        );
+        assert_eq!(load_cached(&dir, &key, 2, 2)?, Lookup::Hit(values.to_vec()));
+        assert_eq!(load_cached(&dir, &key, 4, 1)?, Lookup::Miss, "other size is stale");
         assert!(matches!(
             save_cached(&dir, &key, 3, 3, &values),
             Err(ReferenceError::SizeMismatch {
@@ -288,12 +334,44 @@ mod tests {
                 got: 4
             })
         ));
-        fs::write(&path, b"PNMBREF1\x02\x00")?;
-        assert!(
-            load_cached(&dir, &key, 2, 2).is_err(),
-            "truncated file is an error"
-        );
+        fs::write(&path, b"PNMBREF2\x02\x00")?;
+        assert_eq!(load_cached(&dir, &key, 2, 2)?, Lookup::Damaged("is cut short in its header (10 bytes)".into()));
         fs::remove_dir_all(&dir)?;
         Ok(())
+    }
+
+    /// Damage that keeps the file's size: each is caught by the digest, and values that are no
+    /// visibility (a bug's write, digest and all) by the range check.
+    #[test]
+    fn damage_with_the_size_kept_is_caught() {
+        let values: Vec<f32> = (0..64).map(|i| i as f32 / 63.0).collect();
+        let key = "0123456789abcdef";
+        let good = encode(key, 8, 8, &values);
+        assert_eq!(parse(&good).map(|e| e.values), Ok(values.clone()));
+        let data_at = HEADER + key.len();
+        let damaged = "does not match its sha256 digest: its bytes were damaged";
+        let mut flipped = good.clone();
+        flipped[data_at + 4 * 9 + 3] ^= 0x40;
+        assert_eq!(parse(&flipped), Err(damaged.to_string()));
+        let mut zeroed = good.clone();
+        zeroed[data_at + 40..data_at + 104].fill(0);
+        assert_eq!(parse(&zeroed), Err(damaged.to_string()));
+        for (bad, shown) in [(7.0f32, "7"), (f32::NAN, "NaN"), (-0.5, "-0.5"), (f32::INFINITY, "inf")] {
+            let mut written = good.clone();
+            written[data_at + 4 * 10..data_at + 4 * 11].copy_from_slice(&bad.to_le_bytes());
+            assert_eq!(parse(&written), Err(damaged.to_string()), "{bad} written over the payload");
+            // The same value with the digest recomputed over it: the range check.
+            let mut v = values.clone();
+            v[10] = bad;
+            assert_eq!(parse(&encode(key, 8, 8, &v)), Err(format!("holds V = {shown} at pixel (2, 1), outside [0, 1]")));
+        }
+        // Format 1 (no digest) is never trusted.
+        let mut old = good[..good.len() - DIGEST].to_vec();
+        old[..8].copy_from_slice(OLD_MAGIC);
+        assert_eq!(parse(&old), Err("is in the old cache format (PNMBREF1, no digest)".to_string()));
+        // A header claiming more than the file holds allocates nothing.
+        let mut huge = good.clone();
+        huge[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(parse(&huge).unwrap_err().starts_with(&format!("has {} bytes, but its header", good.len())));
     }
 }

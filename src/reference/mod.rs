@@ -34,7 +34,8 @@ pub use analytic::{
     analytic_square_visibility,
 };
 pub use cache::{
-    CacheLock, REFERENCE_VERSION, cache_key, cache_path, load_cached, lock, reference_key, save_cached,
+    CacheEntry, CacheLock, Lookup, REFERENCE_VERSION, cache_key, cache_path, load_cached, lock, parse as parse_cache_file,
+    reference_key, save_cached,
 };
 pub use emitter::{RefEmitter, try_trace_emitter};
 pub use tracer::{Hit, Tracer};
@@ -136,6 +137,11 @@ pub enum ReferenceError {
     SizeMismatch { expected: usize, got: usize },
     #[error("reference cache: {0}")]
     Io(#[from] std::io::Error),
+    /// A cache file that exists but cannot be read: refused rather than overwritten unseen.
+    #[error("cannot read the reference cache file {}: {source}; remove it, or run with --no-cache to trace the reference afresh and replace it", path.display())]
+    CacheRead { path: std::path::PathBuf, source: std::io::Error },
+    #[error("cannot write the reference cache file {}: {source}", path.display())]
+    CacheWrite { path: std::path::PathBuf, source: std::io::Error },
 }
 
 pub use crate::scene::rays::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};

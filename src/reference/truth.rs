@@ -213,19 +213,32 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
         std_error: None,
     };
     // Concurrent runs (shards) share the cache: the first to miss traces under the entry's lock,
-    // the others wait for the lock and then read what it wrote. A corrupt cache file is an
-    // error worth seeing, not something to overwrite silently.
+    // the others wait for the lock and then read what it wrote. A damaged entry (digest, values
+    // outside [0, 1], the old format) is never used: one warning names it, and it is traced
+    // again and replaced, so the figures equal a clean run's.
     let mut _lock = None;
     if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
-        let hit = |image: &mut ReferenceImage| -> Result<bool> {
+        let mut warned = false;
+        let mut hit = |image: &mut ReferenceImage| -> Result<bool> {
             if !matches!(cache, Cache::Use(_)) {
                 return Ok(false);
             }
-            let Some(values) = reference::load_cached(dir, &key, g.width, g.height)? else { return Ok(false) };
-            image.values = values;
-            image.cache_file = Some(reference::cache_path(dir, &key));
-            image.cached = true;
-            Ok(true)
+            let path = reference::cache_path(dir, &key);
+            match reference::load_cached(dir, &key, g.width, g.height)? {
+                reference::Lookup::Hit(values) => {
+                    image.values = values;
+                    image.cache_file = Some(path);
+                    image.cached = true;
+                    Ok(true)
+                }
+                reference::Lookup::Miss => Ok(false),
+                reference::Lookup::Damaged(why) => {
+                    if !std::mem::replace(&mut warned, true) {
+                        progress::suspend(|| eprintln!("warning: reference cache file {} {why}: not used; tracing the reference again", path.display()));
+                    }
+                    Ok(false)
+                }
+            }
         };
         if hit(&mut image)? {
             return Ok(image);

@@ -133,6 +133,17 @@ impl Emitter {
         }
     }
 
+    /// The same emitter moved by `by` (a sequence's moving light; `Scene::light` moves with it).
+    /// A sun is at infinity and a rectangle is `Scene::light` itself: both are returned as they are.
+    pub fn moved(&self, by: Vec3) -> Emitter {
+        match *self {
+            Emitter::Disk(d) => Emitter::Disk(DiskLight { center: d.center + by, ..d }),
+            Emitter::Spot(s) => Emitter::Spot(SpotLight { position: s.position + by, ..s }),
+            Emitter::Point(p) => Emitter::Point(PointLight { position: p.position + by, ..p }),
+            Emitter::Rect | Emitter::Sun(_) => *self,
+        }
+    }
+
     /// A square with the emitter's place and size, facing the meshes: the shading direction of
     /// the frame (and the nominal light of the checks that read `Scene::light`). `None` for `Rect`.
     pub fn stand_in(&self, bounds: &Bounds) -> Option<AreaLight> {

@@ -3,7 +3,7 @@
 
 use super::emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
 use super::coords::{finite, MAX_COORDINATE};
-use super::light::{AreaLight, Bounds};
+use super::light::AreaLight;
 use crate::{Error, Result};
 use glam::Vec3;
 use serde::Deserialize;
@@ -156,19 +156,6 @@ fn radius(origin: &str, kind: LightKind, v: Option<f32>) -> Result<f32> {
         return Err(Error::scene(origin, format!("light.radius = {r}: must be positive and at most {MAX_COORDINATE:e} (a soft shadow needs an emitter of some size)")));
     }
     Ok(r)
-}
-
-/// A disk or spot turned away from every mesh lights nothing: refused, as a rectangle facing away is.
-pub(super) fn check_side(origin: &str, emitter: &Emitter, bounds: &Bounds) -> Result<()> {
-    let (at, along, what) = match emitter {
-        Emitter::Disk(d) => (d.center, d.normal, "the disk emits along light.normal"),
-        Emitter::Spot(s) => (s.position, s.direction, "the spot points along light.direction"),
-        _ => return Ok(()),
-    };
-    if bounds.corners().iter().map(|c| (*c - at).dot(along)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
-        return Err(Error::scene(origin, format!("light: {what} = {:?}, away from every mesh: nothing would be lit; turn it towards the meshes", along.to_array())));
-    }
-    Ok(())
 }
 
 pub(super) fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {

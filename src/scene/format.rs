@@ -286,12 +286,9 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
     }
     let bounds = Bounds { min, max };
     let light = match (parts.emitter.stand_in(&bounds), parts.light) {
-        (Some(stand_in), _) => {
-            super::emitter_def::check_side(origin, &parts.emitter, &bounds)?;
-            stand_in
-        }
-        (None, Some(light)) => {
-            check_light_side(origin, &light, &bounds)?;
+        (Some(light), _) | (None, Some(light)) => {
+            let lit = super::light_checks::Lit { bounds: &bounds, eye: parts.camera.eye, vertices: &vertices, indices: &indices };
+            super::light_checks::check(origin, &light, &parts.emitter, &lit)?;
             light
         }
         (None, None) => crate::scene::environment::scene::light_above(min, max),
@@ -324,19 +321,3 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
     }
     Ok(scene)
 }
-
-/// The light emits along edge_u × edge_v: with every mesh behind its plane, V = 0 everywhere.
-pub(super) fn check_light_side(origin: &str, light: &AreaLight, bounds: &Bounds) -> Result<()> {
-    let n = light.normal();
-    if bounds.corners().iter().map(|c| (*c - light.center).dot(n)).fold(f32::NEG_INFINITY, f32::max) <= 0.0 {
-        return Err(Error::scene(
-            origin,
-            format!(
-                "light: emits along {:?} (edge_u × edge_v, or `normal`), away from every mesh: nothing would be lit; flip `normal` or swap edge_u and edge_v",
-                n.to_array()
-            ),
-        ));
-    }
-    Ok(())
-}
-

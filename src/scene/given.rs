@@ -93,10 +93,11 @@ impl Scene {
         Ok(camera)
     }
 
-    /// `light` checked as a scene file's `[light]` is, and against these meshes' side of it.
+    /// `light` checked as a scene file's `[light]` is, and against these meshes (src/scene/light_checks.rs).
     pub fn check_light(&self, light: &AreaLight) -> Result<AreaLight> {
         let light = build_light(&light_def(light), &self.origin)?;
-        format::check_light_side(&self.origin, &light, &self.bounds)?;
+        let lit = super::light_checks::Lit { bounds: &self.bounds, eye: self.camera.eye, vertices: &self.vertices, indices: &self.indices };
+        super::light_checks::check(&self.origin, &light, &crate::scene::Emitter::Rect, &lit)?;
         Ok(light)
     }
 }

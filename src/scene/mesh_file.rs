@@ -25,7 +25,8 @@ pub struct MeshDirs<'a> {
     pub max_mesh_bytes: Option<u64>,
 }
 
-/// Resolves a `cache:` path; a missing file is an error that says how to fetch it.
+/// Resolves a `cache:` path; a missing file is an error that says how to fetch it, and a file
+/// whose pinned digest no longer matches (assets::check_pinned) one that says how to replace it.
 pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     let rel = file.strip_prefix(CACHE_PREFIX).unwrap_or(file);
     if rel.is_empty() || Path::new(rel).is_absolute() || rel.split(['/', '\\']).any(|c| c == "..") {
@@ -47,6 +48,7 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
             ),
         ));
     }
+    assets::check_pinned(rel, &path).map_err(|why| Error::mesh(file, why))?;
     Ok(path)
 }
 

@@ -4,6 +4,7 @@ pub mod assets;
 mod builtin;
 pub mod environment;
 pub mod light;
+pub mod light_checks;
 mod catalog;
 mod coords;
 pub mod emitter;

@@ -49,6 +49,17 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Moves the light by `by`: the emitter and the rectangle, or the emitter's stand-in square
+    /// built afresh as the scene file's would be, so that the methods and the reference see the
+    /// same light (before, a disk's, spot's or point's reference stayed where the file put it).
+    pub fn move_light(&mut self, by: Vec3) {
+        self.emitter = self.emitter.moved(by);
+        match self.emitter.stand_in(&self.bounds) {
+            Some(stand_in) => self.light = stand_in,
+            None => self.light.center += by,
+        }
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }

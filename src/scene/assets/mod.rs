@@ -15,6 +15,7 @@ mod js_arrays;
 pub(crate) mod manifest;
 mod mesh;
 mod off;
+mod pinned;
 mod ply;
 mod tools;
 mod tree;
@@ -30,6 +31,7 @@ pub use manifest::Group;
 pub use mesh::LoadedMesh;
 pub use input::{max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB};
 pub(crate) use input::{check_mesh_file, open_regular};
+pub(crate) use pinned::check_pinned;
 pub use off::load_off;
 pub use ply::load_ply;
 // In-memory parsers for crate::inputs (fuzzing).

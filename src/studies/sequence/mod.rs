@@ -97,13 +97,27 @@ pub struct SequenceOutcome {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-/// The job's own checks, before the GPU starts (`run` makes them too).
+/// The job's own checks, before the GPU starts (`run` makes them too). Every frame's scene goes
+/// through the scene file's light checks (`scene::light_checks`): a moved light, camera or mesh
+/// can make a light that the file would have been refused for.
 pub fn check(job: &SequenceJob) -> Result<()> {
     if job.frames < 2 || job.frames > MAX_FRAMES {
         return Err(Error::Param(format!("--frames {}: a sequence needs 2..={MAX_FRAMES} frames", job.frames)));
     }
     if job.methods.is_empty() {
         return Err(Error::Param("--methods: no method given".into()));
+    }
+    for i in 0..job.frames {
+        let scene_t = job.animation.frame(job.scene, i, job.frames);
+        if let Err(e) = crate::scene::light_checks::check_scene(&scene_t) {
+            let light = scene_t.light.center.to_array();
+            return Err(Error::Param(format!(
+                "--animate: frame {} of {} ({}, the light's centre at {light:?}): {e}",
+                i + 1,
+                job.frames,
+                job.animation.describe(job.scene)
+            )));
+        }
     }
     Ok(())
 }

@@ -96,6 +96,12 @@ impl AnimationSpec {
             "occluder" => Subject::Occluder,
             other => return Err(param(format!("--animate {other}: use light, camera or occluder"))),
         };
+        if subject == Subject::Light && matches!(scene.emitter, crate::scene::Emitter::Sun(_)) {
+            return Err(param(format!(
+                "--animate light: {}'s light is a sun (kind = \"sun\"), which has a direction but no position, so moving it changes nothing; animate the camera (--animate camera) or a mesh (--animate occluder)",
+                scene.origin
+            )));
+        }
         let default_path = if subject == Subject::Camera { "orbit" } else { "segment" };
         let path_name = self.path.as_deref().unwrap_or(default_path);
         let allowed: &[&str] = match subject {
@@ -173,10 +179,10 @@ impl Animation {
         let angle = std::f32::consts::TAU * i as f32 / frames.max(1) as f32;
         let mut out = scene.clone();
         match (self.subject, self.path) {
-            (Subject::Light, Path::Segment { offset }) => out.light.center += s * Vec3::from(offset),
+            (Subject::Light, Path::Segment { offset }) => out.move_light(s * Vec3::from(offset)),
             (Subject::Light, Path::Circle { radius }) => {
                 let (u, v) = (scene.light.edge_u.normalize(), scene.light.edge_v.normalize());
-                out.light.center += radius * (angle.cos() * u + angle.sin() * v);
+                out.move_light(radius * (angle.cos() * u + angle.sin() * v));
             }
             (Subject::Camera, Path::Orbit { degrees }) => {
                 let c = &scene.camera;
@@ -265,6 +271,22 @@ translate = [0.0, 2.0, 0.0]
         assert_eq!(a.frame(&s, 0, 5).light.center, Vec3::new(0.0, 8.0, 0.0));
         assert_eq!(a.frame(&s, 2, 5).light.center, Vec3::new(2.0, 8.0, -1.0));
         assert_eq!(a.frame(&s, 4, 5).light.center, Vec3::new(4.0, 8.0, -2.0));
+    }
+
+    #[test]
+    fn a_moved_disk_moves_its_emitter_and_a_sun_is_not_moved() {
+        let disk = SCENE.replace("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 1.0");
+        let s = Scene::parse(&disk, "disk.toml", None, &[]).unwrap();
+        let a = AnimationSpec { offset: Some("3,0,0".into()), ..spec("light") }.resolve(&s).unwrap();
+        let end = a.frame(&s, 1, 2);
+        let crate::scene::Emitter::Disk(d) = end.emitter else { panic!("not a disk") };
+        assert_eq!((d.center, end.light.center), (Vec3::new(3.0, 8.0, 0.0), Vec3::new(3.0, 8.0, 0.0)));
+        let sun = SCENE.replace("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "kind = \"sun\"\ndirection = [0.3, -1.0, 0.0]\nangular_diameter_deg = 1.0");
+        let s = Scene::parse(&sun, "sun.toml", None, &[]).unwrap();
+        assert_eq!(
+            spec("light").resolve(&s).unwrap_err().to_string(),
+            "--animate light: sun.toml's light is a sun (kind = \"sun\"), which has a direction but no position, so moving it changes nothing; animate the camera (--animate camera) or a mesh (--animate occluder)"
+        );
     }
 
     #[test]
