@@ -89,3 +89,22 @@ fn framing_refuses_a_sun_scaled_into_a_sky() {
     assert!(first.starts_with("error: --light-scales: 100 makes sun-edge's sun ") && first.contains("over the 30° a sun may be"), "{first}");
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "the refused run wrote files");
 }
+
+/// A rectangle scaled past ten scene diagonals goes through the scene file's light checks and is
+/// refused before any reference is traced, naming the scale and the scene.
+#[test]
+fn framing_refuses_a_light_scaled_past_the_scene() {
+    let dir = common::temp_dir("framing_light_scale");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(["framing", "--scene", "default", "--light-scales", "1,100"])
+        .current_dir(&dir)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let first = stderr.lines().next().unwrap_or("");
+    assert!(first.starts_with("error: --light-scales 100 on --scene default: builtin:default: light.edge_u") && first.contains("over 10 × the meshes' diagonal"), "{first}");
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "the refused run wrote files");
+}

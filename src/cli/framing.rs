@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use penumbra::gpu::{AdapterRequest, GpuContext};
 use penumbra::record::{output_set, run_files};
 use penumbra::reference::truth;
-use penumbra::scene::{Scene, MAX_SUN_DIAMETER_DEG};
+use penumbra::scene::{light_checks, Scene, MAX_SUN_DIAMETER_DEG};
 use penumbra::studies::compare::methods_list;
 use penumbra::studies::framing::{self, FramingJob};
 use penumbra::studies::lists::listed_once;
@@ -67,6 +67,14 @@ pub fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
                     sun.angular_diameter_deg
                 );
             }
+        }
+    }
+    // Each scaled light through the scene file's light checks, before any reference is traced: a
+    // light scaled past ten scene diagonals, or a sphere scaled into a mesh, would measure nothing.
+    for (scene, name) in scenes.iter().zip(&args.scenes) {
+        for &k in &args.light_scales {
+            light_checks::check_scene(&framing::configure(scene, scene.render.width, k))
+                .with_context(|| format!("--light-scales {k} on --scene {name}"))?;
         }
     }
     if args.repeats == 0 || args.repeats > 1000 {

@@ -193,7 +193,9 @@ fn check_extent(origin: &str, light: &AreaLight, emitter: &Emitter, bounds: &Bou
     Err(Error::scene(
         origin,
         format!(
-            "{given}: the light is {across:e} across, over {MAX_LIGHT_DIAGONALS} × the meshes' diagonal of {diagonal:.3} ({limit:.3}): it would light the scene as a sky, which the shadow maps fitted to the scene cannot see; shrink it (a light far away is kind = \"sun\")"
+            "{given}: the light is {} across, over {MAX_LIGHT_DIAGONALS} × the meshes' diagonal of {diagonal:.3} ({limit:.3}): it would light the scene as a sky, which the shadow maps fitted to the scene cannot see; shrink it (a light far away is kind = \"sun\")",
+            // Plain digits while they read well; a disk of radius 1e6 reads as 2e6, not 2000000.000.
+            if across >= 1e5 { format!("{across:e}") } else { format!("{across:.3}") }
         ),
     ))
 }
