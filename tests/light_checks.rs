@@ -112,9 +112,9 @@ fn a_light_that_dwarfs_the_scene_is_refused() {
         "bad.toml: light.radius = 1000000: the light is 2e6 across, over 10 × the meshes' diagonal of 42.453 (424.529): it would light the scene as a sky, which the shadow maps fitted to the scene cannot see; shrink it (a light far away is kind = \"sun\")"
     );
     assert!(parse(&disk("200.0")).is_ok(), "400 across is within 424.5");
-    assert!(refused(&disk("213.0")).starts_with("bad.toml: light.radius = 213: the light is 4.26e2 across"));
+    assert!(refused(&disk("213.0")).starts_with("bad.toml: light.radius = 213: the light is 426.000 across"));
     let rect = "center = [0.0, 8.0, 0.0]\nedge_u = [400.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 300.0]\n";
-    assert!(refused(rect).starts_with("bad.toml: light.edge_u = [400.0, 0.0, 0.0], light.edge_v = [0.0, 0.0, 300.0] (or light.size): the light is 5e2 across"), "{}", refused(rect));
+    assert!(refused(rect).starts_with("bad.toml: light.edge_u = [400.0, 0.0, 0.0], light.edge_v = [0.0, 0.0, 300.0] (or light.size): the light is 500.000 across"), "{}", refused(rect));
 }
 
 #[test]
