@@ -118,6 +118,12 @@ impl<'a> Renderer<'a> {
     fn assemble(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
         // Every size against the device and the host first: one line, not a wgpu panic later.
         crate::methods::sizes::check(ctx, scene, method)?;
+        // What the plan cannot foresee (memory another process holds) fails here as one line too.
+        ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || Self::create(ctx, scene, method, kept))
+    }
+
+    /// `assemble` once the sizes are checked: every buffer, texture and pipeline of the frame.
+    fn create(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
         let start = Instant::now();
         let (w, h) = (scene.render.width, scene.render.height);
         // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).

@@ -23,6 +23,7 @@ pub mod record;
 pub mod report;
 pub mod studies;
 pub mod inputs;
+pub mod interrupt;
 
 pub use api::{required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
 pub use error::{Error, Result};

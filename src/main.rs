@@ -107,6 +107,10 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // SIGINT and SIGTERM finish a commit under way, or remove the staging folder, before the end.
+    if let Err(e) = penumbra::interrupt::install() {
+        eprintln!("warning: signals are not caught ({e}): an interrupt may leave a staging folder for the next run");
+    }
     // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());

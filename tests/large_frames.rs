@@ -6,7 +6,7 @@
 mod common;
 use common::{penumbra, temp_dir};
 use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::size_plan::Bound;
+use penumbra::gpu::size_plan::{Bound, DeviceBounds};
 use penumbra::gpu::timing::TimingMode;
 use penumbra::gpu::{AdapterRequest, GpuContext};
 use penumbra::methods::{sizes, Method};
@@ -167,7 +167,7 @@ fn a_6000_frame_is_refused_only_where_v_is_bound_whole() {
     let limits = wgpu::Limits { max_storage_buffer_binding_size: 134_217_728, max_buffer_size: 2_147_483_647, max_texture_dimension_2d: 16384, ..Default::default() };
     for (spec, refused) in [("hard", false), ("regular:n=17", false), ("adaptive:preset=seed", false), ("pcss", false), ("msm", false), ("ssao", true), ("adaptive:scope=local", true)] {
         let plan = sizes::plan(&scene, &Method::parse(spec, &[]).unwrap(), &limits, false);
-        match plan.check(&limits, None) {
+        match plan.check(&DeviceBounds { limits: limits.clone(), largest_heap: None }, None) {
             Ok(()) => assert!(!refused, "{spec} passed"),
             Err(e) => {
                 assert!(refused, "{spec}: {e}");

@@ -2,6 +2,8 @@
 //! parameter, never read from the environment here (the binary maps `--backend` and `WGPU_BACKEND`).
 
 use super::adapter::{self, AdapterRequest, BackendChoice, Candidate};
+use super::allocation::{self, Uncaptured};
+use super::size_plan::DeviceBounds;
 use crate::{Error, Result};
 use serde::Serialize;
 
@@ -24,6 +26,11 @@ pub struct GpuContext {
     pub summary: AdapterSummary,
     /// Timestamps are recorded only where they can be trusted (not on CPU adapters).
     pub timestamps_trusted: bool,
+    /// The largest device-local memory heap (`allocation::largest_heap`): the most one allocation
+    /// may take. None where the backend does not say.
+    pub largest_heap: Option<u64>,
+    /// The first device error no scope caught, on a device requested here; `wait` returns it.
+    uncaptured: Option<Uncaptured>,
 }
 
 impl GpuContext {
@@ -81,7 +88,10 @@ impl GpuContext {
             })
             .await
             .map_err(|e| Error::Gpu(format!("request_device on {}: {e}", info.name)))?;
-        Ok(Self::from_device(adapter, device, queue, choice.reason))
+        let uncaptured = allocation::keep_uncaptured(&device);
+        let mut ctx = Self::from_device(adapter, device, queue, choice.reason);
+        ctx.uncaptured = Some(uncaptured);
+        Ok(ctx)
     }
 
     /// A context on a device someone else requested (the embedding API: the caller's device);
@@ -98,19 +108,35 @@ impl GpuContext {
         };
         let timestamps_trusted =
             device.features().contains(wgpu::Features::TIMESTAMP_QUERY) && info.device_type != wgpu::DeviceType::Cpu;
-        Self { adapter, device, queue, summary, timestamps_trusted }
+        // The caller's device keeps the caller's error handler.
+        let largest_heap = allocation::largest_heap(&adapter);
+        Self { adapter, device, queue, summary, timestamps_trusted, largest_heap, uncaptured: None }
     }
 
     pub fn limits(&self) -> wgpu::Limits {
         self.device.limits()
     }
 
-    /// Waits until every submitted command has finished; one CPU↔GPU synchronisation.
+    /// The limits and the largest heap, as the size plan checks them.
+    pub fn bounds(&self) -> DeviceBounds {
+        DeviceBounds { limits: self.limits(), largest_heap: self.largest_heap }
+    }
+
+    /// Runs `create` (buffers, textures, pipelines) inside error scopes: what the device refuses
+    /// becomes `Error::Gpu("{what}: …")`, one line (`allocation::scoped`).
+    pub fn scoped<T>(&self, what: &str, create: impl FnOnce() -> Result<T>) -> Result<T> {
+        allocation::scoped(&self.device, what, create)
+    }
+
+    /// Waits until every submitted command has finished; one CPU↔GPU synchronisation. A device
+    /// error that no scope caught since the last wait is returned here.
     pub fn wait(&self) -> Result<()> {
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
-            .map_err(|e| Error::Gpu(format!("poll: {e}")))
+            .map_err(|e| Error::Gpu(format!("poll: {e}")))?;
+        let kept = self.uncaptured.as_ref().and_then(|u| u.lock().unwrap_or_else(|p| p.into_inner()).take());
+        kept.map_or(Ok(()), |e| Err(Error::Gpu(e)))
     }
 
     /// Text for `penumbra info`.
@@ -119,6 +145,7 @@ impl GpuContext {
         let s = &self.summary;
         format!(
             "adapter:      {}\nbackend:      {}\nchosen:       {}\ndevice type:  {}\ndriver:       {} ({})\ntimestamps:   {}\n\
+             largest heap: {}\n\
              limits in use:\n  max_texture_dimension_2d      {}\n  max_texture_array_layers      {}\n  \
              max_storage_buffer_binding_size {}\n  min_storage_buffer_offset_alignment {}\n  max_buffer_size               {}\n  max_compute_invocations/wg    {}\n  \
              max_compute_workgroups/dim    {}\n  max_compute_workgroup_storage {}\n  max_bind_groups               {}\n  \
@@ -130,6 +157,7 @@ impl GpuContext {
             s.driver,
             s.driver_info,
             if self.timestamps_trusted { "trusted (GPU timestamps recorded)" } else { "not trusted on this adapter (wall clock only)" },
+            self.largest_heap.map_or("not known on this backend".to_string(), |b| format!("{b} bytes (the most one allocation may take)")),
             l.max_texture_dimension_2d,
             l.max_texture_array_layers,
             l.max_storage_buffer_binding_size,

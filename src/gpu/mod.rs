@@ -1,6 +1,7 @@
 //! Headless GPU access: device selection, pipelines, buffers and read-backs.
 
 pub(crate) mod adapter;
+pub mod allocation;
 pub(crate) mod context;
 pub mod kernels;
 pub mod pipeline;

@@ -1,7 +1,9 @@
-//! A frame's sizes, checked before any GPU work: every buffer, binding and texture side the frame
-//! and its method will create, against the device's limits by their wgpu names, and the host memory
+//! A frame's sizes, checked before any GPU work: every buffer, binding, texture side and texture
+//! array the frame and its method will create, against the device's limits by their wgpu names and
+//! against the most the device can allocate at once (its largest memory heap), and the host memory
 //! the frame needs against what /proc/meminfo says is available. Past a limit wgpu would end the
-//! process with a validation panic, and the host would abort on out of memory; this gives one line.
+//! process with a validation or out-of-memory error, and the host would abort on out of memory;
+//! this gives one line.
 
 use crate::{Error, Result};
 
@@ -18,6 +20,17 @@ pub enum Bound {
     Buffer,
     /// The side of a 2D texture, in texels: `max_texture_dimension_2d`.
     TextureSide,
+    /// A texture array of `layers` layers, `amount` bytes in all: `max_texture_array_layers`, and
+    /// one allocation, so at most the device's largest memory heap.
+    Array { layers: u32 },
+}
+
+/// What the device allows: its limits, and the most it can allocate at once (None: not known).
+#[derive(Clone, Debug)]
+pub struct DeviceBounds {
+    pub limits: wgpu::Limits,
+    /// The largest device-local memory heap, in bytes (`GpuContext::largest_heap`).
+    pub largest_heap: Option<u64>,
 }
 
 /// One size: what it is (the buffer's label), how large (bytes, or texels for a side), which limit.
@@ -43,6 +56,9 @@ impl SizeNeed {
     pub fn side(what: impl Into<String>, texels: u64) -> Self {
         Self { what: what.into(), amount: texels, bound: Bound::TextureSide, setting: None }
     }
+    pub fn array(what: impl Into<String>, bytes: u64, layers: u32) -> Self {
+        Self { what: what.into(), amount: bytes, bound: Bound::Array { layers }, setting: None }
+    }
 
     /// Names `setting` in the error instead of the plan's.
     pub fn sized_by(mut self, setting: impl Into<String>) -> Self {
@@ -51,15 +67,19 @@ impl SizeNeed {
     }
 
     /// The first limit this size passes: the limit's wgpu name and value.
-    fn over(&self, l: &wgpu::Limits) -> Option<(&'static str, u64)> {
+    fn over(&self, d: &DeviceBounds) -> Option<(&'static str, u64)> {
+        let l = &d.limits;
         let buffer = ("max_buffer_size", l.max_buffer_size);
         let binding = ("max_storage_buffer_binding_size", l.max_storage_buffer_binding_size);
         let side = ("max_texture_dimension_2d", l.max_texture_dimension_2d as u64);
+        let layers = ("max_texture_array_layers", l.max_texture_array_layers as u64);
+        let heap = (HEAP, d.largest_heap.unwrap_or(u64::MAX));
         let checks: &[((&'static str, u64), u64)] = match self.bound {
             Bound::Binding => &[(buffer, self.amount), (binding, self.amount)],
             Bound::RowChunks { row } => &[(buffer, self.amount), (binding, row)],
             Bound::Buffer => &[(buffer, self.amount)],
             Bound::TextureSide => &[(side, self.amount)],
+            Bound::Array { layers: n } => &[(layers, n as u64), (heap, self.amount)],
         };
         checks.iter().find(|&&((_, limit), amount)| amount > limit).map(|&(limit, _)| limit)
     }
@@ -74,19 +94,29 @@ pub struct SizePlan {
     /// Host memory the frame needs at its peak: read-backs, the CPU G-buffer, images, and on a
     /// CPU device (lavapipe) the device's own buffers and textures, which live in host memory.
     pub host_bytes: u64,
+    /// The setting that sizes most of `host_bytes`, when not the plan's (a shadow-map budget).
+    pub host_setting: Option<String>,
 }
+
+/// How the one-line error names the device's largest memory heap.
+const HEAP: &str = "largest memory heap (one allocation must fit in one heap)";
 
 impl SizePlan {
     /// The first size over a device limit, then the host memory against `available` (None: not
     /// known, not checked), as one line naming the setting, the size and the limit.
-    pub fn check(&self, limits: &wgpu::Limits, available: Option<u64>) -> Result<()> {
+    pub fn check(&self, device: &DeviceBounds, available: Option<u64>) -> Result<()> {
+        let limits = &device.limits;
         for need in &self.needs {
-            if let Some((name, limit)) = need.over(limits) {
+            if let Some((name, limit)) = need.over(device) {
                 let amount = match need.bound {
                     Bound::TextureSide => format!("a side of {} texels", need.amount),
                     Bound::RowChunks { row } if need.amount <= limits.max_buffer_size => format!("{row} bytes per row, bound at least a row at a time"),
+                    Bound::Array { layers } if name != HEAP => format!("{layers} layers"),
+                    Bound::Array { .. } => format!("{} bytes ({})", need.amount, gib(need.amount)),
                     _ => format!("{} bytes", need.amount),
                 };
+                // One array past the heap: a lower budget splits its maps into smaller arrays.
+                let limit = if name == HEAP { format!("{limit} ({}); lower it to split the maps into smaller arrays", gib(limit)) } else { limit.to_string() };
                 let setting = need.setting.as_deref().unwrap_or(&self.setting);
                 return Err(Error::Limit(format!("{setting}: {} needs {amount}, over this device's {name} {limit}", need.what)));
             }
@@ -95,7 +125,7 @@ impl SizePlan {
             if self.host_bytes > available {
                 return Err(Error::Limit(format!(
                     "{}: the frame needs about {} of host memory (G-buffer read-back, V, images, and the device's memory on a CPU device), over the {} available (MemAvailable in /proc/meminfo)",
-                    self.setting,
+                    self.host_setting.as_deref().unwrap_or(&self.setting),
                     gib(self.host_bytes),
                     gib(available)
                 )));
@@ -126,16 +156,20 @@ mod tests {
     use super::*;
 
     fn lavapipe() -> wgpu::Limits {
-        wgpu::Limits { max_storage_buffer_binding_size: 134_217_728, max_buffer_size: 2_147_483_647, max_texture_dimension_2d: 16384, ..Default::default() }
+        wgpu::Limits { max_storage_buffer_binding_size: 134_217_728, max_buffer_size: 2_147_483_647, max_texture_dimension_2d: 16384, max_texture_array_layers: 2048, ..Default::default() }
+    }
+
+    fn device(largest_heap: Option<u64>) -> DeviceBounds {
+        DeviceBounds { limits: lavapipe(), largest_heap }
     }
 
     fn plan(needs: Vec<SizeNeed>, host_bytes: u64) -> SizePlan {
-        SizePlan { setting: "resolution = 6000".into(), needs, host_bytes }
+        SizePlan { setting: "resolution = 6000".into(), needs, host_bytes, host_setting: None }
     }
 
     #[test]
     fn each_bound_names_its_limit() {
-        let l = lavapipe();
+        let l = device(None);
         let err = |p: SizePlan| p.check(&l, Some(1 << 40)).unwrap_err().to_string();
         assert_eq!(
             err(plan(vec![SizeNeed::binding("V (visibility)", 144_000_000)], 0)),
@@ -162,8 +196,34 @@ mod tests {
     }
 
     #[test]
+    fn an_array_is_one_allocation_within_the_largest_heap_and_the_layer_limit() {
+        let maps = |layers: u32| SizeNeed::array("the shadow-map array", layers as u64 * (64 << 20), layers).sized_by("shadow_map_budget_mib = 4096");
+        let lavapipe = device(Some(2 << 30));
+        // 32 maps of 4096² are exactly the 2 GiB heap; 36 are over it.
+        assert!(plan(vec![maps(32)], 0).check(&lavapipe, None).is_ok());
+        assert_eq!(
+            plan(vec![maps(36)], 0).check(&lavapipe, None).unwrap_err().to_string(),
+            "shadow_map_budget_mib = 4096: the shadow-map array needs 2415919104 bytes (2.2 GiB), over this device's largest memory heap (one allocation must fit in one heap) 2147483648 (2.0 GiB); lower it to split the maps into smaller arrays"
+        );
+        // Without a known heap only the layer limit holds it.
+        assert!(plan(vec![maps(36)], 0).check(&device(None), None).is_ok());
+        assert_eq!(
+            plan(vec![SizeNeed::array("the shadow-map array", 4096, 4096)], 0).check(&device(None), None).unwrap_err().to_string(),
+            "resolution = 6000: the shadow-map array needs 4096 layers, over this device's max_texture_array_layers 2048"
+        );
+    }
+
+    #[test]
+    fn host_memory_names_the_setting_that_sizes_most_of_it() {
+        let mut p = plan(vec![], 3 << 30);
+        p.host_setting = Some("shadow_map_budget_mib = 100000".into());
+        let e = p.check(&device(None), Some(2 << 30)).unwrap_err().to_string();
+        assert!(e.starts_with("shadow_map_budget_mib = 100000: the frame needs about 3.0 GiB of host memory"), "{e}");
+    }
+
+    #[test]
     fn host_memory_is_checked_after_the_device_limits() {
-        let l = lavapipe();
+        let l = device(None);
         let p = plan(vec![SizeNeed::binding("V", 1 << 20)], 3 << 30);
         assert!(p.check(&l, None).is_ok());
         assert!(p.check(&l, Some(4 << 30)).is_ok());

@@ -198,6 +198,10 @@ impl ShadowMethod for Filtered {
         }
         serde_json::Value::Object(m)
     }
+    /// One map from the light's centre (six cube faces for a point light: `CentreMap`).
+    fn shadow_maps(&self, scene: &crate::scene::Scene) -> u32 {
+        crate::methods::faces(scene)
+    }
     /// V by bands of rows (reconstruct), and the prefiltered statistic's planes: 16 bytes per map
     /// texel and layer, bound whole.
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {

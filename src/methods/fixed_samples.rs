@@ -124,6 +124,10 @@ impl ShadowMethod for Fixed {
         }
         Ok(Box::new(prepared))
     }
+    /// One map per light point (six per point for a point light's cube faces).
+    fn shadow_maps(&self, scene: &crate::scene::Scene) -> u32 {
+        self.points().len() as u32 * crate::methods::faces(scene)
+    }
     /// Shade binds V by bands of rows (stages::shade::Band): any resolution whose V fits one buffer.
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]

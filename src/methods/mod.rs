@@ -131,6 +131,12 @@ pub trait ShadowMethod: Send + Sync + Any {
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![sizes::visibility(scene, false, limits)]
     }
+    /// The most plain shadow maps of the scene's `shadow_map_size` it keeps at once, before the
+    /// budget splits them into arrays (`sizes::shadow_map_array`): a point light's sample counts its
+    /// six cube faces. By default as many as the budget holds; 0 for a method without such maps.
+    fn shadow_maps(&self, _scene: &crate::scene::Scene) -> u32 {
+        u32::MAX
+    }
     /// Why the method cannot run under a light of `kind` yet, or `None` when it can. By default a
     /// method places its samples on the rectangle (`Scene::light`), so it takes `rect` alone.
     fn unsupported_light(&self, kind: LightKind) -> Option<&'static str> {
@@ -161,6 +167,14 @@ pub fn maps_from_the_emitter(kind: LightKind) -> bool {
 /// pcss and regular shade them (docs/lights.md, "Cube maps for the point").
 pub fn cube_maps(kind: LightKind) -> bool {
     kind == LightKind::Point
+}
+/// Maps per light sample: six cube faces for a point light, else one.
+pub fn faces(scene: &crate::scene::Scene) -> u32 {
+    if cube_maps(scene.emitter.kind()) {
+        6
+    } else {
+        1
+    }
 }
 /// Why adaptive refuses the point light.
 pub const CUBE_MAPS_ARE_PLAIN: &str = "a point light's cube maps need maps = plain: the hybrid store keeps one map per lattice sample";

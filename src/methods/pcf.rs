@@ -155,6 +155,10 @@ impl ShadowMethod for Pcf {
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "kernel": self.kernel, "taps": self.taps, "radius": self.radius, "spread": self.spread, "darkening": self.darkening })
     }
+    /// One map from the light's centre (six cube faces for a point light: `CentreMap`).
+    fn shadow_maps(&self, scene: &crate::scene::Scene) -> u32 {
+        crate::methods::faces(scene)
+    }
     /// Its pass binds V by bands of rows (stages::shade::Band).
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]

@@ -72,6 +72,27 @@ pub fn setting(scene: &Scene) -> String {
     }
 }
 
+/// The shadow-map array `method` allocates on plain maps: as many maps as it keeps at once
+/// (`ShadowMethod::shadow_maps`), split into arrays of what `shadow_map_budget_mib` and the layer
+/// limit hold (`shadow_raster::maps_per_array`). None on hybrid maps (their own store), with no
+/// maps, or where one map is over the budget (the raster refuses that with its own line).
+pub fn shadow_map_array(scene: &Scene, method: &Method, limits: &wgpu::Limits) -> Option<SizeNeed> {
+    let r = &scene.render;
+    let maps = method.0.shadow_maps(scene);
+    let map_bytes = (r.shadow_map_size as u64).pow(2) * 4;
+    let by_budget = r.shadow_map_budget_mib as u64 * (1 << 20) / map_bytes.max(1);
+    if r.maps == crate::scene::MapKind::Hybrid || maps == 0 || by_budget == 0 {
+        return None;
+    }
+    let layers = (maps as u64).min(by_budget).min(limits.max_texture_array_layers as u64) as u32;
+    let size = r.shadow_map_size;
+    // The budget is what lets one array grow: lowering it splits the maps into smaller arrays.
+    Some(
+        SizeNeed::array(format!("the shadow-map array ({layers} maps of {size}x{size}, shadow_map_size = {size})"), layers as u64 * map_bytes, layers)
+            .sized_by(format!("shadow_map_budget_mib = {}", r.shadow_map_budget_mib)),
+    )
+}
+
 /// Everything a frame of `method` on `scene` allocates, binds and reads back. `cpu_device`: the
 /// device's memory is host memory (lavapipe), so it counts against MemAvailable too.
 pub fn plan(scene: &Scene, method: &Method, limits: &wgpu::Limits, cpu_device: bool) -> SizePlan {
@@ -87,23 +108,32 @@ pub fn plan(scene: &Scene, method: &Method, limits: &wgpu::Limits, cpu_device: b
         SizeNeed::buffer("the V read-back", pixels * 4),
     ];
     let method_needs = method.0.size_needs(scene, limits);
+    let array = shadow_map_array(scene, method, limits);
     // Host: the CPU G-buffer, one image's read-back in flight (staging and its copy), V three
     // times (buffer map, Vec, clamped copy) and the written images.
     let mut host = pixels * (GBUFFER_IMAGES * GBUFFER_TEXEL + 2 * padded_row / w.max(1) + 3 * 4 + 16);
+    let mut host_setting = None;
     if cpu_device {
-        // The G-buffer's images and depth, the shadow-map array (at most its budget), the method's buffers.
-        let maps = (r.shadow_map_size as u64).pow(2) * 4 * limits.max_texture_array_layers as u64;
-        host += pixels * (GBUFFER_IMAGES * GBUFFER_TEXEL + 4) + maps.min(r.shadow_map_budget_mib as u64 * (1 << 20));
+        // The G-buffer's images and depth, the shadow-map array, the method's buffers.
+        host += pixels * (GBUFFER_IMAGES * GBUFFER_TEXEL + 4);
         host += method_needs.iter().filter(|n| n.bound != size_plan::Bound::TextureSide).map(|n| n.amount).sum::<u64>();
+        if let Some(a) = &array {
+            // Where the maps are most of it, the budget is the setting to name.
+            if a.amount > host {
+                host_setting = a.setting.clone();
+            }
+            host += a.amount;
+        }
     }
     needs.extend(method_needs);
-    SizePlan { setting: setting(scene), needs, host_bytes: host }
+    needs.extend(array);
+    SizePlan { setting: setting(scene), needs, host_bytes: host, host_setting }
 }
 
 /// [`plan`] on `ctx`'s device, checked: the one-line error, before any GPU work.
 pub fn check(ctx: &GpuContext, scene: &Scene, method: &Method) -> Result<()> {
     let cpu = ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
-    plan(scene, method, &ctx.limits(), cpu).check(&ctx.limits(), size_plan::mem_available())
+    plan(scene, method, &ctx.limits(), cpu).check(&ctx.bounds(), size_plan::mem_available())
 }
 
 /// [`check`] for each method of a study, before its reference or any frame.

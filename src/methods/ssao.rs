@@ -28,6 +28,10 @@ pub const INFO: MethodInfo = MethodInfo {
 pub struct SsaoMethod(pub SsaoSettings);
 
 impl ShadowMethod for SsaoMethod {
+    /// No shadow maps: it traces or samples the screen.
+    fn shadow_maps(&self, _scene: &crate::scene::Scene) -> u32 {
+        0
+    }
     /// Screen-space occlusion reads no light.
     fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
         None

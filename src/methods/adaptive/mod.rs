@@ -83,6 +83,10 @@ impl ShadowMethod for Adaptive {
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None, keep: false, trace: None }))
     }
+    /// At most the lattice's maps (`prepare`'s store).
+    fn shadow_maps(&self, scene: &crate::scene::Scene) -> u32 {
+        LATTICE_POINTS * crate::methods::faces(scene)
+    }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         // Global scope binds V and the masks by bands of rows (stages::shade::Band); local scope's
         // item passes reach any pixel, so there they are bound whole.

@@ -137,6 +137,10 @@ impl ShadowMethod for CascadeMaps {
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "n": self.n, "split": self.split.name(), "lambda": self.lambda, "filter": self.filter })
     }
+    /// One map per cascade.
+    fn shadow_maps(&self, _scene: &Scene) -> u32 {
+        self.n
+    }
     /// V and the cascade index are bound by bands of rows, as pcf's V.
     fn size_needs(&self, scene: &Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![super::sizes::visibility(scene, true, limits), super::sizes::per_pixel_in(scene, CHOSEN, 4, true, limits)]

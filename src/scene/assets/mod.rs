@@ -7,6 +7,7 @@
 mod cache;
 mod command;
 mod digest;
+pub mod download;
 mod error;
 mod extract;
 mod fetch;

@@ -1,11 +1,11 @@
 //! The registry clients, run as subprocesses: `apt-get`, `dpkg-deb`, `npm`, `node`.
 
 use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 use super::error::{AssetError, Result};
-use super::manifest::{Package, Registry};
+use super::manifest::Registry;
 
 pub(crate) struct Tool {
     pub name: &'static str,
@@ -46,7 +46,7 @@ pub(crate) fn require(tool: &Tool) -> Result<()> {
     }
 }
 
-fn missing(tool: &Tool) -> AssetError {
+pub(crate) fn missing(tool: &Tool) -> AssetError {
     AssetError::ToolMissing {
         tool: tool.name,
         hint: tool.hint,
@@ -103,43 +103,6 @@ pub(crate) fn failed(
         command,
         status: status.to_string(),
         stderr,
-    }
-}
-
-/// Downloads a package archive into the empty folder `dir` and returns its path.
-pub(crate) fn download(package: &Package, dir: &Path) -> Result<PathBuf> {
-    let mut command = match package.registry {
-        Registry::Debian => {
-            let mut c = Command::new(APT_GET.name);
-            c.arg("download")
-                .arg(format!("{}={}", package.name, package.version));
-            c
-        }
-        Registry::Npm => {
-            let mut c = Command::new(NPM.name);
-            // --ignore-scripts: `npm pack` of a registry spec runs none, but say so anyway.
-            c.args(["pack", "--ignore-scripts", "--silent"])
-                .arg(format!("{}@{}", package.name, package.version));
-            c
-        }
-    };
-    command.current_dir(dir);
-    run(&mut command, tools_for(package.registry)[0])?;
-    // The client names the file itself (`name_version_arch.deb`, `scope-name-version.tgz`).
-    let files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|source| AssetError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .collect();
-    match files.as_slice() {
-        [one] => Ok(one.clone()),
-        _ => Err(AssetError::ToolFailed {
-            command: shown(&command),
-            status: format!("left {} files instead of one archive", files.len()),
-            stderr: String::new(),
-        }),
     }
 }
 
