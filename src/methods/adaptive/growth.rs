@@ -12,6 +12,23 @@ pub struct Growth {
     pub syncs: u32,
     /// The capacities the list grew to since the last frame that fitted.
     pub grown: Vec<u32>,
+    /// The list never grows (`PENUMBRA_ITEMS_FIXED`).
+    pub fixed: bool,
+}
+
+/// The variable of [`fixed_from_env`].
+pub const FIXED_VAR: &str = "PENUMBRA_ITEMS_FIXED";
+
+/// `PENUMBRA_ITEMS_FIXED=N`: the item list of every scope = local setting that names no `items`
+/// holds N items and never grows. A test hook: it makes the local settings of a study whose
+/// settings come from a grid (frontier, bench) overflow, as a held-out scene does.
+pub fn fixed_from_env() -> crate::Result<Option<u32>> {
+    let Some(v) = std::env::var_os(FIXED_VAR) else { return Ok(None) };
+    let v = v.to_string_lossy();
+    match v.parse::<u32>() {
+        Ok(n) if n >= 1 => Ok(Some(n)),
+        _ => Err(crate::Error::Param(format!("{FIXED_VAR} = `{v}`: use a whole number of items, at least 1"))),
+    }
 }
 
 impl Growth {

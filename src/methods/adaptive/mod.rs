@@ -152,7 +152,7 @@ impl MethodState for State {
     fn grow(&mut self, fg: &FrameGpu) -> Result<bool> {
         let pr = &mut self.prepared;
         let Some(needed) = pr.growth.needed.take() else { return Ok(false) };
-        if !self.p.items_grow {
+        if !self.p.items_grow || pr.growth.fixed {
             return Ok(false);
         }
         let Some(capacity) = growth::next_capacity(pr.b.shape.item_capacity, needed, buffers::max_items(fg.ctx)) else { return Ok(false) };
@@ -263,7 +263,8 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let samples = lattice_samples(fg, p);
-    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local, p.items)?;
+    let fixed = if p.items.is_none() && local { growth::fixed_from_env()? } else { None };
+    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local, p.items.or(fixed))?;
     b.zero_fill(ctx)?;
     let hybrid = scene.render.maps == crate::scene::MapKind::Hybrid;
     if hybrid && local {
@@ -324,7 +325,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         return Err(Error::Param(format!("adaptive: {}", super::CUBE_MAPS_ARE_PLAIN)));
     }
     let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
-    Ok(Prepared { b, store, passes, samples, cull, steer, growth: growth::Growth::default() })
+    Ok(Prepared { b, store, passes, samples, cull, steer, growth: growth::Growth { fixed: fixed.is_some(), ..Default::default() } })
 }
 
 /// The adaptive stages' pipelines, built once per method.
