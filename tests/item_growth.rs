@@ -103,3 +103,22 @@ fn a_grown_list_gives_the_v_of_a_list_that_fitted_bit_for_bit() {
         assert_eq!(*syncs2, if spec.contains("steer=gpu") { 0 } else { 5 });
     }
 }
+
+#[test]
+fn growth_settings_refuse_bad_values_in_one_line() {
+    let dir = temp_dir("items-grow-bad");
+    let out = dir.join("out");
+    for (method, env, want) in [
+        ("adaptive:scope=local,items_grow=maybe", None, "error: adaptive: items_grow = `maybe`: use `on` or `off`\n"),
+        ("adaptive:items_grow=off", None, "error: adaptive: items_grow needs scope = local (only it keeps an item list)\n"),
+        ("adaptive:scope=local", Some("many"), "error: PENUMBRA_ITEMS_FIXED = `many`: use a whole number of items, at least 1\n"),
+    ] {
+        let args = ["render", "--scene", "slat-roof", "--set", "resolution=32", "--method", method, "--out", out.to_str().unwrap()];
+        let o = match env {
+            Some(v) => common::penumbra_env(&args, &[("PENUMBRA_ITEMS_FIXED", v)]),
+            None => penumbra(&args),
+        };
+        assert_eq!((o.status.code(), String::from_utf8_lossy(&o.stderr).as_ref()), (Some(1), want), "{method}");
+        assert!(!out.exists(), "{method}: nothing written");
+    }
+}
