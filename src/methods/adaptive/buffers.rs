@@ -91,7 +91,8 @@ impl AdaptiveBuffers {
             ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: 16,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                // COPY_SRC: twin tests read the dispatch sizes back.
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             })
         };

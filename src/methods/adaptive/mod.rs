@@ -147,15 +147,21 @@ impl MethodState for State {
     }
     /// After a frame that overflowed the item list: a list grown from what the overflowing level
     /// appended (`growth::next_capacity`); the other buffers, maps, pipelines and steering state
-    /// do not depend on it. False when growth is off, the overflow was not the
-    /// item list's, or the list already holds what one binding can.
+    /// do not depend on it. False when growth is off or the overflow was not the
+    /// item list's; an overflow error of its own when the list already holds what one binding can.
     fn grow(&mut self, fg: &FrameGpu) -> Result<bool> {
         let pr = &mut self.prepared;
         let Some(needed) = pr.growth.needed.take() else { return Ok(false) };
         if !self.p.items_grow || pr.growth.fixed {
             return Ok(false);
         }
-        let Some(capacity) = growth::next_capacity(pr.b.shape.item_capacity, needed, buffers::max_items(fg.ctx)) else { return Ok(false) };
+        let max = buffers::max_items(fg.ctx);
+        let Some(capacity) = growth::next_capacity(pr.b.shape.item_capacity, needed, max) else {
+            return Err(Error::Overflow(format!(
+                "adaptive scope=local at {}x{}: a level needs at least {needed} (pixel, quad) items, more than the {max} one storage binding holds on this device; the run is not valid (use a smaller resolution, a lower max_level or scope=global)",
+                fg.gbuffer.width, fg.gbuffer.height
+            )));
+        };
         pr.b.grow_items(fg.ctx, capacity)?;
         pr.growth.grown.push(capacity);
         self.pending = None;
