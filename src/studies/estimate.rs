@@ -175,10 +175,10 @@ impl Run<'_> {
                 _ => Layout::Lattice,
             };
             let n = params["n"].as_u64().unwrap_or(1) as u32;
-            let (p, bound) = estimate::predict(&kept.estimate_sums, &mask, layout, n)?;
+            let (p, bound) = estimate::predict(&kept.estimate_sums, mask, layout, n)?;
             let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
             let covered = (0..mask.len()).filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i]).count();
-            let (exact, exact_name) = exact_reference(&scene, &g, n, layout)?;
+            let (exact, exact_name) = exact_reference(&scene, g, n, layout)?;
             let ratio = p.predicted_rmse / measured.max(1e-12);
             Ok(EstimateLine {
                 scene: scene.name.clone(),
@@ -196,8 +196,8 @@ impl Run<'_> {
                 ratio,
                 within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
                 bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
-                measured_map: rms(&f.visibility, &exact, &mask),
-                measured_sampling: rms(&exact, &reference.values, &mask),
+                measured_map: rms(&f.visibility, &exact, mask),
+                measured_sampling: rms(&exact, &reference.values, mask),
                 exact: exact_name,
                 resolution: [scene.render.width, scene.render.height],
                 reference: truth::mode_label(&reference.mode),
