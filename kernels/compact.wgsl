@@ -52,14 +52,14 @@ var<workgroup> group_probe_base: u32;
 
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    compact_item(gid.x, lid, false);
+    compact_item(list_index(gid), lid, false);
 }
 
 // With scissor or cull on. A separate entry point because the rectangle code, even never run,
 // made main more than twice as slow on a CPU device (lavapipe); `grow` is a constant in each.
 @compute @workgroup_size(64, 1, 1)
 fn main_rects(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    compact_item(gid.x, lid, true);
+    compact_item(list_index(gid), lid, true);
 }
 
 // Appends are gathered per workgroup first: one global atomic per workgroup instead of one per item

@@ -87,10 +87,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(64, 1, 1)
 fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= item_total[0]) {
+    if (list_index(gid) >= item_total[0]) {
         return;
     }
-    let item = items[gid.x];
+    let item = items[list_index(gid)];
     let x = item.x % frame.width;
     let y = item.x / frame.width;
     if (low_quality(item.y, i32(x), i32(y))) {

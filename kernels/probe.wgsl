@@ -23,12 +23,13 @@ var<workgroup> group_base: u32;
 
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let valid = gid.x < probe_total[0];
+    let index = list_index(gid);
+    let valid = index < probe_total[0];
     var expand = false;
     var local_slot = 0u;
     var probe = vec2<u32>(0u, 0u);
     if (valid) {
-        probe = probes[gid.x];
+        probe = probes[index];
         let p = probe.x;
         let base = probe.y & ~PROBE_LIT;
         let expect = select(0u, 1u, (probe.y & PROBE_LIT) != 0u);
@@ -70,8 +71,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 fn begin() {
     let n = min(atomicLoad(&control.probe_count), level.item_capacity);
     probe_total[0] = n;
-    probe_args[0] = (n + 63u) / 64u;
-    probe_args[1] = 1u;
-    probe_args[2] = 1u;
+    let args = list_dispatch(n);
+    probe_args[0] = args.x;
+    probe_args[1] = args.y;
+    probe_args[2] = args.z;
     atomicStore(&control.probe_count, 0u);
 }

@@ -115,8 +115,8 @@ fn count_word(word: u32) -> u32 {
 // resumable pieces, which costs even when the code around it does nothing.
 @compute @workgroup_size(64, 1, 1)
 fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x < item_total[0]) {
-        count_item(gid.x);
+    if (list_index(gid) < item_total[0]) {
+        count_item(list_index(gid));
     }
 }
 
@@ -146,10 +146,10 @@ fn count_item(index: u32) {
 // compact's resolve does, kept as the integer c * 4^(max_level - level) (= c at max_level).
 @compute @workgroup_size(64, 1, 1)
 fn last(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= item_total[0]) {
+    if (list_index(gid) >= item_total[0]) {
         return;
     }
-    let item = items[gid.x];
+    let item = items[list_index(gid)];
     let c = item_count(item);
     if (c != 0u) {
         atomicAdd(&visibility_fixed[item.x], c << (2u * (level.max_level - level.level)));
@@ -162,8 +162,9 @@ fn last(@builtin(global_invocation_id) gid: vec3<u32>) {
 fn begin() {
     let n = min(atomicLoad(&control.item_count), level.item_capacity);
     item_total[0] = n;
-    list_args[0] = (n + 63u) / 64u;
-    list_args[1] = 1u;
-    list_args[2] = 1u;
+    let args = list_dispatch(n);
+    list_args[0] = args.x;
+    list_args[1] = args.y;
+    list_args[2] = args.z;
     atomicStore(&control.item_count, 0u);
 }

@@ -359,8 +359,8 @@ fn add_lookups(n: u32, lid: u32) {
 @compute @workgroup_size(64, 1, 1)
 fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     var n = 0u;
-    if (gid.x < work_total[0]) {
-        let item = work[gid.x];
+    if (list_index(gid) < work_total[0]) {
+        let item = work[list_index(gid)];
         let q = quads[item.y];
         let ks = array<u32, 5>(quad_corner(q, 0u), quad_corner(q, 1u), quad_corner(q, 2u), quad_corner(q, 3u), 0u);
         n = test_claimed(item.x, ks, 4u);
@@ -372,8 +372,8 @@ fn list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 @compute @workgroup_size(64, 1, 1)
 fn probes(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     var n = 0u;
-    if (gid.x < work_total[0]) {
-        let probe = work[gid.x];
+    if (list_index(gid) < work_total[0]) {
+        let probe = work[list_index(gid)];
         let q = quads[probe.y & ~PROBE_LIT];
         let ks = array<u32, 5>(probe_point(q, 0u), probe_point(q, 1u), probe_point(q, 2u), probe_point(q, 3u), probe_point(q, 4u));
         n = test_claimed(probe.x, ks, 5u);

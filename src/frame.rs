@@ -14,7 +14,7 @@ use crate::scene::{CullMode, Scene, Vertex};
 use crate::stages::raster::Raster;
 use crate::stages::shade::GeometryTiles;
 use crate::gpu::timing::{StageTimer, TimingMode};
-use crate::Result;
+use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -263,8 +263,26 @@ impl<'a> Renderer<'a> {
 
     /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
     /// `total_ms` is the wall time from the G-buffer (and the clear of V) to the visibility read-back.
+    /// A frame that overflowed a list its method can grow (`MethodState::grow`) runs again; the
+    /// time of the runs that overflowed is added to `total_ms`, their read-backs to the syncs.
     pub fn frame(&mut self, options: impl Into<FrameOptions>) -> Result<FrameResult> {
         let options = options.into();
+        let mut lost_ms = 0.0;
+        loop {
+            let start = Instant::now();
+            match self.attempt(options) {
+                Err(Error::Overflow(_)) if self.state.grow(&self.fg)? => lost_ms += start.elapsed().as_secs_f64() * 1e3,
+                Ok(mut f) => {
+                    f.total_ms += lost_ms;
+                    return Ok(f);
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// One run of a frame (`frame`).
+    fn attempt(&mut self, options: FrameOptions) -> Result<FrameResult> {
         let setup_start = Instant::now();
         let ctx = self.fg.ctx;
         let (w, h) = (self.fg.gbuffer.width, self.fg.gbuffer.height);

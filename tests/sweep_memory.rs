@@ -117,6 +117,7 @@ fn windowed_v_equals_a_fresh_renderer() {
     for ((m, got), (_, again)) in methods.iter().zip(&measured).zip(&afters) {
         let fresh = Renderer::new(ctx, &scene, m).unwrap().frame(FrameOptions { mode: TimingMode::Frame, pictures: false }).unwrap().visibility;
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let got = got.as_ref().unwrap_or_else(|e| panic!("{}: failed: {e}", m.label()));
         assert_eq!(bits(&got.judged), bits(&fresh), "{}: V differs from a fresh renderer's", m.label());
         assert_eq!(bits(again), bits(&fresh), "{}: the after frame differs", m.label());
         assert!(fresh.iter().any(|&v| v > 0.0) && fresh.iter().any(|&v| v < 1.0), "{}: lit and unlit pixels to compare", m.label());

@@ -234,6 +234,23 @@ const OVERFLOW_QUADS: u32 = 1u;
 const OVERFLOW_ITEMS: u32 = 2u;
 const OVERFLOW_PROBES: u32 = 4u;
 
+// scope = local's item and probe passes dispatch indirectly, 64 items per workgroup. One dimension
+// holds at most 65535 workgroups (WebGPU's guaranteed limit; a larger indirect dispatch is dropped
+// whole), 4,194,240 items: a longer list spreads its workgroups over rows of LIST_GROUPS_X.
+// (Rust twin: stages::adaptive_buffers::list_dispatch.)
+const LIST_GROUPS_X: u32 = 65535u;
+
+// The dispatch size of a list of n items.
+fn list_dispatch(n: u32) -> vec3<u32> {
+    let groups = (n + 63u) / 64u;
+    return vec3<u32>(min(groups, LIST_GROUPS_X), max(1u, (groups + LIST_GROUPS_X - 1u) / LIST_GROUPS_X), 1u);
+}
+
+// The list index of an invocation of such a dispatch (every row but the last is LIST_GROUPS_X wide).
+fn list_index(gid: vec3<u32>) -> u32 {
+    return gid.y * (LIST_GROUPS_X * 64u) + gid.x;
+}
+
 // Lattice index of corner c (0..3: (0,0), (1,0), (0,1), (1,1)) of quad q.
 fn quad_corner(q: GpuQuad, c: u32) -> u32 {
     let i = q.i + (c & 1u) * q.size;

@@ -53,7 +53,8 @@ pub fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
     let scenes = bench::prepare(&opts)?;
     let ctx = GpuContext::with_request(gpu)?;
     println!("seed-table2 on {} ({} repeats after one warm-up frame per method)", ctx.summary.name, opts.repeats);
-    let results = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| println!("{line}"))?;
+    // Progress on stdout; a failed setting's warning (and the count of them) on stderr.
+    let results = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| if line.starts_with("warning: ") { eprintln!("{line}") } else { println!("{line}") })?;
     let files = [
         ("table2.md".to_string(), bench::table::markdown(&results).into_bytes()),
         ("results.jsonl".to_string(), bench::table::jsonl(&results)?.into_bytes()),

@@ -68,6 +68,9 @@ pub fn run(args: EstimateArgs, gpu: &AdapterRequest) -> Result<()> {
         lines.extend(estimate::run_scene(&ctx, name, &sets, &settings, mode, &cache, &|l| eprintln!("{l}"))?);
     }
     run_files::write_files(&args.out, &estimate::files(&lines)?)?;
+    if let Some(line) = penumbra::record::failed_summary(lines.iter().filter(|l| l.failed.is_some()).count(), lines.len()) {
+        eprintln!("{line}");
+    }
     let md = estimate::markdown(&lines);
     print!("{}", md.split("\n| scene").next().unwrap_or(&md));
     println!("\nestimate: {}", args.out.join("estimate.jsonl").display());

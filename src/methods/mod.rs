@@ -196,6 +196,12 @@ pub trait MethodState {
     fn finish(&mut self, _fg: &FrameGpu, _out: &mut MethodOutput) -> Result<()> {
         Ok(())
     }
+    /// After a frame that failed with an overflow of a list the method sizes itself: enlarge it so
+    /// that the frame can run again (the renderer then does). False when nothing can grow: the
+    /// overflow is the frame's error. The default has no such list.
+    fn grow(&mut self, _fg: &FrameGpu) -> Result<bool> {
+        Ok(false)
+    }
     /// What a state decided that the same method's next state should start from when a renderer
     /// moves to the next frame of a sequence (its state is built again): auto's choice.
     fn memory(&self) -> Option<serde_json::Value> {

@@ -32,6 +32,11 @@ pub fn render(rows: &[ResultRow]) -> String {
     .map(String::from)
     .to_vec();
     header.extend(stages.iter().map(|s| format!("stage_{s}_ms")));
+    // A `failed` column only when some setting failed: its reason; that row's figures are empty.
+    let any_failed = rows.iter().any(|r| r.failed.is_some());
+    if any_failed {
+        header.push("failed".into());
+    }
     let mut out = header.join(",") + "\n";
     for r in rows {
         let m = &r.metrics;
@@ -66,6 +71,15 @@ pub fn render(rows: &[ResultRow]) -> String {
             r.raster.clone().unwrap_or_default(),
         ];
         cells.extend(stages.iter().map(|s| opt(r.stages_ms.get(*s).copied())));
+        if let Some(reason) = &r.failed {
+            // Scene, label, method, params and adapter stay; the figures were never measured.
+            for c in &mut cells[5..25] {
+                c.clear();
+            }
+            cells.push(reason.clone());
+        } else if any_failed {
+            cells.push(String::new());
+        }
         out += &(cells.iter().map(|c| field(c)).collect::<Vec<_>>().join(",") + "\n");
     }
     out

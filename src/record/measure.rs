@@ -40,6 +40,24 @@ pub struct Timing {
     pub raster: &'static str,
 }
 
+impl Timing {
+    /// The timing of a method that was never measured (a failed setting's zeros).
+    pub fn none() -> Timing {
+        Timing {
+            totals_ms: Vec::new(),
+            median_ms: 0.0,
+            min_ms: 0.0,
+            max_ms: 0.0,
+            stages_ms: BTreeMap::new(),
+            setup_ms: None,
+            shadow_maps: 0,
+            maps_stable: true,
+            syncs: 0,
+            raster: "",
+        }
+    }
+}
+
 /// A measured method: its timing and what `judge` made of its last frame.
 pub struct Measured<T> {
     pub timing: Timing,
@@ -83,6 +101,11 @@ pub fn median(values: &[f64]) -> f64 {
 /// load round by round, and 4 is what a typical compare (a few baselines and an adaptive) fits.
 pub const WINDOW: usize = 4;
 
+/// A method's outcome: measured, or the one-line reason it failed (its renderer could not be
+/// built, a frame or its judging returned an error). A failed method drops out of its window and
+/// the others go on: a study records it as a failed row (robustness.md, "Failed settings").
+pub type Outcome<T> = std::result::Result<Measured<T>, String>;
+
 /// Runs the loop. `on_frame` sees every frame (logs, progress); `judge(i, frame)` gets the last
 /// timed frame of method `i`, once, and may keep what it needs of it.
 pub fn measure<T>(
@@ -92,12 +115,14 @@ pub fn measure<T>(
     repeats: u32,
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
-) -> Result<Vec<Measured<T>>> {
+) -> Result<Vec<Outcome<T>>> {
     measure_with(ctx, scene, methods, repeats, on_frame, judge, &mut |_, _| Ok(()))
 }
 
 /// As [`measure`]; `after(i, renderer)` gets method `i`'s renderer once its window's timed rounds
 /// are done and before it is dropped, for untimed frames (compare's decision pictures).
+/// Per-method errors become failed outcomes; only waiting for the device between windows fails
+/// the whole loop.
 pub fn measure_with<T>(
     ctx: &GpuContext,
     scene: &Scene,
@@ -106,25 +131,31 @@ pub fn measure_with<T>(
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
     after: &mut dyn FnMut(usize, &mut Renderer) -> Result<()>,
-) -> Result<Vec<Measured<T>>> {
+) -> Result<Vec<Outcome<T>>> {
     let mut out = Vec::with_capacity(methods.len());
     // What the finished renderers leave that any method can use (`Detached::attach_as`).
     let mut kept: Vec<Detached> = Vec::new();
     for (w, window) in methods.chunks(WINDOW).enumerate() {
         let first = w * WINDOW;
-        let mut renderers = Vec::with_capacity(window.len());
+        let mut renderers: Vec<Slot<'_>> = Vec::with_capacity(window.len());
         for m in window {
-            renderers.push(match kept.pop() {
-                Some(k) => k.attach_as(ctx, scene, m)?,
-                None => Renderer::new(ctx, scene, m)?,
-            });
+            let built = match kept.pop() {
+                Some(k) => k.attach_as(ctx, scene, m),
+                None => Renderer::new(ctx, scene, m),
+            };
+            renderers.push(built.map_err(|e| e.to_string()));
         }
         let mut judge_window = |i: usize, f: &FrameResult| judge(first + i, f);
-        out.extend(measure_window(window, &mut renderers, repeats, on_frame, &mut judge_window)?);
+        let mut measured = measure_window(window, &mut renderers, repeats, on_frame, &mut judge_window);
         for (i, r) in renderers.iter_mut().enumerate() {
-            after(first + i, r)?;
+            if let (Ok(r), Ok(_)) = (r.as_mut(), &measured[i]) {
+                if let Err(e) = after(first + i, r) {
+                    measured[i] = Err(e.to_string());
+                }
+            }
         }
-        kept.extend(renderers.into_iter().map(Renderer::detach));
+        out.extend(measured);
+        kept.extend(renderers.into_iter().filter_map(|r| r.ok()).map(Renderer::detach));
         // wgpu frees dropped buffers and pipelines when the device is polled: before the next
         // window allocates, so the two never coexist.
         ctx.wait()?;
@@ -132,26 +163,47 @@ pub fn measure_with<T>(
     Ok(out)
 }
 
-/// One window: warm-up, stages and timed rounds, interleaved across its renderers.
+/// A window's renderer, or why it failed (then it renders no more frames).
+type Slot<'a> = std::result::Result<Renderer<'a>, String>;
+
+/// A frame of slot `r`; an error fails the slot and returns None.
+fn frame_of(r: &mut Slot<'_>, options: FrameOptions) -> Option<FrameResult> {
+    let result = r.as_mut().ok()?.frame(options);
+    match result {
+        Ok(f) => Some(f),
+        Err(e) => {
+            *r = Err(e.to_string());
+            None
+        }
+    }
+}
+
+/// One window: warm-up, stages and timed rounds, interleaved across its renderers; a renderer
+/// that fails drops out, the others go on.
 fn measure_window<T>(
     methods: &[Method],
-    renderers: &mut [Renderer],
+    renderers: &mut [Slot<'_>],
     repeats: u32,
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
-) -> Result<Vec<Measured<T>>> {
+) -> Vec<Outcome<T>> {
     let repeats = repeats.max(1);
     // Pipelines and buffers are built once per renderer (charged to the warm-up's setup) and every
     // later frame reuses them. No decision pictures: their read-backs would be timed, and nothing
     // here uses them.
     let options = |mode| FrameOptions { mode, pictures: false };
     for (m, renderer) in methods.iter().zip(renderers.iter_mut()) {
-        let r = renderer.frame(options(TimingMode::Frame))?; // warm-up: driver caches, allocator, build
-        on_frame(m, Phase::WarmUp, &r);
+        // warm-up: driver caches, allocator, build
+        if let Some(r) = frame_of(renderer, options(TimingMode::Frame)) {
+            on_frame(m, Phase::WarmUp, &r);
+        }
     }
     let mut staged = Vec::with_capacity(methods.len());
     for (m, renderer) in methods.iter().zip(renderers.iter_mut()) {
-        let r = renderer.frame(options(TimingMode::Stages))?;
+        let Some(r) = frame_of(renderer, options(TimingMode::Stages)) else {
+            staged.push((BTreeMap::new(), None));
+            continue;
+        };
         on_frame(m, Phase::Stages, &r);
         let mut stages = r.stages_ms;
         // `setup` (the method's per-frame reset; the build was the warm-up's) runs before the clock.
@@ -166,21 +218,31 @@ fn measure_window<T>(
     let mut judged: Vec<Option<T>> = methods.iter().map(|_| None).collect();
     for k in 1..=repeats {
         for (i, m) in methods.iter().enumerate() {
-            let r = renderers[i].frame(options(TimingMode::Frame))?;
+            let Some(r) = frame_of(&mut renderers[i], options(TimingMode::Frame)) else { continue };
             on_frame(m, Phase::Timed(k, repeats), &r);
             totals[i].push(r.total_ms);
             maps[i].push(r.output.shadow_maps);
             syncs[i] = r.output.syncs;
             raster[i] = r.raster.used;
             if k == repeats {
-                judged[i] = Some(judge(i, &r)?);
+                match judge(i, &r) {
+                    Ok(j) => judged[i] = Some(j),
+                    Err(e) => renderers[i] = Err(e.to_string()),
+                }
             }
         }
     }
     let mut out = Vec::with_capacity(methods.len());
     for (i, ((stages_ms, setup_ms), judged)) in staged.into_iter().zip(judged).enumerate() {
-        let t = &totals[i];
-        out.push(Measured {
+        let (judged, t) = match (&renderers[i], judged) {
+            (Err(reason), _) => {
+                out.push(Err(reason.clone()));
+                continue;
+            }
+            (Ok(_), Some(j)) => (j, &totals[i]),
+            (Ok(_), None) => unreachable!("a renderer that never failed was judged on the last round"),
+        };
+        out.push(Ok(Measured {
             timing: Timing {
                 median_ms: median(t),
                 min_ms: t.iter().copied().fold(f64::INFINITY, f64::min),
@@ -193,10 +255,10 @@ fn measure_window<T>(
                 syncs: syncs[i],
                 raster: raster[i],
             },
-            judged: judged.expect("judged on the last round"),
-        });
+            judged,
+        }));
     }
-    Ok(out)
+    out
 }
 
 #[cfg(test)]

@@ -64,7 +64,39 @@ pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images:
         version: run_files::version(),
         images,
         provenance: Some(provenance),
+        failed: None,
     }
+}
+
+/// The row of a method that failed at run time: what it is and why, no figures.
+pub fn failed_row(run: &RunInfo, method: &Method, reason: &str, provenance: Provenance) -> ResultRow {
+    ResultRow {
+        scene: run.scene.to_string(),
+        method: method.name().to_string(),
+        params: method.params_json(),
+        adapter: serde_json::to_value(run.adapter).unwrap_or_default(),
+        label: method.label(),
+        resolution: Some(run.resolution),
+        shadow_map_size: Some(run.shadow_map_size),
+        reference: run.reference.clone(),
+        repeats: run.repeats,
+        clock: CLOCK.into(),
+        version: run_files::version(),
+        provenance: Some(provenance),
+        failed: Some(reason.to_string()),
+        ..Default::default()
+    }
+}
+
+/// The one-line warning a study prints for a setting that failed (and goes on).
+pub fn failed_line(label: &str, reason: &str) -> String {
+    format!("warning: {label}: failed: {reason}")
+}
+
+/// The study's closing line on failed settings, None when none failed. Studies exit 0 when their
+/// output set is complete: a failed setting is a row of it (robustness.md, "Failed settings").
+pub fn failed_summary(failed: usize, total: usize) -> Option<String> {
+    (failed > 0).then(|| format!("warning: {failed} of {total} settings failed; their rows say why (\"failed\" in the results)"))
 }
 
 /// `results.jsonl`: one row per line.
@@ -82,6 +114,9 @@ pub fn jsonl(rows: &[ResultRow]) -> Result<String> {
 pub fn result_files(rows: &[ResultRow]) -> Result<Vec<(String, Vec<u8>)>> {
     let mut files = vec![("results.jsonl".to_string(), jsonl(rows)?.into_bytes()), ("results.csv".to_string(), csv::render(rows).into_bytes())];
     // For scripts: each regular grid, and the adaptive rows that dominate or nearly dominate it.
+    // Charts and verdicts are of measured rows only.
+    let all = rows;
+    let rows: &[ResultRow] = &all.iter().filter(|r| r.measured()).cloned().collect::<Vec<_>>();
     let verdicts = crate::report::charts::verdicts(rows);
     if !verdicts.is_empty() {
         let json = serde_json::to_vec_pretty(&verdicts).map_err(|e| crate::Error::Io { path: "dominance.json".into(), message: e.to_string() })?;

@@ -149,6 +149,16 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
             continue;
         };
         matched += 1;
+        // A failed setting has no figures: failing now is a regression, having failed before is not compared.
+        if let Some(reason) = &cur.failed {
+            notes.push(format!("REGRESSION: `{}` on {} failed: {reason}", old.label(), old.scene));
+            regressions += 1;
+            continue;
+        }
+        if let Some(reason) = &old.failed {
+            notes.push(format!("not compared: `{}` on {} failed in the baseline ({reason})", old.label(), old.scene));
+            continue;
+        }
         if old.resolution != cur.resolution || old.reference != cur.reference {
             let size = |r: Option<[u32; 2]>| r.map_or("an unknown size".to_string(), |[w, h]| format!("{w}x{h}"));
             notes.push(format!(
@@ -266,6 +276,20 @@ mod tests {
             let e = parse_max(bad).unwrap_err().to_string();
             assert!(e.starts_with(msg), "{bad}: {e}");
         }
+    }
+
+    #[test]
+    fn a_setting_that_fails_now_is_a_regression_and_one_that_failed_before_is_not_compared() {
+        let max = parse_max(DEFAULT_MAX).unwrap();
+        let base = vec![row("a", 100.0, 10, 0.010), row("b", 50.0, 4, 0.020)];
+        let mut now = base.clone();
+        now[0] = ResultRow { failed: Some("overflow: x".into()), ..row("a", 0.0, 0, 0.0) };
+        let o = check(&base, &now, &max);
+        assert_eq!((o.regressions, o.matched), (1, 2), "{}", render(&o));
+        assert!(o.notes.contains(&"REGRESSION: `regular(n=a)` on s failed: overflow: x".to_string()), "{:?}", o.notes);
+        let o = check(&now, &base, &max);
+        assert_eq!(o.regressions, 0, "{}", render(&o));
+        assert!(o.notes.contains(&"not compared: `regular(n=a)` on s failed in the baseline (overflow: x)".to_string()), "{:?}", o.notes);
     }
 
     #[test]

@@ -61,9 +61,18 @@ pub struct ResultRow {
     /// Scene and mesh digests, overrides, and the sweep spec and shard (see `record::provenance`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub provenance: Option<crate::record::Provenance>,
+    /// A setting that failed at run time (an overflow, out of memory, any per-setting error): the
+    /// reason, one line. Its figures are zero and mean nothing; tables, charts and fronts skip it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
 }
 
 impl ResultRow {
+    /// Whether the row was measured (not a failed setting).
+    pub fn measured(&self) -> bool {
+        self.failed.is_none()
+    }
+
     /// The stored label, else `method` plus its parameters in short form:
     /// `adaptive(p_m=0, scope=local)`; just the method when there are none. Keys come in sorted
     /// order (serde_json's default map).

@@ -100,10 +100,15 @@ pub fn write_report_with_baseline(
     }
 
     let settings = table::settings_pairs(settings);
+    // Failed settings get their own table ("failed: reason"); every other table is of measured rows.
+    let all = rows;
+    let rows: &[ResultRow] = &all.iter().filter(|r| r.measured()).cloned().collect::<Vec<_>>();
     let mut tables = table::tables(rows);
+    tables.extend(table::failed_tables(all));
     tables.extend(dominance::tables(rows));
     if let Some(old) = baseline {
-        tables.extend(baseline::tables(old, rows));
+        let old: Vec<ResultRow> = old.iter().filter(|r| r.measured()).cloned().collect();
+        tables.extend(baseline::tables(&old, rows));
     }
     // (relative path, bytes) of every file the Markdown links to.
     let mut assets: Vec<(String, Vec<u8>)> = Vec::new();

@@ -175,7 +175,8 @@ fn write_rows(rows: &[LoadedRow], baseline: Option<&[ResultRow]>, out_dir: &Path
     for r in rows {
         pictures.extend(images(r)?);
     }
-    let charts: Vec<(String, String)> = charts(&plain)?.into_iter().map(|(_, caption, svg)| (caption, svg)).collect();
+    let measured: Vec<ResultRow> = plain.iter().filter(|r| r.measured()).cloned().collect();
+    let charts: Vec<(String, String)> = charts(&measured)?.into_iter().map(|(_, caption, svg)| (caption, svg)).collect();
     let mut settings = settings(&plain);
     if let (Some(b), serde_json::Value::Array(pairs)) = (baseline, &mut settings) {
         pairs.push(serde_json::json!(["baseline", format!("{} rows; changes in the tables marked \"against the baseline\"", b.len())]));

@@ -123,6 +123,23 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
         .collect()
 }
 
+/// Per scene with failed settings: one table of them, each with its reason ("failed: reason").
+pub(super) fn failed_tables(rows: &[ResultRow]) -> Vec<Table> {
+    scenes(rows.iter().filter(|r| !r.measured()).map(|r| r.scene.as_str()))
+        .into_iter()
+        .map(|scene| Table {
+            scene: scene.to_string(),
+            kind: "failed settings",
+            header: vec!["method", "outcome"],
+            rows: rows
+                .iter()
+                .filter(|r| r.scene == scene)
+                .filter_map(|r| r.failed.as_ref().map(|reason| vec![Cell { text: r.label(), best: false }, Cell { text: format!("failed: {reason}"), best: false }]))
+                .collect(),
+        })
+        .collect()
+}
+
 fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]) -> Table {
     let mut header = vec!["family", "method"];
     header.extend(cols.iter().map(|c| c.name));

@@ -19,6 +19,17 @@ pub const CULL_TILE_WORDS: u32 = CULL_TILES * CULL_TILES;
 pub const MIXED_WORD: u32 = u32::MAX;
 pub const CONTROL_BYTES: u64 = std::mem::size_of::<GpuControl>() as u64;
 
+/// Workgroups in one dimension of scope = local's list passes (kernels/shared/common.wgsl
+/// `LIST_GROUPS_X`, WebGPU's guaranteed limit): a longer list's workgroups go on in rows.
+pub const LIST_GROUPS_X: u32 = 65535;
+
+/// The CPU twin of common.wgsl `list_dispatch`: the indirect dispatch size that reproject_count's
+/// and probe's `begin` write for a list of `n` items, 64 per workgroup.
+pub fn list_dispatch(n: u32) -> [u32; 3] {
+    let groups = n.div_ceil(64);
+    [groups.min(LIST_GROUPS_X), groups.div_ceil(LIST_GROUPS_X).max(1), 1]
+}
+
 /// The sizes every adaptive buffer and dispatch derives from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shape {

@@ -99,6 +99,10 @@ pub struct EstimateLine {
     pub resolution: [u32; 2],
     pub reference: String,
     pub adapter: String,
+    /// A setting that failed at run time: the reason (its figures are zero and mean nothing; the
+    /// summary and the chart skip it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
 }
 
 fn rms(a: &[f32], b: &[f32], mask: &[bool]) -> f64 {
@@ -134,56 +138,114 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], settin
     let judge = Judge::new(&base, &g, reference.values.clone());
     let mask: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
     let mut lines = Vec::new();
+    let run = Run { ctx, name, sets, mask: &mask, judge: &judge, g: &g, reference: &reference };
     for setting in settings {
-        let mut with_size = sets.to_vec();
-        with_size.push(("shadow_map_size".into(), setting.map_size.to_string()));
-        let scene = Scene::load(name, &with_size)?;
-        let method = Method::parse(&format!("{},estimate=on", setting.spec), &[])?;
-        let mut renderer = Renderer::new(ctx, &scene, &method)?;
-        let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-        let kept: FixedBuffers = renderer.inspect()?.ok_or_else(|| Error::Limit(format!("{}: no estimate sums", method.label())))?;
-        let params = method.params_json();
-        let layout = match params["layout"].as_str() {
-            Some("centred") => Layout::Centred,
-            Some("jittered") => Layout::Jittered,
-            _ => Layout::Lattice,
-        };
-        let n = params["n"].as_u64().unwrap_or(1) as u32;
-        let (p, bound) = estimate::predict(&kept.estimate_sums, &mask, layout, n)?;
-        let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
-        let covered = (0..mask.len()).filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i]).count();
-        let (exact, exact_name) = exact_reference(&scene, &g, n, layout)?;
-        let ratio = p.predicted_rmse / measured.max(1e-12);
-        let line = EstimateLine {
-            scene: scene.name.clone(),
-            spec: setting.spec.clone(),
-            layout: params["layout"].as_str().unwrap_or("lattice").to_string(),
-            map_size: setting.map_size,
-            maps: f.output.shadow_maps,
-            measured_rmse: measured,
-            predicted_rmse: p.predicted_rmse,
-            predicted_sampling: p.predicted_sampling,
-            predicted_map: p.predicted_map,
-            predicted_quantization: p.predicted_quantization,
-            predicted_bias: p.predicted_bias,
-            predicted_map_averaging: p.predicted_map_averaging,
-            ratio,
-            within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
-            bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
-            measured_map: rms(&f.visibility, &exact, &mask),
-            measured_sampling: rms(&exact, &reference.values, &mask),
-            exact: exact_name,
-            resolution: [scene.render.width, scene.render.height],
-            reference: truth::mode_label(&reference.mode),
-            adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
-        };
-        log(&format!(
-            "{} {} @{}: measured {:.5}, predicted {:.5} ({:.2}×), bound covers {:.1}%",
-            line.scene, line.spec, line.map_size, line.measured_rmse, line.predicted_rmse, line.ratio, 100.0 * line.bound_coverage
-        ));
+        // A setting that fails is a line that says why; the others go on.
+        let line = run.setting(setting).unwrap_or_else(|e| {
+            let line = EstimateLine::failed(&base.name, setting, &run, e.to_string());
+            log(&crate::record::failed_line(&format!("{} {} @{}", line.scene, line.spec, line.map_size), &e.to_string()));
+            line
+        });
+        if line.failed.is_none() {
+            log(&format!(
+                "{} {} @{}: measured {:.5}, predicted {:.5} ({:.2}×), bound covers {:.1}%",
+                line.scene, line.spec, line.map_size, line.measured_rmse, line.predicted_rmse, line.ratio, 100.0 * line.bound_coverage
+            ));
+        }
         lines.push(line);
     }
     Ok(lines)
+}
+
+/// What every setting of one scene shares.
+struct Run<'a> {
+    ctx: &'a GpuContext,
+    name: &'a str,
+    sets: &'a [(String, String)],
+    mask: &'a [bool],
+    judge: &'a Judge,
+    g: &'a crate::render::gbuffer::GBufferCpu,
+    reference: &'a truth::ReferenceImage,
+}
+
+impl Run<'_> {
+    /// One setting: rendered, predicted and measured.
+    fn setting(&self, setting: &Setting) -> Result<EstimateLine> {
+        let Run { ctx, name, sets, mask, judge, g, reference } = *self;
+            let mut with_size = sets.to_vec();
+            with_size.push(("shadow_map_size".into(), setting.map_size.to_string()));
+            let scene = Scene::load(name, &with_size)?;
+            let method = Method::parse(&format!("{},estimate=on", setting.spec), &[])?;
+            let mut renderer = Renderer::new(ctx, &scene, &method)?;
+            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            let kept: FixedBuffers = renderer.inspect()?.ok_or_else(|| Error::Limit(format!("{}: no estimate sums", method.label())))?;
+            let params = method.params_json();
+            let layout = match params["layout"].as_str() {
+                Some("centred") => Layout::Centred,
+                Some("jittered") => Layout::Jittered,
+                _ => Layout::Lattice,
+            };
+            let n = params["n"].as_u64().unwrap_or(1) as u32;
+            let (p, bound) = estimate::predict(&kept.estimate_sums, mask, layout, n)?;
+            let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
+            let covered = (0..mask.len()).filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i]).count();
+            let (exact, exact_name) = exact_reference(&scene, g, n, layout)?;
+            let ratio = p.predicted_rmse / measured.max(1e-12);
+            Ok(EstimateLine {
+                scene: scene.name.clone(),
+                spec: setting.spec.clone(),
+                layout: params["layout"].as_str().unwrap_or("lattice").to_string(),
+                map_size: setting.map_size,
+                maps: f.output.shadow_maps,
+                measured_rmse: measured,
+                predicted_rmse: p.predicted_rmse,
+                predicted_sampling: p.predicted_sampling,
+                predicted_map: p.predicted_map,
+                predicted_quantization: p.predicted_quantization,
+                predicted_bias: p.predicted_bias,
+                predicted_map_averaging: p.predicted_map_averaging,
+                ratio,
+                within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
+                bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
+                measured_map: rms(&f.visibility, &exact, mask),
+                measured_sampling: rms(&exact, &reference.values, mask),
+                exact: exact_name,
+                resolution: [scene.render.width, scene.render.height],
+                reference: truth::mode_label(&reference.mode),
+                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+                failed: None,
+            })
+    }
+}
+
+impl EstimateLine {
+    /// The line of a setting that failed: what it was and why, no figures.
+    fn failed(scene: &str, setting: &Setting, run: &Run, reason: String) -> EstimateLine {
+        EstimateLine {
+            scene: scene.to_string(),
+            spec: setting.spec.clone(),
+            layout: String::new(),
+            map_size: setting.map_size,
+            maps: 0,
+            measured_rmse: 0.0,
+            predicted_rmse: 0.0,
+            predicted_sampling: 0.0,
+            predicted_map: 0.0,
+            predicted_quantization: 0.0,
+            predicted_bias: 0.0,
+            predicted_map_averaging: 0.0,
+            ratio: 0.0,
+            within: false,
+            bound_coverage: 0.0,
+            measured_map: 0.0,
+            measured_sampling: 0.0,
+            exact: String::new(),
+            resolution: [run.g.width, run.g.height],
+            reference: truth::mode_label(&run.reference.mode),
+            adapter: format!("{} ({})", run.ctx.summary.name, run.ctx.summary.backend),
+            failed: Some(reason),
+        }
+    }
 }
 
 /// `estimate.jsonl`, `estimate.md`, `charts/estimate.svg`/`.png` and `report.html`, as one set.
@@ -195,6 +257,7 @@ pub fn files(lines: &[EstimateLine]) -> Result<Vec<(String, Vec<u8>)>> {
     }
     let points: Vec<EstimatePoint> = lines
         .iter()
+        .filter(|l| l.failed.is_none())
         .map(|l| EstimatePoint { layout: l.layout.clone(), label: format!("{} {}@{}", l.scene, short(&l.spec), l.map_size), measured: l.measured_rmse, predicted: l.predicted_rmse })
         .collect();
     let svg = estimate_svg(&points)?;
@@ -239,8 +302,11 @@ fn short(spec: &str) -> String {
 }
 
 /// The summary (pairs in the band, pixels covered) and one row per pair.
-pub fn markdown(lines: &[EstimateLine]) -> String {
-    let Some(first) = lines.first() else { return "# Error estimate against the truth\n\nNo pairs.\n".into() };
+pub fn markdown(all: &[EstimateLine]) -> String {
+    // The summary is of the measured pairs; the failed ones are counted and listed with their reason.
+    let lines: &[EstimateLine] = &all.iter().filter(|l| l.failed.is_none()).cloned().collect::<Vec<_>>();
+    let failed = all.len() - lines.len();
+    let Some(first) = lines.first().or(all.first()) else { return "# Error estimate against the truth\n\nNo pairs.\n".into() };
     let within = lines.iter().filter(|l| l.within).count();
     let covered = lines.iter().filter(|l| l.bound_coverage >= 0.9).count();
     let limits = part_limits(lines);
@@ -269,9 +335,16 @@ pub fn markdown(lines: &[EstimateLine]) -> String {
         limits.with_measured_map,
         limits.with_both_measured
     );
+    if failed > 0 {
+        s += &format!("{failed} of {} settings failed (\"failed: reason\" below); the figures above are of the other {}.\n\n", all.len(), lines.len());
+    }
     s += "| scene | setting | maps | measured | predicted | ratio | bound covers | sampling: predicted / measured | maps: predicted / measured |\n";
     s += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
-    for l in lines {
+    for l in all {
+        if let Some(reason) = &l.failed {
+            s += &format!("| {} | {} @{} | failed: {} | | | | | | |\n", l.scene, short(&l.spec), l.map_size, reason.replace('|', "\\|"));
+            continue;
+        }
         s += &format!(
             "| {} | {} @{} | {} | {:.5} | {:.5} | {:.2}{} | {:.1}% | {:.5} / {:.5} | {:.5} / {:.5} |\n",
             l.scene,
@@ -321,6 +394,7 @@ mod tests {
             resolution: [64, 64],
             reference: "continuous 32x32".into(),
             adapter: "none".into(),
+            failed: None,
         }
     }
 

@@ -56,7 +56,7 @@ impl AdaptiveBuffers {
 
     /// `local`: items, fixed-point visibility and rectangles are needed, and every quad of a level
     /// must fit in one comparison-map buffer.
-    /// `item_cap` lowers the item list's capacity (`adaptive:items`).
+    /// `item_cap`: the item list's capacity (`adaptive:items`, or what an overflow grew it to).
     pub fn new(ctx: &GpuContext, width: u32, height: u32, samples: &[GpuSample], local: bool, item_cap: Option<u32>) -> Result<Self> {
         let limits = ctx.limits();
         let max_binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
@@ -82,17 +82,17 @@ impl AdaptiveBuffers {
             )));
         }
         // Items: every penumbra pixel of a split quad becomes 4, so a pixel on a silhouette can reach
-        // ~4·2^level items; take what one binding holds. Overflow is reported, never clipped.
-        let mut item_capacity = if local { ((max_binding / 8).min(pixels * 32)) as u32 } else { 1 };
-        if let Some(cap) = item_cap {
-            item_capacity = item_capacity.min(cap.max(1));
-        }
+        // ~4·2^level items; start at 32 per pixel (or `item_cap`), at most what one binding holds.
+        // Overflow is reported, never clipped; the method grows the list and runs the frame again
+        // (methods::adaptive::growth).
+        let item_capacity = if local { item_cap.map_or(pixels * 32, |c| c.max(1) as u64).min(max_items(ctx)) as u32 } else { 1 };
         let storage = |label: &str, bytes: u64| readback::zeroed_storage(ctx, label, bytes);
         let indirect = |label: &str| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: 16,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                // COPY_SRC: twin tests read the dispatch sizes back.
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             })
         };
@@ -135,6 +135,12 @@ impl AdaptiveBuffers {
             weights: storage("weights", LATTICE_POINTS as u64 * 4),
         })
     }
+}
+
+/// The most (pixel, quad) items one list can hold on this device: one binding of 8-byte items.
+pub fn max_items(ctx: &GpuContext) -> u64 {
+    let limits = ctx.limits();
+    (limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) / 8).min(u32::MAX as u64)
 }
 
 /// Quads whose comparison maps (one byte per pixel each) fit one binding, at most a level's.
@@ -183,6 +189,22 @@ impl AdaptiveBuffers {
             out.push(("visibility fixed".to_string(), self.items.visibility_fixed.size()));
         }
         out
+    }
+
+    /// scope = local: item and probe lists of `capacity` items in place of the current ones (each
+    /// old list is freed as its successor is made), cleared here as `zero_fill` clears the first
+    /// ones; the rest is kept, and `reset_frame` restarts it.
+    pub fn grow_items(&mut self, ctx: &GpuContext, capacity: u32) -> Result<()> {
+        let bytes = capacity as u64 * 8;
+        self.items.items = [readback::zeroed_storage(ctx, "items a", bytes), readback::zeroed_storage(ctx, "items b", bytes)];
+        self.items.probes = readback::zeroed_storage(ctx, "probes", bytes);
+        self.shape.item_capacity = capacity;
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        for buf in [&self.items.items[0], &self.items.items[1], &self.items.probes] {
+            enc.clear_buffer(buf, 0, None);
+        }
+        ctx.queue.submit([enc.finish()]);
+        ctx.wait()
     }
 
     pub fn requests(&self) -> Requests<'_> {

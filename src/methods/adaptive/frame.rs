@@ -236,12 +236,14 @@ struct Waiting<'a> {
     rects: Option<Vec<[u32; 4]>>,
     syncs: u32,
     bar: indicatif::ProgressBar,
+    /// Where an overflow of the item list leaves what its level appended (the method grows the list).
+    growth: &'a mut super::growth::Growth,
 }
 
 impl<'a> Waiting<'a> {
-    fn new(fx: &Frame, store: &'a mut MapStore, samples: &'a mut [GpuSample], keep: bool) -> Self {
+    fn new(fx: &Frame, store: &'a mut MapStore, samples: &'a mut [GpuSample], growth: &'a mut super::growth::Growth, keep: bool) -> Self {
         let bar = crate::progress::bar(fx.p.max_level as u64 + 1, "adaptive levels");
-        Waiting { store, samples, keep, trace: AdaptiveTrace::default(), new: CORNERS.to_vec(), quad_count: 1, rects: None, syncs: 0, bar }
+        Waiting { store, samples, keep, trace: AdaptiveTrace::default(), new: CORNERS.to_vec(), quad_count: 1, rects: None, syncs: 0, bar, growth }
     }
 }
 
@@ -283,6 +285,10 @@ impl Steering for Waiting<'_> {
         let report = timer.cpu(Stage::READBACK_LEVEL, || levels::read_level(fg, b, level, quads, &b.quads[nxt], kept, pictures, evaluated, local, keep))?;
         self.syncs += 1;
         if let Some(e) = report.overflow_error(level) {
+            if report.item_overflow() {
+                self.growth.overflowed(report.appended as u64, self.syncs);
+            }
+            self.bar.finish_and_clear();
             return Err(e);
         }
         self.rects = if local && fx.p.scissor { Some(report.rects.clone()) } else { None };
@@ -298,10 +304,10 @@ impl Steering for Waiting<'_> {
 /// `keep` reads back every intermediate buffer (maps, masks, comparison maps) for twin tests;
 /// it adds synchronisations, so it is for tests only.
 pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: &mut Prepared, keep: bool, pictures: bool) -> Result<(MethodOutput, AdaptiveTrace)> {
-    let Prepared { b, store, passes, samples, cull, .. } = prepared;
+    let Prepared { b, store, passes, samples, cull, growth, .. } = prepared;
     let fx = Frame::new(fg, p, b, passes, cull.as_ref(), pictures);
     fx.begin();
-    let mut waiting = Waiting::new(&fx, store, samples, keep);
+    let mut waiting = Waiting::new(&fx, store, samples, growth, keep);
     if fx.local {
         begin_local(&fx, timer)?;
     }

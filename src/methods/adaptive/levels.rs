@@ -33,6 +33,9 @@ pub struct LevelReport {
     pub probes: u32,
     /// scope = local: (pixel, quad) items evaluated at this level.
     pub items: u32,
+    /// scope = local: the items (or probes, whichever is more) this level appended for the next,
+    /// counted past the list's capacity: what a list grown after an overflow must hold at least.
+    pub appended: u32,
     /// scope = local with scissor: texel rectangle [min x, min y, max x, max y] per lattice sample.
     pub rects: Vec<[u32; 4]>,
     /// scope = local with culling: indices kept per lattice sample so far (0 where never culled),
@@ -70,6 +73,12 @@ impl LevelReport {
             return None;
         };
         Some(Error::Overflow(format!("adaptive level {level}: {cause} (flags {:#x}); the run is not valid", self.overflow)))
+    }
+
+    /// Whether the overflow (if any) is one a longer item list removes: items or probes, not the
+    /// quad list, whose 256 the lattice fixes.
+    pub fn item_overflow(&self) -> bool {
+        self.overflow & (OVERFLOW_ITEMS | OVERFLOW_PROBES) != 0 && self.overflow & OVERFLOW_QUADS == 0
     }
 }
 
@@ -222,6 +231,7 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
         geometry_pixels: control[4],
         probes: control[5],
         items: if r.local { item_total } else { 0 },
+        appended: if r.local { control[3].max(control[5]) } else { 0 },
         lookups: if r.local { control[6] } else { 0 },
         triangles,
         tiles,

@@ -7,6 +7,7 @@
 pub mod buffers;
 mod context;
 mod frame;
+mod growth;
 mod levels;
 mod maps;
 pub(crate) mod params;
@@ -51,7 +52,8 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
         Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, docs/bench.md)" },
         Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
-        Param { key: "items", default: "what one binding holds", help: "scope=local only: cap on the (pixel, quad) item list; past it the frame fails with an overflow, never clips" },
+        Param { key: "items", default: "32 per pixel", help: "scope=local only: the (pixel, quad) item list's starting capacity, at most what one binding holds; a frame that overflows it runs again on a list grown from the count" },
+        Param { key: "items_grow", default: "on", help: "scope=local only: off fails a frame that overflows the item list (reported, never clipped) instead of growing it" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
 };
@@ -131,15 +133,43 @@ impl MethodState for State {
             self.pending = Some(pending);
             return Ok(out);
         }
-        let (out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep, pictures)?;
+        let (mut out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep, pictures)?;
         self.trace = Some(trace);
+        if self.p.scope == Scope::Local {
+            self.prepared.growth.report(self.prepared.b.shape.item_capacity, &mut out);
+        }
         Ok(out)
     }
     fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
         if let Some(pending) = self.pending.take() {
-            self.trace = Some(steer::finish(fg, &self.p, &self.prepared, pending, out)?);
+            self.trace = Some(steer::finish(fg, &self.p, &mut self.prepared, pending, out)?);
+            if self.p.scope == Scope::Local {
+                self.prepared.growth.report(self.prepared.b.shape.item_capacity, out);
+            }
         }
         Ok(())
+    }
+    /// After a frame that overflowed the item list: a list grown from what the overflowing level
+    /// appended (`growth::next_capacity`); the other buffers, maps, pipelines and steering state
+    /// do not depend on it. False when growth is off or the overflow was not the
+    /// item list's; an overflow error of its own when the list already holds what one binding can.
+    fn grow(&mut self, fg: &FrameGpu) -> Result<bool> {
+        let pr = &mut self.prepared;
+        let Some(needed) = pr.growth.needed.take() else { return Ok(false) };
+        if !self.p.items_grow || pr.growth.fixed {
+            return Ok(false);
+        }
+        let max = buffers::max_items(fg.ctx);
+        let Some(capacity) = growth::next_capacity(pr.b.shape.item_capacity, needed, max) else {
+            return Err(Error::Overflow(format!(
+                "adaptive scope=local at {}x{}: a level needs at least {needed} (pixel, quad) items, more than the {max} one storage binding holds on this device; the run is not valid (use a smaller resolution, a lower max_level or scope=global)",
+                fg.gbuffer.width, fg.gbuffer.height
+            )));
+        };
+        pr.b.grow_items(fg.ctx, capacity)?;
+        pr.growth.grown.push(capacity);
+        self.pending = None;
+        Ok(true)
     }
     fn buffer_sizes(&self) -> Vec<(String, u64)> {
         self.prepared.b.screen_sized()
@@ -233,6 +263,8 @@ pub struct Prepared {
     cull: Option<(Cull, wgpu::Buffer)>,
     /// The GPU-steered loop's state, where this setting allows it (steer::eligible).
     steer: Option<steer::Steer>,
+    /// scope = local: what frames that overflowed the item list asked for (`State::grow`).
+    growth: growth::Growth,
 }
 
 pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
@@ -241,7 +273,8 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let samples = lattice_samples(fg, p);
-    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local, p.items)?;
+    let fixed = if p.items.is_none() && local { growth::fixed_from_env()? } else { None };
+    let b = AdaptiveBuffers::new(ctx, w, h, &samples, local, p.items.or(fixed))?;
     b.zero_fill(ctx)?;
     let hybrid = scene.render.maps == crate::scene::MapKind::Hybrid;
     if hybrid && local {
@@ -302,7 +335,7 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         return Err(Error::Param(format!("adaptive: {}", super::CUBE_MAPS_ARE_PLAIN)));
     }
     let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
-    Ok(Prepared { b, store, passes, samples, cull, steer })
+    Ok(Prepared { b, store, passes, samples, cull, steer, growth: growth::Growth { fixed: fixed.is_some(), ..Default::default() } })
 }
 
 /// The adaptive stages' pipelines, built once per method.

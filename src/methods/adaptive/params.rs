@@ -82,10 +82,19 @@ pub struct AdaptiveParams {
     /// light corner to corner (the seed); `centred` is inset by half a finest cell, so that the full
     /// lattice at max_level is the centred (midpoint-rule) grid.
     pub layout: Layout,
-    /// scope = local: a cap on the (pixel, quad) item list, below what one storage binding holds
-    /// (memory; tests use it to show that an overflow is reported, never clipped).
+    /// scope = local: the (pixel, quad) item list's starting capacity (default 32 per pixel, at
+    /// most what one storage binding holds); tests lower it to make a frame overflow.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub items: Option<u32>,
+    /// scope = local: a frame that overflows the item list runs again on a list grown from the
+    /// count (`items_grow = off`: it fails with the overflow instead; never clipped).
+    #[serde(skip_serializing_if = "is_on")]
+    pub items_grow: bool,
+}
+
+/// Serialize `items_grow` only when it is off (the default adds nothing to a record).
+fn is_on(b: &bool) -> bool {
+    *b
 }
 
 fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -98,7 +107,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true, items: None }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true, items: None, items_grow: true }
     }
 }
 
@@ -224,6 +233,16 @@ impl AdaptiveParams {
                 return Err(Error::Param("adaptive: items needs scope = local (only it keeps an item list)".into()));
             }
         }
+        if let Some(v) = params.get("items_grow") {
+            p.items_grow = match v.as_str() {
+                "on" | "true" => true,
+                "off" | "false" => false,
+                _ => return Err(Error::Param(format!("adaptive: items_grow = `{v}`: use `on` or `off`"))),
+            };
+            if p.scope != Scope::Local {
+                return Err(Error::Param("adaptive: items_grow needs scope = local (only it keeps an item list)".into()));
+            }
+        }
         if let Some(v) = params.get("layout") {
             p.layout = match v.as_str() {
                 "lattice" => Layout::Lattice,
@@ -345,6 +364,9 @@ impl AdaptiveParams {
         }
         if let Some(n) = self.items {
             s += &format!(",items={n}");
+        }
+        if !self.items_grow {
+            s += ",items_grow=off";
         }
         s
     }

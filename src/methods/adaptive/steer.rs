@@ -297,7 +297,7 @@ pub fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, prepared: 
 
 /// After the frame: reads the level records and the weights (one read-back, outside the frame's
 /// clock) and fills in what the waiting loop reports.
-pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: Pending, out: &mut MethodOutput) -> Result<AdaptiveTrace> {
+pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &mut Prepared, pending: Pending, out: &mut MethodOutput) -> Result<AdaptiveTrace> {
     let steer = prepared.steer.as_ref().expect("steered frame without its state");
     let words: Vec<u32> = readback::map_staging(fg.ctx, &steer.history)?;
     let mut trace = AdaptiveTrace::default();
@@ -307,6 +307,10 @@ pub fn finish(fg: &FrameGpu, p: &AdaptiveParams, prepared: &Prepared, pending: P
         let read = LevelRead { n: quads.len() as u64, ..read };
         let report = levels::parse_level(&prepared.b, &words[(at / 4) as usize..], level as u32, quads, evaluated, read);
         if let Some(e) = report.overflow_error(level as u32) {
+            // The frame ran to its end: V's read-back and this one are what it cost.
+            if report.item_overflow() {
+                prepared.growth.overflowed(report.appended as u64, 2);
+            }
             return Err(e);
         }
         quads = report.next_quads.clone();

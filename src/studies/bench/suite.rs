@@ -50,6 +50,8 @@ pub struct MethodResult {
     pub errors: Option<ErrorColumns>,
     /// The row `results.jsonl` holds for this method (the schema `compare` writes).
     pub row: ResultRow,
+    /// The method failed at run time: why (its figures are zero; the tables say "failed: reason").
+    pub failed: Option<String>,
 }
 
 impl MethodResult {
@@ -125,6 +127,24 @@ impl MethodResult {
             syncs: t.syncs,
             errors: Some(ErrorColumns::of(&m.judged)),
             row,
+            failed: None,
+        }
+    }
+
+    /// A method that failed: its row says why.
+    fn from_failed(row: ResultRow) -> MethodResult {
+        let zero = Summary { median: 0.0, min: 0.0, max: 0.0, samples: Vec::new() };
+        MethodResult {
+            label: row.label.clone(),
+            maps: 0,
+            maps_stable: true,
+            frame_ms: zero.clone(),
+            setup_ms: zero,
+            stages_ms: BTreeMap::new(),
+            syncs: 0,
+            errors: None,
+            failed: row.failed.clone(),
+            row,
         }
     }
 }
@@ -176,11 +196,19 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
     let reference_label = format!("{}, CPU BVH", truth::mode_label(&REFERENCE));
     let mut results = Vec::new();
     for SuiteScene { seed: row, file, scene } in scenes {
-        let probe = crate::frame::render(ctx, &scene, &opts.adaptive, crate::gpu::timing::TimingMode::Frame)?;
-        let probe_maps = probe.output.shadow_maps;
+        // The probe picks the fair grid; where the adaptive method fails, so does its fair grid
+        // (no map count to match), and both are failed rows.
+        let probe = crate::frame::render(ctx, &scene, &opts.adaptive, crate::gpu::timing::TimingMode::Frame).map_err(|e| e.to_string());
+        let probe_maps = probe.as_ref().map_or(0, |p| p.output.shadow_maps);
         bar.inc(1);
-        crate::progress::suspend(|| log(&format!("{:7} {:18} {:8} {:>3} maps: fair grid {}", row.scene, opts.adaptive.label(), "probe", probe_maps, fair::grid_method(probe_maps))));
-        let methods = [opts.adaptive.clone(), opts.regular.clone(), Method::parse(&fair::grid_method(probe_maps), &[])?];
+        match &probe {
+            Ok(_) => crate::progress::suspend(|| log(&format!("{:7} {:18} {:8} {:>3} maps: fair grid {}", row.scene, opts.adaptive.label(), "probe", probe_maps, fair::grid_method(probe_maps)))),
+            Err(e) => crate::progress::suspend(|| log(&crate::record::failed_line(&format!("{} {}", row.scene, opts.adaptive.label()), e))),
+        }
+        let mut methods = vec![opts.adaptive.clone(), opts.regular.clone()];
+        if probe.is_ok() {
+            methods.push(Method::parse(&fair::grid_method(probe_maps), &[])?);
+        }
         let (g, reference) = truth::for_scene(ctx, &scene, REFERENCE, &Cache::default_for(false))?;
         let judge = Judge::new(&scene, &g, reference.values);
         let mut on_frame = |method: &Method, phase: Phase, r: &crate::frame::FrameResult| {
@@ -200,12 +228,28 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
             repeats: opts.repeats,
         };
         let provenance = Provenance::of_scene("bench seed-table2", &scene, &[], opts.cache.as_deref());
-        let mut done = measured.into_iter().zip(&methods).map(|(m, method)| {
-            let r = record::row(&info, method, &m.timing, m.judged.clone(), BTreeMap::new(), provenance.clone());
-            MethodResult::from_measured(m, r)
+        let mut done = measured.into_iter().zip(&methods).map(|(m, method)| match m {
+            Ok(m) => {
+                let r = record::row(&info, method, &m.timing, m.judged.clone(), BTreeMap::new(), provenance.clone());
+                MethodResult::from_measured(m, r)
+            }
+            Err(reason) => {
+                crate::progress::suspend(|| log(&record::failed_line(&format!("{} {}", row.scene, method.label()), &reason)));
+                MethodResult::from_failed(record::failed_row(&info, method, &reason, provenance.clone()))
+            }
         });
-        let (Some(adaptive), Some(regular), Some(fair)) = (done.next(), done.next(), done.next()) else {
+        let (Some(adaptive), Some(regular)) = (done.next(), done.next()) else {
             return Err(Error::Param("bench: no frames measured".into()));
+        };
+        let fair = match (done.next(), &probe) {
+            (Some(fair), _) => fair,
+            (None, probe) => {
+                let reason = format!("no fair grid: the adaptive probe frame failed ({})", probe.as_ref().err().map_or("", String::as_str));
+                let grid = Method::parse("regular:n=2,layout=centred", &[])?;
+                let mut r = record::failed_row(&info, &grid, &reason, provenance.clone());
+                r.label = "fair grid".into();
+                MethodResult::from_failed(r)
+            }
         };
         results.push(SceneResult {
             seed: row,
@@ -220,6 +264,10 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         });
     }
     bar.finish_and_clear();
+    let rows: Vec<&MethodResult> = results.iter().flat_map(|s: &SceneResult| [&s.adaptive, &s.regular, &s.fair]).collect();
+    if let Some(line) = record::failed_summary(rows.iter().filter(|m| m.failed.is_some()).count(), rows.len()) {
+        crate::progress::suspend(|| log(&line));
+    }
     Ok(SuiteResults {
         adapter: ctx.summary.clone(),
         timestamps_trusted: ctx.timestamps_trusted,

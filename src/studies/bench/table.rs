@@ -37,7 +37,23 @@ fn errors(m: &MethodResult) -> String {
     }
 }
 
+/// A method's fps, or why it has none.
+fn fps_of(m: &MethodResult) -> String {
+    match &m.failed {
+        Some(reason) => format!("failed: {}", reason.replace('|', "\\|")),
+        None => fps(m.fps()),
+    }
+}
+
+/// `grid / adaptive` as `1.23x`, "—" where either failed.
+fn ratio(grid: &MethodResult, adaptive: &MethodResult) -> String {
+    if grid.failed.is_some() || adaptive.failed.is_some() { "—".into() } else { format!("{:.2}x", grid.frame_ms.median / adaptive.frame_ms.median) }
+}
+
 fn maps(m: &MethodResult) -> String {
+    if m.failed.is_some() {
+        return "—".into();
+    }
     if m.maps_stable { m.maps.to_string() } else { format!("{}, varied", m.maps) }
 }
 
@@ -100,17 +116,17 @@ pub fn markdown(r: &SuiteResults) -> String {
         let seed = s.seed;
         let _ = writeln!(
             md,
-            "| {} {} | {} ({}.{}k) | {} ({}) | {} ({}) | {:.2}x | {} | {} | {:.2} ({}) | {:.2} ({}) | {:.1}x |",
+            "| {} {} | {} ({}.{}k) | {} ({}) | {} ({}) | {} | {} | {} | {:.2} ({}) | {:.2} ({}) | {:.1}x |",
             seed.scene,
             seed.seed_name,
             thousands(s.triangles as u64),
             thousands(seed.triangles / 1000),
             seed.triangles % 1000 / 100,
-            fps(s.adaptive.fps()),
+            fps_of(&s.adaptive),
             maps(&s.adaptive),
-            fps(s.regular.fps()),
+            fps_of(&s.regular),
             maps(&s.regular),
-            s.speedup(),
+            ratio(&s.regular, &s.adaptive),
             errors(&s.adaptive),
             errors(&s.regular),
             seed.adaptive_fps,
@@ -131,6 +147,10 @@ pub fn markdown(r: &SuiteResults) -> String {
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
     for s in &r.scenes {
         for m in [&s.adaptive, &s.regular, &s.fair] {
+            if let Some(reason) = &m.failed {
+                let _ = writeln!(md, "| {} | `{}` | failed: {} | | | | | |", s.seed.scene, m.label, reason.replace('|', "\\|"));
+                continue;
+            }
             let f = &m.frame_ms;
             let _ = writeln!(
                 md,
@@ -162,10 +182,15 @@ fn fair_rows(md: &mut String, r: &SuiteResults) {
     let rmse = |m: &MethodResult| m.errors.as_ref().map_or("—".to_string(), |e| format!("{:.5}", e.rmse));
     for s in &r.scenes {
         let adaptive_maps = if s.probe_held() { maps(&s.adaptive) } else { format!("{} (untimed frame: {})", maps(&s.adaptive), s.probe_maps) };
-        for (grid, speedup, seed) in [(&s.regular, s.speedup(), format!("{:.1}x", s.seed.speedup())), (&s.fair, s.fair_speedup(), "—".to_string())] {
+        for (grid, seed) in [(&s.regular, format!("{:.1}x", s.seed.speedup())), (&s.fair, "—".to_string())] {
+            let speedup = ratio(grid, &s.adaptive);
+            let verdict = match (&s.adaptive.failed, &grid.failed) {
+                (None, None) => fair::verdict(&s.adaptive.row, &grid.row),
+                _ => "—: a failed setting".to_string(),
+            };
             let _ = writeln!(
                 md,
-                "| {} | `{}` | {} | {} | {:.2}x | {} | {} | {} | {} |",
+                "| {} | `{}` | {} | {} | {} | {} | {} | {} | {} |",
                 s.seed.scene,
                 grid.label,
                 maps(grid),
@@ -174,7 +199,7 @@ fn fair_rows(md: &mut String, r: &SuiteResults) {
                 seed,
                 rmse(&s.adaptive),
                 rmse(grid),
-                fair::verdict(&s.adaptive.row, &grid.row)
+                verdict
             );
         }
     }

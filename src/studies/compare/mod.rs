@@ -132,6 +132,15 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
     };
     let mut rows = Vec::new();
     for (((method, m), provenance), slug) in job.methods.iter().zip(measured).zip(&job.provenance).zip(&slugs) {
+        // A setting that failed is a row that says why; the others go on.
+        let m = match m {
+            Ok(m) => m,
+            Err(reason) => {
+                log(&record::failed_line(&method.label(), &reason));
+                rows.push(record::failed_row(&info, method, &reason, provenance.clone()));
+                continue;
+            }
+        };
         let (metrics, images, own, record) = m.judged;
         files.extend(own);
         let record = run_files::measured_record(record, &m.timing);
@@ -142,6 +151,9 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
             row.label, row.shadow_maps, row.total_ms, row.total_ms_min, row.total_ms_max, row.metrics.rmse
         ));
         rows.push(row);
+    }
+    if let Some(line) = record::failed_summary(rows.iter().filter(|r| !r.measured()).count(), rows.len()) {
+        log(&line);
     }
     files.extend(record::result_files(&rows)?);
     let geometry = judge.mask.clone();

@@ -17,6 +17,10 @@ pub fn render(rows: &[ResultRow]) -> String {
     let mut rows: Vec<&ResultRow> = rows.iter().collect();
     rows.sort_by_key(|r| Family::of_name(&r.method));
     for r in rows {
+        if let Some(reason) = &r.failed {
+            out += &format!("{:width$}  failed: {reason}\n", r.label());
+            continue;
+        }
         let m = &r.metrics;
         out += &format!(
             "{:width$}  {:>5} {:>5}  {:>10.1} {:>21}  {:>9} {:>7} {:>6.4} {:>9.4} {:>9} {:>6.2}%\n",

@@ -14,6 +14,7 @@ pub fn files(lines: &[FrontierLine]) -> Result<Vec<(String, Vec<u8>)>> {
     let scene = lines.first().map_or("", |l| l.scene.as_str());
     let points: Vec<FrontierPoint> = lines
         .iter()
+        .filter(|l| l.failed.is_none())
         .map(|l| FrontierPoint {
             kind: if l.map_config.starts_with("hybrid") { format!("{}, hybrid maps", l.kind) } else { l.kind.clone() },
             label: format!("{} @{}", l.spec, short_maps(&l.map_config)),
@@ -106,17 +107,17 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
     );
     s += &rasters(lines);
     // The budget's rows are judged against the frontier of the fixed settings, not part of it.
-    let points: Vec<(f64, f64)> = lines.iter().map(|l| (if l.is_budget() { f64::INFINITY } else { l.frame_ms }, l.rmse)).collect();
+    let points: Vec<(f64, f64)> = lines.iter().map(FrontierLine::point).collect();
     s += "\n## The frontier: the cheapest setting for each error level\n\n\
           | RMSE at most | cheapest setting | maps | map size | median ms (min–max) | FLIP |\n|---:|---|---:|---:|---:|---:|\n";
-    for i in front::ladder(&points).into_iter().filter(|&i| !lines[i].is_budget()) {
+    for i in front::ladder(&points).into_iter().filter(|&i| !lines[i].is_budget() && lines[i].failed.is_none()) {
         let l = &lines[i];
         s += &format!(
             "| {:.5} | {} | {} | {} | {:.1} ({:.1}–{:.1}) | {} |\n",
             l.rmse, l.setting(), l.maps, l.map_size, l.frame_ms, l.frame_ms_min, l.frame_ms_max, flip(l)
         );
     }
-    let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget()).collect();
+    let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget() && l.failed.is_none()).collect();
     if !budget.is_empty() {
         s += "\n## The error budget against the frontier\n\n\
               `auto:target=T` chooses its grid per frame from the estimate (no reference), or one \
@@ -133,7 +134,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
         }
         s += &oracle(lines, &budget);
     }
-    let adaptive: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_adaptive()).collect();
+    let adaptive: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_adaptive() && l.failed.is_none()).collect();
     if !adaptive.is_empty() {
         s += "\n## Adaptive and local refinement against the frontier\n\n\
               | setting | maps | RMSE | median ms | on the frontier | beaten by | its RMSE | its ms |\n|---|---:|---:|---:|---|---|---:|---:|\n";
@@ -155,6 +156,10 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
     }
     s += "\n## Every setting\n\n| setting | kind | maps | map size | RMSE | FLIP | median ms (min–max) | on the frontier |\n|---|---|---:|---:|---:|---:|---:|---|\n";
     for l in lines {
+        if let Some(reason) = &l.failed {
+            s += &format!("| {} | {} | failed: {} | | | | | |\n", l.setting(), l.kind, reason.replace('|', "\\|"));
+            continue;
+        }
         s += &format!(
             "| {} | {} | {} | {} | {:.5} | {} | {:.1} ({:.1}–{:.1}) | {} |\n",
             l.setting(),

@@ -70,12 +70,26 @@ pub struct FrontierLine {
     /// target, what a method that knew the truth would render (`spec @ map_config`).
     #[serde(default)]
     pub oracle: Option<String>,
+    /// A setting that failed at run time: the reason (its figures are zero and mean nothing; the
+    /// front, the budget's rivals and the oracle skip it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
 }
 
 impl FrontierLine {
     /// `spec @ map_config`: a setting's name across map configurations.
     pub fn setting(&self) -> String {
         format!("{} @ {}", self.spec, self.map_config)
+    }
+
+    /// (frame ms, RMSE) as the front reads it: budget rows at an infinite time (they neither join
+    /// nor shape the frontier), failed rows at infinite time and error (they reach nothing).
+    pub fn point(&self) -> (f64, f64) {
+        match (&self.failed, self.is_budget()) {
+            (Some(_), _) => (f64::INFINITY, f64::INFINITY),
+            (None, true) => (f64::INFINITY, self.rmse),
+            (None, false) => (self.frame_ms, self.rmse),
+        }
     }
 
     /// Adaptive rows, the ones the chart and the table single out.
@@ -126,12 +140,20 @@ fn kind(m: &Method) -> String {
 /// lines' own figures. A budget row's `beaten_by` is the cheapest fixed setting whose RMSE is at
 /// most its own (what it is judged against), faster or not.
 pub fn mark(lines: &mut [FrontierLine]) {
-    // Budget rows get an infinite time here, so they neither join nor shape the frontier.
-    let points: Vec<(f64, f64)> = lines.iter().map(|l| (if l.is_budget() { f64::INFINITY } else { l.frame_ms }, l.rmse)).collect();
-    let on = front::on_frontier(&points);
+    // Budget rows get an infinite time here, so they neither join nor shape the frontier; failed
+    // rows an infinite time and error, and never a place on it.
+    let points: Vec<(f64, f64)> = lines.iter().map(FrontierLine::point).collect();
+    let mut on = front::on_frontier(&points);
+    for (o, l) in on.iter_mut().zip(lines.iter()) {
+        *o &= l.failed.is_none();
+    }
     let names: Vec<String> = lines.iter().map(FrontierLine::setting).collect();
     for (i, l) in lines.iter_mut().enumerate() {
         l.on_frontier = on[i] && !l.is_budget();
+        if l.failed.is_some() {
+            (l.oracle, l.beaten_by) = (None, None);
+            continue;
+        }
         l.oracle = l.target().filter(|_| l.is_budget()).and_then(|t| front::cheapest_reaching(&points, (1.0 + BAND) * t)).map(|j| names[j].clone());
         l.beaten_by = if l.is_budget() {
             front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && points[j].0.is_finite()).map(|j| names[j].clone())
@@ -163,6 +185,11 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
         let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&s, &methods[i].label(), f)?.metrics);
         let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
         for ((m, spec), r) in methods.iter().zip(specs).zip(measured) {
+            // A setting that failed is a line that says why; the others go on.
+            let (r, failed) = match r {
+                Ok(r) => (r, None),
+                Err(reason) => (measure::Measured { timing: measure::Timing::none(), judged: Default::default() }, Some(reason)),
+            };
             let line = FrontierLine {
                 scene: scene.name.clone(),
                 spec: spec.clone(),
@@ -186,14 +213,19 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
                 raster: r.timing.raster.to_string(),
                 oracle: None,
+                failed,
             };
-            crate::progress::suspend(|| {
-                log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse))
+            crate::progress::suspend(|| match &line.failed {
+                Some(reason) => log(&crate::record::failed_line(&line.setting(), reason)),
+                None => log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse)),
             });
             lines.push(line);
         }
     }
     bar.finish_and_clear();
+    if let Some(line) = crate::record::failed_summary(lines.iter().filter(|l| l.failed.is_some()).count(), lines.len()) {
+        log(&line);
+    }
     mark(&mut lines);
     Ok(lines)
 }
