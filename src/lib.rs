@@ -24,6 +24,7 @@ pub mod report;
 pub mod studies;
 pub mod inputs;
 pub mod interrupt;
+pub mod panic_log;
 
 pub use api::{required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
 pub use error::{Error, Result};

@@ -111,6 +111,10 @@ fn main() {
     if let Err(e) = penumbra::interrupt::install() {
         eprintln!("warning: signals are not caught ({e}): an interrupt may leave a staging folder for the next run");
     }
+    // A panic is a bug at any input: with PENUMBRA_PANIC_LOG=FILE each one is also counted in FILE.
+    if let Some(path) = std::env::var_os("PENUMBRA_PANIC_LOG") {
+        penumbra::panic_log::install(path.into());
+    }
     // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());

@@ -27,7 +27,7 @@ fn a_pinned_mesh_that_was_damaged_or_replaced_is_refused_naming_it() {
     let cow = cache.join("meshes/cow.off");
     std::fs::write(&cow, TRI_OFF).unwrap();
     let expected = format!(
-        "cache:meshes/cow.off: {} is not the file the asset cache pinned ({} bytes with sha256 {}; pinned: 182966 bytes with sha256 1c5a25c3047fc6b14dd0c962d3562b1796671422ab4634f9d46f9f23814cd54a): it was damaged or replaced; run `penumbra assets fetch --group meshes` to fetch it again",
+        "test.toml: mesh 2: file = \"cache:meshes/cow.off\": {} is not the file the asset cache pinned ({} bytes with sha256 {}; pinned: 182966 bytes with sha256 1c5a25c3047fc6b14dd0c962d3562b1796671422ab4634f9d46f9f23814cd54a): it was damaged or replaced; run `penumbra assets fetch --group meshes` to fetch it again",
         cow.display(),
         TRI_OFF.len(),
         sha256_hex(TRI_OFF.as_bytes())

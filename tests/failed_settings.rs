@@ -7,7 +7,7 @@
 
 #[macro_use]
 mod common;
-use common::{penumbra, penumbra_env, temp_dir};
+use common::{penumbra_env, temp_dir};
 use penumbra::studies::frontier::{mark, FrontierLine};
 use std::path::Path;
 
@@ -32,6 +32,12 @@ fn finished_with_one_failure(o: &std::process::Output, label: &str, reason: &str
         [format!("warning: {label}: failed: {reason}"), format!("warning: 1 of {total} settings failed; their rows say why (\"failed\" in the results)")],
         "{stderr}"
     );
+}
+
+/// Runs with a reference cache of the test's own: the warnings are compared line for line, and a
+/// shared cache may hold an entry an older build wrote, which is traced again with a warning.
+fn private_cache(dir: &Path, args: &[&str]) -> std::process::Output {
+    penumbra_env(args, &[("PENUMBRA_CACHE", dir.join("cache").to_str().unwrap())])
 }
 
 /// compare's and sweep's output set: the failed row with its reason, the others measured.
@@ -61,12 +67,16 @@ fn check_compare_set(out: &Path, failed_label: &str, measured: &[&str]) {
 
 #[test]
 fn compare_records_a_failed_method_and_goes_on() {
-    let out = temp_dir("failed-compare").join("out");
+    let dir = temp_dir("failed-compare");
+    let out = dir.join("out");
     let label = "adaptive:p_m=0,scope=local,items=100,items_grow=off";
-    let o = penumbra(&[
-        "compare", "--scene", "slat-roof", "--set", "resolution=32", "--repeats", "1",
-        "--methods", "hard,adaptive:scope=local,items=100,items_grow=off,regular:n=2", "--out", out.to_str().unwrap(),
-    ]);
+    let o = private_cache(
+        &dir,
+        &[
+            "compare", "--scene", "slat-roof", "--set", "resolution=32", "--repeats", "1",
+            "--methods", "hard,adaptive:scope=local,items=100,items_grow=off,regular:n=2", "--out", out.to_str().unwrap(),
+        ],
+    );
     finished_with_one_failure(&o, label, OVERFLOW, 3);
     check_compare_set(&out, label, &["hard", "regular:n=2"]);
     let stdout = String::from_utf8_lossy(&o.stdout);
@@ -79,7 +89,7 @@ fn sweep_records_a_failed_configuration_and_goes_on() {
     let spec = dir.join("spec.toml");
     std::fs::write(&spec, "methods = [\"hard\"]\n[[grid]]\nmethod = \"adaptive\"\nscope = \"local\"\nitems_grow = \"off\"\nitems = [100, 100000]\n").unwrap();
     let out = dir.join("out");
-    let o = penumbra(&["sweep", "--spec", spec.to_str().unwrap(), "--scene", "slat-roof", "--set", "resolution=32", "--repeats", "1", "--out", out.to_str().unwrap()]);
+    let o = private_cache(&dir, &["sweep", "--spec", spec.to_str().unwrap(), "--scene", "slat-roof", "--set", "resolution=32", "--repeats", "1", "--out", out.to_str().unwrap()]);
     let label = "adaptive:p_m=0,scope=local,items=100,items_grow=off";
     finished_with_one_failure(&o, label, OVERFLOW, 3);
     check_compare_set(&out, label, &["hard", "adaptive:p_m=0,scope=local,items=100000,items_grow=off"]);
@@ -172,9 +182,10 @@ fn the_front_and_the_oracle_skip_failed_lines() {
 
 #[test]
 fn estimate_records_a_failed_setting_and_goes_on() {
-    let out = temp_dir("failed-estimate").join("out");
+    let dir = temp_dir("failed-estimate");
+    let out = dir.join("out");
     // A 1024² map (4 MiB) does not fit a 1 MiB map budget; the 256² one does.
-    let o = penumbra(&[
+    let o = private_cache(&dir, &[
         "estimate", "--scenes", "slat-roof", "--set", "resolution=32", "--set", "shadow_map_budget_mib=1",
         "--settings", "regular:n=2@256;regular:n=2@1024", "--out", out.to_str().unwrap(),
     ]);

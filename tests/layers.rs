@@ -7,7 +7,7 @@ use std::path::Path;
 
 /// Top-level modules of src/, lowest layer first.
 const LAYERS: &[&str] = &[
-    "error", "progress", "gpu", "scene", "render", "stages", "methods", "frame", "api", "reference", "metrics", "record", "report",
+    "error", "progress", "interrupt", "panic_log", "gpu", "scene", "render", "stages", "methods", "frame", "api", "reference", "metrics", "record", "report",
     "studies", "inputs",
 ];
 
