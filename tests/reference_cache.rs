@@ -4,24 +4,13 @@
 //! the file, the reference is traced again and replaces it, and the figures equal a clean run's.
 //! A cache file that cannot be read at all is refused with one line naming it and `--no-cache`.
 
-#[macro_use]
 mod common;
 use common::temp_dir;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-const SCENE: &str = concat!(
-    tiny_scene_head!(),
-    r#"
-[[mesh]]
-builtin = "plane"
-scale = 10.0
-
-[[mesh]]
-builtin = "box"
-translate = [0.0, 1.0, 0.0]
-"#
-);
+/// A box over a plane at 32x32: the sweep tests' tiny scene.
+const SCENE: &str = common::SWEEP_SCENE;
 
 fn compare(cache: &Path, scene: &Path, out: &Path) -> Output {
     let args = [
