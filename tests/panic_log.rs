@@ -19,3 +19,24 @@ fn a_panic_is_appended_to_the_log_as_one_line() {
         assert!(line.contains("(args: "), "{line}");
     }
 }
+
+/// The binary with the census's variable set: a bad input is refused in one line and leaves the
+/// log unwritten (no panic), and the census script that sets it parses.
+#[test]
+fn the_binary_logs_nothing_for_a_refused_input_and_the_census_script_parses() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("panics.log");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(["render", "--scene", "no-such-scene", "--out", dir.path().join("out").to_str().unwrap()])
+        .env("PENUMBRA_PANIC_LOG", &log)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.starts_with("error: ") && stderr.contains("no-such-scene"), "{stderr}");
+    assert!(!log.exists(), "a refused input wrote the panic log: {:?}", std::fs::read_to_string(&log));
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/panic-census.sh");
+    let parse = std::process::Command::new("bash").arg("-n").arg(&script).status().unwrap();
+    assert!(parse.success(), "bash -n {}", script.display());
+}
