@@ -267,7 +267,7 @@ mod tests {
         let point = crate::scene::Scene::load("point-edge", &[]).unwrap();
         let mut groups = settings(&axes, 512).unwrap();
         let before = count(&groups);
-        let refused = drop_refused(&mut groups, &point, |s, m| m.check_light(s));
+        let refused = drop_refused(&mut groups, &point, |s, m| m.check_light(s).map_err(Into::into));
         // Local scope at 512² (1024² is already out by the map budget), the prefiltered maps at
         // both sizes, and the global presets under hybrid maps; the regular grids, hard, pcf and
         // pcss read a point light's cube maps of either kind.
@@ -285,7 +285,7 @@ mod tests {
         assert!(groups[0].specs.iter().any(|s| s == "adaptive:preset=seed"), "global scope runs on a point light's plain maps");
         let area = crate::scene::Scene::load("default", &[]).unwrap();
         let mut groups = settings(&axes, 512).unwrap();
-        assert!(drop_refused(&mut groups, &area, |s, m| m.check_light(s)).is_empty());
+        assert!(drop_refused(&mut groups, &area, |s, m| m.check_light(s).map_err(Into::into)).is_empty());
         assert_eq!(count(&groups), before);
     }
 

@@ -53,7 +53,7 @@ fn later_frames_on_one_renderer_equal_the_first() {
 /// frames), and on another scene with other meshes, map size and culling (the failure gallery).
 #[test]
 fn a_renderer_moved_to_another_scene_equals_a_new_one() {
-    use penumbra::studies::sequence::path::{Animation, Path, Subject};
+    use penumbra_lab::studies::sequence::path::{Animation, Path, Subject};
     let ctx = common::gpu();
     let dir = common::temp_dir("renderer_reuse_moved");
     image::Rgb32FImage::from_fn(64, 32, |x, y| image::Rgb(if (x, y) == (18, 8) { [800.0; 3] } else { [0.6; 3] }))

@@ -177,9 +177,9 @@ fn every_map_reading_method_reads_hybrid_maps() {
 /// pixels that shrink as the map grows, and a different point gives a different shadow.
 #[test]
 fn point_reference_is_the_hard_shadow_maps_converge_to() {
-    use penumbra::reference::truth::{self, Cache};
-    use penumbra::metrics;
-    use penumbra::reference::ReferenceMode;
+    use penumbra_lab::reference::truth::{self, Cache};
+    use penumbra_lab::metrics;
+    use penumbra_lab::reference::ReferenceMode;
     let ctx = gpu();
     let centre = ReferenceMode::Point { s: 0.5, t: 0.5 };
     let base = Scene::parse(&common::random_scene_toml(17, 64, 256), "random", None, &[]).unwrap();
@@ -192,8 +192,8 @@ fn point_reference_is_the_hard_shadow_maps_converge_to() {
         let o: Vec<(String, String)> = overrides.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
         let sc = Scene::parse(&common::random_scene_toml(17, 64, 256), "random", None, &o).unwrap();
         let r = frame::render(ctx, &sc, &Method::hard(), TimingMode::Frame).unwrap();
-        let shaded = penumbra::record::run_files::shaded_image(&r.visibility, &r.gbuffer, &sc);
-        let shaded_ref = penumbra::record::run_files::shaded_image(&reference.values, &g, &sc);
+        let shaded = penumbra_lab::record::run_files::shaded_image(&r.visibility, &r.gbuffer, &sc);
+        let shaded_ref = penumbra_lab::record::run_files::shaded_image(&reference.values, &g, &sc);
         metrics::compute(&r.visibility, &reference.values, &mask, &shaded, &shaded_ref, 64, 64).unwrap().mismatch_share
     };
     let coarse = mismatch(&[("shadow_map_size", "64")]);

@@ -143,7 +143,7 @@ fn a_disk_or_spot_turned_away_from_every_mesh_is_refused() {
 
 /// The pairs docs/lights.md lists: `yes`, or the reason the method gives.
 fn documented_pairs() -> Vec<(String, Vec<String>)> {
-    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/lights.md")).unwrap();
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/lights.md")).unwrap();
     let table = doc.split("<!-- pairs -->").nth(1).expect("docs/lights.md has the pairs table between `<!-- pairs -->` marks");
     table
         .lines()
@@ -207,7 +207,7 @@ fn render_and_compare_refuse_a_pair_with_one_line_and_no_output() {
     }
     // The example docs/lights.md §4 shows, on the built-in scene.
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra")).current_dir(&dir).args(["render", "--scene", "point-edge", "--method", "vsm", "--out", "out"]).env("PENUMBRA_NO_PROGRESS", "1").output().unwrap();
-    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/lights.md")).unwrap();
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/lights.md")).unwrap();
     let shown = doc.lines().map(str::trim).find(|l| l.starts_with("error: vsm: light kind")).expect("docs/lights.md shows the message");
     assert_eq!(String::from_utf8_lossy(&out.stderr).trim(), shown);
     assert!(!dir.join("out").exists());

@@ -5,9 +5,9 @@
 mod common;
 use glam::{DVec3, Vec3};
 use penumbra::frame;
-use penumbra::reference::analytic_lights::{DiskOverBar, SphereOverEdge, SunOverEdge};
-use penumbra::reference::truth::{self, Cache};
-use penumbra::reference::ReferenceMode;
+use penumbra_lab::reference::analytic_lights::{DiskOverBar, SphereOverEdge, SunOverEdge};
+use penumbra_lab::reference::truth::{self, Cache};
+use penumbra_lab::reference::ReferenceMode;
 use penumbra::scene::{Emitter, LightKind, Scene};
 
 /// The closed form of each scene, from the scene's own emitter and the occluders its file states.

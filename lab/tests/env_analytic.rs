@@ -7,10 +7,10 @@
 mod common;
 use glam::Vec3;
 use penumbra::scene::environment::panorama::band_solid_angle;
-use penumbra::reference::environment::{self, PanoramaSampler};
+use penumbra_lab::reference::environment::{self, PanoramaSampler};
 use penumbra::scene::environment::{Environment, Panorama};
-use penumbra::reference::sampling::PixelRng;
-use penumbra::reference::{SurfacePoint, Tracer};
+use penumbra_lab::reference::sampling::PixelRng;
+use penumbra_lab::reference::{SurfacePoint, Tracer};
 use std::f64::consts::PI;
 
 /// Irradiance by importance sampling: E = P · mean(max(0, n·ω)), P the panorama's power.

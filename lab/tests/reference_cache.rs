@@ -60,7 +60,7 @@ fn a_damaged_entry_is_traced_again_with_one_warning_and_the_same_figures() {
     assert!(clean > 0.01 && clean < 0.5, "hard's RMSE {clean}");
     let file = the_cache_file(&cache);
     let good = std::fs::read(&file).unwrap();
-    let entry = penumbra::reference::parse_cache_file(&good).unwrap();
+    let entry = penumbra_lab::reference::parse_cache_file(&good).unwrap();
     let data_at = 20 + entry.key.len();
     // A lit pixel's value, so that 7.0 and NaN replace a real figure.
     let lit = data_at + 4 * entry.values.iter().position(|&v| v > 0.5).unwrap();

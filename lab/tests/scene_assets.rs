@@ -213,7 +213,7 @@ fn committed_scene_files_state_their_triangles_and_resolve_through_the_cache() {
     // Parse every scene in scenes/ with an empty cache: the seed scenes must fail only because
     // the cache is empty (the message names the fetch), the others must load with their count.
     let cache = temp_dir("scenes_empty_cache");
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("scenes");
     let mut seen = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();

@@ -2,10 +2,10 @@
 //! width growing with resolution and light size, and the charts written.
 
 mod common;
-use penumbra::studies::compare::methods_list;
-use penumbra::studies::framing::{run, FramingJob};
-use penumbra::reference::truth::Cache;
-use penumbra::reference::ReferenceMode;
+use penumbra_lab::studies::compare::methods_list;
+use penumbra_lab::studies::framing::{run, FramingJob};
+use penumbra_lab::reference::truth::Cache;
+use penumbra_lab::reference::ReferenceMode;
 use penumbra::scene::Scene;
 
 #[test]
@@ -53,7 +53,7 @@ fn framing_scales_the_emitter_the_reference_traces() {
     let ctx = common::gpu();
     let scene = Scene::load("disk-bar", &[("shadow_map_size".to_string(), "256".to_string())]).unwrap();
     let penumbra::scene::Emitter::Disk(disk) = scene.emitter else { panic!("disk-bar is not a disk") };
-    let big = penumbra::studies::framing::configure(&scene, 48, 2.0);
+    let big = penumbra_lab::studies::framing::configure(&scene, 48, 2.0);
     let penumbra::scene::Emitter::Disk(big_disk) = big.emitter else { panic!("the scaled disk-bar is not a disk") };
     assert_eq!(big_disk.radius, 2.0 * disk.radius);
     assert!((big.light.edge_u.length() - 2.0 * big_disk.radius).abs() < 1e-5, "stand-in side {} for radius {}", big.light.edge_u.length(), big_disk.radius);

@@ -5,7 +5,7 @@
 fn a_panic_is_appended_to_the_log_as_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("panics.log");
-    penumbra::panic_log::install(log.clone());
+    penumbra_lab::panic_log::install(log.clone());
     for k in 0..2 {
         let caught = std::panic::catch_unwind(|| panic!("probe {k}\nsecond line"));
         assert!(caught.is_err());

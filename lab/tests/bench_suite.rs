@@ -9,11 +9,11 @@ use penumbra::frame;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
 use penumbra::gpu::timing::TimingMode;
-use penumbra::studies::bench::fair::grid_n;
+use penumbra_lab::studies::bench::fair::grid_n;
 use std::path::Path;
 
 fn scene_file(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name).to_string_lossy().into_owned()
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("scenes").join(name).to_string_lossy().into_owned()
 }
 
 #[test]

@@ -6,7 +6,7 @@ mod common;
 use glam::Vec3;
 use penumbra::frame::{self, FrameResult};
 use penumbra::methods::Method;
-use penumbra::reference::AnalyticSquareScene;
+use penumbra_lab::reference::AnalyticSquareScene;
 use penumbra::scene::Scene;
 use penumbra::gpu::timing::TimingMode;
 
@@ -70,7 +70,7 @@ fn segment_hits_box(p: Vec3, q: Vec3, centre: Vec3, half: Vec3) -> bool {
 
 #[test]
 fn vsm_bleeds_light_where_occluders_overlap_and_evsm_and_msm_reduce_it() {
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/overlapping-occluders.toml");
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("scenes/overlapping-occluders.toml");
     let scene = Scene::load(&file.to_string_lossy(), &[("resolution".into(), "128".into())]).unwrap();
     let light = scene.light;
     let (plate_a, half_a) = (Vec3::new(-0.6, 1.0, -0.3), Vec3::new(1.0, 0.05, 1.0));

@@ -21,7 +21,7 @@ const SHARDS: usize = 3;
 const WAIT: Duration = Duration::from_secs(300);
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
 }
 
 fn s(p: &Path) -> String {

@@ -8,8 +8,8 @@ use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::fixed_samples::FixedBuffers;
 use penumbra::methods::single_map::SingleMapBuffers;
 use penumbra::methods::Method;
-use penumbra::reference::truth::{self, Cache};
-use penumbra::reference::ReferenceMode;
+use penumbra_lab::reference::truth::{self, Cache};
+use penumbra_lab::reference::ReferenceMode;
 use penumbra::scene::{LightKind, Scene};
 use penumbra::stages::twin;
 

@@ -154,7 +154,7 @@ fn concurrent_shards_on_a_cold_cache_trace_the_reference_once() {
     assert_eq!(exr(0), exr(1));
     let bytes = std::fs::read(cache.join("reference").join(&files[0])).unwrap();
     assert_eq!(&bytes[..8], b"PNMBREF2");
-    let entry = penumbra::reference::parse_cache_file(&bytes).expect("whole, digest matching");
+    let entry = penumbra_lab::reference::parse_cache_file(&bytes).expect("whole, digest matching");
     assert_eq!((entry.width, entry.height, entry.values.len()), (32, 32, 32 * 32));
 
     // `--jobs 2` runs the same two shards as local processes and merges them.

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use penumbra::scene::assets::{load_mesh, LoadedMesh};
+use penumbra_lab::assets::{load_mesh, LoadedMesh};
 
 fn write(name: &str, bytes: &[u8]) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("assets_loaders");

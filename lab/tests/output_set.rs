@@ -2,7 +2,7 @@
 //! entries left where they are.
 
 mod common;
-use penumbra::record::output_set::{check, OutputSet, MARKER};
+use penumbra_lab::record::output_set::{check, OutputSet, MARKER};
 use std::path::{Path, PathBuf};
 
 fn tmp(name: &str) -> PathBuf {

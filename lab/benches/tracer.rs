@@ -1,12 +1,32 @@
 //! The CPU reference tracer: shadow rays per second against the scene's BVH, from a real G-buffer
 //! (the 512x512 stage scene), with the continuous mode's jittered light samples.
+//! `cargo bench -p penumbra-lab --bench tracer -- --warm-up-time 1 --measurement-time 3`.
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
 use penumbra::frame;
-use penumbra::reference::truth::{ray_offset, surface_points};
+use penumbra_lab::reference::truth::{ray_offset, surface_points};
 use penumbra::gpu::GpuContext;
-use penumbra::reference::{trace_visibility, RefLight, ReferenceMode, Tracer};
+use penumbra_lab::reference::{trace_visibility, RefLight, ReferenceMode, Tracer};
 use penumbra::scene::Scene;
+
+// The engine's bench scenes (benches/stages/scenes.rs).
+#[allow(dead_code)]
+#[path = "../../benches/stages/scenes.rs"]
+mod scenes;
+
+fn main() {
+    // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    std::env::set_var("PENUMBRA_NO_PROGRESS", "1");
+    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("benches need a GPU adapter: {e}"));
+    let s = &ctx.summary;
+    println!("adapter: {} ({}, {}, {} {})", s.name, s.backend, s.device_type, s.driver, s.driver_info);
+    let mut c = Criterion::default().configure_from_args();
+    reference_tracer(&mut c, &ctx, scenes::stage_scene());
+    c.final_summary();
+}
 
 pub fn reference_tracer(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
     let g = frame::gbuffer_only(ctx, &scene).expect("G-buffer for the tracer bench");

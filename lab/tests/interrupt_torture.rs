@@ -10,8 +10,8 @@
 //! sends 4 of each; the 20: `PENUMBRA_LAST_SECOND_TRIALS=20`.
 
 mod common;
-use penumbra::record::output_set::MARKER;
-use penumbra::record::provenance::sha256_hex;
+use penumbra_lab::record::output_set::MARKER;
+use penumbra_lab::record::provenance::sha256_hex;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};

@@ -6,8 +6,8 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame;
-use penumbra::reference::truth::{self, Cache};
-use penumbra::reference::{AnalyticSquareScene, ReferenceMode};
+use penumbra_lab::reference::truth::{self, Cache};
+use penumbra_lab::reference::{AnalyticSquareScene, ReferenceMode};
 use penumbra::scene::Scene;
 
 /// Lattice segments closer than this (world units, in the occluder plane) to an occluder edge

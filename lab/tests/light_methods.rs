@@ -6,8 +6,8 @@ mod common;
 use penumbra::frame::{self, FrameResult};
 use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::Method;
-use penumbra::reference::truth::{self, Cache};
-use penumbra::reference::ReferenceMode;
+use penumbra_lab::reference::truth::{self, Cache};
+use penumbra_lab::reference::ReferenceMode;
 use penumbra::scene::{LightKind, Scene};
 
 fn scene(name: &str) -> Scene {
@@ -236,7 +236,7 @@ fn compare_runs_the_methods_on_the_disk_sun_and_spot_scenes() {
 #[test]
 fn the_spots_light_points_are_close_to_the_spheres_closed_form() {
     use glam::{DVec3, Vec3};
-    use penumbra::reference::analytic_lights::SphereOverEdge;
+    use penumbra_lab::reference::analytic_lights::SphereOverEdge;
     use penumbra::scene::Emitter;
     let scene = scene("spot-edge");
     let Emitter::Spot(spot) = scene.emitter else { panic!("spot-edge is not a spot") };

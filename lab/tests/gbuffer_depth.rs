@@ -8,7 +8,7 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame;
-use penumbra::reference::Tracer;
+use penumbra_lab::reference::Tracer;
 use penumbra::scene::Scene;
 
 /// (pixels checked, pixels whose point lies behind another surface by more than `tol`, worst gap).

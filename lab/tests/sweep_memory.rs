@@ -7,7 +7,7 @@ mod common;
 use penumbra::frame::{FrameOptions, Renderer};
 use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::Method;
-use penumbra::record::measure::{self, WINDOW};
+use penumbra_lab::record::measure::{self, WINDOW};
 use penumbra::scene::Scene;
 use std::path::Path;
 use std::process::Command;

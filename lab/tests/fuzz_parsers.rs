@@ -3,7 +3,7 @@
 //! bytes. A parser may reject an input; it must not panic. The unbounded runs are cargo-fuzz's
 //! (fuzz/, docs/robustness.md).
 
-use penumbra::inputs;
+use penumbra_lab::inputs;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 use std::path::Path;
@@ -21,7 +21,7 @@ const TOKENS: &[&str] = &[
 ];
 
 fn seeds(target: &str) -> Vec<Vec<u8>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds").join(target);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("fuzz/seeds").join(target);
     let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())).map(|e| e.unwrap().path()).collect();
     files.sort();
     let out: Vec<Vec<u8>> = files.iter().map(|p| std::fs::read(p).unwrap()).collect();
@@ -183,7 +183,7 @@ fn fuzz_findings_stay_fixed() {
     // tobj reads `l` lines as faces: this one-corner line element, whose relative normal index
     // lies before the first normal, overflowed the same multiplication (obj target, about 419,000
     // runs in; the input as found, not minimised).
-    let found = include_bytes!("fuzz-findings/obj-line-element.obj");
+    let found = include_bytes!("../../tests/fuzz-findings/obj-line-element.obj");
     let e = inputs::obj(std::str::from_utf8(found).unwrap()).unwrap_err().to_string();
     assert_eq!(e, "input.obj: line 11: line element needs at least 2 corners, found 1");
 }

@@ -8,7 +8,7 @@
 #[macro_use]
 mod common;
 use common::{penumbra_env, temp_dir};
-use penumbra::studies::frontier::{mark, FrontierLine};
+use penumbra_lab::studies::frontier::{mark, FrontierLine};
 use std::path::Path;
 
 /// The overflow at level 0 of slat-roof at 32²: its 844 geometry pixels do not fit 100 items.

@@ -7,12 +7,12 @@ use penumbra::frame::{frame_uniform, Renderer};
 use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::cascades::{split::Scheme, CascadeBuffers, CascadeMaps};
 use penumbra::methods::Method;
-use penumbra::reference::truth::Cache;
-use penumbra::reference::ReferenceMode;
+use penumbra_lab::reference::truth::Cache;
+use penumbra_lab::reference::ReferenceMode;
 use penumbra::scene::Scene;
 use penumbra::stages::cascades::NO_CASCADE;
 use penumbra::stages::twin;
-use penumbra::studies::cascades::{self, CascadeJob};
+use penumbra_lab::studies::cascades::{self, CascadeJob};
 
 fn stand_in(extra: &[(&str, &str)]) -> Scene {
     let mut sets = vec![("resolution".to_string(), "128".to_string()), ("shadow_map_size".to_string(), "256".to_string())];

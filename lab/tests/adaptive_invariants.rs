@@ -296,7 +296,7 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     let r = frame::render(ctx, &scene, &method, TimingMode::Stages).unwrap();
     assert_eq!(r.output.syncs, 0);
     assert!(r.timing_waits > 10, "stages mode waits per stage: {}", r.timing_waits);
-    let rec = penumbra::record::run_files::run_record(&scene, &method, &r, &ctx.summary, false);
+    let rec = penumbra_lab::record::run_files::run_record(&scene, &method, &r, &ctx.summary, false);
     let split = rec["frame_split_ms"].as_object().expect("frame_split_ms");
     let parts: Vec<&str> = split.keys().map(String::as_str).collect();
     assert_eq!(parts, ["decision", "raster", "shade", "waits"]);
@@ -311,7 +311,7 @@ fn stages_frame_splits_and_the_steered_loop_only_waits_to_time() {
     assert!(rec["decision_share"].as_f64().unwrap() > 0.0, "{}", rec["decision_share"]);
     // A frame-mode frame times only its waits: no split or share is claimed from them.
     let f = frame::render(ctx, &scene, &method, TimingMode::Frame).unwrap();
-    let rec = penumbra::record::run_files::run_record(&scene, &method, &f, &ctx.summary, false);
+    let rec = penumbra_lab::record::run_files::run_record(&scene, &method, &f, &ctx.summary, false);
     assert_eq!(rec["timing"], "frame");
     for key in ["frame_split_ms", "decision_stages_ms", "decision_share"] {
         assert!(rec[key].is_null(), "{key} of a frame-mode frame: {}", rec[key]);
