@@ -22,6 +22,7 @@ fn mesh_scene(file: &str) -> String {
 
 #[test]
 fn a_pinned_mesh_that_was_damaged_or_replaced_is_refused_naming_it() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let cache = temp_dir("asset_digest_mesh");
     std::fs::create_dir_all(cache.join("meshes")).unwrap();
     let cow = cache.join("meshes/cow.off");
@@ -43,6 +44,7 @@ fn a_pinned_mesh_that_was_damaged_or_replaced_is_refused_naming_it() {
 
 #[test]
 fn a_pinned_panorama_that_was_damaged_is_refused_naming_it() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let cache = temp_dir("asset_digest_panorama");
     std::fs::create_dir_all(cache.join("panoramas")).unwrap();
     let city = cache.join("panoramas/city.exr");

@@ -33,18 +33,21 @@ fn assert_one_line(e: &str) {
 
 #[test]
 fn base_scene_is_accepted() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let s = Scene::parse(BASE, "bad.toml", None, &[]).unwrap();
     assert!(s.triangle_count() > 100);
 }
 
 #[test]
 fn light_with_negative_size_is_rejected() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = scene_error("edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "size = [-1.0, 2.0]\nnormal = [0.0, -1.0, 0.0]");
     assert_eq!(e, "bad.toml: light.size = [-1.0, 2.0]: both sides must be positive");
 }
 
 #[test]
 fn light_facing_away_from_every_mesh_is_rejected() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = scene_error("edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "size = [2.0, 2.0]\nnormal = [0.0, 1.0, 0.0]");
     assert!(e.starts_with("bad.toml: light: emits along [") && e.contains("away from every mesh"), "{e}");
     // The same light given by edges in the other order.
@@ -55,6 +58,7 @@ fn light_facing_away_from_every_mesh_is_rejected() {
 
 #[test]
 fn camera_or_light_far_beyond_f32_precision_is_rejected() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     for (from, to, key) in [
         ("eye = [0.0, 6.0, 8.0]", "eye = [0.0, 6.0, 1e30]", "camera.eye = [0.0, 6.0, 1e30]"),
         ("center = [0.0, 8.0, 0.0]", "center = [0.0, 3e38, 0.0]", "light.center = [0.0, 3e38, 0.0]"),
@@ -67,6 +71,7 @@ fn camera_or_light_far_beyond_f32_precision_is_rejected() {
 
 #[test]
 fn sphere_segments_below_three_are_rejected_not_clamped() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     for n in [0, 1, 2] {
         let e = scene_error("translate = [0.0, 1.0, 0.0]", &format!("segments = {n}"));
         assert_eq!(e, format!("bad.toml: mesh 2: segments = {n} for a sphere: must be in 3..=512"));
@@ -75,6 +80,7 @@ fn sphere_segments_below_three_are_rejected_not_clamped() {
 
 #[test]
 fn type_errors_name_the_line_the_table_the_key_and_the_value() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = scene_error("scale = 10.0", "scale = \"big\"");
     assert_eq!(e, "bad.toml: at line 19, column 9: [[mesh]] #1 scale = \"big\": expected a number or an array [x, y, z]");
     let e = scene_error("fov_y_deg = 45.0", "fov_y_deg = \"wide\"");
@@ -83,6 +89,7 @@ fn type_errors_name_the_line_the_table_the_key_and_the_value() {
 
 #[test]
 fn non_finite_bias_or_ambient_names_the_key() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = scene_error("shadow_map_size = 64", "shadow_map_size = 64\nambient = nan");
     assert_eq!(e, "bad.toml: render.ambient = NaN: must be a finite number");
     let e = scene_error("shadow_map_size = 64", "shadow_map_size = 64\nbias = { slope = inf }");
@@ -91,6 +98,7 @@ fn non_finite_bias_or_ambient_names_the_key() {
 
 #[test]
 fn set_type_errors_name_set_and_the_key_not_the_scene_file() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = Scene::parse(BASE, "bad.toml", None, &[("resolution".into(), "abc".into())]).unwrap_err().to_string();
     assert_eq!(e, "--set resolution=abc: invalid type: string \"abc\", expected u32");
     let e = Scene::parse(BASE, "bad.toml", None, &[("width".into(), "64".into()), ("cull".into(), "sideways".into())]).unwrap_err().to_string();
@@ -99,6 +107,7 @@ fn set_type_errors_name_set_and_the_key_not_the_scene_file() {
 
 #[test]
 fn duplicate_method_parameters_are_rejected() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = Method::parse("adaptive:p_m=1,p_m=2", &[]).unwrap_err().to_string();
     assert_eq!(e, "method `adaptive:p_m=1,p_m=2`: `p_m` is given twice (1 and 2)");
     let e = Method::parse("adaptive:p_m=1", &[("p_m".into(), "2".into())]).unwrap_err().to_string();
@@ -107,6 +116,7 @@ fn duplicate_method_parameters_are_rejected() {
 
 #[test]
 fn p_m_inf_is_recorded_as_the_string_inf() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let m = Method::parse("adaptive:p_m=inf", &[]).unwrap();
     assert_eq!(m.params_json()["p_m"], "inf");
     assert_eq!(Method::parse("adaptive:p_m=16", &[]).unwrap().params_json()["p_m"], 16.0);
@@ -114,6 +124,7 @@ fn p_m_inf_is_recorded_as_the_string_inf() {
 
 #[test]
 fn a_camera_that_sees_no_mesh_is_named_once() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = scene_error("target = [0.0, 0.0, 0.0]", "target = [0.0, 20.0, 30.0]");
     assert!(e.starts_with("bad.toml: no mesh is visible from the camera (camera.eye = [0.0, 6.0, 8.0], camera.target = [0.0, 20.0, 30.0]"), "{e}");
     assert_eq!(e.matches("no mesh is visible").count(), 1);
@@ -141,6 +152,7 @@ fn cli_fails(case: &str, files: &[(&str, &str)], args: &[&str]) -> String {
 
 #[test]
 fn a_camera_inside_the_bounds_that_sees_nothing_fails_after_the_g_buffer() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     // The bounding box is in view (so the scene loads); every pixel is sky.
     let scene = BASE.replace("eye = [0.0, 6.0, 8.0]", "eye = [4.0, 1.5, 4.0]").replace("target = [0.0, 0.0, 0.0]", "target = [4.0, 10.0, 4.1]");
     let e = cli_fails("sky", &[("s.toml", &scene)], &["render", "--scene", "s.toml", "--out", "out"]);
@@ -149,6 +161,7 @@ fn a_camera_inside_the_bounds_that_sees_nothing_fails_after_the_g_buffer() {
 
 #[test]
 fn off_header_claiming_more_vertices_says_so() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let scene = BASE.replace("builtin = \"sphere\"", "file = \"m.off\"");
     let e = cli_fails("off", &[("s.toml", &scene), ("m.off", "OFF\n10 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")], &["render", "--scene", "s.toml", "--out", "out"]);
     assert_eq!(e, "s.toml: mesh 2: file = \"m.off\": line 2: file ends early: the counts say 10 vertices and 1 faces, but only 4 lines follow");
@@ -158,6 +171,7 @@ fn off_header_claiming_more_vertices_says_so() {
 /// table, counted from 1) and the mesh file once.
 #[test]
 fn mesh_read_errors_name_the_scene_the_mesh_and_the_file_once() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     for (case, file, text, want) in [
         ("missing_obj", "gone.obj", None, "s.toml: mesh 2: file = \"gone.obj\": cannot read: No such file or directory (os error 2)"),
         ("missing_off", "gone.off", None, "s.toml: mesh 2: file = \"gone.off\": cannot read: No such file or directory (os error 2)"),
@@ -174,6 +188,7 @@ fn mesh_read_errors_name_the_scene_the_mesh_and_the_file_once() {
 
 #[test]
 fn truncated_ply_header_is_one_plain_line() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let scene = BASE.replace("builtin = \"sphere\"", "file = \"m.ply\"");
     let e = cli_fails("ply", &[("s.toml", &scene), ("m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop")], &["render", "--scene", "s.toml", "--out", "out"]);
     assert!(e.starts_with("s.toml: mesh 2: file = \"m.ply\": line 4: header line `prop` is not a PLY header line"), "{e}");
@@ -182,6 +197,7 @@ fn truncated_ply_header_is_one_plain_line() {
 
 #[test]
 fn sweep_spec_errors_give_the_position_or_the_grid() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = cli_fails("sweep_syntax", &[("s.toml", "methods = [\"hard\"\n[[grid]]\n")], &["sweep", "--spec", "s.toml", "--out", "out"]);
     assert_eq!(e, "s.toml: line 2, column 1: missing comma between array elements, expected `,`");
     let spec = "[[grid]]\nmethod = \"regular\"\nn = [3]\n[[grid]]\nmethod = \"adaptive\"\nfoo = [1, 2]\n";
@@ -191,6 +207,7 @@ fn sweep_spec_errors_give_the_position_or_the_grid() {
 
 #[test]
 fn report_rejects_a_file_given_twice_and_says_each_error_once() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = cli_fails("report_twice", &[("a.jsonl", "")], &["report", "a.jsonl", "./a.jsonl", "--out", "out"]);
     assert_eq!(e, "report: ./a.jsonl is given twice");
     let e = cli_fails("report_missing", &[], &["report", "none.jsonl", "--out", "out"]);
@@ -200,6 +217,7 @@ fn report_rejects_a_file_given_twice_and_says_each_error_once() {
 
 #[test]
 fn set_errors_through_the_cli_name_set() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = cli_fails("set_abc", &[("s.toml", BASE)], &["render", "--scene", "s.toml", "--set", "resolution=abc", "--out", "out"]);
     assert_eq!(e, "--set resolution=abc: invalid type: string \"abc\", expected u32");
 }

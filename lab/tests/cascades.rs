@@ -22,6 +22,7 @@ fn stand_in(extra: &[(&str, &str)]) -> Scene {
 
 #[test]
 fn the_kernel_matches_its_twin_on_every_map_and_filter() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let ctx = common::gpu();
     for raster in ["hardware", "compute"] {
         let scene = stand_in(&[("raster", raster)]);
@@ -53,6 +54,7 @@ fn the_kernel_matches_its_twin_on_every_map_and_filter() {
 
 #[test]
 fn the_maps_follow_the_camera_by_whole_texels() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let scene = stand_in(&[]);
     let m = CascadeMaps { n: 3, split: Scheme::Log, lambda: 0.5, filter: "hard" };
     let a = m.place(&scene);
@@ -83,6 +85,7 @@ fn the_maps_follow_the_camera_by_whole_texels() {
 
 #[test]
 fn the_study_on_the_stand_in_measures_error_and_density() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let ctx = common::gpu();
     let scene = stand_in(&[]);
     let job = CascadeJob { scene: &scene, ns: vec![1, 2, 3, 4], schemes: Scheme::ALL.to_vec(), lambda: 0.5, filter: "hard", reference: ReferenceMode::DEFAULT_CONTINUOUS, cache: Cache::Off };
@@ -119,6 +122,7 @@ fn the_study_on_the_stand_in_measures_error_and_density() {
 
 #[test]
 fn the_command_writes_its_set_and_refuses_bad_flags() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = common::temp_dir("cascades_cmd");
     let out = dir.join("out");
     let small = ["--scene", "sun-grove-small", "--set", "resolution=64", "--set", "shadow_map_size=128", "--samples", "4"];
@@ -170,6 +174,7 @@ fn the_command_writes_its_set_and_refuses_bad_flags() {
 /// docs/lights.md's spelled-out defaults are the defaults.
 #[test]
 fn the_documented_spec_is_the_default() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let spelled = Method::parse("cascades:n=4,split=practical,lambda=0.5,filter=hard", &[]).unwrap();
     assert_eq!(spelled, Method::parse("cascades", &[]).unwrap());
     assert_eq!(spelled.label(), "cascades:n=4,split=practical");

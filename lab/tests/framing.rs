@@ -10,6 +10,7 @@ use penumbra::scene::Scene;
 
 #[test]
 fn framing_study_measures_width_maps_and_error_per_configuration() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let ctx = common::gpu();
     let sets = [("shadow_map_size".to_string(), "128".to_string())];
     let scene = Scene::load("default", &sets).unwrap();
@@ -50,6 +51,7 @@ fn framing_study_measures_width_maps_and_error_per_configuration() {
 /// study first did, put the methods' light points on a disk twice the reference's: 0.0708.
 #[test]
 fn framing_scales_the_emitter_the_reference_traces() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let ctx = common::gpu();
     let scene = Scene::load("disk-bar", &[("shadow_map_size".to_string(), "256".to_string())]).unwrap();
     let penumbra::scene::Emitter::Disk(disk) = scene.emitter else { panic!("disk-bar is not a disk") };
@@ -76,6 +78,7 @@ fn framing_scales_the_emitter_the_reference_traces() {
 /// A sun scaled past the widest sun a scene may state is refused before anything runs.
 #[test]
 fn framing_refuses_a_sun_scaled_into_a_sky() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = common::temp_dir("framing_sun_scale");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
         .args(["framing", "--scene", "sun-edge", "--light-scales", "1,100"])
@@ -94,6 +97,7 @@ fn framing_refuses_a_sun_scaled_into_a_sky() {
 /// refused before any reference is traced, naming the scale and the scene.
 #[test]
 fn framing_refuses_a_light_scaled_past_the_scene() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = common::temp_dir("framing_light_scale");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
         .args(["framing", "--scene", "default", "--light-scales", "1,100"])

@@ -39,6 +39,7 @@ fn refused(light: &str) -> String {
 
 #[test]
 fn the_shipped_scenes_pass_and_their_lights_are_far_below_the_bound() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let mut loaded = 0;
     let mut widest = (0.0f32, "");
     for name in builtin_names() {
@@ -73,6 +74,7 @@ fn the_shipped_scenes_pass_and_their_lights_are_far_below_the_bound() {
 
 #[test]
 fn a_sun_shining_upward_or_along_the_horizon_is_refused() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let sun = |d: &str| format!("kind = \"sun\"\ndirection = {d}\nangular_diameter_deg = 2.0\n");
     assert_eq!(
         refused(&sun("[0.0, 1.0, 0.0]")),
@@ -84,6 +86,7 @@ fn a_sun_shining_upward_or_along_the_horizon_is_refused() {
 
 #[test]
 fn a_sphere_around_the_camera_or_reaching_into_a_mesh_is_refused() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let point = |p: &str, r: f32| format!("kind = \"point\"\nposition = {p}\nradius = {r}\n");
     // Around the camera (and the whole scene): the camera is named.
     assert_eq!(
@@ -105,6 +108,7 @@ fn a_sphere_around_the_camera_or_reaching_into_a_mesh_is_refused() {
 
 #[test]
 fn a_light_that_dwarfs_the_scene_is_refused() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     // The meshes' box is 30 × 1.5 × 30: diagonal 42.45, so the bound is 424.5 across.
     let disk = |r: &str| format!("kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n");
     assert_eq!(
@@ -119,6 +123,7 @@ fn a_light_that_dwarfs_the_scene_is_refused() {
 
 #[test]
 fn a_disk_or_spot_turned_away_is_still_refused_by_the_same_checks() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let e = refused("kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nradius = 1.0\n");
     assert_eq!(e, "bad.toml: light: the disk emits along light.normal = [0.0, 1.0, 0.0], away from every mesh: nothing would be lit; turn it towards the meshes");
 }
@@ -126,6 +131,7 @@ fn a_disk_or_spot_turned_away_is_still_refused_by_the_same_checks() {
 /// Refused before any GPU work or output: one `error:` line, exit 1, `--out` never created.
 #[test]
 fn the_binary_refuses_before_rendering() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = common::temp_dir("light_checks_binary");
     let scene = dir.join("up.toml");
     std::fs::write(&scene, format!("[light]\nkind = \"sun\"\ndirection = [0.0, 1.0, 0.0]\nangular_diameter_deg = 0.53\n{MESHES}")).unwrap();

@@ -14,7 +14,7 @@ fn a_panic_is_appended_to_the_log_as_one_line() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 2, "{text}");
     for (k, line) in lines.iter().enumerate() {
-        assert!(line.starts_with("panicked: panicked at tests/panic_log.rs:"), "{line}");
+        assert!(line.starts_with("panicked: panicked at lab/tests/panic_log.rs:"), "{line}");
         assert!(line.contains(&format!("probe {k} second line")), "{line}");
         assert!(line.contains("(args: "), "{line}");
     }

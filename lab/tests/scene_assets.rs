@@ -25,6 +25,7 @@ fn centroid(scene: &Scene) -> Vec3 {
 
 #[test]
 fn every_registry_format_loads_from_the_scene_folder() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_formats");
     std::fs::write(dir.join("tri.off"), TRI_OFF).unwrap();
     let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
@@ -48,6 +49,7 @@ fn every_registry_format_loads_from_the_scene_folder() {
 
 #[test]
 fn unknown_mesh_extension_is_named() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_unknown_ext");
     std::fs::write(dir.join("tri.stl"), "solid").unwrap();
     let e = parse(&dir, None, "[[mesh]]\nfile = \"tri.stl\"\n").unwrap_err().to_string();
@@ -56,6 +58,7 @@ fn unknown_mesh_extension_is_named() {
 
 #[test]
 fn mesh_errors_name_the_mesh_file_and_line() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_bad_mesh");
     std::fs::write(dir.join("bad.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 0 1\n3 0 2 7\n").unwrap();
     let e = parse(&dir, None, "[[mesh]]\nfile = \"bad.off\"\n").unwrap_err().to_string();
@@ -64,6 +67,7 @@ fn mesh_errors_name_the_mesh_file_and_line() {
 
 #[test]
 fn cache_prefix_resolves_in_the_given_cache() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_cache_scene");
     let cache = temp_dir("scene_cache_root");
     std::fs::create_dir_all(cache.join("meshes")).unwrap();
@@ -75,6 +79,7 @@ fn cache_prefix_resolves_in_the_given_cache() {
 
 #[test]
 fn missing_cache_file_says_how_to_fetch_it() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_cache_missing");
     let cache = temp_dir("scene_cache_empty");
     let e = parse(&dir, Some(&cache), "[[mesh]]\nfile = \"cache:meshes/cow.off\"\n").unwrap_err().to_string();
@@ -93,6 +98,7 @@ fn missing_cache_file_says_how_to_fetch_it() {
 
 #[test]
 fn missing_cache_file_through_the_cli_is_one_line_and_no_output() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_cache_cli");
     let cache = temp_dir("scene_cache_cli_root");
     let scene = dir.join("scene.toml");
@@ -114,6 +120,7 @@ fn missing_cache_file_through_the_cli_is_one_line_and_no_output() {
 
 #[test]
 fn instances_place_copies_after_the_mesh_transform() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_instances");
     let scene = parse(
         &dir,
@@ -137,6 +144,7 @@ fn instances_place_copies_after_the_mesh_transform() {
 
 #[test]
 fn grid_is_centred_and_counts_match_the_stated_triangles() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_grid");
     let text = format!("triangles = 72\n{HEAD}\n[[mesh]]\nbuiltin = \"box\"\ngrid = {{ count = [3, 2], spacing = [4.0, 6.0], rotate_step_deg = 30.0 }}\n");
     let scene = Scene::parse_in(&text, "grid.toml", MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: None }, &[]).unwrap();
@@ -150,6 +158,7 @@ fn grid_is_centred_and_counts_match_the_stated_triangles() {
 
 #[test]
 fn bad_instancing_is_reported_with_the_mesh_number() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_bad_instances");
     let cases = [
         ("instances = []", "mesh 1: `instances` is empty"),
@@ -172,6 +181,7 @@ fn bad_instancing_is_reported_with_the_mesh_number() {
 
 #[test]
 fn subdivision_multiplies_by_four_per_level() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("scene_subdivide");
     for scheme in ["midpoint", "loop"] {
         let s = parse(&dir, None, &format!("[[mesh]]\nbuiltin = \"box\"\nsubdivide = 2\nsubdivision = \"{scheme}\"\n")).unwrap();
@@ -188,6 +198,7 @@ fn subdivision_multiplies_by_four_per_level() {
 
 #[test]
 fn fetch_without_the_registry_tools_fails_before_writing() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let cache = temp_dir("fetch_no_tools").join("cache");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
         .args(["assets", "fetch", "--cache", cache.to_str().unwrap()])
@@ -203,6 +214,7 @@ fn fetch_without_the_registry_tools_fails_before_writing() {
 
 #[test]
 fn fetch_rejects_an_unknown_group() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let out = penumbra(&["assets", "fetch", "--group", "statues"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("invalid value 'statues'"));
@@ -210,6 +222,7 @@ fn fetch_rejects_an_unknown_group() {
 
 #[test]
 fn committed_scene_files_state_their_triangles_and_resolve_through_the_cache() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     // Parse every scene in scenes/ with an empty cache: the seed scenes must fail only because
     // the cache is empty (the message names the fetch), the others must load with their count.
     let cache = temp_dir("scenes_empty_cache");
@@ -237,6 +250,7 @@ fn committed_scene_files_state_their_triangles_and_resolve_through_the_cache() {
 
 #[test]
 fn an_open_mesh_under_back_face_culling_is_warned_about_once() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     // The one-triangle OFF is open (3 boundary edges); a tetrahedron wound outwards is closed.
     const TETRA_OFF: &str = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
     let dir = temp_dir("scene_open_mesh");

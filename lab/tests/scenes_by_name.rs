@@ -21,6 +21,7 @@ fn shipped() -> Vec<(String, String)> {
 
 #[test]
 fn every_shipped_scene_is_embedded_with_its_text() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let files = shipped();
     assert!(files.len() >= 10, "only {} scene files found", files.len());
     let mut names = builtin_names();
@@ -34,6 +35,7 @@ fn every_shipped_scene_is_embedded_with_its_text() {
 
 #[test]
 fn catalog_states_triangles_sources_and_missing_assets() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let empty = temp_dir("catalog_empty_cache");
     let entries = catalog(Some(&empty));
     assert_eq!(entries.len(), shipped().len());
@@ -55,6 +57,7 @@ fn catalog_states_triangles_sources_and_missing_assets() {
 
 #[test]
 fn scenes_command_lists_every_scene_with_its_count_and_asset_state() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let cache = temp_dir("scenes_cmd_cache");
     let out = Command::new(env!("CARGO_BIN_EXE_penumbra")).arg("scenes").env("PENUMBRA_CACHE", &cache).output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
@@ -69,6 +72,7 @@ fn scenes_command_lists_every_scene_with_its_count_and_asset_state() {
 
 #[test]
 fn a_cached_scene_with_a_missing_asset_stops_with_the_fetch_command() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let cache = temp_dir("byname_missing_cache");
     let e = Scene::load_in("cows", &[], Some(&cache)).unwrap_err().to_string();
     assert!(e.contains("cache:meshes/cow.off") && e.contains("run `penumbra assets fetch --group meshes`"), "{e}");
@@ -76,6 +80,7 @@ fn a_cached_scene_with_a_missing_asset_stops_with_the_fetch_command() {
 
 #[test]
 fn a_scene_with_an_embedded_relative_mesh_renders_by_name_outside_the_repository() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = temp_dir("byname_outside");
     let out = Command::new(env!("CARGO_BIN_EXE_penumbra"))
         .current_dir(&dir)
@@ -93,6 +98,7 @@ fn a_scene_with_an_embedded_relative_mesh_renders_by_name_outside_the_repository
 
 #[test]
 fn unknown_scene_name_lists_the_built_ins() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let out = penumbra(&["render", "--scene", "no-such-scene", "--out", "never"]);
     let e = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1));

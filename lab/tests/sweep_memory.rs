@@ -47,6 +47,7 @@ fn run_measured(args: &[&str], cache: &Path) -> (Option<i32>, String, i64) {
 /// configuration at once, as before the windows, the 20 peaked at about 4 times the 4.
 #[test]
 fn peak_memory_does_not_grow_with_the_configuration_count() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = common::temp_dir("sweep_memory_peak");
     let cache = dir.join("cache");
     let mut peaks = Vec::new();
@@ -68,6 +69,7 @@ fn peak_memory_does_not_grow_with_the_configuration_count() {
 /// `--max-configs` lets the same spec through.
 #[test]
 fn the_configuration_limit_refuses_in_one_line_and_max_configs_raises_it() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let dir = common::temp_dir("sweep_memory_limit");
     let cache = dir.join("cache");
     let spec = adaptive_spec(&dir, 3);
@@ -93,6 +95,7 @@ fn the_configuration_limit_refuses_in_one_line_and_max_configs_raises_it() {
 /// once, in order, on a renderer that still renders.
 #[test]
 fn windowed_v_equals_a_fresh_renderer() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let ctx = common::gpu();
     let scene = Scene::load("analytic-square", &[("resolution".into(), "64".into()), ("shadow_map_size".into(), "128".into())]).unwrap();
     let specs = ["adaptive:p_m=0", "hard", "regular:n=3", "adaptive:p_m=2,scope=local", "pcss", "adaptive:p_m=-1,max_level=2"];

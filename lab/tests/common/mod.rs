@@ -16,8 +16,11 @@ pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("lab/ has a parent").to_path_buf()
 }
 
+/// Runs the binary in the repository root, as `cargo run` there does (cargo runs the lab's tests
+/// in lab/): its default paths (`--scenes scenes`, …) resolve as they do for a user.
 pub fn penumbra(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .current_dir(root())
         .args(args)
         .env("PENUMBRA_NO_PROGRESS", "1")
         .output()
@@ -26,7 +29,7 @@ pub fn penumbra(args: &[&str]) -> Output {
 
 pub fn penumbra_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
-    c.args(args).env("PENUMBRA_NO_PROGRESS", "1");
+    c.current_dir(root()).args(args).env("PENUMBRA_NO_PROGRESS", "1");
     for (k, v) in env {
         c.env(k, v);
     }
