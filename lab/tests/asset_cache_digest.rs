@@ -1,5 +1,5 @@
 //! The asset cache is checked on read: a `cache:` mesh or panorama that the fetch pinned is used
-//! only while its sha256 matches the pin (src/scene/assets/pinned.rs, docs/robustness.md). A
+//! only while its sha256 matches the pin (lab/src/assets/pinned.rs, docs/robustness.md). A
 //! damaged or replaced file is one line naming it and the fetch that replaces it; a file of the
 //! user's own under the cache has no pin and loads as before. No GPU.
 

@@ -64,7 +64,7 @@ pub struct MeshDirs<'a> {
 }
 
 /// Resolves a `cache:` path; a missing file is an error that says how to fetch it, and a file
-/// whose pinned digest no longer matches (assets::check_pinned) one that says how to replace it.
+/// whose pinned digest no longer matches (the asset layer's check_pinned) one that says how to replace it.
 pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     let rel = file.strip_prefix(CACHE_PREFIX).unwrap_or(file);
     if rel.is_empty() || Path::new(rel).is_absolute() || rel.split(['/', '\\']).any(|c| c == "..") {

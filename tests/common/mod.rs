@@ -32,7 +32,7 @@ use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::Output;
 
-/// The tiny scene of the sweep and gate tests (tests/shards.rs, slurm_scripts.rs, check.rs): a box over
+/// The tiny scene of the sweep and gate tests (lab/tests/shards.rs, slurm_scripts.rs, check.rs): a box over
 /// a plane at 32x32 with 64² shadow maps.
 pub const SWEEP_SCENE: &str = concat!(
     "name = \"tiny\"\n",
