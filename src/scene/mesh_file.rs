@@ -22,8 +22,11 @@ pub struct AssetLayer {
     pub check_pinned: fn(&str, &Path) -> std::result::Result<(), String>,
     /// Loads a registry-format mesh reading at most `max` bytes: (positions, triangle indices);
     /// Err: the message, leading with the path.
-    pub load_mesh: fn(&Path, u64) -> std::result::Result<(Vec<[f32; 3]>, Vec<u32>), String>,
+    pub load_mesh: fn(&Path, u64) -> std::result::Result<MeshArrays, String>,
 }
+
+/// A loaded mesh: positions and triangle indices.
+pub type MeshArrays = (Vec<[f32; 3]>, Vec<u32>);
 
 static ASSET_LAYER: OnceLock<AssetLayer> = OnceLock::new();
 
