@@ -10,7 +10,7 @@
 //! ```
 //!
 //! Its V equals `penumbra render --scene analytic-square --method METHOD --set resolution=SIZE`'s
-//! value for value (tests/embed_example.rs checks it).
+//! value for value (lab/tests/embed_render.rs checks it; tests/embed_example.rs runs it against the engine alone).
 
 use penumbra::{Camera, Mesh, RectLight, SceneBuilder, ShadowScene, Shadows, Visibility};
 

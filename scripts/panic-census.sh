@@ -1,6 +1,6 @@
 #!/bin/bash
 # The panic census: runs the test suite (or the tests named, e.g. `--test bad_input`) with every
-# panic of the penumbra binary appended to one log (PENUMBRA_PANIC_LOG, src/panic_log.rs), then
+# panic of the penumbra binary appended to one log (PENUMBRA_PANIC_LOG, lab/src/panic_log.rs), then
 # prints the count. The tests drive the command line with every bad input they hold; a panic there
 # is a bug whether or not the test that saw it looked at stderr.
 #

@@ -1,4 +1,4 @@
-//! One error type for the library; the binary wraps it in `anyhow`.
+//! The engine's error type; the lab's error wraps it with its own (reference, metrics, report, assets).
 
 use std::path::Path;
 
@@ -33,21 +33,10 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io { path: String, message: String },
-    /// The CPU ground truth failed (degenerate light, cache file unreadable).
-    #[error("reference: {0}")]
-    Reference(#[from] crate::reference::ReferenceError),
-    /// Metrics could not be computed (sizes disagree, no geometry).
-    #[error("metrics: {0}")]
-    Metrics(#[from] crate::metrics::MetricsError),
-    /// A chart could not be drawn or rasterised.
-    #[error("chart: {0}")]
-    Chart(#[from] crate::report::charts::ChartError),
-    /// The report could not be written.
-    #[error("report: {0}")]
-    Report(#[from] crate::report::ReportError),
-    /// Fetching or loading a registry asset (its message names the file and the line or element).
-    #[error(transparent)]
-    Asset(#[from] crate::scene::assets::AssetError),
+    /// A registry asset could not be found or loaded (the message names the file and the line
+    /// or element); the asset layer the program registers says why.
+    #[error("{0}")]
+    Asset(String),
 }
 
 impl Error {

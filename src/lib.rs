@@ -2,7 +2,7 @@
 //!
 //! **To embed it** in a program with its own wgpu device, start at the [`api`] module: its types
 //! are re-exported here ([`Shadows`], [`SceneBuilder`], [`ShadowRenderer`], …). The other modules
-//! serve the `penumbra` binary, its tests and benches.
+//! are the pipeline itself; the `penumbra` binary and its studies live in the lab crate (lab/).
 //!
 //! Data flows one way and the modules read in that order:
 //! scene ─► GPU upload ─► G-buffer ─► light samples ─► shadow-map raster
@@ -10,24 +10,19 @@
 
 pub mod api;
 pub(crate) mod error;
-pub(crate) mod progress;
+pub mod progress;
 pub mod gpu;
 pub mod scene;
 pub mod render;
 pub mod stages;
 pub mod methods;
 pub mod frame;
-pub mod reference;
-pub mod metrics;
-pub mod record;
-pub mod report;
-pub mod studies;
-pub mod inputs;
-pub mod interrupt;
-pub mod panic_log;
 
 pub use api::{required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
-pub use error::{Error, Result};
+pub use error::{toml_position, Error, Result};
+
+/// `0.1.0 (git <hash>)`: the version line of the `penumbra` binary.
+pub const LONG_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (git ", env!("PENUMBRA_GIT_HASH"), ")");
 
 /// The crate version and the git hash it was built from, as every record carries them.
 pub fn version() -> serde_json::Value {

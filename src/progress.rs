@@ -1,27 +1,46 @@
-//! Progress bars for work longer than a second; hidden when stderr is not a terminal or in tests.
-//! All bars share one `MultiProgress`, so a suite's bar and a method's per-map bar stack instead of
-//! overwriting each other.
+//! Progress of work longer than a second, as a callback: the program that embeds the engine
+//! registers how to show it (the `penumbra` binary draws bars); without one nothing is shown.
 
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use std::sync::OnceLock;
 
-fn multi() -> &'static MultiProgress {
-    static MULTI: OnceLock<MultiProgress> = OnceLock::new();
-    MULTI.get_or_init(MultiProgress::new)
+/// One unit of work under way: `inc` as it advances, `finish_and_clear` when it ends.
+pub trait Bar: Send + Sync {
+    fn inc(&self, delta: u64);
+    fn finish_and_clear(&self);
 }
 
-pub fn bar(len: u64, what: &str) -> ProgressBar {
-    let bar = if std::env::var_os("PENUMBRA_NO_PROGRESS").is_some() { ProgressBar::hidden() } else { multi().add(ProgressBar::new(len)) };
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {msg:24} [{bar:32}] {pos}/{len} {elapsed_precise}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    bar.set_message(what.to_string());
-    bar
+/// What a program registers: `bar(len, what)` starts a unit of `len` steps, and `suspend` runs a
+/// function that prints lines with the bars lifted off the terminal.
+pub struct Progress {
+    pub bar: fn(u64, &str) -> Box<dyn Bar>,
+    pub suspend: fn(&mut dyn FnMut()),
+}
+
+static PROGRESS: OnceLock<Progress> = OnceLock::new();
+
+/// Registers the progress callback; only the first call counts.
+pub fn register(progress: Progress) {
+    let _ = PROGRESS.set(progress);
+}
+
+struct Hidden;
+
+impl Bar for Hidden {
+    fn inc(&self, _: u64) {}
+    fn finish_and_clear(&self) {}
+}
+
+pub fn bar(len: u64, what: &str) -> Box<dyn Bar> {
+    match PROGRESS.get() {
+        Some(p) => (p.bar)(len, what),
+        None => Box::new(Hidden),
+    }
 }
 
 /// Runs `f` (which prints lines) with the bars lifted off the terminal, then redraws them.
 pub fn suspend<T>(f: impl FnOnce() -> T) -> T {
-    multi().suspend(f)
+    let Some(p) = PROGRESS.get() else { return f() };
+    let (mut f, mut out) = (Some(f), None);
+    (p.suspend)(&mut || out = f.take().map(|f| f()));
+    out.expect("suspend runs its function once")
 }

@@ -1,6 +1,6 @@
-//! The embedding API and examples/embed.rs: a program with its own wgpu device gets the same V as
-//! `penumbra render`, value for value; a camera move needs no rebuild; a device that lacks a limit
-//! is refused by name.
+//! The embedding API and examples/embed.rs, against the engine alone: a camera move needs no
+//! rebuild; a device that lacks a limit is refused by name. (That its V equals `penumbra render`'s,
+//! value for value, is the lab's lab/tests/embed_render.rs: the binary is the lab's.)
 
 mod common;
 
@@ -13,33 +13,23 @@ use penumbra::{Camera, Shadows};
 
 const SIZE: u32 = 64;
 
-/// Channel 0 of an EXR as `penumbra render` writes V.
+/// Channel 0 of an EXR.
 fn read_exr(path: &std::path::Path) -> (u32, u32, Vec<f32>) {
     let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb32f();
     (img.width(), img.height(), img.pixels().map(|p| p[0]).collect())
 }
 
 #[test]
-fn embedded_v_equals_penumbra_render() {
+fn the_example_renders_and_writes_its_v() {
     let dir = common::temp_dir("embed_example");
-    for (k, method) in ["hard", "pcss", "regular:n=5,layout=centred", "adaptive:preset=balanced"].into_iter().enumerate() {
-        let (v, adapter) = embed::render(method, SIZE).unwrap_or_else(|e| panic!("{method}: {e}"));
+    for (k, method) in ["hard", "adaptive:preset=balanced"].into_iter().enumerate() {
+        let (v, _adapter) = embed::render(method, SIZE).unwrap_or_else(|e| panic!("{method}: {e}"));
         assert_eq!((v.width, v.height, v.values.len()), (SIZE, SIZE, (SIZE * SIZE) as usize));
         let ours = dir.join(format!("embed-{k}"));
         embed::write(&v, &ours).unwrap();
-        let theirs = dir.join(format!("render-{k}"));
-        let resolution = format!("resolution={SIZE}");
-        let args = ["render", "--scene", "analytic-square", "--method", method, "--set", &resolution, "--adapter", &adapter, "--out", theirs.to_str().unwrap()];
-        common::ok(common::penumbra(&args), method);
-        let (w, h, rendered) = read_exr(&theirs.join("visibility.exr"));
+        let (w, h, written) = read_exr(&ours.join("visibility.exr"));
         assert_eq!((w, h), (SIZE, SIZE));
-        let (_, _, written) = read_exr(&ours.join("visibility.exr"));
         assert_eq!(written, v.values, "{method}: the example's EXR holds its V");
-        let differ = rendered.iter().zip(&v.values).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
-        let penumbra = v.values.iter().filter(|&&x| x > 0.0 && x < 1.0).count();
-        assert_eq!(differ, 0, "{method}: {differ} of {} pixels differ from penumbra render's V", v.values.len());
-        assert!(penumbra > 20 || method == "hard", "{method}: only {penumbra} penumbra pixels, the comparison would prove little");
-        println!("{method}: identical to penumbra render ({penumbra} penumbra pixels, {} maps)", v.shadow_maps);
     }
 }
 
@@ -125,7 +115,7 @@ fn a_device_below_the_needs_is_refused_by_name_and_the_needs_suffice() {
     let (adapter, device, queue) = embed::app_device().unwrap();
     let full = Shadows::new(&adapter, &device, &queue).unwrap();
     let scene = embed::analytic_square(32).unwrap();
-    // cascades takes the sun alone (tests/cascades.rs); this scene's light is a rectangle.
+    // cascades takes the sun alone (lab/tests/cascades.rs); this scene's light is a rectangle.
     let specs = penumbra::methods::REGISTRY.iter().filter(|m| m.family != penumbra::methods::Family::Environment && m.name != "cascades").map(|m| m.name);
     for spec in specs.chain(["regular:n=17", "adaptive:scope=local"]) {
         let v = shadows.renderer(&scene, spec).and_then(|mut r| r.render()).unwrap_or_else(|e| panic!("{spec}: {e}"));

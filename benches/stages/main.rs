@@ -10,8 +10,7 @@
 //! driven alone on synthetic inputs (`adaptive_stage_alone`, and compact, probe and weights in
 //! `adaptive_local_stage_alone`: typed inputs, one pass per iteration).
 //!
-//! reference_tracer: shadow rays per second of the CPU ground truth (obvhs BVH, rayon), counted
-//! exactly (rays the tracer reports), on the stage scene's G-buffer.
+//! reference_tracer (the CPU ground truth's rays per second) is the lab's: lab/benches/tracer.rs.
 //!
 //! Short run: `cargo bench --bench stages -- --warm-up-time 1 --measurement-time 3`.
 
@@ -20,7 +19,6 @@ mod frames;
 mod raster;
 mod raster_compute;
 mod scenes;
-mod tracer;
 
 use criterion::Criterion;
 use penumbra::gpu::GpuContext;
@@ -46,6 +44,5 @@ fn main() {
     let mut regular = frames::FramePool::new(&ctx, scenes::stage_scene(), "regular:n=17");
     frames::shade(&mut c, &mut adaptive, &mut regular);
     frames::hybrid(&mut c, &ctx, scenes::stage_scene());
-    tracer::reference_tracer(&mut c, &ctx, scenes::stage_scene());
     c.final_summary();
 }

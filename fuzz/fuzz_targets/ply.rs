@@ -4,5 +4,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = penumbra::inputs::ply(data);
+    let _ = penumbra_lab::inputs::ply(data);
 });

@@ -5,6 +5,6 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = penumbra::inputs::reference_cache(data);
-    let _ = penumbra::inputs::reference_cache_resealed(data);
+    let _ = penumbra_lab::inputs::reference_cache(data);
+    let _ = penumbra_lab::inputs::reference_cache_resealed(data);
 });

@@ -2,7 +2,7 @@
 //! read-backs) and the method's (`ShadowMethod::size_needs`), from the scene's render settings
 //! alone, checked against the device before anything is allocated (`Renderer::new`, and `compare`
 //! before its reference). The frame driver allocates from the same numbers, and
-//! tests/large_frames.rs compares the plan with the buffers a renderer created.
+//! lab/tests/large_frames.rs compares the plan with the buffers a renderer created.
 
 use super::Method;
 use crate::gpu::size_plan::{self, Bound, SizeNeed, SizePlan};

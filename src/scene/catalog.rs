@@ -6,7 +6,7 @@ use super::mesh_def::MeshDef;
 use super::mesh_file::CACHE_PREFIX;
 use super::builtin;
 use super::model::Scene;
-use crate::scene::assets;
+use super::mesh_file;
 use std::path::{Path, PathBuf};
 
 pub struct CatalogEntry {
@@ -33,7 +33,7 @@ fn source(m: &MeshDef) -> String {
 
 /// The built-in scenes; `cache` is the asset cache to look in (None: the default one).
 pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
-    let cache_dir = cache.map(Path::to_path_buf).or_else(|| assets::default_cache_dir().ok());
+    let cache_dir = cache.map(Path::to_path_buf).or_else(|| mesh_file::default_cache_dir().ok());
     builtin::BUILTIN_SCENES
         .iter()
         .map(|&(name, text)| {
@@ -51,7 +51,7 @@ pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
                         let present = cache_dir.as_ref().is_some_and(|d| d.join(rel).is_file());
                         if !present {
                             missing.push(cache_dir.as_ref().map(|d| d.join(rel)).unwrap_or_else(|| rel.into()));
-                            let group = rel.split('/').next().filter(|g| g.parse::<assets::Group>().is_ok()).unwrap_or("all").to_string();
+                            let group = mesh_file::fetch_group(rel).to_string();
                             if !groups.contains(&group) {
                                 groups.push(group);
                             }

@@ -3,10 +3,51 @@
 
 use super::raw_mesh::RawMesh;
 use super::obj;
-use crate::scene::assets;
+use super::mesh_input;
 use crate::{Error, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The asset layer a program registers (the lab's `assets`): where the asset cache is, which
+/// fetch groups exist, the pinned digests of cached files, and the loaders of the registry mesh
+/// formats (.off, .ply, .ply.gz, .js). Without one, scenes read OBJ files and built-in meshes,
+/// and `cache:` paths or registry formats are errors that say so.
+pub struct AssetLayer {
+    /// The asset cache when none is given; Err: the message why there is none.
+    pub default_cache_dir: fn() -> std::result::Result<PathBuf, String>,
+    /// Whether a cache path's first component names a fetch group.
+    pub is_group: fn(&str) -> bool,
+    /// Ok when a cached file still has its pinned content; else one sentence why not.
+    pub check_pinned: fn(&str, &Path) -> std::result::Result<(), String>,
+    /// Loads a registry-format mesh reading at most `max` bytes: (positions, triangle indices);
+    /// Err: the message, leading with the path.
+    pub load_mesh: fn(&Path, u64) -> std::result::Result<MeshArrays, String>,
+}
+
+/// A loaded mesh: positions and triangle indices.
+pub type MeshArrays = (Vec<[f32; 3]>, Vec<u32>);
+
+static ASSET_LAYER: OnceLock<AssetLayer> = OnceLock::new();
+
+/// Registers the asset layer; only the first call counts.
+pub fn register_asset_layer(layer: AssetLayer) {
+    let _ = ASSET_LAYER.set(layer);
+}
+
+fn asset_layer(what: &str) -> Result<&'static AssetLayer> {
+    ASSET_LAYER.get().ok_or_else(|| Error::Asset(format!("{what}: needs the asset layer (the penumbra binary registers it; penumbra_lab::install)")))
+}
+
+/// The asset cache folder: the registered layer's default (`$PENUMBRA_CACHE`, else `~/.cache/penumbra`).
+pub fn default_cache_dir() -> Result<PathBuf> {
+    (asset_layer("the asset cache")?.default_cache_dir)().map_err(Error::Asset)
+}
+
+/// The fetch group a cache path names (`meshes/cow.off`: `meshes`), else `all`.
+pub(crate) fn fetch_group(rel: &str) -> &str {
+    rel.split('/').next().filter(|g| ASSET_LAYER.get().is_some_and(|l| (l.is_group)(g))).unwrap_or("all")
+}
 
 /// `file = "cache:meshes/cow.off"` reads `<cache>/meshes/cow.off`.
 pub const CACHE_PREFIX: &str = "cache:";
@@ -26,7 +67,7 @@ pub struct MeshDirs<'a> {
 }
 
 /// Resolves a `cache:` path; a missing file is an error that says how to fetch it, and a file
-/// whose pinned digest no longer matches (assets::check_pinned) one that says how to replace it.
+/// whose pinned digest no longer matches (the asset layer's check_pinned) one that says how to replace it.
 pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     let rel = file.strip_prefix(CACHE_PREFIX).unwrap_or(file);
     if rel.is_empty() || Path::new(rel).is_absolute() || rel.split(['/', '\\']).any(|c| c == "..") {
@@ -34,12 +75,12 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     }
     let root = match cache {
         Some(dir) => dir.to_path_buf(),
-        None => assets::default_cache_dir()?,
+        None => default_cache_dir()?,
     };
     let path = root.join(rel);
     if !path.exists() {
         // The first path component is the fetch group (meshes/, trees/, panoramas/).
-        let group = rel.split('/').next().filter(|g| g.parse::<assets::Group>().is_ok()).unwrap_or("all");
+        let group = fetch_group(rel);
         return Err(Error::mesh(
             file,
             format!(
@@ -48,7 +89,7 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
             ),
         ));
     }
-    assets::check_pinned(rel, &path).map_err(|why| Error::mesh(file, why))?;
+    (asset_layer(file)?.check_pinned)(rel, &path).map_err(|why| Error::mesh(file, why))?;
     Ok(path)
 }
 
@@ -70,10 +111,10 @@ pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<Raw
     } else {
         dirs.scene_dir.map(|d| d.join(file)).unwrap_or_else(|| file.into())
     };
-    let max = dirs.max_mesh_bytes.unwrap_or_else(assets::max_mesh_bytes);
+    let max = dirs.max_mesh_bytes.unwrap_or_else(mesh_input::max_mesh_bytes);
     // Metadata first: a FIFO would block the open, a device or a huge file would fill memory.
     if path.exists() {
-        assets::check_mesh_file(&path, max).map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
+        mesh_input::check_mesh_file(&path, max).map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
     }
     load_path(&path, max).map_err(|e| named(&path.display().to_string(), e))
 }
@@ -84,9 +125,9 @@ fn load_path(path: &Path, max: u64) -> Result<RawMesh> {
     match Path::new(inner).extension().and_then(|e| e.to_str()) {
         Some("obj") if inner == name => obj::load_file(path, max),
         Some("off" | "ply" | "js") => {
-            let mesh = assets::load_mesh_capped(path, max)?;
-            let positions = mesh.positions.iter().map(|p| Vec3::from(*p)).collect();
-            Ok(RawMesh { positions, normals: None, indices: mesh.indices })
+            let (positions, indices) = (asset_layer(&path.display().to_string())?.load_mesh)(path, max).map_err(Error::Asset)?;
+            let positions = positions.iter().map(|p| Vec3::from(*p)).collect();
+            Ok(RawMesh { positions, normals: None, indices })
         }
         _ => Err(Error::mesh(path.display().to_string(), format!("unknown mesh format (expected {FORMATS})"))),
     }

@@ -1,6 +1,5 @@
 //! Scenes: a small TOML format (docs/scene-format.md), built-in named scenes, meshes.
 
-pub mod assets;
 mod builtin;
 pub mod environment;
 pub mod light;
@@ -16,11 +15,12 @@ mod loop_subdivision;
 mod mesh;
 mod mesh_def;
 pub(crate) mod mesh_file;
+pub mod mesh_input;
 mod model;
 mod obj;
 mod overrides;
 mod raw_mesh;
-pub(crate) mod rays;
+pub mod rays;
 mod settings;
 mod subdivide;
 
@@ -31,7 +31,7 @@ pub use emitter_def::MAX_SUN_DIAMETER_DEG;
 pub use given::{settings_from_pairs, GivenMesh};
 pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
-pub use mesh_file::{cache_path, MeshDirs, CACHE_PREFIX};
+pub use mesh_file::{cache_path, default_cache_dir, register_asset_layer, AssetLayer, MeshDirs, CACHE_PREFIX};
 pub use model::{Camera, Scene};
 pub use obj::embedded_source;
 pub use coords::MAX_COORDINATE;

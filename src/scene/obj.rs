@@ -1,6 +1,6 @@
 //! OBJ meshes through tobj, after a line-by-line check so errors name the file and line.
 
-use super::assets;
+use super::mesh_input;
 use super::raw_mesh::RawMesh;
 use crate::{Error, Result};
 use glam::Vec3;
@@ -24,7 +24,7 @@ pub fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
     let label = path.display().to_string();
     let cannot = |e: std::io::Error| Error::mesh(&label, format!("cannot read: {e}"));
     let mut bytes = Vec::new();
-    assets::open_regular(path, max).map_err(cannot)?.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(cannot)?;
+    mesh_input::open_regular(path, max).map_err(cannot)?.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(cannot)?;
     if bytes.len() as u64 > max {
         return Err(Error::mesh(&label, format!("grew past the {} MiB cap on mesh files while being read (raise it with --max-mesh-mib N)", max >> 20)));
     }

@@ -42,7 +42,7 @@ pub struct GeometryTiles {
 /// on lavapipe's 128 MiB, adaptive's lattice masks at 1,832²) is bound a band at a time: the
 /// passes dispatch once per band, with the band's frame uniform (its `band_first_row`), its range
 /// of the buffer and its section of the tile list. Each pixel is computed as without bands, so V
-/// is the same bit for bit (tests/large_frames.rs).
+/// is the same bit for bit (lab/tests/large_frames.rs).
 pub struct Band {
     pub first_row: u32,
     pub rows: u32,

@@ -1,4 +1,5 @@
-//! Helpers shared by integration tests.
+//! Helpers shared by the engine's integration tests, and by the lab's (lab/tests/common adds
+//! the runners of the `penumbra` binary).
 #![allow(dead_code)]
 
 /// Camera, light and render settings of a tiny 32x32 test scene; tests append their meshes.
@@ -25,11 +26,13 @@ shadow_map_size = 64
     };
 }
 
+pub mod layers;
+
 use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
-/// The tiny scene of the sweep and gate tests (tests/shards.rs, slurm_scripts.rs, check.rs): a box over
+/// The tiny scene of the sweep and gate tests (lab/tests/shards.rs, slurm_scripts.rs, check.rs): a box over
 /// a plane at 32x32 with 64² shadow maps.
 pub const SWEEP_SCENE: &str = concat!(
     "name = \"tiny\"\n",
@@ -89,14 +92,6 @@ pub fn gpu() -> &'static GpuContext {
     }
 }
 
-pub fn penumbra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(args)
-        .env("PENUMBRA_NO_PROGRESS", "1")
-        .output()
-        .expect("run penumbra binary")
-}
-
 /// A fresh temporary folder under the target dir.
 pub fn temp_dir(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -151,15 +146,6 @@ pub fn random_scene_toml(seed: u64, size: u32, map: u32) -> String {
         );
     }
     s
-}
-
-pub fn penumbra_env(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
-    c.args(args).env("PENUMBRA_NO_PROGRESS", "1");
-    for (k, v) in env {
-        c.env(k, v);
-    }
-    c.output().expect("run penumbra binary")
 }
 
 /// One frame of `method` with the intermediates it would overwrite kept, and its buffers as

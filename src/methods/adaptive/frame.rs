@@ -235,7 +235,7 @@ struct Waiting<'a> {
     quad_count: u32,
     rects: Option<Vec<[u32; 4]>>,
     syncs: u32,
-    bar: indicatif::ProgressBar,
+    bar: Box<dyn crate::progress::Bar>,
     /// Where an overflow of the item list leaves what its level appended (the method grows the list).
     growth: &'a mut super::growth::Growth,
 }

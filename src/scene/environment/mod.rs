@@ -8,7 +8,7 @@
 //! with L the panorama's luminance (× intensity) and vis = 0 when the ray from p along ω hits a
 //! triangle; 0 where the denominator is 0.
 
-pub(crate) mod lights;
+pub mod lights;
 pub mod panorama;
 pub(crate) mod scene;
 

@@ -1,0 +1,63 @@
+//! `penumbra reference`: the CPU ground truth of one scene (cached), as EXR, PNG and a record.
+
+use super::render_sets;
+use anyhow::{Context, Result};
+use penumbra_lab::gpu::{AdapterRequest, GpuContext};
+use penumbra_lab::record::{output_set, run_files};
+use penumbra_lab::reference::truth;
+use penumbra_lab::scene::Scene;
+use penumbra_lab::studies::compare;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct ReferenceArgs {
+    /// Built-in scene name or path to a scene TOML file.
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
+    scene: String,
+    /// `continuous` (M×M stratified jitter, fixed seed), `lattice` (the 289 lattice points) or
+    /// `point` (exact hard-shadow visibility from one light point: the centre, or `--point`).
+    #[arg(long, default_value = "continuous")]
+    mode: String,
+    /// M for the continuous mode.
+    #[arg(long, default_value_t = 32)]
+    samples: u32,
+    /// With `--mode point`: the light point as light coordinates `S,T` in [0, 1] (default 0.5,0.5).
+    #[arg(long, value_name = "S,T")]
+    point: Option<String>,
+    /// Override a render setting, e.g. `--set resolution=256`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder.
+    #[arg(long, default_value = "penumbra-out/reference")]
+    out: PathBuf,
+    /// Trace even when the cache holds this reference (the result is still cached).
+    #[arg(long)]
+    no_cache: bool,
+}
+
+pub fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.out)?;
+    let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
+    let mode = match (&args.point, args.mode.as_str()) {
+        (None, m) => truth::parse_mode(m, args.samples)?,
+        (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples).context("--point")?,
+        (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
+    };
+    let ctx = GpuContext::with_request(gpu)?;
+    let (g, image) = truth::for_scene(&ctx, &scene, mode, &truth::Cache::default_for(args.no_cache))?;
+    let (w, h) = (image.width, image.height);
+    let geometry = g.geometry_count();
+    let record = serde_json::to_vec_pretty(&image.record(&scene, geometry))?;
+    let files = vec![
+        ("reference.exr".to_string(), run_files::visibility_exr(&image.values, w, h)?),
+        ("reference.png".to_string(), run_files::visibility_png(&image.values, w, h)?),
+        ("reference_shaded.png".to_string(), run_files::png(&run_files::shaded_image(&image.values, &g, &scene))?),
+        ("reference.json".to_string(), record),
+    ];
+    run_files::write_files(&args.out, &files)?;
+    println!("{}", compare::reference_line(&image, geometry));
+    for (name, _) in &files {
+        println!("  {}", args.out.join(name).display());
+    }
+    Ok(())
+}

@@ -1,0 +1,92 @@
+//! `penumbra render`: one scene, one method, one frame (after warm-up frames on the same renderer).
+
+use super::{param_pairs, render_sets_or};
+use anyhow::Result;
+use penumbra_lab::frame;
+use penumbra_lab::gpu::timing::TimingMode;
+use penumbra_lab::gpu::{AdapterRequest, GpuContext};
+use penumbra_lab::methods::Method;
+use penumbra_lab::record::{output_set, run_files};
+use penumbra_lab::scene::Scene;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// Built-in scene name or path to a scene TOML file.
+    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
+    scene: String,
+    /// hard | regular | adaptive, optionally with parameters: `adaptive:p_m=0,scope=local`.
+    #[arg(long, default_value = "hard")]
+    method: String,
+    /// Output folder.
+    #[arg(long, default_value = "penumbra-out")]
+    out: PathBuf,
+    /// Override a render setting (the scene's `[render]` table), e.g. `--set resolution=256 --set
+    /// cull=none`. Method parameters go in --method or --param.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// A parameter of --method, e.g. `--param p_m=10` (the same as `--method adaptive:p_m=10`).
+    #[arg(long = "param", value_name = "KEY=VALUE")]
+    param: Vec<String>,
+    /// `stages`: wait after each stage to time it; `frame`: only the waits the method needs.
+    #[arg(long, default_value = "stages", value_parser = ["stages", "frame"])]
+    timing: String,
+    /// Untimed frames first, on the same renderer: a device that compiles shaders at first use
+    /// (lavapipe) would otherwise charge the compile to the stages. 0 times the very first frame.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=100))]
+    warm_up: u32,
+}
+
+pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
+    output_set::check(&args.out)?;
+    let name = args.method.split(':').next().unwrap_or_default();
+    let render_sets = render_sets_or(&args.set, Some(name), Some("--param"))?;
+    let scene = Scene::load(&args.scene, &render_sets)?;
+    let method = Method::parse(&args.method, &param_pairs(&args.param)?)?;
+    method.check_light(&scene)?;
+    let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
+    let ctx = GpuContext::with_request(gpu)?;
+    let mut renderer = frame::Renderer::new(&ctx, &scene, &method)?;
+    for _ in 0..args.warm_up {
+        renderer.frame(TimingMode::Frame)?;
+    }
+    let result = renderer.frame(mode)?;
+    let files = run_files::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up)?;
+    run_files::write_files(&args.out, &files)?;
+    println!(
+        "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {}, after {} warm-up frame{})",
+        args.out.display(),
+        method.label(),
+        scene.name,
+        scene.render.width,
+        scene.render.height,
+        result.output.shadow_maps,
+        result.total_ms,
+        ctx.summary.name,
+        args.warm_up,
+        if args.warm_up == 1 { "" } else { "s" }
+    );
+    for (name, _) in &files {
+        println!("  {}", args.out.join(name).display());
+    }
+    if let Some(n) = all_dark(&result) {
+        eprintln!("warning: {}: V = 0 at all {n} geometry pixels: no light reaches any visible surface (is the light enclosed by a mesh?)", scene.origin);
+    }
+    Ok(())
+}
+
+/// The geometry pixel count when V is 0 at every one of them: a light shut in, which no scene check
+/// sees up front (the frame is the cheap test).
+fn all_dark(result: &frame::FrameResult) -> Option<usize> {
+    let g = &result.gbuffer;
+    let mut geometry = (0..result.visibility.len()).filter(|&i| g.is_geometry(i)).peekable();
+    geometry.peek()?;
+    let mut n = 0;
+    for i in geometry {
+        if result.visibility[i] != 0.0 {
+            return None;
+        }
+        n += 1;
+    }
+    Some(n)
+}

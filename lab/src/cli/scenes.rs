@@ -1,0 +1,17 @@
+//! `penumbra scenes`: every shipped scene, its triangles and meshes, and whether its assets are cached.
+
+use anyhow::Result;
+use penumbra_lab::scene::catalog;
+
+pub fn run() -> Result<()> {
+    println!("{:22} {:>10}  {:9}  {:44}  description", "scene", "triangles", "assets", "meshes");
+    for e in catalog(None) {
+        let tris = e.triangles.map_or("?".to_string(), |t| t.to_string());
+        let assets = if e.missing.is_empty() { "present" } else { "missing" };
+        println!("{:22} {:>10}  {:9}  {:44}  {}", e.name, tris, assets, e.sources.join(" + "), e.description);
+        if let Some(cmd) = &e.fetch {
+            println!("{:22} fetch with `{cmd}`", "");
+        }
+    }
+    Ok(())
+}

