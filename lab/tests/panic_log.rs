@@ -36,7 +36,7 @@ fn the_binary_logs_nothing_for_a_refused_input_and_the_census_script_parses() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.starts_with("error: ") && stderr.contains("no-such-scene"), "{stderr}");
     assert!(!log.exists(), "a refused input wrote the panic log: {:?}", std::fs::read_to_string(&log));
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/panic-census.sh");
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/panic-census.sh");
     let parse = std::process::Command::new("bash").arg("-n").arg(&script).status().unwrap();
     assert!(parse.success(), "bash -n {}", script.display());
 }
