@@ -75,32 +75,12 @@ fn framing_scales_the_emitter_the_reference_traces() {
     assert!(rmse(2.0) < 0.03 && rmse(2.0) < 2.0 * rmse(1.0), "twice the disk: RMSE {} against {} at its size", rmse(2.0), rmse(1.0));
 }
 
-/// A sun scaled past the widest sun a scene may state is refused before anything runs.
-#[test]
-fn framing_refuses_a_sun_scaled_into_a_sky() {
-    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let dir = common::temp_dir("framing_sun_scale");
+/// `framing --scene SCENE --light-scales 1,100` in an empty folder: exit 1, no panic, nothing
+/// written; the first stderr line.
+fn refused_scale(case: &str, scene: &str) -> String {
+    let dir = common::temp_dir(case);
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(["framing", "--scene", "sun-edge", "--light-scales", "1,100"])
-        .current_dir(&dir)
-        .env("PENUMBRA_NO_PROGRESS", "1")
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    let first = stderr.lines().next().unwrap_or("");
-    assert!(first.starts_with("error: --light-scales: 100 makes sun-edge's sun ") && first.contains("over the 30° a sun may be"), "{first}");
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "the refused run wrote files");
-}
-
-/// A rectangle scaled past ten scene diagonals goes through the scene file's light checks and is
-/// refused before any reference is traced, naming the scale and the scene.
-#[test]
-fn framing_refuses_a_light_scaled_past_the_scene() {
-    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let dir = common::temp_dir("framing_light_scale");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(["framing", "--scene", "default", "--light-scales", "1,100"])
+        .args(["framing", "--scene", scene, "--light-scales", "1,100"])
         .current_dir(&dir)
         .env("PENUMBRA_NO_PROGRESS", "1")
         .output()
@@ -108,7 +88,21 @@ fn framing_refuses_a_light_scaled_past_the_scene() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    let first = stderr.lines().next().unwrap_or("");
-    assert!(first.starts_with("error: --light-scales 100 on --scene default: builtin:default: light.edge_u") && first.contains("over 10 × the meshes' diagonal"), "{first}");
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "the refused run wrote files");
+    stderr.lines().next().unwrap_or("").to_string()
+}
+
+/// A sun scaled past the widest sun a scene may state is refused before anything runs.
+#[test]
+fn framing_refuses_a_sun_scaled_into_a_sky() {
+    let first = refused_scale("framing_sun_scale", "sun-edge");
+    assert!(first.starts_with("error: --light-scales: 100 makes sun-edge's sun ") && first.contains("over the 30° a sun may be"), "{first}");
+}
+
+/// A rectangle scaled past ten scene diagonals goes through the scene file's light checks and is
+/// refused before any reference is traced, naming the scale and the scene.
+#[test]
+fn framing_refuses_a_light_scaled_past_the_scene() {
+    let first = refused_scale("framing_light_scale", "default");
+    assert!(first.starts_with("error: --light-scales 100 on --scene default: builtin:default: light.edge_u") && first.contains("over 10 × the meshes' diagonal"), "{first}");
 }
