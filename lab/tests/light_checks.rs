@@ -2,22 +2,15 @@
 //! scene loads, with one line naming the file, the key and the value (src/scene/light_checks.rs,
 //! docs/lights.md §1). The shipped scenes pass. Library checks need no GPU.
 
+#[macro_use]
 mod common;
 use penumbra::scene::light_checks::MAX_LIGHT_DIAGONALS;
 use penumbra::scene::{builtin_names, Emitter, Scene};
 
 /// A 30 × 30 ground (the builtin plane is one unit across) and a unit box on it (top at y = 1.5).
-const MESHES: &str = r#"
-[camera]
-eye = [0.0, 6.0, 8.0]
-target = [0.0, 0.0, 0.0]
-fov_y_deg = 45.0
-
-[render]
-width = 32
-height = 32
-shadow_map_size = 64
-
+const MESHES: &str = concat!(
+    unlit_scene_head!(),
+    r#"
 [[mesh]]
 builtin = "plane"
 scale = 30.0
@@ -25,7 +18,8 @@ scale = 30.0
 [[mesh]]
 builtin = "box"
 translate = [0.0, 1.0, 0.0]
-"#;
+"#
+);
 
 fn parse(light: &str) -> penumbra::Result<Scene> {
     Scene::parse(&format!("[light]\n{light}{MESHES}"), "bad.toml", None, &[])

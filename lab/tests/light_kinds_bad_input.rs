@@ -2,21 +2,14 @@
 //! file, the key and the value. The methods that sample the rectangle refuse the other kinds by
 //! name, before anything is written. Library checks need no GPU.
 
+#[macro_use]
 mod common;
 use penumbra::methods::{Method, REGISTRY};
 use penumbra::scene::{Emitter, LightKind, Scene};
 
-const HEAD: &str = r#"
-[camera]
-eye = [0.0, 6.0, 8.0]
-target = [0.0, 0.0, 0.0]
-fov_y_deg = 45.0
-
-[render]
-width = 32
-height = 32
-shadow_map_size = 64
-
+const HEAD: &str = concat!(
+    unlit_scene_head!(),
+    r#"
 [[mesh]]
 builtin = "plane"
 scale = 10.0
@@ -24,7 +17,8 @@ scale = 10.0
 [[mesh]]
 builtin = "box"
 translate = [0.0, 1.0, 0.0]
-"#;
+"#
+);
 
 const DISK: &str = "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 1.0\n";
 const SUN: &str = "kind = \"sun\"\ndirection = [0.3, -1.0, 0.2]\nangular_diameter_deg = 2.0\n";

@@ -28,6 +28,25 @@ shadow_map_size = 64
 
 pub mod layers;
 
+/// The same 32x32 camera and render settings with no `[light]`: tests that vary the light put
+/// `[light]` and its keys in front and append their meshes.
+#[allow(unused_macros)]
+macro_rules! unlit_scene_head {
+    () => {
+        r#"
+[camera]
+eye = [0.0, 6.0, 8.0]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 45.0
+
+[render]
+width = 32
+height = 32
+shadow_map_size = 64
+"#
+    };
+}
+
 use penumbra::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::Output;
