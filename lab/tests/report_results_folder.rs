@@ -27,7 +27,7 @@ fn a_committed_folder_renders_its_readme_and_every_rows_file() {
     let html = report(&common::root().join("results/same-v"), &out).unwrap();
     assert!(html.contains("<title>Results: same-v</title>"), "title");
     assert!(html.contains("<h1>V unchanged, old binary against new</h1>"), "the README, as HTML");
-    assert!(html.contains("<h2>reliability-fixes.csv (60 rows)</h2>") && html.contains("<h2>two-crates.csv (60 rows)</h2>"), "both tables");
+    assert!(html.contains("<h2 id=\"reliability-fixes.csv\">reliability-fixes.csv (60 rows)</h2>") && html.contains("<h2 id=\"two-crates.csv\">two-crates.csv (60 rows)</h2>"), "both tables");
     assert!(html.contains("<tr><th>verdict</th><th>scene</th><th>method</th></tr>"), "header row");
     assert!(html.contains("<tr><td>same</td><td>default</td><td>hard</td></tr>"), "a row as written");
     assert!(!html.contains("src=\"http") && !html.contains("<script"), "self-contained");
@@ -35,16 +35,18 @@ fn a_committed_folder_renders_its_readme_and_every_rows_file() {
     // JSON Lines: every key a column.
     let out = temp_dir("results_folder_jsonl").join("out");
     let html = report(&common::root().join("results/slat-roof"), &out).unwrap();
-    assert!(html.contains("<h2>compare-512.jsonl (") && html.contains("<h2>frontier-128.jsonl ("), "{}", &html[..html.len().min(2000)]);
+    assert!(html.contains(">compare-512.jsonl (") && html.contains(">frontier-128.jsonl ("), "{}", &html[..html.len().min(2000)]);
 }
 
 #[test]
 fn cells_are_read_by_the_csv_rules_and_shown_as_text() {
     let dir = temp_dir("results_folder_quoted");
-    std::fs::write(dir.join("README.md"), "# Quoted\n\nCommand: `penumbra x`\n").unwrap();
+    std::fs::write(dir.join("README.md"), "# Quoted\n\nCommand: `penumbra x`\n\nRows: [the rows](rows.csv).\n").unwrap();
     std::fs::write(dir.join("rows.csv"), "name,value\n\"a, <b>\",\"1.5\"\n\"say \"\"hi\"\"\",2\n").unwrap();
     let html = report(&dir, &dir.join("out")).unwrap();
     assert!(html.contains("<p>Command: <code>penumbra x</code></p>"), "{html}");
+    // A link to a rows file goes to its table on the page.
+    assert!(html.contains("<a href=\"#rows.csv\">the rows</a>") && html.contains("<h2 id=\"rows.csv\">rows.csv (2 rows)</h2>"), "{html}");
     assert!(html.contains("<tr><td>a, &lt;b&gt;</td><td>1.5</td></tr>"), "{html}");
     assert!(html.contains("<tr><td>say \"hi\"</td><td>2</td></tr>"), "{html}");
 }

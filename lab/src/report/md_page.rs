@@ -28,8 +28,12 @@ pub fn document(title: &str, body: &str) -> String {
 /// The HTML of `md`. Raw HTML in the text is shown as text, not passed through: a row's label
 /// such as `<2 ms` stays a label, and the page can name no resource by way of a tag.
 pub fn body(md: &str) -> String {
+    // Quotes too: the shown text of a tag (`src="http…"`) must not read as an attribute to a check
+    // that the page names no resource.
+    let shown = |t: &str| escape(t).replace('"', "&quot;").into();
     let events = Parser::new_ext(md, Options::ENABLE_TABLES).map(|e| match e {
-        Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+        Event::Html(t) => Event::Html(shown(&t)),
+        Event::InlineHtml(t) => Event::InlineHtml(shown(&t)),
         e => e,
     });
     let mut out = String::new();
@@ -68,6 +72,7 @@ mod tests {
         let page = super::page("a <b>", "x <img src=\"http://h/p.png\"> y\n\n<script>1</script>\n", &[]);
         assert!(page.contains("<title>a &lt;b&gt;</title>"), "{page}");
         assert!(page.contains("x &lt;img src=&quot;http://h/p.png&quot;&gt; y"), "{page}");
-        assert!(!page.contains("<script") && !page.contains("<img"), "{page}");
+        assert!(page.contains("&lt;script&gt;1&lt;/script&gt;"), "{page}");
+        assert!(!page.contains("<script") && !page.contains("<img") && !page.contains("src=\"http"), "{page}");
     }
 }

@@ -37,6 +37,8 @@ pub fn page(dir: &Path) -> Result<String> {
         return Err(err(dir, "no rows: the folder holds no .csv or .jsonl file".into()).into());
     }
     let tables = files.iter().map(|p| read_rows(p)).collect::<Result<Vec<_>>>()?;
+    // The README's links to its rows files point at their tables on this page.
+    let readme = tables.iter().fold(readme, |md, t| md.replace(&format!("]({})", t.name), &format!("](#{})", t.name)));
     let mut html = body(&readme);
     for t in &tables {
         html += &table_html(t);
@@ -116,7 +118,13 @@ fn jsonl_rows(name: String, text: &str) -> std::result::Result<Rows, String> {
 
 fn table_html(t: &Rows) -> String {
     let row = |tag: &str, cells: &[String]| format!("<tr>{}</tr>\n", cells.iter().map(|c| format!("<{tag}>{}</{tag}>", escape(c))).collect::<String>());
-    let mut h = format!("<h2>{} ({} rows)</h2>\n<table>\n<thead>\n{}</thead>\n<tbody>\n", escape(&t.name), t.rows.len(), row("th", &t.header));
+    let mut h = format!(
+        "<h2 id=\"{}\">{} ({} rows)</h2>\n<table>\n<thead>\n{}</thead>\n<tbody>\n",
+        escape(&t.name).replace('"', "&quot;"),
+        escape(&t.name),
+        t.rows.len(),
+        row("th", &t.header)
+    );
     for r in &t.rows {
         h += &row("td", r);
     }
