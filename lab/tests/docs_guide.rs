@@ -90,7 +90,7 @@ fn measured_figure(p: &str) -> Option<String> {
     };
     for (i, w) in words.iter().enumerate() {
         let next = words.get(i + 1).map(|n| n.trim_end_matches([',', '.', ';', ')', ':'])).unwrap_or("");
-        let glued = |unit: &str| w.trim_end_matches([',', '.', ';', ')', ':']).strip_suffix(unit).is_some_and(|n| number(n));
+        let glued = |unit: &str| w.trim_end_matches([',', '.', ';', ')', ':']).strip_suffix(unit).is_some_and(&number);
         let time = (number(w) && (next == "ms" || next == "µs")) || glued("ms") || glued("µs");
         let took = *w == "took" && words.get(i + 1).is_some_and(|n| number(n)) && matches!(words.get(i + 2).map(|u| u.trim_end_matches([',', '.', ';', ')'])), Some("s" | "min" | "minutes"));
         let speed = (w.ends_with('×') || w.ends_with('x')) && number(&w[..w.len() - w.chars().last().unwrap().len_utf8()]) && (next == "faster" || next == "slower");

@@ -39,6 +39,19 @@ fn a_committed_folder_renders_its_readme_and_every_rows_file() {
 }
 
 #[test]
+fn every_committed_results_folder_renders() {
+    let out = temp_dir("results_folder_all");
+    let mut folders: Vec<_> = std::fs::read_dir(common::root().join("results")).unwrap().map(|e| e.unwrap().path()).filter(|p| p.is_dir()).collect();
+    folders.sort();
+    assert!(folders.len() >= 60, "{} results folders", folders.len());
+    for dir in &folders {
+        let name = dir.file_name().unwrap().to_str().unwrap();
+        let html = report(dir, &out.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(html.contains(&format!("<title>Results: {name}</title>")) && html.contains("<table>"), "{name}");
+    }
+}
+
+#[test]
 fn cells_are_read_by_the_csv_rules_and_shown_as_text() {
     let dir = temp_dir("results_folder_quoted");
     std::fs::write(dir.join("README.md"), "# Quoted\n\nCommand: `penumbra x`\n\nRows: [the rows](rows.csv).\n").unwrap();
