@@ -1,6 +1,8 @@
 //! `penumbra report`: report.html and report.md again, from results.jsonl files.
 
 use anyhow::Result;
+use penumbra_lab::gpu::AdapterRequest;
+use penumbra_lab::studies::Run;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -16,7 +18,13 @@ pub struct ReportArgs {
     baseline: Option<PathBuf>,
 }
 
-pub fn run(args: ReportArgs) -> Result<()> {
+impl Run for ReportArgs {
+    fn run(self, _gpu: &AdapterRequest) -> Result<()> {
+        run(self)
+    }
+}
+
+fn run(args: ReportArgs) -> Result<()> {
     if args.out.exists() && !args.out.is_dir() {
         anyhow::bail!("--out {}: is a file, not a folder", args.out.display());
     }

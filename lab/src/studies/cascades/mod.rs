@@ -2,6 +2,8 @@
 //! for each number of cascades and split scheme, judged against the continuous reference, with
 //! each cascade's texel density on screen: how many screen pixels one of its map's texels spans.
 
+pub(crate) mod charts;
+pub mod command;
 pub mod files;
 
 use crate::frame::Renderer;
