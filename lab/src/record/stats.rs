@@ -1,4 +1,19 @@
-//! Summary of repeated timings: the median is the figure, min and max show the spread.
+//! The one statistics helper: the median of a list, and the summary of repeated timings (the
+//! median is the figure, min and max show the spread). Every study quotes its medians from here.
+
+/// The median of a list, `None` when it is empty; the median of an even count is the mean of
+/// the middle two. NaN sorts last (`total_cmp`), so a NaN never takes the middle of a list of
+/// mostly numbers.
+pub fn median(values: &[f64]) -> Option<f64> {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(sorted[n / 2]),
+        _ => Some(0.5 * (sorted[n / 2 - 1] + sorted[n / 2])),
+    }
+}
 
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Summary {
@@ -9,23 +24,25 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// `None` for an empty list; the median of an even count is the mean of the middle two.
+    /// `None` for an empty list.
     pub fn of(samples: &[f64]) -> Option<Summary> {
-        let mut sorted = samples.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        let n = sorted.len();
-        let median = match n {
-            0 => return None,
-            _ if n % 2 == 1 => sorted[n / 2],
-            _ => (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0,
-        };
-        Some(Summary { median, min: sorted[0], max: sorted[n - 1], samples: samples.to_vec() })
+        let median = median(samples)?;
+        let (min, max) = samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        Some(Summary { median, min, max, samples: samples.to_vec() })
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::Summary;
+    use super::{median, Summary};
+
+    #[test]
+    fn median_odd_even_and_empty() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), Some(2.5));
+        assert_eq!(median(&[7.0]), Some(7.0));
+        assert_eq!(median(&[]), None);
+    }
 
     #[test]
     fn median_min_max() {

@@ -5,7 +5,6 @@ pub mod command;
 pub(crate) mod errors;
 pub mod fair;
 pub(crate) mod seed;
-pub(crate) mod stats;
 pub(crate) mod suite;
 pub mod table;
 
