@@ -117,6 +117,7 @@ commands! {
     /// Environment lighting (seed 002): the environment methods on the panorama scenes, charts, the
     /// panoramas with their chosen lights and quadtree cells, the closing table (docs/environment.md).
     Environment(studies::environment::command::EnvironmentArgs),
+    Convergence(studies::convergence::command::ConvergenceArgs),
 }
 
 fn main() {

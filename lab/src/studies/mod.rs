@@ -10,6 +10,7 @@
 pub mod bench;
 pub mod cascades;
 pub mod compare;
+pub mod convergence;
 pub mod environment;
 pub mod estimate;
 pub mod failures;
