@@ -17,7 +17,7 @@ for s in $studies; do
     by_path=$(find "$src"/cli "$src"/studies "$src"/report "$src"/record -type f \( -path "*/$s.rs" -o -path "*/$s/*" \) | sort)
     [ -z "$by_path" ] && continue
     # Registration: `mod S;` in the study layers, or the study's arguments type in the command list.
-    by_name=$(grep -rlE "(^|[^a-z_])mod $s;|(cli|studies)::$s::[A-Za-z]*Args" "$src"/cli "$src"/studies "$src"/report "$src"/record "$src"/main.rs | sort || true)
+    by_name=$(grep -rlE "(^|[^a-z_])mod $s;|(cli|studies)::$s::(command::)?[A-Za-z]*Args" "$src"/cli "$src"/studies "$src"/report "$src"/record "$src"/main.rs | sort || true)
     files=$(printf '%s\n%s\n' "$by_path" "$by_name" | grep -v '^$' | sort -u)
     count=$(printf '%s\n' "$files" | wc -l)
     folders=$(printf '%s\n' "$files" | xargs -n1 dirname | sort -u | wc -l)
@@ -26,9 +26,10 @@ for s in $studies; do
 done
 echo "mean files per study: $(awk -v t=$total -v n=$n 'BEGIN { printf "%.1f", t / n }') over $n studies"
 
-# A clap field for the flag: `set: Vec<String>` / `out: PathBuf` / `repeats: u32` under an #[arg].
+# A clap field for the flag: `set: Vec<String>` / `out: PathBuf` / `repeats: u32` under an #[arg]
+# (a flattened common struct, `sets: SetArgs`, is not a declaration).
 for flag in set out repeats; do
-    files=$(grep -rlE "^\s*(pub )?$flag: " "$src" --include='*.rs' | xargs grep -lE "derive\((clap::)?(Args|Parser)" | sort || true)
+    files=$(grep -rlE "^\s*(pub )?$flag: (Vec<String>|PathBuf|u32)," "$src" --include='*.rs' | xargs grep -lE "derive\((clap::)?(Args|Parser)" | sort || true)
     count=$(printf '%s' "$files" | grep -c . || true)
     echo "--$flag declared in $count files: $(printf '%s\n' "$files" | sed "s|^$src/||" | tr '\n' ' ')"
 done
