@@ -2,6 +2,8 @@
 //! a committed results folder (`penumbra report results/<name>`), its README and rows as tables.
 
 use anyhow::Result;
+use penumbra_lab::gpu::AdapterRequest;
+use penumbra_lab::studies::Run;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -23,7 +25,13 @@ fn is_folder(p: &std::path::Path) -> bool {
     p.extension().and_then(|x| x.to_str()) != Some("jsonl")
 }
 
-pub fn run(args: ReportArgs) -> Result<()> {
+impl Run for ReportArgs {
+    fn run(self, _gpu: &AdapterRequest) -> Result<()> {
+        run(self)
+    }
+}
+
+fn run(args: ReportArgs) -> Result<()> {
     if args.out.exists() && !args.out.is_dir() {
         anyhow::bail!("--out {}: is a file, not a folder", args.out.display());
     }

@@ -7,6 +7,8 @@
 //! - Multi-map methods (regular:n=17, adaptive) with hybrid maps against plain maps of a fixed size
 //!   and of the hybrid maps' measured memory, against the continuous reference.
 
+pub(crate) mod charts;
+pub mod command;
 pub mod files;
 
 use crate::gpu::kernels;

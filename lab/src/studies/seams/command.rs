@@ -1,19 +1,19 @@
 //! `penumbra seams`: a point light's cube-map seams, V's error near the face edges against the rest.
 
-use super::render_sets;
 use anyhow::Result;
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::record::{output_set, run_files};
-use penumbra_lab::reference::truth;
-use penumbra_lab::studies::compare::methods_list;
-use penumbra_lab::studies::lists::listed_once;
-use penumbra_lab::studies::seams::{self, SeamsJob};
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::record::run_files;
+use crate::reference::truth;
+use crate::studies::compare::methods_list;
+use crate::studies::lists::listed_once;
+use crate::studies::seams::{self, SeamsJob};
+use crate::studies::flags::{OutArgs, SetArgs};
 
 #[derive(clap::Args)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/seams")))]
 pub struct SeamsArgs {
     /// A scene with a point light (built-in name or TOML file).
-    #[arg(long, value_parser = crate::cli::utf8())]
+    #[arg(long, value_parser = crate::studies::flags::utf8())]
     scene: String,
     /// Methods, as for compare (repeatable or comma-separated).
     #[arg(long, default_value = "hard,pcf,regular:n=8")]
@@ -30,15 +30,20 @@ pub struct SeamsArgs {
     /// Trace the reference again instead of reading the cache.
     #[arg(long)]
     no_cache: bool,
-    /// Override a render setting, e.g. `--set resolution=128`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    #[arg(long, default_value = "penumbra-out/seams")]
-    out: PathBuf,
+    #[command(flatten)]
+    sets: SetArgs,
+    #[command(flatten)]
+    output: OutArgs,
 }
 
-pub fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
+impl crate::studies::Run for SeamsArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
+    args.output.checked()?;
     if !(args.band.is_finite() && args.band > 0.0 && args.band <= 64.0) {
         anyhow::bail!("--band {}: not in (0, 64] texels", args.band);
     }
@@ -47,7 +52,7 @@ pub fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
     }
     listed_once("--map-sizes", args.map_sizes.iter().map(|s| (s.to_string(), *s)))?;
     let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
-    let sets = render_sets(&args.set)?;
+    let sets = args.sets.render()?;
     // Each run's map size comes from --map-sizes and would silently win over this one.
     if let Some((k, v)) = sets.iter().find(|(k, _)| k.strip_prefix("render.").unwrap_or(k) == "shadow_map_size") {
         anyhow::bail!("--set {k}={v}: seams runs each map size of --map-sizes; give the sizes there (--map-sizes {v})");
@@ -56,11 +61,11 @@ pub fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
     for &size in &args.map_sizes {
         let mut s = sets.clone();
         s.push(("shadow_map_size".into(), size.to_string()));
-        let scene = penumbra_lab::scene::Scene::load(&args.scene, &s).map_err(|e| anyhow::anyhow!("--map-sizes {size}: {e}"))?;
-        if scene.emitter.kind() != penumbra_lab::scene::LightKind::Point {
+        let scene = crate::scene::Scene::load(&args.scene, &s).map_err(|e| anyhow::anyhow!("--map-sizes {size}: {e}"))?;
+        if scene.emitter.kind() != crate::scene::LightKind::Point {
             anyhow::bail!("--scene {}: its light is `{}`; the seams are a point light's cube faces (kind = \"point\")", args.scene, scene.emitter.kind().name());
         }
-        penumbra_lab::methods::check_lights(&scene, &methods)?;
+        crate::methods::check_lights(&scene, &methods)?;
     }
     let ctx = GpuContext::with_request(gpu)?;
     let job = SeamsJob {
@@ -73,9 +78,9 @@ pub fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
         cache: if args.no_cache { truth::Cache::Off } else { truth::Cache::default_for(false) },
     };
     let outcome = seams::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    run_files::write_files(&args.out, &outcome.files)?;
+    run_files::write_files(&args.output.out, &outcome.files)?;
     print!("{}", seams::markdown(&outcome.rows));
     println!("adapter: {} ({})", ctx.summary.name, ctx.summary.backend);
-    println!("study: {}", args.out.join("seams.json").display());
+    println!("study: {}", args.output.out.join("seams.json").display());
     Ok(())
 }

@@ -1,22 +1,21 @@
 //! `penumbra hybrid`: hybrid-resolution shadow maps (seed 003) against plain maps.
 
-use super::render_sets;
 use anyhow::{Context, Result};
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::record::{output_set, run_files};
-use penumbra_lab::reference::truth;
-use penumbra_lab::scene::Scene;
-use penumbra_lab::studies::compare::methods_list;
-use penumbra_lab::methods::Method;
-use penumbra_lab::studies::hybrid::{self, parse_maps};
-use penumbra_lab::studies::lists::listed_once;
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::record::run_files;
+use crate::reference::truth;
+use crate::scene::Scene;
+use crate::studies::compare::methods_list;
+use crate::methods::Method;
+use crate::studies::hybrid::{self, parse_maps};
+use crate::studies::lists::listed_once;
+use crate::studies::flags::{repeats_in_range, OutArgs, RepeatsArgs, SceneArgs, SetArgs};
 
 #[derive(clap::Args)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/hybrid")))]
 pub struct HybridArgs {
-    /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
-    scene: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Square screen size in pixels.
     #[arg(long, default_value_t = 256)]
     resolution: u32,
@@ -29,9 +28,8 @@ pub struct HybridArgs {
     /// Merge tolerance in 16-bit depth units (the seed's 0.25).
     #[arg(long, default_value_t = 0.25)]
     eps: f32,
-    /// Timed hard-shadow frames per configuration after a warm-up and a stages-mode frame.
-    #[arg(long, default_value_t = 3)]
-    repeats: u32,
+    #[command(flatten)]
+    repeats: RepeatsArgs,
     /// Multi-map methods (comma-separated; empty for none), e.g. `regular:n=17,adaptive:preset=balanced`.
     #[arg(long, value_delimiter = ',', default_value = "")]
     multi: Vec<String>,
@@ -44,29 +42,31 @@ pub struct HybridArgs {
     /// Timed multi-map frames per configuration after one stages-mode frame (no warm-up: slow scenes).
     #[arg(long, default_value_t = 1)]
     multi_repeats: u32,
-    /// Override a render setting, e.g. `--set shadow_map_budget_mib=1024`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    #[arg(long, default_value = "penumbra-out/hybrid")]
-    out: PathBuf,
+    #[command(flatten)]
+    sets: SetArgs,
+    #[command(flatten)]
+    output: OutArgs,
 }
 
-pub fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
+impl crate::studies::Run for HybridArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
+    args.output.checked()?;
     if !(8..=4096).contains(&args.resolution) {
         anyhow::bail!("--resolution: {} is not in 8..=4096", args.resolution);
     }
     if !(args.eps.is_finite() && args.eps >= 0.0) {
         anyhow::bail!("--eps: {} must be a finite number >= 0", args.eps);
     }
-    for (flag, n) in [("--repeats", args.repeats), ("--multi-repeats", args.multi_repeats)] {
-        if n == 0 || n > 1000 {
-            anyhow::bail!("{flag} must be in 1..=1000, got {n}");
-        }
-    }
-    let mut sets = render_sets(&args.set)?;
+    let repeats = args.repeats.checked()?;
+    let multi_repeats = repeats_in_range("--multi-repeats", args.multi_repeats)?;
+    let mut sets = args.sets.render()?;
     sets.push(("resolution".into(), args.resolution.to_string()));
-    let scene = Scene::load(&args.scene, &sets)?;
+    let scene = Scene::load(&args.scene.scene, &sets)?;
     let plain = maps_list("--plain", &args.plain, false)?;
     let hybrids = maps_list("--hybrid", &args.hybrid, true)?;
     let multi_specs: Vec<String> = args.multi.iter().filter(|s| !s.trim().is_empty()).cloned().collect();
@@ -95,19 +95,19 @@ pub fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
         scene,
         hard: plain.iter().chain(&hybrids).map(|(_, m)| *m).collect(),
         eps: args.eps,
-        repeats: args.repeats,
+        repeats,
         multi,
         multi_hybrid,
         multi_plain,
-        multi_repeats: args.multi_repeats,
+        multi_repeats,
         cache: truth::Cache::default_for(false),
     };
     let ctx = GpuContext::with_request(gpu)?;
     let outcome = hybrid::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    run_files::write_files(&args.out, &outcome.files)?;
+    run_files::write_files(&args.output.out, &outcome.files)?;
     print!("{}", hybrid::files::markdown(&outcome.rows));
     println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
-    println!("study: {}", args.out.join("hybrid.md").display());
+    println!("study: {}", args.output.out.join("hybrid.md").display());
     Ok(())
 }
 

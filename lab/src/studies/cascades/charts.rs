@@ -1,7 +1,7 @@
 //! The cascade study's chart: error against the number of cascades, one line per split scheme.
 
-use super::scatter::{push_point, render, Point, Scatter};
-use super::ChartError;
+use crate::report::charts::scatter::{push_point, render, Point, Scatter};
+use crate::report::charts::ChartError;
 
 /// One measured setting of the cascade study.
 pub struct CascadePoint {

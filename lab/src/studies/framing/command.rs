@@ -1,21 +1,22 @@
 //! `penumbra framing`: maps and error against the penumbra's width on screen, over scenes,
 //! resolutions and light sizes.
 
-use super::render_sets;
 use anyhow::{Context, Result};
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::record::{output_set, run_files};
-use penumbra_lab::reference::truth;
-use penumbra_lab::scene::{light_checks, Scene, MAX_SUN_DIAMETER_DEG};
-use penumbra_lab::studies::compare::methods_list;
-use penumbra_lab::studies::framing::{self, FramingJob};
-use penumbra_lab::studies::lists::listed_once;
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::record::run_files;
+use crate::reference::truth;
+use crate::scene::{light_checks, Scene, MAX_SUN_DIAMETER_DEG};
+use crate::studies::compare::methods_list;
+use crate::studies::framing::{self, FramingJob};
+use crate::studies::lists::listed_once;
+use crate::studies::flags::{OutArgs, RepeatsArgs, SetArgs};
 
 #[derive(clap::Args)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/framing")))]
+#[command(mut_arg("repeats", |a| a.default_value("1")))]
 pub struct FramingArgs {
     /// Scenes (built-in names or TOML files), repeatable or comma-separated.
-    #[arg(long = "scene", value_delimiter = ',', required = true, value_parser = crate::cli::utf8())]
+    #[arg(long = "scene", value_delimiter = ',', required = true, value_parser = crate::studies::flags::utf8())]
     scenes: Vec<String>,
     /// Square screen sizes in pixels, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "128,256,512")]
@@ -26,20 +27,25 @@ pub struct FramingArgs {
     /// Methods, as for compare (repeatable).
     #[arg(long, default_value = "regular:n=17,regular:n=9,layout=centred,adaptive:preset=seed,adaptive:preset=balanced")]
     methods: Vec<String>,
-    #[arg(long, default_value_t = 1)]
-    repeats: u32,
-    /// Override a render setting of every scene, e.g. `--set shadow_map_size=256`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    #[arg(long, default_value = "penumbra-out/framing")]
-    out: PathBuf,
+    #[command(flatten)]
+    repeats: RepeatsArgs,
+    #[command(flatten)]
+    sets: SetArgs,
+    #[command(flatten)]
+    output: OutArgs,
 }
 
-pub fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
+impl crate::studies::Run for FramingArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
+    args.output.checked()?;
     let specs = methods_list::split_specs(&args.methods)?;
     let methods = methods_list::parse_methods(&specs)?;
-    let sets = render_sets(&args.set)?;
+    let sets = args.sets.render()?;
     listed_once("--scene", args.scenes.iter().map(|s| (s, s.trim())))?;
     listed_once("--resolutions", args.resolutions.iter().map(|r| (r.to_string(), *r)))?;
     listed_once("--light-scales", args.light_scales.iter().map(|k| (k.to_string(), *k)))?;
@@ -58,7 +64,7 @@ pub fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
     }
     // A sun scaled past the widest sun a scene may state is a sky, not a sun.
     for scene in &scenes {
-        if let penumbra_lab::scene::Emitter::Sun(sun) = scene.emitter {
+        if let crate::scene::Emitter::Sun(sun) = scene.emitter {
             if let Some(k) = args.light_scales.iter().find(|&&k| sun.angular_diameter_deg * k > MAX_SUN_DIAMETER_DEG) {
                 anyhow::bail!(
                     "--light-scales: {k} makes {}'s sun {}° across (light.angular_diameter_deg = {} times {k}), over the {MAX_SUN_DIAMETER_DEG}° a sun may be",
@@ -77,23 +83,21 @@ pub fn run(args: FramingArgs, gpu: &AdapterRequest) -> Result<()> {
                 .with_context(|| format!("--light-scales {k} on --scene {name}"))?;
         }
     }
-    if args.repeats == 0 || args.repeats > 1000 {
-        anyhow::bail!("--repeats must be in 1..=1000, got {}", args.repeats);
-    }
+    let repeats = args.repeats.checked()?;
     let ctx = GpuContext::with_request(gpu)?;
     let job = FramingJob {
         scenes,
         resolutions: args.resolutions,
         light_scales: args.light_scales,
         methods,
-        repeats: args.repeats,
+        repeats,
         reference: truth::parse_mode("continuous", 32)?,
         cache: truth::Cache::default_for(false),
     };
     let outcome = framing::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    run_files::write_files(&args.out, &outcome.files)?;
+    run_files::write_files(&args.output.out, &outcome.files)?;
     print!("{}", framing::markdown(&outcome.rows));
     println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
-    println!("study: {}", args.out.join("framing.md").display());
+    println!("study: {}", args.output.out.join("framing.md").display());
     Ok(())
 }

@@ -1,14 +1,12 @@
 //! `penumbra failures`: the failure gallery alone, with its own report (the main job runs it too).
 
-use super::run_args::RunArgs;
-use super::DEFAULT_METHODS;
 use anyhow::Result;
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::reference::truth;
-use penumbra_lab::studies::compare::methods_list;
-use penumbra_lab::studies::failures::{self, GalleryJob};
-use penumbra_lab::studies::sequence::MAX_FRAMES;
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::reference::truth;
+use crate::studies::compare::{methods_list, run_args::RunArgs, command::DEFAULT_METHODS};
+use crate::studies::failures::{self, GalleryJob};
+use crate::studies::sequence::MAX_FRAMES;
+use crate::studies::flags::OutArgs;
 
 /// Gallery image size in the main job: small, so the report's added time stays small on a CPU device.
 const MAIN_JOB_RESOLUTION: u32 = 128;
@@ -16,6 +14,7 @@ const MAIN_JOB_RESOLUTION: u32 = 128;
 const MAIN_JOB_FRAMES: u32 = 8;
 
 #[derive(clap::Args, Debug, Clone)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/failures")))]
 pub struct FailuresArgs {
     /// Methods, comma-separated as in compare (default: the main job's list).
     #[arg(long)]
@@ -32,9 +31,8 @@ pub struct FailuresArgs {
     /// M for the continuous reference (M×M samples).
     #[arg(long, default_value_t = 32)]
     samples: u32,
-    /// Output folder.
-    #[arg(long, default_value = "penumbra-out/failures")]
-    out: PathBuf,
+    #[command(flatten)]
+    output: OutArgs,
     /// Trace the references even when the cache holds them.
     #[arg(long)]
     no_cache: bool,
@@ -49,7 +47,7 @@ impl FailuresArgs {
             frames: MAIN_JOB_FRAMES,
             reference: run.reference.clone(),
             samples: run.samples,
-            out: run.out.join("failures"),
+            output: OutArgs { out: run.output.out.join("failures") },
             no_cache: false,
         }
     }
@@ -74,12 +72,18 @@ impl FailuresArgs {
     }
 }
 
+impl crate::studies::Run for FailuresArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
 /// Checks the flags, runs, writes the set and its own report.
-pub fn run(args: FailuresArgs, gpu: &AdapterRequest) -> Result<()> {
+fn run(args: FailuresArgs, gpu: &AdapterRequest) -> Result<()> {
     let job = args.job()?;
     let ctx = GpuContext::with_request(gpu)?;
     let gallery = failures::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    let html = failures::write(&args.out, &gallery)?;
+    let html = failures::write(&args.output.out, &gallery)?;
     println!("report: {}", html.display());
     Ok(())
 }

@@ -1,8 +1,8 @@
 //! The error estimate's check (docs/error-estimate.md): predicted against measured RMSE of V on
 //! log axes, one series per grid layout, the line where they agree.
 
-use super::scatter::{push_point, render, Point, Scatter, Series};
-use super::ChartError;
+use crate::report::charts::scatter::{push_point, render, Point, Scatter, Series};
+use crate::report::charts::ChartError;
 
 /// One (scene, setting) pair.
 pub struct EstimatePoint {

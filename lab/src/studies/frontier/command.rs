@@ -1,21 +1,20 @@
 //! `penumbra frontier`: every fixed setting of one scene measured and judged, and the frontier of
 //! error against time (docs/frontier.md).
 
-use super::render_sets;
 use anyhow::Result;
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::record::{output_set, run_files};
-use penumbra_lab::reference::truth;
-use penumbra_lab::scene::Scene;
-use penumbra_lab::studies::compare::plan;
-use penumbra_lab::studies::frontier::{self, files, grid, FrontierJob};
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::record::run_files;
+use crate::reference::truth;
+use crate::scene::Scene;
+use crate::studies::compare::plan;
+use crate::studies::frontier::{self, files, grid, FrontierJob};
+use crate::studies::flags::{OutArgs, RepeatsArgs, SceneArgs, SetArgs};
 
 #[derive(clap::Args)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/frontier")))]
 pub struct FrontierArgs {
-    /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
-    scene: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// The thinned grid (n in 2,3,4,5,6,8,11,17; plain maps 512 and 1024); automatic from 500,000 triangles.
     #[arg(long)]
     thin: bool,
@@ -31,18 +30,16 @@ pub struct FrontierArgs {
     /// Hybrid maps as BASE/LEVELS (comma-separated), or `none`.
     #[arg(long, value_delimiter = ',', default_value = grid::DEFAULT_HYBRID)]
     hybrid: Vec<String>,
-    /// Timed frames per setting after one warm-up (and one stages-mode frame); the median is quoted.
-    #[arg(long, default_value_t = 3)]
-    repeats: u32,
+    #[command(flatten)]
+    repeats: RepeatsArgs,
     /// Ground truth: `continuous` or `lattice`.
     #[arg(long, default_value = "continuous")]
     reference: String,
     /// M for the continuous reference (M×M samples).
     #[arg(long, default_value_t = 32)]
     samples: u32,
-    /// Override a render setting, e.g. `--set resolution=128` (map sizes come from the grid).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
+    #[command(flatten)]
+    sets: SetArgs,
     /// Error-budget targets (RMSE of V): `auto:target=T` for each, measured beside the plain-512
     /// settings and judged against the frontier of the fixed ones, e.g. `--budget 0.03,0.02,0.015`.
     #[arg(long, value_delimiter = ',')]
@@ -50,8 +47,8 @@ pub struct FrontierArgs {
     /// Refuse a grid of more settings than N.
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_MAX_CONFIGS)]
     max_configs: usize,
-    #[arg(long, default_value = "penumbra-out/frontier")]
-    out: PathBuf,
+    #[command(flatten)]
+    output: OutArgs,
     /// Trace the reference even when the cache holds it.
     #[arg(long)]
     no_cache: bool,
@@ -60,20 +57,24 @@ pub struct FrontierArgs {
 /// Render settings the grid itself sets for every setting.
 const GRID_KEYS: [&str; 8] = ["shadow_map_size", "maps", "base", "levels", "eps", "hybrid.base", "hybrid.levels", "hybrid.eps"];
 
-pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
-    if args.repeats == 0 || args.repeats > 1000 {
-        anyhow::bail!("--repeats must be in 1..=1000, got {}", args.repeats);
+impl crate::studies::Run for FrontierArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
     }
+}
+
+fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
+    args.output.checked()?;
+    let repeats = args.repeats.checked()?;
     let mode = truth::parse_mode(&args.reference, args.samples)?;
-    let sets = render_sets(&args.set)?;
+    let sets = args.sets.render()?;
     if let Some((k, v)) = sets.iter().find(|(k, _)| GRID_KEYS.contains(&k.strip_prefix("render.").unwrap_or(k))) {
         anyhow::bail!("--set {k}={v}: the frontier sets the map size and kind of every setting itself; choose them with --sizes and --hybrid");
     }
     let n = (!args.n.is_empty()).then(|| grid::parse_n(&args.n)).transpose()?;
     let sizes = (!args.sizes.is_empty()).then(|| grid::parse_sizes(&args.sizes)).transpose()?;
     let hybrid = grid::parse_hybrid(&args.hybrid)?;
-    let scene = Scene::load(&args.scene, &sets)?;
+    let scene = Scene::load(&args.scene.scene, &sets)?;
     let thinning = grid::Thinning::choose(args.thin, args.full, scene.triangle_count())?;
     let mut axes = grid::Axes::of(&thinning);
     axes.n = n.unwrap_or(axes.n);
@@ -88,7 +89,7 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
         let group = groups.iter_mut().find(|g| g.maps.label().starts_with("plain")).ok_or_else(|| anyhow::anyhow!("--budget needs a plain map size in --sizes"))?;
         for t in targets {
             let spec = format!("auto:target={t}");
-            group.methods.push(penumbra_lab::methods::Method::parse(&spec, &[])?);
+            group.methods.push(crate::methods::Method::parse(&spec, &[])?);
             group.specs.push(spec);
         }
     }
@@ -102,7 +103,7 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let ctx = GpuContext::with_request(gpu)?;
     // Every setting's frame sizes before the reference is traced or anything is written; a
     // setting over the device's limits is left out like local adaptive over the map budget.
-    let unfit = grid::drop_refused(&mut groups, &scene, |s, m| penumbra_lab::methods::sizes::check(&ctx, s, m).map_err(Into::into));
+    let unfit = grid::drop_refused(&mut groups, &scene, |s, m| crate::methods::sizes::check(&ctx, s, m).map_err(Into::into));
     for line in left_out_lines(&unfit) {
         eprintln!("{line}");
     }
@@ -120,15 +121,15 @@ pub fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
             thinning = format!("{thinning}; left out, {what}: {}", specs.join(", "));
         }
     }
-    eprintln!("{} ({thinning})", plan::line(&all, &scene, args.repeats));
-    let job = FrontierJob { scene: &scene, groups, thinning, repeats: args.repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
+    eprintln!("{} ({thinning})", plan::line(&all, &scene, repeats));
+    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    run_files::write_files(&args.out, &files::files(&lines)?)?;
+    run_files::write_files(&args.output.out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);
     // The ladder only: the full table is in frontier.md.
     print!("{}", md.split("\n## Adaptive").next().unwrap_or(&md));
-    println!("\nfrontier: {}", args.out.join("frontier.jsonl").display());
-    println!("report:   {}", args.out.join("report.html").display());
+    println!("\nfrontier: {}", args.output.out.join("frontier.jsonl").display());
+    println!("report:   {}", args.output.out.join("report.html").display());
     Ok(())
 }
 

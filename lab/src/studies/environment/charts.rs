@@ -2,9 +2,9 @@
 //! and estimator variant (not per family: the four environment methods share one), one line per
 //! scene.
 
-use super::scatter::{push_point, render, Point, Scatter, Series};
-use super::style::{spans_scenes, with_scene};
-use super::{ChartError, ResultRow};
+use crate::report::charts::scatter::{push_point, render, Point, Scatter, Series};
+use crate::report::charts::style::{spans_scenes, with_scene};
+use crate::report::charts::{ChartError, ResultRow};
 
 /// Which x axis.
 #[derive(Clone, Copy, Debug)]

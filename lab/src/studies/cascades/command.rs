@@ -2,22 +2,22 @@
 //! scheme, their error against the continuous reference and each cascade's texel density on
 //! screen (docs/lights.md "Cascades").
 
-use super::render_sets;
 use anyhow::{bail, Result};
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::methods::cascades::{split::Scheme, CascadeMaps, FILTERS, MAX_CASCADES};
-use penumbra_lab::methods::Method;
-use penumbra_lab::record::{output_set, run_files};
-use penumbra_lab::reference::truth;
-use penumbra_lab::scene::Scene;
-use penumbra_lab::studies::cascades::{self, files, CascadeJob};
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::methods::cascades::{split::Scheme, CascadeMaps, FILTERS, MAX_CASCADES};
+use crate::methods::Method;
+use crate::record::run_files;
+use crate::reference::truth;
+use crate::scene::Scene;
+use crate::studies::cascades::{self, files, CascadeJob};
+use crate::studies::flags::{OutArgs, SceneArgs, SetArgs};
 
 #[derive(clap::Args)]
+#[command(mut_arg("scene", |a| a.default_value("sun-grove").help("Built-in scene name or path to a scene TOML file; its light must be a `sun`")))]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/cascades")))]
 pub struct CascadesArgs {
-    /// Built-in scene name or path to a scene TOML file; its light must be a `sun`.
-    #[arg(long, default_value = "sun-grove", value_parser = crate::cli::utf8())]
-    scene: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Numbers of cascades, each in 1..=8, e.g. `--n 1,2,4`.
     #[arg(long, value_delimiter = ',', default_value = "1,2,3,4")]
     n: Vec<String>,
@@ -36,11 +36,10 @@ pub struct CascadesArgs {
     /// M for the continuous reference (M×M samples).
     #[arg(long, default_value_t = 32)]
     samples: u32,
-    /// Override a render setting, e.g. `--set resolution=128 --set shadow_map_size=256`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    #[arg(long, default_value = "penumbra-out/cascades")]
-    out: PathBuf,
+    #[command(flatten)]
+    sets: SetArgs,
+    #[command(flatten)]
+    output: OutArgs,
     /// Trace the reference even when the cache holds it.
     #[arg(long)]
     no_cache: bool,
@@ -76,8 +75,14 @@ fn parse_split(values: &[String]) -> Result<Vec<Scheme>> {
     Ok(out)
 }
 
-pub fn run(args: CascadesArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
+impl crate::studies::Run for CascadesArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: CascadesArgs, gpu: &AdapterRequest) -> Result<()> {
+    let out = args.output.checked()?;
     let ns = parse_n(&args.n)?;
     let schemes = parse_split(&args.split)?;
     let lambda = match args.lambda.trim().parse::<f32>() {
@@ -88,23 +93,23 @@ pub fn run(args: CascadesArgs, gpu: &AdapterRequest) -> Result<()> {
         bail!("--filter {}: use {}", args.filter, FILTERS.join(" or "));
     };
     let mode = truth::parse_mode(&args.reference, args.samples)?;
-    let sets = render_sets(&args.set)?;
-    let scene = Scene::load(&args.scene, &sets)?;
+    let sets = args.sets.render()?;
+    let scene = Scene::load(&args.scene.scene, &sets)?;
     let methods: Vec<Method> = schemes
         .iter()
         .flat_map(|&split| ns.iter().map(move |&n| Method::new(CascadeMaps { n, split, lambda, filter })))
         .collect();
     // The light's kind and every frame's sizes before the reference is traced or anything written.
-    penumbra_lab::methods::check_lights(&scene, &methods)?;
+    crate::methods::check_lights(&scene, &methods)?;
     let ctx = GpuContext::with_request(gpu)?;
-    penumbra_lab::methods::sizes::check_all(&ctx, &scene, &methods)?;
+    crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
     eprintln!("cascades: {} settings on {} ({} triangles)", methods.len(), scene.name, scene.triangle_count());
     let job = CascadeJob { scene: &scene, ns, schemes, lambda, filter, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
     let lines = cascades::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    run_files::write_files(&args.out, &files::files(&lines)?)?;
+    run_files::write_files(out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);
     print!("{}", md.split("\n## Each cascade").next().unwrap_or(&md));
-    println!("\ncascades: {}", args.out.join("cascades.jsonl").display());
-    println!("report:   {}", args.out.join("report.html").display());
+    println!("\ncascades: {}", out.join("cascades.jsonl").display());
+    println!("report:   {}", out.join("report.html").display());
     Ok(())
 }

@@ -3,6 +3,8 @@
 //! continuous reference inside a band of `band` texels along the face edges, and outside it, for
 //! each method and map size.
 
+pub mod command;
+
 use crate::frame;
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;

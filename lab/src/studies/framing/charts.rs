@@ -1,7 +1,7 @@
 //! Framing study charts: shadow maps, and error, against the penumbra's width on screen.
 
-use super::scatter::{push_point, render, Point, Scatter, Series};
-use super::ChartError;
+use crate::report::charts::scatter::{push_point, render, Point, Scatter, Series};
+use crate::report::charts::ChartError;
 
 /// One measured run of the framing study.
 pub struct WidthPoint {

@@ -1,20 +1,19 @@
 //! `penumbra sequence`: N frames with a moving light, camera or mesh.
 
-use super::render_sets;
 use anyhow::Result;
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::reference::truth;
-use penumbra_lab::scene::Scene;
-use penumbra_lab::studies::compare::methods_list;
-use penumbra_lab::studies::sequence::path::AnimationSpec;
-use penumbra_lab::studies::sequence::{self, tables, SequenceJob};
-use std::path::PathBuf;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::reference::truth;
+use crate::scene::Scene;
+use crate::studies::compare::methods_list;
+use crate::studies::sequence::path::AnimationSpec;
+use crate::studies::sequence::{self, tables, SequenceJob};
+use crate::studies::flags::{OutArgs, SceneArgs, SetArgs};
 
 #[derive(clap::Args, Debug, Clone)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/sequence")))]
 pub struct SequenceArgs {
-    /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
-    scene: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Methods, comma-separated as in compare (repeatable).
     #[arg(long, default_value = "hard,regular:n=17,adaptive")]
     methods: Vec<String>,
@@ -45,22 +44,26 @@ pub struct SequenceArgs {
     /// M for the continuous reference (M×M samples).
     #[arg(long, default_value_t = 32)]
     samples: u32,
-    /// Override a render setting, e.g. `--set resolution=256`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    /// Output folder.
-    #[arg(long, default_value = "penumbra-out/sequence")]
-    out: PathBuf,
+    #[command(flatten)]
+    sets: SetArgs,
+    #[command(flatten)]
+    output: OutArgs,
     /// Trace the references even when the cache holds them.
     #[arg(long)]
     no_cache: bool,
 }
 
 /// Checks everything the user gave before the GPU starts, runs, writes the set.
-pub fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
+impl crate::studies::Run for SequenceArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let log = |line: &str| eprintln!("{line}");
     let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
-    let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
+    let scene = Scene::load(&args.scene.scene, &args.sets.render()?)?;
     let spec = AnimationSpec {
         animate: args.animate.clone(),
         path: args.path.clone(),
@@ -73,15 +76,15 @@ pub fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let reference = truth::parse_mode(&args.reference, args.samples)?;
     let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: truth::Cache::default_for(args.no_cache) };
     sequence::check(&job)?;
-    penumbra_lab::methods::check_lights(&scene, &job.methods)?;
+    crate::methods::check_lights(&scene, &job.methods)?;
     let ctx = GpuContext::with_request(gpu)?;
     // Every method's frame sizes before the first reference is traced.
-    penumbra_lab::methods::sizes::check_all(&ctx, &scene, &job.methods)?;
+    crate::methods::sizes::check_all(&ctx, &scene, &job.methods)?;
     log(&format!("{} on {}", job.animation.describe(&scene), ctx.summary.name));
     let outcome = sequence::run(&ctx, &job, &log)?;
-    let html = sequence::write(&args.out, &outcome)?;
+    let html = sequence::write(&args.output.out, &outcome)?;
     print!("{}", tables::summary_table(&outcome.summaries));
-    println!("results: {}", args.out.join("frames.jsonl").display());
+    println!("results: {}", args.output.out.join("frames.jsonl").display());
     println!("report:  {}", html.display());
     Ok(())
 }

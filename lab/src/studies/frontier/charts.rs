@@ -2,9 +2,9 @@
 //! fixed setting of one scene, the frontier as a staircase; the error budget's rows and the adaptive
 //! settings (both scopes) lead the legend and, with the frontier's settings, carry labels (200 labels would hide the points).
 
-use super::pareto::{pareto_front, pareto_steps};
-use super::scatter::{push_point, render, Point, Scatter, Series};
-use super::ChartError;
+use crate::report::charts::pareto::{pareto_front, pareto_steps};
+use crate::report::charts::scatter::{push_point, render, Point, Scatter, Series};
+use crate::report::charts::ChartError;
 
 /// One setting.
 pub struct FrontierPoint {

@@ -2,17 +2,21 @@
 //! timed and judged against the reference; results, pictures, charts and the report.
 
 use super::run_args::RunArgs;
-use super::{render_sets, DEFAULT_METHODS};
 use anyhow::Result;
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::methods::Method;
-use penumbra_lab::record::{output_set, Provenance};
-use penumbra_lab::reference::truth;
-use penumbra_lab::scene::Scene;
-use penumbra_lab::studies::compare::{self, methods_list, plan, CompareJob};
-use penumbra_lab::studies::failures::{self, GalleryJob};
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::methods::Method;
+use crate::record::Provenance;
+use crate::reference::truth;
+use crate::scene::Scene;
+use crate::studies::compare::{self, methods_list, plan, CompareJob};
+use crate::studies::failures::{self, command::FailuresArgs, GalleryJob};
+use crate::studies::flags::{OutArgs, RepeatsArgs, SceneArgs, SetArgs};
 use std::path::PathBuf;
 
+/// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
+/// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
+/// each single-map family, hard, PCF, PCSS and a moment map).
+pub const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
 #[derive(clap::Args)]
 pub struct CompareArgs {
@@ -26,25 +30,35 @@ pub struct CompareArgs {
     run: RunArgs,
 }
 
-pub fn run(args: CompareArgs, gpu: &AdapterRequest) -> Result<()> {
-    compare_methods(&args.methods, args.max_configs, args.run, None, gpu)
+impl crate::studies::Run for CompareArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        compare_methods(&self.methods, self.max_configs, self.run, None, gpu)
+    }
 }
 
 /// `penumbra` with no command: the default methods on `default`, with the failure gallery.
 pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
-    let run = RunArgs { scene: "default".into(), repeats: 3, reference: "continuous".into(), samples: 32, set: Vec::new(), out, no_cache: false };
-    let gallery = super::failures::FailuresArgs::main_job(&run);
+    let run = RunArgs {
+        scene: SceneArgs { scene: "default".into() },
+        repeats: RepeatsArgs { repeats: 3 },
+        reference: "continuous".into(),
+        samples: 32,
+        sets: SetArgs::default(),
+        output: OutArgs { out },
+        no_cache: false,
+    };
+    let gallery = FailuresArgs::main_job(&run);
     compare_methods(&[DEFAULT_METHODS.to_string()], plan::DEFAULT_MAX_CONFIGS, run, Some(gallery), gpu)
 }
 
-fn compare_methods(values: &[String], max_configs: usize, run: RunArgs, gallery: Option<super::failures::FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&run.out)?;
+fn compare_methods(values: &[String], max_configs: usize, run: RunArgs, gallery: Option<FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
+    run.output.checked()?;
     let gallery_job = gallery.as_ref().map(|g| g.job()).transpose()?;
     let specs = methods_list::split_specs(values)?;
     plan::check_count(specs.len(), max_configs, "--methods")?;
     let methods = methods_list::parse_methods(&specs)?;
-    let scene = Scene::load(&run.scene, &render_sets(&run.set)?)?;
-    let provenance = Provenance::of_scene("compare", &scene, &run.set, None);
+    let scene = Scene::load(&run.scene.scene, &run.sets.render()?)?;
+    let provenance = Provenance::of_scene("compare", &scene, &run.sets.set, None);
     let all = vec![provenance; methods.len()];
     // A short list needs no forecast: its per-method lines follow within a minute or so.
     let announce = methods.len() > plan::COMPARE_ANNOUNCE_OVER;
@@ -64,27 +78,26 @@ pub fn run_compare(
     announce: bool,
 ) -> Result<()> {
     let mode = truth::parse_mode(&run.reference, run.samples)?;
-    if run.repeats == 0 || run.repeats > 1000 {
-        anyhow::bail!("--repeats must be in 1..=1000, got {}", run.repeats);
-    }
-    penumbra_lab::methods::check_lights(&scene, &methods)?;
+    let repeats = run.repeats.checked()?;
+    crate::methods::check_lights(&scene, &methods)?;
     if announce {
-        eprintln!("{}", plan::line(&methods, &scene, run.repeats));
+        eprintln!("{}", plan::line(&methods, &scene, repeats));
     }
     let ctx = GpuContext::with_request(gpu)?;
     // Every method's frame sizes before the reference is traced or anything is written.
-    penumbra_lab::methods::sizes::check_all(&ctx, &scene, &methods)?;
+    crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
     let cache = truth::Cache::default_for(run.no_cache);
-    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance, pictures: false };
+    let job = CompareJob { scene: &scene, methods, repeats, reference: mode, cache, provenance, pictures: false };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     let gallery = gallery_job.map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
-    let html = compare::write(&run.out, &outcome)?;
+    let out = &run.output.out;
+    let html = compare::write(out, &outcome)?;
     if let Some(g) = &gallery {
-        failures::attach(&run.out, g)?;
+        failures::attach(out, g)?;
     }
     print!("{}", compare::table::render(&outcome.rows));
     println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, truth::mode_label(&mode));
-    println!("results: {}", run.out.join("results.jsonl").display());
+    println!("results: {}", out.join("results.jsonl").display());
     println!("report:  {}", html.display());
     Ok(())
 }

@@ -1,24 +1,26 @@
 //! `penumbra bench`: benchmark suites; `--suite seed-table2` is seed 000's Table 2 on this machine.
 
 use anyhow::Result;
-use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::methods::Method;
-use penumbra_lab::record::output_set;
-use penumbra_lab::report::results::{write_from_rows, LoadedRow};
-use penumbra_lab::studies::bench;
+use crate::gpu::{AdapterRequest, GpuContext};
+use crate::methods::Method;
+use crate::record::output_set;
+use crate::report::results::{write_from_rows, LoadedRow};
+use crate::studies::bench;
+use crate::studies::flags::{OutArgs, RepeatsArgs, SetArgs};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
+#[command(mut_arg("repeats", |a| a.default_value("5").help("Measured frames per method and scene, after one warm-up frame each")))]
+#[command(mut_arg("out", |a| a.default_value("bench-out/seed-table2").help("Output folder for table2.md and results.jsonl")))]
 pub struct BenchArgs {
     /// Which suite.
     #[arg(long, value_parser = ["seed-table2"])]
     suite: String,
-    /// Measured frames per method and scene, after one warm-up frame each.
-    #[arg(long, default_value_t = 5)]
-    repeats: u32,
-    /// Output folder for table2.md and results.jsonl.
-    #[arg(long, default_value = "bench-out/seed-table2")]
-    out: PathBuf,
+    // Checked by the suite (at least 1).
+    #[command(flatten)]
+    repeats: RepeatsArgs,
+    #[command(flatten)]
+    output: OutArgs,
     /// Folder with the scene files (bunny.toml, grove.toml, cows.toml, teapot.toml).
     #[arg(long, default_value = "scenes")]
     scenes: PathBuf,
@@ -34,21 +36,27 @@ pub struct BenchArgs {
     /// The baseline.
     #[arg(long, default_value = "regular:n=17")]
     regular: String,
-    /// Override a render setting in every scene file, e.g. `--set raster=auto` (named under the table).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
+    // Render settings for every scene file (named under the table).
+    #[command(flatten)]
+    sets: SetArgs,
 }
 
-pub fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
+impl crate::studies::Run for BenchArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
+    args.output.checked()?;
     let opts = bench::SuiteOptions {
-        repeats: args.repeats,
+        repeats: args.repeats.repeats,
         scenes_dir: args.scenes,
         cache: args.cache,
         adaptive: Method::parse(&args.adaptive, &[])?,
         regular: Method::parse(&args.regular, &[])?,
         only: args.only,
-        sets: super::render_sets(&args.set)?,
+        sets: args.sets.render()?,
     };
     let scenes = bench::prepare(&opts)?;
     let ctx = GpuContext::with_request(gpu)?;
@@ -60,14 +68,14 @@ pub fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
         ("results.jsonl".to_string(), bench::table::jsonl(&results)?.into_bytes()),
     ];
     // One set: the tables and the report with charts (from the rows that have error figures).
-    let set = output_set::OutputSet::begin(&args.out)?;
+    let set = output_set::OutputSet::begin(&args.output.out)?;
     for (name, bytes) in &files {
         println!("  {}", set.write(name, bytes)?.display());
     }
     let rows: Vec<LoadedRow> = results.rows().into_iter().map(|row| LoadedRow { row, base: set.path().to_path_buf() }).collect();
     if !rows.is_empty() {
         write_from_rows(&rows, set.path())?;
-        println!("  {}", args.out.join("report.html").display());
+        println!("  {}", args.output.out.join("report.html").display());
     }
     set.commit()?;
     print!("{}", bench::table::markdown(&results));

@@ -1,15 +1,14 @@
 //! `penumbra sweep`: compare over parameter grids from a TOML spec; the whole grid, one shard of
 //! it (`--shard`), or K local shard processes merged into one set (`--jobs`).
 
-use super::compare::run_compare;
+use super::command::run_compare;
 use super::run_args::RunArgs;
-use super::render_sets;
 use anyhow::{Context, Result};
-use penumbra_lab::gpu::AdapterRequest;
-use penumbra_lab::record::{output_set, Provenance, SpecRef};
-use penumbra_lab::scene::Scene;
-use penumbra_lab::studies::compare::{methods_list, plan, sweep};
-use penumbra_lab::studies::shard::{self, Shard};
+use crate::gpu::AdapterRequest;
+use crate::record::{Provenance, SpecRef};
+use crate::scene::Scene;
+use crate::studies::compare::{methods_list, plan, sweep};
+use crate::studies::shard::{self, Shard};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -30,11 +29,17 @@ pub struct SweepArgs {
     run: RunArgs,
 }
 
-pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.run.out)?;
+impl crate::studies::Run for SweepArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
+    args.run.output.checked()?;
     let specs = sweep::read_spec(&args.spec, args.max_configs)?;
     let methods = methods_list::parse_methods(&specs)?;
-    let scene = Scene::load(&args.run.scene, &render_sets(&args.run.set)?)?;
+    let scene = Scene::load(&args.run.scene.scene, &args.run.sets.render()?)?;
     let shard = match &args.shard {
         Some(text) => Shard::parse(text)?,
         None => Shard::WHOLE,
@@ -59,10 +64,10 @@ pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
     if mine.is_empty() {
         anyhow::bail!("--shard {shard}: the spec has {} configurations, too few for {} shards", methods.len(), shard.count);
     }
-    let base = Provenance::of_scene("sweep", &scene, &args.run.set, None);
+    let base = Provenance::of_scene("sweep", &scene, &args.run.sets.set, None);
     let spec = SpecRef {
         file: args.spec.display().to_string(),
-        sha256: penumbra_lab::record::provenance::sha256_hex(&text),
+        sha256: crate::record::provenance::sha256_hex(&text),
         configs: methods.len(),
         config: 0,
         shard: [shard.index, shard.count],
@@ -80,9 +85,9 @@ pub fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
 /// The merged set is written or nothing is: when a shard or the merge fails, the shard folders
 /// this run made are removed again (the shards' own messages are above).
 fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
-    let shards = args.run.out.join("shards");
+    let shards = args.run.output.out.join("shards");
     let dirs: Vec<PathBuf> = (0..k).map(|i| shards.join(i.to_string())).collect();
-    let made: Vec<PathBuf> = std::iter::once(&args.run.out).chain([&shards]).chain(&dirs).filter(|d| !d.exists()).cloned().collect();
+    let made: Vec<PathBuf> = std::iter::once(&args.run.output.out).chain([&shards]).chain(&dirs).filter(|d| !d.exists()).cloned().collect();
     let result = run_shards(args, &dirs, gpu);
     if result.is_err() {
         // Deepest first; a folder that holds anything else (a user's file) stays.
@@ -111,8 +116,8 @@ fn run_shards(args: &SweepArgs, dirs: &[PathBuf], gpu: &AdapterRequest) -> Resul
         }
         cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
         cmd.arg("--max-configs").arg(args.max_configs.to_string());
-        cmd.args(["--scene", &r.scene, "--repeats", &r.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
-        for s in &r.set {
+        cmd.args(["--scene", &r.scene.scene, "--repeats", &r.repeats.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
+        for s in &r.sets.set {
             cmd.arg("--set").arg(s);
         }
         if r.no_cache {
@@ -132,5 +137,5 @@ fn run_shards(args: &SweepArgs, dirs: &[PathBuf], gpu: &AdapterRequest) -> Resul
         anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above); nothing is written", failed.join(", "));
     }
     let outcome = shard::merge::merge(dirs, &[])?;
-    super::merge::write_merged(&r.out, &outcome)
+    crate::studies::shard::command::write_merged(&r.output.out, &outcome)
 }

@@ -4,6 +4,9 @@
 //! its split against the maps' own error (V against the exact visibility at the grid's own
 //! points: the lattice reference for `regular:n=17`, else the mean of the point references).
 
+pub(crate) mod charts;
+pub mod command;
+
 use crate::frame::{FrameOptions, Renderer};
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
@@ -12,7 +15,8 @@ use crate::methods::{estimate, Method};
 use crate::record::judge::Judge;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
-use crate::report::charts::{estimate_svg, svg_to_png, EstimatePoint};
+use self::charts::{estimate_svg, EstimatePoint};
+use crate::report::charts::svg_to_png;
 use crate::scene::Scene;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};

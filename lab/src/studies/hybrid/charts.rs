@@ -1,7 +1,7 @@
 //! Hybrid-map study chart (docs/hybrid.md): hard-shadow error against map memory.
 
-use super::scatter::{push_point, render, Point, Scatter, Series};
-use super::ChartError;
+use crate::report::charts::scatter::{push_point, render, Point, Scatter, Series};
+use crate::report::charts::ChartError;
 
 /// One measured map representation.
 pub struct MemoryPoint {

@@ -1,9 +1,9 @@
 //! `penumbra merge`: the shards of one sweep joined into one output set.
 
 use anyhow::Result;
-use penumbra_lab::record::output_set;
-use penumbra_lab::studies::compare;
-use penumbra_lab::studies::shard;
+use crate::record::output_set;
+use crate::studies::compare;
+use crate::studies::shard;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -19,7 +19,13 @@ pub struct MergeArgs {
     allow: Vec<String>,
 }
 
-pub fn run(args: MergeArgs) -> Result<()> {
+impl crate::studies::Run for MergeArgs {
+    fn run(self, _gpu: &crate::gpu::AdapterRequest) -> Result<()> {
+        run(self)
+    }
+}
+
+fn run(args: MergeArgs) -> Result<()> {
     output_set::check(&args.out)?;
     let allow = shard::merge::parse_allow(&args.allow)?;
     let outcome = shard::merge::merge(&args.dirs, &allow)?;
