@@ -339,7 +339,17 @@ fn fill_blocks_equals_its_cpu_twin() {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&test.block_buffer, 0, None);
         enc.clear_buffer(&test.block_args, 0, None);
-        test.record_fill(ctx, &mut enc, &buffers.1, &buffers.2, &buffers.3, &buffers.4, &buffers.5, &buffers.6);
+        let fill = penumbra::gpu::stages::bind::shadow_test::FillBlocks {
+            level: buffers.1.as_entire_binding(),
+            samples: buffers.2.as_entire_binding(),
+            test_list: buffers.3.as_entire_binding(),
+            lattice_state: buffers.4.as_entire_binding(),
+            control_words: buffers.5.as_entire_binding(),
+            blocks: test.block_buffer.as_entire_binding(),
+            block_args: test.block_args.as_entire_binding(),
+            tile_list: buffers.6.as_entire_binding(),
+        };
+        test.record_fill(ctx, &mut enc, fill);
         ctx.queue.submit([enc.finish()]);
         let blocks: Vec<GpuTestBlock> = readback::read_buffer(ctx, &test.block_buffer, TEST_SLOTS as u64 * TEST_BLOCK_BYTES).unwrap();
         let args: Vec<u32> = readback::read_buffer(ctx, &test.block_args, TEST_SLOTS as u64 * 12).unwrap();
@@ -772,7 +782,7 @@ fn shadow_test_alone_equals_its_twin() {
     use penumbra::render::SceneGpu;
     use penumbra::scene::light::sample_view;
     use penumbra::stages::shade::ShadePass;
-    use penumbra::stages::shadow_test::ShadowTest;
+    use penumbra::stages::shadow_test::{ShadowTest, TestFrame};
     let ctx = common::gpu();
     let p = params("p_m=0");
     let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false).expect("shadow_test kernels");
@@ -812,7 +822,7 @@ fn shadow_test_alone_equals_its_twin() {
         let mut masks = vec![0u32; (fr.width * fr.height * 10) as usize];
         for list in [&ks[..31], &ks[31..]] {
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            test.record(ctx, &mut enc, &frame, &g, &tiles, rq, &b.masks, &array.array_view, list);
+            test.record(ctx, &mut enc, &TestFrame { frame: &frame, gbuffer: &g, tiles: &tiles, rq, out: &b.masks }, &array.array_view, list);
             ctx.queue.submit([enc.finish()]);
             twin::shadow_test::shadow_test(&fr, &samples, &maps, &gcpu, list, &mut masks);
             let gpu: Vec<u32> = readback::read_buffer(ctx, &b.masks.lit, b.shape.mask_bytes()).unwrap();

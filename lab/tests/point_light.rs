@@ -244,7 +244,7 @@ fn shadow_test_on_the_cube_faces_equals_its_twin() {
     use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
     use penumbra::render::SceneGpu;
     use penumbra::stages::shade::ShadePass;
-    use penumbra::stages::shadow_test::ShadowTest;
+    use penumbra::stages::shadow_test::{ShadowTest, TestFrame};
     let ctx = common::gpu();
     let sets = [("resolution", "64"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
     let sc = Scene::load("point-room", &sets).expect("point-room");
@@ -280,7 +280,7 @@ fn shadow_test_on_the_cube_faces_equals_its_twin() {
     ShadowRasterPass::new(ctx, sc.render.cull).unwrap().record(ctx, &mut enc, &scene_gpu, &b.samples, &array, &jobs);
     enc.clear_buffer(&b.masks.lit, 0, None);
     let rq = Requests { samples: &b.samples, decisions: &b.decisions, control: &b.control };
-    test.record(ctx, &mut enc, &frame, &g, &tiles, rq, &b.masks, &array.array_view, &ks);
+    test.record(ctx, &mut enc, &TestFrame { frame: &frame, gbuffer: &g, tiles: &tiles, rq, out: &b.masks }, &array.array_view, &ks);
     ctx.queue.submit([enc.finish()]);
     let gcpu = gbuffer::read_back(ctx, &g).unwrap();
     let maps = |i: u32| readback::read_texture::<f32>(ctx, &array.texture, samples[i as usize].layer, 4).unwrap();

@@ -1,6 +1,7 @@
 //! blur: separable box prefilter of the moment planes (horizontal into `scratch`, vertical back).
 
 use crate::gpu::{GpuContext, Stage};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -35,12 +36,12 @@ impl Blur {
             kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", frame.as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("source", from.as_entire_binding()),
-                    ("destination", to.as_entire_binding()),
-                ],
+                bind::blur::Blur {
+                    frame: frame.as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    source: from.as_entire_binding(),
+                    destination: to.as_entire_binding(),
+                },
                 Dispatch::Direct(size3),
             );
         }

@@ -3,6 +3,7 @@
 
 use super::pcf::comparison_sampler;
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
@@ -46,19 +47,19 @@ impl Cascades {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", inputs.filter.as_entire_binding()),
-                    ("samples", inputs.samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(inputs.maps)),
-                    ("disk", inputs.disk.as_entire_binding()),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                    ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-                    ("cascades", inputs.cascades.as_entire_binding()),
-                    ("chosen", band.pixels(tiles, inputs.chosen, gbuffer.width, 4)),
-                ],
+                bind::cascades::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: inputs.filter.as_entire_binding(),
+                    samples: inputs.samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    shadow_maps: wgpu::BindingResource::TextureView(inputs.maps),
+                    disk: inputs.disk.as_entire_binding(),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                    compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+                    cascades: inputs.cascades.as_entire_binding(),
+                    chosen: band.pixels(tiles, inputs.chosen, gbuffer.width, 4),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

@@ -5,6 +5,7 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, Decisions, Footprints, ItemLists, Level};
 use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -32,13 +33,13 @@ impl Compact {
         self.seed.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("level", level.as_entire_binding()),
-                ("next_items", items.items[0].as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
-            ],
+            bind::compact::Seed {
+                frame: frame.as_entire_binding(),
+                level: level.as_entire_binding(),
+                next_items: items.items[0].as_entire_binding(),
+                control: control.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
+            },
             Self::pixels(g),
         );
     }
@@ -68,24 +69,24 @@ impl Compact {
         kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("counts", counts.maps.as_entire_binding()),
-                ("split_base", decisions.split_base.as_entire_binding()),
-                ("next_items", items.items[1 - cur].as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("next_quads", next_quads.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("rects", footprints.rects.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&g.normal_view)),
-                ("item_total", items.total.as_entire_binding()),
-                ("probes", items.probes.as_entire_binding()),
-                ("tiles", footprints.tiles.as_entire_binding()),
-            ],
+            bind::compact::Main {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                counts: counts.maps.as_entire_binding(),
+                split_base: decisions.split_base.as_entire_binding(),
+                next_items: items.items[1 - cur].as_entire_binding(),
+                control: control.as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                next_quads: next_quads.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                rects: footprints.rects.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&g.normal_view),
+                item_total: items.total.as_entire_binding(),
+                probes: items.probes.as_entire_binding(),
+                tiles: footprints.tiles.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }
@@ -96,12 +97,12 @@ impl Compact {
         self.resolve.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("level", level.as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-            ],
+            bind::compact::Resolve {
+                frame: frame.as_entire_binding(),
+                level: level.as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+            },
             Self::pixels(g),
         );
     }

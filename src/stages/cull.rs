@@ -4,6 +4,7 @@
 //! slots fit one storage binding; batches reuse the slots within one submission.
 
 use crate::gpu::{GpuContext, Stage};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::render::SceneGpu;
 use crate::scene::Scene;
@@ -87,41 +88,41 @@ impl Cull {
         self.runs_phase.dispatch(
             ctx,
             enc,
-            &[
-                ("cull", uniform.as_entire_binding()),
-                ("frame", frame.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("tiles", tiles.as_entire_binding()),
-                ("runs", scene_gpu.runs.as_entire_binding()),
-                ("slots", slots.as_entire_binding()),
-                ("args", self.args.as_entire_binding()),
-                ("kept_runs", self.kept_runs.as_entire_binding()),
-                ("control", self.control.as_entire_binding()),
-            ],
+            bind::cull::Main {
+                cull: uniform.as_entire_binding(),
+                frame: frame.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                tiles: tiles.as_entire_binding(),
+                runs: scene_gpu.runs.as_entire_binding(),
+                slots: slots.as_entire_binding(),
+                args: self.args.as_entire_binding(),
+                kept_runs: self.kept_runs.as_entire_binding(),
+                control: self.control.as_entire_binding(),
+            },
             Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
         );
         self.begin.dispatch(
             ctx,
             enc,
-            &[("control", self.control.as_entire_binding()), ("dispatch", self.dispatch.as_entire_binding())],
+            bind::cull::Begin { control: self.control.as_entire_binding(), dispatch: self.dispatch.as_entire_binding() },
             Dispatch::Direct([1, 1, 1]),
         );
         self.triangles.dispatch(
             ctx,
             enc,
-            &[
-                ("cull", uniform.as_entire_binding()),
-                ("frame", frame.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("tiles", tiles.as_entire_binding()),
-                ("indices", scene_gpu.shadow_indices.as_entire_binding()),
-                ("slots", slots.as_entire_binding()),
-                ("culled", self.culled.as_entire_binding()),
-                ("args", self.args.as_entire_binding()),
-                ("positions", scene_gpu.positions.as_entire_binding()),
-                ("kept_runs", self.kept_runs.as_entire_binding()),
-                ("control", self.control.as_entire_binding()),
-            ],
+            bind::cull::Triangles {
+                cull: uniform.as_entire_binding(),
+                frame: frame.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                tiles: tiles.as_entire_binding(),
+                indices: scene_gpu.shadow_indices.as_entire_binding(),
+                slots: slots.as_entire_binding(),
+                culled: self.culled.as_entire_binding(),
+                args: self.args.as_entire_binding(),
+                positions: scene_gpu.positions.as_entire_binding(),
+                kept_runs: self.kept_runs.as_entire_binding(),
+                control: self.control.as_entire_binding(),
+            },
             Dispatch::Indirect(&self.dispatch),
         );
     }

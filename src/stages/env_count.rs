@@ -3,6 +3,7 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use super::env_trace::BvhBuffers;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -21,16 +22,16 @@ impl EnvCount {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("corners", corners.as_entire_binding()),
-                ("cells", cells.as_entire_binding()),
-                ("counts", counts.as_entire_binding()),
-                ("bvh_nodes", bvh.nodes.as_entire_binding()),
-                ("bvh_triangles", bvh.triangles.as_entire_binding()),
-            ],
+            bind::env_count::Main {
+                params: params.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                corners: corners.as_entire_binding(),
+                cells: cells.as_entire_binding(),
+                counts: counts.as_entire_binding(),
+                bvh_nodes: bvh.nodes.as_entire_binding(),
+                bvh_triangles: bvh.triangles.as_entire_binding(),
+            },
             Dispatch::Direct([groups(counted_pixels(gbuffer.width, gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
         );
     }

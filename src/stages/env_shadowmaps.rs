@@ -1,6 +1,7 @@
 //! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
 //! power- and cosine-weighted.
 
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
@@ -32,20 +33,20 @@ impl EnvShadowmaps {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("params", params.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                ("lights", lights.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-                ("ao", ao.as_entire_binding()),
-                ("settings", filter.settings.as_entire_binding()),
-                ("disk", filter.disk.as_entire_binding()),
-                ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-            ],
+            bind::env_shadowmaps::Main {
+                frame: frame.as_entire_binding(),
+                params: params.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                shadow_maps: wgpu::BindingResource::TextureView(maps),
+                lights: lights.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+                ao: ao.as_entire_binding(),
+                settings: filter.settings.as_entire_binding(),
+                disk: filter.disk.as_entire_binding(),
+                compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }

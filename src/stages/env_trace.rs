@@ -3,6 +3,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::render::bvh::Bvh;
 use crate::gpu::readback;
@@ -79,18 +80,18 @@ impl EnvTrace {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", inputs.params.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("lights", inputs.lights.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-                ("blocked", inputs.blocked.as_entire_binding()),
-                ("ao", inputs.ao.as_entire_binding()),
-                ("sums", inputs.sums.as_entire_binding()),
-                ("bvh_nodes", inputs.bvh.nodes.as_entire_binding()),
-                ("bvh_triangles", inputs.bvh.triangles.as_entire_binding()),
-            ],
+            bind::env_trace::Main {
+                params: inputs.params.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                lights: inputs.lights.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+                blocked: inputs.blocked.as_entire_binding(),
+                ao: inputs.ao.as_entire_binding(),
+                sums: inputs.sums.as_entire_binding(),
+                bvh_nodes: inputs.bvh.nodes.as_entire_binding(),
+                bvh_triangles: inputs.bvh.triangles.as_entire_binding(),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
@@ -108,16 +109,16 @@ impl EnvTraceVertex {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("lights", lights.as_entire_binding()),
-                ("blocked", out.blocked.as_entire_binding()),
-                ("sums", out.sums.as_entire_binding()),
-                ("scene_vertices", scene_vertices.as_entire_binding()),
-                ("vertex_visibility", out.visibility.as_entire_binding()),
-                ("bvh_nodes", bvh.nodes.as_entire_binding()),
-                ("bvh_triangles", bvh.triangles.as_entire_binding()),
-            ],
+            bind::env_trace::Vertex {
+                params: params.as_entire_binding(),
+                lights: lights.as_entire_binding(),
+                blocked: out.blocked.as_entire_binding(),
+                sums: out.sums.as_entire_binding(),
+                scene_vertices: scene_vertices.as_entire_binding(),
+                vertex_visibility: out.visibility.as_entire_binding(),
+                bvh_nodes: bvh.nodes.as_entire_binding(),
+                bvh_triangles: bvh.triangles.as_entire_binding(),
+            },
             Dispatch::Direct([groups(vertex_count, LINE_WORKGROUP[0]), 1, 1]),
         );
     }

@@ -3,6 +3,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::render::barycentrics::TriangleIds;
 use crate::Result;
@@ -23,14 +24,14 @@ impl EnvVertexInterp {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("triangle_ids", wgpu::BindingResource::TextureView(&ids.view)),
-                ("scene_indices", scene_indices.as_entire_binding()),
-                ("vertex_visibility", vertex_visibility.as_entire_binding()),
-                ("ao", ao.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-            ],
+            bind::env_vertex_interp::Main {
+                params: params.as_entire_binding(),
+                triangle_ids: wgpu::BindingResource::TextureView(&ids.view),
+                scene_indices: scene_indices.as_entire_binding(),
+                vertex_visibility: vertex_visibility.as_entire_binding(),
+                ao: ao.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }

@@ -1,6 +1,7 @@
 //! footprint (cull = on where every geometry pixel tests every map): the culling tiles of a batch
 //! of maps, slot z from sample record z of the batch (docs/gpu-frame.md §7).
 
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
@@ -22,14 +23,14 @@ impl Footprint {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&g.normal_view)),
-                ("tiles", tiles.as_entire_binding()),
-                ("batch", readback::uniform_buffer(ctx, "footprint batch", &[slots, 0, 0, 0]).as_entire_binding()),
-            ],
+            bind::footprint::Main {
+                frame: frame.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&g.normal_view),
+                tiles: tiles.as_entire_binding(),
+                batch: readback::uniform_buffer(ctx, "footprint batch", &[slots, 0, 0, 0]).as_entire_binding(),
+            },
             Dispatch::Direct([groups(g.width, PIXEL_WORKGROUP[0]), groups(g.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }

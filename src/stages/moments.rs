@@ -1,5 +1,6 @@
 //! moments: the centre map's depths as the statistic a filtered method prefilters.
 
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
@@ -22,13 +23,13 @@ impl Moments {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("settings", filter.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                ("moments", out.as_entire_binding()),
-            ],
+            bind::moments::Main {
+                frame: frame.as_entire_binding(),
+                settings: filter.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                shadow_maps: wgpu::BindingResource::TextureView(maps),
+                moments: out.as_entire_binding(),
+            },
             Dispatch::Direct([groups(size, PIXEL_WORKGROUP[0]), groups(size, PIXEL_WORKGROUP[1]), 1]),
         );
     }

@@ -2,6 +2,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, LowQuality};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -25,13 +26,13 @@ impl Neighbourhood {
         self.dense.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("counts", counts.maps.as_entire_binding()),
-                ("flags", out.flags.as_entire_binding()),
-                ("word_state", counts.word_state.as_entire_binding()),
-            ],
+            bind::neighbourhood::Main {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                counts: counts.maps.as_entire_binding(),
+                flags: out.flags.as_entire_binding(),
+                word_state: counts.word_state.as_entire_binding(),
+            },
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
@@ -43,16 +44,16 @@ impl Neighbourhood {
         self.list.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("counts", counts.maps.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("flags_atomic", out.flags.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-                ("word_state", counts.word_state.as_entire_binding()),
-                ("quad_counters", out.per_quad.as_entire_binding()),
-            ],
+            bind::neighbourhood::List {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                counts: counts.maps.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                flags_atomic: out.flags.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+                word_state: counts.word_state.as_entire_binding(),
+                quad_counters: out.per_quad.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }

@@ -1,6 +1,7 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
@@ -39,17 +40,17 @@ impl Pcf {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("samples", samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                    ("disk", disk.as_entire_binding()),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                    ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-                ],
+                bind::pcf::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    shadow_maps: wgpu::BindingResource::TextureView(maps),
+                    disk: disk.as_entire_binding(),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                    compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

@@ -1,6 +1,7 @@
 //! pcss: blocker search, penumbra width, then PCF of that width, into the visibility buffer.
 
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
@@ -25,15 +26,15 @@ impl Pcss {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("samples", samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                ],
+                bind::pcss::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    shadow_maps: wgpu::BindingResource::TextureView(maps),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

@@ -4,6 +4,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{ItemLists, Level, Masks};
+use crate::gpu::stages::bind;
 use super::{ComputeKernel, Dispatch};
 use crate::Result;
 
@@ -22,12 +23,12 @@ impl Probe {
         self.begin.dispatch(
             ctx,
             enc,
-            &[
-                ("level", level.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("probe_total", items.probe_total.as_entire_binding()),
-                ("probe_args", items.probe_args.as_entire_binding()),
-            ],
+            bind::probe::Begin {
+                level: level.as_entire_binding(),
+                control: control.as_entire_binding(),
+                probe_total: items.probe_total.as_entire_binding(),
+                probe_args: items.probe_args.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
     }
@@ -38,16 +39,16 @@ impl Probe {
         self.main.dispatch(
             ctx,
             enc,
-            &[
-                ("level", lv.uniform.as_entire_binding()),
-                ("probes", items.probes.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("probe_total", items.probe_total.as_entire_binding()),
-            ],
+            bind::probe::Main {
+                level: lv.uniform.as_entire_binding(),
+                probes: items.probes.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: masks.lit.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                control: control.as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                probe_total: items.probe_total.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.probe_args),
         );
     }

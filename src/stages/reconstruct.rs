@@ -3,6 +3,7 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -23,15 +24,15 @@ impl Reconstruct {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("samples", samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("moments", filtered.as_entire_binding()),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                ],
+                bind::reconstruct::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    moments: filtered.as_entire_binding(),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

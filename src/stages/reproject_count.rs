@@ -4,6 +4,7 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, Masks, MASK_WORDS};
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -45,15 +46,15 @@ impl ReprojectCount {
         self.dense.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", lit),
-                ("counts", out.maps.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("word_state", out.word_state.as_entire_binding()),
-            ],
+            bind::reproject_count::Main {
+                frame: frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: lit,
+                counts: out.maps.as_entire_binding(),
+                control: control.as_entire_binding(),
+                word_state: out.word_state.as_entire_binding(),
+            },
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
@@ -64,12 +65,12 @@ impl ReprojectCount {
         self.begin.dispatch(
             ctx,
             enc,
-            &[
-                ("level", level.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("list_args", items.list_args.as_entire_binding()),
-            ],
+            bind::reproject_count::Begin {
+                level: level.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+                control: control.as_entire_binding(),
+                list_args: items.list_args.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
     }
@@ -80,15 +81,15 @@ impl ReprojectCount {
         self.list.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("counts_atomic", out.maps.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-            ],
+            bind::reproject_count::List {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: masks.lit.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                counts_atomic: out.maps.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }
@@ -99,14 +100,14 @@ impl ReprojectCount {
         self.last.dispatch(
             ctx,
             enc,
-            &[
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-            ],
+            bind::reproject_count::Last {
+                level: lv.uniform.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: masks.lit.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }

@@ -1,6 +1,7 @@
 //! shade: accumulates weight_i · lit_i(p) over one array's samples into the visibility buffer.
 
 use super::groups;
+use crate::gpu::stages::bind;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::GpuSample;
 use crate::render::gbuffer::GBuffer;
@@ -210,11 +211,11 @@ impl ShadePass {
         self.geometry_tiles.dispatch(
             ctx,
             encoder,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("tile_list_build", tiles.list.as_entire_binding()),
-            ],
+            bind::shade::GeometryTiles {
+                frame: frame.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                tile_list_build: tiles.list.as_entire_binding(),
+            },
             super::Dispatch::Direct([groups(gbuffer.width, TILE), groups(gbuffer.height, TILE), 1]),
         );
     }
@@ -246,16 +247,16 @@ impl ShadePass {
                 kernel.dispatch(
                     ctx,
                     encoder,
-                    &[
-                        ("frame", band.frame(inputs.frame).as_entire_binding()),
-                        ("block_samples", block_samples.as_entire_binding()),
-                        ("block_weights", block_weights.as_entire_binding()),
-                        ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
-                        ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
-                        ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                        ("visibility", band.pixels(tiles, inputs.visibility, inputs.gbuffer.width, 4)),
-                        ("tile_list", band.tiles(tiles)),
-                    ],
+                    bind::shade::Block {
+                        frame: band.frame(inputs.frame).as_entire_binding(),
+                        block_samples: block_samples.as_entire_binding(),
+                        block_weights: block_weights.as_entire_binding(),
+                        gbuffer_position: wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
+                        gbuffer_normal: wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
+                        shadow_maps: wgpu::BindingResource::TextureView(maps),
+                        visibility: band.pixels(tiles, inputs.visibility, inputs.gbuffer.width, 4),
+                        tile_list: band.tiles(tiles),
+                    },
                     band.tiles_args(tiles),
                 );
             }
@@ -281,13 +282,13 @@ impl ShadePass {
             self.from_masks.dispatch(
                 ctx,
                 encoder,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("weights", weights.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                    ("masks", band.pixels(tiles, masks, gbuffer.width, mask_bytes)),
-                ],
+                bind::shade::FromMasks {
+                    frame: band.frame(frame).as_entire_binding(),
+                    weights: weights.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                    masks: band.pixels(tiles, masks, gbuffer.width, mask_bytes),
+                },
                 super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(band.rows, WORKGROUP[1]), 1]),
             );
         }

@@ -2,6 +2,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -19,15 +20,15 @@ impl Ssao {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("camera", camera.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("kernel", kernel.as_entire_binding()),
-                ("ao", ao.as_entire_binding()),
-                ("occluded", occluded.as_entire_binding()),
-            ],
+            bind::ssao::Main {
+                params: params.as_entire_binding(),
+                camera: camera.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                kernel: kernel.as_entire_binding(),
+                ao: ao.as_entire_binding(),
+                occluded: occluded.as_entire_binding(),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }

@@ -14,6 +14,7 @@ use crate::gpu::readback;
 use crate::gpu::structs::{GpuControl, GpuLevel, GpuSample, SPLIT_ALWAYS, SPLIT_NEVER, SPLIT_SHARE, SPLIT_THRESHOLD};
 use crate::gpu::timing::StageTimer;
 use crate::methods::{AdaptiveParams, MethodOutput};
+use crate::stages::shadow_test::{LocalWork, TestFrame};
 use crate::stages::{groups, FrameGpu, LINE_WORKGROUP};
 use crate::Result;
 
@@ -22,6 +23,11 @@ impl<'a> Frame<'a> {
     /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode).
     pub fn uniform(&self, level: u32, quad_count: u32, first_quad: u32) -> wgpu::Buffer {
         readback::uniform_buffer(self.fg.ctx, "level", &level_uniform(self.p, self.b.shape, level, quad_count, first_quad))
+    }
+
+    /// What every shadow test of the frame reads and writes besides its maps.
+    pub fn test_frame(&self) -> TestFrame<'_> {
+        TestFrame { frame: &self.fg.frame_buffer, gbuffer: &self.fg.gbuffer, tiles: &self.fg.geometry_tiles, rq: self.b.requests(), out: &self.b.masks }
     }
 
     /// What the count passes read of level `uniform` whose quads are `quads[cur]`.
@@ -135,7 +141,7 @@ fn count_batch(fx: &Frame, timer: &mut StageTimer, uniform: &wgpu::Buffer, cur: 
 /// `quad_count`: the level's quads where the host knows them (the clears cover only those), None
 /// under the GPU-steered loop (they cover the buffers).
 fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::Buffer, cur: usize, quad_count: Option<u32>, maps: [&wgpu::TextureView; 2]) -> Result<()> {
-    let (fg, b, passes, ctx) = (fx.fg, fx.b, fx.passes, fx.fg.ctx);
+    let (b, passes, ctx) = (fx.b, fx.passes, fx.fg.ctx);
     let last = level == fx.p.max_level;
     let lv = &fx.level(uniform, cur);
     let (quads, items) = (&b.quads[cur], &b.items);
@@ -146,7 +152,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
             Ok(())
         })?;
         timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            passes.shadow_test.record_probes(ctx, enc, &fg.frame_buffer, &fg.gbuffer, b.requests(), quads, items, &b.masks, maps);
+            passes.shadow_test.record_probes(ctx, enc, &fx.test_frame(), &LocalWork { quads, items, maps });
             Ok(())
         })?;
         timer.stage(ctx, Stage::PROBE, |enc| {
@@ -164,7 +170,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
         Ok(())
     })?;
     timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-        passes.shadow_test.record_list(ctx, enc, &fg.frame_buffer, &fg.gbuffer, b.requests(), quads, items, cur, &b.masks, maps);
+        passes.shadow_test.record_list(ctx, enc, &fx.test_frame(), &LocalWork { quads, items, maps }, cur);
         Ok(())
     })?;
     timer.stage(ctx, Stage::REPROJECT_COUNT, |enc| {

@@ -10,6 +10,7 @@ use crate::methods::hybrid_maps::HybridMaps;
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
 use crate::methods::adaptive::buffers::LATTICE_POINTS;
 use crate::stages::cull::Cull;
+use crate::stages::shadow_test::TestFrame;
 use crate::stages::FrameGpu;
 use crate::Result;
 
@@ -113,7 +114,7 @@ pub(super) fn render_new(
         }
         if !local {
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-                fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &store.arrays[0].array_view, chunk);
+                fx.passes.shadow_test.record(ctx, enc, &fx.test_frame(), &store.arrays[0].array_view, chunk);
                 Ok(())
             })?;
         }
@@ -138,7 +139,8 @@ fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, 
     let ctx = fg.ctx;
     let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, view, slots);
+            let t = TestFrame { frame: &fg.frame_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, rq: b.requests(), out: &b.masks };
+            fx.passes.shadow_test.record(ctx, enc, &t, view, slots);
             Ok(())
         })
     };

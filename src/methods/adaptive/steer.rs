@@ -201,9 +201,9 @@ impl Steering for Steered<'_> {
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
                 if level > 0 && cand.len() <= per_array {
                     // One chunk: test only what subdivide requested (its list and count).
-                    fx.passes.shadow_test.record_requested(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &array.array_view, cand.len() as u32);
+                    fx.passes.shadow_test.record_requested(ctx, enc, &fx.test_frame(), &array.array_view, cand.len() as u32);
                 } else {
-                    fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &array.array_view, chunk);
+                    fx.passes.shadow_test.record(ctx, enc, &fx.test_frame(), &array.array_view, chunk);
                 }
                 if c + 1 == chunks {
                     // The level's counters, after the test read the request count.
