@@ -63,7 +63,7 @@ impl CulledMaps {
                 self.cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &self.batch_samples, &self.tiles, &slots);
                 Ok(())
             })?;
-            timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+            timer.stage(ctx, fg.raster.stage(), |enc| {
                 let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(slot, j)| (RasterJob { sample: slot as u32, ..*j }, Cull::args_offset(slot as u32))).collect();
                 fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &self.batch_samples, array, &drawn, &self.cull.culled, &self.cull.args)?;
                 for (slot, j) in batch.iter().enumerate() {

@@ -314,7 +314,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
         match culled.as_ref() {
             Some(c) => c.record(fg, timer, samples_buffer, array, &jobs)?,
-            None => timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+            None => timer.stage(ctx, fg.raster.stage(), |enc| {
                 fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs)?;
                 Ok(())
             })?,

@@ -93,7 +93,7 @@ impl HybridMaps {
         let ctx = fg.ctx;
         assert!(ks.len() <= self.layers() as usize, "a raster batch holds at most {} maps", self.layers());
         let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(i, &k)| RasterJob { sample: k, layer: i as u32, scissor: None }).collect();
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+        timer.stage(ctx, fg.raster.stage(), |enc| {
             fg.raster.record(ctx, enc, &fg.scene_gpu, samples, &self.raster, &jobs)?;
             Ok(())
         })?;

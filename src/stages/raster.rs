@@ -1,12 +1,13 @@
 //! The frame's shadow-map raster, by the `raster` setting: the fixed-function `shadow_raster`, or
 //! the `raster_compute` kernels whose maps are copied, chain by chain, into R32Uint layers that every
 //! map-reading kernel reads through kernels/shared/maps_words.wgsl. Methods ask this for their map
-//! arrays, so the layers' format always matches the raster that fills them.
+//! arrays, so the layers' format always matches the raster that fills them, and for the stage
+//! they time its work as (`Raster::stage`), so each raster has its own timing key.
 
 use super::raster_compute::RasterCompute;
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::GpuRasterJob;
-use crate::gpu::GpuContext;
+use crate::gpu::{GpuContext, Stage};
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray, ShadowRasterPass};
 use crate::render::SceneGpu;
 use crate::scene::{CullMode, MapKind};
@@ -37,6 +38,15 @@ impl Raster {
 
     pub fn is_compute(&self) -> bool {
         matches!(self, Raster::Compute(_))
+    }
+
+    /// The stage its work is timed as, and named in `stages_ms`: `shadow_raster` (the
+    /// fixed-function pipeline) or `raster_compute` (its kernels and copies into the layers).
+    pub fn stage(&self) -> Stage {
+        match self {
+            Raster::Hardware(_) => Stage::SHADOW_RASTER,
+            Raster::Compute(_) => Stage::RASTER_COMPUTE,
+        }
     }
 
     /// `hardware` or `compute`, as run.json and the report name it.

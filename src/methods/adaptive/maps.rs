@@ -88,7 +88,7 @@ pub(super) fn render_new(
                 continue;
             }
             let Some((cull, kept)) = fx.cull else {
-                timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                timer.stage(ctx, fg.raster.stage(), |enc| {
                     fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine)?;
                     Ok(())
                 })?;
@@ -101,7 +101,7 @@ pub(super) fn render_new(
                     cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &b.samples, &b.footprints.tiles, &ks);
                     Ok(())
                 })?;
-                timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                timer.stage(ctx, fg.raster.stage(), |enc| {
                     let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
                     fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args)?;
                     for (n, &k) in ks.iter().enumerate() {

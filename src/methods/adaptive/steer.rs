@@ -143,7 +143,7 @@ impl Steered<'_> {
         let cand = candidates(level);
         let array_of = |k: u32| self.samples[k as usize].array as usize;
         let one_array = cand.iter().all(|&k| array_of(k) == array_of(cand[0]));
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+        timer.stage(ctx, fg.raster.stage(), |enc| {
             if level > 0 {
                 // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
                 enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
@@ -185,7 +185,7 @@ impl Steering for Steered<'_> {
         // The compute raster rasterizes only what subdivide requested, in one chunk of layers.
         let requested_only = level > 0 && chunks == 1 && fg.raster.is_compute();
         for (c, chunk) in cand.chunks(per_array).enumerate() {
-            timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+            timer.stage(ctx, fg.raster.stage(), |enc| {
                 if level == 0 && c == 0 {
                     steer.weights.record_begin(enc);
                 }

@@ -217,7 +217,7 @@ impl MethodState for State {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         let jobs: Vec<RasterJob> = (0..self.method.n).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-        timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs))?;
+        timer.stage(fg.ctx, fg.raster.stage(), |enc| fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs))?;
         let inputs = CascadeInputs {
             filter: &self.filter_buffer,
             disk: &self.disk_buffer,

@@ -241,7 +241,7 @@ impl MethodState for State {
         let ctx = fg.ctx;
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+        timer.stage(ctx, fg.raster.stage(), |enc| {
             fg.raster.record(ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs)?;
             Ok(())
         })?;
