@@ -427,10 +427,10 @@ fn count_stages_alone_equal_their_twins() {
             ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&state));
             ctx.queue.write_buffer(&b.decisions.sample_level, 0, bytemuck::cast_slice(&sample_level));
             let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, n, 0));
-            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
             let case = format!("seed {seed} {w}x{h} level {level} {spec}");
 
-            run(&|enc| reproject.record_dense(ctx, enc, &lv, &b.masks, &b.control, &b.counts));
+            run(&|enc| reproject.record_dense(ctx, enc, &lv, &b.masks, &b.counts));
             let mut counts: Vec<u32> = readback::read_buffer(ctx, &b.counts.maps, b.shape.counts_bytes_per_quad() * n as u64).unwrap();
             let states: Vec<u32> = readback::read_buffer(ctx, &b.counts.word_state, b.shape.counts_bytes_per_quad()).unwrap();
             assert_eq!(states, twin::reproject_count::word_state(&e.masks, w, h), "{case}: reproject_count's word states");
@@ -448,7 +448,7 @@ fn count_stages_alone_equal_their_twins() {
             let words = (h * screen.flag_words_per_row()) as usize;
             assert_eq!(per_quad, twin::quad_count::quad_count(&flags, words, n as usize), "{case}: quad_count's counters");
 
-            run(&|enc| subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.control, &b.decisions));
+            run(&|enc| subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.decisions));
             let sub = twin::subdivide::subdivide(level, p.max_level, p.split_rule(level), geometry, &quads, &per_quad, &mut state, &mut sample_level);
             let control: Vec<u32> = readback::read_buffer(ctx, &b.control, CONTROL_BYTES).unwrap();
             // A read-back of nothing is no list.
@@ -495,7 +495,7 @@ fn local_stages_alone_equal_their_twins() {
     use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Level, CONTROL_BYTES};
     use penumbra::methods::adaptive::level_uniform;
     use penumbra::render::gbuffer::GBufferPass;
-    use penumbra::stages::{compact::Compact, probe::Probe};
+    use penumbra::stages::{compact::{Compact, CompactInputs}, probe::Probe};
     use twin::probe::PROBE_LIT;
     let ctx = common::gpu();
     let (compact, probe) = (Compact::new(ctx).unwrap(), Probe::new(ctx).unwrap());
@@ -563,8 +563,8 @@ fn local_stages_alone_equal_their_twins() {
             ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl::default()));
             ctx.queue.write_buffer(&b.items.visibility_fixed, 0, bytemuck::cast_slice(&fixed));
             let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, n, 0));
-            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
-            run(&|enc| compact.record_main(ctx, enc, &lv, &gb, &b.counts, &b.decisions, &b.quads[1], &b.samples, &b.control, &b.items, 0, &b.footprints, false));
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
+            run(&|enc| compact.record_main(ctx, enc, &lv, &gb, &CompactInputs { counts: &b.counts, decisions: &b.decisions, next_quads: &b.quads[1], samples: &b.samples, items: &b.items, footprints: &b.footprints }, false));
 
             let mut twin_fixed = fixed.clone();
             let out = twin::compact::compact(&screen, level, p.max_level, &items, &counts, &split_base, &mut twin_fixed);
@@ -593,10 +593,10 @@ fn local_stages_alone_equal_their_twins() {
             ctx.queue.write_buffer(&b.items.probes, 0, bytemuck::cast_slice(&encoded));
             ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl { probe_count: out.probes.len() as u32, ..Default::default() }));
             let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level + 1, next_quads.len() as u32, 0));
-            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 1, shape: b.shape };
             run(&|enc| {
                 probe.record_begin(ctx, enc, &uniform, &b.control, &b.items);
-                probe.record(ctx, enc, &lv, &b.masks, &b.control, &b.items, 1);
+                probe.record(ctx, enc, &lv, &b.masks, &b.items);
             });
             let mut twin_items = Vec::new();
             let before = twin_fixed.clone();
@@ -699,7 +699,7 @@ fn cull_alone_equals_its_twin() {
     use penumbra::methods::adaptive::buffers::{CULL_TILES, LATTICE_SIDE};
     use penumbra::render::SceneGpu;
     use penumbra::scene::light::sample_view;
-    use penumbra::stages::cull::{cull_face, Cull, ARGS_WORDS};
+    use penumbra::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
     let ctx = common::gpu();
     let p = params("p_m=0");
     let mut rng = common::Lcg(29);
@@ -737,7 +737,7 @@ fn cull_alone_equals_its_twin() {
         let frame = readback::uniform_buffer(ctx, "frame", &fr);
         let tiles_buffer = readback::storage_buffer(ctx, "tiles", &tiles, wgpu::BufferUsages::empty());
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        cull.record(ctx, &mut enc, &frame, &scene_gpu, &samples_buffer, &tiles_buffer, &ks);
+        cull.record(ctx, &mut enc, &frame, &scene_gpu, &CullBatch { samples: &samples_buffer, tiles: &tiles_buffer }, &ks);
         ctx.queue.submit([enc.finish()]);
         let stride = scene_gpu.index_count as usize;
         let args: Vec<u32> = readback::read_buffer(ctx, &cull.args, ks.len() as u64 * ARGS_WORDS as u64 * 4).unwrap();

@@ -306,7 +306,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     let ctx = fg.ctx;
     let points = *points;
     let mut buffers = keep.then(FixedBuffers::default);
-    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, visibility: &fg.visibility };
+    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, visibility: &fg.visibility };
     let tiles = &fg.geometry_tiles;
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
@@ -326,7 +326,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             }
         }
         timer.stage(ctx, Stage::SHADE, |enc| {
-            fg.shade.record(ctx, enc, &inputs, &array.array_view, tiles, first, count);
+            fg.shade.record(ctx, enc, &inputs, &array.array_view, first, count);
             Ok(())
         })?;
         if let Some(e) = estimate {
@@ -392,7 +392,7 @@ fn run_hybrid(
     let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
         timer.stage(ctx, Stage::SHADE, |enc| {
-            fg.shade.record(ctx, enc, &inputs, view, tiles, slots[0], slots.len() as u32);
+            fg.shade.record(ctx, enc, &inputs, view, slots[0], slots.len() as u32);
             Ok(())
         })?;
         match estimate {

@@ -2,12 +2,11 @@
 //! pixel took.
 
 use super::pcf::comparison_sampler;
-use super::shade::GeometryTiles;
+use super::shade::Screen;
 use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 /// `chosen` on background pixels (`NO_CASCADE` in the kernel).
@@ -41,8 +40,8 @@ impl Cascades {
     }
 
     /// Writes `visibility` and `chosen` at every pixel of the G-buffer (V at geometry pixels).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, inputs: &CascadeInputs, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, inputs: &CascadeInputs) {
+        let Screen { frame, gbuffer, tiles, visibility } = *screen;
         for band in &tiles.bands {
             self.kernel.dispatch(
                 ctx,

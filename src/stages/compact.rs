@@ -5,6 +5,7 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, Decisions, Footprints, ItemLists, Level};
 use crate::render::gbuffer::GBuffer;
+use super::shade::Screen;
 use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
@@ -15,6 +16,18 @@ pub struct Compact {
     main_rects: ComputeKernel,
     seed: ComputeKernel,
     resolve: ComputeKernel,
+}
+
+/// What `main` reads and writes besides the level and the G-buffer: the counts, subdivide's
+/// decisions, the next level's quads, the sample records, the item lists and the footprints.
+#[derive(Clone, Copy)]
+pub struct CompactInputs<'b> {
+    pub counts: &'b CountMaps,
+    pub decisions: &'b Decisions,
+    pub next_quads: &'b wgpu::Buffer,
+    pub samples: &'b wgpu::Buffer,
+    pub items: &'b ItemLists,
+    pub footprints: &'b Footprints,
 }
 
 impl Compact {
@@ -28,8 +41,8 @@ impl Compact {
     }
 
     /// Every geometry pixel of `g` becomes an item of the root (`items.items[0]`), counted in `control`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_seed(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+    pub fn record_seed(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+        let (frame, g) = (screen.frame, screen.gbuffer);
         self.seed.dispatch(
             ctx,
             enc,
@@ -44,26 +57,12 @@ impl Compact {
         );
     }
 
-    /// From this level's items (`items.items[cur]`, their counts and the split decisions): the
+    /// From this level's items (`items.items[lv.cur]`, their counts and the split decisions): the
     /// next level's items and quads' probes, the uniform shares of unrefined quads, and (`grow_rects`)
     /// the footprints of the next maps.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_main(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        lv: &Level,
-        g: &GBuffer,
-        counts: &CountMaps,
-        decisions: &Decisions,
-        next_quads: &wgpu::Buffer,
-        samples: &wgpu::Buffer,
-        control: &wgpu::Buffer,
-        items: &ItemLists,
-        cur: usize,
-        footprints: &Footprints,
-        grow_rects: bool,
-    ) {
+    pub fn record_main(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, g: &GBuffer, inputs: &CompactInputs, grow_rects: bool) {
+        let CompactInputs { counts, decisions, next_quads, samples, items, footprints } = *inputs;
+        let (control, cur) = (lv.control, lv.cur);
         // Both entry points share the item code, so both take every binding.
         let kernel = if grow_rects { &self.main_rects } else { &self.main };
         kernel.dispatch(
@@ -91,9 +90,9 @@ impl Compact {
         );
     }
 
-    /// V from the integer sums (`items.visibility_fixed`) into `visibility`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_resolve(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, level: &wgpu::Buffer, items: &ItemLists, visibility: &wgpu::Buffer) {
+    /// V from the integer sums (`items.visibility_fixed`) into the screen's V.
+    pub fn record_resolve(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, level: &wgpu::Buffer, items: &ItemLists) {
+        let (frame, g, visibility) = (screen.frame, screen.gbuffer, screen.visibility);
         self.resolve.dispatch(
             ctx,
             enc,

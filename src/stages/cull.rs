@@ -18,6 +18,13 @@ pub use crate::gpu::stages::CULL_RUN;
 /// Index memory the slots may take together.
 const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
 
+/// A batch of maps to cull for: their sample records and the culling tiles footprint wrote.
+#[derive(Clone, Copy)]
+pub struct CullBatch<'b> {
+    pub samples: &'b wgpu::Buffer,
+    pub tiles: &'b wgpu::Buffer,
+}
+
 pub struct Cull {
     runs_phase: ComputeKernel,
     begin: ComputeKernel,
@@ -69,8 +76,8 @@ impl Cull {
     /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
     /// CULL_TILE_WORDS words per lattice sample; `frame` is the frame uniform and `scene_gpu` the
     /// scene `new` was built for (its shadow indices and vertices).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, scene_gpu: &SceneGpu, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, scene_gpu: &SceneGpu, batch: &CullBatch, ks: &[u32]) {
+        let CullBatch { samples, tiles } = *batch;
         assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
         let triangles = self.stride / 3;
         let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);

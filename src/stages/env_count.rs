@@ -7,6 +7,18 @@ use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
+/// One level's count: its parameters, the corner rays, `cell_count` cells and their counts, over
+/// every `stride`-th pixel.
+#[derive(Clone, Copy)]
+pub struct EnvCountInputs<'a> {
+    pub params: &'a wgpu::Buffer,
+    pub corners: &'a wgpu::Buffer,
+    pub cells: &'a wgpu::Buffer,
+    pub counts: &'a wgpu::Buffer,
+    pub cell_count: u32,
+    pub stride: u32,
+}
+
 pub struct EnvCount {
     kernel: ComputeKernel,
 }
@@ -17,8 +29,8 @@ impl EnvCount {
     }
 
     /// `counts` must be zeroed for the `cells` active cells.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, stride: u32, bvh: &BvhBuffers) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvCountInputs, bvh: &BvhBuffers) {
+        let EnvCountInputs { params, corners, cells, counts, cell_count, stride } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,

@@ -14,7 +14,21 @@ pub struct EnvShadowmaps {
     sampler: wgpu::Sampler,
 }
 
+/// What the kernel reads besides the G-buffer: the method's frame uniform and parameters, one
+/// sample and map per light, the lights, AO and the PCF filter.
+#[derive(Clone, Copy)]
+pub struct EnvMapInputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub params: &'a wgpu::Buffer,
+    pub samples: &'a wgpu::Buffer,
+    pub maps: &'a wgpu::TextureView,
+    pub lights: &'a wgpu::Buffer,
+    pub ao: &'a wgpu::Buffer,
+    pub filter: FilterBuffers<'a>,
+}
+
 /// The filter's uniform and tap offsets (the pcf family's `GpuFilter` and disk).
+#[derive(Clone, Copy)]
 pub struct FilterBuffers<'a> {
     pub settings: &'a wgpu::Buffer,
     pub disk: &'a wgpu::Buffer,
@@ -28,8 +42,8 @@ impl EnvShadowmaps {
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
     /// when `params.use_ao` is 1. Writes `visibility` at every `gbuffer` pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer, filter: &FilterBuffers, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvMapInputs, visibility: &wgpu::Buffer) {
+        let EnvMapInputs { frame, params, samples, maps, lights, ao, filter } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,

@@ -34,6 +34,14 @@ pub struct EnvTraceVertex {
     kernel: ComputeKernel,
 }
 
+/// The mesh the per-vertex rays start from and test: its vertex buffer, its length and its BVH.
+#[derive(Clone, Copy)]
+pub struct VertexMesh<'a> {
+    pub vertices: &'a wgpu::Buffer,
+    pub vertex_count: u32,
+    pub bvh: &'a BvhBuffers,
+}
+
 /// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
 pub struct VertexOutputs<'a> {
     pub visibility: &'a wgpu::Buffer,
@@ -104,8 +112,8 @@ impl EnvTraceVertex {
 
     /// One chunk of lights at every mesh vertex (`params.vertex_count` of them): `scene_vertices`
     /// is the scene's vertex buffer, `vertex_count` its length (the dispatch covers it).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene_vertices: &wgpu::Buffer, vertex_count: u32, params: &wgpu::Buffer, lights: &wgpu::Buffer, bvh: &BvhBuffers, out: &VertexOutputs) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, mesh: &VertexMesh, params: &wgpu::Buffer, lights: &wgpu::Buffer, out: &VertexOutputs) {
+        let VertexMesh { vertices: scene_vertices, vertex_count, bvh } = *mesh;
         self.kernel.dispatch(
             ctx,
             enc,

@@ -8,6 +8,17 @@ use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::render::barycentrics::TriangleIds;
 use crate::Result;
 
+/// What the interpolation reads: the scene's indices, the parameters, each pixel's triangle and
+/// barycentrics, the per-vertex visibility and AO.
+#[derive(Clone, Copy)]
+pub struct InterpInputs<'a> {
+    pub scene_indices: &'a wgpu::Buffer,
+    pub params: &'a wgpu::Buffer,
+    pub ids: &'a TriangleIds,
+    pub vertex_visibility: &'a wgpu::Buffer,
+    pub ao: &'a wgpu::Buffer,
+}
+
 pub struct EnvVertexInterp {
     kernel: ComputeKernel,
 }
@@ -19,8 +30,8 @@ impl EnvVertexInterp {
 
     /// `ao` is read when `params.use_ao` is 1 (any buffer otherwise); `scene_indices` is the scene's
     /// index buffer (the ids name its triangles); `gbuffer` sizes the dispatch.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, scene_indices: &wgpu::Buffer, params: &wgpu::Buffer, ids: &TriangleIds, vertex_visibility: &wgpu::Buffer, ao: &wgpu::Buffer, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &InterpInputs, visibility: &wgpu::Buffer) {
+        let InterpInputs { scene_indices, params, ids, vertex_visibility, ao } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,

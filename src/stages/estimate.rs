@@ -45,7 +45,6 @@ impl EstimatePass {
 
     /// Adds samples `first .. first + count` (all in `maps`) to the sums. The sums are bound
     /// whole, so the frame must be one band (`check_bands`).
-    #[allow(clippy::too_many_arguments)]
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &EstimateInputs, maps: &wgpu::TextureView, first: u32, count: u32) {
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         let band = &inputs.tiles.bands[0];

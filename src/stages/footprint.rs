@@ -2,6 +2,7 @@
 //! of maps, slot z from sample record z of the batch (docs/gpu-frame.md §7).
 
 use crate::gpu::stages::bind;
+use super::cull::CullBatch;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
@@ -18,8 +19,8 @@ impl Footprint {
 
     /// Raises `tiles` (CULL_TILE_WORDS per slot, cleared by the caller) for slots 0..`slots`, whose
     /// sample records are `samples[0..slots]`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, slots: u32) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, batch: &CullBatch, slots: u32) {
+        let CullBatch { samples, tiles } = *batch;
         self.kernel.dispatch(
             ctx,
             enc,

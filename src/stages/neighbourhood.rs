@@ -39,8 +39,8 @@ impl Neighbourhood {
 
     /// scope = local: one item of `items.items[cur]` each; also counts each quad's low-quality
     /// pixels (`out.per_quad`, which the level cleared), so no quad_count pass follows.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, items: &ItemLists, cur: usize, out: &LowQuality) {
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, items: &ItemLists, out: &LowQuality) {
+        let cur = lv.cur;
         self.list.dispatch(
             ctx,
             enc,

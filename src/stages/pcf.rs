@@ -1,11 +1,10 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
-use super::shade::GeometryTiles;
+use super::shade::{MapFilter, Screen};
 use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 pub struct Pcf {
@@ -33,8 +32,8 @@ impl Pcf {
 
     /// `frame`: the frame uniform; `samples[0]` is the map's sample; `disk` the tap offsets of the
     /// disk kernels. Writes `visibility` at every G-buffer pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, disk: &wgpu::Buffer, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, map: &MapFilter, disk: &wgpu::Buffer) {
+        let (Screen { frame, gbuffer, tiles, visibility }, MapFilter { filter, samples, maps }) = (*screen, *map);
         // A band of rows per dispatch (`tiles.bands`; one band unless V passes one binding).
         for band in &tiles.bands {
             self.kernel.dispatch(

@@ -34,8 +34,8 @@ impl Probe {
     }
 
     /// `lv.quads`: this level's quads (the probed parents' children); `items.items[cur]`: this level's item list.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, control: &wgpu::Buffer, items: &ItemLists, cur: usize) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists) {
+        let (control, cur) = (lv.control, lv.cur);
         self.main.dispatch(
             ctx,
             enc,

@@ -1,8 +1,7 @@
 //! reconstruct: visibility from the prefiltered statistic at each pixel's place in the map.
 
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
-use super::shade::GeometryTiles;
+use super::shade::Screen;
 use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
@@ -17,8 +16,8 @@ impl Reconstruct {
     }
 
     /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer) {
+        let Screen { frame, gbuffer, tiles, visibility } = *screen;
         // A band of rows per dispatch (`tiles.bands`; one band unless V passes one binding).
         for band in &tiles.bands {
             self.kernel.dispatch(

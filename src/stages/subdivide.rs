@@ -25,9 +25,9 @@ impl Subdivide {
         Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SUBDIVIDE, "main")? })
     }
 
-    /// Splits `lv.quads` by `low.per_quad` into `next` (counted in `control`) and updates `out`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, next: &wgpu::Buffer, control: &wgpu::Buffer, out: &Decisions) {
+    /// Splits `lv.quads` by `low.per_quad` into `next` (counted in `lv.control`) and updates `out`.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, next: &wgpu::Buffer, out: &Decisions) {
+        let control = lv.control;
         self.kernel.dispatch(
             ctx,
             enc,

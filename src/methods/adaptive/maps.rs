@@ -9,7 +9,7 @@ use crate::gpu::timing::StageTimer;
 use crate::methods::hybrid_maps::HybridMaps;
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
 use crate::methods::adaptive::buffers::LATTICE_POINTS;
-use crate::stages::cull::Cull;
+use crate::stages::cull::{Cull, CullBatch};
 use crate::stages::shadow_test::TestFrame;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -98,7 +98,7 @@ pub(super) fn render_new(
             for batch in mine.chunks(cull.slots as usize) {
                 let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
                 timer.stage(ctx, Stage::CULL, |enc| {
-                    cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &b.samples, &b.footprints.tiles, &ks);
+                    cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &CullBatch { samples: &b.samples, tiles: &b.footprints.tiles }, &ks);
                     Ok(())
                 })?;
                 timer.stage(ctx, fg.raster.stage(), |enc| {

@@ -227,7 +227,7 @@ impl MethodState for State {
             chosen: &self.chosen,
         };
         timer.stage(fg.ctx, Stage::CASCADES, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &inputs, &fg.visibility);
+            self.pass.record(fg.ctx, enc, &fg.screen(), &inputs);
             Ok(())
         })?;
         Ok(MethodOutput { shadow_maps: self.method.n, syncs: 0, record: self.placement.record(&self.method), pictures: Vec::new(), bound: None })

@@ -8,7 +8,7 @@ use super::pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::{SsaoSettings, SsaoStage};
 use crate::methods::pcf::{poisson_disk, KERNELS};
 use crate::methods::{check_range, get_choice, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::stages::env_shadowmaps::{EnvShadowmaps as Pass, FilterBuffers};
+use crate::stages::env_shadowmaps::{EnvMapInputs, EnvShadowmaps as Pass, FilterBuffers};
 use crate::stages::FrameGpu;
 use super::picture;
 use crate::scene::environment::median_cut;
@@ -250,7 +250,16 @@ impl MethodState for State {
         }
         let ao = self.ssao.as_ref().map_or(&self.lights_buffer, |s| &s.ao);
         timer.stage(ctx, Stage::ENV_SHADOWMAPS, |enc| {
-            self.pass.record(ctx, enc, &fg.gbuffer, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer }, &fg.visibility);
+            let inputs = EnvMapInputs {
+                frame: &self.frame_buffer,
+                params: &self.params_buffer,
+                samples: &self.samples_buffer,
+                maps: &self.array.array_view,
+                lights: &self.lights_buffer,
+                ao,
+                filter: FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer },
+            };
+            self.pass.record(ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

@@ -14,7 +14,6 @@ pub fn cascade_of(c: &GpuCascades, depth: f32) -> u32 {
 
 /// V (background 0) and the cascade of every pixel (`NO_CASCADE` on background). `maps[i]` is
 /// cascade i's map, `samples[i]` its sample.
-#[allow(clippy::too_many_arguments)]
 pub fn cascades(frame: &GpuFrame, filter: &GpuFilter, c: &GpuCascades, samples: &[GpuSample], maps: &[Vec<f32>], disk: &[[f32; 2]], g: &GBufferCpu) -> (Vec<f32>, Vec<u32>) {
     let w = g.width as usize;
     let (eye, forward) = (Vec4::from(c.eye).truncate(), Vec4::from(c.forward).truncate());
