@@ -83,7 +83,8 @@ fn global_stages_equal_their_cpu_twins() {
                     assert_eq!(counters, lvl.low_quality, "seed {seed} level {d}: quad_count differs");
                     quads_checked += n;
                 }
-                let sub = twin::subdivide::subdivide(d as u32, p.max_level, p.split_rule(d as u32), geometry, &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
+                let at = twin::subdivide::SplitLevel { level: d as u32, max_level: p.max_level, rule: p.split_rule(d as u32), geometry_pixels: geometry };
+                let sub = twin::subdivide::subdivide(&at, &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
                 assert_eq!(sorted_quads(&sub.next_quads), sorted_quads(&lvl.next_quads), "seed {seed} level {d}: subdivide quads");
                 assert_eq!(sub.new_samples, lvl.new_samples, "seed {seed} level {d}: subdivide samples");
                 assert_eq!(sample_level, lvl.sample_level, "seed {seed} level {d}: sample levels");
@@ -449,7 +450,8 @@ fn count_stages_alone_equal_their_twins() {
             assert_eq!(per_quad, twin::quad_count::quad_count(&flags, words, n as usize), "{case}: quad_count's counters");
 
             run(&|enc| subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.decisions));
-            let sub = twin::subdivide::subdivide(level, p.max_level, p.split_rule(level), geometry, &quads, &per_quad, &mut state, &mut sample_level);
+            let at = twin::subdivide::SplitLevel { level, max_level: p.max_level, rule: p.split_rule(level), geometry_pixels: geometry };
+            let sub = twin::subdivide::subdivide(&at, &quads, &per_quad, &mut state, &mut sample_level);
             let control: Vec<u32> = readback::read_buffer(ctx, &b.control, CONTROL_BYTES).unwrap();
             // A read-back of nothing is no list.
             let read = |buf: &wgpu::Buffer, bytes: u64| {

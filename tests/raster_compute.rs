@@ -461,7 +461,7 @@ fn requested_maps_go_to_their_samples_layers() {
     shadow_raster::clear_all(ctx, &array).unwrap();
     for first in [0u32, 4, 8] {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        pass.record_requested(ctx, &mut enc, &gpu, &buffer, (&control_buffer, &list_buffer), first, &array.array_view);
+        pass.record_requested(ctx, &mut enc, &gpu, &buffer, &raster_compute::Requests { control: &control_buffer, list: &list_buffer, first }, &array.array_view);
         ctx.queue.submit([enc.finish()]);
         let (_, want) = twin::requested(list.len() as u32, &list, first, 4, MAP, scene.triangle_count() as u32);
         assert_eq!(pass.read_steer_args(ctx).unwrap(), want, "chain from request {first}");

@@ -148,7 +148,9 @@ pub trait Bindings<'a> {
 /// and generates `bind::file`, its bindings structs. `kernel` embeds kernels/<file>.wgsl; `none` is
 /// a stage without one. An entry is `compute Set(entry, …) WORKGROUP { variable: binding, … }`
 /// (entry points that share a set of bindings share its struct `bind::file::Set`) or
-/// `render(entry) { … }` (a render pipeline's layout is the union of its entries').
+/// `render(entry) { … }`; a render pipeline's layout is the union of its entries', and the entry
+/// written `render Set(entry) { … }` (the vertex entry, whose bindings hold the fragment entry's)
+/// gives its bind group's struct.
 macro_rules! stage_table {
     ($($(#[$doc:meta])* $id:ident = $name:ident $kind:ident $({ $($flag:ident: $value:expr),* $(,)? })?, $split:expr, [$($entries:tt)*];)*) => {
         impl Stage {
@@ -175,6 +177,9 @@ macro_rules! stage_table {
     (@entries $stage:ident [$($done:expr),*] $(,)?) => { &[$($done),*] };
     (@entries $stage:ident [$($done:expr),*] compute $set:ident ($($ep:ident),+) $wg:ident { $($v:ident: $b:literal),* $(,)? } $(, $($rest:tt)*)?) => {
         stage_table!(@entries $stage [$($done,)* $(compute(stringify!($ep), $wg, bind::$stage::$set::BINDINGS)),+] $($($rest)*)?)
+    };
+    (@entries $stage:ident [$($done:expr),*] render $set:ident ($ep:ident) { $($v:ident: $b:literal),* $(,)? } $(, $($rest:tt)*)?) => {
+        stage_table!(@entries $stage [$($done,)* render(stringify!($ep), bind::$stage::$set::BINDINGS)] $($($rest)*)?)
     };
     (@entries $stage:ident [$($done:expr),*] render ($ep:ident) { $($v:ident: $b:literal),* $(,)? } $(, $($rest:tt)*)?) => {
         stage_table!(@entries $stage [$($done,)* render(stringify!($ep), &[$((stringify!($v), $b)),*])] $($($rest)*)?)
@@ -205,6 +210,9 @@ macro_rules! stage_table {
         }
         stage_table!(@structs $stage $($($rest)*)?);
     };
+    (@structs $stage:ident render $set:ident ($ep:ident) { $($v:ident: $b:literal),* $(,)? } $(, $($rest:tt)*)?) => {
+        stage_table!(@structs $stage compute $set ($ep) render { $($v: $b),* } $(, $($rest)*)?);
+    };
     (@structs $stage:ident render ($ep:ident) { $($v:ident: $b:literal),* $(,)? } $(, $($rest:tt)*)?) => {
         stage_table!(@structs $stage $($($rest)*)?);
     };
@@ -220,12 +228,12 @@ const CULL_RUN_GROUP: [u32; 3] = [CULL_RUN, 1, 1];
 stage_table! {
     /// The camera G-buffer (position, normal, depth).
     GBUFFER = gbuffer kernel, Some(Raster), [
-        render(vs_main) { camera: 0 },
+        render Pipeline(vs_main) { camera: 0 },
         render(fs_main) { camera: 0 },
     ];
     /// Depth-only raster of the shadow maps, one layer per light sample.
     SHADOW_RASTER = shadow_raster kernel, Some(Raster), [
-        render(vs_main) { samples: 0 },
+        render Pipeline(vs_main) { samples: 0 },
     ];
     /// V = Σ weight · lit over a set of maps (or from adaptive's masks), and the geometry tiles.
     SHADE = shade kernel { reads_maps: true }, Some(Shade), [
@@ -332,7 +340,7 @@ stage_table! {
     ];
     /// Triangle ids and barycentrics per pixel (per-vertex environment lighting).
     BARYCENTRICS = barycentrics kernel, Some(Raster), [
-        render(vs_main) { camera: 0, scene_vertices: 1, scene_indices: 2 },
+        render Pipeline(vs_main) { camera: 0, scene_vertices: 1, scene_indices: 2 },
         render(fs_main) {},
     ];
     /// Per-vertex visibility interpolated to the pixels.

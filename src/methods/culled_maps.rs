@@ -3,6 +3,7 @@
 //! only the triangles that can change a tested texel, and the raster draws those. Each tested
 //! pixel's outcome is the whole mesh's, so V is unchanged (docs/gpu-frame.md §7).
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
@@ -65,7 +66,7 @@ impl CulledMaps {
             })?;
             timer.stage(ctx, fg.raster.stage(), |enc| {
                 let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(slot, j)| (RasterJob { sample: slot as u32, ..*j }, Cull::args_offset(slot as u32))).collect();
-                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &self.batch_samples, array, &drawn, &self.cull.culled, &self.cull.args)?;
+                fg.raster.record_culled(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.batch_samples, array }, &drawn, &self.cull.culled, &self.cull.args)?;
                 for (slot, j) in batch.iter().enumerate() {
                     enc.copy_buffer_to_buffer(&self.cull.args, Cull::args_offset(slot as u32), &self.kept, j.sample as u64 * 4, 4);
                 }

@@ -2,6 +2,7 @@
 //! maps exceed the memory budget or the layer limit. With `maps = hybrid` the maps are rasterized a
 //! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::culled_maps::CulledMaps;
 use super::hybrid_maps::HybridMaps;
@@ -315,7 +316,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         match culled.as_ref() {
             Some(c) => c.record(fg, timer, samples_buffer, array, &jobs)?,
             None => timer.stage(ctx, fg.raster.stage(), |enc| {
-                fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs)?;
+                fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: samples_buffer, array }, &jobs)?;
                 Ok(())
             })?,
         }

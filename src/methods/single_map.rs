@@ -1,6 +1,7 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
 //! light's centre, the filter uniform, and the buffers their twin tests read.
 
+use crate::stages::raster::RasterTarget;
 use super::hybrid_maps::HybridMaps;
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
@@ -61,7 +62,7 @@ impl CentreMap {
         match &mut self.maps {
             CentreMaps::Plain(array) => timer.stage(fg.ctx, fg.raster.stage(), |enc| {
                 let jobs: Vec<RasterJob> = (0..self.faces.len() as u32).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &jobs)?;
+                fg.raster.record(fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples, array }, &jobs)?;
                 Ok(())
             }),
             CentreMaps::Hybrid(h) => {

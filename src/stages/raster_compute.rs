@@ -57,6 +57,15 @@ pub struct RasterCompute {
     cull_face: u32,
 }
 
+/// The requests one steered chain rasterizes: `control` (word 1 counts a level's requests),
+/// `list` (the requested samples) and the first of them this chain takes.
+#[derive(Clone, Copy)]
+pub struct Requests<'b> {
+    pub control: &'b wgpu::Buffer,
+    pub list: &'b wgpu::Buffer,
+    pub first: u32,
+}
+
 /// One chain's inputs: the scene, the samples whose view-projections the jobs name, and the chain's
 /// uniform and jobs.
 #[derive(Clone, Copy)]
@@ -244,21 +253,12 @@ impl RasterCompute {
         self.large_tiles.dispatch(ctx, enc, large, Dispatch::Indirect(&self.dispatch));
     }
 
-    /// Under the GPU-steered loop: rasterizes the requests `first_request ..` (at most `capacity`)
-    /// of a level's list (`request_control` word 1 counts them, `request_list` names the samples)
+    /// Under the GPU-steered loop: rasterizes the requests `requests.first ..` (at most `capacity`)
+    /// of a level's list (`requests.control` word 1 counts them, `requests.list` names the samples)
     /// and stores each map into the layer its sample record names, with dispatches the GPU sizes:
     /// a chain past the last request does nothing. Nothing is read back.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_requested(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &SceneGpu,
-        samples: &wgpu::Buffer,
-        requests: (&wgpu::Buffer, &wgpu::Buffer),
-        first_request: u32,
-        layers: &wgpu::TextureView,
-    ) {
+    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, requests: &Requests, layers: &wgpu::TextureView) {
+        let (requests, first_request) = ((requests.control, requests.list), requests.first);
         let params = self.uniform(ctx, scene, self.capacity, first_request, true);
         let jobs = readback::zeroed_storage(ctx, "raster_compute requested jobs", self.capacity as u64 * std::mem::size_of::<GpuRasterJob>() as u64);
         self.requested.dispatch(

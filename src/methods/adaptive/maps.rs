@@ -1,6 +1,7 @@
 //! The adaptive method's shadow maps: where each new map lives (layer, array) and how it is
 //! rasterized (whole, scissored, culled) and, under scope = global, cached by shadow_test.
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::context::Frame;
 use super::AdaptiveTrace;
@@ -89,7 +90,7 @@ pub(super) fn render_new(
             }
             let Some((cull, kept)) = fx.cull else {
                 timer.stage(ctx, fg.raster.stage(), |enc| {
-                    fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine)?;
+                    fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &mine)?;
                     Ok(())
                 })?;
                 continue;
@@ -103,7 +104,7 @@ pub(super) fn render_new(
                 })?;
                 timer.stage(ctx, fg.raster.stage(), |enc| {
                     let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
-                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args)?;
+                    fg.raster.record_culled(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &drawn, &cull.culled, &cull.args)?;
                     for (n, &k) in ks.iter().enumerate() {
                         enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
                     }

@@ -17,6 +17,7 @@
 //!
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::context::Frame;
 use super::frame::{self, Steering};
@@ -133,7 +134,7 @@ impl Steered<'_> {
             }
             jobs.push((RasterJob { sample: k, layer: self.samples[k as usize].layer, scissor: None }, at));
         }
-        fg.raster.record_flagged(fx.fg.ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &self.steer.raster_args)
+        fg.raster.record_flagged(fx.fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &jobs, &self.steer.raster_args)
     }
 
     /// scope = local: the level's requested maps into their own layers (kept for the rest of the
@@ -150,7 +151,7 @@ impl Steered<'_> {
             }
             if level > 0 && one_array && fg.raster.is_compute() {
                 let array = &self.store.arrays[array_of(cand[0])];
-                fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array)?;
+                fg.raster.record_requested(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, (&b.control, &b.decisions.new_samples), cand.len() as u32)?;
             } else {
                 for (a, array) in self.store.arrays.iter().enumerate() {
                     let mine: Vec<u32> = cand.iter().copied().filter(|&k| array_of(k) == a).collect();
@@ -194,7 +195,7 @@ impl Steering for Steered<'_> {
                     enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
                 }
                 if requested_only {
-                    return fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array);
+                    return fg.raster.record_requested(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, (&b.control, &b.decisions.new_samples), cand.len() as u32);
                 }
                 self.record_flagged(fx, enc, level, chunk, array)
             })?;

@@ -2,6 +2,7 @@
 //! from a point 50 scene diagonals away along the light (near-orthographic), filtered by the pcf
 //! family's tap patterns (box by default).
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::common::{environment, gpu_lights};
 use super::pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
@@ -242,7 +243,7 @@ impl MethodState for State {
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
         timer.stage(ctx, fg.raster.stage(), |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs)?;
+            fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples_buffer, array: &self.array }, &jobs)?;
             Ok(())
         })?;
         if let Some(s) = &self.ssao {

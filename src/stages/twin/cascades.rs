@@ -1,6 +1,6 @@
 //! Twin of `kernels/cascades.wgsl`.
 
-use super::pcf::pcf_taps;
+use super::pcf::{pcf_taps, TapCentre};
 use super::shadow::{pixel_lookup, shadow_compare, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
 use crate::gpu::structs::{GpuCascades, GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
@@ -35,7 +35,7 @@ pub fn cascades(frame: &GpuFrame, filter: &GpuFilter, c: &GpuCascades, samples: 
                 return (shadow_compare(s, &lookup, stored) as f32, k);
             }
             let pixel = ((index % w) as u32, (index / w) as u32);
-            let (lit, count) = pcf_taps(frame, filter, s, map, disk, t, lookup.depth_limit, slope, pixel);
+            let (lit, count) = pcf_taps(frame, filter, s, map, disk, TapCentre { t, limit: lookup.depth_limit, slope }, pixel);
             (lit / count, k)
         })
         .unzip()
