@@ -135,6 +135,32 @@ impl Stage {
 /// A compute entry point's bindings as one value: a struct with a field per WGSL variable the
 /// entry point uses, generated from the stage table (`bind::<stage>::<Set>`), so a pass that leaves
 /// one out or misspells one does not compile. A kernel takes the set of its entry point.
+///
+/// ```
+/// use penumbra::gpu::stages::{bind, Bindings};
+/// fn quad_count<'a>(frame: &'a wgpu::Buffer, level: &'a wgpu::Buffer, flags: &'a wgpu::Buffer, counters: &'a wgpu::Buffer) -> impl Bindings<'a> {
+///     bind::quad_count::Main { frame: frame.as_entire_binding(), level: level.as_entire_binding(), flags: flags.as_entire_binding(), quad_counters: counters.as_entire_binding() }
+/// }
+/// assert_eq!(bind::quad_count::Main::BINDINGS, &[("frame", 0), ("level", 1), ("flags", 2), ("quad_counters", 3)]);
+/// ```
+///
+/// A binding left out:
+///
+/// ```compile_fail,E0063
+/// use penumbra::gpu::stages::{bind, Bindings};
+/// fn quad_count<'a>(frame: &'a wgpu::Buffer, level: &'a wgpu::Buffer, flags: &'a wgpu::Buffer) -> impl Bindings<'a> {
+///     bind::quad_count::Main { frame: frame.as_entire_binding(), level: level.as_entire_binding(), flags: flags.as_entire_binding() }
+/// }
+/// ```
+///
+/// A binding misspelled:
+///
+/// ```compile_fail,E0560
+/// use penumbra::gpu::stages::{bind, Bindings};
+/// fn quad_count<'a>(frame: &'a wgpu::Buffer, level: &'a wgpu::Buffer, flags: &'a wgpu::Buffer, counters: &'a wgpu::Buffer) -> impl Bindings<'a> {
+///     bind::quad_count::Main { frame: frame.as_entire_binding(), level: level.as_entire_binding(), flags: flags.as_entire_binding(), quad_counter: counters.as_entire_binding() }
+/// }
+/// ```
 pub trait Bindings<'a> {
     /// The stage whose kernel declares the bindings.
     const STAGE: &'static str;
