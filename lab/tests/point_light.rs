@@ -56,7 +56,7 @@ fn shade_on_the_cube_faces_equals_its_cpu_twin_and_counts_each_receiver_once() {
         assert!(c.samples.iter().enumerate().all(|(i, s)| s.cube_face == 1 + i as u32 % 6), "{name}: faces +x, −x, +y, −y, +z, −z in turn");
         assert_eq!(r.output.shadow_maps, 24);
         let mut v = vec![0.0f32; r.visibility.len()];
-        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, c.samples.len(), &mut v);
+        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..c.samples.len(), &mut v);
         let g = geometry(&r);
         let worst = g.iter().map(|&i| (v[i] - r.visibility[i]).abs()).fold(0.0f32, f32::max);
         let highest = g.iter().map(|&i| r.visibility[i]).fold(0.0f32, f32::max);
