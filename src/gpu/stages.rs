@@ -75,13 +75,6 @@ pub struct Entry {
     pub bindings: &'static [(&'static str, u32)],
 }
 
-impl Entry {
-    /// The @binding of the WGSL variable `name`, if this entry point uses it.
-    pub fn binding(&self, name: &str) -> Option<u32> {
-        self.bindings.iter().find(|(n, _)| *n == name).map(|&(_, b)| b)
-    }
-}
-
 const fn compute(name: &'static str, workgroup: [u32; 3], bindings: &'static [(&'static str, u32)]) -> Entry {
     Entry { name, workgroup: Some(workgroup), bindings }
 }
@@ -123,12 +116,6 @@ impl Stage {
     /// The entry point `name` of this stage's kernel.
     pub fn entry(&self, name: &str) -> Option<&'static Entry> {
         self.entries.iter().find(|e| e.name == name)
-    }
-
-    /// The @binding of the WGSL variable `name` in any of the stage's entry points (a render
-    /// pipeline's layout is the union of its vertex and fragment entries').
-    pub fn binding(&self, name: &str) -> Option<u32> {
-        self.entries.iter().find_map(|e| e.binding(name))
     }
 }
 
