@@ -8,7 +8,7 @@ pub mod regression;
 pub(crate) mod row;
 pub mod run_files;
 pub(crate) mod shaded_environment;
-pub(crate) mod judge;
+pub mod judge;
 pub mod measure;
 pub mod provenance;
 
