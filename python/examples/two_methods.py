@@ -3,7 +3,7 @@
     python python/examples/two_methods.py OUT_DIR [SCENE] [SIZE]
 
 Writes OUT_DIR/two_methods.png (V of each method and the reference) and OUT_DIR/error_maps.png
-(V − reference, red where too bright) with matplotlib's Agg backend, and prints compare's figures.
+(V − reference, red where too bright), background (NaN) in slate blue, with matplotlib's Agg backend, and prints compare's figures.
 """
 
 import pathlib
@@ -18,6 +18,13 @@ import numpy as np  # noqa: E402
 import penumbra  # noqa: E402
 
 METHODS = ["pcss", "adaptive:preset=balanced"]
+BACKGROUND = "#5b6b7f"  # NaN: pixels no mesh covers
+
+
+def colormap(name):
+    cmap = matplotlib.colormaps[name].copy()
+    cmap.set_bad(BACKGROUND)
+    return cmap
 
 
 def main(out, scene_name="analytic-square", size=128):
@@ -31,7 +38,7 @@ def main(out, scene_name="analytic-square", size=128):
 
     fig, axes = plt.subplots(1, len(METHODS) + 1, figsize=(4 * (len(METHODS) + 1), 4))
     for ax, (title, v) in zip(axes, [*results.items(), (f"reference ({reference.mode})", ref)]):
-        ax.imshow(v, cmap="gray", vmin=0, vmax=1)  # NaN (background) is left blank
+        ax.imshow(v, cmap=colormap("gray"), vmin=0, vmax=1)
         ax.set_title(title, fontsize=9)
         ax.axis("off")
     fig.tight_layout()
@@ -39,7 +46,7 @@ def main(out, scene_name="analytic-square", size=128):
 
     fig, axes = plt.subplots(1, len(METHODS), figsize=(4.6 * len(METHODS), 4))
     for ax, (method, v) in zip(axes, results.items()):
-        shown = ax.imshow(v - ref, cmap="RdBu_r", vmin=-0.25, vmax=0.25)
+        shown = ax.imshow(v - ref, cmap=colormap("RdBu_r"), vmin=-0.25, vmax=0.25)
         ax.set_title(f"{method}: V − reference", fontsize=9)
         ax.axis("off")
         fig.colorbar(shown, ax=ax, fraction=0.046)
