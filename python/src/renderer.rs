@@ -42,10 +42,10 @@ pub fn visibility_array<'py>(py: Python<'py>, values: &[f32], g: &penumbra_lab::
 }
 
 impl Renderer {
-    /// One frame of `spec` (with `params` as `--param` pairs) on its kept renderer, built (with one
-    /// untimed warm-up frame, as `penumbra render` does) on first use. The GIL is released meanwhile.
-    fn frame(&self, py: Python<'_>, spec: &str, params: &[(String, String)], pictures: bool) -> PyResult<(FrameResult, serde_json::Value)> {
-        py.detach(|| -> penumbra_lab::Result<(FrameResult, serde_json::Value)> {
+    /// Runs `work` on the kept renderer of `spec` (with `params` as `--param` pairs), built (with
+    /// one untimed warm-up frame, as `penumbra render` does) on first use. The GIL is released meanwhile.
+    fn with_built<T: Send>(&self, py: Python<'_>, spec: &str, params: &[(String, String)], work: impl FnOnce(&mut Built) -> penumbra_lab::Result<T> + Send) -> PyResult<T> {
+        py.detach(|| -> penumbra_lab::Result<T> {
             let method = Method::parse(spec, params)?;
             method.check_light(&self.scene)?;
             let mut built = self.built.lock().unwrap_or_else(|e| e.into_inner());
@@ -58,12 +58,18 @@ impl Renderer {
                 renderer.frame(TimingMode::Frame)?;
                 built.insert(key.clone(), Built { renderer, method });
             }
-            let b = built.get_mut(&key).expect("built above");
+            work(built.get_mut(&key).expect("built above"))
+        })
+        .map_err(crate::to_py)
+    }
+
+    /// One frame and its run record.
+    fn frame(&self, py: Python<'_>, spec: &str, params: &[(String, String)], pictures: bool) -> PyResult<(FrameResult, serde_json::Value)> {
+        self.with_built(py, spec, params, |b| {
             let f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures })?;
             let record = run_files::run_record(&self.scene, &b.method, &f, &self.ctx.summary, self.ctx.timestamps_trusted);
             Ok((f, record))
         })
-        .map_err(crate::to_py)
     }
 }
 
@@ -103,6 +109,22 @@ impl Renderer {
             out.set_item("error_bound", visibility_array(py, bound, &f.gbuffer)?)?;
         }
         Ok(out)
+    }
+
+    /// Wall clock in ms of each of `frames` frames rendered in Rust on the kept renderer, with no
+    /// Python in the loop: what `ShadowRenderer::render` costs, for measuring what `render` adds
+    /// (scripts/python-overhead.py).
+    #[pyo3(signature = (method, frames, **params))]
+    fn _rust_frame_times(&self, py: Python<'_>, method: &str, frames: u32, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<f64>> {
+        self.with_built(py, method, &crate::pairs(params)?, |b| {
+            (0..frames)
+                .map(|_| {
+                    let start = std::time::Instant::now();
+                    b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+                    Ok(start.elapsed().as_secs_f64() * 1e3)
+                })
+                .collect()
+        })
     }
 
     /// The adapter's name.
