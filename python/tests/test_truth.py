@@ -1,6 +1,9 @@
 """The reference through the CLI's cache; metrics and compare equal `penumbra compare`'s."""
 
 import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 
@@ -37,3 +40,18 @@ def test_reference_metrics_and_compare_equal_the_command_lines(scene, renderer, 
         assert r["metrics"] == theirs[r["label"]]["metrics"]
         assert r["repeats"] == 1 and r["shadow_maps"] == theirs[r["label"]]["shadow_maps"]
     assert 0.0 < rows[0]["metrics"]["rmse"] < 0.5
+
+
+def test_compare_is_quiet_without_a_terminal():
+    """Progress and compare's per-method lines go to a terminal only: a pipe gets none of them."""
+    code = (
+        "import penumbra; s = penumbra.Scene.load('analytic-square', resolution=64); "
+        "rows = penumbra.compare(s, 'hard,pcss', repeats=1, samples=8); print(len(rows))"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "PENUMBRA_NO_PROGRESS"}
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout == "2\n"
+    # Mesa may say why it has no display (XDG_RUNTIME_DIR); nothing from penumbra.
+    ours = [line for line in p.stderr.splitlines() if "XDG_RUNTIME_DIR" not in line]
+    assert ours == [], ours
