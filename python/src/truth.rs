@@ -34,7 +34,7 @@ fn quiet_unless_terminal(line: &str) {
     }
 }
 
-fn mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference::ReferenceMode> {
+fn parse_mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference::ReferenceMode> {
     truth::parse_mode(reference, samples).map_err(crate::to_py)
 }
 
@@ -42,9 +42,9 @@ fn mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference::Refe
 /// as `penumbra reference --samples`), `lattice` or `point[:S,T]`; cached as the CLI caches it
 /// unless `no_cache` (then traced afresh and stored).
 #[pyfunction]
-#[pyo3(signature = (scene, samples=32, mode_name="continuous", no_cache=false, adapter=None))]
-pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode_name: &str, no_cache: bool, adapter: Option<&str>) -> PyResult<Reference> {
-    let mode = mode(mode_name, samples)?;
+#[pyo3(signature = (scene, samples=32, mode="continuous", no_cache=false, adapter=None))]
+pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode: &str, no_cache: bool, adapter: Option<&str>) -> PyResult<Reference> {
+    let mode = parse_mode(mode, samples)?;
     let ctx: Arc<GpuContext> = crate::context::get(py, adapter)?;
     let s = scene.inner.clone();
     let (g, image) = py.detach(|| truth::for_scene(&ctx, &s, mode, &Cache::default_for(no_cache))).map_err(crate::to_py)?;
@@ -141,7 +141,7 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
     };
     let specs = methods_list::split_specs(&values).map_err(crate::to_py)?;
     let methods: Vec<Method> = methods_list::parse_methods(&specs).map_err(crate::to_py)?;
-    let mode = mode(reference, samples)?;
+    let mode = parse_mode(reference, samples)?;
     if repeats == 0 || repeats > 1000 {
         return Err(crate::PenumbraError::new_err(format!("repeats must be in 1..=1000, got {repeats}")));
     }

@@ -52,3 +52,7 @@ def test_metrics_refuse_a_v_of_another_shape(scene):
     with pytest.raises(penumbra.PenumbraError) as e:
         penumbra.reference(scene, samples=0)
     assert str(e.value) == "--samples must be in 1..=256, got 0"
+    with pytest.raises(penumbra.PenumbraError) as e:
+        penumbra.reference(scene, mode="sideways")
+    assert str(e.value) == cli_error("compare", "--scene", SCENE, "--reference", "sideways", "--out", "unused-out")
+    assert str(e.value).startswith("reference mode `sideways`: use `lattice`")
