@@ -48,6 +48,22 @@ fn required(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<Vec3> {
     vec3(d, key, what)?.ok_or_else(|| crate::PenumbraError::new_err(format!("{what}: `{key}` is missing")))
 }
 
+/// A light dict (numpy arrays allowed) as the scene file's `[light]` table it stands for.
+fn light_table(light: &Bound<'_, PyDict>) -> PyResult<toml::Table> {
+    let plain = PyDict::new(light.py());
+    for (k, v) in light.iter() {
+        let v = if v.hasattr("tolist")? { v.call_method0("tolist")? } else { v };
+        plain.set_item(k, v)?;
+    }
+    let text: String = light.py().import("json")?.call_method1("dumps", (plain,))?.extract()?;
+    let bad = |e: String| crate::PenumbraError::new_err(format!("light: {e}"));
+    let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    match toml::Value::try_from(json).map_err(|e| bad(e.to_string()))? {
+        toml::Value::Table(t) => Ok(t),
+        _ => Err(bad("expected a dict".into())),
+    }
+}
+
 #[pymethods]
 impl Scene {
     /// A built-in scene by name (`penumbra scenes` lists them) or a scene TOML file, with render
@@ -63,7 +79,9 @@ impl Scene {
     /// A scene from meshes in memory: `meshes` is a list of `(positions, indices)` or
     /// `(positions, indices, albedo)`, positions (N, 3) and indices (M, 3) or (3M,), counter-clockwise
     /// seen from the front; `camera` a dict with `eye`, `target`, `fov_y_deg` and optionally `up`;
-    /// `light` a rectangle `{center, edge_u, edge_v}`. Checked as a scene file is.
+    /// `light` a scene file's `[light]` table as a dict: a rectangle `{center, edge_u, edge_v}`, or
+    /// any kind of docs/lights.md (`{"kind": "disk", "center": …, "normal": …, "radius": …}`).
+    /// Checked as a scene file is.
     #[staticmethod]
     #[pyo3(signature = (meshes, camera, light, **settings))]
     fn from_meshes(py: Python<'_>, meshes: Vec<Bound<'_, PyTuple>>, camera: &Bound<'_, PyDict>, light: &Bound<'_, PyDict>, settings: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
@@ -83,11 +101,11 @@ impl Scene {
         let up = vec3(camera, "up", "camera")?.unwrap_or(Vec3::Y);
         let fov_y_deg: f32 = camera.get_item("fov_y_deg")?.ok_or_else(|| crate::PenumbraError::new_err("camera: `fov_y_deg` is missing"))?.extract()?;
         let camera = Camera { eye: required(camera, "eye", "camera")?, target: required(camera, "target", "camera")?, up, fov_y_deg };
-        let light = scene::light::AreaLight { center: required(light, "center", "light")?, edge_u: required(light, "edge_u", "light")?, edge_v: required(light, "edge_v", "light")? };
+        let light = light_table(light)?;
         let pairs = crate::pairs(settings)?;
         const ORIGIN: &str = "embedded scene";
         let render = scene::settings_from_pairs(ORIGIN, &pairs).map_err(crate::engine)?;
-        let inner = py.detach(|| scene::Scene::from_meshes(ORIGIN, &camera, &light, render, &given)).map_err(crate::engine)?;
+        let inner = py.detach(|| scene::Scene::from_meshes_with_light(ORIGIN, &camera, light, render, &given)).map_err(crate::engine)?;
         Ok(Scene::new(inner, &pairs))
     }
 

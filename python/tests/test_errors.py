@@ -41,7 +41,7 @@ def test_meshes_from_arrays_are_checked_as_a_scene_file_is():
     with pytest.raises(penumbra.PenumbraError) as e:
         penumbra.Scene.from_meshes([(SQUARE, [0, 1, 7])], CAMERA, LIGHT)
     assert "mesh 1" in str(e.value) and "7" in str(e.value)
-    with pytest.raises(penumbra.PenumbraError, match=r"^light: `edge_v` is missing$"):
+    with pytest.raises(penumbra.PenumbraError, match=r"^embedded scene: light: give either edge_u and edge_v, or size and normal \(with optional u_axis\)$"):
         penumbra.Scene.from_meshes([ground], CAMERA, {"center": [0, 10, 0], "edge_u": [4, 0, 0]})
 
 
@@ -56,3 +56,44 @@ def test_metrics_refuse_a_v_of_another_shape(scene):
         penumbra.reference(scene, mode="sideways")
     assert str(e.value) == cli_error("compare", "--scene", SCENE, "--reference", "sideways", "--out", "unused-out")
     assert str(e.value).startswith("reference mode `sideways`: use `lattice`")
+
+
+DISK_SCENE = """name = "disk-square"
+[camera]
+eye = [0.0, 16.0, 14.0]
+target = [0.0, 0.0, -1.0]
+fov_y_deg = 50.0
+[light]
+{light}
+[render]
+cull = "none"
+[[mesh]]
+builtin = "plane"
+scale = [30.0, 1.0, 30.0]
+[[mesh]]
+builtin = "plane"
+translate = [0.0, 4.0, 0.0]
+scale = [4.0, 1.0, 4.0]
+"""
+
+
+def test_a_light_of_any_kind_from_a_dict_is_the_scene_files(tmp_path):
+    disk = {"kind": "disk", "center": np.array([0.0, 10.0, 0.0]), "normal": [0, -1, 0], "radius": 2}
+    meshes = [(SQUARE * 15, [0, 1, 2, 0, 2, 3]), (SQUARE * 2 + [0, 4, 0], [0, 1, 2, 0, 2, 3])]
+    ours = penumbra.Scene.from_meshes(meshes, CAMERA, disk, resolution=32, cull="none")
+    path = tmp_path / "disk.toml"
+    path.write_text(DISK_SCENE.format(light='kind = "disk"\ncenter = [0.0, 10.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 2.0'))
+    theirs = penumbra.Scene.load(str(path), resolution=32)
+    for method in ("hard", "adaptive:preset=balanced"):
+        a, _ = penumbra.Renderer(ours).render(method)
+        b, _ = penumbra.Renderer(theirs).render(method)
+        assert np.array_equal(a.view(np.uint32), b.view(np.uint32)), method
+        assert np.nanmin(a) == 0.0 and np.nanmax(a) == 1.0
+    # A key of another kind: the scene file's message, with the scene's origin in front.
+    stray = dict(disk, edge_u=[4, 0, 0])
+    with pytest.raises(penumbra.PenumbraError) as e:
+        penumbra.Scene.from_meshes(meshes, CAMERA, stray)
+    path.write_text(DISK_SCENE.format(light='kind = "disk"\ncenter = [0.0, 10.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 2.0\nedge_u = [4.0, 0.0, 0.0]'))
+    cli = cli_error("render", "--scene", str(path))
+    assert str(e.value).startswith("embedded scene: ") and cli.startswith(f"{path}: ")
+    assert str(e.value)[len("embedded scene: "):] == cli[len(f"{path}: "):]
