@@ -7,8 +7,15 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
 venv=${1:-target/python-venv}
-python3 -m venv --help >/dev/null 2>&1 || { echo "error: python3 with venv is needed (apt-get install python3-venv)" >&2; exit 1; }
-python3 -m venv "$venv"
+command -v python3 >/dev/null || { echo "error: python3 (3.9 or newer) is needed" >&2; exit 1; }
+if ! python3 -m venv "$venv" >/dev/null 2>&1; then
+    # Debian's python3 ships venv without ensurepip: python3-venv adds it.
+    command -v apt-get >/dev/null || { echo "error: python3 -m venv $venv failed and there is no apt-get to install python3-venv" >&2; exit 1; }
+    sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq python3-venv >/dev/null
+    rm -rf "$venv"
+    python3 -m venv "$venv"
+fi
 "$venv/bin/pip" install --quiet --upgrade pip
 "$venv/bin/pip" install --quiet pytest numpy matplotlib ./python
 # The tests compare against the command line built from the same tree.
