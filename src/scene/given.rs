@@ -2,7 +2,7 @@
 //! same rules as a scene file: one set of checks, one way to assemble a [`Scene`].
 
 use super::coords::finite;
-use super::emitter_def::{build_light, LightDef};
+use super::emitter_def::{build, build_light, LightDef};
 use super::format::{self, CameraDef, Parts};
 use super::mesh::{smooth_normals, Vertex, MAX_SCENE_TRIANGLES};
 use super::model::{Camera, Scene};
@@ -44,8 +44,29 @@ fn light_def(l: &AreaLight) -> LightDef {
 impl Scene {
     /// A scene of `meshes` under a rectangular light; `render` comes from [`settings_from_pairs`].
     pub fn from_meshes(origin: &str, camera: &Camera, light: &AreaLight, render: RenderSettings, meshes: &[GivenMesh]) -> Result<Scene> {
+        Self::from_meshes_lit(origin, camera, || Ok((Some(build_light(&light_def(light), origin)?), crate::scene::Emitter::Rect)), render, meshes)
+    }
+
+    /// A scene of `meshes` under a light of any kind, given as a scene file's `[light]` table
+    /// (docs/lights.md: `kind = "disk"`, `center`, `normal`, `radius`, …) and checked as one.
+    pub fn from_meshes_with_light(origin: &str, camera: &Camera, light: toml::Table, render: RenderSettings, meshes: &[GivenMesh]) -> Result<Scene> {
+        let light = || {
+            let def: LightDef = toml::Value::Table(light).try_into().map_err(|e: toml::de::Error| Error::scene(origin, format!("light: {}", e.message().trim())))?;
+            build(&def, origin)
+        };
+        Self::from_meshes_lit(origin, camera, light, render, meshes)
+    }
+
+    /// The camera is checked first, then the light (`light` builds it), then the meshes.
+    fn from_meshes_lit(
+        origin: &str,
+        camera: &Camera,
+        light: impl FnOnce() -> Result<(Option<AreaLight>, crate::scene::Emitter)>,
+        render: RenderSettings,
+        meshes: &[GivenMesh],
+    ) -> Result<Scene> {
         let camera = format::camera(origin, &camera_def(camera))?;
-        let light = build_light(&light_def(light), origin)?;
+        let (light, emitter) = light()?;
         if meshes.is_empty() {
             return Err(Error::scene(origin, "the scene has no mesh"));
         }
@@ -80,7 +101,7 @@ impl Scene {
                 .collect();
             parts.push((vertices, m.indices.to_vec(), albedo.to_array()));
         }
-        let scene_parts = Parts { name: None, description: None, stated_triangles: None, camera, light: Some(light), emitter: crate::scene::Emitter::Rect, environment: None, render };
+        let scene_parts = Parts { name: None, description: None, stated_triangles: None, camera, light, emitter, environment: None, render };
         format::assemble(scene_parts, parts, origin)
     }
 

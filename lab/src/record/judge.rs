@@ -42,8 +42,14 @@ impl Judge {
         if differ > 0 || f.visibility.len() != self.mask.len() {
             return Err(Error::gpu(format!("{label}: the G-buffer differs from the reference's in {differ} pixels")));
         }
-        let shaded = run_files::shaded_image(&f.visibility, &f.gbuffer, scene);
-        let metrics = metrics::compute(&f.visibility, &self.reference, &self.mask, &shaded, &self.shaded_reference, self.width, self.height)?;
+        self.judge_values(scene, &f.gbuffer, &f.visibility)
+    }
+
+    /// V (one value per pixel of `g`, `g` the reference's G-buffer) judged as [`Judge::judge`] judges
+    /// a frame: for callers that hold V without its frame (the Python package's `metrics`).
+    pub fn judge_values(&self, scene: &Scene, g: &GBufferCpu, v: &[f32]) -> Result<Judged> {
+        let shaded = run_files::shaded_image(v, g, scene);
+        let metrics = metrics::compute(v, &self.reference, &self.mask, &shaded, &self.shaded_reference, self.width, self.height)?;
         Ok(Judged { metrics, shaded })
     }
 }

@@ -9,7 +9,7 @@ pub(crate) mod row;
 pub mod run_files;
 pub mod stats;
 pub(crate) mod shaded_environment;
-pub(crate) mod judge;
+pub mod judge;
 pub mod measure;
 pub mod provenance;
 

@@ -1,0 +1,143 @@
+//! `penumbra.Renderer`: methods built once per scene and kept, so repeated renders cost what
+//! `ShadowRenderer::render` costs in Rust.
+
+use crate::scene::Scene;
+use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
+use penumbra_lab::frame::{self, FrameOptions, FrameResult};
+use penumbra_lab::gpu::timing::TimingMode;
+use penumbra_lab::gpu::GpuContext;
+use penumbra_lab::methods::Method;
+use penumbra_lab::record::run_files;
+use penumbra_lab::scene;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// A built method. `renderer` borrows the context and the scene that the owning [`Renderer`] keeps
+/// in `Arc`s: their heap addresses never move, and `built` is declared before them so it is
+/// dropped first.
+struct Built {
+    renderer: frame::Renderer<'static>,
+    method: Method,
+}
+
+// SAFETY: a method's state is a `Box<dyn MethodState>` whose trait carries no `Send` bound, but
+// every state holds only wgpu handles (shared references on native backends), plain data and
+// `RefCell`s, all `Send`; none holds an `Rc` or a thread-bound handle. Every access goes through
+// the `Mutex` in `Renderer`, so one thread at a time renders with it (the GIL is released then).
+unsafe impl Send for Built {}
+
+#[pyclass(module = "penumbra", frozen)]
+pub struct Renderer {
+    built: Mutex<HashMap<String, Built>>,
+    ctx: Arc<GpuContext>,
+    scene: Arc<scene::Scene>,
+}
+
+/// V as (H, W) float32 with NaN on background pixels (the engine writes 0 there).
+pub fn visibility_array<'py>(py: Python<'py>, values: &[f32], g: &penumbra_lab::render::gbuffer::GBufferCpu) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let v: Vec<f32> = values.iter().enumerate().map(|(i, &x)| if g.is_geometry(i) { x } else { f32::NAN }).collect();
+    v.into_pyarray(py).reshape([g.height as usize, g.width as usize])
+}
+
+impl Renderer {
+    /// Runs `work` on the kept renderer of `spec` (with `params` as `--param` pairs), built (with
+    /// one untimed warm-up frame, as `penumbra render` does) on first use. The GIL is released meanwhile.
+    fn with_built<T: Send>(&self, py: Python<'_>, spec: &str, params: &[(String, String)], work: impl FnOnce(&mut Built) -> penumbra_lab::Result<T> + Send) -> PyResult<T> {
+        py.detach(|| -> penumbra_lab::Result<T> {
+            let method = Method::parse(spec, params)?;
+            method.check_light(&self.scene)?;
+            let mut built = self.built.lock().unwrap_or_else(|e| e.into_inner());
+            let key = method.label();
+            if !built.contains_key(&key) {
+                // SAFETY: see `Built`: both live in `Arc`s this renderer holds for longer than `built`.
+                let ctx: &'static GpuContext = unsafe { &*Arc::as_ptr(&self.ctx) };
+                let scene: &'static scene::Scene = unsafe { &*Arc::as_ptr(&self.scene) };
+                let mut renderer = frame::Renderer::new(ctx, scene, &method)?;
+                renderer.frame(TimingMode::Frame)?;
+                built.insert(key.clone(), Built { renderer, method });
+            }
+            work(built.get_mut(&key).expect("built above"))
+        })
+        .map_err(crate::to_py)
+    }
+
+    /// One frame and its run record.
+    fn frame(&self, py: Python<'_>, spec: &str, params: &[(String, String)], pictures: bool) -> PyResult<(FrameResult, serde_json::Value)> {
+        self.with_built(py, spec, params, |b| {
+            let f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures })?;
+            let record = run_files::run_record(&self.scene, &b.method, &f, &self.ctx.summary, self.ctx.timestamps_trusted);
+            Ok((f, record))
+        })
+    }
+}
+
+#[pymethods]
+impl Renderer {
+    /// A renderer for `scene` on `adapter` (a name or part of one; `None`: the CLI's default choice).
+    #[new]
+    #[pyo3(signature = (scene, adapter=None))]
+    fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>) -> PyResult<Renderer> {
+        let ctx = crate::context::get(py, adapter)?;
+        Ok(Renderer { built: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone() })
+    }
+
+    /// Renders `method` (a spec as `penumbra render --method` takes it; keyword arguments are its
+    /// parameters, as `--param`) and returns `(V, record)`: V as float32 (H, W), top row first, NaN
+    /// on the background; the record is run.json's content as a dict.
+    #[pyo3(signature = (method, **params))]
+    fn render<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyAny>)> {
+        let (f, record) = self.frame(py, method, &crate::pairs(params)?, false)?;
+        Ok((visibility_array(py, &f.visibility, &f.gbuffer)?, crate::json_to_py(py, &record)?))
+    }
+
+    /// The method's decision pictures of one frame as uint8 (H, W, 3) arrays by name (adaptive:
+    /// `comparison_map`, `low_quality`, `light_quadtree`, `samples_per_pixel` with `scope=local`),
+    /// plus `error_bound` (float32 (H, W), NaN on the background) where the method estimates its
+    /// error (`regular:…,estimate=on`, `auto`).
+    #[pyo3(signature = (method, **params))]
+    fn pictures<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<Bound<'py, PyDict>> {
+        let (f, _) = self.frame(py, method, &crate::pairs(params)?, true)?;
+        let out = PyDict::new(py);
+        for (name, image) in &f.output.pictures {
+            let (w, h) = (image.width(), image.height());
+            let a = image.as_raw().clone().into_pyarray(py).reshape([h as usize, w as usize, 3])?;
+            out.set_item(name.strip_suffix(".png").unwrap_or(name), a)?;
+        }
+        if let Some(bound) = &f.output.bound {
+            out.set_item("error_bound", visibility_array(py, bound, &f.gbuffer)?)?;
+        }
+        Ok(out)
+    }
+
+    /// Wall clock in ms of each of `frames` frames rendered in Rust on the kept renderer, with no
+    /// Python in the loop: what `ShadowRenderer::render` costs, for measuring what `render` adds
+    /// (scripts/python-overhead.py).
+    #[pyo3(signature = (method, frames, **params))]
+    fn _rust_frame_times(&self, py: Python<'_>, method: &str, frames: u32, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<f64>> {
+        self.with_built(py, method, &crate::pairs(params)?, |b| {
+            (0..frames)
+                .map(|_| {
+                    let start = std::time::Instant::now();
+                    b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+                    Ok(start.elapsed().as_secs_f64() * 1e3)
+                })
+                .collect()
+        })
+    }
+
+    /// The adapter's name.
+    #[getter]
+    fn adapter(&self) -> &str {
+        &self.ctx.summary.name
+    }
+
+    /// Methods built so far (their labels); each keeps its pipelines and buffers.
+    #[getter]
+    fn methods(&self) -> Vec<String> {
+        let mut labels: Vec<String> = self.built.lock().unwrap_or_else(|e| e.into_inner()).keys().cloned().collect();
+        labels.sort();
+        labels
+    }
+}
