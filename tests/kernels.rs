@@ -17,7 +17,7 @@ fn every_kernel_validates_with_naga() {
 #[test]
 fn map_reading_kernels_validate_for_every_map_access() {
     let readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| s.name).collect();
-    assert_eq!(readers, ["shade", "estimate", "shadow_test", "pcf", "cascades", "pcss"], "the kernels that read maps through map_depth");
+    assert_eq!(readers, ["shade", "estimate", "shadow_test", "pcf", "cascades", "pcss", "regions"], "the kernels that read maps through map_depth");
     let raster_readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_raster).map(|(s, _)| s.name).collect();
     assert_eq!(raster_readers, ["moments", "env_shadowmaps", "hybrid_build"], "the kernels that read the raster's layers through layer_depth");
     let mut errors = Vec::new();
