@@ -229,6 +229,10 @@ fn mirrored_constants_match_rust() {
         ("HYBRID_POOL_WIDTH_LOG2", penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64),
         ("HYBRID_CHILDREN", penumbra::stages::hybrid_build::CHILDREN as f64),
         ("FRAME_HYBRID_LEVELS_SHIFT", penumbra::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64),
+        ("REGION_WORDS", penumbra::stages::regions::REGION_WORDS as f64),
+        ("CLASS_WORDS", penumbra::stages::regions::CLASS_WORDS as f64),
+        ("WEIGHT_SCALE", penumbra::stages::regions::WEIGHT_SCALE as f64),
+        ("SAMPLING_ORDER", penumbra::stages::regions::SAMPLING_ORDER as f64),
     ];
     let mut modules = Vec::new();
     for (stage, kernel) in kernels::all() {

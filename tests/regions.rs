@@ -38,26 +38,29 @@ fn decision_kernels_equal_their_twins() {
     let mut classes_seen = Vec::new();
     for seed in [5u64, 17, 23] {
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 128), "random", None, &[]).unwrap();
-        let method = Method::parse("regions:step=1,region=8", &[]).unwrap();
+        let method = Method::parse("regions:target=0.01,region=8", &[]).unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
         let (r, b): (_, RegionsBuffers) = common::inspected(ctx, &sc, &method, options);
         let p = &b.params;
-        // measure: each region's count and box exactly, its finest texel to float rounding (the
-        // GPU may fuse the divisions' multiply-adds).
+        // measure: each region's pixel counts and box exactly, its footprint and penumbra width to
+        // float rounding (the GPU may fuse the divisions' multiply-adds).
         let cpu = twin::regions::measure(&frame_uniform(&sc), p, &b.sample, &b.map, &r.gbuffer);
         assert_eq!(cpu.len(), b.regions.len());
         let mut worst = 0.0f32;
         for (k, (g, c)) in b.regions.chunks(REGION_WORDS).zip(cpu.chunks(REGION_WORDS)).enumerate() {
-            assert_eq!(g[0], c[0], "seed {seed} region {k}: samples per side");
-            assert_eq!(&g[2..], &c[2..], "seed {seed} region {k}: receiver box");
-            assert_eq!(g[1] == u32::MAX, c[1] == u32::MAX, "seed {seed} region {k}: texel need");
-            if g[1] != u32::MAX {
-                worst = worst.max((unordered(g[1]) / unordered(c[1]) - 1.0).abs());
+            assert_eq!(&g[..2], &c[..2], "seed {seed} region {k}: geometry and penumbra pixels");
+            assert_eq!(&g[4..], &c[4..], "seed {seed} region {k}: receiver box");
+            for w in 2..4 {
+                assert_eq!(g[w] == u32::MAX, c[w] == u32::MAX, "seed {seed} region {k}: word {w}");
+                if g[w] != u32::MAX {
+                    worst = worst.max((unordered(g[w]) / unordered(c[w]) - 1.0).abs());
+                }
             }
         }
-        assert!(worst <= 1e-5, "seed {seed}: texel need differs from the twin by {worst} (relative)");
-        // classify, on the GPU's regions: the classes' words and tile lists exactly.
-        let (words, lists) = twin::regions::classify(p, r.gbuffer.width, &b.regions, &b.geometry_tiles);
+        assert!(worst <= 1e-5, "seed {seed}: footprint or width differs from the twin by {worst} (relative)");
+        assert_eq!(b.totals, twin::regions::total(p, &b.regions), "seed {seed}: totals");
+        // classify, on the GPU's regions and totals: the classes' words and tile lists exactly.
+        let (words, lists) = twin::regions::classify(p, r.gbuffer.width, &b.regions, b.totals, &b.geometry_tiles);
         assert_eq!(b.classes, words, "seed {seed}: class words");
         for (c, list) in lists.iter().enumerate() {
             assert_eq!(&b.class_list(c), list, "seed {seed}: class {c}'s tiles");
@@ -76,7 +79,7 @@ fn decision_kernels_equal_their_twins() {
 #[test]
 fn bad_parameters_are_refused_with_the_key_and_value() {
     for (spec, want) in [
-        ("regions:step=0", "regions: step = 0 is outside (0, 1024]"),
+        ("regions:target=0", "regions: target = 0 is outside 0.0005..=0.5"),
         ("regions:region=12", "regions: region = 12 is not a multiple of 8"),
         ("regions:max_size=1000", "regions: max_size = 1000 is not a power of two"),
         ("regions:min_size=512,max_size=256", "regions: min_size = 512 is above max_size = 256"),

@@ -288,7 +288,8 @@ stage_table! {
     /// centre map, then each geometry tile's class and the classes' tile lists (docs/regions.md).
     REGIONS = "regions" kernel { reads_maps: true }, Some(Decision), [
         compute("measure", PIXEL, &[("frame", 0), ("params", 1), ("samples", 2), ("gbuffer_position", 3), ("gbuffer_normal", 4), ("shadow_maps", 5), ("regions", 6)]),
-        compute("classify", LINE, &[("frame", 0), ("params", 1), ("regions", 6), ("tile_list", 7), ("classes", 8), ("class_tiles", 9)]),
+        compute("total", LINE, &[("params", 1), ("regions", 6), ("totals", 10)]),
+        compute("classify", LINE, &[("frame", 0), ("params", 1), ("regions", 6), ("tile_list", 7), ("classes", 8), ("class_tiles", 9), ("totals", 10)]),
     ];
     /// The filtered methods' moment maps from the raster.
     MOMENTS = "moments" kernel { reads_raster: true }, Some(Raster), [

@@ -13,7 +13,7 @@ use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::scene::light::{sample_view_window, Bounds};
-use crate::stages::regions::{unordered, RegionsParams, RegionsPass, MAX_CLASSES, REGION_WORDS};
+use crate::stages::regions::{unordered, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS};
 use crate::stages::FrameGpu;
 use crate::Result;
 use std::collections::HashMap;
@@ -24,10 +24,11 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::MultiSample,
     summary: "per screen region: samples per side from its penumbra width, map texels from its footprint, maps fitted to its receivers",
     params: &[
-        Param { key: "step", default: "2", help: "pixels of penumbra one step of the grid may span: a region gets n = ⌈W/step⌉ samples per side for a penumbra W pixels wide" },
+        Param { key: "target", default: "0.02", help: "the frame's RMSE of V to meet: each region gets n = k·(P/A)^0.2 samples per side for P penumbra pixels of A, k from the target (docs/regions.md)" },
         Param { key: "max_n", default: "16", help: "most samples per side, 1..=64" },
         Param { key: "min_size", default: "64", help: "smallest map side, a power of two, 16..=8192" },
         Param { key: "max_size", default: "2048", help: "largest map side, a power of two, 16..=8192" },
+        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: 1 + the lookup's offsets in texels (bias constant + slope + normal offset), so that they stay inside one footprint" },
         Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
         Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
         Param { key: "cull", default: "on", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V)" },
@@ -49,10 +50,11 @@ fn power_of_two(key: &str, v: u32) -> Result<u32> {
 }
 
 fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
-    let step = get_f32(p, "step", 2.0)?;
-    if !(step > 0.0 && step <= 1024.0) {
-        return Err(crate::Error::Param(format!("regions: step = {step} is outside (0, 1024]")));
+    let target = get_f32(p, "target", 0.02)?;
+    if !(0.0005..=0.5).contains(&target) {
+        return Err(crate::Error::Param(format!("regions: target = {target} is outside 0.0005..=0.5")));
     }
+    let density = check_range("regions", "density", get_f32(p, "density", 0.0)?, 0.0, 64.0)?;
     let region = check_range("regions", "region", get_u32(p, "region", 16)?, 8, 256)?;
     if region % 8 != 0 {
         return Err(crate::Error::Param(format!("regions: region = {region} is not a multiple of 8")));
@@ -81,7 +83,8 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         power_of_two("force_size", force_size)?;
     }
     Ok(Arc::new(Regions {
-        step,
+        target,
+        density,
         max_n: check_range("regions", "max_n", get_u32(p, "max_n", 16)?, 1, 64)?,
         min_size,
         max_size,
@@ -95,7 +98,8 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Regions {
-    pub step: f32,
+    pub target: f32,
+    pub density: f32,
     pub max_n: u32,
     pub min_size: u32,
     pub max_size: u32,
@@ -134,7 +138,8 @@ impl ShadowMethod for Regions {
         super::label_from(
             &INFO,
             &[
-                ("step", self.step.to_string()),
+                ("target", self.target.to_string()),
+                ("density", self.density.to_string()),
                 ("max_n", self.max_n.to_string()),
                 ("min_size", self.min_size.to_string()),
                 ("max_size", self.max_size.to_string()),
@@ -148,7 +153,7 @@ impl ShadowMethod for Regions {
     }
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({
-            "step": self.step, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
+            "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
             "blocker_taps": self.blocker_taps, "cull": self.cull, "force": self.force, "force_size": self.force_size,
         })
     }
@@ -162,7 +167,7 @@ impl ShadowMethod for Regions {
         }
         let ladder = self.ladder();
         let (light_u, light_v) = light_size(fg);
-        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), step: self.step, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
+        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target: self.target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
         params.ladder[..ladder.len()].copy_from_slice(&ladder);
         let probe = CentreMap::new(fg)?;
         let pass = RegionsPass::new(fg.ctx, fg.map_access(), &fg.gbuffer, params)?;
@@ -207,8 +212,8 @@ fn window_extent(fg: &FrameGpu, window: &Bounds) -> f32 {
     sample_view_window(&s.light, s.emitter.sample_point(&s.light, 0.5, 0.5), &s.bounds, window, 1, u32::MAX).texel_angle
 }
 
-/// A class's box widened by 1% of the scene's diagonal on every side: receivers on the box's face
-/// and their lookups' normal offset stay inside the window.
+/// A class's box (CLASS_WORDS 2..8) widened by 1% of the scene's diagonal on every side: receivers
+/// on the box's face and their lookups' normal offset stay inside the window.
 fn widened(words: &[u32], scene: &Bounds) -> Bounds {
     let margin = glam::Vec3::splat(scene.diagonal() * 0.01);
     let min = glam::Vec3::new(unordered(words[2]), unordered(words[3]), unordered(words[4])) - margin;
@@ -217,6 +222,12 @@ fn widened(words: &[u32], scene: &Bounds) -> Bounds {
 }
 
 impl State {
+    /// Texels per pixel footprint: the parameter, or 1 + the lookup's offsets in texels.
+    fn density(&self, fg: &FrameGpu) -> f32 {
+        let b = &fg.scene.render.bias;
+        if self.method.density > 0.0 { self.method.density } else { 1.0 + b.constant + b.slope + b.normal_offset }
+    }
+
     /// The class's maps: samples fitted to `window`, `size` texels a side.
     fn samples(&self, fg: &FrameGpu, n: u32, window: &Bounds, size: u32) -> Vec<GpuSample> {
         let s = fg.scene;
@@ -260,14 +271,14 @@ impl MethodState for State {
         // The one read-back of the decision: per class its tiles, finest texel and receiver box.
         timer.flush(ctx);
         let classes = self.ladder.len();
-        let words: Vec<u32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &self.pass.classes, (classes * REGION_WORDS * 4) as u64))?;
+        let words: Vec<u32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64))?;
         let mut syncs = 1 + self.probe.syncs();
         let mut maps = 0u32;
         let (mut pairs, mut texels) = (0f64, 0f64);
         let mut records = Vec::new();
         let s = fg.scene;
         for c in 0..classes {
-            let w = &words[c * REGION_WORDS..(c + 1) * REGION_WORDS];
+            let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
             if w[0] == 0 {
                 continue;
             }
@@ -281,7 +292,7 @@ impl MethodState for State {
                 None => {
                     let window = widened(w, &s.bounds);
                     let extent = window_extent(fg, &window);
-                    let want = (extent / texel_need).ceil();
+                    let want = (extent * self.density(fg) / texel_need).ceil();
                     let size = if want.is_finite() && want >= 1.0 { (want.min(8192.0) as u32).next_power_of_two() } else { 1 };
                     (window, size.clamp(self.method.min_size, self.method.max_size), extent)
                 }
@@ -331,7 +342,8 @@ impl MethodState for State {
             sample: self.probe.sample,
             map: self.probe.read(fg)?,
             regions: readback::read_buffer(ctx, &p.regions, p.region_count as u64 * REGION_WORDS as u64 * 4)?,
-            classes: readback::read_buffer(ctx, &p.classes, p.params.ladder_len as u64 * REGION_WORDS as u64 * 4)?,
+            classes: readback::read_buffer(ctx, &p.classes, p.params.ladder_len as u64 * CLASS_WORDS as u64 * 4)?,
+            totals: readback::read_buffer::<u32>(ctx, &p.totals, 8)?.try_into().expect("two words"),
             class_tiles: readback::read_buffer(ctx, &p.class_tiles, tiles_words)?,
             geometry_tiles,
             records: self.classes.clone(),
@@ -347,6 +359,7 @@ pub struct RegionsBuffers {
     pub map: Vec<f32>,
     pub regions: Vec<u32>,
     pub classes: Vec<u32>,
+    pub totals: [u32; 2],
     /// A section of `params.section_words` per class: header, then tiles in the GPU's order.
     pub class_tiles: Vec<u32>,
     /// The frame's geometry tiles, sorted.

@@ -5,7 +5,7 @@ use super::pcss::blocker_search;
 use super::shadow::{pixel_lookup, LOOKUP_COMPARE};
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
-use crate::stages::regions::{empty_words, ordered, RegionsParams, REGION_WORDS};
+use crate::stages::regions::{empty_class, empty_region, ordered, unordered, RegionsParams, CLASS_WORDS, REGION_WORDS, SAMPLING_ORDER, WEIGHT_SCALE};
 use glam::{Vec2, Vec4};
 
 /// World distance from pixel `index` to its neighbour `(dx, dy)`, or -1 off screen or on background.
@@ -43,38 +43,59 @@ pub fn footprint(g: &GBufferCpu, index: usize) -> f32 {
 
 /// REGION_WORDS per region, as `measure` leaves them; `s` and `map` are the centre map's.
 pub fn measure(frame: &GpuFrame, p: &RegionsParams, s: &GpuSample, map: &[f32], g: &GBufferCpu) -> Vec<u32> {
-    let regions = p.regions_x * g.height.div_ceil(p.region);
-    let mut out: Vec<u32> = (0..regions).flat_map(|_| empty_words()).collect();
+    let mut out: Vec<u32> = (0..p.region_count).flat_map(|_| empty_region()).collect();
     for index in 0..g.position.len() {
         let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { continue };
-        let f = footprint(g, index);
-        let (mut n, mut width, mut z_r) = (1u32, 0.0f32, 1.0f32);
-        if lookup.kind == LOOKUP_COMPARE {
-            z_r = lookup.depth_limit;
-            let light = Vec2::new(p.light_u, p.light_v) * 0.5;
-            let b = blocker_search(frame, s, map, light, p.max_radius, p.blocker_taps, z_r, t, slope);
-            if b.blockers > 0 && b.blockers < b.taps {
-                let z_b = b.sum / b.blockers as f32;
-                width = p.light_u.max(p.light_v) * (z_r - z_b).max(0.0) / z_b;
-                let pixels = if f > 0.0 { width / f } else { 0.0 };
-                n = ((pixels / p.step).min(p.max_n as f32).ceil() as u32).clamp(1, p.max_n);
-            }
-        }
-        let texel = f.max(width / n as f32) / z_r;
         let (x, y) = (index as u32 % g.width, index as u32 / g.width);
         let base = ((y / p.region) * p.regions_x + x / p.region) as usize * REGION_WORDS;
         let words = &mut out[base..base + REGION_WORDS];
-        words[0] = words[0].max(n);
-        if texel > 0.0 {
-            words[1] = words[1].min(ordered(texel));
+        words[0] += 1;
+        let f = footprint(g, index);
+        if lookup.kind == LOOKUP_COMPARE {
+            let z_r = lookup.depth_limit;
+            let light = Vec2::new(p.light_u, p.light_v) * 0.5;
+            let b = blocker_search(frame, s, map, light, p.max_radius, p.blocker_taps, z_r, t, slope);
+            if f > 0.0 {
+                words[2] = words[2].min(ordered(f / z_r));
+            }
+            if b.blockers > 0 && b.blockers < b.taps {
+                words[1] += 1;
+                let z_b = b.sum / b.blockers as f32;
+                let width = p.light_u.max(p.light_v) * (z_r - z_b).max(0.0) / z_b;
+                words[3] = words[3].min(ordered(width / z_r));
+            }
         }
         let q = g.position[index];
         for k in 0..3 {
-            words[2 + k] = words[2 + k].min(ordered(q[k]));
-            words[5 + k] = words[5 + k].max(ordered(q[k]));
+            words[4 + k] = words[4 + k].min(ordered(q[k]));
+            words[7 + k] = words[7 + k].max(ordered(q[k]));
         }
     }
     out
+}
+
+/// `total`: [Σ WEIGHT_SCALE · P^0.4 A^0.6 over regions with a penumbra, rounded each, Σ A].
+pub fn total(p: &RegionsParams, regions: &[u32]) -> [u32; 2] {
+    let mut t = [0u32; 2];
+    for r in regions.chunks(REGION_WORDS).take(p.region_count as usize) {
+        if r[1] > 0 {
+            t[0] += (WEIGHT_SCALE * (r[1] as f32).powf(0.4) * (r[0] as f32).powf(0.6)).round() as u32;
+        }
+        t[1] += r[0];
+    }
+    t
+}
+
+/// Samples per side of a region (`samples_of`): k (P/A)^0.2, k³ = Σ P^0.4 A^0.6 / (12 T² N).
+pub fn samples_of(p: &RegionsParams, totals: [u32; 2], area: u32, penumbra: u32) -> u32 {
+    if penumbra == 0 {
+        return 1;
+    }
+    let sum = totals[0] as f32 / WEIGHT_SCALE;
+    let n_geo = totals[1].max(1) as f32;
+    let k = (sum / (12.0 * p.target * p.target * n_geo)).powf(1.0 / (2.0 * SAMPLING_ORDER));
+    let n = k * (penumbra as f32 / area as f32).powf(0.2);
+    (n.min(p.max_n as f32).ceil() as u32).clamp(1, p.max_n)
 }
 
 /// The class of a region that needs `n` samples per side: the first ladder entry at or above it.
@@ -83,25 +104,27 @@ pub fn class_of(p: &RegionsParams, n: u32) -> usize {
     (0..len).find(|&c| c + 1 >= len || p.ladder[c] >= n).unwrap_or(0)
 }
 
-/// `classify` on the geometry tiles `tiles`: REGION_WORDS per class, and each class's tiles (sorted;
+/// `classify` on the geometry tiles `tiles`: CLASS_WORDS per class, and each class's tiles (sorted;
 /// the GPU appends them in any order).
-pub fn classify(p: &RegionsParams, width: u32, regions: &[u32], tiles: &[u32]) -> (Vec<u32>, Vec<Vec<u32>>) {
+pub fn classify(p: &RegionsParams, width: u32, regions: &[u32], totals: [u32; 2], tiles: &[u32]) -> (Vec<u32>, Vec<Vec<u32>>) {
     let classes = p.ladder_len as usize;
-    let mut words: Vec<u32> = (0..classes).flat_map(|_| empty_words()).collect();
+    let mut words: Vec<u32> = (0..classes).flat_map(|_| empty_class()).collect();
     let mut lists = vec![Vec::new(); classes];
     let tiles_x = width.div_ceil(8);
     for &tile in tiles {
         let (x, y) = ((tile % tiles_x) * 8, (tile / tiles_x) * 8);
         let base = ((y / p.region) * p.regions_x + x / p.region) as usize * REGION_WORDS;
         let r = &regions[base..base + REGION_WORDS];
-        let c = class_of(p, r[0]);
+        let n = samples_of(p, totals, r[0], r[1]);
+        let c = class_of(p, n);
         lists[c].push(tile);
-        let w = &mut words[c * REGION_WORDS..(c + 1) * REGION_WORDS];
+        let texel = if r[3] != u32::MAX { r[2].max(ordered(unordered(r[3]) / n as f32)) } else { r[2] };
+        let w = &mut words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
         w[0] += 1;
-        w[1] = w[1].min(r[1]);
-        for k in 2..5 {
-            w[k] = w[k].min(r[k]);
-            w[k + 3] = w[k + 3].max(r[k + 3]);
+        w[1] = w[1].min(texel);
+        for k in 0..3 {
+            w[2 + k] = w[2 + k].min(r[4 + k]);
+            w[5 + k] = w[5 + k].max(r[7 + k]);
         }
     }
     for l in &mut lists {
