@@ -106,8 +106,8 @@ fn measure(@builtin(global_invocation_id) gid: vec3<u32>) {
     let base = region * REGION_WORDS;
     atomicAdd(&regions[base], 1u);
     let f = footprint(px.position, pixel);
-    // Lit by the whole light (outside the map, or no blocker found), in the umbra (blockers over
-    // the whole search) or below the light's plane: one sample tells them.
+    // Lit by the whole light (outside the map, or no blocker found), in the umbra (every filter
+    // tap blocked) or below the light's plane: one sample tells them.
     if (px.lookup.kind == LOOKUP_COMPARE) {
         // pcss's blocker search (kernels/pcss.wgsl), over the map region through which p sees the light.
         let z_r = px.lookup.depth_limit;
@@ -119,7 +119,6 @@ fn measure(@builtin(global_invocation_id) gid: vec3<u32>) {
         let size = f32(frame.map_size);
         var blocker_sum = 0.0;
         var blockers = 0u;
-        var taps = 0u;
         let nb = params.blocker_taps;
         for (var j = 0u; j < nb; j = j + 1u) {
             for (var i = 0u; i < nb; i = i + 1u) {
@@ -128,7 +127,6 @@ fn measure(@builtin(global_invocation_id) gid: vec3<u32>) {
                 if (texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size) {
                     continue;
                 }
-                taps = taps + 1u;
                 let stored = map_depth(frame, shadow_maps, s, vec2<i32>(texel));
                 if (!depth_passes(s, z_r - length(o) * slope, stored)) {
                     blocker_sum = blocker_sum + s.depth_lin_a / (stored + s.depth_lin_b);
@@ -139,12 +137,25 @@ fn measure(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (f > 0.0) {
             atomicMin(&regions[base + 2u], ordered(f / z_r));
         }
-        if (blockers > 0u && blockers < taps) {
-            // A penumbra pixel; its full width at the receiver, by similar triangles.
-            atomicAdd(&regions[base + 1u], 1u);
+        if (blockers > 0u) {
+            // pcss's filter of the penumbra's half-width: a penumbra pixel where it is neither
+            // all lit nor all blocked (the search alone also counts blockers too near the
+            // receiver to block it, and cannot tell the umbra).
             let z_b = blocker_sum / f32(blockers);
-            let width = max(params.light_u, params.light_v) * max(z_r - z_b, 0.0) / z_b;
-            atomicMin(&regions[base + 3u], ordered(width / z_r));
+            let r = min(light * (z_r - z_b) / (z_r * z_b) * per_angle, vec2<f32>(params.max_radius));
+            var lit = 0.0;
+            for (var j = 0u; j < nb; j = j + 1u) {
+                for (var i = 0u; i < nb; i = i + 1u) {
+                    let o = vec2<f32>(midpoint(i, nb, r.x), midpoint(j, nb, r.y));
+                    lit = lit + tap_lit(frame, s, shadow_maps, z_r - length(o) * slope, px.uv + o);
+                }
+            }
+            if (lit > 0.0 && lit < f32(nb * nb)) {
+                // Its full width at the receiver, by similar triangles.
+                atomicAdd(&regions[base + 1u], 1u);
+                let width = max(params.light_u, params.light_v) * max(z_r - z_b, 0.0) / z_b;
+                atomicMin(&regions[base + 3u], ordered(width / z_r));
+            }
         }
     }
     let p = px.position;

@@ -5,7 +5,7 @@ use crate::gpu::structs::{GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::Vec2;
 
-fn midpoint(i: u32, n: u32, r: f32) -> f32 {
+pub fn midpoint(i: u32, n: u32, r: f32) -> f32 {
     -r + 2.0 * r * (i as f32 + 0.5) / n as f32
 }
 

@@ -1,8 +1,8 @@
 //! Twin of `kernels/regions.wgsl`: `measure` (each region's samples per side, finest texel and
 //! receiver box) and `classify` (each geometry tile's class, the classes' lists and merged words).
 
-use super::pcss::blocker_search;
-use super::shadow::{pixel_lookup, LOOKUP_COMPARE};
+use super::pcss::{blocker_search, midpoint};
+use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE};
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use crate::stages::regions::{empty_class, empty_region, ordered, unordered, RegionsParams, CLASS_WORDS, REGION_WORDS, SAMPLING_ORDER, WEIGHT_SCALE};
@@ -58,11 +58,22 @@ pub fn measure(frame: &GpuFrame, p: &RegionsParams, s: &GpuSample, map: &[f32], 
             if f > 0.0 {
                 words[2] = words[2].min(ordered(f / z_r));
             }
-            if b.blockers > 0 && b.blockers < b.taps {
-                words[1] += 1;
+            if b.blockers > 0 {
                 let z_b = b.sum / b.blockers as f32;
-                let width = p.light_u.max(p.light_v) * (z_r - z_b).max(0.0) / z_b;
-                words[3] = words[3].min(ordered(width / z_r));
+                let r = (light * (z_r - z_b) / (z_r * z_b) * (1.0 / s.texel_angle)).min(Vec2::splat(p.max_radius));
+                let nb = p.blocker_taps;
+                let mut lit = 0.0f32;
+                for j in 0..nb {
+                    for i in 0..nb {
+                        let o = Vec2::new(midpoint(i, nb, r.x), midpoint(j, nb, r.y));
+                        lit += tap_lit(frame, s, map, z_r - o.length() * slope, t + o);
+                    }
+                }
+                if lit > 0.0 && lit < (nb * nb) as f32 {
+                    words[1] += 1;
+                    let width = p.light_u.max(p.light_v) * (z_r - z_b).max(0.0) / z_b;
+                    words[3] = words[3].min(ordered(width / z_r));
+                }
             }
         }
         let q = g.position[index];
