@@ -75,10 +75,14 @@ pub fn run_compare(
     // Every method's frame sizes before the reference is traced or anything is written.
     penumbra_lab::methods::sizes::check_all(&ctx, &scene, &methods)?;
     let cache = truth::Cache::default_for(run.no_cache);
-    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance, pictures: false };
+    let pictures = penumbra_lab::studies::regions::wants_pictures(&methods);
+    let job = CompareJob { scene: &scene, methods, repeats: run.repeats, reference: mode, cache, provenance, pictures };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     let gallery = gallery_job.map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
     let html = compare::write(&run.out, &outcome)?;
+    if pictures {
+        penumbra_lab::studies::regions::append(&html, &job.methods, &outcome.pictures)?;
+    }
     if let Some(g) = &gallery {
         failures::attach(&run.out, g)?;
     }

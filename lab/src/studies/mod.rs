@@ -12,6 +12,7 @@ pub mod framing;
 pub mod frontier;
 pub mod hybrid;
 pub mod lists;
+pub mod regions;
 pub mod seams;
 pub mod sequence;
 pub mod shard;
