@@ -83,7 +83,8 @@ fn global_stages_equal_their_cpu_twins() {
                     assert_eq!(counters, lvl.low_quality, "seed {seed} level {d}: quad_count differs");
                     quads_checked += n;
                 }
-                let sub = twin::subdivide::subdivide(d as u32, p.max_level, p.split_rule(d as u32), geometry, &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
+                let at = twin::subdivide::SplitLevel { level: d as u32, max_level: p.max_level, rule: p.split_rule(d as u32), geometry_pixels: geometry };
+                let sub = twin::subdivide::subdivide(&at, &lvl.quads, &lvl.low_quality, &mut state, &mut sample_level);
                 assert_eq!(sorted_quads(&sub.next_quads), sorted_quads(&lvl.next_quads), "seed {seed} level {d}: subdivide quads");
                 assert_eq!(sub.new_samples, lvl.new_samples, "seed {seed} level {d}: subdivide samples");
                 assert_eq!(sample_level, lvl.sample_level, "seed {seed} level {d}: sample levels");
@@ -339,7 +340,17 @@ fn fill_blocks_equals_its_cpu_twin() {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&test.block_buffer, 0, None);
         enc.clear_buffer(&test.block_args, 0, None);
-        test.record_fill(ctx, &mut enc, &buffers.1, &buffers.2, &buffers.3, &buffers.4, &buffers.5, &buffers.6);
+        let fill = penumbra::gpu::stages::bind::shadow_test::FillBlocks {
+            level: buffers.1.as_entire_binding(),
+            samples: buffers.2.as_entire_binding(),
+            test_list: buffers.3.as_entire_binding(),
+            lattice_state: buffers.4.as_entire_binding(),
+            control_words: buffers.5.as_entire_binding(),
+            blocks: test.block_buffer.as_entire_binding(),
+            block_args: test.block_args.as_entire_binding(),
+            tile_list: buffers.6.as_entire_binding(),
+        };
+        test.record_fill(ctx, &mut enc, fill);
         ctx.queue.submit([enc.finish()]);
         let blocks: Vec<GpuTestBlock> = readback::read_buffer(ctx, &test.block_buffer, TEST_SLOTS as u64 * TEST_BLOCK_BYTES).unwrap();
         let args: Vec<u32> = readback::read_buffer(ctx, &test.block_args, TEST_SLOTS as u64 * 12).unwrap();
@@ -417,10 +428,10 @@ fn count_stages_alone_equal_their_twins() {
             ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&state));
             ctx.queue.write_buffer(&b.decisions.sample_level, 0, bytemuck::cast_slice(&sample_level));
             let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, n, 0));
-            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
             let case = format!("seed {seed} {w}x{h} level {level} {spec}");
 
-            run(&|enc| reproject.record_dense(ctx, enc, &lv, &b.masks, &b.control, &b.counts));
+            run(&|enc| reproject.record_dense(ctx, enc, &lv, &b.masks, &b.counts));
             let mut counts: Vec<u32> = readback::read_buffer(ctx, &b.counts.maps, b.shape.counts_bytes_per_quad() * n as u64).unwrap();
             let states: Vec<u32> = readback::read_buffer(ctx, &b.counts.word_state, b.shape.counts_bytes_per_quad()).unwrap();
             assert_eq!(states, twin::reproject_count::word_state(&e.masks, w, h), "{case}: reproject_count's word states");
@@ -438,8 +449,9 @@ fn count_stages_alone_equal_their_twins() {
             let words = (h * screen.flag_words_per_row()) as usize;
             assert_eq!(per_quad, twin::quad_count::quad_count(&flags, words, n as usize), "{case}: quad_count's counters");
 
-            run(&|enc| subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.control, &b.decisions));
-            let sub = twin::subdivide::subdivide(level, p.max_level, p.split_rule(level), geometry, &quads, &per_quad, &mut state, &mut sample_level);
+            run(&|enc| subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.decisions));
+            let at = twin::subdivide::SplitLevel { level, max_level: p.max_level, rule: p.split_rule(level), geometry_pixels: geometry };
+            let sub = twin::subdivide::subdivide(&at, &quads, &per_quad, &mut state, &mut sample_level);
             let control: Vec<u32> = readback::read_buffer(ctx, &b.control, CONTROL_BYTES).unwrap();
             // A read-back of nothing is no list.
             let read = |buf: &wgpu::Buffer, bytes: u64| {
@@ -485,7 +497,7 @@ fn local_stages_alone_equal_their_twins() {
     use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Level, CONTROL_BYTES};
     use penumbra::methods::adaptive::level_uniform;
     use penumbra::render::gbuffer::GBufferPass;
-    use penumbra::stages::{compact::Compact, probe::Probe};
+    use penumbra::stages::{compact::{Compact, CompactInputs}, probe::Probe};
     use twin::probe::PROBE_LIT;
     let ctx = common::gpu();
     let (compact, probe) = (Compact::new(ctx).unwrap(), Probe::new(ctx).unwrap());
@@ -553,8 +565,8 @@ fn local_stages_alone_equal_their_twins() {
             ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl::default()));
             ctx.queue.write_buffer(&b.items.visibility_fixed, 0, bytemuck::cast_slice(&fixed));
             let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, n, 0));
-            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
-            run(&|enc| compact.record_main(ctx, enc, &lv, &gb, &b.counts, &b.decisions, &b.quads[1], &b.samples, &b.control, &b.items, 0, &b.footprints, false));
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
+            run(&|enc| compact.record_main(ctx, enc, &lv, &gb, &CompactInputs { counts: &b.counts, decisions: &b.decisions, next_quads: &b.quads[1], samples: &b.samples, items: &b.items, footprints: &b.footprints }, false));
 
             let mut twin_fixed = fixed.clone();
             let out = twin::compact::compact(&screen, level, p.max_level, &items, &counts, &split_base, &mut twin_fixed);
@@ -583,10 +595,10 @@ fn local_stages_alone_equal_their_twins() {
             ctx.queue.write_buffer(&b.items.probes, 0, bytemuck::cast_slice(&encoded));
             ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl { probe_count: out.probes.len() as u32, ..Default::default() }));
             let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level + 1, next_quads.len() as u32, 0));
-            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 1, shape: b.shape };
             run(&|enc| {
                 probe.record_begin(ctx, enc, &uniform, &b.control, &b.items);
-                probe.record(ctx, enc, &lv, &b.masks, &b.control, &b.items, 1);
+                probe.record(ctx, enc, &lv, &b.masks, &b.items);
             });
             let mut twin_items = Vec::new();
             let before = twin_fixed.clone();
@@ -689,7 +701,7 @@ fn cull_alone_equals_its_twin() {
     use penumbra::methods::adaptive::buffers::{CULL_TILES, LATTICE_SIDE};
     use penumbra::render::SceneGpu;
     use penumbra::scene::light::sample_view;
-    use penumbra::stages::cull::{cull_face, Cull, ARGS_WORDS};
+    use penumbra::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
     let ctx = common::gpu();
     let p = params("p_m=0");
     let mut rng = common::Lcg(29);
@@ -727,7 +739,7 @@ fn cull_alone_equals_its_twin() {
         let frame = readback::uniform_buffer(ctx, "frame", &fr);
         let tiles_buffer = readback::storage_buffer(ctx, "tiles", &tiles, wgpu::BufferUsages::empty());
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        cull.record(ctx, &mut enc, &frame, &scene_gpu, &samples_buffer, &tiles_buffer, &ks);
+        cull.record(ctx, &mut enc, &frame, &scene_gpu, &CullBatch { samples: &samples_buffer, tiles: &tiles_buffer }, &ks);
         ctx.queue.submit([enc.finish()]);
         let stride = scene_gpu.index_count as usize;
         let args: Vec<u32> = readback::read_buffer(ctx, &cull.args, ks.len() as u64 * ARGS_WORDS as u64 * 4).unwrap();
@@ -772,7 +784,7 @@ fn shadow_test_alone_equals_its_twin() {
     use penumbra::render::SceneGpu;
     use penumbra::scene::light::sample_view;
     use penumbra::stages::shade::ShadePass;
-    use penumbra::stages::shadow_test::ShadowTest;
+    use penumbra::stages::shadow_test::{ShadowTest, TestFrame};
     let ctx = common::gpu();
     let p = params("p_m=0");
     let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false).expect("shadow_test kernels");
@@ -812,7 +824,7 @@ fn shadow_test_alone_equals_its_twin() {
         let mut masks = vec![0u32; (fr.width * fr.height * 10) as usize];
         for list in [&ks[..31], &ks[31..]] {
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            test.record(ctx, &mut enc, &frame, &g, &tiles, rq, &b.masks, &array.array_view, list);
+            test.record(ctx, &mut enc, &TestFrame { frame: &frame, gbuffer: &g, tiles: &tiles, rq, out: &b.masks }, &array.array_view, list);
             ctx.queue.submit([enc.finish()]);
             twin::shadow_test::shadow_test(&fr, &samples, &maps, &gcpu, list, &mut masks);
             let gpu: Vec<u32> = readback::read_buffer(ctx, &b.masks.lit, b.shape.mask_bytes()).unwrap();

@@ -19,7 +19,8 @@ fn estimate_equals_its_cpu_twin() {
         let n = c.samples.len();
         assert_eq!(c.split.len(), n);
         let mut sums = vec![[0.0f32; 8]; r.visibility.len()];
-        twin::estimate::estimate(&frame_uniform(&sc), &c.samples, &c.weights, &c.split, &c.maps, &r.gbuffer, 0, n, &mut sums);
+        let set = twin::estimate::SampleSet { samples: &c.samples, weights: &c.weights, split: &c.split, maps: &c.maps };
+        twin::estimate::estimate(&frame_uniform(&sc), &set, &r.gbuffer, 0..n, &mut sums);
         let (mut worst, mut active) = (0.0f32, [0usize; 8]);
         for (gpu, cpu) in c.estimate_sums.iter().zip(&sums) {
             for k in 0..8 {

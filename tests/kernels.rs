@@ -104,7 +104,8 @@ fn rust_structs_match_wgsl_layouts() {
 /// The stage table (src/gpu/stages.rs) against every kernel, in each form it is built for: the same
 /// entry points, each with the workgroup size naga reads (what the passes dispatch with), and the
 /// same bindings: every global variable the entry point uses, by name, at the @binding the pass
-/// binds it to (passes bind by name through the table), and no binding the entry point does not use.
+/// binds it to (passes bind the structs the table generates, a field per variable), and no binding
+/// the entry point does not use.
 #[test]
 fn stage_table_matches_every_entry_point() {
     let mut problems = Vec::new();

@@ -461,7 +461,7 @@ fn requested_maps_go_to_their_samples_layers() {
     shadow_raster::clear_all(ctx, &array).unwrap();
     for first in [0u32, 4, 8] {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        pass.record_requested(ctx, &mut enc, &gpu, &buffer, (&control_buffer, &list_buffer), first, &array.array_view);
+        pass.record_requested(ctx, &mut enc, &gpu, &buffer, &raster_compute::Requests { control: &control_buffer, list: &list_buffer, first }, &array.array_view);
         ctx.queue.submit([enc.finish()]);
         let (_, want) = twin::requested(list.len() as u32, &list, first, 4, MAP, scene.triangle_count() as u32);
         assert_eq!(pass.read_steer_args(ctx).unwrap(), want, "chain from request {first}");
@@ -524,4 +524,27 @@ fn kept_lists_are_drawn_per_slot() {
     }
     // The whole-mesh slot equals the whole mesh drawn without lists.
     assert_eq!(&words[3 * (MAP * MAP) as usize..], &twin::rasterize(&pos, order, &samples[0], MAP, CullMode::Back)[..]);
+}
+
+/// One name per stage: a frame drawn by the compute raster times its maps as `raster_compute` and
+/// the fixed-function one as `shadow_raster`, never one under the other's key, for the plain
+/// maps of a fixed set (`regular`) and the adaptive loop's.
+#[test]
+fn each_raster_reports_its_own_timing_key() {
+    use penumbra::frame::{self, FrameOptions};
+    use penumbra::gpu::timing::TimingMode;
+    use penumbra::methods::Method;
+    let ctx = common::gpu();
+    for (raster, key, other) in [("compute", "raster_compute", "shadow_raster"), ("hardware", "shadow_raster", "raster_compute")] {
+        let sets = [("resolution", "64"), ("shadow_map_size", "128"), ("raster", raster)].map(|(k, v)| (k.to_string(), v.to_string()));
+        let scene = Scene::load("default", &sets).unwrap();
+        for method in ["regular:n=3", "adaptive:max_level=1"] {
+            let method = Method::parse(method, &[]).unwrap();
+            let r = frame::render(ctx, &scene, &method, FrameOptions { mode: TimingMode::Stages, pictures: false }).unwrap();
+            assert_eq!(r.raster.used, raster, "{method:?}");
+            let ms = r.stages_ms.get(key).copied();
+            assert!(ms.is_some_and(|ms| ms > 0.0), "raster = {raster}, {method:?}: `{key}` is {ms:?} in {:?}", r.stages_ms.keys().collect::<Vec<_>>());
+            assert!(!r.stages_ms.contains_key(other), "raster = {raster}, {method:?}: `{other}` in {:?}", r.stages_ms);
+        }
+    }
 }

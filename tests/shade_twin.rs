@@ -35,7 +35,7 @@ fn shade_equals_its_cpu_twin() {
         let all = r.gbuffer.width.div_ceil(8) * r.gbuffer.height.div_ceil(8);
         assert_eq!(c.tiles, tiles, "seed {seed}: geometry tiles differ from the twin's");
         assert!(!tiles.is_empty() && (tiles.len() as u32) < all, "seed {seed}: {} of {all} tiles: the scene should leave some background", tiles.len());
-        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, n, &mut v);
+        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..n, &mut v);
         let (mut worst, mut shadowed) = (0.0f32, 0usize);
         for i in 0..v.len() {
             if r.gbuffer.is_geometry(i) {

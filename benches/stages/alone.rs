@@ -27,19 +27,19 @@ pub fn adaptive_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
     ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::cast_slice(&quads));
     let frame = readback::uniform_buffer(ctx, "frame", &GpuFrame { width: SIDE, height: SIDE, ..Default::default() });
     let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&AdaptiveParams::default(), b.shape, LEVEL, n, 0));
-    let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
+    let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
     let (reproject, neighbourhood, quad_count, subdivide) =
         (ReprojectCount::new(ctx).unwrap(), Neighbourhood::new(ctx).unwrap(), QuadCount::new(ctx).unwrap(), Subdivide::new(ctx).unwrap());
     let pixel_quads = (SIDE * SIDE * n) as u64;
     let stages: [(&str, u64, Record); 4] = [
-        ("reproject_count", pixel_quads, &|enc| reproject.record_dense(ctx, enc, &lv, &b.masks, &b.control, &b.counts)),
+        ("reproject_count", pixel_quads, &|enc| reproject.record_dense(ctx, enc, &lv, &b.masks, &b.counts)),
         ("neighbourhood", pixel_quads, &|enc| neighbourhood.record_dense(ctx, enc, &lv, &b.counts, &b.low)),
         ("quad_count", pixel_quads, &|enc| quad_count.record(ctx, enc, &lv, &b.low, n, None)),
         // subdivide appends; clearing its counters keeps every iteration the same work.
         ("subdivide", n as u64, &|enc| {
             enc.clear_buffer(&b.control, 0, None);
             enc.clear_buffer(&b.decisions.lattice_state, 0, None);
-            subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.control, &b.decisions)
+            subdivide.record(ctx, enc, &lv, &b.low, &b.quads[1], &b.decisions)
         }),
     ];
     time_alone(c, ctx, "adaptive_stage_alone", &format!("{SIDE}x{SIDE}_{n}_quads"), &stages);
@@ -53,7 +53,7 @@ const LOCAL_SIDE: u32 = 256;
 /// weights normalises a fixed quadtree's leaves (area rule). Appends restart every iteration.
 pub fn local_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
     use penumbra::render::gbuffer::GBufferPass;
-    use penumbra::stages::{compact::Compact, probe::Probe, weights::{WeightsPass, RULE_AREA}};
+    use penumbra::stages::{compact::{Compact, CompactInputs}, probe::Probe, weights::{WeightsPass, RULE_AREA}};
     let side = LOCAL_SIDE;
     let e = synthetic::edge_masks(side, side, 1);
     let quads = synthetic::level_quads(LEVEL);
@@ -74,15 +74,16 @@ pub fn local_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
     let frame = readback::uniform_buffer(ctx, "frame", &GpuFrame { width: side, height: side, ..Default::default() });
     let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, LEVEL, n, 0));
     let child_uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, LEVEL + 1, next_quads.len() as u32, 0));
-    let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], shape: b.shape };
-    let child = Level { frame: &frame, uniform: &child_uniform, quads: &b.quads[1], shape: b.shape };
+    let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
+    let child = Level { frame: &frame, uniform: &child_uniform, quads: &b.quads[1], control: &b.control, cur: 1, shape: b.shape };
     let g = GBufferPass::allocate(ctx, side, side).expect("G-buffer");
     let (compact, probe) = (Compact::new(ctx).unwrap(), Probe::new(ctx).unwrap());
+    let compact_inputs = CompactInputs { counts: &b.counts, decisions: &b.decisions, next_quads: &b.quads[1], samples: &b.samples, items: &b.items, footprints: &b.footprints };
     let weights = WeightsPass::new(ctx, RULE_AREA).unwrap();
     // Once before timing: compact's probes become probe's work, and weights' leaves are appended.
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     enc.clear_buffer(&b.control, 0, None);
-    compact.record_main(ctx, &mut enc, &lv, &g, &b.counts, &b.decisions, &b.quads[1], &b.samples, &b.control, &b.items, 0, &b.footprints, false);
+    compact.record_main(ctx, &mut enc, &lv, &g, &compact_inputs, false);
     probe.record_begin(ctx, &mut enc, &child_uniform, &b.control, &b.items);
     weights.record_begin(&mut enc);
     weights.record_leaves(ctx, &mut enc, &uniform, &b.quads[0], &b.decisions);
@@ -92,11 +93,11 @@ pub fn local_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
     let stages: [(&str, u64, Record); 3] = [
         ("compact", item_count as u64, &|enc| {
             enc.clear_buffer(&b.control, 0, None);
-            compact.record_main(ctx, enc, &lv, &g, &b.counts, &b.decisions, &b.quads[1], &b.samples, &b.control, &b.items, 0, &b.footprints, false)
+            compact.record_main(ctx, enc, &lv, &g, &compact_inputs, false)
         }),
         ("probe", probes[0] as u64, &|enc| {
             enc.clear_buffer(&b.control, 0, None);
-            probe.record(ctx, enc, &child, &b.masks, &b.control, &b.items, 1)
+            probe.record(ctx, enc, &child, &b.masks, &b.items)
         }),
         ("weights", n as u64, &|enc| weights.record(ctx, enc, &b.decisions, &b.weights)),
     ];

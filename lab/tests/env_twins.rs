@@ -184,7 +184,7 @@ fn env_shadowmaps_equals_its_twin() {
     for (spec, share, tol) in specs {
         let (r, c): (_, env_shadowmaps::EnvShadowmapsBuffers) = common::inspected(ctx, &sc, &Method::parse(spec, &[]).unwrap(), options());
         let filter = twin::env_shadowmaps::Filter { settings: &c.filter, disk: &c.disk };
-        let v = twin::env_shadowmaps::env_shadowmaps(&c.frame, &c.params, filter, &c.samples, &c.maps, &c.lights, &c.ao, &r.gbuffer);
+        let v = twin::env_shadowmaps::env_shadowmaps(&c.frame, &c.params, filter, twin::env_shadowmaps::LightMaps { samples: &c.samples, maps: &c.maps }, &c.lights, &c.ao, &r.gbuffer);
         let geometry: Vec<usize> = (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)).collect();
         let diff = |i: usize| (v[i].clamp(0.0, 1.0) - r.visibility[i]).abs();
         let worst = geometry.iter().map(|&i| diff(i)).fold(0.0f32, f32::max);

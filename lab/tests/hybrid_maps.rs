@@ -115,7 +115,7 @@ fn gpu_build_and_lookup_equal_their_twins() {
         // The lookup: shade over the store equals the shade twin over the maps the lookup twin decodes.
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();
-        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, n, &mut v);
+        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..n, &mut v);
         let mut shadowed = 0;
         for (i, (twin, gpu)) in v.iter().zip(&r.visibility).enumerate() {
             if r.gbuffer.is_geometry(i) {

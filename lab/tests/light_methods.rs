@@ -98,7 +98,7 @@ fn shade_on_the_disk_and_sun_maps_equals_its_cpu_twin() {
         let (r, c): (_, FixedBuffers) = common::inspected(ctx, &sc, &Method::regular(3), options);
         assert!(c.samples.iter().all(|s| s.orthographic == orthographic), "{name}: every map orthographic = {orthographic}");
         let mut v = vec![0.0f32; r.visibility.len()];
-        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, c.samples.len(), &mut v);
+        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..c.samples.len(), &mut v);
         let (mut worst, mut shadowed, mut lit) = (0.0f32, 0usize, 0usize);
         for i in (0..v.len()).filter(|&i| r.gbuffer.is_geometry(i)) {
             worst = worst.max((v[i].clamp(0.0, 1.0) - r.visibility[i]).abs());

@@ -56,7 +56,7 @@ fn shade_on_the_cube_faces_equals_its_cpu_twin_and_counts_each_receiver_once() {
         assert!(c.samples.iter().enumerate().all(|(i, s)| s.cube_face == 1 + i as u32 % 6), "{name}: faces +x, −x, +y, −y, +z, −z in turn");
         assert_eq!(r.output.shadow_maps, 24);
         let mut v = vec![0.0f32; r.visibility.len()];
-        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0, c.samples.len(), &mut v);
+        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..c.samples.len(), &mut v);
         let g = geometry(&r);
         let worst = g.iter().map(|&i| (v[i] - r.visibility[i]).abs()).fold(0.0f32, f32::max);
         let highest = g.iter().map(|&i| r.visibility[i]).fold(0.0f32, f32::max);
@@ -244,7 +244,7 @@ fn shadow_test_on_the_cube_faces_equals_its_twin() {
     use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
     use penumbra::render::SceneGpu;
     use penumbra::stages::shade::ShadePass;
-    use penumbra::stages::shadow_test::ShadowTest;
+    use penumbra::stages::shadow_test::{ShadowTest, TestFrame};
     let ctx = common::gpu();
     let sets = [("resolution", "64"), ("shadow_map_size", "128")].map(|(k, v)| (k.to_string(), v.to_string()));
     let sc = Scene::load("point-room", &sets).expect("point-room");
@@ -280,7 +280,7 @@ fn shadow_test_on_the_cube_faces_equals_its_twin() {
     ShadowRasterPass::new(ctx, sc.render.cull).unwrap().record(ctx, &mut enc, &scene_gpu, &b.samples, &array, &jobs);
     enc.clear_buffer(&b.masks.lit, 0, None);
     let rq = Requests { samples: &b.samples, decisions: &b.decisions, control: &b.control };
-    test.record(ctx, &mut enc, &frame, &g, &tiles, rq, &b.masks, &array.array_view, &ks);
+    test.record(ctx, &mut enc, &TestFrame { frame: &frame, gbuffer: &g, tiles: &tiles, rq, out: &b.masks }, &array.array_view, &ks);
     ctx.queue.submit([enc.finish()]);
     let gcpu = gbuffer::read_back(ctx, &g).unwrap();
     let maps = |i: u32| readback::read_texture::<f32>(ctx, &array.texture, samples[i as usize].layer, 4).unwrap();

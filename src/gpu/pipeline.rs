@@ -1,7 +1,8 @@
 //! Pipelines are created inside a validation error scope so a bad kernel is a readable error.
 
-use super::{GpuContext, Stage};
+use super::GpuContext;
 use crate::gpu::kernels;
+use crate::gpu::stages::Bindings;
 use crate::gpu::kernels::MapAccess;
 use crate::{Error, Result};
 
@@ -47,20 +48,8 @@ pub fn check(scope: wgpu::ErrorScopeGuard, what: &str) -> Result<()> {
     }
 }
 
-/// Bind group 0 of a render stage, its resources named by WGSL variable; the stage table gives
-/// their bindings (the union of the stage's vertex and fragment entry points).
-pub fn bind_group(
-    ctx: &GpuContext,
-    stage: Stage,
-    layout: &wgpu::BindGroupLayout,
-    resources: &[(&str, wgpu::BindingResource)],
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = resources
-        .iter()
-        .map(|(name, r)| wgpu::BindGroupEntry {
-            binding: stage.binding(name).unwrap_or_else(|| panic!("{stage} has no binding `{name}` (gpu::stages)")),
-            resource: r.clone(),
-        })
-        .collect();
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(stage.name), layout, entries: &entries })
+/// Bind group 0 of a render stage from its generated struct (`bind::<stage>::Pipeline`: the union
+/// of the stage's vertex and fragment entry points' bindings, by WGSL variable).
+pub fn bind_group<'a, B: Bindings<'a>>(ctx: &GpuContext, layout: &wgpu::BindGroupLayout, bindings: B) -> wgpu::BindGroup {
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(B::STAGE), layout, entries: &bindings.entries() })
 }

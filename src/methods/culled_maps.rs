@@ -3,13 +3,14 @@
 //! only the triangles that can change a tested texel, and the raster draws those. Each tested
 //! pixel's outcome is the whole mesh's, so V is unchanged (docs/gpu-frame.md §7).
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
 use crate::stages::adaptive_buffers::CULL_TILE_WORDS;
-use crate::stages::cull::Cull;
+use crate::stages::cull::{Cull, CullBatch};
 use crate::stages::footprint::Footprint;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -55,17 +56,17 @@ impl CulledMaps {
                     enc.copy_buffer_to_buffer(samples, j.sample as u64 * SAMPLE_BYTES, &self.batch_samples, slot as u64 * SAMPLE_BYTES, SAMPLE_BYTES);
                 }
                 enc.clear_buffer(&self.tiles, 0, Some(n as u64 * CULL_TILE_WORDS as u64 * 4));
-                self.footprint.record(ctx, enc, frame, &fg.gbuffer, &self.batch_samples, &self.tiles, n);
+                self.footprint.record(ctx, enc, frame, &fg.gbuffer, &CullBatch { samples: &self.batch_samples, tiles: &self.tiles }, n);
                 Ok(())
             })?;
             let slots: Vec<u32> = (0..n).collect();
             timer.stage(ctx, Stage::CULL, |enc| {
-                self.cull.record(ctx, enc, frame, &fg.scene_gpu, &self.batch_samples, &self.tiles, &slots);
+                self.cull.record(ctx, enc, frame, &fg.scene_gpu, &CullBatch { samples: &self.batch_samples, tiles: &self.tiles }, &slots);
                 Ok(())
             })?;
-            timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+            timer.stage(ctx, fg.raster.stage(), |enc| {
                 let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(slot, j)| (RasterJob { sample: slot as u32, ..*j }, Cull::args_offset(slot as u32))).collect();
-                fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &self.batch_samples, array, &drawn, &self.cull.culled, &self.cull.args)?;
+                fg.raster.record_culled(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.batch_samples, array }, &drawn, &self.cull.culled, &self.cull.args)?;
                 for (slot, j) in batch.iter().enumerate() {
                     enc.copy_buffer_to_buffer(&self.cull.args, Cull::args_offset(slot as u32), &self.kept, j.sample as u64 * 4, 4);
                 }

@@ -6,7 +6,8 @@
 use crate::gpu::Stage;
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
 use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::stages::{blur::Blur, moments::Moments, reconstruct::Reconstruct, FrameGpu};
+use crate::gpu::stages::bind;
+use crate::stages::{blur::{Blur, BlurMaps}, moments::Moments, reconstruct::Reconstruct, FrameGpu};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuFilter;
 use crate::gpu::timing::StageTimer;
@@ -273,15 +274,23 @@ impl MethodState for State {
         self.map.render(fg, timer)?;
         let view = self.map.view();
         timer.stage(fg.ctx, Stage::MOMENTS, |enc| {
-            self.moments.record(fg.ctx, enc, &fg.frame_buffer, fg.frame.map_size, &self.filter_buffer, &self.map.samples, view, &self.raw);
+            let bindings = bind::moments::Main {
+                frame: fg.frame_buffer.as_entire_binding(),
+                settings: self.filter_buffer.as_entire_binding(),
+                samples: self.map.samples.as_entire_binding(),
+                shadow_maps: wgpu::BindingResource::TextureView(view),
+                moments: self.raw.as_entire_binding(),
+            };
+            self.moments.record(fg.ctx, enc, bindings, fg.frame.map_size);
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::BLUR, |enc| {
-            self.blur.record(fg.ctx, enc, &fg.frame_buffer, fg.frame.map_size, &self.filter_buffer, self.filter.layers, &self.raw, &self.scratch, &self.filtered);
+            let maps = BlurMaps { size: fg.frame.map_size, layers: self.filter.layers, source: &self.raw, scratch: &self.scratch, target: &self.filtered };
+            self.blur.record(fg.ctx, enc, &fg.frame_buffer, &self.filter_buffer, &maps);
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::RECONSTRUCT, |enc| {
-            self.reconstruct.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &self.filter_buffer, &self.map.samples, &self.filtered, &fg.visibility);
+            self.reconstruct.record(fg.ctx, enc, &fg.screen(), &self.filter_buffer, &self.map.samples, &self.filtered);
             Ok(())
         })?;
         Ok(MethodOutput {

@@ -2,6 +2,7 @@
 //! maps exceed the memory budget or the layer limit. With `maps = hybrid` the maps are rasterized a
 //! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::culled_maps::CulledMaps;
 use super::hybrid_maps::HybridMaps;
@@ -331,15 +332,15 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     let ctx = fg.ctx;
     let points = *points;
     let mut buffers = keep.then(FixedBuffers::default);
-    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, visibility: &fg.visibility };
+    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, tiles, visibility: &fg.visibility };
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
         match culled.as_ref() {
             Some(c) => c.record(fg, timer, frame, samples_buffer, array, &jobs)?,
-            None => timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-                fg.raster.record(ctx, enc, &fg.scene_gpu, samples_buffer, array, &jobs)?;
+            None => timer.stage(ctx, fg.raster.stage(), |enc| {
+                fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: samples_buffer, array }, &jobs)?;
                 Ok(())
             })?,
         }
@@ -350,7 +351,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             }
         }
         timer.stage(ctx, Stage::SHADE, |enc| {
-            fg.shade.record(ctx, enc, &inputs, &array.array_view, tiles, first, count);
+            fg.shade.record(ctx, enc, &inputs, &array.array_view, first, count);
             Ok(())
         })?;
         if let Some(e) = estimate {
@@ -416,7 +417,7 @@ fn run_hybrid(
     let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
         timer.stage(ctx, Stage::SHADE, |enc| {
-            fg.shade.record(ctx, enc, &inputs, view, tiles, slots[0], slots.len() as u32);
+            fg.shade.record(ctx, enc, &inputs, view, slots[0], slots.len() as u32);
             Ok(())
         })?;
         match estimate {

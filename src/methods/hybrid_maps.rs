@@ -3,6 +3,7 @@
 //! handed to the method (shade, shadow_test) and the store starts again, so the memory a method
 //! holds is the raster's few layers plus the store, not a full-resolution layer per map.
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use crate::stages::hybrid_build::{HybridBuild, HybridStore};
 use crate::stages::FrameGpu;
@@ -93,8 +94,8 @@ impl HybridMaps {
         let ctx = fg.ctx;
         assert!(ks.len() <= self.layers() as usize, "a raster batch holds at most {} maps", self.layers());
         let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(i, &k)| RasterJob { sample: k, layer: i as u32, scissor: None }).collect();
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, samples, &self.raster, &jobs)?;
+        timer.stage(ctx, fg.raster.stage(), |enc| {
+            fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples, array: &self.raster }, &jobs)?;
             Ok(())
         })?;
         let mut from = 0;

@@ -5,6 +5,7 @@ use crate::gpu::Stage;
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
 use super::{check_range, get_f32, label_from, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
 use crate::stages::pcss::Pcss as PcssPass;
+use crate::stages::shade::MapFilter;
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuFilter;
@@ -83,7 +84,7 @@ impl MethodState for State {
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCSS, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &self.filter_buffer, &self.map.samples, self.map.view(), &fg.visibility);
+            self.pass.record(fg.ctx, enc, &fg.screen(), &MapFilter { filter: &self.filter_buffer, samples: &self.map.samples, maps: self.map.view() });
             Ok(())
         })?;
         Ok(MethodOutput {

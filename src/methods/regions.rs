@@ -13,7 +13,7 @@ use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::scene::light::{sample_view_window, Bounds};
-use crate::stages::regions::{unordered, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS};
+use crate::stages::regions::{unordered, RegionsInputs, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS};
 use crate::stages::FrameGpu;
 use crate::Result;
 use std::collections::HashMap;
@@ -265,7 +265,7 @@ impl MethodState for State {
         let ctx = fg.ctx;
         self.probe.render(fg, timer)?;
         timer.stage(ctx, Stage::REGIONS, |enc| {
-            self.pass.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &self.probe.samples, self.probe.view());
+            self.pass.record(ctx, enc, &RegionsInputs { frame: &fg.frame_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, samples: &self.probe.samples, maps: self.probe.view() });
             Ok(())
         })?;
         // The one read-back of the decision: per class its tiles, finest texel and receiver box.

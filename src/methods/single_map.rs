@@ -1,7 +1,7 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
 //! light's centre, the filter uniform, and the buffers their twin tests read.
 
-use crate::gpu::Stage;
+use crate::stages::raster::RasterTarget;
 use super::hybrid_maps::HybridMaps;
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
@@ -60,9 +60,9 @@ impl CentreMap {
     /// The `shadow_raster` stage: one map, or six (with `maps = hybrid`, then `hybrid_build`).
     pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         match &mut self.maps {
-            CentreMaps::Plain(array) => timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| {
+            CentreMaps::Plain(array) => timer.stage(fg.ctx, fg.raster.stage(), |enc| {
                 let jobs: Vec<RasterJob> = (0..self.faces.len() as u32).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-                fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples, array, &jobs)?;
+                fg.raster.record(fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples, array }, &jobs)?;
                 Ok(())
             }),
             CentreMaps::Hybrid(h) => {

@@ -2,6 +2,7 @@
 //! pixel's barycentrics in it (for per-vertex methods). The G-buffer pass is untouched, so every
 //! other method's inputs stay bit-identical; this pass runs only where a method asks for it.
 
+use crate::gpu::stages::bind;
 use super::SceneGpu;
 use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::gpu::structs::GpuCamera;
@@ -60,12 +61,12 @@ impl BarycentricsPass {
     }
 
     pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, camera: &wgpu::Buffer, target: &TriangleIds) {
-        let bind = pipeline::bind_group(
-            ctx,
-            Stage::BARYCENTRICS,
-            &self.pipeline.get_bind_group_layout(0),
-            &[("camera", camera.as_entire_binding()), ("scene_vertices", scene.vertices.as_entire_binding()), ("scene_indices", scene.indices.as_entire_binding())],
-        );
+        let bindings = bind::barycentrics::Pipeline {
+            camera: camera.as_entire_binding(),
+            scene_vertices: scene.vertices.as_entire_binding(),
+            scene_indices: scene.indices.as_entire_binding(),
+        };
+        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bindings);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(Stage::BARYCENTRICS.name),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

@@ -1,5 +1,6 @@
 //! gbuffer: camera raster of world position and camera-facing normal, one texel per pixel.
 
+use crate::gpu::stages::bind;
 use super::{vertex_layout, SceneGpu, VERTEX_ATTRIBUTES};
 use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::gpu::structs::GpuCamera;
@@ -113,7 +114,7 @@ impl GBufferPass {
 
     pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, camera: &GpuCamera, g: &GBuffer) {
         let camera_buffer = readback::uniform_buffer(ctx, "camera", camera);
-        let bind = pipeline::bind_group(ctx, Stage::GBUFFER, &self.pipeline.get_bind_group_layout(0), &[("camera", camera_buffer.as_entire_binding())]);
+        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::gbuffer::Pipeline { camera: camera_buffer.as_entire_binding() });
         let clear = wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store };
         let attachment = |view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: clear });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

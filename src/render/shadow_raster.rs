@@ -1,6 +1,7 @@
 //! shadow_raster: one depth-only raster per light sample into one layer of a `Depth32Float` array.
 //! Arrays are sized by the layer limit and the memory budget; callers work chunk by chunk beyond it.
 
+use crate::gpu::stages::bind;
 use super::{SceneGpu, VERTEX_ATTRIBUTES};
 use crate::gpu::{pipeline, GpuContext, Stage};
 use crate::scene::CullMode;
@@ -169,7 +170,7 @@ impl ShadowRasterPass {
         array: &ShadowMapArray,
         jobs: &[RasterJob],
     ) {
-        let bind = pipeline::bind_group(ctx, Stage::SHADOW_RASTER, &self.pipeline.get_bind_group_layout(0), &[("samples", samples.as_entire_binding())]);
+        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::shadow_raster::Pipeline { samples: samples.as_entire_binding() });
         for job in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(scene.shadow_indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -227,7 +228,7 @@ impl ShadowRasterPass {
         culled: &wgpu::Buffer,
         args: &wgpu::Buffer,
     ) {
-        let bind = pipeline::bind_group(ctx, Stage::SHADOW_RASTER, &self.pipeline.get_bind_group_layout(0), &[("samples", samples.as_entire_binding())]);
+        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::shadow_raster::Pipeline { samples: samples.as_entire_binding() });
         for (job, offset) in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(culled.slice(..), wgpu::IndexFormat::Uint32);

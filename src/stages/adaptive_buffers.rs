@@ -123,13 +123,16 @@ pub struct Footprints {
 }
 
 /// What a count pass reads of the frame and the level: the frame uniform (the screen), the level
-/// uniform, the level's quads, and the sizes its dispatch derives from. A test or bench builds one
-/// from its own buffers to drive a pass alone.
+/// uniform, the level's quads, the frame's control counters, which of the double-buffered item
+/// lists is the level's (`ItemLists::items[cur]`), and the sizes its dispatch derives from. A test
+/// or bench builds one from its own buffers to drive a pass alone.
 #[derive(Clone, Copy)]
 pub struct Level<'a> {
     pub frame: &'a wgpu::Buffer,
     pub uniform: &'a wgpu::Buffer,
     pub quads: &'a wgpu::Buffer,
+    pub control: &'a wgpu::Buffer,
+    pub cur: usize,
     pub shape: Shape,
 }
 

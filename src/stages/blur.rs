@@ -1,12 +1,24 @@
 //! blur: separable box prefilter of the moment planes (horizontal into `scratch`, vertical back).
 
 use crate::gpu::{GpuContext, Stage};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
 pub struct Blur {
     horizontal: ComputeKernel,
     vertical: ComputeKernel,
+}
+
+/// The moment maps a blur reads and writes: `layers` maps of `size`², blurred from `source`
+/// through `scratch` (horizontal) into `target` (vertical).
+#[derive(Clone, Copy)]
+pub struct BlurMaps<'b> {
+    pub size: u32,
+    pub layers: u32,
+    pub source: &'b wgpu::Buffer,
+    pub scratch: &'b wgpu::Buffer,
+    pub target: &'b wgpu::Buffer,
 }
 
 impl Blur {
@@ -16,31 +28,19 @@ impl Blur {
 
     /// `source` → (horizontal) → `scratch` → (vertical) → `target`; `frame` is the frame uniform
     /// and `map_size` its `map_size` (the dispatch covers the map).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        frame: &wgpu::Buffer,
-        map_size: u32,
-        filter: &wgpu::Buffer,
-        layers: u32,
-        source: &wgpu::Buffer,
-        scratch: &wgpu::Buffer,
-        target: &wgpu::Buffer,
-    ) {
-        let size = map_size;
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, filter: &wgpu::Buffer, maps: &BlurMaps) {
+        let BlurMaps { size, layers, source, scratch, target } = *maps;
         let size3 = [groups(size, PIXEL_WORKGROUP[0]), groups(size, PIXEL_WORKGROUP[1]), layers];
         for (kernel, from, to) in [(&self.horizontal, source, scratch), (&self.vertical, scratch, target)] {
             kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", frame.as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("source", from.as_entire_binding()),
-                    ("destination", to.as_entire_binding()),
-                ],
+                bind::blur::Blur {
+                    frame: frame.as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    source: from.as_entire_binding(),
+                    destination: to.as_entire_binding(),
+                },
                 Dispatch::Direct(size3),
             );
         }

@@ -2,11 +2,11 @@
 //! pixel took.
 
 use super::pcf::comparison_sampler;
-use super::shade::GeometryTiles;
+use super::shade::Screen;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 /// `chosen` on background pixels (`NO_CASCADE` in the kernel).
@@ -40,25 +40,25 @@ impl Cascades {
     }
 
     /// Writes `visibility` and `chosen` at every pixel of the G-buffer (V at geometry pixels).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, inputs: &CascadeInputs, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, inputs: &CascadeInputs) {
+        let Screen { frame, gbuffer, tiles, visibility } = *screen;
         for band in &tiles.bands {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", inputs.filter.as_entire_binding()),
-                    ("samples", inputs.samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(inputs.maps)),
-                    ("disk", inputs.disk.as_entire_binding()),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                    ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-                    ("cascades", inputs.cascades.as_entire_binding()),
-                    ("chosen", band.pixels(tiles, inputs.chosen, gbuffer.width, 4)),
-                ],
+                bind::cascades::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: inputs.filter.as_entire_binding(),
+                    samples: inputs.samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    shadow_maps: wgpu::BindingResource::TextureView(inputs.maps),
+                    disk: inputs.disk.as_entire_binding(),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                    compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+                    cascades: inputs.cascades.as_entire_binding(),
+                    chosen: band.pixels(tiles, inputs.chosen, gbuffer.width, 4),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

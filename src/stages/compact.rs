@@ -5,6 +5,8 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, Decisions, Footprints, ItemLists, Level};
 use crate::render::gbuffer::GBuffer;
+use super::shade::Screen;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -14,6 +16,18 @@ pub struct Compact {
     main_rects: ComputeKernel,
     seed: ComputeKernel,
     resolve: ComputeKernel,
+}
+
+/// What `main` reads and writes besides the level and the G-buffer: the counts, subdivide's
+/// decisions, the next level's quads, the sample records, the item lists and the footprints.
+#[derive(Clone, Copy)]
+pub struct CompactInputs<'b> {
+    pub counts: &'b CountMaps,
+    pub decisions: &'b Decisions,
+    pub next_quads: &'b wgpu::Buffer,
+    pub samples: &'b wgpu::Buffer,
+    pub items: &'b ItemLists,
+    pub footprints: &'b Footprints,
 }
 
 impl Compact {
@@ -27,81 +41,67 @@ impl Compact {
     }
 
     /// Every geometry pixel of `g` becomes an item of the root (`items.items[0]`), counted in `control`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_seed(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+    pub fn record_seed(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+        let (frame, g) = (screen.frame, screen.gbuffer);
         self.seed.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("level", level.as_entire_binding()),
-                ("next_items", items.items[0].as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
-            ],
+            bind::compact::Seed {
+                frame: frame.as_entire_binding(),
+                level: level.as_entire_binding(),
+                next_items: items.items[0].as_entire_binding(),
+                control: control.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
+            },
             Self::pixels(g),
         );
     }
 
-    /// From this level's items (`items.items[cur]`, their counts and the split decisions): the
+    /// From this level's items (`items.items[lv.cur]`, their counts and the split decisions): the
     /// next level's items and quads' probes, the uniform shares of unrefined quads, and (`grow_rects`)
     /// the footprints of the next maps.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_main(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        lv: &Level,
-        g: &GBuffer,
-        counts: &CountMaps,
-        decisions: &Decisions,
-        next_quads: &wgpu::Buffer,
-        samples: &wgpu::Buffer,
-        control: &wgpu::Buffer,
-        items: &ItemLists,
-        cur: usize,
-        footprints: &Footprints,
-        grow_rects: bool,
-    ) {
+    pub fn record_main(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, g: &GBuffer, inputs: &CompactInputs, grow_rects: bool) {
+        let CompactInputs { counts, decisions, next_quads, samples, items, footprints } = *inputs;
+        let (control, cur) = (lv.control, lv.cur);
         // Both entry points share the item code, so both take every binding.
         let kernel = if grow_rects { &self.main_rects } else { &self.main };
         kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("counts", counts.maps.as_entire_binding()),
-                ("split_base", decisions.split_base.as_entire_binding()),
-                ("next_items", items.items[1 - cur].as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("next_quads", next_quads.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("rects", footprints.rects.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&g.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&g.normal_view)),
-                ("item_total", items.total.as_entire_binding()),
-                ("probes", items.probes.as_entire_binding()),
-                ("tiles", footprints.tiles.as_entire_binding()),
-            ],
+            bind::compact::Main {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                counts: counts.maps.as_entire_binding(),
+                split_base: decisions.split_base.as_entire_binding(),
+                next_items: items.items[1 - cur].as_entire_binding(),
+                control: control.as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                next_quads: next_quads.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                rects: footprints.rects.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&g.normal_view),
+                item_total: items.total.as_entire_binding(),
+                probes: items.probes.as_entire_binding(),
+                tiles: footprints.tiles.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }
 
-    /// V from the integer sums (`items.visibility_fixed`) into `visibility`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_resolve(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, level: &wgpu::Buffer, items: &ItemLists, visibility: &wgpu::Buffer) {
+    /// V from the integer sums (`items.visibility_fixed`) into the screen's V.
+    pub fn record_resolve(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, level: &wgpu::Buffer, items: &ItemLists) {
+        let (frame, g, visibility) = (screen.frame, screen.gbuffer, screen.visibility);
         self.resolve.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("level", level.as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-            ],
+            bind::compact::Resolve {
+                frame: frame.as_entire_binding(),
+                level: level.as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+            },
             Self::pixels(g),
         );
     }

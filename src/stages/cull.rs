@@ -4,6 +4,7 @@
 //! slots fit one storage binding; batches reuse the slots within one submission.
 
 use crate::gpu::{GpuContext, Stage};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::render::SceneGpu;
 use crate::scene::Scene;
@@ -16,6 +17,13 @@ pub const ARGS_WORDS: u32 = 5;
 pub use crate::gpu::stages::CULL_RUN;
 /// Index memory the slots may take together.
 const SLOTS_BUDGET_BYTES: u64 = 256 << 20;
+
+/// A batch of maps to cull for: their sample records and the culling tiles footprint wrote.
+#[derive(Clone, Copy)]
+pub struct CullBatch<'b> {
+    pub samples: &'b wgpu::Buffer,
+    pub tiles: &'b wgpu::Buffer,
+}
 
 pub struct Cull {
     runs_phase: ComputeKernel,
@@ -68,8 +76,8 @@ impl Cull {
     /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
     /// CULL_TILE_WORDS words per lattice sample; `frame` is the frame uniform and `scene_gpu` the
     /// scene `new` was built for (its shadow indices and vertices).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, scene_gpu: &SceneGpu, samples: &wgpu::Buffer, tiles: &wgpu::Buffer, ks: &[u32]) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, scene_gpu: &SceneGpu, batch: &CullBatch, ks: &[u32]) {
+        let CullBatch { samples, tiles } = *batch;
         assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
         let triangles = self.stride / 3;
         let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);
@@ -87,41 +95,41 @@ impl Cull {
         self.runs_phase.dispatch(
             ctx,
             enc,
-            &[
-                ("cull", uniform.as_entire_binding()),
-                ("frame", frame.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("tiles", tiles.as_entire_binding()),
-                ("runs", scene_gpu.runs.as_entire_binding()),
-                ("slots", slots.as_entire_binding()),
-                ("args", self.args.as_entire_binding()),
-                ("kept_runs", self.kept_runs.as_entire_binding()),
-                ("control", self.control.as_entire_binding()),
-            ],
+            bind::cull::Main {
+                cull: uniform.as_entire_binding(),
+                frame: frame.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                tiles: tiles.as_entire_binding(),
+                runs: scene_gpu.runs.as_entire_binding(),
+                slots: slots.as_entire_binding(),
+                args: self.args.as_entire_binding(),
+                kept_runs: self.kept_runs.as_entire_binding(),
+                control: self.control.as_entire_binding(),
+            },
             Dispatch::Direct([groups_x, ks.len() as u32, total.div_ceil(groups_x)]),
         );
         self.begin.dispatch(
             ctx,
             enc,
-            &[("control", self.control.as_entire_binding()), ("dispatch", self.dispatch.as_entire_binding())],
+            bind::cull::Begin { control: self.control.as_entire_binding(), dispatch: self.dispatch.as_entire_binding() },
             Dispatch::Direct([1, 1, 1]),
         );
         self.triangles.dispatch(
             ctx,
             enc,
-            &[
-                ("cull", uniform.as_entire_binding()),
-                ("frame", frame.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("tiles", tiles.as_entire_binding()),
-                ("indices", scene_gpu.shadow_indices.as_entire_binding()),
-                ("slots", slots.as_entire_binding()),
-                ("culled", self.culled.as_entire_binding()),
-                ("args", self.args.as_entire_binding()),
-                ("positions", scene_gpu.positions.as_entire_binding()),
-                ("kept_runs", self.kept_runs.as_entire_binding()),
-                ("control", self.control.as_entire_binding()),
-            ],
+            bind::cull::Triangles {
+                cull: uniform.as_entire_binding(),
+                frame: frame.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                tiles: tiles.as_entire_binding(),
+                indices: scene_gpu.shadow_indices.as_entire_binding(),
+                slots: slots.as_entire_binding(),
+                culled: self.culled.as_entire_binding(),
+                args: self.args.as_entire_binding(),
+                positions: scene_gpu.positions.as_entire_binding(),
+                kept_runs: self.kept_runs.as_entire_binding(),
+                control: self.control.as_entire_binding(),
+            },
             Dispatch::Indirect(&self.dispatch),
         );
     }

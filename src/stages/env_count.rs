@@ -3,8 +3,21 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use super::env_trace::BvhBuffers;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
+
+/// One level's count: its parameters, the corner rays, `cell_count` cells and their counts, over
+/// every `stride`-th pixel.
+#[derive(Clone, Copy)]
+pub struct EnvCountInputs<'a> {
+    pub params: &'a wgpu::Buffer,
+    pub corners: &'a wgpu::Buffer,
+    pub cells: &'a wgpu::Buffer,
+    pub counts: &'a wgpu::Buffer,
+    pub cell_count: u32,
+    pub stride: u32,
+}
 
 pub struct EnvCount {
     kernel: ComputeKernel,
@@ -16,21 +29,21 @@ impl EnvCount {
     }
 
     /// `counts` must be zeroed for the `cells` active cells.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, params: &wgpu::Buffer, corners: &wgpu::Buffer, cells: &wgpu::Buffer, counts: &wgpu::Buffer, cell_count: u32, stride: u32, bvh: &BvhBuffers) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvCountInputs, bvh: &BvhBuffers) {
+        let EnvCountInputs { params, corners, cells, counts, cell_count, stride } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("corners", corners.as_entire_binding()),
-                ("cells", cells.as_entire_binding()),
-                ("counts", counts.as_entire_binding()),
-                ("bvh_nodes", bvh.nodes.as_entire_binding()),
-                ("bvh_triangles", bvh.triangles.as_entire_binding()),
-            ],
+            bind::env_count::Main {
+                params: params.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                corners: corners.as_entire_binding(),
+                cells: cells.as_entire_binding(),
+                counts: counts.as_entire_binding(),
+                bvh_nodes: bvh.nodes.as_entire_binding(),
+                bvh_triangles: bvh.triangles.as_entire_binding(),
+            },
             Dispatch::Direct([groups(counted_pixels(gbuffer.width, gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
         );
     }

@@ -1,6 +1,7 @@
 //! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
 //! power- and cosine-weighted.
 
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
@@ -13,7 +14,21 @@ pub struct EnvShadowmaps {
     sampler: wgpu::Sampler,
 }
 
+/// What the kernel reads besides the G-buffer: the method's frame uniform and parameters, one
+/// sample and map per light, the lights, AO and the PCF filter.
+#[derive(Clone, Copy)]
+pub struct EnvMapInputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub params: &'a wgpu::Buffer,
+    pub samples: &'a wgpu::Buffer,
+    pub maps: &'a wgpu::TextureView,
+    pub lights: &'a wgpu::Buffer,
+    pub ao: &'a wgpu::Buffer,
+    pub filter: FilterBuffers<'a>,
+}
+
 /// The filter's uniform and tap offsets (the pcf family's `GpuFilter` and disk).
+#[derive(Clone, Copy)]
 pub struct FilterBuffers<'a> {
     pub settings: &'a wgpu::Buffer,
     pub disk: &'a wgpu::Buffer,
@@ -27,25 +42,25 @@ impl EnvShadowmaps {
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
     /// when `params.use_ao` is 1. Writes `visibility` at every `gbuffer` pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, frame: &wgpu::Buffer, params: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, lights: &wgpu::Buffer, ao: &wgpu::Buffer, filter: &FilterBuffers, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvMapInputs, visibility: &wgpu::Buffer) {
+        let EnvMapInputs { frame, params, samples, maps, lights, ao, filter } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("params", params.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                ("lights", lights.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-                ("ao", ao.as_entire_binding()),
-                ("settings", filter.settings.as_entire_binding()),
-                ("disk", filter.disk.as_entire_binding()),
-                ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-            ],
+            bind::env_shadowmaps::Main {
+                frame: frame.as_entire_binding(),
+                params: params.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                shadow_maps: wgpu::BindingResource::TextureView(maps),
+                lights: lights.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+                ao: ao.as_entire_binding(),
+                settings: filter.settings.as_entire_binding(),
+                disk: filter.disk.as_entire_binding(),
+                compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }

@@ -1,6 +1,7 @@
 //! env_split: split or keep every active quadtree cell; children and leaves appended with atomics.
 
 use crate::gpu::{GpuContext, Stage};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -29,15 +30,15 @@ impl EnvSplit {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", io.params.as_entire_binding()),
-                ("cells", io.cells.as_entire_binding()),
-                ("counts", io.counts.as_entire_binding()),
-                ("cell_power", io.cell_power.as_entire_binding()),
-                ("next_cells", io.next_cells.as_entire_binding()),
-                ("leaves", io.leaves.as_entire_binding()),
-                ("control", io.control.as_entire_binding()),
-            ],
+            bind::env_split::Main {
+                params: io.params.as_entire_binding(),
+                cells: io.cells.as_entire_binding(),
+                counts: io.counts.as_entire_binding(),
+                cell_power: io.cell_power.as_entire_binding(),
+                next_cells: io.next_cells.as_entire_binding(),
+                leaves: io.leaves.as_entire_binding(),
+                control: io.control.as_entire_binding(),
+            },
             Dispatch::Direct([groups(cell_count, LINE_WORKGROUP[0]), 1, 1]),
         );
     }

@@ -3,6 +3,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::render::bvh::Bvh;
 use crate::gpu::readback;
@@ -31,6 +32,14 @@ pub struct EnvTrace {
 /// The `vertex` entry point (the per-vertex variant), built only where a method asks for it.
 pub struct EnvTraceVertex {
     kernel: ComputeKernel,
+}
+
+/// The mesh the per-vertex rays start from and test: its vertex buffer, its length and its BVH.
+#[derive(Clone, Copy)]
+pub struct VertexMesh<'a> {
+    pub vertices: &'a wgpu::Buffer,
+    pub vertex_count: u32,
+    pub bvh: &'a BvhBuffers,
 }
 
 /// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
@@ -79,18 +88,18 @@ impl EnvTrace {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", inputs.params.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("lights", inputs.lights.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-                ("blocked", inputs.blocked.as_entire_binding()),
-                ("ao", inputs.ao.as_entire_binding()),
-                ("sums", inputs.sums.as_entire_binding()),
-                ("bvh_nodes", inputs.bvh.nodes.as_entire_binding()),
-                ("bvh_triangles", inputs.bvh.triangles.as_entire_binding()),
-            ],
+            bind::env_trace::Main {
+                params: inputs.params.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                lights: inputs.lights.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+                blocked: inputs.blocked.as_entire_binding(),
+                ao: inputs.ao.as_entire_binding(),
+                sums: inputs.sums.as_entire_binding(),
+                bvh_nodes: inputs.bvh.nodes.as_entire_binding(),
+                bvh_triangles: inputs.bvh.triangles.as_entire_binding(),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }
@@ -103,21 +112,21 @@ impl EnvTraceVertex {
 
     /// One chunk of lights at every mesh vertex (`params.vertex_count` of them): `scene_vertices`
     /// is the scene's vertex buffer, `vertex_count` its length (the dispatch covers it).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene_vertices: &wgpu::Buffer, vertex_count: u32, params: &wgpu::Buffer, lights: &wgpu::Buffer, bvh: &BvhBuffers, out: &VertexOutputs) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, mesh: &VertexMesh, params: &wgpu::Buffer, lights: &wgpu::Buffer, out: &VertexOutputs) {
+        let VertexMesh { vertices: scene_vertices, vertex_count, bvh } = *mesh;
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("lights", lights.as_entire_binding()),
-                ("blocked", out.blocked.as_entire_binding()),
-                ("sums", out.sums.as_entire_binding()),
-                ("scene_vertices", scene_vertices.as_entire_binding()),
-                ("vertex_visibility", out.visibility.as_entire_binding()),
-                ("bvh_nodes", bvh.nodes.as_entire_binding()),
-                ("bvh_triangles", bvh.triangles.as_entire_binding()),
-            ],
+            bind::env_trace::Vertex {
+                params: params.as_entire_binding(),
+                lights: lights.as_entire_binding(),
+                blocked: out.blocked.as_entire_binding(),
+                sums: out.sums.as_entire_binding(),
+                scene_vertices: scene_vertices.as_entire_binding(),
+                vertex_visibility: out.visibility.as_entire_binding(),
+                bvh_nodes: bvh.nodes.as_entire_binding(),
+                bvh_triangles: bvh.triangles.as_entire_binding(),
+            },
             Dispatch::Direct([groups(vertex_count, LINE_WORKGROUP[0]), 1, 1]),
         );
     }

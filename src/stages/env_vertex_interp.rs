@@ -3,9 +3,21 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::render::barycentrics::TriangleIds;
 use crate::Result;
+
+/// What the interpolation reads: the scene's indices, the parameters, each pixel's triangle and
+/// barycentrics, the per-vertex visibility and AO.
+#[derive(Clone, Copy)]
+pub struct InterpInputs<'a> {
+    pub scene_indices: &'a wgpu::Buffer,
+    pub params: &'a wgpu::Buffer,
+    pub ids: &'a TriangleIds,
+    pub vertex_visibility: &'a wgpu::Buffer,
+    pub ao: &'a wgpu::Buffer,
+}
 
 pub struct EnvVertexInterp {
     kernel: ComputeKernel,
@@ -18,19 +30,19 @@ impl EnvVertexInterp {
 
     /// `ao` is read when `params.use_ao` is 1 (any buffer otherwise); `scene_indices` is the scene's
     /// index buffer (the ids name its triangles); `gbuffer` sizes the dispatch.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, scene_indices: &wgpu::Buffer, params: &wgpu::Buffer, ids: &TriangleIds, vertex_visibility: &wgpu::Buffer, ao: &wgpu::Buffer, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &InterpInputs, visibility: &wgpu::Buffer) {
+        let InterpInputs { scene_indices, params, ids, vertex_visibility, ao } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("triangle_ids", wgpu::BindingResource::TextureView(&ids.view)),
-                ("scene_indices", scene_indices.as_entire_binding()),
-                ("vertex_visibility", vertex_visibility.as_entire_binding()),
-                ("ao", ao.as_entire_binding()),
-                ("visibility", visibility.as_entire_binding()),
-            ],
+            bind::env_vertex_interp::Main {
+                params: params.as_entire_binding(),
+                triangle_ids: wgpu::BindingResource::TextureView(&ids.view),
+                scene_indices: scene_indices.as_entire_binding(),
+                vertex_visibility: vertex_visibility.as_entire_binding(),
+                ao: ao.as_entire_binding(),
+                visibility: visibility.as_entire_binding(),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
     }

@@ -4,6 +4,7 @@
 
 use super::shade::{block_uniform, blocks, GeometryTiles, BLOCK_SIZES, SHADE_BLOCK};
 use super::ComputeKernel;
+use crate::gpu::stages::bind;
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::{GpuContext, Stage};
@@ -44,7 +45,6 @@ impl EstimatePass {
 
     /// Adds samples `first .. first + count` (all in `maps`) to the sums. The sums are bound
     /// whole, so the frame must be one band (`check_bands`).
-    #[allow(clippy::too_many_arguments)]
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &EstimateInputs, maps: &wgpu::TextureView, first: u32, count: u32) {
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         let band = &inputs.tiles.bands[0];
@@ -60,17 +60,17 @@ impl EstimatePass {
             kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", inputs.frame.as_entire_binding()),
-                    ("block_samples", samples.as_entire_binding()),
-                    ("block_weights", weights.as_entire_binding()),
-                    ("block_split", split.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                    ("sums", inputs.sums.as_entire_binding()),
-                    ("tile_list", band.tiles(inputs.tiles)),
-                ],
+                bind::estimate::Block {
+                    frame: inputs.frame.as_entire_binding(),
+                    block_samples: samples.as_entire_binding(),
+                    block_weights: weights.as_entire_binding(),
+                    block_split: split.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
+                    shadow_maps: wgpu::BindingResource::TextureView(maps),
+                    sums: inputs.sums.as_entire_binding(),
+                    tile_list: band.tiles(inputs.tiles),
+                },
                 band.tiles_args(inputs.tiles),
             );
         }

@@ -5,7 +5,7 @@
 //! passes take the parts they read, not the whole, so a test can drive one without building it.
 
 use super::raster::Raster;
-use super::shade::{GeometryTiles, ShadeInputs, ShadePass};
+use super::shade::{GeometryTiles, Screen, ShadeInputs, ShadePass};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::GpuFrame;
 use crate::gpu::GpuContext;
@@ -30,7 +30,11 @@ pub struct FrameGpu<'a> {
 
 impl FrameGpu<'_> {
     pub fn shade_inputs<'b>(&'b self, samples: &'b wgpu::Buffer, weights: &'b wgpu::Buffer) -> ShadeInputs<'b> {
-        ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, visibility: &self.visibility }
+        ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, tiles: &self.geometry_tiles, visibility: &self.visibility }
+    }
+    /// The frame's screen: what every per-pixel pass covers, and V.
+    pub fn screen(&self) -> Screen<'_> {
+        Screen { frame: &self.frame_buffer, gbuffer: &self.gbuffer, tiles: &self.geometry_tiles, visibility: &self.visibility }
     }
     /// How this frame's map-reading kernels read the scene's maps.
     pub fn map_access(&self) -> MapAccess {

@@ -1,6 +1,7 @@
 //! hybrid_build: merges full-resolution maps (layers of a transient raster) into a hybrid store,
 //! the compact representation `kernels/shared/maps_hybrid.wgsl` reads (docs/hybrid.md).
 
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::kernels::MapAccess;
@@ -77,46 +78,46 @@ impl HybridBuild {
         self.classify.dispatch(
             ctx,
             enc,
-            &[
-                ("build", build.as_entire_binding()),
-                ("raster", raster_view.clone()),
-                ("offsets", store.offsets.as_entire_binding()),
-                ("coarse_nodes", store.coarse_nodes.as_entire_binding()),
-                ("gather_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-            ],
+            bind::hybrid_build::Classify {
+                build: build.as_entire_binding(),
+                raster: raster_view.clone(),
+                offsets: store.offsets.as_entire_binding(),
+                coarse_nodes: store.coarse_nodes.as_entire_binding(),
+                gather_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+            },
             grid,
         );
         self.scan_rows.dispatch(
             ctx,
             enc,
-            &[("build", build.as_entire_binding()), ("offsets", store.offsets.as_entire_binding()), ("row_starts", store.row_starts.as_entire_binding())],
+            bind::hybrid_build::ScanRows { build: build.as_entire_binding(), offsets: store.offsets.as_entire_binding(), row_starts: store.row_starts.as_entire_binding() },
             Dispatch::Direct([groups(c, LINE_WORKGROUP[0]), 1, 1]),
         );
         self.scan_total.dispatch(
             ctx,
             enc,
-            &[
-                ("build", build.as_entire_binding()),
-                ("row_starts", store.row_starts.as_entire_binding()),
-                ("control", store.control.as_entire_binding()),
-                ("pool", wgpu::BindingResource::TextureView(&store.storage_view)),
-            ],
+            bind::hybrid_build::ScanTotal {
+                build: build.as_entire_binding(),
+                row_starts: store.row_starts.as_entire_binding(),
+                control: store.control.as_entire_binding(),
+                pool: wgpu::BindingResource::TextureView(&store.storage_view),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
         let grid = Dispatch::Direct([groups(c, PIXEL_WORKGROUP[0]), groups(c, PIXEL_WORKGROUP[1]), 1]);
         self.emit.dispatch(
             ctx,
             enc,
-            &[
-                ("build", build.as_entire_binding()),
-                ("raster", raster_view),
-                ("offsets", store.offsets.as_entire_binding()),
-                ("row_starts", store.row_starts.as_entire_binding()),
-                ("control", store.control.as_entire_binding()),
-                ("pool", wgpu::BindingResource::TextureView(&store.storage_view)),
-                ("coarse_nodes", store.coarse_nodes.as_entire_binding()),
-                ("gather_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-            ],
+            bind::hybrid_build::Emit {
+                build: build.as_entire_binding(),
+                raster: raster_view,
+                offsets: store.offsets.as_entire_binding(),
+                row_starts: store.row_starts.as_entire_binding(),
+                control: store.control.as_entire_binding(),
+                pool: wgpu::BindingResource::TextureView(&store.storage_view),
+                coarse_nodes: store.coarse_nodes.as_entire_binding(),
+                gather_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+            },
             grid,
         );
     }

@@ -1,10 +1,10 @@
-//! A compute entry point with its pipeline. Bindings are given by the WGSL variable's name, and
-//! the stage table (`gpu::stages`, checked against the kernels by tests/kernels.rs) gives their
-//! indices, so each stage module states exactly what its kernel reads and writes and no index is
-//! written twice.
+//! A compute entry point with its pipeline. Its bindings are one struct generated from the stage
+//! table (`gpu::stages::bind`, checked against the kernels by tests/kernels.rs), with a field per
+//! WGSL variable, so each stage module states exactly what its kernel reads and writes, the
+//! compiler rejects a missing or misspelled binding, and no index is written twice.
 
 use crate::gpu::kernels::MapAccess;
-use crate::gpu::stages::{Entry, Stage};
+use crate::gpu::stages::{Bindings, Entry, Stage};
 use crate::gpu::{pipeline, GpuContext};
 use crate::{Error, Result};
 
@@ -32,31 +32,19 @@ impl ComputeKernel {
         Ok(Self { stage, entry: table, pipeline: pipeline::compute_pipeline_for(ctx, stage.name, entry, maps)? })
     }
 
-    /// The @binding of the WGSL variable `name`. A name the entry point does not use is a bug in
-    /// the pass (the stage table lists every binding naga finds), so it panics.
-    pub fn binding(&self, name: &str) -> u32 {
-        self.entry.binding(name).unwrap_or_else(|| panic!("{}::{} has no binding `{name}` (gpu::stages)", self.stage, self.entry.name))
-    }
-
-    pub fn dispatch(
-        &self,
-        ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
-        bindings: &[(&str, wgpu::BindingResource)],
-        dispatch: Dispatch,
-    ) {
-        let entries: Vec<wgpu::BindGroupEntry> =
-            bindings.iter().map(|(b, r)| wgpu::BindGroupEntry { binding: self.binding(b), resource: r.clone() }).collect();
-        // The layout is the entry point's own: every variable it uses must be bound.
-        assert_eq!(
-            entries.len(),
-            self.entry.bindings.len(),
-            "{}::{} binds {:?}, the kernel uses {:?}",
+    /// Records one dispatch of this entry point with its bindings (`bind::<stage>::<Set>`, generated
+    /// from the stage table: the compiler checks that every variable is bound, once, by its name).
+    pub fn dispatch<'a, B: Bindings<'a>>(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, bindings: B, dispatch: Dispatch) {
+        // The struct must be this entry point's: another's would bind another layout.
+        assert!(
+            B::STAGE == self.stage.name && B::ENTRY_POINTS.contains(&self.entry.name),
+            "{}::{} bound with the bindings of {}::{:?}",
             self.stage,
             self.entry.name,
-            entries.iter().map(|e| e.binding).collect::<Vec<_>>(),
-            self.entry.bindings
+            B::STAGE,
+            B::ENTRY_POINTS
         );
+        let entries = bindings.entries();
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.stage.name),
             layout: &self.pipeline.get_bind_group_layout(0),

@@ -2,6 +2,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, LowQuality};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -25,34 +26,34 @@ impl Neighbourhood {
         self.dense.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("counts", counts.maps.as_entire_binding()),
-                ("flags", out.flags.as_entire_binding()),
-                ("word_state", counts.word_state.as_entire_binding()),
-            ],
+            bind::neighbourhood::Main {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                counts: counts.maps.as_entire_binding(),
+                flags: out.flags.as_entire_binding(),
+                word_state: counts.word_state.as_entire_binding(),
+            },
             Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
 
     /// scope = local: one item of `items.items[cur]` each; also counts each quad's low-quality
     /// pixels (`out.per_quad`, which the level cleared), so no quad_count pass follows.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, items: &ItemLists, cur: usize, out: &LowQuality) {
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, items: &ItemLists, out: &LowQuality) {
+        let cur = lv.cur;
         self.list.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("counts", counts.maps.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("flags_atomic", out.flags.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-                ("word_state", counts.word_state.as_entire_binding()),
-                ("quad_counters", out.per_quad.as_entire_binding()),
-            ],
+            bind::neighbourhood::List {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                counts: counts.maps.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                flags_atomic: out.flags.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+                word_state: counts.word_state.as_entire_binding(),
+                quad_counters: out.per_quad.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }

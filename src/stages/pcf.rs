@@ -1,10 +1,10 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
-use super::shade::GeometryTiles;
+use super::shade::{MapFilter, Screen};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 pub struct Pcf {
@@ -32,24 +32,24 @@ impl Pcf {
 
     /// `frame`: the frame uniform; `samples[0]` is the map's sample; `disk` the tap offsets of the
     /// disk kernels. Writes `visibility` at every G-buffer pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, filter: &wgpu::Buffer, samples: &wgpu::Buffer, maps: &wgpu::TextureView, disk: &wgpu::Buffer, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, map: &MapFilter, disk: &wgpu::Buffer) {
+        let (Screen { frame, gbuffer, tiles, visibility }, MapFilter { filter, samples, maps }) = (*screen, *map);
         // A band of rows per dispatch (`tiles.bands`; one band unless V passes one binding).
         for band in &tiles.bands {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("samples", samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                    ("disk", disk.as_entire_binding()),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                    ("compare_sampler", wgpu::BindingResource::Sampler(&self.sampler)),
-                ],
+                bind::pcf::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    shadow_maps: wgpu::BindingResource::TextureView(maps),
+                    disk: disk.as_entire_binding(),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                    compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

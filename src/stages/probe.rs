@@ -4,6 +4,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{ItemLists, Level, Masks};
+use crate::gpu::stages::bind;
 use super::{ComputeKernel, Dispatch};
 use crate::Result;
 
@@ -22,32 +23,32 @@ impl Probe {
         self.begin.dispatch(
             ctx,
             enc,
-            &[
-                ("level", level.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("probe_total", items.probe_total.as_entire_binding()),
-                ("probe_args", items.probe_args.as_entire_binding()),
-            ],
+            bind::probe::Begin {
+                level: level.as_entire_binding(),
+                control: control.as_entire_binding(),
+                probe_total: items.probe_total.as_entire_binding(),
+                probe_args: items.probe_args.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
     }
 
     /// `lv.quads`: this level's quads (the probed parents' children); `items.items[cur]`: this level's item list.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, control: &wgpu::Buffer, items: &ItemLists, cur: usize) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists) {
+        let (control, cur) = (lv.control, lv.cur);
         self.main.dispatch(
             ctx,
             enc,
-            &[
-                ("level", lv.uniform.as_entire_binding()),
-                ("probes", items.probes.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("probe_total", items.probe_total.as_entire_binding()),
-            ],
+            bind::probe::Main {
+                level: lv.uniform.as_entire_binding(),
+                probes: items.probes.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: masks.lit.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                control: control.as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                probe_total: items.probe_total.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.probe_args),
         );
     }

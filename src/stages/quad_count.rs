@@ -2,6 +2,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{Level, LowQuality};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -21,12 +22,12 @@ impl QuadCount {
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("flags", low.flags.as_entire_binding()),
-                ("quad_counters", low.per_quad.as_entire_binding()),
-            ],
+            bind::quad_count::Main {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                flags: low.flags.as_entire_binding(),
+                quad_counters: low.per_quad.as_entire_binding(),
+            },
             match indirect {
                 Some(args) => Dispatch::Indirect(args),
                 None => Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), quads, 1]),

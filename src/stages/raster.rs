@@ -1,12 +1,13 @@
 //! The frame's shadow-map raster, by the `raster` setting: the fixed-function `shadow_raster`, or
 //! the `raster_compute` kernels whose maps are copied, chain by chain, into R32Uint layers that every
 //! map-reading kernel reads through kernels/shared/maps_words.wgsl. Methods ask this for their map
-//! arrays, so the layers' format always matches the raster that fills them.
+//! arrays, so the layers' format always matches the raster that fills them, and for the stage
+//! they time its work as (`Raster::stage`), so each raster has its own timing key.
 
-use super::raster_compute::RasterCompute;
+use super::raster_compute::{RasterCompute, Requests};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::GpuRasterJob;
-use crate::gpu::GpuContext;
+use crate::gpu::{GpuContext, Stage};
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray, ShadowRasterPass};
 use crate::render::SceneGpu;
 use crate::scene::{CullMode, MapKind};
@@ -16,6 +17,15 @@ use std::cell::RefCell;
 /// Maps one compute chain holds at most: enough (triangle, map) pairs to fill a large GPU, and a
 /// small share of the map budget.
 pub const CHAIN_MAPS: u32 = 32;
+
+/// What a raster call draws: the scene, the sample records whose view-projections its jobs name,
+/// and the array whose layers the maps go into.
+#[derive(Clone, Copy)]
+pub struct RasterTarget<'b> {
+    pub scene: &'b SceneGpu,
+    pub samples: &'b wgpu::Buffer,
+    pub array: &'b ShadowMapArray,
+}
 
 pub enum Raster {
     Hardware(ShadowRasterPass),
@@ -37,6 +47,15 @@ impl Raster {
 
     pub fn is_compute(&self) -> bool {
         matches!(self, Raster::Compute(_))
+    }
+
+    /// The stage its work is timed as, and named in `stages_ms`: `shadow_raster` (the
+    /// fixed-function pipeline) or `raster_compute` (its kernels and copies into the layers).
+    pub fn stage(&self) -> Stage {
+        match self {
+            Raster::Hardware(_) => Stage::SHADOW_RASTER,
+            Raster::Compute(_) => Stage::RASTER_COMPUTE,
+        }
     }
 
     /// `hardware` or `compute`, as run.json and the report name it.
@@ -81,30 +100,21 @@ impl Raster {
     }
 
     /// Rasterizes `jobs` (sample → layer, optionally inside a scissor rectangle) into `array`.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
+        let RasterTarget { scene, samples, array } = *to;
         match self {
             Raster::Hardware(pass) => {
                 pass.record(ctx, enc, scene, samples, array, jobs);
                 Ok(())
             }
-            Raster::Compute(c) => c.record(ctx, enc, scene, samples, array, jobs),
+            Raster::Compute(c) => c.record(ctx, enc, to, jobs),
         }
     }
 
     /// Each job draws the triangles the cull pass kept for it: its slot's index list, whose draw
     /// arguments (index count first) sit at the byte offset given with the job, in `args`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_culled(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &SceneGpu,
-        samples: &wgpu::Buffer,
-        array: &ShadowMapArray,
-        jobs: &[(RasterJob, u64)],
-        culled: &wgpu::Buffer,
-        args: &wgpu::Buffer,
-    ) -> Result<()> {
+    pub fn record_culled(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u64)], culled: &wgpu::Buffer, args: &wgpu::Buffer) -> Result<()> {
+        let RasterTarget { scene, samples, array } = *to;
         match self {
             Raster::Hardware(pass) => {
                 pass.record_culled(ctx, enc, scene, samples, array, jobs, culled, args);
@@ -113,7 +123,7 @@ impl Raster {
             Raster::Compute(c) => {
                 let slot_bytes = crate::stages::cull::ARGS_WORDS as u64 * 4;
                 let kept: Vec<(RasterJob, u32)> = jobs.iter().map(|(j, at)| (*j, (at / slot_bytes) as u32)).collect();
-                c.record_jobs(ctx, enc, scene, samples, array, &kept, Some((culled, args)))
+                c.record_jobs(ctx, enc, to, &kept, Some((culled, args)))
             }
         }
     }
@@ -121,17 +131,8 @@ impl Raster {
     /// The GPU-steered loop's draws over the whole mesh, each job's instance count a request flag
     /// the GPU set (`args` at the job's offset). The compute raster rasterizes every job instead
     /// (its own steered path is `record_requested`).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_flagged(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &SceneGpu,
-        samples: &wgpu::Buffer,
-        array: &ShadowMapArray,
-        jobs: &[(RasterJob, u64)],
-        args: &wgpu::Buffer,
-    ) -> Result<()> {
+    pub fn record_flagged(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u64)], args: &wgpu::Buffer) -> Result<()> {
+        let RasterTarget { scene, samples, array } = *to;
         match self {
             Raster::Hardware(pass) => {
                 pass.record_culled(ctx, enc, scene, samples, array, jobs, &scene.shadow_indices, args);
@@ -139,7 +140,7 @@ impl Raster {
             }
             Raster::Compute(c) => {
                 let plain: Vec<RasterJob> = jobs.iter().map(|(j, _)| *j).collect();
-                c.record(ctx, enc, scene, samples, array, &plain)
+                c.record(ctx, enc, to, &plain)
             }
         }
     }
@@ -150,17 +151,8 @@ impl Raster {
     /// `candidates` possible), into the layers their sample records name, with dispatches the GPU
     /// sizes from the list's count. The compute raster alone can: the fixed-function one draws
     /// every candidate layer (`record_culled` with GPU instance counts).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_requested(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &SceneGpu,
-        samples: &wgpu::Buffer,
-        requests: (&wgpu::Buffer, &wgpu::Buffer),
-        candidates: u32,
-        array: &ShadowMapArray,
-    ) -> Result<()> {
+    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, requests: (&wgpu::Buffer, &wgpu::Buffer), candidates: u32) -> Result<()> {
+        let RasterTarget { scene, samples, array } = *to;
         let Raster::Compute(c) = self else {
             return Err(Error::Param("record_requested needs raster = compute".into()));
         };
@@ -169,7 +161,8 @@ impl Raster {
         let chain = chains.iter().find(|r| r.map_size == size).expect("a chain of this size");
         // As many chains as the candidates could fill; those past the level's count do nothing.
         for first in (0..candidates).step_by(chain.capacity as usize) {
-            chain.record_requested(ctx, enc, scene, samples, requests, first, &array.array_view);
+            let requests = Requests { control: requests.0, list: requests.1, first };
+            chain.record_requested(ctx, enc, scene, samples, &requests, &array.array_view);
         }
         Ok(())
     }
@@ -194,24 +187,15 @@ impl ComputeRaster {
         Ok(chains)
     }
 
-    fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+    fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
         let whole: Vec<(RasterJob, u32)> = jobs.iter().map(|j| (*j, GpuRasterJob::WHOLE_MESH)).collect();
-        self.record_jobs(ctx, enc, scene, samples, array, &whole, None)
+        self.record_jobs(ctx, enc, to, &whole, None)
     }
 
     /// Chain by chain: rasterize, then copy each map into its layer. A job's second field is its
     /// cull slot (`kept` holds the pass's lists and arguments) or GpuRasterJob::WHOLE_MESH.
-    #[allow(clippy::too_many_arguments)]
-    fn record_jobs(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &SceneGpu,
-        samples: &wgpu::Buffer,
-        array: &ShadowMapArray,
-        jobs: &[(RasterJob, u32)],
-        kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
-    ) -> Result<()> {
+    fn record_jobs(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u32)], kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>) -> Result<()> {
+        let RasterTarget { scene, samples, array } = *to;
         let size = array.texture.width();
         let chains = self.chain(ctx, size)?;
         let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");

@@ -5,6 +5,7 @@
 //! queues the large ones, then rasterizes the queued ones tile by tile. Depth is one u32 per
 //! texel: the bits of a non-negative f32, which order like the values, written by atomicMin.
 
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuRasterCompute, GpuRasterJob};
@@ -54,6 +55,33 @@ pub struct RasterCompute {
     /// Maps one chain holds.
     pub capacity: u32,
     cull_face: u32,
+}
+
+/// The requests one steered chain rasterizes: `control` (word 1 counts a level's requests),
+/// `list` (the requested samples) and the first of them this chain takes.
+#[derive(Clone, Copy)]
+pub struct Requests<'b> {
+    pub control: &'b wgpu::Buffer,
+    pub list: &'b wgpu::Buffer,
+    pub first: u32,
+}
+
+/// One chain's inputs: the scene, the samples whose view-projections the jobs name, and the chain's
+/// uniform and jobs.
+#[derive(Clone, Copy)]
+struct Chain<'b> {
+    scene: &'b SceneGpu,
+    samples: &'b wgpu::Buffer,
+    params: &'b wgpu::Buffer,
+    jobs: &'b wgpu::Buffer,
+}
+
+/// Which `main` a chain runs: `main` over the cull pass's kept index lists and their draw
+/// arguments (jobs with a kept_slot read them), or `main_maps` over the shadow order, reading the
+/// level's request count when steered.
+enum ChainMain<'b> {
+    Kept { indices: &'b wgpu::Buffer, counts: &'b wgpu::Buffer, dispatch: Dispatch<'b> },
+    Maps { requests: Option<&'b wgpu::Buffer>, dispatch: Dispatch<'b> },
 }
 
 /// Maps one chain may hold: the memory budget and the storage-binding limit, whichever is less.
@@ -146,105 +174,118 @@ impl RasterCompute {
         let jobs = readback::storage_buffer(ctx, "raster_compute jobs", jobs, wgpu::BufferUsages::empty());
         let words = groups(maps * self.map_size * self.map_size, LINE_WORKGROUP[0] * CLEAR_RUN);
         let [x, _, z] = rows(groups(scene.index_count / 3, LINE_WORKGROUP[0]));
+        let chain = Chain { scene, samples, params: &params, jobs: &jobs };
         let main = match kept {
             // A triangle per invocation over every map: its vertices are read once per chain.
-            None => (&self.main_maps, Dispatch::Direct([x, 1, z])),
-            Some((_, counts)) => {
+            None => ChainMain::Maps { requests: None, dispatch: Dispatch::Direct([x, 1, z]) },
+            Some((indices, counts)) => {
                 // As wide as the longest kept list: lavapipe pays for every workgroup, even one that returns at once.
                 self.kept_extent.dispatch(
                     ctx,
                     enc,
-                    &[
-                        ("params", params.as_entire_binding()),
-                        ("jobs", jobs.as_entire_binding()),
-                        ("steer_args", self.steer_args.as_entire_binding()),
-                        ("kept_counts", counts.as_entire_binding()),
-                    ],
+                    bind::raster_compute::KeptExtent {
+                        params: params.as_entire_binding(),
+                        jobs: jobs.as_entire_binding(),
+                        steer_args: self.steer_args.as_entire_binding(),
+                        kept_counts: counts.as_entire_binding(),
+                    },
                     Dispatch::Direct([1, 1, 1]),
                 );
-                (&self.main, Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4))
+                ChainMain::Kept { indices, counts, dispatch: Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4) }
             }
         };
-        self.record_chain(ctx, enc, scene, samples, kept, &params, &jobs, Dispatch::Direct(rows(words)), main, None);
+        self.record_chain(ctx, enc, &chain, Dispatch::Direct(rows(words)), main);
     }
 
     /// clear, main, begin and large_tiles over the chain's jobs, with clear's and main's dispatches.
-    #[allow(clippy::too_many_arguments)]
-    /// `kept`: the cull pass's kept lists and draw arguments, which jobs with a kept_slot read;
-    /// otherwise the shadow order alone is bound (as the unread counts too).
-    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>, params: &wgpu::Buffer, jobs: &wgpu::Buffer, clear: Dispatch, main: (&ComputeKernel, Dispatch), requests: Option<&wgpu::Buffer>) {
-        let (indices, counts) = kept.unwrap_or((&scene.shadow_indices, &scene.shadow_indices));
+    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, chain: &Chain, clear: Dispatch, main: ChainMain) {
+        use bind::raster_compute::{Begin, Clear, LargeTiles, Main, MainMaps};
+        let Chain { scene, samples, params, jobs } = *chain;
         enc.clear_buffer(&self.control, 0, None);
-        self.clear.dispatch(ctx, enc, &[("params", params.as_entire_binding()), ("depth", self.depth.as_entire_binding())], clear);
-        let all = [
-            ("params", params.as_entire_binding()),
-            ("samples", samples.as_entire_binding()),
-            ("jobs", jobs.as_entire_binding()),
-            ("positions", scene.positions.as_entire_binding()),
-            ("indices", indices.as_entire_binding()),
-            ("depth", self.depth.as_entire_binding()),
-            ("large", self.large.as_entire_binding()),
-            ("control", self.control.as_entire_binding()),
-        ];
-        let mut with_runs = all.to_vec();
-        with_runs.push(("runs", scene.runs.as_entire_binding()));
-        if std::ptr::eq(main.0, &self.main) {
-            with_runs.push(("kept_counts", counts.as_entire_binding()));
-        } else {
-            // Read only when steered; otherwise any read-only buffer fills the binding.
-            with_runs.push(("request_control", requests.unwrap_or(samples).as_entire_binding()));
-        }
-        main.0.dispatch(ctx, enc, &with_runs, main.1);
-        self.begin.dispatch(
-            ctx,
-            enc,
-            &[("params", params.as_entire_binding()), ("control", self.control.as_entire_binding()), ("dispatch", self.dispatch.as_entire_binding())],
-            Dispatch::Direct([1, 1, 1]),
-        );
-        self.large_tiles.dispatch(ctx, enc, &all, Dispatch::Indirect(&self.dispatch));
+        self.clear.dispatch(ctx, enc, Clear { params: params.as_entire_binding(), depth: self.depth.as_entire_binding() }, clear);
+        let indices = match main {
+            ChainMain::Kept { indices, counts, dispatch } => {
+                let bindings = Main {
+                    params: params.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    jobs: jobs.as_entire_binding(),
+                    positions: scene.positions.as_entire_binding(),
+                    indices: indices.as_entire_binding(),
+                    depth: self.depth.as_entire_binding(),
+                    large: self.large.as_entire_binding(),
+                    control: self.control.as_entire_binding(),
+                    runs: scene.runs.as_entire_binding(),
+                    kept_counts: counts.as_entire_binding(),
+                };
+                self.main.dispatch(ctx, enc, bindings, dispatch);
+                indices
+            }
+            ChainMain::Maps { requests, dispatch } => {
+                let bindings = MainMaps {
+                    params: params.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    jobs: jobs.as_entire_binding(),
+                    positions: scene.positions.as_entire_binding(),
+                    indices: scene.shadow_indices.as_entire_binding(),
+                    depth: self.depth.as_entire_binding(),
+                    large: self.large.as_entire_binding(),
+                    control: self.control.as_entire_binding(),
+                    // Read only when steered; otherwise any read-only buffer fills the binding.
+                    request_control: requests.unwrap_or(samples).as_entire_binding(),
+                    runs: scene.runs.as_entire_binding(),
+                };
+                self.main_maps.dispatch(ctx, enc, bindings, dispatch);
+                &scene.shadow_indices
+            }
+        };
+        let begin = Begin { params: params.as_entire_binding(), control: self.control.as_entire_binding(), dispatch: self.dispatch.as_entire_binding() };
+        self.begin.dispatch(ctx, enc, begin, Dispatch::Direct([1, 1, 1]));
+        let large = LargeTiles {
+            params: params.as_entire_binding(),
+            samples: samples.as_entire_binding(),
+            jobs: jobs.as_entire_binding(),
+            positions: scene.positions.as_entire_binding(),
+            indices: indices.as_entire_binding(),
+            depth: self.depth.as_entire_binding(),
+            large: self.large.as_entire_binding(),
+            control: self.control.as_entire_binding(),
+        };
+        self.large_tiles.dispatch(ctx, enc, large, Dispatch::Indirect(&self.dispatch));
     }
 
-    /// Under the GPU-steered loop: rasterizes the requests `first_request ..` (at most `capacity`)
-    /// of a level's list (`request_control` word 1 counts them, `request_list` names the samples)
+    /// Under the GPU-steered loop: rasterizes the requests `requests.first ..` (at most `capacity`)
+    /// of a level's list (`requests.control` word 1 counts them, `requests.list` names the samples)
     /// and stores each map into the layer its sample record names, with dispatches the GPU sizes:
     /// a chain past the last request does nothing. Nothing is read back.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_requested(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &SceneGpu,
-        samples: &wgpu::Buffer,
-        requests: (&wgpu::Buffer, &wgpu::Buffer),
-        first_request: u32,
-        layers: &wgpu::TextureView,
-    ) {
+    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, requests: &Requests, layers: &wgpu::TextureView) {
+        let (requests, first_request) = ((requests.control, requests.list), requests.first);
         let params = self.uniform(ctx, scene, self.capacity, first_request, true);
         let jobs = readback::zeroed_storage(ctx, "raster_compute requested jobs", self.capacity as u64 * std::mem::size_of::<GpuRasterJob>() as u64);
         self.requested.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("jobs", jobs.as_entire_binding()),
-                ("request_control", requests.0.as_entire_binding()),
-                ("request_list", requests.1.as_entire_binding()),
-                ("steer_args", self.steer_args.as_entire_binding()),
-            ],
+            bind::raster_compute::Requested {
+                params: params.as_entire_binding(),
+                jobs: jobs.as_entire_binding(),
+                request_control: requests.0.as_entire_binding(),
+                request_list: requests.1.as_entire_binding(),
+                steer_args: self.steer_args.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
         let at = |words: u64| Dispatch::IndirectAt(&self.steer_args, words * 4);
-        self.record_chain(ctx, enc, scene, samples, None, &params, &jobs, at(STEER_ARGS_CLEAR), (&self.main_maps, at(STEER_ARGS_MAIN)), Some(requests.0));
+        let chain = Chain { scene, samples, params: &params, jobs: &jobs };
+        self.record_chain(ctx, enc, &chain, at(STEER_ARGS_CLEAR), ChainMain::Maps { requests: Some(requests.0), dispatch: at(STEER_ARGS_MAIN) });
         self.store.dispatch(
             ctx,
             enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("jobs", jobs.as_entire_binding()),
-                ("depth", self.depth.as_entire_binding()),
-                ("layers", wgpu::BindingResource::TextureView(layers)),
-                ("layer_samples", samples.as_entire_binding()),
-            ],
+            bind::raster_compute::Store {
+                params: params.as_entire_binding(),
+                jobs: jobs.as_entire_binding(),
+                depth: self.depth.as_entire_binding(),
+                layers: wgpu::BindingResource::TextureView(layers),
+                layer_samples: samples.as_entire_binding(),
+            },
             at(STEER_ARGS_STORE),
         );
     }

@@ -2,7 +2,7 @@
 //! rounds after a warm-up, the least time of each raster kept. `raster = auto` compares the two
 //! rasters with it, and `auto:target=T` prices a map of each size with it.
 
-use super::raster::Raster;
+use super::raster::{Raster, RasterTarget};
 use crate::gpu::readback;
 use crate::gpu::GpuContext;
 use crate::render::shadow_raster::RasterJob;
@@ -32,7 +32,7 @@ pub fn least_ms(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, rasters: &[&Ras
         for (i, r) in rasters.iter().enumerate() {
             let start = Instant::now();
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            r.record(ctx, &mut enc, gpu, &buffer, &arrays[i], &jobs)?;
+            r.record(ctx, &mut enc, &RasterTarget { scene: gpu, samples: &buffer, array: &arrays[i] }, &jobs)?;
             ctx.queue.submit([enc.finish()]);
             ctx.wait()?;
             if round > 0 {

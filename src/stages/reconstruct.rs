@@ -1,8 +1,8 @@
 //! reconstruct: visibility from the prefiltered statistic at each pixel's place in the map.
 
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
-use super::shade::GeometryTiles;
+use super::shade::Screen;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -16,22 +16,22 @@ impl Reconstruct {
     }
 
     /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer, visibility: &wgpu::Buffer) {
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer) {
+        let Screen { frame, gbuffer, tiles, visibility } = *screen;
         // A band of rows per dispatch (`tiles.bands`; one band unless V passes one binding).
         for band in &tiles.bands {
             self.kernel.dispatch(
                 ctx,
                 enc,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("settings", filter.as_entire_binding()),
-                    ("samples", samples.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                    ("moments", filtered.as_entire_binding()),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                ],
+                bind::reconstruct::Main {
+                    frame: band.frame(frame).as_entire_binding(),
+                    settings: filter.as_entire_binding(),
+                    samples: samples.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                    moments: filtered.as_entire_binding(),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                },
                 Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
             );
         }

@@ -6,6 +6,7 @@
 use super::shade::{GeometryTiles, TILE, TILE_LIST_HEADER};
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP, LINE_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
@@ -68,6 +69,17 @@ pub fn empty_class() -> [u32; CLASS_WORDS] {
     [0, u32::MAX, u32::MAX, u32::MAX, u32::MAX, 0, 0, 0]
 }
 
+/// What `record` reads: the frame uniform, the screen's G-buffer and geometry tiles, and the centre
+/// map (`samples[0]`, layer 0 of `maps`).
+#[derive(Clone, Copy)]
+pub struct RegionsInputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub gbuffer: &'a GBuffer,
+    pub tiles: &'a GeometryTiles,
+    pub samples: &'a wgpu::Buffer,
+    pub maps: &'a wgpu::TextureView,
+}
+
 /// The passes and the buffers they fill, sized for one screen and ladder.
 pub struct RegionsPass {
     measure: ComputeKernel,
@@ -126,10 +138,10 @@ impl RegionsPass {
         })
     }
 
-    /// Resets the buffers, then measures every pixel against the centre map (`samples[0]`, in
-    /// `maps`) and classifies the frame's geometry tiles.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, samples: &wgpu::Buffer, maps: &wgpu::TextureView) {
+    /// Resets the buffers, then measures every pixel against the centre map (`inputs.samples[0]`,
+    /// in `inputs.maps`) and classifies the frame's geometry tiles.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &RegionsInputs) {
+        let RegionsInputs { frame, gbuffer, tiles, samples, maps } = *inputs;
         enc.copy_buffer_to_buffer(&self.regions_init, 0, &self.regions, 0, self.regions.size());
         enc.copy_buffer_to_buffer(&self.classes_init, 0, &self.classes, 0, self.classes.size());
         enc.copy_buffer_to_buffer(&self.tiles_init, 0, &self.class_tiles, 0, self.class_tiles.size());
@@ -137,39 +149,35 @@ impl RegionsPass {
         self.measure.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("params", self.params_buffer.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                ("regions", self.regions.as_entire_binding()),
-            ],
+            bind::regions::Measure {
+                frame: frame.as_entire_binding(),
+                params: self.params_buffer.as_entire_binding(),
+                samples: samples.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                shadow_maps: wgpu::BindingResource::TextureView(maps),
+                regions: self.regions.as_entire_binding(),
+            },
             Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
         );
         self.total.dispatch(
             ctx,
             enc,
-            &[
-                ("params", self.params_buffer.as_entire_binding()),
-                ("regions", self.regions.as_entire_binding()),
-                ("totals", self.totals.as_entire_binding()),
-            ],
+            bind::regions::Total { params: self.params_buffer.as_entire_binding(), regions: self.regions.as_entire_binding(), totals: self.totals.as_entire_binding() },
             Dispatch::Direct([groups(self.region_count, LINE_WORKGROUP[0]), 1, 1]),
         );
         self.classify.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("params", self.params_buffer.as_entire_binding()),
-                ("regions", self.regions.as_entire_binding()),
-                ("tile_list", tiles.list.as_entire_binding()),
-                ("classes", self.classes.as_entire_binding()),
-                ("class_tiles", self.class_tiles.as_entire_binding()),
-                ("totals", self.totals.as_entire_binding()),
-            ],
+            bind::regions::Classify {
+                frame: frame.as_entire_binding(),
+                params: self.params_buffer.as_entire_binding(),
+                regions: self.regions.as_entire_binding(),
+                tile_list: tiles.list.as_entire_binding(),
+                classes: self.classes.as_entire_binding(),
+                class_tiles: self.class_tiles.as_entire_binding(),
+                totals: self.totals.as_entire_binding(),
+            },
             Dispatch::Direct([groups(self.params.max_tiles, LINE_WORKGROUP[0]), 1, 1]),
         );
     }

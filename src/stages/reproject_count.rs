@@ -4,6 +4,7 @@
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, Masks, MASK_WORDS};
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
@@ -25,37 +26,19 @@ impl ReprojectCount {
     }
 
     /// Every (pixel, quad) of `lv` from `masks.lit` into `out`; `control` counts geometry pixels.
-    pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, control: &wgpu::Buffer, out: &CountMaps) {
+    pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, out: &CountMaps) {
         let words = lv.shape.height * lv.shape.words_per_row;
-        self.dispatch_dense(ctx, enc, lv, lv.frame, masks.lit.as_entire_binding(), control, out, words);
+        self.dense.dispatch(ctx, enc, dense_bindings(lv, lv.frame, masks.lit.as_entire_binding(), out), Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]));
     }
 
     /// [`Self::record_dense`] a band of rows at a time (`tiles.bands`), the masks bound by band.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_dense_bands(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, tiles: &GeometryTiles, masks: &Masks, control: &wgpu::Buffer, out: &CountMaps) {
+    pub fn record_dense_bands(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, tiles: &GeometryTiles, masks: &Masks, out: &CountMaps) {
         let mask_bytes = MASK_WORDS as u64 * 4;
         for band in &tiles.bands {
             let lit = band.pixels(tiles, &masks.lit, lv.shape.width, mask_bytes);
-            self.dispatch_dense(ctx, enc, lv, band.frame(lv.frame), lit, control, out, band.rows * lv.shape.words_per_row);
+            let words = band.rows * lv.shape.words_per_row;
+            self.dense.dispatch(ctx, enc, dense_bindings(lv, band.frame(lv.frame), lit, out), Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]));
         }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn dispatch_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, frame: &wgpu::Buffer, lit: wgpu::BindingResource, control: &wgpu::Buffer, out: &CountMaps, words: u32) {
-        self.dense.dispatch(
-            ctx,
-            enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", lit),
-                ("counts", out.maps.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("word_state", out.word_state.as_entire_binding()),
-            ],
-            Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
-        );
     }
 
     /// scope = local: the items appended so far become this level's list (`items.total`,
@@ -64,50 +47,64 @@ impl ReprojectCount {
         self.begin.dispatch(
             ctx,
             enc,
-            &[
-                ("level", level.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("list_args", items.list_args.as_entire_binding()),
-            ],
+            bind::reproject_count::Begin {
+                level: level.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+                control: control.as_entire_binding(),
+                list_args: items.list_args.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
     }
 
-    /// scope = local: the counts of `items.items[cur]` into `out`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists, cur: usize, out: &CountMaps) {
+    /// scope = local: the counts of `items.items[lv.cur]` into `out`.
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists, out: &CountMaps) {
+        let cur = lv.cur;
         self.list.dispatch(
             ctx,
             enc,
-            &[
-                ("frame", lv.frame.as_entire_binding()),
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("counts_atomic", out.maps.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-            ],
+            bind::reproject_count::List {
+                frame: lv.frame.as_entire_binding(),
+                level: lv.uniform.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: masks.lit.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                counts_atomic: out.maps.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
     }
 
     /// The last level's items (scope = local): counts go straight into V's integer sums
     /// (`items.visibility_fixed`).
-    pub fn record_last(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists, cur: usize) {
+    pub fn record_last(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists) {
+        let cur = lv.cur;
         self.last.dispatch(
             ctx,
             enc,
-            &[
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("masks", masks.lit.as_entire_binding()),
-                ("items", items.items[cur].as_entire_binding()),
-                ("visibility_fixed", items.visibility_fixed.as_entire_binding()),
-                ("item_total", items.total.as_entire_binding()),
-            ],
+            bind::reproject_count::Last {
+                level: lv.uniform.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                masks: masks.lit.as_entire_binding(),
+                items: items.items[cur].as_entire_binding(),
+                visibility_fixed: items.visibility_fixed.as_entire_binding(),
+                item_total: items.total.as_entire_binding(),
+            },
             Dispatch::Indirect(&items.list_args),
         );
+    }
+}
+
+/// `main`'s bindings over `lv`, with the frame uniform and the masks of one band (or the whole frame).
+fn dense_bindings<'b>(lv: &Level<'b>, frame: &'b wgpu::Buffer, lit: wgpu::BindingResource<'b>, out: &'b CountMaps) -> bind::reproject_count::Main<'b> {
+    bind::reproject_count::Main {
+        frame: frame.as_entire_binding(),
+        level: lv.uniform.as_entire_binding(),
+        quads: lv.quads.as_entire_binding(),
+        masks: lit,
+        counts: out.maps.as_entire_binding(),
+        control: lv.control.as_entire_binding(),
+        word_state: out.word_state.as_entire_binding(),
     }
 }

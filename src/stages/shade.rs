@@ -1,6 +1,7 @@
 //! shade: accumulates weight_i · lit_i(p) over one array's samples into the visibility buffer.
 
 use super::groups;
+use crate::gpu::stages::bind;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::GpuSample;
 use crate::render::gbuffer::GBuffer;
@@ -149,11 +150,30 @@ pub fn blocks(first: u32, count: u32) -> Vec<(u32, u32)> {
 }
 
 /// Buffers and views every shade call reads.
+/// The screen a per-pixel pass covers and writes V over: the frame uniform, the G-buffer, its
+/// geometry tiles (whose bands split a dispatch where V passes one storage binding) and V.
+#[derive(Clone, Copy)]
+pub struct Screen<'b> {
+    pub frame: &'b wgpu::Buffer,
+    pub gbuffer: &'b GBuffer,
+    pub tiles: &'b GeometryTiles,
+    pub visibility: &'b wgpu::Buffer,
+}
+
+/// One filtered map lookup's inputs (pcf, pcss): the filter uniform, the sample records and the maps.
+#[derive(Clone, Copy)]
+pub struct MapFilter<'b> {
+    pub filter: &'b wgpu::Buffer,
+    pub samples: &'b wgpu::Buffer,
+    pub maps: &'b wgpu::TextureView,
+}
+
 pub struct ShadeInputs<'a> {
     pub frame: &'a wgpu::Buffer,
     pub samples: &'a wgpu::Buffer,
     pub weights: &'a wgpu::Buffer,
     pub gbuffer: &'a GBuffer,
+    pub tiles: &'a GeometryTiles,
     pub visibility: &'a wgpu::Buffer,
 }
 
@@ -222,28 +242,19 @@ impl ShadePass {
         self.geometry_tiles.dispatch(
             ctx,
             encoder,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("tile_list_build", tiles.list.as_entire_binding()),
-            ],
+            bind::shade::GeometryTiles {
+                frame: frame.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                tile_list_build: tiles.list.as_entire_binding(),
+            },
             super::Dispatch::Direct([groups(gbuffer.width, TILE), groups(gbuffer.height, TILE), 1]),
         );
     }
 
     /// Adds samples `first .. first + count` (all in `maps`: a depth array, or a hybrid store's view)
     /// to the visibility buffer.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(
-        &self,
-        ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
-        inputs: &ShadeInputs,
-        maps: &wgpu::TextureView,
-        tiles: &GeometryTiles,
-        first: u32,
-        count: u32,
-    ) {
+    pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, inputs: &ShadeInputs, maps: &wgpu::TextureView, first: u32, count: u32) {
+        let tiles = inputs.tiles;
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         // Blocks in order, each adding to V in sample order: the sum order is the single loop's.
         for (block, block_count) in blocks(first, count) {
@@ -258,16 +269,16 @@ impl ShadePass {
                 kernel.dispatch(
                     ctx,
                     encoder,
-                    &[
-                        ("frame", band.frame(inputs.frame).as_entire_binding()),
-                        ("block_samples", block_samples.as_entire_binding()),
-                        ("block_weights", block_weights.as_entire_binding()),
-                        ("gbuffer_position", wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view)),
-                        ("gbuffer_normal", wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view)),
-                        ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                        ("visibility", band.pixels(tiles, inputs.visibility, inputs.gbuffer.width, 4)),
-                        ("tile_list", band.tiles(tiles)),
-                    ],
+                    bind::shade::Block {
+                        frame: band.frame(inputs.frame).as_entire_binding(),
+                        block_samples: block_samples.as_entire_binding(),
+                        block_weights: block_weights.as_entire_binding(),
+                        gbuffer_position: wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
+                        gbuffer_normal: wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
+                        shadow_maps: wgpu::BindingResource::TextureView(maps),
+                        visibility: band.pixels(tiles, inputs.visibility, inputs.gbuffer.width, 4),
+                        tile_list: band.tiles(tiles),
+                    },
                     band.tiles_args(tiles),
                 );
             }
@@ -276,30 +287,20 @@ impl ShadePass {
 
     /// Adaptive, scope = global: V = Σ_k ŵ_k · bit_k(p) from the cached lattice masks, a band of
     /// rows per dispatch (`tiles.bands`).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_masks(
-        &self,
-        ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
-        frame: &wgpu::Buffer,
-        weights: &wgpu::Buffer,
-        gbuffer: &GBuffer,
-        tiles: &GeometryTiles,
-        masks: &wgpu::Buffer,
-        visibility: &wgpu::Buffer,
-    ) {
+    pub fn record_masks(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, screen: &Screen, weights: &wgpu::Buffer, masks: &wgpu::Buffer) {
+        let Screen { frame, gbuffer, tiles, visibility } = *screen;
         let mask_bytes = crate::stages::adaptive_buffers::MASK_WORDS as u64 * 4;
         for band in &tiles.bands {
             self.from_masks.dispatch(
                 ctx,
                 encoder,
-                &[
-                    ("frame", band.frame(frame).as_entire_binding()),
-                    ("weights", weights.as_entire_binding()),
-                    ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                    ("visibility", band.pixels(tiles, visibility, gbuffer.width, 4)),
-                    ("masks", band.pixels(tiles, masks, gbuffer.width, mask_bytes)),
-                ],
+                bind::shade::FromMasks {
+                    frame: band.frame(frame).as_entire_binding(),
+                    weights: weights.as_entire_binding(),
+                    gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                    visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
+                    masks: band.pixels(tiles, masks, gbuffer.width, mask_bytes),
+                },
                 super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(band.rows, WORKGROUP[1]), 1]),
             );
         }

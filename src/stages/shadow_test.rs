@@ -3,6 +3,7 @@
 
 use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS, MASK_WORDS};
 use super::shade::GeometryTiles;
+use crate::gpu::stages::bind;
 use super::{ComputeKernel, Dispatch};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::{GpuLevel, GpuTestBlock};
@@ -75,160 +76,126 @@ impl ShadowTest {
 
     /// scope = local: tests the four corners of each of this level's items (`items.items[cur]`,
     /// counted by `items.total`) that no earlier item or probe of the frame tested for that pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, cur: usize, out: &Masks, maps: [&wgpu::TextureView; 2]) {
+    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, work: &LocalWork, cur: usize) {
         let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
-        self.dispatch_local(ctx, enc, frame, gbuffer, rq, out, &kernels[0], quads, &items.items[cur], &items.total, &items.list_args, maps);
+        let items = work.items;
+        kernels[0].dispatch(ctx, enc, local_bindings(t, work, &items.items[cur], &items.total), Dispatch::Indirect(&items.list_args));
     }
 
     /// scope = local: tests the five new samples of each of this level's probes (`items.probes`,
-    /// counted by `items.probe_total`; `quads` holds the probed parents' children), once per pixel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_probes(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, rq: Requests, quads: &wgpu::Buffer, items: &ItemLists, out: &Masks, maps: [&wgpu::TextureView; 2]) {
+    /// counted by `items.probe_total`; `work.quads` holds the probed parents' children), once per pixel.
+    pub fn record_probes(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, work: &LocalWork) {
         let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
-        self.dispatch_local(ctx, enc, frame, gbuffer, rq, out, &kernels[1], quads, &items.probes, &items.probe_total, &items.probe_args, maps);
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn dispatch_local(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        frame: &wgpu::Buffer,
-        gbuffer: &GBuffer,
-        rq: Requests,
-        out: &Masks,
-        kernel: &ComputeKernel,
-        quads: &wgpu::Buffer,
-        work: &wgpu::Buffer,
-        total: &wgpu::Buffer,
-        args: &wgpu::Buffer,
-        maps: [&wgpu::TextureView; 2],
-    ) {
-        kernel.dispatch(
-            ctx,
-            enc,
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("samples", rq.samples.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("consulted", out.consulted.as_entire_binding()),
-                ("lattice_lit", out.lit.as_entire_binding()),
-                ("maps_a", wgpu::BindingResource::TextureView(maps[0])),
-                ("maps_b", wgpu::BindingResource::TextureView(maps[1])),
-                ("work", work.as_entire_binding()),
-                ("work_total", total.as_entire_binding()),
-                ("quads", quads.as_entire_binding()),
-                ("control", rq.control.as_entire_binding()),
-            ],
-            Dispatch::Indirect(args),
-        );
+        let items = work.items;
+        kernels[1].dispatch(ctx, enc, local_bindings(t, work, &items.probes, &items.probe_total), Dispatch::Indirect(&items.probe_args));
     }
 
     /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a
-    /// hybrid store's view); skips those not requested this frame. `tiles`: this frame's geometry
-    /// tiles (the blocks run over them).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, rq: Requests, out: &Masks, maps: &wgpu::TextureView, ks: &[u32]) {
+    /// hybrid store's view); skips those not requested this frame. The blocks run over the
+    /// frame's geometry tiles (`t.tiles`).
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, maps: &wgpu::TextureView, ks: &[u32]) {
         let bound = ks.len() as u32;
         let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, ..Default::default() });
         let list = readback::storage_buffer(ctx, "test list", ks, wgpu::BufferUsages::empty());
-        self.dispatch(ctx, enc, frame, gbuffer, tiles, rq, out, maps, &level, &list, bound);
+        self.dispatch(ctx, enc, t, maps, SampleList { level: &level, list: &list, bound });
     }
 
     /// Tests the samples the last subdivide requested (`rq.decisions.new_samples`, as many as it
     /// appended, at most `bound`): the GPU-steered loop, when a level's maps fit one array.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles, rq: Requests, out: &Masks, maps: &wgpu::TextureView, bound: u32) {
+    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, maps: &wgpu::TextureView, bound: u32) {
         let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, requested: 1, ..Default::default() });
-        self.dispatch(ctx, enc, frame, gbuffer, tiles, rq, out, maps, &level, &rq.decisions.new_samples, bound);
+        self.dispatch(ctx, enc, t, maps, SampleList { level: &level, list: &t.rq.decisions.new_samples, bound });
     }
 
-    /// `fill_blocks`: the requested samples of `list` (see `level`) into the block slots, and each
-    /// slot's dispatch arguments.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_fill(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        level: &wgpu::Buffer,
-        samples: &wgpu::Buffer,
-        list: &wgpu::Buffer,
-        lattice_state: &wgpu::Buffer,
-        control: &wgpu::Buffer,
-        tiles: &wgpu::Buffer,
-    ) {
-        self.fill.dispatch(
-            ctx,
-            enc,
-            &[
-                ("level", level.as_entire_binding()),
-                ("samples", samples.as_entire_binding()),
-                ("test_list", list.as_entire_binding()),
-                ("lattice_state", lattice_state.as_entire_binding()),
-                ("control_words", control.as_entire_binding()),
-                ("blocks", self.block_buffer.as_entire_binding()),
-                ("block_args", self.block_args.as_entire_binding()),
-                ("tile_list", tiles.as_entire_binding()),
-            ],
-            Dispatch::Direct([1, 1, 1]),
-        );
+    /// `fill_blocks`: the requested samples of `test_list` (see `level`) into the block slots
+    /// (`blocks`: `block_buffer`), and each slot's dispatch arguments (`block_args`).
+    pub fn record_fill(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, bindings: bind::shadow_test::FillBlocks) {
+        self.fill.dispatch(ctx, enc, bindings, Dispatch::Direct([1, 1, 1]));
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn dispatch(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        frame: &wgpu::Buffer,
-        gbuffer: &GBuffer,
-        tiles: &GeometryTiles,
-        rq: Requests,
-        out: &Masks,
-        maps: &wgpu::TextureView,
-        level: &wgpu::Buffer,
-        list: &wgpu::Buffer,
-        bound: u32,
-    ) {
+    fn dispatch(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, maps: &wgpu::TextureView, list: SampleList) {
+        let (tiles, gbuffer, rq) = (t.tiles, t.gbuffer, t.rq);
         // A band at a time (`tiles.bands`): fill_blocks sizes each slot's dispatch by the band's
         // tiles, and the blocks write the band's rows of the masks.
         for band in &tiles.bands {
-            self.fill.dispatch(
-                ctx,
-                enc,
-                &[
-                    ("level", level.as_entire_binding()),
-                    ("samples", rq.samples.as_entire_binding()),
-                    ("test_list", list.as_entire_binding()),
-                    ("lattice_state", rq.decisions.lattice_state.as_entire_binding()),
-                    ("control_words", rq.control.as_entire_binding()),
-                    ("blocks", self.block_buffer.as_entire_binding()),
-                    ("block_args", self.block_args.as_entire_binding()),
-                    ("tile_list", band.tiles(tiles)),
-                ],
-                Dispatch::Direct([1, 1, 1]),
-            );
-            let masks = band.pixels(tiles, &out.lit, gbuffer.width, MASK_WORDS as u64 * 4);
-            for (slot, size) in block_slots(bound) {
+            let fill = bind::shadow_test::FillBlocks {
+                level: list.level.as_entire_binding(),
+                samples: rq.samples.as_entire_binding(),
+                test_list: list.list.as_entire_binding(),
+                lattice_state: rq.decisions.lattice_state.as_entire_binding(),
+                control_words: rq.control.as_entire_binding(),
+                blocks: self.block_buffer.as_entire_binding(),
+                block_args: self.block_args.as_entire_binding(),
+                tile_list: band.tiles(tiles),
+            };
+            self.record_fill(ctx, enc, fill);
+            let masks = band.pixels(tiles, &t.out.lit, gbuffer.width, MASK_WORDS as u64 * 4);
+            for (slot, size) in block_slots(list.bound) {
                 let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
                 let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
                 kernel.dispatch(
                     ctx,
                     enc,
-                    &[
-                        ("frame", band.frame(frame).as_entire_binding()),
-                        ("samples", rq.samples.as_entire_binding()),
-                        ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                        ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                        ("shadow_maps", wgpu::BindingResource::TextureView(maps)),
-                        ("masks", masks.clone()),
-                        ("block", wgpu::BindingResource::Buffer(block)),
-                        ("tile_list", band.tiles(tiles)),
-                    ],
+                    bind::shadow_test::Block {
+                        frame: band.frame(t.frame).as_entire_binding(),
+                        samples: rq.samples.as_entire_binding(),
+                        gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                        gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+                        shadow_maps: wgpu::BindingResource::TextureView(maps),
+                        masks: masks.clone(),
+                        block: wgpu::BindingResource::Buffer(block),
+                        tile_list: band.tiles(tiles),
+                    },
                     Dispatch::IndirectAt(&self.block_args, slot as u64 * ARGS_BYTES),
                 );
             }
         }
+    }
+}
+
+/// What every test of a frame reads and writes besides its samples' maps: the frame uniform, the
+/// G-buffer and its geometry tiles, subdivide's requests with the sample records, and the masks.
+#[derive(Clone, Copy)]
+pub struct TestFrame<'b> {
+    pub frame: &'b wgpu::Buffer,
+    pub gbuffer: &'b GBuffer,
+    pub tiles: &'b GeometryTiles,
+    pub rq: Requests<'b>,
+    pub out: &'b Masks,
+}
+
+/// scope = local, one level: its quads, its item lists and the two map arrays its samples' maps
+/// are layers of.
+#[derive(Clone, Copy)]
+pub struct LocalWork<'b> {
+    pub quads: &'b wgpu::Buffer,
+    pub items: &'b ItemLists,
+    pub maps: [&'b wgpu::TextureView; 2],
+}
+
+/// The samples one global test takes: `level` (its count, and whether it is subdivide's request
+/// list) and the list, at most `bound` long.
+#[derive(Clone, Copy)]
+struct SampleList<'b> {
+    level: &'b wgpu::Buffer,
+    list: &'b wgpu::Buffer,
+    bound: u32,
+}
+
+/// `list` and `probes`: the work list `work` (items or probes), counted by `total`.
+fn local_bindings<'b>(t: &TestFrame<'b>, work: &LocalWork<'b>, list: &'b wgpu::Buffer, total: &'b wgpu::Buffer) -> bind::shadow_test::Local<'b> {
+    bind::shadow_test::Local {
+        frame: t.frame.as_entire_binding(),
+        samples: t.rq.samples.as_entire_binding(),
+        gbuffer_position: wgpu::BindingResource::TextureView(&t.gbuffer.position_view),
+        gbuffer_normal: wgpu::BindingResource::TextureView(&t.gbuffer.normal_view),
+        consulted: t.out.consulted.as_entire_binding(),
+        lattice_lit: t.out.lit.as_entire_binding(),
+        maps_a: wgpu::BindingResource::TextureView(work.maps[0]),
+        maps_b: wgpu::BindingResource::TextureView(work.maps[1]),
+        work: list.as_entire_binding(),
+        work_total: total.as_entire_binding(),
+        quads: work.quads.as_entire_binding(),
+        control: t.rq.control.as_entire_binding(),
     }
 }

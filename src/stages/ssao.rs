@@ -1,7 +1,7 @@
 //! ssao: screen-space ambient occlusion from the G-buffer into an AO buffer (and occluded counts).
 
 use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::Result;
 
@@ -14,22 +14,10 @@ impl Ssao {
         Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SSAO, "main")? })
     }
 
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, params: &wgpu::Buffer, camera: &wgpu::Buffer, kernel: &wgpu::Buffer, ao: &wgpu::Buffer, occluded: &wgpu::Buffer) {
-        self.kernel.dispatch(
-            ctx,
-            enc,
-            &[
-                ("params", params.as_entire_binding()),
-                ("camera", camera.as_entire_binding()),
-                ("gbuffer_position", wgpu::BindingResource::TextureView(&gbuffer.position_view)),
-                ("gbuffer_normal", wgpu::BindingResource::TextureView(&gbuffer.normal_view)),
-                ("kernel", kernel.as_entire_binding()),
-                ("ao", ao.as_entire_binding()),
-                ("occluded", occluded.as_entire_binding()),
-            ],
-            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
-        );
+    /// Writes `ao` and `occluded` at every pixel of a `size` (width, height) G-buffer, from the
+    /// bindings the caller gives by name.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, bindings: bind::ssao::Main, size: [u32; 2]) {
+        self.kernel.dispatch(ctx, enc, bindings, Dispatch::Direct([groups(size[0], PIXEL_WORKGROUP[0]), groups(size[1], PIXEL_WORKGROUP[1]), 1]));
     }
 }
 

@@ -2,6 +2,7 @@
 
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{Decisions, Level, LowQuality};
+use crate::gpu::stages::bind;
 use super::{ComputeKernel, Dispatch};
 use crate::Result;
 
@@ -24,24 +25,24 @@ impl Subdivide {
         Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SUBDIVIDE, "main")? })
     }
 
-    /// Splits `lv.quads` by `low.per_quad` into `next` (counted in `control`) and updates `out`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, next: &wgpu::Buffer, control: &wgpu::Buffer, out: &Decisions) {
+    /// Splits `lv.quads` by `low.per_quad` into `next` (counted in `lv.control`) and updates `out`.
+    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, next: &wgpu::Buffer, out: &Decisions) {
+        let control = lv.control;
         self.kernel.dispatch(
             ctx,
             enc,
-            &[
-                ("level", lv.uniform.as_entire_binding()),
-                ("quads", lv.quads.as_entire_binding()),
-                ("quad_counters", low.per_quad.as_entire_binding()),
-                ("next_quads", next.as_entire_binding()),
-                ("control", control.as_entire_binding()),
-                ("lattice_state", out.lattice_state.as_entire_binding()),
-                ("new_samples", out.new_samples.as_entire_binding()),
-                ("sample_level", out.sample_level.as_entire_binding()),
-                ("split_base", out.split_base.as_entire_binding()),
-                ("dispatch_args", out.dispatch_args.as_entire_binding()),
-            ],
+            bind::subdivide::Main {
+                level: lv.uniform.as_entire_binding(),
+                quads: lv.quads.as_entire_binding(),
+                quad_counters: low.per_quad.as_entire_binding(),
+                next_quads: next.as_entire_binding(),
+                control: control.as_entire_binding(),
+                lattice_state: out.lattice_state.as_entire_binding(),
+                new_samples: out.new_samples.as_entire_binding(),
+                sample_level: out.sample_level.as_entire_binding(),
+                split_base: out.split_base.as_entire_binding(),
+                dispatch_args: out.dispatch_args.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
     }

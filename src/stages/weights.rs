@@ -4,6 +4,7 @@
 use crate::gpu::Stage;
 use crate::gpu::GpuContext;
 use crate::stages::adaptive_buffers::{Decisions, LATTICE_POINTS, QUAD_CAPACITY};
+use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuQuad, GpuWeights};
@@ -48,13 +49,13 @@ impl WeightsPass {
         self.leaves_of_level.dispatch(
             ctx,
             enc,
-            &[
-                ("level", level.as_entire_binding()),
-                ("quads", quads.as_entire_binding()),
-                ("split_base", decisions.split_base.as_entire_binding()),
-                ("leaves", self.leaves.as_entire_binding()),
-                ("leaf_count", self.leaf_count.as_entire_binding()),
-            ],
+            bind::weights::LeavesOfLevel {
+                level: level.as_entire_binding(),
+                quads: quads.as_entire_binding(),
+                split_base: decisions.split_base.as_entire_binding(),
+                leaves: self.leaves.as_entire_binding(),
+                leaf_count: self.leaf_count.as_entire_binding(),
+            },
             Dispatch::Direct([groups(QUAD_CAPACITY, LINE_WORKGROUP[0]), 1, 1]),
         );
     }
@@ -64,15 +65,15 @@ impl WeightsPass {
         self.main.dispatch(
             ctx,
             enc,
-            &[
-                ("leaf_count", self.leaf_count.as_entire_binding()),
-                ("leaves", self.leaves.as_entire_binding()),
-                ("rule", self.rule.as_entire_binding()),
-                ("lattice_state", decisions.lattice_state.as_entire_binding()),
-                ("sample_level", decisions.sample_level.as_entire_binding()),
-                ("numerators", self.numerators.as_entire_binding()),
-                ("weights", weights.as_entire_binding()),
-            ],
+            bind::weights::Main {
+                leaf_count: self.leaf_count.as_entire_binding(),
+                leaves: self.leaves.as_entire_binding(),
+                rule: self.rule.as_entire_binding(),
+                lattice_state: decisions.lattice_state.as_entire_binding(),
+                sample_level: decisions.sample_level.as_entire_binding(),
+                numerators: self.numerators.as_entire_binding(),
+                weights: weights.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
     }

@@ -1,6 +1,8 @@
 //! `penumbra assets fetch`: registry meshes and panoramas into the cache, verified.
 
 use anyhow::Result;
+use penumbra_lab::gpu::AdapterRequest;
+use penumbra_lab::studies::Run;
 use penumbra_lab::assets;
 use std::path::PathBuf;
 
@@ -23,7 +25,13 @@ pub struct FetchArgs {
     check: bool,
 }
 
-pub fn run(command: AssetsCommand) -> Result<()> {
+impl Run for AssetsCommand {
+    fn run(self, _gpu: &AdapterRequest) -> Result<()> {
+        run(self)
+    }
+}
+
+fn run(command: AssetsCommand) -> Result<()> {
     match command {
         AssetsCommand::Fetch(args) => fetch(args),
     }

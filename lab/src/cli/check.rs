@@ -1,6 +1,8 @@
 //! `penumbra check`: the regression gate, results.jsonl against a baseline under tolerances.
 
 use anyhow::Result;
+use penumbra_lab::gpu::AdapterRequest;
+use penumbra_lab::studies::Run;
 use penumbra_lab::record::{regression, ResultRow};
 use penumbra_lab::report::results::read_results;
 use penumbra_lab::report::ReportError;
@@ -19,7 +21,13 @@ pub struct CheckArgs {
     max: String,
 }
 
-pub fn run(args: CheckArgs) -> Result<()> {
+impl Run for CheckArgs {
+    fn run(self, _gpu: &AdapterRequest) -> Result<()> {
+        run(self)
+    }
+}
+
+fn run(args: CheckArgs) -> Result<()> {
     let max = regression::parse_max(&args.max)?;
     let rows = |p: &Path, which: &str| -> Result<Vec<ResultRow>> {
         match read_results(p) {

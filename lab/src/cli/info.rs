@@ -2,8 +2,18 @@
 
 use anyhow::Result;
 use penumbra_lab::gpu::{AdapterRequest, GpuContext};
+use penumbra_lab::studies::Run;
 
-pub fn run(gpu: &AdapterRequest) -> Result<()> {
+#[derive(clap::Args)]
+pub struct InfoArgs {}
+
+impl Run for InfoArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(gpu)
+    }
+}
+
+fn run(gpu: &AdapterRequest) -> Result<()> {
     let ctx = GpuContext::with_request(gpu)?;
     println!("{}", ctx.describe());
     Ok(())

@@ -1,19 +1,19 @@
 //! `penumbra reference`: the CPU ground truth of one scene (cached), as EXR, PNG and a record.
 
-use super::render_sets;
 use anyhow::{Context, Result};
 use penumbra_lab::gpu::{AdapterRequest, GpuContext};
-use penumbra_lab::record::{output_set, run_files};
+use penumbra_lab::record::run_files;
 use penumbra_lab::reference::truth;
 use penumbra_lab::scene::Scene;
 use penumbra_lab::studies::compare;
-use std::path::PathBuf;
+use penumbra_lab::studies::flags::{OutArgs, SceneArgs, SetArgs};
+use penumbra_lab::studies::Run;
 
 #[derive(clap::Args)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/reference")))]
 pub struct ReferenceArgs {
-    /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
-    scene: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// `continuous` (M×M stratified jitter, fixed seed), `lattice` (the 289 lattice points) or
     /// `point` (exact hard-shadow visibility from one light point: the centre, or `--point`).
     #[arg(long, default_value = "continuous")]
@@ -24,20 +24,24 @@ pub struct ReferenceArgs {
     /// With `--mode point`: the light point as light coordinates `S,T` in [0, 1] (default 0.5,0.5).
     #[arg(long, value_name = "S,T")]
     point: Option<String>,
-    /// Override a render setting, e.g. `--set resolution=256`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    /// Output folder.
-    #[arg(long, default_value = "penumbra-out/reference")]
-    out: PathBuf,
+    #[command(flatten)]
+    sets: SetArgs,
+    #[command(flatten)]
+    output: OutArgs,
     /// Trace even when the cache holds this reference (the result is still cached).
     #[arg(long)]
     no_cache: bool,
 }
 
-pub fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
-    let scene = Scene::load(&args.scene, &render_sets(&args.set)?)?;
+impl Run for ReferenceArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
+    let out = args.output.checked()?;
+    let scene = Scene::load(&args.scene.scene, &args.sets.render()?)?;
     let mode = match (&args.point, args.mode.as_str()) {
         (None, m) => truth::parse_mode(m, args.samples)?,
         (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples).context("--point")?,
@@ -54,10 +58,10 @@ pub fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
         ("reference_shaded.png".to_string(), run_files::png(&run_files::shaded_image(&image.values, &g, &scene))?),
         ("reference.json".to_string(), record),
     ];
-    run_files::write_files(&args.out, &files)?;
+    run_files::write_files(out, &files)?;
     println!("{}", compare::reference_line(&image, geometry));
     for (name, _) in &files {
-        println!("  {}", args.out.join(name).display());
+        println!("  {}", out.join(name).display());
     }
     Ok(())
 }

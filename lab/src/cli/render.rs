@@ -1,30 +1,27 @@
 //! `penumbra render`: one scene, one method, one frame (after warm-up frames on the same renderer).
 
-use super::{param_pairs, render_sets_or};
 use anyhow::Result;
 use penumbra_lab::frame;
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::{AdapterRequest, GpuContext};
 use penumbra_lab::methods::Method;
-use penumbra_lab::record::{output_set, run_files};
+use penumbra_lab::record::run_files;
 use penumbra_lab::scene::Scene;
-use std::path::PathBuf;
+use penumbra_lab::studies::flags::{param_pairs, render_sets_or, OutArgs, SceneArgs, SetArgs};
+use penumbra_lab::studies::Run;
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// Built-in scene name or path to a scene TOML file.
-    #[arg(long, default_value = "default", value_parser = crate::cli::utf8())]
-    scene: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// hard | regular | adaptive, optionally with parameters: `adaptive:p_m=0,scope=local`.
     #[arg(long, default_value = "hard")]
     method: String,
-    /// Output folder.
-    #[arg(long, default_value = "penumbra-out")]
-    out: PathBuf,
-    /// Override a render setting (the scene's `[render]` table), e.g. `--set resolution=256 --set
-    /// cull=none`. Method parameters go in --method or --param.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
+    #[command(flatten)]
+    output: OutArgs,
+    // Method parameters go in --method or --param.
+    #[command(flatten)]
+    sets: SetArgs,
     /// A parameter of --method, e.g. `--param p_m=10` (the same as `--method adaptive:p_m=10`).
     #[arg(long = "param", value_name = "KEY=VALUE")]
     param: Vec<String>,
@@ -37,11 +34,17 @@ pub struct RenderArgs {
     warm_up: u32,
 }
 
-pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
-    output_set::check(&args.out)?;
+impl Run for RenderArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        run(self, gpu)
+    }
+}
+
+fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
+    let out = args.output.checked()?;
     let name = args.method.split(':').next().unwrap_or_default();
-    let render_sets = render_sets_or(&args.set, Some(name), Some("--param"))?;
-    let scene = Scene::load(&args.scene, &render_sets)?;
+    let render_sets = render_sets_or(&args.sets.set, Some(name), Some("--param"))?;
+    let scene = Scene::load(&args.scene.scene, &render_sets)?;
     let method = Method::parse(&args.method, &param_pairs(&args.param)?)?;
     method.check_light(&scene)?;
     let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
@@ -52,10 +55,10 @@ pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     }
     let result = renderer.frame(mode)?;
     let files = run_files::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up)?;
-    run_files::write_files(&args.out, &files)?;
+    run_files::write_files(out, &files)?;
     println!(
         "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {}, after {} warm-up frame{})",
-        args.out.display(),
+        out.display(),
         method.label(),
         scene.name,
         scene.render.width,
@@ -67,7 +70,7 @@ pub fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
         if args.warm_up == 1 { "" } else { "s" }
     );
     for (name, _) in &files {
-        println!("  {}", args.out.join(name).display());
+        println!("  {}", out.join(name).display());
     }
     if let Some(n) = all_dark(&result) {
         eprintln!("warning: {}: V = 0 at all {n} geometry pixels: no light reaches any visible surface (is the light enclosed by a mesh?)", scene.origin);

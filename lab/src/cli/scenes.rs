@@ -1,9 +1,20 @@
 //! `penumbra scenes`: every shipped scene, its triangles and meshes, and whether its assets are cached.
 
 use anyhow::Result;
+use penumbra_lab::gpu::AdapterRequest;
+use penumbra_lab::studies::Run;
 use penumbra_lab::scene::catalog;
 
-pub fn run() -> Result<()> {
+#[derive(clap::Args)]
+pub struct ScenesArgs {}
+
+impl Run for ScenesArgs {
+    fn run(self, _gpu: &AdapterRequest) -> Result<()> {
+        run()
+    }
+}
+
+fn run() -> Result<()> {
     println!("{:22} {:>10}  {:9}  {:44}  description", "scene", "triangles", "assets", "meshes");
     for e in catalog(None) {
         let tris = e.triangles.map_or("?".to_string(), |t| t.to_string());

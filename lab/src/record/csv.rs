@@ -3,12 +3,20 @@
 
 use crate::record::row::ResultRow;
 
-fn field(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_string()
+/// Records as CSV text: a field is quoted only when it holds a comma, a quote or a line break
+/// (RFC 4180, the `csv` crate's `Necessary` style), and each record ends in `\n`.
+pub fn lines<I, R>(records: I) -> String
+where
+    I: IntoIterator<Item = R>,
+    R: IntoIterator,
+    R::Item: AsRef<[u8]>,
+{
+    let mut w = ::csv::WriterBuilder::new().terminator(::csv::Terminator::Any(b'\n')).flexible(true).from_writer(Vec::new());
+    for record in records {
+        // Writing to memory cannot fail, and a CSV writer takes any bytes.
+        w.write_record(record).expect("CSV into memory");
     }
+    String::from_utf8(w.into_inner().expect("CSV into memory")).expect("CSV of UTF-8 fields is UTF-8")
 }
 
 fn opt(v: Option<f64>) -> String {
@@ -37,7 +45,7 @@ pub fn render(rows: &[ResultRow]) -> String {
     if any_failed {
         header.push("failed".into());
     }
-    let mut out = header.join(",") + "\n";
+    let mut records = vec![header];
     for r in rows {
         let m = &r.metrics;
         let adapter = r.adapter.get("name").and_then(|v| v.as_str()).map(String::from).unwrap_or_else(|| r.adapter.to_string());
@@ -80,17 +88,24 @@ pub fn render(rows: &[ResultRow]) -> String {
         } else if any_failed {
             cells.push(String::new());
         }
-        out += &(cells.iter().map(|c| field(c)).collect::<Vec<_>>().join(",") + "\n");
+        records.push(cells);
     }
-    out
+    lines(records)
 }
 
 #[cfg(test)]
 mod tests {
+    use super::lines;
+
     #[test]
     fn quoting() {
-        assert_eq!(super::field("a,b"), "\"a,b\"");
-        assert_eq!(super::field("say \"x\""), "\"say \"\"x\"\"\"");
-        assert_eq!(super::field("plain"), "plain");
+        assert_eq!(lines([["a,b", "plain"]]), "\"a,b\",plain\n");
+        assert_eq!(lines([["say \"x\""]]), "\"say \"\"x\"\"\"\n");
+        // A comma, a quote and a line break in one field: quoted once, the quote doubled, the
+        // break kept inside the quotes; the fields around it stay bare.
+        let text = lines([vec!["scene", "label", "n"], vec!["tiny", "regular:n=5,layout=\"centred\"\nsecond line", "5"]]);
+        assert_eq!(text, "scene,label,n\ntiny,\"regular:n=5,layout=\"\"centred\"\"\nsecond line\",5\n");
+        let back: Vec<::csv::StringRecord> = ::csv::Reader::from_reader(text.as_bytes()).records().collect::<Result<_, _>>().unwrap();
+        assert_eq!(&back[0][1], "regular:n=5,layout=\"centred\"\nsecond line");
     }
 }

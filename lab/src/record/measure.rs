@@ -88,12 +88,10 @@ pub fn frame_count(methods: usize, repeats: u32) -> u64 {
     methods as u64 * (2 + u64::from(repeats.max(1)))
 }
 
-/// Median of a non-empty list (mean of the middle two for an even count).
+/// Median of a non-empty list (mean of the middle two for an even count), from the statistics
+/// helper; an empty list gives NaN, a figure no table mistakes for a time.
 pub fn median(values: &[f64]) -> f64 {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
+    crate::record::stats::median(values).unwrap_or(f64::NAN)
 }
 
 /// Methods alive at once. Each holds its method state (an adaptive one at 64² held about 340 MB

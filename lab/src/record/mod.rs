@@ -7,6 +7,7 @@ pub mod output_set;
 pub mod regression;
 pub(crate) mod row;
 pub mod run_files;
+pub mod stats;
 pub(crate) mod shaded_environment;
 pub(crate) mod judge;
 pub mod measure;

@@ -1,74 +1,21 @@
 //! A study's Markdown tables as one self-contained HTML page with its SVG charts as data URIs: opens
-//! offline, no scripts, no links (the hybrid and frontier studies' `report.html`).
+//! offline, no scripts, no links (the hybrid, frontier, cascades and estimate studies' `report.html`,
+//! and `penumbra report` on a results folder).
 
-/// `md`: `#`/`##` headings, paragraphs, `- ` lists (a line indented two spaces goes on the item
-/// above) and pipe tables; `charts`: (heading, SVG) after the tables.
+use pulldown_cmark::{html, Event, Options, Parser};
+
+/// `md`: CommonMark with pipe tables; `charts`: (heading, SVG) after the tables.
 pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
-    let esc = |t: &str| code_spans(&escape(t));
-    let mut body = String::new();
-    let mut in_table = false;
-    // The list item being read: a list is open while there is one.
-    let mut item: Option<String> = None;
-    for line in md.lines() {
-        if let Some(text) = item.take() {
-            if let Some(more) = line.strip_prefix("  ") {
-                item = Some(format!("{text} {}", more.trim()));
-                continue;
-            }
-            body += &format!("<li>{}</li>\n", esc(&text));
-            if let Some(next) = line.strip_prefix("- ") {
-                item = Some(next.to_string());
-                continue;
-            }
-            body += "</ul>\n";
-        }
-        if let Some(first) = line.strip_prefix("- ") {
-            if in_table {
-                body += "</table>\n";
-                in_table = false;
-            }
-            body += "<ul>\n";
-            item = Some(first.to_string());
-            continue;
-        }
-        if let Some(rest) = line.strip_prefix("|") {
-            if line.starts_with("|---") {
-                continue;
-            }
-            let tag = if in_table { "td" } else { "th" };
-            if !in_table {
-                body += "<table>\n";
-                in_table = true;
-            }
-            body += "<tr>";
-            for cell in rest.trim_end_matches('|').split('|') {
-                body += &format!("<{tag}>{}</{tag}>", esc(cell.trim()));
-            }
-            body += "</tr>\n";
-            continue;
-        }
-        if in_table {
-            body += "</table>\n";
-            in_table = false;
-        }
-        if let Some(h) = line.strip_prefix("## ") {
-            body += &format!("<h2>{}</h2>\n", esc(h));
-        } else if let Some(h) = line.strip_prefix("# ") {
-            body += &format!("<h1>{}</h1>\n", esc(h));
-        } else if !line.trim().is_empty() {
-            body += &format!("<p>{}</p>\n", esc(line));
-        }
-    }
-    if in_table {
-        body += "</table>\n";
-    }
-    if let Some(text) = item {
-        body += &format!("<li>{}</li>\n</ul>\n", esc(&text));
-    }
+    let mut body = body(md);
     for (heading, svg) in charts {
         // As a data URI: the page names no resource, not even the SVG namespace.
-        body += &format!("<h2>{}</h2>\n<div class=\"chart\"><img src=\"{}\" alt=\"{}\"></div>\n", esc(heading), super::files::data_uri("image/svg+xml", svg.as_bytes()), esc(heading));
+        body += &format!("<h2>{}</h2>\n<div class=\"chart\"><img src=\"{}\" alt=\"{}\"></div>\n", escape(heading), super::files::data_uri("image/svg+xml", svg.as_bytes()), escape(heading));
     }
+    document(title, &body)
+}
+
+/// `body` in the house page: a title, one inline style sheet, nothing fetched.
+pub fn document(title: &str, body: &str) -> String {
     format!(
         "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>{}</title>\n<style>\
          body{{font-family:sans-serif;max-width:1100px;margin:2em auto}}table{{border-collapse:collapse;margin:1em 0}}\
@@ -78,43 +25,54 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
     )
 }
 
-fn escape(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+/// The HTML of `md`. Raw HTML in the text is shown as text, not passed through: a row's label
+/// such as `<2 ms` stays a label, and the page can name no resource by way of a tag.
+pub fn body(md: &str) -> String {
+    // Quotes too: the shown text of a tag (`src="http…"`) must not read as an attribute to a check
+    // that the page names no resource.
+    let shown = |t: &str| escape(t).replace('"', "&quot;").into();
+    let events = Parser::new_ext(md, Options::ENABLE_TABLES).map(|e| match e {
+        Event::Html(t) => Event::Html(shown(&t)),
+        Event::InlineHtml(t) => Event::InlineHtml(shown(&t)),
+        e => e,
+    });
+    let mut out = String::new();
+    html::push_html(&mut out, events);
+    out
 }
 
-/// Markdown's `code` spans as <code>: each pair of backticks; an unpaired last one stays as it is.
-fn code_spans(t: &str) -> String {
-    let parts: Vec<&str> = t.split('`').collect();
-    let mut out = String::new();
-    for (i, part) in parts.iter().enumerate() {
-        let closed = i % 2 == 1 && i + 1 < parts.len();
-        match (i % 2, closed) {
-            (1, true) => out += &format!("<code>{part}</code>"),
-            (1, false) => out += &format!("`{part}"),
-            _ => out += part,
-        }
-    }
-    out
+pub(super) fn escape(t: &str) -> String {
+    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
 #[cfg(test)]
 mod tests {
     #[test]
     fn code_spans_become_code_elements() {
-        assert_eq!(super::code_spans("`auto:target=T` chooses `n`"), "<code>auto:target=T</code> chooses <code>n</code>");
-        assert_eq!(super::code_spans("one ` alone"), "one ` alone");
         let page = super::page("t", "a `b<c` d\n\n| x |\n|---|\n| `y` |", &[]);
         assert!(page.contains("<p>a <code>b&lt;c</code> d</p>"), "{page}");
         assert!(page.contains("<td><code>y</code></td>"), "{page}");
+        // An unpaired backtick stays as it is.
+        assert!(super::body("one ` alone").contains("<p>one ` alone</p>"));
     }
 
     #[test]
     fn dash_lines_become_one_list() {
         let page = super::page("t", "Intro.\n\n- one `a`;\n- two,\n  carried on;\n- three.\n\nAfter.\n- last", &[]);
+        // CommonMark keeps the continuation line's break as a newline inside the item.
         assert!(
-            page.contains("<p>Intro.</p>\n<ul>\n<li>one <code>a</code>;</li>\n<li>two, carried on;</li>\n<li>three.</li>\n</ul>\n<p>After.</p>\n<ul>\n<li>last</li>\n</ul>\n"),
+            page.contains("<p>Intro.</p>\n<ul>\n<li>one <code>a</code>;</li>\n<li>two,\ncarried on;</li>\n<li>three.</li>\n</ul>\n<p>After.</p>\n<ul>\n<li>last</li>\n</ul>\n"),
             "{page}"
         );
         assert!(!page.contains("<p>- "), "{page}");
+    }
+
+    #[test]
+    fn tags_in_the_text_stay_text() {
+        let page = super::page("a <b>", "x <img src=\"http://h/p.png\"> y\n\n<script>1</script>\n", &[]);
+        assert!(page.contains("<title>a &lt;b&gt;</title>"), "{page}");
+        assert!(page.contains("x &lt;img src=&quot;http://h/p.png&quot;&gt; y"), "{page}");
+        assert!(page.contains("&lt;script&gt;1&lt;/script&gt;"), "{page}");
+        assert!(!page.contains("<script") && !page.contains("<img") && !page.contains("src=\"http"), "{page}");
     }
 }

@@ -10,6 +10,7 @@ mod markdown;
 pub mod md_page;
 pub(crate) mod page;
 pub mod results;
+pub mod results_folder;
 mod table;
 
 use std::path::{Path, PathBuf};

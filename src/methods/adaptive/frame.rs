@@ -14,6 +14,8 @@ use crate::gpu::readback;
 use crate::gpu::structs::{GpuControl, GpuLevel, GpuSample, SPLIT_ALWAYS, SPLIT_NEVER, SPLIT_SHARE, SPLIT_THRESHOLD};
 use crate::gpu::timing::StageTimer;
 use crate::methods::{AdaptiveParams, MethodOutput};
+use crate::stages::compact::CompactInputs;
+use crate::stages::shadow_test::{LocalWork, TestFrame};
 use crate::stages::{groups, FrameGpu, LINE_WORKGROUP};
 use crate::Result;
 
@@ -24,9 +26,14 @@ impl<'a> Frame<'a> {
         readback::uniform_buffer(self.fg.ctx, "level", &level_uniform(self.p, self.b.shape, level, quad_count, first_quad))
     }
 
+    /// What every shadow test of the frame reads and writes besides its maps.
+    pub fn test_frame(&self) -> TestFrame<'_> {
+        TestFrame { frame: &self.fg.frame_buffer, gbuffer: &self.fg.gbuffer, tiles: &self.fg.geometry_tiles, rq: self.b.requests(), out: &self.b.masks }
+    }
+
     /// What the count passes read of level `uniform` whose quads are `quads[cur]`.
     pub fn level<'l>(&'l self, uniform: &'l wgpu::Buffer, cur: usize) -> Level<'l> {
-        Level { frame: &self.fg.frame_buffer, uniform, quads: &self.b.quads[cur], shape: self.b.shape }
+        Level { frame: &self.fg.frame_buffer, uniform, quads: &self.b.quads[cur], control: &self.b.control, cur, shape: self.b.shape }
     }
 
     /// Level 0 (queue writes, ahead of the frame's commands): the counters at zero, the whole light
@@ -116,7 +123,7 @@ fn count_batch(fx: &Frame, timer: &mut StageTimer, uniform: &wgpu::Buffer, cur: 
     let (b, passes, ctx) = (fx.b, fx.passes, fx.fg.ctx);
     let lv = &fx.level(uniform, cur);
     timer.stage(ctx, Stage::REPROJECT_COUNT, |enc| {
-        passes.reproject_count.record_dense_bands(ctx, enc, lv, &fx.fg.geometry_tiles, &b.masks, &b.control, &b.counts);
+        passes.reproject_count.record_dense_bands(ctx, enc, lv, &fx.fg.geometry_tiles, &b.masks, &b.counts);
         Ok(())
     })?;
     timer.stage(ctx, Stage::NEIGHBOURHOOD, |enc| {
@@ -135,7 +142,7 @@ fn count_batch(fx: &Frame, timer: &mut StageTimer, uniform: &wgpu::Buffer, cur: 
 /// `quad_count`: the level's quads where the host knows them (the clears cover only those), None
 /// under the GPU-steered loop (they cover the buffers).
 fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::Buffer, cur: usize, quad_count: Option<u32>, maps: [&wgpu::TextureView; 2]) -> Result<()> {
-    let (fg, b, passes, ctx) = (fx.fg, fx.b, fx.passes, fx.fg.ctx);
+    let (b, passes, ctx) = (fx.b, fx.passes, fx.fg.ctx);
     let last = level == fx.p.max_level;
     let lv = &fx.level(uniform, cur);
     let (quads, items) = (&b.quads[cur], &b.items);
@@ -146,11 +153,11 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
             Ok(())
         })?;
         timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            passes.shadow_test.record_probes(ctx, enc, &fg.frame_buffer, &fg.gbuffer, b.requests(), quads, items, &b.masks, maps);
+            passes.shadow_test.record_probes(ctx, enc, &fx.test_frame(), &LocalWork { quads, items, maps });
             Ok(())
         })?;
         timer.stage(ctx, Stage::PROBE, |enc| {
-            passes.probe.record(ctx, enc, lv, &b.masks, &b.control, items, cur);
+            passes.probe.record(ctx, enc, lv, &b.masks, items);
             Ok(())
         })?;
     }
@@ -164,14 +171,14 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
         Ok(())
     })?;
     timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-        passes.shadow_test.record_list(ctx, enc, &fg.frame_buffer, &fg.gbuffer, b.requests(), quads, items, cur, &b.masks, maps);
+        passes.shadow_test.record_list(ctx, enc, &fx.test_frame(), &LocalWork { quads, items, maps }, cur);
         Ok(())
     })?;
     timer.stage(ctx, Stage::REPROJECT_COUNT, |enc| {
         if last {
-            passes.reproject_count.record_last(ctx, enc, lv, &b.masks, items, cur);
+            passes.reproject_count.record_last(ctx, enc, lv, &b.masks, items);
         } else {
-            passes.reproject_count.record_list(ctx, enc, lv, &b.masks, items, cur, &b.counts);
+            passes.reproject_count.record_list(ctx, enc, lv, &b.masks, items, &b.counts);
         }
         Ok(())
     })?;
@@ -179,7 +186,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
     if !last {
         timer.stage(ctx, Stage::NEIGHBOURHOOD, |enc| {
             enc.clear_buffer(&b.low.flags, 0, quad_count.map(|q| b.shape.flags_bytes_per_quad() * q as u64));
-            passes.neighbourhood.record_list(ctx, enc, lv, &b.counts, items, cur, &b.low);
+            passes.neighbourhood.record_list(ctx, enc, lv, &b.counts, items, &b.low);
             Ok(())
         })?;
     }
@@ -189,7 +196,7 @@ fn count_items(fx: &Frame, timer: &mut StageTimer, level: u32, uniform: &wgpu::B
 fn subdivide(fx: &Frame, timer: &mut StageTimer, lv: &wgpu::Buffer, cur: usize, nxt: usize) -> Result<()> {
     let (fg, b, passes) = (fx.fg, fx.b, fx.passes);
     timer.stage(fg.ctx, Stage::SUBDIVIDE, |enc| {
-        passes.subdivide.record(fg.ctx, enc, &fx.level(lv, cur), &b.low, &b.quads[nxt], &b.control, &b.decisions);
+        passes.subdivide.record(fg.ctx, enc, &fx.level(lv, cur), &b.low, &b.quads[nxt], &b.decisions);
         Ok(())
     })
 }
@@ -213,7 +220,8 @@ fn compact(fx: &Frame, timer: &mut StageTimer, level: u32, lv: &wgpu::Buffer, cu
             }
         }
         let level = fx.level(lv, cur);
-        passes.compact.record_main(ctx, enc, &level, &fg.gbuffer, &b.counts, &b.decisions, &b.quads[nxt], &b.samples, &b.control, &b.items, cur, &b.footprints, grow_rects);
+        let inputs = CompactInputs { counts: &b.counts, decisions: &b.decisions, next_quads: &b.quads[nxt], samples: &b.samples, items: &b.items, footprints: &b.footprints };
+        passes.compact.record_main(ctx, enc, &level, &fg.gbuffer, &inputs, grow_rects);
         Ok(())
     })
 }
@@ -339,7 +347,7 @@ pub(super) fn begin_local(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
     let level = fx.uniform(0, 1, 0);
     timer.stage(ctx, Stage::COMPACT, |enc| {
-        fx.passes.compact.record_seed(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &level, &b.control, &b.items);
+        fx.passes.compact.record_seed(ctx, enc, &fg.screen(), &level, &b.control, &b.items);
         Ok(())
     })?;
     if fx.cull.is_some() {
@@ -362,7 +370,7 @@ fn end_global(fx: &Frame, timer: &mut StageTimer, weights: &[f32]) -> Result<Opt
 pub(super) fn shade(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     let (fg, b, ctx) = (fx.fg, fx.b, fx.fg.ctx);
     timer.stage(ctx, Stage::SHADE, |enc| {
-        fg.shade.record_masks(ctx, enc, &fg.frame_buffer, &b.weights, &fg.gbuffer, &fg.geometry_tiles, &b.masks.lit, &fg.visibility);
+        fg.shade.record_masks(ctx, enc, &fg.screen(), &b.weights, &b.masks.lit);
         Ok(())
     })
 }
@@ -373,7 +381,7 @@ pub(super) fn resolve_local(fx: &Frame, timer: &mut StageTimer) -> Result<()> {
     let lv = fx.uniform(fx.p.max_level, 0, 0);
     // compact's `resolve` entry point: its time is compact's (no shade pass runs under local scope).
     timer.stage(ctx, Stage::COMPACT, |enc| {
-        fx.passes.compact.record_resolve(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &lv, &b.items, &fg.visibility);
+        fx.passes.compact.record_resolve(ctx, enc, &fg.screen(), &lv, &b.items);
         Ok(())
     })
 }

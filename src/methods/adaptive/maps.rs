@@ -1,6 +1,7 @@
 //! The adaptive method's shadow maps: where each new map lives (layer, array) and how it is
 //! rasterized (whole, scissored, culled) and, under scope = global, cached by shadow_test.
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::context::Frame;
 use super::AdaptiveTrace;
@@ -9,7 +10,8 @@ use crate::gpu::timing::StageTimer;
 use crate::methods::hybrid_maps::HybridMaps;
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
 use crate::methods::adaptive::buffers::LATTICE_POINTS;
-use crate::stages::cull::Cull;
+use crate::stages::cull::{Cull, CullBatch};
+use crate::stages::shadow_test::TestFrame;
 use crate::stages::FrameGpu;
 use crate::Result;
 
@@ -87,8 +89,8 @@ pub(super) fn render_new(
                 continue;
             }
             let Some((cull, kept)) = fx.cull else {
-                timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-                    fg.raster.record(ctx, enc, &fg.scene_gpu, &b.samples, array, &mine)?;
+                timer.stage(ctx, fg.raster.stage(), |enc| {
+                    fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &mine)?;
                     Ok(())
                 })?;
                 continue;
@@ -97,12 +99,12 @@ pub(super) fn render_new(
             for batch in mine.chunks(cull.slots as usize) {
                 let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
                 timer.stage(ctx, Stage::CULL, |enc| {
-                    cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &b.samples, &b.footprints.tiles, &ks);
+                    cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &CullBatch { samples: &b.samples, tiles: &b.footprints.tiles }, &ks);
                     Ok(())
                 })?;
-                timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+                timer.stage(ctx, fg.raster.stage(), |enc| {
                     let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
-                    fg.raster.record_culled(ctx, enc, &fg.scene_gpu, &b.samples, array, &drawn, &cull.culled, &cull.args)?;
+                    fg.raster.record_culled(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &drawn, &cull.culled, &cull.args)?;
                     for (n, &k) in ks.iter().enumerate() {
                         enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
                     }
@@ -113,7 +115,7 @@ pub(super) fn render_new(
         }
         if !local {
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-                fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &store.arrays[0].array_view, chunk);
+                fx.passes.shadow_test.record(ctx, enc, &fx.test_frame(), &store.arrays[0].array_view, chunk);
                 Ok(())
             })?;
         }
@@ -138,7 +140,8 @@ fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, 
     let ctx = fg.ctx;
     let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
         timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, view, slots);
+            let t = TestFrame { frame: &fg.frame_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, rq: b.requests(), out: &b.masks };
+            fx.passes.shadow_test.record(ctx, enc, &t, view, slots);
             Ok(())
         })
     };

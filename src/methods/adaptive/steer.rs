@@ -17,6 +17,7 @@
 //!
 //! Each level's record is copied aside on the GPU and read after the frame (`finish`).
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::context::Frame;
 use super::frame::{self, Steering};
@@ -133,7 +134,7 @@ impl Steered<'_> {
             }
             jobs.push((RasterJob { sample: k, layer: self.samples[k as usize].layer, scissor: None }, at));
         }
-        fg.raster.record_flagged(fx.fg.ctx, enc, &fg.scene_gpu, &b.samples, array, &jobs, &self.steer.raster_args)
+        fg.raster.record_flagged(fx.fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &jobs, &self.steer.raster_args)
     }
 
     /// scope = local: the level's requested maps into their own layers (kept for the rest of the
@@ -143,14 +144,14 @@ impl Steered<'_> {
         let cand = candidates(level);
         let array_of = |k: u32| self.samples[k as usize].array as usize;
         let one_array = cand.iter().all(|&k| array_of(k) == array_of(cand[0]));
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+        timer.stage(ctx, fg.raster.stage(), |enc| {
             if level > 0 {
                 // GpuLevel.quad_count (byte 8) ← control.next_quad_count of the previous level.
                 enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
             }
             if level > 0 && one_array && fg.raster.is_compute() {
                 let array = &self.store.arrays[array_of(cand[0])];
-                fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array)?;
+                fg.raster.record_requested(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, (&b.control, &b.decisions.new_samples), cand.len() as u32)?;
             } else {
                 for (a, array) in self.store.arrays.iter().enumerate() {
                     let mine: Vec<u32> = cand.iter().copied().filter(|&k| array_of(k) == a).collect();
@@ -185,7 +186,7 @@ impl Steering for Steered<'_> {
         // The compute raster rasterizes only what subdivide requested, in one chunk of layers.
         let requested_only = level > 0 && chunks == 1 && fg.raster.is_compute();
         for (c, chunk) in cand.chunks(per_array).enumerate() {
-            timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
+            timer.stage(ctx, fg.raster.stage(), |enc| {
                 if level == 0 && c == 0 {
                     steer.weights.record_begin(enc);
                 }
@@ -194,16 +195,16 @@ impl Steering for Steered<'_> {
                     enc.copy_buffer_to_buffer(&b.control, 0, lv, 8, 4);
                 }
                 if requested_only {
-                    return fg.raster.record_requested(ctx, enc, &fg.scene_gpu, &b.samples, (&b.control, &b.decisions.new_samples), cand.len() as u32, array);
+                    return fg.raster.record_requested(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, (&b.control, &b.decisions.new_samples), cand.len() as u32);
                 }
                 self.record_flagged(fx, enc, level, chunk, array)
             })?;
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
                 if level > 0 && cand.len() <= per_array {
                     // One chunk: test only what subdivide requested (its list and count).
-                    fx.passes.shadow_test.record_requested(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &array.array_view, cand.len() as u32);
+                    fx.passes.shadow_test.record_requested(ctx, enc, &fx.test_frame(), &array.array_view, cand.len() as u32);
                 } else {
-                    fx.passes.shadow_test.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, b.requests(), &b.masks, &array.array_view, chunk);
+                    fx.passes.shadow_test.record(ctx, enc, &fx.test_frame(), &array.array_view, chunk);
                 }
                 if c + 1 == chunks {
                     // The level's counters, after the test read the request count.

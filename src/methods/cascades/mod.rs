@@ -5,6 +5,7 @@
 
 pub mod split;
 
+use crate::stages::raster::RasterTarget;
 use super::pcf::Pcf;
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::gpu::readback;
@@ -217,7 +218,7 @@ impl MethodState for State {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
         let jobs: Vec<RasterJob> = (0..self.method.n).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-        timer.stage(fg.ctx, Stage::SHADOW_RASTER, |enc| fg.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs))?;
+        timer.stage(fg.ctx, fg.raster.stage(), |enc| fg.raster.record(fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples_buffer, array: &self.array }, &jobs))?;
         let inputs = CascadeInputs {
             filter: &self.filter_buffer,
             disk: &self.disk_buffer,
@@ -227,7 +228,7 @@ impl MethodState for State {
             chosen: &self.chosen,
         };
         timer.stage(fg.ctx, Stage::CASCADES, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles, &inputs, &fg.visibility);
+            self.pass.record(fg.ctx, enc, &fg.screen(), &inputs);
             Ok(())
         })?;
         Ok(MethodOutput { shadow_maps: self.method.n, syncs: 0, record: self.placement.record(&self.method), pictures: Vec::new(), bound: None })

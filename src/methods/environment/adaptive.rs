@@ -10,7 +10,7 @@ use super::pixels::{parse_ssao, RayLights, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::SsaoSettings;
 pub use super::common::EnvLevelBuffers;
 use crate::methods::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::stages::env_count::EnvCount;
+use crate::stages::env_count::{EnvCount, EnvCountInputs};
 use crate::stages::env_split::{EnvSplit, EnvSplitIo};
 use crate::stages::FrameGpu;
 use crate::scene::environment::panorama::luminance;
@@ -263,7 +263,8 @@ impl MethodState for State {
             if counted {
                 timer.stage(ctx, Stage::ENV_COUNT, |enc| {
                     enc.clear_buffer(&self.counts, 0, Some(cell_count as u64 * 4));
-                    self.count.record(ctx, enc, &fg.gbuffer, &self.level_params[level as usize], &self.corners_buffer, cur, &self.counts, cell_count, self.params.count_stride, &self.trace.rays.buffers);
+                    let inputs = EnvCountInputs { params: &self.level_params[level as usize], corners: &self.corners_buffer, cells: cur, counts: &self.counts, cell_count, stride: self.params.count_stride };
+                    self.count.record(ctx, enc, &fg.gbuffer, &inputs, &self.trace.rays.buffers);
                     Ok(())
                 })?;
             }

@@ -3,6 +3,7 @@
 
 use crate::gpu::Stage;
 use crate::stages::env_trace::BvhBuffers;
+use crate::gpu::stages::bind;
 use crate::stages::ssao::Ssao;
 use crate::stages::ssao::hemisphere_kernel;
 use crate::stages::FrameGpu;
@@ -97,7 +98,17 @@ impl SsaoStage {
 
     pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         timer.stage(fg.ctx, Stage::SSAO, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.gbuffer, &self.params_buffer, &self.camera_buffer, &self.kernel_buffer, &self.ao, &self.occluded);
+            let g = &fg.gbuffer;
+            let bindings = bind::ssao::Main {
+                params: self.params_buffer.as_entire_binding(),
+                camera: self.camera_buffer.as_entire_binding(),
+                gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
+                gbuffer_normal: wgpu::BindingResource::TextureView(&g.normal_view),
+                kernel: self.kernel_buffer.as_entire_binding(),
+                ao: self.ao.as_entire_binding(),
+                occluded: self.occluded.as_entire_binding(),
+            };
+            self.pass.record(fg.ctx, enc, bindings, [g.width, g.height]);
             Ok(())
         })
     }

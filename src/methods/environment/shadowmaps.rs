@@ -2,13 +2,14 @@
 //! from a point 50 scene diagonals away along the light (near-orthographic), filtered by the pcf
 //! family's tap patterns (box by default).
 
+use crate::stages::raster::RasterTarget;
 use crate::gpu::Stage;
 use super::common::{environment, gpu_lights};
 use super::pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::{SsaoSettings, SsaoStage};
 use crate::methods::pcf::{poisson_disk, KERNELS};
 use crate::methods::{check_range, get_choice, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::stages::env_shadowmaps::{EnvShadowmaps as Pass, FilterBuffers};
+use crate::stages::env_shadowmaps::{EnvMapInputs, EnvShadowmaps as Pass, FilterBuffers};
 use crate::stages::FrameGpu;
 use super::picture;
 use crate::scene::environment::median_cut;
@@ -241,8 +242,8 @@ impl MethodState for State {
         let ctx = fg.ctx;
         let k = self.samples.len() as u32;
         let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-        timer.stage(ctx, Stage::SHADOW_RASTER, |enc| {
-            fg.raster.record(ctx, enc, &fg.scene_gpu, &self.samples_buffer, &self.array, &jobs)?;
+        timer.stage(ctx, fg.raster.stage(), |enc| {
+            fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples_buffer, array: &self.array }, &jobs)?;
             Ok(())
         })?;
         if let Some(s) = &self.ssao {
@@ -250,7 +251,16 @@ impl MethodState for State {
         }
         let ao = self.ssao.as_ref().map_or(&self.lights_buffer, |s| &s.ao);
         timer.stage(ctx, Stage::ENV_SHADOWMAPS, |enc| {
-            self.pass.record(ctx, enc, &fg.gbuffer, &self.frame_buffer, &self.params_buffer, &self.samples_buffer, &self.array.array_view, &self.lights_buffer, ao, &FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer }, &fg.visibility);
+            let inputs = EnvMapInputs {
+                frame: &self.frame_buffer,
+                params: &self.params_buffer,
+                samples: &self.samples_buffer,
+                maps: &self.array.array_view,
+                lights: &self.lights_buffer,
+                ao,
+                filter: FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer },
+            };
+            self.pass.record(ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {

@@ -3,8 +3,8 @@
 //! barycentrics, and env_vertex_interp interpolates the three vertex values (docs/environment.md §2).
 
 use crate::gpu::Stage;
-use crate::stages::env_trace::{BvhBuffers, EnvTraceVertex, VertexOutputs};
-use crate::stages::env_vertex_interp::EnvVertexInterp;
+use crate::stages::env_trace::{BvhBuffers, EnvTraceVertex, VertexMesh, VertexOutputs};
+use crate::stages::env_vertex_interp::{EnvVertexInterp, InterpInputs};
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::render::barycentrics::{self, BarycentricsPass, TriangleIds};
@@ -60,14 +60,16 @@ impl VertexStage {
             Ok(())
         })?;
         let out = VertexOutputs { visibility: &self.visibility, blocked: &self.blocked, sums: &self.sums };
+        let mesh = VertexMesh { vertices: &fg.scene_gpu.vertices, vertex_count: fg.scene.vertices.len() as u32, bvh };
         timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
             for params in chunks {
-                self.trace.record(fg.ctx, enc, &fg.scene_gpu.vertices, fg.scene.vertices.len() as u32, params, lights, bvh, &out);
+                self.trace.record(fg.ctx, enc, &mesh, params, lights, &out);
             }
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::ENV_VERTEX_INTERP, |enc| {
-            self.interp.record(fg.ctx, enc, &fg.gbuffer, &fg.scene_gpu.indices, &chunks[0], &self.ids, &self.visibility, ao, &fg.visibility);
+            let inputs = InterpInputs { scene_indices: &fg.scene_gpu.indices, params: &chunks[0], ids: &self.ids, vertex_visibility: &self.visibility, ao };
+            self.interp.record(fg.ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
             Ok(())
         })
     }

@@ -1,6 +1,6 @@
 //! Twin of `kernels/cascades.wgsl`.
 
-use super::pcf::pcf_taps;
+use super::pcf::{pcf_taps, TapCentre};
 use super::shadow::{pixel_lookup, shadow_compare, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
 use crate::gpu::structs::{GpuCascades, GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
@@ -14,7 +14,6 @@ pub fn cascade_of(c: &GpuCascades, depth: f32) -> u32 {
 
 /// V (background 0) and the cascade of every pixel (`NO_CASCADE` on background). `maps[i]` is
 /// cascade i's map, `samples[i]` its sample.
-#[allow(clippy::too_many_arguments)]
 pub fn cascades(frame: &GpuFrame, filter: &GpuFilter, c: &GpuCascades, samples: &[GpuSample], maps: &[Vec<f32>], disk: &[[f32; 2]], g: &GBufferCpu) -> (Vec<f32>, Vec<u32>) {
     let w = g.width as usize;
     let (eye, forward) = (Vec4::from(c.eye).truncate(), Vec4::from(c.forward).truncate());
@@ -36,7 +35,7 @@ pub fn cascades(frame: &GpuFrame, filter: &GpuFilter, c: &GpuCascades, samples: 
                 return (shadow_compare(s, &lookup, stored) as f32, k);
             }
             let pixel = ((index % w) as u32, (index / w) as u32);
-            let (lit, count) = pcf_taps(frame, filter, s, map, disk, t, lookup.depth_limit, slope, pixel);
+            let (lit, count) = pcf_taps(frame, filter, s, map, disk, TapCentre { t, limit: lookup.depth_limit, slope }, pixel);
             (lit / count, k)
         })
         .unzip()

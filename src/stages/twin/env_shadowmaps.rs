@@ -1,6 +1,6 @@
 //! Twin of `kernels/env_shadowmaps.wgsl`.
 
-use super::pcf::pcf_taps;
+use super::pcf::{pcf_taps, TapCentre};
 use super::shadow::{pixel_lookup, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
 use crate::gpu::structs::{GpuEnvLight, GpuEnvParams, GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
@@ -12,9 +12,16 @@ pub struct Filter<'a> {
     pub disk: &'a [[f32; 2]],
 }
 
+/// Each light's sample record and map (`maps[k]` is sample k's map, row-major).
+#[derive(Clone, Copy, Debug)]
+pub struct LightMaps<'a> {
+    pub samples: &'a [GpuSample],
+    pub maps: &'a [Vec<f32>],
+}
+
 /// V per pixel from the K maps (`maps[k]` is sample k's map, row-major).
-#[allow(clippy::too_many_arguments)]
-pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, samples: &[GpuSample], maps: &[Vec<f32>], lights: &[GpuEnvLight], ao: &[f32], g: &GBufferCpu) -> Vec<f32> {
+pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, light_maps: LightMaps, lights: &[GpuEnvLight], ao: &[f32], g: &GBufferCpu) -> Vec<f32> {
+    let LightMaps { samples, maps } = light_maps;
     let width = g.width as usize;
     (0..g.position.len())
         .map(|index| {
@@ -41,7 +48,7 @@ pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, s
                     continue;
                 }
                 let pixel = ((index % width) as u32, (index / width) as u32);
-                let (lit, taps) = pcf_taps(frame, filter.settings, s, &maps[k], filter.disk, t, lookup.depth_limit, slope, pixel);
+                let (lit, taps) = pcf_taps(frame, filter.settings, s, &maps[k], filter.disk, TapCentre { t, limit: lookup.depth_limit, slope }, pixel);
                 num += w * lit / taps;
             }
             let v = if den > 0.0 { num / den } else { 0.0 };

@@ -39,21 +39,20 @@ pub fn tests(frame: &GpuFrame, s: &GpuSample, map: &[f32], p: Vec3, n: Vec3) -> 
     (v, f, v2)
 }
 
-/// `sums[p] += Σ_{i in first..first+count}` (split[i].x · v_i, split[i].y · v_i,
+/// A fixed sample set as the estimate reads it: each sample's record, weight, split shares and map.
+#[derive(Clone, Copy, Debug)]
+pub struct SampleSet<'a> {
+    pub samples: &'a [GpuSample],
+    pub weights: &'a [f32],
+    pub split: &'a [[f32; 2]],
+    pub maps: &'a [Vec<f32>],
+}
+
+/// `sums[p] += Σ_{i in range}` (split[i].x · v_i, split[i].y · v_i,
 /// weights[i] · q_i, weights[i] · b_i, split[i].x · q_i, split[i].y · q_i, split[i].x · b_i,
 /// split[i].y · b_i), q_i = v_i − f_i and b_i = v₂_i − v_i, sample by sample.
-#[allow(clippy::too_many_arguments)]
-pub fn estimate(
-    frame: &GpuFrame,
-    samples: &[GpuSample],
-    weights: &[f32],
-    split: &[[f32; 2]],
-    maps: &[Vec<f32>],
-    g: &GBufferCpu,
-    first: usize,
-    count: usize,
-    sums: &mut [crate::stages::estimate::Sums],
-) {
+pub fn estimate(frame: &GpuFrame, set: &SampleSet, g: &GBufferCpu, range: std::ops::Range<usize>, sums: &mut [crate::stages::estimate::Sums]) {
+    let SampleSet { samples, weights, split, maps } = *set;
     for (index, acc) in sums.iter_mut().enumerate() {
         if !g.is_geometry(index) {
             continue;
@@ -61,7 +60,7 @@ pub fn estimate(
         let p = Vec4::from(g.position[index]).truncate();
         let n = Vec4::from(g.normal[index]).truncate();
         let mut a = *acc;
-        for i in first..first + count {
+        for i in range.clone() {
             let (v, f, v2) = tests(frame, &samples[i], &maps[i], p, n);
             let (q, b, [sx, sy]) = (v - f, v2 - v, split[i]);
             a = [a[0] + sx * v, a[1] + sy * v, a[2] + weights[i] * q, a[3] + weights[i] * b, a[4] + sx * q, a[5] + sy * q, a[6] + sx * b, a[7] + sy * b];

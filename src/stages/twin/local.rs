@@ -4,7 +4,7 @@
 
 use super::neighbourhood::{low_quality, Screen};
 use super::shadow_test::{LocalTest, Maps};
-use super::subdivide::{subdivide, SplitRule};
+use super::subdivide::{subdivide, SplitLevel, SplitRule};
 use super::quad_corner;
 use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS};
 use crate::gpu::structs::{GpuFrame, GpuQuad, GpuSample};
@@ -70,7 +70,8 @@ pub fn local(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<
             let (x, y) = ((p % s.width) as i32, (p / s.width) as i32);
             counters[q as usize] += low_quality(&counts, &s, q as usize, x, y) as u32;
         }
-        let sub = subdivide(level, max_level, rule(level), geometry, &quads, &counters, &mut state, &mut sample_level);
+        let at = SplitLevel { level, max_level, rule: rule(level), geometry_pixels: geometry };
+        let sub = subdivide(&at, &quads, &counters, &mut state, &mut sample_level);
         let next = super::compact::compact(&s, level, max_level, &items, &counts, &sub.split_base, &mut out.visibility_fixed);
         out.push_level(&items, next.probes.len() as u32, &quads, sub.new_samples.clone(), lookups, &test);
         probes = next.probes;

@@ -35,10 +35,19 @@ fn bilinear_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], reference: f32, t:
     top * (1.0 - f.y) + bottom * f.y
 }
 
-/// Lit taps and tap count of `filter`'s pattern around map position `t` (pixel (x, y) seeds the
+/// Where a pixel's taps centre: map position `t`, the depth limit there and its slope per texel
+/// (each tap's limit moves by its offset's length times `slope`).
+#[derive(Clone, Copy, Debug)]
+pub struct TapCentre {
+    pub t: Vec2,
+    pub limit: f32,
+    pub slope: f32,
+}
+
+/// Lit taps and tap count of `filter`'s pattern around map position `at.t` (pixel (x, y) seeds the
 /// stratified and rotated patterns), as `shared/pcf_taps.wgsl` `pcf_taps` sums them.
-#[allow(clippy::too_many_arguments)]
-pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], t: Vec2, limit: f32, slope: f32, (x, y): (u32, u32)) -> (f32, f32) {
+pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], at: TapCentre, (x, y): (u32, u32)) -> (f32, f32) {
+    let TapCentre { t, limit, slope } = at;
     let mut lit = 0.0f32;
     let count = if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
         let n = filter.taps;
@@ -89,7 +98,7 @@ pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], dis
                 return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
             }
             let pixel = ((index % w) as u32, (index / w) as u32);
-            let (lit, count) = pcf_taps(frame, filter, s, map, disk, t, lookup.depth_limit, slope, pixel);
+            let (lit, count) = pcf_taps(frame, filter, s, map, disk, TapCentre { t, limit: lookup.depth_limit, slope }, pixel);
             if filter.darkening > 0.0 {
                 (1.0 - filter.darkening * (count - lit)).clamp(0.0, 1.0)
             } else {

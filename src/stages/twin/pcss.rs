@@ -1,6 +1,7 @@
 //! Twin of `kernels/pcss.wgsl`.
 
 use super::shadow::{depth_passes, pixel_lookup, tap_lit, LOOKUP_COMPARE, LOOKUP_OUTSIDE};
+use super::pcf::TapCentre;
 use crate::gpu::structs::{GpuFilter, GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::Vec2;
@@ -17,10 +18,20 @@ pub struct Blockers {
     pub taps: u32,
 }
 
-/// pcss's blocker search (and the regions' `measure`): `nb`×`nb` taps over the map region through
-/// which a receiver at linear depth `z_r` and map position `t` sees a light of half-size `light`.
-#[allow(clippy::too_many_arguments)]
-pub fn blocker_search(frame: &GpuFrame, s: &GpuSample, map: &[f32], light: Vec2, max_radius: f32, nb: u32, z_r: f32, t: Vec2, slope: f32) -> Blockers {
+/// Where a blocker search looks: a light of half-size `light`, a radius of at most `max_radius`
+/// texels, `taps`×`taps` taps.
+#[derive(Clone, Copy, Debug)]
+pub struct SearchArea {
+    pub light: Vec2,
+    pub max_radius: f32,
+    pub taps: u32,
+}
+
+/// pcss's blocker search (and the regions' `measure`): `area.taps`² taps over the map region
+/// through which a receiver at linear depth `at.limit` and map position `at.t` sees the light.
+pub fn blocker_search(frame: &GpuFrame, s: &GpuSample, map: &[f32], area: SearchArea, at: TapCentre) -> Blockers {
+    let SearchArea { light, max_radius, taps: nb } = area;
+    let TapCentre { t, limit: z_r, slope } = at;
     let size = frame.map_size as f32;
     let ortho = s.orthographic != 0;
     let near = if ortho { s.depth_lin_b } else { s.depth_lin_a / s.depth_lin_b };
@@ -57,7 +68,8 @@ pub fn pcss(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], g:
             let ortho = s.orthographic != 0;
             let per_angle = 1.0 / s.texel_angle;
             let light = Vec2::new(filter.light_u, filter.light_v) * 0.5;
-            let search = blocker_search(frame, s, map, light, filter.max_radius, filter.blocker_taps, z_r, t, slope);
+            let area = SearchArea { light, max_radius: filter.max_radius, taps: filter.blocker_taps };
+            let search = blocker_search(frame, s, map, area, TapCentre { t, limit: z_r, slope });
             let (blocker_sum, blockers) = (search.sum, search.blockers);
             if blockers == 0 {
                 return 1.0;

@@ -1,7 +1,8 @@
 //! Twin of `kernels/regions.wgsl`: `measure` (each region's samples per side, finest texel and
 //! receiver box) and `classify` (each geometry tile's class, the classes' lists and merged words).
 
-use super::pcss::{blocker_search, midpoint};
+use super::pcf::TapCentre;
+use super::pcss::{blocker_search, midpoint, SearchArea};
 use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE};
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
@@ -54,7 +55,8 @@ pub fn measure(frame: &GpuFrame, p: &RegionsParams, s: &GpuSample, map: &[f32], 
         if lookup.kind == LOOKUP_COMPARE {
             let z_r = lookup.depth_limit;
             let light = Vec2::new(p.light_u, p.light_v) * 0.5;
-            let b = blocker_search(frame, s, map, light, p.max_radius, p.blocker_taps, z_r, t, slope);
+            let area = SearchArea { light, max_radius: p.max_radius, taps: p.blocker_taps };
+            let b = blocker_search(frame, s, map, area, TapCentre { t, limit: z_r, slope });
             if f > 0.0 {
                 words[2] = words[2].min(ordered(f / z_r));
             }

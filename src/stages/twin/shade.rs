@@ -5,17 +5,8 @@ use crate::gpu::structs::{GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::Vec4;
 
-/// `visibility[p] += Σ_{i in first..first+count} weights[i] · lit_i(p)`; `maps[i]` is sample i's map.
-pub fn shade(
-    frame: &GpuFrame,
-    samples: &[GpuSample],
-    weights: &[f32],
-    maps: &[Vec<f32>],
-    g: &GBufferCpu,
-    first: usize,
-    count: usize,
-    visibility: &mut [f32],
-) {
+/// `visibility[p] += Σ_{i in range} weights[i] · lit_i(p)`; `maps[i]` is sample i's map.
+pub fn shade(frame: &GpuFrame, samples: &[GpuSample], weights: &[f32], maps: &[Vec<f32>], g: &GBufferCpu, range: std::ops::Range<usize>, visibility: &mut [f32]) {
     for (index, v) in visibility.iter_mut().enumerate() {
         if !g.is_geometry(index) {
             continue;
@@ -23,7 +14,7 @@ pub fn shade(
         let p = Vec4::from(g.position[index]).truncate();
         let n = Vec4::from(g.normal[index]).truncate();
         let mut acc = *v;
-        for i in first..first + count {
+        for i in range.clone() {
             acc += weights[i] * lit(frame, &samples[i], &maps[i], p, n) as f32;
         }
         *v = acc;

@@ -16,19 +16,19 @@ pub struct SubdivideOut {
     pub overflow: bool,
 }
 
+/// The level a subdivide splits at and how: quads of `level` split while `level < max_level`, by
+/// `rule`; `geometry_pixels` is the share rules' denominator (reproject_count counts it at level 0).
+#[derive(Clone, Copy, Debug)]
+pub struct SplitLevel {
+    pub level: u32,
+    pub max_level: u32,
+    pub rule: SplitRule,
+    pub geometry_pixels: u32,
+}
+
 /// `lattice_state` (requested samples) and `sample_level` are updated in place, as the kernel's atomics.
-/// `geometry_pixels` is the share rules' denominator (reproject_count counts it at level 0).
-#[allow(clippy::too_many_arguments)]
-pub fn subdivide(
-    level: u32,
-    max_level: u32,
-    rule: SplitRule,
-    geometry_pixels: u32,
-    quads: &[GpuQuad],
-    counters: &[u32],
-    lattice_state: &mut [u32],
-    sample_level: &mut [u32],
-) -> SubdivideOut {
+pub fn subdivide(at: &SplitLevel, quads: &[GpuQuad], counters: &[u32], lattice_state: &mut [u32], sample_level: &mut [u32]) -> SubdivideOut {
+    let SplitLevel { level, max_level, rule, geometry_pixels } = *at;
     let mut out = SubdivideOut::default();
     let mut request = |i: u32, j: u32, out: &mut SubdivideOut| {
         let k = (j * 17 + i) as usize;

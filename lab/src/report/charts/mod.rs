@@ -1,34 +1,23 @@
 //! Charts of result rows as SVG strings (plotters' SVG backend), and SVG → PNG with resvg.
 //!
-//! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first.
+//! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first. A
+//! study's own chart lives in its folder (`studies/<study>/charts.rs`) on the scatter plot here.
 
-mod cascades;
 mod dominance;
-mod environment;
 mod error_maps;
-mod estimate;
 mod error_time;
-mod framing;
-mod frontier;
-mod hybrid;
 mod labels;
 mod maps_pm;
-mod pareto;
+pub(crate) mod pareto;
 mod raster;
-mod scatter;
+pub(crate) mod scatter;
 mod stages;
-mod style;
+pub(crate) mod style;
 mod temporal;
 
-pub use cascades::{cascades_svg, CascadePoint};
 pub use dominance::{verdicts, Point as DominancePoint, Verdict};
-pub use environment::{env_chart_svg, EnvAxis};
 pub use error_maps::error_vs_maps_svg;
-pub use estimate::{estimate_svg, EstimatePoint};
 pub use error_time::error_vs_time_svg;
-pub use framing::{framing_svg, WidthAxis, WidthPoint};
-pub use frontier::{frontier_svg, FrontierPoint};
-pub use hybrid::{error_memory_svg, MemoryPoint};
 pub use maps_pm::maps_vs_pm_svg;
 pub use pareto::{pareto_front, pareto_steps};
 pub use raster::svg_to_png;

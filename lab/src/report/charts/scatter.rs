@@ -11,7 +11,7 @@ use super::labels;
 use super::ChartError;
 use super::style::{AXIS_PX, FONT, LABEL_PX, SIZE, TITLE_PX, colour, plot_err};
 
-pub(super) struct Point {
+pub(crate) struct Point {
     pub x: f64,
     pub y: f64,
     pub label: Option<String>,
@@ -19,20 +19,20 @@ pub(super) struct Point {
     pub x_span: Option<(f64, f64)>,
 }
 
-pub(super) struct Series {
+pub(crate) struct Series {
     pub name: String,
     pub points: Vec<Point>,
 }
 
 /// Adds `point` to the series called `name`, starting that series if it is new (first-seen order).
-pub(super) fn push_point(series: &mut Vec<Series>, name: String, point: Point) {
+pub(crate) fn push_point(series: &mut Vec<Series>, name: String, point: Point) {
     match series.iter_mut().find(|s| s.name == name) {
         Some(s) => s.points.push(point),
         None => series.push(Series { name, points: vec![point] }),
     }
 }
 
-pub(super) struct Scatter {
+pub(crate) struct Scatter {
     pub title: String,
     pub x_desc: String,
     pub y_desc: String,
@@ -79,7 +79,7 @@ fn padded(values: &[f64], log: bool) -> Range<f64> {
     }
 }
 
-pub(super) fn render(spec: &Scatter) -> Result<String, ChartError> {
+pub(crate) fn render(spec: &Scatter) -> Result<String, ChartError> {
     let xs = spec.values(|p| {
         let mut v = vec![p.x];
         v.extend(p.x_span.map(|(a, b)| [a, b]).into_iter().flatten());
@@ -108,7 +108,7 @@ fn log_axis(r: Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
 
 /// Labelled ticks at 1-2-5 × 10^k (1 × 10^k only beyond three decades, 1..9 × 10^k when the
 /// range is too narrow for two), light grid lines at 1..9 × 10^k.
-pub(super) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
     let within = |mult: &[f64]| -> Vec<f64> {
         (k0..=k1)
@@ -129,7 +129,7 @@ pub(super) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Short tick label: about four significant digits, no trailing zeros ("0.005", "60", "1000").
-pub(super) fn tick_label(v: &f64) -> String {
+pub(crate) fn tick_label(v: &f64) -> String {
     if *v == 0.0 || !v.is_finite() {
         return "0".into();
     }

@@ -4,12 +4,12 @@ use plotters::style::RGBColor;
 
 use super::ChartError;
 
-pub(super) const SIZE: (u32, u32) = (960, 640);
+pub(crate) const SIZE: (u32, u32) = (960, 640);
 /// Generic family; `svg_to_png` maps it to DejaVu Sans, browsers to their default sans.
-pub(super) const FONT: &str = "sans-serif";
-pub(super) const TITLE_PX: u32 = 24;
-pub(super) const AXIS_PX: u32 = 18;
-pub(super) const LABEL_PX: u32 = 13;
+pub(crate) const FONT: &str = "sans-serif";
+pub(crate) const TITLE_PX: u32 = 24;
+pub(crate) const AXIS_PX: u32 = 18;
+pub(crate) const LABEL_PX: u32 = 13;
 
 /// Tableau 10, then the light halves of Tableau 20: a frame has a dozen stages, and a repeated
 /// colour would merge two of them in the stage chart.
@@ -36,17 +36,17 @@ const PALETTE: [(u8, u8, u8); 20] = [
     (158, 218, 229),
 ];
 
-pub(super) fn colour(i: usize) -> RGBColor {
+pub(crate) fn colour(i: usize) -> RGBColor {
     let (r, g, b) = PALETTE[i % PALETTE.len()];
     RGBColor(r, g, b)
 }
 
-pub(super) fn plot_err(e: impl std::fmt::Display) -> ChartError {
+pub(crate) fn plot_err(e: impl std::fmt::Display) -> ChartError {
     ChartError::Plot(e.to_string())
 }
 
 /// Name for a group of rows: the given key, prefixed with the scene when rows span scenes.
-pub(super) fn with_scene(multi_scene: bool, scene: &str, key: &str) -> String {
+pub(crate) fn with_scene(multi_scene: bool, scene: &str, key: &str) -> String {
     if multi_scene {
         format!("{scene}: {key}")
     } else {
@@ -55,7 +55,7 @@ pub(super) fn with_scene(multi_scene: bool, scene: &str, key: &str) -> String {
 }
 
 /// True when the rows come from more than one scene.
-pub(super) fn spans_scenes<'a>(mut rows: impl Iterator<Item = &'a super::ResultRow>) -> bool {
+pub(crate) fn spans_scenes<'a>(mut rows: impl Iterator<Item = &'a super::ResultRow>) -> bool {
     let Some(first) = rows.next() else {
         return false;
     };

@@ -7,7 +7,7 @@
 use super::errors::ErrorColumns;
 use super::fair;
 use super::seed::{SeedRow, TABLE2};
-use super::stats::Summary;
+use crate::record::stats::Summary;
 use crate::report::charts::ResultRow;
 use crate::reference::truth::{self, Cache};
 use crate::gpu::{AdapterSummary, GpuContext};

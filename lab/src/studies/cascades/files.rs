@@ -2,7 +2,8 @@
 //! row per cascade), `cascades.md`, `charts/cascades.svg`/`.png` and a self-contained `report.html`.
 
 use super::CascadeLine;
-use crate::report::charts::{cascades_svg, svg_to_png, CascadePoint};
+use super::charts::{cascades_svg, CascadePoint};
+use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
 pub fn files(lines: &[CascadeLine]) -> Result<Vec<(String, Vec<u8>)>> {

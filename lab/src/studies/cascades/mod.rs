@@ -2,6 +2,8 @@
 //! for each number of cascades and split scheme, judged against the continuous reference, with
 //! each cascade's texel density on screen: how many screen pixels one of its map's texels spans.
 
+pub(crate) mod charts;
+pub mod command;
 pub mod files;
 
 use crate::frame::Renderer;
@@ -10,6 +12,7 @@ use crate::gpu::GpuContext;
 use crate::methods::cascades::{split::Scheme, CascadeBuffers, CascadeMaps};
 use crate::methods::Method;
 use crate::reference::truth::{self, Cache};
+use crate::record::stats::median;
 use crate::reference::ReferenceMode;
 use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
@@ -90,15 +93,6 @@ pub fn densities(scene: &Scene, g: &GBufferCpu, b: &CascadeBuffers) -> Vec<Optio
             Some((k, b.placement.samples[k as usize].texel_angle as f64 / (z.max(1e-6) * per_depth)))
         })
         .collect()
-}
-
-fn median(v: &mut [f64]) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    Some(if v.len() % 2 == 1 { v[m] } else { 0.5 * (v[m - 1] + v[m]) })
 }
 
 /// Every setting, scheme by scheme, n by n, against one reference. `log` gets one line each.

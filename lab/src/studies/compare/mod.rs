@@ -3,9 +3,13 @@
 //! pictures, charts and the report. Everything is encoded in memory before the first file is
 //! written, so bad input or a failed run leaves no partial output.
 
+pub mod command;
 pub mod methods_list;
 pub mod plan;
+pub mod regions;
+pub mod run_args;
 pub mod sweep;
+pub mod sweep_command;
 pub mod table;
 
 use crate::report::charts::ResultRow;

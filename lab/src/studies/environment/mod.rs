@@ -4,7 +4,11 @@
 //! quadtree cells) and error maps, and the closing table with the env-adaptive verdict.
 
 
-use crate::report::charts::{env_chart_svg, svg_to_png, EnvAxis, ResultRow};
+pub(crate) mod charts;
+pub mod command;
+
+use self::charts::{env_chart_svg, EnvAxis};
+use crate::report::charts::{svg_to_png, ResultRow};
 use crate::studies::compare::{self, CompareJob};
 use crate::gpu::GpuContext;
 use crate::methods::Method;

@@ -3,6 +3,7 @@
 //! the report shows the signed error maps side by side with one sentence per scene generated from
 //! the figures (`sentence`), and a short sequence where the adaptive decision pops.
 
+pub mod command;
 pub(crate) mod sentence;
 
 use crate::studies::compare::ERROR_SCALE;

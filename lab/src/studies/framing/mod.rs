@@ -2,9 +2,12 @@
 //! screen resolutions and light sizes, so the penumbra's width on screen varies; every method is
 //! run through `compare` at each configuration, and maps and error are charted against the width.
 
+pub(crate) mod charts;
+pub mod command;
 pub(crate) mod width;
 
-use crate::report::charts::{framing_svg, svg_to_png, ResultRow, WidthAxis, WidthPoint};
+use self::charts::{framing_svg, WidthAxis, WidthPoint};
+use crate::report::charts::{svg_to_png, ResultRow};
 use crate::studies::compare::{self, CompareJob};
 use crate::reference::truth::Cache;
 use crate::gpu::GpuContext;

@@ -2,7 +2,8 @@
 //! tables), `charts/frontier.svg`/`.png` and a self-contained `report.html`.
 
 use super::{front, FrontierLine};
-use crate::report::charts::{frontier_svg, svg_to_png, FrontierPoint};
+use super::charts::{frontier_svg, FrontierPoint};
+use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
 pub fn files(lines: &[FrontierLine]) -> Result<Vec<(String, Vec<u8>)>> {

@@ -4,6 +4,8 @@
 //! against one reference, and the frontier of error against time: the settings no other setting
 //! beats on both.
 
+pub(crate) mod charts;
+pub mod command;
 pub mod files;
 pub mod front;
 pub mod grid;

@@ -2,7 +2,8 @@
 //! the error-against-memory chart and a self-contained HTML page.
 
 use super::HybridRow;
-use crate::report::charts::{error_memory_svg, svg_to_png, MemoryPoint};
+use super::charts::{error_memory_svg, MemoryPoint};
+use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
 fn io_error(what: &str, e: impl std::fmt::Display) -> Error {

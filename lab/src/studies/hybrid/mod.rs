@@ -7,6 +7,8 @@
 //! - Multi-map methods (regular:n=17, adaptive) with hybrid maps against plain maps of a fixed size
 //!   and of the hybrid maps' measured memory, against the continuous reference.
 
+pub(crate) mod charts;
+pub mod command;
 pub mod files;
 
 use crate::gpu::kernels;
@@ -203,7 +205,8 @@ fn row(ctx: &GpuContext, part: &str, scene: &Scene, method: &Method, maps: Maps,
         total_ms: median(&totals),
         total_ms_min: totals.iter().copied().fold(f64::INFINITY, f64::min),
         total_ms_max: totals.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        raster_ms: stage(Stage::SHADOW_RASTER.name),
+        // Whichever raster drew the maps (`raster = auto` may pick either); the other reads 0.
+        raster_ms: stage(Stage::SHADOW_RASTER.name) + stage(Stage::RASTER_COMPUTE.name),
         build_ms: stage(Stage::HYBRID_BUILD.name),
         // The lookup: the stages whose kernels read the maps (shade, shadow_test, pcf, pcss).
         lookup_ms: kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| stage(s.name)).sum(),

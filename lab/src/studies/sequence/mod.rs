@@ -5,6 +5,7 @@
 //! docs/sequence.md). Writes per-frame rows, per-method summaries, charts, animations (APNG) and a
 //! self-contained report; everything is encoded in memory before the first file is written.
 
+pub mod command;
 pub(crate) mod apng;
 pub mod path;
 pub(crate) mod section;

@@ -2,6 +2,7 @@
 //! the grid balanced by estimated cost, `merge` joins the shards' outputs, `--jobs K` runs the
 //! shards as local processes.
 
+pub mod command;
 pub mod merge;
 
 use crate::{Error, Result};

@@ -1,0 +1,25 @@
+//! The flags compare, sweep and the main job share (and the failure gallery reads).
+
+use crate::studies::flags::{OutArgs, RepeatsArgs, SceneArgs, SetArgs};
+
+/// Settings shared by compare and sweep.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub repeats: RepeatsArgs,
+    /// Ground truth: `continuous`, `lattice`, or `point` / `point:S,T` (the hard shadow from one light point).
+    #[arg(long, default_value = "continuous")]
+    pub reference: String,
+    /// M for the continuous reference (M×M samples).
+    #[arg(long, default_value_t = 32)]
+    pub samples: u32,
+    #[command(flatten)]
+    pub sets: SetArgs,
+    #[command(flatten)]
+    pub output: OutArgs,
+    /// Trace the reference even when the cache holds it.
+    #[arg(long)]
+    pub no_cache: bool,
+}
