@@ -35,7 +35,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
         Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
     ],
-    parse: parse,
+    parse,
 };
 
 /// The classes' samples per side: steps of about √2 in n (2× in maps) up to `max_n`.
@@ -238,10 +238,7 @@ impl State {
     }
 
     fn grid(&mut self, fg: &FrameGpu, n: u32, size: u32) -> Result<&mut Prepared> {
-        if !self.frames.contains_key(&size) {
-            let frame = crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame };
-            self.frames.insert(size, readback::uniform_buffer(fg.ctx, "regions frame", &frame));
-        }
+        self.frames.entry(size).or_insert_with(|| readback::uniform_buffer(fg.ctx, "regions frame", &crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame }));
         if !self.grids.contains_key(&(n, size)) {
             let frame = (size != fg.scene.render.shadow_map_size).then(|| self.frames[&size].clone());
             let mut grid = fixed_samples::prepare_sized(fg, &regular_points(n, Layout::Centred), size, frame)?;
