@@ -17,7 +17,7 @@ fn every_kernel_validates_with_naga() {
 #[test]
 fn map_reading_kernels_validate_for_every_map_access() {
     let readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| s.name).collect();
-    assert_eq!(readers, ["shade", "estimate", "shadow_test", "pcf", "cascades", "pcss"], "the kernels that read maps through map_depth");
+    assert_eq!(readers, ["shade", "estimate", "shadow_test", "pcf", "cascades", "pcss", "regions"], "the kernels that read maps through map_depth");
     let raster_readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_raster).map(|(s, _)| s.name).collect();
     assert_eq!(raster_readers, ["moments", "env_shadowmaps", "hybrid_build"], "the kernels that read the raster's layers through layer_depth");
     let mut errors = Vec::new();
@@ -230,6 +230,10 @@ fn mirrored_constants_match_rust() {
         ("HYBRID_POOL_WIDTH_LOG2", penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64),
         ("HYBRID_CHILDREN", penumbra::stages::hybrid_build::CHILDREN as f64),
         ("FRAME_HYBRID_LEVELS_SHIFT", penumbra::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64),
+        ("REGION_WORDS", penumbra::stages::regions::REGION_WORDS as f64),
+        ("CLASS_WORDS", penumbra::stages::regions::CLASS_WORDS as f64),
+        ("WEIGHT_SCALE", penumbra::stages::regions::WEIGHT_SCALE as f64),
+        ("SAMPLING_ORDER", penumbra::stages::regions::SAMPLING_ORDER as f64),
     ];
     let mut modules = Vec::new();
     for (stage, kernel) in kernels::all() {

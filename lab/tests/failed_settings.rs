@@ -104,14 +104,15 @@ fn frontier_records_failed_settings_and_keeps_them_off_the_front() {
     );
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{stderr}");
-    // Both local settings of the grid overflow; the other 13 are measured.
+    // Both local settings of the grid overflow; the other 14 (auto and regions at the target among
+    // them) are measured.
     let local = ["adaptive:preset=seed,scope=local,cull=on", "adaptive:preset=balanced,scope=local,cull=on"];
     for spec in local {
         assert!(stderr.lines().any(|l| l == format!("warning: {spec} @ plain 64: failed: {OVERFLOW}")), "{stderr}");
     }
-    assert!(stderr.lines().any(|l| l == "warning: 2 of 15 settings failed; their rows say why (\"failed\" in the results)"), "{stderr}");
+    assert!(stderr.lines().any(|l| l == "warning: 2 of 16 settings failed; their rows say why (\"failed\" in the results)"), "{stderr}");
     let lines = jsonl(&out.join("frontier.jsonl"));
-    assert_eq!(lines.len(), 15);
+    assert_eq!(lines.len(), 16);
     for l in &lines {
         let failed = local.contains(&l["spec"].as_str().unwrap());
         assert_eq!(l["failed"].as_str(), failed.then_some(OVERFLOW), "{l}");

@@ -176,9 +176,10 @@ fn the_methods_refuse_the_kinds_they_cannot_sample_as_docs_lights_md_lists() {
             }
         }
     }
-    // Refused: the filtered maps (five) on the point, which has cube maps; and cascades on every
-    // kind but the sun.
-    assert_eq!(refused, 9);
+    // Refused: the filtered maps (five) on the point, which has cube maps; cascades on every kind
+    // but the sun; regions on the sun and the point (its windows are perspective maps from points
+    // on a rectangle, a disk or a spot's ball).
+    assert_eq!(refused, 11);
 }
 
 #[test]

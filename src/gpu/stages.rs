@@ -334,6 +334,13 @@ stage_table! {
     PCSS = pcss kernel { reads_maps: true }, Some(Shade), [
         compute Main(main) PIXEL { frame: 0, settings: 1, samples: 2, gbuffer_position: 3, gbuffer_normal: 4, shadow_maps: 5, visibility: 6 },
     ];
+    /// regions: each screen region's sample count and texel need from a blocker search on the
+    /// centre map, then each geometry tile's class and the classes' tile lists (docs/regions.md).
+    REGIONS = regions kernel { reads_maps: true }, Some(Decision), [
+        compute Measure(measure) PIXEL { frame: 0, params: 1, samples: 2, gbuffer_position: 3, gbuffer_normal: 4, shadow_maps: 5, regions: 6 },
+        compute Total(total) LINE { params: 1, regions: 6, totals: 10 },
+        compute Classify(classify) LINE { frame: 0, params: 1, regions: 6, tile_list: 7, classes: 8, class_tiles: 9, totals: 10 },
+    ];
     /// The filtered methods' moment maps from the raster.
     MOMENTS = moments kernel { reads_raster: true }, Some(Raster), [
         compute Main(main) PIXEL { frame: 0, settings: 1, samples: 2, shadow_maps: 3, moments: 4 },

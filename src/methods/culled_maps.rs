@@ -46,8 +46,8 @@ impl CulledMaps {
     }
 
     /// Rasterizes `jobs` (their `sample` indexes `samples`) into `array`, batch by batch: footprint,
-    /// cull, then each map draws what it kept.
-    pub fn record(&self, fg: &FrameGpu, timer: &mut StageTimer, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
+    /// cull, then each map draws what it kept. `frame`: the frame uniform with the maps' size.
+    pub fn record(&self, fg: &FrameGpu, timer: &mut StageTimer, frame: &wgpu::Buffer, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) -> Result<()> {
         let ctx = fg.ctx;
         for batch in jobs.chunks(self.cull.slots as usize) {
             let n = batch.len() as u32;
@@ -56,12 +56,12 @@ impl CulledMaps {
                     enc.copy_buffer_to_buffer(samples, j.sample as u64 * SAMPLE_BYTES, &self.batch_samples, slot as u64 * SAMPLE_BYTES, SAMPLE_BYTES);
                 }
                 enc.clear_buffer(&self.tiles, 0, Some(n as u64 * CULL_TILE_WORDS as u64 * 4));
-                self.footprint.record(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &CullBatch { samples: &self.batch_samples, tiles: &self.tiles }, n);
+                self.footprint.record(ctx, enc, frame, &fg.gbuffer, &CullBatch { samples: &self.batch_samples, tiles: &self.tiles }, n);
                 Ok(())
             })?;
             let slots: Vec<u32> = (0..n).collect();
             timer.stage(ctx, Stage::CULL, |enc| {
-                self.cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &CullBatch { samples: &self.batch_samples, tiles: &self.tiles }, &slots);
+                self.cull.record(ctx, enc, frame, &fg.scene_gpu, &CullBatch { samples: &self.batch_samples, tiles: &self.tiles }, &slots);
                 Ok(())
             })?;
             timer.stage(ctx, fg.raster.stage(), |enc| {

@@ -229,6 +229,27 @@ impl Prepared {
     pub fn map_count(&self) -> usize {
         self.points
     }
+
+    /// New sample records for the same points (the regions' windows, fitted anew each frame),
+    /// in the layers `prepare_sized` gave them.
+    pub(crate) fn set_samples(&mut self, ctx: &crate::gpu::GpuContext, mut samples: Vec<GpuSample>) {
+        for (new, old) in samples.iter_mut().zip(&self.samples) {
+            new.layer = old.layer;
+        }
+        ctx.queue.write_buffer(&self.samples_buffer, 0, bytemuck::cast_slice(&samples));
+        self.samples = samples;
+    }
+
+    /// Shade (and nothing else) runs on `tiles` instead of the frame's geometry tiles.
+    pub(crate) fn set_tiles(&mut self, tiles: GeometryTiles) {
+        self.tiles = Some(tiles);
+    }
+
+    /// Each map rasterizes only the triangles that can change a tested texel (`CulledMaps`).
+    pub(crate) fn cull(&mut self, fg: &FrameGpu) -> Result<()> {
+        self.culled = Some(CulledMaps::new(fg, self.points as u32)?);
+        Ok(())
+    }
 }
 
 /// Buffers and the maps of a fixed-sample run, allocated before the frame's clock starts.
@@ -246,6 +267,9 @@ pub struct Prepared {
     pub(crate) estimate: Option<Estimate>,
     /// The frame uniform of another map size than the scene's (`prepare_sized`).
     frame: Option<wgpu::Buffer>,
+    /// The tiles shade runs on; None: the frame's geometry tiles (the regions' classes shade
+    /// their own).
+    tiles: Option<GeometryTiles>,
     /// Tests: every chunk's maps are kept, since the next chunk overwrites them.
     keep: bool,
     kept: Option<FixedBuffers>,
@@ -291,13 +315,14 @@ pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame:
         shadow_raster::clear_all(ctx, &array)?;
         Maps::Plain { chunk, array }
     };
-    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, frame, keep: false, kept: None })
+    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, frame, tiles: None, keep: false, kept: None })
 }
 
 /// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the
 /// shade twin (tests only).
 fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result<MethodOutput> {
-    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, estimate, frame, keep, kept } = prepared;
+    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, estimate, frame, tiles, keep, kept } = prepared;
+    let tiles = tiles.as_ref().unwrap_or(&fg.geometry_tiles);
     let estimate = estimate.as_ref();
     let frame = frame.as_ref().unwrap_or(&fg.frame_buffer);
     let (chunk, array) = match maps {
@@ -307,14 +332,13 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     let ctx = fg.ctx;
     let points = *points;
     let mut buffers = keep.then(FixedBuffers::default);
-    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, visibility: &fg.visibility };
-    let tiles = &fg.geometry_tiles;
+    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, tiles, visibility: &fg.visibility };
     let bar = crate::progress::bar(points as u64, "shadow maps");
     for first in (0..points as u32).step_by(chunk as usize) {
         let count = chunk.min(points as u32 - first);
         let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
         match culled.as_ref() {
-            Some(c) => c.record(fg, timer, samples_buffer, array, &jobs)?,
+            Some(c) => c.record(fg, timer, frame, samples_buffer, array, &jobs)?,
             None => timer.stage(ctx, fg.raster.stage(), |enc| {
                 fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: samples_buffer, array }, &jobs)?;
                 Ok(())

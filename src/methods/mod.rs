@@ -18,6 +18,8 @@ pub(crate) mod hybrid_maps;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
 pub mod single_map;
+pub mod regions;
+pub(crate) mod regions_pictures;
 pub mod sizes;
 pub mod ssao;
 
@@ -110,6 +112,7 @@ pub const REGISTRY: &[&MethodInfo] = &[
     &fixed_samples::REGULAR,
     &adaptive::INFO,
     &auto::INFO,
+    &regions::INFO,
     &environment::pixels::INFO,
     &environment::shadowmaps::INFO,
     &ssao::INFO,

@@ -56,6 +56,14 @@ const MAX_TAN_HALF: f32 = 6.0;
 /// Perspective view from light point `y` looking along the light's normal, with an off-axis frustum
 /// fitted to the scene bounds (so every sample's map covers the scene with the same axes).
 pub fn sample_view(light: &AreaLight, y: Vec3, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+    sample_view_window(light, y, bounds, bounds, map_size, lattice)
+}
+
+/// `sample_view` whose frustum's sides are fitted to `window` (the receivers a map serves, inside
+/// `bounds`), its depth range still to `bounds`: every occluder between the light point and a
+/// receiver in the window projects into the window, so the map's texels go to those receivers
+/// alone. With `window = bounds` it is `sample_view`, bit for bit.
+pub fn sample_view_window(light: &AreaLight, y: Vec3, bounds: &Bounds, window: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
     let forward = light.normal();
     let right = (light.edge_u - forward * light.edge_u.dot(forward)).normalize();
     let up = forward.cross(right).normalize() * -1.0;
@@ -66,11 +74,13 @@ pub fn sample_view(light: &AreaLight, y: Vec3, bounds: &Bounds, map_size: u32, l
     let mut near = f32::INFINITY;
     let (mut l, mut r, mut b, mut t) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
     for c in bounds.corners() {
-        let v = view.transform_point3(c);
-        let depth = -v.z;
+        let depth = -view.transform_point3(c).z;
         far = far.max(depth);
         near = near.min(depth);
-        let d = depth.max(diag * 1e-3);
+    }
+    for c in window.corners() {
+        let v = view.transform_point3(c);
+        let d = (-v.z).max(diag * 1e-3);
         l = l.min(v.x / d);
         r = r.max(v.x / d);
         b = b.min(v.y / d);

@@ -23,6 +23,7 @@ pub(crate) mod pcss;
 pub mod probe;
 pub mod quad_count;
 pub mod raster;
+pub mod regions;
 pub mod raster_auto;
 pub mod raster_timing;
 pub mod raster_compute;

@@ -80,6 +80,18 @@ impl Band {
 }
 
 impl GeometryTiles {
+    /// A tile list in `bytes` of `list` from byte `offset` (256-aligned), one band of `height`
+    /// rows: a subset of the geometry tiles that another pass listed (the regions' classes).
+    pub fn section(list: &wgpu::Buffer, offset: u64, bytes: u64, height: u32) -> GeometryTiles {
+        GeometryTiles {
+            list: list.clone(),
+            header: list.clone(),
+            bytes,
+            band_rows: 0,
+            bands: vec![Band { first_row: 0, rows: height, frame: None, tiles_offset: offset, tiles_bytes: bytes }],
+        }
+    }
+
     /// Sets the frame uniform's band fields and writes each band's copy of it: the main frame
     /// buffer (made from `frame` after this) lists the tiles by band.
     pub fn stamp(&self, ctx: &GpuContext, frame: &mut crate::gpu::structs::GpuFrame) {

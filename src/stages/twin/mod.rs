@@ -22,6 +22,7 @@ pub mod probe;
 pub mod quad_count;
 pub mod raster_compute;
 pub mod reconstruct;
+pub mod regions;
 pub mod reproject_count;
 pub mod shade;
 pub mod shadow;

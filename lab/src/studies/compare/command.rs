@@ -87,11 +87,15 @@ pub fn run_compare(
     // Every method's frame sizes before the reference is traced or anything is written.
     crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
     let cache = truth::Cache::default_for(run.no_cache);
-    let job = CompareJob { scene: &scene, methods, repeats, reference: mode, cache, provenance, pictures: false };
+    let pictures = super::regions::wants_pictures(&methods);
+    let job = CompareJob { scene: &scene, methods, repeats, reference: mode, cache, provenance, pictures };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     let gallery = gallery_job.map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
     let out = &run.output.out;
     let html = compare::write(out, &outcome)?;
+    if pictures {
+        super::regions::append(&html, &job.methods, &outcome.pictures)?;
+    }
     if let Some(g) = &gallery {
         failures::attach(out, g)?;
     }

@@ -6,6 +6,7 @@
 pub mod command;
 pub mod methods_list;
 pub mod plan;
+pub mod regions;
 pub mod run_args;
 pub mod sweep;
 pub mod sweep_command;

@@ -87,8 +87,8 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     if !targets.is_empty() {
         // The budget chooses its own map sizes; it runs in the first plain group's window.
         let group = groups.iter_mut().find(|g| g.maps.label().starts_with("plain")).ok_or_else(|| anyhow::anyhow!("--budget needs a plain map size in --sizes"))?;
-        for t in targets {
-            let spec = format!("auto:target={t}");
+        // Each target for auto and, beside it, for the per-region method (docs/regions.md).
+        for spec in targets.iter().map(|t| format!("auto:target={t}")).chain(targets.iter().map(|t| format!("regions:target={t}"))) {
             group.methods.push(crate::methods::Method::parse(&spec, &[])?);
             group.specs.push(spec);
         }

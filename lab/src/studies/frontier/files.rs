@@ -88,7 +88,7 @@ fn oracle(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
         };
         s += &format!("| {} | {:.2} | {:.1} | {name} | {e} | {t} |\n", l.spec, l.rmse / target, l.frame_ms);
     }
-    s + &format!("\nRMSE within ±{:.0}% of the target: auto {auto_in} of {n}, the oracle {oracle_in} of {n}.\n", super::BAND * 100.0, n = budget.len())
+    s + &format!("\nRMSE within ±{:.0}% of the target: the budget's rows {auto_in} of {n}, the oracle {oracle_in} of {n}.\n", super::BAND * 100.0, n = budget.len())
 }
 
 /// The frontier as a ladder of error levels, adaptive settings against it, then every setting.

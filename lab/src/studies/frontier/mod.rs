@@ -116,14 +116,14 @@ impl FrontierLine {
     }
 }
 
-/// The kind of `auto:target=T` rows.
+/// The kind of `auto:target=T` and `regions:target=T` rows.
 pub const BUDGET: &str = "error budget";
 
 /// The budget's band: a row's RMSE within ±20% of its target meets it.
 pub const BAND: f64 = 0.2;
 
 fn kind(m: &Method) -> String {
-    if m.name() == "auto" {
+    if m.name() == "auto" || m.name() == "regions" {
         return BUDGET.into();
     }
     if let Some(p) = m.adaptive_params() {

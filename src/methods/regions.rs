@@ -1,0 +1,377 @@
+//! `regions`: each screen region gets its own samples per side and map size (docs/regions.md).
+//! A blocker search on the centre map measures every pixel's penumbra width and footprint
+//! (`stages::regions`); each region's count picks its class from a ladder of grids; each class's
+//! maps are a centred grid fitted to the box of that class's receivers, sized for the finest texel
+//! its pixels need, culled per map, and shaded on that class's tiles alone. One read-back (the
+//! classes' counts, texel needs and boxes) separates the decision from the maps.
+
+use super::fixed_samples::{self, regular_points, Layout, Prepared};
+use super::single_map::{light_size, CentreMap};
+use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use crate::gpu::readback;
+use crate::gpu::structs::GpuSample;
+use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::scene::light::{sample_view_window, Bounds};
+use crate::stages::regions::{unordered, RegionsInputs, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS};
+use crate::stages::FrameGpu;
+use crate::Result;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+pub const INFO: MethodInfo = MethodInfo {
+    name: "regions",
+    family: Family::MultiSample,
+    summary: "per screen region: samples per side from its penumbra width, map texels from its footprint, maps fitted to its receivers",
+    params: &[
+        Param { key: "target", default: "0.02", help: "the frame's RMSE of V to meet: each region gets n = k·(P/A)^0.2 samples per side for P penumbra pixels of A, k from the target (docs/regions.md)" },
+        Param { key: "max_n", default: "16", help: "most samples per side, 1..=64" },
+        Param { key: "min_size", default: "64", help: "smallest map side, a power of two, 16..=8192" },
+        Param { key: "max_size", default: "2048", help: "largest map side, a power of two, 16..=8192" },
+        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: 1 + the lookup's offsets in texels (bias constant + slope + normal offset), so that they stay inside one footprint" },
+        Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
+        Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
+        Param { key: "cull", default: "on", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V)" },
+        Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
+        Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
+    ],
+    parse,
+};
+
+/// The classes' samples per side: steps of about √2 in n (2× in maps) up to `max_n`.
+const LADDER: [u32; 12] = [1, 2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64];
+
+fn power_of_two(key: &str, v: u32) -> Result<u32> {
+    let v = check_range("regions", key, v, 16, 8192)?;
+    if !v.is_power_of_two() {
+        return Err(crate::Error::Param(format!("regions: {key} = {v} is not a power of two")));
+    }
+    Ok(v)
+}
+
+fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
+    let target = get_f32(p, "target", 0.02)?;
+    if !(0.0005..=0.5).contains(&target) {
+        return Err(crate::Error::Param(format!("regions: target = {target} is outside 0.0005..=0.5")));
+    }
+    let density = check_range("regions", "density", get_f32(p, "density", 0.0)?, 0.0, 64.0)?;
+    let region = check_range("regions", "region", get_u32(p, "region", 16)?, 8, 256)?;
+    if region % 8 != 0 {
+        return Err(crate::Error::Param(format!("regions: region = {region} is not a multiple of 8")));
+    }
+    let (min_size, max_size) = (power_of_two("min_size", get_u32(p, "min_size", 64)?)?, power_of_two("max_size", get_u32(p, "max_size", 2048)?)?);
+    if min_size > max_size {
+        return Err(crate::Error::Param(format!("regions: min_size = {min_size} is above max_size = {max_size}")));
+    }
+    let cull = match p.get("cull").map(String::as_str) {
+        None | Some("on") => true,
+        Some("off") => false,
+        Some(v) => return Err(crate::Error::Param(format!("regions: cull = `{v}`: use `on` or `off`"))),
+    };
+    let force = match p.get("force").map(String::as_str) {
+        None | Some("off") => None,
+        Some(v) => match v.parse::<u32>() {
+            Ok(n) if (1..=128).contains(&n) => Some(n),
+            _ => return Err(crate::Error::Param(format!("regions: force = `{v}`: use `off` or samples per side 1..=128"))),
+        },
+    };
+    let force_size = get_u32(p, "force_size", 0)?;
+    if force_size != 0 {
+        if force.is_none() {
+            return Err(crate::Error::Param(format!("regions: force_size = {force_size} needs force = N")));
+        }
+        power_of_two("force_size", force_size)?;
+    }
+    Ok(Arc::new(Regions {
+        target,
+        density,
+        max_n: check_range("regions", "max_n", get_u32(p, "max_n", 16)?, 1, 64)?,
+        min_size,
+        max_size,
+        region,
+        blocker_taps: check_range("regions", "blocker_taps", get_u32(p, "blocker_taps", 6)?, 1, 16)?,
+        cull,
+        force,
+        force_size,
+    }))
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Regions {
+    pub target: f32,
+    pub density: f32,
+    pub max_n: u32,
+    pub min_size: u32,
+    pub max_size: u32,
+    pub region: u32,
+    pub blocker_taps: u32,
+    pub cull: bool,
+    pub force: Option<u32>,
+    pub force_size: u32,
+}
+
+impl Regions {
+    /// The classes' samples per side: the ladder up to `max_n`, `max_n` last; with `force`, N alone.
+    pub fn ladder(&self) -> Vec<u32> {
+        if let Some(n) = self.force {
+            return vec![n];
+        }
+        let mut l: Vec<u32> = LADDER.iter().copied().filter(|&n| n < self.max_n).collect();
+        l.push(self.max_n);
+        l.truncate(MAX_CLASSES);
+        l
+    }
+}
+
+impl ShadowMethod for Regions {
+    fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
+        use crate::scene::LightKind;
+        (!matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Spot)).then_some(super::ON_A_RECTANGLE)
+    }
+    fn unsupported_maps(&self, _kind: crate::scene::LightKind, maps: crate::scene::MapKind) -> Option<&'static str> {
+        (maps == crate::scene::MapKind::Hybrid).then_some("its classes' maps are plain arrays of their own sizes (maps = plain)")
+    }
+    fn name(&self) -> &'static str {
+        "regions"
+    }
+    fn label(&self) -> String {
+        super::label_from(
+            &INFO,
+            &[
+                ("target", self.target.to_string()),
+                ("density", self.density.to_string()),
+                ("max_n", self.max_n.to_string()),
+                ("min_size", self.min_size.to_string()),
+                ("max_size", self.max_size.to_string()),
+                ("region", self.region.to_string()),
+                ("blocker_taps", self.blocker_taps.to_string()),
+                ("cull", if self.cull { "on" } else { "off" }.to_string()),
+                ("force", self.force.map_or("off".to_string(), |n| n.to_string())),
+                ("force_size", self.force_size.to_string()),
+            ],
+        )
+    }
+    fn params_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
+            "blocker_taps": self.blocker_taps, "cull": self.cull, "force": self.force, "force_size": self.force_size,
+        })
+    }
+    /// Shade binds V whole on each class's tile list (one band).
+    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![crate::methods::sizes::visibility(scene, false, limits)]
+    }
+    fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+        if fg.geometry_tiles.bands.len() > 1 {
+            return Err(crate::Error::Limit("regions: the frame's V does not fit one binding; its classes' tile lists are one band".into()));
+        }
+        let ladder = self.ladder();
+        let (light_u, light_v) = light_size(fg);
+        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target: self.target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
+        params.ladder[..ladder.len()].copy_from_slice(&ladder);
+        let probe = CentreMap::new(fg)?;
+        let pass = RegionsPass::new(fg.ctx, fg.map_access(), &fg.gbuffer, params)?;
+        Ok(Box::new(State { method: self.clone(), ladder, probe, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), keep: false }))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// One class of a frame: its grid, map size, tiles and window.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ClassRecord {
+    pub class: u32,
+    pub n: u32,
+    pub map_size: u32,
+    pub tiles: u32,
+    pub maps: u32,
+    /// The finest texel its pixels need (tangent units from the light, per texel).
+    pub texel_need: f32,
+    /// The window's side in tangent units, as the centre sees it.
+    pub extent: f32,
+    pub triangles_per_map_mean: f64,
+}
+
+struct State {
+    method: Regions,
+    ladder: Vec<u32>,
+    probe: CentreMap,
+    pass: RegionsPass,
+    /// The frame uniform of each map size.
+    frames: HashMap<u32, wgpu::Buffer>,
+    /// Each (n, size)'s grid, kept from frame to frame (its samples are refitted every frame).
+    grids: HashMap<(u32, u32), Prepared>,
+    classes: Vec<ClassRecord>,
+    keep: bool,
+}
+
+/// A window's side in tangent units as the light's centre sees it: a map's texel_angle at one texel.
+fn window_extent(fg: &FrameGpu, window: &Bounds) -> f32 {
+    let s = fg.scene;
+    sample_view_window(&s.light, s.emitter.sample_point(&s.light, 0.5, 0.5), &s.bounds, window, 1, u32::MAX).texel_angle
+}
+
+/// A class's box (CLASS_WORDS 2..8) widened by 1% of the scene's diagonal on every side: receivers
+/// on the box's face and their lookups' normal offset stay inside the window.
+fn widened(words: &[u32], scene: &Bounds) -> Bounds {
+    let margin = glam::Vec3::splat(scene.diagonal() * 0.01);
+    let min = glam::Vec3::new(unordered(words[2]), unordered(words[3]), unordered(words[4])) - margin;
+    let max = glam::Vec3::new(unordered(words[5]), unordered(words[6]), unordered(words[7])) + margin;
+    Bounds { min: min.max(scene.min), max: max.min(scene.max) }
+}
+
+impl State {
+    /// Texels per pixel footprint: the parameter, or 1 + the lookup's offsets in texels.
+    fn density(&self, fg: &FrameGpu) -> f32 {
+        let b = &fg.scene.render.bias;
+        if self.method.density > 0.0 { self.method.density } else { 1.0 + b.constant + b.slope + b.normal_offset }
+    }
+
+    /// The class's maps: samples fitted to `window`, `size` texels a side.
+    fn samples(&self, fg: &FrameGpu, n: u32, window: &Bounds, size: u32) -> Vec<GpuSample> {
+        let s = fg.scene;
+        regular_points(n, Layout::Centred)
+            .into_iter()
+            .map(|(u, v)| sample_view_window(&s.light, s.emitter.sample_point(&s.light, u, v), &s.bounds, window, size, u32::MAX))
+            .collect()
+    }
+
+    fn grid(&mut self, fg: &FrameGpu, n: u32, size: u32) -> Result<&mut Prepared> {
+        self.frames.entry(size).or_insert_with(|| readback::uniform_buffer(fg.ctx, "regions frame", &crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame }));
+        if !self.grids.contains_key(&(n, size)) {
+            let frame = (size != fg.scene.render.shadow_map_size).then(|| self.frames[&size].clone());
+            let mut grid = fixed_samples::prepare_sized(fg, &regular_points(n, Layout::Centred), size, frame)?;
+            if self.method.cull {
+                grid.cull(fg)?;
+            }
+            self.grids.insert((n, size), grid);
+        }
+        Ok(self.grids.get_mut(&(n, size)).expect("inserted above"))
+    }
+}
+
+impl MethodState for State {
+    fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        Ok(())
+    }
+    fn keep_intermediates(&mut self) {
+        self.keep = true;
+    }
+    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
+        let ctx = fg.ctx;
+        self.probe.render(fg, timer)?;
+        timer.stage(ctx, Stage::REGIONS, |enc| {
+            self.pass.record(ctx, enc, &RegionsInputs { frame: &fg.frame_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, samples: &self.probe.samples, maps: self.probe.view() });
+            Ok(())
+        })?;
+        // The one read-back of the decision: per class its tiles, finest texel and receiver box.
+        timer.flush(ctx);
+        let classes = self.ladder.len();
+        let words: Vec<u32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64))?;
+        let mut syncs = 1 + self.probe.syncs();
+        let mut maps = 0u32;
+        let (mut pairs, mut texels) = (0f64, 0f64);
+        let mut records = Vec::new();
+        let s = fg.scene;
+        for c in 0..classes {
+            let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
+            if w[0] == 0 {
+                continue;
+            }
+            let n = self.ladder[c];
+            let texel_need = if w[1] == u32::MAX { f32::INFINITY } else { unordered(w[1]) };
+            let (window, size, extent) = match self.method.force {
+                Some(_) => {
+                    let size = if self.method.force_size == 0 { s.render.shadow_map_size } else { self.method.force_size };
+                    (s.bounds, size, window_extent(fg, &s.bounds))
+                }
+                None => {
+                    let window = widened(w, &s.bounds);
+                    let extent = window_extent(fg, &window);
+                    let want = (extent * self.density(fg) / texel_need).ceil();
+                    let size = if want.is_finite() && want >= 1.0 { (want.min(8192.0) as u32).next_power_of_two() } else { 1 };
+                    (window, size.clamp(self.method.min_size, self.method.max_size), extent)
+                }
+            };
+            let samples = self.method.force.is_none().then(|| self.samples(fg, n, &window, size));
+            let tiles = self.pass.class_list(c as u32, fg.gbuffer.height);
+            let keep = self.keep;
+            let grid = self.grid(fg, n, size)?;
+            if let Some(samples) = samples {
+                grid.set_samples(ctx, samples);
+            }
+            grid.set_tiles(tiles);
+            if keep {
+                grid.keep_intermediates();
+            }
+            let out = grid.run(fg, timer, false)?;
+            syncs += out.syncs;
+            maps += out.shadow_maps;
+            let tris = out.record["triangles_per_map_mean"].as_f64().unwrap_or(0.0);
+            pairs += tris * out.shadow_maps as f64;
+            texels += out.shadow_maps as f64 * (size as f64).powi(2);
+            records.push(ClassRecord { class: c as u32, n, map_size: size, tiles: w[0], maps: out.shadow_maps, texel_need, extent, triangles_per_map_mean: tris });
+        }
+        let record = serde_json::json!({
+            "region": self.method.region,
+            "ladder": self.ladder,
+            "classes": records,
+            "triangle_map_pairs": pairs,
+            "texels_written": texels,
+            "decision_maps": self.probe.count(),
+        });
+        self.classes = records;
+        let pictures = if pictures { super::regions_pictures::pictures(fg, &self.pass, &self.classes)? } else { Vec::new() };
+        Ok(MethodOutput { shadow_maps: maps + self.probe.count(), syncs, record, pictures, bound: None })
+    }
+    /// [`RegionsBuffers`]: the centre map, the decision's buffers, and each class's shade inputs.
+    fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
+        let ctx = fg.ctx;
+        let p = &self.pass;
+        let tiles_words = (p.params.ladder_len * p.params.section_words) as u64 * 4;
+        let geometry: Vec<u32> = readback::read_buffer(ctx, &fg.geometry_tiles.list, fg.geometry_tiles.bytes)?;
+        let count = geometry[0] as usize;
+        let mut geometry_tiles = geometry[crate::stages::shade::TILE_LIST_HEADER..crate::stages::shade::TILE_LIST_HEADER + count].to_vec();
+        geometry_tiles.sort_unstable();
+        let out = RegionsBuffers {
+            params: p.params,
+            sample: self.probe.sample,
+            map: self.probe.read(fg)?,
+            regions: readback::read_buffer(ctx, &p.regions, p.region_count as u64 * REGION_WORDS as u64 * 4)?,
+            classes: readback::read_buffer(ctx, &p.classes, p.params.ladder_len as u64 * CLASS_WORDS as u64 * 4)?,
+            totals: readback::read_buffer::<u32>(ctx, &p.totals, 8)?.try_into().expect("two words"),
+            class_tiles: readback::read_buffer(ctx, &p.class_tiles, tiles_words)?,
+            geometry_tiles,
+            records: self.classes.clone(),
+        };
+        Ok(Some(Box::new(out)))
+    }
+}
+
+/// What a frame's decision read and wrote, for the twins.
+pub struct RegionsBuffers {
+    pub params: RegionsParams,
+    pub sample: GpuSample,
+    pub map: Vec<f32>,
+    pub regions: Vec<u32>,
+    pub classes: Vec<u32>,
+    pub totals: [u32; 2],
+    /// A section of `params.section_words` per class: header, then tiles in the GPU's order.
+    pub class_tiles: Vec<u32>,
+    /// The frame's geometry tiles, sorted.
+    pub geometry_tiles: Vec<u32>,
+    pub records: Vec<ClassRecord>,
+}
+
+impl RegionsBuffers {
+    /// Class `c`'s tiles, sorted.
+    pub fn class_list(&self, c: usize) -> Vec<u32> {
+        let base = c * self.params.section_words as usize;
+        let count = self.class_tiles[base] as usize;
+        let start = base + crate::stages::shade::TILE_LIST_HEADER;
+        let mut l = self.class_tiles[start..start + count].to_vec();
+        l.sort_unstable();
+        l
+    }
+}

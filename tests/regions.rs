@@ -1,0 +1,93 @@
+//! The `regions` method: its decision kernels equal their CPU twins, every region forced to one
+//! grid gives regular's V bit for bit, and bad parameters are refused with one message.
+
+mod common;
+use penumbra::frame::{frame_uniform, FrameOptions, Renderer};
+use penumbra::gpu::timing::TimingMode;
+use penumbra::methods::regions::RegionsBuffers;
+use penumbra::methods::Method;
+use penumbra::scene::Scene;
+use penumbra::stages::regions::{unordered, REGION_WORDS};
+use penumbra::stages::twin;
+
+fn visibility(sc: &Scene, spec: &str) -> Vec<f32> {
+    let method = Method::parse(spec, &[]).unwrap();
+    let mut renderer = Renderer::new(common::gpu(), sc, &method).expect("renderer");
+    renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false }).expect("frame").visibility
+}
+
+#[test]
+fn forced_uniform_regions_equal_the_centred_grid() {
+    // Every region forced to N×N on maps of one size over the whole scene: each class's tiles
+    // together are the geometry tiles, each pixel adds the same samples in the same order.
+    for (seed, n, size) in [(3u64, 3u32, 64u32), (11, 4, 128), (29, 5, 128)] {
+        let sc = Scene::parse(&common::random_scene_toml(seed, 48, size), "random", None, &[]).unwrap();
+        let grid = visibility(&sc, &format!("regular:n={n},layout=centred"));
+        let forced = visibility(&sc, &format!("regions:force={n},force_size={size}"));
+        let shadowed = grid.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
+        println!("seed {seed}: n = {n}, {size}², {shadowed} penumbra pixels");
+        assert!(shadowed > 20, "seed {seed}: too few penumbra pixels ({shadowed}) for the test to show anything");
+        let differ = grid.iter().zip(&forced).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+        assert_eq!(differ, 0, "seed {seed}: {differ} pixels of regions:force={n} differ from regular:n={n},layout=centred");
+    }
+}
+
+#[test]
+fn decision_kernels_equal_their_twins() {
+    let ctx = common::gpu();
+    let mut classes_seen = Vec::new();
+    for seed in [5u64, 17, 23] {
+        let sc = Scene::parse(&common::random_scene_toml(seed, 48, 128), "random", None, &[]).unwrap();
+        let method = Method::parse("regions:target=0.01,region=8", &[]).unwrap();
+        let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
+        let (r, b): (_, RegionsBuffers) = common::inspected(ctx, &sc, &method, options);
+        let p = &b.params;
+        // measure: each region's pixel counts and box exactly, its footprint and penumbra width to
+        // float rounding (the GPU may fuse the divisions' multiply-adds).
+        let cpu = twin::regions::measure(&frame_uniform(&sc), p, &b.sample, &b.map, &r.gbuffer);
+        assert_eq!(cpu.len(), b.regions.len());
+        let mut worst = 0.0f32;
+        for (k, (g, c)) in b.regions.chunks(REGION_WORDS).zip(cpu.chunks(REGION_WORDS)).enumerate() {
+            assert_eq!(&g[..2], &c[..2], "seed {seed} region {k}: geometry and penumbra pixels");
+            assert_eq!(&g[4..], &c[4..], "seed {seed} region {k}: receiver box");
+            for w in 2..4 {
+                assert_eq!(g[w] == u32::MAX, c[w] == u32::MAX, "seed {seed} region {k}: word {w}");
+                if g[w] != u32::MAX {
+                    worst = worst.max((unordered(g[w]) / unordered(c[w]) - 1.0).abs());
+                }
+            }
+        }
+        assert!(worst <= 1e-5, "seed {seed}: footprint or width differs from the twin by {worst} (relative)");
+        assert_eq!(b.totals, twin::regions::total(p, &b.regions), "seed {seed}: totals");
+        // classify, on the GPU's regions and totals: the classes' words and tile lists exactly.
+        let (words, lists) = twin::regions::classify(p, r.gbuffer.width, &b.regions, b.totals, &b.geometry_tiles);
+        assert_eq!(b.classes, words, "seed {seed}: class words");
+        for (c, list) in lists.iter().enumerate() {
+            assert_eq!(&b.class_list(c), list, "seed {seed}: class {c}'s tiles");
+        }
+        assert_eq!(lists.iter().map(Vec::len).sum::<usize>(), b.geometry_tiles.len(), "seed {seed}: every geometry tile in one class");
+        let used: Vec<u32> = b.records.iter().map(|c| c.n).collect();
+        println!("seed {seed}: classes n = {used:?}, texel need max rel. diff {worst:e}");
+        assert!(r.visibility.iter().all(|v| (0.0..=1.0).contains(v)));
+        assert_eq!(r.output.syncs, 1 + b.records.len() as u32, "seed {seed}: the decision's read-back and one per culled class");
+        assert!(r.output.pictures.iter().any(|(name, _)| name == "region_samples.png") && r.output.pictures.iter().any(|(name, _)| name == "region_texels.png"));
+        classes_seen.push(used.len());
+    }
+    assert!(classes_seen.iter().any(|&c| c >= 2), "no scene split into two classes or more: {classes_seen:?}");
+}
+
+#[test]
+fn bad_parameters_are_refused_with_the_key_and_value() {
+    for (spec, want) in [
+        ("regions:target=0", "regions: target = 0 is outside 0.0005..=0.5"),
+        ("regions:region=12", "regions: region = 12 is not a multiple of 8"),
+        ("regions:max_size=1000", "regions: max_size = 1000 is not a power of two"),
+        ("regions:min_size=512,max_size=256", "regions: min_size = 512 is above max_size = 256"),
+        ("regions:force_size=128", "regions: force_size = 128 needs force = N"),
+        ("regions:force=0", "regions: force = `0`: use `off` or samples per side 1..=128"),
+        ("regions:cull=maybe", "regions: cull = `maybe`: use `on` or `off`"),
+    ] {
+        let e = Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} was accepted"));
+        assert!(e.to_string().contains(want), "{spec}: {e}");
+    }
+}
