@@ -80,6 +80,9 @@ enum Command {
     /// predicted against measured RMSE, the per-pixel bound's coverage, the split into sampling
     /// and map error (estimate.jsonl, charts/estimate.svg, report.html; docs/error-estimate.md).
     Estimate(cli::estimate::EstimateArgs),
+    /// The calibrated estimate: its factors read (or refit) on `estimate`'s pairs, by half of the
+    /// fixed split (pairs.csv, calibration.md, charts/calibration.svg; docs/budget.md).
+    Calibrate(cli::calibrate::CalibrateArgs),
     /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
     /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
     /// charts/cascades.svg, report.html; docs/lights.md).
@@ -149,6 +152,7 @@ fn run() -> Result<()> {
         Some(Command::Render(args)) => cli::render::run(args, &gpu),
         Some(Command::Frontier(args)) => cli::frontier::run(args, &gpu),
         Some(Command::Estimate(args)) => cli::estimate::run(args, &gpu),
+        Some(Command::Calibrate(args)) => cli::calibrate::run(args),
         Some(Command::Cascades(args)) => cli::cascades::run(args, &gpu),
         Some(Command::Scenes) => cli::scenes::run(),
         Some(Command::Methods) => cli::methods::run(),

@@ -4,6 +4,7 @@
 
 pub mod assets;
 pub mod bench;
+pub mod calibrate;
 pub mod cascades;
 pub mod check;
 pub mod compare;

@@ -3,6 +3,7 @@
 //! sequences, the failure gallery, sharded sweeps and the environment study.
 
 pub mod bench;
+pub mod calibration;
 pub mod cascades;
 pub mod compare;
 pub mod environment;

@@ -2,6 +2,7 @@
 //!
 //! Each chart is a pure function of the rows it is given: filter rows (e.g. by scene) first.
 
+mod calibration;
 mod cascades;
 mod dominance;
 mod environment;
@@ -20,6 +21,7 @@ mod stages;
 mod style;
 mod temporal;
 
+pub use calibration::calibration_svg;
 pub use cascades::{cascades_svg, CascadePoint};
 pub use dominance::{verdicts, Point as DominancePoint, Verdict};
 pub use environment::{env_chart_svg, EnvAxis};
