@@ -214,6 +214,9 @@ fn an_unreachable_target_says_so() {
     assert!(stderr.contains("auto: target RMSE 0.001 is out of reach within n ≤ 3 and 256² maps: the best predicted is"), "{stderr}");
     let run: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
     assert_eq!(run["method_record"]["target_met"], false);
+    // The best predicted error the line names is the record's (calibrated) prediction, over T.
+    let best = run["method_record"]["predicted_rmse"].as_f64().unwrap();
+    assert!(best > 0.001 && stderr.contains(&format!("the best predicted is {best:.5} (regular:n=3,layout=centred at 256² maps)")), "{best}: {stderr}");
     assert_eq!(run["method_record"]["chosen"]["n"], 3);
     assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
     assert!(out.join("error-bound.png").is_file() && out.join("error-bound.exr").is_file());

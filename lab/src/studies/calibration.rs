@@ -269,6 +269,30 @@ mod tests {
         assert_eq!(half("lattice-grate"), Half::HeldOut);
     }
 
+    /// The engine's factors are the fit on the committed pairs (results/budget-calibration): a
+    /// change to either is a refit, or this fails.
+    #[test]
+    fn the_engines_factors_are_the_fit_on_the_committed_pairs() {
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../results/budget-calibration/pairs.csv")).unwrap();
+        let pairs: Vec<Pair> = text
+            .lines()
+            .skip(1)
+            .map(|line| {
+                // scene,half,class,"spec",map_size,maps,measured,sampling,map,…
+                let mut quoted = line.split('"');
+                let head: Vec<&str> = quoted.next().unwrap().split(',').collect();
+                let spec = quoted.next().unwrap();
+                let tail: Vec<&str> = quoted.next().unwrap().split(',').skip(1).collect();
+                let num = |i: usize| tail[i].parse::<f64>().unwrap();
+                let class = if head[2] == "cube" { Class::Cube } else { Class::Plane };
+                Pair { spec: spec.into(), map_size: num(0) as u32, maps: num(1) as u32, ..pair(head[0], class, num(2), num(3), num(4)) }
+            })
+            .collect();
+        assert_eq!(pairs.iter().filter(|p| p.half == Half::Fitting).count(), 48, "8 scenes × 6 settings");
+        let engine = (crate::methods::calibration::PLANE, crate::methods::calibration::CUBE);
+        assert_eq!(fit(&pairs), Some(engine));
+    }
+
     #[test]
     fn the_fit_reads_the_fitting_half_only() {
         // Fitting plane pairs under-read their sampling part by up to 2×; a checking pair that
