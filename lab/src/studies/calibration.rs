@@ -5,7 +5,7 @@
 use super::estimate::EstimateLine;
 use crate::methods::calibration::{calibrated_with, Class, Factors};
 use crate::methods::estimate::Prediction;
-use crate::report::charts::{calibration_svg, svg_to_png, EstimatePoint};
+use crate::report::charts::{calibration_svg, parts_svg, svg_to_png, EstimatePoint};
 use crate::{Error, Result};
 
 /// Which half a scene's pairs fall in.
@@ -188,8 +188,23 @@ pub fn files(pairs: &[Pair], factors: (Factors, Factors)) -> Result<Vec<(String,
         .map(|p| EstimatePoint { layout: format!("{} half", p.half.name()).replace("held out half", "held out"), label: format!("{} {}@{}", p.scene, p.spec.replace("regular:", "").replace(",layout=centred", ""), p.map_size), measured: p.measured, predicted: p.calibrated(f(p)) })
         .collect();
     let svg = calibration_svg("Calibrated predicted against measured RMSE of V, by half of the split", &points).map_err(|e| Error::limit(format!("calibration chart: {e}")))?;
+    let parts: Vec<EstimatePoint> = pairs
+        .iter()
+        .map(|p| {
+            let k = f(p);
+            EstimatePoint {
+                layout: format!("{} half", p.half.name()).replace("held out half", "held out"),
+                label: if p.calibrated(k) < p.measured { format!("{} {}@{}", p.scene, p.spec.replace("regular:", "").replace(",layout=centred", ""), p.map_size) } else { String::new() },
+                measured: k.sampling * p.predicted_sampling / p.measured_sampling.max(1e-12),
+                predicted: k.map * p.predicted_map / p.measured_map.max(1e-12),
+            }
+        })
+        .collect();
+    let parts = parts_svg(&parts).map_err(|e| Error::limit(format!("parts chart: {e}")))?;
     let md = markdown(pairs, factors);
     Ok(vec![
+        ("charts/parts.png".to_string(), svg_to_png(&parts, 1.0)?),
+        ("charts/parts.svg".to_string(), parts.into_bytes()),
         ("pairs.csv".to_string(), csv.into_bytes()),
         ("calibration.md".to_string(), md.into_bytes()),
         ("charts/calibration.png".to_string(), svg_to_png(&svg, 1.0)?),

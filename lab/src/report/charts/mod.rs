@@ -21,7 +21,7 @@ mod stages;
 mod style;
 mod temporal;
 
-pub use calibration::calibration_svg;
+pub use calibration::{calibration_svg, parts_svg};
 pub use cascades::{cascades_svg, CascadePoint};
 pub use dominance::{verdicts, Point as DominancePoint, Verdict};
 pub use environment::{env_chart_svg, EnvAxis};
