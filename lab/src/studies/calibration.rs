@@ -245,9 +245,9 @@ pub fn markdown(pairs: &[Pair], factors: (Factors, Factors)) -> String {
         };
         let fitting: Vec<&Pair> = pairs.iter().filter(|p| p.half == Half::Fitting).collect();
         let other: Vec<&Pair> = pairs.iter().filter(|p| p.half != Half::Fitting).collect();
-        let (n, c, m) = reading(&fitting, &g);
-        let (n2, c2, m2) = reading(&other, &g);
-        s += &format!("| {stretch:.2} | {:.1}% | {m:.2} | {:.1}% | {m2:.2} |\n", 100.0 * c as f64 / n.max(1) as f64, 100.0 * c2 as f64 / n2.max(1) as f64);
+        // A half without pairs reads `-`.
+        let cells = |(n, c, m): (usize, usize, f64)| if n == 0 { "- | -".to_string() } else { format!("{:.1}% | {m:.2}", 100.0 * c as f64 / n as f64) };
+        s += &format!("| {stretch:.2} | {} | {} |\n", cells(reading(&fitting, &g)), cells(reading(&other, &g)));
     }
     s += "\nThe pairs under the measured, and which part under-reads (each calibrated part over its measured part: the sampling part against the exact visibility at the grid's points, the maps' part against V there):\n\n\
           | scene | half | setting | calibrated/measured | sampling part | maps' part |\n|---|---|---|---:|---:|---:|\n";
