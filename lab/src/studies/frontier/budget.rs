@@ -44,7 +44,7 @@ pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
          `reported`: what the row's run.json says (met, or not met with the best predicted error); `search ms`: the tries of the frame that chose (the timed frames render the chosen grid alone).\n\n\
          | setting | maps | RMSE | measured/T | reported | median ms | search ms | oracle | its RMSE/T | its ms | time/oracle |\n|---|---:|---:|---:|---|---:|---:|---|---:|---:|---:|\n",
     );
-    let (mut under, mut quick, mut timed, mut false_met) = (0, 0, 0, 0);
+    let (mut under, mut quick, mut timed, mut false_met, mut reachable_under) = (0, 0, 0, 0, 0);
     for l in budget {
         let Some(target) = l.target() else { continue };
         let r = l.budget.clone().unwrap_or_default();
@@ -57,6 +57,7 @@ pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
                 let ratio = l.frame_ms / o.frame_ms;
                 timed += 1;
                 quick += usize::from(ratio <= TIME_RATIO);
+                reachable_under += usize::from(l.rmse <= target);
                 (o.setting(), format!("{:.2}", o.rmse / target), format!("{:.1}", o.frame_ms), format!("{ratio:.2}"))
             }
             None => ("none reaches it".into(), "-".into(), "-".into(), "-".into()),
@@ -65,7 +66,7 @@ pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
     }
     let n = budget.len();
     s += &format!(
-        "\nMeasured RMSE at most the target: {under} of {n} (the promise: {:.0}%). Time at most {TIME_RATIO} × the oracle's: {quick} of {timed} rows with an oracle (the promise: {:.0}%). Reported met while measured over the target: {false_met}.\n",
+        "\nMeasured RMSE at most the target: {under} of {n} (the promise: {:.0}%); {reachable_under} of the {timed} rows some fixed setting reaches. Time at most {TIME_RATIO} × the oracle's: {quick} of {timed} rows with an oracle (the promise: {:.0}%). Reported met while measured over the target: {false_met}.\n",
         MET_SHARE * 100.0,
         TIME_SHARE * 100.0
     );
