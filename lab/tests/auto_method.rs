@@ -156,7 +156,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     let check = &rec["filter"]["checks"][0];
     // F is calibrated by the larger of the plane lights' two factors before it is held to T (and
     // the screen's 1.5 T), and the record reports the calibrated figure (docs/budget.md).
-    let k = { let f = penumbra::methods::calibration::PLANE; f.sampling.max(f.map) };
+    let k = penumbra::methods::calibration::PLANE.largest();
     let f = check["predicted_rmse"].as_f64().unwrap();
     assert!(check["accepted"] == true && k * f <= 0.03 && k * check["screened"].as_f64().unwrap() <= 0.045, "{rec}");
     // The screen's renders (an untimed first one, then the timed one), the reference's maps and

@@ -447,7 +447,7 @@ impl MethodState for AutoState {
         let mut filter_record = serde_json::Value::Null;
         let mut predicted = last.prediction.predicted_rmse;
         let mut difference = 0.0;
-        let filter_factor = { let f = calibration::factors(self.class); f.sampling.max(f.map) };
+        let filter_factor = calibration::factors(self.class).largest();
         let check = (met || settles) && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some());
         if check {
             let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));

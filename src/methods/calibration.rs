@@ -41,6 +41,14 @@ pub struct Factors {
     pub map: f64,
 }
 
+impl Factors {
+    /// The larger factor: what a one-map filter's predicted error (auto_filter), which is neither
+    /// part, is calibrated by.
+    pub fn largest(self) -> f64 {
+        self.sampling.max(self.map)
+    }
+}
+
 /// The fitted factors (`penumbra calibrate` on the fitting half's pairs,
 /// results/budget-calibration/).
 pub const PLANE: Factors = Factors { sampling: 1.32, map: 1.12 };
