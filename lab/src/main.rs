@@ -101,6 +101,9 @@ commands! {
     /// predicted against measured RMSE, the per-pixel bound's coverage, the split into sampling
     /// and map error (estimate.jsonl, charts/estimate.svg, report.html; docs/error-estimate.md).
     Estimate(studies::estimate::command::EstimateArgs),
+    /// The calibrated estimate: its factors read (or refit) on `estimate`'s pairs, by half of the
+    /// fixed split (pairs.csv, calibration.md, charts/calibration.svg; docs/budget.md).
+    Calibrate(studies::calibration::command::CalibrateArgs),
     /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
     /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
     /// charts/cascades.svg, report.html; docs/lights.md).

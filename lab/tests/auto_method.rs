@@ -154,7 +154,11 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     println!("first frame: {}", serde_json::to_string(rec).unwrap());
     assert_eq!((&rec["renders"], &rec["filter"]["chosen"], &rec["target_met"]), (&"pcss".into(), &"pcss".into(), &true.into()), "{rec}");
     let check = &rec["filter"]["checks"][0];
-    assert!(check["accepted"] == true && check["predicted_rmse"].as_f64().unwrap() <= 0.03 && check["screened"].as_f64().unwrap() <= 0.045, "{rec}");
+    // F is calibrated by the larger of the plane lights' two factors before it is held to T (and
+    // the screen's 1.5 T), and the record reports the calibrated figure (docs/budget.md).
+    let k = penumbra::methods::calibration::PLANE.largest();
+    let f = check["predicted_rmse"].as_f64().unwrap();
+    assert!(check["accepted"] == true && k * f <= 0.03 && k * check["screened"].as_f64().unwrap() <= 0.045, "{rec}");
     // The screen's renders (an untimed first one, then the timed one), the reference's maps and
     // the render of pcss against it: all counted.
     let tries_maps: u64 = rec["tries"].as_array().unwrap().iter().map(|t| t["maps"].as_u64().unwrap()).sum();
@@ -164,7 +168,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     let reference = &rec["filter"]["reference"];
     assert!(reference["maps"].as_u64().unwrap() * reference["map_size"].as_u64().unwrap() > rec["chosen"]["n"].as_u64().unwrap().pow(2) * rec["chosen"]["map_size"].as_u64().unwrap(), "{rec}");
     assert!(check["ms"].as_f64().unwrap() < rec["tries"].as_array().unwrap().last().unwrap()["ms"].as_f64().unwrap(), "{rec}");
-    assert_eq!(rec["predicted_rmse"], check["predicted_rmse"]);
+    assert!((rec["predicted_rmse"].as_f64().unwrap() - k * f).abs() < 1e-12, "{rec}");
     assert!(rec["chosen"]["n"].as_u64().unwrap() >= 2, "the grid it was judged by stays named: {rec}");
     assert!(first.visibility == pcss.visibility, "the settling frame's V is pcss's");
     // Without candidates: the same grid, no check.
@@ -210,6 +214,9 @@ fn an_unreachable_target_says_so() {
     assert!(stderr.contains("auto: target RMSE 0.001 is out of reach within n ≤ 3 and 256² maps: the best predicted is"), "{stderr}");
     let run: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
     assert_eq!(run["method_record"]["target_met"], false);
+    // The best predicted error the line names is the record's (calibrated) prediction, over T.
+    let best = run["method_record"]["predicted_rmse"].as_f64().unwrap();
+    assert!(best > 0.001 && stderr.contains(&format!("the best predicted is {best:.5} (regular:n=3,layout=centred at 256² maps)")), "{best}: {stderr}");
     assert_eq!(run["method_record"]["chosen"]["n"], 3);
     assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
     assert!(out.join("error-bound.png").is_file() && out.join("error-bound.exr").is_file());

@@ -158,6 +158,7 @@ fn line(spec: &str, ms: f64, rmse: f64, kind: &str, failed: Option<&str>) -> Fro
         adapter: String::new(),
         raster: String::new(),
         oracle: None,
+        budget: None,
         failed: failed.map(String::from),
     }
 }

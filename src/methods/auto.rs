@@ -12,6 +12,7 @@
 //! (auto_filter): one predicted to meet it is rendered instead.
 
 use super::auto_filter::{Candidates, Met, Reference};
+use super::calibration::{self, Class};
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
@@ -131,7 +132,7 @@ impl ShadowMethod for Auto {
             }
         }
         let filters = Candidates::new(kept, left_out);
-        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false, filters, filter: None, handed_filter: None }))
+        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()) }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -149,8 +150,11 @@ pub struct Try {
     pub maps: u32,
     /// Wall clock from the first map to the estimate read back, ms.
     pub ms: f64,
+    /// The calibrated prediction (`calibration::calibrated`), what the search reads.
     #[serde(flatten)]
     pub prediction: Prediction,
+    /// The estimate's own predicted RMSE before the calibration's factors.
+    pub predicted_raw: f64,
 }
 
 pub struct AutoState {
@@ -179,6 +183,8 @@ pub struct AutoState {
     filter: Option<usize>,
     /// The filter the previous frame of a sequence chose (`recall`), kept within KEEP.
     handed_filter: Option<String>,
+    /// The scene's class for the calibrated estimate (from its light).
+    class: Class,
 }
 
 /// The price of one map of each size the search may choose (ms under `measured`, relative under
@@ -353,8 +359,9 @@ impl AutoState {
         timer.flush(fg.ctx);
         let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
         let ms = start.elapsed().as_secs_f64() * 1e3;
-        let (prediction, bound) = e.predict(&sums, geometry)?;
-        Ok((Try { n, map_size: size, maps: out.shadow_maps, ms, prediction }, bound))
+        let (raw, bound) = e.predict(&sums, geometry)?;
+        let prediction = calibration::calibrated(&raw, self.class);
+        Ok((Try { n, map_size: size, maps: out.shadow_maps, ms, prediction, predicted_raw: raw.predicted_rmse }, bound))
     }
 }
 
@@ -440,23 +447,28 @@ impl MethodState for AutoState {
         let mut filter_record = serde_json::Value::Null;
         let mut predicted = last.prediction.predicted_rmse;
         let mut difference = 0.0;
+        let filter_factor = calibration::factors(self.class).largest();
         let check = (met || settles) && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some());
         if check {
             let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
             let handed = self.handed_filter.clone();
-            let grid = Met { rmse: last.prediction.predicted_rmse, ms: last.ms };
             let outcome = if met {
+                // F = sqrt(D² − σ²) takes the grid's own error out of the difference: σ is the
+                // estimate's raw reading there (a calibrated σ, larger, would hide the filter's
+                // error), and F is then calibrated by the larger of the two factors.
+                let grid = Met { rmse: last.predicted_raw, ms: last.ms };
                 let (max_n, max_size) = (self.method.max_n, self.method.max_size);
                 let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
                     let Some(grid) = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
                     let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
                     let record = serde_json::to_value(r).map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
-                    Ok(Some(Reference { rmse: r.prediction.predicted_rmse, bound, maps: r.maps, record }))
+                    Ok(Some(Reference { rmse: r.predicted_raw, bound, maps: r.maps, record }))
                 };
-                let accept = |p: f64, handed: bool| acceptable(p, target, handed);
-                filters.check(fg, timer, &geometry, grid, target * SCREEN, &mut reference, &accept, handed.as_deref())
+                let accept = |p: f64, handed: bool| acceptable(filter_factor * p, target, handed);
+                filters.check(fg, timer, &geometry, grid, target * SCREEN / filter_factor, &mut reference, &accept, handed.as_deref())
             } else {
                 // Out of reach: a candidate no worse than the grid, as far as the estimate can tell.
+                let grid = Met { rmse: last.prediction.predicted_rmse, ms: last.ms };
                 filters.check_out_of_reach(fg, timer, &geometry, grid, &bound, KEEP, handed.as_deref())
             };
             self.filters = filters;
@@ -467,7 +479,7 @@ impl MethodState for AutoState {
                 // Met: the filter's F. Out of reach, p is its difference from the grid, and the
                 // filter is read as no worse than the grid's prediction, which stays.
                 if met {
-                    predicted = p;
+                    predicted = filter_factor * p;
                 } else {
                     difference = p;
                 }
@@ -488,7 +500,9 @@ impl MethodState for AutoState {
         let mut record = serde_json::json!({
             "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },
             "target": self.method.target,
-            "target_met": met,
+            // Met only where the prediction the frame reports is at most the target: a choice kept
+            // within KEEP of it (a sequence's) is `kept`, not met.
+            "target_met": predicted <= target,
             "tries": tries,
             "predicted_rmse": predicted,
             "predicted_sampling": last.prediction.predicted_sampling,

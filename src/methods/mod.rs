@@ -8,6 +8,7 @@
 pub mod adaptive;
 pub mod auto;
 pub mod auto_filter;
+pub mod calibration;
 pub mod cascades;
 pub mod environment;
 pub mod estimate;

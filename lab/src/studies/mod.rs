@@ -8,6 +8,7 @@
 //! (lab/src/main.rs) names each study's arguments type on one line (docs/adding-a-study.md).
 
 pub mod bench;
+pub mod calibration;
 pub mod cascades;
 pub mod compare;
 pub mod convergence;

@@ -27,14 +27,25 @@ pub fn files(lines: &[FrontierLine]) -> Result<Vec<(String, Vec<u8>)>> {
         .collect();
     let svg = frontier_svg(scene, &points)?;
     let md = markdown(lines);
-    let html = crate::report::md_page::page(&format!("Frontier of fixed settings: {scene}"), &md, &[("Error against time", &svg)]);
-    Ok(vec![
+    let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget() && l.failed.is_none()).collect();
+    let calibration = super::budget::chart(&budget);
+    let mut charts = vec![("Error against time", svg.as_str())];
+    if let Some(c) = &calibration {
+        charts.push(("The error budget: predicted against measured", c.as_str()));
+    }
+    let html = crate::report::md_page::page(&format!("Frontier of fixed settings: {scene}"), &md, &charts);
+    let mut out = vec![
         ("frontier.jsonl".to_string(), jsonl.into_bytes()),
         ("frontier.md".to_string(), md.into_bytes()),
         ("charts/frontier.png".to_string(), svg_to_png(&svg, 1.0)?),
         ("charts/frontier.svg".to_string(), svg.into_bytes()),
         ("report.html".to_string(), html.into_bytes()),
-    ])
+    ];
+    if let Some(c) = calibration {
+        out.push(("charts/calibration.png".to_string(), svg_to_png(&c, 1.0)?));
+        out.push(("charts/calibration.svg".to_string(), c.into_bytes()));
+    }
+    Ok(out)
 }
 
 /// `plain 512` → `512`, `hybrid 2048→512` → `h2048→512`: chart labels stay short.
@@ -62,33 +73,6 @@ fn rasters(lines: &[FrontierLine]) -> String {
     }
     let parts: Vec<String> = by.iter().map(|(r, c)| format!("{r} ({})", c.join(", "))).collect();
     format!("\nShadow-map raster: {}.\n", parts.join("; "))
-}
-
-/// The budget rows against the oracle: per target, the cheapest fixed setting within the band's
-/// upper edge, and how many rows of each land in the band. Where the oracle lands under it, no
-/// fixed setting that cheap is in the band; where auto does and the oracle does not, the
-/// estimate cost the band.
-fn oracle(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
-    let mut s = format!(
-        "\nThe oracle: the cheapest fixed setting whose RMSE is at most {:.1} × the target, what a method that knew the truth would render.\n\n\
-         | setting | RMSE / target | median ms | oracle | its RMSE / target | its ms |\n|---|---:|---:|---|---:|---:|\n",
-        1.0 + super::BAND
-    );
-    let (mut auto_in, mut oracle_in) = (0, 0);
-    for l in budget {
-        let Some(target) = l.target() else { continue };
-        auto_in += usize::from(l.in_band(target));
-        let o = l.oracle.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
-        let (name, e, t) = match o {
-            Some(o) => {
-                oracle_in += usize::from(o.in_band(target));
-                (o.setting(), format!("{:.2}", o.rmse / target), format!("{:.1}", o.frame_ms))
-            }
-            None => ("none reaches it".into(), "-".into(), "-".into()),
-        };
-        s += &format!("| {} | {:.2} | {:.1} | {name} | {e} | {t} |\n", l.spec, l.rmse / target, l.frame_ms);
-    }
-    s + &format!("\nRMSE within ±{:.0}% of the target: the budget's rows {auto_in} of {n}, the oracle {oracle_in} of {n}.\n", super::BAND * 100.0, n = budget.len())
 }
 
 /// The frontier as a ladder of error levels, adaptive settings against it, then every setting.
@@ -133,7 +117,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             };
             s += &format!("| {} | {} | {:.5} | {:.2} | {:.1} | {name} | {e} | {t} | {ratio} |\n", l.spec, l.maps, l.rmse, l.rmse / target, l.frame_ms);
         }
-        s += &oracle(lines, &budget);
+        s += &super::budget::table(lines, &budget);
     }
     let adaptive: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_adaptive() && l.failed.is_none()).collect();
     if !adaptive.is_empty() {

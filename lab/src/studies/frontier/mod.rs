@@ -4,6 +4,7 @@
 //! against one reference, and the frontier of error against time: the settings no other setting
 //! beats on both.
 
+pub mod budget;
 pub(crate) mod charts;
 pub mod command;
 pub mod files;
@@ -68,10 +69,15 @@ pub struct FrontierLine {
     /// map size, so the times of one frontier may come from both).
     #[serde(default)]
     pub raster: String,
-    /// A budget row's oracle: the cheapest fixed setting whose RMSE is at most (1 + BAND) × the
-    /// target, what a method that knew the truth would render (`spec @ map_config`).
+    /// A budget row's oracle: the cheapest fixed setting whose RMSE is at most the target, what a
+    /// method that knew the truth would render (`spec @ map_config`).
     #[serde(default)]
     pub oracle: Option<String>,
+    /// A budget row's own reading (run.json's record): its calibrated predicted RMSE, whether it
+    /// reports the target met, and its search's wall clock (the tries of the frame that chose,
+    /// which the timed frames after it do not repeat).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<budget::Reading>,
     /// A setting that failed at run time: the reason (its figures are zero and mean nothing; the
     /// front, the budget's rivals and the oracle skip it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -109,18 +115,10 @@ impl FrontierLine {
     pub fn target(&self) -> Option<f64> {
         self.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok())
     }
-
-    /// Whether the RMSE lies within ±BAND of `target` (issue 23's band).
-    pub fn in_band(&self, target: f64) -> bool {
-        (self.rmse - target).abs() <= BAND * target
-    }
 }
 
 /// The kind of `auto:target=T` and `regions:target=T` rows.
 pub const BUDGET: &str = "error budget";
-
-/// The budget's band: a row's RMSE within ±20% of its target meets it.
-pub const BAND: f64 = 0.2;
 
 fn kind(m: &Method) -> String {
     if m.name() == "auto" || m.name() == "regions" {
@@ -156,7 +154,7 @@ pub fn mark(lines: &mut [FrontierLine]) {
             (l.oracle, l.beaten_by) = (None, None);
             continue;
         }
-        l.oracle = l.target().filter(|_| l.is_budget()).and_then(|t| front::cheapest_reaching(&points, (1.0 + BAND) * t)).map(|j| names[j].clone());
+        l.oracle = l.target().filter(|_| l.is_budget()).and_then(|t| front::cheapest_reaching(&points, t)).map(|j| names[j].clone());
         l.beaten_by = if l.is_budget() {
             front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && points[j].0.is_finite()).map(|j| names[j].clone())
         } else if on[i] {
@@ -184,9 +182,13 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
             bar.set_message(format!("{} {} {phase}", maps.label(), m.label()));
             bar.inc(1);
         };
-        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&s, &methods[i].label(), f)?.metrics);
+        let mut records = vec![serde_json::Value::Null; methods.len()];
+        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| {
+            records[i] = f.output.record.clone();
+            Ok(judge.judge(&s, &methods[i].label(), f)?.metrics)
+        };
         let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
-        for ((m, spec), r) in methods.iter().zip(specs).zip(measured) {
+        for (((m, spec), r), record) in methods.iter().zip(specs).zip(measured).zip(&records) {
             // A setting that failed is a line that says why; the others go on.
             let (r, failed) = match r {
                 Ok(r) => (r, None),
@@ -215,6 +217,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
                 raster: r.timing.raster.to_string(),
                 oracle: None,
+                budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
                 failed,
             };
             crate::progress::suspend(|| match &line.failed {

@@ -1,0 +1,67 @@
+//! `penumbra calibrate`: the calibrated estimate's factors fitted on the fitting half of
+//! `penumbra estimate`'s pairs and read on every half (docs/budget.md).
+
+use crate::gpu::AdapterRequest;
+use crate::studies::Run;
+use anyhow::{Context, Result};
+use crate::methods::calibration::{self, Class};
+use crate::record::{output_set, run_files};
+use crate::scene::Scene;
+use super::{self as study, Pair};
+use crate::studies::estimate::EstimateLine;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct CalibrateArgs {
+    /// `estimate.jsonl` files of `penumbra estimate`, comma-separated.
+    #[arg(long, value_delimiter = ',', required = true)]
+    estimates: Vec<PathBuf>,
+    /// Scenes the pairs name that are not built in (TOML paths, comma-separated): each pair's class
+    /// comes from its scene's light.
+    #[arg(long, value_delimiter = ',', value_parser = crate::studies::flags::utf8())]
+    scenes: Vec<String>,
+    /// Report the engine's factors (the default) or a refit on these pairs' fitting half.
+    #[arg(long)]
+    refit: bool,
+    #[arg(long, default_value = "penumbra-out/calibrate")]
+    out: PathBuf,
+}
+
+impl Run for CalibrateArgs {
+    fn run(self, _gpu: &AdapterRequest) -> Result<()> {
+        run(self)
+    }
+}
+
+fn run(args: CalibrateArgs) -> Result<()> {
+    output_set::check(&args.out)?;
+    let mut extra = Vec::new();
+    for path in &args.scenes {
+        extra.push(Scene::load(path, &[])?);
+    }
+    let mut pairs = Vec::new();
+    for file in &args.estimates {
+        let text = std::fs::read_to_string(file).with_context(|| format!("--estimates {}: cannot read", file.display()))?;
+        for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+            let l: EstimateLine = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("--estimates {}: line {}: {e}", file.display(), i + 1))?;
+            if l.failed.is_some() {
+                continue;
+            }
+            let kind = match extra.iter().find(|s| s.name == l.scene) {
+                Some(s) => s.emitter.kind(),
+                None => Scene::load(&l.scene, &[]).map_err(|_| anyhow::anyhow!("--estimates {}: line {}: scene `{}` is not built in; name its TOML in --scenes", file.display(), i + 1, l.scene))?.emitter.kind(),
+            };
+            pairs.push(Pair::from_line(&l, Class::of(kind)));
+        }
+    }
+    let engine = (calibration::factors(Class::Plane), calibration::factors(Class::Cube));
+    let factors = if args.refit { study::fit(&pairs).ok_or_else(|| anyhow::anyhow!("--refit: no factors up to 4 cover 95% of the fitting half's pairs"))? } else { engine };
+    run_files::write_files(&args.out, &study::files(&pairs, factors)?)?;
+    let md = study::markdown(&pairs, factors);
+    print!("{md}");
+    if args.refit && factors != engine {
+        println!("\nthe refit differs from the engine's factors (src/methods/calibration.rs): plane {:?}, ball {:?}", engine.0, engine.1);
+    }
+    println!("\ncalibration: {}", args.out.join("calibration.md").display());
+    Ok(())
+}

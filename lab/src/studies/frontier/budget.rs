@@ -1,0 +1,91 @@
+//! The error budget's rows against the oracle (docs/budget.md): measured/T, what the row reported
+//! (met, or the best predicted error where the target is out of reach), and time/oracle, the
+//! oracle being the cheapest fixed setting whose measured RMSE is at most T; and the calibration
+//! chart of the rows' predicted against measured RMSE.
+
+use super::FrontierLine;
+use crate::studies::calibration::charts::calibration_svg;
+use crate::studies::estimate::charts::EstimatePoint;
+use crate::studies::calibration::half;
+use serde::{Deserialize, Serialize};
+
+/// The promise: measured RMSE at most T on this share of rows …
+pub const MET_SHARE: f64 = 0.95;
+/// … and time at most this many times the oracle's on this share.
+pub const TIME_RATIO: f64 = 1.3;
+pub const TIME_SHARE: f64 = 0.90;
+
+/// What a budget row's own record says.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Reading {
+    /// The calibrated predicted RMSE the frame reports (the best predicted where out of reach).
+    pub predicted: f64,
+    pub target_met: bool,
+    /// The frame that chose: its tries' wall clock, ms.
+    pub search_ms: f64,
+    pub tries: usize,
+}
+
+impl Reading {
+    pub fn of(record: &serde_json::Value) -> Reading {
+        let tries = record["tries"].as_array().map_or(&[][..], Vec::as_slice);
+        Reading {
+            predicted: record["predicted_rmse"].as_f64().unwrap_or(f64::NAN),
+            target_met: record["target_met"].as_bool().unwrap_or(false),
+            search_ms: tries.iter().filter_map(|t| t["ms"].as_f64()).sum(),
+            tries: tries.len(),
+        }
+    }
+}
+
+/// The table and its counts against the promise.
+pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
+    let mut s = String::from(
+        "\nThe oracle: the cheapest fixed setting whose measured RMSE is at most the target, what a method that knew the truth would render. \
+         `reported`: what the row's run.json says (met, or not met with the best predicted error); `search ms`: the tries of the frame that chose (the timed frames render the chosen grid alone).\n\n\
+         | setting | maps | RMSE | measured/T | reported | median ms | search ms | oracle | its RMSE/T | its ms | time/oracle |\n|---|---:|---:|---:|---|---:|---:|---|---:|---:|---:|\n",
+    );
+    let (mut under, mut quick, mut timed, mut false_met, mut reachable_under) = (0, 0, 0, 0, 0);
+    // The promise is auto's: rows without a budget reading (regions:target=T, which budgets only
+    // its samples) stay in the frontier's budget section above, not in these counts.
+    let budget: Vec<&FrontierLine> = budget.iter().copied().filter(|l| l.budget.is_some()).collect();
+    for l in &budget {
+        let Some(target) = l.target() else { continue };
+        let r = l.budget.clone().unwrap_or_default();
+        under += usize::from(l.rmse <= target);
+        false_met += usize::from(r.target_met && l.rmse > target);
+        let reported = if r.target_met { format!("met ({:.5})", r.predicted) } else { format!("not met: best predicted {:.5}", r.predicted) };
+        let o = l.oracle.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
+        let (name, e, t, ratio) = match o {
+            Some(o) => {
+                let ratio = l.frame_ms / o.frame_ms;
+                timed += 1;
+                quick += usize::from(ratio <= TIME_RATIO);
+                reachable_under += usize::from(l.rmse <= target);
+                (o.setting(), format!("{:.2}", o.rmse / target), format!("{:.1}", o.frame_ms), format!("{ratio:.2}"))
+            }
+            None => ("none reaches it".into(), "-".into(), "-".into(), "-".into()),
+        };
+        s += &format!("| {} | {} | {:.5} | {:.2} | {reported} | {:.1} | {:.0} | {name} | {e} | {t} | {ratio} |\n", l.spec, l.maps, l.rmse, l.rmse / target, l.frame_ms, r.search_ms);
+    }
+    let n = budget.len();
+    s += &format!(
+        "\nMeasured RMSE at most the target: {under} of {n} (the promise: {:.0}%); {reachable_under} of the {timed} rows some fixed setting reaches. Time at most {TIME_RATIO} × the oracle's: {quick} of {timed} rows with an oracle (the promise: {:.0}%). Reported met while measured over the target: {false_met}.\n",
+        MET_SHARE * 100.0,
+        TIME_SHARE * 100.0
+    );
+    s
+}
+
+/// The budget rows' reported (calibrated) prediction against their measured RMSE, the series
+/// the scene's half of the calibration's split.
+pub fn chart(budget: &[&FrontierLine]) -> Option<String> {
+    let points: Vec<EstimatePoint> = budget
+        .iter()
+        .filter_map(|l| {
+            let r = l.budget.as_ref()?;
+            Some(EstimatePoint { layout: format!("{} half", half(&l.scene).name()).replace("held out half", "held out"), label: l.spec.clone(), measured: l.rmse, predicted: r.predicted })
+        })
+        .collect();
+    calibration_svg(&format!("{}: the budget's predicted against measured RMSE of V", budget.first()?.scene), &points).ok()
+}

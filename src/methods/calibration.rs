@@ -1,0 +1,101 @@
+//! The calibrated estimate (docs/budget.md): the estimate's two parts, each times a safety factor
+//! fitted on half of the shipped scenes for a one-sided promise, the predicted RMSE at least the
+//! measured on 95% of (scene, setting) pairs. `auto:target=T` chooses by it, and the per-pixel
+//! bound is left as it is (§4 of docs/error-estimate.md).
+
+use super::estimate::Prediction;
+use crate::scene::LightKind;
+
+/// A class of scene that gets its own factors, decided from the scene's light (never its name):
+/// a light drawn into cube maps (a point light, a ball of radius r) splits its samples over six faces per sample, and
+/// its half-set differences read the sampling error lower than a plane light's (docs/budget.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Class {
+    /// Rectangle, disk, sun and spot: one map per sample.
+    Plane,
+    /// Point: six cube faces per sample.
+    Cube,
+}
+
+impl Class {
+    pub fn of(kind: LightKind) -> Class {
+        if super::cube_maps(kind) {
+            Class::Cube
+        } else {
+            Class::Plane
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Plane => "plane",
+            Class::Cube => "cube",
+        }
+    }
+}
+
+/// The safety factors: the sampling part's (per class) and the maps' part's.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Factors {
+    pub sampling: f64,
+    pub map: f64,
+}
+
+impl Factors {
+    /// The larger factor: what a one-map filter's predicted error (auto_filter), which is neither
+    /// part, is calibrated by.
+    pub fn largest(self) -> f64 {
+        self.sampling.max(self.map)
+    }
+}
+
+/// The fitted factors (`penumbra calibrate` on the fitting half's pairs,
+/// results/budget-calibration/).
+pub const PLANE: Factors = Factors { sampling: 1.32, map: 1.12 };
+pub const CUBE: Factors = Factors { sampling: 1.58, map: 1.12 };
+
+pub fn factors(class: Class) -> Factors {
+    match class {
+        Class::Plane => PLANE,
+        Class::Cube => CUBE,
+    }
+}
+
+/// The prediction with each part times its factor: the sampling part by `sampling`, the maps'
+/// part and its terms (quantization, bias, the part that averages) by `map`. Scaling the parts
+/// scales every grid `auto` predicts from this try by the same laws (`auto::predicted_at`).
+pub fn calibrated_with(p: &Prediction, f: Factors) -> Prediction {
+    let (s, m) = (p.predicted_sampling * f.sampling, p.predicted_map * f.map);
+    Prediction {
+        predicted_rmse: (s * s + m * m).sqrt(),
+        predicted_sampling: s,
+        predicted_map: m,
+        predicted_quantization: p.predicted_quantization * f.map,
+        predicted_bias: p.predicted_bias * f.map,
+        predicted_map_averaging: p.predicted_map_averaging * f.map,
+    }
+}
+
+/// The calibrated prediction for a scene of `class`.
+pub fn calibrated(p: &Prediction, class: Class) -> Prediction {
+    calibrated_with(p, factors(class))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_part_takes_its_factor_and_the_sum_is_in_quadrature() {
+        let p = Prediction { predicted_rmse: 0.05, predicted_sampling: 0.03, predicted_map: 0.04, predicted_quantization: 0.024, predicted_bias: 0.032, predicted_map_averaging: 0.01 };
+        let c = calibrated_with(&p, Factors { sampling: 2.0, map: 0.5 });
+        assert!((c.predicted_sampling - 0.06).abs() < 1e-12 && (c.predicted_map - 0.02).abs() < 1e-12);
+        assert!((c.predicted_rmse - (0.06f64.powi(2) + 0.02f64.powi(2)).sqrt()).abs() < 1e-12);
+        assert!((c.predicted_quantization - 0.012).abs() < 1e-12 && (c.predicted_bias - 0.016).abs() < 1e-12);
+        assert!((c.predicted_map_averaging - 0.005).abs() < 1e-12);
+        assert_eq!(Class::of(LightKind::Point), Class::Cube);
+        assert_eq!(Class::of(LightKind::Spot), Class::Plane);
+        assert_eq!(Class::of(LightKind::Disk), Class::Plane);
+        assert_eq!(Class::of(LightKind::Rect), Class::Plane);
+    }
+}
