@@ -85,7 +85,7 @@ fn bad_parameters_are_refused_with_the_key_and_value() {
         ("regions:min_size=512,max_size=256", "regions: min_size = 512 is above max_size = 256"),
         ("regions:force_size=128", "regions: force_size = 128 needs force = N"),
         ("regions:force=0", "regions: force = `0`: use `off` or samples per side 1..=128"),
-        ("regions:cull=maybe", "regions: cull = `maybe`: use `on` or `off`"),
+        ("regions:cull=maybe", "regions: cull = `maybe`: use `on`, `off` or `auto`"),
     ] {
         let e = Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} was accepted"));
         assert!(e.to_string().contains(want), "{spec}: {e}");

@@ -31,7 +31,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "density", default: "0", help: "texels per pixel footprint; 0: 1 + the lookup's offsets in texels (bias constant + slope + normal offset), so that they stay inside one footprint" },
         Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
         Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
-        Param { key: "cull", default: "on", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V)" },
+        Param { key: "cull", default: "auto", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V); auto: on where the adapter can cull (indirect draws with a first instance), off elsewhere; off" },
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
         Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
     ],
@@ -63,10 +63,12 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     if min_size > max_size {
         return Err(crate::Error::Param(format!("regions: min_size = {min_size} is above max_size = {max_size}")));
     }
+    // None: auto. Culling never changes V, so a device that cannot cull renders the same frame uncut.
     let cull = match p.get("cull").map(String::as_str) {
-        None | Some("on") => true,
-        Some("off") => false,
-        Some(v) => return Err(crate::Error::Param(format!("regions: cull = `{v}`: use `on` or `off`"))),
+        None | Some("auto") => None,
+        Some("on") => Some(true),
+        Some("off") => Some(false),
+        Some(v) => return Err(crate::Error::Param(format!("regions: cull = `{v}`: use `on`, `off` or `auto`"))),
     };
     let force = match p.get("force").map(String::as_str) {
         None | Some("off") => None,
@@ -105,7 +107,8 @@ pub struct Regions {
     pub max_size: u32,
     pub region: u32,
     pub blocker_taps: u32,
-    pub cull: bool,
+    /// Some(on/off) as given; None: auto (on where the adapter can cull).
+    pub cull: Option<bool>,
     pub force: Option<u32>,
     pub force_size: u32,
 }
@@ -145,7 +148,7 @@ impl ShadowMethod for Regions {
                 ("max_size", self.max_size.to_string()),
                 ("region", self.region.to_string()),
                 ("blocker_taps", self.blocker_taps.to_string()),
-                ("cull", if self.cull { "on" } else { "off" }.to_string()),
+                ("cull", match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" }.to_string()),
                 ("force", self.force.map_or("off".to_string(), |n| n.to_string())),
                 ("force_size", self.force_size.to_string()),
             ],
@@ -154,7 +157,7 @@ impl ShadowMethod for Regions {
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({
             "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
-            "blocker_taps": self.blocker_taps, "cull": self.cull, "force": self.force, "force_size": self.force_size,
+            "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" }, "force": self.force, "force_size": self.force_size,
         })
     }
     /// Shade binds V whole on each class's tile list (one band).
@@ -242,8 +245,12 @@ impl State {
         if !self.grids.contains_key(&(n, size)) {
             let frame = (size != fg.scene.render.shadow_map_size).then(|| self.frames[&size].clone());
             let mut grid = fixed_samples::prepare_sized(fg, &regular_points(n, Layout::Centred), size, frame)?;
-            if self.method.cull {
-                grid.cull(fg)?;
+            if self.method.cull != Some(false) {
+                match grid.cull(fg) {
+                    // auto on a device that cannot cull: the uncut maps, the same V.
+                    Err(crate::Error::Limit(_)) if self.method.cull.is_none() => {}
+                    r => r?,
+                }
             }
             self.grids.insert((n, size), grid);
         }
