@@ -40,7 +40,7 @@ pub const INFO: MethodInfo = MethodInfo {
     family: Family::MultiSample,
     summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
     params: &[
-        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (p_m 0, max_level 3, Coons weights; docs/bench.md)" },
+        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (p_m 0, max_level 3, Coons weights; results/bench-fair-baselines/)" },
         Param { key: "p_m", default: "0", help: "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)" },
         Param { key: "p_share", default: "none", help: "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)" },
         Param { key: "growth", default: "1", help: "threshold factor per level for p_m or p_share, 1..=1e6" },
@@ -50,7 +50,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
         Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
         Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
-        Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, docs/bench.md)" },
+        Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, results/bench-seed-table2-h100/)" },
         Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
         Param { key: "items", default: "32 per pixel", help: "scope=local only: the (pixel, quad) item list's starting capacity, at most what one binding holds; a frame that overflows it runs again on a list grown from the count" },
         Param { key: "items_grow", default: "on", help: "scope=local only: off fails a frame that overflows the item list (reported, never clipped) instead of growing it" },

@@ -57,7 +57,7 @@ pub use crate::stages::subdivide::SplitRule;
 pub enum Preset {
     /// The seed's method exactly: p_m = 0, level weights, global scope.
     Seed,
-    /// The project's recommendation, chosen from measurements (docs/bench.md).
+    /// The project's recommendation, chosen from measurements (results/bench-fair-baselines/).
     Balanced,
 }
 
@@ -124,7 +124,7 @@ fn get_f64(params: &BTreeMap<String, String>, key: &str) -> Result<Option<f64>> 
 }
 
 impl AdaptiveParams {
-    /// The recommended setting (docs/bench.md, "Choosing balanced"): the seed's zero threshold, no
+    /// The recommended setting (results/bench-fair-baselines/, "Choosing `balanced`"): the seed's zero threshold, no
     /// split below level 3 (at the seed's 512² maps the shadow maps' own error dominates past the
     /// 9x9 lattice), Coons weights, global scope.
     pub fn balanced() -> Self {

@@ -1,4 +1,4 @@
-//! The framing study (docs/bench.md): when does adaptive sampling pay? The same scenes at several
+//! The framing study (docs/studies.md): when does adaptive sampling pay? The same scenes at several
 //! screen resolutions and light sizes, so the penumbra's width on screen varies; every method is
 //! run through `compare` at each configuration, and maps and error are charted against the width.
 
