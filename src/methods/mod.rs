@@ -21,6 +21,7 @@ pub(crate) mod pcss;
 pub mod single_map;
 pub mod regions;
 pub(crate) mod regions_pictures;
+pub mod regions_record;
 pub mod sizes;
 pub mod ssao;
 

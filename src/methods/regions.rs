@@ -5,6 +5,7 @@
 //! its pixels need, culled per map, and shaded on that class's tiles alone. One read-back (the
 //! classes' counts, texel needs and boxes) separates the decision from the maps.
 
+pub use super::regions_record::ClassRecord;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::single_map::{light_size, CentreMap};
 use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
@@ -179,21 +180,6 @@ impl ShadowMethod for Regions {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-}
-
-/// One class of a frame: its grid, map size, tiles and window.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct ClassRecord {
-    pub class: u32,
-    pub n: u32,
-    pub map_size: u32,
-    pub tiles: u32,
-    pub maps: u32,
-    /// The finest texel its pixels need (tangent units from the light, per texel).
-    pub texel_need: f32,
-    /// The window's side in tangent units, as the centre sees it.
-    pub extent: f32,
-    pub triangles_per_map_mean: f64,
 }
 
 struct State {

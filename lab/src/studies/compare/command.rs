@@ -9,14 +9,11 @@ use crate::record::Provenance;
 use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::compare::{self, methods_list, plan, CompareJob};
+use super::DEFAULT_METHODS;
 use crate::studies::failures::{self, command::FailuresArgs, GalleryJob};
 use crate::studies::flags::{OutArgs, RepeatsArgs, SceneArgs, SetArgs};
 use std::path::PathBuf;
 
-/// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
-/// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
-/// each single-map family, hard, PCF, PCSS and a moment map).
-pub const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
 #[derive(clap::Args)]
 pub struct CompareArgs {

@@ -30,6 +30,11 @@ use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// What `penumbra` with no arguments compares (docs/method.md: the seed's method, the project's
+/// recommended preset, and the regular grids they are measured against; docs/methods.md: one of
+/// each single-map family, hard, PCF, PCSS and a moment map).
+pub const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
+
 /// |error| where the error maps saturate: one scale for every method, so colours compare.
 pub const ERROR_SCALE: f32 = 0.25;
 

@@ -3,7 +3,7 @@
 use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::reference::truth;
-use crate::studies::compare::{methods_list, run_args::RunArgs, command::DEFAULT_METHODS};
+use crate::studies::compare::{methods_list, run_args::RunArgs, DEFAULT_METHODS};
 use crate::studies::failures::{self, GalleryJob};
 use crate::studies::sequence::MAX_FRAMES;
 use crate::studies::flags::OutArgs;
