@@ -92,7 +92,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     // One schema with compare: the record layer's rows, provenance included.
     let lines: Vec<serde_json::Value> =
         std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    assert_eq!(lines.len(), 15, "adaptive, lattice and fair grid per scene");
+    assert_eq!(lines.len(), 20, "adaptive, lattice, fair grid and per region, per scene");
     for l in &lines {
         assert_eq!(l["total_ms_runs"].as_array().unwrap().len(), 2, "{l}");
         let (rmse, flip) = (l["metrics"]["rmse"].as_f64().unwrap(), l["metrics"]["flip_mean"].as_f64().unwrap());
@@ -126,15 +126,15 @@ fn seed_table2_suite_writes_table_and_jsonl() {
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let md = std::fs::read_to_string(both.join("report.md")).unwrap();
     assert!(md.contains("regular:n=3") && md.contains("adaptive:p_m=0") && md.contains("| produced by | compare; bench seed-table2 |"), "{md}");
-    assert!(md.contains("| rows | 17 |"), "2 compare rows and 15 bench rows: {md}");
+    assert!(md.contains("| rows | 22 |"), "2 compare rows and 20 bench rows: {md}");
 }
 
 /// Per scene: the third row is the centred grid with N² the square nearest to the adaptive row's
 /// maps, and the fair-rows table gives both comparisons the verdict their measured figures imply.
 fn check_fair_rows(table: &str, lines: &[serde_json::Value]) {
     let scenes = ["bunny", "bunny-seed-framing", "grove", "cows", "teapot"];
-    for (scene, rows) in scenes.iter().zip(lines.chunks(3)) {
-        let [adaptive, lattice, fair] = rows else { panic!("three rows per scene: {rows:?}") };
+    for (scene, rows) in scenes.iter().zip(lines.chunks(4)) {
+        let [adaptive, lattice, fair, regions] = rows else { panic!("four rows per scene: {rows:?}") };
         for r in rows {
             assert_eq!(r["scene"], *scene, "{r}");
         }
@@ -163,6 +163,35 @@ fn check_fair_rows(table: &str, lines: &[serde_json::Value]) {
             assert!(line.ends_with(&format!("| {expected} |")), "expected `{expected}`: {line}");
             assert!(line.contains(&format!("| {:.2}x |", g_ms / a_ms)), "speed-up of {scene} {label}: {line}");
         }
+        check_region_row(table, scene, regions, lattice, fair);
+    }
+}
+
+/// The per-region row: its speed-ups over both grids are the medians' ratios, and each verdict is
+/// the one the measured figures imply.
+fn check_region_row(table: &str, scene: &str, regions: &serde_json::Value, lattice: &serde_json::Value, fair: &serde_json::Value) {
+    assert_eq!(regions["method"], "regions", "{regions}");
+    let line = table
+        .lines()
+        .skip_while(|l| !l.starts_with("## Per region: `regions`"))
+        .find(|l| l.starts_with(&format!("| {scene} |")))
+        .unwrap_or_else(|| panic!("no per-region line for {scene}: {table}"));
+    let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+    let (r_ms, r_rmse) = (regions["total_ms"].as_f64().unwrap(), regions["metrics"]["rmse"].as_f64().unwrap());
+    assert_eq!(cells[2], regions["shadow_maps"].to_string(), "{line}");
+    assert_eq!(cells[4], format!("{r_rmse:.5}"), "{line}");
+    assert_eq!(cells[8], format!("`{}`", fair["label"].as_str().unwrap()), "{line}");
+    for (grid, speed, verdict) in [(lattice, 5, 7), (fair, 9, 11)] {
+        let (g_ms, g_rmse) = (grid["total_ms"].as_f64().unwrap(), grid["metrics"]["rmse"].as_f64().unwrap());
+        assert_eq!(cells[speed], format!("{:.2}x", g_ms / r_ms), "{line}");
+        let expected = if r_ms <= g_ms && r_rmse <= g_rmse {
+            "per region dominates".to_string()
+        } else if r_ms > g_ms && r_rmse >= g_rmse {
+            "grid dominates".to_string()
+        } else {
+            format!("trade-off: per region {:.2}× faster at {:.2}× the RMSE", g_ms / r_ms, r_rmse / g_rmse)
+        };
+        assert_eq!(cells[verdict], expected, "{line}");
     }
 }
 

@@ -228,13 +228,16 @@ fn bench_records_a_failed_method_and_goes_on() {
         [
             format!("warning: teapot {label}: failed: {overflow}"),
             format!("warning: teapot {label}: failed: {overflow}"),
-            "warning: 2 of 3 settings failed; their rows say why (\"failed\" in the results)".to_string(),
+            "warning: 2 of 4 settings failed; their rows say why (\"failed\" in the results)".to_string(),
         ],
         "{stderr}"
     );
     let rows = jsonl(&out.join("results.jsonl"));
-    assert_eq!(rows.len(), 3);
+    assert_eq!(rows.len(), 4, "adaptive, lattice, fair grid, per region");
     assert_eq!(rows[0]["failed"].as_str(), Some(overflow));
+    // The per-region row comes after the failed fair grid, measured: a missing grid shifts nothing.
+    assert_eq!((rows[3]["method"].as_str(), rows[3].get("failed")), (Some("regions"), None));
+    assert!(rows[3]["metrics"]["rmse"].as_f64().unwrap() > 0.0, "{}", rows[3]);
     assert_eq!((rows[1]["label"].as_str(), rows[1].get("failed")), (Some("regular:n=17"), None));
     assert!(rows[1]["metrics"]["rmse"].as_f64().unwrap() > 0.0);
     assert_eq!(rows[2]["failed"].as_str(), Some(format!("no fair grid: the adaptive probe frame failed ({overflow})").as_str()));

@@ -36,6 +36,9 @@ pub struct BenchArgs {
     /// The baseline.
     #[arg(long, default_value = "regular:n=17")]
     regular: String,
+    /// The per-region method, set against the lattice and the fair grid; `none` leaves it out.
+    #[arg(long, default_value = "regions")]
+    regions: String,
     // Render settings for every scene file (named under the table).
     #[command(flatten)]
     sets: SetArgs,
@@ -55,6 +58,7 @@ fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
         cache: args.cache,
         adaptive: Method::parse(&args.adaptive, &[])?,
         regular: Method::parse(&args.regular, &[])?,
+        regions: (args.regions != "none").then(|| Method::parse(&args.regions, &[])).transpose()?,
         only: args.only,
         sets: args.sets.render()?,
     };

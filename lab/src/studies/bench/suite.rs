@@ -1,7 +1,8 @@
 //! `penumbra bench --suite seed-table2`: seed 000's Table 2 on this machine. For each of its four
 //! scenes, adaptive (p_m = 0), regular 17x17 and the fair grid (centred, about the adaptive run's
 //! map count: fair.rs) in the same run, on the same device and settings: one warm-up frame each,
-//! then `repeats` frames each, interleaved so that all three see the same load;
+//! then `repeats` frames each, interleaved so that all see the same load; with them, where asked,
+//! the per-region method (`regions`), set against both grids (table.rs);
 //! the figure is the median wall-clock frame time (TimingMode::Frame: only the waits the method needs).
 
 use super::errors::ErrorColumns;
@@ -30,6 +31,8 @@ pub struct SuiteOptions {
     pub cache: Option<PathBuf>,
     pub adaptive: Method,
     pub regular: Method,
+    /// The per-region method timed beside them (`--regions`; `None`: left out).
+    pub regions: Option<Method>,
     /// Subset of the seed scenes, in the table's order; empty: all five (the bunny twice: close-up and seed framing).
     pub only: Vec<String>,
     /// Render settings set over every scene file (`--set raster=auto`), as (key, value).
@@ -71,6 +74,8 @@ pub struct SceneResult {
     pub regular: MethodResult,
     /// The centred grid with N² nearest to `probe_maps` (fair::grid_n).
     pub fair: MethodResult,
+    /// The per-region method, where the suite ran one.
+    pub regions: Option<MethodResult>,
     /// The adaptive method's map count in one untimed frame before the measured ones.
     pub probe_maps: u32,
 }
@@ -84,6 +89,11 @@ impl SceneResult {
     /// The same ratio against the fair grid.
     pub fn fair_speedup(&self) -> f64 {
         self.fair.frame_ms.median / self.adaptive.frame_ms.median
+    }
+
+    /// Every method measured on the scene, in the table's order.
+    pub fn methods(&self) -> Vec<&MethodResult> {
+        [&self.adaptive, &self.regular, &self.fair].into_iter().chain(&self.regions).collect()
     }
 
     /// The timed adaptive frames used the map count the fair grid was chosen from.
@@ -109,7 +119,7 @@ impl SuiteResults {
     /// One report row per scene and method, adaptive, lattice, fair grid (the record layer's rows,
     /// one schema with `compare`), so `report.html` shows its tables and charts like `compare` does.
     pub fn rows(&self) -> Vec<ResultRow> {
-        self.scenes.iter().flat_map(|s| [s.adaptive.row.clone(), s.regular.row.clone(), s.fair.row.clone()]).collect()
+        self.scenes.iter().flat_map(|s| s.methods().into_iter().map(|m| m.row.clone())).collect()
     }
 }
 
@@ -209,6 +219,7 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         if probe.is_ok() {
             methods.push(Method::parse(&fair::grid_method(probe_maps), &[])?);
         }
+        methods.extend(opts.regions.clone());
         let (g, reference) = truth::for_scene(ctx, &scene, REFERENCE, &Cache::default_for(false))?;
         let judge = Judge::new(&scene, &g, reference.values);
         let mut on_frame = |method: &Method, phase: Phase, r: &crate::frame::FrameResult| {
@@ -241,7 +252,7 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         let (Some(adaptive), Some(regular)) = (done.next(), done.next()) else {
             return Err(Error::param("bench: no frames measured".into()));
         };
-        let fair = match (done.next(), &probe) {
+        let fair = match (probe.is_ok().then(|| done.next()).flatten(), &probe) {
             (Some(fair), _) => fair,
             (None, probe) => {
                 let reason = format!("no fair grid: the adaptive probe frame failed ({})", probe.as_ref().err().map_or("", String::as_str));
@@ -260,11 +271,12 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
             adaptive,
             regular,
             fair,
+            regions: done.next(),
             probe_maps,
         });
     }
     bar.finish_and_clear();
-    let rows: Vec<&MethodResult> = results.iter().flat_map(|s: &SceneResult| [&s.adaptive, &s.regular, &s.fair]).collect();
+    let rows: Vec<&MethodResult> = results.iter().flat_map(SceneResult::methods).collect();
     if let Some(line) = record::failed_summary(rows.iter().filter(|m| m.failed.is_some()).count(), rows.len()) {
         crate::progress::suspend(|| log(&line));
     }

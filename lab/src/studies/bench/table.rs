@@ -105,8 +105,9 @@ pub fn markdown(r: &SuiteResults) -> String {
     );
     let _ = writeln!(
         md,
-        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame and one stages-mode frame per method, the three methods (adaptive, regular, fair grid) interleaved. {}\n",
+        "Clock: wall clock per frame (first submit to the last read-back, TimingMode::Frame), median of {} frames after one warm-up frame and one stages-mode frame per method, the methods (adaptive, regular, fair grid{}) interleaved. {}\n",
         r.repeats,
+        if r.scenes.iter().any(|s| s.regions.is_some()) { ", per region" } else { "" },
         if r.timestamps_trusted { "GPU timestamps: not yet wired into this table." } else { "GPU timestamps are not trustworthy on this (CPU) adapter and are not used." }
     );
     let _ = writeln!(md, "fps (shadow maps); speed-up = adaptive fps / regular fps, as in the seed. Seed: {SEED_SETUP}.\n");
@@ -142,11 +143,12 @@ pub fn markdown(r: &SuiteResults) -> String {
     };
     let _ = writeln!(md, "\n{errs}\n");
     fair_rows(&mut md, r);
+    region_rows(&mut md, r);
     let _ = writeln!(md, "## Frame times (ms, wall clock)\n");
     let _ = writeln!(md, "| scene | method | maps | median | min | max | setup (not in the frame) | read-backs |");
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
     for s in &r.scenes {
-        for m in [&s.adaptive, &s.regular, &s.fair] {
+        for m in s.methods() {
             if let Some(reason) = &m.failed {
                 let _ = writeln!(md, "| {} | `{}` | failed: {} | | | | | |", s.seed.scene, m.label, reason.replace('|', "\\|"));
                 continue;
@@ -204,6 +206,45 @@ fn fair_rows(md: &mut String, r: &SuiteResults) {
         }
     }
     let _ = writeln!(md, "\nVerdict: `adaptive dominates` when its median frame and RMSE are both at most the grid's; `grid dominates` when it is slower and its RMSE at least the grid's; otherwise the trade-off (speed-up, RMSE ratio).\n");
+}
+
+/// The per-region method against the same two grids: both speed-ups, the RMSEs and a verdict on
+/// each (the fair grid is the one matched to adaptive's map count, so the per-region method meets
+/// the grid that the adaptive row met, in the same run).
+fn region_rows(md: &mut String, r: &SuiteResults) {
+    if r.scenes.iter().all(|s| s.regions.is_none()) {
+        return;
+    }
+    let label = r.scenes.iter().find_map(|s| s.regions.as_ref()).map(|m| m.label.clone()).unwrap_or_default();
+    let _ = writeln!(md, "## Per region: `{label}` against the seed's lattice and the fair grid\n");
+    let _ = writeln!(md, "Speed-up = grid median frame / per-region median frame (> 1: per region is faster).\n");
+    let _ = writeln!(md, "| scene | per-region maps | per-region ms | per-region RMSE | lattice speed-up | lattice RMSE | verdict against the lattice | fair grid | fair speed-up | fair RMSE | verdict against the fair grid |");
+    let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---|---|---:|---:|---|");
+    let rmse = |m: &MethodResult| m.errors.as_ref().map_or("—".to_string(), |e| format!("{:.5}", e.rmse));
+    let verdict = |m: &MethodResult, grid: &MethodResult| match (&m.failed, &grid.failed) {
+        (None, None) => fair::verdict_of("per region", &m.row, &grid.row),
+        _ => "—: a failed setting".to_string(),
+    };
+    for s in &r.scenes {
+        let Some(m) = &s.regions else { continue };
+        let ms = if m.failed.is_some() { fps_of(m) } else { format!("{:.1}", m.frame_ms.median) };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | `{}` | {} | {} | {} |",
+            s.seed.scene,
+            maps(m),
+            ms,
+            rmse(m),
+            ratio(&s.regular, m),
+            rmse(&s.regular),
+            verdict(m, &s.regular),
+            s.fair.label,
+            ratio(&s.fair, m),
+            rmse(&s.fair),
+            verdict(m, &s.fair)
+        );
+    }
+    let _ = writeln!(md);
 }
 
 /// `results.jsonl`: the record layer's rows (the schema of `compare` and `sweep`), one line per
