@@ -174,6 +174,11 @@ fn pairs_past_a_full_queue_equal_the_twin() {
     assert_eq!(penumbra::stages::raster_compute::large_capacity(2, 2 << 30), 1 << 18);
     assert_eq!(penumbra::stages::raster_compute::large_capacity(25, 2 << 30), 25 << 16);
     assert_eq!(penumbra::stages::raster_compute::large_capacity(289, 1 << 20), 1 << 17, "one binding holds the queue");
+    // A mesh of more triangles than the per-map floor: one pair per triangle and map.
+    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(9, 60_000, 2 << 30), 9 << 16, "the floor");
+    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(9, 100_000, 2 << 30), 900_000);
+    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(16, 564_152, 2 << 30), 9_026_432);
+    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(289, 564_152, 2 << 30), 1 << 24, "the most");
 }
 
 #[test]

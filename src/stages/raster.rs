@@ -157,7 +157,7 @@ impl Raster {
             return Err(Error::Param("record_requested needs raster = compute".into()));
         };
         let size = array.texture.width();
-        let chains = c.chain(ctx, size)?;
+        let chains = c.chain(ctx, size, scene.index_count / 3)?;
         let chain = chains.iter().find(|r| r.map_size == size).expect("a chain of this size");
         // As many chains as the candidates could fill; those past the level's count do nothing.
         for first in (0..candidates).step_by(chain.capacity as usize) {
@@ -176,13 +176,15 @@ pub fn chain_maps(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u3
 }
 
 impl ComputeRaster {
-    /// The chains, with one of `size` built if there was none.
-    fn chain(&self, ctx: &GpuContext, size: u32) -> Result<std::cell::RefMut<'_, Vec<RasterCompute>>> {
+    /// The chains, with one of `size` built if there was none; its large-pair queue is sized for a
+    /// mesh of `triangles` (a chain built for a smaller mesh is built again).
+    fn chain(&self, ctx: &GpuContext, size: u32, triangles: u32) -> Result<std::cell::RefMut<'_, Vec<RasterCompute>>> {
         let mut chains = self.chains.borrow_mut();
-        if !chains.iter().any(|c| c.map_size == size) {
+        if !chains.iter().any(|c| c.map_size == size && c.triangles >= triangles) {
+            chains.retain(|c| c.map_size != size);
             // The share `maps_per_array` left out of the method's arrays.
             let maps = chain_maps(ctx, size, self.budget_mib)?;
-            chains.push(RasterCompute::new(ctx, size, self.cull, maps, self.budget_mib)?);
+            chains.push(RasterCompute::for_mesh(ctx, size, self.cull, maps, self.budget_mib, triangles)?);
         }
         Ok(chains)
     }
@@ -197,7 +199,7 @@ impl ComputeRaster {
     fn record_jobs(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u32)], kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>) -> Result<()> {
         let RasterTarget { scene, samples, array } = *to;
         let size = array.texture.width();
-        let chains = self.chain(ctx, size)?;
+        let chains = self.chain(ctx, size, scene.index_count / 3)?;
         let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
         for part in jobs.chunks(chain.capacity as usize) {
             let words: Vec<GpuRasterJob> = part.iter().map(|(j, slot)| GpuRasterJob { kept_slot: *slot, ..GpuRasterJob::new(j.sample, size, j.scissor) }).collect();

@@ -2,7 +2,8 @@
 //! exact rules its CPU twin (`twin::raster_compute`) repeats bit for bit (docs/gpu-frame.md §7).
 //! A chain clears its maps, sets up every (triangle, map) pair (a triangle per invocation over all
 //! the chain's maps, so vertices are read once per chain), rasterizes the small ones at once and
-//! queues the large ones, then rasterizes the queued ones tile by tile. Depth is one u32 per
+//! queues the large ones (an entry per block of a pair's tiles), then rasterizes the queued ones
+//! tile by tile. Depth is one u32 per
 //! texel: the bits of a non-negative f32, which order like the values, written by atomicMin.
 
 use crate::gpu::stages::bind;
@@ -16,10 +17,13 @@ use crate::{Error, Result};
 
 /// The stored word of the far value (1.0), which every map is cleared to.
 pub const FAR: u32 = 0x3f80_0000;
-/// Large (triangle, map) pairs one chain can queue per map of the chain, between a least and a
-/// most; beyond it `main` rasterizes them itself, one invocation a pair, which a GPU runs badly:
-/// `grove`'s leaves make 66–70 k large pairs per 512² map, and with a queue of 2^18 for its 289
-/// maps a lattice frame took 10 s on an H100 against 147 ms with 2^24 (docs/bench.md).
+/// Large (triangle, map) pairs one chain can queue per map of the chain (at least this many, and
+/// one per triangle of the mesh where it has more: a triangle is one pair per map), between a
+/// least and a most; beyond it `main` rasterizes them itself, one invocation a pair, which a GPU
+/// runs badly: `grove`'s leaves make 66–70 k large pairs per 512² map, and with a queue of 2^18
+/// for its 289 maps a lattice frame took 10 s on an H100 against 147 ms with 2^24
+/// (results/bench-seed-table2-h100-rasters/). Maps fitted to a window (`regions`) make most of a
+/// mesh's triangles large: a per-map figure that ignores the mesh overflowed there.
 pub const LARGE_PAIRS_PER_MAP: u64 = 1 << 16;
 pub const LARGE_CAPACITY_MIN: u64 = 1 << 18;
 pub const LARGE_CAPACITY_MAX: u64 = 1 << 24;
@@ -30,6 +34,8 @@ pub const STEER_ARGS_MAIN: u64 = 4;
 pub const STEER_ARGS_STORE: u64 = 7;
 /// Words each invocation of `clear` sets (the kernel's RASTER_CLEAR_RUN).
 pub const CLEAR_RUN: u32 = 16;
+/// Most maps in one chain: a queued entry names its map in 16 bits (the kernel's RASTER_MAP_BITS).
+pub const MAX_CHAIN_MAPS: u64 = (1 << 16) - 1;
 /// Workgroups along x of a 2D dispatch over many items (rows of at most this many).
 const ROW: u32 = 32768;
 
@@ -54,6 +60,8 @@ pub struct RasterCompute {
     pub map_size: u32,
     /// Maps one chain holds.
     pub capacity: u32,
+    /// The mesh size the queue was sized for (0: the per-map floor alone).
+    pub triangles: u32,
     cull_face: u32,
 }
 
@@ -103,19 +111,32 @@ pub fn maps_per_chain(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Resul
         )));
     }
     let rows = ctx.limits().max_compute_workgroups_per_dimension as u64;
-    Ok(by_budget.min(by_binding).min(rows) as u32)
+    Ok(by_budget.min(by_binding).min(rows).min(MAX_CHAIN_MAPS) as u32)
 }
 
 /// The large-pair queue's size for a chain of `maps` maps: LARGE_PAIRS_PER_MAP each, within
 /// [LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX] and one storage binding (`binding` bytes, 8 a pair).
 pub fn large_capacity(maps: u32, binding: u64) -> u32 {
-    (maps as u64 * LARGE_PAIRS_PER_MAP).clamp(LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX).min(binding / 8) as u32
+    large_capacity_for(maps, 0, binding)
+}
+
+/// The queue for a chain of `maps` maps over a mesh of `triangles`: per map the larger of
+/// LARGE_PAIRS_PER_MAP and the triangle count, within the least, the most and one binding.
+pub fn large_capacity_for(maps: u32, triangles: u32, binding: u64) -> u32 {
+    (maps as u64 * LARGE_PAIRS_PER_MAP.max(triangles as u64)).clamp(LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX).min(binding / 8) as u32
 }
 
 impl RasterCompute {
     /// A chain of at most `maps` maps (fewer where `shadow_map_budget_mib` or the device allows fewer).
     pub fn new(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32) -> Result<Self> {
         Self::with_queue(ctx, map_size, cull, maps, budget_mib, None)
+    }
+
+    /// As `new`, with the queue sized for a mesh of `triangles` (large_capacity_for).
+    pub fn for_mesh(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32, triangles: u32) -> Result<Self> {
+        let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
+        let pairs = large_capacity_for(capacity, triangles, ctx.limits().max_storage_buffer_binding_size as u64);
+        Ok(Self { triangles, ..Self::with_queue(ctx, map_size, cull, maps, budget_mib, Some(pairs))? })
     }
 
     /// As `new`, with a large-pair queue of `pairs` instead of `large_capacity`'s (a test drives
@@ -141,6 +162,7 @@ impl RasterCompute {
             steer_args: storage("raster_compute steered dispatches", STEER_ARGS_WORDS * 4, wgpu::BufferUsages::INDIRECT),
             map_size,
             capacity,
+            triangles: 0,
             cull_face: super::cull::cull_face(cull),
         })
     }
