@@ -45,7 +45,7 @@ pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
         no_cache: false,
     };
     let gallery = FailuresArgs::main_job(&run);
-    compare_methods(&[DEFAULT_METHODS.to_string()], plan::DEFAULT_MAX_CONFIGS, run, Some(gallery), gpu)
+    compare_methods(&[super::MAIN_JOB_METHODS.to_string()], plan::DEFAULT_MAX_CONFIGS, run, Some(gallery), gpu)
 }
 
 fn compare_methods(values: &[String], max_configs: usize, run: RunArgs, gallery: Option<FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {

@@ -71,6 +71,16 @@ mod tests {
     }
 
     #[test]
+    fn the_main_job_runs_the_defaults_then_what_the_tool_recommends() {
+        let main = split(crate::studies::compare::MAIN_JOB_METHODS);
+        let defaults = split(crate::studies::compare::DEFAULT_METHODS);
+        assert_eq!(main[..defaults.len()], defaults[..]);
+        assert_eq!(main[defaults.len()..], ["auto:target=0.02", "regions:target=0.02"]);
+        let methods = parse_methods(&main).unwrap();
+        assert_eq!(methods.iter().map(|m| m.name()).filter(|n| *n == "auto" || *n == "regions").count(), 2);
+    }
+
+    #[test]
     fn bad_lists_are_errors() {
         assert!(split_specs(&["p_m=0".into()]).is_err());
         assert!(split_specs(&["hard,,adaptive".into()]).is_err());

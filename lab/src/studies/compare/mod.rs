@@ -35,6 +35,10 @@ use std::path::{Path, PathBuf};
 /// each single-map family, hard, PCF, PCSS and a moment map).
 pub const DEFAULT_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced";
 
+/// The main job's methods (`penumbra` with no command): the defaults, then what the tool
+/// recommends at one RMSE target: the frame-wide budget and the per-region method, side by side.
+pub const MAIN_JOB_METHODS: &str = "hard,pcf:kernel=poisson,pcss,msm,regular:n=5,layout=centred,regular:n=17,adaptive:preset=seed,adaptive:preset=balanced,auto:target=0.02,regions:target=0.02";
+
 /// |error| where the error maps saturate: one scale for every method, so colours compare.
 pub const ERROR_SCALE: f32 = 0.25;
 
