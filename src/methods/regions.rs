@@ -1,9 +1,10 @@
 //! `regions`: each screen region gets its own samples per side and map size (docs/regions.md).
 //! A blocker search on the centre map measures every pixel's penumbra width and footprint
-//! (`stages::regions`); each region's count picks its class from a ladder of grids; each class's
-//! maps are a centred grid fitted to the box of that class's receivers, sized for the finest texel
-//! its pixels need, culled per map, and shaded on that class's tiles alone. One read-back (the
-//! classes' counts, texel needs and boxes) separates the decision from the maps.
+//! (`stages::regions`); each region's count picks its class from a ladder of grids. One read-back
+//! (the classes' counts, texel needs and boxes) separates the decision from the maps. A cost
+//! model then joins each class into the next one up where one set of maps is cheaper than two;
+//! each group's maps are a centred grid fitted to the box of its receivers, sized for the finest
+//! texel its pixels need, culled per map, and shaded on that group's tiles alone.
 
 pub use super::regions_record::ClassRecord;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
