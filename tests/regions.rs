@@ -66,10 +66,26 @@ fn decision_kernels_equal_their_twins() {
             assert_eq!(&b.class_list(c), list, "seed {seed}: class {c}'s tiles");
         }
         assert_eq!(lists.iter().map(Vec::len).sum::<usize>(), b.geometry_tiles.len(), "seed {seed}: every geometry tile in one class");
-        let used: Vec<u32> = b.records.iter().map(|c| c.n).collect();
-        println!("seed {seed}: classes n = {used:?}, texel need max rel. diff {worst:e}");
+        let used: Vec<u32> = b.records.iter().map(|c| c.decided_n).collect();
+        let shaded: Vec<(u32, u32)> = b.records.iter().map(|c| (c.group, c.n)).collect();
+        println!("seed {seed}: classes n = {used:?}, (group, n shaded) = {shaded:?}, texel need max rel. diff {worst:e}");
         assert!(r.visibility.iter().all(|v| (0.0..=1.0).contains(v)));
-        assert_eq!(r.output.syncs, 1 + b.records.len() as u32, "seed {seed}: the decision's read-back and one per culled class");
+        // A class only joins a group of more samples, and groups are runs of the ladder.
+        for (k, c) in b.records.iter().enumerate() {
+            assert!(c.n >= c.decided_n, "seed {seed}: class {} shaded with {} < its {} samples per side", c.class, c.n, c.decided_n);
+            assert!(k == 0 || (c.group, c.class) > (b.records[k - 1].group, b.records[k - 1].class), "seed {seed}: records out of order");
+        }
+        let groups = b.records.last().map_or(0, |c| c.group + 1);
+        // A group of several classes shades their lists joined into one.
+        for g in 0..groups {
+            let members: Vec<usize> = b.records.iter().filter(|c| c.group == g).map(|c| c.class as usize).collect();
+            if members.len() > 1 {
+                let mut union: Vec<u32> = members.iter().flat_map(|&c| lists[c].clone()).collect();
+                union.sort_unstable();
+                assert_eq!(b.group_list(g as usize), union, "seed {seed}: group {g}'s joined tiles (classes {members:?})");
+            }
+        }
+        assert_eq!(r.output.syncs, 1 + groups, "seed {seed}: the decision's read-back and one per culled group");
         assert!(r.output.pictures.iter().any(|(name, _)| name == "region_samples.png") && r.output.pictures.iter().any(|(name, _)| name == "region_texels.png"));
         classes_seen.push(used.len());
     }
@@ -86,8 +102,21 @@ fn bad_parameters_are_refused_with_the_key_and_value() {
         ("regions:force_size=128", "regions: force_size = 128 needs force = N"),
         ("regions:force=0", "regions: force = `0`: use `off` or samples per side 1..=128"),
         ("regions:cull=maybe", "regions: cull = `maybe`: use `on`, `off` or `auto`"),
+        ("regions:merge=yes", "regions: merge = `yes`: use `on` or `off`"),
     ] {
         let e = Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} was accepted"));
         assert!(e.to_string().contains(want), "{spec}: {e}");
+    }
+}
+
+#[test]
+fn map_sides_round_up_by_half_octaves() {
+    // At most √2 above the side asked for (2× the texels, where a power of two may give 4×).
+    use penumbra::methods::regions::half_octave;
+    assert_eq!([half_octave(1024.0), half_octave(1025.0), half_octave(1448.0), half_octave(1449.0), half_octave(300.0)], [1024, 1456, 1456, 2048, 368]);
+    assert_eq!(half_octave(f32::INFINITY), 1);
+    for want in [20.0f32, 77.0, 500.0, 1000.0, 3000.0] {
+        let side = half_octave(want) as f32;
+        assert!(side >= want && side <= want * 2f32.sqrt() + 16.0, "{want} -> {side}");
     }
 }

@@ -1,9 +1,10 @@
 //! `regions`: each screen region gets its own samples per side and map size (docs/regions.md).
 //! A blocker search on the centre map measures every pixel's penumbra width and footprint
-//! (`stages::regions`); each region's count picks its class from a ladder of grids; each class's
-//! maps are a centred grid fitted to the box of that class's receivers, sized for the finest texel
-//! its pixels need, culled per map, and shaded on that class's tiles alone. One read-back (the
-//! classes' counts, texel needs and boxes) separates the decision from the maps.
+//! (`stages::regions`); each region's count picks its class from a ladder of grids. One read-back
+//! (the classes' counts, texel needs and boxes) separates the decision from the maps. A cost
+//! model then joins each class into the next one up where one set of maps is cheaper than two;
+//! each group's maps are a centred grid fitted to the box of its receivers, sized for the finest
+//! texel its pixels need, culled per map, and shaded on that group's tiles alone.
 
 pub use super::regions_record::ClassRecord;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
@@ -33,6 +34,9 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
         Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
         Param { key: "cull", default: "auto", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V); auto: on where the adapter can cull (indirect draws with a first instance), off elsewhere; off" },
+        Param { key: "merge", default: "on", help: "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps" },
+        Param { key: "map_cost", default: "550000", help: "the cost model's price of one map beyond its texels, in texels (passes, culling, triangles; fitted on llvmpipe, docs/regions.md)" },
+        Param { key: "sample_cost", default: "40", help: "the cost model's price of one pixel's test of one map, in texels" },
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
         Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
     ],
@@ -78,6 +82,13 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
             _ => return Err(crate::Error::Param(format!("regions: force = `{v}`: use `off` or samples per side 1..=128"))),
         },
     };
+    let merge = match p.get("merge").map(String::as_str) {
+        None | Some("on") => true,
+        Some("off") => false,
+        Some(v) => return Err(crate::Error::Param(format!("regions: merge = `{v}`: use `on` or `off`"))),
+    };
+    let map_cost = check_range("regions", "map_cost", get_f32(p, "map_cost", 550_000.0)?, 0.0, 1e9)?;
+    let sample_cost = check_range("regions", "sample_cost", get_f32(p, "sample_cost", 40.0)?, 0.0, 1e9)?;
     let force_size = get_u32(p, "force_size", 0)?;
     if force_size != 0 {
         if force.is_none() {
@@ -94,6 +105,9 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         region,
         blocker_taps: check_range("regions", "blocker_taps", get_u32(p, "blocker_taps", 6)?, 1, 16)?,
         cull,
+        merge,
+        map_cost,
+        sample_cost,
         force,
         force_size,
     }))
@@ -110,6 +124,11 @@ pub struct Regions {
     pub blocker_taps: u32,
     /// Some(on/off) as given; None: auto (on where the adapter can cull).
     pub cull: Option<bool>,
+    /// Classes join the next one up where the cost model predicts it cheaper.
+    pub merge: bool,
+    /// The cost model's prices in texels: one map beyond its texels, one pixel's test of one map.
+    pub map_cost: f32,
+    pub sample_cost: f32,
     pub force: Option<u32>,
     pub force_size: u32,
 }
@@ -150,6 +169,9 @@ impl ShadowMethod for Regions {
                 ("region", self.region.to_string()),
                 ("blocker_taps", self.blocker_taps.to_string()),
                 ("cull", match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" }.to_string()),
+                ("merge", if self.merge { "on" } else { "off" }.to_string()),
+                ("map_cost", self.map_cost.to_string()),
+                ("sample_cost", self.sample_cost.to_string()),
                 ("force", self.force.map_or("off".to_string(), |n| n.to_string())),
                 ("force_size", self.force_size.to_string()),
             ],
@@ -158,7 +180,8 @@ impl ShadowMethod for Regions {
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({
             "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
-            "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" }, "force": self.force, "force_size": self.force_size,
+            "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" },
+            "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size,
         })
     }
     /// Shade binds V whole on each class's tile list (one band).
@@ -210,6 +233,29 @@ fn widened(words: &[u32], scene: &Bounds) -> Bounds {
     Bounds { min: min.max(scene.min), max: max.min(scene.max) }
 }
 
+/// Classes that share one set of maps: the top class's samples per side, the union of their
+/// windows, the finest texel any of them needs.
+struct Group {
+    n: u32,
+    classes: Vec<usize>,
+    tiles: u32,
+    texel_need: f32,
+    window: Bounds,
+    size: u32,
+    extent: f32,
+}
+
+/// The least side of the form 2^(k/2), rounded up to a multiple of 16, at or above `want`
+/// (1 where `want` is not a finite positive number: min_size then sets it).
+pub fn half_octave(want: f32) -> u32 {
+    if !(want.is_finite() && want >= 1.0) {
+        return 1;
+    }
+    let k = (2.0 * want.min(8192.0).log2()).ceil();
+    let side = 2f32.powf(k / 2.0).round() as u32;
+    side.div_ceil(16) * 16
+}
+
 impl State {
     /// Texels per pixel footprint: the parameter, or 1 + the lookup's offsets in texels.
     fn density(&self, fg: &FrameGpu) -> f32 {
@@ -224,6 +270,47 @@ impl State {
             .into_iter()
             .map(|(u, v)| sample_view_window(&s.light, s.emitter.sample_point(&s.light, u, v), &s.bounds, window, size, u32::MAX))
             .collect()
+    }
+
+    /// `group` with its map side: the window's extent over the texel it needs, times the density,
+    /// rounded up to a half octave (steps of √2, so at most 2× the texels asked for, not 4×), a
+    /// multiple of 16, within min_size..=max_size. With `force`, force_size or the scene's.
+    fn sized(&self, fg: &FrameGpu, mut group: Group) -> Group {
+        let s = fg.scene;
+        group.extent = window_extent(fg, &group.window);
+        group.size = match self.method.force {
+            Some(_) if self.method.force_size != 0 => self.method.force_size,
+            Some(_) => s.render.shadow_map_size,
+            None => half_octave((group.extent * self.density(fg) / group.texel_need).ceil()).clamp(self.method.min_size, self.method.max_size),
+        };
+        group
+    }
+
+    /// A group's predicted frame cost in texel equivalents (docs/regions.md, "Groups"): each of
+    /// its n² maps costs `map_cost` + its texels, and shades its tiles' pixels at `sample_cost` each.
+    fn cost(&self, g: &Group) -> f64 {
+        let pixels = g.tiles as f64 * 64.0;
+        (g.n as f64).powi(2) * (self.method.map_cost as f64 + (g.size as f64).powi(2) + self.method.sample_cost as f64 * pixels)
+    }
+
+    /// Greedy, from the fewest samples up: a group joins the next one (more samples, the union of
+    /// the windows, the finer texel) when the joined group is predicted cheaper than the two. Its
+    /// tiles only gain samples, so the frame's sampling error only falls. All joined: one group,
+    /// the culled grid of the top n.
+    fn merged(&self, fg: &FrameGpu, mut groups: Vec<Group>) -> Vec<Group> {
+        let mut i = 0;
+        while i + 1 < groups.len() {
+            let (a, b) = (&groups[i], &groups[i + 1]);
+            let window = Bounds { min: a.window.min.min(b.window.min), max: a.window.max.max(b.window.max) };
+            let classes = a.classes.iter().chain(&b.classes).copied().collect();
+            let joined = self.sized(fg, Group { n: b.n, classes, tiles: a.tiles + b.tiles, texel_need: a.texel_need.min(b.texel_need), window, size: 0, extent: 0.0 });
+            if self.cost(&joined) < self.cost(a) + self.cost(b) {
+                groups.splice(i..i + 2, [joined]);
+            } else {
+                i += 1;
+            }
+        }
+        groups
     }
 
     fn grid(&mut self, fg: &FrameGpu, n: u32, size: u32) -> Result<&mut Prepared> {
@@ -263,32 +350,42 @@ impl MethodState for State {
         let classes = self.ladder.len();
         let words: Vec<u32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64))?;
         let mut syncs = 1 + self.probe.syncs();
-        let mut maps = 0u32;
-        let (mut pairs, mut texels) = (0f64, 0f64);
-        let mut records = Vec::new();
         let s = fg.scene;
+        let mut groups: Vec<Group> = Vec::new();
         for c in 0..classes {
             let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
             if w[0] == 0 {
                 continue;
             }
-            let n = self.ladder[c];
             let texel_need = if w[1] == u32::MAX { f32::INFINITY } else { unordered(w[1]) };
-            let (window, size, extent) = match self.method.force {
-                Some(_) => {
-                    let size = if self.method.force_size == 0 { s.render.shadow_map_size } else { self.method.force_size };
-                    (s.bounds, size, window_extent(fg, &s.bounds))
-                }
-                None => {
-                    let window = widened(w, &s.bounds);
-                    let extent = window_extent(fg, &window);
-                    let want = (extent * self.density(fg) / texel_need).ceil();
-                    let size = if want.is_finite() && want >= 1.0 { (want.min(8192.0) as u32).next_power_of_two() } else { 1 };
-                    (window, size.clamp(self.method.min_size, self.method.max_size), extent)
-                }
+            let window = match self.method.force {
+                Some(_) => s.bounds,
+                None => widened(w, &s.bounds),
             };
+            let group = Group { n: self.ladder[c], classes: vec![c], tiles: w[0], texel_need, window, size: 0, extent: 0.0 };
+            groups.push(self.sized(fg, group));
+        }
+        if self.method.force.is_none() && self.method.merge {
+            groups = self.merged(fg, groups);
+        }
+        let mut maps = 0u32;
+        let (mut pairs, mut texels) = (0f64, 0f64);
+        let mut records = Vec::new();
+        for (g, group) in groups.iter().enumerate() {
+            let (n, size, window) = (group.n, group.size, group.window);
             let samples = self.method.force.is_none().then(|| self.samples(fg, n, &window, size));
-            let tiles = self.pass.class_list(c as u32, fg.gbuffer.height);
+            // One class: its own list. Several: their lists joined into one (one shade pass per block).
+            let tiles = if let [c] = group.classes[..] {
+                self.pass.class_list(c as u32, fg.gbuffer.height)
+            } else {
+                let counts: Vec<(u32, u32)> = group.classes.iter().map(|&c| (c as u32, words[c * CLASS_WORDS])).collect();
+                let mut joined = None;
+                timer.stage(ctx, Stage::REGIONS, |enc| {
+                    joined = Some(self.pass.join(ctx, enc, g as u32, &counts, fg.gbuffer.height));
+                    Ok(())
+                })?;
+                joined.expect("recorded above")
+            };
             let keep = self.keep;
             let grid = self.grid(fg, n, size)?;
             if let Some(samples) = samples {
@@ -304,7 +401,11 @@ impl MethodState for State {
             let tris = out.record["triangles_per_map_mean"].as_f64().unwrap_or(0.0);
             pairs += tris * out.shadow_maps as f64;
             texels += out.shadow_maps as f64 * (size as f64).powi(2);
-            records.push(ClassRecord { class: c as u32, n, map_size: size, tiles: w[0], maps: out.shadow_maps, texel_need, extent, triangles_per_map_mean: tris });
+            for &c in &group.classes {
+                let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
+                let texel_need = if w[1] == u32::MAX { f32::INFINITY } else { unordered(w[1]) };
+                records.push(ClassRecord { class: c as u32, decided_n: self.ladder[c], group: g as u32, n, map_size: size, tiles: w[0], maps: out.shadow_maps, texel_need, extent: group.extent, triangles_per_map_mean: tris });
+            }
         }
         let record = serde_json::json!({
             "region": self.method.region,
@@ -335,6 +436,7 @@ impl MethodState for State {
             classes: readback::read_buffer(ctx, &p.classes, p.params.ladder_len as u64 * CLASS_WORDS as u64 * 4)?,
             totals: readback::read_buffer::<u32>(ctx, &p.totals, 8)?.try_into().expect("two words"),
             class_tiles: readback::read_buffer(ctx, &p.class_tiles, tiles_words)?,
+            group_tiles: readback::read_buffer(ctx, &p.group_tiles, tiles_words)?,
             geometry_tiles,
             records: self.classes.clone(),
         };
@@ -352,6 +454,9 @@ pub struct RegionsBuffers {
     pub totals: [u32; 2],
     /// A section of `params.section_words` per class: header, then tiles in the GPU's order.
     pub class_tiles: Vec<u32>,
+    /// The same per group of two classes or more (`RegionsPass::join`); a group of one shades
+    /// its class's own section.
+    pub group_tiles: Vec<u32>,
     /// The frame's geometry tiles, sorted.
     pub geometry_tiles: Vec<u32>,
     pub records: Vec<ClassRecord>,
@@ -360,11 +465,21 @@ pub struct RegionsBuffers {
 impl RegionsBuffers {
     /// Class `c`'s tiles, sorted.
     pub fn class_list(&self, c: usize) -> Vec<u32> {
-        let base = c * self.params.section_words as usize;
-        let count = self.class_tiles[base] as usize;
-        let start = base + crate::stages::shade::TILE_LIST_HEADER;
-        let mut l = self.class_tiles[start..start + count].to_vec();
-        l.sort_unstable();
-        l
+        section(&self.class_tiles, c, self.params.section_words as usize)
     }
+
+    /// Group `g`'s joined tiles, sorted.
+    pub fn group_list(&self, g: usize) -> Vec<u32> {
+        section(&self.group_tiles, g, self.params.section_words as usize)
+    }
+}
+
+/// Section `k` of a buffer of tile lists, sorted.
+fn section(words: &[u32], k: usize, section_words: usize) -> Vec<u32> {
+    let base = k * section_words;
+    let count = words[base] as usize;
+    let start = base + crate::stages::shade::TILE_LIST_HEADER;
+    let mut l = words[start..start + count].to_vec();
+    l.sort_unstable();
+    l
 }

@@ -95,6 +95,9 @@ pub struct RegionsPass {
     pub totals: wgpu::Buffer,
     /// A section of `section_words` per class: shade's tile-list header, then the tiles.
     pub class_tiles: wgpu::Buffer,
+    /// A section per group of classes (the method's cost model joins classes): their lists one
+    /// after another, so a group's shade is one pass per block.
+    pub group_tiles: wgpu::Buffer,
     /// What `regions`, `classes` and `class_tiles` hold before a frame.
     regions_init: wgpu::Buffer,
     classes_init: wgpu::Buffer,
@@ -130,6 +133,7 @@ impl RegionsPass {
             regions: readback::storage_buffer(ctx, "regions", &regions_words, wgpu::BufferUsages::empty()),
             classes: readback::storage_buffer(ctx, "region classes", &classes_words, wgpu::BufferUsages::empty()),
             class_tiles: readback::storage_buffer(ctx, "class tiles", &tiles_words, indirect),
+            group_tiles: readback::storage_buffer(ctx, "group tiles", &tiles_words, indirect),
             regions_init: readback::storage_buffer(ctx, "regions init", &regions_words, wgpu::BufferUsages::empty()),
             classes_init: readback::storage_buffer(ctx, "region classes init", &classes_words, wgpu::BufferUsages::empty()),
             tiles_init: readback::storage_buffer(ctx, "class tiles init", &tiles_words, wgpu::BufferUsages::empty()),
@@ -180,6 +184,23 @@ impl RegionsPass {
             },
             Dispatch::Direct([groups(self.params.max_tiles, LINE_WORKGROUP[0]), 1, 1]),
         );
+    }
+
+    /// Section `g` of the group lists holds `classes`' tiles (class, tile count as read back), one
+    /// list after another: a header written from the counts, then one copy per class. Returns it as
+    /// shade reads a list (a single band). The classes' own lists are left as the decision wrote them.
+    pub fn join(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, g: u32, classes: &[(u32, u32)], height: u32) -> GeometryTiles {
+        let words = self.params.section_words as u64;
+        let base = g as u64 * words * 4;
+        let total: u32 = classes.iter().map(|&(_, n)| n).sum();
+        // Written before this submission's copies run; they leave the header alone.
+        ctx.queue.write_buffer(&self.group_tiles, base, bytemuck::cast_slice(&[total, 1u32, 1, 0]));
+        let mut at = base + TILE_LIST_HEADER as u64 * 4;
+        for &(c, n) in classes.iter().filter(|&&(_, n)| n > 0) {
+            enc.copy_buffer_to_buffer(&self.class_tiles, c as u64 * words * 4 + TILE_LIST_HEADER as u64 * 4, &self.group_tiles, at, n as u64 * 4);
+            at += n as u64 * 4;
+        }
+        GeometryTiles::section(&self.group_tiles, base, words * 4, height)
     }
 
     /// Class `c`'s tile list as shade reads one (a single band).

@@ -30,6 +30,10 @@ pub struct FrontierArgs {
     /// Hybrid maps as BASE/LEVELS (comma-separated), or `none`.
     #[arg(long, value_delimiter = ',', default_value = grid::DEFAULT_HYBRID)]
     hybrid: Vec<String>,
+    /// The regular grids on plain maps cull each map's triangles (`cull = on`: the same V), as
+    /// `regions` does; the hybrid groups' grids stay uncut.
+    #[arg(long)]
+    cull: bool,
     #[command(flatten)]
     repeats: RepeatsArgs,
     /// Ground truth: `continuous` or `lattice`.
@@ -80,6 +84,7 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     axes.n = n.unwrap_or(axes.n);
     axes.sizes = sizes.unwrap_or(axes.sizes);
     axes.hybrid = hybrid;
+    axes.cull = args.cull;
     let budget = scene.render.shadow_map_budget_mib;
     plan::check_count(grid::count_of(&axes, budget), args.max_configs, "frontier")?;
     let mut groups = grid::settings(&axes, budget)?;

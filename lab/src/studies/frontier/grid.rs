@@ -66,14 +66,17 @@ pub struct Axes {
     pub sizes: Vec<u32>,
     /// Hybrid map configurations (`BASE/LEVELS`); empty for none.
     pub hybrid: Vec<Maps>,
+    /// `--cull`: the regular grids on plain maps rasterize each map with only the triangles that
+    /// can change a tested texel (`cull = on`, the same V), as `regions` does.
+    pub cull: bool,
 }
 
 impl Axes {
     pub fn of(thinning: &Thinning) -> Axes {
         let hybrid = vec![parse_maps(DEFAULT_HYBRID, true).expect("the default hybrid maps parse")];
         match thinning {
-            Thinning::Full => Axes { n: FULL_N.to_vec(), sizes: FULL_SIZES.to_vec(), hybrid },
-            _ => Axes { n: THIN_N.to_vec(), sizes: THIN_SIZES.to_vec(), hybrid },
+            Thinning::Full => Axes { n: FULL_N.to_vec(), sizes: FULL_SIZES.to_vec(), hybrid, cull: false },
+            _ => Axes { n: THIN_N.to_vec(), sizes: THIN_SIZES.to_vec(), hybrid, cull: false },
         }
     }
 }
@@ -152,10 +155,13 @@ pub fn method_specs(n: &[u32]) -> Vec<String> {
 pub fn settings(axes: &Axes, budget_mib: u32) -> Result<Vec<Group>> {
     let specs = method_specs(&axes.n);
     let methods = crate::studies::compare::methods_list::parse_methods(&specs)?;
+    // Culling rasterizes plain maps only: the hybrid groups keep the uncut grids.
+    let plain_specs: Vec<String> = if axes.cull { specs.iter().map(|s| if s.starts_with("regular:") { format!("{s},cull=on") } else { s.clone() }).collect() } else { specs.clone() };
+    let plain_methods = crate::studies::compare::methods_list::parse_methods(&plain_specs)?;
     let mut groups: Vec<Group> = Vec::new();
     for &size in &axes.sizes {
         let keep = |m: &Method| local_fits(size, budget_mib) || m.adaptive_params().map_or(true, |p| p.scope == crate::methods::Scope::Global);
-        let (specs, methods) = specs.iter().zip(&methods).filter(|(_, m)| keep(m)).map(|(s, m)| (s.clone(), m.clone())).unzip();
+        let (specs, methods) = plain_specs.iter().zip(&plain_methods).filter(|(_, m)| keep(m)).map(|(s, m)| (s.clone(), m.clone())).unzip();
         groups.push(Group { maps: Maps::Plain(size), specs, methods });
     }
     for &maps in &axes.hybrid {
@@ -256,6 +262,13 @@ mod tests {
                 assert_eq!(count_of(&axes, budget), count(&settings(&axes, budget).unwrap()));
             }
         }
+        // --cull: every regular grid on plain maps culls, the hybrid group's do not.
+        let axes = Axes { cull: true, ..Axes::of(&Thinning::Asked) };
+        let culled = settings(&axes, 512).unwrap();
+        assert_eq!(count(&culled), count(&thin));
+        assert_eq!(culled[0].specs.iter().filter(|s| s.starts_with("regular:") && s.ends_with(",cull=on")).count(), 2 * THIN_N.len());
+        assert!(culled[0].specs.contains(&"regular:n=5,layout=centred,cull=on".to_string()) && culled[0].methods.iter().zip(&culled[0].specs).all(|(m, s)| m.label() == *s || !s.starts_with("regular")));
+        assert!(culled[2].specs.iter().all(|s| !s.contains("cull=on") || s.starts_with("adaptive")), "hybrid: {:?}", culled[2].specs);
         assert_eq!(Thinning::choose(false, false, 1_000_000).unwrap(), Thinning::Automatic(1_000_000));
         assert_eq!(Thinning::choose(false, true, 1_000_000).unwrap(), Thinning::Full);
         assert!(Thinning::choose(true, true, 10).is_err());
