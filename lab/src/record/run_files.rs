@@ -91,14 +91,33 @@ pub struct VFigures {
 
 impl VFigures {
     pub fn of(v: &[f32], g: &GBufferCpu) -> VFigures {
-        let (mut s, mut n) = (0.0f64, 0usize);
+        let mut sum = VSum::default();
         for (i, x) in v.iter().enumerate() {
             if g.is_geometry(i) {
-                s += *x as f64;
-                n += 1;
+                sum.add(*x);
             }
         }
-        VFigures { geometry_pixels: n, mean_visibility: if n == 0 { 0.0 } else { s / n as f64 } }
+        sum.figures()
+    }
+}
+
+/// `VFigures` summed by a caller that passes over V anyway (the Python package, as it writes NaN
+/// on the background): it adds each geometry pixel's V in index order, as `VFigures::of` does,
+/// so the figures are the same to the bit.
+#[derive(Default)]
+pub struct VSum {
+    sum: f64,
+    pixels: usize,
+}
+
+impl VSum {
+    pub fn add(&mut self, v: f32) {
+        self.sum += v as f64;
+        self.pixels += 1;
+    }
+
+    pub fn figures(&self) -> VFigures {
+        VFigures { geometry_pixels: self.pixels, mean_visibility: if self.pixels == 0 { 0.0 } else { self.sum / self.pixels as f64 } }
     }
 }
 
