@@ -1,8 +1,8 @@
 //! `penumbra.Record`: a frame's run record (run.json's content), built when it is first read.
 //!
-//! Building the record and its dict costs about 33 µs, 2.5% of a warm 64² hard frame on lavapipe
-//! (results/python-overhead/), and a loop that renders for V alone never reads it. So `render`
-//! keeps the frame's few figures the record needs and builds the dict on the first read; V and the
+//! Building the record and its dict costs about 35 µs, 2.5 to 4% of a warm 64² hard frame on
+//! lavapipe (results/python-overhead/), and a loop that renders for V alone never reads it. So
+//! `render` keeps what the record is built from and builds the dict on the first read; V and the
 //! G-buffer are not kept (V went to numpy, the record needs only its `VFigures`).
 
 use penumbra_lab::frame::FrameResult;
