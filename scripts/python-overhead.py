@@ -1,5 +1,6 @@
-"""What the Python package adds to a warm render: the same 64² frames through `penumbra.Renderer.render`,
-through the same kept renderer with no Python in the loop (`Renderer._rust_frame_times`: the frame
+"""What the Python package adds to a warm render: the same 64² frames through `penumbra.Renderer.render`
+(as a loop that wants V, and as one that also reads the run record), through the same kept renderer
+with no Python in the loop (`Renderer._rust_frame_times`: the frame
 call `ShadowRenderer::render` makes), and through the Rust API in its own process on its own device
 (examples/frame_times.rs), in interleaved rounds.
 
@@ -8,7 +9,8 @@ call `ShadowRenderer::render` makes), and through the Rust API in its own proces
 
 Each round runs FRAMES timed frames per side (each side warmed up first; the Python renderer is
 kept across rounds, as a notebook keeps it), alternating which side goes first. Writes
-OUT_DIR/rows.csv (one row per frame) and prints the per-method medians and their ratio.
+OUT_DIR/rows.csv (one row per frame) and prints the per-method medians, and the median and the
+range over rounds of each round's ratio of medians.
 """
 
 import csv
@@ -31,11 +33,13 @@ def rust_frames(method, frames):
     return [float(line) for line in out.stdout.split()]
 
 
-def python_frames(renderer, method, frames):
+def python_frames(renderer, method, frames, read_record=False):
     times = []
     for _ in range(frames):
         start = time.perf_counter()
-        renderer.render(method)
+        _, record = renderer.render(method)
+        if read_record:
+            record["total_ms"]  # the first read builds the record's dict
         times.append((time.perf_counter() - start) * 1e3)
     return times
 
@@ -53,6 +57,7 @@ def main(out, rounds=7, frames=20):
                 ("rust-process", lambda: rust_frames(m, frames)),
                 ("rust-same-renderer", lambda: renderer._rust_frame_times(m, frames)),
                 ("python", lambda: python_frames(renderer, m, frames)),
+                ("python-record", lambda: python_frames(renderer, m, frames, read_record=True)),
             ]
             for side, run in sides if r % 2 == 0 else sides[::-1]:
                 rows += [{"round": r, "method": m, "side": side, "frame": i, "ms": t} for i, t in enumerate(run())]
@@ -60,16 +65,18 @@ def main(out, rounds=7, frames=20):
         w = csv.DictWriter(f, fieldnames=["round", "method", "side", "frame", "ms"])
         w.writeheader()
         w.writerows(rows)
-    sides = ["rust-process", "rust-same-renderer", "python"]
-    print(f"median ms of {rounds}x{frames} frames at {SIZE}x{SIZE}; python over each Rust side: the median of")
-    print("the rounds' ratios of medians (each round's sides ran back to back)")
-    print(f"{'method':<26} " + " ".join(f"{s:>18}" for s in sides) + f" {'/same-renderer':>15} {'/process':>9}")
+    sides = ["rust-process", "rust-same-renderer", "python", "python-record"]
+    print(f"{rounds}x{frames} frames at {SIZE}x{SIZE}: median ms of all frames; a python side over a Rust")
+    print("side: the median [min, max] over rounds of each round's ratio of medians (its sides ran back to back)")
     for m in METHODS:
         def med(side, r=None):
             return statistics.median(x["ms"] for x in rows if x["method"] == m and x["side"] == side and r in (None, x["round"]))
-        ratio = {s: statistics.median(med("python", r) / med(s, r) for r in range(rounds)) for s in sides[:2]}
-        cells = " ".join(f"{med(s):18.3f}" for s in sides)
-        print(f"{m:<26} {cells} {ratio['rust-same-renderer']:15.3f} {ratio['rust-process']:9.3f}")
+        print(m + ": " + ", ".join(f"{s} {med(s):.3f}" for s in sides))
+        for p in sides[2:]:
+            for s in sides[:2]:
+                ratios = [med(p, r) / med(s, r) for r in range(rounds)]
+                print(f"  {p} / {s}: {statistics.median(ratios):.3f} [{min(ratios):.3f}, {max(ratios):.3f}]")
+
 
 if __name__ == "__main__":
     if len(sys.argv) < 2:

@@ -10,9 +10,12 @@ CPU ground truth, compare's metrics and studies as numpy arrays and dicts.
 docs/python.md is the guide.
 """
 
+from collections.abc import Mapping
+
 from ._penumbra import (
     GpuError,
     PenumbraError,
+    Record,
     Reference,
     Renderer,
     Scene,
@@ -26,6 +29,7 @@ from ._penumbra import (
 __all__ = [
     "GpuError",
     "PenumbraError",
+    "Record",
     "Reference",
     "Renderer",
     "Scene",
@@ -36,6 +40,9 @@ __all__ = [
     "reference",
     "rows_to_frame",
 ]
+
+# A run record reads as a dict does (built on first read); it is a Mapping for isinstance checks.
+Mapping.register(Record)
 
 
 def rows_to_frame(rows):

@@ -6,6 +6,7 @@
 //! itself become `penumbra.GpuError`, its subclass.
 
 mod context;
+mod record;
 mod renderer;
 mod scene;
 mod truth;
@@ -78,6 +79,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<renderer::Renderer>()?;
+    m.add_class::<record::Record>()?;
     m.add_class::<truth::Reference>()?;
     m.add_function(wrap_pyfunction!(truth::reference, m)?)?;
     m.add_function(wrap_pyfunction!(truth::metrics, m)?)?;

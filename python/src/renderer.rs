@@ -1,13 +1,15 @@
 //! `penumbra.Renderer`: methods built once per scene and kept, so repeated renders cost what
 //! `ShadowRenderer::render` costs in Rust.
 
+use crate::record::{Pending, Record};
 use crate::scene::Scene;
+use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
-use penumbra_lab::frame::{self, FrameOptions, FrameResult};
+use penumbra_lab::frame::{self, FrameOptions};
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::GpuContext;
 use penumbra_lab::methods::Method;
-use penumbra_lab::record::run_files;
+use penumbra_lab::record::run_files::VSum;
 use penumbra_lab::scene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -19,7 +21,8 @@ use std::sync::{Arc, Mutex};
 /// dropped first.
 struct Built {
     renderer: frame::Renderer<'static>,
-    method: Method,
+    /// Shared with the records of its frames.
+    method: Arc<Method>,
 }
 
 // SAFETY: a method's state is a `Box<dyn MethodState>` whose trait carries no `Send` bound, but
@@ -28,9 +31,15 @@ struct Built {
 // the `Mutex` in `Renderer`, so one thread at a time renders with it (the GIL is released then).
 unsafe impl Send for Built {}
 
+/// A method spec and its parameters as `render` received them.
+type Request = (String, Vec<(String, String)>);
+
 #[pyclass(module = "penumbra", frozen)]
 pub struct Renderer {
     built: Mutex<HashMap<String, Built>>,
+    /// The label each request parsed to: a repeated render skips the parse and the light check
+    /// (only accepted requests are kept, so a refused one is refused with its message again).
+    labels: Mutex<HashMap<Request, String>>,
     ctx: Arc<GpuContext>,
     scene: Arc<scene::Scene>,
 }
@@ -38,7 +47,13 @@ pub struct Renderer {
 /// V as (H, W) float32 with NaN on background pixels (the engine writes 0 there).
 pub fn visibility_array<'py>(py: Python<'py>, values: &[f32], g: &penumbra_lab::render::gbuffer::GBufferCpu) -> PyResult<Bound<'py, PyArray2<f32>>> {
     let v: Vec<f32> = values.iter().enumerate().map(|(i, &x)| if g.is_geometry(i) { x } else { f32::NAN }).collect();
-    v.into_pyarray(py).reshape([g.height as usize, g.width as usize])
+    numpy_image(py, v, g)
+}
+
+/// A (H, W) numpy array that owns `v`'s buffer (no copy).
+fn numpy_image<'py>(py: Python<'py>, v: Vec<f32>, g: &penumbra_lab::render::gbuffer::GBufferCpu) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let a = Array2::from_shape_vec((g.height as usize, g.width as usize), v).map_err(|e| crate::PenumbraError::new_err(format!("V: {e}")))?;
+    Ok(a.into_pyarray(py))
 }
 
 impl Renderer {
@@ -46,31 +61,32 @@ impl Renderer {
     /// one untimed warm-up frame, as `penumbra render` does) on first use. The GIL is released meanwhile.
     fn with_built<T: Send>(&self, py: Python<'_>, spec: &str, params: &[(String, String)], work: impl FnOnce(&mut Built) -> penumbra_lab::Result<T> + Send) -> PyResult<T> {
         py.detach(|| -> penumbra_lab::Result<T> {
-            let method = Method::parse(spec, params)?;
-            method.check_light(&self.scene)?;
+            let request: Request = (spec.to_string(), params.to_vec());
+            let known = self.labels.lock().unwrap_or_else(|e| e.into_inner()).get(&request).cloned();
             let mut built = self.built.lock().unwrap_or_else(|e| e.into_inner());
-            let key = method.label();
-            if !built.contains_key(&key) {
-                // SAFETY: see `Built`: both live in `Arc`s this renderer holds for longer than `built`.
-                let ctx: &'static GpuContext = unsafe { &*Arc::as_ptr(&self.ctx) };
-                let scene: &'static scene::Scene = unsafe { &*Arc::as_ptr(&self.scene) };
-                let mut renderer = frame::Renderer::new(ctx, scene, &method)?;
-                renderer.frame(TimingMode::Frame)?;
-                built.insert(key.clone(), Built { renderer, method });
-            }
+            let key = match known {
+                Some(label) => label,
+                None => {
+                    let method = Method::parse(spec, params)?;
+                    method.check_light(&self.scene)?;
+                    let key = method.label();
+                    if !built.contains_key(&key) {
+                        // SAFETY: see `Built`: both live in `Arc`s this renderer holds for longer than `built`.
+                        let ctx: &'static GpuContext = unsafe { &*Arc::as_ptr(&self.ctx) };
+                        let scene: &'static scene::Scene = unsafe { &*Arc::as_ptr(&self.scene) };
+                        let mut renderer = frame::Renderer::new(ctx, scene, &method)?;
+                        renderer.frame(TimingMode::Frame)?;
+                        built.insert(key.clone(), Built { renderer, method: Arc::new(method) });
+                    }
+                    self.labels.lock().unwrap_or_else(|e| e.into_inner()).insert(request, key.clone());
+                    key
+                }
+            };
             work(built.get_mut(&key).expect("built above"))
         })
         .map_err(crate::to_py)
     }
 
-    /// One frame and its run record.
-    fn frame(&self, py: Python<'_>, spec: &str, params: &[(String, String)], pictures: bool) -> PyResult<(FrameResult, serde_json::Value)> {
-        self.with_built(py, spec, params, |b| {
-            let f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures })?;
-            let record = run_files::run_record(&self.scene, &b.method, &f, &self.ctx.summary, self.ctx.timestamps_trusted);
-            Ok((f, record))
-        })
-    }
 }
 
 #[pymethods]
@@ -80,16 +96,34 @@ impl Renderer {
     #[pyo3(signature = (scene, adapter=None))]
     fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>) -> PyResult<Renderer> {
         let ctx = crate::context::get(py, adapter)?;
-        Ok(Renderer { built: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone() })
+        Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone() })
     }
 
     /// Renders `method` (a spec as `penumbra render --method` takes it; keyword arguments are its
     /// parameters, as `--param`) and returns `(V, record)`: V as float32 (H, W), top row first, NaN
-    /// on the background; the record is run.json's content as a dict.
+    /// on the background; the record is run.json's content as a `Record`, read as a dict is.
     #[pyo3(signature = (method, **params))]
-    fn render<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyAny>)> {
-        let (f, record) = self.frame(py, method, &crate::pairs(params)?, false)?;
-        Ok((visibility_array(py, &f.visibility, &f.gbuffer)?, crate::json_to_py(py, &record)?))
+    fn render<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
+        let (v, pending) = self.with_built(py, method, &crate::pairs(params)?, |b| {
+            let mut f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            // One pass writes NaN on the background and sums the record's figures of V (a second
+            // pass cost 6 µs at 64² on lavapipe's cores); V then goes to numpy as it is. The record
+            // keeps those two figures and none of the G-buffer: a few hundred bytes, not a frame's worth.
+            let mut v = std::mem::take(&mut f.visibility);
+            let mut sum = VSum::default();
+            for (i, x) in v.iter_mut().enumerate() {
+                if f.gbuffer.is_geometry(i) {
+                    sum.add(*x);
+                } else {
+                    *x = f32::NAN;
+                }
+            }
+            let figures = sum.figures();
+            let g = &mut f.gbuffer;
+            (g.position, g.normal, g.shading_normal) = Default::default();
+            Ok((v, Pending { scene: self.scene.clone(), ctx: self.ctx.clone(), method: b.method.clone(), frame: f, v: figures }))
+        })?;
+        Ok((numpy_image(py, v, &pending.frame.gbuffer)?, Record::new(pending)))
     }
 
     /// The method's decision pictures of one frame as uint8 (H, W, 3) arrays by name (adaptive:
@@ -98,7 +132,7 @@ impl Renderer {
     /// error (`regular:…,estimate=on`, `auto`).
     #[pyo3(signature = (method, **params))]
     fn pictures<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<Bound<'py, PyDict>> {
-        let (f, _) = self.frame(py, method, &crate::pairs(params)?, true)?;
+        let f = self.with_built(py, method, &crate::pairs(params)?, |b| Ok(b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: true })?))?;
         let out = PyDict::new(py);
         for (name, image) in &f.output.pictures {
             let (w, h) = (image.width(), image.height());

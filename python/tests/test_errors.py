@@ -29,6 +29,26 @@ def test_a_bad_render_setting_and_a_bad_parameter(renderer):
     assert str(e.value) == "adaptive: parameter p_m = `banana` is not a number"
 
 
+def test_a_bad_adapter_method_or_parameter_is_refused_as_on_the_command_line(scene, renderer):
+    with pytest.raises(penumbra.GpuError) as e:
+        penumbra.Renderer(scene, adapter="no-such-adapter")
+    assert str(e.value) == cli_error("render", "--scene", SCENE, "--adapter", "no-such-adapter")
+    assert str(e.value).startswith('adapter name "no-such-adapter": no adapter\'s name contains it (adapters seen: ')
+    cli = cli_error("render", "--scene", SCENE, "--method", "nosuch")
+    assert cli.startswith("unknown method `nosuch` (known: hard, pcf, pcss, ")
+    # A refused request is refused again with its message: only accepted ones are remembered.
+    for _ in range(2):
+        with pytest.raises(penumbra.PenumbraError) as e:
+            renderer.render("nosuch")
+        assert str(e.value) == cli
+        with pytest.raises(penumbra.PenumbraError) as e:
+            renderer.render("hard", bogus=1)
+        assert str(e.value) == cli_error("render", "--scene", SCENE, "--method", "hard", "--param", "bogus=1")
+        assert str(e.value) == "method `hard` has no parameter `bogus` (its parameters: none)"
+    v, _ = renderer.render("hard")
+    assert v.shape == (SIZE, SIZE)
+
+
 def test_meshes_from_arrays_are_checked_as_a_scene_file_is():
     ground = (SQUARE * 15, [0, 1, 2, 0, 2, 3])
     scene = penumbra.Scene.from_meshes([ground, (SQUARE * 2 + [0, 4, 0], [[0, 1, 2], [0, 2, 3]])], CAMERA, LIGHT, resolution=32, cull="none")
@@ -40,7 +60,10 @@ def test_meshes_from_arrays_are_checked_as_a_scene_file_is():
     assert np.nanmin(v) == 0.0 and np.nanmax(v) == 1.0 and 0.0 < np.nanmean(v) < 1.0
     with pytest.raises(penumbra.PenumbraError) as e:
         penumbra.Scene.from_meshes([(SQUARE, [0, 1, 7])], CAMERA, LIGHT)
-    assert "mesh 1" in str(e.value) and "7" in str(e.value)
+    assert str(e.value) == "embedded scene: mesh 1: index 7 is out of range (4 positions)"
+    with pytest.raises(penumbra.PenumbraError) as e:
+        penumbra.Scene.from_meshes([ground, (SQUARE[:, :2], [0, 1, 2])], CAMERA, LIGHT)
+    assert str(e.value) == "mesh 2 positions: expected an (N, 3) array, got shape [4, 2]"
     with pytest.raises(penumbra.PenumbraError, match=r"^embedded scene: light: give either edge_u and edge_v, or size and normal \(with optional u_axis\)$"):
         penumbra.Scene.from_meshes([ground], CAMERA, {"center": [0, 10, 0], "edge_u": [4, 0, 0]})
 
@@ -97,3 +120,10 @@ def test_a_light_of_any_kind_from_a_dict_is_the_scene_files(tmp_path):
     cli = cli_error("render", "--scene", str(path))
     assert str(e.value).startswith("embedded scene: ") and cli.startswith(f"{path}: ")
     assert str(e.value)[len("embedded scene: "):] == cli[len(f"{path}: "):]
+
+
+def test_read_exr_names_a_missing_file(tmp_path):
+    missing = tmp_path / "visibility.exr"
+    with pytest.raises(penumbra.PenumbraError) as e:
+        penumbra.read_exr(missing)
+    assert str(e.value) == f"{missing}: No such file or directory (os error 2)"

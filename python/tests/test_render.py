@@ -1,5 +1,8 @@
 """V from Python equals `penumbra render`'s, bit for bit; the pictures and the record."""
 
+import json
+from collections.abc import Mapping
+
 import numpy as np
 import pytest
 
@@ -7,6 +10,9 @@ import penumbra
 from conftest import SCENE, SIZE, cli
 
 METHODS = ["hard", "pcss", "regular:n=5,layout=centred", "adaptive:preset=balanced"]
+# run.json's keys that depend on how the frame was timed: `penumbra render` times its stages,
+# `render` times the frame (as compare's timed frames are), and only the command line warms up.
+TIMED = {"timing", "timing_waits", "total_ms", "stages_ms", "gpu_stages_ms", "frame_split_ms", "decision_stages_ms", "decision_share", "warm_up_frames"}
 
 
 def bits(a):
@@ -26,6 +32,28 @@ def test_v_equals_the_command_lines_bit_for_bit(method, renderer, tmp_path):
     assert np.array_equal(bits(v[~background]), bits(theirs[~background])), method
     assert record["label"] == method and record["resolution"] == [SIZE, SIZE]
     assert record["geometry_pixels"] == int((~background).sum())
+    # Built on first read, the record is run.json's, figure for figure, but for the timing.
+    run = json.loads((tmp_path / "run.json").read_text())
+    assert set(run) - set(record) == {"warm_up_frames"} and set(record) <= set(run)
+    assert {k: v for k, v in run.items() if k not in TIMED} == {k: v for k, v in record.items() if k not in TIMED}
+    assert record["timing"] == "frame" and record["total_ms"] > 0
+
+
+def test_the_record_reads_as_a_dict(renderer):
+    _, record = renderer.render("adaptive:preset=balanced")
+    assert isinstance(record, penumbra.Record) and isinstance(record, Mapping)
+    plain = record.to_dict()
+    assert type(plain) is dict and plain == record and record == plain and dict(record) == plain
+    assert list(record) == list(record.keys()) == list(plain) and len(record) == len(plain) > 20
+    assert "method_record" in record and "no_such_key" not in record and record.get("no_such_key", 7) == 7
+    assert record["method_record"] == plain["method_record"] != {}
+    with pytest.raises(KeyError, match="no_such_key"):
+        record["no_such_key"]
+    # to_dict gives its own copy: changing it leaves the record as it was.
+    plain["method_record"]["added"] = 1
+    assert "added" not in record["method_record"]
+    assert json.loads(json.dumps(record.to_dict())) == record
+    assert repr(record).startswith("Record({") and "'label': 'adaptive:preset=balanced'" in repr(record)
 
 
 def test_a_kept_renderer_renders_the_same_v_again(renderer):

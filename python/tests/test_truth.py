@@ -42,16 +42,55 @@ def test_reference_metrics_and_compare_equal_the_command_lines(scene, renderer, 
     assert 0.0 < rows[0]["metrics"]["rmse"] < 0.5
 
 
-def test_compare_is_quiet_without_a_terminal():
-    """Progress and compare's per-method lines go to a terminal only: a pipe gets none of them."""
-    code = (
-        "import penumbra; s = penumbra.Scene.load('analytic-square', resolution=64); "
-        "rows = penumbra.compare(s, 'hard,pcss', repeats=1, samples=8); print(len(rows))"
-    )
+# Long work: a reference traced afresh, then compare with repeats.
+LONG_WORK = (
+    "import penumbra; s = penumbra.Scene.load('analytic-square', resolution=64); "
+    "ref = penumbra.reference(s, samples=8, no_cache=True); "
+    "rows = penumbra.compare(s, 'hard,pcss', repeats=2, samples=8); print(len(rows), ref.seconds is not None)"
+)
+
+
+def run_long_work(stderr):
+    """Runs LONG_WORK in a fresh interpreter with stderr to `stderr`; returns the process."""
     env = {k: v for k, v in os.environ.items() if k != "PENUMBRA_NO_PROGRESS"}
-    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    p = subprocess.run([sys.executable, "-c", LONG_WORK], stdout=subprocess.PIPE, stderr=stderr, text=True, env=env)
     assert p.returncode == 0, p.stderr
-    assert p.stdout == "2\n"
+    assert p.stdout == "2 True\n"
+    return p
+
+
+def test_long_work_is_quiet_without_a_terminal():
+    """Progress and compare's per-method lines go to a terminal only: a pipe gets none of them."""
+    p = run_long_work(subprocess.PIPE)
     # Mesa may say why it has no display (XDG_RUNTIME_DIR); nothing from penumbra.
     ours = [line for line in p.stderr.splitlines() if "XDG_RUNTIME_DIR" not in line]
     assert ours == [], ours
+
+
+def test_long_work_shows_progress_on_a_terminal():
+    """The same work with stderr on a terminal draws the reference's and the frames' bars and
+    prints compare's line per method."""
+    import pty
+    import re
+
+    master, terminal = pty.openpty()
+    try:
+        run_long_work(terminal)
+        os.close(terminal)
+        seen = b""
+        while True:
+            try:
+                chunk = os.read(master, 1 << 16)
+            except OSError:  # the terminal's other end is closed: all was read
+                break
+            if not chunk:
+                break
+            seen += chunk
+    finally:
+        os.close(master)
+    text = re.sub(r"\x1b\[[0-9]*[A-Za-z]", "", seen.decode()).replace("\r", "\n")
+    # Each bar draws when it starts; later draws are rate-limited, so only the starts are sure.
+    assert re.search(r"reference continuous 8x8 \[ +\] 0/4096", text), text[:2000]
+    assert re.search(r"frames +\[ +\] 0/8", text), text[:2000]
+    for method in ("hard", "pcss"):
+        assert re.search(rf"^{method}: 1 shadow maps, median [0-9.]+ ms \(min [0-9.]+, max [0-9.]+\), RMSE 0\.[0-9]+$", text, re.M), text[:2000]

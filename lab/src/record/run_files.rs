@@ -79,7 +79,52 @@ pub use crate::version;
 
 /// The run record (run.json).
 pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, timestamps_trusted: bool) -> serde_json::Value {
-    let geometry = r.gbuffer.geometry_count();
+    run_record_of(scene, method, r, VFigures::of(&r.visibility, &r.gbuffer), adapter, timestamps_trusted)
+}
+
+/// What a run record says of V: its geometry pixels and the mean of V over them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VFigures {
+    pub geometry_pixels: usize,
+    pub mean_visibility: f64,
+}
+
+impl VFigures {
+    pub fn of(v: &[f32], g: &GBufferCpu) -> VFigures {
+        let mut sum = VSum::default();
+        for (i, x) in v.iter().enumerate() {
+            if g.is_geometry(i) {
+                sum.add(*x);
+            }
+        }
+        sum.figures()
+    }
+}
+
+/// `VFigures` summed by a caller that passes over V anyway (the Python package, as it writes NaN
+/// on the background): it adds each geometry pixel's V in index order, as `VFigures::of` does,
+/// so the figures are the same to the bit.
+#[derive(Default)]
+pub struct VSum {
+    sum: f64,
+    pixels: usize,
+}
+
+impl VSum {
+    pub fn add(&mut self, v: f32) {
+        self.sum += v as f64;
+        self.pixels += 1;
+    }
+
+    pub fn figures(&self) -> VFigures {
+        VFigures { geometry_pixels: self.pixels, mean_visibility: if self.pixels == 0 { 0.0 } else { self.sum / self.pixels as f64 } }
+    }
+}
+
+/// `run_record` with V's figures taken before: the frame's V and G-buffer are not read, so a
+/// caller that handed them on (the Python package gives V to numpy and builds the record only
+/// when it is read) keeps just these two numbers.
+pub fn run_record_of(scene: &Scene, method: &Method, r: &FrameResult, v: VFigures, adapter: &AdapterSummary, timestamps_trusted: bool) -> serde_json::Value {
     let staged = r.timing == crate::gpu::timing::TimingMode::Stages;
     serde_json::json!({
         "scene": scene.name,
@@ -90,7 +135,7 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "params": method.params_json(),
         "adapter": adapter,
         "resolution": [scene.render.width, scene.render.height],
-        "geometry_pixels": geometry,
+        "geometry_pixels": v.geometry_pixels,
         "shadow_map_size": scene.render.shadow_map_size,
         "render": scene.render,
         "raster": r.raster,
@@ -111,7 +156,7 @@ pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Ada
         "decision_stages_ms": staged.then(|| decision_ms(&r.stages_ms)),
         "decision_share": staged.then(|| if r.total_ms > 0.0 { decision_ms(&r.stages_ms) / r.total_ms } else { 0.0 }),
         "method_record": r.output.record,
-        "mean_visibility": mean(&r.visibility, &r.gbuffer),
+        "mean_visibility": v.mean_visibility,
         "version": version(),
     })
 }
@@ -142,17 +187,6 @@ pub fn measured_record(mut record: serde_json::Value, t: &crate::record::measure
         out.extend(add);
     }
     record
-}
-
-fn mean(v: &[f32], g: &GBufferCpu) -> f64 {
-    let (mut s, mut n) = (0.0f64, 0usize);
-    for (i, x) in v.iter().enumerate() {
-        if g.is_geometry(i) {
-            s += *x as f64;
-            n += 1;
-        }
-    }
-    if n == 0 { 0.0 } else { s / n as f64 }
 }
 
 /// Encodes the standard files of one run.
