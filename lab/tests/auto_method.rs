@@ -95,7 +95,8 @@ fn auto_prices_maps_by_measure_or_by_texels() {
         let prices: Vec<(u32, f64)> = rec["map_cost"]["per_map"].as_object().unwrap().iter().map(|(k, v)| (k.parse().unwrap(), v.as_f64().unwrap())).collect();
         let mut sizes: Vec<u32> = prices.iter().map(|p| p.0).collect();
         sizes.sort();
-        assert_eq!(sizes, vec![256, 512, 1024], "every size up to max_size is priced: {rec}");
+        // 256² maps are off the ladder (the calibration was fitted from 512², docs/budget.md).
+        assert_eq!(sizes, vec![512, 1024], "every size of the ladder up to max_size is priced: {rec}");
         assert!(prices.iter().all(|p| p.1.is_finite() && p.1 > 0.0), "{rec}");
         if model == "texels" {
             assert!(prices.iter().all(|&(z, c)| c == z as f64 / 512.0), "{rec}");

@@ -159,6 +159,7 @@ fn line(spec: &str, ms: f64, rmse: f64, kind: &str, failed: Option<&str>) -> Fro
         raster: String::new(),
         oracle: None,
         budget: None,
+        paired: None,
         failed: failed.map(String::from),
     }
 }

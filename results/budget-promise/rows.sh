@@ -4,7 +4,7 @@ echo "scene,target,maps,rmse,measured_over_target,target_met,predicted,median_ms
 for f in "$@"; do
   jq -rs '
     (map(select(.kind != "error budget" and .failed == null)) ) as $fixed
-    | .[] | select(.kind == "error budget") | . as $b
+    | .[] | select(.kind == "error budget" and (.spec | startswith("auto:"))) | . as $b
     | ($b.spec | capture("target=(?<t>[0-9.]+)").t | tonumber) as $t
     | ($fixed | map(select((.spec + " @ " + .map_config) == $b.oracle)) | first) as $o
     | [$b.scene, $t, $b.maps, $b.rmse, ($b.rmse / $t), $b.budget.target_met, $b.budget.predicted, $b.frame_ms, $b.budget.search_ms, $b.budget.tries,

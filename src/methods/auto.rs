@@ -1,6 +1,7 @@
 //! auto: an error budget (docs/error-estimate.md §6). Frame by frame it chooses the sample count
-//! and the map size of the centred grid whose predicted RMSE of V (the estimate, no reference)
-//! meets `target`: it renders the current choice with the estimate, and while the prediction
+//! and the map size of the centred grid whose predicted RMSE of V (the calibrated estimate, no
+//! reference) meets `target`, among the grids the calibration was fitted on (odd sides, maps of
+//! 512² and up: `sides`, `sizes`): it renders the current choice with the estimate, and while the prediction
 //! misses the target it moves to the cheapest grid that the prediction says meets it (more
 //! samples lower the sampling error and the part of the maps' error that averages over samples;
 //! larger maps lower all of the maps' error). The state's first search also steps down from a try
@@ -55,6 +56,20 @@ pub const DEFAULT_FILTERS: &str = "pcss+msm";
 
 /// The map sizes it steps through.
 pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
+/// The grid sides it chooses from: the odd ones from 3 to `max_n` (2 alone where `max_n` is 2),
+/// the grids the calibration was fitted on (`calibration::fitted_side`).
+pub fn sides(max_n: u32) -> Vec<u32> {
+    let odd: Vec<u32> = (3..=max_n).filter(|&n| calibration::fitted_side(n)).collect();
+    if odd.is_empty() { vec![max_n] } else { odd }
+}
+
+/// The map sizes it chooses from: 512² (`calibration::MIN_FITTED_SIZE`) to `max_size` (256²
+/// alone where `max_size` is 256).
+pub fn sizes(max_size: u32) -> Vec<u32> {
+    let fitted: Vec<u32> = SIZES.iter().copied().filter(|&z| z >= calibration::MIN_FITTED_SIZE && z <= max_size).collect();
+    if fitted.is_empty() { vec![max_size] } else { fitted }
+}
+
 /// The first frame's choice: the smallest grid with half sets in both axes at 512² maps.
 const START: (u32, u32) = (3, 512);
 /// At most this many tries in one frame (each a full render of a grid).
@@ -196,7 +211,7 @@ impl Costs {
     /// Double per doubling of the side. From 512² to 1024² maps a map costs 1.1–1.3× more on the
     /// meshes and 1.6–2.9× on the small analytic scenes on lavapipe (docs/error-estimate.md §6).
     pub fn texels(max_size: u32) -> Costs {
-        Costs(SIZES.iter().filter(|&&z| z <= max_size).map(|&z| (z, z as f64 / 512.0)).collect())
+        Costs(sizes(max_size).into_iter().map(|z| (z, z as f64 / 512.0)).collect())
     }
     fn of(&self, size: u32) -> f64 {
         self.0.iter().find(|(z, _)| *z == size).map_or(f64::INFINITY, |(_, c)| *c)
@@ -210,7 +225,7 @@ fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<Costs> {
         CostModel::Texels => Ok(Costs::texels(max_size)),
         CostModel::Measured => {
             let mut priced = Vec::new();
-            for &z in SIZES.iter().filter(|&&z| z <= max_size) {
+            for z in sizes(max_size) {
                 let ms = crate::stages::raster_timing::map_ms(fg.ctx, fg.scene, &fg.scene_gpu, &fg.raster, z)?;
                 // A larger map never costs less to raster than a smaller one; a timing that says so
                 // is the clock's noise (a busy CPU device), and would send the search to it.
@@ -234,13 +249,13 @@ pub fn predicted_at(n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f
     (s * s + m2).sqrt()
 }
 
-/// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), with n ≥ 2 and maps up
-/// to `max_size`, that `predicted_at` says meets `target` too; None if none does.
+/// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), of `sides(max_n)` and
+/// `sizes(max_size)`, that `predicted_at` says meets `target` too; None if none does.
 pub fn cheaper_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs, tried: &[(u32, u32)]) -> Option<(u32, u32)> {
     let here = (n * n) as f64 * costs.of(size);
     let mut best: Option<(f64, (u32, u32))> = None;
-    for &size2 in SIZES.iter().filter(|&&z| z <= max_size) {
-        for n2 in 2..=max_n {
+    for size2 in sizes(max_size) {
+        for n2 in sides(max_n) {
             let cost = (n2 * n2) as f64 * costs.of(size2);
             if cost >= here {
                 break;
@@ -253,13 +268,13 @@ pub fn cheaper_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u3
     best.map(|(_, choice)| choice)
 }
 
-/// The cheapest grid (its maps at `costs`' price) at n ≥ `n` and maps ≥ `size`, other than
+/// The cheapest grid (its maps at `costs`' price) of `sides` at n ≥ `n` and `sizes` at maps ≥ `size`, other than
 /// (n, size), that `predicted_at` says meets `target`; None if none does.
 fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
     let mut best: Option<(f64, (u32, u32))> = None;
-    for &size2 in SIZES.iter().filter(|&&z| z >= size && z <= max_size) {
+    for size2 in sizes(max_size).into_iter().filter(|&z| z >= size) {
         // At one size the prediction only falls with n: the first n that meets it is that size's cheapest.
-        let meets = (n..=max_n).filter(|&n2| (n2, size2) != (n, size)).find(|&n2| predicted_at(n, size, p, n2, size2) <= target);
+        let meets = sides(max_n).into_iter().filter(|&n2| n2 >= n && (n2, size2) != (n, size)).find(|&n2| predicted_at(n, size, p, n2, size2) <= target);
         if let Some(n2) = meets {
             let cost = (n2 * n2) as f64 * costs.of(size2);
             if best.is_none_or(|(c, _)| cost < c) {
@@ -284,7 +299,9 @@ pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, m
         return Some(choice);
     }
     let share = target / std::f64::consts::SQRT_2;
-    let (can_n, can_size) = (n < max_n, size < max_size);
+    let ladder = sides(max_n);
+    let top = *ladder.last().expect("at least one side");
+    let (can_n, can_size) = (n < top, size < max_size);
     let mut grow_size = p.predicted_map > share && can_size;
     if !can_size && p.predicted_map >= target {
         return None;
@@ -301,7 +318,8 @@ pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, m
     }
     let n2 = if grow_n {
         let want = n as f64 * (p.predicted_sampling / sampling_share).powf(1.0 / SAMPLING_ORDER);
-        (want.ceil() as u32).max(n + 1).min(max_n)
+        let want = (want.ceil() as u32).max(n + 1);
+        ladder.iter().copied().find(|&n2| n2 >= want).unwrap_or(top)
     } else {
         n
     };
@@ -571,11 +589,13 @@ mod tests {
         assert_eq!(next_choice(5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048, &tx()), Some((7, 512)));
         // The maps alone over the target: doubling them (predicted 0.0053 + 0.0035) meets it.
         assert_eq!(next_choice(5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048, &tx()), Some((5, 1024)));
-        // Both at 0.0078: 4×4 at 256² is predicted to meet 0.01 (16 maps of cost ½), cheaper
-        // than any grid at 512².
-        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048, &tx()), Some((4, 256)));
+        // Both at 0.0078 at 256²: 4×4 there would be predicted to meet 0.01 (16 maps of cost ½),
+        // but neither an even side nor 256² maps is a grid the calibration was fitted on: 3×3 at
+        // 512² (0.0087, cost 9).
+        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048, &tx()), Some((3, 512)));
         // Maps at their largest, their error under the target: n takes the rest of it.
-        // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2.
+        // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2,
+        // and the next odd side is 7.
         assert_eq!(next_choice(5, 2048, &p(0.006, 0.009), 0.01, 17, 2048, &tx()), Some((7, 2048)));
         // Maps at their largest and their error alone over the target: out of reach.
         assert_eq!(next_choice(5, 2048, &p(0.001, 0.011), 0.01, 17, 2048, &tx()), None);
@@ -585,10 +605,15 @@ mod tests {
         assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), None);
         // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
         // floor 0.049 against 0.012): nothing meets it, so n grows only to keep sampling under
-        // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 4, not to 0.012 / √2 (which asks for 8).
-        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048, &tx()), Some((4, 1024)));
-        assert_eq!(next_choice(4, 1024, &p(0.024, 0.150), 0.012, 17, 2048, &tx()), Some((4, 2048)));
-        assert_eq!(next_choice(4, 2048, &p(0.020, 0.117), 0.012, 17, 2048, &tx()), None);
+        // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 5 (odd), not to 0.012 / √2 (which asks for 9).
+        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048, &tx()), Some((5, 1024)));
+        assert_eq!(next_choice(5, 1024, &p(0.020, 0.150), 0.012, 17, 2048, &tx()), Some((5, 2048)));
+        assert_eq!(next_choice(5, 2048, &p(0.016, 0.117), 0.012, 17, 2048, &tx()), None);
+        // The ladder: odd sides from 3 (2 alone under max_n = 2), maps from 512² (256² alone under
+        // max_size = 256).
+        assert_eq!((sides(17), sides(8), sides(2)), (vec![3, 5, 7, 9, 11, 13, 15, 17], vec![3, 5, 7], vec![2]));
+        assert_eq!((sizes(2048), sizes(512), sizes(256)), (vec![512, 1024, 2048], vec![512], vec![256]));
+        assert_eq!(next_choice(2, 256, &p(0.02, 0.02), 0.01, 2, 256, &Costs::texels(256)), None);
         // The same maps under a target that 2048² meets (0.049 and 0.031 against 0.06) and 1024²
         // cannot (0.098): straight to 2048².
         assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048, &tx()), Some((3, 2048)));
@@ -597,12 +622,12 @@ mod tests {
     #[test]
     fn maps_error_that_averages_over_samples_buys_samples_not_texels() {
         // overlapping-occluders-like at 3×3, 512²: sampling 0.02, maps 0.023 of which 0.021
-        // averages over samples. Against 0.012: with the averaging part, 6×6 at 1024² (predicted
-        // maps 0.0070, sampling 0.0071; cost 72); without it the maps must shrink by texels alone,
-        // and 5×5 at 2048² (cost 100) is the cheapest.
+        // averages over samples. Against 0.012: with the averaging part, 7×7 at 1024² (predicted
+        // maps 0.0065, sampling 0.0056; cost 98); without it the maps must shrink by texels alone
+        // (7×7 at 1024² would read 0.0128), and 5×5 at 2048² (cost 100) is the cheapest.
         let with = pa(0.02, 0.023, 0.021);
-        assert_eq!(next_choice(3, 512, &with, 0.012, 17, 2048, &tx()), Some((6, 1024)));
-        assert!((predicted_at(3, 512, &with, 6, 1024) - 0.00998).abs() < 1e-4, "{}", predicted_at(3, 512, &with, 6, 1024));
+        assert_eq!(next_choice(3, 512, &with, 0.012, 17, 2048, &tx()), Some((7, 1024)));
+        assert!((predicted_at(3, 512, &with, 7, 1024) - 0.00859).abs() < 1e-4, "{}", predicted_at(3, 512, &with, 7, 1024));
         assert_eq!(next_choice(3, 512, &p(0.02, 0.023), 0.012, 17, 2048, &tx()), Some((5, 2048)));
         // Every bit of it averaging: at the same maps, m falls as 1/n: 3 → 9 thirds it.
         let all = pa(0.0, 0.03, 0.03);
@@ -617,32 +642,35 @@ mod tests {
         // bunny at 128² from 3×3 at 512² (predicted 0.0315: sampling 0.0161, maps 0.0270 of which
         // 0.0218 averages), priced as lavapipe's compute raster timed it: 31.0, 36.2 and 51.6 ms per
         // map at 512², 1024² and 2048². Under `texels` a 2048² map costs four 512² ones; measured, 1.7.
+        // Against 0.012: 7×7 at 1024² (98 units) under `texels`, 5×5 at 2048² (1290 ms) measured.
         let bunny = pa(0.0161, 0.0270, 0.0218);
-        let timed = Costs(vec![(256, 30.5), (512, 31.0), (1024, 36.2), (2048, 51.6)]);
-        assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &tx()), Some((4, 512)));
+        let timed = Costs(vec![(512, 31.0), (1024, 36.2), (2048, 51.6)]);
+        assert_eq!(next_choice(3, 512, &bunny, 0.012, 17, 2048, &tx()), Some((7, 1024)));
+        assert_eq!(next_choice(3, 512, &bunny, 0.012, 17, 2048, &timed), Some((5, 2048)));
+        // Where the larger maps win under both prices, both agree.
+        assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &tx()), Some((3, 1024)));
         assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &timed), Some((3, 1024)));
-        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 2048, &tx()), Some((4, 1024)));
-        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 2048, &timed), Some((3, 2048)));
-        // Where only the largest maps meet it, both agree.
-        assert_eq!(next_choice(3, 512, &bunny, 0.012, 17, 2048, &timed), next_choice(3, 512, &bunny, 0.012, 17, 2048, &tx()));
-        // A size above max_size is never priced, so never chosen.
-        assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![256, 512, 1024]);
-        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((4, 1024)));
+        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 2048, &timed), next_choice(3, 512, &bunny, 0.02, 17, 2048, &tx()));
+        // A size above max_size is never priced, so never chosen: 7×7 at 512² (49) before 5×5 at 1024² (50).
+        assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![512, 1024]);
+        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((7, 512)));
     }
 
     #[test]
     fn a_first_search_steps_down_to_a_cheaper_grid_predicted_to_meet_the_target() {
-        // default at 128², 3×3 at 512²: 0.0276 meets 0.03. 2×2 at 1024² is predicted at 0.0222
-        // (sampling 0.0081 · 1.5^1.5, maps sqrt(0.0264² + 0.0176² · 1.25) / 2) for 8 units against 9.
-        let default = pa(0.0081, 0.0264, 0.0176);
-        assert!((predicted_at(3, 512, &default, 2, 1024) - 0.02219).abs() < 1e-4, "{}", predicted_at(3, 512, &default, 2, 1024));
-        assert_eq!(cheaper_meeting(3, 512, &default, 0.03, 17, 2048, &tx(), &[(3, 512)]), Some((2, 1024)));
+        // 5×5 at 512² reads 0.0187 against 0.02 (sampling 0.005, maps 0.018 of which 0.012
+        // averages). 3×3 at 1024² is predicted at 0.0162 (sampling 0.005 · (5/3)^1.5, maps
+        // sqrt(0.018² + 0.012² · 16/9) / 2) for 18 units against 25; 3×3 at 512² at 0.0241.
+        let five = pa(0.005, 0.018, 0.012);
+        assert!((predicted_at(5, 512, &five, 3, 1024) - 0.01615).abs() < 1e-4, "{}", predicted_at(5, 512, &five, 3, 1024));
+        assert_eq!(cheaper_meeting(5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512)]), Some((3, 1024)));
         // Tried already (it missed): nothing else cheaper is predicted to meet it.
-        assert_eq!(cheaper_meeting(3, 512, &default, 0.03, 17, 2048, &tx(), &[(3, 512), (2, 1024)]), None);
+        assert_eq!(cheaper_meeting(5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512), (3, 1024)]), None);
         // A smaller map raises the maps' error as a larger one lowers it: 4× its square per halving.
         assert!((predicted_at(3, 512, &p(0.0, 0.01), 3, 256) - 0.02).abs() < 1e-12);
-        // At 0.02 no grid of fewer than 9 units is predicted to meet it (2×2 at 1024²: 0.0222).
-        assert_eq!(cheaper_meeting(3, 512, &default, 0.02, 17, 2048, &tx(), &[(3, 512)]), None);
+        // At 0.015 no grid of fewer than 25 units is predicted to meet it; 4×4 (16 units, 0.0213
+        // at 512²) and 256² maps are off the ladder.
+        assert_eq!(cheaper_meeting(5, 512, &five, 0.015, 17, 2048, &tx(), &[(5, 512)]), None);
     }
 
     #[test]

@@ -78,6 +78,9 @@ pub struct FrontierLine {
     /// which the timed frames after it do not repeat).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub budget: Option<budget::Reading>,
+    /// A budget row and its oracle timed side by side (`budget::pair`): what time/oracle reads.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub paired: Option<budget::Paired>,
     /// A setting that failed at run time: the reason (its figures are zero and mean nothing; the
     /// front, the budget's rivals and the oracle skip it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -218,6 +221,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 raster: r.timing.raster.to_string(),
                 oracle: None,
                 budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
+                paired: None,
                 failed,
             };
             crate::progress::suspend(|| match &line.failed {
@@ -232,5 +236,6 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
         log(&line);
     }
     mark(&mut lines);
+    budget::pair(ctx, job, &mut lines, log)?;
     Ok(lines)
 }
