@@ -30,7 +30,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "max_n", default: "16", help: "most samples per side, 1..=64" },
         Param { key: "min_size", default: "64", help: "smallest map side, a power of two, 16..=8192" },
         Param { key: "max_size", default: "2048", help: "largest map side, a power of two, 16..=8192" },
-        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: 1 + the lookup's offsets in texels (bias constant + slope + normal offset), so that they stay inside one footprint" },
+        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: the least that meets the maps' share of the target (T/√2, docs/regions.md), and at least 1 + the lookup's offsets in texels (bias constant + slope + normal offset)" },
         Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
         Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
         Param { key: "cull", default: "auto", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V); auto: on where the adapter can cull (indirect draws with a first instance), off elsewhere; off" },
@@ -194,11 +194,13 @@ impl ShadowMethod for Regions {
         }
         let ladder = self.ladder();
         let (light_u, light_v) = light_size(fg);
-        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target: self.target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
+        // The samples get their share of the target; the maps' share sets the density (regions_budget).
+        let target = self.target * super::regions_budget::SAMPLING_SHARE;
+        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
         params.ladder[..ladder.len()].copy_from_slice(&ladder);
         let probe = CentreMap::new(fg)?;
         let pass = RegionsPass::new(fg.ctx, fg.map_access(), &fg.gbuffer, params)?;
-        Ok(Box::new(State { method: self.clone(), ladder, probe, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), keep: false }))
+        Ok(Box::new(State { method: self.clone(), ladder, probe, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), density: 0.0, keep: false }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -215,6 +217,8 @@ struct State {
     /// Each (n, size)'s grid, kept from frame to frame (its samples are refitted every frame).
     grids: HashMap<(u32, u32), Prepared>,
     classes: Vec<ClassRecord>,
+    /// This frame's texels per pixel footprint (`State::density`, raised for the maps' share).
+    density: f32,
     keep: bool,
 }
 
@@ -257,8 +261,8 @@ pub fn half_octave(want: f32) -> u32 {
 }
 
 impl State {
-    /// Texels per pixel footprint: the parameter, or 1 + the lookup's offsets in texels.
-    fn density(&self, fg: &FrameGpu) -> f32 {
+    /// Texels per pixel footprint at least: the parameter, or 1 + the lookup's offsets in texels.
+    fn density_floor(&self, fg: &FrameGpu) -> f32 {
         let b = &fg.scene.render.bias;
         if self.method.density > 0.0 { self.method.density } else { 1.0 + b.constant + b.slope + b.normal_offset }
     }
@@ -281,7 +285,7 @@ impl State {
         group.size = match self.method.force {
             Some(_) if self.method.force_size != 0 => self.method.force_size,
             Some(_) => s.render.shadow_map_size,
-            None => half_octave((group.extent * self.density(fg) / group.texel_need).ceil()).clamp(self.method.min_size, self.method.max_size),
+            None => half_octave((group.extent * self.density / group.texel_need).ceil()).clamp(self.method.min_size, self.method.max_size),
         };
         group
     }
@@ -348,8 +352,23 @@ impl MethodState for State {
         // The one read-back of the decision: per class its tiles, finest texel and receiver box.
         timer.flush(ctx);
         let classes = self.ladder.len();
-        let words: Vec<u32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64))?;
+        let region_bytes = self.pass.region_count as u64 * REGION_WORDS as u64 * 4;
+        let (words, regions): (Vec<u32>, Vec<u32>) = timer.cpu(Stage::READBACK, || {
+            // Both copies in one submission: one wait (the second map finds the copy done).
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            let class_staging = readback::stage_copy(ctx, &mut enc, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64);
+            let region_staging = readback::stage_copy(ctx, &mut enc, &self.pass.regions, region_bytes);
+            ctx.queue.submit([enc.finish()]);
+            Ok((readback::map_staging(ctx, &class_staging)?, readback::map_staging(ctx, &region_staging)?))
+        })?;
         let mut syncs = 1 + self.probe.syncs();
+        // The maps' share of the target: the density whose predicted maps' error meets it.
+        let (edges, pixels) = super::regions_budget::edge_weight(&self.pass.params, &regions);
+        let floor = self.density_floor(fg) as f64;
+        self.density = match self.method.density {
+            d if d > 0.0 => d,
+            _ => super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor) as f32,
+        };
         let s = fg.scene;
         let mut groups: Vec<Group> = Vec::new();
         for c in 0..classes {
@@ -414,6 +433,8 @@ impl MethodState for State {
             "triangle_map_pairs": pairs,
             "texels_written": texels,
             "decision_maps": self.probe.count(),
+            "density": self.density,
+            "predicted_map": super::regions_budget::predicted_map(edges, pixels, self.density as f64),
         });
         self.classes = records;
         let pictures = if pictures { super::regions_pictures::pictures(fg, &self.pass, &self.classes)? } else { Vec::new() };
