@@ -38,13 +38,17 @@ fn decision_kernels_equal_their_twins() {
     let mut classes_seen = Vec::new();
     for seed in [5u64, 17, 23] {
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 128), "random", None, &[]).unwrap();
-        let method = Method::parse("regions:target=0.01,region=8", &[]).unwrap();
+        let method = Method::parse("regions:target=0.01,region=8,centre_size=64", &[]).unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
         let (r, b): (_, RegionsBuffers) = common::inspected(ctx, &sc, &method, options);
         let p = &b.params;
         // measure: each region's pixel counts and box exactly, its footprint and penumbra width to
         // float rounding (the GPU may fuse the divisions' multiply-adds).
-        let cpu = twin::regions::measure(&frame_uniform(&sc), p, &b.sample, &b.map, &r.gbuffer);
+        // The decision's map is 64 texels a side, the scene's 128: measure binds its own map_size.
+        assert_eq!(b.centre_size, 64, "seed {seed}: the decision's map side");
+        assert_eq!(b.map.len(), 64 * 64, "seed {seed}: the decision's map texels");
+        let frame = penumbra::gpu::structs::GpuFrame { map_size: b.centre_size, ..frame_uniform(&sc) };
+        let cpu = twin::regions::measure(&frame, p, &b.sample, &b.map, &r.gbuffer);
         assert_eq!(cpu.len(), b.regions.len());
         let mut worst = 0.0f32;
         for (k, (g, c)) in b.regions.chunks(REGION_WORDS).zip(cpu.chunks(REGION_WORDS)).enumerate() {
@@ -156,4 +160,14 @@ fn the_maps_share_of_the_target_sets_the_density() {
     let m = predicted_map(e, pixels, d);
     assert!((m - target as f64 / 2f64.sqrt()).abs() < 1e-6, "the maps' error at that density is their share: {m}");
     assert_eq!(map_density(e, pixels, 0.5, 2.5), 2.5, "a loose target keeps the lookup's floor");
+}
+
+#[test]
+fn the_decisions_map_is_twice_the_screen_within_the_scenes_size() {
+    let m = |spec: &str| Method::parse(spec, &[]).unwrap().as_any().downcast_ref::<penumbra::methods::regions::Regions>().cloned().expect("regions");
+    let r = m("regions");
+    assert_eq!([r.centre_side(128, 128, 1024), r.centre_side(48, 48, 128), r.centre_side(300, 200, 4096), r.centre_side(16, 16, 2048), r.centre_side(128, 96, 32)], [256, 128, 1024, 64, 32]);
+    assert_eq!(m("regions:centre_size=512").centre_side(128, 128, 1024), 512);
+    let e = Method::parse("regions:centre_size=300", &[]).err().expect("300 accepted");
+    assert!(e.to_string().contains("regions: centre_size = 300 is not a power of two"), "{e}");
 }
