@@ -38,13 +38,17 @@ fn decision_kernels_equal_their_twins() {
     let mut classes_seen = Vec::new();
     for seed in [5u64, 17, 23] {
         let sc = Scene::parse(&common::random_scene_toml(seed, 48, 128), "random", None, &[]).unwrap();
-        let method = Method::parse("regions:target=0.01,region=8", &[]).unwrap();
+        let method = Method::parse("regions:target=0.01,region=8,centre_size=64", &[]).unwrap();
         let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
         let (r, b): (_, RegionsBuffers) = common::inspected(ctx, &sc, &method, options);
         let p = &b.params;
         // measure: each region's pixel counts and box exactly, its footprint and penumbra width to
         // float rounding (the GPU may fuse the divisions' multiply-adds).
-        let cpu = twin::regions::measure(&frame_uniform(&sc), p, &b.sample, &b.map, &r.gbuffer);
+        // The decision's map is 64 texels a side, the scene's 128: measure binds its own map_size.
+        assert_eq!(b.centre_size, 64, "seed {seed}: the decision's map side");
+        assert_eq!(b.map.len(), 64 * 64, "seed {seed}: the decision's map texels");
+        let frame = penumbra::gpu::structs::GpuFrame { map_size: b.centre_size, ..frame_uniform(&sc) };
+        let cpu = twin::regions::measure(&frame, p, &b.sample, &b.map, &r.gbuffer);
         assert_eq!(cpu.len(), b.regions.len());
         let mut worst = 0.0f32;
         for (k, (g, c)) in b.regions.chunks(REGION_WORDS).zip(cpu.chunks(REGION_WORDS)).enumerate() {
@@ -119,4 +123,51 @@ fn map_sides_round_up_by_half_octaves() {
         let side = half_octave(want) as f32;
         assert!(side >= want && side <= want * 2f32.sqrt() + 16.0, "{want} -> {side}");
     }
+}
+
+#[test]
+fn the_maps_share_of_the_target_sets_the_density() {
+    // Three regions: a contact shadow (narrowest penumbra half a pixel wide), a wide penumbra (20
+    // pixels) and a lit region; the samples' target is T/√2, as `regions` sets it.
+    use penumbra::methods::regions_budget::{edge_weight, map_density, predicted_map, SAMPLING_SHARE};
+    use penumbra::stages::regions::{empty_region, ordered, RegionsParams};
+    let target = 0.02f32;
+    let mut p = RegionsParams { region: 16, region_count: 3, ladder_len: 1, max_n: 16, target: target * SAMPLING_SHARE, ..Default::default() };
+    p.ladder[0] = 16;
+    let mut words = Vec::new();
+    for (area, penumbra, foot, width) in [(200u32, 40u32, 0.01f32, 0.005f32), (256, 200, 0.01, 0.2), (256, 0, 0.01, f32::INFINITY)] {
+        let mut r = empty_region();
+        r[0] = area;
+        r[1] = penumbra;
+        r[2] = ordered(foot);
+        if width.is_finite() {
+            r[3] = ordered(width);
+        }
+        words.extend_from_slice(&r);
+    }
+    let totals = twin::regions::total(&p, &words);
+    let n = twin::regions::samples_of(&p, totals, 256, 200) as f64;
+    assert_eq!((n, twin::regions::samples_of(&p, totals, 200, 40)), (6.0, 5), "the two regions' samples per side");
+    let (e, pixels) = edge_weight(&p, &words);
+    // Contact: 40 pixels of edge at one footprint a texel, no averaging. Wide: 200/20 = 10 pixels
+    // of edge, texels of 20/6 footprints, averaged over 6 columns of samples ((1 + 3/6)/6).
+    let want = 40.0 + 10.0 * (20.0 / n) * (1.0 + 3.0 / n) / n;
+    assert!((e - want).abs() < 1e-3 * want, "edge weight {e}, want {want}");
+    assert_eq!(pixels, 712.0);
+    // The least density that meets T_m = T/√2, and the floor where that asks for less.
+    let d = map_density(e, pixels, target as f64, 2.5);
+    assert!((d - e / (6.0 * pixels * 0.0004)).abs() < 1e-6 * d && d > 2.5, "density {d}");
+    let m = predicted_map(e, pixels, d);
+    assert!((m - target as f64 / 2f64.sqrt()).abs() < 1e-6, "the maps' error at that density is their share: {m}");
+    assert_eq!(map_density(e, pixels, 0.5, 2.5), 2.5, "a loose target keeps the lookup's floor");
+}
+
+#[test]
+fn the_decisions_map_is_twice_the_screen_within_the_scenes_size() {
+    let m = |spec: &str| Method::parse(spec, &[]).unwrap().as_any().downcast_ref::<penumbra::methods::regions::Regions>().cloned().expect("regions");
+    let r = m("regions");
+    assert_eq!([r.centre_side(128, 128, 1024), r.centre_side(48, 48, 128), r.centre_side(300, 200, 4096), r.centre_side(16, 16, 2048), r.centre_side(128, 96, 32)], [256, 128, 1024, 64, 32]);
+    assert_eq!(m("regions:centre_size=512").centre_side(128, 128, 1024), 512);
+    let e = Method::parse("regions:centre_size=300", &[]).err().expect("300 accepted");
+    assert!(e.to_string().contains("regions: centre_size = 300 is not a power of two"), "{e}");
 }

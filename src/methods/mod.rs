@@ -20,6 +20,7 @@ pub(crate) mod pcf;
 pub(crate) mod pcss;
 pub mod single_map;
 pub mod regions;
+pub mod regions_budget;
 pub(crate) mod regions_pictures;
 pub mod regions_record;
 pub mod sizes;

@@ -30,8 +30,9 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "max_n", default: "16", help: "most samples per side, 1..=64" },
         Param { key: "min_size", default: "64", help: "smallest map side, a power of two, 16..=8192" },
         Param { key: "max_size", default: "2048", help: "largest map side, a power of two, 16..=8192" },
-        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: 1 + the lookup's offsets in texels (bias constant + slope + normal offset), so that they stay inside one footprint" },
+        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: the least that meets the maps' share of the target (T/√2, docs/regions.md), and at least 1 + the lookup's offsets in texels (bias constant + slope + normal offset)" },
         Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
+        Param { key: "centre_size", default: "0", help: "side of the decision's map from the light's centre, a power of two 16..=8192; 0: twice the screen's larger side, at most shadow_map_size (the blocker search reads penumbra widths, not edges)" },
         Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
         Param { key: "cull", default: "auto", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V); auto: on where the adapter can cull (indirect draws with a first instance), off elsewhere; off" },
         Param { key: "merge", default: "on", help: "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps" },
@@ -90,6 +91,10 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     let map_cost = check_range("regions", "map_cost", get_f32(p, "map_cost", 550_000.0)?, 0.0, 1e9)?;
     let sample_cost = check_range("regions", "sample_cost", get_f32(p, "sample_cost", 40.0)?, 0.0, 1e9)?;
     let force_size = get_u32(p, "force_size", 0)?;
+    let centre_size = match get_u32(p, "centre_size", 0)? {
+        0 => 0,
+        v => power_of_two("centre_size", v)?,
+    };
     if force_size != 0 {
         if force.is_none() {
             return Err(crate::Error::Param(format!("regions: force_size = {force_size} needs force = N")));
@@ -110,6 +115,7 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         sample_cost,
         force,
         force_size,
+        centre_size,
     }))
 }
 
@@ -131,9 +137,24 @@ pub struct Regions {
     pub sample_cost: f32,
     pub force: Option<u32>,
     pub force_size: u32,
+    /// The decision's map side; 0: from the screen (`Regions::centre_side`).
+    pub centre_size: u32,
 }
 
 impl Regions {
+    /// The decision's map side: `centre_size`, or twice the screen's larger side as a power of
+    /// two, 64 at least and the scene's shadow_map_size at most. The decision reads penumbra
+    /// widths and edges' presence per 16-pixel region, not each pixel's edge: about two texels a
+    /// pixel serve it. Every triangle is still rasterized (the map is not culled), so the blocker
+    /// search sees every blocker that covers a texel centre of its taps; a blocker thinner than
+    /// a texel may fall between centres, as on a map of any size. V comes from the groups' maps.
+    pub fn centre_side(&self, width: u32, height: u32, shadow_map_size: u32) -> u32 {
+        match self.centre_size {
+            0 => (2 * width.max(height)).next_power_of_two().clamp(64, shadow_map_size.max(64)).min(shadow_map_size),
+            s => s,
+        }
+    }
+
     /// The classes' samples per side: the ladder up to `max_n`, `max_n` last; with `force`, N alone.
     pub fn ladder(&self) -> Vec<u32> {
         if let Some(n) = self.force {
@@ -174,6 +195,7 @@ impl ShadowMethod for Regions {
                 ("sample_cost", self.sample_cost.to_string()),
                 ("force", self.force.map_or("off".to_string(), |n| n.to_string())),
                 ("force_size", self.force_size.to_string()),
+                ("centre_size", self.centre_size.to_string()),
             ],
         )
     }
@@ -181,7 +203,7 @@ impl ShadowMethod for Regions {
         serde_json::json!({
             "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
             "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" },
-            "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size,
+            "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size, "centre_size": self.centre_size,
         })
     }
     /// Shade binds V whole on each class's tile list (one band).
@@ -194,11 +216,15 @@ impl ShadowMethod for Regions {
         }
         let ladder = self.ladder();
         let (light_u, light_v) = light_size(fg);
-        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target: self.target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
+        // The samples get their share of the target; the maps' share sets the density (regions_budget).
+        let target = self.target * super::regions_budget::SAMPLING_SHARE;
+        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
         params.ladder[..ladder.len()].copy_from_slice(&ladder);
-        let probe = CentreMap::new(fg)?;
+        let centre = self.centre_side(fg.gbuffer.width, fg.gbuffer.height, fg.scene.render.shadow_map_size);
+        let probe = CentreMap::sized(fg, centre)?;
+        let centre_frame = readback::uniform_buffer(fg.ctx, "regions centre frame", &crate::gpu::structs::GpuFrame { map_size: centre, ..fg.frame });
         let pass = RegionsPass::new(fg.ctx, fg.map_access(), &fg.gbuffer, params)?;
-        Ok(Box::new(State { method: self.clone(), ladder, probe, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), keep: false }))
+        Ok(Box::new(State { method: self.clone(), ladder, probe, centre, centre_frame, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), density: 0.0, keep: false }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -209,12 +235,17 @@ struct State {
     method: Regions,
     ladder: Vec<u32>,
     probe: CentreMap,
+    /// The decision map's side and its frame uniform (rewritten each frame: the camera may move).
+    centre: u32,
+    centre_frame: wgpu::Buffer,
     pass: RegionsPass,
     /// The frame uniform of each map size.
     frames: HashMap<u32, wgpu::Buffer>,
     /// Each (n, size)'s grid, kept from frame to frame (its samples are refitted every frame).
     grids: HashMap<(u32, u32), Prepared>,
     classes: Vec<ClassRecord>,
+    /// This frame's texels per pixel footprint (`State::density`, raised for the maps' share).
+    density: f32,
     keep: bool,
 }
 
@@ -257,8 +288,8 @@ pub fn half_octave(want: f32) -> u32 {
 }
 
 impl State {
-    /// Texels per pixel footprint: the parameter, or 1 + the lookup's offsets in texels.
-    fn density(&self, fg: &FrameGpu) -> f32 {
+    /// Texels per pixel footprint at least: the parameter, or 1 + the lookup's offsets in texels.
+    fn density_floor(&self, fg: &FrameGpu) -> f32 {
         let b = &fg.scene.render.bias;
         if self.method.density > 0.0 { self.method.density } else { 1.0 + b.constant + b.slope + b.normal_offset }
     }
@@ -281,7 +312,7 @@ impl State {
         group.size = match self.method.force {
             Some(_) if self.method.force_size != 0 => self.method.force_size,
             Some(_) => s.render.shadow_map_size,
-            None => half_octave((group.extent * self.density(fg) / group.texel_need).ceil()).clamp(self.method.min_size, self.method.max_size),
+            None => half_octave((group.extent * self.density / group.texel_need).ceil()).clamp(self.method.min_size, self.method.max_size),
         };
         group
     }
@@ -340,16 +371,32 @@ impl MethodState for State {
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
         let ctx = fg.ctx;
+        ctx.queue.write_buffer(&self.centre_frame, 0, bytemuck::bytes_of(&crate::gpu::structs::GpuFrame { map_size: self.centre, ..fg.frame }));
         self.probe.render(fg, timer)?;
         timer.stage(ctx, Stage::REGIONS, |enc| {
-            self.pass.record(ctx, enc, &RegionsInputs { frame: &fg.frame_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, samples: &self.probe.samples, maps: self.probe.view() });
+            self.pass.record(ctx, enc, &RegionsInputs { frame: &self.centre_frame, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, samples: &self.probe.samples, maps: self.probe.view() });
             Ok(())
         })?;
         // The one read-back of the decision: per class its tiles, finest texel and receiver box.
         timer.flush(ctx);
         let classes = self.ladder.len();
-        let words: Vec<u32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64))?;
+        let region_bytes = self.pass.region_count as u64 * REGION_WORDS as u64 * 4;
+        let (words, regions): (Vec<u32>, Vec<u32>) = timer.cpu(Stage::READBACK, || {
+            // Both copies in one submission: one wait (the second map finds the copy done).
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            let class_staging = readback::stage_copy(ctx, &mut enc, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64);
+            let region_staging = readback::stage_copy(ctx, &mut enc, &self.pass.regions, region_bytes);
+            ctx.queue.submit([enc.finish()]);
+            Ok((readback::map_staging(ctx, &class_staging)?, readback::map_staging(ctx, &region_staging)?))
+        })?;
         let mut syncs = 1 + self.probe.syncs();
+        // The maps' share of the target: the density whose predicted maps' error meets it.
+        let (edges, pixels) = super::regions_budget::edge_weight(&self.pass.params, &regions);
+        let floor = self.density_floor(fg) as f64;
+        self.density = match self.method.density {
+            d if d > 0.0 => d,
+            _ => super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor) as f32,
+        };
         let s = fg.scene;
         let mut groups: Vec<Group> = Vec::new();
         for c in 0..classes {
@@ -414,6 +461,9 @@ impl MethodState for State {
             "triangle_map_pairs": pairs,
             "texels_written": texels,
             "decision_maps": self.probe.count(),
+            "centre_size": self.centre,
+            "density": self.density,
+            "predicted_map": super::regions_budget::predicted_map(edges, pixels, self.density as f64),
         });
         self.classes = records;
         let pictures = if pictures { super::regions_pictures::pictures(fg, &self.pass, &self.classes)? } else { Vec::new() };
@@ -430,6 +480,7 @@ impl MethodState for State {
         geometry_tiles.sort_unstable();
         let out = RegionsBuffers {
             params: p.params,
+            centre_size: self.centre,
             sample: self.probe.sample,
             map: self.probe.read(fg)?,
             regions: readback::read_buffer(ctx, &p.regions, p.region_count as u64 * REGION_WORDS as u64 * 4)?,
@@ -447,6 +498,8 @@ impl MethodState for State {
 /// What a frame's decision read and wrote, for the twins.
 pub struct RegionsBuffers {
     pub params: RegionsParams,
+    /// The decision map's side (the frame uniform's map_size for `measure`).
+    pub centre_size: u32,
     pub sample: GpuSample,
     pub map: Vec<f32>,
     pub regions: Vec<u32>,

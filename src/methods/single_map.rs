@@ -31,11 +31,17 @@ pub enum CentreMaps {
 
 impl CentreMap {
     pub fn new(fg: &FrameGpu) -> Result<Self> {
+        Self::sized(fg, fg.scene.render.shadow_map_size)
+    }
+
+    /// The centre's map at `size` texels a side (a plain map; the kernels that read it bind a
+    /// frame uniform of that `map_size`).
+    pub fn sized(fg: &FrameGpu, size: u32) -> Result<Self> {
         let s = fg.scene;
         // The disk's or the spot's centre, or the sun's central direction (orthographic):
         // `Emitter::sample_map`.
         // A point light's six cube faces (`Emitter::sample_maps`), each in its own layer.
-        let mut faces = s.emitter.sample_maps(&s.light, 0.5, 0.5, &s.bounds, s.render.shadow_map_size, u32::MAX);
+        let mut faces = s.emitter.sample_maps(&s.light, 0.5, 0.5, &s.bounds, size, u32::MAX);
         for (layer, f) in faces.iter_mut().enumerate() {
             f.layer = layer as u32;
         }
@@ -43,10 +49,11 @@ impl CentreMap {
         let samples = readback::storage_buffer(fg.ctx, "centre sample", &faces, wgpu::BufferUsages::empty());
         let maps = match s.render.maps {
             MapKind::Plain => {
-                let array = fg.raster.allocate(fg.ctx, s.render.shadow_map_size, n);
+                let array = fg.raster.allocate(fg.ctx, size, n);
                 shadow_raster::clear_all(fg.ctx, &array)?;
                 CentreMaps::Plain(array)
             }
+            MapKind::Hybrid if size != s.render.shadow_map_size => return Err(crate::Error::Limit(format!("maps=hybrid: the centre map's store is sized for shadow_map_size, not {size}"))),
             MapKind::Hybrid => CentreMaps::Hybrid(Box::new(HybridMaps::new(fg, n, n)?)),
         };
         Ok(Self { sample: faces[0], faces, samples, maps })
