@@ -6,7 +6,7 @@ cheapest fixed setting at most T; time/oracle). Usage: summarize.py S.jsonl ... 
 import csv, json, sys
 
 w = csv.writer(sys.stdout, lineterminator="\n")
-w.writerow(["scene", "spec", "target", "maps", "rmse", "rmse_over_target", "frame_ms", "dominated", "matched_fixed", "matched_ms", "time_over_matched", "oracle", "oracle_ms", "time_over_oracle", "reported_met"])
+w.writerow(["scene", "spec", "target", "maps", "rmse", "rmse_over_target", "frame_ms", "dominated", "matched_fixed", "matched_ms", "time_over_matched", "oracle", "oracle_ms", "time_over_oracle", "paired", "reported_met"])
 for path in sys.argv[1:]:
     rows = [json.loads(l) for l in open(path)]
     fixed = [r for r in rows if r["kind"] != "error budget" and r.get("rmse") is not None and r.get("frame_ms")]
@@ -18,6 +18,8 @@ for path in sys.argv[1:]:
         cheapest = lambda bound: min((f for f in fixed if f["rmse"] <= bound), key=lambda f: f["frame_ms"], default=None)
         m, o = cheapest(r["rmse"]), cheapest(t)
         met = r.get("budget", {}).get("target_met")
+        p = r.get("paired")
+        over_oracle = p["ms"] / p["oracle_ms"] if p else (o and r["frame_ms"] / o["frame_ms"])
         w.writerow([r["scene"], r["spec"], t, r["maps"], f"{r['rmse']:.5f}", f"{r['rmse']/t:.2f}", f"{r['frame_ms']:.2f}", dominated,
                     m and f"{m['spec']} @ {m['map_config']}", m and f"{m['frame_ms']:.2f}", m and f"{r['frame_ms']/m['frame_ms']:.2f}",
-                    o and f"{o['spec']} @ {o['map_config']}", o and f"{o['frame_ms']:.2f}", o and f"{r['frame_ms']/o['frame_ms']:.2f}", "" if met is None else met])
+                    o and f"{o['spec']} @ {o['map_config']}", o and f"{o['frame_ms']:.2f}", o and f"{over_oracle:.2f}", bool(p), "" if met is None else met])
