@@ -45,7 +45,9 @@ impl Thinning {
             Thinning::Automatic(t) => format!("thinned grid (automatic: {t} triangles, at least {AUTO_THIN_TRIANGLES})"),
         };
         let hybrid: Vec<String> = axes.hybrid.iter().map(Maps::label).collect();
-        format!("{how}: n in {:?}, plain maps {:?}, hybrid maps [{}]", axes.n, axes.sizes, hybrid.join(", "))
+        // `--cull` changes every plain grid's time, so the line that describes the grid says so.
+        let cull = if axes.cull { "; the plain maps' regular grids culled (--cull)" } else { "" };
+        format!("{how}: n in {:?}, plain maps {:?}, hybrid maps [{}]{cull}", axes.n, axes.sizes, hybrid.join(", "))
     }
 
     pub fn choose(thin: bool, full: bool, triangles: usize) -> Result<Thinning> {
@@ -269,6 +271,8 @@ mod tests {
         assert_eq!(culled[0].specs.iter().filter(|s| s.starts_with("regular:") && s.ends_with(",cull=on")).count(), 2 * THIN_N.len());
         assert!(culled[0].specs.contains(&"regular:n=5,layout=centred,cull=on".to_string()) && culled[0].methods.iter().zip(&culled[0].specs).all(|(m, s)| m.label() == *s || !s.starts_with("regular")));
         assert!(culled[2].specs.iter().all(|s| !s.contains("cull=on") || s.starts_with("adaptive")), "hybrid: {:?}", culled[2].specs);
+        assert!(Thinning::Asked.describe(&axes).ends_with("hybrid maps [hybrid 2048→512]; the plain maps' regular grids culled (--cull)"), "{}", Thinning::Asked.describe(&axes));
+        assert!(!Thinning::Asked.describe(&Axes::of(&Thinning::Asked)).contains("cull"));
         assert_eq!(Thinning::choose(false, false, 1_000_000).unwrap(), Thinning::Automatic(1_000_000));
         assert_eq!(Thinning::choose(false, true, 1_000_000).unwrap(), Thinning::Full);
         assert!(Thinning::choose(true, true, 10).is_err());
