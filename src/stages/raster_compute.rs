@@ -135,7 +135,7 @@ impl RasterCompute {
     /// As `new`, with the queue sized for a mesh of `triangles` (large_capacity_for).
     pub fn for_mesh(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32, triangles: u32) -> Result<Self> {
         let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
-        let pairs = large_capacity_for(capacity, triangles, ctx.limits().max_storage_buffer_binding_size as u64);
+        let pairs = large_capacity_for(capacity, triangles, ctx.limits().max_storage_buffer_binding_size);
         Ok(Self { triangles, ..Self::with_queue(ctx, map_size, cull, maps, budget_mib, Some(pairs))? })
     }
 
@@ -143,7 +143,7 @@ impl RasterCompute {
     /// the path past a full queue with it).
     pub fn with_queue(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32, pairs: Option<u32>) -> Result<Self> {
         let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
-        let large_capacity = pairs.unwrap_or_else(|| large_capacity(capacity, ctx.limits().max_storage_buffer_binding_size as u64)).max(1);
+        let large_capacity = pairs.unwrap_or_else(|| large_capacity(capacity, ctx.limits().max_storage_buffer_binding_size)).max(1);
         let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
         Ok(Self {
             clear: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "clear")?,

@@ -138,7 +138,7 @@ pub struct Setting {
 fn reads_hybrid(m: &Method) -> bool {
     match m.family() {
         Family::Filtered => false,
-        _ => m.adaptive_params().map_or(true, |p| p.scope == crate::methods::Scope::Global),
+        _ => m.adaptive_params().is_none_or(|p| p.scope == crate::methods::Scope::Global),
     }
 }
 
@@ -162,7 +162,7 @@ pub fn settings(axes: &Axes, budget_mib: u32) -> Result<Vec<Group>> {
     let plain_methods = crate::studies::compare::methods_list::parse_methods(&plain_specs)?;
     let mut groups: Vec<Group> = Vec::new();
     for &size in &axes.sizes {
-        let keep = |m: &Method| local_fits(size, budget_mib) || m.adaptive_params().map_or(true, |p| p.scope == crate::methods::Scope::Global);
+        let keep = |m: &Method| local_fits(size, budget_mib) || m.adaptive_params().is_none_or(|p| p.scope == crate::methods::Scope::Global);
         let (specs, methods) = plain_specs.iter().zip(&plain_methods).filter(|(_, m)| keep(m)).map(|(s, m)| (s.clone(), m.clone())).unzip();
         groups.push(Group { maps: Maps::Plain(size), specs, methods });
     }
