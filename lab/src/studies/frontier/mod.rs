@@ -46,7 +46,8 @@ pub struct FrontierLine {
     pub label: String,
     /// Shadow maps of the judged frame.
     pub maps: u32,
-    /// Raster size of a map per side (the base of hybrid maps).
+    /// Raster size of a map per side (the base of hybrid maps); for a budget row, the size its
+    /// frame rendered (`rendered_map_size`), not the group's.
     pub map_size: u32,
     pub rmse: f64,
     /// Mean FLIP of the shaded image; `null` when not computed.
@@ -122,6 +123,21 @@ impl FrontierLine {
 
 /// The kind of `auto:target=T` and `regions:target=T` rows.
 pub const BUDGET: &str = "error budget";
+
+/// The map side a frame rendered, from its record: `auto` chooses its grid's size itself
+/// (`chosen.map_size`) unless it renders a one-map filter, which runs at the scene's size;
+/// `regions` sizes each group's maps, and its largest is the frame's. Every other method renders
+/// at the scene's size (`scene_size`, the group's).
+fn rendered_map_size(record: &serde_json::Value, scene_size: u32) -> u32 {
+    let size = |v: &serde_json::Value| v["map_size"].as_u64().and_then(|z| u32::try_from(z).ok());
+    if record["renders"].is_string() {
+        return scene_size;
+    }
+    if let Some(z) = size(&record["chosen"]) {
+        return z;
+    }
+    record["classes"].as_array().and_then(|cs| cs.iter().filter_map(size).max()).unwrap_or(scene_size)
+}
 
 fn kind(m: &Method) -> String {
     if m.name() == "auto" || m.name() == "regions" {
@@ -204,7 +220,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 kind: kind(m),
                 label: m.label(),
                 maps: r.timing.shadow_maps,
-                map_size: s.render.shadow_map_size,
+                map_size: rendered_map_size(record, s.render.shadow_map_size),
                 rmse: r.judged.rmse,
                 flip: Some(r.judged.flip_mean).filter(|f| f.is_finite()),
                 frame_ms: r.timing.median_ms,
@@ -238,4 +254,24 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
     mark(&mut lines);
     budget::pair(ctx, job, &mut lines, log)?;
     Ok(lines)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rendered_map_size;
+    use serde_json::json;
+
+    #[test]
+    fn a_budget_row_records_the_map_size_its_frame_rendered() {
+        // auto's grid at its own size, under a group of 512² maps.
+        assert_eq!(rendered_map_size(&json!({ "chosen": { "n": 3, "map_size": 2048 } }), 512), 2048);
+        // auto rendering a one-map filter: the scene's size, though the grid it checked was larger.
+        assert_eq!(rendered_map_size(&json!({ "chosen": { "n": 5, "map_size": 1024 }, "renders": "pcss" }), 512), 512);
+        // regions: its largest group's maps.
+        let regions = json!({ "classes": [{ "map_size": 368 }, { "map_size": 1456 }, { "map_size": 1024 }] });
+        assert_eq!(rendered_map_size(&regions, 512), 1456);
+        // A fixed setting's record says nothing of sizes: the group's.
+        assert_eq!(rendered_map_size(&json!({ "shadow_maps": 9 }), 1024), 1024);
+        assert_eq!(rendered_map_size(&serde_json::Value::Null, 256), 256);
+    }
 }
