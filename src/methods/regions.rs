@@ -391,13 +391,12 @@ impl MethodState for State {
         })?;
         let mut syncs = 1 + self.probe.syncs();
         // The maps' share of the target: the density whose predicted maps' error meets it.
-        let (terms, pixels) = super::regions_budget::edge_terms(&self.pass.params, &regions);
+        let (edges, pixels) = super::regions_budget::edge_weight(&self.pass.params, &regions);
         let floor = self.density_floor(fg) as f64;
         self.density = match self.method.density {
             d if d > 0.0 => d,
-            _ => super::regions_budget::map_density(&terms, pixels, self.method.target as f64, floor) as f32,
+            _ => super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor) as f32,
         };
-        let edges = super::regions_budget::edge_weight(&terms, self.density as f64);
         let s = fg.scene;
         let mut groups: Vec<Group> = Vec::new();
         for c in 0..classes {
