@@ -12,8 +12,9 @@ for s in ${SCENES:-canopy-market pergola-garden default}; do for t in ${TARGETS:
   penumbra compare --scene $s --set resolution=$res --set shadow_map_size=$map --methods "${M[0]}" --methods "${M[1]}" --methods "${M[2]}" --repeats 1 --out $d/cmp >/dev/null 2>&1
   for i in 1 2; do penumbra render --scene $s --set resolution=$res --set shadow_map_size=$map --method "${M[$i]}" --out $d/r$((i+1)) >/dev/null 2>&1; done
   python3 - "$d" "$s" "$t" <<'PY'
-import json, sys
+import csv, json, sys
 d, s, t = sys.argv[1:]
+out = csv.writer(sys.stdout, lineterminator="\n")
 rows = [json.loads(l) for l in open(f"{d}/cmp/results.jsonl")]
 for i, (r, name) in enumerate(zip(rows, ["as decided", "halved", "quartered"]), 1):
     m = json.load(open(f"{d}/r{i}/run.json"))["method_record"]
@@ -21,6 +22,6 @@ for i, (r, name) in enumerate(zip(rows, ["as decided", "halved", "quartered"]), 
     for c in m["classes"]:
         groups.setdefault(c["group"], (c["n"], c["map_size"], []))[2].append(c["decided_n"])
     g = " ".join(f"n{n}@{z}({','.join(map(str, k))})" for n, z, k in groups.values())
-    print(s, t, name, r["shadow_maps"], round(r["metrics"]["rmse"], 5), round(m["density"], 2), g, sep=",")
+    out.writerow([s, t, name, r["shadow_maps"], round(r["metrics"]["rmse"], 5), round(m["density"], 2), g])
 PY
 done; done
