@@ -25,9 +25,10 @@ fn auto_chooses_only_calibrated_grids_and_a_met_row_measures_under_its_target() 
     let lines: Vec<serde_json::Value> = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
     let rows: Vec<&serde_json::Value> = lines.iter().filter(|l| l["kind"] == "error budget" && l["spec"].as_str().unwrap().starts_with("auto:")).collect();
     assert_eq!(rows.len(), 2, "one auto row per target");
-    // Six cube faces per sample: 150 maps is 5×5, the odd side after the start's 3×3, and 294 is
-    // 7×7, at 512². At 0.02, 5×5 is predicted 0.0204: the ball lights' maps' factor (3.66) on a
-    // maps' part its estimate reads at 0.27–0.75 of its measure.
+    // Six cube faces per sample: 150 maps is 5×5 and 294 is 7×7, at 512² (4×4 and 6×6, with the
+    // even sides' sampling factor, are predicted over both targets). At 0.02, 5×5 is predicted
+    // 0.0204: the ball lights' maps' factor (3.66) on a maps' part its estimate reads at 0.27–0.75
+    // of its measure.
     for (row, target, maps, measured) in [(rows[0], 0.03, 150, 0.0160..0.0170), (rows[1], 0.02, 294, 0.0100..0.0110)] {
         let rmse = row["rmse"].as_f64().unwrap();
         assert_eq!(row["budget"]["target_met"], true, "{row}");

@@ -317,6 +317,35 @@ mod tests {
         assert_eq!(fit(&pairs), Some(engine));
     }
 
+    /// The engine's even sides' sampling factors are the fit on the committed even pairs
+    /// (results/budget-calibration/even/even.csv): per class, the least on the grid that covers
+    /// 95% of the fitting half's even pairs with the class's maps' factor.
+    #[test]
+    fn the_even_sides_factors_are_the_fit_on_the_committed_even_pairs() {
+        use crate::methods::calibration::{factors, EVEN_CUBE_SAMPLING, EVEN_PLANE_SAMPLING};
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../results/budget-calibration/even/even.csv")).unwrap();
+        let pairs: Vec<Pair> = text
+            .lines()
+            .skip(1)
+            .map(|line| {
+                // scene,half,class,"spec",map_size,maps,measured,sampling,map,…
+                let mut quoted = line.split('"');
+                let head: Vec<&str> = quoted.next().unwrap().split(',').collect();
+                let tail: Vec<f64> = quoted.nth(1).unwrap().split(',').skip(1).take(5).map(|v| v.parse().unwrap()).collect();
+                let class = if head[2] == "cube" { Class::Cube } else { Class::Plane };
+                pair(head[0], class, tail[2], tail[3], tail[4])
+            })
+            .collect();
+        assert_eq!(pairs.len(), 90, "15 shipped scenes × n = 2, 4, 6 at 512² and 1024²");
+        for (class, even, count) in [(Class::Plane, EVEN_PLANE_SAMPLING, 42), (Class::Cube, EVEN_CUBE_SAMPLING, 6)] {
+            let fitting: Vec<&Pair> = pairs.iter().filter(|p| p.half == Half::Fitting && p.class == class).collect();
+            assert_eq!(fitting.len(), count, "{class:?}");
+            let map = factors(class).map;
+            let least = (GRID.0..=GRID.1).map(|k| f64::from(k) / 100.0).find(|&a| covers(&fitting, Factors { sampling: a, map }));
+            assert_eq!(least, Some(even), "{class:?}");
+        }
+    }
+
     #[test]
     fn the_fit_reads_the_fitting_half_only() {
         // Fitting plane pairs under-read their sampling part by up to 2×; a checking pair that
