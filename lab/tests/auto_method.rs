@@ -85,6 +85,7 @@ fn auto_renders_its_choice_and_keeps_it() {
 #[test]
 fn auto_prices_maps_by_measure_or_by_texels() {
     use penumbra::methods::auto::{cheaper_meeting, next_choice, Costs};
+    use penumbra::methods::calibration::Class;
     use penumbra::methods::estimate::Prediction;
     let ctx = common::gpu();
     let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "64".to_string())]).unwrap();
@@ -126,12 +127,12 @@ fn auto_prices_maps_by_measure_or_by_texels() {
             let tried: Vec<(u32, u32)> = tries[..=k].iter().map(|t| (t["n"].as_u64().unwrap() as u32, t["map_size"].as_u64().unwrap() as u32)).collect();
             let expect = if p.predicted_rmse <= target {
                 met = Some((n, size));
-                cheaper_meeting(n, size, &p, target, 17, 1024, &costs, &tried)
+                cheaper_meeting(Class::Plane, n, size, &p, target, 17, 1024, &costs, &tried)
             } else if met.is_some() && !back {
                 back = true;
                 met
             } else {
-                next_choice(n, size, &p, target, 17, 1024, &costs)
+                next_choice(Class::Plane, n, size, &p, target, 17, 1024, &costs)
             };
             assert_eq!(expect, Some(next), "{model}, try {k}: {rec}");
             assert!(t["ms"].as_f64().unwrap() > 0.0, "each try's wall clock: {rec}");

@@ -1,7 +1,7 @@
 //! auto: an error budget (docs/error-estimate.md §6). Frame by frame it chooses the sample count
 //! and the map size of the centred grid whose predicted RMSE of V (the calibrated estimate, no
-//! reference) meets `target`, among the grids the calibration was fitted on (odd sides, maps of
-//! 512² and up: `sides`, `sizes`): it renders the current choice with the estimate, and while the prediction
+//! reference) meets `target`, among the grids the calibration was fitted on (odd sides, even ones
+//! to 6, maps of 512² and up: `sides`, `sizes`): it renders the current choice with the estimate, and while the prediction
 //! misses the target it moves to the cheapest grid that the prediction says meets it (more
 //! samples lower the sampling error and the part of the maps' error that averages over samples;
 //! larger maps lower all of the maps' error). The state's first search also steps down from a try
@@ -56,11 +56,10 @@ pub const DEFAULT_FILTERS: &str = "pcss+msm";
 
 /// The map sizes it steps through.
 pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
-/// The grid sides it chooses from: the odd ones from 3 to `max_n` (2 alone where `max_n` is 2),
-/// the grids the calibration was fitted on (`calibration::fitted_side`).
+/// The grid sides it chooses from, 2 to `max_n`: those the calibration was fitted on
+/// (`calibration::fitted_side`: the odd ones, the even ones to 6 with their own sampling factor).
 pub fn sides(max_n: u32) -> Vec<u32> {
-    let odd: Vec<u32> = (3..=max_n).filter(|&n| calibration::fitted_side(n)).collect();
-    if odd.is_empty() { vec![max_n] } else { odd }
+    (2..=max_n).filter(|&n| calibration::fitted_side(n)).collect()
 }
 
 /// The map sizes it chooses from: 512² (`calibration::MIN_FITTED_SIZE`) to `max_size` (256²
@@ -237,11 +236,19 @@ fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<Costs> {
     }
 }
 
-/// The predicted RMSE of the centred grid (n2, size2), from a try at (n, size): the sampling
-/// error falls as n^−1.5; of the maps' error, the part that averages over samples falls as 1/n
-/// (`Prediction::predicted_map_averaging`), and all of it at best as the texel size.
-pub fn predicted_at(n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f64 {
-    let s = p.predicted_sampling * (n as f64 / n2 as f64).powf(SAMPLING_ORDER);
+/// The calibrated sampling error of side n2 from side n's, in a scene of `class`: it falls as
+/// n^−1.5, and an even side and an odd one take their own factors (`calibration::factors_at`).
+fn sampling_at(class: Class, n: u32, sampling: f64, n2: u32) -> f64 {
+    let factor = calibration::factors_at(class, n2).sampling / calibration::factors_at(class, n).sampling;
+    sampling * (n as f64 / n2 as f64).powf(SAMPLING_ORDER) * factor
+}
+
+/// The predicted RMSE of the centred grid (n2, size2), from a try at (n, size) in a scene of
+/// `class`: the sampling error falls as n^−1.5 (`sampling_at`); of the maps' error, the part
+/// that averages over samples falls as 1/n (`Prediction::predicted_map_averaging`), and all of it
+/// at best as the texel size.
+pub fn predicted_at(class: Class, n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f64 {
+    let s = sampling_at(class, n, p.predicted_sampling, n2);
     // Fewer samples or smaller maps (a step down) raise both parts by the same laws.
     let kept = 1.0 - (n * n) as f64 / (n2 * n2) as f64;
     let texel = size as f64 / size2 as f64;
@@ -251,7 +258,7 @@ pub fn predicted_at(n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f
 
 /// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), of `sides(max_n)` and
 /// `sizes(max_size)`, that `predicted_at` says meets `target` too; None if none does.
-pub fn cheaper_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs, tried: &[(u32, u32)]) -> Option<(u32, u32)> {
+pub fn cheaper_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs, tried: &[(u32, u32)]) -> Option<(u32, u32)> {
     let here = (n * n) as f64 * costs.of(size);
     let mut best: Option<(f64, (u32, u32))> = None;
     for size2 in sizes(max_size) {
@@ -260,7 +267,7 @@ pub fn cheaper_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u3
             if cost >= here {
                 break;
             }
-            if !tried.contains(&(n2, size2)) && predicted_at(n, size, p, n2, size2) <= target && best.is_none_or(|(c, _)| cost < c) {
+            if !tried.contains(&(n2, size2)) && predicted_at(class, n, size, p, n2, size2) <= target && best.is_none_or(|(c, _)| cost < c) {
                 best = Some((cost, (n2, size2)));
             }
         }
@@ -270,11 +277,11 @@ pub fn cheaper_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u3
 
 /// The cheapest grid (its maps at `costs`' price) of `sides` at n ≥ `n` and `sizes` at maps ≥ `size`, other than
 /// (n, size), that `predicted_at` says meets `target`; None if none does.
-fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
+fn cheapest_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
     let mut best: Option<(f64, (u32, u32))> = None;
     for size2 in sizes(max_size).into_iter().filter(|&z| z >= size) {
-        // At one size the prediction only falls with n: the first n that meets it is that size's cheapest.
-        let meets = sides(max_n).into_iter().filter(|&n2| n2 >= n && (n2, size2) != (n, size)).find(|&n2| predicted_at(n, size, p, n2, size2) <= target);
+        // At one size the cost rises with n: the first n that meets it is that size's cheapest.
+        let meets = sides(max_n).into_iter().filter(|&n2| n2 >= n && (n2, size2) != (n, size)).find(|&n2| predicted_at(class, n, size, p, n2, size2) <= target);
         if let Some(n2) = meets {
             let cost = (n2 * n2) as f64 * costs.of(size2);
             if best.is_none_or(|(c, _)| cost < c) {
@@ -294,8 +301,8 @@ fn cheapest_meeting(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, 
 /// misses the target, nothing can reach it. Where even the largest maps would miss it (their
 /// error falling at best as the texel size), the sampling error need only stay under half that
 /// floor, which adds at most 12% to it: n does not chase a target the maps put out of reach.
-pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
-    if let Some(choice) = cheapest_meeting(n, size, p, target, max_n, max_size, costs) {
+pub fn next_choice(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
+    if let Some(choice) = cheapest_meeting(class, n, size, p, target, max_n, max_size, costs) {
         return Some(choice);
     }
     let share = target / std::f64::consts::SQRT_2;
@@ -317,9 +324,8 @@ pub fn next_choice(n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, m
         return None;
     }
     let n2 = if grow_n {
-        let want = n as f64 * (p.predicted_sampling / sampling_share).powf(1.0 / SAMPLING_ORDER);
-        let want = (want.ceil() as u32).max(n + 1);
-        ladder.iter().copied().find(|&n2| n2 >= want).unwrap_or(top)
+        // The first side past n whose sampling error its order (and its factor) puts under the share.
+        ladder.iter().copied().find(|&n2| n2 > n && sampling_at(class, n, p.predicted_sampling, n2) <= sampling_share).unwrap_or(top)
     } else {
         n
     };
@@ -378,7 +384,7 @@ impl AutoState {
         let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let (raw, bound) = e.predict(&sums, geometry)?;
-        let prediction = calibration::calibrated(&raw, self.class);
+        let prediction = calibration::calibrated(&raw, self.class, n);
         Ok((Try { n, map_size: size, maps: out.shadow_maps, ms, prediction, predicted_raw: raw.predicted_rmse }, bound))
     }
 }
@@ -430,7 +436,7 @@ impl MethodState for AutoState {
             if acceptable(t.prediction.predicted_rmse, target, self.recalled && tries.len() == 1) {
                 // A step down is only taken with a try to spare for the way back.
                 let tried: Vec<(u32, u32)> = tries.iter().map(|t| (t.n, t.map_size)).collect();
-                let step = if down && tries.len() + 1 < MAX_TRIES { cheaper_meeting(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs, &tried) } else { None };
+                let step = if down && tries.len() + 1 < MAX_TRIES { cheaper_meeting(self.class, t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs, &tried) } else { None };
                 met = Some((t.n, t.map_size));
                 match step {
                     Some(next) => {
@@ -448,7 +454,7 @@ impl MethodState for AutoState {
             if tries.len() == MAX_TRIES {
                 break false;
             }
-            match next_choice(t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs) {
+            match next_choice(self.class, t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs) {
                 Some(next) => self.choice = next,
                 None => break true,
             }
@@ -477,7 +483,7 @@ impl MethodState for AutoState {
                 let grid = Met { rmse: last.predicted_raw, ms: last.ms };
                 let (max_n, max_size) = (self.method.max_n, self.method.max_size);
                 let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
-                    let Some(grid) = cheapest_meeting(last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
+                    let Some(grid) = cheapest_meeting(self.class, last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
                     let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
                     let record = serde_json::to_value(r).map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
                     Ok(Some(Reference { rmse: r.predicted_raw, bound, maps: r.maps, record }))
@@ -586,37 +592,38 @@ mod tests {
         // Maps well under the target: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
         // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7, at the same maps.
         let share = 0.01 / std::f64::consts::SQRT_2;
-        assert_eq!(next_choice(5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048, &tx()), Some((7, 512)));
+        assert_eq!(next_choice(Class::Plane, 5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048, &tx()), Some((7, 512)));
         // The maps alone over the target: doubling them (predicted 0.0053 + 0.0035) meets it.
-        assert_eq!(next_choice(5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048, &tx()), Some((5, 1024)));
+        assert_eq!(next_choice(Class::Plane, 5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048, &tx()), Some((5, 1024)));
         // Both at 0.0078 at 256²: 4×4 there would be predicted to meet 0.01 (16 maps of cost ½),
-        // but neither an even side nor 256² maps is a grid the calibration was fitted on: 3×3 at
-        // 512² (0.0087, cost 9).
-        assert_eq!(next_choice(3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048, &tx()), Some((3, 512)));
+        // but 256² maps are not a grid the calibration was fitted on: 3×3 at 512² (0.0087, cost 9),
+        // before 4×4 there (0.0095 with the even side's factor, cost 16).
+        assert_eq!(next_choice(Class::Plane, 3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048, &tx()), Some((3, 512)));
         // Maps at their largest, their error under the target: n takes the rest of it.
         // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2,
         // and the next odd side is 7.
-        assert_eq!(next_choice(5, 2048, &p(0.006, 0.009), 0.01, 17, 2048, &tx()), Some((7, 2048)));
+        assert_eq!(next_choice(Class::Plane, 5, 2048, &p(0.006, 0.009), 0.01, 17, 2048, &tx()), Some((7, 2048)));
         // Maps at their largest and their error alone over the target: out of reach.
-        assert_eq!(next_choice(5, 2048, &p(0.001, 0.011), 0.01, 17, 2048, &tx()), None);
+        assert_eq!(next_choice(Class::Plane, 5, 2048, &p(0.001, 0.011), 0.01, 17, 2048, &tx()), None);
         // n at its largest: nothing is predicted to meet it, and the maps take the excess.
-        assert_eq!(next_choice(17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), Some((17, 1024)));
+        assert_eq!(next_choice(Class::Plane, 17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), Some((17, 1024)));
         // Nothing left to grow.
-        assert_eq!(next_choice(17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), None);
+        assert_eq!(next_choice(Class::Plane, 17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), None);
         // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
         // floor 0.049 against 0.012): nothing meets it, so n grows only to keep sampling under
-        // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 5 (odd), not to 0.012 / √2 (which asks for 9).
-        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.012, 17, 2048, &tx()), Some((5, 1024)));
-        assert_eq!(next_choice(5, 1024, &p(0.020, 0.150), 0.012, 17, 2048, &tx()), Some((5, 2048)));
-        assert_eq!(next_choice(5, 2048, &p(0.016, 0.117), 0.012, 17, 2048, &tx()), None);
-        // The ladder: odd sides from 3 (2 alone under max_n = 2), maps from 512² (256² alone under
-        // max_size = 256).
-        assert_eq!((sides(17), sides(8), sides(2)), (vec![3, 5, 7, 9, 11, 13, 15, 17], vec![3, 5, 7], vec![2]));
+        // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 5, not to 0.012 / √2 (which asks for 9).
+        // 4×4 would be 0.035 with the even side's factor (2.28 against 1.32).
+        assert_eq!(next_choice(Class::Plane, 3, 512, &p(0.031, 0.196), 0.012, 17, 2048, &tx()), Some((5, 1024)));
+        assert_eq!(next_choice(Class::Plane, 5, 1024, &p(0.020, 0.150), 0.012, 17, 2048, &tx()), Some((5, 2048)));
+        assert_eq!(next_choice(Class::Plane, 5, 2048, &p(0.016, 0.117), 0.012, 17, 2048, &tx()), None);
+        // The ladder: odd sides, and even ones to 6 (their own factor), maps from 512² (256² alone
+        // under max_size = 256).
+        assert_eq!((sides(17), sides(8), sides(2)), (vec![2, 3, 4, 5, 6, 7, 9, 11, 13, 15, 17], vec![2, 3, 4, 5, 6, 7], vec![2]));
         assert_eq!((sizes(2048), sizes(512), sizes(256)), (vec![512, 1024, 2048], vec![512], vec![256]));
-        assert_eq!(next_choice(2, 256, &p(0.02, 0.02), 0.01, 2, 256, &Costs::texels(256)), None);
+        assert_eq!(next_choice(Class::Plane, 2, 256, &p(0.02, 0.02), 0.01, 2, 256, &Costs::texels(256)), None);
         // The same maps under a target that 2048² meets (0.049 and 0.031 against 0.06) and 1024²
         // cannot (0.098): straight to 2048².
-        assert_eq!(next_choice(3, 512, &p(0.031, 0.196), 0.06, 17, 2048, &tx()), Some((3, 2048)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &p(0.031, 0.196), 0.06, 17, 2048, &tx()), Some((3, 2048)));
     }
 
     #[test]
@@ -626,15 +633,15 @@ mod tests {
         // maps 0.0065, sampling 0.0056; cost 98); without it the maps must shrink by texels alone
         // (7×7 at 1024² would read 0.0128), and 5×5 at 2048² (cost 100) is the cheapest.
         let with = pa(0.02, 0.023, 0.021);
-        assert_eq!(next_choice(3, 512, &with, 0.012, 17, 2048, &tx()), Some((7, 1024)));
-        assert!((predicted_at(3, 512, &with, 7, 1024) - 0.00859).abs() < 1e-4, "{}", predicted_at(3, 512, &with, 7, 1024));
-        assert_eq!(next_choice(3, 512, &p(0.02, 0.023), 0.012, 17, 2048, &tx()), Some((5, 2048)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &with, 0.012, 17, 2048, &tx()), Some((7, 1024)));
+        assert!((predicted_at(Class::Plane, 3, 512, &with, 7, 1024) - 0.00859).abs() < 1e-4, "{}", predicted_at(Class::Plane, 3, 512, &with, 7, 1024));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &p(0.02, 0.023), 0.012, 17, 2048, &tx()), Some((5, 2048)));
         // Every bit of it averaging: at the same maps, m falls as 1/n: 3 → 9 thirds it.
         let all = pa(0.0, 0.03, 0.03);
-        assert!((predicted_at(3, 512, &all, 9, 512) - 0.01).abs() < 1e-12);
-        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 512, &tx()), Some((9, 512)));
+        assert!((predicted_at(Class::Plane, 3, 512, &all, 9, 512) - 0.01).abs() < 1e-12);
+        assert_eq!(next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 512, &tx()), Some((9, 512)));
         // With larger maps allowed, 3×3 at 2048² (0.0075, cost 36) is cheaper than 9×9 at 512² (81).
-        assert_eq!(next_choice(3, 512, &all, 0.0101, 17, 2048, &tx()), Some((3, 2048)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 2048, &tx()), Some((3, 2048)));
     }
 
     #[test]
@@ -645,15 +652,18 @@ mod tests {
         // Against 0.012: 7×7 at 1024² (98 units) under `texels`, 5×5 at 2048² (1290 ms) measured.
         let bunny = pa(0.0161, 0.0270, 0.0218);
         let timed = Costs(vec![(512, 31.0), (1024, 36.2), (2048, 51.6)]);
-        assert_eq!(next_choice(3, 512, &bunny, 0.012, 17, 2048, &tx()), Some((7, 1024)));
-        assert_eq!(next_choice(3, 512, &bunny, 0.012, 17, 2048, &timed), Some((5, 2048)));
-        // Where the larger maps win under both prices, both agree.
-        assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &tx()), Some((3, 1024)));
-        assert_eq!(next_choice(3, 512, &bunny, 0.03, 17, 2048, &timed), Some((3, 1024)));
-        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 2048, &timed), next_choice(3, 512, &bunny, 0.02, 17, 2048, &tx()));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &tx()), Some((7, 1024)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &timed), Some((5, 2048)));
+        // At 0.03 the maps' part decides, and an even side is on the ladder: 4×4 at 512² (0.0291
+        // with the even side's sampling factor, 16 units) under `texels`, before 3×3 at 1024² (18);
+        // measured, 3×3 at 1024² (326 ms against 496).
+        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &tx()), Some((4, 512)));
+        assert!((predicted_at(Class::Plane, 3, 512, &bunny, 4, 512) - 0.0291).abs() < 1e-4, "{}", predicted_at(Class::Plane, 3, 512, &bunny, 4, 512));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &timed), Some((3, 1024)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &timed), next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &tx()));
         // A size above max_size is never priced, so never chosen: 7×7 at 512² (49) before 5×5 at 1024² (50).
         assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![512, 1024]);
-        assert_eq!(next_choice(3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((7, 512)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((7, 512)));
     }
 
     #[test]
@@ -662,15 +672,15 @@ mod tests {
         // averages). 3×3 at 1024² is predicted at 0.0162 (sampling 0.005 · (5/3)^1.5, maps
         // sqrt(0.018² + 0.012² · 16/9) / 2) for 18 units against 25; 3×3 at 512² at 0.0241.
         let five = pa(0.005, 0.018, 0.012);
-        assert!((predicted_at(5, 512, &five, 3, 1024) - 0.01615).abs() < 1e-4, "{}", predicted_at(5, 512, &five, 3, 1024));
-        assert_eq!(cheaper_meeting(5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512)]), Some((3, 1024)));
+        assert!((predicted_at(Class::Plane, 5, 512, &five, 3, 1024) - 0.01615).abs() < 1e-4, "{}", predicted_at(Class::Plane, 5, 512, &five, 3, 1024));
+        assert_eq!(cheaper_meeting(Class::Plane, 5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512)]), Some((3, 1024)));
         // Tried already (it missed): nothing else cheaper is predicted to meet it.
-        assert_eq!(cheaper_meeting(5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512), (3, 1024)]), None);
+        assert_eq!(cheaper_meeting(Class::Plane, 5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512), (3, 1024)]), None);
         // A smaller map raises the maps' error as a larger one lowers it: 4× its square per halving.
-        assert!((predicted_at(3, 512, &p(0.0, 0.01), 3, 256) - 0.02).abs() < 1e-12);
-        // At 0.015 no grid of fewer than 25 units is predicted to meet it; 4×4 (16 units, 0.0213
-        // at 512²) and 256² maps are off the ladder.
-        assert_eq!(cheaper_meeting(5, 512, &five, 0.015, 17, 2048, &tx(), &[(5, 512)]), None);
+        assert!((predicted_at(Class::Plane, 3, 512, &p(0.0, 0.01), 3, 256) - 0.02).abs() < 1e-12);
+        // At 0.015 no grid of fewer than 25 units is predicted to meet it: 4×4 at 512² (16 units)
+        // reads 0.0235 with the even side's factor, and 256² maps are off the ladder.
+        assert_eq!(cheaper_meeting(Class::Plane, 5, 512, &five, 0.015, 17, 2048, &tx(), &[(5, 512)]), None);
     }
 
     #[test]
