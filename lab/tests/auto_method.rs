@@ -139,6 +139,28 @@ fn auto_prices_maps_by_measure_or_by_texels() {
     }
 }
 
+/// `cost=measured` prices each size from frames of the scene before the clock, once per process
+/// and scene: the record says what the pricing took; a second renderer of the same scene reuses
+/// the prices (0 ms), another screen prices anew (shade's share is the screen's), and `texels`
+/// times nothing.
+#[test]
+fn auto_prices_each_scene_once_and_reports_what_it_took() {
+    let ctx = common::gpu();
+    // A screen no other test of this file uses, so the first renderer here is the process's first.
+    let scene = |res: &str| Scene::load("overlapping-occluders", &[("resolution".to_string(), res.to_string())]).unwrap();
+    let record = |s: &Scene, spec: &str| Renderer::new(ctx, s, &Method::parse(spec, &[]).unwrap()).unwrap().frame(options()).unwrap().output.record;
+    let spec = "auto:target=0.03,max_size=1024,filters=none";
+    let first = record(&scene("40"), spec);
+    let pricing = |r: &serde_json::Value| r["map_cost"]["pricing_ms"].as_f64().unwrap();
+    assert!(pricing(&first) > 0.0, "{first}");
+    let again = record(&scene("40"), spec);
+    assert_eq!((pricing(&again), &again["map_cost"]["per_map"]), (0.0, &first["map_cost"]["per_map"]), "{again}");
+    let other = record(&scene("24"), spec);
+    assert!(pricing(&other) > 0.0, "{other}");
+    let texels = record(&scene("40"), &format!("{spec},cost=texels"));
+    assert_eq!(pricing(&texels), 0.0, "{texels}");
+}
+
 /// Where one filtered map is predicted to meet the target (pcss on a square over a plane), auto
 /// renders it: the frame's V is pcss's, bit for bit, in the settling frame and the settled ones,
 /// the record names it and keeps the grid it was judged by, and a sequence's next frame keeps it.
