@@ -161,6 +161,24 @@ fn auto_prices_each_scene_once_and_reports_what_it_took() {
     assert_eq!(pricing(&texels), 0.0, "{texels}");
 }
 
+/// A map's price is what it adds to a frame, its raster among it: on a 4-triangle scene, where
+/// a 2048² map's raster is most of its frame, the priced 2048² map costs at least the raster's
+/// own least time per map (four maps of the light, three rounds after a warm-up).
+#[test]
+fn a_priced_2048_map_costs_at_least_its_raster_alone() {
+    use penumbra::stages::raster::Raster;
+    let ctx = common::gpu();
+    let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "32".to_string())]).unwrap();
+    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,filters=none", &[]).unwrap()).unwrap();
+    let rec = r.frame(options()).unwrap().output.record;
+    let price = rec["map_cost"]["per_map"]["2048"].as_f64().unwrap();
+    let raster = Raster::new(ctx, scene.render.cull, r.raster_name() == "compute", scene.render.shadow_map_budget_mib).unwrap();
+    let gpu = penumbra::render::SceneGpu::upload(ctx, &scene);
+    let raster_ms = penumbra::stages::raster_timing::least_ms(ctx, &scene, &gpu, &[&raster], 2048, 4, 3).unwrap()[0] / 4.0;
+    println!("2048² map: priced {price} ms, raster alone {raster_ms} ms");
+    assert!(price >= raster_ms, "a 2048² map priced {price} ms against its raster's {raster_ms} ms: {rec}");
+}
+
 /// Where one filtered map is predicted to meet the target (pcss on a square over a plane), auto
 /// renders it: the frame's V is pcss's, bit for bit, in the settling frame and the settled ones,
 /// the record names it and keeps the grid it was judged by, and a sequence's next frame keeps it.

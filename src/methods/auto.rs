@@ -652,6 +652,25 @@ mod tests {
     }
 
     #[test]
+    fn cows_takes_2048_maps_where_no_1024_grid_is_predicted_to_meet_the_target_for_less() {
+        // cows at 128² from 3×3 at 512² (predicted 0.0556: sampling 0.0165, maps 0.0531 of which
+        // 0.0289 averages), at the prices a settled frame gave on lavapipe: 16.4, 21.2 and 39.1 ms
+        // per map (results/budget-prices/). Against 0.03, 3×3 at 1024² (the oracle, measured
+        // 0.0268) is predicted at 0.031: 3×3 at 2048² (352) beats 5×5 at 1024² (530), and would
+        // lose only to a 2048² map priced above 25/9 = 2.78 times a 1024² one.
+        let cows = pa(0.0165, 0.0531, 0.0289);
+        assert!((predicted_at(3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4, "{}", predicted_at(3, 512, &cows, 3, 1024));
+        let frame = Costs(vec![(512, 16.4), (1024, 21.2), (2048, 39.1)]);
+        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &frame), Some((3, 2048)));
+        let dear = |ratio: f64| Costs(vec![(512, 16.4), (1024, 21.2), (2048, 21.2 * ratio)]);
+        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &dear(2.7)), Some((3, 2048)));
+        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &dear(2.8)), Some((5, 1024)));
+        // Against 0.02 no grid at 1024² is predicted to meet it (the maps' part alone, halved,
+        // stays over): 2048² maps at any price.
+        assert_eq!(next_choice(3, 512, &cows, 0.02, 17, 2048, &dear(10.0)), Some((5, 2048)));
+    }
+
+    #[test]
     fn a_first_search_steps_down_to_a_cheaper_grid_predicted_to_meet_the_target() {
         // 5×5 at 512² reads 0.0187 against 0.02 (sampling 0.005, maps 0.018 of which 0.012
         // averages). 3×3 at 1024² is predicted at 0.0162 (sampling 0.005 · (5/3)^1.5, maps
