@@ -187,13 +187,21 @@ impl<'a> Renderer<'a> {
             scene_gpu,
             gbuffer,
         };
+        let camera = camera_uniform(scene);
+        if method.times_frames_at_build() {
+            // The screen as the first frame will draw it, so frames timed at build shade what a
+            // frame shades (every frame draws it again).
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            gbuffer_pass.record(ctx, &mut enc, &fg.scene_gpu, &camera, &fg.gbuffer);
+            fg.shade.record_geometry_tiles(ctx, &mut enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
+            ctx.queue.submit([enc.finish()]);
+        }
         let mut state = method.build(&fg)?;
         if let Some(m) = &memory {
             state.recall(m);
         }
         ctx.wait()?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
-        let camera = camera_uniform(scene);
         Ok(Self { fg, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some((build_ms, upload_ms)), force_timestamps, raster_auto })
     }
 

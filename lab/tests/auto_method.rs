@@ -140,6 +140,46 @@ fn auto_prices_maps_by_measure_or_by_texels() {
     }
 }
 
+/// `cost=measured` prices each size from frames of the scene before the clock, once per process
+/// and scene: the record says what the pricing took; a second renderer of the same scene reuses
+/// the prices (0 ms), another screen prices anew (shade's share is the screen's), and `texels`
+/// times nothing.
+#[test]
+fn auto_prices_each_scene_once_and_reports_what_it_took() {
+    let ctx = common::gpu();
+    // A screen no other test of this file uses, so the first renderer here is the process's first.
+    let scene = |res: &str| Scene::load("overlapping-occluders", &[("resolution".to_string(), res.to_string())]).unwrap();
+    let record = |s: &Scene, spec: &str| Renderer::new(ctx, s, &Method::parse(spec, &[]).unwrap()).unwrap().frame(options()).unwrap().output.record;
+    let spec = "auto:target=0.03,max_size=1024,filters=none";
+    let first = record(&scene("40"), spec);
+    let pricing = |r: &serde_json::Value| r["map_cost"]["pricing_ms"].as_f64().unwrap();
+    assert!(pricing(&first) > 0.0, "{first}");
+    let again = record(&scene("40"), spec);
+    assert_eq!((pricing(&again), &again["map_cost"]["per_map"]), (0.0, &first["map_cost"]["per_map"]), "{again}");
+    let other = record(&scene("24"), spec);
+    assert!(pricing(&other) > 0.0, "{other}");
+    let texels = record(&scene("40"), &format!("{spec},cost=texels"));
+    assert_eq!(pricing(&texels), 0.0, "{texels}");
+}
+
+/// A map's price is what it adds to a frame, its raster among it: on a 4-triangle scene, where
+/// a 2048² map's raster is most of its frame, the priced 2048² map costs at least the raster's
+/// own least time per map (four maps of the light, three rounds after a warm-up).
+#[test]
+fn a_priced_2048_map_costs_at_least_its_raster_alone() {
+    use penumbra::stages::raster::Raster;
+    let ctx = common::gpu();
+    let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "32".to_string())]).unwrap();
+    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,filters=none", &[]).unwrap()).unwrap();
+    let rec = r.frame(options()).unwrap().output.record;
+    let price = rec["map_cost"]["per_map"]["2048"].as_f64().unwrap();
+    let raster = Raster::new(ctx, scene.render.cull, r.raster_name() == "compute", scene.render.shadow_map_budget_mib).unwrap();
+    let gpu = penumbra::render::SceneGpu::upload(ctx, &scene);
+    let raster_ms = penumbra::stages::raster_timing::least_ms(ctx, &scene, &gpu, &[&raster], 2048, 4, 3).unwrap()[0] / 4.0;
+    println!("2048² map: priced {price} ms, raster alone {raster_ms} ms");
+    assert!(price >= raster_ms, "a 2048² map priced {price} ms against its raster's {raster_ms} ms: {rec}");
+}
+
 /// Where one filtered map is predicted to meet the target (pcss on a square over a plane), auto
 /// renders it: the frame's V is pcss's, bit for bit, in the settling frame and the settled ones,
 /// the record names it and keeps the grid it was judged by, and a sequence's next frame keeps it.

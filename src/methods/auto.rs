@@ -30,7 +30,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "target", default: "0.015", help: "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)" },
         Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
         Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
-        Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (this scene's maps timed on this device before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
+        Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (what a map of each size adds to this scene's frame on this device, timed before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
         Param { key: "filters", default: "pcss+msm", help: "one-map methods checked against the grid that meets the target (or, out of reach, the best grid tried), joined by + (e.g. pcss, or pcss+msm+vsm), or none: one predicted to meet it (out of reach: to err no more than that grid) that took less time is rendered instead; the default leaves out those that refuse the scene's light" },
     ],
     parse: |p: &ParamMap| {
@@ -100,7 +100,7 @@ pub struct Auto {
 /// How a map of each size is priced in the search (docs/error-estimate.md §6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CostModel {
-    /// This scene's maps of each size timed with the frame's raster on this device.
+    /// What a map of each size adds to this scene's frame on this device (`auto_price`).
     Measured,
     /// Double per doubling of the side, on every device.
     Texels,
@@ -134,7 +134,7 @@ impl ShadowMethod for Auto {
         }
         crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
-        let costs = map_costs(fg, self.cost, self.max_size)?;
+        let (costs, pricing_ms) = map_costs(fg, self.cost, self.max_size)?;
         // Candidates that refuse the light: an error where the list was given, left out (and
         // recorded) from the default one.
         let (mut kept, mut left_out) = (Vec::new(), Vec::new());
@@ -146,10 +146,13 @@ impl ShadowMethod for Auto {
             }
         }
         let filters = Candidates::new(kept, left_out);
-        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()) }))
+        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, pricing_ms, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()) }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
+    }
+    fn times_frames_at_build(&self) -> bool {
+        self.cost == CostModel::Measured
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -188,6 +191,8 @@ pub struct AutoState {
     recalled: bool,
     /// The price of one map of each size.
     costs: Costs,
+    /// The wall time the pricing took before the clock (0 where the process had priced the scene).
+    pricing_ms: f64,
     /// A frame has searched: only the state's first search steps down (a later one, after the
     /// camera moved or handed on in a sequence, only rises, so decisions do not flicker).
     searched: bool,
@@ -217,22 +222,12 @@ impl Costs {
     }
 }
 
-/// Each size's price under `model`: `measured` times this scene's maps with the frame's raster,
-/// before the clock (once per process and scene).
-fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<Costs> {
+/// Each size's price under `model`, and the wall time the pricing took: `measured` times this
+/// scene's frames at each size before the clock, once per process and scene (`auto_price`).
+fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<(Costs, f64)> {
     match model {
-        CostModel::Texels => Ok(Costs::texels(max_size)),
-        CostModel::Measured => {
-            let mut priced = Vec::new();
-            for z in sizes(max_size) {
-                let ms = crate::stages::raster_timing::map_ms(fg.ctx, fg.scene, &fg.scene_gpu, &fg.raster, z)?;
-                // A larger map never costs less to raster than a smaller one; a timing that says so
-                // is the clock's noise (a busy CPU device), and would send the search to it.
-                let floor = priced.last().map_or(0.0, |&(_, c)| c);
-                priced.push((z, f64::max(ms, floor)));
-            }
-            Ok(Costs(priced))
-        }
+        CostModel::Texels => Ok((Costs::texels(max_size), 0.0)),
+        CostModel::Measured => super::auto_price::measured(fg, max_size),
     }
 }
 
@@ -531,7 +526,7 @@ impl MethodState for AutoState {
             "predicted_rmse": predicted,
             "predicted_sampling": last.prediction.predicted_sampling,
             "predicted_map": last.prediction.predicted_map,
-            "map_cost": { "model": self.method.cost.name(), "per_map": self.costs.0.iter().map(|(z, c)| (z.to_string(), serde_json::json!(c))).collect::<serde_json::Map<_, _>>() },
+            "map_cost": { "model": self.method.cost.name(), "per_map": self.costs.0.iter().map(|(z, c)| (z.to_string(), serde_json::json!(c))).collect::<serde_json::Map<_, _>>(), "pricing_ms": self.pricing_ms },
         });
         record["filter"] = filter_record;
         if let Some(i) = self.filter {
@@ -664,6 +659,25 @@ mod tests {
         // A size above max_size is never priced, so never chosen: 7×7 at 512² (49) before 5×5 at 1024² (50).
         assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![512, 1024]);
         assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((7, 512)));
+    }
+
+    #[test]
+    fn cows_takes_2048_maps_where_no_1024_grid_is_predicted_to_meet_the_target_for_less() {
+        // cows at 128² from 3×3 at 512² (predicted 0.0556: sampling 0.0165, maps 0.0531 of which
+        // 0.0289 averages), at the prices a settled frame gave on lavapipe: 16.4, 21.2 and 39.1 ms
+        // per map (results/budget-prices/). Against 0.03, 3×3 at 1024² (the oracle, measured
+        // 0.0268) is predicted at 0.031: 3×3 at 2048² (352) beats 5×5 at 1024² (530), and would
+        // lose only to a 2048² map priced above 25/9 = 2.78 times a 1024² one.
+        let cows = pa(0.0165, 0.0531, 0.0289);
+        assert!((predicted_at(3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4, "{}", predicted_at(3, 512, &cows, 3, 1024));
+        let frame = Costs(vec![(512, 16.4), (1024, 21.2), (2048, 39.1)]);
+        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &frame), Some((3, 2048)));
+        let dear = |ratio: f64| Costs(vec![(512, 16.4), (1024, 21.2), (2048, 21.2 * ratio)]);
+        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &dear(2.7)), Some((3, 2048)));
+        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &dear(2.8)), Some((5, 1024)));
+        // Against 0.02 no grid at 1024² is predicted to meet it (the maps' part alone, halved,
+        // stays over): 2048² maps at any price.
+        assert_eq!(next_choice(3, 512, &cows, 0.02, 17, 2048, &dear(10.0)), Some((5, 2048)));
     }
 
     #[test]

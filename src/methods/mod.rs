@@ -8,6 +8,7 @@
 pub mod adaptive;
 pub mod auto;
 pub mod auto_filter;
+pub mod auto_price;
 pub mod calibration;
 pub mod cascades;
 pub mod environment;
@@ -152,6 +153,11 @@ pub trait ShadowMethod: Send + Sync + Any {
     /// does not refuse it; checked with the light, before anything is built.
     fn unsupported_maps(&self, _kind: LightKind, _maps: crate::scene::MapKind) -> Option<&'static str> {
         None
+    }
+    /// Whether `build` times frames of the scene (auto's prices): the renderer then draws the
+    /// screen (G-buffer and tile list) before building, so those frames shade what a frame shades.
+    fn times_frames_at_build(&self) -> bool {
+        false
     }
 }
 
@@ -320,6 +326,10 @@ impl Method {
     }
     pub fn family(&self) -> Family {
         Family::of_name(self.name())
+    }
+    /// `ShadowMethod::times_frames_at_build`.
+    pub fn times_frames_at_build(&self) -> bool {
+        self.0.times_frames_at_build()
     }
     pub fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         self.check_light(fg.scene)?;

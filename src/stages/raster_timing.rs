@@ -1,6 +1,6 @@
 //! Wall-clock timing of the shadow-map raster on a scene: a few maps of the scene's light, drawn in
 //! rounds after a warm-up, the least time of each raster kept. `raster = auto` compares the two
-//! rasters with it, and `auto:target=T` prices a map of each size with it.
+//! rasters with it.
 
 use super::raster::{Raster, RasterTarget};
 use crate::gpu::readback;
@@ -49,32 +49,4 @@ pub fn mesh_hash(scene: &Scene) -> u64 {
     bytemuck::cast_slice::<_, u8>(&scene.vertices).hash(&mut h);
     scene.indices.hash(&mut h);
     h.finish()
-}
-
-/// Maps a round of `map_ms` draws, and its timed rounds after the warm-up.
-const MAP_MS_MAPS: u32 = 4;
-const MAP_MS_ROUNDS: usize = 3;
-
-type MapKey = (String, u64, String, &'static str, u32, u32);
-
-fn remembered() -> &'static std::sync::Mutex<std::collections::HashMap<MapKey, f64>> {
-    static TIMES: std::sync::OnceLock<std::sync::Mutex<std::collections::HashMap<MapKey, f64>>> = std::sync::OnceLock::new();
-    TIMES.get_or_init(Default::default)
-}
-
-/// Wall-clock ms per map of side `size` drawn by `raster` on `scene`: the least of MAP_MS_ROUNDS
-/// rounds of MAP_MS_MAPS maps (fewer where the budget holds fewer), divided by the maps. A process
-/// measures each (adapter, mesh, cull, raster, budget, size) once.
-pub fn map_ms(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, raster: &Raster, size: u32) -> Result<f64> {
-    let budget = scene.render.shadow_map_budget_mib;
-    let key = (ctx.summary.name.clone(), mesh_hash(scene), format!("{:?}", scene.render.cull), raster.name(), budget, size);
-    if let Some(ms) = remembered().lock().ok().and_then(|m| m.get(&key).copied()) {
-        return Ok(ms);
-    }
-    let maps = raster.maps_per_array(ctx, size, budget)?.clamp(1, MAP_MS_MAPS);
-    let ms = least_ms(ctx, scene, gpu, &[raster], size, maps, MAP_MS_ROUNDS)?[0] / maps as f64;
-    if let Ok(mut m) = remembered().lock() {
-        m.insert(key, ms);
-    }
-    Ok(ms)
 }
