@@ -669,15 +669,15 @@ mod tests {
         // 0.0268) is predicted at 0.031: 3×3 at 2048² (352) beats 5×5 at 1024² (530), and would
         // lose only to a 2048² map priced above 25/9 = 2.78 times a 1024² one.
         let cows = pa(0.0165, 0.0531, 0.0289);
-        assert!((predicted_at(3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4, "{}", predicted_at(3, 512, &cows, 3, 1024));
+        assert!((predicted_at(Class::Plane, 3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4, "{}", predicted_at(Class::Plane, 3, 512, &cows, 3, 1024));
         let frame = Costs(vec![(512, 16.4), (1024, 21.2), (2048, 39.1)]);
-        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &frame), Some((3, 2048)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &frame), Some((3, 2048)));
         let dear = |ratio: f64| Costs(vec![(512, 16.4), (1024, 21.2), (2048, 21.2 * ratio)]);
-        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &dear(2.7)), Some((3, 2048)));
-        assert_eq!(next_choice(3, 512, &cows, 0.03, 17, 2048, &dear(2.8)), Some((5, 1024)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.7)), Some((3, 2048)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.8)), Some((5, 1024)));
         // Against 0.02 no grid at 1024² is predicted to meet it (the maps' part alone, halved,
         // stays over): 2048² maps at any price.
-        assert_eq!(next_choice(3, 512, &cows, 0.02, 17, 2048, &dear(10.0)), Some((5, 2048)));
+        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.02, 17, 2048, &dear(10.0)), Some((5, 2048)));
     }
 
     #[test]
