@@ -227,7 +227,7 @@ impl Costs {
 fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<(Costs, f64)> {
     match model {
         CostModel::Texels => Ok((Costs::texels(max_size), 0.0)),
-        CostModel::Measured => super::auto_price::measured(fg, max_size),
+        CostModel::Measured => super::auto_price::measured(fg, &sizes(max_size)).map(|(priced, ms)| (Costs(priced), ms)),
     }
 }
 

@@ -6,7 +6,6 @@
 //! 2×2 grid, the passes a settled `auto` frame runs, read as a frame reads them (a median).
 //! Measured before the clock, once per process and scene.
 
-use super::auto::{sizes, Costs};
 use super::fixed_samples::{self, regular_points, Layout};
 use super::MethodState;
 use crate::gpu::timing::{StageTimer, TimingMode};
@@ -26,20 +25,20 @@ pub fn per_map(stages_ms: &std::collections::BTreeMap<String, f64>, maps: usize)
     stages_ms.values().sum::<f64>() / maps.max(1) as f64
 }
 
-/// Each size's price in `sizes(max_size)` order, a larger map never priced below a smaller one
-/// (a timing that says so is the clock's noise, and would send the search to it), and the wall
-/// time the pricing took (0 where this process had priced the same scene).
-pub fn measured(fg: &FrameGpu, max_size: u32) -> Result<(Costs, f64)> {
-    let key = key(fg, max_size);
+/// The price of one map at each of `sizes` (ascending), in that order, a larger map never priced
+/// below a smaller one (a timing that says so is the clock's noise, and would send the search to
+/// it), and the wall time the pricing took (0 where this process had priced the same scene).
+/// The caller (`auto`) names the sizes, so this module needs nothing of its search.
+pub fn measured(fg: &FrameGpu, sizes: &[u32]) -> Result<(Vec<(u32, f64)>, f64)> {
+    let key = key(fg, sizes);
     if let Some(costs) = remembered().lock().ok().and_then(|m| m.get(&key).cloned()) {
         return Ok((costs, 0.0));
     }
     let start = Instant::now();
-    let sizes = sizes(max_size);
     // The grids of every size are held at once, so the rounds take turns over all of them and a
     // device that warms up or slows over the rounds weighs on each alike.
     let mut grids = Vec::new();
-    for &z in &sizes {
+    for &z in sizes {
         let frame = crate::gpu::readback::uniform_buffer(fg.ctx, "auto price frame", &crate::gpu::structs::GpuFrame { map_size: z, ..fg.frame });
         grids.push(fixed_samples::prepare_sized(fg, &regular_points(SIDE, Layout::Centred), z, Some(frame))?);
     }
@@ -63,11 +62,10 @@ pub fn measured(fg: &FrameGpu, max_size: u32) -> Result<(Costs, f64)> {
         let floor = priced.last().map_or(0.0, |&(_, c)| c);
         priced.push((z, median(t).max(floor)));
     }
-    let costs = Costs(priced);
     if let Ok(mut m) = remembered().lock() {
-        m.insert(key, costs.clone());
+        m.insert(key, priced.clone());
     }
-    Ok((costs, start.elapsed().as_secs_f64() * 1e3))
+    Ok((priced, start.elapsed().as_secs_f64() * 1e3))
 }
 
 fn median(v: &[f64]) -> f64 {
@@ -78,10 +76,10 @@ fn median(v: &[f64]) -> f64 {
 
 /// What a price depends on: the adapter, the scene's mesh and light, the raster, cull and budget,
 /// the screen (shade's share) and the sizes.
-fn key(fg: &FrameGpu, max_size: u32) -> String {
+fn key(fg: &FrameGpu, sizes: &[u32]) -> String {
     let s = fg.scene;
     format!(
-        "{}|{}|{:?}|{}|{}|{:?} {:?}|{}x{}|{}",
+        "{}|{}|{:?}|{}|{}|{:?} {:?}|{}x{}|{:?}",
         fg.ctx.summary.name,
         crate::stages::raster_timing::mesh_hash(s),
         s.render.cull,
@@ -91,12 +89,14 @@ fn key(fg: &FrameGpu, max_size: u32) -> String {
         s.light,
         fg.gbuffer.width,
         fg.gbuffer.height,
-        max_size
+        sizes
     )
 }
 
-fn remembered() -> &'static std::sync::Mutex<std::collections::HashMap<String, Costs>> {
-    static PRICES: std::sync::OnceLock<std::sync::Mutex<std::collections::HashMap<String, Costs>>> = std::sync::OnceLock::new();
+type Prices = std::sync::Mutex<std::collections::HashMap<String, Vec<(u32, f64)>>>;
+
+fn remembered() -> &'static Prices {
+    static PRICES: std::sync::OnceLock<Prices> = std::sync::OnceLock::new();
     PRICES.get_or_init(Default::default)
 }
 
