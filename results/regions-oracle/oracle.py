@@ -17,6 +17,11 @@ may also take `free` (no cost, no error): a gift to the oracle, so the bound sta
 For each S (branch and bound over sets by map cost) a Lagrange multiplier gives each tile
 argmin cost + lambda * SSE; `oracle_ms` is the cheapest feasible such frame, `bound_ms` the
 cheapest Lagrangian dual value (a lower bound on every assignment over every set).
+`bound_512_ms` prices every map at the 512^2 price (as if a map fitted to its tiles gave any
+density at that price); `gain_tests_only` is 1 / (1 - the single grid's share of pixel tests),
+the most that choosing per tile could save with its maps shared; `best_per_tile_rmse` is the
+frame's RMSE with every tile at its own most accurate setting (below it no choice reaches T).
+Prices go to stderr as scene,resolution,map_size,fixed_ms,ms_per_map,ns_per_test.
 """
 import json, os, sys
 import numpy as np
@@ -24,6 +29,7 @@ from PIL import Image
 import penumbra
 
 TILE = 8
+MAX_SET = int(os.environ.get('ORACLE_MAX_SET', 0)) or None  # a cap on |S| (then not a bound over all sets)
 
 
 def load(dirs):
@@ -100,6 +106,7 @@ def main():
     lit = tiles(np.where(mask, refm >= 1.0, 0).astype(float))[keep]
     dark = tiles(np.where(mask, refm <= 0.0, 0).astype(float))[keep]
     free = (lit == px) | (dark == px)
+    pen = px - lit - dark
     E = np.stack([tiles(e)[keep] for e in err], 1)
     C = np.stack([px * n**2 * price[z][1] for n, z, *_ in settings], 1)
     M = np.array([n**2 * price[z][0] for n, z, *_ in settings])
@@ -118,7 +125,10 @@ def main():
             print(f"{d0[0]},{d0[1]},{T},none,,,,,,,,,,,{np.sqrt(reach / N):.4f}", flush=True)
             continue
         low = oracle(f, cheapest, C, E, budget, free)[1]
-        use = {name(k): int((best[3] == j).sum()) for j, k in enumerate(best[2])}
+        use = {}  # per setting: its tiles and (the share of their pixels in penumbra, 0 < V_ref < 1)
+        for j, k in enumerate(best[2]):
+            t = best[3] == j
+            use[name(k)] = f"{t.sum()}({pen[t].sum() / max(px[t].sum(), 1):.2f})"
         use['free'] = int((best[3] == len(best[2])).sum())
         if single is None:
             sk, gains = "none,,,", ",,"
@@ -139,6 +149,8 @@ def oracle(f, M, C, E, budget, free):
             best[0], best[2], best[3] = r[0], [k], r[2]
 
     def dfs(start, chosen, cost):
+        if len(chosen) == MAX_SET:
+            return
         for i in range(start, len(order)):
             k = order[i]
             if f + cost + M[k] >= best[0]:
