@@ -293,25 +293,40 @@ mod tests {
         assert_eq!(half("lattice-grate"), Half::HeldOut);
     }
 
-    /// The engine's factors are the fit on the committed pairs (results/budget-calibration): a
-    /// change to either is a refit, or this fails.
-    #[test]
-    fn the_engines_factors_are_the_fit_on_the_committed_pairs() {
-        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../results/budget-calibration/pairs.csv")).unwrap();
-        let pairs: Vec<Pair> = text
-            .lines()
+    /// The pairs of a CSV the calibration committed (results/budget-calibration/`rel`), its columns
+    /// read by name: `pairs.csv` and `even/even.csv` share the leading ones, not the rest.
+    fn committed_pairs(rel: &str) -> Vec<Pair> {
+        let text = std::fs::read_to_string(format!("{}/../results/budget-calibration/{rel}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        let names: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        // The quoted spec holds commas: a line is scene,half,class,"spec",… and the fields after
+        // the spec are counted from it (the header's fifth name on).
+        let after_spec = |name: &str| names.iter().position(|n| *n == name).unwrap_or_else(|| panic!("{rel}: no column {name}")) - 4;
+        text.lines()
             .skip(1)
             .map(|line| {
-                // scene,half,class,"spec",map_size,maps,measured,sampling,map,…,measured_sampling,measured_map
                 let mut quoted = line.split('"');
                 let head: Vec<&str> = quoted.next().unwrap().split(',').collect();
                 let spec = quoted.next().unwrap();
                 let tail: Vec<&str> = quoted.next().unwrap().split(',').skip(1).collect();
-                let num = |i: usize| tail[i].parse::<f64>().unwrap();
+                let num = |name: &str| tail[after_spec(name)].parse::<f64>().unwrap();
                 let class = if head[2] == "cube" { Class::Cube } else { Class::Plane };
-                Pair { spec: spec.into(), map_size: num(0) as u32, maps: num(1) as u32, measured_sampling: num(9), measured_map: num(10), ..pair(head[0], class, num(2), num(3), num(4)) }
+                Pair {
+                    spec: spec.into(),
+                    map_size: num("map_size") as u32,
+                    maps: num("maps") as u32,
+                    measured_sampling: num("measured_sampling"),
+                    measured_map: num("measured_map"),
+                    ..pair(head[0], class, num("measured_rmse"), num("predicted_sampling"), num("predicted_map"))
+                }
             })
-            .collect();
+            .collect()
+    }
+
+    /// The engine's factors are the fit on the committed pairs (results/budget-calibration): a
+    /// change to either is a refit, or this fails.
+    #[test]
+    fn the_engines_factors_are_the_fit_on_the_committed_pairs() {
+        let pairs = committed_pairs("pairs.csv");
         assert_eq!(pairs.iter().filter(|p| p.half == Half::Fitting).count(), 48, "8 scenes × 6 settings");
         let engine = (crate::methods::calibration::PLANE, crate::methods::calibration::CUBE);
         assert_eq!(fit(&pairs), Some(engine));
@@ -323,19 +338,7 @@ mod tests {
     #[test]
     fn the_even_sides_factors_are_the_fit_on_the_committed_even_pairs() {
         use crate::methods::calibration::{factors, EVEN_CUBE_SAMPLING, EVEN_PLANE_SAMPLING};
-        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../results/budget-calibration/even/even.csv")).unwrap();
-        let pairs: Vec<Pair> = text
-            .lines()
-            .skip(1)
-            .map(|line| {
-                // scene,half,class,"spec",map_size,maps,measured,sampling,map,…
-                let mut quoted = line.split('"');
-                let head: Vec<&str> = quoted.next().unwrap().split(',').collect();
-                let tail: Vec<f64> = quoted.nth(1).unwrap().split(',').skip(1).take(5).map(|v| v.parse().unwrap()).collect();
-                let class = if head[2] == "cube" { Class::Cube } else { Class::Plane };
-                pair(head[0], class, tail[2], tail[3], tail[4])
-            })
-            .collect();
+        let pairs = committed_pairs("even/even.csv");
         assert_eq!(pairs.len(), 90, "15 shipped scenes × n = 2, 4, 6 at 512² and 1024²");
         for (class, even, count) in [(Class::Plane, EVEN_PLANE_SAMPLING, 42), (Class::Cube, EVEN_CUBE_SAMPLING, 6)] {
             let fitting: Vec<&Pair> = pairs.iter().filter(|p| p.half == Half::Fitting && p.class == class).collect();
