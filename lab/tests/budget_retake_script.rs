@@ -1,7 +1,9 @@
 //! `results/budget-promise/retake.sh` (docs/budget.md §5) on a small stand-in: a real frontier of
 //! `analytic-square` at 128² with one budget row, then the script renders that `auto` row again
 //! beside its oracle. Its one row must parse as CSV, name the frontier's oracle, render the oracle
-//! again at the frontier's RMSE exactly, and give a time/oracle from the two medians.
+//! again at the frontier's RMSE exactly, and give a time/oracle from the two medians. With
+//! `STRETCH=s` it renders `auto:target=T/s` and reads it against the row's T: s = 2 asks 0.015,
+//! `auto`'s default target, whose pictures go to `images/auto/`.
 
 mod common;
 
@@ -42,4 +44,19 @@ fn the_retake_script_renders_each_auto_row_beside_its_standing_oracle() {
     assert!(matches!(col("target_met"), "true" | "false"), "{text}");
     let (ms, oracle_ms, ratio) = (col("ms").parse::<f64>().unwrap(), col("oracle_ms").parse::<f64>().unwrap(), col("time_over_oracle").parse::<f64>().unwrap());
     assert!(ms > 0.0 && oracle_ms > 0.0 && (ratio - ms / oracle_ms).abs() < 1e-9, "{text}");
+
+    // The stretched row: T/2 asked, measured over the row's own T, the same oracle beside it.
+    let stretched = std::process::Command::new("bash").arg(&script).arg("analytic-square").current_dir(&dir).env("PENUMBRA", bin).env("STRETCH", "2").output().unwrap();
+    assert!(stretched.status.success(), "{}", String::from_utf8_lossy(&stretched.stderr));
+    let text = format!("{}{}", String::from_utf8_lossy(&header.stdout), String::from_utf8_lossy(&stretched.stdout));
+    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 1, "{text}");
+    let col = |name: &str| &rows[0][names.iter().position(|n| n == name).unwrap()];
+    assert_eq!((col("target"), col("oracle")), ("0.03", oracle), "{text}");
+    assert_eq!(col("oracle_rmse").parse::<f64>().unwrap(), oracle_rmse, "{text}");
+    let (rmse, over, predicted) = (col("rmse").parse::<f64>().unwrap(), col("measured_over_target").parse::<f64>().unwrap(), col("predicted_rmse").parse::<f64>().unwrap());
+    assert!(rmse > 0.0 && (over - rmse / 0.03).abs() < 1e-9, "{text}");
+    // Met means predicted at most the asked 0.015, not the row's 0.03.
+    assert_eq!(col("target_met") == "true", predicted <= 0.015, "{text}");
 }

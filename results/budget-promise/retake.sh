@@ -15,9 +15,12 @@
 # scene's size (a grid at its own), so there a filter's choice and RMSE can differ from the
 # paired window's; counts.py takes the row's figures from these and time/oracle from the pairing
 # where both rendered the same maps.
+# STRETCH=s renders auto:target=T/s instead (the calibrated factors stretched by s, docs/budget.md
+# §4) against the same row, its oracle and T: stretch.py reads a sweep of s.
 # Usage (in this folder): PENUMBRA=bin ./retake.sh [--alone] S1 S2 ... >> rows-BUILD.csv
 # (the header once: ./retake.sh --header > rows-BUILD.csv, and alone-BUILD.csv likewise).
 bin=${PENUMBRA:-penumbra}
+stretch=${STRETCH:-1}
 if [ "$1" = --header ]; then
   echo "scene,target,maps,choice,rmse,measured_over_target,target_met,predicted_rmse,search_ms,tries,out_of_reach,ms,oracle,oracle_maps,oracle_rmse,frontier_oracle_rmse,oracle_ms,time_over_oracle"
   exit 0
@@ -28,6 +31,7 @@ for scene in "$@"; do
   jq -r 'select(.kind == "error budget" and (.spec | startswith("auto:"))) | [.spec, (.oracle // "-")] | @tsv' "$scene/frontier.jsonl" |
   while IFS=$'\t' read -r spec oracle; do
     t=${spec#auto:target=}
+    if [ "$stretch" != 1 ]; then spec="auto:target=$(jq -n --argjson t "$t" --argjson s "$stretch" '$t / $s')"; fi
     if [ $alone = yes ]; then
       case "$oracle" in -|*" 512") continue ;; esac
       oracle=-; unpaired="alone at 512"
@@ -43,7 +47,7 @@ for scene in "$@"; do
     if PENUMBRA_NO_PROGRESS=1 "$bin" compare --scene "$scene" --set resolution=128 --set shadow_map_size="$size" \
         --methods "$methods" --repeats "$repeats" --out "$out" > "$out/log" 2>&1; then
       reach=$(grep -m1 'out of reach' "$out/log")
-      run=$(ls "$out"/images/auto_*/run.json)
+      run=$(ls "$out"/images/auto*/run.json)
       # Row 0 of results.jsonl is auto, row 1 (where there is one) its oracle.
       jq -rs --argjson t "$t" --arg o "$oracle" --arg reach "$reach" --arg unpaired "$unpaired" --argjson fr "$frontier_rmse" --slurpfile run "$run" '
         ($run[0].method_record) as $m | .[0] as $a | .[1] as $b
