@@ -24,16 +24,21 @@ fn the_retake_script_renders_each_auto_row_beside_its_standing_oracle() {
     let oracle_rmse = lines.iter().find(|l| l["kind"] != "error budget" && format!("{} @ {}", l["spec"].as_str().unwrap(), l["map_config"].as_str().unwrap()) == oracle).unwrap()["rmse"].as_f64().unwrap();
 
     let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/budget-promise/retake.sh");
-    let run = |args: &[&str]| std::process::Command::new("bash").arg(&script).args(args).current_dir(&dir).env("PENUMBRA", bin).output().unwrap();
-    let header = run(&["--header"]);
-    let rows = run(&["analytic-square"]);
-    assert!(rows.status.success(), "{}", String::from_utf8_lossy(&rows.stderr));
-    let text = format!("{}{}", String::from_utf8_lossy(&header.stdout), String::from_utf8_lossy(&rows.stdout));
-    let mut reader = csv::Reader::from_reader(text.as_bytes());
-    let names: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
-    assert_eq!(rows.len(), 1, "{text}");
-    let col = |name: &str| &rows[0][names.iter().position(|n| n == name).unwrap()];
+    let run = |args: &[&str], stretch: &str| std::process::Command::new("bash").arg(&script).args(args).current_dir(&dir).env("PENUMBRA", bin).env("STRETCH", stretch).output().unwrap();
+    let header = run(&["--header"], "1");
+    // The script's one row under the header, its columns by name.
+    let one_row = |stretch: &str| -> (String, Vec<String>, csv::StringRecord) {
+        let rows = run(&["analytic-square"], stretch);
+        assert!(rows.status.success(), "{}", String::from_utf8_lossy(&rows.stderr));
+        let text = format!("{}{}", String::from_utf8_lossy(&header.stdout), String::from_utf8_lossy(&rows.stdout));
+        let mut reader = csv::Reader::from_reader(text.as_bytes());
+        let names: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        assert_eq!(rows.len(), 1, "{text}");
+        (text, names, rows[0].clone())
+    };
+    let (text, names, row) = one_row("1");
+    let col = |name: &str| &row[names.iter().position(|n| n == name).unwrap()];
     assert_eq!((col("scene"), col("target"), col("oracle")), ("analytic-square", "0.03", oracle), "{text}");
     // The oracle rendered again beside auto reads the frontier's RMSE, bit for bit.
     assert_eq!(col("oracle_rmse").parse::<f64>().unwrap(), oracle_rmse, "{text}");
@@ -46,13 +51,8 @@ fn the_retake_script_renders_each_auto_row_beside_its_standing_oracle() {
     assert!(ms > 0.0 && oracle_ms > 0.0 && (ratio - ms / oracle_ms).abs() < 1e-9, "{text}");
 
     // The stretched row: T/2 asked, measured over the row's own T, the same oracle beside it.
-    let stretched = std::process::Command::new("bash").arg(&script).arg("analytic-square").current_dir(&dir).env("PENUMBRA", bin).env("STRETCH", "2").output().unwrap();
-    assert!(stretched.status.success(), "{}", String::from_utf8_lossy(&stretched.stderr));
-    let text = format!("{}{}", String::from_utf8_lossy(&header.stdout), String::from_utf8_lossy(&stretched.stdout));
-    let mut reader = csv::Reader::from_reader(text.as_bytes());
-    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
-    assert_eq!(rows.len(), 1, "{text}");
-    let col = |name: &str| &rows[0][names.iter().position(|n| n == name).unwrap()];
+    let (text, names, row) = one_row("2");
+    let col = |name: &str| &row[names.iter().position(|n| n == name).unwrap()];
     assert_eq!((col("target"), col("oracle")), ("0.03", oracle), "{text}");
     assert_eq!(col("oracle_rmse").parse::<f64>().unwrap(), oracle_rmse, "{text}");
     let (rmse, over, predicted) = (col("rmse").parse::<f64>().unwrap(), col("measured_over_target").parse::<f64>().unwrap(), col("predicted_rmse").parse::<f64>().unwrap());

@@ -3,7 +3,6 @@ committed rows it documents, or on a small render of its own, and must print wha
 
 import csv
 import os
-import pathlib
 import subprocess
 import sys
 
