@@ -2,7 +2,7 @@
 """Drives a report.html's comparison viewer in headless Chromium and checks what it shows.
 
     python3 scripts/report_browser.py REPORT.html [--shots DIR]       # the checks (exit 1 on a failure)
-    python3 scripts/report_browser.py REPORT.html --measure N         # size and load time, N fresh loads
+    python3 scripts/report_browser.py REPORT.html… --measure N [--csv F]   # size and load time, N rounds
 
 The checks press keys and click as a reader does, through the DevTools protocol on a pipe (no
 network, no package beyond Python's standard library), and read the answer from the DOM and from
@@ -319,6 +319,7 @@ def most_different_spot(a, b, side):
 def run_checks(b, html, shots):
     c = Checks()
     b.open(html)
+    b.settle()
     counted = b.eval("document.querySelectorAll('.viewer').length")
     live = b.eval("Number(document.documentElement.dataset.viewers || -1)")
     c.check(counted > 0 and live == counted, f"the script made every viewer live ({live} of {counted})")
@@ -447,50 +448,83 @@ def other_viewers(b, c, counted, first, shots):
             b.shot(path=os.path.join(shots, f"viewer-{v + 1}.png"))
 
 
-def measure(chrome, html, runs):
-    """Median load figures over `runs` loads, each in a fresh browser."""
-    size = os.path.getsize(html)
-    loads, ready, dcl = [], [], []
-    for _ in range(runs):
-        b = Browser(chrome)
-        try:
-            start = time.time()
-            b.open(html)
-            wall = (time.time() - start) * 1e3
-            nav = b.eval("JSON.parse(JSON.stringify(performance.getEntriesByType('navigation')[0]))")
-            b.settle()
-            painted = b.eval("performance.now()")
-            loads.append(nav["loadEventEnd"])
-            dcl.append(nav["domContentLoadedEventEnd"])
-            ready.append(painted)
-            problems = b.problems()
-            if problems:
-                print("problems:", problems)
-        finally:
-            b.close()
-        print(f"  load {loads[-1]:.0f} ms (navigate to load event, wall {wall:.0f} ms), DOMContentLoaded {dcl[-1]:.0f} ms, drawn {ready[-1]:.0f} ms")
-    imgs = open(html, encoding="utf-8").read().count("<img ")
-    print(f"{html}: {size} bytes ({size / 2**20:.2f} MiB), {imgs} <img>; median of {runs}: load event {statistics.median(loads):.0f} ms, "
-          f"DOMContentLoaded {statistics.median(dcl):.0f} ms, first frames drawn {statistics.median(ready):.0f} ms (performance clock, headless Chromium)")
+SCROLL_TO_IMAGES = """(async () => {
+  const frame = () => new Promise(r => requestAnimationFrame(r));
+  const to = document.querySelector('.viewer') || [...document.querySelectorAll('h2')].find(h => h.textContent === 'Images');
+  const t = performance.now();
+  to.scrollIntoView();
+  for (let i = 0; i < 3; i++) await frame();
+  return performance.now() - t;
+})()"""
+
+
+def load_once(chrome, html):
+    """(load event, DOMContentLoaded, first frames drawn, images shown) in ms on the page's clock,
+    in a fresh browser; the last is the time from scrolling to the images (the first viewer, or the
+    Images heading of a page without one) to three frames later, when the viewer has drawn its zoom
+    and every method's crop."""
+    b = Browser(chrome)
+    try:
+        b.open(html)
+        nav = b.eval("JSON.parse(JSON.stringify(performance.getEntriesByType('navigation')[0]))")
+        b.settle()
+        drawn = b.eval("performance.now()")
+        shown = b.eval(SCROLL_TO_IMAGES)
+        problems = b.problems()
+        if problems:
+            print("problems:", problems)
+        return nav["loadEventEnd"], nav["domContentLoadedEventEnd"], drawn, shown
+    finally:
+        b.close()
+
+
+def measure(chrome, pages, runs, csv=None, labels=()):
+    """Median load figures of each page over `runs` rounds, the pages interleaved round by round
+    (so they see the same machine load), each load in a fresh browser; `csv`: a row per page."""
+    figures = {p: [] for p in pages}
+    for r in range(runs):
+        for p in pages:
+            figures[p].append(load_once(chrome, p))
+            load, dcl, drawn, shown = figures[p][-1]
+            print(f"  round {r + 1}: {p}: load {load:.0f} ms, DOMContentLoaded {dcl:.0f} ms, drawn {drawn:.0f} ms, images shown {shown:.0f} ms")
+    version = subprocess.run([chrome, "--version"], capture_output=True, text=True).stdout.strip()
+    for i, p in enumerate(pages):
+        size = os.path.getsize(p)
+        imgs = open(p, encoding="utf-8").read().count("<img ")
+        load, dcl, drawn, shown = (statistics.median(f[k] for f in figures[p]) for k in range(4))
+        print(f"{p}: {size} bytes ({size / 2**20:.2f} MiB), {imgs} <img>; median of {runs}: load event {load:.0f} ms, "
+              f"DOMContentLoaded {dcl:.0f} ms, first frames drawn {drawn:.0f} ms, images shown {shown:.0f} ms after the scroll "
+              f"(performance clock, headless {version})")
+        if csv:
+            new = not os.path.exists(csv)
+            with open(csv, "a", encoding="utf-8") as f:
+                if new:
+                    f.write("report,bytes,img,runs,load_ms,dom_content_loaded_ms,drawn_ms,images_shown_ms,browser\n")
+                label = labels[i] if i < len(labels) else p
+                f.write(f"{label},{size},{imgs},{runs},{load:.0f},{dcl:.0f},{drawn:.0f},{shown:.0f},{version}\n")
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("html")
+    ap.add_argument("html", nargs="+", help="the report (several with --measure: measured interleaved)")
     ap.add_argument("--shots", help="folder for the screenshots (at rest, switched, zoomed)")
     ap.add_argument("--measure", type=int, default=0, help="only measure: size and median load time over N fresh loads")
+    ap.add_argument("--csv", help="with --measure: append a row (report, bytes, medians) to this CSV file")
+    ap.add_argument("--labels", default="", help="with --csv: the rows' names for the reports, comma-separated")
     ap.add_argument("--chrome", default=os.environ.get("CHROMIUM", "chromium"))
     args = ap.parse_args()
     if not shutil.which(args.chrome):
         sys.exit(f"error: {args.chrome} not found: apt-get install -y chromium (bash scripts/setup.sh installs it)")
     if args.measure:
-        measure(args.chrome, args.html, args.measure)
+        measure(args.chrome, args.html, args.measure, args.csv, [l for l in args.labels.split(",") if l])
         return
+    if len(args.html) != 1:
+        sys.exit("error: the checks take one report")
     if args.shots:
         os.makedirs(args.shots, exist_ok=True)
     b = Browser(args.chrome)
     try:
-        c = run_checks(b, args.html, args.shots)
+        c = run_checks(b, args.html[0], args.shots)
     finally:
         b.close()
     print(f"{c.passed} passed, {c.failed} failed")

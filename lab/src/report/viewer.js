@@ -49,8 +49,11 @@
     this.v = 0.5;
     this.locked = false;
     this.canOverlay = this.items.some(function (it) { return it.layers.shaded && it.layers.abs_error; });
+    // The zoom and the strip draw every method's picture, which decodes it: only once the viewer is
+    // on screen, so a long page loads as fast as its text.
+    this.visible = false;
     this.build();
-    this.show();
+    this.schedule();
   }
 
   Viewer.prototype.build = function () {
@@ -143,13 +146,21 @@
     if (!this.root.hasAttribute('tabindex')) this.root.tabIndex = 0;
     this.root.addEventListener('focusin', function () { active = self; });
     this.root.addEventListener('pointerdown', function () { active = self; });
-    // Pictures are data URIs in the page: redraw once each is decoded.
+    // Pictures are data URIs in the page: redraw (once a frame at most) as they arrive.
     this.items.forEach(function (it) {
       it.order.forEach(function (l) {
         var img = it.layers[l].img;
-        if (!img.complete) img.addEventListener('load', function () { self.show(); });
+        if (!img.complete) img.addEventListener('load', function () { self.schedule(); });
       });
     });
+    if ('IntersectionObserver' in window) {
+      new IntersectionObserver(function (seen) {
+        var now = seen.some(function (e) { return e.isIntersecting; });
+        if (now && !self.visible) { self.visible = true; self.schedule(); }
+      }).observe(this.root);
+    } else {
+      this.visible = true;
+    }
   };
 
   Viewer.prototype.captionOf = function (layer) {
@@ -278,11 +289,11 @@
     this.cropBox.style.width = c.side * s + 'px';
     this.cropBox.style.height = c.side * s + 'px';
     this.cropBox.classList.toggle('locked', this.locked);
-    drawCrop(this.zoomCanvas, shown, c, over);
+    if (this.visible) drawCrop(this.zoomCanvas, shown, c, over);
     this.items.forEach(function (other, i) {
       var l = self.layerOf(other);
       var o = self.overlay && l === 'shaded' && other.layers.abs_error ? other.layers.abs_error.img : null;
-      drawCrop(self.strip[i].canvas, other.layers[l].img, c, o);
+      if (self.visible) drawCrop(self.strip[i].canvas, other.layers[l].img, c, o);
       self.strip[i].fig.classList.toggle('on', i === self.current);
       self.buttons[i].classList.toggle('on', i === self.current);
       self.buttons[i].setAttribute('aria-pressed', String(i === self.current));
@@ -394,8 +405,7 @@
       var v = target();
       if (v && v.key(e)) e.preventDefault();
     });
-    window.addEventListener('resize', function () { viewers.forEach(function (v) { v.show(); }); });
-    window.addEventListener('load', function () { viewers.forEach(function (v) { v.show(); }); });
+    window.addEventListener('resize', function () { viewers.forEach(function (v) { v.schedule(); }); });
     document.documentElement.dataset.viewers = String(viewers.length);
   }
 

@@ -12,7 +12,13 @@ const TEMPLATE: &str = include_str!("viewer.html");
 
 /// The style and script every page with a viewer carries once, in its head. The script reads the
 /// page only: no request, no storage (the report checks look for both).
-pub const HEAD: &str = concat!("<style>\n", include_str!("viewer.css"), "</style>\n<script>\n", include_str!("viewer.js"), "</script>\n");
+pub const HEAD: &str = concat!(
+    "<style>\n",
+    include_str!("viewer.css"),
+    "</style>\n<script>\n",
+    include_str!("viewer.js"),
+    "</script>\n"
+);
 #[cfg(test)]
 const PARTS: [&str; 2] = [include_str!("viewer.js"), include_str!("viewer.css")];
 
@@ -60,29 +66,79 @@ mod tests {
 
     #[test]
     fn a_viewer_holds_each_picture_once_and_escapes_its_text() {
-        let layer = |name: &str, uri: &str| Layer { name: name.into(), caption: name.into(), uri: uri.into() };
+        let layer = |name: &str, uri: &str| Layer {
+            name: name.into(),
+            caption: name.into(),
+            uri: uri.into(),
+        };
         let v = Viewer {
             title: "images of <a>".into(),
             scene: "s&t".into(),
             items: vec![
-                Item { label: "reference".into(), reference: true, figures: String::new(), layers: vec![layer("shaded", "data:image/png;base64,AA")] },
-                Item { label: "adaptive:p_m=0".into(), reference: false, figures: "RMSE 0.0100 · 25 maps".into(), layers: vec![layer("shaded", "data:image/png;base64,BB"), layer("abs_error", "data:image/png;base64,CC")] },
+                Item {
+                    label: "reference".into(),
+                    reference: true,
+                    figures: String::new(),
+                    layers: vec![layer("shaded", "data:image/png;base64,AA")],
+                },
+                Item {
+                    label: "adaptive:p_m=0".into(),
+                    reference: false,
+                    figures: "RMSE 0.0100 · 25 maps".into(),
+                    layers: vec![
+                        layer("shaded", "data:image/png;base64,BB"),
+                        layer("abs_error", "data:image/png;base64,CC"),
+                    ],
+                },
             ],
         };
         let html = render(&v).unwrap();
         assert_eq!(html.matches("<img ").count(), 3);
         assert_eq!(html.matches("data-reference").count(), 1);
-        assert!(html.contains("data-scene=\"s&amp;t\"") && html.contains("aria-label=\"images of &lt;a&gt;\""), "{html}");
-        assert!(html.contains("<figure data-layer=\"abs_error\"><img src=\"data:image/png;base64,CC\""), "{html}");
-        assert!(html.contains("<p class=\"v-figures\">RMSE 0.0100 · 25 maps</p>"), "{html}");
-        assert!(!html.contains("compact"), "two layers per method: not a gallery");
+        assert!(
+            html.contains("data-scene=\"s&amp;t\"")
+                && html.contains("aria-label=\"images of &lt;a&gt;\""),
+            "{html}"
+        );
+        assert!(
+            html.contains("<figure data-layer=\"abs_error\"><img src=\"data:image/png;base64,CC\""),
+            "{html}"
+        );
+        assert!(
+            html.contains("<p class=\"v-figures\">RMSE 0.0100 · 25 maps</p>"),
+            "{html}"
+        );
+        assert!(
+            !html.contains("compact"),
+            "two layers per method: not a gallery"
+        );
     }
 
     #[test]
     fn the_script_and_style_stay_self_contained() {
         // What the report checks refuse anywhere in a page, and what would end the script early.
-        for (part, bad) in PARTS.iter().flat_map(|p| ["http:", "https:", "url(", "@import", "<link", "<script", "</script", "src=", "href=", "fetch(", "XMLHttpRequest", "localStorage", "import("].map(|b| (p, b))) {
-            assert!(!part.contains(bad), "viewer script or style contains {bad:?}");
+        for (part, bad) in PARTS.iter().flat_map(|p| {
+            [
+                "http:",
+                "https:",
+                "url(",
+                "@import",
+                "<link",
+                "<script",
+                "</script",
+                "src=",
+                "href=",
+                "fetch(",
+                "XMLHttpRequest",
+                "localStorage",
+                "import(",
+            ]
+            .map(|b| (p, b))
+        }) {
+            assert!(
+                !part.contains(bad),
+                "viewer script or style contains {bad:?}"
+            );
         }
         assert_eq!(HEAD.matches("<script>").count(), 1);
     }
