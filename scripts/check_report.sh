@@ -45,7 +45,10 @@ fi
 own='^https?://(accounts\.google\.com|update\.googleapis\.com|clients2\.google\.com)/'
 requests=$(grep -o 'NotifyBeforeURLRequest: [^ ]*' "$log" | cut -d' ' -f2 | grep -Ev '^(file|data):' | grep -Ev "$own" || true)
 if [[ -n $requests ]]; then echo "FAIL: the page requested:"; echo "$requests"; fail=1; fi
+# The viewer adds a stage and an overlay image per viewer (class v-img, v-over): the page's own are the rest.
 dom_imgs=$(grep -o '<img ' "$dom" | wc -l || true)
+viewer_imgs=$(grep -o '<img class="v-' "$dom" | wc -l || true)
+dom_imgs=$((dom_imgs - viewer_imgs))
 [[ $dom_imgs -eq $imgs ]] || { echo "FAIL: DOM has $dom_imgs images, file has $imgs"; fail=1; }
 grep -q '</html>' "$dom" || { echo "FAIL: DOM dump incomplete"; fail=1; }
 echo "chromium: screenshot $shot ($(stat -c %s "$shot" 2>/dev/null || echo 0) bytes), DOM images $dom_imgs"
