@@ -12,10 +12,12 @@ command -v "$chrome" >/dev/null || { echo "$chrome not found: apt-get install -y
 html=$(realpath "$html")
 fail=0
 
-# 1. Static: nothing may reference an external resource.
-for pat in 'src="http' "src='http" 'href="http' '<script' '<link' 'http://' 'https://' '@import' 'url('; do
+# 1. Static: nothing may reference an external resource. The one script is the viewer's, inline.
+for pat in 'src="http' "src='http" 'href="http' '<script src' '<link' 'http://' 'https://' '@import' 'url(' 'fetch(' 'XMLHttpRequest'; do
   if grep -qiF -- "$pat" "$html"; then echo "FAIL: contains $pat"; fail=1; fi
 done
+scripts=$(grep -o '<script' "$html" | wc -l || true)
+[[ $scripts -le 1 ]] || { echo "FAIL: $scripts scripts, at most the viewer's one"; fail=1; }
 imgs=$(grep -o '<img ' "$html" | wc -l || true)   # a page without pictures (a results folder) has none
 data=$(grep -o '<img src="data:image/' "$html" | wc -l || true)
 [[ $imgs -eq $data ]] || { echo "FAIL: $imgs <img>, only $data with data:image/ src"; fail=1; }
@@ -43,7 +45,10 @@ fi
 own='^https?://(accounts\.google\.com|update\.googleapis\.com|clients2\.google\.com)/'
 requests=$(grep -o 'NotifyBeforeURLRequest: [^ ]*' "$log" | cut -d' ' -f2 | grep -Ev '^(file|data):' | grep -Ev "$own" || true)
 if [[ -n $requests ]]; then echo "FAIL: the page requested:"; echo "$requests"; fail=1; fi
+# The viewer adds a stage and an overlay image per viewer (class v-img, v-over): the page's own are the rest.
 dom_imgs=$(grep -o '<img ' "$dom" | wc -l || true)
+viewer_imgs=$(grep -o '<img class="v-' "$dom" | wc -l || true)
+dom_imgs=$((dom_imgs - viewer_imgs))
 [[ $dom_imgs -eq $imgs ]] || { echo "FAIL: DOM has $dom_imgs images, file has $imgs"; fail=1; }
 grep -q '</html>' "$dom" || { echo "FAIL: DOM dump incomplete"; fail=1; }
 echo "chromium: screenshot $shot ($(stat -c %s "$shot" 2>/dev/null || echo 0) bytes), DOM images $dom_imgs"

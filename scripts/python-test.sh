@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Python package (python/): a fresh venv, `pip install ./python` (maturin builds the extension
 # in the workspace's target/, release profile, so CI reuses what `cargo test --release` built),
-# then its pytest tests against the `penumbra` binary of this tree and the example script.
+# then its pytest tests against the `penumbra` binary of this tree, `mypy --strict` on the example
+# script (through the package's stubs) and the example itself.
 #   bash scripts/python-test.sh [VENV_DIR]     (default: target/python-venv)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,10 +18,12 @@ if ! python3 -m venv "$venv" >/dev/null 2>&1; then
     python3 -m venv "$venv"
 fi
 "$venv/bin/pip" install --quiet --upgrade pip
-"$venv/bin/pip" install --quiet pytest numpy matplotlib ./python
+# pandas (and its stubs) for compare's rows as a DataFrame; mypy for the stubs' check.
+"$venv/bin/pip" install --quiet pytest numpy matplotlib pandas pandas-stubs mypy ./python
 # The tests compare against the command line built from the same tree.
 cargo build --release --quiet -p penumbra-lab --bin penumbra
 export PENUMBRA_NO_PROGRESS=1
 "$venv/bin/python" -m pytest -q python/tests
+"$venv/bin/python" -m mypy --strict --no-incremental python/examples/two_methods.py
 "$venv/bin/python" python/examples/two_methods.py target/python-example analytic-square 128
 echo "python: $(($(date +%s) - start)) s wall clock (venv, install, pytest, example)"

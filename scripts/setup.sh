@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what Penumbra needs on Debian/Ubuntu, and only what is missing: the Vulkan loader and a
 # Vulkan driver (Mesa's lavapipe CPU device when no Vulkan driver is present), a C/C++ compiler for
-# crates that build C, jq and python3 for the results folders' scripts, and DejaVu fonts so chart text renders. Needs a Rust toolchain (rustup).
+# crates that build C, jq and python3 for the results folders' scripts, DejaVu fonts so chart text renders,
+# and Chromium, in which CI drives the report's viewer (scripts/report-browser-test.sh). Needs a Rust toolchain (rustup).
 set -euo pipefail
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -15,6 +16,8 @@ fi
 # The results folders' scripts (and their CI stand-ins) read run files with jq and python3.
 command -v jq >/dev/null 2>&1 || need+=(jq)
 command -v python3 >/dev/null 2>&1 || need+=(python3)
+# The report's viewer is tested in a real browser, headless.
+command -v chromium >/dev/null 2>&1 || need+=(chromium)
 command -v cc >/dev/null 2>&1 || need+=(gcc)
 command -v c++ >/dev/null 2>&1 || need+=(g++)
 if [ "${#need[@]}" -gt 0 ]; then

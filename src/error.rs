@@ -27,6 +27,18 @@ pub enum Error {
     /// A method name or parameter is wrong.
     #[error("{0}")]
     Param(String),
+    /// A render setting given by key (`key=value` over a scene's `[render]` table) is unknown or
+    /// refuses its value. Its text names the key as the setting is spelled; each front end words
+    /// it as its user writes it (the command line `--set key=value`, Python `key=value`).
+    #[error("{}{key}{}: {why}", origin.as_ref().map(|o| format!("{o}: ")).unwrap_or_default(), value.as_ref().map(|v| format!("={v}")).unwrap_or_default())]
+    Setting {
+        /// The scene the setting was given for, where the message names it.
+        origin: Option<String>,
+        key: String,
+        /// The value as given; `None` when the key alone is at fault (an unknown setting).
+        value: Option<String>,
+        why: String,
+    },
     /// A counter overflowed its buffer on the GPU.
     #[error("overflow: {0}")]
     Overflow(String),

@@ -3,7 +3,7 @@
 //! stages, read-back. It knows methods only through `methods::MethodState`.
 
 use crate::stages::shade::ShadePass;
-use crate::stages::FrameGpu;
+use crate::stages::{FrameGpu, FrameParts};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
@@ -16,7 +16,38 @@ use crate::stages::shade::GeometryTiles;
 use crate::gpu::timing::{StageTimer, TimingMode};
 use crate::{Error, Result};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use std::time::Instant;
+
+/// What a renderer draws with, the context and the scene: borrowed from the caller (`&ctx`, the
+/// lab's studies), or shared with it (`Arc`), so that a renderer owns what it needs and can be kept
+/// by an object that outlives the caller's borrow (a Python `Renderer`).
+pub enum Held<'a, T> {
+    Borrowed(&'a T),
+    Shared(Arc<T>),
+}
+
+impl<T> std::ops::Deref for Held<'_, T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        match self {
+            Held::Borrowed(t) => t,
+            Held::Shared(t) => t,
+        }
+    }
+}
+
+impl<'a, T> From<&'a T> for Held<'a, T> {
+    fn from(t: &'a T) -> Self {
+        Held::Borrowed(t)
+    }
+}
+
+impl<T> From<Arc<T>> for Held<'_, T> {
+    fn from(t: Arc<T>) -> Self {
+        Held::Shared(t)
+    }
+}
 
 /// How to run a frame.
 #[derive(Clone, Copy, Debug)]
@@ -92,7 +123,9 @@ pub use crate::render::gbuffer::camera_uniform;
 /// whose scene changes between frames moves it to the next scene with [`Renderer::detach`] and
 /// [`Detached::attach`] rather than building a new one.
 pub struct Renderer<'a> {
-    fg: FrameGpu<'a>,
+    ctx: Held<'a, GpuContext>,
+    scene: Held<'a, Scene>,
+    parts: FrameParts,
     method: Method,
     gbuffer_pass: GBufferPass,
     camera: GpuCamera,
@@ -108,106 +141,122 @@ pub struct Renderer<'a> {
 }
 
 impl<'a> Renderer<'a> {
-    pub fn new(ctx: &'a GpuContext, scene: &'a Scene, method: &Method) -> Result<Self> {
-        Self::assemble(ctx, scene, method, None)
+    /// `ctx` and `scene` by reference (`&ctx`), or shared (`Arc`) for a renderer that owns them.
+    pub fn new(ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method) -> Result<Self> {
+        Self::assemble(ctx.into(), scene.into(), method, None)
     }
 
     /// Builds what `kept` lacks for `scene`. The method's state is always built anew: methods
     /// place their samples and frusta from the light and the bounds when they are built, so a
     /// fresh state is what keeps V exactly that of a new renderer.
-    fn assemble(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
+    fn assemble(ctx: Held<'a, GpuContext>, scene: Held<'a, Scene>, method: &Method, kept: Option<Detached>) -> Result<Self> {
         // Every size against the device and the host first: one line, not a wgpu panic later.
-        crate::methods::sizes::check(ctx, scene, method)?;
+        crate::methods::sizes::check(&ctx, &scene, method)?;
         // What the plan cannot foresee (memory another process holds) fails here as one line too.
-        ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || Self::create(ctx, scene, method, kept))
+        let c = ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || create(&ctx, &scene, method, kept))?;
+        let Created { parts, gbuffer_pass, camera, state, build, force_timestamps, raster_auto } = c;
+        Ok(Self { ctx, scene, parts, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some(build), force_timestamps, raster_auto })
     }
+}
 
-    /// `assemble` once the sizes are checked: every buffer, texture and pipeline of the frame.
-    fn create(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
-        let start = Instant::now();
-        let (w, h) = (scene.render.width, scene.render.height);
-        // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).
-        let band_rows = crate::methods::sizes::band_rows(scene, method, &ctx.limits());
-        let mut force_timestamps = false;
-        let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
-        // What the same method's last state remembered (auto's choice), handed to the new one.
-        let memory = kept.as_ref().filter(|k| k.method == *method).and_then(|k| k.memory.clone());
-        if let Some(k) = kept {
-            force_timestamps = k.force_timestamps;
-            gbuffer_pass = Some(k.gbuffer_pass);
-            // The G-buffer, the tile list and V are cleared or rewritten by every frame.
-            if (k.gbuffer.width, k.gbuffer.height) == (w, h) && k.geometry_tiles.band_rows == band_rows {
-                targets = Some((k.gbuffer, k.geometry_tiles, k.visibility));
-            }
-            shade = Some((k.maps, k.shade));
-            raster = Some((k.cull, k.budget_mib, k.raster));
-            let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
-            meshes = same_mesh.then_some(k.scene_gpu);
+/// What [`create`] builds: the renderer but for its context and scene.
+struct Created {
+    parts: FrameParts,
+    gbuffer_pass: GBufferPass,
+    camera: GpuCamera,
+    state: Box<dyn MethodState>,
+    build: (f64, f64),
+    force_timestamps: bool,
+    raster_auto: Option<crate::stages::raster_auto::AutoTiming>,
+}
+
+/// `assemble` once the sizes are checked: every buffer, texture and pipeline of the frame.
+fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detached>) -> Result<Created> {
+    let start = Instant::now();
+    let (w, h) = (scene.render.width, scene.render.height);
+    // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).
+    let band_rows = crate::methods::sizes::band_rows(scene, method, &ctx.limits());
+    let mut force_timestamps = false;
+    let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
+    // What the same method's last state remembered (auto's choice), handed to the new one.
+    let memory = kept.as_ref().filter(|k| k.method == *method).and_then(|k| k.memory.clone());
+    if let Some(k) = kept {
+        force_timestamps = k.force_timestamps;
+        gbuffer_pass = Some(k.gbuffer_pass);
+        // The G-buffer, the tile list and V are cleared or rewritten by every frame.
+        if (k.gbuffer.width, k.gbuffer.height) == (w, h) && k.geometry_tiles.band_rows == band_rows {
+            targets = Some((k.gbuffer, k.geometry_tiles, k.visibility));
         }
-        let gbuffer_pass = match gbuffer_pass {
-            Some(p) => p,
-            None => GBufferPass::new(ctx)?,
-        };
-        let upload_start = Instant::now();
-        let scene_gpu = match meshes {
-            Some(m) => m,
-            None => SceneGpu::upload(ctx, scene),
-        };
-        let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
-        let mut frame = frame_uniform(scene);
-        // The raster first: whether it is compute decides how every kernel reads the maps.
-        let (compute, raster_auto) = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
-        let raster = match raster {
-            Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
-            _ => Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?,
-        };
-        let access = raster.access(scene.render.maps);
-        let shade = match shade {
-            Some((a, s)) if a == access => s,
-            _ => ShadePass::new(ctx, access)?,
-        };
-        let (gbuffer, geometry_tiles, visibility) = match targets {
-            Some(t) => t,
-            None => {
-                let gbuffer = GBufferPass::allocate(ctx, w, h)?;
-                let tiles = shade.tile_list_in_bands(ctx, &gbuffer, band_rows);
-                (gbuffer, tiles, readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4))
-            }
-        };
-        geometry_tiles.stamp(ctx, &mut frame);
-        let fg = FrameGpu {
-            ctx,
-            scene,
-            frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
-            frame,
-            raster,
-            shade,
-            geometry_tiles,
-            visibility,
-            scene_gpu,
-            gbuffer,
-        };
-        let camera = camera_uniform(scene);
-        if method.times_frames_at_build() {
-            // The screen as the first frame will draw it, so frames timed at build shade what a
-            // frame shades (every frame draws it again).
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            gbuffer_pass.record(ctx, &mut enc, &fg.scene_gpu, &camera, &fg.gbuffer);
-            fg.shade.record_geometry_tiles(ctx, &mut enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
-            ctx.queue.submit([enc.finish()]);
-        }
-        let mut state = method.build(&fg)?;
-        if let Some(m) = &memory {
-            state.recall(m);
-        }
-        ctx.wait()?;
-        let build_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(Self { fg, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some((build_ms, upload_ms)), force_timestamps, raster_auto })
+        shade = Some((k.maps, k.shade));
+        raster = Some((k.cull, k.budget_mib, k.raster));
+        let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
+        meshes = same_mesh.then_some(k.scene_gpu);
     }
+    let gbuffer_pass = match gbuffer_pass {
+        Some(p) => p,
+        None => GBufferPass::new(ctx)?,
+    };
+    let upload_start = Instant::now();
+    let scene_gpu = match meshes {
+        Some(m) => m,
+        None => SceneGpu::upload(ctx, scene),
+    };
+    let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
+    let mut frame = frame_uniform(scene);
+    // The raster first: whether it is compute decides how every kernel reads the maps.
+    let (compute, raster_auto) = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
+    let raster = match raster {
+        Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
+        _ => Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?,
+    };
+    let access = raster.access(scene.render.maps);
+    let shade = match shade {
+        Some((a, s)) if a == access => s,
+        _ => ShadePass::new(ctx, access)?,
+    };
+    let (gbuffer, geometry_tiles, visibility) = match targets {
+        Some(t) => t,
+        None => {
+            let gbuffer = GBufferPass::allocate(ctx, w, h)?;
+            let tiles = shade.tile_list_in_bands(ctx, &gbuffer, band_rows);
+            (gbuffer, tiles, readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4))
+        }
+    };
+    geometry_tiles.stamp(ctx, &mut frame);
+    let parts = FrameParts {
+        frame_buffer: readback::uniform_buffer(ctx, "frame", &frame),
+        frame,
+        raster,
+        shade,
+        geometry_tiles,
+        visibility,
+        scene_gpu,
+        gbuffer,
+    };
+    let fg = FrameGpu { ctx, scene, parts: &parts };
+    let camera = camera_uniform(scene);
+    if method.times_frames_at_build() {
+        // The screen as the first frame will draw it, so frames timed at build shade what a
+        // frame shades (every frame draws it again).
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        gbuffer_pass.record(ctx, &mut enc, &fg.scene_gpu, &camera, &fg.gbuffer);
+        fg.shade.record_geometry_tiles(ctx, &mut enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
+        ctx.queue.submit([enc.finish()]);
+    }
+    let mut state = method.build(&fg)?;
+    if let Some(m) = &memory {
+        state.recall(m);
+    }
+    ctx.wait()?;
+    let build_ms = start.elapsed().as_secs_f64() * 1e3;
+    Ok(Created { parts, gbuffer_pass, camera, state, build: (build_ms, upload_ms), force_timestamps, raster_auto })
+}
 
+impl<'a> Renderer<'a> {
     /// Lets go of the scene and the method's state, keeping what another scene can reuse.
     pub fn detach(self) -> Detached {
-        let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility } = self.fg;
+        let FrameParts { scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility } = self.parts;
+        let (ctx, scene) = (&*self.ctx, &*self.scene);
         Detached {
             device: ctx.device.clone(),
             memory: self.state.memory(),
@@ -232,7 +281,7 @@ impl<'a> Renderer<'a> {
     /// drawn every frame: nothing is rebuilt. (The light, by contrast, is baked into the methods'
     /// shadow-map frusta when they are built.)
     pub fn set_camera(&mut self, camera: &crate::scene::Camera) {
-        self.camera = crate::render::gbuffer::camera_uniform_for(self.fg.scene, camera);
+        self.camera = crate::render::gbuffer::camera_uniform_for(&self.scene, camera);
         self.moved_camera = Some(camera.clone());
         self.state.camera_moved();
     }
@@ -240,7 +289,7 @@ impl<'a> Renderer<'a> {
     /// The screen-sized buffers the frame and the method created, by label (the size plan's
     /// names: tests check that `methods::sizes::plan` agrees).
     pub fn buffer_sizes(&self) -> Vec<(String, u64)> {
-        let mut out = vec![("visibility".to_string(), self.fg.visibility.size()), ("geometry tiles".to_string(), self.fg.geometry_tiles.bytes)];
+        let mut out = vec![("visibility".to_string(), self.parts.visibility.size()), ("geometry tiles".to_string(), self.parts.geometry_tiles.bytes)];
         out.extend(self.state.buffer_sizes());
         out
     }
@@ -261,12 +310,13 @@ impl<'a> Renderer<'a> {
     /// (`fixed_samples::FixedBuffers`, `single_map::SingleMapBuffers`, `adaptive::AdaptiveTrace`…);
     /// None when the method shows none or `T` is not its type.
     pub fn inspect<T: std::any::Any>(&mut self) -> Result<Option<T>> {
-        Ok(self.state.inspect(&self.fg)?.and_then(|b| b.downcast::<T>().ok()).map(|b| *b))
+        let fg = FrameGpu { ctx: &self.ctx, scene: &self.scene, parts: &self.parts };
+        Ok(self.state.inspect(&fg)?.and_then(|b| b.downcast::<T>().ok()).map(|b| *b))
     }
 
     /// `hardware` or `compute`: who rasterizes this renderer's maps (the `raster` setting, `auto` resolved).
     pub fn raster_name(&self) -> &'static str {
-        self.fg.raster.name()
+        self.parts.raster.name()
     }
 
     /// Runs one frame. The method's per-frame state is reset before the clock starts (`setup`);
@@ -279,7 +329,9 @@ impl<'a> Renderer<'a> {
         loop {
             let start = Instant::now();
             match self.attempt(options) {
-                Err(Error::Overflow(_)) if self.state.grow(&self.fg)? => lost_ms += start.elapsed().as_secs_f64() * 1e3,
+                Err(Error::Overflow(_)) if self.state.grow(&FrameGpu { ctx: &self.ctx, scene: &self.scene, parts: &self.parts })? => {
+                    lost_ms += start.elapsed().as_secs_f64() * 1e3
+                }
                 Ok(mut f) => {
                     f.total_ms += lost_ms;
                     return Ok(f);
@@ -292,11 +344,12 @@ impl<'a> Renderer<'a> {
     /// One run of a frame (`frame`).
     fn attempt(&mut self, options: FrameOptions) -> Result<FrameResult> {
         let setup_start = Instant::now();
-        let ctx = self.fg.ctx;
-        let (w, h) = (self.fg.gbuffer.width, self.fg.gbuffer.height);
+        let fg = FrameGpu { ctx: &self.ctx, scene: &self.scene, parts: &self.parts };
+        let ctx = fg.ctx;
+        let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
         let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx, self.force_timestamps);
         // A method's reset waits for its own zero fills; most have nothing to reset.
-        self.state.reset(&self.fg)?;
+        self.state.reset(&fg)?;
         let mut setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
         let mut build_stages = BTreeMap::new();
         if let Some((build_ms, upload_ms)) = self.build.take() {
@@ -306,7 +359,7 @@ impl<'a> Renderer<'a> {
         }
 
         let frame_start = Instant::now();
-        let fg = &self.fg;
+        let fg = &fg;
         timer.stage(ctx, Stage::GBUFFER, |enc| {
             // Methods accumulate into V: clearing it is part of every frame.
             enc.clear_buffer(&fg.visibility, 0, None);
@@ -335,8 +388,8 @@ impl<'a> Renderer<'a> {
         stages_ms.extend(build_stages);
         let gpu_stages_ms = timer.gpu_stages_ms(ctx)?;
         let raster = RasterUsed {
-            used: self.fg.raster.name(),
-            setting: self.fg.scene.render.raster,
+            used: fg.raster.name(),
+            setting: fg.scene.render.raster,
             auto: self.raster_auto,
         };
         Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster })
@@ -374,7 +427,7 @@ impl Detached {
     /// The same method's renderer for `scene`, on the context it was built on: what the scene
     /// changes is built again, the method's state always (see `Renderer::assemble`). Its first frame
     /// carries `build`.
-    pub fn attach<'a>(self, ctx: &'a GpuContext, scene: &'a Scene) -> Result<Renderer<'a>> {
+    pub fn attach<'a>(self, ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>) -> Result<Renderer<'a>> {
         let method = self.method.clone();
         self.attach_as(ctx, scene, &method)
     }
@@ -382,11 +435,12 @@ impl Detached {
     /// As [`Detached::attach`], for any method: nothing kept here belongs to a method (what a
     /// method's sizes change, `assemble` builds again), so the configurations of a sweep hand it
     /// from one to the next.
-    pub fn attach_as<'a>(self, ctx: &'a GpuContext, scene: &'a Scene, method: &Method) -> Result<Renderer<'a>> {
+    pub fn attach_as<'a>(self, ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method) -> Result<Renderer<'a>> {
+        let ctx = ctx.into();
         if self.device != ctx.device {
             return Err(crate::Error::Gpu("a detached renderer was attached on another device than its own".into()));
         }
-        Renderer::assemble(ctx, scene, method, Some(self))
+        Renderer::assemble(ctx, scene.into(), method, Some(self))
     }
 }
 

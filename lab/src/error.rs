@@ -9,8 +9,8 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The engine's error (scene, mesh, GPU, parameters, files, …).
-    #[error(transparent)]
+    /// The engine's error (scene, mesh, GPU, parameters, files, …), in the command line's words.
+    #[error("{}", cli_words(.0))]
     Engine(#[from] penumbra::Error),
     /// The CPU ground truth failed (degenerate light, cache file unreadable).
     #[error("reference: {0}")]
@@ -27,6 +27,19 @@ pub enum Error {
     /// Fetching or loading a registry asset (its message names the file and the line or element).
     #[error(transparent)]
     Asset(#[from] crate::assets::AssetError),
+}
+
+/// The engine's error as the command line says it: a render setting by its flag, `--set key=value`.
+/// (Python words the same error by its keyword argument.)
+pub fn cli_words(e: &penumbra::Error) -> String {
+    match e {
+        penumbra::Error::Setting { origin, key, value, why } => {
+            let origin = origin.as_ref().map(|o| format!("{o}: ")).unwrap_or_default();
+            let value = value.as_ref().map(|v| format!("={v}")).unwrap_or_default();
+            format!("{origin}--set {key}{value}: {why}")
+        }
+        e => e.to_string(),
+    }
 }
 
 impl Error {

@@ -19,7 +19,7 @@ pub mod inputs;
 pub mod interrupt;
 pub mod panic_log;
 
-pub use error::{Error, Result};
+pub use error::{cli_words, Error, Result};
 
 /// Registers the lab with the engine: progress bars on the terminal and the asset layer
 /// (`cache:` paths, the registry mesh formats). The binary calls it first; so may any program

@@ -151,7 +151,12 @@ fn main() {
         // A cause whose text the message already holds (thiserror's `#[from]` wrappers print their
         // source) is left out, so no error repeats itself.
         let mut msg = String::new();
-        for cause in e.chain().map(|c| c.to_string()) {
+        // The engine's own errors are worded as the command line is used (`--set key=value`).
+        let words = |c: &(dyn std::error::Error + 'static)| match c.downcast_ref::<penumbra::Error>() {
+            Some(engine) => penumbra_lab::cli_words(engine),
+            None => c.to_string(),
+        };
+        for cause in e.chain().map(words) {
             if !msg.contains(&cause) {
                 msg += if msg.is_empty() { "" } else { ": " };
                 msg += &cause;

@@ -99,10 +99,16 @@ fn non_finite_bias_or_ambient_names_the_key() {
 #[test]
 fn set_type_errors_name_set_and_the_key_not_the_scene_file() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = Scene::parse(BASE, "bad.toml", None, &[("resolution".into(), "abc".into())]).unwrap_err().to_string();
-    assert_eq!(e, "--set resolution=abc: invalid type: string \"abc\", expected u32");
-    let e = Scene::parse(BASE, "bad.toml", None, &[("width".into(), "64".into()), ("cull".into(), "sideways".into())]).unwrap_err().to_string();
-    assert_eq!(e, "--set cull=sideways: unknown variant `sideways`, expected one of `back`, `front`, `none`");
+    // The engine's error is typed and names no flag; the command line words it as `--set`.
+    let e = Scene::parse(BASE, "bad.toml", None, &[("resolution".into(), "abc".into())]).unwrap_err();
+    assert!(matches!(&e, penumbra::Error::Setting { key, value: Some(v), .. } if key == "resolution" && v == "abc"), "{e:?}");
+    assert_eq!(e.to_string(), "resolution=abc: invalid type: string \"abc\", expected u32");
+    assert_eq!(penumbra_lab::cli_words(&e), "--set resolution=abc: invalid type: string \"abc\", expected u32");
+    let e = Scene::parse(BASE, "bad.toml", None, &[("width".into(), "64".into()), ("cull".into(), "sideways".into())]).unwrap_err();
+    assert_eq!(penumbra_lab::cli_words(&e), "--set cull=sideways: unknown variant `sideways`, expected one of `back`, `front`, `none`");
+    let e = Scene::parse(BASE, "bad.toml", None, &[("widht".into(), "64".into())]).unwrap_err();
+    assert!(e.to_string().starts_with("bad.toml: widht: unknown render setting (known: width, "), "{e}");
+    assert!(penumbra_lab::cli_words(&e).starts_with("bad.toml: --set widht: unknown render setting (known: width, "), "{e}");
 }
 
 #[test]

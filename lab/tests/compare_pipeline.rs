@@ -24,12 +24,14 @@ fn run(cache: &Path, args: &[&str]) -> Output {
     out
 }
 
-/// Everything report.html loads must be inside it: no URL, script, stylesheet link or import.
+/// Everything report.html loads must be inside it: no URL, script file, stylesheet link or import;
+/// one inline script, the viewer's, which requests nothing.
 fn assert_self_contained(html: &str) {
     let lower = html.to_lowercase();
-    for bad in ["src=\"http", "src='http", "href=\"http", "href='http", "<script", "<link", "@import", "url("] {
+    for bad in ["src=\"http", "src='http", "href=\"http", "href='http", "<script src", "<link", "@import", "url(", "fetch(", "xmlhttprequest", "http://", "https://"] {
         assert!(!lower.contains(bad), "report.html contains {bad:?}");
     }
+    assert_eq!(lower.matches("<script").count(), 1, "one script: the viewer's");
     for part in lower.split("src=").skip(1) {
         let value = part.trim_start_matches(['"', '\'']);
         assert!(value.starts_with("data:image/"), "a src is not a data: image URI: {:.60}", value);
@@ -124,8 +126,13 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
     for label in labels {
         assert!(html.contains(label), "report lacks {label}");
     }
+    // Each picture once: the shared reference, then 4 per method, in one viewer; the charts (4: one
+    // p_m, so no P_M chart) inline, each point of the two scatter charts answering with its row.
     let images = html.matches("<img ").count();
-    assert_eq!(images, 4 + 5 * rows.len(), "charts (4: one p_m, so no P_M chart) + 5 tiles per method");
+    assert_eq!(images, 1 + 4 * rows.len(), "the reference + 4 pictures per method");
+    assert_eq!(html.matches("<svg ").count(), 4);
+    assert_eq!(html.matches("<div class=\"viewer\"").count(), 1);
+    assert_eq!(html.matches("<circle class=\"hit\"").count(), 2 * rows.len(), "error against time and against maps");
 
     // `penumbra report` re-renders the same page from the results file alone.
     let again = dir.join("again");

@@ -48,11 +48,13 @@ fn rows(dir: &Path) -> Vec<serde_json::Value> {
     text.lines().map(|l| serde_json::from_str(l).unwrap()).collect()
 }
 
+/// No URL, script file, link or import; at most one script, the comparison viewer's, inline.
 fn assert_self_contained(html: &str) {
     let lower = html.to_lowercase();
-    for bad in ["http://", "https://", "<script", "<link", "@import", "url(", "href="] {
+    for bad in ["http://", "https://", "<script src", "<link", "@import", "url(", "href=", "fetch("] {
         assert!(!lower.contains(bad), "report.html contains {bad:?}");
     }
+    assert_eq!(lower.matches("<script").count(), usize::from(lower.contains("<div class=\"viewer")), "a script only with a viewer");
     let imgs = lower.matches("<img ").count();
     assert!(imgs > 0);
     assert_eq!(imgs, lower.matches("<img src=\"data:image/").count(), "an <img> is not a data: URI");
@@ -248,4 +250,7 @@ fn the_failure_gallery_states_each_failure_from_its_figures() {
         assert!(html.contains(&escaped), "report lacks {}", s["sentence"]);
     }
     assert!(html.contains("Failure gallery") && html.contains("Temporal sequence: pole-between-corners"));
+    // One viewer per failure scene: its reference, then each method's signed error map.
+    assert_eq!(html.matches("<div class=\"viewer compact\"").count(), scenes.len());
+    assert_eq!(html.matches("<div class=\"v-item\" data-label=\"reference\" data-reference>").count(), scenes.len());
 }

@@ -1,11 +1,14 @@
 //! `penumbra._penumbra`: the engine and the lab from Python (the package python/penumbra/ wraps it).
 //!
 //! Every call that touches the GPU or traces the reference releases the GIL (`Python::detach`), so
-//! other Python threads run meanwhile. Errors become `penumbra.PenumbraError` (a `ValueError`)
-//! carrying the same one-line message `penumbra` prints after `error:`; failures of the device
-//! itself become `penumbra.GpuError`, its subclass.
+//! other Python threads run meanwhile. Bad input becomes `penumbra.PenumbraError` (a `ValueError`)
+//! carrying the one-line message `penumbra` prints after `error:`, a render setting named as the
+//! keyword argument it came from (`cull='sideways'`, where the command line says `--set`); a failing
+//! device (lost, no adapter, a kernel that does not validate) becomes `penumbra.GpuError`, a
+//! `RuntimeError`. The signatures are in `penumbra/_penumbra.pyi`.
 
 mod context;
+mod progress;
 mod record;
 mod renderer;
 mod scene;
@@ -14,21 +17,41 @@ mod truth;
 use pyo3::prelude::*;
 use pyo3::types::{PyAny, PyDict};
 
-pyo3::create_exception!(penumbra, PenumbraError, pyo3::exceptions::PyValueError, "Bad input or a failed run; the message is the command line's `error:` line.");
-pyo3::create_exception!(penumbra, GpuError, PenumbraError, "The device failed (lost, out of memory, a kernel that does not validate).");
+pyo3::create_exception!(penumbra, PenumbraError, pyo3::exceptions::PyValueError, "Bad input: a scene, setting, method, parameter or file that penumbra refuses; the message is the command line's `error:` line.");
+pyo3::create_exception!(penumbra, GpuError, pyo3::exceptions::PyRuntimeError, "The GPU failed: no adapter matches, the device was lost or ran out of memory, a kernel did not validate, a counter overflowed.");
 
 /// The lab's error as the Python exception of its kind, with the CLI's message.
 pub(crate) fn to_py(e: penumbra_lab::Error) -> PyErr {
-    use penumbra::Error as Engine;
-    let message = e.to_string();
     match e {
-        penumbra_lab::Error::Engine(Engine::Gpu(_) | Engine::Kernel { .. } | Engine::NoAdapter(_) | Engine::Overflow(_)) => GpuError::new_err(message),
-        _ => PenumbraError::new_err(message),
+        penumbra_lab::Error::Engine(e) => engine(e),
+        e => PenumbraError::new_err(e.to_string()),
     }
 }
 
+/// The engine's error as the Python exception of its kind: the device's failures a `GpuError`,
+/// the rest bad input; a render setting named as its keyword argument.
 pub(crate) fn engine(e: penumbra::Error) -> PyErr {
-    to_py(e.into())
+    use penumbra::Error as Engine;
+    match e {
+        Engine::Gpu(_) | Engine::Kernel { .. } | Engine::NoAdapter(_) | Engine::Overflow(_) => GpuError::new_err(e.to_string()),
+        Engine::Setting { origin, key, value, why } => {
+            let origin = origin.map(|o| format!("{o}: ")).unwrap_or_default();
+            let value = value.map(|v| format!("={}", python_literal(&v))).unwrap_or_default();
+            PenumbraError::new_err(format!("{origin}{key}{value}: {why}"))
+        }
+        e => PenumbraError::new_err(e.to_string()),
+    }
+}
+
+/// A setting's value text as the Python literal that gives it: numbers and booleans as they are
+/// written in Python, anything else quoted (`'sideways'`).
+fn python_literal(text: &str) -> String {
+    match text {
+        "true" => "True".into(),
+        "false" => "False".into(),
+        t if t.parse::<f64>().is_ok() => t.into(),
+        t => format!("'{}'", t.replace('\\', "\\\\").replace('\'', "\\'")),
+    }
 }
 
 /// `key=value` pairs from Python keyword arguments, spelled as on the command line (`True` → `true`).

@@ -24,9 +24,7 @@ pub struct Pending {
     pub v: VFigures,
 }
 
-/// The run record of one frame: run.json's content, read as a dict is (`rec["total_ms"]`, `in`,
-/// `keys()`, `items()`, `get`, iteration, `len`, `==` with a dict). `to_dict()` gives a plain dict
-/// (for `json.dump` or to change it).
+/// The run record of one frame: run.json's content, read as a dict is.
 #[pyclass(module = "penumbra", frozen, mapping)]
 pub struct Record {
     pending: Mutex<Option<Pending>>,

@@ -16,24 +16,27 @@ use pyo3::types::PyDict;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-/// A built method. `renderer` borrows the context and the scene that the owning [`Renderer`] keeps
-/// in `Arc`s: their heap addresses never move, and `built` is declared before them so it is
-/// dropped first.
+/// A built method. Its renderer shares the context and the scene with the owning [`Renderer`]
+/// (`Arc`s), so it borrows nothing; the `Mutex` in `Renderer` lets one thread at a time render.
 struct Built {
     renderer: frame::Renderer<'static>,
     /// Shared with the records of its frames.
     method: Arc<Method>,
 }
 
-// SAFETY: a method's state is a `Box<dyn MethodState>` whose trait carries no `Send` bound, but
-// every state holds only wgpu handles (shared references on native backends), plain data and
-// `RefCell`s, all `Send`; none holds an `Rc` or a thread-bound handle. Every access goes through
-// the `Mutex` in `Renderer`, so one thread at a time renders with it (the GIL is released then).
-unsafe impl Send for Built {}
-
 /// A method spec and its parameters as `render` received them.
 type Request = (String, Vec<(String, String)>);
 
+/// Renders methods on one scene, each built once and kept: repeated renders reuse its pipelines and buffers.
+///
+/// Args:
+///     scene: the scene to render.
+///     adapter: a GPU adapter's name or part of one, as `penumbra --adapter` takes it; `None`
+///         picks as the command line does (`WGPU_ADAPTER_NAME`, else the best adapter).
+///
+/// Raises:
+///     GpuError: no adapter matches, or none is usable.
+///     PenumbraError: `WGPU_BACKEND` names no backend.
 #[pyclass(module = "penumbra", frozen)]
 pub struct Renderer {
     built: Mutex<HashMap<String, Built>>,
@@ -71,10 +74,7 @@ impl Renderer {
                     method.check_light(&self.scene)?;
                     let key = method.label();
                     if !built.contains_key(&key) {
-                        // SAFETY: see `Built`: both live in `Arc`s this renderer holds for longer than `built`.
-                        let ctx: &'static GpuContext = unsafe { &*Arc::as_ptr(&self.ctx) };
-                        let scene: &'static scene::Scene = unsafe { &*Arc::as_ptr(&self.scene) };
-                        let mut renderer = frame::Renderer::new(ctx, scene, &method)?;
+                        let mut renderer = frame::Renderer::new(self.ctx.clone(), self.scene.clone(), &method)?;
                         renderer.frame(TimingMode::Frame)?;
                         built.insert(key.clone(), Built { renderer, method: Arc::new(method) });
                     }
@@ -99,9 +99,21 @@ impl Renderer {
         Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone() })
     }
 
-    /// Renders `method` (a spec as `penumbra render --method` takes it; keyword arguments are its
-    /// parameters, as `--param`) and returns `(V, record)`: V as float32 (H, W), top row first, NaN
-    /// on the background; the record is run.json's content as a `Record`, read as a dict is.
+    /// Renders one frame of `method`.
+    ///
+    /// Args:
+    ///     method: a method spec as `penumbra render --method` takes it (`"pcss"`,
+    ///         `"adaptive:preset=balanced"`, `"regular:n=5,layout=centred"`).
+    ///     **params: the method's parameters, as `--param key=value` (`p_m=10`, `scope="local"`).
+    ///
+    /// Returns:
+    ///     `(V, record)`: V, the visibility, float32 of shape (height, width), top row first,
+    ///     in [0, 1] on geometry and NaN on the background; record, run.json's content.
+    ///
+    /// Raises:
+    ///     PenumbraError: an unknown method or parameter, a value it refuses, a light the method
+    ///         cannot take, sizes past the device's limits.
+    ///     GpuError: the device failed.
     #[pyo3(signature = (method, **params))]
     fn render<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
         let (v, pending) = self.with_built(py, method, &crate::pairs(params)?, |b| {
@@ -126,10 +138,21 @@ impl Renderer {
         Ok((numpy_image(py, v, &pending.frame.gbuffer)?, Record::new(pending)))
     }
 
-    /// The method's decision pictures of one frame as uint8 (H, W, 3) arrays by name (adaptive:
-    /// `comparison_map`, `low_quality`, `light_quadtree`, `samples_per_pixel` with `scope=local`),
-    /// plus `error_bound` (float32 (H, W), NaN on the background) where the method estimates its
-    /// error (`regular:…,estimate=on`, `auto`).
+    /// Renders one frame with the method's decision pictures on.
+    ///
+    /// Args:
+    ///     method: a method spec, as for `render`.
+    ///     **params: the method's parameters, as for `render`.
+    ///
+    /// Returns:
+    ///     The pictures by name, uint8 of shape (height, width, 3): adaptive's `comparison_map`,
+    ///     `low_quality` and `light_quadtree`, `samples_per_pixel` with `scope=local`; and
+    ///     `error_bound`, float32 (height, width), NaN on the background, where the method
+    ///     estimates its error.
+    ///
+    /// Raises:
+    ///     PenumbraError: as for `render`.
+    ///     GpuError: the device failed.
     #[pyo3(signature = (method, **params))]
     fn pictures<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<Bound<'py, PyDict>> {
         let f = self.with_built(py, method, &crate::pairs(params)?, |b| Ok(b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: true })?))?;

@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use std::sync::Arc;
 
+/// A checked scene: meshes, camera, area light and render settings.
 #[pyclass(module = "penumbra", frozen)]
 pub struct Scene {
     pub inner: Arc<scene::Scene>,
@@ -66,8 +67,19 @@ fn light_table(light: &Bound<'_, PyDict>) -> PyResult<toml::Table> {
 
 #[pymethods]
 impl Scene {
-    /// A built-in scene by name (`penumbra scenes` lists them) or a scene TOML file, with render
-    /// settings by the keys of `penumbra render --set` (`resolution=128`, `cull="none"`).
+    /// A built-in scene by name or a scene TOML file, with render settings.
+    ///
+    /// Args:
+    ///     name_or_path: a built-in scene (`penumbra scenes` lists them) or the path of a scene TOML file.
+    ///     **settings: render settings by the keys of `penumbra render --set`: `resolution=128`,
+    ///         `shadow_map_size=1024`, `cull="none"`, `ambient=0.1`, ... (`True` is `true`).
+    ///
+    /// Returns:
+    ///     The scene, checked as the command line checks it.
+    ///
+    /// Raises:
+    ///     PenumbraError: no such scene, a malformed file, a missing mesh, an unknown setting or a
+    ///         value it refuses (named as its keyword: `cull='sideways'`).
     #[staticmethod]
     #[pyo3(signature = (name_or_path, **settings))]
     fn load(py: Python<'_>, name_or_path: &str, settings: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
@@ -76,12 +88,22 @@ impl Scene {
         Ok(Scene::new(inner, &pairs))
     }
 
-    /// A scene from meshes in memory: `meshes` is a list of `(positions, indices)` or
-    /// `(positions, indices, albedo)`, positions (N, 3) and indices (M, 3) or (3M,), counter-clockwise
-    /// seen from the front; `camera` a dict with `eye`, `target`, `fov_y_deg` and optionally `up`;
-    /// `light` a scene file's `[light]` table as a dict: a rectangle `{center, edge_u, edge_v}`, or
-    /// any kind of docs/lights.md (`{"kind": "disk", "center": …, "normal": …, "radius": …}`).
-    /// Checked as a scene file is.
+    /// A scene from meshes in memory, checked as a scene file is.
+    ///
+    /// Args:
+    ///     meshes: `(positions, indices)` or `(positions, indices, albedo)` per mesh: positions
+    ///         float (N, 3), indices int (M, 3) or (3M,), counter-clockwise seen from the front,
+    ///         albedo three floats (default 0.8 grey).
+    ///     camera: `eye`, `target`, `fov_y_deg` and optionally `up` (three floats each).
+    ///     light: the scene file's `[light]` table: a rectangle `{center, edge_u, edge_v}` or any
+    ///         kind of docs/lights.md (`{"kind": "disk", "center": ..., "normal": ..., "radius": ...}`).
+    ///     **settings: render settings, as for `Scene.load`.
+    ///
+    /// Returns:
+    ///     The scene; its errors name `embedded scene`.
+    ///
+    /// Raises:
+    ///     PenumbraError: a malformed mesh, camera, light or setting.
     #[staticmethod]
     #[pyo3(signature = (meshes, camera, light, **settings))]
     fn from_meshes(py: Python<'_>, meshes: Vec<Bound<'_, PyTuple>>, camera: &Bound<'_, PyDict>, light: &Bound<'_, PyDict>, settings: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {

@@ -13,11 +13,10 @@ use penumbra_lab::render::gbuffer::GBufferCpu;
 use penumbra_lab::scene;
 use penumbra_lab::studies::compare::{self, methods_list, CompareJob};
 use pyo3::prelude::*;
-use std::io::IsTerminal;
+use crate::progress::Lines;
 use std::sync::Arc;
 
-/// The reference of one scene: V as an array (`numpy.asarray(ref)`, `ref.values`), and what
-/// `metrics` needs to judge against it (the G-buffer, the shaded reference for FLIP).
+/// The reference of one scene: V as an array (`numpy.asarray(ref)`, `ref.values`), and what `metrics` judges against.
 #[pyclass(module = "penumbra", frozen)]
 pub struct Reference {
     scene: Arc<scene::Scene>,
@@ -28,27 +27,36 @@ pub struct Reference {
     seconds: Option<f64>,
 }
 
-fn quiet_unless_terminal(line: &str) {
-    if std::io::stderr().is_terminal() {
-        eprintln!("{line}");
-    }
-}
-
 fn parse_mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference::ReferenceMode> {
     truth::parse_mode(reference, samples).map_err(crate::to_py)
 }
 
-/// The reference image of `scene`: `continuous` (samples × samples stratified points per pixel,
-/// as `penumbra reference --samples`), `lattice` or `point[:S,T]`; cached as the CLI caches it
-/// unless `no_cache` (then traced afresh and stored).
+/// The ground truth of `scene`, traced on the CPU or read from the cache `penumbra reference` fills.
+///
+/// Args:
+///     scene: the scene.
+///     samples: `continuous`: samples × samples stratified points per pixel (1..=256).
+///     mode: `continuous`, `lattice` (the 289 lattice points) or `point[:S,T]` (one light point).
+///     no_cache: trace afresh (and store the result) even when the cache holds it.
+///     adapter: the GPU adapter for the G-buffer, as for `Renderer`.
+///     progress: `None`: a line on a terminal's stderr, or in a Jupyter cell; `True`: on Python's
+///         `sys.stderr`; `False`: nothing; a callable: called with each line.
+///
+/// Returns:
+///     The reference: V as float32 (height, width), NaN on the background.
+///
+/// Raises:
+///     PenumbraError: a bad mode or sample count.
+///     GpuError: the device failed.
 #[pyfunction]
-#[pyo3(signature = (scene, samples=32, mode="continuous", no_cache=false, adapter=None))]
-pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode: &str, no_cache: bool, adapter: Option<&str>) -> PyResult<Reference> {
+#[pyo3(signature = (scene, samples=32, mode="continuous", no_cache=false, adapter=None, progress=None))]
+pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode: &str, no_cache: bool, adapter: Option<&str>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Reference> {
+    let lines = Lines::from_arg(py, progress)?;
     let mode = parse_mode(mode, samples)?;
     let ctx: Arc<GpuContext> = crate::context::get(py, adapter)?;
     let s = scene.inner.clone();
     let (g, image) = py.detach(|| truth::for_scene(&ctx, &s, mode, &Cache::default_for(no_cache))).map_err(crate::to_py)?;
-    quiet_unless_terminal(&compare::reference_line(&image, g.geometry_count()));
+    lines.line(&compare::reference_line(&image, g.geometry_count()));
     let judge = Judge::new(&s, &g, image.values.clone());
     Ok(Reference {
         mode: truth::mode_label(&image.mode),
@@ -62,7 +70,7 @@ pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode: &str, no_cac
 
 #[pymethods]
 impl Reference {
-    /// V of the reference as float32 (H, W), NaN on the background.
+    /// V of the reference, float32 of shape (height, width), NaN on the background.
     #[getter]
     fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
         crate::renderer::visibility_array(py, &self.judge.reference, &self.g)
@@ -111,8 +119,18 @@ impl Reference {
     }
 }
 
-/// The figures `penumbra compare` reports for V against `reference` (a [`Reference`]), over its
-/// geometry pixels: rmse, mae, max_abs, psnr, ssim, flip_mean, … as a dict.
+/// The figures `penumbra compare` reports for V against the reference, over its geometry pixels.
+///
+/// Args:
+///     v: V, float of shape (height, width) as `Renderer.render` returns it (background ignored).
+///     reference: the reference of the same scene.
+///
+/// Returns:
+///     `rmse`, `mae`, `max_abs`, `psnr` (None when identical), `ssim`, `flip_mean`, `flip_p95`,
+///     `flip_p99`, `penumbra_rmse`, `bad_pixel_share`, `nan_count`, `pixels`, ... as floats and ints.
+///
+/// Raises:
+///     PenumbraError: V's shape is not the reference's.
 #[pyfunction]
 pub fn metrics<'py>(py: Python<'py>, v: &Bound<'py, PyAny>, reference: &Reference) -> PyResult<Bound<'py, PyAny>> {
     let a = py.import("numpy")?.call_method1("ascontiguousarray", (v, "float32"))?;
@@ -127,14 +145,13 @@ pub fn metrics<'py>(py: Python<'py>, v: &Bound<'py, PyAny>, reference: &Referenc
     crate::json_to_py(py, &serde_json::to_value(&judged.metrics).map_err(|e| crate::PenumbraError::new_err(e.to_string()))?)
 }
 
-/// `penumbra compare` on `scene`: each method (specs, or one comma-separated string) timed over
-/// `repeats` frames after a warm-up and judged against the reference; the rows of results.jsonl
-/// as a list of dicts. Nothing is written but the reference cache.
+/// `penumbra compare` on `scene`; `penumbra.compare` wraps it (its rows are a `Rows`).
 #[pyfunction]
-#[pyo3(signature = (scene, methods, repeats=3, samples=32, reference="continuous", no_cache=false, adapter=None))]
+#[pyo3(signature = (scene, methods, repeats=3, samples=32, reference="continuous", no_cache=false, adapter=None, progress=None))]
 #[pyo3(name = "compare")]
 #[allow(clippy::too_many_arguments)]
-pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py, PyAny>, repeats: u32, samples: u32, reference: &str, no_cache: bool, adapter: Option<&str>) -> PyResult<Bound<'py, PyAny>> {
+pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py, PyAny>, repeats: u32, samples: u32, reference: &str, no_cache: bool, adapter: Option<&str>, progress: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    let lines = Lines::from_arg(py, progress)?;
     let values: Vec<String> = match methods.extract::<String>() {
         Ok(one) => vec![one],
         Err(_) => methods.extract()?,
@@ -153,7 +170,7 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
         .detach(|| -> penumbra_lab::Result<_> {
             penumbra_lab::methods::sizes::check_all(&ctx, &s, &methods)?;
             let job = CompareJob { scene: &s, methods, repeats, reference: mode, cache: Cache::default_for(no_cache), provenance, pictures: false };
-            compare::run(&ctx, &job, &quiet_unless_terminal)
+            compare::run(&ctx, &job, &|line: &str| lines.line(line))
         })
         .map_err(crate::to_py)?;
     let mut rows = serde_json::to_value(&outcome.rows).map_err(|e| crate::PenumbraError::new_err(e.to_string()))?;
@@ -164,8 +181,16 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
     crate::json_to_py(py, &rows)
 }
 
-/// Channel 0 of an EXR as float32 (H, W): V as `penumbra render` and `compare` write it
-/// (`visibility.exr`, `reference.exr`; 0 on the background).
+/// Channel 0 of an EXR as float32 of shape (height, width): V as `penumbra render` and `compare` write it (0 on the background).
+///
+/// Args:
+///     path: a `visibility.exr` or `reference.exr`.
+///
+/// Returns:
+///     V, float32 (height, width).
+///
+/// Raises:
+///     PenumbraError: the file is missing or not an EXR.
 #[pyfunction]
 pub fn read_exr<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyArray2<f32>>> {
     use numpy::{IntoPyArray, PyArrayMethods};

@@ -198,7 +198,8 @@ pub fn check_lights(scene: &crate::scene::Scene, methods: &[Method]) -> Result<(
 }
 
 /// A built method. `reset` runs before the frame's clock starts (zero fills); `run` is the frame.
-pub trait MethodState {
+/// `Send`, so a renderer moves to the thread that renders with it (Python releases the GIL then).
+pub trait MethodState: Send {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()>;
     /// `pictures`: read back what the decision pictures need. A per-frame request (timed runs turn
     /// it off), so it is an argument, not part of the shared [`FrameGpu`].

@@ -45,8 +45,8 @@ fn default_up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
 }
 
-/// TOML text → definition, with `--set` overrides applied. Errors in the file give the line,
-/// column, key and value; errors from an override name `--set` and its key.
+/// TOML text → definition, with `key=value` overrides of its render settings applied. Errors in
+/// the file give the line, column, key and value; an override's is an [`Error::Setting`] naming it.
 pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result<SceneDef> {
     let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e, "TOML syntax error")))?;
     // The file alone first, from its text, so type errors carry a position.
@@ -54,18 +54,18 @@ pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result
     if overrides.is_empty() {
         return Ok(def);
     }
-    super::overrides::apply_overrides(&mut table, overrides).map_err(|m| Error::scene(origin, m))?;
+    super::overrides::apply_overrides(&mut table, overrides, origin)?;
     SceneDef::deserialize(toml::Value::Table(table)).map_err(|e: toml::de::Error| {
         // The file deserialized alone, so an override is at fault: find which.
         let culprit = overrides.iter().find(|o| {
             let mut t: toml::Table = text.parse().unwrap_or_default();
-            super::overrides::apply_overrides(&mut t, std::slice::from_ref(o)).is_ok()
+            super::overrides::apply_overrides(&mut t, std::slice::from_ref(o), origin).is_ok()
                 && SceneDef::deserialize(toml::Value::Table(t)).is_err()
         });
-        let msg = plain_message(&e);
+        let why = plain_message(&e);
         match culprit {
-            Some((k, v)) => Error::Param(format!("--set {k}={v}: {msg}")),
-            None => Error::Param(format!("--set: {msg}")),
+            Some((k, v)) => Error::Setting { origin: None, key: k.clone(), value: Some(v.clone()), why },
+            None => Error::Param(format!("render settings: {why}")),
         }
     })
 }

@@ -24,12 +24,22 @@ pub struct GivenMesh<'a> {
 
 /// Render settings from `--set`-style pairs over the defaults (the keys of `penumbra render --set`).
 pub fn settings_from_pairs(origin: &str, pairs: &[(String, String)]) -> Result<RenderSettings> {
-    let mut table = toml::Table::new();
-    apply_overrides(&mut table, pairs).map_err(|m| Error::scene(origin, m))?;
-    let render = match table.remove("render") {
-        Some(v) => v.try_into::<RenderSettings>().map_err(|e| Error::Param(format!("{origin}: render setting: {}", e.message().trim())))?,
-        None => RenderSettings::default(),
+    let settings = |pairs: &[(String, String)]| -> Result<std::result::Result<RenderSettings, toml::de::Error>> {
+        let mut table = toml::Table::new();
+        apply_overrides(&mut table, pairs, origin)?;
+        Ok(match table.remove("render") {
+            Some(v) => v.try_into::<RenderSettings>(),
+            None => Ok(RenderSettings::default()),
+        })
     };
+    let render = settings(pairs)?.map_err(|e| {
+        let why = e.message().trim().to_string();
+        // The pair at fault is the one refused alone.
+        match pairs.iter().find(|p| matches!(settings(std::slice::from_ref(p)), Ok(Err(_)))) {
+            Some((k, v)) => Error::Setting { origin: Some(origin.to_string()), key: k.clone(), value: Some(v.clone()), why },
+            None => Error::Param(format!("{origin}: render setting: {why}")),
+        }
+    })?;
     format::render_settings(origin, &render)
 }
 

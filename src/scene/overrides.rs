@@ -1,6 +1,8 @@
 //! `--set key=value` on the scene's `[render]` table. Short keys (`width`) and dotted keys
 //! (`bias.constant`, `render.width`) both work; `resolution` sets width and height.
 
+use crate::Error;
+
 pub const RENDER_KEYS: &[&str] = &[
     "width",
     "height",
@@ -38,18 +40,21 @@ pub fn parse_value(text: &str) -> toml::Value {
         .unwrap_or_else(|| toml::Value::String(text.to_string()))
 }
 
-pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)]) -> Result<(), String> {
+/// Sets each `key=value` pair in `table`'s `[render]`; an unknown key is a [`Error::Setting`]
+/// naming `origin`, the scene it was given for.
+pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)], origin: &str) -> crate::Result<()> {
     for (key, value) in overrides {
         let short = key.strip_prefix("render.").unwrap_or(key);
         if !RENDER_KEYS.contains(&short) {
-            return Err(format!("--set {key}: unknown render setting (known: {})", RENDER_KEYS.join(", ")));
+            let why = format!("unknown render setting (known: {})", RENDER_KEYS.join(", "));
+            return Err(Error::Setting { origin: Some(origin.to_string()), key: key.clone(), value: None, why });
         }
         let v = parse_value(value);
         let render = table
             .entry("render")
             .or_insert_with(|| toml::Value::Table(Default::default()))
             .as_table_mut()
-            .ok_or("`render` is not a table")?;
+            .ok_or_else(|| Error::scene(origin, "`render` is not a table"))?;
         if short == "resolution" {
             render.insert("width".into(), v.clone());
             render.insert("height".into(), v);
@@ -59,14 +64,14 @@ pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)]) 
                 .entry("hybrid")
                 .or_insert_with(|| toml::Value::Table(Default::default()))
                 .as_table_mut()
-                .ok_or("`render.hybrid` is not a table")?;
+                .ok_or_else(|| Error::scene(origin, "`render.hybrid` is not a table"))?;
             hybrid.insert(h.into(), v);
         } else if let Some(b) = short.strip_prefix("bias.") {
             let bias = render
                 .entry("bias")
                 .or_insert_with(|| toml::Value::Table(Default::default()))
                 .as_table_mut()
-                .ok_or("`render.bias` is not a table")?;
+                .ok_or_else(|| Error::scene(origin, "`render.bias` is not a table"))?;
             bias.insert(b.into(), v);
         } else {
             render.insert(short.into(), v);

@@ -13,9 +13,25 @@ use crate::render::gbuffer::GBuffer;
 use crate::render::SceneGpu;
 use crate::scene::Scene;
 
+/// What a method builds and runs on: the context and the scene the renderer holds, and the frame's
+/// shared GPU parts, read through `Deref` (`fg.gbuffer`). A view the renderer lends for one call,
+/// so the renderer can own its context and scene (`frame::Held`) without borrowing itself.
+#[derive(Clone, Copy)]
 pub struct FrameGpu<'a> {
     pub ctx: &'a GpuContext,
     pub scene: &'a Scene,
+    pub parts: &'a FrameParts,
+}
+
+impl std::ops::Deref for FrameGpu<'_> {
+    type Target = FrameParts;
+    fn deref(&self) -> &FrameParts {
+        self.parts
+    }
+}
+
+/// The frame's own GPU objects, which the renderer owns and every method shares.
+pub struct FrameParts {
     pub scene_gpu: SceneGpu,
     pub gbuffer: GBuffer,
     pub frame: GpuFrame,

@@ -36,7 +36,7 @@ pub mod subdivide;
 pub mod weights;
 pub mod twin;
 
-pub use frame_gpu::FrameGpu;
+pub use frame_gpu::{FrameGpu, FrameParts};
 pub use kernel::{ComputeKernel, Dispatch};
 // Workgroup sizes live in the stage table (gpu::stages), which tests/kernels.rs checks with naga.
 pub use crate::gpu::stages::{LINE_WORKGROUP, PIXEL_WORKGROUP};

@@ -10,22 +10,10 @@ use super::table::Table;
 const TEMPLATE: &str = include_str!("template.html");
 
 #[derive(Serialize)]
-pub(super) struct Figure {
-    pub caption: String,
-    /// `data:image/…;base64,…` (only characters that need no HTML escaping).
-    pub uri: String,
-}
-
-#[derive(Serialize)]
-pub(super) struct MethodView {
-    pub label: String,
-    pub tiles: Vec<Figure>,
-}
-
-#[derive(Serialize)]
 pub(super) struct ChartView {
     pub name: String,
-    pub uri: String,
+    /// The chart's SVG, inline: its points' marks answer hover, focus and clicks.
+    pub svg: String,
 }
 
 #[derive(Serialize)]
@@ -34,12 +22,22 @@ pub(super) struct Page<'a> {
     pub settings: Vec<(String, String)>,
     pub tables: &'a [Table],
     pub charts: Vec<ChartView>,
-    pub methods: Vec<MethodView>,
+    /// Rendered `viewer` blocks, one per reference.
+    pub viewers: Vec<String>,
+    pub viewer_head: &'static str,
+}
+
+/// A chart's SVG document as an element of the page: without the XML namespace (an HTML parser
+/// puts `<svg>` in it anyway; the checks refuse any `http` text in a page), with a role and a
+/// name for screen readers. Plotters escapes every text it writes.
+pub(super) fn inline_svg(svg: &str) -> String {
+    svg.replacen(" xmlns=\"http://www.w3.org/2000/svg\"", " role=\"img\"", 1)
 }
 
 /// minijinja 3 converts serde types only through the `Serde` wrapper (2.x had
-/// `Value::from_serialize`). Renders with auto-escaping on (the template name ends in `.html`); only the data URIs,
-/// which are plain base64, are passed through `|safe`.
+/// `Value::from_serialize`). Renders with auto-escaping on (the template name ends in `.html`); only
+/// what this crate wrote (the viewers, whose text the viewer template escapes; the charts' SVG,
+/// escaped by plotters; the viewer's script and style) is passed through `|safe`.
 pub(super) fn render(page: &Page) -> Result<String, ReportError> {
     let mut env = Environment::new();
     env.add_template("report.html", TEMPLATE)?;

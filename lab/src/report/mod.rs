@@ -12,6 +12,7 @@ pub(crate) mod page;
 pub mod results;
 pub mod results_folder;
 mod table;
+pub mod viewer;
 
 use std::path::{Path, PathBuf};
 
@@ -27,6 +28,8 @@ pub const FILES_DIR: &str = "report_files";
 pub struct MethodImages {
     /// Usually `ResultRow::label()`.
     pub label: String,
+    /// The row's scene: with the label, it finds the row whose figures the viewer shows.
+    pub scene: String,
     pub shaded_png: Vec<u8>,
     pub visibility_png: Vec<u8>,
     pub abs_error_png: Vec<u8>,
@@ -121,7 +124,7 @@ pub fn write_report_with_baseline(
         let path = format!("{FILES_DIR}/chart_{slug}.svg");
         chart_views.push(html::ChartView {
             name: name.clone(),
-            uri: data_uri("image/svg+xml", svg.as_bytes()),
+            svg: html::inline_svg(svg),
         });
         chart_links.push(markdown::Link {
             caption: name.clone(),
@@ -131,7 +134,6 @@ pub fn write_report_with_baseline(
     }
 
     let method_slugs = unique_slugs(images.iter().map(|m| m.label.as_str()));
-    let mut method_views = Vec::new();
     let mut method_links = Vec::new();
     for (m, slug) in images.iter().zip(&method_slugs) {
         let parts = [
@@ -141,7 +143,6 @@ pub fn write_report_with_baseline(
             ("abs_error", "|error| of V", &m.abs_error_png),
         ];
         let signed = m.signed_error_png.iter().map(|b| ("signed_error", "signed error of V", b));
-        let mut tiles = Vec::new();
         let mut links = Vec::new();
         for (suffix, caption, bytes) in parts.into_iter().chain(signed) {
             // Methods usually share one reference: write identical bytes once.
@@ -158,31 +159,25 @@ pub fn write_report_with_baseline(
                 assets.push((p.clone(), bytes.clone()));
                 p
             });
-            tiles.push(html::Figure {
-                caption: caption.into(),
-                uri: data_uri("image/png", bytes),
-            });
             links.push(markdown::Link {
                 caption: caption.into(),
                 path,
             });
         }
-        method_views.push(html::MethodView {
-            label: m.label.clone(),
-            tiles,
-        });
         method_links.push(markdown::MethodLinks {
             label: m.label.clone(),
             tiles: links,
         });
     }
+    let viewers = viewers(images, rows)?;
 
     let page = html::Page {
         title,
         settings: settings.clone(),
         tables: &tables,
         charts: chart_views,
-        methods: method_views,
+        viewers,
+        viewer_head: viewer::HEAD,
     };
     let html = html::render(&page)?;
     let md = markdown::render(title, &settings, &tables, &chart_links, &method_links);
@@ -196,6 +191,39 @@ pub fn write_report_with_baseline(
     }
     write_atomic(&out_dir.join("report.md"), md.as_bytes())?;
     write_atomic(&out_dir.join("report.html"), html.as_bytes())
+}
+
+/// One viewer per reference the methods were compared with (a scene's, in practice): the
+/// reference once, then each method with its pictures and its row's RMSE, FLIP, maps and time.
+fn viewers(images: &[MethodImages], rows: &[ResultRow]) -> Result<Vec<String>, ReportError> {
+    let mut groups: Vec<(&[u8], Vec<&MethodImages>)> = Vec::new();
+    for m in images {
+        match groups.iter_mut().find(|(r, _)| *r == m.reference_png.as_slice()) {
+            Some((_, g)) => g.push(m),
+            None => groups.push((&m.reference_png, vec![m])),
+        }
+    }
+    let png = |name: &str, caption: &str, bytes: &[u8]| viewer::Layer { name: name.into(), caption: caption.into(), uri: data_uri("image/png", bytes) };
+    let mut out = Vec::new();
+    for (reference, methods) in groups {
+        let scene = methods[0].scene.clone();
+        let mut items = vec![viewer::Item { label: "reference".into(), reference: true, figures: String::new(), layers: vec![png("shaded", "reference (shaded)", reference)] }];
+        for m in methods {
+            let row = rows.iter().find(|r| r.scene == m.scene && r.label() == m.label);
+            let mut layers = vec![png("shaded", "shaded", &m.shaded_png), png("visibility", "visibility V", &m.visibility_png), png("abs_error", "|error| of V", &m.abs_error_png)];
+            layers.extend(m.signed_error_png.as_deref().map(|b| png("signed_error", "signed error of V", b)));
+            items.push(viewer::Item { label: m.label.clone(), reference: false, figures: row.map(figures).unwrap_or_default(), layers });
+        }
+        let title = format!("images of {scene}: the reference and every method");
+        out.push(viewer::render(&viewer::Viewer { title, scene, items })?);
+    }
+    Ok(out)
+}
+
+/// The figures beside a method in the viewer: what the tables say of it, on one line.
+fn figures(r: &ResultRow) -> String {
+    let maps = if r.shadow_maps == 1 { "1 map".to_string() } else { format!("{} maps", r.shadow_maps) };
+    format!("RMSE {:.4} · FLIP {:.4} · {maps} · {:.2} ms", r.metrics.rmse, r.metrics.flip_mean, r.total_ms)
 }
 
 #[cfg(test)]

@@ -19,9 +19,11 @@ pub fn render(template: &str, name: &str, ctx: &impl Serialize) -> Result<String
     env.get_template(name).map_err(err)?.render(Value::from(Serde(ctx))).map_err(err)
 }
 
-/// A whole self-contained page around rendered sections.
+/// A whole self-contained page around rendered sections; with the viewer's script and style where a
+/// section holds a viewer.
 pub fn page(title: &str, sections: &[String]) -> Result<String> {
-    render(PAGE, "page.html", &serde_json::json!({ "title": title, "sections": sections }))
+    let head = if sections.iter().any(|s| s.contains("<div class=\"viewer")) { super::viewer::HEAD } else { "" };
+    render(PAGE, "page.html", &serde_json::json!({ "title": title, "sections": sections, "viewer_head": head }))
 }
 
 /// Inserts sections before `</body>` of a report page written earlier (the main job's report).

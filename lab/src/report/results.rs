@@ -154,6 +154,7 @@ fn images(r: &LoadedRow) -> Result<Option<MethodImages>> {
     };
     Ok(Some(MethodImages {
         label: r.row.label(),
+        scene: r.row.scene.clone(),
         shaded_png,
         visibility_png,
         abs_error_png,

@@ -28,6 +28,7 @@ fn images(rows: &[ResultRow]) -> Vec<MethodImages> {
         .enumerate()
         .map(|(i, r)| MethodImages {
             label: r.label(),
+            scene: r.scene.clone(),
             shaded_png: png(32, 24, i as u8 * 30),
             visibility_png: png(32, 24, i as u8 * 30 + 1),
             abs_error_png: png(32, 24, i as u8 * 30 + 2),
@@ -70,7 +71,7 @@ fn html_is_self_contained() {
     for bad in [
         "src=\"http",
         "href=\"http",
-        "<script",
+        "<script src",
         "<link",
         "http://",
         "https://",
@@ -79,16 +80,29 @@ fn html_is_self_contained() {
     ] {
         assert!(!html.contains(bad), "HTML contains {bad:?}");
     }
+    // One script, inline: the viewer's.
+    assert_eq!(html.matches("<script").count(), 1);
+    assert!(html.contains(&format!("<script>\n{}", include_str!("viewer.js"))));
     for r in &rows {
         assert!(html.contains(&r.label()), "missing label {}", r.label());
     }
+    // Each picture once: the shared reference, then three per method; the charts are inline SVG.
     let imgs = html.matches("<img ").count();
-    assert_eq!(imgs, 2 + 4 * rows.len());
+    assert_eq!(imgs, 1 + 3 * rows.len());
+    assert_eq!(html.matches("<svg ").count(), 2);
     assert_eq!(
         html.matches("<img src=\"data:image/").count(),
         imgs,
         "every image must be a data URI"
     );
+    // One viewer (one reference), an item per method with its figures beside it; every point of
+    // the error-against-time chart answers with its row.
+    assert_eq!(html.matches("<div class=\"viewer\"").count(), 1);
+    assert_eq!(html.matches("<div class=\"v-item\"").count(), 1 + rows.len());
+    let r = &rows[0];
+    assert!(html.contains(&format!("<p class=\"v-figures\">RMSE {:.4} · FLIP {:.4} · ", r.metrics.rmse, r.metrics.flip_mean)), "{html}");
+    assert_eq!(html.matches("<circle class=\"hit\"").count(), rows.iter().filter(|r| r.total_ms > 0.0).count());
+    assert!(html.contains(&format!("data-label=\"{}\" data-scene=\"{}\"", r.label(), r.scene)));
     assert!(
         html.contains("Penumbra &lt;test&gt; report"),
         "title must be escaped"

@@ -1,6 +1,6 @@
 //! Chart (c): RMSE against the number of shadow maps, one line per method.
 
-use super::scatter::{push_point, render, Point, Scatter, Series};
+use super::scatter::{push_point, render, Hit, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use crate::methods::Family;
 use super::{ChartError, ResultRow};
@@ -19,6 +19,7 @@ pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
             y: r.metrics.rmse,
             label: Some(r.label()),
             x_span: None,
+            hit: Some(Hit::of(r)),
         };
         push_point(&mut series, name, point);
     }

@@ -1,7 +1,7 @@
 //! Chart (a): RMSE against median frame time, every point labelled, Pareto front as a staircase.
 
 use super::pareto::{pareto_front, pareto_steps};
-use super::scatter::{push_point, render, Point, Scatter, Series};
+use super::scatter::{push_point, render, Hit, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow};
 use crate::methods::Family;
@@ -36,6 +36,7 @@ pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
                 && r.total_ms_max.is_finite()
                 && r.total_ms_min > 0.0)
                 .then_some((r.total_ms_min, r.total_ms_max)),
+            hit: Some(Hit::of(r)),
         };
         push_point(&mut series, name, point);
     }

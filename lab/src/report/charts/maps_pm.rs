@@ -1,6 +1,6 @@
 //! Chart (b): shadow maps against the adaptive threshold P_M.
 
-use super::scatter::{push_point, render, Point, Scatter, Series};
+use super::scatter::{push_point, render, Hit, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
 use super::{ChartError, ResultRow, params_short};
 
@@ -33,6 +33,7 @@ pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
             y: f64::from(r.shadow_maps),
             label: None,
             x_span: None,
+            hit: Some(Hit::of(r)),
         };
         push_point(&mut series, name, point);
     }

@@ -17,6 +17,56 @@ pub(crate) struct Point {
     pub label: Option<String>,
     /// Horizontal whisker (e.g. min..max time).
     pub x_span: Option<(f64, f64)>,
+    /// What the point answers in the report (its row's figures, the method it opens).
+    pub hit: Option<Hit>,
+}
+
+/// A point's row: the report's viewer item it opens (label and scene) and its figures, the
+/// tooltip. Drawn as a focusable mark over the point whose `<title>` reads without a script.
+pub(crate) struct Hit {
+    pub label: String,
+    pub scene: String,
+    pub text: String,
+}
+
+impl Hit {
+    /// The row's setting, maps, RMSE, FLIP and time, as a tooltip says them.
+    pub fn of(r: &super::ResultRow) -> Hit {
+        let spread = if r.total_ms_min.is_finite() && r.total_ms_max.is_finite() && r.total_ms_max > 0.0 {
+            format!(" ({:.2}–{:.2})", r.total_ms_min, r.total_ms_max)
+        } else {
+            String::new()
+        };
+        let maps = if r.shadow_maps == 1 { "1 map".to_string() } else { format!("{} maps", r.shadow_maps) };
+        let text = format!(
+            "{} ({})\n{maps} · RMSE {:.4} · FLIP {:.4} · {:.2} ms{spread}",
+            r.label(),
+            r.scene,
+            r.metrics.rmse,
+            r.metrics.flip_mean,
+            r.total_ms
+        );
+        Hit { label: r.label(), scene: r.scene.clone(), text }
+    }
+}
+
+/// `svg` with one transparent, focusable mark per hit point (at its pixel), after everything
+/// plotters drew, so they are on top. The PNG (resvg) draws nothing of them.
+fn with_hits(svg: String, hits: &[((i32, i32), &Hit)]) -> String {
+    let Some(end) = svg.rfind("</svg>").filter(|_| !hits.is_empty()) else { return svg };
+    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
+    let mut g = String::from("<g class=\"hits\">\n");
+    for ((x, y), h) in hits {
+        let text = esc(&h.text);
+        g += &format!(
+            "<circle class=\"hit\" cx=\"{x}\" cy=\"{y}\" r=\"8\" fill=\"#000\" fill-opacity=\"0\" tabindex=\"0\" role=\"button\" data-label=\"{}\" data-scene=\"{}\" aria-label=\"{}\"><title>{text}</title></circle>\n",
+            esc(&h.label),
+            esc(&h.scene),
+            text.replace('\n', ", ")
+        );
+    }
+    g += "</g>\n";
+    format!("{}{g}{}", &svg[..end], &svg[end..])
 }
 
 pub(crate) struct Series {
@@ -150,6 +200,7 @@ where
     YS::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let mut svg = String::new();
+    let hits: Vec<((i32, i32), &Hit)>;
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
@@ -192,6 +243,7 @@ where
             .collect();
         let all: Vec<&Point> = sorted.iter().flatten().copied().collect();
         let at: Vec<(i32, i32)> = all.iter().map(|p| chart.backend_coord(&(p.x, p.y))).collect();
+        hits = all.iter().zip(&at).filter_map(|(p, &xy)| p.hit.as_ref().map(|h| (xy, h))).collect();
         let widths: Vec<i32> =
             all.iter().map(|p| labels::text_width(p.label.as_deref().unwrap_or(""), LABEL_PX)).collect();
         let (xr, yr) = chart.plotting_area().get_pixel_range();
@@ -238,5 +290,5 @@ where
             .map_err(plot_err)?;
         root.present().map_err(plot_err)?;
     }
-    Ok(svg)
+    Ok(with_hits(svg, &hits))
 }

@@ -20,7 +20,7 @@ pub fn per_frame_svg(title: &str, y_desc: &str, series: &[FrameSeries]) -> Resul
                 .points
                 .iter()
                 .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(|&(x, y)| Point { x, y, label: None, x_span: None })
+                .map(|&(x, y)| Point { x, y, label: None, x_span: None, hit: None })
                 .collect(),
         })
         .filter(|s| !s.points.is_empty())

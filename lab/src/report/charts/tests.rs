@@ -158,7 +158,9 @@ fn maps_vs_pm_uses_adaptive_rows_only() {
     let svg = maps_vs_pm_svg(&sample_rows()).unwrap();
     // Every adaptive row has scope=local: the legend leaves it out.
     assert_svg(&svg, &["P_M + 1", "shadow maps rendered", ">\nadaptive\n<"]);
-    assert!(!svg.contains("scope=local"));
+    // (The points' marks, after the drawing, name each row in full.)
+    let drawn = svg.split("<g class=\"hits\">").next().unwrap();
+    assert!(!drawn.contains("scope=local"));
     let mut rows = sample_rows();
     rows.push(row("adaptive", json!({"p_m": 0, "scope": "global"}), 70, 40.0, 0.006));
     assert_svg(&maps_vs_pm_svg(&rows).unwrap(), &["adaptive(scope=local)", "adaptive(scope=global)"]);
@@ -170,6 +172,22 @@ fn maps_vs_pm_uses_adaptive_rows_only() {
         maps_vs_pm_svg(&no_adaptive),
         Err(ChartError::NoData(_))
     ));
+}
+
+#[test]
+fn every_point_of_error_against_time_answers_with_its_row() {
+    let rows = sample_rows();
+    let svg = error_vs_time_svg(&rows).unwrap();
+    let hits = svg.split("<g class=\"hits\">").nth(1).expect("a group of marks");
+    assert_eq!(hits.matches("<circle class=\"hit\"").count(), rows.len());
+    assert!(svg.trim_end().ends_with("</g>\n</svg>") || svg.trim_end().ends_with("</g></svg>"), "the marks are drawn last, on top");
+    let r = &rows[2];
+    let mark = hits.split("<circle").find(|m| m.contains(&format!("data-label=\"{}\"", r.label()))).expect("the row's mark");
+    assert!(mark.contains(&format!("<title>{} ({})\n{} maps · RMSE {:.4} · FLIP {:.4} · {:.2} ms", r.label(), r.scene, r.shadow_maps, r.metrics.rmse, r.metrics.flip_mean, r.total_ms)), "{mark}");
+    assert!(mark.contains("tabindex=\"0\"") && mark.contains("fill-opacity=\"0\""), "{mark}");
+    // The PNG draws nothing of them: the same pixels as without the marks.
+    let bare = svg.split("<g class=\"hits\">").next().unwrap().to_string() + "</svg>\n";
+    assert_eq!(svg_to_png(&svg, 1.0).unwrap(), svg_to_png(&bare, 1.0).unwrap());
 }
 
 #[test]

@@ -15,7 +15,7 @@ pub fn calibration_svg(title: &str, points: &[EstimatePoint]) -> Result<String, 
     let mut series: Vec<Series> = Vec::new();
     for p in &usable {
         let label = (p.predicted < p.measured).then(|| p.label.clone());
-        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None });
+        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None, hit: None });
     }
     let lo = usable.iter().map(|p| p.measured.min(p.predicted)).fold(f64::INFINITY, f64::min);
     let hi = usable.iter().map(|p| p.measured.max(p.predicted)).fold(0.0, f64::max);
@@ -45,7 +45,7 @@ pub fn parts_svg(points: &[EstimatePoint]) -> Result<String, ChartError> {
     let mut series: Vec<Series> = Vec::new();
     for p in &usable {
         let label = (!p.label.is_empty()).then(|| p.label.clone());
-        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None });
+        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None, hit: None });
     }
     let hi = usable.iter().map(|p| p.measured.max(p.predicted)).fold(1.0, f64::max);
     render(&Scatter {

@@ -40,7 +40,7 @@ pub fn env_chart_svg(rows: &[ResultRow], axis: EnvAxis) -> Result<String, ChartE
             EnvAxis::Samples if r.shadow_maps > 0 => f64::from(r.shadow_maps),
             EnvAxis::Samples => continue,
         };
-        let point = Point { x, y: r.metrics.rmse, label: Some(r.label()), x_span: None };
+        let point = Point { x, y: r.metrics.rmse, label: Some(r.label()), x_span: None, hit: None };
         push_point(&mut series, with_scene(multi, &r.scene, &series_key(r)), point);
     }
     if series.is_empty() {

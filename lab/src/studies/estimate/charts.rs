@@ -23,7 +23,7 @@ pub fn estimate_svg(points: &[EstimatePoint]) -> Result<String, ChartError> {
         // Pairs outside [0.8, 1.25] carry their name, so the misses can be read off the chart.
         let ratio = p.predicted / p.measured;
         let label = (!(0.8..=1.25).contains(&ratio)).then(|| p.label.clone());
-        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None });
+        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None, hit: None });
     }
     let lo = usable.iter().map(|p| p.measured.min(p.predicted)).fold(f64::INFINITY, f64::min);
     let hi = usable.iter().map(|p| p.measured.max(p.predicted)).fold(0.0, f64::max);

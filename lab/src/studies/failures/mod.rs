@@ -227,18 +227,13 @@ fn files_of(g: &Gallery) -> Result<Vec<(String, Vec<u8>)>> {
 }
 
 #[derive(Serialize)]
-struct Tile {
-    caption: String,
-    uri: String,
-}
-
-#[derive(Serialize)]
 struct SceneView {
     name: String,
     description: String,
     sentence: String,
     rows: Vec<Vec<String>>,
-    tiles: Vec<Tile>,
+    /// The reference and every method's signed error map, in the report's viewer.
+    viewer: String,
 }
 
 /// The gallery's report sections: the scenes, then the popping sequence.
@@ -265,11 +260,13 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
                     ]
                 })
                 .collect(),
-            tiles: std::iter::once(Tile { caption: "reference (shaded)".into(), uri: data_uri("image/png", &s.reference_png) })
-                .chain(s.error_pngs.iter().map(|(l, png)| Tile { caption: format!("{l}: signed error"), uri: data_uri("image/png", png) }))
-                .collect(),
+            viewer: String::new(),
         })
         .collect();
+    let mut scenes = scenes;
+    for (view, s) in scenes.iter_mut().zip(&g.scenes) {
+        view.viewer = gallery_viewer(s).map_err(|e| Error::io_text("<failures viewer>".into(), e.to_string()))?;
+    }
     #[derive(Serialize)]
     struct View {
         resolution: u32,
@@ -286,6 +283,20 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
         out.push(sequence::section::section(seq)?);
     }
     Ok(out)
+}
+
+/// A failure scene in the viewer: the shaded reference (0), then each method's signed error map
+/// with its row of the table beside it.
+fn gallery_viewer(s: &SceneOutcome) -> std::result::Result<String, minijinja::Error> {
+    use crate::report::viewer::{render, Item, Layer, Viewer};
+    let layer = |name: &str, caption: String, png: &[u8]| Layer { name: name.into(), caption, uri: data_uri("image/png", png) };
+    let mut items = vec![Item { label: "reference".into(), reference: true, figures: String::new(), layers: vec![layer("shaded", "reference (shaded)".into(), &s.reference_png)] }];
+    for ((label, png), f) in s.error_pngs.iter().zip(&s.figures) {
+        let maps = if f.shadow_maps == 1 { "1 map".to_string() } else { format!("{} maps", f.shadow_maps) };
+        let figures = format!("{maps} · RMSE {:.4} · {} px too bright · {} px too dark", f.rmse, f.bright, f.dark);
+        items.push(Item { label: label.clone(), reference: false, figures, layers: vec![layer("signed_error", format!("{label}: signed error"), png)] });
+    }
+    render(&Viewer { title: format!("failure gallery, {}: the reference and every method's signed error", s.name), scene: s.name.clone(), items })
 }
 
 /// `penumbra failures --out DIR`: the files, then `report.html` with the gallery alone.

@@ -25,7 +25,7 @@ pub fn framing_svg(points: &[WidthPoint], axis: WidthAxis) -> Result<String, Cha
             WidthAxis::Maps => p.maps,
             WidthAxis::Rmse => p.rmse,
         };
-        push_point(&mut series, p.series.clone(), Point { x: p.width_px, y, label: None, x_span: None });
+        push_point(&mut series, p.series.clone(), Point { x: p.width_px, y, label: None, x_span: None, hit: None });
     }
     if series.is_empty() {
         return Err(ChartError::NoData("needs runs with a measurable penumbra width"));

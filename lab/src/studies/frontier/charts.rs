@@ -48,6 +48,7 @@ pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, Cha
             y: p.rmse,
             label: labelled.then(|| p.label.clone()),
             x_span: (p.ms_span.0 > 0.0 && p.ms_span.1.is_finite()).then_some(p.ms_span),
+            hit: None,
         };
         push_point(&mut series, p.kind.clone(), point);
     }
