@@ -27,8 +27,9 @@ fn render_writes_and_compare_shows_the_region_pictures() {
     ok(penumbra(&["compare", "--scene", "canopy-market", "--set", "resolution=64", "--repeats", "1", "--methods", "regions,regular:n=3,layout=centred", "--out", cmp.to_str().unwrap()]), "compare");
     let html = std::fs::read_to_string(cmp.join("report.html")).unwrap();
     assert!(html.contains("<section id=\"regions\">"), "no regions section in the report");
-    assert_eq!(html.matches("alt=\"region_samples.png\"").count(), 1);
-    assert_eq!(html.matches("alt=\"region_texels.png\"").count(), 1);
+    // One regions row: one viewer item with its two pictures as layers.
+    assert_eq!(html.matches("<figure data-layer=\"region_samples\"><img src=\"data:image/png;base64,").count(), 1);
+    assert_eq!(html.matches("<figure data-layer=\"region_texels\"><img src=\"data:image/png;base64,").count(), 1);
 }
 
 #[test]
