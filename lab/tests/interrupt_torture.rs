@@ -11,7 +11,8 @@
 //!
 //! Then signals 0-12 ms after the staging folder appears, while `estimate`, `calibrate`,
 //! `frontier` and `convergence` write their sets (`after_staging`): CI sends 3 to each study, the
-//! issue's 20 with `PENUMBRA_STAGING_TRIALS=20`.
+//! issue's 20 with `PENUMBRA_STAGING_TRIALS=20` (`PENUMBRA_STAGING_ROWS=FILE` appends a CSV row per
+//! trial: study, trial, signal, ms after staging, set left, run finished, staging folders left).
 
 mod common;
 use penumbra_lab::record::output_set::MARKER;
@@ -275,6 +276,12 @@ fn after_staging(study: &str, older: &[&str], newer: &[&str], exact: bool, prepa
             panic!("{study} {sig_name} {ms} ms after staging ({status}): neither set: {:?}", now.keys().collect::<Vec<_>>());
         };
         *tally.entry((outcome, status.success())).or_insert(0) += 1;
+        // PENUMBRA_STAGING_ROWS=FILE: one CSV row per trial (results/bad-input-census/).
+        if let Ok(rows) = std::env::var("PENUMBRA_STAGING_ROWS") {
+            use std::io::Write;
+            let mut f = std::fs::OpenOptions::new().create(true).append(true).open(rows).unwrap();
+            writeln!(f, "{study},{trial},{sig_name},{ms},{outcome},{},{}", status.success(), hidden.len()).unwrap();
+        }
     }
     eprintln!("{study}: {trials} signals 0-12 ms after the staging folder appeared: {tally:?} ((set left, run finished) → trials), no staging folder left");
 }

@@ -40,7 +40,7 @@ fn parse_mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference
 
 /// The reference image of `scene`: `continuous` (samples × samples stratified points per pixel,
 /// as `penumbra reference --samples`), `lattice` or `point[:S,T]`; cached as the CLI caches it
-/// unless `no_cache` (then traced afresh and stored).
+/// unless `no_cache` (then traced without the cache: nothing read or stored).
 #[pyfunction]
 #[pyo3(signature = (scene, samples=32, mode="continuous", no_cache=false, adapter=None))]
 pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode: &str, no_cache: bool, adapter: Option<&str>) -> PyResult<Reference> {

@@ -216,7 +216,10 @@ impl ShadowMethod for Regions {
             let size = if self.force_size != 0 { self.force_size } else { r.shadow_map_size };
             let map_bytes = (size as u64).pow(2) * 4;
             let layers = ((n as u64).pow(2)).min(r.shadow_map_budget_mib as u64 * (1 << 20) / map_bytes).min(limits.max_texture_array_layers as u64);
-            let forced = format!("regions:force = {n}, force_size = {}", self.force_size);
+            let forced = match self.force_size {
+                0 => format!("regions:force = {n} on shadow_map_size = {size}"),
+                _ => format!("regions:force = {n}, force_size = {size}"),
+            };
             needs.push(SizeNeed::side("a forced map", size as u64).sized_by(forced.clone()));
             if layers > 0 {
                 needs.push(

@@ -91,15 +91,15 @@ pub fn read_capped(path: &Path, cap: u64, cap_name: &str) -> Result<Vec<u8>, Str
     }
     // Opening a FIFO blocks until a writer opens it, and reading blocks until it writes: the read
     // runs on a thread, and the run says what it waits for once the pipe has been quiet a while.
-    let owned = path.to_path_buf();
+    let (owned, named) = (path.to_path_buf(), cap_name.to_string());
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
         let r = std::fs::File::open(&owned)
             .map_err(|e| e.to_string())
-            .and_then(|f| read_to_cap(f, &owned, cap, "the cap"));
+            .and_then(|f| read_to_cap(f, &owned, cap, &named));
         let _ = tx.send(r);
     });
-    let result = match rx.recv_timeout(QUIET) {
+    match rx.recv_timeout(QUIET) {
         Ok(r) => r,
         Err(_) => {
             eprintln!(
@@ -109,14 +109,7 @@ pub fn read_capped(path: &Path, cap: u64, cap_name: &str) -> Result<Vec<u8>, Str
             );
             rx.recv().map_err(|e| e.to_string())?
         }
-    };
-    result.map_err(|e| {
-        if e.ends_with("over the cap") {
-            e.replace("over the cap", &format!("over {cap_name}"))
-        } else {
-            e
-        }
-    })
+    }
 }
 
 /// Reads `file` to its end, refusing more than `cap` bytes (a file that grows while read).
