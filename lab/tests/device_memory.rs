@@ -105,3 +105,47 @@ fn what_slips_past_the_plan_is_an_error_not_a_panic() {
     // Reported once.
     ctx.wait().unwrap();
 }
+
+/// `regions` across its documented `force` range (1..=128): a batch of culled maps binds 256 KiB
+/// of culling tiles a map, so it holds at most one binding's worth (512 maps on lavapipe) and a
+/// larger grid takes several batches. Before, every `force` from 23 up (529 maps) failed with
+/// wgpu's `Buffer binding 4 range 138674176 exceeds …` ('footprint'), and `max_n` 32 or 64 once the
+/// top class reached 23. force = 23 (two batches) renders, and its V equals the grid it forces,
+/// `regular:n=23,layout=centred` on the same map size, bit for bit (culling never changes V).
+#[test]
+fn regions_past_one_batch_of_culled_maps_renders_the_grid_it_forces() {
+    use penumbra::frame::{self, FrameResult};
+    use penumbra::gpu::timing::TimingMode;
+    use penumbra::methods::Method;
+    use penumbra::scene::Scene;
+    let ctx = gpu();
+    let sets = [("resolution".to_string(), "32".to_string()), ("shadow_map_size".to_string(), "16".to_string())];
+    let scene = Scene::load("analytic-square", &sets).unwrap();
+    let run = |spec: &str| -> FrameResult { frame::render(ctx, &scene, &Method::parse(spec, &[]).unwrap(), TimingMode::Frame).unwrap_or_else(|e| panic!("{spec}: {e}")) };
+    let forced = run("regions:force=23,force_size=16,cull=on");
+    let grid = run("regular:n=23,layout=centred");
+    assert_eq!(forced.output.shadow_maps, 529 + 1, "the grid and the decision's centre map");
+    assert!(forced.visibility == grid.visibility, "regions:force=23 differs from regular:n=23,layout=centred");
+    assert!(forced.visibility.iter().any(|v| *v > 0.0 && *v < 1.0), "a penumbra to compare");
+}
+
+/// A map size `force_size` sets is known before the frame: its array is planned with the rest and
+/// refused up front, naming the budget, where it ended in `Out of Memory … 'shadow maps'`.
+#[test]
+fn a_forced_map_size_past_the_heap_is_refused_up_front() {
+    let heap = heap();
+    let dir = temp_dir("device_memory_regions");
+    std::fs::write(dir.join("scene.toml"), SWEEP_SCENE).unwrap();
+    // 36 maps of 4096² are 2.25 GiB: past lavapipe's 2 GiB heap in one array of a budget that holds them.
+    let n = ((heap / MAP_BYTES + 1) as f64).sqrt().ceil() as u32;
+    let want = format!(
+        "shadow_map_budget_mib = 100000: the shadow-map array ({0} maps of {MAP}x{MAP}, regions:force = {n}, force_size = {MAP}) needs {1} bytes ({2:.1} GiB), \
+         over this device's largest memory heap (one allocation must fit in one heap) {heap} ({3:.1} GiB); lower it to split the maps into smaller arrays",
+        n * n,
+        (n * n) as u64 * MAP_BYTES,
+        ((n * n) as u64 * MAP_BYTES) as f64 / (1u64 << 30) as f64,
+        heap as f64 / (1u64 << 30) as f64,
+    );
+    let method = format!("regions:force={n},force_size={MAP}");
+    refused(&dir, &["render", "--scene", "scene.toml", "--method", &method, "--set", "shadow_map_budget_mib=100000"], &want);
+}

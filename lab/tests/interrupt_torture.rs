@@ -8,6 +8,11 @@
 //! Then SIGINT and SIGTERM over the last second of `estimate` and `frontier`, where the set is
 //! committed: each must leave the older set or the newer one, whole, and no staging folder. CI
 //! sends 4 of each; the 20: `PENUMBRA_LAST_SECOND_TRIALS=20`.
+//!
+//! Then signals 0-12 ms after the staging folder appears, while `estimate`, `calibrate`,
+//! `frontier` and `convergence` write their sets (`after_staging`): CI sends 3 to each study, the
+//! issue's 20 with `PENUMBRA_STAGING_TRIALS=20` (`PENUMBRA_STAGING_ROWS=FILE` appends a CSV row per
+//! trial: study, trial, signal, ms after staging, set left, run finished, staging folders left).
 
 mod common;
 use penumbra_lab::record::output_set::MARKER;
@@ -216,6 +221,120 @@ fn last_second(study: &str, older: &[&str], newer: &[&str], exact: bool, trials:
 
 fn trials() -> usize {
     setting("PENUMBRA_LAST_SECOND_TRIALS", 4)
+}
+
+/// Runs `study` with `older` into `out`, then, trial by trial from a copy of that set, runs it with
+/// `newer` and signals it k ms after its staging folder appears (k = 0..=12 in turn, SIGINT and
+/// SIGTERM alternating): the window where the new set's files are written. Each trial must leave the
+/// older set or the newer one (as `last_second` judges them) and no staging folder. Before, the
+/// clean-up removed the folder while the writer recreated it, and `new/…` was left in 4 of 6
+/// `estimate`, 5 of 12 `calibrate`, 2 of 10 `frontier` and 1 of 4 `convergence` trials. CI runs 3
+/// trials of each study; the 20: `PENUMBRA_STAGING_TRIALS=20`. `prepare` makes inputs the
+/// runs read, in the study's folder.
+fn after_staging(study: &str, older: &[&str], newer: &[&str], exact: bool, prepare: &dyn Fn(&Path, &Path)) {
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+    let trials = setting("PENUMBRA_STAGING_TRIALS", 3);
+    let root = common::temp_dir(&format!("after_staging_{study}"));
+    std::fs::write(root.join("scene.toml"), common::SWEEP_SCENE).unwrap();
+    let cache = root.join("cache");
+    prepare(&root, &cache);
+    let (old_dir, new_dir, out) = (root.join("old"), root.join("new"), root.join("out"));
+    for (args, dir) in [(older, &old_dir), (newer, &new_dir)] {
+        let s = study_cmd(study, args, dir, &cache).status().unwrap();
+        assert!(s.success(), "{study} {args:?}: {s}");
+    }
+    let (old, new) = (contents(&old_dir), contents(&new_dir));
+    let mut tally = BTreeMap::new();
+    for trial in 0..trials {
+        let (sig, sig_name) = if trial % 2 == 0 { (libc::SIGINT, "SIGINT") } else { (libc::SIGTERM, "SIGTERM") };
+        let ms = (trial % 13) as u64;
+        let _ = std::fs::remove_dir_all(&out);
+        assert!(std::process::Command::new("cp").arg("-a").arg(&old_dir).arg(&out).status().unwrap().success());
+        let mut child = study_cmd(study, newer, &out, &cache).spawn().unwrap();
+        let stage = out.join(format!(".penumbra-stage-{}", child.id()));
+        while !stage.exists() && child.try_wait().unwrap().is_none() {
+            std::thread::sleep(Duration::from_micros(100));
+        }
+        std::thread::sleep(Duration::from_millis(ms));
+        if child.try_wait().unwrap().is_none() {
+            // SAFETY: signalling our own child, not yet reaped, by its id.
+            unsafe { libc::kill(child.id() as i32, sig) };
+        }
+        let status = child.wait().unwrap();
+        use std::os::unix::process::ExitStatusExt;
+        assert!(status.success() || status.signal() == Some(sig), "{study} {sig_name} {ms} ms after staging: {status}");
+        let hidden: Vec<_> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n.starts_with(".penumbra-stage-")).collect();
+        assert!(hidden.is_empty(), "{study} {sig_name} {ms} ms after staging ({status}): staging folder left: {hidden:?}");
+        let now = contents(&out);
+        let is_new = now.keys().eq(new.keys()) && now.iter().all(|(p, b)| new[p] == *b || (!exact && old.get(p) != Some(b)));
+        let outcome = if now == old {
+            "old"
+        } else if is_new {
+            "new"
+        } else {
+            panic!("{study} {sig_name} {ms} ms after staging ({status}): neither set: {:?}", now.keys().collect::<Vec<_>>());
+        };
+        *tally.entry((outcome, status.success())).or_insert(0) += 1;
+        // PENUMBRA_STAGING_ROWS=FILE: one CSV row per trial (results/bad-input-census/).
+        if let Ok(rows) = std::env::var("PENUMBRA_STAGING_ROWS") {
+            use std::io::Write;
+            let mut f = std::fs::OpenOptions::new().create(true).append(true).open(rows).unwrap();
+            writeln!(f, "{study},{trial},{sig_name},{ms},{outcome},{},{}", status.success(), hidden.len()).unwrap();
+        }
+    }
+    eprintln!("{study}: {trials} signals 0-12 ms after the staging folder appeared: {tally:?} ((set left, run finished) → trials), no staging folder left");
+}
+
+/// A study's older and newer argument lists that differ in one value.
+fn pair(args: &[&str], key: &str, older: &str, newer: &str) -> (Vec<String>, Vec<String>) {
+    let with = |v: &str| args.iter().map(|a| a.to_string()).chain([key.to_string(), v.to_string()]).collect();
+    (with(older), with(newer))
+}
+
+fn strs(v: &[String]) -> Vec<&str> {
+    v.iter().map(String::as_str).collect()
+}
+
+const ESTIMATE: [&str; 4] = ["--scenes", "scene.toml", "--samples", "4"];
+
+#[test]
+fn signals_while_estimate_writes_its_set_leave_one_whole_set() {
+    let _ = common::gpu();
+    let (older, newer) = pair(&ESTIMATE, "--settings", "regular:n=2@64", "regular:n=3@64");
+    after_staging("estimate", &strs(&older), &strs(&newer), true, &|_, _| {});
+}
+
+#[test]
+fn signals_while_frontier_writes_its_set_leave_one_whole_set() {
+    let _ = common::gpu();
+    let args = ["--scene", "scene.toml", "--sizes", "64", "--hybrid", "none", "--repeats", "1", "--samples", "4"];
+    let (older, newer) = pair(&args, "--n", "2", "3");
+    after_staging("frontier", &strs(&older), &strs(&newer), false, &|_, _| {});
+}
+
+#[test]
+fn signals_while_convergence_writes_its_set_leave_one_whole_set() {
+    let _ = common::gpu();
+    let args = ["--scene", "scene.toml", "--samples", "4", "--set", "resolution=32"];
+    let (older, newer) = pair(&args, "--values", "2,3", "2,4");
+    after_staging("convergence", &strs(&older), &strs(&newer), true, &|_, _| {});
+}
+
+#[test]
+fn signals_while_calibrate_writes_its_set_leave_one_whole_set() {
+    let _ = common::gpu();
+    // Its input: two estimate files of the tiny scene.
+    let prepare = |root: &Path, cache: &Path| {
+        for n in ["2", "3"] {
+            let args: Vec<&str> = ESTIMATE.iter().copied().chain(["--settings", if n == "2" { "regular:n=2@64" } else { "regular:n=3@64" }]).collect();
+            let s = study_cmd("estimate", &args, &root.join(format!("est{n}")), cache).status().unwrap();
+            assert!(s.success());
+        }
+    };
+    let args = ["--scenes", "scene.toml"];
+    let (older, newer) = pair(&args, "--estimates", "est2/estimate.jsonl", "est2/estimate.jsonl,est3/estimate.jsonl");
+    after_staging("calibrate", &strs(&older), &strs(&newer), true, &prepare);
 }
 
 /// CI: 4 signals of each kind over `estimate`'s last second; the 20 with

@@ -103,8 +103,9 @@ fn a_sphere_around_the_camera_or_reaching_into_a_mesh_is_refused() {
 #[test]
 fn a_light_that_dwarfs_the_scene_is_refused() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    // The meshes' box is 30 × 1.5 × 30: diagonal 42.45, so the bound is 424.5 across.
-    let disk = |r: &str| format!("kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n");
+    // The meshes' box is 30 × 1.5 × 30: diagonal 42.45, so the bound is 424.5 across. The disk
+    // is 100 up, where its angular size from the scene is within the maps' field up to radius 595.
+    let disk = |r: &str| format!("kind = \"disk\"\ncenter = [0.0, 100.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n");
     assert_eq!(
         refused(&disk("1e6")),
         "bad.toml: light.radius = 1000000: the light is 2e6 across, over 10 × the meshes' diagonal of 42.453 (424.529): it would light the scene as a sky, which the shadow maps fitted to the scene cannot see; shrink it (a light far away is kind = \"sun\")"
@@ -113,6 +114,32 @@ fn a_light_that_dwarfs_the_scene_is_refused() {
     assert!(refused(&disk("213.0")).starts_with("bad.toml: light.radius = 213: the light is 426.000 across"));
     let rect = "center = [0.0, 8.0, 0.0]\nedge_u = [400.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 300.0]\n";
     assert!(refused(rect).starts_with("bad.toml: light.edge_u = [400.0, 0.0, 0.0], light.edge_v = [0.0, 0.0, 300.0] (or light.size): the light is 500.000 across"), "{}", refused(rect));
+}
+
+/// What breaks the maps is the light's angular size seen from the scene: the maps look from points
+/// of the emitter at most tangent 6 (80.5°) off its normal. The meshes' middle is [0, 0.75, 0], 7.25
+/// below a disk at height 8, so the boundary is a radius of 6 × 7.25 = 43.5 (within the 10-diagonal
+/// bound of 212): 43 is accepted, 44 refused. A disk of radius 200 at height 8 gave `regular:n=3`
+/// an RMSE of 0.87 before (results/bad-input-census/README.md measures the rise).
+#[test]
+fn a_light_too_wide_seen_from_the_scene_is_refused() {
+    penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
+    let disk = |r: &str| format!("kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n");
+    assert!(parse(&disk("43.0")).is_ok());
+    assert_eq!(
+        refused(&disk("44.0")),
+        "bad.toml: light.center = [0.0, 8.0, 0.0], light.radius = 44: seen from the middle of the meshes' bounds ([0.0, 0.75, 0.0]) the light reaches 80.6° from its normal (tangent 6.07), past the 80.5° (tangent 6) its shadow maps see from each of its points: the maps from its outer part would not see the scene; make it smaller or move it farther from the meshes"
+    );
+    assert!(refused(&disk("200.0")).contains("light.radius = 200: seen from the middle of the meshes' bounds ([0.0, 0.75, 0.0]) the light reaches 87.9° from its normal (tangent 27.59)"), "{}", refused(&disk("200.0")));
+    // A 290 × 290 rectangle 10 up; the same rectangle 40 up sees the scene within the maps' field.
+    let rect = |h: f32| format!("center = [0.0, {h:.1}, 0.0]\nsize = [290.0, 290.0]\nnormal = [0.0, -1.0, 0.0]\n");
+    assert!(refused(&rect(10.0)).starts_with("bad.toml: light.edge_u = [290.0, 0.0, 0.0], light.edge_v = [-0.0, 0.0, 290.0] (or light.size): seen from the middle of the meshes' bounds ([0.0, 0.75, 0.0]) the light reaches 86.3° from its normal (tangent 15.68)"), "{}", refused(&rect(10.0)));
+    assert!(parse(&rect(40.0)).is_ok());
+    // A spot's sphere is a disk across its axis: the same check.
+    let spot = "kind = \"spot\"\nposition = [0.0, 3.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\ninner_cone_deg = 20.0\nouter_cone_deg = 35.0\nradius = 1.4\n";
+    assert!(parse(spot).is_ok());
+    // The sun's maps are orthographic and the point's are cube faces: neither has the limit.
+    assert!(parse("kind = \"point\"\nposition = [0.0, 2.5, 0.0]\nradius = 0.9\n").is_ok());
 }
 
 #[test]

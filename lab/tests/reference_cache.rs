@@ -2,7 +2,9 @@
 //! whose bytes were damaged with its size kept (flipped bytes, a zeroed run, 7.0 or NaN written
 //! over a value) or one in the old format without a digest is never used. One warning line names
 //! the file, the reference is traced again and replaces it, and the figures equal a clean run's.
-//! A cache file that cannot be read at all is refused with one line naming it and `--no-cache`.
+//! A cache file that cannot be read at all is refused with one line naming it and `--no-cache`,
+//! which leaves the cache alone; a cache folder that cannot be written costs a trace, not the run;
+//! a lock file left behind never blocks; a device in place of an entry is never read.
 
 mod common;
 use common::temp_dir;
@@ -104,16 +106,107 @@ fn an_unreadable_entry_is_one_error_naming_the_file_and_no_cache() {
     assert_eq!(lines.len(), 1, "{err}");
     assert!(
         lines[0].starts_with(&format!("error: reference: cannot read the reference cache file {}: ", file.display()))
-            && lines[0].ends_with("; remove it, or run with --no-cache to trace the reference afresh and replace it"),
+            && lines[0].ends_with("; remove it, or run with --no-cache to trace the reference without the cache"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(out.join("results.jsonl")).unwrap(), before, "the old set stays");
-    // --no-cache does not read it; the fresh result cannot replace a folder, and says where.
-    let mut args = vec!["--no-cache"];
-    args.extend(["compare", "--scene", scene.to_str().unwrap(), "--methods", "hard", "--reference", "lattice", "--repeats", "1", "--out", out.to_str().unwrap()]);
-    args.rotate_left(1);
+    // --no-cache does not touch the cache: the run traces, succeeds, and leaves the folder as it is.
+    let args = ["compare", "--scene", scene.to_str().unwrap(), "--methods", "hard", "--reference", "lattice", "--repeats", "1", "--no-cache", "--out", out.to_str().unwrap()];
     let o = common::penumbra_env(&args, &[("PENUMBRA_CACHE", cache.to_str().unwrap())]);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains(&format!("error: reference: cannot write the reference cache file {}: ", file.display())), "{err}");
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("cache"), "{err}");
+    assert!(file.is_dir(), "--no-cache touched the cache");
+}
+
+/// Runs `args` as a user who cannot write `cache` (root passes every permission check, so as
+/// root the run drops to nobody), in `dir`, which that user may write.
+fn as_other_user(dir: &Path, args: &[&str], cache: &Path) -> Output {
+    // SAFETY: geteuid has no preconditions.
+    let root = unsafe { libc::geteuid() } == 0;
+    let mut c = if root {
+        let mut c = std::process::Command::new("setpriv");
+        c.args(["--reuid=65534", "--regid=65534", "--clear-groups"]).arg(env!("CARGO_BIN_EXE_penumbra"));
+        c
+    } else {
+        std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+    };
+    c.current_dir(dir).args(args).env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", cache).output().unwrap()
+}
+
+/// A cache folder this user cannot write: with --no-cache the run never touches it; without, the
+/// reference is traced and not stored, and one warning names the folder. Before, both ended in
+/// `error: reference: reference cache: Permission denied (os error 13)`, naming no path.
+#[test]
+fn a_read_only_cache_folder_costs_a_trace_not_the_run() {
+    let _ = common::gpu();
+    let dir = temp_dir("reference_cache_read_only");
+    std::fs::write(dir.join("s.toml"), SCENE).unwrap();
+    let cache = dir.join("cache");
+    std::fs::create_dir_all(cache.join("reference")).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o777)).unwrap();
+    for p in [&cache, &cache.join("reference")] {
+        std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o555)).unwrap();
+    }
+    let args = |out: &'static str, no_cache: bool| {
+        let mut a = vec!["compare", "--scene", "s.toml", "--methods", "hard", "--reference", "lattice", "--repeats", "1", "--out", out];
+        if no_cache {
+            a.push("--no-cache");
+        }
+        a
+    };
+    let o = as_other_user(&dir, &args("a", true), &cache);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("cache"), "{err}");
+    let o = as_other_user(&dir, &args("b", false), &cache);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let said: Vec<&str> = err.lines().filter(|l| l.contains("cache")).collect();
+    assert_eq!(said.len(), 1, "{err}");
+    assert!(
+        said[0].starts_with(&format!("warning: reference cache folder {}: ", cache.join("reference").display()))
+            && said[0].ends_with(": the reference is traced and not stored (make the folder writable, or run with --no-cache to leave the cache alone)"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_dir(cache.join("reference")).unwrap().count(), 0, "nothing stored");
+    assert_eq!(common::rows(&dir.join("a"))[0]["metrics"]["rmse"], common::rows(&dir.join("b"))[0]["metrics"]["rmse"]);
+}
+
+/// A lock file left by a signalled run whose pid now belongs to a live process (pid 1 here): the
+/// lock is the OS's (`flock`), which died with its holder, so the next run takes it at once.
+/// Before, the file's pid was asked, and every run needing the entry waited forever.
+#[test]
+fn a_lock_file_whose_pid_was_reused_is_taken_over() {
+    let dir = temp_dir("reference_cache_stale_lock");
+    let (cache, scene, out) = (dir.join("cache"), dir.join("s.toml"), dir.join("out"));
+    std::fs::write(&scene, SCENE).unwrap();
+    let (clean, _) = rmse_of(compare(&cache, &scene, &out), &out);
+    let file = the_cache_file(&cache);
+    std::fs::remove_file(&file).unwrap();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    std::fs::write(file.with_extension("lock"), format!("1 {}\n", host.trim())).unwrap();
+    let t = std::time::Instant::now();
+    let (rmse, err) = rmse_of(compare(&cache, &scene, &out), &out);
+    assert!(t.elapsed() < std::time::Duration::from_secs(60) && !err.contains("waiting"), "{err}");
+    assert_eq!(rmse, clean);
+    assert!(file.is_file() && !file.with_extension("lock").exists(), "the entry is written and the lock gone");
+}
+
+/// A cache entry that is a link to /dev/zero (or any device): never opened; traced again and
+/// replaced by a regular file, with one warning. Before, it was read until memory ran out.
+#[test]
+fn a_cache_entry_that_is_a_device_is_traced_again() {
+    let dir = temp_dir("reference_cache_device");
+    let (cache, scene, out) = (dir.join("cache"), dir.join("s.toml"), dir.join("out"));
+    std::fs::write(&scene, SCENE).unwrap();
+    let (clean, _) = rmse_of(compare(&cache, &scene, &out), &out);
+    let file = the_cache_file(&cache);
+    std::fs::remove_file(&file).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &file).unwrap();
+    let (rmse, err) = rmse_of(compare(&cache, &scene, &out), &out);
+    assert_eq!(warnings(&err), [format!("warning: reference cache file {} is a character device, not a regular file: not used; tracing the reference again", file.display())]);
+    assert_eq!(rmse, clean);
+    assert!(file.symlink_metadata().unwrap().is_file(), "replaced by the traced entry");
 }

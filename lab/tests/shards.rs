@@ -115,11 +115,9 @@ fn concurrent_shards_on_a_cold_cache_trace_the_reference_once() {
     let key = record["key"].as_str().unwrap().to_string();
     // Hold the entry's lock from this (live) process, so both shards provably start on the cold
     // cache at once and wait together; then let them race for it.
+    // The lock is the OS's (flock): taken through the library, as a shard takes it.
     let refs = cache.join("reference");
-    std::fs::create_dir_all(&refs).unwrap();
-    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
-    let lock = refs.join(format!("{key}.lock"));
-    std::fs::write(&lock, format!("{} {}\n", std::process::id(), host.trim())).unwrap();
+    let lock = penumbra_lab::reference::lock(&refs, &key, &mut |who| panic!("the cold cache's lock is held by {who}")).unwrap();
     let start = |i: u32| {
         let out = dir.join(format!("shard{i}"));
         let log = std::fs::File::create(dir.join(format!("shard{i}.log"))).unwrap();
@@ -135,7 +133,7 @@ fn concurrent_shards_on_a_cold_cache_trace_the_reference_once() {
         assert!(a.try_wait().unwrap().is_none() && b.try_wait().unwrap().is_none(), "a shard ended while the lock was held:\n{}\n{}", log(0), log(1));
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
-    std::fs::remove_file(&lock).unwrap();
+    drop(lock);
     let (sa, sb) = (a.wait().unwrap(), b.wait().unwrap());
     assert!(sa.success() && sb.success(), "{}\n{}", log(0), log(1));
     let traced: Vec<bool> = (0..2)

@@ -37,7 +37,7 @@ fn parse_mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference
 ///     scene: the scene.
 ///     samples: `continuous`: samples × samples stratified points per pixel (1..=256).
 ///     mode: `continuous`, `lattice` (the 289 lattice points) or `point[:S,T]` (one light point).
-///     no_cache: trace afresh (and store the result) even when the cache holds it.
+///     no_cache: trace without the cache: nothing read or stored.
 ///     adapter: the GPU adapter for the G-buffer, as for `Renderer`.
 ///     progress: `None`: a line on a terminal's stderr, or in a Jupyter cell; `True`: on Python's
 ///         `sys.stderr`; `False`: nothing; a callable: called with each line.

@@ -33,7 +33,11 @@ impl CulledMaps {
     /// For maps of sample indices below `samples`.
     pub fn new(fg: &FrameGpu, samples: u32) -> Result<Self> {
         let ctx = fg.ctx;
-        let cull = Cull::new(ctx, fg.scene, &fg.scene_gpu, samples)?
+        // A batch's culling tiles are bound whole (256 KiB a map): a batch holds no more maps than
+        // one binding's worth (512 on a 128 MiB binding), however many the grid has.
+        let tile_bytes = CULL_TILE_WORDS as u64 * 4;
+        let max_slots = (ctx.limits().max_storage_buffer_binding_size.min(ctx.limits().max_buffer_size) / tile_bytes).max(1) as u32;
+        let cull = Cull::new(ctx, fg.scene, &fg.scene_gpu, samples.min(max_slots))?
             .ok_or_else(|| crate::Error::Limit("cull = on: this adapter cannot draw indirectly with a first instance, or one mesh copy does not fit a storage binding".into()))?;
         let slots = cull.slots as u64;
         Ok(Self {

@@ -299,6 +299,11 @@ pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame:
     // A point light's sample is six maps (its cube faces): layers, chunks and the budget count maps.
     let mut samples: Vec<GpuSample> = points.iter().flat_map(|&(u, v)| s.emitter.sample_maps(&s.light, u, v, &s.bounds, map_size, u32::MAX)).collect();
     let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, map_size, s.render.shadow_map_budget_mib)?.min(samples.len() as u32).max(1) };
+    if !hybrid && frame.is_some() {
+        // A map side the method chose at run time (regions, auto): the plan could not see this
+        // array before the frame, so it goes through the plan's heap check here.
+        crate::methods::sizes::check_run_time_array(ctx, &s.render, map_size, chunk)?;
+    }
     for (i, g) in samples.iter_mut().enumerate() {
         // Hybrid: the layer is the sample's slot in the store.
         g.layer = i as u32 % chunk;

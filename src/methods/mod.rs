@@ -339,12 +339,17 @@ impl Method {
     /// `regular: light kind `disk` is not supported yet (samples are placed on a rectangle)`.
     pub fn check_light(&self, scene: &crate::scene::Scene) -> Result<()> {
         let kind = scene.emitter.kind();
-        match self.0.unsupported_light(kind).or_else(|| self.0.unsupported_maps(kind, scene.render.maps)) {
+        if let Some(why) = self.0.unsupported_light(kind) {
+            return Err(Error::Param(format!("{}: light kind `{}` is not supported yet ({why}); scene {} (docs/lights.md lists the pairs)", self.name(), kind.name(), scene.origin)));
+        }
+        // The maps, not the light, refuse it: name the setting (`--set maps=hybrid`).
+        match self.0.unsupported_maps(kind, scene.render.maps) {
             None => Ok(()),
             Some(why) => Err(Error::Param(format!(
-                "{}: light kind `{}` is not supported yet ({why}); scene {} (docs/lights.md lists the pairs)",
+                "{}: maps = {} is not supported{} ({why}); scene {} (use maps = plain)",
                 self.name(),
-                kind.name(),
+                if scene.render.maps == crate::scene::MapKind::Hybrid { "hybrid" } else { "plain" },
+                if kind == LightKind::Rect { String::new() } else { format!(" with light kind `{}`", kind.name()) },
                 scene.origin
             ))),
         }

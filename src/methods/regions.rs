@@ -206,9 +206,29 @@ impl ShadowMethod for Regions {
             "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size, "centre_size": self.centre_size,
         })
     }
-    /// Shade binds V whole on each class's tile list (one band).
+    /// Shade binds V whole on each class's tile list (one band). With `force`, the map side and
+    /// count are known before the frame: their array is planned (and refused) up front.
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
-        vec![crate::methods::sizes::visibility(scene, false, limits)]
+        use crate::gpu::size_plan::SizeNeed;
+        let mut needs = vec![crate::methods::sizes::visibility(scene, false, limits)];
+        if let Some(n) = self.force {
+            let r = &scene.render;
+            let size = if self.force_size != 0 { self.force_size } else { r.shadow_map_size };
+            let map_bytes = (size as u64).pow(2) * 4;
+            let layers = ((n as u64).pow(2)).min(r.shadow_map_budget_mib as u64 * (1 << 20) / map_bytes).min(limits.max_texture_array_layers as u64);
+            let forced = match self.force_size {
+                0 => format!("regions:force = {n} on shadow_map_size = {size}"),
+                _ => format!("regions:force = {n}, force_size = {size}"),
+            };
+            needs.push(SizeNeed::side("a forced map", size as u64).sized_by(forced.clone()));
+            if layers > 0 {
+                needs.push(
+                    SizeNeed::array(format!("the shadow-map array ({layers} maps of {size}x{size}, {forced})"), layers * map_bytes, layers as u32)
+                        .sized_by(format!("shadow_map_budget_mib = {}", r.shadow_map_budget_mib)),
+                );
+            }
+        }
+        needs
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         if fg.geometry_tiles.bands.len() > 1 {

@@ -93,6 +93,19 @@ pub fn shadow_map_array(scene: &Scene, method: &Method, limits: &wgpu::Limits) -
     )
 }
 
+/// The shadow-map array of `layers` maps of `map_size` that a method sized at run time (regions'
+/// classes, auto's grid) is about to allocate, through the plan's own check: one line naming the
+/// budget, which lowering splits the maps into smaller arrays, instead of the device's out-of-memory.
+pub fn check_run_time_array(ctx: &GpuContext, r: &crate::scene::RenderSettings, map_size: u32, layers: u32) -> Result<()> {
+    let need = SizeNeed::array(
+        format!("the shadow-map array ({layers} maps of {map_size}x{map_size}, a map size the method chose at run time)"),
+        layers as u64 * (map_size as u64).pow(2) * 4,
+        layers,
+    )
+    .sized_by(format!("shadow_map_budget_mib = {}", r.shadow_map_budget_mib));
+    SizePlan { setting: String::new(), needs: vec![need], host_bytes: 0, host_setting: None }.check(&ctx.bounds(), None)
+}
+
 /// Everything a frame of `method` on `scene` allocates, binds and reads back. `cpu_device`: the
 /// device's memory is host memory (lavapipe), so it counts against MemAvailable too.
 pub fn plan(scene: &Scene, method: &Method, limits: &wgpu::Limits, cpu_device: bool) -> SizePlan {

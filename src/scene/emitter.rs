@@ -213,7 +213,7 @@ impl Emitter {
             Emitter::Point(point) => {
                 (0..6u32)
                     .map(|face| {
-                        cube_face_view(point_light_point(point, face, s, t), face, bounds, map_size, lattice)
+                        cube_face_view(point.position, point_light_point(point, face, s, t), face, bounds, map_size, lattice)
                     })
                     .collect()
             }

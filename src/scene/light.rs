@@ -51,7 +51,18 @@ impl Bounds {
 
 /// Widest field of view a sample's frustum may take (tan of the half-angle): beyond it the map's
 /// texels grow too large to be useful; geometry outside counts as unoccluding.
-const MAX_TAN_HALF: f32 = 6.0;
+pub const MAX_TAN_HALF: f32 = 6.0;
+
+/// Where `p` lies in the view of a map from light point `y` (the frame `sample_view` builds):
+/// its tangents across the two axes, or None where it lies at or behind `y`'s plane.
+pub fn tangents_seen(light: &AreaLight, y: Vec3, p: Vec3) -> Option<(f32, f32)> {
+    let forward = light.normal();
+    let right = (light.edge_u - forward * light.edge_u.dot(forward)).normalize();
+    let up = forward.cross(right).normalize() * -1.0;
+    let d = p - y;
+    let depth = d.dot(forward);
+    (depth > 0.0).then(|| (d.dot(right) / depth, d.dot(up) / depth))
+}
 
 /// Perspective view from light point `y` looking along the light's normal, with an off-axis frustum
 /// fitted to the scene bounds (so every sample's map covers the scene with the same axes).
@@ -109,11 +120,13 @@ pub fn sample_view_window(light: &AreaLight, y: Vec3, bounds: &Bounds, window: &
     }
 }
 
-/// Face `face` (0..5: +x, −x, +y, −y, +z, −z) of the cube map from light point `y`: a symmetric 90°
-/// perspective frustum along the face's axis, so a receiver whose direction from `y` has that axis
-/// dominant projects inside it. Far reaches the bounds' farthest corner, near the bounds' nearest
-/// point (for depth precision), and `cube_face` is `face + 1` (the lookup's face test).
-pub fn cube_face_view(y: Vec3, face: u32, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+/// Face `face` (0..5: +x, −x, +y, −y, +z, −z) of the cube map from light point `y` of the sphere
+/// centred at `centre`: a perspective frustum along the face's axis whose window holds the part of
+/// the bounds the face serves (the receivers whose direction from `centre` has that axis dominant,
+/// `cube_window::fitted`), or the symmetric 90° face where no fit applies. Far reaches the bounds'
+/// farthest corner, near the bounds' nearest point (for depth precision), and `cube_face` is
+/// `face + 1` (the lookup's face test).
+pub fn cube_face_view(centre: Vec3, y: Vec3, face: u32, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
     let axis = [Vec3::X, Vec3::Y, Vec3::Z][(face / 2) as usize];
     let forward = if face % 2 == 0 { axis } else { -axis };
     let up = if face / 2 == 1 { Vec3::Z } else { Vec3::Y };
@@ -122,12 +135,13 @@ pub fn cube_face_view(y: Vec3, face: u32, bounds: &Bounds, map_size: u32, lattic
     let far = bounds.corners().iter().map(|c| (*c - y).length()).fold(0.0f32, f32::max).max(diag * 1e-2) * 1.01;
     let nearest = (y.clamp(bounds.min, bounds.max) - y).length();
     let near = (nearest * 0.95).max(far * 1e-3);
-    let proj = off_axis_perspective(-near, near, -near, near, near, far);
+    let w = super::cube_window::fitted(centre, face, bounds, &view);
+    let proj = off_axis_perspective(w.l * near, w.r * near, w.b * near, w.t * near, near, far);
     let rr = far / (near - far);
     GpuSample {
         light_from_world: (proj * view).to_cols_array_2d(),
         position: Vec4::from((y, 1.0)).to_array(),
-        texel_angle: 2.0 / map_size as f32,
+        texel_angle: (w.r - w.l).max(w.t - w.b) / map_size as f32,
         depth_lin_a: rr * near,
         depth_lin_b: rr,
         layer: 0,
@@ -258,7 +272,7 @@ mod tests {
     fn each_cube_face_holds_the_directions_its_axis_dominates() {
         let bounds = Bounds { min: Vec3::new(-5.0, 0.0, -5.0), max: Vec3::new(5.0, 3.0, 5.0) };
         let y = Vec3::new(0.5, 2.0, -1.0);
-        let faces: Vec<GpuSample> = (0..6).map(|f| cube_face_view(y, f, &bounds, 256, 0)).collect();
+        let faces: Vec<GpuSample> = (0..6).map(|f| cube_face_view(y, y, f, &bounds, 256, 0)).collect();
         let mut state = 7u32;
         for _ in 0..2000 {
             let mut r = || {

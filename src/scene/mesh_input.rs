@@ -30,45 +30,16 @@ pub fn show_size(bytes: u64) -> String {
 /// Why `path` (symlinks followed) may not be read as a mesh: not a regular file, or over `max`
 /// bytes. Looks at the metadata only, so a FIFO is never opened (opening one blocks).
 pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), String> {
-    let shown = || match std::fs::canonicalize(path) {
-        Ok(target) if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) => {
-            format!("{} (a link to {})", path.display(), target.display())
-        }
-        _ => path.display().to_string(),
-    };
+    use super::input_file::{kind, shown};
     // The callers name the file and say "cannot read"; the reason alone, so neither repeats.
     let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if !meta.is_file() {
-        return Err(format!("{} is {}, not a regular file", shown(), kind(&meta.file_type())));
+        return Err(format!("{} is {}, not a regular file", shown(path), kind(&meta.file_type())));
     }
     if meta.len() > max {
-        return Err(format!("{} is {}, over the {} MiB cap on mesh files (raise it with --max-mesh-mib N)", shown(), show_size(meta.len()), max >> 20));
+        return Err(format!("{} is {}, over the {} MiB cap on mesh files (raise it with --max-mesh-mib N)", shown(path), show_size(meta.len()), max >> 20));
     }
     Ok(())
-}
-
-fn kind(t: &std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return "a FIFO";
-        }
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    if t.is_dir() {
-        "a folder"
-    } else {
-        "not a file"
-    }
 }
 
 /// Opens a regular file for reading. A FIFO swapped in after the check does not block the open

@@ -6,10 +6,12 @@ pub mod light;
 pub mod light_checks;
 mod catalog;
 mod coords;
+mod cube_window;
 pub mod emitter;
 mod emitter_def;
 mod format;
 mod given;
+pub mod input_file;
 mod instances;
 mod loop_subdivision;
 mod mesh;
@@ -70,7 +72,8 @@ impl Scene {
                 format!("no such scene file or built-in scene (built-ins: {})", builtin_names().join(", ")),
             ));
         }
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
+        let text = input_file::read_text(&path, input_file::TEXT_CAP, "the 256 MiB cap on scene files")
+            .map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
         Self::parse_in(&text, name_or_path, MeshDirs { scene_dir: path.parent(), cache, max_mesh_bytes: None }, overrides)
     }
 

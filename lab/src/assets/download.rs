@@ -49,7 +49,7 @@ pub(crate) fn download(package: &Package, dir: &Path, limit: Duration, retrying:
     if package.registry == Registry::Npm {
         // npm's cache first, with no network at all: a hit is no download, and says so.
         let mut offline = Command::new(NPM.name);
-        offline.args(["pack", "--offline", "--ignore-scripts", "--silent"]).arg(&spec).current_dir(dir);
+        offline.args(["pack", "--offline", "--ignore-scripts", "--loglevel=error"]).arg(&spec).current_dir(dir);
         if run_limited(&mut offline, &NPM, limit).is_ok() {
             if let Ok(path) = the_archive(dir, &offline) {
                 return Ok((path, Origin::NpmCache));
@@ -67,7 +67,7 @@ pub(crate) fn download(package: &Package, dir: &Path, limit: Duration, retrying:
             // --ignore-scripts: `npm pack` of a registry spec runs none, but say so anyway.
             // --fetch-retries=0: the retries are these attempts, each said on stderr.
             let ms = limit.as_millis().to_string();
-            c.args(["pack", "--ignore-scripts", "--silent", "--prefer-online", "--fetch-retries=0", &format!("--fetch-timeout={ms}")]).arg(&spec);
+            c.args(["pack", "--ignore-scripts", "--loglevel=error", "--prefer-online", "--fetch-retries=0", &format!("--fetch-timeout={ms}")]).arg(&spec);
             (c, &NPM)
         }
     };
@@ -110,13 +110,30 @@ fn empty(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// A failed attempt in one line: the status and the client's last line.
+/// A failed attempt in one line: the status and the client's own reason. npm ends its error with
+/// where its log is (`A complete log of this run …`) after a stack trace, so its reason is the
+/// `code` line and the line that says why (`… failed, reason: …`); any other client's is its last
+/// line. (npm ran with `--silent` before, which left no reason at all.)
 pub(crate) fn why(e: &AssetError) -> String {
     match e {
-        AssetError::ToolFailed { status, stderr, .. } => match stderr.lines().rev().find(|l| !l.trim().is_empty()) {
-            Some(last) => format!("{status}: {}", last.trim()),
-            None => status.clone(),
-        },
+        AssetError::ToolFailed { status, stderr, .. } => {
+            let lines: Vec<&str> = stderr.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+            fn npm(l: &str) -> Option<&str> {
+                l.strip_prefix("npm error ").or_else(|| l.strip_prefix("npm ERR! ")).map(str::trim)
+            }
+            let code = lines.iter().find_map(|l| npm(l).and_then(|r| r.strip_prefix("code ")));
+            // The line that says why, else npm's last line that is not the code, a stack frame,
+            // punctuation or where its log is.
+            let npm_lines: Vec<&str> = lines.iter().filter_map(|l| npm(l)).collect();
+            let said = |r: &&&str| !(r.starts_with("code ") || r.starts_with("at ") || r.starts_with("A complete log") || r.len() < 3);
+            let reason = npm_lines.iter().find(|r| r.contains("reason:") || r.contains(" failed")).or_else(|| npm_lines.iter().rev().find(said));
+            match (code, reason, lines.last()) {
+                (Some(code), Some(reason), _) => format!("{status}: npm {code}: {reason}"),
+                (Some(code), None, _) => format!("{status}: npm {code}"),
+                (None, _, Some(last)) => format!("{status}: {last}"),
+                (None, _, None) => status.clone(),
+            }
+        }
         other => other.to_string().replace('\n', "; "),
     }
 }
@@ -196,5 +213,11 @@ mod tests {
         assert!(start.elapsed() < Duration::from_secs(5), "{:?}", start.elapsed());
         assert!(e.starts_with("`sh -c echo starting >&2; sleep 30` failed (no answer within 0.3 s (PENUMBRA_FETCH_TIMEOUT), stopped)"), "{e}");
         assert_eq!(why(&AssetError::ToolFailed { command: "x".into(), status: "exit status: 1".into(), stderr: "a\nnpm ERR! ENOTFOUND\n".into() }), "exit status: 1: npm ERR! ENOTFOUND");
+        // npm 10 offline (`--loglevel=error`): the code and the reason, not the log's path.
+        let offline = "npm error code ECONNREFUSED\nnpm error syscall connect\nnpm error FetchError: request to http://127.0.0.1:9/left-pad failed, reason: connect ECONNREFUSED 127.0.0.1:9\nnpm error     at ClientRequest.<anonymous> (x.js:130:14)\nnpm error }\nnpm error\nnpm error A complete log of this run can be found in: /root/.npm/_logs/x.log\n";
+        assert_eq!(
+            why(&AssetError::ToolFailed { command: "x".into(), status: "exit status: 1".into(), stderr: offline.into() }),
+            "exit status: 1: npm ECONNREFUSED: FetchError: request to http://127.0.0.1:9/left-pad failed, reason: connect ECONNREFUSED 127.0.0.1:9"
+        );
     }
 }

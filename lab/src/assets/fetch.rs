@@ -293,23 +293,42 @@ impl Archives<'_> {
 }
 
 /// `<cache>/.partial-<pid>`: removed when dropped, whether the fetch succeeded or not, and when a
-/// signal ends the process.
+/// signal ends the process. Its fetch holds an OS lock (`flock`) on the folder while it lives, so
+/// the next fetch tells a killed run's folder (no lock) from a live one's and removes it; before,
+/// a killed run's `.partial-PID/` stayed for good.
 struct WorkDir {
     path: PathBuf,
+    _lock: std::fs::File,
     _on_signal: crate::interrupt::Registered,
+}
+
+/// Opens `dir` and takes its lock without waiting: None where another process holds it.
+fn lock_dir(dir: &Path) -> Option<std::fs::File> {
+    use std::os::unix::io::AsRawFd;
+    let f = std::fs::File::open(dir).ok()?;
+    // SAFETY: flock on a descriptor owned here.
+    (unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0).then_some(f)
 }
 
 impl WorkDir {
     fn create(cache_dir: &Path) -> Result<Self> {
         let path = cache_dir.join(format!(".partial-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path); // a leftover of a killed run with our pid
+        // Killed runs' folders (ours too, if a killed run had our pid): no process holds them.
+        if let Ok(entries) = std::fs::read_dir(cache_dir) {
+            for e in entries.flatten() {
+                if e.file_name().to_string_lossy().starts_with(".partial-") && e.file_type().is_ok_and(|t| t.is_dir()) && lock_dir(&e.path()).is_some() {
+                    let _ = std::fs::remove_dir_all(e.path());
+                }
+            }
+        }
         // Registered before the folder exists, so no signal can leave it behind.
         let gone = path.clone();
         let _on_signal = crate::interrupt::on_signal(move || {
             let _ = std::fs::remove_dir_all(&gone);
         });
         std::fs::create_dir(&path).map_err(io_at(&path))?;
-        Ok(WorkDir { path, _on_signal })
+        let _lock = lock_dir(&path).ok_or_else(|| AssetError::Io { path: path.clone(), source: std::io::Error::other("cannot lock the fetch's work folder") })?;
+        Ok(WorkDir { path, _lock, _on_signal })
     }
 }
 

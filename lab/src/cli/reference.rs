@@ -28,7 +28,7 @@ pub struct ReferenceArgs {
     sets: SetArgs,
     #[command(flatten)]
     output: OutArgs,
-    /// Trace even when the cache holds this reference (the result is still cached).
+    /// Trace without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
 }

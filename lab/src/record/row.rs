@@ -6,6 +6,19 @@ use serde::{Deserialize, Serialize};
 
 use crate::metrics::Metrics;
 
+/// A number as a message shows it: as written for ordinary sizes, in exponent form far from 1
+/// (`1e308`, not 309 digits).
+pub fn shown(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+        v.to_string()
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// The longest time a row read back may hold, in ms: about 32 years.
+pub const MAX_MS: f64 = 1e12;
+
 /// One row of `results.jsonl`. The keys up to `metrics` are what every chart needs; the rest
 /// (all optional when read back) say how the row was measured and where its pictures are.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -86,6 +99,68 @@ impl ResultRow {
         } else {
             format!("{}({p})", self.method)
         }
+    }
+
+    /// What is wrong with a row read back, as `key = value: why` (None: nothing). A measured row's
+    /// errors of V lie in [0, 1] and its times are finite and non-negative; a value outside is a
+    /// damaged or hand-made file, which charts would otherwise stretch their axes to (an RMSE of
+    /// 1e308 made `report` walk two billion log decades). A failed row's figures mean nothing and
+    /// are not read.
+    pub fn check(&self) -> Option<String> {
+        if !self.measured() {
+            return None;
+        }
+        let m = &self.metrics;
+        let shares = [
+            ("metrics.rmse", Some(m.rmse)),
+            ("metrics.mae", Some(m.mae)),
+            ("metrics.max_abs", Some(m.max_abs)),
+            ("metrics.penumbra_rmse", m.penumbra_rmse),
+            ("metrics.bad_pixel_share", Some(m.bad_pixel_share)),
+            ("metrics.mismatch_share", Some(m.mismatch_share)),
+            ("metrics.flip_mean", Some(m.flip_mean)),
+            ("metrics.flip_p95", Some(m.flip_p95)),
+            ("metrics.flip_p99", Some(m.flip_p99)),
+        ];
+        for (key, v) in shares {
+            if let Some(v) = v.filter(|v| !(0.0..=1.0).contains(v)) {
+                return Some(format!(
+                    "{key} = {}: an error or share of V lies in [0, 1]",
+                    shown(v)
+                ));
+            }
+        }
+        if let Some(v) = m.psnr.filter(|v| !v.is_finite()) {
+            return Some(format!(
+                "metrics.psnr = {v}: must be a finite number (null where the error is 0)"
+            ));
+        }
+        let times = [
+            ("total_ms", self.total_ms),
+            ("total_ms_min", self.total_ms_min),
+            ("total_ms_max", self.total_ms_max),
+            ("setup_ms", self.setup_ms.unwrap_or(0.0)),
+        ];
+        let stages = self
+            .stages_ms
+            .iter()
+            .map(|(k, v)| (format!("stages_ms.{k}"), *v));
+        let runs = self
+            .total_ms_runs
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (format!("total_ms_runs[{i}]"), *v));
+        for (key, v) in times
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .chain(stages)
+            .chain(runs)
+        {
+            if !(0.0..=MAX_MS).contains(&v) {
+                return Some(format!("{key} = {}: a time in ms must be finite, at least 0 and at most {MAX_MS:e} (a year is 3.2e10)", shown(v)));
+            }
+        }
+        None
     }
 
     /// A numeric parameter, if present and finite.

@@ -115,71 +115,77 @@ pub fn save_cached(
 }
 
 /// An exclusive claim on computing one cache entry, shared by every process that uses the
-/// folder (shards on one machine, or on many through a shared file system). The lock file
-/// `<key>.lock` is created with `create_new` (atomic on local and NFSv3+ file systems) and holds
-/// the owner's pid and host; it is removed when the claim is dropped.
+/// folder (shards on one machine, or on many through a shared file system). The claim is an OS
+/// lock (`flock`) on `<key>.lock`, which dies with its holder however it ends (a signal, SIGKILL,
+/// a crash), so a lock file left behind never blocks anyone: the next run takes it. The file
+/// holds the owner's pid and host for the waiting message only. Before, the file's existence was
+/// the claim and a dead owner was told by its pid: once the pid belonged to another live process,
+/// every run needing the entry waited forever.
 pub struct CacheLock {
     path: PathBuf,
+    /// Held open: closing it (the drop, or the process ending) releases the lock.
+    _file: fs::File,
+    /// Removes the lock file if a signal ends the process while the claim is held.
+    _on_signal: crate::interrupt::Registered,
 }
 
 impl Drop for CacheLock {
     fn drop(&mut self) {
+        // Removed while still locked, so a waiter that then locks this file sees it unlinked
+        // (`same_file` below) and opens the path afresh.
         let _ = fs::remove_file(&self.path);
     }
 }
-
-/// A lock from another host is taken for abandoned after this long (its owner cannot be asked).
-pub const FOREIGN_LOCK_STALE_S: u64 = 6 * 3600;
 
 fn host_name() -> String {
     fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "unknown-host".into())
 }
 
-/// Whether the lock at `path` is abandoned: its owner on this host is gone, or a lock from
-/// another host is older than [`FOREIGN_LOCK_STALE_S`].
-fn abandoned(path: &Path) -> bool {
-    let Ok(text) = fs::read_to_string(path) else { return false };
-    let mut words = text.split_whitespace();
-    let (Some(pid), Some(host)) = (words.next(), words.next()) else {
-        // Being written right now, or torn by a crash: old enough means torn.
-        return age_s(path) > 60;
-    };
-    if host == host_name() {
-        return !Path::new("/proc").join(pid).exists();
+/// Whether the open `file` is still the one at `path` (not unlinked or replaced by its holder).
+fn same_file(file: &fs::File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (file.metadata(), fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
     }
-    age_s(path) > FOREIGN_LOCK_STALE_S
-}
-
-fn age_s(path: &Path) -> u64 {
-    fs::metadata(path).and_then(|m| m.modified()).ok().and_then(|t| t.elapsed().ok()).map_or(0, |d| d.as_secs())
 }
 
 /// Takes the lock for `key` in `dir`, waiting while another live process holds it; `waiting`
 /// is called once, with the holder's description, if it has to wait.
 pub fn lock(dir: &Path, key: &str, waiting: &mut dyn FnMut(&str)) -> Result<CacheLock, ReferenceError> {
+    use std::io::{Seek, Write};
+    use std::os::unix::io::AsRawFd;
     fs::create_dir_all(dir)?;
     let path = dir.join(format!("{key}.lock"));
     let mut told = false;
     loop {
-        match fs::OpenOptions::new().write(true).create_new(true).open(&path) {
-            Ok(mut f) => {
-                use std::io::Write;
-                writeln!(f, "{} {}", std::process::id(), host_name())?;
-                return Ok(CacheLock { path });
+        let mut file = fs::OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&path)?;
+        // SAFETY: flock on a descriptor this function owns.
+        let locked = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0;
+        let err = std::io::Error::last_os_error();
+        if locked || err.raw_os_error() != Some(libc::EWOULDBLOCK) {
+            // A file system without locks (ENOLCK) leaves the claim advisory: two runs may then
+            // trace the same entry, which costs time, not figures (the entry is renamed in whole).
+            if !same_file(&file, &path) {
+                continue;
             }
-            Err(e) if e.kind() == ErrorKind::AlreadyExists => {
-                if abandoned(&path) {
+            file.set_len(0)?;
+            file.seek(std::io::SeekFrom::Start(0))?;
+            writeln!(file, "{} {}", std::process::id(), host_name())?;
+            let on_signal = {
+                let path = path.clone();
+                crate::interrupt::on_signal(move || {
                     let _ = fs::remove_file(&path);
-                    continue;
-                }
-                if !told {
-                    waiting(fs::read_to_string(&path).unwrap_or_default().trim());
-                    told = true;
-                }
-                std::thread::sleep(std::time::Duration::from_millis(100));
-            }
-            Err(e) => return Err(e.into()),
+                })
+            };
+            return Ok(CacheLock { path, _file: file, _on_signal: on_signal });
         }
+        if !told {
+            waiting(fs::read_to_string(&path).unwrap_or_default().trim());
+            told = true;
+        }
+        drop(file);
+        std::thread::sleep(std::time::Duration::from_millis(100));
     }
 }
 
@@ -241,12 +247,27 @@ pub enum Lookup {
 /// The cached buffer for `key` at `width`×`height`. `Err` only when the file exists but cannot
 /// be read (permissions, I/O): one line naming it and `--no-cache`.
 pub fn load_cached(dir: &Path, key: &str, width: u32, height: u32) -> Result<Lookup, ReferenceError> {
+    use std::io::Read;
     let path = cache_path(dir, key);
-    let bytes = match fs::read(&path) {
-        Ok(b) => b,
+    let meta = match fs::metadata(&path) {
+        Ok(m) => m,
         Err(e) if e.kind() == ErrorKind::NotFound => return Ok(Lookup::Miss),
         Err(source) => return Err(ReferenceError::CacheRead { path, source }),
     };
+    // Only a regular file is opened (a link to /dev/zero was read until memory ran out, a FIFO
+    // blocked), and no more than the entry this key and size make is read.
+    if !meta.is_file() && !meta.is_dir() {
+        return Ok(Lookup::Damaged(format!("is {}, not a regular file", crate::scene::input_file::kind(&meta.file_type()))));
+    }
+    let expected = (HEADER + key.len() + DIGEST) as u64 + 4 * width as u64 * height as u64;
+    let mut bytes = Vec::new();
+    let read = fs::File::open(&path).and_then(|f| f.take(expected + 1).read_to_end(&mut bytes));
+    if let Err(source) = read {
+        return Err(ReferenceError::CacheRead { path, source });
+    }
+    if bytes.len() as u64 > expected {
+        return Ok(Lookup::Damaged(format!("holds more than the {expected} bytes of a {width}x{height} entry")));
+    }
     Ok(match parse(&bytes) {
         Ok(e) if e.key == key.as_bytes() && e.width == width && e.height == height => Lookup::Hit(e.values),
         Ok(_) => Lookup::Miss,
@@ -290,7 +311,7 @@ mod tests {
     }
 
     #[test]
-    fn lock_is_exclusive_and_abandoned_locks_are_taken() -> Result<(), ReferenceError> {
+    fn lock_is_exclusive_and_lock_files_left_behind_are_taken() -> Result<(), ReferenceError> {
         let dir = std::env::temp_dir().join(format!("penumbra-ref-lock-{}", std::process::id()));
         let held = lock(&dir, "k", &mut |_| panic!("nothing holds it yet"))?;
         let path = dir.join("k.lock");
@@ -311,9 +332,12 @@ mod tests {
         assert!(said.starts_with(&std::process::id().to_string()), "{said}");
         waiter.join().unwrap();
         assert!(!path.exists());
-        // A lock whose owner on this host is gone is taken over.
-        fs::write(&path, format!("{} {}\n", u32::MAX - 1, host_name()))?;
-        drop(lock(&dir, "k", &mut |_| panic!("an abandoned lock must not be waited for"))?);
+        // A lock file left behind is taken over, whoever its pid names now: a dead pid, or a live
+        // one (pid 1, this process), as when a signalled run's pid was reused.
+        for pid in [u32::MAX - 1, 1, std::process::id()] {
+            fs::write(&path, format!("{pid} {}\n", host_name()))?;
+            drop(lock(&dir, "k", &mut |_| panic!("a lock file no process holds must not be waited for"))?);
+        }
         fs::remove_dir_all(&dir)?;
         Ok(())
     }

@@ -138,7 +138,7 @@ pub enum ReferenceError {
     #[error("reference cache: {0}")]
     Io(#[from] std::io::Error),
     /// A cache file that exists but cannot be read: refused rather than overwritten unseen.
-    #[error("cannot read the reference cache file {}: {source}; remove it, or run with --no-cache to trace the reference afresh and replace it", path.display())]
+    #[error("cannot read the reference cache file {}: {source}; remove it, or run with --no-cache to trace the reference without the cache", path.display())]
     CacheRead { path: std::path::PathBuf, source: std::io::Error },
     #[error("cannot write the reference cache file {}: {source}", path.display())]
     CacheWrite { path: std::path::PathBuf, source: std::io::Error },

@@ -9,7 +9,7 @@ use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
 use crate::{frame, progress, Error, Result};
 use glam::Vec3;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 
@@ -62,23 +62,30 @@ pub fn default_cache_dir() -> Option<PathBuf> {
 /// What the reference cache may do in one call.
 #[derive(Clone, Debug)]
 pub enum Cache {
-    /// Neither read nor write.
+    /// Neither read nor write (`--no-cache`: the cache is not touched, so a read-only or damaged
+    /// cache folder cannot stop the run).
     Off,
     /// Read a stored result; store a fresh one.
     Use(PathBuf),
-    /// Trace regardless, then store the result (`--no-cache`).
+    /// Trace regardless, then store the result.
     Refresh(PathBuf),
 }
 
 impl Cache {
-    /// The default folder, or `Off` when no folder can be named (no HOME).
-    pub fn default_for(refresh: bool) -> Cache {
-        match (default_cache_dir(), refresh) {
-            (Some(dir), false) => Cache::Use(dir),
-            (Some(dir), true) => Cache::Refresh(dir),
-            (None, _) => Cache::Off,
+    /// The default folder, or `Off` with `no_cache` (`--no-cache`) or when no folder can be named
+    /// (no HOME).
+    pub fn default_for(no_cache: bool) -> Cache {
+        match default_cache_dir() {
+            Some(dir) if !no_cache => Cache::Use(dir),
+            _ => Cache::Off,
         }
     }
+}
+
+/// Says once that the cache folder `dir` cannot take this entry (`why`): the reference is traced
+/// and not stored, and the run goes on (a read-only cache only costs the time of tracing).
+fn unwritable(dir: &Path, why: &dyn std::fmt::Display) {
+    progress::suspend(|| eprintln!("warning: reference cache folder {}: {why}: the reference is traced and not stored (make the folder writable, or run with --no-cache to leave the cache alone)", dir.display()));
 }
 
 /// A traced (or cached) reference: V per pixel, row-major, 0 on background.
@@ -217,6 +224,7 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
     // outside [0, 1], the old format) is never used: one warning names it, and it is traced
     // again and replaced, so the figures equal a clean run's.
     let mut _lock = None;
+    let mut store = true;
     if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
         let mut warned = false;
         let mut hit = |image: &mut ReferenceImage| -> Result<bool> {
@@ -244,8 +252,14 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
             return Ok(image);
         }
         let say = &mut |who: &str| progress::suspend(|| eprintln!("reference: waiting for {} (held by pid/host {who})", dir.join(format!("{key}.lock")).display()));
-        _lock = Some(reference::lock(dir, &key, say)?);
-        if hit(&mut image)? {
+        match reference::lock(dir, &key, say) {
+            Ok(l) => _lock = Some(l),
+            Err(e) => {
+                unwritable(dir, &e.to_string().trim_start_matches("reference cache: "));
+                store = false;
+            }
+        }
+        if store && hit(&mut image)? {
             return Ok(image);
         }
     }
@@ -285,8 +299,12 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
         bvh_build_s,
         threads: rayon::current_num_threads(),
     });
-    if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
-        image.cache_file = Some(reference::save_cached(dir, &key, g.width, g.height, &values)?);
+    if let (Cache::Use(dir) | Cache::Refresh(dir), true) = (cache, store) {
+        match reference::save_cached(dir, &key, g.width, g.height, &values) {
+            Ok(path) => image.cache_file = Some(path),
+            // The figures are the traced ones either way: a cache that cannot store them is a warning.
+            Err(e) => unwritable(dir, &e),
+        }
     }
     image.values = values;
     Ok(image)

@@ -2,7 +2,7 @@
 //! offline, no scripts, no links (the hybrid, frontier, cascades and estimate studies' `report.html`,
 //! and `penumbra report` on a results folder).
 
-use pulldown_cmark::{html, Event, Options, Parser};
+use pulldown_cmark::{html, Event, Options, Parser, Tag, TagEnd};
 
 /// `md`: CommonMark with pipe tables; `charts`: (heading, SVG) after the tables.
 pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
@@ -26,19 +26,41 @@ pub fn document(title: &str, body: &str) -> String {
 }
 
 /// The HTML of `md`. Raw HTML in the text is shown as text, not passed through: a row's label
-/// such as `<2 ms` stays a label, and the page can name no resource by way of a tag.
+/// such as `<2 ms` stays a label, and the page can name no resource by way of a tag. A Markdown
+/// image or link keeps its target only where that is a `data:` URI or a relative path (a file
+/// beside the page, an anchor on it); any other (`http:`, `javascript:`, `//host`) becomes its
+/// text, so the page fetches nothing when it opens and holds no live link out.
 pub fn body(md: &str) -> String {
     // Quotes too: the shown text of a tag (`src="http…"`) must not read as an attribute to a check
     // that the page names no resource.
     let shown = |t: &str| escape(t).replace('"', "&quot;").into();
-    let events = Parser::new_ext(md, Options::ENABLE_TABLES).map(|e| match e {
-        Event::Html(t) => Event::Html(shown(&t)),
-        Event::InlineHtml(t) => Event::InlineHtml(shown(&t)),
-        e => e,
+    // Per open link or image: whether its tags are dropped (its text stays).
+    let mut dropped: Vec<bool> = Vec::new();
+    let events = Parser::new_ext(md, Options::ENABLE_TABLES).filter_map(|e| match e {
+        Event::Html(t) => Some(Event::Html(shown(&t))),
+        Event::InlineHtml(t) => Some(Event::InlineHtml(shown(&t))),
+        Event::Start(Tag::Link { ref dest_url, .. } | Tag::Image { ref dest_url, .. }) => {
+            let drop = !offline_target(dest_url);
+            dropped.push(drop);
+            (!drop).then_some(e)
+        }
+        Event::End(TagEnd::Link | TagEnd::Image) => (!dropped.pop().unwrap_or(false)).then_some(e),
+        e => Some(e),
     });
     let mut out = String::new();
     html::push_html(&mut out, events);
     out
+}
+
+/// A target the page may name: a `data:` URI, or a relative path or anchor (no scheme, no host).
+pub fn offline_target(url: &str) -> bool {
+    let url = url.trim();
+    if url.get(..5).is_some_and(|s| s.eq_ignore_ascii_case("data:")) {
+        return true;
+    }
+    // A scheme is letters, digits, `+`, `-`, `.` before the first `:`, ahead of any `/`, `?`, `#`.
+    let scheme = url.split(['/', '?', '#']).next().is_some_and(|head| head.contains(':'));
+    !scheme && !url.starts_with("//") && !url.starts_with('\\')
 }
 
 pub(super) fn escape(t: &str) -> String {
@@ -65,6 +87,19 @@ mod tests {
             "{page}"
         );
         assert!(!page.contains("<p>- "), "{page}");
+    }
+
+    #[test]
+    fn links_and_images_out_of_the_page_become_their_text() {
+        let md = "![x](http://h/p.png) [click](javascript:alert(1)) <https://h/> [ok](rows.csv) [top](#t) ![d](data:image/png;base64,AA==) [w](//h/p) [J](JaVaScRiPt:x)";
+        let page = super::body(md);
+        for attr in ["href=\"http", "src=\"http", "href=\"javascript", "href=\"JaVaScRiPt", "href=\"//"] {
+            assert!(!page.contains(attr), "{attr} in {page}");
+        }
+        // The dropped ones keep their text.
+        assert!(page.contains("<p>x click https://h/ <a href"), "{page}");
+        assert!(page.contains("<a href=\"rows.csv\">ok</a>") && page.contains("<a href=\"#t\">top</a>") && page.contains("<img src=\"data:image/png;base64,AA==\""), "{page}");
+        assert!(!page.contains("<img src=\"http") && page.matches("<a ").count() == 2, "{page}");
     }
 
     #[test]

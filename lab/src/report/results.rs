@@ -18,7 +18,8 @@ pub struct LoadedRow {
 /// an error naming the file and line.
 pub fn read_results(path: &Path) -> Result<Vec<LoadedRow>> {
     let err = |message: String| ReportError::Results { path: path.to_path_buf(), message };
-    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read results file: {e}")))?;
+    let text = crate::scene::input_file::read_text(path, crate::scene::input_file::TEXT_CAP, "the 256 MiB cap on results files")
+        .map_err(|e| err(format!("cannot read results file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     Ok(parse_results(&text, path)?.into_iter().map(|row| LoadedRow { row, base: base.clone() }).collect())
 }
@@ -29,6 +30,9 @@ pub fn parse_results(text: &str, path: &Path) -> Result<Vec<ResultRow>> {
     let mut rows = Vec::new();
     for (n, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
         let row: ResultRow = serde_json::from_str(line).map_err(|e| err(format!("line {}: not a result row: {e}", n + 1)))?;
+        if let Some(why) = row.check() {
+            return Err(err(format!("line {}: {why}", n + 1)).into());
+        }
         rows.push(row);
     }
     if rows.is_empty() {
@@ -143,7 +147,7 @@ fn images(r: &LoadedRow) -> Result<Option<MethodImages>> {
     let read = |key: &str| -> Result<Option<Vec<u8>>> {
         let Some(rel) = r.row.images.get(key) else { return Ok(None) };
         let path = r.base.join(rel);
-        let bytes = std::fs::read(&path)
+        let bytes = crate::scene::input_file::read_capped(&path, crate::scene::input_file::TEXT_CAP, "the 256 MiB cap on pictures")
             .map_err(|e| ReportError::Results { path: path.clone(), message: format!("image `{key}` of {}: {e}", r.row.label()) })?;
         Ok(Some(bytes))
     };

@@ -79,6 +79,28 @@ pub fn check(out: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Refuses a run whose input lies inside the set it replaces: an entry the old set in `out` wrote
+/// (or a file inside one) goes when the new set is committed, so the run would delete its own
+/// input (`calibrate --out` the estimate's folder lost `estimate.jsonl`, exit 0). `inputs` are
+/// (flag, path) pairs; the message names both the input and `--out`.
+pub fn check_inputs(out: &Path, inputs: &[(&str, &Path)]) -> Result<()> {
+    let Ok(dir) = out.canonicalize() else { return Ok(()) };
+    for name in old_entries(&dir) {
+        let Ok(entry) = dir.join(&name).canonicalize() else { continue };
+        for (flag, input) in inputs {
+            let Ok(given) = input.canonicalize() else { continue };
+            if given == entry || given.starts_with(&entry) {
+                return Err(Error::param(format!(
+                    "{flag} {}: lies inside the set --out {} replaces (its entry {name}, written by an earlier run, goes when the new set is written): the run would delete its own input; give another --out",
+                    input.display(),
+                    out.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A set being written; dropped without `commit`, it removes its staging folder (and `--out`, if this
 /// set created it and it is still empty).
 pub struct OutputSet {
@@ -106,7 +128,12 @@ impl OutputSet {
             let (stage, abs) = (stage.clone(), abs.clone());
             crate::interrupt::on_signal(move || drop_unfinished(&stage, &abs, created_out))
         };
-        let made = std::fs::create_dir(&stage).and_then(|_| std::fs::create_dir(stage.join("new")));
+        // Made under the commit guard, as every write into the folder is: a signal's clean-up never
+        // runs while the folder is being made or written, and no write starts once it has run.
+        let made = {
+            let _writing = crate::interrupt::critical();
+            std::fs::create_dir(&stage).and_then(|_| std::fs::create_dir(stage.join("new")))
+        };
         let set = Self { out: out.to_path_buf(), new: stage.join("new"), stage, created_out, committed: false, on_signal: Some(on_signal) };
         made.map_err(|e| Error::io(&set.stage, e))?;
         Ok(set)
@@ -122,8 +149,18 @@ impl OutputSet {
         &self.out
     }
 
+    /// Held while files are written into [`path`](Self::path) other than by [`write`](Self::write)
+    /// (a report rendered into the set): a signal waits for the writes to end, then removes the
+    /// staging folder, and any write after that waits for the process to end. Without it a signal
+    /// while the set was written could leave `new/…` behind (the writer recreated the folders the
+    /// clean-up had removed).
+    pub fn writing(&self) -> crate::interrupt::Critical {
+        crate::interrupt::critical()
+    }
+
     /// Writes one file of the set (`name` may hold sub-folders, e.g. `charts/x.svg`).
     pub fn write(&self, name: &str, bytes: &[u8]) -> Result<PathBuf> {
+        let _writing = self.writing();
         let path = self.new.join(name);
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| Error::io(&self.out.join(name), e))?;

@@ -108,24 +108,26 @@ impl Scatter {
     }
 }
 
-/// Axis range with some air around the data; multiplicative padding on log axes.
+/// Axis range with some air around the data; multiplicative padding on log axes. The padded ends
+/// stay finite (a value near f64's largest padded to infinity once).
 fn padded(values: &[f64], log: bool) -> Range<f64> {
     let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let finite = |v: f64| v.clamp(-f64::MAX, f64::MAX);
     if log {
         let (lo, hi) = if hi / lo < 10.0 {
             (lo / 2.0, hi * 2.0)
         } else {
             (lo / 1.4, hi * 1.4)
         };
-        lo..hi
+        lo.max(f64::MIN_POSITIVE)..finite(hi)
     } else {
         let pad = if hi > lo {
             0.08 * (hi - lo)
         } else {
             lo.abs().max(1.0) * 0.1
         };
-        (lo - pad)..(hi + pad)
+        finite(lo - pad)..finite(hi + pad)
     }
 }
 
@@ -158,25 +160,33 @@ fn log_axis(r: Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
 
 /// Labelled ticks at 1-2-5 × 10^k (1 × 10^k only beyond three decades, 1..9 × 10^k when the
 /// range is too narrow for two), light grid lines at 1..9 × 10^k.
+/// Over more than [`MAX_DECADES`] decades the labelled ticks step by several decades and the light
+/// lines go: the loops stay bounded whatever the range (f64 spans about 630 decades).
 pub(crate) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
-    let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
-    let within = |mult: &[f64]| -> Vec<f64> {
+    // Exponents of finite positive ends lie in -324..=309; anything else is clamped there.
+    let exponent = |v: f64, round: fn(f64) -> f64| if v > 0.0 && v.is_finite() { round(v.log10()).clamp(-324.0, 309.0) as i32 } else if v > 0.0 { 309 } else { -324 };
+    let (k0, k1) = (exponent(lo, f64::floor), exponent(hi, f64::ceil));
+    let step = ((k1 - k0) / MAX_DECADES + 1).max(1) as usize;
+    let within = |mult: &[f64], step: usize| -> Vec<f64> {
         (k0..=k1)
+            .step_by(step)
             .flat_map(|k| mult.iter().map(move |m| m * 10f64.powi(k)))
             .filter(|v| (lo..=hi).contains(v))
             .collect()
     };
     let all: Vec<f64> = (1..=9).map(f64::from).collect();
-    let mut bold = within(if k1 - k0 > 3 {
-        &[1.0]
-    } else {
-        &[1.0, 2.0, 5.0]
-    });
-    if bold.len() < 2 {
-        bold = within(&all);
+    if step > 1 {
+        return (within(&[1.0], step), Vec::new());
     }
-    (bold, within(&all))
+    let mut bold = within(if k1 - k0 > 3 { &[1.0] } else { &[1.0, 2.0, 5.0] }, 1);
+    if bold.len() < 2 {
+        bold = within(&all, 1);
+    }
+    (bold, within(&all, 1))
 }
+
+/// The most decades a log axis labels one by one.
+const MAX_DECADES: i32 = 12;
 
 /// Short tick label: about four significant digits, no trailing zeros ("0.005", "60", "1000").
 pub(crate) fn tick_label(v: &f64) -> String {

@@ -306,6 +306,12 @@ fn log_ticks_and_labels() {
     assert!(scatter::log_ticks(1.1, 4.4).0.len() >= 2);
     assert_eq!(scatter::tick_label(&60.0), "60");
     assert_eq!(scatter::tick_label(&(0.1 + 0.2)), "0.3");
+    // A range out to f64's largest (an RMSE of 1e308 padded) or past it: a few labels, no loop
+    // over billions of decades.
+    for (lo, hi) in [(1e-3, f64::MAX), (1e-300, 1e308), (1e-3, f64::INFINITY)] {
+        let (bold, light) = scatter::log_ticks(lo, hi);
+        assert!((2..=13).contains(&bold.len()) && light.is_empty(), "{lo}..{hi}: {bold:?}");
+    }
 }
 
 #[test]

@@ -78,6 +78,7 @@ fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
     }
     let rows: Vec<LoadedRow> = results.rows().into_iter().map(|row| LoadedRow { row, base: set.path().to_path_buf() }).collect();
     if !rows.is_empty() {
+        let _writing = set.writing();
         write_from_rows(&rows, set.path())?;
         println!("  {}", args.output.out.join("report.html").display());
     }

@@ -205,7 +205,10 @@ pub fn write_set(out: &Path, files: &[(String, Vec<u8>)], rows: &[ResultRow]) ->
         set.write(name, bytes)?;
     }
     let rows: Vec<LoadedRow> = rows.iter().map(|r| LoadedRow { row: r.clone(), base: set.path().to_path_buf() }).collect();
-    write_from_rows(&rows, set.path())?;
+    {
+        let _writing = set.writing();
+        write_from_rows(&rows, set.path())?;
+    }
     set.commit()?;
     Ok(out.join("report.html"))
 }

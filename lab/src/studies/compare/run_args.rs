@@ -19,7 +19,7 @@ pub struct RunArgs {
     pub sets: SetArgs,
     #[command(flatten)]
     pub output: OutArgs,
-    /// Trace the reference even when the cache holds it.
+    /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     pub no_cache: bool,
 }

@@ -33,7 +33,7 @@ pub struct ConvergenceArgs {
     sets: SetArgs,
     #[command(flatten)]
     output: OutArgs,
-    /// Trace the reference even when the cache holds it.
+    /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
 }
@@ -46,6 +46,10 @@ impl crate::studies::Run for ConvergenceArgs {
             anyhow::bail!("--values {}: give at least two values to fit a slope", self.values.join(","));
         }
         let name = self.method.split(':').next().unwrap_or_default().trim();
+        if !crate::methods::REGISTRY.iter().any(|m| m.name == name) {
+            let known: Vec<&str> = crate::methods::REGISTRY.iter().map(|m| m.name).collect();
+            anyhow::bail!("--method {}: unknown method `{name}` (known: {})", self.method, known.join(", "));
+        }
         if !crate::methods::methods_with_param(&self.key).contains(&name) {
             anyhow::bail!("--key {}: not a parameter of method {name} (`penumbra methods` lists them)", self.key);
         }

@@ -35,6 +35,10 @@ pub struct ConvergenceRow {
     pub shadow_maps: u32,
     pub rmse: f64,
     pub mae: f64,
+    /// The value failed at run time (an overflow, out of memory, a map over the budget): the
+    /// reason. Its figures are zero and mean nothing; the fit and the table skip it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
 }
 
 #[derive(Debug, serde::Serialize)]
@@ -69,12 +73,25 @@ pub fn run(ctx: &GpuContext, job: &ConvergenceJob, log: &dyn Fn(&str)) -> Result
     let judge = Judge::new(scene, &g, reference.values);
     let mut rows = Vec::new();
     for (value, method) in job.values.iter().zip(&methods) {
-        let f = frame::render(ctx, scene, method, TimingMode::Frame)?;
-        let m = judge.judge(scene, &method.label(), &f)?.metrics;
-        log(&format!("{}: {} maps, RMSE {:.5}", method.label(), f.output.shadow_maps, m.rmse));
-        rows.push(ConvergenceRow { value: value.clone(), label: method.label(), shadow_maps: f.output.shadow_maps, rmse: m.rmse, mae: m.mae });
+        // A value that fails at run time is a row saying why, and the study goes on
+        // (docs/robustness.md, "Failed settings"); before, one failure lost the whole study.
+        let measured = frame::render(ctx, scene, method, TimingMode::Frame).map_err(Error::from).and_then(|f| Ok((f.output.shadow_maps, judge.judge(scene, &method.label(), &f)?.metrics)));
+        match measured {
+            Ok((maps, m)) => {
+                log(&format!("{}: {maps} maps, RMSE {:.5}", method.label(), m.rmse));
+                rows.push(ConvergenceRow { value: value.clone(), label: method.label(), shadow_maps: maps, rmse: m.rmse, mae: m.mae, failed: None });
+            }
+            Err(e) => {
+                let reason = e.to_string().replace('\n', " ");
+                log(&crate::record::failed_line(&format!("--values {value} ({})", method.label()), &reason));
+                rows.push(ConvergenceRow { value: value.clone(), label: method.label(), shadow_maps: 0, rmse: 0.0, mae: 0.0, failed: Some(reason) });
+            }
+        }
     }
-    let slope = fitted_slope(&rows.iter().map(|r| (r.shadow_maps as f64, r.rmse)).collect::<Vec<_>>());
+    if let Some(line) = crate::record::failed_summary(rows.iter().filter(|r| r.failed.is_some()).count(), rows.len()) {
+        log(&line);
+    }
+    let slope = fitted_slope(&rows.iter().filter(|r| r.failed.is_none()).map(|r| (r.shadow_maps as f64, r.rmse)).collect::<Vec<_>>());
     Ok(ConvergenceOutcome { scene: scene.name.clone(), method: job.spec.clone(), key: job.key.clone(), reference: truth::mode_label(&job.reference), rows, slope })
 }
 
@@ -92,8 +109,22 @@ pub fn fitted_slope(points: &[(f64, f64)]) -> Option<f64> {
 /// convergence.json (the outcome), convergence.csv (a row per value) and convergence.md.
 pub fn files(outcome: &ConvergenceOutcome) -> Result<Vec<(String, Vec<u8>)>> {
     let json = serde_json::to_vec_pretty(outcome).map_err(|e| Error::param(e.to_string()))?;
-    let mut records = vec![["value", "label", "shadow_maps", "rmse", "mae"].map(String::from).to_vec()];
-    records.extend(outcome.rows.iter().map(|r| vec![r.value.clone(), r.label.clone(), r.shadow_maps.to_string(), r.rmse.to_string(), r.mae.to_string()]));
+    let any_failed = outcome.rows.iter().any(|r| r.failed.is_some());
+    let mut header = ["value", "label", "shadow_maps", "rmse", "mae"].map(String::from).to_vec();
+    if any_failed {
+        header.push("failed".into());
+    }
+    let mut records = vec![header];
+    records.extend(outcome.rows.iter().map(|r| {
+        let mut cells = match &r.failed {
+            None => vec![r.value.clone(), r.label.clone(), r.shadow_maps.to_string(), r.rmse.to_string(), r.mae.to_string()],
+            Some(_) => vec![r.value.clone(), r.label.clone(), String::new(), String::new(), String::new()],
+        };
+        if any_failed {
+            cells.push(r.failed.clone().unwrap_or_default());
+        }
+        cells
+    }));
     Ok(vec![
         ("convergence.json".into(), json),
         ("convergence.csv".into(), crate::record::csv::lines(records).into_bytes()),
@@ -104,7 +135,10 @@ pub fn files(outcome: &ConvergenceOutcome) -> Result<Vec<(String, Vec<u8>)>> {
 pub fn markdown(o: &ConvergenceOutcome) -> String {
     let mut md = format!("# Convergence: {} on {} against the {} reference\n\n| {} | maps | RMSE | MAE |\n|---:|---:|---:|---:|\n", o.method, o.scene, o.reference, o.key);
     for r in &o.rows {
-        md += &format!("| {} | {} | {:.5} | {:.5} |\n", r.value, r.shadow_maps, r.rmse, r.mae);
+        md += &match &r.failed {
+            None => format!("| {} | {} | {:.5} | {:.5} |\n", r.value, r.shadow_maps, r.rmse, r.mae),
+            Some(why) => format!("| {} | failed: {} | | |\n", r.value, why.replace('|', "\\|")),
+        };
     }
     md += &match o.slope {
         Some(s) => format!("\nFitted slope of log RMSE against log maps: {s:.3} (error ∝ maps^{s:.2}).\n"),

@@ -23,7 +23,7 @@ pub struct EnvironmentArgs {
     sets: SetArgs,
     #[command(flatten)]
     output: OutArgs,
-    /// Trace the references even when the cache holds them.
+    /// Trace the references without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
 }

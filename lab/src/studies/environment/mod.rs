@@ -37,7 +37,7 @@ pub struct EnvironmentJob {
     pub samples: u32,
     /// `key=value` render overrides as given (the rows' provenance records them).
     pub set: Vec<String>,
-    /// Trace the references even when the cache holds them.
+    /// Trace the references without the cache: nothing is read from it or stored in it.
     pub no_cache: bool,
 }
 

@@ -27,7 +27,7 @@ pub struct EstimateArgs {
     sets: SetArgs,
     #[command(flatten)]
     output: OutArgs,
-    /// Trace the reference even when the cache holds it.
+    /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
 }

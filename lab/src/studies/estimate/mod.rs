@@ -109,6 +109,47 @@ pub struct EstimateLine {
     pub failed: Option<String>,
 }
 
+impl EstimateLine {
+    /// What is wrong with a row read back (`calibrate --estimates`), as `key = value: why`: its
+    /// errors of V lie in [0, 1] (the measured one above 0: a ratio to it is the point of the row),
+    /// its predictions are finite and not negative, and it has maps of some size. Failed rows are
+    /// not read.
+    pub fn check(&self) -> Option<String> {
+        use crate::record::row::shown;
+        if self.failed.is_some() {
+            return None;
+        }
+        if !(self.measured_rmse > 0.0 && self.measured_rmse <= 1.0) {
+            return Some(format!("measured_rmse = {}: an RMSE of V lies in (0, 1] (a pair with no error has no ratio to calibrate)", shown(self.measured_rmse)));
+        }
+        for (key, v) in [("measured_map", self.measured_map), ("measured_sampling", self.measured_sampling)] {
+            if !(0.0..=1.0).contains(&v) {
+                return Some(format!("{key} = {}: an RMSE of V lies in [0, 1]", shown(v)));
+            }
+        }
+        let predictions = [
+            ("predicted_rmse", self.predicted_rmse),
+            ("predicted_sampling", self.predicted_sampling),
+            ("predicted_map", self.predicted_map),
+            ("predicted_quantization", self.predicted_quantization),
+            ("predicted_bias", self.predicted_bias),
+            ("predicted_map_averaging", self.predicted_map_averaging),
+        ];
+        for (key, v) in predictions {
+            if !(v.is_finite() && v >= 0.0) {
+                return Some(format!("{key} = {}: a predicted RMSE is a finite number, at least 0", shown(v)));
+            }
+        }
+        if self.predicted_sampling.hypot(self.predicted_map) == 0.0 {
+            return Some("predicted_sampling = 0 and predicted_map = 0: a prediction of no error has nothing to calibrate".into());
+        }
+        if self.map_size == 0 || self.maps == 0 {
+            return Some(format!("map_size = {}, maps = {}: a setting has at least one map of at least one texel", self.map_size, self.maps));
+        }
+        None
+    }
+}
+
 fn rms(a: &[f32], b: &[f32], mask: &[bool]) -> f64 {
     let (sum, n) = a.iter().zip(b).zip(mask).filter(|(_, m)| **m).fold((0.0f64, 0usize), |(s, n), ((x, y), _)| {
         let d = f64::from(*x) - f64::from(*y);

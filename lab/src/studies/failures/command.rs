@@ -33,7 +33,7 @@ pub struct FailuresArgs {
     samples: u32,
     #[command(flatten)]
     output: OutArgs,
-    /// Trace the references even when the cache holds them.
+    /// Trace the references without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
 }

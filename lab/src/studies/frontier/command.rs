@@ -53,7 +53,7 @@ pub struct FrontierArgs {
     max_configs: usize,
     #[command(flatten)]
     output: OutArgs,
-    /// Trace the reference even when the cache holds it.
+    /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
 }
@@ -108,7 +108,9 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let ctx = GpuContext::with_request(gpu)?;
     // Every setting's frame sizes before the reference is traced or anything is written; a
     // setting over the device's limits is left out like local adaptive over the map budget.
-    let unfit = grid::drop_refused(&mut groups, &scene, |s, m| crate::methods::sizes::check(&ctx, s, m).map_err(Into::into));
+    let mut unfit = grid::drop_refused(&mut groups, &scene, |s, m| crate::methods::sizes::check(&ctx, s, m).map_err(Into::into));
+    // A map over the budget fails its setting at its first frame: left out before the run too.
+    unfit.extend(grid::drop_refused(&mut groups, &scene, grid::one_map_over_budget));
     for line in left_out_lines(&unfit) {
         eprintln!("{line}");
     }
@@ -120,13 +122,15 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let all: Vec<_> = groups.iter().flat_map(|g| g.methods.iter().cloned()).collect();
     let mut thinning = thinning.describe(&axes);
     // Recorded with the grid, so frontier.jsonl and frontier.md say what was ruled out.
-    for (what, left) in [(format!("refusing the {} light", scene.emitter.kind().name()), &refused), ("over this device's limits".to_string(), &unfit)] {
+    for (what, left) in [(format!("refusing the {} light", scene.emitter.kind().name()), &refused), ("over this device's limits or the map budget".to_string(), &unfit)] {
         if !left.is_empty() {
             let specs: Vec<&str> = left.iter().map(|(s, _)| s.as_str()).collect();
             thinning = format!("{thinning}; left out, {what}: {}", specs.join(", "));
         }
     }
-    eprintln!("{} ({thinning})", plan::line(&all, &scene, repeats));
+    // Each group's settings estimated at its own map size: a map's texels cost time too.
+    let seconds: f64 = groups.iter().map(|g| plan::estimated_seconds(&g.methods, &g.maps.apply(&scene, 0.25), repeats)).sum();
+    eprintln!("{} ({thinning})", plan::line_with(&all, seconds, &scene, repeats));
     let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &files::files(&lines)?)?;

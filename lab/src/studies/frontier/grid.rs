@@ -196,6 +196,19 @@ pub fn drop_refused(groups: &mut [Group], scene: &crate::scene::Scene, check: im
     refused
 }
 
+/// The methods whose maps of the group's size go into arrays of the map budget
+/// (`shadow_map_budget_mib`): one map over the budget fails them at their first frame, which is
+/// known before the run. (The single-map methods allocate their one map outside the budget.)
+pub fn one_map_over_budget(scene: &crate::scene::Scene, method: &Method) -> Result<()> {
+    let r = &scene.render;
+    let bytes = u64::from(r.shadow_map_size).pow(2) * 4;
+    if r.maps != crate::scene::MapKind::Plain || !matches!(method.name(), "hard" | "regular" | "adaptive") || bytes <= u64::from(r.shadow_map_budget_mib) << 20 {
+        return Ok(());
+    }
+    let (size, budget) = (r.shadow_map_size, r.shadow_map_budget_mib);
+    Err(Error::param(format!("one {size}x{size} shadow map ({} MiB) does not fit shadow_map_budget_mib = {budget} (raise it with --set to run them)", bytes >> 20)))
+}
+
 /// Local scope keeps all 289 lattice maps alive in at most two arrays of the map budget
 /// (`shadow_map_budget_mib`, default 512 MiB): at 1024² and up they do not fit, and the adaptive
 /// method refuses them, so those settings are left out (docs/frontier.md).

@@ -27,7 +27,7 @@ pub struct SeamsArgs {
     /// Continuous reference samples per side.
     #[arg(long, allow_hyphen_values = true, default_value_t = 32)]
     samples: u32,
-    /// Trace the reference again instead of reading the cache.
+    /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
     #[command(flatten)]
