@@ -269,20 +269,20 @@ fn triangle_hit(ray: Ray, tri: GpuTruthTriangle, t_max: f32) -> TriangleHit {
 }
 
 // Does the ray meet the node's box at t ∈ [0, t_max]? Conservative: an axis the ray runs along
-// constrains nothing but the origin, and the far distance is padded against rounding.
-fn slab(node: GpuBvhNode, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
+// (`inv` 0 there) constrains nothing but the origin, and the far distance is padded against
+// rounding.
+fn slab(node: GpuBvhNode, o: vec3<f32>, inv: vec3<f32>, along: vec3<bool>, t_max: f32) -> bool {
     var t0 = 0.0;
     var t1 = t_max;
     for (var k = 0u; k < 3u; k = k + 1u) {
-        if (d[k] == 0.0) {
+        if (along[k]) {
             if (o[k] < node.min[k] || o[k] > node.max[k]) {
                 return false;
             }
             continue;
         }
-        let inv = 1.0 / d[k];
-        let ta = (node.min[k] - o[k]) * inv;
-        let tb = (node.max[k] - o[k]) * inv;
+        let ta = (node.min[k] - o[k]) * inv[k];
+        let tb = (node.max[k] - o[k]) * inv[k];
         t0 = max(t0, min(ta, tb));
         t1 = min(t1, max(ta, tb));
     }
@@ -297,6 +297,9 @@ fn occluded(org: vec3<f32>, dir: vec3<f32>, t_max: f32) -> Occlusion {
         return Occlusion(false, false);
     }
     let ray = make_ray(org, dir);
+    // The box test's reciprocals, once per ray.
+    let along = dir == vec3<f32>(0.0);
+    let inv = select(vec3<f32>(1.0) / dir, vec3<f32>(0.0), along);
     var tie = false;
     var tied_hit = false;
     var stack: array<u32, 32>;
@@ -308,7 +311,7 @@ fn occluded(org: vec3<f32>, dir: vec3<f32>, t_max: f32) -> Occlusion {
         }
         top = top - 1u;
         let node = bvh_nodes[stack[top]];
-        if (!slab(node, org, dir, t_max)) {
+        if (!slab(node, org, inv, along, t_max)) {
             continue;
         }
         if (node.count == 0u) {

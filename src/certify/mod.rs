@@ -29,6 +29,7 @@
 
 pub mod bound;
 pub mod design;
+pub mod frame;
 pub mod truth;
 
 use crate::gpu::GpuContext;
