@@ -82,3 +82,39 @@ fn run(args: CertifyStudyArgs, gpu: &AdapterRequest) -> Result<()> {
     println!("rows:    {}", args.output.out.join("certify.csv").display());
     Ok(())
 }
+
+/// `penumbra certify-promise`: `auto:target=T` beside each committed frontier's oracle.
+#[derive(clap::Args)]
+#[command(mut_arg("out", |a| a.default_value("penumbra-out/certify-promise")))]
+pub struct CertifyPromiseArgs {
+    /// Folders of `penumbra frontier --budget …` runs (each with its frontier.jsonl), comma-separated.
+    #[arg(long, value_delimiter = ',', required = true, value_parser = crate::studies::flags::utf8())]
+    frontiers: Vec<String>,
+    #[command(flatten)]
+    repeats: crate::studies::flags::RepeatsArgs,
+    #[command(flatten)]
+    output: OutArgs,
+}
+
+impl crate::studies::Run for CertifyPromiseArgs {
+    fn run(self, gpu: &AdapterRequest) -> Result<()> {
+        self.output.checked()?;
+        let repeats = self.repeats.checked()?;
+        listed_once("--frontiers", self.frontiers.iter().map(|s| (s, s.trim())))?;
+        let mut rows = 0;
+        for dir in &self.frontiers {
+            rows += certify::promise::check(std::path::Path::new(dir)).map_err(|e| anyhow::anyhow!("--frontiers {dir}: {e}"))?;
+        }
+        eprintln!("{rows} auto rows in {} frontiers", self.frontiers.len());
+        let ctx = GpuContext::with_request(gpu)?;
+        let mut all = Vec::new();
+        for dir in &self.frontiers {
+            all.extend(certify::promise::run_frontier(&ctx, std::path::Path::new(dir), repeats, &|l| eprintln!("{l}"))?);
+        }
+        let md = certify::promise::markdown(&all);
+        run_files::write_files(&self.output.out, &[("promise.csv".to_string(), certify::promise::csv(&all).into_bytes()), ("promise.md".to_string(), md.clone().into_bytes())])?;
+        print!("{md}");
+        println!("rows: {}", self.output.out.join("promise.csv").display());
+        Ok(())
+    }
+}
