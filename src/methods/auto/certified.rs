@@ -1,11 +1,12 @@
-//! auto's certified decision (docs/certify.md §5). The estimate's search gives the first guess:
+//! auto's certified decision (docs/certify.md §5). The estimate's search gives the first guess G:
 //! its grid, its V and its per-pixel bound, the truth-free proxy the exact pixels are drawn by.
-//! One set of K exact pixels then serves every candidate: the one-map filters and the ladder's
-//! grids, tested in a fixed order, cheapest first by the price, and the first whose bound on its
-//! RMSE is at most the target is what the frame renders. Grids the estimate predicts far over the
-//! target (more than `SKIP` times it) are left out of the order, which the estimate alone fixes,
-//! never the exact pixels. Where none is certified within `MAX_TESTS` renders, the target is out of
-//! reach and the candidate with the least bound is rendered, and says so.
+//! One set of K exact pixels then serves every candidate, tested cheapest first by the price, and
+//! the first whose bound on its RMSE is at most the target is what the frame renders: first the
+//! candidates cheaper than G (the one-map filters, and the grids the estimate does not put over
+//! `SKIP` times the target), at most `MAX_BELOW` of them; then G and the dearer grids, at most
+//! `MAX_ABOVE`. The order is fixed by the prices and the estimate, never by the exact pixels.
+//! Where none is certified, the target is out of reach: the candidate with the least bound is
+//! rendered, and says so.
 
 use super::{sides, sizes, AutoState, Try, KEEP};
 use crate::certify::design::{self, Design};
@@ -18,11 +19,14 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::time::Instant;
 
-/// A grid the estimate predicts over this many times the target is not tried: the estimate errs
-/// by 0.43–1.36 of the measure on scenes it was not fitted on (docs/budget.md §8).
-const SKIP: f64 = 2.5;
-/// Renders at most, besides the search's.
-const MAX_TESTS: usize = 8;
+/// A grid cheaper than the first guess that the estimate predicts over this many times the
+/// target is not tried: the calibrated estimate reads 0.74–2.3 times the measure on scenes it was
+/// not fitted on (measured/calibrated 0.43–1.36, docs/budget.md §8).
+const SKIP: f64 = 1.6;
+/// Grids tested at most below the first guess (the nearest it in price; the filters besides), and
+/// candidates from it up.
+const MAX_BELOW: usize = 5;
+const MAX_ABOVE: usize = 5;
 
 /// What `pixels` > 0 adds to auto: the truth tracer and the options.
 pub(super) struct Certifying {
@@ -81,7 +85,7 @@ impl AutoState {
         let order = self.order(&first, target, handed, fg.scene.render.shadow_map_size);
         let (mut tests, mut tested, mut maps) = (Vec::new(), Vec::<Tested>::new(), 0u32);
         let mut chosen = None;
-        for (k, (candidate, price)) in order.iter().take(MAX_TESTS).enumerate() {
+        for (k, (candidate, price)) in order.iter().enumerate() {
             let (v, pixel_bound, m) = match *candidate {
                 Candidate::Grid(n, size) if (n, size) == (first.n, first.map_size) => (v_first.clone(), first_bound.clone(), 0),
                 Candidate::Grid(n, size) => {
@@ -180,8 +184,9 @@ impl AutoState {
     }
 
     /// The candidates in the order they are tested, with their prices: a handed-on choice first,
-    /// then only dearer grids (a sequence's choice only rises); else the filters and every grid
-    /// the estimate does not put over SKIP × T (the first guess always), cheapest first.
+    /// then only dearer grids (a sequence's choice only rises); else those cheaper than the first
+    /// guess (the filters, the grids the estimate does not put over SKIP × T), then the first
+    /// guess and the dearer grids, each part cheapest first and cut at MAX_BELOW and MAX_ABOVE.
     fn order(&self, first: &Try, target: f64, handed: bool, scene_map_size: u32) -> Vec<(Candidate, f64)> {
         let (max_n, max_size) = (self.method.max_n, self.method.max_size);
         let grid_price = |n: u32, size: u32| (n * n) as f64 * self.costs.of(size);
@@ -196,16 +201,23 @@ impl AutoState {
         for size in sizes(max_size) {
             for n in sides(max_n) {
                 let price = grid_price(n, size);
-                let is_first = (n, size) == (first.n, first.map_size);
                 let predicted = super::predicted_at(self.class, first.n, first.map_size, &first.prediction, n, size);
-                let keep = if handed { price > here } else { predicted <= SKIP * target };
-                if is_first || keep {
+                if price >= here || predicted <= SKIP * target {
                     order.push((Candidate::Grid(n, size), price));
                 }
             }
         }
         order.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let is_first = |c: &(Candidate, f64)| c.0 == Candidate::Grid(first.n, first.map_size);
+        let cut = order.iter().position(is_first).unwrap_or(order.len());
+        let (below, above) = order.split_at(cut);
+        // Below the first guess: every filter, and the grids nearest it in price.
+        let grids_below: Vec<usize> = (0..below.len()).filter(|&i| matches!(below[i].0, Candidate::Grid(..))).collect();
+        let skip = grids_below.len().saturating_sub(MAX_BELOW);
+        let kept_below = below.iter().enumerate().filter(|(i, c)| matches!(c.0, Candidate::Filter(_)) || !grids_below[..skip].contains(i)).map(|(_, c)| *c);
+        let mut order: Vec<(Candidate, f64)> = kept_below.chain(above.iter().take(MAX_ABOVE).copied()).collect();
         if handed {
+            order.retain(|c| c.1 > here || is_first(c));
             // The handed-on choice first, whatever its price.
             let handed_choice = match self.handed_filter.as_deref().and_then(|name| (0..self.filters.len()).find(|&i| self.filters.name(i) == name)) {
                 Some(i) => (Candidate::Filter(i), 0.0),
@@ -213,6 +225,7 @@ impl AutoState {
             };
             order.retain(|c| c.0 != handed_choice.0);
             order.insert(0, handed_choice);
+            order.truncate(1 + MAX_ABOVE);
         }
         order
     }

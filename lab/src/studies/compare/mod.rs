@@ -200,6 +200,13 @@ pub fn reference_line(r: &ReferenceImage, geometry: usize) -> String {
         what += &format!(", Monte Carlo standard error of V mean {mean:.4}, max {max:.4}");
     }
     match (&r.trace, &r.cache_file) {
+        (Some(t), _) if t.tracer == "gpu" => format!(
+            "{what}: traced on the GPU in {:.1} s, {:.1} M rays/s ({:.1} M samples/s){}",
+            t.seconds,
+            t.rays_per_s / 1e6,
+            t.samples_per_s / 1e6,
+            t.ties.filter(|&n| n > 0).map_or(String::new(), |n| format!(", {n} rays decided by a tie in f32"))
+        ),
         (Some(t), _) => format!(
             "{what}: traced in {:.1} s, {:.1} M rays/s ({:.1} M samples/s) on {} threads",
             t.seconds,
