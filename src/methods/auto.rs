@@ -728,7 +728,7 @@ mod tests {
 
     #[test]
     fn parameters_are_checked() {
-        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target"), ("auto:cost=guess", "cost")] {
+        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target"), ("auto:cost=guess", "cost"), ("auto:delta=1", "delta = 1 is outside (0, 1)"), ("auto:delta=0", "delta"), ("auto:pixels=-3", "pixels")] {
             let e = super::super::Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} parsed")).to_string();
             assert!(e.contains("auto") && e.contains(expect), "{spec}: {e}");
         }
