@@ -17,6 +17,7 @@ pub mod render;
 pub mod stages;
 pub mod methods;
 pub mod frame;
+pub mod certify;
 
 pub use api::{required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
 pub use error::{toml_position, Error, Result};

@@ -4,7 +4,7 @@
 //! The engine's modules are re-exported under their own names, so lab code reads
 //! `crate::gpu`, `crate::scene`, … as before; the engine cannot name anything here.
 
-pub use penumbra::{api, frame, gpu, methods, render, scene, stages};
+pub use penumbra::{api, certify, frame, gpu, methods, render, scene, stages};
 pub use penumbra::{required_limits, version, LONG_VERSION, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
 
 pub(crate) mod error;

@@ -104,6 +104,13 @@ commands! {
     /// The calibrated estimate: its factors read (or refit) on `estimate`'s pairs, by half of the
     /// fixed split (pairs.csv, calibration.md, charts/calibration.svg; docs/budget.md).
     Calibrate(studies::calibration::command::CalibrateArgs),
+    /// The certified bound (`--certify`) against the measured RMSE on scenes × methods × proxies ×
+    /// K × draws: coverage and sharpness by half of the fixed split, the stretch fitted on the
+    /// fitting half (certify.csv, summary.md; docs/certify.md).
+    CertifyStudy(studies::certify::command::CertifyStudyArgs),
+    /// `auto:target=T` beside each committed frontier's oracle, its certified decision's cost apart:
+    /// the counts against the promise (promise.csv, promise.md; docs/certify.md).
+    CertifyPromise(studies::certify::command::CertifyPromiseArgs),
     /// The sun's cascaded shadow maps for each number of cascades and split scheme: error against
     /// the reference and each cascade's texel density on screen (cascades.jsonl/.csv/.md,
     /// charts/cascades.svg, report.html; docs/lights.md).

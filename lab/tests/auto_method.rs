@@ -18,7 +18,7 @@ fn auto_renders_its_choice_and_keeps_it() {
     let ctx = common::gpu();
     let sets = [("resolution".to_string(), "64".to_string())];
     let scene = Scene::load("overlapping-occluders", &sets).unwrap();
-    let method = Method::parse("auto:target=0.03,max_size=1024,filters=pcss", &[]).unwrap();
+    let method = Method::parse("auto:target=0.03,max_size=1024,filters=pcss,pixels=0", &[]).unwrap();
     let mut r = Renderer::new(ctx, &scene, &method).unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
@@ -89,7 +89,7 @@ fn auto_prices_maps_by_measure_or_by_texels() {
     use penumbra::methods::estimate::Prediction;
     let ctx = common::gpu();
     let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "64".to_string())]).unwrap();
-    for (spec, model) in [("auto:target=0.02,max_size=1024", "measured"), ("auto:target=0.02,max_size=1024,cost=texels", "texels")] {
+    for (spec, model) in [("auto:target=0.02,max_size=1024,pixels=0", "measured"), ("auto:target=0.02,max_size=1024,cost=texels,pixels=0", "texels")] {
         let method = Method::parse(spec, &[]).unwrap();
         let rec = Renderer::new(ctx, &scene, &method).unwrap().frame(options()).unwrap().output.record;
         assert_eq!(rec["map_cost"]["model"], model, "{rec}");
@@ -150,7 +150,7 @@ fn auto_prices_each_scene_once_and_reports_what_it_took() {
     // A screen no other test of this file uses, so the first renderer here is the process's first.
     let scene = |res: &str| Scene::load("overlapping-occluders", &[("resolution".to_string(), res.to_string())]).unwrap();
     let record = |s: &Scene, spec: &str| Renderer::new(ctx, s, &Method::parse(spec, &[]).unwrap()).unwrap().frame(options()).unwrap().output.record;
-    let spec = "auto:target=0.03,max_size=1024,filters=none";
+    let spec = "auto:target=0.03,max_size=1024,filters=none,pixels=0";
     let first = record(&scene("40"), spec);
     let pricing = |r: &serde_json::Value| r["map_cost"]["pricing_ms"].as_f64().unwrap();
     assert!(pricing(&first) > 0.0, "{first}");
@@ -170,7 +170,7 @@ fn a_priced_2048_map_costs_at_least_its_raster_alone() {
     use penumbra::stages::raster::Raster;
     let ctx = common::gpu();
     let scene = Scene::load("overlapping-occluders", &[("resolution".to_string(), "32".to_string())]).unwrap();
-    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,filters=none", &[]).unwrap()).unwrap();
+    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,filters=none,pixels=0", &[]).unwrap()).unwrap();
     let rec = r.frame(options()).unwrap().output.record;
     let price = rec["map_cost"]["per_map"]["2048"].as_f64().unwrap();
     let raster = Raster::new(ctx, scene.render.cull, r.raster_name() == "compute", scene.render.shadow_map_budget_mib).unwrap();
@@ -190,7 +190,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     let sets = [("resolution".to_string(), "96".to_string())];
     let scene = Scene::load("analytic-square", &sets).unwrap();
     let pcss = penumbra::frame::render(ctx, &scene, &Method::parse("pcss", &[]).unwrap(), options()).unwrap();
-    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,cost=texels,filters=pcss", &[]).unwrap()).unwrap();
+    let mut r = Renderer::new(ctx, &scene, &Method::parse("auto:target=0.03,cost=texels,filters=pcss,pixels=0", &[]).unwrap()).unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
     println!("first frame: {}", serde_json::to_string(rec).unwrap());
@@ -214,7 +214,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     assert!(rec["chosen"]["n"].as_u64().unwrap() >= 2, "the grid it was judged by stays named: {rec}");
     assert!(first.visibility == pcss.visibility, "the settling frame's V is pcss's");
     // Without candidates: the same grid, no check.
-    let alone = penumbra::frame::render(ctx, &scene, &Method::parse("auto:target=0.03,cost=texels,filters=none", &[]).unwrap(), options()).unwrap();
+    let alone = penumbra::frame::render(ctx, &scene, &Method::parse("auto:target=0.03,cost=texels,filters=none,pixels=0", &[]).unwrap(), options()).unwrap();
     assert_eq!((&alone.output.record["filter"], alone.output.record.get("renders")), (&serde_json::Value::Null, None), "{}", alone.output.record);
     assert_eq!(alone.output.record["chosen"], rec["chosen"]);
     assert!(alone.visibility != pcss.visibility);
@@ -250,7 +250,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
 #[test]
 fn an_unreachable_target_says_so() {
     let out = tempfile_dir("auto-unreachable");
-    let o = common::penumbra(&["render", "--scene", "overlapping-occluders", "--set", "resolution=64", "--method", "auto:target=0.001,max_n=3,max_size=256", "--out", out.to_str().unwrap()]);
+    let o = common::penumbra(&["render", "--scene", "overlapping-occluders", "--set", "resolution=64", "--method", "auto:target=0.001,max_n=3,max_size=256,pixels=0", "--out", out.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(stderr.contains("auto: target RMSE 0.001 is out of reach within n ≤ 3 and 256² maps: the best predicted is"), "{stderr}");

@@ -29,7 +29,7 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     let ctx = common::gpu();
     let sets = [("resolution".to_string(), "64".to_string())];
     let scene = Scene::load("grazing-ground", &sets).unwrap();
-    let spec = "auto:target=0.03,max_n=4,max_size=1024,cost=texels";
+    let spec = "auto:target=0.03,max_n=4,max_size=1024,cost=texels,pixels=0";
     let msm = penumbra::frame::render(ctx, &scene, &Method::parse("msm", &[]).unwrap(), options()).unwrap();
     let mut r = Renderer::new(ctx, &scene, &Method::parse(spec, &[]).unwrap()).unwrap();
     let first = r.frame(options()).unwrap();
@@ -83,10 +83,10 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
 
     // A point light: msm refuses it, so the default list leaves it out; naming it is an error.
     let point = Scene::load("point-edge", &sets).unwrap();
-    let p = penumbra::frame::render(ctx, &point, &Method::parse("auto:target=0.03,cost=texels", &[]).unwrap(), options()).unwrap();
+    let p = penumbra::frame::render(ctx, &point, &Method::parse("auto:target=0.03,cost=texels,pixels=0", &[]).unwrap(), options()).unwrap();
     assert_eq!(p.output.record["filter"]["left_out"], serde_json::json!(["msm"]), "{}", p.output.record);
     let bad = tempfile_dir("auto-point-msm");
-    let o = common::penumbra(&["render", "--scene", "point-edge", "--set", "resolution=64", "--method", "auto:target=0.03,filters=msm", "--out", bad.to_str().unwrap()]);
+    let o = common::penumbra(&["render", "--scene", "point-edge", "--set", "resolution=64", "--method", "auto:target=0.03,filters=msm,pixels=0", "--out", bad.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("filters = msm") && stderr.contains("light kind `point`"), "{stderr}");

@@ -161,6 +161,7 @@ fn line(spec: &str, ms: f64, rmse: f64, kind: &str, failed: Option<&str>) -> Fro
         budget: None,
         paired: None,
         failed: failed.map(String::from),
+        certify: None,
     }
 }
 

@@ -22,6 +22,8 @@ pub struct Pending {
     /// The frame with its V and G-buffer moved out.
     pub frame: FrameResult,
     pub v: VFigures,
+    /// `Renderer.certify`: the frame's certificate, run.json's `certify`.
+    pub certify: Option<serde_json::Value>,
 }
 
 /// The run record of one frame: run.json's content, read as a dict is.
@@ -40,7 +42,11 @@ impl Record {
     fn value(&self) -> &serde_json::Value {
         self.value.get_or_init(|| {
             let p = self.pending.lock().unwrap_or_else(|e| e.into_inner()).take().expect("a record is built once");
-            run_files::run_record_of(&p.scene, &p.method, &p.frame, p.v, &p.ctx.summary, p.ctx.timestamps_trusted)
+            let mut record = run_files::run_record_of(&p.scene, &p.method, &p.frame, p.v, &p.ctx.summary, p.ctx.timestamps_trusted);
+            if let Some(c) = p.certify {
+                record["certify"] = c;
+            }
+            record
         })
     }
 

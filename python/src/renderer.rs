@@ -5,6 +5,7 @@ use crate::record::{Pending, Record};
 use crate::scene::Scene;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
+use penumbra_lab::certify::frame::{FrameCertifier, ProxyKind};
 use penumbra_lab::frame::{self, FrameOptions};
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::GpuContext;
@@ -87,6 +88,41 @@ impl Renderer {
         .map_err(crate::to_py)
     }
 
+
+    /// One frame of `method`, certified where `certify` says (V and the record, as `render`).
+    fn render_certified<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>, certify: Option<penumbra_lab::certify::Options>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
+        let (v, pending) = self.with_built(py, method, &crate::pairs(params)?, |b| {
+            let mut f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            let certified = match certify {
+                Some(options) => {
+                    let geometry = f.gbuffer.geometry_count();
+                    options.check(geometry).map_err(|e| penumbra_lab::Error::param(format!("certify: {e}")))?;
+                    let ctx: &GpuContext = &self.ctx;
+                    let mut certifier = FrameCertifier::new(ctx, &self.scene, options, ProxyKind::SecondOpinion)?;
+                    let record = certifier.certify(&f)?;
+                    Some(serde_json::to_value(&record).map_err(|e| penumbra_lab::Error::param(format!("certify: {e}")))?)
+                }
+                None => None,
+            };
+            // One pass writes NaN on the background and sums the record's figures of V (a second
+            // pass cost 6 µs at 64² on lavapipe's cores); V then goes to numpy as it is. The record
+            // keeps those two figures and none of the G-buffer: a few hundred bytes, not a frame's worth.
+            let mut v = std::mem::take(&mut f.visibility);
+            let mut sum = VSum::default();
+            for (i, x) in v.iter_mut().enumerate() {
+                if f.gbuffer.is_geometry(i) {
+                    sum.add(*x);
+                } else {
+                    *x = f32::NAN;
+                }
+            }
+            let figures = sum.figures();
+            let g = &mut f.gbuffer;
+            (g.position, g.normal, g.shading_normal) = Default::default();
+            Ok((v, Pending { scene: self.scene.clone(), ctx: self.ctx.clone(), method: b.method.clone(), frame: f, v: figures, certify: certified }))
+        })?;
+        Ok((numpy_image(py, v, &pending.frame.gbuffer)?, Record::new(pending)))
+    }
 }
 
 #[pymethods]
@@ -116,26 +152,35 @@ impl Renderer {
     ///     GpuError: the device failed.
     #[pyo3(signature = (method, **params))]
     fn render<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
-        let (v, pending) = self.with_built(py, method, &crate::pairs(params)?, |b| {
-            let mut f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-            // One pass writes NaN on the background and sums the record's figures of V (a second
-            // pass cost 6 µs at 64² on lavapipe's cores); V then goes to numpy as it is. The record
-            // keeps those two figures and none of the G-buffer: a few hundred bytes, not a frame's worth.
-            let mut v = std::mem::take(&mut f.visibility);
-            let mut sum = VSum::default();
-            for (i, x) in v.iter_mut().enumerate() {
-                if f.gbuffer.is_geometry(i) {
-                    sum.add(*x);
-                } else {
-                    *x = f32::NAN;
-                }
-            }
-            let figures = sum.figures();
-            let g = &mut f.gbuffer;
-            (g.position, g.normal, g.shading_normal) = Default::default();
-            Ok((v, Pending { scene: self.scene.clone(), ctx: self.ctx.clone(), method: b.method.clone(), frame: f, v: figures }))
-        })?;
-        Ok((numpy_image(py, v, &pending.frame.gbuffer)?, Record::new(pending)))
+        self.render_certified(py, method, params, None)
+    }
+
+    /// `render`, and the frame's certified error: the reference's exact truth at `pixels` drawn
+    /// pixels and a one-sided bound on the frame's RMSE at confidence 1 − `delta`, in the
+    /// record's `certify` (`bound`, `sampled_rmse`, `pixels_ms`, …; docs/certify.md).
+    #[pyo3(signature = (method, pixels=2048, delta=0.05, **params))]
+    fn certify<'py>(&self, py: Python<'py>, method: &str, pixels: usize, delta: f64, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
+        let options = penumbra_lab::certify::Options { pixels, delta, ..Default::default() };
+        let frame = self.scene.render.width as usize * self.scene.render.height as usize;
+        options.check(frame).map_err(|e| crate::PenumbraError::new_err(format!("certify: {e}")))?;
+        if let Some(why) = penumbra_lab::certify::truth::unsupported(&self.scene) {
+            return Err(crate::PenumbraError::new_err(format!("certify: scene {}: {why}", self.scene.origin)));
+        }
+        self.render_certified(py, method, params, Some(options))
+    }
+
+    /// The adapter's name.
+    #[getter]
+    fn adapter(&self) -> &str {
+        &self.ctx.summary.name
+    }
+
+    /// Methods built so far (their labels); each keeps its pipelines and buffers.
+    #[getter]
+    fn methods(&self) -> Vec<String> {
+        let mut labels: Vec<String> = self.built.lock().unwrap_or_else(|e| e.into_inner()).keys().cloned().collect();
+        labels.sort();
+        labels
     }
 
     /// Renders one frame with the method's decision pictures on.
@@ -182,19 +227,5 @@ impl Renderer {
                 })
                 .collect()
         })
-    }
-
-    /// The adapter's name.
-    #[getter]
-    fn adapter(&self) -> &str {
-        &self.ctx.summary.name
-    }
-
-    /// Methods built so far (their labels); each keeps its pipelines and buffers.
-    #[getter]
-    fn methods(&self) -> Vec<String> {
-        let mut labels: Vec<String> = self.built.lock().unwrap_or_else(|e| e.into_inner()).keys().cloned().collect();
-        labels.sort();
-        labels
     }
 }

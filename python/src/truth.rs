@@ -169,7 +169,7 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
     let outcome = py
         .detach(|| -> penumbra_lab::Result<_> {
             penumbra_lab::methods::sizes::check_all(&ctx, &s, &methods)?;
-            let job = CompareJob { scene: &s, methods, repeats, reference: mode, cache: Cache::default_for(no_cache), provenance, pictures: false };
+            let job = CompareJob { scene: &s, methods, repeats, reference: mode, cache: Cache::default_for(no_cache), provenance, pictures: false, certify: None };
             compare::run(&ctx, &job, &|line: &str| lines.line(line))
         })
         .map_err(crate::to_py)?;

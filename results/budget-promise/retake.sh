@@ -9,7 +9,8 @@
 # - a row no fixed setting reaches: auto:target=T alone at the frontier's first map size (512), one
 #   timed frame (no time/oracle to take), for its maps, RMSE and what it reports.
 # What the row reports is its run.json's method_record (target_met, predicted_rmse: the best
-# predicted where out of reach) and the out-of-reach line on stderr.
+# predicted where out of reach; where auto decided by its certified bound, that bound, and the
+# decision's time in search_ms) and the out-of-reach line on stderr.
 # --alone: the rows whose oracle's maps are not 512², auto:target=T alone at 512², one frame. The
 # frontier renders its budget rows at its first map size, and a one-map filter renders at the
 # scene's size (a grid at its own), so there a filter's choice and RMSE can differ from the
@@ -52,9 +53,9 @@ for scene in "$@"; do
       jq -rs --argjson t "$t" --arg o "$oracle" --arg reach "$reach" --arg unpaired "$unpaired" --argjson fr "$frontier_rmse" --slurpfile run "$run" '
         ($run[0].method_record) as $m | .[0] as $a | .[1] as $b
         | [$a.scene, $t, $a.shadow_maps,
-           ($m.filter.chosen // "\($m.chosen.spec) @ \($m.chosen.map_size)"),
-           $a.metrics.rmse, ($a.metrics.rmse / $t), $m.target_met, $m.predicted_rmse,
-           ([$m.tries[].ms] | add), ($m.tries | length), $reach, $a.total_ms,
+           ($m.renders // $m.filter.chosen // "\($m.chosen.spec) @ \($m.chosen.map_size)"),
+           $a.metrics.rmse, ($a.metrics.rmse / $t), $m.target_met, ($m.certified.bound // $m.predicted_rmse),
+           (([$m.tries[].ms] | add) + ($m.certified.decision_ms // 0)), ($m.tries | length), $reach, $a.total_ms,
            (if $b then $o else $unpaired end), ($b.shadow_maps // ""), ($b.metrics.rmse // ""), ($fr // ""),
            ($b.total_ms // ""), (if $b then $a.total_ms / $b.total_ms else "" end)] | @csv' "$out/results.jsonl"
     else

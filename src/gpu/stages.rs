@@ -379,6 +379,11 @@ stage_table! {
     ENV_SHADOWMAPS = env_shadowmaps kernel { environment: true, pcf_taps: true, reads_raster: true }, Some(Shade), [
         compute Main(main) PIXEL { frame: 0, params: 1, samples: 2, gbuffer_position: 3, gbuffer_normal: 4, shadow_maps: 5, lights: 6, visibility: 7, ao: 8, settings: 9, disk: 10, compare_sampler: 11 },
     ];
+    /// The reference's own integrator at listed surface points, through the environment's BVH:
+    /// lit samples per point, the exact truth a certified error samples (docs/certify.md).
+    TRUTH_TRACE = truth_trace kernel { environment: true }, Some(Decision), [
+        compute Main(main) LINE { params: 0, points: 1, counts: 2, truth_triangles: 3, bvh_nodes: 20 },
+    ];
     /// Screen-space ambient occlusion.
     SSAO = ssao kernel { environment: true }, Some(Shade), [
         compute Main(main) PIXEL { params: 0, camera: 1, gbuffer_position: 2, gbuffer_normal: 3, kernel: 4, ao: 5, occluded: 6 },

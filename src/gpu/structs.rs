@@ -310,6 +310,76 @@ pub struct GpuTriangle {
     pub e2: [f32; 4],
 }
 
+/// truth_trace's light and samples (kernels/truth_trace.wgsl): one uniform per dispatch.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTruthParams {
+    /// Rectangle, disk or sphere centre (w unused).
+    pub center: [f32; 4],
+    /// Rectangle: edge_u; sun: the unit direction towards it.
+    pub edge_u: [f32; 4],
+    /// Rectangle: edge_v.
+    pub edge_v: [f32; 4],
+    /// Rectangle and disk: the unit emission normal.
+    pub light_normal: [f32; 4],
+    /// 0 rectangle, 1 disk, 2 sun, 3 sphere (`certify::truth::TruthLight`).
+    pub kind: u32,
+    /// 0 continuous, 1 lattice, 2 point.
+    pub mode: u32,
+    pub m: u32,
+    /// `1.0 / m as f32`, rounded as the CPU reference rounds it.
+    pub inv_m: f32,
+    /// Points in this dispatch.
+    pub count: u32,
+    pub seed_lo: u32,
+    pub seed_hi: u32,
+    pub ray_offset: f32,
+    pub point_s: f32,
+    pub point_t: f32,
+    /// `1 − LIGHT_END_EPS` in f32.
+    pub end_factor: f32,
+    /// Disk and sphere: the radius; sun: tan(α/2).
+    pub radius: f32,
+    /// Sun: how far its rays go.
+    pub reach: f32,
+    /// The dispatch's first point (points are dispatched in chunks).
+    pub first: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// A surface point truth_trace traces: the G-buffer's position and normal at `pixel`, whose
+/// index seeds its samples as the reference's does.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTruthPoint {
+    pub position: [f32; 3],
+    pub pixel: u32,
+    pub normal: [f32; 3],
+    pub pad: u32,
+}
+
+/// truth_trace's counts per point: samples that reach the light, rays traced, and rays whose
+/// answer a tie in f32 decided (the CPU settles those in f64).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct GpuTruthCount {
+    pub lit: u32,
+    pub rays: u32,
+    pub ties: u32,
+    pub pad: u32,
+}
+
+/// A triangle as the watertight test reads it: its three vertices (w unused). The environment's
+/// `GpuTriangle` stores two edges, rounded in f32, which neighbouring triangles do not share.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTruthTriangle {
+    pub v0: [f32; 4],
+    pub v1: [f32; 4],
+    pub v2: [f32; 4],
+}
+
 /// A directional light of the environment: xyz the unit direction towards it, w its power.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -416,5 +486,12 @@ pub fn all_layouts() -> Vec<StructLayout> {
             min_share, total_power, use_ao, radius, count_stride, first_light, final_chunk, vertex_count, pad1
         }),
         layout_of!(GpuEnvCell { i, j, size, level }),
+        layout_of!(GpuTruthParams {
+            center, edge_u, edge_v, light_normal, kind, mode, m, inv_m, count, seed_lo, seed_hi, ray_offset, point_s, point_t,
+            end_factor, radius, reach, first, pad1, pad2
+        }),
+        layout_of!(GpuTruthPoint { position, pixel, normal, pad }),
+        layout_of!(GpuTruthCount { lit, rays, ties, pad }),
+        layout_of!(GpuTruthTriangle { v0, v1, v2 }),
     ]
 }

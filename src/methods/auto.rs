@@ -22,6 +22,8 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::collections::BTreeMap;
 
+mod certified;
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "auto",
     family: Family::MultiSample,
@@ -32,6 +34,8 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
         Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (what a map of each size adds to this scene's frame on this device, timed before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
         Param { key: "filters", default: "pcss+msm", help: "one-map methods checked against the grid that meets the target (or, out of reach, the best grid tried), joined by + (e.g. pcss, or pcss+msm+vsm), or none: one predicted to meet it (out of reach: to err no more than that grid) that took less time is rendered instead; the default leaves out those that refuse the scene's light" },
+        Param { key: "pixels", default: "2048", help: "K: pixels whose exact truth certifies the choice (docs/certify.md): the cheapest candidate whose bound on its RMSE is at most the target is rendered; 0 decides by the estimate alone" },
+        Param { key: "delta", default: "0.05", help: "each candidate's bound holds with probability 1 − delta, in (0, 1)" },
     ],
     parse: |p: &ParamMap| {
         let target = check_range("auto", "target", get_f32(p, "target", 0.015)?, 0.0005, 0.5)?;
@@ -46,13 +50,20 @@ pub const INFO: MethodInfo = MethodInfo {
         };
         let filters = p.get("filters").map_or(DEFAULT_FILTERS, String::as_str).to_string();
         super::auto_filter::parse_list(&filters)?;
-        Ok(std::sync::Arc::new(Auto { target, max_n, max_size, cost, filters }))
+        let pixels = check_range("auto", "pixels", get_u32(p, "pixels", DEFAULT_PIXELS)?, 0, 1 << 20)?;
+        let delta = get_f32(p, "delta", 0.05)?;
+        if !(delta > 0.0 && delta < 1.0) {
+            return Err(crate::Error::Param(format!("auto: delta = {delta} is outside (0, 1): each bound holds with probability 1 − delta")));
+        }
+        Ok(std::sync::Arc::new(Auto { target, max_n, max_size, cost, filters, pixels, delta }))
     },
 };
 
 /// The one-map candidates unless `filters` says otherwise: `pcss` for the soft edges of small
 /// scenes, `msm` for the acne-prone ones (`grazing-ground`: 0.126 against the grid's 0.189).
 pub const DEFAULT_FILTERS: &str = "pcss+msm";
+/// K: the exact pixels a decision draws (`certified`).
+pub const DEFAULT_PIXELS: u32 = 2048;
 
 /// The map sizes it steps through.
 pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
@@ -95,6 +106,9 @@ pub struct Auto {
     pub cost: CostModel,
     /// `none`, or one-map methods joined by `+` (auto_filter::parse_list).
     pub filters: String,
+    /// K, the exact pixels that certify the choice; 0: the estimate alone decides.
+    pub pixels: u32,
+    pub delta: f32,
 }
 
 /// How a map of each size is priced in the search (docs/error-estimate.md §6).
@@ -120,10 +134,10 @@ impl ShadowMethod for Auto {
         "auto"
     }
     fn label(&self) -> String {
-        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string()), ("cost", self.cost.name().to_string()), ("filters", self.filters.clone())])
+        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string()), ("cost", self.cost.name().to_string()), ("filters", self.filters.clone()), ("pixels", self.pixels.to_string()), ("delta", format!("{}", self.delta))])
     }
     fn params_json(&self) -> serde_json::Value {
-        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size, "cost": self.cost.name(), "filters": self.filters })
+        serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size, "cost": self.cost.name(), "filters": self.filters, "pixels": self.pixels, "delta": self.delta })
     }
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::ON_A_RECTANGLE)
@@ -146,7 +160,9 @@ impl ShadowMethod for Auto {
             }
         }
         let filters = Candidates::new(kept, left_out);
-        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, pricing_ms, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()) }))
+        // The scene's truth tracer (its BVH), built once before the clock, as the prices are.
+        let certifying = (self.pixels > 0).then(|| certified::Certifying::new(fg, self.pixels as usize, self.delta as f64)).transpose()?;
+        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, pricing_ms, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()), certifying }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -204,6 +220,8 @@ pub struct AutoState {
     handed_filter: Option<String>,
     /// The scene's class for the calibrated estimate (from its light).
     class: Class,
+    /// `pixels` > 0: the exact truth that certifies the choice (`certified`).
+    certifying: Option<certified::Certifying>,
 }
 
 /// The price of one map of each size the search may choose (ms under `measured`, relative under
@@ -454,6 +472,10 @@ impl MethodState for AutoState {
                 None => break true,
             }
         };
+        if self.certifying.is_some() {
+            // The estimate's search found the first guess; the bound decides (docs/certify.md §5).
+            return self.certified_frame(fg, timer, &geometry, tries, bound, settles);
+        }
         let last = *tries.last().expect("one try at least");
         // The previous frame's choice, kept within KEEP of the target.
         let kept = self.recalled && tries.len() == 1 && last.prediction.predicted_rmse > target && acceptable(last.prediction.predicted_rmse, target, true);
@@ -706,7 +728,7 @@ mod tests {
 
     #[test]
     fn parameters_are_checked() {
-        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target"), ("auto:cost=guess", "cost")] {
+        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target"), ("auto:cost=guess", "cost"), ("auto:delta=1", "delta = 1 is outside (0, 1)"), ("auto:delta=0", "delta"), ("auto:pixels=-3", "pixels")] {
             let e = super::super::Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} parsed")).to_string();
             assert!(e.contains("auto") && e.contains(expect), "{spec}: {e}");
         }

@@ -117,6 +117,9 @@ impl Candidates {
     pub fn is_empty(&self) -> bool {
         self.methods.is_empty()
     }
+    pub fn len(&self) -> usize {
+        self.methods.len()
+    }
     pub fn name(&self, i: usize) -> &'static str {
         self.methods[i].name()
     }

@@ -18,6 +18,8 @@ pub const STACK_DEPTH: usize = 32;
 pub struct Bvh {
     pub nodes: Vec<GpuBvhNode>,
     pub triangles: Vec<GpuTriangle>,
+    /// The input index of each entry of `triangles` (leaf order): truth_trace stores the vertices.
+    pub source: Vec<u32>,
     pub depth: usize,
 }
 
@@ -42,7 +44,7 @@ impl Bvh {
                 Item { lo, hi, centre: (lo + hi) * 0.5, index }
             })
             .collect();
-        let mut bvh = Bvh { nodes: vec![GpuBvhNode::default()], triangles: Vec::with_capacity(items.len()), depth: 1 };
+        let mut bvh = Bvh { nodes: vec![GpuBvhNode::default()], triangles: Vec::with_capacity(items.len()), source: Vec::with_capacity(items.len()), depth: 1 };
         let n = items.len();
         bvh.split(0, &mut items[..], 1, triangles);
         debug_assert_eq!(bvh.triangles.len(), n);
@@ -71,6 +73,7 @@ impl Bvh {
                 let t = tris[it.index];
                 let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
                 self.triangles.push(GpuTriangle { v0: t[0].extend(0.0).to_array(), e1: e1.extend(0.0).to_array(), e2: e2.extend(0.0).to_array() });
+                self.source.push(it.index as u32);
             }
             self.nodes[node] = GpuBvhNode { min: lo.to_array(), left_first: first, max: hi.to_array(), count: items.len() as u32 };
             return;
@@ -243,7 +246,7 @@ mod tests {
         }
         let bvh = Bvh::build(&tris);
         assert_eq!(bvh.triangles.len(), 300);
-        let flat = Bvh { nodes: vec![GpuBvhNode { min: [-1e9; 3], left_first: 0, max: [1e9; 3], count: 300 }], triangles: Bvh::build(&tris).triangles, depth: 1 };
+        let flat = Bvh { nodes: vec![GpuBvhNode { min: [-1e9; 3], left_first: 0, max: [1e9; 3], count: 300 }], triangles: Bvh::build(&tris).triangles, source: Vec::new(), depth: 1 };
         let mut hits = 0;
         for _ in 0..2000 {
             let o = [r() * 6.0, r() * 6.0, r() * 6.0];

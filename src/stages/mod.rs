@@ -33,6 +33,7 @@ pub mod shade;
 pub mod shadow_test;
 pub(crate) mod ssao;
 pub mod subdivide;
+pub mod truth_trace;
 pub mod weights;
 pub mod twin;
 

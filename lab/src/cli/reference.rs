@@ -31,6 +31,10 @@ pub struct ReferenceArgs {
     /// Trace without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
+    /// Who traces: `cpu` (the lab's tracer), `gpu` (`truth_trace`, the same values), or `auto`
+    /// (the GPU where the adapter is a real GPU, else the CPU).
+    #[arg(long, default_value = "auto")]
+    tracer: String,
 }
 
 impl Run for ReferenceArgs {
@@ -47,8 +51,9 @@ fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
         (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples).context("--point")?,
         (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
     };
+    let tracer = truth::TracerChoice::parse(&args.tracer)?;
     let ctx = GpuContext::with_request(gpu)?;
-    let (g, image) = truth::for_scene(&ctx, &scene, mode, &truth::Cache::default_for(args.no_cache))?;
+    let (g, image) = truth::for_scene_with(&ctx, &scene, mode, &truth::Cache::default_for(args.no_cache), tracer)?;
     let (w, h) = (image.width, image.height);
     let geometry = g.geometry_count();
     let record = serde_json::to_vec_pretty(&image.record(&scene, geometry))?;

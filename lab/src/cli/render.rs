@@ -1,6 +1,7 @@
 //! `penumbra render`: one scene, one method, one frame (after warm-up frames on the same renderer).
 
 use anyhow::Result;
+use penumbra_lab::certify::frame::{FrameCertifier, ProxyKind};
 use penumbra_lab::frame;
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::{AdapterRequest, GpuContext};
@@ -32,6 +33,13 @@ pub struct RenderArgs {
     /// (lavapipe) would otherwise charge the compile to the stages. 0 times the very first frame.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=100))]
     warm_up: u32,
+    /// Certify the frame's RMSE: the reference's exact truth at K pixels drawn by a truth-free
+    /// proxy, and a one-sided bound at 1 − δ (run.json `certify`; docs/certify.md).
+    #[arg(long, value_name = "K")]
+    certify: Option<usize>,
+    /// With --certify: the bound holds with probability 1 − δ (default 0.05).
+    #[arg(long, value_name = "δ")]
+    delta: Option<f64>,
 }
 
 impl Run for RenderArgs {
@@ -47,6 +55,7 @@ fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     let scene = Scene::load(&args.scene.scene, &render_sets)?;
     let method = Method::parse(&args.method, &param_pairs(&args.param)?)?;
     method.check_light(&scene)?;
+    let certify = penumbra_lab::studies::flags::certify_options(args.certify, args.delta, &scene)?;
     let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
     let ctx = GpuContext::with_request(gpu)?;
     let mut renderer = frame::Renderer::new(&ctx, &scene, &method)?;
@@ -54,7 +63,17 @@ fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
         renderer.frame(TimingMode::Frame)?;
     }
     let result = renderer.frame(mode)?;
-    let files = run_files::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up)?;
+    // The certificate after the frame's clock, before anything is written.
+    let certified = match certify {
+        Some(options) => {
+            penumbra_lab::studies::flags::certify_fits(&options, result.gbuffer.geometry_count())?;
+            let mut certifier = FrameCertifier::new(&ctx, &scene, options, ProxyKind::SecondOpinion)?;
+            Some(certifier.certify(&result)?)
+        }
+        None => None,
+    };
+    let certify_json = certified.as_ref().map(serde_json::to_value).transpose()?;
+    let files = run_files::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up, certify_json)?;
     run_files::write_files(out, &files)?;
     println!(
         "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {}, after {} warm-up frame{})",
@@ -69,6 +88,16 @@ fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
         args.warm_up,
         if args.warm_up == 1 { "" } else { "s" }
     );
+    if let Some(c) = &certified {
+        println!(
+            "certified: {} (sampled {:.4}, {} bound; once per scene: second opinion {:.0} ms, BVH {:.0} ms)",
+            penumbra_lab::record::Certified::of(c).line(),
+            c.certificate.sampled_rmse,
+            c.certificate.bound_kind.name(),
+            c.second_opinion_ms,
+            c.bvh_ms
+        );
+    }
     for (name, _) in &files {
         println!("  {}", out.join(name).display());
     }

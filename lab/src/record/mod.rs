@@ -13,7 +13,7 @@ pub mod judge;
 pub mod measure;
 pub mod provenance;
 
-pub use row::ResultRow;
+pub use row::{Certified, ResultRow};
 pub use provenance::{Provenance, SpecRef};
 
 use crate::report::charts::svg_to_png;
@@ -66,6 +66,7 @@ pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images:
         images,
         provenance: Some(provenance),
         failed: None,
+        certify: None,
     }
 }
 

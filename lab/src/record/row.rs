@@ -78,6 +78,39 @@ pub struct ResultRow {
     /// reason, one line. Its figures are zero and mean nothing; tables, charts and fronts skip it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// `--certify K`: the certified bound on this row's RMSE (docs/certify.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub certify: Option<Certified>,
+}
+
+/// What a row keeps of its certificate: enough for "RMSE ≤ U at 95% (K px, X ms)".
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Certified {
+    pub pixels: usize,
+    pub delta: f64,
+    pub bound: f64,
+    pub bound_kind: String,
+    pub sampled_rmse: f64,
+    /// Wall clock of the certificate (second opinion, draw, trace, bounds), ms.
+    pub pixels_ms: f64,
+}
+
+impl Certified {
+    pub fn of(r: &crate::certify::frame::CertifyRecord) -> Certified {
+        let c = &r.certificate;
+        Certified { pixels: c.pixels, delta: c.delta, bound: c.bound, bound_kind: c.bound_kind.name().to_string(), sampled_rmse: c.sampled_rmse, pixels_ms: r.pixels_ms }
+    }
+
+    /// `RMSE ≤ 0.0234 at 95% (2048 px, 85 ms)`.
+    pub fn line(&self) -> String {
+        format!("RMSE ≤ {:.4} at {}% ({} px, {:.0} ms)", self.bound, confidence(self.delta), self.pixels, self.pixels_ms)
+    }
+}
+
+/// 1 − δ as a percentage, without trailing zeros: 95, 99.9.
+pub fn confidence(delta: f64) -> String {
+    let p = format!("{:.3}", 100.0 * (1.0 - delta));
+    p.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 impl ResultRow {
@@ -193,6 +226,13 @@ fn value_short(v: &serde_json::Value) -> String {
 mod tests {
     use super::*;
     use serde_json::json;
+
+    #[test]
+    fn a_certified_row_reads_as_one_line() {
+        let c = Certified { pixels: 2048, delta: 0.05, bound: 0.02345, bound_kind: "calibrated".into(), sampled_rmse: 0.02, pixels_ms: 84.6 };
+        assert_eq!(c.line(), "RMSE ≤ 0.0234 at 95% (2048 px, 85 ms)");
+        assert_eq!(confidence(0.001), "99.9");
+    }
 
     #[test]
     fn labels() {

@@ -192,7 +192,8 @@ pub fn measured_record(mut record: serde_json::Value, t: &crate::record::measure
 /// Encodes the standard files of one run.
 /// `warm_up_frames`: untimed frames that ran before `r` on the same renderer (its `setup` then
 /// holds no build).
-pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, ts: bool, warm_up_frames: u32) -> Result<Vec<(String, Vec<u8>)>> {
+/// `certify`: the frame's certificate (`--certify`), kept as run.json's `certify`.
+pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, ts: bool, warm_up_frames: u32, certify: Option<serde_json::Value>) -> Result<Vec<(String, Vec<u8>)>> {
     let (w, h) = (scene.render.width, scene.render.height);
     let mut files = vec![
         ("visibility.png".to_string(), visibility_png(&r.visibility, w, h)?),
@@ -212,6 +213,9 @@ pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Adap
     }
     let mut record = run_record(scene, method, r, adapter, ts);
     record["warm_up_frames"] = warm_up_frames.into();
+    if let Some(c) = certify {
+        record["certify"] = c;
+    }
     let json = serde_json::to_vec_pretty(&record).map_err(|e| Error::io_text("run.json".into(), e.to_string()))?;
     files.push(("run.json".to_string(), json));
     Ok(files)

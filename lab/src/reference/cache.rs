@@ -39,7 +39,7 @@ pub fn cache_key(parts: &[&[u8]]) -> String {
 }
 
 /// Bump when the tracer's results change (sampling, conventions), so old caches go stale.
-pub const REFERENCE_VERSION: u32 = 2;
+pub const REFERENCE_VERSION: u32 = 3;
 
 /// Key of one reference image: `scene` names the geometry and camera (e.g. the scene file's bytes
 /// and the resolution), the rest are the tracing inputs.

@@ -8,7 +8,7 @@
 //! as fast as obvhs' test here (axis permutation resolved at compile time).
 
 use glam::{Vec3, Vec3A};
-use obvhs::{BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray};
+use obvhs::{aabb::Aabb, BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh, ray::Ray};
 use obvhs::{ray::RayHit, triangle::Triangle};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -59,11 +59,17 @@ impl Tracer {
                 rays: AtomicU64::new(0),
             };
         }
-        // `slow_build` (pre-split big triangles such as ground planes, wide PLOC search) costs ~1.3×
-        // the build time of `medium_build` and traces ~1.3× faster; a reference traces millions of
-        // rays per build, so tracing wins.
+        // The boxes are padded: obvhs's ray/box test rounds without a margin, so a ray through a
+        // triangle's edge on its box's face could be culled (seen on `spot-edge` at 48²: one
+        // sample of 2.3 M missed an occluder's open edge that the watertight test hits). Padded by
+        // far more than that rounding, the boxes cull no ray the triangle test would hit.
+        // (`slow_build`'s pre-split of big triangles works on the triangles themselves, so it is
+        // not used: it traced about 1.3× faster.)
+        let (lo, hi) = kept.iter().fold((Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)), |(lo, hi), t| (lo.min(t.v0).min(t.v1).min(t.v2), hi.max(t.v0).max(t.v1).max(t.v2)));
+        let pad = Vec3A::splat(BOX_PAD * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element()));
+        let boxes: Vec<Aabb> = kept.iter().map(|t| { let b = t.aabb(); Aabb { min: b.min - pad, max: b.max + pad } }).collect();
         let params = BvhBuildParams::slow_build();
-        let bvh = build_cwbvh_from_tris(&kept, params, &mut Duration::default());
+        let bvh = build_cwbvh(&boxes, params, &mut Duration::default());
         // With splits an input triangle may appear in several leaves: duplicate it, it's cheap.
         let tris: Vec<Triangle> = bvh
             .primitive_indices
@@ -143,10 +149,13 @@ impl Tracer {
         ray: &WatertightRay,
         t_max: f32,
     ) -> bool {
-        let r = ray.obvhs(t_max);
-        !self.bvh.ray_traverse_miss(r, |r, id| {
-            ray.intersect::<KX, KY, KZ>(&self.tris[id], r.tmax)
-        })
+        // obvhs's box test clamps a box's entry to t ≥ 1e-4 (its `EPSILON`, in world units), so a
+        // box the ray leaves within 1e-4 of its origin is culled, and a hit in it at t > 0 lost
+        // (seen on `spot-edge` at 48²: one sample of 2.3 M, found by lab/tests/truth_trace.rs).
+        // The traversal starts BOX_LEAD behind the origin, past that clamp; the triangle test keeps
+        // the origin and (0, t_max), so the answer is the convention's, whatever the boxes.
+        let r = ray.obvhs_led(t_max);
+        !self.bvh.ray_traverse_miss(r, |_, id| ray.intersect::<KX, KY, KZ>(&self.tris[id], t_max))
     }
 
     fn closest<const KX: usize, const KY: usize, const KZ: usize>(
@@ -166,6 +175,14 @@ impl Tracer {
         self.rays.fetch_add(n, Ordering::Relaxed);
     }
 }
+
+/// The padding of every triangle's box, relative to the scene's size: rounding in obvhs's box
+/// test is a few ulps of the ray's distances, 1e-6 of them at most.
+const BOX_PAD: f32 = 1e-5;
+
+/// How far behind its origin an occlusion ray's traversal starts: twice obvhs's box-entry clamp
+/// (1e-4, in units of |dir|), so no box that holds a point at t > 0 is culled by it.
+const BOX_LEAD: f32 = 2e-4;
 
 /// Per-ray constants of the watertight test: the ray is sheared so it runs along the +kz axis,
 /// which makes the edge functions of a shared edge bitwise negations of each other.
@@ -208,6 +225,12 @@ impl WatertightRay {
 
     fn obvhs(&self, t_max: f32) -> Ray {
         Ray::new(self.org, self.dir, 0.0, t_max)
+    }
+
+    /// The traversal's ray for occlusion: from BOX_LEAD behind the origin, as far past `t_max`
+    /// (t in units of |dir|, as obvhs's clamp is).
+    fn obvhs_led(&self, t_max: f32) -> Ray {
+        Ray::new(self.org - self.dir * BOX_LEAD, self.dir, 0.0, t_max + BOX_LEAD)
     }
 
     /// Hit distance in `(0, t_max)`, else `f32::INFINITY`. `(KX, KY, KZ)` must match `self.kz`.

@@ -108,6 +108,8 @@ pub struct ReferenceImage {
 
 #[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct TraceStats {
+    /// Who traced it: `cpu` (the lab's tracer, `threads` of them) or `gpu` (`truth_trace`).
+    pub tracer: &'static str,
     pub seconds: f64,
     /// Shadow rays actually traced (samples below p's tangent plane need none).
     pub rays: u64,
@@ -116,6 +118,59 @@ pub struct TraceStats {
     pub samples_per_s: f64,
     pub bvh_build_s: f64,
     pub threads: usize,
+    /// The GPU tracer's rays a tie in f32 decided (docs/certify.md §2); None on the CPU.
+    pub ties: Option<u64>,
+}
+
+/// Who traces a reference: the lab's CPU tracer, or `truth_trace` on the GPU (the same values,
+/// lab/tests/truth_trace.rs). `Auto` takes the GPU where the adapter is a real GPU and the
+/// scene's light is one it traces, else the CPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TracerChoice {
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+impl TracerChoice {
+    pub fn parse(name: &str) -> Result<TracerChoice> {
+        match name {
+            "auto" => Ok(TracerChoice::Auto),
+            "cpu" => Ok(TracerChoice::Cpu),
+            "gpu" => Ok(TracerChoice::Gpu),
+            _ => Err(Error::param(format!("--tracer {name}: use auto, cpu or gpu"))),
+        }
+    }
+
+    /// Whether this reference goes to the GPU (`Gpu` where it cannot: an error naming why).
+    fn on_gpu(self, ctx: &GpuContext, scene: &Scene, mode: &ReferenceMode) -> Result<bool> {
+        let why = gpu_unsupported(scene, mode);
+        match (self, why) {
+            (TracerChoice::Cpu, _) => Ok(false),
+            (TracerChoice::Gpu, Some(why)) => Err(Error::param(format!("--tracer gpu: {}: {why}", scene.origin))),
+            (TracerChoice::Gpu, None) => Ok(true),
+            (TracerChoice::Auto, why) => Ok(why.is_none() && ctx.summary.device_type != "Cpu"),
+        }
+    }
+}
+
+/// Why the GPU tracer cannot trace this reference, if it cannot.
+fn gpu_unsupported(scene: &Scene, mode: &ReferenceMode) -> Option<&'static str> {
+    if let Some(why) = penumbra::certify::truth::unsupported(scene) {
+        return Some(why);
+    }
+    let maps_points = matches!(scene.emitter, Emitter::Point(_) | Emitter::Spot(_)) && !matches!(mode, ReferenceMode::Continuous { .. });
+    maps_points.then_some("the lattice and point modes of a point or spot light trace its maps' own light points, which the CPU tracer alone does")
+}
+
+/// The mode as the GPU tracer takes it.
+fn truth_samples(mode: &ReferenceMode) -> penumbra::certify::truth::TruthSamples {
+    use penumbra::certify::truth::TruthSamples;
+    match *mode {
+        ReferenceMode::Continuous { m, seed } => TruthSamples::Continuous { m, seed },
+        ReferenceMode::Lattice => TruthSamples::Lattice,
+        ReferenceMode::Point { s, t } => TruthSamples::Point { s, t },
+    }
 }
 
 impl ReferenceImage {
@@ -203,8 +258,14 @@ pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f3
     reference::reference_key(digest.as_bytes(), &light_of(scene), mode, offset)
 }
 
-/// Traces `scene`'s reference over `g`, or reads it from the cache (written after a trace).
+/// Traces `scene`'s reference over `g` on the CPU, or reads it from the cache (written after a trace).
 pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache) -> Result<ReferenceImage> {
+    compute_with(scene, g, mode, cache, None)
+}
+
+/// [`compute`], traced by `gpu` (`truth_trace` on its context) where given. The cache's file and
+/// key are the same whoever traces: the values are.
+pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache, gpu: Option<&GpuContext>) -> Result<ReferenceImage> {
     let offset = ray_offset(scene);
     let key = cache_key(scene, g, &mode, offset);
     let mut image = ReferenceImage {
@@ -263,6 +324,15 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
             return Ok(image);
         }
     }
+    if let Some(ctx) = gpu {
+        let (values, trace) = trace_on_gpu(ctx, scene, g, &mode)?;
+        image.trace = Some(trace);
+        if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
+            image.cache_file = Some(reference::save_cached(dir, &key, g.width, g.height, &values)?);
+        }
+        image.values = values;
+        return Ok(image);
+    }
     let build = Instant::now();
     let tracer = Tracer::new(&scene.triangles());
     let bvh_build_s = build.elapsed().as_secs_f64();
@@ -292,12 +362,14 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
     let geometry = points.iter().filter(|p| p.is_some()).count();
     let rays = tracer.rays_traced();
     image.trace = Some(TraceStats {
+        tracer: "cpu",
         seconds,
         rays,
         rays_per_s: rays as f64 / seconds.max(1e-9),
         samples_per_s: (geometry * mode.samples_per_pixel()) as f64 / seconds.max(1e-9),
         bvh_build_s,
         threads: rayon::current_num_threads(),
+        ties: None,
     });
     if let (Cache::Use(dir) | Cache::Refresh(dir), true) = (cache, store) {
         match reference::save_cached(dir, &key, g.width, g.height, &values) {
@@ -310,13 +382,46 @@ pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache
     Ok(image)
 }
 
-/// The G-buffer of `scene` rendered on `ctx`, then [`compute`].
+/// Every geometry pixel of `g` traced by `truth_trace` on `ctx`: V and the figures.
+fn trace_on_gpu(ctx: &GpuContext, scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode) -> Result<(Vec<f32>, TraceStats)> {
+    let tracer = penumbra::certify::truth::TruthTracer::new(ctx, scene)?;
+    let pixels: Vec<u32> = (0..g.position.len() as u32).filter(|&i| g.is_geometry(i as usize)).collect();
+    let points: Vec<_> = pixels.iter().map(|&p| penumbra::certify::truth::point_of(g, p)).collect();
+    let bar = progress::bar(points.len() as u64, &format!("reference {} (GPU)", mode_label(mode)));
+    let counts = tracer.trace(ctx, &truth_samples(mode), &points, &|n| bar.set_position(n as u64))?;
+    bar.finish_and_clear();
+    let mut values = vec![0.0f32; g.position.len()];
+    for (k, &p) in pixels.iter().enumerate() {
+        values[p as usize] = counts.visibility(k);
+    }
+    let seconds = counts.ms / 1e3;
+    let stats = TraceStats {
+        tracer: "gpu",
+        seconds,
+        rays: counts.rays(),
+        rays_per_s: counts.rays() as f64 / seconds.max(1e-9),
+        samples_per_s: (pixels.len() as f64 * counts.samples_per_pixel as f64) / seconds.max(1e-9),
+        bvh_build_s: tracer.build_ms / 1e3,
+        threads: 0,
+        ties: Some(counts.ties()),
+    };
+    Ok((values, stats))
+}
+
+/// The G-buffer of `scene` rendered on `ctx`, then [`compute`]: traced on the GPU where the
+/// adapter is a real GPU (`TracerChoice::Auto`), else on the CPU.
 pub fn for_scene(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache) -> Result<(GBufferCpu, ReferenceImage)> {
+    for_scene_with(ctx, scene, mode, cache, TracerChoice::Auto)
+}
+
+/// [`for_scene`] with the tracer chosen (`penumbra reference --tracer`).
+pub fn for_scene_with(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache, tracer: TracerChoice) -> Result<(GBufferCpu, ReferenceImage)> {
     let g = frame::gbuffer_only(ctx, scene)?;
     if g.geometry_count() == 0 {
         return Err(scene.nothing_visible().into());
     }
-    let image = compute(scene, &g, mode, cache)?;
+    let gpu = tracer.on_gpu(ctx, scene, &mode)?.then_some(ctx);
+    let image = compute_with(scene, &g, mode, cache, gpu)?;
     Ok((g, image))
 }
 

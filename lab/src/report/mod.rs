@@ -109,6 +109,7 @@ pub fn write_report_with_baseline(
     let rows: &[ResultRow] = &all.iter().filter(|r| r.measured()).cloned().collect::<Vec<_>>();
     let mut tables = table::tables(rows);
     tables.extend(table::failed_tables(all));
+    tables.extend(table::certified_tables(all));
     tables.extend(dominance::tables(rows));
     if let Some(old) = baseline {
         let old: Vec<ResultRow> = old.iter().filter(|r| r.measured()).cloned().collect();

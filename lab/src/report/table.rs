@@ -140,6 +140,28 @@ pub(super) fn failed_tables(rows: &[ResultRow]) -> Vec<Table> {
         .collect()
 }
 
+/// Per scene with certified rows (`--certify K`): each beside its measured RMSE, the bound it
+/// was certified at ("RMSE ≤ U at 95% (K px, X ms)"), and whether the bound covered it.
+pub(super) fn certified_tables(rows: &[ResultRow]) -> Vec<Table> {
+    scenes(rows.iter().filter(|r| r.certify.is_some() && r.measured()).map(|r| r.scene.as_str()))
+        .into_iter()
+        .map(|scene| Table {
+            scene: scene.to_string(),
+            kind: "certified error",
+            header: vec!["method", "measured RMSE", "certified", "covered"],
+            rows: rows
+                .iter()
+                .filter(|r| r.scene == scene && r.measured())
+                .filter_map(|r| {
+                    let c = r.certify.as_ref()?;
+                    let text = |t: String| Cell { text: t, best: false };
+                    Some(vec![text(r.label()), text(error(r.metrics.rmse)), text(c.line()), text(if c.bound >= r.metrics.rmse { "yes".into() } else { "no".into() })])
+                })
+                .collect(),
+        })
+        .collect()
+}
+
 fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]) -> Table {
     let mut header = vec!["family", "method"];
     header.extend(cols.iter().map(|c| c.name));

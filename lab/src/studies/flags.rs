@@ -115,3 +115,36 @@ pub fn param_pairs(params: &[String]) -> Result<Vec<(String, String)>> {
         })
         .collect()
 }
+
+/// `--certify K` and `--delta δ` (render, compare, frontier): the certificate's options, checked
+/// before the GPU starts against what the scene allows; None without `--certify`.
+pub fn certify_options(certify: Option<usize>, delta: Option<f64>, scene: &crate::scene::Scene) -> Result<Option<crate::certify::Options>> {
+    let Some(pixels) = certify else {
+        if let Some(d) = delta {
+            anyhow::bail!("--delta {d}: needs --certify K (delta is the certified bound's confidence, 1 − delta)");
+        }
+        return Ok(None);
+    };
+    let options = crate::certify::Options { pixels, delta: delta.unwrap_or(crate::certify::DEFAULT_DELTA), ..Default::default() };
+    let frame = scene.render.width as usize * scene.render.height as usize;
+    match options.check(frame) {
+        Err(crate::certify::OptionsError::NoPixels) => anyhow::bail!("--certify 0: draw at least one pixel (K pixels get the exact truth; 2048 is auto's default)"),
+        Err(crate::certify::OptionsError::MorePixelsThanGeometry { .. }) => {
+            anyhow::bail!("--certify {pixels}: more than the frame's {frame} pixels ({}x{})", scene.render.width, scene.render.height)
+        }
+        Err(crate::certify::OptionsError::Delta(d)) => anyhow::bail!("--delta {d}: outside (0, 1): the certified bound holds with probability 1 − delta"),
+        Ok(()) => {}
+    }
+    if let Some(why) = crate::certify::truth::unsupported(scene) {
+        anyhow::bail!("--certify {pixels}: scene {}: {why}", scene.origin);
+    }
+    Ok(Some(options))
+}
+
+/// The frame's geometry pixels against `--certify K`, once the frame says how many it has.
+pub fn certify_fits(options: &crate::certify::Options, geometry: usize) -> Result<()> {
+    if options.pixels > geometry {
+        anyhow::bail!("--certify {}: more than the frame's {geometry} geometry pixels", options.pixels);
+    }
+    Ok(())
+}

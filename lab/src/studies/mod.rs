@@ -10,6 +10,7 @@
 pub mod bench;
 pub mod calibration;
 pub mod cascades;
+pub mod certify;
 pub mod compare;
 pub mod convergence;
 pub mod environment;

@@ -43,6 +43,8 @@ pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
         sets: SetArgs::default(),
         output: OutArgs { out },
         no_cache: false,
+        certify: None,
+        delta: None,
     };
     let gallery = FailuresArgs::main_job(&run);
     compare_methods(&[super::MAIN_JOB_METHODS.to_string()], plan::DEFAULT_MAX_CONFIGS, run, Some(gallery), gpu)
@@ -76,6 +78,7 @@ pub fn run_compare(
 ) -> Result<()> {
     let mode = truth::parse_mode(&run.reference, run.samples)?;
     let repeats = run.repeats.checked()?;
+    let certify = crate::studies::flags::certify_options(run.certify, run.delta, &scene)?;
     crate::methods::check_lights(&scene, &methods)?;
     if announce {
         eprintln!("{}", plan::line(&methods, &scene, repeats));
@@ -85,7 +88,7 @@ pub fn run_compare(
     crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
     let cache = truth::Cache::default_for(run.no_cache);
     let pictures = super::regions::wants_pictures(&methods);
-    let job = CompareJob { scene: &scene, methods, repeats, reference: mode, cache, provenance, pictures };
+    let job = CompareJob { scene: &scene, methods, repeats, reference: mode, cache, provenance, pictures, certify };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     let gallery = gallery_job.map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
     let out = &run.output.out;
@@ -97,6 +100,11 @@ pub fn run_compare(
         failures::attach(out, g)?;
     }
     print!("{}", compare::table::render(&outcome.rows));
+    for r in outcome.rows.iter().filter(|r| r.measured()) {
+        if let Some(c) = &r.certify {
+            println!("certified: {}: {} (measured {:.4})", r.label(), c.line(), r.metrics.rmse);
+        }
+    }
     println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, truth::mode_label(&mode));
     println!("results: {}", out.join("results.jsonl").display());
     println!("report:  {}", html.display());

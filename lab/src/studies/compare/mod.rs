@@ -55,6 +55,8 @@ pub struct CompareJob<'a> {
     /// After its timing, one untimed frame per method with its decision pictures on, on the
     /// method's own renderer ([`CompareOutcome::pictures`]).
     pub pictures: bool,
+    /// `--certify K`: each method's last frame gets a certified bound (docs/certify.md).
+    pub certify: Option<crate::certify::Options>,
 }
 
 pub struct CompareOutcome {
@@ -86,6 +88,13 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
     let judge = Judge::new(scene, &g, reference.values.clone());
     let geometry = judge.geometry_pixels();
     log(&reference_line(&reference, geometry));
+    if let Some(o) = &job.certify {
+        if o.pixels > geometry {
+            return Err(Error::param(format!("--certify {}: more than the frame's {geometry} geometry pixels", o.pixels)));
+        }
+    }
+    // One certifier for every method: the scene's truth tracer and second opinion, built once.
+    let mut certifier = job.certify.map(|o| crate::certify::frame::FrameCertifier::new(ctx, scene, o, crate::certify::frame::ProxyKind::SecondOpinion)).transpose()?;
     let mut files = vec![
         ("reference.exr".to_string(), run_files::visibility_exr(&reference.values, w, h)?),
         ("reference.png".to_string(), run_files::visibility_png(&reference.values, w, h)?),
@@ -96,7 +105,8 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
     let slugs = crate::report::unique_slugs(labels.iter().map(String::as_str));
     let bar = crate::progress::bar(measure::frame_count(job.methods.len(), job.repeats), "frames");
     // Each method's last frame is judged and pictured as it arrives, then dropped.
-    let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| -> Result<(crate::metrics::Metrics, BTreeMap<String, String>, Vec<(String, Vec<u8>)>, serde_json::Value)> {
+    type Judged = (crate::metrics::Metrics, BTreeMap<String, String>, Vec<(String, Vec<u8>)>, serde_json::Value, Option<record::Certified>);
+    let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| -> Result<Judged> {
         let method = &job.methods[i];
         let judged = judge.judge(scene, &method.label(), f)?;
         let abs = abs_error_image(&f.visibility, &judge.reference, &judge.mask, w, h, ERROR_SCALE)?;
@@ -118,8 +128,17 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         // The float image too, as `render` writes it, so every method's V can be read back exactly.
         own.push((format!("{dir}/visibility.exr"), run_files::visibility_exr(&f.visibility, w, h)?));
         // run.json waits for the measurement's timing (below): this frame only knows its waits.
-        let record = run_files::run_record(scene, method, f, &ctx.summary, ctx.timestamps_trusted);
-        Ok((judged.metrics, images, own, record))
+        let mut record = run_files::run_record(scene, method, f, &ctx.summary, ctx.timestamps_trusted);
+        // The certificate of the judged frame, outside its timing.
+        let certified = match certifier.as_mut() {
+            Some(c) => {
+                let r = c.certify(f)?;
+                record["certify"] = serde_json::to_value(&r).map_err(|e| Error::io_text("run.json".into(), e.to_string()))?;
+                Some(record::Certified::of(&r))
+            }
+            None => None,
+        };
+        Ok((judged.metrics, images, own, record, certified))
     };
     let mut on_frame = |m: &Method, phase: Phase, _: &crate::frame::FrameResult| {
         bar.set_message(format!("{} {phase}", m.label()));
@@ -154,11 +173,12 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
                 continue;
             }
         };
-        let (metrics, images, own, record) = m.judged;
+        let (metrics, images, own, record, certified) = m.judged;
         files.extend(own);
         let record = run_files::measured_record(record, &m.timing);
         files.push((format!("images/{slug}/run.json"), json_bytes(&record, "run.json")?));
-        let row = record::row(&info, method, &m.timing, metrics, images, provenance.clone());
+        let mut row = record::row(&info, method, &m.timing, metrics, images, provenance.clone());
+        row.certify = certified;
         log(&format!(
             "{}: {} shadow maps, median {:.1} ms (min {:.1}, max {:.1}), RMSE {:.4}",
             row.label, row.shadow_maps, row.total_ms, row.total_ms_min, row.total_ms_max, row.metrics.rmse
@@ -180,6 +200,13 @@ pub fn reference_line(r: &ReferenceImage, geometry: usize) -> String {
         what += &format!(", Monte Carlo standard error of V mean {mean:.4}, max {max:.4}");
     }
     match (&r.trace, &r.cache_file) {
+        (Some(t), _) if t.tracer == "gpu" => format!(
+            "{what}: traced on the GPU in {:.1} s, {:.1} M rays/s ({:.1} M samples/s){}",
+            t.seconds,
+            t.rays_per_s / 1e6,
+            t.samples_per_s / 1e6,
+            t.ties.filter(|&n| n > 0).map_or(String::new(), |n| format!(", {n} rays decided by a tie in f32"))
+        ),
         (Some(t), _) => format!(
             "{what}: traced in {:.1} s, {:.1} M rays/s ({:.1} M samples/s) on {} threads",
             t.seconds,

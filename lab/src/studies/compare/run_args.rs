@@ -22,4 +22,11 @@ pub struct RunArgs {
     /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     pub no_cache: bool,
+    /// Certify each method's RMSE from the exact truth at K drawn pixels: "RMSE ≤ U at 95% (K px,
+    /// X ms)" beside the measured RMSE (docs/certify.md).
+    #[arg(long, value_name = "K")]
+    pub certify: Option<usize>,
+    /// With --certify: the bound holds with probability 1 − δ (default 0.05).
+    #[arg(long, value_name = "δ")]
+    pub delta: Option<f64>,
 }

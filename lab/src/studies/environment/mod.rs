@@ -81,7 +81,7 @@ pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)
     let mut files = Vec::new();
     for scene in &scenes {
         let provenance = vec![Provenance::of_scene("environment", scene, &job.set, None); methods.len()];
-        let compare_job = CompareJob { scene, methods: methods.clone(), repeats: job.repeats, reference: mode, cache: cache.clone(), provenance, pictures: true };
+        let compare_job = CompareJob { scene, methods: methods.clone(), repeats: job.repeats, reference: mode, cache: cache.clone(), provenance, pictures: true, certify: None };
         let outcome = compare::run(ctx, &compare_job, log)?;
         let prefix = format!("{}/", crate::report::unique_slugs([scene.name.as_str()])[0]);
         for (name, bytes) in outcome.files {

@@ -90,7 +90,7 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
                 let overrides = vec![format!("resolution={resolution}"), format!("light_scale={scale}")];
                 let provenance = crate::record::Provenance { overrides, ..crate::record::Provenance::of_scene("framing", &scene, &[], None) };
                 let provenance = vec![provenance; job.methods.len()];
-                let cj = CompareJob { scene: &scene, methods: job.methods.clone(), repeats: job.repeats, reference: job.reference, cache: job.cache.clone(), provenance, pictures: false };
+                let cj = CompareJob { scene: &scene, methods: job.methods.clone(), repeats: job.repeats, reference: job.reference, cache: job.cache.clone(), provenance, pictures: false, certify: None };
                 let outcome = compare::run(ctx, &cj, log)?;
                 let r = &outcome.reference;
                 let width = width::penumbra_width_px(&r.values, &outcome.geometry, r.width, r.height);

@@ -56,6 +56,12 @@ pub struct FrontierArgs {
     /// Trace the reference without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
+    /// Certify every setting's RMSE from the exact truth at K drawn pixels (docs/certify.md).
+    #[arg(long, value_name = "K")]
+    certify: Option<usize>,
+    /// With --certify: the bound holds with probability 1 − δ (default 0.05).
+    #[arg(long, value_name = "δ")]
+    delta: Option<f64>,
 }
 
 /// Render settings the grid itself sets for every setting.
@@ -79,6 +85,7 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let sizes = (!args.sizes.is_empty()).then(|| grid::parse_sizes(&args.sizes)).transpose()?;
     let hybrid = grid::parse_hybrid(&args.hybrid)?;
     let scene = Scene::load(&args.scene.scene, &sets)?;
+    let certify = crate::studies::flags::certify_options(args.certify, args.delta, &scene)?;
     let thinning = grid::Thinning::choose(args.thin, args.full, scene.triangle_count())?;
     let mut axes = grid::Axes::of(&thinning);
     axes.n = n.unwrap_or(axes.n);
@@ -131,7 +138,7 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     // Each group's settings estimated at its own map size: a map's texels cost time too.
     let seconds: f64 = groups.iter().map(|g| plan::estimated_seconds(&g.methods, &g.maps.apply(&scene, 0.25), repeats)).sum();
     eprintln!("{} ({thinning})", plan::line_with(&all, seconds, &scene, repeats));
-    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
+    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache), certify };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);

@@ -102,6 +102,13 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             l.rmse, l.setting(), l.maps, l.map_size, l.frame_ms, l.frame_ms_min, l.frame_ms_max, flip(l)
         );
     }
+    let certified: Vec<(&FrontierLine, &crate::record::Certified)> = lines.iter().filter_map(|l| l.certify.as_ref().map(|c| (l, c))).collect();
+    if !certified.is_empty() {
+        s += "\n## Certified error\n\nEach setting's RMSE beside its certified bound (`--certify`, docs/certify.md).\n\n| setting | RMSE | certified | covered |\n|---|---:|---|---|\n";
+        for (l, c) in certified {
+            s += &format!("| {} | {:.5} | {} | {} |\n", l.setting(), l.rmse, c.line(), if c.bound >= l.rmse { "yes" } else { "no" });
+        }
+    }
     let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget() && l.failed.is_none()).collect();
     if !budget.is_empty() {
         s += "\n## The error budget against the frontier\n\n\

@@ -30,6 +30,8 @@ pub struct FrontierJob<'a> {
     pub repeats: u32,
     pub reference: ReferenceMode,
     pub cache: Cache,
+    /// `--certify K`: every setting's judged frame gets a certified bound.
+    pub certify: Option<crate::certify::Options>,
 }
 
 /// One line of `frontier.jsonl`: one setting.
@@ -86,6 +88,9 @@ pub struct FrontierLine {
     /// front, the budget's rivals and the oracle skip it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// `--certify K`: the certified bound on this setting's RMSE (docs/certify.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub certify: Option<crate::record::Certified>,
 }
 
 impl FrontierLine {
@@ -191,6 +196,13 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
     let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
     let judge = Judge::new(scene, &g, reference.values.clone());
     log(&crate::studies::compare::reference_line(&reference, judge.geometry_pixels()));
+    if let Some(o) = &job.certify {
+        if o.pixels > judge.geometry_pixels() {
+            return Err(crate::Error::param(format!("--certify {}: more than the frame's {} geometry pixels", o.pixels, judge.geometry_pixels())));
+        }
+    }
+    // One certifier for every setting: the same geometry, camera and light.
+    let mut certifier = job.certify.map(|o| crate::certify::frame::FrameCertifier::new(ctx, scene, o, crate::certify::frame::ProxyKind::SecondOpinion)).transpose()?;
     let total = grid::count(&job.groups);
     let bar = crate::progress::bar(measure::frame_count(total, job.repeats), "frontier");
     let mut lines = Vec::with_capacity(total);
@@ -202,12 +214,16 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
             bar.inc(1);
         };
         let mut records = vec![serde_json::Value::Null; methods.len()];
+        let mut certified = vec![None; methods.len()];
         let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| {
             records[i] = f.output.record.clone();
+            if let Some(c) = certifier.as_mut() {
+                certified[i] = Some(crate::record::Certified::of(&c.certify(f)?));
+            }
             Ok(judge.judge(&s, &methods[i].label(), f)?.metrics)
         };
         let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
-        for (((m, spec), r), record) in methods.iter().zip(specs).zip(measured).zip(&records) {
+        for ((((m, spec), r), record), certified) in methods.iter().zip(specs).zip(measured).zip(&records).zip(certified) {
             // A setting that failed is a line that says why; the others go on.
             let (r, failed) = match r {
                 Ok(r) => (r, None),
@@ -238,6 +254,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 oracle: None,
                 budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
                 paired: None,
+                certify: certified.filter(|_| failed.is_none()),
                 failed,
             };
             crate::progress::suspend(|| match &line.failed {
