@@ -9,6 +9,7 @@ use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
 use crate::methods::{Method, MethodOutput, MethodState};
 use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
+use crate::render::kept_maps::{self, MapCache, ReuseCounts};
 use crate::render::SceneGpu;
 use crate::scene::{CullMode, Scene, Vertex};
 use crate::stages::raster::Raster;
@@ -50,6 +51,8 @@ pub struct FrameResult {
     pub gpu_stages_ms: Option<BTreeMap<String, f64>>,
     /// Who rasterized the maps, and why (run.json's `raster`).
     pub raster: RasterUsed,
+    /// Maps rendered, kept and partly drawn again this frame (docs/reuse.md).
+    pub reuse: ReuseCounts,
 }
 
 /// The raster a frame used: `hardware` or `compute`, the `raster` setting that chose it, and what
@@ -109,21 +112,27 @@ pub struct Renderer<'a> {
 
 impl<'a> Renderer<'a> {
     pub fn new(ctx: &'a GpuContext, scene: &'a Scene, method: &Method) -> Result<Self> {
-        Self::assemble(ctx, scene, method, None)
+        Self::assemble(ctx, scene, method, None, false)
+    }
+
+    /// `new` whose method keeps its shadow maps from frame to frame where nothing they depend on
+    /// changed (`reuse`; docs/reuse.md): V is the same bit for bit, the frame rasterizes less.
+    pub fn with_reuse(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, reuse: bool) -> Result<Self> {
+        Self::assemble(ctx, scene, method, None, reuse)
     }
 
     /// Builds what `kept` lacks for `scene`. The method's state is always built anew: methods
     /// place their samples and frusta from the light and the bounds when they are built, so a
     /// fresh state is what keeps V exactly that of a new renderer.
-    fn assemble(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
+    fn assemble(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>, reuse: bool) -> Result<Self> {
         // Every size against the device and the host first: one line, not a wgpu panic later.
         crate::methods::sizes::check(ctx, scene, method)?;
         // What the plan cannot foresee (memory another process holds) fails here as one line too.
-        ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || Self::create(ctx, scene, method, kept))
+        ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || Self::create(ctx, scene, method, kept, reuse))
     }
 
     /// `assemble` once the sizes are checked: every buffer, texture and pipeline of the frame.
-    fn create(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>) -> Result<Self> {
+    fn create(ctx: &'a GpuContext, scene: &'a Scene, method: &Method, kept: Option<Detached>, reuse: bool) -> Result<Self> {
         let start = Instant::now();
         let (w, h) = (scene.render.width, scene.render.height);
         // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).
@@ -132,6 +141,7 @@ impl<'a> Renderer<'a> {
         let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
         // What the same method's last state remembered (auto's choice), handed to the new one.
         let memory = kept.as_ref().filter(|k| k.method == *method).and_then(|k| k.memory.clone());
+        let mut maps_kept = MapCache::new(reuse);
         if let Some(k) = kept {
             force_timestamps = k.force_timestamps;
             gbuffer_pass = Some(k.gbuffer_pass);
@@ -142,6 +152,18 @@ impl<'a> Renderer<'a> {
             shade = Some((k.maps, k.shade));
             raster = Some((k.cull, k.budget_mib, k.raster));
             let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
+            if reuse && k.maps_kept.on {
+                maps_kept = k.maps_kept;
+                // Kept maps draw again what a moved mesh covered before or covers now; other
+                // meshes, or other triangles, leave nothing to keep.
+                if !same_mesh {
+                    match (k.indices == scene.indices).then(|| kept_maps::moved_boxes(&k.vertices, &scene.vertices, &scene.indices)) {
+                        Some(Ok(Some((before, after)))) => maps_kept.moved(&before, &after),
+                        Some(Ok(None)) => {}
+                        _ => maps_kept.clear(),
+                    }
+                }
+            }
             meshes = same_mesh.then_some(k.scene_gpu);
         }
         let gbuffer_pass = match gbuffer_pass {
@@ -159,7 +181,11 @@ impl<'a> Renderer<'a> {
         let (compute, raster_auto) = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
         let raster = match raster {
             Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
-            _ => Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?,
+            _ => {
+                // Another raster fills other layers (format, culled faces): nothing kept holds.
+                maps_kept.clear();
+                Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?
+            }
         };
         let access = raster.access(scene.render.maps);
         let shade = match shade {
@@ -186,6 +212,7 @@ impl<'a> Renderer<'a> {
             visibility,
             scene_gpu,
             gbuffer,
+            maps_kept,
         };
         let camera = camera_uniform(scene);
         if method.times_frames_at_build() {
@@ -206,9 +233,13 @@ impl<'a> Renderer<'a> {
     }
 
     /// Lets go of the scene and the method's state, keeping what another scene can reuse.
-    pub fn detach(self) -> Detached {
-        let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility } = self.fg;
+    pub fn detach(mut self) -> Detached {
+        for maps in self.state.release_maps() {
+            self.fg.maps_kept.give(maps);
+        }
+        let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility, maps_kept } = self.fg;
         Detached {
+            maps_kept,
             device: ctx.device.clone(),
             memory: self.state.memory(),
             method: self.method,
@@ -319,6 +350,9 @@ impl<'a> Renderer<'a> {
         let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
         self.state.finish(fg, &mut output)?;
+        // Maps rendered and kept: the method's count, or (a method that keeps none) every map rendered.
+        let size = fg.scene.render.shadow_map_size;
+        let reuse = self.state.reuse().unwrap_or_else(|| ReuseCounts::all_rendered(output.shadow_maps, size));
         let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
         if gbuffer.geometry_count() == 0 {
             return Err(match &self.moved_camera {
@@ -339,7 +373,7 @@ impl<'a> Renderer<'a> {
             setting: self.fg.scene.render.raster,
             auto: self.raster_auto,
         };
-        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster })
+        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster, reuse })
     }
 }
 
@@ -364,6 +398,8 @@ pub struct Detached {
     geometry_tiles: GeometryTiles,
     visibility: wgpu::Buffer,
     scene_gpu: SceneGpu,
+    /// The method's shadow maps, kept for the next frame where reuse is on (docs/reuse.md).
+    maps_kept: MapCache,
     /// What `scene_gpu` holds: a scene with the same meshes is not uploaded again.
     vertices: Vec<Vertex>,
     indices: Vec<u32>,
@@ -371,6 +407,11 @@ pub struct Detached {
 }
 
 impl Detached {
+    /// The maps the renderer keeps for its next frame (docs/reuse.md).
+    pub fn maps_kept(&self) -> &MapCache {
+        &self.maps_kept
+    }
+
     /// The same method's renderer for `scene`, on the context it was built on: what the scene
     /// changes is built again, the method's state always (see `Renderer::assemble`). Its first frame
     /// carries `build`.
@@ -386,7 +427,8 @@ impl Detached {
         if self.device != ctx.device {
             return Err(crate::Error::Gpu("a detached renderer was attached on another device than its own".into()));
         }
-        Renderer::assemble(ctx, scene, method, Some(self))
+        let reuse = self.maps_kept.on;
+        Renderer::assemble(ctx, scene, method, Some(self), reuse)
     }
 }
 
