@@ -42,6 +42,8 @@ pub struct Renderer {
     labels: Mutex<HashMap<Request, String>>,
     ctx: Arc<GpuContext>,
     scene: Arc<scene::Scene>,
+    /// Each method keeps its shadow maps between `render` calls (docs/reuse.md).
+    reuse: bool,
 }
 
 /// V as (H, W) float32 with NaN on background pixels (the engine writes 0 there).
@@ -74,7 +76,7 @@ impl Renderer {
                         // SAFETY: see `Built`: both live in `Arc`s this renderer holds for longer than `built`.
                         let ctx: &'static GpuContext = unsafe { &*Arc::as_ptr(&self.ctx) };
                         let scene: &'static scene::Scene = unsafe { &*Arc::as_ptr(&self.scene) };
-                        let mut renderer = frame::Renderer::new(ctx, scene, &method)?;
+                        let mut renderer = frame::Renderer::with_reuse(ctx, scene, &method, self.reuse)?;
                         renderer.frame(TimingMode::Frame)?;
                         built.insert(key.clone(), Built { renderer, method: Arc::new(method) });
                     }
@@ -92,11 +94,13 @@ impl Renderer {
 #[pymethods]
 impl Renderer {
     /// A renderer for `scene` on `adapter` (a name or part of one; `None`: the CLI's default choice).
+    /// `reuse`: each method keeps its shadow maps between `render` calls, which then rasterize
+    /// only what changed (nothing, on one scene; V is the same bit for bit; docs/reuse.md).
     #[new]
-    #[pyo3(signature = (scene, adapter=None))]
-    fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>) -> PyResult<Renderer> {
+    #[pyo3(signature = (scene, adapter=None, reuse=true))]
+    fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>, reuse: bool) -> PyResult<Renderer> {
         let ctx = crate::context::get(py, adapter)?;
-        Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone() })
+        Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone(), reuse })
     }
 
     /// Renders `method` (a spec as `penumbra render --method` takes it; keyword arguments are its

@@ -24,6 +24,7 @@ use crate::reference::ReferenceMode;
 use crate::scene::Scene;
 use crate::gpu::timing::TimingMode;
 use crate::record::run_files;
+use crate::render::kept_maps::ReuseCounts;
 use crate::{progress, Error, Result};
 use path::Animation;
 use serde::{Deserialize, Serialize};
@@ -41,6 +42,39 @@ pub struct SequenceJob<'a> {
     pub animation: Animation,
     pub reference: ReferenceMode,
     pub cache: Cache,
+    /// Whether each method keeps its shadow maps from frame to frame (docs/reuse.md).
+    pub reuse: Reuse,
+}
+
+/// `--reuse`: every method keeps the maps that nothing moved (`on`), renders all (`off`), or
+/// runs twice, without and with, side by side in each frame (`both`: the rows say which, and each
+/// reuse frame's V is compared bit for bit with the frame without).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Reuse {
+    On,
+    Off,
+    Both,
+}
+
+impl Reuse {
+    pub fn parse(v: &str) -> Result<Reuse> {
+        match v {
+            "on" => Ok(Reuse::On),
+            "off" => Ok(Reuse::Off),
+            "both" => Ok(Reuse::Both),
+            _ => Err(Error::param(format!("--reuse {v}: use on, off or both"))),
+        }
+    }
+
+    /// Each method's runs, in the order a frame renders them: (reuse, the run's label).
+    fn runs(self, label: &str) -> Vec<(bool, String)> {
+        match self {
+            Reuse::On => vec![(true, label.to_string())],
+            Reuse::Off => vec![(false, label.to_string())],
+            Reuse::Both => vec![(false, format!("{label} (reuse off)")), (true, format!("{label} (reuse on)"))],
+        }
+    }
 }
 
 /// One method in one frame: a line of `frames.jsonl`.
@@ -59,6 +93,15 @@ pub struct FrameRow {
     pub temporal: Option<FramePair>,
     pub light_center: [f32; 3],
     pub camera_eye: [f32; 3],
+    /// The run kept its maps from frame to frame (docs/reuse.md).
+    #[serde(default)]
+    pub reuse: bool,
+    /// Maps rendered, kept and partly drawn again this frame, and the texels rasterized.
+    #[serde(default)]
+    pub maps: ReuseCounts,
+    /// `--reuse both`, a reuse run's frame: V equal bit for bit to the same frame without reuse.
+    #[serde(default)]
+    pub v_equal_without_reuse: Option<bool>,
 }
 
 /// One method over the whole sequence: a line of `summary.json`'s `methods`.
@@ -79,6 +122,23 @@ pub struct MethodSummary {
     pub median_ms: f64,
     /// The frame with the most popping pixels, and how many.
     pub worst_pop_frame: Option<(u32, u64)>,
+    /// The run kept its maps from frame to frame.
+    #[serde(default)]
+    pub reuse: bool,
+    /// Mean over the frames after the first: the wall clock, maps rendered whole, maps kept, and
+    /// texels rasterized over the texels of the maps used.
+    #[serde(default)]
+    pub mean_ms_after_first: f64,
+    #[serde(default)]
+    pub rendered_mean_after_first: f64,
+    #[serde(default)]
+    pub kept_mean_after_first: f64,
+    #[serde(default)]
+    pub texel_share_after_first: f64,
+    /// `--reuse both`, a reuse run: (frames whose V equals the frame without reuse bit for bit,
+    /// frames compared).
+    #[serde(default)]
+    pub v_equal_frames: Option<(u32, u32)>,
 }
 
 pub struct SequenceOutcome {
@@ -128,14 +188,16 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     check(job)?;
     let scene = job.scene;
     let (w, h) = (scene.render.width, scene.render.height);
-    let n = job.methods.len();
+    // Each method's runs (one, or without and with reuse), in the order every frame renders them.
+    let runs: Vec<(usize, bool, String)> = job.methods.iter().enumerate().flat_map(|(k, m)| job.reuse.runs(&m.label()).into_iter().map(move |(r, l)| (k, r, l))).collect();
+    let n = runs.len();
     let mut rows: Vec<FrameRow> = Vec::new();
     let mut method_frames: Vec<Vec<image::RgbImage>> = vec![Vec::new(); n];
     let mut reference_frames = Vec::new();
     let mut previous_v: Vec<Option<Vec<f32>>> = vec![None; n];
     let mut previous_reference: Option<(Vec<f32>, Vec<bool>)> = None;
     // One renderer per method for the whole sequence, moved from frame to frame.
-    let mut kept: Vec<Option<Detached>> = job.methods.iter().map(|_| None).collect();
+    let mut kept: Vec<Option<Detached>> = runs.iter().map(|_| None).collect();
     let mut reference_label = String::new();
     let bar = progress::bar(u64::from(job.frames), "sequence frames");
     for i in 0..job.frames {
@@ -145,10 +207,13 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         let mask: Vec<bool> = (0..g.position.len()).map(|p| g.is_geometry(p)).collect();
         let shaded_reference = run_files::shaded_image(&reference.values, &g, &scene_t);
         let mut line = format!("frame {}/{}: reference {}", i + 1, job.frames, if reference.cached { "cached" } else { "traced" });
-        for (k, method) in job.methods.iter().enumerate() {
+        // `--reuse both`: each method's V without reuse, for its reuse run to equal.
+        let mut without: Vec<Option<Vec<f32>>> = vec![None; job.methods.len()];
+        for (k, (mi, reuse, label)) in runs.iter().enumerate() {
+            let method = &job.methods[*mi];
             let mut renderer = match kept[k].take() {
                 Some(d) => d.attach(ctx, &scene_t)?,
-                None => Renderer::new(ctx, &scene_t, method)?,
+                None => Renderer::with_reuse(ctx, &scene_t, method, *reuse)?,
             };
             let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
             kept[k] = Some(renderer.detach());
@@ -163,13 +228,20 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 (Some(v0), Some((r0, mask0))) => Some(temporal::frame_pair(v0, &f.visibility, r0, &reference.values, mask0, &mask)),
                 _ => None,
             };
-            line += &format!(", {} {} maps RMSE {:.4}", method.label(), f.output.shadow_maps, m.rmse);
+            line += &format!(", {label} {} maps ({} rendered) RMSE {:.4}", f.output.shadow_maps, f.reuse.rendered, m.rmse);
             if let Some(p) = &pair {
                 line += &format!(" pop {}", p.popping_pixels);
             }
+            let equal = match (*reuse, &without[*mi]) {
+                (true, Some(v0)) => Some(bytemuck::cast_slice::<f32, u32>(v0) == bytemuck::cast_slice::<f32, u32>(&f.visibility)),
+                _ => None,
+            };
+            if equal == Some(false) {
+                line += " V DIFFERS from the frame without reuse";
+            }
             rows.push(FrameRow {
                 scene: scene.name.clone(),
-                label: method.label(),
+                label: label.clone(),
                 method: method.name().to_string(),
                 params: method.params_json(),
                 frame: i,
@@ -179,8 +251,14 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 temporal: pair,
                 light_center: scene_t.light.center.to_array(),
                 camera_eye: scene_t.camera.eye.to_array(),
+                reuse: *reuse,
+                maps: f.reuse,
+                v_equal_without_reuse: equal,
             });
             method_frames[k].push(apng::side_by_side(&[&shaded, &abs]));
+            if !*reuse && job.reuse == Reuse::Both {
+                without[*mi] = Some(f.visibility.clone());
+            }
             previous_v[k] = Some(f.visibility);
         }
         reference_frames.push(shaded_reference);
@@ -190,8 +268,8 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     }
     bar.finish_and_clear();
 
-    let labels: Vec<String> = job.methods.iter().map(Method::label).collect();
-    let summaries: Vec<MethodSummary> = labels.iter().zip(&job.methods).map(|(l, m)| summarise(l, m.name(), &rows)).collect();
+    let labels: Vec<String> = runs.iter().map(|(_, _, l)| l.clone()).collect();
+    let summaries: Vec<MethodSummary> = runs.iter().map(|(m, _, l)| summarise(l, job.methods[*m].name(), &rows)).collect();
     let charts = charts_of(&rows, &labels)?;
     let mut animations = vec![("reference (shaded)".to_string(), apng::encode(&reference_frames, FRAME_DELAY_MS)?)];
     for (label, frames) in labels.iter().zip(&method_frames) {
@@ -226,6 +304,10 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         .iter()
         .filter_map(|r| r.temporal.map(|t| (r.frame, t.popping_pixels)))
         .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
+    let later: Vec<&&FrameRow> = mine.iter().filter(|r| r.frame > 0).collect();
+    let mean_later = |f: &dyn Fn(&FrameRow) -> f64| if later.is_empty() { 0.0 } else { later.iter().map(|r| f(r)).sum::<f64>() / later.len() as f64 };
+    let (texels, used) = later.iter().fold((0u64, 0u64), |(a, b), r| (a + r.maps.texels, b + r.maps.texels_used));
+    let compared: Vec<bool> = mine.iter().filter_map(|r| r.v_equal_without_reuse).collect();
     MethodSummary {
         label: label.to_string(),
         method: method.to_string(),
@@ -238,6 +320,12 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         maps_max: mine.iter().map(|r| r.shadow_maps).max().unwrap_or(0),
         median_ms: if times.is_empty() { 0.0 } else { median(&times) },
         worst_pop_frame: worst,
+        reuse: mine.first().is_some_and(|r| r.reuse),
+        mean_ms_after_first: mean_later(&|r| r.total_ms),
+        rendered_mean_after_first: mean_later(&|r| f64::from(r.maps.rendered)),
+        kept_mean_after_first: mean_later(&|r| f64::from(r.maps.kept)),
+        texel_share_after_first: if used == 0 { 0.0 } else { texels as f64 / used as f64 },
+        v_equal_frames: (!compared.is_empty()).then(|| (compared.iter().filter(|&&e| e).count() as u32, compared.len() as u32)),
     }
 }
 
@@ -280,6 +368,16 @@ fn charts_of(rows: &[FrameRow], labels: &[String]) -> Result<Vec<(String, String
             )?,
         ),
     ];
+    out.push((
+        "frame_time_per_frame".to_string(),
+        "Frame time per frame: wall clock of one frame-mode frame (the first frame keeps nothing)".to_string(),
+        charts::per_frame_svg("Frame time per frame", "frame time (ms)", &series(rows, labels, all, |r| Some(r.total_ms)))?,
+    ));
+    out.push((
+        "maps_rendered_per_frame".to_string(),
+        "Shadow maps rasterized whole per frame (the rest were kept, or partly drawn again where a mesh moved; docs/reuse.md)".to_string(),
+        charts::per_frame_svg("Shadow maps rendered per frame", "maps rendered", &series(rows, labels, all, |r| Some(f64::from(r.maps.rendered))))?,
+    ));
     let adaptive = series(rows, labels, |r| r.method == "adaptive", |r| Some(f64::from(r.shadow_maps)));
     if !adaptive.is_empty() {
         out.push((
@@ -318,6 +416,7 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
         "definitions": "docs/sequence.md",
         "version": run_files::version(),
         "methods": o.summaries,
+        "reuse": job.reuse,
     });
     let pretty = serde_json::to_vec_pretty(&summary).map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
     files.push(("summary.json".to_string(), pretty));

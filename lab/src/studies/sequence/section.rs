@@ -81,6 +81,9 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
                 m.temporal.popping_pixels.to_string(),
                 if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}–{})", m.maps_mean, m.maps_min, m.maps_max) },
                 format!("{:.1}", m.median_ms),
+                format!("{:.1}", m.mean_ms_after_first),
+                format!("{:.1} / {:.1}", m.rendered_mean_after_first, m.kept_mean_after_first),
+                m.v_equal_frames.map_or("–".to_string(), |(e, n)| format!("{e} of {n}")),
             ]
         })
         .collect();
@@ -104,6 +107,9 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
             "popping pixels",
             "maps per frame",
             "median ms",
+            "mean ms after frame 0",
+            "maps rendered / kept after frame 0",
+            "V equal without reuse",
         ],
         rows,
         charts: o.charts.iter().map(|(_, caption, svg)| Figure { caption: caption.clone(), uri: data_uri("image/svg+xml", svg.as_bytes()) }).collect(),
@@ -132,6 +138,9 @@ mod tests {
             temporal: (frame > 0).then_some(FramePair { popping_pixels: pops, pixels: 100, ..Default::default() }),
             light_center: [0.0; 3],
             camera_eye: [0.0; 3],
+            reuse: false,
+            maps: Default::default(),
+            v_equal_without_reuse: None,
         }
     }
 
