@@ -237,6 +237,7 @@ impl<'a> Renderer<'a> {
         for maps in self.state.release_maps() {
             self.fg.maps_kept.give(maps);
         }
+        self.fg.maps_kept.trim(self.fg.scene.render.shadow_map_budget_mib as u64 * 1024 * 1024);
         let FrameGpu { ctx, scene, scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility, maps_kept } = self.fg;
         Detached {
             maps_kept,

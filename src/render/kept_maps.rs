@@ -310,6 +310,19 @@ impl MapCache {
         }
     }
 
+    /// Keeps at most `budget` bytes of maps between frames: the sets that hold the most maps
+    /// first, the rest dropped (a method with several sets, `regions`' groups, can hold more than
+    /// one budget's worth in a frame; what it keeps for the next is bounded).
+    pub fn trim(&self, budget: u64) {
+        let mut kept = self.kept.borrow_mut();
+        kept.sort_by_key(|k| std::cmp::Reverse(k.slots.held()));
+        let mut total = 0;
+        kept.retain(|k| {
+            total += k.bytes();
+            total <= budget
+        });
+    }
+
     /// Drops every kept map.
     pub fn clear(&self) {
         self.kept.borrow_mut().clear();

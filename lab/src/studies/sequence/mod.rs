@@ -102,6 +102,9 @@ pub struct FrameRow {
     /// `--reuse both`, a reuse run's frame: V equal bit for bit to the same frame without reuse.
     #[serde(default)]
     pub v_equal_without_reuse: Option<bool>,
+    /// Bytes of shadow maps the renderer keeps for the next frame (at most the map budget).
+    #[serde(default)]
+    pub kept_bytes: u64,
 }
 
 /// One method over the whole sequence: a line of `summary.json`'s `methods`.
@@ -139,6 +142,13 @@ pub struct MethodSummary {
     /// frames compared).
     #[serde(default)]
     pub v_equal_frames: Option<(u32, u32)>,
+    /// `--reuse both`, a reuse run: its mean frame time after the first frame over the same
+    /// method's without reuse (below 1: reuse is faster).
+    #[serde(default)]
+    pub time_ratio_to_without_reuse: Option<f64>,
+    /// The most bytes of maps kept between two frames.
+    #[serde(default)]
+    pub kept_bytes_max: u64,
 }
 
 pub struct SequenceOutcome {
@@ -216,7 +226,9 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 None => Renderer::with_reuse(ctx, &scene_t, method, *reuse)?,
             };
             let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-            kept[k] = Some(renderer.detach());
+            let detached = renderer.detach();
+            let kept_bytes = detached.maps_kept().bytes();
+            kept[k] = Some(detached);
             let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
             if differ > 0 {
                 return Err(Error::gpu(format!("{} frame {i}: the G-buffer differs from the reference's in {differ} pixels", method.label())));
@@ -254,6 +266,7 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 reuse: *reuse,
                 maps: f.reuse,
                 v_equal_without_reuse: equal,
+                kept_bytes,
             });
             method_frames[k].push(apng::side_by_side(&[&shaded, &abs]));
             if !*reuse && job.reuse == Reuse::Both {
@@ -269,7 +282,10 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     bar.finish_and_clear();
 
     let labels: Vec<String> = runs.iter().map(|(_, _, l)| l.clone()).collect();
-    let summaries: Vec<MethodSummary> = runs.iter().map(|(m, _, l)| summarise(l, job.methods[*m].name(), &rows)).collect();
+    let mut summaries: Vec<MethodSummary> = runs.iter().map(|(m, _, l)| summarise(l, job.methods[*m].name(), &rows)).collect();
+    if job.reuse == Reuse::Both {
+        time_ratios(&mut summaries);
+    }
     let charts = charts_of(&rows, &labels)?;
     let mut animations = vec![("reference (shaded)".to_string(), apng::encode(&reference_frames, FRAME_DELAY_MS)?)];
     for (label, frames) in labels.iter().zip(&method_frames) {
@@ -292,6 +308,18 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     };
     outcome.files = files_of(&outcome, job)?;
     Ok(outcome)
+}
+
+/// `--reuse both`: each reuse run's mean frame time after the first over its method's run without
+/// (the runs come in pairs, without then with).
+pub fn time_ratios(summaries: &mut [MethodSummary]) {
+    for pair in summaries.chunks_mut(2) {
+        if let [off, on] = pair {
+            if !off.reuse && on.reuse && off.mean_ms_after_first > 0.0 {
+                on.time_ratio_to_without_reuse = Some(on.mean_ms_after_first / off.mean_ms_after_first);
+            }
+        }
+    }
 }
 
 /// The figures of one method over all frames of `rows`.
@@ -326,6 +354,8 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         kept_mean_after_first: mean_later(&|r| f64::from(r.maps.kept)),
         texel_share_after_first: if used == 0 { 0.0 } else { texels as f64 / used as f64 },
         v_equal_frames: (!compared.is_empty()).then(|| (compared.iter().filter(|&&e| e).count() as u32, compared.len() as u32)),
+        time_ratio_to_without_reuse: None,
+        kept_bytes_max: mine.iter().map(|r| r.kept_bytes).max().unwrap_or(0),
     }
 }
 
@@ -439,4 +469,61 @@ pub fn write(out: &std::path::Path, o: &SequenceOutcome) -> Result<std::path::Pa
     files.push(("report.html".to_string(), crate::report::page::page(&title, &[section::section(o)?])?.into_bytes()));
     run_files::write_files(out, &files)?;
     Ok(out.join("report.html"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::kept_maps::ReuseCounts;
+
+    fn row(label: &str, frame: u32, reuse: bool, ms: f64, rendered: u32, kept: u32, equal: Option<bool>) -> FrameRow {
+        FrameRow {
+            scene: "s".into(),
+            label: label.into(),
+            method: "regular".into(),
+            params: serde_json::json!({}),
+            frame,
+            shadow_maps: rendered + kept,
+            total_ms: ms,
+            metrics: Metrics::default(),
+            temporal: None,
+            light_center: [0.0; 3],
+            camera_eye: [0.0; 3],
+            reuse,
+            maps: ReuseCounts { rendered, kept, redrawn: 0, texels: rendered as u64 * 4, texels_used: (rendered + kept) as u64 * 4 },
+            v_equal_without_reuse: equal,
+            kept_bytes: if reuse { 1024 } else { 0 },
+        }
+    }
+
+    #[test]
+    fn reuse_figures_after_the_first_frame_and_the_ratio_to_the_run_without() {
+        let rows = [
+            row("a (reuse off)", 0, false, 100.0, 8, 0, None),
+            row("a (reuse on)", 0, true, 110.0, 8, 0, Some(true)),
+            row("a (reuse off)", 1, false, 90.0, 8, 0, None),
+            row("a (reuse on)", 1, true, 30.0, 0, 8, Some(true)),
+            row("a (reuse off)", 2, false, 110.0, 8, 0, None),
+            row("a (reuse on)", 2, true, 20.0, 2, 6, Some(false)),
+        ];
+        let mut s = vec![summarise("a (reuse off)", "regular", &rows), summarise("a (reuse on)", "regular", &rows)];
+        time_ratios(&mut s);
+        let (off, on) = (&s[0], &s[1]);
+        assert_eq!((off.reuse, on.reuse), (false, true));
+        assert_eq!((off.mean_ms_after_first, on.mean_ms_after_first), (100.0, 25.0));
+        assert_eq!(on.time_ratio_to_without_reuse, Some(0.25));
+        assert_eq!(off.time_ratio_to_without_reuse, None);
+        assert_eq!((on.rendered_mean_after_first, on.kept_mean_after_first), (1.0, 7.0));
+        assert_eq!(on.texel_share_after_first, 8.0 / 64.0);
+        assert_eq!(on.v_equal_frames, Some((2, 3)));
+        assert_eq!(off.v_equal_frames, None);
+        assert_eq!(on.kept_bytes_max, 1024);
+    }
+
+    #[test]
+    fn both_runs_each_method_without_then_with_reuse() {
+        assert_eq!(Reuse::Both.runs("x"), vec![(false, "x (reuse off)".to_string()), (true, "x (reuse on)".to_string())]);
+        assert_eq!(Reuse::On.runs("x"), vec![(true, "x".to_string())]);
+        assert_eq!(Reuse::parse("sometimes").unwrap_err().to_string(), "--reuse sometimes: use on, off or both");
+    }
 }

@@ -141,6 +141,7 @@ mod tests {
             reuse: false,
             maps: Default::default(),
             v_equal_without_reuse: None,
+            kept_bytes: 0,
         }
     }
 

@@ -14,13 +14,13 @@ fn field(text: &str) -> String {
 
 pub fn frames_csv(rows: &[FrameRow]) -> String {
     let mut s = String::from(
-        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels,reuse,maps_rendered,maps_kept,maps_redrawn,texels_rasterized,texels_used,v_equal_without_reuse\n",
+        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels,reuse,maps_rendered,maps_kept,maps_redrawn,texels_rasterized,texels_used,v_equal_without_reuse,kept_bytes\n",
     );
     for r in rows {
         let t = r.temporal;
         let opt = |v: Option<String>| v.unwrap_or_default();
         s += &format!(
-            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             field(&r.scene),
             field(&r.label),
             r.frame,
@@ -42,6 +42,7 @@ pub fn frames_csv(rows: &[FrameRow]) -> String {
             r.maps.texels,
             r.maps.texels_used,
             opt(r.v_equal_without_reuse.map(|e| e.to_string())),
+            r.kept_bytes,
         );
     }
     s
@@ -49,11 +50,11 @@ pub fn frames_csv(rows: &[FrameRow]) -> String {
 
 pub fn summary_csv(rows: &[MethodSummary]) -> String {
     let mut s = String::from(
-        "label,frames,mean_rmse,mean_bad_pixel_share,temporal_rmse,popping_share,popping_pixels,maps_mean,maps_min,maps_max,median_ms,reuse,mean_ms_after_first,rendered_mean_after_first,kept_mean_after_first,texel_share_after_first,v_equal_frames,v_compared_frames\n",
+        "label,frames,mean_rmse,mean_bad_pixel_share,temporal_rmse,popping_share,popping_pixels,maps_mean,maps_min,maps_max,median_ms,reuse,mean_ms_after_first,rendered_mean_after_first,kept_mean_after_first,texel_share_after_first,v_equal_frames,v_compared_frames,time_ratio_to_without_reuse,kept_bytes_max\n",
     );
     for m in rows {
         s += &format!(
-            "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3},{},{:.3},{:.2},{:.2},{:.6},{},{}\n",
+            "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3},{},{:.3},{:.2},{:.2},{:.6},{},{},{},{}\n",
             field(&m.label),
             m.frames,
             m.mean_rmse,
@@ -72,6 +73,8 @@ pub fn summary_csv(rows: &[MethodSummary]) -> String {
             m.texel_share_after_first,
             m.v_equal_frames.map_or(String::new(), |v| v.0.to_string()),
             m.v_equal_frames.map_or(String::new(), |v| v.1.to_string()),
+            m.time_ratio_to_without_reuse.map_or(String::new(), |r| format!("{r:.4}")),
+            m.kept_bytes_max,
         );
     }
     s
