@@ -9,7 +9,7 @@ use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
 use crate::methods::{Method, MethodOutput, MethodState};
 use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
-use crate::render::kept_maps::{self, MapCache, ReuseCounts};
+use crate::render::kept_maps::{self, MapCache, Moved, ReuseCounts};
 use crate::render::SceneGpu;
 use crate::scene::{CullMode, Scene, Vertex};
 use crate::stages::raster::Raster;
@@ -158,8 +158,8 @@ impl<'a> Renderer<'a> {
                 // meshes, or other triangles, leave nothing to keep.
                 if !same_mesh {
                     match (k.indices == scene.indices).then(|| kept_maps::moved_boxes(&k.vertices, &scene.vertices, &scene.indices)) {
-                        Some(Ok(Some((before, after)))) => maps_kept.moved(&before, &after),
-                        Some(Ok(None)) => {}
+                        Some(Moved::Boxes(before, after)) => maps_kept.moved(&before, &after),
+                        Some(Moved::Nothing) => {}
                         _ => maps_kept.clear(),
                     }
                 }

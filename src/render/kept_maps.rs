@@ -339,17 +339,27 @@ impl MapCache {
     }
 }
 
+/// What moved between two versions of a scene's meshes.
+#[derive(Clone, Copy, Debug)]
+pub enum Moved {
+    /// No vertex position changed.
+    Nothing,
+    /// The boxes of the moved triangles before and after.
+    Boxes(Bounds, Bounds),
+    /// Not comparable vertex by vertex (other meshes): nothing kept holds.
+    Other,
+}
+
 /// The boxes of the geometry that moved between two versions of one mesh set (the same
 /// triangles, vertices in the same order), before and after: over every vertex of each triangle
-/// that has a vertex whose position changed (a triangle covers texels between all three). None
-/// when nothing moved; `Err` when the two cannot be compared vertex by vertex (other meshes).
-pub fn moved_boxes(before: &[crate::scene::Vertex], after: &[crate::scene::Vertex], indices: &[u32]) -> std::result::Result<Option<(Bounds, Bounds)>, ()> {
+/// that has a vertex whose position changed (a triangle covers texels between all three).
+pub fn moved_boxes(before: &[crate::scene::Vertex], after: &[crate::scene::Vertex], indices: &[u32]) -> Moved {
     if before.len() != after.len() {
-        return Err(());
+        return Moved::Other;
     }
     let moved: Vec<bool> = before.iter().zip(after).map(|(a, b)| bytemuck::bytes_of(&a.position) != bytemuck::bytes_of(&b.position)).collect();
     if !moved.contains(&true) {
-        return Ok(None);
+        return Moved::Nothing;
     }
     let empty = || Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
     let (mut a, mut b) = (empty(), empty());
@@ -364,7 +374,7 @@ pub fn moved_boxes(before: &[crate::scene::Vertex], after: &[crate::scene::Verte
         }
     }
     // Moved vertices that no triangle uses draw nothing.
-    Ok((a.min.x <= a.max.x).then_some((a, b)))
+    if a.min.x <= a.max.x { Moved::Boxes(a, b) } else { Moved::Nothing }
 }
 
 #[cfg(test)]
@@ -422,6 +432,20 @@ mod tests {
             assert_eq!(s.place(key(1.0), 0), Redraw::Whole);
             s.commit();
         }
+    }
+
+    #[test]
+    fn a_moved_vertex_brings_its_whole_triangle_into_the_boxes() {
+        let v = |x: f32, y: f32| crate::scene::Vertex { position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], material: 0 };
+        let before = [v(0.0, 0.0), v(1.0, 0.0), v(0.0, 1.0), v(5.0, 5.0), v(6.0, 5.0), v(5.0, 6.0)];
+        let mut after = before;
+        after[2] = v(0.0, 2.0);
+        let Moved::Boxes(a, b) = moved_boxes(&before, &after, &[0, 1, 2, 3, 4, 5]) else { panic!("a vertex moved") };
+        // The moved triangle's three vertices, not the other triangle's.
+        assert_eq!((a.min, a.max), (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));
+        assert_eq!((b.min, b.max), (Vec3::ZERO, Vec3::new(1.0, 2.0, 0.0)));
+        assert!(matches!(moved_boxes(&before, &before, &[0, 1, 2]), Moved::Nothing));
+        assert!(matches!(moved_boxes(&before, &before[..3], &[0, 1, 2]), Moved::Other));
     }
 
     #[test]
