@@ -3,6 +3,8 @@
 // (split_mode 3: count > split_share x geometry pixels, in f32 as the twin computes it),
 // appends the children and the new lattice samples (deduplicated with atomicOr: the thread that
 // sees the old value 0 appends), and writes the next level's dispatch arguments.
+// Hysteresis (`hold`, docs/reuse.md): a quad the previous frame did not split (its bit in `held`
+// clear) needs `level.hold` more low-quality pixels than the threshold; one it split does not.
 
 @group(0) @binding(0) var<uniform> level: GpuLevel;
 @group(0) @binding(1) var<storage, read> quads: array<GpuQuad>;
@@ -14,6 +16,21 @@
 @group(0) @binding(7) var<storage, read_write> sample_level: array<atomic<u32>>;
 @group(0) @binding(8) var<storage, read_write> split_base: array<u32>;
 @group(0) @binding(9) var<storage, read_write> dispatch_args: array<u32>;
+@group(0) @binding(10) var<storage, read> held: array<u32>;
+
+// A quad's place among every level's quads (0..341): the coarser levels' (4^d - 1) / 3 first,
+// then its row and column at its own level.
+fn quad_node(quad: GpuQuad) -> u32 {
+    let side = 16u / quad.size;
+    return (side * side - 1u) / 3u + (quad.j / quad.size) * side + quad.i / quad.size;
+}
+
+// The margin a quad's count must pass its threshold by: 0 for a quad the previous frame split.
+fn hold_margin(quad: GpuQuad) -> u32 {
+    let node = quad_node(quad);
+    let split_before = (held[node / 32u] >> (node % 32u)) & 1u;
+    return select(level.hold, 0u, split_before == 1u);
+}
 
 fn request(i: u32, j: u32) {
     let k = j * LATTICE_SIDE + i;
@@ -33,9 +50,13 @@ fn main(@builtin(local_invocation_index) lid: u32) {
         }
         var split = false;
         if (level.level < level.max_level && quad.size > 1u) {
+            // count - threshold > margin without overflow; (count - margin) > share x N with no
+            // product in the subtraction, so no fused multiply-add can round it apart from the twin.
+            let margin = hold_margin(quad);
+            let count = quad_counters[q];
             split = level.split_mode == SPLIT_ALWAYS
-                || (level.split_mode == SPLIT_THRESHOLD && quad_counters[q] > level.split_threshold)
-                || (level.split_mode == SPLIT_SHARE && f32(quad_counters[q]) > share_threshold);
+                || (level.split_mode == SPLIT_THRESHOLD && count > level.split_threshold && count - level.split_threshold > margin)
+                || (level.split_mode == SPLIT_SHARE && f32(count) - f32(margin) > share_threshold);
         }
         split_base[q] = NO_SPLIT;
         if (split) {

@@ -9,6 +9,7 @@ use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
 use crate::methods::{Method, MethodOutput, MethodState};
 use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
+use crate::render::kept_maps::{self, MapCache, Moved, ReuseCounts};
 use crate::render::SceneGpu;
 use crate::scene::{CullMode, Scene, Vertex};
 use crate::stages::raster::Raster;
@@ -81,6 +82,8 @@ pub struct FrameResult {
     pub gpu_stages_ms: Option<BTreeMap<String, f64>>,
     /// Who rasterized the maps, and why (run.json's `raster`).
     pub raster: RasterUsed,
+    /// Maps rendered, kept and partly drawn again this frame (docs/reuse.md).
+    pub reuse: ReuseCounts,
 }
 
 /// The raster a frame used: `hardware` or `compute`, the `raster` setting that chose it, and what
@@ -143,17 +146,23 @@ pub struct Renderer<'a> {
 impl<'a> Renderer<'a> {
     /// `ctx` and `scene` by reference (`&ctx`), or shared (`Arc`) for a renderer that owns them.
     pub fn new(ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method) -> Result<Self> {
-        Self::assemble(ctx.into(), scene.into(), method, None)
+        Self::assemble(ctx.into(), scene.into(), method, None, false)
+    }
+
+    /// `new` whose method keeps its shadow maps from frame to frame where nothing they depend on
+    /// changed (`reuse`; docs/reuse.md): V is the same bit for bit, the frame rasterizes less.
+    pub fn with_reuse(ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method, reuse: bool) -> Result<Self> {
+        Self::assemble(ctx.into(), scene.into(), method, None, reuse)
     }
 
     /// Builds what `kept` lacks for `scene`. The method's state is always built anew: methods
     /// place their samples and frusta from the light and the bounds when they are built, so a
     /// fresh state is what keeps V exactly that of a new renderer.
-    fn assemble(ctx: Held<'a, GpuContext>, scene: Held<'a, Scene>, method: &Method, kept: Option<Detached>) -> Result<Self> {
+    fn assemble(ctx: Held<'a, GpuContext>, scene: Held<'a, Scene>, method: &Method, kept: Option<Detached>, reuse: bool) -> Result<Self> {
         // Every size against the device and the host first: one line, not a wgpu panic later.
         crate::methods::sizes::check(&ctx, &scene, method)?;
         // What the plan cannot foresee (memory another process holds) fails here as one line too.
-        let c = ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || create(&ctx, &scene, method, kept))?;
+        let c = ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || create(&ctx, &scene, method, kept, reuse))?;
         let Created { parts, gbuffer_pass, camera, state, build, force_timestamps, raster_auto } = c;
         Ok(Self { ctx, scene, parts, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some(build), force_timestamps, raster_auto })
     }
@@ -171,7 +180,7 @@ struct Created {
 }
 
 /// `assemble` once the sizes are checked: every buffer, texture and pipeline of the frame.
-fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detached>) -> Result<Created> {
+fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detached>, reuse: bool) -> Result<Created> {
     let start = Instant::now();
     let (w, h) = (scene.render.width, scene.render.height);
     // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).
@@ -180,6 +189,7 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
     let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
     // What the same method's last state remembered (auto's choice), handed to the new one.
     let memory = kept.as_ref().filter(|k| k.method == *method).and_then(|k| k.memory.clone());
+    let mut maps_kept = MapCache::new(reuse);
     if let Some(k) = kept {
         force_timestamps = k.force_timestamps;
         gbuffer_pass = Some(k.gbuffer_pass);
@@ -190,6 +200,18 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
         shade = Some((k.maps, k.shade));
         raster = Some((k.cull, k.budget_mib, k.raster));
         let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
+        if reuse && k.maps_kept.on {
+            maps_kept = k.maps_kept;
+            // Kept maps draw again what a moved mesh covered before or covers now; other
+            // meshes, or other triangles, leave nothing to keep.
+            if !same_mesh {
+                match (k.indices == scene.indices).then(|| kept_maps::moved_boxes(&k.vertices, &scene.vertices, &scene.indices)) {
+                    Some(Moved::Boxes(before, after)) => maps_kept.moved(&before, &after),
+                    Some(Moved::Nothing) => {}
+                    _ => maps_kept.clear(),
+                }
+            }
+        }
         meshes = same_mesh.then_some(k.scene_gpu);
     }
     let gbuffer_pass = match gbuffer_pass {
@@ -207,7 +229,11 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
     let (compute, raster_auto) = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
     let raster = match raster {
         Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
-        _ => Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?,
+        _ => {
+            // Another raster fills other layers (format, culled faces): nothing kept holds.
+            maps_kept.clear();
+            Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?
+        }
     };
     let access = raster.access(scene.render.maps);
     let shade = match shade {
@@ -232,6 +258,7 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
         visibility,
         scene_gpu,
         gbuffer,
+        maps_kept,
     };
     let fg = FrameGpu { ctx, scene, parts: &parts };
     let camera = camera_uniform(scene);
@@ -254,10 +281,15 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
 
 impl<'a> Renderer<'a> {
     /// Lets go of the scene and the method's state, keeping what another scene can reuse.
-    pub fn detach(self) -> Detached {
-        let FrameParts { scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility } = self.parts;
+    pub fn detach(mut self) -> Detached {
+        for maps in self.state.release_maps() {
+            self.parts.maps_kept.give(maps);
+        }
+        self.parts.maps_kept.trim(self.scene.render.shadow_map_budget_mib as u64 * 1024 * 1024);
+        let FrameParts { scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility, maps_kept } = self.parts;
         let (ctx, scene) = (&*self.ctx, &*self.scene);
         Detached {
+            maps_kept,
             device: ctx.device.clone(),
             memory: self.state.memory(),
             method: self.method,
@@ -372,6 +404,9 @@ impl<'a> Renderer<'a> {
         let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
         self.state.finish(fg, &mut output)?;
+        // Maps rendered and kept: the method's count, or (a method that keeps none) every map rendered.
+        let size = fg.scene.render.shadow_map_size;
+        let reuse = self.state.reuse().unwrap_or_else(|| ReuseCounts::all_rendered(output.shadow_maps, size));
         let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
         if gbuffer.geometry_count() == 0 {
             return Err(match &self.moved_camera {
@@ -392,7 +427,7 @@ impl<'a> Renderer<'a> {
             setting: fg.scene.render.raster,
             auto: self.raster_auto,
         };
-        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster })
+        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster, reuse })
     }
 }
 
@@ -417,6 +452,8 @@ pub struct Detached {
     geometry_tiles: GeometryTiles,
     visibility: wgpu::Buffer,
     scene_gpu: SceneGpu,
+    /// The method's shadow maps, kept for the next frame where reuse is on (docs/reuse.md).
+    maps_kept: MapCache,
     /// What `scene_gpu` holds: a scene with the same meshes is not uploaded again.
     vertices: Vec<Vertex>,
     indices: Vec<u32>,
@@ -424,6 +461,11 @@ pub struct Detached {
 }
 
 impl Detached {
+    /// The maps the renderer keeps for its next frame (docs/reuse.md).
+    pub fn maps_kept(&self) -> &MapCache {
+        &self.maps_kept
+    }
+
     /// The same method's renderer for `scene`, on the context it was built on: what the scene
     /// changes is built again, the method's state always (see `Renderer::assemble`). Its first frame
     /// carries `build`.
@@ -440,7 +482,8 @@ impl Detached {
         if self.device != ctx.device {
             return Err(crate::Error::Gpu("a detached renderer was attached on another device than its own".into()));
         }
-        Renderer::assemble(ctx, scene.into(), method, Some(self))
+        let reuse = self.maps_kept.on;
+        Renderer::assemble(ctx, scene.into(), method, Some(self), reuse)
     }
 }
 

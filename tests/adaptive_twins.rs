@@ -843,3 +843,85 @@ fn shadow_test_alone_equals_its_twin() {
     assert_eq!(calls, 4);
     assert!(lit_bits > 1000 && unlit_bits > 1000, "too little happened: {lit_bits} lit, {unlit_bits} unlit");
 }
+
+/// subdivide with the hysteresis (`hold`, docs/reuse.md) driven alone: every level's quads with
+/// counts around the threshold, a random half of the quad nodes held (split the frame before),
+/// under a count rule and a share rule; the split decisions, children and new samples equal the
+/// twin's exactly, and both the margin and the held bits decide some quads.
+#[test]
+fn subdivide_with_hold_equals_its_twin() {
+    use penumbra::gpu::readback;
+    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuQuad, GpuSample};
+    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Level, CONTROL_BYTES, QUAD_CAPACITY};
+    use penumbra::methods::adaptive::level_uniform;
+    use penumbra::stages::adaptive_buffers::{quad_node, HELD_WORDS, QUAD_NODES};
+    use penumbra::stages::subdivide::Subdivide;
+    use penumbra::stages::twin::subdivide::{subdivide_held, Held, SplitLevel};
+    let ctx = common::gpu();
+    let subdivide = Subdivide::new(ctx).unwrap();
+    let b = AdaptiveBuffers::new(ctx, 16, 16, &[GpuSample::default(); LATTICE_POINTS as usize], false, None).unwrap();
+    let frame = readback::uniform_buffer(ctx, "frame", &GpuFrame { width: 16, height: 16, ..Default::default() });
+    let mut rng = common::Lcg(57);
+    let (mut by_margin, mut by_held, mut cases) = (0, 0, 0);
+    for spec in ["p_m=3,hold=5", "p_share=0.01,hold=7"] {
+        let p = params(spec);
+        for level in 0..4u32 {
+            let quads: Vec<GpuQuad> = penumbra::stages::twin::synthetic::level_quads(level);
+            let n = quads.len() as u32;
+            // Counts from 0 to 14 around either rule's threshold (3, or 0.01 x 400 pixels).
+            let counts: Vec<u32> = (0..n).map(|_| (rng.next_f32() * 15.0) as u32).collect();
+            let mut bits = vec![0u32; HELD_WORDS as usize];
+            for node in 0..QUAD_NODES {
+                if rng.next_f32() < 0.5 {
+                    bits[(node / 32) as usize] |= 1 << (node % 32);
+                }
+            }
+            let step = 16 >> level;
+            let mut state: Vec<u32> = (0..LATTICE_POINTS).map(|k| ((k % 17) % step == 0 && (k / 17) % step == 0) as u32).collect();
+            let mut sample_level = vec![0u32; LATTICE_POINTS as usize];
+            ctx.queue.write_buffer(&b.quads[0], 0, bytemuck::cast_slice(&quads));
+            ctx.queue.write_buffer(&b.control, 0, bytemuck::bytes_of(&GpuControl { geometry_pixels: 400, ..Default::default() }));
+            let mut per_quad = counts.clone();
+            per_quad.resize(QUAD_CAPACITY as usize, 0);
+            ctx.queue.write_buffer(&b.low.per_quad, 0, bytemuck::cast_slice(&per_quad));
+            ctx.queue.write_buffer(&b.decisions.lattice_state, 0, bytemuck::cast_slice(&state));
+            ctx.queue.write_buffer(&b.decisions.sample_level, 0, bytemuck::cast_slice(&sample_level));
+            ctx.queue.write_buffer(&b.decisions.held, 0, bytemuck::cast_slice(&bits));
+            let uniform = readback::uniform_buffer(ctx, "level", &level_uniform(&p, b.shape, level, n, 0));
+            let lv = Level { frame: &frame, uniform: &uniform, quads: &b.quads[0], control: &b.control, cur: 0, shape: b.shape };
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            subdivide.record(ctx, &mut enc, &lv, &b.low, &b.quads[1], &b.decisions);
+            ctx.queue.submit([enc.finish()]);
+            let at = SplitLevel { level, max_level: p.max_level, rule: p.split_rule(level), geometry_pixels: 400 };
+            let held = Held { bits: bits.clone(), hold: p.hold };
+            let sub = subdivide_held(&at, &held, &quads, &counts, &mut state, &mut sample_level);
+            let free = subdivide_held(&at, &Held::every(), &quads, &counts, &mut state.clone(), &mut sample_level.clone());
+            let split_base: Vec<u32> = readback::read_buffer(ctx, &b.decisions.split_base, n as u64 * 4).unwrap();
+            let gpu: Vec<bool> = split_base.iter().map(|&s| s != u32::MAX).collect();
+            let twin: Vec<bool> = sub.split_base.iter().map(|&s| s != u32::MAX).collect();
+            let case = format!("{spec} level {level}");
+            assert_eq!(gpu, twin, "{case}: split decisions");
+            let control: Vec<u32> = readback::read_buffer(ctx, &b.control, CONTROL_BYTES).unwrap();
+            let next: Vec<GpuQuad> = if control[0] == 0 { Vec::new() } else { bytemuck::cast_slice(&readback::read_buffer::<u32>(ctx, &b.quads[1], control[0] as u64 * 16).unwrap()).to_vec() };
+            assert_eq!(sorted_quads(&next), sorted_quads(&sub.next_quads), "{case}: children");
+            let mut new: Vec<u32> = if control[1] == 0 { Vec::new() } else { readback::read_buffer(ctx, &b.decisions.new_samples, control[1] as u64 * 4).unwrap() };
+            new.sort_unstable();
+            assert_eq!(new, sub.new_samples, "{case}: new samples");
+            for (q, quad) in quads.iter().enumerate() {
+                let node = quad_node(quad.i, quad.j, quad.size);
+                let was = (bits[(node / 32) as usize] >> (node % 32)) & 1 == 1;
+                let without = free.split_base[q] != u32::MAX;
+                if without && !twin[q] {
+                    assert!(!was, "{case}: quad {q} held and still merged by the margin");
+                    by_margin += 1;
+                }
+                if twin[q] && was {
+                    by_held += 1;
+                }
+            }
+            cases += 1;
+        }
+    }
+    assert_eq!(cases, 8);
+    assert!(by_margin > 5 && by_held > 5, "too little decided by the hysteresis: {by_margin} by the margin, {by_held} held");
+}

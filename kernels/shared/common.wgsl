@@ -200,7 +200,8 @@ struct GpuLevel {
     split_share: f32,
     // shadow_test: 1 takes the test list's length from the append counter (control word 1).
     requested: u32,
-    pad1: u32,
+    // subdivide: the hysteresis margin (low-quality pixels) of a quad the previous frame did not split.
+    hold: u32,
 }
 
 // GpuLevel.split_mode (Rust: gpu::structs::SPLIT_*): split when the count exceeds

@@ -224,3 +224,24 @@ fn bench_input_errors_are_one_line_and_write_nothing() {
         assert!(!out.exists());
     }
 }
+
+/// `bench --reuse on`: every frame after the warm-up keeps the maps of the still scene, and each
+/// frame's line says so; `--reuse` takes on or off.
+#[test]
+fn bench_with_reuse_keeps_every_map_after_the_warm_up() {
+    let dir = temp_dir("bench_reuse");
+    let scenes = dir.join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::write(scenes.join("cows.toml"), STAND_IN).unwrap();
+    let (out, cache) = (dir.join("out"), dir.join("cache"));
+    let args = ["bench", "--suite", "seed-table2", "--repeats", "1", "--only", "cows", "--regions", "none", "--scenes", scenes.to_str().unwrap(), "--reuse", "on", "--out", out.to_str().unwrap()];
+    let run = common::penumbra_env(&args, &[("PENUMBRA_CACHE", cache.to_str().unwrap())]);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "bench failed: {}", String::from_utf8_lossy(&run.stderr));
+    let lines: Vec<&str> = stdout.lines().filter(|l| l.contains("regular:n=17")).collect();
+    assert!(lines.iter().any(|l| l.contains("warm-up") && l.contains("289 maps (289 rendered, 0 kept)")), "{stdout}");
+    assert!(lines.iter().any(|l| l.contains("1/1") && l.contains("289 maps (0 rendered, 289 kept)")), "{stdout}");
+    let bad = common::penumbra(&["bench", "--suite", "seed-table2", "--reuse", "maybe", "--out", dir.join("bad").to_str().unwrap()]);
+    assert!(!bad.status.success(), "--reuse maybe is refused");
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--reuse"), "{}", String::from_utf8_lossy(&bad.stderr));
+}

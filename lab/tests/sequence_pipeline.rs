@@ -125,6 +125,48 @@ fn a_four_frame_sequence_end_to_end() {
     assert!(html.contains("Popping per frame") && html.contains("temporal RMSE"));
 }
 
+/// `--reuse both`: every method runs without and with reuse in each frame, its V equal bit for
+/// bit; on a camera path the regular grid keeps all its maps after the first frame, and the
+/// report charts frame time and maps rendered per frame.
+#[test]
+fn reuse_both_runs_each_method_twice_with_equal_v() {
+    let _ = common::gpu(); // fails here, with instructions, when no adapter exists
+    let dir = temp_dir("sequence_reuse");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let (cache, out) = (dir.join("cache"), dir.join("out"));
+    let args = [
+        "sequence", "--scene", scene.to_str().unwrap(), "--methods", "regular:n=3,adaptive", "--frames", "3", "--animate", "camera",
+        "--reuse", "both", "--reference", "continuous", "--samples", "2", "--out", out.to_str().unwrap(),
+    ];
+    let stdout = ok(penumbra(&cache, &args), &args);
+    assert!(stdout.contains("V equal"), "{stdout}");
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 12, "2 methods × 2 runs × 3 frames");
+    for r in rows.iter().filter(|r| r["reuse"] == true) {
+        assert_eq!(r["v_equal_without_reuse"], true, "{r}");
+    }
+    for r in rows.iter().filter(|r| r["label"] == "regular:n=3 (reuse on)") {
+        let (rendered, kept) = (r["maps"]["rendered"].as_u64().unwrap(), r["maps"]["kept"].as_u64().unwrap());
+        assert_eq!((rendered, kept), if r["frame"] == 0 { (9, 0) } else { (0, 9) }, "{r}");
+    }
+    let summary: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["reuse"], "both");
+    let on = summary["methods"].as_array().unwrap().iter().find(|m| m["label"] == "regular:n=3 (reuse on)").unwrap();
+    assert_eq!(on["v_equal_frames"], serde_json::json!([3, 3]));
+    assert!(on["time_ratio_to_without_reuse"].as_f64().unwrap() > 0.0, "{on}");
+    assert_eq!(on["kept_mean_after_first"], 9.0);
+    for chart in ["frame_time_per_frame", "maps_rendered_per_frame"] {
+        assert!(out.join(format!("charts/{chart}.svg")).is_file(), "missing {chart}");
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("Shadow maps rasterized whole per frame") && html.contains("Frame time per frame") && html.contains("V equal without reuse"));
+    let bad = penumbra(&cache, &["sequence", "--reuse", "sometimes", "--out", dir.join("bad").to_str().unwrap()]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert_eq!(String::from_utf8_lossy(&bad.stderr).trim(), "error: --reuse sometimes: use on, off or both");
+    assert!(!dir.join("bad").exists());
+}
+
 #[test]
 fn a_still_sequence_has_no_temporal_error() {
     let _ = common::gpu(); // fails here, with instructions, when no adapter exists

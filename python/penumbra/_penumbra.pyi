@@ -93,13 +93,15 @@ class Renderer:
         scene: the scene to render.
         adapter: a GPU adapter's name or part of one, as `penumbra --adapter` takes it; `None`
             picks as the command line does (`WGPU_ADAPTER_NAME`, else the best adapter).
+        reuse: each method keeps its shadow maps between `render` calls, which then rasterize
+            only what changed (nothing, on one scene; V is the same bit for bit; docs/reuse.md).
 
     Raises:
         GpuError: no adapter matches, or none is usable.
         PenumbraError: `WGPU_BACKEND` names no backend.
     """
 
-    def __init__(self, scene: Scene, adapter: Optional[str] = None) -> None: ...
+    def __init__(self, scene: Scene, adapter: Optional[str] = None, reuse: bool = True) -> None: ...
     def render(self, method: str, **params: Union[str, int, float, bool]) -> tuple[NDArray[np.float32], Record]:
         """Renders one frame of `method`.
 
@@ -115,6 +117,25 @@ class Renderer:
         Raises:
             PenumbraError: an unknown method or parameter, a value it refuses, a light the method
                 cannot take, sizes past the device's limits.
+            GpuError: the device failed.
+        """
+
+    def certify(self, method: str, pixels: int = 2048, delta: float = 0.05, **params: Union[str, int, float, bool]) -> tuple[NDArray[np.float32], Record]:
+        """Renders one frame of `method` and certifies its error (docs/certify.md).
+
+        Args:
+            method: a method spec, as for `render`.
+            pixels: how many pixels are drawn and traced exactly by the reference's integrator.
+            delta: the bound holds with probability at least 1 − `delta`.
+            **params: the method's parameters, as for `render`.
+
+        Returns:
+            `(V, record)` as `render`; the record's `certify` holds the one-sided bound on the
+            frame's RMSE (`bound`), the drawn pixels' RMSE and the tracing time.
+
+        Raises:
+            PenumbraError: as for `render`; `pixels` or `delta` out of range, or a scene the
+                exact tracer cannot take.
             GpuError: the device failed.
         """
 

@@ -34,6 +34,8 @@ type Request = (String, Vec<(String, String)>);
 ///     scene: the scene to render.
 ///     adapter: a GPU adapter's name or part of one, as `penumbra --adapter` takes it; `None`
 ///         picks as the command line does (`WGPU_ADAPTER_NAME`, else the best adapter).
+///     reuse: each method keeps its shadow maps between `render` calls, which then rasterize
+///         only what changed (nothing, on one scene; V is the same bit for bit; docs/reuse.md).
 ///
 /// Raises:
 ///     GpuError: no adapter matches, or none is usable.
@@ -46,6 +48,8 @@ pub struct Renderer {
     labels: Mutex<HashMap<Request, String>>,
     ctx: Arc<GpuContext>,
     scene: Arc<scene::Scene>,
+    /// Each method keeps its shadow maps between `render` calls (docs/reuse.md).
+    reuse: bool,
 }
 
 /// V as (H, W) float32 with NaN on background pixels (the engine writes 0 there).
@@ -75,7 +79,7 @@ impl Renderer {
                     method.check_light(&self.scene)?;
                     let key = method.label();
                     if !built.contains_key(&key) {
-                        let mut renderer = frame::Renderer::new(self.ctx.clone(), self.scene.clone(), &method)?;
+                        let mut renderer = frame::Renderer::with_reuse(self.ctx.clone(), self.scene.clone(), &method, self.reuse)?;
                         renderer.frame(TimingMode::Frame)?;
                         built.insert(key.clone(), Built { renderer, method: Arc::new(method) });
                     }
@@ -129,10 +133,10 @@ impl Renderer {
 impl Renderer {
     /// A renderer for `scene` on `adapter` (a name or part of one; `None`: the CLI's default choice).
     #[new]
-    #[pyo3(signature = (scene, adapter=None))]
-    fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>) -> PyResult<Renderer> {
+    #[pyo3(signature = (scene, adapter=None, reuse=true))]
+    fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>, reuse: bool) -> PyResult<Renderer> {
         let ctx = crate::context::get(py, adapter)?;
-        Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone() })
+        Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone(), reuse })
     }
 
     /// Renders one frame of `method`.
@@ -155,9 +159,22 @@ impl Renderer {
         self.render_certified(py, method, params, None)
     }
 
-    /// `render`, and the frame's certified error: the reference's exact truth at `pixels` drawn
-    /// pixels and a one-sided bound on the frame's RMSE at confidence 1 − `delta`, in the
-    /// record's `certify` (`bound`, `sampled_rmse`, `pixels_ms`, …; docs/certify.md).
+    /// Renders one frame of `method` and certifies its error (docs/certify.md).
+    ///
+    /// Args:
+    ///     method: a method spec, as for `render`.
+    ///     pixels: how many pixels are drawn and traced exactly by the reference's integrator.
+    ///     delta: the bound holds with probability at least 1 − `delta`.
+    ///     **params: the method's parameters, as for `render`.
+    ///
+    /// Returns:
+    ///     `(V, record)` as `render`; the record's `certify` holds the one-sided bound on the
+    ///     frame's RMSE (`bound`), the drawn pixels' RMSE and the tracing time.
+    ///
+    /// Raises:
+    ///     PenumbraError: as for `render`; `pixels` or `delta` out of range, or a scene the
+    ///         exact tracer cannot take.
+    ///     GpuError: the device failed.
     #[pyo3(signature = (method, pixels=2048, delta=0.05, **params))]
     fn certify<'py>(&self, py: Python<'py>, method: &str, pixels: usize, delta: f64, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
         let options = penumbra_lab::certify::Options { pixels, delta, ..Default::default() };

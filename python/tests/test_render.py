@@ -13,6 +13,8 @@ METHODS = ["hard", "pcss", "regular:n=5,layout=centred", "adaptive:preset=balanc
 # run.json's keys that depend on how the frame was timed: `penumbra render` times its stages,
 # `render` times the frame (as compare's timed frames are), and only the command line warms up.
 TIMED = {"timing", "timing_waits", "total_ms", "stages_ms", "gpu_stages_ms", "frame_split_ms", "decision_stages_ms", "decision_share", "warm_up_frames"}
+# The renderer keeps its maps between renders (docs/reuse.md): it rasterizes fewer than a new one.
+TIMED |= {"reuse"}
 
 
 def bits(a):
@@ -61,6 +63,17 @@ def test_a_kept_renderer_renders_the_same_v_again(renderer):
     again, _ = renderer.render("adaptive", preset="balanced")
     assert np.array_equal(bits(first), bits(again))
     assert "adaptive:preset=balanced" in renderer.methods
+
+
+def test_a_renderer_keeps_its_maps_between_renders(scene, renderer):
+    method = "regular:n=5,layout=centred"
+    renderer.render(method)
+    again, record = renderer.render(method)
+    assert record["shadow_maps"] == 25 and record["reuse"]["kept"] == 25 and record["reuse"]["rendered"] == 0
+    # A renderer that keeps nothing rasterizes every map, and V is the same bit for bit.
+    fresh, record = penumbra.Renderer(scene, reuse=False).render(method)
+    assert record["reuse"]["rendered"] == 25 and record["reuse"]["kept"] == 0
+    assert np.array_equal(bits(again), bits(fresh))
 
 
 def test_adaptive_pictures_and_the_error_bound_come_as_arrays(renderer):

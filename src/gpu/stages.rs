@@ -247,6 +247,7 @@ stage_table! {
     /// Depth-only raster of the shadow maps, one layer per light sample.
     SHADOW_RASTER = shadow_raster kernel, Some(Raster), [
         render Pipeline(vs_main) { samples: 0 },
+        render(vs_far) {},
     ];
     /// V = Σ weight · lit over a set of maps (or from adaptive's masks), and the geometry tiles.
     SHADE = shade kernel { reads_maps: true }, Some(Shade), [
@@ -282,7 +283,7 @@ stage_table! {
     ];
     /// Which quads split, their children and the samples they request.
     SUBDIVIDE = subdivide kernel, Some(Decision), [
-        compute Main(main) LINE { level: 0, quads: 1, quad_counters: 2, next_quads: 3, control: 4, lattice_state: 5, new_samples: 6, sample_level: 7, split_base: 8, dispatch_args: 9 },
+        compute Main(main) LINE { level: 0, quads: 1, quad_counters: 2, next_quads: 3, control: 4, lattice_state: 5, new_samples: 6, sample_level: 7, split_base: 8, dispatch_args: 9, held: 10 },
     ];
     /// scope = local: the next level's items, uniform shares, scissor rectangles; `seed` starts the
     /// item list and `resolve` turns V's integer sums into V.

@@ -194,7 +194,9 @@ pub struct GpuLevel {
     pub split_share: f32,
     /// shadow_test: 1 takes the test list's length from the append counter (GpuControl word 1).
     pub requested: u32,
-    pub pad1: u32,
+    /// subdivide: the hysteresis margin in low-quality pixels of a quad the previous frame did not
+    /// split (`adaptive:hold`, docs/reuse.md); 0 is no hysteresis.
+    pub hold: u32,
 }
 
 /// `GpuLevel::split_mode` (`SPLIT_*` in kernels/shared/common.wgsl): a quad splits when its count
@@ -467,7 +469,7 @@ pub fn all_layouts() -> Vec<StructLayout> {
         layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, kept_slot, pad1, pad2 }),
         layout_of!(GpuLevel {
             level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,
-            work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, pad1
+            work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, hold
         }),
         layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, lookups, pad1 }),
         layout_of!(GpuQuad { i, j, size, parent }),

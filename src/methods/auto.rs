@@ -18,6 +18,7 @@ use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
 use crate::gpu::timing::StageTimer;
+use crate::render::kept_maps::ReuseCounts;
 use crate::stages::FrameGpu;
 use crate::Result;
 use std::collections::BTreeMap;
@@ -89,8 +90,8 @@ const SAMPLING_ORDER: f64 = 1.5;
 /// A choice handed on from the previous frame of a sequence is kept while its prediction is
 /// within this factor of the target: the prediction moves from frame to frame as the light moves,
 /// and a choice that only rises would otherwise ratchet up on that noise
-/// (docs/error-estimate.md §6).
-const KEEP: f64 = 1.15;
+/// (docs/error-estimate.md §6). It is the band of `hold` (docs/reuse.md §3).
+const KEEP: f64 = super::hold::BAND;
 /// The grid a filter is judged against is predicted to err by at most this share of the target,
 /// so that its own error, taken out of the difference, cannot hide a filter's (docs/error-estimate.md §6).
 const REFERENCE: f64 = 0.5;
@@ -162,7 +163,7 @@ impl ShadowMethod for Auto {
         let filters = Candidates::new(kept, left_out);
         // The scene's truth tracer (its BVH), built once before the clock, as the prices are.
         let certifying = (self.pixels > 0).then(|| certified::Certifying::new(fg, self.pixels as usize, self.delta as f64)).transpose()?;
-        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, pricing_ms, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()), certifying }))
+        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, pricing_ms, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()), certifying, reuse: ReuseCounts::default() }))
     }
     fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
@@ -222,6 +223,8 @@ pub struct AutoState {
     class: Class,
     /// `pixels` > 0: the exact truth that certifies the choice (`certified`).
     certifying: Option<certified::Certifying>,
+    /// This frame's maps rendered and kept, over its tries.
+    reuse: ReuseCounts,
 }
 
 /// The price of one map of each size the search may choose (ms under `measured`, relative under
@@ -356,7 +359,8 @@ impl AutoState {
             // The previous grid's maps go before the next one's are allocated.
             self.grid = None;
             let frame = self.frames[&size].clone();
-            let mut grid = fixed_samples::prepare_sized(fg, &regular_points(n, Layout::Centred), size, Some(frame))?;
+            // One grid's maps at a time, kept from frame to frame while the choice holds (docs/reuse.md).
+            let mut grid = fixed_samples::prepare_kept(fg, &regular_points(n, Layout::Centred), size, Some(frame), Some("auto"))?;
             grid.estimate = Some(fixed_samples::Estimate::new(fg, n, Layout::Centred, grid.map_count())?);
             self.grid = Some(((n, size), grid));
         }
@@ -369,6 +373,7 @@ impl AutoState {
         if let Some(i) = self.filter {
             // The frame cleared V; the filter writes it, as its fixed method does.
             let out = self.filters.run(i, fg, timer)?;
+            self.reuse.add(&ReuseCounts::all_rendered(out.shadow_maps, fg.scene.render.shadow_map_size));
             record["maps_rendered"] = out.shadow_maps.into();
             record["estimated"] = false.into();
             return Ok(MethodOutput { shadow_maps: out.shadow_maps, syncs: 0, record, pictures: Vec::new(), bound: Some(bound) });
@@ -380,6 +385,7 @@ impl AutoState {
         let out = grid.run(fg, timer, false);
         grid.estimate = estimate;
         let out = out?;
+        self.reuse.add(&grid.reuse_counts().unwrap_or_default());
         // `tries` stays the settling frame's: how the choice was made.
         record["maps_rendered"] = out.shadow_maps.into();
         record["estimated"] = false.into();
@@ -392,6 +398,7 @@ impl AutoState {
         let grid = &mut self.grid.as_mut().expect("built above").1;
         let start = std::time::Instant::now();
         let out = render_into_cleared_v(grid, fg, timer)?;
+        self.reuse.add(&grid.reuse_counts().unwrap_or_default());
         let e = grid.estimate.as_ref().expect("built with the estimate");
         timer.flush(fg.ctx);
         let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
@@ -402,10 +409,10 @@ impl AutoState {
     }
 }
 
-/// Whether a try's prediction settles the frame: at most the target, or within KEEP of it for the
-/// choice handed on from the previous frame of a sequence (`handed_on`).
+/// Whether a try's prediction settles the frame: at most the target, or, for the choice handed
+/// on from the previous frame of a sequence (`handed_on`), within the band `hold` keeps a choice in.
 fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
-    predicted <= if handed_on { target * KEEP } else { target }
+    if handed_on { super::hold::standing(predicted, target) != super::hold::Standing::Above } else { predicted <= target }
 }
 
 /// One grid's frame into V cleared first: a try replaces the one before it, and shade adds.
@@ -419,6 +426,7 @@ impl MethodState for AutoState {
     /// The grid the frame starts with is built before the clock, as a fixed method's is; only the
     /// grids a search moves on to are built inside the frame.
     fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
+        self.reuse = ReuseCounts::default();
         if self.settled.is_some() && self.filter.is_some() {
             // A settled filter renders alone; a search builds what it tries.
             return Ok(());
@@ -446,7 +454,13 @@ impl MethodState for AutoState {
             let (t, b) = self.try_grid(fg, timer, &geometry, self.choice)?;
             bound = b;
             tries.push(t);
-            if acceptable(t.prediction.predicted_rmse, target, self.recalled && tries.len() == 1) {
+            let handed_on = self.recalled && tries.len() == 1;
+            // A handed-on choice whose prediction fell below the band may step down to a cheaper
+            // grid (the band's lower edge, `hold::standing`); within it, it holds.
+            if handed_on && super::hold::standing(t.prediction.predicted_rmse, target) == super::hold::Standing::Below {
+                down = true;
+            }
+            if acceptable(t.prediction.predicted_rmse, target, handed_on) {
                 // A step down is only taken with a try to spare for the way back.
                 let tried: Vec<(u32, u32)> = tries.iter().map(|t| (t.n, t.map_size)).collect();
                 let step = if down && tries.len() + 1 < MAX_TRIES { cheaper_meeting(self.class, t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs, &tried) } else { None };
@@ -493,6 +507,9 @@ impl MethodState for AutoState {
         if check {
             let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
             let handed = self.handed_filter.clone();
+            // A reference grid's maps are counted by its try; the candidates' are rendered.
+            let counted = |r: &ReuseCounts| r.rendered + r.kept + r.redrawn;
+            let grids_before = counted(&self.reuse);
             let outcome = if met {
                 // F = sqrt(D² − σ²) takes the grid's own error out of the difference: σ is the
                 // estimate's raw reading there (a calibrated σ, larger, would hide the filter's
@@ -515,6 +532,8 @@ impl MethodState for AutoState {
             self.filters = filters;
             let outcome = outcome?;
             maps += outcome.maps;
+            let reference_maps = counted(&self.reuse) - grids_before;
+            self.reuse.add(&ReuseCounts::all_rendered(outcome.maps.saturating_sub(reference_maps), fg.scene.render.shadow_map_size));
             if let Some((i, p, b)) = outcome.chosen {
                 self.filter = Some(i);
                 // Met: the filter's F. Out of reach, p is its difference from the grid, and the
@@ -565,6 +584,13 @@ impl MethodState for AutoState {
     }
     fn camera_moved(&mut self) {
         self.settled = None;
+    }
+    /// Every grid the frame rendered, and the one-map candidates' maps (rendered).
+    fn reuse(&self) -> Option<ReuseCounts> {
+        Some(self.reuse)
+    }
+    fn release_maps(&mut self) -> Vec<crate::render::kept_maps::KeptMaps> {
+        self.grid.as_mut().and_then(|(_, g)| g.release()).into_iter().collect()
     }
     /// The choice, so the next frame of a sequence starts from it (and only rises from there).
     fn memory(&self) -> Option<serde_json::Value> {

@@ -11,6 +11,7 @@ use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
 use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
+use crate::render::kept_maps::{KeptMaps, MapKey, Redraw, ReuseCounts, Slots};
 use crate::render::shadow_raster::{self, RasterJob};
 use crate::gpu::timing::StageTimer;
 use crate::Result;
@@ -116,9 +117,9 @@ impl ShadowMethod for Fixed {
         if cull && fg.scene.render.maps == crate::scene::MapKind::Hybrid {
             return Err(crate::Error::Param("regular: cull = on rasterizes plain maps; it cannot run with maps = hybrid".into()));
         }
-        let mut prepared = prepare(fg, &self.points())?;
+        let mut prepared = prepare_kept(fg, &self.points(), fg.scene.render.shadow_map_size, None, Some("fixed"))?;
         if cull {
-            prepared.culled = Some(CulledMaps::new(fg, prepared.points as u32)?);
+            prepared.cull(fg)?;
         }
         if let Fixed::Regular { n, layout, estimate: true, .. } = *self {
             prepared.estimate = Some(Estimate::new(fg, n, layout, prepared.points)?);
@@ -173,6 +174,12 @@ impl MethodState for Prepared {
     /// `estimate = on` and without it, the estimate's sums alone.
     fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         Ok(self.kept.take().map(|c| Box::new(c) as Box<dyn std::any::Any>))
+    }
+    fn reuse(&self) -> Option<ReuseCounts> {
+        self.reuse_counts()
+    }
+    fn release_maps(&mut self) -> Vec<KeptMaps> {
+        self.release().into_iter().collect()
     }
 }
 
@@ -245,10 +252,80 @@ impl Prepared {
         self.tiles = Some(tiles);
     }
 
-    /// Each map rasterizes only the triangles that can change a tested texel (`CulledMaps`).
+    /// Each map rasterizes only the triangles that can change a tested texel (`CulledMaps`). Such
+    /// a map serves this frame's pixels alone, so none is kept.
     pub(crate) fn cull(&mut self, fg: &FrameGpu) -> Result<()> {
         self.culled = Some(CulledMaps::new(fg, self.points as u32)?);
+        if let Maps::Plain(k, _) = &mut self.maps {
+            k.slots = Slots::new(k.slots.capacity(), false);
+        }
         Ok(())
+    }
+
+    /// The last frame's maps rendered and kept (None with hybrid maps, which keep none).
+    pub(crate) fn reuse_counts(&self) -> Option<ReuseCounts> {
+        match &self.maps {
+            Maps::Plain(k, _) => Some(k.slots.counts),
+            _ => None,
+        }
+    }
+
+    /// Its maps for the renderer to keep (`MethodState::release_maps`); the state runs no frame after.
+    pub(crate) fn release(&mut self) -> Option<KeptMaps> {
+        match std::mem::replace(&mut self.maps, Maps::Released) {
+            Maps::Plain(k, _) => Some(k),
+            other => {
+                self.maps = other;
+                None
+            }
+        }
+    }
+}
+
+/// Where a fixed sample set's maps go and in which chunks they are drawn and shaded. Without
+/// reuse (or where all fit): chunks of the array's `capacity`, map i in layer i mod capacity. With
+/// reuse and more maps than fit, the first `pinned` maps keep their own layers from frame to frame
+/// and the rest take turns in the other `rotating` layers (drawn every frame): the eviction
+/// docs/reuse.md states.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    pub points: u32,
+    pub pinned: u32,
+    pub rotating: u32,
+}
+
+impl Placement {
+    pub fn new(points: u32, capacity: u32, keeps: bool) -> Placement {
+        let capacity = capacity.max(1);
+        if !keeps {
+            return Placement { points, pinned: 0, rotating: capacity };
+        }
+        if points <= capacity {
+            return Placement { points, pinned: points, rotating: capacity - points };
+        }
+        // A quarter of the layers turn over (at least one), the rest are kept.
+        let rotating = (capacity / 4).max(1);
+        Placement { points, pinned: capacity - rotating, rotating }
+    }
+
+    /// Map i's layer.
+    pub fn layer(&self, i: u32) -> u32 {
+        if i < self.pinned { i } else { self.pinned + (i - self.pinned) % self.rotating }
+    }
+
+    /// (first, count) of each chunk, in sample order.
+    pub fn chunks(&self) -> Vec<(u32, u32)> {
+        let mut out = Vec::new();
+        if self.pinned > 0 {
+            out.push((0, self.pinned.min(self.points)));
+        }
+        let mut first = self.pinned;
+        while first < self.points {
+            let count = self.rotating.max(1).min(self.points - first);
+            out.push((first, count));
+            first += count;
+        }
+        out
     }
 }
 
@@ -275,10 +352,12 @@ pub struct Prepared {
     kept: Option<FixedBuffers>,
 }
 
-/// Plain: one array of `chunk` layers, shaded chunk by chunk. Hybrid: a transient raster and a store.
+/// Plain: one array, whose layers `Placement` hands out, shaded chunk by chunk. Hybrid: a
+/// transient raster and a store. Released: given to the renderer to keep (the state is dropped).
 enum Maps {
-    Plain { chunk: u32, array: shadow_raster::ShadowMapArray },
+    Plain(KeptMaps, Placement),
     Hybrid(Box<HybridMaps>),
+    Released,
 }
 
 /// Samples (s, t) with equal weights; a plain array holds at most `maps_per_array` maps.
@@ -290,6 +369,12 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
 /// with that map size) for every pass that reads them: one renderer tries several map sizes
 /// (`methods::auto`). `frame` None: the frame's own.
 pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: Option<wgpu::Buffer>) -> Result<Prepared> {
+    prepare_kept(fg, points, map_size, frame, None)
+}
+
+/// `prepare_sized` whose maps are kept from frame to frame as `owner`'s where the renderer
+/// reuses maps (docs/reuse.md): it takes what the renderer kept of them.
+pub fn prepare_kept(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: Option<wgpu::Buffer>, owner: Option<&str>) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
     let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
@@ -304,9 +389,11 @@ pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame:
         // array before the frame, so it goes through the plan's heap check here.
         crate::methods::sizes::check_run_time_array(ctx, &s.render, map_size, chunk)?;
     }
+    let keeps = owner.is_some() && fg.maps_kept.on && !hybrid;
+    let placement = Placement::new(samples.len() as u32, chunk, keeps);
     for (i, g) in samples.iter_mut().enumerate() {
         // Hybrid: the layer is the sample's slot in the store.
-        g.layer = i as u32 % chunk;
+        g.layer = if hybrid { i as u32 } else { placement.layer(i as u32) };
     }
     // Each face of a cube carries its sample's weight: the lookup counts one face per receiver.
     let weights = vec![1.0 / points.len() as f32; samples.len()];
@@ -316,9 +403,16 @@ pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame:
     let maps = if hybrid {
         Maps::Hybrid(Box::new(HybridMaps::new(fg, points as u32, points as u32)?))
     } else {
-        let array = fg.raster.allocate(ctx, map_size, chunk);
-        shadow_raster::clear_all(ctx, &array)?;
-        Maps::Plain { chunk, array }
+        let owner = owner.unwrap_or("fixed");
+        let kept = match fg.maps_kept.take(owner, map_size, &[chunk]) {
+            Some(k) if keeps => k,
+            _ => {
+                let array = fg.raster.allocate(ctx, map_size, chunk);
+                shadow_raster::clear_all(ctx, &array)?;
+                KeptMaps { owner: owner.to_string(), size: map_size, per_array: chunk, arrays: vec![array], slots: Slots::new(chunk, keeps) }
+            }
+        };
+        Maps::Plain(kept, placement)
     };
     Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, frame, tiles: None, keep: false, kept: None })
 }
@@ -330,29 +424,45 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     let tiles = tiles.as_ref().unwrap_or(&fg.geometry_tiles);
     let estimate = estimate.as_ref();
     let frame = frame.as_ref().unwrap_or(&fg.frame_buffer);
-    let (chunk, array) = match maps {
-        Maps::Plain { chunk, array } => (*chunk, &*array),
+    let (kept_maps, placement) = match maps {
+        Maps::Plain(k, p) => (k, *p),
         Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, estimate, *keep, kept),
+        Maps::Released => return Err(crate::Error::Gpu("a fixed-sample state ran a frame after giving its maps away".into())),
     };
+    let KeptMaps { arrays, slots, size: map_size, .. } = kept_maps;
+    let array = &arrays[0];
+    let map_size = *map_size;
+    slots.begin_frame();
     let ctx = fg.ctx;
     let points = *points;
     let mut buffers = keep.then(FixedBuffers::default);
     let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, tiles, visibility: &fg.visibility };
     let bar = crate::progress::bar(points as u64, "shadow maps");
-    for first in (0..points as u32).step_by(chunk as usize) {
-        let count = chunk.min(points as u32 - first);
-        let jobs: Vec<RasterJob> = (first..first + count).map(|i| RasterJob { sample: i, layer: i - first, scissor: None }).collect();
+    let chunks = placement.chunks();
+    for &(first, count) in &chunks {
+        // Only what the layers do not hold already (every map, where nothing is kept).
+        let (mut jobs, mut redraw) = (Vec::new(), Vec::new());
+        for i in first..first + count {
+            let layer = placement.layer(i);
+            match slots.place(MapKey::of(&samples[i as usize], map_size), layer) {
+                Redraw::Kept => {}
+                Redraw::Rect(r) => redraw.push(RasterJob { sample: i, layer, scissor: Some(r) }),
+                Redraw::Whole => jobs.push(RasterJob { sample: i, layer, scissor: None }),
+            }
+        }
         match culled.as_ref() {
             Some(c) => c.record(fg, timer, frame, samples_buffer, array, &jobs)?,
+            None if jobs.is_empty() && redraw.is_empty() => {}
             None => timer.stage(ctx, fg.raster.stage(), |enc| {
-                fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: samples_buffer, array }, &jobs)?;
-                Ok(())
+                let target = RasterTarget { scene: &fg.scene_gpu, samples: samples_buffer, array };
+                fg.raster.record(ctx, enc, &target, &jobs)?;
+                fg.raster.record_redraw(ctx, enc, &target, &redraw)
             })?,
         }
         if let Some(c) = buffers.as_mut() {
             timer.flush(ctx);
-            for layer in 0..count {
-                c.maps.push(readback::read_texture(ctx, &array.texture, layer, 4)?);
+            for i in first..first + count {
+                c.maps.push(readback::read_texture(ctx, &array.texture, placement.layer(i), 4)?);
             }
         }
         timer.stage(ctx, Stage::SHADE, |enc| {
@@ -370,8 +480,9 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         c.weights = weights.clone();
         c.tiles = read_tiles(fg, tiles)?;
     }
-    let chunks = (points as u32).div_ceil(chunk);
-    let mut record = serde_json::json!({ "maps_per_chunk": chunk, "chunks": chunks });
+    slots.commit();
+    let chunk = chunks.iter().map(|c| c.1).max().unwrap_or(0);
+    let mut record = serde_json::json!({ "maps_per_chunk": chunk, "chunks": chunks.len() });
     let mut syncs = 0;
     match culled.as_ref() {
         Some(c) => {

@@ -16,6 +16,7 @@ pub mod estimate;
 pub mod culled_maps;
 pub(crate) mod filtered;
 pub mod fixed_samples;
+pub mod hold;
 pub(crate) mod hybrid_maps;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
@@ -237,6 +238,16 @@ pub trait MethodState: Send {
     /// The screen-sized buffers it created, by label, as `ShadowMethod::size_needs` plans them
     /// (tests check the two agree).
     fn buffer_sizes(&self) -> Vec<(String, u64)> {
+        Vec::new()
+    }
+    /// The last frame's maps rendered, kept and partly drawn again (docs/reuse.md); None for a
+    /// method that keeps none (every map rendered).
+    fn reuse(&self) -> Option<crate::render::kept_maps::ReuseCounts> {
+        None
+    }
+    /// The maps it keeps, handed to the renderer when the state is dropped (the next frame's state
+    /// takes them from `FrameGpu::maps_kept`).
+    fn release_maps(&mut self) -> Vec<crate::render::kept_maps::KeptMaps> {
         Vec::new()
     }
 }

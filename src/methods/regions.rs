@@ -13,6 +13,7 @@ use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, Met
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
+use crate::render::kept_maps::ReuseCounts;
 use crate::gpu::Stage;
 use crate::scene::light::{sample_view_window, Bounds};
 use crate::stages::regions::{unordered, RegionsInputs, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS};
@@ -40,6 +41,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "sample_cost", default: "40", help: "the cost model's price of one pixel's test of one map, in texels" },
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
         Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
+        Param { key: "hold", default: "on", help: "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh" },
     ],
     parse,
 };
@@ -91,6 +93,11 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     let map_cost = check_range("regions", "map_cost", get_f32(p, "map_cost", 550_000.0)?, 0.0, 1e9)?;
     let sample_cost = check_range("regions", "sample_cost", get_f32(p, "sample_cost", 40.0)?, 0.0, 1e9)?;
     let force_size = get_u32(p, "force_size", 0)?;
+    let hold = match p.get("hold").map(String::as_str) {
+        None | Some("on") => true,
+        Some("off") => false,
+        Some(v) => return Err(crate::Error::Param(format!("regions: hold = `{v}`: use `on` or `off`"))),
+    };
     let centre_size = match get_u32(p, "centre_size", 0)? {
         0 => 0,
         v => power_of_two("centre_size", v)?,
@@ -116,6 +123,7 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         force,
         force_size,
         centre_size,
+        hold,
     }))
 }
 
@@ -139,6 +147,8 @@ pub struct Regions {
     pub force_size: u32,
     /// The decision's map side; 0: from the screen (`Regions::centre_side`).
     pub centre_size: u32,
+    /// A group keeps the previous frame's window while it holds (`State::held_window`).
+    pub hold: bool,
 }
 
 impl Regions {
@@ -196,6 +206,7 @@ impl ShadowMethod for Regions {
                 ("force", self.force.map_or("off".to_string(), |n| n.to_string())),
                 ("force_size", self.force_size.to_string()),
                 ("centre_size", self.centre_size.to_string()),
+                ("hold", if self.hold { "on" } else { "off" }.to_string()),
             ],
         )
     }
@@ -203,7 +214,7 @@ impl ShadowMethod for Regions {
         serde_json::json!({
             "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
             "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" },
-            "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size, "centre_size": self.centre_size,
+            "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size, "centre_size": self.centre_size, "hold": self.hold,
         })
     }
     /// Shade binds V whole on each class's tile list (one band). With `force`, the map side and
@@ -244,7 +255,7 @@ impl ShadowMethod for Regions {
         let probe = CentreMap::sized(fg, centre)?;
         let centre_frame = readback::uniform_buffer(fg.ctx, "regions centre frame", &crate::gpu::structs::GpuFrame { map_size: centre, ..fg.frame });
         let pass = RegionsPass::new(fg.ctx, fg.map_access(), &fg.gbuffer, params)?;
-        Ok(Box::new(State { method: self.clone(), ladder, probe, centre, centre_frame, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), density: 0.0, keep: false }))
+        Ok(Box::new(State { method: self.clone(), ladder, probe, centre, centre_frame, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), density: 0.0, keep: false, reuse: ReuseCounts::default(), held: Vec::new() }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -267,6 +278,10 @@ struct State {
     /// This frame's texels per pixel footprint (`State::density`, raised for the maps' share).
     density: f32,
     keep: bool,
+    /// This frame's maps rendered and kept.
+    reuse: ReuseCounts,
+    /// The previous frame's groups, (n, size, window), where `hold` keeps their windows.
+    held: Vec<(u32, u32, Bounds)>,
 }
 
 /// A window's side in tangent units as the light's centre sees it: a map's texel_angle at one texel.
@@ -364,11 +379,27 @@ impl State {
         groups
     }
 
+    /// `hold`: a group with the previous frame's samples per side and map size keeps that frame's
+    /// window, grown to hold its own receivers, while the grown window's extent stays within the
+    /// band (`hold::standing`) of its own window's: the texel it gives is then at most that much
+    /// coarser than the one it asked for. An unchanged window keeps its maps (their keys).
+    fn held_window(&self, fg: &FrameGpu, g: &mut Group) {
+        let Some((_, _, w)) = self.held.iter().find(|(n, size, _)| (*n, *size) == (g.n, g.size)) else { return };
+        let grown = Bounds { min: w.min.min(g.window.min), max: w.max.max(g.window.max) };
+        let extent = window_extent(fg, &grown);
+        if super::hold::standing(extent as f64, g.extent as f64) != super::hold::Standing::Above {
+            g.window = grown;
+            g.extent = extent;
+        }
+    }
+
     fn grid(&mut self, fg: &FrameGpu, n: u32, size: u32) -> Result<&mut Prepared> {
         self.frames.entry(size).or_insert_with(|| readback::uniform_buffer(fg.ctx, "regions frame", &crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame }));
         if !self.grids.contains_key(&(n, size)) {
             let frame = (size != fg.scene.render.shadow_map_size).then(|| self.frames[&size].clone());
-            let mut grid = fixed_samples::prepare_sized(fg, &regular_points(n, Layout::Centred), size, frame)?;
+            // Each (n, size)'s maps are kept from frame to frame (docs/reuse.md); a map is used
+            // again where its window is unchanged (its key), and culled maps are never kept.
+            let mut grid = fixed_samples::prepare_kept(fg, &regular_points(n, Layout::Centred), size, frame, Some(&format!("regions {n}x{size}")))?;
             if self.method.cull != Some(false) {
                 match grid.cull(fg) {
                     // auto on a device that cannot cull: the uncut maps, the same V.
@@ -384,10 +415,32 @@ impl State {
 
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
+        self.reuse = ReuseCounts::default();
         Ok(())
     }
     fn keep_intermediates(&mut self) {
         self.keep = true;
+    }
+    /// The groups' maps, and the decision's centre map (rendered every frame).
+    fn reuse(&self) -> Option<ReuseCounts> {
+        Some(self.reuse)
+    }
+    fn release_maps(&mut self) -> Vec<crate::render::kept_maps::KeptMaps> {
+        self.grids.values_mut().filter_map(Prepared::release).collect()
+    }
+    /// With `hold`, the groups' windows: the next frame's state starts from them.
+    fn memory(&self) -> Option<serde_json::Value> {
+        let held: Vec<serde_json::Value> = self.held.iter().map(|(n, size, w)| serde_json::json!([n, size, w.min.to_array(), w.max.to_array()])).collect();
+        (self.method.hold && !held.is_empty()).then(|| serde_json::json!(held))
+    }
+    fn recall(&mut self, memory: &serde_json::Value) {
+        let v3 = |v: &serde_json::Value| -> Option<glam::Vec3> { Some(glam::Vec3::new(v[0].as_f64()? as f32, v[1].as_f64()? as f32, v[2].as_f64()? as f32)) };
+        self.held = memory
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|g| Some((g[0].as_u64()? as u32, g[1].as_u64()? as u32, Bounds { min: v3(&g[2])?, max: v3(&g[3])? })))
+            .collect();
     }
     fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
         let ctx = fg.ctx;
@@ -435,6 +488,12 @@ impl MethodState for State {
         if self.method.force.is_none() && self.method.merge {
             groups = self.merged(fg, groups);
         }
+        if self.method.hold && self.method.force.is_none() {
+            for g in &mut groups {
+                self.held_window(fg, g);
+            }
+            self.held = groups.iter().map(|g| (g.n, g.size, g.window)).collect();
+        }
         let mut maps = 0u32;
         let (mut pairs, mut texels) = (0f64, 0f64);
         let mut records = Vec::new();
@@ -463,6 +522,8 @@ impl MethodState for State {
                 grid.keep_intermediates();
             }
             let out = grid.run(fg, timer, false)?;
+            let counts = grid.reuse_counts().unwrap_or_default();
+            self.reuse.add(&counts);
             syncs += out.syncs;
             maps += out.shadow_maps;
             let tris = out.record["triangles_per_map_mean"].as_f64().unwrap_or(0.0);
@@ -486,6 +547,7 @@ impl MethodState for State {
             "predicted_map": super::regions_budget::predicted_map(edges, pixels, self.density as f64),
         });
         self.classes = records;
+        self.reuse.add(&ReuseCounts::all_rendered(self.probe.count(), self.centre));
         let pictures = if pictures { super::regions_pictures::pictures(fg, &self.pass, &self.classes)? } else { Vec::new() };
         Ok(MethodOutput { shadow_maps: maps + self.probe.count(), syncs, record, pictures, bound: None })
     }

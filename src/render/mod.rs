@@ -4,6 +4,7 @@ pub(crate) mod barycentrics;
 pub mod bvh;
 pub mod gbuffer;
 pub mod shadow_order;
+pub mod kept_maps;
 pub mod shadow_raster;
 
 use crate::gpu::GpuContext;

@@ -119,6 +119,8 @@ pub fn clear_all(ctx: &GpuContext, array: &ShadowMapArray) -> Result<()> {
 
 pub struct ShadowRasterPass {
     pipeline: wgpu::RenderPipeline,
+    /// `vs_far`: the far plane over a scissor, depth test off (a kept map's rectangle cleared).
+    far: wgpu::RenderPipeline,
 }
 
 impl ShadowRasterPass {
@@ -157,7 +159,57 @@ impl ShadowRasterPass {
             cache: None,
         });
         pipeline::check(scope, Stage::SHADOW_RASTER.name)?;
-        Ok(Self { pipeline })
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let far = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shadow_raster far"),
+            layout: None,
+            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_far"), compilation_options: Default::default(), buffers: &[] },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        pipeline::check(scope, Stage::SHADOW_RASTER.name)?;
+        Ok(Self { pipeline, far })
+    }
+
+    /// Draws each job's scissor rectangle of its layer again and keeps the rest of the layer: the
+    /// far plane over the rectangle, then the whole mesh inside it. A texel's depth is the least
+    /// over the triangles covering its centre, whatever else is drawn, so the rectangle ends as a
+    /// fresh map's (docs/reuse.md).
+    pub fn record_redraw(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) {
+        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::shadow_raster::Pipeline { samples: samples.as_entire_binding() });
+        for job in jobs {
+            let Some([x, y, w, h]) = job.scissor else { continue };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(Stage::SHADOW_RASTER.name),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &array.layer_views[job.layer as usize],
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_scissor_rect(x, y, w, h);
+            pass.set_pipeline(&self.far);
+            pass.draw(0..3, 0..1);
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.set_vertex_buffer(0, scene.vertices.slice(..));
+            pass.set_index_buffer(scene.shadow_indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..scene.index_count, 0, job.sample..job.sample + 1);
+        }
     }
 
     /// Records one render pass per `(sample index, layer)`; `scissor` limits a map to a texel rectangle.

@@ -100,6 +100,20 @@ pub struct Decisions {
     pub split_base: wgpu::Buffer,
     /// The next level's quad_count dispatch (flag words x quads).
     pub dispatch_args: wgpu::Buffer,
+    /// One bit per quad node (`quad_node`): split in the previous frame (hysteresis, `hold`).
+    pub held: wgpu::Buffer,
+}
+
+/// Quads of every level of the lattice's quadtree: 1 + 4 + 16 + 64 + 256.
+pub const QUAD_NODES: u32 = 341;
+/// u32 words of the `held` bits.
+pub const HELD_WORDS: u32 = QUAD_NODES.div_ceil(32);
+
+/// A quad's place among every level's quads (kernels/subdivide.wgsl `quad_node`): the coarser
+/// levels' (4^d − 1) / 3 first, then its row and column at its own level.
+pub fn quad_node(i: u32, j: u32, size: u32) -> u32 {
+    let side = 16 / size;
+    (side * side - 1) / 3 + (j / size) * side + i / size
 }
 
 /// scope = local: the (pixel, quad) items of this level and the next, the probes, their counts

@@ -42,6 +42,9 @@ pub struct FrameParts {
     /// This frame's 8x8 tiles with a geometry pixel, listed with the G-buffer.
     pub geometry_tiles: GeometryTiles,
     pub visibility: wgpu::Buffer,
+    /// Shadow maps kept from the renderer's earlier frames, for the method's state to take
+    /// (docs/reuse.md); empty with reuse off.
+    pub maps_kept: crate::render::kept_maps::MapCache,
 }
 
 impl FrameGpu<'_> {

@@ -111,6 +111,19 @@ impl Raster {
         }
     }
 
+    /// Draws each job's scissor rectangle of its layer again and keeps the rest of the layer (a
+    /// kept map a moved mesh touched, docs/reuse.md); a job without a rectangle draws nothing.
+    pub fn record_redraw(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
+        let RasterTarget { scene, samples, array } = *to;
+        match self {
+            Raster::Hardware(pass) => {
+                pass.record_redraw(ctx, enc, scene, samples, array, jobs);
+                Ok(())
+            }
+            Raster::Compute(c) => c.record_redraw(ctx, enc, to, jobs),
+        }
+    }
+
     /// Each job draws the triangles the cull pass kept for it: its slot's index list, whose draw
     /// arguments (index count first) sit at the byte offset given with the job, in `args`.
     pub fn record_culled(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u64)], culled: &wgpu::Buffer, args: &wgpu::Buffer) -> Result<()> {
@@ -192,6 +205,24 @@ impl ComputeRaster {
     fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
         let whole: Vec<(RasterJob, u32)> = jobs.iter().map(|j| (*j, GpuRasterJob::WHOLE_MESH)).collect();
         self.record_jobs(ctx, enc, to, &whole, None)
+    }
+
+    /// The chain rasterizes each job inside its rectangle (far outside it), and only the
+    /// rectangle is copied into the layer.
+    fn record_redraw(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
+        let RasterTarget { scene, samples, .. } = *to;
+        let size = to.array.texture.width();
+        let chains = self.chain(ctx, size, scene.index_count / 3)?;
+        let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
+        let jobs: Vec<&RasterJob> = jobs.iter().filter(|j| j.scissor.is_some()).collect();
+        for part in jobs.chunks(chain.capacity as usize) {
+            let words: Vec<GpuRasterJob> = part.iter().map(|j| GpuRasterJob { kept_slot: GpuRasterJob::WHOLE_MESH, ..GpuRasterJob::new(j.sample, size, j.scissor) }).collect();
+            chain.record_kept(ctx, enc, scene, samples, &words, None);
+            for (m, job) in part.iter().enumerate() {
+                chain.copy_rect(enc, m as u32, &to.array.texture, job.layer, job.scissor.expect("filtered above"));
+            }
+        }
+        Ok(())
     }
 
     /// Chain by chain: rasterize, then copy each map into its layer. A job's second field is its

@@ -321,19 +321,23 @@ impl RasterCompute {
     /// `record`, in the same encoder). Rows go in one copy where their bytes meet the copy
     /// alignment (map sizes that are multiples of 64), else one copy per row.
     pub fn copy_map(&self, enc: &mut wgpu::CommandEncoder, m: u32, texture: &wgpu::Texture, layer: u32) {
+        self.copy_rect(enc, m, texture, layer, [0, 0, self.map_size, self.map_size]);
+    }
+
+    /// `copy_map` of the texels `[x, y, w, h]` alone: a kept map's rectangle drawn again, the
+    /// rest of the layer kept (docs/reuse.md).
+    pub fn copy_rect(&self, enc: &mut wgpu::CommandEncoder, m: u32, texture: &wgpu::Texture, layer: u32, [x, y, w, h]: [u32; 4]) {
         let size = self.map_size;
         let row = size * 4;
         let map_at = m as u64 * size as u64 * row as u64;
         let whole = row % wgpu::COPY_BYTES_PER_ROW_ALIGNMENT == 0;
-        let (copies, rows) = if whole { (1, size) } else { (size, 1) };
+        let (copies, rows) = if whole { (1, h) } else { (h, 1) };
         for r in 0..copies {
+            let at = map_at + ((y + r) as u64 * size as u64 + x as u64) * 4;
             enc.copy_buffer_to_texture(
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &self.depth,
-                    layout: wgpu::TexelCopyBufferLayout { offset: map_at + r as u64 * row as u64, bytes_per_row: whole.then_some(row), rows_per_image: whole.then_some(size) },
-                },
-                wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: r, z: layer }, aspect: wgpu::TextureAspect::All },
-                wgpu::Extent3d { width: size, height: rows, depth_or_array_layers: 1 },
+                wgpu::TexelCopyBufferInfo { buffer: &self.depth, layout: wgpu::TexelCopyBufferLayout { offset: at, bytes_per_row: whole.then_some(row), rows_per_image: whole.then_some(rows) } },
+                wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d { x, y: y + r, z: layer }, aspect: wgpu::TextureAspect::All },
+                wgpu::Extent3d { width: w, height: rows, depth_or_array_layers: 1 },
             );
         }
     }

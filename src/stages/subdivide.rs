@@ -42,6 +42,7 @@ impl Subdivide {
                 sample_level: out.sample_level.as_entire_binding(),
                 split_base: out.split_base.as_entire_binding(),
                 dispatch_args: out.dispatch_args.as_entire_binding(),
+                held: out.held.as_entire_binding(),
             },
             Dispatch::Direct([1, 1, 1]),
         );

@@ -130,6 +130,22 @@ pub fn measure_with<T>(
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
     after: &mut dyn FnMut(usize, &mut Renderer) -> Result<()>,
 ) -> Result<Vec<Outcome<T>>> {
+    measure_reusing(ctx, scene, methods, repeats, false, on_frame, judge, after)
+}
+
+/// As [`measure_with`], the renderers keeping their maps from frame to frame where `reuse`
+/// (docs/reuse.md): on one still scene every frame after the warm-up keeps them all.
+#[allow(clippy::too_many_arguments)]
+pub fn measure_reusing<T>(
+    ctx: &GpuContext,
+    scene: &Scene,
+    methods: &[Method],
+    repeats: u32,
+    reuse: bool,
+    on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
+    judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
+    after: &mut dyn FnMut(usize, &mut Renderer) -> Result<()>,
+) -> Result<Vec<Outcome<T>>> {
     let mut out = Vec::with_capacity(methods.len());
     // What the finished renderers leave that any method can use (`Detached::attach_as`).
     let mut kept: Vec<Detached> = Vec::new();
@@ -139,7 +155,7 @@ pub fn measure_with<T>(
         for m in window {
             let built = match kept.pop() {
                 Some(k) => k.attach_as(ctx, scene, m),
-                None => Renderer::new(ctx, scene, m),
+                None => Renderer::with_reuse(ctx, scene, m, reuse),
             };
             renderers.push(built.map_err(|e| e.to_string()));
         }

@@ -140,6 +140,8 @@ pub fn run_record_of(scene: &Scene, method: &Method, r: &FrameResult, v: VFigure
         "render": scene.render,
         "raster": r.raster,
         "shadow_maps": r.output.shadow_maps,
+        // Maps rasterized whole, kept from earlier frames, partly drawn again (docs/reuse.md).
+        "reuse": r.reuse,
         "syncs": r.output.syncs,
         "timing_waits": r.timing_waits,
         "clock": "wall clock (submit → device poll wait), milliseconds",

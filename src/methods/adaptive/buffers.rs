@@ -118,6 +118,7 @@ impl AdaptiveBuffers {
                 sample_level: storage("sample levels", LATTICE_POINTS as u64 * 4),
                 split_base: storage("split base", QUAD_CAPACITY as u64 * 4),
                 dispatch_args: indirect("dense dispatch args"),
+                held: readback::storage_buffer(ctx, "held quads", &[u32::MAX; crate::stages::adaptive_buffers::HELD_WORDS as usize], wgpu::BufferUsages::empty()),
             },
             items: ItemLists {
                 items: [storage("items a", item_capacity as u64 * 8), storage("items b", item_capacity as u64 * 8)],

@@ -320,6 +320,8 @@ pub(super) fn run(fg: &FrameGpu, timer: &mut StageTimer, p: &AdaptiveParams, pre
         begin_local(&fx, timer)?;
     }
     levels(&fx, timer, &mut waiting)?;
+    // Every level's maps are submitted: what the layers hold is what their keys name.
+    waiting.store.slots.commit();
     waiting.bar.finish_and_clear();
     let Waiting { mut trace, mut syncs, store, samples, .. } = waiting;
     let last = trace.levels.last().cloned().unwrap_or_default();
@@ -436,6 +438,7 @@ pub fn level_uniform(p: &AdaptiveParams, shape: Shape, level: u32, quad_count: u
         work_count: 0,
         dense_groups_x: groups(shape.height * shape.flag_words_per_row, LINE_WORKGROUP[0]),
         quad_capacity: QUAD_CAPACITY,
+        hold: p.hold,
         pad0: 0,
         ..Default::default()
     }

@@ -8,6 +8,7 @@ use super::AdaptiveTrace;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::methods::hybrid_maps::HybridMaps;
+use crate::render::kept_maps::{MapKey, Redraw, Slots};
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
 use crate::methods::adaptive::buffers::LATTICE_POINTS;
 use crate::stages::cull::{Cull, CullBatch};
@@ -17,18 +18,32 @@ use crate::Result;
 
 /// Shadow maps for the adaptive method: `global` reuses one array chunk by chunk (maps are needed
 /// only until shadow_test has cached them); `local` keeps every map alive in up to two arrays.
+/// Where the renderer reuses maps (docs/reuse.md), `slots` keeps each lattice sample's map across
+/// frames: a frame rasterizes only the samples whose maps no layer holds.
 pub(super) struct MapStore {
     pub arrays: Vec<ShadowMapArray>,
     pub per_array: u32,
     pub used: u32,
     /// `maps = hybrid` (scope = global): a few raster layers merged into a store, tested, dropped.
     pub hybrid: Option<HybridMaps>,
+    /// Which key each layer holds (`keeps` off: every map is drawn).
+    pub slots: Slots,
 }
 
 impl MapStore {
     pub fn views(&self) -> [&wgpu::TextureView; 2] {
         let a = &self.arrays[0].array_view;
         [a, self.arrays.get(1).map(|x| &x.array_view).unwrap_or(a)]
+    }
+
+    /// With `keeps`: the layer holding `key`, else the least recently used one outside `busy`
+    /// (the current chunk's, or under scope = local every layer this frame used).
+    fn kept_slot(&self, key: &MapKey, local: bool, busy: &[u32]) -> u32 {
+        let busy = |s: u32| busy.contains(&s) || (local && self.slots.used_now(s));
+        match self.slots.find(key) {
+            Some(s) if !busy(s) => s,
+            _ => self.slots.least_recent(busy).expect("a chunk never needs more layers than the store holds"),
+        }
     }
 }
 
@@ -57,20 +72,37 @@ pub(super) fn render_new(
     // A point light's lattice sample is `faces` maps (its cube, records k + 289 f): a chunk holds
     // whole cubes (scope = global only).
     let faces = super::faces_per_sample(samples);
-    for chunk in ks.chunks((store.per_array / faces).max(1) as usize) {
+    let capacity = if local { store.per_array } else { store.slots.capacity().max(1) };
+    for chunk in ks.chunks((capacity / faces).max(1) as usize) {
         let mut jobs: Vec<(usize, RasterJob)> = Vec::new();
+        let mut redraw: Vec<(usize, RasterJob)> = Vec::new();
+        let mut busy = Vec::new();
         for (n, &k) in chunk.iter().enumerate() {
             for f in 0..faces {
-                let slot = if local { store.used + n as u32 } else { n as u32 * faces + f };
-                let (array, layer) = (slot / store.per_array, slot % store.per_array);
                 let i = (k + LATTICE_POINTS * f) as usize;
+                let key = MapKey::of(&samples[i], map_size);
+                let slot = if store.slots.keeps() {
+                    store.kept_slot(&key, local, &busy)
+                } else if local {
+                    store.used + n as u32
+                } else {
+                    n as u32 * faces + f
+                };
+                busy.push(slot);
+                let (array, layer) = (slot / store.per_array, slot % store.per_array);
                 samples[i].layer = layer;
                 samples[i].array = array;
-                let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
-                // A map none of whose pixels is tested needs no raster at all: an empty rect.
-                let skip = rects.is_some() && scissor.is_none();
-                if !skip {
-                    jobs.push((array as usize, RasterJob { sample: i as u32, layer, scissor }));
+                match store.slots.place(key, slot) {
+                    Redraw::Kept => {}
+                    Redraw::Rect(r) => redraw.push((array as usize, RasterJob { sample: i as u32, layer, scissor: Some(r) })),
+                    Redraw::Whole => {
+                        let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
+                        // A map none of whose pixels is tested needs no raster at all: an empty rect.
+                        let skip = rects.is_some() && scissor.is_none();
+                        if !skip {
+                            jobs.push((array as usize, RasterJob { sample: i as u32, layer, scissor }));
+                        }
+                    }
                 }
                 ctx.queue.write_buffer(&b.samples, i as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[i]));
             }
@@ -79,6 +111,10 @@ pub(super) fn render_new(
             store.used += chunk.len() as u32;
         }
         for (a, array) in store.arrays.iter().enumerate() {
+            let again: Vec<RasterJob> = redraw.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
+            if !again.is_empty() {
+                timer.stage(ctx, fg.raster.stage(), |enc| fg.raster.record_redraw(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &again))?;
+            }
             let mine: Vec<RasterJob> = jobs.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
             if mine.is_empty() {
                 continue;

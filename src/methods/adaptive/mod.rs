@@ -27,6 +27,7 @@ use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE};
+use crate::render::kept_maps::{KeptMaps, ReuseCounts, Slots};
 use crate::render::shadow_raster;
 use crate::stages::{
     compact::Compact, cull::Cull, neighbourhood::Neighbourhood, probe::Probe, quad_count::QuadCount, reproject_count::ReprojectCount,
@@ -53,6 +54,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, results/bench-seed-table2-h100/)" },
         Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
         Param { key: "items", default: "32 per pixel", help: "scope=local only: the (pixel, quad) item list's starting capacity, at most what one binding holds; a frame that overflows it runs again on a list grown from the count" },
+        Param { key: "hold", default: "0", help: "hysteresis in low-quality pixels: a quad the previous frame did not split needs this many more to split; one it split stays split down to the threshold (docs/reuse.md)" },
         Param { key: "items_grow", default: "on", help: "scope=local only: off fails a frame that overflows the item list (reported, never clipped) instead of growing it" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
@@ -83,7 +85,7 @@ impl ShadowMethod for Adaptive {
         serde_json::to_value(&self.0).unwrap_or_default()
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
-        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None, keep: false, trace: None }))
+        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None, keep: false, trace: None, held: None }))
     }
     /// At most the lattice's maps (`prepare`'s store).
     fn shadow_maps(&self, scene: &crate::scene::Scene) -> u32 {
@@ -113,6 +115,20 @@ struct State {
     keep: bool,
     /// The last frame's trace, for `inspect`.
     trace: Option<AdaptiveTrace>,
+    /// The quads the previous frame split (one bit per quad node), for the hysteresis (`hold`);
+    /// None before the first frame: every quad then counts as split, so it decides without a margin.
+    held: Option<Vec<u32>>,
+}
+
+/// The quads a frame split, one bit per quad node (`quad_node`): the parents of each level's children.
+pub fn split_quads(levels: &[LevelReport]) -> Vec<u32> {
+    let mut bits = vec![0u32; crate::stages::adaptive_buffers::HELD_WORDS as usize];
+    for child in levels.iter().flat_map(|l| &l.next_quads) {
+        let size = child.size * 2;
+        let node = crate::stages::adaptive_buffers::quad_node(child.i - child.i % size, child.j - child.j % size, size);
+        bits[(node / 32) as usize] |= 1 << (node % 32);
+    }
+    bits
 }
 
 impl MethodState for State {
@@ -121,6 +137,9 @@ impl MethodState for State {
         pr.samples = lattice_samples(fg, &self.p);
         fg.ctx.queue.write_buffer(&pr.b.samples, 0, bytemuck::cast_slice(&pr.samples));
         pr.store.used = 0;
+        pr.store.slots.begin_frame();
+        let held = self.held.clone().unwrap_or_else(|| vec![u32::MAX; crate::stages::adaptive_buffers::HELD_WORDS as usize]);
+        fg.ctx.queue.write_buffer(&pr.b.decisions.held, 0, bytemuck::cast_slice(&held));
         if let Some(h) = pr.store.hybrid.as_mut() {
             h.reset(fg);
         }
@@ -134,6 +153,7 @@ impl MethodState for State {
             return Ok(out);
         }
         let (mut out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep, pictures)?;
+        self.held = Some(split_quads(&trace.levels));
         self.trace = Some(trace);
         if self.p.scope == Scope::Local {
             self.prepared.growth.report(self.prepared.b.shape.item_capacity, &mut out);
@@ -142,7 +162,9 @@ impl MethodState for State {
     }
     fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
         if let Some(pending) = self.pending.take() {
-            self.trace = Some(steer::finish(fg, &self.p, &mut self.prepared, pending, out)?);
+            let trace = steer::finish(fg, &self.p, &mut self.prepared, pending, out)?;
+            self.held = Some(split_quads(&trace.levels));
+            self.trace = Some(trace);
             if self.p.scope == Scope::Local {
                 self.prepared.growth.report(self.prepared.b.shape.item_capacity, out);
             }
@@ -174,8 +196,30 @@ impl MethodState for State {
     fn buffer_sizes(&self) -> Vec<(String, u64)> {
         self.prepared.b.screen_sized()
     }
+    /// The waiting loop's count of maps rendered and kept (the steered loop and hybrid maps keep
+    /// none: every map rendered).
+    fn reuse(&self) -> Option<ReuseCounts> {
+        let c = self.prepared.store.slots.counts;
+        (c.rendered + c.kept + c.redrawn > 0).then_some(c)
+    }
+    fn release_maps(&mut self) -> Vec<KeptMaps> {
+        let store = &mut self.prepared.store;
+        if !store.slots.keeps() {
+            return Vec::new();
+        }
+        let size = store.arrays.first().map_or(0, |a| a.texture.width());
+        let slots = std::mem::replace(&mut store.slots, Slots::new(0, false));
+        vec![KeptMaps { owner: "adaptive".into(), size, per_array: store.per_array, arrays: std::mem::take(&mut store.arrays), slots }]
+    }
     fn keep_intermediates(&mut self) {
         self.keep = true;
+    }
+    /// With hysteresis, the quads this frame split: the next frame's state starts from them.
+    fn memory(&self) -> Option<serde_json::Value> {
+        (self.p.hold > 0).then(|| serde_json::json!({ "held": self.held }))
+    }
+    fn recall(&mut self, memory: &serde_json::Value) {
+        self.held = serde_json::from_value(memory["held"].clone()).ok().flatten();
     }
     /// The last frame's [`AdaptiveTrace`] (every frame keeps one; `keep_intermediates` adds the
     /// maps and per-level buffers).
@@ -283,10 +327,17 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
         ));
     }
     let per_array = fg.raster.maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
+    // Maps kept from frame to frame (docs/reuse.md): not hybrid ones (merged into a store and
+    // dropped), nor those that serve only this frame's pixels (scissored or culled), nor the
+    // GPU-steered loop's (every candidate's layer is fixed before the frame).
+    let faces = faces_per_sample(&samples);
+    let keeps = fg.maps_kept.on && !hybrid && !p.scissor && !p.culls() && !p.culls_every_pixel() && !(faces == 1 && steer::eligible(p, &b));
+    let size = scene.render.shadow_map_size;
+    let taken = |layers: &[u32]| fg.maps_kept.take("adaptive", size, layers).filter(|_| keeps);
     let store = if hybrid {
         // Maps live only until shadow_test has cached them: one raster batch per store.
         let maps = HybridMaps::new(fg, LATTICE_POINTS, hybrid_maps::TRANSIENT_LAYERS)?;
-        maps::MapStore { arrays: Vec::new(), per_array: maps.layers(), used: 0, hybrid: Some(maps) }
+        maps::MapStore { arrays: Vec::new(), per_array: maps.layers(), used: 0, hybrid: Some(maps), slots: Slots::new(0, false) }
     } else if local {
         // Every map stays alive: the lattice needs up to 289, split across two arrays at the layer limit.
         let need = LATTICE_POINTS;
@@ -298,14 +349,12 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
             )));
         }
         let first = per_array.min(need);
-        let mut arrays = vec![fg.raster.allocate(ctx, scene.render.shadow_map_size, first)];
-        if first < need {
-            arrays.push(fg.raster.allocate(ctx, scene.render.shadow_map_size, need - first));
-        }
-        maps::MapStore { arrays, per_array: first, used: 0, hybrid: None }
+        let layers: Vec<u32> = if first < need { vec![first, need - first] } else { vec![first] };
+        kept_store(fg, taken(&layers), &layers, first, keeps)?
     } else {
-        let chunk = per_array.min(LATTICE_POINTS);
-        maps::MapStore { arrays: vec![fg.raster.allocate(ctx, scene.render.shadow_map_size, chunk)], per_array: chunk, used: 0, hybrid: None }
+        // With reuse, room for every lattice map the budget allows (a point light's six faces each).
+        let chunk = per_array.min(if keeps { LATTICE_POINTS * faces } else { LATTICE_POINTS });
+        kept_store(fg, taken(&[chunk]), &[chunk], chunk, keeps)?
     };
     let passes = Passes {
         shadow_test: if faces_per_sample(&samples) > 1 { ShadowTest::new_cube(fg.ctx, fg.map_access())? } else { ShadowTest::new(fg.ctx, fg.map_access(), local)? },
@@ -320,9 +369,6 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     if hybrid && p.culls_every_pixel() {
         return Err(crate::Error::Param("adaptive: cull = on under scope = global rasterizes plain maps; it cannot run with maps = hybrid".into()));
     }
-    for array in &store.arrays {
-        shadow_raster::clear_all(ctx, array)?;
-    }
     let cull = if p.culls() {
         Cull::new(ctx, fg.scene, &fg.scene_gpu, LATTICE_POINTS)?.map(|c| (c, readback::zeroed_storage(ctx, "culled indices per sample", LATTICE_POINTS as u64 * 4)))
     } else {
@@ -336,6 +382,21 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     }
     let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
     Ok(Prepared { b, store, passes, samples, cull, steer, growth: growth::Growth { fixed: fixed.is_some(), ..Default::default() } })
+}
+
+/// The store's arrays: those the renderer kept, or new ones cleared to the far plane.
+fn kept_store(fg: &FrameGpu, kept: Option<KeptMaps>, layers: &[u32], per_array: u32, keeps: bool) -> Result<maps::MapStore> {
+    let (arrays, slots) = match kept {
+        Some(k) => (k.arrays, k.slots),
+        None => {
+            let arrays: Vec<_> = layers.iter().map(|&l| fg.raster.allocate(fg.ctx, fg.scene.render.shadow_map_size, l)).collect();
+            for array in &arrays {
+                shadow_raster::clear_all(fg.ctx, array)?;
+            }
+            (arrays, Slots::new(layers.iter().sum(), keeps))
+        }
+    };
+    Ok(maps::MapStore { arrays, per_array, used: 0, hybrid: None, slots })
 }
 
 /// The adaptive stages' pipelines, built once per method.

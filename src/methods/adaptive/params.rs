@@ -90,6 +90,15 @@ pub struct AdaptiveParams {
     /// count (`items_grow = off`: it fails with the overflow instead; never clipped).
     #[serde(skip_serializing_if = "is_on")]
     pub items_grow: bool,
+    /// Hysteresis (docs/reuse.md): a quad the previous frame of the same renderer or sequence did
+    /// not split splits only with `hold` low-quality pixels past its threshold; one it split
+    /// merges only at or below the threshold. 0: no hysteresis (every frame decides afresh).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub hold: u32,
+}
+
+fn is_zero(v: &u32) -> bool {
+    *v == 0
 }
 
 /// Serialize `items_grow` only when it is off (the default adds nothing to a record).
@@ -107,7 +116,7 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true, items: None, items_grow: true }
+        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true, items: None, items_grow: true, hold: 0 }
     }
 }
 
@@ -243,6 +252,7 @@ impl AdaptiveParams {
                 return Err(Error::Param("adaptive: items_grow needs scope = local (only it keeps an item list)".into()));
             }
         }
+        p.hold = get_u32(params, "hold", 0)?;
         if let Some(v) = params.get("layout") {
             p.layout = match v.as_str() {
                 "lattice" => Layout::Lattice,
@@ -367,6 +377,9 @@ impl AdaptiveParams {
         }
         if !self.items_grow {
             s += ",items_grow=off";
+        }
+        if self.hold != 0 {
+            s += &format!(",hold={}", self.hold);
         }
         s
     }

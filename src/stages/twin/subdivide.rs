@@ -2,7 +2,7 @@
 //! children and new samples as sorted sets.
 
 use super::quad_corner;
-use crate::stages::adaptive_buffers::{NO_SPLIT, QUAD_CAPACITY};
+use crate::stages::adaptive_buffers::{quad_node, HELD_WORDS, NO_SPLIT, QUAD_CAPACITY};
 use crate::gpu::structs::GpuQuad;
 
 pub use crate::stages::subdivide::SplitRule;
@@ -28,6 +28,31 @@ pub struct SplitLevel {
 
 /// `lattice_state` (requested samples) and `sample_level` are updated in place, as the kernel's atomics.
 pub fn subdivide(at: &SplitLevel, quads: &[GpuQuad], counters: &[u32], lattice_state: &mut [u32], sample_level: &mut [u32]) -> SubdivideOut {
+    subdivide_held(at, &Held::every(), quads, counters, lattice_state, sample_level)
+}
+
+/// The hysteresis (`adaptive:hold`): the previous frame's split quads, one bit per quad node
+/// (`quad_node`), and the margin a quad not among them must pass its threshold by.
+#[derive(Clone, Debug)]
+pub struct Held {
+    pub bits: Vec<u32>,
+    pub hold: u32,
+}
+
+impl Held {
+    /// Every quad counts as split before: no margin anywhere (the first frame, or `hold = 0`).
+    pub fn every() -> Held {
+        Held { bits: vec![u32::MAX; HELD_WORDS as usize], hold: 0 }
+    }
+
+    fn margin(&self, quad: &GpuQuad) -> u32 {
+        let node = quad_node(quad.i, quad.j, quad.size);
+        if (self.bits[(node / 32) as usize] >> (node % 32)) & 1 == 1 { 0 } else { self.hold }
+    }
+}
+
+/// `subdivide` with the previous frame's split quads `held`.
+pub fn subdivide_held(at: &SplitLevel, held: &Held, quads: &[GpuQuad], counters: &[u32], lattice_state: &mut [u32], sample_level: &mut [u32]) -> SubdivideOut {
     let SplitLevel { level, max_level, rule, geometry_pixels } = *at;
     let mut out = SubdivideOut::default();
     let mut request = |i: u32, j: u32, out: &mut SubdivideOut| {
@@ -42,13 +67,14 @@ pub fn subdivide(at: &SplitLevel, quads: &[GpuQuad], counters: &[u32], lattice_s
             let k = quad_corner(quad, c) as usize;
             sample_level[k] = sample_level[k].max(level);
         }
+        let margin = held.margin(quad);
         let split = level < max_level
             && quad.size > 1
             && match rule {
                 SplitRule::Always => true,
                 SplitRule::Never => false,
-                SplitRule::Threshold(p_m) => counters[q] > p_m,
-                SplitRule::Share(share) => counters[q] as f32 > geometry_pixels as f32 * share,
+                SplitRule::Threshold(p_m) => counters[q] > p_m && counters[q] - p_m > margin,
+                SplitRule::Share(share) => counters[q] as f32 - margin as f32 > geometry_pixels as f32 * share,
             };
         out.split_base.push(NO_SPLIT);
         if split {

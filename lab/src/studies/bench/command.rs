@@ -42,6 +42,11 @@ pub struct BenchArgs {
     // Render settings for every scene file (named under the table).
     #[command(flatten)]
     sets: SetArgs,
+    /// Keep each method's shadow maps from frame to frame (on) or render them every frame (off).
+    /// Off by default: the suite times a still scene, whose repeated frames would keep every map,
+    /// and its table compares frames that render their maps (docs/reuse.md).
+    #[arg(long, default_value = "off", value_parser = ["on", "off"])]
+    reuse: String,
 }
 
 impl crate::studies::Run for BenchArgs {
@@ -61,6 +66,7 @@ fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
         regions: (args.regions != "none").then(|| Method::parse(&args.regions, &[])).transpose()?,
         only: args.only,
         sets: args.sets.render()?,
+        reuse: args.reuse == "on",
     };
     let scenes = bench::prepare(&opts)?;
     let ctx = GpuContext::with_request(gpu)?;

@@ -37,6 +37,9 @@ pub struct SuiteOptions {
     pub only: Vec<String>,
     /// Render settings set over every scene file (`--set raster=auto`), as (key, value).
     pub sets: Vec<(String, String)>,
+    /// Each method keeps its maps from frame to frame (`--reuse on`): the timed frames of a still
+    /// scene then rasterize nothing (docs/reuse.md).
+    pub reuse: bool,
 }
 
 /// One method on one scene.
@@ -224,12 +227,21 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         let judge = Judge::new(&scene, &g, reference.values);
         let mut on_frame = |method: &Method, phase: Phase, r: &crate::frame::FrameResult| {
             bar.set_message(format!("{} {}", row.scene, method.name()));
-            let line = format!("{:7} {:18} {:8} {:>10.1} ms  {:>3} maps", row.scene, method.label(), phase.to_string(), r.total_ms, r.output.shadow_maps);
+            let line = format!(
+                "{:7} {:18} {:8} {:>10.1} ms  {:>3} maps ({} rendered, {} kept)",
+                row.scene,
+                method.label(),
+                phase.to_string(),
+                r.total_ms,
+                r.output.shadow_maps,
+                r.reuse.rendered,
+                r.reuse.kept
+            );
             crate::progress::suspend(|| log(&line));
             bar.inc(1);
         };
         let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&scene, &methods[i].label(), f)?.metrics);
-        let measured = measure::measure(ctx, &scene, &methods, opts.repeats, &mut on_frame, &mut judge_frame)?;
+        let measured = measure::measure_reusing(ctx, &scene, &methods, opts.repeats, opts.reuse, &mut on_frame, &mut judge_frame, &mut |_, _| Ok(()))?;
         let info = RunInfo {
             scene: row.scene,
             resolution: [scene.render.width, scene.render.height],

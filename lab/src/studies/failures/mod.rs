@@ -173,7 +173,7 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
         let s = SCENARIOS.iter().find(|s| s.name == POP_SCENE).ok_or_else(|| Error::param(format!("no scenario {POP_SCENE}")))?;
         let scene = scene(s, job.resolution)?;
         let animation = Animation { subject: Subject::Light, path: Path::Segment { offset: POP_OFFSET }, mesh: None };
-        let seq = SequenceJob { scene: &scene, methods: popping_methods(&job.methods), frames: job.frames, animation, reference: job.reference, cache: job.cache.clone() };
+        let seq = SequenceJob { scene: &scene, methods: popping_methods(&job.methods), frames: job.frames, animation, reference: job.reference, cache: job.cache.clone(), reuse: sequence::Reuse::On };
         Some(sequence::run(ctx, &seq, &|_| {})?)
     } else {
         None

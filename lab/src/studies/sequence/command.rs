@@ -51,6 +51,10 @@ pub struct SequenceArgs {
     /// Trace the references without the cache: nothing is read from it or stored in it.
     #[arg(long)]
     no_cache: bool,
+    /// Keep each method's shadow maps from frame to frame where nothing they depend on moved:
+    /// on, off, or both (each method twice, side by side, V compared bit for bit; docs/reuse.md).
+    #[arg(long, default_value = "on")]
+    reuse: String,
 }
 
 /// Checks everything the user gave before the GPU starts, runs, writes the set.
@@ -74,7 +78,8 @@ fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     };
     let animation = spec.resolve(&scene)?;
     let reference = truth::parse_mode(&args.reference, args.samples)?;
-    let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: truth::Cache::default_for(args.no_cache) };
+    let reuse = sequence::Reuse::parse(&args.reuse)?;
+    let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: truth::Cache::default_for(args.no_cache), reuse };
     sequence::check(&job)?;
     crate::methods::check_lights(&scene, &job.methods)?;
     let ctx = GpuContext::with_request(gpu)?;

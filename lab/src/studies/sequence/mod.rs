@@ -24,6 +24,7 @@ use crate::reference::ReferenceMode;
 use crate::scene::Scene;
 use crate::gpu::timing::TimingMode;
 use crate::record::run_files;
+use crate::render::kept_maps::ReuseCounts;
 use crate::{progress, Error, Result};
 use path::Animation;
 use serde::{Deserialize, Serialize};
@@ -41,6 +42,39 @@ pub struct SequenceJob<'a> {
     pub animation: Animation,
     pub reference: ReferenceMode,
     pub cache: Cache,
+    /// Whether each method keeps its shadow maps from frame to frame (docs/reuse.md).
+    pub reuse: Reuse,
+}
+
+/// `--reuse`: every method keeps the maps that nothing moved (`on`), renders all (`off`), or
+/// runs twice, without and with, side by side in each frame (`both`: the rows say which, and each
+/// reuse frame's V is compared bit for bit with the frame without).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Reuse {
+    On,
+    Off,
+    Both,
+}
+
+impl Reuse {
+    pub fn parse(v: &str) -> Result<Reuse> {
+        match v {
+            "on" => Ok(Reuse::On),
+            "off" => Ok(Reuse::Off),
+            "both" => Ok(Reuse::Both),
+            _ => Err(Error::param(format!("--reuse {v}: use on, off or both"))),
+        }
+    }
+
+    /// Each method's runs, in the order a frame renders them: (reuse, the run's label).
+    fn runs(self, label: &str) -> Vec<(bool, String)> {
+        match self {
+            Reuse::On => vec![(true, label.to_string())],
+            Reuse::Off => vec![(false, label.to_string())],
+            Reuse::Both => vec![(false, format!("{label} (reuse off)")), (true, format!("{label} (reuse on)"))],
+        }
+    }
 }
 
 /// One method in one frame: a line of `frames.jsonl`.
@@ -59,6 +93,18 @@ pub struct FrameRow {
     pub temporal: Option<FramePair>,
     pub light_center: [f32; 3],
     pub camera_eye: [f32; 3],
+    /// The run kept its maps from frame to frame (docs/reuse.md).
+    #[serde(default)]
+    pub reuse: bool,
+    /// Maps rendered, kept and partly drawn again this frame, and the texels rasterized.
+    #[serde(default)]
+    pub maps: ReuseCounts,
+    /// `--reuse both`, a reuse run's frame: V equal bit for bit to the same frame without reuse.
+    #[serde(default)]
+    pub v_equal_without_reuse: Option<bool>,
+    /// Bytes of shadow maps the renderer keeps for the next frame (at most the map budget).
+    #[serde(default)]
+    pub kept_bytes: u64,
 }
 
 /// One method over the whole sequence: a line of `summary.json`'s `methods`.
@@ -79,6 +125,34 @@ pub struct MethodSummary {
     pub median_ms: f64,
     /// The frame with the most popping pixels, and how many.
     pub worst_pop_frame: Option<(u32, u64)>,
+    /// The run kept its maps from frame to frame.
+    #[serde(default)]
+    pub reuse: bool,
+    /// Mean over the frames after the first: the wall clock, maps rendered whole, maps kept, and
+    /// texels rasterized over the texels of the maps used.
+    #[serde(default)]
+    pub mean_ms_after_first: f64,
+    #[serde(default)]
+    pub rendered_mean_after_first: f64,
+    #[serde(default)]
+    pub kept_mean_after_first: f64,
+    #[serde(default)]
+    pub texel_share_after_first: f64,
+    /// `--reuse both`, a reuse run: (frames whose V equals the frame without reuse bit for bit,
+    /// frames compared).
+    #[serde(default)]
+    pub v_equal_frames: Option<(u32, u32)>,
+    /// `--reuse both`, a reuse run: the median over the frames after the first of its frame time
+    /// over the same method's without reuse in the same frame (below 1: reuse is faster). Each
+    /// pair ran back to back, so a load spike on a shared machine moves both.
+    #[serde(default)]
+    pub time_ratio_to_without_reuse: Option<f64>,
+    /// Median over the frames after the first of the wall clock.
+    #[serde(default)]
+    pub median_ms_after_first: f64,
+    /// The most bytes of maps kept between two frames.
+    #[serde(default)]
+    pub kept_bytes_max: u64,
 }
 
 pub struct SequenceOutcome {
@@ -128,14 +202,16 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     check(job)?;
     let scene = job.scene;
     let (w, h) = (scene.render.width, scene.render.height);
-    let n = job.methods.len();
+    // Each method's runs (one, or without and with reuse), in the order every frame renders them.
+    let runs: Vec<(usize, bool, String)> = job.methods.iter().enumerate().flat_map(|(k, m)| job.reuse.runs(&m.label()).into_iter().map(move |(r, l)| (k, r, l))).collect();
+    let n = runs.len();
     let mut rows: Vec<FrameRow> = Vec::new();
     let mut method_frames: Vec<Vec<image::RgbImage>> = vec![Vec::new(); n];
     let mut reference_frames = Vec::new();
     let mut previous_v: Vec<Option<Vec<f32>>> = vec![None; n];
     let mut previous_reference: Option<(Vec<f32>, Vec<bool>)> = None;
     // One renderer per method for the whole sequence, moved from frame to frame.
-    let mut kept: Vec<Option<Detached>> = job.methods.iter().map(|_| None).collect();
+    let mut kept: Vec<Option<Detached>> = runs.iter().map(|_| None).collect();
     let mut reference_label = String::new();
     let bar = progress::bar(u64::from(job.frames), "sequence frames");
     for i in 0..job.frames {
@@ -145,13 +221,18 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         let mask: Vec<bool> = (0..g.position.len()).map(|p| g.is_geometry(p)).collect();
         let shaded_reference = run_files::shaded_image(&reference.values, &g, &scene_t);
         let mut line = format!("frame {}/{}: reference {}", i + 1, job.frames, if reference.cached { "cached" } else { "traced" });
-        for (k, method) in job.methods.iter().enumerate() {
+        // `--reuse both`: each method's V without reuse, for its reuse run to equal.
+        let mut without: Vec<Option<Vec<f32>>> = vec![None; job.methods.len()];
+        for (k, (mi, reuse, label)) in runs.iter().enumerate() {
+            let method = &job.methods[*mi];
             let mut renderer = match kept[k].take() {
                 Some(d) => d.attach(ctx, &scene_t)?,
-                None => Renderer::new(ctx, &scene_t, method)?,
+                None => Renderer::with_reuse(ctx, &scene_t, method, *reuse)?,
             };
             let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-            kept[k] = Some(renderer.detach());
+            let detached = renderer.detach();
+            let kept_bytes = detached.maps_kept().bytes();
+            kept[k] = Some(detached);
             let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
             if differ > 0 {
                 return Err(Error::gpu(format!("{} frame {i}: the G-buffer differs from the reference's in {differ} pixels", method.label())));
@@ -163,13 +244,20 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 (Some(v0), Some((r0, mask0))) => Some(temporal::frame_pair(v0, &f.visibility, r0, &reference.values, mask0, &mask)),
                 _ => None,
             };
-            line += &format!(", {} {} maps RMSE {:.4}", method.label(), f.output.shadow_maps, m.rmse);
+            line += &format!(", {label} {} maps ({} rendered) RMSE {:.4}", f.output.shadow_maps, f.reuse.rendered, m.rmse);
             if let Some(p) = &pair {
                 line += &format!(" pop {}", p.popping_pixels);
             }
+            let equal = match (*reuse, &without[*mi]) {
+                (true, Some(v0)) => Some(bytemuck::cast_slice::<f32, u32>(v0) == bytemuck::cast_slice::<f32, u32>(&f.visibility)),
+                _ => None,
+            };
+            if equal == Some(false) {
+                line += " V DIFFERS from the frame without reuse";
+            }
             rows.push(FrameRow {
                 scene: scene.name.clone(),
-                label: method.label(),
+                label: label.clone(),
                 method: method.name().to_string(),
                 params: method.params_json(),
                 frame: i,
@@ -179,8 +267,15 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 temporal: pair,
                 light_center: scene_t.light.center.to_array(),
                 camera_eye: scene_t.camera.eye.to_array(),
+                reuse: *reuse,
+                maps: f.reuse,
+                v_equal_without_reuse: equal,
+                kept_bytes,
             });
             method_frames[k].push(apng::side_by_side(&[&shaded, &abs]));
+            if !*reuse && job.reuse == Reuse::Both {
+                without[*mi] = Some(f.visibility.clone());
+            }
             previous_v[k] = Some(f.visibility);
         }
         reference_frames.push(shaded_reference);
@@ -190,8 +285,11 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     }
     bar.finish_and_clear();
 
-    let labels: Vec<String> = job.methods.iter().map(Method::label).collect();
-    let summaries: Vec<MethodSummary> = labels.iter().zip(&job.methods).map(|(l, m)| summarise(l, m.name(), &rows)).collect();
+    let labels: Vec<String> = runs.iter().map(|(_, _, l)| l.clone()).collect();
+    let mut summaries: Vec<MethodSummary> = runs.iter().map(|(m, _, l)| summarise(l, job.methods[*m].name(), &rows)).collect();
+    if job.reuse == Reuse::Both {
+        time_ratios(&mut summaries, &rows);
+    }
     let charts = charts_of(&rows, &labels)?;
     let mut animations = vec![("reference (shaded)".to_string(), apng::encode(&reference_frames, FRAME_DELAY_MS)?)];
     for (label, frames) in labels.iter().zip(&method_frames) {
@@ -216,6 +314,25 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     Ok(outcome)
 }
 
+/// `--reuse both`: each reuse run's frame time over its method's run without, frame by frame
+/// after the first, and the median of those ratios (the runs come in pairs, without then with).
+pub fn time_ratios(summaries: &mut [MethodSummary], rows: &[FrameRow]) {
+    for pair in summaries.chunks_mut(2) {
+        if let [off, on] = pair {
+            if off.reuse || !on.reuse {
+                continue;
+            }
+            let ms = |label: &str, frame: u32| rows.iter().find(|r| r.label == label && r.frame == frame).map(|r| r.total_ms);
+            let ratios: Vec<f64> = rows
+                .iter()
+                .filter(|r| r.label == on.label && r.frame > 0)
+                .filter_map(|r| ms(&off.label, r.frame).filter(|&o| o > 0.0).map(|o| r.total_ms / o))
+                .collect();
+            on.time_ratio_to_without_reuse = (!ratios.is_empty()).then(|| median(&ratios));
+        }
+    }
+}
+
 /// The figures of one method over all frames of `rows`.
 pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary {
     let mine: Vec<&FrameRow> = rows.iter().filter(|r| r.label == label).collect();
@@ -226,6 +343,10 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         .iter()
         .filter_map(|r| r.temporal.map(|t| (r.frame, t.popping_pixels)))
         .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
+    let later: Vec<&&FrameRow> = mine.iter().filter(|r| r.frame > 0).collect();
+    let mean_later = |f: &dyn Fn(&FrameRow) -> f64| if later.is_empty() { 0.0 } else { later.iter().map(|r| f(r)).sum::<f64>() / later.len() as f64 };
+    let (texels, used) = later.iter().fold((0u64, 0u64), |(a, b), r| (a + r.maps.texels, b + r.maps.texels_used));
+    let compared: Vec<bool> = mine.iter().filter_map(|r| r.v_equal_without_reuse).collect();
     MethodSummary {
         label: label.to_string(),
         method: method.to_string(),
@@ -238,6 +359,15 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         maps_max: mine.iter().map(|r| r.shadow_maps).max().unwrap_or(0),
         median_ms: if times.is_empty() { 0.0 } else { median(&times) },
         worst_pop_frame: worst,
+        reuse: mine.first().is_some_and(|r| r.reuse),
+        mean_ms_after_first: mean_later(&|r| r.total_ms),
+        median_ms_after_first: if later.is_empty() { 0.0 } else { median(&later.iter().map(|r| r.total_ms).collect::<Vec<_>>()) },
+        rendered_mean_after_first: mean_later(&|r| f64::from(r.maps.rendered)),
+        kept_mean_after_first: mean_later(&|r| f64::from(r.maps.kept)),
+        texel_share_after_first: if used == 0 { 0.0 } else { texels as f64 / used as f64 },
+        v_equal_frames: (!compared.is_empty()).then(|| (compared.iter().filter(|&&e| e).count() as u32, compared.len() as u32)),
+        time_ratio_to_without_reuse: None,
+        kept_bytes_max: mine.iter().map(|r| r.kept_bytes).max().unwrap_or(0),
     }
 }
 
@@ -280,6 +410,16 @@ fn charts_of(rows: &[FrameRow], labels: &[String]) -> Result<Vec<(String, String
             )?,
         ),
     ];
+    out.push((
+        "frame_time_per_frame".to_string(),
+        "Frame time per frame: wall clock of one frame-mode frame (the first frame keeps nothing)".to_string(),
+        charts::per_frame_svg("Frame time per frame", "frame time (ms)", &series(rows, labels, all, |r| Some(r.total_ms)))?,
+    ));
+    out.push((
+        "maps_rendered_per_frame".to_string(),
+        "Shadow maps rasterized whole per frame (the rest were kept, or partly drawn again where a mesh moved; docs/reuse.md)".to_string(),
+        charts::per_frame_svg("Shadow maps rendered per frame", "maps rendered", &series(rows, labels, all, |r| Some(f64::from(r.maps.rendered))))?,
+    ));
     let adaptive = series(rows, labels, |r| r.method == "adaptive", |r| Some(f64::from(r.shadow_maps)));
     if !adaptive.is_empty() {
         out.push((
@@ -318,6 +458,7 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
         "definitions": "docs/sequence.md",
         "version": run_files::version(),
         "methods": o.summaries,
+        "reuse": job.reuse,
     });
     let pretty = serde_json::to_vec_pretty(&summary).map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
     files.push(("summary.json".to_string(), pretty));
@@ -340,4 +481,66 @@ pub fn write(out: &std::path::Path, o: &SequenceOutcome) -> Result<std::path::Pa
     files.push(("report.html".to_string(), crate::report::page::page(&title, &[section::section(o)?])?.into_bytes()));
     run_files::write_files(out, &files)?;
     Ok(out.join("report.html"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::kept_maps::ReuseCounts;
+
+    fn row(label: &str, frame: u32, reuse: bool, ms: f64, rendered: u32, kept: u32, equal: Option<bool>) -> FrameRow {
+        FrameRow {
+            scene: "s".into(),
+            label: label.into(),
+            method: "regular".into(),
+            params: serde_json::json!({}),
+            frame,
+            shadow_maps: rendered + kept,
+            total_ms: ms,
+            metrics: Metrics::default(),
+            temporal: None,
+            light_center: [0.0; 3],
+            camera_eye: [0.0; 3],
+            reuse,
+            maps: ReuseCounts { rendered, kept, redrawn: 0, texels: rendered as u64 * 4, texels_used: (rendered + kept) as u64 * 4 },
+            v_equal_without_reuse: equal,
+            kept_bytes: if reuse { 1024 } else { 0 },
+        }
+    }
+
+    #[test]
+    fn reuse_figures_after_the_first_frame_and_the_ratio_to_the_run_without() {
+        let rows = [
+            row("a (reuse off)", 0, false, 100.0, 8, 0, None),
+            row("a (reuse on)", 0, true, 110.0, 8, 0, Some(true)),
+            row("a (reuse off)", 1, false, 90.0, 8, 0, None),
+            row("a (reuse on)", 1, true, 30.0, 0, 8, Some(true)),
+            row("a (reuse off)", 2, false, 110.0, 8, 0, None),
+            row("a (reuse on)", 2, true, 22.0, 2, 6, Some(false)),
+            // A load spike on the frame without reuse: the paired ratio's median shrugs it off.
+            row("a (reuse off)", 3, false, 900.0, 8, 0, None),
+            row("a (reuse on)", 3, true, 36.0, 0, 8, Some(true)),
+        ];
+        let mut s = vec![summarise("a (reuse off)", "regular", &rows), summarise("a (reuse on)", "regular", &rows)];
+        time_ratios(&mut s, &rows);
+        let (off, on) = (&s[0], &s[1]);
+        assert_eq!((off.reuse, on.reuse), (false, true));
+        assert_eq!((off.mean_ms_after_first, on.mean_ms_after_first), (1100.0 / 3.0, 88.0 / 3.0));
+        assert_eq!((off.median_ms_after_first, on.median_ms_after_first), (110.0, 30.0));
+        // Ratios 30/90, 22/110, 36/900: their median is 0.2.
+        assert_eq!(on.time_ratio_to_without_reuse, Some(0.2));
+        assert_eq!(off.time_ratio_to_without_reuse, None);
+        assert_eq!((on.rendered_mean_after_first, on.kept_mean_after_first), (2.0 / 3.0, 22.0 / 3.0));
+        assert_eq!(on.texel_share_after_first, 8.0 / 96.0);
+        assert_eq!(on.v_equal_frames, Some((3, 4)));
+        assert_eq!(off.v_equal_frames, None);
+        assert_eq!(on.kept_bytes_max, 1024);
+    }
+
+    #[test]
+    fn both_runs_each_method_without_then_with_reuse() {
+        assert_eq!(Reuse::Both.runs("x"), vec![(false, "x (reuse off)".to_string()), (true, "x (reuse on)".to_string())]);
+        assert_eq!(Reuse::On.runs("x"), vec![(true, "x".to_string())]);
+        assert_eq!(Reuse::parse("sometimes").unwrap_err().to_string(), "--reuse sometimes: use on, off or both");
+    }
 }

@@ -193,22 +193,54 @@ impl Animation {
                 out.camera.eye += s * Vec3::from(offset);
                 out.camera.target += s * Vec3::from(offset);
             }
-            (Subject::Occluder, path) => {
-                let shift = match path {
-                    Path::Segment { offset } => s * Vec3::from(offset),
-                    Path::Circle { radius } => radius * Vec3::new(angle.cos(), 0.0, angle.sin()),
-                    Path::Orbit { .. } => Vec3::ZERO,
-                };
-                let mesh = self.mesh.unwrap_or(scene.albedos.len() - 1) as u32;
+            (Subject::Occluder, _) => {
+                let shift = self.shift(i, frames);
+                let mesh = self.moving_mesh(scene);
                 for v in out.vertices.iter_mut().filter(|v| v.material == mesh) {
                     v.position = (Vec3::from(v.position) + shift).to_array();
                 }
-                out.bounds = bounds_of(&out);
+                out.bounds = self.swept_bounds(scene, frames);
             }
             // `resolve` admits no other pairing.
             _ => {}
         }
         out
+    }
+
+    /// The moving mesh's material index.
+    fn moving_mesh(&self, scene: &Scene) -> u32 {
+        self.mesh.unwrap_or(scene.albedos.len() - 1) as u32
+    }
+
+    /// How far the moving mesh is moved in frame `i` of `frames`.
+    fn shift(&self, i: u32, frames: u32) -> Vec3 {
+        let s = i as f32 / (frames.max(2) - 1) as f32;
+        let angle = std::f32::consts::TAU * i as f32 / frames.max(1) as f32;
+        match self.path {
+            Path::Segment { offset } => s * Vec3::from(offset),
+            Path::Circle { radius } => radius * Vec3::new(angle.cos(), 0.0, angle.sin()),
+            Path::Orbit { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// The scene's bounds over the whole path: the still meshes and every place the moving one
+    /// takes. Every frame's shadow maps are fitted to them, so a map's frustum does not follow the
+    /// mesh and a map the mesh does not touch stays what it was (docs/reuse.md).
+    fn swept_bounds(&self, scene: &Scene, frames: u32) -> Bounds {
+        let mesh = self.moving_mesh(scene);
+        let empty = || Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+        let (mut still, mut moving) = (empty(), empty());
+        for v in &scene.vertices {
+            let b = if v.material == mesh { &mut moving } else { &mut still };
+            b.min = b.min.min(Vec3::from(v.position));
+            b.max = b.max.max(Vec3::from(v.position));
+        }
+        for i in 0..frames.max(2) {
+            let d = self.shift(i, frames);
+            still.min = still.min.min(moving.min + d);
+            still.max = still.max.max(moving.max + d);
+        }
+        still
     }
 
     /// One line for logs and the report: `light along a segment by (3.2, 0, 0)`.
@@ -225,15 +257,6 @@ impl Animation {
             Path::Orbit { degrees } => format!("{what} orbiting the target by {degrees}°"),
         }
     }
-}
-
-fn bounds_of(scene: &Scene) -> Bounds {
-    let mut b = Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
-    for v in &scene.vertices {
-        b.min = b.min.min(Vec3::from(v.position));
-        b.max = b.max.max(Vec3::from(v.position));
-    }
-    b
 }
 
 #[cfg(test)]
@@ -315,7 +338,11 @@ translate = [0.0, 2.0, 0.0]
             let dy = v1.position[1] - v0.position[1];
             assert_eq!(dy, if v0.material == 1 { 3.0 } else { 0.0 });
         }
+        // Every frame's bounds are the path's: the maps' frusta stay put.
         assert_eq!(end.bounds.max.y, s.bounds.max.y + 3.0);
+        let start = a.frame(&s, 0, 2);
+        assert_eq!((start.bounds.min, start.bounds.max), (end.bounds.min, end.bounds.max));
+        assert_eq!(start.bounds.min.y, s.bounds.min.y);
     }
 
     #[test]

@@ -81,6 +81,10 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
                 m.temporal.popping_pixels.to_string(),
                 if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}–{})", m.maps_mean, m.maps_min, m.maps_max) },
                 format!("{:.1}", m.median_ms),
+                format!("{:.1}", m.median_ms_after_first),
+                m.time_ratio_to_without_reuse.map_or("–".to_string(), |r| format!("{r:.3}")),
+                format!("{:.1} / {:.1}", m.rendered_mean_after_first, m.kept_mean_after_first),
+                m.v_equal_frames.map_or("–".to_string(), |(e, n)| format!("{e} of {n}")),
             ]
         })
         .collect();
@@ -104,6 +108,10 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
             "popping pixels",
             "maps per frame",
             "median ms",
+            "median ms after frame 0",
+            "time over reuse off (median of frame pairs)",
+            "maps rendered / kept after frame 0",
+            "V equal without reuse",
         ],
         rows,
         charts: o.charts.iter().map(|(_, caption, svg)| Figure { caption: caption.clone(), uri: data_uri("image/svg+xml", svg.as_bytes()) }).collect(),
@@ -132,6 +140,10 @@ mod tests {
             temporal: (frame > 0).then_some(FramePair { popping_pixels: pops, pixels: 100, ..Default::default() }),
             light_center: [0.0; 3],
             camera_eye: [0.0; 3],
+            reuse: false,
+            maps: Default::default(),
+            v_equal_without_reuse: None,
+            kept_bytes: 0,
         }
     }
 

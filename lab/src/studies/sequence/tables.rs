@@ -14,13 +14,13 @@ fn field(text: &str) -> String {
 
 pub fn frames_csv(rows: &[FrameRow]) -> String {
     let mut s = String::from(
-        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels\n",
+        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels,reuse,maps_rendered,maps_kept,maps_redrawn,texels_rasterized,texels_used,v_equal_without_reuse,kept_bytes\n",
     );
     for r in rows {
         let t = r.temporal;
         let opt = |v: Option<String>| v.unwrap_or_default();
         s += &format!(
-            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{}\n",
+            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             field(&r.scene),
             field(&r.label),
             r.frame,
@@ -35,6 +35,14 @@ pub fn frames_csv(rows: &[FrameRow]) -> String {
             opt(t.map(|t| format!("{:.6}", t.popping_share))),
             opt(t.map(|t| t.popping_pixels.to_string())),
             opt(t.map(|t| t.pixels.to_string())),
+            r.reuse,
+            r.maps.rendered,
+            r.maps.kept,
+            r.maps.redrawn,
+            r.maps.texels,
+            r.maps.texels_used,
+            opt(r.v_equal_without_reuse.map(|e| e.to_string())),
+            r.kept_bytes,
         );
     }
     s
@@ -42,11 +50,11 @@ pub fn frames_csv(rows: &[FrameRow]) -> String {
 
 pub fn summary_csv(rows: &[MethodSummary]) -> String {
     let mut s = String::from(
-        "label,frames,mean_rmse,mean_bad_pixel_share,temporal_rmse,popping_share,popping_pixels,maps_mean,maps_min,maps_max,median_ms\n",
+        "label,frames,mean_rmse,mean_bad_pixel_share,temporal_rmse,popping_share,popping_pixels,maps_mean,maps_min,maps_max,median_ms,reuse,mean_ms_after_first,rendered_mean_after_first,kept_mean_after_first,texel_share_after_first,v_equal_frames,v_compared_frames,time_ratio_to_without_reuse,median_ms_after_first,kept_bytes_max\n",
     );
     for m in rows {
         s += &format!(
-            "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3}\n",
+            "{},{},{:.6},{:.6},{:.6},{:.6},{},{:.2},{},{},{:.3},{},{:.3},{:.2},{:.2},{:.6},{},{},{},{:.3},{}\n",
             field(&m.label),
             m.frames,
             m.mean_rmse,
@@ -57,7 +65,17 @@ pub fn summary_csv(rows: &[MethodSummary]) -> String {
             m.maps_mean,
             m.maps_min,
             m.maps_max,
-            m.median_ms
+            m.median_ms,
+            m.reuse,
+            m.mean_ms_after_first,
+            m.rendered_mean_after_first,
+            m.kept_mean_after_first,
+            m.texel_share_after_first,
+            m.v_equal_frames.map_or(String::new(), |v| v.0.to_string()),
+            m.v_equal_frames.map_or(String::new(), |v| v.1.to_string()),
+            m.time_ratio_to_without_reuse.map_or(String::new(), |r| format!("{r:.4}")),
+            m.median_ms_after_first,
+            m.kept_bytes_max,
         );
     }
     s
@@ -66,20 +84,26 @@ pub fn summary_csv(rows: &[MethodSummary]) -> String {
 /// The per-method figures as a plain-text table for the terminal.
 pub fn summary_table(rows: &[MethodSummary]) -> String {
     let mut s = format!(
-        "{:<28} {:>10} {:>13} {:>10} {:>8} {:>16} {:>10}\n",
-        "method", "mean RMSE", "temporal RMSE", "popping %", "pops", "maps per frame", "median ms"
+        "{:<28} {:>10} {:>13} {:>10} {:>8} {:>16} {:>10} {:>14} {:>12} {:>9} {:>12}\n",
+        "method", "mean RMSE", "temporal RMSE", "popping %", "pops", "maps per frame", "median ms", "mean ms (1..)", "rendered (1..)", "V equal", "time ratio"
     );
     for m in rows {
         let maps = if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}-{})", m.maps_mean, m.maps_min, m.maps_max) };
+        let equal = m.v_equal_frames.map_or("-".to_string(), |(e, n)| format!("{e}/{n}"));
+        let ratio = m.time_ratio_to_without_reuse.map_or("-".to_string(), |r| format!("{r:.3}"));
         s += &format!(
-            "{:<28} {:>10.4} {:>13.4} {:>10.3} {:>8} {:>16} {:>10.1}\n",
+            "{:<28} {:>10.4} {:>13.4} {:>10.3} {:>8} {:>16} {:>10.1} {:>14.1} {:>12.1} {:>9} {:>12}\n",
             m.label,
             m.mean_rmse,
             m.temporal.temporal_rmse,
             100.0 * m.temporal.popping_share,
             m.temporal.popping_pixels,
             maps,
-            m.median_ms
+            m.median_ms,
+            m.mean_ms_after_first,
+            m.rendered_mean_after_first,
+            equal,
+            ratio
         );
     }
     s
