@@ -20,6 +20,7 @@ pub mod framing;
 pub mod frontier;
 pub mod hybrid;
 pub mod lists;
+pub mod oracle;
 pub mod seams;
 pub mod sequence;
 pub mod shard;
