@@ -56,6 +56,10 @@ pub struct FrontierArgs {
     /// Trace the reference even when the cache holds it.
     #[arg(long)]
     no_cache: bool,
+    /// Draw the front from the first windows' times: no n filled near the front, nothing timed
+    /// again side by side (docs/frontier.md, "The second look").
+    #[arg(long)]
+    no_second_look: bool,
 }
 
 /// Render settings the grid itself sets for every setting.
@@ -127,7 +131,7 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
         }
     }
     eprintln!("{} ({thinning})", plan::line(&all, &scene, repeats));
-    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
+    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache), second_look: !args.no_second_look };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);

@@ -102,6 +102,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             l.rmse, l.setting(), l.maps, l.map_size, l.frame_ms, l.frame_ms_min, l.frame_ms_max, flip(l)
         );
     }
+    s += &super::second_look::table(lines);
     let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget() && l.failed.is_none()).collect();
     if !budget.is_empty() {
         s += "\n## The error budget against the frontier\n\n\
