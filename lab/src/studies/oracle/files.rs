@@ -10,7 +10,7 @@ use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
 /// Header of `oracle.csv`.
-pub const ROW_COLUMNS: [&str; 22] = [
+pub const ROW_COLUMNS: [&str; 23] = [
     "scene",
     "resolution",
     "target",
@@ -25,6 +25,7 @@ pub const ROW_COLUMNS: [&str; 22] = [
     "bound_ms",
     "gain_bound",
     "gain_oracle",
+    "closed",
     "tiles",
     "free_tiles",
     "split",
@@ -62,6 +63,7 @@ pub fn rows_csv(rows: &[OracleRow]) -> String {
             opt(r.bound_ms, 2),
             opt(r.gain_bound, 3),
             opt(r.gain_oracle, 3),
+            r.closed.map_or(String::new(), |c| c.to_string()),
             r.tiles.to_string(),
             r.free_tiles.to_string(),
             classes(&r.split),

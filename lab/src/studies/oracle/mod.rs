@@ -90,6 +90,9 @@ pub struct OracleRow {
     pub bound_ms: Option<f64>,
     /// single_model_ms / bound_ms: the most choosing per tile could gain.
     pub gain_bound: Option<f64>,
+    /// The search closed (the bound is the optimum's); false: it stopped at its node limit and
+    /// the bound is the least over the nodes left.
+    pub closed: Option<bool>,
     /// single_model_ms / oracle_ms: what the oracle's own frame gains.
     pub gain_oracle: Option<f64>,
     /// Tiles with geometry, and of those uniformly lit or dark (free).
@@ -279,6 +282,7 @@ fn oracle_row(scene: &Scene, menu: &str, target: f64, cands: &[&Measured], tiles
         oracle_rmse: None,
         bound_ms: None,
         gain_bound: None,
+        closed: None,
         gain_oracle: None,
         tiles: geometry_tiles,
         free_tiles: tiles.free.iter().filter(|&&f| f).count(),
@@ -298,6 +302,7 @@ fn oracle_row(scene: &Scene, menu: &str, target: f64, cands: &[&Measured], tiles
     row.oracle_ms = Some(s.frame_ms);
     row.oracle_rmse = Some((s.err / n).sqrt());
     row.bound_ms = Some(s.bound_ms);
+    row.closed = Some(s.closed);
     row.gain_bound = row.single_model_ms.map(|m| m / s.bound_ms);
     row.gain_oracle = row.single_model_ms.map(|m| m / s.frame_ms);
     // The classes, most tiles first; each tile's index into them.

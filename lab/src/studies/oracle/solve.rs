@@ -7,16 +7,18 @@
 //!     F + Σ_{k ∈ S} M_k + Σ_t c_{t,k(t)},   subject to   Σ_t e_{t,k(t)} ≤ B.
 //!
 //! Without the budget this is uncapacitated facility location (candidates open at M_k, tiles
-//! served at c); the budget makes it harder still. Two answers come back:
-//! - `frame_ms`, an achievable frame: a set of candidates found by local search (add, drop, swap),
-//!   each set's tiles assigned by a Lagrange multiplier on the budget and filled greedily;
-//! - `bound_ms`, a lower bound on every assignment: for any λ ≥ 0 the frame costs at least
-//!   F + UFL(c + λe) − λB, and any feasible point of the facility-location LP's dual
-//!   (Erlenkotter's dual ascent) is at most UFL. The best λ found is kept; whichever λ, the figure
-//!   stays a bound.
+//! served at c); the budget couples the tiles. The search:
+//! - a first frame from local search over sets (add, drop or swap one candidate) from several
+//!   starts, each set's tiles assigned as the multiple-choice knapsack's LP orders them;
+//! - then branch and bound over which candidates' maps are paid. A node's bound, for any λ ≥ 0,
+//!   is F + its open maps + a feasible point of facility location's LP dual at prices c + λe
+//!   (Erlenkotter's dual ascent) − λB, the best over λ; a leaf (every candidate decided) is
+//!   bounded by its knapsack's LP. Nodes whose bound reaches the best frame are cut.
 //!
-//! Tiles that are uniformly lit or dark in the reference are taken out before (the caller's gift,
-//! free). The gap between the two figures is reported, not hidden.
+//! `bound_ms` is the least bound over the nodes not cut: where the search closes (`closed`), the
+//! frame found and the bound differ only by the knapsack's last fractional step, and no frame of
+//! these candidates is cheaper than the bound. Tiles that are uniformly lit or dark in the
+//! reference are taken out before (the caller's gift, free).
 
 /// One frame's choice: per tile (free tiles left out) and candidate, the ms of the tile's pixel
 /// tests and its summed squared error of V; per candidate, the ms of its maps.
@@ -45,6 +47,8 @@ pub struct Solution {
     pub choice: Vec<usize>,
     /// The frame's summed squared error (at most the budget).
     pub err: f64,
+    /// The branch and bound ended before its node limit: `bound_ms` is the optimum's.
+    pub closed: bool,
 }
 
 impl Problem {
@@ -82,22 +86,24 @@ impl Problem {
 /// The cheapest frame found and the bound; None when no choice meets the budget.
 pub fn solve(p: &Problem) -> Option<Solution> {
     if p.tiles() == 0 {
-        return Some(Solution { frame_ms: p.fixed_ms, bound_ms: p.fixed_ms, choice: Vec::new(), err: 0.0 });
+        return Some(Solution { frame_ms: p.fixed_ms, bound_ms: p.fixed_ms, choice: Vec::new(), err: 0.0, closed: true });
     }
     if p.least_err() > p.budget {
         return None;
     }
-    let (frame_ms, choice, err) = search(p);
-    let bound_ms = bound(p, frame_ms);
-    Some(Solution { frame_ms, bound_ms: bound_ms.min(frame_ms), choice, err })
+    let ((_, set), bound_ms, closed) = branch_and_bound(p, search(p));
+    let (frame_ms, choice, err) = settle(p, &set);
+    Some(Solution { frame_ms, bound_ms: bound_ms.min(frame_ms), choice, err, closed })
 }
 
-/// Erlenkotter's dual ascent for facility location at prices d = c + λe: a feasible point v of
-/// the LP's dual (Σ_t max(0, v_t − d_tk) ≤ M_k for every k), raised one breakpoint per tile and
-/// pass until no tile can rise. Returns v; Σ v is at most the facility-location optimum.
-fn dual_ascent(p: &Problem, lambda: f64) -> Vec<f64> {
-    let (nt, nk) = (p.tiles(), p.candidates());
-    let d: Vec<f64> = p.cost.iter().zip(&p.err).map(|(c, e)| c + lambda * e).collect();
+/// Erlenkotter's dual ascent for facility location at prices d = c + λe over the candidates `ks`
+/// whose maps cost `maps` (0 for a candidate already paid for): a feasible point v of the LP's
+/// dual (Σ_t max(0, v_t − d_tk) ≤ maps_k for every k), raised one breakpoint per tile and pass
+/// until no tile can rise. Returns Σ v, at most the facility-location optimum, and each
+/// candidate's slack (0: the tiles it serves pay for its maps).
+fn dual_ascent(p: &Problem, lambda: f64, ks: &[usize], maps: &[f64]) -> (f64, Vec<f64>) {
+    let (nt, nk) = (p.tiles(), ks.len());
+    let d: Vec<f64> = (0..nt).flat_map(|t| ks.iter().map(move |&k| (t, k))).map(|(t, k)| p.at(t, k).0 + lambda * p.at(t, k).1).collect();
     let orders: Vec<Vec<usize>> = (0..nt)
         .map(|t| {
             let mut o: Vec<usize> = (0..nk).collect();
@@ -108,7 +114,7 @@ fn dual_ascent(p: &Problem, lambda: f64) -> Vec<f64> {
     let mut v: Vec<f64> = (0..nt).map(|t| d[t * nk + orders[t][0]]).collect();
     // How many of the tile's candidates are at or below v_t: those whose slack its rise uses.
     let mut below: Vec<usize> = (0..nt).map(|t| orders[t].iter().take_while(|&&k| d[t * nk + k] <= v[t]).count()).collect();
-    let mut slack = p.maps_ms.clone();
+    let mut slack = maps.to_vec();
     loop {
         let mut risen = false;
         for t in 0..nt {
@@ -133,90 +139,191 @@ fn dual_ascent(p: &Problem, lambda: f64) -> Vec<f64> {
             }
         }
         if !risen {
-            return v;
+            return (v.iter().sum(), slack);
         }
     }
 }
 
-/// The Lagrangian of the LP relaxation at tile prices u and budget multiplier λ ≥ 0:
-///
-///     L(u, λ) = F + Σ_t u_t − λB + Σ_k min(0, M_k + Σ_t min(0, c_tk + λe_tk − u_t)),
-///
-/// at most the price of every frame within the budget, whatever u and λ. Returns L and its
-/// supergradient in (u, λ).
-fn lagrangian(p: &Problem, u: &[f64], lambda: f64) -> (f64, Vec<f64>, f64) {
-    let (nt, nk) = (p.tiles(), p.candidates());
-    let mut value = p.fixed_ms + u.iter().sum::<f64>() - lambda * p.budget;
-    let mut gu = vec![1.0; nt];
-    let mut gl = -p.budget;
-    for k in 0..nk {
-        let mut s = p.maps_ms[k];
-        for t in 0..nt {
-            let (c, e) = p.at(t, k);
-            s += (c + lambda * e - u[t]).min(0.0);
-        }
-        if s < 0.0 {
-            value += s;
-            for t in 0..nt {
-                let (c, e) = p.at(t, k);
-                if c + lambda * e < u[t] {
-                    gu[t] -= 1.0;
-                    gl += e;
-                }
-            }
-        }
-    }
-    (value, gu, gl)
+/// Which candidates a node of the search has decided.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Status {
+    Free,
+    /// Its maps are paid for.
+    Open,
+    /// Not in the frame.
+    Closed,
 }
 
-/// The bound: the dual ascent's value swept over λ (16 decades about the problem's scale), then
-/// raised by projected supergradient steps on the LP relaxation's Lagrangian in (u, λ) from the
-/// best point, stepping toward the frame found (Polyak's rule). Every point it visits is a valid
-/// bound; the best is kept.
-fn bound(p: &Problem, frame_ms: f64) -> f64 {
-    let scale = p.lambda_scale();
-    let mut best = (f64::NEG_INFINITY, Vec::new(), 0.0);
-    for i in std::iter::once(None).chain((-16..=16).map(Some)) {
-        let lambda = i.map_or(0.0, |i| scale * 10f64.powf(f64::from(i) / 2.0));
-        let v = dual_ascent(p, lambda);
-        let value = p.fixed_ms + v.iter().sum::<f64>() - lambda * p.budget;
-        if value > best.0 {
-            best = (value, v, lambda);
+/// A node's lower bound on every frame whose set holds its open candidates and no closed one:
+/// F + the open maps + the dual ascent over the open (maps paid) and free candidates − λB, the
+/// best over λ: 2 points a decade over `span` decades about `around`, then golden-section
+/// refinement. Returns (bound, its λ, each candidate's slack, 0 for the closed).
+fn node_bound(p: &Problem, status: &[Status], around: f64, span: i32) -> (f64, f64, Vec<f64>) {
+    let ks: Vec<usize> = (0..p.candidates()).filter(|&k| status[k] != Status::Closed).collect();
+    let maps: Vec<f64> = ks.iter().map(|&k| if status[k] == Status::Open { 0.0 } else { p.maps_ms[k] }).collect();
+    let paid: f64 = p.fixed_ms + (0..p.candidates()).filter(|&k| status[k] == Status::Open).map(|k| p.maps_ms[k]).sum::<f64>();
+    let value = |lambda: f64| {
+        let (v, slack) = dual_ascent(p, lambda, &ks, &maps);
+        (paid + v - lambda * p.budget, slack)
+    };
+    let (v0, s0) = value(0.0);
+    let mut best = (v0, 0.0, s0);
+    let mut at = None;
+    let points: Vec<f64> = (-2 * span..=2 * span).map(|i| around * 10f64.powf(f64::from(i) / 4.0)).collect();
+    for (i, &l) in points.iter().enumerate() {
+        let (v, s) = value(l);
+        if v > best.0 {
+            (best, at) = ((v, l, s), Some(i));
         }
     }
-    let (mut top, mut u, mut lambda) = best;
-    // λ moves in units of the problem's scale, so its steps compare with the tiles' prices.
-    let (mut theta, mut stale) = (1.0, 0);
-    for _ in 0..2000 {
-        let (value, gu, gl) = lagrangian(p, &u, lambda);
-        if value > top + 1e-9 * top.abs() {
-            (top, stale) = (value, 0);
-        } else {
-            stale += 1;
-            if stale >= 25 {
-                (theta, stale) = (theta / 2.0, 0);
-                if theta < 1e-4 {
-                    break;
-                }
+    if let Some(i) = at {
+        let (mut lo, mut hi) = (points[i.saturating_sub(1)].ln(), points[(i + 1).min(points.len() - 1)].ln());
+        let g = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..10 {
+            let (a, b) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            let ((va, sa), (vb, sb)) = (value(a.exp()), value(b.exp()));
+            if va > best.0 {
+                best = (va, a.exp(), sa);
+            }
+            if vb > best.0 {
+                best = (vb, b.exp(), sb);
+            }
+            if va >= vb {
+                hi = b;
+            } else {
+                lo = a;
             }
         }
-        let gl = gl * scale;
-        let norm = gu.iter().map(|g| g * g).sum::<f64>() + gl * gl;
-        if norm <= 0.0 || frame_ms - value <= 1e-9 * frame_ms.abs() {
+    }
+    let mut slack = vec![0.0; p.candidates()];
+    for (i, &k) in ks.iter().enumerate() {
+        slack[k] = best.2[i];
+    }
+    (best.0, best.1, slack)
+}
+
+/// The multiple-choice knapsack's LP over the candidates of `set`: its tiles' least test time
+/// within the budget with the last hull step taken in part (at most every integral assignment).
+fn assign_lp(p: &Problem, set: &[usize]) -> f64 {
+    let (mut tests, mut err, steps) = hull_steps(p, set);
+    if err <= p.budget {
+        return tests;
+    }
+    for (rate, dc, de) in steps {
+        if err - de <= p.budget {
+            // The part of this step that meets the budget exactly.
+            return tests + (err - p.budget) / rate.max(1e-300);
+        }
+        (tests, err) = (tests + dc, err - de);
+    }
+    f64::INFINITY
+}
+
+/// Every tile at its cheapest candidate of `set` (test ms and error summed), and every step
+/// along each tile's convex hull of (ms, error) as (error saved per ms, ms added, error saved),
+/// best first.
+fn hull_steps(p: &Problem, set: &[usize]) -> (f64, f64, Vec<(f64, f64, f64)>) {
+    let (mut tests, mut err, mut steps) = (0.0, 0.0, Vec::new());
+    for t in 0..p.tiles() {
+        let hull = hull(p, t, set);
+        tests += hull[0].0;
+        err += hull[0].1;
+        for w in hull.windows(2) {
+            steps.push(((w[0].1 - w[1].1) / (w[1].0 - w[0].0).max(1e-300), w[1].0 - w[0].0, w[0].1 - w[1].1));
+        }
+    }
+    steps.sort_by(|a, b| b.0.total_cmp(&a.0));
+    (tests, err, steps)
+}
+
+/// Tile t's lower-left convex hull of (test ms, error, candidate) over `set`, cheapest first.
+fn hull(p: &Problem, t: usize, set: &[usize]) -> Vec<(f64, f64, usize)> {
+    let mut opts: Vec<(f64, f64, usize)> = set.iter().map(|&k| (p.at(t, k).0, p.at(t, k).1, k)).collect();
+    opts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut hull: Vec<(f64, f64, usize)> = vec![opts[0]];
+    for &o in &opts[1..] {
+        if o.1 >= hull.last().expect("hull starts non-empty").1 {
+            continue; // dearer and no more accurate
+        }
+        // Keep the hull convex: drop a point above the segment from its predecessor to o.
+        while hull.len() >= 2 {
+            let (a, b) = (hull[hull.len() - 2], hull[hull.len() - 1]);
+            if (b.0 - a.0) * (o.1 - a.1) - (b.1 - a.1) * (o.0 - a.0) <= 0.0 {
+                hull.pop();
+            } else {
+                break;
+            }
+        }
+        hull.push(o);
+    }
+    hull
+}
+
+/// Nodes the exact search may visit before it stops and reports the bound it has.
+const NODE_LIMIT: usize = 4000;
+
+/// Branch and bound over which candidates' maps the frame pays, from the incumbent `best`
+/// (frame ms, set): depth first, the free candidate the dual ascent pays for most (least slack
+/// per ms of maps) opened first, then closed. A node is cut when its bound reaches the best
+/// frame; at a leaf (nothing free) the set's frame is priced, and its knapsack LP bounds it.
+/// Returns the best frame and set, and the least bound over every node not cut (the global
+/// lower bound: the best frame itself when the search closes), and whether it closed.
+fn branch_and_bound(p: &Problem, mut best: (f64, Vec<usize>)) -> ((f64, Vec<usize>), f64, bool) {
+    let nk = p.candidates();
+    let mut floor = f64::INFINITY;
+    let mut stack: Vec<(Vec<Status>, f64)> = vec![(vec![Status::Free; nk], p.lambda_scale())];
+    let (mut visited, mut closed) = (0, true);
+    while let Some((status, around)) = stack.pop() {
+        visited += 1;
+        if visited > NODE_LIMIT {
+            closed = false;
+            // Stopped: every node left may still hold a cheaper frame than the best.
+            for (st, l) in std::iter::once((status, around)).chain(stack.drain(..)) {
+                floor = floor.min(node_bound(p, &st, l, 2).0);
+            }
             break;
         }
-        let step = theta * (frame_ms - value) / norm;
-        for (ut, g) in u.iter_mut().zip(&gu) {
-            *ut += step * g;
+        let free: Vec<usize> = (0..nk).filter(|&k| status[k] == Status::Free).collect();
+        let open: Vec<usize> = (0..nk).filter(|&k| status[k] == Status::Open).collect();
+        if free.is_empty() {
+            if open.is_empty() {
+                continue;
+            }
+            let lp = p.fixed_ms + open.iter().map(|&k| p.maps_ms[k]).sum::<f64>() + assign_lp(p, &open);
+            if lp < best.0 {
+                if let Some((f, _, _)) = price(p, &open) {
+                    if f < best.0 {
+                        best = (f, open.clone());
+                    }
+                }
+                floor = floor.min(lp);
+            }
+            continue;
         }
-        lambda = (lambda + step * gl * scale).max(0.0);
+        let (bound, lambda, slack) = node_bound(p, &status, around, if visited == 1 { 8 } else { 2 });
+        if bound >= best.0 * (1.0 - 1e-9) {
+            continue;
+        }
+        // The set the dual ascent pays for, priced: a frame to beat.
+        let paid: Vec<usize> = open.iter().copied().chain(free.iter().copied().filter(|&k| slack[k] <= 1e-9 * p.maps_ms[k].max(1e-9))).collect();
+        if !paid.is_empty() {
+            if let Some((f, _, _)) = price(p, &paid) {
+                if f < best.0 {
+                    best = (f, paid.clone());
+                }
+            }
+        }
+        let k = *free.iter().min_by(|&&a, &&b| (slack[a] / p.maps_ms[a].max(1e-12)).total_cmp(&(slack[b] / p.maps_ms[b].max(1e-12))).then(p.maps_ms[b].total_cmp(&p.maps_ms[a]))).expect("a free candidate");
+        let mut closed = status.clone();
+        closed[k] = Status::Closed;
+        let mut opened = status;
+        opened[k] = Status::Open;
+        // Depth first, the opened child first (popped first).
+        stack.push((closed, lambda.max(1e-300)));
+        stack.push((opened, lambda.max(1e-300)));
     }
-    top.max(best_value_at_zero(p))
-}
-
-/// F plus every paying tile at its cheapest test and no maps: a floor no frame goes under.
-fn best_value_at_zero(p: &Problem) -> f64 {
-    p.fixed_ms + (0..p.tiles()).map(|t| (0..p.candidates()).map(|k| p.at(t, k).0).fold(f64::INFINITY, f64::min)).sum::<f64>()
+    let bound = floor.min(best.0);
+    (best, bound, closed)
 }
 
 /// The tiles' cheapest assignment to the candidates of `set` within the budget, as the LP of the
@@ -231,30 +338,11 @@ fn assign(p: &Problem, set: &[usize]) -> Option<(f64, Vec<usize>, f64)> {
     let mut steps: Vec<(f64, usize, usize)> = Vec::new();
     let mut err = 0.0;
     for t in 0..nt {
-        let mut opts: Vec<(f64, f64, usize)> = set.iter().map(|&k| (p.at(t, k).0, p.at(t, k).1, k)).collect();
-        opts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        let mut hull: Vec<(f64, f64, usize)> = vec![opts[0]];
-        for &o in &opts[1..] {
-            if o.1 >= hull.last().expect("hull starts non-empty").1 {
-                continue; // dearer and no more accurate
-            }
-            // Keep the hull convex: drop a point above the segment from its predecessor to o.
-            while hull.len() >= 2 {
-                let (a, b) = (hull[hull.len() - 2], hull[hull.len() - 1]);
-                let cross = (b.0 - a.0) * (o.1 - a.1) - (b.1 - a.1) * (o.0 - a.0);
-                if cross <= 0.0 {
-                    hull.pop();
-                } else {
-                    break;
-                }
-            }
-            hull.push(o);
-        }
+        let hull = hull(p, t, set);
         choice.push(hull[0].2);
         err += hull[0].1;
         for w in hull.windows(2) {
-            let rate = (w[0].1 - w[1].1) / (w[1].0 - w[0].0).max(1e-300);
-            steps.push((rate, t, w[1].2));
+            steps.push(((w[0].1 - w[1].1) / (w[1].0 - w[0].0).max(1e-300), t, w[1].2));
         }
     }
     if err > p.budget {
@@ -312,8 +400,8 @@ fn price(p: &Problem, set: &[usize]) -> Option<(f64, Vec<usize>, f64)> {
 /// candidate, dropping the one whose loss saves most while one does (the classic greedy drop of
 /// facility location); and the cheapest single candidate, adding the one that saves most while
 /// one does. From each, local search (add, drop or swap one candidate) while the frame gets
-/// cheaper. Returns the cheapest frame, its choice and its error.
-fn search(p: &Problem) -> (f64, Vec<usize>, f64) {
+/// cheaper. Returns the cheapest frame and its set.
+fn search(p: &Problem) -> (f64, Vec<usize>) {
     let nk = p.candidates();
     let mut singles: Vec<(f64, Vec<usize>)> = (0..nk).filter_map(|k| price(p, &[k]).map(|r| (r.0, vec![k]))).collect();
     singles.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -329,9 +417,14 @@ fn search(p: &Problem) -> (f64, Vec<usize>, f64) {
             best = Some((f, s));
         }
     }
-    let (_, set) = best.expect("the set of every candidate meets the budget");
-    let (_, mut choice, _) = price(p, &set).expect("the set found meets the budget");
-    exchange(p, &set, &mut choice);
+    best.expect("the set of every candidate meets the budget")
+}
+
+/// The frame of `set`: its tiles assigned, the pair exchanges the greedy misses made, and only
+/// the candidates some tile uses paid for. Returns (frame ms, choice, error).
+fn settle(p: &Problem, set: &[usize]) -> (f64, Vec<usize>, f64) {
+    let (_, mut choice, _) = price(p, set).expect("the set found meets the budget");
+    exchange(p, set, &mut choice);
     let used: Vec<usize> = set.iter().copied().filter(|k| choice.contains(k)).collect();
     let tests: f64 = choice.iter().enumerate().map(|(t, &k)| p.at(t, k).0).sum();
     let err = choice.iter().enumerate().map(|(t, &k)| p.at(t, k).1).sum();
@@ -478,7 +571,7 @@ mod tests {
         // (10 + 10 + 1 + 5 = 26). Budget 4: A for both, 12.
         let mut p = Problem { fixed_ms: 0.0, maps_ms: vec![10.0, 10.0], cost: vec![1.0, 5.0, 1.0, 5.0], err: vec![0.0, 0.0, 4.0, 0.0], budget: 0.0 };
         let s = solve(&p).unwrap();
-        assert_eq!((s.frame_ms, s.choice.clone(), s.err), (20.0, vec![1, 1], 0.0));
+        assert_eq!((s.frame_ms, s.choice.clone(), s.err, s.closed), (20.0, vec![1, 1], 0.0, true));
         assert!(s.bound_ms <= 20.0 + 1e-9 && s.bound_ms > 15.0, "{s:?}");
         p.budget = 4.0;
         let s = solve(&p).unwrap();
@@ -544,8 +637,9 @@ mod tests {
             exact += usize::from(s.frame_ms <= opt + 1e-9);
             gap_sum += (opt - s.bound_ms) / opt;
         }
-        // Measured: the optimum on 290 of 300; the bound 8.4% under it on average.
-        assert!(exact >= 285, "optimum found on {exact} of {cases}");
-        assert!(gap_sum / cases as f64 <= 0.10, "mean gap of the bound {}", gap_sum / cases as f64);
+        // Measured: the optimum on 296 of 300; the bound 1.7% under it on average (on 6 tiles the
+        // knapsack's LP at a leaf is loose; on a frame's hundreds of tiles it closes).
+        assert!(exact >= 292, "optimum found on {exact} of {cases}");
+        assert!(gap_sum / cases as f64 <= 0.03, "mean gap of the bound {}", gap_sum / cases as f64);
     }
 }
