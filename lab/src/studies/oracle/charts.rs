@@ -27,7 +27,9 @@ pub fn tiles_svg(r: &OracleRow) -> String {
     let legend_x = gw + 16;
     let lines = r.split.len() + 3;
     let height = (gh + 40).max(40 + 18 * lines as u32);
-    let width = (legend_x + 300).max(8 * 40 + 7 * r.scene.chars().count() as u32);
+    // The legend's longest line and the title at about 7 px a character.
+    let longest = r.split.iter().map(|c| c.candidate.len() + c.kind.name().len() + 40).max().unwrap_or(40).max(44);
+    let width = (legend_x + 24 + 7 * longest as u32).max(8 * 40 + 7 * r.scene.chars().count() as u32);
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"{width}\" height=\"{height}\" fill=\"#ffffff\"/>\n"
     );
