@@ -97,6 +97,10 @@ commands! {
     /// single-map methods) and the frontier of error against time (frontier.jsonl, charts/frontier.svg,
     /// report.html; docs/frontier.md).
     Frontier(studies::frontier::command::FrontierArgs),
+    /// The most any per-region method could gain: every candidate (culled centred grids, one-map
+    /// filters, hybrid maps, adaptive presets) per 8×8 tile against the cheapest single setting
+    /// meeting each target (oracle.csv, tiles/*.png, charts/gain_bound.svg; docs/oracle.md).
+    Oracle(studies::oracle::command::OracleArgs),
     /// The error estimate (`regular:…,estimate=on`) against the truth on scenes × grid settings:
     /// predicted against measured RMSE, the per-pixel bound's coverage, the split into sampling
     /// and map error (estimate.jsonl, charts/estimate.svg, report.html; docs/error-estimate.md).

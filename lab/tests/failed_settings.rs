@@ -160,6 +160,7 @@ fn line(spec: &str, ms: f64, rmse: f64, kind: &str, failed: Option<&str>) -> Fro
         oracle: None,
         budget: None,
         paired: None,
+        second_look: None,
         failed: failed.map(String::from),
         certify: None,
     }

@@ -48,6 +48,11 @@ fn the_error_budget_against_the_frontier() {
             false => assert!(dominated || duplicated, "{l}"),
         }
     }
+    // --n 2,4: the second look fills only n = 3 (beside a grid of 2 or 4 on the front), measured
+    // and judged like the rest.
+    for l in lines.iter().filter(|l| l["second_look"]["filled"] == true) {
+        assert!(l["spec"].as_str().unwrap().starts_with("regular:n=3") && rmse(l) > 0.0 && ms(l) > 0.0, "{l}");
+    }
     let name = |l: &serde_json::Value| format!("{} @ {}", l["spec"].as_str().unwrap(), l["map_config"].as_str().unwrap());
     // The oracle: the cheapest fixed setting whose measured RMSE is at most the target itself.
     let oracle = fixed.iter().filter(|l| rmse(l) <= 0.05).min_by(|a, c| ms(a).total_cmp(&ms(c)));
@@ -222,6 +227,30 @@ fn a_thinned_frontier_on_a_small_scene() {
     assert!(on >= 2, "a frontier of one setting on this scene: {text}");
     assert!(f(balanced, "rmse") < 0.5 * f(hard, "rmse"), "soft shadows beat the hard one: {text}");
 
+    // The second look: every setting on the front was timed again side by side (or moved on
+    // when the one keeping it off slowed), each timed again keeps its first window's figures, and
+    // the stderr line counts them.
+    let look = |l: &serde_json::Value| l["second_look"].clone();
+    let retimed: Vec<&serde_json::Value> = lines.iter().filter(|l| look(l)["retimed_as"].is_string()).collect();
+    for l in lines.iter().filter(|l| l["on_frontier"] == true) {
+        assert!(look(l).is_object(), "a front setting the second look did not see: {l}");
+    }
+    for l in &retimed {
+        let first = look(l)["first_ms"].as_array().unwrap_or_else(|| panic!("first_ms in {l}")).iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();
+        assert!(first.len() == 3 && first[1] <= first[0] && first[0] <= first[2], "{l}");
+        assert!(f(l, "frame_ms_min") <= f(l, "frame_ms") && f(l, "frame_ms") <= f(l, "frame_ms_max"), "{l}");
+    }
+    let fronts = retimed.iter().filter(|l| look(l)["retimed_as"] == "front").count();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let said = format!("second look: {fronts} front settings and {} challengers timed again side by side, 1 round each, in one window", retimed.len() - fronts);
+    assert!(stderr.contains(&said), "{said}\n{stderr}");
+    let md = std::fs::read_to_string(out.join("frontier.md")).unwrap();
+    let moved_on = lines.iter().filter(|l| l["on_frontier"] == true && look(l)["was_on"] == false).count();
+    let moved_off = lines.iter().filter(|l| l["on_frontier"] == false && look(l)["was_on"] == true).count();
+    assert!(md.contains("## The second look") && md.contains(&format!("Moved onto the front: {moved_on}; moved off it: {moved_off}, of {} settings timed again.", retimed.len())), "{md}");
+    // n 2 and 3 are neighbours: nothing to fill.
+    assert!(!lines.iter().any(|l| look(l)["filled"] == true), "{text}");
+
     let svg = std::fs::read_to_string(out.join("charts/frontier.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("Pareto front") && svg.contains("adaptive local"), "chart");
     assert!(std::fs::read(out.join("charts/frontier.png")).unwrap().starts_with(b"\x89PNG"));
@@ -267,4 +296,29 @@ fn bad_frontier_input_is_refused_with_no_output() {
         assert!(!stderr.contains("panicked"), "{case}: {stderr}");
         assert!(!out.exists() && !dir.join("cache").exists(), "{case}: output written");
     }
+}
+
+/// `--no-second-look`: the front from the first windows' times alone, nothing filled or timed
+/// again; the same run with it fills the n list near a front grid (2 and 5 leave 3 and 4).
+#[test]
+fn the_second_look_fills_and_can_be_turned_off() {
+    let dir = temp_dir("frontier_no_second_look");
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["frontier", "--scene", "analytic-square", "--set", "resolution=16", "--n", "2,5", "--sizes", "64", "--hybrid", "none", "--samples", "4", "--repeats", "1", "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        let o = ok(penumbra(&args, &dir.join("cache")), "frontier");
+        let text = std::fs::read_to_string(out.join("frontier.jsonl")).unwrap();
+        let lines: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+        (lines, std::fs::read_to_string(out.join("frontier.md")).unwrap(), String::from_utf8_lossy(&o.stderr).to_string())
+    };
+    let (off, md, stderr) = run(&["--no-second-look"], &dir.join("off"));
+    assert!(off.iter().all(|l| l.get("second_look").is_none()) && !md.contains("## The second look") && !stderr.contains("second look"), "{md}");
+    let (on, md, _) = run(&[], &dir.join("on"));
+    let filled: Vec<&str> = on.iter().filter(|l| l["second_look"]["filled"] == true).map(|l| l["spec"].as_str().unwrap()).collect();
+    for spec in &filled {
+        assert!(spec.starts_with("regular:n=3") || spec.starts_with("regular:n=4"), "{spec}");
+    }
+    // The first front of this scene holds a grid (n = 2 or 5, either layout): its gap is filled.
+    assert_eq!(on.len(), off.len() + filled.len());
+    assert!(!filled.is_empty() && md.contains("## The second look"), "no grid on the front to fill beside:\n{md}");
 }

@@ -21,6 +21,7 @@ pub mod framing;
 pub mod frontier;
 pub mod hybrid;
 pub mod lists;
+pub mod oracle;
 pub mod seams;
 pub mod sequence;
 pub mod shard;

@@ -62,6 +62,10 @@ pub struct FrontierArgs {
     /// With --certify: the bound holds with probability 1 − δ (default 0.05).
     #[arg(long, value_name = "δ")]
     delta: Option<f64>,
+    /// Draw the front from the first windows' times: no n filled near the front, nothing timed
+    /// again side by side (docs/frontier.md, "The second look").
+    #[arg(long)]
+    no_second_look: bool,
 }
 
 /// Render settings the grid itself sets for every setting.
@@ -138,7 +142,7 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     // Each group's settings estimated at its own map size: a map's texels cost time too.
     let seconds: f64 = groups.iter().map(|g| plan::estimated_seconds(&g.methods, &g.maps.apply(&scene, 0.25), repeats)).sum();
     eprintln!("{} ({thinning})", plan::line_with(&all, seconds, &scene, repeats));
-    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache), certify };
+    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache), certify, second_look: !args.no_second_look };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);

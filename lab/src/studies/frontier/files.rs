@@ -109,6 +109,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             s += &format!("| {} | {:.5} | {} | {} |\n", l.setting(), l.rmse, c.line(), if c.bound >= l.rmse { "yes" } else { "no" });
         }
     }
+    s += &super::second_look::table(lines);
     let budget: Vec<&FrontierLine> = lines.iter().filter(|l| l.is_budget() && l.failed.is_none()).collect();
     if !budget.is_empty() {
         s += "\n## The error budget against the frontier\n\n\

@@ -10,6 +10,7 @@ pub mod command;
 pub mod files;
 pub mod front;
 pub mod grid;
+pub mod second_look;
 
 use crate::gpu::GpuContext;
 use crate::methods::{Family, Method};
@@ -32,6 +33,9 @@ pub struct FrontierJob<'a> {
     pub cache: Cache,
     /// `--certify K`: every setting's judged frame gets a certified bound.
     pub certify: Option<crate::certify::Options>,
+    /// Fill the n list near the front and time the front and its challengers again side by
+    /// side before the front is drawn (second_look.rs); off with `--no-second-look`.
+    pub second_look: bool,
 }
 
 /// One line of `frontier.jsonl`: one setting.
@@ -84,6 +88,9 @@ pub struct FrontierLine {
     /// A budget row and its oracle timed side by side (`budget::pair`): what time/oracle reads.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub paired: Option<budget::Paired>,
+    /// What the second look did to this setting: filled in near the front, timed again (docs/frontier.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub second_look: Option<second_look::Look>,
     /// A setting that failed at run time: the reason (its figures are zero and mean nothing; the
     /// front, the budget's rivals and the oracle skip it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -190,12 +197,15 @@ pub fn mark(lines: &mut [FrontierLine]) {
 }
 
 /// Measures every group (one `record::measure` run each, its scene under the group's maps) and
-/// returns one line per setting, frontier marked. `log` gets one line per measured setting.
+/// returns one line per setting, frontier marked: then takes the second look (second_look.rs),
+/// which fills the n list near the front and times the front and its challengers again side by
+/// side before the front is drawn. `log` gets one line per measured setting.
 pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Vec<FrontierLine>> {
     let scene = job.scene;
     let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
     let judge = Judge::new(scene, &g, reference.values.clone());
     log(&crate::studies::compare::reference_line(&reference, judge.geometry_pixels()));
+    let reference_mode = truth::mode_label(&reference.mode);
     if let Some(o) = &job.certify {
         if o.pixels > judge.geometry_pixels() {
             return Err(crate::Error::param(format!("--certify {}: more than the frame's {} geometry pixels", o.pixels, judge.geometry_pixels())));
@@ -206,70 +216,105 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
     let total = grid::count(&job.groups);
     let bar = crate::progress::bar(measure::frame_count(total, job.repeats), "frontier");
     let mut lines = Vec::with_capacity(total);
-    for grid::Group { maps, specs, methods } in &job.groups {
-        // eps: the hybrid study's and the seed's 0.25 (docs/hybrid.md).
-        let s = maps.apply(scene, 0.25);
-        let mut on_frame = |m: &Method, phase: Phase, _: &crate::frame::FrameResult| {
-            bar.set_message(format!("{} {} {phase}", maps.label(), m.label()));
-            bar.inc(1);
-        };
-        let mut records = vec![serde_json::Value::Null; methods.len()];
-        let mut certified = vec![None; methods.len()];
-        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| {
-            records[i] = f.output.record.clone();
-            if let Some(c) = certifier.as_mut() {
-                certified[i] = Some(crate::record::Certified::of(&c.certify(f)?));
-            }
-            Ok(judge.judge(&s, &methods[i].label(), f)?.metrics)
-        };
-        let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
-        for ((((m, spec), r), record), certified) in methods.iter().zip(specs).zip(measured).zip(&records).zip(certified) {
-            // A setting that failed is a line that says why; the others go on.
-            let (r, failed) = match r {
-                Ok(r) => (r, None),
-                Err(reason) => (measure::Measured { timing: measure::Timing::none(), judged: Default::default() }, Some(reason)),
-            };
-            let line = FrontierLine {
-                scene: scene.name.clone(),
-                spec: spec.clone(),
-                map_config: maps.label(),
-                kind: kind(m),
-                label: m.label(),
-                maps: r.timing.shadow_maps,
-                map_size: rendered_map_size(record, s.render.shadow_map_size),
-                rmse: r.judged.rmse,
-                flip: Some(r.judged.flip_mean).filter(|f| f.is_finite()),
-                frame_ms: r.timing.median_ms,
-                frame_ms_min: r.timing.min_ms,
-                frame_ms_max: r.timing.max_ms,
-                on_frontier: false,
-                beaten_by: None,
-                thinning: job.thinning.clone(),
-                resolution: [scene.render.width, scene.render.height],
-                reference: truth::mode_label(&reference.mode),
-                repeats: job.repeats,
-                clock: crate::record::CLOCK.to_string(),
-                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
-                raster: r.timing.raster.to_string(),
-                oracle: None,
-                budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
-                paired: None,
-                certify: certified.filter(|_| failed.is_none()),
-                failed,
-            };
-            crate::progress::suspend(|| match &line.failed {
-                Some(reason) => log(&crate::record::failed_line(&line.setting(), reason)),
-                None => log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse)),
-            });
-            lines.push(line);
-        }
+    for group in &job.groups {
+        lines.extend(measure_group(ctx, job, &judge, &reference_mode, group, certifier.as_mut(), &bar, log)?);
     }
     bar.finish_and_clear();
     if let Some(line) = crate::record::failed_summary(lines.iter().filter(|l| l.failed.is_some()).count(), lines.len()) {
         log(&line);
     }
     mark(&mut lines);
-    budget::pair(ctx, job, &mut lines, log)?;
+    // The fill's settings join their groups, so the budget's pairing finds them as oracles.
+    let mut groups = job.groups.clone();
+    if job.second_look {
+        let filled = second_look::fill(&mut groups, &lines);
+        let bar = crate::progress::bar(measure::frame_count(grid::count(&filled), job.repeats), "frontier fill");
+        for group in &filled {
+            let mut added = measure_group(ctx, job, &judge, &reference_mode, group, certifier.as_mut(), &bar, log)?;
+            added.iter_mut().for_each(|l| l.second_look = Some(second_look::Look { filled: true, ..Default::default() }));
+            lines.extend(added);
+        }
+        bar.finish_and_clear();
+        mark(&mut lines);
+        let before: Vec<bool> = lines.iter().map(|l| l.on_frontier).collect();
+        second_look::retime(ctx, job, &groups, &mut lines, log)?;
+        mark(&mut lines);
+        // A setting not timed again moves too when the one that kept it off slowed down.
+        for (l, was_on) in lines.iter_mut().zip(before) {
+            if l.on_frontier != was_on && l.second_look.as_ref().is_none_or(|k| k.retimed_as.is_none()) {
+                l.second_look.get_or_insert_with(Default::default).was_on = was_on;
+            }
+        }
+    }
+    let job = FrontierJob { groups, thinning: job.thinning.clone(), cache: job.cache.clone(), ..*job };
+    budget::pair(ctx, &job, &mut lines, log)?;
+    Ok(lines)
+}
+
+/// One group's settings measured in the one measure loop, judged, as lines (frontier unmarked).
+/// With `certifier`, each judged frame gets its certified bound too.
+#[allow(clippy::too_many_arguments)]
+fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: &str, group: &grid::Group, mut certifier: Option<&mut crate::certify::frame::FrameCertifier>, bar: &indicatif::ProgressBar, log: &dyn Fn(&str)) -> Result<Vec<FrontierLine>> {
+    let scene = job.scene;
+    let grid::Group { maps, specs, methods } = group;
+    // eps: the hybrid study's and the seed's 0.25 (docs/hybrid.md).
+    let s = maps.apply(scene, 0.25);
+    let mut on_frame = |m: &Method, phase: Phase, _: &crate::frame::FrameResult| {
+        bar.set_message(format!("{} {} {phase}", maps.label(), m.label()));
+        bar.inc(1);
+    };
+    let mut records = vec![serde_json::Value::Null; methods.len()];
+    let mut certified = vec![None; methods.len()];
+    let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| {
+        records[i] = f.output.record.clone();
+        if let Some(c) = certifier.as_deref_mut() {
+            certified[i] = Some(crate::record::Certified::of(&c.certify(f)?));
+        }
+        Ok(judge.judge(&s, &methods[i].label(), f)?.metrics)
+    };
+    let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
+    let mut lines = Vec::with_capacity(methods.len());
+    for ((((m, spec), r), record), certified) in methods.iter().zip(specs).zip(measured).zip(&records).zip(certified) {
+        // A setting that failed is a line that says why; the others go on.
+        let (r, failed) = match r {
+            Ok(r) => (r, None),
+            Err(reason) => (measure::Measured { timing: measure::Timing::none(), judged: Default::default() }, Some(reason)),
+        };
+        let line = FrontierLine {
+            scene: scene.name.clone(),
+            spec: spec.clone(),
+            map_config: maps.label(),
+            kind: kind(m),
+            label: m.label(),
+            maps: r.timing.shadow_maps,
+            map_size: rendered_map_size(record, s.render.shadow_map_size),
+            rmse: r.judged.rmse,
+            flip: Some(r.judged.flip_mean).filter(|f| f.is_finite()),
+            frame_ms: r.timing.median_ms,
+            frame_ms_min: r.timing.min_ms,
+            frame_ms_max: r.timing.max_ms,
+            on_frontier: false,
+            beaten_by: None,
+            thinning: job.thinning.clone(),
+            resolution: [scene.render.width, scene.render.height],
+            reference: reference.to_string(),
+            repeats: job.repeats,
+            clock: crate::record::CLOCK.to_string(),
+            adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+            raster: r.timing.raster.to_string(),
+            oracle: None,
+            budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
+            paired: None,
+            second_look: None,
+            certify: certified.filter(|_| failed.is_none()),
+            failed,
+        };
+        crate::progress::suspend(|| match &line.failed {
+            Some(reason) => log(&crate::record::failed_line(&line.setting(), reason)),
+            None => log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse)),
+        });
+        lines.push(line);
+    }
     Ok(lines)
 }
 
