@@ -5,6 +5,7 @@
 //! carrying the same one-line message `penumbra` prints after `error:`; failures of the device
 //! itself become `penumbra.GpuError`, its subclass.
 
+mod analysis;
 mod context;
 mod record;
 mod renderer;
@@ -85,5 +86,10 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(truth::metrics, m)?)?;
     m.add_function(wrap_pyfunction!(truth::compare_methods, m)?)?;
     m.add_function(wrap_pyfunction!(truth::read_exr, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::analysis_constants, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::method_params, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::auto_predicted_at, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::regions_half_octave, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::regions_density_floor, m)?)?;
     Ok(())
 }
