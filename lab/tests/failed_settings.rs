@@ -161,6 +161,8 @@ fn line(spec: &str, ms: f64, rmse: f64, kind: &str, failed: Option<&str>) -> Fro
         budget: None,
         paired: None,
         failed: failed.map(String::from),
+        target: None,
+        version: serde_json::Value::Null,
     }
 }
 

@@ -86,6 +86,13 @@ pub struct FrontierLine {
     /// front, the budget's rivals and the oracle skip it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// A budget row's target T as its method was asked (`budget_target`), so that nothing reading
+    /// the rows parses it out of `spec`. Lines written before the column have none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<f64>,
+    /// The build that measured the line (crate version and git hash), as every record carries it.
+    #[serde(default)]
+    pub version: serde_json::Value,
 }
 
 impl FrontierLine {
@@ -115,10 +122,18 @@ impl FrontierLine {
         self.kind == BUDGET
     }
 
-    /// A budget row's target T (`auto:target=T,…`).
+    /// A budget row's target T: its `target`, or for a line written before that column, the
+    /// method's own parse of its spec.
     pub fn target(&self) -> Option<f64> {
-        self.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok())
+        self.target.or_else(|| Method::parse(&self.spec, &[]).ok().filter(|m| kind(m) == BUDGET).and_then(|m| budget_target(&m)))
     }
+}
+
+/// A budget method's target as it was asked: the methods keep T as f32, whose shortest decimal is
+/// what was written (0.03, not the 0.029999999329447746 its widening reads).
+pub fn budget_target(m: &Method) -> Option<f64> {
+    let t = m.params_json().get("target")?.as_f64()? as f32;
+    t.to_string().parse().ok()
 }
 
 /// The kind of `auto:target=T` and `regions:target=T` rows.
@@ -239,6 +254,8 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
                 budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
                 paired: None,
                 failed,
+                target: Some(m).filter(|m| kind(m) == BUDGET).and_then(budget_target),
+                version: crate::version(),
             };
             crate::progress::suspend(|| match &line.failed {
                 Some(reason) => log(&crate::record::failed_line(&line.setting(), reason)),
