@@ -163,3 +163,15 @@ def test_the_frontier_reads_the_labs_oracle_on_every_committed_frontier():
     with pytest.raises(RowError, match="no auto row at target 0.5"):
         read_frontier(files[0]).budget_row("auto", 0.5)
     assert not math.isnan(read_frontier(files[0]).fixed[0].rmse)
+
+
+def test_the_guides_example_runs(capsys, monkeypatch):
+    # docs/python.md's "Analysis of results" example, as written, from the repository's root.
+    text = (ROOT / "docs" / "python.md").read_text()
+    section = text[text.index("## Analysis of results"):]
+    code = section[section.index("```python\n") + len("```python\n"):section.index("```\n", section.index("```python\n") + 1)]
+    monkeypatch.chdir(ROOT)
+    exec(compile(code, "docs/python.md", "exec"), {})
+    out = capsys.readouterr().out
+    assert "| measured RMSE ≤ T, all rows | 3 of 3 (100%) | 95% |" in out, out
+    assert out.rstrip().endswith("build: not recorded in the rows (they predate the version column; the README names it)"), out

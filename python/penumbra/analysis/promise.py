@@ -198,21 +198,26 @@ class Counts:
 
     @property
     def median_ratio(self) -> float:
-        """The median time/oracle of the timed rows."""
-        return median(r.time_over_oracle for r in self.timed if r.time_over_oracle is not None)
+        """The median time/oracle of the timed rows (NaN where none is timed)."""
+        ratios = [r.time_over_oracle for r in self.timed if r.time_over_oracle is not None]
+        return median(ratios) if ratios else float("nan")
 
     def table(self) -> str:
         """The counts as README.md's table rows (count, rows, the promise)."""
         n, p = len(self.rows), self.promise
         reached = len(self.reached)
         untimed = f" ({self.untimed} unpaired)" if self.untimed else ""
+
+        def pct(k: int, of: int) -> str:
+            return f"{100 * k / of:.0f}%" if of else "-"
+
         return "\n".join([
-            f"| measured RMSE ≤ T, all rows | {self.under} of {n} ({100 * self.under / n:.0f}%) | {100 * p.met_share:.0f}% |",
-            f"| measured RMSE ≤ T, rows some fixed setting of the run reaches | {self.reached_under} of {reached} ({100 * self.reached_under / reached:.0f}%) | {100 * p.met_share:.0f}% |",
+            f"| measured RMSE ≤ T, all rows | {self.under} of {n} ({pct(self.under, n)}) | {100 * p.met_share:.0f}% |",
+            f"| measured RMSE ≤ T, rows some fixed setting of the run reaches | {self.reached_under} of {reached} ({pct(self.reached_under, reached)}) | {100 * p.met_share:.0f}% |",
             f"| reported met while measured over T | {len(self.false_met)} | 0 |",
             f"| reported `not met`, naming the best predicted error | {self.names_best} of {len(self.unreachable)} (of {n} rows) | every unreachable row |",
             f"| time ≤ {p.time_ratio:g} × the oracle's, side by side (rows with an oracle) | {self.quick} of {len(self.timed)} "
-            f"({100 * self.quick / len(self.timed):.0f}%), median {self.median_ratio:.2f}{untimed} | {100 * p.time_share:.0f}% |",
+            f"({pct(self.quick, len(self.timed))}), median {self.median_ratio:.2f}{untimed} | {100 * p.time_share:.0f}% |",
         ])
 
 
