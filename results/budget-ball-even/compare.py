@@ -5,8 +5,7 @@ time/oracle from each row's own side-by-side window) against the same scene's ro
 ../budget-promise (time/oracle from its paired.csv). Writes rows.csv (or --out FILE) and prints
 the table of README.md. Usage: python3 compare.py [--out FILE]"""
 import argparse, glob, os
-from penumbra.analysis import build_line, promise, read
-from penumbra.analysis.calibration import write_rows
+from penumbra.analysis import build_line, promise, read, write_csv_file
 from penumbra.analysis.frontier import read_frontier
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -19,5 +18,5 @@ before = [read_frontier(os.path.join(before_dir, f.budget_rows()[0].scene, 'fron
 print(build_line(f.table for f in after))
 text, rows = promise.before_after(promise.frontier_rows(before, read(os.path.join(before_dir, 'paired.csv'))),
                                   sorted(promise.frontier_rows(after), key=lambda r: (r.scene, -r.target)))
-write_rows(a.out, promise.BEFORE_AFTER_HEADER, rows)
+write_csv_file(a.out, promise.BEFORE_AFTER_HEADER, rows)
 print(text)

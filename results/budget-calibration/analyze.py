@@ -5,7 +5,7 @@ Usage: python3 analyze.py [spread|classes|misses|map-order|even|stretch-cost]...
 by default). The scene groups below are what the scenes' files hold (which occluders, which
 light), listed by hand to read the data, never used by the engine."""
 import argparse, glob, os
-from penumbra.analysis import build_line, calibration as c, engine, read
+from penumbra.analysis import build_line, calibration as c, engine, read, write_csv_file
 
 here = os.path.dirname(os.path.abspath(__file__))
 GROUPS = {
@@ -34,16 +34,16 @@ for part in a.parts:
         print(c.classes(pairs, c.read_estimates(estimates), GROUPS, [next(iter(GROUPS))], {'plane': plane, 'cube': engine.Factors(ball, plane.map)})[0])
     elif part == 'misses':
         text, rows = c.misses(pairs, SCENE_CLASS, 'analytic')
-        c.write_rows(os.path.join(a.out, 'misses.csv'), c.MISSES_HEADER, rows)
+        write_csv_file(os.path.join(a.out, 'misses.csv'), c.MISSES_HEADER, rows)
         print(text)
     elif part == 'map-order':
         rows, medians = c.map_order(pairs)
-        c.write_rows(os.path.join(a.out, 'map-order.csv'), ['half', 'scene', 'spec', 'measured_order', 'estimate_order'], rows)
+        write_csv_file(os.path.join(a.out, 'map-order.csv'), ['half', 'scene', 'spec', 'measured_order', 'estimate_order'], rows)
         print('\n'.join(medians))
     elif part == 'even':
         text, rows, _ = c.even_sides(c.read_estimates(sorted(glob.glob(os.path.join(here, 'even', 'estimates', '*.jsonl')))), pairs)
         os.makedirs(os.path.join(a.out, 'even'), exist_ok=True)
-        c.write_rows(os.path.join(a.out, 'even', 'even.csv'), c.EVEN_HEADER, rows)
+        write_csv_file(os.path.join(a.out, 'even', 'even.csv'), c.EVEN_HEADER, rows)
         print(text)
     elif part == 'stretch-cost':
         print(c.stretch_cost(read(os.path.join(here, 'stretch-cost.csv'))))

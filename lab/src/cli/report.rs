@@ -37,7 +37,9 @@ impl Run for ReportArgs {
 
 fn run(args: ReportArgs) -> Result<()> {
     if args.index {
-        let [root] = args.results.as_slice() else { anyhow::bail!("--index: takes one folder (results), not {} paths", args.results.len()) };
+        let [root] = args.results.as_slice() else {
+            anyhow::bail!("--index: takes one folder (results), not {} paths", args.results.len())
+        };
         if let Some(b) = &args.baseline {
             anyhow::bail!("--baseline {}: --index writes an index, not a report", b.display());
         }

@@ -19,6 +19,6 @@ computed here, tested by ``python/tests/``, and driven by the folder's short dri
 docs/python.md ("Analysis of results") is the guide.
 """
 
-from .rows import Row, RowError, Table, build_line, read, read_json, write_csv
+from .rows import Row, RowError, Table, build_line, read, read_json, write_csv, write_csv_file
 
-__all__ = ["Row", "RowError", "Table", "build_line", "read", "read_json", "write_csv"]
+__all__ = ["Row", "RowError", "Table", "build_line", "read", "read_json", "write_csv", "write_csv_file"]

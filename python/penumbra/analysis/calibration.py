@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 from typing import Optional
 
 from . import engine
-from .rows import PathLike, Row, Table, read, write_csv
+from .rows import PathLike, Row, Table, read
 from .stats import least_covering, median, quantile, spearman
 
 HALVES = ("fitting", "checking", "held out")
@@ -146,7 +146,7 @@ def spread(pairs: Sequence[Pair]) -> str:
     w = engine.window()
     halves = {"fitting": [p for p in pairs if p.half == "fitting"], "checking and held out": [p for p in pairs if p.half != "fitting"]}
     ratio = {h: [_calibrated(p) / p.measured_rmse for p in ps] for h, ps in halves.items()}
-    lines = [f"window W = 1.3^0.75 = {w:.3f}",
+    lines = [f"window W = {engine.promise().time_ratio:g}^{engine.sampling_order() / 2:g} = {w:.3f}",
              "| stretch | " + " | ".join(f"{h}: covered | {h}: in [1, W]" for h in halves) + " |",
              "|---:|" + "---:|---:|" * len(halves)]
     best = {h: (0.0, 0.0) for h in halves}
@@ -181,8 +181,8 @@ FACTOR_GRID = [k / 100 for k in range(50, 1001)]
 
 
 def least_factor(pairs: Sequence[Pair], covered: Callable[[Pair, float], bool]) -> float:
-    """The engine's fitting rule: the least factor on a 0.01 grid from 0.5 that covers 95% of the
-    pairs.
+    """The engine's fitting rule: the least factor on a 0.01 grid from 0.5 that covers the
+    calibration's share of the pairs (``coverage_percent``, 95).
 
     Args:
         pairs: The pairs to cover.
@@ -194,9 +194,10 @@ def least_factor(pairs: Sequence[Pair], covered: Callable[[Pair, float], bool]) 
     Raises:
         ValueError: No factor up to 10 covers 95%.
     """
-    k = least_covering(FACTOR_GRID, pairs, covered, 95)
+    percent = engine.calibration().coverage_percent
+    k = least_covering(FACTOR_GRID, pairs, covered, percent)
     if k is None:
-        raise ValueError(f"no factor up to 10 covers 95% of {len(pairs)} pairs")
+        raise ValueError(f"no factor up to 10 covers {percent}% of {len(pairs)} pairs")
     return k
 
 
@@ -305,6 +306,11 @@ def grid_kind(p: Pair) -> str:
     return "odd centred (auto)" if p.layout == "centred" and p.n % 2 else f"{p.layout} {p.n}"
 
 
+def _share() -> float:
+    # The calibration's coverage as a share (95 / 100 is the double 0.95).
+    return engine.calibration().coverage_percent / 100
+
+
 def _parts(p: Pair) -> tuple[float, float]:
     f = engine.calibration().factors(p.light_class)
     return f.sampling * p.predicted_sampling, f.map * p.predicted_map
@@ -365,7 +371,7 @@ def misses(pairs: Sequence[Pair], scene_class: Mapping[str, str], default_class:
     def need(ps: Sequence[Pair], part: str) -> tuple[Optional[float], Optional[float]]:
         for k in [1 + x / 100 for x in range(0, 401)]:
             ka, kb = (k, 1.0) if part == "sampling" else (1.0, k) if part == "maps" else (k, k)
-            if sum(_cal(p, ka, kb) >= p.measured_rmse for p in ps) >= 0.95 * len(ps):
+            if sum(_cal(p, ka, kb) >= p.measured_rmse for p in ps) >= _share() * len(ps):
                 return k, median(_cal(p, ka, kb) / p.measured_rmse for p in ps)
         return None, None
 
@@ -383,7 +389,7 @@ def misses(pairs: Sequence[Pair], scene_class: Mapping[str, str], default_class:
     best: Optional[tuple[float, float, float]] = None
     for ka in grid:
         for kb in grid:
-            if sum(_cal(p, ka, kb) >= p.measured_rmse for p in read_) >= 0.95 * len(read_):
+            if sum(_cal(p, ka, kb) >= p.measured_rmse for p in read_) >= _share() * len(read_):
                 m = median(_cal(p, ka, kb) / p.measured_rmse for p in read_)
                 if best is None or m < best[0]:
                     best = (m, ka, kb)
@@ -398,7 +404,7 @@ def misses(pairs: Sequence[Pair], scene_class: Mapping[str, str], default_class:
     for scene in sorted({p.scene for p in fitting}):
         a, b = refit([p for p in fitting if p.scene != scene])
         out_of_fit += [math.hypot(a * p.predicted_sampling, b * p.predicted_map) / p.measured_rmse for p in fitting if p.scene == scene]
-    k = next(k for k in [1 + x / 100 for x in range(0, 301)] if sum(k * r >= 1 for r in out_of_fit) >= 0.95 * len(out_of_fit))
+    k = next(k for k in [1 + x / 100 for x in range(0, 301)] if sum(k * r >= 1 for r in out_of_fit) >= _share() * len(out_of_fit))
     lines += ["", f"leave-one-scene-out on the fitting half: {sum(r >= 1 for r in out_of_fit)} of {len(out_of_fit)} covered; 95% from a stretch of {k:.2f}"]
     for name, ps in (("checking", [p for p in read_ if p.half == "checking"]), ("held out", [p for p in read_ if p.half == "held out"]), ("both", read_)):
         cov = sum(_cal(p, k, k) >= p.measured_rmse for p in ps)
@@ -420,7 +426,7 @@ def refit(pairs: Sequence[Pair]) -> tuple[float, float]:
     out: Optional[tuple[float, float, float]] = None
     for a in g:
         for b in g:
-            if sum(math.hypot(a * p.predicted_sampling, b * p.predicted_map) >= p.measured_rmse for p in pairs) >= 0.95 * len(pairs):
+            if sum(math.hypot(a * p.predicted_sampling, b * p.predicted_map) >= p.measured_rmse for p in pairs) >= _share() * len(pairs):
                 m = median(math.hypot(a * p.predicted_sampling, b * p.predicted_map) / p.measured_rmse for p in pairs)
                 if out is None or m < out[0]:
                     out = (m, a, b)
@@ -526,12 +532,6 @@ def even_sides(even: Sequence[Pair], pairs: Sequence[Pair]) -> tuple[str, list[l
     higher = sum(ratio(e, own(e)) * e.measured_rmse > ratio(o, odd_factor(o)) * o.measured_rmse for e, o in both)
     lines += ["", f"even side predicted above the odd side below it: {higher} of {len(both)} (scene, side, map size)"]
     return "\n".join(lines), rows, fit
-
-
-def write_rows(path: PathLike, header: Sequence[str], rows: Iterable[Sequence[object]]) -> None:
-    """Writes rows under a header to a CSV file."""
-    with open(path, "w", encoding="utf-8", newline="") as f:
-        write_csv(f, header, rows)
 
 
 def stretch_cost(rows: Table) -> str:

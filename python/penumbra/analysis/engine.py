@@ -41,6 +41,7 @@ class Calibration:
         even_sampling: The even sides' own sampling factor per light class.
         max_fitted_even: The largest even side the even factors were fitted on.
         min_fitted_size: The smallest map side the factors were fitted on.
+        coverage_percent: The share of pairs a fit covers (predicted at least measured), in percent.
         split: The shipped scenes' halves (``fitting``, ``checking``), by scene.
     """
 
@@ -49,6 +50,7 @@ class Calibration:
     even_sampling: Mapping[str, float]
     max_fitted_even: int
     min_fitted_size: int
+    coverage_percent: int
     split: Mapping[str, str]
 
     def half(self, scene: str) -> str:
@@ -119,6 +121,7 @@ def calibration() -> Calibration:
         even_sampling=dict(c["even_sampling"]),
         max_fitted_even=int(c["max_fitted_even"]),
         min_fitted_size=int(c["min_fitted_size"]),
+        coverage_percent=int(c["coverage_percent"]),
         split=dict(c["split"]),
     )
 

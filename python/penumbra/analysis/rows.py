@@ -393,3 +393,15 @@ def write_csv(out: IO[str], header: Sequence[str], rows: Iterable[Sequence[Any]]
         if len(r) != len(header):
             raise ValueError(f"a row of {len(r)} values under a header of {len(header)}")
         w.writerow(r)
+
+
+def write_csv_file(path: PathLike, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> None:
+    """Writes a CSV table to a file (as :func:`write_csv`).
+
+    Args:
+        path: The file, replaced.
+        header: The column names.
+        rows: One sequence of values per row, as wide as the header.
+    """
+    with open(path, "w", encoding="utf-8", newline="") as f:
+        write_csv(f, header, rows)

@@ -125,7 +125,10 @@ impl FrontierLine {
     /// A budget row's target T: its `target`, or for a line written before that column, the
     /// method's own parse of its spec.
     pub fn target(&self) -> Option<f64> {
-        self.target.or_else(|| Method::parse(&self.spec, &[]).ok().filter(|m| kind(m) == BUDGET).and_then(|m| budget_target(&m)))
+        self.target.or_else(|| {
+            let m = Method::parse(&self.spec, &[]).ok().filter(|m| kind(m) == BUDGET)?;
+            budget_target(&m)
+        })
     }
 }
 
