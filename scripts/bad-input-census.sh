@@ -65,15 +65,35 @@ rect() { scene_head "wide-rect"; printf '[light]\ncenter = [0.0, %s, 0.0]\nsize 
 # An estimate row (estimate.jsonl) with KEY=VALUE pairs replacing fields of a good one.
 estimate_row() {
   local row='{"scene":"analytic-square","spec":"regular:n=3@64","layout":"lattice","map_size":64,"maps":9,"measured_rmse":0.05,"predicted_rmse":0.06,"predicted_sampling":0.05,"predicted_map":0.03,"ratio":1.2,"within":true,"bound_coverage":0.9,"measured_map":0.02,"measured_sampling":0.04,"exact":"lattice","resolution":[64,64],"reference":"continuous 8x8","adapter":"x"}'
-  for kv in "$@"; do row=$(jq -c ". + {${kv%%=*}: ${kv#*=}}" <<<"$row"); done
-  echo "$row"
+  echo "$row" | json_set "$@"
 }
 
+# Each JSON line of stdin with KEY=VALUE pairs set (KEY dotted, VALUE JSON text), compact.
+json_set() {
+  python3 -c 'import json, sys
+for line in sys.stdin:
+    row = json.loads(line)
+    for kv in sys.argv[1:]:
+        key, value = kv.split("=", 1)
+        *path, last = key.split(".")
+        node = row
+        for k in path:
+            node = node[k]
+        node[last] = json.loads(value)
+    print(json.dumps(row, separators=(",", ":")))' "$@"
+}
+# Succeeds when EXPR, Python over the JSON of FILE as `j`, is true.
+json_true() { python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); sys.exit(0 if eval(sys.argv[2]) else 1)' "$1" "$2"; }
+
 # The RMSE of LABEL in out/results.jsonl.
-rmse() { jq -r --arg l "$1" 'select(.label == $l) | .metrics.rmse' out/results.jsonl; }
+rmse() { python3 -c 'import json, sys
+for line in open("out/results.jsonl"):
+    r = json.loads(line)
+    if r["label"] == sys.argv[1]:
+        print(r["metrics"]["rmse"])' "$1"; }
 # Succeeds when LABEL's RMSE in out/results.jsonl is below LIMIT.
 rmse_below() { awk -v r="$(rmse "$1")" -v l="$2" 'BEGIN { exit !(r != "" && r + 0 < l + 0) }'; }
-export -f rmse rmse_below
+export -f json_set json_true rmse rmse_below
 
 # case ID ITEM WHAT EXPECT PATTERN_OR_CHECK SETUP COMMAND
 #   EXPECT refuse: PATTERN is an extended regex the one `error:` line must match.
@@ -143,13 +163,13 @@ case_ spot-h400 1 "spot light radius 2 at height 400: hard RMSE under 0.1" ok "r
 
 # 2. A value near f64's largest in a rows file.
 case_ calibrate-1e308 2 "calibrate, measured_rmse 1e308" refuse 'e\.jsonl: line 1: measured_rmse = 1e308' \
-  "$(declare -f estimate_row); estimate_row measured_rmse=1e308 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+  "$(declare -f estimate_row json_set); estimate_row measured_rmse=1e308 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 # (Beside the run's pictures, which the rows name.)
 case_ report-1e308 2 "report, a results.jsonl row with rmse 1e308" refuse 'r\.jsonl.*line 1: metrics\.rmse = 1e308' \
-  "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && jq -c '.metrics.rmse = 1e308' run/results.jsonl > run/r.jsonl" \
+  "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && json_set metrics.rmse=1e308 < run/results.jsonl > run/r.jsonl" \
   "$P report run/r.jsonl --out out"
 case_ report-time-1e308 2 "report, a results.jsonl row with total_ms 1e308" refuse 'line 1: total_ms = 1e308' \
-  "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && jq -c '.total_ms = 1e308' run/results.jsonl > run/r.jsonl" \
+  "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && json_set total_ms=1e308 < run/results.jsonl > run/r.jsonl" \
   "$P report run/r.jsonl --out out"
 
 # 3. Special files.
@@ -175,7 +195,7 @@ done
 case_ regions-force-23-default 4 "regions:force=23 at the scene's map size renders" ok "test -f out/run.json" \
   "" "$P render --scene analytic-square --set resolution=64 --method regions:force=23 --out out"
 for m in 32 64; do
-  case_ "regions-max-n-$m" 4 "regions:max_n=$m, its top class past 512 maps, renders" ok "jq -e '[.method_record.classes[].maps] | max > 512' out/run.json" \
+  case_ "regions-max-n-$m" 4 "regions:max_n=$m, its top class past 512 maps, renders" ok "json_true out/run.json 'max(c[\"maps\"] for c in j[\"method_record\"][\"classes\"]) > 512'" \
     "" "$P render --scene analytic-square --set resolution=32 --method regions:max_n=$m,target=0.0005,min_size=16,max_size=64 --out out"
 done
 case_ regions-force-size-4096 4 "regions:force=6,force_size=4096, a budget of 100000 MiB" refuse 'shadow_map_budget_mib = 100000: .*4096x4096.*largest memory heap' \
@@ -202,12 +222,12 @@ case_ calibrate-own-folder 7 "calibrate --out the folder holding its --estimates
 # 8. calibrate on absurd rows.
 case_ calibrate-empty 8 "calibrate, an empty file" refuse '--estimates e\.jsonl: holds no estimate row' ": > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 case_ calibrate-failed 8 "calibrate, only failed rows" refuse 'all 1 rows are failed settings' \
-  "$(declare -f estimate_row); estimate_row 'failed=\"out of memory\"' > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-zero 8 "calibrate, measured_rmse 0" refuse 'line 1: measured_rmse = 0:' "$(declare -f estimate_row); estimate_row measured_rmse=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-negative 8 "calibrate, measured_rmse -0.5" refuse 'line 1: measured_rmse = -0\.5:' "$(declare -f estimate_row); estimate_row measured_rmse=-0.5 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-sampling 8 "calibrate, predicted_sampling -1" refuse 'line 1: predicted_sampling = -1:' "$(declare -f estimate_row); estimate_row predicted_sampling=-1 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-map-size 8 "calibrate, map_size 0" refuse 'line 1: map_size = 0' "$(declare -f estimate_row); estimate_row map_size=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-twice 8 "calibrate --estimates E,E" refuse '--estimates `e\.jsonl`: listed twice' "$(declare -f estimate_row); estimate_row > e.jsonl" "$P calibrate --estimates e.jsonl,e.jsonl --out out"
+  "$(declare -f estimate_row json_set); estimate_row 'failed=\"out of memory\"' > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-zero 8 "calibrate, measured_rmse 0" refuse 'line 1: measured_rmse = 0:' "$(declare -f estimate_row json_set); estimate_row measured_rmse=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-negative 8 "calibrate, measured_rmse -0.5" refuse 'line 1: measured_rmse = -0\.5:' "$(declare -f estimate_row json_set); estimate_row measured_rmse=-0.5 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-sampling 8 "calibrate, predicted_sampling -1" refuse 'line 1: predicted_sampling = -1:' "$(declare -f estimate_row json_set); estimate_row predicted_sampling=-1 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-map-size 8 "calibrate, map_size 0" refuse 'line 1: map_size = 0' "$(declare -f estimate_row json_set); estimate_row map_size=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-twice 8 "calibrate --estimates E,E" refuse '--estimates `e\.jsonl`: listed twice' "$(declare -f estimate_row json_set); estimate_row > e.jsonl" "$P calibrate --estimates e.jsonl,e.jsonl --out out"
 
 # 9. A read-only reference cache (a cache folder this user cannot write: run as nobody when root).
 as_user=""
@@ -225,7 +245,7 @@ case_ report-links 10 "report: README images and links out of the page" ok "! gr
   "$P report r --out out"
 
 # 11. Smaller ones.
-case_ convergence-fails 11 "convergence: one value fails at run time, the study goes on" ok "grep -q -- '--values 1 ' .stderr && jq -e '.rows[0].failed' out/convergence.json" \
+case_ convergence-fails 11 "convergence: one value fails at run time, the study goes on" ok "grep -q -- '--values 1 ' .stderr && json_true out/convergence.json 'j[\"rows\"][0].get(\"failed\")'" \
   "cp $here/scenes/analytic-square.toml s.toml" \
   "$P convergence --scene s.toml --method adaptive:scope=local,items_grow=off --key items --values 1,4000000 --set resolution=32 --samples 4 --out out"
 case_ method-unknown 11 "convergence --method nosuch" refuse '--method nosuch: unknown method `nosuch`' "" "$P convergence --method nosuch --out out"

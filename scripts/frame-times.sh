@@ -20,7 +20,7 @@ for m in "${methods[@]}"; do
         for side in old new; do
             bin=$old && [ $side = new ] && bin=$new
             "$bin" render --scene "$scene" --method "$m" --timing frame --warm-up 1 --out "$work/out-$side" >/dev/null
-            jq -r .total_ms "$work/out-$side/run.json" >>"$work/$side"
+            python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["total_ms"])' "$work/out-$side/run.json" >>"$work/$side"
         done
     done
     a=$(median <"$work/old") b=$(median <"$work/new")

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what Penumbra needs on Debian/Ubuntu, and only what is missing: the Vulkan loader and a
 # Vulkan driver (Mesa's lavapipe CPU device when no Vulkan driver is present), a C/C++ compiler for
-# crates that build C, jq and python3 for the results folders' scripts, DejaVu fonts so chart text renders,
+# crates that build C, python3 for the Python package and the results folders' drivers, DejaVu fonts so chart text renders,
 # and Chromium, in which CI drives the report's viewer (scripts/report-browser-test.sh). Needs a Rust toolchain (rustup).
 set -euo pipefail
 sudo=""
@@ -13,8 +13,7 @@ if ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1;
 fi
 # Charts carry their own font; this one is for reading the HTML report in a browser.
 [ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || need+=(fonts-dejavu-core)
-# The results folders' scripts (and their CI stand-ins) read run files with jq and python3.
-command -v jq >/dev/null 2>&1 || need+=(jq)
+# The Python package's tests and the results folders' drivers (penumbra.analysis) run on python3.
 command -v python3 >/dev/null 2>&1 || need+=(python3)
 # The report's viewer is tested in a real browser, headless.
 command -v chromium >/dev/null 2>&1 || need+=(chromium)

@@ -163,6 +163,8 @@ fn line(spec: &str, ms: f64, rmse: f64, kind: &str, failed: Option<&str>) -> Fro
         second_look: None,
         failed: failed.map(String::from),
         certify: None,
+        target: None,
+        version: serde_json::Value::Null,
     }
 }
 

@@ -7,6 +7,7 @@
 //! device (lost, no adapter, a kernel that does not validate) becomes `penumbra.GpuError`, a
 //! `RuntimeError`. The signatures are in `penumbra/_penumbra.pyi`.
 
+mod analysis;
 mod context;
 mod progress;
 mod record;
@@ -108,5 +109,10 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(truth::metrics, m)?)?;
     m.add_function(wrap_pyfunction!(truth::compare_methods, m)?)?;
     m.add_function(wrap_pyfunction!(truth::read_exr, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::analysis_constants, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::method_params, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::auto_predicted_at, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::regions_half_octave, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::regions_density_floor, m)?)?;
     Ok(())
 }

@@ -31,7 +31,9 @@ lights() {
   measure() { # build binary scene label -> "hard,regular" RMSEs, or the refusal
     local dir=$work/$1-$3
     if (cd "$work" && "$2" compare --scene "$3.toml" --methods hard,regular:n=3 --set resolution=128 --repeats 1 --samples 16 --out "$dir" >/dev/null 2>"$dir.err"); then
-      echo "$(jq -r 'select(.label == "hard") | .metrics.rmse' "$dir/results.jsonl"),$(jq -r 'select(.label == "regular:n=3") | .metrics.rmse' "$dir/results.jsonl"),"
+      python3 -c 'import json, sys
+rmse = {r["label"]: r["metrics"]["rmse"] for r in map(json.loads, open(sys.argv[1]))}
+print("%s,%s," % (rmse["hard"], rmse["regular:n=3"]))' "$dir/results.jsonl"
     else
       echo ",,\"$(grep -m1 '^error:' "$dir.err" | sed 's/"/'"'"'/g' | cut -c1-160)\""
     fi
@@ -71,8 +73,15 @@ regions() {
     status=$?
     local seconds maps largest err
     seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-    maps=$(jq -r '.shadow_maps // ""' "$dir/run.json" 2>/dev/null)
-    largest=$(jq -r '[.method_record.classes[].maps] | max // ""' "$dir/run.json" 2>/dev/null)
+    # The maps and the largest class's maps, or nothing where the render wrote no run.json.
+    read -r maps largest < <(python3 -c 'import json, sys
+try:
+    r = json.load(open(sys.argv[1]))
+except OSError:
+    print(" ")
+    sys.exit()
+classes = r.get("method_record", {}).get("classes") or []
+print(r.get("shadow_maps", ""), max((c["maps"] for c in classes), default=""))' "$dir/run.json" 2>/dev/null)
     err=$(grep -m1 '^error:' "$work/err" | sed 's/"/'"'"'/g' | cut -c1-200)
     echo "\"$spec\",$status,$maps,$largest,$seconds,$(( $(tail -1 "$work/peak") / 1024 )),\"$err\"" >> "$csv"
   }

@@ -86,7 +86,7 @@ const START: (u32, u32) = (3, 512);
 /// At most this many tries in one frame (each a full render of a grid).
 const MAX_TRIES: usize = 8;
 /// Sampling error falls about as n^-1.5 on the scenes measured (docs/error-estimate.md §6).
-const SAMPLING_ORDER: f64 = 1.5;
+pub const SAMPLING_ORDER: f64 = 1.5;
 /// A choice handed on from the previous frame of a sequence is kept while its prediction is
 /// within this factor of the target: the prediction moves from frame to frame as the light moves,
 /// and a choice that only rises would otherwise ratchet up on that noise

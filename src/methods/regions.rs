@@ -322,11 +322,15 @@ pub fn half_octave(want: f32) -> u32 {
     side.div_ceil(16) * 16
 }
 
+/// Texels per pixel footprint at least: the `density` parameter where set, else 1 + the lookup's
+/// offsets in texels (what a texel must leave after the bias moves the lookup).
+pub fn density_floor(density: f32, bias: &crate::scene::BiasDef) -> f32 {
+    if density > 0.0 { density } else { 1.0 + bias.constant + bias.slope + bias.normal_offset }
+}
+
 impl State {
-    /// Texels per pixel footprint at least: the parameter, or 1 + the lookup's offsets in texels.
     fn density_floor(&self, fg: &FrameGpu) -> f32 {
-        let b = &fg.scene.render.bias;
-        if self.method.density > 0.0 { self.method.density } else { 1.0 + b.constant + b.slope + b.normal_offset }
+        density_floor(self.method.density, &fg.scene.render.bias)
     }
 
     /// The class's maps: samples fitted to `window`, `size` texels a side.

@@ -18,6 +18,10 @@ pub struct ReportArgs {
     /// Show each row's change against this baseline results.jsonl.
     #[arg(long, value_name = "OLD.jsonl")]
     baseline: Option<PathBuf>,
+    /// Write the index of the results folders under the one folder given (each with its README's
+    /// title) into its README.md, between its index marker lines, instead of a report.
+    #[arg(long)]
+    index: bool,
 }
 
 /// A path that does not end in `.jsonl` names a results folder.
@@ -32,6 +36,16 @@ impl Run for ReportArgs {
 }
 
 fn run(args: ReportArgs) -> Result<()> {
+    if args.index {
+        let [root] = args.results.as_slice() else {
+            anyhow::bail!("--index: takes one folder (results), not {} paths", args.results.len())
+        };
+        if let Some(b) = &args.baseline {
+            anyhow::bail!("--baseline {}: --index writes an index, not a report", b.display());
+        }
+        println!("index: {}", penumbra_lab::report::results_index::write(root)?.display());
+        return Ok(());
+    }
     if args.out.exists() && !args.out.is_dir() {
         anyhow::bail!("--out {}: is a file, not a folder", args.out.display());
     }

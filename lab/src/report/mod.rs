@@ -11,6 +11,7 @@ pub mod md_page;
 pub(crate) mod page;
 pub mod results;
 pub mod results_folder;
+pub mod results_index;
 mod table;
 pub mod viewer;
 

@@ -98,6 +98,13 @@ pub struct FrontierLine {
     /// `--certify K`: the certified bound on this setting's RMSE (docs/certify.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub certify: Option<crate::record::Certified>,
+    /// A budget row's target T as its method was asked (`budget_target`), so that nothing reading
+    /// the rows parses it out of `spec`. Lines written before the column have none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<f64>,
+    /// The build that measured the line (crate version and git hash), as every record carries it.
+    #[serde(default)]
+    pub version: serde_json::Value,
 }
 
 impl FrontierLine {
@@ -127,10 +134,21 @@ impl FrontierLine {
         self.kind == BUDGET
     }
 
-    /// A budget row's target T (`auto:target=T,…`).
+    /// A budget row's target T: its `target`, or for a line written before that column, the
+    /// method's own parse of its spec.
     pub fn target(&self) -> Option<f64> {
-        self.spec.split("target=").nth(1).and_then(|t| t.split(',').next()).and_then(|t| t.parse().ok())
+        self.target.or_else(|| {
+            let m = Method::parse(&self.spec, &[]).ok().filter(|m| kind(m) == BUDGET)?;
+            budget_target(&m)
+        })
     }
+}
+
+/// A budget method's target as it was asked: the methods keep T as f32, whose shortest decimal is
+/// what was written (0.03, not the 0.029999999329447746 its widening reads).
+pub fn budget_target(m: &Method) -> Option<f64> {
+    let t = m.params_json().get("target")?.as_f64()? as f32;
+    t.to_string().parse().ok()
 }
 
 /// The kind of `auto:target=T` and `regions:target=T` rows.
@@ -307,6 +325,8 @@ fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: 
             paired: None,
             second_look: None,
             certify: certified.filter(|_| failed.is_none()),
+            target: Some(m).filter(|m| kind(m) == BUDGET).and_then(budget_target),
+            version: crate::version(),
             failed,
         };
         crate::progress::suspend(|| match &line.failed {
