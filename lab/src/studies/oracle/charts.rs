@@ -68,7 +68,7 @@ pub fn gain_svg(rows: &[OracleRow]) -> Result<String, ChartError> {
     let mut series = Vec::new();
     for r in rows {
         if let Some(g) = r.gain_bound {
-            push_point(&mut series, format!("{} {}² {}", r.scene, r.resolution, r.menu), Point { x: r.target, y: g, label: None, x_span: None });
+            push_point(&mut series, format!("{} {}² {}", r.scene, r.resolution, r.menu), Point { x: r.target, y: g, label: None, x_span: None, hit: None });
         }
     }
     if series.is_empty() {
