@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 
 /// Top-level modules of src/, lowest layer first.
-const LAYERS: &[&str] = &["error", "progress", "gpu", "scene", "render", "stages", "methods", "frame", "api"];
+const LAYERS: &[&str] = &["error", "progress", "gpu", "scene", "render", "stages", "certify", "methods", "frame", "api"];
 
 
 #[test]

@@ -5,7 +5,7 @@ use crate::record::{Pending, Record};
 use crate::scene::Scene;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
-use penumbra_lab::certify::frame::{FrameCertifier, ProxyKind};
+use penumbra_lab::frame::certify::{FrameCertifier, ProxyKind};
 use penumbra_lab::frame::{self, FrameOptions};
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::GpuContext;

@@ -29,7 +29,6 @@
 
 pub mod bound;
 pub mod design;
-pub mod frame;
 pub mod truth;
 
 use crate::gpu::GpuContext;

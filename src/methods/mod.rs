@@ -3,7 +3,7 @@
 //!
 //! A method is one module that implements [`ShadowMethod`] (its parameters) and [`MethodState`]
 //! (its pipelines and buffers, built once per scene and settings), plus one line in [`REGISTRY`].
-//! The frame driver (src/frame.rs) runs any of them without knowing which.
+//! The frame driver (src/frame/) runs any of them without knowing which.
 
 pub mod adaptive;
 pub mod auto;

@@ -1,7 +1,7 @@
 //! `penumbra render`: one scene, one method, one frame (after warm-up frames on the same renderer).
 
 use anyhow::Result;
-use penumbra_lab::certify::frame::{FrameCertifier, ProxyKind};
+use penumbra_lab::frame::certify::{FrameCertifier, ProxyKind};
 use penumbra_lab::frame;
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::{AdapterRequest, GpuContext};

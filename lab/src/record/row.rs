@@ -96,7 +96,7 @@ pub struct Certified {
 }
 
 impl Certified {
-    pub fn of(r: &crate::certify::frame::CertifyRecord) -> Certified {
+    pub fn of(r: &crate::frame::certify::CertifyRecord) -> Certified {
         let c = &r.certificate;
         Certified { pixels: c.pixels, delta: c.delta, bound: c.bound, bound_kind: c.bound_kind.name().to_string(), sampled_rmse: c.sampled_rmse, pixels_ms: r.pixels_ms }
     }

@@ -13,7 +13,7 @@ pub mod promise;
 
 use crate::certify::bound::{self, BoundKind};
 use crate::certify::design::Design;
-use crate::certify::frame::{proxy, Opinion, ProxyKind, SECOND_OPINION};
+use crate::frame::certify::{proxy, Opinion, ProxyKind, SECOND_OPINION};
 use crate::certify::{certificate, design, Sampled};
 use crate::frame::{FrameOptions, Renderer};
 use crate::gpu::timing::TimingMode;
@@ -320,11 +320,15 @@ mod tests {
 
     #[test]
     fn the_stretch_is_the_conformal_quantile_of_the_fitting_ratios() {
-        // 19 fitting draws with ratios 0.81 … 0.99 and one at 1.30: ⌈20 · 0.95⌉ = 19th smallest.
+        // 19 fitting draws with ratios 0.81 … 0.99 and one at 1.30: the split-conformal rank
+        // ⌈(20 + 1) · 0.95⌉ = 20, the largest (the plain ⌈20 · 0.95⌉ = 19th would say 0.99).
         let mut rows: Vec<Row> = (0..19).map(|i| row("fitting", "m", i, 0.81 + 0.01 * i as f64, 1.0)).collect();
         rows.push(row("fitting", "m", 19, 1.3, 1.0));
         rows.push(row("checking", "m", 0, 9.0, 1.0));
-        assert_eq!(fit_stretch(&rows, "band"), Some(0.99));
+        assert_eq!(fit_stretch(&rows, "band"), Some(1.3));
+        // With 39 draws the rank is ⌈40 · 0.95⌉ = 38: the outlier is left out.
+        let many: Vec<Row> = (0..38).map(|i| row("fitting", "m", i, 0.6 + 0.01 * i as f64, 1.0)).chain([row("fitting", "m", 38, 1.3, 1.0)]).collect();
+        assert_eq!(fit_stretch(&many, "band"), Some(0.97));
         assert_eq!(fit_stretch(&rows, "second-opinion"), None);
         let s = summarize(&rows, 1.0);
         let fit = s.iter().find(|l| l.half == "fitting" && l.bound.starts_with("calibrated")).unwrap();

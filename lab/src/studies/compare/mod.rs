@@ -94,7 +94,7 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         }
     }
     // One certifier for every method: the scene's truth tracer and second opinion, built once.
-    let mut certifier = job.certify.map(|o| crate::certify::frame::FrameCertifier::new(ctx, scene, o, crate::certify::frame::ProxyKind::SecondOpinion)).transpose()?;
+    let mut certifier = job.certify.map(|o| crate::frame::certify::FrameCertifier::new(ctx, scene, o, crate::frame::certify::ProxyKind::SecondOpinion)).transpose()?;
     let mut files = vec![
         ("reference.exr".to_string(), run_files::visibility_exr(&reference.values, w, h)?),
         ("reference.png".to_string(), run_files::visibility_png(&reference.values, w, h)?),

@@ -230,7 +230,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
         }
     }
     // One certifier for every setting: the same geometry, camera and light.
-    let mut certifier = job.certify.map(|o| crate::certify::frame::FrameCertifier::new(ctx, scene, o, crate::certify::frame::ProxyKind::SecondOpinion)).transpose()?;
+    let mut certifier = job.certify.map(|o| crate::frame::certify::FrameCertifier::new(ctx, scene, o, crate::frame::certify::ProxyKind::SecondOpinion)).transpose()?;
     let total = grid::count(&job.groups);
     let bar = crate::progress::bar(measure::frame_count(total, job.repeats), "frontier");
     let mut lines = Vec::with_capacity(total);
@@ -272,7 +272,7 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
 /// One group's settings measured in the one measure loop, judged, as lines (frontier unmarked).
 /// With `certifier`, each judged frame gets its certified bound too.
 #[allow(clippy::too_many_arguments)]
-fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: &str, group: &grid::Group, mut certifier: Option<&mut crate::certify::frame::FrameCertifier>, bar: &indicatif::ProgressBar, log: &dyn Fn(&str)) -> Result<Vec<FrontierLine>> {
+fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: &str, group: &grid::Group, mut certifier: Option<&mut crate::frame::certify::FrameCertifier>, bar: &indicatif::ProgressBar, log: &dyn Fn(&str)) -> Result<Vec<FrontierLine>> {
     let scene = job.scene;
     let grid::Group { maps, specs, methods } = group;
     // eps: the hybrid study's and the seed's 0.25 (docs/hybrid.md).

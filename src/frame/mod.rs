@@ -2,6 +2,10 @@
 //! then runs frames on them ([`Renderer::frame`]): G-buffer, the method's maps and compute
 //! stages, read-back. It knows methods only through `methods::MethodState`.
 
+/// A certified bound on any frame's RMSE (docs/certify.md): it renders a second opinion, so it sits
+/// above the methods, beside the renderer it certifies.
+pub mod certify;
+
 use crate::stages::shade::ShadePass;
 use crate::stages::{FrameGpu, FrameParts};
 use crate::gpu::kernels::MapAccess;

@@ -7,11 +7,11 @@
 //! candidate alone cannot see a single-map filter's error where it drew no penumbra
 //! (docs/certify.md §2).
 
-use super::bound::BoundKind;
-use super::design::{self, Design};
-use super::truth::TruthTracer;
-use super::{certificate, Certificate, Options, TraceFigures};
-use crate::frame::{FrameOptions, FrameResult, Renderer};
+use crate::certify::bound::BoundKind;
+use crate::certify::design::{self, Design};
+use crate::certify::truth::TruthTracer;
+use crate::certify::{certificate, Certificate, Options, TraceFigures};
+use super::{FrameOptions, FrameResult, Renderer};
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
@@ -124,7 +124,7 @@ impl<'a> FrameCertifier<'a> {
         let start = Instant::now();
         let proxy = proxy(self.proxy, &frame.visibility, &subset, g.width, g.height, self.opinion.as_ref());
         let design = Design::new(&subset, &proxy, design::DEFENSIVE)?;
-        let sampled = super::sample(self.ctx, &self.tracer, g, &design, &self.options)?;
+        let sampled = crate::certify::sample(self.ctx, &self.tracer, g, &design, &self.options)?;
         let certificate = certificate(&frame.visibility, &sampled, &design, self.options.delta, BoundKind::Calibrated);
         Ok(CertifyRecord {
             certificate,
