@@ -168,6 +168,6 @@ fn the_decisions_map_is_twice_the_screen_within_the_scenes_size() {
     let r = m("regions");
     assert_eq!([r.centre_side(128, 128, 1024), r.centre_side(48, 48, 128), r.centre_side(300, 200, 4096), r.centre_side(16, 16, 2048), r.centre_side(128, 96, 32)], [256, 128, 1024, 64, 32]);
     assert_eq!(m("regions:centre_size=512").centre_side(128, 128, 1024), 512);
-    let e = Method::parse("regions:centre_size=300", &[]).err().expect("300 accepted");
+    let e = Method::parse("regions:centre_size=300", &[]).expect_err("300 accepted");
     assert!(e.to_string().contains("regions: centre_size = 300 is not a power of two"), "{e}");
 }

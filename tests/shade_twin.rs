@@ -37,9 +37,9 @@ fn shade_equals_its_cpu_twin() {
         assert!(!tiles.is_empty() && (tiles.len() as u32) < all, "seed {seed}: {} of {all} tiles: the scene should leave some background", tiles.len());
         twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..n, &mut v);
         let (mut worst, mut shadowed) = (0.0f32, 0usize);
-        for i in 0..v.len() {
+        for (i, twin_v) in v.iter().enumerate() {
             if r.gbuffer.is_geometry(i) {
-                worst = worst.max((v[i].clamp(0.0, 1.0) - r.visibility[i]).abs());
+                worst = worst.max((twin_v.clamp(0.0, 1.0) - r.visibility[i]).abs());
                 shadowed += (r.visibility[i] < 1.0) as usize;
             }
         }

@@ -312,9 +312,7 @@ fn a_results_folder_page_fetches_nothing_and_says_what_it_holds() {
         err.lines()
             .filter(|l| l.starts_with("warning:"))
             .collect::<Vec<_>>(),
-        [format!(
-            "warning: r/sub/more.csv: line 2: rmse = -1: an error of V lies in [0, 1]"
-        )]
+        ["warning: r/sub/more.csv: line 2: rmse = -1: an error of V lies in [0, 1]"]
     );
     let page = std::fs::read_to_string(dir.join("out/report.html")).unwrap();
     for attr in ["src=\"http", "href=\"javascript", "href=\"http"] {

@@ -17,7 +17,7 @@ const MAP_BYTES: u64 = MAP * MAP * 4;
 fn past_the_heap(heap: u64) -> (u32, u64) {
     let maps = heap / MAP_BYTES + 1;
     let n = (maps as f64).sqrt().ceil() as u32;
-    let budget_mib = ((n as u64).pow(2) * MAP_BYTES >> 20).max(4096);
+    let budget_mib = (((n as u64).pow(2) * MAP_BYTES) >> 20).max(4096);
     (n, budget_mib)
 }
 
@@ -97,7 +97,7 @@ fn what_slips_past_the_plan_is_an_error_not_a_panic() {
             view_formats: &[],
         })
     };
-    let e = ctx.scoped("the test's array", || Ok(make())).err().expect("the device refuses the array").to_string();
+    let e = ctx.scoped("the test's array", || Ok(make())).expect_err("the device refuses the array").to_string();
     assert_eq!(e, "gpu: the test's array: Out of Memory: In Device::create_texture, label = 'too large': Not enough memory left.");
     ctx.wait().expect("the scope kept the error");
     let _unscoped = make();

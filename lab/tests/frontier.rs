@@ -119,7 +119,7 @@ fn a_point_light_frontier_leaves_out_what_refuses_the_light() {
 /// the rest of the grid runs (it used to refuse the whole run).
 #[test]
 fn settings_over_the_device_limits_are_left_out() {
-    let limit = u64::from(common::gpu().limits().max_storage_buffer_binding_size);
+    let limit = common::gpu().limits().max_storage_buffer_binding_size;
     let dir = temp_dir("frontier_4096");
     let out = dir.join("out");
     let o = ok(

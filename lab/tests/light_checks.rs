@@ -54,10 +54,8 @@ fn the_shipped_scenes_pass_and_their_lights_are_far_below_the_bound() {
                 0.0
             }
         };
-        if scene.environment.is_none() {
-            if across / scene.bounds.diagonal() > widest.0 {
-                widest = (across / scene.bounds.diagonal(), name);
-            }
+        if scene.environment.is_none() && across / scene.bounds.diagonal() > widest.0 {
+            widest = (across / scene.bounds.diagonal(), name);
         }
     }
     let (widest, which) = widest;

@@ -22,6 +22,7 @@ fn adaptive_spec(dir: &Path, n: usize) -> String {
 
 /// Runs the binary to the end and returns its exit code, stderr and peak resident set (KiB), read
 /// from `wait4`'s rusage of that one child.
+#[allow(clippy::zombie_processes)] // the child is reaped by wait4 below, which also gives its rusage
 fn run_measured(args: &[&str], cache: &Path) -> (Option<i32>, String, i64) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_penumbra"))
         .args(args)

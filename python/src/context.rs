@@ -10,7 +10,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// The context for `adapter` (a name or part of one, as `penumbra --adapter` takes it; `None`:
 /// `WGPU_ADAPTER_NAME`, else the default choice). `WGPU_BACKEND` picks the backend, as for the CLI.
 pub fn get(py: Python<'_>, adapter: Option<&str>) -> PyResult<Arc<GpuContext>> {
-    static CONTEXTS: OnceLock<Mutex<HashMap<(String, Option<String>), Arc<GpuContext>>>> = OnceLock::new();
+    // One context per (backend, adapter) request.
+    type Contexts = Mutex<HashMap<(String, Option<String>), Arc<GpuContext>>>;
+    static CONTEXTS: OnceLock<Contexts> = OnceLock::new();
     let (backend, source) = match std::env::var("WGPU_BACKEND") {
         Ok(b) => (b, "WGPU_BACKEND"),
         Err(_) => ("auto".to_string(), "backend"),

@@ -206,7 +206,7 @@ mod tests {
     #[test]
     fn a_subset_is_drawn_alone_and_a_zero_proxy_is_uniform() {
         let subset: Vec<bool> = (0..50).map(|i| i % 2 == 0).collect();
-        let d = Design::new(&subset, &vec![0.0; 50], 0.3).unwrap();
+        let d = Design::new(&subset, &[0.0; 50], 0.3).unwrap();
         assert_eq!(d.pixel_count(), 25);
         assert_eq!(d.defensive, 1.0);
         assert!(d.draw(500, 1).pixels.iter().all(|p| p % 2 == 0));

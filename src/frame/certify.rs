@@ -95,7 +95,7 @@ impl<'a> FrameCertifier<'a> {
     /// proxy, its renderer.
     pub fn new(ctx: &'a GpuContext, scene: &'a Scene, options: Options, proxy: ProxyKind) -> Result<FrameCertifier<'a>> {
         if !(options.delta > 0.0 && options.delta < 1.0) || options.pixels == 0 {
-            return Err(Error::Param(format!("certify: {}", options.check(usize::MAX).err().expect("one of them fails"))));
+            return Err(Error::Param(format!("certify: {}", options.check(usize::MAX).expect_err("one of them fails"))));
         }
         let tracer = TruthTracer::new(ctx, scene)?;
         let second = match proxy {

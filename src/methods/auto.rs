@@ -274,6 +274,7 @@ pub fn predicted_at(class: Class, n: u32, size: u32, p: &Prediction, n2: u32, si
 
 /// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), of `sides(max_n)` and
 /// `sizes(max_size)`, that `predicted_at` says meets `target` too; None if none does.
+#[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
 pub fn cheaper_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs, tried: &[(u32, u32)]) -> Option<(u32, u32)> {
     let here = (n * n) as f64 * costs.of(size);
     let mut best: Option<(f64, (u32, u32))> = None;
@@ -293,6 +294,7 @@ pub fn cheaper_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: 
 
 /// The cheapest grid (its maps at `costs`' price) of `sides` at n ≥ `n` and `sizes` at maps ≥ `size`, other than
 /// (n, size), that `predicted_at` says meets `target`; None if none does.
+#[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
 fn cheapest_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
     let mut best: Option<(f64, (u32, u32))> = None;
     for size2 in sizes(max_size).into_iter().filter(|&z| z >= size) {
@@ -317,6 +319,7 @@ fn cheapest_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64
 /// misses the target, nothing can reach it. Where even the largest maps would miss it (their
 /// error falling at best as the texel size), the sampling error need only stay under half that
 /// floor, which adds at most 12% to it: n does not chase a target the maps put out of reach.
+#[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
 pub fn next_choice(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
     if let Some(choice) = cheapest_meeting(class, n, size, p, target, max_n, max_size, costs) {
         return Some(choice);
@@ -351,10 +354,10 @@ pub fn next_choice(class: Class, n: u32, size: u32, p: &Prediction, target: f64,
 impl AutoState {
     /// The grid (n, size) with the estimate, built unless it is the one held.
     fn hold(&mut self, fg: &FrameGpu, (n, size): (u32, u32)) -> Result<()> {
-        if !self.frames.contains_key(&size) {
+        self.frames.entry(size).or_insert_with(|| {
             let frame = crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame };
-            self.frames.insert(size, crate::gpu::readback::uniform_buffer(fg.ctx, "auto frame", &frame));
-        }
+            crate::gpu::readback::uniform_buffer(fg.ctx, "auto frame", &frame)
+        });
         if self.grid.as_ref().is_none_or(|(key, _)| *key != (n, size)) {
             // The previous grid's maps go before the next one's are allocated.
             self.grid = None;

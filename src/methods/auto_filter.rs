@@ -148,6 +148,7 @@ impl Candidates {
     /// and those left are predicted against it, and taken where `accept(F, handed)` (auto's
     /// rule; `handed` for the filter the previous frame of a sequence chose). V is left holding
     /// what the frame renders: the chosen candidate's, else the grid that met the target.
+    #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
     pub fn check(
         &mut self,
         fg: &FrameGpu,
@@ -200,6 +201,7 @@ impl Candidates {
     /// is not enough here: on `grazing-ground` pcss at 1024² read 0.060 against a grid predicted
     /// at 0.234, and errs 0.27 (their errors share the acne). V is left holding what the frame
     /// renders.
+    #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
     pub fn check_out_of_reach(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], met: Met, met_bound: &[f32], keep: f64, handed_on: Option<&str>) -> Result<Outcome> {
         let v_met = read_v(fg, timer)?;
         let (mut checks, mut maps) = (Vec::new(), 0);

@@ -67,7 +67,7 @@ impl MapKey {
         let y0 = (lo.y.floor() - 1.0).max(0.0);
         let x1 = (hi.x.ceil() + 1.0).min(size);
         let y1 = (hi.y.ceil() + 1.0).min(size);
-        (x1 > x0 && y1 > y0).then(|| [x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32])
+        (x1 > x0 && y1 > y0).then_some([x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32])
     }
 }
 

@@ -38,26 +38,6 @@ fn spread(v: u32) -> u64 {
     x
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn spread_puts_two_zero_bits_after_each_bit() {
-        assert_eq!(spread(0b1011), 0b001_000_001_001);
-        assert_eq!(spread(0x1f_ffff), 0x1249_2492_4924_9249);
-    }
-
-    #[test]
-    fn same_triangles_same_windings_neighbours_first() {
-        // Four triangles along x, given far-near-far-near: the order follows the curve.
-        let positions: Vec<Vec3> = (0..4).flat_map(|i| [Vec3::new(i as f32 * 10.0, 0.0, 0.0), Vec3::new(i as f32 * 10.0 + 1.0, 0.0, 0.0), Vec3::new(i as f32 * 10.0, 1.0, 0.0)]).collect();
-        let indices: Vec<u32> = [3u32, 0, 2, 1].iter().flat_map(|&t| [t * 3, t * 3 + 1, t * 3 + 2]).collect();
-        let ordered = shadow_order(&positions, &indices);
-        assert_eq!(ordered, (0..12).collect::<Vec<u32>>());
-    }
-}
-
 /// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
 /// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
 /// little so the cone holds every normal despite rounding.
@@ -87,4 +67,24 @@ pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
             [lo.extend(cos).to_array(), hi.extend(sin).to_array(), axis.extend(if valid { 1.0 } else { 0.0 }).to_array()]
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_puts_two_zero_bits_after_each_bit() {
+        assert_eq!(spread(0b1011), 0b001_000_001_001);
+        assert_eq!(spread(0x1f_ffff), 0x1249_2492_4924_9249);
+    }
+
+    #[test]
+    fn same_triangles_same_windings_neighbours_first() {
+        // Four triangles along x, given far-near-far-near: the order follows the curve.
+        let positions: Vec<Vec3> = (0..4).flat_map(|i| [Vec3::new(i as f32 * 10.0, 0.0, 0.0), Vec3::new(i as f32 * 10.0 + 1.0, 0.0, 0.0), Vec3::new(i as f32 * 10.0, 1.0, 0.0)]).collect();
+        let indices: Vec<u32> = [3u32, 0, 2, 1].iter().flat_map(|&t| [t * 3, t * 3 + 1, t * 3 + 2]).collect();
+        let ordered = shadow_order(&positions, &indices);
+        assert_eq!(ordered, (0..12).collect::<Vec<u32>>());
+    }
 }

@@ -60,6 +60,7 @@ pub struct EnvReference {
 }
 
 /// Traces V for every point with `samples` importance samples each (seeded per pixel).
+#[allow(clippy::too_many_arguments)] // the tracer, the sky and every setting of one trace
 pub fn trace(tracer: &Tracer, env: &Environment, points: &[Option<SurfacePoint>], samples: u32, offset: f32, t_max: f32, seed: u64, progress: &(dyn Fn(usize) + Sync)) -> EnvReference {
     let sampler = PanoramaSampler::new(env);
     let done = std::sync::atomic::AtomicUsize::new(0);

@@ -32,7 +32,7 @@ pub fn page(dir: &Path) -> Result<String> {
     let readme = crate::scene::input_file::read_text(&readme_path, crate::scene::input_file::TEXT_CAP, "the 256 MiB cap on results files")
         .map_err(|e| err(&readme_path, format!("a results folder needs its README.md (command, build, device): {e}")))?;
     let mut files = Vec::new();
-    rows_files(dir, dir, DEPTH, &mut files)?;
+    rows_files(dir, DEPTH, &mut files)?;
     files.sort();
     if files.is_empty() {
         return Err(err(dir, "no rows: the folder holds no .csv or .jsonl file".into()).into());
@@ -57,14 +57,14 @@ const DEPTH: usize = 3;
 
 /// The `.csv` and `.jsonl` files in `dir` and its sub-folders to `depth` levels (hidden ones and
 /// links to folders left out: a folder may hold a run's staging folder or a link out of it).
-fn rows_files(root: &Path, dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> {
+fn rows_files(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> {
     let listing = std::fs::read_dir(dir).map_err(|e| ReportError::Results { path: dir.to_path_buf(), message: format!("cannot list: {e}") })?;
     for entry in listing.flatten() {
         let path = entry.path();
         let hidden = entry.file_name().to_string_lossy().starts_with('.');
         let Ok(t) = entry.file_type() else { continue };
         if t.is_dir() && !hidden && depth > 0 {
-            rows_files(root, &path, depth - 1, out)?;
+            rows_files(&path, depth - 1, out)?;
         } else if !t.is_dir() && matches!(path.extension().and_then(|x| x.to_str()), Some("csv" | "jsonl")) {
             out.push(path);
         }

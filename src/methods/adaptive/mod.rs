@@ -331,7 +331,9 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     // dropped), nor those that serve only this frame's pixels (scissored or culled), nor the
     // GPU-steered loop's (every candidate's layer is fixed before the frame).
     let faces = faces_per_sample(&samples);
-    let keeps = fg.maps_kept.on && !hybrid && !p.scissor && !p.culls() && !p.culls_every_pixel() && !(faces == 1 && steer::eligible(p, &b));
+    // What changes a map with the pixels (scissor, culling, a steered one-face frame) cannot be kept.
+    let varies = hybrid || p.scissor || p.culls() || p.culls_every_pixel() || (faces == 1 && steer::eligible(p, &b));
+    let keeps = fg.maps_kept.on && !varies;
     let size = scene.render.shadow_map_size;
     let taken = |layers: &[u32]| fg.maps_kept.take("adaptive", size, layers).filter(|_| keeps);
     let store = if hybrid {

@@ -58,7 +58,10 @@ pub fn parse_methods(list: &str) -> Result<Vec<Method>> {
     Ok(methods)
 }
 
-pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)], log: &dyn Fn(&str)) -> Result<(Vec<SceneOutcome>, Vec<(String, Vec<u8>)>)> {
+/// A run's files by name, as `run_files::write_files` takes them.
+pub type NamedFiles = Vec<(String, Vec<u8>)>;
+
+pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)], log: &dyn Fn(&str)) -> Result<(Vec<SceneOutcome>, NamedFiles)> {
     let methods = parse_methods(&job.methods)?;
     let mode = truth::parse_mode("continuous", job.samples)?;
     if job.repeats == 0 || job.repeats > 100 {

@@ -74,15 +74,14 @@ pub struct Paired {
 /// scene's size: a row whose maps differ from its own window's is left unpaired, and says so.
 pub fn pair(ctx: &GpuContext, job: &FrontierJob, lines: &mut [FrontierLine], log: &dyn Fn(&str)) -> Result<()> {
     let find = |setting: &str| job.groups.iter().find_map(|g| g.specs.iter().position(|s| format!("{s} @ {}", g.maps.label()) == setting).map(|k| (g, k)));
-    for i in 0..lines.len() {
-        let l = &lines[i];
+    for l in lines.iter_mut() {
         let (Some(_), Some(oracle)) = (&l.budget, &l.oracle) else { continue };
         let (Some((ga, ka)), Some((go, ko))) = (find(&l.setting()), find(oracle)) else { continue };
         let scene = go.maps.apply(job.scene, 0.25);
         let methods = [ga.methods[ka].clone(), go.methods[ko].clone()];
         let measured = measure::measure(ctx, &scene, &methods, job.repeats, &mut |_, _, _| {}, &mut |_, f| Ok(f.output.shadow_maps))?;
         match &measured[..] {
-            [Ok(a), Ok(o)] if a.judged == l.maps => lines[i].paired = Some(Paired { ms: a.timing.median_ms, oracle_ms: o.timing.median_ms }),
+            [Ok(a), Ok(o)] if a.judged == l.maps => l.paired = Some(Paired { ms: a.timing.median_ms, oracle_ms: o.timing.median_ms }),
             [Ok(a), Ok(_)] => log(&format!("{}: under {}'s maps it rendered {} maps, not {}: time/oracle from the windows", l.setting(), oracle, a.judged, l.maps)),
             _ => log(&format!("{}: side-by-side timing against {oracle} failed: time/oracle from the windows", l.setting())),
         }

@@ -51,7 +51,7 @@ mod tests {
         assert_eq!(beaten_by(&p, &on_frontier(&p), 5), Some(4));
         assert_eq!(ladder(&p), [0, 2, 4]);
         for level in [0.005, 0.01, 0.02, 0.03, 0.04, 0.05, 0.07] {
-            let by_ladder = ladder(&p).into_iter().filter(|&i| p[i].1 <= level).next();
+            let by_ladder = ladder(&p).into_iter().find(|&i| p[i].1 <= level);
             assert_eq!(by_ladder, cheapest_reaching(&p, level), "level {level}");
         }
     }

@@ -518,7 +518,9 @@ fn exchange(p: &Problem, set: &[usize], choice: &mut [usize]) {
                 }
             }
         }
-        let mut best: Option<(f64, (usize, usize), (usize, usize))> = None;
+        // (the price change, the tile and candidate that rise, the tile and candidate that fall)
+        type Swap = (f64, (usize, usize), (usize, usize));
+        let mut best: Option<Swap> = None;
         for &(ta, ka, ca, ea) in &up {
             for &(tb, kb, cb, eb) in &down {
                 if ta != tb && ca + cb < 0.0 && ea + eb <= left && best.is_none_or(|b| ca + cb < b.0) {
