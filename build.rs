@@ -20,16 +20,35 @@ fn main() {
 fn embed_scenes() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut files: Vec<_> = std::fs::read_dir(&dir).expect("scenes/ folder").map(|e| e.expect("scenes/ entry").path()).collect();
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("scenes/ folder")
+        .map(|e| e.expect("scenes/ entry").path())
+        .collect();
     // `default` first, then by name: the order `penumbra scenes` lists them in.
-    files.sort_by_key(|p| (p.file_stem().is_none_or(|s| s != "default"), p.file_name().map(|n| n.to_os_string())));
+    files.sort_by_key(|p| {
+        (
+            p.file_stem().is_none_or(|s| s != "default"),
+            p.file_name().map(|n| n.to_os_string()),
+        )
+    });
     let (mut scenes, mut meshes) = (String::new(), String::new());
     for path in &files {
         println!("cargo:rerun-if-changed={}", path.display());
-        let name = path.file_name().and_then(|n| n.to_str()).expect("UTF-8 file name in scenes/");
-        let entry = format!("    ({:?}, include_str!({:?})),\n", name, path.display().to_string());
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .expect("UTF-8 file name in scenes/");
+        let entry = format!(
+            "    ({:?}, include_str!({:?})),\n",
+            name,
+            path.display().to_string()
+        );
         match path.extension().and_then(|e| e.to_str()) {
-            Some("toml") => scenes.push_str(&entry.replacen(&format!("{name:?}"), &format!("{:?}", name.trim_end_matches(".toml")), 1)),
+            Some("toml") => scenes.push_str(&entry.replacen(
+                &format!("{name:?}"),
+                &format!("{:?}", name.trim_end_matches(".toml")),
+                1,
+            )),
             Some("obj") => meshes.push_str(&entry),
             _ => {}
         }

@@ -12,7 +12,9 @@ mod embed;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let method = args.first().map_or("adaptive:preset=balanced", String::as_str);
+    let method = args
+        .first()
+        .map_or("adaptive:preset=balanced", String::as_str);
     let number = |i: usize, default: u32| args.get(i).map_or(Ok(default), |s| s.parse::<u32>());
     let (Ok(size), Ok(frames)) = (number(1, 64), number(2, 20)) else {
         eprintln!("frame_times: SIZE and FRAMES must be positive integers");
@@ -20,9 +22,12 @@ fn main() {
     };
     let run = || -> Result<Vec<f64>, String> {
         let (adapter, device, queue) = embed::app_device()?;
-        let shadows = penumbra::Shadows::new(&adapter, &device, &queue).map_err(|e| e.to_string())?;
+        let shadows =
+            penumbra::Shadows::new(&adapter, &device, &queue).map_err(|e| e.to_string())?;
         let scene = embed::analytic_square(size).map_err(|e| e.to_string())?;
-        let mut renderer = shadows.renderer(&scene, method).map_err(|e| e.to_string())?;
+        let mut renderer = shadows
+            .renderer(&scene, method)
+            .map_err(|e| e.to_string())?;
         renderer.render().map_err(|e| e.to_string())?;
         (0..frames)
             .map(|_| {

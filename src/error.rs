@@ -53,13 +53,22 @@ pub enum Error {
 
 impl Error {
     pub fn scene(origin: impl Into<String>, message: impl Into<String>) -> Self {
-        Error::Scene { origin: origin.into(), message: message.into() }
+        Error::Scene {
+            origin: origin.into(),
+            message: message.into(),
+        }
     }
     pub fn mesh(origin: impl Into<String>, message: impl Into<String>) -> Self {
-        Error::Mesh { origin: origin.into(), message: message.into() }
+        Error::Mesh {
+            origin: origin.into(),
+            message: message.into(),
+        }
     }
     pub fn io(path: &Path, err: impl std::fmt::Display) -> Self {
-        Error::Io { path: path.display().to_string(), message: err.to_string() }
+        Error::Io {
+            path: path.display().to_string(),
+            message: err.to_string(),
+        }
     }
 }
 
@@ -68,5 +77,8 @@ pub fn toml_position(text: &str, e: &toml::de::Error) -> Option<(usize, usize)> 
     let start = e.span()?.start.min(text.len());
     let before = &text[..start];
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    Some((before.matches('\n').count() + 1, before[line_start..].chars().count() + 1))
+    Some((
+        before.matches('\n').count() + 1,
+        before[line_start..].chars().count() + 1,
+    ))
 }

@@ -9,21 +9,29 @@
 //! ─► compute (reproject_count ─► neighbourhood ─► quad_count ─► subdivide) ─► shade ─► run record.
 
 pub mod api;
-pub(crate) mod error;
-pub mod progress;
-pub mod gpu;
-pub mod scene;
-pub mod render;
-pub mod stages;
-pub mod methods;
-pub mod frame;
 pub mod certify;
+pub(crate) mod error;
+pub mod frame;
+pub mod gpu;
+pub mod methods;
+pub mod progress;
+pub mod render;
+pub mod scene;
+pub mod stages;
 
-pub use api::{required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
+pub use api::{
+    required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows,
+    Visibility, OPTIONAL_FEATURES,
+};
 pub use error::{toml_position, Error, Result};
 
 /// `0.1.0 (git <hash>)`: the version line of the `penumbra` binary.
-pub const LONG_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (git ", env!("PENUMBRA_GIT_HASH"), ")");
+pub const LONG_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (git ",
+    env!("PENUMBRA_GIT_HASH"),
+    ")"
+);
 
 /// The crate version and the git hash it was built from, as every record carries them.
 pub fn version() -> serde_json::Value {

@@ -4,12 +4,15 @@
 
 mod common;
 use penumbra::frame;
+use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::gpu::timing::TimingMode;
 
 fn vertex_bits(s: &Scene) -> Vec<[u32; 3]> {
-    s.vertices.iter().map(|v| v.position.map(f32::to_bits)).collect()
+    s.vertices
+        .iter()
+        .map(|v| v.position.map(f32::to_bits))
+        .collect()
 }
 
 #[test]
@@ -20,7 +23,12 @@ fn loading_a_subdivided_scene_twice_gives_the_same_mesh_bits() {
         assert_eq!(a.indices, b.indices);
         let (va, vb) = (vertex_bits(&a), vertex_bits(&b));
         let differ = va.iter().zip(&vb).filter(|(x, y)| x != y).count();
-        assert_eq!(differ, 0, "{differ} of {} vertices of `default` differ between two loads", va.len());
+        assert_eq!(
+            differ,
+            0,
+            "{differ} of {} vertices of `default` differ between two loads",
+            va.len()
+        );
     }
 }
 
@@ -33,17 +41,65 @@ fn two_512_renders_are_bit_identical() {
         let method = Method::parse("regular:n=17", &[]).unwrap();
         let run = || {
             let scene = Scene::load("default", &[]).unwrap();
-            assert_eq!((scene.render.width, scene.render.height, scene.render.shadow_map_size), (512, 512, 512));
-            frame::render(ctx, &scene, &method, frame::FrameOptions { mode: TimingMode::Frame, pictures: false }).unwrap()
+            assert_eq!(
+                (
+                    scene.render.width,
+                    scene.render.height,
+                    scene.render.shadow_map_size
+                ),
+                (512, 512, 512)
+            );
+            frame::render(
+                ctx,
+                &scene,
+                &method,
+                frame::FrameOptions {
+                    mode: TimingMode::Frame,
+                    pictures: false,
+                },
+            )
+            .unwrap()
         };
         let (a, b) = (run(), run());
-        let differ: Vec<usize> = (0..a.visibility.len()).filter(|&i| a.visibility[i].to_bits() != b.visibility[i].to_bits()).collect();
-        let partly = a.visibility.iter().filter(|v| **v > 0.0 && **v < 1.0).count();
-        println!("{method:?}: {} pixels differ, {partly} penumbra pixels", differ.len());
-        assert!(partly > 1000, "{method:?}: only {partly} penumbra pixels, the comparison proves little");
-        assert!(differ.is_empty(), "{method:?}: {} pixels differ between two runs, first {:?}", differ.len(), &differ[..differ.len().min(6)]);
-        let pa: Vec<u32> = a.gbuffer.position.iter().flatten().map(|x| x.to_bits()).collect();
-        let pb: Vec<u32> = b.gbuffer.position.iter().flatten().map(|x| x.to_bits()).collect();
-        assert!(pa == pb, "{method:?}: the G-buffers differ between two runs");
+        let differ: Vec<usize> = (0..a.visibility.len())
+            .filter(|&i| a.visibility[i].to_bits() != b.visibility[i].to_bits())
+            .collect();
+        let partly = a
+            .visibility
+            .iter()
+            .filter(|v| **v > 0.0 && **v < 1.0)
+            .count();
+        println!(
+            "{method:?}: {} pixels differ, {partly} penumbra pixels",
+            differ.len()
+        );
+        assert!(
+            partly > 1000,
+            "{method:?}: only {partly} penumbra pixels, the comparison proves little"
+        );
+        assert!(
+            differ.is_empty(),
+            "{method:?}: {} pixels differ between two runs, first {:?}",
+            differ.len(),
+            &differ[..differ.len().min(6)]
+        );
+        let pa: Vec<u32> = a
+            .gbuffer
+            .position
+            .iter()
+            .flatten()
+            .map(|x| x.to_bits())
+            .collect();
+        let pb: Vec<u32> = b
+            .gbuffer
+            .position
+            .iter()
+            .flatten()
+            .map(|x| x.to_bits())
+            .collect();
+        assert!(
+            pa == pb,
+            "{method:?}: the G-buffers differ between two runs"
+        );
     }
 }

@@ -9,38 +9,120 @@ use std::collections::BTreeSet;
 
 #[test]
 fn every_kernel_validates_with_naga() {
-    let errors: Vec<String> = kernels::all().filter_map(|(s, _)| kernels::validate(s.name).err().map(|e| e.to_string())).collect();
-    assert!(kernels::all().count() >= 3, "kernel registry is unexpectedly small");
-    assert!(errors.is_empty(), "{} kernel(s) failed naga validation:\n{}", errors.len(), errors.join("\n"));
+    let errors: Vec<String> = kernels::all()
+        .filter_map(|(s, _)| kernels::validate(s.name).err().map(|e| e.to_string()))
+        .collect();
+    assert!(
+        kernels::all().count() >= 3,
+        "kernel registry is unexpectedly small"
+    );
+    assert!(
+        errors.is_empty(),
+        "{} kernel(s) failed naga validation:\n{}",
+        errors.len(),
+        errors.join("\n")
+    );
 }
 
 #[test]
 fn map_reading_kernels_validate_for_every_map_access() {
-    let readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| s.name).collect();
-    assert_eq!(readers, ["shade", "estimate", "shadow_test", "pcf", "cascades", "pcss", "regions"], "the kernels that read maps through map_depth");
-    let raster_readers: Vec<&str> = kernels::all().filter(|(_, k)| k.reads_raster).map(|(s, _)| s.name).collect();
-    assert_eq!(raster_readers, ["moments", "env_shadowmaps", "hybrid_build"], "the kernels that read the raster's layers through layer_depth");
+    let readers: Vec<&str> = kernels::all()
+        .filter(|(_, k)| k.reads_maps)
+        .map(|(s, _)| s.name)
+        .collect();
+    assert_eq!(
+        readers,
+        [
+            "shade",
+            "estimate",
+            "shadow_test",
+            "pcf",
+            "cascades",
+            "pcss",
+            "regions"
+        ],
+        "the kernels that read maps through map_depth"
+    );
+    let raster_readers: Vec<&str> = kernels::all()
+        .filter(|(_, k)| k.reads_raster)
+        .map(|(s, _)| s.name)
+        .collect();
+    assert_eq!(
+        raster_readers,
+        ["moments", "env_shadowmaps", "hybrid_build"],
+        "the kernels that read the raster's layers through layer_depth"
+    );
     let mut errors = Vec::new();
     for k in &readers {
         for access in [MapAccess::Words, MapAccess::Hybrid] {
-            errors.extend(kernels::validate_for(k, access).err().map(|e| format!("{k} ({access:?}): {e}")));
+            errors.extend(
+                kernels::validate_for(k, access)
+                    .err()
+                    .map(|e| format!("{k} ({access:?}): {e}")),
+            );
         }
     }
     for k in &raster_readers {
-        errors.extend(kernels::validate_for(k, MapAccess::Words).err().map(|e| format!("{k} (Words): {e}")));
+        errors.extend(
+            kernels::validate_for(k, MapAccess::Words)
+                .err()
+                .map(|e| format!("{k} (Words): {e}")),
+        );
     }
-    assert!(errors.is_empty(), "map access forms failed naga validation:\n{}", errors.join("\n"));
-    assert!(kernels::source_for("moments", MapAccess::Hybrid).is_err(), "a kernel reading the raster has no hybrid form");
-    assert!(kernels::source_for("gbuffer", MapAccess::Words).is_err(), "a kernel reading no maps has one form");
+    assert!(
+        errors.is_empty(),
+        "map access forms failed naga validation:\n{}",
+        errors.join("\n")
+    );
+    assert!(
+        kernels::source_for("moments", MapAccess::Hybrid).is_err(),
+        "a kernel reading the raster has no hybrid form"
+    );
+    assert!(
+        kernels::source_for("gbuffer", MapAccess::Words).is_err(),
+        "a kernel reading no maps has one form"
+    );
     // The same binding holds a depth array, an R32Uint array of depth bits, or the hybrid u32 pool.
     let image = |access| {
         let (module, _) = kernels::validate_for("shade", access).unwrap();
-        let maps = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("shadow_maps")).unwrap().1;
+        let maps = module
+            .global_variables
+            .iter()
+            .find(|(_, g)| g.name.as_deref() == Some("shadow_maps"))
+            .unwrap()
+            .1;
         module.types[maps.ty].inner.clone()
     };
-    assert!(matches!(image(MapAccess::Depth), naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: true, class: naga::ImageClass::Depth { .. } }));
-    assert!(matches!(image(MapAccess::Words), naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: true, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Uint, .. } }));
-    assert!(matches!(image(MapAccess::Hybrid), naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Uint, .. } }));
+    assert!(matches!(
+        image(MapAccess::Depth),
+        naga::TypeInner::Image {
+            dim: naga::ImageDimension::D2,
+            arrayed: true,
+            class: naga::ImageClass::Depth { .. }
+        }
+    ));
+    assert!(matches!(
+        image(MapAccess::Words),
+        naga::TypeInner::Image {
+            dim: naga::ImageDimension::D2,
+            arrayed: true,
+            class: naga::ImageClass::Sampled {
+                kind: naga::ScalarKind::Uint,
+                ..
+            }
+        }
+    ));
+    assert!(matches!(
+        image(MapAccess::Hybrid),
+        naga::TypeInner::Image {
+            dim: naga::ImageDimension::D2,
+            arrayed: false,
+            class: naga::ImageClass::Sampled {
+                kind: naga::ScalarKind::Uint,
+                ..
+            }
+        }
+    ));
 }
 
 /// The shadow test's blocks (their constants are among `mirrored_constants_match_rust`'s).
@@ -48,13 +130,28 @@ fn map_reading_kernels_validate_for_every_map_access() {
 fn block_entry_points_unroll_their_sizes() {
     use penumbra::stages::shadow_test::{TEST_BLOCK, TEST_TAILS};
     // The tails halve from half a block down to one sample, as fill_blocks places them.
-    assert_eq!(TEST_TAILS, [TEST_BLOCK / 2, TEST_BLOCK / 4, TEST_BLOCK / 8, TEST_BLOCK / 16]);
+    assert_eq!(
+        TEST_TAILS,
+        [
+            TEST_BLOCK / 2,
+            TEST_BLOCK / 4,
+            TEST_BLOCK / 8,
+            TEST_BLOCK / 16
+        ]
+    );
     // One entry point per block size, each unrolling exactly its size.
     let (module, _) = kernels::validate("shadow_test").unwrap();
     for size in std::iter::once(TEST_BLOCK).chain(TEST_TAILS) {
-        let entry = module.entry_points.iter().find(|e| e.name == format!("block{size}")).unwrap_or_else(|| panic!("no `block{size}`"));
+        let entry = module
+            .entry_points
+            .iter()
+            .find(|e| e.name == format!("block{size}"))
+            .unwrap_or_else(|| panic!("no `block{size}`"));
         let calls = entry.function.body.iter().filter(|s| matches!(s, naga::Statement::Call { function, .. } if module.functions[*function].name.as_deref() == Some("test_sample"))).count();
-        assert_eq!(calls as u32, size, "block{size} calls test_sample {calls} times");
+        assert_eq!(
+            calls as u32, size,
+            "block{size} calls test_sample {calls} times"
+        );
     }
 }
 
@@ -67,7 +164,11 @@ fn rust_structs_match_wgsl_layouts() {
         let mut found = false;
         for (k, _) in kernels::all() {
             let (module, _) = kernels::validate(k.name).expect("kernel validates");
-            let Some(ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(layout.name)) else {
+            let Some(ty) = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some(layout.name))
+            else {
                 continue;
             };
             found = true;
@@ -76,10 +177,18 @@ fn rust_structs_match_wgsl_layouts() {
                 break;
             };
             if *span as usize != layout.size {
-                problems.push(format!("{}: size {} in Rust, {} in WGSL", layout.name, layout.size, span));
+                problems.push(format!(
+                    "{}: size {} in Rust, {} in WGSL",
+                    layout.name, layout.size, span
+                ));
             }
             if members.len() != layout.members.len() {
-                problems.push(format!("{}: {} members in Rust, {} in WGSL", layout.name, layout.members.len(), members.len()));
+                problems.push(format!(
+                    "{}: {} members in Rust, {} in WGSL",
+                    layout.name,
+                    layout.members.len(),
+                    members.len()
+                ));
             }
             for (m, (name, offset)) in members.iter().zip(&layout.members) {
                 let wgsl_name = m.name.as_deref().unwrap_or("?");
@@ -97,7 +206,11 @@ fn rust_structs_match_wgsl_layouts() {
             problems.push(format!("{}: no kernel declares it", layout.name));
         }
     }
-    assert!(problems.is_empty(), "layout mismatches:\n{}", problems.join("\n"));
+    assert!(
+        problems.is_empty(),
+        "layout mismatches:\n{}",
+        problems.join("\n")
+    );
     assert!(checked >= 4, "only {checked} structs checked");
 }
 
@@ -113,8 +226,18 @@ fn stage_table_matches_every_entry_point() {
     for (stage, kernel) in kernels::all() {
         for &maps in MapAccess::forms(&kernel) {
             let (module, info) = kernels::validate_for(stage.name, maps).expect("kernel validates");
-            let names = |v: Vec<&str>| v.into_iter().map(String::from).collect::<BTreeSet<String>>();
-            let in_kernel = names(module.entry_points.iter().map(|e| e.name.as_str()).collect());
+            let names = |v: Vec<&str>| {
+                v.into_iter()
+                    .map(String::from)
+                    .collect::<BTreeSet<String>>()
+            };
+            let in_kernel = names(
+                module
+                    .entry_points
+                    .iter()
+                    .map(|e| e.name.as_str())
+                    .collect(),
+            );
             let in_table = names(stage.entries.iter().map(|e| e.name).collect());
             if in_kernel != in_table {
                 problems.push(format!("{stage} ({maps:?}): entry points {in_kernel:?} in WGSL, {in_table:?} in the table"));
@@ -123,9 +246,13 @@ fn stage_table_matches_every_entry_point() {
                 let Some(entry) = stage.entry(&ep.name) else {
                     continue;
                 };
-                let workgroup = (ep.stage == naga::ShaderStage::Compute).then_some(ep.workgroup_size);
+                let workgroup =
+                    (ep.stage == naga::ShaderStage::Compute).then_some(ep.workgroup_size);
                 if workgroup != entry.workgroup {
-                    problems.push(format!("{stage}::{}: workgroup {:?} in the table, {workgroup:?} in WGSL", ep.name, entry.workgroup));
+                    problems.push(format!(
+                        "{stage}::{}: workgroup {:?} in the table, {workgroup:?} in WGSL",
+                        ep.name, entry.workgroup
+                    ));
                 }
                 let uses = info.get_entry_point(i);
                 let mut used = BTreeSet::new();
@@ -134,11 +261,18 @@ fn stage_table_matches_every_entry_point() {
                         continue;
                     };
                     if binding.group != 0 {
-                        problems.push(format!("{stage}::{}: `{:?}` in group {}, the passes bind group 0 only", ep.name, global.name, binding.group));
+                        problems.push(format!(
+                            "{stage}::{}: `{:?}` in group {}, the passes bind group 0 only",
+                            ep.name, global.name, binding.group
+                        ));
                     }
                     used.insert((global.name.clone().unwrap_or_default(), binding.binding));
                 }
-                let table: BTreeSet<(String, u32)> = entry.bindings.iter().map(|&(n, b)| (n.to_string(), b)).collect();
+                let table: BTreeSet<(String, u32)> = entry
+                    .bindings
+                    .iter()
+                    .map(|&(n, b)| (n.to_string(), b))
+                    .collect();
                 if used != table {
                     problems.push(format!(
                         "{stage}::{} ({maps:?}): WGSL uses {:?} the table lacks; the table has {:?} WGSL does not use",
@@ -151,13 +285,20 @@ fn stage_table_matches_every_entry_point() {
             }
         }
     }
-    assert!(problems.is_empty(), "the stage table disagrees with the kernels:\n{}", problems.join("\n"));
+    assert!(
+        problems.is_empty(),
+        "the stage table disagrees with the kernels:\n{}",
+        problems.join("\n")
+    );
     assert!(checked >= 50, "only {checked} entry points checked");
 }
 
 /// A `const` as naga reads it from one kernel (None where the kernel does not declare it).
 fn wgsl_constant(module: &naga::Module, name: &str) -> Option<f64> {
-    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name))?;
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))?;
     Some(match module.global_expressions[c.init] {
         naga::Expression::Literal(naga::Literal::U32(v)) => v as f64,
         naga::Expression::Literal(naga::Literal::I32(v)) => v as f64,
@@ -191,20 +332,38 @@ fn mirrored_constants_match_rust() {
         ("OVERFLOW_PROBES", gs::OVERFLOW_PROBES as f64),
         ("PROBE_LIT", twin::probe::PROBE_LIT as f64),
         ("SUMMARY_WORD", twin::shadow_test::SUMMARY_WORD as f64),
-        ("SUMMARY_GEOMETRY", twin::shadow_test::SUMMARY_GEOMETRY as f64),
+        (
+            "SUMMARY_GEOMETRY",
+            twin::shadow_test::SUMMARY_GEOMETRY as f64,
+        ),
         ("SUMMARY_ANY_LIT", twin::shadow_test::SUMMARY_ANY_LIT as f64),
-        ("SUMMARY_ANY_UNLIT", twin::shadow_test::SUMMARY_ANY_UNLIT as f64),
+        (
+            "SUMMARY_ANY_UNLIT",
+            twin::shadow_test::SUMMARY_ANY_UNLIT as f64,
+        ),
         ("FRAME_FACING_TEST", twin::shadow::FRAME_FACING_TEST as f64),
         ("FRAME_EVERY_WAY", twin::shadow::FRAME_EVERY_WAY as f64),
         ("LOOKUP_UNLIT", twin::shadow::LOOKUP_UNLIT as f64),
         ("LOOKUP_OUTSIDE", twin::shadow::LOOKUP_OUTSIDE as f64),
         ("LOOKUP_COMPARE", twin::shadow::LOOKUP_COMPARE as f64),
-        ("TILE_LIST_HEADER", penumbra::stages::shade::TILE_LIST_HEADER as f64),
+        (
+            "TILE_LIST_HEADER",
+            penumbra::stages::shade::TILE_LIST_HEADER as f64,
+        ),
         // stage kernels
         ("SHADE_BLOCK", penumbra::stages::shade::SHADE_BLOCK as f64),
-        ("TEST_BLOCK", penumbra::stages::shadow_test::TEST_BLOCK as f64),
-        ("TEST_SLOTS", penumbra::stages::shadow_test::TEST_SLOTS as f64),
-        ("TEST_TAILS", penumbra::stages::shadow_test::TEST_TAILS.len() as f64),
+        (
+            "TEST_BLOCK",
+            penumbra::stages::shadow_test::TEST_BLOCK as f64,
+        ),
+        (
+            "TEST_SLOTS",
+            penumbra::stages::shadow_test::TEST_SLOTS as f64,
+        ),
+        (
+            "TEST_TAILS",
+            penumbra::stages::shadow_test::TEST_TAILS.len() as f64,
+        ),
         ("CULL_RUN", penumbra::gpu::stages::CULL_RUN as f64),
         ("CULL_MARGIN", twin::cull::CULL_MARGIN as f64),
         ("CULL_DEPTH_SLACK", twin::cull::CULL_DEPTH_SLACK as f64),
@@ -223,33 +382,78 @@ fn mirrored_constants_match_rust() {
         ("PCF_POISSON", twin::pcf::PCF_POISSON as f64),
         ("PCF_STRATIFIED", twin::pcf::PCF_STRATIFIED as f64),
         ("PCF_ROTATED", twin::pcf::PCF_ROTATED as f64),
-        ("CASCADE_FILTER_HARD", penumbra::stages::cascades::FILTER_HARD as f64),
-        ("CASCADE_FILTER_PCF", penumbra::stages::cascades::FILTER_PCF as f64),
+        (
+            "CASCADE_FILTER_HARD",
+            penumbra::stages::cascades::FILTER_HARD as f64,
+        ),
+        (
+            "CASCADE_FILTER_PCF",
+            penumbra::stages::cascades::FILTER_PCF as f64,
+        ),
         ("NO_CASCADE", penumbra::stages::cascades::NO_CASCADE as f64),
         ("BVH_STACK", penumbra::render::bvh::STACK_DEPTH as f64),
-        ("HYBRID_POOL_WIDTH_LOG2", penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64),
-        ("HYBRID_CHILDREN", penumbra::stages::hybrid_build::CHILDREN as f64),
-        ("FRAME_HYBRID_LEVELS_SHIFT", penumbra::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64),
-        ("REGION_WORDS", penumbra::stages::regions::REGION_WORDS as f64),
+        (
+            "HYBRID_POOL_WIDTH_LOG2",
+            penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64,
+        ),
+        (
+            "HYBRID_CHILDREN",
+            penumbra::stages::hybrid_build::CHILDREN as f64,
+        ),
+        (
+            "FRAME_HYBRID_LEVELS_SHIFT",
+            penumbra::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64,
+        ),
+        (
+            "REGION_WORDS",
+            penumbra::stages::regions::REGION_WORDS as f64,
+        ),
         ("CLASS_WORDS", penumbra::stages::regions::CLASS_WORDS as f64),
-        ("WEIGHT_SCALE", penumbra::stages::regions::WEIGHT_SCALE as f64),
-        ("SAMPLING_ORDER", penumbra::stages::regions::SAMPLING_ORDER as f64),
+        (
+            "WEIGHT_SCALE",
+            penumbra::stages::regions::WEIGHT_SCALE as f64,
+        ),
+        (
+            "SAMPLING_ORDER",
+            penumbra::stages::regions::SAMPLING_ORDER as f64,
+        ),
     ];
     let mut modules = Vec::new();
     for (stage, kernel) in kernels::all() {
         for &maps in MapAccess::forms(&kernel) {
-            modules.push((format!("{stage} ({maps:?})"), kernels::validate_for(stage.name, maps).expect("kernel validates").0));
+            modules.push((
+                format!("{stage} ({maps:?})"),
+                kernels::validate_for(stage.name, maps)
+                    .expect("kernel validates")
+                    .0,
+            ));
         }
     }
     let mut problems = Vec::new();
     for &(name, rust) in mirrored {
-        let declared: Vec<(&String, f64)> = modules.iter().filter_map(|(kernel, module)| Some((kernel, wgsl_constant(module, name)?))).collect();
-        let differ: Vec<String> = declared.iter().filter(|(_, wgsl)| *wgsl != rust).map(|(kernel, wgsl)| format!("{wgsl} in {kernel}")).collect();
+        let declared: Vec<(&String, f64)> = modules
+            .iter()
+            .filter_map(|(kernel, module)| Some((kernel, wgsl_constant(module, name)?)))
+            .collect();
+        let differ: Vec<String> = declared
+            .iter()
+            .filter(|(_, wgsl)| *wgsl != rust)
+            .map(|(kernel, wgsl)| format!("{wgsl} in {kernel}"))
+            .collect();
         if declared.is_empty() {
             problems.push(format!("{name}: no kernel declares it"));
         } else if !differ.is_empty() {
-            problems.push(format!("{name}: {rust} in Rust, {} of {} kernels differ: {}", differ.len(), declared.len(), differ.join(", ")));
+            problems.push(format!(
+                "{name}: {rust} in Rust, {} of {} kernels differ: {}",
+                differ.len(),
+                declared.len(),
+                differ.join(", ")
+            ));
         }
     }
-    assert!(problems.is_empty(), "mirrored constants differ:\n{}", problems.join("\n"));
+    assert!(
+        problems.is_empty(),
+        "mirrored constants differ:\n{}",
+        problems.join("\n")
+    );
 }

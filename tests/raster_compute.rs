@@ -50,29 +50,76 @@ fn positions(scene: &Scene) -> Vec<[f32; 3]> {
 
 /// Samples of `scene`'s light at light points `points`, as the methods build them.
 fn samples(scene: &Scene, points: &[(f32, f32)]) -> Vec<GpuSample> {
-    points.iter().enumerate().map(|(k, &(u, v))| sample_view(&scene.light, scene.light.point(u, v), &scene.bounds, MAP, k as u32)).collect()
+    points
+        .iter()
+        .enumerate()
+        .map(|(k, &(u, v))| {
+            sample_view(
+                &scene.light,
+                scene.light.point(u, v),
+                &scene.bounds,
+                MAP,
+                k as u32,
+            )
+        })
+        .collect()
 }
 
 /// Every map's words from one chain on the GPU.
-fn gpu_words(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, samples: &[GpuSample], cull: CullMode) -> Vec<Vec<u32>> {
+fn gpu_words(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu: &SceneGpu,
+    samples: &[GpuSample],
+    cull: CullMode,
+) -> Vec<Vec<u32>> {
     gpu_words_queue(ctx, scene, gpu, samples, cull, None)
 }
 
 /// The same with a large-pair queue of `pairs` (None: the pass's own size).
-fn gpu_words_queue(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu, samples: &[GpuSample], cull: CullMode, pairs: Option<u32>) -> Vec<Vec<u32>> {
-    let pass = RasterCompute::with_queue(ctx, MAP, cull, samples.len() as u32, scene.render.shadow_map_budget_mib, pairs).unwrap();
-    assert_eq!(pass.capacity, samples.len() as u32, "one chain holds every map");
+fn gpu_words_queue(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu: &SceneGpu,
+    samples: &[GpuSample],
+    cull: CullMode,
+    pairs: Option<u32>,
+) -> Vec<Vec<u32>> {
+    let pass = RasterCompute::with_queue(
+        ctx,
+        MAP,
+        cull,
+        samples.len() as u32,
+        scene.render.shadow_map_budget_mib,
+        pairs,
+    )
+    .unwrap();
+    assert_eq!(
+        pass.capacity,
+        samples.len() as u32,
+        "one chain holds every map"
+    );
     let buffer = readback::storage_buffer(ctx, "samples", samples, wgpu::BufferUsages::empty());
-    let jobs: Vec<GpuRasterJob> = (0..samples.len() as u32).map(|k| GpuRasterJob::whole(k, MAP)).collect();
+    let jobs: Vec<GpuRasterJob> = (0..samples.len() as u32)
+        .map(|k| GpuRasterJob::whole(k, MAP))
+        .collect();
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     pass.record(ctx, &mut enc, gpu, &buffer, &jobs);
     ctx.queue.submit([enc.finish()]);
     let words = pass.read_words(ctx, samples.len() as u32).unwrap();
-    words.chunks((MAP * MAP) as usize).map(|m| m.to_vec()).collect()
+    words
+        .chunks((MAP * MAP) as usize)
+        .map(|m| m.to_vec())
+        .collect()
 }
 
 /// GPU and twin on every map; returns the covered texels over all maps.
-fn assert_twin_exact(ctx: &GpuContext, scene: &Scene, points: &[(f32, f32)], cull: CullMode) -> usize {
+fn assert_twin_exact(
+    ctx: &GpuContext,
+    scene: &Scene,
+    points: &[(f32, f32)],
+    cull: CullMode,
+) -> usize {
     let gpu = SceneGpu::upload(ctx, scene);
     let samples = samples(scene, points);
     let words = gpu_words(ctx, scene, &gpu, &samples, cull);
@@ -80,7 +127,9 @@ fn assert_twin_exact(ctx: &GpuContext, scene: &Scene, points: &[(f32, f32)], cul
     let mut covered = 0;
     for (m, s) in samples.iter().enumerate() {
         let want = twin::rasterize(&pos, &gpu.shadow_order, s, MAP, cull);
-        let differ: Vec<usize> = (0..want.len()).filter(|&i| words[m][i] != want[i]).collect();
+        let differ: Vec<usize> = (0..want.len())
+            .filter(|&i| words[m][i] != want[i])
+            .collect();
         assert!(
             differ.is_empty(),
             "{} ({cull:?}), map {m}: {} texels differ from the twin, first at {} (gpu {:#x}, twin {:#x})",
@@ -103,11 +152,31 @@ fn soup(seed: u64, triangles: usize) -> Scene {
     let mut vertices = Vec::new();
     for t in 0..triangles {
         // One in eight spans much of the box; the rest are small, down to below a texel.
-        let size = if t % 8 == 0 { 3.0 } else { 0.02 + 0.3 * rng.unit() };
-        let centre = Vec3::new(rng.range(-2.6, 2.6), rng.range(-2.0, 2.0), rng.range(-2.6, 2.6));
+        let size = if t % 8 == 0 {
+            3.0
+        } else {
+            0.02 + 0.3 * rng.unit()
+        };
+        let centre = Vec3::new(
+            rng.range(-2.6, 2.6),
+            rng.range(-2.0, 2.0),
+            rng.range(-2.6, 2.6),
+        );
         for _ in 0..3 {
-            let p = centre + size * Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-            vertices.push(Vertex { position: p.clamp(Vec3::new(-3.0, -2.0, -3.0), Vec3::new(3.0, 2.6, 3.0)).to_array(), normal: [0.0, 1.0, 0.0], material: 0 });
+            let p = centre
+                + size
+                    * Vec3::new(
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                    );
+            vertices.push(Vertex {
+                position: p
+                    .clamp(Vec3::new(-3.0, -2.0, -3.0), Vec3::new(3.0, 2.6, 3.0))
+                    .to_array(),
+                normal: [0.0, 1.0, 0.0],
+                material: 0,
+            });
         }
     }
     s.indices = (0..vertices.len() as u32).collect();
@@ -119,10 +188,17 @@ fn soup(seed: u64, triangles: usize) -> Scene {
 fn gpu_equals_twin_on_random_soups_several_maps_per_chain() {
     let ctx = common::gpu();
     let points = [(0.0, 0.0), (1.0, 0.0), (0.3, 0.8), (0.5, 0.5), (1.0, 1.0)];
-    for (seed, cull) in [(1, CullMode::Back), (2, CullMode::None), (3, CullMode::Front)] {
+    for (seed, cull) in [
+        (1, CullMode::Back),
+        (2, CullMode::None),
+        (3, CullMode::Front),
+    ] {
         let covered = assert_twin_exact(ctx, &soup(seed, 3000), &points, cull);
         // The soups cover a good part of the maps: the comparison is not of empty maps.
-        assert!(covered > 5 * (MAP * MAP) as usize / 10, "seed {seed}: only {covered} texels covered");
+        assert!(
+            covered > 5 * (MAP * MAP) as usize / 10,
+            "seed {seed}: only {covered} texels covered"
+        );
     }
 }
 
@@ -138,10 +214,24 @@ fn pairs_past_a_full_queue_equal_the_twin() {
     let mut vertices = Vec::new();
     for _ in 0..3000 {
         let size = 0.15 + 0.35 * rng.unit();
-        let centre = Vec3::new(rng.range(-2.6, 2.6), rng.range(-2.0, 2.0), rng.range(-2.6, 2.6));
+        let centre = Vec3::new(
+            rng.range(-2.6, 2.6),
+            rng.range(-2.0, 2.0),
+            rng.range(-2.6, 2.6),
+        );
         for _ in 0..3 {
-            let p = centre + size * Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-            vertices.push(Vertex { position: p.to_array(), normal: [0.0, 1.0, 0.0], material: 0 });
+            let p = centre
+                + size
+                    * Vec3::new(
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                    );
+            vertices.push(Vertex {
+                position: p.to_array(),
+                normal: [0.0, 1.0, 0.0],
+                material: 0,
+            });
         }
     }
     scene.indices = (0..vertices.len() as u32).collect();
@@ -154,31 +244,74 @@ fn pairs_past_a_full_queue_equal_the_twin() {
         .iter()
         .map(|s| {
             (0..pos.len() / 3)
-                .filter_map(|t| twin::setup(s, MAP, twin::whole(MAP), 0, &pos, &gpu.shadow_order, t))
+                .filter_map(|t| {
+                    twin::setup(s, MAP, twin::whole(MAP), 0, &pos, &gpu.shadow_order, t)
+                })
                 .filter(|tri| tri.hi[0] - tri.lo[0] >= 4 || tri.hi[1] - tri.lo[1] >= 4)
                 .count()
         })
         .sum();
-    assert!(large > 1000, "the soup should overflow a queue of 8 many times over: {large} large pairs");
+    assert!(
+        large > 1000,
+        "the soup should overflow a queue of 8 many times over: {large} large pairs"
+    );
     let own = gpu_words(ctx, &scene, &gpu, &samples, CullMode::None);
     let small_queue = gpu_words_queue(ctx, &scene, &gpu, &samples, CullMode::None, Some(8));
     for (m, s) in samples.iter().enumerate() {
         let want = twin::rasterize(&pos, &gpu.shadow_order, s, MAP, CullMode::None);
         let covered = want.iter().filter(|&&w| w != FAR).count();
-        assert!(covered > (MAP * MAP) as usize / 4, "map {m}: {covered} texels covered");
+        assert!(
+            covered > (MAP * MAP) as usize / 4,
+            "map {m}: {covered} texels covered"
+        );
         let differ = |words: &[u32]| (0..want.len()).filter(|&i| words[i] != want[i]).count();
-        assert_eq!(differ(&small_queue[m]), 0, "map {m}: past a full queue, texels differ from the twin");
-        assert_eq!(differ(&own[m]), 0, "map {m}: with the pass's own queue, texels differ from the twin");
+        assert_eq!(
+            differ(&small_queue[m]),
+            0,
+            "map {m}: past a full queue, texels differ from the twin"
+        );
+        assert_eq!(
+            differ(&own[m]),
+            0,
+            "map {m}: with the pass's own queue, texels differ from the twin"
+        );
     }
-    assert_eq!(penumbra::stages::raster_compute::large_capacity(289, 2 << 30), 1 << 24);
-    assert_eq!(penumbra::stages::raster_compute::large_capacity(2, 2 << 30), 1 << 18);
-    assert_eq!(penumbra::stages::raster_compute::large_capacity(25, 2 << 30), 25 << 16);
-    assert_eq!(penumbra::stages::raster_compute::large_capacity(289, 1 << 20), 1 << 17, "one binding holds the queue");
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity(289, 2 << 30),
+        1 << 24
+    );
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity(2, 2 << 30),
+        1 << 18
+    );
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity(25, 2 << 30),
+        25 << 16
+    );
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity(289, 1 << 20),
+        1 << 17,
+        "one binding holds the queue"
+    );
     // A mesh of more triangles than the per-map floor: one pair per triangle and map.
-    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(9, 60_000, 2 << 30), 9 << 16, "the floor");
-    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(9, 100_000, 2 << 30), 900_000);
-    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(16, 564_152, 2 << 30), 9_026_432);
-    assert_eq!(penumbra::stages::raster_compute::large_capacity_for(289, 564_152, 2 << 30), 1 << 24, "the most");
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity_for(9, 60_000, 2 << 30),
+        9 << 16,
+        "the floor"
+    );
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity_for(9, 100_000, 2 << 30),
+        900_000
+    );
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity_for(16, 564_152, 2 << 30),
+        9_026_432
+    );
+    assert_eq!(
+        penumbra::stages::raster_compute::large_capacity_for(289, 564_152, 2 << 30),
+        1 << 24,
+        "the most"
+    );
 }
 
 #[test]
@@ -186,8 +319,16 @@ fn gpu_equals_twin_on_default() {
     let ctx = common::gpu();
     let sets = [("shadow_map_size", "256")].map(|(k, v)| (k.to_string(), v.to_string()));
     let scene = Scene::load("default", &sets).unwrap();
-    let covered = assert_twin_exact(ctx, &scene, &[(0.0, 0.0), (0.5, 0.5), (1.0, 0.25), (0.25, 1.0)], scene.render.cull);
-    assert!(covered > (MAP * MAP) as usize, "{covered} texels covered over 4 maps");
+    let covered = assert_twin_exact(
+        ctx,
+        &scene,
+        &[(0.0, 0.0), (0.5, 0.5), (1.0, 0.25), (0.25, 1.0)],
+        scene.render.cull,
+    );
+    assert!(
+        covered > (MAP * MAP) as usize,
+        "{covered} texels covered over 4 maps"
+    );
 }
 
 /// Jobs with rectangles (the fixed-function scissor's job): inside each map's rectangle the GPU
@@ -197,10 +338,26 @@ fn rectangles_limit_each_map_and_equal_the_twin() {
     let ctx = common::gpu();
     let scene = soup(4, 3000);
     let samples = samples(&scene, &[(0.0, 0.0), (1.0, 0.0), (0.3, 0.8), (0.5, 0.5)]);
-    let rects = [[0, 0, 256, 256], [10, 20, 100, 37], [200, 3, 56, 250], [128, 128, 1, 1]];
-    let jobs: Vec<GpuRasterJob> = rects.iter().enumerate().map(|(k, &r)| GpuRasterJob::new(k as u32, MAP, Some(r))).collect();
+    let rects = [
+        [0, 0, 256, 256],
+        [10, 20, 100, 37],
+        [200, 3, 56, 250],
+        [128, 128, 1, 1],
+    ];
+    let jobs: Vec<GpuRasterJob> = rects
+        .iter()
+        .enumerate()
+        .map(|(k, &r)| GpuRasterJob::new(k as u32, MAP, Some(r)))
+        .collect();
     let gpu = SceneGpu::upload(ctx, &scene);
-    let pass = RasterCompute::new(ctx, MAP, CullMode::Back, 4, scene.render.shadow_map_budget_mib).unwrap();
+    let pass = RasterCompute::new(
+        ctx,
+        MAP,
+        CullMode::Back,
+        4,
+        scene.render.shadow_map_budget_mib,
+    )
+    .unwrap();
     let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     pass.record(ctx, &mut enc, &gpu, &buffer, &jobs);
@@ -209,15 +366,30 @@ fn rectangles_limit_each_map_and_equal_the_twin() {
     let pos = positions(&scene);
     for (m, job) in jobs.iter().enumerate() {
         let whole = twin::rasterize(&pos, &gpu.shadow_order, &samples[m], MAP, CullMode::Back);
-        let want = twin::rasterize_in(&pos, &gpu.shadow_order, &samples[m], MAP, job.rect(), CullMode::Back);
+        let want = twin::rasterize_in(
+            &pos,
+            &gpu.shadow_order,
+            &samples[m],
+            MAP,
+            job.rect(),
+            CullMode::Back,
+        );
         let got = &words[m * (MAP * MAP) as usize..(m + 1) * (MAP * MAP) as usize];
-        assert_eq!(got, &want[..], "map {m}: GPU and twin inside {:?}", rects[m]);
+        assert_eq!(
+            got,
+            &want[..],
+            "map {m}: GPU and twin inside {:?}",
+            rects[m]
+        );
         let [x0, y0, x1, y1] = job.rect();
         let (mut inside, mut outside_covered) = (0, 0);
         for (i, &w) in want.iter().enumerate() {
             let (x, y) = ((i % MAP as usize) as i32, (i / MAP as usize) as i32);
             if (x0..=x1).contains(&x) && (y0..=y1).contains(&y) {
-                assert_eq!(w, whole[i], "map {m}: texel ({x}, {y}) inside the rectangle is the whole map's");
+                assert_eq!(
+                    w, whole[i],
+                    "map {m}: texel ({x}, {y}) inside the rectangle is the whole map's"
+                );
                 inside += usize::from(w != FAR);
             } else {
                 assert_eq!(w, FAR, "map {m}: texel ({x}, {y}) outside the rectangle");
@@ -226,7 +398,10 @@ fn rectangles_limit_each_map_and_equal_the_twin() {
         }
         assert!(inside > 0, "map {m}: the rectangle holds covered texels");
         if m > 0 {
-            assert!(outside_covered > 0, "map {m}: the rectangle cuts covered texels away");
+            assert!(
+                outside_covered > 0,
+                "map {m}: the rectangle cuts covered texels away"
+            );
         }
     }
 }
@@ -240,19 +415,56 @@ fn a_map_filling_triangle_at_2048_equals_the_twin() {
     let ctx = common::gpu();
     let scene = scene("[[mesh]]\nbuiltin = \"plane\"\nscale = 4.0\n");
     let size = 2048;
-    let samples: Vec<GpuSample> = [(0.5, 0.5)].iter().enumerate().map(|(k, &(u, v))| sample_view(&scene.light, scene.light.point(u, v), &scene.bounds, size, k as u32)).collect();
+    let samples: Vec<GpuSample> = [(0.5, 0.5)]
+        .iter()
+        .enumerate()
+        .map(|(k, &(u, v))| {
+            sample_view(
+                &scene.light,
+                scene.light.point(u, v),
+                &scene.bounds,
+                size,
+                k as u32,
+            )
+        })
+        .collect();
     let gpu = SceneGpu::upload(ctx, &scene);
     let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
-    let pass = RasterCompute::new(ctx, size, scene.render.cull, 1, scene.render.shadow_map_budget_mib).unwrap();
+    let pass = RasterCompute::new(
+        ctx,
+        size,
+        scene.render.cull,
+        1,
+        scene.render.shadow_map_budget_mib,
+    )
+    .unwrap();
     let mut enc = ctx.device.create_command_encoder(&Default::default());
-    pass.record(ctx, &mut enc, &gpu, &buffer, &[GpuRasterJob::whole(0, size)]);
+    pass.record(
+        ctx,
+        &mut enc,
+        &gpu,
+        &buffer,
+        &[GpuRasterJob::whole(0, size)],
+    );
     ctx.queue.submit([enc.finish()]);
     let words = pass.read_words(ctx, 1).unwrap();
-    let want = twin::rasterize(&positions(&scene), &gpu.shadow_order, &samples[0], size, scene.render.cull);
+    let want = twin::rasterize(
+        &positions(&scene),
+        &gpu.shadow_order,
+        &samples[0],
+        size,
+        scene.render.cull,
+    );
     let covered = want.iter().filter(|&&w| w != FAR).count();
-    assert!(covered > (size * size) as usize * 9 / 10, "the plane fills the map: {covered}");
+    assert!(
+        covered > (size * size) as usize * 9 / 10,
+        "the plane fills the map: {covered}"
+    );
     let differ = (0..want.len()).filter(|&i| words[i] != want[i]).count();
-    assert_eq!(differ, 0, "{differ} of {covered} covered texels differ from the twin");
+    assert_eq!(
+        differ, 0,
+        "{differ} of {covered} covered texels differ from the twin"
+    );
 }
 
 /// A chain whose words are not a whole number of `clear`'s runs (3 maps of 20², 1,200 words) is
@@ -265,13 +477,31 @@ fn a_second_chain_of_odd_size_clears_the_first() {
     let samples: Vec<GpuSample> = [(0.0, 0.0), (0.5, 0.5), (1.0, 0.25)]
         .iter()
         .enumerate()
-        .map(|(k, &(u, v))| sample_view(&scene.light, scene.light.point(u, v), &scene.bounds, size, k as u32))
+        .map(|(k, &(u, v))| {
+            sample_view(
+                &scene.light,
+                scene.light.point(u, v),
+                &scene.bounds,
+                size,
+                k as u32,
+            )
+        })
         .collect();
     let gpu = SceneGpu::upload(ctx, &scene);
     let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
-    let pass = RasterCompute::new(ctx, size, scene.render.cull, 3, scene.render.shadow_map_budget_mib).unwrap();
+    let pass = RasterCompute::new(
+        ctx,
+        size,
+        scene.render.cull,
+        3,
+        scene.render.shadow_map_budget_mib,
+    )
+    .unwrap();
     let pos = positions(&scene);
-    let twin: Vec<Vec<u32>> = samples.iter().map(|s| twin::rasterize(&pos, &gpu.shadow_order, s, size, scene.render.cull)).collect();
+    let twin: Vec<Vec<u32>> = samples
+        .iter()
+        .map(|s| twin::rasterize(&pos, &gpu.shadow_order, s, size, scene.render.cull))
+        .collect();
     // The stale chain must differ from the wanted one, or a missing clear would go unseen.
     assert_ne!(twin[0], twin[2], "maps 0 and 2 differ");
     for order in [[2, 1, 0], [0, 1, 2]] {
@@ -291,15 +521,43 @@ fn a_second_chain_of_odd_size_clears_the_first() {
 fn icosphere(levels: u32, r: f32, centre: Vec3) -> (Vec<Vec3>, Vec<u32>) {
     let g = (1.0 + 5f32.sqrt()) / 2.0;
     let mut p: Vec<Vec3> = [
-        (-1.0, g, 0.0), (1.0, g, 0.0), (-1.0, -g, 0.0), (1.0, -g, 0.0), (0.0, -1.0, g), (0.0, 1.0, g),
-        (0.0, -1.0, -g), (0.0, 1.0, -g), (g, 0.0, -1.0), (g, 0.0, 1.0), (-g, 0.0, -1.0), (-g, 0.0, 1.0),
+        (-1.0, g, 0.0),
+        (1.0, g, 0.0),
+        (-1.0, -g, 0.0),
+        (1.0, -g, 0.0),
+        (0.0, -1.0, g),
+        (0.0, 1.0, g),
+        (0.0, -1.0, -g),
+        (0.0, 1.0, -g),
+        (g, 0.0, -1.0),
+        (g, 0.0, 1.0),
+        (-g, 0.0, -1.0),
+        (-g, 0.0, 1.0),
     ]
     .iter()
     .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
     .collect();
     let mut tris: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..levels {
         let mut mid = std::collections::HashMap::new();
@@ -316,7 +574,10 @@ fn icosphere(levels: u32, r: f32, centre: Vec3) -> (Vec<Vec3>, Vec<u32>) {
         }
         tris = next;
     }
-    (p.iter().map(|&q| centre + r * q).collect(), tris.into_iter().flatten().collect())
+    (
+        p.iter().map(|&q| centre + r * q).collect(),
+        tris.into_iter().flatten().collect(),
+    )
 }
 
 /// Points the scene's light at `target` from `from` (the view every sample of it looks along).
@@ -336,31 +597,61 @@ fn aim(scene: &mut Scene, from: Vec3, target: Vec3) {
 fn closed_meshes_are_covered_once_per_texel() {
     let ctx = common::gpu();
     let mut rng = Rng(7);
-    let box_scene = scene("[[mesh]]\nbuiltin = \"box\"\nscale = 1.7\nsubdivide = 4\nrotate_deg = [23.0, 41.0, 7.0]\n");
+    let box_scene = scene(
+        "[[mesh]]\nbuiltin = \"box\"\nscale = 1.7\nsubdivide = 4\nrotate_deg = [23.0, 41.0, 7.0]\n",
+    );
     let (p, i) = icosphere(4, 1.0, Vec3::new(0.1, 0.2, -0.1));
     let mut sphere = box_scene.clone();
-    sphere.vertices = p.iter().map(|q| Vertex { position: q.to_array(), normal: [0.0, 1.0, 0.0], material: 0 }).collect();
+    sphere.vertices = p
+        .iter()
+        .map(|q| Vertex {
+            position: q.to_array(),
+            normal: [0.0, 1.0, 0.0],
+            material: 0,
+        })
+        .collect();
     sphere.indices = i;
     for mut s in [box_scene, sphere] {
-        assert!(s.triangle_count() >= 3000, "{} triangles", s.triangle_count());
+        assert!(
+            s.triangle_count() >= 3000,
+            "{} triangles",
+            s.triangle_count()
+        );
         let mut inside_total = 0;
         for view in 0..4 {
-            let dir = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize();
+            let dir = Vec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            )
+            .normalize();
             aim(&mut s, dir * rng.range(3.0, 6.0), Vec3::ZERO);
             let gpu = SceneGpu::upload(ctx, &s);
             let sample = samples(&s, &[(rng.unit(), rng.unit())]);
             let pos = positions(&s);
             let words = gpu_words(ctx, &s, &gpu, &sample, CullMode::Back);
-            assert_eq!(words[0], twin::rasterize(&pos, &gpu.shadow_order, &sample[0], MAP, CullMode::Back), "view {view}: GPU and twin");
+            assert_eq!(
+                words[0],
+                twin::rasterize(&pos, &gpu.shadow_order, &sample[0], MAP, CullMode::Back),
+                "view {view}: GPU and twin"
+            );
             let (front, back) = twin::face_hits(&pos, &gpu.shadow_order, &sample[0], MAP);
             for t in 0..front.len() {
-                assert!(front[t] <= 1 && front[t] == back[t], "view {view}, texel {t}: {} front and {} back hits", front[t], back[t]);
+                assert!(
+                    front[t] <= 1 && front[t] == back[t],
+                    "view {view}, texel {t}: {} front and {} back hits",
+                    front[t],
+                    back[t]
+                );
                 // Back-face culling keeps exactly the front hits.
                 assert_eq!(words[0][t] != FAR, front[t] == 1, "view {view}, texel {t}");
             }
             inside_total += front.iter().filter(|&&h| h == 1).count();
         }
-        assert!(inside_total > 4 * 2000, "the silhouettes hold {inside_total} texels over 4 views");
+        assert!(
+            inside_total > 4 * 2000,
+            "the silhouettes hold {inside_total} texels over 4 views"
+        );
     }
 }
 
@@ -381,7 +672,13 @@ fn few_texels_differ_from_the_fixed_function_raster() {
     let pass = ShadowRasterPass::new(ctx, scene.render.cull).unwrap();
     let array = shadow_raster::allocate(ctx, MAP, points.len() as u32);
     let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
-    let jobs: Vec<RasterJob> = (0..points.len() as u32).map(|k| RasterJob { sample: k, layer: k, scissor: None }).collect();
+    let jobs: Vec<RasterJob> = (0..points.len() as u32)
+        .map(|k| RasterJob {
+            sample: k,
+            layer: k,
+            scissor: None,
+        })
+        .collect();
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     pass.record(ctx, &mut enc, &gpu, &buffer, &array, &jobs);
     ctx.queue.submit([enc.finish()]);
@@ -392,13 +689,21 @@ fn few_texels_differ_from_the_fixed_function_raster() {
     }
     let texels = points.len() * (MAP * MAP) as usize;
     assert_eq!(d.texels, texels);
-    println!("raster_compute vs shadow_raster, default 256², 5 maps: {}", d.summary());
+    println!(
+        "raster_compute vs shadow_raster, default 256², 5 maps: {}",
+        d.summary()
+    );
     let (covered, coverage, tenth) = (d.covered, d.coverage, d.tenth);
     let share = |n: usize| d.share(n);
     assert!(covered > texels / 4, "{covered} texels covered");
     // Measured on lavapipe: coverage differs at 0 texels, depth by > 0.1 texel at 3 (0.0009%);
     // the bound leaves ten times that for another driver's snap and interpolation.
-    assert!(share(coverage) < 1e-4 && share(tenth) < 1e-4, "coverage {}, depth {}", share(coverage), share(tenth));
+    assert!(
+        share(coverage) < 1e-4 && share(tenth) < 1e-4,
+        "coverage {}, depth {}",
+        share(coverage),
+        share(tenth)
+    );
 }
 
 /// The chain holds what the budget allows; a budget below one map is a one-line error naming it.
@@ -407,9 +712,19 @@ fn chains_stay_inside_the_map_budget() {
     let ctx = common::gpu();
     // 256² maps are 256 KiB each: 1 MiB holds 4.
     assert_eq!(raster_compute::maps_per_chain(ctx, 256, 1).unwrap(), 4);
-    assert_eq!(RasterCompute::new(ctx, 256, CullMode::Back, 25, 1).unwrap().capacity, 4);
-    let e = raster_compute::maps_per_chain(ctx, 1024, 3).unwrap_err().to_string();
-    assert!(e.contains("shadow_map_budget_mib = 3") && e.contains("1024x1024") && !e.contains('\n'), "{e}");
+    assert_eq!(
+        RasterCompute::new(ctx, 256, CullMode::Back, 25, 1)
+            .unwrap()
+            .capacity,
+        4
+    );
+    let e = raster_compute::maps_per_chain(ctx, 1024, 3)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("shadow_map_budget_mib = 3") && e.contains("1024x1024") && !e.contains('\n'),
+        "{e}"
+    );
 }
 
 /// The constants the twin mirrors hold the kernel's values (naga reads them).
@@ -417,7 +732,11 @@ fn chains_stay_inside_the_map_budget() {
 fn twin_constants_match_the_kernel() {
     let (module, _) = kernels::validate("raster_compute").unwrap();
     let constant = |name: &str| -> f64 {
-        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no `{name}`"));
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no `{name}`"));
         match module.global_expressions[c.init] {
             naga::Expression::Literal(naga::Literal::U32(v)) => v as f64,
             naga::Expression::Literal(naga::Literal::I32(v)) => v as f64,
@@ -425,20 +744,52 @@ fn twin_constants_match_the_kernel() {
             ref e => panic!("`{name}` is {e:?}"),
         }
     };
-    assert_eq!(constant("RASTER_SUBTEXEL_BITS"), twin::RASTER_SUBTEXEL_BITS as f64);
-    assert_eq!(constant("RASTER_COORD_LIMIT"), twin::RASTER_COORD_LIMIT as f64);
-    assert_eq!(constant("RASTER_SMALL_SIDE"), twin::RASTER_SMALL_SIDE as f64);
-    assert_eq!(constant("RASTER_LARGE_TILE"), twin::RASTER_LARGE_TILE as f64);
+    assert_eq!(
+        constant("RASTER_SUBTEXEL_BITS"),
+        twin::RASTER_SUBTEXEL_BITS as f64
+    );
+    assert_eq!(
+        constant("RASTER_COORD_LIMIT"),
+        twin::RASTER_COORD_LIMIT as f64
+    );
+    assert_eq!(
+        constant("RASTER_SMALL_SIDE"),
+        twin::RASTER_SMALL_SIDE as f64
+    );
+    assert_eq!(
+        constant("RASTER_LARGE_TILE"),
+        twin::RASTER_LARGE_TILE as f64
+    );
     assert_eq!(constant("RASTER_FAR"), FAR as f64);
-    assert_eq!(constant("RASTER_CLEAR_RUN"), raster_compute::CLEAR_RUN as f64);
-    assert_eq!(constant("STEER_ARGS_CLEAR"), raster_compute::STEER_ARGS_CLEAR as f64);
-    assert_eq!(constant("STEER_ARGS_MAIN"), raster_compute::STEER_ARGS_MAIN as f64);
-    assert_eq!(constant("STEER_ARGS_STORE"), raster_compute::STEER_ARGS_STORE as f64);
-    assert_eq!(constant("RASTER_WHOLE_MESH"), GpuRasterJob::WHOLE_MESH as f64);
-    assert_eq!(constant("RASTER_KEPT_ARGS"), penumbra::stages::cull::ARGS_WORDS as f64);
-    assert_eq!(constant("RASTER_RUN"), penumbra::stages::cull::CULL_RUN as f64);
+    assert_eq!(
+        constant("RASTER_CLEAR_RUN"),
+        raster_compute::CLEAR_RUN as f64
+    );
+    assert_eq!(
+        constant("STEER_ARGS_CLEAR"),
+        raster_compute::STEER_ARGS_CLEAR as f64
+    );
+    assert_eq!(
+        constant("STEER_ARGS_MAIN"),
+        raster_compute::STEER_ARGS_MAIN as f64
+    );
+    assert_eq!(
+        constant("STEER_ARGS_STORE"),
+        raster_compute::STEER_ARGS_STORE as f64
+    );
+    assert_eq!(
+        constant("RASTER_WHOLE_MESH"),
+        GpuRasterJob::WHOLE_MESH as f64
+    );
+    assert_eq!(
+        constant("RASTER_KEPT_ARGS"),
+        penumbra::stages::cull::ARGS_WORDS as f64
+    );
+    assert_eq!(
+        constant("RASTER_RUN"),
+        penumbra::stages::cull::CULL_RUN as f64
+    );
 }
-
 
 /// Under the GPU-steered loop the chain's jobs and dispatches come from a level's request list:
 /// `requested` equals its twin for chains before, across and past the list's end, and `store`
@@ -448,7 +799,9 @@ fn twin_constants_match_the_kernel() {
 fn requested_maps_go_to_their_samples_layers() {
     let ctx = common::gpu();
     let scene = soup(5, 2000);
-    let points: Vec<(f32, f32)> = (0..10).map(|k| ((k % 4) as f32 / 3.0, (k / 4) as f32 / 2.0)).collect();
+    let points: Vec<(f32, f32)> = (0..10)
+        .map(|k| ((k % 4) as f32 / 3.0, (k / 4) as f32 / 2.0))
+        .collect();
     let mut samples = samples(&scene, &points);
     // Layers are a permutation of the samples, as the steered loop assigns them per candidate.
     for (k, s) in samples.iter_mut().enumerate() {
@@ -457,19 +810,49 @@ fn requested_maps_go_to_their_samples_layers() {
     let list = [7u32, 3, 9, 1, 4, 8];
     let control = [0u32, list.len() as u32, 0, 0, 0, 0, 0, 0];
     let gpu = SceneGpu::upload(ctx, &scene);
-    let pass = RasterCompute::new(ctx, MAP, CullMode::Back, 4, scene.render.shadow_map_budget_mib).unwrap();
+    let pass = RasterCompute::new(
+        ctx,
+        MAP,
+        CullMode::Back,
+        4,
+        scene.render.shadow_map_budget_mib,
+    )
+    .unwrap();
     assert_eq!(pass.capacity, 4);
     let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
-    let control_buffer = readback::storage_buffer(ctx, "control", &control, wgpu::BufferUsages::empty());
+    let control_buffer =
+        readback::storage_buffer(ctx, "control", &control, wgpu::BufferUsages::empty());
     let list_buffer = readback::storage_buffer(ctx, "list", &list, wgpu::BufferUsages::empty());
     let array = shadow_raster::allocate_as(ctx, MAP, 10, true);
     shadow_raster::clear_all(ctx, &array).unwrap();
     for first in [0u32, 4, 8] {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        pass.record_requested(ctx, &mut enc, &gpu, &buffer, &raster_compute::Requests { control: &control_buffer, list: &list_buffer, first }, &array.array_view);
+        pass.record_requested(
+            ctx,
+            &mut enc,
+            &gpu,
+            &buffer,
+            &raster_compute::Requests {
+                control: &control_buffer,
+                list: &list_buffer,
+                first,
+            },
+            &array.array_view,
+        );
         ctx.queue.submit([enc.finish()]);
-        let (_, want) = twin::requested(list.len() as u32, &list, first, 4, MAP, scene.triangle_count() as u32);
-        assert_eq!(pass.read_steer_args(ctx).unwrap(), want, "chain from request {first}");
+        let (_, want) = twin::requested(
+            list.len() as u32,
+            &list,
+            first,
+            4,
+            MAP,
+            scene.triangle_count() as u32,
+        );
+        assert_eq!(
+            pass.read_steer_args(ctx).unwrap(),
+            want,
+            "chain from request {first}"
+        );
     }
     let pos = positions(&scene);
     for (k, s) in samples.iter().enumerate() {
@@ -479,7 +862,11 @@ fn requested_maps_go_to_their_samples_layers() {
             assert!(want.iter().any(|&w| w != FAR), "sample {k} covers texels");
             assert_eq!(layer, want, "requested sample {k} in layer {}", s.layer);
         } else {
-            assert!(layer.iter().all(|&w| w == FAR), "sample {k} was not requested: layer {} untouched", s.layer);
+            assert!(
+                layer.iter().all(|&w| w == FAR),
+                "sample {k} was not requested: layer {} untouched",
+                s.layer
+            );
         }
     }
 }
@@ -496,7 +883,12 @@ fn kept_lists_are_drawn_per_slot() {
     let triangles = order.len() / 3;
     // Slot 0 keeps every other triangle, slot 1 the first third, slot 2 nothing; slot 3's list is
     // the whole mesh. Past each count the slot holds stale indices that must not be drawn.
-    let keep: [Vec<usize>; 4] = [(0..triangles).step_by(2).collect(), (0..triangles / 3).collect(), vec![], (0..triangles).collect()];
+    let keep: [Vec<usize>; 4] = [
+        (0..triangles).step_by(2).collect(),
+        (0..triangles / 3).collect(),
+        vec![],
+        (0..triangles).collect(),
+    ];
     let mut lists = vec![0u32; 4 * order.len()];
     let mut args = vec![0u32; 4 * 5];
     for (slot, kept) in keep.iter().enumerate() {
@@ -508,27 +900,66 @@ fn kept_lists_are_drawn_per_slot() {
         }
         args[slot * 5] = kept.len() as u32 * 3;
     }
-    let lists_buffer = readback::storage_buffer(ctx, "kept lists", &lists, wgpu::BufferUsages::empty());
-    let args_buffer = readback::storage_buffer(ctx, "kept arguments", &args, wgpu::BufferUsages::empty());
+    let lists_buffer =
+        readback::storage_buffer(ctx, "kept lists", &lists, wgpu::BufferUsages::empty());
+    let args_buffer =
+        readback::storage_buffer(ctx, "kept arguments", &args, wgpu::BufferUsages::empty());
     // Maps: sample 0 with slot 0, sample 1 with slot 1, sample 2 with slot 2, sample 0 with slot 3.
-    let jobs: Vec<GpuRasterJob> = [(0, 0), (1, 1), (2, 2), (0, 3)].iter().map(|&(s, slot)| GpuRasterJob { kept_slot: slot, ..GpuRasterJob::whole(s, MAP) }).collect();
-    let pass = RasterCompute::new(ctx, MAP, CullMode::Back, 4, scene.render.shadow_map_budget_mib).unwrap();
+    let jobs: Vec<GpuRasterJob> = [(0, 0), (1, 1), (2, 2), (0, 3)]
+        .iter()
+        .map(|&(s, slot)| GpuRasterJob {
+            kept_slot: slot,
+            ..GpuRasterJob::whole(s, MAP)
+        })
+        .collect();
+    let pass = RasterCompute::new(
+        ctx,
+        MAP,
+        CullMode::Back,
+        4,
+        scene.render.shadow_map_budget_mib,
+    )
+    .unwrap();
     let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
     let mut enc = ctx.device.create_command_encoder(&Default::default());
-    pass.record_kept(ctx, &mut enc, &gpu, &buffer, &jobs, Some((&lists_buffer, &args_buffer)));
+    pass.record_kept(
+        ctx,
+        &mut enc,
+        &gpu,
+        &buffer,
+        &jobs,
+        Some((&lists_buffer, &args_buffer)),
+    );
     ctx.queue.submit([enc.finish()]);
     let words = pass.read_words(ctx, 4).unwrap();
     let pos = positions(&scene);
     for (m, job) in jobs.iter().enumerate() {
         let slot = job.kept_slot as usize;
-        let list: Vec<u32> = keep[slot].iter().flat_map(|&t| order[t * 3..t * 3 + 3].to_vec()).collect();
-        let want = twin::rasterize(&pos, &list, &samples[job.sample as usize], MAP, CullMode::Back);
-        assert_eq!(&words[m * (MAP * MAP) as usize..][..(MAP * MAP) as usize], &want[..], "map {m} (slot {slot}, {} triangles)", keep[slot].len());
+        let list: Vec<u32> = keep[slot]
+            .iter()
+            .flat_map(|&t| order[t * 3..t * 3 + 3].to_vec())
+            .collect();
+        let want = twin::rasterize(
+            &pos,
+            &list,
+            &samples[job.sample as usize],
+            MAP,
+            CullMode::Back,
+        );
+        assert_eq!(
+            &words[m * (MAP * MAP) as usize..][..(MAP * MAP) as usize],
+            &want[..],
+            "map {m} (slot {slot}, {} triangles)",
+            keep[slot].len()
+        );
         let covered = want.iter().filter(|&&w| w != FAR).count();
         assert_eq!(covered == 0, slot == 2, "map {m}: {covered} texels covered");
     }
     // The whole-mesh slot equals the whole mesh drawn without lists.
-    assert_eq!(&words[3 * (MAP * MAP) as usize..], &twin::rasterize(&pos, order, &samples[0], MAP, CullMode::Back)[..]);
+    assert_eq!(
+        &words[3 * (MAP * MAP) as usize..],
+        &twin::rasterize(&pos, order, &samples[0], MAP, CullMode::Back)[..]
+    );
 }
 
 /// One name per stage: a frame drawn by the compute raster times its maps as `raster_compute` and
@@ -540,16 +971,41 @@ fn each_raster_reports_its_own_timing_key() {
     use penumbra::gpu::timing::TimingMode;
     use penumbra::methods::Method;
     let ctx = common::gpu();
-    for (raster, key, other) in [("compute", "raster_compute", "shadow_raster"), ("hardware", "shadow_raster", "raster_compute")] {
-        let sets = [("resolution", "64"), ("shadow_map_size", "128"), ("raster", raster)].map(|(k, v)| (k.to_string(), v.to_string()));
+    for (raster, key, other) in [
+        ("compute", "raster_compute", "shadow_raster"),
+        ("hardware", "shadow_raster", "raster_compute"),
+    ] {
+        let sets = [
+            ("resolution", "64"),
+            ("shadow_map_size", "128"),
+            ("raster", raster),
+        ]
+        .map(|(k, v)| (k.to_string(), v.to_string()));
         let scene = Scene::load("default", &sets).unwrap();
         for method in ["regular:n=3", "adaptive:max_level=1"] {
             let method = Method::parse(method, &[]).unwrap();
-            let r = frame::render(ctx, &scene, &method, FrameOptions { mode: TimingMode::Stages, pictures: false }).unwrap();
+            let r = frame::render(
+                ctx,
+                &scene,
+                &method,
+                FrameOptions {
+                    mode: TimingMode::Stages,
+                    pictures: false,
+                },
+            )
+            .unwrap();
             assert_eq!(r.raster.used, raster, "{method:?}");
             let ms = r.stages_ms.get(key).copied();
-            assert!(ms.is_some_and(|ms| ms > 0.0), "raster = {raster}, {method:?}: `{key}` is {ms:?} in {:?}", r.stages_ms.keys().collect::<Vec<_>>());
-            assert!(!r.stages_ms.contains_key(other), "raster = {raster}, {method:?}: `{other}` in {:?}", r.stages_ms);
+            assert!(
+                ms.is_some_and(|ms| ms > 0.0),
+                "raster = {raster}, {method:?}: `{key}` is {ms:?} in {:?}",
+                r.stages_ms.keys().collect::<Vec<_>>()
+            );
+            assert!(
+                !r.stages_ms.contains_key(other),
+                "raster = {raster}, {method:?}: `{other}` in {:?}",
+                r.stages_ms
+            );
         }
     }
 }

@@ -2,17 +2,21 @@
 //! when the maps are split into chunks by the memory budget.
 
 mod common;
+use penumbra::frame::{frame_uniform, FrameOptions};
+use penumbra::gpu::timing::TimingMode;
+use penumbra::methods::{fixed_samples, Method};
+use penumbra::scene::Scene;
 use penumbra::stages::shade::{blocks, SHADE_BLOCK};
 use penumbra::stages::twin;
-use penumbra::frame::{frame_uniform, FrameOptions};
-use penumbra::methods::{fixed_samples, Method};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::scene::Scene;
 
 #[test]
 fn shade_equals_its_cpu_twin() {
     let ctx = common::gpu();
-    for (seed, method, budget) in [(3u64, Method::hard(), "64"), (11, Method::regular(4), "64"), (29, Method::regular(5), "1")] {
+    for (seed, method, budget) in [
+        (3u64, Method::hard(), "64"),
+        (11, Method::regular(4), "64"),
+        (29, Method::regular(5), "1"),
+    ] {
         let sc = Scene::parse(
             &common::random_scene_toml(seed, 48, 128),
             "random",
@@ -20,8 +24,12 @@ fn shade_equals_its_cpu_twin() {
             &[("shadow_map_budget_mib".into(), budget.into())],
         )
         .unwrap();
-        let options = FrameOptions { mode: TimingMode::Frame, pictures: true };
-        let (r, c): (_, fixed_samples::FixedBuffers) = common::inspected(ctx, &sc, &method, options);
+        let options = FrameOptions {
+            mode: TimingMode::Frame,
+            pictures: true,
+        };
+        let (r, c): (_, fixed_samples::FixedBuffers) =
+            common::inspected(ctx, &sc, &method, options);
         let mut v = vec![0.0f32; r.visibility.len()];
         let n = c.samples.len();
         if seed == 29 {
@@ -33,9 +41,24 @@ fn shade_equals_its_cpu_twin() {
         // Shade runs only on the tiles with a geometry pixel: exactly the twin's.
         let tiles = twin::shade::geometry_tiles(&r.gbuffer);
         let all = r.gbuffer.width.div_ceil(8) * r.gbuffer.height.div_ceil(8);
-        assert_eq!(c.tiles, tiles, "seed {seed}: geometry tiles differ from the twin's");
-        assert!(!tiles.is_empty() && (tiles.len() as u32) < all, "seed {seed}: {} of {all} tiles: the scene should leave some background", tiles.len());
-        twin::shade::shade(&frame_uniform(&sc), &c.samples, &c.weights, &c.maps, &r.gbuffer, 0..n, &mut v);
+        assert_eq!(
+            c.tiles, tiles,
+            "seed {seed}: geometry tiles differ from the twin's"
+        );
+        assert!(
+            !tiles.is_empty() && (tiles.len() as u32) < all,
+            "seed {seed}: {} of {all} tiles: the scene should leave some background",
+            tiles.len()
+        );
+        twin::shade::shade(
+            &frame_uniform(&sc),
+            &c.samples,
+            &c.weights,
+            &c.maps,
+            &r.gbuffer,
+            0..n,
+            &mut v,
+        );
         let (mut worst, mut shadowed) = (0.0f32, 0usize);
         for (i, twin_v) in v.iter().enumerate() {
             if r.gbuffer.is_geometry(i) {
@@ -44,7 +67,13 @@ fn shade_equals_its_cpu_twin() {
             }
         }
         println!("seed {seed} {method:?}: {n} maps, max |GPU - twin| = {worst:e}, {shadowed} pixels not fully lit");
-        assert!(shadowed > 20, "seed {seed}: the scene casts almost no shadow, the test would prove little");
-        assert!(worst <= 1e-6, "seed {seed}: shade differs from its twin by {worst}");
+        assert!(
+            shadowed > 20,
+            "seed {seed}: the scene casts almost no shadow, the test would prove little"
+        );
+        assert!(
+            worst <= 1e-6,
+            "seed {seed}: shade differs from its twin by {worst}"
+        );
     }
 }

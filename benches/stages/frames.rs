@@ -4,10 +4,10 @@
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
 use penumbra::frame;
+use penumbra::gpu::timing::TimingMode;
 use penumbra::gpu::{GpuContext, Stage};
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::gpu::timing::TimingMode;
 use std::collections::{BTreeMap, HashMap};
 use std::time::Duration;
 
@@ -27,13 +27,28 @@ pub struct FramePool<'a> {
 impl<'a> FramePool<'a> {
     pub fn new(ctx: &'a GpuContext, scene: Scene, method: &str) -> Self {
         let method = Method::parse(method, &[]).expect("method");
-        let mut pool = FramePool { ctx, scene, method, frames: Vec::new(), cursor: HashMap::new(), maps: 0, pixels: 0, pixel_quads: 0 };
-        let first = frame::render(ctx, &pool.scene, &pool.method, TimingMode::Stages).expect("frame");
+        let mut pool = FramePool {
+            ctx,
+            scene,
+            method,
+            frames: Vec::new(),
+            cursor: HashMap::new(),
+            maps: 0,
+            pixels: 0,
+            pixel_quads: 0,
+        };
+        let first =
+            frame::render(ctx, &pool.scene, &pool.method, TimingMode::Stages).expect("frame");
         pool.maps = first.output.shadow_maps as u64;
         pool.pixels = first.gbuffer.geometry_count() as u64;
         pool.pixel_quads = first.output.record["levels"]
             .as_array()
-            .map(|levels| levels.iter().filter_map(|l| l["pixels_evaluated"].as_u64()).sum())
+            .map(|levels| {
+                levels
+                    .iter()
+                    .filter_map(|l| l["pixels_evaluated"].as_u64())
+                    .sum()
+            })
             .unwrap_or(0);
         pool
     }
@@ -42,16 +57,23 @@ impl<'a> FramePool<'a> {
     fn take(&mut self, key: &str, stages: &[Stage], iters: u64) -> Duration {
         let start = *self.cursor.get(key).unwrap_or(&0);
         while self.frames.len() < start + iters as usize {
-            let r = frame::render(self.ctx, &self.scene, &self.method, TimingMode::Stages).expect("frame");
+            let r = frame::render(self.ctx, &self.scene, &self.method, TimingMode::Stages)
+                .expect("frame");
             self.frames.push(r.stages_ms);
         }
         self.cursor.insert(key.to_string(), start + iters as usize);
-        let ms: f64 = self.frames[start..start + iters as usize].iter().map(|f| stages.iter().filter_map(|s| f.get(s.name)).sum::<f64>()).sum();
+        let ms: f64 = self.frames[start..start + iters as usize]
+            .iter()
+            .map(|f| stages.iter().filter_map(|s| f.get(s.name)).sum::<f64>())
+            .sum();
         Duration::from_secs_f64(ms / 1e3).max(Duration::from_nanos(1))
     }
 }
 
-fn frame_group<'c>(c: &'c mut Criterion, name: &str) -> criterion::BenchmarkGroup<'c, criterion::measurement::WallTime> {
+fn frame_group<'c>(
+    c: &'c mut Criterion,
+    name: &str,
+) -> criterion::BenchmarkGroup<'c, criterion::measurement::WallTime> {
     let mut group = c.benchmark_group(name);
     // Each iteration is a whole frame: few, equal-sized samples.
     group.sample_size(10).sampling_mode(SamplingMode::Flat);
@@ -63,12 +85,19 @@ fn frame_group<'c>(c: &'c mut Criterion, name: &str) -> criterion::BenchmarkGrou
 pub fn adaptive_stages(c: &mut Criterion, pool: &mut FramePool) {
     println!(
         "adaptive stages on `{}` ({}x{}, {} maps, {} pixel·quad evaluations per frame)",
-        pool.scene.name, pool.scene.render.width, pool.scene.render.height, pool.maps, pool.pixel_quads
+        pool.scene.name,
+        pool.scene.render.width,
+        pool.scene.render.height,
+        pool.maps,
+        pool.pixel_quads
     );
     for (group_name, stages) in [
         ("reproject_count", &[Stage::REPROJECT_COUNT][..]),
         ("neighbourhood", &[Stage::NEIGHBOURHOOD][..]),
-        ("quad_count+subdivide", &[Stage::QUAD_COUNT, Stage::SUBDIVIDE][..]),
+        (
+            "quad_count+subdivide",
+            &[Stage::QUAD_COUNT, Stage::SUBDIVIDE][..],
+        ),
     ] {
         let mut group = frame_group(c, group_name);
         group.throughput(Throughput::Elements(pool.pixel_quads));
@@ -85,7 +114,9 @@ pub fn shade<'a>(c: &mut Criterion, adaptive: &mut FramePool<'a>, regular: &mut 
     let mut group = frame_group(c, "shade");
     for (id, pool) in [("regular_maps", regular), ("adaptive_masks", adaptive)] {
         group.throughput(Throughput::Elements(pool.pixels * pool.maps));
-        group.bench_function(BenchmarkId::new(id, format!("{}_maps", pool.maps)), |b| b.iter_custom(|iters| pool.take("shade", &[Stage::SHADE], iters)));
+        group.bench_function(BenchmarkId::new(id, format!("{}_maps", pool.maps)), |b| {
+            b.iter_custom(|iters| pool.take("shade", &[Stage::SHADE], iters))
+        });
     }
     group.finish();
 }
@@ -98,20 +129,30 @@ pub fn hybrid(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
     plain.render.shadow_map_size = 2048;
     let mut hybrid = scene;
     hybrid.render.maps = penumbra::scene::MapKind::Hybrid;
-    hybrid.render.hybrid = penumbra::scene::HybridDef { base: 2048, levels: 2, eps: 0.25 };
+    hybrid.render.hybrid = penumbra::scene::HybridDef {
+        base: 2048,
+        levels: 2,
+        eps: 0.25,
+    };
     hybrid.render.shadow_map_size = 2048;
     let mut plain = FramePool::new(ctx, plain, "hard");
     let mut hybrid = FramePool::new(ctx, hybrid, "hard");
     let mut group = frame_group(c, "hybrid_build");
     group.throughput(Throughput::Elements(2048 * 2048));
-    group.bench_function(BenchmarkId::new("hard_2048_to_512", &hybrid.scene.name), |b| {
-        b.iter_custom(|iters| hybrid.take("hybrid_build", &[Stage::HYBRID_BUILD], iters))
-    });
+    group.bench_function(
+        BenchmarkId::new("hard_2048_to_512", &hybrid.scene.name),
+        |b| b.iter_custom(|iters| hybrid.take("hybrid_build", &[Stage::HYBRID_BUILD], iters)),
+    );
     group.finish();
     let mut group = frame_group(c, "shade_hard");
-    for (id, pool) in [("plain_2048", &mut plain), ("hybrid_2048_to_512", &mut hybrid)] {
+    for (id, pool) in [
+        ("plain_2048", &mut plain),
+        ("hybrid_2048_to_512", &mut hybrid),
+    ] {
         group.throughput(Throughput::Elements(pool.pixels));
-        group.bench_function(BenchmarkId::new(id, &pool.scene.name), |b| b.iter_custom(|iters| pool.take("shade", &[Stage::SHADE], iters)));
+        group.bench_function(BenchmarkId::new(id, &pool.scene.name), |b| {
+            b.iter_custom(|iters| pool.take("shade", &[Stage::SHADE], iters))
+        });
     }
     group.finish();
 }

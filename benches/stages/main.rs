@@ -31,7 +31,10 @@ fn main() {
     std::env::set_var("PENUMBRA_NO_PROGRESS", "1");
     let ctx = GpuContext::new().unwrap_or_else(|e| panic!("benches need a GPU adapter: {e}"));
     let s = &ctx.summary;
-    println!("adapter: {} ({}, {}, {} {})", s.name, s.backend, s.device_type, s.driver, s.driver_info);
+    println!(
+        "adapter: {} ({}, {}, {} {})",
+        s.name, s.backend, s.device_type, s.driver, s.driver_info
+    );
     println!("clock: wall clock, submit → device wait (GPU timestamps are not used)");
     let mut c = Criterion::default().configure_from_args();
     raster::shadow_raster(&mut c, &ctx);

@@ -3,12 +3,12 @@
 use crate::scenes;
 use criterion::{BenchmarkId, Criterion, Throughput};
 use penumbra::frame::camera_uniform;
-use penumbra::gpu::{readback, GpuContext};
 use penumbra::gpu::structs::GpuSample;
-use penumbra::scene::light::sample_view;
+use penumbra::gpu::{readback, GpuContext};
 use penumbra::render::gbuffer::GBufferPass;
 use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
 use penumbra::render::SceneGpu;
+use penumbra::scene::light::sample_view;
 use std::time::{Duration, Instant};
 
 /// Maps recorded per submit: one array of this many layers is reused.
@@ -33,11 +33,14 @@ pub fn shadow_raster(c: &mut Criterion, ctx: &GpuContext) {
         // The 289 lattice points, so successive maps see the scene from different light samples.
         let samples: Vec<GpuSample> = (0..289u32)
             .map(|k| {
-                let y = scene.light.point((k % 17) as f32 / 16.0, (k / 17) as f32 / 16.0);
+                let y = scene
+                    .light
+                    .point((k % 17) as f32 / 16.0, (k / 17) as f32 / 16.0);
                 sample_view(&scene.light, y, &scene.bounds, map_size, k)
             })
             .collect();
-        let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+        let buffer =
+            readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
         let array = shadow_raster::allocate(ctx, map_size, LAYERS as u32);
         group.throughput(Throughput::Elements(scene.triangle_count() as u64));
         let id = BenchmarkId::new(format!("per_map_{map_size}"), label(scene.triangle_count()));
@@ -47,8 +50,13 @@ pub fn shadow_raster(c: &mut Criterion, ctx: &GpuContext) {
                 let mut done = 0;
                 while done < iters {
                     let n = LAYERS.min(iters - done);
-                    let jobs: Vec<RasterJob> =
-                        (0..n).map(|i| RasterJob { sample: ((done + i) % 289) as u32, layer: i as u32, scissor: None }).collect();
+                    let jobs: Vec<RasterJob> = (0..n)
+                        .map(|i| RasterJob {
+                            sample: ((done + i) % 289) as u32,
+                            layer: i as u32,
+                            scissor: None,
+                        })
+                        .collect();
                     let mut encoder = ctx.device.create_command_encoder(&Default::default());
                     pass.record(ctx, &mut encoder, &gpu_scene, &buffer, &array, &jobs);
                     ctx.queue.submit([encoder.finish()]);
@@ -73,23 +81,26 @@ pub fn gbuffer(c: &mut Criterion, ctx: &GpuContext) {
         let target = GBufferPass::allocate(ctx, w, h).expect("gbuffer");
         let camera = camera_uniform(&scene);
         group.throughput(Throughput::Elements(w as u64 * h as u64));
-        group.bench_function(BenchmarkId::new(format!("{w}x{h}"), label(scene.triangle_count())), |b| {
-            b.iter_custom(|iters| {
-                let start = Instant::now();
-                let mut done = 0;
-                while done < iters {
-                    let n = 8.min(iters - done);
-                    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-                    for _ in 0..n {
-                        pass.record(ctx, &mut encoder, &gpu_scene, &camera, &target);
+        group.bench_function(
+            BenchmarkId::new(format!("{w}x{h}"), label(scene.triangle_count())),
+            |b| {
+                b.iter_custom(|iters| {
+                    let start = Instant::now();
+                    let mut done = 0;
+                    while done < iters {
+                        let n = 8.min(iters - done);
+                        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+                        for _ in 0..n {
+                            pass.record(ctx, &mut encoder, &gpu_scene, &camera, &target);
+                        }
+                        ctx.queue.submit([encoder.finish()]);
+                        ctx.wait().expect("wait");
+                        done += n;
                     }
-                    ctx.queue.submit([encoder.finish()]);
-                    ctx.wait().expect("wait");
-                    done += n;
-                }
-                start.elapsed().max(Duration::from_nanos(1))
-            })
-        });
+                    start.elapsed().max(Duration::from_nanos(1))
+                })
+            },
+        );
     }
     group.finish();
 }

@@ -30,20 +30,47 @@ pub fn raster_compute(c: &mut Criterion, ctx: &GpuContext) {
         let samples: Vec<GpuSample> = regular_points(5, Layout::Lattice)
             .iter()
             .enumerate()
-            .map(|(k, &(u, v))| sample_view(&scene.light, scene.light.point(u, v), &scene.bounds, map_size, k as u32))
+            .map(|(k, &(u, v))| {
+                sample_view(
+                    &scene.light,
+                    scene.light.point(u, v),
+                    &scene.bounds,
+                    map_size,
+                    k as u32,
+                )
+            })
             .collect();
         let maps = samples.len() as u32;
         let gpu = SceneGpu::upload(ctx, &scene);
-        let buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+        let buffer =
+            readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
         let fixed = ShadowRasterPass::new(ctx, scene.render.cull).expect("shadow_raster pipeline");
         let array = shadow_raster::allocate(ctx, map_size, maps);
-        let compute = RasterCompute::new(ctx, map_size, scene.render.cull, maps, scene.render.shadow_map_budget_mib).expect("raster_compute");
+        let compute = RasterCompute::new(
+            ctx,
+            map_size,
+            scene.render.cull,
+            maps,
+            scene.render.shadow_map_budget_mib,
+        )
+        .expect("raster_compute");
         assert_eq!(compute.capacity, maps, "one chain of {maps} maps");
-        let jobs: Vec<RasterJob> = (0..maps).map(|k| RasterJob { sample: k, layer: k, scissor: None }).collect();
-        let chain: Vec<GpuRasterJob> = (0..maps).map(|k| GpuRasterJob::whole(k, map_size)).collect();
+        let jobs: Vec<RasterJob> = (0..maps)
+            .map(|k| RasterJob {
+                sample: k,
+                layer: k,
+                scissor: None,
+            })
+            .collect();
+        let chain: Vec<GpuRasterJob> = (0..maps)
+            .map(|k| GpuRasterJob::whole(k, map_size))
+            .collect();
 
-        group.throughput(Throughput::Elements(scene.triangle_count() as u64 * maps as u64));
-        let name = |stage: &str| BenchmarkId::new(format!("{stage}_{maps}_maps_{map_size}"), &scene.name);
+        group.throughput(Throughput::Elements(
+            scene.triangle_count() as u64 * maps as u64,
+        ));
+        let name =
+            |stage: &str| BenchmarkId::new(format!("{stage}_{maps}_maps_{map_size}"), &scene.name);
         let time = |b: &mut criterion::Bencher, record: &dyn Fn(&mut wgpu::CommandEncoder)| {
             b.iter_custom(|iters| {
                 let start = Instant::now();
@@ -56,16 +83,31 @@ pub fn raster_compute(c: &mut Criterion, ctx: &GpuContext) {
                 start.elapsed()
             })
         };
-        group.bench_function(name("shadow_raster"), |b| time(b, &|enc| fixed.record(ctx, enc, &gpu, &buffer, &array, &jobs)));
-        group.bench_function(name("raster_compute"), |b| time(b, &|enc| compute.record(ctx, enc, &gpu, &buffer, &chain)));
+        group.bench_function(name("shadow_raster"), |b| {
+            time(b, &|enc| {
+                fixed.record(ctx, enc, &gpu, &buffer, &array, &jobs)
+            })
+        });
+        group.bench_function(name("raster_compute"), |b| {
+            time(b, &|enc| compute.record(ctx, enc, &gpu, &buffer, &chain))
+        });
         // Both rasters' last maps, texel by texel.
         let words = compute.read_words(ctx, maps).expect("read the chain");
         let mut d = penumbra::stages::raster_compute::RasterDifference::default();
         for (k, s) in samples.iter().enumerate() {
-            let fixed: Vec<f32> = readback::read_texture(ctx, &array.texture, k as u32, 4).expect("read a map");
-            d.add(s, &fixed, &words[k * (map_size * map_size) as usize..][..(map_size * map_size) as usize]);
+            let fixed: Vec<f32> =
+                readback::read_texture(ctx, &array.texture, k as u32, 4).expect("read a map");
+            d.add(
+                s,
+                &fixed,
+                &words[k * (map_size * map_size) as usize..][..(map_size * map_size) as usize],
+            );
         }
-        println!("raster_compute vs shadow_raster, {} {map_size}², {maps} maps: {}", scene.name, d.summary());
+        println!(
+            "raster_compute vs shadow_raster, {} {map_size}², {maps} maps: {}",
+            scene.name,
+            d.summary()
+        );
     }
     group.finish();
 }

@@ -35,7 +35,11 @@ pub fn spheres(segments: u32, count: [u32; 2]) -> Scene {
 
 /// Shadow-raster workloads: about 10k, 100k and 1M triangles.
 pub fn raster_scenes() -> Vec<Scene> {
-    vec![spheres(72, [1, 1]), spheres(224, [1, 1]), spheres(224, [5, 2])]
+    vec![
+        spheres(72, [1, 1]),
+        spheres(224, [1, 1]),
+        spheres(224, [5, 2]),
+    ]
 }
 
 /// The adaptive stages run on the embedded default scene (small bunny, 512x512, 512² maps): what

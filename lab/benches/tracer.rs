@@ -4,10 +4,10 @@
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
 use penumbra::frame;
-use penumbra_lab::reference::truth::{ray_offset, surface_points};
 use penumbra::gpu::GpuContext;
-use penumbra_lab::reference::{trace_visibility, RefLight, ReferenceMode, Tracer};
 use penumbra::scene::Scene;
+use penumbra_lab::reference::truth::{ray_offset, surface_points};
+use penumbra_lab::reference::{trace_visibility, RefLight, ReferenceMode, Tracer};
 
 // The engine's bench scenes (benches/stages/scenes.rs).
 #[allow(dead_code)]
@@ -22,7 +22,10 @@ fn main() {
     std::env::set_var("PENUMBRA_NO_PROGRESS", "1");
     let ctx = GpuContext::new().unwrap_or_else(|e| panic!("benches need a GPU adapter: {e}"));
     let s = &ctx.summary;
-    println!("adapter: {} ({}, {}, {} {})", s.name, s.backend, s.device_type, s.driver, s.driver_info);
+    println!(
+        "adapter: {} ({}, {}, {} {})",
+        s.name, s.backend, s.device_type, s.driver, s.driver_info
+    );
     let mut c = Criterion::default().configure_from_args();
     reference_tracer(&mut c, &ctx, scenes::stage_scene());
     c.final_summary();
@@ -33,7 +36,11 @@ pub fn reference_tracer(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
     let points = surface_points(&g);
     let geometry = points.iter().filter(|p| p.is_some()).count() as u64;
     let tracer = Tracer::new(&scene.triangles());
-    let light = RefLight { center: scene.light.center, edge_u: scene.light.edge_u, edge_v: scene.light.edge_v };
+    let light = RefLight {
+        center: scene.light.center,
+        edge_u: scene.light.edge_u,
+        edge_v: scene.light.edge_v,
+    };
     let offset = ray_offset(&scene);
     let mut group = c.benchmark_group("reference_tracer");
     group.sample_size(10).sampling_mode(SamplingMode::Flat);
@@ -43,8 +50,12 @@ pub fn reference_tracer(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
     trace_visibility(&tracer, &points, &light, &mode, offset, &|_| {});
     let rays = tracer.rays_traced() - before;
     group.throughput(Throughput::Elements(rays));
-    group.bench_function(BenchmarkId::new("continuous_4x4", format!("{geometry}_pixels_{}_triangles", scene.triangle_count())), |b| {
-        b.iter(|| trace_visibility(&tracer, &points, &light, &mode, offset, &|_| {}))
-    });
+    group.bench_function(
+        BenchmarkId::new(
+            "continuous_4x4",
+            format!("{geometry}_pixels_{}_triangles", scene.triangle_count()),
+        ),
+        |b| b.iter(|| trace_visibility(&tracer, &points, &light, &mode, offset, &|_| {})),
+    );
     group.finish();
 }

@@ -33,8 +33,16 @@ pub enum Error {
 /// (Python words the same error by its keyword argument.)
 pub fn cli_words(e: &penumbra::Error) -> String {
     match e {
-        penumbra::Error::Setting { origin, key, value, why } => {
-            let origin = origin.as_ref().map(|o| format!("{o}: ")).unwrap_or_default();
+        penumbra::Error::Setting {
+            origin,
+            key,
+            value,
+            why,
+        } => {
+            let origin = origin
+                .as_ref()
+                .map(|o| format!("{o}: "))
+                .unwrap_or_default();
             let value = value.as_ref().map(|v| format!("={v}")).unwrap_or_default();
             format!("{origin}--set {key}{value}: {why}")
         }

@@ -12,13 +12,21 @@ const NOWHERE: &str = "/nonexistent/penumbra-inputs";
 
 /// A scene file (mesh files and `cache:` paths resolve in a folder that does not exist).
 pub fn scene_toml(text: &str) -> Result<Scene> {
-    let dirs = MeshDirs { scene_dir: Some(Path::new(NOWHERE)), cache: Some(Path::new(NOWHERE)), max_mesh_bytes: None };
+    let dirs = MeshDirs {
+        scene_dir: Some(Path::new(NOWHERE)),
+        cache: Some(Path::new(NOWHERE)),
+        max_mesh_bytes: None,
+    };
     Ok(Scene::parse_in(text, "input.toml", dirs, &[])?)
 }
 
 /// A scene file with `--set` overrides.
 pub fn scene_toml_with(text: &str, overrides: &[(String, String)]) -> Result<Scene> {
-    let dirs = MeshDirs { scene_dir: Some(Path::new(NOWHERE)), cache: Some(Path::new(NOWHERE)), max_mesh_bytes: None };
+    let dirs = MeshDirs {
+        scene_dir: Some(Path::new(NOWHERE)),
+        cache: Some(Path::new(NOWHERE)),
+        max_mesh_bytes: None,
+    };
     Ok(Scene::parse_in(text, "input.toml", dirs, overrides)?)
 }
 

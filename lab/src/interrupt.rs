@@ -19,7 +19,10 @@ struct Registry {
     cleanups: BTreeMap<u64, Cleanup>,
 }
 
-static REGISTRY: Mutex<Registry> = Mutex::new(Registry { next: 0, cleanups: BTreeMap::new() });
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
+    next: 0,
+    cleanups: BTreeMap::new(),
+});
 /// Held by a commit while it moves files, and by the signal thread from the signal to the end.
 static COMMIT: Mutex<()> = Mutex::new(());
 /// The pipe's write end, for the handler; -1 until installed.
@@ -73,7 +76,9 @@ pub fn install() -> std::io::Result<()> {
     }
     let [read, write] = fds;
     PIPE.store(write, Ordering::Relaxed);
-    std::thread::Builder::new().name("signals".into()).spawn(move || watch(read))?;
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || watch(read))?;
     for sig in [libc::SIGINT, libc::SIGTERM] {
         // SAFETY: a plain handler that only writes to a pipe; SA_RESTART keeps the run's system
         // calls from failing with EINTR while the clean-up runs.

@@ -5,19 +5,22 @@
 //! `crate::gpu`, `crate::scene`, … as before; the engine cannot name anything here.
 
 pub use penumbra::{api, certify, frame, gpu, methods, render, scene, stages};
-pub use penumbra::{required_limits, version, LONG_VERSION, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows, Visibility, OPTIONAL_FEATURES};
+pub use penumbra::{
+    required_limits, version, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene,
+    Shadows, Visibility, LONG_VERSION, OPTIONAL_FEATURES,
+};
 
-pub(crate) mod error;
-pub mod progress;
 pub mod assets;
-pub mod reference;
-pub mod metrics;
-pub mod record;
-pub mod report;
-pub mod studies;
+pub(crate) mod error;
 pub mod inputs;
 pub mod interrupt;
+pub mod metrics;
 pub mod panic_log;
+pub mod progress;
+pub mod record;
+pub mod reference;
+pub mod report;
+pub mod studies;
 
 pub use error::{cli_words, Error, Result};
 

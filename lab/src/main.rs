@@ -37,9 +37,22 @@ fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
         (None, Ok(b)) => (b, "WGPU_BACKEND"),
         (None, Err(_)) => ("auto".to_string(), "--backend"),
     };
-    let backend = BackendChoice::parse(&backend).map_err(|e| anyhow::anyhow!("{source} {}", e.to_string().trim_start_matches("--backend ")))?;
-    let name = cli.adapter.clone().or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok()).filter(|n| !n.is_empty());
-    Ok(AdapterRequest { backend, name, source: Some(source.to_string()) })
+    let backend = BackendChoice::parse(&backend).map_err(|e| {
+        anyhow::anyhow!(
+            "{source} {}",
+            e.to_string().trim_start_matches("--backend ")
+        )
+    })?;
+    let name = cli
+        .adapter
+        .clone()
+        .or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok())
+        .filter(|n| !n.is_empty());
+    Ok(AdapterRequest {
+        backend,
+        name,
+        source: Some(source.to_string()),
+    })
 }
 
 /// The command list, one line each: `Name(path::to::ItsArgs)` (with its help line above it).
@@ -163,10 +176,11 @@ fn main() {
         // source) is left out, so no error repeats itself.
         let mut msg = String::new();
         // The engine's own errors are worded as the command line is used (`--set key=value`).
-        let words = |c: &(dyn std::error::Error + 'static)| match c.downcast_ref::<penumbra::Error>() {
-            Some(engine) => penumbra_lab::cli_words(engine),
-            None => c.to_string(),
-        };
+        let words =
+            |c: &(dyn std::error::Error + 'static)| match c.downcast_ref::<penumbra::Error>() {
+                Some(engine) => penumbra_lab::cli_words(engine),
+                None => c.to_string(),
+            };
         for cause in e.chain().map(words) {
             if !msg.contains(&cause) {
                 msg += if msg.is_empty() { "" } else { ": " };

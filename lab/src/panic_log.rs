@@ -15,7 +15,11 @@ pub fn install(path: PathBuf) {
     std::panic::set_hook(Box::new(move |info| {
         let args: Vec<String> = std::env::args().collect();
         let line = format!("panicked: {info} (args: {})", args.join(" ")).replace('\n', " ") + "\n";
-        if let Ok(mut f) = std::fs::OpenOptions::new().create(true).append(true).open(&path) {
+        if let Ok(mut f) = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&path)
+        {
             let _ = f.write_all(line.as_bytes());
         }
         default(info);

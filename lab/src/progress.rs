@@ -11,7 +11,11 @@ fn multi() -> &'static MultiProgress {
 }
 
 pub fn bar(len: u64, what: &str) -> ProgressBar {
-    let bar = if std::env::var_os("PENUMBRA_NO_PROGRESS").is_some() { ProgressBar::hidden() } else { multi().add(ProgressBar::new(len)) };
+    let bar = if std::env::var_os("PENUMBRA_NO_PROGRESS").is_some() {
+        ProgressBar::hidden()
+    } else {
+        multi().add(ProgressBar::new(len))
+    };
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg:24} [{bar:32}] {pos}/{len} {elapsed_precise}")
             .unwrap_or_else(|_| ProgressStyle::default_bar())
@@ -39,5 +43,8 @@ impl penumbra::progress::Bar for Bar {
 
 /// Draws the engine's progress with these bars.
 pub fn install() {
-    penumbra::progress::register(penumbra::progress::Progress { bar: |len, what| Box::new(Bar(bar(len, what))), suspend: |f| suspend(f) });
+    penumbra::progress::register(penumbra::progress::Progress {
+        bar: |len, what| Box::new(Bar(bar(len, what))),
+        suspend: |f| suspend(f),
+    });
 }

@@ -62,16 +62,43 @@ fn refused(case: &str, scene: &str, args: &[&str], want: &str) {
     let out = run_in(&dir, args);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{case}: {stderr}");
-    assert_eq!(stderr.lines().collect::<Vec<_>>(), [format!("error: {want}")], "{case}");
-    assert!(out.stdout.is_empty(), "{case}: {}", String::from_utf8_lossy(&out.stdout));
+    assert_eq!(
+        stderr.lines().collect::<Vec<_>>(),
+        [format!("error: {want}")],
+        "{case}"
+    );
+    assert!(
+        out.stdout.is_empty(),
+        "{case}: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     assert!(!dir.join("out").exists(), "{case}: wrote an output folder");
-    assert_eq!(std::fs::read_to_string(dir.join("scene.toml")).unwrap(), scene, "{case}: the scene file changed");
-    let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(
+        std::fs::read_to_string(dir.join("scene.toml")).unwrap(),
+        scene,
+        "{case}: the scene file changed"
+    );
+    let entries: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(entries, ["scene.toml"], "{case}: left files behind");
 }
 
 fn render(extra: &[&'static str]) -> Vec<&'static str> {
-    [&["render", "--scene", "scene.toml", "--method", "hard", "--out", "out"], extra].concat()
+    [
+        &[
+            "render",
+            "--scene",
+            "scene.toml",
+            "--method",
+            "hard",
+            "--out",
+            "out",
+        ],
+        extra,
+    ]
+    .concat()
 }
 
 /// SCENE with one line replaced (which must be there).
@@ -82,8 +109,18 @@ fn with(from: &str, to: &str) -> String {
 
 #[test]
 fn render_settings_out_of_bounds_name_the_key_and_value() {
-    refused("map1", SCENE, &render(&["--set", "shadow_map_size=1"]), "scene.toml: render.shadow_map_size = 1: must be at least 16");
-    refused("map3", &with("shadow_map_size = 64", "shadow_map_size = 3"), &render(&[]), "scene.toml: render.shadow_map_size = 3: must be at least 16");
+    refused(
+        "map1",
+        SCENE,
+        &render(&["--set", "shadow_map_size=1"]),
+        "scene.toml: render.shadow_map_size = 1: must be at least 16",
+    );
+    refused(
+        "map3",
+        &with("shadow_map_size = 64", "shadow_map_size = 3"),
+        &render(&[]),
+        "scene.toml: render.shadow_map_size = 3: must be at least 16",
+    );
     refused(
         "hybrid8",
         SCENE,
@@ -122,7 +159,12 @@ fn mesh_values_out_of_bounds_name_the_mesh_key_and_value() {
         ),
     ];
     for (case, line, want) in cases {
-        refused(case, &with(box_at, &line), &render(&[]), &format!("scene.toml: {want}"));
+        refused(
+            case,
+            &with(box_at, &line),
+            &render(&[]),
+            &format!("scene.toml: {want}"),
+        );
     }
 }
 
@@ -152,16 +194,28 @@ fn camera_values_get_their_own_messages() {
         ),
     ];
     for (case, (from, to), want) in cases {
-        refused(case, &with(from, to), &render(&[]), &format!("scene.toml: {want}"));
+        refused(
+            case,
+            &with(from, to),
+            &render(&[]),
+            &format!("scene.toml: {want}"),
+        );
     }
 }
 
 #[test]
 fn empty_scene_names_are_refused() {
     let builtins = penumbra::scene::builtin_names().join(", ");
-    let want = format!("--scene \"\": empty; give a built-in scene ({builtins}) or a path to a scene TOML file");
+    let want = format!(
+        "--scene \"\": empty; give a built-in scene ({builtins}) or a path to a scene TOML file"
+    );
     for command in ["render", "compare", "sequence"] {
-        refused(&format!("empty_{command}"), SCENE, &[command, "--scene", "", "--out", "out"], &want);
+        refused(
+            &format!("empty_{command}"),
+            SCENE,
+            &[command, "--scene", "", "--out", "out"],
+            &want,
+        );
     }
     refused(
         "empty_name",
@@ -173,25 +227,81 @@ fn empty_scene_names_are_refused() {
 
 #[test]
 fn sequence_paths_are_bounded_by_the_scene() {
-    let seq = |extra: &[&'static str]| [&["sequence", "--scene", "scene.toml", "--methods", "hard", "--frames", "2", "--out", "out"], extra].concat();
+    let seq = |extra: &[&'static str]| {
+        [
+            &[
+                "sequence",
+                "--scene",
+                "scene.toml",
+                "--methods",
+                "hard",
+                "--frames",
+                "2",
+                "--out",
+                "out",
+            ],
+            extra,
+        ]
+        .concat()
+    };
     // The tiny scene's diagonal: the plane spans 10 x 10, the box reaches y = 1.5.
     let diagonal = (200.0f32 + 1.5 * 1.5).sqrt();
-    let limit = format!("beyond 100 × the scene's diagonal of {diagonal:.1} (at most {:.1})", 100.0 * diagonal);
-    refused("offset_1e30", SCENE, &seq(&["--offset", "1e30,0,0"]), &format!("--offset 1e30,0,0: reaches 1e30, {limit}"));
-    refused("offset_2e3", SCENE, &seq(&["--offset", "0,-2000,0"]), &format!("--offset 0,-2000,0: reaches 2e3, {limit}"));
-    refused("radius", SCENE, &seq(&["--animate", "occluder", "--path", "circle", "--radius", "1e9"]), &format!("--radius 1000000000: reaches 1e9, {limit}"));
+    let limit = format!(
+        "beyond 100 × the scene's diagonal of {diagonal:.1} (at most {:.1})",
+        100.0 * diagonal
+    );
+    refused(
+        "offset_1e30",
+        SCENE,
+        &seq(&["--offset", "1e30,0,0"]),
+        &format!("--offset 1e30,0,0: reaches 1e30, {limit}"),
+    );
+    refused(
+        "offset_2e3",
+        SCENE,
+        &seq(&["--offset", "0,-2000,0"]),
+        &format!("--offset 0,-2000,0: reaches 2e3, {limit}"),
+    );
+    refused(
+        "radius",
+        SCENE,
+        &seq(&[
+            "--animate",
+            "occluder",
+            "--path",
+            "circle",
+            "--radius",
+            "1e9",
+        ]),
+        &format!("--radius 1000000000: reaches 1e9, {limit}"),
+    );
     // Within the scene's reach but past the coordinate bound of the scene file.
     // (The light faces the scene from the side: a light 1e6 to the side facing down is refused at
     // load, its maps not seeing the scene.)
-    let far = SCENE.replace("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "center = [999990.0, 8.0, 0.0]\nedge_u = [0.0, 0.0, 2.0]\nedge_v = [0.0, 2.0, 0.0]");
+    let far = SCENE.replace(
+        "center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]",
+        "center = [999990.0, 8.0, 0.0]\nedge_u = [0.0, 0.0, 2.0]\nedge_v = [0.0, 2.0, 0.0]",
+    );
     assert_ne!(far, SCENE);
-    refused("offset_bound", &far, &seq(&["--offset", "100,0,0"]), "--offset 100,0,0: moves the light beyond ±1e6, the scene file's coordinate bound");
+    refused(
+        "offset_bound",
+        &far,
+        &seq(&["--offset", "100,0,0"]),
+        "--offset 100,0,0: moves the light beyond ±1e6, the scene file's coordinate bound",
+    );
 }
 
 #[test]
 fn method_parameters_in_set_say_where_they_go() {
     let both = "p_m is a parameter of methods adaptive, env-adaptive, not a render setting";
-    refused("pm_render", SCENE, &render(&["--set", "p_m=10"]), &format!("--set p_m=10: {both}; write it in the method spec (adaptive:p_m=10) or --param p_m=10"));
+    refused(
+        "pm_render",
+        SCENE,
+        &render(&["--set", "p_m=10"]),
+        &format!(
+            "--set p_m=10: {both}; write it in the method spec (adaptive:p_m=10) or --param p_m=10"
+        ),
+    );
     refused(
         "kernel_render",
         SCENE,
@@ -201,18 +311,45 @@ fn method_parameters_in_set_say_where_they_go() {
     refused(
         "pm_compare",
         SCENE,
-        &["compare", "--scene", "scene.toml", "--methods", "hard", "--set", "p_m=10", "--out", "out"],
+        &[
+            "compare",
+            "--scene",
+            "scene.toml",
+            "--methods",
+            "hard",
+            "--set",
+            "p_m=10",
+            "--out",
+            "out",
+        ],
         &format!("--set p_m=10: {both}; write it in the method spec (adaptive:p_m=10)"),
     );
     refused(
         "twice",
         SCENE,
-        &["render", "--scene", "scene.toml", "--method", "adaptive:p_m=1", "--param", "p_m=10", "--out", "out"],
+        &[
+            "render",
+            "--scene",
+            "scene.toml",
+            "--method",
+            "adaptive:p_m=1",
+            "--param",
+            "p_m=10",
+            "--out",
+            "out",
+        ],
         "method `adaptive:p_m=1`: `p_m` is given twice (1, and 10 with --param)",
     );
-    let help = String::from_utf8_lossy(&common::penumbra(&["render", "--help"]).stdout).replace('\n', " ");
-    assert!(help.contains("--set <KEY=VALUE>    Override a render setting"), "{help}");
-    assert!(help.contains("--param <KEY=VALUE>  A parameter of --method"), "{help}");
+    let help =
+        String::from_utf8_lossy(&common::penumbra(&["render", "--help"]).stdout).replace('\n', " ");
+    assert!(
+        help.contains("--set <KEY=VALUE>    Override a render setting"),
+        "{help}"
+    );
+    assert!(
+        help.contains("--param <KEY=VALUE>  A parameter of --method"),
+        "{help}"
+    );
 }
 
 fn run_json(dir: &Path) -> serde_json::Value {
@@ -225,17 +362,55 @@ fn set_cull_is_the_render_setting_in_render_and_apart_from_adaptives_cull() {
     for cull in ["none", "front", "back"] {
         let dir = folder(&format!("cull_render_{cull}"), SCENE);
         let set = format!("cull={cull}");
-        let out = run_in(&dir, &["render", "--scene", "scene.toml", "--method", "hard", "--set", &set, "--out", "out"]);
-        assert_eq!(out.status.code(), Some(0), "{cull}: {}", String::from_utf8_lossy(&out.stderr));
+        let out = run_in(
+            &dir,
+            &[
+                "render",
+                "--scene",
+                "scene.toml",
+                "--method",
+                "hard",
+                "--set",
+                &set,
+                "--out",
+                "out",
+            ],
+        );
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{cull}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         assert_eq!(run_json(&dir)["render"]["cull"], cull);
     }
     // Adaptive's own cull in --param, the raster's in --set: both recorded, neither taken for the other.
     let dir = folder("cull_both", SCENE);
-    let args = ["render", "--scene", "scene.toml", "--method", "adaptive:scope=local", "--param", "cull=on", "--set", "cull=none", "--out", "out"];
+    let args = [
+        "render",
+        "--scene",
+        "scene.toml",
+        "--method",
+        "adaptive:scope=local",
+        "--param",
+        "cull=on",
+        "--set",
+        "cull=none",
+        "--out",
+        "out",
+    ];
     let out = run_in(&dir, &args);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let run = run_json(&dir);
-    assert_eq!((&run["render"]["cull"], &run["params"]["cull"]), (&serde_json::json!("none"), &serde_json::json!(true)));
+    assert_eq!(
+        (&run["render"]["cull"], &run["params"]["cull"]),
+        (&serde_json::json!("none"), &serde_json::json!(true))
+    );
     assert_eq!(run["label"], "adaptive:p_m=0,scope=local,cull=on");
 }
 
@@ -244,13 +419,41 @@ fn a_light_shut_in_a_box_warns_after_the_frame() {
     let _ = common::gpu();
     // With back faces culled, the box's inside casts nothing and V is mostly lit; without, V = 0.
     let dir = folder("enclosed_back", ENCLOSED);
-    let out = run_in(&dir, &["render", "--scene", "scene.toml", "--method", "hard", "--out", "out"]);
+    let out = run_in(
+        &dir,
+        &[
+            "render",
+            "--scene",
+            "scene.toml",
+            "--method",
+            "hard",
+            "--out",
+            "out",
+        ],
+    );
     assert_eq!(out.status.code(), Some(0));
-    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let lit = run_json(&dir)["mean_visibility"].as_f64().unwrap();
     assert!(lit > 0.5, "mean V {lit}");
     let dir = folder("enclosed_none", ENCLOSED);
-    let out = run_in(&dir, &["render", "--scene", "scene.toml", "--method", "hard", "--set", "cull=none", "--out", "out"]);
+    let out = run_in(
+        &dir,
+        &[
+            "render",
+            "--scene",
+            "scene.toml",
+            "--method",
+            "hard",
+            "--set",
+            "cull=none",
+            "--out",
+            "out",
+        ],
+    );
     assert_eq!(out.status.code(), Some(0));
     let run = run_json(&dir);
     assert_eq!(run["mean_visibility"], 0.0);
@@ -267,17 +470,48 @@ fn a_light_shut_in_a_box_warns_after_the_frame() {
 #[test]
 fn set_cull_is_accepted_by_compare_and_sweep_and_recorded() {
     let _ = common::gpu();
-    for (command, cull) in [("compare", "none"), ("compare", "front"), ("sweep", "back"), ("sweep", "none")] {
+    for (command, cull) in [
+        ("compare", "none"),
+        ("compare", "front"),
+        ("sweep", "back"),
+        ("sweep", "none"),
+    ] {
         let dir = folder(&format!("cull_{command}_{cull}"), SCENE);
         std::fs::write(dir.join("spec.toml"), "methods = [\"hard\"]\n").unwrap();
         let set = format!("cull={cull}");
-        let mut args = vec![command, "--scene", "scene.toml", "--set", &set, "--repeats", "1", "--samples", "4", "--no-cache", "--out", "out"];
-        args.extend(if command == "compare" { ["--methods", "hard"] } else { ["--spec", "spec.toml"] });
+        let mut args = vec![
+            command,
+            "--scene",
+            "scene.toml",
+            "--set",
+            &set,
+            "--repeats",
+            "1",
+            "--samples",
+            "4",
+            "--no-cache",
+            "--out",
+            "out",
+        ];
+        args.extend(if command == "compare" {
+            ["--methods", "hard"]
+        } else {
+            ["--spec", "spec.toml"]
+        });
         let out = run_in(&dir, &args);
-        assert_eq!(out.status.code(), Some(0), "{command} {cull}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{command} {cull}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let rows = common::rows(&dir.join("out"));
         assert_eq!(rows.len(), 1, "{command}");
-        assert_eq!(rows[0]["provenance"]["overrides"], serde_json::json!([set]), "{command}");
+        assert_eq!(
+            rows[0]["provenance"]["overrides"],
+            serde_json::json!([set]),
+            "{command}"
+        );
         assert_eq!(rows[0]["method"], "hard");
     }
 }

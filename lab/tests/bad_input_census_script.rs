@@ -99,7 +99,10 @@ fn the_lights_driver_writes_a_row_per_light_and_build() {
         disks[0]
     );
     assert!(
-        disks[3][4].is_empty() && disks[3][6].contains("light.radius = 200: seen from the middle of the meshes' bounds") && &disks[3][2] == "31.15",
+        disks[3][4].is_empty()
+            && disks[3][6]
+                .contains("light.radius = 200: seen from the middle of the meshes' bounds")
+            && &disks[3][2] == "31.15",
         "{:?}",
         disks[3]
     );

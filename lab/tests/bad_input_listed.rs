@@ -24,7 +24,9 @@ translate = [0.0, 1.0, 0.0]
 fn scene_error(from: &str, to: &str) -> String {
     let text = BASE.replacen(from, to, 1);
     assert_ne!(text, BASE, "`{from}` is not in the base scene");
-    Scene::parse(&text, "bad.toml", None, &[]).expect_err(&format!("`{to}` should be rejected")).to_string()
+    Scene::parse(&text, "bad.toml", None, &[])
+        .expect_err(&format!("`{to}` should be rejected"))
+        .to_string()
 }
 
 fn assert_one_line(e: &str) {
@@ -41,18 +43,33 @@ fn base_scene_is_accepted() {
 #[test]
 fn light_with_negative_size_is_rejected() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = scene_error("edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "size = [-1.0, 2.0]\nnormal = [0.0, -1.0, 0.0]");
-    assert_eq!(e, "bad.toml: light.size = [-1.0, 2.0]: both sides must be positive");
+    let e = scene_error(
+        "edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]",
+        "size = [-1.0, 2.0]\nnormal = [0.0, -1.0, 0.0]",
+    );
+    assert_eq!(
+        e,
+        "bad.toml: light.size = [-1.0, 2.0]: both sides must be positive"
+    );
 }
 
 #[test]
 fn light_facing_away_from_every_mesh_is_rejected() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = scene_error("edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "size = [2.0, 2.0]\nnormal = [0.0, 1.0, 0.0]");
-    assert!(e.starts_with("bad.toml: light: emits along [") && e.contains("away from every mesh"), "{e}");
+    let e = scene_error(
+        "edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]",
+        "size = [2.0, 2.0]\nnormal = [0.0, 1.0, 0.0]",
+    );
+    assert!(
+        e.starts_with("bad.toml: light: emits along [") && e.contains("away from every mesh"),
+        "{e}"
+    );
     // The same light given by edges in the other order.
     let e = scene_error("edge_v = [0.0, 0.0, 2.0]", "edge_v = [0.0, 0.0, -2.0]");
-    assert!(e.contains("away from every mesh") && e.contains("swap edge_u and edge_v"), "{e}");
+    assert!(
+        e.contains("away from every mesh") && e.contains("swap edge_u and edge_v"),
+        "{e}"
+    );
     assert_one_line(&e);
 }
 
@@ -60,9 +77,21 @@ fn light_facing_away_from_every_mesh_is_rejected() {
 fn camera_or_light_far_beyond_f32_precision_is_rejected() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     for (from, to, key) in [
-        ("eye = [0.0, 6.0, 8.0]", "eye = [0.0, 6.0, 1e30]", "camera.eye = [0.0, 6.0, 1e30]"),
-        ("center = [0.0, 8.0, 0.0]", "center = [0.0, 3e38, 0.0]", "light.center = [0.0, 3e38, 0.0]"),
-        ("edge_u = [2.0, 0.0, 0.0]", "edge_u = [1e20, 0.0, 0.0]", "light.edge_u = [1e20, 0.0, 0.0]"),
+        (
+            "eye = [0.0, 6.0, 8.0]",
+            "eye = [0.0, 6.0, 1e30]",
+            "camera.eye = [0.0, 6.0, 1e30]",
+        ),
+        (
+            "center = [0.0, 8.0, 0.0]",
+            "center = [0.0, 3e38, 0.0]",
+            "light.center = [0.0, 3e38, 0.0]",
+        ),
+        (
+            "edge_u = [2.0, 0.0, 0.0]",
+            "edge_u = [1e20, 0.0, 0.0]",
+            "light.edge_u = [1e20, 0.0, 0.0]",
+        ),
     ] {
         let e = scene_error(from, to);
         assert_eq!(e, format!("bad.toml: {key}: coordinates must be within ±1e6 (f32 has no precision left beyond)"));
@@ -74,7 +103,10 @@ fn sphere_segments_below_three_are_rejected_not_clamped() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     for n in [0, 1, 2] {
         let e = scene_error("translate = [0.0, 1.0, 0.0]", &format!("segments = {n}"));
-        assert_eq!(e, format!("bad.toml: mesh 2: segments = {n} for a sphere: must be in 3..=512"));
+        assert_eq!(
+            e,
+            format!("bad.toml: mesh 2: segments = {n} for a sphere: must be in 3..=512")
+        );
     }
 }
 
@@ -90,34 +122,88 @@ fn type_errors_name_the_line_the_table_the_key_and_the_value() {
 #[test]
 fn non_finite_bias_or_ambient_names_the_key() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = scene_error("shadow_map_size = 64", "shadow_map_size = 64\nambient = nan");
+    let e = scene_error(
+        "shadow_map_size = 64",
+        "shadow_map_size = 64\nambient = nan",
+    );
     assert_eq!(e, "bad.toml: render.ambient = NaN: must be a finite number");
-    let e = scene_error("shadow_map_size = 64", "shadow_map_size = 64\nbias = { slope = inf }");
-    assert_eq!(e, "bad.toml: render.bias.slope = inf: must be a finite number");
+    let e = scene_error(
+        "shadow_map_size = 64",
+        "shadow_map_size = 64\nbias = { slope = inf }",
+    );
+    assert_eq!(
+        e,
+        "bad.toml: render.bias.slope = inf: must be a finite number"
+    );
 }
 
 #[test]
 fn set_type_errors_name_set_and_the_key_not_the_scene_file() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    // The engine's error is typed and names no flag; the command line words it as `--set`.
-    let e = Scene::parse(BASE, "bad.toml", None, &[("resolution".into(), "abc".into())]).unwrap_err();
-    assert!(matches!(&e, penumbra::Error::Setting { key, value: Some(v), .. } if key == "resolution" && v == "abc"), "{e:?}");
-    assert_eq!(e.to_string(), "resolution=abc: invalid type: string \"abc\", expected u32");
-    assert_eq!(penumbra_lab::cli_words(&e), "--set resolution=abc: invalid type: string \"abc\", expected u32");
-    let e = Scene::parse(BASE, "bad.toml", None, &[("width".into(), "64".into()), ("cull".into(), "sideways".into())]).unwrap_err();
-    assert_eq!(penumbra_lab::cli_words(&e), "--set cull=sideways: unknown variant `sideways`, expected one of `back`, `front`, `none`");
+                             // The engine's error is typed and names no flag; the command line words it as `--set`.
+    let e = Scene::parse(
+        BASE,
+        "bad.toml",
+        None,
+        &[("resolution".into(), "abc".into())],
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&e, penumbra::Error::Setting { key, value: Some(v), .. } if key == "resolution" && v == "abc"),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "resolution=abc: invalid type: string \"abc\", expected u32"
+    );
+    assert_eq!(
+        penumbra_lab::cli_words(&e),
+        "--set resolution=abc: invalid type: string \"abc\", expected u32"
+    );
+    let e = Scene::parse(
+        BASE,
+        "bad.toml",
+        None,
+        &[
+            ("width".into(), "64".into()),
+            ("cull".into(), "sideways".into()),
+        ],
+    )
+    .unwrap_err();
+    assert_eq!(
+        penumbra_lab::cli_words(&e),
+        "--set cull=sideways: unknown variant `sideways`, expected one of `back`, `front`, `none`"
+    );
     let e = Scene::parse(BASE, "bad.toml", None, &[("widht".into(), "64".into())]).unwrap_err();
-    assert!(e.to_string().starts_with("bad.toml: widht: unknown render setting (known: width, "), "{e}");
-    assert!(penumbra_lab::cli_words(&e).starts_with("bad.toml: --set widht: unknown render setting (known: width, "), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("bad.toml: widht: unknown render setting (known: width, "),
+        "{e}"
+    );
+    assert!(
+        penumbra_lab::cli_words(&e)
+            .starts_with("bad.toml: --set widht: unknown render setting (known: width, "),
+        "{e}"
+    );
 }
 
 #[test]
 fn duplicate_method_parameters_are_rejected() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = Method::parse("adaptive:p_m=1,p_m=2", &[]).unwrap_err().to_string();
-    assert_eq!(e, "method `adaptive:p_m=1,p_m=2`: `p_m` is given twice (1 and 2)");
-    let e = Method::parse("adaptive:p_m=1", &[("p_m".into(), "2".into())]).unwrap_err().to_string();
-    assert_eq!(e, "method `adaptive:p_m=1`: `p_m` is given twice (1, and 2 with --param)");
+    let e = Method::parse("adaptive:p_m=1,p_m=2", &[])
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "method `adaptive:p_m=1,p_m=2`: `p_m` is given twice (1 and 2)"
+    );
+    let e = Method::parse("adaptive:p_m=1", &[("p_m".into(), "2".into())])
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "method `adaptive:p_m=1`: `p_m` is given twice (1, and 2 with --param)"
+    );
 }
 
 #[test]
@@ -125,7 +211,10 @@ fn p_m_inf_is_recorded_as_the_string_inf() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let m = Method::parse("adaptive:p_m=inf", &[]).unwrap();
     assert_eq!(m.params_json()["p_m"], "inf");
-    assert_eq!(Method::parse("adaptive:p_m=16", &[]).unwrap().params_json()["p_m"], 16.0);
+    assert_eq!(
+        Method::parse("adaptive:p_m=16", &[]).unwrap().params_json()["p_m"],
+        16.0
+    );
 }
 
 #[test]
@@ -159,17 +248,33 @@ fn cli_fails(case: &str, files: &[(&str, &str)], args: &[&str]) -> String {
 #[test]
 fn a_camera_inside_the_bounds_that_sees_nothing_fails_after_the_g_buffer() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    // The bounding box is in view (so the scene loads); every pixel is sky.
-    let scene = BASE.replace("eye = [0.0, 6.0, 8.0]", "eye = [4.0, 1.5, 4.0]").replace("target = [0.0, 0.0, 0.0]", "target = [4.0, 10.0, 4.1]");
-    let e = cli_fails("sky", &[("s.toml", &scene)], &["render", "--scene", "s.toml", "--out", "out"]);
-    assert!(e.starts_with("s.toml: no mesh is visible from the camera (camera.eye = [4.0, 1.5, 4.0]"), "{e}");
+                             // The bounding box is in view (so the scene loads); every pixel is sky.
+    let scene = BASE
+        .replace("eye = [0.0, 6.0, 8.0]", "eye = [4.0, 1.5, 4.0]")
+        .replace("target = [0.0, 0.0, 0.0]", "target = [4.0, 10.0, 4.1]");
+    let e = cli_fails(
+        "sky",
+        &[("s.toml", &scene)],
+        &["render", "--scene", "s.toml", "--out", "out"],
+    );
+    assert!(
+        e.starts_with("s.toml: no mesh is visible from the camera (camera.eye = [4.0, 1.5, 4.0]"),
+        "{e}"
+    );
 }
 
 #[test]
 fn off_header_claiming_more_vertices_says_so() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let scene = BASE.replace("builtin = \"sphere\"", "file = \"m.off\"");
-    let e = cli_fails("off", &[("s.toml", &scene), ("m.off", "OFF\n10 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")], &["render", "--scene", "s.toml", "--out", "out"]);
+    let e = cli_fails(
+        "off",
+        &[
+            ("s.toml", &scene),
+            ("m.off", "OFF\n10 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        ],
+        &["render", "--scene", "s.toml", "--out", "out"],
+    );
     assert_eq!(e, "s.toml: mesh 2: file = \"m.off\": line 2: file ends early: the counts say 10 vertices and 1 faces, but only 4 lines follow");
 }
 
@@ -196,27 +301,62 @@ fn mesh_read_errors_name_the_scene_the_mesh_and_the_file_once() {
 fn truncated_ply_header_is_one_plain_line() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let scene = BASE.replace("builtin = \"sphere\"", "file = \"m.ply\"");
-    let e = cli_fails("ply", &[("s.toml", &scene), ("m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop")], &["render", "--scene", "s.toml", "--out", "out"]);
-    assert!(e.starts_with("s.toml: mesh 2: file = \"m.ply\": line 4: header line `prop` is not a PLY header line"), "{e}");
-    assert!(!e.contains("ParseError") && !e.contains("ExpectedSet"), "{e}");
+    let e = cli_fails(
+        "ply",
+        &[
+            ("s.toml", &scene),
+            ("m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop"),
+        ],
+        &["render", "--scene", "s.toml", "--out", "out"],
+    );
+    assert!(
+        e.starts_with(
+            "s.toml: mesh 2: file = \"m.ply\": line 4: header line `prop` is not a PLY header line"
+        ),
+        "{e}"
+    );
+    assert!(
+        !e.contains("ParseError") && !e.contains("ExpectedSet"),
+        "{e}"
+    );
 }
 
 #[test]
 fn sweep_spec_errors_give_the_position_or_the_grid() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = cli_fails("sweep_syntax", &[("s.toml", "methods = [\"hard\"\n[[grid]]\n")], &["sweep", "--spec", "s.toml", "--out", "out"]);
-    assert_eq!(e, "s.toml: line 2, column 1: missing comma between array elements, expected `,`");
-    let spec = "[[grid]]\nmethod = \"regular\"\nn = [3]\n[[grid]]\nmethod = \"adaptive\"\nfoo = [1, 2]\n";
-    let e = cli_fails("sweep_grid", &[("s.toml", spec)], &["sweep", "--spec", "s.toml", "--out", "out"]);
+    let e = cli_fails(
+        "sweep_syntax",
+        &[("s.toml", "methods = [\"hard\"\n[[grid]]\n")],
+        &["sweep", "--spec", "s.toml", "--out", "out"],
+    );
+    assert_eq!(
+        e,
+        "s.toml: line 2, column 1: missing comma between array elements, expected `,`"
+    );
+    let spec =
+        "[[grid]]\nmethod = \"regular\"\nn = [3]\n[[grid]]\nmethod = \"adaptive\"\nfoo = [1, 2]\n";
+    let e = cli_fails(
+        "sweep_grid",
+        &[("s.toml", spec)],
+        &["sweep", "--spec", "s.toml", "--out", "out"],
+    );
     assert!(e.starts_with("s.toml: grid 2 (adaptive:foo=1): method `adaptive` has no parameter `foo` (its parameters: "), "{e}");
 }
 
 #[test]
 fn report_rejects_a_file_given_twice_and_says_each_error_once() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = cli_fails("report_twice", &[("a.jsonl", "")], &["report", "a.jsonl", "./a.jsonl", "--out", "out"]);
+    let e = cli_fails(
+        "report_twice",
+        &[("a.jsonl", "")],
+        &["report", "a.jsonl", "./a.jsonl", "--out", "out"],
+    );
     assert_eq!(e, "report: ./a.jsonl is given twice");
-    let e = cli_fails("report_missing", &[], &["report", "none.jsonl", "--out", "out"]);
+    let e = cli_fails(
+        "report_missing",
+        &[],
+        &["report", "none.jsonl", "--out", "out"],
+    );
     assert_eq!(e.matches("none.jsonl").count(), 1, "{e}");
     assert!(e.contains("cannot read results file"), "{e}");
 }
@@ -224,8 +364,23 @@ fn report_rejects_a_file_given_twice_and_says_each_error_once() {
 #[test]
 fn set_errors_through_the_cli_name_set() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = cli_fails("set_abc", &[("s.toml", BASE)], &["render", "--scene", "s.toml", "--set", "resolution=abc", "--out", "out"]);
-    assert_eq!(e, "--set resolution=abc: invalid type: string \"abc\", expected u32");
+    let e = cli_fails(
+        "set_abc",
+        &[("s.toml", BASE)],
+        &[
+            "render",
+            "--scene",
+            "s.toml",
+            "--set",
+            "resolution=abc",
+            "--out",
+            "out",
+        ],
+    );
+    assert_eq!(
+        e,
+        "--set resolution=abc: invalid type: string \"abc\", expected u32"
+    );
 }
 
 /// Mesh files must be regular files under the cap (`--max-mesh-mib`): a FIFO would block the
@@ -282,7 +437,10 @@ mod mesh_files {
         let fifo = std::ffi::CString::new(dir.join("x.obj").to_str().unwrap()).unwrap();
         assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o644) }, 0);
         let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out"]);
-        assert_eq!(e, "s.toml: mesh 2: file = \"x.obj\": x.obj is a FIFO, not a regular file");
+        assert_eq!(
+            e,
+            "s.toml: mesh 2: file = \"x.obj\": x.obj is a FIFO, not a regular file"
+        );
     }
 
     #[test]
@@ -300,7 +458,10 @@ mod mesh_files {
         std::fs::write(dir.join("s.toml"), scene_with("d.obj")).unwrap();
         std::fs::create_dir(dir.join("d.obj")).unwrap();
         let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out"]);
-        assert_eq!(e, "s.toml: mesh 2: file = \"d.obj\": d.obj is a folder, not a regular file");
+        assert_eq!(
+            e,
+            "s.toml: mesh 2: file = \"d.obj\": d.obj is a folder, not a regular file"
+        );
     }
 
     #[test]
@@ -310,14 +471,39 @@ mod mesh_files {
         std::fs::write(dir.join("s.toml"), scene_with("big.obj")).unwrap();
         std::fs::write(dir.join("big.obj"), &text).unwrap();
         let len = text.len();
-        let e = cli_fails_promptly(&dir, &["--max-mesh-mib", "1", "render", "--scene", "s.toml", "--out", "out"]);
+        let e = cli_fails_promptly(
+            &dir,
+            &[
+                "--max-mesh-mib",
+                "1",
+                "render",
+                "--scene",
+                "s.toml",
+                "--out",
+                "out",
+            ],
+        );
         assert_eq!(
             e,
             format!("s.toml: mesh 2: file = \"big.obj\": big.obj is 1.5 MiB ({len} bytes), over the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)")
         );
         // The flag is global: after the command too.
-        let e = cli_fails_promptly(&dir, &["render", "--scene", "s.toml", "--out", "out", "--max-mesh-mib", "1"]);
-        assert!(e.ends_with("over the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"), "{e}");
+        let e = cli_fails_promptly(
+            &dir,
+            &[
+                "render",
+                "--scene",
+                "s.toml",
+                "--out",
+                "out",
+                "--max-mesh-mib",
+                "1",
+            ],
+        );
+        assert!(
+            e.ends_with("over the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"),
+            "{e}"
+        );
         let scene = Scene::load(dir.join("s.toml").to_str().unwrap(), &[]).unwrap();
         assert!(scene.triangle_count() > 2);
     }
@@ -331,10 +517,19 @@ mod mesh_files {
         gz.write_all(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\ncomment ").unwrap();
         gz.write_all(&vec![b'a'; 3 << 20]).unwrap();
         std::fs::write(dir.join("m.ply.gz"), gz.finish().unwrap()).unwrap();
-        let dirs = MeshDirs { scene_dir: Some(&dir), cache: None, max_mesh_bytes: Some(1 << 20) };
-        let e = Scene::parse_in(&scene_with("m.ply.gz"), "s.toml", dirs, &[]).unwrap_err().to_string();
+        let dirs = MeshDirs {
+            scene_dir: Some(&dir),
+            cache: None,
+            max_mesh_bytes: Some(1 << 20),
+        };
+        let e = Scene::parse_in(&scene_with("m.ply.gz"), "s.toml", dirs, &[])
+            .unwrap_err()
+            .to_string();
         assert_one_line(&e);
-        assert!(e.starts_with("s.toml: mesh 2: file = \"m.ply.gz\": decompresses to more"), "{e}");
+        assert!(
+            e.starts_with("s.toml: mesh 2: file = \"m.ply.gz\": decompresses to more"),
+            "{e}"
+        );
         assert!(e.contains("decompresses to more than the 1 MiB cap on mesh files (raise it with --max-mesh-mib N)"), "{e}");
     }
 }

@@ -22,21 +22,62 @@ fn calibrate_reads_the_engines_factors_by_half() {
     let dir = temp_dir("calibrate");
     // default fits, teapot checks, point-room (a ball light) checks: the ball light's sampling
     // factor is CUBE's, decided from its light.
-    let lines = [line("default", 0.02, 0.01, 0.01), line("teapot", 0.02, 0.012, 0.012), line("point-room", 0.02, 0.012, 0.0)].join("\n");
+    let lines = [
+        line("default", 0.02, 0.01, 0.01),
+        line("teapot", 0.02, 0.012, 0.012),
+        line("point-room", 0.02, 0.012, 0.0),
+    ]
+    .join("\n");
     let file = dir.join("estimate.jsonl");
     std::fs::write(&file, lines + "\n").unwrap();
     let out = dir.join("out");
-    let o = ok(penumbra(&["calibrate", "--estimates", file.to_str().unwrap(), "--out", out.to_str().unwrap()]), "calibrate");
+    let o = ok(
+        penumbra(&[
+            "calibrate",
+            "--estimates",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]),
+        "calibrate",
+    );
     let md = String::from_utf8_lossy(&o.stdout);
-    let cal = |s: f64, m: f64, f: penumbra::methods::calibration::Factors| (f.sampling * s).hypot(f.map * m);
-    let (d, t, p) = (cal(0.01, 0.01, PLANE), cal(0.012, 0.012, PLANE), cal(0.012, 0.0, CUBE));
-    assert!(md.contains(&format!("| fitting | 1 | {} | {:.1}% | {:.2} |", usize::from(d >= 0.02), if d >= 0.02 { 100.0 } else { 0.0 }, d / 0.02)), "{md}");
+    let cal = |s: f64, m: f64, f: penumbra::methods::calibration::Factors| {
+        (f.sampling * s).hypot(f.map * m)
+    };
+    let (d, t, p) = (
+        cal(0.01, 0.01, PLANE),
+        cal(0.012, 0.012, PLANE),
+        cal(0.012, 0.0, CUBE),
+    );
+    assert!(
+        md.contains(&format!(
+            "| fitting | 1 | {} | {:.1}% | {:.2} |",
+            usize::from(d >= 0.02),
+            if d >= 0.02 { 100.0 } else { 0.0 },
+            d / 0.02
+        )),
+        "{md}"
+    );
     let covered = usize::from(t >= 0.02) + usize::from(p >= 0.02);
     let mut ratios = [t / 0.02, p / 0.02];
     ratios.sort_by(f64::total_cmp);
-    assert!(md.contains(&format!("| checking | 2 | {covered} | {:.1}% | {:.2} |", 50.0 * covered as f64, 0.5 * (ratios[0] + ratios[1]))), "{md}");
+    assert!(
+        md.contains(&format!(
+            "| checking | 2 | {covered} | {:.1}% | {:.2} |",
+            50.0 * covered as f64,
+            0.5 * (ratios[0] + ratios[1])
+        )),
+        "{md}"
+    );
     let csv = std::fs::read_to_string(out.join("pairs.csv")).unwrap();
-    assert!(csv.lines().nth(3).unwrap().starts_with("point-room,checking,cube,"), "{csv}");
+    assert!(
+        csv.lines()
+            .nth(3)
+            .unwrap()
+            .starts_with("point-room,checking,cube,"),
+        "{csv}"
+    );
     assert!(out.join("charts/calibration.svg").is_file() && out.join("charts/parts.svg").is_file());
 }
 

@@ -8,7 +8,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn penumbra(cache: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra")).args(args).env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", cache).output().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .env("PENUMBRA_CACHE", cache)
+        .output()
+        .unwrap()
 }
 
 /// Frames of this tiny scene take 1-2 ms, and on a shared CPU adapter one such frame can take 4x
@@ -19,25 +24,53 @@ const MAX: &str = "maps=+0,rmse=+2%,flip=+2%";
 fn compare(dir: &Path, name: &str, set: &[&str]) -> PathBuf {
     let out = dir.join(name);
     let scene = dir.join("tiny.toml");
-    let mut args = vec!["compare", "--scene", scene.to_str().unwrap(), "--methods", "hard,regular:n=3,adaptive", "--repeats", "1"];
+    let mut args = vec![
+        "compare",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--methods",
+        "hard,regular:n=3,adaptive",
+        "--repeats",
+        "1",
+    ];
     for s in set {
         args.extend(["--set", s]);
     }
     args.extend(["--out", out.to_str().unwrap()]);
     let run = penumbra(&dir.join("cache"), &args);
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     out.join("results.jsonl")
 }
 
 fn check(dir: &Path, baseline: &Path, new: &Path, max: &str) -> (Option<i32>, String, String) {
-    let run = penumbra(&dir.join("cache"), &["check", "--baseline", baseline.to_str().unwrap(), new.to_str().unwrap(), "--max", max]);
-    (run.status.code(), String::from_utf8_lossy(&run.stdout).into_owned(), String::from_utf8_lossy(&run.stderr).into_owned())
+    let run = penumbra(
+        &dir.join("cache"),
+        &[
+            "check",
+            "--baseline",
+            baseline.to_str().unwrap(),
+            new.to_str().unwrap(),
+            "--max",
+            max,
+        ],
+    );
+    (
+        run.status.code(),
+        String::from_utf8_lossy(&run.stdout).into_owned(),
+        String::from_utf8_lossy(&run.stderr).into_owned(),
+    )
 }
 
 fn verdict<'a>(table: &'a str, row: &str, metric: &str) -> &'a str {
     table
         .lines()
-        .find(|l| l.starts_with(&format!("{row} (tiny)")) && l.split_whitespace().any(|w| w == metric))
+        .find(|l| {
+            l.starts_with(&format!("{row} (tiny)")) && l.split_whitespace().any(|w| w == metric)
+        })
         .unwrap_or_else(|| panic!("no {row} {metric} line: {table}"))
 }
 
@@ -56,19 +89,36 @@ fn check_passes_a_rerun_and_catches_more_maps_and_worse_error() {
     let (code, table, stderr) = check(&dir, &base, &rerun, MAX);
     assert_eq!(code, Some(0), "an unchanged rerun passes: {table}{stderr}");
     assert!(table.contains("3 rows matched, 0 regressions"), "{table}");
-    assert!(verdict(&table, "regular:n=3", "maps").ends_with("ok"), "{table}");
+    assert!(
+        verdict(&table, "regular:n=3", "maps").ends_with("ok"),
+        "{table}"
+    );
 
     let (code, table, stderr) = check(&dir, &base, &slowed, MAX);
     assert_eq!(code, Some(1), "{table}");
     let line = verdict(&table, "adaptive:p_m=0", "maps");
-    assert!(line.contains(" 4 ") && line.contains(" 68 ") && line.ends_with("REGRESSION"), "{line}");
-    assert!(verdict(&table, "regular:n=3", "maps").ends_with("ok"), "{table}");
-    assert!(stderr.starts_with("error: check: ") && stderr.contains(" regressions in ") && stderr.lines().count() == 1, "{stderr}");
+    assert!(
+        line.contains(" 4 ") && line.contains(" 68 ") && line.ends_with("REGRESSION"),
+        "{line}"
+    );
+    assert!(
+        verdict(&table, "regular:n=3", "maps").ends_with("ok"),
+        "{table}"
+    );
+    assert!(
+        stderr.starts_with("error: check: ")
+            && stderr.contains(" regressions in ")
+            && stderr.lines().count() == 1,
+        "{stderr}"
+    );
 
     let (code, table, _) = check(&dir, &base, &worse, MAX);
     assert_eq!(code, Some(1), "{table}");
     for row in ["hard", "regular:n=3", "adaptive:p_m=0"] {
-        assert!(verdict(&table, row, "rmse").ends_with("REGRESSION"), "{table}");
+        assert!(
+            verdict(&table, row, "rmse").ends_with("REGRESSION"),
+            "{table}"
+        );
         assert!(verdict(&table, row, "maps").ends_with("ok"), "{table}");
     }
     // A loose enough gate lets the worse error through.
@@ -80,18 +130,44 @@ fn check_passes_a_rerun_and_catches_more_maps_and_worse_error() {
     let text = std::fs::read_to_string(&rerun).unwrap();
     let v: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
     let name = v["adapter"]["name"].as_str().unwrap().to_string();
-    std::fs::write(&other, text.replace(&format!("\"name\":\"{name}\""), "\"name\":\"Another GPU\"")).unwrap();
+    std::fs::write(
+        &other,
+        text.replace(&format!("\"name\":\"{name}\""), "\"name\":\"Another GPU\""),
+    )
+    .unwrap();
     let (code, table, _) = check(&dir, &base, &other, "time=+0%,maps=+0");
     assert_eq!(code, Some(0), "{table}");
-    assert!(table.contains("timing not compared: the adapters differ") && table.contains("not judged: adapters differ"), "{table}");
+    assert!(
+        table.contains("timing not compared: the adapters differ")
+            && table.contains("not judged: adapters differ"),
+        "{table}"
+    );
 
     // The report shows the changes against the baseline.
     let report = dir.join("report");
-    let run = penumbra(&dir.join("cache"), &["report", slowed.to_str().unwrap(), "--baseline", base.to_str().unwrap(), "--out", report.to_str().unwrap()]);
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let run = penumbra(
+        &dir.join("cache"),
+        &[
+            "report",
+            slowed.to_str().unwrap(),
+            "--baseline",
+            base.to_str().unwrap(),
+            "--out",
+            report.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let md = std::fs::read_to_string(report.join("report.md")).unwrap();
     assert!(md.contains("### tiny: against the baseline"), "{md}");
-    assert!(md.lines().any(|l| l.starts_with("| adaptive:p_m=0 | 4 → 68 |")), "{md}");
+    assert!(
+        md.lines()
+            .any(|l| l.starts_with("| adaptive:p_m=0 | 4 → 68 |")),
+        "{md}"
+    );
 }
 
 #[test]
@@ -104,13 +180,31 @@ fn check_input_errors_are_one_line() {
     std::fs::write(&bad, "not json\n").unwrap();
     let g = good.to_str().unwrap();
     for (args, expected) in [
-        (vec!["check", "--baseline", "/nonexistent/results.jsonl", g], "error: check: --baseline /nonexistent/results.jsonl: cannot read results file"),
-        (vec!["check", "--baseline", bad.to_str().unwrap(), g], "bad.jsonl: line 1: not a result row"),
-        (vec!["check", "--baseline", g, "/nonexistent/new.jsonl"], "error: check: results /nonexistent/new.jsonl: cannot read results file"),
+        (
+            vec!["check", "--baseline", "/nonexistent/results.jsonl", g],
+            "error: check: --baseline /nonexistent/results.jsonl: cannot read results file",
+        ),
+        (
+            vec!["check", "--baseline", bad.to_str().unwrap(), g],
+            "bad.jsonl: line 1: not a result row",
+        ),
+        (
+            vec!["check", "--baseline", g, "/nonexistent/new.jsonl"],
+            "error: check: results /nonexistent/new.jsonl: cannot read results file",
+        ),
         (vec!["check", "--baseline", g, g, "--max", "time=10"], ""),
-        (vec!["check", "--baseline", g, g, "--max", "speed=+1%"], "error: --max `speed=+1%`: unknown metric `speed`"),
-        (vec!["check", "--baseline", g, g, "--max", "time=-5%"], "error: --max `time=-5%`: time gets worse upwards; write time=+5%"),
-        (vec!["check", "--baseline", g, g, "--max", "rmse"], "error: --max `rmse`: expected METRIC=+AMOUNT"),
+        (
+            vec!["check", "--baseline", g, g, "--max", "speed=+1%"],
+            "error: --max `speed=+1%`: unknown metric `speed`",
+        ),
+        (
+            vec!["check", "--baseline", g, g, "--max", "time=-5%"],
+            "error: --max `time=-5%`: time gets worse upwards; write time=+5%",
+        ),
+        (
+            vec!["check", "--baseline", g, g, "--max", "rmse"],
+            "error: --max `rmse`: expected METRIC=+AMOUNT",
+        ),
     ] {
         let run = penumbra(&cache, &args);
         let stderr = String::from_utf8_lossy(&run.stderr);

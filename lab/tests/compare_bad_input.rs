@@ -18,7 +18,12 @@ fn fails(case: &str, args: &[&str], dir: &Path) -> String {
         .output()
         .expect("run penumbra");
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert_eq!(out.status.code(), Some(1), "{case}: exit {:?}, stderr: {stderr}", out.status.code());
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{case}: exit {:?}, stderr: {stderr}",
+        out.status.code()
+    );
     assert!(!stderr.contains("panicked"), "{case}: {stderr}");
     let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "{case}: expected one line, got: {stderr}");
@@ -35,12 +40,30 @@ fn bad_methods_lists() {
         ("unknown method", "hard,phong", "unknown method `phong`"),
         ("dangling parameter", "p_m=0,hard", "no method before it"),
         ("empty entry", "hard,,adaptive", "empty entry"),
-        ("unknown parameter", "regular:p_m=3", "has no parameter `p_m`"),
-        ("bad value", "adaptive:scope=everywhere", "scope = `everywhere`"),
+        (
+            "unknown parameter",
+            "regular:p_m=3",
+            "has no parameter `p_m`",
+        ),
+        (
+            "bad value",
+            "adaptive:scope=everywhere",
+            "scope = `everywhere`",
+        ),
         ("listed twice", "adaptive,adaptive:p_m=0", "listed twice"),
     ];
     for (case, methods, needle) in cases {
-        let line = fails(case, &["compare", "--scene", "analytic-square", "--methods", methods], &dir);
+        let line = fails(
+            case,
+            &[
+                "compare",
+                "--scene",
+                "analytic-square",
+                "--methods",
+                methods,
+            ],
+            &dir,
+        );
         assert!(line.contains(needle), "{case}: {line}");
     }
 }
@@ -66,11 +89,17 @@ fn missing_or_malformed_results_file() {
     let dir = temp_dir("bad_results");
     let missing = dir.join("nope.jsonl");
     let line = fails("missing", &["report", missing.to_str().unwrap()], &dir);
-    assert!(line.contains("nope.jsonl") && line.contains("cannot read"), "{line}");
+    assert!(
+        line.contains("nope.jsonl") && line.contains("cannot read"),
+        "{line}"
+    );
     let bad = dir.join("bad.jsonl");
     std::fs::write(&bad, "{\"scene\": \"x\"}\n").unwrap();
     let line = fails("malformed", &["report", bad.to_str().unwrap()], &dir);
-    assert!(line.contains("bad.jsonl") && line.contains("line 1"), "{line}");
+    assert!(
+        line.contains("bad.jsonl") && line.contains("line 1"),
+        "{line}"
+    );
     let empty = dir.join("empty.jsonl");
     std::fs::write(&empty, "\n").unwrap();
     let line = fails("empty", &["report", empty.to_str().unwrap()], &dir);
@@ -81,20 +110,46 @@ fn missing_or_malformed_results_file() {
 fn malformed_sweep_specs() {
     let dir = temp_dir("bad_sweep");
     let cases = [
-        ("syntax", "[[grid]]\nmethod = \"regular\"\nn = [3, 5", "spec.toml"),
+        (
+            "syntax",
+            "[[grid]]\nmethod = \"regular\"\nn = [3, 5",
+            "spec.toml",
+        ),
         ("no method", "[[grid]]\nn = [3, 5]", "missing `method"),
-        ("empty list", "[[grid]]\nmethod = \"regular\"\nn = []", "empty list"),
+        (
+            "empty list",
+            "[[grid]]\nmethod = \"regular\"\nn = []",
+            "empty list",
+        ),
         ("unknown key", "grids = 1", "unknown field"),
         ("nothing to run", "# empty\n", "nothing to run"),
-        ("bad parameter", "[[grid]]\nmethod = \"regular\"\np_m = [1, 2]", "has no parameter `p_m`"),
+        (
+            "bad parameter",
+            "[[grid]]\nmethod = \"regular\"\np_m = [1, 2]",
+            "has no parameter `p_m`",
+        ),
     ];
     for (case, text, needle) in cases {
         let spec = dir.join("spec.toml");
         std::fs::write(&spec, text).unwrap();
-        let line = fails(case, &["sweep", "--scene", "analytic-square", "--spec", spec.to_str().unwrap()], &dir);
+        let line = fails(
+            case,
+            &[
+                "sweep",
+                "--scene",
+                "analytic-square",
+                "--spec",
+                spec.to_str().unwrap(),
+            ],
+            &dir,
+        );
         assert!(line.contains(needle), "{case}: {line}");
     }
-    let line = fails("missing spec", &["sweep", "--spec", dir.join("absent.toml").to_str().unwrap()], &dir);
+    let line = fails(
+        "missing spec",
+        &["sweep", "--spec", dir.join("absent.toml").to_str().unwrap()],
+        &dir,
+    );
     assert!(line.contains("absent.toml"), "{line}");
 }
 

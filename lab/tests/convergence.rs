@@ -16,7 +16,21 @@ fn scene(dir: &Path) -> String {
 }
 
 fn study(scene: &str, method: &str, out: &Path) -> serde_json::Value {
-    let args = ["convergence", "--scene", scene, "--method", method, "--set", "resolution=64", "--set", "shadow_map_size=1024", "--samples", "32", "--out", out.to_str().unwrap()];
+    let args = [
+        "convergence",
+        "--scene",
+        scene,
+        "--method",
+        method,
+        "--set",
+        "resolution=64",
+        "--set",
+        "shadow_map_size=1024",
+        "--samples",
+        "32",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let stdout = String::from_utf8(ok(penumbra(&args), method).stdout).unwrap();
     println!("{stdout}");
     assert!(stdout.contains("| 16 | 256 |"), "{stdout}");
@@ -31,14 +45,20 @@ fn error_falls_with_the_maps_and_jittered_falls_faster() {
     let jittered = study(&scene, "regular:layout=jittered", &dir.join("jittered"));
     for o in [&centred, &jittered] {
         let rows = o["rows"].as_array().unwrap();
-        let maps: Vec<u64> = rows.iter().map(|r| r["shadow_maps"].as_u64().unwrap()).collect();
+        let maps: Vec<u64> = rows
+            .iter()
+            .map(|r| r["shadow_maps"].as_u64().unwrap())
+            .collect();
         assert_eq!(maps, [4, 9, 16, 36, 64, 121, 256], "{o}");
         let rmse: Vec<f64> = rows.iter().map(|r| r["rmse"].as_f64().unwrap()).collect();
         // Measured: 0.039 → 0.0025 (centred), 0.041 → 0.0009 (jittered).
         assert!(rmse[0] > 0.03 && rmse[0] < 0.05, "{rmse:?}");
         assert!(rmse[6] < rmse[0] / 10.0, "{rmse:?}");
     }
-    let (c, j) = (centred["slope"].as_f64().unwrap(), jittered["slope"].as_f64().unwrap());
+    let (c, j) = (
+        centred["slope"].as_f64().unwrap(),
+        jittered["slope"].as_f64().unwrap(),
+    );
     // Measured: centred −0.58, jittered −0.84 (Monte Carlo alone would give −0.5).
     assert!((-0.75..-0.45).contains(&c), "centred slope {c}");
     assert!((-1.0..-0.7).contains(&j), "jittered slope {j}");
@@ -47,9 +67,17 @@ fn error_falls_with_the_maps_and_jittered_falls_faster() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines[0], "value,label,shadow_maps,rmse,mae");
     assert_eq!(lines.len(), 8, "{csv}");
-    assert!(lines[7].starts_with("16,\"regular:n=16,layout=jittered\",256,"), "{csv}");
+    assert!(
+        lines[7].starts_with("16,\"regular:n=16,layout=jittered\",256,"),
+        "{csv}"
+    );
     let md = std::fs::read_to_string(dir.join("jittered/convergence.md")).unwrap();
-    assert!(md.contains(&format!("Fitted slope of log RMSE against log maps: {j:.3}")), "{md}");
+    assert!(
+        md.contains(&format!(
+            "Fitted slope of log RMSE against log maps: {j:.3}"
+        )),
+        "{md}"
+    );
 }
 
 #[test]
@@ -80,7 +108,10 @@ fn bad_input_is_one_line_and_writes_nothing() {
         let stderr = String::from_utf8_lossy(&r.stderr);
         assert_eq!(r.status.code(), Some(1), "{extra:?}: {stderr}");
         assert_eq!(stderr.lines().count(), 1, "{extra:?}: {stderr}");
-        assert!(stderr.starts_with(&format!("error: {want}")), "{extra:?}: {stderr}");
+        assert!(
+            stderr.starts_with(&format!("error: {want}")),
+            "{extra:?}: {stderr}"
+        );
         assert!(!out.exists(), "{extra:?} wrote {}", out.display());
     }
 }
@@ -93,19 +124,62 @@ fn a_value_that_fails_at_run_time_is_a_row_and_the_study_goes_on() {
     let dir = temp_dir("convergence_failed_value");
     let scene = scene(&dir);
     let out = dir.join("out");
-    let args = ["convergence", "--scene", &scene, "--method", "adaptive:scope=local,items_grow=off", "--key", "items", "--values", "1,4000000", "--set", "resolution=32", "--samples", "4", "--out", out.to_str().unwrap()];
+    let args = [
+        "convergence",
+        "--scene",
+        &scene,
+        "--method",
+        "adaptive:scope=local,items_grow=off",
+        "--key",
+        "items",
+        "--values",
+        "1,4000000",
+        "--set",
+        "resolution=32",
+        "--samples",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let r = penumbra(&args);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(r.status.success(), "{stderr}");
-    let warnings: Vec<&str> = stderr.lines().filter(|l| l.starts_with("warning:")).collect();
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
     assert_eq!(warnings.len(), 2, "{stderr}");
-    assert!(warnings[0].starts_with("warning: --values 1 (adaptive:") && warnings[0].contains(": failed: overflow: adaptive level"), "{stderr}");
-    assert_eq!(warnings[1], "warning: 1 of 2 settings failed; their rows say why (\"failed\" in the results)");
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("convergence.json")).unwrap()).unwrap();
+    assert!(
+        warnings[0].starts_with("warning: --values 1 (adaptive:")
+            && warnings[0].contains(": failed: overflow: adaptive level"),
+        "{stderr}"
+    );
+    assert_eq!(
+        warnings[1],
+        "warning: 1 of 2 settings failed; their rows say why (\"failed\" in the results)"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("convergence.json")).unwrap()).unwrap();
     let rows = json["rows"].as_array().unwrap();
-    assert!(rows[0]["failed"].as_str().unwrap().starts_with("overflow: "), "{json}");
-    assert!(rows[1].get("failed").is_none() && rows[1]["rmse"].as_f64().unwrap() > 0.0, "{json}");
+    assert!(
+        rows[0]["failed"]
+            .as_str()
+            .unwrap()
+            .starts_with("overflow: "),
+        "{json}"
+    );
+    assert!(
+        rows[1].get("failed").is_none() && rows[1]["rmse"].as_f64().unwrap() > 0.0,
+        "{json}"
+    );
     let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
-    assert!(csv.starts_with("value,label,shadow_maps,rmse,mae,failed\n1,") && csv.contains(",,,,") && csv.contains("overflow: "), "{csv}");
-    assert!(std::fs::read_to_string(out.join("convergence.md")).unwrap().contains("| 1 | failed: overflow: "));
+    assert!(
+        csv.starts_with("value,label,shadow_maps,rmse,mae,failed\n1,")
+            && csv.contains(",,,,")
+            && csv.contains("overflow: "),
+        "{csv}"
+    );
+    assert!(std::fs::read_to_string(out.join("convergence.md"))
+        .unwrap()
+        .contains("| 1 | failed: overflow: "));
 }

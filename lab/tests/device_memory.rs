@@ -22,7 +22,9 @@ fn past_the_heap(heap: u64) -> (u32, u64) {
 }
 
 fn heap() -> u64 {
-    gpu().largest_heap.expect("a Vulkan device reports its memory heaps")
+    gpu()
+        .largest_heap
+        .expect("a Vulkan device reports its memory heaps")
 }
 
 /// Runs `args` in `dir` with its own reference cache; it must fail with exactly `want`, exit 1,
@@ -39,8 +41,15 @@ fn refused(dir: &Path, args: &[&str], want: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
     assert_eq!(stderr.trim_end(), format!("error: {want}"), "{args:?}");
-    assert!(out.stdout.is_empty(), "{args:?}: {}", String::from_utf8_lossy(&out.stdout));
-    assert!(!dir.join("out").exists(), "{args:?} wrote its output folder");
+    assert!(
+        out.stdout.is_empty(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(
+        !dir.join("out").exists(),
+        "{args:?} wrote its output folder"
+    );
     assert!(!dir.join("cache").exists(), "{args:?} traced a reference");
 }
 
@@ -64,8 +73,38 @@ fn an_array_past_the_heap_is_refused_by_render_and_compare_naming_the_budget() {
             heap as f64 / (1u64 << 30) as f64,
         );
         let budget = format!("shadow_map_budget_mib={budget}");
-        refused(&dir, &["render", "--scene", "scene.toml", "--method", &method, "--set", &maps, "--set", &budget], &want);
-        refused(&dir, &["compare", "--scene", "scene.toml", "--methods", &method, "--samples", "2", "--set", &maps, "--set", &budget], &want);
+        refused(
+            &dir,
+            &[
+                "render",
+                "--scene",
+                "scene.toml",
+                "--method",
+                &method,
+                "--set",
+                &maps,
+                "--set",
+                &budget,
+            ],
+            &want,
+        );
+        refused(
+            &dir,
+            &[
+                "compare",
+                "--scene",
+                "scene.toml",
+                "--methods",
+                &method,
+                "--samples",
+                "2",
+                "--set",
+                &maps,
+                "--set",
+                &budget,
+            ],
+            &want,
+        );
     }
 }
 
@@ -88,7 +127,11 @@ fn what_slips_past_the_plan_is_an_error_not_a_panic() {
     let make = || {
         ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("too large"),
-            size: wgpu::Extent3d { width: MAP as u32, height: MAP as u32, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width: MAP as u32,
+                height: MAP as u32,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -97,7 +140,10 @@ fn what_slips_past_the_plan_is_an_error_not_a_panic() {
             view_formats: &[],
         })
     };
-    let e = ctx.scoped("the test's array", || Ok(make())).expect_err("the device refuses the array").to_string();
+    let e = ctx
+        .scoped("the test's array", || Ok(make()))
+        .expect_err("the device refuses the array")
+        .to_string();
     assert_eq!(e, "gpu: the test's array: Out of Memory: In Device::create_texture, label = 'too large': Not enough memory left.");
     ctx.wait().expect("the scope kept the error");
     let _unscoped = make();
@@ -119,14 +165,35 @@ fn regions_past_one_batch_of_culled_maps_renders_the_grid_it_forces() {
     use penumbra::methods::Method;
     use penumbra::scene::Scene;
     let ctx = gpu();
-    let sets = [("resolution".to_string(), "32".to_string()), ("shadow_map_size".to_string(), "16".to_string())];
+    let sets = [
+        ("resolution".to_string(), "32".to_string()),
+        ("shadow_map_size".to_string(), "16".to_string()),
+    ];
     let scene = Scene::load("analytic-square", &sets).unwrap();
-    let run = |spec: &str| -> FrameResult { frame::render(ctx, &scene, &Method::parse(spec, &[]).unwrap(), TimingMode::Frame).unwrap_or_else(|e| panic!("{spec}: {e}")) };
+    let run = |spec: &str| -> FrameResult {
+        frame::render(
+            ctx,
+            &scene,
+            &Method::parse(spec, &[]).unwrap(),
+            TimingMode::Frame,
+        )
+        .unwrap_or_else(|e| panic!("{spec}: {e}"))
+    };
     let forced = run("regions:force=23,force_size=16,cull=on");
     let grid = run("regular:n=23,layout=centred");
-    assert_eq!(forced.output.shadow_maps, 529 + 1, "the grid and the decision's centre map");
-    assert!(forced.visibility == grid.visibility, "regions:force=23 differs from regular:n=23,layout=centred");
-    assert!(forced.visibility.iter().any(|v| *v > 0.0 && *v < 1.0), "a penumbra to compare");
+    assert_eq!(
+        forced.output.shadow_maps,
+        529 + 1,
+        "the grid and the decision's centre map"
+    );
+    assert!(
+        forced.visibility == grid.visibility,
+        "regions:force=23 differs from regular:n=23,layout=centred"
+    );
+    assert!(
+        forced.visibility.iter().any(|v| *v > 0.0 && *v < 1.0),
+        "a penumbra to compare"
+    );
 }
 
 /// A map size `force_size` sets is known before the frame: its array is planned with the rest and
@@ -147,5 +214,17 @@ fn a_forced_map_size_past_the_heap_is_refused_up_front() {
         heap as f64 / (1u64 << 30) as f64,
     );
     let method = format!("regions:force={n},force_size={MAP}");
-    refused(&dir, &["render", "--scene", "scene.toml", "--method", &method, "--set", "shadow_map_budget_mib=100000"], &want);
+    refused(
+        &dir,
+        &[
+            "render",
+            "--scene",
+            "scene.toml",
+            "--method",
+            &method,
+            "--set",
+            "shadow_map_budget_mib=100000",
+        ],
+        &want,
+    );
 }

@@ -7,8 +7,8 @@
 mod common;
 use glam::Vec3;
 use penumbra::scene::environment::panorama::band_solid_angle;
-use penumbra_lab::reference::environment::{self, PanoramaSampler};
 use penumbra::scene::environment::{Environment, Panorama};
+use penumbra_lab::reference::environment::{self, PanoramaSampler};
 use penumbra_lab::reference::sampling::PixelRng;
 use penumbra_lab::reference::{SurfacePoint, Tracer};
 use std::f64::consts::PI;
@@ -33,16 +33,35 @@ fn sampled_irradiance(env: &Environment, n: Vec3, samples: u32) -> (f64, f64) {
 fn unoccluded_point_under_a_uniform_environment_receives_pi_l() {
     let l = 1.7f32;
     let env = Environment::new("uniform", Panorama::uniform(128, 64, [l; 3]), 0.0, 1.0);
-    for n in [Vec3::Y, Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.2, -0.9, 0.3).normalize()] {
+    for n in [
+        Vec3::Y,
+        Vec3::new(0.6, 0.0, 0.8),
+        Vec3::new(-0.2, -0.9, 0.3).normalize(),
+    ] {
         let (e, se) = sampled_irradiance(&env, n, 4096);
         let exact = PI * l as f64;
         println!("n {n}: E = {e:.4} ± {se:.4} (πL = {exact:.4})");
         // Stratified sampling: the standard error of plain sampling bounds the error from above.
-        assert!((e - exact).abs() < 4.0 * se && se < 0.03 * exact, "n {n}: E = {e} ± {se}, πL = {exact}");
+        assert!(
+            (e - exact).abs() < 4.0 * se && se < 0.03 * exact,
+            "n {n}: E = {e} ± {se}, πL = {exact}"
+        );
         // And V = 1 with nothing to block it.
         let tracer = Tracer::new(&[]);
-        let p = SurfacePoint { position: Vec3::ZERO, normal: n };
-        let (v, err, rays) = environment::point(&tracer, &env, &PanoramaSampler::new(&env), &p, 256, 1e-4, 100.0, PixelRng::new(1, 2));
+        let p = SurfacePoint {
+            position: Vec3::ZERO,
+            normal: n,
+        };
+        let (v, err, rays) = environment::point(
+            &tracer,
+            &env,
+            &PanoramaSampler::new(&env),
+            &p,
+            256,
+            1e-4,
+            100.0,
+            PixelRng::new(1, 2),
+        );
         assert_eq!((v, err), (1.0, 0.0));
         assert!(rays > 100);
     }
@@ -64,18 +83,45 @@ fn single_pixel_environment_gives_its_cosine_term() {
         // Samples spread over the pixel: the cosine varies by at most the pixel's angular size.
         let pixel = (std::f64::consts::PI / h as f64) * 1.5;
         println!("n {n}: E = {e:.5}, L·Δω·cos = {exact:.5}");
-        assert!((e - exact).abs() <= l as f64 * angle * pixel, "n {n}: {e} vs {exact}");
+        assert!(
+            (e - exact).abs() <= l as f64 * angle * pixel,
+            "n {n}: {e} vs {exact}"
+        );
     }
     // A plate across that direction blocks all of it: V = 0; beside it, V = 1.
     let plate = |c: Vec3| {
-        let (u, v) = (centre.any_orthonormal_vector(), centre.cross(centre.any_orthonormal_vector()));
+        let (u, v) = (
+            centre.any_orthonormal_vector(),
+            centre.cross(centre.any_orthonormal_vector()),
+        );
         let c = c + centre * 2.0;
-        vec![[c - u - v, c + u - v, c + u + v], [c - u - v, c + u + v, c - u + v]]
+        vec![
+            [c - u - v, c + u - v, c + u + v],
+            [c - u - v, c + u + v, c - u + v],
+        ]
     };
     let tracer = Tracer::new(&plate(Vec3::ZERO));
-    let at = |q: Vec3| environment::point(&tracer, &env, &PanoramaSampler::new(&env), &SurfacePoint { position: q, normal: Vec3::Y }, 64, 1e-4, 100.0, PixelRng::new(3, 4)).0;
+    let at = |q: Vec3| {
+        environment::point(
+            &tracer,
+            &env,
+            &PanoramaSampler::new(&env),
+            &SurfacePoint {
+                position: q,
+                normal: Vec3::Y,
+            },
+            64,
+            1e-4,
+            100.0,
+            PixelRng::new(3, 4),
+        )
+        .0
+    };
     assert_eq!(at(Vec3::ZERO), 0.0);
-    assert_eq!(at(Vec3::new(0.0, 0.0, 0.0) + centre.any_orthonormal_vector() * 5.0), 1.0);
+    assert_eq!(
+        at(Vec3::new(0.0, 0.0, 0.0) + centre.any_orthonormal_vector() * 5.0),
+        1.0
+    );
 }
 
 /// Ground point at distance d from a wall of height h (plane x = 0, infinitely long in z) under a
@@ -89,21 +135,49 @@ fn point_beside_an_infinite_wall_under_a_uniform_sky() {
     let env = Environment::new("uniform", Panorama::uniform(256, 128, [1.0; 3]), 0.0, 1.0);
     let (h, len) = (1.0f32, 4000.0f32);
     let wall = vec![
-        [Vec3::new(0.0, 0.0, -len), Vec3::new(0.0, h, -len), Vec3::new(0.0, h, len)],
-        [Vec3::new(0.0, 0.0, -len), Vec3::new(0.0, h, len), Vec3::new(0.0, 0.0, len)],
+        [
+            Vec3::new(0.0, 0.0, -len),
+            Vec3::new(0.0, h, -len),
+            Vec3::new(0.0, h, len),
+        ],
+        [
+            Vec3::new(0.0, 0.0, -len),
+            Vec3::new(0.0, h, len),
+            Vec3::new(0.0, 0.0, len),
+        ],
     ];
     let tracer = Tracer::new(&wall);
     let sampler = PanoramaSampler::new(&env);
     for d in [0.25f32, 1.0, 3.0] {
         let exact = wall_visibility(d as f64, h as f64);
-        let p = SurfacePoint { position: Vec3::new(d, 0.0, 0.0), normal: Vec3::Y };
-        let (v, se, _) = environment::point(&tracer, &env, &sampler, &p, 4096, 1e-4, 1e5, PixelRng::new(11, d.to_bits() as u64));
+        let p = SurfacePoint {
+            position: Vec3::new(d, 0.0, 0.0),
+            normal: Vec3::Y,
+        };
+        let (v, se, _) = environment::point(
+            &tracer,
+            &env,
+            &sampler,
+            &p,
+            4096,
+            1e-4,
+            1e5,
+            PixelRng::new(11, d.to_bits() as u64),
+        );
         // The Riemann sum over pixel centres with the exact blocking test.
-        let riemann = environment::riemann_visibility(&env, Vec3::Y, &|w| w.x < 0.0 && (w.y as f64) / (-(w.x as f64)) < h as f64 / d as f64);
+        let riemann = environment::riemann_visibility(&env, Vec3::Y, &|w| {
+            w.x < 0.0 && (w.y as f64) / (-(w.x as f64)) < h as f64 / d as f64
+        });
         println!("d {d}: reference {v:.4} ± {se:.4}, Riemann {riemann:.4}, closed form {exact:.4}");
-        assert!((v as f64 - exact).abs() < 4.0 * se as f64 + 1e-3, "d {d}: reference {v} ± {se}, closed form {exact}");
+        assert!(
+            (v as f64 - exact).abs() < 4.0 * se as f64 + 1e-3,
+            "d {d}: reference {v} ± {se}, closed form {exact}"
+        );
         assert!(se < 0.02, "d {d}: standard error {se}");
-        assert!((riemann - exact).abs() < 5e-3, "d {d}: Riemann {riemann}, closed form {exact}");
+        assert!(
+            (riemann - exact).abs() < 5e-3,
+            "d {d}: Riemann {riemann}, closed form {exact}"
+        );
     }
 }
 
@@ -113,7 +187,9 @@ fn point_beside_an_infinite_wall_under_a_uniform_sky() {
 fn env_pixels_beside_a_wall_meets_the_closed_form() {
     let ctx = common::gpu();
     let dir = common::temp_dir("env_wall");
-    image::Rgb32FImage::from_pixel(64, 32, image::Rgb([1.0, 1.0, 1.0])).save_with_format(dir.join("sky.exr"), image::ImageFormat::OpenExr).unwrap();
+    image::Rgb32FImage::from_pixel(64, 32, image::Rgb([1.0, 1.0, 1.0]))
+        .save_with_format(dir.join("sky.exr"), image::ImageFormat::OpenExr)
+        .unwrap();
     let text = "[camera]\neye = [2.0, 7.0, 0.5]\ntarget = [2.0, 0.0, 0.0]\nfov_y_deg = 40.0\n\n\
                 [environment]\npanorama = \"sky.exr\"\n\n[render]\nwidth = 48\nheight = 48\n\n\
                 [[mesh]]\nbuiltin = \"plane\"\nscale = [60.0, 1.0, 60.0]\n\n\
@@ -121,7 +197,10 @@ fn env_pixels_beside_a_wall_meets_the_closed_form() {
     let path = dir.join("wall.toml");
     std::fs::write(&path, text).unwrap();
     let scene = penumbra::scene::Scene::load(path.to_str().unwrap(), &[]).unwrap();
-    let options = penumbra::frame::FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: false };
+    let options = penumbra::frame::FrameOptions {
+        mode: penumbra::gpu::timing::TimingMode::Frame,
+        pictures: false,
+    };
     let method = penumbra::methods::Method::parse("env-pixels:res=64x32", &[]).unwrap();
     let r = penumbra::frame::render(ctx, &scene, &method, options).unwrap();
     let (mut worst, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);
@@ -136,8 +215,14 @@ fn env_pixels_beside_a_wall_meets_the_closed_form() {
         sum += err;
         n += 1;
     }
-    println!("{n} ground pixels: mean |V − closed form| {:.4}, max {worst:.4}", sum / n as f64);
+    println!(
+        "{n} ground pixels: mean |V − closed form| {:.4}, max {worst:.4}",
+        sum / n as f64
+    );
     assert!(n > 500, "only {n} ground pixels in view");
     let mean = sum / n as f64;
-    assert!(mean < 0.01 && worst < 0.03, "mean {mean:.4}, max {worst:.4}");
+    assert!(
+        mean < 0.01 && worst < 0.03,
+        "mean {mean:.4}, max {worst:.4}"
+    );
 }

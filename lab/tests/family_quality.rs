@@ -5,13 +5,19 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame::{self, FrameResult};
-use penumbra::methods::Method;
-use penumbra_lab::reference::AnalyticSquareScene;
-use penumbra::scene::Scene;
 use penumbra::gpu::timing::TimingMode;
+use penumbra::methods::Method;
+use penumbra::scene::Scene;
+use penumbra_lab::reference::AnalyticSquareScene;
 
 fn run(scene: &Scene, spec: &str) -> FrameResult {
-    frame::render(common::gpu(), scene, &Method::parse(spec, &[]).unwrap(), TimingMode::Frame).unwrap()
+    frame::render(
+        common::gpu(),
+        scene,
+        &Method::parse(spec, &[]).unwrap(),
+        TimingMode::Frame,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -42,8 +48,18 @@ fn pcss_penumbra_beats_hard_and_fixed_radius_pcf_on_analytic_square() {
         println!("{spec}: penumbra RMSE {e:.4} over {n} pixels");
         rmse.push(e);
     }
-    assert!(rmse[3] < rmse[0] && rmse[3] < rmse[1] && rmse[3] < rmse[2], "pcss {:.4} vs hard {:.4}, pcf {:.4} / {:.4}", rmse[3], rmse[0], rmse[1], rmse[2]);
-    assert!(rmse[3] < 0.5 * rmse[0], "pcss should at least halve the hard shadow's penumbra error");
+    assert!(
+        rmse[3] < rmse[0] && rmse[3] < rmse[1] && rmse[3] < rmse[2],
+        "pcss {:.4} vs hard {:.4}, pcf {:.4} / {:.4}",
+        rmse[3],
+        rmse[0],
+        rmse[1],
+        rmse[2]
+    );
+    assert!(
+        rmse[3] < 0.5 * rmse[0],
+        "pcss should at least halve the hard shadow's penumbra error"
+    );
 }
 
 /// Whether the segment from `p` to `q` crosses the axis-aligned box `centre ± half`.
@@ -70,12 +86,23 @@ fn segment_hits_box(p: Vec3, q: Vec3, centre: Vec3, half: Vec3) -> bool {
 
 #[test]
 fn vsm_bleeds_light_where_occluders_overlap_and_evsm_and_msm_reduce_it() {
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("scenes/overlapping-occluders.toml");
-    let scene = Scene::load(&file.to_string_lossy(), &[("resolution".into(), "128".into())]).unwrap();
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join("scenes/overlapping-occluders.toml");
+    let scene = Scene::load(
+        &file.to_string_lossy(),
+        &[("resolution".into(), "128".into())],
+    )
+    .unwrap();
     let light = scene.light;
     let (plate_a, half_a) = (Vec3::new(-0.6, 1.0, -0.3), Vec3::new(1.0, 0.05, 1.0));
     let (plate_b, half_b) = (Vec3::new(0.5, 2.5, 0.5), Vec3::new(0.8, 0.05, 0.8));
-    let corners = [light.point(0.0, 0.0), light.point(1.0, 0.0), light.point(0.0, 1.0), light.point(1.0, 1.0)];
+    let corners = [
+        light.point(0.0, 0.0),
+        light.point(1.0, 0.0),
+        light.point(0.0, 1.0),
+        light.point(1.0, 1.0),
+    ];
     let mut results = Vec::new();
     // A small prefilter keeps the windows on the plates: what V shows there is bleeding, not blur.
     for spec in ["vsm:radius=3", "evsm:radius=3", "msm:radius=3"] {
@@ -87,15 +114,40 @@ fn vsm_bleeds_light_where_occluders_overlap_and_evsm_and_msm_reduce_it() {
             .filter(|&i| g.is_geometry(i) && g.position[i][1].abs() < 1e-4)
             .filter(|&i| {
                 let p = Vec3::from_slice(&g.position[i][..3]);
-                corners.iter().all(|&c| segment_hits_box(p, c, plate_a, half_a)) && segment_hits_box(p, light.center, plate_b, half_b)
+                corners
+                    .iter()
+                    .all(|&c| segment_hits_box(p, c, plate_a, half_a))
+                    && segment_hits_box(p, light.center, plate_b, half_b)
             })
             .collect();
-        assert!(region.len() > 50, "only {} pixels lie under both plates", region.len());
-        let bleed = region.iter().map(|&i| r.visibility[i] as f64).sum::<f64>() / region.len() as f64;
-        println!("{spec}: mean V = {bleed:.4} (exact 0) over {} pixels under both plates", region.len());
+        assert!(
+            region.len() > 50,
+            "only {} pixels lie under both plates",
+            region.len()
+        );
+        let bleed =
+            region.iter().map(|&i| r.visibility[i] as f64).sum::<f64>() / region.len() as f64;
+        println!(
+            "{spec}: mean V = {bleed:.4} (exact 0) over {} pixels under both plates",
+            region.len()
+        );
         results.push(bleed);
     }
-    assert!(results[0] > 0.01, "vsm shows no light bleeding ({:.4}): the test would prove little", results[0]);
-    assert!(results[1] < 0.5 * results[0], "evsm {:.4} does not reduce vsm's bleeding {:.4}", results[1], results[0]);
-    assert!(results[2] < 0.5 * results[0], "msm {:.4} does not reduce vsm's bleeding {:.4}", results[2], results[0]);
+    assert!(
+        results[0] > 0.01,
+        "vsm shows no light bleeding ({:.4}): the test would prove little",
+        results[0]
+    );
+    assert!(
+        results[1] < 0.5 * results[0],
+        "evsm {:.4} does not reduce vsm's bleeding {:.4}",
+        results[1],
+        results[0]
+    );
+    assert!(
+        results[2] < 0.5 * results[0],
+        "msm {:.4} does not reduce vsm's bleeding {:.4}",
+        results[2],
+        results[0]
+    );
 }

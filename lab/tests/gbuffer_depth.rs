@@ -8,8 +8,8 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame;
-use penumbra_lab::reference::Tracer;
 use penumbra::scene::Scene;
+use penumbra_lab::reference::Tracer;
 
 /// (pixels checked, pixels whose point lies behind another surface by more than `tol`, worst gap).
 fn hidden_points(name: &str, resolution: u32, tol: f32) -> (usize, usize, f32) {
@@ -25,7 +25,9 @@ fn hidden_points(name: &str, resolution: u32, tol: f32) -> (usize, usize, f32) {
         }
         let to_p = Vec3::from_slice(&p[..3]) - eye;
         // t is in units of |to_p|: the point itself is at t = 1.
-        let hit = tracer.closest_hit(eye, to_p, 1.0 + 1e-3).expect("the eye's ray reaches the pixel's own surface");
+        let hit = tracer
+            .closest_hit(eye, to_p, 1.0 + 1e-3)
+            .expect("the eye's ray reaches the pixel's own surface");
         let gap = (1.0 - hit.t) * to_p.length();
         checked += 1;
         worst = worst.max(gap);
@@ -41,6 +43,9 @@ fn every_gbuffer_point_is_the_first_surface_along_its_eye_ray() {
     // order 6 pixels over 1e-4, worst 7.0e-3, all at the walls' foot.
     let (checked, hidden, worst) = hidden_points("point-room", 128, 1e-4);
     eprintln!("point-room 128²: {checked} geometry pixels, {hidden} hidden, worst gap {worst:e}");
-    assert!(checked > 10_000, "point-room at 128²: only {checked} geometry pixels");
+    assert!(
+        checked > 10_000,
+        "point-room at 128²: only {checked} geometry pixels"
+    );
     assert_eq!(hidden, 0, "point-room at 128²: {hidden} of {checked} G-buffer points lie behind another surface (worst by {worst})");
 }

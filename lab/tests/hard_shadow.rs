@@ -4,9 +4,9 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame;
+use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::Method;
 use penumbra::scene::Scene;
-use penumbra::gpu::timing::TimingMode;
 
 /// Möller–Trumbore: does the segment origin → origin + dir (t in (0, 1)) hit the triangle?
 fn hits(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
@@ -48,7 +48,8 @@ fn hard_matches_the_exact_hard_shadow_away_from_its_boundary() {
             let p = Vec3::from_slice(&g.position[i][..3]);
             let n = Vec3::from_slice(&g.normal[i][..3]);
             let origin = p + n * 1e-3;
-            let lit = n.dot(centre - p) > 0.0 && !tris.iter().any(|t| hits(origin, centre - origin, *t));
+            let lit =
+                n.dot(centre - p) > 0.0 && !tris.iter().any(|t| hits(origin, centre - origin, *t));
             Some(lit)
         })
         .collect();
@@ -61,7 +62,11 @@ fn hard_matches_the_exact_hard_shadow_away_from_its_boundary() {
             let near_boundary = (-1..=1).any(|dy| {
                 (-1..=1).any(|dx| {
                     let (qx, qy) = (x + dx, y + dy);
-                    qx >= 0 && qy >= 0 && qx < w && qy < h && matches!(exact[(qy * w + qx) as usize], Some(o) if o != e)
+                    qx >= 0
+                        && qy >= 0
+                        && qx < w
+                        && qy < h
+                        && matches!(exact[(qy * w + qx) as usize], Some(o) if o != e)
                 })
             });
             if near_boundary {
@@ -77,7 +82,18 @@ fn hard_matches_the_exact_hard_shadow_away_from_its_boundary() {
     }
     let geometry = g.geometry_count();
     println!("geometry pixels {geometry}, compared {compared}, exact shadow {shadowed}, disagreements {}", wrong.len());
-    assert!(compared as f64 > 0.9 * geometry as f64, "too few pixels compared: {compared} of {geometry}");
-    assert!(shadowed > 500, "the exact shadow covers only {shadowed} compared pixels");
-    assert!(wrong.is_empty(), "{} pixels disagree, first: {:?}", wrong.len(), &wrong[..wrong.len().min(10)]);
+    assert!(
+        compared as f64 > 0.9 * geometry as f64,
+        "too few pixels compared: {compared} of {geometry}"
+    );
+    assert!(
+        shadowed > 500,
+        "the exact shadow covers only {shadowed} compared pixels"
+    );
+    assert!(
+        wrong.is_empty(),
+        "{} pixels disagree, first: {:?}",
+        wrong.len(),
+        &wrong[..wrong.len().min(10)]
+    );
 }

@@ -7,8 +7,24 @@ mod common;
 
 /// Top-level modules of lab/src/, lowest layer first (the engine's re-exported modules first).
 const LAYERS: &[&str] = &[
-    "gpu", "scene", "render", "stages", "methods", "frame", "api", "error", "progress", "interrupt", "panic_log", "assets", "reference", "metrics", "record",
-    "report", "studies", "inputs",
+    "gpu",
+    "scene",
+    "render",
+    "stages",
+    "methods",
+    "frame",
+    "api",
+    "error",
+    "progress",
+    "interrupt",
+    "panic_log",
+    "assets",
+    "reference",
+    "metrics",
+    "record",
+    "report",
+    "studies",
+    "inputs",
 ];
 
 /// Imports that run back up today, at most: the error type wraps the errors of higher layers
@@ -17,10 +33,18 @@ const MOST_UPWARD: usize = 5;
 
 #[test]
 fn imports_run_down_the_layers_but_for_a_known_few() {
-    let up = common::layers::upward_imports(&common::root().join("lab/src"), LAYERS, &["main", "cli", "lib"]);
+    let up = common::layers::upward_imports(
+        &common::root().join("lab/src"),
+        LAYERS,
+        &["main", "cli", "lib"],
+    );
     for (file, target) in &up {
         println!("lab/src/{file} uses {target}");
     }
     println!("{} imports run back up the layers", up.len());
-    assert!(up.len() <= MOST_UPWARD, "{} imports run back up (at most {MOST_UPWARD}): {up:#?}", up.len());
+    assert!(
+        up.len() <= MOST_UPWARD,
+        "{} imports run back up (at most {MOST_UPWARD}): {up:#?}",
+        up.len()
+    );
 }

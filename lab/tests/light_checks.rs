@@ -45,7 +45,9 @@ fn the_shipped_scenes_pass_and_their_lights_are_far_below_the_bound() {
         };
         loaded += 1;
         let across = match scene.emitter {
-            Emitter::Rect => (scene.light.edge_u.length_squared() + scene.light.edge_v.length_squared()).sqrt(),
+            Emitter::Rect => {
+                (scene.light.edge_u.length_squared() + scene.light.edge_v.length_squared()).sqrt()
+            }
             Emitter::Disk(d) => 2.0 * d.radius,
             Emitter::Spot(s) => 2.0 * s.radius,
             Emitter::Point(p) => 2.0 * p.radius,
@@ -61,7 +63,10 @@ fn the_shipped_scenes_pass_and_their_lights_are_far_below_the_bound() {
     let (widest, which) = widest;
     println!("{loaded} scenes loaded; the widest light is {which}'s, {widest:.3} of its scene's diagonal");
     assert!(loaded >= 10, "{loaded}");
-    assert!(widest < 1.0 && widest * 10.0 < MAX_LIGHT_DIAGONALS, "{widest}");
+    assert!(
+        widest < 1.0 && widest * 10.0 < MAX_LIGHT_DIAGONALS,
+        "{widest}"
+    );
 }
 
 #[test]
@@ -72,8 +77,13 @@ fn a_sun_shining_upward_or_along_the_horizon_is_refused() {
         refused(&sun("[0.0, 1.0, 0.0]")),
         "bad.toml: light.direction = [0.0, 1.0, 0.0]: the sun shines upward (direction is the way its light travels, from the sun to the scene, and +y is up): no surface that faces up would be lit; give it a negative y, e.g. [0.3, -1.0, 0.2]"
     );
-    assert!(refused(&sun("[1.0, 0.0, 0.0]")).starts_with("bad.toml: light.direction = [1.0, 0.0, 0.0]: the sun shines along the horizon "));
-    assert!(parse(&sun("[1.0, -0.05, 0.0]")).is_ok(), "a low sun is a sun");
+    assert!(refused(&sun("[1.0, 0.0, 0.0]")).starts_with(
+        "bad.toml: light.direction = [1.0, 0.0, 0.0]: the sun shines along the horizon "
+    ));
+    assert!(
+        parse(&sun("[1.0, -0.05, 0.0]")).is_ok(),
+        "a low sun is a sun"
+    );
 }
 
 #[test]
@@ -101,15 +111,18 @@ fn a_sphere_around_the_camera_or_reaching_into_a_mesh_is_refused() {
 #[test]
 fn a_light_that_dwarfs_the_scene_is_refused() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    // The meshes' box is 30 × 1.5 × 30: diagonal 42.45, so the bound is 424.5 across. The disk
-    // is 100 up, where its angular size from the scene is within the maps' field up to radius 595.
-    let disk = |r: &str| format!("kind = \"disk\"\ncenter = [0.0, 100.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n");
+                             // The meshes' box is 30 × 1.5 × 30: diagonal 42.45, so the bound is 424.5 across. The disk
+                             // is 100 up, where its angular size from the scene is within the maps' field up to radius 595.
+    let disk = |r: &str| {
+        format!("kind = \"disk\"\ncenter = [0.0, 100.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n")
+    };
     assert_eq!(
         refused(&disk("1e6")),
         "bad.toml: light.radius = 1000000: the light is 2e6 across, over 10 × the meshes' diagonal of 42.453 (424.529): it would light the scene as a sky, which the shadow maps fitted to the scene cannot see; shrink it (a light far away is kind = \"sun\")"
     );
     assert!(parse(&disk("200.0")).is_ok(), "400 across is within 424.5");
-    assert!(refused(&disk("213.0")).starts_with("bad.toml: light.radius = 213: the light is 426.000 across"));
+    assert!(refused(&disk("213.0"))
+        .starts_with("bad.toml: light.radius = 213: the light is 426.000 across"));
     let rect = "center = [0.0, 8.0, 0.0]\nedge_u = [400.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 300.0]\n";
     assert!(refused(rect).starts_with("bad.toml: light.edge_u = [400.0, 0.0, 0.0], light.edge_v = [0.0, 0.0, 300.0] (or light.size): the light is 500.000 across"), "{}", refused(rect));
 }
@@ -122,7 +135,11 @@ fn a_light_that_dwarfs_the_scene_is_refused() {
 #[test]
 fn a_light_too_wide_seen_from_the_scene_is_refused() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let disk = |r: &str| format!("kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n");
+    let disk = |r: &str| {
+        format!(
+            "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r}\n"
+        )
+    };
     assert!(parse(&disk("43.0")).is_ok());
     assert_eq!(
         refused(&disk("44.0")),
@@ -130,7 +147,9 @@ fn a_light_too_wide_seen_from_the_scene_is_refused() {
     );
     assert!(refused(&disk("200.0")).contains("light.radius = 200: seen from the middle of the meshes' bounds ([0.0, 0.75, 0.0]) the light reaches 87.9° from its normal (tangent 27.59)"), "{}", refused(&disk("200.0")));
     // A 290 × 290 rectangle 10 up; the same rectangle 40 up sees the scene within the maps' field.
-    let rect = |h: f32| format!("center = [0.0, {h:.1}, 0.0]\nsize = [290.0, 290.0]\nnormal = [0.0, -1.0, 0.0]\n");
+    let rect = |h: f32| {
+        format!("center = [0.0, {h:.1}, 0.0]\nsize = [290.0, 290.0]\nnormal = [0.0, -1.0, 0.0]\n")
+    };
     assert!(refused(&rect(10.0)).starts_with("bad.toml: light.edge_u = [290.0, 0.0, 0.0], light.edge_v = [-0.0, 0.0, 290.0] (or light.size): seen from the middle of the meshes' bounds ([0.0, 0.75, 0.0]) the light reaches 86.3° from its normal (tangent 15.68)"), "{}", refused(&rect(10.0)));
     assert!(parse(&rect(40.0)).is_ok());
     // A spot's sphere is a disk across its axis: the same check.
@@ -143,7 +162,9 @@ fn a_light_too_wide_seen_from_the_scene_is_refused() {
 #[test]
 fn a_disk_or_spot_turned_away_is_still_refused_by_the_same_checks() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
-    let e = refused("kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nradius = 1.0\n");
+    let e = refused(
+        "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nradius = 1.0\n",
+    );
     assert_eq!(e, "bad.toml: light: the disk emits along light.normal = [0.0, 1.0, 0.0], away from every mesh: nothing would be lit; turn it towards the meshes");
 }
 
@@ -156,11 +177,23 @@ fn the_binary_refuses_before_rendering() {
     std::fs::write(&scene, format!("[light]\nkind = \"sun\"\ndirection = [0.0, 1.0, 0.0]\nangular_diameter_deg = 0.53\n{MESHES}")).unwrap();
     let out = dir.join("out");
     for cmd in ["render", "compare", "reference"] {
-        let o = common::penumbra(&[cmd, "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        let o = common::penumbra(&[
+            cmd,
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{cmd}: {err}");
         assert_eq!(err.lines().count(), 1, "{cmd}: {err}");
-        assert!(err.starts_with(&format!("error: {}: light.direction = [0.0, 1.0, 0.0]: the sun shines upward", scene.display())), "{cmd}: {err}");
+        assert!(
+            err.starts_with(&format!(
+                "error: {}: light.direction = [0.0, 1.0, 0.0]: the sun shines upward",
+                scene.display()
+            )),
+            "{cmd}: {err}"
+        );
         assert!(!out.exists(), "{cmd} wrote {}", out.display());
     }
 }

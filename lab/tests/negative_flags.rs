@@ -6,7 +6,10 @@
 mod common;
 
 fn first_line_of_error(args: &[&str]) -> (Option<i32>, String, String) {
-    let dir = common::temp_dir(&format!("negative_flags_{}", args.join("_").replace(['/', '-', ' '], "")));
+    let dir = common::temp_dir(&format!(
+        "negative_flags_{}",
+        args.join("_").replace(['/', '-', ' '], "")
+    ));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
         .args(args)
         .current_dir(&dir)
@@ -16,8 +19,16 @@ fn first_line_of_error(args: &[&str]) -> (Option<i32>, String, String) {
     let written: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert!(written.is_empty(), "{args:?} wrote {written:?}");
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(stderr.lines().count(), 1, "{args:?}: not one line: {stderr}");
-    (out.status.code(), stderr.lines().next().unwrap_or("").to_string(), String::from_utf8_lossy(&out.stdout).into_owned())
+    assert_eq!(
+        stderr.lines().count(),
+        1,
+        "{args:?}: not one line: {stderr}"
+    );
+    (
+        out.status.code(),
+        stderr.lines().next().unwrap_or("").to_string(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
 }
 
 #[test]

@@ -10,7 +10,10 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     v.sort();
     v
 }
@@ -64,7 +67,11 @@ fn out_that_is_a_file_is_refused() {
     let root = tmp("refuse");
     std::fs::write(root.join("f"), "x").unwrap();
     let e = check(&root.join("f")).unwrap_err().to_string();
-    assert!(e.starts_with("--out ") && e.ends_with("f: is a file, not a folder: give a folder for the output set"), "{e}");
+    assert!(
+        e.starts_with("--out ")
+            && e.ends_with("f: is a file, not a folder: give a folder for the output set"),
+        "{e}"
+    );
     let e = check(&root.join("f/inner")).unwrap_err().to_string();
     assert!(e.contains("is a file, not a folder"), "{e}");
 }
@@ -72,8 +79,13 @@ fn out_that_is_a_file_is_refused() {
 #[test]
 fn a_folder_name_longer_than_the_file_system_takes_is_refused_before_any_work() {
     let root = tmp("long_name");
-    let e = check(&root.join("n".repeat(256)).join("inner")).unwrap_err().to_string();
-    assert!(e.ends_with("a folder name of 256 bytes is longer than the file system's limit of 255"), "{e}");
+    let e = check(&root.join("n".repeat(256)).join("inner"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.ends_with("a folder name of 256 bytes is longer than the file system's limit of 255"),
+        "{e}"
+    );
     // 245 bytes fit: the staging folder's name no longer grows with it.
     let out = root.join("n".repeat(245));
     let s = OutputSet::begin(&out).unwrap();
@@ -83,23 +95,61 @@ fn a_folder_name_longer_than_the_file_system_takes_is_refused_before_any_work() 
 }
 
 fn render(out: &Path, method: &str) -> std::process::Output {
-    common::penumbra(&["render", "--scene", "default", "--method", method, "--set", "resolution=32", "--set", "shadow_map_size=64", "--out", out.to_str().unwrap()])
+    common::penumbra(&[
+        "render",
+        "--scene",
+        "default",
+        "--method",
+        method,
+        "--set",
+        "resolution=32",
+        "--set",
+        "shadow_map_size=64",
+        "--out",
+        out.to_str().unwrap(),
+    ])
 }
 
 #[test]
 fn a_render_replaces_an_earlier_adaptive_runs_pictures() {
     let out = tmp("stale").join("out");
     let first = render(&out, "adaptive");
-    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
     assert!(out.join("comparison_map.png").exists() && out.join("light_quadtree.png").exists());
     let second = render(&out, "regular:n=3");
-    assert!(second.status.success(), "{}", String::from_utf8_lossy(&second.stderr));
-    assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
-    let record: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
-    assert_eq!((record["method"].as_str(), record["params"]["n"].as_u64()), (Some("regular"), Some(3)), "{record}");
+    assert!(
+        second.status.success(),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
+    assert_eq!(
+        names(&out),
+        [
+            MARKER,
+            "run.json",
+            "shaded.png",
+            "visibility.exr",
+            "visibility.png"
+        ]
+    );
+    let record: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(
+        (record["method"].as_str(), record["params"]["n"].as_u64()),
+        (Some("regular"), Some(3)),
+        "{record}"
+    );
     // The timed frame follows a warm-up on the same renderer, so no build is charged to it.
     assert_eq!(record["warm_up_frames"], 1, "{record}");
-    assert!(record["stages_ms"]["shade"].as_f64().unwrap() > 0.0 && record["stages_ms"].get("build").is_none(), "{record}");
+    assert!(
+        record["stages_ms"]["shade"].as_f64().unwrap() > 0.0
+            && record["stages_ms"].get("build").is_none(),
+        "{record}"
+    );
 }
 
 #[test]
@@ -122,8 +172,16 @@ fn out_that_is_a_file_is_refused_before_any_work_by_every_command() {
         let out = common::penumbra(&args);
         let e = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{args:?}: {e}");
-        assert_eq!(e.trim(), format!("error: --out {f}: is a file, not a folder: give a folder for the output set"), "{args:?}");
-        assert!(out.stdout.is_empty(), "{args:?}: worked before failing: {}", String::from_utf8_lossy(&out.stdout));
+        assert_eq!(
+            e.trim(),
+            format!("error: --out {f}: is a file, not a folder: give a folder for the output set"),
+            "{args:?}"
+        );
+        assert!(
+            out.stdout.is_empty(),
+            "{args:?}: worked before failing: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
     }
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "x");
 }
@@ -137,7 +195,18 @@ fn an_interrupted_render_leaves_the_old_set_or_the_new_one() {
     let mut outcomes = Vec::new();
     for delay_ms in [10u64, 40, 80, 120, 160, 220, 300] {
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
-            .args(["render", "--scene", "default", "--method", "regular:n=3", "--set", "resolution=32", "--set", "shadow_map_size=64", "--out"])
+            .args([
+                "render",
+                "--scene",
+                "default",
+                "--method",
+                "regular:n=3",
+                "--set",
+                "resolution=32",
+                "--set",
+                "shadow_map_size=64",
+                "--out",
+            ])
             .arg(&out)
             .env("PENUMBRA_NO_PROGRESS", "1")
             .stdout(std::process::Stdio::null())
@@ -150,13 +219,36 @@ fn an_interrupted_render_leaves_the_old_set_or_the_new_one() {
         child.wait().unwrap();
         // SIGINT removes the staging folder (or finishes the commit) before the run ends.
         let files: Vec<String> = names(&out);
-        let record: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+        let record: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
         match record["method"].as_str() {
             Some("hard") => {
-                assert_eq!(files, [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
-                assert_eq!(std::fs::read(out.join("visibility.exr")).unwrap(), old, "after {delay_ms} ms");
+                assert_eq!(
+                    files,
+                    [
+                        MARKER,
+                        "run.json",
+                        "shaded.png",
+                        "visibility.exr",
+                        "visibility.png"
+                    ]
+                );
+                assert_eq!(
+                    std::fs::read(out.join("visibility.exr")).unwrap(),
+                    old,
+                    "after {delay_ms} ms"
+                );
             }
-            Some("regular") => assert_eq!(files, [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]),
+            Some("regular") => assert_eq!(
+                files,
+                [
+                    MARKER,
+                    "run.json",
+                    "shaded.png",
+                    "visibility.exr",
+                    "visibility.png"
+                ]
+            ),
             m => panic!("after {delay_ms} ms: run.json names {m:?}"),
         }
         assert!(files.iter().all(|f| !f.ends_with(".tmp")), "{files:?}");
@@ -166,7 +258,16 @@ fn an_interrupted_render_leaves_the_old_set_or_the_new_one() {
     // The next run sweeps any staging folder a killed run left.
     assert!(render(&out, "hard").status.success());
     assert_eq!(names(&root), ["out"]);
-    assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
+    assert_eq!(
+        names(&out),
+        [
+            MARKER,
+            "run.json",
+            "shaded.png",
+            "visibility.exr",
+            "visibility.png"
+        ]
+    );
 }
 
 #[test]
@@ -176,13 +277,34 @@ fn an_output_name_taken_by_a_folder_is_replaced_with_no_temporary_left() {
     let r = render(&out, "hard");
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(out.join("visibility.exr").is_file());
-    assert_eq!(names(&out), [MARKER, "run.json", "shaded.png", "visibility.exr", "visibility.png"]);
+    assert_eq!(
+        names(&out),
+        [
+            MARKER,
+            "run.json",
+            "shaded.png",
+            "visibility.exr",
+            "visibility.png"
+        ]
+    );
     assert_eq!(names(out.parent().unwrap()), ["out"]);
 }
 
 fn render_in(cwd: &Path, out: &str, method: &str) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(["render", "--scene", "default", "--method", method, "--set", "resolution=32", "--set", "shadow_map_size=64", "--out", out])
+        .args([
+            "render",
+            "--scene",
+            "default",
+            "--method",
+            method,
+            "--set",
+            "resolution=32",
+            "--set",
+            "shadow_map_size=64",
+            "--out",
+            out,
+        ])
         .current_dir(cwd)
         .env("PENUMBRA_NO_PROGRESS", "1")
         .output()
@@ -201,8 +323,22 @@ fn out_may_be_the_current_folder_and_its_other_entries_stay() {
         let r = render_in(&out, ".", method);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     }
-    assert_eq!(names(&out), [MARKER, "penumbra-merge-2.out", "run.json", "shaded.png", "shards", "visibility.exr", "visibility.png"]);
-    assert_eq!(std::fs::read_to_string(out.join("shards/0/results.jsonl")).unwrap(), "{}");
+    assert_eq!(
+        names(&out),
+        [
+            MARKER,
+            "penumbra-merge-2.out",
+            "run.json",
+            "shaded.png",
+            "shards",
+            "visibility.exr",
+            "visibility.png"
+        ]
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("shards/0/results.jsonl")).unwrap(),
+        "{}"
+    );
 }
 
 #[test]
@@ -234,8 +370,20 @@ fn a_read_only_out_is_refused_before_any_work() {
     }
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o555)).unwrap();
     let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"));
-    cmd.args(["render", "--scene", "default", "--method", "hard", "--set", "resolution=32", "--out"]).arg(&out);
-    cmd.env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", &cache).env("HOME", &cache);
+    cmd.args([
+        "render",
+        "--scene",
+        "default",
+        "--method",
+        "hard",
+        "--set",
+        "resolution=32",
+        "--out",
+    ])
+    .arg(&out);
+    cmd.env("PENUMBRA_NO_PROGRESS", "1")
+        .env("PENUMBRA_CACHE", &cache)
+        .env("HOME", &cache);
     // SAFETY: reading our own effective user id.
     if unsafe { libc::geteuid() } == 0 {
         cmd.uid(65534).gid(65534);
@@ -244,9 +392,17 @@ fn a_read_only_out_is_refused_before_any_work() {
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
     let e = String::from_utf8_lossy(&r.stderr);
     assert_eq!(r.status.code(), Some(1), "{e}");
-    let want = format!("error: --out {}: cannot write in {}: Permission denied (os error 13)", out.display(), out.display());
+    let want = format!(
+        "error: --out {}: cannot write in {}: Permission denied (os error 13)",
+        out.display(),
+        out.display()
+    );
     assert_eq!(e.trim(), want);
-    assert!(r.stdout.is_empty(), "worked before failing: {}", String::from_utf8_lossy(&r.stdout));
+    assert!(
+        r.stdout.is_empty(),
+        "worked before failing: {}",
+        String::from_utf8_lossy(&r.stdout)
+    );
     assert_eq!(names(&out), before);
     assert_eq!(names(&root), ["cache", "out"]);
 }

@@ -14,7 +14,10 @@ fn a_panic_is_appended_to_the_log_as_one_line() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 2, "{text}");
     for (k, line) in lines.iter().enumerate() {
-        assert!(line.starts_with("panicked: panicked at lab/tests/panic_log.rs:"), "{line}");
+        assert!(
+            line.starts_with("panicked: panicked at lab/tests/panic_log.rs:"),
+            "{line}"
+        );
         assert!(line.contains(&format!("probe {k} second line")), "{line}");
         assert!(line.contains("(args: "), "{line}");
     }
@@ -27,16 +30,34 @@ fn the_binary_logs_nothing_for_a_refused_input_and_the_census_script_parses() {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("panics.log");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(["render", "--scene", "no-such-scene", "--out", dir.path().join("out").to_str().unwrap()])
+        .args([
+            "render",
+            "--scene",
+            "no-such-scene",
+            "--out",
+            dir.path().join("out").to_str().unwrap(),
+        ])
         .env("PENUMBRA_PANIC_LOG", &log)
         .env("PENUMBRA_NO_PROGRESS", "1")
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.starts_with("error: ") && stderr.contains("no-such-scene"), "{stderr}");
-    assert!(!log.exists(), "a refused input wrote the panic log: {:?}", std::fs::read_to_string(&log));
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/panic-census.sh");
-    let parse = std::process::Command::new("bash").arg("-n").arg(&script).status().unwrap();
+    assert!(
+        stderr.starts_with("error: ") && stderr.contains("no-such-scene"),
+        "{stderr}"
+    );
+    assert!(
+        !log.exists(),
+        "a refused input wrote the panic log: {:?}",
+        std::fs::read_to_string(&log)
+    );
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/panic-census.sh");
+    let parse = std::process::Command::new("bash")
+        .arg("-n")
+        .arg(&script)
+        .status()
+        .unwrap();
     assert!(parse.success(), "bash -n {}", script.display());
 }

@@ -6,9 +6,9 @@
 mod common;
 use glam::Vec3;
 use penumbra::frame;
+use penumbra::scene::Scene;
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::{AnalyticSquareScene, ReferenceMode};
-use penumbra::scene::Scene;
 
 /// Lattice segments closer than this (world units, in the occluder plane) to an occluder edge
 /// are decided by f32 rounding, not geometry: such pixels are skipped and counted.
@@ -63,7 +63,13 @@ fn family() -> Vec<(&'static str, Scene, AnalyticSquareScene)> {
             analytic([0.0, 10.0, 0.0], 4.0, [0.0, 4.0, 0.0], 4.0),
         ),
         parse("wide penumbra", [0.0, 6.0, 0.0], 6.0, [-0.4, 4.5, 0.3], 1.5),
-        parse("low big occluder", [0.5, 9.0, 0.0], 4.0, [0.0, 2.5, 0.0], 5.0),
+        parse(
+            "low big occluder",
+            [0.5, 9.0, 0.0],
+            4.0,
+            [0.0, 2.5, 0.0],
+            5.0,
+        ),
         parse("off centre", [1.0, 8.0, -0.5], 3.0, [0.3, 3.0, 0.2], 2.5),
     ]
 }
@@ -100,8 +106,15 @@ fn continuous_reference_matches_the_closed_form() {
             ground.len(),
             sum_penumbra / penumbra.max(1) as f64
         );
-        assert!(ground.len() > 3000, "{name}: only {} ground pixels", ground.len());
-        assert!(penumbra > 300, "{name}: only {penumbra} penumbra pixels: the camera misses the shadow");
+        assert!(
+            ground.len() > 3000,
+            "{name}: only {} ground pixels",
+            ground.len()
+        );
+        assert!(
+            penumbra > 300,
+            "{name}: only {penumbra} penumbra pixels: the camera misses the shadow"
+        );
         assert!(mae < 2e-3, "{name}: MAE {mae}");
     }
 }
@@ -127,8 +140,17 @@ fn lattice_reference_equals_the_closed_form_count() {
             }
         }
         println!("{name}: lattice compared {compared} ground pixels ({partial} partly lit), skipped {skipped} at ties");
-        assert!(skipped * 50 < ground.len(), "{name}: {skipped} of {} pixels at a tie", ground.len());
+        assert!(
+            skipped * 50 < ground.len(),
+            "{name}: {skipped} of {} pixels at a tie",
+            ground.len()
+        );
         assert!(partial > 300, "{name}: only {partial} partly lit pixels");
-        assert!(wrong.is_empty(), "{name}: {} pixels differ, first (pixel, traced, exact): {:?}", wrong.len(), &wrong[..wrong.len().min(5)]);
+        assert!(
+            wrong.is_empty(),
+            "{name}: {} pixels differ, first (pixel, traced, exact): {:?}",
+            wrong.len(),
+            &wrong[..wrong.len().min(5)]
+        );
     }
 }

@@ -16,8 +16,17 @@ const SCENE: &str = common::SWEEP_SCENE;
 
 fn compare(cache: &Path, scene: &Path, out: &Path) -> Output {
     let args = [
-        "compare", "--scene", scene.to_str().unwrap(), "--methods", "hard", "--reference", "lattice", "--repeats", "1",
-        "--out", out.to_str().unwrap(),
+        "compare",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--methods",
+        "hard",
+        "--reference",
+        "lattice",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
     ];
     common::penumbra_env(&args, &[("PENUMBRA_CACHE", cache.to_str().unwrap())])
 }
@@ -25,19 +34,29 @@ fn compare(cache: &Path, scene: &Path, out: &Path) -> Output {
 /// (RMSE of `hard`, stderr) of a run that must succeed.
 fn rmse_of(out: Output, dir: &Path) -> (f64, String) {
     let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(out.status.success(), "compare failed: {}{err}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        out.status.success(),
+        "compare failed: {}{err}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     let rows = common::rows(dir);
     (rows[0]["metrics"]["rmse"].as_f64().unwrap(), err)
 }
 
 fn the_cache_file(cache: &Path) -> PathBuf {
-    let files: Vec<PathBuf> = std::fs::read_dir(cache.join("reference")).unwrap().map(|e| e.unwrap().path()).collect();
+    let files: Vec<PathBuf> = std::fs::read_dir(cache.join("reference"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     assert_eq!(files.len(), 1, "{files:?}");
     files[0].clone()
 }
 
 fn warnings(stderr: &str) -> Vec<&str> {
-    stderr.lines().filter(|l| l.starts_with("warning:")).collect()
+    stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect()
 }
 
 #[test]
@@ -71,15 +90,26 @@ fn a_damaged_entry_is_traced_again_with_one_warning_and_the_same_figures() {
     }
     let mut old = good[..good.len() - 32].to_vec();
     old[..8].copy_from_slice(b"PNMBREF1");
-    cases.push(("the old format", old, "is in the old cache format (PNMBREF1, no digest)"));
+    cases.push((
+        "the old format",
+        old,
+        "is in the old cache format (PNMBREF1, no digest)",
+    ));
 
     for (what, bytes, why) in cases {
         std::fs::write(&file, &bytes).unwrap();
         let (rmse, err) = rmse_of(compare(&cache, &scene, &out), &out);
-        let expected = format!("warning: reference cache file {} {why}: not used; tracing the reference again", file.display());
+        let expected = format!(
+            "warning: reference cache file {} {why}: not used; tracing the reference again",
+            file.display()
+        );
         assert_eq!(warnings(&err), [expected.as_str()], "{what}: {err}");
         assert_eq!(rmse, clean, "{what}: the figure must equal the clean run's");
-        assert_eq!(std::fs::read(&file).unwrap(), good, "{what}: the entry is replaced by the traced one");
+        assert_eq!(
+            std::fs::read(&file).unwrap(),
+            good,
+            "{what}: the entry is replaced by the traced one"
+        );
     }
     // The replaced entry is read again, with no warning.
     let (rmse, err) = rmse_of(compare(&cache, &scene, &out), &out);
@@ -105,13 +135,34 @@ fn an_unreadable_entry_is_one_error_naming_the_file_and_no_cache() {
     let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
     assert_eq!(lines.len(), 1, "{err}");
     assert!(
-        lines[0].starts_with(&format!("error: reference: cannot read the reference cache file {}: ", file.display()))
-            && lines[0].ends_with("; remove it, or run with --no-cache to trace the reference without the cache"),
+        lines[0].starts_with(&format!(
+            "error: reference: cannot read the reference cache file {}: ",
+            file.display()
+        )) && lines[0].ends_with(
+            "; remove it, or run with --no-cache to trace the reference without the cache"
+        ),
         "{err}"
     );
-    assert_eq!(std::fs::read_to_string(out.join("results.jsonl")).unwrap(), before, "the old set stays");
+    assert_eq!(
+        std::fs::read_to_string(out.join("results.jsonl")).unwrap(),
+        before,
+        "the old set stays"
+    );
     // --no-cache does not touch the cache: the run traces, succeeds, and leaves the folder as it is.
-    let args = ["compare", "--scene", scene.to_str().unwrap(), "--methods", "hard", "--reference", "lattice", "--repeats", "1", "--no-cache", "--out", out.to_str().unwrap()];
+    let args = [
+        "compare",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--methods",
+        "hard",
+        "--reference",
+        "lattice",
+        "--repeats",
+        "1",
+        "--no-cache",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let o = common::penumbra_env(&args, &[("PENUMBRA_CACHE", cache.to_str().unwrap())]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
@@ -126,12 +177,18 @@ fn as_other_user(dir: &Path, args: &[&str], cache: &Path) -> Output {
     let root = unsafe { libc::geteuid() } == 0;
     let mut c = if root {
         let mut c = std::process::Command::new("setpriv");
-        c.args(["--reuid=65534", "--regid=65534", "--clear-groups"]).arg(env!("CARGO_BIN_EXE_penumbra"));
+        c.args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(env!("CARGO_BIN_EXE_penumbra"));
         c
     } else {
         std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
     };
-    c.current_dir(dir).args(args).env("PENUMBRA_NO_PROGRESS", "1").env("PENUMBRA_CACHE", cache).output().unwrap()
+    c.current_dir(dir)
+        .args(args)
+        .env("PENUMBRA_NO_PROGRESS", "1")
+        .env("PENUMBRA_CACHE", cache)
+        .output()
+        .unwrap()
 }
 
 /// A cache folder this user cannot write: with --no-cache the run never touches it; without, the
@@ -150,7 +207,19 @@ fn a_read_only_cache_folder_costs_a_trace_not_the_run() {
         std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o555)).unwrap();
     }
     let args = |out: &'static str, no_cache: bool| {
-        let mut a = vec!["compare", "--scene", "s.toml", "--methods", "hard", "--reference", "lattice", "--repeats", "1", "--out", out];
+        let mut a = vec![
+            "compare",
+            "--scene",
+            "s.toml",
+            "--methods",
+            "hard",
+            "--reference",
+            "lattice",
+            "--repeats",
+            "1",
+            "--out",
+            out,
+        ];
         if no_cache {
             a.push("--no-cache");
         }
@@ -170,8 +239,15 @@ fn a_read_only_cache_folder_costs_a_trace_not_the_run() {
             && said[0].ends_with(": the reference is traced and not stored (make the folder writable, or run with --no-cache to leave the cache alone)"),
         "{err}"
     );
-    assert_eq!(std::fs::read_dir(cache.join("reference")).unwrap().count(), 0, "nothing stored");
-    assert_eq!(common::rows(&dir.join("a"))[0]["metrics"]["rmse"], common::rows(&dir.join("b"))[0]["metrics"]["rmse"]);
+    assert_eq!(
+        std::fs::read_dir(cache.join("reference")).unwrap().count(),
+        0,
+        "nothing stored"
+    );
+    assert_eq!(
+        common::rows(&dir.join("a"))[0]["metrics"]["rmse"],
+        common::rows(&dir.join("b"))[0]["metrics"]["rmse"]
+    );
 }
 
 /// A lock file left by a signalled run whose pid now belongs to a live process (pid 1 here): the
@@ -189,9 +265,15 @@ fn a_lock_file_whose_pid_was_reused_is_taken_over() {
     std::fs::write(file.with_extension("lock"), format!("1 {}\n", host.trim())).unwrap();
     let t = std::time::Instant::now();
     let (rmse, err) = rmse_of(compare(&cache, &scene, &out), &out);
-    assert!(t.elapsed() < std::time::Duration::from_secs(60) && !err.contains("waiting"), "{err}");
+    assert!(
+        t.elapsed() < std::time::Duration::from_secs(60) && !err.contains("waiting"),
+        "{err}"
+    );
     assert_eq!(rmse, clean);
-    assert!(file.is_file() && !file.with_extension("lock").exists(), "the entry is written and the lock gone");
+    assert!(
+        file.is_file() && !file.with_extension("lock").exists(),
+        "the entry is written and the lock gone"
+    );
 }
 
 /// A cache entry that is a link to /dev/zero (or any device): never opened; traced again and
@@ -208,5 +290,8 @@ fn a_cache_entry_that_is_a_device_is_traced_again() {
     let (rmse, err) = rmse_of(compare(&cache, &scene, &out), &out);
     assert_eq!(warnings(&err), [format!("warning: reference cache file {} is a character device, not a regular file: not used; tracing the reference again", file.display())]);
     assert_eq!(rmse, clean);
-    assert!(file.symlink_metadata().unwrap().is_file(), "replaced by the traced entry");
+    assert!(
+        file.symlink_metadata().unwrap().is_file(),
+        "replaced by the traced entry"
+    );
 }

@@ -5,28 +5,49 @@
 mod common;
 use glam::{DVec3, Vec3};
 use penumbra::frame;
+use penumbra::scene::{Emitter, LightKind, Scene};
 use penumbra_lab::reference::analytic_lights::{DiskOverBar, SphereOverEdge, SunOverEdge};
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::ReferenceMode;
-use penumbra::scene::{Emitter, LightKind, Scene};
 
 /// The closed form of each scene, from the scene's own emitter and the occluders its file states.
 fn exact(scene: &Scene) -> Box<dyn Fn(DVec3) -> f64> {
     match scene.emitter {
         Emitter::Disk(d) => {
-            let f = DiskOverBar { light_center: d.center.as_dvec3(), radius: d.radius as f64, x0: -0.5, x1: 0.5, height: 3.0 };
+            let f = DiskOverBar {
+                light_center: d.center.as_dvec3(),
+                radius: d.radius as f64,
+                x0: -0.5,
+                x1: 0.5,
+                height: 3.0,
+            };
             Box::new(move |p| f.visibility(p))
         }
         Emitter::Sun(s) => {
-            let f = SunOverEdge { toward: s.toward().as_dvec3(), tan_half: s.tan_half_angle() as f64, height: 4.0, edge_x: 0.0 };
+            let f = SunOverEdge {
+                toward: s.toward().as_dvec3(),
+                tan_half: s.tan_half_angle() as f64,
+                height: 4.0,
+                edge_x: 0.0,
+            };
             Box::new(move |p| f.visibility(p))
         }
         Emitter::Point(l) => {
-            let f = SphereOverEdge { center: l.position.as_dvec3(), radius: l.radius as f64, height: 3.0, edge_x: 0.0 };
+            let f = SphereOverEdge {
+                center: l.position.as_dvec3(),
+                radius: l.radius as f64,
+                height: 3.0,
+                edge_x: 0.0,
+            };
             Box::new(move |p| f.visibility(p))
         }
         Emitter::Spot(l) => {
-            let f = SphereOverEdge { center: l.position.as_dvec3(), radius: l.radius as f64, height: 2.5, edge_x: -0.5 };
+            let f = SphereOverEdge {
+                center: l.position.as_dvec3(),
+                radius: l.radius as f64,
+                height: 2.5,
+                edge_x: -0.5,
+            };
             Box::new(move |p| f.visibility(p))
         }
         Emitter::Rect => panic!("{}: a rectangle", scene.name),
@@ -76,11 +97,21 @@ fn continuous_reference_matches_each_kinds_closed_form() {
             ground.len(),
             sum_penumbra / penumbra.max(1) as f64
         );
-        assert!(ground.len() > 3000, "{name}: only {} ground pixels", ground.len());
-        assert!(penumbra > 300, "{name}: only {penumbra} penumbra pixels: the camera misses the shadow");
+        assert!(
+            ground.len() > 3000,
+            "{name}: only {} ground pixels",
+            ground.len()
+        );
+        assert!(
+            penumbra > 300,
+            "{name}: only {penumbra} penumbra pixels: the camera misses the shadow"
+        );
         assert!(mae < 2e-3, "{name}: MAE {mae}");
         // Same seed, same G-buffer: a change in the sampling shows here first.
-        assert!((mae - measured).abs() < 0.2 * measured, "{name}: MAE {mae:.3e}, measured {measured:.3e} before");
+        assert!(
+            (mae - measured).abs() < 0.2 * measured,
+            "{name}: MAE {mae:.3e}, measured {measured:.3e} before"
+        );
     }
 }
 
@@ -91,17 +122,31 @@ fn penumbra_reference_traces_and_caches_another_kind() {
     let cache = dir.join("cache");
     let run = |scene: &str, out: &str| {
         let out = dir.join(out);
-        let args = ["reference", "--scene", scene, "--set", "resolution=48", "--samples", "8", "--out", out.to_str().unwrap()];
+        let args = [
+            "reference",
+            "--scene",
+            scene,
+            "--set",
+            "resolution=48",
+            "--samples",
+            "8",
+            "--out",
+            out.to_str().unwrap(),
+        ];
         let o = common::penumbra_env(&args, &[("PENUMBRA_CACHE", cache.to_str().unwrap())]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let record: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("reference.json")).unwrap()).unwrap();
+        let record: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("reference.json")).unwrap()).unwrap();
         assert!(out.join("reference.exr").is_file() && out.join("reference_shaded.png").is_file());
         record
     };
     let first = run("point-edge", "a");
     assert_eq!(first["cached"], false);
     let again = run("point-edge", "b");
-    assert_eq!((again["cached"].clone(), again["key"].clone()), (serde_json::Value::Bool(true), first["key"].clone()));
+    assert_eq!(
+        (again["cached"].clone(), again["key"].clone()),
+        (serde_json::Value::Bool(true), first["key"].clone())
+    );
     // The same occluder under another sphere: another key, traced afresh.
     let spot = run("spot-edge", "c");
     assert_ne!(spot["key"], first["key"]);
@@ -115,7 +160,16 @@ fn building_a_rectangle_method_on_another_kind_is_refused() {
     let scene = Scene::load("point-edge", &[("resolution".into(), "32".into())]).unwrap();
     for spec in ["vsm", "esm", "csm"] {
         let method = penumbra::methods::Method::parse(spec, &[]).unwrap();
-        let e = frame::Renderer::new(ctx, &scene, &method).err().unwrap_or_else(|| panic!("{spec} built on a point light")).to_string();
-        assert!(e.starts_with(&format!("{}: light kind `point` is not supported yet (", method.name())), "{e}");
+        let e = frame::Renderer::new(ctx, &scene, &method)
+            .err()
+            .unwrap_or_else(|| panic!("{spec} built on a point light"))
+            .to_string();
+        assert!(
+            e.starts_with(&format!(
+                "{}: light kind `point` is not supported yet (",
+                method.name()
+            )),
+            "{e}"
+        );
     }
 }

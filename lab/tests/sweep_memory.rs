@@ -7,8 +7,8 @@ mod common;
 use penumbra::frame::{FrameOptions, Renderer};
 use penumbra::gpu::timing::TimingMode;
 use penumbra::methods::Method;
-use penumbra_lab::record::measure::{self, WINDOW};
 use penumbra::scene::Scene;
+use penumbra_lab::record::measure::{self, WINDOW};
 use std::path::Path;
 use std::process::Command;
 
@@ -16,7 +16,14 @@ use std::process::Command;
 fn adaptive_spec(dir: &Path, n: usize) -> String {
     let p_m: Vec<String> = (0..n).map(|i| i.to_string()).collect();
     let path = dir.join(format!("adaptive-{n}.toml"));
-    std::fs::write(&path, format!("[[grid]]\nmethod = \"adaptive\"\np_m = [{}]\n", p_m.join(", "))).unwrap();
+    std::fs::write(
+        &path,
+        format!(
+            "[[grid]]\nmethod = \"adaptive\"\np_m = [{}]\n",
+            p_m.join(", ")
+        ),
+    )
+    .unwrap();
     path.to_string_lossy().into_owned()
 }
 
@@ -55,15 +62,37 @@ fn peak_memory_does_not_grow_with_the_configuration_count() {
     for n in [4, 20] {
         let spec = adaptive_spec(&dir, n);
         let out = dir.join(format!("out-{n}"));
-        let args = ["sweep", "--scene", "analytic-square", "--spec", &spec, "--set", "resolution=64", "--set", "shadow_map_size=256", "--repeats", "1", "--out", out.to_str().unwrap()];
+        let args = [
+            "sweep",
+            "--scene",
+            "analytic-square",
+            "--spec",
+            &spec,
+            "--set",
+            "resolution=64",
+            "--set",
+            "shadow_map_size=256",
+            "--repeats",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ];
         let (code, stderr, peak_kib) = run_measured(&args, &cache);
         assert_eq!(code, Some(0), "{stderr}");
-        assert!(stderr.starts_with(&format!("{n} configurations, {} frames: about ", 3 * n)), "the count comes first: {stderr}");
+        assert!(
+            stderr.starts_with(&format!("{n} configurations, {} frames: about ", 3 * n)),
+            "the count comes first: {stderr}"
+        );
         assert_eq!(common::rows(&out).len(), n);
         peaks.push(peak_kib);
     }
     let (small, large) = (peaks[0] as f64, peaks[1] as f64);
-    assert!(large <= 1.5 * small, "peak RSS {:.0} MiB for 20 configurations against {:.0} MiB for 4", large / 1024.0, small / 1024.0);
+    assert!(
+        large <= 1.5 * small,
+        "peak RSS {:.0} MiB for 20 configurations against {:.0} MiB for 4",
+        large / 1024.0,
+        small / 1024.0
+    );
 }
 
 /// Over the limit: one line naming --max-configs, exit 1, nothing written, nothing rendered;
@@ -75,13 +104,41 @@ fn the_configuration_limit_refuses_in_one_line_and_max_configs_raises_it() {
     let cache = dir.join("cache");
     let spec = adaptive_spec(&dir, 3);
     let out = dir.join("out");
-    let base = ["sweep", "--scene", "analytic-square", "--spec", &spec, "--set", "resolution=32", "--set", "shadow_map_size=64", "--repeats", "1", "--out", out.to_str().unwrap()];
+    let base = [
+        "sweep",
+        "--scene",
+        "analytic-square",
+        "--spec",
+        &spec,
+        "--set",
+        "resolution=32",
+        "--set",
+        "shadow_map_size=64",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let refused: Vec<&str> = base.iter().copied().chain(["--max-configs", "2"]).collect();
     let (code, stderr, _) = run_measured(&refused, &cache);
     assert_eq!(code, Some(1), "{stderr}");
     assert_eq!(stderr.trim(), format!("error: {spec}: 3 configurations, more than --max-configs 2; pass --max-configs 3 to run them all"));
-    assert!(!out.exists() && !cache.exists(), "a refused sweep writes nothing");
-    let methods: Vec<&str> = ["compare", "--scene", "analytic-square", "--methods", "hard,pcss,msm", "--max-configs", "2", "--out", out.to_str().unwrap()].to_vec();
+    assert!(
+        !out.exists() && !cache.exists(),
+        "a refused sweep writes nothing"
+    );
+    let methods: Vec<&str> = [
+        "compare",
+        "--scene",
+        "analytic-square",
+        "--methods",
+        "hard,pcss,msm",
+        "--max-configs",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .to_vec();
     let (code, stderr, _) = run_measured(&methods, &cache);
     assert_eq!((code, stderr.trim()), (Some(1), "error: --methods: 3 configurations, more than --max-configs 2; pass --max-configs 3 to run them all"));
     assert!(!out.exists());
@@ -98,10 +155,27 @@ fn the_configuration_limit_refuses_in_one_line_and_max_configs_raises_it() {
 fn windowed_v_equals_a_fresh_renderer() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let ctx = common::gpu();
-    let scene = Scene::load("analytic-square", &[("resolution".into(), "64".into()), ("shadow_map_size".into(), "128".into())]).unwrap();
-    let specs = ["adaptive:p_m=0", "hard", "regular:n=3", "adaptive:p_m=2,scope=local", "pcss", "adaptive:p_m=-1,max_level=2"];
+    let scene = Scene::load(
+        "analytic-square",
+        &[
+            ("resolution".into(), "64".into()),
+            ("shadow_map_size".into(), "128".into()),
+        ],
+    )
+    .unwrap();
+    let specs = [
+        "adaptive:p_m=0",
+        "hard",
+        "regular:n=3",
+        "adaptive:p_m=2,scope=local",
+        "pcss",
+        "adaptive:p_m=-1,max_level=2",
+    ];
     assert!(specs.len() > WINDOW);
-    let methods: Vec<Method> = specs.iter().map(|s| Method::parse(s, &[]).unwrap()).collect();
+    let methods: Vec<Method> = specs
+        .iter()
+        .map(|s| Method::parse(s, &[]).unwrap())
+        .collect();
     let mut afters = Vec::new();
     let measured = measure::measure_with(
         ctx,
@@ -111,19 +185,50 @@ fn windowed_v_equals_a_fresh_renderer() {
         &mut |_, _, _| {},
         &mut |_, f| Ok(f.visibility.clone()),
         &mut |i, r: &mut Renderer| {
-            let v = r.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?.visibility;
+            let v = r
+                .frame(FrameOptions {
+                    mode: TimingMode::Frame,
+                    pictures: false,
+                })?
+                .visibility;
             afters.push((i, v));
             Ok(())
         },
     )
     .unwrap();
-    assert_eq!(afters.iter().map(|(i, _)| *i).collect::<Vec<_>>(), (0..specs.len()).collect::<Vec<_>>());
+    assert_eq!(
+        afters.iter().map(|(i, _)| *i).collect::<Vec<_>>(),
+        (0..specs.len()).collect::<Vec<_>>()
+    );
     for ((m, got), (_, again)) in methods.iter().zip(&measured).zip(&afters) {
-        let fresh = Renderer::new(ctx, &scene, m).unwrap().frame(FrameOptions { mode: TimingMode::Frame, pictures: false }).unwrap().visibility;
+        let fresh = Renderer::new(ctx, &scene, m)
+            .unwrap()
+            .frame(FrameOptions {
+                mode: TimingMode::Frame,
+                pictures: false,
+            })
+            .unwrap()
+            .visibility;
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        let got = got.as_ref().unwrap_or_else(|e| panic!("{}: failed: {e}", m.label()));
-        assert_eq!(bits(&got.judged), bits(&fresh), "{}: V differs from a fresh renderer's", m.label());
-        assert_eq!(bits(again), bits(&fresh), "{}: the after frame differs", m.label());
-        assert!(fresh.iter().any(|&v| v > 0.0) && fresh.iter().any(|&v| v < 1.0), "{}: lit and unlit pixels to compare", m.label());
+        let got = got
+            .as_ref()
+            .unwrap_or_else(|e| panic!("{}: failed: {e}", m.label()));
+        assert_eq!(
+            bits(&got.judged),
+            bits(&fresh),
+            "{}: V differs from a fresh renderer's",
+            m.label()
+        );
+        assert_eq!(
+            bits(again),
+            bits(&fresh),
+            "{}: the after frame differs",
+            m.label()
+        );
+        assert!(
+            fresh.iter().any(|&v| v > 0.0) && fresh.iter().any(|&v| v < 1.0),
+            "{}: lit and unlit pixels to compare",
+            m.label()
+        );
     }
 }

@@ -19,7 +19,9 @@ fn twin(scene: &Scene, mode: ReferenceMode, samples: TruthSamples) -> (u64, u64,
     let g = frame::gbuffer_only(ctx, scene).unwrap();
     let cpu = truth::compute(scene, &g, mode, &Cache::Off).unwrap();
     let tracer = TruthTracer::new(ctx, scene).unwrap();
-    let pixels: Vec<u32> = (0..g.position.len() as u32).filter(|&i| g.is_geometry(i as usize)).collect();
+    let pixels: Vec<u32> = (0..g.position.len() as u32)
+        .filter(|&i| g.is_geometry(i as usize))
+        .collect();
     let points: Vec<_> = pixels.iter().map(|&p| gpu_truth::point_of(&g, p)).collect();
     let counts = tracer.trace(ctx, &samples, &points, &|_| {}).unwrap();
     let spp = samples.per_pixel() as f64;
@@ -43,10 +45,18 @@ fn load(name: &str) -> Scene {
 fn the_rectangle_is_traced_as_the_reference_traces_it() {
     for name in ["analytic-square", "default", "slat-roof"] {
         let scene = load(name);
-        let (differ, rays, ties, pixels) = twin(&scene, ReferenceMode::DEFAULT_CONTINUOUS, gpu_truth::REFERENCE_SAMPLES);
+        let (differ, rays, ties, pixels) = twin(
+            &scene,
+            ReferenceMode::DEFAULT_CONTINUOUS,
+            gpu_truth::REFERENCE_SAMPLES,
+        );
         println!("{name}: {differ} of {rays} rays differ ({pixels} pixels), {ties} ties");
         assert!(rays > 1_000_000, "{name}: only {rays} rays");
-        assert_eq!((differ, ties), (0, 0), "{name}: {differ} samples differ at {pixels} pixels ({ties} ties)");
+        assert_eq!(
+            (differ, ties),
+            (0, 0),
+            "{name}: {differ} samples differ at {pixels} pixels ({ties} ties)"
+        );
     }
     // The lattice, as the exact visibility at a grid's points.
     let scene = load("analytic-square");
@@ -59,12 +69,28 @@ fn the_rectangle_is_traced_as_the_reference_traces_it() {
 fn every_other_kind_is_traced_as_the_reference_traces_it() {
     // spot-edge at 48² holds the ray through an occluder's open edge that the CPU tracer's box test
     // once culled (one sample of 2.3 M; its boxes are padded since, lab/src/reference/tracer.rs).
-    for (name, size) in [("disk-bar", "64"), ("sun-edge", "64"), ("point-edge", "64"), ("spot-edge", "64"), ("spot-edge", "48")] {
+    for (name, size) in [
+        ("disk-bar", "64"),
+        ("sun-edge", "64"),
+        ("point-edge", "64"),
+        ("spot-edge", "64"),
+        ("spot-edge", "48"),
+    ] {
         let scene = Scene::load(name, &[("resolution".into(), size.into())]).unwrap();
-        let (differ, rays, ties, pixels) = twin(&scene, ReferenceMode::DEFAULT_CONTINUOUS, gpu_truth::REFERENCE_SAMPLES);
-        println!("{name} at {size}²: {differ} of {rays} rays differ ({pixels} pixels), {ties} ties");
+        let (differ, rays, ties, pixels) = twin(
+            &scene,
+            ReferenceMode::DEFAULT_CONTINUOUS,
+            gpu_truth::REFERENCE_SAMPLES,
+        );
+        println!(
+            "{name} at {size}²: {differ} of {rays} rays differ ({pixels} pixels), {ties} ties"
+        );
         assert!(rays > 1_000_000, "{name}: only {rays} rays");
-        assert_eq!((differ, ties), (0, 0), "{name} at {size}²: {differ} of {rays} samples differ at {pixels} pixels ({ties} ties)");
+        assert_eq!(
+            (differ, ties),
+            (0, 0),
+            "{name} at {size}²: {differ} of {rays} samples differ at {pixels} pixels ({ties} ties)"
+        );
     }
     // The lattice of the kinds whose lattice is the unit square's (the point and the spot take
     // their maps' own points, which the CPU tracer alone traces).

@@ -17,15 +17,30 @@ pub fn get(py: Python<'_>, adapter: Option<&str>) -> PyResult<Arc<GpuContext>> {
         Ok(b) => (b, "WGPU_BACKEND"),
         Err(_) => ("auto".to_string(), "backend"),
     };
-    let choice = BackendChoice::parse(&backend).map_err(|e| crate::PenumbraError::new_err(format!("{source} {}", e.to_string().trim_start_matches("--backend "))))?;
-    let name = adapter.map(str::to_string).or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok()).filter(|n| !n.is_empty());
+    let choice = BackendChoice::parse(&backend).map_err(|e| {
+        crate::PenumbraError::new_err(format!(
+            "{source} {}",
+            e.to_string().trim_start_matches("--backend ")
+        ))
+    })?;
+    let name = adapter
+        .map(str::to_string)
+        .or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok())
+        .filter(|n| !n.is_empty());
     let key = (backend, name.clone());
     let contexts = CONTEXTS.get_or_init(Default::default);
     if let Some(ctx) = contexts.lock().unwrap().get(&key) {
         return Ok(ctx.clone());
     }
-    let request = AdapterRequest { backend: choice, name, source: Some(source.to_string()) };
-    let ctx = Arc::new(py.detach(|| GpuContext::with_request(&request)).map_err(crate::engine)?);
+    let request = AdapterRequest {
+        backend: choice,
+        name,
+        source: Some(source.to_string()),
+    };
+    let ctx = Arc::new(
+        py.detach(|| GpuContext::with_request(&request))
+            .map_err(crate::engine)?,
+    );
     contexts.lock().unwrap().insert(key, ctx.clone());
     Ok(ctx)
 }

@@ -34,10 +34,19 @@ pub(crate) fn to_py(e: penumbra_lab::Error) -> PyErr {
 pub(crate) fn engine(e: penumbra::Error) -> PyErr {
     use penumbra::Error as Engine;
     match e {
-        Engine::Gpu(_) | Engine::Kernel { .. } | Engine::NoAdapter(_) | Engine::Overflow(_) => GpuError::new_err(e.to_string()),
-        Engine::Setting { origin, key, value, why } => {
+        Engine::Gpu(_) | Engine::Kernel { .. } | Engine::NoAdapter(_) | Engine::Overflow(_) => {
+            GpuError::new_err(e.to_string())
+        }
+        Engine::Setting {
+            origin,
+            key,
+            value,
+            why,
+        } => {
             let origin = origin.map(|o| format!("{o}: ")).unwrap_or_default();
-            let value = value.map(|v| format!("={}", python_literal(&v))).unwrap_or_default();
+            let value = value
+                .map(|v| format!("={}", python_literal(&v)))
+                .unwrap_or_default();
             PenumbraError::new_err(format!("{origin}{key}{value}: {why}"))
         }
         e => PenumbraError::new_err(e.to_string()),
@@ -57,8 +66,13 @@ fn python_literal(text: &str) -> String {
 
 /// `key=value` pairs from Python keyword arguments, spelled as on the command line (`True` → `true`).
 pub(crate) fn pairs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, String)>> {
-    let Some(kwargs) = kwargs else { return Ok(Vec::new()) };
-    kwargs.iter().map(|(k, v)| Ok((k.extract::<String>()?, value_text(&v)?))).collect()
+    let Some(kwargs) = kwargs else {
+        return Ok(Vec::new());
+    };
+    kwargs
+        .iter()
+        .map(|(k, v)| Ok((k.extract::<String>()?, value_text(&v)?)))
+        .collect()
 }
 
 fn value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
@@ -70,7 +84,10 @@ fn value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
 
 /// A JSON value as the Python object `json.loads` would give, built directly (a run record
 /// costs a few microseconds this way; through text and `json.loads`, several times that).
-pub(crate) fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn json_to_py<'py>(
+    py: Python<'py>,
+    v: &serde_json::Value,
+) -> PyResult<Bound<'py, PyAny>> {
     use pyo3::types::PyList;
     use serde_json::Value;
     Ok(match v {
@@ -82,7 +99,14 @@ pub(crate) fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResul
             _ => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
         },
         Value::String(s) => s.into_pyobject(py)?.into_any(),
-        Value::Array(items) => PyList::new(py, items.iter().map(|x| json_to_py(py, x)).collect::<PyResult<Vec<_>>>()?)?.into_any(),
+        Value::Array(items) => PyList::new(
+            py,
+            items
+                .iter()
+                .map(|x| json_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?,
+        )?
+        .into_any(),
         Value::Object(map) => {
             let d = PyDict::new(py);
             for (k, x) in map {

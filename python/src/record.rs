@@ -36,13 +36,29 @@ pub struct Record {
 
 impl Record {
     pub fn new(pending: Pending) -> Record {
-        Record { pending: Mutex::new(Some(pending)), value: OnceLock::new(), dict: OnceLock::new() }
+        Record {
+            pending: Mutex::new(Some(pending)),
+            value: OnceLock::new(),
+            dict: OnceLock::new(),
+        }
     }
 
     fn value(&self) -> &serde_json::Value {
         self.value.get_or_init(|| {
-            let p = self.pending.lock().unwrap_or_else(|e| e.into_inner()).take().expect("a record is built once");
-            let mut record = run_files::run_record_of(&p.scene, &p.method, &p.frame, p.v, &p.ctx.summary, p.ctx.timestamps_trusted);
+            let p = self
+                .pending
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .take()
+                .expect("a record is built once");
+            let mut record = run_files::run_record_of(
+                &p.scene,
+                &p.method,
+                &p.frame,
+                p.v,
+                &p.ctx.summary,
+                p.ctx.timestamps_trusted,
+            );
             if let Some(c) = p.certify {
                 record["certify"] = c;
             }
@@ -53,7 +69,9 @@ impl Record {
     /// The dict every read goes through, built on the first.
     fn dict<'py>(&self, py: Python<'py>) -> PyResult<&Bound<'py, PyDict>> {
         if self.dict.get().is_none() {
-            let d = crate::json_to_py(py, self.value())?.cast_into::<PyDict>()?.unbind();
+            let d = crate::json_to_py(py, self.value())?
+                .cast_into::<PyDict>()?
+                .unbind();
             // Another thread that built it meanwhile wins; both are the same record.
             let _ = self.dict.set(d);
         }
@@ -63,7 +81,11 @@ impl Record {
 
 #[pymethods]
 impl Record {
-    fn __getitem__<'py>(&self, py: Python<'py>, key: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    fn __getitem__<'py>(
+        &self,
+        py: Python<'py>,
+        key: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.dict(py)?.as_any().get_item(key)
     }
 
@@ -104,7 +126,12 @@ impl Record {
     }
 
     #[pyo3(signature = (key, default=None))]
-    fn get<'py>(&self, py: Python<'py>, key: &Bound<'py, PyAny>, default: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn get<'py>(
+        &self,
+        py: Python<'py>,
+        key: &Bound<'py, PyAny>,
+        default: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         Ok(match self.dict(py)?.get_item(key)? {
             Some(v) => v,
             None => default.unwrap_or_else(|| py.None().into_bound(py)),

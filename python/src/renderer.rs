@@ -53,24 +53,48 @@ pub struct Renderer {
 }
 
 /// V as (H, W) float32 with NaN on background pixels (the engine writes 0 there).
-pub fn visibility_array<'py>(py: Python<'py>, values: &[f32], g: &penumbra_lab::render::gbuffer::GBufferCpu) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let v: Vec<f32> = values.iter().enumerate().map(|(i, &x)| if g.is_geometry(i) { x } else { f32::NAN }).collect();
+pub fn visibility_array<'py>(
+    py: Python<'py>,
+    values: &[f32],
+    g: &penumbra_lab::render::gbuffer::GBufferCpu,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let v: Vec<f32> = values
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| if g.is_geometry(i) { x } else { f32::NAN })
+        .collect();
     numpy_image(py, v, g)
 }
 
 /// A (H, W) numpy array that owns `v`'s buffer (no copy).
-fn numpy_image<'py>(py: Python<'py>, v: Vec<f32>, g: &penumbra_lab::render::gbuffer::GBufferCpu) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let a = Array2::from_shape_vec((g.height as usize, g.width as usize), v).map_err(|e| crate::PenumbraError::new_err(format!("V: {e}")))?;
+fn numpy_image<'py>(
+    py: Python<'py>,
+    v: Vec<f32>,
+    g: &penumbra_lab::render::gbuffer::GBufferCpu,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let a = Array2::from_shape_vec((g.height as usize, g.width as usize), v)
+        .map_err(|e| crate::PenumbraError::new_err(format!("V: {e}")))?;
     Ok(a.into_pyarray(py))
 }
 
 impl Renderer {
     /// Runs `work` on the kept renderer of `spec` (with `params` as `--param` pairs), built (with
     /// one untimed warm-up frame, as `penumbra render` does) on first use. The GIL is released meanwhile.
-    fn with_built<T: Send>(&self, py: Python<'_>, spec: &str, params: &[(String, String)], work: impl FnOnce(&mut Built) -> penumbra_lab::Result<T> + Send) -> PyResult<T> {
+    fn with_built<T: Send>(
+        &self,
+        py: Python<'_>,
+        spec: &str,
+        params: &[(String, String)],
+        work: impl FnOnce(&mut Built) -> penumbra_lab::Result<T> + Send,
+    ) -> PyResult<T> {
         py.detach(|| -> penumbra_lab::Result<T> {
             let request: Request = (spec.to_string(), params.to_vec());
-            let known = self.labels.lock().unwrap_or_else(|e| e.into_inner()).get(&request).cloned();
+            let known = self
+                .labels
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get(&request)
+                .cloned();
             let mut built = self.built.lock().unwrap_or_else(|e| e.into_inner());
             let key = match known {
                 Some(label) => label,
@@ -79,11 +103,25 @@ impl Renderer {
                     method.check_light(&self.scene)?;
                     let key = method.label();
                     if !built.contains_key(&key) {
-                        let mut renderer = frame::Renderer::with_reuse(self.ctx.clone(), self.scene.clone(), &method, self.reuse)?;
+                        let mut renderer = frame::Renderer::with_reuse(
+                            self.ctx.clone(),
+                            self.scene.clone(),
+                            &method,
+                            self.reuse,
+                        )?;
                         renderer.frame(TimingMode::Frame)?;
-                        built.insert(key.clone(), Built { renderer, method: Arc::new(method) });
+                        built.insert(
+                            key.clone(),
+                            Built {
+                                renderer,
+                                method: Arc::new(method),
+                            },
+                        );
                     }
-                    self.labels.lock().unwrap_or_else(|e| e.into_inner()).insert(request, key.clone());
+                    self.labels
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .insert(request, key.clone());
                     key
                 }
             };
@@ -92,19 +130,33 @@ impl Renderer {
         .map_err(crate::to_py)
     }
 
-
     /// One frame of `method`, certified where `certify` says (V and the record, as `render`).
-    fn render_certified<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>, certify: Option<penumbra_lab::certify::Options>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
+    fn render_certified<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        params: Option<&Bound<'py, PyDict>>,
+        certify: Option<penumbra_lab::certify::Options>,
+    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
         let (v, pending) = self.with_built(py, method, &crate::pairs(params)?, |b| {
-            let mut f = b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            let mut f = b.renderer.frame(FrameOptions {
+                mode: TimingMode::Frame,
+                pictures: false,
+            })?;
             let certified = match certify {
                 Some(options) => {
                     let geometry = f.gbuffer.geometry_count();
-                    options.check(geometry).map_err(|e| penumbra_lab::Error::param(format!("certify: {e}")))?;
+                    options
+                        .check(geometry)
+                        .map_err(|e| penumbra_lab::Error::param(format!("certify: {e}")))?;
                     let ctx: &GpuContext = &self.ctx;
-                    let mut certifier = FrameCertifier::new(ctx, &self.scene, options, ProxyKind::SecondOpinion)?;
+                    let mut certifier =
+                        FrameCertifier::new(ctx, &self.scene, options, ProxyKind::SecondOpinion)?;
                     let record = certifier.certify(&f)?;
-                    Some(serde_json::to_value(&record).map_err(|e| penumbra_lab::Error::param(format!("certify: {e}")))?)
+                    Some(
+                        serde_json::to_value(&record)
+                            .map_err(|e| penumbra_lab::Error::param(format!("certify: {e}")))?,
+                    )
                 }
                 None => None,
             };
@@ -123,9 +175,22 @@ impl Renderer {
             let figures = sum.figures();
             let g = &mut f.gbuffer;
             (g.position, g.normal, g.shading_normal) = Default::default();
-            Ok((v, Pending { scene: self.scene.clone(), ctx: self.ctx.clone(), method: b.method.clone(), frame: f, v: figures, certify: certified }))
+            Ok((
+                v,
+                Pending {
+                    scene: self.scene.clone(),
+                    ctx: self.ctx.clone(),
+                    method: b.method.clone(),
+                    frame: f,
+                    v: figures,
+                    certify: certified,
+                },
+            ))
         })?;
-        Ok((numpy_image(py, v, &pending.frame.gbuffer)?, Record::new(pending)))
+        Ok((
+            numpy_image(py, v, &pending.frame.gbuffer)?,
+            Record::new(pending),
+        ))
     }
 }
 
@@ -134,9 +199,20 @@ impl Renderer {
     /// A renderer for `scene` on `adapter` (a name or part of one; `None`: the CLI's default choice).
     #[new]
     #[pyo3(signature = (scene, adapter=None, reuse=true))]
-    fn new(py: Python<'_>, scene: &Scene, adapter: Option<&str>, reuse: bool) -> PyResult<Renderer> {
+    fn new(
+        py: Python<'_>,
+        scene: &Scene,
+        adapter: Option<&str>,
+        reuse: bool,
+    ) -> PyResult<Renderer> {
         let ctx = crate::context::get(py, adapter)?;
-        Ok(Renderer { built: Mutex::new(HashMap::new()), labels: Mutex::new(HashMap::new()), ctx, scene: scene.inner.clone(), reuse })
+        Ok(Renderer {
+            built: Mutex::new(HashMap::new()),
+            labels: Mutex::new(HashMap::new()),
+            ctx,
+            scene: scene.inner.clone(),
+            reuse,
+        })
     }
 
     /// Renders one frame of `method`.
@@ -155,7 +231,12 @@ impl Renderer {
     ///         cannot take, sizes past the device's limits.
     ///     GpuError: the device failed.
     #[pyo3(signature = (method, **params))]
-    fn render<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
         self.render_certified(py, method, params, None)
     }
 
@@ -176,12 +257,28 @@ impl Renderer {
     ///         exact tracer cannot take.
     ///     GpuError: the device failed.
     #[pyo3(signature = (method, pixels=2048, delta=0.05, **params))]
-    fn certify<'py>(&self, py: Python<'py>, method: &str, pixels: usize, delta: f64, params: Option<&Bound<'py, PyDict>>) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
-        let options = penumbra_lab::certify::Options { pixels, delta, ..Default::default() };
+    fn certify<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        pixels: usize,
+        delta: f64,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Record)> {
+        let options = penumbra_lab::certify::Options {
+            pixels,
+            delta,
+            ..Default::default()
+        };
         let frame = self.scene.render.width as usize * self.scene.render.height as usize;
-        options.check(frame).map_err(|e| crate::PenumbraError::new_err(format!("certify: {e}")))?;
+        options
+            .check(frame)
+            .map_err(|e| crate::PenumbraError::new_err(format!("certify: {e}")))?;
         if let Some(why) = penumbra_lab::certify::truth::unsupported(&self.scene) {
-            return Err(crate::PenumbraError::new_err(format!("certify: scene {}: {why}", self.scene.origin)));
+            return Err(crate::PenumbraError::new_err(format!(
+                "certify: scene {}: {why}",
+                self.scene.origin
+            )));
         }
         self.render_certified(py, method, params, Some(options))
     }
@@ -195,7 +292,13 @@ impl Renderer {
     /// Methods built so far (their labels); each keeps its pipelines and buffers.
     #[getter]
     fn methods(&self) -> Vec<String> {
-        let mut labels: Vec<String> = self.built.lock().unwrap_or_else(|e| e.into_inner()).keys().cloned().collect();
+        let mut labels: Vec<String> = self
+            .built
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .keys()
+            .cloned()
+            .collect();
         labels.sort();
         labels
     }
@@ -216,12 +319,26 @@ impl Renderer {
     ///     PenumbraError: as for `render`.
     ///     GpuError: the device failed.
     #[pyo3(signature = (method, **params))]
-    fn pictures<'py>(&self, py: Python<'py>, method: &str, params: Option<&Bound<'py, PyDict>>) -> PyResult<Bound<'py, PyDict>> {
-        let f = self.with_built(py, method, &crate::pairs(params)?, |b| Ok(b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: true })?))?;
+    fn pictures<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let f = self.with_built(py, method, &crate::pairs(params)?, |b| {
+            Ok(b.renderer.frame(FrameOptions {
+                mode: TimingMode::Frame,
+                pictures: true,
+            })?)
+        })?;
         let out = PyDict::new(py);
         for (name, image) in &f.output.pictures {
             let (w, h) = (image.width(), image.height());
-            let a = image.as_raw().clone().into_pyarray(py).reshape([h as usize, w as usize, 3])?;
+            let a = image
+                .as_raw()
+                .clone()
+                .into_pyarray(py)
+                .reshape([h as usize, w as usize, 3])?;
             out.set_item(name.strip_suffix(".png").unwrap_or(name), a)?;
         }
         if let Some(bound) = &f.output.bound {
@@ -234,12 +351,21 @@ impl Renderer {
     /// Python in the loop: what `ShadowRenderer::render` costs, for measuring what `render` adds
     /// (scripts/python-overhead.py).
     #[pyo3(signature = (method, frames, **params))]
-    fn _rust_frame_times(&self, py: Python<'_>, method: &str, frames: u32, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<f64>> {
+    fn _rust_frame_times(
+        &self,
+        py: Python<'_>,
+        method: &str,
+        frames: u32,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Vec<f64>> {
         self.with_built(py, method, &crate::pairs(params)?, |b| {
             (0..frames)
                 .map(|_| {
                     let start = std::time::Instant::now();
-                    b.renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+                    b.renderer.frame(FrameOptions {
+                        mode: TimingMode::Frame,
+                        pictures: false,
+                    })?;
                     Ok(start.elapsed().as_secs_f64() * 1e3)
                 })
                 .collect()

@@ -18,45 +18,73 @@ pub struct Scene {
 
 impl Scene {
     pub fn new(inner: scene::Scene, pairs: &[(String, String)]) -> Scene {
-        Scene { inner: Arc::new(inner), sets: pairs.iter().map(|(k, v)| format!("{k}={v}")).collect() }
+        Scene {
+            inner: Arc::new(inner),
+            sets: pairs.iter().map(|(k, v)| format!("{k}={v}")).collect(),
+        }
     }
 }
 
 /// `obj` as a C-contiguous array of `dtype` (anything numpy accepts: lists, other dtypes).
 fn contiguous<'py>(obj: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
-    obj.py().import("numpy")?.call_method1("ascontiguousarray", (obj, dtype))
+    obj.py()
+        .import("numpy")?
+        .call_method1("ascontiguousarray", (obj, dtype))
 }
 
 fn triples(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f32; 3]>> {
     let a = contiguous(obj, "float32")?;
     let a: PyReadonlyArrayDyn<f32> = a.extract()?;
     if a.ndim() != 2 || a.shape()[1] != 3 {
-        return Err(crate::PenumbraError::new_err(format!("{what}: expected an (N, 3) array, got shape {:?}", a.shape())));
+        return Err(crate::PenumbraError::new_err(format!(
+            "{what}: expected an (N, 3) array, got shape {:?}",
+            a.shape()
+        )));
     }
-    Ok(a.as_slice()?.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+    Ok(a.as_slice()?
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect())
 }
 
 fn vec3(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<Option<Vec3>> {
-    let Some(v) = d.get_item(key)? else { return Ok(None) };
-    let v: Vec<f32> = contiguous(&v, "float32")?.call_method0("ravel")?.call_method0("tolist")?.extract()?;
+    let Some(v) = d.get_item(key)? else {
+        return Ok(None);
+    };
+    let v: Vec<f32> = contiguous(&v, "float32")?
+        .call_method0("ravel")?
+        .call_method0("tolist")?
+        .extract()?;
     match v[..] {
         [x, y, z] => Ok(Some(Vec3::new(x, y, z))),
-        _ => Err(crate::PenumbraError::new_err(format!("{what}.{key}: expected three numbers, got {}", v.len()))),
+        _ => Err(crate::PenumbraError::new_err(format!(
+            "{what}.{key}: expected three numbers, got {}",
+            v.len()
+        ))),
     }
 }
 
 fn required(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<Vec3> {
-    vec3(d, key, what)?.ok_or_else(|| crate::PenumbraError::new_err(format!("{what}: `{key}` is missing")))
+    vec3(d, key, what)?
+        .ok_or_else(|| crate::PenumbraError::new_err(format!("{what}: `{key}` is missing")))
 }
 
 /// A light dict (numpy arrays allowed) as the scene file's `[light]` table it stands for.
 fn light_table(light: &Bound<'_, PyDict>) -> PyResult<toml::Table> {
     let plain = PyDict::new(light.py());
     for (k, v) in light.iter() {
-        let v = if v.hasattr("tolist")? { v.call_method0("tolist")? } else { v };
+        let v = if v.hasattr("tolist")? {
+            v.call_method0("tolist")?
+        } else {
+            v
+        };
         plain.set_item(k, v)?;
     }
-    let text: String = light.py().import("json")?.call_method1("dumps", (plain,))?.extract()?;
+    let text: String = light
+        .py()
+        .import("json")?
+        .call_method1("dumps", (plain,))?
+        .extract()?;
     let bad = |e: String| crate::PenumbraError::new_err(format!("light: {e}"));
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
     match toml::Value::try_from(json).map_err(|e| bad(e.to_string()))? {
@@ -82,9 +110,15 @@ impl Scene {
     ///         value it refuses (named as its keyword: `cull='sideways'`).
     #[staticmethod]
     #[pyo3(signature = (name_or_path, **settings))]
-    fn load(py: Python<'_>, name_or_path: &str, settings: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+    fn load(
+        py: Python<'_>,
+        name_or_path: &str,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Scene> {
         let pairs = crate::pairs(settings)?;
-        let inner = py.detach(|| scene::Scene::load(name_or_path, &pairs)).map_err(crate::engine)?;
+        let inner = py
+            .detach(|| scene::Scene::load(name_or_path, &pairs))
+            .map_err(crate::engine)?;
         Ok(Scene::new(inner, &pairs))
     }
 
@@ -106,28 +140,59 @@ impl Scene {
     ///     PenumbraError: a malformed mesh, camera, light or setting.
     #[staticmethod]
     #[pyo3(signature = (meshes, camera, light, **settings))]
-    fn from_meshes(py: Python<'_>, meshes: Vec<Bound<'_, PyTuple>>, camera: &Bound<'_, PyDict>, light: &Bound<'_, PyDict>, settings: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+    fn from_meshes(
+        py: Python<'_>,
+        meshes: Vec<Bound<'_, PyTuple>>,
+        camera: &Bound<'_, PyDict>,
+        light: &Bound<'_, PyDict>,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Scene> {
         let mut owned = Vec::new();
         for (k, m) in meshes.iter().enumerate() {
             let what = format!("mesh {}", k + 1);
             if !(2..=3).contains(&m.len()) {
-                return Err(crate::PenumbraError::new_err(format!("{what}: give (positions, indices) or (positions, indices, albedo)")));
+                return Err(crate::PenumbraError::new_err(format!(
+                    "{what}: give (positions, indices) or (positions, indices, albedo)"
+                )));
             }
             let positions = triples(&m.get_item(0)?, &format!("{what} positions"))?;
-            let indices: PyReadonlyArrayDyn<u32> = contiguous(&m.get_item(1)?, "uint32")?.extract()?;
+            let indices: PyReadonlyArrayDyn<u32> =
+                contiguous(&m.get_item(1)?, "uint32")?.extract()?;
             let indices = indices.as_slice()?.to_vec();
-            let albedo = if m.len() == 3 { m.get_item(2)?.extract::<[f32; 3]>()? } else { [0.8; 3] };
+            let albedo = if m.len() == 3 {
+                m.get_item(2)?.extract::<[f32; 3]>()?
+            } else {
+                [0.8; 3]
+            };
             owned.push((positions, indices, albedo));
         }
-        let given: Vec<GivenMesh> = owned.iter().map(|(p, i, a)| GivenMesh { positions: p, indices: i, normals: None, albedo: *a }).collect();
+        let given: Vec<GivenMesh> = owned
+            .iter()
+            .map(|(p, i, a)| GivenMesh {
+                positions: p,
+                indices: i,
+                normals: None,
+                albedo: *a,
+            })
+            .collect();
         let up = vec3(camera, "up", "camera")?.unwrap_or(Vec3::Y);
-        let fov_y_deg: f32 = camera.get_item("fov_y_deg")?.ok_or_else(|| crate::PenumbraError::new_err("camera: `fov_y_deg` is missing"))?.extract()?;
-        let camera = Camera { eye: required(camera, "eye", "camera")?, target: required(camera, "target", "camera")?, up, fov_y_deg };
+        let fov_y_deg: f32 = camera
+            .get_item("fov_y_deg")?
+            .ok_or_else(|| crate::PenumbraError::new_err("camera: `fov_y_deg` is missing"))?
+            .extract()?;
+        let camera = Camera {
+            eye: required(camera, "eye", "camera")?,
+            target: required(camera, "target", "camera")?,
+            up,
+            fov_y_deg,
+        };
         let light = light_table(light)?;
         let pairs = crate::pairs(settings)?;
         const ORIGIN: &str = "embedded scene";
         let render = scene::settings_from_pairs(ORIGIN, &pairs).map_err(crate::engine)?;
-        let inner = py.detach(|| scene::Scene::from_meshes_with_light(ORIGIN, &camera, light, render, &given)).map_err(crate::engine)?;
+        let inner = py
+            .detach(|| scene::Scene::from_meshes_with_light(ORIGIN, &camera, light, render, &given))
+            .map_err(crate::engine)?;
         Ok(Scene::new(inner, &pairs))
     }
 
@@ -158,6 +223,12 @@ impl Scene {
     }
 
     fn __repr__(&self) -> String {
-        format!("Scene({:?}, {}x{}, {} triangles)", self.inner.name, self.inner.render.width, self.inner.render.height, self.inner.triangle_count())
+        format!(
+            "Scene({:?}, {}x{}, {} triangles)",
+            self.inner.name,
+            self.inner.render.width,
+            self.inner.render.height,
+            self.inner.triangle_count()
+        )
     }
 }

@@ -2,6 +2,7 @@
 //! fills the same cache as `penumbra reference`, `metrics` is compare's judge, `compare` is the
 //! study `penumbra compare` runs (without writing its folder).
 
+use crate::progress::Lines;
 use crate::scene::Scene;
 use numpy::{PyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use penumbra_lab::gpu::GpuContext;
@@ -13,7 +14,6 @@ use penumbra_lab::render::gbuffer::GBufferCpu;
 use penumbra_lab::scene;
 use penumbra_lab::studies::compare::{self, methods_list, CompareJob};
 use pyo3::prelude::*;
-use crate::progress::Lines;
 use std::sync::Arc;
 
 /// The reference of one scene: V as an array (`numpy.asarray(ref)`, `ref.values`), and what `metrics` judges against.
@@ -50,12 +50,22 @@ fn parse_mode(reference: &str, samples: u32) -> PyResult<penumbra_lab::reference
 ///     GpuError: the device failed.
 #[pyfunction]
 #[pyo3(signature = (scene, samples=32, mode="continuous", no_cache=false, adapter=None, progress=None))]
-pub fn reference(py: Python<'_>, scene: &Scene, samples: u32, mode: &str, no_cache: bool, adapter: Option<&str>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Reference> {
+pub fn reference(
+    py: Python<'_>,
+    scene: &Scene,
+    samples: u32,
+    mode: &str,
+    no_cache: bool,
+    adapter: Option<&str>,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Reference> {
     let lines = Lines::from_arg(py, progress)?;
     let mode = parse_mode(mode, samples)?;
     let ctx: Arc<GpuContext> = crate::context::get(py, adapter)?;
     let s = scene.inner.clone();
-    let (g, image) = py.detach(|| truth::for_scene(&ctx, &s, mode, &Cache::default_for(no_cache))).map_err(crate::to_py)?;
+    let (g, image) = py
+        .detach(|| truth::for_scene(&ctx, &s, mode, &Cache::default_for(no_cache)))
+        .map_err(crate::to_py)?;
     lines.line(&compare::reference_line(&image, g.geometry_count()));
     let judge = Judge::new(&s, &g, image.values.clone());
     Ok(Reference {
@@ -77,7 +87,12 @@ impl Reference {
     }
 
     #[pyo3(signature = (dtype=None, copy=None))]
-    fn __array__<'py>(&self, py: Python<'py>, dtype: Option<Bound<'py, PyAny>>, copy: Option<bool>) -> PyResult<Bound<'py, PyAny>> {
+    fn __array__<'py>(
+        &self,
+        py: Python<'py>,
+        dtype: Option<Bound<'py, PyAny>>,
+        copy: Option<bool>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let _ = copy;
         let v = self.values(py)?.into_any();
         match dtype {
@@ -115,7 +130,10 @@ impl Reference {
     }
 
     fn __repr__(&self) -> String {
-        format!("Reference({:?}, {}x{}, {})", self.scene.name, self.g.width, self.g.height, self.mode)
+        format!(
+            "Reference({:?}, {}x{}, {})",
+            self.scene.name, self.g.width, self.g.height, self.mode
+        )
     }
 }
 
@@ -132,17 +150,42 @@ impl Reference {
 /// Raises:
 ///     PenumbraError: V's shape is not the reference's.
 #[pyfunction]
-pub fn metrics<'py>(py: Python<'py>, v: &Bound<'py, PyAny>, reference: &Reference) -> PyResult<Bound<'py, PyAny>> {
-    let a = py.import("numpy")?.call_method1("ascontiguousarray", (v, "float32"))?;
+pub fn metrics<'py>(
+    py: Python<'py>,
+    v: &Bound<'py, PyAny>,
+    reference: &Reference,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = py
+        .import("numpy")?
+        .call_method1("ascontiguousarray", (v, "float32"))?;
     let a: PyReadonlyArrayDyn<f32> = a.extract()?;
     let (h, w) = (reference.g.height as usize, reference.g.width as usize);
     if a.shape() != [h, w] {
-        return Err(crate::PenumbraError::new_err(format!("metrics: V has shape {:?}, the reference ({}) is ({h}, {w})", a.shape(), reference.scene.name)));
+        return Err(crate::PenumbraError::new_err(format!(
+            "metrics: V has shape {:?}, the reference ({}) is ({h}, {w})",
+            a.shape(),
+            reference.scene.name
+        )));
     }
     // Background pixels as the engine leaves them (0): they are outside every figure, but shading reads them.
-    let values: Vec<f32> = a.as_slice()?.iter().enumerate().map(|(i, &x)| if reference.judge.mask[i] { x } else { 0.0 }).collect();
-    let judged = py.detach(|| reference.judge.judge_values(&reference.scene, &reference.g, &values)).map_err(crate::to_py)?;
-    crate::json_to_py(py, &serde_json::to_value(&judged.metrics).map_err(|e| crate::PenumbraError::new_err(e.to_string()))?)
+    let values: Vec<f32> = a
+        .as_slice()?
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| if reference.judge.mask[i] { x } else { 0.0 })
+        .collect();
+    let judged = py
+        .detach(|| {
+            reference
+                .judge
+                .judge_values(&reference.scene, &reference.g, &values)
+        })
+        .map_err(crate::to_py)?;
+    crate::json_to_py(
+        py,
+        &serde_json::to_value(&judged.metrics)
+            .map_err(|e| crate::PenumbraError::new_err(e.to_string()))?,
+    )
 }
 
 /// `penumbra compare` on `scene`; `penumbra.compare` wraps it (its rows are a `Rows`).
@@ -150,7 +193,17 @@ pub fn metrics<'py>(py: Python<'py>, v: &Bound<'py, PyAny>, reference: &Referenc
 #[pyo3(signature = (scene, methods, repeats=3, samples=32, reference="continuous", no_cache=false, adapter=None, progress=None))]
 #[pyo3(name = "compare")]
 #[allow(clippy::too_many_arguments)]
-pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py, PyAny>, repeats: u32, samples: u32, reference: &str, no_cache: bool, adapter: Option<&str>, progress: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+pub fn compare_methods<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    methods: &Bound<'py, PyAny>,
+    repeats: u32,
+    samples: u32,
+    reference: &str,
+    no_cache: bool,
+    adapter: Option<&str>,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
     let lines = Lines::from_arg(py, progress)?;
     let values: Vec<String> = match methods.extract::<String>() {
         Ok(one) => vec![one],
@@ -160,7 +213,9 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
     let methods: Vec<Method> = methods_list::parse_methods(&specs).map_err(crate::to_py)?;
     let mode = parse_mode(reference, samples)?;
     if repeats == 0 || repeats > 1000 {
-        return Err(crate::PenumbraError::new_err(format!("repeats must be in 1..=1000, got {repeats}")));
+        return Err(crate::PenumbraError::new_err(format!(
+            "repeats must be in 1..=1000, got {repeats}"
+        )));
     }
     let s = scene.inner.clone();
     penumbra_lab::methods::check_lights(&s, &methods).map_err(crate::engine)?;
@@ -169,11 +224,21 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
     let outcome = py
         .detach(|| -> penumbra_lab::Result<_> {
             penumbra_lab::methods::sizes::check_all(&ctx, &s, &methods)?;
-            let job = CompareJob { scene: &s, methods, repeats, reference: mode, cache: Cache::default_for(no_cache), provenance, pictures: false, certify: None };
+            let job = CompareJob {
+                scene: &s,
+                methods,
+                repeats,
+                reference: mode,
+                cache: Cache::default_for(no_cache),
+                provenance,
+                pictures: false,
+                certify: None,
+            };
             compare::run(&ctx, &job, &|line: &str| lines.line(line))
         })
         .map_err(crate::to_py)?;
-    let mut rows = serde_json::to_value(&outcome.rows).map_err(|e| crate::PenumbraError::new_err(e.to_string()))?;
+    let mut rows = serde_json::to_value(&outcome.rows)
+        .map_err(|e| crate::PenumbraError::new_err(e.to_string()))?;
     // `images` names files of compare's folder, which this call does not write.
     for row in rows.as_array_mut().into_iter().flatten() {
         row.as_object_mut().map(|r| r.remove("images"));
@@ -192,9 +257,19 @@ pub fn compare_methods<'py>(py: Python<'py>, scene: &Scene, methods: &Bound<'py,
 /// Raises:
 ///     PenumbraError: the file is missing or not an EXR.
 #[pyfunction]
-pub fn read_exr<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyArray2<f32>>> {
+pub fn read_exr<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
     use numpy::{IntoPyArray, PyArrayMethods};
-    let img = py.detach(|| image::open(&path)).map_err(|e| crate::PenumbraError::new_err(format!("{}: {e}", path.display())))?.to_rgb32f();
+    let img = py
+        .detach(|| image::open(&path))
+        .map_err(|e| crate::PenumbraError::new_err(format!("{}: {e}", path.display())))?
+        .to_rgb32f();
     let (w, h) = (img.width() as usize, img.height() as usize);
-    img.pixels().map(|p| p[0]).collect::<Vec<f32>>().into_pyarray(py).reshape([h, w])
+    img.pixels()
+        .map(|p| p[0])
+        .collect::<Vec<f32>>()
+        .into_pyarray(py)
+        .reshape([h, w])
 }

@@ -88,11 +88,18 @@ impl Shadows {
     /// Fails, naming each one, when the adapter lacks a capability the pipeline needs (compute
     /// shaders, renderable `Rgba32Float`, sampled `Depth32Float`) or when the device was requested
     /// with a limit below a need (see [`required_limits`]).
-    pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Shadows> {
+    pub fn new(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Shadows> {
         let name = adapter.get_info().name;
         let missing = crate::gpu::adapter::missing_capabilities(adapter);
         if !missing.is_empty() {
-            return Err(Error::NoAdapter(format!("{name} cannot run penumbra: {}", missing.join("; "))));
+            return Err(Error::NoAdapter(format!(
+                "{name} cannot run penumbra: {}",
+                missing.join("; ")
+            )));
         }
         let short = requirements::shortfalls(&device.limits());
         if !short.is_empty() {
@@ -101,14 +108,23 @@ impl Shadows {
                 short.join("; ")
             )));
         }
-        let ctx = GpuContext::from_device(adapter.clone(), device.clone(), queue.clone(), "the caller's device".to_string());
+        let ctx = GpuContext::from_device(
+            adapter.clone(),
+            device.clone(),
+            queue.clone(),
+            "the caller's device".to_string(),
+        );
         Ok(Shadows { ctx })
     }
 
     /// Builds `method` (a spec as `penumbra render --method` takes it) for `scene`: its pipelines,
     /// buffers and the mesh upload. Environment-lit methods are refused: this API lights with a
     /// rectangle.
-    pub fn renderer<'a>(&'a self, scene: &'a ShadowScene, method: &str) -> Result<ShadowRenderer<'a>> {
+    pub fn renderer<'a>(
+        &'a self,
+        scene: &'a ShadowScene,
+        method: &str,
+    ) -> Result<ShadowRenderer<'a>> {
         let method = Method::parse(method, &[])?;
         if method.family() == Family::Environment {
             return Err(Error::Param(format!(
@@ -117,13 +133,22 @@ impl Shadows {
             )));
         }
         let inner = Renderer::new(&self.ctx, &scene.scene, &method)?;
-        Ok(ShadowRenderer { inner, ctx: &self.ctx, scene: &scene.scene, method, texture: None })
+        Ok(ShadowRenderer {
+            inner,
+            ctx: &self.ctx,
+            scene: &scene.scene,
+            method,
+            texture: None,
+        })
     }
 }
 
 impl std::fmt::Debug for Shadows {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Shadows").field("adapter", &self.ctx.summary.name).field("backend", &self.ctx.summary.backend).finish()
+        f.debug_struct("Shadows")
+            .field("adapter", &self.ctx.summary.name)
+            .field("backend", &self.ctx.summary.backend)
+            .finish()
     }
 }
 
@@ -142,7 +167,12 @@ impl Mesh {
     /// area-weighted vertex normals and the albedo to 0.8 grey (it only colours shaded pictures;
     /// V does not depend on it).
     pub fn new(positions: Vec<[f32; 3]>, indices: Vec<u32>) -> Mesh {
-        Mesh { positions, indices, normals: None, albedo: [0.8; 3] }
+        Mesh {
+            positions,
+            indices,
+            normals: None,
+            albedo: [0.8; 3],
+        }
     }
 
     /// Per-vertex normals (normalised here), one per position.
@@ -171,11 +201,21 @@ pub struct Camera {
 impl Camera {
     /// A camera at `eye` looking at `target`, +Y up.
     pub fn look_at(eye: [f32; 3], target: [f32; 3], fov_y_deg: f32) -> Camera {
-        Camera { eye, target, up: [0.0, 1.0, 0.0], fov_y_deg }
+        Camera {
+            eye,
+            target,
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg,
+        }
     }
 
     fn inner(&self) -> crate::scene::Camera {
-        crate::scene::Camera { eye: self.eye.into(), target: self.target.into(), up: self.up.into(), fov_y_deg: self.fov_y_deg }
+        crate::scene::Camera {
+            eye: self.eye.into(),
+            target: self.target.into(),
+            up: self.up.into(),
+            fov_y_deg: self.fov_y_deg,
+        }
     }
 }
 
@@ -190,7 +230,11 @@ pub struct RectLight {
 
 impl RectLight {
     fn inner(&self) -> AreaLight {
-        AreaLight { center: Vec3::from(self.center), edge_u: Vec3::from(self.edge_u), edge_v: Vec3::from(self.edge_v) }
+        AreaLight {
+            center: Vec3::from(self.center),
+            edge_u: Vec3::from(self.edge_u),
+            edge_v: Vec3::from(self.edge_v),
+        }
     }
 }
 
@@ -207,7 +251,12 @@ impl SceneBuilder {
     /// An empty scene seen from `camera` under `light`, with the default render settings (512×512,
     /// 512² shadow maps, back faces culled; docs/scene-format.md).
     pub fn new(camera: Camera, light: RectLight) -> SceneBuilder {
-        SceneBuilder { camera, light, meshes: Vec::new(), settings: Vec::new() }
+        SceneBuilder {
+            camera,
+            light,
+            meshes: Vec::new(),
+            settings: Vec::new(),
+        }
     }
 
     /// Adds a mesh; meshes keep their order (material index = position in this list).
@@ -218,7 +267,8 @@ impl SceneBuilder {
 
     /// V's size in pixels.
     pub fn resolution(self, width: u32, height: u32) -> SceneBuilder {
-        self.set("width", &width.to_string()).set("height", &height.to_string())
+        self.set("width", &width.to_string())
+            .set("height", &height.to_string())
     }
 
     /// One render setting by its `penumbra render --set` key: `shadow_map_size`, `cull`
@@ -238,9 +288,20 @@ impl SceneBuilder {
         let given: Vec<GivenMesh> = self
             .meshes
             .iter()
-            .map(|m| GivenMesh { positions: &m.positions, indices: &m.indices, normals: m.normals.as_deref(), albedo: m.albedo })
+            .map(|m| GivenMesh {
+                positions: &m.positions,
+                indices: &m.indices,
+                normals: m.normals.as_deref(),
+                albedo: m.albedo,
+            })
             .collect();
-        let scene = Scene::from_meshes(ORIGIN, &self.camera.inner(), &self.light.inner(), render, &given)?;
+        let scene = Scene::from_meshes(
+            ORIGIN,
+            &self.camera.inner(),
+            &self.light.inner(),
+            render,
+            &given,
+        )?;
         Ok(ShadowScene { scene })
     }
 }
@@ -283,7 +344,11 @@ impl ShadowScene {
 
 impl std::fmt::Debug for ShadowScene {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("ShadowScene").field("width", &self.width()).field("height", &self.height()).field("triangles", &self.triangle_count()).finish()
+        f.debug_struct("ShadowScene")
+            .field("width", &self.width())
+            .field("height", &self.height())
+            .field("triangles", &self.triangle_count())
+            .finish()
     }
 }
 
@@ -309,7 +374,9 @@ pub struct ShadowRenderer<'a> {
 
 impl std::fmt::Debug for ShadowRenderer<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("ShadowRenderer").field("method", &self.method.label()).finish()
+        f.debug_struct("ShadowRenderer")
+            .field("method", &self.method.label())
+            .finish()
     }
 }
 
@@ -330,8 +397,16 @@ impl<'a> ShadowRenderer<'a> {
     /// Renders one frame and returns V. Fails when no mesh covers a pixel.
     pub fn render(&mut self) -> Result<Visibility> {
         // Frame timing and no decision pictures: the fewest waits and read-backs.
-        let r = self.inner.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-        Ok(Visibility { width: r.gbuffer.width, height: r.gbuffer.height, values: r.visibility, shadow_maps: r.output.shadow_maps })
+        let r = self.inner.frame(FrameOptions {
+            mode: TimingMode::Frame,
+            pictures: false,
+        })?;
+        Ok(Visibility {
+            width: r.gbuffer.width,
+            height: r.gbuffer.height,
+            values: r.visibility,
+            shadow_maps: r.output.shadow_maps,
+        })
     }
 
     /// Renders one frame and writes V into an `R32Float` texture of the scene's size (created on
@@ -340,7 +415,11 @@ impl<'a> ShadowRenderer<'a> {
     /// `FLOAT32_FILTERABLE`, so read it with `textureLoad` or a non-filtering sampler.
     pub fn render_to_texture(&mut self) -> Result<&wgpu::Texture> {
         let v = self.render()?;
-        let size = wgpu::Extent3d { width: v.width, height: v.height, depth_or_array_layers: 1 };
+        let size = wgpu::Extent3d {
+            width: v.width,
+            height: v.height,
+            depth_or_array_layers: 1,
+        };
         let device = &self.ctx.device;
         let texture = self.texture.get_or_insert_with(|| {
             device.create_texture(&wgpu::TextureDescriptor {
@@ -350,14 +429,20 @@ impl<'a> ShadowRenderer<'a> {
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: wgpu::TextureFormat::R32Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             })
         });
         self.ctx.queue.write_texture(
             texture.as_image_copy(),
             bytemuck::cast_slice(&v.values),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(v.width * 4), rows_per_image: Some(v.height) },
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(v.width * 4),
+                rows_per_image: Some(v.height),
+            },
             size,
         );
         Ok(texture)

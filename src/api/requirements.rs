@@ -38,11 +38,27 @@ fn compute() -> Vec<Need> {
     // The G-buffer: position, geometric normal and shading normal, one Rgba32Float target each.
     const GBUFFER_TARGETS: u64 = 3;
     let bytes = POSITION_FORMAT.target_pixel_byte_cost().unwrap_or(16) as u64;
-    need("max_color_attachments", GBUFFER_TARGETS, "the G-buffer's three targets".into());
-    need("max_color_attachment_bytes_per_sample", GBUFFER_TARGETS * bytes, format!("the G-buffer's three {POSITION_FORMAT:?} targets"));
+    need(
+        "max_color_attachments",
+        GBUFFER_TARGETS,
+        "the G-buffer's three targets".into(),
+    );
+    need(
+        "max_color_attachment_bytes_per_sample",
+        GBUFFER_TARGETS * bytes,
+        format!("the G-buffer's three {POSITION_FORMAT:?} targets"),
+    );
     need("max_vertex_buffers", 1, "the scene's vertex buffer".into());
-    need("max_vertex_attributes", VERTEX_ATTRIBUTES.len() as u64, "the scene's vertex (position, normal, material)".into());
-    need("max_vertex_buffer_array_stride", std::mem::size_of::<Vertex>() as u64, "the scene's vertex".into());
+    need(
+        "max_vertex_attributes",
+        VERTEX_ATTRIBUTES.len() as u64,
+        "the scene's vertex (position, normal, material)".into(),
+    );
+    need(
+        "max_vertex_buffer_array_stride",
+        std::mem::size_of::<Vertex>() as u64,
+        "the scene's vertex".into(),
+    );
 
     for (stage, kernel) in kernels::all() {
         for &maps in kernels::MapAccess::forms(&kernel) {
@@ -70,11 +86,20 @@ fn compute() -> Vec<Need> {
                     }
                     let kind = match var.space {
                         naga::AddressSpace::Uniform => Some("max_uniform_buffers_per_shader_stage"),
-                        naga::AddressSpace::Storage { .. } => Some("max_storage_buffers_per_shader_stage"),
+                        naga::AddressSpace::Storage { .. } => {
+                            Some("max_storage_buffers_per_shader_stage")
+                        }
                         naga::AddressSpace::Handle => match module.types[var.ty].inner {
-                            naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. } => Some("max_storage_textures_per_shader_stage"),
-                            naga::TypeInner::Image { .. } => Some("max_sampled_textures_per_shader_stage"),
-                            naga::TypeInner::Sampler { .. } => Some("max_samplers_per_shader_stage"),
+                            naga::TypeInner::Image {
+                                class: naga::ImageClass::Storage { .. },
+                                ..
+                            } => Some("max_storage_textures_per_shader_stage"),
+                            naga::TypeInner::Image { .. } => {
+                                Some("max_sampled_textures_per_shader_stage")
+                            }
+                            naga::TypeInner::Sampler { .. } => {
+                                Some("max_samplers_per_shader_stage")
+                            }
                             _ => None,
                         },
                         naga::AddressSpace::WorkGroup => {
@@ -102,13 +127,24 @@ fn compute() -> Vec<Need> {
                     need("max_compute_workgroup_size_x", x, who.clone());
                     need("max_compute_workgroup_size_y", y, who.clone());
                     need("max_compute_workgroup_size_z", z, who.clone());
-                    need("max_compute_invocations_per_workgroup", x * y * z, who.clone());
-                    need("max_compute_workgroup_storage_size", workgroup_bytes, who.clone());
+                    need(
+                        "max_compute_invocations_per_workgroup",
+                        x * y * z,
+                        who.clone(),
+                    );
+                    need(
+                        "max_compute_workgroup_storage_size",
+                        workgroup_bytes,
+                        who.clone(),
+                    );
                 }
             }
         }
     }
-    most.into_iter().filter(|(_, (v, _))| *v > 0).map(|(limit, (value, why))| Need { limit, value, why }).collect()
+    most.into_iter()
+        .filter(|(_, (v, _))| *v > 0)
+        .map(|(limit, (value, why))| Need { limit, value, why })
+        .collect()
 }
 
 /// The value of the `max_*` limit `name` in `l` (every name [`compute`] emits).
@@ -187,9 +223,18 @@ mod tests {
     #[test]
     fn every_need_is_a_known_limit_and_raising_meets_it() {
         let needs = needs();
-        assert!(needs.iter().any(|n| n.limit == "max_storage_buffers_per_shader_stage"), "{needs:?}");
+        assert!(
+            needs
+                .iter()
+                .any(|n| n.limit == "max_storage_buffers_per_shader_stage"),
+            "{needs:?}"
+        );
         for n in needs {
-            assert!(limit(&wgpu::Limits::default(), n.limit).is_some(), "unknown limit {}", n.limit);
+            assert!(
+                limit(&wgpu::Limits::default(), n.limit).is_some(),
+                "unknown limit {}",
+                n.limit
+            );
         }
         let low = wgpu::Limits::downlevel_webgl2_defaults();
         assert!(!shortfalls(&low).is_empty());

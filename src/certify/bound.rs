@@ -42,7 +42,11 @@ pub fn mean_sd(w: &[f64]) -> (f64, f64) {
         return (0.0, 0.0);
     }
     let mean = w.iter().sum::<f64>() / n;
-    let var = if w.len() > 1 { w.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0) } else { 0.0 };
+    let var = if w.len() > 1 {
+        w.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
     (mean, var.sqrt())
 }
 
@@ -87,7 +91,12 @@ pub fn betting(w: &[f64], range: f64, delta: f64) -> f64 {
         sq += (xi - mean) * (xi - mean);
     }
     // ln K(m) = Σ ln(1 + λ_i (m − x_i)) grows with m: bisect for where it reaches ln(1/δ).
-    let log_capital = |m: f64| x.iter().zip(&bets).map(|(xi, l)| (1.0 + l * (m - xi)).ln()).sum::<f64>();
+    let log_capital = |m: f64| {
+        x.iter()
+            .zip(&bets)
+            .map(|(xi, l)| (1.0 + l * (m - xi)).ln())
+            .sum::<f64>()
+    };
     if log_capital(1.0) < log_target {
         return range;
     }
@@ -145,7 +154,8 @@ pub fn incomplete_beta(x: f64, a: f64, b: f64) -> f64 {
     if x >= 1.0 {
         return 1.0;
     }
-    let front = (ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (1.0 - x).ln()).exp();
+    let front =
+        (ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (1.0 - x).ln()).exp();
     if x < (a + 1.0) / (a + b + 2.0) {
         front * beta_fraction(x, a, b) / a
     } else {
@@ -220,8 +230,18 @@ mod tests {
     #[test]
     fn t_quantiles_match_the_tables() {
         // One-sided 95%: 6.314 (1 df), 2.015 (5), 1.812 (10), 1.660 (100); the normal's 1.645 far out.
-        for (df, q) in [(1.0, 6.3138), (5.0, 2.0150), (10.0, 1.8125), (100.0, 1.6602), (2047.0, 1.6456)] {
-            assert!((t_quantile(0.95, df) - q).abs() < 2e-4, "df {df}: {} against {q}", t_quantile(0.95, df));
+        for (df, q) in [
+            (1.0, 6.3138),
+            (5.0, 2.0150),
+            (10.0, 1.8125),
+            (100.0, 1.6602),
+            (2047.0, 1.6456),
+        ] {
+            assert!(
+                (t_quantile(0.95, df) - q).abs() < 2e-4,
+                "df {df}: {} against {q}",
+                t_quantile(0.95, df)
+            );
         }
         assert!((t_quantile(0.975, 30.0) - 2.0423).abs() < 2e-4);
         assert_eq!(t_quantile(0.5, 7.0), 0.0);
@@ -232,7 +252,9 @@ mod tests {
     fn stream(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed;
         move || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (s >> 11) as f64 / (1u64 << 53) as f64
         }
     }
@@ -245,12 +267,20 @@ mod tests {
         let mut next = stream(11);
         let (mut betting_misses, mut t_misses) = (0, 0);
         for _ in 0..trials {
-            let w: Vec<f64> = (0..k).map(|_| if next() < 0.01 { 1.0 } else { 0.0 }).collect();
+            let w: Vec<f64> = (0..k)
+                .map(|_| if next() < 0.01 { 1.0 } else { 0.0 })
+                .collect();
             betting_misses += (betting(&w, 1.0, delta) < 0.01) as u32;
             t_misses += (student_t(&w, delta) < 0.01) as u32;
         }
-        assert!(betting_misses as f64 / trials as f64 <= delta, "betting missed {betting_misses} of {trials}");
-        assert!(t_misses as f64 / trials as f64 > 0.10, "t missed only {t_misses} of {trials}");
+        assert!(
+            betting_misses as f64 / trials as f64 <= delta,
+            "betting missed {betting_misses} of {trials}"
+        );
+        assert!(
+            t_misses as f64 / trials as f64 > 0.10,
+            "t missed only {t_misses} of {trials}"
+        );
     }
 
     #[test]

@@ -45,24 +45,40 @@ impl Design {
     /// scale; all zero means uniform) with the uniform share `defensive` ∈ (0, 1].
     pub fn new(subset: &[bool], proxy: &[f32], defensive: f64) -> Result<Design> {
         if subset.len() != proxy.len() {
-            return Err(Error::Param(format!("certify: a proxy of {} pixels for a frame of {}", proxy.len(), subset.len())));
+            return Err(Error::Param(format!(
+                "certify: a proxy of {} pixels for a frame of {}",
+                proxy.len(),
+                subset.len()
+            )));
         }
         if !(defensive > 0.0 && defensive <= 1.0) {
-            return Err(Error::Param(format!("certify: the defensive share {defensive} is outside (0, 1]")));
+            return Err(Error::Param(format!(
+                "certify: the defensive share {defensive} is outside (0, 1]"
+            )));
         }
-        let pixels: Vec<u32> = (0..subset.len() as u32).filter(|&i| subset[i as usize]).collect();
+        let pixels: Vec<u32> = (0..subset.len() as u32)
+            .filter(|&i| subset[i as usize])
+            .collect();
         if pixels.is_empty() {
             return Err(Error::Param("certify: no pixel to draw from".into()));
         }
         let n = pixels.len() as f64;
         let weight = |i: u32| f64::from(proxy[i as usize]).max(0.0);
-        let total: f64 = pixels.iter().map(|&i| weight(i)).filter(|w| w.is_finite()).sum();
+        let total: f64 = pixels
+            .iter()
+            .map(|&i| weight(i))
+            .filter(|w| w.is_finite())
+            .sum();
         let a = if total > 0.0 { defensive } else { 1.0 };
         let mut cumulative = Vec::with_capacity(pixels.len());
         let (mut acc, mut max_weight) = (0.0, 0.0f64);
         for &i in &pixels {
             let w = weight(i);
-            let share = if total > 0.0 && w.is_finite() { w / total } else { 0.0 };
+            let share = if total > 0.0 && w.is_finite() {
+                w / total
+            } else {
+                0.0
+            };
             let q = a / n + (1.0 - a) * share;
             acc += q;
             cumulative.push(acc);
@@ -71,7 +87,12 @@ impl Design {
         // Rounding: the last entry is 1.
         let last = cumulative.len() - 1;
         cumulative[last] = 1.0;
-        Ok(Design { pixels, cumulative, max_weight, defensive: a })
+        Ok(Design {
+            pixels,
+            cumulative,
+            max_weight,
+            defensive: a,
+        })
     }
 
     /// N: the pixels the bound is over.
@@ -97,7 +118,10 @@ impl Design {
         for _ in 0..k {
             state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
             let u = (splitmix(state) >> 11) as f64 / (1u64 << 53) as f64;
-            let j = self.cumulative.partition_point(|&c| c <= u).min(self.pixels.len() - 1);
+            let j = self
+                .cumulative
+                .partition_point(|&c| c <= u)
+                .min(self.pixels.len() - 1);
             pixels.push(self.pixels[j]);
             weights.push(1.0 / (n * self.q(j)));
         }
@@ -123,10 +147,15 @@ pub fn band(v: &[f32], subset: &[bool], width: u32, height: u32, dilate: u32) ->
                 continue;
             }
             let soft = v[i] > 0.0 && v[i] < 1.0;
-            let edge = [(x > 0).then(|| i - 1), (x + 1 < w).then(|| i + 1), (y > 0).then(|| i - w), (y + 1 < h).then(|| i + w)]
-                .into_iter()
-                .flatten()
-                .any(|j| subset[j] && v[j] != v[i]);
+            let edge = [
+                (x > 0).then(|| i - 1),
+                (x + 1 < w).then(|| i + 1),
+                (y > 0).then(|| i - w),
+                (y + 1 < h).then(|| i + w),
+            ]
+            .into_iter()
+            .flatten()
+            .any(|j| subset[j] && v[j] != v[i]);
             seed[i] = soft || edge;
         }
     }
@@ -164,7 +193,12 @@ pub fn band(v: &[f32], subset: &[bool], width: u32, height: u32, dilate: u32) ->
 pub fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
     let mut out = vec![0.0f32; subset.len()];
     for part in parts {
-        let total: f64 = part.iter().zip(subset).filter(|(x, s)| **s && x.is_finite()).map(|(x, _)| f64::from(x.max(0.0))).sum();
+        let total: f64 = part
+            .iter()
+            .zip(subset)
+            .filter(|(x, s)| **s && x.is_finite())
+            .map(|(x, _)| f64::from(x.max(0.0)))
+            .sum();
         if total <= 0.0 {
             continue;
         }
@@ -179,7 +213,11 @@ pub fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
 
 /// |a − b| per pixel (0 off the subset): where two candidates disagree, one of them errs.
 pub fn spread(a: &[f32], b: &[f32], subset: &[bool]) -> Vec<f32> {
-    a.iter().zip(b).zip(subset).map(|((x, y), s)| if *s { (x - y).abs() } else { 0.0 }).collect()
+    a.iter()
+        .zip(b)
+        .zip(subset)
+        .map(|((x, y), s)| if *s { (x - y).abs() } else { 0.0 })
+        .collect()
 }
 
 #[cfg(test)]
@@ -221,8 +259,14 @@ mod tests {
         // A 9x1 row: lit, lit, lit, lit, dark, dark, ...: an edge between 3 and 4.
         let v = [1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0f32];
         let all = [true; 9];
-        assert_eq!(band(&v, &all, 9, 1, 0), [0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
-        assert_eq!(band(&v, &all, 9, 1, 2), [0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0]);
+        assert_eq!(
+            band(&v, &all, 9, 1, 0),
+            [0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+        );
+        assert_eq!(
+            band(&v, &all, 9, 1, 2),
+            [0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0]
+        );
         let soft = [1.0, 1.0, 0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0f32];
         assert_eq!(band(&soft, &all, 9, 1, 0)[1..4], [1.0, 1.0, 1.0]);
         // Pixels off the subset are neither edges nor in the band.

@@ -53,7 +53,11 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { pixels: DEFAULT_PIXELS, delta: DEFAULT_DELTA, seed: 0x5eed_0055 }
+        Options {
+            pixels: DEFAULT_PIXELS,
+            delta: DEFAULT_DELTA,
+            seed: 0x5eed_0055,
+        }
     }
 }
 
@@ -72,7 +76,10 @@ impl Options {
             return Err(OptionsError::NoPixels);
         }
         if self.pixels > geometry {
-            return Err(OptionsError::MorePixelsThanGeometry { pixels: self.pixels, geometry });
+            return Err(OptionsError::MorePixelsThanGeometry {
+                pixels: self.pixels,
+                geometry,
+            });
         }
         if !(self.delta > 0.0 && self.delta < 1.0) {
             return Err(OptionsError::Delta(self.delta));
@@ -84,9 +91,18 @@ impl Options {
 impl std::fmt::Display for OptionsError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match *self {
-            OptionsError::NoPixels => write!(f, "pixels = 0: draw at least one pixel (2048 is the default)"),
-            OptionsError::MorePixelsThanGeometry { pixels, geometry } => write!(f, "pixels = {pixels} is more than the frame's {geometry} geometry pixels"),
-            OptionsError::Delta(d) => write!(f, "delta = {d} is outside (0, 1): the bound holds with probability 1 − delta"),
+            OptionsError::NoPixels => write!(
+                f,
+                "pixels = 0: draw at least one pixel (2048 is the default)"
+            ),
+            OptionsError::MorePixelsThanGeometry { pixels, geometry } => write!(
+                f,
+                "pixels = {pixels} is more than the frame's {geometry} geometry pixels"
+            ),
+            OptionsError::Delta(d) => write!(
+                f,
+                "delta = {d} is outside (0, 1): the bound holds with probability 1 − delta"
+            ),
         }
     }
 }
@@ -116,13 +132,28 @@ impl Sampled {
     pub fn from_values(draw: Draw, values: &[f32]) -> Sampled {
         let unique = draw.unique();
         let truth = unique.iter().map(|&p| values[p as usize]).collect();
-        Sampled { draw, unique, truth, trace: None }
+        Sampled {
+            draw,
+            unique,
+            truth,
+            trace: None,
+        }
     }
 
     fn from_counts(draw: Draw, unique: Vec<u32>, counts: &TruthCounts) -> Sampled {
         let truth = (0..unique.len()).map(|i| counts.visibility(i)).collect();
-        let trace = TraceFigures { rays: counts.rays(), ties: counts.ties(), ms: counts.ms, samples_per_pixel: counts.samples_per_pixel };
-        Sampled { draw, unique, truth, trace: Some(trace) }
+        let trace = TraceFigures {
+            rays: counts.rays(),
+            ties: counts.ties(),
+            ms: counts.ms,
+            samples_per_pixel: counts.samples_per_pixel,
+        };
+        Sampled {
+            draw,
+            unique,
+            truth,
+            trace: Some(trace),
+        }
     }
 
     /// V_true at a drawn pixel.
@@ -132,7 +163,13 @@ impl Sampled {
 }
 
 /// Draws `options.pixels` pixels by `design` and traces the reference's 32 × 32 samples there.
-pub fn sample(ctx: &GpuContext, tracer: &TruthTracer, g: &GBufferCpu, design: &Design, options: &Options) -> Result<Sampled> {
+pub fn sample(
+    ctx: &GpuContext,
+    tracer: &TruthTracer,
+    g: &GBufferCpu,
+    design: &Design,
+    options: &Options,
+) -> Result<Sampled> {
     if design.pixel_count() == 0 {
         return Err(Error::Param("certify: no pixel to draw from".into()));
     }
@@ -182,7 +219,13 @@ pub fn weighted_errors(v: &[f32], sampled: &Sampled) -> Vec<f64> {
 }
 
 /// The bounds on `v`'s RMSE over `design`'s subset from `sampled`, `kind` the one it stands by.
-pub fn certificate(v: &[f32], sampled: &Sampled, design: &Design, delta: f64, kind: BoundKind) -> Certificate {
+pub fn certificate(
+    v: &[f32],
+    sampled: &Sampled,
+    design: &Design,
+    delta: f64,
+    kind: BoundKind,
+) -> Certificate {
     let w = weighted_errors(v, sampled);
     let (mean, _) = bound::mean_sd(&w);
     let per_frame = bound::betting(&w, design.max_weight(), delta).sqrt();

@@ -6,7 +6,9 @@
 
 use crate::gpu::readback;
 use crate::gpu::stages::bind;
-use crate::gpu::structs::{GpuBvhNode, GpuTruthCount, GpuTruthParams, GpuTruthPoint, GpuTruthTriangle};
+use crate::gpu::structs::{
+    GpuBvhNode, GpuTruthCount, GpuTruthParams, GpuTruthPoint, GpuTruthTriangle,
+};
 use crate::gpu::GpuContext;
 use crate::render::bvh::Bvh;
 use crate::render::gbuffer::GBufferCpu;
@@ -20,7 +22,10 @@ use std::time::Instant;
 /// does not shadow its own samples (the lab's reference uses the same constant).
 pub const LIGHT_END_EPS: f32 = 1e-4;
 /// The reference's default samples: 32 × 32 stratified, seed 0x5eed (method.md §5).
-pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous { m: 32, seed: 0x5eed };
+pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous {
+    m: 32,
+    seed: 0x5eed,
+};
 /// Points per dispatch: a real GPU's watchdog never sees a long one, and progress is reported
 /// between them.
 pub const CHUNK_POINTS: usize = 16384;
@@ -30,10 +35,25 @@ pub const CHUNK_POINTS: usize = 16384;
 /// and the spot, whose cone scales lighting, not V).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum TruthLight {
-    Rect { center: Vec3, edge_u: Vec3, edge_v: Vec3 },
-    Disk { center: Vec3, normal: Vec3, radius: f32 },
-    Sun { toward: Vec3, tan_half: f32, reach: f32 },
-    Sphere { center: Vec3, radius: f32 },
+    Rect {
+        center: Vec3,
+        edge_u: Vec3,
+        edge_v: Vec3,
+    },
+    Disk {
+        center: Vec3,
+        normal: Vec3,
+        radius: f32,
+    },
+    Sun {
+        toward: Vec3,
+        tan_half: f32,
+        reach: f32,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
 }
 
 /// Which light points each pixel averages over (the lab's `ReferenceMode`).
@@ -69,18 +89,40 @@ impl TruthLight {
             return Err(Error::Param(format!("{}: {why}", scene.origin)));
         }
         Ok(match scene.emitter {
-            Emitter::Rect => TruthLight::Rect { center: scene.light.center, edge_u: scene.light.edge_u, edge_v: scene.light.edge_v },
-            Emitter::Disk(d) => TruthLight::Disk { center: d.center, normal: d.normal, radius: d.radius },
-            Emitter::Sun(s) => TruthLight::Sun { toward: s.toward(), tan_half: s.tan_half_angle(), reach: crate::scene::rays::env_ray_length(scene) },
-            Emitter::Spot(s) => TruthLight::Sphere { center: s.position, radius: s.radius },
-            Emitter::Point(p) => TruthLight::Sphere { center: p.position, radius: p.radius },
+            Emitter::Rect => TruthLight::Rect {
+                center: scene.light.center,
+                edge_u: scene.light.edge_u,
+                edge_v: scene.light.edge_v,
+            },
+            Emitter::Disk(d) => TruthLight::Disk {
+                center: d.center,
+                normal: d.normal,
+                radius: d.radius,
+            },
+            Emitter::Sun(s) => TruthLight::Sun {
+                toward: s.toward(),
+                tan_half: s.tan_half_angle(),
+                reach: crate::scene::rays::env_ray_length(scene),
+            },
+            Emitter::Spot(s) => TruthLight::Sphere {
+                center: s.position,
+                radius: s.radius,
+            },
+            Emitter::Point(p) => TruthLight::Sphere {
+                center: p.position,
+                radius: p.radius,
+            },
         })
     }
 
     /// The kernel's parameters for `samples` (count and first are set per dispatch).
     fn params(&self, samples: &TruthSamples, ray_offset: f32) -> GpuTruthParams {
         let v4 = |v: Vec3| v.extend(0.0).to_array();
-        let mut p = GpuTruthParams { ray_offset, end_factor: 1.0 - LIGHT_END_EPS, ..Default::default() };
+        let mut p = GpuTruthParams {
+            ray_offset,
+            end_factor: 1.0 - LIGHT_END_EPS,
+            ..Default::default()
+        };
         match *samples {
             TruthSamples::Continuous { m, seed } => {
                 (p.mode, p.m, p.inv_m) = (0, m, 1.0 / m as f32);
@@ -90,16 +132,28 @@ impl TruthLight {
             TruthSamples::Point { s, t } => (p.mode, p.point_s, p.point_t) = (2, s, t),
         }
         match *self {
-            TruthLight::Rect { center, edge_u, edge_v } => {
+            TruthLight::Rect {
+                center,
+                edge_u,
+                edge_v,
+            } => {
                 p.kind = 0;
                 (p.center, p.edge_u, p.edge_v) = (v4(center), v4(edge_u), v4(edge_v));
                 p.light_normal = v4(edge_u.cross(edge_v).normalize_or_zero());
             }
-            TruthLight::Disk { center, normal, radius } => {
+            TruthLight::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 p.kind = 1;
                 (p.center, p.light_normal, p.radius) = (v4(center), v4(normal), radius);
             }
-            TruthLight::Sun { toward, tan_half, reach } => {
+            TruthLight::Sun {
+                toward,
+                tan_half,
+                reach,
+            } => {
                 p.kind = 2;
                 (p.edge_u, p.radius, p.reach) = (v4(toward), tan_half, reach);
             }
@@ -115,7 +169,12 @@ impl TruthLight {
 /// One pixel as the tracer sees it: the G-buffer's position and normal there.
 pub fn point_of(g: &GBufferCpu, pixel: u32) -> GpuTruthPoint {
     let (p, n) = (g.position[pixel as usize], g.normal[pixel as usize]);
-    GpuTruthPoint { position: [p[0], p[1], p[2]], pixel, normal: [n[0], n[1], n[2]], pad: 0 }
+    GpuTruthPoint {
+        position: [p[0], p[1], p[2]],
+        pixel,
+        normal: [n[0], n[1], n[2]],
+        pad: 0,
+    }
 }
 
 /// What a trace found at each point, in the order given.
@@ -158,27 +217,65 @@ impl TruthTracer {
     /// The tracer of `scene`'s light and triangles (an environment scene is refused).
     pub fn new(ctx: &GpuContext, scene: &Scene) -> Result<TruthTracer> {
         let light = TruthLight::of_scene(scene)?;
-        TruthTracer::from_triangles(ctx, &scene.triangles(), light, crate::scene::rays::ray_offset(scene))
+        TruthTracer::from_triangles(
+            ctx,
+            &scene.triangles(),
+            light,
+            crate::scene::rays::ray_offset(scene),
+        )
     }
 
     /// A tracer over any triangle soup (tests, tools).
-    pub fn from_triangles(ctx: &GpuContext, triangles: &[[Vec3; 3]], light: TruthLight, ray_offset: f32) -> Result<TruthTracer> {
+    pub fn from_triangles(
+        ctx: &GpuContext,
+        triangles: &[[Vec3; 3]],
+        light: TruthLight,
+        ray_offset: f32,
+    ) -> Result<TruthTracer> {
         let start = Instant::now();
         let bvh = Bvh::build(triangles);
         let v4 = |v: Vec3| v.extend(0.0).to_array();
-        let mut tris: Vec<GpuTruthTriangle> = bvh.source.iter().map(|&i| triangles[i as usize]).map(|t| GpuTruthTriangle { v0: v4(t[0]), v1: v4(t[1]), v2: v4(t[2]) }).collect();
+        let mut tris: Vec<GpuTruthTriangle> = bvh
+            .source
+            .iter()
+            .map(|&i| triangles[i as usize])
+            .map(|t| GpuTruthTriangle {
+                v0: v4(t[0]),
+                v1: v4(t[1]),
+                v2: v4(t[2]),
+            })
+            .collect();
         let mut nodes = bvh.nodes;
         if tris.is_empty() {
             // Nothing occludes: one leaf far away that no ray's box test reaches (a count of 0
             // would be an inner node).
             let far = [3.0e38f32; 3];
-            nodes = vec![GpuBvhNode { min: far, left_first: 0, max: far, count: 1 }];
-            tris = vec![GpuTruthTriangle { v0: [3.0e38, 3.0e38, 3.0e38, 0.0], v1: [3.0e38, 3.0e38, 3.0e38, 0.0], v2: [3.0e38, 3.0e38, 3.0e38, 0.0] }];
+            nodes = vec![GpuBvhNode {
+                min: far,
+                left_first: 0,
+                max: far,
+                count: 1,
+            }];
+            tris = vec![GpuTruthTriangle {
+                v0: [3.0e38, 3.0e38, 3.0e38, 0.0],
+                v1: [3.0e38, 3.0e38, 3.0e38, 0.0],
+                v2: [3.0e38, 3.0e38, 3.0e38, 0.0],
+            }];
         }
-        let nodes = readback::storage_buffer(ctx, "truth bvh nodes", &nodes, wgpu::BufferUsages::empty());
-        let triangles_buffer = readback::storage_buffer(ctx, "truth triangles", &tris, wgpu::BufferUsages::empty());
+        let nodes =
+            readback::storage_buffer(ctx, "truth bvh nodes", &nodes, wgpu::BufferUsages::empty());
+        let triangles_buffer =
+            readback::storage_buffer(ctx, "truth triangles", &tris, wgpu::BufferUsages::empty());
         let kernel = TruthTrace::new(ctx)?;
-        Ok(TruthTracer { kernel, nodes, triangles: triangles_buffer, light, ray_offset, build_ms: start.elapsed().as_secs_f64() * 1e3, triangle_count: bvh.source.len() })
+        Ok(TruthTracer {
+            kernel,
+            nodes,
+            triangles: triangles_buffer,
+            light,
+            ray_offset,
+            build_ms: start.elapsed().as_secs_f64() * 1e3,
+            triangle_count: bvh.source.len(),
+        })
     }
 
     pub fn light(&self) -> TruthLight {
@@ -186,20 +283,42 @@ impl TruthTracer {
     }
 
     /// The counts at `points` under `samples`; `progress(done)` after each chunk of points.
-    pub fn trace(&self, ctx: &GpuContext, samples: &TruthSamples, points: &[GpuTruthPoint], progress: &dyn Fn(usize)) -> Result<TruthCounts> {
+    pub fn trace(
+        &self,
+        ctx: &GpuContext,
+        samples: &TruthSamples,
+        points: &[GpuTruthPoint],
+        progress: &dyn Fn(usize),
+    ) -> Result<TruthCounts> {
         let start = Instant::now();
         if let TruthSamples::Continuous { m: 0, .. } = samples {
-            return Err(Error::Param("truth samples: a continuous reference needs m >= 1".into()));
+            return Err(Error::Param(
+                "truth samples: a continuous reference needs m >= 1".into(),
+            ));
         }
         let mut counts = Vec::with_capacity(points.len());
         let base = self.light.params(samples, self.ray_offset);
         for chunk in points.chunks(CHUNK_POINTS) {
-            let params = GpuTruthParams { count: chunk.len() as u32, first: 0, ..base };
+            let params = GpuTruthParams {
+                count: chunk.len() as u32,
+                first: 0,
+                ..base
+            };
             let params = readback::uniform_buffer(ctx, "truth params", &params);
-            let points_buffer = readback::storage_buffer(ctx, "truth points", chunk, wgpu::BufferUsages::empty());
+            let points_buffer =
+                readback::storage_buffer(ctx, "truth points", chunk, wgpu::BufferUsages::empty());
             let bytes = (chunk.len() * std::mem::size_of::<GpuTruthCount>()) as u64;
-            let out = readback::zeroed_storage_with(ctx, "truth counts", bytes, wgpu::BufferUsages::COPY_SRC);
-            let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("truth_trace") });
+            let out = readback::zeroed_storage_with(
+                ctx,
+                "truth counts",
+                bytes,
+                wgpu::BufferUsages::COPY_SRC,
+            );
+            let mut enc = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("truth_trace"),
+                });
             let bindings = bind::truth_trace::Main {
                 params: params.as_entire_binding(),
                 points: points_buffer.as_entire_binding(),
@@ -207,12 +326,17 @@ impl TruthTracer {
                 truth_triangles: self.triangles.as_entire_binding(),
                 bvh_nodes: self.nodes.as_entire_binding(),
             };
-            self.kernel.record(ctx, &mut enc, bindings, chunk.len() as u32);
+            self.kernel
+                .record(ctx, &mut enc, bindings, chunk.len() as u32);
             let staging = readback::stage_copy(ctx, &mut enc, &out, bytes);
             ctx.queue.submit([enc.finish()]);
             counts.extend(readback::map_staging::<GpuTruthCount>(ctx, &staging)?);
             progress(counts.len());
         }
-        Ok(TruthCounts { counts, samples_per_pixel: samples.per_pixel(), ms: start.elapsed().as_secs_f64() * 1e3 })
+        Ok(TruthCounts {
+            counts,
+            samples_per_pixel: samples.per_pixel(),
+            ms: start.elapsed().as_secs_f64() * 1e3,
+        })
     }
 }

@@ -7,11 +7,11 @@
 //! candidate alone cannot see a single-map filter's error where it drew no penumbra
 //! (docs/certify.md §2).
 
+use super::{FrameOptions, FrameResult, Renderer};
 use crate::certify::bound::BoundKind;
 use crate::certify::design::{self, Design};
 use crate::certify::truth::TruthTracer;
 use crate::certify::{certificate, Certificate, Options, TraceFigures};
-use super::{FrameOptions, FrameResult, Renderer};
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
@@ -48,7 +48,14 @@ pub struct Opinion {
 }
 
 /// The proxy of `kind` for candidate `v` over `subset` (the second opinion where it reads one).
-pub fn proxy(kind: ProxyKind, v: &[f32], subset: &[bool], width: u32, height: u32, second: Option<&Opinion>) -> Vec<f32> {
+pub fn proxy(
+    kind: ProxyKind,
+    v: &[f32],
+    subset: &[bool],
+    width: u32,
+    height: u32,
+    second: Option<&Opinion>,
+) -> Vec<f32> {
     let own = design::band(v, subset, width, height, design::BAND_DILATE);
     match (kind, second) {
         (ProxyKind::SecondOpinion, Some(o)) => {
@@ -93,17 +100,37 @@ pub struct FrameCertifier<'a> {
 impl<'a> FrameCertifier<'a> {
     /// The scene's truth tracer (an environment scene is refused) and, for the second-opinion
     /// proxy, its renderer.
-    pub fn new(ctx: &'a GpuContext, scene: &'a Scene, options: Options, proxy: ProxyKind) -> Result<FrameCertifier<'a>> {
+    pub fn new(
+        ctx: &'a GpuContext,
+        scene: &'a Scene,
+        options: Options,
+        proxy: ProxyKind,
+    ) -> Result<FrameCertifier<'a>> {
         if !(options.delta > 0.0 && options.delta < 1.0) || options.pixels == 0 {
-            return Err(Error::Param(format!("certify: {}", options.check(usize::MAX).expect_err("one of them fails"))));
+            return Err(Error::Param(format!(
+                "certify: {}",
+                options.check(usize::MAX).expect_err("one of them fails")
+            )));
         }
         let tracer = TruthTracer::new(ctx, scene)?;
         let second = match proxy {
-            ProxyKind::SecondOpinion => Some(Renderer::new(ctx, scene, &Method::parse(SECOND_OPINION, &[])?)?),
+            ProxyKind::SecondOpinion => Some(Renderer::new(
+                ctx,
+                scene,
+                &Method::parse(SECOND_OPINION, &[])?,
+            )?),
             ProxyKind::Band => None,
         };
         let bvh_ms = Some(tracer.build_ms);
-        Ok(FrameCertifier { ctx, tracer, second, opinion: None, options, proxy, bvh_ms })
+        Ok(FrameCertifier {
+            ctx,
+            tracer,
+            second,
+            opinion: None,
+            options,
+            proxy,
+            bvh_ms,
+        })
     }
 
     /// The certificate of `frame` (a frame of this certifier's scene, from the same camera).
@@ -111,21 +138,45 @@ impl<'a> FrameCertifier<'a> {
         let g = &frame.gbuffer;
         let subset: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
         let geometry = subset.iter().filter(|s| **s).count();
-        self.options.check(geometry).map_err(|e| Error::Param(format!("certify: {e}")))?;
+        self.options
+            .check(geometry)
+            .map_err(|e| Error::Param(format!("certify: {e}")))?;
         let second_start = Instant::now();
         if let (Some(r), None) = (&mut self.second, &self.opinion) {
-            let f = r.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-            let bound = f.output.bound.ok_or_else(|| Error::Limit(format!("certify: {SECOND_OPINION} gave no bound")))?;
-            self.opinion = Some(Opinion { visibility: f.visibility, bound });
+            let f = r.frame(FrameOptions {
+                mode: TimingMode::Frame,
+                pictures: false,
+            })?;
+            let bound = f
+                .output
+                .bound
+                .ok_or_else(|| Error::Limit(format!("certify: {SECOND_OPINION} gave no bound")))?;
+            self.opinion = Some(Opinion {
+                visibility: f.visibility,
+                bound,
+            });
             // Its renderer is no longer needed: its maps go.
             self.second = None;
         }
         let second_opinion_ms = second_start.elapsed().as_secs_f64() * 1e3;
         let start = Instant::now();
-        let proxy = proxy(self.proxy, &frame.visibility, &subset, g.width, g.height, self.opinion.as_ref());
+        let proxy = proxy(
+            self.proxy,
+            &frame.visibility,
+            &subset,
+            g.width,
+            g.height,
+            self.opinion.as_ref(),
+        );
         let design = Design::new(&subset, &proxy, design::DEFENSIVE)?;
         let sampled = crate::certify::sample(self.ctx, &self.tracer, g, &design, &self.options)?;
-        let certificate = certificate(&frame.visibility, &sampled, &design, self.options.delta, BoundKind::Calibrated);
+        let certificate = certificate(
+            &frame.visibility,
+            &sampled,
+            &design,
+            self.options.delta,
+            BoundKind::Calibrated,
+        );
         Ok(CertifyRecord {
             certificate,
             proxy: self.proxy,

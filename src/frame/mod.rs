@@ -6,11 +6,10 @@
 /// above the methods, beside the renderer it certifies.
 pub mod certify;
 
-use crate::stages::shade::ShadePass;
-use crate::stages::{FrameGpu, FrameParts};
 use crate::gpu::kernels::MapAccess;
-use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::{GpuCamera, GpuFrame};
+use crate::gpu::timing::{StageTimer, TimingMode};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::methods::{Method, MethodOutput, MethodState};
 use crate::render::gbuffer::{self, GBuffer, GBufferCpu, GBufferPass};
 use crate::render::kept_maps::{self, MapCache, Moved, ReuseCounts};
@@ -18,7 +17,8 @@ use crate::render::SceneGpu;
 use crate::scene::{CullMode, Scene, Vertex};
 use crate::stages::raster::Raster;
 use crate::stages::shade::GeometryTiles;
-use crate::gpu::timing::{StageTimer, TimingMode};
+use crate::stages::shade::ShadePass;
+use crate::stages::{FrameGpu, FrameParts};
 use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -66,7 +66,10 @@ pub struct FrameOptions {
 impl From<TimingMode> for FrameOptions {
     /// Pictures on: what `penumbra render` writes.
     fn from(mode: TimingMode) -> Self {
-        FrameOptions { mode, pictures: true }
+        FrameOptions {
+            mode,
+            pictures: true,
+        }
     }
 }
 
@@ -113,7 +116,12 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
                 crate::scene::MapKind::Plain => 0,
                 crate::scene::MapKind::Hybrid => scene.render.hybrid.levels << crate::stages::hybrid_build::FRAME_LEVELS_SHIFT,
             },
-        light_center: [scene.light.center.x, scene.light.center.y, scene.light.center.z, 1.0],
+        light_center: [
+            scene.light.center.x,
+            scene.light.center.y,
+            scene.light.center.z,
+            1.0,
+        ],
         light_normal: scene.light.normal().extend(0.0).to_array(),
         bias_constant: b.constant,
         bias_slope: b.slope,
@@ -149,26 +157,64 @@ pub struct Renderer<'a> {
 
 impl<'a> Renderer<'a> {
     /// `ctx` and `scene` by reference (`&ctx`), or shared (`Arc`) for a renderer that owns them.
-    pub fn new(ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method) -> Result<Self> {
+    pub fn new(
+        ctx: impl Into<Held<'a, GpuContext>>,
+        scene: impl Into<Held<'a, Scene>>,
+        method: &Method,
+    ) -> Result<Self> {
         Self::assemble(ctx.into(), scene.into(), method, None, false)
     }
 
     /// `new` whose method keeps its shadow maps from frame to frame where nothing they depend on
     /// changed (`reuse`; docs/reuse.md): V is the same bit for bit, the frame rasterizes less.
-    pub fn with_reuse(ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method, reuse: bool) -> Result<Self> {
+    pub fn with_reuse(
+        ctx: impl Into<Held<'a, GpuContext>>,
+        scene: impl Into<Held<'a, Scene>>,
+        method: &Method,
+        reuse: bool,
+    ) -> Result<Self> {
         Self::assemble(ctx.into(), scene.into(), method, None, reuse)
     }
 
     /// Builds what `kept` lacks for `scene`. The method's state is always built anew: methods
     /// place their samples and frusta from the light and the bounds when they are built, so a
     /// fresh state is what keeps V exactly that of a new renderer.
-    fn assemble(ctx: Held<'a, GpuContext>, scene: Held<'a, Scene>, method: &Method, kept: Option<Detached>, reuse: bool) -> Result<Self> {
+    fn assemble(
+        ctx: Held<'a, GpuContext>,
+        scene: Held<'a, Scene>,
+        method: &Method,
+        kept: Option<Detached>,
+        reuse: bool,
+    ) -> Result<Self> {
         // Every size against the device and the host first: one line, not a wgpu panic later.
         crate::methods::sizes::check(&ctx, &scene, method)?;
         // What the plan cannot foresee (memory another process holds) fails here as one line too.
-        let c = ctx.scoped(&format!("building {} on {}", method.label(), ctx.summary.name), || create(&ctx, &scene, method, kept, reuse))?;
-        let Created { parts, gbuffer_pass, camera, state, build, force_timestamps, raster_auto } = c;
-        Ok(Self { ctx, scene, parts, method: method.clone(), gbuffer_pass, camera, moved_camera: None, state, build: Some(build), force_timestamps, raster_auto })
+        let c = ctx.scoped(
+            &format!("building {} on {}", method.label(), ctx.summary.name),
+            || create(&ctx, &scene, method, kept, reuse),
+        )?;
+        let Created {
+            parts,
+            gbuffer_pass,
+            camera,
+            state,
+            build,
+            force_timestamps,
+            raster_auto,
+        } = c;
+        Ok(Self {
+            ctx,
+            scene,
+            parts,
+            method: method.clone(),
+            gbuffer_pass,
+            camera,
+            moved_camera: None,
+            state,
+            build: Some(build),
+            force_timestamps,
+            raster_auto,
+        })
     }
 }
 
@@ -184,32 +230,47 @@ struct Created {
 }
 
 /// `assemble` once the sizes are checked: every buffer, texture and pipeline of the frame.
-fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detached>, reuse: bool) -> Result<Created> {
+fn create(
+    ctx: &GpuContext,
+    scene: &Scene,
+    method: &Method,
+    kept: Option<Detached>,
+    reuse: bool,
+) -> Result<Created> {
     let start = Instant::now();
     let (w, h) = (scene.render.width, scene.render.height);
     // Per-pixel buffers past one binding are bound by bands of rows (stages::shade::Band).
     let band_rows = crate::methods::sizes::band_rows(scene, method, &ctx.limits());
     let mut force_timestamps = false;
-    let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) = (None, None, None, None, None);
+    let (mut gbuffer_pass, mut targets, mut shade, mut raster, mut meshes) =
+        (None, None, None, None, None);
     // What the same method's last state remembered (auto's choice), handed to the new one.
-    let memory = kept.as_ref().filter(|k| k.method == *method).and_then(|k| k.memory.clone());
+    let memory = kept
+        .as_ref()
+        .filter(|k| k.method == *method)
+        .and_then(|k| k.memory.clone());
     let mut maps_kept = MapCache::new(reuse);
     if let Some(k) = kept {
         force_timestamps = k.force_timestamps;
         gbuffer_pass = Some(k.gbuffer_pass);
         // The G-buffer, the tile list and V are cleared or rewritten by every frame.
-        if (k.gbuffer.width, k.gbuffer.height) == (w, h) && k.geometry_tiles.band_rows == band_rows {
+        if (k.gbuffer.width, k.gbuffer.height) == (w, h) && k.geometry_tiles.band_rows == band_rows
+        {
             targets = Some((k.gbuffer, k.geometry_tiles, k.visibility));
         }
         shade = Some((k.maps, k.shade));
         raster = Some((k.cull, k.budget_mib, k.raster));
-        let same_mesh = k.indices == scene.indices && bytemuck::cast_slice::<_, u8>(&k.vertices) == bytemuck::cast_slice::<_, u8>(&scene.vertices);
+        let same_mesh = k.indices == scene.indices
+            && bytemuck::cast_slice::<_, u8>(&k.vertices)
+                == bytemuck::cast_slice::<_, u8>(&scene.vertices);
         if reuse && k.maps_kept.on {
             maps_kept = k.maps_kept;
             // Kept maps draw again what a moved mesh covered before or covers now; other
             // meshes, or other triangles, leave nothing to keep.
             if !same_mesh {
-                match (k.indices == scene.indices).then(|| kept_maps::moved_boxes(&k.vertices, &scene.vertices, &scene.indices)) {
+                match (k.indices == scene.indices)
+                    .then(|| kept_maps::moved_boxes(&k.vertices, &scene.vertices, &scene.indices))
+                {
                     Some(Moved::Boxes(before, after)) => maps_kept.moved(&before, &after),
                     Some(Moved::Nothing) => {}
                     _ => maps_kept.clear(),
@@ -230,13 +291,25 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
     let upload_ms = upload_start.elapsed().as_secs_f64() * 1e3;
     let mut frame = frame_uniform(scene);
     // The raster first: whether it is compute decides how every kernel reads the maps.
-    let (compute, raster_auto) = crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
+    let (compute, raster_auto) =
+        crate::stages::raster_auto::compute_raster(ctx, scene, &scene_gpu)?;
     let raster = match raster {
-        Some((cull, budget, r)) if cull == scene.render.cull && budget == scene.render.shadow_map_budget_mib && r.is_compute() == compute => r,
+        Some((cull, budget, r))
+            if cull == scene.render.cull
+                && budget == scene.render.shadow_map_budget_mib
+                && r.is_compute() == compute =>
+        {
+            r
+        }
         _ => {
             // Another raster fills other layers (format, culled faces): nothing kept holds.
             maps_kept.clear();
-            Raster::new(ctx, scene.render.cull, compute, scene.render.shadow_map_budget_mib)?
+            Raster::new(
+                ctx,
+                scene.render.cull,
+                compute,
+                scene.render.shadow_map_budget_mib,
+            )?
         }
     };
     let access = raster.access(scene.render.maps);
@@ -249,7 +322,11 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
         None => {
             let gbuffer = GBufferPass::allocate(ctx, w, h)?;
             let tiles = shade.tile_list_in_bands(ctx, &gbuffer, band_rows);
-            (gbuffer, tiles, readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4))
+            (
+                gbuffer,
+                tiles,
+                readback::zeroed_storage(ctx, "visibility", w as u64 * h as u64 * 4),
+            )
         }
     };
     geometry_tiles.stamp(ctx, &mut frame);
@@ -264,14 +341,24 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
         gbuffer,
         maps_kept,
     };
-    let fg = FrameGpu { ctx, scene, parts: &parts };
+    let fg = FrameGpu {
+        ctx,
+        scene,
+        parts: &parts,
+    };
     let camera = camera_uniform(scene);
     if method.times_frames_at_build() {
         // The screen as the first frame will draw it, so frames timed at build shade what a
         // frame shades (every frame draws it again).
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         gbuffer_pass.record(ctx, &mut enc, &fg.scene_gpu, &camera, &fg.gbuffer);
-        fg.shade.record_geometry_tiles(ctx, &mut enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
+        fg.shade.record_geometry_tiles(
+            ctx,
+            &mut enc,
+            &fg.frame_buffer,
+            &fg.gbuffer,
+            &fg.geometry_tiles,
+        );
         ctx.queue.submit([enc.finish()]);
     }
     let mut state = method.build(&fg)?;
@@ -280,7 +367,15 @@ fn create(ctx: &GpuContext, scene: &Scene, method: &Method, kept: Option<Detache
     }
     ctx.wait()?;
     let build_ms = start.elapsed().as_secs_f64() * 1e3;
-    Ok(Created { parts, gbuffer_pass, camera, state, build: (build_ms, upload_ms), force_timestamps, raster_auto })
+    Ok(Created {
+        parts,
+        gbuffer_pass,
+        camera,
+        state,
+        build: (build_ms, upload_ms),
+        force_timestamps,
+        raster_auto,
+    })
 }
 
 impl<'a> Renderer<'a> {
@@ -289,8 +384,20 @@ impl<'a> Renderer<'a> {
         for maps in self.state.release_maps() {
             self.parts.maps_kept.give(maps);
         }
-        self.parts.maps_kept.trim(self.scene.render.shadow_map_budget_mib as u64 * 1024 * 1024);
-        let FrameParts { scene_gpu, gbuffer, frame: _, frame_buffer: _, raster, shade, geometry_tiles, visibility, maps_kept } = self.parts;
+        self.parts
+            .maps_kept
+            .trim(self.scene.render.shadow_map_budget_mib as u64 * 1024 * 1024);
+        let FrameParts {
+            scene_gpu,
+            gbuffer,
+            frame: _,
+            frame_buffer: _,
+            raster,
+            shade,
+            geometry_tiles,
+            visibility,
+            maps_kept,
+        } = self.parts;
         let (ctx, scene) = (&*self.ctx, &*self.scene);
         Detached {
             maps_kept,
@@ -325,7 +432,13 @@ impl<'a> Renderer<'a> {
     /// The screen-sized buffers the frame and the method created, by label (the size plan's
     /// names: tests check that `methods::sizes::plan` agrees).
     pub fn buffer_sizes(&self) -> Vec<(String, u64)> {
-        let mut out = vec![("visibility".to_string(), self.parts.visibility.size()), ("geometry tiles".to_string(), self.parts.geometry_tiles.bytes)];
+        let mut out = vec![
+            ("visibility".to_string(), self.parts.visibility.size()),
+            (
+                "geometry tiles".to_string(),
+                self.parts.geometry_tiles.bytes,
+            ),
+        ];
         out.extend(self.state.buffer_sizes());
         out
     }
@@ -346,8 +459,16 @@ impl<'a> Renderer<'a> {
     /// (`fixed_samples::FixedBuffers`, `single_map::SingleMapBuffers`, `adaptive::AdaptiveTrace`…);
     /// None when the method shows none or `T` is not its type.
     pub fn inspect<T: std::any::Any>(&mut self) -> Result<Option<T>> {
-        let fg = FrameGpu { ctx: &self.ctx, scene: &self.scene, parts: &self.parts };
-        Ok(self.state.inspect(&fg)?.and_then(|b| b.downcast::<T>().ok()).map(|b| *b))
+        let fg = FrameGpu {
+            ctx: &self.ctx,
+            scene: &self.scene,
+            parts: &self.parts,
+        };
+        Ok(self
+            .state
+            .inspect(&fg)?
+            .and_then(|b| b.downcast::<T>().ok())
+            .map(|b| *b))
     }
 
     /// `hardware` or `compute`: who rasterizes this renderer's maps (the `raster` setting, `auto` resolved).
@@ -365,7 +486,13 @@ impl<'a> Renderer<'a> {
         loop {
             let start = Instant::now();
             match self.attempt(options) {
-                Err(Error::Overflow(_)) if self.state.grow(&FrameGpu { ctx: &self.ctx, scene: &self.scene, parts: &self.parts })? => {
+                Err(Error::Overflow(_))
+                    if self.state.grow(&FrameGpu {
+                        ctx: &self.ctx,
+                        scene: &self.scene,
+                        parts: &self.parts,
+                    })? =>
+                {
                     lost_ms += start.elapsed().as_secs_f64() * 1e3
                 }
                 Ok(mut f) => {
@@ -380,10 +507,15 @@ impl<'a> Renderer<'a> {
     /// One run of a frame (`frame`).
     fn attempt(&mut self, options: FrameOptions) -> Result<FrameResult> {
         let setup_start = Instant::now();
-        let fg = FrameGpu { ctx: &self.ctx, scene: &self.scene, parts: &self.parts };
+        let fg = FrameGpu {
+            ctx: &self.ctx,
+            scene: &self.scene,
+            parts: &self.parts,
+        };
         let ctx = fg.ctx;
         let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
-        let mut timer = StageTimer::new(options.mode).with_gpu_timestamps(ctx, self.force_timestamps);
+        let mut timer =
+            StageTimer::new(options.mode).with_gpu_timestamps(ctx, self.force_timestamps);
         // A method's reset waits for its own zero fills; most have nothing to reset.
         self.state.reset(&fg)?;
         let mut setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
@@ -399,18 +531,30 @@ impl<'a> Renderer<'a> {
         timer.stage(ctx, Stage::GBUFFER, |enc| {
             // Methods accumulate into V: clearing it is part of every frame.
             enc.clear_buffer(&fg.visibility, 0, None);
-            self.gbuffer_pass.record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
-            fg.shade.record_geometry_tiles(ctx, enc, &fg.frame_buffer, &fg.gbuffer, &fg.geometry_tiles);
+            self.gbuffer_pass
+                .record(ctx, enc, &fg.scene_gpu, &self.camera, &fg.gbuffer);
+            fg.shade.record_geometry_tiles(
+                ctx,
+                enc,
+                &fg.frame_buffer,
+                &fg.gbuffer,
+                &fg.geometry_tiles,
+            );
             Ok(())
         })?;
         let mut output = self.state.run(fg, &mut timer, options.pictures)?;
         timer.flush(ctx);
-        let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4))?;
+        let mut visibility: Vec<f32> = timer.cpu(Stage::READBACK, || {
+            readback::read_buffer(ctx, &fg.visibility, w as u64 * h as u64 * 4)
+        })?;
         let total_ms = frame_start.elapsed().as_secs_f64() * 1e3;
         self.state.finish(fg, &mut output)?;
         // Maps rendered and kept: the method's count, or (a method that keeps none) every map rendered.
         let size = fg.scene.render.shadow_map_size;
-        let reuse = self.state.reuse().unwrap_or_else(|| ReuseCounts::all_rendered(output.shadow_maps, size));
+        let reuse = self
+            .state
+            .reuse()
+            .unwrap_or_else(|| ReuseCounts::all_rendered(output.shadow_maps, size));
         let gbuffer = gbuffer::read_back(ctx, &fg.gbuffer)?;
         if gbuffer.geometry_count() == 0 {
             return Err(match &self.moved_camera {
@@ -420,7 +564,11 @@ impl<'a> Renderer<'a> {
         }
         // Σŵ = 1 up to rounding: clamp so V ∈ [0, 1] holds exactly; background stays 0.
         for (i, v) in visibility.iter_mut().enumerate() {
-            *v = if gbuffer.is_geometry(i) { v.clamp(0.0, 1.0) } else { 0.0 };
+            *v = if gbuffer.is_geometry(i) {
+                v.clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
         }
         let mut stages_ms = timer.stages_ms.clone();
         stages_ms.insert(Stage::SETUP.name.into(), setup_ms);
@@ -431,7 +579,18 @@ impl<'a> Renderer<'a> {
             setting: fg.scene.render.raster,
             auto: self.raster_auto,
         };
-        Ok(FrameResult { visibility, gbuffer, output, stages_ms, total_ms, timing_waits: timer.timing_waits, timing: options.mode, gpu_stages_ms, raster, reuse })
+        Ok(FrameResult {
+            visibility,
+            gbuffer,
+            output,
+            stages_ms,
+            total_ms,
+            timing_waits: timer.timing_waits,
+            timing: options.mode,
+            gpu_stages_ms,
+            raster,
+            reuse,
+        })
     }
 }
 
@@ -473,7 +632,11 @@ impl Detached {
     /// The same method's renderer for `scene`, on the context it was built on: what the scene
     /// changes is built again, the method's state always (see `Renderer::assemble`). Its first frame
     /// carries `build`.
-    pub fn attach<'a>(self, ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>) -> Result<Renderer<'a>> {
+    pub fn attach<'a>(
+        self,
+        ctx: impl Into<Held<'a, GpuContext>>,
+        scene: impl Into<Held<'a, Scene>>,
+    ) -> Result<Renderer<'a>> {
         let method = self.method.clone();
         self.attach_as(ctx, scene, &method)
     }
@@ -481,10 +644,17 @@ impl Detached {
     /// As [`Detached::attach`], for any method: nothing kept here belongs to a method (what a
     /// method's sizes change, `assemble` builds again), so the configurations of a sweep hand it
     /// from one to the next.
-    pub fn attach_as<'a>(self, ctx: impl Into<Held<'a, GpuContext>>, scene: impl Into<Held<'a, Scene>>, method: &Method) -> Result<Renderer<'a>> {
+    pub fn attach_as<'a>(
+        self,
+        ctx: impl Into<Held<'a, GpuContext>>,
+        scene: impl Into<Held<'a, Scene>>,
+        method: &Method,
+    ) -> Result<Renderer<'a>> {
         let ctx = ctx.into();
         if self.device != ctx.device {
-            return Err(crate::Error::Gpu("a detached renderer was attached on another device than its own".into()));
+            return Err(crate::Error::Gpu(
+                "a detached renderer was attached on another device than its own".into(),
+            ));
         }
         let reuse = self.maps_kept.on;
         Renderer::assemble(ctx, scene.into(), method, Some(self), reuse)
@@ -493,7 +663,12 @@ impl Detached {
 
 /// One frame of `scene` with `method` on a fresh renderer (build included in `setup`). Several
 /// frames of the same scene and method should share one [`Renderer`].
-pub fn render(ctx: &GpuContext, scene: &Scene, method: &Method, options: impl Into<FrameOptions>) -> Result<FrameResult> {
+pub fn render(
+    ctx: &GpuContext,
+    scene: &Scene,
+    method: &Method,
+    options: impl Into<FrameOptions>,
+) -> Result<FrameResult> {
     Renderer::new(ctx, scene, method)?.frame(options)
 }
 
@@ -504,8 +679,18 @@ pub fn gbuffer_only(ctx: &GpuContext, scene: &Scene) -> Result<GBufferCpu> {
     let pass = GBufferPass::new(ctx)?;
     let target = GBufferPass::allocate(ctx, scene.render.width, scene.render.height)?;
     let scene_gpu = SceneGpu::upload(ctx, scene);
-    let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(Stage::GBUFFER.name) });
-    pass.record(ctx, &mut encoder, &scene_gpu, &camera_uniform(scene), &target);
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some(Stage::GBUFFER.name),
+        });
+    pass.record(
+        ctx,
+        &mut encoder,
+        &scene_gpu,
+        &camera_uniform(scene),
+        &target,
+    );
     ctx.queue.submit([encoder.finish()]);
     gbuffer::read_back(ctx, &target)
 }

@@ -34,7 +34,10 @@ impl BackendChoice {
             "metal" => Self::Metal,
             "dx12" => Self::Dx12,
             other => {
-                return Err(Error::Param(format!("--backend {other}: expected one of {}", Self::NAMES.join(", "))));
+                return Err(Error::Param(format!(
+                    "--backend {other}: expected one of {}",
+                    Self::NAMES.join(", ")
+                )));
             }
         })
     }
@@ -83,7 +86,12 @@ pub struct Candidate {
 impl Candidate {
     pub fn of(adapter: &wgpu::Adapter) -> Self {
         let info = adapter.get_info();
-        Self { name: info.name, backend: info.backend, device_type: info.device_type, missing: missing_capabilities(adapter) }
+        Self {
+            name: info.name,
+            backend: info.backend,
+            device_type: info.device_type,
+            missing: missing_capabilities(adapter),
+        }
     }
 
     fn label(&self) -> String {
@@ -108,10 +116,16 @@ pub fn missing_capabilities(adapter: &wgpu::Adapter) -> Vec<String> {
     let position = POSITION_FORMAT;
     let usages = adapter.get_texture_format_features(position).allowed_usages;
     if !usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT) {
-        missing.push(format!("the G-buffer format {position:?} is not renderable"));
+        missing.push(format!(
+            "the G-buffer format {position:?} is not renderable"
+        ));
     }
-    let depth = adapter.get_texture_format_features(wgpu::TextureFormat::Depth32Float).allowed_usages;
-    if !depth.contains(wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING) {
+    let depth = adapter
+        .get_texture_format_features(wgpu::TextureFormat::Depth32Float)
+        .allowed_usages;
+    if !depth
+        .contains(wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING)
+    {
         missing.push("Depth32Float shadow maps cannot be rendered and sampled".to_string());
     }
     missing
@@ -134,8 +148,14 @@ fn rank(c: &Candidate) -> (u8, u8) {
 }
 
 fn wanted(req: &AdapterRequest, c: &Candidate) -> bool {
-    let backend_ok = req.backend.backends().contains(wgpu::Backends::from(c.backend));
-    let name_ok = req.name.as_ref().is_none_or(|n| c.name.to_lowercase().contains(&n.to_lowercase()));
+    let backend_ok = req
+        .backend
+        .backends()
+        .contains(wgpu::Backends::from(c.backend));
+    let name_ok = req
+        .name
+        .as_ref()
+        .is_none_or(|n| c.name.to_lowercase().contains(&n.to_lowercase()));
     backend_ok && name_ok
 }
 
@@ -144,9 +164,15 @@ pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> 
     let seen = if candidates.is_empty() {
         "none".to_string()
     } else {
-        candidates.iter().map(Candidate::label).collect::<Vec<_>>().join(", ")
+        candidates
+            .iter()
+            .map(Candidate::label)
+            .collect::<Vec<_>>()
+            .join(", ")
     };
-    let mut order: Vec<usize> = (0..candidates.len()).filter(|&i| wanted(req, &candidates[i])).collect();
+    let mut order: Vec<usize> = (0..candidates.len())
+        .filter(|&i| wanted(req, &candidates[i]))
+        .collect();
     order.sort_by_key(|&i| rank(&candidates[i]));
     let source = req.source.as_deref().unwrap_or("--backend");
     let asked = match req.backend {
@@ -158,9 +184,20 @@ pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> 
             (None, None) => format!("no GPU adapter found (no Vulkan driver): {INSTALL_HINT}"),
             (asked, name) => {
                 let mut what = Vec::new();
-                what.extend(asked.iter().map(|a| format!("{a}: no {:?} adapter", req.backend)));
-                what.extend(name.iter().map(|n| format!("adapter name \"{n}\": no adapter's name contains it")));
-                let hint = if req.backend == BackendChoice::Vulkan { format!("; {INSTALL_HINT}") } else { String::new() };
+                what.extend(
+                    asked
+                        .iter()
+                        .map(|a| format!("{a}: no {:?} adapter", req.backend)),
+                );
+                what.extend(
+                    name.iter()
+                        .map(|n| format!("adapter name \"{n}\": no adapter's name contains it")),
+                );
+                let hint = if req.backend == BackendChoice::Vulkan {
+                    format!("; {INSTALL_HINT}")
+                } else {
+                    String::new()
+                };
                 format!("{} (adapters seen: {seen}){hint}", what.join("; "))
             }
         }));
@@ -171,8 +208,14 @@ pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> 
             BackendChoice::Auto if c.backend == wgpu::Backend::Vulkan => {
                 format!("auto: Vulkan preferred, then real GPUs before CPU devices (adapters seen: {seen})")
             }
-            BackendChoice::Auto => format!("auto: no usable Vulkan adapter, so {:?} (adapters seen: {seen})", c.backend),
-            _ => format!("{} (adapters seen: {seen})", asked.clone().unwrap_or_default()),
+            BackendChoice::Auto => format!(
+                "auto: no usable Vulkan adapter, so {:?} (adapters seen: {seen})",
+                c.backend
+            ),
+            _ => format!(
+                "{} (adapters seen: {seen})",
+                asked.clone().unwrap_or_default()
+            ),
         };
         let reason = match &req.name {
             Some(n) => format!("{reason}; name contains \"{n}\""),
@@ -181,15 +224,28 @@ pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> 
         return Ok(Choice { index, reason });
     }
     // Adapters exist but none can run the pipeline: say what each lacks.
-    let lacks: Vec<String> =
-        order.iter().map(|&i| format!("{} cannot run penumbra: {}", candidates[i].label(), candidates[i].missing.join("; "))).collect();
-    let vulkan_seen = candidates.iter().any(|c| c.backend == wgpu::Backend::Vulkan);
+    let lacks: Vec<String> = order
+        .iter()
+        .map(|&i| {
+            format!(
+                "{} cannot run penumbra: {}",
+                candidates[i].label(),
+                candidates[i].missing.join("; ")
+            )
+        })
+        .collect();
+    let vulkan_seen = candidates
+        .iter()
+        .any(|c| c.backend == wgpu::Backend::Vulkan);
     let lead = match asked {
         Some(a) => format!("{a}: no usable adapter"),
         None if vulkan_seen => "no usable adapter".to_string(),
         None => "no Vulkan driver found".to_string(),
     };
-    Err(Error::NoAdapter(format!("{lead}: {}; {INSTALL_HINT}", lacks.join("; "))))
+    Err(Error::NoAdapter(format!(
+        "{lead}: {}; {INSTALL_HINT}",
+        lacks.join("; ")
+    )))
 }
 
 #[cfg(test)]
@@ -198,11 +254,21 @@ mod tests {
     use wgpu::{Backend, DeviceType};
 
     fn cand(name: &str, backend: Backend, device_type: DeviceType, missing: &[&str]) -> Candidate {
-        Candidate { name: name.into(), backend, device_type, missing: missing.iter().map(|m| m.to_string()).collect() }
+        Candidate {
+            name: name.into(),
+            backend,
+            device_type,
+            missing: missing.iter().map(|m| m.to_string()).collect(),
+        }
     }
 
     fn gl_only() -> Vec<Candidate> {
-        vec![cand("llvmpipe", Backend::Gl, DeviceType::Cpu, &["the G-buffer format Rgba32Float is not renderable"])]
+        vec![cand(
+            "llvmpipe",
+            Backend::Gl,
+            DeviceType::Cpu,
+            &["the G-buffer format Rgba32Float is not renderable"],
+        )]
     }
 
     #[test]
@@ -214,45 +280,97 @@ mod tests {
         ];
         let choice = choose(&c, &AdapterRequest::default()).unwrap();
         assert_eq!(choice.index, 2);
-        assert!(choice.reason.starts_with("auto: Vulkan preferred"), "{}", choice.reason);
-        let gl = AdapterRequest { backend: BackendChoice::Gl, name: None, source: Some("--backend".into()) };
+        assert!(
+            choice.reason.starts_with("auto: Vulkan preferred"),
+            "{}",
+            choice.reason
+        );
+        let gl = AdapterRequest {
+            backend: BackendChoice::Gl,
+            name: None,
+            source: Some("--backend".into()),
+        };
         let choice = choose(&c, &gl).unwrap();
         assert_eq!(choice.index, 0);
-        assert!(choice.reason.starts_with("--backend gl"), "{}", choice.reason);
+        assert!(
+            choice.reason.starts_with("--backend gl"),
+            "{}",
+            choice.reason
+        );
     }
 
     #[test]
     fn a_gl_only_machine_stops_at_once_naming_the_vulkan_driver_and_setup_script() {
-        let e = choose(&gl_only(), &AdapterRequest::default()).unwrap_err().to_string();
-        assert!(e.starts_with("no Vulkan driver found: llvmpipe (Gl, Cpu) cannot run penumbra: "), "{e}");
+        let e = choose(&gl_only(), &AdapterRequest::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("no Vulkan driver found: llvmpipe (Gl, Cpu) cannot run penumbra: "),
+            "{e}"
+        );
         assert!(e.contains("Rgba32Float is not renderable"), "{e}");
-        assert!(e.contains("`bash scripts/setup.sh`") && e.contains("mesa-vulkan-drivers"), "{e}");
+        assert!(
+            e.contains("`bash scripts/setup.sh`") && e.contains("mesa-vulkan-drivers"),
+            "{e}"
+        );
         assert!(!e.contains('\n'), "one line: {e}");
     }
 
     #[test]
     fn no_adapter_and_unmatched_requests_say_what_was_seen() {
-        let e = choose(&[], &AdapterRequest::default()).unwrap_err().to_string();
-        assert!(e.contains("no GPU adapter found") && e.contains("scripts/setup.sh"), "{e}");
-        let dx = AdapterRequest { backend: BackendChoice::Dx12, name: None, source: Some("WGPU_BACKEND".into()) };
+        let e = choose(&[], &AdapterRequest::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no GPU adapter found") && e.contains("scripts/setup.sh"),
+            "{e}"
+        );
+        let dx = AdapterRequest {
+            backend: BackendChoice::Dx12,
+            name: None,
+            source: Some("WGPU_BACKEND".into()),
+        };
         let e = choose(&gl_only(), &dx).unwrap_err().to_string();
-        assert_eq!(e, "WGPU_BACKEND dx12: no Dx12 adapter (adapters seen: llvmpipe (Gl, Cpu))");
-        let named = AdapterRequest { name: Some("NVIDIA".into()), ..Default::default() };
+        assert_eq!(
+            e,
+            "WGPU_BACKEND dx12: no Dx12 adapter (adapters seen: llvmpipe (Gl, Cpu))"
+        );
+        let named = AdapterRequest {
+            name: Some("NVIDIA".into()),
+            ..Default::default()
+        };
         let e = choose(&gl_only(), &named).unwrap_err().to_string();
-        assert!(e.starts_with("adapter name \"NVIDIA\": no adapter's name contains it"), "{e}");
+        assert!(
+            e.starts_with("adapter name \"NVIDIA\": no adapter's name contains it"),
+            "{e}"
+        );
     }
 
     #[test]
     fn an_unusable_vulkan_adapter_is_passed_over_for_a_usable_one() {
-        let c = vec![cand("broken", Backend::Vulkan, DeviceType::DiscreteGpu, &["compute shaders"]), cand("lavapipe", Backend::Vulkan, DeviceType::Cpu, &[])];
+        let c = vec![
+            cand(
+                "broken",
+                Backend::Vulkan,
+                DeviceType::DiscreteGpu,
+                &["compute shaders"],
+            ),
+            cand("lavapipe", Backend::Vulkan, DeviceType::Cpu, &[]),
+        ];
         assert_eq!(choose(&c, &AdapterRequest::default()).unwrap().index, 1);
     }
 
     #[test]
     fn backend_names_parse_and_a_wrong_one_lists_the_choices() {
-        assert_eq!(BackendChoice::parse("Vulkan").unwrap(), BackendChoice::Vulkan);
+        assert_eq!(
+            BackendChoice::parse("Vulkan").unwrap(),
+            BackendChoice::Vulkan
+        );
         assert_eq!(BackendChoice::parse("gles").unwrap(), BackendChoice::Gl);
         let e = BackendChoice::parse("cuda").unwrap_err().to_string();
-        assert_eq!(e, "--backend cuda: expected one of auto, vulkan, gl, metal, dx12");
+        assert_eq!(
+            e,
+            "--backend cuda: expected one of auto, vulkan, gl, metal, dx12"
+        );
     }
 }

@@ -15,9 +15,15 @@ pub fn largest_heap(adapter: &wgpu::Adapter) -> Option<u64> {
     let hal = unsafe { adapter.as_hal::<wgpu::hal::api::Vulkan>() }?;
     let instance = hal.shared_instance().raw_instance();
     // SAFETY: the physical device belongs to this instance, which the adapter keeps alive.
-    let props = unsafe { instance.get_physical_device_memory_properties(hal.raw_physical_device()) };
+    let props =
+        unsafe { instance.get_physical_device_memory_properties(hal.raw_physical_device()) };
     // VK_MEMORY_HEAP_DEVICE_LOCAL_BIT is bit 0.
-    props.memory_heaps_as_slice().iter().filter(|h| h.flags.as_raw() & 1 != 0).map(|h| h.size).max()
+    props
+        .memory_heaps_as_slice()
+        .iter()
+        .filter(|h| h.flags.as_raw() & 1 != 0)
+        .map(|h| h.size)
+        .max()
 }
 
 /// The first error no scope caught, kept for the next `GpuContext::wait` to return.
@@ -37,7 +43,11 @@ pub fn keep_uncaptured(device: &wgpu::Device) -> Uncaptured {
 
 /// Runs `create` inside out-of-memory and validation error scopes: an allocation the device
 /// refuses becomes `what: …`, one line, instead of an uncaptured error.
-pub fn scoped<T>(device: &wgpu::Device, what: &str, create: impl FnOnce() -> Result<T>) -> Result<T> {
+pub fn scoped<T>(
+    device: &wgpu::Device,
+    what: &str,
+    create: impl FnOnce() -> Result<T>,
+) -> Result<T> {
     let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
     let made = create();
@@ -61,5 +71,9 @@ fn one_line(e: &wgpu::Error) -> String {
         }
         source = s.source();
     }
-    text.split('\n').map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ")
+    text.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
 }

@@ -58,7 +58,12 @@ impl GpuContext {
     async fn new_async(req: &AdapterRequest, binding_cap: Option<u64>) -> Result<Self> {
         // Auto probes Vulkan alone first: probing GL as well would only add noise (lavapipe exposes
         // both), and GL is looked at only when no Vulkan adapter can run the pipeline.
-        let mut adapters = Self::enumerate(if req.backend == BackendChoice::Auto { wgpu::Backends::VULKAN } else { req.backend.backends() }).await;
+        let mut adapters = Self::enumerate(if req.backend == BackendChoice::Auto {
+            wgpu::Backends::VULKAN
+        } else {
+            req.backend.backends()
+        })
+        .await;
         let mut candidates: Vec<Candidate> = adapters.iter().map(Candidate::of).collect();
         let mut choice = adapter::choose(&candidates, req);
         if choice.is_err() && req.backend == BackendChoice::Auto {
@@ -72,7 +77,8 @@ impl GpuContext {
         // Request the adapter's real limits: 2048 array layers and large storage bindings matter here.
         let mut limits = adapter.limits();
         if let Some(cap) = binding_cap {
-            limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(cap);
+            limits.max_storage_buffer_binding_size =
+                limits.max_storage_buffer_binding_size.min(cap);
         }
         // INDIRECT_FIRST_INSTANCE: culled shadow-map draws select their sample by first instance.
         let wanted_features = wgpu::Features::TIMESTAMP_QUERY
@@ -96,7 +102,12 @@ impl GpuContext {
 
     /// A context on a device someone else requested (the embedding API: the caller's device);
     /// `chosen_because` is the run record's reason for the adapter.
-    pub fn from_device(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue, chosen_because: String) -> Self {
+    pub fn from_device(
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        chosen_because: String,
+    ) -> Self {
         let info = adapter.get_info();
         let summary = AdapterSummary {
             name: info.name.clone(),
@@ -106,11 +117,19 @@ impl GpuContext {
             driver_info: info.driver_info.clone(),
             chosen_because,
         };
-        let timestamps_trusted =
-            device.features().contains(wgpu::Features::TIMESTAMP_QUERY) && info.device_type != wgpu::DeviceType::Cpu;
+        let timestamps_trusted = device.features().contains(wgpu::Features::TIMESTAMP_QUERY)
+            && info.device_type != wgpu::DeviceType::Cpu;
         // The caller's device keeps the caller's error handler.
         let largest_heap = allocation::largest_heap(&adapter);
-        Self { adapter, device, queue, summary, timestamps_trusted, largest_heap, uncaptured: None }
+        Self {
+            adapter,
+            device,
+            queue,
+            summary,
+            timestamps_trusted,
+            largest_heap,
+            uncaptured: None,
+        }
     }
 
     pub fn limits(&self) -> wgpu::Limits {
@@ -119,7 +138,10 @@ impl GpuContext {
 
     /// The limits and the largest heap, as the size plan checks them.
     pub fn bounds(&self) -> DeviceBounds {
-        DeviceBounds { limits: self.limits(), largest_heap: self.largest_heap }
+        DeviceBounds {
+            limits: self.limits(),
+            largest_heap: self.largest_heap,
+        }
     }
 
     /// Runs `create` (buffers, textures, pipelines) inside error scopes: what the device refuses
@@ -135,7 +157,10 @@ impl GpuContext {
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
             .map_err(|e| Error::Gpu(format!("poll: {e}")))?;
-        let kept = self.uncaptured.as_ref().and_then(|u| u.lock().unwrap_or_else(|p| p.into_inner()).take());
+        let kept = self
+            .uncaptured
+            .as_ref()
+            .and_then(|u| u.lock().unwrap_or_else(|p| p.into_inner()).take());
         kept.map_or(Ok(()), |e| Err(Error::Gpu(e)))
     }
 

@@ -83,9 +83,17 @@ pub fn source(name: &str) -> Result<String> {
 
 /// Full source of a kernel for one map access form (`MapAccess::forms` lists a kernel's).
 pub fn source_for(name: &str, maps: MapAccess) -> Result<String> {
-    let k = Stage::named(name).and_then(|s| s.kernel).ok_or_else(|| Error::Kernel { name: name.into(), message: "no such kernel".into() })?;
+    let k = Stage::named(name)
+        .and_then(|s| s.kernel)
+        .ok_or_else(|| Error::Kernel {
+            name: name.into(),
+            message: "no such kernel".into(),
+        })?;
     if !MapAccess::forms(&k).contains(&maps) {
-        return Err(Error::Kernel { name: name.into(), message: format!("reads no maps through map_depth: no {maps:?} form") });
+        return Err(Error::Kernel {
+            name: name.into(),
+            message: format!("reads no maps through map_depth: no {maps:?} form"),
+        });
     }
     let access = match maps {
         MapAccess::Depth => MAPS_PLAIN.to_string(),
@@ -94,7 +102,10 @@ pub fn source_for(name: &str, maps: MapAccess) -> Result<String> {
     };
     let environment = if k.environment { ENV_PRELUDE } else { "" };
     let taps = if k.pcf_taps { PCF_TAPS } else { "" };
-    Ok(format!("{PRELUDE}\n{access}\n{environment}\n{taps}\n{}", k.body))
+    Ok(format!(
+        "{PRELUDE}\n{access}\n{environment}\n{taps}\n{}",
+        k.body
+    ))
 }
 
 /// Parses and validates one kernel with naga (all validation flags), returning every error as text.
@@ -103,13 +114,24 @@ pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
 }
 
 /// [`validate`] for one map access form.
-pub fn validate_for(name: &str, maps: MapAccess) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
+pub fn validate_for(
+    name: &str,
+    maps: MapAccess,
+) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
     let src = source_for(name, maps)?;
-    let module = naga::front::wgsl::parse_str(&src)
-        .map_err(|e| Error::Kernel { name: name.into(), message: e.emit_to_string(&src) })?;
-    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-        .validate(&module)
-        .map_err(|e| Error::Kernel { name: name.into(), message: e.emit_to_string(&src) })?;
+    let module = naga::front::wgsl::parse_str(&src).map_err(|e| Error::Kernel {
+        name: name.into(),
+        message: e.emit_to_string(&src),
+    })?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| Error::Kernel {
+        name: name.into(),
+        message: e.emit_to_string(&src),
+    })?;
     Ok((module, info))
 }
 
@@ -121,5 +143,8 @@ pub fn workgroup_size(name: &str, entry: &str) -> Result<[u32; 3]> {
         .iter()
         .find(|e| e.name == entry && e.stage == naga::ShaderStage::Compute)
         .map(|e| e.workgroup_size)
-        .ok_or_else(|| Error::Kernel { name: name.into(), message: format!("no compute entry point `{entry}`") })
+        .ok_or_else(|| Error::Kernel {
+            name: name.into(),
+            message: format!("no compute entry point `{entry}`"),
+        })
 }

@@ -5,20 +5,30 @@ use crate::{Error, Result};
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
-pub fn storage_buffer<T: Pod>(ctx: &GpuContext, label: &str, data: &[T], extra: wgpu::BufferUsages) -> wgpu::Buffer {
-    ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytemuck::cast_slice(data),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST | extra,
-    })
+pub fn storage_buffer<T: Pod>(
+    ctx: &GpuContext,
+    label: &str,
+    data: &[T],
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(data),
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST
+                | extra,
+        })
 }
 
 pub fn uniform_buffer<T: Pod>(ctx: &GpuContext, label: &str, data: &T) -> wgpu::Buffer {
-    ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytemuck::bytes_of(data),
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-    })
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::bytes_of(data),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        })
 }
 
 pub fn zeroed_storage(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
@@ -26,17 +36,30 @@ pub fn zeroed_storage(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer
 }
 
 /// As [`zeroed_storage`], with `extra` usages (`INDIRECT` for dispatch arguments).
-pub fn zeroed_storage_with(ctx: &GpuContext, label: &str, bytes: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
+pub fn zeroed_storage_with(
+    ctx: &GpuContext,
+    label: &str,
+    bytes: u64,
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes.max(16),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST | extra,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST
+            | extra,
         mapped_at_creation: false,
     })
 }
 
 /// Copies `bytes` of `src` into a fresh staging buffer inside `encoder`; map it after submission.
-pub fn stage_copy(ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, src: &wgpu::Buffer, bytes: u64) -> wgpu::Buffer {
+pub fn stage_copy(
+    ctx: &GpuContext,
+    encoder: &mut wgpu::CommandEncoder,
+    src: &wgpu::Buffer,
+    bytes: u64,
+) -> wgpu::Buffer {
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: bytes.max(4),
@@ -59,7 +82,9 @@ pub fn map_staging<T: Pod>(ctx: &GpuContext, staging: &wgpu::Buffer) -> Result<V
         .map_err(|e| Error::Gpu(format!("map_async dropped: {e}")))?
         .map_err(|e| Error::Gpu(format!("map_async: {e}")))?;
     let data = {
-        let view = slice.get_mapped_range().map_err(|e| Error::Gpu(format!("mapped range: {e:?}")))?;
+        let view = slice
+            .get_mapped_range()
+            .map_err(|e| Error::Gpu(format!("mapped range: {e:?}")))?;
         bytemuck::pod_collect_to_vec(&view)
     };
     staging.unmap();
@@ -75,10 +100,16 @@ pub fn read_buffer<T: Pod>(ctx: &GpuContext, src: &wgpu::Buffer, bytes: u64) -> 
 }
 
 /// Reads one layer of a texture with `texel_bytes` per texel, rows unpadded.
-pub fn read_texture<T: Pod>(ctx: &GpuContext, texture: &wgpu::Texture, layer: u32, texel_bytes: u32) -> Result<Vec<T>> {
+pub fn read_texture<T: Pod>(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    layer: u32,
+    texel_bytes: u32,
+) -> Result<Vec<T>> {
     let (w, h) = (texture.width(), texture.height());
     let row = w * texel_bytes;
-    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("texture readback"),
         size: (padded * h) as u64,
@@ -90,14 +121,26 @@ pub fn read_texture<T: Pod>(ctx: &GpuContext, texture: &wgpu::Texture, layer: u3
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
-            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
             aspect: wgpu::TextureAspect::All,
         },
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(h),
+            },
         },
-        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
     );
     ctx.queue.submit([encoder.finish()]);
     let bytes: Vec<u8> = map_staging(ctx, &staging)?;

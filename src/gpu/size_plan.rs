@@ -45,19 +45,44 @@ pub struct SizeNeed {
 
 impl SizeNeed {
     pub fn binding(what: impl Into<String>, bytes: u64) -> Self {
-        Self { what: what.into(), amount: bytes, bound: Bound::Binding, setting: None }
+        Self {
+            what: what.into(),
+            amount: bytes,
+            bound: Bound::Binding,
+            setting: None,
+        }
     }
     pub fn rows(what: impl Into<String>, bytes: u64, row: u64) -> Self {
-        Self { what: what.into(), amount: bytes, bound: Bound::RowChunks { row }, setting: None }
+        Self {
+            what: what.into(),
+            amount: bytes,
+            bound: Bound::RowChunks { row },
+            setting: None,
+        }
     }
     pub fn buffer(what: impl Into<String>, bytes: u64) -> Self {
-        Self { what: what.into(), amount: bytes, bound: Bound::Buffer, setting: None }
+        Self {
+            what: what.into(),
+            amount: bytes,
+            bound: Bound::Buffer,
+            setting: None,
+        }
     }
     pub fn side(what: impl Into<String>, texels: u64) -> Self {
-        Self { what: what.into(), amount: texels, bound: Bound::TextureSide, setting: None }
+        Self {
+            what: what.into(),
+            amount: texels,
+            bound: Bound::TextureSide,
+            setting: None,
+        }
     }
     pub fn array(what: impl Into<String>, bytes: u64, layers: u32) -> Self {
-        Self { what: what.into(), amount: bytes, bound: Bound::Array { layers }, setting: None }
+        Self {
+            what: what.into(),
+            amount: bytes,
+            bound: Bound::Array { layers },
+            setting: None,
+        }
     }
 
     /// Names `setting` in the error instead of the plan's.
@@ -70,9 +95,18 @@ impl SizeNeed {
     fn over(&self, d: &DeviceBounds) -> Option<(&'static str, u64)> {
         let l = &d.limits;
         let buffer = ("max_buffer_size", l.max_buffer_size);
-        let binding = ("max_storage_buffer_binding_size", l.max_storage_buffer_binding_size);
-        let side = ("max_texture_dimension_2d", l.max_texture_dimension_2d as u64);
-        let layers = ("max_texture_array_layers", l.max_texture_array_layers as u64);
+        let binding = (
+            "max_storage_buffer_binding_size",
+            l.max_storage_buffer_binding_size,
+        );
+        let side = (
+            "max_texture_dimension_2d",
+            l.max_texture_dimension_2d as u64,
+        );
+        let layers = (
+            "max_texture_array_layers",
+            l.max_texture_array_layers as u64,
+        );
         let heap = (HEAP, d.largest_heap.unwrap_or(u64::MAX));
         let checks: &[((&'static str, u64), u64)] = match self.bound {
             Bound::Binding => &[(buffer, self.amount), (binding, self.amount)],
@@ -81,7 +115,10 @@ impl SizeNeed {
             Bound::TextureSide => &[(side, self.amount)],
             Bound::Array { layers: n } => &[(layers, n as u64), (heap, self.amount)],
         };
-        checks.iter().find(|&&((_, limit), amount)| amount > limit).map(|&(limit, _)| limit)
+        checks
+            .iter()
+            .find(|&&((_, limit), amount)| amount > limit)
+            .map(|&(limit, _)| limit)
     }
 }
 
@@ -110,15 +147,27 @@ impl SizePlan {
             if let Some((name, limit)) = need.over(device) {
                 let amount = match need.bound {
                     Bound::TextureSide => format!("a side of {} texels", need.amount),
-                    Bound::RowChunks { row } if need.amount <= limits.max_buffer_size => format!("{row} bytes per row, bound at least a row at a time"),
+                    Bound::RowChunks { row } if need.amount <= limits.max_buffer_size => {
+                        format!("{row} bytes per row, bound at least a row at a time")
+                    }
                     Bound::Array { layers } if name != HEAP => format!("{layers} layers"),
                     Bound::Array { .. } => format!("{} bytes ({})", need.amount, gib(need.amount)),
                     _ => format!("{} bytes", need.amount),
                 };
                 // One array past the heap: a lower budget splits its maps into smaller arrays.
-                let limit = if name == HEAP { format!("{limit} ({}); lower it to split the maps into smaller arrays", gib(limit)) } else { limit.to_string() };
+                let limit = if name == HEAP {
+                    format!(
+                        "{limit} ({}); lower it to split the maps into smaller arrays",
+                        gib(limit)
+                    )
+                } else {
+                    limit.to_string()
+                };
                 let setting = need.setting.as_deref().unwrap_or(&self.setting);
-                return Err(Error::Limit(format!("{setting}: {} needs {amount}, over this device's {name} {limit}", need.what)));
+                return Err(Error::Limit(format!(
+                    "{setting}: {} needs {amount}, over this device's {name} {limit}",
+                    need.what
+                )));
             }
         }
         if let Some(available) = available {
@@ -147,7 +196,13 @@ pub fn mem_available() -> Option<u64> {
 
 fn parse_mem_available(meminfo: &str) -> Option<u64> {
     let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.trim_start_matches("MemAvailable:").trim().trim_end_matches("kB").trim().parse().ok()?;
+    let kib: u64 = line
+        .trim_start_matches("MemAvailable:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
     Some(kib * 1024)
 }
 
@@ -156,15 +211,29 @@ mod tests {
     use super::*;
 
     fn lavapipe() -> wgpu::Limits {
-        wgpu::Limits { max_storage_buffer_binding_size: 134_217_728, max_buffer_size: 2_147_483_647, max_texture_dimension_2d: 16384, max_texture_array_layers: 2048, ..Default::default() }
+        wgpu::Limits {
+            max_storage_buffer_binding_size: 134_217_728,
+            max_buffer_size: 2_147_483_647,
+            max_texture_dimension_2d: 16384,
+            max_texture_array_layers: 2048,
+            ..Default::default()
+        }
     }
 
     fn device(largest_heap: Option<u64>) -> DeviceBounds {
-        DeviceBounds { limits: lavapipe(), largest_heap }
+        DeviceBounds {
+            limits: lavapipe(),
+            largest_heap,
+        }
     }
 
     fn plan(needs: Vec<SizeNeed>, host_bytes: u64) -> SizePlan {
-        SizePlan { setting: "resolution = 6000".into(), needs, host_bytes, host_setting: None }
+        SizePlan {
+            setting: "resolution = 6000".into(),
+            needs,
+            host_bytes,
+            host_setting: None,
+        }
     }
 
     #[test]
@@ -184,7 +253,9 @@ mod tests {
             "resolution = 6000: the G-buffer needs a side of 20000 texels, over this device's max_texture_dimension_2d 16384"
         );
         // Chunked: the whole buffer may pass the binding limit, one row may not.
-        assert!(plan(vec![SizeNeed::rows("V", 144_000_000, 24_000)], 0).check(&l, None).is_ok());
+        assert!(plan(vec![SizeNeed::rows("V", 144_000_000, 24_000)], 0)
+            .check(&l, None)
+            .is_ok());
         assert_eq!(
             err(plan(vec![SizeNeed::rows("V", 1 << 30, 200_000_000)], 0)),
             "resolution = 6000: V needs 200000000 bytes per row, bound at least a row at a time, over this device's max_storage_buffer_binding_size 134217728"
@@ -197,7 +268,10 @@ mod tests {
 
     #[test]
     fn an_array_is_one_allocation_within_the_largest_heap_and_the_layer_limit() {
-        let maps = |layers: u32| SizeNeed::array("the shadow-map array", layers as u64 * (64 << 20), layers).sized_by("shadow_map_budget_mib = 4096");
+        let maps = |layers: u32| {
+            SizeNeed::array("the shadow-map array", layers as u64 * (64 << 20), layers)
+                .sized_by("shadow_map_budget_mib = 4096")
+        };
         let lavapipe = device(Some(2 << 30));
         // 32 maps of 4096² are exactly the 2 GiB heap; 36 are over it.
         assert!(plan(vec![maps(32)], 0).check(&lavapipe, None).is_ok());
@@ -217,8 +291,16 @@ mod tests {
     fn host_memory_names_the_setting_that_sizes_most_of_it() {
         let mut p = plan(vec![], 3 << 30);
         p.host_setting = Some("shadow_map_budget_mib = 100000".into());
-        let e = p.check(&device(None), Some(2 << 30)).unwrap_err().to_string();
-        assert!(e.starts_with("shadow_map_budget_mib = 100000: the frame needs about 3.0 GiB of host memory"), "{e}");
+        let e = p
+            .check(&device(None), Some(2 << 30))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "shadow_map_budget_mib = 100000: the frame needs about 3.0 GiB of host memory"
+            ),
+            "{e}"
+        );
     }
 
     #[test]
@@ -235,7 +317,10 @@ mod tests {
 
     #[test]
     fn mem_available_is_read_in_kib() {
-        assert_eq!(parse_mem_available("MemTotal:       24684000 kB\nMemAvailable:   23882840 kB\n"), Some(23_882_840 * 1024));
+        assert_eq!(
+            parse_mem_available("MemTotal:       24684000 kB\nMemAvailable:   23882840 kB\n"),
+            Some(23_882_840 * 1024)
+        );
         assert_eq!(parse_mem_available("MemTotal: 1 kB\n"), None);
     }
 }

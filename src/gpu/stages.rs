@@ -61,7 +61,13 @@ pub struct Kernel {
 
 impl Kernel {
     pub const fn plain(body: &'static str) -> Self {
-        Self { body, reads_maps: false, reads_raster: false, environment: false, pcf_taps: false }
+        Self {
+            body,
+            reads_maps: false,
+            reads_raster: false,
+            environment: false,
+            pcf_taps: false,
+        }
     }
 }
 
@@ -75,12 +81,24 @@ pub struct Entry {
     pub bindings: &'static [(&'static str, u32)],
 }
 
-const fn compute(name: &'static str, workgroup: [u32; 3], bindings: &'static [(&'static str, u32)]) -> Entry {
-    Entry { name, workgroup: Some(workgroup), bindings }
+const fn compute(
+    name: &'static str,
+    workgroup: [u32; 3],
+    bindings: &'static [(&'static str, u32)],
+) -> Entry {
+    Entry {
+        name,
+        workgroup: Some(workgroup),
+        bindings,
+    }
 }
 
 const fn render(name: &'static str, bindings: &'static [(&'static str, u32)]) -> Entry {
-    Entry { name, workgroup: None, bindings }
+    Entry {
+        name,
+        workgroup: None,
+        bindings,
+    }
 }
 
 /// A stage: a kernel's passes, or host work with a timing key of its own (read-backs, copies, CPU
@@ -419,11 +437,16 @@ stage_table! {
 /// The frame split (raster, decision, shade, waits) from per-stage times; `other` only for a name
 /// the table does not know (rows written by an older build). Meaningful from a stages-mode frame,
 /// whose stages hold their waits.
-pub fn frame_split(stages_ms: &std::collections::BTreeMap<String, f64>) -> std::collections::BTreeMap<&'static str, f64> {
-    let mut out: std::collections::BTreeMap<&'static str, f64> = Split::ALL.iter().map(|s| (s.name(), 0.0)).collect();
+pub fn frame_split(
+    stages_ms: &std::collections::BTreeMap<String, f64>,
+) -> std::collections::BTreeMap<&'static str, f64> {
+    let mut out: std::collections::BTreeMap<&'static str, f64> =
+        Split::ALL.iter().map(|s| (s.name(), 0.0)).collect();
     for (name, ms) in stages_ms {
         match Stage::named(name) {
-            Some(Stage { split: Some(part), .. }) => *out.entry(part.name()).or_insert(0.0) += ms,
+            Some(Stage {
+                split: Some(part), ..
+            }) => *out.entry(part.name()).or_insert(0.0) += ms,
             Some(_) => {}
             None => *out.entry("other").or_insert(0.0) += ms,
         }
@@ -435,7 +458,12 @@ pub fn frame_split(stages_ms: &std::collections::BTreeMap<String, f64>) -> std::
 /// frame as `decision_share`.
 pub fn decision_ms(stages_ms: &std::collections::BTreeMap<String, f64>) -> f64 {
     // An empty f64 sum is -0.0; + 0.0 makes a method without decisions report 0.
-    stages_ms.iter().filter(|(k, _)| Stage::named(k).is_some_and(|s| s.split == Some(Decision))).map(|(_, v)| v).sum::<f64>() + 0.0
+    stages_ms
+        .iter()
+        .filter(|(k, _)| Stage::named(k).is_some_and(|s| s.split == Some(Decision)))
+        .map(|(_, v)| v)
+        .sum::<f64>()
+        + 0.0
 }
 
 /// Whether `name` is timed outside the frame (setup, build, upload): kept apart from its stages.
@@ -451,15 +479,31 @@ mod tests {
     #[test]
     fn names_are_unique_and_kernel_stages_have_entries() {
         for (i, s) in STAGES.iter().enumerate() {
-            assert!(STAGES[..i].iter().all(|t| t.name != s.name), "{} listed twice", s.name);
-            assert_eq!(s.kernel.is_some(), !s.entries.is_empty(), "{}: a kernel has entry points, host work none", s.name);
+            assert!(
+                STAGES[..i].iter().all(|t| t.name != s.name),
+                "{} listed twice",
+                s.name
+            );
+            assert_eq!(
+                s.kernel.is_some(),
+                !s.entries.is_empty(),
+                "{}: a kernel has entry points, host work none",
+                s.name
+            );
         }
     }
 
     #[test]
     fn every_frame_stage_has_a_part_and_setup_has_none() {
         let stages: BTreeMap<String, f64> = [
-            ("gbuffer", 1.0), ("shadow_raster", 2.0), ("cull", 4.0), ("subdivide", 8.0), ("shadow_test", 16.0), ("readback_level", 32.0), ("readback", 64.0), ("setup", 128.0),
+            ("gbuffer", 1.0),
+            ("shadow_raster", 2.0),
+            ("cull", 4.0),
+            ("subdivide", 8.0),
+            ("shadow_test", 16.0),
+            ("readback_level", 32.0),
+            ("readback", 64.0),
+            ("setup", 128.0),
         ]
         .into_iter()
         .map(|(k, v)| (k.to_string(), v))
@@ -472,8 +516,16 @@ mod tests {
         assert!(!split.contains_key("other"));
         // One definition: the decision share's stages are the split's decision part.
         assert_eq!(decision_ms(&stages), split["decision"]);
-        assert!(outside_frame("setup") && outside_frame("build") && outside_frame("upload") && !outside_frame("readback"));
-        assert_eq!(frame_split(&[("retired".to_string(), 1.0)].into_iter().collect())["other"], 1.0);
+        assert!(
+            outside_frame("setup")
+                && outside_frame("build")
+                && outside_frame("upload")
+                && !outside_frame("readback")
+        );
+        assert_eq!(
+            frame_split(&[("retired".to_string(), 1.0)].into_iter().collect())["other"],
+            1.0
+        );
         assert_eq!(decision_ms(&BTreeMap::new()).to_bits(), 0f64.to_bits());
     }
 }

@@ -113,7 +113,15 @@ impl GpuRasterJob {
     /// Sample `sample` over the whole map, or over a scissor `[x, y, w, h]`.
     pub fn new(sample: u32, map_size: u32, scissor: Option<[u32; 4]>) -> Self {
         let [x, y, w, h] = scissor.unwrap_or([0, 0, map_size, map_size]);
-        Self { sample, first_x: x, first_y: y, last_x: x + w - 1, last_y: y + h - 1, kept_slot: Self::WHOLE_MESH, ..Default::default() }
+        Self {
+            sample,
+            first_x: x,
+            first_y: y,
+            last_x: x + w - 1,
+            last_y: y + h - 1,
+            kept_slot: Self::WHOLE_MESH,
+            ..Default::default()
+        }
     }
     /// `kept_slot` of a map that draws the whole mesh (the kernel's RASTER_WHOLE_MESH).
     pub const WHOLE_MESH: u32 = u32::MAX;
@@ -122,7 +130,12 @@ impl GpuRasterJob {
     }
     /// [first_x, first_y, last_x, last_y].
     pub fn rect(&self) -> [i32; 4] {
-        [self.first_x as i32, self.first_y as i32, self.last_x as i32, self.last_y as i32]
+        [
+            self.first_x as i32,
+            self.first_y as i32,
+            self.last_x as i32,
+            self.last_y as i32,
+        ]
     }
 }
 
@@ -457,43 +470,207 @@ macro_rules! layout_of {
 pub fn all_layouts() -> Vec<StructLayout> {
     vec![
         layout_of!(GpuFrame {
-            width, height, map_size, flags, light_center, light_normal, bias_constant, bias_slope, normal_offset, max_slope,
-            band_first_row, band_rows, tile_section_words, bands
+            width,
+            height,
+            map_size,
+            flags,
+            light_center,
+            light_normal,
+            bias_constant,
+            bias_slope,
+            normal_offset,
+            max_slope,
+            band_first_row,
+            band_rows,
+            tile_section_words,
+            bands
         }),
-        layout_of!(GpuSample { light_from_world, position, texel_angle, depth_lin_a, depth_lin_b, layer, array, lattice, orthographic, cube_face }),
-        layout_of!(GpuCamera { clip_from_world, eye }),
+        layout_of!(GpuSample {
+            light_from_world,
+            position,
+            texel_angle,
+            depth_lin_a,
+            depth_lin_b,
+            layer,
+            array,
+            lattice,
+            orthographic,
+            cube_face
+        }),
+        layout_of!(GpuCamera {
+            clip_from_world,
+            eye
+        }),
         layout_of!(GpuTestBlock { ks, samples, pad }),
-        layout_of!(GpuCull { triangle_count, slot_stride, cull_face, groups_x }),
-        layout_of!(GpuWeights { rule, pad0, pad1, pad2 }),
-        layout_of!(GpuRasterCompute { map_size, triangle_count, cull_face, map_count, large_capacity, fence, first_request, steered }),
-        layout_of!(GpuRasterJob { sample, first_x, first_y, last_x, last_y, kept_slot, pad1, pad2 }),
+        layout_of!(GpuCull {
+            triangle_count,
+            slot_stride,
+            cull_face,
+            groups_x
+        }),
+        layout_of!(GpuWeights {
+            rule,
+            pad0,
+            pad1,
+            pad2
+        }),
+        layout_of!(GpuRasterCompute {
+            map_size,
+            triangle_count,
+            cull_face,
+            map_count,
+            large_capacity,
+            fence,
+            first_request,
+            steered
+        }),
+        layout_of!(GpuRasterJob {
+            sample,
+            first_x,
+            first_y,
+            last_x,
+            last_y,
+            kept_slot,
+            pad1,
+            pad2
+        }),
         layout_of!(GpuLevel {
-            level, max_level, quad_count, first_quad, split_threshold, split_mode, words_per_row, flag_words_per_row, item_capacity,
-            work_count, dense_groups_x, quad_capacity, pad0, split_share, requested, hold
+            level,
+            max_level,
+            quad_count,
+            first_quad,
+            split_threshold,
+            split_mode,
+            words_per_row,
+            flag_words_per_row,
+            item_capacity,
+            work_count,
+            dense_groups_x,
+            quad_capacity,
+            pad0,
+            split_share,
+            requested,
+            hold
         }),
-        layout_of!(GpuControl { next_quad_count, new_sample_count, overflow, item_count, geometry_pixels, probe_count, lookups, pad1 }),
+        layout_of!(GpuControl {
+            next_quad_count,
+            new_sample_count,
+            overflow,
+            item_count,
+            geometry_pixels,
+            probe_count,
+            lookups,
+            pad1
+        }),
         layout_of!(GpuQuad { i, j, size, parent }),
-        layout_of!(GpuHybridBuild { levels, coarse, layer, slot, capacity, eps, pad0, pad1 }),
-        layout_of!(GpuHybridControl { used, overflow, map_base, built }),
-        layout_of!(GpuFilter {
-            kind, taps, blocker_taps, order, radius, darkening, light_u, light_v, c_pos, c_neg, bleed, moment_bias, layers,
-            blur_radius, max_radius, depth_offset
+        layout_of!(GpuHybridBuild {
+            levels,
+            coarse,
+            layer,
+            slot,
+            capacity,
+            eps,
+            pad0,
+            pad1
         }),
-        layout_of!(GpuCascades { eye, forward, ends, count, filtering, pad0, pad1 }),
-        layout_of!(GpuBvhNode { min, left_first, max, count }),
+        layout_of!(GpuHybridControl {
+            used,
+            overflow,
+            map_base,
+            built
+        }),
+        layout_of!(GpuFilter {
+            kind,
+            taps,
+            blocker_taps,
+            order,
+            radius,
+            darkening,
+            light_u,
+            light_v,
+            c_pos,
+            c_neg,
+            bleed,
+            moment_bias,
+            layers,
+            blur_radius,
+            max_radius,
+            depth_offset
+        }),
+        layout_of!(GpuCascades {
+            eye,
+            forward,
+            ends,
+            count,
+            filtering,
+            pad0,
+            pad1
+        }),
+        layout_of!(GpuBvhNode {
+            min,
+            left_first,
+            max,
+            count
+        }),
         layout_of!(GpuTriangle { v0, e1, e2 }),
         layout_of!(GpuEnvLight { direction }),
         layout_of!(GpuEnvParams {
-            width, height, light_count, cell_count, ray_offset, t_max, finest_width, finest_height, max_level, p_m, contrast,
-            min_share, total_power, use_ao, radius, count_stride, first_light, final_chunk, vertex_count, pad1
+            width,
+            height,
+            light_count,
+            cell_count,
+            ray_offset,
+            t_max,
+            finest_width,
+            finest_height,
+            max_level,
+            p_m,
+            contrast,
+            min_share,
+            total_power,
+            use_ao,
+            radius,
+            count_stride,
+            first_light,
+            final_chunk,
+            vertex_count,
+            pad1
         }),
         layout_of!(GpuEnvCell { i, j, size, level }),
         layout_of!(GpuTruthParams {
-            center, edge_u, edge_v, light_normal, kind, mode, m, inv_m, count, seed_lo, seed_hi, ray_offset, point_s, point_t,
-            end_factor, radius, reach, first, pad1, pad2
+            center,
+            edge_u,
+            edge_v,
+            light_normal,
+            kind,
+            mode,
+            m,
+            inv_m,
+            count,
+            seed_lo,
+            seed_hi,
+            ray_offset,
+            point_s,
+            point_t,
+            end_factor,
+            radius,
+            reach,
+            first,
+            pad1,
+            pad2
         }),
-        layout_of!(GpuTruthPoint { position, pixel, normal, pad }),
-        layout_of!(GpuTruthCount { lit, rays, ties, pad }),
+        layout_of!(GpuTruthPoint {
+            position,
+            pixel,
+            normal,
+            pad
+        }),
+        layout_of!(GpuTruthCount {
+            lit,
+            rays,
+            ties,
+            pad
+        }),
         layout_of!(GpuTruthTriangle { v0, v1, v2 }),
     ]
 }

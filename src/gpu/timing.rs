@@ -38,14 +38,22 @@ const TIMESTAMP_CAPACITY: u32 = 1024;
 
 impl StageTimer {
     pub fn new(mode: TimingMode) -> Self {
-        Self { mode, stages_ms: BTreeMap::new(), timing_waits: 0, pending: None, gpu: None }
+        Self {
+            mode,
+            stages_ms: BTreeMap::new(),
+            timing_waits: 0,
+            pending: None,
+            gpu: None,
+        }
     }
 
     /// Also records GPU timestamps when the adapter's are trusted, or when `forced` (tests, on CPU
     /// adapters where the figures mean little).
     pub fn with_gpu_timestamps(mut self, ctx: &GpuContext, forced: bool) -> Self {
         let features = ctx.device.features();
-        let able = features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
+        let able = features.contains(
+            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
+        );
         if able && (ctx.timestamps_trusted || forced) {
             let capacity = TIMESTAMP_CAPACITY * 2;
             self.gpu = Some(GpuTimestamps {
@@ -97,8 +105,10 @@ impl StageTimer {
     ) -> Result<T> {
         let name = stage.name;
         let start = Instant::now();
-        let mut encoder =
-            self.pending.take().unwrap_or_else(|| ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(name) }));
+        let mut encoder = self.pending.take().unwrap_or_else(|| {
+            ctx.device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(name) })
+        });
         let slot = match &mut self.gpu {
             Some(g) if (g.labels.len() as u32 + 1) * 2 <= g.capacity => {
                 let slot = g.labels.len() as u32 * 2;

@@ -16,7 +16,10 @@ use super::auto_filter::{Candidates, Met, Reference};
 use super::calibration::{self, Class};
 use super::estimate::Prediction;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
-use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use super::{
+    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
+    Param, ParamMap, ShadowMethod,
+};
 use crate::gpu::timing::StageTimer;
 use crate::render::kept_maps::ReuseCounts;
 use crate::stages::FrameGpu;
@@ -71,14 +74,24 @@ pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
 /// The grid sides it chooses from, 2 to `max_n`: those the calibration was fitted on
 /// (`calibration::fitted_side`: the odd ones, the even ones to 6 with their own sampling factor).
 pub fn sides(max_n: u32) -> Vec<u32> {
-    (2..=max_n).filter(|&n| calibration::fitted_side(n)).collect()
+    (2..=max_n)
+        .filter(|&n| calibration::fitted_side(n))
+        .collect()
 }
 
 /// The map sizes it chooses from: 512² (`calibration::MIN_FITTED_SIZE`) to `max_size` (256²
 /// alone where `max_size` is 256).
 pub fn sizes(max_size: u32) -> Vec<u32> {
-    let fitted: Vec<u32> = SIZES.iter().copied().filter(|&z| z >= calibration::MIN_FITTED_SIZE && z <= max_size).collect();
-    if fitted.is_empty() { vec![max_size] } else { fitted }
+    let fitted: Vec<u32> = SIZES
+        .iter()
+        .copied()
+        .filter(|&z| z >= calibration::MIN_FITTED_SIZE && z <= max_size)
+        .collect();
+    if fitted.is_empty() {
+        vec![max_size]
+    } else {
+        fitted
+    }
 }
 
 /// The first frame's choice: the smallest grid with half sets in both axes at 512² maps.
@@ -135,19 +148,37 @@ impl ShadowMethod for Auto {
         "auto"
     }
     fn label(&self) -> String {
-        super::label_from(&INFO, &[("target", format!("{}", self.target)), ("max_n", self.max_n.to_string()), ("max_size", self.max_size.to_string()), ("cost", self.cost.name().to_string()), ("filters", self.filters.clone()), ("pixels", self.pixels.to_string()), ("delta", format!("{}", self.delta))])
+        super::label_from(
+            &INFO,
+            &[
+                ("target", format!("{}", self.target)),
+                ("max_n", self.max_n.to_string()),
+                ("max_size", self.max_size.to_string()),
+                ("cost", self.cost.name().to_string()),
+                ("filters", self.filters.clone()),
+                ("pixels", self.pixels.to_string()),
+                ("delta", format!("{}", self.delta)),
+            ],
+        )
     }
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "target": self.target, "max_n": self.max_n, "max_size": self.max_size, "cost": self.cost.name(), "filters": self.filters, "pixels": self.pixels, "delta": self.delta })
     }
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
-        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::ON_A_RECTANGLE)
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind)))
+            .then_some(super::ON_A_RECTANGLE)
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         if fg.scene.render.maps == crate::scene::MapKind::Hybrid {
-            return Err(crate::Error::Param("auto: it chooses plain map sizes itself; it cannot run with maps = hybrid".into()));
+            return Err(crate::Error::Param(
+                "auto: it chooses plain map sizes itself; it cannot run with maps = hybrid".into(),
+            ));
         }
-        crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
+        crate::stages::estimate::check_bands(
+            &fg.geometry_tiles,
+            fg.gbuffer.width,
+            fg.gbuffer.height,
+        )?;
         let start = (START.0.min(self.max_n), START.1.min(self.max_size));
         let (costs, pricing_ms) = map_costs(fg, self.cost, self.max_size)?;
         // Candidates that refuse the light: an error where the list was given, left out (and
@@ -157,15 +188,43 @@ impl ShadowMethod for Auto {
             match m.check_light(fg.scene) {
                 Ok(()) => kept.push(m),
                 Err(_) if self.filters == DEFAULT_FILTERS => left_out.push(m.label()),
-                Err(e) => return Err(crate::Error::Param(format!("auto: filters = {}: {e}", self.filters))),
+                Err(e) => {
+                    return Err(crate::Error::Param(format!(
+                        "auto: filters = {}: {e}",
+                        self.filters
+                    )))
+                }
             }
         }
         let filters = Candidates::new(kept, left_out);
         // The scene's truth tracer (its BVH), built once before the clock, as the prices are.
-        let certifying = (self.pixels > 0).then(|| certified::Certifying::new(fg, self.pixels as usize, self.delta as f64)).transpose()?;
-        Ok(Box::new(AutoState { method: self.clone(), choice: start, grid: None, frames: BTreeMap::new(), warned: false, settled: None, recalled: false, costs, pricing_ms, searched: false, filters, filter: None, handed_filter: None, class: Class::of(fg.scene.emitter.kind()), certifying, reuse: ReuseCounts::default() }))
+        let certifying = (self.pixels > 0)
+            .then(|| certified::Certifying::new(fg, self.pixels as usize, self.delta as f64))
+            .transpose()?;
+        Ok(Box::new(AutoState {
+            method: self.clone(),
+            choice: start,
+            grid: None,
+            frames: BTreeMap::new(),
+            warned: false,
+            settled: None,
+            recalled: false,
+            costs,
+            pricing_ms,
+            searched: false,
+            filters,
+            filter: None,
+            handed_filter: None,
+            class: Class::of(fg.scene.emitter.kind()),
+            certifying,
+            reuse: ReuseCounts::default(),
+        }))
     }
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
     }
     fn times_frames_at_build(&self) -> bool {
@@ -236,10 +295,18 @@ impl Costs {
     /// Double per doubling of the side. From 512² to 1024² maps a map costs 1.1–1.3× more on the
     /// meshes and 1.6–2.9× on the small analytic scenes on lavapipe (docs/error-estimate.md §6).
     pub fn texels(max_size: u32) -> Costs {
-        Costs(sizes(max_size).into_iter().map(|z| (z, z as f64 / 512.0)).collect())
+        Costs(
+            sizes(max_size)
+                .into_iter()
+                .map(|z| (z, z as f64 / 512.0))
+                .collect(),
+        )
     }
     fn of(&self, size: u32) -> f64 {
-        self.0.iter().find(|(z, _)| *z == size).map_or(f64::INFINITY, |(_, c)| *c)
+        self.0
+            .iter()
+            .find(|(z, _)| *z == size)
+            .map_or(f64::INFINITY, |(_, c)| *c)
     }
 }
 
@@ -248,14 +315,16 @@ impl Costs {
 fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<(Costs, f64)> {
     match model {
         CostModel::Texels => Ok((Costs::texels(max_size), 0.0)),
-        CostModel::Measured => super::auto_price::measured(fg, &sizes(max_size)).map(|(priced, ms)| (Costs(priced), ms)),
+        CostModel::Measured => super::auto_price::measured(fg, &sizes(max_size))
+            .map(|(priced, ms)| (Costs(priced), ms)),
     }
 }
 
 /// The calibrated sampling error of side n2 from side n's, in a scene of `class`: it falls as
 /// n^−1.5, and an even side and an odd one take their own factors (`calibration::factors_at`).
 fn sampling_at(class: Class, n: u32, sampling: f64, n2: u32) -> f64 {
-    let factor = calibration::factors_at(class, n2).sampling / calibration::factors_at(class, n).sampling;
+    let factor =
+        calibration::factors_at(class, n2).sampling / calibration::factors_at(class, n).sampling;
     sampling * (n as f64 / n2 as f64).powf(SAMPLING_ORDER) * factor
 }
 
@@ -268,14 +337,26 @@ pub fn predicted_at(class: Class, n: u32, size: u32, p: &Prediction, n2: u32, si
     // Fewer samples or smaller maps (a step down) raise both parts by the same laws.
     let kept = 1.0 - (n * n) as f64 / (n2 * n2) as f64;
     let texel = size as f64 / size2 as f64;
-    let m2 = (p.predicted_map.powi(2) - p.predicted_map_averaging.powi(2) * kept).max(0.0) * texel * texel;
+    let m2 = (p.predicted_map.powi(2) - p.predicted_map_averaging.powi(2) * kept).max(0.0)
+        * texel
+        * texel;
     (s * s + m2).sqrt()
 }
 
 /// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), of `sides(max_n)` and
 /// `sizes(max_size)`, that `predicted_at` says meets `target` too; None if none does.
 #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-pub fn cheaper_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs, tried: &[(u32, u32)]) -> Option<(u32, u32)> {
+pub fn cheaper_meeting(
+    class: Class,
+    n: u32,
+    size: u32,
+    p: &Prediction,
+    target: f64,
+    max_n: u32,
+    max_size: u32,
+    costs: &Costs,
+    tried: &[(u32, u32)],
+) -> Option<(u32, u32)> {
     let here = (n * n) as f64 * costs.of(size);
     let mut best: Option<(f64, (u32, u32))> = None;
     for size2 in sizes(max_size) {
@@ -284,7 +365,10 @@ pub fn cheaper_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: 
             if cost >= here {
                 break;
             }
-            if !tried.contains(&(n2, size2)) && predicted_at(class, n, size, p, n2, size2) <= target && best.is_none_or(|(c, _)| cost < c) {
+            if !tried.contains(&(n2, size2))
+                && predicted_at(class, n, size, p, n2, size2) <= target
+                && best.is_none_or(|(c, _)| cost < c)
+            {
                 best = Some((cost, (n2, size2)));
             }
         }
@@ -295,11 +379,23 @@ pub fn cheaper_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: 
 /// The cheapest grid (its maps at `costs`' price) of `sides` at n ≥ `n` and `sizes` at maps ≥ `size`, other than
 /// (n, size), that `predicted_at` says meets `target`; None if none does.
 #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-fn cheapest_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
+fn cheapest_meeting(
+    class: Class,
+    n: u32,
+    size: u32,
+    p: &Prediction,
+    target: f64,
+    max_n: u32,
+    max_size: u32,
+    costs: &Costs,
+) -> Option<(u32, u32)> {
     let mut best: Option<(f64, (u32, u32))> = None;
     for size2 in sizes(max_size).into_iter().filter(|&z| z >= size) {
         // At one size the cost rises with n: the first n that meets it is that size's cheapest.
-        let meets = sides(max_n).into_iter().filter(|&n2| n2 >= n && (n2, size2) != (n, size)).find(|&n2| predicted_at(class, n, size, p, n2, size2) <= target);
+        let meets = sides(max_n)
+            .into_iter()
+            .filter(|&n2| n2 >= n && (n2, size2) != (n, size))
+            .find(|&n2| predicted_at(class, n, size, p, n2, size2) <= target);
         if let Some(n2) = meets {
             let cost = (n2 * n2) as f64 * costs.of(size2);
             if best.is_none_or(|(c, _)| cost < c) {
@@ -320,7 +416,16 @@ fn cheapest_meeting(class: Class, n: u32, size: u32, p: &Prediction, target: f64
 /// error falling at best as the texel size), the sampling error need only stay under half that
 /// floor, which adds at most 12% to it: n does not chase a target the maps put out of reach.
 #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-pub fn next_choice(class: Class, n: u32, size: u32, p: &Prediction, target: f64, max_n: u32, max_size: u32, costs: &Costs) -> Option<(u32, u32)> {
+pub fn next_choice(
+    class: Class,
+    n: u32,
+    size: u32,
+    p: &Prediction,
+    target: f64,
+    max_n: u32,
+    max_size: u32,
+    costs: &Costs,
+) -> Option<(u32, u32)> {
     if let Some(choice) = cheapest_meeting(class, n, size, p, target, max_n, max_size, costs) {
         return Some(choice);
     }
@@ -332,9 +437,18 @@ pub fn next_choice(class: Class, n: u32, size: u32, p: &Prediction, target: f64,
     if !can_size && p.predicted_map >= target {
         return None;
     }
-    let floor = p.predicted_map * 0.5f64.powi((max_size / size.max(1)).max(1).trailing_zeros() as i32);
-    let sampling_share = if grow_size { share } else { (target * target - p.predicted_map * p.predicted_map).sqrt() };
-    let sampling_share = if floor > target { sampling_share.max(0.5 * floor) } else { sampling_share };
+    let floor =
+        p.predicted_map * 0.5f64.powi((max_size / size.max(1)).max(1).trailing_zeros() as i32);
+    let sampling_share = if grow_size {
+        share
+    } else {
+        (target * target - p.predicted_map * p.predicted_map).sqrt()
+    };
+    let sampling_share = if floor > target {
+        sampling_share.max(0.5 * floor)
+    } else {
+        sampling_share
+    };
     let grow_n = p.predicted_sampling > sampling_share && can_n;
     if p.predicted_sampling > sampling_share && !can_n {
         grow_size = can_size;
@@ -344,7 +458,11 @@ pub fn next_choice(class: Class, n: u32, size: u32, p: &Prediction, target: f64,
     }
     let n2 = if grow_n {
         // The first side past n whose sampling error its order (and its factor) puts under the share.
-        ladder.iter().copied().find(|&n2| n2 > n && sampling_at(class, n, p.predicted_sampling, n2) <= sampling_share).unwrap_or(top)
+        ladder
+            .iter()
+            .copied()
+            .find(|&n2| n2 > n && sampling_at(class, n, p.predicted_sampling, n2) <= sampling_share)
+            .unwrap_or(top)
     } else {
         n
     };
@@ -355,7 +473,10 @@ impl AutoState {
     /// The grid (n, size) with the estimate, built unless it is the one held.
     fn hold(&mut self, fg: &FrameGpu, (n, size): (u32, u32)) -> Result<()> {
         self.frames.entry(size).or_insert_with(|| {
-            let frame = crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame };
+            let frame = crate::gpu::structs::GpuFrame {
+                map_size: size,
+                ..fg.frame
+            };
             crate::gpu::readback::uniform_buffer(fg.ctx, "auto frame", &frame)
         });
         if self.grid.as_ref().is_none_or(|(key, _)| *key != (n, size)) {
@@ -363,8 +484,19 @@ impl AutoState {
             self.grid = None;
             let frame = self.frames[&size].clone();
             // One grid's maps at a time, kept from frame to frame while the choice holds (docs/reuse.md).
-            let mut grid = fixed_samples::prepare_kept(fg, &regular_points(n, Layout::Centred), size, Some(frame), Some("auto"))?;
-            grid.estimate = Some(fixed_samples::Estimate::new(fg, n, Layout::Centred, grid.map_count())?);
+            let mut grid = fixed_samples::prepare_kept(
+                fg,
+                &regular_points(n, Layout::Centred),
+                size,
+                Some(frame),
+                Some("auto"),
+            )?;
+            grid.estimate = Some(fixed_samples::Estimate::new(
+                fg,
+                n,
+                Layout::Centred,
+                grid.map_count(),
+            )?);
             self.grid = Some(((n, size), grid));
         }
         Ok(())
@@ -372,14 +504,29 @@ impl AutoState {
 
     /// A frame after the one that settled the choice: the grid alone (its V is the settling
     /// frame's, bit for bit), and that frame's record (its tries and prediction) and bound.
-    fn run_settled(&mut self, fg: &FrameGpu, timer: &mut StageTimer, mut record: serde_json::Value, bound: Vec<f32>) -> Result<MethodOutput> {
+    fn run_settled(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        mut record: serde_json::Value,
+        bound: Vec<f32>,
+    ) -> Result<MethodOutput> {
         if let Some(i) = self.filter {
             // The frame cleared V; the filter writes it, as its fixed method does.
             let out = self.filters.run(i, fg, timer)?;
-            self.reuse.add(&ReuseCounts::all_rendered(out.shadow_maps, fg.scene.render.shadow_map_size));
+            self.reuse.add(&ReuseCounts::all_rendered(
+                out.shadow_maps,
+                fg.scene.render.shadow_map_size,
+            ));
             record["maps_rendered"] = out.shadow_maps.into();
             record["estimated"] = false.into();
-            return Ok(MethodOutput { shadow_maps: out.shadow_maps, syncs: 0, record, pictures: Vec::new(), bound: Some(bound) });
+            return Ok(MethodOutput {
+                shadow_maps: out.shadow_maps,
+                syncs: 0,
+                record,
+                pictures: Vec::new(),
+                bound: Some(bound),
+            });
         }
         let (_, grid) = self.grid.as_mut().expect("reset holds the settled grid");
         let estimate = grid.estimate.take();
@@ -392,11 +539,23 @@ impl AutoState {
         // `tries` stays the settling frame's: how the choice was made.
         record["maps_rendered"] = out.shadow_maps.into();
         record["estimated"] = false.into();
-        Ok(MethodOutput { shadow_maps: out.shadow_maps, syncs: 0, record, pictures: Vec::new(), bound: Some(bound) })
+        Ok(MethodOutput {
+            shadow_maps: out.shadow_maps,
+            syncs: 0,
+            record,
+            pictures: Vec::new(),
+            bound: Some(bound),
+        })
     }
 
     /// One grid rendered into V (cleared first) with the estimate; its prediction and bound.
-    fn try_grid(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], (n, size): (u32, u32)) -> Result<(Try, Vec<f32>)> {
+    fn try_grid(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        geometry: &[bool],
+        (n, size): (u32, u32),
+    ) -> Result<(Try, Vec<f32>)> {
         self.hold(fg, (n, size))?;
         let grid = &mut self.grid.as_mut().expect("built above").1;
         let start = std::time::Instant::now();
@@ -408,18 +567,36 @@ impl AutoState {
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let (raw, bound) = e.predict(&sums, geometry)?;
         let prediction = calibration::calibrated(&raw, self.class, n);
-        Ok((Try { n, map_size: size, maps: out.shadow_maps, ms, prediction, predicted_raw: raw.predicted_rmse }, bound))
+        Ok((
+            Try {
+                n,
+                map_size: size,
+                maps: out.shadow_maps,
+                ms,
+                prediction,
+                predicted_raw: raw.predicted_rmse,
+            },
+            bound,
+        ))
     }
 }
 
 /// Whether a try's prediction settles the frame: at most the target, or, for the choice handed
 /// on from the previous frame of a sequence (`handed_on`), within the band `hold` keeps a choice in.
 fn acceptable(predicted: f64, target: f64, handed_on: bool) -> bool {
-    if handed_on { super::hold::standing(predicted, target) != super::hold::Standing::Above } else { predicted <= target }
+    if handed_on {
+        super::hold::standing(predicted, target) != super::hold::Standing::Above
+    } else {
+        predicted <= target
+    }
 }
 
 /// One grid's frame into V cleared first: a try replaces the one before it, and shade adds.
-fn render_into_cleared_v(grid: &mut Prepared, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+fn render_into_cleared_v(
+    grid: &mut Prepared,
+    fg: &FrameGpu,
+    timer: &mut StageTimer,
+) -> Result<MethodOutput> {
     fg.clear_visibility();
     grid.reset(fg)?;
     grid.run(fg, timer, false)
@@ -436,14 +613,21 @@ impl MethodState for AutoState {
         }
         self.hold(fg, self.choice)
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
         if let Some((record, bound)) = &self.settled {
             return self.run_settled(fg, timer, record.clone(), bound.clone());
         }
         let target = self.method.target as f64;
         // The G-buffer pass is recorded, not yet submitted: flush before reading it.
         timer.flush(fg.ctx);
-        let geometry = timer.cpu(crate::gpu::Stage::READBACK, || fixed_samples::geometry_mask(fg))?;
+        let geometry = timer.cpu(crate::gpu::Stage::READBACK, || {
+            fixed_samples::geometry_mask(fg)
+        })?;
         let mut tries: Vec<Try> = Vec::new();
         let mut bound;
         // The state's first search also steps down: from a try that meets the target, to a cheaper
@@ -460,13 +644,30 @@ impl MethodState for AutoState {
             let handed_on = self.recalled && tries.len() == 1;
             // A handed-on choice whose prediction fell below the band may step down to a cheaper
             // grid (the band's lower edge, `hold::standing`); within it, it holds.
-            if handed_on && super::hold::standing(t.prediction.predicted_rmse, target) == super::hold::Standing::Below {
+            if handed_on
+                && super::hold::standing(t.prediction.predicted_rmse, target)
+                    == super::hold::Standing::Below
+            {
                 down = true;
             }
             if acceptable(t.prediction.predicted_rmse, target, handed_on) {
                 // A step down is only taken with a try to spare for the way back.
                 let tried: Vec<(u32, u32)> = tries.iter().map(|t| (t.n, t.map_size)).collect();
-                let step = if down && tries.len() + 1 < MAX_TRIES { cheaper_meeting(self.class, t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs, &tried) } else { None };
+                let step = if down && tries.len() + 1 < MAX_TRIES {
+                    cheaper_meeting(
+                        self.class,
+                        t.n,
+                        t.map_size,
+                        &t.prediction,
+                        target,
+                        self.method.max_n,
+                        self.method.max_size,
+                        &self.costs,
+                        &tried,
+                    )
+                } else {
+                    None
+                };
                 met = Some((t.n, t.map_size));
                 match step {
                     Some(next) => {
@@ -484,7 +685,16 @@ impl MethodState for AutoState {
             if tries.len() == MAX_TRIES {
                 break false;
             }
-            match next_choice(self.class, t.n, t.map_size, &t.prediction, target, self.method.max_n, self.method.max_size, &self.costs) {
+            match next_choice(
+                self.class,
+                t.n,
+                t.map_size,
+                &t.prediction,
+                target,
+                self.method.max_n,
+                self.method.max_size,
+                &self.costs,
+            ) {
                 Some(next) => self.choice = next,
                 None => break true,
             }
@@ -495,7 +705,10 @@ impl MethodState for AutoState {
         }
         let last = *tries.last().expect("one try at least");
         // The previous frame's choice, kept within KEEP of the target.
-        let kept = self.recalled && tries.len() == 1 && last.prediction.predicted_rmse > target && acceptable(last.prediction.predicted_rmse, target, true);
+        let kept = self.recalled
+            && tries.len() == 1
+            && last.prediction.predicted_rmse > target
+            && acceptable(last.prediction.predicted_rmse, target, true);
         let met = last.prediction.predicted_rmse <= target || kept;
         let mut maps: u32 = tries.iter().map(|t| t.maps).sum();
         // The one-map candidates: where a grid met the target, judged against a finer grid; where
@@ -506,9 +719,12 @@ impl MethodState for AutoState {
         let mut predicted = last.prediction.predicted_rmse;
         let mut difference = 0.0;
         let filter_factor = calibration::factors(self.class).largest();
-        let check = (met || settles) && !self.filters.is_empty() && (!self.recalled || self.handed_filter.is_some());
+        let check = (met || settles)
+            && !self.filters.is_empty()
+            && (!self.recalled || self.handed_filter.is_some());
         if check {
-            let mut filters = std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
+            let mut filters =
+                std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
             let handed = self.handed_filter.clone();
             // A reference grid's maps are counted by its try; the candidates' are rendered.
             let counted = |r: &ReuseCounts| r.rendered + r.kept + r.redrawn;
@@ -517,26 +733,69 @@ impl MethodState for AutoState {
                 // F = sqrt(D² − σ²) takes the grid's own error out of the difference: σ is the
                 // estimate's raw reading there (a calibrated σ, larger, would hide the filter's
                 // error), and F is then calibrated by the larger of the two factors.
-                let grid = Met { rmse: last.predicted_raw, ms: last.ms };
+                let grid = Met {
+                    rmse: last.predicted_raw,
+                    ms: last.ms,
+                };
                 let (max_n, max_size) = (self.method.max_n, self.method.max_size);
                 let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
-                    let Some(grid) = cheapest_meeting(self.class, last.n, last.map_size, &last.prediction, target * REFERENCE, max_n, max_size, &self.costs) else { return Ok(None) };
+                    let Some(grid) = cheapest_meeting(
+                        self.class,
+                        last.n,
+                        last.map_size,
+                        &last.prediction,
+                        target * REFERENCE,
+                        max_n,
+                        max_size,
+                        &self.costs,
+                    ) else {
+                        return Ok(None);
+                    };
                     let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
-                    let record = serde_json::to_value(r).map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
-                    Ok(Some(Reference { rmse: r.predicted_raw, bound, maps: r.maps, record }))
+                    let record = serde_json::to_value(r)
+                        .map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
+                    Ok(Some(Reference {
+                        rmse: r.predicted_raw,
+                        bound,
+                        maps: r.maps,
+                        record,
+                    }))
                 };
                 let accept = |p: f64, handed: bool| acceptable(filter_factor * p, target, handed);
-                filters.check(fg, timer, &geometry, grid, target * SCREEN / filter_factor, &mut reference, &accept, handed.as_deref())
+                filters.check(
+                    fg,
+                    timer,
+                    &geometry,
+                    grid,
+                    target * SCREEN / filter_factor,
+                    &mut reference,
+                    &accept,
+                    handed.as_deref(),
+                )
             } else {
                 // Out of reach: a candidate no worse than the grid, as far as the estimate can tell.
-                let grid = Met { rmse: last.prediction.predicted_rmse, ms: last.ms };
-                filters.check_out_of_reach(fg, timer, &geometry, grid, &bound, KEEP, handed.as_deref())
+                let grid = Met {
+                    rmse: last.prediction.predicted_rmse,
+                    ms: last.ms,
+                };
+                filters.check_out_of_reach(
+                    fg,
+                    timer,
+                    &geometry,
+                    grid,
+                    &bound,
+                    KEEP,
+                    handed.as_deref(),
+                )
             };
             self.filters = filters;
             let outcome = outcome?;
             maps += outcome.maps;
             let reference_maps = counted(&self.reuse) - grids_before;
-            self.reuse.add(&ReuseCounts::all_rendered(outcome.maps.saturating_sub(reference_maps), fg.scene.render.shadow_map_size));
+            self.reuse.add(&ReuseCounts::all_rendered(
+                outcome.maps.saturating_sub(reference_maps),
+                fg.scene.render.shadow_map_size,
+            ));
             if let Some((i, p, b)) = outcome.chosen {
                 self.filter = Some(i);
                 // Met: the filter's F. Out of reach, p is its difference from the grid, and the
@@ -583,7 +842,13 @@ impl MethodState for AutoState {
         if settles {
             self.settled = Some((record.clone(), bound.clone()));
         }
-        Ok(MethodOutput { shadow_maps: maps, syncs: 1 + tries.len() as u32, record, pictures: Vec::new(), bound: Some(bound) })
+        Ok(MethodOutput {
+            shadow_maps: maps,
+            syncs: 1 + tries.len() as u32,
+            record,
+            pictures: Vec::new(),
+            bound: Some(bound),
+        })
     }
     fn camera_moved(&mut self) {
         self.settled = None;
@@ -593,11 +858,19 @@ impl MethodState for AutoState {
         Some(self.reuse)
     }
     fn release_maps(&mut self) -> Vec<crate::render::kept_maps::KeptMaps> {
-        self.grid.as_mut().and_then(|(_, g)| g.release()).into_iter().collect()
+        self.grid
+            .as_mut()
+            .and_then(|(_, g)| g.release())
+            .into_iter()
+            .collect()
     }
     /// The choice, so the next frame of a sequence starts from it (and only rises from there).
     fn memory(&self) -> Option<serde_json::Value> {
-        Some(serde_json::json!([self.choice.0, self.choice.1, self.filter.map(|i| self.filters.name(i))]))
+        Some(serde_json::json!([
+            self.choice.0,
+            self.choice.1,
+            self.filter.map(|i| self.filters.name(i))
+        ]))
     }
     fn recall(&mut self, memory: &serde_json::Value) {
         if let (Some(n), Some(size)) = (memory[0].as_u64(), memory[1].as_u64()) {
@@ -606,7 +879,6 @@ impl MethodState for AutoState {
             self.handed_filter = memory[2].as_str().map(String::from);
         }
     }
-
 }
 
 #[cfg(test)]
@@ -638,38 +910,192 @@ mod tests {
         // Maps well under the target: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
         // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7, at the same maps.
         let share = 0.01 / std::f64::consts::SQRT_2;
-        assert_eq!(next_choice(Class::Plane, 5, 512, &p(2.0 * share, 0.1 * share), 0.01, 17, 2048, &tx()), Some((7, 512)));
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                5,
+                512,
+                &p(2.0 * share, 0.1 * share),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((7, 512))
+        );
         // The maps alone over the target: doubling them (predicted 0.0053 + 0.0035) meets it.
-        assert_eq!(next_choice(Class::Plane, 5, 512, &p(0.5 * share, 1.5 * share), 0.01, 17, 2048, &tx()), Some((5, 1024)));
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                5,
+                512,
+                &p(0.5 * share, 1.5 * share),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((5, 1024))
+        );
         // Both at 0.0078 at 256²: 4×4 there would be predicted to meet 0.01 (16 maps of cost ½),
         // but 256² maps are not a grid the calibration was fitted on: 3×3 at 512² (0.0087, cost 9),
         // before 4×4 there (0.0095 with the even side's factor, cost 16).
-        assert_eq!(next_choice(Class::Plane, 3, 256, &p(1.1 * share, 1.1 * share), 0.01, 17, 2048, &tx()), Some((3, 512)));
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                3,
+                256,
+                &p(1.1 * share, 1.1 * share),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((3, 512))
+        );
         // Maps at their largest, their error under the target: n takes the rest of it.
         // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2,
         // and the next odd side is 7.
-        assert_eq!(next_choice(Class::Plane, 5, 2048, &p(0.006, 0.009), 0.01, 17, 2048, &tx()), Some((7, 2048)));
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                5,
+                2048,
+                &p(0.006, 0.009),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((7, 2048))
+        );
         // Maps at their largest and their error alone over the target: out of reach.
-        assert_eq!(next_choice(Class::Plane, 5, 2048, &p(0.001, 0.011), 0.01, 17, 2048, &tx()), None);
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                5,
+                2048,
+                &p(0.001, 0.011),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            None
+        );
         // n at its largest: nothing is predicted to meet it, and the maps take the excess.
-        assert_eq!(next_choice(Class::Plane, 17, 512, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), Some((17, 1024)));
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                17,
+                512,
+                &p(1.5 * share, 0.5 * share),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((17, 1024))
+        );
         // Nothing left to grow.
-        assert_eq!(next_choice(Class::Plane, 17, 2048, &p(1.5 * share, 0.5 * share), 0.01, 17, 2048, &tx()), None);
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                17,
+                2048,
+                &p(1.5 * share, 0.5 * share),
+                0.01,
+                17,
+                2048,
+                &tx()
+            ),
+            None
+        );
         // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
         // floor 0.049 against 0.012): nothing meets it, so n grows only to keep sampling under
         // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 5, not to 0.012 / √2 (which asks for 9).
         // 4×4 would be 0.035 with the even side's factor (2.28 against 1.32).
-        assert_eq!(next_choice(Class::Plane, 3, 512, &p(0.031, 0.196), 0.012, 17, 2048, &tx()), Some((5, 1024)));
-        assert_eq!(next_choice(Class::Plane, 5, 1024, &p(0.020, 0.150), 0.012, 17, 2048, &tx()), Some((5, 2048)));
-        assert_eq!(next_choice(Class::Plane, 5, 2048, &p(0.016, 0.117), 0.012, 17, 2048, &tx()), None);
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                3,
+                512,
+                &p(0.031, 0.196),
+                0.012,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((5, 1024))
+        );
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                5,
+                1024,
+                &p(0.020, 0.150),
+                0.012,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((5, 2048))
+        );
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                5,
+                2048,
+                &p(0.016, 0.117),
+                0.012,
+                17,
+                2048,
+                &tx()
+            ),
+            None
+        );
         // The ladder: odd sides, and even ones to 6 (their own factor), maps from 512² (256² alone
         // under max_size = 256).
-        assert_eq!((sides(17), sides(8), sides(2)), (vec![2, 3, 4, 5, 6, 7, 9, 11, 13, 15, 17], vec![2, 3, 4, 5, 6, 7], vec![2]));
-        assert_eq!((sizes(2048), sizes(512), sizes(256)), (vec![512, 1024, 2048], vec![512], vec![256]));
-        assert_eq!(next_choice(Class::Plane, 2, 256, &p(0.02, 0.02), 0.01, 2, 256, &Costs::texels(256)), None);
+        assert_eq!(
+            (sides(17), sides(8), sides(2)),
+            (
+                vec![2, 3, 4, 5, 6, 7, 9, 11, 13, 15, 17],
+                vec![2, 3, 4, 5, 6, 7],
+                vec![2]
+            )
+        );
+        assert_eq!(
+            (sizes(2048), sizes(512), sizes(256)),
+            (vec![512, 1024, 2048], vec![512], vec![256])
+        );
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                2,
+                256,
+                &p(0.02, 0.02),
+                0.01,
+                2,
+                256,
+                &Costs::texels(256)
+            ),
+            None
+        );
         // The same maps under a target that 2048² meets (0.049 and 0.031 against 0.06) and 1024²
         // cannot (0.098): straight to 2048².
-        assert_eq!(next_choice(Class::Plane, 3, 512, &p(0.031, 0.196), 0.06, 17, 2048, &tx()), Some((3, 2048)));
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                3,
+                512,
+                &p(0.031, 0.196),
+                0.06,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((3, 2048))
+        );
     }
 
     #[test]
@@ -679,15 +1105,40 @@ mod tests {
         // maps 0.0065, sampling 0.0056; cost 98); without it the maps must shrink by texels alone
         // (7×7 at 1024² would read 0.0128), and 5×5 at 2048² (cost 100) is the cheapest.
         let with = pa(0.02, 0.023, 0.021);
-        assert_eq!(next_choice(Class::Plane, 3, 512, &with, 0.012, 17, 2048, &tx()), Some((7, 1024)));
-        assert!((predicted_at(Class::Plane, 3, 512, &with, 7, 1024) - 0.00859).abs() < 1e-4, "{}", predicted_at(Class::Plane, 3, 512, &with, 7, 1024));
-        assert_eq!(next_choice(Class::Plane, 3, 512, &p(0.02, 0.023), 0.012, 17, 2048, &tx()), Some((5, 2048)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &with, 0.012, 17, 2048, &tx()),
+            Some((7, 1024))
+        );
+        assert!(
+            (predicted_at(Class::Plane, 3, 512, &with, 7, 1024) - 0.00859).abs() < 1e-4,
+            "{}",
+            predicted_at(Class::Plane, 3, 512, &with, 7, 1024)
+        );
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                3,
+                512,
+                &p(0.02, 0.023),
+                0.012,
+                17,
+                2048,
+                &tx()
+            ),
+            Some((5, 2048))
+        );
         // Every bit of it averaging: at the same maps, m falls as 1/n: 3 → 9 thirds it.
         let all = pa(0.0, 0.03, 0.03);
         assert!((predicted_at(Class::Plane, 3, 512, &all, 9, 512) - 0.01).abs() < 1e-12);
-        assert_eq!(next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 512, &tx()), Some((9, 512)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 512, &tx()),
+            Some((9, 512))
+        );
         // With larger maps allowed, 3×3 at 2048² (0.0075, cost 36) is cheaper than 9×9 at 512² (81).
-        assert_eq!(next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 2048, &tx()), Some((3, 2048)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 2048, &tx()),
+            Some((3, 2048))
+        );
     }
 
     #[test]
@@ -698,18 +1149,56 @@ mod tests {
         // Against 0.012: 7×7 at 1024² (98 units) under `texels`, 5×5 at 2048² (1290 ms) measured.
         let bunny = pa(0.0161, 0.0270, 0.0218);
         let timed = Costs(vec![(512, 31.0), (1024, 36.2), (2048, 51.6)]);
-        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &tx()), Some((7, 1024)));
-        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &timed), Some((5, 2048)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &tx()),
+            Some((7, 1024))
+        );
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &timed),
+            Some((5, 2048))
+        );
         // At 0.03 the maps' part decides, and an even side is on the ladder: 4×4 at 512² (0.0291
         // with the even side's sampling factor, 16 units) under `texels`, before 3×3 at 1024² (18);
         // measured, 3×3 at 1024² (326 ms against 496).
-        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &tx()), Some((4, 512)));
-        assert!((predicted_at(Class::Plane, 3, 512, &bunny, 4, 512) - 0.0291).abs() < 1e-4, "{}", predicted_at(Class::Plane, 3, 512, &bunny, 4, 512));
-        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &timed), Some((3, 1024)));
-        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &timed), next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &tx()));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &tx()),
+            Some((4, 512))
+        );
+        assert!(
+            (predicted_at(Class::Plane, 3, 512, &bunny, 4, 512) - 0.0291).abs() < 1e-4,
+            "{}",
+            predicted_at(Class::Plane, 3, 512, &bunny, 4, 512)
+        );
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &timed),
+            Some((3, 1024))
+        );
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &timed),
+            next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &tx())
+        );
         // A size above max_size is never priced, so never chosen: 7×7 at 512² (49) before 5×5 at 1024² (50).
-        assert_eq!(Costs::texels(1024).0.iter().map(|c| c.0).collect::<Vec<_>>(), vec![512, 1024]);
-        assert_eq!(next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 1024, &Costs::texels(1024)), Some((7, 512)));
+        assert_eq!(
+            Costs::texels(1024)
+                .0
+                .iter()
+                .map(|c| c.0)
+                .collect::<Vec<_>>(),
+            vec![512, 1024]
+        );
+        assert_eq!(
+            next_choice(
+                Class::Plane,
+                3,
+                512,
+                &bunny,
+                0.02,
+                17,
+                1024,
+                &Costs::texels(1024)
+            ),
+            Some((7, 512))
+        );
     }
 
     #[test]
@@ -720,15 +1209,31 @@ mod tests {
         // 0.0268) is predicted at 0.031: 3×3 at 2048² (352) beats 5×5 at 1024² (530), and would
         // lose only to a 2048² map priced above 25/9 = 2.78 times a 1024² one.
         let cows = pa(0.0165, 0.0531, 0.0289);
-        assert!((predicted_at(Class::Plane, 3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4, "{}", predicted_at(Class::Plane, 3, 512, &cows, 3, 1024));
+        assert!(
+            (predicted_at(Class::Plane, 3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4,
+            "{}",
+            predicted_at(Class::Plane, 3, 512, &cows, 3, 1024)
+        );
         let frame = Costs(vec![(512, 16.4), (1024, 21.2), (2048, 39.1)]);
-        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &frame), Some((3, 2048)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &frame),
+            Some((3, 2048))
+        );
         let dear = |ratio: f64| Costs(vec![(512, 16.4), (1024, 21.2), (2048, 21.2 * ratio)]);
-        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.7)), Some((3, 2048)));
-        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.8)), Some((5, 1024)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.7)),
+            Some((3, 2048))
+        );
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.8)),
+            Some((5, 1024))
+        );
         // Against 0.02 no grid at 1024² is predicted to meet it (the maps' part alone, halved,
         // stays over): 2048² maps at any price.
-        assert_eq!(next_choice(Class::Plane, 3, 512, &cows, 0.02, 17, 2048, &dear(10.0)), Some((5, 2048)));
+        assert_eq!(
+            next_choice(Class::Plane, 3, 512, &cows, 0.02, 17, 2048, &dear(10.0)),
+            Some((5, 2048))
+        );
     }
 
     #[test]
@@ -737,30 +1242,93 @@ mod tests {
         // averages). 3×3 at 1024² is predicted at 0.0162 (sampling 0.005 · (5/3)^1.5, maps
         // sqrt(0.018² + 0.012² · 16/9) / 2) for 18 units against 25; 3×3 at 512² at 0.0241.
         let five = pa(0.005, 0.018, 0.012);
-        assert!((predicted_at(Class::Plane, 5, 512, &five, 3, 1024) - 0.01615).abs() < 1e-4, "{}", predicted_at(Class::Plane, 5, 512, &five, 3, 1024));
-        assert_eq!(cheaper_meeting(Class::Plane, 5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512)]), Some((3, 1024)));
+        assert!(
+            (predicted_at(Class::Plane, 5, 512, &five, 3, 1024) - 0.01615).abs() < 1e-4,
+            "{}",
+            predicted_at(Class::Plane, 5, 512, &five, 3, 1024)
+        );
+        assert_eq!(
+            cheaper_meeting(
+                Class::Plane,
+                5,
+                512,
+                &five,
+                0.02,
+                17,
+                2048,
+                &tx(),
+                &[(5, 512)]
+            ),
+            Some((3, 1024))
+        );
         // Tried already (it missed): nothing else cheaper is predicted to meet it.
-        assert_eq!(cheaper_meeting(Class::Plane, 5, 512, &five, 0.02, 17, 2048, &tx(), &[(5, 512), (3, 1024)]), None);
+        assert_eq!(
+            cheaper_meeting(
+                Class::Plane,
+                5,
+                512,
+                &five,
+                0.02,
+                17,
+                2048,
+                &tx(),
+                &[(5, 512), (3, 1024)]
+            ),
+            None
+        );
         // A smaller map raises the maps' error as a larger one lowers it: 4× its square per halving.
         assert!((predicted_at(Class::Plane, 3, 512, &p(0.0, 0.01), 3, 256) - 0.02).abs() < 1e-12);
         // At 0.015 no grid of fewer than 25 units is predicted to meet it: 4×4 at 512² (16 units)
         // reads 0.0235 with the even side's factor, and 256² maps are off the ladder.
-        assert_eq!(cheaper_meeting(Class::Plane, 5, 512, &five, 0.015, 17, 2048, &tx(), &[(5, 512)]), None);
+        assert_eq!(
+            cheaper_meeting(
+                Class::Plane,
+                5,
+                512,
+                &five,
+                0.015,
+                17,
+                2048,
+                &tx(),
+                &[(5, 512)]
+            ),
+            None
+        );
     }
 
     #[test]
     fn a_handed_on_choice_is_kept_within_a_margin() {
         assert!(acceptable(0.015, 0.015, false) && !acceptable(0.0151, 0.015, false));
-        assert!(acceptable(0.017, 0.015, true), "within 15%: the previous frame's grid stays");
+        assert!(
+            acceptable(0.017, 0.015, true),
+            "within 15%: the previous frame's grid stays"
+        );
         assert!(!acceptable(0.0175, 0.015, true), "past 15%: it grows");
     }
 
     #[test]
     fn parameters_are_checked() {
-        for (spec, expect) in [("auto:target=0", "target"), ("auto:max_n=1", "max_n"), ("auto:max_size=300", "max_size"), ("auto:target=x", "target"), ("auto:cost=guess", "cost"), ("auto:delta=1", "delta = 1 is outside (0, 1)"), ("auto:delta=0", "delta"), ("auto:pixels=-3", "pixels")] {
-            let e = super::super::Method::parse(spec, &[]).err().unwrap_or_else(|| panic!("{spec} parsed")).to_string();
+        for (spec, expect) in [
+            ("auto:target=0", "target"),
+            ("auto:max_n=1", "max_n"),
+            ("auto:max_size=300", "max_size"),
+            ("auto:target=x", "target"),
+            ("auto:cost=guess", "cost"),
+            ("auto:delta=1", "delta = 1 is outside (0, 1)"),
+            ("auto:delta=0", "delta"),
+            ("auto:pixels=-3", "pixels"),
+        ] {
+            let e = super::super::Method::parse(spec, &[])
+                .err()
+                .unwrap_or_else(|| panic!("{spec} parsed"))
+                .to_string();
             assert!(e.contains("auto") && e.contains(expect), "{spec}: {e}");
         }
-        assert_eq!(super::super::Method::parse("auto:target=0.01", &[]).unwrap().label(), "auto:target=0.01");
+        assert_eq!(
+            super::super::Method::parse("auto:target=0.01", &[])
+                .unwrap()
+                .label(),
+            "auto:target=0.01"
+        );
     }
 }

@@ -22,10 +22,14 @@ pub fn parse_list(text: &str) -> Result<Vec<Method>> {
     }
     let mut out: Vec<Method> = Vec::new();
     for name in text.split('+') {
-        let bad = |why: String| Error::Param(format!("auto: filters = {text}: `{name}` {why}; give one-map methods joined by + (e.g. pcss+msm), or none"));
+        let bad = |why: String| {
+            Error::Param(format!("auto: filters = {text}: `{name}` {why}; give one-map methods joined by + (e.g. pcss+msm), or none"))
+        };
         let m = Method::parse(name, &[]).map_err(|e| bad(format!("is not a method ({e})")))?;
         if !matches!(m.family(), Family::Pcf | Family::Filtered) || name.contains(':') {
-            return Err(bad("is not a filtered one-map method at its defaults".into()));
+            return Err(bad(
+                "is not a filtered one-map method at its defaults".into()
+            ));
         }
         if out.iter().any(|o| o.name() == m.name()) {
             return Err(bad("is given twice".into()));
@@ -37,9 +41,19 @@ pub fn parse_list(text: &str) -> Result<Vec<Method>> {
 
 /// The filter's predicted RMSE, sqrt(max(D² − σ², 0)), and D: the RMS over geometry pixels of
 /// V_f − V_grid (both clamped to [0, 1], as the frame's V is), σ = `grid_rmse`.
-pub fn predicted(v_filter: &[f32], v_grid: &[f32], geometry: &[bool], grid_rmse: f64) -> (f64, f64) {
+pub fn predicted(
+    v_filter: &[f32],
+    v_grid: &[f32],
+    geometry: &[bool],
+    grid_rmse: f64,
+) -> (f64, f64) {
     let (mut sum, mut n) = (0.0f64, 0usize);
-    for ((f, g), _) in v_filter.iter().zip(v_grid).zip(geometry).filter(|(_, m)| **m) {
+    for ((f, g), _) in v_filter
+        .iter()
+        .zip(v_grid)
+        .zip(geometry)
+        .filter(|(_, m)| **m)
+    {
         let d = f64::from(f.clamp(0.0, 1.0)) - f64::from(g.clamp(0.0, 1.0));
         sum += d * d;
         n += 1;
@@ -54,7 +68,13 @@ pub fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec<f32> {
         .iter()
         .zip(v_grid)
         .zip(grid_bound)
-        .map(|((f, g), b)| if *b > 0.0 { (f.clamp(0.0, 1.0) - g.clamp(0.0, 1.0)).abs() + b } else { 0.0 })
+        .map(|((f, g), b)| {
+            if *b > 0.0 {
+                (f.clamp(0.0, 1.0) - g.clamp(0.0, 1.0)).abs() + b
+            } else {
+                0.0
+            }
+        })
         .collect()
 }
 
@@ -109,7 +129,11 @@ pub struct Candidates {
 impl Candidates {
     pub fn new(methods: Vec<Method>, left_out: Vec<String>) -> Candidates {
         let states = methods.iter().map(|_| None).collect();
-        Candidates { methods, states, left_out }
+        Candidates {
+            methods,
+            states,
+            left_out,
+        }
     }
     pub fn left_out(&self) -> &[String] {
         &self.left_out
@@ -166,13 +190,34 @@ impl Candidates {
             let (m, v, ms) = self.render_read(i, fg, timer)?;
             maps += m;
             let screened = predicted(&v, &v_met, geometry, met.rmse).0;
-            checks.push(Check { method: self.label(i), maps: m, ms, screened, difference: None, predicted_rmse: None, accepted: false });
+            checks.push(Check {
+                method: self.label(i),
+                maps: m,
+                ms,
+                screened,
+                difference: None,
+                predicted_rmse: None,
+                accepted: false,
+            });
         }
-        let left: Vec<usize> = (0..checks.len()).filter(|&i| checks[i].screened <= screen && checks[i].ms < met.ms).collect();
-        let r = if left.is_empty() { None } else { reference(timer)? };
+        let left: Vec<usize> = (0..checks.len())
+            .filter(|&i| checks[i].screened <= screen && checks[i].ms < met.ms)
+            .collect();
+        let r = if left.is_empty() {
+            None
+        } else {
+            reference(timer)?
+        };
         let Some(r) = r else {
-            fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v_met));
-            return Ok(Outcome { chosen: None, checks, maps, reference: None });
+            fg.ctx
+                .queue
+                .write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v_met));
+            return Ok(Outcome {
+                chosen: None,
+                checks,
+                maps,
+                reference: None,
+            });
         };
         maps += r.maps;
         let v_r = read_v(fg, timer)?;
@@ -188,8 +233,19 @@ impl Candidates {
                 chosen = Some((i, f, bound(&v, &v_r, &r.bound)));
             }
         }
-        maps += self.leave_in_v(chosen.as_ref().map(|c| c.0), left.last().copied(), &v_met, fg, timer)?;
-        Ok(Outcome { chosen, checks, maps, reference: Some(r.record) })
+        maps += self.leave_in_v(
+            chosen.as_ref().map(|c| c.0),
+            left.last().copied(),
+            &v_met,
+            fg,
+            timer,
+        )?;
+        Ok(Outcome {
+            chosen,
+            checks,
+            maps,
+            reference: Some(r.record),
+        })
     }
 
     /// Where no grid reaches the target: each candidate read against the grid the frame renders
@@ -202,7 +258,16 @@ impl Candidates {
     /// at 0.234, and errs 0.27 (their errors share the acne). V is left holding what the frame
     /// renders.
     #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-    pub fn check_out_of_reach(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], met: Met, met_bound: &[f32], keep: f64, handed_on: Option<&str>) -> Result<Outcome> {
+    pub fn check_out_of_reach(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        geometry: &[bool],
+        met: Met,
+        met_bound: &[f32],
+        keep: f64,
+        handed_on: Option<&str>,
+    ) -> Result<Outcome> {
         let v_met = read_v(fg, timer)?;
         let (mut checks, mut maps) = (Vec::new(), 0);
         let mut chosen = None::<(usize, f64, Vec<f32>)>;
@@ -210,25 +275,57 @@ impl Candidates {
             let (m, v, ms) = self.render_read(i, fg, timer)?;
             maps += m;
             let (f, d) = predicted(&v, &v_met, geometry, met.rmse);
-            let limit = if handed_on == Some(self.methods[i].name()) { keep * met.rmse } else { met.rmse };
+            let limit = if handed_on == Some(self.methods[i].name()) {
+                keep * met.rmse
+            } else {
+                met.rmse
+            };
             let accepted = ms < met.ms && d <= limit;
-            checks.push(Check { method: self.label(i), maps: m, ms, screened: f, difference: Some(d), predicted_rmse: Some(f), accepted });
+            checks.push(Check {
+                method: self.label(i),
+                maps: m,
+                ms,
+                screened: f,
+                difference: Some(d),
+                predicted_rmse: Some(f),
+                accepted,
+            });
             if accepted && chosen.as_ref().is_none_or(|x| d < x.1) {
                 chosen = Some((i, d, bound(&v, &v_met, met_bound)));
             }
         }
-        maps += self.leave_in_v(chosen.as_ref().map(|c| c.0), self.methods.len().checked_sub(1), &v_met, fg, timer)?;
-        Ok(Outcome { chosen, checks, maps, reference: None })
+        maps += self.leave_in_v(
+            chosen.as_ref().map(|c| c.0),
+            self.methods.len().checked_sub(1),
+            &v_met,
+            fg,
+            timer,
+        )?;
+        Ok(Outcome {
+            chosen,
+            checks,
+            maps,
+            reference: None,
+        })
     }
 
     /// V holds candidate `last`'s: put there what the frame renders, the chosen candidate's
     /// (rendered again unless it is that one) or the grid's `v_met`. The maps it rendered.
-    fn leave_in_v(&mut self, chosen: Option<usize>, last: Option<usize>, v_met: &[f32], fg: &FrameGpu, timer: &mut StageTimer) -> Result<u32> {
+    fn leave_in_v(
+        &mut self,
+        chosen: Option<usize>,
+        last: Option<usize>,
+        v_met: &[f32],
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+    ) -> Result<u32> {
         match chosen {
             Some(i) if Some(i) == last => Ok(0),
             Some(i) => self.run_into_cleared(i, fg, timer),
             None => {
-                fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(v_met));
+                fg.ctx
+                    .queue
+                    .write_buffer(&fg.visibility, 0, bytemuck::cast_slice(v_met));
                 Ok(0)
             }
         }
@@ -236,7 +333,12 @@ impl Candidates {
 
     /// Candidate `i` into V cleared first: its maps (a first render's warm-up included), V, and
     /// the wall clock of the timed render to V read back.
-    fn render_read(&mut self, i: usize, fg: &FrameGpu, timer: &mut StageTimer) -> Result<(u32, Vec<f32>, f64)> {
+    fn render_read(
+        &mut self,
+        i: usize,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+    ) -> Result<(u32, Vec<f32>, f64)> {
         // Built and run once before the clock: the time set against the grid's try is what a
         // settled frame pays. Timed with its build, pcss took 2.9–5.4 ms on an H200 against
         // 0.4–0.6 ms without, and lost to grid tries of 1.3–5.9 ms; on lavapipe a first run
@@ -266,7 +368,9 @@ impl Candidates {
 /// The frame's V as it stands, after what is pending.
 pub fn read_v(fg: &FrameGpu, timer: &mut StageTimer) -> Result<Vec<f32>> {
     timer.flush(fg.ctx);
-    timer.cpu(Stage::READBACK, || readback::read_buffer(fg.ctx, &fg.visibility, fg.pixel_count() as u64 * 4))
+    timer.cpu(Stage::READBACK, || {
+        readback::read_buffer(fg.ctx, &fg.visibility, fg.pixel_count() as u64 * 4)
+    })
 }
 
 #[cfg(test)]
@@ -277,15 +381,36 @@ mod tests {
     fn the_filters_prediction_takes_the_grids_error_out_of_the_difference() {
         let geometry = [true, true, true, false];
         // D² = (0.05² + 0.05² + 0) / 3 = 0.001667; σ = 0.02: sqrt(0.001667 − 0.0004) = 0.0356.
-        let (p, d) = predicted(&[0.55, 0.45, 0.3, 9.0], &[0.5, 0.5, 0.3, 0.0], &geometry, 0.02);
+        let (p, d) = predicted(
+            &[0.55, 0.45, 0.3, 9.0],
+            &[0.5, 0.5, 0.3, 0.0],
+            &geometry,
+            0.02,
+        );
         assert!((d - (0.005f64 / 3.0).sqrt()).abs() < 1e-7, "{d}");
         assert!((p - (0.005f64 / 3.0 - 0.0004).sqrt()).abs() < 1e-7, "{p}");
         // A grid predicted to err more than the two differ: the filter is read as exact.
-        assert_eq!(predicted(&[0.55, 0.45, 0.3, 0.0], &[0.5, 0.5, 0.3, 0.0], &geometry, 0.1).0, 0.0);
+        assert_eq!(
+            predicted(
+                &[0.55, 0.45, 0.3, 0.0],
+                &[0.5, 0.5, 0.3, 0.0],
+                &geometry,
+                0.1
+            )
+            .0,
+            0.0
+        );
         // Values past [0, 1] are clamped, as the frame's V is.
         assert_eq!(predicted(&[1.2], &[1.0], &[true], 0.0).1, 0.0);
-        let b = bound(&[0.55, 0.45, 0.3, 9.0], &[0.5, 0.5, 0.3, 0.0], &[0.1, 0.2, 0.01, 0.0]);
-        assert!((b[0] - 0.15).abs() < 1e-6 && (b[1] - 0.25).abs() < 1e-6 && (b[2] - 0.01).abs() < 1e-6, "{b:?}");
+        let b = bound(
+            &[0.55, 0.45, 0.3, 9.0],
+            &[0.5, 0.5, 0.3, 0.0],
+            &[0.1, 0.2, 0.01, 0.0],
+        );
+        assert!(
+            (b[0] - 0.15).abs() < 1e-6 && (b[1] - 0.25).abs() < 1e-6 && (b[2] - 0.01).abs() < 1e-6,
+            "{b:?}"
+        );
         assert_eq!(b[3], 0.0, "no bound off geometry");
     }
 
@@ -293,9 +418,21 @@ mod tests {
     fn the_list_takes_one_map_methods_only() {
         assert!(parse_list("none").unwrap().is_empty());
         let l = parse_list("pcss+msm").unwrap();
-        assert_eq!(l.iter().map(|m| m.name()).collect::<Vec<_>>(), vec!["pcss", "msm"]);
-        for (bad, why) in [("regular", "not a filtered one-map method"), ("hard", "not a filtered one-map method"), ("pcss+pcss", "twice"), ("pcs", "not a method"), ("", "not a method")] {
-            let e = parse_list(bad).err().unwrap_or_else(|| panic!("{bad} parsed")).to_string();
+        assert_eq!(
+            l.iter().map(|m| m.name()).collect::<Vec<_>>(),
+            vec!["pcss", "msm"]
+        );
+        for (bad, why) in [
+            ("regular", "not a filtered one-map method"),
+            ("hard", "not a filtered one-map method"),
+            ("pcss+pcss", "twice"),
+            ("pcs", "not a method"),
+            ("", "not a method"),
+        ] {
+            let e = parse_list(bad)
+                .err()
+                .unwrap_or_else(|| panic!("{bad} parsed"))
+                .to_string();
             assert!(e.contains(why) && e.contains("filters"), "{bad}: {e}");
         }
     }

@@ -39,8 +39,20 @@ pub fn measured(fg: &FrameGpu, sizes: &[u32]) -> Result<(Vec<(u32, f64)>, f64)> 
     // device that warms up or slows over the rounds weighs on each alike.
     let mut grids = Vec::new();
     for &z in sizes {
-        let frame = crate::gpu::readback::uniform_buffer(fg.ctx, "auto price frame", &crate::gpu::structs::GpuFrame { map_size: z, ..fg.frame });
-        grids.push(fixed_samples::prepare_sized(fg, &regular_points(SIDE, Layout::Centred), z, Some(frame))?);
+        let frame = crate::gpu::readback::uniform_buffer(
+            fg.ctx,
+            "auto price frame",
+            &crate::gpu::structs::GpuFrame {
+                map_size: z,
+                ..fg.frame
+            },
+        );
+        grids.push(fixed_samples::prepare_sized(
+            fg,
+            &regular_points(SIDE, Layout::Centred),
+            z,
+            Some(frame),
+        )?);
     }
     let mut times = vec![Vec::new(); grids.len()];
     for round in 0..=ROUNDS {
@@ -107,7 +119,11 @@ mod tests {
     #[test]
     fn a_map_is_priced_at_what_its_stages_add_to_the_frame() {
         // Four maps whose raster took 36 ms and shade 4 ms: 10 ms a map.
-        let stages: std::collections::BTreeMap<String, f64> = [("shadow_raster".to_string(), 36.0), ("shade".to_string(), 4.0)].into();
+        let stages: std::collections::BTreeMap<String, f64> = [
+            ("shadow_raster".to_string(), 36.0),
+            ("shade".to_string(), 4.0),
+        ]
+        .into();
         assert_eq!(per_map(&stages, 4), 10.0);
         // A point light's 2×2 grid: 24 maps.
         assert_eq!(per_map(&stages, 24), 40.0 / 24.0);

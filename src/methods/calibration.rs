@@ -55,8 +55,14 @@ impl Factors {
 /// measure: on `point-edge` it reads 0.27–0.75 of it (the measured part falls from 0.0098 to 0.0050
 /// over the six settings, its estimate from 0.0073 to 0.0016), hidden in the totals behind the
 /// sampling part.
-pub const PLANE: Factors = Factors { sampling: 1.32, map: 1.12 };
-pub const CUBE: Factors = Factors { sampling: 1.22, map: 3.66 };
+pub const PLANE: Factors = Factors {
+    sampling: 1.32,
+    map: 1.12,
+};
+pub const CUBE: Factors = Factors {
+    sampling: 1.22,
+    map: 3.66,
+};
 
 pub fn factors(class: Class) -> Factors {
     match class {
@@ -126,11 +132,29 @@ mod tests {
 
     #[test]
     fn each_part_takes_its_factor_and_the_sum_is_in_quadrature() {
-        let p = Prediction { predicted_rmse: 0.05, predicted_sampling: 0.03, predicted_map: 0.04, predicted_quantization: 0.024, predicted_bias: 0.032, predicted_map_averaging: 0.01 };
-        let c = calibrated_with(&p, Factors { sampling: 2.0, map: 0.5 });
-        assert!((c.predicted_sampling - 0.06).abs() < 1e-12 && (c.predicted_map - 0.02).abs() < 1e-12);
+        let p = Prediction {
+            predicted_rmse: 0.05,
+            predicted_sampling: 0.03,
+            predicted_map: 0.04,
+            predicted_quantization: 0.024,
+            predicted_bias: 0.032,
+            predicted_map_averaging: 0.01,
+        };
+        let c = calibrated_with(
+            &p,
+            Factors {
+                sampling: 2.0,
+                map: 0.5,
+            },
+        );
+        assert!(
+            (c.predicted_sampling - 0.06).abs() < 1e-12 && (c.predicted_map - 0.02).abs() < 1e-12
+        );
         assert!((c.predicted_rmse - (0.06f64.powi(2) + 0.02f64.powi(2)).sqrt()).abs() < 1e-12);
-        assert!((c.predicted_quantization - 0.012).abs() < 1e-12 && (c.predicted_bias - 0.016).abs() < 1e-12);
+        assert!(
+            (c.predicted_quantization - 0.012).abs() < 1e-12
+                && (c.predicted_bias - 0.016).abs() < 1e-12
+        );
         assert!((c.predicted_map_averaging - 0.005).abs() < 1e-12);
         assert_eq!(Class::of(LightKind::Point), Class::Cube);
         assert_eq!(Class::of(LightKind::Spot), Class::Plane);
@@ -140,14 +164,35 @@ mod tests {
 
     #[test]
     fn an_even_side_takes_its_own_sampling_factor_up_to_the_largest_fitted() {
-        let p = Prediction { predicted_rmse: 0.05, predicted_sampling: 0.03, predicted_map: 0.04, predicted_quantization: 0.04, predicted_bias: 0.0, predicted_map_averaging: 0.0 };
-        for (class, odd, even) in [(Class::Plane, PLANE, EVEN_PLANE_SAMPLING), (Class::Cube, CUBE, EVEN_CUBE_SAMPLING)] {
+        let p = Prediction {
+            predicted_rmse: 0.05,
+            predicted_sampling: 0.03,
+            predicted_map: 0.04,
+            predicted_quantization: 0.04,
+            predicted_bias: 0.0,
+            predicted_map_averaging: 0.0,
+        };
+        for (class, odd, even) in [
+            (Class::Plane, PLANE, EVEN_PLANE_SAMPLING),
+            (Class::Cube, CUBE, EVEN_CUBE_SAMPLING),
+        ] {
             assert_eq!(calibrated(&p, class, 5), calibrated_with(&p, odd));
             let c = calibrated(&p, class, 4);
-            assert!((c.predicted_sampling - 0.03 * even).abs() < 1e-12 && (c.predicted_map - 0.04 * odd.map).abs() < 1e-12, "{class:?}: {c:?}");
-            assert!(even > odd.sampling, "{class:?}: an even side's half sets read its error lower than an odd side's");
+            assert!(
+                (c.predicted_sampling - 0.03 * even).abs() < 1e-12
+                    && (c.predicted_map - 0.04 * odd.map).abs() < 1e-12,
+                "{class:?}: {c:?}"
+            );
+            assert!(
+                even > odd.sampling,
+                "{class:?}: an even side's half sets read its error lower than an odd side's"
+            );
         }
         let sides: Vec<u32> = (2..=10).filter(|&n| fitted_side(n)).collect();
-        assert_eq!(sides, vec![2, 3, 4, 5, 6, 7, 9], "8 and 10 are even sides no factor was fitted on");
+        assert_eq!(
+            sides,
+            vec![2, 3, 4, 5, 6, 7, 9],
+            "8 and 10 are even sides no factor was fitted on"
+        );
     }
 }

@@ -32,7 +32,11 @@ pub fn split_weights(n: u32, faces: usize) -> Vec<[f32; 2]> {
     let signed = |i: u32| if i % 2 == 0 { 1.0 / even } else { -1.0 / odd };
     (0..n * n)
         .flat_map(|k| {
-            let w = if n < 2 { [0.0, 0.0] } else { [signed(k % n), signed(k / n)] };
+            let w = if n < 2 {
+                [0.0, 0.0]
+            } else {
+                [signed(k % n), signed(k / n)]
+            };
             std::iter::repeat_n(w, faces)
         })
         .collect()
@@ -73,15 +77,32 @@ pub fn pixel_terms(sum: Sums, layout: Layout, ratio: f64) -> (f64, f64, f64) {
     let x = sum.map(|v| v as f64);
     let (dx, dy, q, b) = (x[0], x[1], x[2], x[3]);
     let halves = x[4] * x[4] + x[5] * x[5] + x[6] * x[6] + x[7] * x[7];
-    let averaging = if ratio > 0.0 { halves / (2.0 * ratio) } else { 0.0 };
-    (c * (dx * dx + dy * dy).sqrt(), (q * q + b * b).sqrt(), averaging)
+    let averaging = if ratio > 0.0 {
+        halves / (2.0 * ratio)
+    } else {
+        0.0
+    };
+    (
+        c * (dx * dx + dy * dy).sqrt(),
+        (q * q + b * b).sqrt(),
+        averaging,
+    )
 }
 
 /// The frame's prediction and each pixel's bound (0 off geometry).
 /// `side`: the grid's n (`averaging_ratio`).
-pub fn predict(sums: &[Sums], geometry: &[bool], layout: Layout, side: u32) -> Result<(Prediction, Vec<f32>)> {
+pub fn predict(
+    sums: &[Sums],
+    geometry: &[bool],
+    layout: Layout,
+    side: u32,
+) -> Result<(Prediction, Vec<f32>)> {
     if sums.len() != geometry.len() {
-        return Err(crate::Error::Limit(format!("estimate: {} sums for {} pixels", sums.len(), geometry.len())));
+        return Err(crate::Error::Limit(format!(
+            "estimate: {} sums for {} pixels",
+            sums.len(),
+            geometry.len()
+        )));
     }
     let ratio = averaging_ratio(side);
     let (mut s2, mut m2, mut q2, mut a2, mut pixels) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
@@ -120,21 +141,38 @@ mod tests {
             assert_eq!(w.len(), (n * n) as usize);
             for axis in 0..2 {
                 let sum: f32 = w.iter().map(|x| x[axis]).sum();
-                assert!(sum.abs() < 1e-5, "n = {n}: the halves' weights cancel on a constant V ({sum})");
+                assert!(
+                    sum.abs() < 1e-5,
+                    "n = {n}: the halves' weights cancel on a constant V ({sum})"
+                );
                 let pos: f32 = w.iter().map(|x| x[axis].max(0.0)).sum();
-                assert!((pos - 1.0).abs() < 1e-5, "n = {n}: each half is a mean ({pos})");
+                assert!(
+                    (pos - 1.0).abs() < 1e-5,
+                    "n = {n}: each half is a mean ({pos})"
+                );
             }
         }
         assert_eq!(split_weights(1, 6), vec![[0.0, 0.0]; 6]);
         let cube = split_weights(2, 6);
         assert_eq!(cube.len(), 24);
-        assert_eq!(cube[5], cube[0], "the six faces of a point's sample share its weights");
-        assert_eq!(cube[6], [-0.5, 0.5], "sample 1 is column 1, row 0 of the 2×2 grid");
+        assert_eq!(
+            cube[5], cube[0],
+            "the six faces of a point's sample share its weights"
+        );
+        assert_eq!(
+            cube[6],
+            [-0.5, 0.5],
+            "sample 1 is column 1, row 0 of the 2×2 grid"
+        );
     }
 
     #[test]
     fn prediction_adds_the_terms_in_quadrature() {
-        let sums = vec![[0.2, 0.0, 0.03, 0.04, 0.0, 0.0, 0.0, 0.0], [0.0; 8], [9.0; 8]];
+        let sums = vec![
+            [0.2, 0.0, 0.03, 0.04, 0.0, 0.0, 0.0, 0.0],
+            [0.0; 8],
+            [9.0; 8],
+        ];
         let geometry = vec![true, true, false];
         let (p, bound) = predict(&sums, &geometry, Layout::Centred, 4).unwrap();
         let s = sampling_scale(Layout::Centred) * 0.2;
@@ -143,11 +181,20 @@ mod tests {
         // Its two terms: RMS Q = 0.03/√2, RMS B = 0.04/√2.
         assert!((p.predicted_quantization - 0.03 / 2f64.sqrt()).abs() < 1e-7);
         assert!((p.predicted_bias - 0.04 / 2f64.sqrt()).abs() < 1e-7);
-        assert!((p.predicted_rmse - (p.predicted_sampling.powi(2) + p.predicted_map.powi(2)).sqrt()).abs() < 1e-12);
+        assert!(
+            (p.predicted_rmse - (p.predicted_sampling.powi(2) + p.predicted_map.powi(2)).sqrt())
+                .abs()
+                < 1e-12
+        );
         assert_eq!(bound[2], 0.0, "no bound off geometry");
         assert_eq!(bound[1], BOUND_FLOOR);
-        assert!((bound[0] - (BOUND_SIGMAS * (s * s + 0.0025).sqrt() as f32 + BOUND_FLOOR)).abs() < 1e-6);
-        assert_eq!(p.predicted_map_averaging, 0.0, "halves that agree: nothing averages");
+        assert!(
+            (bound[0] - (BOUND_SIGMAS * (s * s + 0.0025).sqrt() as f32 + BOUND_FLOOR)).abs() < 1e-6
+        );
+        assert_eq!(
+            p.predicted_map_averaging, 0.0,
+            "halves that agree: nothing averages"
+        );
         assert!(predict(&sums, &[true], Layout::Centred, 4).is_err());
     }
 
@@ -155,11 +202,21 @@ mod tests {
     fn the_averaging_part_is_the_halves_difference_over_the_ratio() {
         assert_eq!(averaging_ratio(1), 0.0);
         assert_eq!(averaging_ratio(4), 4.0);
-        assert!((averaging_ratio(3) - 4.5).abs() < 1e-12, "n = 3: 9·(1/6 + 1/3)");
+        assert!(
+            (averaging_ratio(3) - 4.5).abs() < 1e-12,
+            "n = 3: 9·(1/6 + 1/3)"
+        );
         // Q's halves differ by 0.06 in columns and rows, B's agree: a² = (2 · 0.06²) / (2 · 4).
-        let sums = vec![[0.0, 0.0, 0.05, 0.0, 0.06, 0.06, 0.0, 0.0], [0.0, 0.0, 0.05, 0.0, 0.06, 0.06, 0.0, 0.0]];
+        let sums = vec![
+            [0.0, 0.0, 0.05, 0.0, 0.06, 0.06, 0.0, 0.0],
+            [0.0, 0.0, 0.05, 0.0, 0.06, 0.06, 0.0, 0.0],
+        ];
         let (p, _) = predict(&sums, &[true, true], Layout::Centred, 4).unwrap();
-        assert!((p.predicted_map_averaging - 0.03).abs() < 1e-7, "{}", p.predicted_map_averaging);
+        assert!(
+            (p.predicted_map_averaging - 0.03).abs() < 1e-7,
+            "{}",
+            p.predicted_map_averaging
+        );
         assert!((p.predicted_map - 0.05).abs() < 1e-7);
         // Capped at the maps' error: halves far apart with a small mean.
         let sums = vec![[0.0, 0.0, 0.01, 0.0, 0.5, 0.5, 0.0, 0.0]];

@@ -3,14 +3,22 @@
 //! from the filtered statistic (`reconstruct`). ESM, VSM, EVSM, MSM and CSM differ only in the
 //! statistic and the reconstruction.
 
-use crate::gpu::Stage;
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
-use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::gpu::stages::bind;
-use crate::stages::{blur::{Blur, BlurMaps}, moments::Moments, reconstruct::Reconstruct, FrameGpu};
+use super::{
+    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
+    ShadowMethod,
+};
 use crate::gpu::readback;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::GpuFilter;
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::stages::{
+    blur::{Blur, BlurMaps},
+    moments::Moments,
+    reconstruct::Reconstruct,
+    FrameGpu,
+};
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -26,24 +34,52 @@ pub const ESM: MethodInfo = MethodInfo {
     name: "esm",
     family: Family::Filtered,
     summary: "exponential shadow maps: prefiltered e^{c z}, V = min(1, E[e^{c z}]·e^{−c z_r})",
-    params: &[Param { key: "c", default: "80", help: "exponent, 1..=85 (f32 holds e^85)" }, RADIUS],
+    params: &[
+        Param {
+            key: "c",
+            default: "80",
+            help: "exponent, 1..=85 (f32 holds e^85)",
+        },
+        RADIUS,
+    ],
     parse: |p| Filtered::parse(Kind::Esm, p),
 };
 pub const VSM: MethodInfo = MethodInfo {
     name: "vsm",
     family: Family::Filtered,
-    summary: "variance shadow maps: prefiltered (z, z²), Chebyshev's bound, light-bleeding reduction",
-    params: &[Param { key: "bleed", default: "0", help: "light-bleeding reduction: p' = clamp((p − bleed)/(1 − bleed)), 0..<1" }, RADIUS],
+    summary:
+        "variance shadow maps: prefiltered (z, z²), Chebyshev's bound, light-bleeding reduction",
+    params: &[
+        Param {
+            key: "bleed",
+            default: "0",
+            help: "light-bleeding reduction: p' = clamp((p − bleed)/(1 − bleed)), 0..<1",
+        },
+        RADIUS,
+    ],
     parse: |p| Filtered::parse(Kind::Vsm, p),
 };
 pub const EVSM: MethodInfo = MethodInfo {
     name: "evsm",
     family: Family::Filtered,
-    summary: "exponential variance shadow maps: Chebyshev on e^{c+ w} and −e^{−c− w}, the smaller bound",
+    summary:
+        "exponential variance shadow maps: Chebyshev on e^{c+ w} and −e^{−c− w}, the smaller bound",
     params: &[
-        Param { key: "c_pos", default: "42", help: "positive exponent, clamped to 42 (e^{2c} must stay finite in f32)" },
-        Param { key: "c_neg", default: "42", help: "negative exponent, clamped to 42" },
-        Param { key: "bleed", default: "0", help: "light-bleeding reduction amount, 0..<1" },
+        Param {
+            key: "c_pos",
+            default: "42",
+            help: "positive exponent, clamped to 42 (e^{2c} must stay finite in f32)",
+        },
+        Param {
+            key: "c_neg",
+            default: "42",
+            help: "negative exponent, clamped to 42",
+        },
+        Param {
+            key: "bleed",
+            default: "0",
+            help: "light-bleeding reduction amount, 0..<1",
+        },
         RADIUS,
     ],
     parse: |p| Filtered::parse(Kind::Evsm, p),
@@ -108,14 +144,25 @@ impl Filtered {
         let name = kind.info().name;
         let radius = match p.get("radius").map(String::as_str) {
             None | Some("auto") => None,
-            Some(_) => Some(check_range(name, "radius", get_u32(p, "radius", 0)?, 0, 64)?),
+            Some(_) => Some(check_range(
+                name,
+                "radius",
+                get_u32(p, "radius", 0)?,
+                0,
+                64,
+            )?),
         };
         let bleed = get_f32(p, "bleed", 0.0)?;
         if !(0.0..1.0).contains(&bleed) {
-            return Err(Error::Param(format!("{name}: bleed = {bleed} is outside 0..1")));
+            return Err(Error::Param(format!(
+                "{name}: bleed = {bleed} is outside 0..1"
+            )));
         }
         let (c_pos, c_neg) = match kind {
-            Kind::Esm => (check_range(name, "c", get_f32(p, "c", 80.0)?, 1.0, ESM_MAX_EXPONENT)?, 0.0),
+            Kind::Esm => (
+                check_range(name, "c", get_f32(p, "c", 80.0)?, 1.0, ESM_MAX_EXPONENT)?,
+                0.0,
+            ),
             Kind::Evsm => {
                 let pos = check_range(name, "c_pos", get_f32(p, "c_pos", 42.0)?, 0.0, f32::MAX)?;
                 let neg = check_range(name, "c_neg", get_f32(p, "c_neg", 42.0)?, 0.0, f32::MAX)?;
@@ -129,7 +176,13 @@ impl Filtered {
             c_pos,
             c_neg,
             bleed,
-            moment_bias: check_range(name, "moment_bias", get_f32(p, "moment_bias", 3e-5)?, 0.0, 0.5)?,
+            moment_bias: check_range(
+                name,
+                "moment_bias",
+                get_f32(p, "moment_bias", 3e-5)?,
+                0.0,
+                0.5,
+            )?,
             order,
             offset: match p.get("offset").map(String::as_str) {
                 None | Some("auto") => 0.5 / order as f32,
@@ -140,7 +193,11 @@ impl Filtered {
     }
 
     fn layers(&self) -> u32 {
-        if self.kind == Kind::Csm { self.order.div_ceil(2) } else { 1 }
+        if self.kind == Kind::Csm {
+            self.order.div_ceil(2)
+        } else {
+            1
+        }
     }
 
     /// Parameters as (key, value) pairs in registry order, values as the label writes them.
@@ -149,11 +206,27 @@ impl Filtered {
         match self.kind {
             Kind::Esm => vec![("c", self.c_pos.to_string()), ("radius", r)],
             Kind::Vsm => vec![("bleed", self.bleed.to_string()), ("radius", r)],
-            Kind::Evsm => vec![("c_pos", self.c_pos.to_string()), ("c_neg", self.c_neg.to_string()), ("bleed", self.bleed.to_string()), ("radius", r)],
-            Kind::Msm => vec![("moment_bias", format!("{}", self.moment_bias)), ("radius", r)],
+            Kind::Evsm => vec![
+                ("c_pos", self.c_pos.to_string()),
+                ("c_neg", self.c_neg.to_string()),
+                ("bleed", self.bleed.to_string()),
+                ("radius", r),
+            ],
+            Kind::Msm => vec![
+                ("moment_bias", format!("{}", self.moment_bias)),
+                ("radius", r),
+            ],
             Kind::Csm => {
-                let offset = if self.offset == 0.5 / self.order as f32 { "auto".to_string() } else { self.offset.to_string() };
-                vec![("order", self.order.to_string()), ("offset", offset), ("radius", r)]
+                let offset = if self.offset == 0.5 / self.order as f32 {
+                    "auto".to_string()
+                } else {
+                    self.offset.to_string()
+                };
+                vec![
+                    ("order", self.order.to_string()),
+                    ("offset", offset),
+                    ("radius", r),
+                ]
             }
         }
     }
@@ -194,7 +267,9 @@ impl ShadowMethod for Filtered {
     fn params_json(&self) -> serde_json::Value {
         let mut m = serde_json::Map::new();
         for (k, v) in self.values() {
-            let value = v.parse::<f64>().map_or(serde_json::Value::String(v), |x| serde_json::json!(x));
+            let value = v
+                .parse::<f64>()
+                .map_or(serde_json::Value::String(v), |x| serde_json::json!(x));
             m.insert(k.to_string(), value);
         }
         serde_json::Value::Object(m)
@@ -205,9 +280,20 @@ impl ShadowMethod for Filtered {
     }
     /// V by bands of rows (reconstruct), and the prefiltered statistic's planes: 16 bytes per map
     /// texel and layer, bound whole.
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         let map = scene.render.shadow_map_size as u64;
-        vec![crate::methods::sizes::visibility(scene, true, limits), crate::gpu::size_plan::SizeNeed::binding("moments", map * map * 16 * self.layers() as u64).sized_by(format!("shadow_map_size = {map}"))]
+        vec![
+            crate::methods::sizes::visibility(scene, true, limits),
+            crate::gpu::size_plan::SizeNeed::binding(
+                "moments",
+                map * map * 16 * self.layers() as u64,
+            )
+            .sized_by(format!("shadow_map_size = {map}")),
+        ]
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         if fg.scene.render.maps == crate::scene::MapKind::Hybrid {
@@ -270,7 +356,12 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // every stage writes all of its output
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         let view = self.map.view();
         timer.stage(fg.ctx, Stage::MOMENTS, |enc| {
@@ -281,16 +372,31 @@ impl MethodState for State {
                 shadow_maps: wgpu::BindingResource::TextureView(view),
                 moments: self.raw.as_entire_binding(),
             };
-            self.moments.record(fg.ctx, enc, bindings, fg.frame.map_size);
+            self.moments
+                .record(fg.ctx, enc, bindings, fg.frame.map_size);
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::BLUR, |enc| {
-            let maps = BlurMaps { size: fg.frame.map_size, layers: self.filter.layers, source: &self.raw, scratch: &self.scratch, target: &self.filtered };
-            self.blur.record(fg.ctx, enc, &fg.frame_buffer, &self.filter_buffer, &maps);
+            let maps = BlurMaps {
+                size: fg.frame.map_size,
+                layers: self.filter.layers,
+                source: &self.raw,
+                scratch: &self.scratch,
+                target: &self.filtered,
+            };
+            self.blur
+                .record(fg.ctx, enc, &fg.frame_buffer, &self.filter_buffer, &maps);
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::RECONSTRUCT, |enc| {
-            self.reconstruct.record(fg.ctx, enc, &fg.screen(), &self.filter_buffer, &self.map.samples, &self.filtered);
+            self.reconstruct.record(
+                fg.ctx,
+                enc,
+                &fg.screen(),
+                &self.filter_buffer,
+                &self.map.samples,
+                &self.filtered,
+            );
             Ok(())
         })?;
         Ok(MethodOutput {

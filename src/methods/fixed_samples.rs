@@ -2,18 +2,21 @@
 //! maps exceed the memory budget or the layer limit. With `maps = hybrid` the maps are rasterized a
 //! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
-use crate::stages::raster::RasterTarget;
-use crate::gpu::Stage;
 use super::culled_maps::CulledMaps;
 use super::hybrid_maps::HybridMaps;
-use super::{check_range, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
-use crate::stages::FrameGpu;
+use super::{
+    check_range, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
+    ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
+use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
 use crate::render::kept_maps::{KeptMaps, MapKey, Redraw, ReuseCounts, Slots};
 use crate::render::shadow_raster::{self, RasterJob};
-use crate::gpu::timing::StageTimer;
+use crate::stages::raster::RasterTarget;
+use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
+use crate::stages::FrameGpu;
 use crate::Result;
 
 pub const HARD: MethodInfo = MethodInfo {
@@ -65,7 +68,12 @@ pub enum Fixed {
     Hard,
     /// `cull`: each map rasterizes only what can change a tested texel (`CulledMaps`).
     /// `estimate`: the frame also predicts its own error (`methods::estimate`).
-    Regular { n: u32, layout: Layout, cull: bool, estimate: bool },
+    Regular {
+        n: u32,
+        layout: Layout,
+        cull: bool,
+        estimate: bool,
+    },
 }
 
 impl Fixed {
@@ -96,32 +104,62 @@ impl ShadowMethod for Fixed {
     fn label(&self) -> String {
         match self {
             Fixed::Hard => "hard".into(),
-            Fixed::Regular { n, layout, cull, estimate } => {
+            Fixed::Regular {
+                n,
+                layout,
+                cull,
+                estimate,
+            } => {
                 let layout = match layout {
                     Layout::Lattice => "",
                     Layout::Centred => ",layout=centred",
                     Layout::Jittered => ",layout=jittered",
                 };
-                format!("regular:n={n}{layout}{}{}", if *cull { ",cull=on" } else { "" }, if *estimate { ",estimate=on" } else { "" })
+                format!(
+                    "regular:n={n}{layout}{}{}",
+                    if *cull { ",cull=on" } else { "" },
+                    if *estimate { ",estimate=on" } else { "" }
+                )
             }
         }
     }
     fn params_json(&self) -> serde_json::Value {
         match self {
             Fixed::Hard => serde_json::json!({}),
-            Fixed::Regular { n, layout, cull, estimate } => serde_json::json!({ "n": n, "layout": layout, "cull": cull, "estimate": estimate }),
+            Fixed::Regular {
+                n,
+                layout,
+                cull,
+                estimate,
+            } => {
+                serde_json::json!({ "n": n, "layout": layout, "cull": cull, "estimate": estimate })
+            }
         }
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let cull = matches!(self, Fixed::Regular { cull: true, .. });
         if cull && fg.scene.render.maps == crate::scene::MapKind::Hybrid {
-            return Err(crate::Error::Param("regular: cull = on rasterizes plain maps; it cannot run with maps = hybrid".into()));
+            return Err(crate::Error::Param(
+                "regular: cull = on rasterizes plain maps; it cannot run with maps = hybrid".into(),
+            ));
         }
-        let mut prepared = prepare_kept(fg, &self.points(), fg.scene.render.shadow_map_size, None, Some("fixed"))?;
+        let mut prepared = prepare_kept(
+            fg,
+            &self.points(),
+            fg.scene.render.shadow_map_size,
+            None,
+            Some("fixed"),
+        )?;
         if cull {
             prepared.cull(fg)?;
         }
-        if let Fixed::Regular { n, layout, estimate: true, .. } = *self {
+        if let Fixed::Regular {
+            n,
+            layout,
+            estimate: true,
+            ..
+        } = *self
+        {
             prepared.estimate = Some(Estimate::new(fg, n, layout, prepared.points)?);
         }
         Ok(Box::new(prepared))
@@ -131,7 +169,11 @@ impl ShadowMethod for Fixed {
         self.points().len() as u32 * crate::methods::faces(scene)
     }
     /// Shade binds V by bands of rows (stages::shade::Band): any resolution whose V fits one buffer.
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
     }
     fn as_any(&self) -> &dyn std::any::Any {
@@ -149,7 +191,9 @@ impl MethodState for Prepared {
     }
     /// The estimate's sums, read after the clock stopped: the prediction and the bound picture.
     fn finish(&mut self, fg: &FrameGpu, out: &mut MethodOutput) -> Result<()> {
-        let Some(e) = &self.estimate else { return Ok(()) };
+        let Some(e) = &self.estimate else {
+            return Ok(());
+        };
         let sums = e.read(fg)?;
         let geometry = geometry_mask(fg)?;
         let (prediction, bound) = e.predict(&sums, &geometry)?;
@@ -157,14 +201,20 @@ impl MethodState for Prepared {
         let kept = self.kept.get_or_insert_with(FixedBuffers::default);
         kept.estimate_sums = sums;
         kept.split = e.split.clone();
-        let fields = serde_json::to_value(prediction).map_err(|err| crate::Error::Limit(err.to_string()))?;
+        let fields =
+            serde_json::to_value(prediction).map_err(|err| crate::Error::Limit(err.to_string()))?;
         for (k, v) in fields.as_object().into_iter().flatten() {
             out.record[k] = v.clone();
         }
         out.bound = Some(bound);
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
         run(fg, timer, self)
     }
     fn keep_intermediates(&mut self) {
@@ -173,7 +223,10 @@ impl MethodState for Prepared {
     /// The last frame's [`FixedBuffers`], when `keep_intermediates` was called before it; with
     /// `estimate = on` and without it, the estimate's sums alone.
     fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
-        Ok(self.kept.take().map(|c| Box::new(c) as Box<dyn std::any::Any>))
+        Ok(self
+            .kept
+            .take()
+            .map(|c| Box::new(c) as Box<dyn std::any::Any>))
     }
     fn reuse(&self) -> Option<ReuseCounts> {
         self.reuse_counts()
@@ -202,12 +255,17 @@ pub fn regular_points(n: u32, layout: Layout) -> Vec<(f32, f32)> {
         Layout::Lattice if n == 1 => vec![(0.5, 0.5)],
         Layout::Lattice => {
             let step = 1.0 / (n - 1) as f32;
-            (0..n).flat_map(|j| (0..n).map(move |i| (i as f32 * step, j as f32 * step))).collect()
+            (0..n)
+                .flat_map(|j| (0..n).map(move |i| (i as f32 * step, j as f32 * step)))
+                .collect()
         }
         Layout::Centred => cells(&|_, _| (0.5, 0.5)),
         Layout::Jittered => cells(&|i, j| {
             let h = splitmix64(JITTER_SEED ^ ((j as u64) << 32 | i as u64));
-            ((h >> 40) as f32 / (1u64 << 24) as f32, ((h >> 16) & 0xff_ffff) as f32 / (1u64 << 24) as f32)
+            (
+                (h >> 40) as f32 / (1u64 << 24) as f32,
+                ((h >> 16) & 0xff_ffff) as f32 / (1u64 << 24) as f32,
+            )
         }),
     }
 }
@@ -239,11 +297,16 @@ impl Prepared {
 
     /// New sample records for the same points (the regions' windows, fitted anew each frame),
     /// in the layers `prepare_sized` gave them.
-    pub(crate) fn set_samples(&mut self, ctx: &crate::gpu::GpuContext, mut samples: Vec<GpuSample>) {
+    pub(crate) fn set_samples(
+        &mut self,
+        ctx: &crate::gpu::GpuContext,
+        mut samples: Vec<GpuSample>,
+    ) {
         for (new, old) in samples.iter_mut().zip(&self.samples) {
             new.layer = old.layer;
         }
-        ctx.queue.write_buffer(&self.samples_buffer, 0, bytemuck::cast_slice(&samples));
+        ctx.queue
+            .write_buffer(&self.samples_buffer, 0, bytemuck::cast_slice(&samples));
         self.samples = samples;
     }
 
@@ -298,19 +361,35 @@ impl Placement {
     pub fn new(points: u32, capacity: u32, keeps: bool) -> Placement {
         let capacity = capacity.max(1);
         if !keeps {
-            return Placement { points, pinned: 0, rotating: capacity };
+            return Placement {
+                points,
+                pinned: 0,
+                rotating: capacity,
+            };
         }
         if points <= capacity {
-            return Placement { points, pinned: points, rotating: capacity - points };
+            return Placement {
+                points,
+                pinned: points,
+                rotating: capacity - points,
+            };
         }
         // A quarter of the layers turn over (at least one), the rest are kept.
         let rotating = (capacity / 4).max(1);
-        Placement { points, pinned: capacity - rotating, rotating }
+        Placement {
+            points,
+            pinned: capacity - rotating,
+            rotating,
+        }
     }
 
     /// Map i's layer.
     pub fn layer(&self, i: u32) -> u32 {
-        if i < self.pinned { i } else { self.pinned + (i - self.pinned) % self.rotating }
+        if i < self.pinned {
+            i
+        } else {
+            self.pinned + (i - self.pinned) % self.rotating
+        }
     }
 
     /// (first, count) of each chunk, in sample order.
@@ -368,22 +447,48 @@ pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
 /// `prepare` with plain maps of `map_size` instead of the scene's, and `frame` (the frame uniform
 /// with that map size) for every pass that reads them: one renderer tries several map sizes
 /// (`methods::auto`). `frame` None: the frame's own.
-pub fn prepare_sized(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: Option<wgpu::Buffer>) -> Result<Prepared> {
+pub fn prepare_sized(
+    fg: &FrameGpu,
+    points: &[(f32, f32)],
+    map_size: u32,
+    frame: Option<wgpu::Buffer>,
+) -> Result<Prepared> {
     prepare_kept(fg, points, map_size, frame, None)
 }
 
 /// `prepare_sized` whose maps are kept from frame to frame as `owner`'s where the renderer
 /// reuses maps (docs/reuse.md): it takes what the renderer kept of them.
-pub fn prepare_kept(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: Option<wgpu::Buffer>, owner: Option<&str>) -> Result<Prepared> {
+pub fn prepare_kept(
+    fg: &FrameGpu,
+    points: &[(f32, f32)],
+    map_size: u32,
+    frame: Option<wgpu::Buffer>,
+    owner: Option<&str>,
+) -> Result<Prepared> {
     let ctx = fg.ctx;
     let s = &fg.scene;
     let hybrid = s.render.maps == crate::scene::MapKind::Hybrid;
     if hybrid && frame.is_some() {
-        return Err(crate::Error::Param("a map size other than the scene's runs on plain maps (maps = plain)".into()));
+        return Err(crate::Error::Param(
+            "a map size other than the scene's runs on plain maps (maps = plain)".into(),
+        ));
     }
     // A point light's sample is six maps (its cube faces): layers, chunks and the budget count maps.
-    let mut samples: Vec<GpuSample> = points.iter().flat_map(|&(u, v)| s.emitter.sample_maps(&s.light, u, v, &s.bounds, map_size, u32::MAX)).collect();
-    let chunk = if hybrid { u32::MAX } else { fg.raster.maps_per_array(ctx, map_size, s.render.shadow_map_budget_mib)?.min(samples.len() as u32).max(1) };
+    let mut samples: Vec<GpuSample> = points
+        .iter()
+        .flat_map(|&(u, v)| {
+            s.emitter
+                .sample_maps(&s.light, u, v, &s.bounds, map_size, u32::MAX)
+        })
+        .collect();
+    let chunk = if hybrid {
+        u32::MAX
+    } else {
+        fg.raster
+            .maps_per_array(ctx, map_size, s.render.shadow_map_budget_mib)?
+            .min(samples.len() as u32)
+            .max(1)
+    };
     if !hybrid && frame.is_some() {
         // A map side the method chose at run time (regions, auto): the plan could not see this
         // array before the frame, so it goes through the plan's heap check here.
@@ -393,13 +498,19 @@ pub fn prepare_kept(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: 
     let placement = Placement::new(samples.len() as u32, chunk, keeps);
     for (i, g) in samples.iter_mut().enumerate() {
         // Hybrid: the layer is the sample's slot in the store.
-        g.layer = if hybrid { i as u32 } else { placement.layer(i as u32) };
+        g.layer = if hybrid {
+            i as u32
+        } else {
+            placement.layer(i as u32)
+        };
     }
     // Each face of a cube carries its sample's weight: the lookup counts one face per receiver.
     let weights = vec![1.0 / points.len() as f32; samples.len()];
     let points = samples.len();
-    let samples_buffer = readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
-    let weights_buffer = readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
+    let samples_buffer =
+        readback::storage_buffer(ctx, "samples", &samples, wgpu::BufferUsages::empty());
+    let weights_buffer =
+        readback::storage_buffer(ctx, "weights", &weights, wgpu::BufferUsages::empty());
     let maps = if hybrid {
         Maps::Hybrid(Box::new(HybridMaps::new(fg, points as u32, points as u32)?))
     } else {
@@ -409,34 +520,96 @@ pub fn prepare_kept(fg: &FrameGpu, points: &[(f32, f32)], map_size: u32, frame: 
             _ => {
                 let array = fg.raster.allocate(ctx, map_size, chunk);
                 shadow_raster::clear_all(ctx, &array)?;
-                KeptMaps { owner: owner.to_string(), size: map_size, per_array: chunk, arrays: vec![array], slots: Slots::new(chunk, keeps) }
+                KeptMaps {
+                    owner: owner.to_string(),
+                    size: map_size,
+                    per_array: chunk,
+                    arrays: vec![array],
+                    slots: Slots::new(chunk, keeps),
+                }
             }
         };
         Maps::Plain(kept, placement)
     };
-    Ok(Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled: None, estimate: None, frame, tiles: None, keep: false, kept: None })
+    Ok(Prepared {
+        points,
+        samples,
+        weights,
+        samples_buffer,
+        weights_buffer,
+        maps,
+        culled: None,
+        estimate: None,
+        frame,
+        tiles: None,
+        keep: false,
+        kept: None,
+    })
 }
 
 /// Renders and shades chunk by chunk; with `keep`, every map and sample record is kept for the
 /// shade twin (tests only).
 fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result<MethodOutput> {
-    let Prepared { points, samples, weights, samples_buffer, weights_buffer, maps, culled, estimate, frame, tiles, keep, kept } = prepared;
+    let Prepared {
+        points,
+        samples,
+        weights,
+        samples_buffer,
+        weights_buffer,
+        maps,
+        culled,
+        estimate,
+        frame,
+        tiles,
+        keep,
+        kept,
+    } = prepared;
     let tiles = tiles.as_ref().unwrap_or(&fg.geometry_tiles);
     let estimate = estimate.as_ref();
     let frame = frame.as_ref().unwrap_or(&fg.frame_buffer);
     let (kept_maps, placement) = match maps {
         Maps::Plain(k, p) => (k, *p),
-        Maps::Hybrid(h) => return run_hybrid(fg, timer, *points, samples, weights, samples_buffer, weights_buffer, h, estimate, *keep, kept),
-        Maps::Released => return Err(crate::Error::Gpu("a fixed-sample state ran a frame after giving its maps away".into())),
+        Maps::Hybrid(h) => {
+            return run_hybrid(
+                fg,
+                timer,
+                *points,
+                samples,
+                weights,
+                samples_buffer,
+                weights_buffer,
+                h,
+                estimate,
+                *keep,
+                kept,
+            )
+        }
+        Maps::Released => {
+            return Err(crate::Error::Gpu(
+                "a fixed-sample state ran a frame after giving its maps away".into(),
+            ))
+        }
     };
-    let KeptMaps { arrays, slots, size: map_size, .. } = kept_maps;
+    let KeptMaps {
+        arrays,
+        slots,
+        size: map_size,
+        ..
+    } = kept_maps;
     let array = &arrays[0];
     let map_size = *map_size;
     slots.begin_frame();
     let ctx = fg.ctx;
     let points = *points;
     let mut buffers = keep.then(FixedBuffers::default);
-    let inputs = crate::stages::shade::ShadeInputs { frame, samples: samples_buffer, weights: weights_buffer, gbuffer: &fg.gbuffer, tiles, visibility: &fg.visibility };
+    let inputs = crate::stages::shade::ShadeInputs {
+        frame,
+        samples: samples_buffer,
+        weights: weights_buffer,
+        gbuffer: &fg.gbuffer,
+        tiles,
+        visibility: &fg.visibility,
+    };
     let bar = crate::progress::bar(points as u64, "shadow maps");
     let chunks = placement.chunks();
     for &(first, count) in &chunks {
@@ -446,15 +619,27 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             let layer = placement.layer(i);
             match slots.place(MapKey::of(&samples[i as usize], map_size), layer) {
                 Redraw::Kept => {}
-                Redraw::Rect(r) => redraw.push(RasterJob { sample: i, layer, scissor: Some(r) }),
-                Redraw::Whole => jobs.push(RasterJob { sample: i, layer, scissor: None }),
+                Redraw::Rect(r) => redraw.push(RasterJob {
+                    sample: i,
+                    layer,
+                    scissor: Some(r),
+                }),
+                Redraw::Whole => jobs.push(RasterJob {
+                    sample: i,
+                    layer,
+                    scissor: None,
+                }),
             }
         }
         match culled.as_ref() {
             Some(c) => c.record(fg, timer, frame, samples_buffer, array, &jobs)?,
             None if jobs.is_empty() && redraw.is_empty() => {}
             None => timer.stage(ctx, fg.raster.stage(), |enc| {
-                let target = RasterTarget { scene: &fg.scene_gpu, samples: samples_buffer, array };
+                let target = RasterTarget {
+                    scene: &fg.scene_gpu,
+                    samples: samples_buffer,
+                    array,
+                };
                 fg.raster.record(ctx, enc, &target, &jobs)?;
                 fg.raster.record_redraw(ctx, enc, &target, &redraw)
             })?,
@@ -462,15 +647,30 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
         if let Some(c) = buffers.as_mut() {
             timer.flush(ctx);
             for i in first..first + count {
-                c.maps.push(readback::read_texture(ctx, &array.texture, placement.layer(i), 4)?);
+                c.maps.push(readback::read_texture(
+                    ctx,
+                    &array.texture,
+                    placement.layer(i),
+                    4,
+                )?);
             }
         }
         timer.stage(ctx, Stage::SHADE, |enc| {
-            fg.shade.record(ctx, enc, &inputs, &array.array_view, first, count);
+            fg.shade
+                .record(ctx, enc, &inputs, &array.array_view, first, count);
             Ok(())
         })?;
         if let Some(e) = estimate {
-            e.record(fg, timer, frame, samples_buffer, weights_buffer, &array.array_view, first, count)?;
+            e.record(
+                fg,
+                timer,
+                frame,
+                samples_buffer,
+                weights_buffer,
+                &array.array_view,
+                first,
+                count,
+            )?;
         }
         bar.inc(count as u64);
     }
@@ -491,12 +691,16 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             let ks: Vec<u32> = (0..points as u32).collect();
             let triangles = timer.cpu(Stage::READBACK, || c.triangles(fg, &ks))?;
             syncs = 1;
-            record["triangles_per_map_mean"] = serde_json::json!(triangles.iter().sum::<u64>() as f64 / points as f64);
+            record["triangles_per_map_mean"] =
+                serde_json::json!(triangles.iter().sum::<u64>() as f64 / points as f64);
             record["triangles_per_map"] = serde_json::json!(triangles);
             record["culled_maps"] = serde_json::json!(points);
         }
         // Every map rasterizes the whole mesh.
-        None => record["triangles_per_map_mean"] = serde_json::json!(fg.scene_gpu.index_count as f64 / 3.0),
+        None => {
+            record["triangles_per_map_mean"] =
+                serde_json::json!(fg.scene_gpu.index_count as f64 / 3.0)
+        }
     }
     let out = Ok(MethodOutput {
         shadow_maps: points as u32,
@@ -530,17 +734,28 @@ fn run_hybrid(
     maps.reset(fg);
     let inputs = fg.shade_inputs(samples_buffer, weights_buffer);
     let tiles = &fg.geometry_tiles;
-    let mut consume = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
-        debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
-        timer.stage(ctx, Stage::SHADE, |enc| {
-            fg.shade.record(ctx, enc, &inputs, view, slots[0], slots.len() as u32);
-            Ok(())
-        })?;
-        match estimate {
-            Some(e) => e.record(fg, timer, &fg.frame_buffer, samples_buffer, weights_buffer, view, slots[0], slots.len() as u32),
-            None => Ok(()),
-        }
-    };
+    let mut consume =
+        |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
+            debug_assert!(slots.windows(2).all(|w| w[1] == w[0] + 1));
+            timer.stage(ctx, Stage::SHADE, |enc| {
+                fg.shade
+                    .record(ctx, enc, &inputs, view, slots[0], slots.len() as u32);
+                Ok(())
+            })?;
+            match estimate {
+                Some(e) => e.record(
+                    fg,
+                    timer,
+                    &fg.frame_buffer,
+                    samples_buffer,
+                    weights_buffer,
+                    view,
+                    slots[0],
+                    slots.len() as u32,
+                ),
+                None => Ok(()),
+            }
+        };
     let mut cap = keep.then(FixedBuffers::default);
     let layers = maps.layers();
     let bar = crate::progress::bar(points as u64, "shadow maps");
@@ -552,13 +767,23 @@ fn run_hybrid(
             // Tests only: the batch's full-resolution maps and the store that holds them.
             timer.flush(ctx);
             if maps.stats.flushes != flushes {
-                return Err(crate::Error::Limit("keeping the maps with maps=hybrid needs a store that holds each raster batch".into()));
+                return Err(crate::Error::Limit(
+                    "keeping the maps with maps=hybrid needs a store that holds each raster batch"
+                        .into(),
+                ));
             }
             let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
             let (base, levels) = (maps.store.settings.base, maps.store.settings.levels);
             for (layer, &k) in ks.iter().enumerate() {
-                c.raw_maps.push(readback::read_texture(ctx, &maps.raster.texture, layer as u32, 4)?);
-                c.maps.push(crate::stages::twin::hybrid_build::decode(&pool, k, base, levels));
+                c.raw_maps.push(readback::read_texture(
+                    ctx,
+                    &maps.raster.texture,
+                    layer as u32,
+                    4,
+                )?);
+                c.maps.push(crate::stages::twin::hybrid_build::decode(
+                    &pool, k, base, levels,
+                ));
             }
             c.hybrid_pool = pool;
         }
@@ -621,11 +846,31 @@ pub struct Estimate {
 
 impl Estimate {
     pub(crate) fn new(fg: &FrameGpu, n: u32, layout: Layout, maps: usize) -> Result<Estimate> {
-        crate::stages::estimate::check_bands(&fg.geometry_tiles, fg.gbuffer.width, fg.gbuffer.height)?;
+        crate::stages::estimate::check_bands(
+            &fg.geometry_tiles,
+            fg.gbuffer.width,
+            fg.gbuffer.height,
+        )?;
         let split = super::estimate::split_weights(n, maps / (n * n) as usize);
-        let split_buffer = readback::storage_buffer(fg.ctx, "estimate split", &split, wgpu::BufferUsages::empty());
-        let sums = readback::zeroed_storage(fg.ctx, "estimate sums", fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES);
-        Ok(Estimate { pass: crate::stages::estimate::EstimatePass::new(fg.ctx, fg.map_access())?, layout, n, split, split_buffer, sums })
+        let split_buffer = readback::storage_buffer(
+            fg.ctx,
+            "estimate split",
+            &split,
+            wgpu::BufferUsages::empty(),
+        );
+        let sums = readback::zeroed_storage(
+            fg.ctx,
+            "estimate sums",
+            fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES,
+        );
+        Ok(Estimate {
+            pass: crate::stages::estimate::EstimatePass::new(fg.ctx, fg.map_access())?,
+            layout,
+            n,
+            split,
+            split_buffer,
+            sums,
+        })
     }
 
     pub(crate) fn clear(&self, fg: &FrameGpu) -> Result<()> {
@@ -636,7 +881,17 @@ impl Estimate {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn record(&self, fg: &FrameGpu, timer: &mut StageTimer, frame: &wgpu::Buffer, samples: &wgpu::Buffer, weights: &wgpu::Buffer, maps: &wgpu::TextureView, first: u32, count: u32) -> Result<()> {
+    fn record(
+        &self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        frame: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        weights: &wgpu::Buffer,
+        maps: &wgpu::TextureView,
+        first: u32,
+        count: u32,
+    ) -> Result<()> {
         let inputs = crate::stages::estimate::EstimateInputs {
             frame,
             samples,
@@ -653,11 +908,19 @@ impl Estimate {
     }
 
     pub(crate) fn read(&self, fg: &FrameGpu) -> Result<Vec<crate::stages::estimate::Sums>> {
-        readback::read_buffer(fg.ctx, &self.sums, fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES)
+        readback::read_buffer(
+            fg.ctx,
+            &self.sums,
+            fg.pixel_count() as u64 * crate::stages::estimate::SUM_BYTES,
+        )
     }
 
     /// The frame's prediction and the bound's picture from the sums.
-    pub(crate) fn predict(&self, sums: &[crate::stages::estimate::Sums], geometry: &[bool]) -> Result<(super::estimate::Prediction, Vec<f32>)> {
+    pub(crate) fn predict(
+        &self,
+        sums: &[crate::stages::estimate::Sums],
+        geometry: &[bool],
+    ) -> Result<(super::estimate::Prediction, Vec<f32>)> {
         super::estimate::predict(sums, geometry, self.layout, self.n)
     }
 }
@@ -679,13 +942,30 @@ mod tests {
             assert_eq!(p.len(), 81);
             for (k, (s, t)) in p.iter().enumerate() {
                 let (i, j) = ((k % 9) as f32, (k / 9) as f32);
-                assert!(*s > i / 9.0 && *s < (i + 1.0) / 9.0 && *t > j / 9.0 && *t < (j + 1.0) / 9.0, "{layout:?} point {k} ({s}, {t}) outside its cell");
+                assert!(
+                    *s > i / 9.0 && *s < (i + 1.0) / 9.0 && *t > j / 9.0 && *t < (j + 1.0) / 9.0,
+                    "{layout:?} point {k} ({s}, {t}) outside its cell"
+                );
             }
         }
-        assert_eq!(regular_points(2, Layout::Centred), vec![(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]);
+        assert_eq!(
+            regular_points(2, Layout::Centred),
+            vec![(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]
+        );
         let jitter = regular_points(9, Layout::Jittered);
-        assert_eq!(jitter, regular_points(9, Layout::Jittered), "jittered is seeded, so runs repeat");
-        assert!(jitter.iter().zip(regular_points(9, Layout::Centred)).filter(|(a, b)| **a != *b).count() == 81);
+        assert_eq!(
+            jitter,
+            regular_points(9, Layout::Jittered),
+            "jittered is seeded, so runs repeat"
+        );
+        assert!(
+            jitter
+                .iter()
+                .zip(regular_points(9, Layout::Centred))
+                .filter(|(a, b)| **a != *b)
+                .count()
+                == 81
+        );
     }
 
     #[test]

@@ -3,19 +3,20 @@
 //! handed to the method (shade, shadow_test) and the store starts again, so the memory a method
 //! holds is the raster's few layers plus the store, not a full-resolution layer per map.
 
-use crate::stages::raster::RasterTarget;
-use crate::gpu::Stage;
-use crate::stages::hybrid_build::{HybridBuild, HybridStore};
-use crate::stages::FrameGpu;
-use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
+use crate::stages::hybrid_build::{HybridBuild, HybridStore};
+use crate::stages::raster::RasterTarget;
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 
 /// Full-resolution layers rasterized before they are merged (at most; fewer when the budget is small).
 pub const TRANSIENT_LAYERS: u32 = 4;
 
 /// Hands a method the store's view and the slots (sample indices) it holds.
-pub type Consume<'c> = dyn FnMut(&FrameGpu, &mut StageTimer, &wgpu::TextureView, &[u32]) -> Result<()> + 'c;
+pub type Consume<'c> =
+    dyn FnMut(&FrameGpu, &mut StageTimer, &wgpu::TextureView, &[u32]) -> Result<()> + 'c;
 
 pub struct HybridMaps {
     pub raster: ShadowMapArray,
@@ -55,7 +56,11 @@ impl HybridMaps {
         let h = r.hybrid;
         let layer_bytes = h.base as u64 * h.base as u64 * 4;
         let budget = r.shadow_map_budget_mib as u64 * 1024 * 1024;
-        let layers = fg.raster.maps_per_array(ctx, h.base, r.shadow_map_budget_mib)?.min(TRANSIENT_LAYERS).min(maps.max(1));
+        let layers = fg
+            .raster
+            .maps_per_array(ctx, h.base, r.shadow_map_budget_mib)?
+            .min(TRANSIENT_LAYERS)
+            .min(maps.max(1));
         let coarse = (h.base >> h.levels) as u64;
         let left = budget.saturating_sub(layers as u64 * layer_bytes);
         let wanted = (slots as u64 + maps as u64 * worst_map_words(coarse, h.levels)) * 4;
@@ -71,7 +76,14 @@ impl HybridMaps {
         let raster = fg.raster.allocate(ctx, h.base, layers);
         shadow_raster::clear_all(ctx, &raster)?;
         let store = HybridStore::new(ctx, h, slots, capacity)?;
-        Ok(Self { raster, store, build: HybridBuild::new(ctx, fg.raster.raster_access())?, pending: Vec::new(), used: slots, stats: HybridStats::default() })
+        Ok(Self {
+            raster,
+            store,
+            build: HybridBuild::new(ctx, fg.raster.raster_access())?,
+            pending: Vec::new(),
+            used: slots,
+            stats: HybridStats::default(),
+        })
     }
 
     /// Maps rasterized at once.
@@ -90,12 +102,40 @@ impl HybridMaps {
     /// Rasterizes the maps of samples `ks` (at most `layers()`; sample index = slot) and merges them
     /// into the store. When the store overflows, `consume` gets the maps it holds, the store starts
     /// again and the rest of `ks` is merged from the raster, which still holds them.
-    pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer, samples: &wgpu::Buffer, ks: &[u32], consume: &mut Consume) -> Result<()> {
+    pub fn render(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        samples: &wgpu::Buffer,
+        ks: &[u32],
+        consume: &mut Consume,
+    ) -> Result<()> {
         let ctx = fg.ctx;
-        assert!(ks.len() <= self.layers() as usize, "a raster batch holds at most {} maps", self.layers());
-        let jobs: Vec<RasterJob> = ks.iter().enumerate().map(|(i, &k)| RasterJob { sample: k, layer: i as u32, scissor: None }).collect();
+        assert!(
+            ks.len() <= self.layers() as usize,
+            "a raster batch holds at most {} maps",
+            self.layers()
+        );
+        let jobs: Vec<RasterJob> = ks
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| RasterJob {
+                sample: k,
+                layer: i as u32,
+                scissor: None,
+            })
+            .collect();
         timer.stage(ctx, fg.raster.stage(), |enc| {
-            fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples, array: &self.raster }, &jobs)?;
+            fg.raster.record(
+                ctx,
+                enc,
+                &RasterTarget {
+                    scene: &fg.scene_gpu,
+                    samples,
+                    array: &self.raster,
+                },
+                &jobs,
+            )?;
             Ok(())
         })?;
         let mut from = 0;
@@ -134,7 +174,12 @@ impl HybridMaps {
     }
 
     /// Hands every map in the store to `consume` and empties the store.
-    pub fn flush(&mut self, fg: &FrameGpu, timer: &mut StageTimer, consume: &mut Consume) -> Result<()> {
+    pub fn flush(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        consume: &mut Consume,
+    ) -> Result<()> {
         if self.pending.is_empty() {
             return Ok(());
         }
@@ -154,7 +199,11 @@ impl HybridMaps {
         let h = self.store.settings;
         let st = &self.stats;
         // A map's bytes: its words in the pool plus its root word.
-        let bytes_per_map = if st.maps == 0 { 0.0 } else { (st.words as f64 / st.maps as f64 + 1.0) * 4.0 };
+        let bytes_per_map = if st.maps == 0 {
+            0.0
+        } else {
+            (st.words as f64 / st.maps as f64 + 1.0) * 4.0
+        };
         let plain = h.base as f64 * h.base as f64 * 4.0;
         serde_json::json!({
             "base": h.base,

@@ -11,29 +11,29 @@ pub mod auto_filter;
 pub mod auto_price;
 pub mod calibration;
 pub mod cascades;
+pub mod culled_maps;
 pub mod environment;
 pub mod estimate;
-pub mod culled_maps;
 pub(crate) mod filtered;
 pub mod fixed_samples;
 pub mod hold;
 pub(crate) mod hybrid_maps;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
-pub mod single_map;
 pub mod regions;
 pub mod regions_budget;
 pub(crate) mod regions_pictures;
 pub mod regions_record;
+pub mod single_map;
 pub mod sizes;
 pub mod ssao;
 
-pub use fixed_samples::Layout;
 pub use adaptive::params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
+pub use fixed_samples::Layout;
 
-use crate::stages::FrameGpu;
 use crate::gpu::timing::StageTimer;
 use crate::scene::LightKind;
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -69,7 +69,13 @@ pub enum Family {
 }
 
 impl Family {
-    pub const ALL: [Family; 5] = [Family::Hard, Family::Pcf, Family::Filtered, Family::MultiSample, Family::Environment];
+    pub const ALL: [Family; 5] = [
+        Family::Hard,
+        Family::Pcf,
+        Family::Filtered,
+        Family::MultiSample,
+        Family::Environment,
+    ];
     pub fn title(self) -> &'static str {
         match self {
             Family::Hard => "hard",
@@ -81,7 +87,10 @@ impl Family {
     }
     /// Family of a method name as rows store it; unknown names (older files) count as multi-sample.
     pub fn of_name(name: &str) -> Family {
-        REGISTRY.iter().find(|m| m.name == name).map_or(Family::MultiSample, |m| m.family)
+        REGISTRY
+            .iter()
+            .find(|m| m.name == name)
+            .map_or(Family::MultiSample, |m| m.family)
     }
 }
 
@@ -136,7 +145,11 @@ pub trait ShadowMethod: Send + Sync + Any {
     fn as_any(&self) -> &dyn Any;
     /// The storage buffers it sizes by the screen, V among them, for the frame's size plan
     /// (`sizes::plan`, checked before anything is built): by default V alone, bound whole.
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![sizes::visibility(scene, false, limits)]
     }
     /// The most plain shadow maps of the scene's `shadow_map_size` it keeps at once, before the
@@ -152,7 +165,11 @@ pub trait ShadowMethod: Send + Sync + Any {
     }
     /// Why the method cannot run a light of `kind` from maps of kind `maps`, where the light alone
     /// does not refuse it; checked with the light, before anything is built.
-    fn unsupported_maps(&self, _kind: LightKind, _maps: crate::scene::MapKind) -> Option<&'static str> {
+    fn unsupported_maps(
+        &self,
+        _kind: LightKind,
+        _maps: crate::scene::MapKind,
+    ) -> Option<&'static str> {
         None
     }
     /// Whether `build` times frames of the scene (auto's prices): the renderer then draws the
@@ -165,15 +182,20 @@ pub trait ShadowMethod: Send + Sync + Any {
 /// Why the many-sample methods refuse the other kinds (docs/lights.md, "Methods and kinds").
 pub const ON_A_RECTANGLE: &str = "samples are placed on a rectangle";
 /// Why the one-map methods refuse them.
-pub const FROM_THE_CENTRE: &str = "its map looks from the rectangle's centre along the rectangle's normal";
+pub const FROM_THE_CENTRE: &str =
+    "its map looks from the rectangle's centre along the rectangle's normal";
 /// Why pcss refuses them: its map, and the light size its search and filter scale with.
-pub const PCSS_RECTANGLE: &str = "its map looks from the rectangle's centre and its search spans the rectangle's sides";
+pub const PCSS_RECTANGLE: &str =
+    "its map looks from the rectangle's centre and its search spans the rectangle's sides";
 
 /// The kinds whose maps `Emitter::sample_map` makes: the rectangle, the disk and the spot
 /// (perspective maps from points on the disk, or on the sphere's disk across the spot's axis) and
 /// the sun (orthographic maps along directions in its cone).
 pub fn maps_from_the_emitter(kind: LightKind) -> bool {
-    matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sun | LightKind::Spot)
+    matches!(
+        kind,
+        LightKind::Rect | LightKind::Disk | LightKind::Sun | LightKind::Spot
+    )
 }
 
 /// The point light, whose samples `Emitter::sample_maps` makes as six cube faces each: hard, pcf,
@@ -204,7 +226,12 @@ pub trait MethodState: Send {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()>;
     /// `pictures`: read back what the decision pictures need. A per-frame request (timed runs turn
     /// it off), so it is an argument, not part of the shared [`FrameGpu`].
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput>;
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        pictures: bool,
+    ) -> Result<MethodOutput>;
     /// After the frame's clock stopped (V is read back): a method whose frame needed no read-back
     /// reads its record here (decisions, maps used, pictures), outside the timed frame.
     fn finish(&mut self, _fg: &FrameGpu, _out: &mut MethodOutput) -> Result<()> {
@@ -271,7 +298,11 @@ impl PartialEq for Method {
 /// The methods that take parameter `key`, in registry order (the CLI's `--set` names them when a
 /// method parameter is given as a render setting).
 pub fn methods_with_param(key: &str) -> Vec<&'static str> {
-    REGISTRY.iter().filter(|m| m.params.iter().any(|p| p.key == key)).map(|m| m.name).collect()
+    REGISTRY
+        .iter()
+        .filter(|m| m.params.iter().any(|p| p.key == key))
+        .map(|m| m.name)
+        .collect()
 }
 
 impl Method {
@@ -283,27 +314,43 @@ impl Method {
         };
         let mut params = BTreeMap::new();
         for pair in inline.split(',').filter(|s| !s.is_empty()) {
-            let (k, v) = pair
-                .split_once('=')
-                .ok_or_else(|| Error::Param(format!("method `{spec}`: `{pair}` is not key=value")))?;
+            let (k, v) = pair.split_once('=').ok_or_else(|| {
+                Error::Param(format!("method `{spec}`: `{pair}` is not key=value"))
+            })?;
             if let Some(first) = params.insert(k.trim().to_string(), v.trim().to_string()) {
-                return Err(Error::Param(format!("method `{spec}`: `{}` is given twice ({first} and {})", k.trim(), v.trim())));
+                return Err(Error::Param(format!(
+                    "method `{spec}`: `{}` is given twice ({first} and {})",
+                    k.trim(),
+                    v.trim()
+                )));
             }
         }
         for (k, v) in extra {
             if let Some(first) = params.insert(k.clone(), v.clone()) {
-                return Err(Error::Param(format!("method `{spec}`: `{k}` is given twice ({first}, and {v} with --param)")));
+                return Err(Error::Param(format!(
+                    "method `{spec}`: `{k}` is given twice ({first}, and {v} with --param)"
+                )));
             }
         }
         let info = REGISTRY.iter().find(|m| m.name == name).ok_or_else(|| {
             let known: Vec<&str> = REGISTRY.iter().map(|m| m.name).collect();
-            Error::Param(format!("unknown method `{name}` (known: {})", known.join(", ")))
+            Error::Param(format!(
+                "unknown method `{name}` (known: {})",
+                known.join(", ")
+            ))
         })?;
-        if let Some(k) = params.keys().find(|k| !info.params.iter().any(|p| p.key == k.as_str())) {
+        if let Some(k) = params
+            .keys()
+            .find(|k| !info.params.iter().any(|p| p.key == k.as_str()))
+        {
             let allowed: Vec<&str> = info.params.iter().map(|p| p.key).collect();
             return Err(Error::Param(format!(
                 "method `{name}` has no parameter `{k}` (its parameters: {})",
-                if allowed.is_empty() { "none".to_string() } else { allowed.join(", ") }
+                if allowed.is_empty() {
+                    "none".to_string()
+                } else {
+                    allowed.join(", ")
+                }
             )));
         }
         // Every message names the method: `pcf: parameter kernel = `foo`: ...`.
@@ -321,7 +368,12 @@ impl Method {
     }
     /// The regular grid on the N×N lattice, corners included.
     pub fn regular(n: u32) -> Method {
-        Method::new(fixed_samples::Fixed::Regular { n, layout: Layout::Lattice, cull: false, estimate: false })
+        Method::new(fixed_samples::Fixed::Regular {
+            n,
+            layout: Layout::Lattice,
+            cull: false,
+            estimate: false,
+        })
     }
     pub fn adaptive(p: AdaptiveParams) -> Method {
         Method::new(adaptive::Adaptive(p))
@@ -359,8 +411,16 @@ impl Method {
             Some(why) => Err(Error::Param(format!(
                 "{}: maps = {} is not supported{} ({why}); scene {} (use maps = plain)",
                 self.name(),
-                if scene.render.maps == crate::scene::MapKind::Hybrid { "hybrid" } else { "plain" },
-                if kind == LightKind::Rect { String::new() } else { format!(" with light kind `{}`", kind.name()) },
+                if scene.render.maps == crate::scene::MapKind::Hybrid {
+                    "hybrid"
+                } else {
+                    "plain"
+                },
+                if kind == LightKind::Rect {
+                    String::new()
+                } else {
+                    format!(" with light kind `{}`", kind.name())
+                },
                 scene.origin
             ))),
         }
@@ -371,7 +431,9 @@ impl Method {
     }
     /// The adaptive parameters, when this is the adaptive method.
     pub fn adaptive_params(&self) -> Option<&AdaptiveParams> {
-        self.as_any().downcast_ref::<adaptive::Adaptive>().map(|a| &a.0)
+        self.as_any()
+            .downcast_ref::<adaptive::Adaptive>()
+            .map(|a| &a.0)
     }
 }
 
@@ -390,7 +452,11 @@ pub fn describe() -> String {
 pub fn get_u32(params: &ParamMap, key: &str, default: u32) -> Result<u32> {
     match params.get(key) {
         None => Ok(default),
-        Some(v) => v.parse().map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a non-negative integer"))),
+        Some(v) => v.parse().map_err(|_| {
+            Error::Param(format!(
+                "parameter {key} = `{v}` is not a non-negative integer"
+            ))
+        }),
     }
 }
 
@@ -400,24 +466,46 @@ pub fn get_f32(params: &ParamMap, key: &str, default: f32) -> Result<f32> {
         None => Ok(default),
         Some(v) => match v.parse::<f32>() {
             Ok(x) if x.is_finite() => Ok(x),
-            _ => Err(Error::Param(format!("parameter {key} = `{v}` is not a finite number"))),
+            _ => Err(Error::Param(format!(
+                "parameter {key} = `{v}` is not a finite number"
+            ))),
         },
     }
 }
 
-pub fn get_choice<'a>(params: &ParamMap, key: &str, default: &'a str, choices: &[&'a str]) -> Result<&'a str> {
+pub fn get_choice<'a>(
+    params: &ParamMap,
+    key: &str,
+    default: &'a str,
+    choices: &[&'a str],
+) -> Result<&'a str> {
     match params.get(key) {
         None => Ok(default),
-        Some(v) => choices.iter().find(|c| **c == v.as_str()).copied().ok_or_else(|| {
-            Error::Param(format!("parameter {key} = `{v}`: use one of {}", choices.join(", ")))
-        }),
+        Some(v) => choices
+            .iter()
+            .find(|c| **c == v.as_str())
+            .copied()
+            .ok_or_else(|| {
+                Error::Param(format!(
+                    "parameter {key} = `{v}`: use one of {}",
+                    choices.join(", ")
+                ))
+            }),
     }
 }
 
 /// `value` in `lo..=hi`, or a message naming the method, key and value.
-pub fn check_range<T: PartialOrd + std::fmt::Display>(method: &str, key: &str, value: T, lo: T, hi: T) -> Result<T> {
+pub fn check_range<T: PartialOrd + std::fmt::Display>(
+    method: &str,
+    key: &str,
+    value: T,
+    lo: T,
+    hi: T,
+) -> Result<T> {
     if value < lo || value > hi {
-        return Err(Error::Param(format!("{method}: {key} = {value} is outside {lo}..={hi}")));
+        return Err(Error::Param(format!(
+            "{method}: {key} = {value} is outside {lo}..={hi}"
+        )));
     }
     Ok(value)
 }
@@ -432,5 +520,9 @@ pub fn label_from(info: &MethodInfo, values: &[(&str, String)]) -> String {
             }
         }
     }
-    if parts.is_empty() { info.name.to_string() } else { format!("{}:{}", info.name, parts.join(",")) }
+    if parts.is_empty() {
+        info.name.to_string()
+    } else {
+        format!("{}:{}", info.name, parts.join(","))
+    }
 }

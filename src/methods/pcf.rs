@@ -1,15 +1,18 @@
 //! Percentage-closer filtering of one shadow map (seeds 001 and 004): every pixel averages the
 //! binary shadow test over taps around its place in the map.
 
-use crate::gpu::Stage;
 use super::single_map::{CentreMap, SingleMapBuffers};
-use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::stages::pcf::Pcf as PcfPass;
-use crate::stages::shade::MapFilter;
-use crate::stages::FrameGpu;
+use super::{
+    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
+    Param, ParamMap, ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuFilter;
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::stages::pcf::Pcf as PcfPass;
+use crate::stages::shade::MapFilter;
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -44,12 +47,19 @@ fn fraction(params: &ParamMap, key: &str) -> Result<Option<f32>> {
         return Ok(None);
     };
     let parsed = match v.split_once('/') {
-        Some((a, b)) => a.trim().parse::<f32>().ok().zip(b.trim().parse::<f32>().ok()).map(|(a, b)| a / b),
+        Some((a, b)) => a
+            .trim()
+            .parse::<f32>()
+            .ok()
+            .zip(b.trim().parse::<f32>().ok())
+            .map(|(a, b)| a / b),
         None => v.parse::<f32>().ok(),
     };
     match parsed {
         Some(x) if x.is_finite() && x > 0.0 && x < 1.0 => Ok(Some(x)),
-        _ => Err(Error::Param(format!("pcf: {key} = `{v}` is not a fraction in (0, 1) such as 1/700"))),
+        _ => Err(Error::Param(format!(
+            "pcf: {key} = `{v}` is not a fraction in (0, 1) such as 1/700"
+        ))),
     }
 }
 
@@ -66,13 +76,21 @@ impl Pcf {
             "box" | "bilinear" => check_range("pcf", "taps", taps, 1, 16).map(|_| ())?,
             "stratified" => check_range("pcf", "taps", taps, 1, 64).map(|_| ())?,
             _ if ![4, 16, 32, 64].contains(&taps) => {
-                return Err(Error::Param(format!("pcf: taps = {taps} with kernel = {kernel}: use 4, 16, 32 or 64")));
+                return Err(Error::Param(format!(
+                    "pcf: taps = {taps} with kernel = {kernel}: use 4, 16, 32 or 64"
+                )));
             }
             _ => {}
         }
         let radius = check_range("pcf", "radius", get_f32(p, "radius", 2.0)?, 0.0, 64.0)?;
         let darkening = check_range("pcf", "darkening", get_f32(p, "darkening", 0.0)?, 0.0, 1.0)?;
-        Ok(Self { kernel, taps, radius, spread: fraction(p, "spread")?, darkening })
+        Ok(Self {
+            kernel,
+            taps,
+            radius,
+            spread: fraction(p, "spread")?,
+            darkening,
+        })
     }
 
     fn default_taps(&self) -> u32 {
@@ -108,11 +126,18 @@ impl Pcf {
 /// Mitchell's best-candidate sampling with a fixed generator: deterministic, well spread.
 pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
     if n == 4 {
-        return vec![[-0.94201624, -0.39906216], [0.945_586_1, -0.76890725], [-0.094_184_1, -0.929_388_7], [0.34495938, 0.293_877_6]];
+        return vec![
+            [-0.94201624, -0.39906216],
+            [0.945_586_1, -0.76890725],
+            [-0.094_184_1, -0.929_388_7],
+            [0.34495938, 0.293_877_6],
+        ];
     }
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((state >> 40) as f32) / (1u64 << 24) as f32
     };
     let mut points: Vec<[f32; 2]> = Vec::with_capacity(n);
@@ -121,7 +146,10 @@ pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
         for _ in 0..(10 * (points.len() + 1)).min(400) {
             let (r, a) = (next().sqrt(), next() * std::f32::consts::TAU);
             let c = [r * a.cos(), r * a.sin()];
-            let d = points.iter().map(|p| (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).fold(f32::INFINITY, f32::min);
+            let d = points
+                .iter()
+                .map(|p| (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2))
+                .fold(f32::INFINITY, f32::min);
             if d > best.1 {
                 best = (c, d);
             }
@@ -133,7 +161,8 @@ pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
 
 impl ShadowMethod for Pcf {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
-        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::FROM_THE_CENTRE)
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind)))
+            .then_some(super::FROM_THE_CENTRE)
     }
     fn name(&self) -> &'static str {
         "pcf"
@@ -161,7 +190,11 @@ impl ShadowMethod for Pcf {
         crate::methods::faces(scene)
     }
     /// Its pass binds V by bands of rows (stages::shade::Band).
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
@@ -170,7 +203,12 @@ impl ShadowMethod for Pcf {
         Ok(Box::new(State {
             map: CentreMap::new(fg)?,
             filter_buffer: readback::uniform_buffer(fg.ctx, "pcf filter", &filter),
-            disk_buffer: readback::storage_buffer(fg.ctx, "pcf disk", &disk, wgpu::BufferUsages::empty()),
+            disk_buffer: readback::storage_buffer(
+                fg.ctx,
+                "pcf disk",
+                &disk,
+                wgpu::BufferUsages::empty(),
+            ),
             pass: PcfPass::new(fg.ctx, fg.map_access())?,
             filter,
             disk,
@@ -194,10 +232,25 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // the raster clears its map; pcf writes every geometry pixel
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCF, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.screen(), &MapFilter { filter: &self.filter_buffer, samples: &self.map.samples, maps: self.map.view() }, &self.disk_buffer);
+            self.pass.record(
+                fg.ctx,
+                enc,
+                &fg.screen(),
+                &MapFilter {
+                    filter: &self.filter_buffer,
+                    samples: &self.map.samples,
+                    maps: self.map.view(),
+                },
+                &self.disk_buffer,
+            );
             Ok(())
         })?;
         Ok(MethodOutput {
@@ -210,8 +263,22 @@ impl MethodState for State {
     }
     /// [`SingleMapBuffers`]: the map and the kernel pcf read.
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
-        let c = SingleMapBuffers { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, disk: self.disk.clone(), ..Default::default() };
-        let c = if self.map.count() > 1 { SingleMapBuffers { faces: self.map.faces.clone(), face_maps: self.map.read_all(fg)?, ..c } } else { c };
+        let c = SingleMapBuffers {
+            map: self.map.read(fg)?,
+            sample: self.map.sample,
+            filter: self.filter,
+            disk: self.disk.clone(),
+            ..Default::default()
+        };
+        let c = if self.map.count() > 1 {
+            SingleMapBuffers {
+                faces: self.map.faces.clone(),
+                face_maps: self.map.read_all(fg)?,
+                ..c
+            }
+        } else {
+            c
+        };
         Ok(Some(Box::new(c)))
     }
 }
@@ -232,7 +299,10 @@ mod tests {
             }
             // A Poisson disk keeps points apart: at least half the spacing of a hexagonal packing.
             let hex = (2.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
-            assert!(closest > 0.5 * hex, "{n} points: closest pair {closest}, hex spacing {hex}");
+            assert!(
+                closest > 0.5 * hex,
+                "{n} points: closest pair {closest}, hex spacing {hex}"
+            );
         }
     }
 }

@@ -1,15 +1,18 @@
 //! Percentage-closer soft shadows (Fernando 2005): blocker search, penumbra width from the light
 //! size by similar triangles, then PCF of that width, all on the centre map.
 
-use crate::gpu::Stage;
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
-use super::{check_range, get_f32, label_from, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::stages::pcss::Pcss as PcssPass;
-use crate::stages::shade::MapFilter;
-use crate::stages::FrameGpu;
+use super::{
+    check_range, get_f32, get_u32, label_from, Family, MethodInfo, MethodOutput, MethodState,
+    Param, ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuFilter;
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::stages::pcss::Pcss as PcssPass;
+use crate::stages::shade::MapFilter;
+use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
@@ -41,13 +44,21 @@ pub struct Pcss {
 impl ShadowMethod for Pcss {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         // The disk's radius, or the sun's angle (`single_map::light_size`).
-        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind))).then_some(super::PCSS_RECTANGLE)
+        (!(super::maps_from_the_emitter(kind) || super::cube_maps(kind)))
+            .then_some(super::PCSS_RECTANGLE)
     }
     fn name(&self) -> &'static str {
         "pcss"
     }
     fn label(&self) -> String {
-        label_from(&INFO, &[("taps", self.taps.to_string()), ("blocker_taps", self.blocker_taps.to_string()), ("max_radius", self.max_radius.to_string())])
+        label_from(
+            &INFO,
+            &[
+                ("taps", self.taps.to_string()),
+                ("blocker_taps", self.blocker_taps.to_string()),
+                ("max_radius", self.max_radius.to_string()),
+            ],
+        )
     }
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "taps": self.taps, "blocker_taps": self.blocker_taps, "max_radius": self.max_radius })
@@ -57,13 +68,29 @@ impl ShadowMethod for Pcss {
         crate::methods::faces(scene)
     }
     /// Its pass binds V by bands of rows (stages::shade::Band).
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         vec![crate::methods::sizes::visibility(scene, true, limits)]
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let (light_u, light_v) = light_size(fg);
-        let filter = GpuFilter { taps: self.taps, blocker_taps: self.blocker_taps, max_radius: self.max_radius, light_u, light_v, ..Default::default() };
-        Ok(Box::new(State { map: CentreMap::new(fg)?, filter_buffer: readback::uniform_buffer(fg.ctx, "pcss filter", &filter), pass: PcssPass::new(fg.ctx, fg.map_access())?, filter }))
+        let filter = GpuFilter {
+            taps: self.taps,
+            blocker_taps: self.blocker_taps,
+            max_radius: self.max_radius,
+            light_u,
+            light_v,
+            ..Default::default()
+        };
+        Ok(Box::new(State {
+            map: CentreMap::new(fg)?,
+            filter_buffer: readback::uniform_buffer(fg.ctx, "pcss filter", &filter),
+            pass: PcssPass::new(fg.ctx, fg.map_access())?,
+            filter,
+        }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -81,24 +108,53 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
         self.map.render(fg, timer)?;
         timer.stage(fg.ctx, Stage::PCSS, |enc| {
-            self.pass.record(fg.ctx, enc, &fg.screen(), &MapFilter { filter: &self.filter_buffer, samples: &self.map.samples, maps: self.map.view() });
+            self.pass.record(
+                fg.ctx,
+                enc,
+                &fg.screen(),
+                &MapFilter {
+                    filter: &self.filter_buffer,
+                    samples: &self.map.samples,
+                    maps: self.map.view(),
+                },
+            );
             Ok(())
         })?;
         Ok(MethodOutput {
             shadow_maps: self.map.count(),
             syncs: self.map.syncs(),
-            record: self.map.with_record(serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] })),
+            record: self.map.with_record(
+                serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] }),
+            ),
             pictures: Vec::new(),
             bound: None,
         })
     }
     /// [`SingleMapBuffers`]: the map pcss read.
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
-        let c = SingleMapBuffers { map: self.map.read(fg)?, sample: self.map.sample, filter: self.filter, ..Default::default() };
-        let c = if self.map.count() > 1 { SingleMapBuffers { faces: self.map.faces.clone(), face_maps: self.map.read_all(fg)?, ..c } } else { c };
+        let c = SingleMapBuffers {
+            map: self.map.read(fg)?,
+            sample: self.map.sample,
+            filter: self.filter,
+            ..Default::default()
+        };
+        let c = if self.map.count() > 1 {
+            SingleMapBuffers {
+                faces: self.map.faces.clone(),
+                face_maps: self.map.read_all(fg)?,
+                ..c
+            }
+        } else {
+            c
+        };
         Ok(Some(Box::new(c)))
     }
 }

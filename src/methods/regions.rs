@@ -6,17 +6,22 @@
 //! each group's maps are a centred grid fitted to the box of its receivers, sized for the finest
 //! texel its pixels need, culled per map, and shaded on that group's tiles alone.
 
-pub use super::regions_record::ClassRecord;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
+pub use super::regions_record::ClassRecord;
 use super::single_map::{light_size, CentreMap};
-use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use super::{
+    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
+    ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
-use crate::render::kept_maps::ReuseCounts;
 use crate::gpu::Stage;
+use crate::render::kept_maps::ReuseCounts;
 use crate::scene::light::{sample_view_window, Bounds};
-use crate::stages::regions::{unordered, RegionsInputs, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS};
+use crate::stages::regions::{
+    unordered, RegionsInputs, RegionsParams, RegionsPass, CLASS_WORDS, MAX_CLASSES, REGION_WORDS,
+};
 use crate::stages::FrameGpu;
 use crate::Result;
 use std::collections::HashMap;
@@ -52,7 +57,9 @@ const LADDER: [u32; 12] = [1, 2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64];
 fn power_of_two(key: &str, v: u32) -> Result<u32> {
     let v = check_range("regions", key, v, 16, 8192)?;
     if !v.is_power_of_two() {
-        return Err(crate::Error::Param(format!("regions: {key} = {v} is not a power of two")));
+        return Err(crate::Error::Param(format!(
+            "regions: {key} = {v} is not a power of two"
+        )));
     }
     Ok(v)
 }
@@ -60,43 +67,80 @@ fn power_of_two(key: &str, v: u32) -> Result<u32> {
 fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     let target = get_f32(p, "target", 0.02)?;
     if !(0.0005..=0.5).contains(&target) {
-        return Err(crate::Error::Param(format!("regions: target = {target} is outside 0.0005..=0.5")));
+        return Err(crate::Error::Param(format!(
+            "regions: target = {target} is outside 0.0005..=0.5"
+        )));
     }
     let density = check_range("regions", "density", get_f32(p, "density", 0.0)?, 0.0, 64.0)?;
     let region = check_range("regions", "region", get_u32(p, "region", 16)?, 8, 256)?;
     if region % 8 != 0 {
-        return Err(crate::Error::Param(format!("regions: region = {region} is not a multiple of 8")));
+        return Err(crate::Error::Param(format!(
+            "regions: region = {region} is not a multiple of 8"
+        )));
     }
-    let (min_size, max_size) = (power_of_two("min_size", get_u32(p, "min_size", 64)?)?, power_of_two("max_size", get_u32(p, "max_size", 2048)?)?);
+    let (min_size, max_size) = (
+        power_of_two("min_size", get_u32(p, "min_size", 64)?)?,
+        power_of_two("max_size", get_u32(p, "max_size", 2048)?)?,
+    );
     if min_size > max_size {
-        return Err(crate::Error::Param(format!("regions: min_size = {min_size} is above max_size = {max_size}")));
+        return Err(crate::Error::Param(format!(
+            "regions: min_size = {min_size} is above max_size = {max_size}"
+        )));
     }
     // None: auto. Culling never changes V, so a device that cannot cull renders the same frame uncut.
     let cull = match p.get("cull").map(String::as_str) {
         None | Some("auto") => None,
         Some("on") => Some(true),
         Some("off") => Some(false),
-        Some(v) => return Err(crate::Error::Param(format!("regions: cull = `{v}`: use `on`, `off` or `auto`"))),
+        Some(v) => {
+            return Err(crate::Error::Param(format!(
+                "regions: cull = `{v}`: use `on`, `off` or `auto`"
+            )))
+        }
     };
     let force = match p.get("force").map(String::as_str) {
         None | Some("off") => None,
         Some(v) => match v.parse::<u32>() {
             Ok(n) if (1..=128).contains(&n) => Some(n),
-            _ => return Err(crate::Error::Param(format!("regions: force = `{v}`: use `off` or samples per side 1..=128"))),
+            _ => {
+                return Err(crate::Error::Param(format!(
+                    "regions: force = `{v}`: use `off` or samples per side 1..=128"
+                )))
+            }
         },
     };
     let merge = match p.get("merge").map(String::as_str) {
         None | Some("on") => true,
         Some("off") => false,
-        Some(v) => return Err(crate::Error::Param(format!("regions: merge = `{v}`: use `on` or `off`"))),
+        Some(v) => {
+            return Err(crate::Error::Param(format!(
+                "regions: merge = `{v}`: use `on` or `off`"
+            )))
+        }
     };
-    let map_cost = check_range("regions", "map_cost", get_f32(p, "map_cost", 550_000.0)?, 0.0, 1e9)?;
-    let sample_cost = check_range("regions", "sample_cost", get_f32(p, "sample_cost", 40.0)?, 0.0, 1e9)?;
+    let map_cost = check_range(
+        "regions",
+        "map_cost",
+        get_f32(p, "map_cost", 550_000.0)?,
+        0.0,
+        1e9,
+    )?;
+    let sample_cost = check_range(
+        "regions",
+        "sample_cost",
+        get_f32(p, "sample_cost", 40.0)?,
+        0.0,
+        1e9,
+    )?;
     let force_size = get_u32(p, "force_size", 0)?;
     let hold = match p.get("hold").map(String::as_str) {
         None | Some("on") => true,
         Some("off") => false,
-        Some(v) => return Err(crate::Error::Param(format!("regions: hold = `{v}`: use `on` or `off`"))),
+        Some(v) => {
+            return Err(crate::Error::Param(format!(
+                "regions: hold = `{v}`: use `on` or `off`"
+            )))
+        }
     };
     let centre_size = match get_u32(p, "centre_size", 0)? {
         0 => 0,
@@ -104,7 +148,9 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     };
     if force_size != 0 {
         if force.is_none() {
-            return Err(crate::Error::Param(format!("regions: force_size = {force_size} needs force = N")));
+            return Err(crate::Error::Param(format!(
+                "regions: force_size = {force_size} needs force = N"
+            )));
         }
         power_of_two("force_size", force_size)?;
     }
@@ -115,7 +161,13 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         min_size,
         max_size,
         region,
-        blocker_taps: check_range("regions", "blocker_taps", get_u32(p, "blocker_taps", 6)?, 1, 16)?,
+        blocker_taps: check_range(
+            "regions",
+            "blocker_taps",
+            get_u32(p, "blocker_taps", 6)?,
+            1,
+            16,
+        )?,
         cull,
         merge,
         map_cost,
@@ -160,7 +212,10 @@ impl Regions {
     /// a texel may fall between centres, as on a map of any size. V comes from the groups' maps.
     pub fn centre_side(&self, width: u32, height: u32, shadow_map_size: u32) -> u32 {
         match self.centre_size {
-            0 => (2 * width.max(height)).next_power_of_two().clamp(64, shadow_map_size.max(64)).min(shadow_map_size),
+            0 => (2 * width.max(height))
+                .next_power_of_two()
+                .clamp(64, shadow_map_size.max(64))
+                .min(shadow_map_size),
             s => s,
         }
     }
@@ -180,10 +235,16 @@ impl Regions {
 impl ShadowMethod for Regions {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         use crate::scene::LightKind;
-        (!matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Spot)).then_some(super::ON_A_RECTANGLE)
+        (!matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Spot))
+            .then_some(super::ON_A_RECTANGLE)
     }
-    fn unsupported_maps(&self, _kind: crate::scene::LightKind, maps: crate::scene::MapKind) -> Option<&'static str> {
-        (maps == crate::scene::MapKind::Hybrid).then_some("its classes' maps are plain arrays of their own sizes (maps = plain)")
+    fn unsupported_maps(
+        &self,
+        _kind: crate::scene::LightKind,
+        maps: crate::scene::MapKind,
+    ) -> Option<&'static str> {
+        (maps == crate::scene::MapKind::Hybrid)
+            .then_some("its classes' maps are plain arrays of their own sizes (maps = plain)")
     }
     fn name(&self) -> &'static str {
         "regions"
@@ -199,11 +260,22 @@ impl ShadowMethod for Regions {
                 ("max_size", self.max_size.to_string()),
                 ("region", self.region.to_string()),
                 ("blocker_taps", self.blocker_taps.to_string()),
-                ("cull", match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" }.to_string()),
+                (
+                    "cull",
+                    match self.cull {
+                        None => "auto",
+                        Some(true) => "on",
+                        Some(false) => "off",
+                    }
+                    .to_string(),
+                ),
                 ("merge", if self.merge { "on" } else { "off" }.to_string()),
                 ("map_cost", self.map_cost.to_string()),
                 ("sample_cost", self.sample_cost.to_string()),
-                ("force", self.force.map_or("off".to_string(), |n| n.to_string())),
+                (
+                    "force",
+                    self.force.map_or("off".to_string(), |n| n.to_string()),
+                ),
                 ("force_size", self.force_size.to_string()),
                 ("centre_size", self.centre_size.to_string()),
                 ("hold", if self.hold { "on" } else { "off" }.to_string()),
@@ -219,14 +291,24 @@ impl ShadowMethod for Regions {
     }
     /// Shade binds V whole on each class's tile list (one band). With `force`, the map side and
     /// count are known before the frame: their array is planned (and refused) up front.
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         use crate::gpu::size_plan::SizeNeed;
         let mut needs = vec![crate::methods::sizes::visibility(scene, false, limits)];
         if let Some(n) = self.force {
             let r = &scene.render;
-            let size = if self.force_size != 0 { self.force_size } else { r.shadow_map_size };
+            let size = if self.force_size != 0 {
+                self.force_size
+            } else {
+                r.shadow_map_size
+            };
             let map_bytes = (size as u64).pow(2) * 4;
-            let layers = ((n as u64).pow(2)).min(r.shadow_map_budget_mib as u64 * (1 << 20) / map_bytes).min(limits.max_texture_array_layers as u64);
+            let layers = ((n as u64).pow(2))
+                .min(r.shadow_map_budget_mib as u64 * (1 << 20) / map_bytes)
+                .min(limits.max_texture_array_layers as u64);
             let forced = match self.force_size {
                 0 => format!("regions:force = {n} on shadow_map_size = {size}"),
                 _ => format!("regions:force = {n}, force_size = {size}"),
@@ -234,8 +316,15 @@ impl ShadowMethod for Regions {
             needs.push(SizeNeed::side("a forced map", size as u64).sized_by(forced.clone()));
             if layers > 0 {
                 needs.push(
-                    SizeNeed::array(format!("the shadow-map array ({layers} maps of {size}x{size}, {forced})"), layers * map_bytes, layers as u32)
-                        .sized_by(format!("shadow_map_budget_mib = {}", r.shadow_map_budget_mib)),
+                    SizeNeed::array(
+                        format!("the shadow-map array ({layers} maps of {size}x{size}, {forced})"),
+                        layers * map_bytes,
+                        layers as u32,
+                    )
+                    .sized_by(format!(
+                        "shadow_map_budget_mib = {}",
+                        r.shadow_map_budget_mib
+                    )),
                 );
             }
         }
@@ -249,13 +338,48 @@ impl ShadowMethod for Regions {
         let (light_u, light_v) = light_size(fg);
         // The samples get their share of the target; the maps' share sets the density (regions_budget).
         let target = self.target * super::regions_budget::SAMPLING_SHARE;
-        let mut params = RegionsParams { region: self.region, ladder_len: ladder.len() as u32, max_n: *ladder.last().unwrap_or(&1), target, blocker_taps: self.blocker_taps, max_radius: 32.0, light_u, light_v, ..Default::default() };
+        let mut params = RegionsParams {
+            region: self.region,
+            ladder_len: ladder.len() as u32,
+            max_n: *ladder.last().unwrap_or(&1),
+            target,
+            blocker_taps: self.blocker_taps,
+            max_radius: 32.0,
+            light_u,
+            light_v,
+            ..Default::default()
+        };
         params.ladder[..ladder.len()].copy_from_slice(&ladder);
-        let centre = self.centre_side(fg.gbuffer.width, fg.gbuffer.height, fg.scene.render.shadow_map_size);
+        let centre = self.centre_side(
+            fg.gbuffer.width,
+            fg.gbuffer.height,
+            fg.scene.render.shadow_map_size,
+        );
         let probe = CentreMap::sized(fg, centre)?;
-        let centre_frame = readback::uniform_buffer(fg.ctx, "regions centre frame", &crate::gpu::structs::GpuFrame { map_size: centre, ..fg.frame });
+        let centre_frame = readback::uniform_buffer(
+            fg.ctx,
+            "regions centre frame",
+            &crate::gpu::structs::GpuFrame {
+                map_size: centre,
+                ..fg.frame
+            },
+        );
         let pass = RegionsPass::new(fg.ctx, fg.map_access(), &fg.gbuffer, params)?;
-        Ok(Box::new(State { method: self.clone(), ladder, probe, centre, centre_frame, pass, frames: HashMap::new(), grids: HashMap::new(), classes: Vec::new(), density: 0.0, keep: false, reuse: ReuseCounts::default(), held: Vec::new() }))
+        Ok(Box::new(State {
+            method: self.clone(),
+            ladder,
+            probe,
+            centre,
+            centre_frame,
+            pass,
+            frames: HashMap::new(),
+            grids: HashMap::new(),
+            classes: Vec::new(),
+            density: 0.0,
+            keep: false,
+            reuse: ReuseCounts::default(),
+            held: Vec::new(),
+        }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -287,16 +411,35 @@ struct State {
 /// A window's side in tangent units as the light's centre sees it: a map's texel_angle at one texel.
 fn window_extent(fg: &FrameGpu, window: &Bounds) -> f32 {
     let s = fg.scene;
-    sample_view_window(&s.light, s.emitter.sample_point(&s.light, 0.5, 0.5), &s.bounds, window, 1, u32::MAX).texel_angle
+    sample_view_window(
+        &s.light,
+        s.emitter.sample_point(&s.light, 0.5, 0.5),
+        &s.bounds,
+        window,
+        1,
+        u32::MAX,
+    )
+    .texel_angle
 }
 
 /// A class's box (CLASS_WORDS 2..8) widened by 1% of the scene's diagonal on every side: receivers
 /// on the box's face and their lookups' normal offset stay inside the window.
 fn widened(words: &[u32], scene: &Bounds) -> Bounds {
     let margin = glam::Vec3::splat(scene.diagonal() * 0.01);
-    let min = glam::Vec3::new(unordered(words[2]), unordered(words[3]), unordered(words[4])) - margin;
-    let max = glam::Vec3::new(unordered(words[5]), unordered(words[6]), unordered(words[7])) + margin;
-    Bounds { min: min.max(scene.min), max: max.min(scene.max) }
+    let min = glam::Vec3::new(
+        unordered(words[2]),
+        unordered(words[3]),
+        unordered(words[4]),
+    ) - margin;
+    let max = glam::Vec3::new(
+        unordered(words[5]),
+        unordered(words[6]),
+        unordered(words[7]),
+    ) + margin;
+    Bounds {
+        min: min.max(scene.min),
+        max: max.min(scene.max),
+    }
 }
 
 /// Classes that share one set of maps: the top class's samples per side, the union of their
@@ -325,7 +468,11 @@ pub fn half_octave(want: f32) -> u32 {
 /// Texels per pixel footprint at least: the `density` parameter where set, else 1 + the lookup's
 /// offsets in texels (what a texel must leave after the bias moves the lookup).
 pub fn density_floor(density: f32, bias: &crate::scene::BiasDef) -> f32 {
-    if density > 0.0 { density } else { 1.0 + bias.constant + bias.slope + bias.normal_offset }
+    if density > 0.0 {
+        density
+    } else {
+        1.0 + bias.constant + bias.slope + bias.normal_offset
+    }
 }
 
 impl State {
@@ -338,7 +485,16 @@ impl State {
         let s = fg.scene;
         regular_points(n, Layout::Centred)
             .into_iter()
-            .map(|(u, v)| sample_view_window(&s.light, s.emitter.sample_point(&s.light, u, v), &s.bounds, window, size, u32::MAX))
+            .map(|(u, v)| {
+                sample_view_window(
+                    &s.light,
+                    s.emitter.sample_point(&s.light, u, v),
+                    &s.bounds,
+                    window,
+                    size,
+                    u32::MAX,
+                )
+            })
             .collect()
     }
 
@@ -351,7 +507,8 @@ impl State {
         group.size = match self.method.force {
             Some(_) if self.method.force_size != 0 => self.method.force_size,
             Some(_) => s.render.shadow_map_size,
-            None => half_octave((group.extent * self.density / group.texel_need).ceil()).clamp(self.method.min_size, self.method.max_size),
+            None => half_octave((group.extent * self.density / group.texel_need).ceil())
+                .clamp(self.method.min_size, self.method.max_size),
         };
         group
     }
@@ -360,7 +517,10 @@ impl State {
     /// its n² maps costs `map_cost` + its texels, and shades its tiles' pixels at `sample_cost` each.
     fn cost(&self, g: &Group) -> f64 {
         let pixels = g.tiles as f64 * 64.0;
-        (g.n as f64).powi(2) * (self.method.map_cost as f64 + (g.size as f64).powi(2) + self.method.sample_cost as f64 * pixels)
+        (g.n as f64).powi(2)
+            * (self.method.map_cost as f64
+                + (g.size as f64).powi(2)
+                + self.method.sample_cost as f64 * pixels)
     }
 
     /// Greedy, from the fewest samples up: a group joins the next one (more samples, the union of
@@ -371,9 +531,23 @@ impl State {
         let mut i = 0;
         while i + 1 < groups.len() {
             let (a, b) = (&groups[i], &groups[i + 1]);
-            let window = Bounds { min: a.window.min.min(b.window.min), max: a.window.max.max(b.window.max) };
+            let window = Bounds {
+                min: a.window.min.min(b.window.min),
+                max: a.window.max.max(b.window.max),
+            };
             let classes = a.classes.iter().chain(&b.classes).copied().collect();
-            let joined = self.sized(fg, Group { n: b.n, classes, tiles: a.tiles + b.tiles, texel_need: a.texel_need.min(b.texel_need), window, size: 0, extent: 0.0 });
+            let joined = self.sized(
+                fg,
+                Group {
+                    n: b.n,
+                    classes,
+                    tiles: a.tiles + b.tiles,
+                    texel_need: a.texel_need.min(b.texel_need),
+                    window,
+                    size: 0,
+                    extent: 0.0,
+                },
+            );
             if self.cost(&joined) < self.cost(a) + self.cost(b) {
                 groups.splice(i..i + 2, [joined]);
             } else {
@@ -388,8 +562,17 @@ impl State {
     /// band (`hold::standing`) of its own window's: the texel it gives is then at most that much
     /// coarser than the one it asked for. An unchanged window keeps its maps (their keys).
     fn held_window(&self, fg: &FrameGpu, g: &mut Group) {
-        let Some((_, _, w)) = self.held.iter().find(|(n, size, _)| (*n, *size) == (g.n, g.size)) else { return };
-        let grown = Bounds { min: w.min.min(g.window.min), max: w.max.max(g.window.max) };
+        let Some((_, _, w)) = self
+            .held
+            .iter()
+            .find(|(n, size, _)| (*n, *size) == (g.n, g.size))
+        else {
+            return;
+        };
+        let grown = Bounds {
+            min: w.min.min(g.window.min),
+            max: w.max.max(g.window.max),
+        };
         let extent = window_extent(fg, &grown);
         if super::hold::standing(extent as f64, g.extent as f64) != super::hold::Standing::Above {
             g.window = grown;
@@ -398,12 +581,28 @@ impl State {
     }
 
     fn grid(&mut self, fg: &FrameGpu, n: u32, size: u32) -> Result<&mut Prepared> {
-        self.frames.entry(size).or_insert_with(|| readback::uniform_buffer(fg.ctx, "regions frame", &crate::gpu::structs::GpuFrame { map_size: size, ..fg.frame }));
+        self.frames.entry(size).or_insert_with(|| {
+            readback::uniform_buffer(
+                fg.ctx,
+                "regions frame",
+                &crate::gpu::structs::GpuFrame {
+                    map_size: size,
+                    ..fg.frame
+                },
+            )
+        });
         if !self.grids.contains_key(&(n, size)) {
-            let frame = (size != fg.scene.render.shadow_map_size).then(|| self.frames[&size].clone());
+            let frame =
+                (size != fg.scene.render.shadow_map_size).then(|| self.frames[&size].clone());
             // Each (n, size)'s maps are kept from frame to frame (docs/reuse.md); a map is used
             // again where its window is unchanged (its key), and culled maps are never kept.
-            let mut grid = fixed_samples::prepare_kept(fg, &regular_points(n, Layout::Centred), size, frame, Some(&format!("regions {n}x{size}")))?;
+            let mut grid = fixed_samples::prepare_kept(
+                fg,
+                &regular_points(n, Layout::Centred),
+                size,
+                frame,
+                Some(&format!("regions {n}x{size}")),
+            )?;
             if self.method.cull != Some(false) {
                 match grid.cull(fg) {
                     // auto on a device that cannot cull: the uncut maps, the same V.
@@ -430,28 +629,72 @@ impl MethodState for State {
         Some(self.reuse)
     }
     fn release_maps(&mut self) -> Vec<crate::render::kept_maps::KeptMaps> {
-        self.grids.values_mut().filter_map(Prepared::release).collect()
+        self.grids
+            .values_mut()
+            .filter_map(Prepared::release)
+            .collect()
     }
     /// With `hold`, the groups' windows: the next frame's state starts from them.
     fn memory(&self) -> Option<serde_json::Value> {
-        let held: Vec<serde_json::Value> = self.held.iter().map(|(n, size, w)| serde_json::json!([n, size, w.min.to_array(), w.max.to_array()])).collect();
+        let held: Vec<serde_json::Value> = self
+            .held
+            .iter()
+            .map(|(n, size, w)| serde_json::json!([n, size, w.min.to_array(), w.max.to_array()]))
+            .collect();
         (self.method.hold && !held.is_empty()).then(|| serde_json::json!(held))
     }
     fn recall(&mut self, memory: &serde_json::Value) {
-        let v3 = |v: &serde_json::Value| -> Option<glam::Vec3> { Some(glam::Vec3::new(v[0].as_f64()? as f32, v[1].as_f64()? as f32, v[2].as_f64()? as f32)) };
+        let v3 = |v: &serde_json::Value| -> Option<glam::Vec3> {
+            Some(glam::Vec3::new(
+                v[0].as_f64()? as f32,
+                v[1].as_f64()? as f32,
+                v[2].as_f64()? as f32,
+            ))
+        };
         self.held = memory
             .as_array()
             .into_iter()
             .flatten()
-            .filter_map(|g| Some((g[0].as_u64()? as u32, g[1].as_u64()? as u32, Bounds { min: v3(&g[2])?, max: v3(&g[3])? })))
+            .filter_map(|g| {
+                Some((
+                    g[0].as_u64()? as u32,
+                    g[1].as_u64()? as u32,
+                    Bounds {
+                        min: v3(&g[2])?,
+                        max: v3(&g[3])?,
+                    },
+                ))
+            })
             .collect();
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        pictures: bool,
+    ) -> Result<MethodOutput> {
         let ctx = fg.ctx;
-        ctx.queue.write_buffer(&self.centre_frame, 0, bytemuck::bytes_of(&crate::gpu::structs::GpuFrame { map_size: self.centre, ..fg.frame }));
+        ctx.queue.write_buffer(
+            &self.centre_frame,
+            0,
+            bytemuck::bytes_of(&crate::gpu::structs::GpuFrame {
+                map_size: self.centre,
+                ..fg.frame
+            }),
+        );
         self.probe.render(fg, timer)?;
         timer.stage(ctx, Stage::REGIONS, |enc| {
-            self.pass.record(ctx, enc, &RegionsInputs { frame: &self.centre_frame, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, samples: &self.probe.samples, maps: self.probe.view() });
+            self.pass.record(
+                ctx,
+                enc,
+                &RegionsInputs {
+                    frame: &self.centre_frame,
+                    gbuffer: &fg.gbuffer,
+                    tiles: &fg.geometry_tiles,
+                    samples: &self.probe.samples,
+                    maps: self.probe.view(),
+                },
+            );
             Ok(())
         })?;
         // The one read-back of the decision: per class its tiles, finest texel and receiver box.
@@ -461,10 +704,19 @@ impl MethodState for State {
         let (words, regions): (Vec<u32>, Vec<u32>) = timer.cpu(Stage::READBACK, || {
             // Both copies in one submission: one wait (the second map finds the copy done).
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            let class_staging = readback::stage_copy(ctx, &mut enc, &self.pass.classes, (classes * CLASS_WORDS * 4) as u64);
-            let region_staging = readback::stage_copy(ctx, &mut enc, &self.pass.regions, region_bytes);
+            let class_staging = readback::stage_copy(
+                ctx,
+                &mut enc,
+                &self.pass.classes,
+                (classes * CLASS_WORDS * 4) as u64,
+            );
+            let region_staging =
+                readback::stage_copy(ctx, &mut enc, &self.pass.regions, region_bytes);
             ctx.queue.submit([enc.finish()]);
-            Ok((readback::map_staging(ctx, &class_staging)?, readback::map_staging(ctx, &region_staging)?))
+            Ok((
+                readback::map_staging(ctx, &class_staging)?,
+                readback::map_staging(ctx, &region_staging)?,
+            ))
         })?;
         let mut syncs = 1 + self.probe.syncs();
         // The maps' share of the target: the density whose predicted maps' error meets it.
@@ -472,7 +724,10 @@ impl MethodState for State {
         let floor = self.density_floor(fg) as f64;
         self.density = match self.method.density {
             d if d > 0.0 => d,
-            _ => super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor) as f32,
+            _ => {
+                super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor)
+                    as f32
+            }
         };
         let s = fg.scene;
         let mut groups: Vec<Group> = Vec::new();
@@ -481,12 +736,24 @@ impl MethodState for State {
             if w[0] == 0 {
                 continue;
             }
-            let texel_need = if w[1] == u32::MAX { f32::INFINITY } else { unordered(w[1]) };
+            let texel_need = if w[1] == u32::MAX {
+                f32::INFINITY
+            } else {
+                unordered(w[1])
+            };
             let window = match self.method.force {
                 Some(_) => s.bounds,
                 None => widened(w, &s.bounds),
             };
-            let group = Group { n: self.ladder[c], classes: vec![c], tiles: w[0], texel_need, window, size: 0, extent: 0.0 };
+            let group = Group {
+                n: self.ladder[c],
+                classes: vec![c],
+                tiles: w[0],
+                texel_need,
+                window,
+                size: 0,
+                extent: 0.0,
+            };
             groups.push(self.sized(fg, group));
         }
         if self.method.force.is_none() && self.method.merge {
@@ -503,15 +770,26 @@ impl MethodState for State {
         let mut records = Vec::new();
         for (g, group) in groups.iter().enumerate() {
             let (n, size, window) = (group.n, group.size, group.window);
-            let samples = self.method.force.is_none().then(|| self.samples(fg, n, &window, size));
+            let samples = self
+                .method
+                .force
+                .is_none()
+                .then(|| self.samples(fg, n, &window, size));
             // One class: its own list. Several: their lists joined into one (one shade pass per block).
             let tiles = if let [c] = group.classes[..] {
                 self.pass.class_list(c as u32, fg.gbuffer.height)
             } else {
-                let counts: Vec<(u32, u32)> = group.classes.iter().map(|&c| (c as u32, words[c * CLASS_WORDS])).collect();
+                let counts: Vec<(u32, u32)> = group
+                    .classes
+                    .iter()
+                    .map(|&c| (c as u32, words[c * CLASS_WORDS]))
+                    .collect();
                 let mut joined = None;
                 timer.stage(ctx, Stage::REGIONS, |enc| {
-                    joined = Some(self.pass.join(ctx, enc, g as u32, &counts, fg.gbuffer.height));
+                    joined = Some(
+                        self.pass
+                            .join(ctx, enc, g as u32, &counts, fg.gbuffer.height),
+                    );
                     Ok(())
                 })?;
                 joined.expect("recorded above")
@@ -535,8 +813,23 @@ impl MethodState for State {
             texels += out.shadow_maps as f64 * (size as f64).powi(2);
             for &c in &group.classes {
                 let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
-                let texel_need = if w[1] == u32::MAX { f32::INFINITY } else { unordered(w[1]) };
-                records.push(ClassRecord { class: c as u32, decided_n: self.ladder[c], group: g as u32, n, map_size: size, tiles: w[0], maps: out.shadow_maps, texel_need, extent: group.extent, triangles_per_map_mean: tris });
+                let texel_need = if w[1] == u32::MAX {
+                    f32::INFINITY
+                } else {
+                    unordered(w[1])
+                };
+                records.push(ClassRecord {
+                    class: c as u32,
+                    decided_n: self.ladder[c],
+                    group: g as u32,
+                    n,
+                    map_size: size,
+                    tiles: w[0],
+                    maps: out.shadow_maps,
+                    texel_need,
+                    extent: group.extent,
+                    triangles_per_map_mean: tris,
+                });
             }
         }
         let record = serde_json::json!({
@@ -551,27 +844,51 @@ impl MethodState for State {
             "predicted_map": super::regions_budget::predicted_map(edges, pixels, self.density as f64),
         });
         self.classes = records;
-        self.reuse.add(&ReuseCounts::all_rendered(self.probe.count(), self.centre));
-        let pictures = if pictures { super::regions_pictures::pictures(fg, &self.pass, &self.classes)? } else { Vec::new() };
-        Ok(MethodOutput { shadow_maps: maps + self.probe.count(), syncs, record, pictures, bound: None })
+        self.reuse
+            .add(&ReuseCounts::all_rendered(self.probe.count(), self.centre));
+        let pictures = if pictures {
+            super::regions_pictures::pictures(fg, &self.pass, &self.classes)?
+        } else {
+            Vec::new()
+        };
+        Ok(MethodOutput {
+            shadow_maps: maps + self.probe.count(),
+            syncs,
+            record,
+            pictures,
+            bound: None,
+        })
     }
     /// [`RegionsBuffers`]: the centre map, the decision's buffers, and each class's shade inputs.
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         let ctx = fg.ctx;
         let p = &self.pass;
         let tiles_words = (p.params.ladder_len * p.params.section_words) as u64 * 4;
-        let geometry: Vec<u32> = readback::read_buffer(ctx, &fg.geometry_tiles.list, fg.geometry_tiles.bytes)?;
+        let geometry: Vec<u32> =
+            readback::read_buffer(ctx, &fg.geometry_tiles.list, fg.geometry_tiles.bytes)?;
         let count = geometry[0] as usize;
-        let mut geometry_tiles = geometry[crate::stages::shade::TILE_LIST_HEADER..crate::stages::shade::TILE_LIST_HEADER + count].to_vec();
+        let mut geometry_tiles = geometry[crate::stages::shade::TILE_LIST_HEADER
+            ..crate::stages::shade::TILE_LIST_HEADER + count]
+            .to_vec();
         geometry_tiles.sort_unstable();
         let out = RegionsBuffers {
             params: p.params,
             centre_size: self.centre,
             sample: self.probe.sample,
             map: self.probe.read(fg)?,
-            regions: readback::read_buffer(ctx, &p.regions, p.region_count as u64 * REGION_WORDS as u64 * 4)?,
-            classes: readback::read_buffer(ctx, &p.classes, p.params.ladder_len as u64 * CLASS_WORDS as u64 * 4)?,
-            totals: readback::read_buffer::<u32>(ctx, &p.totals, 8)?.try_into().expect("two words"),
+            regions: readback::read_buffer(
+                ctx,
+                &p.regions,
+                p.region_count as u64 * REGION_WORDS as u64 * 4,
+            )?,
+            classes: readback::read_buffer(
+                ctx,
+                &p.classes,
+                p.params.ladder_len as u64 * CLASS_WORDS as u64 * 4,
+            )?,
+            totals: readback::read_buffer::<u32>(ctx, &p.totals, 8)?
+                .try_into()
+                .expect("two words"),
             class_tiles: readback::read_buffer(ctx, &p.class_tiles, tiles_words)?,
             group_tiles: readback::read_buffer(ctx, &p.group_tiles, tiles_words)?,
             geometry_tiles,

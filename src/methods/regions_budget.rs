@@ -22,7 +22,10 @@ pub const SAMPLING_SHARE: f32 = std::f32::consts::FRAC_1_SQRT_2;
 pub fn edge_weight(params: &RegionsParams, regions: &[u32]) -> (f64, f64) {
     let totals = total(params, regions);
     let mut e = 0.0f64;
-    for r in regions.chunks(REGION_WORDS).take(params.region_count as usize) {
+    for r in regions
+        .chunks(REGION_WORDS)
+        .take(params.region_count as usize)
+    {
         let (area, penumbra) = (r[0], r[1]);
         if penumbra == 0 || r[2] == u32::MAX || r[3] == u32::MAX {
             continue;
@@ -32,7 +35,11 @@ pub fn edge_weight(params: &RegionsParams, regions: &[u32]) -> (f64, f64) {
         let n = samples_of(params, totals, area, penumbra) as f64;
         let length = penumbra as f64 / w.max(1.0);
         let texel = (w / n).max(1.0);
-        let apart = if w >= n { ((1.0 + 3.0 / n) / n).min(1.0) } else { 1.0 };
+        let apart = if w >= n {
+            ((1.0 + 3.0 / n) / n).min(1.0)
+        } else {
+            1.0
+        };
         e += length * texel * apart;
     }
     (e, totals[1].max(1) as f64)

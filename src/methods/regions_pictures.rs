@@ -20,10 +20,18 @@ fn ramp(t: f32) -> [u8; 3] {
     let lerp = |a: f32, b: f32, u: f32| (a + (b - a) * u) as u8;
     if t < 0.5 {
         let u = t * 2.0;
-        [lerp(20.0, 230.0, u), lerp(30.0, 120.0, u), lerp(110.0, 30.0, u)]
+        [
+            lerp(20.0, 230.0, u),
+            lerp(30.0, 120.0, u),
+            lerp(110.0, 30.0, u),
+        ]
     } else {
         let u = (t - 0.5) * 2.0;
-        [lerp(230.0, 255.0, u), lerp(120.0, 250.0, u), lerp(30.0, 190.0, u)]
+        [
+            lerp(230.0, 255.0, u),
+            lerp(120.0, 250.0, u),
+            lerp(30.0, 190.0, u),
+        ]
     }
 }
 
@@ -38,10 +46,18 @@ fn diverging(log2: f32) -> [u8; 3] {
     }
 }
 
-pub fn pictures(fg: &FrameGpu, pass: &RegionsPass, classes: &[ClassRecord]) -> Result<Vec<(String, RgbImage)>> {
+pub fn pictures(
+    fg: &FrameGpu,
+    pass: &RegionsPass,
+    classes: &[ClassRecord],
+) -> Result<Vec<(String, RgbImage)>> {
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let words = pass.params.section_words as usize;
-    let lists: Vec<u32> = readback::read_buffer(fg.ctx, &pass.class_tiles, (pass.params.ladder_len as usize * words * 4) as u64)?;
+    let lists: Vec<u32> = readback::read_buffer(
+        fg.ctx,
+        &pass.class_tiles,
+        (pass.params.ladder_len as usize * words * 4) as u64,
+    )?;
     let g = crate::render::gbuffer::read_back(fg.ctx, &fg.gbuffer)?;
     let tiles_x = w.div_ceil(8);
     // Per tile: its class's record, if the tile is listed.
@@ -70,10 +86,17 @@ pub fn pictures(fg: &FrameGpu, pass: &RegionsPass, classes: &[ClassRecord]) -> R
                 let depth = (p - centre).dot(normal).abs().max(1e-6);
                 let texel = r.extent / r.map_size as f32 * depth;
                 let f = crate::stages::twin::regions::footprint(&g, i);
-                Rgb(if f > 0.0 { diverging((f / texel).log2()) } else { BACKGROUND })
+                Rgb(if f > 0.0 {
+                    diverging((f / texel).log2())
+                } else {
+                    BACKGROUND
+                })
             }
             _ => Rgb(BACKGROUND),
         }
     });
-    Ok(vec![("region_samples.png".to_string(), samples), ("region_texels.png".to_string(), texels)])
+    Ok(vec![
+        ("region_samples.png".to_string(), samples),
+        ("region_texels.png".to_string(), texels),
+    ])
 }

@@ -1,14 +1,14 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
 //! light's centre, the filter uniform, and the buffers their twin tests read.
 
-use crate::stages::raster::RasterTarget;
 use super::hybrid_maps::HybridMaps;
-use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuFilter, GpuSample};
+use crate::gpu::timing::StageTimer;
 use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::scene::MapKind;
-use crate::gpu::timing::StageTimer;
+use crate::stages::raster::RasterTarget;
+use crate::stages::FrameGpu;
 use crate::Result;
 
 /// The map from the light's centre, allocated once per scene and settings; for a point light the
@@ -41,22 +41,34 @@ impl CentreMap {
         // The disk's or the spot's centre, or the sun's central direction (orthographic):
         // `Emitter::sample_map`.
         // A point light's six cube faces (`Emitter::sample_maps`), each in its own layer.
-        let mut faces = s.emitter.sample_maps(&s.light, 0.5, 0.5, &s.bounds, size, u32::MAX);
+        let mut faces = s
+            .emitter
+            .sample_maps(&s.light, 0.5, 0.5, &s.bounds, size, u32::MAX);
         for (layer, f) in faces.iter_mut().enumerate() {
             f.layer = layer as u32;
         }
         let n = faces.len() as u32;
-        let samples = readback::storage_buffer(fg.ctx, "centre sample", &faces, wgpu::BufferUsages::empty());
+        let samples =
+            readback::storage_buffer(fg.ctx, "centre sample", &faces, wgpu::BufferUsages::empty());
         let maps = match s.render.maps {
             MapKind::Plain => {
                 let array = fg.raster.allocate(fg.ctx, size, n);
                 shadow_raster::clear_all(fg.ctx, &array)?;
                 CentreMaps::Plain(array)
             }
-            MapKind::Hybrid if size != s.render.shadow_map_size => return Err(crate::Error::Limit(format!("maps=hybrid: the centre map's store is sized for shadow_map_size, not {size}"))),
+            MapKind::Hybrid if size != s.render.shadow_map_size => {
+                return Err(crate::Error::Limit(format!(
+                    "maps=hybrid: the centre map's store is sized for shadow_map_size, not {size}"
+                )))
+            }
             MapKind::Hybrid => CentreMaps::Hybrid(Box::new(HybridMaps::new(fg, n, n)?)),
         };
-        Ok(Self { sample: faces[0], faces, samples, maps })
+        Ok(Self {
+            sample: faces[0],
+            faces,
+            samples,
+            maps,
+        })
     }
 
     /// Maps per frame: 1, or 6 for a point light's cube.
@@ -68,8 +80,23 @@ impl CentreMap {
     pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         match &mut self.maps {
             CentreMaps::Plain(array) => timer.stage(fg.ctx, fg.raster.stage(), |enc| {
-                let jobs: Vec<RasterJob> = (0..self.faces.len() as u32).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-                fg.raster.record(fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples, array }, &jobs)?;
+                let jobs: Vec<RasterJob> = (0..self.faces.len() as u32)
+                    .map(|i| RasterJob {
+                        sample: i,
+                        layer: i,
+                        scissor: None,
+                    })
+                    .collect();
+                fg.raster.record(
+                    fg.ctx,
+                    enc,
+                    &RasterTarget {
+                        scene: &fg.scene_gpu,
+                        samples: &self.samples,
+                        array,
+                    },
+                    &jobs,
+                )?;
                 Ok(())
             }),
             CentreMaps::Hybrid(h) => {
@@ -78,7 +105,11 @@ impl CentreMap {
                 // batch of transient layers at a time and must all fit, since the kernel reads one
                 // store: one that fills up early is an error, never maps dropped. The last flush
                 // hands over what the kernel then reads.
-                let mut full = |_: &FrameGpu, _: &mut StageTimer, _: &wgpu::TextureView, _: &[u32]| -> Result<()> {
+                let mut full = |_: &FrameGpu,
+                                _: &mut StageTimer,
+                                _: &wgpu::TextureView,
+                                _: &[u32]|
+                 -> Result<()> {
                     Err(crate::Error::Limit("maps=hybrid: the point light's six cube faces do not fit one store; raise shadow_map_budget_mib".into()))
                 };
                 let slots: Vec<u32> = (0..self.faces.len() as u32).collect();
@@ -113,7 +144,12 @@ impl CentreMap {
             CentreMaps::Plain(array) => readback::read_texture(fg.ctx, &array.texture, k, 4),
             CentreMaps::Hybrid(h) => {
                 let pool = h.store.read_words(fg.ctx, h.store.capacity_words)?;
-                Ok(crate::stages::twin::hybrid_build::decode(&pool, k, h.store.settings.base, h.store.settings.levels))
+                Ok(crate::stages::twin::hybrid_build::decode(
+                    &pool,
+                    k,
+                    h.store.settings.base,
+                    h.store.settings.levels,
+                ))
             }
         }
     }
@@ -138,7 +174,11 @@ impl CentreMap {
     /// orthographic map.
     pub fn far_depth(&self) -> f32 {
         let s = &self.sample;
-        if s.orthographic != 0 { s.depth_lin_a + s.depth_lin_b } else { s.depth_lin_a / (1.0 + s.depth_lin_b) }
+        if s.orthographic != 0 {
+            s.depth_lin_a + s.depth_lin_b
+        } else {
+            s.depth_lin_a / (1.0 + s.depth_lin_b)
+        }
     }
 }
 
@@ -150,7 +190,10 @@ pub fn light_size(fg: &FrameGpu) -> (f32, f32) {
         crate::scene::Emitter::Sun(sun) => (2.0 * sun.tan_half_angle(), 2.0 * sun.tan_half_angle()),
         // The rectangle's sides; the disk's and the spot's stand-in squares are the disk's or the
         // sphere's diameter on each side.
-        _ => (fg.scene.light.edge_u.length(), fg.scene.light.edge_v.length()),
+        _ => (
+            fg.scene.light.edge_u.length(),
+            fg.scene.light.edge_v.length(),
+        ),
     }
 }
 
@@ -170,4 +213,3 @@ pub struct SingleMapBuffers {
     pub scratch: Vec<[f32; 4]>,
     pub filtered: Vec<[f32; 4]>,
 }
-

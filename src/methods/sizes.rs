@@ -22,11 +22,24 @@ pub fn visibility(scene: &Scene, bands: bool, limits: &wgpu::Limits) -> SizeNeed
 }
 
 /// A per-pixel storage buffer of `bytes_per_pixel`, bound whole or (`bands`) by bands of rows.
-pub fn per_pixel_in(scene: &Scene, what: &str, bytes_per_pixel: u64, bands: bool, limits: &wgpu::Limits) -> SizeNeed {
+pub fn per_pixel_in(
+    scene: &Scene,
+    what: &str,
+    bytes_per_pixel: u64,
+    bands: bool,
+    limits: &wgpu::Limits,
+) -> SizeNeed {
     let (w, h) = (scene.render.width as u64, scene.render.height as u64);
     if bands {
-        let granule = band_granule(scene.render.width, limits.min_storage_buffer_offset_alignment) as u64;
-        SizeNeed::rows(what, w * h * bytes_per_pixel, w * bytes_per_pixel * granule.min(h))
+        let granule = band_granule(
+            scene.render.width,
+            limits.min_storage_buffer_offset_alignment,
+        ) as u64;
+        SizeNeed::rows(
+            what,
+            w * h * bytes_per_pixel,
+            w * bytes_per_pixel * granule.min(h),
+        )
     } else {
         SizeNeed::binding(what, w * h * bytes_per_pixel)
     }
@@ -36,7 +49,9 @@ pub fn per_pixel_in(scene: &Scene, what: &str, bytes_per_pixel: u64, bands: bool
 /// one binding holds. Past the least band the plan has already refused the frame.
 pub fn band_rows(scene: &Scene, method: &Method, limits: &wgpu::Limits) -> u32 {
     let r = &scene.render;
-    let max_binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    let max_binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
     let widest = method
         .0
         .size_needs(scene, limits)
@@ -44,12 +59,25 @@ pub fn band_rows(scene: &Scene, method: &Method, limits: &wgpu::Limits) -> u32 {
         .filter(|n| matches!(n.bound, Bound::RowChunks { .. }))
         .map(|n| n.amount / r.height.max(1) as u64)
         .max();
-    widest.and_then(|row| band_rows_for(r.width, r.height, row, max_binding, limits.min_storage_buffer_offset_alignment)).unwrap_or(0)
+    widest
+        .and_then(|row| {
+            band_rows_for(
+                r.width,
+                r.height,
+                row,
+                max_binding,
+                limits.min_storage_buffer_offset_alignment,
+            )
+        })
+        .unwrap_or(0)
 }
 
 /// A per-pixel storage buffer of `bytes_per_pixel`, bound whole.
 pub fn per_pixel(scene: &Scene, what: &str, bytes_per_pixel: u64) -> SizeNeed {
-    SizeNeed::binding(what, scene.render.width as u64 * scene.render.height as u64 * bytes_per_pixel)
+    SizeNeed::binding(
+        what,
+        scene.render.width as u64 * scene.render.height as u64 * bytes_per_pixel,
+    )
 }
 
 /// The geometry tile list (`ShadePass::tile_list_in_bands`): per band a header and one word per
@@ -59,7 +87,10 @@ pub fn geometry_tiles_bytes(width: u32, height: u32, band_rows: u32) -> u64 {
     if band_rows == 0 || band_rows >= height {
         return (TILE_LIST_HEADER as u64 + tiles_x * height.div_ceil(TILE) as u64) * 4;
     }
-    height.div_ceil(band_rows) as u64 * (TILE_LIST_HEADER as u64 + tiles_x * (band_rows / TILE) as u64).div_ceil(64) * 64 * 4
+    height.div_ceil(band_rows) as u64
+        * (TILE_LIST_HEADER as u64 + tiles_x * (band_rows / TILE) as u64).div_ceil(64)
+        * 64
+        * 4
 }
 
 /// How the one-line error names the resolution.
@@ -84,26 +115,48 @@ pub fn shadow_map_array(scene: &Scene, method: &Method, limits: &wgpu::Limits) -
     if r.maps == crate::scene::MapKind::Hybrid || maps == 0 || by_budget == 0 {
         return None;
     }
-    let layers = (maps as u64).min(by_budget).min(limits.max_texture_array_layers as u64) as u32;
+    let layers = (maps as u64)
+        .min(by_budget)
+        .min(limits.max_texture_array_layers as u64) as u32;
     let size = r.shadow_map_size;
     // The budget is what lets one array grow: lowering it splits the maps into smaller arrays.
     Some(
-        SizeNeed::array(format!("the shadow-map array ({layers} maps of {size}x{size}, shadow_map_size = {size})"), layers as u64 * map_bytes, layers)
-            .sized_by(format!("shadow_map_budget_mib = {}", r.shadow_map_budget_mib)),
+        SizeNeed::array(
+            format!(
+                "the shadow-map array ({layers} maps of {size}x{size}, shadow_map_size = {size})"
+            ),
+            layers as u64 * map_bytes,
+            layers,
+        )
+        .sized_by(format!(
+            "shadow_map_budget_mib = {}",
+            r.shadow_map_budget_mib
+        )),
     )
 }
 
 /// The shadow-map array of `layers` maps of `map_size` that a method sized at run time (regions'
 /// classes, auto's grid) is about to allocate, through the plan's own check: one line naming the
 /// budget, which lowering splits the maps into smaller arrays, instead of the device's out-of-memory.
-pub fn check_run_time_array(ctx: &GpuContext, r: &crate::scene::RenderSettings, map_size: u32, layers: u32) -> Result<()> {
+pub fn check_run_time_array(
+    ctx: &GpuContext,
+    r: &crate::scene::RenderSettings,
+    map_size: u32,
+    layers: u32,
+) -> Result<()> {
     let need = SizeNeed::array(
         format!("the shadow-map array ({layers} maps of {map_size}x{map_size}, a map size the method chose at run time)"),
         layers as u64 * (map_size as u64).pow(2) * 4,
         layers,
     )
     .sized_by(format!("shadow_map_budget_mib = {}", r.shadow_map_budget_mib));
-    SizePlan { setting: String::new(), needs: vec![need], host_bytes: 0, host_setting: None }.check(&ctx.bounds(), None)
+    SizePlan {
+        setting: String::new(),
+        needs: vec![need],
+        host_bytes: 0,
+        host_setting: None,
+    }
+    .check(&ctx.bounds(), None)
 }
 
 /// Everything a frame of `method` on `scene` allocates, binds and reads back. `cpu_device`: the
@@ -112,24 +165,37 @@ pub fn plan(scene: &Scene, method: &Method, limits: &wgpu::Limits, cpu_device: b
     let r = &scene.render;
     let (w, h) = (r.width as u64, r.height as u64);
     let pixels = w * h;
-    let padded_row = (w * GBUFFER_TEXEL).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
+    let padded_row = (w * GBUFFER_TEXEL).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64)
+        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
     let mut needs = vec![
         SizeNeed::side("the G-buffer", w.max(h)),
-        SizeNeed::side("a shadow map", r.shadow_map_size as u64).sized_by(format!("shadow_map_size = {}", r.shadow_map_size)),
-        SizeNeed::binding("geometry tiles", geometry_tiles_bytes(r.width, r.height, band_rows(scene, method, limits))),
-        SizeNeed::buffer("the G-buffer read-back (one Rgba32Float image, rows padded to 256 bytes)", padded_row * h),
+        SizeNeed::side("a shadow map", r.shadow_map_size as u64)
+            .sized_by(format!("shadow_map_size = {}", r.shadow_map_size)),
+        SizeNeed::binding(
+            "geometry tiles",
+            geometry_tiles_bytes(r.width, r.height, band_rows(scene, method, limits)),
+        ),
+        SizeNeed::buffer(
+            "the G-buffer read-back (one Rgba32Float image, rows padded to 256 bytes)",
+            padded_row * h,
+        ),
         SizeNeed::buffer("the V read-back", pixels * 4),
     ];
     let method_needs = method.0.size_needs(scene, limits);
     let array = shadow_map_array(scene, method, limits);
     // Host: the CPU G-buffer, one image's read-back in flight (staging and its copy), V three
     // times (buffer map, Vec, clamped copy) and the written images.
-    let mut host = pixels * (GBUFFER_IMAGES * GBUFFER_TEXEL + 2 * padded_row / w.max(1) + 3 * 4 + 16);
+    let mut host =
+        pixels * (GBUFFER_IMAGES * GBUFFER_TEXEL + 2 * padded_row / w.max(1) + 3 * 4 + 16);
     let mut host_setting = None;
     if cpu_device {
         // The G-buffer's images and depth, the shadow-map array, the method's buffers.
         host += pixels * (GBUFFER_IMAGES * GBUFFER_TEXEL + 4);
-        host += method_needs.iter().filter(|n| n.bound != size_plan::Bound::TextureSide).map(|n| n.amount).sum::<u64>();
+        host += method_needs
+            .iter()
+            .filter(|n| n.bound != size_plan::Bound::TextureSide)
+            .map(|n| n.amount)
+            .sum::<u64>();
         if let Some(a) = &array {
             // Where the maps are most of it, the budget is the setting to name.
             if a.amount > host {
@@ -140,7 +206,12 @@ pub fn plan(scene: &Scene, method: &Method, limits: &wgpu::Limits, cpu_device: b
     }
     needs.extend(method_needs);
     needs.extend(array);
-    SizePlan { setting: setting(scene), needs, host_bytes: host, host_setting }
+    SizePlan {
+        setting: setting(scene),
+        needs,
+        host_bytes: host,
+        host_setting,
+    }
 }
 
 /// [`plan`] on `ctx`'s device, checked: the one-line error, before any GPU work.

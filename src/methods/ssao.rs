@@ -1,14 +1,16 @@
 //! ssao as its own term: V = the screen-space ambient occlusion (seed 002 §2.4). Combined with the
 //! environment methods through their `ssao=on` parameter (V_env · AO).
 
-use crate::gpu::Stage;
 use super::environment::common::{SsaoSettings, SsaoStage};
 use super::environment::pixels::{AO_RADIUS, AO_SAMPLES};
-use super::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod};
-use crate::stages::FrameGpu;
+use super::{
+    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuCamera, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
@@ -19,7 +21,13 @@ pub const INFO: MethodInfo = MethodInfo {
     params: &[AO_SAMPLES, AO_RADIUS],
     parse: |p| {
         let samples = check_range("ssao", "ao_samples", get_u32(p, "ao_samples", 16)?, 1, 64)?;
-        let radius = check_range("ssao", "ao_radius", get_f32(p, "ao_radius", 0.05)?, 1e-4, 1.0)?;
+        let radius = check_range(
+            "ssao",
+            "ao_radius",
+            get_f32(p, "ao_radius", 0.05)?,
+            1e-4,
+            1.0,
+        )?;
         Ok(Arc::new(SsaoMethod(SsaoSettings { samples, radius })))
     },
 };
@@ -40,7 +48,10 @@ impl ShadowMethod for SsaoMethod {
         "ssao"
     }
     fn label(&self) -> String {
-        format!("ssao:ao_samples={},ao_radius={}", self.0.samples, self.0.radius)
+        format!(
+            "ssao:ao_samples={},ao_radius={}",
+            self.0.samples, self.0.radius
+        )
     }
     fn params_json(&self) -> serde_json::Value {
         serde_json::json!({ "ao_samples": self.0.samples, "ao_radius": self.0.radius })
@@ -68,7 +79,12 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
         let s = &self.0;
         s.run(fg, timer)?;
         let bytes = fg.pixel_count() as u64 * 4;

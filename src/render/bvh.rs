@@ -41,10 +41,20 @@ impl Bvh {
             .map(|(index, t)| {
                 let lo = t[0].min(t[1]).min(t[2]);
                 let hi = t[0].max(t[1]).max(t[2]);
-                Item { lo, hi, centre: (lo + hi) * 0.5, index }
+                Item {
+                    lo,
+                    hi,
+                    centre: (lo + hi) * 0.5,
+                    index,
+                }
             })
             .collect();
-        let mut bvh = Bvh { nodes: vec![GpuBvhNode::default()], triangles: Vec::with_capacity(items.len()), source: Vec::with_capacity(items.len()), depth: 1 };
+        let mut bvh = Bvh {
+            nodes: vec![GpuBvhNode::default()],
+            triangles: Vec::with_capacity(items.len()),
+            source: Vec::with_capacity(items.len()),
+            depth: 1,
+        };
         let n = items.len();
         bvh.split(0, &mut items[..], 1, triangles);
         debug_assert_eq!(bvh.triangles.len(), n);
@@ -72,17 +82,32 @@ impl Bvh {
             for it in items.iter() {
                 let t = tris[it.index];
                 let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
-                self.triangles.push(GpuTriangle { v0: t[0].extend(0.0).to_array(), e1: e1.extend(0.0).to_array(), e2: e2.extend(0.0).to_array() });
+                self.triangles.push(GpuTriangle {
+                    v0: t[0].extend(0.0).to_array(),
+                    e1: e1.extend(0.0).to_array(),
+                    e2: e2.extend(0.0).to_array(),
+                });
                 self.source.push(it.index as u32);
             }
-            self.nodes[node] = GpuBvhNode { min: lo.to_array(), left_first: first, max: hi.to_array(), count: items.len() as u32 };
+            self.nodes[node] = GpuBvhNode {
+                min: lo.to_array(),
+                left_first: first,
+                max: hi.to_array(),
+                count: items.len() as u32,
+            };
             return;
         }
         let mid = match sah_split(items, clo, extent) {
             Some(m) => m,
             None => {
                 // No binned split beats the leaf's cost estimate's shape: the median on the longest axis.
-                let axis = if extent.x >= extent.y && extent.x >= extent.z { 0 } else if extent.y >= extent.z { 1 } else { 2 };
+                let axis = if extent.x >= extent.y && extent.x >= extent.z {
+                    0
+                } else if extent.y >= extent.z {
+                    1
+                } else {
+                    2
+                };
                 let mid = items.len() / 2;
                 items.select_nth_unstable_by(mid, |a, b| a.centre[axis].total_cmp(&b.centre[axis]));
                 mid
@@ -91,7 +116,12 @@ impl Bvh {
         let left = self.nodes.len();
         self.nodes.push(GpuBvhNode::default());
         self.nodes.push(GpuBvhNode::default());
-        self.nodes[node] = GpuBvhNode { min: lo.to_array(), left_first: left as u32, max: hi.to_array(), count: 0 };
+        self.nodes[node] = GpuBvhNode {
+            min: lo.to_array(),
+            left_first: left as u32,
+            max: hi.to_array(),
+            count: 0,
+        };
         let (a, b) = items.split_at_mut(mid);
         self.split(left, a, depth + 1, tris);
         self.split(left + 1, b, depth + 1, tris);
@@ -139,8 +169,13 @@ fn sah_split(items: &mut [Item], clo: Vec3, extent: Vec3) -> Option<usize> {
         if extent[axis] <= 0.0 {
             continue;
         }
-        let bin_of = |c: f32| (((c - clo[axis]) / extent[axis] * BINS as f32) as usize).min(BINS - 1);
-        let mut boxes = [(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0usize); BINS];
+        let bin_of =
+            |c: f32| (((c - clo[axis]) / extent[axis] * BINS as f32) as usize).min(BINS - 1);
+        let mut boxes = [(
+            Vec3::splat(f32::INFINITY),
+            Vec3::splat(f32::NEG_INFINITY),
+            0usize,
+        ); BINS];
         for it in items.iter() {
             let b = &mut boxes[bin_of(it.centre[axis])];
             b.0 = b.0.min(it.lo);
@@ -148,7 +183,18 @@ fn sah_split(items: &mut [Item], clo: Vec3, extent: Vec3) -> Option<usize> {
             b.2 += 1;
         }
         for cut in 1..BINS {
-            let (mut l, mut r) = ((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0usize), (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0usize));
+            let (mut l, mut r) = (
+                (
+                    Vec3::splat(f32::INFINITY),
+                    Vec3::splat(f32::NEG_INFINITY),
+                    0usize,
+                ),
+                (
+                    Vec3::splat(f32::INFINITY),
+                    Vec3::splat(f32::NEG_INFINITY),
+                    0usize,
+                ),
+            );
             for (k, b) in boxes.iter().enumerate() {
                 let side = if k < cut { &mut l } else { &mut r };
                 side.0 = side.0.min(b.0);
@@ -190,14 +236,26 @@ fn slab(node: &GpuBvhNode, o: [f32; 3], inv: [f32; 3], t_max: f32) -> bool {
 }
 
 fn min_f(a: f32, b: f32) -> f32 {
-    if a < b { a } else { b }
+    if a < b {
+        a
+    } else {
+        b
+    }
 }
 fn max_f(a: f32, b: f32) -> f32 {
-    if a > b { a } else { b }
+    if a > b {
+        a
+    } else {
+        b
+    }
 }
 
 fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -237,16 +295,32 @@ mod tests {
         let mut tris = Vec::new();
         let mut s = 7u64;
         let mut r = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((s >> 40) as f32) / (1u64 << 24) as f32 * 2.0 - 1.0
         };
         for _ in 0..300 {
             let c = Vec3::new(r(), r(), r()) * 5.0;
-            tris.push([c, c + Vec3::new(r(), r(), r()) * 2.0, c + Vec3::new(r(), r(), r()) * 2.0]);
+            tris.push([
+                c,
+                c + Vec3::new(r(), r(), r()) * 2.0,
+                c + Vec3::new(r(), r(), r()) * 2.0,
+            ]);
         }
         let bvh = Bvh::build(&tris);
         assert_eq!(bvh.triangles.len(), 300);
-        let flat = Bvh { nodes: vec![GpuBvhNode { min: [-1e9; 3], left_first: 0, max: [1e9; 3], count: 300 }], triangles: Bvh::build(&tris).triangles, source: Vec::new(), depth: 1 };
+        let flat = Bvh {
+            nodes: vec![GpuBvhNode {
+                min: [-1e9; 3],
+                left_first: 0,
+                max: [1e9; 3],
+                count: 300,
+            }],
+            triangles: Bvh::build(&tris).triangles,
+            source: Vec::new(),
+            depth: 1,
+        };
         let mut hits = 0;
         for _ in 0..2000 {
             let o = [r() * 6.0, r() * 6.0, r() * 6.0];
@@ -255,6 +329,9 @@ mod tests {
             assert_eq!(a, flat.occluded(o, d, 100.0), "ray {o:?} {d:?}");
             hits += a as u32;
         }
-        assert!(hits > 100 && hits < 1900, "{hits} of 2000 rays hit: the test scene is degenerate");
+        assert!(
+            hits > 100 && hits < 1900,
+            "{hits} of 2000 rays hit: the test scene is degenerate"
+        );
     }
 }

@@ -1,9 +1,9 @@
 //! gbuffer: camera raster of world position and camera-facing normal, one texel per pixel.
 
-use crate::gpu::stages::bind;
 use super::{vertex_layout, SceneGpu, VERTEX_ATTRIBUTES};
-use crate::gpu::{pipeline, readback, GpuContext, Stage};
+use crate::gpu::stages::bind;
 use crate::gpu::structs::GpuCamera;
+use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::{Error, Result};
 
 pub use crate::gpu::adapter::POSITION_FORMAT;
@@ -52,34 +52,43 @@ impl GBufferPass {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         let module = pipeline::shader_module(ctx, Stage::GBUFFER.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let target = Some(wgpu::ColorTargetState { format: POSITION_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
-        let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(Stage::GBUFFER.name),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout(&VERTEX_ATTRIBUTES))],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[target.clone(), target.clone(), target],
-            }),
-            multiview_mask: None,
-            cache: None,
+        let target = Some(wgpu::ColorTargetState {
+            format: POSITION_FORMAT,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
         });
+        let pipeline = ctx
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(Stage::GBUFFER.name),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(vertex_layout(&VERTEX_ATTRIBUTES))],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: wgpu::TextureFormat::Depth32Float,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[target.clone(), target.clone(), target],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
         pipeline::check(scope, Stage::GBUFFER.name)?;
         Ok(Self { pipeline })
     }
@@ -94,11 +103,17 @@ impl GBufferPass {
             )));
         }
         let make = |label, format, usage| screen_texture(ctx, label, width, height, format, usage);
-        let color = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let color = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
         let position = make("gbuffer position", POSITION_FORMAT, color);
         let normal = make("gbuffer normal", POSITION_FORMAT, color);
         let shading_normal = make("gbuffer shading normal", POSITION_FORMAT, color);
-        let depth = make("gbuffer depth", wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let depth = make(
+            "gbuffer depth",
+            wgpu::TextureFormat::Depth32Float,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
         Ok(GBuffer {
             width,
             height,
@@ -112,17 +127,47 @@ impl GBufferPass {
         })
     }
 
-    pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, camera: &GpuCamera, g: &GBuffer) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        camera: &GpuCamera,
+        g: &GBuffer,
+    ) {
         let camera_buffer = readback::uniform_buffer(ctx, "camera", camera);
-        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::gbuffer::Pipeline { camera: camera_buffer.as_entire_binding() });
-        let clear = wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store };
-        let attachment = |view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: clear });
+        let bind = pipeline::bind_group(
+            ctx,
+            &self.pipeline.get_bind_group_layout(0),
+            bind::gbuffer::Pipeline {
+                camera: camera_buffer.as_entire_binding(),
+            },
+        );
+        let clear = wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        };
+        let attachment = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: clear,
+            })
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(Stage::GBUFFER.name),
-            color_attachments: &[attachment(&g.position_view), attachment(&g.normal_view), attachment(&g.shading_normal_view)],
+            color_attachments: &[
+                attachment(&g.position_view),
+                attachment(&g.normal_view),
+                attachment(&g.shading_normal_view),
+            ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &g.depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
@@ -156,16 +201,29 @@ pub fn camera_uniform(scene: &crate::scene::Scene) -> GpuCamera {
 pub fn camera_uniform_for(scene: &crate::scene::Scene, camera: &crate::scene::Camera) -> GpuCamera {
     let aspect = scene.render.width as f32 / scene.render.height as f32;
     GpuCamera {
-        clip_from_world: camera.clip_from_world(aspect, &scene.bounds).to_cols_array_2d(),
+        clip_from_world: camera
+            .clip_from_world(aspect, &scene.bounds)
+            .to_cols_array_2d(),
         eye: camera.eye.extend(1.0).to_array(),
     }
 }
 
 /// One screen-sized 2D texture (the G-buffer's attachments, and passes that must match its pixels).
-pub fn screen_texture(ctx: &GpuContext, label: &str, width: u32, height: u32, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
+pub fn screen_texture(
+    ctx: &GpuContext,
+    label: &str,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,

@@ -31,7 +31,12 @@ impl MapKey {
     pub fn of(sample: &GpuSample, size: u32) -> MapKey {
         let mut view = [0u32; 25];
         let depth = [sample.texel_angle, sample.depth_lin_a, sample.depth_lin_b];
-        let matrix = sample.light_from_world.iter().flatten().chain(&sample.position).chain(&depth);
+        let matrix = sample
+            .light_from_world
+            .iter()
+            .flatten()
+            .chain(&sample.position)
+            .chain(&depth);
         for (w, x) in view.iter_mut().zip(matrix) {
             *w = x.to_bits();
         }
@@ -52,14 +57,20 @@ impl MapKey {
     pub fn footprint(&self, b: &Bounds) -> Option<[u32; 4]> {
         let m = self.clip_from_world();
         let size = self.size as f32;
-        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+        let (mut lo, mut hi) = (
+            glam::Vec2::splat(f32::INFINITY),
+            glam::Vec2::splat(f32::NEG_INFINITY),
+        );
         for c in b.corners() {
             let p = m * c.extend(1.0);
             if !(p.w > 1e-6) || !p.is_finite() {
                 return Some([0, 0, self.size, self.size]);
             }
             // NDC to texels: x to the right, y down (as shadow_lookup reads them).
-            let t = glam::Vec2::new((p.x / p.w + 1.0) * 0.5 * size, (1.0 - p.y / p.w) * 0.5 * size);
+            let t = glam::Vec2::new(
+                (p.x / p.w + 1.0) * 0.5 * size,
+                (1.0 - p.y / p.w) * 0.5 * size,
+            );
             lo = lo.min(t);
             hi = hi.max(t);
         }
@@ -123,7 +134,13 @@ impl ReuseCounts {
     /// A frame that rasterized all of its `maps` maps of `size`².
     pub fn all_rendered(maps: u32, size: u32) -> ReuseCounts {
         let texels = maps as u64 * size as u64 * size as u64;
-        ReuseCounts { rendered: maps, kept: 0, redrawn: 0, texels, texels_used: texels }
+        ReuseCounts {
+            rendered: maps,
+            kept: 0,
+            redrawn: 0,
+            texels,
+            texels_used: texels,
+        }
     }
 }
 
@@ -139,7 +156,20 @@ pub struct Slots {
 
 impl Slots {
     pub fn new(capacity: u32, keeps: bool) -> Slots {
-        Slots { slots: vec![Slot { key: None, redraw: Redraw::Whole, used: 0, pending: false }; capacity as usize], frame: 0, keeps, counts: ReuseCounts::default() }
+        Slots {
+            slots: vec![
+                Slot {
+                    key: None,
+                    redraw: Redraw::Whole,
+                    used: 0,
+                    pending: false
+                };
+                capacity as usize
+            ],
+            frame: 0,
+            keeps,
+            counts: ReuseCounts::default(),
+        }
     }
 
     pub fn capacity(&self) -> u32 {
@@ -157,7 +187,12 @@ impl Slots {
         self.counts = ReuseCounts::default();
         for s in &mut self.slots {
             if s.pending {
-                *s = Slot { key: None, redraw: Redraw::Whole, used: 0, pending: false };
+                *s = Slot {
+                    key: None,
+                    redraw: Redraw::Whole,
+                    used: 0,
+                    pending: false,
+                };
             }
         }
     }
@@ -174,12 +209,17 @@ impl Slots {
         if !self.keeps {
             return None;
         }
-        self.slots.iter().position(|s| s.key.as_ref() == Some(key)).map(|i| i as u32)
+        self.slots
+            .iter()
+            .position(|s| s.key.as_ref() == Some(key))
+            .map(|i| i as u32)
     }
 
     /// The least recently used layer that `busy` does not hold (the current chunk's).
     pub fn least_recent(&self, busy: impl Fn(u32) -> bool) -> Option<u32> {
-        (0..self.capacity()).filter(|&i| !busy(i)).min_by_key(|&i| (self.slots[i as usize].used, i))
+        (0..self.capacity())
+            .filter(|&i| !busy(i))
+            .min_by_key(|&i| (self.slots[i as usize].used, i))
     }
 
     /// Whether layer `slot` was used by the current frame.
@@ -190,7 +230,11 @@ impl Slots {
     /// Layer `slot` will hold `key` this frame: what must be drawn for it (and the counts).
     pub fn place(&mut self, key: MapKey, slot: u32) -> Redraw {
         let s = &mut self.slots[slot as usize];
-        let redraw = if self.keeps && s.key == Some(key) { s.redraw } else { Redraw::Whole };
+        let redraw = if self.keeps && s.key == Some(key) {
+            s.redraw
+        } else {
+            Redraw::Whole
+        };
         let texels = key.size as u64 * key.size as u64;
         self.counts.texels_used += texels;
         match redraw {
@@ -204,7 +248,12 @@ impl Slots {
                 self.counts.texels += texels;
             }
         }
-        *s = Slot { key: self.keeps.then_some(key), redraw: Redraw::Kept, used: self.frame, pending: true };
+        *s = Slot {
+            key: self.keeps.then_some(key),
+            redraw: Redraw::Kept,
+            used: self.frame,
+            pending: true,
+        };
         redraw
     }
 
@@ -218,7 +267,9 @@ impl Slots {
                 (r, None) => r,
                 (Redraw::Whole, _) => Redraw::Whole,
                 (Redraw::Kept, Some(r)) => Redraw::Rect(r),
-                (Redraw::Rect(a), Some(b)) => Redraw::Rect(union_rect(Some(a), Some(b)).expect("two rectangles")),
+                (Redraw::Rect(a), Some(b)) => {
+                    Redraw::Rect(union_rect(Some(a), Some(b)).expect("two rectangles"))
+                }
             };
             if let Redraw::Rect([_, _, w, h]) = s.redraw {
                 if (w as f64 * h as f64) > WHOLE_SHARE * (key.size as f64 * key.size as f64) {
@@ -231,7 +282,12 @@ impl Slots {
     /// Forgets every key: the next frame renders every map.
     pub fn forget(&mut self) {
         for s in &mut self.slots {
-            *s = Slot { key: None, redraw: Redraw::Whole, used: 0, pending: false };
+            *s = Slot {
+                key: None,
+                redraw: Redraw::Whole,
+                used: 0,
+                pending: false,
+            };
         }
     }
 
@@ -267,7 +323,10 @@ pub struct KeptMaps {
 impl KeptMaps {
     /// Bytes the arrays hold.
     pub fn bytes(&self) -> u64 {
-        self.arrays.iter().map(|a| a.layers() as u64).sum::<u64>() * self.size as u64 * self.size as u64 * 4
+        self.arrays.iter().map(|a| a.layers() as u64).sum::<u64>()
+            * self.size as u64
+            * self.size as u64
+            * 4
     }
 }
 
@@ -281,7 +340,10 @@ pub struct MapCache {
 
 impl MapCache {
     pub fn new(on: bool) -> MapCache {
-        MapCache { on, kept: RefCell::new(Vec::new()) }
+        MapCache {
+            on,
+            kept: RefCell::new(Vec::new()),
+        }
     }
 
     /// The kept maps of `owner` when they have this size and shape (`layers` per array); None
@@ -353,15 +415,26 @@ pub enum Moved {
 /// The boxes of the geometry that moved between two versions of one mesh set (the same
 /// triangles, vertices in the same order), before and after: over every vertex of each triangle
 /// that has a vertex whose position changed (a triangle covers texels between all three).
-pub fn moved_boxes(before: &[crate::scene::Vertex], after: &[crate::scene::Vertex], indices: &[u32]) -> Moved {
+pub fn moved_boxes(
+    before: &[crate::scene::Vertex],
+    after: &[crate::scene::Vertex],
+    indices: &[u32],
+) -> Moved {
     if before.len() != after.len() {
         return Moved::Other;
     }
-    let moved: Vec<bool> = before.iter().zip(after).map(|(a, b)| bytemuck::bytes_of(&a.position) != bytemuck::bytes_of(&b.position)).collect();
+    let moved: Vec<bool> = before
+        .iter()
+        .zip(after)
+        .map(|(a, b)| bytemuck::bytes_of(&a.position) != bytemuck::bytes_of(&b.position))
+        .collect();
     if !moved.contains(&true) {
         return Moved::Nothing;
     }
-    let empty = || Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+    let empty = || Bounds {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
     let (mut a, mut b) = (empty(), empty());
     for t in indices.chunks_exact(3) {
         if t.iter().any(|&i| moved[i as usize]) {
@@ -374,7 +447,11 @@ pub fn moved_boxes(before: &[crate::scene::Vertex], after: &[crate::scene::Verte
         }
     }
     // Moved vertices that no triangle uses draw nothing.
-    if a.min.x <= a.max.x { Moved::Boxes(a, b) } else { Moved::Nothing }
+    if a.min.x <= a.max.x {
+        Moved::Boxes(a, b)
+    } else {
+        Moved::Nothing
+    }
 }
 
 #[cfg(test)]
@@ -382,17 +459,35 @@ mod tests {
     use super::*;
 
     fn key(x: f32) -> MapKey {
-        let s = GpuSample { light_from_world: Mat4::IDENTITY.to_cols_array_2d(), position: [x, 0.0, 0.0, 1.0], ..Default::default() };
+        let s = GpuSample {
+            light_from_world: Mat4::IDENTITY.to_cols_array_2d(),
+            position: [x, 0.0, 0.0, 1.0],
+            ..Default::default()
+        };
         MapKey::of(&s, 64)
     }
 
     #[test]
     fn a_key_ignores_where_the_map_is_kept() {
-        let s = GpuSample { light_from_world: Mat4::IDENTITY.to_cols_array_2d(), layer: 3, array: 1, lattice: 7, ..Default::default() };
-        let t = GpuSample { layer: 9, array: 0, lattice: 2, ..s };
+        let s = GpuSample {
+            light_from_world: Mat4::IDENTITY.to_cols_array_2d(),
+            layer: 3,
+            array: 1,
+            lattice: 7,
+            ..Default::default()
+        };
+        let t = GpuSample {
+            layer: 9,
+            array: 0,
+            lattice: 2,
+            ..s
+        };
         assert_eq!(MapKey::of(&s, 64), MapKey::of(&t, 64));
         assert_ne!(MapKey::of(&s, 64), MapKey::of(&s, 128));
-        assert_ne!(MapKey::of(&s, 64), MapKey::of(&GpuSample { cube_face: 2, ..s }, 64));
+        assert_ne!(
+            MapKey::of(&s, 64),
+            MapKey::of(&GpuSample { cube_face: 2, ..s }, 64)
+        );
     }
 
     #[test]
@@ -402,7 +497,16 @@ mod tests {
         assert_eq!(s.place(key(1.0), 0), Redraw::Whole);
         assert_eq!(s.place(key(2.0), 1), Redraw::Whole);
         s.commit();
-        assert_eq!(s.counts, ReuseCounts { rendered: 2, kept: 0, redrawn: 0, texels: 2 * 64 * 64, texels_used: 2 * 64 * 64 });
+        assert_eq!(
+            s.counts,
+            ReuseCounts {
+                rendered: 2,
+                kept: 0,
+                redrawn: 0,
+                texels: 2 * 64 * 64,
+                texels_used: 2 * 64 * 64
+            }
+        );
         s.begin_frame();
         assert_eq!(s.find(&key(2.0)), Some(1));
         assert_eq!(s.place(key(2.0), 1), Redraw::Kept);
@@ -436,16 +540,35 @@ mod tests {
 
     #[test]
     fn a_moved_vertex_brings_its_whole_triangle_into_the_boxes() {
-        let v = |x: f32, y: f32| crate::scene::Vertex { position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], material: 0 };
-        let before = [v(0.0, 0.0), v(1.0, 0.0), v(0.0, 1.0), v(5.0, 5.0), v(6.0, 5.0), v(5.0, 6.0)];
+        let v = |x: f32, y: f32| crate::scene::Vertex {
+            position: [x, y, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            material: 0,
+        };
+        let before = [
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(0.0, 1.0),
+            v(5.0, 5.0),
+            v(6.0, 5.0),
+            v(5.0, 6.0),
+        ];
         let mut after = before;
         after[2] = v(0.0, 2.0);
-        let Moved::Boxes(a, b) = moved_boxes(&before, &after, &[0, 1, 2, 3, 4, 5]) else { panic!("a vertex moved") };
+        let Moved::Boxes(a, b) = moved_boxes(&before, &after, &[0, 1, 2, 3, 4, 5]) else {
+            panic!("a vertex moved")
+        };
         // The moved triangle's three vertices, not the other triangle's.
         assert_eq!((a.min, a.max), (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));
         assert_eq!((b.min, b.max), (Vec3::ZERO, Vec3::new(1.0, 2.0, 0.0)));
-        assert!(matches!(moved_boxes(&before, &before, &[0, 1, 2]), Moved::Nothing));
-        assert!(matches!(moved_boxes(&before, &before[..3], &[0, 1, 2]), Moved::Other));
+        assert!(matches!(
+            moved_boxes(&before, &before, &[0, 1, 2]),
+            Moved::Nothing
+        ));
+        assert!(matches!(
+            moved_boxes(&before, &before[..3], &[0, 1, 2]),
+            Moved::Other
+        ));
     }
 
     #[test]
@@ -455,13 +578,22 @@ mod tests {
         s.begin_frame();
         s.place(key(0.0), 0);
         s.commit();
-        let small = |x: f32| Bounds { min: Vec3::new(x, 0.0, 0.5), max: Vec3::new(x + 0.1, 0.1, 0.5) };
+        let small = |x: f32| Bounds {
+            min: Vec3::new(x, 0.0, 0.5),
+            max: Vec3::new(x + 0.1, 0.1, 0.5),
+        };
         s.moved(&small(0.0), &small(0.2));
         s.begin_frame();
         // x from 0 to 0.3 in NDC: texels 32 to 41.6, one texel of margin; y 0..0.1: rows 28.8..32.
         assert_eq!(s.place(key(0.0), 0), Redraw::Rect([31, 27, 12, 6]));
         s.commit();
-        s.moved(&Bounds { min: Vec3::splat(-0.9), max: Vec3::splat(0.9) }, &small(0.0));
+        s.moved(
+            &Bounds {
+                min: Vec3::splat(-0.9),
+                max: Vec3::splat(0.9),
+            },
+            &small(0.0),
+        );
         s.begin_frame();
         assert_eq!(s.place(key(0.0), 0), Redraw::Whole);
         // A box that misses the map leaves it kept.

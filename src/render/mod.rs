@@ -3,8 +3,8 @@
 pub(crate) mod barycentrics;
 pub mod bvh;
 pub mod gbuffer;
-pub mod shadow_order;
 pub mod kept_maps;
+pub mod shadow_order;
 pub mod shadow_raster;
 
 use crate::gpu::GpuContext;
@@ -30,41 +30,64 @@ pub struct SceneGpu {
 
 impl SceneGpu {
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Self {
-        let vertices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene vertices"),
-            contents: bytemuck::cast_slice(&scene.vertices),
-            // STORAGE: the cull pass reads positions and triangles.
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
-        });
-        let indices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene indices"),
-            contents: bytemuck::cast_slice(&scene.indices),
-            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
-        });
-        let positions: Vec<glam::Vec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position)).collect();
+        let vertices = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene vertices"),
+                contents: bytemuck::cast_slice(&scene.vertices),
+                // STORAGE: the cull pass reads positions and triangles.
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+            });
+        let indices = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene indices"),
+                contents: bytemuck::cast_slice(&scene.indices),
+                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
+            });
+        let positions: Vec<glam::Vec3> = scene
+            .vertices
+            .iter()
+            .map(|v| glam::Vec3::from(v.position))
+            .collect();
         let shadow_order = shadow_order::shadow_order(&positions, &scene.indices);
-        let shadow_indices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene shadow indices"),
-            contents: bytemuck::cast_slice(&shadow_order),
-            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
-        });
-        let runs = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene shadow runs"),
-            contents: bytemuck::cast_slice(&shadow_order::runs(&positions, &shadow_order)),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let shadow_indices = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene shadow indices"),
+                contents: bytemuck::cast_slice(&shadow_order),
+                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
+            });
+        let runs = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene shadow runs"),
+                contents: bytemuck::cast_slice(&shadow_order::runs(&positions, &shadow_order)),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
         let padded: Vec<glam::Vec4> = positions.iter().map(|p| p.extend(1.0)).collect();
-        let positions = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene positions"),
-            contents: bytemuck::cast_slice(&padded),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        Self { vertices, indices, shadow_indices, shadow_order, runs, positions, index_count: scene.indices.len() as u32 }
+        let positions = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene positions"),
+                contents: bytemuck::cast_slice(&padded),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+        Self {
+            vertices,
+            indices,
+            shadow_indices,
+            shadow_order,
+            runs,
+            positions,
+            index_count: scene.indices.len() as u32,
+        }
     }
 }
 
 /// Vertex layout of `scene::Vertex`: position, normal, material.
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
 
 pub fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
     wgpu::VertexBufferLayout {

@@ -1,8 +1,8 @@
 //! shadow_raster: one depth-only raster per light sample into one layer of a `Depth32Float` array.
 //! Arrays are sized by the layer limit and the memory budget; callers work chunk by chunk beyond it.
 
-use crate::gpu::stages::bind;
 use super::{SceneGpu, VERTEX_ATTRIBUTES};
+use crate::gpu::stages::bind;
 use crate::gpu::{pipeline, GpuContext, Stage};
 use crate::scene::CullMode;
 use crate::{Error, Result};
@@ -50,13 +50,23 @@ pub fn allocate(ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray 
 pub fn allocate_as(ctx: &GpuContext, map_size: u32, layers: u32, words: bool) -> ShadowMapArray {
     // STORAGE_BINDING: under the GPU-steered loop a kernel stores maps into their layers.
     let (format, usage) = if words {
-        (wgpu::TextureFormat::R32Uint, wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::STORAGE_BINDING)
+        (
+            wgpu::TextureFormat::R32Uint,
+            wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::STORAGE_BINDING,
+        )
     } else {
-        (wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT)
+        (
+            wgpu::TextureFormat::Depth32Float,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
     };
     let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("shadow maps"),
-        size: wgpu::Extent3d { width: map_size, height: map_size, depth_or_array_layers: layers },
+        size: wgpu::Extent3d {
+            width: map_size,
+            height: map_size,
+            depth_or_array_layers: layers,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -78,7 +88,11 @@ pub fn allocate_as(ctx: &GpuContext, map_size: u32, layers: u32, words: bool) ->
             })
         })
         .collect();
-    ShadowMapArray { texture, array_view, layer_views }
+    ShadowMapArray {
+        texture,
+        array_view,
+        layer_views,
+    }
 }
 
 /// Clears every layer to the far plane. wgpu would otherwise clear layers never rendered lazily, at
@@ -90,10 +104,27 @@ pub fn clear_all(ctx: &GpuContext, array: &ShadowMapArray) -> Result<()> {
         let far = vec![1.0f32.to_bits(); size as usize * size as usize];
         for layer in 0..array.layers() {
             ctx.queue.write_texture(
-                wgpu::TexelCopyTextureInfo { texture: &array.texture, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
+                wgpu::TexelCopyTextureInfo {
+                    texture: &array.texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: layer,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
                 bytemuck::cast_slice(&far),
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size * 4), rows_per_image: Some(size) },
-                wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(size * 4),
+                    rows_per_image: Some(size),
+                },
+                wgpu::Extent3d {
+                    width: size,
+                    height: size,
+                    depth_or_array_layers: 1,
+                },
             );
         }
         return ctx.wait();
@@ -105,7 +136,10 @@ pub fn clear_all(ctx: &GpuContext, array: &ShadowMapArray) -> Result<()> {
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
@@ -128,55 +162,64 @@ impl ShadowRasterPass {
         let module = pipeline::shader_module(ctx, Stage::SHADOW_RASTER.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let position_only = [VERTEX_ATTRIBUTES[0]];
-        let pipeline = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(Stage::SHADOW_RASTER.name),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(super::vertex_layout(&position_only))],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: match cull {
-                    CullMode::Back => Some(wgpu::Face::Back),
-                    CullMode::Front => Some(wgpu::Face::Front),
-                    CullMode::None => None,
+        let pipeline = ctx
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(Stage::SHADOW_RASTER.name),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(super::vertex_layout(&position_only))],
                 },
-                ..Default::default()
-            },
-            // All bias is applied in the lookup (shared/common.wgsl), where the CPU twin can follow it.
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: match cull {
+                        CullMode::Back => Some(wgpu::Face::Back),
+                        CullMode::Front => Some(wgpu::Face::Front),
+                        CullMode::None => None,
+                    },
+                    ..Default::default()
+                },
+                // All bias is applied in the lookup (shared/common.wgsl), where the CPU twin can follow it.
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: wgpu::TextureFormat::Depth32Float,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            });
         pipeline::check(scope, Stage::SHADOW_RASTER.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let far = ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow_raster far"),
-            layout: None,
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_far"), compilation_options: Default::default(), buffers: &[] },
-            primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        let far = ctx
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("shadow_raster far"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_far"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: wgpu::TextureFormat::Depth32Float,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            });
         pipeline::check(scope, Stage::SHADOW_RASTER.name)?;
         Ok(Self { pipeline, far })
     }
@@ -185,16 +228,35 @@ impl ShadowRasterPass {
     /// far plane over the rectangle, then the whole mesh inside it. A texel's depth is the least
     /// over the triangles covering its centre, whatever else is drawn, so the rectangle ends as a
     /// fresh map's (docs/reuse.md).
-    pub fn record_redraw(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, array: &ShadowMapArray, jobs: &[RasterJob]) {
-        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::shadow_raster::Pipeline { samples: samples.as_entire_binding() });
+    pub fn record_redraw(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        array: &ShadowMapArray,
+        jobs: &[RasterJob],
+    ) {
+        let bind = pipeline::bind_group(
+            ctx,
+            &self.pipeline.get_bind_group_layout(0),
+            bind::shadow_raster::Pipeline {
+                samples: samples.as_entire_binding(),
+            },
+        );
         for job in jobs {
-            let Some([x, y, w, h]) = job.scissor else { continue };
+            let Some([x, y, w, h]) = job.scissor else {
+                continue;
+            };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(Stage::SHADOW_RASTER.name),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &array.layer_views[job.layer as usize],
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -222,7 +284,13 @@ impl ShadowRasterPass {
         array: &ShadowMapArray,
         jobs: &[RasterJob],
     ) {
-        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::shadow_raster::Pipeline { samples: samples.as_entire_binding() });
+        let bind = pipeline::bind_group(
+            ctx,
+            &self.pipeline.get_bind_group_layout(0),
+            bind::shadow_raster::Pipeline {
+                samples: samples.as_entire_binding(),
+            },
+        );
         for job in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(scene.shadow_indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -247,7 +315,10 @@ impl ShadowRasterPass {
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &array.layer_views[job.layer as usize],
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
@@ -280,7 +351,13 @@ impl ShadowRasterPass {
         culled: &wgpu::Buffer,
         args: &wgpu::Buffer,
     ) {
-        let bind = pipeline::bind_group(ctx, &self.pipeline.get_bind_group_layout(0), bind::shadow_raster::Pipeline { samples: samples.as_entire_binding() });
+        let bind = pipeline::bind_group(
+            ctx,
+            &self.pipeline.get_bind_group_layout(0),
+            bind::shadow_raster::Pipeline {
+                samples: samples.as_entire_binding(),
+            },
+        );
         for (job, offset) in jobs {
             let mut pass = self.begin_layer(encoder, array, job, &bind, scene);
             pass.set_index_buffer(culled.slice(..), wgpu::IndexFormat::Uint32);

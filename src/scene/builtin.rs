@@ -7,7 +7,10 @@ include!(concat!(env!("OUT_DIR"), "/embedded_scenes.rs"));
 pub const BUILTIN_SCENES: &[(&str, &str)] = SCENE_FILES;
 
 pub fn builtin_source(name: &str) -> Option<&'static str> {
-    BUILTIN_SCENES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+    BUILTIN_SCENES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| *s)
 }
 
 pub fn builtin_names() -> Vec<&'static str> {

@@ -1,12 +1,12 @@
 //! `penumbra scenes`: every built-in scene with its triangle count, where its meshes come from and
 //! whether the cached ones are present.
 
+use super::builtin;
 use super::format;
 use super::mesh_def::MeshDef;
-use super::mesh_file::CACHE_PREFIX;
-use super::builtin;
-use super::model::Scene;
 use super::mesh_file;
+use super::mesh_file::CACHE_PREFIX;
+use super::model::Scene;
 use std::path::{Path, PathBuf};
 
 pub struct CatalogEntry {
@@ -33,24 +33,40 @@ fn source(m: &MeshDef) -> String {
 
 /// The built-in scenes; `cache` is the asset cache to look in (None: the default one).
 pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
-    let cache_dir = cache.map(Path::to_path_buf).or_else(|| mesh_file::default_cache_dir().ok());
+    let cache_dir = cache
+        .map(Path::to_path_buf)
+        .or_else(|| mesh_file::default_cache_dir().ok());
     builtin::BUILTIN_SCENES
         .iter()
         .map(|&(name, text)| {
             let origin = format!("builtin:{name}");
             let (mut description, mut triangles) = (String::new(), None);
-            let (mut sources, mut missing, mut groups) = (Vec::new(), Vec::new(), Vec::<String>::new());
+            let (mut sources, mut missing, mut groups) =
+                (Vec::new(), Vec::new(), Vec::<String>::new());
             if let Ok(def) = format::parse(text, &origin, &[]) {
                 description = def.description.clone().unwrap_or_default();
                 triangles = def.triangles;
                 // The panorama of an [environment] is a cached asset like a mesh.
-                let files = def.meshes.iter().map(|m| (source(m), m.file.clone())).chain(def.environment.iter().map(|e| (e.panorama.clone(), Some(e.panorama.clone()))));
+                let files = def
+                    .meshes
+                    .iter()
+                    .map(|m| (source(m), m.file.clone()))
+                    .chain(
+                        def.environment
+                            .iter()
+                            .map(|e| (e.panorama.clone(), Some(e.panorama.clone()))),
+                    );
                 for (src, file) in files {
                     sources.push(src);
                     if let Some(rel) = file.as_deref().and_then(|f| f.strip_prefix(CACHE_PREFIX)) {
                         let present = cache_dir.as_ref().is_some_and(|d| d.join(rel).is_file());
                         if !present {
-                            missing.push(cache_dir.as_ref().map(|d| d.join(rel)).unwrap_or_else(|| rel.into()));
+                            missing.push(
+                                cache_dir
+                                    .as_ref()
+                                    .map(|d| d.join(rel))
+                                    .unwrap_or_else(|| rel.into()),
+                            );
                             let group = mesh_file::fetch_group(rel).to_string();
                             if !groups.contains(&group) {
                                 groups.push(group);
@@ -60,12 +76,29 @@ pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
                 }
             }
             if triangles.is_none() && missing.is_empty() {
-                triangles = Scene::load_in(name, &[], cache).ok().map(|s| s.triangle_count() as u64);
+                triangles = Scene::load_in(name, &[], cache)
+                    .ok()
+                    .map(|s| s.triangle_count() as u64);
             }
             sources.dedup();
-            let fetch = (!groups.is_empty())
-                .then(|| format!("penumbra assets fetch {}", groups.iter().map(|g| format!("--group {g}")).collect::<Vec<_>>().join(" ")));
-            CatalogEntry { name, description, triangles, sources, missing, fetch }
+            let fetch = (!groups.is_empty()).then(|| {
+                format!(
+                    "penumbra assets fetch {}",
+                    groups
+                        .iter()
+                        .map(|g| format!("--group {g}"))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                )
+            });
+            CatalogEntry {
+                name,
+                description,
+                triangles,
+                sources,
+                missing,
+                fetch,
+            }
         })
         .collect()
 }
@@ -75,7 +108,10 @@ pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
 pub fn area_light_names() -> Vec<&'static str> {
     builtin::BUILTIN_SCENES
         .iter()
-        .filter(|(name, text)| format::parse(text, &format!("builtin:{name}"), &[]).is_ok_and(|d| d.environment.is_none()))
+        .filter(|(name, text)| {
+            format::parse(text, &format!("builtin:{name}"), &[])
+                .is_ok_and(|d| d.environment.is_none())
+        })
         .map(|(n, _)| *n)
         .collect()
 }

@@ -19,7 +19,13 @@ pub enum LightKind {
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 5] = [LightKind::Rect, LightKind::Disk, LightKind::Sun, LightKind::Spot, LightKind::Point];
+    pub const ALL: [LightKind; 5] = [
+        LightKind::Rect,
+        LightKind::Disk,
+        LightKind::Sun,
+        LightKind::Spot,
+        LightKind::Point,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -76,7 +82,10 @@ impl SpotLight {
     pub fn cone_factor(&self, p: Vec3) -> f32 {
         let to_p = (p - self.position).normalize_or_zero();
         let cos = to_p.dot(self.direction);
-        let (cos_in, cos_out) = (self.inner_cone_deg.to_radians().cos(), self.outer_cone_deg.to_radians().cos());
+        let (cos_in, cos_out) = (
+            self.inner_cone_deg.to_radians().cos(),
+            self.outer_cone_deg.to_radians().cos(),
+        );
         if cos >= cos_in {
             return 1.0;
         }
@@ -126,10 +135,22 @@ impl Emitter {
     pub fn scaled(&self, k: f32) -> Emitter {
         match *self {
             Emitter::Rect => Emitter::Rect,
-            Emitter::Disk(d) => Emitter::Disk(DiskLight { radius: d.radius * k, ..d }),
-            Emitter::Sun(s) => Emitter::Sun(SunLight { angular_diameter_deg: s.angular_diameter_deg * k, ..s }),
-            Emitter::Spot(s) => Emitter::Spot(SpotLight { radius: s.radius * k, ..s }),
-            Emitter::Point(p) => Emitter::Point(PointLight { radius: p.radius * k, ..p }),
+            Emitter::Disk(d) => Emitter::Disk(DiskLight {
+                radius: d.radius * k,
+                ..d
+            }),
+            Emitter::Sun(s) => Emitter::Sun(SunLight {
+                angular_diameter_deg: s.angular_diameter_deg * k,
+                ..s
+            }),
+            Emitter::Spot(s) => Emitter::Spot(SpotLight {
+                radius: s.radius * k,
+                ..s
+            }),
+            Emitter::Point(p) => Emitter::Point(PointLight {
+                radius: p.radius * k,
+                ..p
+            }),
         }
     }
 
@@ -137,9 +158,18 @@ impl Emitter {
     /// A sun is at infinity and a rectangle is `Scene::light` itself: both are returned as they are.
     pub fn moved(&self, by: Vec3) -> Emitter {
         match *self {
-            Emitter::Disk(d) => Emitter::Disk(DiskLight { center: d.center + by, ..d }),
-            Emitter::Spot(s) => Emitter::Spot(SpotLight { position: s.position + by, ..s }),
-            Emitter::Point(p) => Emitter::Point(PointLight { position: p.position + by, ..p }),
+            Emitter::Disk(d) => Emitter::Disk(DiskLight {
+                center: d.center + by,
+                ..d
+            }),
+            Emitter::Spot(s) => Emitter::Spot(SpotLight {
+                position: s.position + by,
+                ..s
+            }),
+            Emitter::Point(p) => Emitter::Point(PointLight {
+                position: p.position + by,
+                ..p
+            }),
             Emitter::Rect | Emitter::Sun(_) => *self,
         }
     }
@@ -154,16 +184,32 @@ impl Emitter {
             Emitter::Sun(s) => {
                 // One scene diagonal out along the sun: every corner lies in front of it.
                 let far = bounds.diagonal().max(1e-3);
-                (mid - s.direction * far, s.direction, 2.0 * far * s.tan_half_angle())
+                (
+                    mid - s.direction * far,
+                    s.direction,
+                    2.0 * far * s.tan_half_angle(),
+                )
             }
             Emitter::Spot(s) => (s.position, s.direction, 2.0 * s.radius),
             Emitter::Point(p) => {
                 let to_mid = (mid - p.position).normalize_or_zero();
-                (p.position, if to_mid == Vec3::ZERO { Vec3::NEG_Y } else { to_mid }, 2.0 * p.radius)
+                (
+                    p.position,
+                    if to_mid == Vec3::ZERO {
+                        Vec3::NEG_Y
+                    } else {
+                        to_mid
+                    },
+                    2.0 * p.radius,
+                )
             }
         };
         let (edge_u, edge_v) = square_edges(normal, side);
-        Some(AreaLight { center, edge_u, edge_v })
+        Some(AreaLight {
+            center,
+            edge_u,
+            edge_v,
+        })
     }
     /// The light point of unit-square sample `(s, t)` for a method that rasterizes maps from
     /// points on the emitter: the rectangle's `light.point(s, t)`; on the disk the point the
@@ -188,7 +234,15 @@ impl Emitter {
     /// a perspective map from `sample_point` (rectangle, disk, spot); for the sun an orthographic map
     /// along the direction the concentric map sends `(s, t)` to on the sun's disk of directions
     /// (radius `tan(α/2)` around `toward`, as the reference samples it). Each is fitted to `bounds`.
-    pub fn sample_map(&self, light: &AreaLight, s: f32, t: f32, bounds: &Bounds, map_size: u32, lattice: u32) -> GpuSample {
+    pub fn sample_map(
+        &self,
+        light: &AreaLight,
+        s: f32,
+        t: f32,
+        bounds: &Bounds,
+        map_size: u32,
+        lattice: u32,
+    ) -> GpuSample {
         match self {
             Emitter::Sun(sun) => {
                 let (x, y) = concentric(s, t);
@@ -196,7 +250,13 @@ impl Emitter {
                 let toward = (sun.toward() + sun.tan_half_angle() * (u * x + v * y)).normalize();
                 orthographic_view(toward, u, bounds, map_size, lattice)
             }
-            _ => sample_view(light, self.sample_point(light, s, t), bounds, map_size, lattice),
+            _ => sample_view(
+                light,
+                self.sample_point(light, s, t),
+                bounds,
+                map_size,
+                lattice,
+            ),
         }
     }
 }
@@ -208,15 +268,28 @@ impl Emitter {
     /// `point_light_point(f, s, t)`: a point of the ball whose projection towards any receiver is,
     /// over the samples, the silhouette it sees (docs/lights.md, "Cube maps for the point");
     /// (½, ½) is the centre for every face.
-    pub fn sample_maps(&self, light: &AreaLight, s: f32, t: f32, bounds: &Bounds, map_size: u32, lattice: u32) -> Vec<GpuSample> {
+    pub fn sample_maps(
+        &self,
+        light: &AreaLight,
+        s: f32,
+        t: f32,
+        bounds: &Bounds,
+        map_size: u32,
+        lattice: u32,
+    ) -> Vec<GpuSample> {
         match self {
-            Emitter::Point(point) => {
-                (0..6u32)
-                    .map(|face| {
-                        cube_face_view(point.position, point_light_point(point, face, s, t), face, bounds, map_size, lattice)
-                    })
-                    .collect()
-            }
+            Emitter::Point(point) => (0..6u32)
+                .map(|face| {
+                    cube_face_view(
+                        point.position,
+                        point_light_point(point, face, s, t),
+                        face,
+                        bounds,
+                        map_size,
+                        lattice,
+                    )
+                })
+                .collect(),
             _ => vec![self.sample_map(light, s, t, bounds, map_size, lattice)],
         }
     }
@@ -229,7 +302,13 @@ pub fn cube_face(d: Vec3) -> u32 {
     let a = d.abs();
     let x = a.x >= a.y && a.x >= a.z;
     let y = !x && a.y >= a.z;
-    let (axis, along) = if x { (0, d.x) } else if y { (1, d.y) } else { (2, d.z) };
+    let (axis, along) = if x {
+        (0, d.x)
+    } else if y {
+        (1, d.y)
+    } else {
+        (2, d.z)
+    };
     axis * 2 + (along < 0.0) as u32
 }
 
@@ -255,7 +334,8 @@ pub fn point_light_point(point: &PointLight, face: u32, s: f32, t: f32) -> Vec3 
 /// whole silhouette, where the flat disk showed it foreshortened by the angle's cosine.
 pub fn spot_light_point(light: &AreaLight, spot: &SpotLight, s: f32, t: f32) -> Vec3 {
     let (x, y) = concentric(s, t);
-    light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y) + spot.direction * (spot.radius * ball_depth(x, y, s, t))
+    light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y)
+        + spot.direction * (spot.radius * ball_depth(x, y, s, t))
 }
 
 /// The depth across the disk of a ball point over disk point (x, y) = concentric(s, t):
@@ -280,14 +360,22 @@ pub fn concentric(s: f32, t: f32) -> (f32, f32) {
         return (0.0, 0.0);
     }
     let q = std::f32::consts::FRAC_PI_4;
-    let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
+    let (r, phi) = if a.abs() > b.abs() {
+        (a, q * (b / a))
+    } else {
+        (b, 2.0 * q - q * (a / b))
+    };
     (r * phi.cos(), r * phi.sin())
 }
 
 /// Edges of a square of `side` whose `edge_u × edge_v` points along the unit `normal` (the `size`
 /// form's rule: u along +x, or +z when the normal is close to x).
 pub fn square_edges(normal: Vec3, side: f32) -> (Vec3, Vec3) {
-    let hint = if normal.x.abs() < 0.9 { Vec3::X } else { Vec3::Z };
+    let hint = if normal.x.abs() < 0.9 {
+        Vec3::X
+    } else {
+        Vec3::Z
+    };
     let u = (hint - normal * hint.dot(normal)).normalize();
     (u * side, normal.cross(u) * side)
 }
@@ -298,14 +386,29 @@ mod tests {
 
     #[test]
     fn stand_ins_face_the_emitters_way_and_take_its_size() {
-        let bounds = Bounds { min: Vec3::new(-5.0, 0.0, -5.0), max: Vec3::new(5.0, 2.0, 5.0) };
-        let disk = Emitter::Disk(DiskLight { center: Vec3::new(0.0, 6.0, 0.0), normal: Vec3::NEG_Y, radius: 1.5 });
+        let bounds = Bounds {
+            min: Vec3::new(-5.0, 0.0, -5.0),
+            max: Vec3::new(5.0, 2.0, 5.0),
+        };
+        let disk = Emitter::Disk(DiskLight {
+            center: Vec3::new(0.0, 6.0, 0.0),
+            normal: Vec3::NEG_Y,
+            radius: 1.5,
+        });
         let l = disk.stand_in(&bounds).unwrap();
-        assert!((l.normal() - Vec3::NEG_Y).length() < 1e-6 && (l.edge_u.length() - 3.0).abs() < 1e-6);
-        let sun = Emitter::Sun(SunLight { direction: Vec3::new(0.0, -1.0, 0.0), angular_diameter_deg: 2.0 });
+        assert!(
+            (l.normal() - Vec3::NEG_Y).length() < 1e-6 && (l.edge_u.length() - 3.0).abs() < 1e-6
+        );
+        let sun = Emitter::Sun(SunLight {
+            direction: Vec3::new(0.0, -1.0, 0.0),
+            angular_diameter_deg: 2.0,
+        });
         let l = sun.stand_in(&bounds).unwrap();
         assert!(l.center.y > bounds.max.y && (l.normal() - Vec3::NEG_Y).length() < 1e-6);
-        let point = Emitter::Point(PointLight { position: Vec3::new(3.0, 8.0, 0.0), radius: 0.5 });
+        let point = Emitter::Point(PointLight {
+            position: Vec3::new(3.0, 8.0, 0.0),
+            radius: 0.5,
+        });
         let l = point.stand_in(&bounds).unwrap();
         assert!(l.normal().dot(Vec3::new(0.0, 1.0, 0.0) - l.center) > 0.0);
         assert_eq!(Emitter::Rect.stand_in(&bounds), None);
@@ -313,8 +416,20 @@ mod tests {
 
     #[test]
     fn the_cone_factor_is_one_inside_zero_outside_and_smooth_between() {
-        let s = SpotLight { position: Vec3::ZERO, direction: Vec3::NEG_Y, inner_cone_deg: 20.0, outer_cone_deg: 40.0, radius: 0.1 };
-        let at = |deg: f32| s.cone_factor(Vec3::new(deg.to_radians().sin(), -deg.to_radians().cos(), 0.0));
+        let s = SpotLight {
+            position: Vec3::ZERO,
+            direction: Vec3::NEG_Y,
+            inner_cone_deg: 20.0,
+            outer_cone_deg: 40.0,
+            radius: 0.1,
+        };
+        let at = |deg: f32| {
+            s.cone_factor(Vec3::new(
+                deg.to_radians().sin(),
+                -deg.to_radians().cos(),
+                0.0,
+            ))
+        };
         assert_eq!(at(0.0), 1.0);
         assert_eq!(at(19.9), 1.0);
         assert_eq!(at(40.1), 0.0);
@@ -328,19 +443,48 @@ mod tests {
         // A 64×64 grid on face 3 (−y). Seen along a direction tilted 50° from the face's axis the
         // unit disk's second moments are 1/4 across both axes; the flat disk (z = 0) would give
         // cos²50°/4 = 0.103 across the tilt.
-        let light = PointLight { position: Vec3::new(1.0, 6.0, 0.5), radius: 1.5 };
+        let light = PointLight {
+            position: Vec3::new(1.0, 6.0, 0.5),
+            radius: 1.5,
+        };
         let n = 64;
-        let pts: Vec<Vec3> = (0..n * n).map(|k| point_light_point(&light, 3, ((k % n) as f32 + 0.5) / n as f32, ((k / n) as f32 + 0.5) / n as f32)).collect();
-        assert!(pts.iter().all(|p| (*p - light.position).length() <= light.radius * (1.0 + 1e-5)), "a point outside the sphere");
+        let pts: Vec<Vec3> = (0..n * n)
+            .map(|k| {
+                point_light_point(
+                    &light,
+                    3,
+                    ((k % n) as f32 + 0.5) / n as f32,
+                    ((k / n) as f32 + 0.5) / n as f32,
+                )
+            })
+            .collect();
+        assert!(
+            pts.iter()
+                .all(|p| (*p - light.position).length() <= light.radius * (1.0 + 1e-5)),
+            "a point outside the sphere"
+        );
         for tilt in [0.0f32, 30.0, 50.0] {
             let d = Vec3::new(0.0, -tilt.to_radians().cos(), tilt.to_radians().sin());
             let (e1, e2) = (Vec3::X, d.cross(Vec3::X).normalize());
-            let m = |e: Vec3| pts.iter().map(|p| ((*p - light.position).dot(e) / light.radius).powi(2)).sum::<f32>() / pts.len() as f32;
-            assert!((m(e1) - 0.25).abs() < 0.01 && (m(e2) - 0.25).abs() < 0.01, "tilt {tilt}: {} {}", m(e1), m(e2));
+            let m = |e: Vec3| {
+                pts.iter()
+                    .map(|p| ((*p - light.position).dot(e) / light.radius).powi(2))
+                    .sum::<f32>()
+                    / pts.len() as f32
+            };
+            assert!(
+                (m(e1) - 0.25).abs() < 0.01 && (m(e2) - 0.25).abs() < 0.01,
+                "tilt {tilt}: {} {}",
+                m(e1),
+                m(e2)
+            );
         }
         // The centre is the sphere's centre; a mirrored pair has opposite depths.
         assert_eq!(point_light_point(&light, 0, 0.5, 0.5), light.position);
-        let (a, b) = (point_light_point(&light, 3, 0.3, 0.8) - light.position, point_light_point(&light, 3, 0.7, 0.2) - light.position);
+        let (a, b) = (
+            point_light_point(&light, 3, 0.3, 0.8) - light.position,
+            point_light_point(&light, 3, 0.7, 0.2) - light.position,
+        );
         assert!((a + b).length() < 1e-4, "{a} {b}");
         assert_eq!(cube_face(Vec3::new(0.2, -3.0, 1.0)), 3);
     }
@@ -349,24 +493,58 @@ mod tests {
     fn the_spots_points_fill_its_ball_and_keep_the_disk_along_its_axis() {
         // The same moments as the point light's, about the cone's axis; along the axis each point
         // projects onto the flat disk the spot sampled before (the stand-in square's concentric point).
-        let spot = SpotLight { position: Vec3::new(-1.0, 7.0, -0.5), direction: Vec3::new(0.2, -1.0, 0.0).normalize(), inner_cone_deg: 25.0, outer_cone_deg: 40.0, radius: 1.0 };
+        let spot = SpotLight {
+            position: Vec3::new(-1.0, 7.0, -0.5),
+            direction: Vec3::new(0.2, -1.0, 0.0).normalize(),
+            inner_cone_deg: 25.0,
+            outer_cone_deg: 40.0,
+            radius: 1.0,
+        };
         let emitter = Emitter::Spot(spot);
-        let light = emitter.stand_in(&Bounds { min: Vec3::splat(-10.0), max: Vec3::splat(10.0) }).unwrap();
+        let light = emitter
+            .stand_in(&Bounds {
+                min: Vec3::splat(-10.0),
+                max: Vec3::splat(10.0),
+            })
+            .unwrap();
         let n = 64;
-        let st = |k: usize| (((k % n) as f32 + 0.5) / n as f32, ((k / n) as f32 + 0.5) / n as f32);
-        let pts: Vec<Vec3> = (0..n * n).map(|k| emitter.sample_point(&light, st(k).0, st(k).1) - spot.position).collect();
-        assert!(pts.iter().all(|q| q.length() <= spot.radius * (1.0 + 1e-5)), "a point outside the sphere");
+        let st = |k: usize| {
+            (
+                ((k % n) as f32 + 0.5) / n as f32,
+                ((k / n) as f32 + 0.5) / n as f32,
+            )
+        };
+        let pts: Vec<Vec3> = (0..n * n)
+            .map(|k| emitter.sample_point(&light, st(k).0, st(k).1) - spot.position)
+            .collect();
+        assert!(
+            pts.iter().all(|q| q.length() <= spot.radius * (1.0 + 1e-5)),
+            "a point outside the sphere"
+        );
         for (k, q) in pts.iter().enumerate() {
             let (x, y) = concentric(st(k).0, st(k).1);
             let flat = light.point(0.5 + 0.5 * x, 0.5 + 0.5 * y) - spot.position;
-            assert!((*q - spot.direction * q.dot(spot.direction) - flat).length() < 1e-5, "sample {k}");
+            assert!(
+                (*q - spot.direction * q.dot(spot.direction) - flat).length() < 1e-5,
+                "sample {k}"
+            );
         }
         let (u, v) = (light.edge_u.normalize(), light.edge_v.normalize());
         for tilt in [0.0f32, 30.0, 50.0] {
             let d = spot.direction * tilt.to_radians().cos() + v * tilt.to_radians().sin();
             let (e1, e2) = (u, d.cross(u).normalize());
-            let m = |e: Vec3| pts.iter().map(|q| (q.dot(e) / spot.radius).powi(2)).sum::<f32>() / pts.len() as f32;
-            assert!((m(e1) - 0.25).abs() < 0.01 && (m(e2) - 0.25).abs() < 0.01, "tilt {tilt}: {} {}", m(e1), m(e2));
+            let m = |e: Vec3| {
+                pts.iter()
+                    .map(|q| (q.dot(e) / spot.radius).powi(2))
+                    .sum::<f32>()
+                    / pts.len() as f32
+            };
+            assert!(
+                (m(e1) - 0.25).abs() < 0.01 && (m(e2) - 0.25).abs() < 0.01,
+                "tilt {tilt}: {} {}",
+                m(e1),
+                m(e2)
+            );
         }
         assert_eq!(emitter.sample_point(&light, 0.5, 0.5), spot.position);
         let (a, b) = (pts[10 * n + 20], pts[(n - 1 - 10) * n + (n - 1 - 20)]);

@@ -1,8 +1,8 @@
 //! `[light]` by kind: which keys each kind takes, and the checks on each (docs/lights.md). A
 //! rectangle is checked by `build_light`, as before kinds existed.
 
-use super::emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
 use super::coords::{finite, MAX_COORDINATE};
+use super::emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
 use super::light::AreaLight;
 use crate::{Error, Result};
 use glam::Vec3;
@@ -30,13 +30,24 @@ pub struct LightDef {
     pub outer_cone_deg: Option<f32>,
 }
 
-
 /// The keys of each kind besides `kind` itself.
 pub const KIND_KEYS: [(LightKind, &[&str]); 5] = [
-    (LightKind::Rect, &["center", "edge_u", "edge_v", "size", "normal", "u_axis"]),
+    (
+        LightKind::Rect,
+        &["center", "edge_u", "edge_v", "size", "normal", "u_axis"],
+    ),
     (LightKind::Disk, &["center", "normal", "radius"]),
     (LightKind::Sun, &["direction", "angular_diameter_deg"]),
-    (LightKind::Spot, &["position", "direction", "inner_cone_deg", "outer_cone_deg", "radius"]),
+    (
+        LightKind::Spot,
+        &[
+            "position",
+            "direction",
+            "inner_cone_deg",
+            "outer_cone_deg",
+            "radius",
+        ],
+    ),
     (LightKind::Point, &["position", "radius"]),
 ];
 
@@ -47,7 +58,10 @@ pub const MAX_SUN_DIAMETER_DEG: f32 = 30.0;
 pub const MAX_CONE_DEG: f32 = 90.0;
 
 fn keys_of(kind: LightKind) -> &'static [&'static str] {
-    KIND_KEYS.iter().find(|(k, _)| *k == kind).map_or(&[], |(_, keys)| *keys)
+    KIND_KEYS
+        .iter()
+        .find(|(k, _)| *k == kind)
+        .map_or(&[], |(_, keys)| *keys)
 }
 
 /// The keys the file gave, in [`KIND_KEYS`] order.
@@ -66,7 +80,11 @@ fn given(l: &LightDef) -> Vec<&'static str> {
         ("inner_cone_deg", l.inner_cone_deg.is_some()),
         ("outer_cone_deg", l.outer_cone_deg.is_some()),
     ];
-    present.iter().filter(|(_, p)| *p).map(|(k, _)| *k).collect()
+    present
+        .iter()
+        .filter(|(_, p)| *p)
+        .map(|(k, _)| *k)
+        .collect()
 }
 
 /// The checked light: the rectangle (`Some`, with `Emitter::Rect`) or another kind's emitter.
@@ -74,7 +92,11 @@ pub(super) fn build(l: &LightDef, origin: &str) -> Result<(Option<AreaLight>, Em
     let kind = l.kind;
     let keys = keys_of(kind);
     if let Some(stray) = given(l).into_iter().find(|k| !keys.contains(k)) {
-        let owners: Vec<&str> = KIND_KEYS.iter().filter(|(_, ks)| ks.contains(&stray)).map(|(k, _)| k.name()).collect();
+        let owners: Vec<&str> = KIND_KEYS
+            .iter()
+            .filter(|(_, ks)| ks.contains(&stray))
+            .map(|(k, _)| k.name())
+            .collect();
         return Err(Error::scene(
             origin,
             format!(
@@ -100,7 +122,10 @@ pub(super) fn build(l: &LightDef, origin: &str) -> Result<(Option<AreaLight>, Em
                     format!("light.angular_diameter_deg = {d}: must be in (0, {MAX_SUN_DIAMETER_DEG}] degrees (the sun is 0.53; a sun of no size is a hard shadow, wider is a sky)"),
                 ));
             }
-            Emitter::Sun(SunLight { direction: direction(origin, kind, "direction", l.direction)?, angular_diameter_deg: d })
+            Emitter::Sun(SunLight {
+                direction: direction(origin, kind, "direction", l.direction)?,
+                angular_diameter_deg: d,
+            })
         }
         LightKind::Spot => {
             let position = point(origin, kind, "position", l.position)?;
@@ -116,19 +141,39 @@ pub(super) fn build(l: &LightDef, origin: &str) -> Result<(Option<AreaLight>, Em
             if inner > outer {
                 return Err(Error::scene(origin, format!("light.inner_cone_deg = {inner} is wider than light.outer_cone_deg = {outer}: the inner cone lies inside the outer one")));
             }
-            Emitter::Spot(SpotLight { position, direction: dir, inner_cone_deg: inner, outer_cone_deg: outer, radius: radius(origin, kind, l.radius)? })
+            Emitter::Spot(SpotLight {
+                position,
+                direction: dir,
+                inner_cone_deg: inner,
+                outer_cone_deg: outer,
+                radius: radius(origin, kind, l.radius)?,
+            })
         }
-        LightKind::Point => Emitter::Point(PointLight { position: point(origin, kind, "position", l.position)?, radius: radius(origin, kind, l.radius)? }),
+        LightKind::Point => Emitter::Point(PointLight {
+            position: point(origin, kind, "position", l.position)?,
+            radius: radius(origin, kind, l.radius)?,
+        }),
     };
     Ok((None, emitter))
 }
 
 fn missing(origin: &str, kind: LightKind, key: &str) -> Error {
-    Error::scene(origin, format!("light.{key} is missing: kind `{}` needs {}", kind.name(), keys_of(kind).join(", ")))
+    Error::scene(
+        origin,
+        format!(
+            "light.{key} is missing: kind `{}` needs {}",
+            kind.name(),
+            keys_of(kind).join(", ")
+        ),
+    )
 }
 
 fn point(origin: &str, kind: LightKind, key: &str, v: Option<[f32; 3]>) -> Result<Vec3> {
-    finite(origin, &format!("light.{key}"), v.ok_or_else(|| missing(origin, kind, key))?)
+    finite(
+        origin,
+        &format!("light.{key}"),
+        v.ok_or_else(|| missing(origin, kind, key))?,
+    )
 }
 
 /// A unit vector from a finite, non-zero one.
@@ -136,7 +181,13 @@ fn direction(origin: &str, kind: LightKind, key: &str, v: Option<[f32; 3]>) -> R
     let d = point(origin, kind, key, v)?;
     let unit = d.normalize_or_zero();
     if unit == Vec3::ZERO {
-        return Err(Error::scene(origin, format!("light.{key} = {:?}: has no direction (the zero vector)", d.to_array())));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "light.{key} = {:?}: has no direction (the zero vector)",
+                d.to_array()
+            ),
+        ));
     }
     Ok(unit)
 }
@@ -144,7 +195,10 @@ fn direction(origin: &str, kind: LightKind, key: &str, v: Option<[f32; 3]>) -> R
 fn number(origin: &str, kind: LightKind, key: &str, v: Option<f32>) -> Result<f32> {
     let x = v.ok_or_else(|| missing(origin, kind, key))?;
     if !x.is_finite() {
-        return Err(Error::scene(origin, format!("light.{key} = {x}: must be a finite number")));
+        return Err(Error::scene(
+            origin,
+            format!("light.{key} = {x}: must be a finite number"),
+        ));
     }
     Ok(x)
 }
@@ -160,38 +214,50 @@ fn radius(origin: &str, kind: LightKind, v: Option<f32>) -> Result<f32> {
 
 pub(super) fn build_light(l: &LightDef, origin: &str) -> Result<AreaLight> {
     let center = finite(origin, "light.center", l.center.ok_or_else(|| Error::scene(origin, "light.center is missing: kind `rect` needs center, and edge_u + edge_v or size + normal"))?)?;
-    let (edge_u, edge_v) = match (l.edge_u, l.edge_v, l.size, l.normal) {
-        (Some(u), Some(v), None, None) => (finite(origin, "light.edge_u", u)?, finite(origin, "light.edge_v", v)?),
-        (None, None, Some(size), Some(normal)) => {
-            let n = finite(origin, "light.normal", normal)?;
-            if !(size[0] > 0.0 && size[1] > 0.0) {
-                return Err(Error::scene(origin, format!("light.size = {size:?}: both sides must be positive")));
+    let (edge_u, edge_v) =
+        match (l.edge_u, l.edge_v, l.size, l.normal) {
+            (Some(u), Some(v), None, None) => (
+                finite(origin, "light.edge_u", u)?,
+                finite(origin, "light.edge_v", v)?,
+            ),
+            (None, None, Some(size), Some(normal)) => {
+                let n = finite(origin, "light.normal", normal)?;
+                if !(size[0] > 0.0 && size[1] > 0.0) {
+                    return Err(Error::scene(
+                        origin,
+                        format!("light.size = {size:?}: both sides must be positive"),
+                    ));
+                }
+                let size = finite(origin, "light.size", size)?;
+                if n.length() < 1e-12 {
+                    return Err(Error::scene(origin, "light.normal is the zero vector"));
+                }
+                let n = n.normalize();
+                let hint = match l.u_axis {
+                    Some(u) => finite(origin, "light.u_axis", u)?,
+                    None if n.x.abs() < 0.9 => Vec3::X,
+                    None => Vec3::Z,
+                };
+                let u = (hint - n * hint.dot(n)).normalize_or_zero();
+                if u == Vec3::ZERO {
+                    return Err(Error::scene(
+                        origin,
+                        "light.u_axis is parallel to light.normal",
+                    ));
+                }
+                // Emission side is edge_u × edge_v, so v = n × u.
+                (u * size.x, n.cross(u) * size.y)
             }
-            let size = finite(origin, "light.size", size)?;
-            if n.length() < 1e-12 {
-                return Err(Error::scene(origin, "light.normal is the zero vector"));
-            }
-            let n = n.normalize();
-            let hint = match l.u_axis {
-                Some(u) => finite(origin, "light.u_axis", u)?,
-                None if n.x.abs() < 0.9 => Vec3::X,
-                None => Vec3::Z,
-            };
-            let u = (hint - n * hint.dot(n)).normalize_or_zero();
-            if u == Vec3::ZERO {
-                return Err(Error::scene(origin, "light.u_axis is parallel to light.normal"));
-            }
-            // Emission side is edge_u × edge_v, so v = n × u.
-            (u * size.x, n.cross(u) * size.y)
-        }
-        _ => {
-            return Err(Error::scene(
+            _ => return Err(Error::scene(
                 origin,
                 "light: give either edge_u and edge_v, or size and normal (with optional u_axis)",
-            ))
-        }
+            )),
+        };
+    let light = AreaLight {
+        center,
+        edge_u,
+        edge_v,
     };
-    let light = AreaLight { center, edge_u, edge_v };
     let scale = edge_u.length().max(edge_v.length()).max(1e-30);
     // Edges are within ±MAX_COORDINATE, so the area cannot overflow f32 here. Negated so that a NaN
     // area is refused too.

@@ -1,12 +1,12 @@
 //! The scene file: TOML, unknown keys rejected, every number checked finite.
 
-use super::mesh_def::MeshDef;
-use super::mesh_file::MeshDirs;
-use super::settings::{CullMode, MapKind, RenderSettings};
-use super::mesh::{self, Vertex};
-use super::model::{Camera, Scene};
 use super::coords::finite;
 use super::emitter_def::LightDef;
+use super::mesh::{self, Vertex};
+use super::mesh_def::MeshDef;
+use super::mesh_file::MeshDirs;
+use super::model::{Camera, Scene};
+use super::settings::{CullMode, MapKind, RenderSettings};
 use crate::scene::emitter::Emitter;
 use crate::scene::light::{AreaLight, Bounds};
 use crate::{Error, Result};
@@ -40,7 +40,6 @@ pub struct CameraDef {
     pub fov_y_deg: f32,
 }
 
-
 fn default_up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
 }
@@ -48,9 +47,12 @@ fn default_up() -> [f32; 3] {
 /// TOML text → definition, with `key=value` overrides of its render settings applied. Errors in
 /// the file give the line, column, key and value; an override's is an [`Error::Setting`] naming it.
 pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result<SceneDef> {
-    let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e, "TOML syntax error")))?;
+    let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        Error::scene(origin, toml_message(text, &e, "TOML syntax error"))
+    })?;
     // The file alone first, from its text, so type errors carry a position.
-    let def: SceneDef = toml::from_str(text).map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e, "")))?;
+    let def: SceneDef = toml::from_str(text)
+        .map_err(|e: toml::de::Error| Error::scene(origin, toml_message(text, &e, "")))?;
     if overrides.is_empty() {
         return Ok(def);
     }
@@ -64,7 +66,12 @@ pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result
         });
         let why = plain_message(&e);
         match culprit {
-            Some((k, v)) => Error::Setting { origin: None, key: k.clone(), value: Some(v.clone()), why },
+            Some((k, v)) => Error::Setting {
+                origin: None,
+                key: k.clone(),
+                value: Some(v.clone()),
+                why,
+            },
             None => Error::Param(format!("render settings: {why}")),
         }
     })
@@ -82,7 +89,11 @@ fn plain_message(e: &toml::de::Error) -> String {
 /// `line L, column C: [table] key = value: message`, from the error's span in `text`.
 fn toml_message(text: &str, e: &toml::de::Error, lead: &str) -> String {
     let msg = plain_message(e);
-    let lead = if lead.is_empty() { String::new() } else { format!("{lead} ") };
+    let lead = if lead.is_empty() {
+        String::new()
+    } else {
+        format!("{lead} ")
+    };
     match e.span() {
         Some(span) => {
             let start = span.start.min(text.len());
@@ -92,28 +103,44 @@ fn toml_message(text: &str, e: &toml::de::Error, lead: &str) -> String {
             let col = start - line_start + 1;
             let line_text = text[line_start..].lines().next().unwrap_or("").trim();
             // The table the line sits in, e.g. `[[mesh]]` (the n-th one) or `[light]`.
-            let section = before[..line_start].lines().rev().map(str::trim).find(|l| l.starts_with('['));
+            let section = before[..line_start]
+                .lines()
+                .rev()
+                .map(str::trim)
+                .find(|l| l.starts_with('['));
             let section = match section {
                 Some(h) if h.starts_with("[[") => {
-                    let n = before[..line_start].lines().filter(|l| l.trim() == h).count();
+                    let n = before[..line_start]
+                        .lines()
+                        .filter(|l| l.trim() == h)
+                        .count();
                     format!("{h} #{n} ")
                 }
                 Some(h) => format!("{h} "),
                 None => String::new(),
             };
-            let at = if line_text.is_empty() || line_text.starts_with('[') { String::new() } else { format!("{section}{line_text}: ") };
+            let at = if line_text.is_empty() || line_text.starts_with('[') {
+                String::new()
+            } else {
+                format!("{section}{line_text}: ")
+            };
             format!("{lead}at line {line}, column {col}: {at}{msg}")
         }
         None => format!("{lead}{msg}").trim().to_string(),
     }
 }
 
-
 /// A mesh's albedo: reflectance, so each component in [0, 1] (more would reflect more light than
 /// arrives).
 pub(super) fn albedo(origin: &str, k: usize, v: [f32; 3]) -> Result<Vec3> {
     if !v.iter().all(|c| (0.0..=1.0).contains(c)) {
-        return Err(Error::scene(origin, format!("mesh {} albedo = {v:?}: each component must be in [0, 1]", k + 1)));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "mesh {} albedo = {v:?}: each component must be in [0, 1]",
+                k + 1
+            ),
+        ));
     }
     Ok(Vec3::from(v))
 }
@@ -127,7 +154,12 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     let (light, emitter) = match (&def.light, &environment) {
         (Some(l), _) => super::emitter_def::build(l, origin)?,
         (None, Some(_)) => (None, Emitter::Rect),
-        (None, None) => return Err(Error::scene(origin, "the scene has no [light] and no [environment]: give one")),
+        (None, None) => {
+            return Err(Error::scene(
+                origin,
+                "the scene has no [light] and no [environment]: give one",
+            ))
+        }
     };
     let render = render_settings(origin, &def.render)?;
     if def.meshes.is_empty() {
@@ -149,7 +181,16 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         }
         meshes.push((verts, idx, albedo.to_array()));
     }
-    let parts = Parts { name: def.name, description: def.description, stated_triangles: def.triangles, camera, light, emitter, environment, render };
+    let parts = Parts {
+        name: def.name,
+        description: def.description,
+        stated_triangles: def.triangles,
+        camera,
+        light,
+        emitter,
+        environment,
+        render,
+    };
     assemble(parts, meshes, origin)
 }
 
@@ -184,8 +225,20 @@ pub(crate) fn camera(origin: &str, def: &CameraDef) -> Result<Camera> {
         ));
     }
     let view_dir = camera.target - camera.eye;
-    let (eye, target, up) = (camera.eye.to_array(), camera.target.to_array(), camera.up.to_array());
-    if view_dir.length() < 1e-9 * camera.eye.abs().max(camera.target.abs()).max_element().max(1.0) {
+    let (eye, target, up) = (
+        camera.eye.to_array(),
+        camera.target.to_array(),
+        camera.up.to_array(),
+    );
+    if view_dir.length()
+        < 1e-9
+            * camera
+                .eye
+                .abs()
+                .max(camera.target.abs())
+                .max_element()
+                .max(1.0)
+    {
         return Err(Error::scene(origin, format!("camera.eye = {eye:?} and camera.target = {target:?} coincide: the camera has no view direction")));
     }
     let up_dir = camera.up.normalize_or_zero();
@@ -218,10 +271,19 @@ pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<Render
         }
     }
     if r.shadow_map_size < MIN_SHADOW_MAP_SIZE {
-        return Err(Error::scene(origin, format!("render.shadow_map_size = {}: must be at least {MIN_SHADOW_MAP_SIZE}", r.shadow_map_size)));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "render.shadow_map_size = {}: must be at least {MIN_SHADOW_MAP_SIZE}",
+                r.shadow_map_size
+            ),
+        ));
     }
     if r.shadow_map_budget_mib == 0 {
-        return Err(Error::scene(origin, "render.shadow_map_budget_mib must be at least 1"));
+        return Err(Error::scene(
+            origin,
+            "render.shadow_map_budget_mib must be at least 1",
+        ));
     }
     let b = r.bias;
     let numbers = [
@@ -232,30 +294,63 @@ pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<Render
         ("render.ambient", r.ambient),
     ];
     if let Some((key, v)) = numbers.iter().find(|(_, v)| !v.is_finite()) {
-        return Err(Error::scene(origin, format!("{key} = {v}: must be a finite number")));
+        return Err(Error::scene(
+            origin,
+            format!("{key} = {v}: must be a finite number"),
+        ));
     }
     // A negative bias moves the depth test in front of the receiver: every surface shadows itself
     // (a constant of -1 put 98% of pixels in shadow). No use of the method needs it; 0 turns a term off.
     if let Some((key, v)) = numbers[..4].iter().find(|(_, v)| *v < 0.0) {
-        return Err(Error::scene(origin, format!("{key} = {v}: must be >= 0 (a negative bias shadows every surface with itself)")));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "{key} = {v}: must be >= 0 (a negative bias shadows every surface with itself)"
+            ),
+        ));
     }
     if !(0.0..=1.0).contains(&r.ambient) {
-        return Err(Error::scene(origin, format!("render.ambient must be in [0, 1], got {}", r.ambient)));
+        return Err(Error::scene(
+            origin,
+            format!("render.ambient must be in [0, 1], got {}", r.ambient),
+        ));
     }
     let mut render = r.clone();
     if render.maps == MapKind::Hybrid {
         let hy = render.hybrid;
         if !(1..=2).contains(&hy.levels) {
-            return Err(Error::scene(origin, format!("render.hybrid.levels = {}: use 1 or 2", hy.levels)));
+            return Err(Error::scene(
+                origin,
+                format!("render.hybrid.levels = {}: use 1 or 2", hy.levels),
+            ));
         }
         if hy.base < MIN_SHADOW_MAP_SIZE {
-            return Err(Error::scene(origin, format!("render.hybrid.base = {}: must be at least {MIN_SHADOW_MAP_SIZE}", hy.base)));
+            return Err(Error::scene(
+                origin,
+                format!(
+                    "render.hybrid.base = {}: must be at least {MIN_SHADOW_MAP_SIZE}",
+                    hy.base
+                ),
+            ));
         }
         if hy.base % (1 << hy.levels) != 0 {
-            return Err(Error::scene(origin, format!("render.hybrid.base = {}: must be a positive multiple of 2^levels = {}", hy.base, 1 << hy.levels)));
+            return Err(Error::scene(
+                origin,
+                format!(
+                    "render.hybrid.base = {}: must be a positive multiple of 2^levels = {}",
+                    hy.base,
+                    1 << hy.levels
+                ),
+            ));
         }
         if !(hy.eps.is_finite() && hy.eps >= 0.0) {
-            return Err(Error::scene(origin, format!("render.hybrid.eps = {}: must be a finite number >= 0", hy.eps)));
+            return Err(Error::scene(
+                origin,
+                format!(
+                    "render.hybrid.eps = {}: must be a finite number >= 0",
+                    hy.eps
+                ),
+            ));
         }
         // The raster (and every lookup's texel grid) is the full resolution.
         render.shadow_map_size = hy.base;
@@ -265,7 +360,11 @@ pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<Render
 
 /// Joins checked parts and meshes (vertices, indices, albedo; material indices are assigned here
 /// in mesh order) into a scene: bounds, the light's side, the stated triangle count, the view.
-pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3])>, origin: &str) -> Result<Scene> {
+pub(crate) fn assemble(
+    parts: Parts,
+    meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3])>,
+    origin: &str,
+) -> Result<Scene> {
     let mut vertices = Vec::new();
     let mut indices = Vec::new();
     let mut albedos = Vec::new();
@@ -287,7 +386,12 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
     let bounds = Bounds { min, max };
     let light = match (parts.emitter.stand_in(&bounds), parts.light) {
         (Some(light), _) | (None, Some(light)) => {
-            let lit = super::light_checks::Lit { bounds: &bounds, eye: parts.camera.eye, vertices: &vertices, indices: &indices };
+            let lit = super::light_checks::Lit {
+                bounds: &bounds,
+                eye: parts.camera.eye,
+                vertices: &vertices,
+                indices: &indices,
+            };
             super::light_checks::check(origin, &light, &parts.emitter, &lit)?;
             light
         }
@@ -296,14 +400,19 @@ pub(crate) fn assemble(parts: Parts, meshes: Vec<(Vec<Vertex>, Vec<u32>, [f32; 3
     if let Some(stated) = parts.stated_triangles {
         let got = indices.len() as u64 / 3;
         if stated != got {
-            return Err(Error::scene(origin, format!("states triangles = {stated} but its meshes have {got}")));
+            return Err(Error::scene(
+                origin,
+                format!("states triangles = {stated} but its meshes have {got}"),
+            ));
         }
     }
     if parts.name.as_deref().is_some_and(|n| n.trim().is_empty()) {
         return Err(Error::scene(origin, format!("name = {:?}: a scene's name must not be empty (leave `name` out to use the file's)", parts.name.unwrap_or_default())));
     }
     let scene = Scene {
-        name: parts.name.unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
+        name: parts
+            .name
+            .unwrap_or_else(|| origin.trim_start_matches("builtin:").to_string()),
         description: parts.description.unwrap_or_default(),
         origin: origin.to_string(),
         camera: parts.camera,

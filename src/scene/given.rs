@@ -35,8 +35,16 @@ pub fn settings_from_pairs(origin: &str, pairs: &[(String, String)]) -> Result<R
     let render = settings(pairs)?.map_err(|e| {
         let why = e.message().trim().to_string();
         // The pair at fault is the one refused alone.
-        match pairs.iter().find(|p| matches!(settings(std::slice::from_ref(p)), Ok(Err(_)))) {
-            Some((k, v)) => Error::Setting { origin: Some(origin.to_string()), key: k.clone(), value: Some(v.clone()), why },
+        match pairs
+            .iter()
+            .find(|p| matches!(settings(std::slice::from_ref(p)), Ok(Err(_))))
+        {
+            Some((k, v)) => Error::Setting {
+                origin: Some(origin.to_string()),
+                key: k.clone(),
+                value: Some(v.clone()),
+                why,
+            },
             None => Error::Param(format!("{origin}: render setting: {why}")),
         }
     })?;
@@ -44,24 +52,62 @@ pub fn settings_from_pairs(origin: &str, pairs: &[(String, String)]) -> Result<R
 }
 
 fn camera_def(c: &Camera) -> CameraDef {
-    CameraDef { eye: c.eye.to_array(), target: c.target.to_array(), up: c.up.to_array(), fov_y_deg: c.fov_y_deg }
+    CameraDef {
+        eye: c.eye.to_array(),
+        target: c.target.to_array(),
+        up: c.up.to_array(),
+        fov_y_deg: c.fov_y_deg,
+    }
 }
 
 fn light_def(l: &AreaLight) -> LightDef {
-    LightDef { center: Some(l.center.to_array()), edge_u: Some(l.edge_u.to_array()), edge_v: Some(l.edge_v.to_array()), ..LightDef::default() }
+    LightDef {
+        center: Some(l.center.to_array()),
+        edge_u: Some(l.edge_u.to_array()),
+        edge_v: Some(l.edge_v.to_array()),
+        ..LightDef::default()
+    }
 }
 
 impl Scene {
     /// A scene of `meshes` under a rectangular light; `render` comes from [`settings_from_pairs`].
-    pub fn from_meshes(origin: &str, camera: &Camera, light: &AreaLight, render: RenderSettings, meshes: &[GivenMesh]) -> Result<Scene> {
-        Self::from_meshes_lit(origin, camera, || Ok((Some(build_light(&light_def(light), origin)?), crate::scene::Emitter::Rect)), render, meshes)
+    pub fn from_meshes(
+        origin: &str,
+        camera: &Camera,
+        light: &AreaLight,
+        render: RenderSettings,
+        meshes: &[GivenMesh],
+    ) -> Result<Scene> {
+        Self::from_meshes_lit(
+            origin,
+            camera,
+            || {
+                Ok((
+                    Some(build_light(&light_def(light), origin)?),
+                    crate::scene::Emitter::Rect,
+                ))
+            },
+            render,
+            meshes,
+        )
     }
 
     /// A scene of `meshes` under a light of any kind, given as a scene file's `[light]` table
     /// (docs/lights.md: `kind = "disk"`, `center`, `normal`, `radius`, …) and checked as one.
-    pub fn from_meshes_with_light(origin: &str, camera: &Camera, light: toml::Table, render: RenderSettings, meshes: &[GivenMesh]) -> Result<Scene> {
+    pub fn from_meshes_with_light(
+        origin: &str,
+        camera: &Camera,
+        light: toml::Table,
+        render: RenderSettings,
+        meshes: &[GivenMesh],
+    ) -> Result<Scene> {
         let light = || {
-            let def: LightDef = toml::Value::Table(light).try_into().map_err(|e: toml::de::Error| Error::scene(origin, format!("light: {}", e.message().trim())))?;
+            let def: LightDef =
+                toml::Value::Table(light)
+                    .try_into()
+                    .map_err(|e: toml::de::Error| {
+                        Error::scene(origin, format!("light: {}", e.message().trim()))
+                    })?;
             build(&def, origin)
         };
         Self::from_meshes_lit(origin, camera, light, render, meshes)
@@ -86,32 +132,77 @@ impl Scene {
             let what = |field: &str| format!("mesh {} {field}", k + 1);
             let albedo = format::albedo(origin, k, m.albedo)?;
             if m.indices.is_empty() || m.indices.len() % 3 != 0 {
-                return Err(Error::scene(origin, format!("mesh {}: {} indices: give three per triangle, at least one triangle", k + 1, m.indices.len())));
+                return Err(Error::scene(
+                    origin,
+                    format!(
+                        "mesh {}: {} indices: give three per triangle, at least one triangle",
+                        k + 1,
+                        m.indices.len()
+                    ),
+                ));
             }
             if let Some(i) = m.indices.iter().find(|&&i| i as usize >= m.positions.len()) {
-                return Err(Error::scene(origin, format!("mesh {}: index {i} is out of range ({} positions)", k + 1, m.positions.len())));
+                return Err(Error::scene(
+                    origin,
+                    format!(
+                        "mesh {}: index {i} is out of range ({} positions)",
+                        k + 1,
+                        m.positions.len()
+                    ),
+                ));
             }
             vertex_total += m.positions.len() as u64;
             triangle_total += m.indices.len() as u64 / 3;
             if vertex_total > u32::MAX as u64 || triangle_total > MAX_SCENE_TRIANGLES {
-                return Err(Error::scene(origin, format!("the meshes exceed {MAX_SCENE_TRIANGLES} triangles or 2^32 vertices")));
+                return Err(Error::scene(
+                    origin,
+                    format!("the meshes exceed {MAX_SCENE_TRIANGLES} triangles or 2^32 vertices"),
+                ));
             }
-            let positions = m.positions.iter().map(|p| finite(origin, &what("position"), *p)).collect::<Result<Vec<Vec3>>>()?;
+            let positions = m
+                .positions
+                .iter()
+                .map(|p| finite(origin, &what("position"), *p))
+                .collect::<Result<Vec<Vec3>>>()?;
             let normals = match m.normals {
                 Some(n) if n.len() != positions.len() => {
-                    return Err(Error::scene(origin, format!("mesh {}: {} normals for {} positions", k + 1, n.len(), positions.len())));
+                    return Err(Error::scene(
+                        origin,
+                        format!(
+                            "mesh {}: {} normals for {} positions",
+                            k + 1,
+                            n.len(),
+                            positions.len()
+                        ),
+                    ));
                 }
-                Some(n) => n.iter().map(|v| finite(origin, &what("normal"), *v).map(Vec3::normalize_or_zero)).collect::<Result<Vec<Vec3>>>()?,
+                Some(n) => n
+                    .iter()
+                    .map(|v| finite(origin, &what("normal"), *v).map(Vec3::normalize_or_zero))
+                    .collect::<Result<Vec<Vec3>>>()?,
                 None => smooth_normals(&positions, m.indices),
             };
             let vertices = positions
                 .iter()
                 .zip(&normals)
-                .map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array(), material: 0 })
+                .map(|(p, n)| Vertex {
+                    position: p.to_array(),
+                    normal: n.to_array(),
+                    material: 0,
+                })
                 .collect();
             parts.push((vertices, m.indices.to_vec(), albedo.to_array()));
         }
-        let scene_parts = Parts { name: None, description: None, stated_triangles: None, camera, light, emitter, environment: None, render };
+        let scene_parts = Parts {
+            name: None,
+            description: None,
+            stated_triangles: None,
+            camera,
+            light,
+            emitter,
+            environment: None,
+            render,
+        };
         format::assemble(scene_parts, parts, origin)
     }
 
@@ -127,7 +218,12 @@ impl Scene {
     /// `light` checked as a scene file's `[light]` is, and against these meshes (src/scene/light_checks.rs).
     pub fn check_light(&self, light: &AreaLight) -> Result<AreaLight> {
         let light = build_light(&light_def(light), &self.origin)?;
-        let lit = super::light_checks::Lit { bounds: &self.bounds, eye: self.camera.eye, vertices: &self.vertices, indices: &self.indices };
+        let lit = super::light_checks::Lit {
+            bounds: &self.bounds,
+            eye: self.camera.eye,
+            vertices: &self.vertices,
+            indices: &self.indices,
+        };
         super::light_checks::check(&self.origin, &light, &crate::scene::Emitter::Rect, &lit)?;
         Ok(light)
     }

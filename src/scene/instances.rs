@@ -16,9 +16,15 @@ pub fn placements(m: &MeshDef) -> Result<Vec<Mat4>, String> {
                 return Err("`instances` is empty".into());
             }
             if list.len() > MAX_INSTANCES {
-                return Err(format!("{} instances (at most {MAX_INSTANCES})", list.len()));
+                return Err(format!(
+                    "{} instances (at most {MAX_INSTANCES})",
+                    list.len()
+                ));
             }
-            list.iter().enumerate().map(|(k, &[x, y, z, rot, scale])| place(k, [x, y, z], rot, scale)).collect()
+            list.iter()
+                .enumerate()
+                .map(|(k, &[x, y, z, rot, scale])| place(k, [x, y, z], rot, scale))
+                .collect()
         }
         (None, Some(grid)) => grid_placements(grid),
         (None, None) => Ok(vec![Mat4::IDENTITY]),
@@ -31,11 +37,15 @@ pub fn placements(m: &MeshDef) -> Result<Vec<Mat4>, String> {
 fn grid_placements(g: &GridDef) -> Result<Vec<Mat4>, String> {
     let [nx, nz] = g.count;
     if nx == 0 || nz == 0 {
-        return Err(format!("grid.count must be at least [1, 1], got [{nx}, {nz}]"));
+        return Err(format!(
+            "grid.count must be at least [1, 1], got [{nx}, {nz}]"
+        ));
     }
     let total = nx as usize * nz as usize;
     if total > MAX_INSTANCES {
-        return Err(format!("grid of {total} instances (at most {MAX_INSTANCES})"));
+        return Err(format!(
+            "grid of {total} instances (at most {MAX_INSTANCES})"
+        ));
     }
     if !(g.spacing.iter().all(|s| s.is_finite()) && g.rotate_step_deg.is_finite()) {
         return Err("grid.spacing and grid.rotate_step_deg must be finite numbers".into());
@@ -45,7 +55,11 @@ fn grid_placements(g: &GridDef) -> Result<Vec<Mat4>, String> {
     for j in 0..nz {
         for i in 0..nx {
             let k = out.len();
-            let at = [offset(nx, i, g.spacing[0]), 0.0, offset(nz, j, g.spacing[1])];
+            let at = [
+                offset(nx, i, g.spacing[0]),
+                0.0,
+                offset(nz, j, g.spacing[1]),
+            ];
             out.push(place(k, at, k as f32 * g.rotate_step_deg, 1.0)?);
         }
     }
@@ -58,7 +72,10 @@ fn place(k: usize, at: [f32; 3], rot_y_deg: f32, scale: f32) -> Result<Mat4, Str
     }
     // A negative scale would mirror the mesh and flip its winding (and its culling).
     if scale <= 0.0 {
-        return Err(format!("instance {}: scale must be positive, got {scale}", k + 1));
+        return Err(format!(
+            "instance {}: scale must be positive, got {scale}",
+            k + 1
+        ));
     }
     Ok(Mat4::from_scale_rotation_translation(
         Vec3::splat(scale),

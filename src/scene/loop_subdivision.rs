@@ -19,7 +19,14 @@ pub fn once(mesh: RawMesh) -> RawMesh {
     for t in &triangles {
         for k in 0..3 {
             let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-            edges.entry((a.min(b), a.max(b))).or_insert_with(|| Edge { opposite: Vec::new(), new_vertex: 0 }).opposite.push(c);
+            edges
+                .entry((a.min(b), a.max(b)))
+                .or_insert_with(|| Edge {
+                    opposite: Vec::new(),
+                    new_vertex: 0,
+                })
+                .opposite
+                .push(c);
         }
     }
     // Sorted so vertex order and every float sum (hence the output's bits, and the reference
@@ -44,8 +51,13 @@ pub fn once(mesh: RawMesh) -> RawMesh {
             match crease_neighbours[v].as_slice() {
                 [] => {
                     let k = neighbours[v].len() as f32;
-                    let beta = if neighbours[v].len() == 3 { 3.0 / 16.0 } else { 3.0 / (8.0 * k) };
-                    here * (1.0 - k * beta) + neighbours[v].iter().map(|&u| p(u)).sum::<Vec3>() * beta
+                    let beta = if neighbours[v].len() == 3 {
+                        3.0 / 16.0
+                    } else {
+                        3.0 / (8.0 * k)
+                    };
+                    here * (1.0 - k * beta)
+                        + neighbours[v].iter().map(|&u| p(u)).sum::<Vec3>() * beta
                 }
                 [a, b] => here * 0.75 + (p(*a) + p(*b)) * 0.125,
                 // A corner where creases meet, or a non-manifold vertex: keep it in place.
@@ -69,7 +81,11 @@ pub fn once(mesh: RawMesh) -> RawMesh {
         let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
         indices.extend([a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca]);
     }
-    RawMesh { positions: out, normals: None, indices }
+    RawMesh {
+        positions: out,
+        normals: None,
+        indices,
+    }
 }
 
 /// Merges vertices at bit-identical positions (files split them at normal or texture seams, which
@@ -81,16 +97,24 @@ fn weld(mesh: &RawMesh) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         .positions
         .iter()
         .map(|p| {
-            *first.entry(p.to_array().map(f32::to_bits)).or_insert_with(|| {
-                positions.push(*p);
-                positions.len() as u32 - 1
-            })
+            *first
+                .entry(p.to_array().map(f32::to_bits))
+                .or_insert_with(|| {
+                    positions.push(*p);
+                    positions.len() as u32 - 1
+                })
         })
         .collect();
     let triangles = mesh
         .indices
         .chunks_exact(3)
-        .map(|t| [remap[t[0] as usize], remap[t[1] as usize], remap[t[2] as usize]])
+        .map(|t| {
+            [
+                remap[t[0] as usize],
+                remap[t[1] as usize],
+                remap[t[2] as usize],
+            ]
+        })
         .filter(|[a, b, c]| a != b && b != c && c != a)
         .collect();
     (positions, triangles)
@@ -101,15 +125,33 @@ mod tests {
     use super::*;
 
     fn octahedron() -> RawMesh {
-        let positions = vec![Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
-        let indices = vec![0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5];
-        RawMesh { positions, normals: None, indices }
+        let positions = vec![
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+        ];
+        let indices = vec![
+            0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5,
+        ];
+        RawMesh {
+            positions,
+            normals: None,
+            indices,
+        }
     }
 
     #[test]
     fn output_bits_do_not_depend_on_hash_order() {
         // Every map gets its own random hash keys: repeated runs must still agree bit for bit.
-        let bits = |m: &RawMesh| m.positions.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        let bits = |m: &RawMesh| {
+            m.positions
+                .iter()
+                .flat_map(|p| p.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        };
         let first = once(once(octahedron()));
         for _ in 0..8 {
             let again = once(once(octahedron()));
@@ -132,7 +174,11 @@ mod tests {
     #[test]
     fn open_square_keeps_its_boundary_straight() {
         let positions = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, 1.0), Vec3::Z];
-        let m = once(RawMesh { positions, normals: None, indices: vec![0, 2, 1, 0, 3, 2] });
+        let m = once(RawMesh {
+            positions,
+            normals: None,
+            indices: vec![0, 2, 1, 0, 3, 2],
+        });
         assert!(m.positions.iter().all(|p| p.y == 0.0));
         // Corner vertices have two crease neighbours: 3/4 corner + 1/8 each neighbour.
         assert!((m.positions[0] - Vec3::new(0.125, 0.0, 0.125)).length() < 1e-6);

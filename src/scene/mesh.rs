@@ -1,11 +1,11 @@
 //! Scene meshes: built-in primitives (plane, box, sphere) and mesh files, placed by a transform and
 //! optionally subdivided and instanced.
 
-use super::mesh_def::{MeshDef, Scale};
-use super::raw_mesh::RawMesh;
-use super::mesh_file::{self, MeshDirs};
-use super::{instances, subdivide};
 use super::coords::MAX_COORDINATE;
+use super::mesh_def::{MeshDef, Scale};
+use super::mesh_file::{self, MeshDirs};
+use super::raw_mesh::RawMesh;
+use super::{instances, subdivide};
 use crate::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use glam::{EulerRot, Mat3, Mat4, Quat, Vec3};
@@ -22,31 +22,59 @@ pub struct Vertex {
 /// Loads (or builds) one `[[mesh]]`, subdivides it, applies its transform, then places one copy per
 /// instance. Normals are computed once and turned with each placement. Also returns a mesh file's
 /// boundary edges as loaded (0 for the built-ins: the plane is open by design).
-pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Result<(Vec<Vertex>, Vec<u32>, usize)> {
+pub fn instantiate(
+    m: &MeshDef,
+    k: usize,
+    origin: &str,
+    dirs: MeshDirs,
+) -> Result<(Vec<Vertex>, Vec<u32>, usize)> {
     let label = format!("{origin}: mesh {}", k + 1);
     if m.builtin.as_deref() == Some("sphere") && !(3..=512).contains(&m.segments) {
-        return Err(Error::scene(origin, format!("mesh {}: segments = {} for a sphere: must be in 3..=512", k + 1, m.segments)));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "mesh {}: segments = {} for a sphere: must be in 3..=512",
+                k + 1,
+                m.segments
+            ),
+        ));
     }
     let raw = match (&m.builtin, &m.file) {
         (Some(b), None) => builtin(b, m.segments).ok_or_else(|| {
-            Error::scene(origin, format!("mesh {}: unknown builtin `{b}` (plane, box, sphere)", k + 1))
+            Error::scene(
+                origin,
+                format!("mesh {}: unknown builtin `{b}` (plane, box, sphere)", k + 1),
+            )
         })?,
         (None, Some(f)) => mesh_file::load(f, origin, &format!("mesh {}", k + 1), dirs)?,
-        _ => return Err(Error::scene(origin, format!("mesh {}: give exactly one of `builtin` or `file`", k + 1))),
+        _ => {
+            return Err(Error::scene(
+                origin,
+                format!("mesh {}: give exactly one of `builtin` or `file`", k + 1),
+            ))
+        }
     };
     if raw.indices.is_empty() {
         return Err(Error::mesh(label, "the mesh is empty (no triangles)"));
     }
-    let open_edges = if m.file.is_some() { raw.boundary_edges() } else { 0 };
-    let raw = subdivide::subdivide(raw, m.subdivide, m.subdivision).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
-    let placements = instances::placements(m).map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
+    let open_edges = if m.file.is_some() {
+        raw.boundary_edges()
+    } else {
+        0
+    };
+    let raw = subdivide::subdivide(raw, m.subdivide, m.subdivision)
+        .map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
+    let placements = instances::placements(m)
+        .map_err(|e| Error::scene(origin, format!("mesh {}: {e}", k + 1)))?;
     let scale = match m.scale {
         Scale::Uniform(s) => Vec3::splat(s),
         Scale::Axes(a) => Vec3::from(a),
     };
     check_transform(m, k, origin)?;
     let copies = placements.len() as u64;
-    if (raw.positions.len() as u64) * copies > u32::MAX as u64 || (raw.indices.len() as u64 / 3) * copies > MAX_SCENE_TRIANGLES {
+    if (raw.positions.len() as u64) * copies > u32::MAX as u64
+        || (raw.indices.len() as u64 / 3) * copies > MAX_SCENE_TRIANGLES
+    {
         return Err(Error::scene(
             origin,
             format!("mesh {}: {copies} instances of {} triangles exceed {MAX_SCENE_TRIANGLES} triangles", k + 1, raw.indices.len() / 3),
@@ -56,9 +84,16 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
     let rotation = Quat::from_euler(EulerRot::XYZ, r[0], r[1], r[2]);
     let world = Mat4::from_scale_rotation_translation(scale, rotation, Vec3::from(m.translate));
     let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
-    let positions: Vec<Vec3> = raw.positions.iter().map(|p| world.transform_point3(*p)).collect();
+    let positions: Vec<Vec3> = raw
+        .positions
+        .iter()
+        .map(|p| world.transform_point3(*p))
+        .collect();
     let normals = match &raw.normals {
-        Some(n) => n.iter().map(|n| (normal_matrix * *n).normalize_or_zero()).collect(),
+        Some(n) => n
+            .iter()
+            .map(|n| (normal_matrix * *n).normalize_or_zero())
+            .collect(),
         None => smooth_normals(&positions, &raw.indices),
     };
     let mut vertices: Vec<Vertex> = Vec::with_capacity(positions.len() * placements.len());
@@ -76,7 +111,10 @@ pub fn instantiate(m: &MeshDef, k: usize, origin: &str, dirs: MeshDirs) -> Resul
     }
     // Each factor is bounded, but together (a big mesh file, scale 1e6, instances far out) they can
     // still leave f32's useful range: the placed vertices obey the scene file's coordinate bound.
-    if let Some(v) = vertices.iter().find(|v| !v.position.iter().all(|x| x.abs() <= MAX_COORDINATE)) {
+    if let Some(v) = vertices
+        .iter()
+        .find(|v| !v.position.iter().all(|x| x.abs() <= MAX_COORDINATE))
+    {
         return Err(Error::scene(
             origin,
             format!("mesh {}: a placed vertex lands at {:?}, beyond ±{MAX_COORDINATE:e}: shrink translate, scale or the instances", k + 1, v.position),
@@ -106,18 +144,26 @@ fn check_transform(m: &MeshDef, k: usize, origin: &str) -> Result<()> {
         ("rotate_deg", format!("{:?}", m.rotate_deg), m.rotate_deg),
         ("scale", scale_text.clone(), scale),
     ];
-    if let Some((key, text, _)) = keys.iter().find(|(_, _, v)| v.iter().any(|x| !x.is_finite())) {
+    if let Some((key, text, _)) = keys
+        .iter()
+        .find(|(_, _, v)| v.iter().any(|x| !x.is_finite()))
+    {
         return fail(format!("{key} = {text}: has a NaN or infinite number"));
     }
     if m.translate.iter().any(|x| x.abs() > MAX_COORDINATE) {
         return fail(format!("translate = {:?}: each component must be within ±{MAX_COORDINATE:e} (f32 has no precision left beyond)", m.translate));
     }
     if m.rotate_deg.iter().any(|x| x.abs() > MAX_ROTATE_DEG) {
-        return fail(format!("rotate_deg = {:?}: each angle must be within ±{MAX_ROTATE_DEG} degrees", m.rotate_deg));
+        return fail(format!(
+            "rotate_deg = {:?}: each angle must be within ±{MAX_ROTATE_DEG} degrees",
+            m.rotate_deg
+        ));
     }
     let [lo, hi] = SCALE_RANGE;
     if scale.iter().any(|x| !(lo..=hi).contains(&x.abs())) {
-        return fail(format!("scale = {scale_text}: each factor's size must be within [{lo:e}, {hi:e}]"));
+        return fail(format!(
+            "scale = {scale_text}: each factor's size must be within [{lo:e}, {hi:e}]"
+        ));
     }
     Ok(())
 }
@@ -149,8 +195,17 @@ fn builtin(name: &str, segments: u32) -> Option<RawMesh> {
 
 /// Unit square in the xz plane at y = 0, facing +y, counter-clockwise seen from above.
 fn plane() -> RawMesh {
-    let positions = vec![Vec3::new(-0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, -0.5), Vec3::new(-0.5, 0.0, -0.5)];
-    RawMesh { normals: Some(vec![Vec3::Y; 4]), positions, indices: vec![0, 1, 2, 0, 2, 3] }
+    let positions = vec![
+        Vec3::new(-0.5, 0.0, 0.5),
+        Vec3::new(0.5, 0.0, 0.5),
+        Vec3::new(0.5, 0.0, -0.5),
+        Vec3::new(-0.5, 0.0, -0.5),
+    ];
+    RawMesh {
+        normals: Some(vec![Vec3::Y; 4]),
+        positions,
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
 }
 
 /// Unit cube centred at the origin, flat-shaded faces.
@@ -158,7 +213,14 @@ fn cube() -> RawMesh {
     let mut positions = Vec::new();
     let mut normals = Vec::new();
     let mut indices = Vec::new();
-    for axis in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+    for axis in [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ] {
         let u = if axis.y.abs() > 0.5 { Vec3::X } else { Vec3::Y };
         let v = axis.cross(u);
         let base = positions.len() as u32;
@@ -173,7 +235,11 @@ fn cube() -> RawMesh {
             indices.extend([base, base + 2, base + 1, base, base + 3, base + 2]);
         }
     }
-    RawMesh { positions, normals: Some(normals), indices }
+    RawMesh {
+        positions,
+        normals: Some(normals),
+        indices,
+    }
 }
 
 /// Unit-radius UV sphere, outward counter-clockwise.
@@ -184,7 +250,11 @@ fn sphere(segments: u32) -> RawMesh {
         let theta = std::f32::consts::PI * r as f32 / rings as f32;
         for s in 0..=segments {
             let phi = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
-            positions.push(Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
+            positions.push(Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            ));
         }
     }
     let row = segments + 1;
@@ -202,7 +272,11 @@ fn sphere(segments: u32) -> RawMesh {
         }
     }
     let normals = positions.clone();
-    RawMesh { positions, normals: Some(normals), indices }
+    RawMesh {
+        positions,
+        normals: Some(normals),
+        indices,
+    }
 }
 
 #[cfg(test)]

@@ -1,9 +1,9 @@
 //! Mesh files a scene names: where `file` points (the scene's folder, the embedded meshes of
 //! built-in scenes, or the asset cache with `cache:`) and which loader reads it.
 
-use super::raw_mesh::RawMesh;
-use super::obj;
 use super::mesh_input;
+use super::obj;
+use super::raw_mesh::RawMesh;
 use crate::{Error, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -46,7 +46,10 @@ pub fn default_cache_dir() -> Result<PathBuf> {
 
 /// The fetch group a cache path names (`meshes/cow.off`: `meshes`), else `all`.
 pub(crate) fn fetch_group(rel: &str) -> &str {
-    rel.split('/').next().filter(|g| ASSET_LAYER.get().is_some_and(|l| (l.is_group)(g))).unwrap_or("all")
+    rel.split('/')
+        .next()
+        .filter(|g| ASSET_LAYER.get().is_some_and(|l| (l.is_group)(g)))
+        .unwrap_or("all")
 }
 
 /// `file = "cache:meshes/cow.off"` reads `<cache>/meshes/cow.off`.
@@ -71,7 +74,10 @@ pub struct MeshDirs<'a> {
 pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     let rel = file.strip_prefix(CACHE_PREFIX).unwrap_or(file);
     if rel.is_empty() || Path::new(rel).is_absolute() || rel.split(['/', '\\']).any(|c| c == "..") {
-        return Err(Error::mesh(file, "a cache path must be relative and stay inside the cache, e.g. `cache:meshes/cow.off`"));
+        return Err(Error::mesh(
+            file,
+            "a cache path must be relative and stay inside the cache, e.g. `cache:meshes/cow.off`",
+        ));
     }
     let root = match cache {
         Some(dir) => dir.to_path_buf(),
@@ -101,7 +107,10 @@ pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<Raw
     // The loaders lead with what they read (`lead`: the path, or `file` itself); `file = …` names it.
     let named = |lead: &str, e: Error| {
         let text = e.to_string();
-        let why = text.strip_prefix(lead).and_then(|t| t.strip_prefix(": ")).unwrap_or(&text);
+        let why = text
+            .strip_prefix(lead)
+            .and_then(|t| t.strip_prefix(": "))
+            .unwrap_or(&text);
         Error::scene(origin, format!("{which}: file = {file:?}: {why}"))
     };
     let path = if file.starts_with(CACHE_PREFIX) {
@@ -109,26 +118,43 @@ pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<Raw
     } else if origin.starts_with("builtin:") {
         return obj::load_embedded(file).map_err(|e| named(file, e));
     } else {
-        dirs.scene_dir.map(|d| d.join(file)).unwrap_or_else(|| file.into())
+        dirs.scene_dir
+            .map(|d| d.join(file))
+            .unwrap_or_else(|| file.into())
     };
-    let max = dirs.max_mesh_bytes.unwrap_or_else(mesh_input::max_mesh_bytes);
+    let max = dirs
+        .max_mesh_bytes
+        .unwrap_or_else(mesh_input::max_mesh_bytes);
     // Metadata first: a FIFO would block the open, a device or a huge file would fill memory.
     if path.exists() {
-        mesh_input::check_mesh_file(&path, max).map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
+        mesh_input::check_mesh_file(&path, max)
+            .map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
     }
     load_path(&path, max).map_err(|e| named(&path.display().to_string(), e))
 }
 
 fn load_path(path: &Path, max: u64) -> Result<RawMesh> {
-    let name = path.file_name().map(|n| n.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
     let inner = name.strip_suffix(".gz").unwrap_or(&name);
     match Path::new(inner).extension().and_then(|e| e.to_str()) {
         Some("obj") if inner == name => obj::load_file(path, max),
         Some("off" | "ply" | "js") => {
-            let (positions, indices) = (asset_layer(&path.display().to_string())?.load_mesh)(path, max).map_err(Error::Asset)?;
+            let (positions, indices) =
+                (asset_layer(&path.display().to_string())?.load_mesh)(path, max)
+                    .map_err(Error::Asset)?;
             let positions = positions.iter().map(|p| Vec3::from(*p)).collect();
-            Ok(RawMesh { positions, normals: None, indices })
+            Ok(RawMesh {
+                positions,
+                normals: None,
+                indices,
+            })
         }
-        _ => Err(Error::mesh(path.display().to_string(), format!("unknown mesh format (expected {FORMATS})"))),
+        _ => Err(Error::mesh(
+            path.display().to_string(),
+            format!("unknown mesh format (expected {FORMATS})"),
+        )),
     }
 }

@@ -19,12 +19,19 @@ pub fn set_max_mesh_mib(mib: u64) {
 
 /// The cap in bytes: `--max-mesh-mib` when given, else the default.
 pub fn max_mesh_bytes() -> u64 {
-    RUN_MAX_MESH_MIB.get().copied().unwrap_or(DEFAULT_MAX_MESH_MIB).saturating_mul(1 << 20)
+    RUN_MAX_MESH_MIB
+        .get()
+        .copied()
+        .unwrap_or(DEFAULT_MAX_MESH_MIB)
+        .saturating_mul(1 << 20)
 }
 
 /// How a size reads in messages: MiB with one decimal, and the exact bytes.
 pub fn show_size(bytes: u64) -> String {
-    format!("{:.1} MiB ({bytes} bytes)", bytes as f64 / (1u64 << 20) as f64)
+    format!(
+        "{:.1} MiB ({bytes} bytes)",
+        bytes as f64 / (1u64 << 20) as f64
+    )
 }
 
 /// Why `path` (symlinks followed) may not be read as a mesh: not a regular file, or over `max`
@@ -34,10 +41,19 @@ pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), String>
     // The callers name the file and say "cannot read"; the reason alone, so neither repeats.
     let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if !meta.is_file() {
-        return Err(format!("{} is {}, not a regular file", shown(path), kind(&meta.file_type())));
+        return Err(format!(
+            "{} is {}, not a regular file",
+            shown(path),
+            kind(&meta.file_type())
+        ));
     }
     if meta.len() > max {
-        return Err(format!("{} is {}, over the {} MiB cap on mesh files (raise it with --max-mesh-mib N)", shown(path), show_size(meta.len()), max >> 20));
+        return Err(format!(
+            "{} is {}, over the {} MiB cap on mesh files (raise it with --max-mesh-mib N)",
+            shown(path),
+            show_size(meta.len()),
+            max >> 20
+        ));
     }
     Ok(())
 }
@@ -59,4 +75,3 @@ pub fn open_regular(path: &Path, max: u64) -> io::Result<File> {
     }
     Ok(file)
 }
-

@@ -1,18 +1,18 @@
 //! Scenes: a small TOML format (docs/scene-format.md), built-in named scenes, meshes.
 
 mod builtin;
-pub mod environment;
-pub mod light;
-pub mod light_checks;
 mod catalog;
 mod coords;
 mod cube_window;
 pub mod emitter;
 mod emitter_def;
+pub mod environment;
 mod format;
 mod given;
 pub mod input_file;
 mod instances;
+pub mod light;
+pub mod light_checks;
 mod loop_subdivision;
 mod mesh;
 mod mesh_def;
@@ -28,16 +28,20 @@ mod subdivide;
 
 pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
 pub use catalog::{area_light_names, catalog, CatalogEntry};
+pub use coords::MAX_COORDINATE;
 pub use emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
 pub use emitter_def::MAX_SUN_DIAMETER_DEG;
 pub use given::{settings_from_pairs, GivenMesh};
-pub use settings::{BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow};
 pub use mesh::Vertex;
-pub use mesh_file::{cache_path, default_cache_dir, register_asset_layer, AssetLayer, MeshDirs, CACHE_PREFIX};
+pub use mesh_file::{
+    cache_path, default_cache_dir, register_asset_layer, AssetLayer, MeshDirs, CACHE_PREFIX,
+};
 pub use model::{Camera, Scene};
 pub use obj::embedded_source;
-pub use coords::MAX_COORDINATE;
 pub use overrides::{apply_overrides, is_render_key};
+pub use settings::{
+    BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow,
+};
 
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -54,7 +58,11 @@ impl Scene {
     }
 
     /// As `load`, with `cache:` mesh paths resolved in `cache` (`None`: the default asset cache).
-    pub fn load_in(name_or_path: &str, overrides: &[(String, String)], cache: Option<&Path>) -> Result<Scene> {
+    pub fn load_in(
+        name_or_path: &str,
+        overrides: &[(String, String)],
+        cache: Option<&Path>,
+    ) -> Result<Scene> {
         if name_or_path.trim().is_empty() {
             return Err(Error::Param(format!(
                 "--scene {name_or_path:?}: empty; give a built-in scene ({}) or a path to a scene TOML file",
@@ -63,28 +71,72 @@ impl Scene {
         }
         if let Some(text) = builtin_source(name_or_path) {
             let origin = format!("builtin:{name_or_path}");
-            return Self::parse_in(text, &origin, MeshDirs { scene_dir: None, cache, max_mesh_bytes: None }, overrides);
+            return Self::parse_in(
+                text,
+                &origin,
+                MeshDirs {
+                    scene_dir: None,
+                    cache,
+                    max_mesh_bytes: None,
+                },
+                overrides,
+            );
         }
         let path = PathBuf::from(name_or_path);
         if !path.exists() {
             return Err(Error::scene(
                 name_or_path,
-                format!("no such scene file or built-in scene (built-ins: {})", builtin_names().join(", ")),
+                format!(
+                    "no such scene file or built-in scene (built-ins: {})",
+                    builtin_names().join(", ")
+                ),
             ));
         }
-        let text = input_file::read_text(&path, input_file::TEXT_CAP, "the 256 MiB cap on scene files")
-            .map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
-        Self::parse_in(&text, name_or_path, MeshDirs { scene_dir: path.parent(), cache, max_mesh_bytes: None }, overrides)
+        let text = input_file::read_text(
+            &path,
+            input_file::TEXT_CAP,
+            "the 256 MiB cap on scene files",
+        )
+        .map_err(|e| Error::scene(name_or_path, format!("cannot read: {e}")))?;
+        Self::parse_in(
+            &text,
+            name_or_path,
+            MeshDirs {
+                scene_dir: path.parent(),
+                cache,
+                max_mesh_bytes: None,
+            },
+            overrides,
+        )
     }
 
     /// Parses scene text; mesh files resolve against `dir` (or the embedded meshes for built-ins),
     /// `cache:` paths against the default asset cache.
-    pub fn parse(text: &str, origin: &str, dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Scene> {
-        Self::parse_in(text, origin, MeshDirs { scene_dir: dir, cache: None, max_mesh_bytes: None }, overrides)
+    pub fn parse(
+        text: &str,
+        origin: &str,
+        dir: Option<&Path>,
+        overrides: &[(String, String)],
+    ) -> Result<Scene> {
+        Self::parse_in(
+            text,
+            origin,
+            MeshDirs {
+                scene_dir: dir,
+                cache: None,
+                max_mesh_bytes: None,
+            },
+            overrides,
+        )
     }
 
     /// As `parse`, with the folders mesh files resolve against given explicitly (tests, `--cache`).
-    pub fn parse_in(text: &str, origin: &str, dirs: MeshDirs, overrides: &[(String, String)]) -> Result<Scene> {
+    pub fn parse_in(
+        text: &str,
+        origin: &str,
+        dirs: MeshDirs,
+        overrides: &[(String, String)],
+    ) -> Result<Scene> {
         let def = format::parse(text, origin, overrides)?;
         format::build(def, origin, dirs)
     }

@@ -1,8 +1,8 @@
 //! What a scene is once built: the camera, the light, the meshes as one vertex and index list, and
 //! the render settings. Loading and parsing live in mod.rs and format.rs.
 
-use super::settings::RenderSettings;
 use super::mesh::Vertex;
+use super::settings::RenderSettings;
 use crate::scene::light::{AreaLight, Bounds};
 use crate::Error;
 use glam::{Mat4, Vec3};
@@ -23,8 +23,12 @@ impl Camera {
         // the eye. The usual order resolved only about 4e-3 units at 14 units on `point-room`, so
         // the ground beat a wall standing on it along their contact line, and those pixels' points
         // lay inside the wall, where every shadow ray leaves through its face.
-        glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, dist * 2.0, near)
-            * glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
+        glam::camera::rh::proj::directx::perspective(
+            self.fov_y_deg.to_radians(),
+            aspect,
+            dist * 2.0,
+            near,
+        ) * glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
     }
 }
 
@@ -108,11 +112,25 @@ impl Scene {
         let aspect = self.render.width as f32 / self.render.height as f32;
         let m = camera.clip_from_world(aspect, &self.bounds);
         let (lo, hi) = (self.bounds.min, self.bounds.max);
-        let clip: Vec<glam::Vec4> =
-            (0..8).map(|i| m * Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2]).extend(1.0)).collect();
+        let clip: Vec<glam::Vec4> = (0..8)
+            .map(|i| {
+                m * Vec3::new(
+                    [lo.x, hi.x][i & 1],
+                    [lo.y, hi.y][(i >> 1) & 1],
+                    [lo.z, hi.z][i >> 2],
+                )
+                .extend(1.0)
+            })
+            .collect();
         // One clip plane (left, right, bottom, top, near, far: depth 0..w) with every corner outside.
-        let planes: [fn(&glam::Vec4) -> bool; 6] =
-            [|c| c.x < -c.w, |c| c.x > c.w, |c| c.y < -c.w, |c| c.y > c.w, |c| c.z < 0.0, |c| c.z > c.w];
+        let planes: [fn(&glam::Vec4) -> bool; 6] = [
+            |c| c.x < -c.w,
+            |c| c.x > c.w,
+            |c| c.y < -c.w,
+            |c| c.y > c.w,
+            |c| c.z < 0.0,
+            |c| c.z > c.w,
+        ];
         planes.iter().any(|outside| clip.iter().all(outside))
     }
 
@@ -121,9 +139,17 @@ impl Scene {
         let (w, h) = (self.render.width as f32, self.render.height as f32);
         let m = c.clip_from_world(w / h, &self.bounds);
         let (lo, hi) = (self.bounds.min, self.bounds.max);
-        let (mut min, mut max) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+        let (mut min, mut max) = (
+            glam::Vec2::splat(f32::INFINITY),
+            glam::Vec2::splat(f32::NEG_INFINITY),
+        );
         for i in 0..8 {
-            let p = m * Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2]).extend(1.0);
+            let p = m * Vec3::new(
+                [lo.x, hi.x][i & 1],
+                [lo.y, hi.y][(i >> 1) & 1],
+                [lo.z, hi.z][i >> 2],
+            )
+            .extend(1.0);
             if !(p.w > 0.0 && p.z >= 0.0) {
                 return false;
             }

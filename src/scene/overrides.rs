@@ -42,12 +42,21 @@ pub fn parse_value(text: &str) -> toml::Value {
 
 /// Sets each `key=value` pair in `table`'s `[render]`; an unknown key is a [`Error::Setting`]
 /// naming `origin`, the scene it was given for.
-pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)], origin: &str) -> crate::Result<()> {
+pub fn apply_overrides(
+    table: &mut toml::Table,
+    overrides: &[(String, String)],
+    origin: &str,
+) -> crate::Result<()> {
     for (key, value) in overrides {
         let short = key.strip_prefix("render.").unwrap_or(key);
         if !RENDER_KEYS.contains(&short) {
             let why = format!("unknown render setting (known: {})", RENDER_KEYS.join(", "));
-            return Err(Error::Setting { origin: Some(origin.to_string()), key: key.clone(), value: None, why });
+            return Err(Error::Setting {
+                origin: Some(origin.to_string()),
+                key: key.clone(),
+                value: None,
+                why,
+            });
         }
         let v = parse_value(value);
         let render = table
@@ -58,7 +67,10 @@ pub fn apply_overrides(table: &mut toml::Table, overrides: &[(String, String)], 
         if short == "resolution" {
             render.insert("width".into(), v.clone());
             render.insert("height".into(), v);
-        } else if let Some(h) = short.strip_prefix("hybrid.").or(["base", "levels", "eps"].into_iter().find(|k| *k == short)) {
+        } else if let Some(h) = short
+            .strip_prefix("hybrid.")
+            .or(["base", "levels", "eps"].into_iter().find(|k| *k == short))
+        {
             // `base`, `levels` and `eps` are the hybrid map's: `--set maps=hybrid --set base=2048`.
             let hybrid = render
                 .entry("hybrid")

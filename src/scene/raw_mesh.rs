@@ -33,7 +33,10 @@ impl RawMesh {
                 [(a, b), (b, c), (c, a)]
             })
             .collect();
-        edges.iter().filter(|&&(a, b)| !edges.contains(&(b, a))).count()
+        edges
+            .iter()
+            .filter(|&&(a, b)| !edges.contains(&(b, a)))
+            .count()
     }
 }
 
@@ -44,18 +47,33 @@ mod tests {
     #[test]
     fn a_closed_tetrahedron_has_no_boundary_and_a_square_four_edges() {
         let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
-        let closed = RawMesh { positions: p.clone(), normals: None, indices: vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3] };
+        let closed = RawMesh {
+            positions: p.clone(),
+            normals: None,
+            indices: vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+        };
         assert_eq!(closed.boundary_edges(), 0);
         // Two triangles of a square, its shared edge split into two vertex copies: welded, the
         // diagonal is inner and the four sides are the boundary.
         let square = RawMesh {
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::ZERO,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::Y,
+            ],
             normals: None,
             indices: vec![0, 1, 2, 3, 4, 5],
         };
         assert_eq!(square.boundary_edges(), 4);
         // One face of the tetrahedron removed: its three edges open.
-        let open = RawMesh { positions: p, normals: None, indices: vec![0, 2, 1, 0, 1, 3, 0, 3, 2] };
+        let open = RawMesh {
+            positions: p,
+            normals: None,
+            indices: vec![0, 2, 1, 0, 1, 3, 0, 3, 2],
+        };
         assert_eq!(open.boundary_edges(), 3);
     }
 }

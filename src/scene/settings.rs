@@ -50,7 +50,11 @@ pub struct HybridDef {
 
 impl Default for HybridDef {
     fn default() -> Self {
-        Self { base: 2048, levels: 2, eps: 0.25 }
+        Self {
+            base: 2048,
+            levels: 2,
+            eps: 0.25,
+        }
     }
 }
 
@@ -97,7 +101,12 @@ pub struct BiasDef {
 
 impl Default for BiasDef {
     fn default() -> Self {
-        Self { constant: 0.5, slope: 0.5, normal_offset: 0.5, max_slope: 4.0 }
+        Self {
+            constant: 0.5,
+            slope: 0.5,
+            normal_offset: 0.5,
+            max_slope: 4.0,
+        }
     }
 }
 

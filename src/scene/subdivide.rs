@@ -23,7 +23,9 @@ pub enum Scheme {
 /// `levels` rounds of 1→4 splits; `Err` says why when the result would be too large.
 pub fn subdivide(mesh: RawMesh, levels: u32, scheme: Scheme) -> Result<RawMesh, String> {
     let triangles = (mesh.indices.len() / 3) as u64;
-    let after = triangles.checked_shl(2 * levels).filter(|&t| levels < 16 && t <= MAX_TRIANGLES);
+    let after = triangles
+        .checked_shl(2 * levels)
+        .filter(|&t| levels < 16 && t <= MAX_TRIANGLES);
     if after.is_none() {
         return Err(format!(
             "subdivide = {levels} would turn {triangles} triangles into more than {MAX_TRIANGLES} (each level multiplies by 4)"
@@ -36,7 +38,11 @@ pub fn subdivide(mesh: RawMesh, levels: u32, scheme: Scheme) -> Result<RawMesh, 
 }
 
 fn once(mesh: RawMesh) -> RawMesh {
-    let RawMesh { mut positions, mut normals, indices } = mesh;
+    let RawMesh {
+        mut positions,
+        mut normals,
+        indices,
+    } = mesh;
     let mut midpoints: HashMap<(u32, u32), u32> = HashMap::with_capacity(indices.len());
     let mut out = Vec::with_capacity(indices.len() * 4);
     let mut midpoint = |a: u32, b: u32| -> u32 {
@@ -57,7 +63,11 @@ fn once(mesh: RawMesh) -> RawMesh {
         // Same winding as the parent in all four.
         out.extend([a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca]);
     }
-    RawMesh { positions, normals, indices: out }
+    RawMesh {
+        positions,
+        normals,
+        indices: out,
+    }
 }
 
 #[cfg(test)]
@@ -66,7 +76,11 @@ mod tests {
 
     fn quad() -> RawMesh {
         let positions = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, 1.0), Vec3::Z];
-        RawMesh { positions, normals: None, indices: vec![0, 2, 1, 0, 3, 2] }
+        RawMesh {
+            positions,
+            normals: None,
+            indices: vec![0, 2, 1, 0, 3, 2],
+        }
     }
 
     #[test]

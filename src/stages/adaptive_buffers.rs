@@ -27,7 +27,11 @@ pub const LIST_GROUPS_X: u32 = 65535;
 /// and probe's `begin` write for a list of `n` items, 64 per workgroup.
 pub fn list_dispatch(n: u32) -> [u32; 3] {
     let groups = n.div_ceil(64);
-    [groups.min(LIST_GROUPS_X), groups.div_ceil(LIST_GROUPS_X).max(1), 1]
+    [
+        groups.min(LIST_GROUPS_X),
+        groups.div_ceil(LIST_GROUPS_X).max(1),
+        1,
+    ]
 }
 
 /// The sizes every adaptive buffer and dispatch derives from.
@@ -158,4 +162,3 @@ pub struct Requests<'a> {
     pub decisions: &'a Decisions,
     pub control: &'a wgpu::Buffer,
 }
-

@@ -1,8 +1,8 @@
 //! blur: separable box prefilter of the moment planes (horizontal into `scratch`, vertical back).
 
-use crate::gpu::{GpuContext, Stage};
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
 pub struct Blur {
@@ -23,15 +23,38 @@ pub struct BlurMaps<'b> {
 
 impl Blur {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { horizontal: ComputeKernel::new(ctx, Stage::BLUR, "horizontal")?, vertical: ComputeKernel::new(ctx, Stage::BLUR, "vertical")? })
+        Ok(Self {
+            horizontal: ComputeKernel::new(ctx, Stage::BLUR, "horizontal")?,
+            vertical: ComputeKernel::new(ctx, Stage::BLUR, "vertical")?,
+        })
     }
 
     /// `source` → (horizontal) → `scratch` → (vertical) → `target`; `frame` is the frame uniform
     /// and `map_size` its `map_size` (the dispatch covers the map).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, filter: &wgpu::Buffer, maps: &BlurMaps) {
-        let BlurMaps { size, layers, source, scratch, target } = *maps;
-        let size3 = [groups(size, PIXEL_WORKGROUP[0]), groups(size, PIXEL_WORKGROUP[1]), layers];
-        for (kernel, from, to) in [(&self.horizontal, source, scratch), (&self.vertical, scratch, target)] {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        filter: &wgpu::Buffer,
+        maps: &BlurMaps,
+    ) {
+        let BlurMaps {
+            size,
+            layers,
+            source,
+            scratch,
+            target,
+        } = *maps;
+        let size3 = [
+            groups(size, PIXEL_WORKGROUP[0]),
+            groups(size, PIXEL_WORKGROUP[1]),
+            layers,
+        ];
+        for (kernel, from, to) in [
+            (&self.horizontal, source, scratch),
+            (&self.vertical, scratch, target),
+        ] {
             kernel.dispatch(
                 ctx,
                 enc,

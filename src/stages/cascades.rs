@@ -3,9 +3,9 @@
 
 use super::pcf::comparison_sampler;
 use super::shade::Screen;
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
@@ -36,12 +36,26 @@ pub struct CascadeInputs<'a> {
 
 impl Cascades {
     pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::CASCADES, "main", maps)?, sampler: comparison_sampler(ctx) })
+        Ok(Self {
+            kernel: ComputeKernel::new_for(ctx, Stage::CASCADES, "main", maps)?,
+            sampler: comparison_sampler(ctx),
+        })
     }
 
     /// Writes `visibility` and `chosen` at every pixel of the G-buffer (V at geometry pixels).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, inputs: &CascadeInputs) {
-        let Screen { frame, gbuffer, tiles, visibility } = *screen;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        inputs: &CascadeInputs,
+    ) {
+        let Screen {
+            frame,
+            gbuffer,
+            tiles,
+            visibility,
+        } = *screen;
         for band in &tiles.bands {
             self.kernel.dispatch(
                 ctx,
@@ -59,7 +73,11 @@ impl Cascades {
                     cascades: inputs.cascades.as_entire_binding(),
                     chosen: band.pixels(tiles, inputs.chosen, gbuffer.width, 4),
                 },
-                Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
+                Dispatch::Direct([
+                    groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                    groups(band.rows, PIXEL_WORKGROUP[1]),
+                    1,
+                ]),
             );
         }
     }

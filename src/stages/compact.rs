@@ -2,12 +2,12 @@
 //! rectangles; `seed` and `resolve` start the item list and finish V (reproject_count `begin`
 //! starts each level's list).
 
-use crate::gpu::{GpuContext, Stage};
-use crate::stages::adaptive_buffers::{CountMaps, Decisions, Footprints, ItemLists, Level};
-use crate::render::gbuffer::GBuffer;
 use super::shade::Screen;
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
+use crate::render::gbuffer::GBuffer;
+use crate::stages::adaptive_buffers::{CountMaps, Decisions, Footprints, ItemLists, Level};
 use crate::Result;
 
 pub struct Compact {
@@ -33,15 +33,32 @@ pub struct CompactInputs<'b> {
 impl Compact {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         let k = |e| ComputeKernel::new(ctx, Stage::COMPACT, e);
-        Ok(Self { main: k("main")?, main_rects: k("main_rects")?, seed: k("seed")?, resolve: k("resolve")? })
+        Ok(Self {
+            main: k("main")?,
+            main_rects: k("main_rects")?,
+            seed: k("seed")?,
+            resolve: k("resolve")?,
+        })
     }
 
     fn pixels(g: &GBuffer) -> Dispatch<'static> {
-        Dispatch::Direct([groups(g.width, PIXEL_WORKGROUP[0]), groups(g.height, PIXEL_WORKGROUP[1]), 1])
+        Dispatch::Direct([
+            groups(g.width, PIXEL_WORKGROUP[0]),
+            groups(g.height, PIXEL_WORKGROUP[1]),
+            1,
+        ])
     }
 
     /// Every geometry pixel of `g` becomes an item of the root (`items.items[0]`), counted in `control`.
-    pub fn record_seed(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+    pub fn record_seed(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        level: &wgpu::Buffer,
+        control: &wgpu::Buffer,
+        items: &ItemLists,
+    ) {
         let (frame, g) = (screen.frame, screen.gbuffer);
         self.seed.dispatch(
             ctx,
@@ -60,11 +77,30 @@ impl Compact {
     /// From this level's items (`items.items[lv.cur]`, their counts and the split decisions): the
     /// next level's items and quads' probes, the uniform shares of unrefined quads, and (`grow_rects`)
     /// the footprints of the next maps.
-    pub fn record_main(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, g: &GBuffer, inputs: &CompactInputs, grow_rects: bool) {
-        let CompactInputs { counts, decisions, next_quads, samples, items, footprints } = *inputs;
+    pub fn record_main(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        g: &GBuffer,
+        inputs: &CompactInputs,
+        grow_rects: bool,
+    ) {
+        let CompactInputs {
+            counts,
+            decisions,
+            next_quads,
+            samples,
+            items,
+            footprints,
+        } = *inputs;
         let (control, cur) = (lv.control, lv.cur);
         // Both entry points share the item code, so both take every binding.
-        let kernel = if grow_rects { &self.main_rects } else { &self.main };
+        let kernel = if grow_rects {
+            &self.main_rects
+        } else {
+            &self.main
+        };
         kernel.dispatch(
             ctx,
             enc,
@@ -91,7 +127,14 @@ impl Compact {
     }
 
     /// V from the integer sums (`items.visibility_fixed`) into the screen's V.
-    pub fn record_resolve(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, level: &wgpu::Buffer, items: &ItemLists) {
+    pub fn record_resolve(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        level: &wgpu::Buffer,
+        items: &ItemLists,
+    ) {
         let (frame, g, visibility) = (screen.frame, screen.gbuffer, screen.visibility);
         self.resolve.dispatch(
             ctx,

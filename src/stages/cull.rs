@@ -3,13 +3,13 @@
 //! raster draws only those (docs/gpu-frame.md). A batch holds as many maps as whole-mesh index
 //! slots fit one storage binding; batches reuse the slots within one submission.
 
-use crate::gpu::{GpuContext, Stage};
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::readback;
+use crate::gpu::stages::bind;
+use crate::gpu::structs::GpuCull;
+use crate::gpu::{GpuContext, Stage};
 use crate::render::SceneGpu;
 use crate::scene::Scene;
-use crate::gpu::readback;
-use crate::gpu::structs::GpuCull;
 use crate::Result;
 
 /// u32 words of one slot's draw_indexed_indirect arguments.
@@ -48,26 +48,50 @@ impl Cull {
     /// None when the adapter cannot draw indirectly with a first instance, or when one whole-mesh
     /// slot does not fit a storage binding: maps are then rasterized whole. `scene_gpu` is
     /// `scene` uploaded (its shadow order gives the runs).
-    pub fn new(ctx: &GpuContext, scene: &Scene, scene_gpu: &SceneGpu, max_maps: u32) -> Result<Option<Self>> {
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        scene_gpu: &SceneGpu,
+        max_maps: u32,
+    ) -> Result<Option<Self>> {
         let stride = scene_gpu.index_count;
         let slot_bytes = stride as u64 * 4;
         let binding = ctx.limits().max_storage_buffer_binding_size;
-        let slots = (binding.min(SLOTS_BUDGET_BYTES) / slot_bytes.max(4)).min(max_maps as u64) as u32;
-        if slots == 0 || !ctx.device.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE) {
+        let slots =
+            (binding.min(SLOTS_BUDGET_BYTES) / slot_bytes.max(4)).min(max_maps as u64) as u32;
+        if slots == 0
+            || !ctx
+                .device
+                .features()
+                .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE)
+        {
             return Ok(None);
         }
-        let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
+        let storage =
+            |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
         let run_count = (stride / 3).div_ceil(CULL_RUN) as u64;
         Ok(Some(Self {
-            kept_runs: storage("cull kept runs", run_count * slots as u64 * 4, wgpu::BufferUsages::empty()),
+            kept_runs: storage(
+                "cull kept runs",
+                run_count * slots as u64 * 4,
+                wgpu::BufferUsages::empty(),
+            ),
             control: storage("cull control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("cull dispatch", 16, wgpu::BufferUsages::INDIRECT),
             cull_face: cull_face(scene.render.cull),
             runs_phase: ComputeKernel::new(ctx, Stage::CULL, "main")?,
             begin: ComputeKernel::new(ctx, Stage::CULL, "begin")?,
             triangles: ComputeKernel::new(ctx, Stage::CULL, "triangles")?,
-            culled: storage("culled indices", slot_bytes * slots as u64, wgpu::BufferUsages::INDEX),
-            args: storage("cull draw arguments", slots as u64 * ARGS_WORDS as u64 * 4, wgpu::BufferUsages::INDIRECT),
+            culled: storage(
+                "culled indices",
+                slot_bytes * slots as u64,
+                wgpu::BufferUsages::INDEX,
+            ),
+            args: storage(
+                "cull draw arguments",
+                slots as u64 * ARGS_WORDS as u64 * 4,
+                wgpu::BufferUsages::INDIRECT,
+            ),
             slots,
             stride,
         }))
@@ -76,9 +100,22 @@ impl Cull {
     /// Culls for lattice samples `ks` (at most `slots`), slot n for ks[n]; `tiles` holds
     /// CULL_TILE_WORDS words per lattice sample; `frame` is the frame uniform and `scene_gpu` the
     /// scene `new` was built for (its shadow indices and vertices).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, scene_gpu: &SceneGpu, batch: &CullBatch, ks: &[u32]) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        scene_gpu: &SceneGpu,
+        batch: &CullBatch,
+        ks: &[u32],
+    ) {
         let CullBatch { samples, tiles } = *batch;
-        assert!(ks.len() as u32 <= self.slots && !ks.is_empty(), "cull batch of {} maps, capacity {}", ks.len(), self.slots);
+        assert!(
+            ks.len() as u32 <= self.slots && !ks.is_empty(),
+            "cull batch of {} maps, capacity {}",
+            ks.len(),
+            self.slots
+        );
         let triangles = self.stride / 3;
         let total = groups(triangles.div_ceil(CULL_RUN), LINE_WORKGROUP[0]).max(1);
         let groups_x = total.min(ctx.limits().max_compute_workgroups_per_dimension);
@@ -111,7 +148,10 @@ impl Cull {
         self.begin.dispatch(
             ctx,
             enc,
-            bind::cull::Begin { control: self.control.as_entire_binding(), dispatch: self.dispatch.as_entire_binding() },
+            bind::cull::Begin {
+                control: self.control.as_entire_binding(),
+                dispatch: self.dispatch.as_entire_binding(),
+            },
             Dispatch::Direct([1, 1, 1]),
         );
         self.triangles.dispatch(
@@ -148,4 +188,3 @@ pub fn cull_face(mode: crate::scene::CullMode) -> u32 {
         crate::scene::CullMode::Front => 2,
     }
 }
-

@@ -1,10 +1,10 @@
 //! env_count: per active quadtree cell, the pixels whose rays to the cell's corners disagree.
 
+use super::env_trace::BvhBuffers;
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
-use super::env_trace::BvhBuffers;
-use crate::gpu::stages::bind;
-use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
 /// One level's count: its parameters, the corner rays, `cell_count` cells and their counts, over
@@ -25,12 +25,28 @@ pub struct EnvCount {
 
 impl EnvCount {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_COUNT, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::ENV_COUNT, "main")?,
+        })
     }
 
     /// `counts` must be zeroed for the `cells` active cells.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvCountInputs, bvh: &BvhBuffers) {
-        let EnvCountInputs { params, corners, cells, counts, cell_count, stride } = *inputs;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        gbuffer: &GBuffer,
+        inputs: &EnvCountInputs,
+        bvh: &BvhBuffers,
+    ) {
+        let EnvCountInputs {
+            params,
+            corners,
+            cells,
+            counts,
+            cell_count,
+            stride,
+        } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,
@@ -44,7 +60,14 @@ impl EnvCount {
                 bvh_nodes: bvh.nodes.as_entire_binding(),
                 bvh_triangles: bvh.triangles.as_entire_binding(),
             },
-            Dispatch::Direct([groups(counted_pixels(gbuffer.width, gbuffer.height, stride), LINE_WORKGROUP[0]), cell_count, 1]),
+            Dispatch::Direct([
+                groups(
+                    counted_pixels(gbuffer.width, gbuffer.height, stride),
+                    LINE_WORKGROUP[0],
+                ),
+                cell_count,
+                1,
+            ]),
         );
     }
 }

@@ -1,9 +1,9 @@
 //! env_shadowmaps: PCF (the pcf family's tap patterns) over K directional lights' shadow maps,
 //! power- and cosine-weighted.
 
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
@@ -37,13 +37,31 @@ pub struct FilterBuffers<'a> {
 impl EnvShadowmaps {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
     pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::ENV_SHADOWMAPS, "main", raster)?, sampler: super::pcf::comparison_sampler(ctx) })
+        Ok(Self {
+            kernel: ComputeKernel::new_for(ctx, Stage::ENV_SHADOWMAPS, "main", raster)?,
+            sampler: super::pcf::comparison_sampler(ctx),
+        })
     }
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
     /// when `params.use_ao` is 1. Writes `visibility` at every `gbuffer` pixel.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvMapInputs, visibility: &wgpu::Buffer) {
-        let EnvMapInputs { frame, params, samples, maps, lights, ao, filter } = *inputs;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        gbuffer: &GBuffer,
+        inputs: &EnvMapInputs,
+        visibility: &wgpu::Buffer,
+    ) {
+        let EnvMapInputs {
+            frame,
+            params,
+            samples,
+            maps,
+            lights,
+            ao,
+            filter,
+        } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,
@@ -61,7 +79,11 @@ impl EnvShadowmaps {
                 disk: filter.disk.as_entire_binding(),
                 compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
             },
-            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([
+                groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                groups(gbuffer.height, PIXEL_WORKGROUP[1]),
+                1,
+            ]),
         );
     }
 }

@@ -1,8 +1,8 @@
 //! env_split: split or keep every active quadtree cell; children and leaves appended with atomics.
 
-use crate::gpu::{GpuContext, Stage};
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
 pub struct EnvSplit {
@@ -23,10 +23,18 @@ pub struct EnvSplitIo<'a> {
 
 impl EnvSplit {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_SPLIT, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::ENV_SPLIT, "main")?,
+        })
     }
 
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, io: &EnvSplitIo, cell_count: u32) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        io: &EnvSplitIo,
+        cell_count: u32,
+    ) {
         self.kernel.dispatch(
             ctx,
             enc,

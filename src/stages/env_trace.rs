@@ -1,12 +1,12 @@
 //! env_trace: shadow rays from every G-buffer pixel (`main`) or every mesh vertex (`vertex`) to a
 //! list of directional lights through the scene's BVH, into V (and the blocked-ray counts).
 
-use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
-use crate::render::bvh::Bvh;
 use crate::gpu::readback;
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
+use crate::render::bvh::Bvh;
+use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 /// The BVH on the GPU (bindings 20 and 21 of every ray-casting env kernel).
@@ -17,10 +17,24 @@ pub struct BvhBuffers {
 
 impl BvhBuffers {
     pub fn upload(ctx: &GpuContext, bvh: &Bvh) -> BvhBuffers {
-        let tris = if bvh.triangles.is_empty() { vec![Default::default()] } else { bvh.triangles.clone() };
+        let tris = if bvh.triangles.is_empty() {
+            vec![Default::default()]
+        } else {
+            bvh.triangles.clone()
+        };
         BvhBuffers {
-            nodes: readback::storage_buffer(ctx, "bvh nodes", &bvh.nodes, wgpu::BufferUsages::empty()),
-            triangles: readback::storage_buffer(ctx, "bvh triangles", &tris, wgpu::BufferUsages::empty()),
+            nodes: readback::storage_buffer(
+                ctx,
+                "bvh nodes",
+                &bvh.nodes,
+                wgpu::BufferUsages::empty(),
+            ),
+            triangles: readback::storage_buffer(
+                ctx,
+                "bvh triangles",
+                &tris,
+                wgpu::BufferUsages::empty(),
+            ),
         }
     }
 }
@@ -65,7 +79,10 @@ pub struct EnvTraceInputs<'a> {
 pub const ENV_TRACE_CHUNK: u32 = 256;
 
 /// The per-chunk parameter blocks of `light_count` lights (at least one, which writes V).
-pub fn chunk_params(base: &crate::gpu::structs::GpuEnvParams, light_count: u32) -> Vec<crate::gpu::structs::GpuEnvParams> {
+pub fn chunk_params(
+    base: &crate::gpu::structs::GpuEnvParams,
+    light_count: u32,
+) -> Vec<crate::gpu::structs::GpuEnvParams> {
     let chunks = light_count.div_ceil(ENV_TRACE_CHUNK).max(1);
     (0..chunks)
         .map(|c| {
@@ -80,11 +97,20 @@ pub fn chunk_params(base: &crate::gpu::structs::GpuEnvParams, light_count: u32) 
 
 impl EnvTrace {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "main")?,
+        })
     }
 
     /// Writes `visibility` at every `gbuffer` pixel.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &EnvTraceInputs, visibility: &wgpu::Buffer) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        gbuffer: &GBuffer,
+        inputs: &EnvTraceInputs,
+        visibility: &wgpu::Buffer,
+    ) {
         self.kernel.dispatch(
             ctx,
             enc,
@@ -100,20 +126,38 @@ impl EnvTrace {
                 bvh_nodes: inputs.bvh.nodes.as_entire_binding(),
                 bvh_triangles: inputs.bvh.triangles.as_entire_binding(),
             },
-            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([
+                groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                groups(gbuffer.height, PIXEL_WORKGROUP[1]),
+                1,
+            ]),
         );
     }
 }
 
 impl EnvTraceVertex {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "vertex")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "vertex")?,
+        })
     }
 
     /// One chunk of lights at every mesh vertex (`params.vertex_count` of them): `scene_vertices`
     /// is the scene's vertex buffer, `vertex_count` its length (the dispatch covers it).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, mesh: &VertexMesh, params: &wgpu::Buffer, lights: &wgpu::Buffer, out: &VertexOutputs) {
-        let VertexMesh { vertices: scene_vertices, vertex_count, bvh } = *mesh;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        mesh: &VertexMesh,
+        params: &wgpu::Buffer,
+        lights: &wgpu::Buffer,
+        out: &VertexOutputs,
+    ) {
+        let VertexMesh {
+            vertices: scene_vertices,
+            vertex_count,
+            bvh,
+        } = *mesh;
         self.kernel.dispatch(
             ctx,
             enc,

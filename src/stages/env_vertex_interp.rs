@@ -1,11 +1,11 @@
 //! env_vertex_interp: V per pixel from V per mesh vertex, by the pixel's barycentrics
 //! (env-pixels:at=vertex).
 
-use crate::gpu::{GpuContext, Stage};
-use crate::render::gbuffer::GBuffer;
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
 use crate::render::barycentrics::TriangleIds;
+use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 /// What the interpolation reads: the scene's indices, the parameters, each pixel's triangle and
@@ -25,13 +25,28 @@ pub struct EnvVertexInterp {
 
 impl EnvVertexInterp {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::ENV_VERTEX_INTERP, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::ENV_VERTEX_INTERP, "main")?,
+        })
     }
 
     /// `ao` is read when `params.use_ao` is 1 (any buffer otherwise); `scene_indices` is the scene's
     /// index buffer (the ids name its triangles); `gbuffer` sizes the dispatch.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, gbuffer: &GBuffer, inputs: &InterpInputs, visibility: &wgpu::Buffer) {
-        let InterpInputs { scene_indices, params, ids, vertex_visibility, ao } = *inputs;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        gbuffer: &GBuffer,
+        inputs: &InterpInputs,
+        visibility: &wgpu::Buffer,
+    ) {
+        let InterpInputs {
+            scene_indices,
+            params,
+            ids,
+            vertex_visibility,
+            ao,
+        } = *inputs;
         self.kernel.dispatch(
             ctx,
             enc,
@@ -43,7 +58,11 @@ impl EnvVertexInterp {
                 ao: ao.as_entire_binding(),
                 visibility: visibility.as_entire_binding(),
             },
-            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([
+                groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                groups(gbuffer.height, PIXEL_WORKGROUP[1]),
+                1,
+            ]),
         );
     }
 }

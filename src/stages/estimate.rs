@@ -4,8 +4,8 @@
 
 use super::shade::{block_uniform, blocks, GeometryTiles, BLOCK_SIZES, SHADE_BLOCK};
 use super::ComputeKernel;
-use crate::gpu::stages::bind;
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
@@ -39,23 +39,55 @@ impl EstimatePass {
     /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
     pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self {
-            blocks: BLOCK_SIZES.iter().map(|size| ComputeKernel::new_for(ctx, Stage::ESTIMATE, &format!("block{size}"), maps)).collect::<Result<_>>()?,
+            blocks: BLOCK_SIZES
+                .iter()
+                .map(|size| {
+                    ComputeKernel::new_for(ctx, Stage::ESTIMATE, &format!("block{size}"), maps)
+                })
+                .collect::<Result<_>>()?,
         })
     }
 
     /// Adds samples `first .. first + count` (all in `maps`) to the sums. The sums are bound
     /// whole, so the frame must be one band (`check_bands`).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &EstimateInputs, maps: &wgpu::TextureView, first: u32, count: u32) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        inputs: &EstimateInputs,
+        maps: &wgpu::TextureView,
+        first: u32,
+        count: u32,
+    ) {
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         let band = &inputs.tiles.bands[0];
         for (block, size) in blocks(first, count) {
-            let kernel = &self.blocks[BLOCK_SIZES.iter().position(|&s| s == size).expect("a block size")];
+            let kernel = &self.blocks[BLOCK_SIZES
+                .iter()
+                .position(|&s| s == size)
+                .expect("a block size")];
             // The block's samples, weights and splits as uniforms read at constant offsets.
-            let samples = block_uniform(ctx, "estimate block samples", SHADE_BLOCK as u64 * sample_bytes);
+            let samples = block_uniform(
+                ctx,
+                "estimate block samples",
+                SHADE_BLOCK as u64 * sample_bytes,
+            );
             let weights = block_uniform(ctx, "estimate block weights", SHADE_BLOCK as u64 * 4);
             let split = block_uniform(ctx, "estimate block split", SHADE_BLOCK as u64 * 8);
-            enc.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &samples, 0, size as u64 * sample_bytes);
-            enc.copy_buffer_to_buffer(inputs.weights, block as u64 * 4, &weights, 0, size as u64 * 4);
+            enc.copy_buffer_to_buffer(
+                inputs.samples,
+                block as u64 * sample_bytes,
+                &samples,
+                0,
+                size as u64 * sample_bytes,
+            );
+            enc.copy_buffer_to_buffer(
+                inputs.weights,
+                block as u64 * 4,
+                &weights,
+                0,
+                size as u64 * 4,
+            );
             enc.copy_buffer_to_buffer(inputs.split, block as u64 * 8, &split, 0, size as u64 * 8);
             kernel.dispatch(
                 ctx,
@@ -65,7 +97,9 @@ impl EstimatePass {
                     block_samples: samples.as_entire_binding(),
                     block_weights: weights.as_entire_binding(),
                     block_split: split.as_entire_binding(),
-                    gbuffer_position: wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
+                    gbuffer_position: wgpu::BindingResource::TextureView(
+                        &inputs.gbuffer.position_view,
+                    ),
                     gbuffer_normal: wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
                     shadow_maps: wgpu::BindingResource::TextureView(maps),
                     sums: inputs.sums.as_entire_binding(),

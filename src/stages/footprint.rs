@@ -1,9 +1,9 @@
 //! footprint (cull = on where every geometry pixel tests every map): the culling tiles of a batch
 //! of maps, slot z from sample record z of the batch (docs/gpu-frame.md §7).
 
-use crate::gpu::stages::bind;
 use super::cull::CullBatch;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::stages::bind;
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
@@ -14,12 +14,22 @@ pub struct Footprint {
 
 impl Footprint {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::FOOTPRINT, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::FOOTPRINT, "main")?,
+        })
     }
 
     /// Raises `tiles` (CULL_TILE_WORDS per slot, cleared by the caller) for slots 0..`slots`, whose
     /// sample records are `samples[0..slots]`.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, g: &GBuffer, batch: &CullBatch, slots: u32) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        g: &GBuffer,
+        batch: &CullBatch,
+        slots: u32,
+    ) {
         let CullBatch { samples, tiles } = *batch;
         self.kernel.dispatch(
             ctx,
@@ -30,9 +40,14 @@ impl Footprint {
                 gbuffer_position: wgpu::BindingResource::TextureView(&g.position_view),
                 gbuffer_normal: wgpu::BindingResource::TextureView(&g.normal_view),
                 tiles: tiles.as_entire_binding(),
-                batch: readback::uniform_buffer(ctx, "footprint batch", &[slots, 0, 0, 0]).as_entire_binding(),
+                batch: readback::uniform_buffer(ctx, "footprint batch", &[slots, 0, 0, 0])
+                    .as_entire_binding(),
             },
-            Dispatch::Direct([groups(g.width, PIXEL_WORKGROUP[0]), groups(g.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([
+                groups(g.width, PIXEL_WORKGROUP[0]),
+                groups(g.height, PIXEL_WORKGROUP[1]),
+                1,
+            ]),
         );
     }
 }

@@ -48,12 +48,28 @@ pub struct FrameParts {
 }
 
 impl FrameGpu<'_> {
-    pub fn shade_inputs<'b>(&'b self, samples: &'b wgpu::Buffer, weights: &'b wgpu::Buffer) -> ShadeInputs<'b> {
-        ShadeInputs { frame: &self.frame_buffer, samples, weights, gbuffer: &self.gbuffer, tiles: &self.geometry_tiles, visibility: &self.visibility }
+    pub fn shade_inputs<'b>(
+        &'b self,
+        samples: &'b wgpu::Buffer,
+        weights: &'b wgpu::Buffer,
+    ) -> ShadeInputs<'b> {
+        ShadeInputs {
+            frame: &self.frame_buffer,
+            samples,
+            weights,
+            gbuffer: &self.gbuffer,
+            tiles: &self.geometry_tiles,
+            visibility: &self.visibility,
+        }
     }
     /// The frame's screen: what every per-pixel pass covers, and V.
     pub fn screen(&self) -> Screen<'_> {
-        Screen { frame: &self.frame_buffer, gbuffer: &self.gbuffer, tiles: &self.geometry_tiles, visibility: &self.visibility }
+        Screen {
+            frame: &self.frame_buffer,
+            gbuffer: &self.gbuffer,
+            tiles: &self.geometry_tiles,
+            visibility: &self.visibility,
+        }
     }
     /// How this frame's map-reading kernels read the scene's maps.
     pub fn map_access(&self) -> MapAccess {

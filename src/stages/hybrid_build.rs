@@ -1,11 +1,11 @@
 //! hybrid_build: merges full-resolution maps (layers of a transient raster) into a hybrid store,
 //! the compact representation `kernels/shared/maps_hybrid.wgsl` reads (docs/hybrid.md).
 
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
-use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::{GpuHybridBuild, GpuHybridControl};
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::shadow_raster::ShadowMapArray;
 use crate::scene::HybridDef;
 use crate::{Error, Result};
@@ -51,7 +51,10 @@ impl HybridBuild {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
     pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
         Ok(Self {
-            sampler: ctx.device.create_sampler(&wgpu::SamplerDescriptor { label: Some("hybrid_build gather"), ..Default::default() }),
+            sampler: ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("hybrid_build gather"),
+                ..Default::default()
+            }),
             classify: ComputeKernel::new_for(ctx, Stage::HYBRID_BUILD, "classify", raster)?,
             scan_rows: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "scan_rows")?,
             scan_total: ComputeKernel::new(ctx, Stage::HYBRID_BUILD, "scan_total")?,
@@ -60,7 +63,15 @@ impl HybridBuild {
     }
 
     /// Merges `raster` layer `layer` into `store` as slot `slot` (four dispatches, no wait).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, store: &HybridStore, raster: &ShadowMapArray, layer: u32, slot: u32) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        store: &HybridStore,
+        raster: &ShadowMapArray,
+        layer: u32,
+        slot: u32,
+    ) {
         let s = store.settings;
         let uniform = GpuHybridBuild {
             levels: s.levels,
@@ -73,7 +84,11 @@ impl HybridBuild {
         };
         let build = readback::uniform_buffer(ctx, "hybrid_build", &uniform);
         let c = store.coarse;
-        let grid = Dispatch::Direct([groups(c, PIXEL_WORKGROUP[0]), groups(c, PIXEL_WORKGROUP[1]), 1]);
+        let grid = Dispatch::Direct([
+            groups(c, PIXEL_WORKGROUP[0]),
+            groups(c, PIXEL_WORKGROUP[1]),
+            1,
+        ]);
         let raster_view = wgpu::BindingResource::TextureView(&raster.array_view);
         self.classify.dispatch(
             ctx,
@@ -90,7 +105,11 @@ impl HybridBuild {
         self.scan_rows.dispatch(
             ctx,
             enc,
-            bind::hybrid_build::ScanRows { build: build.as_entire_binding(), offsets: store.offsets.as_entire_binding(), row_starts: store.row_starts.as_entire_binding() },
+            bind::hybrid_build::ScanRows {
+                build: build.as_entire_binding(),
+                offsets: store.offsets.as_entire_binding(),
+                row_starts: store.row_starts.as_entire_binding(),
+            },
             Dispatch::Direct([groups(c, LINE_WORKGROUP[0]), 1, 1]),
         );
         self.scan_total.dispatch(
@@ -104,7 +123,11 @@ impl HybridBuild {
             },
             Dispatch::Direct([1, 1, 1]),
         );
-        let grid = Dispatch::Direct([groups(c, PIXEL_WORKGROUP[0]), groups(c, PIXEL_WORKGROUP[1]), 1]);
+        let grid = Dispatch::Direct([
+            groups(c, PIXEL_WORKGROUP[0]),
+            groups(c, PIXEL_WORKGROUP[1]),
+            1,
+        ]);
         self.emit.dispatch(
             ctx,
             enc,
@@ -126,7 +149,12 @@ impl HybridBuild {
 impl HybridStore {
     /// A store with `slots` roots and room for at least `capacity_bytes` (rounded up to whole pool
     /// rows, at most the device's texture height).
-    pub fn new(ctx: &GpuContext, settings: HybridDef, slots: u32, capacity_bytes: u64) -> Result<Self> {
+    pub fn new(
+        ctx: &GpuContext,
+        settings: HybridDef,
+        slots: u32,
+        capacity_bytes: u64,
+    ) -> Result<Self> {
         let coarse = settings.base >> settings.levels;
         let max_rows = ctx.limits().max_texture_dimension_2d;
         let words = (capacity_bytes / 4).max(slots as u64 + coarse as u64 * coarse as u64);
@@ -140,29 +168,61 @@ impl HybridStore {
         }
         let pool = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("hybrid store"),
-            size: wgpu::Extent3d { width: POOL_WIDTH, height: rows, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: POOL_WIDTH,
+                height: rows,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::R32Uint,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let view = pool.create_view(&Default::default());
         let storage_view = pool.create_view(&Default::default());
-        let control = readback::storage_buffer(ctx, "hybrid control", &[GpuHybridControl::default()], wgpu::BufferUsages::COPY_DST);
-        let offsets = readback::zeroed_storage(ctx, "hybrid offsets", coarse as u64 * coarse as u64 * 4);
+        let control = readback::storage_buffer(
+            ctx,
+            "hybrid control",
+            &[GpuHybridControl::default()],
+            wgpu::BufferUsages::COPY_DST,
+        );
+        let offsets =
+            readback::zeroed_storage(ctx, "hybrid offsets", coarse as u64 * coarse as u64 * 4);
         let row_starts = readback::zeroed_storage(ctx, "hybrid row starts", coarse as u64 * 4);
-        let coarse_nodes = readback::zeroed_storage(ctx, "hybrid coarse nodes", coarse as u64 * coarse as u64 * 4);
-        let store = Self { pool, view, storage_view, control, offsets, row_starts, coarse_nodes, settings, coarse, slots, capacity_words };
+        let coarse_nodes = readback::zeroed_storage(
+            ctx,
+            "hybrid coarse nodes",
+            coarse as u64 * coarse as u64 * 4,
+        );
+        let store = Self {
+            pool,
+            view,
+            storage_view,
+            control,
+            offsets,
+            row_starts,
+            coarse_nodes,
+            settings,
+            coarse,
+            slots,
+            capacity_words,
+        };
         store.reset(ctx);
         Ok(store)
     }
 
     /// Empties the store (its maps are no longer needed): allocation restarts after the roots.
     pub fn reset(&self, ctx: &GpuContext) {
-        let empty = GpuHybridControl { used: self.slots, ..Default::default() };
-        ctx.queue.write_buffer(&self.control, 0, bytemuck::bytes_of(&empty));
+        let empty = GpuHybridControl {
+            used: self.slots,
+            ..Default::default()
+        };
+        ctx.queue
+            .write_buffer(&self.control, 0, bytemuck::bytes_of(&empty));
     }
 
     /// The allocation state (one read-back; submit the builds first).

@@ -28,13 +28,26 @@ impl ComputeKernel {
 
     /// A map-reading kernel built for one map access form (`FrameGpu::map_access`).
     pub fn new_for(ctx: &GpuContext, stage: Stage, entry: &str, maps: MapAccess) -> Result<Self> {
-        let table = stage.entry(entry).ok_or_else(|| Error::Kernel { name: stage.name.into(), message: format!("no entry point `{entry}` in the stage table") })?;
-        Ok(Self { stage, entry: table, pipeline: pipeline::compute_pipeline_for(ctx, stage.name, entry, maps)? })
+        let table = stage.entry(entry).ok_or_else(|| Error::Kernel {
+            name: stage.name.into(),
+            message: format!("no entry point `{entry}` in the stage table"),
+        })?;
+        Ok(Self {
+            stage,
+            entry: table,
+            pipeline: pipeline::compute_pipeline_for(ctx, stage.name, entry, maps)?,
+        })
     }
 
     /// Records one dispatch of this entry point with its bindings (`bind::<stage>::<Set>`, generated
     /// from the stage table: the compiler checks that every variable is bound, once, by its name).
-    pub fn dispatch<'a, B: Bindings<'a>>(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, bindings: B, dispatch: Dispatch) {
+    pub fn dispatch<'a, B: Bindings<'a>>(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: B,
+        dispatch: Dispatch,
+    ) {
         // The struct must be this entry point's: another's would bind another layout.
         assert!(
             B::STAGE == self.stage.name && B::ENTRY_POINTS.contains(&self.entry.name),
@@ -50,7 +63,10 @@ impl ComputeKernel {
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.stage.name), timestamp_writes: None });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.stage.name),
+            timestamp_writes: None,
+        });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         match dispatch {

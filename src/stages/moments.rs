@@ -1,8 +1,8 @@
 //! moments: the centre map's depths as the statistic a filtered method prefilters.
 
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
@@ -13,11 +13,28 @@ pub struct Moments {
 impl Moments {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
     pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::MOMENTS, "main", raster)? })
+        Ok(Self {
+            kernel: ComputeKernel::new_for(ctx, Stage::MOMENTS, "main", raster)?,
+        })
     }
 
     /// `frame`: the frame uniform; `map_size`: its `map_size` (the dispatch covers the map).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, bindings: bind::moments::Main, map_size: u32) {
-        self.kernel.dispatch(ctx, enc, bindings, Dispatch::Direct([groups(map_size, PIXEL_WORKGROUP[0]), groups(map_size, PIXEL_WORKGROUP[1]), 1]));
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        bindings: bind::moments::Main,
+        map_size: u32,
+    ) {
+        self.kernel.dispatch(
+            ctx,
+            enc,
+            bindings,
+            Dispatch::Direct([
+                groups(map_size, PIXEL_WORKGROUP[0]),
+                groups(map_size, PIXEL_WORKGROUP[1]),
+                1,
+            ]),
+        );
     }
 }

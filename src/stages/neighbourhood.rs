@@ -1,9 +1,9 @@
 //! neighbourhood: the uniform-3x3 low-quality test, one flag bit per (pixel, quad).
 
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, LowQuality};
-use crate::gpu::stages::bind;
-use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
 pub struct Neighbourhood {
@@ -21,7 +21,14 @@ impl Neighbourhood {
 
     /// One pass over the flag words (writes `out.flags`); the level uniform's quad count (a GPU
     /// copy in the steered loop) bounds the quads each thread tests.
-    pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, out: &LowQuality) {
+    pub fn record_dense(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        counts: &CountMaps,
+        out: &LowQuality,
+    ) {
         let words = lv.shape.height * lv.shape.flag_words_per_row;
         self.dense.dispatch(
             ctx,
@@ -39,7 +46,15 @@ impl Neighbourhood {
 
     /// scope = local: one item of `items.items[cur]` each; also counts each quad's low-quality
     /// pixels (`out.per_quad`, which the level cleared), so no quad_count pass follows.
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, counts: &CountMaps, items: &ItemLists, out: &LowQuality) {
+    pub fn record_list(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        counts: &CountMaps,
+        items: &ItemLists,
+        out: &LowQuality,
+    ) {
         let cur = lv.cur;
         self.list.dispatch(
             ctx,

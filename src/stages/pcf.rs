@@ -1,9 +1,9 @@
 //! pcf: percentage-closer filtering of one shadow map into the visibility buffer.
 
 use super::shade::{MapFilter, Screen};
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
@@ -27,13 +27,35 @@ pub fn comparison_sampler(ctx: &GpuContext) -> wgpu::Sampler {
 impl Pcf {
     /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
     pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new_for(ctx, Stage::PCF, "main", maps)?, sampler: comparison_sampler(ctx) })
+        Ok(Self {
+            kernel: ComputeKernel::new_for(ctx, Stage::PCF, "main", maps)?,
+            sampler: comparison_sampler(ctx),
+        })
     }
 
     /// `frame`: the frame uniform; `samples[0]` is the map's sample; `disk` the tap offsets of the
     /// disk kernels. Writes `visibility` at every G-buffer pixel.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, map: &MapFilter, disk: &wgpu::Buffer) {
-        let (Screen { frame, gbuffer, tiles, visibility }, MapFilter { filter, samples, maps }) = (*screen, *map);
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        map: &MapFilter,
+        disk: &wgpu::Buffer,
+    ) {
+        let (
+            Screen {
+                frame,
+                gbuffer,
+                tiles,
+                visibility,
+            },
+            MapFilter {
+                filter,
+                samples,
+                maps,
+            },
+        ) = (*screen, *map);
         // A band of rows per dispatch (`tiles.bands`; one band unless V passes one binding).
         for band in &tiles.bands {
             self.kernel.dispatch(
@@ -50,7 +72,11 @@ impl Pcf {
                     visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
                     compare_sampler: wgpu::BindingResource::Sampler(&self.sampler),
                 },
-                Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
+                Dispatch::Direct([
+                    groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                    groups(band.rows, PIXEL_WORKGROUP[1]),
+                    1,
+                ]),
             );
         }
     }

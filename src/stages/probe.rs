@@ -2,10 +2,10 @@
 //! (shadow_test `probes` cached them); agreement adds the uniform share, disagreement makes the
 //! pixel four child items of this level.
 
+use super::{ComputeKernel, Dispatch};
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{ItemLists, Level, Masks};
-use crate::gpu::stages::bind;
-use super::{ComputeKernel, Dispatch};
 use crate::Result;
 
 pub struct Probe {
@@ -15,11 +15,21 @@ pub struct Probe {
 
 impl Probe {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { main: ComputeKernel::new(ctx, Stage::PROBE, "main")?, begin: ComputeKernel::new(ctx, Stage::PROBE, "begin")? })
+        Ok(Self {
+            main: ComputeKernel::new(ctx, Stage::PROBE, "main")?,
+            begin: ComputeKernel::new(ctx, Stage::PROBE, "begin")?,
+        })
     }
 
     /// Makes the probes compact appended this level's work (their count and dispatch size).
-    pub fn record_begin(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+    pub fn record_begin(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        level: &wgpu::Buffer,
+        control: &wgpu::Buffer,
+        items: &ItemLists,
+    ) {
         self.begin.dispatch(
             ctx,
             enc,
@@ -34,7 +44,14 @@ impl Probe {
     }
 
     /// `lv.quads`: this level's quads (the probed parents' children); `items.items[cur]`: this level's item list.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        masks: &Masks,
+        items: &ItemLists,
+    ) {
         let (control, cur) = (lv.control, lv.cur);
         self.main.dispatch(
             ctx,

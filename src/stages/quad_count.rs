@@ -1,9 +1,9 @@
 //! quad_count: low-quality pixels per quad, one atomic counter each.
 
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{Level, LowQuality};
-use crate::gpu::stages::bind;
-use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
 pub struct QuadCount {
@@ -12,12 +12,22 @@ pub struct QuadCount {
 
 impl QuadCount {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::QUAD_COUNT, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::QUAD_COUNT, "main")?,
+        })
     }
 
     /// Counts `low.flags` into `low.per_quad`: over `quads` quads, or as the previous subdivide
     /// sized it (`indirect`: its dispatch arguments).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, quads: u32, indirect: Option<&wgpu::Buffer>) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        low: &LowQuality,
+        quads: u32,
+        indirect: Option<&wgpu::Buffer>,
+    ) {
         let words = lv.shape.height * lv.shape.flag_words_per_row;
         self.kernel.dispatch(
             ctx,

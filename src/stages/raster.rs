@@ -42,7 +42,15 @@ pub struct ComputeRaster {
 impl Raster {
     /// `budget_mib`: the scene's `shadow_map_budget_mib`, which a compute chain takes its share of.
     pub fn new(ctx: &GpuContext, cull: CullMode, compute: bool, budget_mib: u32) -> Result<Self> {
-        Ok(if compute { Raster::Compute(ComputeRaster { cull, budget_mib, chains: RefCell::new(Vec::new()) }) } else { Raster::Hardware(ShadowRasterPass::new(ctx, cull)?) })
+        Ok(if compute {
+            Raster::Compute(ComputeRaster {
+                cull,
+                budget_mib,
+                chains: RefCell::new(Vec::new()),
+            })
+        } else {
+            Raster::Hardware(ShadowRasterPass::new(ctx, cull)?)
+        })
     }
 
     pub fn is_compute(&self) -> bool {
@@ -84,7 +92,8 @@ impl Raster {
             return Ok(all);
         }
         let chain = chain_maps(ctx, map_size, budget_mib)?;
-        let budget_maps = (budget_mib as u64 * 1024 * 1024) / (map_size as u64 * map_size as u64 * 4);
+        let budget_maps =
+            (budget_mib as u64 * 1024 * 1024) / (map_size as u64 * map_size as u64 * 4);
         let left = budget_maps.saturating_sub(chain as u64).min(all as u64) as u32;
         if left == 0 {
             return Err(Error::Limit(format!(
@@ -100,8 +109,18 @@ impl Raster {
     }
 
     /// Rasterizes `jobs` (sample → layer, optionally inside a scissor rectangle) into `array`.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
-        let RasterTarget { scene, samples, array } = *to;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[RasterJob],
+    ) -> Result<()> {
+        let RasterTarget {
+            scene,
+            samples,
+            array,
+        } = *to;
         match self {
             Raster::Hardware(pass) => {
                 pass.record(ctx, enc, scene, samples, array, jobs);
@@ -113,8 +132,18 @@ impl Raster {
 
     /// Draws each job's scissor rectangle of its layer again and keeps the rest of the layer (a
     /// kept map a moved mesh touched, docs/reuse.md); a job without a rectangle draws nothing.
-    pub fn record_redraw(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
-        let RasterTarget { scene, samples, array } = *to;
+    pub fn record_redraw(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[RasterJob],
+    ) -> Result<()> {
+        let RasterTarget {
+            scene,
+            samples,
+            array,
+        } = *to;
         match self {
             Raster::Hardware(pass) => {
                 pass.record_redraw(ctx, enc, scene, samples, array, jobs);
@@ -126,8 +155,20 @@ impl Raster {
 
     /// Each job draws the triangles the cull pass kept for it: its slot's index list, whose draw
     /// arguments (index count first) sit at the byte offset given with the job, in `args`.
-    pub fn record_culled(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u64)], culled: &wgpu::Buffer, args: &wgpu::Buffer) -> Result<()> {
-        let RasterTarget { scene, samples, array } = *to;
+    pub fn record_culled(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[(RasterJob, u64)],
+        culled: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+    ) -> Result<()> {
+        let RasterTarget {
+            scene,
+            samples,
+            array,
+        } = *to;
         match self {
             Raster::Hardware(pass) => {
                 pass.record_culled(ctx, enc, scene, samples, array, jobs, culled, args);
@@ -135,7 +176,10 @@ impl Raster {
             }
             Raster::Compute(c) => {
                 let slot_bytes = crate::stages::cull::ARGS_WORDS as u64 * 4;
-                let kept: Vec<(RasterJob, u32)> = jobs.iter().map(|(j, at)| (*j, (at / slot_bytes) as u32)).collect();
+                let kept: Vec<(RasterJob, u32)> = jobs
+                    .iter()
+                    .map(|(j, at)| (*j, (at / slot_bytes) as u32))
+                    .collect();
                 c.record_jobs(ctx, enc, to, &kept, Some((culled, args)))
             }
         }
@@ -144,11 +188,31 @@ impl Raster {
     /// The GPU-steered loop's draws over the whole mesh, each job's instance count a request flag
     /// the GPU set (`args` at the job's offset). The compute raster rasterizes every job instead
     /// (its own steered path is `record_requested`).
-    pub fn record_flagged(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u64)], args: &wgpu::Buffer) -> Result<()> {
-        let RasterTarget { scene, samples, array } = *to;
+    pub fn record_flagged(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[(RasterJob, u64)],
+        args: &wgpu::Buffer,
+    ) -> Result<()> {
+        let RasterTarget {
+            scene,
+            samples,
+            array,
+        } = *to;
         match self {
             Raster::Hardware(pass) => {
-                pass.record_culled(ctx, enc, scene, samples, array, jobs, &scene.shadow_indices, args);
+                pass.record_culled(
+                    ctx,
+                    enc,
+                    scene,
+                    samples,
+                    array,
+                    jobs,
+                    &scene.shadow_indices,
+                    args,
+                );
                 Ok(())
             }
             Raster::Compute(c) => {
@@ -164,17 +228,37 @@ impl Raster {
     /// `candidates` possible), into the layers their sample records name, with dispatches the GPU
     /// sizes from the list's count. The compute raster alone can: the fixed-function one draws
     /// every candidate layer (`record_culled` with GPU instance counts).
-    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, requests: (&wgpu::Buffer, &wgpu::Buffer), candidates: u32) -> Result<()> {
-        let RasterTarget { scene, samples, array } = *to;
+    pub fn record_requested(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        requests: (&wgpu::Buffer, &wgpu::Buffer),
+        candidates: u32,
+    ) -> Result<()> {
+        let RasterTarget {
+            scene,
+            samples,
+            array,
+        } = *to;
         let Raster::Compute(c) = self else {
-            return Err(Error::Param("record_requested needs raster = compute".into()));
+            return Err(Error::Param(
+                "record_requested needs raster = compute".into(),
+            ));
         };
         let size = array.texture.width();
         let chains = c.chain(ctx, size, scene.index_count / 3)?;
-        let chain = chains.iter().find(|r| r.map_size == size).expect("a chain of this size");
+        let chain = chains
+            .iter()
+            .find(|r| r.map_size == size)
+            .expect("a chain of this size");
         // As many chains as the candidates could fill; those past the level's count do nothing.
         for first in (0..candidates).step_by(chain.capacity as usize) {
-            let requests = Requests { control: requests.0, list: requests.1, first };
+            let requests = Requests {
+                control: requests.0,
+                list: requests.1,
+                first,
+            };
             chain.record_requested(ctx, enc, scene, samples, &requests, &array.array_view);
         }
         Ok(())
@@ -185,41 +269,90 @@ impl Raster {
 pub fn chain_maps(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
     let map_bytes = map_size as u64 * map_size as u64 * 4;
     let quarter = ((budget_mib as u64 * 1024 * 1024) / 4 / map_bytes).max(1) as u32;
-    Ok(super::raster_compute::maps_per_chain(ctx, map_size, budget_mib)?.min(quarter).min(CHAIN_MAPS))
+    Ok(
+        super::raster_compute::maps_per_chain(ctx, map_size, budget_mib)?
+            .min(quarter)
+            .min(CHAIN_MAPS),
+    )
 }
 
 impl ComputeRaster {
     /// The chains, with one of `size` built if there was none; its large-pair queue is sized for a
     /// mesh of `triangles` (a chain built for a smaller mesh is built again).
-    fn chain(&self, ctx: &GpuContext, size: u32, triangles: u32) -> Result<std::cell::RefMut<'_, Vec<RasterCompute>>> {
+    fn chain(
+        &self,
+        ctx: &GpuContext,
+        size: u32,
+        triangles: u32,
+    ) -> Result<std::cell::RefMut<'_, Vec<RasterCompute>>> {
         let mut chains = self.chains.borrow_mut();
-        if !chains.iter().any(|c| c.map_size == size && c.triangles >= triangles) {
+        if !chains
+            .iter()
+            .any(|c| c.map_size == size && c.triangles >= triangles)
+        {
             chains.retain(|c| c.map_size != size);
             // The share `maps_per_array` left out of the method's arrays.
             let maps = chain_maps(ctx, size, self.budget_mib)?;
-            chains.push(RasterCompute::for_mesh(ctx, size, self.cull, maps, self.budget_mib, triangles)?);
+            chains.push(RasterCompute::for_mesh(
+                ctx,
+                size,
+                self.cull,
+                maps,
+                self.budget_mib,
+                triangles,
+            )?);
         }
         Ok(chains)
     }
 
-    fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
-        let whole: Vec<(RasterJob, u32)> = jobs.iter().map(|j| (*j, GpuRasterJob::WHOLE_MESH)).collect();
+    fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[RasterJob],
+    ) -> Result<()> {
+        let whole: Vec<(RasterJob, u32)> = jobs
+            .iter()
+            .map(|j| (*j, GpuRasterJob::WHOLE_MESH))
+            .collect();
         self.record_jobs(ctx, enc, to, &whole, None)
     }
 
     /// The chain rasterizes each job inside its rectangle (far outside it), and only the
     /// rectangle is copied into the layer.
-    fn record_redraw(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[RasterJob]) -> Result<()> {
+    fn record_redraw(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[RasterJob],
+    ) -> Result<()> {
         let RasterTarget { scene, samples, .. } = *to;
         let size = to.array.texture.width();
         let chains = self.chain(ctx, size, scene.index_count / 3)?;
-        let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
+        let chain = chains
+            .iter()
+            .find(|c| c.map_size == size)
+            .expect("a chain of this size");
         let jobs: Vec<&RasterJob> = jobs.iter().filter(|j| j.scissor.is_some()).collect();
         for part in jobs.chunks(chain.capacity as usize) {
-            let words: Vec<GpuRasterJob> = part.iter().map(|j| GpuRasterJob { kept_slot: GpuRasterJob::WHOLE_MESH, ..GpuRasterJob::new(j.sample, size, j.scissor) }).collect();
+            let words: Vec<GpuRasterJob> = part
+                .iter()
+                .map(|j| GpuRasterJob {
+                    kept_slot: GpuRasterJob::WHOLE_MESH,
+                    ..GpuRasterJob::new(j.sample, size, j.scissor)
+                })
+                .collect();
             chain.record_kept(ctx, enc, scene, samples, &words, None);
             for (m, job) in part.iter().enumerate() {
-                chain.copy_rect(enc, m as u32, &to.array.texture, job.layer, job.scissor.expect("filtered above"));
+                chain.copy_rect(
+                    enc,
+                    m as u32,
+                    &to.array.texture,
+                    job.layer,
+                    job.scissor.expect("filtered above"),
+                );
             }
         }
         Ok(())
@@ -227,13 +360,33 @@ impl ComputeRaster {
 
     /// Chain by chain: rasterize, then copy each map into its layer. A job's second field is its
     /// cull slot (`kept` holds the pass's lists and arguments) or GpuRasterJob::WHOLE_MESH.
-    fn record_jobs(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, to: &RasterTarget, jobs: &[(RasterJob, u32)], kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>) -> Result<()> {
-        let RasterTarget { scene, samples, array } = *to;
+    fn record_jobs(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        to: &RasterTarget,
+        jobs: &[(RasterJob, u32)],
+        kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
+    ) -> Result<()> {
+        let RasterTarget {
+            scene,
+            samples,
+            array,
+        } = *to;
         let size = array.texture.width();
         let chains = self.chain(ctx, size, scene.index_count / 3)?;
-        let chain = chains.iter().find(|c| c.map_size == size).expect("a chain of this size");
+        let chain = chains
+            .iter()
+            .find(|c| c.map_size == size)
+            .expect("a chain of this size");
         for part in jobs.chunks(chain.capacity as usize) {
-            let words: Vec<GpuRasterJob> = part.iter().map(|(j, slot)| GpuRasterJob { kept_slot: *slot, ..GpuRasterJob::new(j.sample, size, j.scissor) }).collect();
+            let words: Vec<GpuRasterJob> = part
+                .iter()
+                .map(|(j, slot)| GpuRasterJob {
+                    kept_slot: *slot,
+                    ..GpuRasterJob::new(j.sample, size, j.scissor)
+                })
+                .collect();
             chain.record_kept(ctx, enc, scene, samples, &words, kept);
             for (m, (job, _)) in part.iter().enumerate() {
                 chain.copy_map(enc, m as u32, &array.texture, job.layer);

@@ -42,12 +42,22 @@ pub fn raster_size(scene: &Scene) -> u32 {
 }
 
 fn key(ctx: &GpuContext, scene: &Scene) -> Key {
-    (ctx.summary.name.clone(), super::raster_timing::mesh_hash(scene), raster_size(scene), format!("{:?}", scene.render.cull), scene.render.shadow_map_budget_mib)
+    (
+        ctx.summary.name.clone(),
+        super::raster_timing::mesh_hash(scene),
+        raster_size(scene),
+        format!("{:?}", scene.render.cull),
+        scene.render.shadow_map_budget_mib,
+    )
 }
 
 /// Whether the frame rasterizes in compute kernels, by the scene's `raster` setting, and what
 /// `auto` measured when it chose.
-pub fn compute_raster(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu) -> Result<(bool, Option<AutoTiming>)> {
+pub fn compute_raster(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu: &SceneGpu,
+) -> Result<(bool, Option<AutoTiming>)> {
     Ok(match scene.render.raster {
         RasterChoice::Hardware => (false, None),
         RasterChoice::Compute => (true, None),
@@ -65,10 +75,34 @@ fn timing(ctx: &GpuContext, scene: &Scene, gpu: &SceneGpu) -> Result<AutoTiming>
     }
     let size = raster_size(scene);
     let budget = scene.render.shadow_map_budget_mib;
-    let rasters = [Raster::new(ctx, scene.render.cull, false, budget)?, Raster::new(ctx, scene.render.cull, true, budget)?];
-    let maps = rasters.iter().map(|r| r.maps_per_array(ctx, size, budget)).collect::<Result<Vec<_>>>()?.into_iter().min().unwrap_or(1).min(AUTO_MAPS);
-    let best = super::raster_timing::least_ms(ctx, scene, gpu, &[&rasters[0], &rasters[1]], size, maps, AUTO_ROUNDS)?;
-    let t = AutoTiming { hardware_ms: best[0], compute_ms: best[1], maps, map_size: size, compute: best[1] < best[0] };
+    let rasters = [
+        Raster::new(ctx, scene.render.cull, false, budget)?,
+        Raster::new(ctx, scene.render.cull, true, budget)?,
+    ];
+    let maps = rasters
+        .iter()
+        .map(|r| r.maps_per_array(ctx, size, budget))
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .min()
+        .unwrap_or(1)
+        .min(AUTO_MAPS);
+    let best = super::raster_timing::least_ms(
+        ctx,
+        scene,
+        gpu,
+        &[&rasters[0], &rasters[1]],
+        size,
+        maps,
+        AUTO_ROUNDS,
+    )?;
+    let t = AutoTiming {
+        hardware_ms: best[0],
+        compute_ms: best[1],
+        maps,
+        map_size: size,
+        compute: best[1] < best[0],
+    };
     if let Ok(mut m) = remembered().lock() {
         m.insert(k, t);
     }

@@ -6,9 +6,9 @@
 //! tile by tile. Depth is one u32 per
 //! texel: the bits of a non-negative f32, which order like the values, written by atomicMin.
 
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::gpu::readback;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::{GpuRasterCompute, GpuRasterJob};
 use crate::gpu::{GpuContext, Stage};
 use crate::render::SceneGpu;
@@ -88,8 +88,15 @@ struct Chain<'b> {
 /// arguments (jobs with a kept_slot read them), or `main_maps` over the shadow order, reading the
 /// level's request count when steered.
 enum ChainMain<'b> {
-    Kept { indices: &'b wgpu::Buffer, counts: &'b wgpu::Buffer, dispatch: Dispatch<'b> },
-    Maps { requests: Option<&'b wgpu::Buffer>, dispatch: Dispatch<'b> },
+    Kept {
+        indices: &'b wgpu::Buffer,
+        counts: &'b wgpu::Buffer,
+        dispatch: Dispatch<'b>,
+    },
+    Maps {
+        requests: Option<&'b wgpu::Buffer>,
+        dispatch: Dispatch<'b>,
+    },
 }
 
 /// Maps one chain may hold: the memory budget and the storage-binding limit, whichever is less.
@@ -123,28 +130,62 @@ pub fn large_capacity(maps: u32, binding: u64) -> u32 {
 /// The queue for a chain of `maps` maps over a mesh of `triangles`: per map the larger of
 /// LARGE_PAIRS_PER_MAP and the triangle count, within the least, the most and one binding.
 pub fn large_capacity_for(maps: u32, triangles: u32, binding: u64) -> u32 {
-    (maps as u64 * LARGE_PAIRS_PER_MAP.max(triangles as u64)).clamp(LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX).min(binding / 8) as u32
+    (maps as u64 * LARGE_PAIRS_PER_MAP.max(triangles as u64))
+        .clamp(LARGE_CAPACITY_MIN, LARGE_CAPACITY_MAX)
+        .min(binding / 8) as u32
 }
 
 impl RasterCompute {
     /// A chain of at most `maps` maps (fewer where `shadow_map_budget_mib` or the device allows fewer).
-    pub fn new(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32) -> Result<Self> {
+    pub fn new(
+        ctx: &GpuContext,
+        map_size: u32,
+        cull: CullMode,
+        maps: u32,
+        budget_mib: u32,
+    ) -> Result<Self> {
         Self::with_queue(ctx, map_size, cull, maps, budget_mib, None)
     }
 
     /// As `new`, with the queue sized for a mesh of `triangles` (large_capacity_for).
-    pub fn for_mesh(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32, triangles: u32) -> Result<Self> {
+    pub fn for_mesh(
+        ctx: &GpuContext,
+        map_size: u32,
+        cull: CullMode,
+        maps: u32,
+        budget_mib: u32,
+        triangles: u32,
+    ) -> Result<Self> {
         let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
-        let pairs = large_capacity_for(capacity, triangles, ctx.limits().max_storage_buffer_binding_size);
-        Ok(Self { triangles, ..Self::with_queue(ctx, map_size, cull, maps, budget_mib, Some(pairs))? })
+        let pairs = large_capacity_for(
+            capacity,
+            triangles,
+            ctx.limits().max_storage_buffer_binding_size,
+        );
+        Ok(Self {
+            triangles,
+            ..Self::with_queue(ctx, map_size, cull, maps, budget_mib, Some(pairs))?
+        })
     }
 
     /// As `new`, with a large-pair queue of `pairs` instead of `large_capacity`'s (a test drives
     /// the path past a full queue with it).
-    pub fn with_queue(ctx: &GpuContext, map_size: u32, cull: CullMode, maps: u32, budget_mib: u32, pairs: Option<u32>) -> Result<Self> {
+    pub fn with_queue(
+        ctx: &GpuContext,
+        map_size: u32,
+        cull: CullMode,
+        maps: u32,
+        budget_mib: u32,
+        pairs: Option<u32>,
+    ) -> Result<Self> {
         let capacity = maps_per_chain(ctx, map_size, budget_mib)?.min(maps.max(1));
-        let large_capacity = pairs.unwrap_or_else(|| large_capacity(capacity, ctx.limits().max_storage_buffer_binding_size)).max(1);
-        let storage = |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
+        let large_capacity = pairs
+            .unwrap_or_else(|| {
+                large_capacity(capacity, ctx.limits().max_storage_buffer_binding_size)
+            })
+            .max(1);
+        let storage =
+            |label, bytes: u64, extra| readback::zeroed_storage_with(ctx, label, bytes, extra);
         Ok(Self {
             clear: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "clear")?,
             main: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "main")?,
@@ -154,12 +195,24 @@ impl RasterCompute {
             requested: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "requested")?,
             kept_extent: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "kept_extent")?,
             store: ComputeKernel::new(ctx, Stage::RASTER_COMPUTE, "store")?,
-            depth: storage("raster_compute depth", capacity as u64 * map_size as u64 * map_size as u64 * 4, wgpu::BufferUsages::empty()),
-            large: storage("raster_compute large pairs", large_capacity as u64 * 8, wgpu::BufferUsages::empty()),
+            depth: storage(
+                "raster_compute depth",
+                capacity as u64 * map_size as u64 * map_size as u64 * 4,
+                wgpu::BufferUsages::empty(),
+            ),
+            large: storage(
+                "raster_compute large pairs",
+                large_capacity as u64 * 8,
+                wgpu::BufferUsages::empty(),
+            ),
             large_capacity,
             control: storage("raster_compute control", 16, wgpu::BufferUsages::empty()),
             dispatch: storage("raster_compute dispatch", 16, wgpu::BufferUsages::INDIRECT),
-            steer_args: storage("raster_compute steered dispatches", STEER_ARGS_WORDS * 4, wgpu::BufferUsages::INDIRECT),
+            steer_args: storage(
+                "raster_compute steered dispatches",
+                STEER_ARGS_WORDS * 4,
+                wgpu::BufferUsages::INDIRECT,
+            ),
             map_size,
             capacity,
             triangles: 0,
@@ -167,7 +220,14 @@ impl RasterCompute {
         })
     }
 
-    fn uniform(&self, ctx: &GpuContext, scene: &SceneGpu, maps: u32, first_request: u32, steered: bool) -> wgpu::Buffer {
+    fn uniform(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneGpu,
+        maps: u32,
+        first_request: u32,
+        steered: bool,
+    ) -> wgpu::Buffer {
         let uniform = GpuRasterCompute {
             map_size: self.map_size,
             triangle_count: scene.index_count / 3,
@@ -183,23 +243,58 @@ impl RasterCompute {
 
     /// Rasterizes `scene` into maps 0..jobs.len() of `depth`, map m from sample `jobs[m].sample` of
     /// `samples` (the hardware raster's `GpuSample`s: the same view-projections) inside its rectangle.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob]) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        jobs: &[GpuRasterJob],
+    ) {
         self.record_kept(ctx, enc, scene, samples, jobs, None)
     }
 
     /// [`record`](Self::record) where jobs with a `kept_slot` draw the cull pass's kept triangles
     /// of that slot: `kept` is the pass's (kept index lists, draw arguments).
-    pub fn record_kept(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, jobs: &[GpuRasterJob], kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>) {
+    pub fn record_kept(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        jobs: &[GpuRasterJob],
+        kept: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
+    ) {
         let maps = jobs.len() as u32;
-        assert!(maps >= 1 && maps <= self.capacity, "raster_compute chain of {maps} maps, capacity {}", self.capacity);
+        assert!(
+            maps >= 1 && maps <= self.capacity,
+            "raster_compute chain of {maps} maps, capacity {}",
+            self.capacity
+        );
         let params = self.uniform(ctx, scene, maps, 0, false);
-        let jobs = readback::storage_buffer(ctx, "raster_compute jobs", jobs, wgpu::BufferUsages::empty());
-        let words = groups(maps * self.map_size * self.map_size, LINE_WORKGROUP[0] * CLEAR_RUN);
+        let jobs = readback::storage_buffer(
+            ctx,
+            "raster_compute jobs",
+            jobs,
+            wgpu::BufferUsages::empty(),
+        );
+        let words = groups(
+            maps * self.map_size * self.map_size,
+            LINE_WORKGROUP[0] * CLEAR_RUN,
+        );
         let [x, _, z] = rows(groups(scene.index_count / 3, LINE_WORKGROUP[0]));
-        let chain = Chain { scene, samples, params: &params, jobs: &jobs };
+        let chain = Chain {
+            scene,
+            samples,
+            params: &params,
+            jobs: &jobs,
+        };
         let main = match kept {
             // A triangle per invocation over every map: its vertices are read once per chain.
-            None => ChainMain::Maps { requests: None, dispatch: Dispatch::Direct([x, 1, z]) },
+            None => ChainMain::Maps {
+                requests: None,
+                dispatch: Dispatch::Direct([x, 1, z]),
+            },
             Some((indices, counts)) => {
                 // As wide as the longest kept list: lavapipe pays for every workgroup, even one that returns at once.
                 self.kept_extent.dispatch(
@@ -213,20 +308,48 @@ impl RasterCompute {
                     },
                     Dispatch::Direct([1, 1, 1]),
                 );
-                ChainMain::Kept { indices, counts, dispatch: Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4) }
+                ChainMain::Kept {
+                    indices,
+                    counts,
+                    dispatch: Dispatch::IndirectAt(&self.steer_args, STEER_ARGS_MAIN * 4),
+                }
             }
         };
         self.record_chain(ctx, enc, &chain, Dispatch::Direct(rows(words)), main);
     }
 
     /// clear, main, begin and large_tiles over the chain's jobs, with clear's and main's dispatches.
-    fn record_chain(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, chain: &Chain, clear: Dispatch, main: ChainMain) {
+    fn record_chain(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        chain: &Chain,
+        clear: Dispatch,
+        main: ChainMain,
+    ) {
         use bind::raster_compute::{Begin, Clear, LargeTiles, Main, MainMaps};
-        let Chain { scene, samples, params, jobs } = *chain;
+        let Chain {
+            scene,
+            samples,
+            params,
+            jobs,
+        } = *chain;
         enc.clear_buffer(&self.control, 0, None);
-        self.clear.dispatch(ctx, enc, Clear { params: params.as_entire_binding(), depth: self.depth.as_entire_binding() }, clear);
+        self.clear.dispatch(
+            ctx,
+            enc,
+            Clear {
+                params: params.as_entire_binding(),
+                depth: self.depth.as_entire_binding(),
+            },
+            clear,
+        );
         let indices = match main {
-            ChainMain::Kept { indices, counts, dispatch } => {
+            ChainMain::Kept {
+                indices,
+                counts,
+                dispatch,
+            } => {
                 let bindings = Main {
                     params: params.as_entire_binding(),
                     samples: samples.as_entire_binding(),
@@ -260,8 +383,13 @@ impl RasterCompute {
                 &scene.shadow_indices
             }
         };
-        let begin = Begin { params: params.as_entire_binding(), control: self.control.as_entire_binding(), dispatch: self.dispatch.as_entire_binding() };
-        self.begin.dispatch(ctx, enc, begin, Dispatch::Direct([1, 1, 1]));
+        let begin = Begin {
+            params: params.as_entire_binding(),
+            control: self.control.as_entire_binding(),
+            dispatch: self.dispatch.as_entire_binding(),
+        };
+        self.begin
+            .dispatch(ctx, enc, begin, Dispatch::Direct([1, 1, 1]));
         let large = LargeTiles {
             params: params.as_entire_binding(),
             samples: samples.as_entire_binding(),
@@ -272,17 +400,30 @@ impl RasterCompute {
             large: self.large.as_entire_binding(),
             control: self.control.as_entire_binding(),
         };
-        self.large_tiles.dispatch(ctx, enc, large, Dispatch::Indirect(&self.dispatch));
+        self.large_tiles
+            .dispatch(ctx, enc, large, Dispatch::Indirect(&self.dispatch));
     }
 
     /// Under the GPU-steered loop: rasterizes the requests `requests.first ..` (at most `capacity`)
     /// of a level's list (`requests.control` word 1 counts them, `requests.list` names the samples)
     /// and stores each map into the layer its sample record names, with dispatches the GPU sizes:
     /// a chain past the last request does nothing. Nothing is read back.
-    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, scene: &SceneGpu, samples: &wgpu::Buffer, requests: &Requests, layers: &wgpu::TextureView) {
+    pub fn record_requested(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        samples: &wgpu::Buffer,
+        requests: &Requests,
+        layers: &wgpu::TextureView,
+    ) {
         let (requests, first_request) = ((requests.control, requests.list), requests.first);
         let params = self.uniform(ctx, scene, self.capacity, first_request, true);
-        let jobs = readback::zeroed_storage(ctx, "raster_compute requested jobs", self.capacity as u64 * std::mem::size_of::<GpuRasterJob>() as u64);
+        let jobs = readback::zeroed_storage(
+            ctx,
+            "raster_compute requested jobs",
+            self.capacity as u64 * std::mem::size_of::<GpuRasterJob>() as u64,
+        );
         self.requested.dispatch(
             ctx,
             enc,
@@ -296,8 +437,22 @@ impl RasterCompute {
             Dispatch::Direct([1, 1, 1]),
         );
         let at = |words: u64| Dispatch::IndirectAt(&self.steer_args, words * 4);
-        let chain = Chain { scene, samples, params: &params, jobs: &jobs };
-        self.record_chain(ctx, enc, &chain, at(STEER_ARGS_CLEAR), ChainMain::Maps { requests: Some(requests.0), dispatch: at(STEER_ARGS_MAIN) });
+        let chain = Chain {
+            scene,
+            samples,
+            params: &params,
+            jobs: &jobs,
+        };
+        self.record_chain(
+            ctx,
+            enc,
+            &chain,
+            at(STEER_ARGS_CLEAR),
+            ChainMain::Maps {
+                requests: Some(requests.0),
+                dispatch: at(STEER_ARGS_MAIN),
+            },
+        );
         self.store.dispatch(
             ctx,
             enc,
@@ -320,13 +475,26 @@ impl RasterCompute {
     /// Copies map `m` of the chain into layer `layer` of an R32Uint array of the same size (after
     /// `record`, in the same encoder). Rows go in one copy where their bytes meet the copy
     /// alignment (map sizes that are multiples of 64), else one copy per row.
-    pub fn copy_map(&self, enc: &mut wgpu::CommandEncoder, m: u32, texture: &wgpu::Texture, layer: u32) {
+    pub fn copy_map(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        m: u32,
+        texture: &wgpu::Texture,
+        layer: u32,
+    ) {
         self.copy_rect(enc, m, texture, layer, [0, 0, self.map_size, self.map_size]);
     }
 
     /// `copy_map` of the texels `[x, y, w, h]` alone: a kept map's rectangle drawn again, the
     /// rest of the layer kept (docs/reuse.md).
-    pub fn copy_rect(&self, enc: &mut wgpu::CommandEncoder, m: u32, texture: &wgpu::Texture, layer: u32, [x, y, w, h]: [u32; 4]) {
+    pub fn copy_rect(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        m: u32,
+        texture: &wgpu::Texture,
+        layer: u32,
+        [x, y, w, h]: [u32; 4],
+    ) {
         let size = self.map_size;
         let row = size * 4;
         let map_at = m as u64 * size as u64 * row as u64;
@@ -335,9 +503,29 @@ impl RasterCompute {
         for r in 0..copies {
             let at = map_at + ((y + r) as u64 * size as u64 + x as u64) * 4;
             enc.copy_buffer_to_texture(
-                wgpu::TexelCopyBufferInfo { buffer: &self.depth, layout: wgpu::TexelCopyBufferLayout { offset: at, bytes_per_row: whole.then_some(row), rows_per_image: whole.then_some(rows) } },
-                wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d { x, y: y + r, z: layer }, aspect: wgpu::TextureAspect::All },
-                wgpu::Extent3d { width: w, height: rows, depth_or_array_layers: 1 },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &self.depth,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: at,
+                        bytes_per_row: whole.then_some(row),
+                        rows_per_image: whole.then_some(rows),
+                    },
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x,
+                        y: y + r,
+                        z: layer,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: rows,
+                    depth_or_array_layers: 1,
+                },
             );
         }
     }
@@ -346,13 +534,20 @@ impl RasterCompute {
     pub fn read_depths(&self, ctx: &GpuContext, maps: u32) -> Result<Vec<Vec<f32>>> {
         let words: Vec<u32> = self.read_words(ctx, maps)?;
         let texels = (self.map_size * self.map_size) as usize;
-        Ok(words.chunks(texels).map(|m| m.iter().map(|&w| depth_of(w)).collect()).collect())
+        Ok(words
+            .chunks(texels)
+            .map(|m| m.iter().map(|&w| depth_of(w)).collect())
+            .collect())
     }
 
     /// The stored words of maps 0..maps, as the kernel wrote them.
     pub fn read_words(&self, ctx: &GpuContext, maps: u32) -> Result<Vec<u32>> {
         assert!(maps <= self.capacity);
-        readback::read_buffer(ctx, &self.depth, maps as u64 * self.map_size as u64 * self.map_size as u64 * 4)
+        readback::read_buffer(
+            ctx,
+            &self.depth,
+            maps as u64 * self.map_size as u64 * self.map_size as u64 * 4,
+        )
     }
 }
 
@@ -373,7 +568,13 @@ pub struct RasterDifference {
 impl RasterDifference {
     pub fn add(&mut self, s: &crate::gpu::structs::GpuSample, fixed: &[f32], words: &[u32]) {
         // Linear depth as shadow_lookup takes it: perspective, or an orthographic map's range.
-        let linear = |d: f32| if s.orthographic != 0 { s.depth_lin_a * d + s.depth_lin_b } else { s.depth_lin_a / (d + s.depth_lin_b) };
+        let linear = |d: f32| {
+            if s.orthographic != 0 {
+                s.depth_lin_a * d + s.depth_lin_b
+            } else {
+                s.depth_lin_a / (d + s.depth_lin_b)
+            }
+        };
         self.texels += fixed.len();
         for (&h, &w) in fixed.iter().zip(words) {
             let c = depth_of(w);

@@ -1,9 +1,9 @@
 //! reconstruct: visibility from the prefiltered statistic at each pixel's place in the map.
 
-use crate::gpu::{GpuContext, Stage};
 use super::shade::Screen;
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
 pub struct Reconstruct {
@@ -12,12 +12,27 @@ pub struct Reconstruct {
 
 impl Reconstruct {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::RECONSTRUCT, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::RECONSTRUCT, "main")?,
+        })
     }
 
     /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, screen: &Screen, filter: &wgpu::Buffer, samples: &wgpu::Buffer, filtered: &wgpu::Buffer) {
-        let Screen { frame, gbuffer, tiles, visibility } = *screen;
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        filter: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        filtered: &wgpu::Buffer,
+    ) {
+        let Screen {
+            frame,
+            gbuffer,
+            tiles,
+            visibility,
+        } = *screen;
         // A band of rows per dispatch (`tiles.bands`; one band unless V passes one binding).
         for band in &tiles.bands {
             self.kernel.dispatch(
@@ -32,7 +47,11 @@ impl Reconstruct {
                     moments: filtered.as_entire_binding(),
                     visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
                 },
-                Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(band.rows, PIXEL_WORKGROUP[1]), 1]),
+                Dispatch::Direct([
+                    groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                    groups(band.rows, PIXEL_WORKGROUP[1]),
+                    1,
+                ]),
             );
         }
     }

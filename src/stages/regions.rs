@@ -4,7 +4,7 @@
 //! texel needs and receiver boxes (`classify`). docs/regions.md derives the rule.
 
 use super::shade::{GeometryTiles, TILE, TILE_LIST_HEADER};
-use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP, LINE_WORKGROUP};
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP, PIXEL_WORKGROUP};
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::stages::bind;
 use crate::gpu::{readback, GpuContext, Stage};
@@ -56,12 +56,27 @@ pub fn ordered(x: f32) -> u32 {
 
 /// The float of [`ordered`] bits.
 pub fn unordered(k: u32) -> f32 {
-    f32::from_bits(if k & 0x8000_0000 != 0 { k & 0x7fff_ffff } else { !k })
+    f32::from_bits(if k & 0x8000_0000 != 0 {
+        k & 0x7fff_ffff
+    } else {
+        !k
+    })
 }
 
 /// A region's words before any pixel: no pixels, no footprint or penumbra, an empty box.
 pub fn empty_region() -> [u32; REGION_WORDS] {
-    [0, 0, u32::MAX, u32::MAX, u32::MAX, u32::MAX, u32::MAX, 0, 0, 0]
+    [
+        0,
+        0,
+        u32::MAX,
+        u32::MAX,
+        u32::MAX,
+        u32::MAX,
+        u32::MAX,
+        0,
+        0,
+        0,
+    ]
 }
 
 /// A class's words before any tile: no tiles, no texel need, an empty box.
@@ -107,7 +122,12 @@ pub struct RegionsPass {
 
 impl RegionsPass {
     /// `params`' ladder, step and search are the caller's; the sizes come from `gbuffer`.
-    pub fn new(ctx: &GpuContext, maps: MapAccess, gbuffer: &GBuffer, mut params: RegionsParams) -> Result<Self> {
+    pub fn new(
+        ctx: &GpuContext,
+        maps: MapAccess,
+        gbuffer: &GBuffer,
+        mut params: RegionsParams,
+    ) -> Result<Self> {
         let (w, h) = (gbuffer.width, gbuffer.height);
         params.regions_x = groups(w, params.region);
         let region_count = params.regions_x * groups(h, params.region);
@@ -130,13 +150,38 @@ impl RegionsPass {
             classify: ComputeKernel::new_for(ctx, Stage::REGIONS, "classify", maps)?,
             totals: readback::zeroed_storage(ctx, "region totals", 8),
             params_buffer: readback::uniform_buffer(ctx, "regions params", &params),
-            regions: readback::storage_buffer(ctx, "regions", &regions_words, wgpu::BufferUsages::empty()),
-            classes: readback::storage_buffer(ctx, "region classes", &classes_words, wgpu::BufferUsages::empty()),
+            regions: readback::storage_buffer(
+                ctx,
+                "regions",
+                &regions_words,
+                wgpu::BufferUsages::empty(),
+            ),
+            classes: readback::storage_buffer(
+                ctx,
+                "region classes",
+                &classes_words,
+                wgpu::BufferUsages::empty(),
+            ),
             class_tiles: readback::storage_buffer(ctx, "class tiles", &tiles_words, indirect),
             group_tiles: readback::storage_buffer(ctx, "group tiles", &tiles_words, indirect),
-            regions_init: readback::storage_buffer(ctx, "regions init", &regions_words, wgpu::BufferUsages::empty()),
-            classes_init: readback::storage_buffer(ctx, "region classes init", &classes_words, wgpu::BufferUsages::empty()),
-            tiles_init: readback::storage_buffer(ctx, "class tiles init", &tiles_words, wgpu::BufferUsages::empty()),
+            regions_init: readback::storage_buffer(
+                ctx,
+                "regions init",
+                &regions_words,
+                wgpu::BufferUsages::empty(),
+            ),
+            classes_init: readback::storage_buffer(
+                ctx,
+                "region classes init",
+                &classes_words,
+                wgpu::BufferUsages::empty(),
+            ),
+            tiles_init: readback::storage_buffer(
+                ctx,
+                "class tiles init",
+                &tiles_words,
+                wgpu::BufferUsages::empty(),
+            ),
             params,
             region_count,
         })
@@ -145,10 +190,22 @@ impl RegionsPass {
     /// Resets the buffers, then measures every pixel against the centre map (`inputs.samples[0]`,
     /// in `inputs.maps`) and classifies the frame's geometry tiles.
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &RegionsInputs) {
-        let RegionsInputs { frame, gbuffer, tiles, samples, maps } = *inputs;
+        let RegionsInputs {
+            frame,
+            gbuffer,
+            tiles,
+            samples,
+            maps,
+        } = *inputs;
         enc.copy_buffer_to_buffer(&self.regions_init, 0, &self.regions, 0, self.regions.size());
         enc.copy_buffer_to_buffer(&self.classes_init, 0, &self.classes, 0, self.classes.size());
-        enc.copy_buffer_to_buffer(&self.tiles_init, 0, &self.class_tiles, 0, self.class_tiles.size());
+        enc.copy_buffer_to_buffer(
+            &self.tiles_init,
+            0,
+            &self.class_tiles,
+            0,
+            self.class_tiles.size(),
+        );
         enc.clear_buffer(&self.totals, 0, None);
         self.measure.dispatch(
             ctx,
@@ -162,12 +219,20 @@ impl RegionsPass {
                 shadow_maps: wgpu::BindingResource::TextureView(maps),
                 regions: self.regions.as_entire_binding(),
             },
-            Dispatch::Direct([groups(gbuffer.width, PIXEL_WORKGROUP[0]), groups(gbuffer.height, PIXEL_WORKGROUP[1]), 1]),
+            Dispatch::Direct([
+                groups(gbuffer.width, PIXEL_WORKGROUP[0]),
+                groups(gbuffer.height, PIXEL_WORKGROUP[1]),
+                1,
+            ]),
         );
         self.total.dispatch(
             ctx,
             enc,
-            bind::regions::Total { params: self.params_buffer.as_entire_binding(), regions: self.regions.as_entire_binding(), totals: self.totals.as_entire_binding() },
+            bind::regions::Total {
+                params: self.params_buffer.as_entire_binding(),
+                regions: self.regions.as_entire_binding(),
+                totals: self.totals.as_entire_binding(),
+            },
             Dispatch::Direct([groups(self.region_count, LINE_WORKGROUP[0]), 1, 1]),
         );
         self.classify.dispatch(
@@ -189,15 +254,32 @@ impl RegionsPass {
     /// Section `g` of the group lists holds `classes`' tiles (class, tile count as read back), one
     /// list after another: a header written from the counts, then one copy per class. Returns it as
     /// shade reads a list (a single band). The classes' own lists are left as the decision wrote them.
-    pub fn join(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, g: u32, classes: &[(u32, u32)], height: u32) -> GeometryTiles {
+    pub fn join(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        g: u32,
+        classes: &[(u32, u32)],
+        height: u32,
+    ) -> GeometryTiles {
         let words = self.params.section_words as u64;
         let base = g as u64 * words * 4;
         let total: u32 = classes.iter().map(|&(_, n)| n).sum();
         // Written before this submission's copies run; they leave the header alone.
-        ctx.queue.write_buffer(&self.group_tiles, base, bytemuck::cast_slice(&[total, 1u32, 1, 0]));
+        ctx.queue.write_buffer(
+            &self.group_tiles,
+            base,
+            bytemuck::cast_slice(&[total, 1u32, 1, 0]),
+        );
         let mut at = base + TILE_LIST_HEADER as u64 * 4;
         for &(c, n) in classes.iter().filter(|&&(_, n)| n > 0) {
-            enc.copy_buffer_to_buffer(&self.class_tiles, c as u64 * words * 4 + TILE_LIST_HEADER as u64 * 4, &self.group_tiles, at, n as u64 * 4);
+            enc.copy_buffer_to_buffer(
+                &self.class_tiles,
+                c as u64 * words * 4 + TILE_LIST_HEADER as u64 * 4,
+                &self.group_tiles,
+                at,
+                n as u64 * 4,
+            );
             at += n as u64 * 4;
         }
         GeometryTiles::section(&self.group_tiles, base, words * 4, height)

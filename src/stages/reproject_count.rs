@@ -1,11 +1,11 @@
 //! reproject_count: c_q(p) for every (pixel, active quad) from the cached masks (dense), or for the
 //! compacted (pixel, quad) items from the corners' bits shadow_test `list` cached (scope = local).
 
+use super::shade::GeometryTiles;
+use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{CountMaps, ItemLists, Level, Masks, MASK_WORDS};
-use super::shade::GeometryTiles;
-use crate::gpu::stages::bind;
-use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::Result;
 
 pub struct ReprojectCount {
@@ -26,24 +26,56 @@ impl ReprojectCount {
     }
 
     /// Every (pixel, quad) of `lv` from `masks.lit` into `out`; `control` counts geometry pixels.
-    pub fn record_dense(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, out: &CountMaps) {
+    pub fn record_dense(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        masks: &Masks,
+        out: &CountMaps,
+    ) {
         let words = lv.shape.height * lv.shape.words_per_row;
-        self.dense.dispatch(ctx, enc, dense_bindings(lv, lv.frame, masks.lit.as_entire_binding(), out), Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]));
+        self.dense.dispatch(
+            ctx,
+            enc,
+            dense_bindings(lv, lv.frame, masks.lit.as_entire_binding(), out),
+            Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
+        );
     }
 
     /// [`Self::record_dense`] a band of rows at a time (`tiles.bands`), the masks bound by band.
-    pub fn record_dense_bands(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, tiles: &GeometryTiles, masks: &Masks, out: &CountMaps) {
+    pub fn record_dense_bands(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        tiles: &GeometryTiles,
+        masks: &Masks,
+        out: &CountMaps,
+    ) {
         let mask_bytes = MASK_WORDS as u64 * 4;
         for band in &tiles.bands {
             let lit = band.pixels(tiles, &masks.lit, lv.shape.width, mask_bytes);
             let words = band.rows * lv.shape.words_per_row;
-            self.dense.dispatch(ctx, enc, dense_bindings(lv, band.frame(lv.frame), lit, out), Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]));
+            self.dense.dispatch(
+                ctx,
+                enc,
+                dense_bindings(lv, band.frame(lv.frame), lit, out),
+                Dispatch::Direct([groups(words, LINE_WORKGROUP[0]), 1, 1]),
+            );
         }
     }
 
     /// scope = local: the items appended so far become this level's list (`items.total`,
     /// `items.list_args`), read by list, neighbourhood and compact.
-    pub fn record_begin(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, level: &wgpu::Buffer, control: &wgpu::Buffer, items: &ItemLists) {
+    pub fn record_begin(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        level: &wgpu::Buffer,
+        control: &wgpu::Buffer,
+        items: &ItemLists,
+    ) {
         self.begin.dispatch(
             ctx,
             enc,
@@ -58,7 +90,15 @@ impl ReprojectCount {
     }
 
     /// scope = local: the counts of `items.items[lv.cur]` into `out`.
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists, out: &CountMaps) {
+    pub fn record_list(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        masks: &Masks,
+        items: &ItemLists,
+        out: &CountMaps,
+    ) {
         let cur = lv.cur;
         self.list.dispatch(
             ctx,
@@ -78,7 +118,14 @@ impl ReprojectCount {
 
     /// The last level's items (scope = local): counts go straight into V's integer sums
     /// (`items.visibility_fixed`).
-    pub fn record_last(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, masks: &Masks, items: &ItemLists) {
+    pub fn record_last(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        masks: &Masks,
+        items: &ItemLists,
+    ) {
         let cur = lv.cur;
         self.last.dispatch(
             ctx,
@@ -97,7 +144,12 @@ impl ReprojectCount {
 }
 
 /// `main`'s bindings over `lv`, with the frame uniform and the masks of one band (or the whole frame).
-fn dense_bindings<'b>(lv: &Level<'b>, frame: &'b wgpu::Buffer, lit: wgpu::BindingResource<'b>, out: &'b CountMaps) -> bind::reproject_count::Main<'b> {
+fn dense_bindings<'b>(
+    lv: &Level<'b>,
+    frame: &'b wgpu::Buffer,
+    lit: wgpu::BindingResource<'b>,
+    out: &'b CountMaps,
+) -> bind::reproject_count::Main<'b> {
     bind::reproject_count::Main {
         frame: frame.as_entire_binding(),
         level: lv.uniform.as_entire_binding(),

@@ -2,8 +2,8 @@
 
 use super::groups;
 use crate::gpu::stages::bind;
-use crate::gpu::{readback, GpuContext, Stage};
 use crate::gpu::structs::GpuSample;
+use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
@@ -61,7 +61,11 @@ impl Band {
 
     /// This band's section of the tile list (header and tiles).
     pub fn tiles<'b>(&self, tiles: &'b GeometryTiles) -> wgpu::BindingResource<'b> {
-        wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &tiles.list, offset: self.tiles_offset, size: wgpu::BufferSize::new(self.tiles_bytes) })
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &tiles.list,
+            offset: self.tiles_offset,
+            size: wgpu::BufferSize::new(self.tiles_bytes),
+        })
     }
 
     /// The indirect dispatch arguments of this band's tiles: (count, 1, 1) at its section's start.
@@ -70,12 +74,22 @@ impl Band {
     }
 
     /// This band's rows of a per-pixel buffer of `bytes_per_pixel` (the whole buffer for a single band).
-    pub fn pixels<'b>(&self, tiles: &GeometryTiles, buffer: &'b wgpu::Buffer, width: u32, bytes_per_pixel: u64) -> wgpu::BindingResource<'b> {
+    pub fn pixels<'b>(
+        &self,
+        tiles: &GeometryTiles,
+        buffer: &'b wgpu::Buffer,
+        width: u32,
+        bytes_per_pixel: u64,
+    ) -> wgpu::BindingResource<'b> {
         if tiles.bands.len() == 1 {
             return buffer.as_entire_binding();
         }
         let row = width as u64 * bytes_per_pixel;
-        wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer, offset: self.first_row as u64 * row, size: wgpu::BufferSize::new(self.rows as u64 * row) })
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer,
+            offset: self.first_row as u64 * row,
+            size: wgpu::BufferSize::new(self.rows as u64 * row),
+        })
     }
 }
 
@@ -88,7 +102,13 @@ impl GeometryTiles {
             header: list.clone(),
             bytes,
             band_rows: 0,
-            bands: vec![Band { first_row: 0, rows: height, frame: None, tiles_offset: offset, tiles_bytes: bytes }],
+            bands: vec![Band {
+                first_row: 0,
+                rows: height,
+                frame: None,
+                tiles_offset: offset,
+                tiles_bytes: bytes,
+            }],
         }
     }
 
@@ -101,7 +121,10 @@ impl GeometryTiles {
         frame.band_first_row = 0;
         for band in &self.bands {
             if let Some(buffer) = &band.frame {
-                let copy = crate::gpu::structs::GpuFrame { band_first_row: band.first_row, ..*frame };
+                let copy = crate::gpu::structs::GpuFrame {
+                    band_first_row: band.first_row,
+                    ..*frame
+                };
                 ctx.queue.write_buffer(buffer, 0, bytemuck::bytes_of(&copy));
             }
         }
@@ -111,7 +134,13 @@ impl GeometryTiles {
 /// Rows per band for per-pixel buffers of `row_bytes` bytes per row under `max_binding`: whole
 /// tiles high and aligned for binding offsets of every per-pixel buffer (a multiple of 4 bytes per
 /// pixel); 0 when the image fits one binding. None when not even one band's minimum fits.
-pub fn band_rows(width: u32, height: u32, row_bytes: u64, max_binding: u64, offset_alignment: u32) -> Option<u32> {
+pub fn band_rows(
+    width: u32,
+    height: u32,
+    row_bytes: u64,
+    max_binding: u64,
+    offset_alignment: u32,
+) -> Option<u32> {
     if row_bytes * height as u64 <= max_binding {
         return Some(0);
     }
@@ -183,7 +212,9 @@ impl ShadePass {
         Ok(Self {
             blocks: BLOCK_SIZES
                 .iter()
-                .map(|size| super::ComputeKernel::new_for(ctx, Stage::SHADE, &format!("block{size}"), maps))
+                .map(|size| {
+                    super::ComputeKernel::new_for(ctx, Stage::SHADE, &format!("block{size}"), maps)
+                })
                 .collect::<Result<_>>()?,
             geometry_tiles: super::ComputeKernel::new(ctx, Stage::SHADE, "geometry_tiles")?,
             from_masks: super::ComputeKernel::new(ctx, Stage::SHADE, "from_masks")?,
@@ -196,28 +227,51 @@ impl ShadePass {
     }
 
     /// A tile list with a section per band of `band_rows` rows (0: one band, no section padding).
-    pub fn tile_list_in_bands(&self, ctx: &GpuContext, gbuffer: &GBuffer, band_rows: u32) -> GeometryTiles {
+    pub fn tile_list_in_bands(
+        &self,
+        ctx: &GpuContext,
+        gbuffer: &GBuffer,
+        band_rows: u32,
+    ) -> GeometryTiles {
         let (w, h) = (gbuffer.width, gbuffer.height);
         let tiles_x = groups(w, TILE) as u64;
         let (count, section_words) = if band_rows == 0 || band_rows >= h {
-            (1, TILE_LIST_HEADER as u64 + tiles_x * groups(h, TILE) as u64)
+            (
+                1,
+                TILE_LIST_HEADER as u64 + tiles_x * groups(h, TILE) as u64,
+            )
         } else {
             // Sections start at 256-byte offsets (the largest binding-offset alignment).
-            (h.div_ceil(band_rows), (TILE_LIST_HEADER as u64 + tiles_x * (band_rows / TILE) as u64).div_ceil(64) * 64)
+            (
+                h.div_ceil(band_rows),
+                (TILE_LIST_HEADER as u64 + tiles_x * (band_rows / TILE) as u64).div_ceil(64) * 64,
+            )
         };
         let band_rows = if count == 1 { 0 } else { band_rows };
         let bytes = count as u64 * section_words * 4;
         let list = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("geometry tiles"),
             size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let header = readback::storage_buffer(ctx, "geometry tiles header", &[0u32, 1, 1, 0], wgpu::BufferUsages::COPY_SRC);
+        let header = readback::storage_buffer(
+            ctx,
+            "geometry tiles header",
+            &[0u32, 1, 1, 0],
+            wgpu::BufferUsages::COPY_SRC,
+        );
         let bands = (0..count)
             .map(|b| Band {
                 first_row: b * band_rows,
-                rows: if count == 1 { h } else { band_rows.min(h - b * band_rows) },
+                rows: if count == 1 {
+                    h
+                } else {
+                    band_rows.min(h - b * band_rows)
+                },
                 frame: (count > 1).then(|| {
                     ctx.device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some("band frame"),
@@ -230,14 +284,33 @@ impl ShadePass {
                 tiles_bytes: section_words * 4,
             })
             .collect();
-        GeometryTiles { list, header, bytes, band_rows, bands }
+        GeometryTiles {
+            list,
+            header,
+            bytes,
+            band_rows,
+            bands,
+        }
     }
 
     /// Lists this frame's tiles with a geometry pixel (after the G-buffer pass) into `tiles`, each
     /// in its band's section.
-    pub fn record_geometry_tiles(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, frame: &wgpu::Buffer, gbuffer: &GBuffer, tiles: &GeometryTiles) {
+    pub fn record_geometry_tiles(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::Buffer,
+        gbuffer: &GBuffer,
+        tiles: &GeometryTiles,
+    ) {
         for band in &tiles.bands {
-            encoder.copy_buffer_to_buffer(&tiles.header, 0, &tiles.list, band.tiles_offset, TILE_LIST_HEADER as u64 * 4);
+            encoder.copy_buffer_to_buffer(
+                &tiles.header,
+                0,
+                &tiles.list,
+                band.tiles_offset,
+                TILE_LIST_HEADER as u64 * 4,
+            );
         }
         self.geometry_tiles.dispatch(
             ctx,
@@ -253,18 +326,45 @@ impl ShadePass {
 
     /// Adds samples `first .. first + count` (all in `maps`: a depth array, or a hybrid store's view)
     /// to the visibility buffer.
-    pub fn record(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, inputs: &ShadeInputs, maps: &wgpu::TextureView, first: u32, count: u32) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &ShadeInputs,
+        maps: &wgpu::TextureView,
+        first: u32,
+        count: u32,
+    ) {
         let tiles = inputs.tiles;
         let sample_bytes = std::mem::size_of::<GpuSample>() as u64;
         // Blocks in order, each adding to V in sample order: the sum order is the single loop's.
         for (block, block_count) in blocks(first, count) {
-            let kernel = &self.blocks[BLOCK_SIZES.iter().position(|&size| size == block_count).expect("a block size")];
+            let kernel = &self.blocks[BLOCK_SIZES
+                .iter()
+                .position(|&size| size == block_count)
+                .expect("a block size")];
             // The block's samples and weights as uniforms (see kernels/shade.wgsl); a smaller block
             // reads only the first `block_count` of each.
-            let block_samples = block_uniform(ctx, "shade block samples", SHADE_BLOCK as u64 * sample_bytes);
+            let block_samples = block_uniform(
+                ctx,
+                "shade block samples",
+                SHADE_BLOCK as u64 * sample_bytes,
+            );
             let block_weights = block_uniform(ctx, "shade block weights", SHADE_BLOCK as u64 * 4);
-            encoder.copy_buffer_to_buffer(inputs.samples, block as u64 * sample_bytes, &block_samples, 0, block_count as u64 * sample_bytes);
-            encoder.copy_buffer_to_buffer(inputs.weights, block as u64 * 4, &block_weights, 0, block_count as u64 * 4);
+            encoder.copy_buffer_to_buffer(
+                inputs.samples,
+                block as u64 * sample_bytes,
+                &block_samples,
+                0,
+                block_count as u64 * sample_bytes,
+            );
+            encoder.copy_buffer_to_buffer(
+                inputs.weights,
+                block as u64 * 4,
+                &block_weights,
+                0,
+                block_count as u64 * 4,
+            );
             for band in &tiles.bands {
                 kernel.dispatch(
                     ctx,
@@ -273,8 +373,12 @@ impl ShadePass {
                         frame: band.frame(inputs.frame).as_entire_binding(),
                         block_samples: block_samples.as_entire_binding(),
                         block_weights: block_weights.as_entire_binding(),
-                        gbuffer_position: wgpu::BindingResource::TextureView(&inputs.gbuffer.position_view),
-                        gbuffer_normal: wgpu::BindingResource::TextureView(&inputs.gbuffer.normal_view),
+                        gbuffer_position: wgpu::BindingResource::TextureView(
+                            &inputs.gbuffer.position_view,
+                        ),
+                        gbuffer_normal: wgpu::BindingResource::TextureView(
+                            &inputs.gbuffer.normal_view,
+                        ),
                         shadow_maps: wgpu::BindingResource::TextureView(maps),
                         visibility: band.pixels(tiles, inputs.visibility, inputs.gbuffer.width, 4),
                         tile_list: band.tiles(tiles),
@@ -287,8 +391,20 @@ impl ShadePass {
 
     /// Adaptive, scope = global: V = Σ_k ŵ_k · bit_k(p) from the cached lattice masks, a band of
     /// rows per dispatch (`tiles.bands`).
-    pub fn record_masks(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, screen: &Screen, weights: &wgpu::Buffer, masks: &wgpu::Buffer) {
-        let Screen { frame, gbuffer, tiles, visibility } = *screen;
+    pub fn record_masks(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        weights: &wgpu::Buffer,
+        masks: &wgpu::Buffer,
+    ) {
+        let Screen {
+            frame,
+            gbuffer,
+            tiles,
+            visibility,
+        } = *screen;
         let mask_bytes = crate::stages::adaptive_buffers::MASK_WORDS as u64 * 4;
         for band in &tiles.bands {
             self.from_masks.dispatch(
@@ -301,7 +417,11 @@ impl ShadePass {
                     visibility: band.pixels(tiles, visibility, gbuffer.width, 4),
                     masks: band.pixels(tiles, masks, gbuffer.width, mask_bytes),
                 },
-                super::Dispatch::Direct([groups(gbuffer.width, WORKGROUP[0]), groups(band.rows, WORKGROUP[1]), 1]),
+                super::Dispatch::Direct([
+                    groups(gbuffer.width, WORKGROUP[0]),
+                    groups(band.rows, WORKGROUP[1]),
+                    1,
+                ]),
             );
         }
     }
@@ -339,9 +459,19 @@ mod tests {
             }
             assert_eq!(next, first + count, "{first}+{count}: {b:?}");
             // Full blocks first, then each smaller size at most once, largest first.
-            let tail: Vec<u32> = b.iter().map(|&(_, size)| size).skip_while(|&s| s == SHADE_BLOCK).collect();
-            assert!(tail.windows(2).all(|w| w[0] > w[1]), "{first}+{count}: {b:?}");
-            assert_eq!(b.len() as u32, count / SHADE_BLOCK + (count % SHADE_BLOCK).count_ones());
+            let tail: Vec<u32> = b
+                .iter()
+                .map(|&(_, size)| size)
+                .skip_while(|&s| s == SHADE_BLOCK)
+                .collect();
+            assert!(
+                tail.windows(2).all(|w| w[0] > w[1]),
+                "{first}+{count}: {b:?}"
+            );
+            assert_eq!(
+                b.len() as u32,
+                count / SHADE_BLOCK + (count % SHADE_BLOCK).count_ones()
+            );
         }
     }
 }

@@ -1,14 +1,14 @@
 //! shadow_test: caches lit_k(p) of newly rendered maps as bits of each pixel's lattice mask; under
 //! scope = local only for the (pixel, sample) pairs the level's items and probes consult, once each.
 
-use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS, MASK_WORDS};
 use super::shade::GeometryTiles;
-use crate::gpu::stages::bind;
 use super::{ComputeKernel, Dispatch};
 use crate::gpu::kernels::MapAccess;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::{GpuLevel, GpuTestBlock};
 use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
+use crate::stages::adaptive_buffers::{ItemLists, Masks, Requests, LATTICE_POINTS, MASK_WORDS};
 use crate::Result;
 
 /// Samples of a full block (`TEST_BLOCK` in kernels/shadow_test.wgsl, whose `block16` unrolls them).
@@ -50,70 +50,200 @@ pub struct ShadowTest {
 impl ShadowTest {
     /// `maps`: how every entry point reads maps; `local`: also the entry points of scope = local.
     pub fn new(ctx: &GpuContext, maps: MapAccess, local: bool) -> Result<Self> {
-        Self::build(ctx, maps, local, ["block16", "block8", "block4", "block2", "block1"])
+        Self::build(
+            ctx,
+            maps,
+            local,
+            ["block16", "block8", "block4", "block2", "block1"],
+        )
     }
 
     /// scope = global over a point light's cube maps: the blocks test each pixel on the face that
     /// holds its direction (`cube16` .. `cube1`).
     pub fn new_cube(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
-        Self::build(ctx, maps, false, ["cube16", "cube8", "cube4", "cube2", "cube1"])
+        Self::build(
+            ctx,
+            maps,
+            false,
+            ["cube16", "cube8", "cube4", "cube2", "cube1"],
+        )
     }
 
     fn build(ctx: &GpuContext, maps: MapAccess, local: bool, blocks: [&str; 5]) -> Result<Self> {
-        let local = if local { Some([ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "list", maps)?, ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "probes", maps)?]) } else { None };
+        let local = if local {
+            Some([
+                ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "list", maps)?,
+                ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, "probes", maps)?,
+            ])
+        } else {
+            None
+        };
         let block = |entry| ComputeKernel::new_for(ctx, Stage::SHADOW_TEST, entry, maps);
         let buffer = |label, size, usage| {
-            ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false })
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: usage
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
         };
         Ok(Self {
             fill: ComputeKernel::new(ctx, Stage::SHADOW_TEST, "fill_blocks")?,
-            blocks: [block(blocks[0])?, block(blocks[1])?, block(blocks[2])?, block(blocks[3])?, block(blocks[4])?],
-            block_buffer: buffer("shadow_test blocks", TEST_SLOTS as u64 * TEST_BLOCK_BYTES, wgpu::BufferUsages::UNIFORM),
-            block_args: buffer("shadow_test block args", TEST_SLOTS as u64 * ARGS_BYTES, wgpu::BufferUsages::INDIRECT),
+            blocks: [
+                block(blocks[0])?,
+                block(blocks[1])?,
+                block(blocks[2])?,
+                block(blocks[3])?,
+                block(blocks[4])?,
+            ],
+            block_buffer: buffer(
+                "shadow_test blocks",
+                TEST_SLOTS as u64 * TEST_BLOCK_BYTES,
+                wgpu::BufferUsages::UNIFORM,
+            ),
+            block_args: buffer(
+                "shadow_test block args",
+                TEST_SLOTS as u64 * ARGS_BYTES,
+                wgpu::BufferUsages::INDIRECT,
+            ),
             local,
         })
     }
 
     /// scope = local: tests the four corners of each of this level's items (`items.items[cur]`,
     /// counted by `items.total`) that no earlier item or probe of the frame tested for that pixel.
-    pub fn record_list(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, work: &LocalWork, cur: usize) {
-        let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
+    pub fn record_list(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        t: &TestFrame,
+        work: &LocalWork,
+        cur: usize,
+    ) {
+        let kernels = self
+            .local
+            .as_ref()
+            .expect("ShadowTest built for scope = local");
         let items = work.items;
-        kernels[0].dispatch(ctx, enc, local_bindings(t, work, &items.items[cur], &items.total), Dispatch::Indirect(&items.list_args));
+        kernels[0].dispatch(
+            ctx,
+            enc,
+            local_bindings(t, work, &items.items[cur], &items.total),
+            Dispatch::Indirect(&items.list_args),
+        );
     }
 
     /// scope = local: tests the five new samples of each of this level's probes (`items.probes`,
     /// counted by `items.probe_total`; `work.quads` holds the probed parents' children), once per pixel.
-    pub fn record_probes(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, work: &LocalWork) {
-        let kernels = self.local.as_ref().expect("ShadowTest built for scope = local");
+    pub fn record_probes(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        t: &TestFrame,
+        work: &LocalWork,
+    ) {
+        let kernels = self
+            .local
+            .as_ref()
+            .expect("ShadowTest built for scope = local");
         let items = work.items;
-        kernels[1].dispatch(ctx, enc, local_bindings(t, work, &items.probes, &items.probe_total), Dispatch::Indirect(&items.probe_args));
+        kernels[1].dispatch(
+            ctx,
+            enc,
+            local_bindings(t, work, &items.probes, &items.probe_total),
+            Dispatch::Indirect(&items.probe_args),
+        );
     }
 
     /// Tests lattice samples `ks` (ascending), whose maps are layers of `maps` (or slots of a
     /// hybrid store's view); skips those not requested this frame. The blocks run over the
     /// frame's geometry tiles (`t.tiles`).
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, maps: &wgpu::TextureView, ks: &[u32]) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        t: &TestFrame,
+        maps: &wgpu::TextureView,
+        ks: &[u32],
+    ) {
         let bound = ks.len() as u32;
-        let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, ..Default::default() });
+        let level = readback::uniform_buffer(
+            ctx,
+            "level",
+            &GpuLevel {
+                work_count: bound,
+                ..Default::default()
+            },
+        );
         let list = readback::storage_buffer(ctx, "test list", ks, wgpu::BufferUsages::empty());
-        self.dispatch(ctx, enc, t, maps, SampleList { level: &level, list: &list, bound });
+        self.dispatch(
+            ctx,
+            enc,
+            t,
+            maps,
+            SampleList {
+                level: &level,
+                list: &list,
+                bound,
+            },
+        );
     }
 
     /// Tests the samples the last subdivide requested (`rq.decisions.new_samples`, as many as it
     /// appended, at most `bound`): the GPU-steered loop, when a level's maps fit one array.
-    pub fn record_requested(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, maps: &wgpu::TextureView, bound: u32) {
-        let level = readback::uniform_buffer(ctx, "level", &GpuLevel { work_count: bound, requested: 1, ..Default::default() });
-        self.dispatch(ctx, enc, t, maps, SampleList { level: &level, list: &t.rq.decisions.new_samples, bound });
+    pub fn record_requested(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        t: &TestFrame,
+        maps: &wgpu::TextureView,
+        bound: u32,
+    ) {
+        let level = readback::uniform_buffer(
+            ctx,
+            "level",
+            &GpuLevel {
+                work_count: bound,
+                requested: 1,
+                ..Default::default()
+            },
+        );
+        self.dispatch(
+            ctx,
+            enc,
+            t,
+            maps,
+            SampleList {
+                level: &level,
+                list: &t.rq.decisions.new_samples,
+                bound,
+            },
+        );
     }
 
     /// `fill_blocks`: the requested samples of `test_list` (see `level`) into the block slots
     /// (`blocks`: `block_buffer`), and each slot's dispatch arguments (`block_args`).
-    pub fn record_fill(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, bindings: bind::shadow_test::FillBlocks) {
-        self.fill.dispatch(ctx, enc, bindings, Dispatch::Direct([1, 1, 1]));
+    pub fn record_fill(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        bindings: bind::shadow_test::FillBlocks,
+    ) {
+        self.fill
+            .dispatch(ctx, enc, bindings, Dispatch::Direct([1, 1, 1]));
     }
 
-    fn dispatch(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, t: &TestFrame, maps: &wgpu::TextureView, list: SampleList) {
+    fn dispatch(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        t: &TestFrame,
+        maps: &wgpu::TextureView,
+        list: SampleList,
+    ) {
         let (tiles, gbuffer, rq) = (t.tiles, t.gbuffer, t.rq);
         // A band at a time (`tiles.bands`): fill_blocks sizes each slot's dispatch by the band's
         // tiles, and the blocks write the band's rows of the masks.
@@ -132,14 +262,20 @@ impl ShadowTest {
             let masks = band.pixels(tiles, &t.out.lit, gbuffer.width, MASK_WORDS as u64 * 4);
             for (slot, size) in block_slots(list.bound) {
                 let kernel = &self.blocks[(TEST_BLOCK / size).trailing_zeros() as usize];
-                let block = wgpu::BufferBinding { buffer: &self.block_buffer, offset: slot as u64 * TEST_BLOCK_BYTES, size: wgpu::BufferSize::new(TEST_BLOCK_BYTES) };
+                let block = wgpu::BufferBinding {
+                    buffer: &self.block_buffer,
+                    offset: slot as u64 * TEST_BLOCK_BYTES,
+                    size: wgpu::BufferSize::new(TEST_BLOCK_BYTES),
+                };
                 kernel.dispatch(
                     ctx,
                     enc,
                     bind::shadow_test::Block {
                         frame: band.frame(t.frame).as_entire_binding(),
                         samples: rq.samples.as_entire_binding(),
-                        gbuffer_position: wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                        gbuffer_position: wgpu::BindingResource::TextureView(
+                            &gbuffer.position_view,
+                        ),
                         gbuffer_normal: wgpu::BindingResource::TextureView(&gbuffer.normal_view),
                         shadow_maps: wgpu::BindingResource::TextureView(maps),
                         masks: masks.clone(),
@@ -183,7 +319,12 @@ struct SampleList<'b> {
 }
 
 /// `list` and `probes`: the work list `work` (items or probes), counted by `total`.
-fn local_bindings<'b>(t: &TestFrame<'b>, work: &LocalWork<'b>, list: &'b wgpu::Buffer, total: &'b wgpu::Buffer) -> bind::shadow_test::Local<'b> {
+fn local_bindings<'b>(
+    t: &TestFrame<'b>,
+    work: &LocalWork<'b>,
+    list: &'b wgpu::Buffer,
+    total: &'b wgpu::Buffer,
+) -> bind::shadow_test::Local<'b> {
     bind::shadow_test::Local {
         frame: t.frame.as_entire_binding(),
         samples: t.rq.samples.as_entire_binding(),

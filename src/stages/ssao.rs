@@ -1,8 +1,8 @@
 //! ssao: screen-space ambient occlusion from the G-buffer into an AO buffer (and occluded counts).
 
-use crate::gpu::{GpuContext, Stage};
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, PIXEL_WORKGROUP};
+use crate::gpu::stages::bind;
+use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
 pub struct Ssao {
@@ -11,13 +11,30 @@ pub struct Ssao {
 
 impl Ssao {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SSAO, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::SSAO, "main")?,
+        })
     }
 
     /// Writes `ao` and `occluded` at every pixel of a `size` (width, height) G-buffer, from the
     /// bindings the caller gives by name.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, bindings: bind::ssao::Main, size: [u32; 2]) {
-        self.kernel.dispatch(ctx, enc, bindings, Dispatch::Direct([groups(size[0], PIXEL_WORKGROUP[0]), groups(size[1], PIXEL_WORKGROUP[1]), 1]));
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        bindings: bind::ssao::Main,
+        size: [u32; 2],
+    ) {
+        self.kernel.dispatch(
+            ctx,
+            enc,
+            bindings,
+            Dispatch::Direct([
+                groups(size[0], PIXEL_WORKGROUP[0]),
+                groups(size[1], PIXEL_WORKGROUP[1]),
+                1,
+            ]),
+        );
     }
 }
 
@@ -26,7 +43,9 @@ impl Ssao {
 pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((state >> 40) as f32) / (1u64 << 24) as f32
     };
     (0..n)

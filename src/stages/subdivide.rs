@@ -1,9 +1,9 @@
 //! subdivide: split decisions, children, new lattice samples, corner levels, dispatch arguments.
 
+use super::{ComputeKernel, Dispatch};
+use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::stages::adaptive_buffers::{Decisions, Level, LowQuality};
-use crate::gpu::stages::bind;
-use super::{ComputeKernel, Dispatch};
 use crate::Result;
 
 /// What the split kernel compares at one level (subdivide and its twin).
@@ -22,11 +22,21 @@ pub struct Subdivide {
 
 impl Subdivide {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::SUBDIVIDE, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::SUBDIVIDE, "main")?,
+        })
     }
 
     /// Splits `lv.quads` by `low.per_quad` into `next` (counted in `lv.control`) and updates `out`.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, lv: &Level, low: &LowQuality, next: &wgpu::Buffer, out: &Decisions) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        lv: &Level,
+        low: &LowQuality,
+        next: &wgpu::Buffer,
+        out: &Decisions,
+    ) {
         let control = lv.control;
         self.kernel.dispatch(
             ctx,

@@ -24,13 +24,22 @@ pub fn dispatch_size(count: u32, per_dimension: u32) -> [u32; 3] {
 
 impl TruthTrace {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        Ok(Self { kernel: ComputeKernel::new(ctx, Stage::TRUTH_TRACE, "main")? })
+        Ok(Self {
+            kernel: ComputeKernel::new(ctx, Stage::TRUTH_TRACE, "main")?,
+        })
     }
 
     /// Records one chunk: `count` points from the params' `first`.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, bindings: bind::truth_trace::Main, count: u32) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        bindings: bind::truth_trace::Main,
+        count: u32,
+    ) {
         let size = dispatch_size(count, ctx.limits().max_compute_workgroups_per_dimension);
-        self.kernel.dispatch(ctx, enc, bindings, Dispatch::Direct(size));
+        self.kernel
+            .dispatch(ctx, enc, bindings, Dispatch::Direct(size));
     }
 }
 

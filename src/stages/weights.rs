@@ -1,13 +1,13 @@
 //! weights (scope = global, corner-to-corner lattice): the sample weights on the GPU, from the
 //! leaves each level appends and the rendered samples, so shade needs no read-back.
 
-use crate::gpu::Stage;
-use crate::gpu::GpuContext;
-use crate::stages::adaptive_buffers::{Decisions, LATTICE_POINTS, QUAD_CAPACITY};
-use crate::gpu::stages::bind;
 use super::{groups, ComputeKernel, Dispatch, LINE_WORKGROUP};
 use crate::gpu::readback;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::{GpuQuad, GpuWeights};
+use crate::gpu::GpuContext;
+use crate::gpu::Stage;
+use crate::stages::adaptive_buffers::{Decisions, LATTICE_POINTS, QUAD_CAPACITY};
 use crate::Result;
 
 /// GpuWeights.rule.
@@ -32,10 +32,25 @@ impl WeightsPass {
         Ok(Self {
             leaves_of_level: ComputeKernel::new(ctx, Stage::WEIGHTS, "leaves_of_level")?,
             main: ComputeKernel::new(ctx, Stage::WEIGHTS, "main")?,
-            leaves: readback::zeroed_storage(ctx, "leaves", capacity * std::mem::size_of::<GpuQuad>() as u64),
+            leaves: readback::zeroed_storage(
+                ctx,
+                "leaves",
+                capacity * std::mem::size_of::<GpuQuad>() as u64,
+            ),
             leaf_count: readback::zeroed_storage(ctx, "leaf count", 4),
-            numerators: readback::zeroed_storage(ctx, "weight numerators", LATTICE_POINTS as u64 * 4),
-            rule: readback::uniform_buffer(ctx, "weights rule", &GpuWeights { rule, ..Default::default() }),
+            numerators: readback::zeroed_storage(
+                ctx,
+                "weight numerators",
+                LATTICE_POINTS as u64 * 4,
+            ),
+            rule: readback::uniform_buffer(
+                ctx,
+                "weights rule",
+                &GpuWeights {
+                    rule,
+                    ..Default::default()
+                },
+            ),
         })
     }
 
@@ -45,7 +60,14 @@ impl WeightsPass {
     }
 
     /// After a level's subdivide: appends the level's unsplit quads (`level.quad_count` of `quads`).
-    pub fn record_leaves(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, level: &wgpu::Buffer, quads: &wgpu::Buffer, decisions: &Decisions) {
+    pub fn record_leaves(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        level: &wgpu::Buffer,
+        quads: &wgpu::Buffer,
+        decisions: &Decisions,
+    ) {
         self.leaves_of_level.dispatch(
             ctx,
             enc,
@@ -61,7 +83,13 @@ impl WeightsPass {
     }
 
     /// After the last level: writes ŵ into `weights`.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, decisions: &Decisions, weights: &wgpu::Buffer) {
+    pub fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        decisions: &Decisions,
+        weights: &wgpu::Buffer,
+    ) {
         self.main.dispatch(
             ctx,
             enc,

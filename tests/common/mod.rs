@@ -80,23 +80,42 @@ p_m = [0, 5]
 
 /// The rows of `dir/results.jsonl`.
 pub fn rows(dir: &std::path::Path) -> Vec<serde_json::Value> {
-    std::fs::read_to_string(dir.join("results.jsonl")).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect()
+    std::fs::read_to_string(dir.join("results.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
 }
 
 /// A row without what differs between runs of one sweep: timings, and the shard it came from.
 pub fn untimed(r: &serde_json::Value) -> serde_json::Value {
     let mut r = r.clone();
     let o = r.as_object_mut().unwrap();
-    for k in ["total_ms", "total_ms_min", "total_ms_max", "total_ms_runs", "stages_ms", "setup_ms"] {
+    for k in [
+        "total_ms",
+        "total_ms_min",
+        "total_ms_max",
+        "total_ms_runs",
+        "stages_ms",
+        "setup_ms",
+    ] {
         o.remove(k);
     }
-    o["provenance"]["spec"].as_object_mut().unwrap().remove("shard");
+    o["provenance"]["spec"]
+        .as_object_mut()
+        .unwrap()
+        .remove("shard");
     r
 }
 
 /// `out`, after checking that its command succeeded (else fails with its stdout and stderr).
 pub fn ok(out: Output, what: &str) -> Output {
-    assert!(out.status.success(), "{what} failed: {}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{what} failed: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     out
 }
 
@@ -124,7 +143,10 @@ pub struct Lcg(pub u64);
 
 impl Lcg {
     pub fn next_f32(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((self.0 >> 40) as f32) / (1u64 << 24) as f32
     }
     pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
@@ -178,7 +200,10 @@ pub fn inspected<T: 'static>(
     let mut renderer = penumbra::frame::Renderer::new(ctx, scene, method).expect("renderer");
     renderer.keep_intermediates();
     let r = renderer.frame(options).expect("frame");
-    let t = renderer.inspect::<T>().expect("read back").unwrap_or_else(|| panic!("{method:?} shows no {}", std::any::type_name::<T>()));
+    let t = renderer
+        .inspect::<T>()
+        .expect("read back")
+        .unwrap_or_else(|| panic!("{method:?} shows no {}", std::any::type_name::<T>()));
     (r, t)
 }
 
@@ -188,15 +213,24 @@ pub fn traced(
     scene: &penumbra::scene::Scene,
     p: &penumbra::methods::AdaptiveParams,
     keep: bool,
-) -> (penumbra::frame::FrameResult, penumbra::methods::adaptive::AdaptiveTrace) {
-    let options = penumbra::frame::FrameOptions { mode: penumbra::gpu::timing::TimingMode::Frame, pictures: true };
+) -> (
+    penumbra::frame::FrameResult,
+    penumbra::methods::adaptive::AdaptiveTrace,
+) {
+    let options = penumbra::frame::FrameOptions {
+        mode: penumbra::gpu::timing::TimingMode::Frame,
+        pictures: true,
+    };
     let method = penumbra::methods::Method::adaptive(p.clone());
     if keep {
         return inspected(ctx, scene, &method, options);
     }
     let mut renderer = penumbra::frame::Renderer::new(ctx, scene, &method).expect("renderer");
     let r = renderer.frame(options).expect("adaptive frame");
-    let t = renderer.inspect().expect("read back").expect("the adaptive method keeps a trace");
+    let t = renderer
+        .inspect()
+        .expect("read back")
+        .expect("the adaptive method keeps a trace");
     (r, t)
 }
 
@@ -204,6 +238,8 @@ pub fn traced(
 /// under a sun instead: for the methods that take the sun alone (`cascades`).
 pub fn with_sun(text: &str) -> String {
     let (head, rest) = text.split_once("[light]\n").expect("a [light] table");
-    let (_, tail) = rest.split_once("\n\n[render]").expect("[render] after [light]");
+    let (_, tail) = rest
+        .split_once("\n\n[render]")
+        .expect("[render] after [light]");
     format!("{head}[light]\nkind = \"sun\"\ndirection = [-0.4, -1.0, 0.3]\nangular_diameter_deg = 3.0\n\n[render]{tail}")
 }

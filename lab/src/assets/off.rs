@@ -61,9 +61,15 @@ pub(crate) fn parse_off(text: &str) -> Result<LoadedMesh, Failure> {
 /// A header that claims more vertices or faces than the file holds would make off-rs read faces as
 /// vertices (and report an "invalid color"): compare the counts with the lines first.
 fn check_counts(text: &str) -> Result<(), Failure> {
-    let content: Vec<(usize, Vec<&str>)> =
-        text.lines().enumerate().map(|(n, l)| (n + 1, tokens(l))).filter(|(_, t)| !t.is_empty()).collect();
-    let Some((_, header)) = content.first() else { return Ok(()) };
+    let content: Vec<(usize, Vec<&str>)> = text
+        .lines()
+        .enumerate()
+        .map(|(n, l)| (n + 1, tokens(l)))
+        .filter(|(_, t)| !t.is_empty())
+        .collect();
+    let Some((_, header)) = content.first() else {
+        return Ok(());
+    };
     if !header[0].ends_with("OFF") {
         return Ok(()); // off-rs words the header error
     }
@@ -74,7 +80,10 @@ fn check_counts(text: &str) -> Result<(), Failure> {
     } else {
         return Ok(());
     };
-    let (Some(Ok(vertices)), Some(Ok(faces))) = (counts.first().map(|v| v.parse::<usize>()), counts.get(1).map(|f| f.parse::<usize>())) else {
+    let (Some(Ok(vertices)), Some(Ok(faces))) = (
+        counts.first().map(|v| v.parse::<usize>()),
+        counts.get(1).map(|f| f.parse::<usize>()),
+    ) else {
         return Ok(()); // off-rs words bad counts
     };
     if rest.len() < vertices.saturating_add(faces) {

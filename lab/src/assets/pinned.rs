@@ -16,13 +16,25 @@ use super::manifest::FILES;
 pub(crate) fn check_pinned(rel: &str, path: &Path) -> Result<(), String> {
     static VERIFIED: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
     // `meshes/./cow.off` and `meshes//cow.off` name the same file as `meshes/cow.off`.
-    let parts: Vec<&str> = rel.split(['/', '\\']).filter(|c| !c.is_empty() && *c != ".").collect();
-    let Some(file) = FILES.iter().find(|f| f.dest.split('/').eq(parts.iter().copied())) else { return Ok(()) };
+    let parts: Vec<&str> = rel
+        .split(['/', '\\'])
+        .filter(|c| !c.is_empty() && *c != ".")
+        .collect();
+    let Some(file) = FILES
+        .iter()
+        .find(|f| f.dest.split('/').eq(parts.iter().copied()))
+    else {
+        return Ok(());
+    };
     if VERIFIED.lock().is_ok_and(|v| v.contains(path)) {
         return Ok(());
     }
-    let fetch = format!("run `penumbra assets fetch --group {}` to fetch it again", file.group);
-    let (got, size) = sha256_file(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let fetch = format!(
+        "run `penumbra assets fetch --group {}` to fetch it again",
+        file.group
+    );
+    let (got, size) =
+        sha256_file(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     if size != file.size || got != file.sha256 {
         return Err(format!(
             "{} is not the file the asset cache pinned ({size} bytes with sha256 {got}; pinned: {} bytes with sha256 {}): it was damaged or replaced; {fetch}",

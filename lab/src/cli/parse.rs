@@ -12,7 +12,9 @@ use clap::{Arg, Command};
 
 /// The parsed command line; `--help`, `--version` and unknown flags are clap's own.
 pub fn parse<T: clap::Parser>() -> Result<T> {
-    let matches = negatives_are_values(T::command()).try_get_matches().map_err(|e| one_line(e).unwrap_or_else(|e| e.exit()))?;
+    let matches = negatives_are_values(T::command())
+        .try_get_matches()
+        .map_err(|e| one_line(e).unwrap_or_else(|e| e.exit()))?;
     T::from_arg_matches(&matches).map_err(|e| one_line(e).unwrap_or_else(|e| e.exit()))
 }
 
@@ -23,7 +25,9 @@ pub fn negatives_are_values(cmd: Command) -> Command {
         if !a.get_action().takes_values() || a.is_positional() {
             return a;
         }
-        let list = a.get_value_delimiter().is_some() || a.get_value_names().is_some_and(|n| n.iter().any(|n| n.contains(',')));
+        let list = a.get_value_delimiter().is_some()
+            || a.get_value_names()
+                .is_some_and(|n| n.iter().any(|n| n.contains(',')));
         // Only ever turned on: a flag may have asked for it itself (`--shard -1/2`).
         let a = a.allow_negative_numbers(true);
         if list {
@@ -45,7 +49,10 @@ fn one_line(e: clap::Error) -> std::result::Result<anyhow::Error, clap::Error> {
         Some(ContextValue::String(s)) => Some(s.clone()),
         _ => None,
     };
-    let (Some(arg), Some(value)) = (text(ContextKind::InvalidArg), text(ContextKind::InvalidValue)) else {
+    let (Some(arg), Some(value)) = (
+        text(ContextKind::InvalidArg),
+        text(ContextKind::InvalidValue),
+    ) else {
         return Err(e);
     };
     // `--max-configs <N>` → `--max-configs`.
@@ -57,5 +64,9 @@ fn one_line(e: clap::Error) -> std::result::Result<anyhow::Error, clap::Error> {
         Some(_) => "is not a whole number".to_string(),
         None => source.map_or_else(|| e.kind().to_string(), |s| s.to_string()),
     };
-    Ok(if reason.contains(&value) { anyhow!("{flag}: {reason}") } else { anyhow!("{flag} `{value}`: {reason}") })
+    Ok(if reason.contains(&value) {
+        anyhow!("{flag}: {reason}")
+    } else {
+        anyhow!("{flag} `{value}`: {reason}")
+    })
 }

@@ -48,19 +48,36 @@ fn run(args: ReferenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let scene = Scene::load(&args.scene.scene, &args.sets.render()?)?;
     let mode = match (&args.point, args.mode.as_str()) {
         (None, m) => truth::parse_mode(m, args.samples)?,
-        (Some(p), "point") => truth::parse_mode(&format!("point:{p}"), args.samples).context("--point")?,
+        (Some(p), "point") => {
+            truth::parse_mode(&format!("point:{p}"), args.samples).context("--point")?
+        }
         (Some(_), m) => anyhow::bail!("--point is for --mode point, not --mode {m}"),
     };
     let tracer = truth::TracerChoice::parse(&args.tracer)?;
     let ctx = GpuContext::with_request(gpu)?;
-    let (g, image) = truth::for_scene_with(&ctx, &scene, mode, &truth::Cache::default_for(args.no_cache), tracer)?;
+    let (g, image) = truth::for_scene_with(
+        &ctx,
+        &scene,
+        mode,
+        &truth::Cache::default_for(args.no_cache),
+        tracer,
+    )?;
     let (w, h) = (image.width, image.height);
     let geometry = g.geometry_count();
     let record = serde_json::to_vec_pretty(&image.record(&scene, geometry))?;
     let files = vec![
-        ("reference.exr".to_string(), run_files::visibility_exr(&image.values, w, h)?),
-        ("reference.png".to_string(), run_files::visibility_png(&image.values, w, h)?),
-        ("reference_shaded.png".to_string(), run_files::png(&run_files::shaded_image(&image.values, &g, &scene))?),
+        (
+            "reference.exr".to_string(),
+            run_files::visibility_exr(&image.values, w, h)?,
+        ),
+        (
+            "reference.png".to_string(),
+            run_files::visibility_png(&image.values, w, h)?,
+        ),
+        (
+            "reference_shaded.png".to_string(),
+            run_files::png(&run_files::shaded_image(&image.values, &g, &scene))?,
+        ),
         ("reference.json".to_string(), record),
     ];
     run_files::write_files(out, &files)?;

@@ -1,8 +1,8 @@
 //! `penumbra render`: one scene, one method, one frame (after warm-up frames on the same renderer).
 
 use anyhow::Result;
-use penumbra_lab::frame::certify::{FrameCertifier, ProxyKind};
 use penumbra_lab::frame;
+use penumbra_lab::frame::certify::{FrameCertifier, ProxyKind};
 use penumbra_lab::gpu::timing::TimingMode;
 use penumbra_lab::gpu::{AdapterRequest, GpuContext};
 use penumbra_lab::methods::Method;
@@ -56,7 +56,11 @@ fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     let method = Method::parse(&args.method, &param_pairs(&args.param)?)?;
     method.check_light(&scene)?;
     let certify = penumbra_lab::studies::flags::certify_options(args.certify, args.delta, &scene)?;
-    let mode = if args.timing == "frame" { TimingMode::Frame } else { TimingMode::Stages };
+    let mode = if args.timing == "frame" {
+        TimingMode::Frame
+    } else {
+        TimingMode::Stages
+    };
     let ctx = GpuContext::with_request(gpu)?;
     let mut renderer = frame::Renderer::new(&ctx, &scene, &method)?;
     for _ in 0..args.warm_up {
@@ -67,13 +71,22 @@ fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
     let certified = match certify {
         Some(options) => {
             penumbra_lab::studies::flags::certify_fits(&options, result.gbuffer.geometry_count())?;
-            let mut certifier = FrameCertifier::new(&ctx, &scene, options, ProxyKind::SecondOpinion)?;
+            let mut certifier =
+                FrameCertifier::new(&ctx, &scene, options, ProxyKind::SecondOpinion)?;
             Some(certifier.certify(&result)?)
         }
         None => None,
     };
     let certify_json = certified.as_ref().map(serde_json::to_value).transpose()?;
-    let files = run_files::run_files(&scene, &method, &result, &ctx.summary, ctx.timestamps_trusted, args.warm_up, certify_json)?;
+    let files = run_files::run_files(
+        &scene,
+        &method,
+        &result,
+        &ctx.summary,
+        ctx.timestamps_trusted,
+        args.warm_up,
+        certify_json,
+    )?;
     run_files::write_files(out, &files)?;
     println!(
         "{}: {} on {} ({}x{}, {} shadow maps, {:.1} ms wall clock on {}, after {} warm-up frame{})",
@@ -111,7 +124,9 @@ fn run(args: RenderArgs, gpu: &AdapterRequest) -> Result<()> {
 /// sees up front (the frame is the cheap test).
 fn all_dark(result: &frame::FrameResult) -> Option<usize> {
     let g = &result.gbuffer;
-    let mut geometry = (0..result.visibility.len()).filter(|&i| g.is_geometry(i)).peekable();
+    let mut geometry = (0..result.visibility.len())
+        .filter(|&i| g.is_geometry(i))
+        .peekable();
     geometry.peek()?;
     let mut n = 0;
     for i in geometry {

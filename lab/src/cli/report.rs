@@ -38,12 +38,21 @@ impl Run for ReportArgs {
 fn run(args: ReportArgs) -> Result<()> {
     if args.index {
         let [root] = args.results.as_slice() else {
-            anyhow::bail!("--index: takes one folder (results), not {} paths", args.results.len())
+            anyhow::bail!(
+                "--index: takes one folder (results), not {} paths",
+                args.results.len()
+            )
         };
         if let Some(b) = &args.baseline {
-            anyhow::bail!("--baseline {}: --index writes an index, not a report", b.display());
+            anyhow::bail!(
+                "--baseline {}: --index writes an index, not a report",
+                b.display()
+            );
         }
-        println!("index: {}", penumbra_lab::report::results_index::write(root)?.display());
+        println!(
+            "index: {}",
+            penumbra_lab::report::results_index::write(root)?.display()
+        );
         return Ok(());
     }
     if args.out.exists() && !args.out.is_dir() {
@@ -52,15 +61,26 @@ fn run(args: ReportArgs) -> Result<()> {
     let html = match args.results.as_slice() {
         [dir] if is_folder(dir) => {
             if let Some(b) = &args.baseline {
-                anyhow::bail!("--baseline {}: compares results.jsonl rows, not a results folder ({})", b.display(), dir.display());
+                anyhow::bail!(
+                    "--baseline {}: compares results.jsonl rows, not a results folder ({})",
+                    b.display(),
+                    dir.display()
+                );
             }
             penumbra_lab::report::results_folder::write(dir, &args.out)?
         }
         paths => {
             if let Some(dir) = paths.iter().find(|p| is_folder(p)) {
-                anyhow::bail!("report {}: a results folder is reported alone, not with other files", dir.display());
+                anyhow::bail!(
+                    "report {}: a results folder is reported alone, not with other files",
+                    dir.display()
+                );
             }
-            penumbra_lab::report::results::write_from_files_with_baseline(paths, args.baseline.as_deref(), &args.out)?
+            penumbra_lab::report::results::write_from_files_with_baseline(
+                paths,
+                args.baseline.as_deref(),
+                &args.out,
+            )?
         }
     };
     println!("report: {}", html.display());

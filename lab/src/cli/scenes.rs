@@ -2,8 +2,8 @@
 
 use anyhow::Result;
 use penumbra_lab::gpu::AdapterRequest;
-use penumbra_lab::studies::Run;
 use penumbra_lab::scene::catalog;
+use penumbra_lab::studies::Run;
 
 #[derive(clap::Args)]
 pub struct ScenesArgs {}
@@ -15,11 +15,25 @@ impl Run for ScenesArgs {
 }
 
 fn run() -> Result<()> {
-    println!("{:22} {:>10}  {:9}  {:44}  description", "scene", "triangles", "assets", "meshes");
+    println!(
+        "{:22} {:>10}  {:9}  {:44}  description",
+        "scene", "triangles", "assets", "meshes"
+    );
     for e in catalog(None) {
         let tris = e.triangles.map_or("?".to_string(), |t| t.to_string());
-        let assets = if e.missing.is_empty() { "present" } else { "missing" };
-        println!("{:22} {:>10}  {:9}  {:44}  {}", e.name, tris, assets, e.sources.join(" + "), e.description);
+        let assets = if e.missing.is_empty() {
+            "present"
+        } else {
+            "missing"
+        };
+        println!(
+            "{:22} {:>10}  {:9}  {:44}  {}",
+            e.name,
+            tris,
+            assets,
+            e.sources.join(" + "),
+            e.description
+        );
         if let Some(cmd) = &e.fetch {
             println!("{:22} fetch with `{cmd}`", "");
         }

@@ -2,7 +2,7 @@
 
 use image::{GrayImage, RgbImage};
 
-use super::{BAD_PIXEL_THRESHOLD, Metrics, MetricsError};
+use super::{Metrics, MetricsError, BAD_PIXEL_THRESHOLD};
 
 /// Checks the planar inputs against `width × height`; returns the pixel count.
 pub(super) fn check_planes(

@@ -2,10 +2,10 @@
 
 use image::{Rgb, RgbImage};
 
-use super::MetricsError;
 use super::colormap::{diverging, magma};
 use super::compute::check_planes;
 use super::font;
+use super::MetricsError;
 
 /// Colour of background (non-geometry) pixels.
 pub const BACKGROUND_GREY: [u8; 3] = [96, 96, 96];

@@ -11,7 +11,7 @@ mod font;
 use serde::{Deserialize, Serialize};
 
 pub use compute::compute;
-pub use error_image::{BACKGROUND_GREY, NAN_COLOUR, abs_error_image, signed_error_image};
+pub use error_image::{abs_error_image, signed_error_image, BACKGROUND_GREY, NAN_COLOUR};
 
 /// Threshold on |estimate - reference| above which a pixel counts as "bad" (one 5-bit step).
 pub const BAD_PIXEL_THRESHOLD: f64 = 1.0 / 32.0;

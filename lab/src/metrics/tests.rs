@@ -210,11 +210,9 @@ fn error_images_layout_and_colours() {
     // Legend strip: a coloured ramp and black tick/label pixels.
     let legend = image::imageops::crop_imm(&signed, 0, H, W, 30).to_image();
     assert!(legend.pixels().any(|p| p.0 == [0, 0, 0]));
-    assert!(
-        legend
-            .pixels()
-            .any(|p| p.0 == [247, 247, 247] || p.0[2] > 150 && p.0[0] < 100)
-    );
+    assert!(legend
+        .pixels()
+        .any(|p| p.0 == [247, 247, 247] || p.0[2] > 150 && p.0[0] < 100));
     assert!(matches!(
         abs_error_image(&e, &r, &mask, W, H, 0.0),
         Err(MetricsError::BadScale(_))
@@ -228,19 +226,34 @@ fn error_images_round_trip_through_png() {
     let dir = tempfile::tempdir().unwrap();
     let (w, h) = (256u32, 160u32);
     let n = (w * h) as usize;
-    let r: Vec<f32> = (0..n).map(|i| (i as u32 % w) as f32 / (w - 1) as f32).collect();
-    let e: Vec<f32> = (0..n).map(|i| r[i] + 0.2 * ((i as u32 / w) as f32 / h as f32 - 0.5)).collect();
+    let r: Vec<f32> = (0..n)
+        .map(|i| (i as u32 % w) as f32 / (w - 1) as f32)
+        .collect();
+    let e: Vec<f32> = (0..n)
+        .map(|i| r[i] + 0.2 * ((i as u32 / w) as f32 / h as f32 - 0.5))
+        .collect();
     let mask: Vec<bool> = (0..n).map(|i| (i as u32 / w) > 10).collect();
     for (name, img) in [
-        ("abs.png", abs_error_image(&e, &r, &mask, w, h, 0.1).unwrap()),
-        ("signed.png", signed_error_image(&e, &r, &mask, w, h, 0.1).unwrap()),
+        (
+            "abs.png",
+            abs_error_image(&e, &r, &mask, w, h, 0.1).unwrap(),
+        ),
+        (
+            "signed.png",
+            signed_error_image(&e, &r, &mask, w, h, 0.1).unwrap(),
+        ),
     ] {
         let path = dir.path().join(name);
         img.save(&path).unwrap();
         let back = image::open(&path).unwrap().to_rgb8();
         // The picture is the screen plus its colour bar underneath.
         assert_eq!(back.width(), w, "{name}");
-        assert!(back.height() > h && back.height() == img.height(), "{name}: {}x{}", back.width(), back.height());
+        assert!(
+            back.height() > h && back.height() == img.height(),
+            "{name}: {}x{}",
+            back.width(),
+            back.height()
+        );
         assert_eq!(back.as_raw(), img.as_raw(), "{name}: PNG is lossless");
         // Row 0 is masked out, row 100 is not: they must look different.
         assert_ne!(back.get_pixel(5, 0), back.get_pixel(5, 100), "{name}");

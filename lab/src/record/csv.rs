@@ -11,12 +11,16 @@ where
     R: IntoIterator,
     R::Item: AsRef<[u8]>,
 {
-    let mut w = ::csv::WriterBuilder::new().terminator(::csv::Terminator::Any(b'\n')).flexible(true).from_writer(Vec::new());
+    let mut w = ::csv::WriterBuilder::new()
+        .terminator(::csv::Terminator::Any(b'\n'))
+        .flexible(true)
+        .from_writer(Vec::new());
     for record in records {
         // Writing to memory cannot fail, and a CSV writer takes any bytes.
         w.write_record(record).expect("CSV into memory");
     }
-    String::from_utf8(w.into_inner().expect("CSV into memory")).expect("CSV of UTF-8 fields is UTF-8")
+    String::from_utf8(w.into_inner().expect("CSV into memory"))
+        .expect("CSV of UTF-8 fields is UTF-8")
 }
 
 fn opt(v: Option<f64>) -> String {
@@ -33,9 +37,33 @@ pub fn render(rows: &[ResultRow]) -> String {
         }
     }
     let mut header: Vec<String> = [
-        "scene", "label", "method", "params", "adapter", "shadow_maps", "syncs", "total_ms", "total_ms_min", "total_ms_max",
-        "setup_ms", "rmse", "mae", "max_abs", "psnr", "ssim", "flip_mean", "flip_p95", "flip_p99", "penumbra_rmse",
-        "bad_pixel_share", "nan_count", "pixels", "penumbra_pixels", "mismatch_share", "reference", "raster",
+        "scene",
+        "label",
+        "method",
+        "params",
+        "adapter",
+        "shadow_maps",
+        "syncs",
+        "total_ms",
+        "total_ms_min",
+        "total_ms_max",
+        "setup_ms",
+        "rmse",
+        "mae",
+        "max_abs",
+        "psnr",
+        "ssim",
+        "flip_mean",
+        "flip_p95",
+        "flip_p99",
+        "penumbra_rmse",
+        "bad_pixel_share",
+        "nan_count",
+        "pixels",
+        "penumbra_pixels",
+        "mismatch_share",
+        "reference",
+        "raster",
     ]
     .map(String::from)
     .to_vec();
@@ -48,7 +76,12 @@ pub fn render(rows: &[ResultRow]) -> String {
     let mut records = vec![header];
     for r in rows {
         let m = &r.metrics;
-        let adapter = r.adapter.get("name").and_then(|v| v.as_str()).map(String::from).unwrap_or_else(|| r.adapter.to_string());
+        let adapter = r
+            .adapter
+            .get("name")
+            .and_then(|v| v.as_str())
+            .map(String::from)
+            .unwrap_or_else(|| r.adapter.to_string());
         let mut cells = vec![
             r.scene.clone(),
             r.label(),
@@ -103,9 +136,18 @@ mod tests {
         assert_eq!(lines([["say \"x\""]]), "\"say \"\"x\"\"\"\n");
         // A comma, a quote and a line break in one field: quoted once, the quote doubled, the
         // break kept inside the quotes; the fields around it stay bare.
-        let text = lines([vec!["scene", "label", "n"], vec!["tiny", "regular:n=5,layout=\"centred\"\nsecond line", "5"]]);
-        assert_eq!(text, "scene,label,n\ntiny,\"regular:n=5,layout=\"\"centred\"\"\nsecond line\",5\n");
-        let back: Vec<::csv::StringRecord> = ::csv::Reader::from_reader(text.as_bytes()).records().collect::<Result<_, _>>().unwrap();
+        let text = lines([
+            vec!["scene", "label", "n"],
+            vec!["tiny", "regular:n=5,layout=\"centred\"\nsecond line", "5"],
+        ]);
+        assert_eq!(
+            text,
+            "scene,label,n\ntiny,\"regular:n=5,layout=\"\"centred\"\"\nsecond line\",5\n"
+        );
+        let back: Vec<::csv::StringRecord> = ::csv::Reader::from_reader(text.as_bytes())
+            .records()
+            .collect::<Result<_, _>>()
+            .unwrap();
         assert_eq!(&back[0][1], "regular:n=5,layout=\"centred\"\nsecond line");
     }
 }

@@ -29,7 +29,13 @@ impl Judge {
     pub fn new(scene: &Scene, g: &GBufferCpu, reference: Vec<f32>) -> Judge {
         let mask = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
         let shaded_reference = run_files::shaded_image(&reference, g, scene);
-        Judge { reference, shaded_reference, mask, width: g.width, height: g.height }
+        Judge {
+            reference,
+            shaded_reference,
+            mask,
+            width: g.width,
+            height: g.height,
+        }
     }
 
     pub fn geometry_pixels(&self) -> usize {
@@ -38,9 +44,13 @@ impl Judge {
 
     /// `label` names the method in the error when its G-buffer is not the reference's.
     pub fn judge(&self, scene: &Scene, label: &str, f: &FrameResult) -> Result<Judged> {
-        let differ = (0..self.mask.len()).filter(|&i| f.gbuffer.is_geometry(i) != self.mask[i]).count();
+        let differ = (0..self.mask.len())
+            .filter(|&i| f.gbuffer.is_geometry(i) != self.mask[i])
+            .count();
         if differ > 0 || f.visibility.len() != self.mask.len() {
-            return Err(Error::gpu(format!("{label}: the G-buffer differs from the reference's in {differ} pixels")));
+            return Err(Error::gpu(format!(
+                "{label}: the G-buffer differs from the reference's in {differ} pixels"
+            )));
         }
         self.judge_values(scene, &f.gbuffer, &f.visibility)
     }
@@ -49,7 +59,15 @@ impl Judge {
     /// a frame: for callers that hold V without its frame (the Python package's `metrics`).
     pub fn judge_values(&self, scene: &Scene, g: &GBufferCpu, v: &[f32]) -> Result<Judged> {
         let shaded = run_files::shaded_image(v, g, scene);
-        let metrics = metrics::compute(v, &self.reference, &self.mask, &shaded, &self.shaded_reference, self.width, self.height)?;
+        let metrics = metrics::compute(
+            v,
+            &self.reference,
+            &self.mask,
+            &shaded,
+            &self.shaded_reference,
+            self.width,
+            self.height,
+        )?;
         Ok(Judged { metrics, shaded })
     }
 }

@@ -10,12 +10,12 @@
 //! raster passes) is detached from each finished renderer and carried into the next window's,
 //! so a sweep builds it at most [`WINDOW`] times.
 
-use crate::gpu::stages::{outside_frame, Stage};
 use crate::frame::{Detached, FrameOptions, FrameResult, Renderer};
+use crate::gpu::stages::{outside_frame, Stage};
+use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::scene::Scene;
-use crate::gpu::timing::TimingMode;
 use crate::Result;
 use std::collections::BTreeMap;
 
@@ -114,7 +114,15 @@ pub fn measure<T>(
     on_frame: &mut dyn FnMut(&Method, Phase, &FrameResult),
     judge: &mut dyn FnMut(usize, &FrameResult) -> Result<T>,
 ) -> Result<Vec<Outcome<T>>> {
-    measure_with(ctx, scene, methods, repeats, on_frame, judge, &mut |_, _| Ok(()))
+    measure_with(
+        ctx,
+        scene,
+        methods,
+        repeats,
+        on_frame,
+        judge,
+        &mut |_, _| Ok(()),
+    )
 }
 
 /// As [`measure`]; `after(i, renderer)` gets method `i`'s renderer once its window's timed rounds
@@ -160,7 +168,8 @@ pub fn measure_reusing<T>(
             renderers.push(built.map_err(|e| e.to_string()));
         }
         let mut judge_window = |i: usize, f: &FrameResult| judge(first + i, f);
-        let mut measured = measure_window(window, &mut renderers, repeats, on_frame, &mut judge_window);
+        let mut measured =
+            measure_window(window, &mut renderers, repeats, on_frame, &mut judge_window);
         for (i, r) in renderers.iter_mut().enumerate() {
             if let (Ok(r), Ok(_)) = (r.as_mut(), &measured[i]) {
                 if let Err(e) = after(first + i, r) {
@@ -169,7 +178,12 @@ pub fn measure_reusing<T>(
             }
         }
         out.extend(measured);
-        kept.extend(renderers.into_iter().filter_map(|r| r.ok()).map(Renderer::detach));
+        kept.extend(
+            renderers
+                .into_iter()
+                .filter_map(|r| r.ok())
+                .map(Renderer::detach),
+        );
         // wgpu frees dropped buffers and pipelines when the device is polled: before the next
         // window allocates, so the two never coexist.
         ctx.wait()?;
@@ -205,7 +219,10 @@ fn measure_window<T>(
     // Pipelines and buffers are built once per renderer (charged to the warm-up's setup) and every
     // later frame reuses them. No decision pictures: their read-backs would be timed, and nothing
     // here uses them.
-    let options = |mode| FrameOptions { mode, pictures: false };
+    let options = |mode| FrameOptions {
+        mode,
+        pictures: false,
+    };
     for (m, renderer) in methods.iter().zip(renderers.iter_mut()) {
         // warm-up: driver caches, allocator, build
         if let Some(r) = frame_of(renderer, options(TimingMode::Frame)) {
@@ -232,7 +249,9 @@ fn measure_window<T>(
     let mut judged: Vec<Option<T>> = methods.iter().map(|_| None).collect();
     for k in 1..=repeats {
         for (i, m) in methods.iter().enumerate() {
-            let Some(r) = frame_of(&mut renderers[i], options(TimingMode::Frame)) else { continue };
+            let Some(r) = frame_of(&mut renderers[i], options(TimingMode::Frame)) else {
+                continue;
+            };
             on_frame(m, Phase::Timed(k, repeats), &r);
             totals[i].push(r.total_ms);
             maps[i].push(r.output.shadow_maps);
@@ -254,7 +273,9 @@ fn measure_window<T>(
                 continue;
             }
             (Ok(_), Some(j)) => (j, &totals[i]),
-            (Ok(_), None) => unreachable!("a renderer that never failed was judged on the last round"),
+            (Ok(_), None) => {
+                unreachable!("a renderer that never failed was judged on the last round")
+            }
         };
         out.push(Ok(Measured {
             timing: Timing {

@@ -3,23 +3,23 @@
 //! `results.jsonl` schema. `penumbra report`, `merge` and `check` read any of their outputs.
 
 pub(crate) mod csv;
+pub mod judge;
+pub mod measure;
 pub mod output_set;
+pub mod provenance;
 pub mod regression;
 pub(crate) mod row;
 pub mod run_files;
-pub mod stats;
 pub(crate) mod shaded_environment;
-pub mod judge;
-pub mod measure;
-pub mod provenance;
+pub mod stats;
 
-pub use row::{Certified, ResultRow};
 pub use provenance::{Provenance, SpecRef};
+pub use row::{Certified, ResultRow};
 
-use crate::report::charts::svg_to_png;
 use crate::gpu::AdapterSummary;
 use crate::methods::Method;
 use crate::metrics::Metrics;
+use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 use measure::Timing;
 use std::collections::BTreeMap;
@@ -40,7 +40,14 @@ pub struct RunInfo<'a> {
 }
 
 /// The row of one measured method.
-pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images: BTreeMap<String, String>, provenance: Provenance) -> ResultRow {
+pub fn row(
+    run: &RunInfo,
+    method: &Method,
+    t: &Timing,
+    metrics: Metrics,
+    images: BTreeMap<String, String>,
+    provenance: Provenance,
+) -> ResultRow {
     ResultRow {
         scene: run.scene.to_string(),
         method: method.name().to_string(),
@@ -71,7 +78,12 @@ pub fn row(run: &RunInfo, method: &Method, t: &Timing, metrics: Metrics, images:
 }
 
 /// The row of a method that failed at run time: what it is and why, no figures.
-pub fn failed_row(run: &RunInfo, method: &Method, reason: &str, provenance: Provenance) -> ResultRow {
+pub fn failed_row(
+    run: &RunInfo,
+    method: &Method,
+    reason: &str,
+    provenance: Provenance,
+) -> ResultRow {
     ResultRow {
         scene: run.scene.to_string(),
         method: method.name().to_string(),
@@ -105,7 +117,8 @@ pub fn failed_summary(failed: usize, total: usize) -> Option<String> {
 pub fn jsonl(rows: &[ResultRow]) -> Result<String> {
     let mut out = String::new();
     for r in rows {
-        out += &serde_json::to_string(r).map_err(|e| Error::io_text("results.jsonl".into(), e.to_string()))?;
+        out += &serde_json::to_string(r)
+            .map_err(|e| Error::io_text("results.jsonl".into(), e.to_string()))?;
         out.push('\n');
     }
     Ok(out)
@@ -114,14 +127,22 @@ pub fn jsonl(rows: &[ResultRow]) -> Result<String> {
 /// The files every run writes from its rows: `results.jsonl`, `results.csv` and the charts (SVG
 /// and PNG), as (path relative to the output folder, bytes).
 pub fn result_files(rows: &[ResultRow]) -> Result<Vec<(String, Vec<u8>)>> {
-    let mut files = vec![("results.jsonl".to_string(), jsonl(rows)?.into_bytes()), ("results.csv".to_string(), csv::render(rows).into_bytes())];
+    let mut files = vec![
+        ("results.jsonl".to_string(), jsonl(rows)?.into_bytes()),
+        ("results.csv".to_string(), csv::render(rows).into_bytes()),
+    ];
     // For scripts: each regular grid, and the adaptive rows that dominate or nearly dominate it.
     // Charts and verdicts are of measured rows only.
     let all = rows;
-    let rows: &[ResultRow] = &all.iter().filter(|r| r.measured()).cloned().collect::<Vec<_>>();
+    let rows: &[ResultRow] = &all
+        .iter()
+        .filter(|r| r.measured())
+        .cloned()
+        .collect::<Vec<_>>();
     let verdicts = crate::report::charts::verdicts(rows);
     if !verdicts.is_empty() {
-        let json = serde_json::to_vec_pretty(&verdicts).map_err(|e| crate::Error::io_text("dominance.json".into(), e.to_string()))?;
+        let json = serde_json::to_vec_pretty(&verdicts)
+            .map_err(|e| crate::Error::io_text("dominance.json".into(), e.to_string()))?;
         files.push(("dominance.json".to_string(), json));
     }
     for (stem, _, svg) in crate::report::results::charts(rows)? {

@@ -49,7 +49,10 @@ pub struct SpecRef {
 
 /// Lowercase hex sha256.
 pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 /// The text of a scene as `Scene::load` read it: a built-in's embedded text, else the file.
@@ -65,21 +68,40 @@ fn scene_source(scene: &Scene) -> Option<(String, Option<PathBuf>)> {
 }
 
 /// The mesh files the scene text names (`[[mesh]] file = …`), digested where they are found.
-fn mesh_digests(text: &str, dir: Option<&Path>, builtin: bool, cache: Option<&Path>) -> Vec<MeshDigest> {
-    let Ok(table) = toml::from_str::<toml::Table>(text) else { return Vec::new() };
-    let files = table.get("mesh").and_then(|m| m.as_array()).into_iter().flatten().filter_map(|m| m.get("file")?.as_str());
+fn mesh_digests(
+    text: &str,
+    dir: Option<&Path>,
+    builtin: bool,
+    cache: Option<&Path>,
+) -> Vec<MeshDigest> {
+    let Ok(table) = toml::from_str::<toml::Table>(text) else {
+        return Vec::new();
+    };
+    let files = table
+        .get("mesh")
+        .and_then(|m| m.as_array())
+        .into_iter()
+        .flatten()
+        .filter_map(|m| m.get("file")?.as_str());
     files
         .map(|file| {
             let bytes = if file.starts_with(scene::CACHE_PREFIX) {
-                scene::cache_path(file, cache).ok().and_then(|p| std::fs::read(p).ok())
+                scene::cache_path(file, cache)
+                    .ok()
+                    .and_then(|p| std::fs::read(p).ok())
             } else if builtin {
                 scene::embedded_source(file).map(|t| t.as_bytes().to_vec())
             } else {
                 std::fs::read(dir.map(|d| d.join(file)).unwrap_or_else(|| file.into())).ok()
             };
             // A file that cannot be read now was read when the scene loaded; say so, never guess.
-            let sha256 = bytes.map(|b| sha256_hex(&b)).unwrap_or_else(|| "unreadable".into());
-            MeshDigest { file: file.to_string(), sha256 }
+            let sha256 = bytes
+                .map(|b| sha256_hex(&b))
+                .unwrap_or_else(|| "unreadable".into());
+            MeshDigest {
+                file: file.to_string(),
+                sha256,
+            }
         })
         .collect()
 }
@@ -100,9 +122,17 @@ fn geometry_digest(scene: &Scene) -> String {
 impl Provenance {
     /// The provenance of runs on `scene` (loaded with `overrides`); `cache`: the asset cache its
     /// `cache:` meshes came from (`None`: the default).
-    pub fn of_scene(command: &str, scene: &Scene, overrides: &[String], cache: Option<&Path>) -> Provenance {
+    pub fn of_scene(
+        command: &str,
+        scene: &Scene,
+        overrides: &[String],
+        cache: Option<&Path>,
+    ) -> Provenance {
         let (scene_sha256, meshes) = match scene_source(scene) {
-            Some((text, dir)) => (sha256_hex(text.as_bytes()), mesh_digests(&text, dir.as_deref(), dir.is_none(), cache)),
+            Some((text, dir)) => (
+                sha256_hex(text.as_bytes()),
+                mesh_digests(&text, dir.as_deref(), dir.is_none(), cache),
+            ),
             None => ("unreadable".into(), Vec::new()),
         };
         Provenance {
@@ -123,16 +153,32 @@ mod tests {
 
     #[test]
     fn digests_of_the_default_scene() {
-        assert_eq!(sha256_hex(b"abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
         let scene = Scene::load("default", &[("resolution".into(), "32".into())]).unwrap();
         let p = Provenance::of_scene("compare", &scene, &["resolution=32".into()], None);
         assert_eq!(p.scene_file, "builtin:default");
-        assert_eq!(p.scene_sha256, sha256_hex(scene::builtin_source("default").unwrap().as_bytes()));
+        assert_eq!(
+            p.scene_sha256,
+            sha256_hex(scene::builtin_source("default").unwrap().as_bytes())
+        );
         assert_eq!(p.meshes.len(), 1);
         assert_eq!(p.meshes[0].file, "bunny-small.obj");
-        assert_eq!(p.meshes[0].sha256, sha256_hex(scene::embedded_source("bunny-small.obj").unwrap().as_bytes()));
+        assert_eq!(
+            p.meshes[0].sha256,
+            sha256_hex(
+                scene::embedded_source("bunny-small.obj")
+                    .unwrap()
+                    .as_bytes()
+            )
+        );
         assert_eq!(p.geometry_sha256.len(), 64);
         let other = Scene::load("analytic-square", &[]).unwrap();
-        assert_ne!(Provenance::of_scene("compare", &other, &[], None).geometry_sha256, p.geometry_sha256);
+        assert_ne!(
+            Provenance::of_scene("compare", &other, &[], None).geometry_sha256,
+            p.geometry_sha256
+        );
     }
 }

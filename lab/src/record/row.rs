@@ -98,12 +98,25 @@ pub struct Certified {
 impl Certified {
     pub fn of(r: &crate::frame::certify::CertifyRecord) -> Certified {
         let c = &r.certificate;
-        Certified { pixels: c.pixels, delta: c.delta, bound: c.bound, bound_kind: c.bound_kind.name().to_string(), sampled_rmse: c.sampled_rmse, pixels_ms: r.pixels_ms }
+        Certified {
+            pixels: c.pixels,
+            delta: c.delta,
+            bound: c.bound,
+            bound_kind: c.bound_kind.name().to_string(),
+            sampled_rmse: c.sampled_rmse,
+            pixels_ms: r.pixels_ms,
+        }
     }
 
     /// `RMSE ≤ 0.0234 at 95% (2048 px, 85 ms)`.
     pub fn line(&self) -> String {
-        format!("RMSE ≤ {:.4} at {}% ({} px, {:.0} ms)", self.bound, confidence(self.delta), self.pixels, self.pixels_ms)
+        format!(
+            "RMSE ≤ {:.4} at {}% ({} px, {:.0} ms)",
+            self.bound,
+            confidence(self.delta),
+            self.pixels,
+            self.pixels_ms
+        )
     }
 }
 
@@ -229,7 +242,14 @@ mod tests {
 
     #[test]
     fn a_certified_row_reads_as_one_line() {
-        let c = Certified { pixels: 2048, delta: 0.05, bound: 0.02345, bound_kind: "calibrated".into(), sampled_rmse: 0.02, pixels_ms: 84.6 };
+        let c = Certified {
+            pixels: 2048,
+            delta: 0.05,
+            bound: 0.02345,
+            bound_kind: "calibrated".into(),
+            sampled_rmse: 0.02,
+            pixels_ms: 84.6,
+        };
         assert_eq!(c.line(), "RMSE ≤ 0.0234 at 95% (2048 px, 85 ms)");
         assert_eq!(confidence(0.001), "99.9");
     }

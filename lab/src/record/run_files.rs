@@ -14,9 +14,13 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 pub fn visibility_png(v: &[f32], w: u32, h: u32) -> Result<Vec<u8>> {
-    let img: ImageBuffer<Luma<u16>, Vec<u16>> =
-        ImageBuffer::from_fn(w, h, |x, y| Luma([(v[(y * w + x) as usize].clamp(0.0, 1.0) * 65535.0).round() as u16]));
-    encode(&image::DynamicImage::ImageLuma16(img), image::ImageFormat::Png)
+    let img: ImageBuffer<Luma<u16>, Vec<u16>> = ImageBuffer::from_fn(w, h, |x, y| {
+        Luma([(v[(y * w + x) as usize].clamp(0.0, 1.0) * 65535.0).round() as u16])
+    });
+    encode(
+        &image::DynamicImage::ImageLuma16(img),
+        image::ImageFormat::Png,
+    )
 }
 
 pub fn visibility_exr(v: &[f32], w: u32, h: u32) -> Result<Vec<u8>> {
@@ -24,12 +28,19 @@ pub fn visibility_exr(v: &[f32], w: u32, h: u32) -> Result<Vec<u8>> {
         let a = v[(y * w + x) as usize];
         Rgb([a, a, a])
     });
-    encode(&image::DynamicImage::ImageRgb32F(img), image::ImageFormat::OpenExr)
+    encode(
+        &image::DynamicImage::ImageRgb32F(img),
+        image::ImageFormat::OpenExr,
+    )
 }
 
 fn srgb(linear: f32) -> u8 {
     let c = linear.clamp(0.0, 1.0);
-    let s = if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+    let s = if c <= 0.0031308 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
     (s * 255.0).round() as u8
 }
 
@@ -46,7 +57,11 @@ pub fn shaded_image(v: &[f32], g: &GBufferCpu, scene: &Scene) -> RgbImage {
         }
         let p = Vec3::from_slice(&g.position[i][..3]);
         let n = Vec3::from_slice(&g.shading_normal[i][..3]);
-        let albedo = scene.albedos.get(g.normal[i][3] as usize).copied().unwrap_or([0.8; 3]);
+        let albedo = scene
+            .albedos
+            .get(g.normal[i][3] as usize)
+            .copied()
+            .unwrap_or([0.8; 3]);
         let l = (scene.light.center - p).normalize_or_zero();
         let shade = ambient + (1.0 - ambient) * v[i] * n.dot(l).max(0.0);
         Rgb(albedo.map(|a| srgb(a * shade)))
@@ -54,12 +69,16 @@ pub fn shaded_image(v: &[f32], g: &GBufferCpu, scene: &Scene) -> RgbImage {
 }
 
 pub fn png(img: &RgbImage) -> Result<Vec<u8>> {
-    encode(&image::DynamicImage::ImageRgb8(img.clone()), image::ImageFormat::Png)
+    encode(
+        &image::DynamicImage::ImageRgb8(img.clone()),
+        image::ImageFormat::Png,
+    )
 }
 
 fn encode(img: &image::DynamicImage, format: image::ImageFormat) -> Result<Vec<u8>> {
     let mut out = Cursor::new(Vec::new());
-    img.write_to(&mut out, format).map_err(|e| Error::io_text(format!("<{format:?} encoder>"), e.to_string()))?;
+    img.write_to(&mut out, format)
+        .map_err(|e| Error::io_text(format!("<{format:?} encoder>"), e.to_string()))?;
     Ok(out.into_inner())
 }
 
@@ -78,8 +97,21 @@ pub fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBu
 pub use crate::version;
 
 /// The run record (run.json).
-pub fn run_record(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, timestamps_trusted: bool) -> serde_json::Value {
-    run_record_of(scene, method, r, VFigures::of(&r.visibility, &r.gbuffer), adapter, timestamps_trusted)
+pub fn run_record(
+    scene: &Scene,
+    method: &Method,
+    r: &FrameResult,
+    adapter: &AdapterSummary,
+    timestamps_trusted: bool,
+) -> serde_json::Value {
+    run_record_of(
+        scene,
+        method,
+        r,
+        VFigures::of(&r.visibility, &r.gbuffer),
+        adapter,
+        timestamps_trusted,
+    )
 }
 
 /// What a run record says of V: its geometry pixels and the mean of V over them.
@@ -117,14 +149,28 @@ impl VSum {
     }
 
     pub fn figures(&self) -> VFigures {
-        VFigures { geometry_pixels: self.pixels, mean_visibility: if self.pixels == 0 { 0.0 } else { self.sum / self.pixels as f64 } }
+        VFigures {
+            geometry_pixels: self.pixels,
+            mean_visibility: if self.pixels == 0 {
+                0.0
+            } else {
+                self.sum / self.pixels as f64
+            },
+        }
     }
 }
 
 /// `run_record` with V's figures taken before: the frame's V and G-buffer are not read, so a
 /// caller that handed them on (the Python package gives V to numpy and builds the record only
 /// when it is read) keeps just these two numbers.
-pub fn run_record_of(scene: &Scene, method: &Method, r: &FrameResult, v: VFigures, adapter: &AdapterSummary, timestamps_trusted: bool) -> serde_json::Value {
+pub fn run_record_of(
+    scene: &Scene,
+    method: &Method,
+    r: &FrameResult,
+    v: VFigures,
+    adapter: &AdapterSummary,
+    timestamps_trusted: bool,
+) -> serde_json::Value {
     let staged = r.timing == crate::gpu::timing::TimingMode::Stages;
     serde_json::json!({
         "scene": scene.name,
@@ -171,7 +217,10 @@ pub use crate::gpu::stages::decision_ms;
 /// timing of the whole measurement. A timed frame runs in frame mode and knows only its waits, so
 /// the stages, the split and the decision share come from the method's stages-mode frame, and
 /// the share is over that frame's stages; `total_ms` is the timed frames' median.
-pub fn measured_record(mut record: serde_json::Value, t: &crate::record::measure::Timing) -> serde_json::Value {
+pub fn measured_record(
+    mut record: serde_json::Value,
+    t: &crate::record::measure::Timing,
+) -> serde_json::Value {
     let staged: f64 = t.stages_ms.values().sum();
     let decision = decision_ms(&t.stages_ms);
     let fields = serde_json::json!({
@@ -195,12 +244,29 @@ pub fn measured_record(mut record: serde_json::Value, t: &crate::record::measure
 /// `warm_up_frames`: untimed frames that ran before `r` on the same renderer (its `setup` then
 /// holds no build).
 /// `certify`: the frame's certificate (`--certify`), kept as run.json's `certify`.
-pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &AdapterSummary, ts: bool, warm_up_frames: u32, certify: Option<serde_json::Value>) -> Result<Vec<(String, Vec<u8>)>> {
+pub fn run_files(
+    scene: &Scene,
+    method: &Method,
+    r: &FrameResult,
+    adapter: &AdapterSummary,
+    ts: bool,
+    warm_up_frames: u32,
+    certify: Option<serde_json::Value>,
+) -> Result<Vec<(String, Vec<u8>)>> {
     let (w, h) = (scene.render.width, scene.render.height);
     let mut files = vec![
-        ("visibility.png".to_string(), visibility_png(&r.visibility, w, h)?),
-        ("visibility.exr".to_string(), visibility_exr(&r.visibility, w, h)?),
-        ("shaded.png".to_string(), png(&shaded_image(&r.visibility, &r.gbuffer, scene))?),
+        (
+            "visibility.png".to_string(),
+            visibility_png(&r.visibility, w, h)?,
+        ),
+        (
+            "visibility.exr".to_string(),
+            visibility_exr(&r.visibility, w, h)?,
+        ),
+        (
+            "shaded.png".to_string(),
+            png(&shaded_image(&r.visibility, &r.gbuffer, scene))?,
+        ),
     ];
     for (name, img) in &r.output.pictures {
         files.push((name.clone(), png(img)?));
@@ -209,7 +275,8 @@ pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Adap
         // The error estimate's bound on |V − V_true|, drawn as the error images are (magma, 0..0.25).
         let mask: Vec<bool> = (0..bound.len()).map(|i| r.gbuffer.is_geometry(i)).collect();
         let zeros = vec![0.0f32; bound.len()];
-        let picture = crate::metrics::abs_error_image(bound, &zeros, &mask, w, h, 0.25).map_err(|e| Error::limit(format!("error-bound.png: {e}")))?;
+        let picture = crate::metrics::abs_error_image(bound, &zeros, &mask, w, h, 0.25)
+            .map_err(|e| Error::limit(format!("error-bound.png: {e}")))?;
         files.push(("error-bound.png".to_string(), png(&picture)?));
         files.push(("error-bound.exr".to_string(), visibility_exr(bound, w, h)?));
     }
@@ -218,7 +285,8 @@ pub fn run_files(scene: &Scene, method: &Method, r: &FrameResult, adapter: &Adap
     if let Some(c) = certify {
         record["certify"] = c;
     }
-    let json = serde_json::to_vec_pretty(&record).map_err(|e| Error::io_text("run.json".into(), e.to_string()))?;
+    let json = serde_json::to_vec_pretty(&record)
+        .map_err(|e| Error::io_text("run.json".into(), e.to_string()))?;
     files.push(("run.json".to_string(), json));
     Ok(files)
 }

@@ -2,9 +2,9 @@
 //! unoccluded irradiance of a surface with normal n (shading normal), so an unshadowed upward
 //! surface shows its albedo. Exposure is fixed per scene, so every method's image compares.
 
+use crate::render::gbuffer::GBufferCpu;
 use crate::scene::environment::lights::{irradiance, pixel_lights, EnvLight};
 use crate::scene::environment::Environment;
-use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
 use glam::Vec3;
 use image::{ImageBuffer, Rgb, RgbImage};
@@ -28,7 +28,11 @@ pub fn shade_lights(env: &Environment) -> Vec<EnvLight> {
 
 fn srgb(linear: f32) -> u8 {
     let c = linear.clamp(0.0, 1.0);
-    let s = if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+    let s = if c <= 0.0031308 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
     (s * 255.0).round() as u8
 }
 
@@ -41,7 +45,11 @@ pub fn shaded_image(v: &[f32], g: &GBufferCpu, scene: &Scene, env: &Environment)
             return Rgb([40, 44, 52]);
         }
         let n = Vec3::from_slice(&g.shading_normal[i][..3]);
-        let albedo = scene.albedos.get(g.normal[i][3] as usize).copied().unwrap_or([0.8; 3]);
+        let albedo = scene
+            .albedos
+            .get(g.normal[i][3] as usize)
+            .copied()
+            .unwrap_or([0.8; 3]);
         let shade = v[i] * irradiance(&lights, n) / up;
         Rgb(albedo.map(|a| srgb(a * shade)))
     })

@@ -27,8 +27,17 @@ impl Summary {
     /// `None` for an empty list.
     pub fn of(samples: &[f64]) -> Option<Summary> {
         let median = median(samples)?;
-        let (min, max) = samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
-        Some(Summary { median, min, max, samples: samples.to_vec() })
+        let (min, max) = samples
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        Some(Summary {
+            median,
+            min,
+            max,
+            samples: samples.to_vec(),
+        })
     }
 }
 

@@ -15,8 +15,8 @@
 //! counts as blocked (the tracer's triangles are closed). Exact ties are ill-posed in f32, so tests
 //! use [`analytic_lattice_margin`] to keep every lattice segment clear of the occluder's edges.
 
-use super::RefLight;
 use super::sampling::{LATTICE_DIVISIONS, LATTICE_POINTS};
+use super::RefLight;
 use glam::{DVec3, Vec3};
 
 /// One analytic-square configuration.

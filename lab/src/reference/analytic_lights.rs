@@ -126,7 +126,10 @@ mod tests {
         let (mut inside, mut beyond) = (0u64, 0u64);
         for j in 0..n {
             for i in 0..n {
-                let (x, y) = ((i as f64 + 0.5) / n as f64 * 2.0 - 1.0, (j as f64 + 0.5) / n as f64 * 2.0 - 1.0);
+                let (x, y) = (
+                    (i as f64 + 0.5) / n as f64 * 2.0 - 1.0,
+                    (j as f64 + 0.5) / n as f64 * 2.0 - 1.0,
+                );
                 if x * x + y * y <= 1.0 {
                     inside += 1;
                     beyond += (x > delta) as u64;
@@ -138,7 +141,12 @@ mod tests {
 
     #[test]
     fn under_the_edge_half_the_sun_is_hidden() {
-        let sun = SunOverEdge { toward: DVec3::Y, tan_half: 0.1, height: 2.0, edge_x: 0.0 };
+        let sun = SunOverEdge {
+            toward: DVec3::Y,
+            tan_half: 0.1,
+            height: 2.0,
+            edge_x: 0.0,
+        };
         assert!((sun.visibility(DVec3::ZERO) - 0.5).abs() < 1e-12);
         assert_eq!(sun.visibility(DVec3::new(-1.0, 0.0, 0.0)), 1.0);
         assert_eq!(sun.visibility(DVec3::new(1.0, 0.0, 0.0)), 0.0);

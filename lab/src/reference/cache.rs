@@ -103,7 +103,10 @@ pub fn save_cached(
         });
     }
     let path = cache_path(dir, key);
-    let failed = |source| ReferenceError::CacheWrite { path: path.clone(), source };
+    let failed = |source| ReferenceError::CacheWrite {
+        path: path.clone(),
+        source,
+    };
     fs::create_dir_all(dir).map_err(failed)?;
     let tmp = dir.join(format!("{key}.vis.tmp{}", std::process::id()));
     fs::write(&tmp, encode(key, width, height, values)).map_err(failed)?;
@@ -138,7 +141,9 @@ impl Drop for CacheLock {
 }
 
 fn host_name() -> String {
-    fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_string()).unwrap_or_else(|_| "unknown-host".into())
+    fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_string())
+        .unwrap_or_else(|_| "unknown-host".into())
 }
 
 /// Whether the open `file` is still the one at `path` (not unlinked or replaced by its holder).
@@ -152,14 +157,23 @@ fn same_file(file: &fs::File, path: &Path) -> bool {
 
 /// Takes the lock for `key` in `dir`, waiting while another live process holds it; `waiting`
 /// is called once, with the holder's description, if it has to wait.
-pub fn lock(dir: &Path, key: &str, waiting: &mut dyn FnMut(&str)) -> Result<CacheLock, ReferenceError> {
+pub fn lock(
+    dir: &Path,
+    key: &str,
+    waiting: &mut dyn FnMut(&str),
+) -> Result<CacheLock, ReferenceError> {
     use std::io::{Seek, Write};
     use std::os::unix::io::AsRawFd;
     fs::create_dir_all(dir)?;
     let path = dir.join(format!("{key}.lock"));
     let mut told = false;
     loop {
-        let mut file = fs::OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&path)?;
+        let mut file = fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)?;
         // SAFETY: flock on a descriptor this function owns.
         let locked = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0;
         let err = std::io::Error::last_os_error();
@@ -178,7 +192,11 @@ pub fn lock(dir: &Path, key: &str, waiting: &mut dyn FnMut(&str)) -> Result<Cach
                     let _ = fs::remove_file(&path);
                 })
             };
-            return Ok(CacheLock { path, _file: file, _on_signal: on_signal });
+            return Ok(CacheLock {
+                path,
+                _file: file,
+                _on_signal: on_signal,
+            });
         }
         if !told {
             waiting(fs::read_to_string(&path).unwrap_or_default().trim());
@@ -203,12 +221,21 @@ pub struct CacheEntry {
 pub fn parse(bytes: &[u8]) -> Result<CacheEntry, String> {
     match bytes.get(..8) {
         Some(m) if m == MAGIC => {}
-        Some(m) if m == OLD_MAGIC => return Err("is in the old cache format (PNMBREF1, no digest)".into()),
+        Some(m) if m == OLD_MAGIC => {
+            return Err("is in the old cache format (PNMBREF1, no digest)".into())
+        }
         _ => return Err("is not a reference cache file (no PNMBREF2 magic)".into()),
     }
-    let u32_at = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    let u32_at = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
     let (Some(width), Some(height), Some(key_len)) = (u32_at(8), u32_at(12), u32_at(16)) else {
-        return Err(format!("is cut short in its header ({} bytes)", bytes.len()));
+        return Err(format!(
+            "is cut short in its header ({} bytes)",
+            bytes.len()
+        ));
     };
     let n = width as u64 * height as u64;
     let expected = HEADER as u64 + key_len as u64 + 4 * n + DIGEST as u64;
@@ -230,7 +257,12 @@ pub fn parse(bytes: &[u8]) -> Result<CacheEntry, String> {
         }
         values.push(v);
     }
-    Ok(CacheEntry { width, height, key: body[HEADER..data_at].to_vec(), values })
+    Ok(CacheEntry {
+        width,
+        height,
+        key: body[HEADER..data_at].to_vec(),
+        values,
+    })
 }
 
 /// What the cache holds for one key.
@@ -246,7 +278,12 @@ pub enum Lookup {
 
 /// The cached buffer for `key` at `width`×`height`. `Err` only when the file exists but cannot
 /// be read (permissions, I/O): one line naming it and `--no-cache`.
-pub fn load_cached(dir: &Path, key: &str, width: u32, height: u32) -> Result<Lookup, ReferenceError> {
+pub fn load_cached(
+    dir: &Path,
+    key: &str,
+    width: u32,
+    height: u32,
+) -> Result<Lookup, ReferenceError> {
     use std::io::Read;
     let path = cache_path(dir, key);
     let meta = match fs::metadata(&path) {
@@ -257,7 +294,10 @@ pub fn load_cached(dir: &Path, key: &str, width: u32, height: u32) -> Result<Loo
     // Only a regular file is opened (a link to /dev/zero was read until memory ran out, a FIFO
     // blocked), and no more than the entry this key and size make is read.
     if !meta.is_file() && !meta.is_dir() {
-        return Ok(Lookup::Damaged(format!("is {}, not a regular file", crate::scene::input_file::kind(&meta.file_type()))));
+        return Ok(Lookup::Damaged(format!(
+            "is {}, not a regular file",
+            crate::scene::input_file::kind(&meta.file_type())
+        )));
     }
     let expected = (HEADER + key.len() + DIGEST) as u64 + 4 * width as u64 * height as u64;
     let mut bytes = Vec::new();
@@ -266,10 +306,14 @@ pub fn load_cached(dir: &Path, key: &str, width: u32, height: u32) -> Result<Loo
         return Err(ReferenceError::CacheRead { path, source });
     }
     if bytes.len() as u64 > expected {
-        return Ok(Lookup::Damaged(format!("holds more than the {expected} bytes of a {width}x{height} entry")));
+        return Ok(Lookup::Damaged(format!(
+            "holds more than the {expected} bytes of a {width}x{height} entry"
+        )));
     }
     Ok(match parse(&bytes) {
-        Ok(e) if e.key == key.as_bytes() && e.width == width && e.height == height => Lookup::Hit(e.values),
+        Ok(e) if e.key == key.as_bytes() && e.width == width && e.height == height => {
+            Lookup::Hit(e.values)
+        }
         Ok(_) => Lookup::Miss,
         Err(why) => Lookup::Damaged(why),
     })
@@ -336,7 +380,9 @@ mod tests {
         // one (pid 1, this process), as when a signalled run's pid was reused.
         for pid in [u32::MAX - 1, 1, std::process::id()] {
             fs::write(&path, format!("{pid} {}\n", host_name()))?;
-            drop(lock(&dir, "k", &mut |_| panic!("a lock file no process holds must not be waited for"))?);
+            drop(lock(&dir, "k", &mut |_| {
+                panic!("a lock file no process holds must not be waited for")
+            })?);
         }
         fs::remove_dir_all(&dir)?;
         Ok(())
@@ -350,7 +396,11 @@ mod tests {
         let values = [0.0, 0.25, 1.0, 0.5];
         let path = save_cached(&dir, &key, 2, 2, &values)?;
         assert_eq!(load_cached(&dir, &key, 2, 2)?, Lookup::Hit(values.to_vec()));
-        assert_eq!(load_cached(&dir, &key, 4, 1)?, Lookup::Miss, "other size is stale");
+        assert_eq!(
+            load_cached(&dir, &key, 4, 1)?,
+            Lookup::Miss,
+            "other size is stale"
+        );
         assert!(matches!(
             save_cached(&dir, &key, 3, 3, &values),
             Err(ReferenceError::SizeMismatch {
@@ -359,7 +409,10 @@ mod tests {
             })
         ));
         fs::write(&path, b"PNMBREF2\x02\x00")?;
-        assert_eq!(load_cached(&dir, &key, 2, 2)?, Lookup::Damaged("is cut short in its header (10 bytes)".into()));
+        assert_eq!(
+            load_cached(&dir, &key, 2, 2)?,
+            Lookup::Damaged("is cut short in its header (10 bytes)".into())
+        );
         fs::remove_dir_all(&dir)?;
         Ok(())
     }
@@ -380,22 +433,39 @@ mod tests {
         let mut zeroed = good.clone();
         zeroed[data_at + 40..data_at + 104].fill(0);
         assert_eq!(parse(&zeroed), Err(damaged.to_string()));
-        for (bad, shown) in [(7.0f32, "7"), (f32::NAN, "NaN"), (-0.5, "-0.5"), (f32::INFINITY, "inf")] {
+        for (bad, shown) in [
+            (7.0f32, "7"),
+            (f32::NAN, "NaN"),
+            (-0.5, "-0.5"),
+            (f32::INFINITY, "inf"),
+        ] {
             let mut written = good.clone();
             written[data_at + 4 * 10..data_at + 4 * 11].copy_from_slice(&bad.to_le_bytes());
-            assert_eq!(parse(&written), Err(damaged.to_string()), "{bad} written over the payload");
+            assert_eq!(
+                parse(&written),
+                Err(damaged.to_string()),
+                "{bad} written over the payload"
+            );
             // The same value with the digest recomputed over it: the range check.
             let mut v = values.clone();
             v[10] = bad;
-            assert_eq!(parse(&encode(key, 8, 8, &v)), Err(format!("holds V = {shown} at pixel (2, 1), outside [0, 1]")));
+            assert_eq!(
+                parse(&encode(key, 8, 8, &v)),
+                Err(format!("holds V = {shown} at pixel (2, 1), outside [0, 1]"))
+            );
         }
         // Format 1 (no digest) is never trusted.
         let mut old = good[..good.len() - DIGEST].to_vec();
         old[..8].copy_from_slice(OLD_MAGIC);
-        assert_eq!(parse(&old), Err("is in the old cache format (PNMBREF1, no digest)".to_string()));
+        assert_eq!(
+            parse(&old),
+            Err("is in the old cache format (PNMBREF1, no digest)".to_string())
+        );
         // A header claiming more than the file holds allocates nothing.
         let mut huge = good.clone();
         huge[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
-        assert!(parse(&huge).unwrap_err().starts_with(&format!("has {} bytes, but its header", good.len())));
+        assert!(parse(&huge)
+            .unwrap_err()
+            .starts_with(&format!("has {} bytes, but its header", good.len())));
     }
 }

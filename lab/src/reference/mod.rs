@@ -30,16 +30,16 @@ mod tests;
 use glam::Vec3;
 
 pub use analytic::{
-    AnalyticSquareScene, analytic_lattice_margin, analytic_lattice_visibility,
-    analytic_square_visibility,
+    analytic_lattice_margin, analytic_lattice_visibility, analytic_square_visibility,
+    AnalyticSquareScene,
 };
 pub use cache::{
-    CacheEntry, CacheLock, Lookup, REFERENCE_VERSION, cache_key, cache_path, load_cached, lock, parse as parse_cache_file,
-    reference_key, save_cached,
+    cache_key, cache_path, load_cached, lock, parse as parse_cache_file, reference_key,
+    save_cached, CacheEntry, CacheLock, Lookup, REFERENCE_VERSION,
 };
-pub use emitter::{RefEmitter, try_trace_emitter};
+pub use emitter::{try_trace_emitter, RefEmitter};
 pub use tracer::{Hit, Tracer};
-pub use visibility::{LIGHT_END_EPS, point_visibility, trace_visibility, try_trace_visibility};
+pub use visibility::{point_visibility, trace_visibility, try_trace_visibility, LIGHT_END_EPS};
 
 /// Rectangular area light: `y(s,t) = center + (s-½)·edge_u + (t-½)·edge_v`, emitting on the side of
 /// `normalize(edge_u × edge_v)`.
@@ -139,9 +139,15 @@ pub enum ReferenceError {
     Io(#[from] std::io::Error),
     /// A cache file that exists but cannot be read: refused rather than overwritten unseen.
     #[error("cannot read the reference cache file {}: {source}; remove it, or run with --no-cache to trace the reference without the cache", path.display())]
-    CacheRead { path: std::path::PathBuf, source: std::io::Error },
+    CacheRead {
+        path: std::path::PathBuf,
+        source: std::io::Error,
+    },
     #[error("cannot write the reference cache file {}: {source}", path.display())]
-    CacheWrite { path: std::path::PathBuf, source: std::io::Error },
+    CacheWrite {
+        path: std::path::PathBuf,
+        source: std::io::Error,
+    },
 }
 
 pub use crate::scene::rays::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};

@@ -8,7 +8,7 @@
 //! as fast as obvhs' test here (axis permutation resolved at compile time).
 
 use glam::{Vec3, Vec3A};
-use obvhs::{aabb::Aabb, BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh, ray::Ray};
+use obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::Ray, BvhBuildParams};
 use obvhs::{ray::RayHit, triangle::Triangle};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -65,9 +65,27 @@ impl Tracer {
         // far more than that rounding, the boxes cull no ray the triangle test would hit.
         // (`slow_build`'s pre-split of big triangles works on the triangles themselves, so it is
         // not used: it traced about 1.3× faster.)
-        let (lo, hi) = kept.iter().fold((Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)), |(lo, hi), t| (lo.min(t.v0).min(t.v1).min(t.v2), hi.max(t.v0).max(t.v1).max(t.v2)));
-        let pad = Vec3A::splat(BOX_PAD * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element()));
-        let boxes: Vec<Aabb> = kept.iter().map(|t| { let b = t.aabb(); Aabb { min: b.min - pad, max: b.max + pad } }).collect();
+        let (lo, hi) = kept.iter().fold(
+            (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
+            |(lo, hi), t| {
+                (
+                    lo.min(t.v0).min(t.v1).min(t.v2),
+                    hi.max(t.v0).max(t.v1).max(t.v2),
+                )
+            },
+        );
+        let pad =
+            Vec3A::splat(BOX_PAD * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element()));
+        let boxes: Vec<Aabb> = kept
+            .iter()
+            .map(|t| {
+                let b = t.aabb();
+                Aabb {
+                    min: b.min - pad,
+                    max: b.max + pad,
+                }
+            })
+            .collect();
         let params = BvhBuildParams::slow_build();
         let bvh = build_cwbvh(&boxes, params, &mut Duration::default());
         // With splits an input triangle may appear in several leaves: duplicate it, it's cheap.
@@ -155,7 +173,9 @@ impl Tracer {
         // The traversal starts BOX_LEAD behind the origin, past that clamp; the triangle test keeps
         // the origin and (0, t_max), so the answer is the convention's, whatever the boxes.
         let r = ray.obvhs_led(t_max);
-        !self.bvh.ray_traverse_miss(r, |_, id| ray.intersect::<KX, KY, KZ>(&self.tris[id], t_max))
+        !self.bvh.ray_traverse_miss(r, |_, id| {
+            ray.intersect::<KX, KY, KZ>(&self.tris[id], t_max)
+        })
     }
 
     fn closest<const KX: usize, const KY: usize, const KZ: usize>(
@@ -230,7 +250,12 @@ impl WatertightRay {
     /// The traversal's ray for occlusion: from BOX_LEAD behind the origin, as far past `t_max`
     /// (t in units of |dir|, as obvhs's clamp is).
     fn obvhs_led(&self, t_max: f32) -> Ray {
-        Ray::new(self.org - self.dir * BOX_LEAD, self.dir, 0.0, t_max + BOX_LEAD)
+        Ray::new(
+            self.org - self.dir * BOX_LEAD,
+            self.dir,
+            0.0,
+            t_max + BOX_LEAD,
+        )
     }
 
     /// Hit distance in `(0, t_max)`, else `f32::INFINITY`. `(KX, KY, KZ)` must match `self.kz`.

@@ -3,15 +3,14 @@
 
 use crate::gpu::GpuContext;
 use crate::reference::{self, RefEmitter, RefLight, ReferenceMode, SurfacePoint, Tracer};
-use crate::scene::Emitter;
 pub use crate::reference::{env_ray_length, ray_offset, RELATIVE_RAY_OFFSET};
 use crate::render::gbuffer::GBufferCpu;
+use crate::scene::Emitter;
 use crate::scene::Scene;
 use crate::{frame, progress, Error, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
 
 /// The fixed seed of the continuous mode (method.md §5: "fixed seed").
 pub const CONTINUOUS_SEED: u64 = 0x5eed;
@@ -21,21 +20,35 @@ pub const CONTINUOUS_SEED: u64 = 0x5eed;
 pub fn parse_mode(name: &str, samples: u32) -> Result<ReferenceMode> {
     match name {
         "lattice" => Ok(ReferenceMode::Lattice),
-        "continuous" if (1..=256).contains(&samples) => Ok(ReferenceMode::Continuous { m: samples, seed: CONTINUOUS_SEED }),
-        "continuous" => Err(Error::param(format!("--samples must be in 1..=256, got {samples}"))),
+        "continuous" if (1..=256).contains(&samples) => Ok(ReferenceMode::Continuous {
+            m: samples,
+            seed: CONTINUOUS_SEED,
+        }),
+        "continuous" => Err(Error::param(format!(
+            "--samples must be in 1..=256, got {samples}"
+        ))),
         "point" => Ok(ReferenceMode::Point { s: 0.5, t: 0.5 }),
         _ => match name.strip_prefix("point:") {
             Some(at) => parse_point(at).map(|(s, t)| ReferenceMode::Point { s, t }),
-            None => Err(Error::param(format!("reference mode `{name}`: use `lattice`, `continuous`, `point` or `point:S,T`"))),
+            None => Err(Error::param(format!(
+                "reference mode `{name}`: use `lattice`, `continuous`, `point` or `point:S,T`"
+            ))),
         },
     }
 }
 
 /// `S,T` light coordinates, each in [0, 1].
 fn parse_point(at: &str) -> Result<(f32, f32)> {
-    let bad = || Error::param(format!("reference point `{at}`: give S,T, two numbers in [0, 1] (0.5,0.5 is the light's centre)"));
+    let bad = || {
+        Error::param(format!("reference point `{at}`: give S,T, two numbers in [0, 1] (0.5,0.5 is the light's centre)"))
+    };
     let (s, t) = at.split_once(',').ok_or_else(bad)?;
-    let parse = |v: &str| v.trim().parse::<f32>().ok().filter(|x| (0.0..=1.0).contains(x));
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|x| (0.0..=1.0).contains(x))
+    };
     Ok((parse(s).ok_or_else(bad)?, parse(t).ok_or_else(bad)?))
 }
 
@@ -52,9 +65,17 @@ pub fn mode_label(mode: &ReferenceMode) -> String {
 /// `$PENUMBRA_CACHE/reference`, else `$XDG_CACHE_HOME/penumbra/reference`, else
 /// `~/.cache/penumbra/reference` (the asset cache's root, one folder per kind of entry).
 pub fn default_cache_dir() -> Option<PathBuf> {
-    let var = |k| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let var = |k| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
     let root = var("PENUMBRA_CACHE")
-        .or_else(|| var("XDG_CACHE_HOME").filter(|p| p.is_absolute()).map(|p| p.join("penumbra")))
+        .or_else(|| {
+            var("XDG_CACHE_HOME")
+                .filter(|p| p.is_absolute())
+                .map(|p| p.join("penumbra"))
+        })
         .or_else(|| var("HOME").map(|h| h.join(".cache/penumbra")))?;
     Some(root.join("reference"))
 }
@@ -85,7 +106,9 @@ impl Cache {
 /// Says once that the cache folder `dir` cannot take this entry (`why`): the reference is traced
 /// and not stored, and the run goes on (a read-only cache only costs the time of tracing).
 fn unwritable(dir: &Path, why: &dyn std::fmt::Display) {
-    progress::suspend(|| eprintln!("warning: reference cache folder {}: {why}: the reference is traced and not stored (make the folder writable, or run with --no-cache to leave the cache alone)", dir.display()));
+    progress::suspend(|| {
+        eprintln!("warning: reference cache folder {}: {why}: the reference is traced and not stored (make the folder writable, or run with --no-cache to leave the cache alone)", dir.display())
+    });
 }
 
 /// A traced (or cached) reference: V per pixel, row-major, 0 on background.
@@ -138,7 +161,9 @@ impl TracerChoice {
             "auto" => Ok(TracerChoice::Auto),
             "cpu" => Ok(TracerChoice::Cpu),
             "gpu" => Ok(TracerChoice::Gpu),
-            _ => Err(Error::param(format!("--tracer {name}: use auto, cpu or gpu"))),
+            _ => Err(Error::param(format!(
+                "--tracer {name}: use auto, cpu or gpu"
+            ))),
         }
     }
 
@@ -147,7 +172,10 @@ impl TracerChoice {
         let why = gpu_unsupported(scene, mode);
         match (self, why) {
             (TracerChoice::Cpu, _) => Ok(false),
-            (TracerChoice::Gpu, Some(why)) => Err(Error::param(format!("--tracer gpu: {}: {why}", scene.origin))),
+            (TracerChoice::Gpu, Some(why)) => Err(Error::param(format!(
+                "--tracer gpu: {}: {why}",
+                scene.origin
+            ))),
             (TracerChoice::Gpu, None) => Ok(true),
             (TracerChoice::Auto, why) => Ok(why.is_none() && ctx.summary.device_type != "Cpu"),
         }
@@ -159,7 +187,8 @@ fn gpu_unsupported(scene: &Scene, mode: &ReferenceMode) -> Option<&'static str> 
     if let Some(why) = penumbra::certify::truth::unsupported(scene) {
         return Some(why);
     }
-    let maps_points = matches!(scene.emitter, Emitter::Point(_) | Emitter::Spot(_)) && !matches!(mode, ReferenceMode::Continuous { .. });
+    let maps_points = matches!(scene.emitter, Emitter::Point(_) | Emitter::Spot(_))
+        && !matches!(mode, ReferenceMode::Continuous { .. });
     maps_points.then_some("the lattice and point modes of a point or spot light trace its maps' own light points, which the CPU tracer alone does")
 }
 
@@ -209,24 +238,45 @@ pub fn surface_points(g: &GBufferCpu) -> Vec<Option<SurfacePoint>> {
 }
 
 fn light_of(scene: &Scene) -> RefLight {
-    RefLight { center: scene.light.center, edge_u: scene.light.edge_u, edge_v: scene.light.edge_v }
+    RefLight {
+        center: scene.light.center,
+        edge_u: scene.light.edge_u,
+        edge_v: scene.light.edge_v,
+    }
 }
 
 /// The emitter the reference samples when it is not the rectangle (`None`: `light_of`).
 pub fn emitter_of(scene: &Scene) -> Option<RefEmitter> {
     match scene.emitter {
         Emitter::Rect => None,
-        Emitter::Disk(d) => Some(RefEmitter::Disk { center: d.center, normal: d.normal, radius: d.radius }),
-        Emitter::Sun(s) => Some(RefEmitter::Sun { toward: s.toward(), tan_half: s.tan_half_angle(), reach: env_ray_length(scene) }),
-        Emitter::Spot(s) => Some(RefEmitter::Spot { light: scene.light, spot: s }),
-        Emitter::Point(p) => Some(RefEmitter::Point { center: p.position, radius: p.radius }),
+        Emitter::Disk(d) => Some(RefEmitter::Disk {
+            center: d.center,
+            normal: d.normal,
+            radius: d.radius,
+        }),
+        Emitter::Sun(s) => Some(RefEmitter::Sun {
+            toward: s.toward(),
+            tan_half: s.tan_half_angle(),
+            reach: env_ray_length(scene),
+        }),
+        Emitter::Spot(s) => Some(RefEmitter::Spot {
+            light: scene.light,
+            spot: s,
+        }),
+        Emitter::Point(p) => Some(RefEmitter::Point {
+            center: p.position,
+            radius: p.radius,
+        }),
     }
 }
 
 /// Cache key: triangles, camera, the G-buffer itself (it fixes the resolution and every traced
 /// point), light, mode, ray offset, the tracer's `REFERENCE_VERSION` and the crate version.
 pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f32) -> String {
-    let floats = |v: &mut Vec<u8>, xs: &[f32]| xs.iter().for_each(|x| v.extend_from_slice(&x.to_le_bytes()));
+    let floats = |v: &mut Vec<u8>, xs: &[f32]| {
+        xs.iter()
+            .for_each(|x| v.extend_from_slice(&x.to_le_bytes()))
+    };
     let mut tris = Vec::with_capacity(scene.triangle_count() * 36);
     for t in scene.triangles() {
         for p in t {
@@ -235,7 +285,21 @@ pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f3
     }
     let c = &scene.camera;
     let mut camera = Vec::new();
-    floats(&mut camera, &[c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg]);
+    floats(
+        &mut camera,
+        &[
+            c.eye.x,
+            c.eye.y,
+            c.eye.z,
+            c.target.x,
+            c.target.y,
+            c.target.z,
+            c.up.x,
+            c.up.y,
+            c.up.z,
+            c.fov_y_deg,
+        ],
+    );
     let size = [g.width.to_le_bytes(), g.height.to_le_bytes()].concat();
     let digest = reference::cache_key(&[
         env!("CARGO_PKG_VERSION").as_bytes(),
@@ -259,13 +323,24 @@ pub fn cache_key(scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode, offset: f3
 }
 
 /// Traces `scene`'s reference over `g` on the CPU, or reads it from the cache (written after a trace).
-pub fn compute(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache) -> Result<ReferenceImage> {
+pub fn compute(
+    scene: &Scene,
+    g: &GBufferCpu,
+    mode: ReferenceMode,
+    cache: &Cache,
+) -> Result<ReferenceImage> {
     compute_with(scene, g, mode, cache, None)
 }
 
 /// [`compute`], traced by `gpu` (`truth_trace` on its context) where given. The cache's file and
 /// key are the same whoever traces: the values are.
-pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &Cache, gpu: Option<&GpuContext>) -> Result<ReferenceImage> {
+pub fn compute_with(
+    scene: &Scene,
+    g: &GBufferCpu,
+    mode: ReferenceMode,
+    cache: &Cache,
+    gpu: Option<&GpuContext>,
+) -> Result<ReferenceImage> {
     let offset = ray_offset(scene);
     let key = cache_key(scene, g, &mode, offset);
     let mut image = ReferenceImage {
@@ -303,7 +378,9 @@ pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &
                 reference::Lookup::Miss => Ok(false),
                 reference::Lookup::Damaged(why) => {
                     if !std::mem::replace(&mut warned, true) {
-                        progress::suspend(|| eprintln!("warning: reference cache file {} {why}: not used; tracing the reference again", path.display()));
+                        progress::suspend(|| {
+                            eprintln!("warning: reference cache file {} {why}: not used; tracing the reference again", path.display())
+                        });
                     }
                     Ok(false)
                 }
@@ -312,7 +389,14 @@ pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &
         if hit(&mut image)? {
             return Ok(image);
         }
-        let say = &mut |who: &str| progress::suspend(|| eprintln!("reference: waiting for {} (held by pid/host {who})", dir.join(format!("{key}.lock")).display()));
+        let say = &mut |who: &str| {
+            progress::suspend(|| {
+                eprintln!(
+                    "reference: waiting for {} (held by pid/host {who})",
+                    dir.join(format!("{key}.lock")).display()
+                )
+            })
+        };
         match reference::lock(dir, &key, say) {
             Ok(l) => _lock = Some(l),
             Err(e) => {
@@ -328,7 +412,9 @@ pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &
         let (values, trace) = trace_on_gpu(ctx, scene, g, &mode)?;
         image.trace = Some(trace);
         if let Cache::Use(dir) | Cache::Refresh(dir) = cache {
-            image.cache_file = Some(reference::save_cached(dir, &key, g.width, g.height, &values)?);
+            image.cache_file = Some(reference::save_cached(
+                dir, &key, g.width, g.height, &values,
+            )?);
         }
         image.values = values;
         return Ok(image);
@@ -337,7 +423,10 @@ pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &
     let tracer = Tracer::new(&scene.triangles());
     let bvh_build_s = build.elapsed().as_secs_f64();
     let points = surface_points(g);
-    let bar = progress::bar(points.len() as u64, &format!("reference {}", mode_label(&mode)));
+    let bar = progress::bar(
+        points.len() as u64,
+        &format!("reference {}", mode_label(&mode)),
+    );
     let start = Instant::now();
     let values = match &scene.environment {
         // Importance sampling of the panorama, M×M samples per pixel (docs/environment.md §3).
@@ -348,13 +437,31 @@ pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &
                     return Err(Error::param("an environment scene's reference is `continuous` (lattice and point modes belong to the area light)".into()))
                 }
             };
-            let r = crate::reference::environment::trace(&tracer, env, &points, samples, offset, env_ray_length(scene), seed, &|n| bar.set_position(n as u64));
+            let r = crate::reference::environment::trace(
+                &tracer,
+                env,
+                &points,
+                samples,
+                offset,
+                env_ray_length(scene),
+                seed,
+                &|n| bar.set_position(n as u64),
+            );
             image.std_error = Some(crate::reference::environment::error_summary(&r, &points));
             r.values
         }
         None => match emitter_of(scene) {
-            None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), &mode, offset, &|n| bar.set_position(n as u64))?,
-            Some(e) => reference::try_trace_emitter(&tracer, &points, &e, &mode, offset, &|n| bar.set_position(n as u64))?,
+            None => reference::try_trace_visibility(
+                &tracer,
+                &points,
+                &light_of(scene),
+                &mode,
+                offset,
+                &|n| bar.set_position(n as u64),
+            )?,
+            Some(e) => reference::try_trace_emitter(&tracer, &points, &e, &mode, offset, &|n| {
+                bar.set_position(n as u64)
+            })?,
         },
     };
     let seconds = start.elapsed().as_secs_f64();
@@ -383,12 +490,27 @@ pub fn compute_with(scene: &Scene, g: &GBufferCpu, mode: ReferenceMode, cache: &
 }
 
 /// Every geometry pixel of `g` traced by `truth_trace` on `ctx`: V and the figures.
-fn trace_on_gpu(ctx: &GpuContext, scene: &Scene, g: &GBufferCpu, mode: &ReferenceMode) -> Result<(Vec<f32>, TraceStats)> {
+fn trace_on_gpu(
+    ctx: &GpuContext,
+    scene: &Scene,
+    g: &GBufferCpu,
+    mode: &ReferenceMode,
+) -> Result<(Vec<f32>, TraceStats)> {
     let tracer = penumbra::certify::truth::TruthTracer::new(ctx, scene)?;
-    let pixels: Vec<u32> = (0..g.position.len() as u32).filter(|&i| g.is_geometry(i as usize)).collect();
-    let points: Vec<_> = pixels.iter().map(|&p| penumbra::certify::truth::point_of(g, p)).collect();
-    let bar = progress::bar(points.len() as u64, &format!("reference {} (GPU)", mode_label(mode)));
-    let counts = tracer.trace(ctx, &truth_samples(mode), &points, &|n| bar.set_position(n as u64))?;
+    let pixels: Vec<u32> = (0..g.position.len() as u32)
+        .filter(|&i| g.is_geometry(i as usize))
+        .collect();
+    let points: Vec<_> = pixels
+        .iter()
+        .map(|&p| penumbra::certify::truth::point_of(g, p))
+        .collect();
+    let bar = progress::bar(
+        points.len() as u64,
+        &format!("reference {} (GPU)", mode_label(mode)),
+    );
+    let counts = tracer.trace(ctx, &truth_samples(mode), &points, &|n| {
+        bar.set_position(n as u64)
+    })?;
     bar.finish_and_clear();
     let mut values = vec![0.0f32; g.position.len()];
     for (k, &p) in pixels.iter().enumerate() {
@@ -410,12 +532,23 @@ fn trace_on_gpu(ctx: &GpuContext, scene: &Scene, g: &GBufferCpu, mode: &Referenc
 
 /// The G-buffer of `scene` rendered on `ctx`, then [`compute`]: traced on the GPU where the
 /// adapter is a real GPU (`TracerChoice::Auto`), else on the CPU.
-pub fn for_scene(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache) -> Result<(GBufferCpu, ReferenceImage)> {
+pub fn for_scene(
+    ctx: &GpuContext,
+    scene: &Scene,
+    mode: ReferenceMode,
+    cache: &Cache,
+) -> Result<(GBufferCpu, ReferenceImage)> {
     for_scene_with(ctx, scene, mode, cache, TracerChoice::Auto)
 }
 
 /// [`for_scene`] with the tracer chosen (`penumbra reference --tracer`).
-pub fn for_scene_with(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cache: &Cache, tracer: TracerChoice) -> Result<(GBufferCpu, ReferenceImage)> {
+pub fn for_scene_with(
+    ctx: &GpuContext,
+    scene: &Scene,
+    mode: ReferenceMode,
+    cache: &Cache,
+    tracer: TracerChoice,
+) -> Result<(GBufferCpu, ReferenceImage)> {
     let g = frame::gbuffer_only(ctx, scene)?;
     if g.geometry_count() == 0 {
         return Err(scene.nothing_visible().into());
@@ -428,9 +561,15 @@ pub fn for_scene_with(ctx: &GpuContext, scene: &Scene, mode: ReferenceMode, cach
 /// The visibility of `scene` over `g` for each of `modes` (area lights only), uncached, with one
 /// tracer built for all of them: the estimate study's exact visibility at a grid's points is the
 /// mean of hundreds of point modes, and a million-triangle scene's BVH takes seconds to build.
-pub fn trace_modes(scene: &Scene, g: &GBufferCpu, modes: &[ReferenceMode]) -> Result<Vec<Vec<f32>>> {
+pub fn trace_modes(
+    scene: &Scene,
+    g: &GBufferCpu,
+    modes: &[ReferenceMode],
+) -> Result<Vec<Vec<f32>>> {
     if scene.environment.is_some() {
-        return Err(Error::param("trace_modes: an environment scene's reference is `continuous`".into()));
+        return Err(Error::param(
+            "trace_modes: an environment scene's reference is `continuous`".into(),
+        ));
     }
     let offset = ray_offset(scene);
     let tracer = Tracer::new(&scene.triangles());
@@ -441,8 +580,17 @@ pub fn trace_modes(scene: &Scene, g: &GBufferCpu, modes: &[ReferenceMode]) -> Re
         .map(|mode| {
             bar.inc(1);
             Ok(match emitter_of(scene) {
-                None => reference::try_trace_visibility(&tracer, &points, &light_of(scene), mode, offset, &|_| {})?,
-                Some(e) => reference::try_trace_emitter(&tracer, &points, &e, mode, offset, &|_| {})?,
+                None => reference::try_trace_visibility(
+                    &tracer,
+                    &points,
+                    &light_of(scene),
+                    mode,
+                    offset,
+                    &|_| {},
+                )?,
+                Some(e) => {
+                    reference::try_trace_emitter(&tracer, &points, &e, mode, offset, &|_| {})?
+                }
             })
         })
         .collect();

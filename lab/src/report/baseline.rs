@@ -3,8 +3,8 @@
 //! when both rows were measured on the same adapter.
 
 use super::table::{scenes, Cell, Table};
-use crate::report::charts::ResultRow;
 use crate::record::regression::{change, row_key};
+use crate::report::charts::ResultRow;
 
 pub(super) fn tables(baseline: &[ResultRow], rows: &[ResultRow]) -> Vec<Table> {
     let cell = |text: String| Cell { text, best: false };
@@ -14,22 +14,42 @@ pub(super) fn tables(baseline: &[ResultRow], rows: &[ResultRow]) -> Vec<Table> {
             let body = rows
                 .iter()
                 .filter(|r| r.scene == scene)
-                .map(|r| match baseline.iter().find(|o| row_key(o) == row_key(r)) {
-                    None => vec![cell(r.label()), cell("no baseline row".into()), cell("–".into()), cell("–".into()), cell("–".into()), cell("–".into())],
-                    Some(o) => vec![
-                        cell(r.label()),
-                        cell(format!("{} → {}", o.shadow_maps, r.shadow_maps)),
-                        cell(if o.adapter == r.adapter { change(o.total_ms, r.total_ms) } else { "other adapter".into() }),
-                        cell(change(o.metrics.rmse, r.metrics.rmse)),
-                        cell(change(o.metrics.flip_mean, r.metrics.flip_mean)),
-                        cell(change(o.metrics.bad_pixel_share, r.metrics.bad_pixel_share)),
-                    ],
-                })
+                .map(
+                    |r| match baseline.iter().find(|o| row_key(o) == row_key(r)) {
+                        None => vec![
+                            cell(r.label()),
+                            cell("no baseline row".into()),
+                            cell("–".into()),
+                            cell("–".into()),
+                            cell("–".into()),
+                            cell("–".into()),
+                        ],
+                        Some(o) => vec![
+                            cell(r.label()),
+                            cell(format!("{} → {}", o.shadow_maps, r.shadow_maps)),
+                            cell(if o.adapter == r.adapter {
+                                change(o.total_ms, r.total_ms)
+                            } else {
+                                "other adapter".into()
+                            }),
+                            cell(change(o.metrics.rmse, r.metrics.rmse)),
+                            cell(change(o.metrics.flip_mean, r.metrics.flip_mean)),
+                            cell(change(o.metrics.bad_pixel_share, r.metrics.bad_pixel_share)),
+                        ],
+                    },
+                )
                 .collect();
             Table {
                 scene: scene.to_string(),
                 kind: "against the baseline",
-                header: vec!["method", "maps", "median ms", "RMSE", "FLIP mean", "bad share"],
+                header: vec![
+                    "method",
+                    "maps",
+                    "median ms",
+                    "RMSE",
+                    "FLIP mean",
+                    "bad share",
+                ],
                 rows: body,
             }
         })

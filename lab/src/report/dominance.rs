@@ -32,10 +32,16 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
                         cell(g.label.clone(), false),
                         cell(g.maps.to_string(), false),
                         cell(format!("{:.5}", g.rmse), false),
-                        cell(format!("{:.1} ({:.1}–{:.1})", g.median_ms, g.min_ms, g.max_ms), false),
+                        cell(
+                            format!("{:.1} ({:.1}–{:.1})", g.median_ms, g.min_ms, g.max_ms),
+                            false,
+                        ),
                         cell(
                             match (&v.firmly_dominated_by, &v.dominated_by) {
-                                (Some(p), _) => format!("yes, beyond the spread: {} (slowest {:.1} ms)", p.label, p.max_ms),
+                                (Some(p), _) => format!(
+                                    "yes, beyond the spread: {} (slowest {:.1} ms)",
+                                    p.label, p.max_ms
+                                ),
                                 (None, Some(_)) => "yes, within the spread".into(),
                                 (None, None) => "no".into(),
                             },

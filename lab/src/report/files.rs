@@ -49,7 +49,11 @@ pub(super) fn slug(text: &str) -> String {
         }
     }
     let out = out.trim_matches('_').to_string();
-    if out.is_empty() { "item".into() } else { out }
+    if out.is_empty() {
+        "item".into()
+    } else {
+        out
+    }
 }
 
 /// Unique slugs for a list of names (`a`, `a_2`, …), in order. Linear: a sweep may name tens of
@@ -106,8 +110,14 @@ mod tests {
             vec!["a_b", "a-b", "a_b_2"]
         );
         // A name that is already a suffixed slug is skipped over, as are repeated names.
-        assert_eq!(unique_slugs(["x_2", "x", "x", "x", "x_3"]), vec!["x_2", "x", "x_3", "x_4", "x_3_2"]);
+        assert_eq!(
+            unique_slugs(["x_2", "x", "x", "x", "x_3"]),
+            vec!["x_2", "x", "x_3", "x_4", "x_3_2"]
+        );
         let many = unique_slugs(std::iter::repeat_n("z", 20_000));
-        assert_eq!((many[1].as_str(), many[19_999].as_str()), ("z_2", "z_20000"));
+        assert_eq!(
+            (many[1].as_str(), many[19_999].as_str()),
+            ("z_2", "z_20000")
+        );
     }
 }

@@ -1,11 +1,11 @@
 //! The self-contained HTML page: one minijinja template, every image a data URI.
 
-use minijinja::Environment;
 use minijinja::value::{Serde, Value};
+use minijinja::Environment;
 use serde::Serialize;
 
-use super::ReportError;
 use super::table::Table;
+use super::ReportError;
 
 const TEMPLATE: &str = include_str!("template.html");
 

@@ -9,7 +9,12 @@ pub fn page(title: &str, md: &str, charts: &[(&str, &str)]) -> String {
     let mut body = body(md);
     for (heading, svg) in charts {
         // As a data URI: the page names no resource, not even the SVG namespace.
-        body += &format!("<h2>{}</h2>\n<div class=\"chart\"><img src=\"{}\" alt=\"{}\"></div>\n", escape(heading), super::files::data_uri("image/svg+xml", svg.as_bytes()), escape(heading));
+        body += &format!(
+            "<h2>{}</h2>\n<div class=\"chart\"><img src=\"{}\" alt=\"{}\"></div>\n",
+            escape(heading),
+            super::files::data_uri("image/svg+xml", svg.as_bytes()),
+            escape(heading)
+        );
     }
     document(title, &body)
 }
@@ -55,16 +60,24 @@ pub fn body(md: &str) -> String {
 /// A target the page may name: a `data:` URI, or a relative path or anchor (no scheme, no host).
 pub fn offline_target(url: &str) -> bool {
     let url = url.trim();
-    if url.get(..5).is_some_and(|s| s.eq_ignore_ascii_case("data:")) {
+    if url
+        .get(..5)
+        .is_some_and(|s| s.eq_ignore_ascii_case("data:"))
+    {
         return true;
     }
     // A scheme is letters, digits, `+`, `-`, `.` before the first `:`, ahead of any `/`, `?`, `#`.
-    let scheme = url.split(['/', '?', '#']).next().is_some_and(|head| head.contains(':'));
+    let scheme = url
+        .split(['/', '?', '#'])
+        .next()
+        .is_some_and(|head| head.contains(':'));
     !scheme && !url.starts_with("//") && !url.starts_with('\\')
 }
 
 pub(super) fn escape(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 #[cfg(test)]
@@ -80,7 +93,11 @@ mod tests {
 
     #[test]
     fn dash_lines_become_one_list() {
-        let page = super::page("t", "Intro.\n\n- one `a`;\n- two,\n  carried on;\n- three.\n\nAfter.\n- last", &[]);
+        let page = super::page(
+            "t",
+            "Intro.\n\n- one `a`;\n- two,\n  carried on;\n- three.\n\nAfter.\n- last",
+            &[],
+        );
         // CommonMark keeps the continuation line's break as a newline inside the item.
         assert!(
             page.contains("<p>Intro.</p>\n<ul>\n<li>one <code>a</code>;</li>\n<li>two,\ncarried on;</li>\n<li>three.</li>\n</ul>\n<p>After.</p>\n<ul>\n<li>last</li>\n</ul>\n"),
@@ -93,21 +110,45 @@ mod tests {
     fn links_and_images_out_of_the_page_become_their_text() {
         let md = "![x](http://h/p.png) [click](javascript:alert(1)) <https://h/> [ok](rows.csv) [top](#t) ![d](data:image/png;base64,AA==) [w](//h/p) [J](JaVaScRiPt:x)";
         let page = super::body(md);
-        for attr in ["href=\"http", "src=\"http", "href=\"javascript", "href=\"JaVaScRiPt", "href=\"//"] {
+        for attr in [
+            "href=\"http",
+            "src=\"http",
+            "href=\"javascript",
+            "href=\"JaVaScRiPt",
+            "href=\"//",
+        ] {
             assert!(!page.contains(attr), "{attr} in {page}");
         }
         // The dropped ones keep their text.
         assert!(page.contains("<p>x click https://h/ <a href"), "{page}");
-        assert!(page.contains("<a href=\"rows.csv\">ok</a>") && page.contains("<a href=\"#t\">top</a>") && page.contains("<img src=\"data:image/png;base64,AA==\""), "{page}");
-        assert!(!page.contains("<img src=\"http") && page.matches("<a ").count() == 2, "{page}");
+        assert!(
+            page.contains("<a href=\"rows.csv\">ok</a>")
+                && page.contains("<a href=\"#t\">top</a>")
+                && page.contains("<img src=\"data:image/png;base64,AA==\""),
+            "{page}"
+        );
+        assert!(
+            !page.contains("<img src=\"http") && page.matches("<a ").count() == 2,
+            "{page}"
+        );
     }
 
     #[test]
     fn tags_in_the_text_stay_text() {
-        let page = super::page("a <b>", "x <img src=\"http://h/p.png\"> y\n\n<script>1</script>\n", &[]);
+        let page = super::page(
+            "a <b>",
+            "x <img src=\"http://h/p.png\"> y\n\n<script>1</script>\n",
+            &[],
+        );
         assert!(page.contains("<title>a &lt;b&gt;</title>"), "{page}");
-        assert!(page.contains("x &lt;img src=&quot;http://h/p.png&quot;&gt; y"), "{page}");
+        assert!(
+            page.contains("x &lt;img src=&quot;http://h/p.png&quot;&gt; y"),
+            "{page}"
+        );
         assert!(page.contains("&lt;script&gt;1&lt;/script&gt;"), "{page}");
-        assert!(!page.contains("<script") && !page.contains("<img") && !page.contains("src=\"http"), "{page}");
+        assert!(
+            !page.contains("<script") && !page.contains("<img") && !page.contains("src=\"http"),
+            "{page}"
+        );
     }
 }

@@ -18,8 +18,8 @@ pub mod viewer;
 use std::path::{Path, PathBuf};
 
 use crate::report::charts::ResultRow;
-use files::{data_uri, is_png, write_atomic};
 pub(crate) use files::unique_slugs;
+use files::{data_uri, is_png, write_atomic};
 
 /// Folder, beside `report.md`, holding the files the Markdown links to.
 pub const FILES_DIR: &str = "report_files";
@@ -107,7 +107,11 @@ pub fn write_report_with_baseline(
     let settings = table::settings_pairs(settings);
     // Failed settings get their own table ("failed: reason"); every other table is of measured rows.
     let all = rows;
-    let rows: &[ResultRow] = &all.iter().filter(|r| r.measured()).cloned().collect::<Vec<_>>();
+    let rows: &[ResultRow] = &all
+        .iter()
+        .filter(|r| r.measured())
+        .cloned()
+        .collect::<Vec<_>>();
     let mut tables = table::tables(rows);
     tables.extend(table::failed_tables(all));
     tables.extend(table::certified_tables(all));
@@ -144,7 +148,10 @@ pub fn write_report_with_baseline(
             ("visibility", "visibility V", &m.visibility_png),
             ("abs_error", "|error| of V", &m.abs_error_png),
         ];
-        let signed = m.signed_error_png.iter().map(|b| ("signed_error", "signed error of V", b));
+        let signed = m
+            .signed_error_png
+            .iter()
+            .map(|b| ("signed_error", "signed error of V", b));
         let mut links = Vec::new();
         for (suffix, caption, bytes) in parts.into_iter().chain(signed) {
             // Methods usually share one reference: write identical bytes once.
@@ -200,32 +207,70 @@ pub fn write_report_with_baseline(
 fn viewers(images: &[MethodImages], rows: &[ResultRow]) -> Result<Vec<String>, ReportError> {
     let mut groups: Vec<(&[u8], Vec<&MethodImages>)> = Vec::new();
     for m in images {
-        match groups.iter_mut().find(|(r, _)| *r == m.reference_png.as_slice()) {
+        match groups
+            .iter_mut()
+            .find(|(r, _)| *r == m.reference_png.as_slice())
+        {
             Some((_, g)) => g.push(m),
             None => groups.push((&m.reference_png, vec![m])),
         }
     }
-    let png = |name: &str, caption: &str, bytes: &[u8]| viewer::Layer { name: name.into(), caption: caption.into(), uri: data_uri("image/png", bytes) };
+    let png = |name: &str, caption: &str, bytes: &[u8]| viewer::Layer {
+        name: name.into(),
+        caption: caption.into(),
+        uri: data_uri("image/png", bytes),
+    };
     let mut out = Vec::new();
     for (reference, methods) in groups {
         let scene = methods[0].scene.clone();
-        let mut items = vec![viewer::Item { label: "reference".into(), reference: true, figures: String::new(), layers: vec![png("shaded", "reference (shaded)", reference)] }];
+        let mut items = vec![viewer::Item {
+            label: "reference".into(),
+            reference: true,
+            figures: String::new(),
+            layers: vec![png("shaded", "reference (shaded)", reference)],
+        }];
         for m in methods {
-            let row = rows.iter().find(|r| r.scene == m.scene && r.label() == m.label);
-            let mut layers = vec![png("shaded", "shaded", &m.shaded_png), png("visibility", "visibility V", &m.visibility_png), png("abs_error", "|error| of V", &m.abs_error_png)];
-            layers.extend(m.signed_error_png.as_deref().map(|b| png("signed_error", "signed error of V", b)));
-            items.push(viewer::Item { label: m.label.clone(), reference: false, figures: row.map(figures).unwrap_or_default(), layers });
+            let row = rows
+                .iter()
+                .find(|r| r.scene == m.scene && r.label() == m.label);
+            let mut layers = vec![
+                png("shaded", "shaded", &m.shaded_png),
+                png("visibility", "visibility V", &m.visibility_png),
+                png("abs_error", "|error| of V", &m.abs_error_png),
+            ];
+            layers.extend(
+                m.signed_error_png
+                    .as_deref()
+                    .map(|b| png("signed_error", "signed error of V", b)),
+            );
+            items.push(viewer::Item {
+                label: m.label.clone(),
+                reference: false,
+                figures: row.map(figures).unwrap_or_default(),
+                layers,
+            });
         }
         let title = format!("images of {scene}: the reference and every method");
-        out.push(viewer::render(&viewer::Viewer { title, scene, items })?);
+        out.push(viewer::render(&viewer::Viewer {
+            title,
+            scene,
+            items,
+        })?);
     }
     Ok(out)
 }
 
 /// The figures beside a method in the viewer: what the tables say of it, on one line.
 fn figures(r: &ResultRow) -> String {
-    let maps = if r.shadow_maps == 1 { "1 map".to_string() } else { format!("{} maps", r.shadow_maps) };
-    format!("RMSE {:.4} · FLIP {:.4} · {maps} · {:.2} ms", r.metrics.rmse, r.metrics.flip_mean, r.total_ms)
+    let maps = if r.shadow_maps == 1 {
+        "1 map".to_string()
+    } else {
+        format!("{} maps", r.shadow_maps)
+    };
+    format!(
+        "RMSE {:.4} · FLIP {:.4} · {maps} · {:.2} ms",
+        r.metrics.rmse, r.metrics.flip_mean, r.total_ms
+    )
 }
 
 #[cfg(test)]

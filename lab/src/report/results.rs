@@ -17,19 +17,40 @@ pub struct LoadedRow {
 /// Reads one `results.jsonl`: one JSON object per line, blank lines skipped; any other line is
 /// an error naming the file and line.
 pub fn read_results(path: &Path) -> Result<Vec<LoadedRow>> {
-    let err = |message: String| ReportError::Results { path: path.to_path_buf(), message };
-    let text = crate::scene::input_file::read_text(path, crate::scene::input_file::TEXT_CAP, "the 256 MiB cap on results files")
-        .map_err(|e| err(format!("cannot read results file: {e}")))?;
+    let err = |message: String| ReportError::Results {
+        path: path.to_path_buf(),
+        message,
+    };
+    let text = crate::scene::input_file::read_text(
+        path,
+        crate::scene::input_file::TEXT_CAP,
+        "the 256 MiB cap on results files",
+    )
+    .map_err(|e| err(format!("cannot read results file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    Ok(parse_results(&text, path)?.into_iter().map(|row| LoadedRow { row, base: base.clone() }).collect())
+    Ok(parse_results(&text, path)?
+        .into_iter()
+        .map(|row| LoadedRow {
+            row,
+            base: base.clone(),
+        })
+        .collect())
 }
 
 /// The rows of results.jsonl text; errors name `path` and the line.
 pub fn parse_results(text: &str, path: &Path) -> Result<Vec<ResultRow>> {
-    let err = |message: String| ReportError::Results { path: path.to_path_buf(), message };
+    let err = |message: String| ReportError::Results {
+        path: path.to_path_buf(),
+        message,
+    };
     let mut rows = Vec::new();
-    for (n, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-        let row: ResultRow = serde_json::from_str(line).map_err(|e| err(format!("line {}: not a result row: {e}", n + 1)))?;
+    for (n, line) in text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+    {
+        let row: ResultRow = serde_json::from_str(line)
+            .map_err(|e| err(format!("line {}: not a result row: {e}", n + 1)))?;
         if let Some(why) = row.check() {
             return Err(err(format!("line {}: {why}", n + 1)).into());
         }
@@ -46,14 +67,38 @@ pub fn parse_results(text: &str, path: &Path) -> Result<Vec<ResultRow>> {
 pub fn charts(rows: &[ResultRow]) -> Result<Vec<(&'static str, String, String)>> {
     type Chart = fn(&[ResultRow]) -> Result<String, ChartError>;
     let all: [(&str, &str, Chart); 5] = [
-        ("error_vs_time", "Error against time, Pareto front marked", charts::error_vs_time_svg),
-        ("error_vs_maps", "Error against the number of shadow maps", charts::error_vs_maps_svg),
-        ("maps_vs_pm", "Shadow maps against P_M (adaptive)", charts::maps_vs_pm_svg),
-        ("stage_breakdown", "Stage time breakdown", charts::stage_breakdown_svg),
-        ("frame_split", "Frame split: raster, decision, shade, waits", charts::frame_split_svg),
+        (
+            "error_vs_time",
+            "Error against time, Pareto front marked",
+            charts::error_vs_time_svg,
+        ),
+        (
+            "error_vs_maps",
+            "Error against the number of shadow maps",
+            charts::error_vs_maps_svg,
+        ),
+        (
+            "maps_vs_pm",
+            "Shadow maps against P_M (adaptive)",
+            charts::maps_vs_pm_svg,
+        ),
+        (
+            "stage_breakdown",
+            "Stage time breakdown",
+            charts::stage_breakdown_svg,
+        ),
+        (
+            "frame_split",
+            "Frame split: raster, decision, shade, waits",
+            charts::frame_split_svg,
+        ),
     ];
     // Maps against P_M needs P_M to vary; one value would plot a lone point per series.
-    let mut pms: Vec<f64> = rows.iter().filter(|r| r.method == "adaptive").filter_map(|r| r.param_f64("p_m")).collect();
+    let mut pms: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.method == "adaptive")
+        .filter_map(|r| r.param_f64("p_m"))
+        .collect();
     pms.sort_by(f64::total_cmp);
     pms.dedup();
     let mut out = Vec::new();
@@ -78,7 +123,11 @@ fn shared(rows: &[ResultRow], f: impl Fn(&ResultRow) -> String) -> String {
             seen.push(v);
         }
     }
-    if seen.is_empty() { "–".into() } else { seen.join("; ") }
+    if seen.is_empty() {
+        "–".into()
+    } else {
+        seen.join("; ")
+    }
 }
 
 fn adapter_text(a: &serde_json::Value) -> String {
@@ -86,7 +135,17 @@ fn adapter_text(a: &serde_json::Value) -> String {
     match a {
         serde_json::Value::Object(_) => {
             let driver = [s("driver"), s("driver_info")].join(" ").trim().to_string();
-            format!("{} ({}, {}{})", s("name"), s("backend"), s("device_type"), if driver.is_empty() { String::new() } else { format!(", {driver}") })
+            format!(
+                "{} ({}, {}{})",
+                s("name"),
+                s("backend"),
+                s("device_type"),
+                if driver.is_empty() {
+                    String::new()
+                } else {
+                    format!(", {driver}")
+                }
+            )
         }
         serde_json::Value::String(x) => x.clone(),
         _ => String::new(),
@@ -96,14 +155,25 @@ fn adapter_text(a: &serde_json::Value) -> String {
 /// The shards the rows came from, with the rows each gave: `0/4 (6 rows), 1/4 (6 rows)`.
 fn shard_list(rows: &[ResultRow]) -> String {
     let mut shards: Vec<([u32; 2], usize)> = Vec::new();
-    for s in rows.iter().filter_map(|r| r.provenance.as_ref()?.spec.as_ref()) {
+    for s in rows
+        .iter()
+        .filter_map(|r| r.provenance.as_ref()?.spec.as_ref())
+    {
         match shards.iter_mut().find(|(k, _)| *k == s.shard) {
             Some((_, n)) => *n += 1,
             None => shards.push((s.shard, 1)),
         }
     }
     shards.sort();
-    if shards.is_empty() { "–".into() } else { shards.iter().map(|([i, n], c)| format!("{i}/{n} ({c} rows)")).collect::<Vec<_>>().join(", ") }
+    if shards.is_empty() {
+        "–".into()
+    } else {
+        shards
+            .iter()
+            .map(|([i, n], c)| format!("{i}/{n} ({c} rows)"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
 }
 
 /// The settings table of the report, from what the rows record, as ordered `[key, value]` pairs.
@@ -138,22 +208,39 @@ pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
         ("shards", shard_list(rows)),
         ("rows", rows.len().to_string()),
     ];
-    serde_json::Value::Array(pairs.into_iter().map(|(k, v)| serde_json::json!([k, v])).collect())
+    serde_json::Value::Array(
+        pairs
+            .into_iter()
+            .map(|(k, v)| serde_json::json!([k, v]))
+            .collect(),
+    )
 }
 
 /// The pictures of a row, read from the files it names; `None` when it names none (a row from
 /// elsewhere). A named file that is missing is an error.
 fn images(r: &LoadedRow) -> Result<Option<MethodImages>> {
     let read = |key: &str| -> Result<Option<Vec<u8>>> {
-        let Some(rel) = r.row.images.get(key) else { return Ok(None) };
+        let Some(rel) = r.row.images.get(key) else {
+            return Ok(None);
+        };
         let path = r.base.join(rel);
-        let bytes = crate::scene::input_file::read_capped(&path, crate::scene::input_file::TEXT_CAP, "the 256 MiB cap on pictures")
-            .map_err(|e| ReportError::Results { path: path.clone(), message: format!("image `{key}` of {}: {e}", r.row.label()) })?;
+        let bytes = crate::scene::input_file::read_capped(
+            &path,
+            crate::scene::input_file::TEXT_CAP,
+            "the 256 MiB cap on pictures",
+        )
+        .map_err(|e| ReportError::Results {
+            path: path.clone(),
+            message: format!("image `{key}` of {}: {e}", r.row.label()),
+        })?;
         Ok(Some(bytes))
     };
-    let (Some(shaded_png), Some(visibility_png), Some(abs_error_png), Some(reference_png)) =
-        (read("shaded")?, read("visibility")?, read("abs_error")?, read("reference")?)
-    else {
+    let (Some(shaded_png), Some(visibility_png), Some(abs_error_png), Some(reference_png)) = (
+        read("shaded")?,
+        read("visibility")?,
+        read("abs_error")?,
+        read("reference")?,
+    ) else {
         return Ok(None);
     };
     Ok(Some(MethodImages {
@@ -173,20 +260,38 @@ pub fn write_from_rows(rows: &[LoadedRow], out_dir: &Path) -> Result<PathBuf> {
     write_rows(rows, None, out_dir)
 }
 
-fn write_rows(rows: &[LoadedRow], baseline: Option<&[ResultRow]>, out_dir: &Path) -> Result<PathBuf> {
+fn write_rows(
+    rows: &[LoadedRow],
+    baseline: Option<&[ResultRow]>,
+    out_dir: &Path,
+) -> Result<PathBuf> {
     let plain: Vec<ResultRow> = rows.iter().map(|r| r.row.clone()).collect();
-    let title = format!("Penumbra: speed against accuracy, {}", super::table::scenes(plain.iter().map(|r| r.scene.as_str())).join(", "));
+    let title = format!(
+        "Penumbra: speed against accuracy, {}",
+        super::table::scenes(plain.iter().map(|r| r.scene.as_str())).join(", ")
+    );
     let mut pictures = Vec::new();
     for r in rows {
         pictures.extend(images(r)?);
     }
     let measured: Vec<ResultRow> = plain.iter().filter(|r| r.measured()).cloned().collect();
-    let charts: Vec<(String, String)> = charts(&measured)?.into_iter().map(|(_, caption, svg)| (caption, svg)).collect();
+    let charts: Vec<(String, String)> = charts(&measured)?
+        .into_iter()
+        .map(|(_, caption, svg)| (caption, svg))
+        .collect();
     let mut settings = settings(&plain);
     if let (Some(b), serde_json::Value::Array(pairs)) = (baseline, &mut settings) {
-        pairs.push(serde_json::json!(["baseline", format!("{} rows; changes in the tables marked \"against the baseline\"", b.len())]));
+        pairs.push(serde_json::json!([
+            "baseline",
+            format!(
+                "{} rows; changes in the tables marked \"against the baseline\"",
+                b.len()
+            )
+        ]));
     }
-    write_report_with_baseline(out_dir, &title, &settings, &plain, &pictures, &charts, baseline)?;
+    write_report_with_baseline(
+        out_dir, &title, &settings, &plain, &pictures, &charts, baseline,
+    )?;
     Ok(out_dir.join("report.html"))
 }
 
@@ -196,16 +301,25 @@ pub fn write_from_files(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
 }
 
 /// As [`write_from_files`], with the change of every row against a baseline results file.
-pub fn write_from_files_with_baseline(paths: &[PathBuf], baseline: Option<&Path>, out_dir: &Path) -> Result<PathBuf> {
+pub fn write_from_files_with_baseline(
+    paths: &[PathBuf],
+    baseline: Option<&Path>,
+    out_dir: &Path,
+) -> Result<PathBuf> {
     if paths.is_empty() {
-        return Err(crate::Error::param("report: give at least one results.jsonl".into()));
+        return Err(crate::Error::param(
+            "report: give at least one results.jsonl".into(),
+        ));
     }
     let mut seen = Vec::new();
     for p in paths {
         // The same file twice would double every row in the tables and charts.
         let id = p.canonicalize().unwrap_or_else(|_| p.clone());
         if seen.contains(&id) {
-            return Err(crate::Error::param(format!("report: {} is given twice", p.display())));
+            return Err(crate::Error::param(format!(
+                "report: {} is given twice",
+                p.display()
+            )));
         }
         seen.push(id);
     }
@@ -214,7 +328,12 @@ pub fn write_from_files_with_baseline(paths: &[PathBuf], baseline: Option<&Path>
         rows.extend(read_results(p)?);
     }
     let old = match baseline {
-        Some(b) => Some(read_results(b)?.into_iter().map(|l| l.row).collect::<Vec<_>>()),
+        Some(b) => Some(
+            read_results(b)?
+                .into_iter()
+                .map(|l| l.row)
+                .collect::<Vec<_>>(),
+        ),
         None => None,
     };
     write_rows(&rows, old.as_deref(), out_dir)

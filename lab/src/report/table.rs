@@ -65,8 +65,18 @@ fn db(v: f64) -> String {
 const LOWER: Better = Better::Lower;
 const HIGHER: Better = Better::Higher;
 
-fn col(name: &'static str, better: Better, value: fn(&ResultRow) -> f64, format: fn(f64) -> String) -> Column {
-    Column { name, better, value, format }
+fn col(
+    name: &'static str,
+    better: Better,
+    value: fn(&ResultRow) -> f64,
+    format: fn(f64) -> String,
+) -> Column {
+    Column {
+        name,
+        better,
+        value,
+        format,
+    }
 }
 
 /// Cost: how many maps, waits and milliseconds a frame takes.
@@ -77,7 +87,12 @@ fn speed_columns() -> Vec<Column> {
         col("median ms", LOWER, |r| r.total_ms, fixed2),
         col("min ms", LOWER, |r| r.total_ms_min, fixed2),
         col("max ms", LOWER, |r| r.total_ms_max, fixed2),
-        col("setup ms", LOWER, |r| r.setup_ms.unwrap_or(f64::NAN), fixed2),
+        col(
+            "setup ms",
+            LOWER,
+            |r| r.setup_ms.unwrap_or(f64::NAN),
+            fixed2,
+        ),
     ]
 }
 
@@ -88,12 +103,22 @@ fn accuracy_columns() -> Vec<Column> {
         col("MAE", LOWER, |r| r.metrics.mae, error),
         col("max err", LOWER, |r| r.metrics.max_abs, error),
         // Infinite PSNR (identical images) is stored as None.
-        col("PSNR dB", HIGHER, |r| r.metrics.psnr.unwrap_or(f64::INFINITY), db),
+        col(
+            "PSNR dB",
+            HIGHER,
+            |r| r.metrics.psnr.unwrap_or(f64::INFINITY),
+            db,
+        ),
         col("SSIM", HIGHER, |r| r.metrics.ssim, fixed4),
         col("FLIP mean", LOWER, |r| r.metrics.flip_mean, fixed4),
         col("FLIP p95", LOWER, |r| r.metrics.flip_p95, fixed4),
         col("FLIP p99", LOWER, |r| r.metrics.flip_p99, fixed4),
-        col("penumbra RMSE", LOWER, |r| r.metrics.penumbra_rmse.unwrap_or(f64::NAN), error),
+        col(
+            "penumbra RMSE",
+            LOWER,
+            |r| r.metrics.penumbra_rmse.unwrap_or(f64::NAN),
+            error,
+        ),
         col("bad share", LOWER, |r| r.metrics.bad_pixel_share, percent),
         col("NaN", LOWER, |r| r.metrics.nan_count as f64, int),
     ]
@@ -118,48 +143,84 @@ pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
             // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
             let mut group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
             group.sort_by_key(|r| Family::of_name(&r.method));
-            [table(scene, "speed", speed_columns(), &group), table(scene, "accuracy", accuracy_columns(), &group)]
+            [
+                table(scene, "speed", speed_columns(), &group),
+                table(scene, "accuracy", accuracy_columns(), &group),
+            ]
         })
         .collect()
 }
 
 /// Per scene with failed settings: one table of them, each with its reason ("failed: reason").
 pub(super) fn failed_tables(rows: &[ResultRow]) -> Vec<Table> {
-    scenes(rows.iter().filter(|r| !r.measured()).map(|r| r.scene.as_str()))
-        .into_iter()
-        .map(|scene| Table {
-            scene: scene.to_string(),
-            kind: "failed settings",
-            header: vec!["method", "outcome"],
-            rows: rows
-                .iter()
-                .filter(|r| r.scene == scene)
-                .filter_map(|r| r.failed.as_ref().map(|reason| vec![Cell { text: r.label(), best: false }, Cell { text: format!("failed: {reason}"), best: false }]))
-                .collect(),
-        })
-        .collect()
+    scenes(
+        rows.iter()
+            .filter(|r| !r.measured())
+            .map(|r| r.scene.as_str()),
+    )
+    .into_iter()
+    .map(|scene| Table {
+        scene: scene.to_string(),
+        kind: "failed settings",
+        header: vec!["method", "outcome"],
+        rows: rows
+            .iter()
+            .filter(|r| r.scene == scene)
+            .filter_map(|r| {
+                r.failed.as_ref().map(|reason| {
+                    vec![
+                        Cell {
+                            text: r.label(),
+                            best: false,
+                        },
+                        Cell {
+                            text: format!("failed: {reason}"),
+                            best: false,
+                        },
+                    ]
+                })
+            })
+            .collect(),
+    })
+    .collect()
 }
 
 /// Per scene with certified rows (`--certify K`): each beside its measured RMSE, the bound it
 /// was certified at ("RMSE ≤ U at 95% (K px, X ms)"), and whether the bound covered it.
 pub(super) fn certified_tables(rows: &[ResultRow]) -> Vec<Table> {
-    scenes(rows.iter().filter(|r| r.certify.is_some() && r.measured()).map(|r| r.scene.as_str()))
-        .into_iter()
-        .map(|scene| Table {
-            scene: scene.to_string(),
-            kind: "certified error",
-            header: vec!["method", "measured RMSE", "certified", "covered"],
-            rows: rows
-                .iter()
-                .filter(|r| r.scene == scene && r.measured())
-                .filter_map(|r| {
-                    let c = r.certify.as_ref()?;
-                    let text = |t: String| Cell { text: t, best: false };
-                    Some(vec![text(r.label()), text(error(r.metrics.rmse)), text(c.line()), text(if c.bound >= r.metrics.rmse { "yes".into() } else { "no".into() })])
-                })
-                .collect(),
-        })
-        .collect()
+    scenes(
+        rows.iter()
+            .filter(|r| r.certify.is_some() && r.measured())
+            .map(|r| r.scene.as_str()),
+    )
+    .into_iter()
+    .map(|scene| Table {
+        scene: scene.to_string(),
+        kind: "certified error",
+        header: vec!["method", "measured RMSE", "certified", "covered"],
+        rows: rows
+            .iter()
+            .filter(|r| r.scene == scene && r.measured())
+            .filter_map(|r| {
+                let c = r.certify.as_ref()?;
+                let text = |t: String| Cell {
+                    text: t,
+                    best: false,
+                };
+                Some(vec![
+                    text(r.label()),
+                    text(error(r.metrics.rmse)),
+                    text(c.line()),
+                    text(if c.bound >= r.metrics.rmse {
+                        "yes".into()
+                    } else {
+                        "no".into()
+                    }),
+                ])
+            })
+            .collect(),
+    })
+    .collect()
 }
 
 fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]) -> Table {
@@ -167,7 +228,18 @@ fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]
     header.extend(cols.iter().map(|c| c.name));
     let mut cells: Vec<Vec<Cell>> = rows
         .iter()
-        .map(|r| vec![Cell { text: Family::of_name(&r.method).title().to_string(), best: false }, Cell { text: r.label(), best: false }])
+        .map(|r| {
+            vec![
+                Cell {
+                    text: Family::of_name(&r.method).title().to_string(),
+                    best: false,
+                },
+                Cell {
+                    text: r.label(),
+                    best: false,
+                },
+            ]
+        })
         .collect();
     for c in &cols {
         let values: Vec<f64> = rows.iter().map(|r| (c.value)(r)).collect();
@@ -181,7 +253,12 @@ fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]
             row.push(Cell { text, best: b });
         }
     }
-    Table { scene: scene.to_string(), kind, header, rows: cells }
+    Table {
+        scene: scene.to_string(),
+        kind,
+        header,
+        rows: cells,
+    }
 }
 
 /// Flags every value equal to the column's best; nothing when all values tie (no contrast).
@@ -214,7 +291,10 @@ pub(super) fn settings_pairs(settings: &serde_json::Value) -> Vec<(String, Strin
         Some([k, v]) => Some((text(k), text(v))),
         _ => None,
     };
-    if let Some(pairs) = settings.as_array().and_then(|a| a.iter().map(pair).collect::<Option<Vec<_>>>()) {
+    if let Some(pairs) = settings
+        .as_array()
+        .and_then(|a| a.iter().map(pair).collect::<Option<Vec<_>>>())
+    {
         return pairs;
     }
     match settings {

@@ -98,11 +98,27 @@ fn html_is_self_contained() {
     // One viewer (one reference), an item per method with its figures beside it; every point of
     // the error-against-time chart answers with its row.
     assert_eq!(html.matches("<div class=\"viewer\"").count(), 1);
-    assert_eq!(html.matches("<div class=\"v-item\"").count(), 1 + rows.len());
+    assert_eq!(
+        html.matches("<div class=\"v-item\"").count(),
+        1 + rows.len()
+    );
     let r = &rows[0];
-    assert!(html.contains(&format!("<p class=\"v-figures\">RMSE {:.4} · FLIP {:.4} · ", r.metrics.rmse, r.metrics.flip_mean)), "{html}");
-    assert_eq!(html.matches("<circle class=\"hit\"").count(), rows.iter().filter(|r| r.total_ms > 0.0).count());
-    assert!(html.contains(&format!("data-label=\"{}\" data-scene=\"{}\"", r.label(), r.scene)));
+    assert!(
+        html.contains(&format!(
+            "<p class=\"v-figures\">RMSE {:.4} · FLIP {:.4} · ",
+            r.metrics.rmse, r.metrics.flip_mean
+        )),
+        "{html}"
+    );
+    assert_eq!(
+        html.matches("<circle class=\"hit\"").count(),
+        rows.iter().filter(|r| r.total_ms > 0.0).count()
+    );
+    assert!(html.contains(&format!(
+        "data-label=\"{}\" data-scene=\"{}\"",
+        r.label(),
+        r.scene
+    )));
     assert!(
         html.contains("Penumbra &lt;test&gt; report"),
         "title must be escaped"
@@ -121,7 +137,10 @@ fn markdown_links_files_that_exist() {
     assert!(md.contains("| method | RMSE | MAE |"));
     assert!(md.contains("**"), "best values are bold");
     // The grids against adaptive: n=9 dominated by p_m=16 (14 ms, 0.35x), n=17 not.
-    assert!(md.contains("### bunny: adaptive against the regular grids"), "{md}");
+    assert!(
+        md.contains("### bunny: adaptive against the regular grids"),
+        "{md}"
+    );
     assert!(md.contains("| regular(n=9) | 81 | 0.02000 | 40.0 (36.0–48.0) | **yes, beyond the spread: adaptive(p_m=16, scope=local) (slowest 16.8 ms)** | adaptive(p_m=16, scope=local): 25 maps, RMSE 0.01500 (0.750×), 14.0 ms (0.35×) |"), "{md}");
     assert!(md.contains("| regular(n=17) | 289 | 0.00400 | 140.0 (126.0–168.0) | no | none | none | adaptive(p_m=0, scope=local): 61 maps, RMSE 0.00600 (1.500×), 30.0 ms (0.21×) |"), "{md}");
     let mut links = 0;

@@ -75,24 +75,39 @@ pub fn repeats_in_range(flag: &str, n: u32) -> Result<u32> {
 /// an error naming its flag, not clap's usage block.
 pub fn utf8() -> impl clap::builder::TypedValueParser<Value = String> {
     use clap::builder::TypedValueParser;
-    clap::builder::OsStringValueParser::new().try_map(|s| s.into_string().map_err(|s| format!("not valid UTF-8: {}", s.to_string_lossy())))
+    clap::builder::OsStringValueParser::new().try_map(|s| {
+        s.into_string()
+            .map_err(|s| format!("not valid UTF-8: {}", s.to_string_lossy()))
+    })
 }
 
 /// `--set` pairs: render settings only, in every command (`cull=none` is the shadow raster's
 /// culling, never adaptive's `cull=on|off`). A key that only a method knows gets a line saying where
 /// it goes; `param_flag` names the command's own flag for its method's parameters, if it has one.
-pub fn render_sets_or(sets: &[String], method: Option<&str>, param_flag: Option<&str>) -> Result<Vec<(String, String)>> {
+pub fn render_sets_or(
+    sets: &[String],
+    method: Option<&str>,
+    param_flag: Option<&str>,
+) -> Result<Vec<(String, String)>> {
     let mut render = Vec::new();
     for s in sets {
-        let (k, v) = s.split_once('=').with_context(|| format!("--set {s}: expected KEY=VALUE"))?;
+        let (k, v) = s
+            .split_once('=')
+            .with_context(|| format!("--set {s}: expected KEY=VALUE"))?;
         let (k, v) = (k.trim(), v.trim());
         let short = k.strip_prefix("render.").unwrap_or(k);
         let owners = crate::methods::methods_with_param(short);
         if !crate::scene::is_render_key(short) && !owners.is_empty() {
             // The command's own method first, when it has the key.
             let owner = method.filter(|m| owners.contains(m)).unwrap_or(owners[0]);
-            let noun = if owners.len() == 1 { format!("method {owner}") } else { format!("methods {}", owners.join(", ")) };
-            let flag = param_flag.map(|f| format!(" or {f} {short}={v}")).unwrap_or_default();
+            let noun = if owners.len() == 1 {
+                format!("method {owner}")
+            } else {
+                format!("methods {}", owners.join(", "))
+            };
+            let flag = param_flag
+                .map(|f| format!(" or {f} {short}={v}"))
+                .unwrap_or_default();
             anyhow::bail!("--set {k}={v}: {short} is a parameter of {noun}, not a render setting; write it in the method spec ({owner}:{short}={v}){flag}");
         }
         render.push((k.to_string(), v.to_string()));
@@ -110,7 +125,9 @@ pub fn param_pairs(params: &[String]) -> Result<Vec<(String, String)>> {
     params
         .iter()
         .map(|s| {
-            let (k, v) = s.split_once('=').with_context(|| format!("--param {s}: expected KEY=VALUE"))?;
+            let (k, v) = s
+                .split_once('=')
+                .with_context(|| format!("--param {s}: expected KEY=VALUE"))?;
             Ok((k.trim().to_string(), v.trim().to_string()))
         })
         .collect()
@@ -118,14 +135,22 @@ pub fn param_pairs(params: &[String]) -> Result<Vec<(String, String)>> {
 
 /// `--certify K` and `--delta δ` (render, compare, frontier): the certificate's options, checked
 /// before the GPU starts against what the scene allows; None without `--certify`.
-pub fn certify_options(certify: Option<usize>, delta: Option<f64>, scene: &crate::scene::Scene) -> Result<Option<crate::certify::Options>> {
+pub fn certify_options(
+    certify: Option<usize>,
+    delta: Option<f64>,
+    scene: &crate::scene::Scene,
+) -> Result<Option<crate::certify::Options>> {
     let Some(pixels) = certify else {
         if let Some(d) = delta {
             anyhow::bail!("--delta {d}: needs --certify K (delta is the certified bound's confidence, 1 − delta)");
         }
         return Ok(None);
     };
-    let options = crate::certify::Options { pixels, delta: delta.unwrap_or(crate::certify::DEFAULT_DELTA), ..Default::default() };
+    let options = crate::certify::Options {
+        pixels,
+        delta: delta.unwrap_or(crate::certify::DEFAULT_DELTA),
+        ..Default::default()
+    };
     let frame = scene.render.width as usize * scene.render.height as usize;
     match options.check(frame) {
         Err(crate::certify::OptionsError::NoPixels) => anyhow::bail!("--certify 0: draw at least one pixel (K pixels get the exact truth; 2048 is auto's default)"),
@@ -144,7 +169,10 @@ pub fn certify_options(certify: Option<usize>, delta: Option<f64>, scene: &crate
 /// The frame's geometry pixels against `--certify K`, once the frame says how many it has.
 pub fn certify_fits(options: &crate::certify::Options, geometry: usize) -> Result<()> {
     if options.pixels > geometry {
-        anyhow::bail!("--certify {}: more than the frame's {geometry} geometry pixels", options.pixels);
+        anyhow::bail!(
+            "--certify {}: more than the frame's {geometry} geometry pixels",
+            options.pixels
+        );
     }
     Ok(())
 }

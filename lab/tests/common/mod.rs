@@ -13,7 +13,10 @@ use std::process::{Command, Output};
 
 /// The repository root: the fixtures (scenes/, sweeps/, fuzz/seeds, scripts/, docs/) live there.
 pub fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("lab/ has a parent").to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("lab/ has a parent")
+        .to_path_buf()
 }
 
 /// Runs the binary in the repository root, as `cargo run` there does (cargo runs the lab's tests
@@ -29,7 +32,9 @@ pub fn penumbra(args: &[&str]) -> Output {
 
 pub fn penumbra_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
-    c.current_dir(root()).args(args).env("PENUMBRA_NO_PROGRESS", "1");
+    c.current_dir(root())
+        .args(args)
+        .env("PENUMBRA_NO_PROGRESS", "1");
     for (k, v) in env {
         c.env(k, v);
     }

@@ -22,7 +22,22 @@ pub(super) struct Frame<'a> {
 }
 
 impl<'a> Frame<'a> {
-    pub fn new(fg: &'a FrameGpu<'a>, p: &'a AdaptiveParams, b: &'a AdaptiveBuffers, passes: &'a Passes, cull: Option<&'a (Cull, wgpu::Buffer)>, pictures: bool) -> Self {
-        Frame { fg, p, b, passes, local: p.scope == Scope::Local, pictures, cull }
+    pub fn new(
+        fg: &'a FrameGpu<'a>,
+        p: &'a AdaptiveParams,
+        b: &'a AdaptiveBuffers,
+        passes: &'a Passes,
+        cull: Option<&'a (Cull, wgpu::Buffer)>,
+        pictures: bool,
+    ) -> Self {
+        Frame {
+            fg,
+            p,
+            b,
+            passes,
+            local: p.scope == Scope::Local,
+            pictures,
+            cull,
+        }
     }
 }

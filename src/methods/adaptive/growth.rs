@@ -23,11 +23,15 @@ pub const FIXED_VAR: &str = "PENUMBRA_ITEMS_FIXED";
 /// holds N items and never grows. A test hook: it makes the local settings of a study whose
 /// settings come from a grid (frontier, bench) overflow, as a held-out scene does.
 pub fn fixed_from_env() -> crate::Result<Option<u32>> {
-    let Some(v) = std::env::var_os(FIXED_VAR) else { return Ok(None) };
+    let Some(v) = std::env::var_os(FIXED_VAR) else {
+        return Ok(None);
+    };
     let v = v.to_string_lossy();
     match v.parse::<u32>() {
         Ok(n) if n >= 1 => Ok(Some(n)),
-        _ => Err(crate::Error::Param(format!("{FIXED_VAR} = `{v}`: use a whole number of items, at least 1"))),
+        _ => Err(crate::Error::Param(format!(
+            "{FIXED_VAR} = `{v}`: use a whole number of items, at least 1"
+        ))),
     }
 }
 
@@ -74,7 +78,10 @@ mod tests {
         assert_eq!(next_capacity(1000, 0, 1 << 20), Some(2000));
         assert_eq!(next_capacity(1000, 700_000, 1 << 20), Some(1 << 20));
         assert_eq!(next_capacity(1 << 20, 5_000_000, 1 << 20), None);
-        assert_eq!(next_capacity(u32::MAX - 1, u32::MAX as u64, u64::MAX), Some(u32::MAX));
+        assert_eq!(
+            next_capacity(u32::MAX - 1, u32::MAX as u64, u64::MAX),
+            Some(u32::MAX)
+        );
     }
 
     #[test]
@@ -82,10 +89,19 @@ mod tests {
         let mut g = Growth::default();
         g.overflowed(5000, 3);
         g.grown.push(10_000);
-        let mut out = crate::methods::MethodOutput { shadow_maps: 9, syncs: 4, record: serde_json::json!({ "syncs": 4 }), pictures: Vec::new(), bound: None };
+        let mut out = crate::methods::MethodOutput {
+            shadow_maps: 9,
+            syncs: 4,
+            record: serde_json::json!({ "syncs": 4 }),
+            pictures: Vec::new(),
+            bound: None,
+        };
         g.report(10_000, &mut out);
         assert_eq!((out.syncs, out.record["syncs"].as_u64()), (7, Some(7)));
-        assert_eq!(out.record["items"], serde_json::json!({ "capacity": 10_000, "frames_run_again": 1, "grown_to": [10_000] }));
+        assert_eq!(
+            out.record["items"],
+            serde_json::json!({ "capacity": 10_000, "frames_run_again": 1, "grown_to": [10_000] })
+        );
         g.report(10_000, &mut out);
         assert_eq!(out.syncs, 7);
         assert_eq!(out.record["items"]["frames_run_again"], 0);

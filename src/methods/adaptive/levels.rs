@@ -1,11 +1,13 @@
 //! The one read-back per level, and the per-level record in run.json.
 
-use crate::methods::AdaptiveParams;
-use crate::methods::adaptive::buffers::{AdaptiveBuffers, Shape, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY};
-use crate::stages::FrameGpu;
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuQuad, OVERFLOW_ITEMS, OVERFLOW_PROBES, OVERFLOW_QUADS};
+use crate::methods::adaptive::buffers::{
+    AdaptiveBuffers, Shape, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, NO_SPLIT, QUAD_CAPACITY,
+};
+use crate::methods::AdaptiveParams;
 use crate::render::gbuffer::GBuffer;
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 
 /// What one level's read-back says.
@@ -72,13 +74,17 @@ impl LevelReport {
         } else {
             return None;
         };
-        Some(Error::Overflow(format!("adaptive level {level}: {cause} (flags {:#x}); the run is not valid", self.overflow)))
+        Some(Error::Overflow(format!(
+            "adaptive level {level}: {cause} (flags {:#x}); the run is not valid",
+            self.overflow
+        )))
     }
 
     /// Whether the overflow (if any) is one a longer item list removes: items or probes, not the
     /// quad list, whose 256 the lattice fixes.
     pub fn item_overflow(&self) -> bool {
-        self.overflow & (OVERFLOW_ITEMS | OVERFLOW_PROBES) != 0 && self.overflow & OVERFLOW_QUADS == 0
+        self.overflow & (OVERFLOW_ITEMS | OVERFLOW_PROBES) != 0
+            && self.overflow & OVERFLOW_QUADS == 0
     }
 }
 
@@ -111,7 +117,12 @@ pub struct LevelRead {
 }
 
 /// The buffers (and byte counts) of one level's record, in the order `parse_level` reads them.
-pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kept: Option<&'a wgpu::Buffer>, r: LevelRead) -> Vec<(&'a wgpu::Buffer, u64)> {
+pub fn level_parts<'a>(
+    b: &'a AdaptiveBuffers,
+    next_quads: &'a wgpu::Buffer,
+    kept: Option<&'a wgpu::Buffer>,
+    r: LevelRead,
+) -> Vec<(&'a wgpu::Buffer, u64)> {
     let lattice = LATTICE_POINTS as u64 * 4;
     let mut parts: Vec<(&wgpu::Buffer, u64)> = vec![
         (&b.control, CONTROL_BYTES),
@@ -130,7 +141,10 @@ pub fn level_parts<'a>(b: &'a AdaptiveBuffers, next_quads: &'a wgpu::Buffer, kep
         }
     }
     if r.pictures {
-        parts.push((&b.counts.maps, b.shape.counts_bytes_per_quad() * if r.intermediates { r.n } else { 1 }));
+        parts.push((
+            &b.counts.maps,
+            b.shape.counts_bytes_per_quad() * if r.intermediates { r.n } else { 1 },
+        ));
         parts.push((&b.counts.word_state, b.shape.counts_bytes_per_quad()));
         parts.push((&b.low.flags, b.shape.flags_bytes_per_quad() * r.n));
     }
@@ -158,7 +172,13 @@ pub fn read_level(
     keep: bool,
 ) -> Result<LevelReport> {
     let ctx = fg.ctx;
-    let r = LevelRead { n: quads.len() as u64, kept: kept.is_some(), pictures: pictures || keep, intermediates: keep, local };
+    let r = LevelRead {
+        n: quads.len() as u64,
+        kept: kept.is_some(),
+        pictures: pictures || keep,
+        intermediates: keep,
+        local,
+    };
     let parts = level_parts(b, next_quads, kept, r);
     let total: u64 = parts.iter().map(|(_, s)| s).sum();
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -179,7 +199,14 @@ pub fn read_level(
 }
 
 /// Reads one level's record (`level_parts`' layout) from `words`.
-pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<GpuQuad>, evaluated: bool, r: LevelRead) -> LevelReport {
+pub fn parse_level(
+    b: &AdaptiveBuffers,
+    words: &[u32],
+    level: u32,
+    quads: Vec<GpuQuad>,
+    evaluated: bool,
+    r: LevelRead,
+) -> LevelReport {
     let n = r.n;
     let lattice = LATTICE_POINTS as u64 * 4;
     let quad_bytes = QUAD_CAPACITY as u64 * 16;
@@ -200,27 +227,52 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     let split_base = take(QUAD_CAPACITY as u64 * 4);
     let rects_raw = take(lattice * 4);
     let item_total = take(4)[0];
-    let triangles = if r.kept { take(lattice) } else { vec![0; LATTICE_POINTS as usize] };
-    let tiles = if r.kept && r.pictures { take(tile_bytes) } else { Vec::new() };
+    let triangles = if r.kept {
+        take(lattice)
+    } else {
+        vec![0; LATTICE_POINTS as usize]
+    };
+    let tiles = if r.kept && r.pictures {
+        take(tile_bytes)
+    } else {
+        Vec::new()
+    };
     let (counts, word_state, flags) = if r.pictures {
         let mut counts = take(counts_len);
         let word_state = take(b.shape.counts_bytes_per_quad());
         Shape::dense_counts(&mut counts, &word_state);
-        (Some(counts), Some(word_state), Some(take(b.shape.flags_bytes_per_quad() * n)))
+        (
+            Some(counts),
+            Some(word_state),
+            Some(take(b.shape.flags_bytes_per_quad() * n)),
+        )
     } else {
         (None, None, None)
     };
-    let masks = if r.intermediates { Some(take(mask_len)) } else { None };
-    let consulted = if r.intermediates && r.local { Some(take(mask_len)) } else { None };
+    let masks = if r.intermediates {
+        Some(take(mask_len))
+    } else {
+        None
+    };
+    let consulted = if r.intermediates && r.local {
+        Some(take(mask_len))
+    } else {
+        None
+    };
     let next_quad_count = control[0].min(QUAD_CAPACITY);
     let new_count = (control[1] as usize).min(LATTICE_POINTS as usize);
     let mut new_samples = new_all[..new_count].to_vec();
     new_samples.sort_unstable();
-    let next_quads: Vec<GpuQuad> = bytemuck::cast_slice::<u32, GpuQuad>(&next_raw)[..next_quad_count as usize].to_vec();
+    let next_quads: Vec<GpuQuad> =
+        bytemuck::cast_slice::<u32, GpuQuad>(&next_raw)[..next_quad_count as usize].to_vec();
     LevelReport {
         level,
         evaluated,
-        low_quality: if evaluated { counters[..n as usize].to_vec() } else { vec![0; n as usize] },
+        low_quality: if evaluated {
+            counters[..n as usize].to_vec()
+        } else {
+            vec![0; n as usize]
+        },
         split_base: split_base[..n as usize].to_vec(),
         quads,
         next_quad_count,
@@ -231,11 +283,18 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
         geometry_pixels: control[4],
         probes: control[5],
         items: if r.local { item_total } else { 0 },
-        appended: if r.local { control[3].max(control[5]) } else { 0 },
+        appended: if r.local {
+            control[3].max(control[5])
+        } else {
+            0
+        },
         lookups: if r.local { control[6] } else { 0 },
         triangles,
         tiles,
-        rects: rects_raw.chunks_exact(4).map(|r| [r[0], r[1], r[2], r[3]]).collect(),
+        rects: rects_raw
+            .chunks_exact(4)
+            .map(|r| [r[0], r[1], r[2], r[3]])
+            .collect(),
         counts,
         word_state,
         flags,
@@ -244,7 +303,13 @@ pub fn parse_level(b: &AdaptiveBuffers, words: &[u32], level: u32, quads: Vec<Gp
     }
 }
 
-pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, consulted: Option<&[u32]>, g: &GBuffer) -> serde_json::Value {
+pub fn record(
+    p: &AdaptiveParams,
+    trace: &super::AdaptiveTrace,
+    syncs: u32,
+    consulted: Option<&[u32]>,
+    g: &GBuffer,
+) -> serde_json::Value {
     let pixels = g.width as u64 * g.height as u64;
     let levels: Vec<LevelRecord> = trace
         .levels
@@ -252,7 +317,11 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         .map(|r| LevelRecord {
             level: r.level,
             active_quads: r.quads.len(),
-            quads: r.quads.iter().map(|q| [q.i, q.j, q.size, q.parent]).collect(),
+            quads: r
+                .quads
+                .iter()
+                .map(|q| [q.i, q.j, q.size, q.parent])
+                .collect(),
             low_quality_per_quad: r.low_quality.clone(),
             split_quads: r.split_base.iter().filter(|&&s| s != NO_SPLIT).count(),
             new_samples: r.new_samples.len(),
@@ -276,7 +345,10 @@ pub fn record(p: &AdaptiveParams, trace: &super::AdaptiveTrace, syncs: u32, cons
         "weights": weights_rule(p),
     });
     if let Some(masks) = consulted {
-        let counts: Vec<u32> = masks.chunks_exact(10).map(|m| m.iter().map(|w| w.count_ones()).sum()).collect();
+        let counts: Vec<u32> = masks
+            .chunks_exact(10)
+            .map(|m| m.iter().map(|w| w.count_ones()).sum())
+            .collect();
         let geo: Vec<u32> = counts.iter().copied().filter(|&c| c > 0).collect();
         let mean = geo.iter().map(|&c| c as f64).sum::<f64>() / geo.len().max(1) as f64;
         out["samples_per_pixel_mean"] = serde_json::json!(mean);

@@ -1,17 +1,17 @@
 //! The adaptive method's shadow maps: where each new map lives (layer, array) and how it is
 //! rasterized (whole, scissored, culled) and, under scope = global, cached by shadow_test.
 
-use crate::stages::raster::RasterTarget;
-use crate::gpu::Stage;
 use super::context::Frame;
 use super::AdaptiveTrace;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::methods::adaptive::buffers::LATTICE_POINTS;
 use crate::methods::hybrid_maps::HybridMaps;
 use crate::render::kept_maps::{MapKey, Redraw, Slots};
 use crate::render::shadow_raster::{RasterJob, ShadowMapArray};
-use crate::methods::adaptive::buffers::LATTICE_POINTS;
 use crate::stages::cull::{Cull, CullBatch};
+use crate::stages::raster::RasterTarget;
 use crate::stages::shadow_test::TestFrame;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -42,7 +42,10 @@ impl MapStore {
         let busy = |s: u32| busy.contains(&s) || (local && self.slots.used_now(s));
         match self.slots.find(key) {
             Some(s) if !busy(s) => s,
-            _ => self.slots.least_recent(busy).expect("a chunk never needs more layers than the store holds"),
+            _ => self
+                .slots
+                .least_recent(busy)
+                .expect("a chunk never needs more layers than the store holds"),
         }
     }
 }
@@ -72,7 +75,11 @@ pub(super) fn render_new(
     // A point light's lattice sample is `faces` maps (its cube, records k + 289 f): a chunk holds
     // whole cubes (scope = global only).
     let faces = super::faces_per_sample(samples);
-    let capacity = if local { store.per_array } else { store.slots.capacity().max(1) };
+    let capacity = if local {
+        store.per_array
+    } else {
+        store.slots.capacity().max(1)
+    };
     for chunk in ks.chunks((capacity / faces).max(1) as usize) {
         let mut jobs: Vec<(usize, RasterJob)> = Vec::new();
         let mut redraw: Vec<(usize, RasterJob)> = Vec::new();
@@ -94,28 +101,65 @@ pub(super) fn render_new(
                 samples[i].array = array;
                 match store.slots.place(key, slot) {
                     Redraw::Kept => {}
-                    Redraw::Rect(r) => redraw.push((array as usize, RasterJob { sample: i as u32, layer, scissor: Some(r) })),
+                    Redraw::Rect(r) => redraw.push((
+                        array as usize,
+                        RasterJob {
+                            sample: i as u32,
+                            layer,
+                            scissor: Some(r),
+                        },
+                    )),
                     Redraw::Whole => {
                         let scissor = rects.and_then(|r| scissor_rect(r[k as usize], map_size));
                         // A map none of whose pixels is tested needs no raster at all: an empty rect.
                         let skip = rects.is_some() && scissor.is_none();
                         if !skip {
-                            jobs.push((array as usize, RasterJob { sample: i as u32, layer, scissor }));
+                            jobs.push((
+                                array as usize,
+                                RasterJob {
+                                    sample: i as u32,
+                                    layer,
+                                    scissor,
+                                },
+                            ));
                         }
                     }
                 }
-                ctx.queue.write_buffer(&b.samples, i as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[i]));
+                ctx.queue.write_buffer(
+                    &b.samples,
+                    i as u64 * std::mem::size_of::<GpuSample>() as u64,
+                    bytemuck::bytes_of(&samples[i]),
+                );
             }
         }
         if local {
             store.used += chunk.len() as u32;
         }
         for (a, array) in store.arrays.iter().enumerate() {
-            let again: Vec<RasterJob> = redraw.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
+            let again: Vec<RasterJob> = redraw
+                .iter()
+                .filter(|(x, _)| *x == a)
+                .map(|(_, j)| *j)
+                .collect();
             if !again.is_empty() {
-                timer.stage(ctx, fg.raster.stage(), |enc| fg.raster.record_redraw(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &again))?;
+                timer.stage(ctx, fg.raster.stage(), |enc| {
+                    fg.raster.record_redraw(
+                        ctx,
+                        enc,
+                        &RasterTarget {
+                            scene: &fg.scene_gpu,
+                            samples: &b.samples,
+                            array,
+                        },
+                        &again,
+                    )
+                })?;
             }
-            let mine: Vec<RasterJob> = jobs.iter().filter(|(x, _)| *x == a).map(|(_, j)| *j).collect();
+            let mine: Vec<RasterJob> = jobs
+                .iter()
+                .filter(|(x, _)| *x == a)
+                .map(|(_, j)| *j)
+                .collect();
             if mine.is_empty() {
                 continue;
             }
@@ -126,7 +170,16 @@ pub(super) fn render_new(
             }
             let Some((cull, kept)) = fx.cull else {
                 timer.stage(ctx, fg.raster.stage(), |enc| {
-                    fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &mine)?;
+                    fg.raster.record(
+                        ctx,
+                        enc,
+                        &RasterTarget {
+                            scene: &fg.scene_gpu,
+                            samples: &b.samples,
+                            array,
+                        },
+                        &mine,
+                    )?;
                     Ok(())
                 })?;
                 continue;
@@ -135,14 +188,45 @@ pub(super) fn render_new(
             for batch in mine.chunks(cull.slots as usize) {
                 let ks: Vec<u32> = batch.iter().map(|j| j.sample).collect();
                 timer.stage(ctx, Stage::CULL, |enc| {
-                    cull.record(ctx, enc, &fg.frame_buffer, &fg.scene_gpu, &CullBatch { samples: &b.samples, tiles: &b.footprints.tiles }, &ks);
+                    cull.record(
+                        ctx,
+                        enc,
+                        &fg.frame_buffer,
+                        &fg.scene_gpu,
+                        &CullBatch {
+                            samples: &b.samples,
+                            tiles: &b.footprints.tiles,
+                        },
+                        &ks,
+                    );
                     Ok(())
                 })?;
                 timer.stage(ctx, fg.raster.stage(), |enc| {
-                    let drawn: Vec<(RasterJob, u64)> = batch.iter().enumerate().map(|(n, j)| (*j, Cull::args_offset(n as u32))).collect();
-                    fg.raster.record_culled(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &b.samples, array }, &drawn, &cull.culled, &cull.args)?;
+                    let drawn: Vec<(RasterJob, u64)> = batch
+                        .iter()
+                        .enumerate()
+                        .map(|(n, j)| (*j, Cull::args_offset(n as u32)))
+                        .collect();
+                    fg.raster.record_culled(
+                        ctx,
+                        enc,
+                        &RasterTarget {
+                            scene: &fg.scene_gpu,
+                            samples: &b.samples,
+                            array,
+                        },
+                        &drawn,
+                        &cull.culled,
+                        &cull.args,
+                    )?;
                     for (n, &k) in ks.iter().enumerate() {
-                        enc.copy_buffer_to_buffer(&cull.args, Cull::args_offset(n as u32), kept, k as u64 * 4, 4);
+                        enc.copy_buffer_to_buffer(
+                            &cull.args,
+                            Cull::args_offset(n as u32),
+                            kept,
+                            k as u64 * 4,
+                            4,
+                        );
                     }
                     Ok(())
                 })?;
@@ -151,7 +235,13 @@ pub(super) fn render_new(
         }
         if !local {
             timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-                fx.passes.shadow_test.record(ctx, enc, &fx.test_frame(), &store.arrays[0].array_view, chunk);
+                fx.passes.shadow_test.record(
+                    ctx,
+                    enc,
+                    &fx.test_frame(),
+                    &store.arrays[0].array_view,
+                    chunk,
+                );
                 Ok(())
             })?;
         }
@@ -160,7 +250,12 @@ pub(super) fn render_new(
         if keep {
             for &k in chunk {
                 let s = &samples[k as usize];
-                let map = crate::gpu::readback::read_texture(ctx, &store.arrays[s.array as usize].texture, s.layer, 4)?;
+                let map = crate::gpu::readback::read_texture(
+                    ctx,
+                    &store.arrays[s.array as usize].texture,
+                    s.layer,
+                    4,
+                )?;
                 trace.maps.push((k, map));
             }
         }
@@ -171,21 +266,40 @@ pub(super) fn render_new(
 
 /// `render_new` with `maps = hybrid` (scope = global): each batch of the transient raster is merged
 /// into the store, tested by shadow_test (slot = lattice index) and dropped.
-fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, samples: &mut [GpuSample], ks: &[u32], trace: &mut AdaptiveTrace, keep: bool) -> Result<()> {
+fn render_new_hybrid(
+    fx: &Frame,
+    timer: &mut StageTimer,
+    maps: &mut HybridMaps,
+    samples: &mut [GpuSample],
+    ks: &[u32],
+    trace: &mut AdaptiveTrace,
+    keep: bool,
+) -> Result<()> {
     let (fg, b) = (fx.fg, fx.b);
     let ctx = fg.ctx;
-    let mut test = |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
-        timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
-            let t = TestFrame { frame: &fg.frame_buffer, gbuffer: &fg.gbuffer, tiles: &fg.geometry_tiles, rq: b.requests(), out: &b.masks };
-            fx.passes.shadow_test.record(ctx, enc, &t, view, slots);
-            Ok(())
-        })
-    };
+    let mut test =
+        |fg: &FrameGpu, timer: &mut StageTimer, view: &wgpu::TextureView, slots: &[u32]| {
+            timer.stage(ctx, Stage::SHADOW_TEST, |enc| {
+                let t = TestFrame {
+                    frame: &fg.frame_buffer,
+                    gbuffer: &fg.gbuffer,
+                    tiles: &fg.geometry_tiles,
+                    rq: b.requests(),
+                    out: &b.masks,
+                };
+                fx.passes.shadow_test.record(ctx, enc, &t, view, slots);
+                Ok(())
+            })
+        };
     for chunk in ks.chunks(maps.layers() as usize) {
         for &k in chunk {
             samples[k as usize].layer = k;
             samples[k as usize].array = 0;
-            ctx.queue.write_buffer(&b.samples, k as u64 * std::mem::size_of::<GpuSample>() as u64, bytemuck::bytes_of(&samples[k as usize]));
+            ctx.queue.write_buffer(
+                &b.samples,
+                k as u64 * std::mem::size_of::<GpuSample>() as u64,
+                bytemuck::bytes_of(&samples[k as usize]),
+            );
         }
         maps.render(fg, timer, &b.samples, chunk, &mut test)?;
         maps.flush(fg, timer, &mut test)?;
@@ -195,7 +309,10 @@ fn render_new_hybrid(fx: &Frame, timer: &mut StageTimer, maps: &mut HybridMaps, 
             let pool = maps.store.read_words(ctx, maps.store.capacity_words)?;
             let h = maps.store.settings;
             for &k in chunk {
-                trace.maps.push((k, crate::stages::twin::hybrid_build::decode(&pool, k, h.base, h.levels)));
+                trace.maps.push((
+                    k,
+                    crate::stages::twin::hybrid_build::decode(&pool, k, h.base, h.levels),
+                ));
             }
         }
         trace.rendered.extend_from_slice(chunk);

@@ -11,8 +11,8 @@ mod growth;
 mod levels;
 mod maps;
 pub(crate) mod params;
-mod steer;
 mod pictures;
+mod steer;
 mod weights;
 
 pub use frame::level_uniform;
@@ -22,18 +22,21 @@ pub use weights::{lattice_numerators, sample_weights, LEVEL_LCM};
 
 use super::culled_maps::CulledMaps;
 use super::hybrid_maps::{self, HybridMaps};
-use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod, Scope};
+use super::{
+    AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, Scope, ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
 use crate::methods::adaptive::buffers::{AdaptiveBuffers, LATTICE_POINTS, LATTICE_SIDE};
 use crate::render::kept_maps::{KeptMaps, ReuseCounts, Slots};
 use crate::render::shadow_raster;
-use crate::stages::{
-    compact::Compact, cull::Cull, neighbourhood::Neighbourhood, probe::Probe, quad_count::QuadCount, reproject_count::ReprojectCount,
-    shadow_test::ShadowTest, subdivide::Subdivide,
-};
 use crate::stages::FrameGpu;
+use crate::stages::{
+    compact::Compact, cull::Cull, neighbourhood::Neighbourhood, probe::Probe,
+    quad_count::QuadCount, reproject_count::ReprojectCount, shadow_test::ShadowTest,
+    subdivide::Subdivide,
+};
 use crate::{Error, Result};
 
 pub const INFO: MethodInfo = MethodInfo {
@@ -68,12 +71,18 @@ impl ShadowMethod for Adaptive {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
         // The point's six faces per lattice sample go through scope = global's waiting loop only.
         if super::cube_maps(kind) {
-            return (self.0.scope == Scope::Local || self.0.cull == Some(true)).then_some(super::ONE_MAP_PER_POINT);
+            return (self.0.scope == Scope::Local || self.0.cull == Some(true))
+                .then_some(super::ONE_MAP_PER_POINT);
         }
         (!super::maps_from_the_emitter(kind)).then_some(super::ON_A_RECTANGLE)
     }
-    fn unsupported_maps(&self, kind: crate::scene::LightKind, maps: crate::scene::MapKind) -> Option<&'static str> {
-        (super::cube_maps(kind) && maps == crate::scene::MapKind::Hybrid).then_some(super::CUBE_MAPS_ARE_PLAIN)
+    fn unsupported_maps(
+        &self,
+        kind: crate::scene::LightKind,
+        maps: crate::scene::MapKind,
+    ) -> Option<&'static str> {
+        (super::cube_maps(kind) && maps == crate::scene::MapKind::Hybrid)
+            .then_some(super::CUBE_MAPS_ARE_PLAIN)
     }
     fn name(&self) -> &'static str {
         "adaptive"
@@ -85,13 +94,24 @@ impl ShadowMethod for Adaptive {
         serde_json::to_value(&self.0).unwrap_or_default()
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
-        Ok(Box::new(State { p: self.0.clone(), prepared: prepare(fg, &self.0)?, pending: None, keep: false, trace: None, held: None }))
+        Ok(Box::new(State {
+            p: self.0.clone(),
+            prepared: prepare(fg, &self.0)?,
+            pending: None,
+            keep: false,
+            trace: None,
+            held: None,
+        }))
     }
     /// At most the lattice's maps (`prepare`'s store).
     fn shadow_maps(&self, scene: &crate::scene::Scene) -> u32 {
         LATTICE_POINTS * crate::methods::faces(scene)
     }
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         // Global scope binds V and the masks by bands of rows (stages::shade::Band); local scope's
         // item passes reach any pixel, so there they are bound whole.
         let local = self.0.scope == Scope::Local;
@@ -125,7 +145,11 @@ pub fn split_quads(levels: &[LevelReport]) -> Vec<u32> {
     let mut bits = vec![0u32; crate::stages::adaptive_buffers::HELD_WORDS as usize];
     for child in levels.iter().flat_map(|l| &l.next_quads) {
         let size = child.size * 2;
-        let node = crate::stages::adaptive_buffers::quad_node(child.i - child.i % size, child.j - child.j % size, size);
+        let node = crate::stages::adaptive_buffers::quad_node(
+            child.i - child.i % size,
+            child.j - child.j % size,
+            size,
+        );
         bits[(node / 32) as usize] |= 1 << (node % 32);
     }
     bits
@@ -135,28 +159,42 @@ impl MethodState for State {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
         let pr = &mut self.prepared;
         pr.samples = lattice_samples(fg, &self.p);
-        fg.ctx.queue.write_buffer(&pr.b.samples, 0, bytemuck::cast_slice(&pr.samples));
+        fg.ctx
+            .queue
+            .write_buffer(&pr.b.samples, 0, bytemuck::cast_slice(&pr.samples));
         pr.store.used = 0;
         pr.store.slots.begin_frame();
-        let held = self.held.clone().unwrap_or_else(|| vec![u32::MAX; crate::stages::adaptive_buffers::HELD_WORDS as usize]);
-        fg.ctx.queue.write_buffer(&pr.b.decisions.held, 0, bytemuck::cast_slice(&held));
+        let held = self.held.clone().unwrap_or_else(|| {
+            vec![u32::MAX; crate::stages::adaptive_buffers::HELD_WORDS as usize]
+        });
+        fg.ctx
+            .queue
+            .write_buffer(&pr.b.decisions.held, 0, bytemuck::cast_slice(&held));
         if let Some(h) = pr.store.hybrid.as_mut() {
             h.reset(fg);
         }
         pr.b.reset_frame(fg.ctx)
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        pictures: bool,
+    ) -> Result<MethodOutput> {
         self.trace = None;
         if !self.keep && self.prepared.steer.is_some() {
             let (out, pending) = steer::run(fg, timer, &self.p, &mut self.prepared, pictures)?;
             self.pending = Some(pending);
             return Ok(out);
         }
-        let (mut out, trace) = frame::run(fg, timer, &self.p, &mut self.prepared, self.keep, pictures)?;
+        let (mut out, trace) =
+            frame::run(fg, timer, &self.p, &mut self.prepared, self.keep, pictures)?;
         self.held = Some(split_quads(&trace.levels));
         self.trace = Some(trace);
         if self.p.scope == Scope::Local {
-            self.prepared.growth.report(self.prepared.b.shape.item_capacity, &mut out);
+            self.prepared
+                .growth
+                .report(self.prepared.b.shape.item_capacity, &mut out);
         }
         Ok(out)
     }
@@ -166,7 +204,9 @@ impl MethodState for State {
             self.held = Some(split_quads(&trace.levels));
             self.trace = Some(trace);
             if self.p.scope == Scope::Local {
-                self.prepared.growth.report(self.prepared.b.shape.item_capacity, out);
+                self.prepared
+                    .growth
+                    .report(self.prepared.b.shape.item_capacity, out);
             }
         }
         Ok(())
@@ -177,7 +217,9 @@ impl MethodState for State {
     /// item list's; an overflow error of its own when the list already holds what one binding can.
     fn grow(&mut self, fg: &FrameGpu) -> Result<bool> {
         let pr = &mut self.prepared;
-        let Some(needed) = pr.growth.needed.take() else { return Ok(false) };
+        let Some(needed) = pr.growth.needed.take() else {
+            return Ok(false);
+        };
         if !self.p.items_grow || pr.growth.fixed {
             return Ok(false);
         }
@@ -209,7 +251,13 @@ impl MethodState for State {
         }
         let size = store.arrays.first().map_or(0, |a| a.texture.width());
         let slots = std::mem::replace(&mut store.slots, Slots::new(0, false));
-        vec![KeptMaps { owner: "adaptive".into(), size, per_array: store.per_array, arrays: std::mem::take(&mut store.arrays), slots }]
+        vec![KeptMaps {
+            owner: "adaptive".into(),
+            size,
+            per_array: store.per_array,
+            arrays: std::mem::take(&mut store.arrays),
+            slots,
+        }]
     }
     fn keep_intermediates(&mut self) {
         self.keep = true;
@@ -219,19 +267,34 @@ impl MethodState for State {
         (self.p.hold > 0).then(|| serde_json::json!({ "held": self.held }))
     }
     fn recall(&mut self, memory: &serde_json::Value) {
-        self.held = serde_json::from_value(memory["held"].clone()).ok().flatten();
+        self.held = serde_json::from_value(memory["held"].clone())
+            .ok()
+            .flatten();
     }
     /// The last frame's [`AdaptiveTrace`] (every frame keeps one; `keep_intermediates` adds the
     /// maps and per-level buffers).
     fn inspect(&mut self, _fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
-        Ok(self.trace.clone().map(|t| Box::new(t) as Box<dyn std::any::Any>))
+        Ok(self
+            .trace
+            .clone()
+            .map(|t| Box::new(t) as Box<dyn std::any::Any>))
     }
 }
 
 /// The whole light, level 0's one quad.
-pub(super) const ROOT: crate::gpu::structs::GpuQuad = crate::gpu::structs::GpuQuad { i: 0, j: 0, size: 16, parent: u32::MAX };
+pub(super) const ROOT: crate::gpu::structs::GpuQuad = crate::gpu::structs::GpuQuad {
+    i: 0,
+    j: 0,
+    size: 16,
+    parent: u32::MAX,
+};
 /// Its corners, the samples level 0 renders.
-pub(super) const CORNERS: [u32; 4] = [lattice_index(0, 0), lattice_index(16, 0), lattice_index(0, 16), lattice_index(16, 16)];
+pub(super) const CORNERS: [u32; 4] = [
+    lattice_index(0, 0),
+    lattice_index(16, 0),
+    lattice_index(0, 16),
+    lattice_index(16, 16),
+];
 
 /// Lattice indices level `d` can render, ascending: level 0 the light's corners; level d ≥ 1 the
 /// points of the level-d grid (spacing 2^(4−d)) that are not on the level-(d−1) grid. A quad that
@@ -267,10 +330,19 @@ pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
     let faces: Vec<Vec<GpuSample>> = (0..LATTICE_POINTS)
         .map(|k| {
             let (i, j) = (k % LATTICE_SIDE, k / LATTICE_SIDE);
-            s.emitter.sample_maps(&s.light, p.light_coord(i), p.light_coord(j), &s.bounds, s.render.shadow_map_size, k)
+            s.emitter.sample_maps(
+                &s.light,
+                p.light_coord(i),
+                p.light_coord(j),
+                &s.bounds,
+                s.render.shadow_map_size,
+                k,
+            )
         })
         .collect();
-    (0..faces[0].len()).flat_map(|f| faces.iter().map(move |k| k[f])).collect()
+    (0..faces[0].len())
+        .flat_map(|f| faces.iter().map(move |k| k[f]))
+        .collect()
 }
 
 /// Maps per lattice sample: six for a point light's cube, else one (`lattice_samples`).
@@ -317,7 +389,11 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let local = p.scope == Scope::Local;
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let samples = lattice_samples(fg, p);
-    let fixed = if p.items.is_none() && local { growth::fixed_from_env()? } else { None };
+    let fixed = if p.items.is_none() && local {
+        growth::fixed_from_env()?
+    } else {
+        None
+    };
     let b = AdaptiveBuffers::new(ctx, w, h, &samples, local, p.items.or(fixed))?;
     b.zero_fill(ctx)?;
     let hybrid = scene.render.maps == crate::scene::MapKind::Hybrid;
@@ -326,20 +402,38 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
             "adaptive: maps = hybrid needs scope = global (scope = local keeps every map alive for probe and reproject_count, which read depth arrays)".into(),
         ));
     }
-    let per_array = fg.raster.maps_per_array(ctx, scene.render.shadow_map_size, scene.render.shadow_map_budget_mib)?;
+    let per_array = fg.raster.maps_per_array(
+        ctx,
+        scene.render.shadow_map_size,
+        scene.render.shadow_map_budget_mib,
+    )?;
     // Maps kept from frame to frame (docs/reuse.md): not hybrid ones (merged into a store and
     // dropped), nor those that serve only this frame's pixels (scissored or culled), nor the
     // GPU-steered loop's (every candidate's layer is fixed before the frame).
     let faces = faces_per_sample(&samples);
     // What changes a map with the pixels (scissor, culling, a steered one-face frame) cannot be kept.
-    let varies = hybrid || p.scissor || p.culls() || p.culls_every_pixel() || (faces == 1 && steer::eligible(p, &b));
+    let varies = hybrid
+        || p.scissor
+        || p.culls()
+        || p.culls_every_pixel()
+        || (faces == 1 && steer::eligible(p, &b));
     let keeps = fg.maps_kept.on && !varies;
     let size = scene.render.shadow_map_size;
-    let taken = |layers: &[u32]| fg.maps_kept.take("adaptive", size, layers).filter(|_| keeps);
+    let taken = |layers: &[u32]| {
+        fg.maps_kept
+            .take("adaptive", size, layers)
+            .filter(|_| keeps)
+    };
     let store = if hybrid {
         // Maps live only until shadow_test has cached them: one raster batch per store.
         let maps = HybridMaps::new(fg, LATTICE_POINTS, hybrid_maps::TRANSIENT_LAYERS)?;
-        maps::MapStore { arrays: Vec::new(), per_array: maps.layers(), used: 0, hybrid: Some(maps), slots: Slots::new(0, false) }
+        maps::MapStore {
+            arrays: Vec::new(),
+            per_array: maps.layers(),
+            used: 0,
+            hybrid: Some(maps),
+            slots: Slots::new(0, false),
+        }
     } else if local {
         // Every map stays alive: the lattice needs up to 289, split across two arrays at the layer limit.
         let need = LATTICE_POINTS;
@@ -351,28 +445,53 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
             )));
         }
         let first = per_array.min(need);
-        let layers: Vec<u32> = if first < need { vec![first, need - first] } else { vec![first] };
+        let layers: Vec<u32> = if first < need {
+            vec![first, need - first]
+        } else {
+            vec![first]
+        };
         kept_store(fg, taken(&layers), &layers, first, keeps)?
     } else {
         // With reuse, room for every lattice map the budget allows (a point light's six faces each).
-        let chunk = per_array.min(if keeps { LATTICE_POINTS * faces } else { LATTICE_POINTS });
+        let chunk = per_array.min(if keeps {
+            LATTICE_POINTS * faces
+        } else {
+            LATTICE_POINTS
+        });
         kept_store(fg, taken(&[chunk]), &[chunk], chunk, keeps)?
     };
     let passes = Passes {
-        shadow_test: if faces_per_sample(&samples) > 1 { ShadowTest::new_cube(fg.ctx, fg.map_access())? } else { ShadowTest::new(fg.ctx, fg.map_access(), local)? },
+        shadow_test: if faces_per_sample(&samples) > 1 {
+            ShadowTest::new_cube(fg.ctx, fg.map_access())?
+        } else {
+            ShadowTest::new(fg.ctx, fg.map_access(), local)?
+        },
         reproject_count: ReprojectCount::new(ctx)?,
         neighbourhood: Neighbourhood::new(ctx)?,
         quad_count: QuadCount::new(ctx)?,
         subdivide: Subdivide::new(ctx)?,
         compact: Compact::new(ctx)?,
         probe: Probe::new(ctx)?,
-        culled_maps: if p.culls_every_pixel() { Some(CulledMaps::new(fg, LATTICE_POINTS)?) } else { None },
+        culled_maps: if p.culls_every_pixel() {
+            Some(CulledMaps::new(fg, LATTICE_POINTS)?)
+        } else {
+            None
+        },
     };
     if hybrid && p.culls_every_pixel() {
         return Err(crate::Error::Param("adaptive: cull = on under scope = global rasterizes plain maps; it cannot run with maps = hybrid".into()));
     }
     let cull = if p.culls() {
-        Cull::new(ctx, fg.scene, &fg.scene_gpu, LATTICE_POINTS)?.map(|c| (c, readback::zeroed_storage(ctx, "culled indices per sample", LATTICE_POINTS as u64 * 4)))
+        Cull::new(ctx, fg.scene, &fg.scene_gpu, LATTICE_POINTS)?.map(|c| {
+            (
+                c,
+                readback::zeroed_storage(
+                    ctx,
+                    "culled indices per sample",
+                    LATTICE_POINTS as u64 * 4,
+                ),
+            )
+        })
     } else {
         None
     };
@@ -380,25 +499,61 @@ pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     // cull = on (global) culls between the waiting loop's levels: the steered loop does not.
     let cube = faces_per_sample(&samples) > 1;
     if cube && hybrid {
-        return Err(Error::Param(format!("adaptive: {}", super::CUBE_MAPS_ARE_PLAIN)));
+        return Err(Error::Param(format!(
+            "adaptive: {}",
+            super::CUBE_MAPS_ARE_PLAIN
+        )));
     }
-    let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) { Some(steer::Steer::new(fg, p, &b)?) } else { None };
-    Ok(Prepared { b, store, passes, samples, cull, steer, growth: growth::Growth { fixed: fixed.is_some(), ..Default::default() } })
+    let steer = if !hybrid && !cube && !p.culls_every_pixel() && steer::eligible(p, &b) {
+        Some(steer::Steer::new(fg, p, &b)?)
+    } else {
+        None
+    };
+    Ok(Prepared {
+        b,
+        store,
+        passes,
+        samples,
+        cull,
+        steer,
+        growth: growth::Growth {
+            fixed: fixed.is_some(),
+            ..Default::default()
+        },
+    })
 }
 
 /// The store's arrays: those the renderer kept, or new ones cleared to the far plane.
-fn kept_store(fg: &FrameGpu, kept: Option<KeptMaps>, layers: &[u32], per_array: u32, keeps: bool) -> Result<maps::MapStore> {
+fn kept_store(
+    fg: &FrameGpu,
+    kept: Option<KeptMaps>,
+    layers: &[u32],
+    per_array: u32,
+    keeps: bool,
+) -> Result<maps::MapStore> {
     let (arrays, slots) = match kept {
         Some(k) => (k.arrays, k.slots),
         None => {
-            let arrays: Vec<_> = layers.iter().map(|&l| fg.raster.allocate(fg.ctx, fg.scene.render.shadow_map_size, l)).collect();
+            let arrays: Vec<_> = layers
+                .iter()
+                .map(|&l| {
+                    fg.raster
+                        .allocate(fg.ctx, fg.scene.render.shadow_map_size, l)
+                })
+                .collect();
             for array in &arrays {
                 shadow_raster::clear_all(fg.ctx, array)?;
             }
             (arrays, Slots::new(layers.iter().sum(), keeps))
         }
     };
-    Ok(maps::MapStore { arrays, per_array, used: 0, hybrid: None, slots })
+    Ok(maps::MapStore {
+        arrays,
+        per_array,
+        used: 0,
+        hybrid: None,
+        slots,
+    })
 }
 
 /// The adaptive stages' pipelines, built once per method.

@@ -116,18 +116,40 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self { preset: None, criterion: Criterion::Pixels { p_m: 0.0, growth: 1.0 }, max_level: 4, weights: Weights::Level, scope: Scope::Global, scissor: false, layout: Layout::Lattice, cull: None, steer_cpu: true, items: None, items_grow: true, hold: 0 }
+        Self {
+            preset: None,
+            criterion: Criterion::Pixels {
+                p_m: 0.0,
+                growth: 1.0,
+            },
+            max_level: 4,
+            weights: Weights::Level,
+            scope: Scope::Global,
+            scissor: false,
+            layout: Layout::Lattice,
+            cull: None,
+            steer_cpu: true,
+            items: None,
+            items_grow: true,
+            hold: 0,
+        }
     }
 }
 
 fn get_f64(params: &BTreeMap<String, String>, key: &str) -> Result<Option<f64>> {
-    let Some(v) = params.get(key) else { return Ok(None) };
+    let Some(v) = params.get(key) else {
+        return Ok(None);
+    };
     let x: f64 = match v.as_str() {
         "inf" | "+inf" | "infinity" => f64::INFINITY,
-        _ => v.parse().map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a number")))?,
+        _ => v
+            .parse()
+            .map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a number")))?,
     };
     if x.is_nan() {
-        return Err(Error::Param(format!("parameter {key} = `{v}` must not be NaN")));
+        return Err(Error::Param(format!(
+            "parameter {key} = `{v}` must not be NaN"
+        )));
     }
     Ok(Some(x))
 }
@@ -137,46 +159,83 @@ impl AdaptiveParams {
     /// split below level 3 (at the seed's 512² maps the shadow maps' own error dominates past the
     /// 9x9 lattice), Coons weights, global scope.
     pub fn balanced() -> Self {
-        Self { preset: Some(Preset::Balanced), max_level: 3, weights: Weights::Coons, ..Self::default() }
+        Self {
+            preset: Some(Preset::Balanced),
+            max_level: 3,
+            weights: Weights::Coons,
+            ..Self::default()
+        }
     }
 
     pub fn from_map(params: &BTreeMap<String, String>) -> Result<Self> {
         let mut p = match params.get("preset").map(String::as_str) {
             None => Self::default(),
-            Some("seed") => Self { preset: Some(Preset::Seed), ..Self::default() },
+            Some("seed") => Self {
+                preset: Some(Preset::Seed),
+                ..Self::default()
+            },
             Some("balanced") => Self::balanced(),
-            Some(v) => return Err(Error::Param(format!("preset = `{v}`: use `seed` or `balanced`"))),
+            Some(v) => {
+                return Err(Error::Param(format!(
+                    "preset = `{v}`: use `seed` or `balanced`"
+                )))
+            }
         };
-        let given: Vec<&str> = ["p_m", "p_share", "tol"].into_iter().filter(|k| params.contains_key(*k)).collect();
+        let given: Vec<&str> = ["p_m", "p_share", "tol"]
+            .into_iter()
+            .filter(|k| params.contains_key(*k))
+            .collect();
         if given.len() > 1 {
-            return Err(Error::Param(format!("adaptive: give one split criterion, not {}", given.join(" and "))));
+            return Err(Error::Param(format!(
+                "adaptive: give one split criterion, not {}",
+                given.join(" and ")
+            )));
         }
         let growth = get_f64(params, "growth")?;
         if let Some(g) = growth {
             if !(1.0..=1e6).contains(&g) {
-                return Err(Error::Param(format!("growth = {g}: the level factor must be in [1, 1e6]")));
+                return Err(Error::Param(format!(
+                    "growth = {g}: the level factor must be in [1, 1e6]"
+                )));
             }
         }
         if let Some(p_m) = get_f64(params, "p_m")? {
-            p.criterion = Criterion::Pixels { p_m, growth: growth.unwrap_or(1.0) };
+            p.criterion = Criterion::Pixels {
+                p_m,
+                growth: growth.unwrap_or(1.0),
+            };
         } else if let Some(p_share) = get_f64(params, "p_share")? {
             if !(0.0..=1.0).contains(&p_share) {
-                return Err(Error::Param(format!("p_share = {p_share}: a share of the geometry pixels, in [0, 1]")));
+                return Err(Error::Param(format!(
+                    "p_share = {p_share}: a share of the geometry pixels, in [0, 1]"
+                )));
             }
-            p.criterion = Criterion::Share { p_share, growth: growth.unwrap_or(1.0) };
+            p.criterion = Criterion::Share {
+                p_share,
+                growth: growth.unwrap_or(1.0),
+            };
         } else if let Some(tol) = get_f64(params, "tol")? {
             if !(tol > 0.0 && tol.is_finite()) {
-                return Err(Error::Param(format!("tol = {tol}: the error budget must be a positive finite RMSE")));
+                return Err(Error::Param(format!(
+                    "tol = {tol}: the error budget must be a positive finite RMSE"
+                )));
             }
             p.criterion = Criterion::Tol { tol };
         } else if let Some(g) = growth {
             match &mut p.criterion {
                 Criterion::Pixels { growth, .. } | Criterion::Share { growth, .. } => *growth = g,
-                Criterion::Tol { .. } => return Err(Error::Param("growth applies to p_m or p_share; tol sets its own level factor (16)".into())),
+                Criterion::Tol { .. } => {
+                    return Err(Error::Param(
+                        "growth applies to p_m or p_share; tol sets its own level factor (16)"
+                            .into(),
+                    ))
+                }
             }
         }
         if growth.is_some() && matches!(p.criterion, Criterion::Tol { .. }) {
-            return Err(Error::Param("growth applies to p_m or p_share; tol sets its own level factor (16)".into()));
+            return Err(Error::Param(
+                "growth applies to p_m or p_share; tol sets its own level factor (16)".into(),
+            ));
         }
         p.max_level = get_u32(params, "max_level", p.max_level)?;
         if p.max_level > 4 {
@@ -190,14 +249,22 @@ impl AdaptiveParams {
                 "level" => Weights::Level,
                 "area" => Weights::Area,
                 "coons" => Weights::Coons,
-                _ => return Err(Error::Param(format!("weights = `{v}`: use `level`, `area` or `coons`"))),
+                _ => {
+                    return Err(Error::Param(format!(
+                        "weights = `{v}`: use `level`, `area` or `coons`"
+                    )))
+                }
             };
         }
         if let Some(v) = params.get("scope") {
             p.scope = match v.as_str() {
                 "global" => Scope::Global,
                 "local" => Scope::Local,
-                _ => return Err(Error::Param(format!("scope = `{v}`: use `global` or `local`"))),
+                _ => {
+                    return Err(Error::Param(format!(
+                        "scope = `{v}`: use `global` or `local`"
+                    )))
+                }
             };
         }
         // Local scope sums each pixel's own leaf quads by area (docs/method.md §4.2); it has no use
@@ -230,26 +297,42 @@ impl AdaptiveParams {
             p.steer_cpu = match v.as_str() {
                 "gpu" => false,
                 "cpu" => true,
-                _ => return Err(Error::Param(format!("adaptive: steer = `{v}`: use `gpu` or `cpu`"))),
+                _ => {
+                    return Err(Error::Param(format!(
+                        "adaptive: steer = `{v}`: use `gpu` or `cpu`"
+                    )))
+                }
             };
         }
         if let Some(v) = params.get("items") {
             match v.parse::<u32>() {
                 Ok(n) if n >= 1 => p.items = Some(n),
-                _ => return Err(Error::Param(format!("adaptive: items = `{v}`: use a whole number of items, at least 1"))),
+                _ => {
+                    return Err(Error::Param(format!(
+                        "adaptive: items = `{v}`: use a whole number of items, at least 1"
+                    )))
+                }
             }
             if p.scope != Scope::Local {
-                return Err(Error::Param("adaptive: items needs scope = local (only it keeps an item list)".into()));
+                return Err(Error::Param(
+                    "adaptive: items needs scope = local (only it keeps an item list)".into(),
+                ));
             }
         }
         if let Some(v) = params.get("items_grow") {
             p.items_grow = match v.as_str() {
                 "on" | "true" => true,
                 "off" | "false" => false,
-                _ => return Err(Error::Param(format!("adaptive: items_grow = `{v}`: use `on` or `off`"))),
+                _ => {
+                    return Err(Error::Param(format!(
+                        "adaptive: items_grow = `{v}`: use `on` or `off`"
+                    )))
+                }
             };
             if p.scope != Scope::Local {
-                return Err(Error::Param("adaptive: items_grow needs scope = local (only it keeps an item list)".into()));
+                return Err(Error::Param(
+                    "adaptive: items_grow needs scope = local (only it keeps an item list)".into(),
+                ));
             }
         }
         p.hold = get_u32(params, "hold", 0)?;
@@ -268,7 +351,9 @@ impl AdaptiveParams {
             return Err(Error::Param("adaptive: layout = centred needs weights = area or coons (the level rule has no border strips)".into()));
         }
         if p.scissor && p.scope != Scope::Local {
-            return Err(Error::Param("scissor = on needs scope = local (only then are a map's pixels known)".into()));
+            return Err(Error::Param(
+                "scissor = on needs scope = local (only then are a map's pixels known)".into(),
+            ));
         }
         // A preset names a setting; any parameter given beside it makes it another setting.
         if p.preset.is_some() && params.keys().any(|k| k != "preset") {
@@ -330,7 +415,9 @@ impl AdaptiveParams {
                     SplitRule::Threshold(t.floor() as u32)
                 }
             }
-            Criterion::Share { p_share, growth } => SplitRule::Share((p_share * growth.powi(level as i32)) as f32),
+            Criterion::Share { p_share, growth } => {
+                SplitRule::Share((p_share * growth.powi(level as i32)) as f32)
+            }
             Criterion::Tol { tol } => {
                 let e = KAPPA * 0.25f64.powi(level as i32);
                 SplitRule::Share(((tol / e) * (tol / e)) as f32)
@@ -340,11 +427,22 @@ impl AdaptiveParams {
 
     pub fn label(&self) -> String {
         if let Some(preset) = self.preset {
-            return format!("adaptive:preset={}", if preset == Preset::Seed { "seed" } else { "balanced" });
+            return format!(
+                "adaptive:preset={}",
+                if preset == Preset::Seed {
+                    "seed"
+                } else {
+                    "balanced"
+                }
+            );
         }
         let mut s = match self.criterion {
-            Criterion::Pixels { p_m, growth } => format!("adaptive:p_m={p_m}{}", growth_label(growth)),
-            Criterion::Share { p_share, growth } => format!("adaptive:p_share={p_share}{}", growth_label(growth)),
+            Criterion::Pixels { p_m, growth } => {
+                format!("adaptive:p_m={p_m}{}", growth_label(growth))
+            }
+            Criterion::Share { p_share, growth } => {
+                format!("adaptive:p_share={p_share}{}", growth_label(growth))
+            }
             Criterion::Tol { tol } => format!("adaptive:tol={tol}"),
         };
         if self.max_level != 4 {
@@ -386,7 +484,11 @@ impl AdaptiveParams {
 }
 
 fn growth_label(g: f64) -> String {
-    if g == 1.0 { String::new() } else { format!(",growth={g}") }
+    if g == 1.0 {
+        String::new()
+    } else {
+        format!(",growth={g}")
+    }
 }
 
 #[cfg(test)]
@@ -410,26 +512,56 @@ mod tests {
         let p = parse("preset=balanced,scope=local").unwrap();
         assert_eq!(p.weights, Weights::Area);
         assert_eq!(p.label(), "adaptive:p_m=0,max_level=3,scope=local");
-        assert_eq!(parse("scope=local,weights=area").unwrap().weights, Weights::Area);
+        assert_eq!(
+            parse("scope=local,weights=area").unwrap().weights,
+            Weights::Area
+        );
         for w in ["coons", "level"] {
-            let e = parse(&format!("scope=local,weights={w}")).unwrap_err().to_string();
-            assert!(e.contains(&format!("weights = `{w}`")) && e.contains("scope = local"), "{e}");
+            let e = parse(&format!("scope=local,weights={w}"))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("weights = `{w}`")) && e.contains("scope = local"),
+                "{e}"
+            );
         }
-        assert_eq!(parse("preset=balanced").unwrap().label(), "adaptive:preset=balanced");
-        assert_eq!(parse("weights=coons,layout=centred").unwrap().label(), "adaptive:p_m=0,weights=coons,layout=centred");
+        assert_eq!(
+            parse("preset=balanced").unwrap().label(),
+            "adaptive:preset=balanced"
+        );
+        assert_eq!(
+            parse("weights=coons,layout=centred").unwrap().label(),
+            "adaptive:p_m=0,weights=coons,layout=centred"
+        );
     }
 
     #[test]
     fn centred_coordinates_are_the_cell_centres() {
         for (max_level, n) in [(0u32, 2u32), (1, 3), (2, 5), (3, 9), (4, 17)] {
-            let p = AdaptiveParams { max_level, layout: Layout::Centred, weights: Weights::Area, ..Default::default() };
+            let p = AdaptiveParams {
+                max_level,
+                layout: Layout::Centred,
+                weights: Weights::Area,
+                ..Default::default()
+            };
             let step = 16 >> max_level;
             for m in 0..n {
-                assert_eq!(p.light_coord(m * step), (m as f32 + 0.5) / n as f32, "L {max_level} m {m}");
+                assert_eq!(
+                    p.light_coord(m * step),
+                    (m as f32 + 0.5) / n as f32,
+                    "L {max_level} m {m}"
+                );
             }
             assert_eq!(p.border_strip(), 0.5 / (1u32 << max_level) as f64);
         }
         let lattice = AdaptiveParams::default();
-        assert_eq!((lattice.light_coord(0), lattice.light_coord(16), lattice.border_strip()), (0.0, 1.0, 0.0));
+        assert_eq!(
+            (
+                lattice.light_coord(0),
+                lattice.light_coord(16),
+                lattice.border_strip()
+            ),
+            (0.0, 1.0, 0.0)
+        );
     }
 }

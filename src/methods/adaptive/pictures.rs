@@ -6,11 +6,27 @@ use crate::methods::adaptive::buffers::NO_SPLIT;
 use crate::stages::FrameGpu;
 use image::{Rgb, RgbImage};
 
-const SEED_COLOURS: [[u8; 3]; 5] = [[0, 0, 0], [220, 30, 30], [30, 190, 60], [40, 80, 230], [255, 255, 255]];
-const LEVEL_COLOURS: [[u8; 3]; 5] = [[230, 60, 60], [240, 150, 40], [235, 220, 60], [80, 200, 90], [70, 140, 240]];
+const SEED_COLOURS: [[u8; 3]; 5] = [
+    [0, 0, 0],
+    [220, 30, 30],
+    [30, 190, 60],
+    [40, 80, 230],
+    [255, 255, 255],
+];
+const LEVEL_COLOURS: [[u8; 3]; 5] = [
+    [230, 60, 60],
+    [240, 150, 40],
+    [235, 220, 60],
+    [80, 200, 90],
+    [70, 140, 240],
+];
 const BACKGROUND: [u8; 3] = [40, 44, 52];
 
-pub fn all(fg: &FrameGpu, trace: &AdaptiveTrace, consulted: Option<&[u32]>) -> Vec<(String, RgbImage)> {
+pub fn all(
+    fg: &FrameGpu,
+    trace: &AdaptiveTrace,
+    consulted: Option<&[u32]>,
+) -> Vec<(String, RgbImage)> {
     let (w, h) = (fg.gbuffer.width, fg.gbuffer.height);
     let wpr = w.div_ceil(4);
     let fwpr = w.div_ceil(32);
@@ -18,7 +34,11 @@ pub fn all(fg: &FrameGpu, trace: &AdaptiveTrace, consulted: Option<&[u32]>) -> V
     if let Some(counts) = trace.levels.first().and_then(|l| l.counts.as_ref()) {
         let img = RgbImage::from_fn(w, h, |x, y| {
             let b = (counts[(y * wpr + x / 4) as usize] >> ((x % 4) * 8)) & 0xff;
-            Rgb(if b == 0 { BACKGROUND } else { SEED_COLOURS[(b - 1).min(4) as usize] })
+            Rgb(if b == 0 {
+                BACKGROUND
+            } else {
+                SEED_COLOURS[(b - 1).min(4) as usize]
+            })
         });
         out.push(("comparison_map.png".to_string(), img));
     }
@@ -40,7 +60,10 @@ pub fn all(fg: &FrameGpu, trace: &AdaptiveTrace, consulted: Option<&[u32]>) -> V
     out.push(("low_quality.png".to_string(), low));
     out.push(("light_quadtree.png".to_string(), quadtree(trace)));
     if let Some(masks) = consulted {
-        let counts: Vec<u32> = masks.chunks_exact(10).map(|m| m.iter().map(|x| x.count_ones()).sum()).collect();
+        let counts: Vec<u32> = masks
+            .chunks_exact(10)
+            .map(|m| m.iter().map(|x| x.count_ones()).sum())
+            .collect();
         let max = counts.iter().copied().max().unwrap_or(1).max(1);
         let img = RgbImage::from_fn(w, h, |x, y| {
             let c = counts[(y * w + x) as usize];
@@ -48,7 +71,11 @@ pub fn all(fg: &FrameGpu, trace: &AdaptiveTrace, consulted: Option<&[u32]>) -> V
                 return Rgb(BACKGROUND);
             }
             let t = (c as f32 / max as f32).sqrt();
-            Rgb([(255.0 * t) as u8, (255.0 * (1.0 - (t - 0.5).abs() * 2.0).max(0.0) * 0.8) as u8, (255.0 * (1.0 - t)) as u8])
+            Rgb([
+                (255.0 * t) as u8,
+                (255.0 * (1.0 - (t - 0.5).abs() * 2.0).max(0.0) * 0.8) as u8,
+                (255.0 * (1.0 - t)) as u8,
+            ])
         });
         out.push(("samples_per_pixel.png".to_string(), img));
     }
@@ -71,7 +98,12 @@ fn quadtree(trace: &AdaptiveTrace) -> RgbImage {
     };
     for level in &trace.levels {
         for (q, quad) in level.quads.iter().enumerate() {
-            let (x0, y0, x1, y1) = (to_px(quad.i), to_px(quad.j), to_px(quad.i + quad.size), to_px(quad.j + quad.size));
+            let (x0, y0, x1, y1) = (
+                to_px(quad.i),
+                to_px(quad.j),
+                to_px(quad.i + quad.size),
+                to_px(quad.j + quad.size),
+            );
             line(&mut img, x0, y0, x1, y0);
             line(&mut img, x0, y1, x1, y1);
             line(&mut img, x0, y0, x0, y1);
@@ -83,11 +115,22 @@ fn quadtree(trace: &AdaptiveTrace) -> RgbImage {
             }
         }
     }
-    let levels = trace.levels.last().map(|l| l.sample_level.clone()).unwrap_or_default();
+    let levels = trace
+        .levels
+        .last()
+        .map(|l| l.sample_level.clone())
+        .unwrap_or_default();
     for k in 0..289u32 {
         let (cx, cy) = (to_px(k % 17) as i32, to_px(k / 17) as i32);
         let rendered = trace.rendered.contains(&k);
-        let (r, colour) = if rendered { (6, LEVEL_COLOURS[levels.get(k as usize).copied().unwrap_or(0).min(4) as usize]) } else { (2, [180, 180, 180]) };
+        let (r, colour) = if rendered {
+            (
+                6,
+                LEVEL_COLOURS[levels.get(k as usize).copied().unwrap_or(0).min(4) as usize],
+            )
+        } else {
+            (2, [180, 180, 180])
+        };
         for dy in -r..=r {
             for dx in -r..=r {
                 if dx * dx + dy * dy <= r * r {

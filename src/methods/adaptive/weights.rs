@@ -1,11 +1,16 @@
 //! Sample weights for scope = global: the seed's level rule, or leaf-quad areas.
 
 use super::levels::LevelReport;
-use crate::methods::{AdaptiveParams, Weights};
 use crate::methods::adaptive::buffers::{LATTICE_POINTS, NO_SPLIT};
+use crate::methods::{AdaptiveParams, Weights};
 
 /// ŵ_k for every lattice index (0 where no map was rendered); Σ ŵ = 1.
-pub fn sample_weights(p: &AdaptiveParams, levels: &[LevelReport], sample_level: &[u32], rendered: &[u32]) -> Vec<f32> {
+pub fn sample_weights(
+    p: &AdaptiveParams,
+    levels: &[LevelReport],
+    sample_level: &[u32],
+    rendered: &[u32],
+) -> Vec<f32> {
     if p.border_strip() == 0.0 {
         // The corner-to-corner lattice: exact integers, normalised as kernels/weights.wgsl does.
         let n = lattice_numerators(p, levels, sample_level, rendered);
@@ -79,19 +84,30 @@ fn border_strips(p: &AdaptiveParams, levels: &[LevelReport], rendered: &[u32], w
             let len = size as f64 / 16.0;
             // Boundary edges of this leaf as (start, step).
             let mut edges = Vec::new();
-            if j == 0 { edges.push(((i, 0), (1, 0))); }
-            if j + size == 16 { edges.push(((i, 16), (1, 0))); }
-            if i == 0 { edges.push(((0, j), (0, 1))); }
-            if i + size == 16 { edges.push(((16, j), (0, 1))); }
+            if j == 0 {
+                edges.push(((i, 0), (1, 0)));
+            }
+            if j + size == 16 {
+                edges.push(((i, 16), (1, 0)));
+            }
+            if i == 0 {
+                edges.push(((0, j), (0, 1)));
+            }
+            if i + size == 16 {
+                edges.push(((16, j), (0, 1)));
+            }
             for ((x0, y0), (dx, dy)) in edges {
                 let on: Vec<u32> = match p.weights {
-                    Weights::Coons => (0..=size).filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)]).collect(),
+                    Weights::Coons => (0..=size)
+                        .filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)])
+                        .collect(),
                     _ => vec![0, size],
                 };
                 for (n, &t) in on.iter().enumerate() {
                     let before = if n == 0 { t } else { on[n - 1] };
                     let after = if n + 1 == on.len() { t } else { on[n + 1] };
-                    w[k(x0 + t * dx, y0 + t * dy)] += eta * len * (after - before) as f64 / (2.0 * size as f64);
+                    w[k(x0 + t * dx, y0 + t * dy)] +=
+                        eta * len * (after - before) as f64 / (2.0 * size as f64);
                 }
             }
         }
@@ -108,13 +124,21 @@ fn coons_leaf(i: u32, j: u32, size: u32, have: &[bool], w: &mut [f64]) {
     let area = (size as f64 / 16.0).powi(2);
     let k = |x: u32, y: u32| (y * 17 + x) as usize;
     // Each edge as (start, step): lattice points start + t·step for t = 0..=size.
-    let edges = [((i, j), (1, 0)), ((i, j + size), (1, 0)), ((i, j), (0, 1)), ((i + size, j), (0, 1))];
+    let edges = [
+        ((i, j), (1, 0)),
+        ((i, j + size), (1, 0)),
+        ((i, j), (0, 1)),
+        ((i + size, j), (0, 1)),
+    ];
     for ((x0, y0), (dx, dy)) in edges {
-        let on: Vec<u32> = (0..=size).filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)]).collect();
+        let on: Vec<u32> = (0..=size)
+            .filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)])
+            .collect();
         for (n, &t) in on.iter().enumerate() {
             let before = if n == 0 { t } else { on[n - 1] };
             let after = if n + 1 == on.len() { t } else { on[n + 1] };
-            w[k(x0 + t * dx, y0 + t * dy)] += 0.5 * area * (after - before) as f64 / (2.0 * size as f64);
+            w[k(x0 + t * dx, y0 + t * dy)] +=
+                0.5 * area * (after - before) as f64 / (2.0 * size as f64);
         }
     }
     for (x, y) in [(i, j), (i + size, j), (i, j + size), (i + size, j + size)] {
@@ -129,7 +153,12 @@ pub const LEVEL_LCM: i64 = 2_340_900;
 /// cancels in ŵ): level, LEVEL_LCM/(2^ℓ+1)²; area and Coons, 1024ths of the light (every quad size
 /// is a power of two, so the rules of `sample_weights` are exact in these units).
 /// kernels/weights.wgsl computes the same integers.
-pub fn lattice_numerators(p: &AdaptiveParams, levels: &[LevelReport], sample_level: &[u32], rendered: &[u32]) -> Vec<i64> {
+pub fn lattice_numerators(
+    p: &AdaptiveParams,
+    levels: &[LevelReport],
+    sample_level: &[u32],
+    rendered: &[u32],
+) -> Vec<i64> {
     let mut w = vec![0i64; LATTICE_POINTS as usize];
     let k = |x: u32, y: u32| (y * 17 + x) as usize;
     if p.weights == Weights::Level {
@@ -151,8 +180,15 @@ pub fn lattice_numerators(p: &AdaptiveParams, levels: &[LevelReport], sample_lev
             let (i, j, size) = (quad.i, quad.j, quad.size);
             let s2 = (size * size) as i64;
             if p.weights == Weights::Coons {
-                for ((x0, y0), (dx, dy)) in [((i, j), (1, 0)), ((i, j + size), (1, 0)), ((i, j), (0, 1)), ((i + size, j), (0, 1))] {
-                    let on: Vec<u32> = (0..=size).filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)]).collect();
+                for ((x0, y0), (dx, dy)) in [
+                    ((i, j), (1, 0)),
+                    ((i, j + size), (1, 0)),
+                    ((i, j), (0, 1)),
+                    ((i + size, j), (0, 1)),
+                ] {
+                    let on: Vec<u32> = (0..=size)
+                        .filter(|&t| t == 0 || t == size || have[k(x0 + t * dx, y0 + t * dy)])
+                        .collect();
                     for (n, &t) in on.iter().enumerate() {
                         let before = if n == 0 { t } else { on[n - 1] };
                         let after = if n + 1 == on.len() { t } else { on[n + 1] };
@@ -194,7 +230,11 @@ pub fn ratio_f32(num: i64, den: i64) -> f32 {
         m += 1;
     }
     let v = m as f32 * 2f32.powi(e - 23);
-    if num < 0 { -v } else { v }
+    if num < 0 {
+        -v
+    } else {
+        v
+    }
 }
 
 #[cfg(test)]
@@ -203,12 +243,24 @@ mod tests {
 
     #[test]
     fn ratio_is_correctly_rounded() {
-        for (n, d) in [(1i64, 3i64), (2, 3), (1, 289), (585_225, 169_130_025), (-128, 1024), (7, 7), (1_234_567, 7_654_321), (1, 1 << 30)] {
+        for (n, d) in [
+            (1i64, 3i64),
+            (2, 3),
+            (1, 289),
+            (585_225, 169_130_025),
+            (-128, 1024),
+            (7, 7),
+            (1_234_567, 7_654_321),
+            (1, 1 << 30),
+        ] {
             let exact = n as f64 / d as f64; // correctly rounded in f64; these are far from f32 ties
             assert_eq!(ratio_f32(n, d), exact as f32, "{n}/{d}");
         }
         // A tie: 2^24 + 1 over 2^24 · 2 lies halfway between two f32s and rounds to even.
         assert_eq!(ratio_f32((1 << 24) + 1, 1 << 25), 0.5);
-        assert_eq!(ratio_f32((1 << 24) + 3, 1 << 25), (((1u32 << 24) + 4) as f32) / (1u32 << 25) as f32);
+        assert_eq!(
+            ratio_f32((1 << 24) + 3, 1 << 25),
+            (((1u32 << 24) + 4) as f32) / (1u32 << 25) as f32
+        );
     }
 }

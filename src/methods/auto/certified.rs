@@ -36,7 +36,14 @@ pub(super) struct Certifying {
 
 impl Certifying {
     pub(super) fn new(fg: &FrameGpu, pixels: usize, delta: f64) -> Result<Certifying> {
-        Ok(Certifying { tracer: TruthTracer::new(fg.ctx, fg.scene)?, options: Options { pixels, delta, ..Default::default() } })
+        Ok(Certifying {
+            tracer: TruthTracer::new(fg.ctx, fg.scene)?,
+            options: Options {
+                pixels,
+                delta,
+                ..Default::default()
+            },
+        })
     }
 }
 
@@ -68,26 +75,46 @@ struct Tested {
 
 impl AutoState {
     /// The frame's decision by the bound, its record and its output. V holds the first guess's.
-    pub(super) fn certified_frame(&mut self, fg: &FrameGpu, timer: &mut StageTimer, geometry: &[bool], tries: Vec<Try>, first_bound: Vec<f32>, settles: bool) -> Result<MethodOutput> {
+    pub(super) fn certified_frame(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        geometry: &[bool],
+        tries: Vec<Try>,
+        first_bound: Vec<f32>,
+        settles: bool,
+    ) -> Result<MethodOutput> {
         let start = Instant::now();
         let target = self.method.target as f64;
         let first = *tries.last().expect("one try at least");
         // A sequence's handed-on choice is kept within KEEP of the target, and only rises.
         let handed = self.recalled && tries.len() == 1;
         let v_first = read_v(fg, timer)?;
-        let g = timer.cpu(crate::gpu::Stage::READBACK, || crate::render::gbuffer::read_back(fg.ctx, &fg.gbuffer))?;
+        let g = timer.cpu(crate::gpu::Stage::READBACK, || {
+            crate::render::gbuffer::read_back(fg.ctx, &fg.gbuffer)
+        })?;
         let band = design::band(&v_first, geometry, g.width, g.height, design::BAND_DILATE);
-        let design = Design::new(geometry, &design::proxy(&[&band, &first_bound], geometry), design::DEFENSIVE)?;
-        let c = self.certifying.as_ref().expect("certified_frame runs with pixels > 0");
+        let design = Design::new(
+            geometry,
+            &design::proxy(&[&band, &first_bound], geometry),
+            design::DEFENSIVE,
+        )?;
+        let c = self
+            .certifying
+            .as_ref()
+            .expect("certified_frame runs with pixels > 0");
         let options = c.options;
         let sampled = certify::sample(fg.ctx, &c.tracer, &g, &design, &options)?;
-        let kind = certify::kind_for_target(target, options.pixels, options.delta, design.max_weight());
+        let kind =
+            certify::kind_for_target(target, options.pixels, options.delta, design.max_weight());
         let order = self.order(&first, target, handed, fg.scene.render.shadow_map_size);
         let (mut tests, mut tested, mut maps) = (Vec::new(), Vec::<Tested>::new(), 0u32);
         let mut chosen = None;
         for (k, (candidate, price)) in order.iter().enumerate() {
             let (v, pixel_bound, m) = match *candidate {
-                Candidate::Grid(n, size) if (n, size) == (first.n, first.map_size) => (v_first.clone(), first_bound.clone(), 0),
+                Candidate::Grid(n, size) if (n, size) == (first.n, first.map_size) => {
+                    (v_first.clone(), first_bound.clone(), 0)
+                }
                 Candidate::Grid(n, size) => {
                     let (t, b) = self.try_grid(fg, timer, geometry, (n, size))?;
                     (read_v(fg, timer)?, b, t.maps)
@@ -103,10 +130,26 @@ impl AutoState {
             };
             maps += m;
             let cert = certificate(&v, &sampled, &design, options.delta, kind);
-            let limit = if handed && k == 0 { target * KEEP } else { target };
+            let limit = if handed && k == 0 {
+                target * KEEP
+            } else {
+                target
+            };
             let certified = cert.bound <= limit;
-            tests.push(Test { candidate: self.candidate_label(*candidate), price: *price, maps: m, bound: cert.bound, sampled_rmse: cert.sampled_rmse, certified });
-            tested.push(Tested { candidate: *candidate, v, pixel_bound, bound: cert.bound });
+            tests.push(Test {
+                candidate: self.candidate_label(*candidate),
+                price: *price,
+                maps: m,
+                bound: cert.bound,
+                sampled_rmse: cert.sampled_rmse,
+                certified,
+            });
+            tested.push(Tested {
+                candidate: *candidate,
+                v,
+                pixel_bound,
+                bound: cert.bound,
+            });
             if certified {
                 chosen = Some(tested.len() - 1);
                 break;
@@ -114,9 +157,20 @@ impl AutoState {
         }
         // Out of reach: the least bound tested, which says so.
         let met = chosen.is_some();
-        let pick = chosen.unwrap_or_else(|| (0..tested.len()).min_by(|&a, &b| tested[a].bound.total_cmp(&tested[b].bound)).expect("one test at least"));
-        let Tested { candidate, v, pixel_bound, bound } = tested.swap_remove(pick);
-        fg.ctx.queue.write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v));
+        let pick = chosen.unwrap_or_else(|| {
+            (0..tested.len())
+                .min_by(|&a, &b| tested[a].bound.total_cmp(&tested[b].bound))
+                .expect("one test at least")
+        });
+        let Tested {
+            candidate,
+            v,
+            pixel_bound,
+            bound,
+        } = tested.swap_remove(pick);
+        fg.ctx
+            .queue
+            .write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v));
         self.filter = None;
         match candidate {
             Candidate::Grid(n, size) => {
@@ -180,28 +234,54 @@ impl AutoState {
             self.settled = Some((record.clone(), pixel_bound.clone()));
         }
         let syncs = 1 + tries.len() as u32 + tests.len() as u32;
-        Ok(MethodOutput { shadow_maps: tries_maps + maps, syncs, record, pictures: Vec::new(), bound: Some(pixel_bound) })
+        Ok(MethodOutput {
+            shadow_maps: tries_maps + maps,
+            syncs,
+            record,
+            pictures: Vec::new(),
+            bound: Some(pixel_bound),
+        })
     }
 
     /// The candidates in the order they are tested, with their prices: a handed-on choice first,
     /// then only dearer grids (a sequence's choice only rises); else those cheaper than the first
     /// guess (the filters, the grids the estimate does not put over SKIP × T), then the first
     /// guess and the dearer grids, each part cheapest first and cut at MAX_BELOW and MAX_ABOVE.
-    fn order(&self, first: &Try, target: f64, handed: bool, scene_map_size: u32) -> Vec<(Candidate, f64)> {
+    fn order(
+        &self,
+        first: &Try,
+        target: f64,
+        handed: bool,
+        scene_map_size: u32,
+    ) -> Vec<(Candidate, f64)> {
         let (max_n, max_size) = (self.method.max_n, self.method.max_size);
         let grid_price = |n: u32, size: u32| (n * n) as f64 * self.costs.of(size);
         let here = grid_price(first.n, first.map_size);
         let mut order: Vec<(Candidate, f64)> = Vec::new();
         if !handed {
             // A one-map filter: its map and its filtering, priced as two maps of the scene's size.
-            let scene_size = self.costs.0.iter().map(|(z, _)| *z).find(|&z| z >= scene_map_size).or(self.costs.0.last().map(|(z, _)| *z)).unwrap_or(512);
+            let scene_size = self
+                .costs
+                .0
+                .iter()
+                .map(|(z, _)| *z)
+                .find(|&z| z >= scene_map_size)
+                .or(self.costs.0.last().map(|(z, _)| *z))
+                .unwrap_or(512);
             let filter_price = 2.0 * self.costs.of(scene_size);
             order.extend((0..self.filters.len()).map(|i| (Candidate::Filter(i), filter_price)));
         }
         for size in sizes(max_size) {
             for n in sides(max_n) {
                 let price = grid_price(n, size);
-                let predicted = super::predicted_at(self.class, first.n, first.map_size, &first.prediction, n, size);
+                let predicted = super::predicted_at(
+                    self.class,
+                    first.n,
+                    first.map_size,
+                    &first.prediction,
+                    n,
+                    size,
+                );
                 if price >= here || predicted <= SKIP * target {
                     order.push((Candidate::Grid(n, size), price));
                 }
@@ -212,17 +292,30 @@ impl AutoState {
         let cut = order.iter().position(is_first).unwrap_or(order.len());
         let (below, above) = order.split_at(cut);
         // Below the first guess: every filter, and the grids nearest it in price.
-        let grids_below: Vec<usize> = (0..below.len()).filter(|&i| matches!(below[i].0, Candidate::Grid(..))).collect();
+        let grids_below: Vec<usize> = (0..below.len())
+            .filter(|&i| matches!(below[i].0, Candidate::Grid(..)))
+            .collect();
         let skip = grids_below.len().saturating_sub(MAX_BELOW);
-        let kept_below = below.iter().enumerate().filter(|(i, c)| matches!(c.0, Candidate::Filter(_)) || !grids_below[..skip].contains(i)).map(|(_, c)| *c);
-        let mut order: Vec<(Candidate, f64)> = kept_below.chain(above.iter().take(MAX_ABOVE).copied()).collect();
+        let kept_below = below
+            .iter()
+            .enumerate()
+            .filter(|(i, c)| {
+                matches!(c.0, Candidate::Filter(_)) || !grids_below[..skip].contains(i)
+            })
+            .map(|(_, c)| *c);
+        let mut order: Vec<(Candidate, f64)> = kept_below
+            .chain(above.iter().take(MAX_ABOVE).copied())
+            .collect();
         if handed {
             order.retain(|c| c.1 > here || is_first(c));
             // The handed-on choice first, whatever its price.
-            let handed_choice = match self.handed_filter.as_deref().and_then(|name| (0..self.filters.len()).find(|&i| self.filters.name(i) == name)) {
-                Some(i) => (Candidate::Filter(i), 0.0),
-                None => (Candidate::Grid(first.n, first.map_size), here),
-            };
+            let handed_choice =
+                match self.handed_filter.as_deref().and_then(|name| {
+                    (0..self.filters.len()).find(|&i| self.filters.name(i) == name)
+                }) {
+                    Some(i) => (Candidate::Filter(i), 0.0),
+                    None => (Candidate::Grid(first.n, first.map_size), here),
+                };
             order.retain(|c| c.0 != handed_choice.0);
             order.insert(0, handed_choice);
             order.truncate(1 + MAX_ABOVE);

@@ -5,9 +5,11 @@
 
 pub mod split;
 
-use crate::stages::raster::RasterTarget;
 use super::pcf::Pcf;
-use super::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
+use super::{
+    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
+    Param, ParamMap, ShadowMethod,
+};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuCascades, GpuFilter, GpuSample};
 use crate::gpu::timing::StageTimer;
@@ -16,6 +18,7 @@ use crate::render::shadow_raster::{self, RasterJob, ShadowMapArray};
 use crate::scene::light::orthographic_square;
 use crate::scene::{Emitter, LightKind, MapKind, Scene};
 use crate::stages::cascades::{CascadeInputs, Cascades as CascadesPass, FILTER_HARD, FILTER_PCF};
+use crate::stages::raster::RasterTarget;
 use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use split::Scheme;
@@ -52,10 +55,16 @@ pub struct CascadeMaps {
 impl CascadeMaps {
     pub fn from_map(p: &ParamMap) -> Result<Self> {
         let n = check_range("cascades", "n", get_u32(p, "n", 4)?, 1, MAX_CASCADES)?;
-        let split = Scheme::parse(get_choice(p, "split", "practical", &Scheme::NAMES)?).expect("a listed scheme");
+        let split = Scheme::parse(get_choice(p, "split", "practical", &Scheme::NAMES)?)
+            .expect("a listed scheme");
         let lambda = check_range("cascades", "lambda", get_f32(p, "lambda", 0.5)?, 0.0, 1.0)?;
         let filter = get_choice(p, "filter", "hard", &FILTERS)?;
-        Ok(Self { n, split, lambda, filter })
+        Ok(Self {
+            n,
+            split,
+            lambda,
+            filter,
+        })
     }
 
     /// Where the cascades lie for `scene`'s camera: the slice ends, and one map per slice
@@ -74,7 +83,15 @@ impl CascadeMaps {
             .enumerate()
             .map(|(i, z)| {
                 let (centre, radius) = split::slice_sphere(&scene.camera, aspect, z[0], z[1]);
-                orthographic_square(toward, right, &scene.bounds, centre, split::quantize(radius), scene.render.shadow_map_size, i as u32)
+                orthographic_square(
+                    toward,
+                    right,
+                    &scene.bounds,
+                    centre,
+                    split::quantize(radius),
+                    scene.render.shadow_map_size,
+                    i as u32,
+                )
             })
             .collect();
         Placement { ends, samples }
@@ -91,7 +108,11 @@ impl CascadeMaps {
             forward: split::forward(&scene.camera).extend(0.0).to_array(),
             ends,
             count: self.n,
-            filtering: if self.filter == "hard" { FILTER_HARD } else { FILTER_PCF },
+            filtering: if self.filter == "hard" {
+                FILTER_HARD
+            } else {
+                FILTER_PCF
+            },
             ..Default::default()
         }
     }
@@ -126,7 +147,10 @@ impl ShadowMethod for CascadeMaps {
         "cascades"
     }
     fn label(&self) -> String {
-        let mut parts = vec![format!("n={}", self.n), format!("split={}", self.split.name())];
+        let mut parts = vec![
+            format!("n={}", self.n),
+            format!("split={}", self.split.name()),
+        ];
         if self.split == Scheme::Practical && self.lambda != 0.5 {
             parts.push(format!("lambda={}", self.lambda));
         }
@@ -143,8 +167,15 @@ impl ShadowMethod for CascadeMaps {
         self.n
     }
     /// V and the cascade index are bound by bands of rows, as pcf's V.
-    fn size_needs(&self, scene: &Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
-        vec![super::sizes::visibility(scene, true, limits), super::sizes::per_pixel_in(scene, CHOSEN, 4, true, limits)]
+    fn size_needs(
+        &self,
+        scene: &Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
+        vec![
+            super::sizes::visibility(scene, true, limits),
+            super::sizes::per_pixel_in(scene, CHOSEN, 4, true, limits),
+        ]
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let s = fg.scene;
@@ -163,10 +194,20 @@ impl ShadowMethod for CascadeMaps {
         let pixels = fg.pixel_count() as u64;
         Ok(Box::new(State {
             method: *self,
-            samples_buffer: readback::storage_buffer(fg.ctx, "cascade samples", &placement.samples, wgpu::BufferUsages::empty()),
+            samples_buffer: readback::storage_buffer(
+                fg.ctx,
+                "cascade samples",
+                &placement.samples,
+                wgpu::BufferUsages::empty(),
+            ),
             cascades_buffer: readback::uniform_buffer(fg.ctx, "cascades", &uniform),
             filter_buffer: readback::uniform_buffer(fg.ctx, "cascades filter", &filter),
-            disk_buffer: readback::storage_buffer(fg.ctx, "cascades disk", &disk, wgpu::BufferUsages::empty()),
+            disk_buffer: readback::storage_buffer(
+                fg.ctx,
+                "cascades disk",
+                &disk,
+                wgpu::BufferUsages::empty(),
+            ),
             chosen: readback::zeroed_storage(fg.ctx, CHOSEN, pixels * 4),
             pass: CascadesPass::new(fg.ctx, fg.map_access())?,
             array,
@@ -216,9 +257,31 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // the raster clears its layers; the kernel writes every pixel's cascade
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, _pictures: bool) -> Result<MethodOutput> {
-        let jobs: Vec<RasterJob> = (0..self.method.n).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
-        timer.stage(fg.ctx, fg.raster.stage(), |enc| fg.raster.record(fg.ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples_buffer, array: &self.array }, &jobs))?;
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        _pictures: bool,
+    ) -> Result<MethodOutput> {
+        let jobs: Vec<RasterJob> = (0..self.method.n)
+            .map(|i| RasterJob {
+                sample: i,
+                layer: i,
+                scissor: None,
+            })
+            .collect();
+        timer.stage(fg.ctx, fg.raster.stage(), |enc| {
+            fg.raster.record(
+                fg.ctx,
+                enc,
+                &RasterTarget {
+                    scene: &fg.scene_gpu,
+                    samples: &self.samples_buffer,
+                    array: &self.array,
+                },
+                &jobs,
+            )
+        })?;
         let inputs = CascadeInputs {
             filter: &self.filter_buffer,
             disk: &self.disk_buffer,
@@ -231,10 +294,18 @@ impl MethodState for State {
             self.pass.record(fg.ctx, enc, &fg.screen(), &inputs);
             Ok(())
         })?;
-        Ok(MethodOutput { shadow_maps: self.method.n, syncs: 0, record: self.placement.record(&self.method), pictures: Vec::new(), bound: None })
+        Ok(MethodOutput {
+            shadow_maps: self.method.n,
+            syncs: 0,
+            record: self.placement.record(&self.method),
+            pictures: Vec::new(),
+            bound: None,
+        })
     }
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
-        let maps = (0..self.method.n).map(|i| readback::read_texture(fg.ctx, &self.array.texture, i, 4)).collect::<Result<Vec<Vec<f32>>>>()?;
+        let maps = (0..self.method.n)
+            .map(|i| readback::read_texture(fg.ctx, &self.array.texture, i, 4))
+            .collect::<Result<Vec<Vec<f32>>>>()?;
         let chosen = readback::read_buffer(fg.ctx, &self.chosen, fg.pixel_count() as u64 * 4)?;
         Ok(Some(Box::new(CascadeBuffers {
             placement: self.placement.clone(),

@@ -26,7 +26,10 @@ impl Scheme {
         Self::NAMES[Self::ALL.iter().position(|s| *s == self).unwrap_or(0)]
     }
     pub fn parse(s: &str) -> Option<Scheme> {
-        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
+        Self::NAMES
+            .iter()
+            .position(|n| *n == s)
+            .map(|i| Self::ALL[i])
     }
 }
 
@@ -44,8 +47,16 @@ pub fn forward(camera: &Camera) -> Vec3 {
 pub fn depth_range(camera: &Camera, bounds: &Bounds) -> (f32, f32) {
     let f = forward(camera);
     let depths = bounds.corners().map(|c| (c - camera.eye).dot(f));
-    let far = depths.iter().copied().fold(f32::NEG_INFINITY, f32::max).max(1e-3);
-    let near = depths.iter().copied().fold(f32::INFINITY, f32::min).max(far * NEAR_SHARE);
+    let far = depths
+        .iter()
+        .copied()
+        .fold(f32::NEG_INFINITY, f32::max)
+        .max(1e-3);
+    let near = depths
+        .iter()
+        .copied()
+        .fold(f32::INFINITY, f32::min)
+        .max(far * NEAR_SHARE);
     (near, far)
 }
 
@@ -76,7 +87,10 @@ pub fn slice_sphere(camera: &Camera, aspect: f32, z0: f32, z1: f32) -> (Vec3, f3
     // A corner at depth z lies z·k off the axis.
     let k = tan_y * (1.0 + aspect * aspect).sqrt();
     let mid = 0.5 * (z0 + z1);
-    let radius = [z0, z1].iter().map(|&z| ((z - mid).powi(2) + (z * k).powi(2)).sqrt()).fold(0.0, f32::max);
+    let radius = [z0, z1]
+        .iter()
+        .map(|&z| ((z - mid).powi(2) + (z * k).powi(2)).sqrt())
+        .fold(0.0, f32::max);
     (camera.eye + forward(camera) * mid, radius)
 }
 
@@ -110,8 +124,15 @@ mod tests {
         let p = split_depths(Scheme::Practical, 0.5, 4, n, f);
         assert_eq!(u, vec![1.0, 64.75, 128.5, 192.25, 256.0]);
         for (i, want) in [1.0f32, 4.0, 16.0, 64.0, 256.0].iter().enumerate() {
-            assert!((l[i] - want).abs() < 1e-3 * want, "log {i}: {} against {want}", l[i]);
-            assert!((p[i] - 0.5 * (l[i] + u[i])).abs() < 1e-3 * want.max(1.0), "practical {i}");
+            assert!(
+                (l[i] - want).abs() < 1e-3 * want,
+                "log {i}: {} against {want}",
+                l[i]
+            );
+            assert!(
+                (p[i] - 0.5 * (l[i] + u[i])).abs() < 1e-3 * want.max(1.0),
+                "practical {i}"
+            );
         }
         // One cascade covers the whole range under every scheme.
         for s in Scheme::ALL {
@@ -121,8 +142,16 @@ mod tests {
 
     #[test]
     fn the_sphere_holds_the_slice_and_keeps_its_radius_when_the_camera_turns() {
-        let a = Camera { eye: Vec3::new(1.0, 2.0, 3.0), target: Vec3::new(1.0, 2.0, -10.0), up: Vec3::Y, fov_y_deg: 50.0 };
-        let b = Camera { target: Vec3::new(8.0, 0.0, 1.0), ..a };
+        let a = Camera {
+            eye: Vec3::new(1.0, 2.0, 3.0),
+            target: Vec3::new(1.0, 2.0, -10.0),
+            up: Vec3::Y,
+            fov_y_deg: 50.0,
+        };
+        let b = Camera {
+            target: Vec3::new(8.0, 0.0, 1.0),
+            ..a
+        };
         let (ca, ra) = slice_sphere(&a, 1.5, 4.0, 20.0);
         let (cb, rb) = slice_sphere(&b, 1.5, 4.0, 20.0);
         assert_eq!(ra, rb);
@@ -132,7 +161,10 @@ mod tests {
         for z in [4.0f32, 20.0] {
             for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
                 let corner = a.eye + Vec3::new(sx * z * tan_y * 1.5, sy * z * tan_y, -z);
-                assert!((corner - ca).length() <= ra * (1.0 + 1e-5), "corner at depth {z} outside");
+                assert!(
+                    (corner - ca).length() <= ra * (1.0 + 1e-5),
+                    "corner at depth {z} outside"
+                );
             }
         }
     }

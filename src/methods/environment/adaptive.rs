@@ -4,21 +4,24 @@
 //! (env_split); cells under `min_share` of the power never split. Every leaf becomes one light at
 //! its power centroid carrying its power, and env_trace shades with them (docs/environment.md §2).
 
-use crate::gpu::Stage;
-use super::common::{environment, gpu_lights, resolution, SceneRays};
-use super::pixels::{parse_ssao, RayLights, AO_RADIUS, AO_SAMPLES, SSAO};
-use super::common::SsaoSettings;
 pub use super::common::EnvLevelBuffers;
-use crate::methods::{check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::stages::env_count::{EnvCount, EnvCountInputs};
-use crate::stages::env_split::{EnvSplit, EnvSplitIo};
-use crate::stages::FrameGpu;
-use crate::scene::environment::panorama::luminance;
+use super::common::SsaoSettings;
+use super::common::{environment, gpu_lights, resolution, SceneRays};
 use super::picture;
-use crate::scene::environment::{EnvLight, Environment};
+use super::pixels::{parse_ssao, RayLights, AO_RADIUS, AO_SAMPLES, SSAO};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuEnvCell, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::methods::{
+    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param,
+    ShadowMethod,
+};
+use crate::scene::environment::panorama::luminance;
+use crate::scene::environment::{EnvLight, Environment};
+use crate::stages::env_count::{EnvCount, EnvCountInputs};
+use crate::stages::env_split::{EnvSplit, EnvSplitIo};
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use glam::Vec3;
 use std::sync::Arc;
@@ -79,9 +82,17 @@ impl ShadowMethod for EnvAdaptive {
         "env-adaptive"
     }
     /// RayLights' per-pixel sums (8 bytes) and blocked counts, besides V.
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         use crate::methods::sizes::{per_pixel, visibility};
-        vec![visibility(scene, false, limits), per_pixel(scene, "env sums", 8), per_pixel(scene, "env blocked", 4)]
+        vec![
+            visibility(scene, false, limits),
+            per_pixel(scene, "env sums", 8),
+            per_pixel(scene, "env blocked", 4),
+        ]
     }
     fn label(&self) -> String {
         let values = [
@@ -94,7 +105,12 @@ impl ShadowMethod for EnvAdaptive {
         ];
         let mut s = crate::methods::label_from(&INFO, &values);
         if let Some(a) = self.ssao {
-            s += &format!("{}ssao=on,ao_samples={},ao_radius={}", if s.contains(':') { "," } else { ":" }, a.samples, a.radius);
+            s += &format!(
+                "{}ssao=on,ao_samples={},ao_radius={}",
+                if s.contains(':') { "," } else { ":" },
+                a.samples,
+                a.radius
+            );
         }
         s
     }
@@ -113,17 +129,33 @@ impl ShadowMethod for EnvAdaptive {
         }
         let tables = PowerTables::new(env);
         let cell_power = tables.finest(fw, fh);
-        let corners: Vec<[f32; 4]> =
-            (0..=fh).flat_map(|j| (0..=fw).map(move |i| (i, j))).map(|(i, j)| env.direction(i as f32 / fw as f32, j as f32 / fh as f32).extend(0.0).to_array()).collect();
+        let corners: Vec<[f32; 4]> = (0..=fh)
+            .flat_map(|j| (0..=fw).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                env.direction(i as f32 / fw as f32, j as f32 / fh as f32)
+                    .extend(0.0)
+                    .to_array()
+            })
+            .collect();
         let base: Vec<GpuEnvCell> = (0..self.base.1)
             .flat_map(|j| (0..self.base.0).map(move |i| (i, j)))
-            .map(|(i, j)| GpuEnvCell { i: i << self.max_level, j: j << self.max_level, size: 1 << self.max_level, level: 0 })
+            .map(|(i, j)| GpuEnvCell {
+                i: i << self.max_level,
+                j: j << self.max_level,
+                size: 1 << self.max_level,
+                level: 0,
+            })
             .collect();
         let capacity = (fw * fh) as u64;
         let ctx = fg.ctx;
         let cell_bytes = capacity * std::mem::size_of::<GpuEnvCell>() as u64;
         // The final pass: env_trace with a light list rewritten every frame (at most one per finest cell).
-        let mut trace = RayLights::new(fg, vec![Default::default(); capacity as usize], self.ssao, Vec::new())?;
+        let mut trace = RayLights::new(
+            fg,
+            vec![Default::default(); capacity as usize],
+            self.ssao,
+            Vec::new(),
+        )?;
         trace.params.light_count = 0;
         let rays: &SceneRays = &trace.rays;
         let mut params = rays.params(fg);
@@ -138,13 +170,28 @@ impl ShadowMethod for EnvAdaptive {
         Ok(Box::new(State {
             count: EnvCount::new(ctx)?,
             split: EnvSplit::new(ctx)?,
-            corners_buffer: readback::storage_buffer(ctx, "env corners", &corners, wgpu::BufferUsages::empty()),
-            power_buffer: readback::storage_buffer(ctx, "env cell power", &cell_power, wgpu::BufferUsages::empty()),
-            cells: [readback::zeroed_storage(ctx, "env cells a", cell_bytes), readback::zeroed_storage(ctx, "env cells b", cell_bytes)],
+            corners_buffer: readback::storage_buffer(
+                ctx,
+                "env corners",
+                &corners,
+                wgpu::BufferUsages::empty(),
+            ),
+            power_buffer: readback::storage_buffer(
+                ctx,
+                "env cell power",
+                &cell_power,
+                wgpu::BufferUsages::empty(),
+            ),
+            cells: [
+                readback::zeroed_storage(ctx, "env cells a", cell_bytes),
+                readback::zeroed_storage(ctx, "env cells b", cell_bytes),
+            ],
             leaves: readback::zeroed_storage(ctx, "env leaves", cell_bytes),
             counts: readback::zeroed_storage(ctx, "env counts", capacity * 4),
             control: readback::zeroed_storage(ctx, "env control", 16),
-            level_params: (0..=self.max_level).map(|_| readback::uniform_buffer(ctx, "env level", &params)).collect(),
+            level_params: (0..=self.max_level)
+                .map(|_| readback::uniform_buffer(ctx, "env level", &params))
+                .collect(),
             params,
             corners,
             cell_power,
@@ -185,10 +232,19 @@ impl PowerTables {
                 row[2] += e * d.y as f64;
                 row[3] += e * d.z as f64;
                 let above = sat[y * (w + 1) + x + 1];
-                sat[(y + 1) * (w + 1) + x + 1] = [above[0] + row[0], above[1] + row[1], above[2] + row[2], above[3] + row[3]];
+                sat[(y + 1) * (w + 1) + x + 1] = [
+                    above[0] + row[0],
+                    above[1] + row[1],
+                    above[2] + row[2],
+                    above[3] + row[3],
+                ];
             }
         }
-        PowerTables { width: w, height: h, sat }
+        PowerTables {
+            width: w,
+            height: h,
+            sat,
+        }
     }
 
     /// Σ over full-resolution pixels [x0, x1) × [y0, y1): (power, Σ power · direction).
@@ -213,7 +269,10 @@ impl PowerTables {
         let (x0, y0) = (c.i as usize * sx, c.j as usize * sy);
         let s = self.sum(x0, y0, x0 + c.size as usize * sx, y0 + c.size as usize * sy);
         let d = Vec3::new(s[1] as f32, s[2] as f32, s[3] as f32).normalize_or_zero();
-        (s[0] > 0.0 && d != Vec3::ZERO).then_some(EnvLight { direction: d, power: s[0] as f32 })
+        (s[0] > 0.0 && d != Vec3::ZERO).then_some(EnvLight {
+            direction: d,
+            power: s[0] as f32,
+        })
     }
 }
 
@@ -241,11 +300,18 @@ struct State {
 
 impl MethodState for State {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
-        fg.ctx.queue.write_buffer(&self.cells[0], 0, bytemuck::cast_slice(&self.base));
+        fg.ctx
+            .queue
+            .write_buffer(&self.cells[0], 0, bytemuck::cast_slice(&self.base));
         Ok(())
     }
 
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        pictures: bool,
+    ) -> Result<MethodOutput> {
         let ctx = fg.ctx;
         let (fw, fh) = (self.params.finest_width, self.params.finest_height);
         let mut cell_count = self.base.len() as u32;
@@ -257,14 +323,29 @@ impl MethodState for State {
         for level in 0..=self.params.max_level {
             let mut params = self.params;
             params.cell_count = cell_count;
-            ctx.queue.write_buffer(&self.level_params[level as usize], 0, bytemuck::bytes_of(&params));
-            let (cur, next) = (&self.cells[level as usize % 2], &self.cells[(level as usize + 1) % 2]);
+            ctx.queue.write_buffer(
+                &self.level_params[level as usize],
+                0,
+                bytemuck::bytes_of(&params),
+            );
+            let (cur, next) = (
+                &self.cells[level as usize % 2],
+                &self.cells[(level as usize + 1) % 2],
+            );
             let counted = level < self.params.max_level;
             if counted {
                 timer.stage(ctx, Stage::ENV_COUNT, |enc| {
                     enc.clear_buffer(&self.counts, 0, Some(cell_count as u64 * 4));
-                    let inputs = EnvCountInputs { params: &self.level_params[level as usize], corners: &self.corners_buffer, cells: cur, counts: &self.counts, cell_count, stride: self.params.count_stride };
-                    self.count.record(ctx, enc, &fg.gbuffer, &inputs, &self.trace.rays.buffers);
+                    let inputs = EnvCountInputs {
+                        params: &self.level_params[level as usize],
+                        corners: &self.corners_buffer,
+                        cells: cur,
+                        counts: &self.counts,
+                        cell_count,
+                        stride: self.params.count_stride,
+                    };
+                    self.count
+                        .record(ctx, enc, &fg.gbuffer, &inputs, &self.trace.rays.buffers);
                     Ok(())
                 })?;
             }
@@ -277,23 +358,36 @@ impl MethodState for State {
                 if level == 0 {
                     enc.clear_buffer(&self.control, 4, Some(4));
                 }
-                let io = EnvSplitIo { params: &self.level_params[level as usize], cells: cur, counts: &self.counts, cell_power: &self.power_buffer, next_cells: next, leaves: &self.leaves, control: &self.control };
+                let io = EnvSplitIo {
+                    params: &self.level_params[level as usize],
+                    cells: cur,
+                    counts: &self.counts,
+                    cell_power: &self.power_buffer,
+                    next_cells: next,
+                    leaves: &self.leaves,
+                    control: &self.control,
+                };
                 self.split.record(ctx, enc, &io, cell_count);
                 Ok(())
             })?;
             timer.flush(ctx);
-            let control: Vec<u32> = timer.cpu(Stage::ENV_READBACK, || readback::read_buffer(ctx, &self.control, 16))?;
+            let control: Vec<u32> = timer.cpu(Stage::ENV_READBACK, || {
+                readback::read_buffer(ctx, &self.control, 16)
+            })?;
             syncs += 1;
             let (next_count, leaf_count) = (control[0], control[1]);
             if self.keep {
                 let read_cells = |b: &wgpu::Buffer, n: u32, skip: u32| -> Result<Vec<GpuEnvCell>> {
-                    let all: Vec<GpuEnvCell> = readback::read_buffer(ctx, b, ((skip + n) as u64 * cell_size).max(16))?;
+                    let all: Vec<GpuEnvCell> =
+                        readback::read_buffer(ctx, b, ((skip + n) as u64 * cell_size).max(16))?;
                     let mut v = all[skip as usize..(skip + n) as usize].to_vec();
                     v.sort();
                     Ok(v)
                 };
-                let counts: Vec<u32> = readback::read_buffer(ctx, &self.counts, (cell_count as u64 * 4).max(16))?;
-                let unsorted: Vec<GpuEnvCell> = readback::read_buffer(ctx, cur, (cell_count as u64 * cell_size).max(16))?;
+                let counts: Vec<u32> =
+                    readback::read_buffer(ctx, &self.counts, (cell_count as u64 * 4).max(16))?;
+                let unsorted: Vec<GpuEnvCell> =
+                    readback::read_buffer(ctx, cur, (cell_count as u64 * cell_size).max(16))?;
                 self.kept.push(EnvLevelBuffers {
                     params,
                     cells: unsorted[..cell_count as usize].to_vec(),
@@ -318,22 +412,41 @@ impl MethodState for State {
             }
         }
         // The leaves become lights: one read-back, the centroids from the summed-area tables.
-        let leaves: Vec<GpuEnvCell> = timer.cpu(Stage::ENV_READBACK, || readback::read_buffer(ctx, &self.leaves, (leaves_so_far as u64 * cell_size).max(16)))?;
+        let leaves: Vec<GpuEnvCell> = timer.cpu(Stage::ENV_READBACK, || {
+            readback::read_buffer(
+                ctx,
+                &self.leaves,
+                (leaves_so_far as u64 * cell_size).max(16),
+            )
+        })?;
         syncs += 1;
         // Leaves arrive in atomic-append order, which varies from frame to frame; the light list
         // (and so the order env_trace sums in) must not, or V differs in its last bits.
         let mut leaves = leaves[..leaves_so_far as usize].to_vec();
         leaves.sort();
         let leaves = &leaves[..];
-        let lights: Vec<EnvLight> = timer.cpu(Stage::ENV_LIGHTS, || Ok(leaves.iter().filter_map(|c| self.tables.leaf_light(c, fw, fh)).collect()))?;
+        let lights: Vec<EnvLight> = timer.cpu(Stage::ENV_LIGHTS, || {
+            Ok(leaves
+                .iter()
+                .filter_map(|c| self.tables.leaf_light(c, fw, fh))
+                .collect())
+        })?;
         let gpu = gpu_lights(&lights);
         self.trace.params.light_count = gpu.len() as u32;
         self.trace.lights = gpu.clone();
         if !gpu.is_empty() {
-            ctx.queue.write_buffer(&self.trace.lights_buffer, 0, bytemuck::cast_slice(&gpu));
+            ctx.queue
+                .write_buffer(&self.trace.lights_buffer, 0, bytemuck::cast_slice(&gpu));
         }
         self.trace.run(fg, timer)?;
-        let pictures = if pictures { vec![("panorama_quadtree.png".to_string(), self.picture(leaves, &lights))] } else { Vec::new() };
+        let pictures = if pictures {
+            vec![(
+                "panorama_quadtree.png".to_string(),
+                self.picture(leaves, &lights),
+            )]
+        } else {
+            Vec::new()
+        };
         let mut per_level = vec![0u32; self.params.max_level as usize + 1];
         for c in leaves {
             per_level[c.level as usize] += 1;
@@ -367,14 +480,22 @@ impl MethodState for State {
 impl State {
     fn picture(&self, leaves: &[GpuEnvCell], lights: &[EnvLight]) -> image::RgbImage {
         let mut img = picture::panorama_picture(&self.env, 512);
-        let (fw, fh) = (self.params.finest_width as f32, self.params.finest_height as f32);
+        let (fw, fh) = (
+            self.params.finest_width as f32,
+            self.params.finest_height as f32,
+        );
         for c in leaves {
             let uv0 = (c.i as f32 / fw, c.j as f32 / fh);
             let uv1 = ((c.i + c.size) as f32 / fw, (c.j + c.size) as f32 / fh);
             picture::rect(&mut img, uv0, uv1, picture::level_colour(c.level));
         }
         for l in lights {
-            picture::mark(&mut img, &self.env, l.direction, image::Rgb([255, 255, 255]));
+            picture::mark(
+                &mut img,
+                &self.env,
+                l.direction,
+                image::Rgb([255, 255, 255]),
+            );
         }
         img
     }

@@ -1,23 +1,26 @@
 //! What the environment methods share: the scene's BVH on both sides, the kernels' parameter
 //! block, and the ssao stage (its own method, and a factor the others can multiply in).
 
-use crate::gpu::Stage;
-use crate::stages::env_trace::BvhBuffers;
-use crate::gpu::stages::bind;
-use crate::stages::ssao::Ssao;
-use crate::stages::ssao::hemisphere_kernel;
-use crate::stages::FrameGpu;
-use crate::render::bvh::Bvh;
-use crate::scene::environment::{EnvLight, Environment};
 use crate::gpu::readback;
+use crate::gpu::stages::bind;
 use crate::gpu::structs::{GpuCamera, GpuEnvCell, GpuEnvLight, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::render::bvh::Bvh;
+use crate::scene::environment::{EnvLight, Environment};
+use crate::stages::env_trace::BvhBuffers;
+use crate::stages::ssao::hemisphere_kernel;
+use crate::stages::ssao::Ssao;
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use std::sync::Arc;
 
 pub fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment> {
     fg.scene.environment.as_ref().ok_or_else(|| {
-        Error::Param(format!("{method}: scene `{}` has no [environment] (see docs/environment.md)", fg.scene.name))
+        Error::Param(format!(
+            "{method}: scene `{}` has no [environment] (see docs/environment.md)",
+            fg.scene.name
+        ))
     })
 }
 
@@ -33,16 +36,32 @@ impl SceneRays {
     pub fn build(fg: &FrameGpu) -> SceneRays {
         let bvh = Arc::new(Bvh::build(&fg.scene.triangles()));
         let buffers = BvhBuffers::upload(fg.ctx, &bvh);
-        SceneRays { bvh, buffers, ray_offset: crate::scene::rays::ray_offset(fg.scene), t_max: crate::scene::rays::env_ray_length(fg.scene) }
+        SceneRays {
+            bvh,
+            buffers,
+            ray_offset: crate::scene::rays::ray_offset(fg.scene),
+            t_max: crate::scene::rays::env_ray_length(fg.scene),
+        }
     }
 
     pub fn params(&self, fg: &FrameGpu) -> GpuEnvParams {
-        GpuEnvParams { width: fg.gbuffer.width, height: fg.gbuffer.height, ray_offset: self.ray_offset, t_max: self.t_max, ..Default::default() }
+        GpuEnvParams {
+            width: fg.gbuffer.width,
+            height: fg.gbuffer.height,
+            ray_offset: self.ray_offset,
+            t_max: self.t_max,
+            ..Default::default()
+        }
     }
 }
 
 pub fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
-    lights.iter().map(|l| GpuEnvLight { direction: [l.direction.x, l.direction.y, l.direction.z, l.power] }).collect()
+    lights
+        .iter()
+        .map(|l| GpuEnvLight {
+            direction: [l.direction.x, l.direction.y, l.direction.z, l.power],
+        })
+        .collect()
 }
 
 /// ssao: parameters, buffers and pass. AO lands in `ao` (1 = open).
@@ -69,7 +88,13 @@ impl SsaoStage {
     pub fn new(fg: &FrameGpu, settings: SsaoSettings) -> Result<SsaoStage> {
         let s = fg.scene;
         let aspect = s.render.width as f32 / s.render.height as f32;
-        let camera = GpuCamera { clip_from_world: s.camera.clip_from_world(aspect, &s.bounds).to_cols_array_2d(), eye: s.camera.eye.extend(1.0).to_array() };
+        let camera = GpuCamera {
+            clip_from_world: s
+                .camera
+                .clip_from_world(aspect, &s.bounds)
+                .to_cols_array_2d(),
+            eye: s.camera.eye.extend(1.0).to_array(),
+        };
         let diag = s.bounds.diagonal();
         let params = GpuEnvParams {
             width: fg.gbuffer.width,
@@ -87,7 +112,12 @@ impl SsaoStage {
             pass: Ssao::new(ctx)?,
             params_buffer: readback::uniform_buffer(ctx, "ssao params", &params),
             camera_buffer: readback::uniform_buffer(ctx, "ssao camera", &camera),
-            kernel_buffer: readback::storage_buffer(ctx, "ssao kernel", &kernel, wgpu::BufferUsages::empty()),
+            kernel_buffer: readback::storage_buffer(
+                ctx,
+                "ssao kernel",
+                &kernel,
+                wgpu::BufferUsages::empty(),
+            ),
             ao: readback::zeroed_storage(ctx, "ao", bytes),
             occluded: readback::zeroed_storage(ctx, "ssao occluded", bytes),
             params,
@@ -119,17 +149,30 @@ pub fn on_off(params: &crate::methods::ParamMap, method: &str, key: &str) -> Res
     match params.get(key).map(String::as_str) {
         None | Some("off") => Ok(false),
         Some("on") => Ok(true),
-        Some(v) => Err(Error::Param(format!("{method}: {key} = `{v}`: use `on` or `off`"))),
+        Some(v) => Err(Error::Param(format!(
+            "{method}: {key} = `{v}`: use `on` or `off`"
+        ))),
     }
 }
 
 /// `WxH` (a panorama resolution).
-pub fn resolution(params: &crate::methods::ParamMap, method: &str, key: &str, default: (u32, u32)) -> Result<(u32, u32)> {
-    let Some(v) = params.get(key) else { return Ok(default) };
-    let parsed = v.split_once('x').and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?)));
+pub fn resolution(
+    params: &crate::methods::ParamMap,
+    method: &str,
+    key: &str,
+    default: (u32, u32),
+) -> Result<(u32, u32)> {
+    let Some(v) = params.get(key) else {
+        return Ok(default);
+    };
+    let parsed = v
+        .split_once('x')
+        .and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?)));
     match parsed {
         Some((w, h)) if w >= 1 && h >= 1 && w <= 4096 && h <= 2048 => Ok((w, h)),
-        _ => Err(Error::Param(format!("{method}: {key} = `{v}`: give WxH, e.g. 32x16 (at most 4096x2048)"))),
+        _ => Err(Error::Param(format!(
+            "{method}: {key} = `{v}`: give WxH, e.g. 32x16 (at most 4096x2048)"
+        ))),
     }
 }
 

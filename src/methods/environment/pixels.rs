@@ -2,24 +2,41 @@
 //! weights, is a directional light; V by one shadow ray per light and pixel through the BVH, or
 //! (`at=vertex`, the seed's variant) per mesh vertex, interpolated to the pixels.
 
-use crate::gpu::Stage;
-use super::common::{environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage};
-use super::vertex::{VertexBuffers, VertexStage};
-use crate::methods::{check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap, ShadowMethod};
-use crate::stages::env_trace::{chunk_params, EnvTrace, EnvTraceInputs};
-use crate::stages::FrameGpu;
+use super::common::{
+    environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage,
+};
 use super::picture;
-use crate::render::bvh::Bvh;
-use crate::scene::environment::pixel_lights;
+use super::vertex::{VertexBuffers, VertexStage};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuEnvLight, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::methods::{
+    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
+    Param, ParamMap, ShadowMethod,
+};
+use crate::render::bvh::Bvh;
+use crate::scene::environment::pixel_lights;
+use crate::stages::env_trace::{chunk_params, EnvTrace, EnvTraceInputs};
+use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
-pub const SSAO: Param = Param { key: "ssao", default: "off", help: "on: multiply V by screen-space ambient occlusion (the seed's creases)" };
-pub const AO_SAMPLES: Param = Param { key: "ao_samples", default: "16", help: "ssao samples per pixel, 1..=64" };
-pub const AO_RADIUS: Param = Param { key: "ao_radius", default: "0.05", help: "ssao radius as a share of the scene's bounding-box diagonal" };
+pub const SSAO: Param = Param {
+    key: "ssao",
+    default: "off",
+    help: "on: multiply V by screen-space ambient occlusion (the seed's creases)",
+};
+pub const AO_SAMPLES: Param = Param {
+    key: "ao_samples",
+    default: "16",
+    help: "ssao samples per pixel, 1..=64",
+};
+pub const AO_RADIUS: Param = Param {
+    key: "ao_radius",
+    default: "0.05",
+    help: "ssao radius as a share of the scene's bounding-box diagonal",
+};
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "env-pixels",
@@ -42,7 +59,13 @@ pub const INFO: MethodInfo = MethodInfo {
 /// `ssao=on` with its settings, or None.
 pub fn parse_ssao(p: &ParamMap, method: &str) -> Result<Option<SsaoSettings>> {
     let samples = check_range(method, "ao_samples", get_u32(p, "ao_samples", 16)?, 1, 64)?;
-    let radius = check_range(method, "ao_radius", get_f32(p, "ao_radius", 0.05)?, 1e-4, 1.0)?;
+    let radius = check_range(
+        method,
+        "ao_radius",
+        get_f32(p, "ao_radius", 0.05)?,
+        1e-4,
+        1.0,
+    )?;
     Ok(on_off(p, method, "ssao")?.then_some(SsaoSettings { samples, radius }))
 }
 
@@ -68,9 +91,17 @@ impl ShadowMethod for EnvPixels {
         "env-pixels"
     }
     /// RayLights' per-pixel sums (8 bytes) and blocked counts, besides V.
-    fn size_needs(&self, scene: &crate::scene::Scene, limits: &wgpu::Limits) -> Vec<crate::gpu::size_plan::SizeNeed> {
+    fn size_needs(
+        &self,
+        scene: &crate::scene::Scene,
+        limits: &wgpu::Limits,
+    ) -> Vec<crate::gpu::size_plan::SizeNeed> {
         use crate::methods::sizes::{per_pixel, visibility};
-        vec![visibility(scene, false, limits), per_pixel(scene, "env sums", 8), per_pixel(scene, "env blocked", 4)]
+        vec![
+            visibility(scene, false, limits),
+            per_pixel(scene, "env sums", 8),
+            per_pixel(scene, "env blocked", 4),
+        ]
     }
     fn label(&self) -> String {
         let mut s = format!("env-pixels:res={}x{}", self.width, self.height);
@@ -87,13 +118,23 @@ impl ShadowMethod for EnvPixels {
     }
     fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         let env = environment(fg, "env-pixels")?;
-        let lights = pixel_lights(env, self.width, self.height).map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
+        let lights = pixel_lights(env, self.width, self.height)
+            .map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
         let mut picture = picture::panorama_picture(env, 512);
         for l in &lights {
             picture::mark(&mut picture, env, l.direction, picture::level_colour(3));
         }
-        let rays = RayLights::new(fg, gpu_lights(&lights), self.ssao, vec![("panorama_lights.png".into(), picture)])?;
-        Ok(Box::new(if self.per_vertex { rays.at_vertices(fg)? } else { rays }))
+        let rays = RayLights::new(
+            fg,
+            gpu_lights(&lights),
+            self.ssao,
+            vec![("panorama_lights.png".into(), picture)],
+        )?;
+        Ok(Box::new(if self.per_vertex {
+            rays.at_vertices(fg)?
+        } else {
+            rays
+        }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
@@ -120,15 +161,32 @@ pub struct RayLights {
 }
 
 impl RayLights {
-    pub fn new(fg: &FrameGpu, lights: Vec<GpuEnvLight>, ssao: Option<SsaoSettings>, pictures: Vec<(String, image::RgbImage)>) -> Result<RayLights> {
+    pub fn new(
+        fg: &FrameGpu,
+        lights: Vec<GpuEnvLight>,
+        ssao: Option<SsaoSettings>,
+        pictures: Vec<(String, image::RgbImage)>,
+    ) -> Result<RayLights> {
         let rays = SceneRays::build(fg);
         let mut params = rays.params(fg);
         params.light_count = lights.len() as u32;
         params.use_ao = ssao.is_some() as u32;
         let ctx = fg.ctx;
         let ssao = ssao.map(|s| SsaoStage::new(fg, s)).transpose()?;
-        let lights_buffer = readback::storage_buffer(ctx, "env lights", &if lights.is_empty() { vec![GpuEnvLight::default()] } else { lights.clone() }, wgpu::BufferUsages::empty());
-        let chunk_buffers = chunk_params(&params, lights.len() as u32).iter().map(|p| readback::uniform_buffer(ctx, "env params", p)).collect();
+        let lights_buffer = readback::storage_buffer(
+            ctx,
+            "env lights",
+            &if lights.is_empty() {
+                vec![GpuEnvLight::default()]
+            } else {
+                lights.clone()
+            },
+            wgpu::BufferUsages::empty(),
+        );
+        let chunk_buffers = chunk_params(&params, lights.len() as u32)
+            .iter()
+            .map(|p| readback::uniform_buffer(ctx, "env params", p))
+            .collect();
         Ok(RayLights {
             trace: EnvTrace::new(fg.ctx)?,
             chunk_buffers,
@@ -164,12 +222,27 @@ impl RayLights {
             fg.ctx.queue.write_buffer(buffer, 0, bytemuck::bytes_of(p));
         }
         if let Some(v) = &self.vertex {
-            v.run(fg, timer, &self.chunk_buffers[..chunks.len()], &self.lights_buffer, &self.rays.buffers, ao)?;
+            v.run(
+                fg,
+                timer,
+                &self.chunk_buffers[..chunks.len()],
+                &self.lights_buffer,
+                &self.rays.buffers,
+                ao,
+            )?;
         } else {
             timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
                 for buffer in &self.chunk_buffers[..chunks.len()] {
-                    let inputs = EnvTraceInputs { params: buffer, lights: &self.lights_buffer, blocked: &self.blocked, ao, sums: &self.sums, bvh: &self.rays.buffers };
-                    self.trace.record(fg.ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
+                    let inputs = EnvTraceInputs {
+                        params: buffer,
+                        lights: &self.lights_buffer,
+                        blocked: &self.blocked,
+                        ao,
+                        sums: &self.sums,
+                        bvh: &self.rays.buffers,
+                    };
+                    self.trace
+                        .record(fg.ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
                 }
                 Ok(())
             })?;
@@ -212,17 +285,30 @@ impl MethodState for RayLights {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        pictures: bool,
+    ) -> Result<MethodOutput> {
         RayLights::run(self, fg, timer)?;
         let n = self.lights.len() as u32;
         Ok(MethodOutput {
             shadow_maps: n,
             syncs: 0,
             record: match &self.vertex {
-                None => serde_json::json!({ "samples": n, "at": "pixel", "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
-                Some(v) => serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() }),
+                None => {
+                    serde_json::json!({ "samples": n, "at": "pixel", "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() })
+                }
+                Some(v) => {
+                    serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() })
+                }
             },
-            pictures: if pictures { self.pictures.clone() } else { Vec::new() },
+            pictures: if pictures {
+                self.pictures.clone()
+            } else {
+                Vec::new()
+            },
             bound: None,
         })
     }

@@ -2,22 +2,25 @@
 //! from a point 50 scene diagonals away along the light (near-orthographic), filtered by the pcf
 //! family's tap patterns (box by default).
 
-use crate::stages::raster::RasterTarget;
-use crate::gpu::Stage;
 use super::common::{environment, gpu_lights};
-use super::pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
 use super::common::{SsaoSettings, SsaoStage};
-use crate::methods::pcf::{poisson_disk, KERNELS};
-use crate::methods::{check_range, get_choice, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ShadowMethod};
-use crate::stages::env_shadowmaps::{EnvMapInputs, EnvShadowmaps as Pass, FilterBuffers};
-use crate::stages::FrameGpu;
 use super::picture;
-use crate::scene::environment::median_cut;
+use super::pixels::{parse_ssao, AO_RADIUS, AO_SAMPLES, SSAO};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuEnvLight, GpuEnvParams, GpuFilter, GpuFrame, GpuSample};
-use crate::scene::light::{sample_view, AreaLight};
-use crate::render::shadow_raster::{self, RasterJob};
 use crate::gpu::timing::StageTimer;
+use crate::gpu::Stage;
+use crate::methods::pcf::{poisson_disk, KERNELS};
+use crate::methods::{
+    check_range, get_choice, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param,
+    ShadowMethod,
+};
+use crate::render::shadow_raster::{self, RasterJob};
+use crate::scene::environment::median_cut;
+use crate::scene::light::{sample_view, AreaLight};
+use crate::stages::env_shadowmaps::{EnvMapInputs, EnvShadowmaps as Pass, FilterBuffers};
+use crate::stages::raster::RasterTarget;
+use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use glam::Vec3;
 use std::sync::Arc;
@@ -69,7 +72,9 @@ fn check_taps(filter: &str, taps: u32) -> Result<u32> {
     match filter {
         "box" | "bilinear" => check_range("env-shadowmaps", "taps", taps, 1, 16),
         "stratified" => check_range("env-shadowmaps", "taps", taps, 1, 64),
-        _ if ![4, 16, 32, 64].contains(&taps) => Err(Error::Param(format!("env-shadowmaps: taps = {taps} with filter = {filter}: use 4, 16, 32 or 64"))),
+        _ if ![4, 16, 32, 64].contains(&taps) => Err(Error::Param(format!(
+            "env-shadowmaps: taps = {taps} with filter = {filter}: use 4, 16, 32 or 64"
+        ))),
         _ => Ok(taps),
     }
 }
@@ -107,10 +112,18 @@ pub fn directional_sample(fg: &FrameGpu, dir: Vec3, layer: u32) -> GpuSample {
     let y = (b.min + b.max) * 0.5 + dir * (MAP_DISTANCE * diag);
     // An area light whose normal (edge_u × edge_v) points back at the scene fixes the view's axes.
     let forward = -dir;
-    let hint = if forward.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+    let hint = if forward.y.abs() < 0.9 {
+        Vec3::Y
+    } else {
+        Vec3::X
+    };
     let u = hint.cross(forward).normalize();
     let v = forward.cross(u);
-    let light = AreaLight { center: y, edge_u: u, edge_v: v };
+    let light = AreaLight {
+        center: y,
+        edge_u: u,
+        edge_v: v,
+    };
     let mut s = sample_view(&light, y, b, fg.frame.map_size, u32::MAX);
     s.layer = layer;
     s
@@ -153,23 +166,49 @@ impl ShadowMethod for EnvShadowmaps {
         let mut picture = picture::panorama_picture(env, 512);
         let (pw, ph) = (env.panorama.width as f32, env.panorama.height as f32);
         for (l, [x0, y0, x1, y1]) in &cut {
-            picture::rect(&mut picture, (*x0 as f32 / pw, *y0 as f32 / ph), (*x1 as f32 / pw, *y1 as f32 / ph), picture::level_colour(2));
+            picture::rect(
+                &mut picture,
+                (*x0 as f32 / pw, *y0 as f32 / ph),
+                (*x1 as f32 / pw, *y1 as f32 / ph),
+                picture::level_colour(2),
+            );
             picture::mark(&mut picture, env, l.direction, picture::level_colour(0));
         }
         let lights: Vec<GpuEnvLight> = gpu_lights(&cut.iter().map(|c| c.0).collect::<Vec<_>>());
-        let samples: Vec<GpuSample> = lights.iter().enumerate().map(|(k, l)| directional_sample(fg, Vec3::new(l.direction[0], l.direction[1], l.direction[2]), k as u32)).collect();
+        let samples: Vec<GpuSample> = lights
+            .iter()
+            .enumerate()
+            .map(|(k, l)| {
+                directional_sample(
+                    fg,
+                    Vec3::new(l.direction[0], l.direction[1], l.direction[2]),
+                    k as u32,
+                )
+            })
+            .collect();
         let ctx = fg.ctx;
         let s = fg.scene;
-        let per_array = fg.raster.maps_per_array(ctx, s.render.shadow_map_size, s.render.shadow_map_budget_mib)?;
+        let per_array = fg.raster.maps_per_array(
+            ctx,
+            s.render.shadow_map_size,
+            s.render.shadow_map_budget_mib,
+        )?;
         if (samples.len() as u32) > per_array {
             return Err(Error::Limit(format!("env-shadowmaps: k = {} maps of {}² exceed the shadow-map budget ({per_array} maps)", samples.len(), s.render.shadow_map_size)));
         }
-        let array = fg.raster.allocate(ctx, s.render.shadow_map_size, samples.len().max(1) as u32);
+        let array = fg
+            .raster
+            .allocate(ctx, s.render.shadow_map_size, samples.len().max(1) as u32);
         // Every point lies on the light side of a plane under the scene: the lights' own facing
         // test (cos > 0) decides what each light reaches.
         let mut frame = fg.frame;
         let diag = s.bounds.diagonal().max(1e-6);
-        frame.light_center = [(s.bounds.min.x + s.bounds.max.x) * 0.5, s.bounds.min.y - diag, (s.bounds.min.z + s.bounds.max.z) * 0.5, 1.0];
+        frame.light_center = [
+            (s.bounds.min.x + s.bounds.max.x) * 0.5,
+            s.bounds.min.y - diag,
+            (s.bounds.min.z + s.bounds.max.z) * 0.5,
+            1.0,
+        ];
         frame.light_normal = [0.0, 1.0, 0.0, 0.0];
         let params = GpuEnvParams {
             width: fg.gbuffer.width,
@@ -182,13 +221,28 @@ impl ShadowMethod for EnvShadowmaps {
         Ok(Box::new(State {
             pass: Pass::new(ctx, fg.raster.raster_access())?,
             filter_buffer: readback::uniform_buffer(ctx, "env shadowmaps filter", &filter),
-            disk_buffer: readback::storage_buffer(ctx, "env shadowmaps disk", &disk, wgpu::BufferUsages::empty()),
+            disk_buffer: readback::storage_buffer(
+                ctx,
+                "env shadowmaps disk",
+                &disk,
+                wgpu::BufferUsages::empty(),
+            ),
             filter,
             disk,
             frame_buffer: readback::uniform_buffer(ctx, "env shadowmaps frame", &frame),
             params_buffer: readback::uniform_buffer(ctx, "env shadowmaps params", &params),
-            samples_buffer: readback::storage_buffer(ctx, "env shadowmaps samples", &samples, wgpu::BufferUsages::empty()),
-            lights_buffer: readback::storage_buffer(ctx, "env shadowmaps lights", &lights, wgpu::BufferUsages::empty()),
+            samples_buffer: readback::storage_buffer(
+                ctx,
+                "env shadowmaps samples",
+                &samples,
+                wgpu::BufferUsages::empty(),
+            ),
+            lights_buffer: readback::storage_buffer(
+                ctx,
+                "env shadowmaps lights",
+                &lights,
+                wgpu::BufferUsages::empty(),
+            ),
             ssao: self.ssao.map(|a| SsaoStage::new(fg, a)).transpose()?,
             array,
             frame,
@@ -238,12 +292,32 @@ impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
     }
-    fn run(&mut self, fg: &FrameGpu, timer: &mut StageTimer, pictures: bool) -> Result<MethodOutput> {
+    fn run(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        pictures: bool,
+    ) -> Result<MethodOutput> {
         let ctx = fg.ctx;
         let k = self.samples.len() as u32;
-        let jobs: Vec<RasterJob> = (0..k).map(|i| RasterJob { sample: i, layer: i, scissor: None }).collect();
+        let jobs: Vec<RasterJob> = (0..k)
+            .map(|i| RasterJob {
+                sample: i,
+                layer: i,
+                scissor: None,
+            })
+            .collect();
         timer.stage(ctx, fg.raster.stage(), |enc| {
-            fg.raster.record(ctx, enc, &RasterTarget { scene: &fg.scene_gpu, samples: &self.samples_buffer, array: &self.array }, &jobs)?;
+            fg.raster.record(
+                ctx,
+                enc,
+                &RasterTarget {
+                    scene: &fg.scene_gpu,
+                    samples: &self.samples_buffer,
+                    array: &self.array,
+                },
+                &jobs,
+            )?;
             Ok(())
         })?;
         if let Some(s) = &self.ssao {
@@ -258,16 +332,24 @@ impl MethodState for State {
                 maps: &self.array.array_view,
                 lights: &self.lights_buffer,
                 ao,
-                filter: FilterBuffers { settings: &self.filter_buffer, disk: &self.disk_buffer },
+                filter: FilterBuffers {
+                    settings: &self.filter_buffer,
+                    disk: &self.disk_buffer,
+                },
             };
-            self.pass.record(ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
+            self.pass
+                .record(ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
             Ok(())
         })?;
         Ok(MethodOutput {
             shadow_maps: k,
             syncs: 0,
             record: serde_json::json!({ "samples": k, "lights": k, "filter": KERNELS[self.filter.kind as usize], "pcf_taps": self.filter.taps.pow(if self.filter.kind <= 1 { 2 } else { 1 }), "ssao": self.ssao.is_some() }),
-            pictures: if pictures { vec![("panorama_lights.png".into(), self.picture.clone())] } else { Vec::new() },
+            pictures: if pictures {
+                vec![("panorama_lights.png".into(), self.picture.clone())]
+            } else {
+                Vec::new()
+            },
             bound: None,
         })
     }
@@ -282,7 +364,16 @@ impl MethodState for State {
             Some(s) => readback::read_buffer(ctx, &s.ao, fg.pixel_count() as u64 * 4)?,
             None => Vec::new(),
         };
-        let c = EnvShadowmapsBuffers { frame: self.frame, params: self.params, filter: self.filter, disk: self.disk.clone(), samples: self.samples.clone(), lights: self.lights.clone(), maps, ao };
+        let c = EnvShadowmapsBuffers {
+            frame: self.frame,
+            params: self.params,
+            filter: self.filter,
+            disk: self.disk.clone(),
+            samples: self.samples.clone(),
+            lights: self.lights.clone(),
+            maps,
+            ao,
+        };
         Ok(Some(Box::new(c)))
     }
 }

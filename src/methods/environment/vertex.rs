@@ -2,13 +2,13 @@
 //! pixel lights at every mesh vertex, the barycentrics raster finds each pixel's triangle and
 //! barycentrics, and env_vertex_interp interpolates the three vertex values (docs/environment.md §2).
 
+use crate::gpu::readback;
+use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
+use crate::render::barycentrics::{self, BarycentricsPass, TriangleIds};
 use crate::stages::env_trace::{BvhBuffers, EnvTraceVertex, VertexMesh, VertexOutputs};
 use crate::stages::env_vertex_interp::{EnvVertexInterp, InterpInputs};
 use crate::stages::FrameGpu;
-use crate::gpu::readback;
-use crate::render::barycentrics::{self, BarycentricsPass, TriangleIds};
-use crate::gpu::timing::StageTimer;
 use crate::Result;
 
 pub struct VertexStage {
@@ -42,7 +42,10 @@ impl VertexStage {
         Ok(VertexStage {
             raster: BarycentricsPass::new(ctx)?,
             ids: BarycentricsPass::allocate(ctx, fg.gbuffer.width, fg.gbuffer.height),
-            camera: barycentrics::camera_buffer(ctx, &crate::render::gbuffer::camera_uniform(fg.scene)),
+            camera: barycentrics::camera_buffer(
+                ctx,
+                &crate::render::gbuffer::camera_uniform(fg.scene),
+            ),
             trace: EnvTraceVertex::new(ctx)?,
             interp: EnvVertexInterp::new(ctx)?,
             vertex_count,
@@ -54,13 +57,30 @@ impl VertexStage {
 
     /// barycentrics, then env_trace at the vertices (one dispatch per chunk of lights, `chunks`
     /// holding `vertex_count`), then env_vertex_interp into V.
-    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer, chunks: &[wgpu::Buffer], lights: &wgpu::Buffer, bvh: &BvhBuffers, ao: &wgpu::Buffer) -> Result<()> {
+    pub fn run(
+        &self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        chunks: &[wgpu::Buffer],
+        lights: &wgpu::Buffer,
+        bvh: &BvhBuffers,
+        ao: &wgpu::Buffer,
+    ) -> Result<()> {
         timer.stage(fg.ctx, Stage::BARYCENTRICS, |enc| {
-            self.raster.record(fg.ctx, enc, &fg.scene_gpu, &self.camera, &self.ids);
+            self.raster
+                .record(fg.ctx, enc, &fg.scene_gpu, &self.camera, &self.ids);
             Ok(())
         })?;
-        let out = VertexOutputs { visibility: &self.visibility, blocked: &self.blocked, sums: &self.sums };
-        let mesh = VertexMesh { vertices: &fg.scene_gpu.vertices, vertex_count: fg.scene.vertices.len() as u32, bvh };
+        let out = VertexOutputs {
+            visibility: &self.visibility,
+            blocked: &self.blocked,
+            sums: &self.sums,
+        };
+        let mesh = VertexMesh {
+            vertices: &fg.scene_gpu.vertices,
+            vertex_count: fg.scene.vertices.len() as u32,
+            bvh,
+        };
         timer.stage(fg.ctx, Stage::ENV_TRACE, |enc| {
             for params in chunks {
                 self.trace.record(fg.ctx, enc, &mesh, params, lights, &out);
@@ -68,8 +88,15 @@ impl VertexStage {
             Ok(())
         })?;
         timer.stage(fg.ctx, Stage::ENV_VERTEX_INTERP, |enc| {
-            let inputs = InterpInputs { scene_indices: &fg.scene_gpu.indices, params: &chunks[0], ids: &self.ids, vertex_visibility: &self.visibility, ao };
-            self.interp.record(fg.ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
+            let inputs = InterpInputs {
+                scene_indices: &fg.scene_gpu.indices,
+                params: &chunks[0],
+                ids: &self.ids,
+                vertex_visibility: &self.visibility,
+                ao,
+            };
+            self.interp
+                .record(fg.ctx, enc, &fg.gbuffer, &inputs, &fg.visibility);
             Ok(())
         })
     }

@@ -23,8 +23,14 @@ pub fn pixel_lights(env: &Environment, width: u32, height: u32) -> Result<Vec<En
         for x in 0..width {
             let power = luminance(p.at(x, y)) * angle * env.intensity;
             if power > 0.0 {
-                let d = env.direction((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
-                out.push(EnvLight { direction: d, power });
+                let d = env.direction(
+                    (x as f32 + 0.5) / width as f32,
+                    (y as f32 + 0.5) / height as f32,
+                );
+                out.push(EnvLight {
+                    direction: d,
+                    power,
+                });
             }
         }
     }
@@ -47,7 +53,10 @@ pub fn median_cut(env: &Environment, k: u32) -> Vec<(EnvLight, [u32; 4])> {
             sat[(y + 1) * (w + 1) + x + 1] = sat[y * (w + 1) + x + 1] + row;
         }
     }
-    let sum = |x0: usize, y0: usize, x1: usize, y1: usize| sat[y1 * (w + 1) + x1] - sat[y0 * (w + 1) + x1] - sat[y1 * (w + 1) + x0] + sat[y0 * (w + 1) + x0];
+    let sum = |x0: usize, y0: usize, x1: usize, y1: usize| {
+        sat[y1 * (w + 1) + x1] - sat[y0 * (w + 1) + x1] - sat[y1 * (w + 1) + x0]
+            + sat[y0 * (w + 1) + x0]
+    };
     let mut regions = vec![[0usize, 0, w, h]];
     let levels = (k.max(1) as f32).log2().floor() as u32;
     for _ in 0..levels {
@@ -58,11 +67,15 @@ pub fn median_cut(env: &Environment, k: u32) -> Vec<(EnvLight, [u32; 4])> {
             let wide = (x1 - x0) as f32 * (std::f32::consts::PI * mid).sin() > (y1 - y0) as f32;
             let total = sum(x0, y0, x1, y1);
             if wide && x1 - x0 > 1 {
-                let cut = (x0 + 1..x1).find(|&c| sum(x0, y0, c, y1) >= 0.5 * total).unwrap_or((x0 + x1) / 2);
+                let cut = (x0 + 1..x1)
+                    .find(|&c| sum(x0, y0, c, y1) >= 0.5 * total)
+                    .unwrap_or((x0 + x1) / 2);
                 next.push([x0, y0, cut, y1]);
                 next.push([cut, y0, x1, y1]);
             } else if y1 - y0 > 1 {
-                let cut = (y0 + 1..y1).find(|&c| sum(x0, y0, x1, c) >= 0.5 * total).unwrap_or((y0 + y1) / 2);
+                let cut = (y0 + 1..y1)
+                    .find(|&c| sum(x0, y0, x1, c) >= 0.5 * total)
+                    .unwrap_or((y0 + y1) / 2);
                 next.push([x0, y0, x1, cut]);
                 next.push([x0, cut, x1, y1]);
             } else {
@@ -81,19 +94,29 @@ pub fn median_cut(env: &Environment, k: u32) -> Vec<(EnvLight, [u32; 4])> {
                 for x in x0..x1 {
                     let e = luminance(p.at(x as u32, y as u32)) as f64 * angle;
                     power += e;
-                    centroid += env.direction((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32) * e as f32;
+                    centroid += env
+                        .direction((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32)
+                        * e as f32;
                 }
             }
             let direction = centroid.normalize_or_zero();
-            (power > 0.0 && direction != Vec3::ZERO)
-                .then_some((EnvLight { direction, power: power as f32 * env.intensity }, [x0 as u32, y0 as u32, x1 as u32, y1 as u32]))
+            (power > 0.0 && direction != Vec3::ZERO).then_some((
+                EnvLight {
+                    direction,
+                    power: power as f32 * env.intensity,
+                },
+                [x0 as u32, y0 as u32, x1 as u32, y1 as u32],
+            ))
         })
         .collect()
 }
 
 /// Σ power · max(0, n·ω) over `lights`: the irradiance they give a point with normal `n`, unoccluded.
 pub fn irradiance(lights: &[EnvLight], n: Vec3) -> f32 {
-    lights.iter().map(|l| l.power * n.dot(l.direction).max(0.0)).sum()
+    lights
+        .iter()
+        .map(|l| l.power * n.dot(l.direction).max(0.0))
+        .sum()
 }
 
 #[cfg(test)]
@@ -103,16 +126,27 @@ mod tests {
 
     #[test]
     fn uniform_environment_gives_pi_l() {
-        let env = Environment::new("uniform", Panorama::uniform(256, 128, [2.0, 2.0, 2.0]), 0.0, 1.0);
+        let env = Environment::new(
+            "uniform",
+            Panorama::uniform(256, 128, [2.0, 2.0, 2.0]),
+            0.0,
+            1.0,
+        );
         let lights = pixel_lights(&env, 256, 128).unwrap();
         for n in [Vec3::Y, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
             let e = irradiance(&lights, n);
-            assert!((e - std::f32::consts::PI * 2.0).abs() < 2e-3 * std::f32::consts::PI * 2.0, "n {n}: {e} vs 2π");
+            assert!(
+                (e - std::f32::consts::PI * 2.0).abs() < 2e-3 * std::f32::consts::PI * 2.0,
+                "n {n}: {e} vs 2π"
+            );
         }
         // Downsampling keeps the power exactly (solid-angle weights).
         let coarse = pixel_lights(&env, 16, 8).unwrap();
         let total: f32 = coarse.iter().map(|l| l.power).sum();
-        assert!((total - 8.0 * std::f32::consts::PI).abs() < 1e-3, "total power {total} vs 8π");
+        assert!(
+            (total - 8.0 * std::f32::consts::PI).abs() < 1e-3,
+            "total power {total} vs 8π"
+        );
     }
 
     #[test]
@@ -125,7 +159,14 @@ mod tests {
         let total: f32 = lights.iter().map(|l| l.0.power).sum();
         assert!((total as f64 - env.panorama.power()).abs() < 1e-3 * env.panorama.power());
         let sun = env.direction(40.5 / 64.0, 8.5 / 32.0);
-        let brightest = lights.iter().max_by(|a, b| a.0.power.total_cmp(&b.0.power)).unwrap();
-        assert!(brightest.0.direction.dot(sun) > 0.99, "brightest light {:?} vs sun {sun}", brightest.0.direction);
+        let brightest = lights
+            .iter()
+            .max_by(|a, b| a.0.power.total_cmp(&b.0.power))
+            .unwrap();
+        assert!(
+            brightest.0.direction.dot(sun) > 0.99,
+            "brightest light {:?} vs sun {sun}",
+            brightest.0.direction
+        );
     }
 }

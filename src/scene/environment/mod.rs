@@ -29,8 +29,18 @@ pub struct Environment {
 }
 
 impl Environment {
-    pub fn new(source: impl Into<String>, panorama: Panorama, rotation_deg: f32, intensity: f32) -> Environment {
-        Environment { source: source.into(), panorama: Arc::new(panorama), rotation_deg, intensity }
+    pub fn new(
+        source: impl Into<String>,
+        panorama: Panorama,
+        rotation_deg: f32,
+        intensity: f32,
+    ) -> Environment {
+        Environment {
+            source: source.into(),
+            panorama: Arc::new(panorama),
+            rotation_deg,
+            intensity,
+        }
     }
     pub fn rotation_rad(&self) -> f32 {
         self.rotation_deg.to_radians()

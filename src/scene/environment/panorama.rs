@@ -38,18 +38,37 @@ pub fn band_solid_angle(v0: f32, v1: f32, width: u32) -> f32 {
 impl Panorama {
     /// A constant panorama (analytic tests).
     pub fn uniform(width: u32, height: u32, rgb: [f32; 3]) -> Panorama {
-        Panorama { width, height, rgb: vec![rgb; (width * height) as usize] }
+        Panorama {
+            width,
+            height,
+            rgb: vec![rgb; (width * height) as usize],
+        }
     }
 
     /// Reads an equirectangular EXR or Radiance HDR file; the width must be twice the height.
     pub fn load(path: &Path, what: &str) -> Result<Panorama> {
-        let bytes = std::fs::read(path).map_err(|e| Error::Io { path: path.display().to_string(), message: format!("{what}: cannot read the panorama: {e}") })?;
-        let format = image::guess_format(&bytes).map_err(|e| Error::Io { path: path.display().to_string(), message: format!("{what}: not an EXR or HDR image: {e}") })?;
-        if !matches!(format, image::ImageFormat::OpenExr | image::ImageFormat::Hdr) {
-            return Err(Error::Io { path: path.display().to_string(), message: format!("{what}: is {format:?}, not an EXR or HDR panorama") });
+        let bytes = std::fs::read(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            message: format!("{what}: cannot read the panorama: {e}"),
+        })?;
+        let format = image::guess_format(&bytes).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            message: format!("{what}: not an EXR or HDR image: {e}"),
+        })?;
+        if !matches!(
+            format,
+            image::ImageFormat::OpenExr | image::ImageFormat::Hdr
+        ) {
+            return Err(Error::Io {
+                path: path.display().to_string(),
+                message: format!("{what}: is {format:?}, not an EXR or HDR panorama"),
+            });
         }
         let img = image::load_from_memory_with_format(&bytes, format)
-            .map_err(|e| Error::Io { path: path.display().to_string(), message: format!("{what}: cannot decode: {e}") })?
+            .map_err(|e| Error::Io {
+                path: path.display().to_string(),
+                message: format!("{what}: cannot decode: {e}"),
+            })?
             .to_rgb32f();
         let (width, height) = img.dimensions();
         if width != 2 * height || height < 2 {
@@ -57,7 +76,15 @@ impl Panorama {
         }
         let mut rgb: Vec<[f32; 3]> = img.pixels().map(|p| p.0).collect();
         if let Some(i) = rgb.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
-            return Err(Error::Io { path: path.display().to_string(), message: format!("{what}: pixel ({}, {}) = {:?} is not finite", i as u32 % width, i as u32 / width, rgb[i]) });
+            return Err(Error::Io {
+                path: path.display().to_string(),
+                message: format!(
+                    "{what}: pixel ({}, {}) = {:?} is not finite",
+                    i as u32 % width,
+                    i as u32 / width,
+                    rgb[i]
+                ),
+            });
         }
         // Lossy EXR compression (DWAB) leaves tiny negative values: radiance is never negative.
         for p in &mut rgb {
@@ -72,7 +99,11 @@ impl Panorama {
 
     /// Solid angle of every pixel of row `y`.
     pub fn pixel_solid_angle(&self, y: u32) -> f32 {
-        band_solid_angle(y as f32 / self.height as f32, (y + 1) as f32 / self.height as f32, self.width)
+        band_solid_angle(
+            y as f32 / self.height as f32,
+            (y + 1) as f32 / self.height as f32,
+            self.width,
+        )
     }
 
     /// Box-downsampled to `width` × `height` (each dividing the source size), every source pixel
@@ -87,7 +118,11 @@ impl Panorama {
         let (fx, fy) = (self.width / width, self.height / height);
         let mut rgb = vec![[0.0f32; 3]; (width * height) as usize];
         for y in 0..height {
-            let target_angle = band_solid_angle(y as f32 / height as f32, (y + 1) as f32 / height as f32, width);
+            let target_angle = band_solid_angle(
+                y as f32 / height as f32,
+                (y + 1) as f32 / height as f32,
+                width,
+            );
             for x in 0..width {
                 let mut sum = [0.0f64; 3];
                 for sy in y * fy..(y + 1) * fy {
@@ -99,7 +134,13 @@ impl Panorama {
                         }
                     }
                 }
-                rgb[(y * width + x) as usize] = sum.map(|s| if target_angle > 0.0 { (s / target_angle as f64) as f32 } else { 0.0 });
+                rgb[(y * width + x) as usize] = sum.map(|s| {
+                    if target_angle > 0.0 {
+                        (s / target_angle as f64) as f32
+                    } else {
+                        0.0
+                    }
+                });
             }
         }
         Ok(Panorama { width, height, rgb })
@@ -110,7 +151,10 @@ impl Panorama {
         (0..self.height)
             .map(|y| {
                 let w = self.pixel_solid_angle(y) as f64;
-                (0..self.width).map(|x| luminance(self.at(x, y)) as f64).sum::<f64>() * w
+                (0..self.width)
+                    .map(|x| luminance(self.at(x, y)) as f64)
+                    .sum::<f64>()
+                    * w
             })
             .sum()
     }

@@ -31,14 +31,27 @@ fn one() -> f32 {
 
 pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Environment> {
     if !def.rotation_deg.is_finite() {
-        return Err(Error::scene(origin, format!("environment.rotation_deg = {}: must be a finite number", def.rotation_deg)));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "environment.rotation_deg = {}: must be a finite number",
+                def.rotation_deg
+            ),
+        ));
     }
     if !(def.intensity.is_finite() && def.intensity > 0.0) {
-        return Err(Error::scene(origin, format!("environment.intensity = {}: must be a positive finite number", def.intensity)));
+        return Err(Error::scene(
+            origin,
+            format!(
+                "environment.intensity = {}: must be a positive finite number",
+                def.intensity
+            ),
+        ));
     }
     let what = format!("environment.panorama = `{}`", def.panorama);
     let path = if def.panorama.starts_with(CACHE_PREFIX) {
-        cache_path(&def.panorama, dirs.cache).map_err(|e| Error::scene(origin, format!("{what}: {e}")))?
+        cache_path(&def.panorama, dirs.cache)
+            .map_err(|e| Error::scene(origin, format!("{what}: {e}")))?
     } else {
         match dirs.scene_dir {
             Some(dir) => dir.join(&def.panorama),
@@ -46,13 +59,24 @@ pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Envir
         }
     };
     if !path.is_file() {
-        return Err(Error::scene(origin, format!("{what}: no such file {}", path.display())));
+        return Err(Error::scene(
+            origin,
+            format!("{what}: no such file {}", path.display()),
+        ));
     }
     let panorama = Panorama::load(&path, &what).map_err(|e| Error::scene(origin, e.to_string()))?;
     if panorama.power() <= 0.0 {
-        return Err(Error::scene(origin, format!("{what}: the panorama is black: nothing would be lit")));
+        return Err(Error::scene(
+            origin,
+            format!("{what}: the panorama is black: nothing would be lit"),
+        ));
     }
-    Ok(Environment::new(def.panorama.clone(), panorama, def.rotation_deg, def.intensity))
+    Ok(Environment::new(
+        def.panorama.clone(),
+        panorama,
+        def.rotation_deg,
+        def.intensity,
+    ))
 }
 
 /// A square light one diagonal above the meshes, facing down: what the area-light methods (and
@@ -60,5 +84,9 @@ pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Envir
 pub fn light_above(min: Vec3, max: Vec3) -> AreaLight {
     let diag = (max - min).length().max(1e-3);
     let mid = (min + max) * 0.5;
-    AreaLight { center: Vec3::new(mid.x, max.y + diag, mid.z), edge_u: Vec3::X * 0.1 * diag, edge_v: Vec3::Z * 0.1 * diag }
+    AreaLight {
+        center: Vec3::new(mid.x, max.y + diag, mid.z),
+        edge_u: Vec3::X * 0.1 * diag,
+        edge_v: Vec3::Z * 0.1 * diag,
+    }
 }

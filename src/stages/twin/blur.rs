@@ -1,7 +1,13 @@
 //! Twin of `kernels/blur.wgsl`: one pass along x (`horizontal`) or y, taps added in index order.
 
 /// One separable pass over `layers` planes of `size`² vec4s; edges clamped.
-pub fn blur(source: &[[f32; 4]], size: u32, layers: u32, radius: u32, horizontal: bool) -> Vec<[f32; 4]> {
+pub fn blur(
+    source: &[[f32; 4]],
+    size: u32,
+    layers: u32,
+    radius: u32,
+    horizontal: bool,
+) -> Vec<[f32; 4]> {
     let (n, r) = (size as i32, radius as i32);
     let plane = (size * size) as usize;
     let mut out = vec![[0.0f32; 4]; plane * layers as usize];
@@ -10,7 +16,11 @@ pub fn blur(source: &[[f32; 4]], size: u32, layers: u32, radius: u32, horizontal
             for x in 0..n {
                 let mut sum = [0.0f32; 4];
                 for k in -r..=r {
-                    let (sx, sy) = if horizontal { ((x + k).clamp(0, n - 1), y) } else { (x, (y + k).clamp(0, n - 1)) };
+                    let (sx, sy) = if horizontal {
+                        ((x + k).clamp(0, n - 1), y)
+                    } else {
+                        (x, (y + k).clamp(0, n - 1))
+                    };
                     let v = source[l * plane + (sy * n + sx) as usize];
                     for c in 0..4 {
                         sum[c] += v[c];

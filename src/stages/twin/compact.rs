@@ -14,10 +14,20 @@ pub struct CompactOut {
 }
 
 /// `counts`: the level's comparison maps (reproject_count `list`); `split_base`: subdivide's.
-pub fn compact(s: &Screen, level: u32, max_level: u32, items: &[(u32, u32)], counts: &[u32], split_base: &[u32], visibility_fixed: &mut [u32]) -> CompactOut {
+pub fn compact(
+    s: &Screen,
+    level: u32,
+    max_level: u32,
+    items: &[(u32, u32)],
+    counts: &[u32],
+    split_base: &[u32],
+    visibility_fixed: &mut [u32],
+) -> CompactOut {
     let wpr = s.words_per_row();
     let words = (s.height * wpr) as usize;
-    let byte = |q: u32, x: u32, y: u32| (counts[q as usize * words + (y * wpr + x / 4) as usize] >> ((x & 3) * 8)) & 0xff;
+    let byte = |q: u32, x: u32, y: u32| {
+        (counts[q as usize * words + (y * wpr + x / 4) as usize] >> ((x & 3) * 8)) & 0xff
+    };
     let mut out = CompactOut::default();
     for &(p, q) in items {
         let (x, y) = (p % s.width, p / s.width);
@@ -36,11 +46,21 @@ pub fn compact(s: &Screen, level: u32, max_level: u32, items: &[(u32, u32)], cou
 
 /// The halo: whether any 3x3 neighbour of (x, y) evaluated quad `q` and found it partly lit (its
 /// count byte is 2..=4, c = 1..3).
-fn beside_penumbra(s: &Screen, byte: &dyn Fn(u32, u32, u32) -> u32, q: u32, x: u32, y: u32) -> bool {
+fn beside_penumbra(
+    s: &Screen,
+    byte: &dyn Fn(u32, u32, u32) -> u32,
+    q: u32,
+    x: u32,
+    y: u32,
+) -> bool {
     (-1..=1).any(|dy: i32| {
         (-1..=1).any(|dx: i32| {
             let (nx, ny) = (x as i32 + dx, y as i32 + dy);
-            nx >= 0 && ny >= 0 && nx < s.width as i32 && ny < s.height as i32 && (2..=4).contains(&byte(q, nx as u32, ny as u32))
+            nx >= 0
+                && ny >= 0
+                && nx < s.width as i32
+                && ny < s.height as i32
+                && (2..=4).contains(&byte(q, nx as u32, ny as u32))
         })
     })
 }

@@ -2,10 +2,10 @@
 //! per-run bounds and normal cones the kernel reads.
 
 use super::shadow::{shadow_compare, ShadowLookup, LOOKUP_COMPARE};
-use crate::stages::adaptive_buffers::{CULL_TILES, CULL_TILE_WORDS};
-use crate::render::shadow_order::runs;
-use crate::stages::cull::CULL_RUN;
 use crate::gpu::structs::{GpuFrame, GpuSample};
+use crate::render::shadow_order::runs;
+use crate::stages::adaptive_buffers::{CULL_TILES, CULL_TILE_WORDS};
+use crate::stages::cull::CULL_RUN;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// Texels of slack around projected bounds, stored-depth slack below their least depth, and the
@@ -26,7 +26,12 @@ struct Bounds {
 
 impl Bounds {
     fn new() -> Self {
-        Self { lo: Vec2::splat(3.0e38), hi: Vec2::splat(-3.0e38), z: 3.0e38, behind: false }
+        Self {
+            lo: Vec2::splat(3.0e38),
+            hi: Vec2::splat(-3.0e38),
+            z: 3.0e38,
+            behind: false,
+        }
     }
 
     fn add(&mut self, frame: &GpuFrame, m: &Mat4, p: Vec3) {
@@ -36,7 +41,10 @@ impl Bounds {
             return;
         }
         let size = frame.map_size as f32;
-        let t = Vec2::new((clip.x / clip.w * 0.5 + 0.5) * size, (0.5 - clip.y / clip.w * 0.5) * size);
+        let t = Vec2::new(
+            (clip.x / clip.w * 0.5 + 0.5) * size,
+            (0.5 - clip.y / clip.w * 0.5) * size,
+        );
         self.lo = self.lo.min(t);
         self.hi = self.hi.max(t);
         self.z = self.z.min(clip.z / clip.w);
@@ -50,7 +58,10 @@ fn reaches(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], b: &Bounds) -> bool {
         return true;
     }
     let last = (frame.map_size - 1) as f32;
-    let (a, c) = ((b.lo - CULL_MARGIN - 0.5).ceil(), (b.hi + CULL_MARGIN - 0.5).floor());
+    let (a, c) = (
+        (b.lo - CULL_MARGIN - 0.5).ceil(),
+        (b.hi + CULL_MARGIN - 0.5).floor(),
+    );
     if c.x < 0.0 || c.y < 0.0 || a.x > last || a.y > last || a.x > c.x || a.y > c.y {
         return false;
     }
@@ -63,7 +74,11 @@ fn reaches(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], b: &Bounds) -> bool {
     for y in y0..=y1 {
         for x in x0..=x1 {
             let limit = tiles[(y * CULL_TILES + x) as usize];
-            let nearest = ShadowLookup { texel: [0, 0], kind: LOOKUP_COMPARE, depth_limit: f32::from_bits(limit) };
+            let nearest = ShadowLookup {
+                texel: [0, 0],
+                kind: LOOKUP_COMPARE,
+                depth_limit: f32::from_bits(limit),
+            };
             if limit != 0 && shadow_compare(s, &nearest, z_lo) == 0 {
                 return true;
             }
@@ -85,23 +100,52 @@ fn faces_away(eye: Vec3, lo: Vec4, hi: Vec4, axis: Vec4) -> bool {
 }
 
 /// `cull_face`: 0 the raster culls no face, 1 back faces, 2 front faces (GpuCull.cull_face).
-fn run_keeps(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], runs: &[[f32; 4]], r: usize, cull_face: u32) -> bool {
-    let (lo, hi, mut axis) = (Vec4::from(runs[r * 3]), Vec4::from(runs[r * 3 + 1]), Vec4::from(runs[r * 3 + 2]));
+fn run_keeps(
+    frame: &GpuFrame,
+    s: &GpuSample,
+    tiles: &[u32],
+    runs: &[[f32; 4]],
+    r: usize,
+    cull_face: u32,
+) -> bool {
+    let (lo, hi, mut axis) = (
+        Vec4::from(runs[r * 3]),
+        Vec4::from(runs[r * 3 + 1]),
+        Vec4::from(runs[r * 3 + 2]),
+    );
     if cull_face == 2 {
         axis = (-axis.truncate()).extend(axis.w);
     }
-    if cull_face != 0 && s.position[3] == 1.0 && faces_away(Vec4::from(s.position).truncate(), lo, hi, axis) {
+    if cull_face != 0
+        && s.position[3] == 1.0
+        && faces_away(Vec4::from(s.position).truncate(), lo, hi, axis)
+    {
         return false;
     }
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
     let mut b = Bounds::new();
     for c in 0..8u32 {
-        b.add(frame, &m, Vec3::new(if c & 1 != 0 { hi.x } else { lo.x }, if c & 2 != 0 { hi.y } else { lo.y }, if c & 4 != 0 { hi.z } else { lo.z }));
+        b.add(
+            frame,
+            &m,
+            Vec3::new(
+                if c & 1 != 0 { hi.x } else { lo.x },
+                if c & 2 != 0 { hi.y } else { lo.y },
+                if c & 4 != 0 { hi.z } else { lo.z },
+            ),
+        );
     }
     reaches(frame, s, tiles, &b)
 }
 
-fn triangle_keeps(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], positions: &[Vec3], indices: &[u32], t: usize) -> bool {
+fn triangle_keeps(
+    frame: &GpuFrame,
+    s: &GpuSample,
+    tiles: &[u32],
+    positions: &[Vec3],
+    indices: &[u32],
+    t: usize,
+) -> bool {
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
     let mut b = Bounds::new();
     for j in 0..3 {
@@ -113,7 +157,15 @@ fn triangle_keeps(frame: &GpuFrame, s: &GpuSample, tiles: &[u32], positions: &[V
 /// For each slot's lattice sample `ks[slot]`, the kept triangles (their places in `indices`, the
 /// shadow raster's order) ascending: the kernel appends them in any order; the set is what must
 /// match. `tiles` holds CULL_TILE_WORDS per lattice sample.
-pub fn cull(frame: &GpuFrame, samples: &[GpuSample], tiles: &[u32], positions: &[Vec3], indices: &[u32], ks: &[u32], cull_face: u32) -> Vec<Vec<u32>> {
+pub fn cull(
+    frame: &GpuFrame,
+    samples: &[GpuSample],
+    tiles: &[u32],
+    positions: &[Vec3],
+    indices: &[u32],
+    ks: &[u32],
+    cull_face: u32,
+) -> Vec<Vec<u32>> {
     let runs = runs(positions, indices);
     let (run, triangles) = (CULL_RUN as usize, indices.len() / 3);
     ks.iter()

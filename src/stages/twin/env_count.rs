@@ -1,12 +1,18 @@
 //! Twin of `kernels/env_count.wgsl`.
 
 use super::env_trace::origin;
-use crate::render::bvh::Bvh;
 use crate::gpu::structs::{GpuEnvCell, GpuEnvParams};
+use crate::render::bvh::Bvh;
 use crate::render::gbuffer::GBufferCpu;
 
 /// Per cell, the pixels whose rays to the cell's corners above their tangent plane disagree.
-pub fn env_count(params: &GpuEnvParams, g: &GBufferCpu, corners: &[[f32; 4]], cells: &[GpuEnvCell], bvh: &Bvh) -> Vec<u32> {
+pub fn env_count(
+    params: &GpuEnvParams,
+    g: &GBufferCpu,
+    corners: &[[f32; 4]],
+    cells: &[GpuEnvCell],
+    bvh: &Bvh,
+) -> Vec<u32> {
     let mut counts = vec![0u32; cells.len()];
     let stride = params.count_stride.max(1);
     for index in 0..g.position.len() {
@@ -14,7 +20,11 @@ pub fn env_count(params: &GpuEnvParams, g: &GBufferCpu, corners: &[[f32; 4]], ce
         if !g.is_geometry(index) || x % stride != 0 || y % stride != 0 {
             continue;
         }
-        let p = [g.position[index][0], g.position[index][1], g.position[index][2]];
+        let p = [
+            g.position[index][0],
+            g.position[index][1],
+            g.position[index][2],
+        ];
         let n = [g.normal[index][0], g.normal[index][1], g.normal[index][2]];
         let o = origin(p, n, params.ray_offset);
         for (k, cell) in cells.iter().enumerate() {

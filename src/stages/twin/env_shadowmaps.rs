@@ -20,7 +20,15 @@ pub struct LightMaps<'a> {
 }
 
 /// V per pixel from the K maps (`maps[k]` is sample k's map, row-major).
-pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, light_maps: LightMaps, lights: &[GpuEnvLight], ao: &[f32], g: &GBufferCpu) -> Vec<f32> {
+pub fn env_shadowmaps(
+    frame: &GpuFrame,
+    params: &GpuEnvParams,
+    filter: Filter,
+    light_maps: LightMaps,
+    lights: &[GpuEnvLight],
+    ao: &[f32],
+    g: &GBufferCpu,
+) -> Vec<f32> {
     let LightMaps { samples, maps } = light_maps;
     let width = g.width as usize;
     (0..g.position.len())
@@ -32,7 +40,9 @@ pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, l
             let (mut num, mut den) = (0.0f32, 0.0f32);
             for k in 0..params.light_count as usize {
                 let s = &samples[k];
-                let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+                let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else {
+                    return 0.0;
+                };
                 let l = lights[k].direction;
                 let c = n.dot(Vec3::new(l[0], l[1], l[2]));
                 if c <= 0.0 {
@@ -48,11 +58,27 @@ pub fn env_shadowmaps(frame: &GpuFrame, params: &GpuEnvParams, filter: Filter, l
                     continue;
                 }
                 let pixel = ((index % width) as u32, (index / width) as u32);
-                let (lit, taps) = pcf_taps(frame, filter.settings, s, &maps[k], filter.disk, TapCentre { t, limit: lookup.depth_limit, slope }, pixel);
+                let (lit, taps) = pcf_taps(
+                    frame,
+                    filter.settings,
+                    s,
+                    &maps[k],
+                    filter.disk,
+                    TapCentre {
+                        t,
+                        limit: lookup.depth_limit,
+                        slope,
+                    },
+                    pixel,
+                );
                 num += w * lit / taps;
             }
             let v = if den > 0.0 { num / den } else { 0.0 };
-            if params.use_ao != 0 { v * ao[index] } else { v }
+            if params.use_ao != 0 {
+                v * ao[index]
+            } else {
+                v
+            }
         })
         .collect()
 }

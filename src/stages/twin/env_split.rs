@@ -27,16 +27,28 @@ pub fn splits(params: &GpuEnvParams, cell: &GpuEnvCell, count: u32, cell_power: 
     let total = p[0] + p[1] + p[2] + p[3];
     let lo = p[0].min(p[1]).min(p[2].min(p[3]));
     let hi = p[0].max(p[1]).max(p[2].max(p[3]));
-    total >= params.min_share * params.total_power && total > 0.0 && (count > params.p_m || hi > params.contrast * lo)
+    total >= params.min_share * params.total_power
+        && total > 0.0
+        && (count > params.p_m || hi > params.contrast * lo)
 }
 
-pub fn env_split(params: &GpuEnvParams, cells: &[GpuEnvCell], counts: &[u32], cell_power: &[f32]) -> (Vec<GpuEnvCell>, Vec<GpuEnvCell>) {
+pub fn env_split(
+    params: &GpuEnvParams,
+    cells: &[GpuEnvCell],
+    counts: &[u32],
+    cell_power: &[f32],
+) -> (Vec<GpuEnvCell>, Vec<GpuEnvCell>) {
     let (mut next, mut leaves) = (Vec::new(), Vec::new());
     for (k, cell) in cells.iter().enumerate() {
         if splits(params, cell, counts[k], cell_power) {
             let half = cell.size / 2;
             for c in 0..4u32 {
-                next.push(GpuEnvCell { i: cell.i + (c & 1) * half, j: cell.j + (c >> 1) * half, size: half, level: cell.level + 1 });
+                next.push(GpuEnvCell {
+                    i: cell.i + (c & 1) * half,
+                    j: cell.j + (c >> 1) * half,
+                    size: half,
+                    level: cell.level + 1,
+                });
             }
         } else {
             leaves.push(*cell);

@@ -4,7 +4,13 @@ use crate::gpu::structs::GpuEnvParams;
 
 /// V per pixel from V per vertex: `ids` as the barycentrics pass writes them (triangle + 1, b1
 /// bits, b2 bits), `indices` the scene's index buffer. Background pixels are 0.
-pub fn env_vertex_interp(params: &GpuEnvParams, ids: &[[u32; 4]], indices: &[u32], vertex_visibility: &[f32], ao: &[f32]) -> Vec<f32> {
+pub fn env_vertex_interp(
+    params: &GpuEnvParams,
+    ids: &[[u32; 4]],
+    indices: &[u32],
+    vertex_visibility: &[f32],
+    ao: &[f32],
+) -> Vec<f32> {
     ids.iter()
         .enumerate()
         .map(|(index, id)| {
@@ -16,7 +22,11 @@ pub fn env_vertex_interp(params: &GpuEnvParams, ids: &[[u32; 4]], indices: &[u32
             let b0 = 1.0 - b1 - b2;
             let [v0, v1, v2] = [0, 1, 2].map(|k| vertex_visibility[indices[t + k] as usize]);
             let v = b0 * v0 + b1 * v1 + b2 * v2;
-            if params.use_ao != 0 { v * ao[index] } else { v }
+            if params.use_ao != 0 {
+                v * ao[index]
+            } else {
+                v
+            }
         })
         .collect()
 }

@@ -1,7 +1,9 @@
 //! Twin of `kernels/estimate.wgsl`: per pixel, the sums the error estimate is made of
 //! (docs/error-estimate.md).
 
-use super::shadow::{lit, shadow_lookup, shadow_lookup_uv, slope_per_texel, tap_lit, LOOKUP_COMPARE};
+use super::shadow::{
+    lit, shadow_lookup, shadow_lookup_uv, slope_per_texel, tap_lit, LOOKUP_COMPARE,
+};
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
 use glam::{Vec2, Vec3, Vec4};
@@ -27,7 +29,11 @@ pub fn bilinear(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, p: Vec
 pub fn tests(frame: &GpuFrame, s: &GpuSample, map: &[f32], p: Vec3, n: Vec3) -> (f32, f32, f32) {
     let v = lit(frame, s, map, p, n) as f32;
     let lookup = shadow_lookup(frame, s, p, n);
-    let f = if lookup.kind == LOOKUP_COMPARE { bilinear(frame, s, map, lookup.depth_limit, p, n) } else { v };
+    let f = if lookup.kind == LOOKUP_COMPARE {
+        bilinear(frame, s, map, lookup.depth_limit, p, n)
+    } else {
+        v
+    };
     let doubled = GpuFrame {
         bias_constant: frame.bias_constant * 2.0,
         bias_slope: frame.bias_slope * 2.0,
@@ -51,8 +57,19 @@ pub struct SampleSet<'a> {
 /// `sums[p] += Σ_{i in range}` (split[i].x · v_i, split[i].y · v_i,
 /// weights[i] · q_i, weights[i] · b_i, split[i].x · q_i, split[i].y · q_i, split[i].x · b_i,
 /// split[i].y · b_i), q_i = v_i − f_i and b_i = v₂_i − v_i, sample by sample.
-pub fn estimate(frame: &GpuFrame, set: &SampleSet, g: &GBufferCpu, range: std::ops::Range<usize>, sums: &mut [crate::stages::estimate::Sums]) {
-    let SampleSet { samples, weights, split, maps } = *set;
+pub fn estimate(
+    frame: &GpuFrame,
+    set: &SampleSet,
+    g: &GBufferCpu,
+    range: std::ops::Range<usize>,
+    sums: &mut [crate::stages::estimate::Sums],
+) {
+    let SampleSet {
+        samples,
+        weights,
+        split,
+        maps,
+    } = *set;
     for (index, acc) in sums.iter_mut().enumerate() {
         if !g.is_geometry(index) {
             continue;
@@ -63,7 +80,16 @@ pub fn estimate(frame: &GpuFrame, set: &SampleSet, g: &GBufferCpu, range: std::o
         for i in range.clone() {
             let (v, f, v2) = tests(frame, &samples[i], &maps[i], p, n);
             let (q, b, [sx, sy]) = (v - f, v2 - v, split[i]);
-            a = [a[0] + sx * v, a[1] + sy * v, a[2] + weights[i] * q, a[3] + weights[i] * b, a[4] + sx * q, a[5] + sy * q, a[6] + sx * b, a[7] + sy * b];
+            a = [
+                a[0] + sx * v,
+                a[1] + sy * v,
+                a[2] + weights[i] * q,
+                a[3] + weights[i] * b,
+                a[4] + sx * q,
+                a[5] + sy * q,
+                a[6] + sx * b,
+                a[7] + sy * b,
+            ];
         }
         *acc = a;
     }

@@ -13,9 +13,17 @@ pub fn footprint(frame: &GpuFrame, samples: &[GpuSample], g: &GBufferCpu) -> Vec
     let mut tiles = vec![0u32; samples.len() * words];
     for (z, s) in samples.iter().enumerate() {
         for i in (0..g.position.len()).filter(|&i| g.is_geometry(i)) {
-            let lookup = shadow_lookup(frame, s, Vec4::from(g.position[i]).truncate(), Vec4::from(g.normal[i]).truncate());
+            let lookup = shadow_lookup(
+                frame,
+                s,
+                Vec4::from(g.position[i]).truncate(),
+                Vec4::from(g.normal[i]).truncate(),
+            );
             if lookup.kind == LOOKUP_COMPARE && lookup.depth_limit > 0.0 {
-                let t = [lookup.texel[0] as u32 * CULL_TILES / frame.map_size, lookup.texel[1] as u32 * CULL_TILES / frame.map_size];
+                let t = [
+                    lookup.texel[0] as u32 * CULL_TILES / frame.map_size,
+                    lookup.texel[1] as u32 * CULL_TILES / frame.map_size,
+                ];
                 let word = &mut tiles[z * words + (t[1] * CULL_TILES + t[0]) as usize];
                 *word = (*word).max(lookup.depth_limit.to_bits());
             }

@@ -23,7 +23,11 @@ fn fine_block(depth: &[f32], base: u32, x: u32, y: u32, eps: f32) -> Block {
     let at = |x: u32, y: u32| depth[(y * base + x) as usize];
     let d = [at(x, y), at(x + 1, y), at(x, y + 1), at(x + 1, y + 1)];
     let mean = block_mean(d[0], d[1], d[2], d[3]);
-    Block { d, mean, flat: block_flat(d, mean, eps) }
+    Block {
+        d,
+        mean,
+        flat: block_flat(d, mean, eps),
+    }
 }
 
 struct Coarse {
@@ -36,13 +40,24 @@ struct Coarse {
 fn coarse_texel(depth: &[f32], base: u32, levels: u32, cx: u32, cy: u32, eps: f32) -> Coarse {
     if levels == 1 {
         let b = fine_block(depth, base, cx * 2, cy * 2, eps);
-        return Coarse { child: [b; 4], mean: b.mean, flat: b.flat, words: if b.flat { 0 } else { 4 } };
+        return Coarse {
+            child: [b; 4],
+            mean: b.mean,
+            flat: b.flat,
+            words: if b.flat { 0 } else { 4 },
+        };
     }
     let mut child = [Block::default(); 4];
     let mut all_flat = true;
     let mut open = 0;
     for q in 0..4u32 {
-        let b = fine_block(depth, base, cx * 4 + (q & 1) * 2, cy * 4 + (q >> 1) * 2, eps);
+        let b = fine_block(
+            depth,
+            base,
+            cx * 4 + (q & 1) * 2,
+            cy * 4 + (q >> 1) * 2,
+            eps,
+        );
         child[q as usize] = b;
         all_flat &= b.flat;
         open += (!b.flat) as u32;
@@ -50,7 +65,12 @@ fn coarse_texel(depth: &[f32], base: u32, levels: u32, cx: u32, cy: u32, eps: f3
     let m = [child[0].mean, child[1].mean, child[2].mean, child[3].mean];
     let mean = block_mean(m[0], m[1], m[2], m[3]);
     let flat = all_flat && block_flat(m, mean, eps);
-    Coarse { child, mean, flat, words: if flat { 0 } else { 4 + 4 * open } }
+    Coarse {
+        child,
+        mean,
+        flat,
+        words: if flat { 0 } else { 4 + 4 * open },
+    }
 }
 
 /// The words of one map as `hybrid_build` writes them at pool address `map_base`: the coarse grid,
@@ -58,7 +78,9 @@ fn coarse_texel(depth: &[f32], base: u32, levels: u32, cx: u32, cy: u32, eps: f3
 /// depth units (the setting / 65535).
 pub fn build(depth: &[f32], base: u32, levels: u32, eps: f32, map_base: u32) -> Vec<u32> {
     let coarse = base >> levels;
-    let cells: Vec<Coarse> = (0..coarse * coarse).map(|i| coarse_texel(depth, base, levels, i % coarse, i / coarse, eps)).collect();
+    let cells: Vec<Coarse> = (0..coarse * coarse)
+        .map(|i| coarse_texel(depth, base, levels, i % coarse, i / coarse, eps))
+        .collect();
     // classify + scan_rows + scan_total: exclusive offsets in row-major order.
     let mut offsets = Vec::with_capacity(cells.len());
     let mut sum = 0u32;
@@ -116,12 +138,16 @@ pub fn lookup(pool: &[u32], slot: u32, map_size: u32, levels: u32, x: u32, y: u3
 
 /// The full-resolution map the lookup sees (row-major): what the plain-map twins take.
 pub fn decode(pool: &[u32], slot: u32, map_size: u32, levels: u32) -> Vec<f32> {
-    (0..map_size * map_size).map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).0).collect()
+    (0..map_size * map_size)
+        .map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).0)
+        .collect()
 }
 
 /// Per full texel, the level its depth is stored at (see [`lookup`]).
 pub fn stored_levels(pool: &[u32], slot: u32, map_size: u32, levels: u32) -> Vec<u32> {
-    (0..map_size * map_size).map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).1).collect()
+    (0..map_size * map_size)
+        .map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).1)
+        .collect()
 }
 
 /// A pool holding one map in slot 0, laid out as the GPU lays out a freshly reset store.

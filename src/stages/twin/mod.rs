@@ -41,6 +41,12 @@ pub fn quad_corner(q: &crate::gpu::structs::GpuQuad, c: u32) -> u32 {
 /// Lattice index of new point n (0..4) of the parent quad whose first child is q, as `probe_point` in WGSL.
 pub fn probe_point(q: &crate::gpu::structs::GpuQuad, n: u32) -> u32 {
     let h = q.size;
-    let (i, j) = [(q.i + h, q.j), (q.i, q.j + h), (q.i + h, q.j + h), (q.i + 2 * h, q.j + h), (q.i + h, q.j + 2 * h)][n as usize];
+    let (i, j) = [
+        (q.i + h, q.j),
+        (q.i, q.j + h),
+        (q.i + h, q.j + h),
+        (q.i + 2 * h, q.j + h),
+        (q.i + h, q.j + 2 * h),
+    ][n as usize];
     j * 17 + i
 }

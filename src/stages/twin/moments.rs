@@ -10,7 +10,11 @@ pub const FILTERED_CSM: u32 = 4;
 
 /// Linear depth of stored depth `d`: a / (d + b), or a·d + b on an orthographic map.
 pub fn linear_depth(s: &GpuSample, d: f32) -> f32 {
-    if s.orthographic != 0 { s.depth_lin_a * d + s.depth_lin_b } else { s.depth_lin_a / (d + s.depth_lin_b) }
+    if s.orthographic != 0 {
+        s.depth_lin_a * d + s.depth_lin_b
+    } else {
+        s.depth_lin_a / (d + s.depth_lin_b)
+    }
 }
 
 /// Linear depth normalised to the frustum (or the orthographic box): (d_lin - near) / (far - near),
@@ -28,7 +32,9 @@ pub fn msm_encode(z: f32) -> [f32; 4] {
     let z2 = z * z;
     let b = [z, z2, z2 * z, z2 * z2];
     let q = [
-        -2.07224649 * b[0] + 32.23703778 * b[1] - 68.571074599 * b[2] + 39.3703274134 * b[3] + 0.035955884801,
+        -2.07224649 * b[0] + 32.23703778 * b[1] - 68.571074599 * b[2]
+            + 39.3703274134 * b[3]
+            + 0.035955884801,
         13.7948857237 * b[0] - 59.4683975703 * b[1] + 82.0359750338 * b[2] - 35.364903257 * b[3],
         0.105877704 * b[0] - 1.9077466311 * b[1] + 9.3496555107 * b[2] - 6.6543490743 * b[3],
         9.7924062118 * b[0] - 33.7652110555 * b[1] + 47.9456096605 * b[2] - 23.9728048165 * b[3],

@@ -27,7 +27,11 @@ fn bilinear_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], reference: f32, t:
     let test = |dx: i32, dy: i32| {
         let cx = (i.x as i32 + dx).clamp(0, size - 1);
         let cy = (i.y as i32 + dy).clamp(0, size - 1);
-        if reference <= map[(cy * size + cx) as usize] { 1.0 } else { 0.0 }
+        if reference <= map[(cy * size + cx) as usize] {
+            1.0
+        } else {
+            0.0
+        }
     };
     let _ = s;
     let top = test(0, 0) * (1.0 - f.x) + test(1, 0) * f.x;
@@ -46,7 +50,15 @@ pub struct TapCentre {
 
 /// Lit taps and tap count of `filter`'s pattern around map position `at.t` (pixel (x, y) seeds the
 /// stratified and rotated patterns), as `shared/pcf_taps.wgsl` `pcf_taps` sums them.
-pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], at: TapCentre, (x, y): (u32, u32)) -> (f32, f32) {
+pub fn pcf_taps(
+    frame: &GpuFrame,
+    filter: &GpuFilter,
+    s: &GpuSample,
+    map: &[f32],
+    disk: &[[f32; 2]],
+    at: TapCentre,
+    (x, y): (u32, u32),
+) -> (f32, f32) {
     let TapCentre { t, limit, slope } = at;
     let mut lit = 0.0f32;
     let count = if filter.kind == PCF_BOX || filter.kind == PCF_BILINEAR {
@@ -54,12 +66,19 @@ pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32]
         let size = frame.map_size as f32;
         for j in 0..n {
             for i in 0..n {
-                let o = Vec2::new(grid_offset(i, n, filter.radius), grid_offset(j, n, filter.radius));
+                let o = Vec2::new(
+                    grid_offset(i, n, filter.radius),
+                    grid_offset(j, n, filter.radius),
+                );
                 let tap_limit = limit - o.length() * slope;
                 lit += if filter.kind == PCF_BOX {
                     tap_lit(frame, s, map, tap_limit, t + o)
                 } else {
-                    let reference = if s.orthographic != 0 { (tap_limit - s.depth_lin_b) / s.depth_lin_a } else { s.depth_lin_a / tap_limit - s.depth_lin_b };
+                    let reference = if s.orthographic != 0 {
+                        (tap_limit - s.depth_lin_b) / s.depth_lin_a
+                    } else {
+                        s.depth_lin_a / tap_limit - s.depth_lin_b
+                    };
                     bilinear_lit(frame, s, map, reference, (t + o) / size * size)
                 };
             }
@@ -89,16 +108,41 @@ pub fn pcf_taps(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32]
 }
 
 /// V for every pixel (background 0), as `pcf.wgsl` `main` writes it.
-pub fn pcf(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, map: &[f32], disk: &[[f32; 2]], g: &GBufferCpu) -> Vec<f32> {
+pub fn pcf(
+    frame: &GpuFrame,
+    filter: &GpuFilter,
+    s: &GpuSample,
+    map: &[f32],
+    disk: &[[f32; 2]],
+    g: &GBufferCpu,
+) -> Vec<f32> {
     let w = g.width as usize;
     (0..g.position.len())
         .map(|index| {
-            let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+            let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else {
+                return 0.0;
+            };
             if lookup.kind != LOOKUP_COMPARE {
-                return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
+                return if lookup.kind == LOOKUP_OUTSIDE {
+                    1.0
+                } else {
+                    0.0
+                };
             }
             let pixel = ((index % w) as u32, (index / w) as u32);
-            let (lit, count) = pcf_taps(frame, filter, s, map, disk, TapCentre { t, limit: lookup.depth_limit, slope }, pixel);
+            let (lit, count) = pcf_taps(
+                frame,
+                filter,
+                s,
+                map,
+                disk,
+                TapCentre {
+                    t,
+                    limit: lookup.depth_limit,
+                    slope,
+                },
+                pixel,
+            );
             if filter.darkening > 0.0 {
                 (1.0 - filter.darkening * (count - lit)).clamp(0.0, 1.0)
             } else {

@@ -12,7 +12,15 @@ pub const PROBE_LIT: u32 = 0x8000_0000;
 
 /// `probes`: (pixel, first child in `quads`, lit). Appends the expanded items to `items` in probe
 /// order (the GPU appends them in any order) and adds the lit shares to `visibility_fixed`.
-pub fn probe(probes: &[(u32, u32, bool)], quads: &[GpuQuad], masks: &[u32], level: u32, max_level: u32, items: &mut Vec<(u32, u32)>, visibility_fixed: &mut [u32]) {
+pub fn probe(
+    probes: &[(u32, u32, bool)],
+    quads: &[GpuQuad],
+    masks: &[u32],
+    level: u32,
+    max_level: u32,
+    items: &mut Vec<(u32, u32)>,
+    visibility_fixed: &mut [u32],
+) {
     let bit = |p: u32, k: u32| (masks[(p * MASK_WORDS + k / 32) as usize] >> (k % 32)) & 1 == 1;
     for &(p, base, lit) in probes {
         let q = quads[base as usize];

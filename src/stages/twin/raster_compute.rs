@@ -45,7 +45,10 @@ pub fn snap(s: &GpuSample, map_size: u32, p: [f32; 3]) -> Option<([i32; 2], f32)
     if !(f[0].abs() <= RASTER_COORD_LIMIT && f[1].abs() <= RASTER_COORD_LIMIT) {
         return None;
     }
-    Some(([f[0].round_ties_even() as i32, f[1].round_ties_even() as i32], c[2] * rw))
+    Some((
+        [f[0].round_ties_even() as i32, f[1].round_ties_even() as i32],
+        c[2] * rw,
+    ))
 }
 
 /// The nearest f32 as the kernel's `wide_f32` computes it: the high word, scaled, plus the low word.
@@ -62,22 +65,46 @@ pub fn whole(map_size: u32) -> [i32; 4] {
 /// `rect`: the job's texel rectangle [first_x, first_y, last_x, last_y] (inclusive).
 /// `cull_face` 0: no face skipped; 1: back faces; 2: front faces (`stages::cull::cull_face`).
 pub fn setup_snapped(v: [[i32; 2]; 3], z: [f32; 3], rect: [i32; 4], cull_face: u32) -> Option<Tri> {
-    let lo: [i32; 2] = std::array::from_fn(|k| ((v[0][k].min(v[1][k]).min(v[2][k]) + 127) >> RASTER_SUBTEXEL_BITS).max(rect[k]));
-    let hi: [i32; 2] = std::array::from_fn(|k| ((v[0][k].max(v[1][k]).max(v[2][k]) - 128) >> RASTER_SUBTEXEL_BITS).min(rect[2 + k]));
+    let lo: [i32; 2] = std::array::from_fn(|k| {
+        ((v[0][k].min(v[1][k]).min(v[2][k]) + 127) >> RASTER_SUBTEXEL_BITS).max(rect[k])
+    });
+    let hi: [i32; 2] = std::array::from_fn(|k| {
+        ((v[0][k].max(v[1][k]).max(v[2][k]) - 128) >> RASTER_SUBTEXEL_BITS).min(rect[2 + k])
+    });
     if lo[0] > hi[0] || lo[1] > hi[1] {
         return None;
     }
-    let area = (v[1][0] - v[0][0]) as i64 * (v[2][1] - v[0][1]) as i64 - (v[1][1] - v[0][1]) as i64 * (v[2][0] - v[0][0]) as i64;
+    let area = (v[1][0] - v[0][0]) as i64 * (v[2][1] - v[0][1]) as i64
+        - (v[1][1] - v[0][1]) as i64 * (v[2][0] - v[0][0]) as i64;
     let front = area < 0;
     if area == 0 || (cull_face == 1 && !front) || (cull_face == 2 && front) {
         return None;
     }
-    let (v, z) = if front { ([v[0], v[2], v[1]], [z[0], z[2], z[1]]) } else { (v, z) };
-    Some(Tri { v, z, lo, hi, inv_area: 1.0 / wide_f32(area.abs()), front })
+    let (v, z) = if front {
+        ([v[0], v[2], v[1]], [z[0], z[2], z[1]])
+    } else {
+        (v, z)
+    };
+    Some(Tri {
+        v,
+        z,
+        lo,
+        hi,
+        inv_area: 1.0 / wide_f32(area.abs()),
+        front,
+    })
 }
 
 /// Triangle `t` of `indices` over `positions` set up for sample `s` inside `rect`.
-pub fn setup(s: &GpuSample, map_size: u32, rect: [i32; 4], cull_face: u32, positions: &[[f32; 3]], indices: &[u32], t: usize) -> Option<Tri> {
+pub fn setup(
+    s: &GpuSample,
+    map_size: u32,
+    rect: [i32; 4],
+    cull_face: u32,
+    positions: &[[f32; 3]],
+    indices: &[u32],
+    t: usize,
+) -> Option<Tri> {
     let mut v = [[0; 2]; 3];
     let mut z = [0.0; 3];
     for j in 0..3 {
@@ -96,7 +123,11 @@ fn edge(a: [i32; 2], b: [i32; 2], p: [i64; 2]) -> (i64, bool) {
 /// The depth of texel (x, y) when the triangle covers its centre (before the [0, 1) test).
 pub fn texel(tri: &Tri, x: i32, y: i32) -> Option<f32> {
     let p = [x as i64 * 256 + 128, y as i64 * 256 + 128];
-    let [a, b, c] = [edge(tri.v[1], tri.v[2], p), edge(tri.v[2], tri.v[0], p), edge(tri.v[0], tri.v[1], p)];
+    let [a, b, c] = [
+        edge(tri.v[1], tri.v[2], p),
+        edge(tri.v[2], tri.v[0], p),
+        edge(tri.v[0], tri.v[1], p),
+    ];
     let covers = |(e, top_left): (i64, bool)| e > 0 || (e == 0 && top_left);
     if !(covers(a) && covers(b) && covers(c)) {
         return None;
@@ -117,12 +148,25 @@ pub fn for_each_texel(tri: &Tri, mut f: impl FnMut(i32, i32, f32)) {
 }
 
 /// One map's words, as `raster_compute` writes them: row-major, FAR where nothing is nearer.
-pub fn rasterize(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_size: u32, cull: CullMode) -> Vec<u32> {
+pub fn rasterize(
+    positions: &[[f32; 3]],
+    indices: &[u32],
+    s: &GpuSample,
+    map_size: u32,
+    cull: CullMode,
+) -> Vec<u32> {
     rasterize_in(positions, indices, s, map_size, whole(map_size), cull)
 }
 
 /// [`rasterize`] inside a job's rectangle: texels outside keep FAR.
-pub fn rasterize_in(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_size: u32, rect: [i32; 4], cull: CullMode) -> Vec<u32> {
+pub fn rasterize_in(
+    positions: &[[f32; 3]],
+    indices: &[u32],
+    s: &GpuSample,
+    map_size: u32,
+    rect: [i32; 4],
+    cull: CullMode,
+) -> Vec<u32> {
     let n = map_size as usize;
     let mut words = vec![FAR; n * n];
     let cull_face = crate::stages::cull::cull_face(cull);
@@ -140,7 +184,12 @@ pub fn rasterize_in(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_
 }
 
 /// Hits per texel, counting every face (no cull): (front faces, back faces).
-pub fn face_hits(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_size: u32) -> (Vec<u32>, Vec<u32>) {
+pub fn face_hits(
+    positions: &[[f32; 3]],
+    indices: &[u32],
+    s: &GpuSample,
+    map_size: u32,
+) -> (Vec<u32>, Vec<u32>) {
     let n = map_size as usize;
     let (mut front, mut back) = (vec![0; n * n], vec![0; n * n]);
     for t in 0..indices.len() / 3 {
@@ -154,9 +203,18 @@ pub fn face_hits(positions: &[[f32; 3]], indices: &[u32], s: &GpuSample, map_siz
 
 /// `requested`: a chain's jobs (whole maps) for requests `first ..` of a level's list of `count`
 /// (at most `capacity`), and its output words [maps, clear x y z, main x y z, store x y z].
-pub fn requested(count: u32, list: &[u32], first: u32, capacity: u32, map_size: u32, triangles: u32) -> (Vec<crate::gpu::structs::GpuRasterJob>, [u32; 10]) {
+pub fn requested(
+    count: u32,
+    list: &[u32],
+    first: u32,
+    capacity: u32,
+    map_size: u32,
+    triangles: u32,
+) -> (Vec<crate::gpu::structs::GpuRasterJob>, [u32; 10]) {
     let maps = count.saturating_sub(first).min(capacity);
-    let jobs = (first..first + maps).map(|r| crate::gpu::structs::GpuRasterJob::whole(list[r as usize], map_size)).collect();
+    let jobs = (first..first + maps)
+        .map(|r| crate::gpu::structs::GpuRasterJob::whole(list[r as usize], map_size))
+        .collect();
     let rows = |n: u32, y: u32| {
         let x = n.clamp(1, 32768);
         [x, y, n.div_ceil(x)]
@@ -182,13 +240,27 @@ mod tests {
     fn a_fan_with_edges_through_texel_centres_covers_each_texel_once() {
         let c = |x: i32, y: i32| [x * 256 + 128, y * 256 + 128];
         let centre = c(8, 8);
-        let ring = [c(2, 2), c(8, 2), c(14, 2), c(14, 8), c(14, 14), c(8, 14), c(2, 14), c(2, 8)];
+        let ring = [
+            c(2, 2),
+            c(8, 2),
+            c(14, 2),
+            c(14, 8),
+            c(14, 14),
+            c(8, 14),
+            c(2, 14),
+            c(2, 8),
+        ];
         let mut counts = vec![0u32; 32 * 32];
         for k in 0..ring.len() {
             // Alternate the winding: the rule must not depend on the face's orientation.
             let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-            let v = if k % 2 == 0 { [centre, a, b] } else { [centre, b, a] };
-            let tri = setup_snapped(v, [0.5; 3], whole(32), 0).expect("a fan triangle covers texels");
+            let v = if k % 2 == 0 {
+                [centre, a, b]
+            } else {
+                [centre, b, a]
+            };
+            let tri =
+                setup_snapped(v, [0.5; 3], whole(32), 0).expect("a fan triangle covers texels");
             for_each_texel(&tri, |x, y, d| {
                 assert_eq!(d, 0.5, "a flat triangle's plane is flat");
                 counts[y as usize * 32 + x as usize] += 1;

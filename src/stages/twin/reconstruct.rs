@@ -87,13 +87,25 @@ pub fn msm_intensity(b: Vec4, z: f32) -> f32 {
 }
 
 /// V for every pixel (background 0) from the prefiltered planes `m`.
-pub fn reconstruct(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, m: &[[f32; 4]], g: &GBufferCpu) -> Vec<f32> {
+pub fn reconstruct(
+    frame: &GpuFrame,
+    filter: &GpuFilter,
+    s: &GpuSample,
+    m: &[[f32; 4]],
+    g: &GBufferCpu,
+) -> Vec<f32> {
     let size = frame.map_size;
     (0..g.position.len())
         .map(|index| {
-            let Some((lookup, t, _)) = pixel_lookup(frame, s, g, index) else { return 0.0 };
+            let Some((lookup, t, _)) = pixel_lookup(frame, s, g, index) else {
+                return 0.0;
+            };
             if lookup.kind != LOOKUP_COMPARE {
-                return if lookup.kind == LOOKUP_OUTSIDE { 1.0 } else { 0.0 };
+                return if lookup.kind == LOOKUP_OUTSIDE {
+                    1.0
+                } else {
+                    0.0
+                };
             }
             let z = normalised_depth(s, lookup.depth_limit);
             let e = bilinear(m, size, 0, t);
@@ -101,9 +113,15 @@ pub fn reconstruct(frame: &GpuFrame, filter: &GpuFilter, s: &GpuSample, m: &[[f3
                 FILTERED_ESM => {
                     let m = glam::Mat4::from_cols_array_2d(&s.light_from_world);
                     let p = Vec4::from(g.position[index]).truncate();
-                    let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w).dot(Vec4::from((p, 1.0)));
-                    let depth_z = Vec4::new(m.x_axis.z, m.y_axis.z, m.z_axis.z, m.w_axis.z).dot(Vec4::from((p, 1.0)));
-                    let depth = if s.orthographic != 0 { s.depth_lin_a * depth_z + s.depth_lin_b } else { depth };
+                    let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w)
+                        .dot(Vec4::from((p, 1.0)));
+                    let depth_z = Vec4::new(m.x_axis.z, m.y_axis.z, m.z_axis.z, m.w_axis.z)
+                        .dot(Vec4::from((p, 1.0)));
+                    let depth = if s.orthographic != 0 {
+                        s.depth_lin_a * depth_z + s.depth_lin_b
+                    } else {
+                        depth
+                    };
                     (e.x * (-filter.c_pos * normalised_depth(s, depth)).exp()).min(1.0)
                 }
                 FILTERED_VSM => reduce_bleeding(chebyshev(e.x, e.y, z, 1e-6), filter.bleed),

@@ -6,7 +6,10 @@ use super::pcss::{blocker_search, midpoint, SearchArea};
 use super::shadow::{pixel_lookup, tap_lit, LOOKUP_COMPARE};
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
-use crate::stages::regions::{empty_class, empty_region, ordered, unordered, RegionsParams, CLASS_WORDS, REGION_WORDS, SAMPLING_ORDER, WEIGHT_SCALE};
+use crate::stages::regions::{
+    empty_class, empty_region, ordered, unordered, RegionsParams, CLASS_WORDS, REGION_WORDS,
+    SAMPLING_ORDER, WEIGHT_SCALE,
+};
 use glam::{Vec2, Vec4};
 
 /// World distance from pixel `index` to its neighbour `(dx, dy)`, or -1 off screen or on background.
@@ -43,10 +46,18 @@ pub fn footprint(g: &GBufferCpu, index: usize) -> f32 {
 }
 
 /// REGION_WORDS per region, as `measure` leaves them; `s` and `map` are the centre map's.
-pub fn measure(frame: &GpuFrame, p: &RegionsParams, s: &GpuSample, map: &[f32], g: &GBufferCpu) -> Vec<u32> {
+pub fn measure(
+    frame: &GpuFrame,
+    p: &RegionsParams,
+    s: &GpuSample,
+    map: &[f32],
+    g: &GBufferCpu,
+) -> Vec<u32> {
     let mut out: Vec<u32> = (0..p.region_count).flat_map(|_| empty_region()).collect();
     for index in 0..g.position.len() {
-        let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else { continue };
+        let Some((lookup, t, slope)) = pixel_lookup(frame, s, g, index) else {
+            continue;
+        };
         let (x, y) = (index as u32 % g.width, index as u32 / g.width);
         let base = ((y / p.region) * p.regions_x + x / p.region) as usize * REGION_WORDS;
         let words = &mut out[base..base + REGION_WORDS];
@@ -55,14 +66,29 @@ pub fn measure(frame: &GpuFrame, p: &RegionsParams, s: &GpuSample, map: &[f32], 
         if lookup.kind == LOOKUP_COMPARE {
             let z_r = lookup.depth_limit;
             let light = Vec2::new(p.light_u, p.light_v) * 0.5;
-            let area = SearchArea { light, max_radius: p.max_radius, taps: p.blocker_taps };
-            let b = blocker_search(frame, s, map, area, TapCentre { t, limit: z_r, slope });
+            let area = SearchArea {
+                light,
+                max_radius: p.max_radius,
+                taps: p.blocker_taps,
+            };
+            let b = blocker_search(
+                frame,
+                s,
+                map,
+                area,
+                TapCentre {
+                    t,
+                    limit: z_r,
+                    slope,
+                },
+            );
             if f > 0.0 {
                 words[2] = words[2].min(ordered(f / z_r));
             }
             if b.blockers > 0 {
                 let z_b = b.sum / b.blockers as f32;
-                let r = (light * (z_r - z_b) / (z_r * z_b) * (1.0 / s.texel_angle)).min(Vec2::splat(p.max_radius));
+                let r = (light * (z_r - z_b) / (z_r * z_b) * (1.0 / s.texel_angle))
+                    .min(Vec2::splat(p.max_radius));
                 let nb = p.blocker_taps;
                 let mut lit = 0.0f32;
                 for j in 0..nb {
@@ -92,7 +118,8 @@ pub fn total(p: &RegionsParams, regions: &[u32]) -> [u32; 2] {
     let mut t = [0u32; 2];
     for r in regions.chunks(REGION_WORDS).take(p.region_count as usize) {
         if r[1] > 0 {
-            t[0] += (WEIGHT_SCALE * (r[1] as f32).powf(0.4) * (r[0] as f32).powf(0.6)).round() as u32;
+            t[0] +=
+                (WEIGHT_SCALE * (r[1] as f32).powf(0.4) * (r[0] as f32).powf(0.6)).round() as u32;
         }
         t[1] += r[0];
     }
@@ -114,12 +141,20 @@ pub fn samples_of(p: &RegionsParams, totals: [u32; 2], area: u32, penumbra: u32)
 /// The class of a region that needs `n` samples per side: the first ladder entry at or above it.
 pub fn class_of(p: &RegionsParams, n: u32) -> usize {
     let len = p.ladder_len as usize;
-    (0..len).find(|&c| c + 1 >= len || p.ladder[c] >= n).unwrap_or(0)
+    (0..len)
+        .find(|&c| c + 1 >= len || p.ladder[c] >= n)
+        .unwrap_or(0)
 }
 
 /// `classify` on the geometry tiles `tiles`: CLASS_WORDS per class, and each class's tiles (sorted;
 /// the GPU appends them in any order).
-pub fn classify(p: &RegionsParams, width: u32, regions: &[u32], totals: [u32; 2], tiles: &[u32]) -> (Vec<u32>, Vec<Vec<u32>>) {
+pub fn classify(
+    p: &RegionsParams,
+    width: u32,
+    regions: &[u32],
+    totals: [u32; 2],
+    tiles: &[u32],
+) -> (Vec<u32>, Vec<Vec<u32>>) {
     let classes = p.ladder_len as usize;
     let mut words: Vec<u32> = (0..classes).flat_map(|_| empty_class()).collect();
     let mut lists = vec![Vec::new(); classes];
@@ -131,7 +166,11 @@ pub fn classify(p: &RegionsParams, width: u32, regions: &[u32], totals: [u32; 2]
         let n = samples_of(p, totals, r[0], r[1]);
         let c = class_of(p, n);
         lists[c].push(tile);
-        let texel = if r[3] != u32::MAX { r[2].max(ordered(unordered(r[3]) / n as f32)) } else { r[2] };
+        let texel = if r[3] != u32::MAX {
+            r[2].max(ordered(unordered(r[3]) / n as f32))
+        } else {
+            r[2]
+        };
         let w = &mut words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
         w[0] += 1;
         w[1] = w[1].min(texel);

@@ -4,9 +4,9 @@
 
 use super::quad_corner;
 use super::shadow_test::{SUMMARY_ANY_LIT, SUMMARY_ANY_UNLIT, SUMMARY_GEOMETRY, SUMMARY_WORD};
-use crate::stages::adaptive_buffers::{MASK_WORDS, MIXED_WORD};
 use crate::gpu::structs::GpuQuad;
 use crate::render::gbuffer::GBufferCpu;
+use crate::stages::adaptive_buffers::{MASK_WORDS, MIXED_WORD};
 
 pub fn mask_bit(masks: &[u32], pixel: usize, k: u32) -> u32 {
     (masks[pixel * MASK_WORDS as usize + (k / 32) as usize] >> (k % 32)) & 1
@@ -14,7 +14,9 @@ pub fn mask_bit(masks: &[u32], pixel: usize, k: u32) -> u32 {
 
 /// c_q(p) of one quad at one pixel.
 pub fn count(masks: &[u32], pixel: usize, q: &GpuQuad) -> u32 {
-    (0..4).map(|c| mask_bit(masks, pixel, quad_corner(q, c))).sum()
+    (0..4)
+        .map(|c| mask_bit(masks, pixel, quad_corner(q, c)))
+        .sum()
 }
 
 /// Quads × rows × words_per_row packed words, as the kernel writes them.
@@ -60,7 +62,10 @@ pub fn word_state(masks: &[u32], width: u32, height: u32) -> Vec<u32> {
                 if summary & SUMMARY_GEOMETRY == 0 {
                     continue;
                 }
-                let (lit, unlit) = (summary & SUMMARY_ANY_LIT != 0, summary & SUMMARY_ANY_UNLIT != 0);
+                let (lit, unlit) = (
+                    summary & SUMMARY_ANY_LIT != 0,
+                    summary & SUMMARY_ANY_UNLIT != 0,
+                );
                 if lit && unlit {
                     state = MIXED_WORD;
                     break;

@@ -6,7 +6,15 @@ use crate::render::gbuffer::GBufferCpu;
 use glam::Vec4;
 
 /// `visibility[p] += Σ_{i in range} weights[i] · lit_i(p)`; `maps[i]` is sample i's map.
-pub fn shade(frame: &GpuFrame, samples: &[GpuSample], weights: &[f32], maps: &[Vec<f32>], g: &GBufferCpu, range: std::ops::Range<usize>, visibility: &mut [f32]) {
+pub fn shade(
+    frame: &GpuFrame,
+    samples: &[GpuSample],
+    weights: &[f32],
+    maps: &[Vec<f32>],
+    g: &GBufferCpu,
+    range: std::ops::Range<usize>,
+    visibility: &mut [f32],
+) {
     for (index, v) in visibility.iter_mut().enumerate() {
         if !g.is_geometry(index) {
             continue;

@@ -19,12 +19,21 @@ pub struct ShadowLookup {
 }
 
 pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> ShadowLookup {
-    let mut out = ShadowLookup { texel: [0, 0], kind: LOOKUP_UNLIT, depth_limit: 0.0 };
+    let mut out = ShadowLookup {
+        texel: [0, 0],
+        kind: LOOKUP_UNLIT,
+        depth_limit: 0.0,
+    };
     let to_light = toward_light(s, p);
-    let light_side = (p - Vec4::from(frame.light_center).truncate()).dot(Vec4::from(frame.light_normal).truncate());
+    let light_side = (p - Vec4::from(frame.light_center).truncate())
+        .dot(Vec4::from(frame.light_normal).truncate());
     let facing = n.dot(to_light);
-    let other_face = s.cube_face != 0 && cube_face(p - Vec4::from(frame.light_center).truncate()) + 1 != s.cube_face;
-    if (light_side <= 0.0 && frame.flags & FRAME_EVERY_WAY == 0) || (facing <= 0.0 && frame.flags & FRAME_FACING_TEST != 0) || other_face {
+    let other_face = s.cube_face != 0
+        && cube_face(p - Vec4::from(frame.light_center).truncate()) + 1 != s.cube_face;
+    if (light_side <= 0.0 && frame.flags & FRAME_EVERY_WAY == 0)
+        || (facing <= 0.0 && frame.flags & FRAME_FACING_TEST != 0)
+        || other_face
+    {
         return out;
     }
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
@@ -34,16 +43,27 @@ pub fn shadow_lookup(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> Shado
     let clip = m * Vec4::from((q, 1.0));
     let size = frame.map_size as f32;
     let uv = Vec2::new(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5);
-    let t = if s.cube_face != 0 { (uv * size).floor().clamp(Vec2::ZERO, Vec2::splat(size - 1.0)) } else { (uv * size).floor() };
+    let t = if s.cube_face != 0 {
+        (uv * size)
+            .floor()
+            .clamp(Vec2::ZERO, Vec2::splat(size - 1.0))
+    } else {
+        (uv * size).floor()
+    };
     if clip.w <= 0.0 || t.x < 0.0 || t.y < 0.0 || t.x >= size || t.y >= size {
         out.kind = LOOKUP_OUTSIDE;
         return out;
     }
     let cos_angle = facing.abs() / to_light.length();
-    let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
+    let tan_angle =
+        ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
     out.kind = LOOKUP_COMPARE;
     out.texel = [t.x as i32, t.y as i32];
-    let linear = if s.orthographic != 0 { s.depth_lin_a * clip.z + s.depth_lin_b } else { clip.w };
+    let linear = if s.orthographic != 0 {
+        s.depth_lin_a * clip.z + s.depth_lin_b
+    } else {
+        clip.w
+    };
     out.depth_limit = linear - texel_world * (frame.bias_constant + frame.bias_slope * tan_angle);
     out
 }
@@ -54,7 +74,11 @@ pub use crate::scene::emitter::cube_face;
 /// Twin of `face_offset`: which of a point light's six consecutive faces holds `p`, by its
 /// direction from the sphere's centre (0 for any other sample).
 pub fn face_offset(frame: &GpuFrame, s: &GpuSample, p: Vec3) -> usize {
-    if s.cube_face != 0 { cube_face(p - Vec4::from(frame.light_center).truncate()) as usize } else { 0 }
+    if s.cube_face != 0 {
+        cube_face(p - Vec4::from(frame.light_center).truncate()) as usize
+    } else {
+        0
+    }
 }
 
 /// Twin of `toward_light`: to the light point, or the orthographic map's direction.
@@ -103,19 +127,28 @@ pub fn slope_per_texel(frame: &GpuFrame, s: &GpuSample, p: Vec3, n: Vec3) -> f32
     let m = Mat4::from_cols_array_2d(&s.light_from_world);
     let depth = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w).dot(Vec4::from((p, 1.0)));
     let cos_angle = n.dot(to_light).abs() / to_light.length();
-    let tan_angle = ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
+    let tan_angle =
+        ((1.0 - cos_angle * cos_angle).max(0.0).sqrt() / cos_angle.max(1e-6)).min(frame.max_slope);
     depth * s.texel_angle * tan_angle
 }
 
 /// Twin of `tap_lit`: one tap at continuous texel coordinate `t`; outside the map counts as lit.
 pub fn tap_lit(frame: &GpuFrame, s: &GpuSample, map: &[f32], limit: f32, t: Vec2) -> f32 {
     let size = frame.map_size as f32;
-    let texel = if s.cube_face != 0 { t.floor().clamp(Vec2::ZERO, Vec2::splat(size - 1.0)) } else { t.floor() };
+    let texel = if s.cube_face != 0 {
+        t.floor().clamp(Vec2::ZERO, Vec2::splat(size - 1.0))
+    } else {
+        t.floor()
+    };
     if texel.x < 0.0 || texel.y < 0.0 || texel.x >= size || texel.y >= size {
         return 1.0;
     }
     let stored = map[(texel.y as usize) * frame.map_size as usize + texel.x as usize];
-    if depth_passes(s, limit, stored) { 1.0 } else { 0.0 }
+    if depth_passes(s, limit, stored) {
+        1.0
+    } else {
+        0.0
+    }
 }
 
 /// Twin of `pcg_hash`.
@@ -132,18 +165,35 @@ pub fn pixel_random(x: u32, y: u32, i: u32) -> f32 {
 
 /// Where a geometry pixel of `g` lands in the map: None for background, else (lookup, uv, slope
 /// per texel).
-pub fn pixel_lookup(frame: &GpuFrame, s: &GpuSample, g: &crate::render::gbuffer::GBufferCpu, index: usize) -> Option<(ShadowLookup, Vec2, f32)> {
+pub fn pixel_lookup(
+    frame: &GpuFrame,
+    s: &GpuSample,
+    g: &crate::render::gbuffer::GBufferCpu,
+    index: usize,
+) -> Option<(ShadowLookup, Vec2, f32)> {
     if !g.is_geometry(index) {
         return None;
     }
     let p = Vec4::from(g.position[index]).truncate();
     let n = Vec4::from(g.normal[index]).truncate();
-    Some((shadow_lookup(frame, s, p, n), shadow_lookup_uv(frame, s, p, n), slope_per_texel(frame, s, p, n)))
+    Some((
+        shadow_lookup(frame, s, p, n),
+        shadow_lookup_uv(frame, s, p, n),
+        slope_per_texel(frame, s, p, n),
+    ))
 }
 
 /// The one-map kernels (pcf, pcss) on a point light's cube: each pixel takes what `one` computes
 /// on the face that holds it, as the kernels read `samples[face_offset(samples[0], p)]`.
-pub fn by_face(frame: &GpuFrame, faces: &[GpuSample], maps: &[Vec<f32>], g: &crate::render::gbuffer::GBufferCpu, one: impl Fn(&GpuSample, &[f32]) -> Vec<f32>) -> Vec<f32> {
+pub fn by_face(
+    frame: &GpuFrame,
+    faces: &[GpuSample],
+    maps: &[Vec<f32>],
+    g: &crate::render::gbuffer::GBufferCpu,
+    one: impl Fn(&GpuSample, &[f32]) -> Vec<f32>,
+) -> Vec<f32> {
     let per: Vec<Vec<f32>> = faces.iter().zip(maps).map(|(s, m)| one(s, m)).collect();
-    (0..g.position.len()).map(|i| per[face_offset(frame, &faces[0], Vec4::from(g.position[i]).truncate())][i]).collect()
+    (0..g.position.len())
+        .map(|i| per[face_offset(frame, &faces[0], Vec4::from(g.position[i]).truncate())][i])
+        .collect()
 }

@@ -4,10 +4,10 @@
 
 use super::shadow::{face_offset, lit};
 use super::{probe_point, quad_corner};
-use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS};
-use crate::stages::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
 use crate::gpu::structs::{GpuFrame, GpuQuad, GpuSample};
 use crate::render::gbuffer::GBufferCpu;
+use crate::stages::adaptive_buffers::{LATTICE_POINTS, MASK_WORDS};
+use crate::stages::shadow_test::{TEST_BLOCK, TEST_SLOTS, TEST_TAILS};
 use glam::Vec4;
 
 /// Word 9's top bits summarise the pixel over every map tested so far (see common.wgsl).
@@ -18,9 +18,26 @@ pub const SUMMARY_ANY_UNLIT: u32 = 0x2000_0000;
 
 /// `samples` and `maps` are indexed by lattice index (maps only needed for `ks`); a point light's
 /// face f of lattice sample k is record (and map) k + 289 f.
-pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -> Vec<f32>, g: &GBufferCpu, ks: &[u32], masks: &mut [u32]) {
-    let faces = |k: u32| if samples[k as usize].cube_face != 0 { 6 } else { 1 };
-    let loaded: std::collections::HashMap<u32, Vec<f32>> = ks.iter().flat_map(|&k| (0..faces(k)).map(move |f| k + LATTICE_POINTS * f)).map(|i| (i, maps(i))).collect();
+pub fn shadow_test(
+    frame: &GpuFrame,
+    samples: &[GpuSample],
+    maps: &dyn Fn(u32) -> Vec<f32>,
+    g: &GBufferCpu,
+    ks: &[u32],
+    masks: &mut [u32],
+) {
+    let faces = |k: u32| {
+        if samples[k as usize].cube_face != 0 {
+            6
+        } else {
+            1
+        }
+    };
+    let loaded: std::collections::HashMap<u32, Vec<f32>> = ks
+        .iter()
+        .flat_map(|&k| (0..faces(k)).map(move |f| k + LATTICE_POINTS * f))
+        .map(|i| (i, maps(i)))
+        .collect();
     for index in 0..g.position.len() {
         if !g.is_geometry(index) {
             continue;
@@ -30,10 +47,15 @@ pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -
         let base = index * MASK_WORDS as usize;
         let mut summary = SUMMARY_GEOMETRY;
         for k in ks {
-            let i = *k as usize + LATTICE_POINTS as usize * face_offset(frame, &samples[*k as usize], p);
+            let i = *k as usize
+                + LATTICE_POINTS as usize * face_offset(frame, &samples[*k as usize], p);
             let bit = lit(frame, &samples[i], &loaded[&(i as u32)], p, n);
             masks[base + (*k / 32) as usize] |= bit << (k % 32);
-            summary |= if bit == 1 { SUMMARY_ANY_LIT } else { SUMMARY_ANY_UNLIT };
+            summary |= if bit == 1 {
+                SUMMARY_ANY_LIT
+            } else {
+                SUMMARY_ANY_UNLIT
+            };
         }
         masks[base + SUMMARY_WORD] |= summary;
     }
@@ -43,7 +65,11 @@ pub fn shadow_test(frame: &GpuFrame, samples: &[GpuSample], maps: &dyn Fn(u32) -
 /// (state ≠ 0) keep the list's order: full blocks of TEST_BLOCK first, then the tails of the rest,
 /// largest first, in the slots after the full blocks of a list of `bound`. Empty: not dispatched.
 pub fn fill_blocks(listed: &[u32], state: &[u32], bound: u32) -> Vec<Vec<u32>> {
-    let requested: Vec<u32> = listed.iter().copied().filter(|&k| state[k as usize] != 0).collect();
+    let requested: Vec<u32> = listed
+        .iter()
+        .copied()
+        .filter(|&k| state[k as usize] != 0)
+        .collect();
     let mut slots = vec![Vec::new(); TEST_SLOTS as usize];
     let mut chunks = requested.chunks_exact(TEST_BLOCK as usize);
     for (s, block) in chunks.by_ref().enumerate() {
@@ -68,7 +94,10 @@ pub struct Maps<'a> {
 
 impl<'a> Maps<'a> {
     pub fn new(load: &'a dyn Fn(u32) -> Vec<f32>) -> Self {
-        Self { load, cache: (0..LATTICE_POINTS).map(|_| None).collect() }
+        Self {
+            load,
+            cache: (0..LATTICE_POINTS).map(|_| None).collect(),
+        }
     }
     fn get(&mut self, k: u32) -> &[f32] {
         let load = self.load;
@@ -91,12 +120,32 @@ pub struct LocalTest<'a> {
 impl LocalTest<'_> {
     /// Twin of `list`: the four corners of each item (pixel, quad index); returns the lookups.
     pub fn list(&mut self, quads: &[GpuQuad], items: &[(u32, u32)]) -> u32 {
-        items.iter().map(|&(p, q)| self.test_claimed(p, &(0..4).map(|c| quad_corner(&quads[q as usize], c)).collect::<Vec<_>>())).sum()
+        items
+            .iter()
+            .map(|&(p, q)| {
+                self.test_claimed(
+                    p,
+                    &(0..4)
+                        .map(|c| quad_corner(&quads[q as usize], c))
+                        .collect::<Vec<_>>(),
+                )
+            })
+            .sum()
     }
 
     /// Twin of `probes`: the five new samples of each probe (pixel, first child); returns the lookups.
     pub fn probes(&mut self, quads: &[GpuQuad], probes: &[(u32, u32)]) -> u32 {
-        probes.iter().map(|&(p, base)| self.test_claimed(p, &(0..5).map(|n| probe_point(&quads[base as usize], n)).collect::<Vec<_>>())).sum()
+        probes
+            .iter()
+            .map(|&(p, base)| {
+                self.test_claimed(
+                    p,
+                    &(0..5)
+                        .map(|n| probe_point(&quads[base as usize], n))
+                        .collect::<Vec<_>>(),
+                )
+            })
+            .sum()
     }
 
     /// Claims `ks` for pixel p and tests those not claimed before.
@@ -119,7 +168,14 @@ impl LocalTest<'_> {
                 continue;
             }
             let (frame, samples) = (self.frame, self.samples);
-            if lit(frame, &samples[k as usize], self.maps.get(k), position, normal) == 1 {
+            if lit(
+                frame,
+                &samples[k as usize],
+                self.maps.get(k),
+                position,
+                normal,
+            ) == 1
+            {
                 self.masks[(p * MASK_WORDS + k / 32) as usize] |= 1 << (k % 32);
             }
         }

@@ -7,13 +7,24 @@ use glam::{Mat4, Vec3, Vec4};
 /// The tangent frame the kernel builds from n.
 pub fn frame(n: Vec3) -> (Vec3, Vec3) {
     let helper = if n.x.abs() > 0.9 { Vec3::Z } else { Vec3::X };
-    let c = |a: Vec3, b: Vec3| Vec3::new(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+    let c = |a: Vec3, b: Vec3| {
+        Vec3::new(
+            a.y * b.z - a.z * b.y,
+            a.z * b.x - a.x * b.z,
+            a.x * b.y - a.y * b.x,
+        )
+    };
     let t = c(helper, n).normalize();
     (t, c(n, t))
 }
 
 /// (AO, occluded samples) per pixel.
-pub fn ssao(params: &GpuEnvParams, camera: &GpuCamera, kernel: &[[f32; 4]], g: &GBufferCpu) -> (Vec<f32>, Vec<u32>) {
+pub fn ssao(
+    params: &GpuEnvParams,
+    camera: &GpuCamera,
+    kernel: &[[f32; 4]],
+    g: &GBufferCpu,
+) -> (Vec<f32>, Vec<u32>) {
     let m = Mat4::from_cols_array_2d(&camera.clip_from_world);
     let eye = Vec3::new(camera.eye[0], camera.eye[1], camera.eye[2]);
     let (w, h) = (params.width as f32, params.height as f32);
@@ -44,7 +55,9 @@ pub fn ssao(params: &GpuEnvParams, camera: &GpuCamera, kernel: &[[f32; 4]], g: &
                 continue;
             }
             let sp = Vec3::from_slice(&stored[..3]);
-            if (sp - eye).length() < (q - eye).length() - params.ray_offset && (sp - p).length() < params.radius {
+            if (sp - eye).length() < (q - eye).length() - params.ray_offset
+                && (sp - p).length() < params.radius
+            {
                 count += 1;
             }
         }
@@ -53,4 +66,3 @@ pub fn ssao(params: &GpuEnvParams, camera: &GpuCamera, kernel: &[[f32; 4]], g: &
     }
     (ao, occluded)
 }
-

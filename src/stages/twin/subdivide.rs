@@ -2,8 +2,8 @@
 //! children and new samples as sorted sets.
 
 use super::quad_corner;
-use crate::stages::adaptive_buffers::{quad_node, HELD_WORDS, NO_SPLIT, QUAD_CAPACITY};
 use crate::gpu::structs::GpuQuad;
+use crate::stages::adaptive_buffers::{quad_node, HELD_WORDS, NO_SPLIT, QUAD_CAPACITY};
 
 pub use crate::stages::subdivide::SplitRule;
 
@@ -27,8 +27,21 @@ pub struct SplitLevel {
 }
 
 /// `lattice_state` (requested samples) and `sample_level` are updated in place, as the kernel's atomics.
-pub fn subdivide(at: &SplitLevel, quads: &[GpuQuad], counters: &[u32], lattice_state: &mut [u32], sample_level: &mut [u32]) -> SubdivideOut {
-    subdivide_held(at, &Held::every(), quads, counters, lattice_state, sample_level)
+pub fn subdivide(
+    at: &SplitLevel,
+    quads: &[GpuQuad],
+    counters: &[u32],
+    lattice_state: &mut [u32],
+    sample_level: &mut [u32],
+) -> SubdivideOut {
+    subdivide_held(
+        at,
+        &Held::every(),
+        quads,
+        counters,
+        lattice_state,
+        sample_level,
+    )
 }
 
 /// The hysteresis (`adaptive:hold`): the previous frame's split quads, one bit per quad node
@@ -42,18 +55,37 @@ pub struct Held {
 impl Held {
     /// Every quad counts as split before: no margin anywhere (the first frame, or `hold = 0`).
     pub fn every() -> Held {
-        Held { bits: vec![u32::MAX; HELD_WORDS as usize], hold: 0 }
+        Held {
+            bits: vec![u32::MAX; HELD_WORDS as usize],
+            hold: 0,
+        }
     }
 
     fn margin(&self, quad: &GpuQuad) -> u32 {
         let node = quad_node(quad.i, quad.j, quad.size);
-        if (self.bits[(node / 32) as usize] >> (node % 32)) & 1 == 1 { 0 } else { self.hold }
+        if (self.bits[(node / 32) as usize] >> (node % 32)) & 1 == 1 {
+            0
+        } else {
+            self.hold
+        }
     }
 }
 
 /// `subdivide` with the previous frame's split quads `held`.
-pub fn subdivide_held(at: &SplitLevel, held: &Held, quads: &[GpuQuad], counters: &[u32], lattice_state: &mut [u32], sample_level: &mut [u32]) -> SubdivideOut {
-    let SplitLevel { level, max_level, rule, geometry_pixels } = *at;
+pub fn subdivide_held(
+    at: &SplitLevel,
+    held: &Held,
+    quads: &[GpuQuad],
+    counters: &[u32],
+    lattice_state: &mut [u32],
+    sample_level: &mut [u32],
+) -> SubdivideOut {
+    let SplitLevel {
+        level,
+        max_level,
+        rule,
+        geometry_pixels,
+    } = *at;
     let mut out = SubdivideOut::default();
     let mut request = |i: u32, j: u32, out: &mut SubdivideOut| {
         let k = (j * 17 + i) as usize;
@@ -74,7 +106,9 @@ pub fn subdivide_held(at: &SplitLevel, held: &Held, quads: &[GpuQuad], counters:
                 SplitRule::Always => true,
                 SplitRule::Never => false,
                 SplitRule::Threshold(p_m) => counters[q] > p_m && counters[q] - p_m > margin,
-                SplitRule::Share(share) => counters[q] as f32 - margin as f32 > geometry_pixels as f32 * share,
+                SplitRule::Share(share) => {
+                    counters[q] as f32 - margin as f32 > geometry_pixels as f32 * share
+                }
             };
         out.split_base.push(NO_SPLIT);
         if split {
@@ -86,10 +120,30 @@ pub fn subdivide_held(at: &SplitLevel, held: &Held, quads: &[GpuQuad], counters:
             let h = quad.size / 2;
             let q = q as u32;
             out.next_quads.extend([
-                GpuQuad { i: quad.i, j: quad.j, size: h, parent: q },
-                GpuQuad { i: quad.i + h, j: quad.j, size: h, parent: q },
-                GpuQuad { i: quad.i, j: quad.j + h, size: h, parent: q },
-                GpuQuad { i: quad.i + h, j: quad.j + h, size: h, parent: q },
+                GpuQuad {
+                    i: quad.i,
+                    j: quad.j,
+                    size: h,
+                    parent: q,
+                },
+                GpuQuad {
+                    i: quad.i + h,
+                    j: quad.j,
+                    size: h,
+                    parent: q,
+                },
+                GpuQuad {
+                    i: quad.i,
+                    j: quad.j + h,
+                    size: h,
+                    parent: q,
+                },
+                GpuQuad {
+                    i: quad.i + h,
+                    j: quad.j + h,
+                    size: h,
+                    parent: q,
+                },
             ]);
             out.split_base[q as usize] = base;
             request(quad.i + h, quad.j, &mut out);

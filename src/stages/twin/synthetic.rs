@@ -5,8 +5,8 @@
 
 use super::shadow_test::{SUMMARY_ANY_LIT, SUMMARY_ANY_UNLIT, SUMMARY_GEOMETRY, SUMMARY_WORD};
 use crate::gpu::structs::GpuQuad;
-use crate::stages::adaptive_buffers::{LATTICE_POINTS, LATTICE_SIDE, MASK_WORDS, NO_SPLIT};
 use crate::render::gbuffer::GBufferCpu;
+use crate::stages::adaptive_buffers::{LATTICE_POINTS, LATTICE_SIDE, MASK_WORDS, NO_SPLIT};
 
 /// Per pixel MASK_WORDS words as shadow_test leaves them once every lattice sample is tested.
 pub struct EdgeMasks {
@@ -24,7 +24,10 @@ pub fn edge_masks(width: u32, height: u32, seed: u64) -> EdgeMasks {
     let mut geometry = vec![false; (width * height) as usize];
     for y in 0..height {
         for x in 0..width {
-            let (u, v) = ((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
+            let (u, v) = (
+                (x as f32 + 0.5) / width as f32,
+                (y as f32 + 0.5) / height as f32,
+            );
             let p = (y * width + x) as usize;
             if (u - hole_x).powi(2) + (v - hole_y).powi(2) < hole_r * hole_r {
                 continue;
@@ -32,27 +35,49 @@ pub fn edge_masks(width: u32, height: u32, seed: u64) -> EdgeMasks {
             geometry[p] = true;
             let mut summary = SUMMARY_GEOMETRY;
             for k in 0..LATTICE_POINTS {
-                let (i, j) = ((k % LATTICE_SIDE) as f32 / 16.0 - 0.5, (k / LATTICE_SIDE) as f32 / 16.0 - 0.5);
+                let (i, j) = (
+                    (k % LATTICE_SIDE) as f32 / 16.0 - 0.5,
+                    (k / LATTICE_SIDE) as f32 / 16.0 - 0.5,
+                );
                 let first = u + 0.35 * v - 0.45 - 0.2 * s + 0.3 * i;
                 let second = v - 0.5 * u - 0.25 + 0.25 * j;
                 let lit = first < 0.0 || second > 0.15;
                 if lit {
                     masks[p * MASK_WORDS as usize + (k / 32) as usize] |= 1 << (k % 32);
                 }
-                summary |= if lit { SUMMARY_ANY_LIT } else { SUMMARY_ANY_UNLIT };
+                summary |= if lit {
+                    SUMMARY_ANY_LIT
+                } else {
+                    SUMMARY_ANY_UNLIT
+                };
             }
             masks[p * MASK_WORDS as usize + SUMMARY_WORD] |= summary;
         }
     }
-    EdgeMasks { width, height, masks, geometry }
+    EdgeMasks {
+        width,
+        height,
+        masks,
+        geometry,
+    }
 }
 
 impl EdgeMasks {
     /// A G-buffer whose geometry pixels are the masks' (the twins read only that of it).
     pub fn gbuffer(&self) -> GBufferCpu {
-        let position = self.geometry.iter().map(|&g| [0.0, 0.0, 0.0, g as u32 as f32]).collect();
+        let position = self
+            .geometry
+            .iter()
+            .map(|&g| [0.0, 0.0, 0.0, g as u32 as f32])
+            .collect();
         let normal = vec![[0.0, 0.0, 1.0, 0.0]; self.geometry.len()];
-        GBufferCpu { width: self.width, height: self.height, position, normal: normal.clone(), shading_normal: normal }
+        GBufferCpu {
+            width: self.width,
+            height: self.height,
+            position,
+            normal: normal.clone(),
+            shading_normal: normal,
+        }
     }
 }
 
@@ -64,8 +89,17 @@ pub fn level_quads(level: u32) -> Vec<GpuQuad> {
     (0..side * side)
         .map(|n| {
             let (qi, qj) = (n % side, n / side);
-            let parent = if level == 0 { u32::MAX } else { (qj / 2) * (side / 2) + qi / 2 };
-            GpuQuad { i: qi * size, j: qj * size, size, parent }
+            let parent = if level == 0 {
+                u32::MAX
+            } else {
+                (qj / 2) * (side / 2) + qi / 2
+            };
+            GpuQuad {
+                i: qi * size,
+                j: qj * size,
+                size,
+                parent,
+            }
         })
         .collect()
 }
@@ -80,7 +114,12 @@ pub fn split(quads: &[GpuQuad], mut split: impl FnMut(usize) -> bool) -> (Vec<u3
         if split(q) {
             split_base[q] = children.len() as u32;
             let s = quad.size / 2;
-            children.extend((0..4).map(|c| GpuQuad { i: quad.i + (c & 1) * s, j: quad.j + (c >> 1) * s, size: s, parent: q as u32 }));
+            children.extend((0..4).map(|c| GpuQuad {
+                i: quad.i + (c & 1) * s,
+                j: quad.j + (c >> 1) * s,
+                size: s,
+                parent: q as u32,
+            }));
         }
     }
     (split_base, children)

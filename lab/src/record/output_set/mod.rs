@@ -39,11 +39,15 @@ pub fn check(out: &Path) -> Result<()> {
     let shown = out.display().to_string();
     let param = |what: String| Error::param(format!("--out {shown}: {what}"));
     if out.exists() && !out.is_dir() {
-        return Err(param("is a file, not a folder: give a folder for the output set".into()));
+        return Err(param(
+            "is a file, not a folder: give a folder for the output set".into(),
+        ));
     }
     let abs = std::path::absolute(out).map_err(|e| param(e.to_string()))?;
     if abs.parent().is_none() {
-        return Err(param("the root folder cannot hold an output set: name a folder inside it".into()));
+        return Err(param(
+            "the root folder cannot hold an output set: name a folder inside it".into(),
+        ));
     }
     // The nearest folder that exists must be a folder we can write in; the names below it must fit.
     let mut existing = abs.as_path();
@@ -55,16 +59,24 @@ pub fn check(out: &Path) -> Result<()> {
         existing = existing.parent().unwrap_or(Path::new("/"));
     }
     if !existing.is_dir() {
-        return Err(param(format!("{} is a file, not a folder", existing.display())));
+        return Err(param(format!(
+            "{} is a file, not a folder",
+            existing.display()
+        )));
     }
     let probe = existing.join(format!(".penumbra-probe-{}", std::process::id()));
-    std::fs::create_dir(&probe).map_err(|e| param(format!("cannot write in {}: {e}", existing.display())))?;
+    std::fs::create_dir(&probe)
+        .map_err(|e| param(format!("cannot write in {}: {e}", existing.display())))?;
     let _ = std::fs::remove_dir(&probe);
     if existing == abs {
-        let cwd = std::env::current_dir().ok().and_then(|c| c.canonicalize().ok());
+        let cwd = std::env::current_dir()
+            .ok()
+            .and_then(|c| c.canonicalize().ok());
         for name in old_entries(&abs) {
             let entry = abs.join(&name);
-            let Ok(meta) = entry.symlink_metadata() else { continue };
+            let Ok(meta) = entry.symlink_metadata() else {
+                continue;
+            };
             if let (Some(cwd), Ok(canon)) = (&cwd, entry.canonicalize()) {
                 if meta.is_dir() && cwd.starts_with(&canon) {
                     return Err(param(format!("the current folder is inside {name}, which the new set replaces: run from elsewhere")));
@@ -84,11 +96,17 @@ pub fn check(out: &Path) -> Result<()> {
 /// input (`calibrate --out` the estimate's folder lost `estimate.jsonl`, exit 0). `inputs` are
 /// (flag, path) pairs; the message names both the input and `--out`.
 pub fn check_inputs(out: &Path, inputs: &[(&str, &Path)]) -> Result<()> {
-    let Ok(dir) = out.canonicalize() else { return Ok(()) };
+    let Ok(dir) = out.canonicalize() else {
+        return Ok(());
+    };
     for name in old_entries(&dir) {
-        let Ok(entry) = dir.join(&name).canonicalize() else { continue };
+        let Ok(entry) = dir.join(&name).canonicalize() else {
+            continue;
+        };
         for (flag, input) in inputs {
-            let Ok(given) = input.canonicalize() else { continue };
+            let Ok(given) = input.canonicalize() else {
+                continue;
+            };
             if given == entry || given.starts_with(&entry) {
                 return Err(Error::param(format!(
                     "{flag} {}: lies inside the set --out {} replaces (its entry {name}, written by an earlier run, goes when the new set is written): the run would delete its own input; give another --out",
@@ -134,7 +152,14 @@ impl OutputSet {
             let _writing = crate::interrupt::critical();
             std::fs::create_dir(&stage).and_then(|_| std::fs::create_dir(stage.join("new")))
         };
-        let set = Self { out: out.to_path_buf(), new: stage.join("new"), stage, created_out, committed: false, on_signal: Some(on_signal) };
+        let set = Self {
+            out: out.to_path_buf(),
+            new: stage.join("new"),
+            stage,
+            created_out,
+            committed: false,
+            on_signal: Some(on_signal),
+        };
         made.map_err(|e| Error::io(&set.stage, e))?;
         Ok(set)
     }
@@ -177,9 +202,17 @@ impl OutputSet {
         let journal = self.journal()?;
         self.committed = true;
         self.on_signal = None;
-        journal.roll_forward(self.folder(), &self.stage).map_err(|e| {
-            Error::io(&self.out, format!("{e}; the next run into this folder finishes the move from {}", self.stage.display()))
-        })?;
+        journal
+            .roll_forward(self.folder(), &self.stage)
+            .map_err(|e| {
+                Error::io(
+                    &self.out,
+                    format!(
+                        "{e}; the next run into this folder finishes the move from {}",
+                        self.stage.display()
+                    ),
+                )
+            })?;
         // The new set is in place: debris left here is only worth a warning, not a failed run.
         if let Err(e) = recover::clean(&self.stage) {
             eprintln!("warning: {}: {e}", self.stage.display());
@@ -189,11 +222,20 @@ impl OutputSet {
 
     /// Writes the new set's marker and the journal; from here on the commit is decided.
     fn journal(&self) -> Result<recover::Journal> {
-        let mut entries: Vec<String> = read_names(&self.new)?.into_iter().filter(|n| n != MARKER).collect();
+        let mut entries: Vec<String> = read_names(&self.new)?
+            .into_iter()
+            .filter(|n| n != MARKER)
+            .collect();
         entries.sort();
-        std::fs::write(self.new.join(MARKER), entries.iter().map(|e| format!("{e}\n")).collect::<String>())
-            .map_err(|e| Error::io(&self.out.join(MARKER), e))?;
-        let gone: Vec<String> = old_entries(self.folder()).into_iter().filter(|n| !entries.contains(n)).collect();
+        std::fs::write(
+            self.new.join(MARKER),
+            entries.iter().map(|e| format!("{e}\n")).collect::<String>(),
+        )
+        .map_err(|e| Error::io(&self.out.join(MARKER), e))?;
+        let gone: Vec<String> = old_entries(self.folder())
+            .into_iter()
+            .filter(|n| !entries.contains(n))
+            .collect();
         let journal = recover::Journal { new: entries, gone };
         journal.write(&self.stage)?;
         Ok(journal)
@@ -225,18 +267,28 @@ fn drop_unfinished(stage: &Path, out: &Path, created_out: bool) {
 /// The entries the set in `dir` wrote, from its marker (none without one).
 fn old_entries(dir: &Path) -> Vec<String> {
     std::fs::read_to_string(dir.join(MARKER))
-        .map(|t| t.lines().filter(|l| !l.is_empty() && !l.contains('/') && *l != ".." && *l != ".").map(str::to_string).collect())
+        .map(|t| {
+            t.lines()
+                .filter(|l| !l.is_empty() && !l.contains('/') && *l != ".." && *l != ".")
+                .map(str::to_string)
+                .collect()
+        })
         .unwrap_or_default()
 }
 
 fn read_names(dir: &Path) -> Result<Vec<String>> {
     let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
-    Ok(entries.flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect())
+    Ok(entries
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect())
 }
 
 fn writable(path: &Path) -> bool {
     use std::os::unix::ffi::OsStrExt;
-    let Ok(c) = std::ffi::CString::new(path.as_os_str().as_bytes()) else { return false };
+    let Ok(c) = std::ffi::CString::new(path.as_os_str().as_bytes()) else {
+        return false;
+    };
     // SAFETY: a valid NUL-terminated path.
     unsafe { libc::access(c.as_ptr(), libc::W_OK) == 0 }
 }

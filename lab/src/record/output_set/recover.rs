@@ -23,12 +23,17 @@ impl Journal {
             text += &format!("gone\t{n}\n");
         }
         let tmp = stage.join(format!("{JOURNAL}.tmp"));
-        std::fs::write(&tmp, text).and_then(|_| std::fs::rename(&tmp, stage.join(JOURNAL))).map_err(|e| Error::io(&tmp, e))
+        std::fs::write(&tmp, text)
+            .and_then(|_| std::fs::rename(&tmp, stage.join(JOURNAL)))
+            .map_err(|e| Error::io(&tmp, e))
     }
 
     fn read(stage: &Path) -> Option<Self> {
         let text = std::fs::read_to_string(stage.join(JOURNAL)).ok()?;
-        let mut j = Journal { new: Vec::new(), gone: Vec::new() };
+        let mut j = Journal {
+            new: Vec::new(),
+            gone: Vec::new(),
+        };
         for line in text.lines() {
             match line.split_once('\t') {
                 Some(("new", n)) if safe(n) => j.new.push(n.to_string()),
@@ -46,7 +51,12 @@ impl Journal {
     }
 
     /// At most `steps` renames, then an `Interrupted` error: how the tests cut a commit anywhere.
-    pub fn roll_forward_steps(&self, out: &Path, stage: &Path, steps: &mut usize) -> std::io::Result<()> {
+    pub fn roll_forward_steps(
+        &self,
+        out: &Path,
+        stage: &Path,
+        steps: &mut usize,
+    ) -> std::io::Result<()> {
         std::fs::create_dir_all(stage.join("old"))?;
         for n in &self.new {
             move_in(out, stage, n, steps)?;
@@ -120,8 +130,17 @@ pub(super) fn clean(stage: &Path) -> std::io::Result<()> {
         return Ok(());
     }
     std::fs::remove_dir(stage).map_err(|_| {
-        let names: Vec<String> = std::fs::read_dir(stage).map(|d| d.flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect()).unwrap_or_default();
-        std::io::Error::other(format!("kept: it holds entries no run wrote ({})", names.join(", ")))
+        let names: Vec<String> = std::fs::read_dir(stage)
+            .map(|d| {
+                d.flatten()
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .collect()
+            })
+            .unwrap_or_default();
+        std::io::Error::other(format!(
+            "kept: it holds entries no run wrote ({})",
+            names.join(", ")
+        ))
     })
 }
 
@@ -132,7 +151,10 @@ pub(super) fn one(out: &Path, stage: &Path) {
     }
     if let Some(journal) = Journal::read(stage) {
         if let Err(e) = journal.roll_forward(out, stage) {
-            eprintln!("warning: {}: could not finish an interrupted run's set ({e}); left as it is", stage.display());
+            eprintln!(
+                "warning: {}: could not finish an interrupted run's set ({e}); left as it is",
+                stage.display()
+            );
             return;
         }
     }
@@ -155,7 +177,9 @@ pub(super) fn stale(out: &Path) {
 }
 
 fn owned_by_dead(dir: &Path, prefix: &str) -> Vec<PathBuf> {
-    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
     let proc_mounted = Path::new("/proc/self").exists();
     entries
         .flatten()
@@ -177,7 +201,9 @@ fn beside(out: &Path, side: &Path) {
         return;
     };
     let listed: Vec<String> = marker.lines().map(str::to_string).collect();
-    let Ok(entries) = std::fs::read_dir(side) else { return };
+    let Ok(entries) = std::fs::read_dir(side) else {
+        return;
+    };
     let mut kept = Vec::new();
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();

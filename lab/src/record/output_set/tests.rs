@@ -4,14 +4,18 @@
 use super::*;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("penumbra-output-set-{}-{name}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("penumbra-output-set-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
 
 fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     v.sort();
     v
 }
@@ -24,9 +28,21 @@ fn write_set(out: &Path, files: &[(&str, &str)]) -> OutputSet {
     set
 }
 
-const OLD: &[(&str, &str)] = &[("a.txt", "old a"), ("dir/x.txt", "old x"), ("only_old.txt", "old")];
-const NEW: &[(&str, &str)] = &[("a.txt", "new a"), ("b.txt", "new b"), ("dir/y.txt", "new y")];
-const USER: &[(&str, &str)] = &[("notes.txt", "mine"), ("shards/0/results.jsonl", "{}"), ("penumbra-merge-2.out", "log")];
+const OLD: &[(&str, &str)] = &[
+    ("a.txt", "old a"),
+    ("dir/x.txt", "old x"),
+    ("only_old.txt", "old"),
+];
+const NEW: &[(&str, &str)] = &[
+    ("a.txt", "new a"),
+    ("b.txt", "new b"),
+    ("dir/y.txt", "new y"),
+];
+const USER: &[(&str, &str)] = &[
+    ("notes.txt", "mine"),
+    ("shards/0/results.jsonl", "{}"),
+    ("penumbra-merge-2.out", "log"),
+];
 
 /// The old set and the user's files, then the new set's commit cut after `steps` renames (`None`:
 /// before its journal), as a SIGKILL would leave it: the staging folder stays, owned by a dead pid.
@@ -52,7 +68,11 @@ fn cut(root: &Path, steps: Option<usize>) -> PathBuf {
 
 fn assert_user_files_kept(out: &Path) {
     for (name, body) in USER {
-        assert_eq!(std::fs::read_to_string(out.join(name)).unwrap(), *body, "{name}");
+        assert_eq!(
+            std::fs::read_to_string(out.join(name)).unwrap(),
+            *body,
+            "{name}"
+        );
     }
 }
 
@@ -63,10 +83,25 @@ fn a_commit_cut_anywhere_is_finished_by_the_next_run_and_loses_no_user_file() {
         let out = cut(&tmp(&format!("cut{steps}")), Some(steps));
         drop(OutputSet::begin(&out).unwrap());
         assert_user_files_kept(&out);
-        assert_eq!(names(&out), [MARKER, "a.txt", "b.txt", "dir", "notes.txt", "penumbra-merge-2.out", "shards"], "cut after {steps}");
+        assert_eq!(
+            names(&out),
+            [
+                MARKER,
+                "a.txt",
+                "b.txt",
+                "dir",
+                "notes.txt",
+                "penumbra-merge-2.out",
+                "shards"
+            ],
+            "cut after {steps}"
+        );
         assert_eq!(std::fs::read_to_string(out.join("a.txt")).unwrap(), "new a");
         assert_eq!(names(&out.join("dir")), ["y.txt"], "cut after {steps}");
-        assert_eq!(std::fs::read_to_string(out.join(MARKER)).unwrap(), "a.txt\nb.txt\ndir\n");
+        assert_eq!(
+            std::fs::read_to_string(out.join(MARKER)).unwrap(),
+            "a.txt\nb.txt\ndir\n"
+        );
     }
 }
 
@@ -75,7 +110,18 @@ fn a_run_killed_before_its_journal_leaves_the_old_set() {
     let out = cut(&tmp("nojournal"), None);
     drop(OutputSet::begin(&out).unwrap());
     assert_user_files_kept(&out);
-    assert_eq!(names(&out), [MARKER, "a.txt", "dir", "notes.txt", "only_old.txt", "penumbra-merge-2.out", "shards"]);
+    assert_eq!(
+        names(&out),
+        [
+            MARKER,
+            "a.txt",
+            "dir",
+            "notes.txt",
+            "only_old.txt",
+            "penumbra-merge-2.out",
+            "shards"
+        ]
+    );
     assert_eq!(std::fs::read_to_string(out.join("a.txt")).unwrap(), "old a");
 }
 
@@ -102,7 +148,13 @@ fn an_earlier_versions_staging_folder_gives_back_the_user_entries_it_carried() {
     std::fs::write(side.join("notes.txt"), "mine too").unwrap();
     drop(OutputSet::begin(&out).unwrap());
     assert_eq!(names(&root), ["out"]);
-    assert_eq!(std::fs::read_to_string(out.join("carried/f.txt")).unwrap(), "mine");
-    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "mine too");
+    assert_eq!(
+        std::fs::read_to_string(out.join("carried/f.txt")).unwrap(),
+        "mine"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine too"
+    );
     assert_eq!(std::fs::read_to_string(out.join("a.txt")).unwrap(), "old a");
 }

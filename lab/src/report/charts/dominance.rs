@@ -20,7 +20,14 @@ pub struct Point {
 
 impl Point {
     fn of(r: &ResultRow) -> Self {
-        Self { label: r.label(), maps: r.shadow_maps, rmse: r.metrics.rmse, median_ms: r.total_ms, min_ms: r.total_ms_min, max_ms: r.total_ms_max }
+        Self {
+            label: r.label(),
+            maps: r.shadow_maps,
+            rmse: r.metrics.rmse,
+            median_ms: r.total_ms,
+            min_ms: r.total_ms_min,
+            max_ms: r.total_ms_max,
+        }
     }
 }
 
@@ -47,8 +54,15 @@ pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
     rows.iter()
         .filter(|g| g.method == "regular" && usable(g))
         .filter_map(|g| {
-            let rivals: Vec<&ResultRow> =
-                rows.iter().filter(|a| a.method == "adaptive" && a.scene == g.scene && a.adapter == g.adapter && usable(a)).collect();
+            let rivals: Vec<&ResultRow> = rows
+                .iter()
+                .filter(|a| {
+                    a.method == "adaptive"
+                        && a.scene == g.scene
+                        && a.adapter == g.adapter
+                        && usable(a)
+                })
+                .collect();
             if rivals.is_empty() {
                 return None;
             }
@@ -56,18 +70,33 @@ pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
             let fast = |a: &&&ResultRow| a.total_ms <= g.total_ms;
             // Ties on time go to the more accurate row, ties on error to the faster one.
             let fastest = |it: &mut dyn Iterator<Item = &&ResultRow>| {
-                it.min_by(|a, b| a.total_ms.total_cmp(&b.total_ms).then(a.metrics.rmse.total_cmp(&b.metrics.rmse))).map(|r| Point::of(r))
+                it.min_by(|a, b| {
+                    a.total_ms
+                        .total_cmp(&b.total_ms)
+                        .then(a.metrics.rmse.total_cmp(&b.metrics.rmse))
+                })
+                .map(|r| Point::of(r))
             };
             let most_accurate = rivals
                 .iter()
                 .filter(fast)
-                .min_by(|a, b| a.metrics.rmse.total_cmp(&b.metrics.rmse).then(a.total_ms.total_cmp(&b.total_ms)))
+                .min_by(|a, b| {
+                    a.metrics
+                        .rmse
+                        .total_cmp(&b.metrics.rmse)
+                        .then(a.total_ms.total_cmp(&b.total_ms))
+                })
                 .map(|r| Point::of(r));
             Some(Verdict {
                 scene: g.scene.clone(),
                 regular: Point::of(g),
                 dominated_by: fastest(&mut rivals.iter().filter(accurate).filter(fast)),
-                firmly_dominated_by: fastest(&mut rivals.iter().filter(accurate).filter(|a| a.total_ms_max <= g.total_ms_min)),
+                firmly_dominated_by: fastest(
+                    &mut rivals
+                        .iter()
+                        .filter(accurate)
+                        .filter(|a| a.total_ms_max <= g.total_ms_min),
+                ),
                 fastest_as_accurate: fastest(&mut rivals.iter().filter(accurate)),
                 most_accurate_as_fast: most_accurate,
             })

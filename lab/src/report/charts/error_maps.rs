@@ -2,8 +2,8 @@
 
 use super::scatter::{push_point, render, Hit, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
-use crate::methods::Family;
 use super::{ChartError, ResultRow};
+use crate::methods::Family;
 
 /// Rows with no shadow map (e.g. a ray-traced reference) are left out.
 pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {

@@ -2,7 +2,7 @@
 
 use super::scatter::{push_point, render, Hit, Point, Scatter, Series};
 use super::style::{spans_scenes, with_scene};
-use super::{ChartError, ResultRow, params_short};
+use super::{params_short, ChartError, ResultRow};
 
 /// Rows with method `adaptive` and a finite numeric `p_m` parameter. P_M = 0 is the seed's
 /// setting, so x is P_M + 1 on a log axis (0 lands at 1). One line per scene and per set of
@@ -11,7 +11,11 @@ use super::{ChartError, ResultRow, params_short};
 pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter());
     let adaptive: Vec<&ResultRow> = rows.iter().filter(|r| r.method == "adaptive").collect();
-    let shared = |key: &str| adaptive.iter().all(|r| r.params.get(key) == adaptive[0].params.get(key));
+    let shared = |key: &str| {
+        adaptive
+            .iter()
+            .all(|r| r.params.get(key) == adaptive[0].params.get(key))
+    };
     let mut series: Vec<Series> = Vec::new();
     for r in &adaptive {
         let Some(pm) = r.param_f64("p_m").filter(|&p| p >= 0.0) else {

@@ -15,13 +15,13 @@ mod stages;
 pub(crate) mod style;
 mod temporal;
 
+pub use crate::record::row::{params_short, ResultRow};
 pub use dominance::{verdicts, Point as DominancePoint, Verdict};
 pub use error_maps::error_vs_maps_svg;
 pub use error_time::error_vs_time_svg;
 pub use maps_pm::maps_vs_pm_svg;
 pub use pareto::{pareto_front, pareto_steps};
 pub use raster::svg_to_png;
-pub use crate::record::row::{params_short, ResultRow};
 pub use stages::{frame_split_svg, stage_breakdown_svg};
 pub use temporal::{per_frame_svg, FrameSeries};
 

@@ -8,8 +8,8 @@ use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::prelude::*;
 
 use super::labels;
+use super::style::{colour, plot_err, AXIS_PX, FONT, LABEL_PX, SIZE, TITLE_PX};
 use super::ChartError;
-use super::style::{AXIS_PX, FONT, LABEL_PX, SIZE, TITLE_PX, colour, plot_err};
 
 pub(crate) struct Point {
     pub x: f64,
@@ -32,12 +32,17 @@ pub(crate) struct Hit {
 impl Hit {
     /// The row's setting, maps, RMSE, FLIP and time, as a tooltip says them.
     pub fn of(r: &super::ResultRow) -> Hit {
-        let spread = if r.total_ms_min.is_finite() && r.total_ms_max.is_finite() && r.total_ms_max > 0.0 {
-            format!(" ({:.2}–{:.2})", r.total_ms_min, r.total_ms_max)
+        let spread =
+            if r.total_ms_min.is_finite() && r.total_ms_max.is_finite() && r.total_ms_max > 0.0 {
+                format!(" ({:.2}–{:.2})", r.total_ms_min, r.total_ms_max)
+            } else {
+                String::new()
+            };
+        let maps = if r.shadow_maps == 1 {
+            "1 map".to_string()
         } else {
-            String::new()
+            format!("{} maps", r.shadow_maps)
         };
-        let maps = if r.shadow_maps == 1 { "1 map".to_string() } else { format!("{} maps", r.shadow_maps) };
         let text = format!(
             "{} ({})\n{maps} · RMSE {:.4} · FLIP {:.4} · {:.2} ms{spread}",
             r.label(),
@@ -46,15 +51,26 @@ impl Hit {
             r.metrics.flip_mean,
             r.total_ms
         );
-        Hit { label: r.label(), scene: r.scene.clone(), text }
+        Hit {
+            label: r.label(),
+            scene: r.scene.clone(),
+            text,
+        }
     }
 }
 
 /// `svg` with one transparent, focusable mark per hit point (at its pixel), after everything
 /// plotters drew, so they are on top. The PNG (resvg) draws nothing of them.
 fn with_hits(svg: String, hits: &[((i32, i32), &Hit)]) -> String {
-    let Some(end) = svg.rfind("</svg>").filter(|_| !hits.is_empty()) else { return svg };
-    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
+    let Some(end) = svg.rfind("</svg>").filter(|_| !hits.is_empty()) else {
+        return svg;
+    };
+    let esc = |t: &str| {
+        t.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+            .replace('"', "&quot;")
+    };
     let mut g = String::from("<g class=\"hits\">\n");
     for ((x, y), h) in hits {
         let text = esc(&h.text);
@@ -78,7 +94,10 @@ pub(crate) struct Series {
 pub(crate) fn push_point(series: &mut Vec<Series>, name: String, point: Point) {
     match series.iter_mut().find(|s| s.name == name) {
         Some(s) => s.points.push(point),
-        None => series.push(Series { name, points: vec![point] }),
+        None => series.push(Series {
+            name,
+            points: vec![point],
+        }),
     }
 }
 
@@ -164,7 +183,15 @@ fn log_axis(r: Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
 /// lines go: the loops stay bounded whatever the range (f64 spans about 630 decades).
 pub(crate) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     // Exponents of finite positive ends lie in -324..=309; anything else is clamped there.
-    let exponent = |v: f64, round: fn(f64) -> f64| if v > 0.0 && v.is_finite() { round(v.log10()).clamp(-324.0, 309.0) as i32 } else if v > 0.0 { 309 } else { -324 };
+    let exponent = |v: f64, round: fn(f64) -> f64| {
+        if v > 0.0 && v.is_finite() {
+            round(v.log10()).clamp(-324.0, 309.0) as i32
+        } else if v > 0.0 {
+            309
+        } else {
+            -324
+        }
+    };
     let (k0, k1) = (exponent(lo, f64::floor), exponent(hi, f64::ceil));
     let step = ((k1 - k0) / MAX_DECADES + 1).max(1) as usize;
     let within = |mult: &[f64], step: usize| -> Vec<f64> {
@@ -178,7 +205,14 @@ pub(crate) fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     if step > 1 {
         return (within(&[1.0], step), Vec::new());
     }
-    let mut bold = within(if k1 - k0 > 3 { &[1.0] } else { &[1.0, 2.0, 5.0] }, 1);
+    let mut bold = within(
+        if k1 - k0 > 3 {
+            &[1.0]
+        } else {
+            &[1.0, 2.0, 5.0]
+        },
+        1,
+    );
     if bold.len() < 2 {
         bold = within(&all, 1);
     }
@@ -246,19 +280,34 @@ where
             .series
             .iter()
             .map(|s| {
-                let mut pts: Vec<&Point> = s.points.iter().filter(|p| p.x.is_finite() && p.y.is_finite()).collect();
+                let mut pts: Vec<&Point> = s
+                    .points
+                    .iter()
+                    .filter(|p| p.x.is_finite() && p.y.is_finite())
+                    .collect();
                 pts.sort_by(|a, b| a.x.total_cmp(&b.x));
                 pts
             })
             .collect();
         let all: Vec<&Point> = sorted.iter().flatten().copied().collect();
-        let at: Vec<(i32, i32)> = all.iter().map(|p| chart.backend_coord(&(p.x, p.y))).collect();
-        hits = all.iter().zip(&at).filter_map(|(p, &xy)| p.hit.as_ref().map(|h| (xy, h))).collect();
-        let widths: Vec<i32> =
-            all.iter().map(|p| labels::text_width(p.label.as_deref().unwrap_or(""), LABEL_PX)).collect();
+        let at: Vec<(i32, i32)> = all
+            .iter()
+            .map(|p| chart.backend_coord(&(p.x, p.y)))
+            .collect();
+        hits = all
+            .iter()
+            .zip(&at)
+            .filter_map(|(p, &xy)| p.hit.as_ref().map(|h| (xy, h)))
+            .collect();
+        let widths: Vec<i32> = all
+            .iter()
+            .map(|p| labels::text_width(p.label.as_deref().unwrap_or(""), LABEL_PX))
+            .collect();
         let (xr, yr) = chart.plotting_area().get_pixel_range();
         let label_h = LABEL_PX as i32 + 2;
-        let mut spots = labels::place(&at, &widths, label_h, (xr.start, yr.start, xr.end, yr.end)).into_iter().zip(widths);
+        let mut spots = labels::place(&at, &widths, label_h, (xr.start, yr.start, xr.end, yr.end))
+            .into_iter()
+            .zip(widths);
         for (k, pts) in sorted.iter().enumerate() {
             let c = colour(k);
             if spec.connect && pts.len() > 1 {
@@ -277,10 +326,18 @@ where
             let font = (FONT, LABEL_PX).into_font().color(&BLACK);
             let placed: Vec<(labels::Spot, i32)> = spots.by_ref().take(pts.len()).collect();
             let marks = pts.iter().zip(placed).map(|(p, (spot, width))| {
-                let text = Text::new(p.label.clone().unwrap_or_default(), (spot.dx, spot.dy), font.clone());
+                let text = Text::new(
+                    p.label.clone().unwrap_or_default(),
+                    (spot.dx, spot.dy),
+                    font.clone(),
+                );
                 // A label pushed away from its point gets a thin leader line back to it.
                 let labelled = p.label.as_deref().is_some_and(|l| !l.is_empty());
-                let end = if spot.far && labelled { spot.anchor(width, label_h) } else { (0, 0) };
+                let end = if spot.far && labelled {
+                    spot.anchor(width, label_h)
+                } else {
+                    (0, 0)
+                };
                 let leader = PathElement::new(vec![(0, 0), end], RGBColor(150, 150, 150));
                 EmptyElement::at((p.x, p.y)) + leader + Circle::new((0, 0), 5, c.filled()) + text
             });

@@ -4,7 +4,7 @@ use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
 
 use super::scatter::tick_label;
-use super::style::{AXIS_PX, FONT, LABEL_PX, TITLE_PX, colour, plot_err, spans_scenes, with_scene};
+use super::style::{colour, plot_err, spans_scenes, with_scene, AXIS_PX, FONT, LABEL_PX, TITLE_PX};
 use super::{ChartError, ResultRow};
 
 /// Chart (d'): each row's stages summed into the frame split (raster, decision, shade, waits;
@@ -14,11 +14,17 @@ pub fn frame_split_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         .iter()
         .map(|r| {
             let mut r = r.clone();
-            r.stages_ms = crate::gpu::stages::frame_split(&r.stages_ms).into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+            r.stages_ms = crate::gpu::stages::frame_split(&r.stages_ms)
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect();
             r
         })
         .collect();
-    bars_svg(&split, "Frame split: raster, decision, shade, waits (wall clock)")
+    bars_svg(
+        &split,
+        "Frame split: raster, decision, shade, waits (wall clock)",
+    )
 }
 
 /// Rows top to bottom in the given order. Stages are stacked in the order of their first

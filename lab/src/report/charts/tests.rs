@@ -162,8 +162,17 @@ fn maps_vs_pm_uses_adaptive_rows_only() {
     let drawn = svg.split("<g class=\"hits\">").next().unwrap();
     assert!(!drawn.contains("scope=local"));
     let mut rows = sample_rows();
-    rows.push(row("adaptive", json!({"p_m": 0, "scope": "global"}), 70, 40.0, 0.006));
-    assert_svg(&maps_vs_pm_svg(&rows).unwrap(), &["adaptive(scope=local)", "adaptive(scope=global)"]);
+    rows.push(row(
+        "adaptive",
+        json!({"p_m": 0, "scope": "global"}),
+        70,
+        40.0,
+        0.006,
+    ));
+    assert_svg(
+        &maps_vs_pm_svg(&rows).unwrap(),
+        &["adaptive(scope=local)", "adaptive(scope=global)"],
+    );
     let no_adaptive: Vec<ResultRow> = sample_rows()
         .into_iter()
         .filter(|r| r.method != "adaptive")
@@ -178,16 +187,42 @@ fn maps_vs_pm_uses_adaptive_rows_only() {
 fn every_point_of_error_against_time_answers_with_its_row() {
     let rows = sample_rows();
     let svg = error_vs_time_svg(&rows).unwrap();
-    let hits = svg.split("<g class=\"hits\">").nth(1).expect("a group of marks");
+    let hits = svg
+        .split("<g class=\"hits\">")
+        .nth(1)
+        .expect("a group of marks");
     assert_eq!(hits.matches("<circle class=\"hit\"").count(), rows.len());
-    assert!(svg.trim_end().ends_with("</g>\n</svg>") || svg.trim_end().ends_with("</g></svg>"), "the marks are drawn last, on top");
+    assert!(
+        svg.trim_end().ends_with("</g>\n</svg>") || svg.trim_end().ends_with("</g></svg>"),
+        "the marks are drawn last, on top"
+    );
     let r = &rows[2];
-    let mark = hits.split("<circle").find(|m| m.contains(&format!("data-label=\"{}\"", r.label()))).expect("the row's mark");
-    assert!(mark.contains(&format!("<title>{} ({})\n{} maps · RMSE {:.4} · FLIP {:.4} · {:.2} ms", r.label(), r.scene, r.shadow_maps, r.metrics.rmse, r.metrics.flip_mean, r.total_ms)), "{mark}");
-    assert!(mark.contains("tabindex=\"0\"") && mark.contains("fill-opacity=\"0\""), "{mark}");
+    let mark = hits
+        .split("<circle")
+        .find(|m| m.contains(&format!("data-label=\"{}\"", r.label())))
+        .expect("the row's mark");
+    assert!(
+        mark.contains(&format!(
+            "<title>{} ({})\n{} maps · RMSE {:.4} · FLIP {:.4} · {:.2} ms",
+            r.label(),
+            r.scene,
+            r.shadow_maps,
+            r.metrics.rmse,
+            r.metrics.flip_mean,
+            r.total_ms
+        )),
+        "{mark}"
+    );
+    assert!(
+        mark.contains("tabindex=\"0\"") && mark.contains("fill-opacity=\"0\""),
+        "{mark}"
+    );
     // The PNG draws nothing of them: the same pixels as without the marks.
     let bare = svg.split("<g class=\"hits\">").next().unwrap().to_string() + "</svg>\n";
-    assert_eq!(svg_to_png(&svg, 1.0).unwrap(), svg_to_png(&bare, 1.0).unwrap());
+    assert_eq!(
+        svg_to_png(&svg, 1.0).unwrap(),
+        svg_to_png(&bare, 1.0).unwrap()
+    );
 }
 
 #[test]
@@ -204,10 +239,19 @@ fn error_vs_maps_has_axes_and_methods() {
 fn frame_split_sums_stages_into_four_parts() {
     let rows = sample_rows();
     let svg = frame_split_svg(&rows).unwrap();
-    assert_svg(&svg, &["Frame split", "raster", "decision", "shade", "waits"]);
-    assert!(!svg.contains("Stage time breakdown"), "the frame split carries the stage chart's title");
+    assert_svg(
+        &svg,
+        &["Frame split", "raster", "decision", "shade", "waits"],
+    );
+    assert!(
+        !svg.contains("Stage time breakdown"),
+        "the frame split carries the stage chart's title"
+    );
     for stage in rows[0].stages_ms.keys() {
-        assert!(!svg.contains(&format!(">{stage}<")) || ["shade"].contains(&stage.as_str()), "stage {stage} drawn on its own");
+        assert!(
+            !svg.contains(&format!(">{stage}<")) || ["shade"].contains(&stage.as_str()),
+            "stage {stage} drawn on its own"
+        );
     }
 }
 
@@ -289,10 +333,24 @@ fn every_chart_writes_svg_and_png() {
     ];
     for (name, svg) in charts {
         std::fs::write(dir.path().join(format!("{name}.svg")), &svg).unwrap();
-        std::fs::write(dir.path().join(format!("{name}.png")), svg_to_png(&svg, 1.0).unwrap()).unwrap();
+        std::fs::write(
+            dir.path().join(format!("{name}.png")),
+            svg_to_png(&svg, 1.0).unwrap(),
+        )
+        .unwrap();
         let png = image::open(dir.path().join(format!("{name}.png"))).unwrap();
-        assert!(png.width() >= 320 && png.height() >= 200, "{name}: {}x{}", png.width(), png.height());
-        assert!(std::fs::read_to_string(dir.path().join(format!("{name}.svg"))).unwrap().starts_with("<svg"), "{name}");
+        assert!(
+            png.width() >= 320 && png.height() >= 200,
+            "{name}: {}x{}",
+            png.width(),
+            png.height()
+        );
+        assert!(
+            std::fs::read_to_string(dir.path().join(format!("{name}.svg")))
+                .unwrap()
+                .starts_with("<svg"),
+            "{name}"
+        );
     }
 }
 
@@ -310,7 +368,10 @@ fn log_ticks_and_labels() {
     // over billions of decades.
     for (lo, hi) in [(1e-3, f64::MAX), (1e-300, 1e308), (1e-3, f64::INFINITY)] {
         let (bold, light) = scatter::log_ticks(lo, hi);
-        assert!((2..=13).contains(&bold.len()) && light.is_empty(), "{lo}..{hi}: {bold:?}");
+        assert!(
+            (2..=13).contains(&bold.len()) && light.is_empty(),
+            "{lo}..{hi}: {bold:?}"
+        );
     }
 }
 
@@ -334,20 +395,37 @@ fn dominance_on_known_points() {
     let rows = sample_rows();
     let v = verdicts(&rows);
     // One verdict per regular row, in row order.
-    assert_eq!(v.iter().map(|v| v.regular.label.as_str()).collect::<Vec<_>>(), ["regular(n=9)", "regular(n=17)"]);
+    assert_eq!(
+        v.iter()
+            .map(|v| v.regular.label.as_str())
+            .collect::<Vec<_>>(),
+        ["regular(n=9)", "regular(n=17)"]
+    );
     // n = 9 (40 ms, 0.02): the fastest adaptive row with RMSE <= 0.02 and time <= 40 ms is p_m=16.
     let by = v[0].dominated_by.as_ref().expect("n=9 is dominated");
     assert_eq!((by.maps, by.median_ms, by.rmse), (25, 14.0, 0.015));
     // Its slowest frame (16.8 ms) is under the grid's fastest (36 ms): firmly dominated too.
-    assert_eq!(v[0].firmly_dominated_by.as_ref().map(|p| p.max_ms), Some(14.0 * 1.2));
+    assert_eq!(
+        v[0].firmly_dominated_by.as_ref().map(|p| p.max_ms),
+        Some(14.0 * 1.2)
+    );
     // n = 17 (140 ms, 0.004): every adaptive row is faster but none is as accurate.
     assert!(v[1].dominated_by.is_none() && v[1].fastest_as_accurate.is_none());
-    let near = v[1].most_accurate_as_fast.as_ref().expect("some adaptive row is as fast");
+    let near = v[1]
+        .most_accurate_as_fast
+        .as_ref()
+        .expect("some adaptive row is as fast");
     assert_eq!((near.maps, near.rmse), (61, 0.006));
 
     // A tie on both counts dominates; a row from another adapter does not take part.
-    let mut tie = vec![row("regular", json!({"n": 5}), 25, 10.0, 0.03), row("adaptive", json!({"p_m": 0}), 25, 10.0, 0.03)];
-    assert_eq!(verdicts(&tie)[0].dominated_by.as_ref().map(|p| p.maps), Some(25));
+    let mut tie = vec![
+        row("regular", json!({"n": 5}), 25, 10.0, 0.03),
+        row("adaptive", json!({"p_m": 0}), 25, 10.0, 0.03),
+    ];
+    assert_eq!(
+        verdicts(&tie)[0].dominated_by.as_ref().map(|p| p.maps),
+        Some(25)
+    );
     // Equal medians with overlapping spreads (9-12 ms each) are not firm.
     assert!(verdicts(&tie)[0].firmly_dominated_by.is_none());
     tie[1].adapter = json!({"name": "other"});

@@ -1,12 +1,12 @@
 //! `penumbra bench`: benchmark suites; `--suite seed-table2` is seed 000's Table 2 on this machine.
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::methods::Method;
 use crate::record::output_set;
 use crate::report::results::{write_from_rows, LoadedRow};
 use crate::studies::bench;
 use crate::studies::flags::{OutArgs, RepeatsArgs, SetArgs};
+use anyhow::Result;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -63,26 +63,50 @@ fn run(args: BenchArgs, gpu: &AdapterRequest) -> Result<()> {
         cache: args.cache,
         adaptive: Method::parse(&args.adaptive, &[])?,
         regular: Method::parse(&args.regular, &[])?,
-        regions: (args.regions != "none").then(|| Method::parse(&args.regions, &[])).transpose()?,
+        regions: (args.regions != "none")
+            .then(|| Method::parse(&args.regions, &[]))
+            .transpose()?,
         only: args.only,
         sets: args.sets.render()?,
         reuse: args.reuse == "on",
     };
     let scenes = bench::prepare(&opts)?;
     let ctx = GpuContext::with_request(gpu)?;
-    println!("seed-table2 on {} ({} repeats after one warm-up frame per method)", ctx.summary.name, opts.repeats);
+    println!(
+        "seed-table2 on {} ({} repeats after one warm-up frame per method)",
+        ctx.summary.name, opts.repeats
+    );
     // Progress on stdout; a failed setting's warning (and the count of them) on stderr.
-    let results = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| if line.starts_with("warning: ") { eprintln!("{line}") } else { println!("{line}") })?;
+    let results = bench::run_seed_table2(&ctx, &opts, scenes, &mut |line| {
+        if line.starts_with("warning: ") {
+            eprintln!("{line}")
+        } else {
+            println!("{line}")
+        }
+    })?;
     let files = [
-        ("table2.md".to_string(), bench::table::markdown(&results).into_bytes()),
-        ("results.jsonl".to_string(), bench::table::jsonl(&results)?.into_bytes()),
+        (
+            "table2.md".to_string(),
+            bench::table::markdown(&results).into_bytes(),
+        ),
+        (
+            "results.jsonl".to_string(),
+            bench::table::jsonl(&results)?.into_bytes(),
+        ),
     ];
     // One set: the tables and the report with charts (from the rows that have error figures).
     let set = output_set::OutputSet::begin(&args.output.out)?;
     for (name, bytes) in &files {
         println!("  {}", set.write(name, bytes)?.display());
     }
-    let rows: Vec<LoadedRow> = results.rows().into_iter().map(|row| LoadedRow { row, base: set.path().to_path_buf() }).collect();
+    let rows: Vec<LoadedRow> = results
+        .rows()
+        .into_iter()
+        .map(|row| LoadedRow {
+            row,
+            base: set.path().to_path_buf(),
+        })
+        .collect();
     if !rows.is_empty() {
         let _writing = set.writing();
         write_from_rows(&rows, set.path())?;

@@ -11,7 +11,10 @@ pub struct ErrorColumns {
 
 impl ErrorColumns {
     pub fn of(m: &Metrics) -> ErrorColumns {
-        ErrorColumns { rmse: m.rmse, flip: m.flip_mean }
+        ErrorColumns {
+            rmse: m.rmse,
+            flip: m.flip_mean,
+        }
     }
 }
 

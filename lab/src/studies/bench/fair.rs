@@ -41,14 +41,21 @@ pub fn verdict_of(name: &str, method: &ResultRow, grid: &ResultRow) -> String {
     if !usable(method) || !usable(grid) {
         return "no verdict (rows without a time or an RMSE)".into();
     }
-    let (faster, accurate) = (method.total_ms <= grid.total_ms, method.metrics.rmse <= grid.metrics.rmse);
+    let (faster, accurate) = (
+        method.total_ms <= grid.total_ms,
+        method.metrics.rmse <= grid.metrics.rmse,
+    );
     if faster && accurate {
         return format!("{name} dominates");
     }
     if !faster && method.metrics.rmse >= grid.metrics.rmse {
         return "grid dominates".into();
     }
-    trade_off(name, grid.total_ms / method.total_ms, method.metrics.rmse / grid.metrics.rmse)
+    trade_off(
+        name,
+        grid.total_ms / method.total_ms,
+        method.metrics.rmse / grid.metrics.rmse,
+    )
 }
 
 /// `trade-off: adaptive 2.31× faster at 1.42× the RMSE`.

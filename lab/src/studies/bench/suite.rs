@@ -8,15 +8,15 @@
 use super::errors::ErrorColumns;
 use super::fair;
 use super::seed::{SeedRow, TABLE2};
-use crate::record::stats::Summary;
-use crate::report::charts::ResultRow;
-use crate::reference::truth::{self, Cache};
 use crate::gpu::{AdapterSummary, GpuContext};
 use crate::methods::Method;
 use crate::record::judge::Judge;
 use crate::record::measure::{self, Measured, Phase};
+use crate::record::stats::Summary;
 use crate::record::{self, Provenance, RunInfo};
+use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
+use crate::report::charts::ResultRow;
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
@@ -96,7 +96,10 @@ impl SceneResult {
 
     /// Every method measured on the scene, in the table's order.
     pub fn methods(&self) -> Vec<&MethodResult> {
-        [&self.adaptive, &self.regular, &self.fair].into_iter().chain(&self.regions).collect()
+        [&self.adaptive, &self.regular, &self.fair]
+            .into_iter()
+            .chain(&self.regions)
+            .collect()
     }
 
     /// The timed adaptive frames used the map count the fair grid was chosen from.
@@ -122,21 +125,38 @@ impl SuiteResults {
     /// One report row per scene and method, adaptive, lattice, fair grid (the record layer's rows,
     /// one schema with `compare`), so `report.html` shows its tables and charts like `compare` does.
     pub fn rows(&self) -> Vec<ResultRow> {
-        self.scenes.iter().flat_map(|s| s.methods().into_iter().map(|m| m.row.clone())).collect()
+        self.scenes
+            .iter()
+            .flat_map(|s| s.methods().into_iter().map(|m| m.row.clone()))
+            .collect()
     }
 }
 
 impl MethodResult {
     fn from_measured(m: Measured<crate::metrics::Metrics>, row: ResultRow) -> MethodResult {
         let t = m.timing;
-        let one = |v: f64| Summary { median: v, min: v, max: v, samples: vec![v] };
+        let one = |v: f64| Summary {
+            median: v,
+            min: v,
+            max: v,
+            samples: vec![v],
+        };
         MethodResult {
             label: row.label.clone(),
             maps: t.shadow_maps,
             maps_stable: t.maps_stable,
-            frame_ms: Summary { median: t.median_ms, min: t.min_ms, max: t.max_ms, samples: t.totals_ms.clone() },
+            frame_ms: Summary {
+                median: t.median_ms,
+                min: t.min_ms,
+                max: t.max_ms,
+                samples: t.totals_ms.clone(),
+            },
             setup_ms: one(t.setup_ms.unwrap_or(0.0)),
-            stages_ms: t.stages_ms.iter().map(|(k, v)| (k.clone(), one(*v))).collect(),
+            stages_ms: t
+                .stages_ms
+                .iter()
+                .map(|(k, v)| (k.clone(), one(*v)))
+                .collect(),
             syncs: t.syncs,
             errors: Some(ErrorColumns::of(&m.judged)),
             row,
@@ -146,7 +166,12 @@ impl MethodResult {
 
     /// A method that failed: its row says why.
     fn from_failed(row: ResultRow) -> MethodResult {
-        let zero = Summary { median: 0.0, min: 0.0, max: 0.0, samples: Vec::new() };
+        let zero = Summary {
+            median: 0.0,
+            min: 0.0,
+            max: 0.0,
+            samples: Vec::new(),
+        };
         MethodResult {
             label: row.label.clone(),
             maps: 0,
@@ -164,11 +189,20 @@ impl MethodResult {
 
 /// The seed rows to run, in the table's order; an unknown name is an error that lists the known.
 pub fn selected(only: &[String]) -> Result<Vec<&'static SeedRow>> {
-    if let Some(bad) = only.iter().find(|n| !TABLE2.iter().any(|r| r.scene == n.as_str())) {
+    if let Some(bad) = only
+        .iter()
+        .find(|n| !TABLE2.iter().any(|r| r.scene == n.as_str()))
+    {
         let known: Vec<&str> = TABLE2.iter().map(|r| r.scene).collect();
-        return Err(Error::param(format!("bench: `{bad}` is not a seed-table2 scene (known: {})", known.join(", "))));
+        return Err(Error::param(format!(
+            "bench: `{bad}` is not a seed-table2 scene (known: {})",
+            known.join(", ")
+        )));
     }
-    Ok(TABLE2.iter().filter(|r| only.is_empty() || only.iter().any(|n| n == r.scene)).collect())
+    Ok(TABLE2
+        .iter()
+        .filter(|r| only.is_empty() || only.iter().any(|n| n == r.scene))
+        .collect())
 }
 
 /// A seed scene, loaded.
@@ -202,21 +236,57 @@ pub const REFERENCE: ReferenceMode = ReferenceMode::DEFAULT_CONTINUOUS;
 /// and one stages-mode frame per method, then `repeats` timed frames, the three methods
 /// interleaved), after one untimed adaptive frame that picks the fair grid; `log` receives one
 /// line per frame (the bar shows the same).
-pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteScene>, log: &mut dyn FnMut(&str)) -> Result<SuiteResults> {
+pub fn run_seed_table2(
+    ctx: &GpuContext,
+    opts: &SuiteOptions,
+    scenes: Vec<SuiteScene>,
+    log: &mut dyn FnMut(&str),
+) -> Result<SuiteResults> {
     let started = Instant::now();
-    let started_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
-    let bar = crate::progress::bar(scenes.len() as u64 * (1 + measure::frame_count(3, opts.repeats)), "seed-table2");
+    let started_unix_s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let bar = crate::progress::bar(
+        scenes.len() as u64 * (1 + measure::frame_count(3, opts.repeats)),
+        "seed-table2",
+    );
     let reference_label = format!("{}, CPU BVH", truth::mode_label(&REFERENCE));
     let mut results = Vec::new();
-    for SuiteScene { seed: row, file, scene } in scenes {
+    for SuiteScene {
+        seed: row,
+        file,
+        scene,
+    } in scenes
+    {
         // The probe picks the fair grid; where the adaptive method fails, so does its fair grid
         // (no map count to match), and both are failed rows.
-        let probe = crate::frame::render(ctx, &scene, &opts.adaptive, crate::gpu::timing::TimingMode::Frame).map_err(|e| e.to_string());
+        let probe = crate::frame::render(
+            ctx,
+            &scene,
+            &opts.adaptive,
+            crate::gpu::timing::TimingMode::Frame,
+        )
+        .map_err(|e| e.to_string());
         let probe_maps = probe.as_ref().map_or(0, |p| p.output.shadow_maps);
         bar.inc(1);
         match &probe {
-            Ok(_) => crate::progress::suspend(|| log(&format!("{:7} {:18} {:8} {:>3} maps: fair grid {}", row.scene, opts.adaptive.label(), "probe", probe_maps, fair::grid_method(probe_maps)))),
-            Err(e) => crate::progress::suspend(|| log(&crate::record::failed_line(&format!("{} {}", row.scene, opts.adaptive.label()), e))),
+            Ok(_) => crate::progress::suspend(|| {
+                log(&format!(
+                    "{:7} {:18} {:8} {:>3} maps: fair grid {}",
+                    row.scene,
+                    opts.adaptive.label(),
+                    "probe",
+                    probe_maps,
+                    fair::grid_method(probe_maps)
+                ))
+            }),
+            Err(e) => crate::progress::suspend(|| {
+                log(&crate::record::failed_line(
+                    &format!("{} {}", row.scene, opts.adaptive.label()),
+                    e,
+                ))
+            }),
         }
         let mut methods = vec![opts.adaptive.clone(), opts.regular.clone()];
         if probe.is_ok() {
@@ -240,8 +310,19 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
             crate::progress::suspend(|| log(&line));
             bar.inc(1);
         };
-        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| Ok(judge.judge(&scene, &methods[i].label(), f)?.metrics);
-        let measured = measure::measure_reusing(ctx, &scene, &methods, opts.repeats, opts.reuse, &mut on_frame, &mut judge_frame, &mut |_, _| Ok(()))?;
+        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| {
+            Ok(judge.judge(&scene, &methods[i].label(), f)?.metrics)
+        };
+        let measured = measure::measure_reusing(
+            ctx,
+            &scene,
+            &methods,
+            opts.repeats,
+            opts.reuse,
+            &mut on_frame,
+            &mut judge_frame,
+            &mut |_, _| Ok(()),
+        )?;
         let info = RunInfo {
             scene: row.scene,
             resolution: [scene.render.width, scene.render.height],
@@ -250,24 +331,48 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
             reference: reference_label.clone(),
             repeats: opts.repeats,
         };
-        let provenance = Provenance::of_scene("bench seed-table2", &scene, &[], opts.cache.as_deref());
-        let mut done = measured.into_iter().zip(&methods).map(|(m, method)| match m {
-            Ok(m) => {
-                let r = record::row(&info, method, &m.timing, m.judged.clone(), BTreeMap::new(), provenance.clone());
-                MethodResult::from_measured(m, r)
-            }
-            Err(reason) => {
-                crate::progress::suspend(|| log(&record::failed_line(&format!("{} {}", row.scene, method.label()), &reason)));
-                MethodResult::from_failed(record::failed_row(&info, method, &reason, provenance.clone()))
-            }
-        });
+        let provenance =
+            Provenance::of_scene("bench seed-table2", &scene, &[], opts.cache.as_deref());
+        let mut done = measured
+            .into_iter()
+            .zip(&methods)
+            .map(|(m, method)| match m {
+                Ok(m) => {
+                    let r = record::row(
+                        &info,
+                        method,
+                        &m.timing,
+                        m.judged.clone(),
+                        BTreeMap::new(),
+                        provenance.clone(),
+                    );
+                    MethodResult::from_measured(m, r)
+                }
+                Err(reason) => {
+                    crate::progress::suspend(|| {
+                        log(&record::failed_line(
+                            &format!("{} {}", row.scene, method.label()),
+                            &reason,
+                        ))
+                    });
+                    MethodResult::from_failed(record::failed_row(
+                        &info,
+                        method,
+                        &reason,
+                        provenance.clone(),
+                    ))
+                }
+            });
         let (Some(adaptive), Some(regular)) = (done.next(), done.next()) else {
             return Err(Error::param("bench: no frames measured".into()));
         };
         let fair = match (probe.is_ok().then(|| done.next()).flatten(), &probe) {
             (Some(fair), _) => fair,
             (None, probe) => {
-                let reason = format!("no fair grid: the adaptive probe frame failed ({})", probe.as_ref().err().map_or("", String::as_str));
+                let reason = format!(
+                    "no fair grid: the adaptive probe frame failed ({})",
+                    probe.as_ref().err().map_or("", String::as_str)
+                );
                 let grid = Method::parse("regular:n=2,layout=centred", &[])?;
                 let mut r = record::failed_row(&info, &grid, &reason, provenance.clone());
                 r.label = "fair grid".into();
@@ -277,7 +382,11 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
         results.push(SceneResult {
             seed: row,
             file,
-            settings: [scene.render.width, scene.render.height, scene.render.shadow_map_size],
+            settings: [
+                scene.render.width,
+                scene.render.height,
+                scene.render.shadow_map_size,
+            ],
             triangles: scene.triangle_count(),
             geometry_pixels: judge.geometry_pixels(),
             adaptive,
@@ -289,7 +398,10 @@ pub fn run_seed_table2(ctx: &GpuContext, opts: &SuiteOptions, scenes: Vec<SuiteS
     }
     bar.finish_and_clear();
     let rows: Vec<&MethodResult> = results.iter().flat_map(SceneResult::methods).collect();
-    if let Some(line) = record::failed_summary(rows.iter().filter(|m| m.failed.is_some()).count(), rows.len()) {
+    if let Some(line) = record::failed_summary(
+        rows.iter().filter(|m| m.failed.is_some()).count(),
+        rows.len(),
+    ) {
         crate::progress::suspend(|| log(&line));
     }
     Ok(SuiteResults {

@@ -47,14 +47,22 @@ fn fps_of(m: &MethodResult) -> String {
 
 /// `grid / adaptive` as `1.23x`, "—" where either failed.
 fn ratio(grid: &MethodResult, adaptive: &MethodResult) -> String {
-    if grid.failed.is_some() || adaptive.failed.is_some() { "—".into() } else { format!("{:.2}x", grid.frame_ms.median / adaptive.frame_ms.median) }
+    if grid.failed.is_some() || adaptive.failed.is_some() {
+        "—".into()
+    } else {
+        format!("{:.2}x", grid.frame_ms.median / adaptive.frame_ms.median)
+    }
 }
 
 fn maps(m: &MethodResult) -> String {
     if m.failed.is_some() {
         return "—".into();
     }
-    if m.maps_stable { m.maps.to_string() } else { format!("{}, varied", m.maps) }
+    if m.maps_stable {
+        m.maps.to_string()
+    } else {
+        format!("{}, varied", m.maps)
+    }
 }
 
 /// `2026-11-21 22:50 UTC` from Unix seconds (civil-from-days, proleptic Gregorian).
@@ -76,9 +84,14 @@ pub fn utc(unix_s: u64) -> String {
 pub fn markdown(r: &SuiteResults) -> String {
     let a = &r.adapter;
     let first = r.scenes.first();
-    let label = |f: fn(&SceneResult) -> &MethodResult| first.map(|s| f(s).label.clone()).unwrap_or_default();
+    let label = |f: fn(&SceneResult) -> &MethodResult| {
+        first.map(|s| f(s).label.clone()).unwrap_or_default()
+    };
     let mut md = String::new();
-    let _ = writeln!(md, "# Seed 000, Table 2, reproduced: adaptive vs regular light-source sampling\n");
+    let _ = writeln!(
+        md,
+        "# Seed 000, Table 2, reproduced: adaptive vs regular light-source sampling\n"
+    );
     let _ = writeln!(
         md,
         "Adapter: **{}** ({}, {}, driver {} {}). Run {}, {:.0} s in all.  ",
@@ -94,7 +107,16 @@ pub fn markdown(r: &SuiteResults) -> String {
     let settings = if seed_like {
         "as in the seed: 512x512 screen, 512x512 Depth32Float shadow maps".to_string()
     } else {
-        let each: Vec<String> = r.scenes.iter().map(|s| format!("{} {}x{} / {}²", s.seed.scene, s.settings[0], s.settings[1], s.settings[2])).collect();
+        let each: Vec<String> = r
+            .scenes
+            .iter()
+            .map(|s| {
+                format!(
+                    "{} {}x{} / {}²",
+                    s.seed.scene, s.settings[0], s.settings[1], s.settings[2]
+                )
+            })
+            .collect();
         format!("NOT the seed's 512x512 / 512²: {}", each.join(", "))
     };
     let _ = writeln!(
@@ -145,12 +167,21 @@ pub fn markdown(r: &SuiteResults) -> String {
     fair_rows(&mut md, r);
     region_rows(&mut md, r);
     let _ = writeln!(md, "## Frame times (ms, wall clock)\n");
-    let _ = writeln!(md, "| scene | method | maps | median | min | max | setup (not in the frame) | read-backs |");
+    let _ = writeln!(
+        md,
+        "| scene | method | maps | median | min | max | setup (not in the frame) | read-backs |"
+    );
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
     for s in &r.scenes {
         for m in s.methods() {
             if let Some(reason) = &m.failed {
-                let _ = writeln!(md, "| {} | `{}` | failed: {} | | | | | |", s.seed.scene, m.label, reason.replace('|', "\\|"));
+                let _ = writeln!(
+                    md,
+                    "| {} | `{}` | failed: {} | | | | | |",
+                    s.seed.scene,
+                    m.label,
+                    reason.replace('|', "\\|")
+                );
                 continue;
             }
             let f = &m.frame_ms;
@@ -168,9 +199,28 @@ pub fn markdown(r: &SuiteResults) -> String {
             );
         }
     }
-    let files = r.scenes.iter().map(|s| format!("`{}`", s.file.display())).collect::<Vec<_>>().join(", ");
-    let sets = if r.sets.is_empty() { String::new() } else { format!(", with {}", r.sets.iter().map(|s| format!("`--set {s}`")).collect::<Vec<_>>().join(" ")) };
-    let _ = writeln!(md, "\nScene files: {files}{sets}. Per-stage times and every sample: results.jsonl.");
+    let files = r
+        .scenes
+        .iter()
+        .map(|s| format!("`{}`", s.file.display()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let sets = if r.sets.is_empty() {
+        String::new()
+    } else {
+        format!(
+            ", with {}",
+            r.sets
+                .iter()
+                .map(|s| format!("`--set {s}`"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        )
+    };
+    let _ = writeln!(
+        md,
+        "\nScene files: {files}{sets}. Per-stage times and every sample: results.jsonl."
+    );
     md
 }
 
@@ -181,10 +231,21 @@ fn fair_rows(md: &mut String, r: &SuiteResults) {
     let _ = writeln!(md, "Speed-up = grid median frame / adaptive median frame (> 1: adaptive is faster). Fair grid: `regular:n=N,layout=centred`, N² the square nearest to the adaptive maps of one untimed frame (N ≥ 2).\n");
     let _ = writeln!(md, "| scene | grid | grid maps | adaptive maps | speed-up | seed speed-up | adaptive RMSE | grid RMSE | verdict |");
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---|");
-    let rmse = |m: &MethodResult| m.errors.as_ref().map_or("—".to_string(), |e| format!("{:.5}", e.rmse));
+    let rmse = |m: &MethodResult| {
+        m.errors
+            .as_ref()
+            .map_or("—".to_string(), |e| format!("{:.5}", e.rmse))
+    };
     for s in &r.scenes {
-        let adaptive_maps = if s.probe_held() { maps(&s.adaptive) } else { format!("{} (untimed frame: {})", maps(&s.adaptive), s.probe_maps) };
-        for (grid, seed) in [(&s.regular, format!("{:.1}x", s.seed.speedup())), (&s.fair, "—".to_string())] {
+        let adaptive_maps = if s.probe_held() {
+            maps(&s.adaptive)
+        } else {
+            format!("{} (untimed frame: {})", maps(&s.adaptive), s.probe_maps)
+        };
+        for (grid, seed) in [
+            (&s.regular, format!("{:.1}x", s.seed.speedup())),
+            (&s.fair, "—".to_string()),
+        ] {
             let speedup = ratio(grid, &s.adaptive);
             let verdict = match (&s.adaptive.failed, &grid.failed) {
                 (None, None) => fair::verdict(&s.adaptive.row, &grid.row),
@@ -215,19 +276,38 @@ fn region_rows(md: &mut String, r: &SuiteResults) {
     if r.scenes.iter().all(|s| s.regions.is_none()) {
         return;
     }
-    let label = r.scenes.iter().find_map(|s| s.regions.as_ref()).map(|m| m.label.clone()).unwrap_or_default();
-    let _ = writeln!(md, "## Per region: `{label}` against the seed's lattice and the fair grid\n");
-    let _ = writeln!(md, "Speed-up = grid median frame / per-region median frame (> 1: per region is faster).\n");
+    let label = r
+        .scenes
+        .iter()
+        .find_map(|s| s.regions.as_ref())
+        .map(|m| m.label.clone())
+        .unwrap_or_default();
+    let _ = writeln!(
+        md,
+        "## Per region: `{label}` against the seed's lattice and the fair grid\n"
+    );
+    let _ = writeln!(
+        md,
+        "Speed-up = grid median frame / per-region median frame (> 1: per region is faster).\n"
+    );
     let _ = writeln!(md, "| scene | per-region maps | per-region ms | per-region RMSE | lattice speed-up | lattice RMSE | verdict against the lattice | fair grid | fair speed-up | fair RMSE | verdict against the fair grid |");
     let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---|---|---:|---:|---|");
-    let rmse = |m: &MethodResult| m.errors.as_ref().map_or("—".to_string(), |e| format!("{:.5}", e.rmse));
+    let rmse = |m: &MethodResult| {
+        m.errors
+            .as_ref()
+            .map_or("—".to_string(), |e| format!("{:.5}", e.rmse))
+    };
     let verdict = |m: &MethodResult, grid: &MethodResult| match (&m.failed, &grid.failed) {
         (None, None) => fair::verdict_of("per region", &m.row, &grid.row),
         _ => "—: a failed setting".to_string(),
     };
     for s in &r.scenes {
         let Some(m) = &s.regions else { continue };
-        let ms = if m.failed.is_some() { fps_of(m) } else { format!("{:.1}", m.frame_ms.median) };
+        let ms = if m.failed.is_some() {
+            fps_of(m)
+        } else {
+            format!("{:.1}", m.frame_ms.median)
+        };
         let _ = writeln!(
             md,
             "| {} | {} | {} | {} | {} | {} | {} | `{}` | {} | {} | {} |",

@@ -8,17 +8,43 @@ use crate::studies::estimate::charts::EstimatePoint;
 
 /// `points`: `layout` names the pair's half (the series), `predicted` is the calibrated figure.
 pub fn calibration_svg(title: &str, points: &[EstimatePoint]) -> Result<String, ChartError> {
-    let usable: Vec<&EstimatePoint> = points.iter().filter(|p| p.measured > 0.0 && p.predicted > 0.0 && p.measured.is_finite() && p.predicted.is_finite()).collect();
+    let usable: Vec<&EstimatePoint> = points
+        .iter()
+        .filter(|p| {
+            p.measured > 0.0
+                && p.predicted > 0.0
+                && p.measured.is_finite()
+                && p.predicted.is_finite()
+        })
+        .collect();
     if usable.is_empty() {
-        return Err(ChartError::NoData("needs pairs with a positive measured and predicted RMSE"));
+        return Err(ChartError::NoData(
+            "needs pairs with a positive measured and predicted RMSE",
+        ));
     }
     let mut series: Vec<Series> = Vec::new();
     for p in &usable {
         let label = (p.predicted < p.measured).then(|| p.label.clone());
-        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None, hit: None });
+        push_point(
+            &mut series,
+            p.layout.clone(),
+            Point {
+                x: p.measured,
+                y: p.predicted,
+                label,
+                x_span: None,
+                hit: None,
+            },
+        );
     }
-    let lo = usable.iter().map(|p| p.measured.min(p.predicted)).fold(f64::INFINITY, f64::min);
-    let hi = usable.iter().map(|p| p.measured.max(p.predicted)).fold(0.0, f64::max);
+    let lo = usable
+        .iter()
+        .map(|p| p.measured.min(p.predicted))
+        .fold(f64::INFINITY, f64::min);
+    let hi = usable
+        .iter()
+        .map(|p| p.measured.max(p.predicted))
+        .fold(0.0, f64::max);
     render(&Scatter {
         title: title.into(),
         x_desc: "measured RMSE against the continuous reference (log scale)".into(),
@@ -38,16 +64,37 @@ pub fn calibration_svg(title: &str, points: &[EstimatePoint]) -> Result<String, 
 /// `predicted` is y, and a non-empty label is drawn (the caller names the pairs whose total is
 /// under the measured). The line marks the unit ratios' corner.
 pub fn parts_svg(points: &[EstimatePoint]) -> Result<String, ChartError> {
-    let usable: Vec<&EstimatePoint> = points.iter().filter(|p| p.measured > 0.0 && p.predicted > 0.0 && p.measured.is_finite() && p.predicted.is_finite()).collect();
+    let usable: Vec<&EstimatePoint> = points
+        .iter()
+        .filter(|p| {
+            p.measured > 0.0
+                && p.predicted > 0.0
+                && p.measured.is_finite()
+                && p.predicted.is_finite()
+        })
+        .collect();
     if usable.is_empty() {
         return Err(ChartError::NoData("needs pairs with both parts measured"));
     }
     let mut series: Vec<Series> = Vec::new();
     for p in &usable {
         let label = (!p.label.is_empty()).then(|| p.label.clone());
-        push_point(&mut series, p.layout.clone(), Point { x: p.measured, y: p.predicted, label, x_span: None, hit: None });
+        push_point(
+            &mut series,
+            p.layout.clone(),
+            Point {
+                x: p.measured,
+                y: p.predicted,
+                label,
+                x_span: None,
+                hit: None,
+            },
+        );
     }
-    let hi = usable.iter().map(|p| p.measured.max(p.predicted)).fold(1.0, f64::max);
+    let hi = usable
+        .iter()
+        .map(|p| p.measured.max(p.predicted))
+        .fold(1.0, f64::max);
     render(&Scatter {
         title: "Each part, calibrated over measured (named: the total under the measured)".into(),
         x_desc: "sampling part: calibrated / measured (log scale)".into(),

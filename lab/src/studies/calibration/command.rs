@@ -1,14 +1,14 @@
 //! `penumbra calibrate`: the calibrated estimate's factors fitted on the fitting half of
 //! `penumbra estimate`'s pairs and read on every half (docs/budget.md).
 
+use super::{self as study, Pair};
 use crate::gpu::AdapterRequest;
-use crate::studies::Run;
-use anyhow::Result;
 use crate::methods::calibration::{self, Class};
 use crate::record::{output_set, run_files};
 use crate::scene::Scene;
-use super::{self as study, Pair};
 use crate::studies::estimate::EstimateLine;
+use crate::studies::Run;
+use anyhow::Result;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -36,8 +36,23 @@ impl Run for CalibrateArgs {
 fn run(args: CalibrateArgs) -> Result<()> {
     output_set::check(&args.out)?;
     // The same file twice would count every pair twice; two spellings of one file too.
-    crate::studies::lists::listed_once("--estimates", args.estimates.iter().map(|p| (p.display().to_string(), p.canonicalize().unwrap_or_else(|_| p.clone()))))?;
-    output_set::check_inputs(&args.out, &args.estimates.iter().map(|p| ("--estimates", p.as_path())).collect::<Vec<_>>())?;
+    crate::studies::lists::listed_once(
+        "--estimates",
+        args.estimates.iter().map(|p| {
+            (
+                p.display().to_string(),
+                p.canonicalize().unwrap_or_else(|_| p.clone()),
+            )
+        }),
+    )?;
+    output_set::check_inputs(
+        &args.out,
+        &args
+            .estimates
+            .iter()
+            .map(|p| ("--estimates", p.as_path()))
+            .collect::<Vec<_>>(),
+    )?;
     let mut extra = Vec::new();
     for path in &args.scenes {
         extra.push(Scene::load(path, &[])?);
@@ -45,11 +60,21 @@ fn run(args: CalibrateArgs) -> Result<()> {
     let mut pairs = Vec::new();
     let mut failed = 0;
     for file in &args.estimates {
-        let text = crate::scene::input_file::read_text(file, crate::scene::input_file::TEXT_CAP, "the 256 MiB cap on rows files")
-            .map_err(|e| anyhow::anyhow!("--estimates {}: cannot read: {e}", file.display()))?;
+        let text = crate::scene::input_file::read_text(
+            file,
+            crate::scene::input_file::TEXT_CAP,
+            "the 256 MiB cap on rows files",
+        )
+        .map_err(|e| anyhow::anyhow!("--estimates {}: cannot read: {e}", file.display()))?;
         let mut rows = 0;
-        for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-            let l: EstimateLine = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("--estimates {}: line {}: {e}", file.display(), i + 1))?;
+        for (i, line) in text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty())
+        {
+            let l: EstimateLine = serde_json::from_str(line).map_err(|e| {
+                anyhow::anyhow!("--estimates {}: line {}: {e}", file.display(), i + 1)
+            })?;
             rows += 1;
             if let Some(why) = l.check() {
                 anyhow::bail!("--estimates {}: line {}: {why}", file.display(), i + 1);
@@ -69,16 +94,35 @@ fn run(args: CalibrateArgs) -> Result<()> {
         }
     }
     if pairs.is_empty() {
-        anyhow::bail!("--estimates {}: all {failed} rows are failed settings: no pair to calibrate", args.estimates.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(","));
+        anyhow::bail!(
+            "--estimates {}: all {failed} rows are failed settings: no pair to calibrate",
+            args.estimates
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        );
     }
-    let engine = (calibration::factors(Class::Plane), calibration::factors(Class::Cube));
-    let factors = if args.refit { study::fit(&pairs).ok_or_else(|| anyhow::anyhow!("--refit: no factors up to 4 cover 95% of the fitting half's pairs"))? } else { engine };
+    let engine = (
+        calibration::factors(Class::Plane),
+        calibration::factors(Class::Cube),
+    );
+    let factors = if args.refit {
+        study::fit(&pairs).ok_or_else(|| {
+            anyhow::anyhow!("--refit: no factors up to 4 cover 95% of the fitting half's pairs")
+        })?
+    } else {
+        engine
+    };
     run_files::write_files(&args.out, &study::files(&pairs, factors)?)?;
     let md = study::markdown(&pairs, factors);
     print!("{md}");
     if args.refit && factors != engine {
         println!("\nthe refit differs from the engine's factors (src/methods/calibration.rs): plane {:?}, ball {:?}", engine.0, engine.1);
     }
-    println!("\ncalibration: {}", args.out.join("calibration.md").display());
+    println!(
+        "\ncalibration: {}",
+        args.out.join("calibration.md").display()
+    );
     Ok(())
 }

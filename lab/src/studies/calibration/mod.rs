@@ -2,9 +2,9 @@
 //! half of the shipped scenes' `penumbra estimate` pairs, and read on the checking half and the
 //! held-out scenes, which the fit never sees.
 
-use crate::studies::estimate::EstimateLine;
 use crate::methods::calibration::{calibrated_with, Class, Factors};
 use crate::methods::estimate::Prediction;
+use crate::studies::estimate::EstimateLine;
 pub mod charts;
 pub mod command;
 
@@ -54,7 +54,10 @@ pub const SPLIT: [(&str, Half); 15] = [
 ];
 
 pub fn half(scene: &str) -> Half {
-    SPLIT.iter().find(|(s, _)| *s == scene).map_or(Half::HeldOut, |(_, h)| *h)
+    SPLIT
+        .iter()
+        .find(|(s, _)| *s == scene)
+        .map_or(Half::HeldOut, |(_, h)| *h)
 }
 
 /// One (scene, setting) pair with what the fit reads.
@@ -95,7 +98,14 @@ impl Pair {
         self.predicted_sampling.hypot(self.predicted_map)
     }
     pub fn calibrated(&self, f: Factors) -> f64 {
-        let p = Prediction { predicted_rmse: self.raw(), predicted_sampling: self.predicted_sampling, predicted_map: self.predicted_map, predicted_quantization: 0.0, predicted_bias: 0.0, predicted_map_averaging: 0.0 };
+        let p = Prediction {
+            predicted_rmse: self.raw(),
+            predicted_sampling: self.predicted_sampling,
+            predicted_map: self.predicted_map,
+            predicted_quantization: 0.0,
+            predicted_bias: 0.0,
+            predicted_map_averaging: 0.0,
+        };
         calibrated_with(&p, f).predicted_rmse
     }
 }
@@ -109,7 +119,10 @@ const GRID: (u32, u32) = (50, 400);
 
 /// Coverage and sharpness of `f` on `pairs`: (pairs, covered, median calibrated/measured).
 pub fn reading(pairs: &[&Pair], f: &dyn Fn(&Pair) -> Factors) -> (usize, usize, f64) {
-    let mut ratios: Vec<f64> = pairs.iter().map(|p| p.calibrated(f(p)) / p.measured.max(1e-12)).collect();
+    let mut ratios: Vec<f64> = pairs
+        .iter()
+        .map(|p| p.calibrated(f(p)) / p.measured.max(1e-12))
+        .collect();
     let covered = ratios.iter().filter(|r| **r >= 1.0).count();
     ratios.sort_by(f64::total_cmp);
     let median = match ratios.len() {
@@ -133,13 +146,21 @@ fn covers(pairs: &[&Pair], f: Factors) -> bool {
 /// their sampling factor the least that covers 95% of their totals with it. None where no factors
 /// on the grid cover.
 pub fn fit(pairs: &[Pair]) -> Option<(Factors, Factors)> {
-    let fitting = |c: Class| -> Vec<&Pair> { pairs.iter().filter(|p| p.half == Half::Fitting && p.class == c).collect() };
+    let fitting = |c: Class| -> Vec<&Pair> {
+        pairs
+            .iter()
+            .filter(|p| p.half == Half::Fitting && p.class == c)
+            .collect()
+    };
     let (plane, cube) = (fitting(Class::Plane), fitting(Class::Cube));
     let step = |k: u32| f64::from(k) / 100.0;
     let mut best: Option<(f64, Factors)> = None;
     for a in GRID.0..=GRID.1 {
         for b in GRID.0..=GRID.1 {
-            let f = Factors { sampling: step(a), map: step(b) };
+            let f = Factors {
+                sampling: step(a),
+                map: step(b),
+            };
             if !covers(&plane, f) {
                 continue;
             }
@@ -153,8 +174,19 @@ pub fn fit(pairs: &[Pair]) -> Option<(Factors, Factors)> {
     let cube_f = if cube.is_empty() {
         plane_f
     } else {
-        let map = (GRID.0..=GRID.1).map(step).find(|&b| cube.iter().filter(|p| b * p.predicted_map >= p.measured_map).count() * 100 >= COVERAGE_PERCENT * cube.len())?;
-        (GRID.0..=GRID.1).map(|a| Factors { sampling: step(a), map }).find(|&f| covers(&cube, f))?
+        let map = (GRID.0..=GRID.1).map(step).find(|&b| {
+            cube.iter()
+                .filter(|p| b * p.predicted_map >= p.measured_map)
+                .count()
+                * 100
+                >= COVERAGE_PERCENT * cube.len()
+        })?;
+        (GRID.0..=GRID.1)
+            .map(|a| Factors {
+                sampling: step(a),
+                map,
+            })
+            .find(|&f| covers(&cube, f))?
     };
     Some((plane_f, cube_f))
 }
@@ -194,16 +226,43 @@ pub fn files(pairs: &[Pair], factors: (Factors, Factors)) -> Result<Vec<(String,
     }
     let points: Vec<EstimatePoint> = pairs
         .iter()
-        .map(|p| EstimatePoint { layout: format!("{} half", p.half.name()).replace("held out half", "held out"), label: format!("{} {}@{}", p.scene, p.spec.replace("regular:", "").replace(",layout=centred", ""), p.map_size), measured: p.measured, predicted: p.calibrated(f(p)) })
+        .map(|p| EstimatePoint {
+            layout: format!("{} half", p.half.name()).replace("held out half", "held out"),
+            label: format!(
+                "{} {}@{}",
+                p.scene,
+                p.spec
+                    .replace("regular:", "")
+                    .replace(",layout=centred", ""),
+                p.map_size
+            ),
+            measured: p.measured,
+            predicted: p.calibrated(f(p)),
+        })
         .collect();
-    let svg = calibration_svg("Calibrated predicted against measured RMSE of V, by half of the split", &points).map_err(|e| Error::limit(format!("calibration chart: {e}")))?;
+    let svg = calibration_svg(
+        "Calibrated predicted against measured RMSE of V, by half of the split",
+        &points,
+    )
+    .map_err(|e| Error::limit(format!("calibration chart: {e}")))?;
     let parts: Vec<EstimatePoint> = pairs
         .iter()
         .map(|p| {
             let k = f(p);
             EstimatePoint {
                 layout: format!("{} half", p.half.name()).replace("held out half", "held out"),
-                label: if p.calibrated(k) < p.measured { format!("{} {}@{}", p.scene, p.spec.replace("regular:", "").replace(",layout=centred", ""), p.map_size) } else { String::new() },
+                label: if p.calibrated(k) < p.measured {
+                    format!(
+                        "{} {}@{}",
+                        p.scene,
+                        p.spec
+                            .replace("regular:", "")
+                            .replace(",layout=centred", ""),
+                        p.map_size
+                    )
+                } else {
+                    String::new()
+                },
                 measured: k.sampling * p.predicted_sampling / p.measured_sampling.max(1e-12),
                 predicted: k.map * p.predicted_map / p.measured_map.max(1e-12),
             }
@@ -225,7 +284,10 @@ pub fn files(pairs: &[Pair], factors: (Factors, Factors)) -> Result<Vec<(String,
 /// estimate's, for comparison).
 pub fn markdown(pairs: &[Pair], factors: (Factors, Factors)) -> String {
     let f = of(factors);
-    let raw = |_: &Pair| Factors { sampling: 1.0, map: 1.0 };
+    let raw = |_: &Pair| Factors {
+        sampling: 1.0,
+        map: 1.0,
+    };
     let mut s = format!(
         "# The calibrated estimate\n\nFactors (sampling, maps): plane lights {:.2}, {:.2}; ball lights {:.2}, {:.2}.\n\n\
          | half | pairs | predicted ≥ measured | share | median predicted/measured | raw: share | raw: median |\n|---|---:|---:|---:|---:|---:|---:|\n",
@@ -250,13 +312,26 @@ pub fn markdown(pairs: &[Pair], factors: (Factors, Factors)) -> String {
     for stretch in STRETCHES {
         let g = |p: &Pair| {
             let k = f(p);
-            Factors { sampling: k.sampling * stretch, map: k.map * stretch }
+            Factors {
+                sampling: k.sampling * stretch,
+                map: k.map * stretch,
+            }
         };
         let fitting: Vec<&Pair> = pairs.iter().filter(|p| p.half == Half::Fitting).collect();
         let other: Vec<&Pair> = pairs.iter().filter(|p| p.half != Half::Fitting).collect();
         // A half without pairs reads `-`.
-        let cells = |(n, c, m): (usize, usize, f64)| if n == 0 { "- | -".to_string() } else { format!("{:.1}% | {m:.2}", 100.0 * c as f64 / n as f64) };
-        s += &format!("| {stretch:.2} | {} | {} |\n", cells(reading(&fitting, &g)), cells(reading(&other, &g)));
+        let cells = |(n, c, m): (usize, usize, f64)| {
+            if n == 0 {
+                "- | -".to_string()
+            } else {
+                format!("{:.1}% | {m:.2}", 100.0 * c as f64 / n as f64)
+            }
+        };
+        s += &format!(
+            "| {stretch:.2} | {} | {} |\n",
+            cells(reading(&fitting, &g)),
+            cells(reading(&other, &g))
+        );
     }
     s += "\nThe pairs under the measured, and which part under-reads (each calibrated part over its measured part: the sampling part against the exact visibility at the grid's points, the maps' part against V there):\n\n\
           | scene | half | setting | calibrated/measured | sampling part | maps' part |\n|---|---|---|---:|---:|---:|\n";
@@ -281,7 +356,19 @@ mod tests {
     use super::*;
 
     fn pair(scene: &str, class: Class, measured: f64, s: f64, m: f64) -> Pair {
-        Pair { scene: scene.into(), half: half(scene), class, spec: "regular:n=3".into(), map_size: 512, maps: 9, measured, predicted_sampling: s, predicted_map: m, measured_sampling: measured, measured_map: 0.0 }
+        Pair {
+            scene: scene.into(),
+            half: half(scene),
+            class,
+            spec: "regular:n=3".into(),
+            map_size: 512,
+            maps: 9,
+            measured,
+            predicted_sampling: s,
+            predicted_map: m,
+            measured_sampling: measured,
+            measured_map: 0.0,
+        }
     }
 
     #[test]
@@ -296,11 +383,21 @@ mod tests {
     /// The pairs of a CSV the calibration committed (results/budget-calibration/`rel`), its columns
     /// read by name: `pairs.csv` and `even/even.csv` share the leading ones, not the rest.
     fn committed_pairs(rel: &str) -> Vec<Pair> {
-        let text = std::fs::read_to_string(format!("{}/../results/budget-calibration/{rel}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        let text = std::fs::read_to_string(format!(
+            "{}/../results/budget-calibration/{rel}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap();
         let names: Vec<&str> = text.lines().next().unwrap().split(',').collect();
         // The quoted spec holds commas: a line is scene,half,class,"spec",… and the fields after
         // the spec are counted from it (the header's fifth name on).
-        let after_spec = |name: &str| names.iter().position(|n| *n == name).unwrap_or_else(|| panic!("{rel}: no column {name}")) - 4;
+        let after_spec = |name: &str| {
+            names
+                .iter()
+                .position(|n| *n == name)
+                .unwrap_or_else(|| panic!("{rel}: no column {name}"))
+                - 4
+        };
         text.lines()
             .skip(1)
             .map(|line| {
@@ -309,14 +406,24 @@ mod tests {
                 let spec = quoted.next().unwrap();
                 let tail: Vec<&str> = quoted.next().unwrap().split(',').skip(1).collect();
                 let num = |name: &str| tail[after_spec(name)].parse::<f64>().unwrap();
-                let class = if head[2] == "cube" { Class::Cube } else { Class::Plane };
+                let class = if head[2] == "cube" {
+                    Class::Cube
+                } else {
+                    Class::Plane
+                };
                 Pair {
                     spec: spec.into(),
                     map_size: num("map_size") as u32,
                     maps: num("maps") as u32,
                     measured_sampling: num("measured_sampling"),
                     measured_map: num("measured_map"),
-                    ..pair(head[0], class, num("measured_rmse"), num("predicted_sampling"), num("predicted_map"))
+                    ..pair(
+                        head[0],
+                        class,
+                        num("measured_rmse"),
+                        num("predicted_sampling"),
+                        num("predicted_map"),
+                    )
                 }
             })
             .collect()
@@ -327,8 +434,15 @@ mod tests {
     #[test]
     fn the_engines_factors_are_the_fit_on_the_committed_pairs() {
         let pairs = committed_pairs("pairs.csv");
-        assert_eq!(pairs.iter().filter(|p| p.half == Half::Fitting).count(), 48, "8 scenes × 6 settings");
-        let engine = (crate::methods::calibration::PLANE, crate::methods::calibration::CUBE);
+        assert_eq!(
+            pairs.iter().filter(|p| p.half == Half::Fitting).count(),
+            48,
+            "8 scenes × 6 settings"
+        );
+        let engine = (
+            crate::methods::calibration::PLANE,
+            crate::methods::calibration::CUBE,
+        );
         assert_eq!(fit(&pairs), Some(engine));
     }
 
@@ -339,12 +453,24 @@ mod tests {
     fn the_even_sides_factors_are_the_fit_on_the_committed_even_pairs() {
         use crate::methods::calibration::{factors, EVEN_CUBE_SAMPLING, EVEN_PLANE_SAMPLING};
         let pairs = committed_pairs("even/even.csv");
-        assert_eq!(pairs.len(), 90, "15 shipped scenes × n = 2, 4, 6 at 512² and 1024²");
-        for (class, even, count) in [(Class::Plane, EVEN_PLANE_SAMPLING, 42), (Class::Cube, EVEN_CUBE_SAMPLING, 6)] {
-            let fitting: Vec<&Pair> = pairs.iter().filter(|p| p.half == Half::Fitting && p.class == class).collect();
+        assert_eq!(
+            pairs.len(),
+            90,
+            "15 shipped scenes × n = 2, 4, 6 at 512² and 1024²"
+        );
+        for (class, even, count) in [
+            (Class::Plane, EVEN_PLANE_SAMPLING, 42),
+            (Class::Cube, EVEN_CUBE_SAMPLING, 6),
+        ] {
+            let fitting: Vec<&Pair> = pairs
+                .iter()
+                .filter(|p| p.half == Half::Fitting && p.class == class)
+                .collect();
             assert_eq!(fitting.len(), count, "{class:?}");
             let map = factors(class).map;
-            let least = (GRID.0..=GRID.1).map(|k| f64::from(k) / 100.0).find(|&a| covers(&fitting, Factors { sampling: a, map }));
+            let least = (GRID.0..=GRID.1)
+                .map(|k| f64::from(k) / 100.0)
+                .find(|&a| covers(&fitting, Factors { sampling: a, map }));
             assert_eq!(least, Some(even), "{class:?}");
         }
     }
@@ -353,13 +479,26 @@ mod tests {
     fn the_fit_reads_the_fitting_half_only() {
         // Fitting plane pairs under-read their sampling part by up to 2×; a checking pair that
         // under-reads by 10× must not move the fit.
-        let mut pairs: Vec<Pair> = (1..=20).map(|k| pair("default", Class::Plane, 0.01 * (1.0 + f64::from(k) / 20.0) - 1e-7, 0.01, 0.0)).collect();
+        let mut pairs: Vec<Pair> = (1..=20)
+            .map(|k| {
+                pair(
+                    "default",
+                    Class::Plane,
+                    0.01 * (1.0 + f64::from(k) / 20.0) - 1e-7,
+                    0.01,
+                    0.0,
+                )
+            })
+            .collect();
         let (plane, cube) = fit(&pairs).unwrap();
         pairs.push(pair("teapot", Class::Plane, 0.1, 0.01, 0.0));
         assert_eq!(fit(&pairs).unwrap(), (plane, cube));
         // 19 of 20 covered: the 19th largest measured, 0.01 · 1.95, over its 0.01.
         assert_eq!(plane.sampling, 1.95);
-        assert_eq!(cube, plane, "no ball-light pairs: the plane lights' factors");
+        assert_eq!(
+            cube, plane,
+            "no ball-light pairs: the plane lights' factors"
+        );
         let fitting: Vec<&Pair> = pairs.iter().filter(|p| p.half == Half::Fitting).collect();
         assert_eq!(reading(&fitting, &of((plane, cube))).1, 19);
     }
@@ -371,13 +510,19 @@ mod tests {
         // (the 19th largest, 0.001 · 1.95), then the sampling factor the least that covers 95%
         // of the totals with it.
         let pairs: Vec<Pair> = (1..=20)
-            .map(|k| Pair { measured_map: 0.001 * (1.0 + f64::from(k) / 20.0) - 1e-9, ..pair("point-edge", Class::Cube, 0.0101, 0.01, 0.001) })
+            .map(|k| Pair {
+                measured_map: 0.001 * (1.0 + f64::from(k) / 20.0) - 1e-9,
+                ..pair("point-edge", Class::Cube, 0.0101, 0.01, 0.001)
+            })
             .collect();
         let (_, cube) = fit(&pairs).unwrap();
         assert_eq!(cube.map, 1.95);
         // sqrt(0.0101² − (1.95 · 0.001)²) / 0.01 = 0.991: the grid's 1.00 (0.50 and up).
         assert_eq!(cube.sampling, 1.0);
-        let one_less = Factors { sampling: 0.99, ..cube };
+        let one_less = Factors {
+            sampling: 0.99,
+            ..cube
+        };
         assert!(reading(&pairs.iter().collect::<Vec<_>>(), &|_| one_less).1 < 19);
     }
 }

@@ -14,10 +14,22 @@ pub struct CascadePoint {
 pub fn cascades_svg(scene: &str, points: &[CascadePoint]) -> Result<String, ChartError> {
     let mut series = Vec::new();
     for p in points.iter().filter(|p| p.rmse.is_finite() && p.rmse > 0.0) {
-        push_point(&mut series, p.scheme.clone(), Point { x: p.n as f64, y: p.rmse, label: None, x_span: None, hit: None });
+        push_point(
+            &mut series,
+            p.scheme.clone(),
+            Point {
+                x: p.n as f64,
+                y: p.rmse,
+                label: None,
+                x_span: None,
+                hit: None,
+            },
+        );
     }
     if series.is_empty() {
-        return Err(ChartError::NoData("needs settings with a finite, non-zero error"));
+        return Err(ChartError::NoData(
+            "needs settings with a finite, non-zero error",
+        ));
     }
     for s in &mut series {
         s.points.sort_by(|a, b| a.x.total_cmp(&b.x));

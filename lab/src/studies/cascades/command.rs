@@ -2,7 +2,6 @@
 //! scheme, their error against the continuous reference and each cascade's texel density on
 //! screen (docs/lights.md "Cascades").
 
-use anyhow::{bail, Result};
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::methods::cascades::{split::Scheme, CascadeMaps, FILTERS, MAX_CASCADES};
 use crate::methods::Method;
@@ -11,6 +10,7 @@ use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::cascades::{self, files, CascadeJob};
 use crate::studies::flags::{OutArgs, SceneArgs, SetArgs};
+use anyhow::{bail, Result};
 
 #[derive(clap::Args)]
 #[command(mut_arg("scene", |a| a.default_value("sun-grove").help("Built-in scene name or path to a scene TOML file; its light must be a `sun`")))]
@@ -51,7 +51,9 @@ fn parse_n(values: &[String]) -> Result<Vec<u32>> {
     for v in values {
         let n: u32 = match v.trim().parse() {
             Ok(n) if (1..=MAX_CASCADES).contains(&n) => n,
-            _ => bail!("--n {v}: each number of cascades must be a whole number in 1..={MAX_CASCADES}"),
+            _ => bail!(
+                "--n {v}: each number of cascades must be a whole number in 1..={MAX_CASCADES}"
+            ),
         };
         if out.contains(&n) {
             bail!("--n {v}: given twice");
@@ -87,7 +89,10 @@ fn run(args: CascadesArgs, gpu: &AdapterRequest) -> Result<()> {
     let schemes = parse_split(&args.split)?;
     let lambda = match args.lambda.trim().parse::<f32>() {
         Ok(l) if (0.0..=1.0).contains(&l) => l,
-        _ => bail!("--lambda {}: the log split's weight must be a number in 0..=1", args.lambda),
+        _ => bail!(
+            "--lambda {}: the log split's weight must be a number in 0..=1",
+            args.lambda
+        ),
     };
     let Some(&filter) = FILTERS.iter().find(|f| **f == args.filter) else {
         bail!("--filter {}: use {}", args.filter, FILTERS.join(" or "));
@@ -97,14 +102,36 @@ fn run(args: CascadesArgs, gpu: &AdapterRequest) -> Result<()> {
     let scene = Scene::load(&args.scene.scene, &sets)?;
     let methods: Vec<Method> = schemes
         .iter()
-        .flat_map(|&split| ns.iter().map(move |&n| Method::new(CascadeMaps { n, split, lambda, filter })))
+        .flat_map(|&split| {
+            ns.iter().map(move |&n| {
+                Method::new(CascadeMaps {
+                    n,
+                    split,
+                    lambda,
+                    filter,
+                })
+            })
+        })
         .collect();
     // The light's kind and every frame's sizes before the reference is traced or anything written.
     crate::methods::check_lights(&scene, &methods)?;
     let ctx = GpuContext::with_request(gpu)?;
     crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
-    eprintln!("cascades: {} settings on {} ({} triangles)", methods.len(), scene.name, scene.triangle_count());
-    let job = CascadeJob { scene: &scene, ns, schemes, lambda, filter, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
+    eprintln!(
+        "cascades: {} settings on {} ({} triangles)",
+        methods.len(),
+        scene.name,
+        scene.triangle_count()
+    );
+    let job = CascadeJob {
+        scene: &scene,
+        ns,
+        schemes,
+        lambda,
+        filter,
+        reference: mode,
+        cache: truth::Cache::default_for(args.no_cache),
+    };
     let lines = cascades::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);

@@ -1,22 +1,34 @@
 //! The cascade study's output set: `cascades.jsonl` (one line per setting), `cascades.csv` (one
 //! row per cascade), `cascades.md`, `charts/cascades.svg`/`.png` and a self-contained `report.html`.
 
-use super::CascadeLine;
 use super::charts::{cascades_svg, CascadePoint};
+use super::CascadeLine;
 use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
 pub fn files(lines: &[CascadeLine]) -> Result<Vec<(String, Vec<u8>)>> {
     let mut jsonl = String::new();
     for l in lines {
-        jsonl += &serde_json::to_string(l).map_err(|e| Error::io_text("cascades.jsonl".into(), e.to_string()))?;
+        jsonl += &serde_json::to_string(l)
+            .map_err(|e| Error::io_text("cascades.jsonl".into(), e.to_string()))?;
         jsonl.push('\n');
     }
     let scene = lines.first().map_or("", |l| l.scene.as_str());
-    let points: Vec<CascadePoint> = lines.iter().map(|l| CascadePoint { scheme: l.scheme(), n: l.n, rmse: l.rmse }).collect();
+    let points: Vec<CascadePoint> = lines
+        .iter()
+        .map(|l| CascadePoint {
+            scheme: l.scheme(),
+            n: l.n,
+            rmse: l.rmse,
+        })
+        .collect();
     let svg = cascades_svg(scene, &points)?;
     let md = markdown(lines);
-    let html = crate::report::md_page::page(&format!("Cascades: {scene}"), &md, &[("Error against the number of cascades", &svg)]);
+    let html = crate::report::md_page::page(
+        &format!("Cascades: {scene}"),
+        &md,
+        &[("Error against the number of cascades", &svg)],
+    );
     Ok(vec![
         ("cascades.jsonl".to_string(), jsonl.into_bytes()),
         ("cascades.csv".to_string(), csv(lines).into_bytes()),
@@ -50,7 +62,8 @@ pub fn csv(lines: &[CascadeLine]) -> String {
                 c.texel_world,
                 c.pixels,
                 c.share,
-                c.density_median.map_or(String::new(), |d| format!("{d:.4}"))
+                c.density_median
+                    .map_or(String::new(), |d| format!("{d:.4}"))
             );
         }
     }
@@ -59,10 +72,18 @@ pub fn csv(lines: &[CascadeLine]) -> String {
 
 /// The error table (schemes against n), then each setting's cascades.
 pub fn markdown(lines: &[CascadeLine]) -> String {
-    let Some(first) = lines.first() else { return "# Cascades\n\nNo settings.\n".into() };
+    let Some(first) = lines.first() else {
+        return "# Cascades\n\nNo settings.\n".into();
+    };
     let mut s = format!(
         "# Cascades: {}\n\n{}x{} screen, {}² maps, filter `{}`; reference {}; {}.\n\n",
-        first.scene, first.resolution[0], first.resolution[1], first.map_size, first.filter, first.reference, first.adapter
+        first.scene,
+        first.resolution[0],
+        first.resolution[1],
+        first.map_size,
+        first.filter,
+        first.reference,
+        first.adapter
     );
     let mut ns: Vec<u32> = lines.iter().map(|l| l.n).collect();
     ns.sort();
@@ -79,7 +100,10 @@ pub fn markdown(lines: &[CascadeLine]) -> String {
     for scheme in &schemes {
         s += &format!("| {scheme} |");
         for n in &ns {
-            let cell = lines.iter().find(|l| &l.scheme() == scheme && l.n == *n).map_or("-".into(), |l| format!("{:.5}", l.rmse));
+            let cell = lines
+                .iter()
+                .find(|l| &l.scheme() == scheme && l.n == *n)
+                .map_or("-".into(), |l| format!("{:.5}", l.rmse));
             s += &format!(" {cell} |");
         }
         s += "\n";

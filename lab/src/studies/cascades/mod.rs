@@ -11,8 +11,8 @@ use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::cascades::{split::Scheme, CascadeBuffers, CascadeMaps};
 use crate::methods::Method;
-use crate::reference::truth::{self, Cache};
 use crate::record::stats::median;
+use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::render::gbuffer::GBufferCpu;
 use crate::scene::Scene;
@@ -73,7 +73,11 @@ pub struct CascadeLine {
 impl CascadeLine {
     /// The chart's and the table's name of the scheme: practical carries its λ.
     pub fn scheme(&self) -> String {
-        if self.split == "practical" { format!("practical (λ = {})", self.lambda) } else { self.split.clone() }
+        if self.split == "practical" {
+            format!("practical (λ = {})", self.lambda)
+        } else {
+            self.split.clone()
+        }
     }
 }
 
@@ -82,7 +86,8 @@ impl CascadeLine {
 pub fn densities(scene: &Scene, g: &GBufferCpu, b: &CascadeBuffers) -> Vec<Option<(u32, f64)>> {
     let eye = scene.camera.eye;
     let forward = crate::methods::cascades::split::forward(&scene.camera);
-    let per_depth = 2.0 * (0.5 * scene.camera.fov_y_deg.to_radians()).tan() as f64 / g.height as f64;
+    let per_depth =
+        2.0 * (0.5 * scene.camera.fov_y_deg.to_radians()).tan() as f64 / g.height as f64;
     (0..g.position.len())
         .map(|i| {
             let k = b.chosen[i];
@@ -90,7 +95,10 @@ pub fn densities(scene: &Scene, g: &GBufferCpu, b: &CascadeBuffers) -> Vec<Optio
                 return None;
             }
             let z = (Vec3::from_slice(&g.position[i][..3]) - eye).dot(forward) as f64;
-            Some((k, b.placement.samples[k as usize].texel_angle as f64 / (z.max(1e-6) * per_depth)))
+            Some((
+                k,
+                b.placement.samples[k as usize].texel_angle as f64 / (z.max(1e-6) * per_depth),
+            ))
         })
         .collect()
 }
@@ -103,12 +111,19 @@ pub fn run(ctx: &GpuContext, job: &CascadeJob, log: &dyn Fn(&str)) -> Result<Vec
     let mut lines = Vec::new();
     for &split in &job.schemes {
         for &n in &job.ns {
-            let m = CascadeMaps { n, split, lambda: job.lambda, filter: job.filter };
+            let m = CascadeMaps {
+                n,
+                split,
+                lambda: job.lambda,
+                filter: job.filter,
+            };
             let method = Method::new(m);
             bar.set_message(method.label());
             let mut renderer = Renderer::new(ctx, scene, &method)?;
             let f = renderer.frame(TimingMode::Frame)?;
-            let b: CascadeBuffers = renderer.inspect()?.ok_or_else(|| Error::param("cascades: the frame kept no buffers".into()))?;
+            let b: CascadeBuffers = renderer
+                .inspect()?
+                .ok_or_else(|| Error::param("cascades: the frame kept no buffers".into()))?;
             let g = &f.gbuffer;
             let (mut sq, mut count) = (0.0f64, 0usize);
             for i in (0..g.position.len()).filter(|&i| g.is_geometry(i)) {

@@ -1,7 +1,6 @@
 //! `penumbra certify-study`: the certified bound's coverage and sharpness on scenes × methods ×
 //! proxies × K × draws, and the stretch fitted on the fitting half (docs/certify.md §4).
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::record::run_files;
 use crate::reference::truth;
@@ -9,6 +8,7 @@ use crate::scene::Scene;
 use crate::studies::certify::{self, Job};
 use crate::studies::flags::{OutArgs, SetArgs};
 use crate::studies::lists::listed_once;
+use anyhow::Result;
 
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/certify-study")))]
@@ -47,7 +47,10 @@ fn run(args: CertifyStudyArgs, gpu: &AdapterRequest) -> Result<()> {
     args.output.checked()?;
     let sets = args.sets.render()?;
     if !(args.delta > 0.0 && args.delta < 1.0) {
-        anyhow::bail!("--delta {}: outside (0, 1): each bound holds with probability 1 − delta", args.delta);
+        anyhow::bail!(
+            "--delta {}: outside (0, 1): each bound holds with probability 1 − delta",
+            args.delta
+        );
     }
     if args.draws == 0 || args.draws > 1000 {
         anyhow::bail!("--draws {}: give 1..=1000", args.draws);
@@ -59,7 +62,10 @@ fn run(args: CertifyStudyArgs, gpu: &AdapterRequest) -> Result<()> {
     let methods = crate::studies::compare::methods_list::split_specs(&args.methods)?;
     crate::studies::compare::methods_list::parse_methods(&methods)?;
     let scenes: Vec<String> = if args.scenes.is_empty() {
-        crate::studies::calibration::SPLIT.iter().map(|(s, _)| s.to_string()).collect()
+        crate::studies::calibration::SPLIT
+            .iter()
+            .map(|(s, _)| s.to_string())
+            .collect()
     } else {
         listed_once("--scenes", args.scenes.iter().map(|s| (s, s.trim())))?;
         args.scenes.clone()
@@ -71,10 +77,18 @@ fn run(args: CertifyStudyArgs, gpu: &AdapterRequest) -> Result<()> {
     }
     let ctx = GpuContext::with_request(gpu)?;
     let cache = truth::Cache::default_for(args.no_cache);
-    let job = Job { methods: &methods, pixels: &args.pixels, draws: args.draws, delta: args.delta, mode: truth::parse_mode("continuous", 32)? };
+    let job = Job {
+        methods: &methods,
+        pixels: &args.pixels,
+        draws: args.draws,
+        delta: args.delta,
+        mode: truth::parse_mode("continuous", 32)?,
+    };
     let mut rows = Vec::new();
     for name in &scenes {
-        rows.extend(certify::run_scene(&ctx, name, &sets, &job, &cache, &|l| eprintln!("{l}"))?);
+        rows.extend(certify::run_scene(&ctx, name, &sets, &job, &cache, &|l| {
+            eprintln!("{l}")
+        })?);
     }
     let files = certify::files(&rows)?;
     run_files::write_files(&args.output.out, &files)?;
@@ -103,16 +117,31 @@ impl crate::studies::Run for CertifyPromiseArgs {
         listed_once("--frontiers", self.frontiers.iter().map(|s| (s, s.trim())))?;
         let mut rows = 0;
         for dir in &self.frontiers {
-            rows += certify::promise::check(std::path::Path::new(dir)).map_err(|e| anyhow::anyhow!("--frontiers {dir}: {e}"))?;
+            rows += certify::promise::check(std::path::Path::new(dir))
+                .map_err(|e| anyhow::anyhow!("--frontiers {dir}: {e}"))?;
         }
         eprintln!("{rows} auto rows in {} frontiers", self.frontiers.len());
         let ctx = GpuContext::with_request(gpu)?;
         let mut all = Vec::new();
         for dir in &self.frontiers {
-            all.extend(certify::promise::run_frontier(&ctx, std::path::Path::new(dir), repeats, &|l| eprintln!("{l}"))?);
+            all.extend(certify::promise::run_frontier(
+                &ctx,
+                std::path::Path::new(dir),
+                repeats,
+                &|l| eprintln!("{l}"),
+            )?);
         }
         let md = certify::promise::markdown(&all);
-        run_files::write_files(&self.output.out, &[("promise.csv".to_string(), certify::promise::csv(&all).into_bytes()), ("promise.md".to_string(), md.clone().into_bytes())])?;
+        run_files::write_files(
+            &self.output.out,
+            &[
+                (
+                    "promise.csv".to_string(),
+                    certify::promise::csv(&all).into_bytes(),
+                ),
+                ("promise.md".to_string(), md.clone().into_bytes()),
+            ],
+        )?;
         print!("{md}");
         println!("rows: {}", self.output.out.join("promise.csv").display());
         Ok(())

@@ -13,8 +13,8 @@ pub mod promise;
 
 use crate::certify::bound::{self, BoundKind};
 use crate::certify::design::Design;
-use crate::frame::certify::{proxy, Opinion, ProxyKind, SECOND_OPINION};
 use crate::certify::{certificate, design, Sampled};
+use crate::frame::certify::{proxy, Opinion, ProxyKind, SECOND_OPINION};
 use crate::frame::{FrameOptions, Renderer};
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
@@ -56,8 +56,22 @@ pub struct Row {
 }
 
 impl Row {
-    pub const HEADER: [&'static str; 14] =
-        ["scene", "half", "method", "proxy", "pixels", "draw", "unique_pixels", "measured_rmse", "sampled_rmse", "t_bound", "per_frame_bound", "delta", "resolution", "calibrated_bound"];
+    pub const HEADER: [&'static str; 14] = [
+        "scene",
+        "half",
+        "method",
+        "proxy",
+        "pixels",
+        "draw",
+        "unique_pixels",
+        "measured_rmse",
+        "sampled_rmse",
+        "t_bound",
+        "per_frame_bound",
+        "delta",
+        "resolution",
+        "calibrated_bound",
+    ];
 
     fn cells(&self) -> Vec<String> {
         vec![
@@ -89,13 +103,24 @@ impl Row {
 
 /// The rows as CSV (with the calibrated bound at the engine's stretch as the last column).
 pub fn csv(rows: &[Row]) -> String {
-    crate::record::csv::lines(std::iter::once(Row::HEADER.iter().map(|s| s.to_string()).collect::<Vec<_>>()).chain(rows.iter().map(Row::cells)))
+    crate::record::csv::lines(
+        std::iter::once(
+            Row::HEADER
+                .iter()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>(),
+        )
+        .chain(rows.iter().map(Row::cells)),
+    )
 }
 
 /// Rows from the CSV [`csv`] writes (the committed results' reader).
 pub fn parse_csv(text: &str) -> Result<Vec<Row>> {
     let mut reader = ::csv::Reader::from_reader(text.as_bytes());
-    reader.deserialize::<Row>().map(|r| r.map_err(|e| Error::param(format!("certify rows: {e}")))).collect()
+    reader
+        .deserialize::<Row>()
+        .map(|r| r.map_err(|e| Error::param(format!("certify rows: {e}"))))
+        .collect()
 }
 
 /// The seed of draw `d` at K pixels: the same pixels for every method with the same proxy values.
@@ -113,18 +138,39 @@ pub struct Job<'a> {
 }
 
 /// Every method on one scene: the rows of its draws, and the methods the light refused.
-pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], job: &Job, cache: &Cache, log: &dyn Fn(&str)) -> Result<Vec<Row>> {
+pub fn run_scene(
+    ctx: &GpuContext,
+    name: &str,
+    sets: &[(String, String)],
+    job: &Job,
+    cache: &Cache,
+    log: &dyn Fn(&str),
+) -> Result<Vec<Row>> {
     let scene = Scene::load(name, sets)?;
     let (g, reference) = truth::for_scene(ctx, &scene, job.mode, cache)?;
     let subset: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
     let geometry = subset.iter().filter(|s| **s).count();
     let second = {
-        let f = Renderer::new(ctx, &scene, &Method::parse(SECOND_OPINION, &[])?)?.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-        let bound = f.output.bound.ok_or_else(|| Error::limit(format!("{SECOND_OPINION}: no bound")))?;
-        Opinion { visibility: f.visibility, bound }
+        let f = Renderer::new(ctx, &scene, &Method::parse(SECOND_OPINION, &[])?)?.frame(
+            FrameOptions {
+                mode: TimingMode::Frame,
+                pictures: false,
+            },
+        )?;
+        let bound = f
+            .output
+            .bound
+            .ok_or_else(|| Error::limit(format!("{SECOND_OPINION}: no bound")))?;
+        Opinion {
+            visibility: f.visibility,
+            bound,
+        }
     };
     for &k in job.pixels.iter().filter(|&&k| k > geometry) {
-        log(&format!("{}: K = {k} skipped: more than its {geometry} geometry pixels", scene.name));
+        log(&format!(
+            "{}: K = {k} skipped: more than its {geometry} geometry pixels",
+            scene.name
+        ));
     }
     let mut rows = Vec::new();
     for spec in job.methods {
@@ -133,10 +179,20 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], job: &
             log(&format!("{}: {} skipped ({e})", scene.name, method.label()));
             continue;
         }
-        let f = Renderer::new(ctx, &scene, &method)?.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+        let f = Renderer::new(ctx, &scene, &method)?.frame(FrameOptions {
+            mode: TimingMode::Frame,
+            pictures: false,
+        })?;
         let measured = rmse(&f.visibility, &reference.values, &subset);
         for kind in PROXIES {
-            let q = proxy(kind, &f.visibility, &subset, g.width, g.height, Some(&second));
+            let q = proxy(
+                kind,
+                &f.visibility,
+                &subset,
+                g.width,
+                g.height,
+                Some(&second),
+            );
             let design = Design::new(&subset, &q, design::DEFENSIVE)?;
             for &k in job.pixels {
                 if k > geometry {
@@ -144,8 +200,15 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], job: &
                     continue;
                 }
                 for d in 0..job.draws {
-                    let sampled = Sampled::from_values(design.draw(k, seed(d, k)), &reference.values);
-                    let c = certificate(&f.visibility, &sampled, &design, job.delta, BoundKind::Calibrated);
+                    let sampled =
+                        Sampled::from_values(design.draw(k, seed(d, k)), &reference.values);
+                    let c = certificate(
+                        &f.visibility,
+                        &sampled,
+                        &design,
+                        job.delta,
+                        BoundKind::Calibrated,
+                    );
                     rows.push(Row {
                         scene: scene.name.clone(),
                         half: half(&scene.name).name().to_string(),
@@ -164,16 +227,23 @@ pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], job: &
                 }
             }
         }
-        log(&format!("{}: {} measured {measured:.5}", scene.name, method.label()));
+        log(&format!(
+            "{}: {} measured {measured:.5}",
+            scene.name,
+            method.label()
+        ));
     }
     Ok(rows)
 }
 
 fn rmse(v: &[f32], truth: &[f32], mask: &[bool]) -> f64 {
-    let (sum, n) = v.iter().zip(truth).zip(mask).filter(|(_, m)| **m).fold((0.0f64, 0usize), |(s, n), ((a, b), _)| {
-        let d = f64::from(a.clamp(0.0, 1.0)) - f64::from(*b);
-        (s + d * d, n + 1)
-    });
+    let (sum, n) = v.iter().zip(truth).zip(mask).filter(|(_, m)| **m).fold(
+        (0.0f64, 0usize),
+        |(s, n), ((a, b), _)| {
+            let d = f64::from(a.clamp(0.0, 1.0)) - f64::from(*b);
+            (s + d * d, n + 1)
+        },
+    );
     (sum / n.max(1) as f64).sqrt()
 }
 
@@ -206,24 +276,47 @@ pub fn group(half: &str) -> &'static str {
 
 /// Per (half, proxy, K, bound): coverage, median ratio, the worst (scene, method).
 pub fn summarize(rows: &[Row], stretch: f64) -> Vec<Summary> {
-    let mut keys: Vec<(&'static str, String, usize)> = rows.iter().map(|r| (group(&r.half), r.proxy.clone(), r.pixels)).collect();
+    let mut keys: Vec<(&'static str, String, usize)> = rows
+        .iter()
+        .map(|r| (group(&r.half), r.proxy.clone(), r.pixels))
+        .collect();
     keys.sort();
     keys.dedup();
     let mut out = Vec::new();
     for (g, proxy, k) in keys {
         for kind in [BoundKind::Calibrated, BoundKind::PerFrame] {
-            let draws: Vec<&Row> = rows.iter().filter(|r| group(&r.half) == g && r.proxy == proxy && r.pixels == k).collect();
+            let draws: Vec<&Row> = rows
+                .iter()
+                .filter(|r| group(&r.half) == g && r.proxy == proxy && r.pixels == k)
+                .collect();
             let covered = |r: &Row| r.bound(kind, stretch) >= r.measured_rmse;
-            let ratios: Vec<f64> = draws.iter().filter(|r| r.measured_rmse > 0.0).map(|r| r.bound(kind, stretch) / r.measured_rmse).collect();
+            let ratios: Vec<f64> = draws
+                .iter()
+                .filter(|r| r.measured_rmse > 0.0)
+                .map(|r| r.bound(kind, stretch) / r.measured_rmse)
+                .collect();
             let mut per_row: Vec<(String, f64)> = Vec::new();
-            let mut pairs: Vec<(String, String)> = draws.iter().map(|r| (r.scene.clone(), r.method.clone())).collect();
+            let mut pairs: Vec<(String, String)> = draws
+                .iter()
+                .map(|r| (r.scene.clone(), r.method.clone()))
+                .collect();
             pairs.sort();
             pairs.dedup();
             for (s, m) in pairs {
-                let mine: Vec<&&Row> = draws.iter().filter(|r| r.scene == s && r.method == m).collect();
-                per_row.push((format!("{m} on {s}"), mine.iter().filter(|r| covered(r)).count() as f64 / mine.len() as f64));
+                let mine: Vec<&&Row> = draws
+                    .iter()
+                    .filter(|r| r.scene == s && r.method == m)
+                    .collect();
+                per_row.push((
+                    format!("{m} on {s}"),
+                    mine.iter().filter(|r| covered(r)).count() as f64 / mine.len() as f64,
+                ));
             }
-            let worst = per_row.iter().min_by(|a, b| a.1.total_cmp(&b.1)).cloned().unwrap_or_default();
+            let worst = per_row
+                .iter()
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .cloned()
+                .unwrap_or_default();
             out.push(Summary {
                 half: g.to_string(),
                 proxy: proxy.clone(),
@@ -233,7 +326,8 @@ pub fn summarize(rows: &[Row], stretch: f64) -> Vec<Summary> {
                     BoundKind::PerFrame => "per-frame".into(),
                 },
                 draws: draws.len(),
-                coverage: draws.iter().filter(|r| covered(r)).count() as f64 / draws.len().max(1) as f64,
+                coverage: draws.iter().filter(|r| covered(r)).count() as f64
+                    / draws.len().max(1) as f64,
                 median_ratio: crate::record::stats::median(&ratios).unwrap_or(f64::NAN),
                 worst: worst.0,
                 worst_coverage: worst.1,
@@ -250,7 +344,15 @@ pub fn fit_stretch(rows: &[Row], proxy: &str) -> Option<f64> {
     let mut ratios: Vec<f64> = rows
         .iter()
         .filter(|r| r.half == Half::Fitting.name() && r.proxy == proxy && r.pixels == FIT_PIXELS)
-        .map(|r| if r.t_bound > 0.0 { r.measured_rmse / r.t_bound } else if r.measured_rmse > 0.0 { f64::INFINITY } else { 0.0 })
+        .map(|r| {
+            if r.t_bound > 0.0 {
+                r.measured_rmse / r.t_bound
+            } else if r.measured_rmse > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            }
+        })
         .collect();
     if ratios.is_empty() {
         return None;
@@ -284,7 +386,17 @@ pub fn markdown(summary: &[Summary]) -> String {
 /// The study's files: the rows, the summary at the engine's stretch, and the fit.
 pub fn files(rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>> {
     let summary = summarize(rows, bound::STRETCH);
-    let fits: Vec<String> = PROXIES.iter().map(|p| format!("{}: {}", p.name(), fit_stretch(rows, p.name()).map_or("no fitting draws".into(), |s| format!("{s:.2}")))).collect();
+    let fits: Vec<String> = PROXIES
+        .iter()
+        .map(|p| {
+            format!(
+                "{}: {}",
+                p.name(),
+                fit_stretch(rows, p.name())
+                    .map_or("no fitting draws".into(), |s| format!("{s:.2}"))
+            )
+        })
+        .collect();
     let md = format!(
         "{}\nStretch fitted on the fitting half at K = {FIT_PIXELS} ({:.0}% of its draws): {}; the engine's is {:.2}.\n",
         markdown(&summary),
@@ -292,8 +404,13 @@ pub fn files(rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>> {
         fits.join(", "),
         bound::STRETCH
     );
-    let json = serde_json::to_vec_pretty(&summary).map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
-    Ok(vec![("certify.csv".into(), csv(rows).into_bytes()), ("summary.md".into(), md.into_bytes()), ("summary.json".into(), json)])
+    let json = serde_json::to_vec_pretty(&summary)
+        .map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
+    Ok(vec![
+        ("certify.csv".into(), csv(rows).into_bytes()),
+        ("summary.md".into(), md.into_bytes()),
+        ("summary.json".into(), json),
+    ])
 }
 
 #[cfg(test)]
@@ -322,19 +439,34 @@ mod tests {
     fn the_stretch_is_the_conformal_quantile_of_the_fitting_ratios() {
         // 19 fitting draws with ratios 0.81 … 0.99 and one at 1.30: the split-conformal rank
         // ⌈(20 + 1) · 0.95⌉ = 20, the largest (the plain ⌈20 · 0.95⌉ = 19th would say 0.99).
-        let mut rows: Vec<Row> = (0..19).map(|i| row("fitting", "m", i, 0.81 + 0.01 * i as f64, 1.0)).collect();
+        let mut rows: Vec<Row> = (0..19)
+            .map(|i| row("fitting", "m", i, 0.81 + 0.01 * i as f64, 1.0))
+            .collect();
         rows.push(row("fitting", "m", 19, 1.3, 1.0));
         rows.push(row("checking", "m", 0, 9.0, 1.0));
         assert_eq!(fit_stretch(&rows, "band"), Some(1.3));
         // With 39 draws the rank is ⌈40 · 0.95⌉ = 38: the outlier is left out.
-        let many: Vec<Row> = (0..38).map(|i| row("fitting", "m", i, 0.6 + 0.01 * i as f64, 1.0)).chain([row("fitting", "m", 38, 1.3, 1.0)]).collect();
+        let many: Vec<Row> = (0..38)
+            .map(|i| row("fitting", "m", i, 0.6 + 0.01 * i as f64, 1.0))
+            .chain([row("fitting", "m", 38, 1.3, 1.0)])
+            .collect();
         assert_eq!(fit_stretch(&many, "band"), Some(0.97));
         assert_eq!(fit_stretch(&rows, "second-opinion"), None);
         let s = summarize(&rows, 1.0);
-        let fit = s.iter().find(|l| l.half == "fitting" && l.bound.starts_with("calibrated")).unwrap();
+        let fit = s
+            .iter()
+            .find(|l| l.half == "fitting" && l.bound.starts_with("calibrated"))
+            .unwrap();
         assert_eq!(fit.draws, 20);
-        assert!((fit.coverage - 19.0 / 20.0).abs() < 1e-12, "{}", fit.coverage);
-        let check = s.iter().find(|l| l.half == "checking + held out" && l.bound.starts_with("calibrated")).unwrap();
+        assert!(
+            (fit.coverage - 19.0 / 20.0).abs() < 1e-12,
+            "{}",
+            fit.coverage
+        );
+        let check = s
+            .iter()
+            .find(|l| l.half == "checking + held out" && l.bound.starts_with("calibrated"))
+            .unwrap();
         assert_eq!((check.coverage, check.worst_coverage), (0.0, 0.0));
         assert_eq!(parse_csv(&csv(&rows)).unwrap(), rows);
     }

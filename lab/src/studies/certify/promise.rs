@@ -46,25 +46,47 @@ pub struct PromiseRow {
 
 /// The auto rows of one frontier (its `frontier.jsonl` lines).
 fn budget_rows(lines: &[FrontierLine]) -> Vec<&FrontierLine> {
-    lines.iter().filter(|l| l.is_budget() && l.spec.starts_with("auto:")).collect()
+    lines
+        .iter()
+        .filter(|l| l.is_budget() && l.spec.starts_with("auto:"))
+        .collect()
 }
 
 /// Reads `dir/frontier.jsonl`.
 pub fn read_frontier(dir: &Path) -> Result<Vec<FrontierLine>> {
     let path = dir.join("frontier.jsonl");
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-    text.lines().filter(|l| !l.trim().is_empty()).map(|l| serde_json::from_str(l).map_err(|e| Error::param(format!("{}: {e}", path.display())))).collect()
+    text.lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            serde_json::from_str(l).map_err(|e| Error::param(format!("{}: {e}", path.display())))
+        })
+        .collect()
 }
 
 /// Retakes every auto row of the frontier in `dir`.
-pub fn run_frontier(ctx: &crate::gpu::GpuContext, dir: &Path, repeats: u32, log: &dyn Fn(&str)) -> Result<Vec<PromiseRow>> {
+pub fn run_frontier(
+    ctx: &crate::gpu::GpuContext,
+    dir: &Path,
+    repeats: u32,
+    log: &dyn Fn(&str),
+) -> Result<Vec<PromiseRow>> {
     let lines = read_frontier(dir)?;
     let mut rows = Vec::new();
     for b in budget_rows(&lines) {
-        let target = b.target().ok_or_else(|| Error::param(format!("{}: `{}` has no target", dir.display(), b.spec)))?;
-        let oracle = b.oracle.as_ref().and_then(|o| lines.iter().find(|l| !l.is_budget() && l.failed.is_none() && &l.setting() == o));
+        let target = b.target().ok_or_else(|| {
+            Error::param(format!("{}: `{}` has no target", dir.display(), b.spec))
+        })?;
+        let oracle = b.oracle.as_ref().and_then(|o| {
+            lines
+                .iter()
+                .find(|l| !l.is_budget() && l.failed.is_none() && &l.setting() == o)
+        });
         let size = oracle.map_or(512, |o| o.map_size);
-        let mut sets = vec![("resolution".to_string(), b.resolution[0].to_string()), ("shadow_map_size".to_string(), size.to_string())];
+        let mut sets = vec![
+            ("resolution".to_string(), b.resolution[0].to_string()),
+            ("shadow_map_size".to_string(), size.to_string()),
+        ];
         if b.resolution[0] != b.resolution[1] {
             sets[0] = ("width".into(), b.resolution[0].to_string());
             sets.push(("height".into(), b.resolution[1].to_string()));
@@ -74,13 +96,29 @@ pub fn run_frontier(ctx: &crate::gpu::GpuContext, dir: &Path, repeats: u32, log:
         if let Some(o) = oracle {
             specs.push(o.spec.clone());
         }
-        let methods = specs.iter().map(|s| crate::methods::Method::parse(s, &[]).map_err(Error::from)).collect::<Result<Vec<_>>>()?;
-        let provenance = vec![Provenance::of_scene("certify-promise", &scene, &[], None); methods.len()];
-        let job = CompareJob { scene: &scene, methods, repeats: if oracle.is_some() { repeats } else { 1 }, reference: crate::reference::ReferenceMode::DEFAULT_CONTINUOUS, cache: Cache::default_for(false), provenance, pictures: false, certify: None };
+        let methods = specs
+            .iter()
+            .map(|s| crate::methods::Method::parse(s, &[]).map_err(Error::from))
+            .collect::<Result<Vec<_>>>()?;
+        let provenance =
+            vec![Provenance::of_scene("certify-promise", &scene, &[], None); methods.len()];
+        let job = CompareJob {
+            scene: &scene,
+            methods,
+            repeats: if oracle.is_some() { repeats } else { 1 },
+            reference: crate::reference::ReferenceMode::DEFAULT_CONTINUOUS,
+            cache: Cache::default_for(false),
+            provenance,
+            pictures: false,
+            certify: None,
+        };
         let outcome = compare::run(ctx, &job, &|_| {})?;
         let a = &outcome.rows[0];
         if let Some(why) = &a.failed {
-            return Err(Error::param(format!("{} at {target}: auto failed: {why}", b.scene)));
+            return Err(Error::param(format!(
+                "{} at {target}: auto failed: {why}",
+                b.scene
+            )));
         }
         let record = outcome
             .files
@@ -91,10 +129,16 @@ pub fn run_frontier(ctx: &crate::gpu::GpuContext, dir: &Path, repeats: u32, log:
             .ok_or_else(|| Error::param(format!("{} at {target}: no run.json of auto", b.scene)))?;
         let o = outcome.rows.get(1).filter(|r| r.failed.is_none());
         let certified = &record["certified"];
-        let tries_ms: f64 = record["tries"].as_array().map_or(0.0, |t| t.iter().filter_map(|t| t["ms"].as_f64()).sum());
+        let tries_ms: f64 = record["tries"]
+            .as_array()
+            .map_or(0.0, |t| t.iter().filter_map(|t| t["ms"].as_f64()).sum());
         let choice = match record["renders"].as_str() {
             Some(filter) => filter.to_string(),
-            None => format!("{} @ {}", record["chosen"]["spec"].as_str().unwrap_or("?"), record["chosen"]["map_size"]),
+            None => format!(
+                "{} @ {}",
+                record["chosen"]["spec"].as_str().unwrap_or("?"),
+                record["chosen"]["map_size"]
+            ),
         };
         let row = PromiseRow {
             scene: b.scene.clone(),
@@ -104,8 +148,14 @@ pub fn run_frontier(ctx: &crate::gpu::GpuContext, dir: &Path, repeats: u32, log:
             maps: a.shadow_maps,
             rmse: a.metrics.rmse,
             target_met: record["target_met"].as_bool().unwrap_or(false),
-            bound: certified["bound"].as_f64().or(record["predicted_rmse"].as_f64()).unwrap_or(f64::NAN),
-            bound_kind: certified["bound_kind"].as_str().unwrap_or("estimate").to_string(),
+            bound: certified["bound"]
+                .as_f64()
+                .or(record["predicted_rmse"].as_f64())
+                .unwrap_or(f64::NAN),
+            bound_kind: certified["bound_kind"]
+                .as_str()
+                .unwrap_or("estimate")
+                .to_string(),
             decision_ms: tries_ms + certified["decision_ms"].as_f64().unwrap_or(0.0),
             tests: certified["tests"].as_array().map_or(0, Vec::len),
             ms: a.total_ms,
@@ -123,9 +173,16 @@ pub fn run_frontier(ctx: &crate::gpu::GpuContext, dir: &Path, repeats: u32, log:
             row.maps,
             row.rmse,
             row.rmse / target,
-            if row.target_met { "met," } else { "not met, least" },
+            if row.target_met {
+                "met,"
+            } else {
+                "not met, least"
+            },
             row.bound,
-            row.time_over_oracle.map_or(String::new(), |r| format!(", {r:.2} × the oracle ({})", row.oracle.as_deref().unwrap_or("")))
+            row.time_over_oracle.map_or(String::new(), |r| format!(
+                ", {r:.2} × the oracle ({})",
+                row.oracle.as_deref().unwrap_or("")
+            ))
         ));
         rows.push(row);
     }
@@ -158,7 +215,10 @@ pub fn counts(rows: &[PromiseRow]) -> Counts {
         under: rows.iter().filter(|r| r.rmse <= r.target).count(),
         reachable: reach.len(),
         reachable_under: reach.iter().filter(|r| r.rmse <= r.target).count(),
-        false_met: rows.iter().filter(|r| r.target_met && r.rmse > r.target).count(),
+        false_met: rows
+            .iter()
+            .filter(|r| r.target_met && r.rmse > r.target)
+            .count(),
         not_met: rows.iter().filter(|r| !r.target_met).count(),
         timed: ratios.len(),
         quick: ratios.iter().filter(|&&r| r <= TIME_RATIO).count(),
@@ -195,7 +255,11 @@ pub fn markdown(rows: &[PromiseRow]) -> String {
     );
     s += "| scene | half | T | choice | maps | RMSE/T | reported | decision ms | oracle | time/oracle |\n|---|---|---:|---|---:|---:|---|---:|---|---:|\n";
     for r in rows {
-        let reported = if r.target_met { format!("met (bound {:.5})", r.bound) } else { format!("not met: least bound {:.5}", r.bound) };
+        let reported = if r.target_met {
+            format!("met (bound {:.5})", r.bound)
+        } else {
+            format!("not met: least bound {:.5}", r.bound)
+        };
         s += &format!(
             "| {} | {} | {} | {} | {} | {:.2} | {reported} | {:.0} | {} | {} |\n",
             r.scene,
@@ -215,8 +279,24 @@ pub fn markdown(rows: &[PromiseRow]) -> String {
 /// The rows as CSV.
 pub fn csv(rows: &[PromiseRow]) -> String {
     let header = [
-        "scene", "half", "target", "choice", "maps", "rmse", "target_met", "bound", "bound_kind", "decision_ms", "tests", "ms", "oracle", "oracle_maps", "oracle_rmse",
-        "frontier_oracle_rmse", "oracle_ms", "time_over_oracle",
+        "scene",
+        "half",
+        "target",
+        "choice",
+        "maps",
+        "rmse",
+        "target_met",
+        "bound",
+        "bound_kind",
+        "decision_ms",
+        "tests",
+        "ms",
+        "oracle",
+        "oracle_maps",
+        "oracle_rmse",
+        "frontier_oracle_rmse",
+        "oracle_ms",
+        "time_over_oracle",
     ];
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
     let cells = rows.iter().map(|r| {
@@ -241,13 +321,18 @@ pub fn csv(rows: &[PromiseRow]) -> String {
             opt(r.time_over_oracle),
         ]
     });
-    crate::record::csv::lines(std::iter::once(header.iter().map(|s| s.to_string()).collect::<Vec<_>>()).chain(cells))
+    crate::record::csv::lines(
+        std::iter::once(header.iter().map(|s| s.to_string()).collect::<Vec<_>>()).chain(cells),
+    )
 }
 
 /// Rows from the CSV [`csv`] writes (empty cells: none).
 pub fn parse_csv(text: &str) -> Result<Vec<PromiseRow>> {
     let mut reader = ::csv::Reader::from_reader(text.as_bytes());
-    reader.deserialize::<PromiseRow>().map(|r| r.map_err(|e| Error::param(format!("promise rows: {e}")))).collect()
+    reader
+        .deserialize::<PromiseRow>()
+        .map(|r| r.map_err(|e| Error::param(format!("promise rows: {e}"))))
+        .collect()
 }
 
 /// Truth-free checks the command makes before the GPU starts: each folder holds a frontier with
@@ -256,7 +341,10 @@ pub fn check(dir: &Path) -> Result<usize> {
     let lines = read_frontier(dir)?;
     let rows = budget_rows(&lines);
     if rows.is_empty() {
-        return Err(Error::param(format!("{}: its frontier.jsonl has no auto:target=T row (run `penumbra frontier --budget T`)", dir.display())));
+        return Err(Error::param(format!(
+            "{}: its frontier.jsonl has no auto:target=T row (run `penumbra frontier --budget T`)",
+            dir.display()
+        )));
     }
     Ok(rows.len())
 }
@@ -290,13 +378,38 @@ mod tests {
 
     #[test]
     fn the_counts_read_each_promise() {
-        let rows = vec![row(0.02, 0.015, true, Some(1.0)), row(0.02, 0.021, true, Some(1.5)), row(0.012, 0.02, false, None), row(0.03, 0.01, true, Some(1.2))];
+        let rows = vec![
+            row(0.02, 0.015, true, Some(1.0)),
+            row(0.02, 0.021, true, Some(1.5)),
+            row(0.012, 0.02, false, None),
+            row(0.03, 0.01, true, Some(1.2)),
+        ];
         let c = counts(&rows);
-        assert_eq!((c.rows, c.under, c.reachable, c.reachable_under, c.false_met, c.not_met, c.timed, c.quick), (4, 2, 3, 2, 1, 1, 3, 2));
+        assert_eq!(
+            (
+                c.rows,
+                c.under,
+                c.reachable,
+                c.reachable_under,
+                c.false_met,
+                c.not_met,
+                c.timed,
+                c.quick
+            ),
+            (4, 2, 3, 2, 1, 1, 3, 2)
+        );
         assert_eq!(c.median_ratio, 1.2);
         let md = markdown(&rows);
-        assert!(md.contains("| measured RMSE ≤ T, all rows | 2 of 4 (50%) | 95% |"), "{md}");
-        assert!(md.contains("| time ≤ 1.3 × the oracle's, side by side | 2 of 3 (67%), median 1.20 | 90% |"), "{md}");
+        assert!(
+            md.contains("| measured RMSE ≤ T, all rows | 2 of 4 (50%) | 95% |"),
+            "{md}"
+        );
+        assert!(
+            md.contains(
+                "| time ≤ 1.3 × the oracle's, side by side | 2 of 3 (67%), median 1.20 | 90% |"
+            ),
+            "{md}"
+        );
         assert_eq!(parse_csv(&csv(&rows)).unwrap(), rows);
     }
 }

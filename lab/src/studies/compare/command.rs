@@ -2,18 +2,17 @@
 //! timed and judged against the reference; results, pictures, charts and the report.
 
 use super::run_args::RunArgs;
-use anyhow::Result;
+use super::DEFAULT_METHODS;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::methods::Method;
 use crate::record::Provenance;
 use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::compare::{self, methods_list, plan, CompareJob};
-use super::DEFAULT_METHODS;
 use crate::studies::failures::{self, command::FailuresArgs, GalleryJob};
 use crate::studies::flags::{OutArgs, RepeatsArgs, SceneArgs, SetArgs};
+use anyhow::Result;
 use std::path::PathBuf;
-
 
 #[derive(clap::Args)]
 pub struct CompareArgs {
@@ -36,7 +35,9 @@ impl crate::studies::Run for CompareArgs {
 /// `penumbra` with no command: the default methods on `default`, with the failure gallery.
 pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
     let run = RunArgs {
-        scene: SceneArgs { scene: "default".into() },
+        scene: SceneArgs {
+            scene: "default".into(),
+        },
         repeats: RepeatsArgs { repeats: 3 },
         reference: "continuous".into(),
         samples: 32,
@@ -47,10 +48,22 @@ pub fn main_job(out: PathBuf, gpu: &AdapterRequest) -> Result<()> {
         delta: None,
     };
     let gallery = FailuresArgs::main_job(&run);
-    compare_methods(&[super::MAIN_JOB_METHODS.to_string()], plan::DEFAULT_MAX_CONFIGS, run, Some(gallery), gpu)
+    compare_methods(
+        &[super::MAIN_JOB_METHODS.to_string()],
+        plan::DEFAULT_MAX_CONFIGS,
+        run,
+        Some(gallery),
+        gpu,
+    )
 }
 
-fn compare_methods(values: &[String], max_configs: usize, run: RunArgs, gallery: Option<FailuresArgs>, gpu: &AdapterRequest) -> Result<()> {
+fn compare_methods(
+    values: &[String],
+    max_configs: usize,
+    run: RunArgs,
+    gallery: Option<FailuresArgs>,
+    gpu: &AdapterRequest,
+) -> Result<()> {
     run.output.checked()?;
     let gallery_job = gallery.as_ref().map(|g| g.job()).transpose()?;
     let specs = methods_list::split_specs(values)?;
@@ -88,9 +101,20 @@ pub fn run_compare(
     crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
     let cache = truth::Cache::default_for(run.no_cache);
     let pictures = super::regions::wants_pictures(&methods);
-    let job = CompareJob { scene: &scene, methods, repeats, reference: mode, cache, provenance, pictures, certify };
+    let job = CompareJob {
+        scene: &scene,
+        methods,
+        repeats,
+        reference: mode,
+        cache,
+        provenance,
+        pictures,
+        certify,
+    };
     let outcome = compare::run(&ctx, &job, &|line| eprintln!("{line}"))?;
-    let gallery = gallery_job.map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}"))).transpose()?;
+    let gallery = gallery_job
+        .map(|g| failures::run(&ctx, &g, &|line| eprintln!("{line}")))
+        .transpose()?;
     let out = &run.output.out;
     let html = compare::write(out, &outcome)?;
     if pictures {
@@ -102,10 +126,20 @@ pub fn run_compare(
     print!("{}", compare::table::render(&outcome.rows));
     for r in outcome.rows.iter().filter(|r| r.measured()) {
         if let Some(c) = &r.certify {
-            println!("certified: {}: {} (measured {:.4})", r.label(), c.line(), r.metrics.rmse);
+            println!(
+                "certified: {}: {} (measured {:.4})",
+                r.label(),
+                c.line(),
+                r.metrics.rmse
+            );
         }
     }
-    println!("adapter: {} ({}); reference: {}", ctx.summary.name, ctx.summary.backend, truth::mode_label(&mode));
+    println!(
+        "adapter: {} ({}); reference: {}",
+        ctx.summary.name,
+        ctx.summary.backend,
+        truth::mode_label(&mode)
+    );
     println!("results: {}", out.join("results.jsonl").display());
     println!("report:  {}", html.display());
     Ok(())

@@ -39,12 +39,15 @@ pub fn split_specs(values: &[String]) -> Result<Vec<String>> {
 /// Linear in the count: a sweep may list tens of thousands.
 pub fn parse_methods(specs: &[String]) -> Result<Vec<Method>> {
     let mut methods: Vec<Method> = Vec::with_capacity(specs.len());
-    let mut labels: std::collections::HashSet<String> = std::collections::HashSet::with_capacity(specs.len());
+    let mut labels: std::collections::HashSet<String> =
+        std::collections::HashSet::with_capacity(specs.len());
     for spec in specs {
         let m = Method::parse(spec, &[])?;
         let label = m.label();
         if labels.contains(&label) {
-            return Err(Error::param(format!("method `{spec}` is listed twice (both are `{label}`)")));
+            return Err(Error::param(format!(
+                "method `{spec}` is listed twice (both are `{label}`)"
+            )));
         }
         labels.insert(label);
         methods.push(m);
@@ -64,10 +67,22 @@ mod tests {
     fn commas_split_methods_and_parameters() {
         assert_eq!(
             split("hard,regular:n=5,regular:n=17,adaptive:p_m=0,adaptive:scope=local"),
-            ["hard", "regular:n=5", "regular:n=17", "adaptive:p_m=0", "adaptive:scope=local"]
+            [
+                "hard",
+                "regular:n=5",
+                "regular:n=17",
+                "adaptive:p_m=0",
+                "adaptive:scope=local"
+            ]
         );
-        assert_eq!(split("adaptive:p_m=10,scope=local,hard"), ["adaptive:p_m=10,scope=local", "hard"]);
-        assert_eq!(split_specs(&["hard".into(), "adaptive".into()]).unwrap(), ["hard", "adaptive"]);
+        assert_eq!(
+            split("adaptive:p_m=10,scope=local,hard"),
+            ["adaptive:p_m=10,scope=local", "hard"]
+        );
+        assert_eq!(
+            split_specs(&["hard".into(), "adaptive".into()]).unwrap(),
+            ["hard", "adaptive"]
+        );
     }
 
     #[test]
@@ -75,9 +90,19 @@ mod tests {
         let main = split(crate::studies::compare::MAIN_JOB_METHODS);
         let defaults = split(crate::studies::compare::DEFAULT_METHODS);
         assert_eq!(main[..defaults.len()], defaults[..]);
-        assert_eq!(main[defaults.len()..], ["auto:target=0.02", "regions:target=0.02"]);
+        assert_eq!(
+            main[defaults.len()..],
+            ["auto:target=0.02", "regions:target=0.02"]
+        );
         let methods = parse_methods(&main).unwrap();
-        assert_eq!(methods.iter().map(|m| m.name()).filter(|n| *n == "auto" || *n == "regions").count(), 2);
+        assert_eq!(
+            methods
+                .iter()
+                .map(|m| m.name())
+                .filter(|n| *n == "auto" || *n == "regions")
+                .count(),
+            2
+        );
     }
 
     #[test]

@@ -41,7 +41,10 @@ const TEXEL_WEIGHT: f64 = 0.031;
 /// (cached after its first run) is not included.
 pub fn estimated_seconds(methods: &[Method], scene: &Scene, repeats: u32) -> f64 {
     let frames_each = measure::frame_count(1, repeats) as f64;
-    methods.iter().map(|m| CONFIG_S + frames_each * COST_S * estimated_cost(m, scene)).sum()
+    methods
+        .iter()
+        .map(|m| CONFIG_S + frames_each * COST_S * estimated_cost(m, scene))
+        .sum()
 }
 
 /// `s` as the largest unit that keeps it readable: `45 s`, `12 min`, `3.4 h`.
@@ -58,7 +61,12 @@ pub fn duration(s: f64) -> String {
 /// The line printed before measuring: the count, the frames and the estimate, saying what the
 /// estimate rests on.
 pub fn line(methods: &[Method], scene: &Scene, repeats: u32) -> String {
-    line_with(methods, estimated_seconds(methods, scene, repeats), scene, repeats)
+    line_with(
+        methods,
+        estimated_seconds(methods, scene, repeats),
+        scene,
+        repeats,
+    )
 }
 
 /// [`line`] with the estimate made by the caller (the frontier sums its map sizes' groups).
@@ -108,7 +116,15 @@ pub fn estimated_maps(method: &Method) -> f64 {
         }
         // The one-map families (pcf, pcss, the filtered maps; cascades' n is its map count): they
         // were taken for 289 maps, which made `frontier --sizes 4096` say 74 s for a 15 s run.
-        name if matches!(crate::methods::Family::of_name(name), crate::methods::Family::Hard | crate::methods::Family::Pcf | crate::methods::Family::Filtered) => num("n").unwrap_or(1.0),
+        name if matches!(
+            crate::methods::Family::of_name(name),
+            crate::methods::Family::Hard
+                | crate::methods::Family::Pcf
+                | crate::methods::Family::Filtered
+        ) =>
+        {
+            num("n").unwrap_or(1.0)
+        }
         _ => num("n").map(|n| n * n).unwrap_or(289.0),
     }
 }
@@ -120,7 +136,8 @@ pub fn estimated_cost(method: &Method, scene: &Scene) -> f64 {
     let pixels = f64::from(scene.render.width) * f64::from(scene.render.height);
     let texels = f64::from(scene.render.shadow_map_size).powi(2);
     let maps = estimated_maps(method);
-    (maps + 1.0) * (scene.triangle_count().max(1) as f64 + PIXEL_WEIGHT * pixels) + maps * TEXEL_WEIGHT * texels
+    (maps + 1.0) * (scene.triangle_count().max(1) as f64 + PIXEL_WEIGHT * pixels)
+        + maps * TEXEL_WEIGHT * texels
 }
 
 #[cfg(test)]
@@ -133,7 +150,9 @@ mod tests {
         assert_eq!(duration(720.0), "12 min");
         assert_eq!(duration(3.4 * 3600.0), "3.4 h");
         assert!(check_count(10_000, DEFAULT_MAX_CONFIGS, "s.toml").is_ok());
-        let e = check_count(10_001, DEFAULT_MAX_CONFIGS, "s.toml").unwrap_err().to_string();
+        let e = check_count(10_001, DEFAULT_MAX_CONFIGS, "s.toml")
+            .unwrap_err()
+            .to_string();
         assert_eq!(e, "s.toml: 10001 configurations, more than --max-configs 10000; pass --max-configs 10001 to run them all");
     }
 
@@ -156,15 +175,30 @@ mod tests {
         // fixed-function raster); the estimate is a frame's cost at that rate, within 1.5× of it.
         let scene = Scene::load("default", &[("resolution".into(), "128".into())]).unwrap();
         let frame = COST_S * estimated_cost(&Method::parse("regular:n=17", &[]).unwrap(), &scene);
-        assert!((1.8 / 1.5..=1.8 * 1.5).contains(&frame), "{frame} s a frame");
+        assert!(
+            (1.8 / 1.5..=1.8 * 1.5).contains(&frame),
+            "{frame} s a frame"
+        );
         // A map's texels: `regular:n=2` on `analytic-square` (4 triangles) at 32² with 4096² maps
         // took 147 ms a frame (llvmpipe, 2 cores, the frontier's own timing), within 1.5× of it.
-        let big_maps = Scene::load("analytic-square", &[("resolution".into(), "32".into()), ("shadow_map_size".into(), "4096".into())]).unwrap();
-        let frame_4096 = COST_S * estimated_cost(&Method::parse("regular:n=2", &[]).unwrap(), &big_maps);
-        assert!((0.147 / 1.5..=0.147 * 1.5).contains(&frame_4096), "{frame_4096} s a frame at 4096² maps");
+        let big_maps = Scene::load(
+            "analytic-square",
+            &[
+                ("resolution".into(), "32".into()),
+                ("shadow_map_size".into(), "4096".into()),
+            ],
+        )
+        .unwrap();
+        let frame_4096 =
+            COST_S * estimated_cost(&Method::parse("regular:n=2", &[]).unwrap(), &big_maps);
+        assert!(
+            (0.147 / 1.5..=0.147 * 1.5).contains(&frame_4096),
+            "{frame_4096} s a frame at 4096² maps"
+        );
         // Four times the pixels add a fraction, not four times the frame: the mesh's raster stays.
         let big = Scene::load("default", &[("resolution".into(), "256".into())]).unwrap();
-        let ratio = estimated_cost(&Method::parse("regular:n=17", &[]).unwrap(), &big) / (frame / COST_S);
+        let ratio =
+            estimated_cost(&Method::parse("regular:n=17", &[]).unwrap(), &big) / (frame / COST_S);
         assert!(ratio > 1.1 && ratio < 1.5, "{ratio}");
     }
 }

@@ -48,12 +48,20 @@ fn axes(grid: &toml::Table, at: &str) -> std::result::Result<Axes, String> {
     let mut axes: Vec<(String, Vec<String>)> = Vec::new();
     for (key, value) in grid.iter().filter(|(k, _)| *k != "method") {
         let values: Vec<String> = match value {
-            toml::Value::Array(items) if items.is_empty() => return Err(format!("{at}: `{key}` is an empty list")),
+            toml::Value::Array(items) if items.is_empty() => {
+                return Err(format!("{at}: `{key}` is an empty list"))
+            }
             toml::Value::Array(items) => items
                 .iter()
-                .map(|v| scalar(v).ok_or_else(|| format!("{at}: `{key}` holds {v}, not a number, string or boolean")))
+                .map(|v| {
+                    scalar(v).ok_or_else(|| {
+                        format!("{at}: `{key}` holds {v}, not a number, string or boolean")
+                    })
+                })
                 .collect::<std::result::Result<_, _>>()?,
-            v => vec![scalar(v).ok_or_else(|| format!("{at}: `{key}` = {v} is not a number, string, boolean or list of them"))?],
+            v => vec![scalar(v).ok_or_else(|| {
+                format!("{at}: `{key}` = {v} is not a number, string, boolean or list of them")
+            })?],
         };
         axes.push((key.clone(), values));
     }
@@ -62,13 +70,17 @@ fn axes(grid: &toml::Table, at: &str) -> std::result::Result<Axes, String> {
 
 /// Configurations a grid expands to (saturating: a grid too large to hold is still counted).
 fn count(axes: &[(String, Vec<String>)]) -> usize {
-    axes.iter().fold(1usize, |n, (_, values)| n.saturating_mul(values.len()))
+    axes.iter()
+        .fold(1usize, |n, (_, values)| n.saturating_mul(values.len()))
 }
 
 /// One grid → its method specs (`adaptive:p_m=0,scope=local`, …), the last key varying fastest.
 /// Each spec is written once, from an odometer over the axes: time linear in the output.
 fn expand((method, axes): &Axes) -> Vec<String> {
-    let pairs: Vec<Vec<String>> = axes.iter().map(|(key, values)| values.iter().map(|v| format!("{key}={v}")).collect()).collect();
+    let pairs: Vec<Vec<String>> = axes
+        .iter()
+        .map(|(key, values)| values.iter().map(|v| format!("{key}={v}")).collect())
+        .collect();
     let mut digits = vec![0usize; pairs.len()];
     let mut specs = Vec::with_capacity(count(axes));
     loop {
@@ -110,8 +122,16 @@ pub fn parse_spec_within(text: &str, origin: &str, max: usize) -> Result<Vec<Str
             None => msg,
         })
     })?;
-    let grids = spec.grid.iter().enumerate().map(|(i, g)| axes(g, &format!("grid {}", i + 1))).collect::<std::result::Result<Vec<_>, _>>().map_err(err)?;
-    let total = grids.iter().fold(spec.methods.len(), |n, g| n.saturating_add(count(&g.1)));
+    let grids = spec
+        .grid
+        .iter()
+        .enumerate()
+        .map(|(i, g)| axes(g, &format!("grid {}", i + 1)))
+        .collect::<std::result::Result<Vec<_>, _>>()
+        .map_err(err)?;
+    let total = grids
+        .iter()
+        .fold(spec.methods.len(), |n, g| n.saturating_add(count(&g.1)));
     super::plan::check_count(total, max, origin)?;
     let mut specs = Vec::with_capacity(total);
     for m in spec.methods {
@@ -134,7 +154,8 @@ pub fn parse_spec_within(text: &str, origin: &str, max: usize) -> Result<Vec<Str
 
 /// Reads and parses a spec file, refusing more than `max` configurations.
 pub fn read_spec(path: &std::path::Path, max: usize) -> Result<Vec<String>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, format!("cannot read sweep spec: {e}")))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::io(path, format!("cannot read sweep spec: {e}")))?;
     parse_spec_within(&text, &path.display().to_string(), max)
 }
 
@@ -166,19 +187,22 @@ n = [3, 5]
                 "regular:n=5"
             ]
         );
-        assert_eq!(parse_spec("[[grid]]\nmethod = \"adaptive\"\np_m = inf\n", "t").unwrap(), ["adaptive:p_m=inf"]);
+        assert_eq!(
+            parse_spec("[[grid]]\nmethod = \"adaptive\"\np_m = inf\n", "t").unwrap(),
+            ["adaptive:p_m=inf"]
+        );
     }
 
     #[test]
     fn malformed_specs_are_errors() {
         for bad in [
-            "[[grid]]\nmethod = \"regular\"\nn = [",                  // TOML syntax
-            "[[grid]]\nn = [3, 5]",                                   // no method
-            "[[grid]]\nmethod = \"regular\"\nn = []",                 // empty list
-            "[[grid]]\nmethod = \"regular\"\nn = [[3]]",              // nested list
-            "[[grid]]\nmethod = \"regular\"\nn = { a = 1 }",          // table
-            "grids = []",                                             // unknown key
-            "",                                                       // nothing to run
+            "[[grid]]\nmethod = \"regular\"\nn = [",     // TOML syntax
+            "[[grid]]\nn = [3, 5]",                      // no method
+            "[[grid]]\nmethod = \"regular\"\nn = []",    // empty list
+            "[[grid]]\nmethod = \"regular\"\nn = [[3]]", // nested list
+            "[[grid]]\nmethod = \"regular\"\nn = { a = 1 }", // table
+            "grids = []",                                // unknown key
+            "",                                          // nothing to run
         ] {
             let e = parse_spec(bad, "spec.toml").unwrap_err().to_string();
             assert!(e.starts_with("spec.toml: "), "{bad:?}: {e}");
@@ -190,18 +214,50 @@ n = [3, 5]
     /// refused before anything is expanded, even for a grid of 10^18.
     #[test]
     fn a_40000_configuration_grid_expands_and_the_limit_refuses_before_expanding() {
-        let list = |n: usize, from: usize| (from..from + n).map(|i| i.to_string()).collect::<Vec<_>>().join(", ");
-        let text = format!("[[grid]]\nmethod = \"adaptive\"\ngrowth = [{}]\np_m = [{}]\n", list(100, 1), list(400, 0));
+        let list = |n: usize, from: usize| {
+            (from..from + n)
+                .map(|i| i.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let text = format!(
+            "[[grid]]\nmethod = \"adaptive\"\ngrowth = [{}]\np_m = [{}]\n",
+            list(100, 1),
+            list(400, 0)
+        );
         let specs = parse_spec(&text, "big.toml").unwrap();
         assert_eq!(specs.len(), 40_000);
-        assert_eq!((specs[0].as_str(), specs[1].as_str()), ("adaptive:growth=1,p_m=0", "adaptive:growth=1,p_m=1"));
+        assert_eq!(
+            (specs[0].as_str(), specs[1].as_str()),
+            ("adaptive:growth=1,p_m=0", "adaptive:growth=1,p_m=1")
+        );
         assert_eq!(specs[39_999], "adaptive:growth=100,p_m=399");
-        assert_eq!(specs.iter().collect::<std::collections::HashSet<_>>().len(), 40_000);
-        assert_eq!(super::super::plan::check_count(specs.len(), 40_000, "x").ok(), Some(()));
-        let e = super::parse_spec_within(&text, "big.toml", 39_999).unwrap_err().to_string();
+        assert_eq!(
+            specs.iter().collect::<std::collections::HashSet<_>>().len(),
+            40_000
+        );
+        assert_eq!(
+            super::super::plan::check_count(specs.len(), 40_000, "x").ok(),
+            Some(())
+        );
+        let e = super::parse_spec_within(&text, "big.toml", 39_999)
+            .unwrap_err()
+            .to_string();
         assert_eq!(e, "big.toml: 40000 configurations, more than --max-configs 39999; pass --max-configs 40000 to run them all");
-        let huge = format!("[[grid]]\nmethod = \"adaptive\"\n{}", (0..6).map(|k| format!("k{k} = [{}]\n", list(1000, 0))).collect::<String>());
-        let e = super::parse_spec_within(&huge, "huge.toml", 10_000).unwrap_err().to_string();
-        assert!(e.starts_with("huge.toml: 1000000000000000000 configurations, more than --max-configs 10000"), "{e}");
+        let huge = format!(
+            "[[grid]]\nmethod = \"adaptive\"\n{}",
+            (0..6)
+                .map(|k| format!("k{k} = [{}]\n", list(1000, 0)))
+                .collect::<String>()
+        );
+        let e = super::parse_spec_within(&huge, "huge.toml", 10_000)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "huge.toml: 1000000000000000000 configurations, more than --max-configs 10000"
+            ),
+            "{e}"
+        );
     }
 }

@@ -3,12 +3,12 @@
 
 use super::command::run_compare;
 use super::run_args::RunArgs;
-use anyhow::{Context, Result};
 use crate::gpu::AdapterRequest;
 use crate::record::{Provenance, SpecRef};
 use crate::scene::Scene;
 use crate::studies::compare::{methods_list, plan, sweep};
 use crate::studies::shard::{self, Shard};
+use anyhow::{Context, Result};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -54,15 +54,25 @@ fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
         // A shard with no configuration would fail after the others ran: run one per configuration.
         let configs = u32::try_from(methods.len()).unwrap_or(u32::MAX);
         if k > configs {
-            eprintln!("--jobs {k}: the spec has {configs} configurations; running {configs} shards");
+            eprintln!(
+                "--jobs {k}: the spec has {configs} configurations; running {configs} shards"
+            );
         }
         return sweep_jobs(&args, k.min(configs), gpu);
     }
-    let text = std::fs::read(&args.spec).with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
-    let costs: Vec<f64> = methods.iter().map(|m| plan::estimated_cost(m, &scene)).collect();
+    let text = std::fs::read(&args.spec)
+        .with_context(|| format!("{}: cannot read sweep spec", args.spec.display()))?;
+    let costs: Vec<f64> = methods
+        .iter()
+        .map(|m| plan::estimated_cost(m, &scene))
+        .collect();
     let mine = shard::assign(&costs, shard.count).swap_remove(shard.index as usize);
     if mine.is_empty() {
-        anyhow::bail!("--shard {shard}: the spec has {} configurations, too few for {} shards", methods.len(), shard.count);
+        anyhow::bail!(
+            "--shard {shard}: the spec has {} configurations, too few for {} shards",
+            methods.len(),
+            shard.count
+        );
     }
     let base = Provenance::of_scene("sweep", &scene, &args.run.sets.set, None);
     let spec = SpecRef {
@@ -72,10 +82,24 @@ fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
         config: 0,
         shard: [shard.index, shard.count],
     };
-    let provenance = mine.iter().map(|&config| Provenance { spec: Some(SpecRef { config, ..spec.clone() }), ..base.clone() }).collect();
+    let provenance = mine
+        .iter()
+        .map(|&config| Provenance {
+            spec: Some(SpecRef {
+                config,
+                ..spec.clone()
+            }),
+            ..base.clone()
+        })
+        .collect();
     if shard.count > 1 {
         let share: f64 = mine.iter().map(|&i| costs[i]).sum::<f64>() / costs.iter().sum::<f64>();
-        eprintln!("shard {shard}: {} of {} configurations, {:.0}% of the estimated cost", mine.len(), methods.len(), 100.0 * share);
+        eprintln!(
+            "shard {shard}: {} of {} configurations, {:.0}% of the estimated cost",
+            mine.len(),
+            methods.len(),
+            100.0 * share
+        );
     }
     let methods = mine.iter().map(|&i| methods[i].clone()).collect();
     run_compare(methods, scene, provenance, args.run, None, gpu, true)
@@ -87,7 +111,12 @@ fn run(args: SweepArgs, gpu: &AdapterRequest) -> Result<()> {
 fn sweep_jobs(args: &SweepArgs, k: u32, gpu: &AdapterRequest) -> Result<()> {
     let shards = args.run.output.out.join("shards");
     let dirs: Vec<PathBuf> = (0..k).map(|i| shards.join(i.to_string())).collect();
-    let made: Vec<PathBuf> = std::iter::once(&args.run.output.out).chain([&shards]).chain(&dirs).filter(|d| !d.exists()).cloned().collect();
+    let made: Vec<PathBuf> = std::iter::once(&args.run.output.out)
+        .chain([&shards])
+        .chain(&dirs)
+        .filter(|d| !d.exists())
+        .cloned()
+        .collect();
     let result = run_shards(args, &dirs, gpu);
     if result.is_err() {
         // Deepest first; a folder that holds anything else (a user's file) stays.
@@ -114,17 +143,37 @@ fn run_shards(args: &SweepArgs, dirs: &[PathBuf], gpu: &AdapterRequest) -> Resul
         if let Some(name) = &gpu.name {
             cmd.arg("--adapter").arg(name);
         }
-        cmd.arg("sweep").arg("--spec").arg(&args.spec).arg("--shard").arg(format!("{i}/{k}"));
+        cmd.arg("sweep")
+            .arg("--spec")
+            .arg(&args.spec)
+            .arg("--shard")
+            .arg(format!("{i}/{k}"));
         cmd.arg("--max-configs").arg(args.max_configs.to_string());
-        cmd.args(["--scene", &r.scene.scene, "--repeats", &r.repeats.repeats.to_string(), "--reference", &r.reference, "--samples", &r.samples.to_string()]);
+        cmd.args([
+            "--scene",
+            &r.scene.scene,
+            "--repeats",
+            &r.repeats.repeats.to_string(),
+            "--reference",
+            &r.reference,
+            "--samples",
+            &r.samples.to_string(),
+        ]);
         for s in &r.sets.set {
             cmd.arg("--set").arg(s);
         }
         if r.no_cache {
             cmd.arg("--no-cache");
         }
-        cmd.arg("--out").arg(dir).env("PENUMBRA_NO_PROGRESS", "1").stdout(std::process::Stdio::null());
-        children.push((i, cmd.spawn().with_context(|| format!("cannot start shard {i}/{k}"))?));
+        cmd.arg("--out")
+            .arg(dir)
+            .env("PENUMBRA_NO_PROGRESS", "1")
+            .stdout(std::process::Stdio::null());
+        children.push((
+            i,
+            cmd.spawn()
+                .with_context(|| format!("cannot start shard {i}/{k}"))?,
+        ));
     }
     let mut failed = Vec::new();
     for (i, mut child) in children {
@@ -134,7 +183,10 @@ fn run_shards(args: &SweepArgs, dirs: &[PathBuf], gpu: &AdapterRequest) -> Resul
         }
     }
     if !failed.is_empty() {
-        anyhow::bail!("sweep --jobs {k}: shards {} failed (their messages are above); nothing is written", failed.join(", "));
+        anyhow::bail!(
+            "sweep --jobs {k}: shards {} failed (their messages are above); nothing is written",
+            failed.join(", ")
+        );
     }
     let outcome = shard::merge::merge(dirs, &[])?;
     crate::studies::shard::command::write_merged(&r.output.out, &outcome)

@@ -1,17 +1,36 @@
 //! The table `compare` prints: the figures a reader checks first, one line per method.
 
-use crate::report::charts::ResultRow;
 use crate::methods::Family;
+use crate::report::charts::ResultRow;
 
 fn err(v: f64) -> String {
-    if v != 0.0 && v.abs() < 1e-3 { format!("{v:.2e}") } else { format!("{v:.4}") }
+    if v != 0.0 && v.abs() < 1e-3 {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.4}")
+    }
 }
 
 pub fn render(rows: &[ResultRow]) -> String {
-    let width = rows.iter().map(|r| r.label().chars().count()).max().unwrap_or(6).max(6);
+    let width = rows
+        .iter()
+        .map(|r| r.label().chars().count())
+        .max()
+        .unwrap_or(6)
+        .max(6);
     let mut out = format!(
         "{:width$}  {:>5} {:>5}  {:>10} {:>21}  {:>9} {:>7} {:>6} {:>9} {:>9} {:>7}\n",
-        "method", "maps", "syncs", "median ms", "(min-max)", "RMSE", "PSNR", "SSIM", "FLIP", "pen.RMSE", "bad"
+        "method",
+        "maps",
+        "syncs",
+        "median ms",
+        "(min-max)",
+        "RMSE",
+        "PSNR",
+        "SSIM",
+        "FLIP",
+        "pen.RMSE",
+        "bad"
     );
     // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
     let mut rows: Vec<&ResultRow> = rows.iter().collect();

@@ -41,28 +41,60 @@ pub struct ConvergenceArgs {
 impl crate::studies::Run for ConvergenceArgs {
     fn run(self, gpu: &AdapterRequest) -> Result<()> {
         let out = self.output.checked()?;
-        let values: Vec<String> = self.values.iter().map(|v| v.trim().to_string()).filter(|v| !v.is_empty()).collect();
+        let values: Vec<String> = self
+            .values
+            .iter()
+            .map(|v| v.trim().to_string())
+            .filter(|v| !v.is_empty())
+            .collect();
         if values.len() < 2 {
-            anyhow::bail!("--values {}: give at least two values to fit a slope", self.values.join(","));
+            anyhow::bail!(
+                "--values {}: give at least two values to fit a slope",
+                self.values.join(",")
+            );
         }
         let name = self.method.split(':').next().unwrap_or_default().trim();
         if !crate::methods::REGISTRY.iter().any(|m| m.name == name) {
             let known: Vec<&str> = crate::methods::REGISTRY.iter().map(|m| m.name).collect();
-            anyhow::bail!("--method {}: unknown method `{name}` (known: {})", self.method, known.join(", "));
+            anyhow::bail!(
+                "--method {}: unknown method `{name}` (known: {})",
+                self.method,
+                known.join(", ")
+            );
         }
         if !crate::methods::methods_with_param(&self.key).contains(&name) {
-            anyhow::bail!("--key {}: not a parameter of method {name} (`penumbra methods` lists them)", self.key);
+            anyhow::bail!(
+                "--key {}: not a parameter of method {name} (`penumbra methods` lists them)",
+                self.key
+            );
         }
         let given = self.method.split_once(':').map_or("", |(_, p)| p);
-        if given.split(',').any(|kv| kv.split('=').next().unwrap_or_default().trim() == self.key) {
-            anyhow::bail!("--method {}: sets {} itself; leave it to --values", self.method, self.key);
+        if given
+            .split(',')
+            .any(|kv| kv.split('=').next().unwrap_or_default().trim() == self.key)
+        {
+            anyhow::bail!(
+                "--method {}: sets {} itself; leave it to --values",
+                self.method,
+                self.key
+            );
         }
         let scene = Scene::load(&self.scene.scene, &self.sets.render()?)?;
         let reference = truth::parse_mode("continuous", self.samples)?;
-        let job = ConvergenceJob { scene: &scene, spec: self.method.clone(), key: self.key.clone(), values, reference, cache: truth::Cache::default_for(self.no_cache) };
+        let job = ConvergenceJob {
+            scene: &scene,
+            spec: self.method.clone(),
+            key: self.key.clone(),
+            values,
+            reference,
+            cache: truth::Cache::default_for(self.no_cache),
+        };
         // Every value parsed, given once and accepted by the light before the GPU starts.
         let methods = super::methods(&job)?;
-        listed_once("--values", job.values.iter().zip(methods.iter().map(|m| m.label())))?;
+        listed_once(
+            "--values",
+            job.values.iter().zip(methods.iter().map(|m| m.label())),
+        )?;
         let ctx = GpuContext::with_request(gpu)?;
         crate::methods::sizes::check_all(&ctx, &scene, &methods)?;
         let outcome: ConvergenceOutcome = super::run(&ctx, &job, &|line| eprintln!("{line}"))?;

@@ -59,14 +59,20 @@ pub fn methods(job: &ConvergenceJob) -> Result<Vec<Method>> {
     job.values
         .iter()
         .map(|v| {
-            let m = Method::parse(&job.spec, &[(job.key.clone(), v.clone())]).map_err(|e| Error::param(format!("--values {v}: {e}")))?;
-            m.check_light(job.scene).map_err(|e| Error::param(format!("--values {v}: {e}")))?;
+            let m = Method::parse(&job.spec, &[(job.key.clone(), v.clone())])
+                .map_err(|e| Error::param(format!("--values {v}: {e}")))?;
+            m.check_light(job.scene)
+                .map_err(|e| Error::param(format!("--values {v}: {e}")))?;
             Ok(m)
         })
         .collect()
 }
 
-pub fn run(ctx: &GpuContext, job: &ConvergenceJob, log: &dyn Fn(&str)) -> Result<ConvergenceOutcome> {
+pub fn run(
+    ctx: &GpuContext,
+    job: &ConvergenceJob,
+    log: &dyn Fn(&str),
+) -> Result<ConvergenceOutcome> {
     let methods = methods(job)?;
     let scene = job.scene;
     let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
@@ -75,32 +81,83 @@ pub fn run(ctx: &GpuContext, job: &ConvergenceJob, log: &dyn Fn(&str)) -> Result
     for (value, method) in job.values.iter().zip(&methods) {
         // A value that fails at run time is a row saying why, and the study goes on
         // (docs/robustness.md, "Failed settings"); before, one failure lost the whole study.
-        let measured = frame::render(ctx, scene, method, TimingMode::Frame).map_err(Error::from).and_then(|f| Ok((f.output.shadow_maps, judge.judge(scene, &method.label(), &f)?.metrics)));
+        let measured = frame::render(ctx, scene, method, TimingMode::Frame)
+            .map_err(Error::from)
+            .and_then(|f| {
+                Ok((
+                    f.output.shadow_maps,
+                    judge.judge(scene, &method.label(), &f)?.metrics,
+                ))
+            });
         match measured {
             Ok((maps, m)) => {
-                log(&format!("{}: {maps} maps, RMSE {:.5}", method.label(), m.rmse));
-                rows.push(ConvergenceRow { value: value.clone(), label: method.label(), shadow_maps: maps, rmse: m.rmse, mae: m.mae, failed: None });
+                log(&format!(
+                    "{}: {maps} maps, RMSE {:.5}",
+                    method.label(),
+                    m.rmse
+                ));
+                rows.push(ConvergenceRow {
+                    value: value.clone(),
+                    label: method.label(),
+                    shadow_maps: maps,
+                    rmse: m.rmse,
+                    mae: m.mae,
+                    failed: None,
+                });
             }
             Err(e) => {
                 let reason = e.to_string().replace('\n', " ");
-                log(&crate::record::failed_line(&format!("--values {value} ({})", method.label()), &reason));
-                rows.push(ConvergenceRow { value: value.clone(), label: method.label(), shadow_maps: 0, rmse: 0.0, mae: 0.0, failed: Some(reason) });
+                log(&crate::record::failed_line(
+                    &format!("--values {value} ({})", method.label()),
+                    &reason,
+                ));
+                rows.push(ConvergenceRow {
+                    value: value.clone(),
+                    label: method.label(),
+                    shadow_maps: 0,
+                    rmse: 0.0,
+                    mae: 0.0,
+                    failed: Some(reason),
+                });
             }
         }
     }
-    if let Some(line) = crate::record::failed_summary(rows.iter().filter(|r| r.failed.is_some()).count(), rows.len()) {
+    if let Some(line) = crate::record::failed_summary(
+        rows.iter().filter(|r| r.failed.is_some()).count(),
+        rows.len(),
+    ) {
         log(&line);
     }
-    let slope = fitted_slope(&rows.iter().filter(|r| r.failed.is_none()).map(|r| (r.shadow_maps as f64, r.rmse)).collect::<Vec<_>>());
-    Ok(ConvergenceOutcome { scene: scene.name.clone(), method: job.spec.clone(), key: job.key.clone(), reference: truth::mode_label(&job.reference), rows, slope })
+    let slope = fitted_slope(
+        &rows
+            .iter()
+            .filter(|r| r.failed.is_none())
+            .map(|r| (r.shadow_maps as f64, r.rmse))
+            .collect::<Vec<_>>(),
+    );
+    Ok(ConvergenceOutcome {
+        scene: scene.name.clone(),
+        method: job.spec.clone(),
+        key: job.key.clone(),
+        reference: truth::mode_label(&job.reference),
+        rows,
+        slope,
+    })
 }
 
 /// The slope of the least-squares line through (ln x, ln y), over the points with x and y > 0;
 /// `None` when fewer than two distinct x remain (no line to fit).
 pub fn fitted_slope(points: &[(f64, f64)]) -> Option<f64> {
-    let logs: Vec<(f64, f64)> = points.iter().filter(|(x, y)| *x > 0.0 && *y > 0.0 && y.is_finite()).map(|(x, y)| (x.ln(), y.ln())).collect();
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && y.is_finite())
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
     let n = logs.len() as f64;
-    let (mx, my) = (logs.iter().map(|p| p.0).sum::<f64>() / n, logs.iter().map(|p| p.1).sum::<f64>() / n);
+    let (mx, my) = (
+        logs.iter().map(|p| p.0).sum::<f64>() / n,
+        logs.iter().map(|p| p.1).sum::<f64>() / n,
+    );
     let sxx: f64 = logs.iter().map(|(x, _)| (x - mx).powi(2)).sum();
     let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
     (logs.len() >= 2 && sxx > 1e-12).then(|| sxy / sxx)
@@ -110,15 +167,29 @@ pub fn fitted_slope(points: &[(f64, f64)]) -> Option<f64> {
 pub fn files(outcome: &ConvergenceOutcome) -> Result<Vec<(String, Vec<u8>)>> {
     let json = serde_json::to_vec_pretty(outcome).map_err(|e| Error::param(e.to_string()))?;
     let any_failed = outcome.rows.iter().any(|r| r.failed.is_some());
-    let mut header = ["value", "label", "shadow_maps", "rmse", "mae"].map(String::from).to_vec();
+    let mut header = ["value", "label", "shadow_maps", "rmse", "mae"]
+        .map(String::from)
+        .to_vec();
     if any_failed {
         header.push("failed".into());
     }
     let mut records = vec![header];
     records.extend(outcome.rows.iter().map(|r| {
         let mut cells = match &r.failed {
-            None => vec![r.value.clone(), r.label.clone(), r.shadow_maps.to_string(), r.rmse.to_string(), r.mae.to_string()],
-            Some(_) => vec![r.value.clone(), r.label.clone(), String::new(), String::new(), String::new()],
+            None => vec![
+                r.value.clone(),
+                r.label.clone(),
+                r.shadow_maps.to_string(),
+                r.rmse.to_string(),
+                r.mae.to_string(),
+            ],
+            Some(_) => vec![
+                r.value.clone(),
+                r.label.clone(),
+                String::new(),
+                String::new(),
+                String::new(),
+            ],
         };
         if any_failed {
             cells.push(r.failed.clone().unwrap_or_default());
@@ -127,7 +198,10 @@ pub fn files(outcome: &ConvergenceOutcome) -> Result<Vec<(String, Vec<u8>)>> {
     }));
     Ok(vec![
         ("convergence.json".into(), json),
-        ("convergence.csv".into(), crate::record::csv::lines(records).into_bytes()),
+        (
+            "convergence.csv".into(),
+            crate::record::csv::lines(records).into_bytes(),
+        ),
         ("convergence.md".into(), markdown(outcome).into_bytes()),
     ])
 }
@@ -136,13 +210,24 @@ pub fn markdown(o: &ConvergenceOutcome) -> String {
     let mut md = format!("# Convergence: {} on {} against the {} reference\n\n| {} | maps | RMSE | MAE |\n|---:|---:|---:|---:|\n", o.method, o.scene, o.reference, o.key);
     for r in &o.rows {
         md += &match &r.failed {
-            None => format!("| {} | {} | {:.5} | {:.5} |\n", r.value, r.shadow_maps, r.rmse, r.mae),
-            Some(why) => format!("| {} | failed: {} | | |\n", r.value, why.replace('|', "\\|")),
+            None => format!(
+                "| {} | {} | {:.5} | {:.5} |\n",
+                r.value, r.shadow_maps, r.rmse, r.mae
+            ),
+            Some(why) => format!(
+                "| {} | failed: {} | | |\n",
+                r.value,
+                why.replace('|', "\\|")
+            ),
         };
     }
     md += &match o.slope {
-        Some(s) => format!("\nFitted slope of log RMSE against log maps: {s:.3} (error ∝ maps^{s:.2}).\n"),
-        None => "\nNo slope: fewer than two distinct map counts with a non-zero error.\n".to_string(),
+        Some(s) => {
+            format!("\nFitted slope of log RMSE against log maps: {s:.3} (error ∝ maps^{s:.2}).\n")
+        }
+        None => {
+            "\nNo slope: fewer than two distinct map counts with a non-zero error.\n".to_string()
+        }
     };
     md
 }
@@ -153,7 +238,10 @@ mod tests {
 
     #[test]
     fn slope_of_a_power_law_and_of_too_few_points() {
-        let pts: Vec<(f64, f64)> = [4.0, 16.0, 64.0, 256.0].iter().map(|&x: &f64| (x, 0.3 * x.powf(-0.75))).collect();
+        let pts: Vec<(f64, f64)> = [4.0, 16.0, 64.0, 256.0]
+            .iter()
+            .map(|&x: &f64| (x, 0.3 * x.powf(-0.75)))
+            .collect();
         assert!((fitted_slope(&pts).unwrap() + 0.75).abs() < 1e-12);
         assert_eq!(fitted_slope(&[(4.0, 0.1), (4.0, 0.05)]), None);
         assert_eq!(fitted_slope(&[(4.0, 0.1), (16.0, 0.0)]), None);

@@ -22,7 +22,12 @@ fn series_key(r: &ResultRow) -> String {
     if r.params.get("at").and_then(|v| v.as_str()) == Some("vertex") {
         key += " per vertex";
     }
-    if let Some(f) = r.params.get("filter").and_then(|v| v.as_str()).filter(|f| *f != "box") {
+    if let Some(f) = r
+        .params
+        .get("filter")
+        .and_then(|v| v.as_str())
+        .filter(|f| *f != "box")
+    {
         key += &format!(" {f}");
     }
     if r.label().contains("ssao=on") {
@@ -34,23 +39,52 @@ fn series_key(r: &ResultRow) -> String {
 pub fn env_chart_svg(rows: &[ResultRow], axis: EnvAxis) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter());
     let mut series: Vec<Series> = Vec::new();
-    for r in rows.iter().filter(|r| r.metrics.rmse.is_finite() && r.metrics.rmse > 0.0) {
+    for r in rows
+        .iter()
+        .filter(|r| r.metrics.rmse.is_finite() && r.metrics.rmse > 0.0)
+    {
         let x = match axis {
             EnvAxis::Time => r.total_ms,
             EnvAxis::Samples if r.shadow_maps > 0 => f64::from(r.shadow_maps),
             EnvAxis::Samples => continue,
         };
-        let point = Point { x, y: r.metrics.rmse, label: Some(r.label()), x_span: None, hit: None };
-        push_point(&mut series, with_scene(multi, &r.scene, &series_key(r)), point);
+        let point = Point {
+            x,
+            y: r.metrics.rmse,
+            label: Some(r.label()),
+            x_span: None,
+            hit: None,
+        };
+        push_point(
+            &mut series,
+            with_scene(multi, &r.scene, &series_key(r)),
+            point,
+        );
     }
     if series.is_empty() {
         return Err(ChartError::NoData("needs environment rows"));
     }
     let (title, x_desc) = match axis {
-        EnvAxis::Time => ("Environment: error against time", "median frame time, ms, wall clock (log scale)"),
-        EnvAxis::Samples => ("Environment: error against samples", "light samples: pixel lights, median-cut maps or quadtree leaves (log scale)"),
+        EnvAxis::Time => (
+            "Environment: error against time",
+            "median frame time, ms, wall clock (log scale)",
+        ),
+        EnvAxis::Samples => (
+            "Environment: error against samples",
+            "light samples: pixel lights, median-cut maps or quadtree leaves (log scale)",
+        ),
     };
-    render(&Scatter { title: title.into(), x_desc: x_desc.into(), y_desc: "RMSE of V (log scale)".into(), series, connect: true, front: None, front_label: "Pareto front", x_log: true, y_log: true })
+    render(&Scatter {
+        title: title.into(),
+        x_desc: x_desc.into(),
+        y_desc: "RMSE of V (log scale)".into(),
+        series,
+        connect: true,
+        front: None,
+        front_label: "Pareto front",
+        x_log: true,
+        y_log: true,
+    })
 }
 
 #[cfg(test)]
@@ -62,10 +96,34 @@ mod tests {
     #[test]
     fn variants_are_their_own_series() {
         let key = |method: &str, params| series_key(&row(method, params, 128, 1.0, 0.1));
-        assert_eq!(key("env-pixels", json!({"res": [16, 8], "at": "pixel", "ssao": null})), "env-pixels");
-        assert_eq!(key("env-pixels", json!({"res": [32, 16], "at": "pixel", "ssao": null})), "env-pixels");
-        assert_eq!(key("env-pixels", json!({"res": [16, 8], "at": "vertex", "ssao": null})), "env-pixels per vertex");
-        assert_eq!(key("env-shadowmaps", json!({"k": 16, "filter": "box"})), "env-shadowmaps");
-        assert_eq!(key("env-shadowmaps", json!({"k": 16, "filter": "poisson"})), "env-shadowmaps poisson");
+        assert_eq!(
+            key(
+                "env-pixels",
+                json!({"res": [16, 8], "at": "pixel", "ssao": null})
+            ),
+            "env-pixels"
+        );
+        assert_eq!(
+            key(
+                "env-pixels",
+                json!({"res": [32, 16], "at": "pixel", "ssao": null})
+            ),
+            "env-pixels"
+        );
+        assert_eq!(
+            key(
+                "env-pixels",
+                json!({"res": [16, 8], "at": "vertex", "ssao": null})
+            ),
+            "env-pixels per vertex"
+        );
+        assert_eq!(
+            key("env-shadowmaps", json!({"k": 16, "filter": "box"})),
+            "env-shadowmaps"
+        );
+        assert_eq!(
+            key("env-shadowmaps", json!({"k": 16, "filter": "poisson"})),
+            "env-shadowmaps poisson"
+        );
     }
 }

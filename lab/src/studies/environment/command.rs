@@ -1,9 +1,9 @@
 //! `penumbra environment`: the environment methods on the panorama scenes (seed 002).
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::studies::environment::{self, EnvironmentJob, DEFAULT_METHODS, DEFAULT_SCENES};
 use crate::studies::flags::{OutArgs, RepeatsArgs, SetArgs};
+use anyhow::Result;
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/environment")))]
@@ -38,7 +38,14 @@ fn run(args: EnvironmentArgs, gpu: &AdapterRequest) -> Result<()> {
     args.output.checked()?;
     let overrides = args.sets.render()?;
     let ctx = GpuContext::with_request(gpu)?;
-    let job = EnvironmentJob { scenes: args.scenes, methods: args.methods, repeats: args.repeats.repeats, samples: args.samples, set: args.sets.set, no_cache: args.no_cache };
+    let job = EnvironmentJob {
+        scenes: args.scenes,
+        methods: args.methods,
+        repeats: args.repeats.repeats,
+        samples: args.samples,
+        set: args.sets.set,
+        no_cache: args.no_cache,
+    };
     let (outcomes, files) = environment::run(&ctx, &job, &overrides, &|line| eprintln!("{line}"))?;
     let html = environment::write(&args.output.out, &outcomes, &files)?;
     print!("{}", environment::closing_table(&outcomes));

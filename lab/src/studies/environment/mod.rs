@@ -3,20 +3,19 @@
 //! against samples, one series per method), each method's panorama picture (chosen lights or
 //! quadtree cells) and error maps, and the closing table with the env-adaptive verdict.
 
-
 pub(crate) mod charts;
 pub mod command;
 
 use self::charts::{env_chart_svg, EnvAxis};
-use crate::report::charts::{svg_to_png, ResultRow};
-use crate::studies::compare::{self, CompareJob};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::record::Provenance;
-use crate::scene::Scene;
 use crate::reference::truth;
-use crate::{Error, Result};
+use crate::report::charts::{svg_to_png, ResultRow};
 use crate::report::page::data_uri;
+use crate::scene::Scene;
+use crate::studies::compare::{self, CompareJob};
+use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
 pub const DEFAULT_SCENES: &str = "env-bunny,env-dragon";
@@ -51,7 +50,11 @@ pub struct SceneOutcome {
 
 /// Methods from the flag: `,` between methods, `;` between one method's parameters.
 pub fn parse_methods(list: &str) -> Result<Vec<Method>> {
-    let methods: Vec<Method> = list.split(',').filter(|s| !s.trim().is_empty()).map(|s| Method::parse(&s.trim().replace(';', ","), &[])).collect::<penumbra::Result<_>>()?;
+    let methods: Vec<Method> = list
+        .split(',')
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| Method::parse(&s.trim().replace(';', ","), &[]))
+        .collect::<penumbra::Result<_>>()?;
     if methods.is_empty() {
         return Err(Error::param("--methods: no method given".into()));
     }
@@ -61,18 +64,33 @@ pub fn parse_methods(list: &str) -> Result<Vec<Method>> {
 /// A run's files by name, as `run_files::write_files` takes them.
 pub type NamedFiles = Vec<(String, Vec<u8>)>;
 
-pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)], log: &dyn Fn(&str)) -> Result<(Vec<SceneOutcome>, NamedFiles)> {
+pub fn run(
+    ctx: &GpuContext,
+    job: &EnvironmentJob,
+    overrides: &[(String, String)],
+    log: &dyn Fn(&str),
+) -> Result<(Vec<SceneOutcome>, NamedFiles)> {
     let methods = parse_methods(&job.methods)?;
     let mode = truth::parse_mode("continuous", job.samples)?;
     if job.repeats == 0 || job.repeats > 100 {
-        return Err(Error::param(format!("--repeats must be in 1..=100, got {}", job.repeats)));
+        return Err(Error::param(format!(
+            "--repeats must be in 1..=100, got {}",
+            job.repeats
+        )));
     }
     // Every scene loads (and has an environment) before anything runs.
     let mut scenes = Vec::new();
-    for name in job.scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+    for name in job
+        .scenes
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+    {
         let scene = Scene::load(name, overrides)?;
         if scene.environment.is_none() {
-            return Err(Error::param(format!("--scenes: `{name}` has no [environment] (docs/environment.md)")));
+            return Err(Error::param(format!(
+                "--scenes: `{name}` has no [environment] (docs/environment.md)"
+            )));
         }
         scenes.push(scene);
     }
@@ -83,8 +101,18 @@ pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)
     let mut outcomes = Vec::new();
     let mut files = Vec::new();
     for scene in &scenes {
-        let provenance = vec![Provenance::of_scene("environment", scene, &job.set, None); methods.len()];
-        let compare_job = CompareJob { scene, methods: methods.clone(), repeats: job.repeats, reference: mode, cache: cache.clone(), provenance, pictures: true, certify: None };
+        let provenance =
+            vec![Provenance::of_scene("environment", scene, &job.set, None); methods.len()];
+        let compare_job = CompareJob {
+            scene,
+            methods: methods.clone(),
+            repeats: job.repeats,
+            reference: mode,
+            cache: cache.clone(),
+            provenance,
+            pictures: true,
+            certify: None,
+        };
         let outcome = compare::run(ctx, &compare_job, log)?;
         let prefix = format!("{}/", crate::report::unique_slugs([scene.name.as_str()])[0]);
         for (name, bytes) in outcome.files {
@@ -100,21 +128,35 @@ pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)
         let mut pictures = Vec::new();
         for (m, drawn) in methods.iter().zip(&outcome.pictures) {
             for (name, img) in drawn {
-                let path = format!("{prefix}pictures/{}/{name}", crate::report::unique_slugs([m.label().as_str()])[0]);
+                let path = format!(
+                    "{prefix}pictures/{}/{name}",
+                    crate::report::unique_slugs([m.label().as_str()])[0]
+                );
                 let bytes = crate::record::run_files::png(img)?;
                 files.push((path.clone(), bytes.clone()));
                 pictures.push((format!("{}: {}", scene.name, m.label()), bytes));
             }
         }
-        outcomes.push(SceneOutcome { scene: scene.name.clone(), rows, reference_error: outcome.reference.std_error, pictures });
+        outcomes.push(SceneOutcome {
+            scene: scene.name.clone(),
+            rows,
+            reference_error: outcome.reference.std_error,
+            pictures,
+        });
     }
     let all: Vec<ResultRow> = outcomes.iter().flat_map(|o| o.rows.clone()).collect();
-    for (axis, stem) in [(EnvAxis::Time, "env_error_vs_time"), (EnvAxis::Samples, "env_error_vs_samples")] {
+    for (axis, stem) in [
+        (EnvAxis::Time, "env_error_vs_time"),
+        (EnvAxis::Samples, "env_error_vs_samples"),
+    ] {
         let svg = env_chart_svg(&all, axis)?;
         files.push((format!("charts/{stem}.png"), svg_to_png(&svg, 1.0)?));
         files.push((format!("charts/{stem}.svg"), svg.into_bytes()));
     }
-    files.push(("environment.md".into(), closing_table(&outcomes).into_bytes()));
+    files.push((
+        "environment.md".into(),
+        closing_table(&outcomes).into_bytes(),
+    ));
     // Every scene's rows in one results.jsonl/.csv at the top (each scene's own are in its folder).
     files.extend(crate::record::result_files(&all)?);
     Ok((outcomes, files))
@@ -122,7 +164,13 @@ pub fn run(ctx: &GpuContext, job: &EnvironmentJob, overrides: &[(String, String)
 
 /// The best (lowest-RMSE) row of `method` whose RMSE is at most `target`, by samples then time.
 fn reaching<'a>(rows: &'a [ResultRow], method: &str, target: f64) -> Option<&'a ResultRow> {
-    rows.iter().filter(|r| r.method == method && r.metrics.rmse <= target).min_by(|a, b| a.shadow_maps.cmp(&b.shadow_maps).then(a.total_ms.total_cmp(&b.total_ms)))
+    rows.iter()
+        .filter(|r| r.method == method && r.metrics.rmse <= target)
+        .min_by(|a, b| {
+            a.shadow_maps
+                .cmp(&b.shadow_maps)
+                .then(a.total_ms.total_cmp(&b.total_ms))
+        })
 }
 
 /// Per scene: every row (samples, time, RMSE), then whether env-adaptive reaches each
@@ -136,7 +184,14 @@ pub fn closing_table(outcomes: &[SceneOutcome]) -> String {
         }
         s += "| method | samples | median ms | RMSE | FLIP mean |\n|---|---:|---:|---:|---:|\n";
         for r in &o.rows {
-            s += &format!("| `{}` | {} | {:.1} | {:.4} | {:.4} |\n", r.label(), r.shadow_maps, r.total_ms, r.metrics.rmse, r.metrics.flip_mean);
+            s += &format!(
+                "| `{}` | {} | {:.1} | {:.4} | {:.4} |\n",
+                r.label(),
+                r.shadow_maps,
+                r.total_ms,
+                r.metrics.rmse,
+                r.metrics.flip_mean
+            );
         }
         s += "\n";
         for base in o.rows.iter().filter(|r| r.method == "env-shadowmaps") {
@@ -158,24 +213,45 @@ pub fn closing_table(outcomes: &[SceneOutcome]) -> String {
 
 /// The environment section appended to report.html: charts, panorama pictures, the table.
 pub fn section(outcomes: &[SceneOutcome], files: &[(String, Vec<u8>)]) -> String {
-    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let esc = |t: &str| {
+        t.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
     let mut h = String::from("<section id=\"environment\"><h2>Environment lighting (seed 002)</h2>\n<p>V is the unoccluded fraction of the panorama's radiance-weighted cosine integral (docs/environment.md). Samples: pixel lights (env-pixels), median-cut maps (env-shadowmaps) or quadtree leaves (env-adaptive); every time is wall clock.</p>\n");
-    for (name, bytes) in files.iter().filter(|(n, _)| n.starts_with("charts/env_") && n.ends_with(".svg")) {
-        h += &format!("<figure>{}<figcaption>{}</figcaption></figure>\n", String::from_utf8_lossy(bytes), esc(name));
+    for (name, bytes) in files
+        .iter()
+        .filter(|(n, _)| n.starts_with("charts/env_") && n.ends_with(".svg"))
+    {
+        h += &format!(
+            "<figure>{}<figcaption>{}</figcaption></figure>\n",
+            String::from_utf8_lossy(bytes),
+            esc(name)
+        );
     }
     for o in outcomes {
-        h += &format!("<h3>{} panorama: the lights and cells each method chose</h3>\n<div class=\"gallery\">", esc(&o.scene));
+        h += &format!(
+            "<h3>{} panorama: the lights and cells each method chose</h3>\n<div class=\"gallery\">",
+            esc(&o.scene)
+        );
         for (caption, png) in &o.pictures {
             h += &format!("<figure><img src=\"{}\" width=\"512\" alt=\"{}\"><figcaption>{}</figcaption></figure>", data_uri("image/png", png), esc(caption), esc(caption));
         }
         h += "</div>\n";
     }
-    h += &format!("<h3>Closing table</h3><pre>{}</pre></section>\n", esc(&closing_table(outcomes)));
+    h += &format!(
+        "<h3>Closing table</h3><pre>{}</pre></section>\n",
+        esc(&closing_table(outcomes))
+    );
     h
 }
 
 /// Writes the set (report.html from compare's report of every row) and appends the section.
-pub fn write(out: &Path, outcomes: &[SceneOutcome], files: &[(String, Vec<u8>)]) -> Result<PathBuf> {
+pub fn write(
+    out: &Path,
+    outcomes: &[SceneOutcome],
+    files: &[(String, Vec<u8>)],
+) -> Result<PathBuf> {
     let rows: Vec<ResultRow> = outcomes.iter().flat_map(|o| o.rows.clone()).collect();
     let html = compare::write_set(out, files, &rows)?;
     crate::report::page::append_to_page(&html, &[section(outcomes, files)])?;

@@ -1,14 +1,14 @@
 //! `penumbra estimate`: the error estimate checked against the truth on scenes × grid settings
 //! (docs/error-estimate.md §5).
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::record::run_files;
 use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::estimate::{self, Setting};
-use crate::studies::lists::listed_once;
 use crate::studies::flags::{OutArgs, SetArgs};
+use crate::studies::lists::listed_once;
+use anyhow::Result;
 
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/estimate")))]
@@ -42,20 +42,38 @@ fn run(args: EstimateArgs, gpu: &AdapterRequest) -> Result<()> {
     args.output.checked()?;
     let mode = truth::parse_mode("continuous", args.samples)?;
     let sets = args.sets.render()?;
-    if let Some((k, v)) = sets.iter().find(|(k, _)| k.strip_prefix("render.").unwrap_or(k) == "shadow_map_size") {
+    if let Some((k, v)) = sets
+        .iter()
+        .find(|(k, _)| k.strip_prefix("render.").unwrap_or(k) == "shadow_map_size")
+    {
         anyhow::bail!("--set {k}={v}: each setting names its map size (SPEC@SIZE in --settings)");
     }
     let settings: Vec<Setting> = match &args.settings {
         Some(text) => {
-            let settings = text.split(';').map(|s| Setting::parse(s.trim())).collect::<crate::Result<Vec<_>>>()?;
+            let settings = text
+                .split(';')
+                .map(|s| Setting::parse(s.trim()))
+                .collect::<crate::Result<Vec<_>>>()?;
             // One setting however it is spelled: the method's label and the map size.
-            listed_once("--settings", text.split(';').zip(settings.iter().map(Setting::key)))?;
+            listed_once(
+                "--settings",
+                text.split(';').zip(settings.iter().map(Setting::key)),
+            )?;
             settings
         }
-        None => estimate::DEFAULT_SETTINGS.iter().map(|(spec, size)| Setting { spec: spec.to_string(), map_size: *size }).collect(),
+        None => estimate::DEFAULT_SETTINGS
+            .iter()
+            .map(|(spec, size)| Setting {
+                spec: spec.to_string(),
+                map_size: *size,
+            })
+            .collect(),
     };
     let scenes: Vec<String> = if args.scenes.is_empty() {
-        crate::scene::area_light_names().iter().map(|s| s.to_string()).collect()
+        crate::scene::area_light_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
     } else {
         listed_once("--scenes", args.scenes.iter().map(|s| (s, s.trim())))?;
         args.scenes.clone()
@@ -70,15 +88,32 @@ fn run(args: EstimateArgs, gpu: &AdapterRequest) -> Result<()> {
     let cache = truth::Cache::default_for(args.no_cache);
     let mut lines = Vec::new();
     for name in &scenes {
-        lines.extend(estimate::run_scene(&ctx, name, &sets, &settings, mode, &cache, &|l| eprintln!("{l}"))?);
+        lines.extend(estimate::run_scene(
+            &ctx,
+            name,
+            &sets,
+            &settings,
+            mode,
+            &cache,
+            &|l| eprintln!("{l}"),
+        )?);
     }
     run_files::write_files(&args.output.out, &estimate::files(&lines)?)?;
-    if let Some(line) = crate::record::failed_summary(lines.iter().filter(|l| l.failed.is_some()).count(), lines.len()) {
+    if let Some(line) = crate::record::failed_summary(
+        lines.iter().filter(|l| l.failed.is_some()).count(),
+        lines.len(),
+    ) {
         eprintln!("{line}");
     }
     let md = estimate::markdown(&lines);
     print!("{}", md.split("\n| scene").next().unwrap_or(&md));
-    println!("\nestimate: {}", args.output.out.join("estimate.jsonl").display());
-    println!("report:   {}", args.output.out.join("report.html").display());
+    println!(
+        "\nestimate: {}",
+        args.output.out.join("estimate.jsonl").display()
+    );
+    println!(
+        "report:   {}",
+        args.output.out.join("report.html").display()
+    );
     Ok(())
 }

@@ -7,6 +7,7 @@
 pub(crate) mod charts;
 pub mod command;
 
+use self::charts::{estimate_svg, EstimatePoint};
 use crate::frame::{FrameOptions, Renderer};
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
@@ -15,7 +16,6 @@ use crate::methods::{estimate, Method};
 use crate::record::judge::Judge;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
-use self::charts::{estimate_svg, EstimatePoint};
 use crate::report::charts::svg_to_png;
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -45,28 +45,50 @@ pub struct Setting {
 impl Setting {
     /// `SPEC@SIZE`, e.g. `regular:n=5,layout=centred@1024`.
     pub fn parse(text: &str) -> Result<Setting> {
-        let bad = |why: &str| Error::param(format!("--settings `{text}`: {why}; give SPEC@SIZE, e.g. regular:n=5,layout=centred@1024"));
+        let bad = |why: &str| {
+            Error::param(format!(
+                "--settings `{text}`: {why}; give SPEC@SIZE, e.g. regular:n=5,layout=centred@1024"
+            ))
+        };
         let (spec, size) = text.rsplit_once('@').ok_or_else(|| bad("no @SIZE"))?;
-        let map_size: u32 = size.parse().ok().filter(|s| (16..=8192).contains(s)).ok_or_else(|| bad("SIZE is not a map size in 16..=8192"))?;
+        let map_size: u32 = size
+            .parse()
+            .ok()
+            .filter(|s| (16..=8192).contains(s))
+            .ok_or_else(|| bad("SIZE is not a map size in 16..=8192"))?;
         let method = Method::parse(spec, &[]).map_err(|e| bad(&e.to_string()))?;
         // The study adds `estimate=on` itself; a spec that sets it either way would be quoted
         // back later as `…,estimate=off,estimate=on`, a spec nobody wrote.
-        if spec.split_once(':').is_some_and(|(_, params)| params.split(',').any(|kv| kv.split('=').next().is_some_and(|k| k.trim() == "estimate"))) {
-            return Err(bad("`estimate` is set by the study (estimate = on is added); leave it out of the spec"));
+        if spec.split_once(':').is_some_and(|(_, params)| {
+            params
+                .split(',')
+                .any(|kv| kv.split('=').next().is_some_and(|k| k.trim() == "estimate"))
+        }) {
+            return Err(bad(
+                "`estimate` is set by the study (estimate = on is added); leave it out of the spec",
+            ));
         }
         if method.name() != "regular" || method.params_json()["cull"] == true {
-            return Err(bad("the estimate is built for `regular` grids (without cull; estimate = on is added)"));
+            return Err(bad(
+                "the estimate is built for `regular` grids (without cull; estimate = on is added)",
+            ));
         }
         if method.params_json()["n"] == 1 {
             return Err(bad("n = 1 has no half sets to compare"));
         }
-        Ok(Setting { spec: spec.to_string(), map_size })
+        Ok(Setting {
+            spec: spec.to_string(),
+            map_size,
+        })
     }
 
     /// What makes two settings the same: the method's label (presets and defaults spelled out)
     /// and the map size.
     pub fn key(&self) -> (String, u32) {
-        (Method::parse(&self.spec, &[]).map_or_else(|_| self.spec.clone(), |m| m.label()), self.map_size)
+        (
+            Method::parse(&self.spec, &[]).map_or_else(|_| self.spec.clone(), |m| m.label()),
+            self.map_size,
+        )
     }
 }
 
@@ -122,7 +144,10 @@ impl EstimateLine {
         if !(self.measured_rmse > 0.0 && self.measured_rmse <= 1.0) {
             return Some(format!("measured_rmse = {}: an RMSE of V lies in (0, 1] (a pair with no error has no ratio to calibrate)", shown(self.measured_rmse)));
         }
-        for (key, v) in [("measured_map", self.measured_map), ("measured_sampling", self.measured_sampling)] {
+        for (key, v) in [
+            ("measured_map", self.measured_map),
+            ("measured_sampling", self.measured_sampling),
+        ] {
             if !(0.0..=1.0).contains(&v) {
                 return Some(format!("{key} = {}: an RMSE of V lies in [0, 1]", shown(v)));
             }
@@ -137,36 +162,53 @@ impl EstimateLine {
         ];
         for (key, v) in predictions {
             if !(v.is_finite() && v >= 0.0) {
-                return Some(format!("{key} = {}: a predicted RMSE is a finite number, at least 0", shown(v)));
+                return Some(format!(
+                    "{key} = {}: a predicted RMSE is a finite number, at least 0",
+                    shown(v)
+                ));
             }
         }
         if self.predicted_sampling.hypot(self.predicted_map) == 0.0 {
             return Some("predicted_sampling = 0 and predicted_map = 0: a prediction of no error has nothing to calibrate".into());
         }
         if self.map_size == 0 || self.maps == 0 {
-            return Some(format!("map_size = {}, maps = {}: a setting has at least one map of at least one texel", self.map_size, self.maps));
+            return Some(format!(
+                "map_size = {}, maps = {}: a setting has at least one map of at least one texel",
+                self.map_size, self.maps
+            ));
         }
         None
     }
 }
 
 fn rms(a: &[f32], b: &[f32], mask: &[bool]) -> f64 {
-    let (sum, n) = a.iter().zip(b).zip(mask).filter(|(_, m)| **m).fold((0.0f64, 0usize), |(s, n), ((x, y), _)| {
-        let d = f64::from(*x) - f64::from(*y);
-        (s + d * d, n + 1)
-    });
+    let (sum, n) = a.iter().zip(b).zip(mask).filter(|(_, m)| **m).fold(
+        (0.0f64, 0usize),
+        |(s, n), ((x, y), _)| {
+            let d = f64::from(*x) - f64::from(*y);
+            (s + d * d, n + 1)
+        },
+    );
     (sum / n.max(1) as f64).sqrt()
 }
 
 /// The exact visibility at the grid's own points, and its name.
-fn exact_reference(scene: &Scene, g: &crate::render::gbuffer::GBufferCpu, n: u32, layout: Layout) -> Result<(Vec<f32>, String)> {
+fn exact_reference(
+    scene: &Scene,
+    g: &crate::render::gbuffer::GBufferCpu,
+    n: u32,
+    layout: Layout,
+) -> Result<(Vec<f32>, String)> {
     if n == 17 && layout == Layout::Lattice {
         let image = truth::compute(scene, g, ReferenceMode::Lattice, &Cache::default_for(false))?;
         return Ok((image.values, "lattice".into()));
     }
     let points = regular_points(n, layout);
     // Not cached: hundreds of one-point images would fill the cache for one study.
-    let modes: Vec<ReferenceMode> = points.iter().map(|&(s, t)| ReferenceMode::Point { s, t }).collect();
+    let modes: Vec<ReferenceMode> = points
+        .iter()
+        .map(|&(s, t)| ReferenceMode::Point { s, t })
+        .collect();
     let mut mean = vec![0.0f32; g.position.len()];
     for image in truth::trace_modes(scene, g, &modes)? {
         for (m, v) in mean.iter_mut().zip(image) {
@@ -177,24 +219,49 @@ fn exact_reference(scene: &Scene, g: &crate::render::gbuffer::GBufferCpu, n: u32
 }
 
 /// Runs every setting on `scene` (loaded with `sets`; each setting adds its map size).
-pub fn run_scene(ctx: &GpuContext, name: &str, sets: &[(String, String)], settings: &[Setting], mode: ReferenceMode, cache: &Cache, log: &dyn Fn(&str)) -> Result<Vec<EstimateLine>> {
+pub fn run_scene(
+    ctx: &GpuContext,
+    name: &str,
+    sets: &[(String, String)],
+    settings: &[Setting],
+    mode: ReferenceMode,
+    cache: &Cache,
+    log: &dyn Fn(&str),
+) -> Result<Vec<EstimateLine>> {
     let base = Scene::load(name, sets)?;
     let (g, reference) = truth::for_scene(ctx, &base, mode, cache)?;
     let judge = Judge::new(&base, &g, reference.values.clone());
     let mask: Vec<bool> = (0..g.position.len()).map(|i| g.is_geometry(i)).collect();
     let mut lines = Vec::new();
-    let run = Run { ctx, name, sets, mask: &mask, judge: &judge, g: &g, reference: &reference };
+    let run = Run {
+        ctx,
+        name,
+        sets,
+        mask: &mask,
+        judge: &judge,
+        g: &g,
+        reference: &reference,
+    };
     for setting in settings {
         // A setting that fails is a line that says why; the others go on.
         let line = run.setting(setting).unwrap_or_else(|e| {
             let line = EstimateLine::failed(&base.name, setting, &run, e.to_string());
-            log(&crate::record::failed_line(&format!("{} {} @{}", line.scene, line.spec, line.map_size), &e.to_string()));
+            log(&crate::record::failed_line(
+                &format!("{} {} @{}", line.scene, line.spec, line.map_size),
+                &e.to_string(),
+            ));
             line
         });
         if line.failed.is_none() {
             log(&format!(
                 "{} {} @{}: measured {:.5}, predicted {:.5} ({:.2}×), bound covers {:.1}%",
-                line.scene, line.spec, line.map_size, line.measured_rmse, line.predicted_rmse, line.ratio, 100.0 * line.bound_coverage
+                line.scene,
+                line.spec,
+                line.map_size,
+                line.measured_rmse,
+                line.predicted_rmse,
+                line.ratio,
+                100.0 * line.bound_coverage
             ));
         }
         lines.push(line);
@@ -216,50 +283,65 @@ struct Run<'a> {
 impl Run<'_> {
     /// One setting: rendered, predicted and measured.
     fn setting(&self, setting: &Setting) -> Result<EstimateLine> {
-        let Run { ctx, name, sets, mask, judge, g, reference } = *self;
-            let mut with_size = sets.to_vec();
-            with_size.push(("shadow_map_size".into(), setting.map_size.to_string()));
-            let scene = Scene::load(name, &with_size)?;
-            let method = Method::parse(&format!("{},estimate=on", setting.spec), &[])?;
-            let mut renderer = Renderer::new(ctx, &scene, &method)?;
-            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
-            let kept: FixedBuffers = renderer.inspect()?.ok_or_else(|| Error::limit(format!("{}: no estimate sums", method.label())))?;
-            let params = method.params_json();
-            let layout = match params["layout"].as_str() {
-                Some("centred") => Layout::Centred,
-                Some("jittered") => Layout::Jittered,
-                _ => Layout::Lattice,
-            };
-            let n = params["n"].as_u64().unwrap_or(1) as u32;
-            let (p, bound) = estimate::predict(&kept.estimate_sums, mask, layout, n)?;
-            let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
-            let covered = (0..mask.len()).filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i]).count();
-            let (exact, exact_name) = exact_reference(&scene, g, n, layout)?;
-            let ratio = p.predicted_rmse / measured.max(1e-12);
-            Ok(EstimateLine {
-                scene: scene.name.clone(),
-                spec: setting.spec.clone(),
-                layout: params["layout"].as_str().unwrap_or("lattice").to_string(),
-                map_size: setting.map_size,
-                maps: f.output.shadow_maps,
-                measured_rmse: measured,
-                predicted_rmse: p.predicted_rmse,
-                predicted_sampling: p.predicted_sampling,
-                predicted_map: p.predicted_map,
-                predicted_quantization: p.predicted_quantization,
-                predicted_bias: p.predicted_bias,
-                predicted_map_averaging: p.predicted_map_averaging,
-                ratio,
-                within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
-                bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
-                measured_map: rms(&f.visibility, &exact, mask),
-                measured_sampling: rms(&exact, &reference.values, mask),
-                exact: exact_name,
-                resolution: [scene.render.width, scene.render.height],
-                reference: truth::mode_label(&reference.mode),
-                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
-                failed: None,
-            })
+        let Run {
+            ctx,
+            name,
+            sets,
+            mask,
+            judge,
+            g,
+            reference,
+        } = *self;
+        let mut with_size = sets.to_vec();
+        with_size.push(("shadow_map_size".into(), setting.map_size.to_string()));
+        let scene = Scene::load(name, &with_size)?;
+        let method = Method::parse(&format!("{},estimate=on", setting.spec), &[])?;
+        let mut renderer = Renderer::new(ctx, &scene, &method)?;
+        let f = renderer.frame(FrameOptions {
+            mode: TimingMode::Frame,
+            pictures: false,
+        })?;
+        let kept: FixedBuffers = renderer
+            .inspect()?
+            .ok_or_else(|| Error::limit(format!("{}: no estimate sums", method.label())))?;
+        let params = method.params_json();
+        let layout = match params["layout"].as_str() {
+            Some("centred") => Layout::Centred,
+            Some("jittered") => Layout::Jittered,
+            _ => Layout::Lattice,
+        };
+        let n = params["n"].as_u64().unwrap_or(1) as u32;
+        let (p, bound) = estimate::predict(&kept.estimate_sums, mask, layout, n)?;
+        let measured = judge.judge(&scene, &method.label(), &f)?.metrics.rmse;
+        let covered = (0..mask.len())
+            .filter(|&i| mask[i] && (f.visibility[i] - reference.values[i]).abs() <= bound[i])
+            .count();
+        let (exact, exact_name) = exact_reference(&scene, g, n, layout)?;
+        let ratio = p.predicted_rmse / measured.max(1e-12);
+        Ok(EstimateLine {
+            scene: scene.name.clone(),
+            spec: setting.spec.clone(),
+            layout: params["layout"].as_str().unwrap_or("lattice").to_string(),
+            map_size: setting.map_size,
+            maps: f.output.shadow_maps,
+            measured_rmse: measured,
+            predicted_rmse: p.predicted_rmse,
+            predicted_sampling: p.predicted_sampling,
+            predicted_map: p.predicted_map,
+            predicted_quantization: p.predicted_quantization,
+            predicted_bias: p.predicted_bias,
+            predicted_map_averaging: p.predicted_map_averaging,
+            ratio,
+            within: (RATIO_BAND.0..=RATIO_BAND.1).contains(&ratio),
+            bound_coverage: covered as f64 / judge.geometry_pixels().max(1) as f64,
+            measured_map: rms(&f.visibility, &exact, mask),
+            measured_sampling: rms(&exact, &reference.values, mask),
+            exact: exact_name,
+            resolution: [scene.render.width, scene.render.height],
+            reference: truth::mode_label(&reference.mode),
+            adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+            failed: None,
+        })
     }
 }
 
@@ -297,17 +379,27 @@ impl EstimateLine {
 pub fn files(lines: &[EstimateLine]) -> Result<Vec<(String, Vec<u8>)>> {
     let mut jsonl = String::new();
     for l in lines {
-        jsonl += &serde_json::to_string(l).map_err(|e| Error::io_text("estimate.jsonl".into(), e.to_string()))?;
+        jsonl += &serde_json::to_string(l)
+            .map_err(|e| Error::io_text("estimate.jsonl".into(), e.to_string()))?;
         jsonl.push('\n');
     }
     let points: Vec<EstimatePoint> = lines
         .iter()
         .filter(|l| l.failed.is_none())
-        .map(|l| EstimatePoint { layout: l.layout.clone(), label: format!("{} {}@{}", l.scene, short(&l.spec), l.map_size), measured: l.measured_rmse, predicted: l.predicted_rmse })
+        .map(|l| EstimatePoint {
+            layout: l.layout.clone(),
+            label: format!("{} {}@{}", l.scene, short(&l.spec), l.map_size),
+            measured: l.measured_rmse,
+            predicted: l.predicted_rmse,
+        })
         .collect();
     let svg = estimate_svg(&points)?;
     let md = markdown(lines);
-    let html = crate::report::md_page::page("Error estimate against the truth", &md, &[("Predicted against measured RMSE", &svg)]);
+    let html = crate::report::md_page::page(
+        "Error estimate against the truth",
+        &md,
+        &[("Predicted against measured RMSE", &svg)],
+    );
     Ok(vec![
         ("estimate.jsonl".to_string(), jsonl.into_bytes()),
         ("estimate.md".to_string(), md.into_bytes()),
@@ -335,9 +427,15 @@ pub fn part_limits(lines: &[EstimateLine]) -> PartLimits {
     PartLimits {
         sampling_within: count(&|l| within(l.predicted_sampling, l.measured_sampling)),
         map_within: count(&|l| within(l.predicted_map, l.measured_map)),
-        with_measured_sampling: count(&|l| within(l.measured_sampling.hypot(l.predicted_map), l.measured_rmse)),
-        with_measured_map: count(&|l| within(l.predicted_sampling.hypot(l.measured_map), l.measured_rmse)),
-        with_both_measured: count(&|l| within(l.measured_sampling.hypot(l.measured_map), l.measured_rmse)),
+        with_measured_sampling: count(&|l| {
+            within(l.measured_sampling.hypot(l.predicted_map), l.measured_rmse)
+        }),
+        with_measured_map: count(&|l| {
+            within(l.predicted_sampling.hypot(l.measured_map), l.measured_rmse)
+        }),
+        with_both_measured: count(&|l| {
+            within(l.measured_sampling.hypot(l.measured_map), l.measured_rmse)
+        }),
     }
 }
 
@@ -349,9 +447,15 @@ fn short(spec: &str) -> String {
 /// The summary (pairs in the band, pixels covered) and one row per pair.
 pub fn markdown(all: &[EstimateLine]) -> String {
     // The summary is of the measured pairs; the failed ones are counted and listed with their reason.
-    let lines: &[EstimateLine] = &all.iter().filter(|l| l.failed.is_none()).cloned().collect::<Vec<_>>();
+    let lines: &[EstimateLine] = &all
+        .iter()
+        .filter(|l| l.failed.is_none())
+        .cloned()
+        .collect::<Vec<_>>();
     let failed = all.len() - lines.len();
-    let Some(first) = lines.first().or(all.first()) else { return "# Error estimate against the truth\n\nNo pairs.\n".into() };
+    let Some(first) = lines.first().or(all.first()) else {
+        return "# Error estimate against the truth\n\nNo pairs.\n".into();
+    };
     let within = lines.iter().filter(|l| l.within).count();
     let covered = lines.iter().filter(|l| l.bound_coverage >= 0.9).count();
     let limits = part_limits(lines);
@@ -387,7 +491,13 @@ pub fn markdown(all: &[EstimateLine]) -> String {
     s += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
     for l in all {
         if let Some(reason) = &l.failed {
-            s += &format!("| {} | {} @{} | failed: {} | | | | | | |\n", l.scene, short(&l.spec), l.map_size, reason.replace('|', "\\|"));
+            s += &format!(
+                "| {} | {} @{} | failed: {} | | | | | | |\n",
+                l.scene,
+                short(&l.spec),
+                l.map_size,
+                reason.replace('|', "\\|")
+            );
             continue;
         }
         s += &format!(
@@ -459,16 +569,38 @@ mod tests {
         ];
         assert_eq!(
             part_limits(&lines),
-            PartLimits { sampling_within: 3, map_within: 3, with_measured_sampling: 2, with_measured_map: 2, with_both_measured: 3 }
+            PartLimits {
+                sampling_within: 3,
+                map_within: 3,
+                with_measured_sampling: 2,
+                with_measured_map: 2,
+                with_both_measured: 3
+            }
         );
     }
 
     #[test]
     fn settings_parse_and_refuse() {
         let s = Setting::parse("regular:n=5,layout=centred@1024").unwrap();
-        assert_eq!((s.spec.as_str(), s.map_size), ("regular:n=5,layout=centred", 1024));
-        for bad in ["regular:n=5", "regular:n=5@big", "regular:n=5@8", "hard@512", "regular:n=1@512", "regular:n=3,cull=on@512", "regular:n=3,estimate=on@512", "regular:n=3,estimate=off@512", "regular:n=0@512"] {
-            let e = Setting::parse(bad).err().unwrap_or_else(|| panic!("{bad} parsed")).to_string();
+        assert_eq!(
+            (s.spec.as_str(), s.map_size),
+            ("regular:n=5,layout=centred", 1024)
+        );
+        for bad in [
+            "regular:n=5",
+            "regular:n=5@big",
+            "regular:n=5@8",
+            "hard@512",
+            "regular:n=1@512",
+            "regular:n=3,cull=on@512",
+            "regular:n=3,estimate=on@512",
+            "regular:n=3,estimate=off@512",
+            "regular:n=0@512",
+        ] {
+            let e = Setting::parse(bad)
+                .err()
+                .unwrap_or_else(|| panic!("{bad} parsed"))
+                .to_string();
             assert!(e.contains(bad) && e.contains("SPEC@SIZE"), "{bad}: {e}");
         }
     }

@@ -1,12 +1,12 @@
 //! `penumbra failures`: the failure gallery alone, with its own report (the main job runs it too).
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::reference::truth;
 use crate::studies::compare::{methods_list, run_args::RunArgs, DEFAULT_METHODS};
 use crate::studies::failures::{self, GalleryJob};
-use crate::studies::sequence::MAX_FRAMES;
 use crate::studies::flags::OutArgs;
+use crate::studies::sequence::MAX_FRAMES;
+use anyhow::Result;
 
 /// Gallery image size in the main job: small, so the report's added time stays small on a CPU device.
 const MAIN_JOB_RESOLUTION: u32 = 128;
@@ -47,20 +47,29 @@ impl FailuresArgs {
             frames: MAIN_JOB_FRAMES,
             reference: run.reference.clone(),
             samples: run.samples,
-            output: OutArgs { out: run.output.out.join("failures") },
+            output: OutArgs {
+                out: run.output.out.join("failures"),
+            },
             no_cache: false,
         }
     }
 
     /// The job, every flag checked; the main job's methods when --methods is not given.
     pub fn job(&self) -> Result<GalleryJob> {
-        let values = if self.methods.is_empty() { vec![DEFAULT_METHODS.to_string()] } else { self.methods.clone() };
+        let values = if self.methods.is_empty() {
+            vec![DEFAULT_METHODS.to_string()]
+        } else {
+            self.methods.clone()
+        };
         let methods = methods_list::parse_methods(&methods_list::split_specs(&values)?)?;
         if !(16..=2048).contains(&self.resolution) {
             anyhow::bail!("--resolution {}: must be in 16..=2048", self.resolution);
         }
         if self.frames == 1 || self.frames > MAX_FRAMES {
-            anyhow::bail!("--frames {}: use 0 (no sequence) or 2..={MAX_FRAMES}", self.frames);
+            anyhow::bail!(
+                "--frames {}: use 0 (no sequence) or 2..={MAX_FRAMES}",
+                self.frames
+            );
         }
         Ok(GalleryJob {
             methods,

@@ -6,19 +6,19 @@
 pub mod command;
 pub(crate) mod sentence;
 
-use crate::studies::compare::ERROR_SCALE;
 use crate::frame::{Detached, FrameOptions, Renderer};
-use crate::reference::truth::{self, Cache};
+use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::metrics::signed_error_image;
-use crate::reference::ReferenceMode;
-use crate::scene::Scene;
-use crate::studies::sequence::path::{Animation, Path, Subject};
-use crate::report::page::data_uri;
-use crate::studies::sequence::{self, SequenceJob, SequenceOutcome};
-use crate::gpu::timing::TimingMode;
 use crate::record::run_files;
+use crate::reference::truth::{self, Cache};
+use crate::reference::ReferenceMode;
+use crate::report::page::data_uri;
+use crate::scene::Scene;
+use crate::studies::compare::ERROR_SCALE;
+use crate::studies::sequence::path::{Animation, Path, Subject};
+use crate::studies::sequence::{self, SequenceJob, SequenceOutcome};
 use crate::{Error, Result};
 use minijinja::value::{Serde, Value};
 use sentence::{Figures, Framing};
@@ -35,17 +35,29 @@ pub const SCENARIOS: [Scenario; 3] = [
     Scenario {
         name: "pole-between-corners",
         text: include_str!("../../../../scenes/pole-between-corners.toml"),
-        framing: Framing { subject: Some("adaptive"), bright: "misses the pole", dark: "is too dark under the pole" },
+        framing: Framing {
+            subject: Some("adaptive"),
+            bright: "misses the pole",
+            dark: "is too dark under the pole",
+        },
     },
     Scenario {
         name: "overlapping-occluders",
         text: include_str!("../../../../scenes/overlapping-occluders.toml"),
-        framing: Framing { subject: None, bright: "is too bright", dark: "is too dark" },
+        framing: Framing {
+            subject: None,
+            bright: "is too bright",
+            dark: "is too dark",
+        },
     },
     Scenario {
         name: "grazing-ground",
         text: include_str!("../../../../scenes/grazing-ground.toml"),
-        framing: Framing { subject: None, bright: "leaks light at grazing incidence", dark: "shows acne on the lit ground" },
+        framing: Framing {
+            subject: None,
+            bright: "leaks light at grazing incidence",
+            dark: "shows acne on the lit ground",
+        },
     },
 ];
 
@@ -91,15 +103,37 @@ pub struct Gallery {
 pub fn scene(s: &Scenario, resolution: u32) -> Result<Scene> {
     let origin = format!("{}.toml", s.name);
     let full = Scene::parse(s.text, &origin, None, &[])?;
-    let ratio = f64::from(full.render.shadow_map_size) / f64::from(full.render.width.max(full.render.height));
+    let ratio = f64::from(full.render.shadow_map_size)
+        / f64::from(full.render.width.max(full.render.height));
     let map = ((f64::from(resolution) * ratio).round() as u32).max(16);
     let set = |k: &str, v: u32| (k.to_string(), v.to_string());
-    Ok(Scene::parse(s.text, &origin, None, &[set("width", resolution), set("height", resolution), set("shadow_map_size", map)])?)
+    Ok(Scene::parse(
+        s.text,
+        &origin,
+        None,
+        &[
+            set("width", resolution),
+            set("height", resolution),
+            set("shadow_map_size", map),
+        ],
+    )?)
 }
 
 /// Pixels off by more than 1/32 on either side, with the mean V and reference there.
-pub fn figures(label: &str, method: &str, maps: u32, v: &[f32], r: &[f32], mask: &[bool]) -> Figures {
-    let mut f = Figures { label: label.into(), method: method.into(), shadow_maps: maps, ..Default::default() };
+pub fn figures(
+    label: &str,
+    method: &str,
+    maps: u32,
+    v: &[f32],
+    r: &[f32],
+    mask: &[bool],
+) -> Figures {
+    let mut f = Figures {
+        label: label.into(),
+        method: method.into(),
+        shadow_maps: maps,
+        ..Default::default()
+    };
     let (mut sq, t) = (0.0f64, crate::metrics::BAD_PIXEL_THRESHOLD);
     for i in (0..v.len()).filter(|&i| mask[i]) {
         let (vi, ri) = (f64::from(v[i]), f64::from(r[i]));
@@ -125,7 +159,12 @@ pub fn figures(label: &str, method: &str, maps: u32, v: &[f32], r: &[f32], mask:
 }
 
 /// `kept` holds each method's renderer from the scene before, moved to this one.
-fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob, kept: &mut [Option<Detached>]) -> Result<SceneOutcome> {
+fn run_scene(
+    ctx: &GpuContext,
+    s: &Scenario,
+    job: &GalleryJob,
+    kept: &mut [Option<Detached>],
+) -> Result<SceneOutcome> {
     let scene = scene(s, job.resolution)?;
     let (w, h) = (scene.render.width, scene.render.height);
     let (g, reference) = truth::for_scene(ctx, &scene, job.reference, &job.cache)?;
@@ -143,15 +182,33 @@ fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob, kept: &mut [Optio
             Some(d) => d.attach(ctx, &scene)?,
             None => Renderer::new(ctx, &scene, method)?,
         };
-        let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+        let f = renderer.frame(FrameOptions {
+            mode: TimingMode::Frame,
+            pictures: false,
+        })?;
         *kept = Some(renderer.detach());
-        let differ = (0..mask.len()).filter(|&i| f.gbuffer.is_geometry(i) != mask[i]).count();
+        let differ = (0..mask.len())
+            .filter(|&i| f.gbuffer.is_geometry(i) != mask[i])
+            .count();
         if differ > 0 {
-            return Err(Error::gpu(format!("{} on {}: the G-buffer differs from the reference's in {differ} pixels", method.label(), s.name)));
+            return Err(Error::gpu(format!(
+                "{} on {}: the G-buffer differs from the reference's in {differ} pixels",
+                method.label(),
+                s.name
+            )));
         }
-        out.figures.push(figures(&method.label(), method.name(), f.output.shadow_maps, &f.visibility, &reference.values, &mask));
-        let signed = signed_error_image(&f.visibility, &reference.values, &mask, w, h, ERROR_SCALE)?;
-        out.error_pngs.push((method.label(), run_files::png(&signed)?));
+        out.figures.push(figures(
+            &method.label(),
+            method.name(),
+            f.output.shadow_maps,
+            &f.visibility,
+            &reference.values,
+            &mask,
+        ));
+        let signed =
+            signed_error_image(&f.visibility, &reference.values, &mask, w, h, ERROR_SCALE)?;
+        out.error_pngs
+            .push((method.label(), run_files::png(&signed)?));
     }
     out.sentence = sentence::sentence(&s.framing, &out.figures);
     Ok(out)
@@ -160,20 +217,41 @@ fn run_scene(ctx: &GpuContext, s: &Scenario, job: &GalleryJob, kept: &mut [Optio
 /// Runs every scenario, then the popping sequence; `log` gets one line per scene.
 pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gallery> {
     if !(16..=2048).contains(&job.resolution) {
-        return Err(Error::param(format!("--resolution {}: must be in 16..=2048", job.resolution)));
+        return Err(Error::param(format!(
+            "--resolution {}: must be in 16..=2048",
+            job.resolution
+        )));
     }
     let mut scenes = Vec::new();
     let mut kept: Vec<Option<Detached>> = job.methods.iter().map(|_| None).collect();
     for s in &SCENARIOS {
         let outcome = run_scene(ctx, s, job, &mut kept)?;
-        log(&format!("failure gallery, {}: {}", s.name, outcome.sentence));
+        log(&format!(
+            "failure gallery, {}: {}",
+            s.name, outcome.sentence
+        ));
         scenes.push(outcome);
     }
     let sequence = if job.frames >= 2 {
-        let s = SCENARIOS.iter().find(|s| s.name == POP_SCENE).ok_or_else(|| Error::param(format!("no scenario {POP_SCENE}")))?;
+        let s = SCENARIOS
+            .iter()
+            .find(|s| s.name == POP_SCENE)
+            .ok_or_else(|| Error::param(format!("no scenario {POP_SCENE}")))?;
         let scene = scene(s, job.resolution)?;
-        let animation = Animation { subject: Subject::Light, path: Path::Segment { offset: POP_OFFSET }, mesh: None };
-        let seq = SequenceJob { scene: &scene, methods: popping_methods(&job.methods), frames: job.frames, animation, reference: job.reference, cache: job.cache.clone(), reuse: sequence::Reuse::On };
+        let animation = Animation {
+            subject: Subject::Light,
+            path: Path::Segment { offset: POP_OFFSET },
+            mesh: None,
+        };
+        let seq = SequenceJob {
+            scene: &scene,
+            methods: popping_methods(&job.methods),
+            frames: job.frames,
+            animation,
+            reference: job.reference,
+            cache: job.cache.clone(),
+            reuse: sequence::Reuse::On,
+        };
         Some(sequence::run(ctx, &seq, &|_| {})?)
     } else {
         None
@@ -184,7 +262,13 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
         }
     }
     let reference = truth::mode_label(&job.reference);
-    let mut gallery = Gallery { resolution: job.resolution, reference, scenes, sequence, files: Vec::new() };
+    let mut gallery = Gallery {
+        resolution: job.resolution,
+        reference,
+        scenes,
+        sequence,
+        files: Vec::new(),
+    };
     gallery.files = files_of(&gallery)?;
     Ok(gallery)
 }
@@ -192,14 +276,26 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
 /// The popping sequence is about the adaptive decision: the adaptive methods, and the regular grid
 /// with the most samples as the steady comparison (the others would only add time to the main job).
 pub fn popping_methods(methods: &[Method]) -> Vec<Method> {
-    let regular_n = |m: &Method| if m.name() == "regular" { m.params_json().get("n").and_then(|n| n.as_u64()) } else { None };
+    let regular_n = |m: &Method| {
+        if m.name() == "regular" {
+            m.params_json().get("n").and_then(|n| n.as_u64())
+        } else {
+            None
+        }
+    };
     let densest = methods.iter().filter_map(regular_n).max();
     let keep: Vec<Method> = methods
         .iter()
-        .filter(|m| m.adaptive_params().is_some() || (regular_n(m).is_some() && regular_n(m) == densest))
+        .filter(|m| {
+            m.adaptive_params().is_some() || (regular_n(m).is_some() && regular_n(m) == densest)
+        })
         .cloned()
         .collect();
-    if keep.is_empty() { methods.to_vec() } else { keep }
+    if keep.is_empty() {
+        methods.to_vec()
+    } else {
+        keep
+    }
 }
 
 fn files_of(g: &Gallery) -> Result<Vec<(String, Vec<u8>)>> {
@@ -211,7 +307,8 @@ fn files_of(g: &Gallery) -> Result<Vec<(String, Vec<u8>)>> {
         "version": run_files::version(),
         "scenes": g.scenes,
     });
-    let bytes = serde_json::to_vec_pretty(&record).map_err(|e| Error::io_text("gallery.json".into(), e.to_string()))?;
+    let bytes = serde_json::to_vec_pretty(&record)
+        .map_err(|e| Error::io_text("gallery.json".into(), e.to_string()))?;
     files.push(("gallery.json".to_string(), bytes));
     for s in &g.scenes {
         files.push((format!("{}/reference.png", s.name), s.reference_png.clone()));
@@ -221,7 +318,11 @@ fn files_of(g: &Gallery) -> Result<Vec<(String, Vec<u8>)>> {
         }
     }
     if let Some(seq) = &g.sequence {
-        files.extend(seq.files.iter().map(|(p, b)| (format!("popping-sequence/{p}"), b.clone())));
+        files.extend(
+            seq.files
+                .iter()
+                .map(|(p, b)| (format!("popping-sequence/{p}"), b.clone())),
+        );
     }
     Ok(files)
 }
@@ -254,9 +355,17 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
                         f.shadow_maps.to_string(),
                         format!("{:.4}", f.rmse),
                         f.bright.to_string(),
-                        if f.bright > 0 { format!("{:.2} / {:.2}", f.bright_v, f.bright_ref) } else { "–".into() },
+                        if f.bright > 0 {
+                            format!("{:.2} / {:.2}", f.bright_v, f.bright_ref)
+                        } else {
+                            "–".into()
+                        },
                         f.dark.to_string(),
-                        if f.dark > 0 { format!("{:.2} / {:.2}", f.dark_v, f.dark_ref) } else { "–".into() },
+                        if f.dark > 0 {
+                            format!("{:.2} / {:.2}", f.dark_v, f.dark_ref)
+                        } else {
+                            "–".into()
+                        },
                     ]
                 })
                 .collect(),
@@ -265,7 +374,8 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
         .collect();
     let mut scenes = scenes;
     for (view, s) in scenes.iter_mut().zip(&g.scenes) {
-        view.viewer = gallery_viewer(s).map_err(|e| Error::io_text("<failures viewer>".into(), e.to_string()))?;
+        view.viewer = gallery_viewer(s)
+            .map_err(|e| Error::io_text("<failures viewer>".into(), e.to_string()))?;
     }
     #[derive(Serialize)]
     struct View {
@@ -274,11 +384,21 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
         scale: f32,
         scenes: Vec<SceneView>,
     }
-    let view = View { resolution: g.resolution, reference: g.reference.clone(), scale: ERROR_SCALE, scenes };
+    let view = View {
+        resolution: g.resolution,
+        reference: g.reference.clone(),
+        scale: ERROR_SCALE,
+        scenes,
+    };
     let mut env = minijinja::Environment::new();
     let err = |e: minijinja::Error| Error::io_text("<failures template>".into(), e.to_string());
-    env.add_template("failures.html", include_str!("section.html")).map_err(err)?;
-    let mut out = vec![env.get_template("failures.html").map_err(err)?.render(Value::from(Serde(&view))).map_err(err)?];
+    env.add_template("failures.html", include_str!("section.html"))
+        .map_err(err)?;
+    let mut out = vec![env
+        .get_template("failures.html")
+        .map_err(err)?
+        .render(Value::from(Serde(&view)))
+        .map_err(err)?];
     if let Some(seq) = &g.sequence {
         out.push(sequence::section::section(seq)?);
     }
@@ -289,14 +409,46 @@ pub fn sections(g: &Gallery) -> Result<Vec<String>> {
 /// with its row of the table beside it.
 fn gallery_viewer(s: &SceneOutcome) -> std::result::Result<String, minijinja::Error> {
     use crate::report::viewer::{render, Item, Layer, Viewer};
-    let layer = |name: &str, caption: String, png: &[u8]| Layer { name: name.into(), caption, uri: data_uri("image/png", png) };
-    let mut items = vec![Item { label: "reference".into(), reference: true, figures: String::new(), layers: vec![layer("shaded", "reference (shaded)".into(), &s.reference_png)] }];
+    let layer = |name: &str, caption: String, png: &[u8]| Layer {
+        name: name.into(),
+        caption,
+        uri: data_uri("image/png", png),
+    };
+    let mut items = vec![Item {
+        label: "reference".into(),
+        reference: true,
+        figures: String::new(),
+        layers: vec![layer(
+            "shaded",
+            "reference (shaded)".into(),
+            &s.reference_png,
+        )],
+    }];
     for ((label, png), f) in s.error_pngs.iter().zip(&s.figures) {
-        let maps = if f.shadow_maps == 1 { "1 map".to_string() } else { format!("{} maps", f.shadow_maps) };
-        let figures = format!("{maps} · RMSE {:.4} · {} px too bright · {} px too dark", f.rmse, f.bright, f.dark);
-        items.push(Item { label: label.clone(), reference: false, figures, layers: vec![layer("signed_error", format!("{label}: signed error"), png)] });
+        let maps = if f.shadow_maps == 1 {
+            "1 map".to_string()
+        } else {
+            format!("{} maps", f.shadow_maps)
+        };
+        let figures = format!(
+            "{maps} · RMSE {:.4} · {} px too bright · {} px too dark",
+            f.rmse, f.bright, f.dark
+        );
+        items.push(Item {
+            label: label.clone(),
+            reference: false,
+            figures,
+            layers: vec![layer("signed_error", format!("{label}: signed error"), png)],
+        });
     }
-    render(&Viewer { title: format!("failure gallery, {}: the reference and every method's signed error", s.name), scene: s.name.clone(), items })
+    render(&Viewer {
+        title: format!(
+            "failure gallery, {}: the reference and every method's signed error",
+            s.name
+        ),
+        scene: s.name.clone(),
+        items,
+    })
 }
 
 /// `penumbra failures --out DIR`: the files, then `report.html` with the gallery alone.

@@ -43,7 +43,11 @@ pub struct Framing {
 
 impl Default for Framing {
     fn default() -> Self {
-        Framing { subject: None, bright: "is too bright", dark: "is too dark" }
+        Framing {
+            subject: None,
+            bright: "is too bright",
+            dark: "is too dark",
+        }
     }
 }
 
@@ -75,7 +79,11 @@ pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
         .filter(|f| f.label != s.label && f.bright == s.bright && f.dark == s.dark)
         .map(|f| f.label.as_str())
         .collect();
-    let who = if same.is_empty() { s.label.clone() } else { format!("{} (likewise {})", s.label, same.join(", ")) };
+    let who = if same.is_empty() {
+        s.label.clone()
+    } else {
+        format!("{} (likewise {})", s.label, same.join(", "))
+    };
     if s.off() == 0 {
         return format!(
             "{} stays within 1/32 of the reference at every pixel here (RMSE {:.4}): the failure does not show at this resolution.",
@@ -84,8 +92,18 @@ pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
     }
     let bright = (framing.bright, s.bright, s.bright_v, s.bright_ref);
     let dark = (framing.dark, s.dark, s.dark_v, s.dark_ref);
-    let (main, other) = if s.bright >= s.dark { (bright, dark) } else { (dark, bright) };
-    let share = |n: u64| if s.pixels == 0 { 0.0 } else { 100.0 * n as f64 / s.pixels as f64 };
+    let (main, other) = if s.bright >= s.dark {
+        (bright, dark)
+    } else {
+        (dark, bright)
+    };
+    let share = |n: u64| {
+        if s.pixels == 0 {
+            0.0
+        } else {
+            100.0 * n as f64 / s.pixels as f64
+        }
+    };
     let (phrase, n, v, r) = main;
     let mut text = format!(
         "{who} {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels ({:.1}% of the geometry)",
@@ -96,9 +114,16 @@ pub fn sentence(framing: &Framing, figures: &[Figures]) -> String {
     if share(n) >= MINOR_SIDE_PERCENT {
         text += &format!(", and {phrase}: V = {v:.2} where the reference is {r:.2} in {n} pixels");
     }
-    let best = figures.iter().filter(|f| f.label != s.label && !same.contains(&f.label.as_str())).min_by(|a, b| a.off().cmp(&b.off()).then(a.rmse.total_cmp(&b.rmse)));
+    let best = figures
+        .iter()
+        .filter(|f| f.label != s.label && !same.contains(&f.label.as_str()))
+        .min_by(|a, b| a.off().cmp(&b.off()).then(a.rmse.total_cmp(&b.rmse)));
     if let Some(b) = best {
-        text += &format!("; {} is off by more than 1/32 in {} pixels", b.label, b.off());
+        text += &format!(
+            "; {} is off by more than 1/32 in {} pixels",
+            b.label,
+            b.off()
+        );
     }
     text + "."
 }
@@ -125,7 +150,11 @@ mod tests {
 
     #[test]
     fn the_subject_method_too_bright() {
-        let framing = Framing { subject: Some("adaptive"), bright: "misses the pole", dark: "is too dark" };
+        let framing = Framing {
+            subject: Some("adaptive"),
+            bright: "misses the pole",
+            dark: "is too dark",
+        };
         // hard is worse, but the framing asks about the adaptive methods; of those, the worse one.
         let figs = [
             fig("hard", "hard", 500, 400),
@@ -142,8 +171,15 @@ mod tests {
 
     #[test]
     fn any_method_but_hard_too_dark() {
-        let framing = Framing { dark: "shows acne on the ground", ..Framing::default() };
-        let figs = [fig("hard", "hard", 0, 900), fig("regular:n=5", "regular", 10, 300), fig("adaptive:p_m=0", "adaptive", 5, 120)];
+        let framing = Framing {
+            dark: "shows acne on the ground",
+            ..Framing::default()
+        };
+        let figs = [
+            fig("hard", "hard", 0, 900),
+            fig("regular:n=5", "regular", 10, 300),
+            fig("adaptive:p_m=0", "adaptive", 5, 120),
+        ];
         assert_eq!(
             sentence(&framing, &figs),
             "regular:n=5 shows acne on the ground: V = 0.25 where the reference is 0.90 in 300 pixels (30.0% of the geometry), \
@@ -153,8 +189,16 @@ mod tests {
 
     #[test]
     fn methods_that_fail_identically_are_named_together() {
-        let framing = Framing { dark: "shows acne on the lit ground", ..Framing::default() };
-        let figs = [fig("hard", "hard", 0, 900), fig("regular:n=17", "regular", 2, 300), fig("adaptive:p_m=0", "adaptive", 2, 300), fig("local", "adaptive", 1, 40)];
+        let framing = Framing {
+            dark: "shows acne on the lit ground",
+            ..Framing::default()
+        };
+        let figs = [
+            fig("hard", "hard", 0, 900),
+            fig("regular:n=17", "regular", 2, 300),
+            fig("adaptive:p_m=0", "adaptive", 2, 300),
+            fig("local", "adaptive", 1, 40),
+        ];
         assert_eq!(
             sentence(&framing, &figs),
             "regular:n=17 (likewise adaptive:p_m=0) shows acne on the lit ground: V = 0.25 where the reference is 0.90 in 300 pixels \
@@ -169,6 +213,9 @@ mod tests {
             sentence(&Framing::default(), &figs),
             "adaptive:p_m=0 stays within 1/32 of the reference at every pixel here (RMSE 0.0000): the failure does not show at this resolution."
         );
-        assert_eq!(sentence(&Framing::default(), &[]), "No method was measured.");
+        assert_eq!(
+            sentence(&Framing::default(), &[]),
+            "No method was measured."
+        );
     }
 }

@@ -20,22 +20,45 @@ pub enum WidthAxis {
 
 pub fn framing_svg(points: &[WidthPoint], axis: WidthAxis) -> Result<String, ChartError> {
     let mut series: Vec<Series> = Vec::new();
-    for p in points.iter().filter(|p| p.width_px.is_finite() && p.width_px > 0.0) {
+    for p in points
+        .iter()
+        .filter(|p| p.width_px.is_finite() && p.width_px > 0.0)
+    {
         let y = match axis {
             WidthAxis::Maps => p.maps,
             WidthAxis::Rmse => p.rmse,
         };
-        push_point(&mut series, p.series.clone(), Point { x: p.width_px, y, label: None, x_span: None, hit: None });
+        push_point(
+            &mut series,
+            p.series.clone(),
+            Point {
+                x: p.width_px,
+                y,
+                label: None,
+                x_span: None,
+                hit: None,
+            },
+        );
     }
     if series.is_empty() {
-        return Err(ChartError::NoData("needs runs with a measurable penumbra width"));
+        return Err(ChartError::NoData(
+            "needs runs with a measurable penumbra width",
+        ));
     }
     for s in &mut series {
         s.points.sort_by(|a, b| a.x.total_cmp(&b.x));
     }
     let (title, y_desc, y_log) = match axis {
-        WidthAxis::Maps => ("Shadow maps against the penumbra's width on screen", "shadow maps rendered", true),
-        WidthAxis::Rmse => ("Error against the penumbra's width on screen", "RMSE of V (continuous reference)", true),
+        WidthAxis::Maps => (
+            "Shadow maps against the penumbra's width on screen",
+            "shadow maps rendered",
+            true,
+        ),
+        WidthAxis::Rmse => (
+            "Error against the penumbra's width on screen",
+            "RMSE of V (continuous reference)",
+            true,
+        ),
     };
     render(&Scatter {
         title: title.into(),

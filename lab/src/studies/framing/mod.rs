@@ -7,13 +7,13 @@ pub mod command;
 pub(crate) mod width;
 
 use self::charts::{framing_svg, WidthAxis, WidthPoint};
-use crate::report::charts::{svg_to_png, ResultRow};
-use crate::studies::compare::{self, CompareJob};
-use crate::reference::truth::Cache;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
+use crate::reference::truth::Cache;
 use crate::reference::ReferenceMode;
+use crate::report::charts::{svg_to_png, ResultRow};
 use crate::scene::Scene;
+use crate::studies::compare::{self, CompareJob};
 use crate::{Error, Result};
 use serde::Serialize;
 
@@ -87,14 +87,33 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
                 let scene = configure(base, resolution, scale);
                 let config = format!("configs/{}-{resolution}px-light{scale}", base.name);
                 log(&format!("{config}:"));
-                let overrides = vec![format!("resolution={resolution}"), format!("light_scale={scale}")];
-                let provenance = crate::record::Provenance { overrides, ..crate::record::Provenance::of_scene("framing", &scene, &[], None) };
+                let overrides = vec![
+                    format!("resolution={resolution}"),
+                    format!("light_scale={scale}"),
+                ];
+                let provenance = crate::record::Provenance {
+                    overrides,
+                    ..crate::record::Provenance::of_scene("framing", &scene, &[], None)
+                };
                 let provenance = vec![provenance; job.methods.len()];
-                let cj = CompareJob { scene: &scene, methods: job.methods.clone(), repeats: job.repeats, reference: job.reference, cache: job.cache.clone(), provenance, pictures: false, certify: None };
+                let cj = CompareJob {
+                    scene: &scene,
+                    methods: job.methods.clone(),
+                    repeats: job.repeats,
+                    reference: job.reference,
+                    cache: job.cache.clone(),
+                    provenance,
+                    pictures: false,
+                    certify: None,
+                };
                 let outcome = compare::run(ctx, &cj, log)?;
                 let r = &outcome.reference;
-                let width = width::penumbra_width_px(&r.values, &outcome.geometry, r.width, r.height);
-                log(&format!("  penumbra width: {}", width.map_or("none".into(), |(w, n)| format!("{w:.1} px over {n} px"))));
+                let width =
+                    width::penumbra_width_px(&r.values, &outcome.geometry, r.width, r.height);
+                log(&format!(
+                    "  penumbra width: {}",
+                    width.map_or("none".into(), |(w, n)| format!("{w:.1} px over {n} px"))
+                ));
                 for row in outcome.rows {
                     rows.push(FramingRow {
                         scene: base.name.clone(),
@@ -110,20 +129,40 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
                         row,
                     });
                 }
-                files.extend(outcome.files.into_iter().map(|(name, bytes)| (format!("{config}/{name}"), bytes)));
+                files.extend(
+                    outcome
+                        .files
+                        .into_iter()
+                        .map(|(name, bytes)| (format!("{config}/{name}"), bytes)),
+                );
             }
         }
     }
     let points: Vec<WidthPoint> = rows
         .iter()
         .filter_map(|r| {
-            let series = if job.scenes.len() > 1 { format!("{}: {}", r.scene, r.label) } else { r.label.clone() };
-            r.penumbra_width_px.map(|w| WidthPoint { series, width_px: w, maps: r.shadow_maps as f64, rmse: r.rmse })
+            let series = if job.scenes.len() > 1 {
+                format!("{}: {}", r.scene, r.label)
+            } else {
+                r.label.clone()
+            };
+            r.penumbra_width_px.map(|w| WidthPoint {
+                series,
+                width_px: w,
+                maps: r.shadow_maps as f64,
+                rmse: r.rmse,
+            })
         })
         .collect();
-    for (stem, axis) in [("framing_maps", WidthAxis::Maps), ("framing_rmse", WidthAxis::Rmse)] {
+    for (stem, axis) in [
+        ("framing_maps", WidthAxis::Maps),
+        ("framing_rmse", WidthAxis::Rmse),
+    ] {
         let svg = framing_svg(&points, axis).map_err(|e| io_error(stem, e))?;
-        files.push((format!("charts/{stem}.png"), svg_to_png(&svg, 1.0).map_err(|e| io_error(stem, e))?));
+        files.push((
+            format!("charts/{stem}.png"),
+            svg_to_png(&svg, 1.0).map_err(|e| io_error(stem, e))?,
+        ));
         files.push((format!("charts/{stem}.svg"), svg.into_bytes()));
     }
     let mut jsonl = String::new();
@@ -138,10 +177,17 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
 }
 
 fn csv(rows: &[FramingRow]) -> String {
-    let mut s = String::from("scene,resolution,light_scale,penumbra_width_px,method,shadow_maps,rmse,total_ms\n");
+    let mut s = String::from(
+        "scene,resolution,light_scale,penumbra_width_px,method,shadow_maps,rmse,total_ms\n",
+    );
     for r in rows {
-        let w = r.penumbra_width_px.map_or(String::new(), |w| format!("{w:.2}"));
-        s += &format!("{},{},{},{w},\"{}\",{},{:.6},{:.2}\n", r.scene, r.resolution, r.light_scale, r.label, r.shadow_maps, r.rmse, r.total_ms);
+        let w = r
+            .penumbra_width_px
+            .map_or(String::new(), |w| format!("{w:.2}"));
+        s += &format!(
+            "{},{},{},{w},\"{}\",{},{:.6},{:.2}\n",
+            r.scene, r.resolution, r.light_scale, r.label, r.shadow_maps, r.rmse, r.total_ms
+        );
     }
     s
 }
@@ -162,12 +208,23 @@ pub fn markdown(rows: &[FramingRow]) -> String {
         s += "\n|---:|---:|---:|";
         s += &"---:|".repeat(methods.len());
         s += "\n";
-        let mut configs: Vec<&str> = rows.iter().filter(|r| r.scene == scene).map(|r| r.config.as_str()).collect();
+        let mut configs: Vec<&str> = rows
+            .iter()
+            .filter(|r| r.scene == scene)
+            .map(|r| r.config.as_str())
+            .collect();
         configs.dedup();
         for c in configs {
             let of: Vec<&FramingRow> = rows.iter().filter(|r| r.config == c).collect();
             let first = of[0];
-            s += &format!("| {}² | {}x | {} |", first.resolution, first.light_scale, first.penumbra_width_px.map_or("–".into(), |w| format!("{w:.1}")));
+            s += &format!(
+                "| {}² | {}x | {} |",
+                first.resolution,
+                first.light_scale,
+                first
+                    .penumbra_width_px
+                    .map_or("–".into(), |w| format!("{w:.1}"))
+            );
             for m in &methods {
                 match of.iter().find(|r| r.label == *m) {
                     Some(r) => s += &format!(" {} / {:.4} |", r.shadow_maps, r.rmse),

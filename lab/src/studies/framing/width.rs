@@ -6,7 +6,12 @@
 //! the screen's edge do not enter. Central differences; a flat neighbourhood (|∇V| < 1e-6) is skipped.
 
 /// Median penumbra width in pixels, and how many pixels it was taken over; None without penumbra.
-pub fn penumbra_width_px(values: &[f32], geometry: &[bool], width: u32, height: u32) -> Option<(f64, usize)> {
+pub fn penumbra_width_px(
+    values: &[f32],
+    geometry: &[bool],
+    width: u32,
+    height: u32,
+) -> Option<(f64, usize)> {
     let (w, h) = (width as usize, height as usize);
     let at = |x: usize, y: usize| y * w + x;
     let mut widths: Vec<f64> = Vec::new();
@@ -34,7 +39,11 @@ pub fn penumbra_width_px(values: &[f32], geometry: &[bool], width: u32, height: 
     }
     widths.sort_by(f64::total_cmp);
     let m = widths.len();
-    let median = if m % 2 == 1 { widths[m / 2] } else { (widths[m / 2 - 1] + widths[m / 2]) / 2.0 };
+    let median = if m % 2 == 1 {
+        widths[m / 2]
+    } else {
+        (widths[m / 2 - 1] + widths[m / 2]) / 2.0
+    };
     Some((median, m))
 }
 
@@ -47,7 +56,10 @@ mod tests {
         let (c, s) = (angle.cos(), angle.sin());
         (0..size * size)
             .map(|i| {
-                let (x, y) = ((i % size) as f64 - size as f64 / 2.0, (i / size) as f64 - size as f64 / 2.0);
+                let (x, y) = (
+                    (i % size) as f64 - size as f64 / 2.0,
+                    (i / size) as f64 - size as f64 / 2.0,
+                );
                 ((x * c + y * s) / span + 0.5).clamp(0.0, 1.0) as f32
             })
             .collect()
@@ -59,16 +71,27 @@ mod tests {
             let v = ramp(span, angle, 128);
             let geometry = vec![true; v.len()];
             let (w, n) = penumbra_width_px(&v, &geometry, 128, 128).unwrap();
-            assert!((w - span).abs() < 1e-3 * span, "span {span} angle {angle}: width {w} over {n} px");
+            assert!(
+                (w - span).abs() < 1e-3 * span,
+                "span {span} angle {angle}: width {w} over {n} px"
+            );
         }
     }
 
     #[test]
     fn a_hard_edge_or_flat_image_has_no_penumbra() {
-        let hard: Vec<f32> = (0..64 * 64).map(|i| if i % 64 < 32 { 0.0 } else { 1.0 }).collect();
-        assert_eq!(penumbra_width_px(&hard, &vec![true; hard.len()], 64, 64), None);
+        let hard: Vec<f32> = (0..64 * 64)
+            .map(|i| if i % 64 < 32 { 0.0 } else { 1.0 })
+            .collect();
+        assert_eq!(
+            penumbra_width_px(&hard, &vec![true; hard.len()], 64, 64),
+            None
+        );
         let flat = vec![0.5f32; 64 * 64];
-        assert_eq!(penumbra_width_px(&flat, &vec![true; flat.len()], 64, 64), None);
+        assert_eq!(
+            penumbra_width_px(&flat, &vec![true; flat.len()], 64, 64),
+            None
+        );
     }
 
     #[test]

@@ -6,10 +6,10 @@
 use super::{FrontierJob, FrontierLine};
 use crate::gpu::GpuContext;
 use crate::record::measure;
-use crate::Result;
 use crate::studies::calibration::charts::calibration_svg;
-use crate::studies::estimate::charts::EstimatePoint;
 use crate::studies::calibration::half;
+use crate::studies::estimate::charts::EstimatePoint;
+use crate::Result;
 use serde::{Deserialize, Serialize};
 
 /// The promise: measured RMSE at most T on this share of rows …
@@ -39,9 +39,13 @@ impl Reading {
         let tries = record["tries"].as_array().map_or(&[][..], Vec::as_slice);
         let certified = &record["certified"];
         Reading {
-            predicted: certified["bound"].as_f64().or(record["predicted_rmse"].as_f64()).unwrap_or(f64::NAN),
+            predicted: certified["bound"]
+                .as_f64()
+                .or(record["predicted_rmse"].as_f64())
+                .unwrap_or(f64::NAN),
             target_met: record["target_met"].as_bool().unwrap_or(false),
-            search_ms: tries.iter().filter_map(|t| t["ms"].as_f64()).sum::<f64>() + certified["decision_ms"].as_f64().unwrap_or(0.0),
+            search_ms: tries.iter().filter_map(|t| t["ms"].as_f64()).sum::<f64>()
+                + certified["decision_ms"].as_f64().unwrap_or(0.0),
             tries: tries.len(),
             certified: certified.is_object(),
         }
@@ -72,18 +76,55 @@ pub struct Paired {
 /// Times each `auto` row with an oracle against it (`Paired`). `auto` chooses its own grid, so the
 /// oracle's maps leave its choice as it was, except for a one-map filter, which renders at the
 /// scene's size: a row whose maps differ from its own window's is left unpaired, and says so.
-pub fn pair(ctx: &GpuContext, job: &FrontierJob, lines: &mut [FrontierLine], log: &dyn Fn(&str)) -> Result<()> {
-    let find = |setting: &str| job.groups.iter().find_map(|g| g.specs.iter().position(|s| format!("{s} @ {}", g.maps.label()) == setting).map(|k| (g, k)));
+pub fn pair(
+    ctx: &GpuContext,
+    job: &FrontierJob,
+    lines: &mut [FrontierLine],
+    log: &dyn Fn(&str),
+) -> Result<()> {
+    let find = |setting: &str| {
+        job.groups.iter().find_map(|g| {
+            g.specs
+                .iter()
+                .position(|s| format!("{s} @ {}", g.maps.label()) == setting)
+                .map(|k| (g, k))
+        })
+    };
     for l in lines.iter_mut() {
-        let (Some(_), Some(oracle)) = (&l.budget, &l.oracle) else { continue };
-        let (Some((ga, ka)), Some((go, ko))) = (find(&l.setting()), find(oracle)) else { continue };
+        let (Some(_), Some(oracle)) = (&l.budget, &l.oracle) else {
+            continue;
+        };
+        let (Some((ga, ka)), Some((go, ko))) = (find(&l.setting()), find(oracle)) else {
+            continue;
+        };
         let scene = go.maps.apply(job.scene, 0.25);
         let methods = [ga.methods[ka].clone(), go.methods[ko].clone()];
-        let measured = measure::measure(ctx, &scene, &methods, job.repeats, &mut |_, _, _| {}, &mut |_, f| Ok(f.output.shadow_maps))?;
+        let measured = measure::measure(
+            ctx,
+            &scene,
+            &methods,
+            job.repeats,
+            &mut |_, _, _| {},
+            &mut |_, f| Ok(f.output.shadow_maps),
+        )?;
         match &measured[..] {
-            [Ok(a), Ok(o)] if a.judged == l.maps => l.paired = Some(Paired { ms: a.timing.median_ms, oracle_ms: o.timing.median_ms }),
-            [Ok(a), Ok(_)] => log(&format!("{}: under {}'s maps it rendered {} maps, not {}: time/oracle from the windows", l.setting(), oracle, a.judged, l.maps)),
-            _ => log(&format!("{}: side-by-side timing against {oracle} failed: time/oracle from the windows", l.setting())),
+            [Ok(a), Ok(o)] if a.judged == l.maps => {
+                l.paired = Some(Paired {
+                    ms: a.timing.median_ms,
+                    oracle_ms: o.timing.median_ms,
+                })
+            }
+            [Ok(a), Ok(_)] => log(&format!(
+                "{}: under {}'s maps it rendered {} maps, not {}: time/oracle from the windows",
+                l.setting(),
+                oracle,
+                a.judged,
+                l.maps
+            )),
+            _ => log(&format!(
+                "{}: side-by-side timing against {oracle} failed: time/oracle from the windows",
+                l.setting()
+            )),
         }
     }
     Ok(())
@@ -99,21 +140,35 @@ pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
     let (mut under, mut quick, mut timed, mut false_met, mut reachable_under) = (0, 0, 0, 0, 0);
     // The promise is auto's: rows without a budget reading (regions:target=T, which budgets only
     // its samples) stay in the frontier's budget section above, not in these counts.
-    let budget: Vec<&FrontierLine> = budget.iter().copied().filter(|l| l.budget.is_some()).collect();
+    let budget: Vec<&FrontierLine> = budget
+        .iter()
+        .copied()
+        .filter(|l| l.budget.is_some())
+        .collect();
     for l in &budget {
         let Some(target) = l.target() else { continue };
         let r = l.budget.clone().unwrap_or_default();
         under += usize::from(l.rmse <= target);
         false_met += usize::from(r.target_met && l.rmse > target);
         let reported = r.reported();
-        let o = l.oracle.as_ref().and_then(|b| lines.iter().find(|o| &o.setting() == b));
+        let o = l
+            .oracle
+            .as_ref()
+            .and_then(|b| lines.iter().find(|o| &o.setting() == b));
         let (name, e, t, ratio) = match o {
             Some(o) => {
-                let (ratio, mark) = l.paired.map_or((l.frame_ms / o.frame_ms, "*"), |p| (p.ms / p.oracle_ms, ""));
+                let (ratio, mark) = l
+                    .paired
+                    .map_or((l.frame_ms / o.frame_ms, "*"), |p| (p.ms / p.oracle_ms, ""));
                 timed += 1;
                 quick += usize::from(ratio <= TIME_RATIO);
                 reachable_under += usize::from(l.rmse <= target);
-                (o.setting(), format!("{:.2}", o.rmse / target), format!("{:.1}", o.frame_ms), format!("{ratio:.2}{mark}"))
+                (
+                    o.setting(),
+                    format!("{:.2}", o.rmse / target),
+                    format!("{:.1}", o.frame_ms),
+                    format!("{ratio:.2}{mark}"),
+                )
             }
             None => ("none reaches it".into(), "-".into(), "-".into(), "-".into()),
         };
@@ -135,8 +190,21 @@ pub fn chart(budget: &[&FrontierLine]) -> Option<String> {
         .iter()
         .filter_map(|l| {
             let r = l.budget.as_ref()?;
-            Some(EstimatePoint { layout: format!("{} half", half(&l.scene).name()).replace("held out half", "held out"), label: l.spec.clone(), measured: l.rmse, predicted: r.predicted })
+            Some(EstimatePoint {
+                layout: format!("{} half", half(&l.scene).name())
+                    .replace("held out half", "held out"),
+                label: l.spec.clone(),
+                measured: l.rmse,
+                predicted: r.predicted,
+            })
         })
         .collect();
-    calibration_svg(&format!("{}: the budget's predicted against measured RMSE of V", budget.first()?.scene), &points).ok()
+    calibration_svg(
+        &format!(
+            "{}: the budget's predicted against measured RMSE of V",
+            budget.first()?.scene
+        ),
+        &points,
+    )
+    .ok()
 }

@@ -34,9 +34,14 @@ fn rank(kind: &str) -> usize {
 const BUDGET: &str = "error budget";
 
 pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, ChartError> {
-    let usable: Vec<&FrontierPoint> = points.iter().filter(|p| p.ms.is_finite() && p.ms > 0.0 && p.rmse.is_finite()).collect();
+    let usable: Vec<&FrontierPoint> = points
+        .iter()
+        .filter(|p| p.ms.is_finite() && p.ms > 0.0 && p.rmse.is_finite())
+        .collect();
     if usable.is_empty() {
-        return Err(ChartError::NoData("needs settings with a positive time and a finite RMSE"));
+        return Err(ChartError::NoData(
+            "needs settings with a positive time and a finite RMSE",
+        ));
     }
     let mut ordered = usable.clone();
     ordered.sort_by_key(|p| rank(&p.kind));
@@ -52,7 +57,11 @@ pub fn frontier_svg(scene: &str, points: &[FrontierPoint]) -> Result<String, Cha
         };
         push_point(&mut series, p.kind.clone(), point);
     }
-    let pts: Vec<(f64, f64)> = usable.iter().filter(|p| p.kind != BUDGET).map(|p| (p.ms, p.rmse)).collect();
+    let pts: Vec<(f64, f64)> = usable
+        .iter()
+        .filter(|p| p.kind != BUDGET)
+        .map(|p| (p.ms, p.rmse))
+        .collect();
     render(&Scatter {
         title: format!("{scene}: every fixed setting, the frontier as a staircase"),
         x_desc: "median frame time (ms, wall clock), log scale; whiskers: min–max".into(),

@@ -1,14 +1,14 @@
 //! `penumbra frontier`: every fixed setting of one scene measured and judged, and the frontier of
 //! error against time (docs/frontier.md).
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::record::run_files;
 use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::compare::plan;
-use crate::studies::frontier::{self, files, grid, FrontierJob};
 use crate::studies::flags::{OutArgs, RepeatsArgs, SceneArgs, SetArgs};
+use crate::studies::frontier::{self, files, grid, FrontierJob};
+use anyhow::Result;
 
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/frontier")))]
@@ -69,7 +69,16 @@ pub struct FrontierArgs {
 }
 
 /// Render settings the grid itself sets for every setting.
-const GRID_KEYS: [&str; 8] = ["shadow_map_size", "maps", "base", "levels", "eps", "hybrid.base", "hybrid.levels", "hybrid.eps"];
+const GRID_KEYS: [&str; 8] = [
+    "shadow_map_size",
+    "maps",
+    "base",
+    "levels",
+    "eps",
+    "hybrid.base",
+    "hybrid.levels",
+    "hybrid.eps",
+];
 
 impl crate::studies::Run for FrontierArgs {
     fn run(self, gpu: &AdapterRequest) -> Result<()> {
@@ -82,11 +91,18 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let repeats = args.repeats.checked()?;
     let mode = truth::parse_mode(&args.reference, args.samples)?;
     let sets = args.sets.render()?;
-    if let Some((k, v)) = sets.iter().find(|(k, _)| GRID_KEYS.contains(&k.strip_prefix("render.").unwrap_or(k))) {
+    if let Some((k, v)) = sets
+        .iter()
+        .find(|(k, _)| GRID_KEYS.contains(&k.strip_prefix("render.").unwrap_or(k)))
+    {
         anyhow::bail!("--set {k}={v}: the frontier sets the map size and kind of every setting itself; choose them with --sizes and --hybrid");
     }
-    let n = (!args.n.is_empty()).then(|| grid::parse_n(&args.n)).transpose()?;
-    let sizes = (!args.sizes.is_empty()).then(|| grid::parse_sizes(&args.sizes)).transpose()?;
+    let n = (!args.n.is_empty())
+        .then(|| grid::parse_n(&args.n))
+        .transpose()?;
+    let sizes = (!args.sizes.is_empty())
+        .then(|| grid::parse_sizes(&args.sizes))
+        .transpose()?;
     let hybrid = grid::parse_hybrid(&args.hybrid)?;
     let scene = Scene::load(&args.scene.scene, &sets)?;
     let certify = crate::studies::flags::certify_options(args.certify, args.delta, &scene)?;
@@ -102,14 +118,25 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let targets = grid::parse_budget(&args.budget)?;
     if !targets.is_empty() {
         // The budget chooses its own map sizes; it runs in the first plain group's window.
-        let group = groups.iter_mut().find(|g| g.maps.label().starts_with("plain")).ok_or_else(|| anyhow::anyhow!("--budget needs a plain map size in --sizes"))?;
+        let group = groups
+            .iter_mut()
+            .find(|g| g.maps.label().starts_with("plain"))
+            .ok_or_else(|| anyhow::anyhow!("--budget needs a plain map size in --sizes"))?;
         // Each target for auto and, beside it, for the per-region method (docs/regions.md).
-        for spec in targets.iter().map(|t| format!("auto:target={t}")).chain(targets.iter().map(|t| format!("regions:target={t}"))) {
-            group.methods.push(crate::methods::Method::parse(&spec, &[])?);
+        for spec in targets
+            .iter()
+            .map(|t| format!("auto:target={t}"))
+            .chain(targets.iter().map(|t| format!("regions:target={t}")))
+        {
+            group
+                .methods
+                .push(crate::methods::Method::parse(&spec, &[])?);
             group.specs.push(spec);
         }
     }
-    let refused = grid::drop_refused(&mut groups, &scene, |s, m| m.check_light(s).map_err(Into::into));
+    let refused = grid::drop_refused(&mut groups, &scene, |s, m| {
+        m.check_light(s).map_err(Into::into)
+    });
     for (spec, why) in &refused {
         eprintln!("{spec} left out: {why}");
     }
@@ -119,37 +146,80 @@ fn run(args: FrontierArgs, gpu: &AdapterRequest) -> Result<()> {
     let ctx = GpuContext::with_request(gpu)?;
     // Every setting's frame sizes before the reference is traced or anything is written; a
     // setting over the device's limits is left out like local adaptive over the map budget.
-    let mut unfit = grid::drop_refused(&mut groups, &scene, |s, m| crate::methods::sizes::check(&ctx, s, m).map_err(Into::into));
+    let mut unfit = grid::drop_refused(&mut groups, &scene, |s, m| {
+        crate::methods::sizes::check(&ctx, s, m).map_err(Into::into)
+    });
     // A map over the budget fails its setting at its first frame: left out before the run too.
-    unfit.extend(grid::drop_refused(&mut groups, &scene, grid::one_map_over_budget));
+    unfit.extend(grid::drop_refused(
+        &mut groups,
+        &scene,
+        grid::one_map_over_budget,
+    ));
     for line in left_out_lines(&unfit) {
         eprintln!("{line}");
     }
     groups.retain(|g| !g.methods.is_empty());
     if groups.is_empty() {
-        let why = unfit.first().map_or("the light refuses every method".to_string(), |(s, why)| format!("{s}: {why}"));
+        let why = unfit
+            .first()
+            .map_or("the light refuses every method".to_string(), |(s, why)| {
+                format!("{s}: {why}")
+            });
         anyhow::bail!("frontier: no setting is left to run ({why})");
     }
-    let all: Vec<_> = groups.iter().flat_map(|g| g.methods.iter().cloned()).collect();
+    let all: Vec<_> = groups
+        .iter()
+        .flat_map(|g| g.methods.iter().cloned())
+        .collect();
     let mut thinning = thinning.describe(&axes);
     // Recorded with the grid, so frontier.jsonl and frontier.md say what was ruled out.
-    for (what, left) in [(format!("refusing the {} light", scene.emitter.kind().name()), &refused), ("over this device's limits or the map budget".to_string(), &unfit)] {
+    for (what, left) in [
+        (
+            format!("refusing the {} light", scene.emitter.kind().name()),
+            &refused,
+        ),
+        (
+            "over this device's limits or the map budget".to_string(),
+            &unfit,
+        ),
+    ] {
         if !left.is_empty() {
             let specs: Vec<&str> = left.iter().map(|(s, _)| s.as_str()).collect();
             thinning = format!("{thinning}; left out, {what}: {}", specs.join(", "));
         }
     }
     // Each group's settings estimated at its own map size: a map's texels cost time too.
-    let seconds: f64 = groups.iter().map(|g| plan::estimated_seconds(&g.methods, &g.maps.apply(&scene, 0.25), repeats)).sum();
-    eprintln!("{} ({thinning})", plan::line_with(&all, seconds, &scene, repeats));
-    let job = FrontierJob { scene: &scene, groups, thinning, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache), certify, second_look: !args.no_second_look };
+    let seconds: f64 = groups
+        .iter()
+        .map(|g| plan::estimated_seconds(&g.methods, &g.maps.apply(&scene, 0.25), repeats))
+        .sum();
+    eprintln!(
+        "{} ({thinning})",
+        plan::line_with(&all, seconds, &scene, repeats)
+    );
+    let job = FrontierJob {
+        scene: &scene,
+        groups,
+        thinning,
+        repeats,
+        reference: mode,
+        cache: truth::Cache::default_for(args.no_cache),
+        certify,
+        second_look: !args.no_second_look,
+    };
     let lines = frontier::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &files::files(&lines)?)?;
     let md = files::markdown(&lines);
     // The ladder only: the full table is in frontier.md.
     print!("{}", md.split("\n## Adaptive").next().unwrap_or(&md));
-    println!("\nfrontier: {}", args.output.out.join("frontier.jsonl").display());
-    println!("report:   {}", args.output.out.join("report.html").display());
+    println!(
+        "\nfrontier: {}",
+        args.output.out.join("frontier.jsonl").display()
+    );
+    println!(
+        "report:   {}",
+        args.output.out.join("report.html").display()
+    );
     Ok(())
 }
 
@@ -164,5 +234,8 @@ fn left_out_lines(refused: &[(String, String)]) -> Vec<String> {
             None => lines.push((maps.to_string(), vec![spec], why)),
         }
     }
-    lines.into_iter().map(|(maps, specs, why)| format!("{} left out at {maps}: {why}", specs.join(", "))).collect()
+    lines
+        .into_iter()
+        .map(|(maps, specs, why)| format!("{} left out at {maps}: {why}", specs.join(", ")))
+        .collect()
 }

@@ -34,7 +34,13 @@ pub fn ladder(points: &[(f64, f64)]) -> Vec<usize> {
 pub fn cheapest_reaching(points: &[(f64, f64)], level: f64) -> Option<usize> {
     (0..points.len())
         .filter(|&i| points[i].0.is_finite() && points[i].1.is_finite() && points[i].1 <= level)
-        .min_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)).then(a.cmp(&b)))
+        .min_by(|&a, &b| {
+            points[a]
+                .0
+                .total_cmp(&points[b].0)
+                .then(points[a].1.total_cmp(&points[b].1))
+                .then(a.cmp(&b))
+        })
 }
 
 #[cfg(test)]
@@ -44,7 +50,14 @@ mod tests {
     #[test]
     fn frontier_of_known_points() {
         // (ms, rmse): 0 and 2 and 4 on the front; 1 beaten by 0; 3 beaten by 2; 5 a duplicate of 4.
-        let p = [(1.0, 0.05), (2.0, 0.06), (3.0, 0.03), (4.0, 0.03), (10.0, 0.01), (10.0, 0.01)];
+        let p = [
+            (1.0, 0.05),
+            (2.0, 0.06),
+            (3.0, 0.03),
+            (4.0, 0.03),
+            (10.0, 0.01),
+            (10.0, 0.01),
+        ];
         assert_eq!(on_frontier(&p), [true, false, true, false, true, false]);
         assert_eq!(beaten_by(&p, &on_frontier(&p), 1), Some(0));
         assert_eq!(beaten_by(&p, &on_frontier(&p), 3), Some(2));

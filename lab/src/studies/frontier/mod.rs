@@ -138,7 +138,9 @@ impl FrontierLine {
     /// method's own parse of its spec.
     pub fn target(&self) -> Option<f64> {
         self.target.or_else(|| {
-            let m = Method::parse(&self.spec, &[]).ok().filter(|m| kind(m) == BUDGET)?;
+            let m = Method::parse(&self.spec, &[])
+                .ok()
+                .filter(|m| kind(m) == BUDGET)?;
             budget_target(&m)
         })
     }
@@ -166,7 +168,10 @@ fn rendered_map_size(record: &serde_json::Value, scene_size: u32) -> u32 {
     if let Some(z) = size(&record["chosen"]) {
         return z;
     }
-    record["classes"].as_array().and_then(|cs| cs.iter().filter_map(size).max()).unwrap_or(scene_size)
+    record["classes"]
+        .as_array()
+        .and_then(|cs| cs.iter().filter_map(size).max())
+        .unwrap_or(scene_size)
 }
 
 fn kind(m: &Method) -> String {
@@ -174,9 +179,16 @@ fn kind(m: &Method) -> String {
         return BUDGET.into();
     }
     if let Some(p) = m.adaptive_params() {
-        return if p.scope == crate::methods::Scope::Local { "adaptive local".into() } else { "adaptive global".into() };
+        return if p.scope == crate::methods::Scope::Local {
+            "adaptive local".into()
+        } else {
+            "adaptive global".into()
+        };
     }
-    match (m.name(), m.params_json().get("layout").and_then(|v| v.as_str())) {
+    match (
+        m.name(),
+        m.params_json().get("layout").and_then(|v| v.as_str()),
+    ) {
         ("regular", Some(layout)) => format!("regular {layout}"),
         _ => match m.family() {
             Family::Hard | Family::Pcf => "single map".into(),
@@ -203,9 +215,15 @@ pub fn mark(lines: &mut [FrontierLine]) {
             (l.oracle, l.beaten_by) = (None, None);
             continue;
         }
-        l.oracle = l.target().filter(|_| l.is_budget()).and_then(|t| front::cheapest_reaching(&points, t)).map(|j| names[j].clone());
+        l.oracle = l
+            .target()
+            .filter(|_| l.is_budget())
+            .and_then(|t| front::cheapest_reaching(&points, t))
+            .map(|j| names[j].clone());
         l.beaten_by = if l.is_budget() {
-            front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && points[j].0.is_finite()).map(|j| names[j].clone())
+            front::cheapest_reaching(&points, l.rmse)
+                .filter(|&j| j != i && points[j].0.is_finite())
+                .map(|j| names[j].clone())
         } else if on[i] {
             None
         } else {
@@ -222,23 +240,52 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
     let scene = job.scene;
     let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
     let judge = Judge::new(scene, &g, reference.values.clone());
-    log(&crate::studies::compare::reference_line(&reference, judge.geometry_pixels()));
+    log(&crate::studies::compare::reference_line(
+        &reference,
+        judge.geometry_pixels(),
+    ));
     let reference_mode = truth::mode_label(&reference.mode);
     if let Some(o) = &job.certify {
         if o.pixels > judge.geometry_pixels() {
-            return Err(crate::Error::param(format!("--certify {}: more than the frame's {} geometry pixels", o.pixels, judge.geometry_pixels())));
+            return Err(crate::Error::param(format!(
+                "--certify {}: more than the frame's {} geometry pixels",
+                o.pixels,
+                judge.geometry_pixels()
+            )));
         }
     }
     // One certifier for every setting: the same geometry, camera and light.
-    let mut certifier = job.certify.map(|o| crate::frame::certify::FrameCertifier::new(ctx, scene, o, crate::frame::certify::ProxyKind::SecondOpinion)).transpose()?;
+    let mut certifier = job
+        .certify
+        .map(|o| {
+            crate::frame::certify::FrameCertifier::new(
+                ctx,
+                scene,
+                o,
+                crate::frame::certify::ProxyKind::SecondOpinion,
+            )
+        })
+        .transpose()?;
     let total = grid::count(&job.groups);
     let bar = crate::progress::bar(measure::frame_count(total, job.repeats), "frontier");
     let mut lines = Vec::with_capacity(total);
     for group in &job.groups {
-        lines.extend(measure_group(ctx, job, &judge, &reference_mode, group, certifier.as_mut(), &bar, log)?);
+        lines.extend(measure_group(
+            ctx,
+            job,
+            &judge,
+            &reference_mode,
+            group,
+            certifier.as_mut(),
+            &bar,
+            log,
+        )?);
     }
     bar.finish_and_clear();
-    if let Some(line) = crate::record::failed_summary(lines.iter().filter(|l| l.failed.is_some()).count(), lines.len()) {
+    if let Some(line) = crate::record::failed_summary(
+        lines.iter().filter(|l| l.failed.is_some()).count(),
+        lines.len(),
+    ) {
         log(&line);
     }
     mark(&mut lines);
@@ -246,10 +293,27 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
     let mut groups = job.groups.clone();
     if job.second_look {
         let filled = second_look::fill(&mut groups, &lines);
-        let bar = crate::progress::bar(measure::frame_count(grid::count(&filled), job.repeats), "frontier fill");
+        let bar = crate::progress::bar(
+            measure::frame_count(grid::count(&filled), job.repeats),
+            "frontier fill",
+        );
         for group in &filled {
-            let mut added = measure_group(ctx, job, &judge, &reference_mode, group, certifier.as_mut(), &bar, log)?;
-            added.iter_mut().for_each(|l| l.second_look = Some(second_look::Look { filled: true, ..Default::default() }));
+            let mut added = measure_group(
+                ctx,
+                job,
+                &judge,
+                &reference_mode,
+                group,
+                certifier.as_mut(),
+                &bar,
+                log,
+            )?;
+            added.iter_mut().for_each(|l| {
+                l.second_look = Some(second_look::Look {
+                    filled: true,
+                    ..Default::default()
+                })
+            });
             lines.extend(added);
         }
         bar.finish_and_clear();
@@ -259,12 +323,21 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
         mark(&mut lines);
         // A setting not timed again moves too when the one that kept it off slowed down.
         for (l, was_on) in lines.iter_mut().zip(before) {
-            if l.on_frontier != was_on && l.second_look.as_ref().is_none_or(|k| k.retimed_as.is_none()) {
+            if l.on_frontier != was_on
+                && l.second_look
+                    .as_ref()
+                    .is_none_or(|k| k.retimed_as.is_none())
+            {
                 l.second_look.get_or_insert_with(Default::default).was_on = was_on;
             }
         }
     }
-    let job = FrontierJob { groups, thinning: job.thinning.clone(), cache: job.cache.clone(), ..*job };
+    let job = FrontierJob {
+        groups,
+        thinning: job.thinning.clone(),
+        cache: job.cache.clone(),
+        ..*job
+    };
     budget::pair(ctx, &job, &mut lines, log)?;
     Ok(lines)
 }
@@ -272,9 +345,22 @@ pub fn run(ctx: &GpuContext, job: &FrontierJob, log: &dyn Fn(&str)) -> Result<Ve
 /// One group's settings measured in the one measure loop, judged, as lines (frontier unmarked).
 /// With `certifier`, each judged frame gets its certified bound too.
 #[allow(clippy::too_many_arguments)]
-fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: &str, group: &grid::Group, mut certifier: Option<&mut crate::frame::certify::FrameCertifier>, bar: &indicatif::ProgressBar, log: &dyn Fn(&str)) -> Result<Vec<FrontierLine>> {
+fn measure_group(
+    ctx: &GpuContext,
+    job: &FrontierJob,
+    judge: &Judge,
+    reference: &str,
+    group: &grid::Group,
+    mut certifier: Option<&mut crate::frame::certify::FrameCertifier>,
+    bar: &indicatif::ProgressBar,
+    log: &dyn Fn(&str),
+) -> Result<Vec<FrontierLine>> {
     let scene = job.scene;
-    let grid::Group { maps, specs, methods } = group;
+    let grid::Group {
+        maps,
+        specs,
+        methods,
+    } = group;
     // eps: the hybrid study's and the seed's 0.25 (docs/hybrid.md).
     let s = maps.apply(scene, 0.25);
     let mut on_frame = |m: &Method, phase: Phase, _: &crate::frame::FrameResult| {
@@ -290,13 +376,32 @@ fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: 
         }
         Ok(judge.judge(&s, &methods[i].label(), f)?.metrics)
     };
-    let measured = measure::measure(ctx, &s, methods, job.repeats, &mut on_frame, &mut judge_frame)?;
+    let measured = measure::measure(
+        ctx,
+        &s,
+        methods,
+        job.repeats,
+        &mut on_frame,
+        &mut judge_frame,
+    )?;
     let mut lines = Vec::with_capacity(methods.len());
-    for ((((m, spec), r), record), certified) in methods.iter().zip(specs).zip(measured).zip(&records).zip(certified) {
+    for ((((m, spec), r), record), certified) in methods
+        .iter()
+        .zip(specs)
+        .zip(measured)
+        .zip(&records)
+        .zip(certified)
+    {
         // A setting that failed is a line that says why; the others go on.
         let (r, failed) = match r {
             Ok(r) => (r, None),
-            Err(reason) => (measure::Measured { timing: measure::Timing::none(), judged: Default::default() }, Some(reason)),
+            Err(reason) => (
+                measure::Measured {
+                    timing: measure::Timing::none(),
+                    judged: Default::default(),
+                },
+                Some(reason),
+            ),
         };
         let line = FrontierLine {
             scene: scene.name.clone(),
@@ -325,13 +430,21 @@ fn measure_group(ctx: &GpuContext, job: &FrontierJob, judge: &Judge, reference: 
             paired: None,
             second_look: None,
             certify: certified.filter(|_| failed.is_none()),
-            target: Some(m).filter(|m| kind(m) == BUDGET).and_then(budget_target),
+            target: Some(m)
+                .filter(|m| kind(m) == BUDGET)
+                .and_then(budget_target),
             version: crate::version(),
             failed,
         };
         crate::progress::suspend(|| match &line.failed {
             Some(reason) => log(&crate::record::failed_line(&line.setting(), reason)),
-            None => log(&format!("{}: {} maps, median {:.1} ms, RMSE {:.4}", line.setting(), line.maps, line.frame_ms, line.rmse)),
+            None => log(&format!(
+                "{}: {} maps, median {:.1} ms, RMSE {:.4}",
+                line.setting(),
+                line.maps,
+                line.frame_ms,
+                line.rmse
+            )),
         });
         lines.push(line);
     }
@@ -346,11 +459,21 @@ mod tests {
     #[test]
     fn a_budget_row_records_the_map_size_its_frame_rendered() {
         // auto's grid at its own size, under a group of 512² maps.
-        assert_eq!(rendered_map_size(&json!({ "chosen": { "n": 3, "map_size": 2048 } }), 512), 2048);
+        assert_eq!(
+            rendered_map_size(&json!({ "chosen": { "n": 3, "map_size": 2048 } }), 512),
+            2048
+        );
         // auto rendering a one-map filter: the scene's size, though the grid it checked was larger.
-        assert_eq!(rendered_map_size(&json!({ "chosen": { "n": 5, "map_size": 1024 }, "renders": "pcss" }), 512), 512);
+        assert_eq!(
+            rendered_map_size(
+                &json!({ "chosen": { "n": 5, "map_size": 1024 }, "renders": "pcss" }),
+                512
+            ),
+            512
+        );
         // regions: its largest group's maps.
-        let regions = json!({ "classes": [{ "map_size": 368 }, { "map_size": 1456 }, { "map_size": 1024 }] });
+        let regions =
+            json!({ "classes": [{ "map_size": 368 }, { "map_size": 1456 }, { "map_size": 1024 }] });
         assert_eq!(rendered_map_size(&regions, 512), 1456);
         // A fixed setting's record says nothing of sizes: the group's.
         assert_eq!(rendered_map_size(&json!({ "shadow_maps": 9 }), 1024), 1024);

@@ -55,15 +55,27 @@ fn grid_n(spec: &str) -> Option<(u32, String)> {
 pub fn fill(groups: &mut [grid::Group], lines: &[FrontierLine]) -> Vec<grid::Group> {
     let mut out: Vec<grid::Group> = Vec::new();
     for l in lines.iter().filter(|l| l.on_frontier && l.failed.is_none()) {
-        let Some((n, pattern)) = grid_n(&l.spec) else { continue };
-        let Some(g) = groups.iter_mut().find(|g| g.maps.label() == l.map_config) else { continue };
-        let mut list: Vec<u32> = g.specs.iter().filter_map(|s| grid_n(s)).filter(|(_, p)| *p == pattern).map(|(m, _)| m).collect();
+        let Some((n, pattern)) = grid_n(&l.spec) else {
+            continue;
+        };
+        let Some(g) = groups.iter_mut().find(|g| g.maps.label() == l.map_config) else {
+            continue;
+        };
+        let mut list: Vec<u32> = g
+            .specs
+            .iter()
+            .filter_map(|s| grid_n(s))
+            .filter(|(_, p)| *p == pattern)
+            .map(|(m, _)| m)
+            .collect();
         list.sort_unstable();
         let below = list.iter().copied().filter(|&m| m < n).max().unwrap_or(n);
         let above = list.iter().copied().filter(|&m| m > n).min().unwrap_or(n);
         for m in (below + 1..above).filter(|m| *m != n && !list.contains(m)) {
             let spec = pattern.replace("{}", &m.to_string());
-            let Ok(method) = Method::parse(&spec, &[]) else { continue };
+            let Ok(method) = Method::parse(&spec, &[]) else {
+                continue;
+            };
             g.specs.push(spec.clone());
             g.methods.push(method.clone());
             match out.iter_mut().find(|o| o.maps == g.maps) {
@@ -71,7 +83,11 @@ pub fn fill(groups: &mut [grid::Group], lines: &[FrontierLine]) -> Vec<grid::Gro
                     o.specs.push(spec);
                     o.methods.push(method);
                 }
-                None => out.push(grid::Group { maps: g.maps, specs: vec![spec], methods: vec![method] }),
+                None => out.push(grid::Group {
+                    maps: g.maps,
+                    specs: vec![spec],
+                    methods: vec![method],
+                }),
             }
         }
     }
@@ -84,13 +100,20 @@ pub fn fill(groups: &mut [grid::Group], lines: &[FrontierLine]) -> Vec<grid::Gro
 /// Returns (line index, `front` or `challenger`).
 pub fn chosen(lines: &[FrontierLine]) -> Vec<(usize, &'static str)> {
     let points: Vec<(f64, f64)> = lines.iter().map(FrontierLine::point).collect();
-    let mut out: Vec<(usize, &'static str)> = (0..lines.len()).filter(|&i| lines[i].on_frontier).map(|i| (i, "front")).collect();
+    let mut out: Vec<(usize, &'static str)> = (0..lines.len())
+        .filter(|&i| lines[i].on_frontier)
+        .map(|i| (i, "front"))
+        .collect();
     let mut challengers: Vec<(usize, usize, f64)> = Vec::new();
     for (i, l) in lines.iter().enumerate() {
         if l.on_frontier || l.is_budget() || l.failed.is_some() {
             continue;
         }
-        let Some(j) = front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && lines[j].on_frontier) else { continue };
+        let Some(j) =
+            front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && lines[j].on_frontier)
+        else {
+            continue;
+        };
         let lead = points[i].0 / points[j].0;
         if lead <= CHALLENGE {
             challengers.push((j, i, lead));
@@ -112,23 +135,47 @@ pub fn chosen(lines: &[FrontierLine]) -> Vec<(usize, &'static str)> {
 /// rounds of one frame each), in one window where the host's free memory holds every renderer,
 /// else in as few windows as it allows (said on stderr). Each retimed line's frame figures
 /// become the second look's; its first window's stay in `second_look.first_ms`.
-pub fn retime(ctx: &GpuContext, job: &FrontierJob, groups: &[grid::Group], lines: &mut [FrontierLine], log: &dyn Fn(&str)) -> Result<()> {
+pub fn retime(
+    ctx: &GpuContext,
+    job: &FrontierJob,
+    groups: &[grid::Group],
+    lines: &mut [FrontierLine],
+    log: &dyn Fn(&str),
+) -> Result<()> {
     let picked = chosen(lines);
     if picked.is_empty() {
         return Ok(());
     }
-    let scenes: Vec<crate::scene::Scene> = groups.iter().map(|g| g.maps.apply(job.scene, 0.25)).collect();
+    let scenes: Vec<crate::scene::Scene> = groups
+        .iter()
+        .map(|g| g.maps.apply(job.scene, 0.25))
+        .collect();
     let mut items: Vec<(usize, &str, usize, Method)> = Vec::new();
     for &(i, why) in &picked {
         let l = &lines[i];
-        let found = groups.iter().enumerate().find_map(|(gi, g)| (g.maps.label() == l.map_config).then(|| g.specs.iter().position(|s| *s == l.spec).map(|k| (gi, g.methods[k].clone()))).flatten());
+        let found = groups.iter().enumerate().find_map(|(gi, g)| {
+            (g.maps.label() == l.map_config)
+                .then(|| {
+                    g.specs
+                        .iter()
+                        .position(|s| *s == l.spec)
+                        .map(|k| (gi, g.methods[k].clone()))
+                })
+                .flatten()
+        });
         if let Some((gi, m)) = found {
             items.push((i, why, gi, m));
         }
     }
     let cpu = ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
-    let bytes: Vec<u64> = items.iter().map(|(_, _, gi, m)| crate::methods::sizes::plan(&scenes[*gi], m, &ctx.limits(), cpu).host_bytes).collect();
-    let room = penumbra::gpu::size_plan::mem_available().map_or(u64::MAX, |b| (b as f64 * MEMORY_SHARE) as u64);
+    let bytes: Vec<u64> = items
+        .iter()
+        .map(|(_, _, gi, m)| {
+            crate::methods::sizes::plan(&scenes[*gi], m, &ctx.limits(), cpu).host_bytes
+        })
+        .collect();
+    let room = penumbra::gpu::size_plan::mem_available()
+        .map_or(u64::MAX, |b| (b as f64 * MEMORY_SHARE) as u64);
     let windows = windows(&bytes, room);
     log(&format!(
         "second look: {} front settings and {} challengers timed again side by side, {} round{} each, in {}",
@@ -150,11 +197,20 @@ pub fn retime(ctx: &GpuContext, job: &FrontierJob, groups: &[grid::Group], lines
                     l.frame_ms_min = t.iter().copied().fold(f64::INFINITY, f64::min);
                     l.frame_ms_max = t.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                     let look = l.second_look.get_or_insert_with(Look::default);
-                    (look.retimed_as, look.first_ms, look.was_on) = (Some(why.to_string()), Some(first), l.on_frontier);
-                    log(&format!("second look: {}: {:.1} ms (first {:.1})", l.setting(), l.frame_ms, first[0]));
+                    (look.retimed_as, look.first_ms, look.was_on) =
+                        (Some(why.to_string()), Some(first), l.on_frontier);
+                    log(&format!(
+                        "second look: {}: {:.1} ms (first {:.1})",
+                        l.setting(),
+                        l.frame_ms,
+                        first[0]
+                    ));
                 }
                 Ok(_) => {}
-                Err(why) => log(&format!("second look: {}: timing again failed, its first window's time stays: {why}", l.setting())),
+                Err(why) => log(&format!(
+                    "second look: {}: timing again failed, its first window's time stays: {why}",
+                    l.setting()
+                )),
             }
         }
     }
@@ -183,9 +239,20 @@ fn windows(bytes: &[u64], room: u64) -> Vec<Vec<usize>> {
 
 /// One window: every renderer built, one warm-up frame each, then `repeats` rounds of one timed
 /// frame each in turn. Returns each setting's frame times, or why it failed.
-fn interleaved(ctx: &GpuContext, scenes: &[crate::scene::Scene], window: &[&(usize, &str, usize, Method)], repeats: u32) -> Vec<std::result::Result<Vec<f64>, String>> {
-    let options = |mode| FrameOptions { mode, pictures: false };
-    let mut renderers: Vec<std::result::Result<Renderer<'_>, String>> = window.iter().map(|(_, _, gi, m)| Renderer::new(ctx, &scenes[*gi], m).map_err(|e| e.to_string())).collect();
+fn interleaved(
+    ctx: &GpuContext,
+    scenes: &[crate::scene::Scene],
+    window: &[&(usize, &str, usize, Method)],
+    repeats: u32,
+) -> Vec<std::result::Result<Vec<f64>, String>> {
+    let options = |mode| FrameOptions {
+        mode,
+        pictures: false,
+    };
+    let mut renderers: Vec<std::result::Result<Renderer<'_>, String>> = window
+        .iter()
+        .map(|(_, _, gi, m)| Renderer::new(ctx, &scenes[*gi], m).map_err(|e| e.to_string()))
+        .collect();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); window.len()];
     for round in 0..=repeats.max(1) {
         for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
@@ -198,20 +265,42 @@ fn interleaved(ctx: &GpuContext, scenes: &[crate::scene::Scene], window: &[&(usi
             }
         }
     }
-    renderers.into_iter().zip(times).map(|(r, t)| r.map(|_| t)).collect()
+    renderers
+        .into_iter()
+        .zip(times)
+        .map(|(r, t)| r.map(|_| t))
+        .collect()
 }
 
 /// frontier.md's section: the settings filled in, the settings timed again, and which moved on
 /// or off the front. Empty when the second look did nothing.
 pub fn table(lines: &[FrontierLine]) -> String {
-    let filled: Vec<String> = lines.iter().filter(|l| l.second_look.as_ref().is_some_and(|k| k.filled)).map(FrontierLine::setting).collect();
+    let filled: Vec<String> = lines
+        .iter()
+        .filter(|l| l.second_look.as_ref().is_some_and(|k| k.filled))
+        .map(FrontierLine::setting)
+        .collect();
     // The settings timed again, and any other that moved when the one keeping it off slowed.
-    let shown: Vec<(&FrontierLine, &Look)> = lines.iter().filter_map(|l| l.second_look.as_ref().filter(|k| k.retimed_as.is_some() || k.was_on != l.on_frontier).map(|k| (l, k))).collect();
+    let shown: Vec<(&FrontierLine, &Look)> = lines
+        .iter()
+        .filter_map(|l| {
+            l.second_look
+                .as_ref()
+                .filter(|k| k.retimed_as.is_some() || k.was_on != l.on_frontier)
+                .map(|k| (l, k))
+        })
+        .collect();
     if filled.is_empty() && shown.is_empty() {
         return String::new();
     }
-    let on = shown.iter().filter(|(l, k)| l.on_frontier && !k.was_on).count();
-    let off = shown.iter().filter(|(l, k)| !l.on_frontier && k.was_on).count();
+    let on = shown
+        .iter()
+        .filter(|(l, k)| l.on_frontier && !k.was_on)
+        .count();
+    let off = shown
+        .iter()
+        .filter(|(l, k)| !l.on_frontier && k.was_on)
+        .count();
     let retimed = shown.iter().filter(|(_, k)| k.retimed_as.is_some()).count();
     let mut s = format!(
         "\n## The second look\n\nBefore the front was drawn, the n list was filled near it ({} setting{} added{}) and the front's settings with their nearest challengers (an off-front setting within {CHALLENGE}× of the time of the front setting that keeps it off, at most {PER_FRONT} each) were timed again, interleaved round by round in one window. \
@@ -228,7 +317,14 @@ pub fn table(lines: &[FrontierLine]) -> String {
             Some(f) => (format!("{:.1}", f[0]), format!("{:.1}", l.frame_ms)),
             None => (format!("{:.1}", l.frame_ms), "-".to_string()),
         };
-        s += &format!("| {} | {} | {:.5} | {first} | {again} | {} → {} |\n", l.setting(), k.retimed_as.as_deref().unwrap_or("not timed again"), l.rmse, yes(k.was_on), yes(l.on_frontier));
+        s += &format!(
+            "| {} | {} | {:.5} | {first} | {again} | {} → {} |\n",
+            l.setting(),
+            k.retimed_as.as_deref().unwrap_or("not timed again"),
+            l.rmse,
+            yes(k.was_on),
+            yes(l.on_frontier)
+        );
     }
     s
 }
@@ -246,20 +342,50 @@ mod tests {
 
     #[test]
     fn the_n_list_is_filled_between_a_front_grids_neighbours() {
-        assert_eq!(grid_n("regular:n=5,layout=centred,cull=on"), Some((5, "regular:n={},layout=centred,cull=on".into())));
+        assert_eq!(
+            grid_n("regular:n=5,layout=centred,cull=on"),
+            Some((5, "regular:n={},layout=centred,cull=on".into()))
+        );
         assert_eq!(grid_n("regular:n=17"), Some((17, "regular:n={}".into())));
         assert_eq!(grid_n("pcss"), None);
         let specs = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-        let list = specs(&["regular:n=2", "regular:n=4", "regular:n=8,layout=centred", "regular:n=4,layout=centred", "regular:n=11,layout=centred", "pcss"]);
-        let methods = list.iter().map(|s| Method::parse(s, &[]).unwrap()).collect();
-        let mut groups = vec![grid::Group { maps: crate::studies::hybrid::Maps::Plain(512), specs: list, methods }];
-        let mut lines = vec![line("regular:n=8,layout=centred", "plain 512", 10.0, 0.02), line("regular:n=4", "plain 512", 5.0, 0.05), line("pcss", "plain 512", 1.0, 0.1)];
+        let list = specs(&[
+            "regular:n=2",
+            "regular:n=4",
+            "regular:n=8,layout=centred",
+            "regular:n=4,layout=centred",
+            "regular:n=11,layout=centred",
+            "pcss",
+        ]);
+        let methods = list
+            .iter()
+            .map(|s| Method::parse(s, &[]).unwrap())
+            .collect();
+        let mut groups = vec![grid::Group {
+            maps: crate::studies::hybrid::Maps::Plain(512),
+            specs: list,
+            methods,
+        }];
+        let mut lines = vec![
+            line("regular:n=8,layout=centred", "plain 512", 10.0, 0.02),
+            line("regular:n=4", "plain 512", 5.0, 0.05),
+            line("pcss", "plain 512", 1.0, 0.1),
+        ];
         lines[0].on_frontier = true;
         lines[2].on_frontier = true;
         let filled = fill(&mut groups, &lines);
         // Centred 8 between 4 and 11: 5, 6, 7, 9, 10; the lattice's 4 is off the front; pcss has no n.
         assert_eq!(filled.len(), 1);
-        assert_eq!(filled[0].specs, specs(&["regular:n=5,layout=centred", "regular:n=6,layout=centred", "regular:n=7,layout=centred", "regular:n=9,layout=centred", "regular:n=10,layout=centred"]));
+        assert_eq!(
+            filled[0].specs,
+            specs(&[
+                "regular:n=5,layout=centred",
+                "regular:n=6,layout=centred",
+                "regular:n=7,layout=centred",
+                "regular:n=9,layout=centred",
+                "regular:n=10,layout=centred"
+            ])
+        );
         assert_eq!(groups[0].specs.len(), 11);
         // Filled once: the same front fills nothing more.
         assert!(fill(&mut groups, &lines).is_empty());
@@ -280,10 +406,33 @@ mod tests {
             line("h", "plain 64", 22.0, 0.025),
         ];
         super::super::mark(&mut lines);
-        assert_eq!(lines.iter().filter(|l| l.on_frontier).map(|l| l.spec.as_str()).collect::<Vec<_>>(), ["a", "c"]);
-        let picked: Vec<(&str, &str)> = chosen(&lines).into_iter().map(|(i, w)| (lines[i].spec.as_str(), w)).collect();
-        assert_eq!(picked, [("a", "front"), ("c", "front"), ("b", "challenger"), ("f", "challenger"), ("h", "challenger"), ("g", "challenger")]);
-        assert_eq!(windows(&[5, 5, 5, 20, 1], 10), [vec![0, 1], vec![2], vec![3], vec![4]]);
+        assert_eq!(
+            lines
+                .iter()
+                .filter(|l| l.on_frontier)
+                .map(|l| l.spec.as_str())
+                .collect::<Vec<_>>(),
+            ["a", "c"]
+        );
+        let picked: Vec<(&str, &str)> = chosen(&lines)
+            .into_iter()
+            .map(|(i, w)| (lines[i].spec.as_str(), w))
+            .collect();
+        assert_eq!(
+            picked,
+            [
+                ("a", "front"),
+                ("c", "front"),
+                ("b", "challenger"),
+                ("f", "challenger"),
+                ("h", "challenger"),
+                ("g", "challenger")
+            ]
+        );
+        assert_eq!(
+            windows(&[5, 5, 5, 20, 1], 10),
+            [vec![0, 1], vec![2], vec![3], vec![4]]
+        );
         assert_eq!(windows(&[5, 5, 5], u64::MAX), [vec![0, 1, 2]]);
     }
 }

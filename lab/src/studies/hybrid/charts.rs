@@ -16,7 +16,13 @@ pub struct MemoryPoint {
 pub fn error_memory_svg(points: &[MemoryPoint]) -> Result<String, ChartError> {
     let mut series: Vec<Series> = Vec::new();
     for p in points.iter().filter(|p| p.bytes_per_map > 0.0) {
-        let point = Point { x: p.bytes_per_map / (1024.0 * 1024.0), y: 100.0 * p.mismatch_share, label: Some(p.label.clone()), x_span: None, hit: None };
+        let point = Point {
+            x: p.bytes_per_map / (1024.0 * 1024.0),
+            y: 100.0 * p.mismatch_share,
+            label: Some(p.label.clone()),
+            x_span: None,
+            hit: None,
+        };
         push_point(&mut series, p.series.clone(), point);
     }
     if series.is_empty() {

@@ -1,15 +1,15 @@
 //! `penumbra hybrid`: hybrid-resolution shadow maps (seed 003) against plain maps.
 
-use anyhow::{Context, Result};
 use crate::gpu::{AdapterRequest, GpuContext};
+use crate::methods::Method;
 use crate::record::run_files;
 use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::compare::methods_list;
-use crate::methods::Method;
+use crate::studies::flags::{repeats_in_range, OutArgs, RepeatsArgs, SceneArgs, SetArgs};
 use crate::studies::hybrid::{self, parse_maps};
 use crate::studies::lists::listed_once;
-use crate::studies::flags::{repeats_in_range, OutArgs, RepeatsArgs, SceneArgs, SetArgs};
+use anyhow::{Context, Result};
 
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/hybrid")))]
@@ -23,7 +23,11 @@ pub struct HybridArgs {
     #[arg(long, value_delimiter = ',', default_value = "512,1024,2048,4096")]
     plain: Vec<String>,
     /// Hybrid maps of the hard-shadow part as BASE/LEVELS, comma-separated (2048/2 is 2048 → 512).
-    #[arg(long, value_delimiter = ',', default_value = "1024/1,2048/1,2048/2,4096/2")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1024/1,2048/1,2048/2,4096/2"
+    )]
     hybrid: Vec<String>,
     /// Merge tolerance in 16-bit depth units (the seed's 0.25).
     #[arg(long, default_value_t = 0.25)]
@@ -69,7 +73,12 @@ fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
     let scene = Scene::load(&args.scene.scene, &sets)?;
     let plain = maps_list("--plain", &args.plain, false)?;
     let hybrids = maps_list("--hybrid", &args.hybrid, true)?;
-    let multi_specs: Vec<String> = args.multi.iter().filter(|s| !s.trim().is_empty()).cloned().collect();
+    let multi_specs: Vec<String> = args
+        .multi
+        .iter()
+        .filter(|s| !s.trim().is_empty())
+        .cloned()
+        .collect();
     let multi = methods_list::parse_methods(&multi_specs)?;
     let multi_plain: Vec<u32> = maps_list("--multi-plain", &args.multi_plain, false)?
         .into_iter()
@@ -83,13 +92,19 @@ fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
     // the hard part's minutes of measuring would throw them away.
     for (flag, list) in [("--plain", &plain), ("--hybrid", &hybrids)] {
         for (text, maps) in list {
-            Method::hard().check_light(&maps.apply(&scene, args.eps)).with_context(|| format!("{flag} {text}"))?;
+            Method::hard()
+                .check_light(&maps.apply(&scene, args.eps))
+                .with_context(|| format!("{flag} {text}"))?;
         }
     }
     for (spec, method) in multi_specs.iter().zip(&multi) {
-        method.check_light(&multi_hybrid.apply(&scene, args.eps)).with_context(|| format!("--multi {spec} with --multi-hybrid {}", args.multi_hybrid))?;
+        method
+            .check_light(&multi_hybrid.apply(&scene, args.eps))
+            .with_context(|| format!("--multi {spec} with --multi-hybrid {}", args.multi_hybrid))?;
         // The plain sizes (given and of equal memory) differ only in size, which no light refuses.
-        method.check_light(&hybrid::Maps::Plain(scene.render.shadow_map_size).apply(&scene, args.eps)).with_context(|| format!("--multi {spec}"))?;
+        method
+            .check_light(&hybrid::Maps::Plain(scene.render.shadow_map_size).apply(&scene, args.eps))
+            .with_context(|| format!("--multi {spec}"))?;
     }
     let job = hybrid::HybridJob {
         scene,
@@ -106,14 +121,26 @@ fn run(args: HybridArgs, gpu: &AdapterRequest) -> Result<()> {
     let outcome = hybrid::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &outcome.files)?;
     print!("{}", hybrid::files::markdown(&outcome.rows));
-    println!("adapter: {} ({}); wall clock", ctx.summary.name, ctx.summary.backend);
+    println!(
+        "adapter: {} ({}); wall clock",
+        ctx.summary.name, ctx.summary.backend
+    );
     println!("study: {}", args.output.out.join("hybrid.md").display());
     Ok(())
 }
 
 /// A comma list of map configurations (blank entries skipped), each with its text, given once each.
 fn maps_list(flag: &str, values: &[String], hybrid: bool) -> Result<Vec<(String, hybrid::Maps)>> {
-    let maps = values.iter().filter(|s| !s.trim().is_empty()).map(|v| Ok((v.trim().to_string(), parse_maps(v, hybrid).with_context(|| flag.to_string())?))).collect::<Result<Vec<_>>>()?;
+    let maps = values
+        .iter()
+        .filter(|s| !s.trim().is_empty())
+        .map(|v| {
+            Ok((
+                v.trim().to_string(),
+                parse_maps(v, hybrid).with_context(|| flag.to_string())?,
+            ))
+        })
+        .collect::<Result<Vec<_>>>()?;
     listed_once(flag, maps.iter().map(|(t, m)| (t, *m)))?;
     Ok(maps)
 }

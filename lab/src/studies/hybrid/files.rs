@@ -1,8 +1,8 @@
 //! The hybrid study's files: rows as JSONL and CSV, Markdown tables (what docs/bench.md quotes),
 //! the error-against-memory chart and a self-contained HTML page.
 
-use super::HybridRow;
 use super::charts::{error_memory_svg, MemoryPoint};
+use super::HybridRow;
 use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
@@ -25,7 +25,11 @@ pub fn files(rows: &[HybridRow]) -> Result<Vec<(String, Vec<u8>)>> {
         .iter()
         .filter(|r| r.part == "hard")
         .map(|r| MemoryPoint {
-            series: if r.kind == "plain" { "plain".into() } else { format!("hybrid, {} level(s)", r.levels) },
+            series: if r.kind == "plain" {
+                "plain".into()
+            } else {
+                format!("hybrid, {} level(s)", r.levels)
+            },
             label: r.maps.clone(),
             bytes_per_map: r.bytes_per_map,
             mismatch_share: r.mismatch_share,
@@ -33,12 +37,24 @@ pub fn files(rows: &[HybridRow]) -> Result<Vec<(String, Vec<u8>)>> {
         .collect();
     if !points.is_empty() {
         let chart = error_memory_svg(&points)?;
-        files.push(("charts/error_memory.png".to_string(), svg_to_png(&chart, 1.0)?));
-        files.push(("charts/error_memory.svg".to_string(), chart.clone().into_bytes()));
+        files.push((
+            "charts/error_memory.png".to_string(),
+            svg_to_png(&chart, 1.0)?,
+        ));
+        files.push((
+            "charts/error_memory.svg".to_string(),
+            chart.clone().into_bytes(),
+        ));
         svg = Some(chart);
     }
-    let charts: Vec<(&str, &str)> = svg.iter().map(|c| ("Error against memory", c.as_str())).collect();
-    files.push(("report.html".to_string(), crate::report::md_page::page("Hybrid-resolution shadow maps", &md, &charts).into_bytes()));
+    let charts: Vec<(&str, &str)> = svg
+        .iter()
+        .map(|c| ("Error against memory", c.as_str()))
+        .collect();
+    files.push((
+        "report.html".to_string(),
+        crate::report::md_page::page("Hybrid-resolution shadow maps", &md, &charts).into_bytes(),
+    ));
     files.push(("hybrid.md".to_string(), md.into_bytes()));
     Ok(files)
 }
@@ -75,11 +91,25 @@ pub fn markdown(rows: &[HybridRow]) -> String {
         for r in &hard {
             s += &format!(
                 "| {} | {} | {:.1}% | {:.3}% | {:.1} | {:.1} | {:.1} | {:.1} |\n",
-                r.maps, mib(r.bytes_per_map), 100.0 * r.share_of_plain, 100.0 * r.mismatch_share, r.total_ms, r.raster_ms, r.build_ms, r.lookup_ms
+                r.maps,
+                mib(r.bytes_per_map),
+                100.0 * r.share_of_plain,
+                100.0 * r.mismatch_share,
+                r.total_ms,
+                r.raster_ms,
+                r.build_ms,
+                r.lookup_ms
             );
         }
-        let pairs: Vec<(&&HybridRow, &&HybridRow)> =
-            hard.iter().filter(|r| r.kind == "hybrid").filter_map(|h| hard.iter().find(|p| p.kind == "plain" && p.size == h.size).map(|p| (h, p))).collect();
+        let pairs: Vec<(&&HybridRow, &&HybridRow)> = hard
+            .iter()
+            .filter(|r| r.kind == "hybrid")
+            .filter_map(|h| {
+                hard.iter()
+                    .find(|p| p.kind == "plain" && p.size == h.size)
+                    .map(|p| (h, p))
+            })
+            .collect();
         if !pairs.is_empty() {
             s += "\nTime of a hybrid map against the plain map of its raster size (the seed claims 5-12% less):\n\n\
                   | hybrid | plain | frame time change | raster + lookup change | build share of the hybrid frame |\n|---|---|---:|---:|---:|\n";
@@ -103,11 +133,24 @@ pub fn markdown(rows: &[HybridRow]) -> String {
             first.scene, first.resolution, first.reference
         );
         for r in &multi {
-            let peak = r.store["store_peak_bytes"].as_f64().map_or("-".to_string(), mib);
-            let flushes = r.store["flushes"].as_u64().map_or("-".to_string(), |f| f.to_string());
+            let peak = r.store["store_peak_bytes"]
+                .as_f64()
+                .map_or("-".to_string(), mib);
+            let flushes = r.store["flushes"]
+                .as_u64()
+                .map_or("-".to_string(), |f| f.to_string());
             s += &format!(
                 "| {} | {} | {} | {:.5} | {:.0} | {:.0} | {:.0} | {:.0} | {} | {} |\n",
-                r.method, r.maps, mib(r.bytes_per_map), r.rmse, r.total_ms, r.raster_ms, r.build_ms, r.lookup_ms, peak, flushes
+                r.method,
+                r.maps,
+                mib(r.bytes_per_map),
+                r.rmse,
+                r.total_ms,
+                r.raster_ms,
+                r.build_ms,
+                r.lookup_ms,
+                peak,
+                flushes
             );
         }
     }

@@ -11,18 +11,18 @@ pub(crate) mod charts;
 pub mod command;
 pub mod files;
 
+use crate::frame::{FrameOptions, FrameResult, Renderer};
 use crate::gpu::kernels;
 use crate::gpu::stages::{outside_frame, Stage};
-use crate::frame::{FrameOptions, FrameResult, Renderer};
-use crate::reference::truth::{self, Cache};
+use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::metrics::Metrics;
 use crate::record::judge::Judge;
 use crate::record::measure::median;
+use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::{MapKind, Scene};
-use crate::gpu::timing::TimingMode;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -63,12 +63,22 @@ impl Maps {
 /// `512` or `2048/2` (base / levels).
 pub fn parse_maps(text: &str, hybrid: bool) -> Result<Maps> {
     let bad = |why: &str| Error::param(format!("map configuration `{text}`: {why}"));
-    let number = |v: &str| v.trim().parse::<u32>().map_err(|_| bad("not a whole number"));
+    let number = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| bad("not a whole number"))
+    };
     if !hybrid {
         let size = number(text)?;
-        return if (8..=16384).contains(&size) { Ok(Maps::Plain(size)) } else { Err(bad("size must be in 8..=16384")) };
+        return if (8..=16384).contains(&size) {
+            Ok(Maps::Plain(size))
+        } else {
+            Err(bad("size must be in 8..=16384"))
+        };
     }
-    let (base, levels) = text.split_once('/').ok_or_else(|| bad("give BASE/LEVELS, e.g. 2048/2"))?;
+    let (base, levels) = text
+        .split_once('/')
+        .ok_or_else(|| bad("give BASE/LEVELS, e.g. 2048/2"))?;
     let (base, levels) = (number(base)?, number(levels)?);
     if !(1..=2).contains(&levels) {
         return Err(bad("levels must be 1 or 2"));
@@ -136,7 +146,6 @@ pub struct HybridOutcome {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-
 struct Measured {
     totals: Vec<f64>,
     stages: BTreeMap<String, f64>,
@@ -144,10 +153,26 @@ struct Measured {
 }
 
 /// Warm-up (optional), one stages-mode frame, then `repeats` frame-mode rounds over all `scenes`.
-fn measure(ctx: &GpuContext, scenes: &[Scene], method: &Method, warmup: bool, repeats: u32, log: &dyn Fn(&str)) -> Result<Vec<Measured>> {
-    let options = |mode| FrameOptions { mode, pictures: false };
-    let mut renderers = scenes.iter().map(|s| Renderer::new(ctx, s, method)).collect::<penumbra::Result<Vec<_>>>()?;
-    let bar = crate::progress::bar(scenes.len() as u64 * (1 + warmup as u64 + repeats as u64), "frames");
+fn measure(
+    ctx: &GpuContext,
+    scenes: &[Scene],
+    method: &Method,
+    warmup: bool,
+    repeats: u32,
+    log: &dyn Fn(&str),
+) -> Result<Vec<Measured>> {
+    let options = |mode| FrameOptions {
+        mode,
+        pictures: false,
+    };
+    let mut renderers = scenes
+        .iter()
+        .map(|s| Renderer::new(ctx, s, method))
+        .collect::<penumbra::Result<Vec<_>>>()?;
+    let bar = crate::progress::bar(
+        scenes.len() as u64 * (1 + warmup as u64 + repeats as u64),
+        "frames",
+    );
     if warmup {
         for r in &mut renderers {
             r.frame(options(TimingMode::Frame))?;
@@ -158,7 +183,11 @@ fn measure(ctx: &GpuContext, scenes: &[Scene], method: &Method, warmup: bool, re
     for r in &mut renderers {
         let f = r.frame(options(TimingMode::Stages))?;
         bar.inc(1);
-        out.push(Measured { totals: Vec::new(), stages: f.stages_ms.clone(), last: f });
+        out.push(Measured {
+            totals: Vec::new(),
+            stages: f.stages_ms.clone(),
+            last: f,
+        });
     }
     for _ in 0..repeats {
         for (r, m) in renderers.iter_mut().zip(&mut out) {
@@ -169,23 +198,49 @@ fn measure(ctx: &GpuContext, scenes: &[Scene], method: &Method, warmup: bool, re
         }
     }
     bar.finish_and_clear();
-    log(&format!("  {}: {} configuration(s) measured", method.label(), scenes.len()));
+    log(&format!(
+        "  {}: {} configuration(s) measured",
+        method.label(),
+        scenes.len()
+    ));
     Ok(out)
 }
 
 #[allow(clippy::too_many_arguments)]
-fn row(ctx: &GpuContext, part: &str, scene: &Scene, method: &Method, maps: Maps, m: &Measured, judge: &Judge, reference: &str) -> Result<HybridRow> {
+fn row(
+    ctx: &GpuContext,
+    part: &str,
+    scene: &Scene,
+    method: &Method,
+    maps: Maps,
+    m: &Measured,
+    judge: &Judge,
+    reference: &str,
+) -> Result<HybridRow> {
     let f = &m.last;
     let judged = judge.judge(scene, &method.label(), f)?;
     let size = scene.render.shadow_map_size;
     let plain = size as f64 * size as f64 * 4.0;
-    let store = f.output.record.get("hybrid").cloned().unwrap_or(serde_json::Value::Null);
+    let store = f
+        .output
+        .record
+        .get("hybrid")
+        .cloned()
+        .unwrap_or(serde_json::Value::Null);
     let (kind, levels, bytes) = match maps {
         Maps::Plain(_) => ("plain", 0, plain),
-        Maps::Hybrid { levels, .. } => ("hybrid", levels, store["bytes_per_map"].as_f64().unwrap_or(0.0)),
+        Maps::Hybrid { levels, .. } => (
+            "hybrid",
+            levels,
+            store["bytes_per_map"].as_f64().unwrap_or(0.0),
+        ),
     };
     let stage = |k: &str| m.stages.get(k).copied().unwrap_or(0.0);
-    let totals = if m.totals.is_empty() { vec![f.total_ms] } else { m.totals.clone() };
+    let totals = if m.totals.is_empty() {
+        vec![f.total_ms]
+    } else {
+        m.totals.clone()
+    };
     Ok(HybridRow {
         scene: scene.name.clone(),
         part: part.into(),
@@ -209,8 +264,16 @@ fn row(ctx: &GpuContext, part: &str, scene: &Scene, method: &Method, maps: Maps,
         raster_ms: stage(Stage::SHADOW_RASTER.name) + stage(Stage::RASTER_COMPUTE.name),
         build_ms: stage(Stage::HYBRID_BUILD.name),
         // The lookup: the stages whose kernels read the maps (shade, shadow_test, pcf, pcss).
-        lookup_ms: kernels::all().filter(|(_, k)| k.reads_maps).map(|(s, _)| stage(s.name)).sum(),
-        stages_ms: m.stages.iter().filter(|(k, _)| !outside_frame(k)).map(|(k, v)| (k.clone(), *v)).collect(),
+        lookup_ms: kernels::all()
+            .filter(|(_, k)| k.reads_maps)
+            .map(|(s, _)| stage(s.name))
+            .sum(),
+        stages_ms: m
+            .stages
+            .iter()
+            .filter(|(k, _)| !outside_frame(k))
+            .map(|(k, v)| (k.clone(), *v))
+            .collect(),
         store,
         resolution: scene.render.width,
         adapter: ctx.summary.name.clone(),
@@ -231,8 +294,15 @@ pub fn run(ctx: &GpuContext, job: &HybridJob, log: &dyn Fn(&str)) -> Result<Hybr
         let (g, reference) = truth::for_scene(ctx, &job.scene, mode, &job.cache)?;
         let judge = Judge::new(&job.scene, &g, reference.values.clone());
         let label = truth::mode_label(&mode);
-        log(&format!("hard shadows against the {label} reference ({} geometry pixels):", judge.geometry_pixels()));
-        let scenes: Vec<Scene> = job.hard.iter().map(|m| m.apply(&job.scene, job.eps)).collect();
+        log(&format!(
+            "hard shadows against the {label} reference ({} geometry pixels):",
+            judge.geometry_pixels()
+        ));
+        let scenes: Vec<Scene> = job
+            .hard
+            .iter()
+            .map(|m| m.apply(&job.scene, job.eps))
+            .collect();
         let measured = measure(ctx, &scenes, &hard, true, job.repeats, log)?;
         for ((maps, scene), m) in job.hard.iter().zip(&scenes).zip(&measured) {
             let r = row(ctx, "hard", scene, &hard, *maps, m, &judge, &label)?;
@@ -255,22 +325,58 @@ pub fn run(ctx: &GpuContext, job: &HybridJob, log: &dyn Fn(&str)) -> Result<Hybr
         let judge = Judge::new(&job.scene, &g, reference.values.clone());
         let label = truth::mode_label(&mode);
         for method in &job.multi {
-            log(&format!("{} against the {label} reference:", method.label()));
+            log(&format!(
+                "{} against the {label} reference:",
+                method.label()
+            ));
             let hybrid_scene = job.multi_hybrid.apply(&job.scene, job.eps);
-            let m = measure(ctx, std::slice::from_ref(&hybrid_scene), method, false, job.multi_repeats, log)?;
-            let h = row(ctx, "multi", &hybrid_scene, method, job.multi_hybrid, &m[0], &judge, &label)?;
+            let m = measure(
+                ctx,
+                std::slice::from_ref(&hybrid_scene),
+                method,
+                false,
+                job.multi_repeats,
+                log,
+            )?;
+            let h = row(
+                ctx,
+                "multi",
+                &hybrid_scene,
+                method,
+                job.multi_hybrid,
+                &m[0],
+                &judge,
+                &label,
+            )?;
             let mut sizes = job.multi_plain.clone();
             sizes.push(equal_memory_size(h.bytes_per_map));
             sizes.sort_unstable();
             sizes.dedup();
-            log(&format!("  {}: {:.3} MiB per map (plain {} has the same), RMSE {:.5}, median {:.0} ms", h.maps, h.bytes_per_map / 1048576.0, equal_memory_size(h.bytes_per_map), h.rmse, h.total_ms));
+            log(&format!(
+                "  {}: {:.3} MiB per map (plain {} has the same), RMSE {:.5}, median {:.0} ms",
+                h.maps,
+                h.bytes_per_map / 1048576.0,
+                equal_memory_size(h.bytes_per_map),
+                h.rmse,
+                h.total_ms
+            ));
             rows.push(h);
             for size in sizes {
                 let maps = Maps::Plain(size);
                 let scene = maps.apply(&job.scene, job.eps);
-                let m = measure(ctx, std::slice::from_ref(&scene), method, false, job.multi_repeats, log)?;
+                let m = measure(
+                    ctx,
+                    std::slice::from_ref(&scene),
+                    method,
+                    false,
+                    job.multi_repeats,
+                    log,
+                )?;
                 let r = row(ctx, "multi", &scene, method, maps, &m[0], &judge, &label)?;
-                log(&format!("  {}: RMSE {:.5}, median {:.0} ms", r.maps, r.rmse, r.total_ms));
+                log(&format!(
+                    "  {}: RMSE {:.5}, median {:.0} ms",
+                    r.maps, r.rmse, r.total_ms
+                ));
                 rows.push(r);
             }
         }

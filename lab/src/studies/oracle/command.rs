@@ -40,7 +40,11 @@ pub struct OracleArgs {
     #[arg(long, value_delimiter = ',', default_value = family::HYBRID)]
     hybrid: Vec<String>,
     /// Adaptive presets at each side: seed, balanced, seed-local, balanced-local; or `none`.
-    #[arg(long, value_delimiter = ',', default_value = "seed,balanced,seed-local,balanced-local")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "seed,balanced,seed-local,balanced-local"
+    )]
     adaptive: Vec<String>,
     #[command(flatten)]
     repeats: RepeatsArgs,
@@ -60,7 +64,19 @@ pub struct OracleArgs {
 }
 
 /// Render settings the menu and `--resolutions` set themselves.
-const OWN_KEYS: [&str; 11] = ["shadow_map_size", "maps", "base", "levels", "eps", "hybrid.base", "hybrid.levels", "hybrid.eps", "resolution", "width", "height"];
+const OWN_KEYS: [&str; 11] = [
+    "shadow_map_size",
+    "maps",
+    "base",
+    "levels",
+    "eps",
+    "hybrid.base",
+    "hybrid.levels",
+    "hybrid.eps",
+    "resolution",
+    "width",
+    "height",
+];
 
 impl crate::studies::Run for OracleArgs {
     fn run(self, gpu: &AdapterRequest) -> Result<()> {
@@ -72,9 +88,20 @@ impl crate::studies::Run for OracleArgs {
 fn parse_targets(list: &[String]) -> Result<Vec<f64>> {
     let targets = list
         .iter()
-        .map(|t| t.trim().parse::<f64>().ok().filter(|v| (0.0005..=0.5).contains(v)).ok_or_else(|| anyhow::anyhow!("--targets `{t}`: a target RMSE of V in 0.0005..=0.5")))
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| (0.0005..=0.5).contains(v))
+                .ok_or_else(|| {
+                    anyhow::anyhow!("--targets `{t}`: a target RMSE of V in 0.0005..=0.5")
+                })
+        })
         .collect::<Result<Vec<f64>>>()?;
-    listed_once("--targets", list.iter().zip(targets.iter().map(|t| t.to_bits())))?;
+    listed_once(
+        "--targets",
+        list.iter().zip(targets.iter().map(|t| t.to_bits())),
+    )?;
     Ok(targets)
 }
 
@@ -82,7 +109,15 @@ fn parse_targets(list: &[String]) -> Result<Vec<f64>> {
 fn parse_resolutions(list: &[String]) -> Result<Vec<u32>> {
     let r = list
         .iter()
-        .map(|v| v.trim().parse::<u32>().ok().filter(|r| (8..=4096).contains(r)).ok_or_else(|| anyhow::anyhow!("--resolutions `{v}`: a screen side in 8..=4096 pixels")))
+        .map(|v| {
+            v.trim()
+                .parse::<u32>()
+                .ok()
+                .filter(|r| (8..=4096).contains(r))
+                .ok_or_else(|| {
+                    anyhow::anyhow!("--resolutions `{v}`: a screen side in 8..=4096 pixels")
+                })
+        })
         .collect::<Result<Vec<u32>>>()?;
     listed_once("--resolutions", list.iter().zip(r.iter().copied()))?;
     Ok(r)
@@ -93,7 +128,10 @@ fn run(args: OracleArgs, gpu: &AdapterRequest) -> Result<()> {
     let repeats = args.repeats.checked()?;
     let mode = truth::parse_mode("continuous", args.samples)?;
     let sets = args.sets.render()?;
-    if let Some((k, v)) = sets.iter().find(|(k, _)| OWN_KEYS.contains(&k.strip_prefix("render.").unwrap_or(k))) {
+    if let Some((k, v)) = sets
+        .iter()
+        .find(|(k, _)| OWN_KEYS.contains(&k.strip_prefix("render.").unwrap_or(k)))
+    {
         anyhow::bail!("--set {k}={v}: the oracle sets map sizes, map kinds and the screen itself; choose them with --sizes, --hybrid and --resolutions");
     }
     let targets = parse_targets(&args.targets)?;
@@ -118,18 +156,39 @@ fn run(args: OracleArgs, gpu: &AdapterRequest) -> Result<()> {
             scenes.push(scene);
         }
     }
-    let budget = scenes.first().map_or(512, |s| s.render.shadow_map_budget_mib);
+    let budget = scenes
+        .first()
+        .map_or(512, |s| s.render.shadow_map_budget_mib);
     let (groups, left) = family::groups(&menu, budget)?;
     for line in &left {
         eprintln!("{line}: left out");
     }
-    plan::check_count(family::count(&groups) * scenes.len(), args.max_configs, "oracle")?;
+    plan::check_count(
+        family::count(&groups) * scenes.len(),
+        args.max_configs,
+        "oracle",
+    )?;
     let ctx = GpuContext::with_request(gpu)?;
-    let all: Vec<crate::methods::Method> = groups.iter().flat_map(|g| g.candidates.iter().map(|c| c.method.clone())).collect();
+    let all: Vec<crate::methods::Method> = groups
+        .iter()
+        .flat_map(|g| g.candidates.iter().map(|c| c.method.clone()))
+        .collect();
     for scene in &scenes {
-        eprintln!("{} at {}²: {}", scene.name, scene.render.width, plan::line(&all, scene, repeats));
+        eprintln!(
+            "{} at {}²: {}",
+            scene.name,
+            scene.render.width,
+            plan::line(&all, scene, repeats)
+        );
     }
-    let job = OracleJob { scenes, targets, menu, repeats, reference: mode, cache: truth::Cache::default_for(args.no_cache) };
+    let job = OracleJob {
+        scenes,
+        targets,
+        menu,
+        repeats,
+        reference: mode,
+        cache: truth::Cache::default_for(args.no_cache),
+    };
     let outcome = super::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &super::files::files(&outcome)?)?;
     let md = super::files::markdown(&outcome);

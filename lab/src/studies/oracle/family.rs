@@ -19,7 +19,10 @@ pub const ADAPTIVE: [(&str, &str); 4] = [
     ("seed", "adaptive:preset=seed"),
     ("balanced", "adaptive:preset=balanced"),
     ("seed-local", "adaptive:preset=seed,scope=local,cull=on"),
-    ("balanced-local", "adaptive:preset=balanced,scope=local,cull=on"),
+    (
+        "balanced-local",
+        "adaptive:preset=balanced,scope=local,cull=on",
+    ),
 ];
 
 /// What a candidate is; the menu `grids` holds only [`Kind::Grid`].
@@ -94,7 +97,9 @@ pub fn parse_singles(values: &[String]) -> Result<Vec<String>> {
     }
     let names: Vec<String> = values.iter().map(|v| v.trim().to_string()).collect();
     for v in &names {
-        let ok = crate::methods::REGISTRY.iter().any(|m| m.name == v && matches!(m.family, Family::Hard | Family::Pcf | Family::Filtered));
+        let ok = crate::methods::REGISTRY.iter().any(|m| {
+            m.name == v && matches!(m.family, Family::Hard | Family::Pcf | Family::Filtered)
+        });
         if !ok {
             return Err(Error::param(format!("--singles `{v}`: not a method of one map (hard, pcf, pcss, esm, vsm, evsm, msm, csm; or none)")));
         }
@@ -111,7 +116,10 @@ pub fn parse_adaptive(values: &[String]) -> Result<Vec<String>> {
     let names: Vec<String> = values.iter().map(|v| v.trim().to_string()).collect();
     if let Some(v) = names.iter().find(|v| !ADAPTIVE.iter().any(|(n, _)| n == v)) {
         let known: Vec<&str> = ADAPTIVE.iter().map(|(n, _)| *n).collect();
-        return Err(Error::param(format!("--adaptive `{v}`: not a preset ({}; or none)", known.join(", "))));
+        return Err(Error::param(format!(
+            "--adaptive `{v}`: not a preset ({}; or none)",
+            known.join(", ")
+        )));
     }
     crate::studies::lists::listed_once("--adaptive", values.iter().zip(names.iter().cloned()))?;
     Ok(names)
@@ -136,31 +144,74 @@ pub fn groups(menu: &Menu, budget_mib: u32) -> Result<(Vec<Group>, Vec<String>)>
         let mut c = Vec::new();
         for n in &menu.n {
             let spec = format!("regular:n={n},layout=centred,cull=on");
-            c.push(Candidate { method: parse(&spec)?, spec, maps: Maps::Plain(z), kind: Kind::Grid });
+            c.push(Candidate {
+                method: parse(&spec)?,
+                spec,
+                maps: Maps::Plain(z),
+                kind: Kind::Grid,
+            });
         }
         for s in &menu.singles {
-            c.push(Candidate { method: parse(s)?, spec: s.clone(), maps: Maps::Plain(z), kind: Kind::SingleMap });
+            c.push(Candidate {
+                method: parse(s)?,
+                spec: s.clone(),
+                maps: Maps::Plain(z),
+                kind: Kind::SingleMap,
+            });
         }
         for name in &menu.adaptive {
-            let spec = ADAPTIVE.iter().find(|(n, _)| n == name).map(|(_, s)| s.to_string()).expect("parsed names are presets");
-            if spec.contains("scope=local") && !crate::studies::frontier::grid::local_fits(z, budget_mib) {
-                left.push(format!("{name}@{z}: 289 maps of {z}² do not fit shadow_map_budget_mib = {budget_mib}"));
+            let spec = ADAPTIVE
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, s)| s.to_string())
+                .expect("parsed names are presets");
+            if spec.contains("scope=local")
+                && !crate::studies::frontier::grid::local_fits(z, budget_mib)
+            {
+                left.push(format!(
+                    "{name}@{z}: 289 maps of {z}² do not fit shadow_map_budget_mib = {budget_mib}"
+                ));
                 continue;
             }
-            c.push(Candidate { method: parse(&spec)?, spec, maps: Maps::Plain(z), kind: Kind::Adaptive });
+            c.push(Candidate {
+                method: parse(&spec)?,
+                spec,
+                maps: Maps::Plain(z),
+                kind: Kind::Adaptive,
+            });
         }
-        out.push(Group { maps: Maps::Plain(z), candidates: c });
+        out.push(Group {
+            maps: Maps::Plain(z),
+            candidates: c,
+        });
     }
     for &maps in &menu.hybrid {
         let mut c = Vec::new();
         for n in &menu.n {
             let spec = format!("regular:n={n},layout=centred");
-            c.push(Candidate { method: parse(&spec)?, spec, maps, kind: Kind::Hybrid });
+            c.push(Candidate {
+                method: parse(&spec)?,
+                spec,
+                maps,
+                kind: Kind::Hybrid,
+            });
         }
-        for s in menu.singles.iter().filter(|s| matches!(Family::of_name(s), Family::Hard | Family::Pcf)) {
-            c.push(Candidate { method: parse(s)?, spec: s.clone(), maps, kind: Kind::Hybrid });
+        for s in menu
+            .singles
+            .iter()
+            .filter(|s| matches!(Family::of_name(s), Family::Hard | Family::Pcf))
+        {
+            c.push(Candidate {
+                method: parse(s)?,
+                spec: s.clone(),
+                maps,
+                kind: Kind::Hybrid,
+            });
         }
-        out.push(Group { maps, candidates: c });
+        out.push(Group {
+            maps,
+            candidates: c,
+        });
     }
     Ok((out, left))
 }
@@ -189,8 +240,14 @@ pub fn part(stage: &str) -> Part {
     match Stage::named(stage) {
         Some(s) if s == Stage::GBUFFER => Part::Fixed,
         Some(s) if s == Stage::FOOTPRINT => Part::Tests,
-        Some(Stage { split: Some(Split::Raster), .. }) => Part::Maps,
-        Some(Stage { split: Some(Split::Waits), .. }) => Part::Fixed,
+        Some(Stage {
+            split: Some(Split::Raster),
+            ..
+        }) => Part::Maps,
+        Some(Stage {
+            split: Some(Split::Waits),
+            ..
+        }) => Part::Fixed,
         _ => Part::Tests,
     }
 }
@@ -217,8 +274,16 @@ impl Price {
             }
         }
         let total = p.fixed_ms + p.maps_ms + p.tests_ms;
-        let k = if total > 0.0 && median_ms.is_finite() { median_ms / total } else { 1.0 };
-        Price { fixed_ms: p.fixed_ms * k, maps_ms: p.maps_ms * k, tests_ms: p.tests_ms * k }
+        let k = if total > 0.0 && median_ms.is_finite() {
+            median_ms / total
+        } else {
+            1.0
+        };
+        Price {
+            fixed_ms: p.fixed_ms * k,
+            maps_ms: p.maps_ms * k,
+            tests_ms: p.tests_ms * k,
+        }
     }
 }
 
@@ -245,10 +310,24 @@ mod tests {
             assert_eq!(part(stage), want, "{stage}");
         }
         // A grid's stages-mode frame (canopy-market, 128², n = 6 at 512²), scaled to its median.
-        let stages: BTreeMap<String, f64> =
-            [("cull", 9.7), ("footprint", 28.9), ("gbuffer", 2.1), ("readback", 0.3), ("shade", 22.9), ("shadow_raster", 25.6)].iter().map(|(k, v)| (k.to_string(), *v)).collect();
+        let stages: BTreeMap<String, f64> = [
+            ("cull", 9.7),
+            ("footprint", 28.9),
+            ("gbuffer", 2.1),
+            ("readback", 0.3),
+            ("shade", 22.9),
+            ("shadow_raster", 25.6),
+        ]
+        .iter()
+        .map(|(k, v)| (k.to_string(), *v))
+        .collect();
         let p = Price::of(&stages, 2.0 * 89.5);
-        assert!((p.fixed_ms - 4.8).abs() < 1e-9 && (p.maps_ms - 70.6).abs() < 1e-9 && (p.tests_ms - 103.6).abs() < 1e-9, "{p:?}");
+        assert!(
+            (p.fixed_ms - 4.8).abs() < 1e-9
+                && (p.maps_ms - 70.6).abs() < 1e-9
+                && (p.tests_ms - 103.6).abs() < 1e-9,
+            "{p:?}"
+        );
     }
 
     #[test]
@@ -262,15 +341,42 @@ mod tests {
         };
         let (groups, left) = groups(&menu, 512).unwrap();
         // Per plain side 8 grids, 3 filters, 2 global presets (+2 local at 512²); hybrid: 8 grids, pcss, pcf.
-        assert_eq!(groups.iter().map(|g| g.candidates.len()).collect::<Vec<_>>(), [15, 13, 13, 10]);
+        assert_eq!(
+            groups
+                .iter()
+                .map(|g| g.candidates.len())
+                .collect::<Vec<_>>(),
+            [15, 13, 13, 10]
+        );
         assert_eq!(left.len(), 4, "{left:?}");
-        let names: Vec<String> = groups.iter().flat_map(|g| g.candidates.iter().map(Candidate::name)).collect();
-        for want in ["n=1@512", "n=16@2048", "pcss@1024", "msm@2048", "balanced-local@512", "seed@2048", "n=4@h2048→512", "pcf@h2048→512"] {
+        let names: Vec<String> = groups
+            .iter()
+            .flat_map(|g| g.candidates.iter().map(Candidate::name))
+            .collect();
+        for want in [
+            "n=1@512",
+            "n=16@2048",
+            "pcss@1024",
+            "msm@2048",
+            "balanced-local@512",
+            "seed@2048",
+            "n=4@h2048→512",
+            "pcf@h2048→512",
+        ] {
             assert!(names.iter().any(|n| n == want), "{want} in {names:?}");
         }
-        assert!(!names.iter().any(|n| n.starts_with("msm@h")), "msm reads no hybrid maps");
-        assert!(parse_singles(&["pcss".into(), "regular".into()]).unwrap_err().to_string().starts_with("--singles `regular`: not a method of one map"));
-        assert!(parse_adaptive(&["fast".into()]).unwrap_err().to_string().starts_with("--adaptive `fast`: not a preset (seed, balanced"));
+        assert!(
+            !names.iter().any(|n| n.starts_with("msm@h")),
+            "msm reads no hybrid maps"
+        );
+        assert!(parse_singles(&["pcss".into(), "regular".into()])
+            .unwrap_err()
+            .to_string()
+            .starts_with("--singles `regular`: not a method of one map"));
+        assert!(parse_adaptive(&["fast".into()])
+            .unwrap_err()
+            .to_string()
+            .starts_with("--adaptive `fast`: not a preset (seed, balanced"));
         assert!(parse_adaptive(&["none".into()]).unwrap().is_empty());
     }
 }

@@ -42,11 +42,17 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 
 /// `n=4@512:56(0.51)`: a class, its tiles and their penumbra share.
 fn classes<'a>(cs: impl IntoIterator<Item = &'a super::Class>) -> String {
-    cs.into_iter().map(|c| format!("{}:{}({:.2})", c.candidate, c.tiles, c.penumbra_share)).collect::<Vec<_>>().join(" ")
+    cs.into_iter()
+        .map(|c| format!("{}:{}({:.2})", c.candidate, c.tiles, c.penumbra_share))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 pub fn rows_csv(rows: &[OracleRow]) -> String {
-    let mut records = vec![ROW_COLUMNS.iter().map(|s| s.to_string()).collect::<Vec<_>>()];
+    let mut records = vec![ROW_COLUMNS
+        .iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>()];
     for r in rows {
         records.push(vec![
             r.scene.clone(),
@@ -86,7 +92,26 @@ pub fn candidates_csv(lines_in: &[CandidateLine]) -> String {
             }
         }
     }
-    let mut head: Vec<String> = ["scene", "resolution", "name", "spec", "map_config", "kind", "maps", "rmse", "frame_ms", "frame_ms_min", "frame_ms_max", "fixed_ms", "maps_ms", "tests_ms", "failed"].iter().map(|s| s.to_string()).collect();
+    let mut head: Vec<String> = [
+        "scene",
+        "resolution",
+        "name",
+        "spec",
+        "map_config",
+        "kind",
+        "maps",
+        "rmse",
+        "frame_ms",
+        "frame_ms_min",
+        "frame_ms_max",
+        "fixed_ms",
+        "maps_ms",
+        "tests_ms",
+        "failed",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     head.extend(stages.iter().map(|s| format!("stage_{s}_ms")));
     let mut records = vec![head];
     for l in lines_in {
@@ -107,7 +132,11 @@ pub fn candidates_csv(lines_in: &[CandidateLine]) -> String {
             format!("{:.3}", l.price.tests_ms),
             l.failed.clone().unwrap_or_default(),
         ];
-        r.extend(stages.iter().map(|s| l.stages_ms.get(*s).map_or(String::new(), |v| format!("{v:.3}"))));
+        r.extend(stages.iter().map(|s| {
+            l.stages_ms
+                .get(*s)
+                .map_or(String::new(), |v| format!("{v:.3}"))
+        }));
         records.push(r);
     }
     lines(records)
@@ -116,8 +145,19 @@ pub fn candidates_csv(lines_in: &[CandidateLine]) -> String {
 /// `tiles/<scene>-<resolution>-<menu>-T<target>` for a row's pictures; a scene named by its file
 /// path is named by the file's stem, in letters, digits, `-` and `_`.
 pub fn picture_name(r: &OracleRow) -> String {
-    let stem = std::path::Path::new(&r.scene).file_stem().map_or(r.scene.clone(), |s| s.to_string_lossy().into_owned());
-    let safe: String = stem.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+    let stem = std::path::Path::new(&r.scene)
+        .file_stem()
+        .map_or(r.scene.clone(), |s| s.to_string_lossy().into_owned());
+    let safe: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
     format!("tiles/{safe}-{}-{}-T{}", r.resolution, r.menu, r.target)
 }
 
@@ -127,7 +167,10 @@ pub fn files(o: &OracleOutcome) -> Result<Vec<(String, Vec<u8>)>> {
     let md = markdown(o);
     let mut out = vec![
         ("oracle.csv".to_string(), rows_csv(&o.rows).into_bytes()),
-        ("candidates.csv".to_string(), candidates_csv(&o.candidates).into_bytes()),
+        (
+            "candidates.csv".to_string(),
+            candidates_csv(&o.candidates).into_bytes(),
+        ),
         ("oracle.json".to_string(), json),
         ("oracle.md".to_string(), md.clone().into_bytes()),
     ];
@@ -138,15 +181,36 @@ pub fn files(o: &OracleOutcome) -> Result<Vec<(String, Vec<u8>)>> {
         charts.push(("gain_bound against the target".into(), svg));
     }
     // The family's choices: where a filter, hybrid maps or a preset enters the split.
-    for r in o.rows.iter().filter(|r| r.menu == "family" && r.oracle_ms.is_some()) {
+    for r in o
+        .rows
+        .iter()
+        .filter(|r| r.menu == "family" && r.oracle_ms.is_some())
+    {
         let svg = tiles_svg(r);
         let name = picture_name(r);
         out.push((format!("{name}.png"), svg_to_png(&svg, 1.0)?));
         out.push((format!("{name}.svg"), svg.clone().into_bytes()));
-        charts.push((format!("{} {}², T = {}: the family's choice per tile", r.scene, r.resolution, r.target), svg));
+        charts.push((
+            format!(
+                "{} {}², T = {}: the family's choice per tile",
+                r.scene, r.resolution, r.target
+            ),
+            svg,
+        ));
     }
-    let refs: Vec<(&str, &str)> = charts.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
-    out.push(("report.html".into(), crate::report::md_page::page("The oracle: the most choosing per region could gain", &md, &refs).into_bytes()));
+    let refs: Vec<(&str, &str)> = charts
+        .iter()
+        .map(|(a, b)| (a.as_str(), b.as_str()))
+        .collect();
+    out.push((
+        "report.html".into(),
+        crate::report::md_page::page(
+            "The oracle: the most choosing per region could gain",
+            &md,
+            &refs,
+        )
+        .into_bytes(),
+    ));
     Ok(out)
 }
 
@@ -183,7 +247,15 @@ pub fn markdown(o: &OracleOutcome) -> String {
     s += "\n## The splits\n\nEach class: the candidate, its tiles and the share of their pixels in penumbra.\n\n| scene | screen | T | menu | split | not grids |\n|---|---:|---:|---|---|---|\n";
     for r in o.rows.iter().filter(|r| !r.split.is_empty()) {
         let not = classes(r.not_grids());
-        s += &format!("| {} | {}² | {} | {} | {} | {} |\n", r.scene, r.resolution, r.target, r.menu, classes(&r.split), if not.is_empty() { "-".into() } else { not });
+        s += &format!(
+            "| {} | {}² | {} | {} | {} | {} |\n",
+            r.scene,
+            r.resolution,
+            r.target,
+            r.menu,
+            classes(&r.split),
+            if not.is_empty() { "-".into() } else { not }
+        );
     }
     s += "\n## Prices\n\nThe fixed stages every frame pays (the median over candidates of G-buffer and read-back):\n\n| scene | screen | fixed ms |\n|---|---:|---:|\n";
     for (scene, res, f) in &o.fixed_ms {

@@ -138,16 +138,37 @@ pub struct OracleOutcome {
 
 /// Every scene at every screen: measure the menu, then the oracle per target and menu.
 pub fn run(ctx: &GpuContext, job: &OracleJob, log: &dyn Fn(&str)) -> Result<OracleOutcome> {
-    let (groups, _) = family::groups(&job.menu, job.scenes.first().map_or(512, |s| s.render.shadow_map_budget_mib))?;
-    let mut out = OracleOutcome { candidates: Vec::new(), rows: Vec::new(), fixed_ms: Vec::new(), adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend) };
+    let (groups, _) = family::groups(
+        &job.menu,
+        job.scenes
+            .first()
+            .map_or(512, |s| s.render.shadow_map_budget_mib),
+    )?;
+    let mut out = OracleOutcome {
+        candidates: Vec::new(),
+        rows: Vec::new(),
+        fixed_ms: Vec::new(),
+        adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
+    };
     for scene in &job.scenes {
         let groups = usable(ctx, scene, &groups, log);
         let (measured, tiles, judge) = measure_scene(ctx, scene, &groups, job, log)?;
-        let ok: Vec<&Measured> = measured.iter().filter(|m| m.line.failed.is_none()).collect();
-        let fixed = crate::record::stats::median(&ok.iter().map(|m| m.line.price.fixed_ms).collect::<Vec<_>>()).unwrap_or(0.0);
-        out.fixed_ms.push((scene.name.clone(), scene.render.width, fixed));
+        let ok: Vec<&Measured> = measured
+            .iter()
+            .filter(|m| m.line.failed.is_none())
+            .collect();
+        let fixed = crate::record::stats::median(
+            &ok.iter().map(|m| m.line.price.fixed_ms).collect::<Vec<_>>(),
+        )
+        .unwrap_or(0.0);
+        out.fixed_ms
+            .push((scene.name.clone(), scene.render.width, fixed));
         for menu in ["grids", "family"] {
-            let cands: Vec<&Measured> = ok.iter().copied().filter(|m| menu == "family" || m.line.kind == Kind::Grid).collect();
+            let cands: Vec<&Measured> = ok
+                .iter()
+                .copied()
+                .filter(|m| menu == "family" || m.line.kind == Kind::Grid)
+                .collect();
             for &target in &job.targets {
                 let row = oracle_row(scene, menu, target, &cands, &tiles, &judge, fixed);
                 log(&row_line(&row));
@@ -161,7 +182,12 @@ pub fn run(ctx: &GpuContext, job: &OracleJob, log: &dyn Fn(&str)) -> Result<Orac
 
 /// The groups with what the scene's light refuses, or the device cannot hold, left out (one
 /// stderr line each).
-fn usable(ctx: &GpuContext, scene: &Scene, groups: &[family::Group], log: &dyn Fn(&str)) -> Vec<family::Group> {
+fn usable(
+    ctx: &GpuContext,
+    scene: &Scene,
+    groups: &[family::Group],
+    log: &dyn Fn(&str),
+) -> Vec<family::Group> {
     groups
         .iter()
         .map(|g| {
@@ -169,16 +195,33 @@ fn usable(ctx: &GpuContext, scene: &Scene, groups: &[family::Group], log: &dyn F
             let candidates = g
                 .candidates
                 .iter()
-                .filter(|c| match c.method.check_light(&s).map_err(|e| e.to_string()).and_then(|_| crate::methods::sizes::check(ctx, &s, &c.method).map_err(|e| e.to_string())) {
-                    Ok(()) => true,
-                    Err(e) => {
-                        log(&format!("{} left out on {} at {}²: {e}", c.name(), scene.name, scene.render.width));
-                        false
+                .filter(|c| {
+                    match c
+                        .method
+                        .check_light(&s)
+                        .map_err(|e| e.to_string())
+                        .and_then(|_| {
+                            crate::methods::sizes::check(ctx, &s, &c.method)
+                                .map_err(|e| e.to_string())
+                        }) {
+                        Ok(()) => true,
+                        Err(e) => {
+                            log(&format!(
+                                "{} left out on {} at {}²: {e}",
+                                c.name(),
+                                scene.name,
+                                scene.render.width
+                            ));
+                            false
+                        }
                     }
                 })
                 .cloned()
                 .collect();
-            family::Group { maps: g.maps, candidates }
+            family::Group {
+                maps: g.maps,
+                candidates,
+            }
         })
         .filter(|g| !g.candidates.is_empty())
         .collect()
@@ -186,30 +229,67 @@ fn usable(ctx: &GpuContext, scene: &Scene, groups: &[family::Group], log: &dyn F
 
 /// One scene and screen: the reference, its tiles, and every candidate measured (the measure
 /// loop of compare, one run per map configuration) with its squared error per tile.
-fn measure_scene(ctx: &GpuContext, scene: &Scene, groups: &[family::Group], job: &OracleJob, log: &dyn Fn(&str)) -> Result<(Vec<Measured>, Tiles, Judge)> {
+fn measure_scene(
+    ctx: &GpuContext,
+    scene: &Scene,
+    groups: &[family::Group],
+    job: &OracleJob,
+    log: &dyn Fn(&str),
+) -> Result<(Vec<Measured>, Tiles, Judge)> {
     let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
     let judge = Judge::new(scene, &g, reference.values.clone());
-    log(&format!("{} at {}²: {}", scene.name, scene.render.width, crate::studies::compare::reference_line(&reference, judge.geometry_pixels())));
+    log(&format!(
+        "{} at {}²: {}",
+        scene.name,
+        scene.render.width,
+        crate::studies::compare::reference_line(&reference, judge.geometry_pixels())
+    ));
     let tiles = Tiles::of(&judge.reference, &judge.mask, judge.width, judge.height);
-    let bar = crate::progress::bar(measure::frame_count(family::count(groups), job.repeats), "oracle");
+    let bar = crate::progress::bar(
+        measure::frame_count(family::count(groups), job.repeats),
+        "oracle",
+    );
     let mut out = Vec::new();
     for group in groups {
         let s = group.maps.apply(scene, 0.25);
-        let methods: Vec<crate::methods::Method> = group.candidates.iter().map(|c| c.method.clone()).collect();
-        let mut on_frame = |m: &crate::methods::Method, phase: measure::Phase, _: &crate::frame::FrameResult| {
-            bar.set_message(format!("{} {} {} {phase}", scene.name, group.maps.label(), m.label()));
-            bar.inc(1);
-        };
-        let mut judge_frame = |i: usize, f: &crate::frame::FrameResult| -> Result<(f64, Vec<f64>)> {
-            let rmse = judge.judge(&s, &methods[i].label(), f)?.metrics.rmse;
-            Ok((rmse, tiles.sse(&f.visibility, &judge.reference)))
-        };
-        let measured = measure::measure(ctx, &s, &methods, job.repeats, &mut on_frame, &mut judge_frame)?;
+        let methods: Vec<crate::methods::Method> =
+            group.candidates.iter().map(|c| c.method.clone()).collect();
+        let mut on_frame =
+            |m: &crate::methods::Method, phase: measure::Phase, _: &crate::frame::FrameResult| {
+                bar.set_message(format!(
+                    "{} {} {} {phase}",
+                    scene.name,
+                    group.maps.label(),
+                    m.label()
+                ));
+                bar.inc(1);
+            };
+        let mut judge_frame =
+            |i: usize, f: &crate::frame::FrameResult| -> Result<(f64, Vec<f64>)> {
+                let rmse = judge.judge(&s, &methods[i].label(), f)?.metrics.rmse;
+                Ok((rmse, tiles.sse(&f.visibility, &judge.reference)))
+            };
+        let measured = measure::measure(
+            ctx,
+            &s,
+            &methods,
+            job.repeats,
+            &mut on_frame,
+            &mut judge_frame,
+        )?;
         for (c, r) in group.candidates.iter().zip(measured) {
             let m = measured_line(scene, c, r);
             crate::progress::suspend(|| match &m.line.failed {
                 Some(why) => log(&crate::record::failed_line(&m.line.name, why)),
-                None => log(&format!("{} {}²: {}: {} maps, median {:.1} ms, RMSE {:.4}", scene.name, scene.render.width, m.line.name, m.line.maps, m.line.frame_ms, m.line.rmse)),
+                None => log(&format!(
+                    "{} {}²: {}: {} maps, median {:.1} ms, RMSE {:.4}",
+                    scene.name,
+                    scene.render.width,
+                    m.line.name,
+                    m.line.maps,
+                    m.line.frame_ms,
+                    m.line.rmse
+                )),
             });
             out.push(m);
         }
@@ -238,34 +318,70 @@ fn measured_line(scene: &Scene, c: &Candidate, r: measure::Outcome<(f64, Vec<f64
     match r {
         Ok(m) => {
             let t = &m.timing;
-            (line.maps, line.rmse, line.frame_ms, line.frame_ms_min, line.frame_ms_max) = (t.shadow_maps, m.judged.0, t.median_ms, t.min_ms, t.max_ms);
+            (
+                line.maps,
+                line.rmse,
+                line.frame_ms,
+                line.frame_ms_min,
+                line.frame_ms_max,
+            ) = (t.shadow_maps, m.judged.0, t.median_ms, t.min_ms, t.max_ms);
             line.price = Price::of(&t.stages_ms, t.median_ms);
             line.stages_ms = t.stages_ms.clone();
-            Measured { line, sse: m.judged.1 }
+            Measured {
+                line,
+                sse: m.judged.1,
+            }
         }
         Err(why) => {
             line.failed = Some(why);
-            Measured { line, sse: Vec::new() }
+            Measured {
+                line,
+                sse: Vec::new(),
+            }
         }
     }
 }
 
 /// The oracle of one menu at one target.
-fn oracle_row(scene: &Scene, menu: &str, target: f64, cands: &[&Measured], tiles: &Tiles, judge: &Judge, fixed: f64) -> OracleRow {
+fn oracle_row(
+    scene: &Scene,
+    menu: &str,
+    target: f64,
+    cands: &[&Measured],
+    tiles: &Tiles,
+    judge: &Judge,
+    fixed: f64,
+) -> OracleRow {
     let n = judge.geometry_pixels() as f64;
     let model = |m: &Measured| fixed + m.line.price.maps_ms + m.line.price.tests_ms;
-    let single = cands.iter().filter(|m| m.line.rmse <= target).min_by(|a, b| model(a).total_cmp(&model(b)));
+    let single = cands
+        .iter()
+        .filter(|m| m.line.rmse <= target)
+        .min_by(|a, b| model(a).total_cmp(&model(b)));
     // The tiles that pay: geometry, not uniformly lit or dark.
-    let paying: Vec<usize> = (0..tiles.px.len()).filter(|&t| tiles.px[t] > 0 && !tiles.free[t]).collect();
+    let paying: Vec<usize> = (0..tiles.px.len())
+        .filter(|&t| tiles.px[t] > 0 && !tiles.free[t])
+        .collect();
     let nk = cands.len();
-    let mut p = solve::Problem { fixed_ms: fixed, maps_ms: cands.iter().map(|m| m.line.price.maps_ms).collect(), cost: Vec::new(), err: Vec::new(), budget: target * target * n };
+    let mut p = solve::Problem {
+        fixed_ms: fixed,
+        maps_ms: cands.iter().map(|m| m.line.price.maps_ms).collect(),
+        cost: Vec::new(),
+        err: Vec::new(),
+        budget: target * target * n,
+    };
     for &t in &paying {
         for m in cands {
-            p.cost.push(f64::from(tiles.px[t]) * m.line.price.tests_ms / n);
+            p.cost
+                .push(f64::from(tiles.px[t]) * m.line.price.tests_ms / n);
             p.err.push(m.sse[t]);
         }
     }
-    let best_per_tile = if nk == 0 { f64::NAN } else { (p.least_err() / n).sqrt() };
+    let best_per_tile = if nk == 0 {
+        f64::NAN
+    } else {
+        (p.least_err() / n).sqrt()
+    };
     let solution = if nk == 0 { None } else { solve::solve(&p) };
     let geometry_tiles = tiles.px.iter().filter(|&&px| px > 0).count();
     let mut row = OracleRow {
@@ -291,12 +407,28 @@ fn oracle_row(scene: &Scene, menu: &str, target: f64, cands: &[&Measured], tiles
         penumbra_share: tiles.pen.iter().map(|&x| f64::from(x)).sum::<f64>() / n.max(1.0),
         tests_share: single.map(|m| m.line.price.tests_ms / model(m)),
         gain_tests_only: single.map(|m| model(m) / (model(m) - m.line.price.tests_ms)),
-        choice: tiles.px.iter().zip(&tiles.free).map(|(&px, &free)| if px == 0 { -2 } else if free { -1 } else { -3 }).collect(),
+        choice: tiles
+            .px
+            .iter()
+            .zip(&tiles.free)
+            .map(|(&px, &free)| {
+                if px == 0 {
+                    -2
+                } else if free {
+                    -1
+                } else {
+                    -3
+                }
+            })
+            .collect(),
         tile_cols: tiles.cols,
         tile_rows: tiles.rows,
     };
     let Some(s) = solution else {
-        row.choice.iter_mut().filter(|c| **c == -3).for_each(|c| *c = -2);
+        row.choice
+            .iter_mut()
+            .filter(|c| **c == -3)
+            .for_each(|c| *c = -2);
         return row;
     };
     row.oracle_ms = Some(s.frame_ms);
@@ -306,17 +438,35 @@ fn oracle_row(scene: &Scene, menu: &str, target: f64, cands: &[&Measured], tiles
     row.gain_bound = row.single_model_ms.map(|m| m / s.bound_ms);
     row.gain_oracle = row.single_model_ms.map(|m| m / s.frame_ms);
     // The classes, most tiles first; each tile's index into them.
-    let mut used: Vec<(usize, usize)> = (0..nk).map(|k| (k, s.choice.iter().filter(|&&c| c == k).count())).filter(|(_, c)| *c > 0).collect();
+    let mut used: Vec<(usize, usize)> = (0..nk)
+        .map(|k| (k, s.choice.iter().filter(|&&c| c == k).count()))
+        .filter(|(_, c)| *c > 0)
+        .collect();
     used.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     for (i, &t) in paying.iter().enumerate() {
-        row.choice[t] = used.iter().position(|(k, _)| *k == s.choice[i]).expect("a chosen candidate is used") as i32;
+        row.choice[t] = used
+            .iter()
+            .position(|(k, _)| *k == s.choice[i])
+            .expect("a chosen candidate is used") as i32;
     }
     row.split = used
         .iter()
         .map(|&(k, count)| {
-            let mine: Vec<usize> = paying.iter().zip(&s.choice).filter(|(_, &c)| c == k).map(|(&t, _)| t).collect();
-            let (pen, px) = mine.iter().fold((0u64, 0u64), |(a, b), &t| (a + u64::from(tiles.pen[t]), b + u64::from(tiles.px[t])));
-            Class { candidate: cands[k].line.name.clone(), kind: cands[k].line.kind, tiles: count, penumbra_share: pen as f64 / px.max(1) as f64 }
+            let mine: Vec<usize> = paying
+                .iter()
+                .zip(&s.choice)
+                .filter(|(_, &c)| c == k)
+                .map(|(&t, _)| t)
+                .collect();
+            let (pen, px) = mine.iter().fold((0u64, 0u64), |(a, b), &t| {
+                (a + u64::from(tiles.pen[t]), b + u64::from(tiles.px[t]))
+            });
+            Class {
+                candidate: cands[k].line.name.clone(),
+                kind: cands[k].line.kind,
+                tiles: count,
+                penumbra_share: pen as f64 / px.max(1) as f64,
+            }
         })
         .collect();
     row

@@ -67,7 +67,13 @@ impl Problem {
 
     /// The least error any choice reaches: every tile at its own most accurate candidate.
     pub fn least_err(&self) -> f64 {
-        (0..self.tiles()).map(|t| (0..self.candidates()).map(|k| self.at(t, k).1).fold(f64::INFINITY, f64::min)).sum()
+        (0..self.tiles())
+            .map(|t| {
+                (0..self.candidates())
+                    .map(|k| self.at(t, k).1)
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .sum()
     }
 
     /// The frame's price with every tile on candidate `k` (the tiles given, not the free ones).
@@ -86,14 +92,26 @@ impl Problem {
 /// The cheapest frame found and the bound; None when no choice meets the budget.
 pub fn solve(p: &Problem) -> Option<Solution> {
     if p.tiles() == 0 {
-        return Some(Solution { frame_ms: p.fixed_ms, bound_ms: p.fixed_ms, choice: Vec::new(), err: 0.0, closed: true });
+        return Some(Solution {
+            frame_ms: p.fixed_ms,
+            bound_ms: p.fixed_ms,
+            choice: Vec::new(),
+            err: 0.0,
+            closed: true,
+        });
     }
     if p.least_err() > p.budget {
         return None;
     }
     let ((_, set), bound_ms, closed) = branch_and_bound(p, search(p));
     let (frame_ms, choice, err) = settle(p, &set);
-    Some(Solution { frame_ms, bound_ms: bound_ms.min(frame_ms), choice, err, closed })
+    Some(Solution {
+        frame_ms,
+        bound_ms: bound_ms.min(frame_ms),
+        choice,
+        err,
+        closed,
+    })
 }
 
 /// Erlenkotter's dual ascent for facility location at prices d = c + λe over the candidates `ks`
@@ -103,7 +121,10 @@ pub fn solve(p: &Problem) -> Option<Solution> {
 /// candidate's slack (0: the tiles it serves pay for its maps).
 fn dual_ascent(p: &Problem, lambda: f64, ks: &[usize], maps: &[f64]) -> (f64, Vec<f64>) {
     let (nt, nk) = (p.tiles(), ks.len());
-    let d: Vec<f64> = (0..nt).flat_map(|t| ks.iter().map(move |&k| (t, k))).map(|(t, k)| p.at(t, k).0 + lambda * p.at(t, k).1).collect();
+    let d: Vec<f64> = (0..nt)
+        .flat_map(|t| ks.iter().map(move |&k| (t, k)))
+        .map(|(t, k)| p.at(t, k).0 + lambda * p.at(t, k).1)
+        .collect();
     let orders: Vec<Vec<usize>> = (0..nt)
         .map(|t| {
             let mut o: Vec<usize> = (0..nk).collect();
@@ -113,13 +134,23 @@ fn dual_ascent(p: &Problem, lambda: f64, ks: &[usize], maps: &[f64]) -> (f64, Ve
         .collect();
     let mut v: Vec<f64> = (0..nt).map(|t| d[t * nk + orders[t][0]]).collect();
     // How many of the tile's candidates are at or below v_t: those whose slack its rise uses.
-    let mut below: Vec<usize> = (0..nt).map(|t| orders[t].iter().take_while(|&&k| d[t * nk + k] <= v[t]).count()).collect();
+    let mut below: Vec<usize> = (0..nt)
+        .map(|t| {
+            orders[t]
+                .iter()
+                .take_while(|&&k| d[t * nk + k] <= v[t])
+                .count()
+        })
+        .collect();
     let mut slack = maps.to_vec();
     loop {
         let mut risen = false;
         for t in 0..nt {
             let o = &orders[t];
-            let room = o[..below[t]].iter().map(|&k| slack[k]).fold(f64::INFINITY, f64::min);
+            let room = o[..below[t]]
+                .iter()
+                .map(|&k| slack[k])
+                .fold(f64::INFINITY, f64::min);
             let next = o.get(below[t]).map_or(f64::INFINITY, |&k| d[t * nk + k]);
             let rise = (next - v[t]).min(room);
             if !(rise > 0.0) {
@@ -159,9 +190,24 @@ enum Status {
 /// best over λ: 2 points a decade over `span` decades about `around`, then golden-section
 /// refinement. Returns (bound, its λ, each candidate's slack, 0 for the closed).
 fn node_bound(p: &Problem, status: &[Status], around: f64, span: i32) -> (f64, f64, Vec<f64>) {
-    let ks: Vec<usize> = (0..p.candidates()).filter(|&k| status[k] != Status::Closed).collect();
-    let maps: Vec<f64> = ks.iter().map(|&k| if status[k] == Status::Open { 0.0 } else { p.maps_ms[k] }).collect();
-    let paid: f64 = p.fixed_ms + (0..p.candidates()).filter(|&k| status[k] == Status::Open).map(|k| p.maps_ms[k]).sum::<f64>();
+    let ks: Vec<usize> = (0..p.candidates())
+        .filter(|&k| status[k] != Status::Closed)
+        .collect();
+    let maps: Vec<f64> = ks
+        .iter()
+        .map(|&k| {
+            if status[k] == Status::Open {
+                0.0
+            } else {
+                p.maps_ms[k]
+            }
+        })
+        .collect();
+    let paid: f64 = p.fixed_ms
+        + (0..p.candidates())
+            .filter(|&k| status[k] == Status::Open)
+            .map(|k| p.maps_ms[k])
+            .sum::<f64>();
     let value = |lambda: f64| {
         let (v, slack) = dual_ascent(p, lambda, &ks, &maps);
         (paid + v - lambda * p.budget, slack)
@@ -169,7 +215,9 @@ fn node_bound(p: &Problem, status: &[Status], around: f64, span: i32) -> (f64, f
     let (v0, s0) = value(0.0);
     let mut best = (v0, 0.0, s0);
     let mut at = None;
-    let points: Vec<f64> = (-2 * span..=2 * span).map(|i| around * 10f64.powf(f64::from(i) / 4.0)).collect();
+    let points: Vec<f64> = (-2 * span..=2 * span)
+        .map(|i| around * 10f64.powf(f64::from(i) / 4.0))
+        .collect();
     for (i, &l) in points.iter().enumerate() {
         let (v, s) = value(l);
         if v > best.0 {
@@ -177,7 +225,10 @@ fn node_bound(p: &Problem, status: &[Status], around: f64, span: i32) -> (f64, f
         }
     }
     if let Some(i) = at {
-        let (mut lo, mut hi) = (points[i.saturating_sub(1)].ln(), points[(i + 1).min(points.len() - 1)].ln());
+        let (mut lo, mut hi) = (
+            points[i.saturating_sub(1)].ln(),
+            points[(i + 1).min(points.len() - 1)].ln(),
+        );
         let g = (5f64.sqrt() - 1.0) / 2.0;
         for _ in 0..10 {
             let (a, b) = (hi - g * (hi - lo), lo + g * (hi - lo));
@@ -229,7 +280,11 @@ fn hull_steps(p: &Problem, set: &[usize]) -> (f64, f64, Vec<(f64, f64, f64)>) {
         tests += hull[0].0;
         err += hull[0].1;
         for w in hull.windows(2) {
-            steps.push(((w[0].1 - w[1].1) / (w[1].0 - w[0].0).max(1e-300), w[1].0 - w[0].0, w[0].1 - w[1].1));
+            steps.push((
+                (w[0].1 - w[1].1) / (w[1].0 - w[0].0).max(1e-300),
+                w[1].0 - w[0].0,
+                w[0].1 - w[1].1,
+            ));
         }
     }
     steps.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -238,7 +293,10 @@ fn hull_steps(p: &Problem, set: &[usize]) -> (f64, f64, Vec<(f64, f64, f64)>) {
 
 /// Tile t's lower-left convex hull of (test ms, error, candidate) over `set`, cheapest first.
 fn hull(p: &Problem, t: usize, set: &[usize]) -> Vec<(f64, f64, usize)> {
-    let mut opts: Vec<(f64, f64, usize)> = set.iter().map(|&k| (p.at(t, k).0, p.at(t, k).1, k)).collect();
+    let mut opts: Vec<(f64, f64, usize)> = set
+        .iter()
+        .map(|&k| (p.at(t, k).0, p.at(t, k).1, k))
+        .collect();
     opts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut hull: Vec<(f64, f64, usize)> = vec![opts[0]];
     for &o in &opts[1..] {
@@ -289,7 +347,8 @@ fn branch_and_bound(p: &Problem, mut best: (f64, Vec<usize>)) -> ((f64, Vec<usiz
             if open.is_empty() {
                 continue;
             }
-            let lp = p.fixed_ms + open.iter().map(|&k| p.maps_ms[k]).sum::<f64>() + assign_lp(p, &open);
+            let lp =
+                p.fixed_ms + open.iter().map(|&k| p.maps_ms[k]).sum::<f64>() + assign_lp(p, &open);
             if lp < best.0 {
                 if let Some((f, _, _)) = price(p, &open) {
                     if f < best.0 {
@@ -300,12 +359,21 @@ fn branch_and_bound(p: &Problem, mut best: (f64, Vec<usize>)) -> ((f64, Vec<usiz
             }
             continue;
         }
-        let (bound, lambda, slack) = node_bound(p, &status, around, if visited == 1 { 8 } else { 2 });
+        let (bound, lambda, slack) =
+            node_bound(p, &status, around, if visited == 1 { 8 } else { 2 });
         if bound >= best.0 * (1.0 - 1e-9) {
             continue;
         }
         // The set the dual ascent pays for, priced: a frame to beat.
-        let paid: Vec<usize> = open.iter().copied().chain(free.iter().copied().filter(|&k| slack[k] <= 1e-9 * p.maps_ms[k].max(1e-9))).collect();
+        let paid: Vec<usize> = open
+            .iter()
+            .copied()
+            .chain(
+                free.iter()
+                    .copied()
+                    .filter(|&k| slack[k] <= 1e-9 * p.maps_ms[k].max(1e-9)),
+            )
+            .collect();
         if !paid.is_empty() {
             if let Some((f, _, _)) = price(p, &paid) {
                 if f < best.0 {
@@ -313,7 +381,14 @@ fn branch_and_bound(p: &Problem, mut best: (f64, Vec<usize>)) -> ((f64, Vec<usiz
                 }
             }
         }
-        let k = *free.iter().min_by(|&&a, &&b| (slack[a] / p.maps_ms[a].max(1e-12)).total_cmp(&(slack[b] / p.maps_ms[b].max(1e-12))).then(p.maps_ms[b].total_cmp(&p.maps_ms[a]))).expect("a free candidate");
+        let k = *free
+            .iter()
+            .min_by(|&&a, &&b| {
+                (slack[a] / p.maps_ms[a].max(1e-12))
+                    .total_cmp(&(slack[b] / p.maps_ms[b].max(1e-12)))
+                    .then(p.maps_ms[b].total_cmp(&p.maps_ms[a]))
+            })
+            .expect("a free candidate");
         let mut closed = status.clone();
         closed[k] = Status::Closed;
         let mut opened = status;
@@ -367,7 +442,12 @@ fn assign(p: &Problem, set: &[usize]) -> Option<(f64, Vec<usize>, f64)> {
 /// Spends the budget left on cheaper choices: each step takes the move (a tile to a cheaper
 /// candidate of the set) that saves the most ms per squared error added, while it fits.
 fn fill(p: &Problem, set: &[usize], choice: &mut [usize]) {
-    let mut left = p.budget - choice.iter().enumerate().map(|(t, &k)| p.at(t, k).1).sum::<f64>();
+    let mut left = p.budget
+        - choice
+            .iter()
+            .enumerate()
+            .map(|(t, &k)| p.at(t, k).1)
+            .sum::<f64>();
     loop {
         let mut best: Option<(f64, usize, usize)> = None;
         for (t, &now) in choice.iter().enumerate() {
@@ -403,7 +483,9 @@ fn price(p: &Problem, set: &[usize]) -> Option<(f64, Vec<usize>, f64)> {
 /// cheaper. Returns the cheapest frame and its set.
 fn search(p: &Problem) -> (f64, Vec<usize>) {
     let nk = p.candidates();
-    let mut singles: Vec<(f64, Vec<usize>)> = (0..nk).filter_map(|k| price(p, &[k]).map(|r| (r.0, vec![k]))).collect();
+    let mut singles: Vec<(f64, Vec<usize>)> = (0..nk)
+        .filter_map(|k| price(p, &[k]).map(|r| (r.0, vec![k])))
+        .collect();
     singles.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut starts: Vec<Vec<usize>> = singles.iter().take(3).map(|s| s.1.clone()).collect();
     starts.push(greedy_drop(p));
@@ -428,7 +510,11 @@ fn settle(p: &Problem, set: &[usize]) -> (f64, Vec<usize>, f64) {
     let used: Vec<usize> = set.iter().copied().filter(|k| choice.contains(k)).collect();
     let tests: f64 = choice.iter().enumerate().map(|(t, &k)| p.at(t, k).0).sum();
     let err = choice.iter().enumerate().map(|(t, &k)| p.at(t, k).1).sum();
-    (p.fixed_ms + used.iter().map(|&k| p.maps_ms[k]).sum::<f64>() + tests, choice, err)
+    (
+        p.fixed_ms + used.iter().map(|&k| p.maps_ms[k]).sum::<f64>() + tests,
+        choice,
+        err,
+    )
 }
 
 /// From every candidate, drop the one whose loss makes the frame cheapest while that is cheaper.
@@ -436,7 +522,9 @@ fn greedy_drop(p: &Problem) -> Vec<usize> {
     let mut set: Vec<usize> = (0..p.candidates()).collect();
     let mut now = price(p, &set).map_or(f64::INFINITY, |r| r.0);
     while set.len() > 1 {
-        let best = (0..set.len()).filter_map(|i| price(p, &[&set[..i], &set[i + 1..]].concat()).map(|r| (r.0, i))).min_by(|a, b| a.0.total_cmp(&b.0));
+        let best = (0..set.len())
+            .filter_map(|i| price(p, &[&set[..i], &set[i + 1..]].concat()).map(|r| (r.0, i)))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
         match best {
             Some((f, i)) if f < now => {
                 set.remove(i);
@@ -452,7 +540,10 @@ fn greedy_drop(p: &Problem) -> Vec<usize> {
 fn greedy_add(p: &Problem, mut set: Vec<usize>) -> Vec<usize> {
     let mut now = price(p, &set).map_or(f64::INFINITY, |r| r.0);
     loop {
-        let best = (0..p.candidates()).filter(|k| !set.contains(k)).filter_map(|k| price(p, &[set.clone(), vec![k]].concat()).map(|r| (r.0, k))).min_by(|a, b| a.0.total_cmp(&b.0));
+        let best = (0..p.candidates())
+            .filter(|k| !set.contains(k))
+            .filter_map(|k| price(p, &[set.clone(), vec![k]].concat()).map(|r| (r.0, k)))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
         match best {
             Some((f, k)) if f < now => {
                 set.push(k);
@@ -504,7 +595,12 @@ fn local_search(p: &Problem, mut set: Vec<usize>) -> (f64, Vec<usize>) {
 /// Each step takes the pair that saves the most, until none saves.
 fn exchange(p: &Problem, set: &[usize], choice: &mut [usize]) {
     loop {
-        let left = p.budget - choice.iter().enumerate().map(|(t, &k)| p.at(t, k).1).sum::<f64>();
+        let left = p.budget
+            - choice
+                .iter()
+                .enumerate()
+                .map(|(t, &k)| p.at(t, k).1)
+                .sum::<f64>();
         // (tile, candidate, Δcost, Δerror): up = dearer and more accurate, down = cheaper.
         let (mut up, mut down) = (Vec::new(), Vec::new());
         for (t, &now) in choice.iter().enumerate() {
@@ -523,12 +619,18 @@ fn exchange(p: &Problem, set: &[usize], choice: &mut [usize]) {
         let mut best: Option<Swap> = None;
         for &(ta, ka, ca, ea) in &up {
             for &(tb, kb, cb, eb) in &down {
-                if ta != tb && ca + cb < 0.0 && ea + eb <= left && best.is_none_or(|b| ca + cb < b.0) {
+                if ta != tb
+                    && ca + cb < 0.0
+                    && ea + eb <= left
+                    && best.is_none_or(|b| ca + cb < b.0)
+                {
                     best = Some((ca + cb, (ta, ka), (tb, kb)));
                 }
             }
         }
-        let Some((_, (ta, ka), (tb, kb))) = best else { break };
+        let Some((_, (ta, ka), (tb, kb))) = best else {
+            break;
+        };
         choice[ta] = ka;
         choice[tb] = kb;
     }
@@ -548,7 +650,12 @@ mod tests {
             if err <= p.budget {
                 let mut used = vec![false; nk];
                 a.iter().for_each(|&k| used[k] = true);
-                let cost = p.fixed_ms + (0..nk).filter(|&k| used[k]).map(|k| p.maps_ms[k]).sum::<f64>() + (0..nt).map(|t| p.at(t, a[t]).0).sum::<f64>();
+                let cost = p.fixed_ms
+                    + (0..nk)
+                        .filter(|&k| used[k])
+                        .map(|k| p.maps_ms[k])
+                        .sum::<f64>()
+                    + (0..nt).map(|t| p.at(t, a[t]).0).sum::<f64>();
                 best = Some(best.map_or(cost, |b| b.min(cost)));
             }
             let mut i = 0;
@@ -571,9 +678,18 @@ mod tests {
         // Two tiles, two candidates. A: maps 10, tests 1 per tile, tile 1 errs by 4. B: maps 10,
         // tests 5 per tile, exact. Budget 0: tile 1 must take B; B for both (20) beats A and B
         // (10 + 10 + 1 + 5 = 26). Budget 4: A for both, 12.
-        let mut p = Problem { fixed_ms: 0.0, maps_ms: vec![10.0, 10.0], cost: vec![1.0, 5.0, 1.0, 5.0], err: vec![0.0, 0.0, 4.0, 0.0], budget: 0.0 };
+        let mut p = Problem {
+            fixed_ms: 0.0,
+            maps_ms: vec![10.0, 10.0],
+            cost: vec![1.0, 5.0, 1.0, 5.0],
+            err: vec![0.0, 0.0, 4.0, 0.0],
+            budget: 0.0,
+        };
         let s = solve(&p).unwrap();
-        assert_eq!((s.frame_ms, s.choice.clone(), s.err, s.closed), (20.0, vec![1, 1], 0.0, true));
+        assert_eq!(
+            (s.frame_ms, s.choice.clone(), s.err, s.closed),
+            (20.0, vec![1, 1], 0.0, true)
+        );
         assert!(s.bound_ms <= 20.0 + 1e-9 && s.bound_ms > 15.0, "{s:?}");
         p.budget = 4.0;
         let s = solve(&p).unwrap();
@@ -585,7 +701,13 @@ mod tests {
         p.budget = 0.5;
         assert!(solve(&p).is_none());
         // No tile left (every tile free): the fixed stages alone.
-        let none = Problem { fixed_ms: 3.0, maps_ms: vec![1.0], cost: vec![], err: vec![], budget: 0.0 };
+        let none = Problem {
+            fixed_ms: 3.0,
+            maps_ms: vec![1.0],
+            cost: vec![],
+            err: vec![],
+            budget: 0.0,
+        };
         assert_eq!(solve(&none).unwrap().frame_ms, 3.0);
     }
 
@@ -605,7 +727,10 @@ mod tests {
         let s = solve(&p).unwrap();
         assert_eq!(s.choice, vec![1, 1, 2, 2]);
         assert_eq!(s.frame_ms, 1.0 + 16.0 + 2.0 * 2.0 + 2.0 * 1.0);
-        assert!(s.bound_ms <= s.frame_ms + 1e-9 && s.bound_ms >= 0.9 * s.frame_ms, "{s:?}");
+        assert!(
+            s.bound_ms <= s.frame_ms + 1e-9 && s.bound_ms >= 0.9 * s.frame_ms,
+            "{s:?}"
+        );
         assert_eq!(p.single_ms(0), 1.0 + 50.0 + 16.0);
     }
 
@@ -625,23 +750,60 @@ mod tests {
             let (nt, nk) = (6, 4);
             let maps_ms: Vec<f64> = (0..nk).map(|_| 1.0 + 20.0 * rnd()).collect();
             let cost: Vec<f64> = (0..nt * nk).map(|_| 0.5 + 5.0 * rnd()).collect();
-            let err: Vec<f64> = (0..nt * nk).map(|_| if rnd() < 0.3 { 0.0 } else { 10.0 * rnd() }).collect();
-            let mut p = Problem { fixed_ms: 2.0, maps_ms, cost, err, budget: 0.0 };
+            let err: Vec<f64> = (0..nt * nk)
+                .map(|_| if rnd() < 0.3 { 0.0 } else { 10.0 * rnd() })
+                .collect();
+            let mut p = Problem {
+                fixed_ms: 2.0,
+                maps_ms,
+                cost,
+                err,
+                budget: 0.0,
+            };
             p.budget = p.least_err() + 15.0 * rnd();
             let opt = brute(&p).unwrap();
             let s = solve(&p).unwrap();
-            assert!(s.bound_ms <= opt + 1e-9, "bound {} over the optimum {opt}", s.bound_ms);
-            assert!(s.frame_ms >= opt - 1e-9 && s.err <= p.budget + 1e-9, "frame {} below the optimum {opt}", s.frame_ms);
+            assert!(
+                s.bound_ms <= opt + 1e-9,
+                "bound {} over the optimum {opt}",
+                s.bound_ms
+            );
+            assert!(
+                s.frame_ms >= opt - 1e-9 && s.err <= p.budget + 1e-9,
+                "frame {} below the optimum {opt}",
+                s.frame_ms
+            );
             let cost: f64 = p.fixed_ms
-                + s.choice.iter().fold(vec![false; nk], |mut u, &k| { u[k] = true; u }).iter().enumerate().filter(|(_, &u)| u).map(|(k, _)| p.maps_ms[k]).sum::<f64>()
-                + s.choice.iter().enumerate().map(|(t, &k)| p.at(t, k).0).sum::<f64>();
-            assert!((cost - s.frame_ms).abs() < 1e-9, "the frame's price is its choice's");
+                + s.choice
+                    .iter()
+                    .fold(vec![false; nk], |mut u, &k| {
+                        u[k] = true;
+                        u
+                    })
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &u)| u)
+                    .map(|(k, _)| p.maps_ms[k])
+                    .sum::<f64>()
+                + s.choice
+                    .iter()
+                    .enumerate()
+                    .map(|(t, &k)| p.at(t, k).0)
+                    .sum::<f64>();
+            assert!(
+                (cost - s.frame_ms).abs() < 1e-9,
+                "the frame's price is its choice's"
+            );
             exact += usize::from(s.frame_ms <= opt + 1e-9);
             gap_sum += (opt - s.bound_ms) / opt;
         }
         // Measured: the optimum on 296 of 300; the bound 1.7% under it on average (on 6 tiles the
         // knapsack's LP at a leaf is loose; on a frame's hundreds of tiles it closes).
         assert!(exact >= 292, "optimum found on {exact} of {cases}");
-        assert!(gap_sum / cases as f64 <= 0.03, "mean gap of the bound {}", gap_sum / cases as f64);
+        assert!(
+            gap_sum / cases as f64 <= 0.03,
+            "mean gap of the bound {}",
+            gap_sum / cases as f64
+        );
     }
 }

@@ -24,7 +24,8 @@ impl Tiles {
     pub fn of(reference: &[f32], mask: &[bool], width: u32, height: u32) -> Tiles {
         let (cols, rows) = (width.div_ceil(TILE), height.div_ceil(TILE));
         let n = (cols * rows) as usize;
-        let (mut px, mut pen, mut lit, mut dark) = (vec![0u32; n], vec![0u32; n], vec![0u32; n], vec![0u32; n]);
+        let (mut px, mut pen, mut lit, mut dark) =
+            (vec![0u32; n], vec![0u32; n], vec![0u32; n], vec![0u32; n]);
         let mut of_pixel = vec![None; mask.len()];
         for (i, (&v, &geometry)) in reference.iter().zip(mask).enumerate() {
             if !geometry {
@@ -43,8 +44,19 @@ impl Tiles {
                 pen[t] += 1;
             }
         }
-        let free = (0..n).map(|t| px[t] > 0 && (lit[t] == px[t] || dark[t] == px[t])).collect();
-        Tiles { width, height, cols, rows, px, pen, free, of_pixel }
+        let free = (0..n)
+            .map(|t| px[t] > 0 && (lit[t] == px[t] || dark[t] == px[t]))
+            .collect();
+        Tiles {
+            width,
+            height,
+            cols,
+            rows,
+            px,
+            pen,
+            free,
+            of_pixel,
+        }
     }
 
     /// A frame's summed squared error of V per tile, over geometry pixels.

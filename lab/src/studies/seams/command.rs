@@ -1,13 +1,13 @@
 //! `penumbra seams`: a point light's cube-map seams, V's error near the face edges against the rest.
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::record::run_files;
 use crate::reference::truth;
 use crate::studies::compare::methods_list;
+use crate::studies::flags::{OutArgs, SetArgs};
 use crate::studies::lists::listed_once;
 use crate::studies::seams::{self, SeamsJob};
-use crate::studies::flags::{OutArgs, SetArgs};
+use anyhow::Result;
 
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/seams")))]
@@ -50,18 +50,25 @@ fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
     if args.map_sizes.is_empty() {
         anyhow::bail!("--map-sizes: give at least one size");
     }
-    listed_once("--map-sizes", args.map_sizes.iter().map(|s| (s.to_string(), *s)))?;
+    listed_once(
+        "--map-sizes",
+        args.map_sizes.iter().map(|s| (s.to_string(), *s)),
+    )?;
     let methods = methods_list::parse_methods(&methods_list::split_specs(&args.methods)?)?;
     let sets = args.sets.render()?;
     // Each run's map size comes from --map-sizes and would silently win over this one.
-    if let Some((k, v)) = sets.iter().find(|(k, _)| k.strip_prefix("render.").unwrap_or(k) == "shadow_map_size") {
+    if let Some((k, v)) = sets
+        .iter()
+        .find(|(k, _)| k.strip_prefix("render.").unwrap_or(k) == "shadow_map_size")
+    {
         anyhow::bail!("--set {k}={v}: seams runs each map size of --map-sizes; give the sizes there (--map-sizes {v})");
     }
     // Every map size, the scene's kind and each method's support are checked before the GPU starts.
     for &size in &args.map_sizes {
         let mut s = sets.clone();
         s.push(("shadow_map_size".into(), size.to_string()));
-        let scene = crate::scene::Scene::load(&args.scene, &s).map_err(|e| anyhow::anyhow!("--map-sizes {size}: {e}"))?;
+        let scene = crate::scene::Scene::load(&args.scene, &s)
+            .map_err(|e| anyhow::anyhow!("--map-sizes {size}: {e}"))?;
         if scene.emitter.kind() != crate::scene::LightKind::Point {
             anyhow::bail!("--scene {}: its light is `{}`; the seams are a point light's cube faces (kind = \"point\")", args.scene, scene.emitter.kind().name());
         }
@@ -75,7 +82,11 @@ fn run(args: SeamsArgs, gpu: &AdapterRequest) -> Result<()> {
         methods,
         band: args.band,
         reference: truth::parse_mode("continuous", args.samples)?,
-        cache: if args.no_cache { truth::Cache::Off } else { truth::Cache::default_for(false) },
+        cache: if args.no_cache {
+            truth::Cache::Off
+        } else {
+            truth::Cache::default_for(false)
+        },
     };
     let outcome = seams::run(&ctx, &job, &|line| eprintln!("{line}"))?;
     run_files::write_files(&args.output.out, &outcome.files)?;

@@ -65,7 +65,12 @@ pub fn edge_texels(d: Vec3, map_size: u32) -> f32 {
 /// Whether each pixel lies in the band: a geometry pixel within `band` texels of a face edge, seen
 /// from the light's centre (every sample point lies within the emitter's radius of it).
 pub fn band_mask(g: &GBufferCpu, centre: Vec3, map_size: u32, band: f32) -> Vec<bool> {
-    (0..g.position.len()).map(|i| g.is_geometry(i) && edge_texels(Vec3::from_slice(&g.position[i][..3]) - centre, map_size) < band).collect()
+    (0..g.position.len())
+        .map(|i| {
+            g.is_geometry(i)
+                && edge_texels(Vec3::from_slice(&g.position[i][..3]) - centre, map_size) < band
+        })
+        .collect()
 }
 
 pub struct SeamsOutcome {
@@ -91,32 +96,65 @@ pub fn run(ctx: &GpuContext, job: &SeamsJob, log: &dyn Fn(&str)) -> Result<Seams
             // The G-buffer is the same at every map size: the reference is traced once.
             let values = match &reference {
                 Some(v) => v,
-                None => reference.insert(truth::compute(&scene, &r.gbuffer, job.reference, &job.cache)?.values),
+                None => reference
+                    .insert(truth::compute(&scene, &r.gbuffer, job.reference, &job.cache)?.values),
             };
             let band = band_mask(&r.gbuffer, point.position, size, job.band);
-            let row = errors(&scene.name, method, size, job.band, &r.gbuffer, &band, &r.visibility, values, r.total_ms);
+            let row = errors(
+                &scene.name,
+                method,
+                size,
+                job.band,
+                &r.gbuffer,
+                &band,
+                &r.visibility,
+                values,
+                r.total_ms,
+            );
             log(&format!("{} at {size}²: band {} px RMSE {:.4} MAE {:.4}; outside {} px RMSE {:.4} MAE {:.4}", row.method, row.band_pixels, row.band_rmse, row.band_mae, row.outside_pixels, row.outside_rmse, row.outside_mae));
             rows.push(row);
             if method == &job.methods[0] {
-                files.push((format!("band_{size}.png"), crate::record::run_files::png(&band_picture(&r.gbuffer, &band))?));
+                files.push((
+                    format!("band_{size}.png"),
+                    crate::record::run_files::png(&band_picture(&r.gbuffer, &band))?,
+                ));
             }
         }
     }
-    files.push(("seams.json".into(), serde_json::to_vec_pretty(&serde_json::json!({ "scene": job.scene, "band_texels": job.band, "rows": rows })).map_err(|e| Error::param(e.to_string()))?));
+    files.push((
+        "seams.json".into(),
+        serde_json::to_vec_pretty(
+            &serde_json::json!({ "scene": job.scene, "band_texels": job.band, "rows": rows }),
+        )
+        .map_err(|e| Error::param(e.to_string()))?,
+    ));
     files.push(("seams.csv".into(), csv(&rows).into_bytes()));
     files.push(("seams.md".into(), markdown(&rows).into_bytes()));
     Ok(SeamsOutcome { rows, files })
 }
 
 #[allow(clippy::too_many_arguments)]
-fn errors(scene: &str, method: &Method, map_size: u32, band_texels: f32, g: &GBufferCpu, band: &[bool], v: &[f32], reference: &[f32], frame_ms: f64) -> SeamRow {
+fn errors(
+    scene: &str,
+    method: &Method,
+    map_size: u32,
+    band_texels: f32,
+    g: &GBufferCpu,
+    band: &[bool],
+    v: &[f32],
+    reference: &[f32],
+    frame_ms: f64,
+) -> SeamRow {
     // (squared error, absolute error, pixels) inside the band and outside it.
     // Then the same over the penumbra pixels.
     let mut sums = [(0.0f64, 0.0f64, 0usize); 4];
     for i in (0..v.len()).filter(|&i| g.is_geometry(i)) {
         let e = (v[i] as f64 - reference[i] as f64).abs();
         let penumbra = reference[i] > 0.01 && reference[i] < 0.99;
-        for k in [(!band[i]) as usize, 2 + (!band[i]) as usize].into_iter().take(1 + penumbra as usize) {
+        for k in [(!band[i]) as usize, 2 + (!band[i]) as usize]
+            .into_iter()
+            .take(1 + penumbra as usize)
+        {
             let s = &mut sums[k];
             *s = (s.0 + e * e, s.1 + e, s.2 + 1);
         }
@@ -146,7 +184,13 @@ fn errors(scene: &str, method: &Method, map_size: u32, band_texels: f32, g: &GBu
 fn band_picture(g: &GBufferCpu, band: &[bool]) -> image::RgbImage {
     image::ImageBuffer::from_fn(g.width, g.height, |x, y| {
         let i = (y * g.width + x) as usize;
-        let level = if band[i] { 255 } else if g.is_geometry(i) { 110 } else { 20 };
+        let level = if band[i] {
+            255
+        } else if g.is_geometry(i) {
+            110
+        } else {
+            20
+        };
         image::Rgb([level; 3])
     })
 }
@@ -156,8 +200,21 @@ pub fn csv(rows: &[SeamRow]) -> String {
     for r in rows {
         out += &format!(
             "{},\"{}\",{},{},{},{},{:.6},{:.6},{:.6},{:.6},{},{:.6},{},{:.6},{:.2}\n",
-            r.scene, r.method, r.map_size, r.band_texels, r.band_pixels, r.outside_pixels, r.band_rmse, r.band_mae, r.outside_rmse, r.outside_mae,
-            r.band_penumbra_pixels, r.band_penumbra_rmse, r.outside_penumbra_pixels, r.outside_penumbra_rmse, r.frame_ms
+            r.scene,
+            r.method,
+            r.map_size,
+            r.band_texels,
+            r.band_pixels,
+            r.outside_pixels,
+            r.band_rmse,
+            r.band_mae,
+            r.outside_rmse,
+            r.outside_mae,
+            r.band_penumbra_pixels,
+            r.band_penumbra_rmse,
+            r.outside_penumbra_pixels,
+            r.outside_penumbra_rmse,
+            r.frame_ms
         );
     }
     out
@@ -170,8 +227,18 @@ pub fn markdown(rows: &[SeamRow]) -> String {
     for r in rows {
         out += &format!(
             "| `{}` | {}² | {} | {:.4} | {:.4} | {} | {:.4} | {:.4} | {} | {:.4} | {} | {:.4} |\n",
-            r.method, r.map_size, r.band_pixels, r.band_rmse, r.band_mae, r.outside_pixels, r.outside_rmse, r.outside_mae,
-            r.band_penumbra_pixels, r.band_penumbra_rmse, r.outside_penumbra_pixels, r.outside_penumbra_rmse
+            r.method,
+            r.map_size,
+            r.band_pixels,
+            r.band_rmse,
+            r.band_mae,
+            r.outside_pixels,
+            r.outside_rmse,
+            r.outside_mae,
+            r.band_penumbra_pixels,
+            r.band_penumbra_rmse,
+            r.outside_penumbra_pixels,
+            r.outside_penumbra_rmse
         );
     }
     out

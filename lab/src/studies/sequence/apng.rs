@@ -7,10 +7,20 @@ use image::RgbImage;
 /// Encodes equally sized RGB frames, each shown `delay_ms`, looping forever.
 pub fn encode(frames: &[RgbImage], delay_ms: u16) -> Result<Vec<u8>> {
     let err = |e: png::EncodingError| Error::io_text("<APNG encoder>".into(), e.to_string());
-    let first = frames.first().ok_or_else(|| Error::param("an animation needs at least one frame".into()))?;
+    let first = frames
+        .first()
+        .ok_or_else(|| Error::param("an animation needs at least one frame".into()))?;
     let (w, h) = first.dimensions();
-    if let Some((i, f)) = frames.iter().enumerate().find(|(_, f)| f.dimensions() != (w, h)) {
-        return Err(Error::param(format!("animation frame {i} is {}x{}, frame 0 is {w}x{h}", f.width(), f.height())));
+    if let Some((i, f)) = frames
+        .iter()
+        .enumerate()
+        .find(|(_, f)| f.dimensions() != (w, h))
+    {
+        return Err(Error::param(format!(
+            "animation frame {i} is {}x{}, frame 0 is {w}x{h}",
+            f.width(),
+            f.height()
+        )));
     }
     let mut out = Vec::new();
     {
@@ -47,9 +57,13 @@ mod tests {
 
     #[test]
     fn frames_round_trip_through_the_decoder() {
-        let frames: Vec<RgbImage> = (0..3u8).map(|k| RgbImage::from_pixel(4, 2, image::Rgb([k * 80, 10, 200]))).collect();
+        let frames: Vec<RgbImage> = (0..3u8)
+            .map(|k| RgbImage::from_pixel(4, 2, image::Rgb([k * 80, 10, 200])))
+            .collect();
         let bytes = encode(&frames, 125).unwrap();
-        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes)).read_info().unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+            .read_info()
+            .unwrap();
         let control = reader.info().animation_control.expect("an APNG");
         assert_eq!((control.num_frames, control.num_plays), (3, 0));
         let mut buf = vec![0; reader.output_buffer_size().unwrap()];
@@ -64,7 +78,10 @@ mod tests {
     #[test]
     fn unequal_frames_are_refused() {
         let frames = [RgbImage::new(4, 2), RgbImage::new(2, 2)];
-        assert_eq!(encode(&frames, 100).unwrap_err().to_string(), "animation frame 1 is 2x2, frame 0 is 4x2");
+        assert_eq!(
+            encode(&frames, 100).unwrap_err().to_string(),
+            "animation frame 1 is 2x2, frame 0 is 4x2"
+        );
         assert!(encode(&[], 100).is_err());
     }
 }

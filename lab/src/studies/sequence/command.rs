@@ -1,13 +1,13 @@
 //! `penumbra sequence`: N frames with a moving light, camera or mesh.
 
-use anyhow::Result;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::reference::truth;
 use crate::scene::Scene;
 use crate::studies::compare::methods_list;
+use crate::studies::flags::{OutArgs, SceneArgs, SetArgs};
 use crate::studies::sequence::path::AnimationSpec;
 use crate::studies::sequence::{self, tables, SequenceJob};
-use crate::studies::flags::{OutArgs, SceneArgs, SetArgs};
+use anyhow::Result;
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(mut_arg("out", |a| a.default_value("penumbra-out/sequence")))]
@@ -79,17 +79,32 @@ fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let animation = spec.resolve(&scene)?;
     let reference = truth::parse_mode(&args.reference, args.samples)?;
     let reuse = sequence::Reuse::parse(&args.reuse)?;
-    let job = SequenceJob { scene: &scene, methods, frames: args.frames, animation, reference, cache: truth::Cache::default_for(args.no_cache), reuse };
+    let job = SequenceJob {
+        scene: &scene,
+        methods,
+        frames: args.frames,
+        animation,
+        reference,
+        cache: truth::Cache::default_for(args.no_cache),
+        reuse,
+    };
     sequence::check(&job)?;
     crate::methods::check_lights(&scene, &job.methods)?;
     let ctx = GpuContext::with_request(gpu)?;
     // Every method's frame sizes before the first reference is traced.
     crate::methods::sizes::check_all(&ctx, &scene, &job.methods)?;
-    log(&format!("{} on {}", job.animation.describe(&scene), ctx.summary.name));
+    log(&format!(
+        "{} on {}",
+        job.animation.describe(&scene),
+        ctx.summary.name
+    ));
     let outcome = sequence::run(&ctx, &job, &log)?;
     let html = sequence::write(&args.output.out, &outcome)?;
     print!("{}", tables::summary_table(&outcome.summaries));
-    println!("results: {}", args.output.out.join("frames.jsonl").display());
+    println!(
+        "results: {}",
+        args.output.out.join("frames.jsonl").display()
+    );
     println!("report:  {}", html.display());
     Ok(())
 }

@@ -5,26 +5,26 @@
 //! docs/sequence.md). Writes per-frame rows, per-method summaries, charts, animations (APNG) and a
 //! self-contained report; everything is encoded in memory before the first file is written.
 
-pub mod command;
 pub(crate) mod apng;
+pub mod command;
 pub mod path;
 pub(crate) mod section;
 pub mod tables;
 pub(crate) mod temporal;
 
-use crate::report::charts::{self, svg_to_png, FrameSeries};
-use crate::studies::compare::ERROR_SCALE;
-use crate::record::measure::median;
 use crate::frame::{Detached, FrameOptions, Renderer};
-use crate::reference::truth::{self, Cache};
+use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::metrics::{self, abs_error_image, Metrics};
-use crate::reference::ReferenceMode;
-use crate::scene::Scene;
-use crate::gpu::timing::TimingMode;
+use crate::record::measure::median;
 use crate::record::run_files;
+use crate::reference::truth::{self, Cache};
+use crate::reference::ReferenceMode;
 use crate::render::kept_maps::ReuseCounts;
+use crate::report::charts::{self, svg_to_png, FrameSeries};
+use crate::scene::Scene;
+use crate::studies::compare::ERROR_SCALE;
 use crate::{progress, Error, Result};
 use path::Animation;
 use serde::{Deserialize, Serialize};
@@ -72,7 +72,10 @@ impl Reuse {
         match self {
             Reuse::On => vec![(true, label.to_string())],
             Reuse::Off => vec![(false, label.to_string())],
-            Reuse::Both => vec![(false, format!("{label} (reuse off)")), (true, format!("{label} (reuse on)"))],
+            Reuse::Both => vec![
+                (false, format!("{label} (reuse off)")),
+                (true, format!("{label} (reuse on)")),
+            ],
         }
     }
 }
@@ -177,7 +180,10 @@ pub struct SequenceOutcome {
 /// can make a light that the file would have been refused for.
 pub fn check(job: &SequenceJob) -> Result<()> {
     if job.frames < 2 || job.frames > MAX_FRAMES {
-        return Err(Error::param(format!("--frames {}: a sequence needs 2..={MAX_FRAMES} frames", job.frames)));
+        return Err(Error::param(format!(
+            "--frames {}: a sequence needs 2..={MAX_FRAMES} frames",
+            job.frames
+        )));
     }
     if job.methods.is_empty() {
         return Err(Error::param("--methods: no method given".into()));
@@ -203,7 +209,17 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     let scene = job.scene;
     let (w, h) = (scene.render.width, scene.render.height);
     // Each method's runs (one, or without and with reuse), in the order every frame renders them.
-    let runs: Vec<(usize, bool, String)> = job.methods.iter().enumerate().flat_map(|(k, m)| job.reuse.runs(&m.label()).into_iter().map(move |(r, l)| (k, r, l))).collect();
+    let runs: Vec<(usize, bool, String)> = job
+        .methods
+        .iter()
+        .enumerate()
+        .flat_map(|(k, m)| {
+            job.reuse
+                .runs(&m.label())
+                .into_iter()
+                .map(move |(r, l)| (k, r, l))
+        })
+        .collect();
     let n = runs.len();
     let mut rows: Vec<FrameRow> = Vec::new();
     let mut method_frames: Vec<Vec<image::RgbImage>> = vec![Vec::new(); n];
@@ -220,7 +236,12 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         reference_label = truth::mode_label(&reference.mode);
         let mask: Vec<bool> = (0..g.position.len()).map(|p| g.is_geometry(p)).collect();
         let shaded_reference = run_files::shaded_image(&reference.values, &g, &scene_t);
-        let mut line = format!("frame {}/{}: reference {}", i + 1, job.frames, if reference.cached { "cached" } else { "traced" });
+        let mut line = format!(
+            "frame {}/{}: reference {}",
+            i + 1,
+            job.frames,
+            if reference.cached { "cached" } else { "traced" }
+        );
         // `--reuse both`: each method's V without reuse, for its reuse run to equal.
         let mut without: Vec<Option<Vec<f32>>> = vec![None; job.methods.len()];
         for (k, (mi, reuse, label)) in runs.iter().enumerate() {
@@ -229,27 +250,56 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 Some(d) => d.attach(ctx, &scene_t)?,
                 None => Renderer::with_reuse(ctx, &scene_t, method, *reuse)?,
             };
-            let f = renderer.frame(FrameOptions { mode: TimingMode::Frame, pictures: false })?;
+            let f = renderer.frame(FrameOptions {
+                mode: TimingMode::Frame,
+                pictures: false,
+            })?;
             let detached = renderer.detach();
             let kept_bytes = detached.maps_kept().bytes();
             kept[k] = Some(detached);
-            let differ = (0..mask.len()).filter(|&p| f.gbuffer.is_geometry(p) != mask[p]).count();
+            let differ = (0..mask.len())
+                .filter(|&p| f.gbuffer.is_geometry(p) != mask[p])
+                .count();
             if differ > 0 {
-                return Err(Error::gpu(format!("{} frame {i}: the G-buffer differs from the reference's in {differ} pixels", method.label())));
+                return Err(Error::gpu(format!(
+                    "{} frame {i}: the G-buffer differs from the reference's in {differ} pixels",
+                    method.label()
+                )));
             }
             let shaded = run_files::shaded_image(&f.visibility, &f.gbuffer, &scene_t);
-            let m = metrics::compute(&f.visibility, &reference.values, &mask, &shaded, &shaded_reference, w, h)?;
+            let m = metrics::compute(
+                &f.visibility,
+                &reference.values,
+                &mask,
+                &shaded,
+                &shaded_reference,
+                w,
+                h,
+            )?;
             let abs = abs_error_image(&f.visibility, &reference.values, &mask, w, h, ERROR_SCALE)?;
             let pair = match (&previous_v[k], &previous_reference) {
-                (Some(v0), Some((r0, mask0))) => Some(temporal::frame_pair(v0, &f.visibility, r0, &reference.values, mask0, &mask)),
+                (Some(v0), Some((r0, mask0))) => Some(temporal::frame_pair(
+                    v0,
+                    &f.visibility,
+                    r0,
+                    &reference.values,
+                    mask0,
+                    &mask,
+                )),
                 _ => None,
             };
-            line += &format!(", {label} {} maps ({} rendered) RMSE {:.4}", f.output.shadow_maps, f.reuse.rendered, m.rmse);
+            line += &format!(
+                ", {label} {} maps ({} rendered) RMSE {:.4}",
+                f.output.shadow_maps, f.reuse.rendered, m.rmse
+            );
             if let Some(p) = &pair {
                 line += &format!(" pop {}", p.popping_pixels);
             }
             let equal = match (*reuse, &without[*mi]) {
-                (true, Some(v0)) => Some(bytemuck::cast_slice::<f32, u32>(v0) == bytemuck::cast_slice::<f32, u32>(&f.visibility)),
+                (true, Some(v0)) => Some(
+                    bytemuck::cast_slice::<f32, u32>(v0)
+                        == bytemuck::cast_slice::<f32, u32>(&f.visibility),
+                ),
                 _ => None,
             };
             if equal == Some(false) {
@@ -286,20 +336,32 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
     bar.finish_and_clear();
 
     let labels: Vec<String> = runs.iter().map(|(_, _, l)| l.clone()).collect();
-    let mut summaries: Vec<MethodSummary> = runs.iter().map(|(m, _, l)| summarise(l, job.methods[*m].name(), &rows)).collect();
+    let mut summaries: Vec<MethodSummary> = runs
+        .iter()
+        .map(|(m, _, l)| summarise(l, job.methods[*m].name(), &rows))
+        .collect();
     if job.reuse == Reuse::Both {
         time_ratios(&mut summaries, &rows);
     }
     let charts = charts_of(&rows, &labels)?;
-    let mut animations = vec![("reference (shaded)".to_string(), apng::encode(&reference_frames, FRAME_DELAY_MS)?)];
+    let mut animations = vec![(
+        "reference (shaded)".to_string(),
+        apng::encode(&reference_frames, FRAME_DELAY_MS)?,
+    )];
     for (label, frames) in labels.iter().zip(&method_frames) {
-        animations.push((format!("{label}: shaded | |error of V|"), apng::encode(frames, FRAME_DELAY_MS)?));
+        animations.push((
+            format!("{label}: shaded | |error of V|"),
+            apng::encode(frames, FRAME_DELAY_MS)?,
+        ));
     }
     let description = job.animation.describe(scene);
     let adapter = format!("{} ({})", ctx.summary.name, ctx.summary.backend);
     let mut outcome = SequenceOutcome {
         scene: scene.name.clone(),
-        title: format!("Temporal sequence: {}, {description}, {} frames at {w}x{h}", scene.name, job.frames),
+        title: format!(
+            "Temporal sequence: {}, {description}, {} frames at {w}x{h}",
+            scene.name, job.frames
+        ),
         description,
         resolution: [w, h],
         reference: reference_label,
@@ -322,11 +384,19 @@ pub fn time_ratios(summaries: &mut [MethodSummary], rows: &[FrameRow]) {
             if off.reuse || !on.reuse {
                 continue;
             }
-            let ms = |label: &str, frame: u32| rows.iter().find(|r| r.label == label && r.frame == frame).map(|r| r.total_ms);
+            let ms = |label: &str, frame: u32| {
+                rows.iter()
+                    .find(|r| r.label == label && r.frame == frame)
+                    .map(|r| r.total_ms)
+            };
             let ratios: Vec<f64> = rows
                 .iter()
                 .filter(|r| r.label == on.label && r.frame > 0)
-                .filter_map(|r| ms(&off.label, r.frame).filter(|&o| o > 0.0).map(|o| r.total_ms / o))
+                .filter_map(|r| {
+                    ms(&off.label, r.frame)
+                        .filter(|&o| o > 0.0)
+                        .map(|o| r.total_ms / o)
+                })
                 .collect();
             on.time_ratio_to_without_reuse = (!ratios.is_empty()).then(|| median(&ratios));
         }
@@ -344,9 +414,20 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         .filter_map(|r| r.temporal.map(|t| (r.frame, t.popping_pixels)))
         .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
     let later: Vec<&&FrameRow> = mine.iter().filter(|r| r.frame > 0).collect();
-    let mean_later = |f: &dyn Fn(&FrameRow) -> f64| if later.is_empty() { 0.0 } else { later.iter().map(|r| f(r)).sum::<f64>() / later.len() as f64 };
-    let (texels, used) = later.iter().fold((0u64, 0u64), |(a, b), r| (a + r.maps.texels, b + r.maps.texels_used));
-    let compared: Vec<bool> = mine.iter().filter_map(|r| r.v_equal_without_reuse).collect();
+    let mean_later = |f: &dyn Fn(&FrameRow) -> f64| {
+        if later.is_empty() {
+            0.0
+        } else {
+            later.iter().map(|r| f(r)).sum::<f64>() / later.len() as f64
+        }
+    };
+    let (texels, used) = later.iter().fold((0u64, 0u64), |(a, b), r| {
+        (a + r.maps.texels, b + r.maps.texels_used)
+    });
+    let compared: Vec<bool> = mine
+        .iter()
+        .filter_map(|r| r.v_equal_without_reuse)
+        .collect();
     MethodSummary {
         label: label.to_string(),
         method: method.to_string(),
@@ -357,26 +438,52 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         maps_mean: mine.iter().map(|r| f64::from(r.shadow_maps)).sum::<f64>() / count,
         maps_min: mine.iter().map(|r| r.shadow_maps).min().unwrap_or(0),
         maps_max: mine.iter().map(|r| r.shadow_maps).max().unwrap_or(0),
-        median_ms: if times.is_empty() { 0.0 } else { median(&times) },
+        median_ms: if times.is_empty() {
+            0.0
+        } else {
+            median(&times)
+        },
         worst_pop_frame: worst,
         reuse: mine.first().is_some_and(|r| r.reuse),
         mean_ms_after_first: mean_later(&|r| r.total_ms),
-        median_ms_after_first: if later.is_empty() { 0.0 } else { median(&later.iter().map(|r| r.total_ms).collect::<Vec<_>>()) },
+        median_ms_after_first: if later.is_empty() {
+            0.0
+        } else {
+            median(&later.iter().map(|r| r.total_ms).collect::<Vec<_>>())
+        },
         rendered_mean_after_first: mean_later(&|r| f64::from(r.maps.rendered)),
         kept_mean_after_first: mean_later(&|r| f64::from(r.maps.kept)),
-        texel_share_after_first: if used == 0 { 0.0 } else { texels as f64 / used as f64 },
-        v_equal_frames: (!compared.is_empty()).then(|| (compared.iter().filter(|&&e| e).count() as u32, compared.len() as u32)),
+        texel_share_after_first: if used == 0 {
+            0.0
+        } else {
+            texels as f64 / used as f64
+        },
+        v_equal_frames: (!compared.is_empty()).then(|| {
+            (
+                compared.iter().filter(|&&e| e).count() as u32,
+                compared.len() as u32,
+            )
+        }),
         time_ratio_to_without_reuse: None,
         kept_bytes_max: mine.iter().map(|r| r.kept_bytes).max().unwrap_or(0),
     }
 }
 
-fn series(rows: &[FrameRow], labels: &[String], keep: impl Fn(&FrameRow) -> bool, y: impl Fn(&FrameRow) -> Option<f64>) -> Vec<FrameSeries> {
+fn series(
+    rows: &[FrameRow],
+    labels: &[String],
+    keep: impl Fn(&FrameRow) -> bool,
+    y: impl Fn(&FrameRow) -> Option<f64>,
+) -> Vec<FrameSeries> {
     labels
         .iter()
         .map(|l| FrameSeries {
             name: l.clone(),
-            points: rows.iter().filter(|r| &r.label == l && keep(r)).filter_map(|r| y(r).map(|v| (f64::from(r.frame), v))).collect(),
+            points: rows
+                .iter()
+                .filter(|r| &r.label == l && keep(r))
+                .filter_map(|r| y(r).map(|v| (f64::from(r.frame), v)))
+                .collect(),
         })
         .filter(|s| !s.points.is_empty())
         .collect()
@@ -412,20 +519,34 @@ fn charts_of(rows: &[FrameRow], labels: &[String]) -> Result<Vec<(String, String
     ];
     out.push((
         "frame_time_per_frame".to_string(),
-        "Frame time per frame: wall clock of one frame-mode frame (the first frame keeps nothing)".to_string(),
-        charts::per_frame_svg("Frame time per frame", "frame time (ms)", &series(rows, labels, all, |r| Some(r.total_ms)))?,
+        "Frame time per frame: wall clock of one frame-mode frame (the first frame keeps nothing)"
+            .to_string(),
+        charts::per_frame_svg(
+            "Frame time per frame",
+            "frame time (ms)",
+            &series(rows, labels, all, |r| Some(r.total_ms)),
+        )?,
     ));
     out.push((
         "maps_rendered_per_frame".to_string(),
         "Shadow maps rasterized whole per frame (the rest were kept, or partly drawn again where a mesh moved; docs/reuse.md)".to_string(),
         charts::per_frame_svg("Shadow maps rendered per frame", "maps rendered", &series(rows, labels, all, |r| Some(f64::from(r.maps.rendered))))?,
     ));
-    let adaptive = series(rows, labels, |r| r.method == "adaptive", |r| Some(f64::from(r.shadow_maps)));
+    let adaptive = series(
+        rows,
+        labels,
+        |r| r.method == "adaptive",
+        |r| Some(f64::from(r.shadow_maps)),
+    );
     if !adaptive.is_empty() {
         out.push((
             "maps_per_frame".to_string(),
             "Shadow maps per frame of the adaptive methods".to_string(),
-            charts::per_frame_svg("Shadow maps per frame (adaptive)", "shadow maps rendered", &adaptive)?,
+            charts::per_frame_svg(
+                "Shadow maps per frame (adaptive)",
+                "shadow maps rendered",
+                &adaptive,
+            )?,
         ));
     }
     Ok(out)
@@ -444,7 +565,10 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
         jsonl.push('\n');
     }
     files.push(("frames.jsonl".to_string(), jsonl.into_bytes()));
-    files.push(("frames.csv".to_string(), tables::frames_csv(&o.rows).into_bytes()));
+    files.push((
+        "frames.csv".to_string(),
+        tables::frames_csv(&o.rows).into_bytes(),
+    ));
     let summary = serde_json::json!({
         "scene": job.scene.name,
         "scene_origin": job.scene.origin,
@@ -460,14 +584,20 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
         "methods": o.summaries,
         "reuse": job.reuse,
     });
-    let pretty = serde_json::to_vec_pretty(&summary).map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
+    let pretty = serde_json::to_vec_pretty(&summary)
+        .map_err(|e| Error::io_text("summary.json".into(), e.to_string()))?;
     files.push(("summary.json".to_string(), pretty));
-    files.push(("summary.csv".to_string(), tables::summary_csv(&o.summaries).into_bytes()));
+    files.push((
+        "summary.csv".to_string(),
+        tables::summary_csv(&o.summaries).into_bytes(),
+    ));
     for (stem, _, svg) in &o.charts {
         files.push((format!("charts/{stem}.png"), svg_to_png(svg, 1.0)?));
         files.push((format!("charts/{stem}.svg"), svg.clone().into_bytes()));
     }
-    let slugs = crate::report::unique_slugs(std::iter::once("reference").chain(o.summaries.iter().map(|s| s.label.as_str())));
+    let slugs = crate::report::unique_slugs(
+        std::iter::once("reference").chain(o.summaries.iter().map(|s| s.label.as_str())),
+    );
     for ((_, bytes), slug) in o.animations.iter().zip(&slugs) {
         files.push((format!("animations/{slug}.png"), bytes.clone()));
     }
@@ -478,7 +608,10 @@ fn files_of(o: &SequenceOutcome, job: &SequenceJob) -> Result<Vec<(String, Vec<u
 pub fn write(out: &std::path::Path, o: &SequenceOutcome) -> Result<std::path::PathBuf> {
     let mut files = o.files.clone();
     let title = format!("Penumbra: temporal sequence on {}", o.scene);
-    files.push(("report.html".to_string(), crate::report::page::page(&title, &[section::section(o)?])?.into_bytes()));
+    files.push((
+        "report.html".to_string(),
+        crate::report::page::page(&title, &[section::section(o)?])?.into_bytes(),
+    ));
     run_files::write_files(out, &files)?;
     Ok(out.join("report.html"))
 }
@@ -488,7 +621,15 @@ mod tests {
     use super::*;
     use crate::render::kept_maps::ReuseCounts;
 
-    fn row(label: &str, frame: u32, reuse: bool, ms: f64, rendered: u32, kept: u32, equal: Option<bool>) -> FrameRow {
+    fn row(
+        label: &str,
+        frame: u32,
+        reuse: bool,
+        ms: f64,
+        rendered: u32,
+        kept: u32,
+        equal: Option<bool>,
+    ) -> FrameRow {
         FrameRow {
             scene: "s".into(),
             label: label.into(),
@@ -502,7 +643,13 @@ mod tests {
             light_center: [0.0; 3],
             camera_eye: [0.0; 3],
             reuse,
-            maps: ReuseCounts { rendered, kept, redrawn: 0, texels: rendered as u64 * 4, texels_used: (rendered + kept) as u64 * 4 },
+            maps: ReuseCounts {
+                rendered,
+                kept,
+                redrawn: 0,
+                texels: rendered as u64 * 4,
+                texels_used: (rendered + kept) as u64 * 4,
+            },
             v_equal_without_reuse: equal,
             kept_bytes: if reuse { 1024 } else { 0 },
         }
@@ -521,16 +668,28 @@ mod tests {
             row("a (reuse off)", 3, false, 900.0, 8, 0, None),
             row("a (reuse on)", 3, true, 36.0, 0, 8, Some(true)),
         ];
-        let mut s = vec![summarise("a (reuse off)", "regular", &rows), summarise("a (reuse on)", "regular", &rows)];
+        let mut s = vec![
+            summarise("a (reuse off)", "regular", &rows),
+            summarise("a (reuse on)", "regular", &rows),
+        ];
         time_ratios(&mut s, &rows);
         let (off, on) = (&s[0], &s[1]);
         assert_eq!((off.reuse, on.reuse), (false, true));
-        assert_eq!((off.mean_ms_after_first, on.mean_ms_after_first), (1100.0 / 3.0, 88.0 / 3.0));
-        assert_eq!((off.median_ms_after_first, on.median_ms_after_first), (110.0, 30.0));
+        assert_eq!(
+            (off.mean_ms_after_first, on.mean_ms_after_first),
+            (1100.0 / 3.0, 88.0 / 3.0)
+        );
+        assert_eq!(
+            (off.median_ms_after_first, on.median_ms_after_first),
+            (110.0, 30.0)
+        );
         // Ratios 30/90, 22/110, 36/900: their median is 0.2.
         assert_eq!(on.time_ratio_to_without_reuse, Some(0.2));
         assert_eq!(off.time_ratio_to_without_reuse, None);
-        assert_eq!((on.rendered_mean_after_first, on.kept_mean_after_first), (2.0 / 3.0, 22.0 / 3.0));
+        assert_eq!(
+            (on.rendered_mean_after_first, on.kept_mean_after_first),
+            (2.0 / 3.0, 22.0 / 3.0)
+        );
         assert_eq!(on.texel_share_after_first, 8.0 / 96.0);
         assert_eq!(on.v_equal_frames, Some((3, 4)));
         assert_eq!(off.v_equal_frames, None);
@@ -539,8 +698,17 @@ mod tests {
 
     #[test]
     fn both_runs_each_method_without_then_with_reuse() {
-        assert_eq!(Reuse::Both.runs("x"), vec![(false, "x (reuse off)".to_string()), (true, "x (reuse on)".to_string())]);
+        assert_eq!(
+            Reuse::Both.runs("x"),
+            vec![
+                (false, "x (reuse off)".to_string()),
+                (true, "x (reuse on)".to_string())
+            ]
+        );
         assert_eq!(Reuse::On.runs("x"), vec![(true, "x".to_string())]);
-        assert_eq!(Reuse::parse("sometimes").unwrap_err().to_string(), "--reuse sometimes: use on, off or both");
+        assert_eq!(
+            Reuse::parse("sometimes").unwrap_err().to_string(),
+            "--reuse sometimes: use on, off or both"
+        );
     }
 }

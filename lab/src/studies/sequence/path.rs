@@ -54,9 +54,15 @@ fn param(msg: String) -> Error {
 
 fn parse_vec3(text: &str) -> Result<[f32; 3]> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let nums: Vec<f32> = parts.iter().filter_map(|p| p.parse::<f32>().ok()).filter(|x| x.is_finite()).collect();
+    let nums: Vec<f32> = parts
+        .iter()
+        .filter_map(|p| p.parse::<f32>().ok())
+        .filter(|x| x.is_finite())
+        .collect();
     if parts.len() != 3 || nums.len() != 3 {
-        return Err(param(format!("--offset {text}: expected three finite numbers x,y,z")));
+        return Err(param(format!(
+            "--offset {text}: expected three finite numbers x,y,z"
+        )));
     }
     Ok([nums[0], nums[1], nums[2]])
 }
@@ -75,12 +81,30 @@ fn within_reach(given: &str, length: f32, subject: Subject, scene: &Scene) -> Re
     }
     let (what, far) = match subject {
         Subject::Light => ("light", scene.light.center.abs().max_element()),
-        Subject::Camera => ("camera", scene.camera.eye.abs().max(scene.camera.target.abs()).max_element()),
-        Subject::Occluder => ("mesh", scene.bounds.min.abs().max(scene.bounds.max.abs()).max_element()),
+        Subject::Camera => (
+            "camera",
+            scene
+                .camera
+                .eye
+                .abs()
+                .max(scene.camera.target.abs())
+                .max_element(),
+        ),
+        Subject::Occluder => (
+            "mesh",
+            scene
+                .bounds
+                .min
+                .abs()
+                .max(scene.bounds.max.abs())
+                .max_element(),
+        ),
     };
     let bound = crate::scene::MAX_COORDINATE;
     if far + length > bound {
-        return Err(param(format!("{given}: moves the {what} beyond ±{bound:e}, the scene file's coordinate bound")));
+        return Err(param(format!(
+            "{given}: moves the {what} beyond ±{bound:e}, the scene file's coordinate bound"
+        )));
     }
     Ok(())
 }
@@ -94,7 +118,11 @@ impl AnimationSpec {
             "light" => Subject::Light,
             "camera" => Subject::Camera,
             "occluder" => Subject::Occluder,
-            other => return Err(param(format!("--animate {other}: use light, camera or occluder"))),
+            other => {
+                return Err(param(format!(
+                    "--animate {other}: use light, camera or occluder"
+                )))
+            }
         };
         if subject == Subject::Light && matches!(scene.emitter, crate::scene::Emitter::Sun(_)) {
             return Err(param(format!(
@@ -102,18 +130,28 @@ impl AnimationSpec {
                 scene.origin
             )));
         }
-        let default_path = if subject == Subject::Camera { "orbit" } else { "segment" };
+        let default_path = if subject == Subject::Camera {
+            "orbit"
+        } else {
+            "segment"
+        };
         let path_name = self.path.as_deref().unwrap_or(default_path);
         let allowed: &[&str] = match subject {
             Subject::Light | Subject::Occluder => &["segment", "circle"],
             Subject::Camera => &["orbit", "segment"],
         };
         if !allowed.contains(&path_name) {
-            return Err(param(format!("--path {path_name}: --animate {} moves along {}", self.animate, allowed.join(" or "))));
+            return Err(param(format!(
+                "--path {path_name}: --animate {} moves along {}",
+                self.animate,
+                allowed.join(" or ")
+            )));
         }
         let unused = |flag: &str, given: bool| -> Result<()> {
             if given {
-                return Err(param(format!("{flag} does not apply to --path {path_name}")));
+                return Err(param(format!(
+                    "{flag} does not apply to --path {path_name}"
+                )));
             }
             Ok(())
         };
@@ -125,7 +163,12 @@ impl AnimationSpec {
                     Some(text) => {
                         let offset = parse_vec3(text)?;
                         // The largest component: the length of 1e30 overflows f32.
-                        within_reach(&format!("--offset {text}"), Vec3::from(offset).abs().max_element(), subject, scene)?;
+                        within_reach(
+                            &format!("--offset {text}"),
+                            Vec3::from(offset).abs().max_element(),
+                            subject,
+                            scene,
+                        )?;
                         offset
                     }
                     None => match subject {
@@ -143,7 +186,9 @@ impl AnimationSpec {
                     _ => scene.bounds.diagonal() * 0.05,
                 });
                 if !(radius.is_finite() && radius > 0.0) {
-                    return Err(param(format!("--radius {radius}: must be a finite number > 0")));
+                    return Err(param(format!(
+                        "--radius {radius}: must be a finite number > 0"
+                    )));
                 }
                 within_reach(&format!("--radius {radius}"), radius, subject, scene)?;
                 Path::Circle { radius }
@@ -161,14 +206,27 @@ impl AnimationSpec {
         let meshes = scene.albedos.len();
         let mesh = match (subject, self.mesh) {
             (Subject::Occluder, None) => Some(meshes - 1),
-            (Subject::Occluder, Some(k)) if k >= 1 && (k as usize) <= meshes => Some(k as usize - 1),
-            (Subject::Occluder, Some(k)) => {
-                return Err(param(format!("--mesh {k}: {} has meshes 1..={meshes}", scene.origin)));
+            (Subject::Occluder, Some(k)) if k >= 1 && (k as usize) <= meshes => {
+                Some(k as usize - 1)
             }
-            (_, Some(k)) => return Err(param(format!("--mesh {k}: only --animate occluder moves a mesh"))),
+            (Subject::Occluder, Some(k)) => {
+                return Err(param(format!(
+                    "--mesh {k}: {} has meshes 1..={meshes}",
+                    scene.origin
+                )));
+            }
+            (_, Some(k)) => {
+                return Err(param(format!(
+                    "--mesh {k}: only --animate occluder moves a mesh"
+                )))
+            }
             (_, None) => None,
         };
-        Ok(Animation { subject, path, mesh })
+        Ok(Animation {
+            subject,
+            path,
+            mesh,
+        })
     }
 }
 
@@ -181,7 +239,10 @@ impl Animation {
         match (self.subject, self.path) {
             (Subject::Light, Path::Segment { offset }) => out.move_light(s * Vec3::from(offset)),
             (Subject::Light, Path::Circle { radius }) => {
-                let (u, v) = (scene.light.edge_u.normalize(), scene.light.edge_v.normalize());
+                let (u, v) = (
+                    scene.light.edge_u.normalize(),
+                    scene.light.edge_v.normalize(),
+                );
                 out.move_light(radius * (angle.cos() * u + angle.sin() * v));
             }
             (Subject::Camera, Path::Orbit { degrees }) => {
@@ -228,10 +289,17 @@ impl Animation {
     /// mesh and a map the mesh does not touch stays what it was (docs/reuse.md).
     fn swept_bounds(&self, scene: &Scene, frames: u32) -> Bounds {
         let mesh = self.moving_mesh(scene);
-        let empty = || Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+        let empty = || Bounds {
+            min: Vec3::splat(f32::INFINITY),
+            max: Vec3::splat(f32::NEG_INFINITY),
+        };
         let (mut still, mut moving) = (empty(), empty());
         for v in &scene.vertices {
-            let b = if v.material == mesh { &mut moving } else { &mut still };
+            let b = if v.material == mesh {
+                &mut moving
+            } else {
+                &mut still
+            };
             b.min = b.min.min(Vec3::from(v.position));
             b.max = b.max.max(Vec3::from(v.position));
         }
@@ -252,7 +320,9 @@ impl Animation {
             (Subject::Occluder, None) => "occluder".to_string(),
         };
         match self.path {
-            Path::Segment { offset: [x, y, z] } => format!("{what} along a segment by ({x}, {y}, {z})"),
+            Path::Segment { offset: [x, y, z] } => {
+                format!("{what} along a segment by ({x}, {y}, {z})")
+            }
             Path::Circle { radius } => format!("{what} around a circle of radius {radius}"),
             Path::Orbit { degrees } => format!("{what} orbiting the target by {degrees}°"),
         }
@@ -284,13 +354,21 @@ translate = [0.0, 2.0, 0.0]
     }
 
     fn spec(animate: &str) -> AnimationSpec {
-        AnimationSpec { animate: animate.into(), ..Default::default() }
+        AnimationSpec {
+            animate: animate.into(),
+            ..Default::default()
+        }
     }
 
     #[test]
     fn light_segment_ends_at_the_offset() {
         let s = scene();
-        let a = AnimationSpec { offset: Some("4,0,-2".into()), ..spec("light") }.resolve(&s).unwrap();
+        let a = AnimationSpec {
+            offset: Some("4,0,-2".into()),
+            ..spec("light")
+        }
+        .resolve(&s)
+        .unwrap();
         assert_eq!(a.frame(&s, 0, 5).light.center, Vec3::new(0.0, 8.0, 0.0));
         assert_eq!(a.frame(&s, 2, 5).light.center, Vec3::new(2.0, 8.0, -1.0));
         assert_eq!(a.frame(&s, 4, 5).light.center, Vec3::new(4.0, 8.0, -2.0));
@@ -298,13 +376,29 @@ translate = [0.0, 2.0, 0.0]
 
     #[test]
     fn a_moved_disk_moves_its_emitter_and_a_sun_is_not_moved() {
-        let disk = SCENE.replace("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 1.0");
+        let disk = SCENE.replace(
+            "center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]",
+            "kind = \"disk\"\ncenter = [0.0, 8.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = 1.0",
+        );
         let s = Scene::parse(&disk, "disk.toml", None, &[]).unwrap();
-        let a = AnimationSpec { offset: Some("3,0,0".into()), ..spec("light") }.resolve(&s).unwrap();
+        let a = AnimationSpec {
+            offset: Some("3,0,0".into()),
+            ..spec("light")
+        }
+        .resolve(&s)
+        .unwrap();
         let end = a.frame(&s, 1, 2);
-        let crate::scene::Emitter::Disk(d) = end.emitter else { panic!("not a disk") };
-        assert_eq!((d.center, end.light.center), (Vec3::new(3.0, 8.0, 0.0), Vec3::new(3.0, 8.0, 0.0)));
-        let sun = SCENE.replace("center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]", "kind = \"sun\"\ndirection = [0.3, -1.0, 0.0]\nangular_diameter_deg = 1.0");
+        let crate::scene::Emitter::Disk(d) = end.emitter else {
+            panic!("not a disk")
+        };
+        assert_eq!(
+            (d.center, end.light.center),
+            (Vec3::new(3.0, 8.0, 0.0), Vec3::new(3.0, 8.0, 0.0))
+        );
+        let sun = SCENE.replace(
+            "center = [0.0, 8.0, 0.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 2.0]",
+            "kind = \"sun\"\ndirection = [0.3, -1.0, 0.0]\nangular_diameter_deg = 1.0",
+        );
         let s = Scene::parse(&sun, "sun.toml", None, &[]).unwrap();
         assert_eq!(
             spec("light").resolve(&s).unwrap_err().to_string(),
@@ -315,7 +409,13 @@ translate = [0.0, 2.0, 0.0]
     #[test]
     fn light_circle_stays_in_the_light_plane() {
         let s = scene();
-        let a = AnimationSpec { path: Some("circle".into()), radius: Some(3.0), ..spec("light") }.resolve(&s).unwrap();
+        let a = AnimationSpec {
+            path: Some("circle".into()),
+            radius: Some(3.0),
+            ..spec("light")
+        }
+        .resolve(&s)
+        .unwrap();
         let c = a.frame(&s, 1, 4).light.center; // a quarter turn: along edge_v
         assert!((c - Vec3::new(0.0, 8.0, 3.0)).length() < 1e-5, "{c}");
     }
@@ -323,7 +423,12 @@ translate = [0.0, 2.0, 0.0]
     #[test]
     fn camera_orbit_keeps_the_distance() {
         let s = scene();
-        let a = AnimationSpec { degrees: Some(90.0), ..spec("camera") }.resolve(&s).unwrap();
+        let a = AnimationSpec {
+            degrees: Some(90.0),
+            ..spec("camera")
+        }
+        .resolve(&s)
+        .unwrap();
         let eye = a.frame(&s, 1, 2).camera.eye;
         assert!((eye - Vec3::new(10.0, 0.0, 0.0)).length() < 1e-4, "{eye}");
     }
@@ -331,7 +436,12 @@ translate = [0.0, 2.0, 0.0]
     #[test]
     fn occluder_moves_only_its_mesh_and_the_bounds_follow() {
         let s = scene();
-        let a = AnimationSpec { offset: Some("0,3,0".into()), ..spec("occluder") }.resolve(&s).unwrap();
+        let a = AnimationSpec {
+            offset: Some("0,3,0".into()),
+            ..spec("occluder")
+        }
+        .resolve(&s)
+        .unwrap();
         assert_eq!(a.mesh, Some(1));
         let end = a.frame(&s, 1, 2);
         for (v0, v1) in s.vertices.iter().zip(&end.vertices) {
@@ -341,7 +451,10 @@ translate = [0.0, 2.0, 0.0]
         // Every frame's bounds are the path's: the maps' frusta stay put.
         assert_eq!(end.bounds.max.y, s.bounds.max.y + 3.0);
         let start = a.frame(&s, 0, 2);
-        assert_eq!((start.bounds.min, start.bounds.max), (end.bounds.min, end.bounds.max));
+        assert_eq!(
+            (start.bounds.min, start.bounds.max),
+            (end.bounds.min, end.bounds.max)
+        );
         assert_eq!(start.bounds.min.y, s.bounds.min.y);
     }
 
@@ -349,14 +462,44 @@ translate = [0.0, 2.0, 0.0]
     fn bad_words_name_the_flag_and_value() {
         let s = scene();
         let err = |sp: AnimationSpec| sp.resolve(&s).unwrap_err().to_string();
-        assert_eq!(err(spec("sun")), "--animate sun: use light, camera or occluder");
         assert_eq!(
-            err(AnimationSpec { path: Some("orbit".into()), ..spec("light") }),
+            err(spec("sun")),
+            "--animate sun: use light, camera or occluder"
+        );
+        assert_eq!(
+            err(AnimationSpec {
+                path: Some("orbit".into()),
+                ..spec("light")
+            }),
             "--path orbit: --animate light moves along segment or circle"
         );
-        assert_eq!(err(AnimationSpec { offset: Some("1,2".into()), ..spec("light") }), "--offset 1,2: expected three finite numbers x,y,z");
-        assert_eq!(err(AnimationSpec { mesh: Some(3), ..spec("occluder") }), "--mesh 3: test.toml has meshes 1..=2");
-        assert_eq!(err(AnimationSpec { mesh: Some(1), ..spec("light") }), "--mesh 1: only --animate occluder moves a mesh");
-        assert_eq!(err(AnimationSpec { radius: Some(1.0), ..spec("light") }), "--radius does not apply to --path segment");
+        assert_eq!(
+            err(AnimationSpec {
+                offset: Some("1,2".into()),
+                ..spec("light")
+            }),
+            "--offset 1,2: expected three finite numbers x,y,z"
+        );
+        assert_eq!(
+            err(AnimationSpec {
+                mesh: Some(3),
+                ..spec("occluder")
+            }),
+            "--mesh 3: test.toml has meshes 1..=2"
+        );
+        assert_eq!(
+            err(AnimationSpec {
+                mesh: Some(1),
+                ..spec("light")
+            }),
+            "--mesh 1: only --animate occluder moves a mesh"
+        );
+        assert_eq!(
+            err(AnimationSpec {
+                radius: Some(1.0),
+                ..spec("light")
+            }),
+            "--radius does not apply to --path segment"
+        );
     }
 }

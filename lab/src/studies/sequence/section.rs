@@ -44,10 +44,12 @@ pub fn pop_sentences(summaries: &[MethodSummary], pixels_per_frame: u64) -> Vec<
 /// For a method whose map count changes: the largest jump between two frames, and the pops there.
 pub fn decision_sentence(label: &str, rows: &[FrameRow]) -> Option<String> {
     let mine: Vec<&FrameRow> = rows.iter().filter(|r| r.label == label).collect();
-    let (a, b) = mine
-        .windows(2)
-        .map(|w| (w[0], w[1]))
-        .max_by(|x, y| x.0.shadow_maps.abs_diff(x.1.shadow_maps).cmp(&y.0.shadow_maps.abs_diff(y.1.shadow_maps)).then(y.1.frame.cmp(&x.1.frame)))?;
+    let (a, b) = mine.windows(2).map(|w| (w[0], w[1])).max_by(|x, y| {
+        x.0.shadow_maps
+            .abs_diff(x.1.shadow_maps)
+            .cmp(&y.0.shadow_maps.abs_diff(y.1.shadow_maps))
+            .then(y.1.frame.cmp(&x.1.frame))
+    })?;
     if a.shadow_maps == b.shadow_maps {
         return None;
     }
@@ -60,9 +62,17 @@ pub fn decision_sentence(label: &str, rows: &[FrameRow]) -> Option<String> {
 
 /// Every sentence of a sequence section: pops per method, then each decision's largest jump.
 pub fn sentences(o: &SequenceOutcome) -> Vec<String> {
-    let pixels = o.rows.iter().find_map(|r| r.temporal.map(|t| t.pixels)).unwrap_or(0);
+    let pixels = o
+        .rows
+        .iter()
+        .find_map(|r| r.temporal.map(|t| t.pixels))
+        .unwrap_or(0);
     let mut out = pop_sentences(&o.summaries, pixels);
-    out.extend(o.summaries.iter().filter_map(|m| decision_sentence(&m.label, &o.rows)));
+    out.extend(
+        o.summaries
+            .iter()
+            .filter_map(|m| decision_sentence(&m.label, &o.rows)),
+    );
     out
 }
 
@@ -79,12 +89,21 @@ pub fn section(o: &SequenceOutcome) -> Result<String> {
                 format!("{:.4}", m.temporal.temporal_rmse),
                 format!("{:.3}", 100.0 * m.temporal.popping_share),
                 m.temporal.popping_pixels.to_string(),
-                if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}–{})", m.maps_mean, m.maps_min, m.maps_max) },
+                if m.maps_min == m.maps_max {
+                    m.maps_min.to_string()
+                } else {
+                    format!("{:.1} ({}–{})", m.maps_mean, m.maps_min, m.maps_max)
+                },
                 format!("{:.1}", m.median_ms),
                 format!("{:.1}", m.median_ms_after_first),
-                m.time_ratio_to_without_reuse.map_or("–".to_string(), |r| format!("{r:.3}")),
-                format!("{:.1} / {:.1}", m.rendered_mean_after_first, m.kept_mean_after_first),
-                m.v_equal_frames.map_or("–".to_string(), |(e, n)| format!("{e} of {n}")),
+                m.time_ratio_to_without_reuse
+                    .map_or("–".to_string(), |r| format!("{r:.3}")),
+                format!(
+                    "{:.1} / {:.1}",
+                    m.rendered_mean_after_first, m.kept_mean_after_first
+                ),
+                m.v_equal_frames
+                    .map_or("–".to_string(), |(e, n)| format!("{e} of {n}")),
             ]
         })
         .collect();
@@ -137,7 +156,11 @@ mod tests {
             shadow_maps: maps,
             total_ms: 1.0,
             metrics: Metrics::default(),
-            temporal: (frame > 0).then_some(FramePair { popping_pixels: pops, pixels: 100, ..Default::default() }),
+            temporal: (frame > 0).then_some(FramePair {
+                popping_pixels: pops,
+                pixels: 100,
+                ..Default::default()
+            }),
             light_center: [0.0; 3],
             camera_eye: [0.0; 3],
             reuse: false,
@@ -149,7 +172,14 @@ mod tests {
 
     #[test]
     fn the_largest_decision_jump_is_named_with_its_pops() {
-        let rows = [row("a", 0, 4, 0), row("a", 1, 4, 0), row("a", 2, 264, 37), row("a", 3, 226, 5), row("b", 0, 9, 0), row("b", 1, 9, 0)];
+        let rows = [
+            row("a", 0, 4, 0),
+            row("a", 1, 4, 0),
+            row("a", 2, 264, 37),
+            row("a", 3, 226, 5),
+            row("b", 0, 9, 0),
+            row("b", 1, 9, 0),
+        ];
         assert_eq!(
             decision_sentence("a", &rows).unwrap(),
             "a's decision changes most between frames 1 and 2: 4 → 264 shadow maps, and 37 pixels pop in frame 2."

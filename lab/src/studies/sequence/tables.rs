@@ -85,12 +85,30 @@ pub fn summary_csv(rows: &[MethodSummary]) -> String {
 pub fn summary_table(rows: &[MethodSummary]) -> String {
     let mut s = format!(
         "{:<28} {:>10} {:>13} {:>10} {:>8} {:>16} {:>10} {:>14} {:>12} {:>9} {:>12}\n",
-        "method", "mean RMSE", "temporal RMSE", "popping %", "pops", "maps per frame", "median ms", "mean ms (1..)", "rendered (1..)", "V equal", "time ratio"
+        "method",
+        "mean RMSE",
+        "temporal RMSE",
+        "popping %",
+        "pops",
+        "maps per frame",
+        "median ms",
+        "mean ms (1..)",
+        "rendered (1..)",
+        "V equal",
+        "time ratio"
     );
     for m in rows {
-        let maps = if m.maps_min == m.maps_max { m.maps_min.to_string() } else { format!("{:.1} ({}-{})", m.maps_mean, m.maps_min, m.maps_max) };
-        let equal = m.v_equal_frames.map_or("-".to_string(), |(e, n)| format!("{e}/{n}"));
-        let ratio = m.time_ratio_to_without_reuse.map_or("-".to_string(), |r| format!("{r:.3}"));
+        let maps = if m.maps_min == m.maps_max {
+            m.maps_min.to_string()
+        } else {
+            format!("{:.1} ({}-{})", m.maps_mean, m.maps_min, m.maps_max)
+        };
+        let equal = m
+            .v_equal_frames
+            .map_or("-".to_string(), |(e, n)| format!("{e}/{n}"));
+        let ratio = m
+            .time_ratio_to_without_reuse
+            .map_or("-".to_string(), |r| format!("{r:.3}"));
         s += &format!(
             "{:<28} {:>10.4} {:>13.4} {:>10.3} {:>8} {:>16} {:>10.1} {:>14.1} {:>12.1} {:>9} {:>12}\n",
             m.label,

@@ -26,10 +26,25 @@ pub struct FramePair {
 
 /// Compares frame t with frame t−1 of the method (`v`) and of the reference (`r`). `geometry`
 /// masks are per frame (a moving camera changes them); slices are row-major and equally long.
-pub fn frame_pair(v_prev: &[f32], v: &[f32], r_prev: &[f32], r: &[f32], geo_prev: &[bool], geo: &[bool]) -> FramePair {
+pub fn frame_pair(
+    v_prev: &[f32],
+    v: &[f32],
+    r_prev: &[f32],
+    r: &[f32],
+    geo_prev: &[bool],
+    geo: &[bool],
+) -> FramePair {
     let n = v.len();
     assert!(
-        [v_prev.len(), r_prev.len(), r.len(), geo_prev.len(), geo.len()].iter().all(|&l| l == n),
+        [
+            v_prev.len(),
+            r_prev.len(),
+            r.len(),
+            geo_prev.len(),
+            geo.len()
+        ]
+        .iter()
+        .all(|&l| l == n),
         "temporal metrics need equally sized frames"
     );
     let (mut sum_sq, mut pixels, mut pops) = (0.0f64, 0u64, 0u64);
@@ -46,9 +61,19 @@ pub fn frame_pair(v_prev: &[f32], v: &[f32], r_prev: &[f32], r: &[f32], geo_prev
             pops += 1;
         }
     }
-    let share = |k: u64| if pixels == 0 { 0.0 } else { k as f64 / pixels as f64 };
+    let share = |k: u64| {
+        if pixels == 0 {
+            0.0
+        } else {
+            k as f64 / pixels as f64
+        }
+    };
     FramePair {
-        temporal_rmse: if pixels == 0 { 0.0 } else { (sum_sq / pixels as f64).sqrt() },
+        temporal_rmse: if pixels == 0 {
+            0.0
+        } else {
+            (sum_sq / pixels as f64).sqrt()
+        },
         popping_share: share(pops),
         popping_pixels: pops,
         pixels,
@@ -109,7 +134,11 @@ mod tests {
         let geo = [true; 4];
         let p = frame_pair(&v0, &v1, &r, &r, &geo, &geo);
         let expect = ((0.25f64 + 0.0004 + 0.0625) / 4.0).sqrt();
-        assert!((p.temporal_rmse - expect).abs() < 1e-6, "{} vs {expect}", p.temporal_rmse);
+        assert!(
+            (p.temporal_rmse - expect).abs() < 1e-6,
+            "{} vs {expect}",
+            p.temporal_rmse
+        );
         assert_eq!((p.popping_pixels, p.pixels), (2, 4));
         assert_eq!(p.popping_share, 0.5);
     }
@@ -126,7 +155,11 @@ mod tests {
         let p = frame_pair(&v0, &v1, &r0, &r1, &geo, &geo);
         assert_eq!(p.popping_pixels, 1);
         let expect = (0.4965f64 * 0.4965 / 2.0).sqrt();
-        assert!((p.temporal_rmse - expect).abs() < 1e-6, "{} vs {expect}", p.temporal_rmse);
+        assert!(
+            (p.temporal_rmse - expect).abs() < 1e-6,
+            "{} vs {expect}",
+            p.temporal_rmse
+        );
     }
 
     #[test]
@@ -142,8 +175,20 @@ mod tests {
 
     #[test]
     fn sequence_weighs_every_pixel_once() {
-        let a = FramePair { temporal_rmse: 0.0, popping_share: 0.0, popping_pixels: 0, pixels: 3, sum_sq: 0.0 };
-        let b = FramePair { temporal_rmse: 1.0, popping_share: 1.0, popping_pixels: 1, pixels: 1, sum_sq: 1.0 };
+        let a = FramePair {
+            temporal_rmse: 0.0,
+            popping_share: 0.0,
+            popping_pixels: 0,
+            pixels: 3,
+            sum_sq: 0.0,
+        };
+        let b = FramePair {
+            temporal_rmse: 1.0,
+            popping_share: 1.0,
+            popping_pixels: 1,
+            pixels: 1,
+            sum_sq: 1.0,
+        };
         let s = sequence(&[a, b]);
         assert_eq!((s.pixels, s.popping_pixels), (4, 1));
         assert_eq!(s.popping_share, 0.25);

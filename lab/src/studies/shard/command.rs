@@ -1,9 +1,9 @@
 //! `penumbra merge`: the shards of one sweep joined into one output set.
 
-use anyhow::Result;
 use crate::record::output_set;
 use crate::studies::compare;
 use crate::studies::shard;
+use anyhow::Result;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -28,7 +28,13 @@ impl crate::studies::Run for MergeArgs {
 fn run(args: MergeArgs) -> Result<()> {
     output_set::check(&args.out)?;
     let inputs: Vec<PathBuf> = args.dirs.iter().map(|d| d.join("results.jsonl")).collect();
-    output_set::check_inputs(&args.out, &inputs.iter().map(|p| ("DIR", p.as_path())).collect::<Vec<_>>())?;
+    output_set::check_inputs(
+        &args.out,
+        &inputs
+            .iter()
+            .map(|p| ("DIR", p.as_path()))
+            .collect::<Vec<_>>(),
+    )?;
     let allow = shard::merge::parse_allow(&args.allow)?;
     let outcome = shard::merge::merge(&args.dirs, &allow)?;
     write_merged(&args.out, &outcome)

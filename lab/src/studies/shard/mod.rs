@@ -20,18 +20,30 @@ impl Shard {
     /// `i/N` with `0 <= i < N`, `1 <= N <= 10000`.
     pub fn parse(text: &str) -> Result<Shard> {
         let bad = |why: &str| Error::param(format!("--shard `{text}`: {why}"));
-        let (i, n) = text.split_once('/').ok_or_else(|| bad("expected INDEX/COUNT, e.g. 0/4"))?;
+        let (i, n) = text
+            .split_once('/')
+            .ok_or_else(|| bad("expected INDEX/COUNT, e.g. 0/4"))?;
         // Any run of digits is a whole number: one too large for u32 gets the range message.
-        let whole = |t: &str| (!t.is_empty() && t.bytes().all(|b| b.is_ascii_digit())).then(|| t.parse::<u128>().unwrap_or(u128::MAX));
-        let index = whole(i.trim()).ok_or_else(|| bad("the index is not a non-negative integer"))?;
+        let whole = |t: &str| {
+            (!t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()))
+                .then(|| t.parse::<u128>().unwrap_or(u128::MAX))
+        };
+        let index =
+            whole(i.trim()).ok_or_else(|| bad("the index is not a non-negative integer"))?;
         let count = whole(n.trim()).ok_or_else(|| bad("the count is not a positive integer"))?;
         if count == 0 || count > 10_000 {
             return Err(bad("the count must be in 1..=10000"));
         }
         if index >= count {
-            return Err(bad(&format!("the index must be below the count (shards are numbered 0..{})", count - 1)));
+            return Err(bad(&format!(
+                "the index must be below the count (shards are numbered 0..{})",
+                count - 1
+            )));
         }
-        Ok(Shard { index: index as u32, count: count as u32 })
+        Ok(Shard {
+            index: index as u32,
+            count: count as u32,
+        })
     }
 }
 
@@ -50,7 +62,11 @@ pub fn assign(costs: &[f64], count: u32) -> Vec<Vec<usize>> {
     let mut loads = vec![0.0f64; count as usize];
     let mut shards = vec![Vec::new(); count as usize];
     for i in order {
-        let (s, _) = loads.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1).then(a.0.cmp(&b.0))).expect("count >= 1");
+        let (s, _) = loads
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(b.1).then(a.0.cmp(&b.0)))
+            .expect("count >= 1");
         loads[s] += costs[i];
         shards[s].push(i);
     }
@@ -69,13 +85,22 @@ mod tests {
         assert_eq!(Shard::parse("2/4").unwrap(), Shard { index: 2, count: 4 });
         assert_eq!(Shard::parse("0/1").unwrap().to_string(), "0/1");
         for (bad, why) in [
-            ("4/4", "the index must be below the count (shards are numbered 0..3)"),
+            (
+                "4/4",
+                "the index must be below the count (shards are numbered 0..3)",
+            ),
             ("1", "expected INDEX/COUNT"),
             ("-1/4", "the index is not"),
             ("0/0", "the count must be in"),
             ("a/b", "the index is not"),
-            ("99999999999/4", "the index must be below the count (shards are numbered 0..3)"),
-            ("0/99999999999999999999999999999999999999999", "the count must be in 1..=10000"),
+            (
+                "99999999999/4",
+                "the index must be below the count (shards are numbered 0..3)",
+            ),
+            (
+                "0/99999999999999999999999999999999999999999",
+                "the count must be in 1..=10000",
+            ),
         ] {
             let e = Shard::parse(bad).unwrap_err().to_string();
             assert!(e.starts_with(&format!("--shard `{bad}`: {why}")), "{e}");
@@ -96,8 +121,14 @@ mod tests {
         }
         // Loads within the largest single cost of each other.
         let costs: Vec<f64> = (1..=24).map(|i| f64::from(i * i)).collect();
-        let loads: Vec<f64> = assign(&costs, 4).iter().map(|s| s.iter().map(|&i| costs[i]).sum()).collect();
-        let (lo, hi) = (loads.iter().copied().fold(f64::MAX, f64::min), loads.iter().copied().fold(0.0, f64::max));
+        let loads: Vec<f64> = assign(&costs, 4)
+            .iter()
+            .map(|s| s.iter().map(|&i| costs[i]).sum())
+            .collect();
+        let (lo, hi) = (
+            loads.iter().copied().fold(f64::MAX, f64::min),
+            loads.iter().copied().fold(0.0, f64::max),
+        );
         assert!(hi - lo <= 576.0 && hi / lo < 1.05, "{loads:?}");
     }
 }
