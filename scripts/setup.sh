@@ -28,3 +28,8 @@ if ! command -v cargo >/dev/null 2>&1; then
     echo "setup: no Rust toolchain found; install one with rustup (https://rustup.rs), Rust 1.85 or newer" >&2
     exit 1
 fi
+# CI's lint gates run rustfmt and clippy (.ci/run); a minimal toolchain profile lacks them.
+if ! cargo fmt --version >/dev/null 2>&1 || ! cargo clippy --version >/dev/null 2>&1; then
+    command -v rustup >/dev/null 2>&1 || { echo "setup: cargo fmt and cargo clippy are needed (rustup component add rustfmt clippy)" >&2; exit 1; }
+    rustup component add rustfmt clippy
+fi
