@@ -5,6 +5,7 @@ reads, giving the figures its README quotes; on a small render of its own (analy
 import csv
 import io
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -36,7 +37,8 @@ def committed(path):
 
 # The drivers the tests below run, each at least once.
 DRIVERS = {"budget-calibration/analyze.py", "budget-promise/promise.py", "budget-prices/prices.py", "budget-reference/reference.py",
-           "budget-ball-even/compare.py", "regions-frontier/regions.py", "regions-texels/texels.py", "regions-target/targets.py"}
+           "budget-ball-even/compare.py", "regions-frontier/regions.py", "regions-texels/texels.py", "regions-target/targets.py",
+           "certify-cost/cost.py"}
 
 
 # --- drivers that read committed rows --------------------------------------------------------
@@ -244,6 +246,43 @@ def test_regions_target_renders_before_and_after_and_joins_them(tmp_path):
     assert bad.returncode == 1 and bad.stderr.startswith("error: ") and "column 'nope': missing" in bad.stderr
 
 
+def test_certify_cost_sets_the_pixels_against_the_whole_reference():
+    from penumbra.analysis import certify
+
+    rows = csv_rows(run("certify-cost/cost.py", "--scene", "analytic-square", "--sizes", "32x32,48x32", "--pixels", "256", "--gpu-up-to", "1024"))
+    assert rows[0] == certify.HEADER and [r[:5] for r in rows[1:]] == [["analytic-square", "32", "32", "pcss", "256"], ["analytic-square", "48", "32", "pcss", "256"]]
+    for r in map(lambda r: dict(zip(rows[0], r)), rows[1:]):
+        # At most 256 distinct pixels of 32 × 32 samples each; the reference traces every pixel.
+        assert 0 < int(r["certify_rays"]) <= 256 * 1024 < int(r["reference_cpu_rays"]) * 4
+        assert float(r["rays_over_reference"]) == int(r["certify_rays"]) / int(r["reference_cpu_rays"])
+        assert float(r["pixels_over_reference"]) == float(r["certify_pixels_ms"]) / 1e3 / float(r["reference_cpu_s"])
+        assert float(r["bound"]) >= float(r["rmse_sampled"]) > 0
+    # The GPU traced the whole reference of the first screen only (1,024 pixels).
+    assert rows[1][rows[0].index("reference_gpu_s")] != "" and rows[2][rows[0].index("reference_gpu_s")] == ""
+
+
+def test_oracle_runs_each_listed_scene_and_joins_their_rows(tmp_path):
+    # The driver writes beside itself: a copy in a scratch folder, on one tiny scene.
+    shutil.copy(RESULTS / "oracle" / "run.sh", tmp_path)
+    env = dict(os.environ, PENUMBRA=str(binary()), PENUMBRA_NO_PROGRESS="1")
+    runs = "# scene resolution flags\nanalytic-square 32 --targets 0.5,0.02 --n 1,4 --sizes 64,256 --singles pcss --hybrid none --adaptive none --repeats 1 --samples 16\n"
+    p = subprocess.run(["bash", str(tmp_path / "run.sh")], input=runs, capture_output=True, text=True, env=env)
+    assert p.returncode == 0 and "FAIL" not in p.stdout, p.stdout + p.stderr
+    joined, own = csv_rows((tmp_path / "oracle.csv").read_text()), csv_rows((tmp_path / "analytic-square-32" / "oracle.csv").read_text())
+    # Two menus (grids, family) × two targets, under the committed rows' header.
+    assert joined == own and len(own) == 5 and own[0] == committed("oracle/oracle.csv")[0]
+    # A folder that holds its rows is kept: a second run renders nothing.
+    again = subprocess.run(["bash", str(tmp_path / "run.sh")], input=runs, capture_output=True, text=True, env=env)
+    assert again.returncode == 0 and "analytic-square-32" not in again.stdout, again.stdout
+
+
+# Drivers a lab test runs (it needs the census's scene helpers and the lab's CSV checks).
+RUN_BY_LAB = {"bad-input-census/measure.sh": "lab/tests/bad_input_census_script.rs"}
+
+
 def test_every_driver_in_results_runs_here():
     found = {str(p.relative_to(RESULTS)) for p in RESULTS.rglob("*") if p.suffix in (".py", ".sh") and p.relative_to(RESULTS).parts[0] not in NOT_DRIVERS}
-    assert found == DRIVERS, f"drivers no test runs: {sorted(found - DRIVERS)}; tested but gone: {sorted(DRIVERS - found)}"
+    tested = DRIVERS | {"oracle/run.sh"} | set(RUN_BY_LAB)
+    assert found == tested, f"drivers no test runs: {sorted(found - tested)}; tested but gone: {sorted(tested - found)}"
+    for driver, test in RUN_BY_LAB.items():
+        assert f"results/{driver}" in (ROOT / test).read_text(), f"{test} does not run {driver}"
