@@ -9,7 +9,7 @@
 //! 512 texels a side, and every method cast the same wrong shadow); the fitted window gives it the
 //! whole map (docs/lights.md, "Cube maps for the point").
 
-use super::light::Bounds;
+use super::bounds::Bounds;
 use glam::{Mat4, Vec3};
 
 /// A face's window in tangent units of its view from `y`: x in [l, r], y in [b, t].

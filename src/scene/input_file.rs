@@ -5,10 +5,17 @@
 //! on its metadata, never opened. Before, `/dev/zero` was read until memory ran out and a FIFO with
 //! no writer blocked with no word (docs/robustness.md, "Bad input").
 
-use super::mesh_input::show_size;
 use std::io::Read;
 use std::path::Path;
 use std::time::Duration;
+
+/// How a size reads in messages: MiB with one decimal, and the exact bytes.
+pub fn show_size(bytes: u64) -> String {
+    format!(
+        "{:.1} MiB ({bytes} bytes)",
+        bytes as f64 / (1u64 << 20) as f64
+    )
+}
 
 /// The cap on a text input (a scene file, a rows file): far above any the tool writes (a
 /// 10,000-row results.jsonl is about 30 MiB) and far below a machine's memory.

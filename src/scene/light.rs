@@ -23,31 +23,9 @@ impl AreaLight {
     }
 }
 
-/// Axis-aligned bounds of the scene, used to fit every sample's frustum.
-#[derive(Clone, Copy, Debug)]
-pub struct Bounds {
-    pub min: Vec3,
-    pub max: Vec3,
-}
-
-impl Bounds {
-    pub fn corners(&self) -> [Vec3; 8] {
-        let (a, b) = (self.min, self.max);
-        [
-            Vec3::new(a.x, a.y, a.z),
-            Vec3::new(b.x, a.y, a.z),
-            Vec3::new(a.x, b.y, a.z),
-            Vec3::new(b.x, b.y, a.z),
-            Vec3::new(a.x, a.y, b.z),
-            Vec3::new(b.x, a.y, b.z),
-            Vec3::new(a.x, b.y, b.z),
-            Vec3::new(b.x, b.y, b.z),
-        ]
-    }
-    pub fn diagonal(&self) -> f32 {
-        (self.max - self.min).length()
-    }
-}
+// The scene's bounds live beside the light that fits its frusta to them; `cube_window` reads them
+// too, so they sit in a file of their own.
+pub use super::bounds::Bounds;
 
 /// Widest field of view a sample's frustum may take (tan of the half-angle): beyond it the map's
 /// texels grow too large to be useful; geometry outside counts as unoccluding.

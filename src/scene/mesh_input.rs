@@ -26,18 +26,10 @@ pub fn max_mesh_bytes() -> u64 {
         .saturating_mul(1 << 20)
 }
 
-/// How a size reads in messages: MiB with one decimal, and the exact bytes.
-pub fn show_size(bytes: u64) -> String {
-    format!(
-        "{:.1} MiB ({bytes} bytes)",
-        bytes as f64 / (1u64 << 20) as f64
-    )
-}
-
 /// Why `path` (symlinks followed) may not be read as a mesh: not a regular file, or over `max`
 /// bytes. Looks at the metadata only, so a FIFO is never opened (opening one blocks).
 pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), String> {
-    use super::input_file::{kind, shown};
+    use super::input_file::{kind, show_size, shown};
     // The callers name the file and say "cannot read"; the reason alone, so neither repeats.
     let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if !meta.is_file() {

@@ -1,5 +1,6 @@
 //! Scenes: a small TOML format (docs/scene-format.md), built-in named scenes, meshes.
 
+mod bounds;
 mod builtin;
 mod catalog;
 mod coords;
