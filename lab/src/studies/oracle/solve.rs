@@ -4,7 +4,9 @@
 //! A frame that gives tile t the candidate k(t) pays the fixed stages once, the maps of every
 //! candidate it uses once, and each tile's pixel tests:
 //!
-//!     F + Σ_{k ∈ S} M_k + Σ_t c_{t,k(t)},   subject to   Σ_t e_{t,k(t)} ≤ B.
+//! ```text
+//! F + Σ_{k ∈ S} M_k + Σ_t c_{t,k(t)},   subject to   Σ_t e_{t,k(t)} ≤ B.
+//! ```
 //!
 //! Without the budget this is uncapacitated facility location (candidates open at M_k, tiles
 //! served at c); the budget couples the tiles. The search:
