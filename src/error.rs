@@ -39,6 +39,38 @@ pub enum Error {
         value: Option<String>,
         why: String,
     },
+    /// A run input named by what it is (the scene, the backend) is refused. Each front end words
+    /// the input as its user gives it: the command line `--scene`, Python `scene=`.
+    #[error("{input} {}: {why}", show_value(.value))]
+    Input {
+        input: Input,
+        value: String,
+        why: String,
+    },
+    /// A method is given the same parameter twice: in its spec and again apart from it (the
+    /// command line's `--param`, Python's `params=`).
+    #[error(
+        "method `{spec}`: `{key}` is given twice ({first} in the spec, and {again} apart from it)"
+    )]
+    ParamTwice {
+        spec: String,
+        key: String,
+        first: String,
+        again: String,
+    },
+    /// A `cache:` mesh whose file is not in the asset cache; the front ends say how to fetch
+    /// its group (the command line `penumbra assets fetch --group G`).
+    #[error("{file}: not in the asset cache ({missing} is missing; asset group `{group}`)")]
+    MissingAsset {
+        /// The mesh as the scene names it, with where (`s.toml: mesh 2: file = "cache:…"`).
+        file: String,
+        missing: String,
+        group: String,
+    },
+    /// A mesh file over the cap on mesh files (`scene::mesh_input::set_max_mesh_mib`); the front
+    /// ends say how to raise it (the command line's `--max-mesh-mib`).
+    #[error("{message}")]
+    MeshCap { message: String, cap_mib: u64 },
     /// A counter overflowed its buffer on the GPU.
     #[error("overflow: {0}")]
     Overflow(String),
@@ -49,6 +81,41 @@ pub enum Error {
     /// or element); the asset layer the program registers says why.
     #[error("{0}")]
     Asset(String),
+}
+
+/// The run inputs an [`Error::Input`] can name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// The scene: a built-in name or a scene file's path.
+    Scene,
+    /// The graphics backend asked for.
+    Backend,
+}
+
+impl Input {
+    /// The input's own name, as the engine says it and Python's keyword argument spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Input::Scene => "scene",
+            Input::Backend => "backend",
+        }
+    }
+}
+
+impl std::fmt::Display for Input {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A value as an error line shows it: quoted where bare text would hide it (empty, or with
+/// spaces), else as given.
+pub fn show_value(value: &str) -> String {
+    if value.is_empty() || value.chars().any(char::is_whitespace) {
+        format!("{value:?}")
+    } else {
+        value.to_string()
+    }
 }
 
 impl Error {

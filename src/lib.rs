@@ -23,7 +23,7 @@ pub use api::{
     required_limits, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene, Shadows,
     Visibility, OPTIONAL_FEATURES,
 };
-pub use error::{toml_position, Error, Result};
+pub use error::{show_value, toml_position, Error, Input, Result};
 
 /// `0.1.0 (git <hash>)`: the version line of the `penumbra` binary.
 pub const LONG_VERSION: &str = concat!(

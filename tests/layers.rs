@@ -30,3 +30,80 @@ fn imports_run_down_the_layers_but_for_a_known_few() {
         up.len()
     );
 }
+
+/// The command line's words in one line of product code: a flag (`--scene`) or a `penumbra …`
+/// command inside a string literal. Comments are not messages and are passed over.
+fn cli_words_in(line: &str) -> Vec<String> {
+    let code = line.trim_start();
+    if code.starts_with("//") {
+        return Vec::new();
+    }
+    // The odd pieces between quotes are the literals (an escaped quote only splits one early).
+    code.split('"')
+        .skip(1)
+        .step_by(2)
+        .filter(|lit| {
+            let flag = lit.match_indices("--").any(|(i, _)| {
+                lit[i + 2..]
+                    .chars()
+                    .next()
+                    .is_some_and(|c| c.is_ascii_lowercase())
+            });
+            flag || lit.contains("`penumbra ") || lit.contains("penumbra assets")
+        })
+        .map(str::to_string)
+        .collect()
+}
+
+/// Every product line of src/ (a file's text before its `#[cfg(test)]` module), as `file:line`.
+fn product_lines(dir: &Path, out: &mut Vec<(String, String)>) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().collect();
+    entries.sort_by_key(|e| e.path());
+    for e in entries {
+        let path = e.path();
+        if path.is_dir() {
+            product_lines(&path, out);
+        } else if path.extension().is_some_and(|x| x == "rs") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            for (i, line) in text.lines().enumerate() {
+                if line.trim_start().starts_with("#[cfg(test)]") {
+                    break;
+                }
+                out.push((format!("{}:{}", path.display(), i + 1), line.to_string()));
+            }
+        }
+    }
+}
+
+#[test]
+fn the_engine_names_no_command_line_flag() {
+    // The scanner finds what it is for (so the zero below can fail).
+    assert_eq!(
+        cli_words_in(r#"    format!("--scene {x}: empty", x)"#),
+        ["--scene {x}: empty"]
+    );
+    assert_eq!(cli_words_in(r#"  "run `penumbra assets fetch`""#).len(), 1);
+    assert!(cli_words_in(r#"  // `--set` in a comment"#).is_empty());
+    assert!(cli_words_in(r#"  "a - b -- 3""#).is_empty());
+    let mut lines = Vec::new();
+    product_lines(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &mut lines,
+    );
+    assert!(lines.len() > 10_000, "{} lines read", lines.len());
+    let named: Vec<String> = lines
+        .iter()
+        .flat_map(|(at, line)| {
+            cli_words_in(line)
+                .into_iter()
+                .map(move |w| format!("{at}: {w}"))
+        })
+        .collect();
+    println!(
+        "{} engine strings name a command-line flag or command",
+        named.len()
+    );
+    // The engine speaks its own words (`backend`, `scene`, a setting's key); each front end
+    // words them as its user writes them (lab/src/error.rs, python/src/lib.rs).
+    assert!(named.is_empty(), "{named:#?}");
+}

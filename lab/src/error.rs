@@ -29,7 +29,8 @@ pub enum Error {
     Asset(#[from] crate::assets::AssetError),
 }
 
-/// The engine's error as the command line says it: a render setting by its flag, `--set key=value`.
+/// The engine's error as the command line says it: a render setting by its flag, `--set key=value`,
+/// an input by its flag (`--scene`, `--backend`), and how to fetch an asset or raise a cap.
 /// (Python words the same error by its keyword argument.)
 pub fn cli_words(e: &penumbra::Error) -> String {
     match e {
@@ -45,6 +46,25 @@ pub fn cli_words(e: &penumbra::Error) -> String {
                 .unwrap_or_default();
             let value = value.as_ref().map(|v| format!("={v}")).unwrap_or_default();
             format!("{origin}--set {key}{value}: {why}")
+        }
+        penumbra::Error::Input { input, value, why } => {
+            format!("--{input} {}: {why}", penumbra::show_value(value))
+        }
+        penumbra::Error::ParamTwice {
+            spec,
+            key,
+            first,
+            again,
+        } => format!("method `{spec}`: `{key}` is given twice ({first}, and {again} with --param)"),
+        penumbra::Error::MissingAsset {
+            file,
+            missing,
+            group,
+        } => format!(
+            "{file}: not in the asset cache ({missing} is missing): run `penumbra assets fetch --group {group}` (cache folder: --cache or $PENUMBRA_CACHE)"
+        ),
+        penumbra::Error::MeshCap { message, .. } => {
+            format!("{message} (raise it with --max-mesh-mib N)")
         }
         e => e.to_string(),
     }

@@ -37,11 +37,12 @@ fn adapter_request(cli: &Cli) -> Result<AdapterRequest> {
         (None, Ok(b)) => (b, "WGPU_BACKEND"),
         (None, Err(_)) => ("auto".to_string(), "--backend"),
     };
-    let backend = BackendChoice::parse(&backend).map_err(|e| {
-        anyhow::anyhow!(
-            "{source} {}",
-            e.to_string().trim_start_matches("--backend ")
-        )
+    // The engine names the backend in its own words; say it as the user gave it.
+    let backend = BackendChoice::parse(&backend).map_err(|e| match e {
+        penumbra::Error::Input { value, why, .. } => {
+            anyhow::anyhow!("{source} {}: {why}", penumbra::show_value(&value))
+        }
+        e => anyhow::anyhow!("{source}: {e}"),
     })?;
     let name = cli
         .adapter

@@ -197,11 +197,14 @@ fn duplicate_method_parameters_are_rejected() {
         e,
         "method `adaptive:p_m=1,p_m=2`: `p_m` is given twice (1 and 2)"
     );
-    let e = Method::parse("adaptive:p_m=1", &[("p_m".into(), "2".into())])
-        .unwrap_err()
-        .to_string();
+    // The engine says "apart from the spec"; the command line names its flag.
+    let e = Method::parse("adaptive:p_m=1", &[("p_m".into(), "2".into())]).unwrap_err();
     assert_eq!(
-        e,
+        e.to_string(),
+        "method `adaptive:p_m=1`: `p_m` is given twice (1 in the spec, and 2 apart from it)"
+    );
+    assert_eq!(
+        penumbra_lab::cli_words(&e),
         "method `adaptive:p_m=1`: `p_m` is given twice (1, and 2 with --param)"
     );
 }

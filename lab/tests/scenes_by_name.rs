@@ -59,7 +59,7 @@ fn catalog_states_triangles_sources_and_missing_assets() {
     assert_eq!(cows.sources, ["plane", "cache:meshes/cow.off"]);
     assert_eq!(cows.missing, [empty.join("meshes/cow.off")]);
     assert_eq!(
-        cows.fetch.as_deref(),
+        penumbra_lab::assets::fetch_command(&cows.fetch_groups).as_deref(),
         Some("penumbra assets fetch --group meshes")
     );
     let default = get("default");
@@ -67,15 +67,12 @@ fn catalog_states_triangles_sources_and_missing_assets() {
         (
             default.triangles,
             default.missing.len(),
-            default.fetch.as_deref()
+            default.fetch_groups.len()
         ),
-        (Some(58_786), 0, None)
+        (Some(58_786), 0, 0)
     );
     assert_eq!(default.sources, ["plane", "embedded bunny-small.obj"]);
-    assert_eq!(
-        get("grove").fetch.as_deref(),
-        Some("penumbra assets fetch --group trees")
-    );
+    assert_eq!(get("grove").fetch_groups, ["trees"]);
     // A cache holding the file: present.
     std::fs::create_dir_all(empty.join("meshes")).unwrap();
     std::fs::write(empty.join("meshes/cow.off"), "OFF\n0 0 0\n").unwrap();
@@ -121,13 +118,20 @@ fn scenes_command_lists_every_scene_with_its_count_and_asset_state() {
 fn a_cached_scene_with_a_missing_asset_stops_with_the_fetch_command() {
     penumbra_lab::install(); // the asset layer: `cache:` paths and the registry mesh formats
     let cache = temp_dir("byname_missing_cache");
-    let e = Scene::load_in("cows", &[], Some(&cache))
-        .unwrap_err()
-        .to_string();
+    let e = Scene::load_in("cows", &[], Some(&cache)).unwrap_err();
+    // The engine names the group in its own words; the command line says how to fetch it.
+    let engine = e.to_string();
     assert!(
-        e.contains("cache:meshes/cow.off")
-            && e.contains("run `penumbra assets fetch --group meshes`"),
-        "{e}"
+        engine.contains("cache:meshes/cow.off")
+            && engine.ends_with("is missing; asset group `meshes`)")
+            && !engine.contains("penumbra assets"),
+        "{engine}"
+    );
+    let cli = penumbra_lab::cli_words(&e);
+    assert!(
+        cli.contains("cache:meshes/cow.off")
+            && cli.contains("run `penumbra assets fetch --group meshes`"),
+        "{cli}"
     );
 }
 

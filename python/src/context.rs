@@ -17,11 +17,13 @@ pub fn get(py: Python<'_>, adapter: Option<&str>) -> PyResult<Arc<GpuContext>> {
         Ok(b) => (b, "WGPU_BACKEND"),
         Err(_) => ("auto".to_string(), "backend"),
     };
-    let choice = BackendChoice::parse(&backend).map_err(|e| {
-        crate::PenumbraError::new_err(format!(
-            "{source} {}",
-            e.to_string().trim_start_matches("--backend ")
-        ))
+    // The engine names the backend in its own words; say it as the user gave it.
+    let choice = BackendChoice::parse(&backend).map_err(|e| match e {
+        penumbra::Error::Input { value, why, .. } => crate::PenumbraError::new_err(format!(
+            "{source} {}: {why}",
+            penumbra::show_value(&value)
+        )),
+        e => crate::PenumbraError::new_err(format!("{source}: {e}")),
     })?;
     let name = adapter
         .map(str::to_string)

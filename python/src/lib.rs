@@ -49,6 +49,11 @@ pub(crate) fn engine(e: penumbra::Error) -> PyErr {
                 .unwrap_or_default();
             PenumbraError::new_err(format!("{origin}{key}{value}: {why}"))
         }
+        Engine::Input { input, value, why } => PenumbraError::new_err(format!(
+            "{}={}: {why}",
+            input.name(),
+            python_literal(&value)
+        )),
         e => PenumbraError::new_err(e.to_string()),
     }
 }

@@ -34,10 +34,11 @@ impl BackendChoice {
             "metal" => Self::Metal,
             "dx12" => Self::Dx12,
             other => {
-                return Err(Error::Param(format!(
-                    "--backend {other}: expected one of {}",
-                    Self::NAMES.join(", ")
-                )));
+                return Err(Error::Input {
+                    input: crate::Input::Backend,
+                    value: other.to_string(),
+                    why: format!("expected one of {}", Self::NAMES.join(", ")),
+                });
             }
         })
     }
@@ -174,7 +175,7 @@ pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> 
         .filter(|&i| wanted(req, &candidates[i]))
         .collect();
     order.sort_by_key(|&i| rank(&candidates[i]));
-    let source = req.source.as_deref().unwrap_or("--backend");
+    let source = req.source.as_deref().unwrap_or("backend");
     let asked = match req.backend {
         BackendChoice::Auto => None,
         b => Some(format!("{source} {}", format!("{b:?}").to_lowercase())),
@@ -370,7 +371,7 @@ mod tests {
         let e = BackendChoice::parse("cuda").unwrap_err().to_string();
         assert_eq!(
             e,
-            "--backend cuda: expected one of auto, vulkan, gl, metal, dx12"
+            "backend cuda: expected one of auto, vulkan, gl, metal, dx12"
         );
     }
 }

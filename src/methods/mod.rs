@@ -327,9 +327,12 @@ impl Method {
         }
         for (k, v) in extra {
             if let Some(first) = params.insert(k.clone(), v.clone()) {
-                return Err(Error::Param(format!(
-                    "method `{spec}`: `{k}` is given twice ({first}, and {v} with --param)"
-                )));
+                return Err(Error::ParamTwice {
+                    spec: spec.to_string(),
+                    key: k.clone(),
+                    first,
+                    again: v.clone(),
+                });
             }
         }
         let info = REGISTRY.iter().find(|m| m.name == name).ok_or_else(|| {
@@ -435,18 +438,6 @@ impl Method {
             .downcast_ref::<adaptive::Adaptive>()
             .map(|a| &a.0)
     }
-}
-
-/// `penumbra methods`: every method with its family, one line on what it does, and its parameters.
-pub fn describe() -> String {
-    let mut s = String::new();
-    for m in REGISTRY {
-        s += &format!("{:<14} [{}] {}\n", m.name, m.family.title(), m.summary);
-        for p in m.params {
-            s += &format!("    {:<12} default {:<10} {}\n", p.key, p.default, p.help);
-        }
-    }
-    s
 }
 
 pub fn get_u32(params: &ParamMap, key: &str, default: u32) -> Result<u32> {

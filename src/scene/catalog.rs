@@ -18,8 +18,8 @@ pub struct CatalogEntry {
     pub sources: Vec<String>,
     /// Cache files the scene needs that are absent.
     pub missing: Vec<PathBuf>,
-    /// The command that fetches what is missing.
-    pub fetch: Option<String>,
+    /// The asset groups that hold what is missing (each front end says how to fetch them).
+    pub fetch_groups: Vec<String>,
 }
 
 fn source(m: &MeshDef) -> String {
@@ -81,23 +81,13 @@ pub fn catalog(cache: Option<&Path>) -> Vec<CatalogEntry> {
                     .map(|s| s.triangle_count() as u64);
             }
             sources.dedup();
-            let fetch = (!groups.is_empty()).then(|| {
-                format!(
-                    "penumbra assets fetch {}",
-                    groups
-                        .iter()
-                        .map(|g| format!("--group {g}"))
-                        .collect::<Vec<_>>()
-                        .join(" ")
-                )
-            });
             CatalogEntry {
                 name,
                 description,
                 triangles,
                 sources,
                 missing,
-                fetch,
+                fetch_groups: groups,
             }
         })
         .collect()

@@ -1,7 +1,7 @@
 //! Mesh files a scene names: where `file` points (the scene's folder, the embedded meshes of
 //! built-in scenes, or the asset cache with `cache:`) and which loader reads it.
 
-use super::mesh_input;
+use super::mesh_input::{self, Refusal};
 use super::obj;
 use super::raw_mesh::RawMesh;
 use crate::{Error, Result};
@@ -87,13 +87,11 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
     if !path.exists() {
         // The first path component is the fetch group (meshes/, trees/, panoramas/).
         let group = fetch_group(rel);
-        return Err(Error::mesh(
-            file,
-            format!(
-                "not in the asset cache ({} is missing): run `penumbra assets fetch --group {group}` (cache folder: --cache or $PENUMBRA_CACHE)",
-                path.display()
-            ),
-        ));
+        return Err(Error::MissingAsset {
+            file: file.to_string(),
+            missing: path.display().to_string(),
+            group: group.to_string(),
+        });
     }
     (asset_layer(file)?.check_pinned)(rel, &path).map_err(|why| Error::mesh(file, why))?;
     Ok(path)
@@ -106,12 +104,28 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
 pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<RawMesh> {
     // The loaders lead with what they read (`lead`: the path, or `file` itself); `file = …` names it.
     let named = |lead: &str, e: Error| {
+        // A missing asset keeps its kind: each front end says how to fetch it.
+        if let Error::MissingAsset { missing, group, .. } = e {
+            return Error::MissingAsset {
+                file: format!("{origin}: {which}: file = {file:?}"),
+                missing,
+                group,
+            };
+        }
         let text = e.to_string();
         let why = text
             .strip_prefix(lead)
             .and_then(|t| t.strip_prefix(": "))
             .unwrap_or(&text);
-        Error::scene(origin, format!("{which}: file = {file:?}: {why}"))
+        let message = format!("{which}: file = {file:?}: {why}");
+        // Over the cap keeps its kind too: each front end says how to raise it.
+        match e {
+            Error::MeshCap { cap_mib, .. } => Error::MeshCap {
+                message: format!("{origin}: {message}"),
+                cap_mib,
+            },
+            _ => Error::scene(origin, message),
+        }
     };
     let path = if file.starts_with(CACHE_PREFIX) {
         cache_path(file, dirs.cache).map_err(|e| named(file, e))?
@@ -127,8 +141,16 @@ pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<Raw
         .unwrap_or_else(mesh_input::max_mesh_bytes);
     // Metadata first: a FIFO would block the open, a device or a huge file would fill memory.
     if path.exists() {
-        mesh_input::check_mesh_file(&path, max)
-            .map_err(|why| Error::scene(origin, format!("{which}: file = {file:?}: {why}")))?;
+        mesh_input::check_mesh_file(&path, max).map_err(|refusal| {
+            let lead = format!("{which}: file = {file:?}");
+            match refusal {
+                Refusal::Unreadable(why) => Error::scene(origin, format!("{lead}: {why}")),
+                Refusal::OverCap { why, cap_mib } => Error::MeshCap {
+                    message: format!("{origin}: {lead}: {why}"),
+                    cap_mib,
+                },
+            }
+        })?;
     }
     load_path(&path, max).map_err(|e| named(&path.display().to_string(), e))
 }

@@ -26,26 +26,45 @@ pub fn max_mesh_bytes() -> u64 {
         .saturating_mul(1 << 20)
 }
 
+/// Why a mesh file may not be read, in the engine's words; over the cap apart, since each front
+/// end says how to raise it.
+#[derive(Debug)]
+pub enum Refusal {
+    Unreadable(String),
+    OverCap { why: String, cap_mib: u64 },
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Refusal::Unreadable(why) | Refusal::OverCap { why, .. } => f.write_str(why),
+        }
+    }
+}
+
 /// Why `path` (symlinks followed) may not be read as a mesh: not a regular file, or over `max`
 /// bytes. Looks at the metadata only, so a FIFO is never opened (opening one blocks).
-pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), String> {
+pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), Refusal> {
     use super::input_file::{kind, show_size, shown};
     // The callers name the file and say "cannot read"; the reason alone, so neither repeats.
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    let meta = std::fs::metadata(path).map_err(|e| Refusal::Unreadable(e.to_string()))?;
     if !meta.is_file() {
-        return Err(format!(
+        return Err(Refusal::Unreadable(format!(
             "{} is {}, not a regular file",
             shown(path),
             kind(&meta.file_type())
-        ));
+        )));
     }
     if meta.len() > max {
-        return Err(format!(
-            "{} is {}, over the {} MiB cap on mesh files (raise it with --max-mesh-mib N)",
-            shown(path),
-            show_size(meta.len()),
-            max >> 20
-        ));
+        return Err(Refusal::OverCap {
+            why: format!(
+                "{} is {}, over the {} MiB cap on mesh files",
+                shown(path),
+                show_size(meta.len()),
+                max >> 20
+            ),
+            cap_mib: max >> 20,
+        });
     }
     Ok(())
 }
@@ -53,7 +72,7 @@ pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), String>
 /// Opens a regular file for reading. A FIFO swapped in after the check does not block the open
 /// (O_NONBLOCK) and is refused by the check on the opened file.
 pub fn open_regular(path: &Path, max: u64) -> io::Result<File> {
-    check_mesh_file(path, max).map_err(io::Error::other)?;
+    check_mesh_file(path, max).map_err(|r| io::Error::other(r.to_string()))?;
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
     #[cfg(target_os = "linux")]

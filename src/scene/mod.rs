@@ -53,7 +53,7 @@ pub fn parse_obj(text: &str, label: &str) -> Result<usize> {
 }
 
 impl Scene {
-    /// Loads a scene by built-in name or file path, applying `--set` overrides to its render settings.
+    /// Loads a scene by built-in name or file path, applying `key=value` overrides to its render settings.
     pub fn load(name_or_path: &str, overrides: &[(String, String)]) -> Result<Scene> {
         Self::load_in(name_or_path, overrides, None)
     }
@@ -65,10 +65,14 @@ impl Scene {
         cache: Option<&Path>,
     ) -> Result<Scene> {
         if name_or_path.trim().is_empty() {
-            return Err(Error::Param(format!(
-                "--scene {name_or_path:?}: empty; give a built-in scene ({}) or a path to a scene TOML file",
-                builtin_names().join(", ")
-            )));
+            return Err(Error::Input {
+                input: crate::Input::Scene,
+                value: name_or_path.to_string(),
+                why: format!(
+                    "empty; give a built-in scene ({}) or a path to a scene TOML file",
+                    builtin_names().join(", ")
+                ),
+            });
         }
         if let Some(text) = builtin_source(name_or_path) {
             let origin = format!("builtin:{name_or_path}");

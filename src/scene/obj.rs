@@ -30,7 +30,13 @@ pub fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
         .read_to_end(&mut bytes)
         .map_err(cannot)?;
     if bytes.len() as u64 > max {
-        return Err(Error::mesh(&label, format!("grew past the {} MiB cap on mesh files while being read (raise it with --max-mesh-mib N)", max >> 20)));
+        return Err(Error::MeshCap {
+            message: format!(
+                "{label}: grew past the {} MiB cap on mesh files while being read",
+                max >> 20
+            ),
+            cap_mib: max >> 20,
+        });
     }
     let text = String::from_utf8(bytes)
         .map_err(|_| Error::mesh(&label, "not a text OBJ file (invalid UTF-8)"))?;

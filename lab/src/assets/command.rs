@@ -218,3 +218,12 @@ fn bytes(n: u64) -> String {
     }
     grouped + " B"
 }
+
+/// The command that fetches `groups` (the groups a scene's missing assets belong to); `None`
+/// when nothing is missing.
+pub fn fetch_command(groups: &[String]) -> Option<String> {
+    (!groups.is_empty()).then(|| {
+        let flags: Vec<String> = groups.iter().map(|g| format!("--group {g}")).collect();
+        format!("penumbra assets fetch {}", flags.join(" "))
+    })
+}

@@ -24,7 +24,7 @@ mod tree;
 use std::path::Path;
 
 pub use cache::default_cache_dir;
-pub use command::FetchCommand;
+pub use command::{fetch_command, FetchCommand};
 pub use error::{AssetError, Location, Result};
 pub use fetch::{fetch_all, fetch_groups, Action, FetchReport, FetchedFile, Progress};
 pub use input::{max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB};

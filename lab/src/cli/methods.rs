@@ -14,6 +14,19 @@ impl Run for MethodsArgs {
 }
 
 fn run() -> Result<()> {
-    print!("{}", penumbra_lab::methods::describe());
+    print!("{}", describe());
     Ok(())
+}
+
+/// Every method with its family, one line on what it does, and its parameters, from the
+/// engine's registry.
+fn describe() -> String {
+    let mut s = String::new();
+    for m in penumbra_lab::methods::REGISTRY {
+        s += &format!("{:<14} [{}] {}\n", m.name, m.family.title(), m.summary);
+        for p in m.params {
+            s += &format!("    {:<12} default {:<10} {}\n", p.key, p.default, p.help);
+        }
+    }
+    s
 }

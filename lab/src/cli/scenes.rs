@@ -34,7 +34,7 @@ fn run() -> Result<()> {
             e.sources.join(" + "),
             e.description
         );
-        if let Some(cmd) = &e.fetch {
+        if let Some(cmd) = penumbra_lab::assets::fetch_command(&e.fetch_groups) {
             println!("{:22} fetch with `{cmd}`", "");
         }
     }

@@ -50,8 +50,15 @@ pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Envir
     }
     let what = format!("environment.panorama = `{}`", def.panorama);
     let path = if def.panorama.starts_with(CACHE_PREFIX) {
-        cache_path(&def.panorama, dirs.cache)
-            .map_err(|e| Error::scene(origin, format!("{what}: {e}")))?
+        cache_path(&def.panorama, dirs.cache).map_err(|e| match e {
+            // A missing asset keeps its kind: each front end says how to fetch it.
+            Error::MissingAsset { missing, group, .. } => Error::MissingAsset {
+                file: format!("{origin}: {what}: {}", def.panorama),
+                missing,
+                group,
+            },
+            e => Error::scene(origin, format!("{what}: {e}")),
+        })?
     } else {
         match dirs.scene_dir {
             Some(dir) => dir.join(&def.panorama),
