@@ -108,10 +108,10 @@ pub fn frame_uniform(scene: &Scene) -> GpuFrame {
         width: scene.render.width,
         height: scene.render.height,
         map_size: scene.render.shadow_map_size,
-        flags: if scene.render.self_shadow == crate::scene::SelfShadow::Facing { 1 } else { 0 }
+        flags: if scene.render.self_shadow == crate::scene::SelfShadow::Facing { crate::gpu::structs::FRAME_FACING_TEST } else { 0 }
             // A point light has no back side (the reference sees no plane), and its cube faces
             // share the receivers out by their direction from light_center, the sphere's centre.
-            | if scene.emitter.kind() == crate::scene::LightKind::Point { crate::stages::twin::shadow::FRAME_EVERY_WAY } else { 0 }
+            | if scene.emitter.kind() == crate::scene::LightKind::Point { crate::gpu::structs::FRAME_EVERY_WAY } else { 0 }
             | match scene.render.maps {
                 crate::scene::MapKind::Plain => 0,
                 crate::scene::MapKind::Hybrid => scene.render.hybrid.levels << crate::stages::hybrid_build::FRAME_LEVELS_SHIFT,

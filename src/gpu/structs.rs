@@ -3,6 +3,12 @@
 
 use bytemuck::{Pod, Zeroable};
 
+/// `GpuFrame.flags`: the facing test is on (`self_shadow = "facing"`).
+pub const FRAME_FACING_TEST: u32 = 1;
+/// `GpuFrame.flags`: a point light lights every way; no plane through `light_center` bounds its
+/// lit side.
+pub const FRAME_EVERY_WAY: u32 = 2;
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuFrame {

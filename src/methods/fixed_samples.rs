@@ -781,9 +781,8 @@ fn run_hybrid(
                     layer as u32,
                     4,
                 )?);
-                c.maps.push(crate::stages::twin::hybrid_build::decode(
-                    &pool, k, base, levels,
-                ));
+                c.maps
+                    .push(crate::stages::hybrid_pool::decode(&pool, k, base, levels));
             }
             c.hybrid_pool = pool;
         }

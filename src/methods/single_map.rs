@@ -144,7 +144,7 @@ impl CentreMap {
             CentreMaps::Plain(array) => readback::read_texture(fg.ctx, &array.texture, k, 4),
             CentreMaps::Hybrid(h) => {
                 let pool = h.store.read_words(fg.ctx, h.store.capacity_words)?;
-                Ok(crate::stages::twin::hybrid_build::decode(
+                Ok(crate::stages::hybrid_pool::decode(
                     &pool,
                     k,
                     h.store.settings.base,

@@ -15,6 +15,7 @@ pub mod estimate;
 pub mod footprint;
 pub(crate) mod frame_gpu;
 pub mod hybrid_build;
+pub mod hybrid_pool;
 pub(crate) mod kernel;
 pub(crate) mod moments;
 pub mod neighbourhood;

@@ -311,7 +311,7 @@ fn render_new_hybrid(
             for &k in chunk {
                 trace.maps.push((
                     k,
-                    crate::stages::twin::hybrid_build::decode(&pool, k, h.base, h.levels),
+                    crate::stages::hybrid_pool::decode(&pool, k, h.base, h.levels),
                 ));
             }
         }

@@ -2,6 +2,9 @@
 //! `kernels/shared/maps_hybrid.wgsl` (the lookup), same operation order.
 
 use crate::stages::hybrid_build::CHILDREN;
+// The pool's reader is the product's too (pictures of the maps); the twin tests compare it with
+// `map_depth`.
+pub use crate::stages::hybrid_pool::{decode, lookup, stored_levels};
 
 /// One 2x2 block of full texels: depths (row-major), mean, whether it merges.
 #[derive(Clone, Copy, Debug, Default)]
@@ -119,35 +122,6 @@ pub fn build(depth: &[f32], base: u32, levels: u32, eps: f32, map_base: u32) -> 
         }
     }
     out
-}
-
-/// Twin of `map_depth`: the depth slot `slot`'s map holds at full texel (x, y), and the level it is
-/// stored at (0 = full resolution, 1 = a merged 2x2 block, 2 = a merged 4x4 block).
-pub fn lookup(pool: &[u32], slot: u32, map_size: u32, levels: u32, x: u32, y: u32) -> (f32, u32) {
-    let coarse = map_size >> levels;
-    let (cx, cy) = (x >> levels, y >> levels);
-    let mut node = pool[(pool[slot as usize] + cy * coarse + cx) as usize];
-    let mut level = levels;
-    while node & CHILDREN != 0 && level > 0 {
-        level -= 1;
-        let (qx, qy) = ((x >> level) & 1, (y >> level) & 1);
-        node = pool[((node & !CHILDREN) + qy * 2 + qx) as usize];
-    }
-    (f32::from_bits(node), level)
-}
-
-/// The full-resolution map the lookup sees (row-major): what the plain-map twins take.
-pub fn decode(pool: &[u32], slot: u32, map_size: u32, levels: u32) -> Vec<f32> {
-    (0..map_size * map_size)
-        .map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).0)
-        .collect()
-}
-
-/// Per full texel, the level its depth is stored at (see [`lookup`]).
-pub fn stored_levels(pool: &[u32], slot: u32, map_size: u32, levels: u32) -> Vec<u32> {
-    (0..map_size * map_size)
-        .map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).1)
-        .collect()
 }
 
 /// A pool holding one map in slot 0, laid out as the GPU lays out a freshly reset store.

@@ -3,9 +3,7 @@
 use crate::gpu::structs::{GpuFrame, GpuSample};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-pub const FRAME_FACING_TEST: u32 = 1;
-/// A point light lights every way: no plane through `light_center` bounds its lit side.
-pub const FRAME_EVERY_WAY: u32 = 2;
+pub use crate::gpu::structs::{FRAME_EVERY_WAY, FRAME_FACING_TEST};
 
 pub const LOOKUP_UNLIT: u32 = 0;
 pub const LOOKUP_OUTSIDE: u32 = 1;
