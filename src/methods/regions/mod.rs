@@ -6,8 +6,11 @@
 //! each group's maps are a centred grid fitted to the box of its receivers, sized for the finest
 //! texel its pixels need, culled per map, and shaded on that group's tiles alone.
 
+pub mod budget;
+pub(crate) mod pictures;
+pub mod record;
+
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
-pub use super::regions_record::ClassRecord;
 use super::single_map::{light_size, CentreMap};
 use super::{
     check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
@@ -24,6 +27,7 @@ use crate::stages::regions::{
 };
 use crate::stages::FrameGpu;
 use crate::Result;
+pub use record::ClassRecord;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -336,8 +340,8 @@ impl ShadowMethod for Regions {
         }
         let ladder = self.ladder();
         let (light_u, light_v) = light_size(fg);
-        // The samples get their share of the target; the maps' share sets the density (regions_budget).
-        let target = self.target * super::regions_budget::SAMPLING_SHARE;
+        // The samples get their share of the target; the maps' share sets the density (budget.rs).
+        let target = self.target * budget::SAMPLING_SHARE;
         let mut params = RegionsParams {
             region: self.region,
             ladder_len: ladder.len() as u32,
@@ -720,14 +724,11 @@ impl MethodState for State {
         })?;
         let mut syncs = 1 + self.probe.syncs();
         // The maps' share of the target: the density whose predicted maps' error meets it.
-        let (edges, pixels) = super::regions_budget::edge_weight(&self.pass.params, &regions);
+        let (edges, pixels) = budget::edge_weight(&self.pass.params, &regions);
         let floor = self.density_floor(fg) as f64;
         self.density = match self.method.density {
             d if d > 0.0 => d,
-            _ => {
-                super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor)
-                    as f32
-            }
+            _ => budget::map_density(edges, pixels, self.method.target as f64, floor) as f32,
         };
         let s = fg.scene;
         let mut groups: Vec<Group> = Vec::new();
@@ -841,13 +842,13 @@ impl MethodState for State {
             "decision_maps": self.probe.count(),
             "centre_size": self.centre,
             "density": self.density,
-            "predicted_map": super::regions_budget::predicted_map(edges, pixels, self.density as f64),
+            "predicted_map": budget::predicted_map(edges, pixels, self.density as f64),
         });
         self.classes = records;
         self.reuse
             .add(&ReuseCounts::all_rendered(self.probe.count(), self.centre));
         let pictures = if pictures {
-            super::regions_pictures::pictures(fg, &self.pass, &self.classes)?
+            pictures::pictures(fg, &self.pass, &self.classes)?
         } else {
             Vec::new()
         };
