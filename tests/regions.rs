@@ -63,7 +63,13 @@ fn decision_kernels_equal_their_twins() {
             &[],
         )
         .unwrap();
-        let method = Method::parse("regions:target=0.01,region=8,centre_size=64", &[]).unwrap();
+        // The plan alone (certify = off): its buffers, groups and read-backs are what the twins
+        // check; the certified classes are tests/regions_certified.rs's.
+        let method = Method::parse(
+            "regions:target=0.01,region=8,centre_size=64,certify=off",
+            &[],
+        )
+        .unwrap();
         let options = FrameOptions {
             mode: TimingMode::Frame,
             pictures: true,

@@ -26,6 +26,7 @@ use crate::gpu::timing::StageTimer;
 use crate::gpu::{readback, Stage};
 use crate::methods::auto_filter::{read_v, Candidates};
 use crate::methods::Method;
+use crate::render::kept_maps::ReuseCounts;
 use crate::stages::shade::{TILE, TILE_LIST_HEADER};
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -147,7 +148,13 @@ impl State {
         let v_filter = match self.certifying.as_mut().and_then(|m| m.filter.as_mut()) {
             Some(f) => {
                 fg.clear_visibility();
-                maps += f.run(0, fg, timer)?.shadow_maps;
+                let m = f.run(0, fg, timer)?.shadow_maps;
+                // The filter's map is rendered every frame (it keeps none).
+                self.reuse.add(&ReuseCounts::all_rendered(
+                    m,
+                    fg.scene.render.shadow_map_size,
+                ));
+                maps += m;
                 syncs += 1;
                 Some(read_v(fg, timer)?)
             }
