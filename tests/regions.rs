@@ -63,7 +63,13 @@ fn decision_kernels_equal_their_twins() {
             &[],
         )
         .unwrap();
-        let method = Method::parse("regions:target=0.01,region=8,centre_size=64", &[]).unwrap();
+        // The plan alone (certify = off): its buffers, groups and read-backs are what the twins
+        // check; the certified classes are tests/regions_certified.rs's.
+        let method = Method::parse(
+            "regions:target=0.01,region=8,centre_size=64,certify=off",
+            &[],
+        )
+        .unwrap();
         let options = FrameOptions {
             mode: TimingMode::Frame,
             pictures: true,
@@ -261,7 +267,7 @@ fn map_sides_round_up_by_half_octaves() {
 fn the_maps_share_of_the_target_sets_the_density() {
     // Three regions: a contact shadow (narrowest penumbra half a pixel wide), a wide penumbra (20
     // pixels) and a lit region; the samples' target is T/√2, as `regions` sets it.
-    use penumbra::methods::regions_budget::{
+    use penumbra::methods::regions::budget::{
         edge_weight, map_density, predicted_map, SAMPLING_SHARE,
     };
     use penumbra::stages::regions::{empty_region, ordered, RegionsParams};

@@ -38,7 +38,7 @@ def committed(path):
 # The drivers the tests below run, each at least once.
 DRIVERS = {"budget-calibration/analyze.py", "budget-promise/promise.py", "budget-prices/prices.py", "budget-reference/reference.py",
            "budget-ball-even/compare.py", "regions-frontier/regions.py", "regions-texels/texels.py", "regions-target/targets.py",
-           "certify-cost/cost.py"}
+           "certify-cost/cost.py", "regions-measured/measure.py"}
 
 
 # --- drivers that read committed rows --------------------------------------------------------
@@ -259,6 +259,32 @@ def test_certify_cost_sets_the_pixels_against_the_whole_reference():
         assert float(r["bound"]) >= float(r["rmse_sampled"]) > 0
     # The GPU traced the whole reference of the first screen only (1,024 pixels).
     assert rows[1][rows[0].index("reference_gpu_s")] != "" and rows[2][rows[0].index("reference_gpu_s")] == ""
+
+
+FIGURES_REGIONS_MEASURED = (
+    "| yard | 0.02 | 0.0120 | True | 0.01363 | – | 3 | 2681 (632) | adaptive:preset=seed @ 512 | 0.01855 | 271.5 | 0.10 | 2.16 / 4.36 |",
+    "| pergola-garden | 0.012 | 0.0152 | False | 0.01779 | regular:n=11,layout=centred @ 2048 | 2 | 27564 (7308) | none of the run meets T | – | – | – | – / – |",
+    "measured RMSE ≤ T: 11 of 12 rows (92%; 90% asked)",
+    "reported met while measured over T: 0 (0 asked)",
+    "rows with bound ≥ 1.5×: 8; gain − 1 ≥ 0.6 (bound − 1) on 0:",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.03 bound 1.04, default 0.012 gain 0.07 bound 1.04",
+    "certified bound over measured RMSE: 1.06–1.57",
+    "frame-wide setting taken: 8 of 12 rows",
+    "the trace alone over the fixed setting's frame: 9 of 11 rows; regions' ms less the trace over the fixed setting's: 1.28–23.25",
+)
+
+
+def test_regions_measured_counts_its_figures_and_renders_a_row_of_each_kind():
+    here = "regions-measured/measure.py"
+    out = run(here, "figures", "rows.csv", "../oracle/oracle.csv", "oracle-more.csv")
+    for line in FIGURES_REGIONS_MEASURED:
+        assert line in out, line
+    rows = csv_rows(run(here, "run", "analytic-square", "256", "regions:target=0.05,pixels=64", "regular:n=2,layout=centred,cull=on", "--resolution", "64", "--repeats", "1"))
+    assert [r[:2] + r[4:6] for r in rows] == [["analytic-square", "64", "regions:target=0.05,pixels=64", "regions"],
+                                              ["analytic-square", "64", "regular:n=2,layout=centred,cull=on", "fixed"]]
+    # The regions row carries its certified bound and says met only where the bound is at most T.
+    met, bound = rows[0][9], float(rows[0][10])
+    assert rows[0][2] == "0.05" and (met == "True") == (bound <= 0.05), rows[0]
 
 
 def test_oracle_runs_each_listed_scene_and_joins_their_rows(tmp_path):

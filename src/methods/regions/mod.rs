@@ -6,8 +6,12 @@
 //! each group's maps are a centred grid fitted to the box of its receivers, sized for the finest
 //! texel its pixels need, culled per map, and shaded on that group's tiles alone.
 
+pub mod budget;
+mod certified;
+pub(crate) mod pictures;
+pub mod record;
+
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
-pub use super::regions_record::ClassRecord;
 use super::single_map::{light_size, CentreMap};
 use super::{
     check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
@@ -24,6 +28,7 @@ use crate::stages::regions::{
 };
 use crate::stages::FrameGpu;
 use crate::Result;
+pub use record::ClassRecord;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -47,6 +52,12 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
         Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
         Param { key: "hold", default: "on", help: "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh" },
+        Param { key: "certify", default: "on", help: "on: each class's error is measured with the exact truth at pixels drawn within it and a class whose bound is over the target is stepped up; the frame is met only where the certified bound is at most the target (docs/regions.md, \"Certified classes\"); off: the plan alone, as decided" },
+        Param { key: "pixels", default: "256", help: "certify = on: exact pixels drawn per class, 16..=8192" },
+        Param { key: "delta", default: "0.05", help: "certify = on: the frame's bound holds with probability 1 − delta (each class's at delta / classes), in (0, 0.5]" },
+        Param { key: "filter", default: "pcss", help: "certify = on: a one-map filter each class may take where it is certified within the target (pcss, or none)" },
+        Param { key: "fallback", default: "1.2", help: "certify = on: the frame-wide grid (the top class's samples on every tile) is taken where its predicted cost is at most this many times the plan's; off: never" },
+        Param { key: "plan_target", default: "0", help: "the target the plan is decided for; 0: target (a larger one makes a plan that under-counts, for studying the measurement)" },
     ],
     parse,
 };
@@ -142,6 +153,48 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
             )))
         }
     };
+    let on_off = |key: &str| match p.get(key).map(String::as_str) {
+        None | Some("on") => Ok(true),
+        Some("off") => Ok(false),
+        Some(v) => Err(crate::Error::Param(format!(
+            "regions: {key} = `{v}`: use `on` or `off`"
+        ))),
+    };
+    let certify = on_off("certify")?;
+    let pixels = check_range("regions", "pixels", get_u32(p, "pixels", 256)?, 16, 8192)?;
+    let delta = get_f32(p, "delta", 0.05)?;
+    if !(delta > 0.0 && delta <= 0.5) {
+        return Err(crate::Error::Param(format!(
+            "regions: delta = {delta} is outside (0, 0.5]"
+        )));
+    }
+    let filter = match p.get("filter").map(String::as_str) {
+        None | Some("pcss") => true,
+        Some("none") => false,
+        Some(v) => {
+            return Err(crate::Error::Param(format!(
+                "regions: filter = `{v}`: use `pcss` or `none`"
+            )))
+        }
+    };
+    let fallback = match p.get("fallback").map(String::as_str) {
+        None => Some(1.2),
+        Some("off") => None,
+        Some(v) => match v.parse::<f32>() {
+            Ok(r) if (1.0..=100.0).contains(&r) => Some(r),
+            _ => {
+                return Err(crate::Error::Param(format!(
+                    "regions: fallback = `{v}`: use `off` or a cost ratio 1..=100"
+                )))
+            }
+        },
+    };
+    let plan_target = get_f32(p, "plan_target", 0.0)?;
+    if plan_target != 0.0 && !(0.0005..=0.5).contains(&plan_target) {
+        return Err(crate::Error::Param(format!(
+            "regions: plan_target = {plan_target} is outside 0.0005..=0.5 (or 0: target)"
+        )));
+    }
     let centre_size = match get_u32(p, "centre_size", 0)? {
         0 => 0,
         v => power_of_two("centre_size", v)?,
@@ -176,6 +229,12 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         force_size,
         centre_size,
         hold,
+        certify,
+        pixels,
+        delta,
+        filter,
+        fallback,
+        plan_target,
     }))
 }
 
@@ -201,6 +260,17 @@ pub struct Regions {
     pub centre_size: u32,
     /// A group keeps the previous frame's window while it holds (`State::held_window`).
     pub hold: bool,
+    /// Each class's error bounded against the exact truth and stepped up where over (certified.rs).
+    pub certify: bool,
+    /// Exact pixels drawn per class; the frame's confidence 1 − delta.
+    pub pixels: u32,
+    pub delta: f32,
+    /// A class may take `pcss` where it is certified within the target.
+    pub filter: bool,
+    /// The frame-wide grid is taken where it is predicted at most this times the plan's cost.
+    pub fallback: Option<f32>,
+    /// The target the plan is decided for; 0: `target`.
+    pub plan_target: f32,
 }
 
 impl Regions {
@@ -217,6 +287,14 @@ impl Regions {
                 .clamp(64, shadow_map_size.max(64))
                 .min(shadow_map_size),
             s => s,
+        }
+    }
+
+    /// The target the plan is decided for: `plan_target`, else `target`.
+    pub fn plan_target(&self) -> f32 {
+        match self.plan_target {
+            t if t > 0.0 => t,
+            _ => self.target,
         }
     }
 
@@ -279,6 +357,21 @@ impl ShadowMethod for Regions {
                 ("force_size", self.force_size.to_string()),
                 ("centre_size", self.centre_size.to_string()),
                 ("hold", if self.hold { "on" } else { "off" }.to_string()),
+                (
+                    "certify",
+                    if self.certify { "on" } else { "off" }.to_string(),
+                ),
+                ("pixels", self.pixels.to_string()),
+                ("delta", self.delta.to_string()),
+                (
+                    "filter",
+                    if self.filter { "pcss" } else { "none" }.to_string(),
+                ),
+                (
+                    "fallback",
+                    self.fallback.map_or("off".to_string(), |r| r.to_string()),
+                ),
+                ("plan_target", self.plan_target.to_string()),
             ],
         )
     }
@@ -287,6 +380,7 @@ impl ShadowMethod for Regions {
             "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
             "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" },
             "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size, "centre_size": self.centre_size, "hold": self.hold,
+            "certify": self.certify, "pixels": self.pixels, "delta": self.delta, "filter": if self.filter { "pcss" } else { "none" }, "fallback": self.fallback, "plan_target": self.plan_target,
         })
     }
     /// Shade binds V whole on each class's tile list (one band). With `force`, the map side and
@@ -336,8 +430,8 @@ impl ShadowMethod for Regions {
         }
         let ladder = self.ladder();
         let (light_u, light_v) = light_size(fg);
-        // The samples get their share of the target; the maps' share sets the density (regions_budget).
-        let target = self.target * super::regions_budget::SAMPLING_SHARE;
+        // The samples get their share of the target; the maps' share sets the density (budget.rs).
+        let target = self.plan_target() * budget::SAMPLING_SHARE;
         let mut params = RegionsParams {
             region: self.region,
             ladder_len: ladder.len() as u32,
@@ -379,6 +473,7 @@ impl ShadowMethod for Regions {
             keep: false,
             reuse: ReuseCounts::default(),
             held: Vec::new(),
+            certifying: None,
         }))
     }
     fn as_any(&self) -> &dyn std::any::Any {
@@ -406,6 +501,8 @@ struct State {
     reuse: ReuseCounts,
     /// The previous frame's groups, (n, size, window), where `hold` keeps their windows.
     held: Vec<(u32, u32, Bounds)>,
+    /// `certify = on`: the truth tracer and the filter, built on the first certified frame.
+    certifying: Option<certified::Certifying>,
 }
 
 /// A window's side in tangent units as the light's centre sees it: a map's texel_angle at one texel.
@@ -718,16 +815,13 @@ impl MethodState for State {
                 readback::map_staging(ctx, &region_staging)?,
             ))
         })?;
-        let mut syncs = 1 + self.probe.syncs();
+        let syncs = 1 + self.probe.syncs();
         // The maps' share of the target: the density whose predicted maps' error meets it.
-        let (edges, pixels) = super::regions_budget::edge_weight(&self.pass.params, &regions);
+        let (edges, pixels) = budget::edge_weight(&self.pass.params, &regions);
         let floor = self.density_floor(fg) as f64;
         self.density = match self.method.density {
             d if d > 0.0 => d,
-            _ => {
-                super::regions_budget::map_density(edges, pixels, self.method.target as f64, floor)
-                    as f32
-            }
+            _ => budget::map_density(edges, pixels, self.method.plan_target() as f64, floor) as f32,
         };
         let s = fg.scene;
         let mut groups: Vec<Group> = Vec::new();
@@ -736,11 +830,6 @@ impl MethodState for State {
             if w[0] == 0 {
                 continue;
             }
-            let texel_need = if w[1] == u32::MAX {
-                f32::INFINITY
-            } else {
-                unordered(w[1])
-            };
             let window = match self.method.force {
                 Some(_) => s.bounds,
                 None => widened(w, &s.bounds),
@@ -749,105 +838,36 @@ impl MethodState for State {
                 n: self.ladder[c],
                 classes: vec![c],
                 tiles: w[0],
-                texel_need,
+                texel_need: texel_need(w),
                 window,
                 size: 0,
                 extent: 0.0,
             };
             groups.push(self.sized(fg, group));
         }
-        if self.method.force.is_none() && self.method.merge {
-            groups = self.merged(fg, groups);
-        }
-        if self.method.hold && self.method.force.is_none() {
-            for g in &mut groups {
-                self.held_window(fg, g);
-            }
-            self.held = groups.iter().map(|g| (g.n, g.size, g.window)).collect();
-        }
-        let mut maps = 0u32;
-        let (mut pairs, mut texels) = (0f64, 0f64);
-        let mut records = Vec::new();
-        for (g, group) in groups.iter().enumerate() {
-            let (n, size, window) = (group.n, group.size, group.window);
-            let samples = self
-                .method
-                .force
-                .is_none()
-                .then(|| self.samples(fg, n, &window, size));
-            // One class: its own list. Several: their lists joined into one (one shade pass per block).
-            let tiles = if let [c] = group.classes[..] {
-                self.pass.class_list(c as u32, fg.gbuffer.height)
-            } else {
-                let counts: Vec<(u32, u32)> = group
-                    .classes
-                    .iter()
-                    .map(|&c| (c as u32, words[c * CLASS_WORDS]))
-                    .collect();
-                let mut joined = None;
-                timer.stage(ctx, Stage::REGIONS, |enc| {
-                    joined = Some(
-                        self.pass
-                            .join(ctx, enc, g as u32, &counts, fg.gbuffer.height),
-                    );
-                    Ok(())
-                })?;
-                joined.expect("recorded above")
-            };
-            let keep = self.keep;
-            let grid = self.grid(fg, n, size)?;
-            if let Some(samples) = samples {
-                grid.set_samples(ctx, samples);
-            }
-            grid.set_tiles(tiles);
-            if keep {
-                grid.keep_intermediates();
-            }
-            let out = grid.run(fg, timer, false)?;
-            let counts = grid.reuse_counts().unwrap_or_default();
-            self.reuse.add(&counts);
-            syncs += out.syncs;
-            maps += out.shadow_maps;
-            let tris = out.record["triangles_per_map_mean"].as_f64().unwrap_or(0.0);
-            pairs += tris * out.shadow_maps as f64;
-            texels += out.shadow_maps as f64 * (size as f64).powi(2);
-            for &c in &group.classes {
-                let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
-                let texel_need = if w[1] == u32::MAX {
-                    f32::INFINITY
-                } else {
-                    unordered(w[1])
-                };
-                records.push(ClassRecord {
-                    class: c as u32,
-                    decided_n: self.ladder[c],
-                    group: g as u32,
-                    n,
-                    map_size: size,
-                    tiles: w[0],
-                    maps: out.shadow_maps,
-                    texel_need,
-                    extent: group.extent,
-                    triangles_per_map_mean: tris,
-                });
-            }
-        }
-        let record = serde_json::json!({
+        let mut record = serde_json::json!({
             "region": self.method.region,
             "ladder": self.ladder,
-            "classes": records,
-            "triangle_map_pairs": pairs,
-            "texels_written": texels,
             "decision_maps": self.probe.count(),
             "centre_size": self.centre,
             "density": self.density,
-            "predicted_map": super::regions_budget::predicted_map(edges, pixels, self.density as f64),
+            "predicted_map": budget::predicted_map(edges, pixels, self.density as f64),
         });
-        self.classes = records;
+        let (maps, syncs) = if self.method.certify && self.method.force.is_none() {
+            let (maps, more) = self.certified_frame(fg, timer, &words, groups, &mut record)?;
+            (maps, syncs + more)
+        } else {
+            if self.method.force.is_none() && self.method.merge {
+                groups = self.merged(fg, groups);
+            }
+            self.hold_windows(fg, &mut groups);
+            let (maps, more) = self.render_groups(fg, timer, &groups, &words, &mut record)?;
+            (maps, syncs + more)
+        };
         self.reuse
             .add(&ReuseCounts::all_rendered(self.probe.count(), self.centre));
         let pictures = if pictures {
-            super::regions_pictures::pictures(fg, &self.pass, &self.classes)?
+            pictures::pictures(fg, &self.pass, &self.classes)?
         } else {
             Vec::new()
         };
@@ -938,4 +958,135 @@ fn section(words: &[u32], k: usize, section_words: usize) -> Vec<u32> {
     let mut l = words[start..start + count].to_vec();
     l.sort_unstable();
     l
+}
+
+/// A class's finest texel need (CLASS_WORDS 1), infinite where none of its pixels asked.
+fn texel_need(words: &[u32]) -> f32 {
+    if words[1] == u32::MAX {
+        f32::INFINITY
+    } else {
+        unordered(words[1])
+    }
+}
+
+impl State {
+    /// `hold`: each group keeps the previous frame's window where it holds (`held_window`).
+    fn hold_windows(&mut self, fg: &FrameGpu, groups: &mut [Group]) {
+        if self.method.hold && self.method.force.is_none() {
+            for g in groups.iter_mut() {
+                self.held_window(fg, g);
+            }
+            self.held = groups.iter().map(|g| (g.n, g.size, g.window)).collect();
+        }
+    }
+
+    /// Group `g`'s maps rendered and shaded into V on its tiles (V accumulates: each tile is shaded
+    /// by one group between clears).
+    fn render_group(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        g: usize,
+        group: &Group,
+        words: &[u32],
+    ) -> Result<MethodOutput> {
+        let ctx = fg.ctx;
+        let (n, size, window) = (group.n, group.size, group.window);
+        let samples = self
+            .method
+            .force
+            .is_none()
+            .then(|| self.samples(fg, n, &window, size));
+        // One class: its own list. Several: their lists joined into one (one shade pass per block).
+        let tiles = if let [c] = group.classes[..] {
+            self.pass.class_list(c as u32, fg.gbuffer.height)
+        } else {
+            let counts: Vec<(u32, u32)> = group
+                .classes
+                .iter()
+                .map(|&c| (c as u32, words[c * CLASS_WORDS]))
+                .collect();
+            let mut joined = None;
+            timer.stage(ctx, Stage::REGIONS, |enc| {
+                joined = Some(
+                    self.pass
+                        .join(ctx, enc, g as u32, &counts, fg.gbuffer.height),
+                );
+                Ok(())
+            })?;
+            joined.expect("recorded above")
+        };
+        let keep = self.keep;
+        let grid = self.grid(fg, n, size)?;
+        if let Some(samples) = samples {
+            grid.set_samples(ctx, samples);
+        }
+        grid.set_tiles(tiles);
+        if keep {
+            grid.keep_intermediates();
+        }
+        let out = grid.run(fg, timer, false)?;
+        let counts = grid.reuse_counts().unwrap_or_default();
+        self.reuse.add(&counts);
+        Ok(out)
+    }
+
+    /// The class records of group `g` as rendered (`out`: its grid's output).
+    fn class_records(
+        g: usize,
+        group: &Group,
+        words: &[u32],
+        ladder: &[u32],
+        out: &MethodOutput,
+    ) -> Vec<ClassRecord> {
+        let tris = out.record["triangles_per_map_mean"].as_f64().unwrap_or(0.0);
+        group
+            .classes
+            .iter()
+            .map(|&c| {
+                let w = &words[c * CLASS_WORDS..(c + 1) * CLASS_WORDS];
+                ClassRecord {
+                    class: c as u32,
+                    decided_n: ladder[c],
+                    group: g as u32,
+                    n: group.n,
+                    map_size: group.size,
+                    tiles: w[0],
+                    maps: out.shadow_maps,
+                    texel_need: texel_need(w),
+                    extent: group.extent,
+                    triangles_per_map_mean: tris,
+                }
+            })
+            .collect()
+    }
+
+    /// Every group rendered into V; the record gains the classes and the maps' totals. Returns
+    /// the maps rendered and the grids' syncs.
+    fn render_groups(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        groups: &[Group],
+        words: &[u32],
+        record: &mut serde_json::Value,
+    ) -> Result<(u32, u32)> {
+        let (mut maps, mut syncs) = (0u32, 0u32);
+        let (mut pairs, mut texels) = (0f64, 0f64);
+        let mut records = Vec::new();
+        for (g, group) in groups.iter().enumerate() {
+            let out = self.render_group(fg, timer, g, group, words)?;
+            syncs += out.syncs;
+            maps += out.shadow_maps;
+            let tris = out.record["triangles_per_map_mean"].as_f64().unwrap_or(0.0);
+            pairs += tris * out.shadow_maps as f64;
+            texels += out.shadow_maps as f64 * (group.size as f64).powi(2);
+            records.extend(Self::class_records(g, group, words, &self.ladder, &out));
+        }
+        record["classes"] = serde_json::json!(records);
+        record["triangle_map_pairs"] = pairs.into();
+        record["texels_written"] = texels.into();
+        self.classes = records;
+        Ok((maps, syncs))
+    }
 }

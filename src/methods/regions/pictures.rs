@@ -4,7 +4,7 @@
 //!   its class's texel at the receiver, as log2 around 1: blue where a texel spans several pixels,
 //!   white at one texel per pixel, red where several texels fall in one pixel.
 
-use super::regions_record::ClassRecord;
+use super::record::ClassRecord;
 use crate::gpu::readback;
 use crate::stages::regions::RegionsPass;
 use crate::stages::shade::TILE_LIST_HEADER;

@@ -1,0 +1,113 @@
+"""regions' certified classes against the cheapest fixed setting meeting T (issue 56, items 2-3).
+
+  measure.py run SCENE SIDE SPEC... [--resolution R] [--repeats K] [--out DIR]
+      `penumbra compare` of the SPECs (`regions:target=T` rows and fixed settings; a grid at
+      another side as `regions:force=N,force_size=S`, which renders its V bit for bit), side by
+      side in one run (frames interleaved round by round), the scene's maps at SIDE²; prints one
+      CSV row each.
+  measure.py figures rows.csv ORACLE.csv...
+      the issue's must-show figures: per `regions:target=T` row, the cheapest fixed setting of the
+      same run whose measured RMSE is at most T, and the oracle's bound for (scene, T).
+"""
+
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+COLUMNS = ["scene", "resolution", "target", "shadow_map_size", "spec", "kind", "maps", "rmse", "ms",
+           "met", "bound", "fallback", "steps", "trace_ms", "version", "adapter"]
+
+
+def run(args):
+    scene, side, *rest = args
+    opts = {"--resolution": "128", "--repeats": "3", "--out": None}
+    specs = []
+    while rest:
+        a = rest.pop(0)
+        if a in opts:
+            opts[a] = rest.pop(0)
+        else:
+            specs.append(a)
+    out = opts["--out"] or tempfile.mkdtemp(prefix="regions-measured-")
+    binary = os.environ.get("PENUMBRA", "penumbra")
+    cmd = [binary, "compare", "--scene", scene, "--set", f"resolution={opts['--resolution']}",
+           "--set", f"shadow_map_size={side}", "--repeats", opts["--repeats"], "--out", out,
+           "--methods", ",".join(specs)]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    w = csv.writer(sys.stdout, lineterminator="\n")
+    for line in Path(out, "results.jsonl").read_text().splitlines():
+        r = json.loads(line)
+        record = json.loads(Path(out, Path(r["images"]["visibility"]).parent, "run.json").read_text())["method_record"]
+        c = record.get("certified") or {}
+        regions = r["method"] == "regions" and "force=" not in r["label"]
+        w.writerow([scene, opts["--resolution"], round(record["target"], 5) if regions else "", side, r["label"],
+                    "regions" if regions else "fixed", r["shadow_maps"],
+                    f"{r['metrics']['rmse']:.5f}", f"{r['total_ms']:.1f}",
+                    record.get("target_met", ""), f"{c['bound']:.5f}" if c else "",
+                    (c.get("fallback") or {}).get("setting") or "",
+                    sum(k["steps"] for k in c.get("classes", [])) if c else "",
+                    f"{c['trace_ms']:.1f}" if c else "", r["version"]["git"], r["adapter"]["name"]])
+
+
+def figures(rows_path, *oracle_paths):
+    rows = list(csv.DictReader(open(rows_path)))
+    bounds = {}
+    for o in (o for path in oracle_paths for o in csv.DictReader(open(path))):
+        if o["gain_bound"]:
+            bounds[(o["scene"], o["resolution"], float(o["target"]), o["menu"])] = float(o["gain_bound"])
+    builds = sorted({r["version"] for r in rows})
+    print(f"build: {', '.join(builds)}")
+    print("| scene | T | regions RMSE | met | bound | fallback | steps | regions ms (trace) | cheapest fixed meeting T | its RMSE | its ms | gain | oracle bound (grids, family) |")
+    print("|---|---:|---:|---|---:|---|---:|---:|---|---:|---:|---:|---|")
+    keys = sorted({(r["scene"], r["resolution"], float(r["target"])) for r in rows if r["kind"] == "regions"}, key=lambda k: (k[0], -k[2]))
+    kept = over_met = 0
+    big, small, costs = [], [], []
+    for key in keys:
+        reg = next(r for r in rows if r["kind"] == "regions" and (r["scene"], r["resolution"], float(r["target"])) == key)
+        meeting = [r for r in rows if r["kind"] == "fixed" and (r["scene"], r["resolution"]) == key[:2] and float(r["rmse"]) <= key[2]]
+        fixed = min(meeting, key=lambda r: float(r["ms"])) if meeting else None
+        rmse, ms = float(reg["rmse"]), float(reg["ms"])
+        kept += rmse <= key[2]
+        over_met += reg["met"] == "True" and rmse > key[2]
+        gain = float(fixed["ms"]) / ms if fixed else None
+        if fixed:
+            trace = float(reg["trace_ms"])
+            costs.append((trace > float(fixed["ms"]), (ms - trace) / float(fixed["ms"])))
+        grids = bounds.get((key[0], key[1], key[2], "grids"))
+        family = bounds.get((key[0], key[1], key[2], "family"))
+        bound = family if family is not None else grids
+        if bound is not None and gain is not None:
+            if bound >= 1.5:
+                big.append((key, gain, bound, gain - 1 >= 0.6 * (bound - 1)))
+            elif bound < 1.2:
+                small.append((key, gain, bound, ms <= 1.15 * float(fixed["ms"])))
+        g = f"{gain:.2f}" if gain else "–"
+        b = " / ".join("–" if x is None else f"{x:.2f}" for x in (grids, family))
+        f = (fixed["spec"] + f" @ {fixed['shadow_map_size']}", fixed["rmse"], fixed["ms"]) if fixed else ("none of the run meets T", "–", "–")
+        print(f"| {key[0]} | {key[2]} | {rmse:.4f} | {reg['met']} | {reg['bound']} | {reg['fallback'] or '–'} | {reg['steps']} | {ms:.0f} ({float(reg['trace_ms']):.0f}) | {f[0]} | {f[1]} | {f[2]} | {g} | {b} |")
+    n = len(keys)
+    print(f"\nmeasured RMSE ≤ T: {kept} of {n} rows ({100 * kept / n:.0f}%; 90% asked)")
+    print(f"reported met while measured over T: {over_met} (0 asked)")
+    ok = sum(x[3] for x in big)
+    print(f"rows with bound ≥ 1.5×: {len(big)}; gain − 1 ≥ 0.6 (bound − 1) on {ok}: " + ", ".join(f"{k[0]} {k[2]} gain {g:.2f} bound {b:.2f}" for k, g, b, _ in big))
+    ok = sum(x[3] for x in small)
+    print(f"rows with bound < 1.2×: {len(small)}; within 1.15× of the fixed setting on {ok}: " + ", ".join(f"{k[0]} {k[2]} gain {g:.2f} bound {b:.2f}" for k, g, b, _ in small))
+    regs = [r for r in rows if r["kind"] == "regions"]
+    ratios = [float(r["bound"]) / float(r["rmse"]) for r in regs]
+    print(f"certified bound over measured RMSE: {min(ratios):.2f}–{max(ratios):.2f}")
+    print(f"frame-wide setting taken: {sum(1 for r in regs if r['fallback'])} of {len(regs)} rows")
+    print(f"the trace alone over the fixed setting's frame: {sum(c[0] for c in costs)} of {len(costs)} rows; "
+          f"regions' ms less the trace over the fixed setting's: {min(c[1] for c in costs):.2f}–{max(c[1] for c in costs):.2f}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1 and sys.argv[1] == "run":
+        run(sys.argv[2:])
+    elif len(sys.argv) >= 4 and sys.argv[1] == "figures":
+        figures(*sys.argv[2:])
+    else:
+        sys.exit(__doc__)

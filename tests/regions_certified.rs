@@ -1,0 +1,165 @@
+//! `regions` with `certify = on` (docs/regions.md, "Certified classes"): a class whose plan
+//! under-counts is caught by its bound and stepped up; the frame is met only where the certified
+//! bound is at most T; the frame-wide setting is taken where it is predicted cheaper, and not
+//! where the plan is.
+
+mod common;
+use penumbra::frame::{FrameOptions, FrameResult, Renderer};
+use penumbra::gpu::timing::TimingMode;
+use penumbra::methods::Method;
+use penumbra::scene::Scene;
+
+fn scene(seed: u64) -> Scene {
+    Scene::parse(
+        &common::random_scene_toml(seed, 128, 256),
+        "random",
+        None,
+        &[],
+    )
+    .unwrap()
+}
+
+fn frame(sc: &Scene, spec: &str) -> FrameResult {
+    let method = Method::parse(spec, &[]).unwrap();
+    let mut renderer = Renderer::new(common::gpu(), sc, &method).expect("renderer");
+    renderer
+        .frame(FrameOptions {
+            mode: TimingMode::Frame,
+            pictures: false,
+        })
+        .expect("frame")
+}
+
+fn certified(r: &FrameResult) -> &serde_json::Value {
+    &r.output.record["certified"]
+}
+
+#[test]
+fn an_under_counting_class_is_caught_and_stepped_up() {
+    // The plan decided for 0.3 gives every class too few samples for 0.03.
+    let sc = scene(17);
+    let spec =
+        "regions:target=0.03,plan_target=0.3,filter=none,fallback=off,pixels=128,max_size=512";
+    let r = frame(&sc, spec);
+    let c = certified(&r);
+    let classes = c["classes"].as_array().expect("classes");
+    let stepped: Vec<_> = classes
+        .iter()
+        .filter(|k| k["steps"].as_u64().unwrap() > 0)
+        .collect();
+    println!("{}", serde_json::to_string_pretty(c).unwrap());
+    assert!(!stepped.is_empty(), "no class was stepped up: {classes:?}");
+    for k in &stepped {
+        let tried = k["tried"].as_array().unwrap();
+        let first = tried[0][1].as_f64().unwrap();
+        let last = tried[tried.len() - 1][1].as_f64().unwrap();
+        // Stepped because its plan's bound was over T; each step until the last was over T.
+        assert!(first > 0.03, "stepped from a bound of {first} ≤ T: {k}");
+        for t in &tried[..tried.len() - 1] {
+            assert!(
+                t[1].as_f64().unwrap() > 0.03,
+                "stepped past a certified setting: {k}"
+            );
+        }
+        assert!(last < first, "the steps did not lower the bound: {k}");
+        assert_eq!(
+            k["certified"].as_bool().unwrap(),
+            k["bound"].as_f64().unwrap() <= 0.03
+        );
+    }
+    // The plan alone (certify = off) renders fewer maps: the steps are what the bound asked for.
+    let plan = frame(
+        &sc,
+        "regions:target=0.03,plan_target=0.3,certify=off,max_size=512",
+    );
+    assert!(plan.output.record["certified"].is_null());
+    assert!(
+        r.output.shadow_maps > plan.output.shadow_maps,
+        "certified {} maps, plan {}",
+        r.output.shadow_maps,
+        plan.output.shadow_maps
+    );
+    // The trace is its own timing key, inside the frame.
+    assert!(c["trace_ms"].as_f64().unwrap() > 0.0);
+    assert!(r.total_ms >= c["trace_ms"].as_f64().unwrap());
+}
+
+#[test]
+fn met_only_where_the_certified_bound_is_at_most_the_target() {
+    let sc = scene(5);
+    // Out of reach: one sample on 64² maps at the most, 0.002 asked.
+    let r = frame(
+        &sc,
+        "regions:target=0.002,filter=none,max_n=1,min_size=64,max_size=64,pixels=128",
+    );
+    let c = certified(&r);
+    let bound = c["bound"].as_f64().unwrap();
+    assert!(bound > 0.002, "bound {bound}");
+    assert_eq!(r.output.record["target_met"], false);
+    // Within reach: the same frame at a loose target is met, its bound at most T.
+    let r = frame(
+        &sc,
+        "regions:target=0.25,filter=none,pixels=128,max_size=512",
+    );
+    let c = certified(&r);
+    let bound = c["bound"].as_f64().unwrap();
+    assert_eq!(
+        r.output.record["target_met"],
+        bound <= 0.25,
+        "bound {bound}"
+    );
+    assert_eq!(r.output.record["target_met"], true, "bound {bound}");
+    // The frame's bound is the classes' in quadrature, weighted by their pixels.
+    let sum: f64 = c["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k["share"].as_f64().unwrap() * k["bound"].as_f64().unwrap().powi(2))
+        .sum();
+    assert!(
+        (sum.sqrt() - bound).abs() < 1e-9,
+        "{} against {bound}",
+        sum.sqrt()
+    );
+}
+
+#[test]
+fn the_frame_wide_setting_is_taken_where_it_is_cheaper() {
+    let sc = scene(29);
+    // A loose target that the filter meets in every class: the frame is pcss's, bit for bit.
+    let r = frame(&sc, "regions:target=0.3,pixels=64,max_size=512");
+    let c = certified(&r);
+    assert_eq!(c["fallback"]["setting"], "pcss", "{c}");
+    assert_eq!(r.output.record["target_met"], true);
+    let pcss = frame(&sc, "pcss");
+    let differ = r
+        .visibility
+        .iter()
+        .zip(&pcss.visibility)
+        .filter(|(a, b)| a.to_bits() != b.to_bits())
+        .count();
+    assert_eq!(differ, 0, "{differ} pixels differ from pcss's frame");
+    // Grids only: with a generous ratio the frame-wide grid is taken, the record says which and
+    // why (its predicted cost against the plan's); with fallback = off it is not.
+    let spec = "regions:target=0.05,filter=none,pixels=64,max_size=512,merge=off";
+    let wide = frame(&sc, &format!("{spec},fallback=100"));
+    let f = &certified(&wide)["fallback"];
+    assert_eq!(f["taken"], true, "{f}");
+    assert!(
+        f["setting"].as_str().unwrap().starts_with("regular:n="),
+        "{f}"
+    );
+    assert!(f["frame_wide_cost"].as_f64().unwrap() <= 100.0 * f["plan_cost"].as_f64().unwrap());
+    let off = frame(&sc, &format!("{spec},fallback=off"));
+    assert_eq!(certified(&off)["fallback"]["taken"], false);
+    // Where the plan is predicted cheaper (maps priced at their texels alone, so separate classes
+    // cost less than one grid of the top class's samples everywhere) it is kept.
+    let plan = frame(&sc, &format!("{spec},fallback=1,map_cost=0"));
+    let f = &certified(&plan)["fallback"];
+    println!("{f}");
+    assert!(
+        f["frame_wide_cost"].as_f64().unwrap() > f["plan_cost"].as_f64().unwrap(),
+        "{f}"
+    );
+    assert_eq!(f["taken"], false, "{f}");
+}
