@@ -107,3 +107,24 @@ fn the_engine_names_no_command_line_flag() {
     // words them as its user writes them (lab/src/error.rs, python/src/lib.rs).
     assert!(named.is_empty(), "{named:#?}");
 }
+
+#[test]
+fn product_code_reads_no_twin() {
+    // The CPU twins are the kernels' test oracles; what the product needs on the CPU (a pool's
+    // reader, the regions rules, the frame's flag bits) lives beside its stage, and the twin
+    // re-exports it.
+    let mut lines = Vec::new();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    product_lines(&src, &mut lines);
+    let twin_dir = src.join("stages").join("twin").display().to_string();
+    let reads: Vec<&String> = lines
+        .iter()
+        .filter(|(at, line)| {
+            !at.starts_with(&twin_dir)
+                && !line.trim_start().starts_with("//")
+                && line.contains("twin::")
+        })
+        .map(|(at, _)| at)
+        .collect();
+    assert!(reads.is_empty(), "product code names a twin: {reads:#?}");
+}

@@ -29,6 +29,7 @@ pub mod raster_compute;
 pub mod raster_timing;
 pub(crate) mod reconstruct;
 pub mod regions;
+pub mod regions_rules;
 pub mod reproject_count;
 pub mod shade;
 pub mod shadow_test;

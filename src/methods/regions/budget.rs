@@ -4,7 +4,7 @@
 //! error that reads only what `measure` kept per region.
 
 use crate::stages::regions::{unordered, RegionsParams, REGION_WORDS};
-use crate::stages::twin::regions::{samples_of, total};
+use crate::stages::regions_rules::{samples_of, total};
 
 /// The samples' share of the target: T_s = T/√2, so T_s² + T_m² = T² with T_m = T_s.
 pub const SAMPLING_SHARE: f32 = std::f32::consts::FRAC_1_SQRT_2;

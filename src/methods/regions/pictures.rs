@@ -85,7 +85,7 @@ pub fn pictures(
                 let p = glam::Vec4::from(g.position[i]).truncate();
                 let depth = (p - centre).dot(normal).abs().max(1e-6);
                 let texel = r.extent / r.map_size as f32 * depth;
-                let f = crate::stages::twin::regions::footprint(&g, i);
+                let f = crate::stages::regions_rules::footprint(&g, i);
                 Rgb(if f > 0.0 {
                     diverging((f / texel).log2())
                 } else {
