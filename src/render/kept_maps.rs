@@ -120,6 +120,10 @@ pub struct ReuseCounts {
     pub texels: u64,
     /// Texels of every map the frame used.
     pub texels_used: u64,
+    /// Maps rendered whole into a layer that held another map (the cache was full: that map
+    /// was evicted and is rendered again when it is needed).
+    #[serde(default)]
+    pub evicted: u32,
 }
 
 impl ReuseCounts {
@@ -129,6 +133,7 @@ impl ReuseCounts {
         self.redrawn += other.redrawn;
         self.texels += other.texels;
         self.texels_used += other.texels_used;
+        self.evicted += other.evicted;
     }
 
     /// A frame that rasterized all of its `maps` maps of `size`².
@@ -140,6 +145,7 @@ impl ReuseCounts {
             redrawn: 0,
             texels,
             texels_used: texels,
+            evicted: 0,
         }
     }
 }
@@ -235,6 +241,9 @@ impl Slots {
         } else {
             Redraw::Whole
         };
+        if self.keeps && s.key.is_some_and(|k| k != key) {
+            self.counts.evicted += 1;
+        }
         let texels = key.size as u64 * key.size as u64;
         self.counts.texels_used += texels;
         match redraw {
@@ -504,7 +513,8 @@ mod tests {
                 kept: 0,
                 redrawn: 0,
                 texels: 2 * 64 * 64,
-                texels_used: 2 * 64 * 64
+                texels_used: 2 * 64 * 64,
+                evicted: 0,
             }
         );
         s.begin_frame();
@@ -515,6 +525,7 @@ mod tests {
         assert_eq!(s.place(key(3.0), 0), Redraw::Whole);
         assert_eq!(s.find(&key(1.0)), None);
         assert_eq!((s.counts.kept, s.counts.rendered), (1, 1));
+        assert_eq!(s.counts.evicted, 1);
     }
 
     #[test]
