@@ -120,8 +120,8 @@ pub struct ReuseCounts {
     pub texels: u64,
     /// Texels of every map the frame used.
     pub texels_used: u64,
-    /// Maps rendered whole into a layer that held another map (the cache was full: that map
-    /// was evicted and is rendered again when it is needed).
+    /// Maps rendered whole that the frame before used too: the layers could not hold them
+    /// (the cache was full, so they were evicted and rendered again).
     #[serde(default)]
     pub evicted: u32,
 }
@@ -158,6 +158,9 @@ pub struct Slots {
     frame: u64,
     keeps: bool,
     pub counts: ReuseCounts,
+    /// The keys this frame and the frame before placed (what `evicted` counts against).
+    used_keys: std::collections::HashSet<MapKey>,
+    last_keys: std::collections::HashSet<MapKey>,
 }
 
 impl Slots {
@@ -175,6 +178,8 @@ impl Slots {
             frame: 0,
             keeps,
             counts: ReuseCounts::default(),
+            used_keys: Default::default(),
+            last_keys: Default::default(),
         }
     }
 
@@ -191,6 +196,7 @@ impl Slots {
     pub fn begin_frame(&mut self) {
         self.frame += 1;
         self.counts = ReuseCounts::default();
+        self.last_keys = std::mem::take(&mut self.used_keys);
         for s in &mut self.slots {
             if s.pending {
                 *s = Slot {
@@ -241,8 +247,11 @@ impl Slots {
         } else {
             Redraw::Whole
         };
-        if self.keeps && s.key.is_some_and(|k| k != key) {
+        if self.keeps && redraw == Redraw::Whole && self.last_keys.contains(&key) {
             self.counts.evicted += 1;
+        }
+        if self.keeps {
+            self.used_keys.insert(key);
         }
         let texels = key.size as u64 * key.size as u64;
         self.counts.texels_used += texels;
@@ -288,8 +297,9 @@ impl Slots {
         }
     }
 
-    /// Forgets every key: the next frame renders every map.
+    /// Forgets every key: the next frame renders every map (none of them evicted).
     pub fn forget(&mut self) {
+        self.used_keys.clear();
         for s in &mut self.slots {
             *s = Slot {
                 key: None,
@@ -525,7 +535,13 @@ mod tests {
         assert_eq!(s.place(key(3.0), 0), Redraw::Whole);
         assert_eq!(s.find(&key(1.0)), None);
         assert_eq!((s.counts.kept, s.counts.rendered), (1, 1));
-        assert_eq!(s.counts.evicted, 1);
+        // Key 3 is new, not evicted: the frame before did not use it.
+        assert_eq!(s.counts.evicted, 0);
+        s.commit();
+        // Key 2, used by the frame before, no longer has its layer: evicted.
+        s.begin_frame();
+        assert_eq!(s.place(key(2.0), 0), Redraw::Whole);
+        assert_eq!((s.counts.rendered, s.counts.evicted), (1, 1));
     }
 
     #[test]

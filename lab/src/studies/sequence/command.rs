@@ -87,7 +87,7 @@ fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let timing = match args.timing.as_str() {
         "frame" => TimingMode::Frame,
         "stages" => TimingMode::Stages,
-        v => anyhow::bail!("--timing {v}: use frame or stages"),
+        v => return Err(crate::Error::param(format!("--timing {v}: use frame or stages")).into()),
     };
     let job = SequenceJob {
         scene: &scene,
