@@ -158,9 +158,9 @@ pub struct Slots {
     frame: u64,
     keeps: bool,
     pub counts: ReuseCounts,
-    /// The keys this frame and the frame before placed (what `evicted` counts against).
-    used_keys: std::collections::HashSet<MapKey>,
-    last_keys: std::collections::HashSet<MapKey>,
+    /// The keys this frame and the frame before placed (what `evicted` counts against); boxed, so
+    /// the slots stay small beside the enums that hold them.
+    keys: Box<[std::collections::HashSet<MapKey>; 2]>,
 }
 
 impl Slots {
@@ -178,8 +178,7 @@ impl Slots {
             frame: 0,
             keeps,
             counts: ReuseCounts::default(),
-            used_keys: Default::default(),
-            last_keys: Default::default(),
+            keys: Default::default(),
         }
     }
 
@@ -196,7 +195,8 @@ impl Slots {
     pub fn begin_frame(&mut self) {
         self.frame += 1;
         self.counts = ReuseCounts::default();
-        self.last_keys = std::mem::take(&mut self.used_keys);
+        let [used, last] = &mut *self.keys;
+        *last = std::mem::take(used);
         for s in &mut self.slots {
             if s.pending {
                 *s = Slot {
@@ -247,11 +247,12 @@ impl Slots {
         } else {
             Redraw::Whole
         };
-        if self.keeps && redraw == Redraw::Whole && self.last_keys.contains(&key) {
+        let [used, last] = &mut *self.keys;
+        if self.keeps && redraw == Redraw::Whole && last.contains(&key) {
             self.counts.evicted += 1;
         }
         if self.keeps {
-            self.used_keys.insert(key);
+            used.insert(key);
         }
         let texels = key.size as u64 * key.size as u64;
         self.counts.texels_used += texels;
@@ -299,7 +300,7 @@ impl Slots {
 
     /// Forgets every key: the next frame renders every map (none of them evicted).
     pub fn forget(&mut self) {
-        self.used_keys.clear();
+        self.keys[0].clear();
         for s in &mut self.slots {
             *s = Slot {
                 key: None,
