@@ -294,6 +294,71 @@ fn reuse_both_runs_each_method_twice_with_equal_v() {
     assert!(!dir.join("bad").exists());
 }
 
+/// `--timing stages`: every row of `frames.jsonl` holds each stage's wall clock and the
+/// renderer's attach (a moved mesh, so the kept maps draw their rectangles again).
+#[test]
+fn timing_stages_writes_each_stage_per_row() {
+    let _ = common::gpu(); // fails here, with instructions, when no adapter exists
+    let dir = temp_dir("sequence_stages");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let (cache, out) = (dir.join("cache"), dir.join("out"));
+    let args = [
+        "sequence",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--methods",
+        "regular:n=3",
+        "--frames",
+        "2",
+        "--animate",
+        "occluder",
+        "--timing",
+        "stages",
+        "--samples",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    ok(penumbra(&cache, &args), &args);
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        let stages = r["stages_ms"].as_object().expect("stages_ms");
+        for key in ["gbuffer", "shadow_raster", "shade", "readback", "attach"] {
+            let ms = stages.get(key).and_then(|v| v.as_f64());
+            assert!(ms.is_some_and(|ms| ms >= 0.0), "{key}: {r}");
+        }
+        // The stages are inside the frame's clock.
+        let inside: f64 = ["gbuffer", "shadow_raster", "shade", "readback"]
+            .iter()
+            .map(|k| stages[*k].as_f64().unwrap())
+            .sum();
+        assert!(inside <= r["total_ms"].as_f64().unwrap() + 1.0, "{r}");
+    }
+    // The second frame's maps are each rendered, kept or redrawn in part (the moved box).
+    let m = &rows[1]["maps"];
+    let n = |k: &str| m[k].as_u64().unwrap();
+    assert_eq!(n("rendered") + n("kept") + n("redrawn"), 9, "{m}");
+    assert_eq!(n("evicted"), 0, "{m}");
+    let bad = penumbra(
+        &cache,
+        &[
+            "sequence",
+            "--timing",
+            "fast",
+            "--out",
+            dir.join("bad").to_str().unwrap(),
+        ],
+    );
+    assert_eq!(bad.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&bad.stderr).trim(),
+        "error: --timing fast: use frame or stages"
+    );
+    assert!(!dir.join("bad").exists());
+}
+
 #[test]
 fn a_still_sequence_has_no_temporal_error() {
     let _ = common::gpu(); // fails here, with instructions, when no adapter exists

@@ -641,7 +641,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
                     array,
                 };
                 fg.raster.record(ctx, enc, &target, &jobs)?;
-                fg.raster.record_redraw(ctx, enc, &target, &redraw)
+                fg.raster.record_redraw(ctx, enc, &target, samples, &redraw)
             })?,
         }
         if let Some(c) = buffers.as_mut() {

@@ -120,6 +120,10 @@ pub struct ReuseCounts {
     pub texels: u64,
     /// Texels of every map the frame used.
     pub texels_used: u64,
+    /// Maps rendered whole that the frame before used too: the layers could not hold them
+    /// (the cache was full, so they were evicted and rendered again).
+    #[serde(default)]
+    pub evicted: u32,
 }
 
 impl ReuseCounts {
@@ -129,6 +133,7 @@ impl ReuseCounts {
         self.redrawn += other.redrawn;
         self.texels += other.texels;
         self.texels_used += other.texels_used;
+        self.evicted += other.evicted;
     }
 
     /// A frame that rasterized all of its `maps` maps of `size`².
@@ -140,6 +145,7 @@ impl ReuseCounts {
             redrawn: 0,
             texels,
             texels_used: texels,
+            evicted: 0,
         }
     }
 }
@@ -152,6 +158,9 @@ pub struct Slots {
     frame: u64,
     keeps: bool,
     pub counts: ReuseCounts,
+    /// The keys this frame and the frame before placed (what `evicted` counts against); boxed, so
+    /// the slots stay small beside the enums that hold them.
+    keys: Box<[std::collections::HashSet<MapKey>; 2]>,
 }
 
 impl Slots {
@@ -169,6 +178,7 @@ impl Slots {
             frame: 0,
             keeps,
             counts: ReuseCounts::default(),
+            keys: Default::default(),
         }
     }
 
@@ -185,6 +195,8 @@ impl Slots {
     pub fn begin_frame(&mut self) {
         self.frame += 1;
         self.counts = ReuseCounts::default();
+        let [used, last] = &mut *self.keys;
+        *last = std::mem::take(used);
         for s in &mut self.slots {
             if s.pending {
                 *s = Slot {
@@ -235,6 +247,13 @@ impl Slots {
         } else {
             Redraw::Whole
         };
+        let [used, last] = &mut *self.keys;
+        if self.keeps && redraw == Redraw::Whole && last.contains(&key) {
+            self.counts.evicted += 1;
+        }
+        if self.keeps {
+            used.insert(key);
+        }
         let texels = key.size as u64 * key.size as u64;
         self.counts.texels_used += texels;
         match redraw {
@@ -279,8 +298,9 @@ impl Slots {
         }
     }
 
-    /// Forgets every key: the next frame renders every map.
+    /// Forgets every key: the next frame renders every map (none of them evicted).
     pub fn forget(&mut self) {
+        self.keys[0].clear();
         for s in &mut self.slots {
             *s = Slot {
                 key: None,
@@ -504,7 +524,8 @@ mod tests {
                 kept: 0,
                 redrawn: 0,
                 texels: 2 * 64 * 64,
-                texels_used: 2 * 64 * 64
+                texels_used: 2 * 64 * 64,
+                evicted: 0,
             }
         );
         s.begin_frame();
@@ -515,6 +536,13 @@ mod tests {
         assert_eq!(s.place(key(3.0), 0), Redraw::Whole);
         assert_eq!(s.find(&key(1.0)), None);
         assert_eq!((s.counts.kept, s.counts.rendered), (1, 1));
+        // Key 3 is new, not evicted: the frame before did not use it.
+        assert_eq!(s.counts.evicted, 0);
+        s.commit();
+        // Key 2, used by the frame before, no longer has its layer: evicted.
+        s.begin_frame();
+        assert_eq!(s.place(key(2.0), 0), Redraw::Whole);
+        assert_eq!((s.counts.rendered, s.counts.evicted), (1, 1));
     }
 
     #[test]

@@ -4,6 +4,7 @@ pub(crate) mod barycentrics;
 pub mod bvh;
 pub mod gbuffer;
 pub mod kept_maps;
+pub mod redraw_cull;
 pub mod shadow_order;
 pub mod shadow_raster;
 
@@ -26,6 +27,10 @@ pub struct SceneGpu {
     /// Vertex positions alone, a vec4 each: what the compute raster reads.
     pub positions: wgpu::Buffer,
     pub index_count: u32,
+    /// Vertex positions and the box of each run of CULL_RUN triangles of the shadow order, on
+    /// the CPU: what a kept map's redraw leaves out (`redraw_cull`).
+    pub cpu_positions: Vec<glam::Vec3>,
+    pub run_boxes: Vec<[glam::Vec3; 2]>,
 }
 
 impl SceneGpu {
@@ -66,6 +71,12 @@ impl SceneGpu {
                 usage: wgpu::BufferUsages::STORAGE,
             });
         let padded: Vec<glam::Vec4> = positions.iter().map(|p| p.extend(1.0)).collect();
+        let run_boxes = redraw_cull::run_boxes(
+            &positions,
+            &shadow_order,
+            crate::gpu::stages::CULL_RUN as usize,
+        );
+        let cpu_positions = positions;
         let positions = ctx
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -81,6 +92,8 @@ impl SceneGpu {
             runs,
             positions,
             index_count: scene.indices.len() as u32,
+            cpu_positions,
+            run_boxes,
         }
     }
 }

@@ -1,11 +1,12 @@
 //! shadow_raster: one depth-only raster per light sample into one layer of a `Depth32Float` array.
 //! Arrays are sized by the layer limit and the memory budget; callers work chunk by chunk beyond it.
 
-use super::{SceneGpu, VERTEX_ATTRIBUTES};
+use super::{redraw_cull, SceneGpu, VERTEX_ATTRIBUTES};
 use crate::gpu::stages::bind;
 use crate::gpu::{pipeline, GpuContext, Stage};
 use crate::scene::CullMode;
 use crate::{Error, Result};
+use wgpu::util::DeviceExt;
 
 pub struct ShadowMapArray {
     /// `Depth32Float` (this raster's) or `R32Uint` depth bits (the compute raster's, copied in).
@@ -225,15 +226,18 @@ impl ShadowRasterPass {
     }
 
     /// Draws each job's scissor rectangle of its layer again and keeps the rest of the layer: the
-    /// far plane over the rectangle, then the whole mesh inside it. A texel's depth is the least
-    /// over the triangles covering its centre, whatever else is drawn, so the rectangle ends as a
-    /// fresh map's (docs/reuse.md).
+    /// far plane over the rectangle, then the triangles that may cover it (`redraw_cull`, from
+    /// the job's sample record in `records`). A texel's depth is the least over the triangles
+    /// covering its centre, whatever else is drawn, so the rectangle ends as a fresh map's
+    /// (docs/reuse.md).
+    #[allow(clippy::too_many_arguments)] // one per input of the pass: the encoder, scene, samples on both sides, layers, jobs
     pub fn record_redraw(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         scene: &SceneGpu,
         samples: &wgpu::Buffer,
+        records: &[crate::gpu::structs::GpuSample],
         array: &ShadowMapArray,
         jobs: &[RasterJob],
     ) {
@@ -244,7 +248,38 @@ impl ShadowRasterPass {
                 samples: samples.as_entire_binding(),
             },
         );
+        let size = array.texture.width();
+        // Every job's triangles, one after the other; `ranges[j]` is job j's.
+        let mut lists: Vec<u32> = Vec::new();
+        let mut ranges = Vec::with_capacity(jobs.len());
         for job in jobs {
+            let start = lists.len() as u32;
+            if let Some(rect) = job.scissor {
+                let m =
+                    glam::Mat4::from_cols_array_2d(&records[job.sample as usize].light_from_world);
+                redraw_cull::triangles(
+                    &redraw_cull::planes(m, size, rect),
+                    &scene.cpu_positions,
+                    &scene.shadow_order,
+                    &scene.run_boxes,
+                    crate::gpu::stages::CULL_RUN as usize,
+                    &mut lists,
+                );
+            }
+            ranges.push(start..lists.len() as u32);
+        }
+        // An index buffer cannot be empty: one unused index keeps it valid.
+        if lists.is_empty() {
+            lists.push(0);
+        }
+        let indices = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("shadow_raster redraw indices"),
+                contents: bytemuck::cast_slice(&lists),
+                usage: wgpu::BufferUsages::INDEX,
+            });
+        for (job, range) in jobs.iter().zip(ranges) {
             let Some([x, y, w, h]) = job.scissor else {
                 continue;
             };
@@ -266,11 +301,14 @@ impl ShadowRasterPass {
             pass.set_scissor_rect(x, y, w, h);
             pass.set_pipeline(&self.far);
             pass.draw(0..3, 0..1);
+            if range.is_empty() {
+                continue;
+            }
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.set_vertex_buffer(0, scene.vertices.slice(..));
-            pass.set_index_buffer(scene.shadow_indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..scene.index_count, 0, job.sample..job.sample + 1);
+            pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(range, 0, job.sample..job.sample + 1);
         }
     }
 

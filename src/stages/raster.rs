@@ -132,11 +132,14 @@ impl Raster {
 
     /// Draws each job's scissor rectangle of its layer again and keeps the rest of the layer (a
     /// kept map a moved mesh touched, docs/reuse.md); a job without a rectangle draws nothing.
+    /// `records` are the sample records on the CPU (`job.sample` indexes them): the hardware
+    /// raster draws only the triangles that may cover a job's rectangle (`redraw_cull`).
     pub fn record_redraw(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         to: &RasterTarget,
+        records: &[crate::gpu::structs::GpuSample],
         jobs: &[RasterJob],
     ) -> Result<()> {
         let RasterTarget {
@@ -146,7 +149,7 @@ impl Raster {
         } = *to;
         match self {
             Raster::Hardware(pass) => {
-                pass.record_redraw(ctx, enc, scene, samples, array, jobs);
+                pass.record_redraw(ctx, enc, scene, samples, records, array, jobs);
                 Ok(())
             }
             Raster::Compute(c) => c.record_redraw(ctx, enc, to, jobs),

@@ -151,6 +151,7 @@ pub(super) fn render_new(
                             samples: &b.samples,
                             array,
                         },
+                        samples,
                         &again,
                     )
                 })?;

@@ -251,6 +251,7 @@ pub fn run(ctx: &GpuContext, job: &GalleryJob, log: &dyn Fn(&str)) -> Result<Gal
             reference: job.reference,
             cache: job.cache.clone(),
             reuse: sequence::Reuse::On,
+            timing: crate::gpu::timing::TimingMode::Frame,
         };
         Some(sequence::run(ctx, &seq, &|_| {})?)
     } else {

@@ -1,5 +1,6 @@
 //! `penumbra sequence`: N frames with a moving light, camera or mesh.
 
+use crate::gpu::timing::TimingMode;
 use crate::gpu::{AdapterRequest, GpuContext};
 use crate::reference::truth;
 use crate::scene::Scene;
@@ -55,6 +56,10 @@ pub struct SequenceArgs {
     /// on, off, or both (each method twice, side by side, V compared bit for bit; docs/reuse.md).
     #[arg(long, default_value = "on")]
     reuse: String,
+    /// Clock: frame (each frame's wall time, only the waits the method needs) or stages (a wait
+    /// after every stage; each row of frames.jsonl gets `stages_ms`, each stage's wall time).
+    #[arg(long, default_value = "frame")]
+    timing: String,
 }
 
 /// Checks everything the user gave before the GPU starts, runs, writes the set.
@@ -79,6 +84,11 @@ fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
     let animation = spec.resolve(&scene)?;
     let reference = truth::parse_mode(&args.reference, args.samples)?;
     let reuse = sequence::Reuse::parse(&args.reuse)?;
+    let timing = match args.timing.as_str() {
+        "frame" => TimingMode::Frame,
+        "stages" => TimingMode::Stages,
+        v => return Err(crate::Error::param(format!("--timing {v}: use frame or stages")).into()),
+    };
     let job = SequenceJob {
         scene: &scene,
         methods,
@@ -87,6 +97,7 @@ fn run(args: SequenceArgs, gpu: &AdapterRequest) -> Result<()> {
         reference,
         cache: truth::Cache::default_for(args.no_cache),
         reuse,
+        timing,
     };
     sequence::check(&job)?;
     crate::methods::check_lights(&scene, &job.methods)?;

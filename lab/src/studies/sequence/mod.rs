@@ -44,6 +44,9 @@ pub struct SequenceJob<'a> {
     pub cache: Cache,
     /// Whether each method keeps its shadow maps from frame to frame (docs/reuse.md).
     pub reuse: Reuse,
+    /// `Frame` (the frame's wall clock alone) or `Stages` (a wait after every stage: each row
+    /// gets its stages' wall clock, `stages_ms`).
+    pub timing: TimingMode,
 }
 
 /// `--reuse`: every method keeps the maps that nothing moved (`on`), renders all (`off`), or
@@ -108,6 +111,10 @@ pub struct FrameRow {
     /// Bytes of shadow maps the renderer keeps for the next frame (at most the map budget).
     #[serde(default)]
     pub kept_bytes: u64,
+    /// `--timing stages`: each stage's wall clock in this frame, and `attach`, the renderer's
+    /// move to this frame's scene before its clock (the mesh's upload, what moved); empty otherwise.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub stages_ms: std::collections::BTreeMap<String, f64>,
 }
 
 /// One method over the whole sequence: a line of `summary.json`'s `methods`.
@@ -246,14 +253,21 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         let mut without: Vec<Option<Vec<f32>>> = vec![None; job.methods.len()];
         for (k, (mi, reuse, label)) in runs.iter().enumerate() {
             let method = &job.methods[*mi];
+            let attach = std::time::Instant::now();
             let mut renderer = match kept[k].take() {
                 Some(d) => d.attach(ctx, &scene_t)?,
                 None => Renderer::with_reuse(ctx, &scene_t, method, *reuse)?,
             };
+            let attach_ms = attach.elapsed().as_secs_f64() * 1e3;
             let f = renderer.frame(FrameOptions {
-                mode: TimingMode::Frame,
+                mode: job.timing,
                 pictures: false,
             })?;
+            let mut stages_ms = std::collections::BTreeMap::new();
+            if job.timing == TimingMode::Stages {
+                stages_ms = f.stages_ms.clone();
+                stages_ms.insert("attach".to_string(), attach_ms);
+            }
             let detached = renderer.detach();
             let kept_bytes = detached.maps_kept().bytes();
             kept[k] = Some(detached);
@@ -292,6 +306,10 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 ", {label} {} maps ({} rendered) RMSE {:.4}",
                 f.output.shadow_maps, f.reuse.rendered, m.rmse
             );
+            // A full cache says so: the maps it pushed out are rendered again when needed.
+            if f.reuse.evicted > 0 {
+                line += &format!(" ({} evicted: the map budget is full)", f.reuse.evicted);
+            }
             if let Some(p) = &pair {
                 line += &format!(" pop {}", p.popping_pixels);
             }
@@ -321,6 +339,7 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 maps: f.reuse,
                 v_equal_without_reuse: equal,
                 kept_bytes,
+                stages_ms,
             });
             method_frames[k].push(apng::side_by_side(&[&shaded, &abs]));
             if !*reuse && job.reuse == Reuse::Both {
@@ -649,9 +668,11 @@ mod tests {
                 redrawn: 0,
                 texels: rendered as u64 * 4,
                 texels_used: (rendered + kept) as u64 * 4,
+                evicted: 0,
             },
             v_equal_without_reuse: equal,
             kept_bytes: if reuse { 1024 } else { 0 },
+            stages_ms: Default::default(),
         }
     }
 

@@ -167,6 +167,7 @@ mod tests {
             maps: Default::default(),
             v_equal_without_reuse: None,
             kept_bytes: 0,
+            stages_ms: Default::default(),
         }
     }
 
