@@ -8,12 +8,12 @@
 //! Where none is certified, the target is out of reach: the candidate with the least bound is
 //! rendered, and says so.
 
+use super::filter::{bound as filter_bound, read_v};
 use super::{sides, sizes, AutoState, Try, KEEP};
 use crate::certify::design::{self, Design};
 use crate::certify::truth::TruthTracer;
 use crate::certify::{self, certificate, Options};
 use crate::gpu::timing::StageTimer;
-use crate::methods::auto_filter::{bound as filter_bound, read_v};
 use crate::methods::MethodOutput;
 use crate::stages::FrameGpu;
 use crate::Result;

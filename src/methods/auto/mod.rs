@@ -10,23 +10,25 @@
 //! has settled the choice (its prediction met the target, or nothing could grow), the state's
 //! later frames have the same inputs until the camera moves, so they render the chosen grid
 //! without the estimate. A grid that meets the target also judges one-map methods
-//! (auto_filter): one predicted to meet it is rendered instead.
+//! (`filter`): one predicted to meet it is rendered instead.
 
-use super::auto_filter::{Candidates, Met, Reference};
-use super::calibration::{self, Class};
-use super::estimate::Prediction;
-use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::{
     check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
     Param, ParamMap, ShadowMethod,
 };
 use crate::gpu::timing::StageTimer;
+use crate::methods::calibration::{self, Class};
+use crate::methods::estimate::Prediction;
+use crate::methods::fixed_samples::{self, regular_points, Layout, Prepared};
 use crate::render::kept_maps::ReuseCounts;
 use crate::stages::FrameGpu;
 use crate::Result;
+use filter::{Candidates, Met, Reference};
 use std::collections::BTreeMap;
 
 mod certified;
+pub mod filter;
+pub mod price;
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "auto",
@@ -53,7 +55,7 @@ pub const INFO: MethodInfo = MethodInfo {
             _ => CostModel::Measured,
         };
         let filters = p.get("filters").map_or(DEFAULT_FILTERS, String::as_str).to_string();
-        super::auto_filter::parse_list(&filters)?;
+        filter::parse_list(&filters)?;
         let pixels = check_range("auto", "pixels", get_u32(p, "pixels", DEFAULT_PIXELS)?, 0, 1 << 20)?;
         let delta = get_f32(p, "delta", 0.05)?;
         if !(delta > 0.0 && delta < 1.0) {
@@ -118,7 +120,7 @@ pub struct Auto {
     pub max_n: u32,
     pub max_size: u32,
     pub cost: CostModel,
-    /// `none`, or one-map methods joined by `+` (auto_filter::parse_list).
+    /// `none`, or one-map methods joined by `+` (filter::parse_list).
     pub filters: String,
     /// K, the exact pixels that certify the choice; 0: the estimate alone decides.
     pub pixels: u32,
@@ -128,7 +130,7 @@ pub struct Auto {
 /// How a map of each size is priced in the search (docs/error-estimate.md §6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CostModel {
-    /// What a map of each size adds to this scene's frame on this device (`auto_price`).
+    /// What a map of each size adds to this scene's frame on this device (`price`).
     Measured,
     /// Double per doubling of the side, on every device.
     Texels,
@@ -184,7 +186,7 @@ impl ShadowMethod for Auto {
         // Candidates that refuse the light: an error where the list was given, left out (and
         // recorded) from the default one.
         let (mut kept, mut left_out) = (Vec::new(), Vec::new());
-        for m in super::auto_filter::parse_list(&self.filters)? {
+        for m in filter::parse_list(&self.filters)? {
             match m.check_light(fg.scene) {
                 Ok(()) => kept.push(m),
                 Err(_) if self.filters == DEFAULT_FILTERS => left_out.push(m.label()),
@@ -272,7 +274,7 @@ pub struct AutoState {
     /// A frame has searched: only the state's first search steps down (a later one, after the
     /// camera moved or handed on in a sequence, only rises, so decisions do not flicker).
     searched: bool,
-    /// The one-map methods checked against the grid that met the target (auto_filter).
+    /// The one-map methods checked against the grid that met the target (`filter`).
     filters: Candidates,
     /// The candidate the settling frame chose: the settled frames render it instead of the grid.
     filter: Option<usize>,
@@ -311,12 +313,13 @@ impl Costs {
 }
 
 /// Each size's price under `model`, and the wall time the pricing took: `measured` times this
-/// scene's frames at each size before the clock, once per process and scene (`auto_price`).
+/// scene's frames at each size before the clock, once per process and scene (`price`).
 fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<(Costs, f64)> {
     match model {
         CostModel::Texels => Ok((Costs::texels(max_size), 0.0)),
-        CostModel::Measured => super::auto_price::measured(fg, &sizes(max_size))
-            .map(|(priced, ms)| (Costs(priced), ms)),
+        CostModel::Measured => {
+            price::measured(fg, &sizes(max_size)).map(|(priced, ms)| (Costs(priced), ms))
+        }
     }
 }
 

@@ -9,9 +9,9 @@
 //! target that took less time than the grid that met it is what the frame renders, and the
 //! settled frames after it.
 
-use super::{Family, Method, MethodOutput, MethodState};
 use crate::gpu::timing::StageTimer;
 use crate::gpu::{readback, Stage};
+use crate::methods::{Family, Method, MethodOutput, MethodState};
 use crate::stages::FrameGpu;
 use crate::{Error, Result};
 
