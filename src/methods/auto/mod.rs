@@ -23,12 +23,16 @@ use crate::methods::fixed_samples::{self, regular_points, Layout, Prepared};
 use crate::render::kept_maps::ReuseCounts;
 use crate::stages::FrameGpu;
 use crate::Result;
-use filter::{Candidates, Met, Reference};
+use filter::{Against, Candidates, Met, OutOfReach, Reference, Scope};
+pub use record::{AutoRecord, Chosen, FilterCheck, MapCost};
+pub use search::{predicted_at, sides, sizes, At, Costs, Ladder, SAMPLING_ORDER};
 use std::collections::BTreeMap;
 
 mod certified;
 pub mod filter;
 pub mod price;
+pub mod record;
+pub mod search;
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "auto",
@@ -73,35 +77,10 @@ pub const DEFAULT_PIXELS: u32 = 2048;
 
 /// The map sizes it steps through.
 pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
-/// The grid sides it chooses from, 2 to `max_n`: those the calibration was fitted on
-/// (`calibration::fitted_side`: the odd ones, the even ones to 6 with their own sampling factor).
-pub fn sides(max_n: u32) -> Vec<u32> {
-    (2..=max_n)
-        .filter(|&n| calibration::fitted_side(n))
-        .collect()
-}
-
-/// The map sizes it chooses from: 512² (`calibration::MIN_FITTED_SIZE`) to `max_size` (256²
-/// alone where `max_size` is 256).
-pub fn sizes(max_size: u32) -> Vec<u32> {
-    let fitted: Vec<u32> = SIZES
-        .iter()
-        .copied()
-        .filter(|&z| z >= calibration::MIN_FITTED_SIZE && z <= max_size)
-        .collect();
-    if fitted.is_empty() {
-        vec![max_size]
-    } else {
-        fitted
-    }
-}
-
 /// The first frame's choice: the smallest grid with half sets in both axes at 512² maps.
 const START: (u32, u32) = (3, 512);
 /// At most this many tries in one frame (each a full render of a grid).
 const MAX_TRIES: usize = 8;
-/// Sampling error falls about as n^-1.5 on the scenes measured (docs/error-estimate.md §6).
-pub const SAMPLING_ORDER: f64 = 1.5;
 /// A choice handed on from the previous frame of a sequence is kept while its prediction is
 /// within this factor of the target: the prediction moves from frame to frame as the light moves,
 /// and a choice that only rises would otherwise ratchet up on that noise
@@ -211,13 +190,17 @@ impl ShadowMethod for Auto {
             warned: false,
             settled: None,
             recalled: false,
-            costs,
+            ladder: Ladder::new(
+                Class::of(fg.scene.emitter.kind()),
+                self.max_n,
+                self.max_size,
+                costs,
+            ),
             pricing_ms,
             searched: false,
             filters,
             filter: None,
             handed_filter: None,
-            class: Class::of(fg.scene.emitter.kind()),
             certifying,
             reuse: ReuseCounts::default(),
         }))
@@ -238,7 +221,7 @@ impl ShadowMethod for Auto {
 }
 
 /// One try of a frame: the grid, its maps and the prediction.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Try {
     pub n: u32,
     pub map_size: u32,
@@ -252,6 +235,13 @@ pub struct Try {
     pub predicted_raw: f64,
 }
 
+impl Try {
+    /// The try as the search reads it.
+    pub fn at(&self) -> At {
+        At::new(self.n, self.map_size, self.prediction)
+    }
+}
+
 pub struct AutoState {
     method: Auto,
     /// The grid the next frame starts with.
@@ -260,15 +250,16 @@ pub struct AutoState {
     grid: Option<((u32, u32), Prepared)>,
     /// The frame uniform of each map size.
     frames: BTreeMap<u32, wgpu::Buffer>,
+    /// The out-of-reach line went to `progress::notice` (once per state).
     warned: bool,
     /// The frame that settled `choice`: its record and bound. Later frames of this state (same
     /// scene, light and camera) would predict the same, so they render the grid alone.
-    settled: Option<(serde_json::Value, Vec<f32>)>,
+    settled: Option<(AutoRecord, Vec<f32>)>,
     /// The choice came from the previous frame of a sequence (`recall`): its first try is kept
     /// within KEEP of the target.
     recalled: bool,
-    /// The price of one map of each size.
-    costs: Costs,
+    /// The grids it chooses among and the price of a map of each size.
+    ladder: Ladder,
     /// The wall time the pricing took before the clock (0 where the process had priced the scene).
     pricing_ms: f64,
     /// A frame has searched: only the state's first search steps down (a later one, after the
@@ -280,36 +271,10 @@ pub struct AutoState {
     filter: Option<usize>,
     /// The filter the previous frame of a sequence chose (`recall`), kept within KEEP.
     handed_filter: Option<String>,
-    /// The scene's class for the calibrated estimate (from its light).
-    class: Class,
     /// `pixels` > 0: the exact truth that certifies the choice (`certified`).
     certifying: Option<certified::Certifying>,
     /// This frame's maps rendered and kept, over its tries.
     reuse: ReuseCounts,
-}
-
-/// The price of one map of each size the search may choose (ms under `measured`, relative under
-/// `texels`), in SIZES order.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Costs(pub Vec<(u32, f64)>);
-
-impl Costs {
-    /// Double per doubling of the side. From 512² to 1024² maps a map costs 1.1–1.3× more on the
-    /// meshes and 1.6–2.9× on the small analytic scenes on lavapipe (docs/error-estimate.md §6).
-    pub fn texels(max_size: u32) -> Costs {
-        Costs(
-            sizes(max_size)
-                .into_iter()
-                .map(|z| (z, z as f64 / 512.0))
-                .collect(),
-        )
-    }
-    fn of(&self, size: u32) -> f64 {
-        self.0
-            .iter()
-            .find(|(z, _)| *z == size)
-            .map_or(f64::INFINITY, |(_, c)| *c)
-    }
 }
 
 /// Each size's price under `model`, and the wall time the pricing took: `measured` times this
@@ -321,155 +286,6 @@ fn map_costs(fg: &FrameGpu, model: CostModel, max_size: u32) -> Result<(Costs, f
             price::measured(fg, &sizes(max_size)).map(|(priced, ms)| (Costs(priced), ms))
         }
     }
-}
-
-/// The calibrated sampling error of side n2 from side n's, in a scene of `class`: it falls as
-/// n^−1.5, and an even side and an odd one take their own factors (`calibration::factors_at`).
-fn sampling_at(class: Class, n: u32, sampling: f64, n2: u32) -> f64 {
-    let factor =
-        calibration::factors_at(class, n2).sampling / calibration::factors_at(class, n).sampling;
-    sampling * (n as f64 / n2 as f64).powf(SAMPLING_ORDER) * factor
-}
-
-/// The predicted RMSE of the centred grid (n2, size2), from a try at (n, size) in a scene of
-/// `class`: the sampling error falls as n^−1.5 (`sampling_at`); of the maps' error, the part
-/// that averages over samples falls as 1/n (`Prediction::predicted_map_averaging`), and all of it
-/// at best as the texel size.
-pub fn predicted_at(class: Class, n: u32, size: u32, p: &Prediction, n2: u32, size2: u32) -> f64 {
-    let s = sampling_at(class, n, p.predicted_sampling, n2);
-    // Fewer samples or smaller maps (a step down) raise both parts by the same laws.
-    let kept = 1.0 - (n * n) as f64 / (n2 * n2) as f64;
-    let texel = size as f64 / size2 as f64;
-    let m2 = (p.predicted_map.powi(2) - p.predicted_map_averaging.powi(2) * kept).max(0.0)
-        * texel
-        * texel;
-    (s * s + m2).sqrt()
-}
-
-/// A step down: the cheapest grid not yet `tried`, cheaper than (n, size), of `sides(max_n)` and
-/// `sizes(max_size)`, that `predicted_at` says meets `target` too; None if none does.
-#[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-pub fn cheaper_meeting(
-    class: Class,
-    n: u32,
-    size: u32,
-    p: &Prediction,
-    target: f64,
-    max_n: u32,
-    max_size: u32,
-    costs: &Costs,
-    tried: &[(u32, u32)],
-) -> Option<(u32, u32)> {
-    let here = (n * n) as f64 * costs.of(size);
-    let mut best: Option<(f64, (u32, u32))> = None;
-    for size2 in sizes(max_size) {
-        for n2 in sides(max_n) {
-            let cost = (n2 * n2) as f64 * costs.of(size2);
-            if cost >= here {
-                break;
-            }
-            if !tried.contains(&(n2, size2))
-                && predicted_at(class, n, size, p, n2, size2) <= target
-                && best.is_none_or(|(c, _)| cost < c)
-            {
-                best = Some((cost, (n2, size2)));
-            }
-        }
-    }
-    best.map(|(_, choice)| choice)
-}
-
-/// The cheapest grid (its maps at `costs`' price) of `sides` at n ≥ `n` and `sizes` at maps ≥ `size`, other than
-/// (n, size), that `predicted_at` says meets `target`; None if none does.
-#[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-fn cheapest_meeting(
-    class: Class,
-    n: u32,
-    size: u32,
-    p: &Prediction,
-    target: f64,
-    max_n: u32,
-    max_size: u32,
-    costs: &Costs,
-) -> Option<(u32, u32)> {
-    let mut best: Option<(f64, (u32, u32))> = None;
-    for size2 in sizes(max_size).into_iter().filter(|&z| z >= size) {
-        // At one size the cost rises with n: the first n that meets it is that size's cheapest.
-        let meets = sides(max_n)
-            .into_iter()
-            .filter(|&n2| n2 >= n && (n2, size2) != (n, size))
-            .find(|&n2| predicted_at(class, n, size, p, n2, size2) <= target);
-        if let Some(n2) = meets {
-            let cost = (n2 * n2) as f64 * costs.of(size2);
-            if best.is_none_or(|(c, _)| cost < c) {
-                best = Some((cost, (n2, size2)));
-            }
-        }
-    }
-    best.map(|(_, choice)| choice)
-}
-
-/// The next grid after a try that missed `target`, or None when nothing that can grow would
-/// reach it. First the cheapest grid predicted to meet it (`cheapest_meeting`). Where none is,
-/// the target is out of reach by the prediction, and shares decide what grows: the maps' error
-/// gets half the target's square while the map size can double; the sampling error gets the
-/// rest, and n grows to what its order says reaches that (at least one more). Where n is at its
-/// largest the maps take the excess; where the maps are at their largest and their error alone
-/// misses the target, nothing can reach it. Where even the largest maps would miss it (their
-/// error falling at best as the texel size), the sampling error need only stay under half that
-/// floor, which adds at most 12% to it: n does not chase a target the maps put out of reach.
-#[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
-pub fn next_choice(
-    class: Class,
-    n: u32,
-    size: u32,
-    p: &Prediction,
-    target: f64,
-    max_n: u32,
-    max_size: u32,
-    costs: &Costs,
-) -> Option<(u32, u32)> {
-    if let Some(choice) = cheapest_meeting(class, n, size, p, target, max_n, max_size, costs) {
-        return Some(choice);
-    }
-    let share = target / std::f64::consts::SQRT_2;
-    let ladder = sides(max_n);
-    let top = *ladder.last().expect("at least one side");
-    let (can_n, can_size) = (n < top, size < max_size);
-    let mut grow_size = p.predicted_map > share && can_size;
-    if !can_size && p.predicted_map >= target {
-        return None;
-    }
-    let floor =
-        p.predicted_map * 0.5f64.powi((max_size / size.max(1)).max(1).trailing_zeros() as i32);
-    let sampling_share = if grow_size {
-        share
-    } else {
-        (target * target - p.predicted_map * p.predicted_map).sqrt()
-    };
-    let sampling_share = if floor > target {
-        sampling_share.max(0.5 * floor)
-    } else {
-        sampling_share
-    };
-    let grow_n = p.predicted_sampling > sampling_share && can_n;
-    if p.predicted_sampling > sampling_share && !can_n {
-        grow_size = can_size;
-    }
-    if !grow_n && !grow_size {
-        return None;
-    }
-    let n2 = if grow_n {
-        // The first side past n whose sampling error its order (and its factor) puts under the share.
-        ladder
-            .iter()
-            .copied()
-            .find(|&n2| n2 > n && sampling_at(class, n, p.predicted_sampling, n2) <= sampling_share)
-            .unwrap_or(top)
-    } else {
-        n
-    };
-    Some((n2, if grow_size { size * 2 } else { size }))
 }
 
 impl AutoState {
@@ -511,7 +327,7 @@ impl AutoState {
         &mut self,
         fg: &FrameGpu,
         timer: &mut StageTimer,
-        mut record: serde_json::Value,
+        mut record: AutoRecord,
         bound: Vec<f32>,
     ) -> Result<MethodOutput> {
         if let Some(i) = self.filter {
@@ -521,12 +337,11 @@ impl AutoState {
                 out.shadow_maps,
                 fg.scene.render.shadow_map_size,
             ));
-            record["maps_rendered"] = out.shadow_maps.into();
-            record["estimated"] = false.into();
+            (record.maps_rendered, record.estimated) = (out.shadow_maps, false);
             return Ok(MethodOutput {
                 shadow_maps: out.shadow_maps,
                 syncs: 0,
-                record,
+                record: record.to_value()?,
                 pictures: Vec::new(),
                 bound: Some(bound),
             });
@@ -540,12 +355,11 @@ impl AutoState {
         let out = out?;
         self.reuse.add(&grid.reuse_counts().unwrap_or_default());
         // `tries` stays the settling frame's: how the choice was made.
-        record["maps_rendered"] = out.shadow_maps.into();
-        record["estimated"] = false.into();
+        (record.maps_rendered, record.estimated) = (out.shadow_maps, false);
         Ok(MethodOutput {
             shadow_maps: out.shadow_maps,
             syncs: 0,
-            record,
+            record: record.to_value()?,
             pictures: Vec::new(),
             bound: Some(bound),
         })
@@ -569,7 +383,7 @@ impl AutoState {
         let sums = timer.cpu(crate::gpu::Stage::READBACK, || e.read(fg))?;
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let (raw, bound) = e.predict(&sums, geometry)?;
-        let prediction = calibration::calibrated(&raw, self.class, n);
+        let prediction = calibration::calibrated(&raw, self.ladder.class, n);
         Ok((
             Try {
                 n,
@@ -625,232 +439,30 @@ impl MethodState for AutoState {
         if let Some((record, bound)) = &self.settled {
             return self.run_settled(fg, timer, record.clone(), bound.clone());
         }
-        let target = self.method.target as f64;
         // The G-buffer pass is recorded, not yet submitted: flush before reading it.
         timer.flush(fg.ctx);
         let geometry = timer.cpu(crate::gpu::Stage::READBACK, || {
             fixed_samples::geometry_mask(fg)
         })?;
-        let mut tries: Vec<Try> = Vec::new();
-        let mut bound;
-        // The state's first search also steps down: from a try that meets the target, to a cheaper
-        // grid predicted to meet it; where that one misses, back to the cheapest that met.
-        let mut down = !self.recalled && !self.searched;
-        self.searched = true;
-        let mut met: Option<(u32, u32)> = None;
-        // Settled: the target met, or nothing left to grow. A search cut at MAX_TRIES goes on
-        // next frame.
-        let settles = loop {
-            let (t, b) = self.try_grid(fg, timer, &geometry, self.choice)?;
-            bound = b;
-            tries.push(t);
-            let handed_on = self.recalled && tries.len() == 1;
-            // A handed-on choice whose prediction fell below the band may step down to a cheaper
-            // grid (the band's lower edge, `hold::standing`); within it, it holds.
-            if handed_on
-                && super::hold::standing(t.prediction.predicted_rmse, target)
-                    == super::hold::Standing::Below
-            {
-                down = true;
-            }
-            if acceptable(t.prediction.predicted_rmse, target, handed_on) {
-                // A step down is only taken with a try to spare for the way back.
-                let tried: Vec<(u32, u32)> = tries.iter().map(|t| (t.n, t.map_size)).collect();
-                let step = if down && tries.len() + 1 < MAX_TRIES {
-                    cheaper_meeting(
-                        self.class,
-                        t.n,
-                        t.map_size,
-                        &t.prediction,
-                        target,
-                        self.method.max_n,
-                        self.method.max_size,
-                        &self.costs,
-                        &tried,
-                    )
-                } else {
-                    None
-                };
-                met = Some((t.n, t.map_size));
-                match step {
-                    Some(next) => {
-                        self.choice = next;
-                        continue;
-                    }
-                    None => break true,
-                }
-            }
-            if let Some(back) = met.filter(|_| down) {
-                down = false;
-                self.choice = back;
-                continue;
-            }
-            if tries.len() == MAX_TRIES {
-                break false;
-            }
-            match next_choice(
-                self.class,
-                t.n,
-                t.map_size,
-                &t.prediction,
-                target,
-                self.method.max_n,
-                self.method.max_size,
-                &self.costs,
-            ) {
-                Some(next) => self.choice = next,
-                None => break true,
-            }
-        };
+        let search = self.search(fg, timer, &geometry)?;
         if self.certifying.is_some() {
             // The estimate's search found the first guess; the bound decides (docs/certify.md §5).
-            return self.certified_frame(fg, timer, &geometry, tries, bound, settles);
+            return self.certified_frame(fg, timer, &geometry, search);
         }
-        let last = *tries.last().expect("one try at least");
-        // The previous frame's choice, kept within KEEP of the target.
-        let kept = self.recalled
-            && tries.len() == 1
-            && last.prediction.predicted_rmse > target
-            && acceptable(last.prediction.predicted_rmse, target, true);
-        let met = last.prediction.predicted_rmse <= target || kept;
-        let mut maps: u32 = tries.iter().map(|t| t.maps).sum();
-        // The one-map candidates: where a grid met the target, judged against a finer grid; where
-        // none can, against the grid the frame renders. A sequence's later frames check them only
-        // where the previous frame chose one: a grid does not turn into a filter there.
-        self.filter = None;
-        let mut filter_record = serde_json::Value::Null;
-        let mut predicted = last.prediction.predicted_rmse;
-        let mut difference = 0.0;
-        let filter_factor = calibration::factors(self.class).largest();
-        let check = (met || settles)
-            && !self.filters.is_empty()
-            && (!self.recalled || self.handed_filter.is_some());
-        if check {
-            let mut filters =
-                std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
-            let handed = self.handed_filter.clone();
-            // A reference grid's maps are counted by its try; the candidates' are rendered.
-            let counted = |r: &ReuseCounts| r.rendered + r.kept + r.redrawn;
-            let grids_before = counted(&self.reuse);
-            let outcome = if met {
-                // F = sqrt(D² − σ²) takes the grid's own error out of the difference: σ is the
-                // estimate's raw reading there (a calibrated σ, larger, would hide the filter's
-                // error), and F is then calibrated by the larger of the two factors.
-                let grid = Met {
-                    rmse: last.predicted_raw,
-                    ms: last.ms,
-                };
-                let (max_n, max_size) = (self.method.max_n, self.method.max_size);
-                let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
-                    let Some(grid) = cheapest_meeting(
-                        self.class,
-                        last.n,
-                        last.map_size,
-                        &last.prediction,
-                        target * REFERENCE,
-                        max_n,
-                        max_size,
-                        &self.costs,
-                    ) else {
-                        return Ok(None);
-                    };
-                    let (r, bound) = self.try_grid(fg, timer, &geometry, grid)?;
-                    let record = serde_json::to_value(r)
-                        .map_err(|e| crate::Error::Limit(format!("auto: reference record: {e}")))?;
-                    Ok(Some(Reference {
-                        rmse: r.predicted_raw,
-                        bound,
-                        maps: r.maps,
-                        record,
-                    }))
-                };
-                let accept = |p: f64, handed: bool| acceptable(filter_factor * p, target, handed);
-                filters.check(
-                    fg,
-                    timer,
-                    &geometry,
-                    grid,
-                    target * SCREEN / filter_factor,
-                    &mut reference,
-                    &accept,
-                    handed.as_deref(),
-                )
-            } else {
-                // Out of reach: a candidate no worse than the grid, as far as the estimate can tell.
-                let grid = Met {
-                    rmse: last.prediction.predicted_rmse,
-                    ms: last.ms,
-                };
-                filters.check_out_of_reach(
-                    fg,
-                    timer,
-                    &geometry,
-                    grid,
-                    &bound,
-                    KEEP,
-                    handed.as_deref(),
-                )
-            };
-            self.filters = filters;
-            let outcome = outcome?;
-            maps += outcome.maps;
-            let reference_maps = counted(&self.reuse) - grids_before;
-            self.reuse.add(&ReuseCounts::all_rendered(
-                outcome.maps.saturating_sub(reference_maps),
-                fg.scene.render.shadow_map_size,
-            ));
-            if let Some((i, p, b)) = outcome.chosen {
-                self.filter = Some(i);
-                // Met: the filter's F. Out of reach, p is its difference from the grid, and the
-                // filter is read as no worse than the grid's prediction, which stays.
-                if met {
-                    predicted = filter_factor * p;
-                } else {
-                    difference = p;
-                }
-                bound = b;
-            }
-            filter_record = serde_json::json!({ "reference": outcome.reference, "chosen": self.filter.map(|i| self.filters.label(i)), "checks": outcome.checks, "left_out": self.filters.left_out() });
+        let mut frame = self.judged(search);
+        self.check_filters(fg, timer, &geometry, &mut frame)?;
+        frame.warning = self.out_of_reach(&frame);
+        let record = self.record(&frame);
+        if frame.search.settles {
+            self.settled = Some((record.clone(), frame.search.bound.clone()));
         }
-        if !met && !self.warned {
-            self.warned = true;
-            let renders = self.filter.map_or(String::new(), |i| format!("; {} differs from that grid by {difference:.5} (RMS), within its predicted error, and is rendered instead", self.filters.label(i)));
-            crate::progress::suspend(|| {
-                eprintln!(
-                    "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the best predicted is {:.5} (regular:n={},layout=centred at {}² maps){renders}",
-                    self.method.target, self.method.max_n, self.method.max_size, last.prediction.predicted_rmse, last.n, last.map_size
-                )
-            });
-        }
-        let mut record = serde_json::json!({
-            "chosen": { "n": last.n, "layout": "centred", "map_size": last.map_size, "spec": format!("regular:n={},layout=centred", last.n) },
-            "target": self.method.target,
-            // Met only where the prediction the frame reports is at most the target: a choice kept
-            // within KEEP of it (a sequence's) is `kept`, not met.
-            "target_met": predicted <= target,
-            "tries": tries,
-            "predicted_rmse": predicted,
-            "predicted_sampling": last.prediction.predicted_sampling,
-            "predicted_map": last.prediction.predicted_map,
-            "map_cost": { "model": self.method.cost.name(), "per_map": self.costs.0.iter().map(|(z, c)| (z.to_string(), serde_json::json!(c))).collect::<serde_json::Map<_, _>>(), "pricing_ms": self.pricing_ms },
-        });
-        record["filter"] = filter_record;
-        if let Some(i) = self.filter {
-            // What the frame renders: the grid stays in `chosen` as the reference it was judged by.
-            record["renders"] = self.filters.label(i).into();
-        }
-        record["maps_rendered"] = maps.into();
-        record["estimated"] = true.into();
-        record["kept"] = kept.into();
-        if settles {
-            self.settled = Some((record.clone(), bound.clone()));
-        }
+        let record = record.to_value()?;
         Ok(MethodOutput {
-            shadow_maps: maps,
-            syncs: 1 + tries.len() as u32,
+            shadow_maps: frame.maps,
+            syncs: 1 + frame.search.tries.len() as u32,
             record,
             pictures: Vec::new(),
-            bound: Some(bound),
+            bound: Some(frame.search.bound),
         })
     }
     fn camera_moved(&mut self) {
@@ -884,420 +496,301 @@ impl MethodState for AutoState {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// One frame's search over the grids: its tries, the bound of the last, whether it may still
+/// step down, the cheapest grid that met the target so far, and whether it settled.
+struct Search {
+    tries: Vec<Try>,
+    bound: Vec<f32>,
+    /// The state's first search also steps down: from a try that meets the target, to a cheaper
+    /// grid predicted to meet it; where that one misses, back to the cheapest that met.
+    down: bool,
+    met: Option<(u32, u32)>,
+    /// Settled: the target met, or nothing left to grow. A search cut at MAX_TRIES goes on next
+    /// frame.
+    settles: bool,
+}
 
-    fn tx() -> Costs {
-        Costs::texels(2048)
-    }
+/// The frame as the search and the one-map check leave it, for its record.
+struct Judged {
+    search: Search,
+    /// The last try, what the frame renders unless a filter is chosen.
+    last: Try,
+    /// The previous frame's choice, kept within KEEP of the target.
+    kept: bool,
+    /// The last try's prediction met the target, or it was kept.
+    met: bool,
+    /// The maps rendered: every try's, then the filters' and the reference's.
+    maps: u32,
+    /// The frame's predicted RMSE: the last try's, or the chosen filter's F where a grid met it.
+    predicted: f64,
+    /// Out of reach: the chosen filter's difference from the grid.
+    difference: f64,
+    filter_record: Option<FilterCheck>,
+    /// Out of reach: the line that says so.
+    warning: Option<String>,
+}
 
-    fn p(sampling: f64, map: f64) -> Prediction {
-        pa(sampling, map, 0.0)
-    }
-
-    /// With `averaging` of the maps' error falling with n.
-    fn pa(sampling: f64, map: f64, averaging: f64) -> Prediction {
-        Prediction {
-            predicted_rmse: (sampling * sampling + map * map).sqrt(),
-            predicted_sampling: sampling,
-            predicted_map: map,
-            predicted_quantization: map,
-            predicted_bias: 0.0,
-            predicted_map_averaging: averaging,
+impl AutoState {
+    /// The search: grids tried from the current choice until one settles the frame or MAX_TRIES
+    /// is reached (`next_step`).
+    fn search(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        geometry: &[bool],
+    ) -> Result<Search> {
+        let mut search = Search {
+            tries: Vec::new(),
+            bound: Vec::new(),
+            down: !self.recalled && !self.searched,
+            met: None,
+            settles: false,
+        };
+        self.searched = true;
+        loop {
+            let (t, b) = self.try_grid(fg, timer, geometry, self.choice)?;
+            search.bound = b;
+            search.tries.push(t);
+            if let Some(settles) = self.next_step(&mut search) {
+                search.settles = settles;
+                return Ok(search);
+            }
         }
     }
 
-    #[test]
-    fn the_cheapest_grid_predicted_to_meet_the_target() {
-        // Maps well under the target: sampling gets sqrt(0.01² − map²) ≈ 0.00998 and is 1.42× over
-        // it, so n grows by 1.42^(1/1.5) ≈ 1.26: 5 → 6.3 → 7, at the same maps.
-        let share = 0.01 / std::f64::consts::SQRT_2;
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                5,
-                512,
-                &p(2.0 * share, 0.1 * share),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((7, 512))
-        );
-        // The maps alone over the target: doubling them (predicted 0.0053 + 0.0035) meets it.
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                5,
-                512,
-                &p(0.5 * share, 1.5 * share),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((5, 1024))
-        );
-        // Both at 0.0078 at 256²: 4×4 there would be predicted to meet 0.01 (16 maps of cost ½),
-        // but 256² maps are not a grid the calibration was fitted on: 3×3 at 512² (0.0087, cost 9),
-        // before 4×4 there (0.0095 with the even side's factor, cost 16).
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                3,
-                256,
-                &p(1.1 * share, 1.1 * share),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((3, 512))
-        );
-        // Maps at their largest, their error under the target: n takes the rest of it.
-        // sampling share = sqrt(0.01² − 0.009²) = 0.00436; 0.006 / 0.00436 = 1.38 → 5 · 1.24 = 6.2,
-        // and the next odd side is 7.
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                5,
-                2048,
-                &p(0.006, 0.009),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((7, 2048))
-        );
-        // Maps at their largest and their error alone over the target: out of reach.
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                5,
-                2048,
-                &p(0.001, 0.011),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            None
-        );
-        // n at its largest: nothing is predicted to meet it, and the maps take the excess.
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                17,
-                512,
-                &p(1.5 * share, 0.5 * share),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((17, 1024))
-        );
-        // Nothing left to grow.
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                17,
-                2048,
-                &p(1.5 * share, 0.5 * share),
-                0.01,
-                17,
-                2048,
-                &tx()
-            ),
-            None
-        );
-        // Maps whose error would miss the target even at 2048² (grove at 128²: 0.196 at 512²,
-        // floor 0.049 against 0.012): nothing meets it, so n grows only to keep sampling under
-        // half the floor, 3 · (0.031 / 0.0245)^(2/3) = 3.5 → 5, not to 0.012 / √2 (which asks for 9).
-        // 4×4 would be 0.035 with the even side's factor (2.28 against 1.32).
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                3,
-                512,
-                &p(0.031, 0.196),
-                0.012,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((5, 1024))
-        );
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                5,
-                1024,
-                &p(0.020, 0.150),
-                0.012,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((5, 2048))
-        );
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                5,
-                2048,
-                &p(0.016, 0.117),
-                0.012,
-                17,
-                2048,
-                &tx()
-            ),
-            None
-        );
-        // The ladder: odd sides, and even ones to 6 (their own factor), maps from 512² (256² alone
-        // under max_size = 256).
-        assert_eq!(
-            (sides(17), sides(8), sides(2)),
-            (
-                vec![2, 3, 4, 5, 6, 7, 9, 11, 13, 15, 17],
-                vec![2, 3, 4, 5, 6, 7],
-                vec![2]
-            )
-        );
-        assert_eq!(
-            (sizes(2048), sizes(512), sizes(256)),
-            (vec![512, 1024, 2048], vec![512], vec![256])
-        );
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                2,
-                256,
-                &p(0.02, 0.02),
-                0.01,
-                2,
-                256,
-                &Costs::texels(256)
-            ),
-            None
-        );
-        // The same maps under a target that 2048² meets (0.049 and 0.031 against 0.06) and 1024²
-        // cannot (0.098): straight to 2048².
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                3,
-                512,
-                &p(0.031, 0.196),
-                0.06,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((3, 2048))
-        );
+    /// After a try: moves `choice` to the next grid to try and answers None, or ends the search
+    /// with whether it settled.
+    fn next_step(&mut self, s: &mut Search) -> Option<bool> {
+        let target = self.method.target as f64;
+        let t = *s.tries.last().expect("one try at least");
+        let handed_on = self.recalled && s.tries.len() == 1;
+        // A handed-on choice whose prediction fell below the band may step down to a cheaper
+        // grid (the band's lower edge, `hold::standing`); within it, it holds.
+        if handed_on
+            && super::hold::standing(t.prediction.predicted_rmse, target)
+                == super::hold::Standing::Below
+        {
+            s.down = true;
+        }
+        if acceptable(t.prediction.predicted_rmse, target, handed_on) {
+            // A step down is only taken with a try to spare for the way back.
+            let tried: Vec<(u32, u32)> = s.tries.iter().map(|t| (t.n, t.map_size)).collect();
+            let step = if s.down && s.tries.len() + 1 < MAX_TRIES {
+                self.ladder.cheaper_meeting(&t.at(), target, &tried)
+            } else {
+                None
+            };
+            s.met = Some((t.n, t.map_size));
+            return match step {
+                Some(next) => {
+                    self.choice = next;
+                    None
+                }
+                None => Some(true),
+            };
+        }
+        if let Some(back) = s.met.filter(|_| s.down) {
+            s.down = false;
+            self.choice = back;
+            return None;
+        }
+        if s.tries.len() == MAX_TRIES {
+            return Some(false);
+        }
+        match self.ladder.next_choice(&t.at(), target) {
+            Some(next) => {
+                self.choice = next;
+                None
+            }
+            None => Some(true),
+        }
     }
 
-    #[test]
-    fn maps_error_that_averages_over_samples_buys_samples_not_texels() {
-        // overlapping-occluders-like at 3×3, 512²: sampling 0.02, maps 0.023 of which 0.021
-        // averages over samples. Against 0.012: with the averaging part, 7×7 at 1024² (predicted
-        // maps 0.0065, sampling 0.0056; cost 98); without it the maps must shrink by texels alone
-        // (7×7 at 1024² would read 0.0128), and 5×5 at 2048² (cost 100) is the cheapest.
-        let with = pa(0.02, 0.023, 0.021);
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &with, 0.012, 17, 2048, &tx()),
-            Some((7, 1024))
-        );
-        assert!(
-            (predicted_at(Class::Plane, 3, 512, &with, 7, 1024) - 0.00859).abs() < 1e-4,
-            "{}",
-            predicted_at(Class::Plane, 3, 512, &with, 7, 1024)
-        );
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                3,
-                512,
-                &p(0.02, 0.023),
-                0.012,
-                17,
-                2048,
-                &tx()
-            ),
-            Some((5, 2048))
-        );
-        // Every bit of it averaging: at the same maps, m falls as 1/n: 3 → 9 thirds it.
-        let all = pa(0.0, 0.03, 0.03);
-        assert!((predicted_at(Class::Plane, 3, 512, &all, 9, 512) - 0.01).abs() < 1e-12);
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 512, &tx()),
-            Some((9, 512))
-        );
-        // With larger maps allowed, 3×3 at 2048² (0.0075, cost 36) is cheaper than 9×9 at 512² (81).
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &all, 0.0101, 17, 2048, &tx()),
-            Some((3, 2048))
-        );
+    /// The search's outcome read against the target, before the one-map check.
+    fn judged(&self, search: Search) -> Judged {
+        let target = self.method.target as f64;
+        let last = *search.tries.last().expect("one try at least");
+        // The previous frame's choice, kept within KEEP of the target.
+        let kept = self.recalled
+            && search.tries.len() == 1
+            && last.prediction.predicted_rmse > target
+            && acceptable(last.prediction.predicted_rmse, target, true);
+        let met = last.prediction.predicted_rmse <= target || kept;
+        let maps = search.tries.iter().map(|t| t.maps).sum();
+        Judged {
+            search,
+            last,
+            kept,
+            met,
+            maps,
+            predicted: last.prediction.predicted_rmse,
+            difference: 0.0,
+            filter_record: None,
+            warning: None,
+        }
     }
 
-    #[test]
-    fn measured_prices_move_the_choice_to_larger_maps_where_they_cost_little_more() {
-        // bunny at 128² from 3×3 at 512² (predicted 0.0315: sampling 0.0161, maps 0.0270 of which
-        // 0.0218 averages), priced as lavapipe's compute raster timed it: 31.0, 36.2 and 51.6 ms per
-        // map at 512², 1024² and 2048². Under `texels` a 2048² map costs four 512² ones; measured, 1.7.
-        // Against 0.012: 7×7 at 1024² (98 units) under `texels`, 5×5 at 2048² (1290 ms) measured.
-        let bunny = pa(0.0161, 0.0270, 0.0218);
-        let timed = Costs(vec![(512, 31.0), (1024, 36.2), (2048, 51.6)]);
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &tx()),
-            Some((7, 1024))
+    /// The one-map candidates: where a grid met the target, judged against a finer grid; where
+    /// none can, against the grid the frame renders. A sequence's later frames check them only
+    /// where the previous frame chose one: a grid does not turn into a filter there.
+    fn check_filters(
+        &mut self,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+        geometry: &[bool],
+        frame: &mut Judged,
+    ) -> Result<()> {
+        self.filter = None;
+        let check = (frame.met || frame.search.settles)
+            && !self.filters.is_empty()
+            && (!self.recalled || self.handed_filter.is_some());
+        if !check {
+            return Ok(());
+        }
+        let target = self.method.target as f64;
+        let filter_factor = calibration::factors(self.ladder.class).largest();
+        let last = frame.last;
+        let mut filters =
+            std::mem::replace(&mut self.filters, Candidates::new(Vec::new(), Vec::new()));
+        let handed = self.handed_filter.clone();
+        // A reference grid's maps are counted by its try; the candidates' are rendered.
+        let counted = |r: &ReuseCounts| r.rendered + r.kept + r.redrawn;
+        let grids_before = counted(&self.reuse);
+        let scope = Scope { fg, geometry };
+        let outcome = if frame.met {
+            // F = sqrt(D² − σ²) takes the grid's own error out of the difference: σ is the
+            // estimate's raw reading there (a calibrated σ, larger, would hide the filter's
+            // error), and F is then calibrated by the larger of the two factors.
+            let mut reference = |timer: &mut StageTimer| -> Result<Option<Reference>> {
+                let Some(grid) = self.ladder.cheapest_meeting(&last.at(), target * REFERENCE)
+                else {
+                    return Ok(None);
+                };
+                let (r, bound) = self.try_grid(fg, timer, geometry, grid)?;
+                Ok(Some(Reference {
+                    rmse: r.predicted_raw,
+                    bound,
+                    maps: r.maps,
+                    record: r,
+                }))
+            };
+            let accept = |p: f64, handed: bool| acceptable(filter_factor * p, target, handed);
+            let rule = Against {
+                met: Met {
+                    rmse: last.predicted_raw,
+                    ms: last.ms,
+                },
+                screen: target * SCREEN / filter_factor,
+                accept: &accept,
+                handed_on: handed.as_deref(),
+            };
+            filters.check(&scope, timer, rule, &mut reference)
+        } else {
+            // Out of reach: a candidate no worse than the grid, as far as the estimate can tell.
+            let rule = OutOfReach {
+                met: Met {
+                    rmse: last.prediction.predicted_rmse,
+                    ms: last.ms,
+                },
+                bound: &frame.search.bound,
+                keep: KEEP,
+                handed_on: handed.as_deref(),
+            };
+            filters.check_out_of_reach(&scope, timer, rule)
+        };
+        self.filters = filters;
+        let outcome = outcome?;
+        frame.maps += outcome.maps;
+        let reference_maps = counted(&self.reuse) - grids_before;
+        self.reuse.add(&ReuseCounts::all_rendered(
+            outcome.maps.saturating_sub(reference_maps),
+            fg.scene.render.shadow_map_size,
+        ));
+        if let Some((i, p, b)) = outcome.chosen {
+            self.filter = Some(i);
+            // Met: the filter's F. Out of reach, p is its difference from the grid, and the
+            // filter is read as no worse than the grid's prediction, which stays.
+            if frame.met {
+                frame.predicted = filter_factor * p;
+            } else {
+                frame.difference = p;
+            }
+            frame.search.bound = b;
+        }
+        frame.filter_record = Some(FilterCheck {
+            reference: outcome.reference,
+            chosen: self.filter.map(|i| self.filters.label(i)),
+            checks: outcome.checks,
+            left_out: self.filters.left_out().to_vec(),
+        });
+        Ok(())
+    }
+
+    /// Out of reach: the line that says so, for the record's `warning`; the state's first such
+    /// frame also hands it to the program (`progress::notice`: the binary prints it).
+    fn out_of_reach(&mut self, frame: &Judged) -> Option<String> {
+        if frame.met {
+            return None;
+        }
+        let last = frame.last;
+        let difference = frame.difference;
+        let renders = self.filter.map_or(String::new(), |i| format!("; {} differs from that grid by {difference:.5} (RMS), within its predicted error, and is rendered instead", self.filters.label(i)));
+        let line = format!(
+            "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the best predicted is {:.5} (regular:n={},layout=centred at {}² maps){renders}",
+            self.method.target, self.method.max_n, self.method.max_size, last.prediction.predicted_rmse, last.n, last.map_size
         );
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &bunny, 0.012, 17, 2048, &timed),
-            Some((5, 2048))
-        );
-        // At 0.03 the maps' part decides, and an even side is on the ladder: 4×4 at 512² (0.0291
-        // with the even side's sampling factor, 16 units) under `texels`, before 3×3 at 1024² (18);
-        // measured, 3×3 at 1024² (326 ms against 496).
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &tx()),
-            Some((4, 512))
-        );
-        assert!(
-            (predicted_at(Class::Plane, 3, 512, &bunny, 4, 512) - 0.0291).abs() < 1e-4,
-            "{}",
-            predicted_at(Class::Plane, 3, 512, &bunny, 4, 512)
-        );
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &bunny, 0.03, 17, 2048, &timed),
-            Some((3, 1024))
-        );
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &timed),
-            next_choice(Class::Plane, 3, 512, &bunny, 0.02, 17, 2048, &tx())
-        );
-        // A size above max_size is never priced, so never chosen: 7×7 at 512² (49) before 5×5 at 1024² (50).
-        assert_eq!(
-            Costs::texels(1024)
+        if !self.warned {
+            self.warned = true;
+            crate::progress::notice(&line);
+        }
+        Some(line)
+    }
+
+    /// The frame's record (run.json's `method_record`).
+    fn record(&self, frame: &Judged) -> AutoRecord {
+        let last = frame.last;
+        AutoRecord {
+            method: record::TAG.into(),
+            chosen: Chosen::centred((last.n, last.map_size)),
+            target: self.method.target,
+            // Met only where the prediction the frame reports is at most the target: a choice
+            // kept within KEEP of it (a sequence's) is `kept`, not met.
+            target_met: frame.predicted <= self.method.target as f64,
+            tries: frame.search.tries.clone(),
+            predicted_rmse: frame.predicted,
+            predicted_sampling: last.prediction.predicted_sampling,
+            predicted_map: last.prediction.predicted_map,
+            certified: None,
+            map_cost: self.map_cost(),
+            filter: frame.filter_record.clone(),
+            // What the frame renders: the grid stays in `chosen` as the reference it was judged by.
+            renders: self.filter.map(|i| self.filters.label(i)),
+            maps_rendered: frame.maps,
+            estimated: true,
+            kept: frame.kept,
+            warning: frame.warning.clone(),
+        }
+    }
+
+    /// How the search priced its maps, as the record keeps it.
+    fn map_cost(&self) -> MapCost {
+        MapCost {
+            model: self.method.cost.name().into(),
+            per_map: self
+                .ladder
+                .costs
                 .0
                 .iter()
-                .map(|c| c.0)
-                .collect::<Vec<_>>(),
-            vec![512, 1024]
-        );
-        assert_eq!(
-            next_choice(
-                Class::Plane,
-                3,
-                512,
-                &bunny,
-                0.02,
-                17,
-                1024,
-                &Costs::texels(1024)
-            ),
-            Some((7, 512))
-        );
+                .map(|(z, c)| (z.to_string(), *c))
+                .collect(),
+            pricing_ms: self.pricing_ms,
+        }
     }
+}
 
-    #[test]
-    fn cows_takes_2048_maps_where_no_1024_grid_is_predicted_to_meet_the_target_for_less() {
-        // cows at 128² from 3×3 at 512² (predicted 0.0556: sampling 0.0165, maps 0.0531 of which
-        // 0.0289 averages), at the prices a settled frame gave on lavapipe: 16.4, 21.2 and 39.1 ms
-        // per map (results/budget-prices/). Against 0.03, 3×3 at 1024² (the oracle, measured
-        // 0.0268) is predicted at 0.031: 3×3 at 2048² (352) beats 5×5 at 1024² (530), and would
-        // lose only to a 2048² map priced above 25/9 = 2.78 times a 1024² one.
-        let cows = pa(0.0165, 0.0531, 0.0289);
-        assert!(
-            (predicted_at(Class::Plane, 3, 512, &cows, 3, 1024) - 0.0313).abs() < 1e-4,
-            "{}",
-            predicted_at(Class::Plane, 3, 512, &cows, 3, 1024)
-        );
-        let frame = Costs(vec![(512, 16.4), (1024, 21.2), (2048, 39.1)]);
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &frame),
-            Some((3, 2048))
-        );
-        let dear = |ratio: f64| Costs(vec![(512, 16.4), (1024, 21.2), (2048, 21.2 * ratio)]);
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.7)),
-            Some((3, 2048))
-        );
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &cows, 0.03, 17, 2048, &dear(2.8)),
-            Some((5, 1024))
-        );
-        // Against 0.02 no grid at 1024² is predicted to meet it (the maps' part alone, halved,
-        // stays over): 2048² maps at any price.
-        assert_eq!(
-            next_choice(Class::Plane, 3, 512, &cows, 0.02, 17, 2048, &dear(10.0)),
-            Some((5, 2048))
-        );
-    }
-
-    #[test]
-    fn a_first_search_steps_down_to_a_cheaper_grid_predicted_to_meet_the_target() {
-        // 5×5 at 512² reads 0.0187 against 0.02 (sampling 0.005, maps 0.018 of which 0.012
-        // averages). 3×3 at 1024² is predicted at 0.0162 (sampling 0.005 · (5/3)^1.5, maps
-        // sqrt(0.018² + 0.012² · 16/9) / 2) for 18 units against 25; 3×3 at 512² at 0.0241.
-        let five = pa(0.005, 0.018, 0.012);
-        assert!(
-            (predicted_at(Class::Plane, 5, 512, &five, 3, 1024) - 0.01615).abs() < 1e-4,
-            "{}",
-            predicted_at(Class::Plane, 5, 512, &five, 3, 1024)
-        );
-        assert_eq!(
-            cheaper_meeting(
-                Class::Plane,
-                5,
-                512,
-                &five,
-                0.02,
-                17,
-                2048,
-                &tx(),
-                &[(5, 512)]
-            ),
-            Some((3, 1024))
-        );
-        // Tried already (it missed): nothing else cheaper is predicted to meet it.
-        assert_eq!(
-            cheaper_meeting(
-                Class::Plane,
-                5,
-                512,
-                &five,
-                0.02,
-                17,
-                2048,
-                &tx(),
-                &[(5, 512), (3, 1024)]
-            ),
-            None
-        );
-        // A smaller map raises the maps' error as a larger one lowers it: 4× its square per halving.
-        assert!((predicted_at(Class::Plane, 3, 512, &p(0.0, 0.01), 3, 256) - 0.02).abs() < 1e-12);
-        // At 0.015 no grid of fewer than 25 units is predicted to meet it: 4×4 at 512² (16 units)
-        // reads 0.0235 with the even side's factor, and 256² maps are off the ladder.
-        assert_eq!(
-            cheaper_meeting(
-                Class::Plane,
-                5,
-                512,
-                &five,
-                0.015,
-                17,
-                2048,
-                &tx(),
-                &[(5, 512)]
-            ),
-            None
-        );
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
 
     #[test]
     fn a_handed_on_choice_is_kept_within_a_margin() {
