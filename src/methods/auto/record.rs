@@ -122,6 +122,8 @@ impl AutoRecord {
 
     /// The figure the frame reports against the target: the certified bound, else the prediction.
     pub fn reported(&self) -> f64 {
-        self.certified.as_ref().map_or(self.predicted_rmse, |c| c.bound)
+        self.certified
+            .as_ref()
+            .map_or(self.predicted_rmse, |c| c.bound)
     }
 }
