@@ -1,5 +1,8 @@
-//! Progress of work longer than a second, as a callback: the program that embeds the engine
-//! registers how to show it (the `penumbra` binary draws bars); without one nothing is shown.
+//! Progress of work longer than a second, and lines for the user, as callbacks: the program that
+//! embeds the engine registers how to show them (the `penumbra` binary draws bars and prints the
+//! lines on stderr); without one nothing is shown. The engine itself prints nothing: a line it
+//! hands to `notice` is also in a value its caller can read (a frame's record, a scene's
+//! `warnings`), except what a read waits for, which is only news while it waits.
 
 use std::sync::OnceLock;
 
@@ -9,11 +12,13 @@ pub trait Bar: Send + Sync {
     fn finish_and_clear(&self);
 }
 
-/// What a program registers: `bar(len, what)` starts a unit of `len` steps, and `suspend` runs a
-/// function that prints lines with the bars lifted off the terminal.
+/// What a program registers: `bar(len, what)` starts a unit of `len` steps, `suspend` runs a
+/// function that prints lines with the bars lifted off the terminal, and `notice` shows a line
+/// the user should read now (a warning, what a read waits for).
 pub struct Progress {
     pub bar: fn(u64, &str) -> Box<dyn Bar>,
     pub suspend: fn(&mut dyn FnMut()),
+    pub notice: fn(&str),
 }
 
 static PROGRESS: OnceLock<Progress> = OnceLock::new();
@@ -43,4 +48,11 @@ pub fn suspend<T>(f: impl FnOnce() -> T) -> T {
     let (mut f, mut out) = (Some(f), None);
     (p.suspend)(&mut || out = f.take().map(|f| f()));
     out.expect("suspend runs its function once")
+}
+
+/// Hands `line` to the registered `notice`; without one it is not shown.
+pub fn notice(line: &str) {
+    if let Some(p) = PROGRESS.get() {
+        (p.notice)(line);
+    }
 }

@@ -46,5 +46,6 @@ pub fn install() {
     penumbra::progress::register(penumbra::progress::Progress {
         bar: |len, what| Box::new(Bar(bar(len, what))),
         suspend: |f| suspend(f),
+        notice: |line| suspend(|| eprintln!("{line}")),
     });
 }

@@ -173,7 +173,7 @@ fn auto_renders_its_choice_and_keeps_it() {
 /// met the target, and after a step down that missed, the cheapest grid that met it.
 #[test]
 fn auto_prices_maps_by_measure_or_by_texels() {
-    use penumbra::methods::auto::{cheaper_meeting, next_choice, Costs};
+    use penumbra::methods::auto::{At, Costs, Ladder};
     use penumbra::methods::calibration::Class;
     use penumbra::methods::estimate::Prediction;
     let ctx = common::gpu();
@@ -218,7 +218,7 @@ fn auto_prices_maps_by_measure_or_by_texels() {
         let mut ordered = prices.clone();
         ordered.sort_by_key(|p| p.0);
         assert!(ordered.windows(2).all(|w| w[1].1 >= w[0].1), "{rec}");
-        let costs = Costs(ordered);
+        let ladder = Ladder::new(Class::Plane, 17, 1024, Costs(ordered));
         let tries = rec["tries"].as_array().unwrap();
         assert!(
             tries.len() >= 2,
@@ -257,12 +257,12 @@ fn auto_prices_maps_by_measure_or_by_texels() {
                 .collect();
             let expect = if p.predicted_rmse <= target {
                 met = Some((n, size));
-                cheaper_meeting(Class::Plane, n, size, &p, target, 17, 1024, &costs, &tried)
+                ladder.cheaper_meeting(&At::new(n, size, p), target, &tried)
             } else if met.is_some() && !back {
                 back = true;
                 met
             } else {
-                next_choice(Class::Plane, n, size, &p, target, 17, 1024, &costs)
+                ladder.next_choice(&At::new(n, size, p), target)
             };
             assert_eq!(expect, Some(next), "{model}, try {k}: {rec}");
             assert!(
@@ -545,6 +545,13 @@ fn an_unreachable_target_says_so() {
     );
     assert_eq!(run["method_record"]["chosen"]["n"], 3);
     assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
+    // The engine prints nothing: the line is the record's `warning`, which the binary printed once.
+    let warning = run["method_record"]["warning"].as_str().unwrap_or_default();
+    assert!(
+        warning.starts_with("auto: target RMSE 0.001 is out of reach")
+            && stderr.lines().filter(|l| *l == warning).count() == 1,
+        "{warning:?}: {stderr}"
+    );
     assert!(out.join("error-bound.png").is_file() && out.join("error-bound.exr").is_file());
     for (spec, expect) in [
         ("auto:target=2", "target = 2 is outside"),

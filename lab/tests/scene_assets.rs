@@ -451,4 +451,8 @@ fn an_open_mesh_under_back_face_culling_is_warned_about_once() {
     // or a closed mesh.
     assert!(run("tri.off", &["--set", "cull=none"]).is_empty());
     assert!(run("tetra.off", &[]).is_empty());
+    // The engine prints none of it: the line the binary printed is the loaded scene's warning.
+    let open_again = run("tri.off", &[]);
+    let scene = Scene::load(dir.join("scene.toml").to_str().unwrap(), &[]).unwrap();
+    assert_eq!(scene.warnings, open_again, "{:?}", scene.warnings);
 }

@@ -87,11 +87,8 @@ pub fn auto_predicted_at(
     };
     Ok(auto::predicted_at(
         class(light_class)?,
-        n,
-        size,
-        &p,
-        n2,
-        size2,
+        &auto::At::new(n, size, p),
+        (n2, size2),
     ))
 }
 

@@ -175,3 +175,25 @@ def test_the_guides_example_runs(capsys, monkeypatch):
     out = capsys.readouterr().out
     assert "| measured RMSE ≤ T, all rows | 3 of 3 (100%) | 95% |" in out, out
     assert out.rstrip().endswith("build: not recorded in the rows (they predate the version column; the README names it)"), out
+
+
+def test_autos_record_reads_through_one_type_on_every_committed_run():
+    from penumbra.analysis.auto_record import AutoRecord
+    runs = sorted(glob.glob(str(RESULTS / "budget-prices" / "runs" / "*.json")))
+    assert runs
+    for path in runs:
+        raw = read_json(path).raw("method_record")
+        rec = AutoRecord.read(raw, path)
+        assert len(rec.tries) == len(raw["tries"]) >= 1, path
+        assert rec.target_met == raw["target_met"] and rec.chosen_map_size == raw["chosen"]["map_size"], path
+        assert rec.search_ms() == pytest.approx(sum(t["ms"] for t in raw["tries"]) + (raw.get("certified") or {}).get("decision_ms", 0.0)), path
+    # Out of reach: the warning is a field; a filter renders by its name; the certified bound is what it reports.
+    rec = AutoRecord.read({"method": "auto", "chosen": {"n": 3, "layout": "centred", "map_size": 256, "spec": "regular:n=3,layout=centred"},
+                           "target": 0.001, "target_met": False, "tries": [{"n": 3, "map_size": 256, "maps": 9, "ms": 2.0, "predicted_rmse": 0.02}],
+                           "predicted_rmse": 0.02, "renders": "pcss", "certified": {"bound": 0.03, "decision_ms": 5.0},
+                           "warning": "auto: target RMSE 0.001 is out of reach"})
+    assert (rec.choice(), rec.reported(), rec.search_ms(), rec.warning) == ("pcss", 0.03, 7.0, "auto: target RMSE 0.001 is out of reach")
+    with pytest.raises(ValueError, match="not an auto record"):
+        AutoRecord.read({"method": "regions", "classes": []}, "r.json")
+    with pytest.raises(ValueError, match=r"r.json: method_record.chosen is missing"):
+        AutoRecord.read({"target": 0.01}, "r.json")

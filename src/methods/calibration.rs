@@ -43,7 +43,7 @@ pub struct Factors {
 }
 
 impl Factors {
-    /// The larger factor: what a one-map filter's predicted error (auto_filter), which is neither
+    /// The larger factor: what a one-map filter's predicted error (auto::filter), which is neither
     /// part, is calibrated by.
     pub fn largest(self) -> f64 {
         self.sampling.max(self.map)

@@ -54,7 +54,7 @@ pub fn averaging_ratio(n: u32) -> f64 {
 }
 
 /// The frame's predicted errors (RMS over geometry pixels, as the measured RMSE).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Prediction {
     pub predicted_rmse: f64,
     pub predicted_sampling: f64,

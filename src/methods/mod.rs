@@ -7,8 +7,6 @@
 
 pub mod adaptive;
 pub mod auto;
-pub mod auto_filter;
-pub mod auto_price;
 pub mod calibration;
 pub mod cascades;
 pub mod culled_maps;

@@ -165,19 +165,19 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     if def.meshes.is_empty() {
         return Err(Error::scene(origin, "the scene has no [[mesh]]"));
     }
-    let mut meshes = Vec::new();
+    let (mut meshes, mut warnings) = (Vec::new(), Vec::new());
     for (k, m) in def.meshes.iter().enumerate() {
         let albedo = albedo(origin, k, m.albedo)?;
         let (verts, idx, open_edges) = mesh::instantiate(m, k, origin, dirs)?;
         if open_edges > 0 && render.cull != CullMode::None {
             // Through an open mesh's gaps the light sees back faces; culled, they let light through
             // that the reference's rays find blocked (`teapot`: RMSE 0.0324 against 0.0102).
-            eprintln!(
+            warnings.push(format!(
                 "warning: {origin}: mesh {} ({}) is open ({open_edges} boundary edges) and the shadow raster culls {} faces: light can pass through its gaps; set cull = \"none\" (docs/scene-format.md)",
                 k + 1,
                 m.file.as_deref().unwrap_or("?"),
                 if render.cull == CullMode::Back { "back" } else { "front" }
-            );
+            ));
         }
         meshes.push((verts, idx, albedo.to_array()));
     }
@@ -191,7 +191,12 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
         environment,
         render,
     };
-    assemble(parts, meshes, origin)
+    let mut scene = assemble(parts, meshes, origin)?;
+    for w in &warnings {
+        crate::progress::notice(w);
+    }
+    scene.warnings = warnings;
+    Ok(scene)
 }
 
 /// A scene's checked parts besides its meshes: what [`assemble`] joins to the meshes.
@@ -424,6 +429,7 @@ pub(crate) fn assemble(
         indices,
         albedos,
         bounds,
+        warnings: Vec::new(),
     };
     if scene.bounds_outside_view() {
         return Err(scene.nothing_visible());

@@ -109,11 +109,11 @@ pub fn read_capped(path: &Path, cap: u64, cap_name: &str) -> Result<Vec<u8>, Str
     match rx.recv_timeout(QUIET) {
         Ok(r) => r,
         Err(_) => {
-            eprintln!(
+            crate::progress::notice(&format!(
                 "waiting for {} ({}) to be written and closed; stop with Ctrl-C",
                 path.display(),
                 kind(&t)
-            );
+            ));
             rx.recv().map_err(|e| e.to_string())?
         }
     }

@@ -50,6 +50,9 @@ pub struct Scene {
     pub indices: Vec<u32>,
     pub albedos: Vec<[f32; 3]>,
     pub bounds: Bounds,
+    /// What loading it found that the user should know, one line each, e.g. an open mesh under
+    /// back-face culling (also handed to `progress::notice` as it loads).
+    pub warnings: Vec<String>,
 }
 
 impl Scene {

@@ -10,6 +10,7 @@ computed here, tested by ``python/tests/``, and driven by the folder's short dri
 - :mod:`~penumbra.analysis.frontier`: a frontier's rows, and the oracle as the lab names it.
 - :mod:`~penumbra.analysis.promise`: ``auto``'s rows counted against its promise.
 - :mod:`~penumbra.analysis.retake`: ``auto``'s rows rendered again beside their oracles.
+- :mod:`~penumbra.analysis.auto_record`: ``auto``'s per-frame record, read through one type.
 - :mod:`~penumbra.analysis.calibration`: the calibrated estimate's pairs.
 - :mod:`~penumbra.analysis.budget`: the error budget's prices, stretches and reference.
 - :mod:`~penumbra.analysis.regions`: the per-region method's rows.

@@ -26,6 +26,7 @@ from collections.abc import Sequence
 from typing import Any, Optional
 
 from . import binary as bin_
+from .auto_record import AutoRecord
 from .frontier import Frontier, Setting
 from .promise import NONE_REACHES
 
@@ -71,27 +72,18 @@ def retake_row(binary: str, frontier: Frontier, row: Setting, stretch: float = 1
         if not r.ok:
             failed = f"failed: {r.last_line()}".replace('"', "'")
             return [row.scene, t, "", "", "", "", "", "", "", "", failed, "", oracle.name if oracle else unpaired, "", "", "", "", "", ""]
-        reach = next((line for line in r.log.splitlines() if "out of reach" in line), "")
         rows = r.results()
         a, b = rows[0], (rows[1] if len(rows) > 1 else None)
         m = r.run_json("images/auto*/run.json")
-        # What auto rendered: its own name for it, else the filter or the grid it chose.
-        if m.has("method_record.renders"):
-            chosen = m.text("method_record.renders")
-        elif m.has("method_record.filter.chosen"):
-            chosen = m.text("method_record.filter.chosen")
-        else:
-            chosen = f"{m.text('method_record.chosen.spec')} @ {m.integer('method_record.chosen.map_size')}"
-        tries = m.raw("method_record.tries") or []
-        # Where auto decided by its certified bound, the bound is what it reports, and the
-        # decision's time is part of its search.
-        certified = m.has("method_record.certified.bound")
-        reported = m.number("method_record.certified.bound") if certified else m.number("method_record.predicted_rmse")
-        decision_ms = m.number("method_record.certified.decision_ms") if m.has("method_record.certified.decision_ms") else 0.0
+        rec = AutoRecord.read(m.raw("method_record"), "images/auto*/run.json")
+        # What auto rendered: its own name for it, else the filter or the grid it chose; where
+        # it decided by its certified bound, the bound is what it reports, and the decision's
+        # time is part of its search; out of reach, the record's warning says so.
+        chosen, reach = rec.choice(), rec.warning or ""
         rmse = a.number("metrics.rmse")
         return [
-            row.scene, t, a.integer("shadow_maps"), chosen, rmse, rmse / t, _text(m.flag("method_record.target_met")),
-            reported, sum(float(x["ms"]) for x in tries) + decision_ms, len(tries), reach, a.number("total_ms"),
+            row.scene, t, a.integer("shadow_maps"), chosen, rmse, rmse / t, _text(rec.target_met),
+            rec.reported(), rec.search_ms(), len(rec.tries), reach, a.number("total_ms"),
             oracle.name if b is not None and oracle else unpaired,
             b.integer("shadow_maps") if b is not None else "", b.number("metrics.rmse") if b is not None else "",
             oracle.rmse if oracle else "", b.number("total_ms") if b is not None else "",

@@ -8,12 +8,13 @@
 //! Where none is certified, the target is out of reach: the candidate with the least bound is
 //! rendered, and says so.
 
-use super::{sides, sizes, AutoState, Try, KEEP};
+use super::filter::{bound as filter_bound, read_v};
+use super::record::{AutoRecord, Certified, Chosen};
+use super::{sides, sizes, AutoState, Search, Try, KEEP};
 use crate::certify::design::{self, Design};
 use crate::certify::truth::TruthTracer;
 use crate::certify::{self, certificate, Options};
 use crate::gpu::timing::StageTimer;
-use crate::methods::auto_filter::{bound as filter_bound, read_v};
 use crate::methods::MethodOutput;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -80,10 +81,14 @@ impl AutoState {
         fg: &FrameGpu,
         timer: &mut StageTimer,
         geometry: &[bool],
-        tries: Vec<Try>,
-        first_bound: Vec<f32>,
-        settles: bool,
+        search: Search,
     ) -> Result<MethodOutput> {
+        let Search {
+            tries,
+            bound: first_bound,
+            settles,
+            ..
+        } = search;
         let start = Instant::now();
         let target = self.method.target as f64;
         let first = *tries.last().expect("one try at least");
@@ -183,61 +188,73 @@ impl AutoState {
         let kept = handed && met && tests.len() == 1 && bound > target;
         let decision_ms = start.elapsed().as_secs_f64() * 1e3;
         let trace = sampled.trace.expect("traced");
-        if !met && !self.warned {
-            self.warned = true;
-            crate::progress::suspend(|| {
-                eprintln!(
-                    "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the least certified bound is {bound:.5} ({}, {} of {} candidates tested)",
-                    self.method.target,
-                    self.method.max_n,
-                    self.method.max_size,
-                    self.candidate_label(candidate),
-                    tests.len(),
-                    order.len()
-                )
-            });
-        }
-        let mut record = serde_json::json!({
-            "chosen": { "n": self.choice.0, "layout": "centred", "map_size": self.choice.1, "spec": format!("regular:n={},layout=centred", self.choice.0) },
-            "target": self.method.target,
-            // Met where the chosen candidate's bound is at most T; a handed-on choice kept within
-            // KEEP of it is `kept`, not met.
-            "target_met": met && !kept,
-            "tries": tries,
-            "predicted_rmse": first.prediction.predicted_rmse,
-            "predicted_sampling": first.prediction.predicted_sampling,
-            "predicted_map": first.prediction.predicted_map,
-            "certified": {
-                "bound": bound,
-                "bound_kind": kind,
-                "pixels": options.pixels,
-                "unique_pixels": sampled.unique.len(),
-                "delta": options.delta,
-                "defensive": design.defensive,
-                "max_weight": design.max_weight(),
-                "tests": tests,
-                "candidates": order.len(),
-                "trace": trace,
-                "decision_ms": decision_ms,
-                "clock": "wall clock: the exact pixels and every candidate's render, ms",
-            },
-            "map_cost": { "model": self.method.cost.name(), "per_map": self.costs.0.iter().map(|(z, c)| (z.to_string(), serde_json::json!(c))).collect::<serde_json::Map<_, _>>(), "pricing_ms": self.pricing_ms },
+        // Out of reach: the record says so in `warning`; the state's first such frame also hands
+        // the line to the program (the binary prints it).
+        let warning = (!met).then(|| {
+            format!(
+                "auto: target RMSE {} is out of reach within n ≤ {} and {}² maps: the least certified bound is {bound:.5} ({}, {} of {} candidates tested)",
+                self.method.target,
+                self.method.max_n,
+                self.method.max_size,
+                self.candidate_label(candidate),
+                tests.len(),
+                order.len()
+            )
         });
-        if let Some(i) = self.filter {
-            record["renders"] = self.filters.label(i).into();
+        if let Some(line) = warning.as_deref().filter(|_| !self.warned) {
+            self.warned = true;
+            crate::progress::notice(line);
         }
         let tries_maps: u32 = tries.iter().map(|t| t.maps).sum();
-        record["maps_rendered"] = (tries_maps + maps).into();
-        record["estimated"] = true.into();
-        record["kept"] = kept.into();
+        let detail = serde_json::json!({
+            "pixels": options.pixels,
+            "unique_pixels": sampled.unique.len(),
+            "delta": options.delta,
+            "defensive": design.defensive,
+            "max_weight": design.max_weight(),
+            "candidates": order.len(),
+            "trace": trace,
+            "clock": "wall clock: the exact pixels and every candidate's render, ms",
+        });
+        let record = AutoRecord {
+            method: super::record::TAG.into(),
+            chosen: Chosen::centred(self.choice),
+            target: self.method.target,
+            // Met where the chosen candidate's bound is at most T; a handed-on choice kept within
+            // KEEP of it is `kept`, not met.
+            target_met: met && !kept,
+            predicted_rmse: first.prediction.predicted_rmse,
+            predicted_sampling: first.prediction.predicted_sampling,
+            predicted_map: first.prediction.predicted_map,
+            tries,
+            certified: Some(Certified {
+                bound,
+                bound_kind: kind,
+                decision_ms,
+                tests: tests
+                    .iter()
+                    .map(serde_json::to_value)
+                    .collect::<std::result::Result<_, _>>()
+                    .map_err(|e| crate::Error::Limit(format!("auto: its record: {e}")))?,
+                detail: serde_json::from_value(detail)
+                    .map_err(|e| crate::Error::Limit(format!("auto: its record: {e}")))?,
+            }),
+            map_cost: self.map_cost(),
+            filter: None,
+            renders: self.filter.map(|i| self.filters.label(i)),
+            maps_rendered: tries_maps + maps,
+            estimated: true,
+            kept,
+            warning,
+        };
+        let syncs = 1 + record.tries.len() as u32 + tests.len() as u32;
         if settles || met {
             self.settled = Some((record.clone(), pixel_bound.clone()));
         }
-        let syncs = 1 + tries.len() as u32 + tests.len() as u32;
         Ok(MethodOutput {
             shadow_maps: tries_maps + maps,
             syncs,
-            record,
+            record: record.to_value()?,
             pictures: Vec::new(),
             bound: Some(pixel_bound),
         })
@@ -255,33 +272,27 @@ impl AutoState {
         scene_map_size: u32,
     ) -> Vec<(Candidate, f64)> {
         let (max_n, max_size) = (self.method.max_n, self.method.max_size);
-        let grid_price = |n: u32, size: u32| (n * n) as f64 * self.costs.of(size);
+        let grid_price = |n: u32, size: u32| (n * n) as f64 * self.ladder.costs.of(size);
         let here = grid_price(first.n, first.map_size);
         let mut order: Vec<(Candidate, f64)> = Vec::new();
         if !handed {
             // A one-map filter: its map and its filtering, priced as two maps of the scene's size.
             let scene_size = self
+                .ladder
                 .costs
                 .0
                 .iter()
                 .map(|(z, _)| *z)
                 .find(|&z| z >= scene_map_size)
-                .or(self.costs.0.last().map(|(z, _)| *z))
+                .or(self.ladder.costs.0.last().map(|(z, _)| *z))
                 .unwrap_or(512);
-            let filter_price = 2.0 * self.costs.of(scene_size);
+            let filter_price = 2.0 * self.ladder.costs.of(scene_size);
             order.extend((0..self.filters.len()).map(|i| (Candidate::Filter(i), filter_price)));
         }
         for size in sizes(max_size) {
             for n in sides(max_n) {
                 let price = grid_price(n, size);
-                let predicted = super::predicted_at(
-                    self.class,
-                    first.n,
-                    first.map_size,
-                    &first.prediction,
-                    n,
-                    size,
-                );
+                let predicted = super::predicted_at(self.ladder.class, &first.at(), (n, size));
                 if price >= here || predicted <= SKIP * target {
                     order.push((Candidate::Grid(n, size), price));
                 }

@@ -125,20 +125,12 @@ pub fn run_frontier(
             .iter()
             .find(|(name, _)| name.starts_with("images/auto") && name.ends_with("/run.json"))
             .and_then(|(_, bytes)| serde_json::from_slice::<serde_json::Value>(bytes).ok())
-            .map(|r| r["method_record"].clone())
+            .and_then(|r| crate::methods::auto::AutoRecord::read(&r["method_record"]))
             .ok_or_else(|| Error::param(format!("{} at {target}: no run.json of auto", b.scene)))?;
         let o = outcome.rows.get(1).filter(|r| r.failed.is_none());
-        let certified = &record["certified"];
-        let tries_ms: f64 = record["tries"]
-            .as_array()
-            .map_or(0.0, |t| t.iter().filter_map(|t| t["ms"].as_f64()).sum());
-        let choice = match record["renders"].as_str() {
-            Some(filter) => filter.to_string(),
-            None => format!(
-                "{} @ {}",
-                record["chosen"]["spec"].as_str().unwrap_or("?"),
-                record["chosen"]["map_size"]
-            ),
+        let choice = match &record.renders {
+            Some(filter) => filter.clone(),
+            None => format!("{} @ {}", record.chosen.spec, record.chosen.map_size),
         };
         let row = PromiseRow {
             scene: b.scene.clone(),
@@ -147,17 +139,15 @@ pub fn run_frontier(
             choice,
             maps: a.shadow_maps,
             rmse: a.metrics.rmse,
-            target_met: record["target_met"].as_bool().unwrap_or(false),
-            bound: certified["bound"]
-                .as_f64()
-                .or(record["predicted_rmse"].as_f64())
-                .unwrap_or(f64::NAN),
-            bound_kind: certified["bound_kind"]
-                .as_str()
-                .unwrap_or("estimate")
+            target_met: record.target_met,
+            bound: record.reported(),
+            bound_kind: record
+                .certified
+                .as_ref()
+                .map_or("estimate", |c| c.bound_kind.name())
                 .to_string(),
-            decision_ms: tries_ms + certified["decision_ms"].as_f64().unwrap_or(0.0),
-            tests: certified["tests"].as_array().map_or(0, Vec::len),
+            decision_ms: record.decision_ms(),
+            tests: record.certified.as_ref().map_or(0, |c| c.tests.len()),
             ms: a.total_ms,
             oracle: oracle.map(FrontierLine::setting),
             oracle_maps: o.map(|o| o.shadow_maps),

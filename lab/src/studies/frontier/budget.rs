@@ -36,18 +36,22 @@ pub struct Reading {
 
 impl Reading {
     pub fn of(record: &serde_json::Value) -> Reading {
-        let tries = record["tries"].as_array().map_or(&[][..], Vec::as_slice);
-        let certified = &record["certified"];
-        Reading {
-            predicted: certified["bound"]
-                .as_f64()
-                .or(record["predicted_rmse"].as_f64())
-                .unwrap_or(f64::NAN),
-            target_met: record["target_met"].as_bool().unwrap_or(false),
-            search_ms: tries.iter().filter_map(|t| t["ms"].as_f64()).sum::<f64>()
-                + certified["decision_ms"].as_f64().unwrap_or(0.0),
-            tries: tries.len(),
-            certified: certified.is_object(),
+        match crate::methods::auto::AutoRecord::read(record) {
+            Some(a) => Reading {
+                predicted: a.reported(),
+                target_met: a.target_met,
+                search_ms: a.decision_ms(),
+                tries: a.tries.len(),
+                certified: a.certified.is_some(),
+            },
+            // Not auto's record: nothing it reported.
+            None => Reading {
+                predicted: f64::NAN,
+                target_met: false,
+                search_ms: 0.0,
+                tries: 0,
+                certified: false,
+            },
         }
     }
 

@@ -161,13 +161,14 @@ pub const BUDGET: &str = "error budget";
 /// `regions` sizes each group's maps, and its largest is the frame's. Every other method renders
 /// at the scene's size (`scene_size`, the group's).
 fn rendered_map_size(record: &serde_json::Value, scene_size: u32) -> u32 {
+    if let Some(a) = crate::methods::auto::AutoRecord::read(record) {
+        return if a.renders.is_some() {
+            scene_size
+        } else {
+            a.chosen.map_size
+        };
+    }
     let size = |v: &serde_json::Value| v["map_size"].as_u64().and_then(|z| u32::try_from(z).ok());
-    if record["renders"].is_string() {
-        return scene_size;
-    }
-    if let Some(z) = size(&record["chosen"]) {
-        return z;
-    }
     record["classes"]
         .as_array()
         .and_then(|cs| cs.iter().filter_map(size).max())
@@ -456,21 +457,41 @@ mod tests {
     use super::rendered_map_size;
     use serde_json::json;
 
+    /// auto's record of a frame that chose grid (n, size), rendering `renders` instead if given.
+    fn auto(n: u32, size: u32, renders: Option<&str>) -> serde_json::Value {
+        use crate::methods::auto::{AutoRecord, Chosen, MapCost};
+        AutoRecord {
+            method: "auto".into(),
+            chosen: Chosen::centred((n, size)),
+            target: 0.02,
+            target_met: true,
+            tries: Vec::new(),
+            predicted_rmse: 0.01,
+            predicted_sampling: 0.01,
+            predicted_map: 0.0,
+            certified: None,
+            map_cost: MapCost {
+                model: "texels".into(),
+                per_map: Default::default(),
+                pricing_ms: 0.0,
+            },
+            filter: None,
+            renders: renders.map(String::from),
+            maps_rendered: n * n,
+            estimated: true,
+            kept: false,
+            warning: None,
+        }
+        .to_value()
+        .unwrap()
+    }
+
     #[test]
     fn a_budget_row_records_the_map_size_its_frame_rendered() {
         // auto's grid at its own size, under a group of 512² maps.
-        assert_eq!(
-            rendered_map_size(&json!({ "chosen": { "n": 3, "map_size": 2048 } }), 512),
-            2048
-        );
+        assert_eq!(rendered_map_size(&auto(3, 2048, None), 512), 2048);
         // auto rendering a one-map filter: the scene's size, though the grid it checked was larger.
-        assert_eq!(
-            rendered_map_size(
-                &json!({ "chosen": { "n": 5, "map_size": 1024 }, "renders": "pcss" }),
-                512
-            ),
-            512
-        );
+        assert_eq!(rendered_map_size(&auto(5, 1024, Some("pcss")), 512), 512);
         // regions: its largest group's maps.
         let regions =
             json!({ "classes": [{ "map_size": 368 }, { "map_size": 1456 }, { "map_size": 1024 }] });

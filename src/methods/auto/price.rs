@@ -6,9 +6,9 @@
 //! 2×2 grid, the passes a settled `auto` frame runs, read as a frame reads them (a median).
 //! Measured before the clock, once per process and scene.
 
-use super::fixed_samples::{self, regular_points, Layout};
-use super::MethodState;
 use crate::gpu::timing::{StageTimer, TimingMode};
+use crate::methods::fixed_samples::{self, regular_points, Layout};
+use crate::methods::MethodState;
 use crate::stages::FrameGpu;
 use crate::Result;
 use std::time::Instant;

@@ -9,9 +9,9 @@
 //! target that took less time than the grid that met it is what the frame renders, and the
 //! settled frames after it.
 
-use super::{Family, Method, MethodOutput, MethodState};
 use crate::gpu::timing::StageTimer;
 use crate::gpu::{readback, Stage};
+use crate::methods::{Family, Method, MethodOutput, MethodState};
 use crate::stages::FrameGpu;
 use crate::{Error, Result};
 
@@ -79,7 +79,7 @@ pub fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec<f32> {
 }
 
 /// One candidate's check, as run.json's record keeps it.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Check {
     pub method: String,
     pub maps: u32,
@@ -101,13 +101,37 @@ pub struct Met {
     pub ms: f64,
 }
 
+/// The frame the candidates are read in: its GPU state and its geometry pixels.
+pub struct Scope<'a> {
+    pub fg: &'a FrameGpu<'a>,
+    pub geometry: &'a [bool],
+}
+
+/// `check`'s rule: the grid that met the target, the screen a candidate must pass against it,
+/// auto's acceptance `accept(F, handed)`, and the filter the previous frame of a sequence chose.
+pub struct Against<'a> {
+    pub met: Met,
+    pub screen: f64,
+    pub accept: &'a dyn Fn(f64, bool) -> bool,
+    pub handed_on: Option<&'a str>,
+}
+
+/// `check_out_of_reach`'s rule: the grid the frame renders and its bound, the band `keep` a
+/// handed-on filter is kept within, and that filter.
+pub struct OutOfReach<'a> {
+    pub met: Met,
+    pub bound: &'a [f32],
+    pub keep: f64,
+    pub handed_on: Option<&'a str>,
+}
+
 /// The reference grid, rendered into V by auto when asked: its predicted RMSE, bound and maps,
 /// and its try as the record keeps it.
 pub struct Reference {
     pub rmse: f64,
     pub bound: Vec<f32>,
     pub maps: u32,
-    pub record: serde_json::Value,
+    pub record: super::Try,
 }
 
 /// The check's outcome: the chosen candidate with its prediction and bound.
@@ -115,7 +139,7 @@ pub struct Outcome {
     pub chosen: Option<(usize, f64, Vec<f32>)>,
     pub checks: Vec<Check>,
     pub maps: u32,
-    pub reference: Option<serde_json::Value>,
+    pub reference: Option<super::Try>,
 }
 
 /// The candidates and their states (built on first use, then kept for the settled frames).
@@ -172,18 +196,20 @@ impl Candidates {
     /// and those left are predicted against it, and taken where `accept(F, handed)` (auto's
     /// rule; `handed` for the filter the previous frame of a sequence chose). V is left holding
     /// what the frame renders: the chosen candidate's, else the grid that met the target.
-    #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
     pub fn check(
         &mut self,
-        fg: &FrameGpu,
+        at: &Scope,
         timer: &mut StageTimer,
-        geometry: &[bool],
-        met: Met,
-        screen: f64,
+        rule: Against,
         reference: &mut dyn FnMut(&mut StageTimer) -> Result<Option<Reference>>,
-        accept: &dyn Fn(f64, bool) -> bool,
-        handed_on: Option<&str>,
     ) -> Result<Outcome> {
+        let (fg, geometry) = (at.fg, at.geometry);
+        let Against {
+            met,
+            screen,
+            accept,
+            handed_on,
+        } = rule;
         let v_met = read_v(fg, timer)?;
         let (mut checks, mut maps) = (Vec::new(), 0);
         for i in 0..self.methods.len() {
@@ -234,8 +260,7 @@ impl Candidates {
             }
         }
         maps += self.leave_in_v(
-            chosen.as_ref().map(|c| c.0),
-            left.last().copied(),
+            (chosen.as_ref().map(|c| c.0), left.last().copied()),
             &v_met,
             fg,
             timer,
@@ -257,17 +282,19 @@ impl Candidates {
     /// is not enough here: on `grazing-ground` pcss at 1024² read 0.060 against a grid predicted
     /// at 0.234, and errs 0.27 (their errors share the acne). V is left holding what the frame
     /// renders.
-    #[allow(clippy::too_many_arguments)] // the search's state, passed whole; a search type would hold it
     pub fn check_out_of_reach(
         &mut self,
-        fg: &FrameGpu,
+        at: &Scope,
         timer: &mut StageTimer,
-        geometry: &[bool],
-        met: Met,
-        met_bound: &[f32],
-        keep: f64,
-        handed_on: Option<&str>,
+        rule: OutOfReach,
     ) -> Result<Outcome> {
+        let (fg, geometry) = (at.fg, at.geometry);
+        let OutOfReach {
+            met,
+            bound: met_bound,
+            keep,
+            handed_on,
+        } = rule;
         let v_met = read_v(fg, timer)?;
         let (mut checks, mut maps) = (Vec::new(), 0);
         let mut chosen = None::<(usize, f64, Vec<f32>)>;
@@ -295,8 +322,10 @@ impl Candidates {
             }
         }
         maps += self.leave_in_v(
-            chosen.as_ref().map(|c| c.0),
-            self.methods.len().checked_sub(1),
+            (
+                chosen.as_ref().map(|c| c.0),
+                self.methods.len().checked_sub(1),
+            ),
             &v_met,
             fg,
             timer,
@@ -309,12 +338,11 @@ impl Candidates {
         })
     }
 
-    /// V holds candidate `last`'s: put there what the frame renders, the chosen candidate's
+    /// V holds candidate `last`'s (the pair's second): put there what the frame renders, the chosen candidate's
     /// (rendered again unless it is that one) or the grid's `v_met`. The maps it rendered.
     fn leave_in_v(
         &mut self,
-        chosen: Option<usize>,
-        last: Option<usize>,
+        (chosen, last): (Option<usize>, Option<usize>),
         v_met: &[f32],
         fg: &FrameGpu,
         timer: &mut StageTimer,
