@@ -24,7 +24,7 @@ use crate::certify::truth::{self, TruthTracer};
 use crate::certify::{self, Certificate, Sampled};
 use crate::gpu::timing::StageTimer;
 use crate::gpu::{readback, Stage};
-use crate::methods::auto_filter::{read_v, Candidates};
+use crate::methods::auto::filter::{read_v, Candidates};
 use crate::methods::Method;
 use crate::render::kept_maps::ReuseCounts;
 use crate::stages::shade::{TILE, TILE_LIST_HEADER};
