@@ -26,7 +26,7 @@ pub mod ssao;
 
 pub use adaptive::params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 pub use fixed_samples::Layout;
-pub use param_decl::{ChoiceDecl, ParamDecl};
+pub use param_decl::{ChoiceDecl, ParamDecl, SwitchDecl};
 
 use crate::gpu::timing::StageTimer;
 use crate::scene::LightKind;

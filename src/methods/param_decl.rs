@@ -140,6 +140,41 @@ impl ChoiceDecl {
     }
 }
 
+/// `on` or `off`.
+pub struct SwitchDecl {
+    pub key: &'static str,
+    pub default: &'static str,
+    pub help: &'static str,
+}
+
+impl SwitchDecl {
+    pub const fn new(key: &'static str, on: bool, help: &'static str) -> Self {
+        SwitchDecl {
+            key,
+            default: if on { "on" } else { "off" },
+            help,
+        }
+    }
+    pub const fn param(&self) -> Param {
+        Param {
+            key: self.key,
+            default: self.default,
+            help: self.help,
+        }
+    }
+    /// The given switch, or the default; `method` names the method in the message.
+    pub fn get(&self, p: &ParamMap, method: &str) -> Result<bool> {
+        match p.get(self.key).map_or(self.default, String::as_str) {
+            "on" => Ok(true),
+            "off" => Ok(false),
+            v => Err(Error::Param(format!(
+                "{method}: {} = `{v}`: use `on` or `off`",
+                self.key
+            ))),
+        }
+    }
+}
+
 /// Every converted declaration's default, for the test that each parses within its range or
 /// choices: (method, key, the default's check).
 #[cfg(test)]
@@ -148,6 +183,7 @@ pub(crate) fn all_defaults() -> Vec<(&'static str, Result<()>)> {
     let int = |d: &ParamDecl<u32>| (d.key, d.default_value().map(|_| ()));
     let num = |d: &ParamDecl<f32>| (d.key, d.default_value().map(|_| ()));
     let word = |d: &ChoiceDecl| (d.key, d.get(&ParamMap::new()).map(|_| ()));
+    let switch = |d: &SwitchDecl| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
     vec![
         int(&fixed_samples::N),
         word(&pcf::KERNEL),
@@ -197,6 +233,13 @@ pub(crate) fn all_defaults() -> Vec<(&'static str, Result<()>)> {
         int(&regions::PIXELS),
         num(&regions::DELTA),
         num(&regions::PLAN_TARGET),
+        switch(&fixed_samples::CULL),
+        switch(&fixed_samples::ESTIMATE),
+        switch(&regions::MERGE),
+        switch(&regions::HOLD),
+        switch(&regions::CERTIFY),
+        switch(&environment::pixels::SSAO),
+        int(&adaptive::HOLD),
     ]
 }
 
@@ -207,7 +250,7 @@ mod tests {
     #[test]
     fn every_declared_default_parses_within_its_range() {
         let all = all_defaults();
-        assert!(all.len() >= 45, "{} declarations", all.len());
+        assert!(all.len() >= 52, "{} declarations", all.len());
         for (key, check) in all {
             assert!(check.is_ok(), "{key}: {check:?}");
         }

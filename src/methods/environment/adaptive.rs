@@ -67,7 +67,7 @@ pub const INFO: MethodInfo = MethodInfo {
         CONTRAST.param(),
         MIN_SHARE.param(),
         COUNT_STRIDE.param(),
-        SSAO,
+        SSAO.param(),
         AO_SAMPLES.param(),
         AO_RADIUS.param(),
     ],

@@ -2,9 +2,7 @@
 //! weights, is a directional light; V by one shadow ray per light and pixel through the BVH, or
 //! (`at=vertex`, the seed's variant) per mesh vertex, interpolated to the pixels.
 
-use super::common::{
-    environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage,
-};
+use super::common::{environment, gpu_lights, resolution, SceneRays, SsaoSettings, SsaoStage};
 use super::picture;
 use super::vertex::{VertexBuffers, VertexStage};
 use crate::gpu::readback;
@@ -13,7 +11,7 @@ use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::methods::{
     ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap,
-    ShadowMethod,
+    ShadowMethod, SwitchDecl,
 };
 use crate::render::bvh::Bvh;
 use crate::scene::environment::pixel_lights;
@@ -22,11 +20,11 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
-pub const SSAO: Param = Param {
-    key: "ssao",
-    default: "off",
-    help: "on: multiply V by screen-space ambient occlusion (the seed's creases)",
-};
+pub const SSAO: SwitchDecl = SwitchDecl::new(
+    "ssao",
+    false,
+    "on: multiply V by screen-space ambient occlusion (the seed's creases)",
+);
 pub const AO_SAMPLES: ParamDecl<u32> =
     ParamDecl::new("ao_samples", "16", 1, 64, "ssao samples per pixel, 1..=64");
 pub const AO_RADIUS: ParamDecl<f32> = ParamDecl::new(
@@ -54,7 +52,7 @@ pub const INFO: MethodInfo = MethodInfo {
             help: "panorama resolution of the pixel lights, WxH dividing the panorama's",
         },
         AT.param(),
-        SSAO,
+        SSAO.param(),
         AO_SAMPLES.param(),
         AO_RADIUS.param(),
     ],
@@ -76,7 +74,9 @@ pub const INFO: MethodInfo = MethodInfo {
 pub fn parse_ssao(p: &ParamMap, method: &str) -> Result<Option<SsaoSettings>> {
     let samples = AO_SAMPLES.get(p, method)?;
     let radius = AO_RADIUS.get(p, method)?;
-    Ok(on_off(p, method, "ssao")?.then_some(SsaoSettings { samples, radius }))
+    Ok(SSAO
+        .get(p, method)?
+        .then_some(SsaoSettings { samples, radius }))
 }
 
 #[derive(Clone, Debug, PartialEq)]

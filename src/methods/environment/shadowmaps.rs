@@ -55,7 +55,7 @@ pub const INFO: MethodInfo = MethodInfo {
         FILTER.param(),
         PCF_RADIUS.param(),
         Param { key: "taps", default: "2r+1 | 16", help: "box/bilinear: N per side (default 2·pcf_radius+1), 1..=16; poisson/rotated: 4, 16, 32 or 64; stratified: 1..=64" },
-        SSAO,
+        SSAO.param(),
         AO_SAMPLES.param(),
         AO_RADIUS.param(),
     ],

@@ -15,7 +15,7 @@ use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::single_map::{light_size, CentreMap};
 use super::{
     check_range, Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap,
-    ShadowMethod,
+    ShadowMethod, SwitchDecl,
 };
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
@@ -131,6 +131,21 @@ pub const PLAN_TARGET: ParamDecl<f32> = ParamDecl::new(
     f32::MAX,
     "the target the plan is decided for; 0: target (a larger one makes a plan that under-counts, for studying the measurement)",
 );
+pub const MERGE: SwitchDecl = SwitchDecl::new(
+    "merge",
+    true,
+    "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps",
+);
+pub const HOLD: SwitchDecl = SwitchDecl::new(
+    "hold",
+    true,
+    "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh",
+);
+pub const CERTIFY: SwitchDecl = SwitchDecl::new(
+    "certify",
+    true,
+    "on: each class's error is measured with the exact truth at pixels drawn within it and a class whose bound is over the target is stepped up; the frame is met only where the certified bound is at most the target (docs/regions.md, \"Certified classes\"); off: the plan alone, as decided",
+);
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "regions",
@@ -146,13 +161,13 @@ pub const INFO: MethodInfo = MethodInfo {
         CENTRE_SIZE.param(),
         BLOCKER_TAPS.param(),
         Param { key: "cull", default: "auto", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V); auto: on where the adapter can cull (indirect draws with a first instance), off elsewhere; off" },
-        Param { key: "merge", default: "on", help: "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps" },
+        MERGE.param(),
         MAP_COST.param(),
         SAMPLE_COST.param(),
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
         FORCE_SIZE.param(),
-        Param { key: "hold", default: "on", help: "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh" },
-        Param { key: "certify", default: "on", help: "on: each class's error is measured with the exact truth at pixels drawn within it and a class whose bound is over the target is stepped up; the frame is met only where the certified bound is at most the target (docs/regions.md, \"Certified classes\"); off: the plan alone, as decided" },
+        HOLD.param(),
+        CERTIFY.param(),
         PIXELS.param(),
         DELTA.param(),
         Param { key: "filter", default: "pcss", help: "certify = on: a one-map filter each class may take where it is certified within the target (pcss, or none)" },
@@ -215,35 +230,12 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
             }
         },
     };
-    let merge = match p.get("merge").map(String::as_str) {
-        None | Some("on") => true,
-        Some("off") => false,
-        Some(v) => {
-            return Err(crate::Error::Param(format!(
-                "regions: merge = `{v}`: use `on` or `off`"
-            )))
-        }
-    };
+    let merge = MERGE.get(p, "regions")?;
     let map_cost = MAP_COST.get(p, "regions")?;
     let sample_cost = SAMPLE_COST.get(p, "regions")?;
     let force_size = FORCE_SIZE.get(p, "regions")?;
-    let hold = match p.get("hold").map(String::as_str) {
-        None | Some("on") => true,
-        Some("off") => false,
-        Some(v) => {
-            return Err(crate::Error::Param(format!(
-                "regions: hold = `{v}`: use `on` or `off`"
-            )))
-        }
-    };
-    let on_off = |key: &str| match p.get(key).map(String::as_str) {
-        None | Some("on") => Ok(true),
-        Some("off") => Ok(false),
-        Some(v) => Err(crate::Error::Param(format!(
-            "regions: {key} = `{v}`: use `on` or `off`"
-        ))),
-    };
-    let certify = on_off("certify")?;
+    let hold = HOLD.get(p, "regions")?;
+    let certify = CERTIFY.get(p, "regions")?;
     let pixels = PIXELS.get(p, "regions")?;
     let delta = DELTA.get(p, "regions")?;
     if !(delta > 0.0 && delta <= 0.5) {
