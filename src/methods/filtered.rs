@@ -5,8 +5,8 @@
 
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
 use super::{
-    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
-    ShadowMethod,
+    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl,
+    ParamMap, ShadowMethod,
 };
 use crate::gpu::readback;
 use crate::gpu::stages::bind;
@@ -30,18 +30,50 @@ pub const ESM_MAX_EXPONENT: f32 = 85.0;
 
 const RADIUS: Param = Param { key: "radius", default: "auto", help: "blur radius in texels; auto = penumbra half-width of a blocker 2/3 of the way to the farthest receiver" };
 
+pub const C: ParamDecl<f32> = ParamDecl::new(
+    "c",
+    "80",
+    1.0,
+    ESM_MAX_EXPONENT,
+    "exponent, 1..=85 (f32 holds e^85)",
+);
+/// vsm and evsm; `parse` checks 0..<1 itself (an open end `check_range` does not state).
+pub const BLEED: ParamDecl<f32> = ParamDecl::new(
+    "bleed",
+    "0",
+    f32::MIN,
+    f32::MAX,
+    "light-bleeding reduction: p' = clamp((p − bleed)/(1 − bleed)), 0..<1",
+);
+pub const C_POS: ParamDecl<f32> = ParamDecl::new(
+    "c_pos",
+    "42",
+    0.0,
+    f32::MAX,
+    "positive exponent, clamped to 42 (e^{2c} must stay finite in f32)",
+);
+pub const C_NEG: ParamDecl<f32> = ParamDecl::new(
+    "c_neg",
+    "42",
+    0.0,
+    f32::MAX,
+    "negative exponent, clamped to 42",
+);
+pub const MOMENT_BIAS: ParamDecl<f32> = ParamDecl::new(
+    "moment_bias",
+    "0.00003",
+    0.0,
+    0.5,
+    "α: moments pulled toward 0.5 by α before the solve",
+);
+pub const ORDER: ParamDecl<u32> =
+    ParamDecl::new("order", "4", 1, 16, "Fourier order M, 1..=16 (2M terms)");
+
 pub const ESM: MethodInfo = MethodInfo {
     name: "esm",
     family: Family::Filtered,
     summary: "exponential shadow maps: prefiltered e^{c z}, V = min(1, E[e^{c z}]·e^{−c z_r})",
-    params: &[
-        Param {
-            key: "c",
-            default: "80",
-            help: "exponent, 1..=85 (f32 holds e^85)",
-        },
-        RADIUS,
-    ],
+    params: &[C.param(), RADIUS],
     parse: |p| Filtered::parse(Kind::Esm, p),
 };
 pub const VSM: MethodInfo = MethodInfo {
@@ -49,14 +81,7 @@ pub const VSM: MethodInfo = MethodInfo {
     family: Family::Filtered,
     summary:
         "variance shadow maps: prefiltered (z, z²), Chebyshev's bound, light-bleeding reduction",
-    params: &[
-        Param {
-            key: "bleed",
-            default: "0",
-            help: "light-bleeding reduction: p' = clamp((p − bleed)/(1 − bleed)), 0..<1",
-        },
-        RADIUS,
-    ],
+    params: &[BLEED.param(), RADIUS],
     parse: |p| Filtered::parse(Kind::Vsm, p),
 };
 pub const EVSM: MethodInfo = MethodInfo {
@@ -65,21 +90,9 @@ pub const EVSM: MethodInfo = MethodInfo {
     summary:
         "exponential variance shadow maps: Chebyshev on e^{c+ w} and −e^{−c− w}, the smaller bound",
     params: &[
-        Param {
-            key: "c_pos",
-            default: "42",
-            help: "positive exponent, clamped to 42 (e^{2c} must stay finite in f32)",
-        },
-        Param {
-            key: "c_neg",
-            default: "42",
-            help: "negative exponent, clamped to 42",
-        },
-        Param {
-            key: "bleed",
-            default: "0",
-            help: "light-bleeding reduction amount, 0..<1",
-        },
+        C_POS.param(),
+        C_NEG.param(),
+        BLEED.param_with_help("light-bleeding reduction amount, 0..<1"),
         RADIUS,
     ],
     parse: |p| Filtered::parse(Kind::Evsm, p),
@@ -88,7 +101,7 @@ pub const MSM: MethodInfo = MethodInfo {
     name: "msm",
     family: Family::Filtered,
     summary: "moment shadow maps (Hamburger 4MSM, Peters & Klein 2015): 4 moments, 16-bit optimised quantisation",
-    params: &[Param { key: "moment_bias", default: "0.00003", help: "α: moments pulled toward 0.5 by α before the solve" }, RADIUS],
+    params: &[MOMENT_BIAS.param(), RADIUS],
     parse: |p| Filtered::parse(Kind::Msm, p),
 };
 pub const CSM: MethodInfo = MethodInfo {
@@ -96,7 +109,7 @@ pub const CSM: MethodInfo = MethodInfo {
     family: Family::Filtered,
     summary: "convolution shadow maps (Annen et al. 2007): Fourier expansion of order M of the shadow test, prefiltered",
     params: &[
-        Param { key: "order", default: "4", help: "Fourier order M, 1..=16 (2M terms)" },
+        ORDER.param(),
         Param { key: "offset", default: "auto", help: "receiver depth offset (normalised depth); auto = 1/(2M), half the series' rise" },
         RADIUS,
     ],
@@ -152,37 +165,28 @@ impl Filtered {
                 64,
             )?),
         };
-        let bleed = get_f32(p, "bleed", 0.0)?;
+        let bleed = BLEED.get(p, name)?;
         if !(0.0..1.0).contains(&bleed) {
             return Err(Error::Param(format!(
                 "{name}: bleed = {bleed} is outside 0..1"
             )));
         }
         let (c_pos, c_neg) = match kind {
-            Kind::Esm => (
-                check_range(name, "c", get_f32(p, "c", 80.0)?, 1.0, ESM_MAX_EXPONENT)?,
-                0.0,
-            ),
+            Kind::Esm => (C.get(p, name)?, 0.0),
             Kind::Evsm => {
-                let pos = check_range(name, "c_pos", get_f32(p, "c_pos", 42.0)?, 0.0, f32::MAX)?;
-                let neg = check_range(name, "c_neg", get_f32(p, "c_neg", 42.0)?, 0.0, f32::MAX)?;
+                let pos = C_POS.get(p, name)?;
+                let neg = C_NEG.get(p, name)?;
                 (pos.min(EVSM_MAX_EXPONENT), neg.min(EVSM_MAX_EXPONENT))
             }
             _ => (0.0, 0.0),
         };
-        let order = check_range(name, "order", get_u32(p, "order", 4)?, 1, 16)?;
+        let order = ORDER.get(p, name)?;
         Ok(Arc::new(Filtered {
             kind,
             c_pos,
             c_neg,
             bleed,
-            moment_bias: check_range(
-                name,
-                "moment_bias",
-                get_f32(p, "moment_bias", 3e-5)?,
-                0.0,
-                0.5,
-            )?,
+            moment_bias: MOMENT_BIAS.get(p, name)?,
             order,
             offset: match p.get("offset").map(String::as_str) {
                 None | Some("auto") => 0.5 / order as f32,

@@ -5,8 +5,8 @@
 use super::culled_maps::CulledMaps;
 use super::hybrid_maps::HybridMaps;
 use super::{
-    check_range, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
-    ShadowMethod,
+    Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap, ShadowMethod,
+    SwitchDecl,
 };
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
@@ -27,34 +27,46 @@ pub const HARD: MethodInfo = MethodInfo {
     parse: |_| Ok(std::sync::Arc::new(Fixed::Hard)),
 };
 
+/// regular's grid side.
+pub const N: ParamDecl<u32> = ParamDecl::new(
+    "n",
+    "17",
+    1,
+    128,
+    "samples per side, 1..=128 (17 gives the 289 lattice points)",
+);
+
+pub const CULL: SwitchDecl = SwitchDecl::new(
+    "cull",
+    false,
+    "on: raster each map only with the triangles that can change a texel some geometry pixel tests (the same V; docs/gpu-frame.md)",
+);
+pub const ESTIMATE: SwitchDecl = SwitchDecl::new(
+    "estimate",
+    false,
+    "on: predict the frame's error without a reference (run.json predicted_rmse, predicted_sampling, predicted_map, error-bound.png; docs/error-estimate.md)",
+);
+
 pub const REGULAR: MethodInfo = MethodInfo {
     name: "regular",
     family: Family::MultiSample,
     summary: "N×N shadow maps on the light's lattice corners, equal weights",
     params: &[
-        Param { key: "n", default: "17", help: "samples per side, 1..=128 (17 gives the 289 lattice points)" },
+        N.param(),
         Param { key: "layout", default: "lattice", help: "lattice (corners i/(N−1)), centred (cell centres) or jittered (one seeded point per cell)" },
-        Param { key: "cull", default: "off", help: "on: raster each map only with the triangles that can change a texel some geometry pixel tests (the same V; docs/gpu-frame.md)" },
-        Param { key: "estimate", default: "off", help: "on: predict the frame's error without a reference (run.json predicted_rmse, predicted_sampling, predicted_map, error-bound.png; docs/error-estimate.md)" },
+        CULL.param(),
+        ESTIMATE.param(),
     ],
     parse: |p: &ParamMap| {
-        let n = check_range("regular", "n", get_u32(p, "n", 17)?, 1, 128)?;
+        let n = N.get(p, "regular")?;
         let layout = match p.get("layout").map(String::as_str) {
             None | Some("lattice") => Layout::Lattice,
             Some("centred") | Some("centered") => Layout::Centred,
             Some("jittered") => Layout::Jittered,
             Some(v) => return Err(crate::Error::Param(format!("regular: layout = `{v}`: use `lattice`, `centred` or `jittered`"))),
         };
-        let cull = match p.get("cull").map(String::as_str) {
-            None | Some("off") => false,
-            Some("on") => true,
-            Some(v) => return Err(crate::Error::Param(format!("regular: cull = `{v}`: use `on` or `off`"))),
-        };
-        let estimate = match p.get("estimate").map(String::as_str) {
-            None | Some("off") => false,
-            Some("on") => true,
-            Some(v) => return Err(crate::Error::Param(format!("regular: estimate = `{v}`: use `on` or `off`"))),
-        };
+        let cull = CULL.get(p, "regular")?;
+        let estimate = ESTIMATE.get(p, "regular")?;
         if estimate && cull {
             return Err(crate::Error::Param("regular: estimate = on reads texels around each lookup, which cull = on may leave out; use one of them".into()));
         }

@@ -16,6 +16,7 @@ pub(crate) mod filtered;
 pub mod fixed_samples;
 pub mod hold;
 pub(crate) mod hybrid_maps;
+pub mod param_decl;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
 pub mod regions;
@@ -25,6 +26,7 @@ pub mod ssao;
 
 pub use adaptive::params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
 pub use fixed_samples::Layout;
+pub use param_decl::{ChoiceDecl, ParamDecl, SwitchDecl};
 
 use crate::gpu::timing::StageTimer;
 use crate::scene::LightKind;

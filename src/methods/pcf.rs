@@ -3,8 +3,8 @@
 
 use super::single_map::{CentreMap, SingleMapBuffers};
 use super::{
-    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
-    Param, ParamMap, ShadowMethod,
+    check_range, get_u32, ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, Param,
+    ParamDecl, ParamMap, ShadowMethod,
 };
 use crate::gpu::readback;
 use crate::gpu::structs::GpuFilter;
@@ -18,16 +18,32 @@ use std::sync::Arc;
 
 pub const KERNELS: [&str; 5] = ["box", "bilinear", "poisson", "stratified", "rotated"];
 
+pub const KERNEL: ChoiceDecl = ChoiceDecl::new(
+    "kernel",
+    "poisson",
+    &KERNELS,
+    "box (N×N), bilinear (N×N comparison-sampler lookups), poisson, stratified (seed 004), rotated",
+);
+pub const RADIUS: ParamDecl<f32> =
+    ParamDecl::new("radius", "2", 0.0, 64.0, "filter radius in texels");
+pub const DARKENING: ParamDecl<f32> = ParamDecl::new(
+    "darkening",
+    "0",
+    0.0,
+    1.0,
+    "seed 004: V = 1 − darkening·(shadowed taps); 0 averages the taps",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "pcf",
     family: Family::Pcf,
     summary: "percentage-closer filtering of the centre map: box, bilinear, Poisson, stratified or rotated taps",
     params: &[
-        Param { key: "kernel", default: "poisson", help: "box (N×N), bilinear (N×N comparison-sampler lookups), poisson, stratified (seed 004), rotated" },
+        KERNEL.param(),
         Param { key: "taps", default: "16", help: "box/bilinear: N per side (default 5 / 3); poisson/rotated: 4, 16, 32 or 64; stratified: 1..=64 drawn from 16 points" },
-        Param { key: "radius", default: "2", help: "filter radius in texels" },
+        RADIUS.param(),
         Param { key: "spread", default: "none", help: "radius as a fraction of the map (seed 004: 1/700); overrides radius" },
-        Param { key: "darkening", default: "0", help: "seed 004: V = 1 − darkening·(shadowed taps); 0 averages the taps" },
+        DARKENING.param(),
     ],
     parse: |p| Ok(Arc::new(Pcf::from_map(p)?)),
 };
@@ -65,7 +81,7 @@ fn fraction(params: &ParamMap, key: &str) -> Result<Option<f32>> {
 
 impl Pcf {
     pub fn from_map(p: &ParamMap) -> Result<Self> {
-        let kernel = get_choice(p, "kernel", "poisson", &KERNELS)?;
+        let kernel = KERNEL.get(p)?;
         let default_taps = match kernel {
             "box" => 5,
             "bilinear" => 3,
@@ -82,8 +98,8 @@ impl Pcf {
             }
             _ => {}
         }
-        let radius = check_range("pcf", "radius", get_f32(p, "radius", 2.0)?, 0.0, 64.0)?;
-        let darkening = check_range("pcf", "darkening", get_f32(p, "darkening", 0.0)?, 0.0, 1.0)?;
+        let radius = RADIUS.get(p, "pcf")?;
+        let darkening = DARKENING.get(p, "pcf")?;
         Ok(Self {
             kernel,
             taps,

@@ -2,10 +2,7 @@
 //! size by similar triangles, then PCF of that width, all on the centre map.
 
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
-use super::{
-    check_range, get_f32, get_u32, label_from, Family, MethodInfo, MethodOutput, MethodState,
-    Param, ShadowMethod,
-};
+use super::{label_from, Family, MethodInfo, MethodOutput, MethodState, ParamDecl, ShadowMethod};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuFilter;
 use crate::gpu::timing::StageTimer;
@@ -16,20 +13,37 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
+pub const TAPS: ParamDecl<u32> =
+    ParamDecl::new("taps", "8", 1, 16, "filter taps per side (N×N box), 1..=16");
+pub const BLOCKER_TAPS: ParamDecl<u32> = ParamDecl::new(
+    "blocker_taps",
+    "6",
+    1,
+    16,
+    "blocker-search taps per side, 1..=16",
+);
+pub const MAX_RADIUS: ParamDecl<f32> = ParamDecl::new(
+    "max_radius",
+    "32",
+    1.0,
+    256.0,
+    "largest search and filter half-width in texels",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "pcss",
     family: Family::Pcf,
     summary: "percentage-closer soft shadows: blocker search, w = (d_r − d_b)·w_light/d_b, PCF of that width",
     params: &[
-        Param { key: "taps", default: "8", help: "filter taps per side (N×N box), 1..=16" },
-        Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side, 1..=16" },
-        Param { key: "max_radius", default: "32", help: "largest search and filter half-width in texels" },
+        TAPS.param(),
+        BLOCKER_TAPS.param(),
+        MAX_RADIUS.param(),
     ],
     parse: |p| {
         Ok(Arc::new(Pcss {
-            taps: check_range("pcss", "taps", get_u32(p, "taps", 8)?, 1, 16)?,
-            blocker_taps: check_range("pcss", "blocker_taps", get_u32(p, "blocker_taps", 6)?, 1, 16)?,
-            max_radius: check_range("pcss", "max_radius", get_f32(p, "max_radius", 32.0)?, 1.0, 256.0)?,
+            taps: TAPS.get(p, "pcss")?,
+            blocker_taps: BLOCKER_TAPS.get(p, "pcss")?,
+            max_radius: MAX_RADIUS.get(p, "pcss")?,
         }))
     },
 };

@@ -3,9 +3,7 @@
 
 use super::environment::common::{SsaoSettings, SsaoStage};
 use super::environment::pixels::{AO_RADIUS, AO_SAMPLES};
-use super::{
-    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, ShadowMethod,
-};
+use super::{Family, MethodInfo, MethodOutput, MethodState, ShadowMethod};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuCamera, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
@@ -18,16 +16,10 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "ssao",
     family: Family::Environment,
     summary: "screen-space ambient occlusion alone: V = AO from the G-buffer",
-    params: &[AO_SAMPLES, AO_RADIUS],
+    params: &[AO_SAMPLES.param(), AO_RADIUS.param()],
     parse: |p| {
-        let samples = check_range("ssao", "ao_samples", get_u32(p, "ao_samples", 16)?, 1, 64)?;
-        let radius = check_range(
-            "ssao",
-            "ao_radius",
-            get_f32(p, "ao_radius", 0.05)?,
-            1e-4,
-            1.0,
-        )?;
+        let samples = AO_SAMPLES.get(p, "ssao")?;
+        let radius = AO_RADIUS.get(p, "ssao")?;
         Ok(Arc::new(SsaoMethod(SsaoSettings { samples, radius })))
     },
 };

@@ -39,6 +39,14 @@ use crate::stages::{
 };
 use crate::{Error, Result};
 
+pub const HOLD: crate::methods::ParamDecl<u32> = crate::methods::ParamDecl::new(
+    "hold",
+    "0",
+    0,
+    u32::MAX,
+    "hysteresis in low-quality pixels: a quad the previous frame did not split needs this many more to split; one it split stays split down to the threshold (docs/reuse.md)",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "adaptive",
     family: Family::MultiSample,
@@ -57,7 +65,7 @@ pub const INFO: MethodInfo = MethodInfo {
         Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, results/bench-seed-table2-h100/)" },
         Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
         Param { key: "items", default: "32 per pixel", help: "scope=local only: the (pixel, quad) item list's starting capacity, at most what one binding holds; a frame that overflows it runs again on a list grown from the count" },
-        Param { key: "hold", default: "0", help: "hysteresis in low-quality pixels: a quad the previous frame did not split needs this many more to split; one it split stays split down to the threshold (docs/reuse.md)" },
+        HOLD.param(),
         Param { key: "items_grow", default: "on", help: "scope=local only: off fails a frame that overflows the item list (reported, never clipped) instead of growing it" },
     ],
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),

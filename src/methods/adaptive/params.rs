@@ -335,7 +335,7 @@ impl AdaptiveParams {
                 ));
             }
         }
-        p.hold = get_u32(params, "hold", 0)?;
+        p.hold = super::HOLD.get(params, "adaptive")?;
         if let Some(v) = params.get("layout") {
             p.layout = match v.as_str() {
                 "lattice" => Layout::Lattice,

@@ -13,8 +13,8 @@
 //! (`filter`): one predicted to meet it is rendered instead.
 
 use super::{
-    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
-    Param, ParamMap, ShadowMethod,
+    ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap,
+    ShadowMethod,
 };
 use crate::gpu::timing::StageTimer;
 use crate::methods::calibration::{self, Class};
@@ -34,34 +34,79 @@ pub mod price;
 pub mod record;
 pub mod search;
 
+pub const TARGET: ParamDecl<f32> = ParamDecl::new(
+    "target",
+    "0.015",
+    0.0005,
+    0.5,
+    "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)",
+);
+pub const MAX_N: ParamDecl<u32> = ParamDecl::new(
+    "max_n",
+    "17",
+    2,
+    32,
+    "largest grid side it may choose, 2..=32",
+);
+/// `parse` checks it is one of `SIZES`.
+pub const MAX_SIZE: ParamDecl<u32> = ParamDecl::new(
+    "max_size",
+    "2048",
+    0,
+    u32::MAX,
+    "largest map size it may choose: 256, 512, 1024 or 2048",
+);
+pub const COST: ChoiceDecl = ChoiceDecl::new(
+    "cost",
+    "measured",
+    &["measured", "texels"],
+    "how it prices a map of each size: `measured` (what a map of each size adds to this scene's frame on this device, timed before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)",
+);
+/// K: the exact pixels a decision draws (`certified`).
+pub const PIXELS: ParamDecl<u32> = ParamDecl::new(
+    "pixels",
+    "2048",
+    0,
+    1 << 20,
+    "K: pixels whose exact truth certifies the choice (docs/certify.md): the cheapest candidate whose bound on its RMSE is at most the target is rendered; 0 decides by the estimate alone",
+);
+/// `parse` checks the open range (0, 1).
+pub const DELTA: ParamDecl<f32> = ParamDecl::new(
+    "delta",
+    "0.05",
+    f32::MIN,
+    f32::MAX,
+    "each candidate's bound holds with probability 1 − delta, in (0, 1)",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "auto",
     family: Family::MultiSample,
     summary: "error budget: the centred grid's n and map size grown until the predicted RMSE of V meets the target (or one filtered map, where it is predicted to), then kept while the camera stays",
     params: &[
-        Param { key: "target", default: "0.015", help: "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)" },
-        Param { key: "max_n", default: "17", help: "largest grid side it may choose, 2..=32" },
-        Param { key: "max_size", default: "2048", help: "largest map size it may choose: 256, 512, 1024 or 2048" },
-        Param { key: "cost", default: "measured", help: "how it prices a map of each size: `measured` (what a map of each size adds to this scene's frame on this device, timed before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)" },
+        TARGET.param(),
+        MAX_N.param(),
+        MAX_SIZE.param(),
+        COST.param(),
         Param { key: "filters", default: "pcss+msm", help: "one-map methods checked against the grid that meets the target (or, out of reach, the best grid tried), joined by + (e.g. pcss, or pcss+msm+vsm), or none: one predicted to meet it (out of reach: to err no more than that grid) that took less time is rendered instead; the default leaves out those that refuse the scene's light" },
-        Param { key: "pixels", default: "2048", help: "K: pixels whose exact truth certifies the choice (docs/certify.md): the cheapest candidate whose bound on its RMSE is at most the target is rendered; 0 decides by the estimate alone" },
-        Param { key: "delta", default: "0.05", help: "each candidate's bound holds with probability 1 − delta, in (0, 1)" },
+        PIXELS.param(),
+        DELTA.param(),
     ],
     parse: |p: &ParamMap| {
-        let target = check_range("auto", "target", get_f32(p, "target", 0.015)?, 0.0005, 0.5)?;
-        let max_n = check_range("auto", "max_n", get_u32(p, "max_n", 17)?, 2, 32)?;
-        let max_size = get_u32(p, "max_size", 2048)?;
+        let target = TARGET.get(p, "auto")?;
+        let max_n = MAX_N.get(p, "auto")?;
+        let max_size = MAX_SIZE.get(p, "auto")?;
         if !SIZES.contains(&max_size) {
             return Err(crate::Error::Param(format!("auto: max_size = {max_size}: use one of 256, 512, 1024, 2048")));
         }
-        let cost = match get_choice(p, "cost", "measured", &["measured", "texels"])? {
+        let cost = match COST.get(p)? {
             "texels" => CostModel::Texels,
             _ => CostModel::Measured,
         };
         let filters = p.get("filters").map_or(DEFAULT_FILTERS, String::as_str).to_string();
         filter::parse_list(&filters)?;
-        let pixels = check_range("auto", "pixels", get_u32(p, "pixels", DEFAULT_PIXELS)?, 0, 1 << 20)?;
-        let delta = get_f32(p, "delta", 0.05)?;
+        let pixels = PIXELS.get(p, "auto")?;
+        let delta = DELTA.get(p, "auto")?;
         if !(delta > 0.0 && delta < 1.0) {
             return Err(crate::Error::Param(format!("auto: delta = {delta} is outside (0, 1): each bound holds with probability 1 − delta")));
         }
@@ -72,8 +117,6 @@ pub const INFO: MethodInfo = MethodInfo {
 /// The one-map candidates unless `filters` says otherwise: `pcss` for the soft edges of small
 /// scenes, `msm` for the acne-prone ones (`grazing-ground`: 0.126 against the grid's 0.189).
 pub const DEFAULT_FILTERS: &str = "pcss+msm";
-/// K: the exact pixels a decision draws (`certified`).
-pub const DEFAULT_PIXELS: u32 = 2048;
 
 /// The map sizes it steps through.
 pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];

@@ -7,8 +7,7 @@ pub mod split;
 
 use super::pcf::Pcf;
 use super::{
-    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
-    Param, ParamMap, ShadowMethod,
+    ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, ParamDecl, ParamMap, ShadowMethod,
 };
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuCascades, GpuFilter, GpuSample};
@@ -28,15 +27,36 @@ use std::sync::Arc;
 pub const MAX_CASCADES: u32 = 8;
 pub const FILTERS: [&str; 2] = ["hard", "pcf"];
 
+pub const N: ParamDecl<u32> = ParamDecl::new("n", "4", 1, MAX_CASCADES, "cascades, 1..=8");
+pub const SPLIT: ChoiceDecl = ChoiceDecl::new(
+    "split",
+    "practical",
+    &Scheme::NAMES,
+    "uniform, log or practical (λ·log + (1−λ)·uniform)",
+);
+pub const LAMBDA: ParamDecl<f32> = ParamDecl::new(
+    "lambda",
+    "0.5",
+    0.0,
+    1.0,
+    "practical: the log split's weight, 0..=1",
+);
+pub const FILTER: ChoiceDecl = ChoiceDecl::new(
+    "filter",
+    "hard",
+    &FILTERS,
+    "hard (one test per pixel) or pcf (pcf's default taps: Poisson 16, radius 2 texels)",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "cascades",
     family: Family::Pcf,
     summary: "the sun's cascaded shadow maps: the view's depth range split into N slices, an orthographic map per slice",
     params: &[
-        Param { key: "n", default: "4", help: "cascades, 1..=8" },
-        Param { key: "split", default: "practical", help: "uniform, log or practical (λ·log + (1−λ)·uniform)" },
-        Param { key: "lambda", default: "0.5", help: "practical: the log split's weight, 0..=1" },
-        Param { key: "filter", default: "hard", help: "hard (one test per pixel) or pcf (pcf's default taps: Poisson 16, radius 2 texels)" },
+        N.param(),
+        SPLIT.param(),
+        LAMBDA.param(),
+        FILTER.param(),
     ],
     parse: |p| Ok(Arc::new(CascadeMaps::from_map(p)?)),
 };
@@ -54,11 +74,10 @@ pub struct CascadeMaps {
 
 impl CascadeMaps {
     pub fn from_map(p: &ParamMap) -> Result<Self> {
-        let n = check_range("cascades", "n", get_u32(p, "n", 4)?, 1, MAX_CASCADES)?;
-        let split = Scheme::parse(get_choice(p, "split", "practical", &Scheme::NAMES)?)
-            .expect("a listed scheme");
-        let lambda = check_range("cascades", "lambda", get_f32(p, "lambda", 0.5)?, 0.0, 1.0)?;
-        let filter = get_choice(p, "filter", "hard", &FILTERS)?;
+        let n = N.get(p, "cascades")?;
+        let split = Scheme::parse(SPLIT.get(p)?).expect("a listed scheme");
+        let lambda = LAMBDA.get(p, "cascades")?;
+        let filter = FILTER.get(p)?;
         Ok(Self {
             n,
             split,

@@ -14,8 +14,7 @@ use crate::gpu::structs::{GpuEnvCell, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::methods::{
-    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param,
-    ShadowMethod,
+    Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ShadowMethod,
 };
 use crate::scene::environment::panorama::luminance;
 use crate::scene::environment::{EnvLight, Environment};
@@ -26,28 +25,59 @@ use crate::{Error, Result};
 use glam::Vec3;
 use std::sync::Arc;
 
+pub const MAX_LEVEL: ParamDecl<u32> =
+    ParamDecl::new("max_level", "4", 0, 6, "levels of splitting, 0..=6");
+pub const P_M: ParamDecl<u32> = ParamDecl::new(
+    "p_m",
+    "0",
+    0,
+    u32::MAX,
+    "split when more than p_m pixels see the cell's corners disagree",
+);
+pub const CONTRAST: ParamDecl<f32> = ParamDecl::new(
+    "contrast",
+    "4",
+    1.0,
+    1e9,
+    "split when the cell's quadrants' powers differ by more than this factor",
+);
+pub const MIN_SHARE: ParamDecl<f32> = ParamDecl::new(
+    "min_share",
+    "0.01",
+    0.0,
+    1.0,
+    "cells under this share of the panorama's power never split",
+);
+pub const COUNT_STRIDE: ParamDecl<u32> = ParamDecl::new(
+    "count_stride",
+    "2",
+    1,
+    8,
+    "count every n-th pixel in x and y (1..=8): p_m is in counted pixels",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "env-adaptive",
     family: Family::Environment,
     summary: "a quadtree over the panorama split where visibility or radiance disagrees (GPU atomics), one ray per leaf",
     params: &[
         Param { key: "cells", default: "4x2", help: "level-0 cells, WxH; the finest lattice is cells × 2^max_level and must divide the panorama" },
-        Param { key: "max_level", default: "4", help: "levels of splitting, 0..=6" },
-        Param { key: "p_m", default: "0", help: "split when more than p_m pixels see the cell's corners disagree" },
-        Param { key: "contrast", default: "4", help: "split when the cell's quadrants' powers differ by more than this factor" },
-        Param { key: "min_share", default: "0.01", help: "cells under this share of the panorama's power never split" },
-        Param { key: "count_stride", default: "2", help: "count every n-th pixel in x and y (1..=8): p_m is in counted pixels" },
-        SSAO,
-        AO_SAMPLES,
-        AO_RADIUS,
+        MAX_LEVEL.param(),
+        P_M.param(),
+        CONTRAST.param(),
+        MIN_SHARE.param(),
+        COUNT_STRIDE.param(),
+        SSAO.param(),
+        AO_SAMPLES.param(),
+        AO_RADIUS.param(),
     ],
     parse: |p| {
         let (bw, bh) = resolution(p, "env-adaptive", "cells", (4, 2))?;
-        let max_level = check_range("env-adaptive", "max_level", get_u32(p, "max_level", 4)?, 0, 6)?;
-        let p_m = get_u32(p, "p_m", 0)?;
-        let contrast = check_range("env-adaptive", "contrast", get_f32(p, "contrast", 4.0)?, 1.0, 1e9)?;
-        let min_share = check_range("env-adaptive", "min_share", get_f32(p, "min_share", 0.01)?, 0.0, 1.0)?;
-        let count_stride = check_range("env-adaptive", "count_stride", get_u32(p, "count_stride", 2)?, 1, 8)?;
+        let max_level = MAX_LEVEL.get(p, "env-adaptive")?;
+        let p_m = P_M.get(p, "env-adaptive")?;
+        let contrast = CONTRAST.get(p, "env-adaptive")?;
+        let min_share = MIN_SHARE.get(p, "env-adaptive")?;
+        let count_stride = COUNT_STRIDE.get(p, "env-adaptive")?;
         Ok(Arc::new(EnvAdaptive { base: (bw, bh), max_level, p_m, contrast, min_share, count_stride, ssao: parse_ssao(p, "env-adaptive")? }))
     },
 };

@@ -144,17 +144,6 @@ impl SsaoStage {
     }
 }
 
-/// `on` / `off`.
-pub fn on_off(params: &crate::methods::ParamMap, method: &str, key: &str) -> Result<bool> {
-    match params.get(key).map(String::as_str) {
-        None | Some("off") => Ok(false),
-        Some("on") => Ok(true),
-        Some(v) => Err(Error::Param(format!(
-            "{method}: {key} = `{v}`: use `on` or `off`"
-        ))),
-    }
-}
-
 /// `WxH` (a panorama resolution).
 pub fn resolution(
     params: &crate::methods::ParamMap,

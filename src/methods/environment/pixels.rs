@@ -2,9 +2,7 @@
 //! weights, is a directional light; V by one shadow ray per light and pixel through the BVH, or
 //! (`at=vertex`, the seed's variant) per mesh vertex, interpolated to the pixels.
 
-use super::common::{
-    environment, gpu_lights, on_off, resolution, SceneRays, SsaoSettings, SsaoStage,
-};
+use super::common::{environment, gpu_lights, resolution, SceneRays, SsaoSettings, SsaoStage};
 use super::picture;
 use super::vertex::{VertexBuffers, VertexStage};
 use crate::gpu::readback;
@@ -12,8 +10,8 @@ use crate::gpu::structs::{GpuEnvLight, GpuEnvParams};
 use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::methods::{
-    check_range, get_choice, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState,
-    Param, ParamMap, ShadowMethod,
+    ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap,
+    ShadowMethod, SwitchDecl,
 };
 use crate::render::bvh::Bvh;
 use crate::scene::environment::pixel_lights;
@@ -22,51 +20,63 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
-pub const SSAO: Param = Param {
-    key: "ssao",
-    default: "off",
-    help: "on: multiply V by screen-space ambient occlusion (the seed's creases)",
-};
-pub const AO_SAMPLES: Param = Param {
-    key: "ao_samples",
-    default: "16",
-    help: "ssao samples per pixel, 1..=64",
-};
-pub const AO_RADIUS: Param = Param {
-    key: "ao_radius",
-    default: "0.05",
-    help: "ssao radius as a share of the scene's bounding-box diagonal",
-};
+pub const SSAO: SwitchDecl = SwitchDecl::new(
+    "ssao",
+    false,
+    "on: multiply V by screen-space ambient occlusion (the seed's creases)",
+);
+pub const AO_SAMPLES: ParamDecl<u32> =
+    ParamDecl::new("ao_samples", "16", 1, 64, "ssao samples per pixel, 1..=64");
+pub const AO_RADIUS: ParamDecl<f32> = ParamDecl::new(
+    "ao_radius",
+    "0.05",
+    1e-4,
+    1.0,
+    "ssao radius as a share of the scene's bounding-box diagonal",
+);
+pub const AT: ChoiceDecl = ChoiceDecl::new(
+    "at",
+    "pixel",
+    &["pixel", "vertex"],
+    "pixel: rays from every screen pixel; vertex: from every mesh vertex (the seed's variant), V interpolated by barycentrics",
+);
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "env-pixels",
     family: Family::Environment,
     summary: "seed 002: every (downsampled) panorama pixel a light, shadow rays through a GPU BVH",
     params: &[
-        Param { key: "res", default: "32x16", help: "panorama resolution of the pixel lights, WxH dividing the panorama's" },
-        Param { key: "at", default: "pixel", help: "pixel: rays from every screen pixel; vertex: from every mesh vertex (the seed's variant), V interpolated by barycentrics" },
-        SSAO,
-        AO_SAMPLES,
-        AO_RADIUS,
+        Param {
+            key: "res",
+            default: "32x16",
+            help: "panorama resolution of the pixel lights, WxH dividing the panorama's",
+        },
+        AT.param(),
+        SSAO.param(),
+        AO_SAMPLES.param(),
+        AO_RADIUS.param(),
     ],
     parse: |p| {
         let (w, h) = resolution(p, "env-pixels", "res", (32, 16))?;
-        let at = get_choice(p, "at", "pixel", &["pixel", "vertex"]).map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
-        Ok(Arc::new(EnvPixels { width: w, height: h, per_vertex: at == "vertex", ssao: parse_ssao(p, "env-pixels")? }))
+        let at = AT
+            .get(p)
+            .map_err(|e| crate::Error::Param(format!("env-pixels: {e}")))?;
+        Ok(Arc::new(EnvPixels {
+            width: w,
+            height: h,
+            per_vertex: at == "vertex",
+            ssao: parse_ssao(p, "env-pixels")?,
+        }))
     },
 };
 
 /// `ssao=on` with its settings, or None.
 pub fn parse_ssao(p: &ParamMap, method: &str) -> Result<Option<SsaoSettings>> {
-    let samples = check_range(method, "ao_samples", get_u32(p, "ao_samples", 16)?, 1, 64)?;
-    let radius = check_range(
-        method,
-        "ao_radius",
-        get_f32(p, "ao_radius", 0.05)?,
-        1e-4,
-        1.0,
-    )?;
-    Ok(on_off(p, method, "ssao")?.then_some(SsaoSettings { samples, radius }))
+    let samples = AO_SAMPLES.get(p, method)?;
+    let radius = AO_RADIUS.get(p, method)?;
+    Ok(SSAO
+        .get(p, method)?
+        .then_some(SsaoSettings { samples, radius }))
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -12,8 +12,8 @@ use crate::gpu::timing::StageTimer;
 use crate::gpu::Stage;
 use crate::methods::pcf::{poisson_disk, KERNELS};
 use crate::methods::{
-    check_range, get_choice, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param,
-    ShadowMethod,
+    check_range, get_u32, ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, Param,
+    ParamDecl, ShadowMethod,
 };
 use crate::render::shadow_raster::{self, RasterJob};
 use crate::scene::environment::median_cut;
@@ -25,26 +25,47 @@ use crate::{Error, Result};
 use glam::Vec3;
 use std::sync::Arc;
 
+pub const K: ParamDecl<u32> = ParamDecl::new(
+    "k",
+    "16",
+    1,
+    256,
+    "lights from median cut, a power of two 1..=256",
+);
+pub const FILTER: ChoiceDecl = ChoiceDecl::new(
+    "filter",
+    "box",
+    &KERNELS,
+    "the pcf family's tap pattern: box, bilinear, poisson, stratified or rotated (as pcf:kernel)",
+);
+pub const PCF_RADIUS: ParamDecl<u32> = ParamDecl::new(
+    "pcf_radius",
+    "1",
+    0,
+    4,
+    "filter radius in texels, 0..=4 (box: (2r+1)² taps)",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "env-shadowmaps",
     family: Family::Environment,
     summary: "seed 002's baseline: K median-cut directional lights, a shadow map each, PCF-filtered (pcf's patterns)",
     params: &[
-        Param { key: "k", default: "16", help: "lights from median cut, a power of two 1..=256" },
-        Param { key: "filter", default: "box", help: "the pcf family's tap pattern: box, bilinear, poisson, stratified or rotated (as pcf:kernel)" },
-        Param { key: "pcf_radius", default: "1", help: "filter radius in texels, 0..=4 (box: (2r+1)² taps)" },
+        K.param(),
+        FILTER.param(),
+        PCF_RADIUS.param(),
         Param { key: "taps", default: "2r+1 | 16", help: "box/bilinear: N per side (default 2·pcf_radius+1), 1..=16; poisson/rotated: 4, 16, 32 or 64; stratified: 1..=64" },
-        SSAO,
-        AO_SAMPLES,
-        AO_RADIUS,
+        SSAO.param(),
+        AO_SAMPLES.param(),
+        AO_RADIUS.param(),
     ],
     parse: |p| {
-        let k = check_range("env-shadowmaps", "k", get_u32(p, "k", 16)?, 1, 256)?;
+        let k = K.get(p, "env-shadowmaps")?;
         if !k.is_power_of_two() {
             return Err(Error::Param(format!("env-shadowmaps: k = {k}: median cut gives a power of two (1, 2, 4, … 256)")));
         }
-        let pcf_radius = check_range("env-shadowmaps", "pcf_radius", get_u32(p, "pcf_radius", 1)?, 0, 4)?;
-        let filter = get_choice(p, "filter", "box", &KERNELS).map_err(|e| Error::Param(format!("env-shadowmaps: {e}")))?;
+        let pcf_radius = PCF_RADIUS.get(p, "env-shadowmaps")?;
+        let filter = FILTER.get(p).map_err(|e| Error::Param(format!("env-shadowmaps: {e}")))?;
         let taps = check_taps(filter, get_u32(p, "taps", default_taps(filter, pcf_radius))?)?;
         Ok(Arc::new(EnvShadowmaps { k, filter, pcf_radius, taps, ssao: parse_ssao(p, "env-shadowmaps")? }))
     },

@@ -14,8 +14,8 @@ pub mod record;
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::single_map::{light_size, CentreMap};
 use super::{
-    check_range, get_f32, get_u32, Family, MethodInfo, MethodOutput, MethodState, Param, ParamMap,
-    ShadowMethod,
+    check_range, Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap,
+    ShadowMethod, SwitchDecl,
 };
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
@@ -32,32 +32,147 @@ pub use record::ClassRecord;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+pub const TARGET: ParamDecl<f32> = ParamDecl::new(
+    "target",
+    "0.02",
+    0.0005,
+    0.5,
+    "the frame's RMSE of V to meet: each region gets n = k·(P/A)^0.2 samples per side for P penumbra pixels of A, k from the target (docs/regions.md)",
+);
+pub const MAX_N: ParamDecl<u32> =
+    ParamDecl::new("max_n", "16", 1, 64, "most samples per side, 1..=64");
+/// `power_of_two` checks it.
+pub const MIN_SIZE: ParamDecl<u32> = ParamDecl::new(
+    "min_size",
+    "64",
+    0,
+    u32::MAX,
+    "smallest map side, a power of two, 16..=8192",
+);
+/// `power_of_two` checks it.
+pub const MAX_SIZE: ParamDecl<u32> = ParamDecl::new(
+    "max_size",
+    "2048",
+    0,
+    u32::MAX,
+    "largest map side, a power of two, 16..=8192",
+);
+pub const DENSITY: ParamDecl<f32> = ParamDecl::new(
+    "density",
+    "0",
+    0.0,
+    64.0,
+    "texels per pixel footprint; 0: the least that meets the maps' share of the target (T/√2, docs/regions.md), and at least 1 + the lookup's offsets in texels (bias constant + slope + normal offset)",
+);
+pub const REGION: ParamDecl<u32> = ParamDecl::new(
+    "region",
+    "16",
+    8,
+    256,
+    "region side in pixels, a multiple of 8 up to 256",
+);
+/// `power_of_two` checks it (0: derived).
+pub const CENTRE_SIZE: ParamDecl<u32> = ParamDecl::new(
+    "centre_size",
+    "0",
+    0,
+    u32::MAX,
+    "side of the decision's map from the light's centre, a power of two 16..=8192; 0: twice the screen's larger side, at most shadow_map_size (the blocker search reads penumbra widths, not edges)",
+);
+pub const BLOCKER_TAPS: ParamDecl<u32> = ParamDecl::new(
+    "blocker_taps",
+    "6",
+    1,
+    16,
+    "blocker-search taps per side on the centre map, 1..=16",
+);
+pub const MAP_COST: ParamDecl<f32> = ParamDecl::new(
+    "map_cost",
+    "550000",
+    0.0,
+    1e9,
+    "the cost model's price of one map beyond its texels, in texels (passes, culling, triangles; fitted on llvmpipe, docs/regions.md)",
+);
+pub const SAMPLE_COST: ParamDecl<f32> = ParamDecl::new(
+    "sample_cost",
+    "40",
+    0.0,
+    1e9,
+    "the cost model's price of one pixel's test of one map, in texels",
+);
+/// `power_of_two` checks it (0: the scene's).
+pub const FORCE_SIZE: ParamDecl<u32> = ParamDecl::new(
+    "force_size",
+    "0",
+    0,
+    u32::MAX,
+    "map side with force = N; 0: the scene's shadow_map_size",
+);
+pub const PIXELS: ParamDecl<u32> = ParamDecl::new(
+    "pixels",
+    "256",
+    16,
+    8192,
+    "certify = on: exact pixels drawn per class, 16..=8192",
+);
+/// `parse` checks the half-open range (0, 0.5].
+pub const DELTA: ParamDecl<f32> = ParamDecl::new(
+    "delta",
+    "0.05",
+    f32::MIN,
+    f32::MAX,
+    "certify = on: the frame's bound holds with probability 1 − delta (each class's at delta / classes), in (0, 0.5]",
+);
+/// `parse` checks it (0 or 0.0005..=0.5).
+pub const PLAN_TARGET: ParamDecl<f32> = ParamDecl::new(
+    "plan_target",
+    "0",
+    f32::MIN,
+    f32::MAX,
+    "the target the plan is decided for; 0: target (a larger one makes a plan that under-counts, for studying the measurement)",
+);
+pub const MERGE: SwitchDecl = SwitchDecl::new(
+    "merge",
+    true,
+    "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps",
+);
+pub const HOLD: SwitchDecl = SwitchDecl::new(
+    "hold",
+    true,
+    "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh",
+);
+pub const CERTIFY: SwitchDecl = SwitchDecl::new(
+    "certify",
+    true,
+    "on: each class's error is measured with the exact truth at pixels drawn within it and a class whose bound is over the target is stepped up; the frame is met only where the certified bound is at most the target (docs/regions.md, \"Certified classes\"); off: the plan alone, as decided",
+);
+
 pub const INFO: MethodInfo = MethodInfo {
     name: "regions",
     family: Family::MultiSample,
     summary: "per screen region: samples per side from its penumbra width, map texels from its footprint, maps fitted to its receivers",
     params: &[
-        Param { key: "target", default: "0.02", help: "the frame's RMSE of V to meet: each region gets n = k·(P/A)^0.2 samples per side for P penumbra pixels of A, k from the target (docs/regions.md)" },
-        Param { key: "max_n", default: "16", help: "most samples per side, 1..=64" },
-        Param { key: "min_size", default: "64", help: "smallest map side, a power of two, 16..=8192" },
-        Param { key: "max_size", default: "2048", help: "largest map side, a power of two, 16..=8192" },
-        Param { key: "density", default: "0", help: "texels per pixel footprint; 0: the least that meets the maps' share of the target (T/√2, docs/regions.md), and at least 1 + the lookup's offsets in texels (bias constant + slope + normal offset)" },
-        Param { key: "region", default: "16", help: "region side in pixels, a multiple of 8 up to 256" },
-        Param { key: "centre_size", default: "0", help: "side of the decision's map from the light's centre, a power of two 16..=8192; 0: twice the screen's larger side, at most shadow_map_size (the blocker search reads penumbra widths, not edges)" },
-        Param { key: "blocker_taps", default: "6", help: "blocker-search taps per side on the centre map, 1..=16" },
+        TARGET.param(),
+        MAX_N.param(),
+        MIN_SIZE.param(),
+        MAX_SIZE.param(),
+        DENSITY.param(),
+        REGION.param(),
+        CENTRE_SIZE.param(),
+        BLOCKER_TAPS.param(),
         Param { key: "cull", default: "auto", help: "on: each map rasterizes only the triangles that can change a texel a pixel tests (the same V); auto: on where the adapter can cull (indirect draws with a first instance), off elsewhere; off" },
-        Param { key: "merge", default: "on", help: "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps" },
-        Param { key: "map_cost", default: "550000", help: "the cost model's price of one map beyond its texels, in texels (passes, culling, triangles; fitted on llvmpipe, docs/regions.md)" },
-        Param { key: "sample_cost", default: "40", help: "the cost model's price of one pixel's test of one map, in texels" },
+        MERGE.param(),
+        MAP_COST.param(),
+        SAMPLE_COST.param(),
         Param { key: "force", default: "off", help: "N: every region gets N×N centred samples on maps of force_size over the whole scene (V equals regular:n=N,layout=centred)" },
-        Param { key: "force_size", default: "0", help: "map side with force = N; 0: the scene's shadow_map_size" },
-        Param { key: "hold", default: "on", help: "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh" },
-        Param { key: "certify", default: "on", help: "on: each class's error is measured with the exact truth at pixels drawn within it and a class whose bound is over the target is stepped up; the frame is met only where the certified bound is at most the target (docs/regions.md, \"Certified classes\"); off: the plan alone, as decided" },
-        Param { key: "pixels", default: "256", help: "certify = on: exact pixels drawn per class, 16..=8192" },
-        Param { key: "delta", default: "0.05", help: "certify = on: the frame's bound holds with probability 1 − delta (each class's at delta / classes), in (0, 0.5]" },
+        FORCE_SIZE.param(),
+        HOLD.param(),
+        CERTIFY.param(),
+        PIXELS.param(),
+        DELTA.param(),
         Param { key: "filter", default: "pcss", help: "certify = on: a one-map filter each class may take where it is certified within the target (pcss, or none)" },
         Param { key: "fallback", default: "1.2", help: "certify = on: the frame-wide grid (the top class's samples on every tile) is taken where its predicted cost is at most this many times the plan's; off: never" },
-        Param { key: "plan_target", default: "0", help: "the target the plan is decided for; 0: target (a larger one makes a plan that under-counts, for studying the measurement)" },
+        PLAN_TARGET.param(),
     ],
     parse,
 };
@@ -76,22 +191,17 @@ fn power_of_two(key: &str, v: u32) -> Result<u32> {
 }
 
 fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
-    let target = get_f32(p, "target", 0.02)?;
-    if !(0.0005..=0.5).contains(&target) {
-        return Err(crate::Error::Param(format!(
-            "regions: target = {target} is outside 0.0005..=0.5"
-        )));
-    }
-    let density = check_range("regions", "density", get_f32(p, "density", 0.0)?, 0.0, 64.0)?;
-    let region = check_range("regions", "region", get_u32(p, "region", 16)?, 8, 256)?;
+    let target = TARGET.get(p, "regions")?;
+    let density = DENSITY.get(p, "regions")?;
+    let region = REGION.get(p, "regions")?;
     if region % 8 != 0 {
         return Err(crate::Error::Param(format!(
             "regions: region = {region} is not a multiple of 8"
         )));
     }
     let (min_size, max_size) = (
-        power_of_two("min_size", get_u32(p, "min_size", 64)?)?,
-        power_of_two("max_size", get_u32(p, "max_size", 2048)?)?,
+        power_of_two("min_size", MIN_SIZE.get(p, "regions")?)?,
+        power_of_two("max_size", MAX_SIZE.get(p, "regions")?)?,
     );
     if min_size > max_size {
         return Err(crate::Error::Param(format!(
@@ -120,49 +230,14 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
             }
         },
     };
-    let merge = match p.get("merge").map(String::as_str) {
-        None | Some("on") => true,
-        Some("off") => false,
-        Some(v) => {
-            return Err(crate::Error::Param(format!(
-                "regions: merge = `{v}`: use `on` or `off`"
-            )))
-        }
-    };
-    let map_cost = check_range(
-        "regions",
-        "map_cost",
-        get_f32(p, "map_cost", 550_000.0)?,
-        0.0,
-        1e9,
-    )?;
-    let sample_cost = check_range(
-        "regions",
-        "sample_cost",
-        get_f32(p, "sample_cost", 40.0)?,
-        0.0,
-        1e9,
-    )?;
-    let force_size = get_u32(p, "force_size", 0)?;
-    let hold = match p.get("hold").map(String::as_str) {
-        None | Some("on") => true,
-        Some("off") => false,
-        Some(v) => {
-            return Err(crate::Error::Param(format!(
-                "regions: hold = `{v}`: use `on` or `off`"
-            )))
-        }
-    };
-    let on_off = |key: &str| match p.get(key).map(String::as_str) {
-        None | Some("on") => Ok(true),
-        Some("off") => Ok(false),
-        Some(v) => Err(crate::Error::Param(format!(
-            "regions: {key} = `{v}`: use `on` or `off`"
-        ))),
-    };
-    let certify = on_off("certify")?;
-    let pixels = check_range("regions", "pixels", get_u32(p, "pixels", 256)?, 16, 8192)?;
-    let delta = get_f32(p, "delta", 0.05)?;
+    let merge = MERGE.get(p, "regions")?;
+    let map_cost = MAP_COST.get(p, "regions")?;
+    let sample_cost = SAMPLE_COST.get(p, "regions")?;
+    let force_size = FORCE_SIZE.get(p, "regions")?;
+    let hold = HOLD.get(p, "regions")?;
+    let certify = CERTIFY.get(p, "regions")?;
+    let pixels = PIXELS.get(p, "regions")?;
+    let delta = DELTA.get(p, "regions")?;
     if !(delta > 0.0 && delta <= 0.5) {
         return Err(crate::Error::Param(format!(
             "regions: delta = {delta} is outside (0, 0.5]"
@@ -189,13 +264,13 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
             }
         },
     };
-    let plan_target = get_f32(p, "plan_target", 0.0)?;
+    let plan_target = PLAN_TARGET.get(p, "regions")?;
     if plan_target != 0.0 && !(0.0005..=0.5).contains(&plan_target) {
         return Err(crate::Error::Param(format!(
             "regions: plan_target = {plan_target} is outside 0.0005..=0.5 (or 0: target)"
         )));
     }
-    let centre_size = match get_u32(p, "centre_size", 0)? {
+    let centre_size = match CENTRE_SIZE.get(p, "regions")? {
         0 => 0,
         v => power_of_two("centre_size", v)?,
     };
@@ -210,17 +285,11 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     Ok(Arc::new(Regions {
         target,
         density,
-        max_n: check_range("regions", "max_n", get_u32(p, "max_n", 16)?, 1, 64)?,
+        max_n: MAX_N.get(p, "regions")?,
         min_size,
         max_size,
         region,
-        blocker_taps: check_range(
-            "regions",
-            "blocker_taps",
-            get_u32(p, "blocker_taps", 6)?,
-            1,
-            16,
-        )?,
+        blocker_taps: BLOCKER_TAPS.get(p, "regions")?,
         cull,
         merge,
         map_cost,
