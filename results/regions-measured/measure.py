@@ -100,6 +100,7 @@ def figures(rows_path, *oracle_paths):
     ratios = [float(r["bound"]) / float(r["rmse"]) for r in regs]
     print(f"certified bound over measured RMSE: {min(ratios):.2f}–{max(ratios):.2f}")
     print(f"frame-wide setting taken: {sum(1 for r in regs if r['fallback'])} of {len(regs)} rows")
+    print(f"regions rows' maps: {sum(int(r['maps']) for r in regs)}; steps: {sum(int(r['steps']) for r in regs)}")
     print(f"the trace alone over the fixed setting's frame: {sum(c[0] for c in costs)} of {len(costs)} rows; "
           f"regions' ms less the trace over the fixed setting's: {min(c[1] for c in costs):.2f}–{max(c[1] for c in costs):.2f}")
 
