@@ -190,7 +190,7 @@ pub fn band(v: &[f32], subset: &[bool], width: u32, height: u32, dilate: u32) ->
 /// The proxy from several parts: each scaled to sum 1 over the subset (a part that is zero
 /// everywhere adds nothing), then added. Parts are truth-free: a candidate's band, the estimate's
 /// per-pixel bound, the spread |V_a − V_b| between two candidates.
-pub fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
+pub(crate) fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
     let mut out = vec![0.0f32; subset.len()];
     for part in parts {
         let total: f64 = part
@@ -212,7 +212,7 @@ pub fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
 }
 
 /// |a − b| per pixel (0 off the subset): where two candidates disagree, one of them errs.
-pub fn spread(a: &[f32], b: &[f32], subset: &[bool]) -> Vec<f32> {
+pub(crate) fn spread(a: &[f32], b: &[f32], subset: &[bool]) -> Vec<f32> {
     a.iter()
         .zip(b)
         .zip(subset)

@@ -20,7 +20,7 @@ use std::time::Instant;
 
 /// Shadow rays stop at `dist · (1 − LIGHT_END_EPS)`, so an emitter that is itself scene geometry
 /// does not shadow its own samples (the lab's reference uses the same constant).
-pub const LIGHT_END_EPS: f32 = 1e-4;
+pub(crate) const LIGHT_END_EPS: f32 = 1e-4;
 /// The reference's default samples: 32 × 32 stratified, seed 0x5eed (method.md §5).
 pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous {
     m: 32,
@@ -28,7 +28,7 @@ pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous {
 };
 /// Points per dispatch: a real GPU's watchdog never sees a long one, and progress is reported
 /// between them.
-pub const CHUNK_POINTS: usize = 16384;
+pub(crate) const CHUNK_POINTS: usize = 16384;
 
 /// The light as the reference samples it: the rectangle; a disk; the sun (a disk of directions
 /// of radius `tan_half`, rays `reach` long); a sphere seen from each receiver (the point light,

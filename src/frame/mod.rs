@@ -4,7 +4,7 @@
 
 /// A certified bound on any frame's RMSE (docs/certify.md): it renders a second opinion, so it sits
 /// above the methods, beside the renderer it certifies.
-pub mod certify;
+pub(crate) mod certify;
 
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::{GpuCamera, GpuFrame};

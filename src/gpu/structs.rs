@@ -71,7 +71,7 @@ pub struct GpuTestBlock {
 /// One batch of the cull pass (kernels/cull.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuCull {
+pub(crate) struct GpuCull {
     pub triangle_count: u32,
     /// Index capacity of one slot: the whole mesh, so no slot can overflow.
     pub slot_stride: u32,
@@ -84,7 +84,7 @@ pub struct GpuCull {
 /// One dispatch chain of raster_compute (kernels/raster_compute.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuRasterCompute {
+pub(crate) struct GpuRasterCompute {
     pub map_size: u32,
     pub triangle_count: u32,
     /// 0: no face is skipped; 1: back faces; 2: front faces.
@@ -148,7 +148,7 @@ impl GpuRasterJob {
 /// The weights pass's rule (kernels/weights.wgsl): 0 level, 1 area, 2 Coons.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuWeights {
+pub(crate) struct GpuWeights {
     pub rule: u32,
     pub pad0: u32,
     pub pad1: u32,
@@ -158,7 +158,7 @@ pub struct GpuWeights {
 /// One map of hybrid_build: which raster layer merges into which store slot (docs/hybrid.md).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuHybridBuild {
+pub(crate) struct GpuHybridBuild {
     pub levels: u32,
     /// Coarse texels per side: the raster size / 2^levels.
     pub coarse: u32,
@@ -176,7 +176,7 @@ pub struct GpuHybridBuild {
 /// maps built since the last reset.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
-pub struct GpuHybridControl {
+pub(crate) struct GpuHybridControl {
     pub used: u32,
     pub overflow: u32,
     pub map_base: u32,
@@ -334,7 +334,7 @@ pub struct GpuTriangle {
 /// truth_trace's light and samples (kernels/truth_trace.wgsl): one uniform per dispatch.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTruthParams {
+pub(crate) struct GpuTruthParams {
     /// Rectangle, disk or sphere centre (w unused).
     pub center: [f32; 4],
     /// Rectangle: edge_u; sun: the unit direction towards it.
@@ -395,7 +395,7 @@ pub struct GpuTruthCount {
 /// `GpuTriangle` stores two edges, rounded in f32, which neighbouring triangles do not share.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTruthTriangle {
+pub(crate) struct GpuTruthTriangle {
     pub v0: [f32; 4],
     pub v1: [f32; 4],
     pub v2: [f32; 4],

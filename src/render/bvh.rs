@@ -11,7 +11,7 @@ use crate::gpu::structs::{GpuBvhNode, GpuTriangle};
 use glam::Vec3;
 
 /// Triangles per leaf at most.
-pub const LEAF_SIZE: usize = 4;
+pub(crate) const LEAF_SIZE: usize = 4;
 /// Traversal stack depth in the kernels; the build stops splitting before it could overflow.
 pub const STACK_DEPTH: usize = 32;
 

@@ -6,7 +6,7 @@ use crate::gpu::structs::GpuCamera;
 use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::{Error, Result};
 
-pub use crate::gpu::adapter::POSITION_FORMAT;
+pub(crate) use crate::gpu::adapter::POSITION_FORMAT;
 
 pub struct GBuffer {
     pub width: u32,
@@ -198,7 +198,10 @@ pub fn camera_uniform(scene: &crate::scene::Scene) -> GpuCamera {
 }
 
 /// [`camera_uniform`] for another camera over the same meshes (a renderer whose camera moved).
-pub fn camera_uniform_for(scene: &crate::scene::Scene, camera: &crate::scene::Camera) -> GpuCamera {
+pub(crate) fn camera_uniform_for(
+    scene: &crate::scene::Scene,
+    camera: &crate::scene::Camera,
+) -> GpuCamera {
     let aspect = scene.render.width as f32 / scene.render.height as f32;
     GpuCamera {
         clip_from_world: camera
@@ -209,7 +212,7 @@ pub fn camera_uniform_for(scene: &crate::scene::Scene, camera: &crate::scene::Ca
 }
 
 /// One screen-sized 2D texture (the G-buffer's attachments, and passes that must match its pixels).
-pub fn screen_texture(
+pub(crate) fn screen_texture(
     ctx: &GpuContext,
     label: &str,
     width: u32,

@@ -95,7 +95,7 @@ pub enum Redraw {
 }
 
 /// A rectangle larger than this share of the map is drawn whole instead.
-pub const WHOLE_SHARE: f64 = 0.5;
+pub(crate) const WHOLE_SHARE: f64 = 0.5;
 
 #[derive(Clone, Copy, Debug)]
 struct Slot {
@@ -423,7 +423,7 @@ impl MapCache {
 
 /// What moved between two versions of a scene's meshes.
 #[derive(Clone, Copy, Debug)]
-pub enum Moved {
+pub(crate) enum Moved {
     /// No vertex position changed.
     Nothing,
     /// The boxes of the moved triangles before and after.
@@ -435,7 +435,7 @@ pub enum Moved {
 /// The boxes of the geometry that moved between two versions of one mesh set (the same
 /// triangles, vertices in the same order), before and after: over every vertex of each triangle
 /// that has a vertex whose position changed (a triangle covers texels between all three).
-pub fn moved_boxes(
+pub(crate) fn moved_boxes(
     before: &[crate::scene::Vertex],
     after: &[crate::scene::Vertex],
     indices: &[u32],

@@ -1,12 +1,12 @@
 //! Raster passes: scene upload, G-buffer, shadow-map raster.
 
 pub(crate) mod barycentrics;
-pub mod bvh;
-pub mod gbuffer;
-pub mod kept_maps;
-pub mod redraw_cull;
-pub mod shadow_order;
-pub mod shadow_raster;
+pub(crate) mod bvh;
+pub(crate) mod gbuffer;
+pub(crate) mod kept_maps;
+pub(crate) mod redraw_cull;
+pub(crate) mod shadow_order;
+pub(crate) mod shadow_raster;
 
 use crate::gpu::GpuContext;
 use crate::scene::Scene;
@@ -99,10 +99,10 @@ impl SceneGpu {
 }
 
 /// Vertex layout of `scene::Vertex`: position, normal, material.
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+pub(crate) const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
 
-pub fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
+pub(crate) fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
     wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,

@@ -22,7 +22,7 @@ impl ShadowMapArray {
 }
 
 /// How many maps one array may hold: the device's layer limit and the memory budget, whichever is less.
-pub fn maps_per_array(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
+pub(crate) fn maps_per_array(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
     let max_dim = ctx.limits().max_texture_dimension_2d;
     if map_size > max_dim {
         return Err(Error::Limit(format!(

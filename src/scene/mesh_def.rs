@@ -6,7 +6,7 @@ use serde::Deserialize;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct MeshDef {
+pub(crate) struct MeshDef {
     pub builtin: Option<String>,
     pub file: Option<String>,
     #[serde(default)]
@@ -35,7 +35,7 @@ pub struct MeshDef {
 /// instance k (x fastest) is turned k · rotate_step_deg about y.
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct GridDef {
+pub(crate) struct GridDef {
     pub count: [u32; 2],
     pub spacing: [f32; 2],
     #[serde(default)]
@@ -44,7 +44,7 @@ pub struct GridDef {
 
 #[derive(Deserialize, Debug, Clone, Copy)]
 #[serde(untagged)]
-pub enum Scale {
+pub(crate) enum Scale {
     Uniform(f32),
     Axes([f32; 3]),
 }

@@ -21,7 +21,7 @@ pub const CONTROL_BYTES: u64 = std::mem::size_of::<GpuControl>() as u64;
 
 /// Workgroups in one dimension of scope = local's list passes (kernels/shared/common.wgsl
 /// `LIST_GROUPS_X`, WebGPU's guaranteed limit): a longer list's workgroups go on in rows.
-pub const LIST_GROUPS_X: u32 = 65535;
+pub(crate) const LIST_GROUPS_X: u32 = 65535;
 
 /// The CPU twin of common.wgsl `list_dispatch`: the indirect dispatch size that reproject_count's
 /// and probe's `begin` write for a list of `n` items, 64 per workgroup.

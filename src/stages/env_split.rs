@@ -5,12 +5,12 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct EnvSplit {
+pub(crate) struct EnvSplit {
     kernel: ComputeKernel,
 }
 
 /// Buffers of one split dispatch.
-pub struct EnvSplitIo<'a> {
+pub(crate) struct EnvSplitIo<'a> {
     pub params: &'a wgpu::Buffer,
     pub cells: &'a wgpu::Buffer,
     pub counts: &'a wgpu::Buffer,
@@ -22,13 +22,13 @@ pub struct EnvSplitIo<'a> {
 }
 
 impl EnvSplit {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_SPLIT, "main")?,
         })
     }
 
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

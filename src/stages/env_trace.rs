@@ -44,20 +44,20 @@ pub struct EnvTrace {
 }
 
 /// The `vertex` entry point (the per-vertex variant), built only where a method asks for it.
-pub struct EnvTraceVertex {
+pub(crate) struct EnvTraceVertex {
     kernel: ComputeKernel,
 }
 
 /// The mesh the per-vertex rays start from and test: its vertex buffer, its length and its BVH.
 #[derive(Clone, Copy)]
-pub struct VertexMesh<'a> {
+pub(crate) struct VertexMesh<'a> {
     pub vertices: &'a wgpu::Buffer,
     pub vertex_count: u32,
     pub bvh: &'a BvhBuffers,
 }
 
 /// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
-pub struct VertexOutputs<'a> {
+pub(crate) struct VertexOutputs<'a> {
     pub visibility: &'a wgpu::Buffer,
     pub blocked: &'a wgpu::Buffer,
     pub sums: &'a wgpu::Buffer,
@@ -76,10 +76,10 @@ pub struct EnvTraceInputs<'a> {
 }
 
 /// Lights per env_trace dispatch (see kernels/env_trace.wgsl).
-pub const ENV_TRACE_CHUNK: u32 = 256;
+pub(crate) const ENV_TRACE_CHUNK: u32 = 256;
 
 /// The per-chunk parameter blocks of `light_count` lights (at least one, which writes V).
-pub fn chunk_params(
+pub(crate) fn chunk_params(
     base: &crate::gpu::structs::GpuEnvParams,
     light_count: u32,
 ) -> Vec<crate::gpu::structs::GpuEnvParams> {
@@ -136,7 +136,7 @@ impl EnvTrace {
 }
 
 impl EnvTraceVertex {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "vertex")?,
         })
@@ -144,7 +144,7 @@ impl EnvTraceVertex {
 
     /// One chunk of lights at every mesh vertex (`params.vertex_count` of them): `scene_vertices`
     /// is the scene's vertex buffer, `vertex_count` its length (the dispatch covers it).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -16,7 +16,7 @@ use std::cell::RefCell;
 
 /// Maps one compute chain holds at most: enough (triangle, map) pairs to fill a large GPU, and a
 /// small share of the map budget.
-pub const CHAIN_MAPS: u32 = 32;
+pub(crate) const CHAIN_MAPS: u32 = 32;
 
 /// What a raster call draws: the scene, the sample records whose view-projections its jobs name,
 /// and the array whose layers the maps go into.

@@ -24,18 +24,18 @@ pub const FAR: u32 = 0x3f80_0000;
 /// for its 289 maps a lattice frame took 10 s on an H100 against 147 ms with 2^24
 /// (results/bench-seed-table2-h100-rasters/). Maps fitted to a window (`regions`) make most of a
 /// mesh's triangles large: a per-map figure that ignores the mesh overflowed there.
-pub const LARGE_PAIRS_PER_MAP: u64 = 1 << 16;
-pub const LARGE_CAPACITY_MIN: u64 = 1 << 18;
-pub const LARGE_CAPACITY_MAX: u64 = 1 << 24;
+pub(crate) const LARGE_PAIRS_PER_MAP: u64 = 1 << 16;
+pub(crate) const LARGE_CAPACITY_MIN: u64 = 1 << 18;
+pub(crate) const LARGE_CAPACITY_MAX: u64 = 1 << 24;
 /// `requested`'s output words (the kernel's STEER_ARGS_*: the map count, then three dispatches).
-pub const STEER_ARGS_WORDS: u64 = 10;
+pub(crate) const STEER_ARGS_WORDS: u64 = 10;
 pub const STEER_ARGS_CLEAR: u64 = 1;
 pub const STEER_ARGS_MAIN: u64 = 4;
 pub const STEER_ARGS_STORE: u64 = 7;
 /// Words each invocation of `clear` sets (the kernel's RASTER_CLEAR_RUN).
 pub const CLEAR_RUN: u32 = 16;
 /// Most maps in one chain: a queued entry names its map in 16 bits (the kernel's RASTER_MAP_BITS).
-pub const MAX_CHAIN_MAPS: u64 = (1 << 16) - 1;
+pub(crate) const MAX_CHAIN_MAPS: u64 = (1 << 16) - 1;
 /// Workgroups along x of a 2D dispatch over many items (rows of at most this many).
 const ROW: u32 = 32768;
 
@@ -611,7 +611,7 @@ impl RasterDifference {
 }
 
 /// A stored word's depth.
-pub fn depth_of(word: u32) -> f32 {
+pub(crate) fn depth_of(word: u32) -> f32 {
     f32::from_bits(word)
 }
 

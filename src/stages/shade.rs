@@ -7,11 +7,11 @@ use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
-pub const WORKGROUP: [u32; 3] = super::PIXEL_WORKGROUP;
+pub(crate) const WORKGROUP: [u32; 3] = super::PIXEL_WORKGROUP;
 /// Samples per full block (`SHADE_BLOCK` in kernels/shade.wgsl, which unrolls them).
 pub const SHADE_BLOCK: u32 = 16;
 /// The block sizes, largest first; `block{size}` is the entry point that adds `size` samples.
-pub const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
+pub(crate) const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
 
 pub struct ShadePass {
     /// One kernel per entry of `BLOCK_SIZES`.
@@ -24,7 +24,7 @@ pub struct ShadePass {
 /// pad (`TILE_LIST_HEADER` in kernels/shade.wgsl).
 pub const TILE_LIST_HEADER: usize = 4;
 /// Side of a tile: the blocks' workgroup.
-pub const TILE: u32 = 8;
+pub(crate) const TILE: u32 = 8;
 
 /// The 8x8 tiles that hold a geometry pixel, listed on the GPU once per frame with the G-buffer
 /// (`geometry_tiles`); shade's and shadow_test's blocks run one workgroup per listed tile, in any
@@ -134,7 +134,7 @@ impl GeometryTiles {
 /// Rows per band for per-pixel buffers of `row_bytes` bytes per row under `max_binding`: whole
 /// tiles high and aligned for binding offsets of every per-pixel buffer (a multiple of 4 bytes per
 /// pixel); 0 when the image fits one binding. None when not even one band's minimum fits.
-pub fn band_rows(
+pub(crate) fn band_rows(
     width: u32,
     height: u32,
     row_bytes: u64,
@@ -151,7 +151,7 @@ pub fn band_rows(
 
 /// The least band height: a multiple of the tile side whose rows of 4 bytes per pixel start at an
 /// aligned offset.
-pub fn band_granule(width: u32, offset_alignment: u32) -> u32 {
+pub(crate) fn band_granule(width: u32, offset_alignment: u32) -> u32 {
     let mut rows = TILE;
     while (rows as u64 * width as u64 * 4) % offset_alignment.max(1) as u64 != 0 {
         rows += TILE;
@@ -191,7 +191,7 @@ pub struct Screen<'b> {
 
 /// One filtered map lookup's inputs (pcf, pcss): the filter uniform, the sample records and the maps.
 #[derive(Clone, Copy)]
-pub struct MapFilter<'b> {
+pub(crate) struct MapFilter<'b> {
     pub filter: &'b wgpu::Buffer,
     pub samples: &'b wgpu::Buffer,
     pub maps: &'b wgpu::TextureView,

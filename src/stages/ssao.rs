@@ -40,7 +40,7 @@ impl Ssao {
 
 /// The fixed hemisphere kernel: `n` points, z ≥ 0.15 (off the tangent plane), lengths spread
 /// towards the centre (scale 0.1..1), from a fixed generator.
-pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
+pub(crate) fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = || {
         state = state

@@ -248,7 +248,7 @@ fn count_quads(width: u32, height: u32, limits: &wgpu::Limits) -> u32 {
 /// The screen-sized buffers `AdaptiveBuffers::new` creates, by their labels (the masks by bands
 /// of rows under global scope, the rest whole):
 /// the frame's size plan (`methods::sizes`) checks them before anything is built.
-pub fn size_needs(
+pub(crate) fn size_needs(
     scene: &crate::scene::Scene,
     local: bool,
     limits: &wgpu::Limits,

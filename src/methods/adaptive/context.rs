@@ -22,7 +22,7 @@ pub(super) struct Frame<'a> {
 }
 
 impl<'a> Frame<'a> {
-    pub fn new(
+    pub(crate) fn new(
         fg: &'a FrameGpu<'a>,
         p: &'a AdaptiveParams,
         b: &'a AdaptiveBuffers,

@@ -90,7 +90,7 @@ impl LevelReport {
 
 /// Per-level summary for run.json.
 #[derive(serde::Serialize)]
-pub struct LevelRecord {
+pub(crate) struct LevelRecord {
     pub level: u32,
     pub active_quads: usize,
     /// [i, j, size, parent index in the previous level] of each evaluated quad, in counter order.
@@ -107,7 +107,7 @@ pub struct LevelRecord {
 /// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling
 /// counts and tiles, the pictures' comparison map and flags, the twins' kept buffers.
 #[derive(Clone, Copy, Debug)]
-pub struct LevelRead {
+pub(crate) struct LevelRead {
     pub n: u64,
     pub kept: bool,
     pub pictures: bool,
@@ -117,7 +117,7 @@ pub struct LevelRead {
 }
 
 /// The buffers (and byte counts) of one level's record, in the order `parse_level` reads them.
-pub fn level_parts<'a>(
+pub(crate) fn level_parts<'a>(
     b: &'a AdaptiveBuffers,
     next_quads: &'a wgpu::Buffer,
     kept: Option<&'a wgpu::Buffer>,
@@ -159,7 +159,7 @@ pub fn level_parts<'a>(
 
 /// The one read-back of a level (the waiting loop).
 #[allow(clippy::too_many_arguments)]
-pub fn read_level(
+pub(crate) fn read_level(
     fg: &FrameGpu,
     b: &AdaptiveBuffers,
     level: u32,
@@ -199,7 +199,7 @@ pub fn read_level(
 }
 
 /// Reads one level's record (`level_parts`' layout) from `words`.
-pub fn parse_level(
+pub(crate) fn parse_level(
     b: &AdaptiveBuffers,
     words: &[u32],
     level: u32,
@@ -303,7 +303,7 @@ pub fn parse_level(
     }
 }
 
-pub fn record(
+pub(crate) fn record(
     p: &AdaptiveParams,
     trace: &super::AdaptiveTrace,
     syncs: u32,

@@ -31,7 +31,7 @@ pub(super) struct MapStore {
 }
 
 impl MapStore {
-    pub fn views(&self) -> [&wgpu::TextureView; 2] {
+    pub(crate) fn views(&self) -> [&wgpu::TextureView; 2] {
         let a = &self.arrays[0].array_view;
         [a, self.arrays.get(1).map(|x| &x.array_view).unwrap_or(a)]
     }

@@ -48,9 +48,9 @@ pub enum Criterion {
 /// RMS error of a quad's 4-corner estimate, in units of the quad's share of the light, when a
 /// straight shadow edge crosses it and its corners disagree (measured: 0.199 over 3,000 random
 /// edges; docs/method.md §6).
-pub const KAPPA: f64 = 0.2;
+pub(crate) const KAPPA: f64 = 0.2;
 
-pub use crate::stages::subdivide::SplitRule;
+pub(crate) use crate::stages::subdivide::SplitRule;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// The tag: which method's record this is.
-pub const TAG: &str = "auto";
+pub(crate) const TAG: &str = "auto";
 
 fn tag() -> String {
     TAG.to_string()

@@ -8,7 +8,7 @@ use crate::methods::estimate::Prediction;
 
 /// The grid sides it chooses from, 2 to `max_n`: those the calibration was fitted on
 /// (`calibration::fitted_side`: the odd ones, the even ones to 6 with their own sampling factor).
-pub fn sides(max_n: u32) -> Vec<u32> {
+pub(crate) fn sides(max_n: u32) -> Vec<u32> {
     (2..=max_n)
         .filter(|&n| calibration::fitted_side(n))
         .collect()
@@ -16,7 +16,7 @@ pub fn sides(max_n: u32) -> Vec<u32> {
 
 /// The map sizes it chooses from: 512² (`calibration::MIN_FITTED_SIZE`) to `max_size` (256²
 /// alone where `max_size` is 256).
-pub fn sizes(max_size: u32) -> Vec<u32> {
+pub(crate) fn sizes(max_size: u32) -> Vec<u32> {
     let fitted: Vec<u32> = SIZES
         .iter()
         .copied()

@@ -15,7 +15,7 @@ use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use std::sync::Arc;
 
-pub fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment> {
+pub(crate) fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment> {
     fg.scene.environment.as_ref().ok_or_else(|| {
         Error::Param(format!(
             "{method}: scene `{}` has no [environment] (see docs/environment.md)",
@@ -55,7 +55,7 @@ impl SceneRays {
     }
 }
 
-pub fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
+pub(crate) fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
     lights
         .iter()
         .map(|l| GpuEnvLight {
@@ -145,7 +145,7 @@ impl SsaoStage {
 }
 
 /// `WxH` (a panorama resolution).
-pub fn resolution(
+pub(crate) fn resolution(
     params: &crate::methods::ParamMap,
     method: &str,
     key: &str,

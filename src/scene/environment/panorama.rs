@@ -7,7 +7,7 @@ use std::f32::consts::{PI, TAU};
 use std::path::Path;
 
 /// Rec. 709 luminance weights: the pixel light's intensity (the seed's "Factor" weights).
-pub const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
+pub(crate) const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
 pub fn luminance(rgb: [f32; 3]) -> f32 {
     rgb[0] * LUMINANCE[0] + rgb[1] * LUMINANCE[1] + rgb[2] * LUMINANCE[2]
@@ -23,7 +23,7 @@ pub struct Panorama {
 
 /// Direction of panorama coordinates (u, v) ∈ [0,1]²: φ = 2πu + rotation, θ = πv from +y (up),
 /// d = (sin θ cos φ, cos θ, sin θ sin φ).
-pub fn direction(u: f32, v: f32, rotation_rad: f32) -> Vec3 {
+pub(crate) fn direction(u: f32, v: f32, rotation_rad: f32) -> Vec3 {
     let phi = TAU * u + rotation_rad;
     let theta = PI * v;
     let s = theta.sin();
