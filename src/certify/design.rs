@@ -20,19 +20,19 @@ pub struct Design {
     cumulative: Vec<f64>,
     /// The largest weight 1/(N q_p) over the subset: the range of w for the per-frame bound.
     max_weight: f64,
-    pub defensive: f64,
+    pub(crate) defensive: f64,
 }
 
 /// K drawn pixels: frame indices in draw order (repeats possible) and each draw's weight 1/(N q).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Draw {
-    pub pixels: Vec<u32>,
-    pub weights: Vec<f64>,
+    pub(crate) pixels: Vec<u32>,
+    pub(crate) weights: Vec<f64>,
 }
 
 impl Draw {
     /// Each pixel once, ascending: what the truth is traced at.
-    pub fn unique(&self) -> Vec<u32> {
+    pub(crate) fn unique(&self) -> Vec<u32> {
         let mut u = self.pixels.clone();
         u.sort_unstable();
         u.dedup();
@@ -96,12 +96,12 @@ impl Design {
     }
 
     /// N: the pixels the bound is over.
-    pub fn pixel_count(&self) -> usize {
+    pub(crate) fn pixel_count(&self) -> usize {
         self.pixels.len()
     }
 
     /// The range of a draw's weighted squared error (e² ≤ 1).
-    pub fn max_weight(&self) -> f64 {
+    pub(crate) fn max_weight(&self) -> f64 {
         self.max_weight
     }
 

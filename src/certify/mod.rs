@@ -110,20 +110,20 @@ impl std::fmt::Display for OptionsError {
 /// The exact truth at a draw's pixels.
 #[derive(Clone, Debug)]
 pub struct Sampled {
-    pub draw: Draw,
+    pub(crate) draw: Draw,
     /// The drawn pixels once each, ascending, and V there.
-    pub unique: Vec<u32>,
-    pub truth: Vec<f32>,
+    pub(crate) unique: Vec<u32>,
+    pub(crate) truth: Vec<f32>,
     /// The trace's rays and ties, and its wall clock (None: the values came from elsewhere).
-    pub trace: Option<TraceFigures>,
+    pub(crate) trace: Option<TraceFigures>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct TraceFigures {
-    pub rays: u64,
-    pub ties: u64,
-    pub ms: f64,
-    pub samples_per_pixel: u32,
+pub(crate) struct TraceFigures {
+    pub(crate) rays: u64,
+    pub(crate) ties: u64,
+    pub(crate) ms: f64,
+    pub(crate) samples_per_pixel: u32,
 }
 
 impl Sampled {
@@ -157,7 +157,7 @@ impl Sampled {
     }
 
     /// V_true at a drawn pixel.
-    pub fn truth_at(&self, pixel: u32) -> f32 {
+    pub(crate) fn truth_at(&self, pixel: u32) -> f32 {
         self.truth[self.unique.binary_search(&pixel).expect("a drawn pixel")]
     }
 }
@@ -194,14 +194,14 @@ pub struct Certificate {
     pub bound_kind: BoundKind,
     /// Every bound, whichever is `bound`: distribution-free, calibrated, and plain Student t.
     pub per_frame_bound: f64,
-    pub calibrated_bound: f64,
+    pub(crate) calibrated_bound: f64,
     pub student_t_bound: f64,
     /// The calibrated bound's stretch of the t bound.
-    pub stretch: f64,
+    pub(crate) stretch: f64,
     /// N: the pixels the bound is over; the design's uniform share and largest weight.
-    pub subset_pixels: usize,
-    pub defensive: f64,
-    pub max_weight: f64,
+    pub(crate) subset_pixels: usize,
+    pub(crate) defensive: f64,
+    pub(crate) max_weight: f64,
 }
 
 /// The weighted squared errors of `v` at the draws: e² / (N q) each, in draw order.

@@ -98,8 +98,8 @@ pub struct FrameResult {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct RasterUsed {
     pub used: &'static str,
-    pub setting: crate::scene::RasterChoice,
-    pub auto: Option<crate::stages::raster_auto::AutoTiming>,
+    pub(crate) setting: crate::scene::RasterChoice,
+    pub(crate) auto: Option<crate::stages::raster_auto::AutoTiming>,
 }
 
 pub fn frame_uniform(scene: &Scene) -> GpuFrame {

@@ -24,7 +24,7 @@ pub enum BackendChoice {
 }
 
 impl BackendChoice {
-    pub const NAMES: [&'static str; 5] = ["auto", "vulkan", "gl", "metal", "dx12"];
+    pub(crate) const NAMES: [&'static str; 5] = ["auto", "vulkan", "gl", "metal", "dx12"];
 
     pub fn parse(s: &str) -> Result<Self> {
         Ok(match s.trim().to_ascii_lowercase().as_str() {
@@ -54,7 +54,7 @@ impl BackendChoice {
         }
     }
 
-    pub fn backends(self) -> wgpu::Backends {
+    pub(crate) fn backends(self) -> wgpu::Backends {
         match self {
             Self::Auto => wgpu::Backends::all(),
             Self::Vulkan => wgpu::Backends::VULKAN,
@@ -77,11 +77,11 @@ pub struct AdapterRequest {
 /// One adapter as the chooser sees it.
 #[derive(Clone, Debug)]
 pub(crate) struct Candidate {
-    pub name: String,
-    pub backend: wgpu::Backend,
-    pub device_type: wgpu::DeviceType,
+    pub(crate) name: String,
+    pub(crate) backend: wgpu::Backend,
+    pub(crate) device_type: wgpu::DeviceType,
     /// What the pipeline needs that this adapter lacks; empty when usable.
-    pub missing: Vec<String>,
+    pub(crate) missing: Vec<String>,
 }
 
 impl Candidate {
@@ -103,8 +103,8 @@ impl Candidate {
 /// The adapter chosen (index into the candidates) and the reason, for `penumbra info` and run.json.
 #[derive(Clone, Debug)]
 pub(crate) struct Choice {
-    pub index: usize,
-    pub reason: String,
+    pub(crate) index: usize,
+    pub(crate) reason: String,
 }
 
 /// What the pipeline needs beyond the WebGPU baseline, checked before any pipeline is built.

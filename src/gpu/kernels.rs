@@ -31,14 +31,14 @@ pub enum MapAccess {
 impl MapAccess {
     /// The form map-reading kernels take for `maps`, over a raster that is compute or not. A hybrid
     /// store is read the same whichever raster filled it; its build reads the raster (`raster_of`).
-    pub fn of(maps: MapKind, compute_raster: bool) -> Self {
+    pub(crate) fn of(maps: MapKind, compute_raster: bool) -> Self {
         match maps {
             MapKind::Hybrid => MapAccess::Hybrid,
             MapKind::Plain => Self::raster_of(compute_raster),
         }
     }
     /// How the raster's own layers are read (moments, hybrid_build).
-    pub fn raster_of(compute_raster: bool) -> Self {
+    pub(crate) fn raster_of(compute_raster: bool) -> Self {
         if compute_raster {
             MapAccess::Words
         } else {

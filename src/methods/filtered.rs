@@ -139,17 +139,17 @@ impl Kind {
 
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Filtered {
-    pub kind: Kind,
+    pub(crate) kind: Kind,
     /// esm: c; evsm: c+.
-    pub c_pos: f32,
-    pub c_neg: f32,
-    pub bleed: f32,
-    pub moment_bias: f32,
-    pub order: u32,
+    pub(crate) c_pos: f32,
+    pub(crate) c_neg: f32,
+    pub(crate) bleed: f32,
+    pub(crate) moment_bias: f32,
+    pub(crate) order: u32,
     /// csm: receiver depth offset in normalised depth.
-    pub offset: f32,
+    pub(crate) offset: f32,
     /// None: from the light size.
-    pub radius: Option<u32>,
+    pub(crate) radius: Option<u32>,
 }
 
 impl Filtered {

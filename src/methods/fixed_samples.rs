@@ -364,9 +364,9 @@ impl Prepared {
 /// docs/reuse.md states.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Placement {
-    pub points: u32,
-    pub pinned: u32,
-    pub rotating: u32,
+    pub(crate) points: u32,
+    pub(crate) pinned: u32,
+    pub(crate) rotating: u32,
 }
 
 impl Placement {
@@ -530,7 +530,6 @@ pub(crate) fn prepare_kept(
                 KeptMaps {
                     owner: owner.to_string(),
                     size: map_size,
-                    per_array: chunk,
                     arrays: vec![array],
                     slots: Slots::new(chunk, keeps),
                 }

@@ -19,27 +19,27 @@ pub(crate) type Consume<'c> =
     dyn FnMut(&FrameGpu, &mut StageTimer, &wgpu::TextureView, &[u32]) -> Result<()> + 'c;
 
 pub(crate) struct HybridMaps {
-    pub raster: ShadowMapArray,
-    pub store: HybridStore,
+    pub(crate) raster: ShadowMapArray,
+    pub(crate) store: HybridStore,
     build: HybridBuild,
     /// Slots built into the store and not yet handed over.
     pending: Vec<u32>,
     /// Pool words in use after the last build.
     used: u32,
-    pub stats: HybridStats,
+    pub(crate) stats: HybridStats,
 }
 
 /// What one frame's maps cost (per frame; `record` writes it into run.json).
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub(crate) struct HybridStats {
-    pub maps: u32,
+    pub(crate) maps: u32,
     /// Pool words of every map built (coarse grid and children, not the root words).
-    pub words: u64,
+    pub(crate) words: u64,
     /// Times the store was emptied into the method (1 when every map fits at once).
-    pub flushes: u32,
+    pub(crate) flushes: u32,
     /// Read-backs of the store's allocation state (one per raster batch, one more per overflow).
-    pub syncs: u32,
-    pub peak_words: u32,
+    pub(crate) syncs: u32,
+    pub(crate) peak_words: u32,
 }
 
 /// Largest store a map can need: every coarse texel refined to full resolution.

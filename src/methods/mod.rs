@@ -66,13 +66,6 @@ pub enum Family {
 }
 
 impl Family {
-    pub const ALL: [Family; 5] = [
-        Family::Hard,
-        Family::Pcf,
-        Family::Filtered,
-        Family::MultiSample,
-        Family::Environment,
-    ];
     pub fn title(self) -> &'static str {
         match self {
             Family::Hard => "hard",
@@ -106,7 +99,7 @@ pub struct MethodInfo {
     pub family: Family,
     pub summary: &'static str,
     pub params: &'static [Param],
-    pub parse: fn(&ParamMap) -> Result<Arc<dyn ShadowMethod>>,
+    pub(crate) parse: fn(&ParamMap) -> Result<Arc<dyn ShadowMethod>>,
 }
 
 /// Every method, in the order `penumbra methods` lists them.
@@ -392,10 +385,10 @@ impl Method {
         Family::of_name(self.name())
     }
     /// `ShadowMethod::times_frames_at_build`.
-    pub fn times_frames_at_build(&self) -> bool {
+    pub(crate) fn times_frames_at_build(&self) -> bool {
         self.0.times_frames_at_build()
     }
-    pub fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+    pub(crate) fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         self.check_light(fg.scene)?;
         self.0.build(fg)
     }

@@ -50,11 +50,11 @@ pub(crate) const INFO: MethodInfo = MethodInfo {
 
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Pcf {
-    pub kernel: &'static str,
-    pub taps: u32,
-    pub radius: f32,
-    pub spread: Option<f32>,
-    pub darkening: f32,
+    pub(crate) kernel: &'static str,
+    pub(crate) taps: u32,
+    pub(crate) radius: f32,
+    pub(crate) spread: Option<f32>,
+    pub(crate) darkening: f32,
 }
 
 /// `a/b` or a plain number (seed 004 writes its spread as 1/700).

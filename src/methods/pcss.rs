@@ -50,9 +50,9 @@ pub(crate) const INFO: MethodInfo = MethodInfo {
 
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Pcss {
-    pub taps: u32,
-    pub blocker_taps: u32,
-    pub max_radius: f32,
+    pub(crate) taps: u32,
+    pub(crate) blocker_taps: u32,
+    pub(crate) max_radius: f32,
 }
 
 impl ShadowMethod for Pcss {

@@ -16,11 +16,11 @@ use crate::Result;
 /// holds the pixel's direction (`face_offset` in kernels/shared/common.wgsl).
 pub(crate) struct CentreMap {
     /// The first (or only) map's sample.
-    pub sample: GpuSample,
+    pub(crate) sample: GpuSample,
     /// Every map's sample: one, or the point light's six faces.
-    pub faces: Vec<GpuSample>,
-    pub samples: wgpu::Buffer,
-    pub maps: CentreMaps,
+    pub(crate) faces: Vec<GpuSample>,
+    pub(crate) samples: wgpu::Buffer,
+    pub(crate) maps: CentreMaps,
 }
 
 /// A depth array of one layer, or (`maps = hybrid`) one raster layer merged into a store of one slot.

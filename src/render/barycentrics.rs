@@ -12,8 +12,8 @@ pub(crate) const IDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Ui
 
 /// The pass's target: ids (triangle + 1, b1 bits, b2 bits, 0) and its own depth buffer.
 pub(crate) struct TriangleIds {
-    pub texture: wgpu::Texture,
-    pub view: wgpu::TextureView,
+    pub(crate) texture: wgpu::Texture,
+    pub(crate) view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
 }
 

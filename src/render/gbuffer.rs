@@ -9,15 +9,15 @@ use crate::{Error, Result};
 pub(crate) use crate::gpu::adapter::POSITION_FORMAT;
 
 pub struct GBuffer {
-    pub width: u32,
-    pub height: u32,
-    pub position: wgpu::Texture,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) position: wgpu::Texture,
     /// Geometric normal facing the camera (w = material): what every shadow test reads.
-    pub normal: wgpu::Texture,
+    pub(crate) normal: wgpu::Texture,
     /// Interpolated smooth normal: shading only.
-    pub shading_normal: wgpu::Texture,
-    pub position_view: wgpu::TextureView,
-    pub normal_view: wgpu::TextureView,
+    pub(crate) shading_normal: wgpu::Texture,
+    pub(crate) position_view: wgpu::TextureView,
+    pub(crate) normal_view: wgpu::TextureView,
     shading_normal_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
 }

@@ -14,23 +14,23 @@ use wgpu::util::DeviceExt;
 
 /// The scene's geometry on the GPU.
 pub struct SceneGpu {
-    pub vertices: wgpu::Buffer,
-    pub indices: wgpu::Buffer,
+    pub(crate) vertices: wgpu::Buffer,
+    pub(crate) indices: wgpu::Buffer,
     /// The same triangles in the shadow raster's order (`shadow_order`): what shadow maps draw and
     /// the cull pass reads.
-    pub shadow_indices: wgpu::Buffer,
+    pub(crate) shadow_indices: wgpu::Buffer,
     /// `shadow_indices` on the CPU (the cull pass's runs are built from it).
     pub shadow_order: Vec<u32>,
     /// Box and normal cone of each run of CULL_RUN triangles of the shadow order
     /// (`shadow_order::runs`): the cull pass and the compute raster drop runs facing away.
-    pub runs: wgpu::Buffer,
+    pub(crate) runs: wgpu::Buffer,
     /// Vertex positions alone, a vec4 each: what the compute raster reads.
-    pub positions: wgpu::Buffer,
+    pub(crate) positions: wgpu::Buffer,
     pub index_count: u32,
     /// Vertex positions and the box of each run of CULL_RUN triangles of the shadow order, on
     /// the CPU: what a kept map's redraw leaves out (`redraw_cull`).
-    pub cpu_positions: Vec<glam::Vec3>,
-    pub run_boxes: Vec<[glam::Vec3; 2]>,
+    pub(crate) cpu_positions: Vec<glam::Vec3>,
+    pub(crate) run_boxes: Vec<[glam::Vec3; 2]>,
 }
 
 impl SceneGpu {

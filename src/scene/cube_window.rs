@@ -15,10 +15,10 @@ use glam::{Mat4, Vec3};
 /// A face's window in tangent units of its view from `y`: x in [l, r], y in [b, t].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Window {
-    pub l: f32,
-    pub r: f32,
-    pub b: f32,
-    pub t: f32,
+    pub(crate) l: f32,
+    pub(crate) r: f32,
+    pub(crate) b: f32,
+    pub(crate) t: f32,
 }
 
 /// The symmetric 90° face: what a face gets where the fit cannot help (the light inside the

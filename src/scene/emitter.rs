@@ -19,14 +19,6 @@ pub enum LightKind {
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 5] = [
-        LightKind::Rect,
-        LightKind::Disk,
-        LightKind::Sun,
-        LightKind::Spot,
-        LightKind::Point,
-    ];
-
     pub fn name(self) -> &'static str {
         match self {
             LightKind::Rect => "rect",
@@ -156,7 +148,7 @@ impl Emitter {
 
     /// The same emitter moved by `by` (a sequence's moving light; `Scene::light` moves with it).
     /// A sun is at infinity and a rectangle is `Scene::light` itself: both are returned as they are.
-    pub fn moved(&self, by: Vec3) -> Emitter {
+    pub(crate) fn moved(&self, by: Vec3) -> Emitter {
         match *self {
             Emitter::Disk(d) => Emitter::Disk(DiskLight {
                 center: d.center + by,
@@ -234,7 +226,7 @@ impl Emitter {
     /// a perspective map from `sample_point` (rectangle, disk, spot); for the sun an orthographic map
     /// along the direction the concentric map sends `(s, t)` to on the sun's disk of directions
     /// (radius `tan(α/2)` around `toward`, as the reference samples it). Each is fitted to `bounds`.
-    pub fn sample_map(
+    pub(crate) fn sample_map(
         &self,
         light: &AreaLight,
         s: f32,

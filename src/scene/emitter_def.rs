@@ -15,19 +15,19 @@ use serde::Deserialize;
 #[serde(deny_unknown_fields)]
 pub(crate) struct LightDef {
     #[serde(default)]
-    pub kind: LightKind,
-    pub center: Option<[f32; 3]>,
-    pub edge_u: Option<[f32; 3]>,
-    pub edge_v: Option<[f32; 3]>,
-    pub size: Option<[f32; 2]>,
-    pub normal: Option<[f32; 3]>,
-    pub u_axis: Option<[f32; 3]>,
-    pub radius: Option<f32>,
-    pub position: Option<[f32; 3]>,
-    pub direction: Option<[f32; 3]>,
-    pub angular_diameter_deg: Option<f32>,
-    pub inner_cone_deg: Option<f32>,
-    pub outer_cone_deg: Option<f32>,
+    pub(crate) kind: LightKind,
+    pub(crate) center: Option<[f32; 3]>,
+    pub(crate) edge_u: Option<[f32; 3]>,
+    pub(crate) edge_v: Option<[f32; 3]>,
+    pub(crate) size: Option<[f32; 2]>,
+    pub(crate) normal: Option<[f32; 3]>,
+    pub(crate) u_axis: Option<[f32; 3]>,
+    pub(crate) radius: Option<f32>,
+    pub(crate) position: Option<[f32; 3]>,
+    pub(crate) direction: Option<[f32; 3]>,
+    pub(crate) angular_diameter_deg: Option<f32>,
+    pub(crate) inner_cone_deg: Option<f32>,
+    pub(crate) outer_cone_deg: Option<f32>,
 }
 
 /// The keys of each kind besides `kind` itself.

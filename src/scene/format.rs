@@ -16,28 +16,28 @@ use serde::Deserialize;
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct SceneDef {
-    pub name: Option<String>,
-    pub description: Option<String>,
+    pub(crate) name: Option<String>,
+    pub(crate) description: Option<String>,
     /// Triangle count the author states; checked against what loads.
-    pub triangles: Option<u64>,
-    pub camera: CameraDef,
+    pub(crate) triangles: Option<u64>,
+    pub(crate) camera: CameraDef,
     /// Optional when `[environment]` lights the scene.
-    pub light: Option<LightDef>,
-    pub environment: Option<crate::scene::environment::scene::EnvironmentDef>,
+    pub(crate) light: Option<LightDef>,
+    pub(crate) environment: Option<crate::scene::environment::scene::EnvironmentDef>,
     #[serde(default)]
-    pub render: RenderSettings,
+    pub(crate) render: RenderSettings,
     #[serde(default, rename = "mesh")]
-    pub meshes: Vec<MeshDef>,
+    pub(crate) meshes: Vec<MeshDef>,
 }
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct CameraDef {
-    pub eye: [f32; 3],
-    pub target: [f32; 3],
+    pub(crate) eye: [f32; 3],
+    pub(crate) target: [f32; 3],
     #[serde(default = "default_up")]
-    pub up: [f32; 3],
-    pub fov_y_deg: f32,
+    pub(crate) up: [f32; 3],
+    pub(crate) fov_y_deg: f32,
 }
 
 fn default_up() -> [f32; 3] {
@@ -201,17 +201,17 @@ pub(crate) fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene
 
 /// A scene's checked parts besides its meshes: what [`assemble`] joins to the meshes.
 pub(crate) struct Parts {
-    pub name: Option<String>,
-    pub description: Option<String>,
+    pub(crate) name: Option<String>,
+    pub(crate) description: Option<String>,
     /// Triangle count the author states; checked against the meshes.
-    pub stated_triangles: Option<u64>,
-    pub camera: Camera,
+    pub(crate) stated_triangles: Option<u64>,
+    pub(crate) camera: Camera,
     /// `None`: a panorama lights the scene and the light is a nominal square above the meshes, or
     /// the emitter is not a rectangle and the light is its stand-in.
-    pub light: Option<AreaLight>,
-    pub emitter: Emitter,
-    pub environment: Option<crate::scene::environment::Environment>,
-    pub render: RenderSettings,
+    pub(crate) light: Option<AreaLight>,
+    pub(crate) emitter: Emitter,
+    pub(crate) environment: Option<crate::scene::environment::Environment>,
+    pub(crate) render: RenderSettings,
 }
 
 /// The checked `[camera]`.

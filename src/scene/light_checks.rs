@@ -27,10 +27,10 @@ pub const MAX_LIGHT_DIAGONALS: f32 = 10.0;
 
 /// What a light is checked against: the meshes (placed, as one list), their bounds and the eye.
 pub(crate) struct Lit<'a> {
-    pub bounds: &'a Bounds,
-    pub eye: Vec3,
-    pub vertices: &'a [Vertex],
-    pub indices: &'a [u32],
+    pub(crate) bounds: &'a Bounds,
+    pub(crate) eye: Vec3,
+    pub(crate) vertices: &'a [Vertex],
+    pub(crate) indices: &'a [u32],
 }
 
 /// All checks of the scene's light (`light` is the rectangle, or the stand-in of another kind).

@@ -5,9 +5,9 @@ use glam::Vec3;
 /// Positions + triangle indices in object space; normals are derived after the transform.
 #[derive(Debug)]
 pub(crate) struct RawMesh {
-    pub positions: Vec<Vec3>,
-    pub normals: Option<Vec<Vec3>>,
-    pub indices: Vec<u32>,
+    pub(crate) positions: Vec<Vec3>,
+    pub(crate) normals: Option<Vec<Vec3>>,
+    pub(crate) indices: Vec<u32>,
 }
 
 impl RawMesh {

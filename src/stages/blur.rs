@@ -14,11 +14,11 @@ pub(crate) struct Blur {
 /// through `scratch` (horizontal) into `target` (vertical).
 #[derive(Clone, Copy)]
 pub(crate) struct BlurMaps<'b> {
-    pub size: u32,
-    pub layers: u32,
-    pub source: &'b wgpu::Buffer,
-    pub scratch: &'b wgpu::Buffer,
-    pub target: &'b wgpu::Buffer,
+    pub(crate) size: u32,
+    pub(crate) layers: u32,
+    pub(crate) source: &'b wgpu::Buffer,
+    pub(crate) scratch: &'b wgpu::Buffer,
+    pub(crate) target: &'b wgpu::Buffer,
 }
 
 impl Blur {

@@ -23,15 +23,15 @@ pub(crate) struct Cascades {
 /// What the kernel reads besides the frame's buffers.
 pub(crate) struct CascadeInputs<'a> {
     /// pcf's filter uniform and tap offsets (read when `filter = pcf`).
-    pub filter: &'a wgpu::Buffer,
-    pub disk: &'a wgpu::Buffer,
+    pub(crate) filter: &'a wgpu::Buffer,
+    pub(crate) disk: &'a wgpu::Buffer,
     /// One sample per cascade, `samples[i].layer = i`.
-    pub samples: &'a wgpu::Buffer,
-    pub maps: &'a wgpu::TextureView,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) maps: &'a wgpu::TextureView,
     /// The `GpuCascades` uniform.
-    pub cascades: &'a wgpu::Buffer,
+    pub(crate) cascades: &'a wgpu::Buffer,
     /// One u32 per pixel: the cascade taken, `NO_CASCADE` on background.
-    pub chosen: &'a wgpu::Buffer,
+    pub(crate) chosen: &'a wgpu::Buffer,
 }
 
 impl Cascades {

@@ -11,12 +11,12 @@ use crate::Result;
 /// every `stride`-th pixel.
 #[derive(Clone, Copy)]
 pub(crate) struct EnvCountInputs<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub corners: &'a wgpu::Buffer,
-    pub cells: &'a wgpu::Buffer,
-    pub counts: &'a wgpu::Buffer,
-    pub cell_count: u32,
-    pub stride: u32,
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) corners: &'a wgpu::Buffer,
+    pub(crate) cells: &'a wgpu::Buffer,
+    pub(crate) counts: &'a wgpu::Buffer,
+    pub(crate) cell_count: u32,
+    pub(crate) stride: u32,
 }
 
 pub(crate) struct EnvCount {

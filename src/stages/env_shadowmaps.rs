@@ -18,20 +18,20 @@ pub(crate) struct EnvShadowmaps {
 /// sample and map per light, the lights, AO and the PCF filter.
 #[derive(Clone, Copy)]
 pub(crate) struct EnvMapInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub params: &'a wgpu::Buffer,
-    pub samples: &'a wgpu::Buffer,
-    pub maps: &'a wgpu::TextureView,
-    pub lights: &'a wgpu::Buffer,
-    pub ao: &'a wgpu::Buffer,
-    pub filter: FilterBuffers<'a>,
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) maps: &'a wgpu::TextureView,
+    pub(crate) lights: &'a wgpu::Buffer,
+    pub(crate) ao: &'a wgpu::Buffer,
+    pub(crate) filter: FilterBuffers<'a>,
 }
 
 /// The filter's uniform and tap offsets (the pcf family's `GpuFilter` and disk).
 #[derive(Clone, Copy)]
 pub(crate) struct FilterBuffers<'a> {
-    pub settings: &'a wgpu::Buffer,
-    pub disk: &'a wgpu::Buffer,
+    pub(crate) settings: &'a wgpu::Buffer,
+    pub(crate) disk: &'a wgpu::Buffer,
 }
 
 impl EnvShadowmaps {

@@ -11,14 +11,14 @@ pub(crate) struct EnvSplit {
 
 /// Buffers of one split dispatch.
 pub(crate) struct EnvSplitIo<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub cells: &'a wgpu::Buffer,
-    pub counts: &'a wgpu::Buffer,
-    pub cell_power: &'a wgpu::Buffer,
-    pub next_cells: &'a wgpu::Buffer,
-    pub leaves: &'a wgpu::Buffer,
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) cells: &'a wgpu::Buffer,
+    pub(crate) counts: &'a wgpu::Buffer,
+    pub(crate) cell_power: &'a wgpu::Buffer,
+    pub(crate) next_cells: &'a wgpu::Buffer,
+    pub(crate) leaves: &'a wgpu::Buffer,
     /// [next cells, leaves, 0, 0] as atomics.
-    pub control: &'a wgpu::Buffer,
+    pub(crate) control: &'a wgpu::Buffer,
 }
 
 impl EnvSplit {

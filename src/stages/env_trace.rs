@@ -10,13 +10,13 @@ use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 /// The BVH on the GPU (bindings 20 and 21 of every ray-casting env kernel).
-pub struct BvhBuffers {
-    pub nodes: wgpu::Buffer,
-    pub triangles: wgpu::Buffer,
+pub(crate) struct BvhBuffers {
+    pub(crate) nodes: wgpu::Buffer,
+    pub(crate) triangles: wgpu::Buffer,
 }
 
 impl BvhBuffers {
-    pub fn upload(ctx: &GpuContext, bvh: &Bvh) -> BvhBuffers {
+    pub(crate) fn upload(ctx: &GpuContext, bvh: &Bvh) -> BvhBuffers {
         let tris = if bvh.triangles.is_empty() {
             vec![Default::default()]
         } else {
@@ -39,7 +39,7 @@ impl BvhBuffers {
     }
 }
 
-pub struct EnvTrace {
+pub(crate) struct EnvTrace {
     kernel: ComputeKernel,
 }
 
@@ -51,28 +51,28 @@ pub(crate) struct EnvTraceVertex {
 /// The mesh the per-vertex rays start from and test: its vertex buffer, its length and its BVH.
 #[derive(Clone, Copy)]
 pub(crate) struct VertexMesh<'a> {
-    pub vertices: &'a wgpu::Buffer,
-    pub vertex_count: u32,
-    pub bvh: &'a BvhBuffers,
+    pub(crate) vertices: &'a wgpu::Buffer,
+    pub(crate) vertex_count: u32,
+    pub(crate) bvh: &'a BvhBuffers,
 }
 
 /// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
 pub(crate) struct VertexOutputs<'a> {
-    pub visibility: &'a wgpu::Buffer,
-    pub blocked: &'a wgpu::Buffer,
-    pub sums: &'a wgpu::Buffer,
+    pub(crate) visibility: &'a wgpu::Buffer,
+    pub(crate) blocked: &'a wgpu::Buffer,
+    pub(crate) sums: &'a wgpu::Buffer,
 }
 
 /// What env_trace reads and writes besides the G-buffer and V.
-pub struct EnvTraceInputs<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub lights: &'a wgpu::Buffer,
-    pub blocked: &'a wgpu::Buffer,
+pub(crate) struct EnvTraceInputs<'a> {
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) lights: &'a wgpu::Buffer,
+    pub(crate) blocked: &'a wgpu::Buffer,
     /// Ambient occlusion per pixel (read when `params.use_ao` is 1; any buffer otherwise).
-    pub ao: &'a wgpu::Buffer,
+    pub(crate) ao: &'a wgpu::Buffer,
     /// Running sums between chunks, 8 bytes per pixel.
-    pub sums: &'a wgpu::Buffer,
-    pub bvh: &'a BvhBuffers,
+    pub(crate) sums: &'a wgpu::Buffer,
+    pub(crate) bvh: &'a BvhBuffers,
 }
 
 /// Lights per env_trace dispatch (see kernels/env_trace.wgsl).
@@ -96,14 +96,14 @@ pub(crate) fn chunk_params(
 }
 
 impl EnvTrace {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "main")?,
         })
     }
 
     /// Writes `visibility` at every `gbuffer` pixel.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

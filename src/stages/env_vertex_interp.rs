@@ -12,11 +12,11 @@ use crate::Result;
 /// barycentrics, the per-vertex visibility and AO.
 #[derive(Clone, Copy)]
 pub(crate) struct InterpInputs<'a> {
-    pub scene_indices: &'a wgpu::Buffer,
-    pub params: &'a wgpu::Buffer,
-    pub ids: &'a TriangleIds,
-    pub vertex_visibility: &'a wgpu::Buffer,
-    pub ao: &'a wgpu::Buffer,
+    pub(crate) scene_indices: &'a wgpu::Buffer,
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) ids: &'a TriangleIds,
+    pub(crate) vertex_visibility: &'a wgpu::Buffer,
+    pub(crate) ao: &'a wgpu::Buffer,
 }
 
 pub(crate) struct EnvVertexInterp {

@@ -25,14 +25,14 @@ pub(crate) struct EstimatePass {
 
 /// What every range reads and the sums it adds to.
 pub(crate) struct EstimateInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub samples: &'a wgpu::Buffer,
-    pub weights: &'a wgpu::Buffer,
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) weights: &'a wgpu::Buffer,
     /// Each sample's signed weights in the column and row half-set differences (vec2 of f32).
-    pub split: &'a wgpu::Buffer,
-    pub gbuffer: &'a GBuffer,
-    pub tiles: &'a GeometryTiles,
-    pub sums: &'a wgpu::Buffer,
+    pub(crate) split: &'a wgpu::Buffer,
+    pub(crate) gbuffer: &'a GBuffer,
+    pub(crate) tiles: &'a GeometryTiles,
+    pub(crate) sums: &'a wgpu::Buffer,
 }
 
 impl EstimatePass {

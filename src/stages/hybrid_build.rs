@@ -32,19 +32,19 @@ pub(crate) struct HybridBuild {
 
 /// The pool texture and the build's scratch buffers, sized once per scene and settings.
 pub(crate) struct HybridStore {
-    pub pool: wgpu::Texture,
+    pub(crate) pool: wgpu::Texture,
     /// Sampled view, what map-reading kernels bind in place of a depth array.
-    pub view: wgpu::TextureView,
+    pub(crate) view: wgpu::TextureView,
     storage_view: wgpu::TextureView,
-    pub control: wgpu::Buffer,
+    pub(crate) control: wgpu::Buffer,
     offsets: wgpu::Buffer,
     row_starts: wgpu::Buffer,
     coarse_nodes: wgpu::Buffer,
-    pub settings: HybridDef,
-    pub coarse: u32,
+    pub(crate) settings: HybridDef,
+    pub(crate) coarse: u32,
     /// Root words at the start of the pool, one per slot.
-    pub slots: u32,
-    pub capacity_words: u32,
+    pub(crate) slots: u32,
+    pub(crate) capacity_words: u32,
 }
 
 impl HybridBuild {

@@ -9,12 +9,12 @@ use crate::gpu::{pipeline, GpuContext};
 use crate::{Error, Result};
 
 pub(crate) struct ComputeKernel {
-    pub stage: Stage,
-    pub entry: &'static Entry,
+    pub(crate) stage: Stage,
+    pub(crate) entry: &'static Entry,
     pipeline: wgpu::ComputePipeline,
 }
 
-pub enum Dispatch<'a> {
+pub(crate) enum Dispatch<'a> {
     Direct([u32; 3]),
     Indirect(&'a wgpu::Buffer),
     /// Arguments at a byte offset of the buffer.

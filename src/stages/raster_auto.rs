@@ -18,12 +18,12 @@ pub(crate) const AUTO_ROUNDS: usize = 3;
 
 /// What `auto` measured (wall clock, one round of AUTO_MAPS maps each, the least of AUTO_ROUNDS).
 #[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct AutoTiming {
-    pub hardware_ms: f64,
-    pub compute_ms: f64,
-    pub maps: u32,
-    pub map_size: u32,
-    pub compute: bool,
+pub(crate) struct AutoTiming {
+    pub(crate) hardware_ms: f64,
+    pub(crate) compute_ms: f64,
+    pub(crate) maps: u32,
+    pub(crate) map_size: u32,
+    pub(crate) compute: bool,
 }
 
 type Key = (String, u64, u32, String, u32);

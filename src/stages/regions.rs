@@ -88,11 +88,11 @@ pub(crate) fn empty_class() -> [u32; CLASS_WORDS] {
 /// map (`samples[0]`, layer 0 of `maps`).
 #[derive(Clone, Copy)]
 pub(crate) struct RegionsInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub gbuffer: &'a GBuffer,
-    pub tiles: &'a GeometryTiles,
-    pub samples: &'a wgpu::Buffer,
-    pub maps: &'a wgpu::TextureView,
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) gbuffer: &'a GBuffer,
+    pub(crate) tiles: &'a GeometryTiles,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) maps: &'a wgpu::TextureView,
 }
 
 /// The passes and the buffers they fill, sized for one screen and ladder.
@@ -100,24 +100,24 @@ pub(crate) struct RegionsPass {
     measure: ComputeKernel,
     total: ComputeKernel,
     classify: ComputeKernel,
-    pub params: RegionsParams,
+    pub(crate) params: RegionsParams,
     params_buffer: wgpu::Buffer,
     /// REGION_WORDS per region.
-    pub regions: wgpu::Buffer,
+    pub(crate) regions: wgpu::Buffer,
     /// CLASS_WORDS per class.
-    pub classes: wgpu::Buffer,
+    pub(crate) classes: wgpu::Buffer,
     /// The weights' sum (fixed point) and the geometry pixels.
-    pub totals: wgpu::Buffer,
+    pub(crate) totals: wgpu::Buffer,
     /// A section of `section_words` per class: shade's tile-list header, then the tiles.
-    pub class_tiles: wgpu::Buffer,
+    pub(crate) class_tiles: wgpu::Buffer,
     /// A section per group of classes (the method's cost model joins classes): their lists one
     /// after another, so a group's shade is one pass per block.
-    pub group_tiles: wgpu::Buffer,
+    pub(crate) group_tiles: wgpu::Buffer,
     /// What `regions`, `classes` and `class_tiles` hold before a frame.
     regions_init: wgpu::Buffer,
     classes_init: wgpu::Buffer,
     tiles_init: wgpu::Buffer,
-    pub region_count: u32,
+    pub(crate) region_count: u32,
 }
 
 impl RegionsPass {

@@ -7,13 +7,13 @@
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Growth {
     /// Set by a frame that overflowed the item list: the items (or probes) its level appended.
-    pub needed: Option<u64>,
+    pub(crate) needed: Option<u64>,
     /// Read-backs made by the frames that overflowed and ran again: the frame that fits counts them.
-    pub syncs: u32,
+    pub(crate) syncs: u32,
     /// The capacities the list grew to since the last frame that fitted.
-    pub grown: Vec<u32>,
+    pub(crate) grown: Vec<u32>,
     /// The list never grows (`PENUMBRA_ITEMS_FIXED`).
-    pub fixed: bool,
+    pub(crate) fixed: bool,
 }
 
 /// The variable of [`fixed_from_env`].

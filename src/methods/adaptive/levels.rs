@@ -62,7 +62,7 @@ pub struct LevelReport {
 impl LevelReport {
     /// The run's error when a counter overflowed its buffer at this level (GpuControl.overflow's
     /// bits, the one place they are decoded): overflow is reported, never clipped.
-    pub fn overflow_error(&self, level: u32) -> Option<Error> {
+    pub(crate) fn overflow_error(&self, level: u32) -> Option<Error> {
         let cause = if self.overflow & OVERFLOW_ITEMS != 0 {
             "the (pixel, quad) item list exceeded its capacity"
         } else if self.overflow & OVERFLOW_PROBES != 0 {
@@ -82,7 +82,7 @@ impl LevelReport {
 
     /// Whether the overflow (if any) is one a longer item list removes: items or probes, not the
     /// quad list, whose 256 the lattice fixes.
-    pub fn item_overflow(&self) -> bool {
+    pub(crate) fn item_overflow(&self) -> bool {
         self.overflow & (OVERFLOW_ITEMS | OVERFLOW_PROBES) != 0
             && self.overflow & OVERFLOW_QUADS == 0
     }
@@ -91,29 +91,29 @@ impl LevelReport {
 /// Per-level summary for run.json.
 #[derive(serde::Serialize)]
 pub(crate) struct LevelRecord {
-    pub level: u32,
-    pub active_quads: usize,
+    pub(crate) level: u32,
+    pub(crate) active_quads: usize,
     /// [i, j, size, parent index in the previous level] of each evaluated quad, in counter order.
-    pub quads: Vec<[u32; 4]>,
-    pub low_quality_per_quad: Vec<u32>,
-    pub split_quads: usize,
-    pub new_samples: usize,
-    pub pixels_evaluated: u64,
+    pub(crate) quads: Vec<[u32; 4]>,
+    pub(crate) low_quality_per_quad: Vec<u32>,
+    pub(crate) split_quads: usize,
+    pub(crate) new_samples: usize,
+    pub(crate) pixels_evaluated: u64,
     /// scope = local: shadow-map lookups (pixel, sample pairs tested for the first time).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub lookups: Option<u64>,
+    pub(crate) lookups: Option<u64>,
 }
 
 /// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling
 /// counts and tiles, the pictures' comparison map and flags, the twins' kept buffers.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct LevelRead {
-    pub n: u64,
-    pub kept: bool,
-    pub pictures: bool,
-    pub intermediates: bool,
+    pub(crate) n: u64,
+    pub(crate) kept: bool,
+    pub(crate) pictures: bool,
+    pub(crate) intermediates: bool,
     /// scope = local: the kept buffers include the consulted samples.
-    pub local: bool,
+    pub(crate) local: bool,
 }
 
 /// The buffers (and byte counts) of one level's record, in the order `parse_level` reads them.

@@ -262,7 +262,6 @@ impl MethodState for State {
         vec![KeptMaps {
             owner: "adaptive".into(),
             size,
-            per_array: store.per_array,
             arrays: std::mem::take(&mut store.arrays),
             slots,
         }]

@@ -80,66 +80,66 @@ pub(crate) fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec
 
 /// One candidate's check, as run.json's record keeps it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Check {
-    pub method: String,
-    pub maps: u32,
+pub(crate) struct Check {
+    pub(crate) method: String,
+    pub(crate) maps: u32,
     /// Wall clock from its render to its V read back, ms (the grid's try: `tries[…].ms`).
-    pub ms: f64,
+    pub(crate) ms: f64,
     /// Its predicted RMSE against the grid that met the target (the screen).
-    pub screened: f64,
+    pub(crate) screened: f64,
     /// Against the reference: RMS of V_f − V_r over geometry pixels, and the predicted RMSE F.
     /// None where the screen or the time ruled it out, or no reference was rendered.
-    pub difference: Option<f64>,
-    pub predicted_rmse: Option<f64>,
-    pub accepted: bool,
+    pub(crate) difference: Option<f64>,
+    pub(crate) predicted_rmse: Option<f64>,
+    pub(crate) accepted: bool,
 }
 
 /// The grid that met the target, its V in the frame's V now: its predicted RMSE and the wall
 /// clock of its try, which a filter must beat.
 pub(crate) struct Met {
-    pub rmse: f64,
-    pub ms: f64,
+    pub(crate) rmse: f64,
+    pub(crate) ms: f64,
 }
 
 /// The frame the candidates are read in: its GPU state and its geometry pixels.
 pub(crate) struct Scope<'a> {
-    pub fg: &'a FrameGpu<'a>,
-    pub geometry: &'a [bool],
+    pub(crate) fg: &'a FrameGpu<'a>,
+    pub(crate) geometry: &'a [bool],
 }
 
 /// `check`'s rule: the grid that met the target, the screen a candidate must pass against it,
 /// auto's acceptance `accept(F, handed)`, and the filter the previous frame of a sequence chose.
 pub(crate) struct Against<'a> {
-    pub met: Met,
-    pub screen: f64,
-    pub accept: &'a dyn Fn(f64, bool) -> bool,
-    pub handed_on: Option<&'a str>,
+    pub(crate) met: Met,
+    pub(crate) screen: f64,
+    pub(crate) accept: &'a dyn Fn(f64, bool) -> bool,
+    pub(crate) handed_on: Option<&'a str>,
 }
 
 /// `check_out_of_reach`'s rule: the grid the frame renders and its bound, the band `keep` a
 /// handed-on filter is kept within, and that filter.
 pub(crate) struct OutOfReach<'a> {
-    pub met: Met,
-    pub bound: &'a [f32],
-    pub keep: f64,
-    pub handed_on: Option<&'a str>,
+    pub(crate) met: Met,
+    pub(crate) bound: &'a [f32],
+    pub(crate) keep: f64,
+    pub(crate) handed_on: Option<&'a str>,
 }
 
 /// The reference grid, rendered into V by auto when asked: its predicted RMSE, bound and maps,
 /// and its try as the record keeps it.
 pub(crate) struct Reference {
-    pub rmse: f64,
-    pub bound: Vec<f32>,
-    pub maps: u32,
-    pub record: super::Try,
+    pub(crate) rmse: f64,
+    pub(crate) bound: Vec<f32>,
+    pub(crate) maps: u32,
+    pub(crate) record: super::Try,
 }
 
 /// The check's outcome: the chosen candidate with its prediction and bound.
 pub(crate) struct Outcome {
-    pub chosen: Option<(usize, f64, Vec<f32>)>,
-    pub checks: Vec<Check>,
-    pub maps: u32,
-    pub reference: Option<super::Try>,
+    pub(crate) chosen: Option<(usize, f64, Vec<f32>)>,
+    pub(crate) checks: Vec<Check>,
+    pub(crate) maps: u32,
+    pub(crate) reference: Option<super::Try>,
 }
 
 /// The candidates and their states (built on first use, then kept for the settled frames).

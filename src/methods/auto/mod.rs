@@ -140,15 +140,15 @@ const SCREEN: f64 = 1.5;
 
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Auto {
-    pub target: f32,
-    pub max_n: u32,
-    pub max_size: u32,
-    pub cost: CostModel,
+    pub(crate) target: f32,
+    pub(crate) max_n: u32,
+    pub(crate) max_size: u32,
+    pub(crate) cost: CostModel,
     /// `none`, or one-map methods joined by `+` (filter::parse_list).
-    pub filters: String,
+    pub(crate) filters: String,
     /// K, the exact pixels that certify the choice; 0: the estimate alone decides.
-    pub pixels: u32,
-    pub delta: f32,
+    pub(crate) pixels: u32,
+    pub(crate) delta: f32,
 }
 
 /// How a map of each size is priced in the search (docs/error-estimate.md §6).
@@ -268,21 +268,21 @@ impl ShadowMethod for Auto {
 /// One try of a frame: the grid, its maps and the prediction.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Try {
-    pub n: u32,
-    pub map_size: u32,
-    pub maps: u32,
+    pub(crate) n: u32,
+    pub(crate) map_size: u32,
+    pub(crate) maps: u32,
     /// Wall clock from the first map to the estimate read back, ms.
-    pub ms: f64,
+    pub(crate) ms: f64,
     /// The calibrated prediction (`calibration::calibrated`), what the search reads.
     #[serde(flatten)]
-    pub prediction: Prediction,
+    pub(crate) prediction: Prediction,
     /// The estimate's own predicted RMSE before the calibration's factors.
-    pub predicted_raw: f64,
+    pub(crate) predicted_raw: f64,
 }
 
 impl Try {
     /// The try as the search reads it.
-    pub fn at(&self) -> At {
+    pub(crate) fn at(&self) -> At {
         At::new(self.n, self.map_size, self.prediction)
     }
 }

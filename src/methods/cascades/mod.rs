@@ -73,7 +73,7 @@ pub struct CascadeMaps {
 }
 
 impl CascadeMaps {
-    pub fn from_map(p: &ParamMap) -> Result<Self> {
+    pub(crate) fn from_map(p: &ParamMap) -> Result<Self> {
         let n = N.get(p, "cascades")?;
         let split = Scheme::parse(SPLIT.get(p)?).expect("a listed scheme");
         let lambda = LAMBDA.get(p, "cascades")?;
@@ -117,7 +117,7 @@ impl CascadeMaps {
     }
 
     /// The kernel's uniform for `placement`.
-    pub fn uniform(&self, scene: &Scene, placement: &Placement) -> GpuCascades {
+    pub(crate) fn uniform(&self, scene: &Scene, placement: &Placement) -> GpuCascades {
         let mut ends = [[0.0f32; 4]; 2];
         for (i, z) in placement.ends[1..].iter().enumerate() {
             ends[i / 4][i % 4] = *z;
@@ -146,7 +146,7 @@ pub struct Placement {
 
 impl Placement {
     /// run.json's figures: the slice ends and each map's texel in world units.
-    pub fn record(&self, m: &CascadeMaps) -> serde_json::Value {
+    pub(crate) fn record(&self, m: &CascadeMaps) -> serde_json::Value {
         serde_json::json!({
             "split_depths": self.ends,
             "texel_world": self.samples.iter().map(|s| s.texel_angle).collect::<Vec<_>>(),

@@ -20,7 +20,7 @@ pub enum Scheme {
 
 impl Scheme {
     pub const ALL: [Scheme; 3] = [Scheme::Uniform, Scheme::Log, Scheme::Practical];
-    pub const NAMES: [&'static str; 3] = ["uniform", "log", "practical"];
+    pub(crate) const NAMES: [&'static str; 3] = ["uniform", "log", "practical"];
 
     pub fn name(self) -> &'static str {
         Self::NAMES[Self::ALL.iter().position(|s| *s == self).unwrap_or(0)]

@@ -84,13 +84,13 @@ pub(crate) const INFO: MethodInfo = MethodInfo {
 
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct EnvAdaptive {
-    pub base: (u32, u32),
-    pub max_level: u32,
-    pub p_m: u32,
-    pub contrast: f32,
-    pub min_share: f32,
-    pub count_stride: u32,
-    pub ssao: Option<SsaoSettings>,
+    pub(crate) base: (u32, u32),
+    pub(crate) max_level: u32,
+    pub(crate) p_m: u32,
+    pub(crate) contrast: f32,
+    pub(crate) min_share: f32,
+    pub(crate) count_stride: u32,
+    pub(crate) ssao: Option<SsaoSettings>,
 }
 
 impl EnvAdaptive {

@@ -309,37 +309,37 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Regions {
-    pub target: f32,
-    pub density: f32,
-    pub max_n: u32,
-    pub min_size: u32,
-    pub max_size: u32,
-    pub region: u32,
-    pub blocker_taps: u32,
+    pub(crate) target: f32,
+    pub(crate) density: f32,
+    pub(crate) max_n: u32,
+    pub(crate) min_size: u32,
+    pub(crate) max_size: u32,
+    pub(crate) region: u32,
+    pub(crate) blocker_taps: u32,
     /// Some(on/off) as given; None: auto (on where the adapter can cull).
-    pub cull: Option<bool>,
+    pub(crate) cull: Option<bool>,
     /// Classes join the next one up where the cost model predicts it cheaper.
-    pub merge: bool,
+    pub(crate) merge: bool,
     /// The cost model's prices in texels: one map beyond its texels, one pixel's test of one map.
-    pub map_cost: f32,
-    pub sample_cost: f32,
-    pub force: Option<u32>,
-    pub force_size: u32,
+    pub(crate) map_cost: f32,
+    pub(crate) sample_cost: f32,
+    pub(crate) force: Option<u32>,
+    pub(crate) force_size: u32,
     /// The decision's map side; 0: from the screen (`Regions::centre_side`).
-    pub centre_size: u32,
+    pub(crate) centre_size: u32,
     /// A group keeps the previous frame's window while it holds (`State::held_window`).
-    pub hold: bool,
+    pub(crate) hold: bool,
     /// Each class's error bounded against the exact truth and stepped up where over (certified.rs).
-    pub certify: bool,
+    pub(crate) certify: bool,
     /// Exact pixels drawn per class; the frame's confidence 1 − delta.
-    pub pixels: u32,
-    pub delta: f32,
+    pub(crate) pixels: u32,
+    pub(crate) delta: f32,
     /// A class may take `pcss` where it is certified within the target.
-    pub filter: bool,
+    pub(crate) filter: bool,
     /// The frame-wide grid is taken where it is predicted at most this times the plan's cost.
-    pub fallback: Option<f32>,
+    pub(crate) fallback: Option<f32>,
     /// The target the plan is decided for; 0: `target`.
-    pub plan_target: f32,
+    pub(crate) plan_target: f32,
 }
 
 impl Regions {
@@ -360,7 +360,7 @@ impl Regions {
     }
 
     /// The target the plan is decided for: `plan_target`, else `target`.
-    pub fn plan_target(&self) -> f32 {
+    pub(crate) fn plan_target(&self) -> f32 {
         match self.plan_target {
             t if t > 0.0 => t,
             _ => self.target,
@@ -368,7 +368,7 @@ impl Regions {
     }
 
     /// The classes' samples per side: the ladder up to `max_n`, `max_n` last; with `force`, N alone.
-    pub fn ladder(&self) -> Vec<u32> {
+    pub(crate) fn ladder(&self) -> Vec<u32> {
         if let Some(n) = self.force {
             return vec![n];
         }
@@ -998,10 +998,10 @@ pub struct RegionsBuffers {
     pub classes: Vec<u32>,
     pub totals: [u32; 2],
     /// A section of `params.section_words` per class: header, then tiles in the GPU's order.
-    pub class_tiles: Vec<u32>,
+    pub(crate) class_tiles: Vec<u32>,
     /// The same per group of two classes or more (`RegionsPass::join`); a group of one shades
     /// its class's own section.
-    pub group_tiles: Vec<u32>,
+    pub(crate) group_tiles: Vec<u32>,
     /// The frame's geometry tiles, sorted.
     pub geometry_tiles: Vec<u32>,
     pub records: Vec<ClassRecord>,

@@ -9,8 +9,8 @@ use glam::Vec3;
 /// A directional light: unit direction towards it and its power Σ L·Δω (luminance × intensity).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnvLight {
-    pub direction: Vec3,
-    pub power: f32,
+    pub(crate) direction: Vec3,
+    pub(crate) power: f32,
 }
 
 /// One light per pixel of the panorama downsampled to `width` × `height`, at the pixel's centre,

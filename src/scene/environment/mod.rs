@@ -42,7 +42,7 @@ impl Environment {
             intensity,
         }
     }
-    pub fn rotation_rad(&self) -> f32 {
+    pub(crate) fn rotation_rad(&self) -> f32 {
         self.rotation_deg.to_radians()
     }
     /// Direction of panorama coordinates (u, v) with this environment's rotation.

@@ -18,11 +18,11 @@ use serde::Deserialize;
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct EnvironmentDef {
-    pub panorama: String,
+    pub(crate) panorama: String,
     #[serde(default)]
-    pub rotation_deg: f32,
+    pub(crate) rotation_deg: f32,
     #[serde(default = "one")]
-    pub intensity: f32,
+    pub(crate) intensity: f32,
 }
 
 fn one() -> f32 {
