@@ -50,6 +50,9 @@ pub mod gpu {
         pub use crate::gpu::size_plan::{mem_available, Bound, DeviceBounds};
     }
     pub mod stages {
+        // `bind` whole: the stage table's generated bindings, one struct per entry point; tests
+        // drive passes alone with them, and the compile-fail examples on `Bindings` need them
+        // reachable from outside the crate.
         pub use crate::gpu::stages::{
             bind, decision_ms, frame_split, outside_frame, Bindings, Split, Stage, CULL_RUN,
         };
@@ -192,6 +195,7 @@ pub mod scene {
     }
 }
 pub mod stages {
+    // The twins whole, for the tests and benches that check kernels against them (`twins`).
     #[cfg(feature = "twins")]
     pub use crate::stages::twin;
     pub mod adaptive_buffers {
