@@ -54,8 +54,8 @@ fn embed_scenes() {
         }
     }
     let code = format!(
-        "/// Every scenes/*.toml: (name, text).\npub const SCENE_FILES: &[(&str, &str)] = &[\n{scenes}];\n\
-         /// Every scenes/*.obj: (file name, text).\npub const MESH_FILES: &[(&str, &str)] = &[\n{meshes}];\n"
+        "/// Every scenes/*.toml: (name, text).\npub(crate) const SCENE_FILES: &[(&str, &str)] = &[\n{scenes}];\n\
+         /// Every scenes/*.obj: (file name, text).\npub(crate) const MESH_FILES: &[(&str, &str)] = &[\n{meshes}];\n"
     );
     let out = Path::new(&std::env::var("OUT_DIR").expect("OUT_DIR")).join("embedded_scenes.rs");
     std::fs::write(out, code).expect("write embedded_scenes.rs");

@@ -12,12 +12,10 @@ pub trait Bar: Send + Sync {
     fn finish_and_clear(&self);
 }
 
-/// What a program registers: `bar(len, what)` starts a unit of `len` steps, `suspend` runs a
-/// function that prints lines with the bars lifted off the terminal, and `notice` shows a line
-/// the user should read now (a warning, what a read waits for).
+/// What a program registers: `bar(len, what)` starts a unit of `len` steps, and `notice` shows a
+/// line the user should read now (a warning, what a read waits for).
 pub struct Progress {
     pub bar: fn(u64, &str) -> Box<dyn Bar>,
-    pub suspend: fn(&mut dyn FnMut()),
     pub notice: fn(&str),
 }
 
@@ -35,23 +33,15 @@ impl Bar for Hidden {
     fn finish_and_clear(&self) {}
 }
 
-pub fn bar(len: u64, what: &str) -> Box<dyn Bar> {
+pub(crate) fn bar(len: u64, what: &str) -> Box<dyn Bar> {
     match PROGRESS.get() {
         Some(p) => (p.bar)(len, what),
         None => Box::new(Hidden),
     }
 }
 
-/// Runs `f` (which prints lines) with the bars lifted off the terminal, then redraws them.
-pub fn suspend<T>(f: impl FnOnce() -> T) -> T {
-    let Some(p) = PROGRESS.get() else { return f() };
-    let (mut f, mut out) = (Some(f), None);
-    (p.suspend)(&mut || out = f.take().map(|f| f()));
-    out.expect("suspend runs its function once")
-}
-
 /// Hands `line` to the registered `notice`; without one it is not shown.
-pub fn notice(line: &str) {
+pub(crate) fn notice(line: &str) {
     if let Some(p) = PROGRESS.get() {
         (p.notice)(line);
     }

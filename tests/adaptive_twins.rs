@@ -5,18 +5,18 @@
 //! Each stage's twin is fed the GPU's own inputs, so a mismatch points at one stage.
 
 mod common;
-use penumbra::frame::frame_uniform;
-use penumbra::methods::adaptive::buffers::{CULL_TILE_WORDS, LATTICE_POINTS, MIXED_WORD};
-use penumbra::methods::AdaptiveParams;
-use penumbra::scene::Scene;
-use penumbra::stages::twin::{self, neighbourhood::Screen};
+use penumbra::research::frame::frame_uniform;
+use penumbra::research::methods::adaptive::buffers::{CULL_TILE_WORDS, LATTICE_POINTS, MIXED_WORD};
+use penumbra::research::methods::AdaptiveParams;
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::twin::{self, neighbourhood::Screen};
 
 const SEEDS: [u64; 4] = [1, 7, 23, 101];
 /// The seed's pixel threshold, a level-aware share, and the error budget (method.md §6).
 const CRITERIA: [&str; 4] = ["p_m=0", "p_m=3", "p_share=0.002,growth=4", "tol=0.004"];
 
 fn params(spec: &str) -> AdaptiveParams {
-    let m = penumbra::methods::Method::parse(&format!("adaptive:{spec}"), &[])
+    let m = penumbra::research::methods::Method::parse(&format!("adaptive:{spec}"), &[])
         .expect("criterion parses");
     m.adaptive_params()
         .cloned()
@@ -33,7 +33,7 @@ fn scene(seed: u64) -> Scene {
     .expect("random scene parses")
 }
 
-fn sorted_quads(q: &[penumbra::gpu::structs::GpuQuad]) -> Vec<(u32, u32, u32)> {
+fn sorted_quads(q: &[penumbra::research::gpu::structs::GpuQuad]) -> Vec<(u32, u32, u32)> {
     let mut v: Vec<_> = q.iter().map(|q| (q.i, q.j, q.size)).collect();
     v.sort();
     v
@@ -367,7 +367,7 @@ fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
             .map(|v| glam::Vec3::from(v.position))
             .collect();
         let whole = sc.indices.len() as u64 / 3;
-        let order = penumbra::render::shadow_order::shadow_order(&positions, &sc.indices);
+        let order = penumbra::research::render::shadow_order::shadow_order(&positions, &sc.indices);
         // Always splitting reaches small quads, whose pixels test small rectangles.
         let (on, t) = common::traced(
             ctx,
@@ -420,7 +420,7 @@ fn cull_equals_its_cpu_twin_and_changes_no_pixel() {
                 &positions,
                 &order,
                 ks,
-                penumbra::stages::cull::cull_face(sc.render.cull),
+                penumbra::research::stages::cull::cull_face(sc.render.cull),
             );
             for (k, tris) in ks.iter().zip(&kept) {
                 let at = t
@@ -507,7 +507,7 @@ fn steered_frame_equals_the_waiting_loop() {
             }
             let p = params(spec);
             let last = t.levels.last().unwrap();
-            let twin = penumbra::methods::adaptive::sample_weights(
+            let twin = penumbra::research::methods::adaptive::sample_weights(
                 &p,
                 &t.levels,
                 &last.sample_level,
@@ -652,14 +652,20 @@ fn local_steered_frame_equals_the_waiting_loop() {
 /// the slots that hold samples among those the host dispatches; for listed and requested counts.
 #[test]
 fn fill_blocks_equals_its_cpu_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuLevel, GpuSample, GpuTestBlock};
-    use penumbra::stages::shadow_test::{
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::{
+        GpuControl, GpuFrame, GpuLevel, GpuSample, GpuTestBlock,
+    };
+    use penumbra::research::stages::shadow_test::{
         block_slots, ShadowTest, TEST_BLOCK, TEST_BLOCK_BYTES, TEST_SLOTS,
     };
     let ctx = common::gpu();
-    let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false)
-        .expect("shadow_test kernels");
+    let test = ShadowTest::new(
+        ctx,
+        penumbra::research::gpu::kernels::MapAccess::Depth,
+        false,
+    )
+    .expect("shadow_test kernels");
     let frame = GpuFrame {
         width: 100,
         height: 37,
@@ -719,7 +725,7 @@ fn fill_blocks_equals_its_cpu_twin() {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&test.block_buffer, 0, None);
         enc.clear_buffer(&test.block_args, 0, None);
-        let fill = penumbra::gpu::stages::bind::shadow_test::FillBlocks {
+        let fill = penumbra::research::gpu::stages::bind::shadow_test::FillBlocks {
             level: buffers.1.as_entire_binding(),
             samples: buffers.2.as_entire_binding(),
             test_list: buffers.3.as_entire_binding(),
@@ -799,13 +805,13 @@ fn fill_blocks_equals_its_cpu_twin() {
 /// one pass at a time, its typed output read back and compared with its twin exactly.
 #[test]
 fn count_stages_alone_equal_their_twins() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuQuad, GpuSample};
-    use penumbra::methods::adaptive::buffers::{
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::{GpuControl, GpuFrame, GpuQuad, GpuSample};
+    use penumbra::research::methods::adaptive::buffers::{
         AdaptiveBuffers, Level, Shape, CONTROL_BYTES, QUAD_CAPACITY,
     };
-    use penumbra::methods::adaptive::level_uniform;
-    use penumbra::stages::{
+    use penumbra::research::methods::adaptive::level_uniform;
+    use penumbra::research::stages::{
         neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
         subdivide::Subdivide,
     };
@@ -1004,12 +1010,12 @@ fn count_stages_alone_equal_their_twins() {
 /// appends in any order).
 #[test]
 fn local_stages_alone_equal_their_twins() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuSample};
-    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Level, CONTROL_BYTES};
-    use penumbra::methods::adaptive::level_uniform;
-    use penumbra::render::gbuffer::GBufferPass;
-    use penumbra::stages::{
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::{GpuControl, GpuFrame, GpuSample};
+    use penumbra::research::methods::adaptive::buffers::{AdaptiveBuffers, Level, CONTROL_BYTES};
+    use penumbra::research::methods::adaptive::level_uniform;
+    use penumbra::research::render::gbuffer::GBufferPass;
+    use penumbra::research::stages::{
         compact::{Compact, CompactInputs},
         probe::Probe,
     };
@@ -1289,13 +1295,13 @@ fn local_stages_alone_equal_their_twins() {
 /// `lattice_numerators` and ŵ equals `sample_weights` bit for bit, for the level, area and Coons rules.
 #[test]
 fn weights_alone_equal_their_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::{GpuQuad, GpuSample};
-    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, NO_SPLIT};
-    use penumbra::methods::adaptive::{
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::{GpuQuad, GpuSample};
+    use penumbra::research::methods::adaptive::buffers::{AdaptiveBuffers, NO_SPLIT};
+    use penumbra::research::methods::adaptive::{
         lattice_numerators, level_uniform, sample_weights, LevelReport,
     };
-    use penumbra::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
+    use penumbra::research::stages::weights::{WeightsPass, RULE_AREA, RULE_COONS, RULE_LEVEL};
     let ctx = common::gpu();
     let b = AdaptiveBuffers::new(
         ctx,
@@ -1415,12 +1421,12 @@ fn weights_alone_equal_their_twin() {
 /// exactly (as a multiset: the kernel appends in any order), and its draw arguments count them.
 #[test]
 fn cull_alone_equals_its_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::GpuSample;
-    use penumbra::methods::adaptive::buffers::{CULL_TILES, LATTICE_SIDE};
-    use penumbra::render::SceneGpu;
-    use penumbra::scene::light::sample_view;
-    use penumbra::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::GpuSample;
+    use penumbra::research::methods::adaptive::buffers::{CULL_TILES, LATTICE_SIDE};
+    use penumbra::research::render::SceneGpu;
+    use penumbra::research::scene::light::sample_view;
+    use penumbra::research::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
     let ctx = common::gpu();
     let p = params("p_m=0");
     let mut rng = common::Lcg(29);
@@ -1549,19 +1555,23 @@ fn cull_alone_equals_its_twin() {
 /// 16 + 8 + 4 + 2 + 1), the second of 5; the masks equal the twin's bit for bit after each.
 #[test]
 fn shadow_test_alone_equals_its_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::GpuSample;
-    use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Requests, LATTICE_SIDE};
-    use penumbra::render::gbuffer::{self, GBufferPass};
-    use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
-    use penumbra::render::SceneGpu;
-    use penumbra::scene::light::sample_view;
-    use penumbra::stages::shade::ShadePass;
-    use penumbra::stages::shadow_test::{ShadowTest, TestFrame};
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::GpuSample;
+    use penumbra::research::methods::adaptive::buffers::{AdaptiveBuffers, Requests, LATTICE_SIDE};
+    use penumbra::research::render::gbuffer::{self, GBufferPass};
+    use penumbra::research::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+    use penumbra::research::render::SceneGpu;
+    use penumbra::research::scene::light::sample_view;
+    use penumbra::research::stages::shade::ShadePass;
+    use penumbra::research::stages::shadow_test::{ShadowTest, TestFrame};
     let ctx = common::gpu();
     let p = params("p_m=0");
-    let test = ShadowTest::new(ctx, penumbra::gpu::kernels::MapAccess::Depth, false)
-        .expect("shadow_test kernels");
+    let test = ShadowTest::new(
+        ctx,
+        penumbra::research::gpu::kernels::MapAccess::Depth,
+        false,
+    )
+    .expect("shadow_test kernels");
     let (mut lit_bits, mut unlit_bits, mut calls) = (0u32, 0u32, 0);
     for seed in [1u64, 23] {
         let sc = Scene::parse(
@@ -1595,7 +1605,8 @@ fn shadow_test_alone_equals_its_twin() {
             bytemuck::cast_slice(&[1u32; LATTICE_POINTS as usize]),
         );
         let g = GBufferPass::allocate(ctx, fr.width, fr.height).unwrap();
-        let shade = ShadePass::new(ctx, penumbra::gpu::kernels::MapAccess::Depth).unwrap();
+        let shade =
+            ShadePass::new(ctx, penumbra::research::gpu::kernels::MapAccess::Depth).unwrap();
         let tiles = shade.tile_list(ctx, &g);
         let array = shadow_raster::allocate(ctx, sc.render.shadow_map_size, ks.len() as u32);
         let jobs: Vec<RasterJob> = ks
@@ -1693,15 +1704,15 @@ fn shadow_test_alone_equals_its_twin() {
 /// twin's exactly, and both the margin and the held bits decide some quads.
 #[test]
 fn subdivide_with_hold_equals_its_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::{GpuControl, GpuFrame, GpuQuad, GpuSample};
-    use penumbra::methods::adaptive::buffers::{
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::{GpuControl, GpuFrame, GpuQuad, GpuSample};
+    use penumbra::research::methods::adaptive::buffers::{
         AdaptiveBuffers, Level, CONTROL_BYTES, QUAD_CAPACITY,
     };
-    use penumbra::methods::adaptive::level_uniform;
-    use penumbra::stages::adaptive_buffers::{quad_node, HELD_WORDS, QUAD_NODES};
-    use penumbra::stages::subdivide::Subdivide;
-    use penumbra::stages::twin::subdivide::{subdivide_held, Held, SplitLevel};
+    use penumbra::research::methods::adaptive::level_uniform;
+    use penumbra::research::stages::adaptive_buffers::{quad_node, HELD_WORDS, QUAD_NODES};
+    use penumbra::research::stages::subdivide::Subdivide;
+    use penumbra::research::stages::twin::subdivide::{subdivide_held, Held, SplitLevel};
     let ctx = common::gpu();
     let subdivide = Subdivide::new(ctx).unwrap();
     let b = AdaptiveBuffers::new(
@@ -1727,7 +1738,8 @@ fn subdivide_with_hold_equals_its_twin() {
     for spec in ["p_m=3,hold=5", "p_share=0.01,hold=7"] {
         let p = params(spec);
         for level in 0..4u32 {
-            let quads: Vec<GpuQuad> = penumbra::stages::twin::synthetic::level_quads(level);
+            let quads: Vec<GpuQuad> =
+                penumbra::research::stages::twin::synthetic::level_quads(level);
             let n = quads.len() as u32;
             // Counts from 0 to 14 around either rule's threshold (3, or 0.01 x 400 pixels).
             let counts: Vec<u32> = (0..n).map(|_| (rng.next_f32() * 15.0) as u32).collect();

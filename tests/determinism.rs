@@ -3,10 +3,10 @@
 //! one run), so vertices moved by up to 2e-6 and at 512² one to six lattice-sample tests flipped.
 
 mod common;
-use penumbra::frame;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 fn vertex_bits(s: &Scene) -> Vec<[u32; 3]> {
     s.vertices

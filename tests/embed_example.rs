@@ -165,9 +165,11 @@ fn a_device_below_the_needs_is_refused_by_name_and_the_needs_suffice() {
     let full = Shadows::new(&adapter, &device, &queue).unwrap();
     let scene = embed::analytic_square(32).unwrap();
     // cascades takes the sun alone (lab/tests/cascades.rs); this scene's light is a rectangle.
-    let specs = penumbra::methods::REGISTRY
+    let specs = penumbra::research::methods::REGISTRY
         .iter()
-        .filter(|m| m.family != penumbra::methods::Family::Environment && m.name != "cascades")
+        .filter(|m| {
+            m.family != penumbra::research::methods::Family::Environment && m.name != "cascades"
+        })
         .map(|m| m.name);
     for spec in specs.chain(["regular:n=17", "adaptive:scope=local"]) {
         let v = shadows

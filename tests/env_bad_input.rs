@@ -2,8 +2,8 @@
 //! names the key and the value (no GPU needed).
 
 mod common;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 use std::path::Path;
 
 const HEAD: &str = "[camera]\neye = [0.0, 6.0, 8.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 45.0\n\n[render]\nwidth = 32\nheight = 32\n\n[[mesh]]\nbuiltin = \"plane\"\n\n";

@@ -2,11 +2,11 @@
 //! memory budget included, and the prediction in run.json is the one its sums give.
 
 mod common;
-use penumbra::frame::{frame_uniform, FrameOptions};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::{estimate, fixed_samples, Method};
-use penumbra::scene::Scene;
-use penumbra::stages::twin;
+use penumbra::research::frame::{frame_uniform, FrameOptions};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::{estimate, fixed_samples, Method};
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::twin;
 
 #[test]
 fn estimate_equals_its_cpu_twin() {

@@ -3,11 +3,11 @@
 //! twin fed the GPU's own inputs so a mismatch points at one stage.
 
 mod common;
-use penumbra::frame::{frame_uniform, FrameOptions, FrameResult};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::{single_map, Method};
-use penumbra::scene::Scene;
-use penumbra::stages::twin;
+use penumbra::research::frame::{frame_uniform, FrameOptions, FrameResult};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::{single_map, Method};
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::twin;
 
 fn scene(seed: u64) -> Scene {
     Scene::parse(
@@ -20,7 +20,7 @@ fn scene(seed: u64) -> Scene {
 }
 
 fn inspected(
-    ctx: &penumbra::gpu::GpuContext,
+    ctx: &penumbra::research::gpu::GpuContext,
     sc: &Scene,
     spec: &str,
 ) -> (FrameResult, single_map::SingleMapBuffers) {

@@ -2,9 +2,9 @@
 //! WGSL layouts member by member, the stage table's entry points, workgroup sizes and bindings are
 //! the kernels', and every constant mirrored between Rust and WGSL has the same value on both sides.
 
-use penumbra::gpu::kernels;
-use penumbra::gpu::kernels::MapAccess;
-use penumbra::gpu::structs::all_layouts;
+use penumbra::research::gpu::kernels;
+use penumbra::research::gpu::kernels::MapAccess;
+use penumbra::research::gpu::structs::all_layouts;
 use std::collections::BTreeSet;
 
 #[test]
@@ -128,7 +128,7 @@ fn map_reading_kernels_validate_for_every_map_access() {
 /// The shadow test's blocks (their constants are among `mirrored_constants_match_rust`'s).
 #[test]
 fn block_entry_points_unroll_their_sizes() {
-    use penumbra::stages::shadow_test::{TEST_BLOCK, TEST_TAILS};
+    use penumbra::research::stages::shadow_test::{TEST_BLOCK, TEST_TAILS};
     // The tails halve from half a block down to one sample, as fill_blocks places them.
     assert_eq!(
         TEST_TAILS,
@@ -311,9 +311,9 @@ fn wgsl_constant(module: &naga::Module, name: &str) -> Option<f64> {
 /// that declares it must declare this value, and at least one must declare it.
 #[test]
 fn mirrored_constants_match_rust() {
-    use penumbra::gpu::structs as gs;
-    use penumbra::methods::adaptive::buffers as ab;
-    use penumbra::stages::twin;
+    use penumbra::research::gpu::structs as gs;
+    use penumbra::research::methods::adaptive::buffers as ab;
+    use penumbra::research::stages::twin;
     let mirrored: &[(&str, f64)] = &[
         // kernels/shared/common.wgsl
         ("LATTICE_SIDE", ab::LATTICE_SIDE as f64),
@@ -348,30 +348,45 @@ fn mirrored_constants_match_rust() {
         ("LOOKUP_COMPARE", twin::shadow::LOOKUP_COMPARE as f64),
         (
             "TILE_LIST_HEADER",
-            penumbra::stages::shade::TILE_LIST_HEADER as f64,
+            penumbra::research::stages::shade::TILE_LIST_HEADER as f64,
         ),
         // stage kernels
-        ("SHADE_BLOCK", penumbra::stages::shade::SHADE_BLOCK as f64),
+        (
+            "SHADE_BLOCK",
+            penumbra::research::stages::shade::SHADE_BLOCK as f64,
+        ),
         (
             "TEST_BLOCK",
-            penumbra::stages::shadow_test::TEST_BLOCK as f64,
+            penumbra::research::stages::shadow_test::TEST_BLOCK as f64,
         ),
         (
             "TEST_SLOTS",
-            penumbra::stages::shadow_test::TEST_SLOTS as f64,
+            penumbra::research::stages::shadow_test::TEST_SLOTS as f64,
         ),
         (
             "TEST_TAILS",
-            penumbra::stages::shadow_test::TEST_TAILS.len() as f64,
+            penumbra::research::stages::shadow_test::TEST_TAILS.len() as f64,
         ),
-        ("CULL_RUN", penumbra::gpu::stages::CULL_RUN as f64),
+        ("CULL_RUN", penumbra::research::gpu::stages::CULL_RUN as f64),
         ("CULL_MARGIN", twin::cull::CULL_MARGIN as f64),
         ("CULL_DEPTH_SLACK", twin::cull::CULL_DEPTH_SLACK as f64),
         ("CULL_SCAN_TILES", twin::cull::CULL_SCAN_TILES as f64),
-        ("RULE_LEVEL", penumbra::stages::weights::RULE_LEVEL as f64),
-        ("RULE_AREA", penumbra::stages::weights::RULE_AREA as f64),
-        ("RULE_COONS", penumbra::stages::weights::RULE_COONS as f64),
-        ("LEVEL_LCM", penumbra::methods::adaptive::LEVEL_LCM as f64),
+        (
+            "RULE_LEVEL",
+            penumbra::research::stages::weights::RULE_LEVEL as f64,
+        ),
+        (
+            "RULE_AREA",
+            penumbra::research::stages::weights::RULE_AREA as f64,
+        ),
+        (
+            "RULE_COONS",
+            penumbra::research::stages::weights::RULE_COONS as f64,
+        ),
+        (
+            "LEVEL_LCM",
+            penumbra::research::methods::adaptive::LEVEL_LCM as f64,
+        ),
         ("FILTERED_ESM", twin::moments::FILTERED_ESM as f64),
         ("FILTERED_VSM", twin::moments::FILTERED_VSM as f64),
         ("FILTERED_EVSM", twin::moments::FILTERED_EVSM as f64),
@@ -384,38 +399,47 @@ fn mirrored_constants_match_rust() {
         ("PCF_ROTATED", twin::pcf::PCF_ROTATED as f64),
         (
             "CASCADE_FILTER_HARD",
-            penumbra::stages::cascades::FILTER_HARD as f64,
+            penumbra::research::stages::cascades::FILTER_HARD as f64,
         ),
         (
             "CASCADE_FILTER_PCF",
-            penumbra::stages::cascades::FILTER_PCF as f64,
+            penumbra::research::stages::cascades::FILTER_PCF as f64,
         ),
-        ("NO_CASCADE", penumbra::stages::cascades::NO_CASCADE as f64),
-        ("BVH_STACK", penumbra::render::bvh::STACK_DEPTH as f64),
+        (
+            "NO_CASCADE",
+            penumbra::research::stages::cascades::NO_CASCADE as f64,
+        ),
+        (
+            "BVH_STACK",
+            penumbra::research::render::bvh::STACK_DEPTH as f64,
+        ),
         (
             "HYBRID_POOL_WIDTH_LOG2",
-            penumbra::stages::hybrid_build::POOL_WIDTH_LOG2 as f64,
+            penumbra::research::stages::hybrid_build::POOL_WIDTH_LOG2 as f64,
         ),
         (
             "HYBRID_CHILDREN",
-            penumbra::stages::hybrid_build::CHILDREN as f64,
+            penumbra::research::stages::hybrid_build::CHILDREN as f64,
         ),
         (
             "FRAME_HYBRID_LEVELS_SHIFT",
-            penumbra::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64,
+            penumbra::research::stages::hybrid_build::FRAME_LEVELS_SHIFT as f64,
         ),
         (
             "REGION_WORDS",
-            penumbra::stages::regions::REGION_WORDS as f64,
+            penumbra::research::stages::regions::REGION_WORDS as f64,
         ),
-        ("CLASS_WORDS", penumbra::stages::regions::CLASS_WORDS as f64),
+        (
+            "CLASS_WORDS",
+            penumbra::research::stages::regions::CLASS_WORDS as f64,
+        ),
         (
             "WEIGHT_SCALE",
-            penumbra::stages::regions::WEIGHT_SCALE as f64,
+            penumbra::research::stages::regions::WEIGHT_SCALE as f64,
         ),
         (
             "SAMPLING_ORDER",
-            penumbra::stages::regions::SAMPLING_ORDER as f64,
+            penumbra::research::stages::regions::SAMPLING_ORDER as f64,
         ),
     ];
     let mut modules = Vec::new();

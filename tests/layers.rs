@@ -17,7 +17,8 @@ fn imports_run_down_the_layers_but_for_a_known_few() {
     let up = common::layers::upward_imports(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
         LAYERS,
-        &["lib"],
+        // The crate root and the research façade sit above every layer: they re-export them.
+        &["lib", "research"],
     );
     for (file, target) in &up {
         println!("src/{file} uses {target}");
@@ -127,4 +128,58 @@ fn product_code_reads_no_twin() {
         .map(|(at, _)| at)
         .collect();
     assert!(reads.is_empty(), "product code names a twin: {reads:#?}");
+}
+
+/// Whether a line of source declares something unrestricted `pub`: an item, a method, a field or
+/// a re-export (`pub(crate)` and comments are not).
+fn declares_pub(line: &str) -> bool {
+    line.trim_start().starts_with("pub ")
+}
+
+/// The engine's public surface, counted: the product lines of src/ that declare something `pub`,
+/// the twins (`stages/twin/`, built only with the tests' `twins` feature) apart. src/lib.rs warns
+/// on `unreachable_pub` (CI denies warnings), so each of these is reachable from outside: the API,
+/// or the research façade (src/research.rs) and what its items carry.
+const PUBLIC_SURFACE: usize = 1222;
+
+#[test]
+fn the_public_surface_is_the_api_and_the_research_facade() {
+    // The scanner finds what it is for (so the bound below can fail).
+    assert!(declares_pub(
+        "    pub fn new(ctx: &GpuContext) -> Result<Self> {"
+    ));
+    assert!(declares_pub("pub struct Shadows {"));
+    assert!(!declares_pub(
+        "    pub(crate) fn frame_size(&self) -> u32 {"
+    ));
+    assert!(!declares_pub("/// pub fn in a comment"));
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    // Only the API and the façade are public modules; the pipeline's modules are the crate's.
+    let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
+    let public_mods: Vec<&str> = lib
+        .lines()
+        .filter_map(|l| l.strip_prefix("pub mod "))
+        .collect();
+    assert_eq!(public_mods, ["api;", "research;"]);
+    assert!(lib.contains("#![warn(unreachable_pub)]"));
+    let mut lines = Vec::new();
+    product_lines(&src, &mut lines);
+    let twin_dir = src.join("stages").join("twin").display().to_string();
+    let surface = lines
+        .iter()
+        .filter(|(at, line)| !at.starts_with(&twin_dir) && declares_pub(line))
+        .count();
+    let twins = lines
+        .iter()
+        .filter(|(at, line)| at.starts_with(&twin_dir) && declares_pub(line))
+        .count();
+    println!("the engine's public surface: {surface} `pub` lines (and {twins} in the twins)");
+    assert!(surface > 500, "{surface} `pub` lines read");
+    // What outside code needs joins the façade; anything else is `pub(crate)`. Lower the figure
+    // when the surface shrinks.
+    assert!(
+        surface <= PUBLIC_SURFACE,
+        "the engine's public surface grew to {surface} `pub` lines (at most {PUBLIC_SURFACE}): \
+         make what outside code does not use `pub(crate)`"
+    );
 }

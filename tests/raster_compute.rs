@@ -6,14 +6,14 @@
 mod common;
 
 use glam::Vec3;
-use penumbra::gpu::structs::{GpuRasterJob, GpuSample};
-use penumbra::gpu::{kernels, readback, GpuContext};
-use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
-use penumbra::render::SceneGpu;
-use penumbra::scene::light::sample_view;
-use penumbra::scene::{CullMode, Scene, Vertex};
-use penumbra::stages::raster_compute::{self, RasterCompute, FAR};
-use penumbra::stages::twin::raster_compute as twin;
+use penumbra::research::gpu::structs::{GpuRasterJob, GpuSample};
+use penumbra::research::gpu::{kernels, readback, GpuContext};
+use penumbra::research::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+use penumbra::research::render::SceneGpu;
+use penumbra::research::scene::light::sample_view;
+use penumbra::research::scene::{CullMode, Scene, Vertex};
+use penumbra::research::stages::raster_compute::{self, RasterCompute, FAR};
+use penumbra::research::stages::twin::raster_compute as twin;
 
 const MAP: u32 = 256;
 
@@ -277,38 +277,38 @@ fn pairs_past_a_full_queue_equal_the_twin() {
         );
     }
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity(289, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity(289, 2 << 30),
         1 << 24
     );
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity(2, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity(2, 2 << 30),
         1 << 18
     );
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity(25, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity(25, 2 << 30),
         25 << 16
     );
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity(289, 1 << 20),
+        penumbra::research::stages::raster_compute::large_capacity(289, 1 << 20),
         1 << 17,
         "one binding holds the queue"
     );
     // A mesh of more triangles than the per-map floor: one pair per triangle and map.
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity_for(9, 60_000, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity_for(9, 60_000, 2 << 30),
         9 << 16,
         "the floor"
     );
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity_for(9, 100_000, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity_for(9, 100_000, 2 << 30),
         900_000
     );
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity_for(16, 564_152, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity_for(16, 564_152, 2 << 30),
         9_026_432
     );
     assert_eq!(
-        penumbra::stages::raster_compute::large_capacity_for(289, 564_152, 2 << 30),
+        penumbra::research::stages::raster_compute::large_capacity_for(289, 564_152, 2 << 30),
         1 << 24,
         "the most"
     );
@@ -783,11 +783,11 @@ fn twin_constants_match_the_kernel() {
     );
     assert_eq!(
         constant("RASTER_KEPT_ARGS"),
-        penumbra::stages::cull::ARGS_WORDS as f64
+        penumbra::research::stages::cull::ARGS_WORDS as f64
     );
     assert_eq!(
         constant("RASTER_RUN"),
-        penumbra::stages::cull::CULL_RUN as f64
+        penumbra::research::stages::cull::CULL_RUN as f64
     );
 }
 
@@ -967,9 +967,9 @@ fn kept_lists_are_drawn_per_slot() {
 /// maps of a fixed set (`regular`) and the adaptive loop's.
 #[test]
 fn each_raster_reports_its_own_timing_key() {
-    use penumbra::frame::{self, FrameOptions};
-    use penumbra::gpu::timing::TimingMode;
-    use penumbra::methods::Method;
+    use penumbra::research::frame::{self, FrameOptions};
+    use penumbra::research::gpu::timing::TimingMode;
+    use penumbra::research::methods::Method;
     let ctx = common::gpu();
     for (raster, key, other) in [
         ("compute", "raster_compute", "shadow_raster"),

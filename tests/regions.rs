@@ -2,13 +2,13 @@
 //! grid gives regular's V bit for bit, and bad parameters are refused with one message.
 
 mod common;
-use penumbra::frame::{frame_uniform, FrameOptions, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::regions::RegionsBuffers;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
-use penumbra::stages::regions::{unordered, REGION_WORDS};
-use penumbra::stages::twin;
+use penumbra::research::frame::{frame_uniform, FrameOptions, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::regions::RegionsBuffers;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::regions::{unordered, REGION_WORDS};
+use penumbra::research::stages::twin;
 
 fn visibility(sc: &Scene, spec: &str) -> Vec<f32> {
     let method = Method::parse(spec, &[]).unwrap();
@@ -85,7 +85,7 @@ fn decision_kernels_equal_their_twins() {
             64 * 64,
             "seed {seed}: the decision's map texels"
         );
-        let frame = penumbra::gpu::structs::GpuFrame {
+        let frame = penumbra::research::gpu::structs::GpuFrame {
             map_size: b.centre_size,
             ..frame_uniform(&sc)
         };
@@ -242,7 +242,7 @@ fn bad_parameters_are_refused_with_the_key_and_value() {
 #[test]
 fn map_sides_round_up_by_half_octaves() {
     // At most √2 above the side asked for (2× the texels, where a power of two may give 4×).
-    use penumbra::methods::regions::half_octave;
+    use penumbra::research::methods::regions::half_octave;
     assert_eq!(
         [
             half_octave(1024.0),
@@ -267,10 +267,10 @@ fn map_sides_round_up_by_half_octaves() {
 fn the_maps_share_of_the_target_sets_the_density() {
     // Three regions: a contact shadow (narrowest penumbra half a pixel wide), a wide penumbra (20
     // pixels) and a lit region; the samples' target is T/√2, as `regions` sets it.
-    use penumbra::methods::regions::budget::{
+    use penumbra::research::methods::regions::budget::{
         edge_weight, map_density, predicted_map, SAMPLING_SHARE,
     };
-    use penumbra::stages::regions::{empty_region, ordered, RegionsParams};
+    use penumbra::research::stages::regions::{empty_region, ordered, RegionsParams};
     let target = 0.02f32;
     let mut p = RegionsParams {
         region: 16,
@@ -336,7 +336,7 @@ fn the_decisions_map_is_twice_the_screen_within_the_scenes_size() {
         Method::parse(spec, &[])
             .unwrap()
             .as_any()
-            .downcast_ref::<penumbra::methods::regions::Regions>()
+            .downcast_ref::<penumbra::research::methods::regions::Regions>()
             .cloned()
             .expect("regions")
     };

@@ -4,10 +4,10 @@
 //! where the plan is.
 
 mod common;
-use penumbra::frame::{FrameOptions, FrameResult, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, FrameResult, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 fn scene(seed: u64) -> Scene {
     Scene::parse(

@@ -2,12 +2,12 @@
 //! when the maps are split into chunks by the memory budget.
 
 mod common;
-use penumbra::frame::{frame_uniform, FrameOptions};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::{fixed_samples, Method};
-use penumbra::scene::Scene;
-use penumbra::stages::shade::{blocks, SHADE_BLOCK};
-use penumbra::stages::twin;
+use penumbra::research::frame::{frame_uniform, FrameOptions};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::{fixed_samples, Method};
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::shade::{blocks, SHADE_BLOCK};
+use penumbra::research::stages::twin;
 
 #[test]
 fn shade_equals_its_cpu_twin() {

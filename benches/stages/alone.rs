@@ -4,13 +4,13 @@
 //! pixel·quad evaluations (subdivide: quads).
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use penumbra::gpu::structs::{GpuFrame, GpuSample};
-use penumbra::gpu::{readback, GpuContext};
-use penumbra::methods::adaptive::buffers::{AdaptiveBuffers, Level, LATTICE_POINTS};
-use penumbra::methods::adaptive::level_uniform;
-use penumbra::methods::AdaptiveParams;
-use penumbra::stages::twin::synthetic;
-use penumbra::stages::{
+use penumbra::research::gpu::structs::{GpuFrame, GpuSample};
+use penumbra::research::gpu::{readback, GpuContext};
+use penumbra::research::methods::adaptive::buffers::{AdaptiveBuffers, Level, LATTICE_POINTS};
+use penumbra::research::methods::adaptive::level_uniform;
+use penumbra::research::methods::AdaptiveParams;
+use penumbra::research::stages::twin::synthetic;
+use penumbra::research::stages::{
     neighbourhood::Neighbourhood, quad_count::QuadCount, reproject_count::ReprojectCount,
     subdivide::Subdivide,
 };
@@ -100,8 +100,8 @@ const LOCAL_SIDE: u32 = 256;
 /// the reproject_count twin), every other quad split; probe then tests the probes compact appended;
 /// weights normalises a fixed quadtree's leaves (area rule). Appends restart every iteration.
 pub fn local_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
-    use penumbra::render::gbuffer::GBufferPass;
-    use penumbra::stages::{
+    use penumbra::research::render::gbuffer::GBufferPass;
+    use penumbra::research::stages::{
         compact::{Compact, CompactInputs},
         probe::Probe,
         weights::{WeightsPass, RULE_AREA},
@@ -119,8 +119,11 @@ pub fn local_stages_alone(c: &mut Criterion, ctx: &GpuContext) {
         None,
     )
     .expect("adaptive buffers");
-    let counts =
-        penumbra::stages::twin::reproject_count::reproject_count(&quads, &e.masks, &e.gbuffer());
+    let counts = penumbra::research::stages::twin::reproject_count::reproject_count(
+        &quads,
+        &e.masks,
+        &e.gbuffer(),
+    );
     let (split_base, next_quads) = synthetic::split(&quads, |q| q % 2 == 0);
     let items: Vec<u32> = (0..side * side)
         .filter(|&p| e.geometry[p as usize])

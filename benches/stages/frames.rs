@@ -3,11 +3,11 @@
 //! groups: every frame measures every stage once.
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
-use penumbra::frame;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::gpu::{GpuContext, Stage};
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::gpu::{GpuContext, Stage};
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 use std::collections::{BTreeMap, HashMap};
 use std::time::Duration;
 
@@ -128,8 +128,8 @@ pub fn hybrid(c: &mut Criterion, ctx: &GpuContext, scene: Scene) {
     let mut plain = scene.clone();
     plain.render.shadow_map_size = 2048;
     let mut hybrid = scene;
-    hybrid.render.maps = penumbra::scene::MapKind::Hybrid;
-    hybrid.render.hybrid = penumbra::scene::HybridDef {
+    hybrid.render.maps = penumbra::research::scene::MapKind::Hybrid;
+    hybrid.render.hybrid = penumbra::research::scene::HybridDef {
         base: 2048,
         levels: 2,
         eps: 0.25,

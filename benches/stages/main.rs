@@ -21,7 +21,7 @@ mod raster_compute;
 mod scenes;
 
 use criterion::Criterion;
-use penumbra::gpu::GpuContext;
+use penumbra::research::gpu::GpuContext;
 
 fn main() {
     // Headless: the Vulkan loader probes Wayland, which prints an error line when this is unset.

@@ -2,13 +2,13 @@
 
 use crate::scenes;
 use criterion::{BenchmarkId, Criterion, Throughput};
-use penumbra::frame::camera_uniform;
-use penumbra::gpu::structs::GpuSample;
-use penumbra::gpu::{readback, GpuContext};
-use penumbra::render::gbuffer::GBufferPass;
-use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
-use penumbra::render::SceneGpu;
-use penumbra::scene::light::sample_view;
+use penumbra::research::frame::camera_uniform;
+use penumbra::research::gpu::structs::GpuSample;
+use penumbra::research::gpu::{readback, GpuContext};
+use penumbra::research::render::gbuffer::GBufferPass;
+use penumbra::research::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+use penumbra::research::render::SceneGpu;
+use penumbra::research::scene::light::sample_view;
 use std::time::{Duration, Instant};
 
 /// Maps recorded per submit: one array of this many layers is reused.

@@ -5,14 +5,14 @@
 //! (`penumbra assets fetch`), else on `default` (said in the benchmark's name).
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use penumbra::gpu::structs::{GpuRasterJob, GpuSample};
-use penumbra::gpu::{readback, GpuContext};
-use penumbra::methods::fixed_samples::{regular_points, Layout};
-use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
-use penumbra::render::SceneGpu;
-use penumbra::scene::light::sample_view;
-use penumbra::scene::Scene;
-use penumbra::stages::raster_compute::RasterCompute;
+use penumbra::research::gpu::structs::{GpuRasterJob, GpuSample};
+use penumbra::research::gpu::{readback, GpuContext};
+use penumbra::research::methods::fixed_samples::{regular_points, Layout};
+use penumbra::research::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+use penumbra::research::render::SceneGpu;
+use penumbra::research::scene::light::sample_view;
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::raster_compute::RasterCompute;
 use std::time::Instant;
 
 pub fn raster_compute(c: &mut Criterion, ctx: &GpuContext) {
@@ -93,7 +93,7 @@ pub fn raster_compute(c: &mut Criterion, ctx: &GpuContext) {
         });
         // Both rasters' last maps, texel by texel.
         let words = compute.read_words(ctx, maps).expect("read the chain");
-        let mut d = penumbra::stages::raster_compute::RasterDifference::default();
+        let mut d = penumbra::research::stages::raster_compute::RasterDifference::default();
         for (k, s) in samples.iter().enumerate() {
             let fixed: Vec<f32> =
                 readback::read_texture(ctx, &array.texture, k as u32, 4).expect("read a map");

@@ -1,6 +1,6 @@
 //! Synthetic scenes for the benches: built-in meshes only, so `cargo bench` needs no asset fetch.
 
-use penumbra::scene::Scene;
+use penumbra::research::scene::Scene;
 
 const HEAD: &str = r#"
 [camera]

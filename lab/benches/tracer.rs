@@ -3,9 +3,9 @@
 //! `cargo bench -p penumbra-lab --bench tracer -- --warm-up-time 1 --measurement-time 3`.
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
-use penumbra::frame;
-use penumbra::gpu::GpuContext;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::gpu::GpuContext;
+use penumbra::research::scene::Scene;
 use penumbra_lab::reference::truth::{ray_offset, surface_points};
 use penumbra_lab::reference::{trace_visibility, RefLight, ReferenceMode, Tracer};
 

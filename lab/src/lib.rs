@@ -1,10 +1,12 @@
 //! The lab over the penumbra engine: the CPU ground truth, metrics, run records, studies,
 //! charts and reports, the asset fetch and the `penumbra` binary's inputs.
 //!
-//! The engine's modules are re-exported under their own names, so lab code reads
-//! `crate::gpu`, `crate::scene`, … as before; the engine cannot name anything here.
+//! The engine's research façade (`penumbra::research`) is re-exported under its modules' names,
+//! so lab code reads `crate::gpu`, `crate::scene`, … as before; the engine cannot name anything
+//! here.
 
-pub use penumbra::{api, certify, frame, gpu, methods, render, scene, stages};
+pub use penumbra::api;
+pub use penumbra::research::{certify, frame, gpu, methods, render, scene, stages};
 pub use penumbra::{
     required_limits, version, Camera, Mesh, RectLight, SceneBuilder, ShadowRenderer, ShadowScene,
     Shadows, Visibility, LONG_VERSION, OPTIONAL_FEATURES,

@@ -32,7 +32,7 @@ pub fn suspend<T>(f: impl FnOnce() -> T) -> T {
 
 struct Bar(ProgressBar);
 
-impl penumbra::progress::Bar for Bar {
+impl penumbra::research::progress::Bar for Bar {
     fn inc(&self, delta: u64) {
         self.0.inc(delta);
     }
@@ -43,9 +43,8 @@ impl penumbra::progress::Bar for Bar {
 
 /// Draws the engine's progress with these bars.
 pub fn install() {
-    penumbra::progress::register(penumbra::progress::Progress {
+    penumbra::research::progress::register(penumbra::research::progress::Progress {
         bar: |len, what| Box::new(Bar(bar(len, what))),
-        suspend: |f| suspend(f),
         notice: |line| suspend(|| eprintln!("{line}")),
     });
 }

@@ -205,7 +205,7 @@ fn camera_values_get_their_own_messages() {
 
 #[test]
 fn empty_scene_names_are_refused() {
-    let builtins = penumbra::scene::builtin_names().join(", ");
+    let builtins = penumbra::research::scene::builtin_names().join(", ");
     let want = format!(
         "--scene \"\": empty; give a built-in scene ({builtins}) or a path to a scene TOML file"
     );

@@ -1,10 +1,10 @@
 //! The invariants of method.md §3 and the project's extensions, on small scenes.
 
 mod common;
-use penumbra::frame::{self, FrameResult};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::{AdaptiveParams, Criterion, Layout, Method, Scope, Weights};
-use penumbra::scene::Scene;
+use penumbra::research::frame::{self, FrameResult};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::{AdaptiveParams, Criterion, Layout, Method, Scope, Weights};
+use penumbra::research::scene::Scene;
 
 fn small(name: &str, extra: &[(&str, &str)]) -> Scene {
     let mut sets = vec![

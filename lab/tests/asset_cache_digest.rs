@@ -6,7 +6,7 @@
 #[macro_use]
 mod common;
 use common::temp_dir;
-use penumbra::scene::{MeshDirs, Scene};
+use penumbra::research::scene::{MeshDirs, Scene};
 use std::path::Path;
 
 /// One triangle, in OFF: not the pinned cow (182,966 bytes).

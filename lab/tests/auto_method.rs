@@ -4,10 +4,10 @@
 //! names, and says when a target is out of reach.
 
 mod common;
-use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 fn options() -> FrameOptions {
     FrameOptions {
@@ -120,7 +120,7 @@ fn auto_renders_its_choice_and_keeps_it() {
     let mut fixed_sets = sets.to_vec();
     fixed_sets.push(("shadow_map_size".into(), size.to_string()));
     let fixed_scene = Scene::load("overlapping-occluders", &fixed_sets).unwrap();
-    let fixed = penumbra::frame::render(
+    let fixed = penumbra::research::frame::render(
         ctx,
         &fixed_scene,
         &Method::parse(&format!("regular:n={n},layout=centred"), &[]).unwrap(),
@@ -173,9 +173,9 @@ fn auto_renders_its_choice_and_keeps_it() {
 /// met the target, and after a step down that missed, the cheapest grid that met it.
 #[test]
 fn auto_prices_maps_by_measure_or_by_texels() {
-    use penumbra::methods::auto::{At, Costs, Ladder};
-    use penumbra::methods::calibration::Class;
-    use penumbra::methods::estimate::Prediction;
+    use penumbra::research::methods::auto::{At, Costs, Ladder};
+    use penumbra::research::methods::calibration::Class;
+    use penumbra::research::methods::estimate::Prediction;
     let ctx = common::gpu();
     let scene = Scene::load(
         "overlapping-occluders",
@@ -317,7 +317,7 @@ fn auto_prices_each_scene_once_and_reports_what_it_took() {
 /// own least time per map (four maps of the light, three rounds after a warm-up).
 #[test]
 fn a_priced_2048_map_costs_at_least_its_raster_alone() {
-    use penumbra::stages::raster::Raster;
+    use penumbra::research::stages::raster::Raster;
     let ctx = common::gpu();
     let scene = Scene::load(
         "overlapping-occluders",
@@ -339,11 +339,18 @@ fn a_priced_2048_map_costs_at_least_its_raster_alone() {
         scene.render.shadow_map_budget_mib,
     )
     .unwrap();
-    let gpu = penumbra::render::SceneGpu::upload(ctx, &scene);
-    let raster_ms =
-        penumbra::stages::raster_timing::least_ms(ctx, &scene, &gpu, &[&raster], 2048, 4, 3)
-            .unwrap()[0]
-            / 4.0;
+    let gpu = penumbra::research::render::SceneGpu::upload(ctx, &scene);
+    let raster_ms = penumbra::research::stages::raster_timing::least_ms(
+        ctx,
+        &scene,
+        &gpu,
+        &[&raster],
+        2048,
+        4,
+        3,
+    )
+    .unwrap()[0]
+        / 4.0;
     println!("2048² map: priced {price} ms, raster alone {raster_ms} ms");
     assert!(
         price >= raster_ms,
@@ -360,9 +367,13 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     let ctx = common::gpu();
     let sets = [("resolution".to_string(), "96".to_string())];
     let scene = Scene::load("analytic-square", &sets).unwrap();
-    let pcss =
-        penumbra::frame::render(ctx, &scene, &Method::parse("pcss", &[]).unwrap(), options())
-            .unwrap();
+    let pcss = penumbra::research::frame::render(
+        ctx,
+        &scene,
+        &Method::parse("pcss", &[]).unwrap(),
+        options(),
+    )
+    .unwrap();
     let mut r = Renderer::new(
         ctx,
         &scene,
@@ -384,7 +395,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     let check = &rec["filter"]["checks"][0];
     // F is calibrated by the larger of the plane lights' two factors before it is held to T (and
     // the screen's 1.5 T), and the record reports the calibrated figure (docs/budget.md).
-    let k = penumbra::methods::calibration::PLANE.largest();
+    let k = penumbra::research::methods::calibration::PLANE.largest();
     let f = check["predicted_rmse"].as_f64().unwrap();
     assert!(
         check["accepted"] == true
@@ -434,7 +445,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
         "the settling frame's V is pcss's"
     );
     // Without candidates: the same grid, no check.
-    let alone = penumbra::frame::render(
+    let alone = penumbra::research::frame::render(
         ctx,
         &scene,
         &Method::parse("auto:target=0.03,cost=texels,filters=none,pixels=0", &[]).unwrap(),
@@ -460,7 +471,7 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     let mut reference_sets = sets.to_vec();
     reference_sets.push(("shadow_map_size".into(), rsize.to_string()));
     let reference_scene = Scene::load("analytic-square", &reference_sets).unwrap();
-    let grid = penumbra::frame::render(
+    let grid = penumbra::research::frame::render(
         ctx,
         &reference_scene,
         &Method::parse(&format!("regular:n={rn},layout=centred,estimate=on"), &[]).unwrap(),

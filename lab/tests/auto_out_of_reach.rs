@@ -4,10 +4,10 @@
 //! than the grid's try) compares two wall clocks, which the other tests' renders would share.
 
 mod common;
-use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 fn options() -> FrameOptions {
     FrameOptions {
@@ -33,8 +33,13 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     let sets = [("resolution".to_string(), "64".to_string())];
     let scene = Scene::load("grazing-ground", &sets).unwrap();
     let spec = "auto:target=0.03,max_n=4,max_size=1024,cost=texels,pixels=0";
-    let msm = penumbra::frame::render(ctx, &scene, &Method::parse("msm", &[]).unwrap(), options())
-        .unwrap();
+    let msm = penumbra::research::frame::render(
+        ctx,
+        &scene,
+        &Method::parse("msm", &[]).unwrap(),
+        options(),
+    )
+    .unwrap();
     let mut r = Renderer::new(ctx, &scene, &Method::parse(spec, &[]).unwrap()).unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
@@ -106,7 +111,7 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     );
     let mut grid_sets = sets.to_vec();
     grid_sets.push(("shadow_map_size".into(), size.to_string()));
-    let grid = penumbra::frame::render(
+    let grid = penumbra::research::frame::render(
         ctx,
         &Scene::load("grazing-ground", &grid_sets).unwrap(),
         &Method::parse(&format!("regular:n={n},layout=centred,estimate=on"), &[]).unwrap(),
@@ -196,7 +201,7 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
 
     // A point light: msm refuses it, so the default list leaves it out; naming it is an error.
     let point = Scene::load("point-edge", &sets).unwrap();
-    let p = penumbra::frame::render(
+    let p = penumbra::research::frame::render(
         ctx,
         &point,
         &Method::parse("auto:target=0.03,cost=texels,pixels=0", &[]).unwrap(),

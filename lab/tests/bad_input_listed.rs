@@ -5,8 +5,8 @@
 #[macro_use]
 mod common;
 use common::temp_dir;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 const BASE: &str = concat!(
     tiny_scene_head!(),
@@ -513,7 +513,7 @@ mod mesh_files {
 
     #[test]
     fn a_gzip_bomb_stops_at_the_cap() {
-        use penumbra::scene::MeshDirs;
+        use penumbra::research::scene::MeshDirs;
         use std::io::Write;
         let dir = temp_dir("listed_gzip_bomb");
         let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());

@@ -5,10 +5,10 @@
 #[macro_use]
 mod common;
 use common::{gpu, penumbra, temp_dir};
-use penumbra::frame;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 use penumbra_lab::studies::bench::fair::grid_n;
 use std::path::Path;
 

@@ -4,7 +4,7 @@
 
 mod common;
 use common::{ok, penumbra, temp_dir};
-use penumbra::methods::calibration::{CUBE, PLANE};
+use penumbra::research::methods::calibration::{CUBE, PLANE};
 
 /// One `estimate.jsonl` line: only the figures the calibration reads are set.
 fn line(scene: &str, measured: f64, sampling: f64, map: f64) -> String {
@@ -42,7 +42,7 @@ fn calibrate_reads_the_engines_factors_by_half() {
         "calibrate",
     );
     let md = String::from_utf8_lossy(&o.stdout);
-    let cal = |s: f64, m: f64, f: penumbra::methods::calibration::Factors| {
+    let cal = |s: f64, m: f64, f: penumbra::research::methods::calibration::Factors| {
         (f.sampling * s).hypot(f.map * m)
     };
     let (d, t, p) = (

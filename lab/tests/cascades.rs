@@ -3,13 +3,13 @@
 //! the study's and the method's bad input.
 
 mod common;
-use penumbra::frame::{frame_uniform, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::cascades::{split::Scheme, CascadeBuffers, CascadeMaps};
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
-use penumbra::stages::cascades::NO_CASCADE;
-use penumbra::stages::twin;
+use penumbra::research::frame::{frame_uniform, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::cascades::{split::Scheme, CascadeBuffers, CascadeMaps};
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::cascades::NO_CASCADE;
+use penumbra::research::stages::twin;
 use penumbra_lab::reference::truth::Cache;
 use penumbra_lab::reference::ReferenceMode;
 use penumbra_lab::studies::cascades::{self, CascadeJob};
@@ -112,7 +112,7 @@ fn the_maps_follow_the_camera_by_whole_texels() {
         );
         // A world point lands at texel coordinates that differ by whole texels between the two maps.
         let size = scene.render.shadow_map_size as f32;
-        let to_texel = |s: &penumbra::gpu::structs::GpuSample, p: glam::Vec3| {
+        let to_texel = |s: &penumbra::research::gpu::structs::GpuSample, p: glam::Vec3| {
             let c = glam::Mat4::from_cols_array_2d(&s.light_from_world) * p.extend(1.0);
             glam::Vec2::new(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5) * size
         };

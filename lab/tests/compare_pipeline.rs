@@ -3,7 +3,7 @@
 
 mod common;
 use common::temp_dir;
-use penumbra::gpu::stages::{Split, Stage};
+use penumbra::research::gpu::stages::{Split, Stage};
 use std::path::Path;
 use std::process::{Command, Output};
 

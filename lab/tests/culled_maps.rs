@@ -3,25 +3,25 @@
 //! bit-identical to the unculled frame under both rasters, with fewer triangles per map.
 
 mod common;
-use penumbra::frame::{frame_uniform, FrameOptions, Renderer};
-use penumbra::gpu::readback;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::adaptive::buffers::CULL_TILE_WORDS;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
-use penumbra::stages::twin;
+use penumbra::research::frame::{frame_uniform, FrameOptions, Renderer};
+use penumbra::research::gpu::readback;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::adaptive::buffers::CULL_TILE_WORDS;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::twin;
 
 /// Footprint over a random scene's G-buffer for 6 samples of the light, then cull from its tiles:
 /// the raised tiles equal the twin's (their limits within 4 ulps), and the kept triangles equal
 /// the cull twin's exactly.
 #[test]
 fn footprint_and_its_cull_equal_their_twins() {
-    use penumbra::gpu::structs::GpuSample;
-    use penumbra::render::gbuffer::{self, GBufferPass};
-    use penumbra::render::SceneGpu;
-    use penumbra::scene::light::sample_view;
-    use penumbra::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
-    use penumbra::stages::footprint::Footprint;
+    use penumbra::research::gpu::structs::GpuSample;
+    use penumbra::research::render::gbuffer::{self, GBufferPass};
+    use penumbra::research::render::SceneGpu;
+    use penumbra::research::scene::light::sample_view;
+    use penumbra::research::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
+    use penumbra::research::stages::footprint::Footprint;
     let ctx = common::gpu();
     let (mut raised, mut kept_all, mut culled_away) = (0usize, 0usize, 0usize);
     for seed in [2u64, 31] {

@@ -4,7 +4,7 @@
 
 mod common;
 use common::{gpu, temp_dir, SWEEP_SCENE};
-use penumbra::gpu::GpuContext;
+use penumbra::research::gpu::GpuContext;
 use std::path::Path;
 
 /// 4096² maps, 64 MiB each, as in the report that found the panic.
@@ -160,10 +160,10 @@ fn what_slips_past_the_plan_is_an_error_not_a_panic() {
 /// `regular:n=23,layout=centred` on the same map size, bit for bit (culling never changes V).
 #[test]
 fn regions_past_one_batch_of_culled_maps_renders_the_grid_it_forces() {
-    use penumbra::frame::{self, FrameResult};
-    use penumbra::gpu::timing::TimingMode;
-    use penumbra::methods::Method;
-    use penumbra::scene::Scene;
+    use penumbra::research::frame::{self, FrameResult};
+    use penumbra::research::gpu::timing::TimingMode;
+    use penumbra::research::methods::Method;
+    use penumbra::research::scene::Scene;
     let ctx = gpu();
     let sets = [
         ("resolution".to_string(), "32".to_string()),

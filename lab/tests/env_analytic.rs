@@ -6,8 +6,8 @@
 
 mod common;
 use glam::Vec3;
-use penumbra::scene::environment::panorama::band_solid_angle;
-use penumbra::scene::environment::{Environment, Panorama};
+use penumbra::research::scene::environment::panorama::band_solid_angle;
+use penumbra::research::scene::environment::{Environment, Panorama};
 use penumbra_lab::reference::environment::{self, PanoramaSampler};
 use penumbra_lab::reference::sampling::PixelRng;
 use penumbra_lab::reference::{SurfacePoint, Tracer};
@@ -196,13 +196,13 @@ fn env_pixels_beside_a_wall_meets_the_closed_form() {
                 [[mesh]]\nbuiltin = \"box\"\ntranslate = [-0.05, 0.5, 0.0]\nscale = [0.1, 1.0, 400.0]\n";
     let path = dir.join("wall.toml");
     std::fs::write(&path, text).unwrap();
-    let scene = penumbra::scene::Scene::load(path.to_str().unwrap(), &[]).unwrap();
-    let options = penumbra::frame::FrameOptions {
-        mode: penumbra::gpu::timing::TimingMode::Frame,
+    let scene = penumbra::research::scene::Scene::load(path.to_str().unwrap(), &[]).unwrap();
+    let options = penumbra::research::frame::FrameOptions {
+        mode: penumbra::research::gpu::timing::TimingMode::Frame,
         pictures: false,
     };
-    let method = penumbra::methods::Method::parse("env-pixels:res=64x32", &[]).unwrap();
-    let r = penumbra::frame::render(ctx, &scene, &method, options).unwrap();
+    let method = penumbra::research::methods::Method::parse("env-pixels:res=64x32", &[]).unwrap();
+    let r = penumbra::research::frame::render(ctx, &scene, &method, options).unwrap();
     let (mut worst, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);
     for i in 0..r.visibility.len() {
         let p = r.gbuffer.position[i];

@@ -4,12 +4,14 @@
 //! Counts are compared exactly; V within float rounding of the same sums.
 
 mod common;
-use penumbra::frame::{self, FrameOptions};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::environment::{pixels as env_pixels, shadowmaps as env_shadowmaps};
-use penumbra::methods::{ssao, Method};
-use penumbra::scene::Scene;
-use penumbra::stages::twin;
+use penumbra::research::frame::{self, FrameOptions};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::environment::{
+    pixels as env_pixels, shadowmaps as env_shadowmaps,
+};
+use penumbra::research::methods::{ssao, Method};
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::twin;
 use std::path::Path;
 
 /// A 64x32 sky: a gradient, dark below the horizon, and a 2x2 "sun" of 2000 at (u, v) ≈ (0.3, 0.25).

@@ -4,10 +4,10 @@
 
 mod common;
 use glam::Vec3;
-use penumbra::frame::{self, FrameResult};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame::{self, FrameResult};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 use penumbra_lab::reference::AnalyticSquareScene;
 
 fn run(scene: &Scene, spec: &str) -> FrameResult {

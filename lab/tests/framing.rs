@@ -2,7 +2,7 @@
 //! width growing with resolution and light size, and the charts written.
 
 mod common;
-use penumbra::scene::Scene;
+use penumbra::research::scene::Scene;
 use penumbra_lab::reference::truth::Cache;
 use penumbra_lab::reference::ReferenceMode;
 use penumbra_lab::studies::compare::methods_list;
@@ -94,11 +94,11 @@ fn framing_scales_the_emitter_the_reference_traces() {
         &[("shadow_map_size".to_string(), "256".to_string())],
     )
     .unwrap();
-    let penumbra::scene::Emitter::Disk(disk) = scene.emitter else {
+    let penumbra::research::scene::Emitter::Disk(disk) = scene.emitter else {
         panic!("disk-bar is not a disk")
     };
     let big = penumbra_lab::studies::framing::configure(&scene, 48, 2.0);
-    let penumbra::scene::Emitter::Disk(big_disk) = big.emitter else {
+    let penumbra::research::scene::Emitter::Disk(big_disk) = big.emitter else {
         panic!("the scaled disk-bar is not a disk")
     };
     assert_eq!(big_disk.radius, 2.0 * disk.radius);

@@ -7,8 +7,8 @@
 
 mod common;
 use glam::Vec3;
-use penumbra::frame;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::scene::Scene;
 use penumbra_lab::reference::Tracer;
 
 /// (pixels checked, pixels whose point lies behind another surface by more than `tol`, worst gap).

@@ -3,10 +3,10 @@
 
 mod common;
 use glam::Vec3;
-use penumbra::frame;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 /// Möller–Trumbore: does the segment origin → origin + dir (t in (0, 1)) hit the triangle?
 fn hits(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> bool {

@@ -4,15 +4,15 @@
 //! the same image through flushes.
 
 mod common;
-use penumbra::frame::{self, frame_uniform, FrameOptions};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::{fixed_samples, Method};
-use penumbra::scene::Scene;
-use penumbra::stages::hybrid_build::{CHILDREN, DEPTH_UNIT};
-use penumbra::stages::twin::{self, hybrid_build as hy};
+use penumbra::research::frame::{self, frame_uniform, FrameOptions};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::{fixed_samples, Method};
+use penumbra::research::scene::Scene;
+use penumbra::research::stages::hybrid_build::{CHILDREN, DEPTH_UNIT};
+use penumbra::research::stages::twin::{self, hybrid_build as hy};
 
 /// The test binary's shared GPU context.
-fn gpu() -> &'static penumbra::gpu::GpuContext {
+fn gpu() -> &'static penumbra::research::gpu::GpuContext {
     common::gpu()
 }
 

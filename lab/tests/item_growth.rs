@@ -5,10 +5,10 @@
 
 mod common;
 use common::{ok, penumbra, temp_dir};
-use penumbra::frame::Renderer;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame::Renderer;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 
 fn run_json(dir: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap()
@@ -104,7 +104,7 @@ fn the_slat_roof_overflows_a_fixed_list_and_completes_on_a_growing_one() {
     }
     // Level 4 at 512² needs more than one storage binding holds (on lavapipe's 128 MiB, 16,777,216
     // items): the list grows to that and the frame fails with an overflow that says so.
-    let max = penumbra::methods::adaptive::buffers::max_items(common::gpu());
+    let max = penumbra::research::methods::adaptive::buffers::max_items(common::gpu());
     let out = penumbra(&[
         "render",
         "--scene",
@@ -252,11 +252,13 @@ fn growth_settings_refuse_bad_values_in_one_line() {
 /// dispatch over the limit is dropped whole). Both equal their twin exactly, around each edge.
 #[test]
 fn list_dispatches_past_one_dimension_equal_their_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::{GpuControl, GpuSample};
-    use penumbra::methods::adaptive::buffers::{list_dispatch, AdaptiveBuffers, LATTICE_POINTS};
-    use penumbra::methods::adaptive::level_uniform;
-    use penumbra::stages::{probe::Probe, reproject_count::ReprojectCount};
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::{GpuControl, GpuSample};
+    use penumbra::research::methods::adaptive::buffers::{
+        list_dispatch, AdaptiveBuffers, LATTICE_POINTS,
+    };
+    use penumbra::research::methods::adaptive::level_uniform;
+    use penumbra::research::stages::{probe::Probe, reproject_count::ReprojectCount};
     let ctx = common::gpu();
     let b = AdaptiveBuffers::new(
         ctx,
@@ -267,7 +269,7 @@ fn list_dispatches_past_one_dimension_equal_their_twin() {
         None,
     )
     .unwrap();
-    let shape = penumbra::methods::adaptive::buffers::Shape {
+    let shape = penumbra::research::methods::adaptive::buffers::Shape {
         item_capacity: u32::MAX,
         ..b.shape
     };
@@ -275,7 +277,7 @@ fn list_dispatches_past_one_dimension_equal_their_twin() {
         ctx,
         "level",
         &level_uniform(
-            &penumbra::methods::AdaptiveParams::default(),
+            &penumbra::research::methods::AdaptiveParams::default(),
             shape,
             1,
             1,
@@ -333,8 +335,8 @@ fn list_dispatches_past_one_dimension_equal_their_twin() {
 /// (before the rows, a dispatch over the limit was dropped whole and level 3 added nothing).
 #[test]
 fn a_list_past_one_row_of_workgroups_equals_the_local_twin() {
-    use penumbra::frame::frame_uniform;
-    use penumbra::stages::twin;
+    use penumbra::research::frame::frame_uniform;
+    use penumbra::research::stages::twin;
     let ctx = common::gpu();
     let scene = Scene::load(
         "slat-roof",

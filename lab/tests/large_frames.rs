@@ -5,12 +5,12 @@
 
 mod common;
 use common::{penumbra, temp_dir};
-use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::size_plan::{Bound, DeviceBounds};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::gpu::{AdapterRequest, GpuContext};
-use penumbra::methods::{sizes, Method};
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, Renderer};
+use penumbra::research::gpu::size_plan::{Bound, DeviceBounds};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::gpu::{AdapterRequest, GpuContext};
+use penumbra::research::methods::{sizes, Method};
+use penumbra::research::scene::Scene;
 
 /// Holds a 128² frame's shade-block scratch (22 test blocks of 2 KiB: 45,056 bytes) but not its
 /// V (65,536 bytes) nor its lattice masks (655,360 bytes).

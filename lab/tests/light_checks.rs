@@ -4,8 +4,8 @@
 
 #[macro_use]
 mod common;
-use penumbra::scene::light_checks::MAX_LIGHT_DIAGONALS;
-use penumbra::scene::{builtin_names, Emitter, Scene};
+use penumbra::research::scene::light_checks::MAX_LIGHT_DIAGONALS;
+use penumbra::research::scene::{builtin_names, Emitter, Scene};
 
 /// A 30 × 30 ground (the builtin plane is one unit across) and a unit box on it (top at y = 1.5).
 const MESHES: &str = concat!(

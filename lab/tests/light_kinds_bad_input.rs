@@ -4,8 +4,8 @@
 
 #[macro_use]
 mod common;
-use penumbra::methods::{Method, REGISTRY};
-use penumbra::scene::{Emitter, LightKind, Scene};
+use penumbra::research::methods::{Method, REGISTRY};
+use penumbra::research::scene::{Emitter, LightKind, Scene};
 
 const HEAD: &str = concat!(
     unlit_scene_head!(),
@@ -50,7 +50,7 @@ fn each_kind_loads_with_its_shape() {
     let s = parse(DISK).unwrap();
     assert_eq!(
         s.emitter,
-        Emitter::Disk(penumbra::scene::DiskLight {
+        Emitter::Disk(penumbra::research::scene::DiskLight {
             center: glam::Vec3::new(0.0, 8.0, 0.0),
             normal: glam::Vec3::NEG_Y,
             radius: 1.0
@@ -251,11 +251,11 @@ fn the_methods_refuse_the_kinds_they_cannot_sample_as_docs_lights_md_lists() {
         doc.iter().map(|d| &d.0).collect::<Vec<_>>()
     );
     let reasons = [
-        penumbra::methods::ON_A_RECTANGLE,
-        penumbra::methods::FROM_THE_CENTRE,
-        penumbra::methods::PCSS_RECTANGLE,
-        penumbra::methods::cascades::SUN_ONLY,
-        penumbra::methods::ONE_MAP_PER_POINT,
+        penumbra::research::methods::ON_A_RECTANGLE,
+        penumbra::research::methods::FROM_THE_CENTRE,
+        penumbra::research::methods::PCSS_RECTANGLE,
+        penumbra::research::methods::cascades::SUN_ONLY,
+        penumbra::research::methods::ONE_MAP_PER_POINT,
     ];
     let mut refused = 0;
     for info in REGISTRY {

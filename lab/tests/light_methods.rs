@@ -3,10 +3,10 @@
 //! kind's closed-form scene.
 
 mod common;
-use penumbra::frame::{self, FrameResult};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::{LightKind, Scene};
+use penumbra::research::frame::{self, FrameResult};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::{LightKind, Scene};
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::ReferenceMode;
 
@@ -157,9 +157,9 @@ fn regular_on_the_sun_follows_the_reference_and_converges() {
 /// orthographic depth, direction and bias), as the disk's perspective maps do.
 #[test]
 fn shade_on_the_disk_and_sun_maps_equals_its_cpu_twin() {
-    use penumbra::frame::{frame_uniform, FrameOptions};
-    use penumbra::methods::fixed_samples::FixedBuffers;
-    use penumbra::stages::twin;
+    use penumbra::research::frame::{frame_uniform, FrameOptions};
+    use penumbra::research::methods::fixed_samples::FixedBuffers;
+    use penumbra::research::stages::twin;
     let ctx = common::gpu();
     for (name, orthographic) in [("disk-bar", 0u32), ("sun-edge", 1)] {
         let sc = scene(name);
@@ -309,9 +309,9 @@ fn the_single_map_methods_on_the_disk_and_sun_follow_the_reference() {
 /// the light's size) and on the disk's map equal their CPU twins.
 #[test]
 fn pcf_and_pcss_on_the_disk_and_sun_equal_their_cpu_twins() {
-    use penumbra::frame::{frame_uniform, FrameOptions};
-    use penumbra::methods::single_map::SingleMapBuffers;
-    use penumbra::stages::twin;
+    use penumbra::research::frame::{frame_uniform, FrameOptions};
+    use penumbra::research::methods::single_map::SingleMapBuffers;
+    use penumbra::research::stages::twin;
     let ctx = common::gpu();
     for name in ["disk-bar", "sun-edge"] {
         let sc = scene(name);
@@ -459,7 +459,7 @@ fn compare_runs_the_methods_on_the_disk_sun_and_spot_scenes() {
 #[test]
 fn the_spots_light_points_are_close_to_the_spheres_closed_form() {
     use glam::Vec3;
-    use penumbra::scene::Emitter;
+    use penumbra::research::scene::Emitter;
     use penumbra_lab::reference::analytic_lights::SphereOverEdge;
     let scene = scene("spot-edge");
     let Emitter::Spot(spot) = scene.emitter else {
@@ -520,7 +520,7 @@ fn the_spots_light_points_are_close_to_the_spheres_closed_form() {
 fn the_map_methods_on_the_spot_follow_the_reference() {
     let scene = scene("spot-edge");
     assert_eq!(scene.emitter.kind(), LightKind::Spot);
-    let penumbra::scene::Emitter::Spot(spot) = scene.emitter else {
+    let penumbra::research::scene::Emitter::Spot(spot) = scene.emitter else {
         unreachable!()
     };
     let mut reference: Option<Vec<f32>> = None;
@@ -683,9 +683,9 @@ fn the_filtered_maps_on_the_disk_sun_and_spot_follow_the_reference() {
 /// near and far) and on the spot's and the disk's perspective maps equal their CPU twins.
 #[test]
 fn the_filtered_stages_on_the_disk_sun_and_spot_equal_their_cpu_twins() {
-    use penumbra::frame::{frame_uniform, FrameOptions};
-    use penumbra::methods::single_map::SingleMapBuffers;
-    use penumbra::stages::twin;
+    use penumbra::research::frame::{frame_uniform, FrameOptions};
+    use penumbra::research::methods::single_map::SingleMapBuffers;
+    use penumbra::research::stages::twin;
     let ctx = common::gpu();
     let rel = |a: &[[f32; 4]], b: &[[f32; 4]]| {
         a.iter()

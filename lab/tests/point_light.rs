@@ -3,13 +3,13 @@
 //! rasters, V against the continuous reference on `point-edge`, and the seams study on `point-room`.
 
 mod common;
-use penumbra::frame::{self, frame_uniform, FrameOptions, FrameResult};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::fixed_samples::FixedBuffers;
-use penumbra::methods::single_map::SingleMapBuffers;
-use penumbra::methods::Method;
-use penumbra::scene::{LightKind, Scene};
-use penumbra::stages::twin;
+use penumbra::research::frame::{self, frame_uniform, FrameOptions, FrameResult};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::fixed_samples::FixedBuffers;
+use penumbra::research::methods::single_map::SingleMapBuffers;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::{LightKind, Scene};
+use penumbra::research::stages::twin;
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::ReferenceMode;
 
@@ -48,7 +48,7 @@ fn geometry(r: &FrameResult) -> Vec<usize> {
 fn pixels_per_face(
     sc: &Scene,
     r: &FrameResult,
-    s: &penumbra::gpu::structs::GpuSample,
+    s: &penumbra::research::gpu::structs::GpuSample,
 ) -> [usize; 6] {
     let mut n = [0usize; 6];
     for i in geometry(r) {
@@ -309,7 +309,7 @@ fn the_methods_on_point_edge_follow_the_reference() {
 /// against the 16×16 reference: hard 0.045 at 30 and 0.040 at 1000 (results/bad-input-census/).
 #[test]
 fn a_point_light_far_above_keeps_its_shadow() {
-    let source = penumbra::scene::builtin_source("point-edge").unwrap();
+    let source = penumbra::research::scene::builtin_source("point-edge").unwrap();
     for h in [30.0f32, 1000.0] {
         let text = source
             .replace(
@@ -513,16 +513,16 @@ fn the_seams_study_refuses_other_lights_and_bad_bands() {
 /// face that holds its direction.
 #[test]
 fn shadow_test_on_the_cube_faces_equals_its_twin() {
-    use penumbra::gpu::readback;
-    use penumbra::gpu::structs::GpuSample;
-    use penumbra::methods::adaptive::buffers::{
+    use penumbra::research::gpu::readback;
+    use penumbra::research::gpu::structs::GpuSample;
+    use penumbra::research::methods::adaptive::buffers::{
         AdaptiveBuffers, Requests, LATTICE_POINTS, LATTICE_SIDE,
     };
-    use penumbra::render::gbuffer::{self, GBufferPass};
-    use penumbra::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
-    use penumbra::render::SceneGpu;
-    use penumbra::stages::shade::ShadePass;
-    use penumbra::stages::shadow_test::{ShadowTest, TestFrame};
+    use penumbra::research::render::gbuffer::{self, GBufferPass};
+    use penumbra::research::render::shadow_raster::{self, RasterJob, ShadowRasterPass};
+    use penumbra::research::render::SceneGpu;
+    use penumbra::research::stages::shade::ShadePass;
+    use penumbra::research::stages::shadow_test::{ShadowTest, TestFrame};
     let ctx = common::gpu();
     let sets = [("resolution", "64"), ("shadow_map_size", "128")]
         .map(|(k, v)| (k.to_string(), v.to_string()));
@@ -563,10 +563,10 @@ fn shadow_test_on_the_cube_faces_equals_its_twin() {
         bytemuck::cast_slice(&[1u32; LATTICE_POINTS as usize]),
     );
     let g = GBufferPass::allocate(ctx, fr.width, fr.height).unwrap();
-    let shade = ShadePass::new(ctx, penumbra::gpu::kernels::MapAccess::Depth).unwrap();
+    let shade = ShadePass::new(ctx, penumbra::research::gpu::kernels::MapAccess::Depth).unwrap();
     let tiles = shade.tile_list(ctx, &g);
     let array = shadow_raster::allocate(ctx, sc.render.shadow_map_size, jobs.len() as u32);
-    let test = ShadowTest::new_cube(ctx, penumbra::gpu::kernels::MapAccess::Depth)
+    let test = ShadowTest::new_cube(ctx, penumbra::research::gpu::kernels::MapAccess::Depth)
         .expect("shadow_test kernels");
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     GBufferPass::new(ctx).unwrap().record(

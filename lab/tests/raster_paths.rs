@@ -4,10 +4,10 @@
 //! texels docs/gpu-frame.md §7 names (the 1/256-texel snap), so V must agree almost everywhere.
 
 mod common;
-use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::{Family, Method, REGISTRY};
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::{Family, Method, REGISTRY};
+use penumbra::research::scene::Scene;
 
 fn scene(text: &str, dir: &std::path::Path, raster: &str, extra: &[(&str, &str)]) -> Scene {
     let mut sets = vec![("raster".to_string(), raster.to_string())];
@@ -320,8 +320,8 @@ fn the_steered_frame_over_compute_maps_equals_the_waiting_loop() {
 /// is refused with one line naming the setting.
 #[test]
 fn compute_maps_stay_inside_the_budget() {
-    use penumbra::scene::CullMode;
-    use penumbra::stages::raster::{chain_maps, Raster};
+    use penumbra::research::scene::CullMode;
+    use penumbra::research::stages::raster::{chain_maps, Raster};
     let ctx = common::gpu();
     let (hardware, compute) = (
         Raster::new(ctx, CullMode::Back, false, 4).unwrap(),

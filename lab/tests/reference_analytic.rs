@@ -5,8 +5,8 @@
 
 mod common;
 use glam::Vec3;
-use penumbra::frame;
-use penumbra::scene::Scene;
+use penumbra::research::frame;
+use penumbra::research::scene::Scene;
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::{AnalyticSquareScene, ReferenceMode};
 
@@ -75,7 +75,10 @@ fn family() -> Vec<(&'static str, Scene, AnalyticSquareScene)> {
 }
 
 /// Ground pixels (y = 0, facing up) and their G-buffer positions, lifted to the ray origin.
-fn ground_pixels(g: &penumbra::render::gbuffer::GBufferCpu, offset: f32) -> Vec<(usize, Vec3)> {
+fn ground_pixels(
+    g: &penumbra::research::render::gbuffer::GBufferCpu,
+    offset: f32,
+) -> Vec<(usize, Vec3)> {
     (0..g.position.len())
         .filter(|&i| g.is_geometry(i) && g.position[i][1].abs() < 1e-4 && g.normal[i][1] > 0.99)
         .map(|i| (i, Vec3::from_slice(&g.position[i][..3]) + Vec3::Y * offset))

@@ -4,8 +4,8 @@
 
 mod common;
 use glam::{DVec3, Vec3};
-use penumbra::frame;
-use penumbra::scene::{Emitter, LightKind, Scene};
+use penumbra::research::frame;
+use penumbra::research::scene::{Emitter, LightKind, Scene};
 use penumbra_lab::reference::analytic_lights::{DiskOverBar, SphereOverEdge, SunOverEdge};
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::ReferenceMode;
@@ -55,7 +55,10 @@ fn exact(scene: &Scene) -> Box<dyn Fn(DVec3) -> f64> {
 }
 
 /// Ground pixels (y = 0, facing up) and their G-buffer positions, lifted to the ray origin.
-fn ground_pixels(g: &penumbra::render::gbuffer::GBufferCpu, offset: f32) -> Vec<(usize, Vec3)> {
+fn ground_pixels(
+    g: &penumbra::research::render::gbuffer::GBufferCpu,
+    offset: f32,
+) -> Vec<(usize, Vec3)> {
     (0..g.position.len())
         .filter(|&i| g.is_geometry(i) && g.position[i][1].abs() < 1e-4 && g.normal[i][1] > 0.99)
         .map(|i| (i, Vec3::from_slice(&g.position[i][..3]) + Vec3::Y * offset))
@@ -159,7 +162,7 @@ fn building_a_rectangle_method_on_another_kind_is_refused() {
     // The filtered maps run on the disk, the sun and the spot, not on the point's cube maps.
     let scene = Scene::load("point-edge", &[("resolution".into(), "32".into())]).unwrap();
     for spec in ["vsm", "esm", "csm"] {
-        let method = penumbra::methods::Method::parse(spec, &[]).unwrap();
+        let method = penumbra::research::methods::Method::parse(spec, &[]).unwrap();
         let e = frame::Renderer::new(ctx, &scene, &method)
             .err()
             .unwrap_or_else(|| panic!("{spec} built on a point light"))

@@ -2,11 +2,11 @@
 //! same renderer gives exactly the first frame's image, for every registered method.
 
 mod common;
-use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::gpu::Stage;
-use penumbra::methods::{Method, REGISTRY};
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::gpu::Stage;
+use penumbra::research::methods::{Method, REGISTRY};
+use penumbra::research::scene::Scene;
 
 #[test]
 fn later_frames_on_one_renderer_equal_the_first() {
@@ -58,7 +58,7 @@ fn later_frames_on_one_renderer_equal_the_first() {
     );
     for spec in &specs {
         let method = Method::parse(spec, &[]).unwrap();
-        let scene = if method.family() == penumbra::methods::Family::Environment {
+        let scene = if method.family() == penumbra::research::methods::Family::Environment {
             &env_scene
         } else if spec == "cascades" {
             &sun_scene
@@ -211,7 +211,7 @@ fn a_renderer_moved_to_another_scene_equals_a_new_one() {
     ];
     for spec in specs {
         let method = Method::parse(spec, &[]).unwrap();
-        let scenes = if method.family() == penumbra::methods::Family::Environment {
+        let scenes = if method.family() == penumbra::research::methods::Family::Environment {
             &lit
         } else {
             &plain
@@ -219,7 +219,7 @@ fn a_renderer_moved_to_another_scene_equals_a_new_one() {
         let mut kept = None;
         for (k, scene) in scenes.iter().enumerate() {
             let mut moved = match kept.take() {
-                Some(d) => penumbra::frame::Detached::attach(d, ctx, scene).unwrap(),
+                Some(d) => penumbra::research::frame::Detached::attach(d, ctx, scene).unwrap(),
                 None => Renderer::new(ctx, scene, &method).unwrap(),
             };
             let got = moved.frame(options).unwrap();

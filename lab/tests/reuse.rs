@@ -6,12 +6,12 @@
 
 #[macro_use]
 mod common;
-use penumbra::frame::{Detached, FrameOptions, FrameResult, Renderer};
-use penumbra::gpu::readback;
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::fixed_samples::FixedBuffers;
-use penumbra::methods::{Method, REGISTRY};
-use penumbra::scene::Scene;
+use penumbra::research::frame::{Detached, FrameOptions, FrameResult, Renderer};
+use penumbra::research::gpu::readback;
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::fixed_samples::FixedBuffers;
+use penumbra::research::methods::{Method, REGISTRY};
+use penumbra::research::scene::Scene;
 use penumbra_lab::studies::sequence::path::{Animation, Path, Subject};
 
 const FRAMES: u32 = 3;
@@ -59,7 +59,7 @@ fn paths() -> [(&'static str, Animation); 3] {
 
 /// A frame of `scene` on the renderer `kept` left (or a new one), and what it leaves.
 fn frame_on<'a>(
-    ctx: &'a penumbra::gpu::GpuContext,
+    ctx: &'a penumbra::research::gpu::GpuContext,
     scene: &'a Scene,
     method: &Method,
     kept: Option<Detached>,
@@ -98,7 +98,8 @@ fn reuse_changes_no_pixel_on_any_path() {
         .iter()
         .map(|m| Method::parse(m.name, &[]).unwrap())
         .filter(|m| {
-            m.family() != penumbra::methods::Family::Environment && m.check_light(&base).is_ok()
+            m.family() != penumbra::research::methods::Family::Environment
+                && m.check_light(&base).is_ok()
         })
         .map(|m| m.label())
         .filter(|l| l != "auto")
@@ -248,7 +249,12 @@ fn a_full_cache_evicts_and_changes_no_pixel() {
 }
 
 /// The maps' layers of `owner` after a frame, as u32 words.
-fn layers(ctx: &penumbra::gpu::GpuContext, d: &Detached, owner: &str, maps: u32) -> Vec<Vec<u32>> {
+fn layers(
+    ctx: &penumbra::research::gpu::GpuContext,
+    d: &Detached,
+    owner: &str,
+    maps: u32,
+) -> Vec<Vec<u32>> {
     d.maps_kept().with_kept(owner, |k| {
         let k = k.expect("kept maps");
         (0..maps)
@@ -392,9 +398,9 @@ fn a_held_decision_splits_only_what_it_split_before() {
                 None => Renderer::new(ctx, scene, &method).unwrap(),
             };
             r.frame(options()).unwrap();
-            let trace: penumbra::methods::adaptive::AdaptiveTrace =
+            let trace: penumbra::research::methods::adaptive::AdaptiveTrace =
                 r.inspect().unwrap().expect("a trace");
-            let bits = penumbra::methods::adaptive::split_quads(&trace.levels);
+            let bits = penumbra::research::methods::adaptive::split_quads(&trace.levels);
             sets.push(
                 (0..341u32)
                     .filter(|&n| (bits[(n / 32) as usize] >> (n % 32)) & 1 == 1)

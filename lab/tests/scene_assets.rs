@@ -6,7 +6,7 @@
 mod common;
 use common::{penumbra, temp_dir};
 use glam::Vec3;
-use penumbra::scene::{MeshDirs, Scene};
+use penumbra::research::scene::{MeshDirs, Scene};
 use std::path::Path;
 
 const HEAD: &str = tiny_scene_head!();
@@ -218,7 +218,7 @@ fn instances_place_copies_after_the_mesh_transform() {
     .unwrap();
     assert_eq!(scene.triangle_count(), 24);
     let (first, second) = scene.vertices.split_at(24);
-    let c = |vs: &[penumbra::scene::Vertex]| {
+    let c = |vs: &[penumbra::research::scene::Vertex]| {
         vs.iter().map(|v| Vec3::from(v.position)).sum::<Vec3>() / vs.len() as f32
     };
     // Scale 2 applies after the translate: the box's centre goes from y = 0.5 to y = 1.

@@ -3,7 +3,7 @@
 
 mod common;
 use common::{penumbra, temp_dir};
-use penumbra::scene::{builtin_names, builtin_source, catalog, Scene};
+use penumbra::research::scene::{builtin_names, builtin_source, catalog, Scene};
 use std::path::Path;
 use std::process::Command;
 

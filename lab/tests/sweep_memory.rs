@@ -4,10 +4,10 @@
 //! a grid over `--max-configs` is refused before anything runs.
 
 mod common;
-use penumbra::frame::{FrameOptions, Renderer};
-use penumbra::gpu::timing::TimingMode;
-use penumbra::methods::Method;
-use penumbra::scene::Scene;
+use penumbra::research::frame::{FrameOptions, Renderer};
+use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::Method;
+use penumbra::research::scene::Scene;
 use penumbra_lab::record::measure::{self, WINDOW};
 use std::path::Path;
 use std::process::Command;

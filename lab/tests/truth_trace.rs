@@ -7,9 +7,9 @@
 //! every count is equal, and the tests hold them so.
 
 mod common;
-use penumbra::certify::truth::{self as gpu_truth, TruthSamples, TruthTracer};
-use penumbra::frame;
-use penumbra::scene::Scene;
+use penumbra::research::certify::truth::{self as gpu_truth, TruthSamples, TruthTracer};
+use penumbra::research::frame;
+use penumbra::research::scene::Scene;
 use penumbra_lab::reference::truth::{self, Cache};
 use penumbra_lab::reference::ReferenceMode;
 

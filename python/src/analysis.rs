@@ -3,9 +3,9 @@
 //! parses it, and the two laws the results' analyses replay (`auto::predicted_at`,
 //! `regions::half_octave`).
 
-use penumbra::methods::calibration::{self, Class, Factors};
-use penumbra::methods::estimate::Prediction;
-use penumbra::methods::{auto, regions, Method};
+use penumbra::research::methods::calibration::{self, Class, Factors};
+use penumbra::research::methods::estimate::Prediction;
+use penumbra::research::methods::{auto, regions, Method};
 use penumbra_lab::studies::calibration::{COVERAGE_PERCENT, SPLIT};
 use penumbra_lab::studies::frontier::budget;
 use pyo3::prelude::*;
@@ -102,7 +102,7 @@ pub fn regions_half_octave(want: f32) -> u32 {
 /// footprint a frame takes under a scene's bias (in texels).
 #[pyfunction]
 pub fn regions_density_floor(constant: f32, slope: f32, normal_offset: f32) -> f32 {
-    let bias = penumbra::scene::BiasDef {
+    let bias = penumbra::research::scene::BiasDef {
         constant,
         slope,
         normal_offset,

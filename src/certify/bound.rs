@@ -37,7 +37,7 @@ impl BoundKind {
 pub const STRETCH: f64 = 1.05;
 
 /// The mean and the sample standard deviation of `w`.
-pub fn mean_sd(w: &[f64]) -> (f64, f64) {
+pub(crate) fn mean_sd(w: &[f64]) -> (f64, f64) {
     let n = w.len() as f64;
     if w.is_empty() {
         return (0.0, 0.0);
@@ -52,7 +52,7 @@ pub fn mean_sd(w: &[f64]) -> (f64, f64) {
 }
 
 /// The one-sided Student t upper bound on the mean at confidence 1 − δ.
-pub fn student_t(w: &[f64], delta: f64) -> f64 {
+pub(crate) fn student_t(w: &[f64], delta: f64) -> f64 {
     let (mean, sd) = mean_sd(w);
     if w.len() < 2 {
         return f64::INFINITY;
@@ -62,7 +62,7 @@ pub fn student_t(w: &[f64], delta: f64) -> f64 {
 }
 
 /// The calibrated bound on the RMSE: [`STRETCH`] × sqrt of the Student t bound on the MSE.
-pub fn calibrated(w: &[f64], delta: f64) -> f64 {
+pub(crate) fn calibrated(w: &[f64], delta: f64) -> f64 {
     STRETCH * student_t(w, delta).max(0.0).sqrt()
 }
 
@@ -73,7 +73,7 @@ const MAX_BET: f64 = 0.75;
 /// 1 − δ: the least m at which the capital of betting against "the mean is m" reaches 1/δ
 /// (Waudby-Smith & Ramdas 2020, the hedged capital process's one side, with their predictable
 /// plug-in bets). The draws must be independent and in the order drawn.
-pub fn betting(w: &[f64], range: f64, delta: f64) -> f64 {
+pub(crate) fn betting(w: &[f64], range: f64, delta: f64) -> f64 {
     if w.is_empty() || range <= 0.0 {
         return range.max(0.0);
     }
@@ -114,7 +114,7 @@ pub fn betting(w: &[f64], range: f64, delta: f64) -> f64 {
 }
 
 /// The p-quantile of Student's t with `df` degrees of freedom (bisection on its CDF).
-pub fn t_quantile(p: f64, df: f64) -> f64 {
+pub(crate) fn t_quantile(p: f64, df: f64) -> f64 {
     if p == 0.5 {
         return 0.0;
     }
@@ -137,7 +137,7 @@ pub fn t_quantile(p: f64, df: f64) -> f64 {
 }
 
 /// Student's t CDF.
-pub fn t_cdf(t: f64, df: f64) -> f64 {
+pub(crate) fn t_cdf(t: f64, df: f64) -> f64 {
     let x = df / (df + t * t);
     let tail = 0.5 * incomplete_beta(x, 0.5 * df, 0.5);
     if t >= 0.0 {
@@ -148,7 +148,7 @@ pub fn t_cdf(t: f64, df: f64) -> f64 {
 }
 
 /// The regularised incomplete beta function I_x(a, b) (continued fraction, modified Lentz).
-pub fn incomplete_beta(x: f64, a: f64, b: f64) -> f64 {
+pub(crate) fn incomplete_beta(x: f64, a: f64, b: f64) -> f64 {
     if x <= 0.0 {
         return 0.0;
     }

@@ -20,19 +20,19 @@ pub struct Design {
     cumulative: Vec<f64>,
     /// The largest weight 1/(N q_p) over the subset: the range of w for the per-frame bound.
     max_weight: f64,
-    pub defensive: f64,
+    pub(crate) defensive: f64,
 }
 
 /// K drawn pixels: frame indices in draw order (repeats possible) and each draw's weight 1/(N q).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Draw {
-    pub pixels: Vec<u32>,
-    pub weights: Vec<f64>,
+    pub(crate) pixels: Vec<u32>,
+    pub(crate) weights: Vec<f64>,
 }
 
 impl Draw {
     /// Each pixel once, ascending: what the truth is traced at.
-    pub fn unique(&self) -> Vec<u32> {
+    pub(crate) fn unique(&self) -> Vec<u32> {
         let mut u = self.pixels.clone();
         u.sort_unstable();
         u.dedup();
@@ -96,12 +96,12 @@ impl Design {
     }
 
     /// N: the pixels the bound is over.
-    pub fn pixel_count(&self) -> usize {
+    pub(crate) fn pixel_count(&self) -> usize {
         self.pixels.len()
     }
 
     /// The range of a draw's weighted squared error (e² ≤ 1).
-    pub fn max_weight(&self) -> f64 {
+    pub(crate) fn max_weight(&self) -> f64 {
         self.max_weight
     }
 
@@ -190,7 +190,7 @@ pub fn band(v: &[f32], subset: &[bool], width: u32, height: u32, dilate: u32) ->
 /// The proxy from several parts: each scaled to sum 1 over the subset (a part that is zero
 /// everywhere adds nothing), then added. Parts are truth-free: a candidate's band, the estimate's
 /// per-pixel bound, the spread |V_a − V_b| between two candidates.
-pub fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
+pub(crate) fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
     let mut out = vec![0.0f32; subset.len()];
     for part in parts {
         let total: f64 = part
@@ -212,7 +212,7 @@ pub fn proxy(parts: &[&[f32]], subset: &[bool]) -> Vec<f32> {
 }
 
 /// |a − b| per pixel (0 off the subset): where two candidates disagree, one of them errs.
-pub fn spread(a: &[f32], b: &[f32], subset: &[bool]) -> Vec<f32> {
+pub(crate) fn spread(a: &[f32], b: &[f32], subset: &[bool]) -> Vec<f32> {
     a.iter()
         .zip(b)
         .zip(subset)

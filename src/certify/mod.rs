@@ -13,8 +13,8 @@
 //!    serves every candidate of a frame, since the draws do not depend on the candidate.
 //!
 //! ```no_run
-//! # fn f(ctx: &penumbra::gpu::GpuContext, scene: &penumbra::scene::Scene, g: &penumbra::render::gbuffer::GBufferCpu, v: &[f32], class: &[bool]) -> penumbra::Result<()> {
-//! use penumbra::certify::{self, design, truth::TruthTracer, Options};
+//! # fn f(ctx: &penumbra::research::gpu::GpuContext, scene: &penumbra::research::scene::Scene, g: &penumbra::research::render::gbuffer::GBufferCpu, v: &[f32], class: &[bool]) -> penumbra::Result<()> {
+//! use penumbra::research::certify::{self, design, truth::TruthTracer, Options};
 //! let tracer = TruthTracer::new(ctx, scene)?;
 //! // The bound over one class of pixels (a per-region decision): its mask is the subset, and the
 //! // candidate's own band the proxy.
@@ -27,19 +27,19 @@
 //! # Ok(()) }
 //! ```
 
-pub mod bound;
-pub mod design;
-pub mod truth;
+pub(crate) mod bound;
+pub(crate) mod design;
+pub(crate) mod truth;
 
 use crate::gpu::GpuContext;
 use crate::render::gbuffer::GBufferCpu;
 use crate::{Error, Result};
 use bound::BoundKind;
 use design::{Design, Draw};
-use truth::{TruthCounts, TruthSamples, TruthTracer};
+use truth::{TruthCounts, TruthTracer};
 
 /// K, the drawn pixels, by default.
-pub const DEFAULT_PIXELS: usize = 2048;
+pub(crate) const DEFAULT_PIXELS: usize = 2048;
 /// δ: the bound holds with probability at least 1 − δ.
 pub const DEFAULT_DELTA: f64 = 0.05;
 
@@ -110,20 +110,20 @@ impl std::fmt::Display for OptionsError {
 /// The exact truth at a draw's pixels.
 #[derive(Clone, Debug)]
 pub struct Sampled {
-    pub draw: Draw,
+    pub(crate) draw: Draw,
     /// The drawn pixels once each, ascending, and V there.
-    pub unique: Vec<u32>,
-    pub truth: Vec<f32>,
+    pub(crate) unique: Vec<u32>,
+    pub(crate) truth: Vec<f32>,
     /// The trace's rays and ties, and its wall clock (None: the values came from elsewhere).
-    pub trace: Option<TraceFigures>,
+    pub(crate) trace: Option<TraceFigures>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct TraceFigures {
-    pub rays: u64,
-    pub ties: u64,
-    pub ms: f64,
-    pub samples_per_pixel: u32,
+pub(crate) struct TraceFigures {
+    pub(crate) rays: u64,
+    pub(crate) ties: u64,
+    pub(crate) ms: f64,
+    pub(crate) samples_per_pixel: u32,
 }
 
 impl Sampled {
@@ -157,7 +157,7 @@ impl Sampled {
     }
 
     /// V_true at a drawn pixel.
-    pub fn truth_at(&self, pixel: u32) -> f32 {
+    pub(crate) fn truth_at(&self, pixel: u32) -> f32 {
         self.truth[self.unique.binary_search(&pixel).expect("a drawn pixel")]
     }
 }
@@ -194,18 +194,18 @@ pub struct Certificate {
     pub bound_kind: BoundKind,
     /// Every bound, whichever is `bound`: distribution-free, calibrated, and plain Student t.
     pub per_frame_bound: f64,
-    pub calibrated_bound: f64,
+    pub(crate) calibrated_bound: f64,
     pub student_t_bound: f64,
     /// The calibrated bound's stretch of the t bound.
-    pub stretch: f64,
+    pub(crate) stretch: f64,
     /// N: the pixels the bound is over; the design's uniform share and largest weight.
-    pub subset_pixels: usize,
-    pub defensive: f64,
-    pub max_weight: f64,
+    pub(crate) subset_pixels: usize,
+    pub(crate) defensive: f64,
+    pub(crate) max_weight: f64,
 }
 
 /// The weighted squared errors of `v` at the draws: e² / (N q) each, in draw order.
-pub fn weighted_errors(v: &[f32], sampled: &Sampled) -> Vec<f64> {
+pub(crate) fn weighted_errors(v: &[f32], sampled: &Sampled) -> Vec<f64> {
     sampled
         .draw
         .pixels
@@ -254,16 +254,11 @@ pub fn certificate(
 /// The bound a decision against target `t` stands by: the per-frame one where even its floor
 /// (no error seen in K draws) is at most half of t, so it can certify t; the calibrated one
 /// elsewhere. Decided from t, K, δ and the design alone, never from the draws.
-pub fn kind_for_target(t: f64, pixels: usize, delta: f64, max_weight: f64) -> BoundKind {
+pub(crate) fn kind_for_target(t: f64, pixels: usize, delta: f64, max_weight: f64) -> BoundKind {
     let floor = bound::betting(&vec![0.0; pixels], max_weight, delta).sqrt();
     if floor <= 0.5 * t {
         BoundKind::PerFrame
     } else {
         BoundKind::Calibrated
     }
-}
-
-/// The truth's samples: the reference's default, which every certificate traces.
-pub fn reference_samples() -> TruthSamples {
-    truth::REFERENCE_SAMPLES
 }

@@ -20,7 +20,7 @@ use std::time::Instant;
 
 /// Shadow rays stop at `dist · (1 − LIGHT_END_EPS)`, so an emitter that is itself scene geometry
 /// does not shadow its own samples (the lab's reference uses the same constant).
-pub const LIGHT_END_EPS: f32 = 1e-4;
+pub(crate) const LIGHT_END_EPS: f32 = 1e-4;
 /// The reference's default samples: 32 × 32 stratified, seed 0x5eed (method.md §5).
 pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous {
     m: 32,
@@ -28,13 +28,13 @@ pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous {
 };
 /// Points per dispatch: a real GPU's watchdog never sees a long one, and progress is reported
 /// between them.
-pub const CHUNK_POINTS: usize = 16384;
+pub(crate) const CHUNK_POINTS: usize = 16384;
 
 /// The light as the reference samples it: the rectangle; a disk; the sun (a disk of directions
 /// of radius `tan_half`, rays `reach` long); a sphere seen from each receiver (the point light,
 /// and the spot, whose cone scales lighting, not V).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TruthLight {
+pub(crate) enum TruthLight {
     Rect {
         center: Vec3,
         edge_u: Vec3,
@@ -84,7 +84,7 @@ pub fn unsupported(scene: &Scene) -> Option<&'static str> {
 
 impl TruthLight {
     /// The scene's light, as the reference samples it; an environment scene is refused.
-    pub fn of_scene(scene: &Scene) -> Result<TruthLight> {
+    pub(crate) fn of_scene(scene: &Scene) -> Result<TruthLight> {
         if let Some(why) = unsupported(scene) {
             return Err(Error::Param(format!("{}: {why}", scene.origin)));
         }
@@ -180,7 +180,7 @@ pub fn point_of(g: &GBufferCpu, pixel: u32) -> GpuTruthPoint {
 /// What a trace found at each point, in the order given.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TruthCounts {
-    pub counts: Vec<GpuTruthCount>,
+    pub(crate) counts: Vec<GpuTruthCount>,
     pub samples_per_pixel: u32,
     /// Wall clock of the trace (upload, dispatches, read-back), ms.
     pub ms: f64,
@@ -210,7 +210,6 @@ pub struct TruthTracer {
     ray_offset: f32,
     /// Wall clock of the BVH build and upload, ms.
     pub build_ms: f64,
-    pub triangle_count: usize,
 }
 
 impl TruthTracer {
@@ -226,7 +225,7 @@ impl TruthTracer {
     }
 
     /// A tracer over any triangle soup (tests, tools).
-    pub fn from_triangles(
+    pub(crate) fn from_triangles(
         ctx: &GpuContext,
         triangles: &[[Vec3; 3]],
         light: TruthLight,
@@ -274,12 +273,7 @@ impl TruthTracer {
             light,
             ray_offset,
             build_ms: start.elapsed().as_secs_f64() * 1e3,
-            triangle_count: bvh.source.len(),
         })
-    }
-
-    pub fn light(&self) -> TruthLight {
-        self.light
     }
 
     /// The counts at `points` under `samples`; `progress(done)` after each chunk of points.

@@ -72,16 +72,16 @@ pub fn proxy(
 pub struct CertifyRecord {
     #[serde(flatten)]
     pub certificate: Certificate,
-    pub proxy: ProxyKind,
+    pub(crate) proxy: ProxyKind,
     /// The exact pixels' trace: rays, ties, samples per pixel and its wall clock.
-    pub trace: TraceFigures,
+    pub(crate) trace: TraceFigures,
     /// Wall clock of the pixels: the proxy, the draw, the trace and the bounds, ms. Apart from it,
     /// what a scene pays once (its first certificate; 0 on the others): the second opinion's
     /// frame (its renderer built) and the truth tracer's BVH build and upload.
     pub pixels_ms: f64,
     pub second_opinion_ms: f64,
     pub bvh_ms: f64,
-    pub clock: &'static str,
+    pub(crate) clock: &'static str,
 }
 
 /// Certifies the frames of one scene.

@@ -4,7 +4,7 @@
 
 /// A certified bound on any frame's RMSE (docs/certify.md): it renders a second opinion, so it sits
 /// above the methods, beside the renderer it certifies.
-pub mod certify;
+pub(crate) mod certify;
 
 use crate::gpu::kernels::MapAccess;
 use crate::gpu::structs::{GpuCamera, GpuFrame};
@@ -98,8 +98,8 @@ pub struct FrameResult {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct RasterUsed {
     pub used: &'static str,
-    pub setting: crate::scene::RasterChoice,
-    pub auto: Option<crate::stages::raster_auto::AutoTiming>,
+    pub(crate) setting: crate::scene::RasterChoice,
+    pub(crate) auto: Option<crate::stages::raster_auto::AutoTiming>,
 }
 
 pub fn frame_uniform(scene: &Scene) -> GpuFrame {

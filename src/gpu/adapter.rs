@@ -5,10 +5,10 @@
 use crate::{Error, Result};
 
 /// The G-buffer's position and normal format: adapters must render to it (render::gbuffer).
-pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub(crate) const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// How to install a Vulkan driver on Debian/Ubuntu; every "no usable adapter" message ends with it.
-pub const INSTALL_HINT: &str = "install the Vulkan driver with `bash scripts/setup.sh` \
+pub(crate) const INSTALL_HINT: &str = "install the Vulkan driver with `bash scripts/setup.sh` \
 (on Debian/Ubuntu it installs mesa-vulkan-drivers and libvulkan1: lavapipe, Mesa's CPU Vulkan device)";
 
 /// The backend the user asked for (`--backend`).
@@ -24,7 +24,7 @@ pub enum BackendChoice {
 }
 
 impl BackendChoice {
-    pub const NAMES: [&'static str; 5] = ["auto", "vulkan", "gl", "metal", "dx12"];
+    pub(crate) const NAMES: [&'static str; 5] = ["auto", "vulkan", "gl", "metal", "dx12"];
 
     pub fn parse(s: &str) -> Result<Self> {
         Ok(match s.trim().to_ascii_lowercase().as_str() {
@@ -54,7 +54,7 @@ impl BackendChoice {
         }
     }
 
-    pub fn backends(self) -> wgpu::Backends {
+    pub(crate) fn backends(self) -> wgpu::Backends {
         match self {
             Self::Auto => wgpu::Backends::all(),
             Self::Vulkan => wgpu::Backends::VULKAN,
@@ -76,16 +76,16 @@ pub struct AdapterRequest {
 
 /// One adapter as the chooser sees it.
 #[derive(Clone, Debug)]
-pub struct Candidate {
-    pub name: String,
-    pub backend: wgpu::Backend,
-    pub device_type: wgpu::DeviceType,
+pub(crate) struct Candidate {
+    pub(crate) name: String,
+    pub(crate) backend: wgpu::Backend,
+    pub(crate) device_type: wgpu::DeviceType,
     /// What the pipeline needs that this adapter lacks; empty when usable.
-    pub missing: Vec<String>,
+    pub(crate) missing: Vec<String>,
 }
 
 impl Candidate {
-    pub fn of(adapter: &wgpu::Adapter) -> Self {
+    pub(crate) fn of(adapter: &wgpu::Adapter) -> Self {
         let info = adapter.get_info();
         Self {
             name: info.name,
@@ -102,13 +102,13 @@ impl Candidate {
 
 /// The adapter chosen (index into the candidates) and the reason, for `penumbra info` and run.json.
 #[derive(Clone, Debug)]
-pub struct Choice {
-    pub index: usize,
-    pub reason: String,
+pub(crate) struct Choice {
+    pub(crate) index: usize,
+    pub(crate) reason: String,
 }
 
 /// What the pipeline needs beyond the WebGPU baseline, checked before any pipeline is built.
-pub fn missing_capabilities(adapter: &wgpu::Adapter) -> Vec<String> {
+pub(crate) fn missing_capabilities(adapter: &wgpu::Adapter) -> Vec<String> {
     let mut missing = Vec::new();
     let down = adapter.get_downlevel_capabilities();
     if !down.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
@@ -161,7 +161,7 @@ fn wanted(req: &AdapterRequest, c: &Candidate) -> bool {
 }
 
 /// Picks the best usable adapter for `req`, or says exactly why there is none.
-pub fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> {
+pub(crate) fn choose(candidates: &[Candidate], req: &AdapterRequest) -> Result<Choice> {
     let seen = if candidates.is_empty() {
         "none".to_string()
     } else {

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 /// The largest device-local memory heap, in bytes: one allocation (a texture array, a buffer)
 /// must fit in one heap. wgpu does not report it, so it is read from Vulkan through wgpu-hal; None
 /// on other backends. lavapipe reports one heap of 2 GiB, whatever the host's memory.
-pub fn largest_heap(adapter: &wgpu::Adapter) -> Option<u64> {
+pub(crate) fn largest_heap(adapter: &wgpu::Adapter) -> Option<u64> {
     // SAFETY: the hal adapter is only read (its instance and physical device), never destroyed,
     // and the guard is dropped before this returns.
     let hal = unsafe { adapter.as_hal::<wgpu::hal::api::Vulkan>() }?;
@@ -27,11 +27,11 @@ pub fn largest_heap(adapter: &wgpu::Adapter) -> Option<u64> {
 }
 
 /// The first error no scope caught, kept for the next `GpuContext::wait` to return.
-pub type Uncaptured = Arc<Mutex<Option<String>>>;
+pub(crate) type Uncaptured = Arc<Mutex<Option<String>>>;
 
 /// Replaces wgpu's default handler (a panic, exit 101) on a device this crate requested: the
 /// first error is kept, one line, and the next wait returns it.
-pub fn keep_uncaptured(device: &wgpu::Device) -> Uncaptured {
+pub(crate) fn keep_uncaptured(device: &wgpu::Device) -> Uncaptured {
     let slot: Uncaptured = Arc::default();
     let kept = slot.clone();
     device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -43,7 +43,7 @@ pub fn keep_uncaptured(device: &wgpu::Device) -> Uncaptured {
 
 /// Runs `create` inside out-of-memory and validation error scopes: an allocation the device
 /// refuses becomes `what: …`, one line, instead of an uncaptured error.
-pub fn scoped<T>(
+pub(crate) fn scoped<T>(
     device: &wgpu::Device,
     what: &str,
     create: impl FnOnce() -> Result<T>,

@@ -16,7 +16,7 @@ pub struct AdapterSummary {
     pub driver: String,
     pub driver_info: String,
     /// Why this adapter was chosen.
-    pub chosen_because: String,
+    pub(crate) chosen_because: String,
 }
 
 pub struct GpuContext {
@@ -102,7 +102,7 @@ impl GpuContext {
 
     /// A context on a device someone else requested (the embedding API: the caller's device);
     /// `chosen_because` is the run record's reason for the adapter.
-    pub fn from_device(
+    pub(crate) fn from_device(
         adapter: wgpu::Adapter,
         device: wgpu::Device,
         queue: wgpu::Queue,
@@ -137,7 +137,7 @@ impl GpuContext {
     }
 
     /// The limits and the largest heap, as the size plan checks them.
-    pub fn bounds(&self) -> DeviceBounds {
+    pub(crate) fn bounds(&self) -> DeviceBounds {
         DeviceBounds {
             limits: self.limits(),
             largest_heap: self.largest_heap,

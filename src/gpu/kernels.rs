@@ -31,14 +31,14 @@ pub enum MapAccess {
 impl MapAccess {
     /// The form map-reading kernels take for `maps`, over a raster that is compute or not. A hybrid
     /// store is read the same whichever raster filled it; its build reads the raster (`raster_of`).
-    pub fn of(maps: MapKind, compute_raster: bool) -> Self {
+    pub(crate) fn of(maps: MapKind, compute_raster: bool) -> Self {
         match maps {
             MapKind::Hybrid => MapAccess::Hybrid,
             MapKind::Plain => Self::raster_of(compute_raster),
         }
     }
     /// How the raster's own layers are read (moments, hybrid_build).
-    pub fn raster_of(compute_raster: bool) -> Self {
+    pub(crate) fn raster_of(compute_raster: bool) -> Self {
         if compute_raster {
             MapAccess::Words
         } else {
@@ -57,28 +57,24 @@ impl MapAccess {
     }
 }
 
-pub const PRELUDE: &str = include_str!("../../kernels/shared/common.wgsl");
+pub(crate) const PRELUDE: &str = include_str!("../../kernels/shared/common.wgsl");
 /// Second prelude of the kernels the stage table marks `environment`: their structs and the BVH ray test.
-pub const ENV_PRELUDE: &str = include_str!("../../kernels/shared/environment.wgsl");
+pub(crate) const ENV_PRELUDE: &str = include_str!("../../kernels/shared/environment.wgsl");
 /// The PCF family's tap patterns, for the kernels the stage table marks `pcf_taps`.
-pub const PCF_TAPS: &str = include_str!("../../kernels/shared/pcf_taps.wgsl");
+pub(crate) const PCF_TAPS: &str = include_str!("../../kernels/shared/pcf_taps.wgsl");
 /// `map_depth` and friends over `Depth32Float` arrays (the default for every kernel).
-pub const MAPS_PLAIN: &str = include_str!("../../kernels/shared/maps_plain.wgsl");
+pub(crate) const MAPS_PLAIN: &str = include_str!("../../kernels/shared/maps_plain.wgsl");
 /// The same functions over the compute raster's R32Uint layers of depth bits.
-pub const MAPS_WORDS: &str = include_str!("../../kernels/shared/maps_words.wgsl");
+pub(crate) const MAPS_WORDS: &str = include_str!("../../kernels/shared/maps_words.wgsl");
 /// The same functions over a hybrid store (docs/hybrid.md), for kernels that read shadow maps.
-pub const MAPS_HYBRID: &str = include_str!("../../kernels/shared/maps_hybrid.wgsl");
+pub(crate) const MAPS_HYBRID: &str = include_str!("../../kernels/shared/maps_hybrid.wgsl");
 /// The comparison-sampler tap from four loads, for the forms without a depth texture.
-pub const MAPS_LOADED_COMPARE: &str = include_str!("../../kernels/shared/maps_loaded_compare.wgsl");
+pub(crate) const MAPS_LOADED_COMPARE: &str =
+    include_str!("../../kernels/shared/maps_loaded_compare.wgsl");
 
 /// Every stage with a kernel, with it (the stage table's kernels, in table order).
 pub fn all() -> impl Iterator<Item = (Stage, Kernel)> {
     STAGES.iter().filter_map(|s| s.kernel.map(|k| (*s, k)))
-}
-
-/// Full source of a kernel over depth-texture maps: prelude + map access + body.
-pub fn source(name: &str) -> Result<String> {
-    source_for(name, MapAccess::Depth)
 }
 
 /// Full source of a kernel for one map access form (`MapAccess::forms` lists a kernel's).
@@ -133,18 +129,4 @@ pub fn validate_for(
         message: e.emit_to_string(&src),
     })?;
     Ok((module, info))
-}
-
-/// Workgroup size of a compute entry point as naga reads it, so Rust dispatch sizes can be checked.
-pub fn workgroup_size(name: &str, entry: &str) -> Result<[u32; 3]> {
-    let (module, _) = validate(name)?;
-    module
-        .entry_points
-        .iter()
-        .find(|e| e.name == entry && e.stage == naga::ShaderStage::Compute)
-        .map(|e| e.workgroup_size)
-        .ok_or_else(|| Error::Kernel {
-            name: name.into(),
-            message: format!("no compute entry point `{entry}`"),
-        })
 }

@@ -1,15 +1,15 @@
 //! Headless GPU access: device selection, pipelines, buffers and read-backs.
 
 pub(crate) mod adapter;
-pub mod allocation;
+pub(crate) mod allocation;
 pub(crate) mod context;
-pub mod kernels;
-pub mod pipeline;
-pub mod readback;
-pub mod size_plan;
-pub mod stages;
-pub mod structs;
-pub mod timing;
+pub(crate) mod kernels;
+pub(crate) mod pipeline;
+pub(crate) mod readback;
+pub(crate) mod size_plan;
+pub(crate) mod stages;
+pub(crate) mod structs;
+pub(crate) mod timing;
 
 pub use adapter::{AdapterRequest, BackendChoice};
 pub use context::{AdapterSummary, GpuContext};

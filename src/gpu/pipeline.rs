@@ -6,12 +6,12 @@ use crate::gpu::kernels::MapAccess;
 use crate::gpu::stages::Bindings;
 use crate::{Error, Result};
 
-pub fn shader_module(ctx: &GpuContext, kernel: &str) -> Result<wgpu::ShaderModule> {
+pub(crate) fn shader_module(ctx: &GpuContext, kernel: &str) -> Result<wgpu::ShaderModule> {
     shader_module_for(ctx, kernel, MapAccess::Depth)
 }
 
 /// The kernel built for one map access form (kernels::source_for).
-pub fn shader_module_for(
+pub(crate) fn shader_module_for(
     ctx: &GpuContext,
     kernel: &str,
     maps: MapAccess,
@@ -28,15 +28,7 @@ pub fn shader_module_for(
     Ok(module)
 }
 
-pub fn compute_pipeline(
-    ctx: &GpuContext,
-    kernel: &str,
-    entry: &str,
-) -> Result<wgpu::ComputePipeline> {
-    compute_pipeline_for(ctx, kernel, entry, MapAccess::Depth)
-}
-
-pub fn compute_pipeline_for(
+pub(crate) fn compute_pipeline_for(
     ctx: &GpuContext,
     kernel: &str,
     entry: &str,
@@ -58,7 +50,7 @@ pub fn compute_pipeline_for(
     Ok(pipeline)
 }
 
-pub fn check(scope: wgpu::ErrorScopeGuard, what: &str) -> Result<()> {
+pub(crate) fn check(scope: wgpu::ErrorScopeGuard, what: &str) -> Result<()> {
     match pollster::block_on(scope.pop()) {
         None => Ok(()),
         Some(e) => Err(Error::Kernel {
@@ -70,7 +62,7 @@ pub fn check(scope: wgpu::ErrorScopeGuard, what: &str) -> Result<()> {
 
 /// Bind group 0 of a render stage from its generated struct (`bind::<stage>::Pipeline`: the union
 /// of the stage's vertex and fragment entry points' bindings, by WGSL variable).
-pub fn bind_group<'a, B: Bindings<'a>>(
+pub(crate) fn bind_group<'a, B: Bindings<'a>>(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     bindings: B,

@@ -36,7 +36,7 @@ pub fn zeroed_storage(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer
 }
 
 /// As [`zeroed_storage`], with `extra` usages (`INDIRECT` for dispatch arguments).
-pub fn zeroed_storage_with(
+pub(crate) fn zeroed_storage_with(
     ctx: &GpuContext,
     label: &str,
     bytes: u64,
@@ -54,7 +54,7 @@ pub fn zeroed_storage_with(
 }
 
 /// Copies `bytes` of `src` into a fresh staging buffer inside `encoder`; map it after submission.
-pub fn stage_copy(
+pub(crate) fn stage_copy(
     ctx: &GpuContext,
     encoder: &mut wgpu::CommandEncoder,
     src: &wgpu::Buffer,
@@ -71,7 +71,7 @@ pub fn stage_copy(
 }
 
 /// Maps a staging buffer after its copy was submitted; one CPU↔GPU synchronisation.
-pub fn map_staging<T: Pod>(ctx: &GpuContext, staging: &wgpu::Buffer) -> Result<Vec<T>> {
+pub(crate) fn map_staging<T: Pod>(ctx: &GpuContext, staging: &wgpu::Buffer) -> Result<Vec<T>> {
     let slice = staging.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {

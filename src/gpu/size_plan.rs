@@ -40,11 +40,11 @@ pub struct SizeNeed {
     pub amount: u64,
     pub bound: Bound,
     /// The setting that sizes it, when not the plan's (the resolution): `shadow_map_size = 100000`.
-    pub setting: Option<String>,
+    pub(crate) setting: Option<String>,
 }
 
 impl SizeNeed {
-    pub fn binding(what: impl Into<String>, bytes: u64) -> Self {
+    pub(crate) fn binding(what: impl Into<String>, bytes: u64) -> Self {
         Self {
             what: what.into(),
             amount: bytes,
@@ -52,7 +52,7 @@ impl SizeNeed {
             setting: None,
         }
     }
-    pub fn rows(what: impl Into<String>, bytes: u64, row: u64) -> Self {
+    pub(crate) fn rows(what: impl Into<String>, bytes: u64, row: u64) -> Self {
         Self {
             what: what.into(),
             amount: bytes,
@@ -60,7 +60,7 @@ impl SizeNeed {
             setting: None,
         }
     }
-    pub fn buffer(what: impl Into<String>, bytes: u64) -> Self {
+    pub(crate) fn buffer(what: impl Into<String>, bytes: u64) -> Self {
         Self {
             what: what.into(),
             amount: bytes,
@@ -68,7 +68,7 @@ impl SizeNeed {
             setting: None,
         }
     }
-    pub fn side(what: impl Into<String>, texels: u64) -> Self {
+    pub(crate) fn side(what: impl Into<String>, texels: u64) -> Self {
         Self {
             what: what.into(),
             amount: texels,
@@ -76,7 +76,7 @@ impl SizeNeed {
             setting: None,
         }
     }
-    pub fn array(what: impl Into<String>, bytes: u64, layers: u32) -> Self {
+    pub(crate) fn array(what: impl Into<String>, bytes: u64, layers: u32) -> Self {
         Self {
             what: what.into(),
             amount: bytes,
@@ -86,7 +86,7 @@ impl SizeNeed {
     }
 
     /// Names `setting` in the error instead of the plan's.
-    pub fn sized_by(mut self, setting: impl Into<String>) -> Self {
+    pub(crate) fn sized_by(mut self, setting: impl Into<String>) -> Self {
         self.setting = Some(setting.into());
         self
     }
@@ -126,13 +126,13 @@ impl SizeNeed {
 #[derive(Clone, Debug)]
 pub struct SizePlan {
     /// The setting, as the one-line error names it.
-    pub setting: String,
+    pub(crate) setting: String,
     pub needs: Vec<SizeNeed>,
     /// Host memory the frame needs at its peak: read-backs, the CPU G-buffer, images, and on a
     /// CPU device (lavapipe) the device's own buffers and textures, which live in host memory.
     pub host_bytes: u64,
     /// The setting that sizes most of `host_bytes`, when not the plan's (a shadow-map budget).
-    pub host_setting: Option<String>,
+    pub(crate) host_setting: Option<String>,
 }
 
 /// How the one-line error names the device's largest memory heap.

@@ -8,11 +8,11 @@
 //! twin); docs/adding-a-stage.md walks through it.
 
 /// 2D pixel kernels.
-pub const PIXEL_WORKGROUP: [u32; 3] = [8, 8, 1];
+pub(crate) const PIXEL_WORKGROUP: [u32; 3] = [8, 8, 1];
 /// 1D kernels over words, items or quads.
-pub const LINE_WORKGROUP: [u32; 3] = [64, 1, 1];
+pub(crate) const LINE_WORKGROUP: [u32; 3] = [64, 1, 1];
 /// One invocation: kernels that write a few counters or dispatch arguments.
-pub const SINGLE_WORKGROUP: [u32; 3] = [1, 1, 1];
+pub(crate) const SINGLE_WORKGROUP: [u32; 3] = [1, 1, 1];
 /// Consecutive triangles whose box `cull` tests first (`CULL_RUN` in kernels/cull.wgsl): the
 /// workgroup of its `triangles` entry point.
 pub const CULL_RUN: u32 = 32;
@@ -142,7 +142,7 @@ impl Stage {
 /// one out or misspells one does not compile. A kernel takes the set of its entry point.
 ///
 /// ```
-/// use penumbra::gpu::stages::{bind, Bindings};
+/// use penumbra::research::gpu::stages::{bind, Bindings};
 /// fn quad_count<'a>(frame: &'a wgpu::Buffer, level: &'a wgpu::Buffer, flags: &'a wgpu::Buffer, counters: &'a wgpu::Buffer) -> impl Bindings<'a> {
 ///     bind::quad_count::Main { frame: frame.as_entire_binding(), level: level.as_entire_binding(), flags: flags.as_entire_binding(), quad_counters: counters.as_entire_binding() }
 /// }
@@ -152,7 +152,7 @@ impl Stage {
 /// A binding left out:
 ///
 /// ```compile_fail,E0063
-/// use penumbra::gpu::stages::{bind, Bindings};
+/// use penumbra::research::gpu::stages::{bind, Bindings};
 /// fn quad_count<'a>(frame: &'a wgpu::Buffer, level: &'a wgpu::Buffer, flags: &'a wgpu::Buffer) -> impl Bindings<'a> {
 ///     bind::quad_count::Main { frame: frame.as_entire_binding(), level: level.as_entire_binding(), flags: flags.as_entire_binding() }
 /// }
@@ -161,7 +161,7 @@ impl Stage {
 /// A binding misspelled:
 ///
 /// ```compile_fail,E0560
-/// use penumbra::gpu::stages::{bind, Bindings};
+/// use penumbra::research::gpu::stages::{bind, Bindings};
 /// fn quad_count<'a>(frame: &'a wgpu::Buffer, level: &'a wgpu::Buffer, flags: &'a wgpu::Buffer, counters: &'a wgpu::Buffer) -> impl Bindings<'a> {
 ///     bind::quad_count::Main { frame: frame.as_entire_binding(), level: level.as_entire_binding(), flags: flags.as_entire_binding(), quad_counter: counters.as_entire_binding() }
 /// }
@@ -194,7 +194,7 @@ macro_rules! stage_table {
         }
 
         /// Every stage, in frame order.
-        pub const STAGES: &[Stage] = &[$(Stage::$id),*];
+        pub(crate) const STAGES: &[Stage] = &[$(Stage::$id),*];
 
         /// The bindings structs of every compute entry point, a module per stage (see [`Bindings`]).
         pub mod bind {

@@ -53,8 +53,8 @@ pub struct GpuSample {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuCamera {
-    pub clip_from_world: [[f32; 4]; 4],
-    pub eye: [f32; 4],
+    pub(crate) clip_from_world: [[f32; 4]; 4],
+    pub(crate) eye: [f32; 4],
 }
 
 /// One slot of shadow_test's uniform sample blocks (kernels/shadow_test.wgsl), 2048 bytes so that
@@ -65,38 +65,38 @@ pub struct GpuTestBlock {
     /// Lattice index of the block's sample j at `ks[j / 4][j % 4]`.
     pub ks: [[u32; 4]; 4],
     pub samples: [GpuSample; 16],
-    pub pad: [[u32; 4]; 12],
+    pub(crate) pad: [[u32; 4]; 12],
 }
 
 /// One batch of the cull pass (kernels/cull.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuCull {
-    pub triangle_count: u32,
+pub(crate) struct GpuCull {
+    pub(crate) triangle_count: u32,
     /// Index capacity of one slot: the whole mesh, so no slot can overflow.
-    pub slot_stride: u32,
+    pub(crate) slot_stride: u32,
     /// 0: the raster culls no face; 1: back faces; 2: front faces.
-    pub cull_face: u32,
+    pub(crate) cull_face: u32,
     /// Workgroups along x; z carries the rest of the triangles.
-    pub groups_x: u32,
+    pub(crate) groups_x: u32,
 }
 
 /// One dispatch chain of raster_compute (kernels/raster_compute.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuRasterCompute {
-    pub map_size: u32,
-    pub triangle_count: u32,
+pub(crate) struct GpuRasterCompute {
+    pub(crate) map_size: u32,
+    pub(crate) triangle_count: u32,
     /// 0: no face is skipped; 1: back faces; 2: front faces.
-    pub cull_face: u32,
-    pub map_count: u32,
-    pub large_capacity: u32,
+    pub(crate) cull_face: u32,
+    pub(crate) map_count: u32,
+    pub(crate) large_capacity: u32,
     /// Always 0: the kernel XORs it into products so that none is fused into an fma.
-    pub fence: u32,
+    pub(crate) fence: u32,
     /// `requested`: this chain's first request in the level's list.
-    pub first_request: u32,
+    pub(crate) first_request: u32,
     /// 1 under the GPU-steered loop: the chain's maps are its share of the level's requests.
-    pub steered: u32,
+    pub(crate) steered: u32,
 }
 
 /// One map of a raster_compute chain: its sample and the texel rectangle (inclusive) it is
@@ -148,39 +148,39 @@ impl GpuRasterJob {
 /// The weights pass's rule (kernels/weights.wgsl): 0 level, 1 area, 2 Coons.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuWeights {
-    pub rule: u32,
-    pub pad0: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+pub(crate) struct GpuWeights {
+    pub(crate) rule: u32,
+    pub(crate) pad0: u32,
+    pub(crate) pad1: u32,
+    pub(crate) pad2: u32,
 }
 
 /// One map of hybrid_build: which raster layer merges into which store slot (docs/hybrid.md).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuHybridBuild {
-    pub levels: u32,
+pub(crate) struct GpuHybridBuild {
+    pub(crate) levels: u32,
     /// Coarse texels per side: the raster size / 2^levels.
-    pub coarse: u32,
-    pub layer: u32,
-    pub slot: u32,
+    pub(crate) coarse: u32,
+    pub(crate) layer: u32,
+    pub(crate) slot: u32,
     /// Pool words.
-    pub capacity: u32,
+    pub(crate) capacity: u32,
     /// Merge tolerance in depth units (the setting's 16-bit units / 65535).
-    pub eps: f32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub(crate) eps: f32,
+    pub(crate) pad0: u32,
+    pub(crate) pad1: u32,
 }
 
 /// The hybrid store's allocation state: words used, the overflow flag, the last map's base and the
 /// maps built since the last reset.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
-pub struct GpuHybridControl {
-    pub used: u32,
-    pub overflow: u32,
-    pub map_base: u32,
-    pub built: u32,
+pub(crate) struct GpuHybridControl {
+    pub(crate) used: u32,
+    pub(crate) overflow: u32,
+    pub(crate) map_base: u32,
+    pub(crate) built: u32,
 }
 
 /// Parameters of one adaptive level (shadow_test, reproject_count, neighbourhood, quad_count,
@@ -263,35 +263,35 @@ pub struct GpuQuad {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuFilter {
     /// pcf: the kernel (box, bilinear, poisson, stratified, rotated); filtered: the statistic.
-    pub kind: u32,
+    pub(crate) kind: u32,
     /// pcf box/bilinear and pcss: taps per side; pcf disk kernels: tap count.
-    pub taps: u32,
+    pub(crate) taps: u32,
     /// pcss: blocker-search taps per side.
-    pub blocker_taps: u32,
+    pub(crate) blocker_taps: u32,
     /// pcf stratified: points in the disk drawn from; csm: Fourier order M.
-    pub order: u32,
+    pub(crate) order: u32,
     /// pcf: filter radius in texels.
-    pub radius: f32,
+    pub(crate) radius: f32,
     /// pcf: seed 004's V = 1 - darkening · (shadowed taps); 0 averages the taps.
-    pub darkening: f32,
+    pub(crate) darkening: f32,
     /// The area light's edge lengths (world units).
-    pub light_u: f32,
-    pub light_v: f32,
+    pub(crate) light_u: f32,
+    pub(crate) light_v: f32,
     /// esm and evsm exponents.
-    pub c_pos: f32,
-    pub c_neg: f32,
+    pub(crate) c_pos: f32,
+    pub(crate) c_neg: f32,
     /// vsm and evsm: light-bleeding reduction amount.
-    pub bleed: f32,
+    pub(crate) bleed: f32,
     /// msm: moment bias α.
-    pub moment_bias: f32,
+    pub(crate) moment_bias: f32,
     /// Moment planes (vec4 each).
     pub layers: u32,
     /// Box prefilter radius in texels.
     pub blur_radius: u32,
     /// pcss: largest search and filter half-width in texels.
-    pub max_radius: f32,
+    pub(crate) max_radius: f32,
     /// csm: receiver depth moved toward the light before the expansion is evaluated.
-    pub depth_offset: f32,
+    pub(crate) depth_offset: f32,
 }
 
 /// The cascades kernel's uniform: the camera that picks a cascade by view depth, and the far end
@@ -300,73 +300,73 @@ pub struct GpuFilter {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuCascades {
     /// The camera's eye (w unused).
-    pub eye: [f32; 4],
+    pub(crate) eye: [f32; 4],
     /// The camera's unit forward: view depth is `dot(p − eye, forward)`.
-    pub forward: [f32; 4],
-    pub ends: [[f32; 4]; 2],
-    pub count: u32,
+    pub(crate) forward: [f32; 4],
+    pub(crate) ends: [[f32; 4]; 2],
+    pub(crate) count: u32,
     /// 0: one test per pixel (`hard`); 1: pcf's taps.
-    pub filtering: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub(crate) filtering: u32,
+    pub(crate) pad0: u32,
+    pub(crate) pad1: u32,
 }
 
 /// A node of the environment rays' BVH: `count` = 0 for an inner node whose children are
 /// `left_first` and `left_first + 1`; otherwise a leaf of `count` triangles from `left_first`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuBvhNode {
-    pub min: [f32; 3],
-    pub left_first: u32,
-    pub max: [f32; 3],
-    pub count: u32,
+pub(crate) struct GpuBvhNode {
+    pub(crate) min: [f32; 3],
+    pub(crate) left_first: u32,
+    pub(crate) max: [f32; 3],
+    pub(crate) count: u32,
 }
 
 /// A triangle as the ray test reads it: one vertex and two edges (w unused).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTriangle {
-    pub v0: [f32; 4],
-    pub e1: [f32; 4],
-    pub e2: [f32; 4],
+pub(crate) struct GpuTriangle {
+    pub(crate) v0: [f32; 4],
+    pub(crate) e1: [f32; 4],
+    pub(crate) e2: [f32; 4],
 }
 
 /// truth_trace's light and samples (kernels/truth_trace.wgsl): one uniform per dispatch.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTruthParams {
+pub(crate) struct GpuTruthParams {
     /// Rectangle, disk or sphere centre (w unused).
-    pub center: [f32; 4],
+    pub(crate) center: [f32; 4],
     /// Rectangle: edge_u; sun: the unit direction towards it.
-    pub edge_u: [f32; 4],
+    pub(crate) edge_u: [f32; 4],
     /// Rectangle: edge_v.
-    pub edge_v: [f32; 4],
+    pub(crate) edge_v: [f32; 4],
     /// Rectangle and disk: the unit emission normal.
-    pub light_normal: [f32; 4],
+    pub(crate) light_normal: [f32; 4],
     /// 0 rectangle, 1 disk, 2 sun, 3 sphere (`certify::truth::TruthLight`).
-    pub kind: u32,
+    pub(crate) kind: u32,
     /// 0 continuous, 1 lattice, 2 point.
-    pub mode: u32,
-    pub m: u32,
+    pub(crate) mode: u32,
+    pub(crate) m: u32,
     /// `1.0 / m as f32`, rounded as the CPU reference rounds it.
-    pub inv_m: f32,
+    pub(crate) inv_m: f32,
     /// Points in this dispatch.
-    pub count: u32,
-    pub seed_lo: u32,
-    pub seed_hi: u32,
-    pub ray_offset: f32,
-    pub point_s: f32,
-    pub point_t: f32,
+    pub(crate) count: u32,
+    pub(crate) seed_lo: u32,
+    pub(crate) seed_hi: u32,
+    pub(crate) ray_offset: f32,
+    pub(crate) point_s: f32,
+    pub(crate) point_t: f32,
     /// `1 − LIGHT_END_EPS` in f32.
-    pub end_factor: f32,
+    pub(crate) end_factor: f32,
     /// Disk and sphere: the radius; sun: tan(α/2).
-    pub radius: f32,
+    pub(crate) radius: f32,
     /// Sun: how far its rays go.
-    pub reach: f32,
+    pub(crate) reach: f32,
     /// The dispatch's first point (points are dispatched in chunks).
-    pub first: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    pub(crate) first: u32,
+    pub(crate) pad1: u32,
+    pub(crate) pad2: u32,
 }
 
 /// A surface point truth_trace traces: the G-buffer's position and normal at `pixel`, whose
@@ -374,85 +374,85 @@ pub struct GpuTruthParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuTruthPoint {
-    pub position: [f32; 3],
-    pub pixel: u32,
-    pub normal: [f32; 3],
-    pub pad: u32,
+    pub(crate) position: [f32; 3],
+    pub(crate) pixel: u32,
+    pub(crate) normal: [f32; 3],
+    pub(crate) pad: u32,
 }
 
 /// truth_trace's counts per point: samples that reach the light, rays traced, and rays whose
 /// answer a tie in f32 decided (the CPU settles those in f64).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct GpuTruthCount {
-    pub lit: u32,
-    pub rays: u32,
-    pub ties: u32,
-    pub pad: u32,
+pub(crate) struct GpuTruthCount {
+    pub(crate) lit: u32,
+    pub(crate) rays: u32,
+    pub(crate) ties: u32,
+    pub(crate) pad: u32,
 }
 
 /// A triangle as the watertight test reads it: its three vertices (w unused). The environment's
 /// `GpuTriangle` stores two edges, rounded in f32, which neighbouring triangles do not share.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTruthTriangle {
-    pub v0: [f32; 4],
-    pub v1: [f32; 4],
-    pub v2: [f32; 4],
+pub(crate) struct GpuTruthTriangle {
+    pub(crate) v0: [f32; 4],
+    pub(crate) v1: [f32; 4],
+    pub(crate) v2: [f32; 4],
 }
 
 /// A directional light of the environment: xyz the unit direction towards it, w its power.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuEnvLight {
-    pub direction: [f32; 4],
+    pub(crate) direction: [f32; 4],
 }
 
 /// Parameters of the environment kernels (env_trace, env_count, env_split, env_shadowmaps, ssao).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuEnvParams {
-    pub width: u32,
-    pub height: u32,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
     /// env_trace / env_shadowmaps: lights in the list; ssao: samples per pixel.
-    pub light_count: u32,
+    pub(crate) light_count: u32,
     /// env_count / env_split: active cells this level.
-    pub cell_count: u32,
-    pub ray_offset: f32,
-    pub t_max: f32,
+    pub(crate) cell_count: u32,
+    pub(crate) ray_offset: f32,
+    pub(crate) t_max: f32,
     /// Cells per side of the finest level (the corner lattice has one more point per side).
-    pub finest_width: u32,
-    pub finest_height: u32,
+    pub(crate) finest_width: u32,
+    pub(crate) finest_height: u32,
     pub max_level: u32,
-    pub p_m: u32,
+    pub(crate) p_m: u32,
     /// env_split: split when the children's powers differ by more than this factor.
-    pub contrast: f32,
+    pub(crate) contrast: f32,
     /// env_split: cells below this share of the total power are never split.
-    pub min_share: f32,
-    pub total_power: f32,
+    pub(crate) min_share: f32,
+    pub(crate) total_power: f32,
     /// env_trace: 1 to multiply V by the ambient occlusion in `ao` (ssao combined).
-    pub use_ao: u32,
+    pub(crate) use_ao: u32,
     /// ssao: radius in world units.
-    pub radius: f32,
+    pub(crate) radius: f32,
     /// env_count: counts every count_stride-th pixel in x and y.
-    pub count_stride: u32,
+    pub(crate) count_stride: u32,
     /// env_trace: index of this dispatch's first light (lights go in chunks of ENV_TRACE_CHUNK).
-    pub first_light: u32,
+    pub(crate) first_light: u32,
     /// env_trace: 1 on the last chunk, which writes V.
-    pub final_chunk: u32,
+    pub(crate) final_chunk: u32,
     /// env_trace `vertex`: mesh vertices traced (the per-vertex variant).
-    pub vertex_count: u32,
-    pub pad1: u32,
+    pub(crate) vertex_count: u32,
+    pub(crate) pad1: u32,
 }
 
 /// A cell of the environment quadtree: corner (i, j) and side in finest-lattice steps.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Pod, Zeroable)]
 pub struct GpuEnvCell {
-    pub i: u32,
-    pub j: u32,
-    pub size: u32,
-    pub level: u32,
+    pub(crate) i: u32,
+    pub(crate) j: u32,
+    pub(crate) size: u32,
+    pub(crate) level: u32,
 }
 
 /// Member offsets and size of a Rust GPU struct, for the layout test.

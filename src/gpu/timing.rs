@@ -16,10 +16,10 @@ pub enum TimingMode {
 }
 
 pub struct StageTimer {
-    pub mode: TimingMode,
-    pub stages_ms: BTreeMap<String, f64>,
+    pub(crate) mode: TimingMode,
+    pub(crate) stages_ms: BTreeMap<String, f64>,
     /// Waits added only to time stages (not counted as the algorithm's syncs).
-    pub timing_waits: u32,
+    pub(crate) timing_waits: u32,
     pending: Option<wgpu::CommandEncoder>,
     gpu: Option<GpuTimestamps>,
 }
@@ -37,7 +37,7 @@ struct GpuTimestamps {
 const TIMESTAMP_CAPACITY: u32 = 1024;
 
 impl StageTimer {
-    pub fn new(mode: TimingMode) -> Self {
+    pub(crate) fn new(mode: TimingMode) -> Self {
         Self {
             mode,
             stages_ms: BTreeMap::new(),
@@ -49,7 +49,7 @@ impl StageTimer {
 
     /// Also records GPU timestamps when the adapter's are trusted, or when `forced` (tests, on CPU
     /// adapters where the figures mean little).
-    pub fn with_gpu_timestamps(mut self, ctx: &GpuContext, forced: bool) -> Self {
+    pub(crate) fn with_gpu_timestamps(mut self, ctx: &GpuContext, forced: bool) -> Self {
         let features = ctx.device.features();
         let able = features.contains(
             wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
@@ -77,7 +77,10 @@ impl StageTimer {
     }
 
     /// Reads the GPU timestamps back (one synchronisation, after the frame) as milliseconds per stage.
-    pub fn gpu_stages_ms(&mut self, ctx: &GpuContext) -> Result<Option<BTreeMap<String, f64>>> {
+    pub(crate) fn gpu_stages_ms(
+        &mut self,
+        ctx: &GpuContext,
+    ) -> Result<Option<BTreeMap<String, f64>>> {
         let Some(g) = &self.gpu else { return Ok(None) };
         let used = g.labels.len() as u32 * 2;
         if used == 0 {
@@ -97,7 +100,7 @@ impl StageTimer {
     }
 
     /// Records one stage into an encoder; in `Stages` mode submits and waits, charging the time to `stage`.
-    pub fn stage<T>(
+    pub(crate) fn stage<T>(
         &mut self,
         ctx: &GpuContext,
         stage: Stage,
@@ -135,19 +138,19 @@ impl StageTimer {
     }
 
     /// Submits whatever is recorded (before a read-back the algorithm needs).
-    pub fn flush(&mut self, ctx: &GpuContext) {
+    pub(crate) fn flush(&mut self, ctx: &GpuContext) {
         if let Some(encoder) = self.pending.take() {
             ctx.queue.submit([encoder.finish()]);
         }
     }
 
     /// Charges `ms` to `stage` (its name is the `stages_ms` key).
-    pub fn add(&mut self, stage: Stage, ms: f64) {
+    pub(crate) fn add(&mut self, stage: Stage, ms: f64) {
         *self.stages_ms.entry(stage.name.to_string()).or_insert(0.0) += ms;
     }
 
     /// Times CPU-side work (and read-backs) under `stage`.
-    pub fn cpu<T>(&mut self, stage: Stage, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    pub(crate) fn cpu<T>(&mut self, stage: Stage, f: impl FnOnce() -> Result<T>) -> Result<T> {
         let start = Instant::now();
         let out = f()?;
         self.add(stage, start.elapsed().as_secs_f64() * 1e3);

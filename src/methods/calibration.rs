@@ -82,7 +82,7 @@ pub const MAX_FITTED_EVEN: u32 = 6;
 
 /// The factors of a grid of side `n` in a scene of `class`: the even sides' sampling factor on an
 /// even side, the class's factors on an odd one.
-pub fn factors_at(class: Class, n: u32) -> Factors {
+pub(crate) fn factors_at(class: Class, n: u32) -> Factors {
     let f = factors(class);
     if n % 2 == 1 {
         return f;
@@ -116,13 +116,13 @@ pub fn calibrated_with(p: &Prediction, f: Factors) -> Prediction {
 /// estimate under-reads on measured scenes: an 8×8 grid has no fitted factor, and at 256² a ball
 /// light's maps' part reads 0.37 of its measure (`point-edge` 5×5),
 /// results/budget-calibration/outside.csv.
-pub fn fitted_side(n: u32) -> bool {
+pub(crate) fn fitted_side(n: u32) -> bool {
     n % 2 == 1 || n <= MAX_FITTED_EVEN
 }
 pub const MIN_FITTED_SIZE: u32 = 512;
 
 /// The calibrated prediction of a grid of side `n` in a scene of `class`.
-pub fn calibrated(p: &Prediction, class: Class, n: u32) -> Prediction {
+pub(crate) fn calibrated(p: &Prediction, class: Class, n: u32) -> Prediction {
     calibrated_with(p, factors_at(class, n))
 }
 

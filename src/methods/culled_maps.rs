@@ -17,7 +17,7 @@ use crate::Result;
 
 const SAMPLE_BYTES: u64 = std::mem::size_of::<GpuSample>() as u64;
 
-pub struct CulledMaps {
+pub(crate) struct CulledMaps {
     cull: Cull,
     footprint: Footprint,
     /// The batch's sample records, slot n holding its n-th map's: footprint, cull and the raster
@@ -31,7 +31,7 @@ pub struct CulledMaps {
 
 impl CulledMaps {
     /// For maps of sample indices below `samples`.
-    pub fn new(fg: &FrameGpu, samples: u32) -> Result<Self> {
+    pub(crate) fn new(fg: &FrameGpu, samples: u32) -> Result<Self> {
         let ctx = fg.ctx;
         // A batch's culling tiles are bound whole (256 KiB a map): a batch holds no more maps than
         // one binding's worth (512 on a 128 MiB binding), however many the grid has.
@@ -60,7 +60,7 @@ impl CulledMaps {
 
     /// Rasterizes `jobs` (their `sample` indexes `samples`) into `array`, batch by batch: footprint,
     /// cull, then each map draws what it kept. `frame`: the frame uniform with the maps' size.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         fg: &FrameGpu,
         timer: &mut StageTimer,
@@ -153,7 +153,7 @@ impl CulledMaps {
     }
 
     /// Triangles each of `samples`' maps rasterized in the last frame (a read-back: after the frame).
-    pub fn triangles(&self, fg: &FrameGpu, samples: &[u32]) -> Result<Vec<u64>> {
+    pub(crate) fn triangles(&self, fg: &FrameGpu, samples: &[u32]) -> Result<Vec<u64>> {
         let end = samples.iter().max().map_or(0, |&k| k as u64 + 1);
         let kept: Vec<u32> = readback::read_buffer(fg.ctx, &self.kept, end.max(4) * 4)?;
         Ok(samples

@@ -9,7 +9,7 @@ use crate::Result;
 /// RMS error of the full grid per unit of RMS half-set difference, by layout (§2): the centred
 /// grid's from the median over the 18 area-light scenes at n = 5, the others' from `default`,
 /// `cows` and `disk-bar` (docs/error-estimate.md §2, §5).
-pub fn sampling_scale(layout: Layout) -> f64 {
+pub(crate) fn sampling_scale(layout: Layout) -> f64 {
     match layout {
         Layout::Centred => 0.142,
         Layout::Lattice => 0.30,
@@ -18,7 +18,7 @@ pub fn sampling_scale(layout: Layout) -> f64 {
 }
 
 /// The per-pixel bound is this many predicted standard errors …
-pub const BOUND_SIGMAS: f32 = 3.0;
+pub(crate) const BOUND_SIGMAS: f32 = 3.0;
 /// … plus this floor: the continuous reference's own error and the maps' error that neither
 /// term sees (§4).
 pub const BOUND_FLOOR: f32 = 0.01;
@@ -26,7 +26,7 @@ pub const BOUND_FLOOR: f32 = 0.01;
 /// Sample i's signed weights in the two half-set differences: +1/|even| for an even column
 /// (row) of the n×n grid, −1/|odd| for an odd one. A point light's sample is `faces` consecutive
 /// maps, each with its sample's weights. n = 1 has no halves: all zero.
-pub fn split_weights(n: u32, faces: usize) -> Vec<[f32; 2]> {
+pub(crate) fn split_weights(n: u32, faces: usize) -> Vec<[f32; 2]> {
     let even = n.div_ceil(2) as f32 * n as f32;
     let odd = (n / 2) as f32 * n as f32;
     let signed = |i: u32| if i % 2 == 0 { 1.0 / even } else { -1.0 / odd };
@@ -45,7 +45,7 @@ pub fn split_weights(n: u32, faces: usize) -> Vec<[f32; 2]> {
 /// How much larger a half-set difference's variance is than the full grid's mean's, for errors
 /// independent from sample to sample: n²·(1/|even| + 1/|odd|) per axis (4.5 at n = 3, 4 for even
 /// n). 0 where there are no halves (n = 1).
-pub fn averaging_ratio(n: u32) -> f64 {
+pub(crate) fn averaging_ratio(n: u32) -> f64 {
     let (even, odd) = (n.div_ceil(2) * n, (n / 2) * n);
     if odd == 0 {
         return 0.0;
@@ -72,7 +72,7 @@ pub struct Prediction {
 /// frame's figures) from the sums (x, y: half-set differences; z: quantization; w: bias), and
 /// the square of the maps' part that averages over samples, from Q's and B's half-set
 /// differences (`ratio`: `averaging_ratio`; two axes, so divided by twice it).
-pub fn pixel_terms(sum: Sums, layout: Layout, ratio: f64) -> (f64, f64, f64) {
+pub(crate) fn pixel_terms(sum: Sums, layout: Layout, ratio: f64) -> (f64, f64, f64) {
     let c = sampling_scale(layout);
     let x = sum.map(|v| v as f64);
     let (dx, dy, q, b) = (x[0], x[1], x[2], x[3]);

@@ -24,13 +24,13 @@ use std::sync::Arc;
 
 /// The largest exponent whose square e^{2c} stays finite in the f32 planes (ln(f32::MAX)/2 ≈ 44.4),
 /// with a margin for the blur's sums: EVSM clamps to it.
-pub const EVSM_MAX_EXPONENT: f32 = 42.0;
+pub(crate) const EVSM_MAX_EXPONENT: f32 = 42.0;
 /// ESM stores e^{c z} with z ≤ 1: c must keep e^c finite in f32 (ln(f32::MAX) ≈ 88.7).
-pub const ESM_MAX_EXPONENT: f32 = 85.0;
+pub(crate) const ESM_MAX_EXPONENT: f32 = 85.0;
 
 const RADIUS: Param = Param { key: "radius", default: "auto", help: "blur radius in texels; auto = penumbra half-width of a blocker 2/3 of the way to the farthest receiver" };
 
-pub const C: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const C: ParamDecl<f32> = ParamDecl::new(
     "c",
     "80",
     1.0,
@@ -38,45 +38,45 @@ pub const C: ParamDecl<f32> = ParamDecl::new(
     "exponent, 1..=85 (f32 holds e^85)",
 );
 /// vsm and evsm; `parse` checks 0..<1 itself (an open end `check_range` does not state).
-pub const BLEED: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const BLEED: ParamDecl<f32> = ParamDecl::new(
     "bleed",
     "0",
     f32::MIN,
     f32::MAX,
     "light-bleeding reduction: p' = clamp((p − bleed)/(1 − bleed)), 0..<1",
 );
-pub const C_POS: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const C_POS: ParamDecl<f32> = ParamDecl::new(
     "c_pos",
     "42",
     0.0,
     f32::MAX,
     "positive exponent, clamped to 42 (e^{2c} must stay finite in f32)",
 );
-pub const C_NEG: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const C_NEG: ParamDecl<f32> = ParamDecl::new(
     "c_neg",
     "42",
     0.0,
     f32::MAX,
     "negative exponent, clamped to 42",
 );
-pub const MOMENT_BIAS: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const MOMENT_BIAS: ParamDecl<f32> = ParamDecl::new(
     "moment_bias",
     "0.00003",
     0.0,
     0.5,
     "α: moments pulled toward 0.5 by α before the solve",
 );
-pub const ORDER: ParamDecl<u32> =
+pub(crate) const ORDER: ParamDecl<u32> =
     ParamDecl::new("order", "4", 1, 16, "Fourier order M, 1..=16 (2M terms)");
 
-pub const ESM: MethodInfo = MethodInfo {
+pub(crate) const ESM: MethodInfo = MethodInfo {
     name: "esm",
     family: Family::Filtered,
     summary: "exponential shadow maps: prefiltered e^{c z}, V = min(1, E[e^{c z}]·e^{−c z_r})",
     params: &[C.param(), RADIUS],
     parse: |p| Filtered::parse(Kind::Esm, p),
 };
-pub const VSM: MethodInfo = MethodInfo {
+pub(crate) const VSM: MethodInfo = MethodInfo {
     name: "vsm",
     family: Family::Filtered,
     summary:
@@ -84,7 +84,7 @@ pub const VSM: MethodInfo = MethodInfo {
     params: &[BLEED.param(), RADIUS],
     parse: |p| Filtered::parse(Kind::Vsm, p),
 };
-pub const EVSM: MethodInfo = MethodInfo {
+pub(crate) const EVSM: MethodInfo = MethodInfo {
     name: "evsm",
     family: Family::Filtered,
     summary:
@@ -97,14 +97,14 @@ pub const EVSM: MethodInfo = MethodInfo {
     ],
     parse: |p| Filtered::parse(Kind::Evsm, p),
 };
-pub const MSM: MethodInfo = MethodInfo {
+pub(crate) const MSM: MethodInfo = MethodInfo {
     name: "msm",
     family: Family::Filtered,
     summary: "moment shadow maps (Hamburger 4MSM, Peters & Klein 2015): 4 moments, 16-bit optimised quantisation",
     params: &[MOMENT_BIAS.param(), RADIUS],
     parse: |p| Filtered::parse(Kind::Msm, p),
 };
-pub const CSM: MethodInfo = MethodInfo {
+pub(crate) const CSM: MethodInfo = MethodInfo {
     name: "csm",
     family: Family::Filtered,
     summary: "convolution shadow maps (Annen et al. 2007): Fourier expansion of order M of the shadow test, prefiltered",
@@ -117,7 +117,7 @@ pub const CSM: MethodInfo = MethodInfo {
 };
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
+pub(crate) enum Kind {
     Esm,
     Vsm,
     Evsm,
@@ -138,18 +138,18 @@ impl Kind {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct Filtered {
-    pub kind: Kind,
+pub(crate) struct Filtered {
+    pub(crate) kind: Kind,
     /// esm: c; evsm: c+.
-    pub c_pos: f32,
-    pub c_neg: f32,
-    pub bleed: f32,
-    pub moment_bias: f32,
-    pub order: u32,
+    pub(crate) c_pos: f32,
+    pub(crate) c_neg: f32,
+    pub(crate) bleed: f32,
+    pub(crate) moment_bias: f32,
+    pub(crate) order: u32,
     /// csm: receiver depth offset in normalised depth.
-    pub offset: f32,
+    pub(crate) offset: f32,
     /// None: from the light size.
-    pub radius: Option<u32>,
+    pub(crate) radius: Option<u32>,
 }
 
 impl Filtered {
@@ -241,7 +241,7 @@ impl Filtered {
     /// orthographic map the way is the box's depth range and w_light the angle's 2·tan(α/2): a
     /// blocker a third of the range in front casts ⅓·range·½·w_light each side, over the texel's
     /// world size.
-    pub fn blur_radius(&self, fg: &FrameGpu, map: &CentreMap) -> u32 {
+    pub(crate) fn blur_radius(&self, fg: &FrameGpu, map: &CentreMap) -> u32 {
         self.radius.unwrap_or_else(|| {
             let (u, v) = light_size(fg);
             let w = 0.5 * (u + v);

@@ -19,7 +19,7 @@ use crate::stages::shade::{GeometryTiles, TILE_LIST_HEADER};
 use crate::stages::FrameGpu;
 use crate::Result;
 
-pub const HARD: MethodInfo = MethodInfo {
+pub(crate) const HARD: MethodInfo = MethodInfo {
     name: "hard",
     family: Family::Hard,
     summary: "one shadow map from the light's centre, one binary test per pixel",
@@ -28,7 +28,7 @@ pub const HARD: MethodInfo = MethodInfo {
 };
 
 /// regular's grid side.
-pub const N: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const N: ParamDecl<u32> = ParamDecl::new(
     "n",
     "17",
     1,
@@ -36,18 +36,18 @@ pub const N: ParamDecl<u32> = ParamDecl::new(
     "samples per side, 1..=128 (17 gives the 289 lattice points)",
 );
 
-pub const CULL: SwitchDecl = SwitchDecl::new(
+pub(crate) const CULL: SwitchDecl = SwitchDecl::new(
     "cull",
     false,
     "on: raster each map only with the triangles that can change a texel some geometry pixel tests (the same V; docs/gpu-frame.md)",
 );
-pub const ESTIMATE: SwitchDecl = SwitchDecl::new(
+pub(crate) const ESTIMATE: SwitchDecl = SwitchDecl::new(
     "estimate",
     false,
     "on: predict the frame's error without a reference (run.json predicted_rmse, predicted_sampling, predicted_map, error-bound.png; docs/error-estimate.md)",
 );
 
-pub const REGULAR: MethodInfo = MethodInfo {
+pub(crate) const REGULAR: MethodInfo = MethodInfo {
     name: "regular",
     family: Family::MultiSample,
     summary: "N×N shadow maps on the light's lattice corners, equal weights",
@@ -76,7 +76,7 @@ pub const REGULAR: MethodInfo = MethodInfo {
 
 /// Hard (one map from the centre) or the regular N×N grid.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Fixed {
+pub(crate) enum Fixed {
     Hard,
     /// `cull`: each map rasterizes only what can change a tested texel (`CulledMaps`).
     /// `estimate`: the frame also predicts its own error (`methods::estimate`).
@@ -89,7 +89,7 @@ pub enum Fixed {
 }
 
 impl Fixed {
-    pub fn points(&self) -> Vec<(f32, f32)> {
+    pub(crate) fn points(&self) -> Vec<(f32, f32)> {
         match self {
             Fixed::Hard => vec![(0.5, 0.5)],
             Fixed::Regular { n, layout, .. } => regular_points(*n, *layout),
@@ -303,7 +303,7 @@ fn splitmix64(mut x: u64) -> u64 {
 
 impl Prepared {
     /// Maps per frame (six per sample of a point light).
-    pub fn map_count(&self) -> usize {
+    pub(crate) fn map_count(&self) -> usize {
         self.points
     }
 
@@ -363,14 +363,14 @@ impl Prepared {
 /// and the rest take turns in the other `rotating` layers (drawn every frame): the eviction
 /// docs/reuse.md states.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Placement {
-    pub points: u32,
-    pub pinned: u32,
-    pub rotating: u32,
+pub(crate) struct Placement {
+    pub(crate) points: u32,
+    pub(crate) pinned: u32,
+    pub(crate) rotating: u32,
 }
 
 impl Placement {
-    pub fn new(points: u32, capacity: u32, keeps: bool) -> Placement {
+    pub(crate) fn new(points: u32, capacity: u32, keeps: bool) -> Placement {
         let capacity = capacity.max(1);
         if !keeps {
             return Placement {
@@ -396,7 +396,7 @@ impl Placement {
     }
 
     /// Map i's layer.
-    pub fn layer(&self, i: u32) -> u32 {
+    pub(crate) fn layer(&self, i: u32) -> u32 {
         if i < self.pinned {
             i
         } else {
@@ -405,7 +405,7 @@ impl Placement {
     }
 
     /// (first, count) of each chunk, in sample order.
-    pub fn chunks(&self) -> Vec<(u32, u32)> {
+    pub(crate) fn chunks(&self) -> Vec<(u32, u32)> {
         let mut out = Vec::new();
         if self.pinned > 0 {
             out.push((0, self.pinned.min(self.points)));
@@ -421,7 +421,7 @@ impl Placement {
 }
 
 /// Buffers and the maps of a fixed-sample run, allocated before the frame's clock starts.
-pub struct Prepared {
+pub(crate) struct Prepared {
     /// Maps per frame: the samples, six per sample of a point light.
     points: usize,
     samples: Vec<GpuSample>,
@@ -451,15 +451,10 @@ enum Maps {
     Released,
 }
 
-/// Samples (s, t) with equal weights; a plain array holds at most `maps_per_array` maps.
-pub fn prepare(fg: &FrameGpu, points: &[(f32, f32)]) -> Result<Prepared> {
-    prepare_sized(fg, points, fg.scene.render.shadow_map_size, None)
-}
-
 /// `prepare` with plain maps of `map_size` instead of the scene's, and `frame` (the frame uniform
 /// with that map size) for every pass that reads them: one renderer tries several map sizes
 /// (`methods::auto`). `frame` None: the frame's own.
-pub fn prepare_sized(
+pub(crate) fn prepare_sized(
     fg: &FrameGpu,
     points: &[(f32, f32)],
     map_size: u32,
@@ -470,7 +465,7 @@ pub fn prepare_sized(
 
 /// `prepare_sized` whose maps are kept from frame to frame as `owner`'s where the renderer
 /// reuses maps (docs/reuse.md): it takes what the renderer kept of them.
-pub fn prepare_kept(
+pub(crate) fn prepare_kept(
     fg: &FrameGpu,
     points: &[(f32, f32)],
     map_size: u32,
@@ -535,7 +530,6 @@ pub fn prepare_kept(
                 KeptMaps {
                     owner: owner.to_string(),
                     size: map_size,
-                    per_array: chunk,
                     arrays: vec![array],
                     slots: Slots::new(chunk, keeps),
                 }
@@ -845,7 +839,7 @@ pub struct FixedBuffers {
 }
 
 /// `estimate = on`: the pass, each sample's half-set weights and the per-pixel sums.
-pub struct Estimate {
+pub(crate) struct Estimate {
     pass: crate::stages::estimate::EstimatePass,
     layout: Layout,
     /// The grid's side.

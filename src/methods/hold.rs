@@ -8,11 +8,11 @@
 /// The band's factor: a kept choice holds while its error is within [target / BAND, target × BAND].
 /// (auto's `KEEP`, docs/error-estimate.md §6: the prediction moves by about this much from frame to
 /// frame as the light moves.)
-pub const BAND: f64 = 1.15;
+pub(crate) const BAND: f64 = 1.15;
 
 /// Where a kept choice's error stands against the target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Standing {
+pub(crate) enum Standing {
     /// Below target / BAND: a cheaper choice may be taken.
     Below,
     /// Within the band: the choice holds.
@@ -22,7 +22,7 @@ pub enum Standing {
 }
 
 /// Where `error` stands against `target` (both in the same unit; a non-finite error is above).
-pub fn standing(error: f64, target: f64) -> Standing {
+pub(crate) fn standing(error: f64, target: f64) -> Standing {
     if !(error <= target * BAND) {
         Standing::Above
     } else if error < target / BAND {

@@ -12,34 +12,34 @@ use crate::stages::FrameGpu;
 use crate::{Error, Result};
 
 /// Full-resolution layers rasterized before they are merged (at most; fewer when the budget is small).
-pub const TRANSIENT_LAYERS: u32 = 4;
+pub(crate) const TRANSIENT_LAYERS: u32 = 4;
 
 /// Hands a method the store's view and the slots (sample indices) it holds.
-pub type Consume<'c> =
+pub(crate) type Consume<'c> =
     dyn FnMut(&FrameGpu, &mut StageTimer, &wgpu::TextureView, &[u32]) -> Result<()> + 'c;
 
-pub struct HybridMaps {
-    pub raster: ShadowMapArray,
-    pub store: HybridStore,
+pub(crate) struct HybridMaps {
+    pub(crate) raster: ShadowMapArray,
+    pub(crate) store: HybridStore,
     build: HybridBuild,
     /// Slots built into the store and not yet handed over.
     pending: Vec<u32>,
     /// Pool words in use after the last build.
     used: u32,
-    pub stats: HybridStats,
+    pub(crate) stats: HybridStats,
 }
 
 /// What one frame's maps cost (per frame; `record` writes it into run.json).
 #[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct HybridStats {
-    pub maps: u32,
+pub(crate) struct HybridStats {
+    pub(crate) maps: u32,
     /// Pool words of every map built (coarse grid and children, not the root words).
-    pub words: u64,
+    pub(crate) words: u64,
     /// Times the store was emptied into the method (1 when every map fits at once).
-    pub flushes: u32,
+    pub(crate) flushes: u32,
     /// Read-backs of the store's allocation state (one per raster batch, one more per overflow).
-    pub syncs: u32,
-    pub peak_words: u32,
+    pub(crate) syncs: u32,
+    pub(crate) peak_words: u32,
 }
 
 /// Largest store a map can need: every coarse texel refined to full resolution.
@@ -50,7 +50,7 @@ fn worst_map_words(coarse: u64, levels: u32) -> u64 {
 impl HybridMaps {
     /// Room for `slots` sample indices; `maps` is how many maps one store is meant to hold at once
     /// (the store is capped by the memory budget left after the transient raster).
-    pub fn new(fg: &FrameGpu, slots: u32, maps: u32) -> Result<Self> {
+    pub(crate) fn new(fg: &FrameGpu, slots: u32, maps: u32) -> Result<Self> {
         let ctx = fg.ctx;
         let r = &fg.scene.render;
         let h = r.hybrid;
@@ -87,12 +87,12 @@ impl HybridMaps {
     }
 
     /// Maps rasterized at once.
-    pub fn layers(&self) -> u32 {
+    pub(crate) fn layers(&self) -> u32 {
         self.raster.layers()
     }
 
     /// Starts a frame: an empty store and fresh statistics.
-    pub fn reset(&mut self, fg: &FrameGpu) {
+    pub(crate) fn reset(&mut self, fg: &FrameGpu) {
         self.pending.clear();
         self.store.reset(fg.ctx);
         self.used = self.store.slots;
@@ -102,7 +102,7 @@ impl HybridMaps {
     /// Rasterizes the maps of samples `ks` (at most `layers()`; sample index = slot) and merges them
     /// into the store. When the store overflows, `consume` gets the maps it holds, the store starts
     /// again and the rest of `ks` is merged from the raster, which still holds them.
-    pub fn render(
+    pub(crate) fn render(
         &mut self,
         fg: &FrameGpu,
         timer: &mut StageTimer,
@@ -174,7 +174,7 @@ impl HybridMaps {
     }
 
     /// Hands every map in the store to `consume` and empties the store.
-    pub fn flush(
+    pub(crate) fn flush(
         &mut self,
         fg: &FrameGpu,
         timer: &mut StageTimer,
@@ -195,7 +195,7 @@ impl HybridMaps {
 
     /// The run record's `hybrid` entry: settings, bytes per map against a plain map of the same
     /// resolution, the store and the transient raster.
-    pub fn record(&self) -> serde_json::Value {
+    pub(crate) fn record(&self) -> serde_json::Value {
         let h = self.store.settings;
         let st = &self.stats;
         // A map's bytes: its words in the pool plus its root word.

@@ -5,28 +5,28 @@
 //! (its pipelines and buffers, built once per scene and settings), plus one line in [`REGISTRY`].
 //! The frame driver (src/frame/) runs any of them without knowing which.
 
-pub mod adaptive;
-pub mod auto;
-pub mod calibration;
-pub mod cascades;
-pub mod culled_maps;
-pub mod environment;
-pub mod estimate;
+pub(crate) mod adaptive;
+pub(crate) mod auto;
+pub(crate) mod calibration;
+pub(crate) mod cascades;
+pub(crate) mod culled_maps;
+pub(crate) mod environment;
+pub(crate) mod estimate;
 pub(crate) mod filtered;
-pub mod fixed_samples;
-pub mod hold;
+pub(crate) mod fixed_samples;
+pub(crate) mod hold;
 pub(crate) mod hybrid_maps;
-pub mod param_decl;
+pub(crate) mod param_decl;
 pub(crate) mod pcf;
 pub(crate) mod pcss;
-pub mod regions;
-pub mod single_map;
-pub mod sizes;
-pub mod ssao;
+pub(crate) mod regions;
+pub(crate) mod single_map;
+pub(crate) mod sizes;
+pub(crate) mod ssao;
 
-pub use adaptive::params::{AdaptiveParams, Criterion, Preset, Scope, Weights};
+pub use adaptive::params::{AdaptiveParams, Criterion, Scope, Weights};
 pub use fixed_samples::Layout;
-pub use param_decl::{ChoiceDecl, ParamDecl, SwitchDecl};
+pub(crate) use param_decl::{ChoiceDecl, ParamDecl, SwitchDecl};
 
 use crate::gpu::timing::StageTimer;
 use crate::scene::LightKind;
@@ -66,13 +66,6 @@ pub enum Family {
 }
 
 impl Family {
-    pub const ALL: [Family; 5] = [
-        Family::Hard,
-        Family::Pcf,
-        Family::Filtered,
-        Family::MultiSample,
-        Family::Environment,
-    ];
     pub fn title(self) -> &'static str {
         match self {
             Family::Hard => "hard",
@@ -98,7 +91,7 @@ pub struct Param {
     pub help: &'static str,
 }
 
-pub type ParamMap = BTreeMap<String, String>;
+pub(crate) type ParamMap = BTreeMap<String, String>;
 
 /// One registry line: a method's name, family, one-line summary, parameters and parser.
 pub struct MethodInfo {
@@ -106,7 +99,7 @@ pub struct MethodInfo {
     pub family: Family,
     pub summary: &'static str,
     pub params: &'static [Param],
-    pub parse: fn(&ParamMap) -> Result<Arc<dyn ShadowMethod>>,
+    pub(crate) parse: fn(&ParamMap) -> Result<Arc<dyn ShadowMethod>>,
 }
 
 /// Every method, in the order `penumbra methods` lists them.
@@ -188,7 +181,7 @@ pub const PCSS_RECTANGLE: &str =
 /// The kinds whose maps `Emitter::sample_map` makes: the rectangle, the disk and the spot
 /// (perspective maps from points on the disk, or on the sphere's disk across the spot's axis) and
 /// the sun (orthographic maps along directions in its cone).
-pub fn maps_from_the_emitter(kind: LightKind) -> bool {
+pub(crate) fn maps_from_the_emitter(kind: LightKind) -> bool {
     matches!(
         kind,
         LightKind::Rect | LightKind::Disk | LightKind::Sun | LightKind::Spot
@@ -197,11 +190,11 @@ pub fn maps_from_the_emitter(kind: LightKind) -> bool {
 
 /// The point light, whose samples `Emitter::sample_maps` makes as six cube faces each: hard, pcf,
 /// pcss and regular shade them (docs/lights.md, "Cube maps for the point").
-pub fn cube_maps(kind: LightKind) -> bool {
+pub(crate) fn cube_maps(kind: LightKind) -> bool {
     kind == LightKind::Point
 }
 /// Maps per light sample: six cube faces for a point light, else one.
-pub fn faces(scene: &crate::scene::Scene) -> u32 {
+pub(crate) fn faces(scene: &crate::scene::Scene) -> u32 {
     if cube_maps(scene.emitter.kind()) {
         6
     } else {
@@ -209,7 +202,7 @@ pub fn faces(scene: &crate::scene::Scene) -> u32 {
     }
 }
 /// Why adaptive refuses the point light.
-pub const CUBE_MAPS_ARE_PLAIN: &str = "a point light's cube maps need maps = plain: the hybrid store keeps one map per lattice sample";
+pub(crate) const CUBE_MAPS_ARE_PLAIN: &str = "a point light's cube maps need maps = plain: the hybrid store keeps one map per lattice sample";
 pub const ONE_MAP_PER_POINT: &str = "with scope = local or cull = on it keeps one map per light point, and a point light's sample is six cube faces (scope = global runs)";
 
 /// Each method against the scene's light kind, before anything is built, traced or written.
@@ -392,10 +385,10 @@ impl Method {
         Family::of_name(self.name())
     }
     /// `ShadowMethod::times_frames_at_build`.
-    pub fn times_frames_at_build(&self) -> bool {
+    pub(crate) fn times_frames_at_build(&self) -> bool {
         self.0.times_frames_at_build()
     }
-    pub fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
+    pub(crate) fn build(&self, fg: &FrameGpu) -> Result<Box<dyn MethodState>> {
         self.check_light(fg.scene)?;
         self.0.build(fg)
     }
@@ -437,7 +430,7 @@ impl Method {
     }
 }
 
-pub fn get_u32(params: &ParamMap, key: &str, default: u32) -> Result<u32> {
+pub(crate) fn get_u32(params: &ParamMap, key: &str, default: u32) -> Result<u32> {
     match params.get(key) {
         None => Ok(default),
         Some(v) => v.parse().map_err(|_| {
@@ -449,7 +442,7 @@ pub fn get_u32(params: &ParamMap, key: &str, default: u32) -> Result<u32> {
 }
 
 /// Parameter helpers shared by the methods' parsers.
-pub fn get_f32(params: &ParamMap, key: &str, default: f32) -> Result<f32> {
+pub(crate) fn get_f32(params: &ParamMap, key: &str, default: f32) -> Result<f32> {
     match params.get(key) {
         None => Ok(default),
         Some(v) => match v.parse::<f32>() {
@@ -461,29 +454,8 @@ pub fn get_f32(params: &ParamMap, key: &str, default: f32) -> Result<f32> {
     }
 }
 
-pub fn get_choice<'a>(
-    params: &ParamMap,
-    key: &str,
-    default: &'a str,
-    choices: &[&'a str],
-) -> Result<&'a str> {
-    match params.get(key) {
-        None => Ok(default),
-        Some(v) => choices
-            .iter()
-            .find(|c| **c == v.as_str())
-            .copied()
-            .ok_or_else(|| {
-                Error::Param(format!(
-                    "parameter {key} = `{v}`: use one of {}",
-                    choices.join(", ")
-                ))
-            }),
-    }
-}
-
 /// `value` in `lo..=hi`, or a message naming the method, key and value.
-pub fn check_range<T: PartialOrd + std::fmt::Display>(
+pub(crate) fn check_range<T: PartialOrd + std::fmt::Display>(
     method: &str,
     key: &str,
     value: T,
@@ -499,7 +471,7 @@ pub fn check_range<T: PartialOrd + std::fmt::Display>(
 }
 
 /// Label `name:k=v,...` from the parameters that differ from their defaults (registry order).
-pub fn label_from(info: &MethodInfo, values: &[(&str, String)]) -> String {
+pub(crate) fn label_from(info: &MethodInfo, values: &[(&str, String)]) -> String {
     let mut parts = Vec::new();
     for p in info.params {
         if let Some((_, v)) = values.iter().find(|(k, _)| *k == p.key) {

@@ -37,15 +37,15 @@ impl ParamValue for f32 {
 
 /// A number in `lo..=hi` (the full range of the type where the method takes any value).
 pub struct ParamDecl<T> {
-    pub key: &'static str,
-    pub default: &'static str,
-    pub lo: T,
-    pub hi: T,
-    pub help: &'static str,
+    pub(crate) key: &'static str,
+    pub(crate) default: &'static str,
+    pub(crate) lo: T,
+    pub(crate) hi: T,
+    pub(crate) help: &'static str,
 }
 
 impl<T: ParamValue> ParamDecl<T> {
-    pub const fn new(
+    pub(crate) const fn new(
         key: &'static str,
         default: &'static str,
         lo: T,
@@ -61,7 +61,7 @@ impl<T: ParamValue> ParamDecl<T> {
         }
     }
     /// The line `penumbra methods` lists.
-    pub const fn param(&self) -> Param {
+    pub(crate) const fn param(&self) -> Param {
         Param {
             key: self.key,
             default: self.default,
@@ -69,7 +69,7 @@ impl<T: ParamValue> ParamDecl<T> {
         }
     }
     /// The listed line with another method's help (one parser reads it for several methods).
-    pub const fn param_with_help(&self, help: &'static str) -> Param {
+    pub(crate) const fn param_with_help(&self, help: &'static str) -> Param {
         Param {
             key: self.key,
             default: self.default,
@@ -78,7 +78,7 @@ impl<T: ParamValue> ParamDecl<T> {
     }
     /// The given value, or the default, parsed and checked against the range; `method` names the
     /// method in the range's message (`regular: n = 0 is outside 1..=128`).
-    pub fn get(&self, p: &ParamMap, method: &str) -> Result<T> {
+    pub(crate) fn get(&self, p: &ParamMap, method: &str) -> Result<T> {
         let text = p.get(self.key).map_or(self.default, String::as_str);
         check_range(
             method,
@@ -88,22 +88,18 @@ impl<T: ParamValue> ParamDecl<T> {
             self.hi,
         )
     }
-    /// The default as a value (the unit test checks every declaration's default parses in range).
-    pub fn default_value(&self) -> Result<T> {
-        self.get(&ParamMap::new(), "default")
-    }
 }
 
 /// One of a fixed list of words.
 pub struct ChoiceDecl {
-    pub key: &'static str,
-    pub default: &'static str,
-    pub choices: &'static [&'static str],
-    pub help: &'static str,
+    pub(crate) key: &'static str,
+    pub(crate) default: &'static str,
+    pub(crate) choices: &'static [&'static str],
+    pub(crate) help: &'static str,
 }
 
 impl ChoiceDecl {
-    pub const fn new(
+    pub(crate) const fn new(
         key: &'static str,
         default: &'static str,
         choices: &'static [&'static str],
@@ -116,7 +112,7 @@ impl ChoiceDecl {
             help,
         }
     }
-    pub const fn param(&self) -> Param {
+    pub(crate) const fn param(&self) -> Param {
         Param {
             key: self.key,
             default: self.default,
@@ -124,7 +120,7 @@ impl ChoiceDecl {
         }
     }
     /// The given word, or the default, as one of the choices.
-    pub fn get(&self, p: &ParamMap) -> Result<&'static str> {
+    pub(crate) fn get(&self, p: &ParamMap) -> Result<&'static str> {
         let v = p.get(self.key).map_or(self.default, String::as_str);
         self.choices
             .iter()
@@ -142,20 +138,20 @@ impl ChoiceDecl {
 
 /// `on` or `off`.
 pub struct SwitchDecl {
-    pub key: &'static str,
-    pub default: &'static str,
-    pub help: &'static str,
+    pub(crate) key: &'static str,
+    pub(crate) default: &'static str,
+    pub(crate) help: &'static str,
 }
 
 impl SwitchDecl {
-    pub const fn new(key: &'static str, on: bool, help: &'static str) -> Self {
+    pub(crate) const fn new(key: &'static str, on: bool, help: &'static str) -> Self {
         SwitchDecl {
             key,
             default: if on { "on" } else { "off" },
             help,
         }
     }
-    pub const fn param(&self) -> Param {
+    pub(crate) const fn param(&self) -> Param {
         Param {
             key: self.key,
             default: self.default,
@@ -163,7 +159,7 @@ impl SwitchDecl {
         }
     }
     /// The given switch, or the default; `method` names the method in the message.
-    pub fn get(&self, p: &ParamMap, method: &str) -> Result<bool> {
+    pub(crate) fn get(&self, p: &ParamMap, method: &str) -> Result<bool> {
         match p.get(self.key).map_or(self.default, String::as_str) {
             "on" => Ok(true),
             "off" => Ok(false),
@@ -180,8 +176,8 @@ impl SwitchDecl {
 #[cfg(test)]
 pub(crate) fn all_defaults() -> Vec<(&'static str, Result<()>)> {
     use super::*;
-    let int = |d: &ParamDecl<u32>| (d.key, d.default_value().map(|_| ()));
-    let num = |d: &ParamDecl<f32>| (d.key, d.default_value().map(|_| ()));
+    let int = |d: &ParamDecl<u32>| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
+    let num = |d: &ParamDecl<f32>| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
     let word = |d: &ChoiceDecl| (d.key, d.get(&ParamMap::new()).map(|_| ()));
     let switch = |d: &SwitchDecl| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
     vec![
@@ -260,11 +256,13 @@ mod tests {
     fn a_default_outside_its_range_or_not_a_number_fails() {
         let out = ParamDecl::<u32>::new("n", "0", 1, 128, "");
         assert_eq!(
-            out.default_value().unwrap_err().to_string(),
+            out.get(&ParamMap::new(), "default")
+                .unwrap_err()
+                .to_string(),
             "default: n = 0 is outside 1..=128"
         );
         let bad = ParamDecl::<f32>::new("r", "0.O5", 0.0, 1.0, "");
-        assert!(bad.default_value().is_err());
+        assert!(bad.get(&ParamMap::new(), "default").is_err());
         let word = ChoiceDecl::new("k", "pisson", &["poisson"], "");
         assert!(word.get(&ParamMap::new()).is_err());
     }

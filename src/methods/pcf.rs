@@ -16,17 +16,17 @@ use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use std::sync::Arc;
 
-pub const KERNELS: [&str; 5] = ["box", "bilinear", "poisson", "stratified", "rotated"];
+pub(crate) const KERNELS: [&str; 5] = ["box", "bilinear", "poisson", "stratified", "rotated"];
 
-pub const KERNEL: ChoiceDecl = ChoiceDecl::new(
+pub(crate) const KERNEL: ChoiceDecl = ChoiceDecl::new(
     "kernel",
     "poisson",
     &KERNELS,
     "box (N×N), bilinear (N×N comparison-sampler lookups), poisson, stratified (seed 004), rotated",
 );
-pub const RADIUS: ParamDecl<f32> =
+pub(crate) const RADIUS: ParamDecl<f32> =
     ParamDecl::new("radius", "2", 0.0, 64.0, "filter radius in texels");
-pub const DARKENING: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const DARKENING: ParamDecl<f32> = ParamDecl::new(
     "darkening",
     "0",
     0.0,
@@ -34,7 +34,7 @@ pub const DARKENING: ParamDecl<f32> = ParamDecl::new(
     "seed 004: V = 1 − darkening·(shadowed taps); 0 averages the taps",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "pcf",
     family: Family::Pcf,
     summary: "percentage-closer filtering of the centre map: box, bilinear, Poisson, stratified or rotated taps",
@@ -49,12 +49,12 @@ pub const INFO: MethodInfo = MethodInfo {
 };
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct Pcf {
-    pub kernel: &'static str,
-    pub taps: u32,
-    pub radius: f32,
-    pub spread: Option<f32>,
-    pub darkening: f32,
+pub(crate) struct Pcf {
+    pub(crate) kernel: &'static str,
+    pub(crate) taps: u32,
+    pub(crate) radius: f32,
+    pub(crate) spread: Option<f32>,
+    pub(crate) darkening: f32,
 }
 
 /// `a/b` or a plain number (seed 004 writes its spread as 1/700).
@@ -80,7 +80,7 @@ fn fraction(params: &ParamMap, key: &str) -> Result<Option<f32>> {
 }
 
 impl Pcf {
-    pub fn from_map(p: &ParamMap) -> Result<Self> {
+    pub(crate) fn from_map(p: &ParamMap) -> Result<Self> {
         let kernel = KERNEL.get(p)?;
         let default_taps = match kernel {
             "box" => 5,
@@ -118,7 +118,7 @@ impl Pcf {
     }
 
     /// The tap offsets (unit disk) the kernel reads.
-    pub fn disk(&self) -> Vec<[f32; 2]> {
+    pub(crate) fn disk(&self) -> Vec<[f32; 2]> {
         match self.kernel {
             "box" | "bilinear" => vec![[0.0, 0.0]],
             "stratified" => poisson_disk(16),
@@ -126,7 +126,7 @@ impl Pcf {
         }
     }
 
-    pub fn filter(&self, map_size: u32) -> GpuFilter {
+    pub(crate) fn filter(&self, map_size: u32) -> GpuFilter {
         GpuFilter {
             kind: KERNELS.iter().position(|k| *k == self.kernel).unwrap_or(2) as u32,
             taps: self.taps,
@@ -140,7 +140,7 @@ impl Pcf {
 
 /// The seed's four points (opengl-tutorial / Babylon.js), else `n` points in the unit disk by
 /// Mitchell's best-candidate sampling with a fixed generator: deterministic, well spread.
-pub fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
+pub(crate) fn poisson_disk(n: usize) -> Vec<[f32; 2]> {
     if n == 4 {
         return vec![
             [-0.94201624, -0.39906216],

@@ -13,16 +13,16 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
-pub const TAPS: ParamDecl<u32> =
+pub(crate) const TAPS: ParamDecl<u32> =
     ParamDecl::new("taps", "8", 1, 16, "filter taps per side (N×N box), 1..=16");
-pub const BLOCKER_TAPS: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const BLOCKER_TAPS: ParamDecl<u32> = ParamDecl::new(
     "blocker_taps",
     "6",
     1,
     16,
     "blocker-search taps per side, 1..=16",
 );
-pub const MAX_RADIUS: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const MAX_RADIUS: ParamDecl<f32> = ParamDecl::new(
     "max_radius",
     "32",
     1.0,
@@ -30,7 +30,7 @@ pub const MAX_RADIUS: ParamDecl<f32> = ParamDecl::new(
     "largest search and filter half-width in texels",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "pcss",
     family: Family::Pcf,
     summary: "percentage-closer soft shadows: blocker search, w = (d_r − d_b)·w_light/d_b, PCF of that width",
@@ -49,10 +49,10 @@ pub const INFO: MethodInfo = MethodInfo {
 };
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct Pcss {
-    pub taps: u32,
-    pub blocker_taps: u32,
-    pub max_radius: f32,
+pub(crate) struct Pcss {
+    pub(crate) taps: u32,
+    pub(crate) blocker_taps: u32,
+    pub(crate) max_radius: f32,
 }
 
 impl ShadowMethod for Pcss {

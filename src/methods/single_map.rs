@@ -14,29 +14,29 @@ use crate::Result;
 /// The map from the light's centre, allocated once per scene and settings; for a point light the
 /// six faces of the cube from its centre (layers 0..5), of which the kernels read the one that
 /// holds the pixel's direction (`face_offset` in kernels/shared/common.wgsl).
-pub struct CentreMap {
+pub(crate) struct CentreMap {
     /// The first (or only) map's sample.
-    pub sample: GpuSample,
+    pub(crate) sample: GpuSample,
     /// Every map's sample: one, or the point light's six faces.
-    pub faces: Vec<GpuSample>,
-    pub samples: wgpu::Buffer,
-    pub maps: CentreMaps,
+    pub(crate) faces: Vec<GpuSample>,
+    pub(crate) samples: wgpu::Buffer,
+    pub(crate) maps: CentreMaps,
 }
 
 /// A depth array of one layer, or (`maps = hybrid`) one raster layer merged into a store of one slot.
-pub enum CentreMaps {
+pub(crate) enum CentreMaps {
     Plain(ShadowMapArray),
     Hybrid(Box<HybridMaps>),
 }
 
 impl CentreMap {
-    pub fn new(fg: &FrameGpu) -> Result<Self> {
+    pub(crate) fn new(fg: &FrameGpu) -> Result<Self> {
         Self::sized(fg, fg.scene.render.shadow_map_size)
     }
 
     /// The centre's map at `size` texels a side (a plain map; the kernels that read it bind a
     /// frame uniform of that `map_size`).
-    pub fn sized(fg: &FrameGpu, size: u32) -> Result<Self> {
+    pub(crate) fn sized(fg: &FrameGpu, size: u32) -> Result<Self> {
         let s = fg.scene;
         // The disk's or the spot's centre, or the sun's central direction (orthographic):
         // `Emitter::sample_map`.
@@ -72,12 +72,12 @@ impl CentreMap {
     }
 
     /// Maps per frame: 1, or 6 for a point light's cube.
-    pub fn count(&self) -> u32 {
+    pub(crate) fn count(&self) -> u32 {
         self.faces.len() as u32
     }
 
     /// The `shadow_raster` stage: one map, or six (with `maps = hybrid`, then `hybrid_build`).
-    pub fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
+    pub(crate) fn render(&mut self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         match &mut self.maps {
             CentreMaps::Plain(array) => timer.stage(fg.ctx, fg.raster.stage(), |enc| {
                 let jobs: Vec<RasterJob> = (0..self.faces.len() as u32)
@@ -122,7 +122,7 @@ impl CentreMap {
     }
 
     /// What the filter kernels bind as `shadow_maps`.
-    pub fn view(&self) -> &wgpu::TextureView {
+    pub(crate) fn view(&self) -> &wgpu::TextureView {
         match &self.maps {
             CentreMaps::Plain(array) => &array.array_view,
             CentreMaps::Hybrid(h) => &h.store.view,
@@ -130,12 +130,12 @@ impl CentreMap {
     }
 
     /// The map as the kernels read it: the raster, or what the lookup twin reads from the store.
-    pub fn read(&self, fg: &FrameGpu) -> Result<Vec<f32>> {
+    pub(crate) fn read(&self, fg: &FrameGpu) -> Result<Vec<f32>> {
         self.read_layer(fg, 0)
     }
 
     /// Every map (the point light's six faces), as `read`.
-    pub fn read_all(&self, fg: &FrameGpu) -> Result<Vec<Vec<f32>>> {
+    pub(crate) fn read_all(&self, fg: &FrameGpu) -> Result<Vec<Vec<f32>>> {
         (0..self.count()).map(|k| self.read_layer(fg, k)).collect()
     }
 
@@ -155,7 +155,7 @@ impl CentreMap {
     }
 
     /// Read-backs the representation needs (the hybrid store's allocation state).
-    pub fn syncs(&self) -> u32 {
+    pub(crate) fn syncs(&self) -> u32 {
         match &self.maps {
             CentreMaps::Plain(_) => 0,
             CentreMaps::Hybrid(h) => h.stats.syncs,
@@ -163,7 +163,7 @@ impl CentreMap {
     }
 
     /// A method's record with the `hybrid` entry added when the maps are hybrid.
-    pub fn with_record(&self, mut record: serde_json::Value) -> serde_json::Value {
+    pub(crate) fn with_record(&self, mut record: serde_json::Value) -> serde_json::Value {
         if let CentreMaps::Hybrid(h) = &self.maps {
             record["hybrid"] = h.record();
         }
@@ -172,7 +172,7 @@ impl CentreMap {
 
     /// The map's far plane: linear depth of the cleared depth 1, a / (1 + b), or a + b on an
     /// orthographic map.
-    pub fn far_depth(&self) -> f32 {
+    pub(crate) fn far_depth(&self) -> f32 {
         let s = &self.sample;
         if s.orthographic != 0 {
             s.depth_lin_a + s.depth_lin_b
@@ -183,7 +183,7 @@ impl CentreMap {
 }
 
 /// The area light's edge lengths: the light size every single-map method takes from the scene.
-pub fn light_size(fg: &FrameGpu) -> (f32, f32) {
+pub(crate) fn light_size(fg: &FrameGpu) -> (f32, f32) {
     match fg.scene.emitter {
         // The sun's size is its angle: the disk of directions one unit out, 2·tan(α/2), which
         // PCSS on an orthographic map scales by depth differences alone (docs/lights.md §4).

@@ -17,12 +17,12 @@ const GBUFFER_IMAGES: u64 = 3;
 
 /// V: one f32 per pixel, written by every method's last pass. `bands`: the method's passes bind it
 /// a band of rows at a time (`stages::shade::Band`), so only the least band must fit a binding.
-pub fn visibility(scene: &Scene, bands: bool, limits: &wgpu::Limits) -> SizeNeed {
+pub(crate) fn visibility(scene: &Scene, bands: bool, limits: &wgpu::Limits) -> SizeNeed {
     per_pixel_in(scene, "visibility", 4, bands, limits)
 }
 
 /// A per-pixel storage buffer of `bytes_per_pixel`, bound whole or (`bands`) by bands of rows.
-pub fn per_pixel_in(
+pub(crate) fn per_pixel_in(
     scene: &Scene,
     what: &str,
     bytes_per_pixel: u64,
@@ -73,7 +73,7 @@ pub fn band_rows(scene: &Scene, method: &Method, limits: &wgpu::Limits) -> u32 {
 }
 
 /// A per-pixel storage buffer of `bytes_per_pixel`, bound whole.
-pub fn per_pixel(scene: &Scene, what: &str, bytes_per_pixel: u64) -> SizeNeed {
+pub(crate) fn per_pixel(scene: &Scene, what: &str, bytes_per_pixel: u64) -> SizeNeed {
     SizeNeed::binding(
         what,
         scene.render.width as u64 * scene.render.height as u64 * bytes_per_pixel,
@@ -82,7 +82,7 @@ pub fn per_pixel(scene: &Scene, what: &str, bytes_per_pixel: u64) -> SizeNeed {
 
 /// The geometry tile list (`ShadePass::tile_list_in_bands`): per band a header and one word per
 /// 8x8 tile, each band's section padded to 256 bytes when there are several.
-pub fn geometry_tiles_bytes(width: u32, height: u32, band_rows: u32) -> u64 {
+pub(crate) fn geometry_tiles_bytes(width: u32, height: u32, band_rows: u32) -> u64 {
     let tiles_x = width.div_ceil(TILE) as u64;
     if band_rows == 0 || band_rows >= height {
         return (TILE_LIST_HEADER as u64 + tiles_x * height.div_ceil(TILE) as u64) * 4;
@@ -94,7 +94,7 @@ pub fn geometry_tiles_bytes(width: u32, height: u32, band_rows: u32) -> u64 {
 }
 
 /// How the one-line error names the resolution.
-pub fn setting(scene: &Scene) -> String {
+pub(crate) fn setting(scene: &Scene) -> String {
     let (w, h) = (scene.render.width, scene.render.height);
     if w == h {
         format!("resolution = {w} ({w}x{h})")
@@ -107,7 +107,11 @@ pub fn setting(scene: &Scene) -> String {
 /// (`ShadowMethod::shadow_maps`), split into arrays of what `shadow_map_budget_mib` and the layer
 /// limit hold (`shadow_raster::maps_per_array`). None on hybrid maps (their own store), with no
 /// maps, or where one map is over the budget (the raster refuses that with its own line).
-pub fn shadow_map_array(scene: &Scene, method: &Method, limits: &wgpu::Limits) -> Option<SizeNeed> {
+pub(crate) fn shadow_map_array(
+    scene: &Scene,
+    method: &Method,
+    limits: &wgpu::Limits,
+) -> Option<SizeNeed> {
     let r = &scene.render;
     let maps = method.0.shadow_maps(scene);
     let map_bytes = (r.shadow_map_size as u64).pow(2) * 4;
@@ -138,7 +142,7 @@ pub fn shadow_map_array(scene: &Scene, method: &Method, limits: &wgpu::Limits) -
 /// The shadow-map array of `layers` maps of `map_size` that a method sized at run time (regions'
 /// classes, auto's grid) is about to allocate, through the plan's own check: one line naming the
 /// budget, which lowering splits the maps into smaller arrays, instead of the device's out-of-memory.
-pub fn check_run_time_array(
+pub(crate) fn check_run_time_array(
     ctx: &GpuContext,
     r: &crate::scene::RenderSettings,
     map_size: u32,

@@ -12,7 +12,7 @@ use crate::stages::FrameGpu;
 use crate::Result;
 use std::sync::Arc;
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "ssao",
     family: Family::Environment,
     summary: "screen-space ambient occlusion alone: V = AO from the G-buffer",
@@ -25,7 +25,7 @@ pub const INFO: MethodInfo = MethodInfo {
 };
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct SsaoMethod(pub SsaoSettings);
+pub(crate) struct SsaoMethod(pub SsaoSettings);
 
 impl ShadowMethod for SsaoMethod {
     /// No shadow maps: it traces or samples the screen.

@@ -8,21 +8,21 @@ use crate::gpu::structs::GpuCamera;
 use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::Result;
 
-pub const IDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+pub(crate) const IDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 /// The pass's target: ids (triangle + 1, b1 bits, b2 bits, 0) and its own depth buffer.
-pub struct TriangleIds {
-    pub texture: wgpu::Texture,
-    pub view: wgpu::TextureView,
+pub(crate) struct TriangleIds {
+    pub(crate) texture: wgpu::Texture,
+    pub(crate) view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
 }
 
-pub struct BarycentricsPass {
+pub(crate) struct BarycentricsPass {
     pipeline: wgpu::RenderPipeline,
 }
 
 impl BarycentricsPass {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         let module = pipeline::shader_module(ctx, Stage::BARYCENTRICS.name)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let pipeline = ctx
@@ -66,7 +66,7 @@ impl BarycentricsPass {
         Ok(Self { pipeline })
     }
 
-    pub fn allocate(ctx: &GpuContext, width: u32, height: u32) -> TriangleIds {
+    pub(crate) fn allocate(ctx: &GpuContext, width: u32, height: u32) -> TriangleIds {
         let make = |label, format, usage| {
             super::gbuffer::screen_texture(ctx, label, width, height, format, usage)
         };
@@ -86,7 +86,7 @@ impl BarycentricsPass {
         }
     }
 
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
@@ -130,11 +130,11 @@ impl BarycentricsPass {
 }
 
 /// The ids texture on the CPU, one `[triangle + 1, b1 bits, b2 bits, 0]` per pixel.
-pub fn read_back(ctx: &GpuContext, ids: &TriangleIds) -> Result<Vec<[u32; 4]>> {
+pub(crate) fn read_back(ctx: &GpuContext, ids: &TriangleIds) -> Result<Vec<[u32; 4]>> {
     readback::read_texture(ctx, &ids.texture, 0, 16)
 }
 
 /// `camera`'s uniform buffer.
-pub fn camera_buffer(ctx: &GpuContext, camera: &GpuCamera) -> wgpu::Buffer {
+pub(crate) fn camera_buffer(ctx: &GpuContext, camera: &GpuCamera) -> wgpu::Buffer {
     readback::uniform_buffer(ctx, "barycentrics camera", camera)
 }

@@ -11,16 +11,16 @@ use crate::gpu::structs::{GpuBvhNode, GpuTriangle};
 use glam::Vec3;
 
 /// Triangles per leaf at most.
-pub const LEAF_SIZE: usize = 4;
+pub(crate) const LEAF_SIZE: usize = 4;
 /// Traversal stack depth in the kernels; the build stops splitting before it could overflow.
 pub const STACK_DEPTH: usize = 32;
 
 pub struct Bvh {
-    pub nodes: Vec<GpuBvhNode>,
-    pub triangles: Vec<GpuTriangle>,
+    pub(crate) nodes: Vec<GpuBvhNode>,
+    pub(crate) triangles: Vec<GpuTriangle>,
     /// The input index of each entry of `triangles` (leaf order): truth_trace stores the vertices.
-    pub source: Vec<u32>,
-    pub depth: usize,
+    pub(crate) source: Vec<u32>,
+    pub(crate) depth: usize,
 }
 
 struct Item {
@@ -33,7 +33,7 @@ struct Item {
 impl Bvh {
     /// Binned SAH split (12 bins per axis), the median on the longest axis where no bin split
     /// separates the centroids; leaves of at most [`LEAF_SIZE`].
-    pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
+    pub(crate) fn build(triangles: &[[Vec3; 3]]) -> Bvh {
         let mut items: Vec<Item> = triangles
             .iter()
             .enumerate()
@@ -129,7 +129,9 @@ impl Bvh {
 
     /// Any triangle at t ∈ (0, t_max) along origin + t·dir? The CPU twin of `env_occluded` in
     /// kernels/shared/environment.wgsl, operation for operation.
-    pub fn occluded(&self, origin: [f32; 3], dir: [f32; 3], t_max: f32) -> bool {
+    // The twin of `env_occluded`: only the twins' tests call it.
+    #[cfg(any(test, feature = "twins"))]
+    pub(crate) fn occluded(&self, origin: [f32; 3], dir: [f32; 3], t_max: f32) -> bool {
         let inv = [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]];
         let mut stack = [0u32; STACK_DEPTH];
         let mut top = 1usize;
@@ -222,6 +224,7 @@ fn sah_split(items: &mut [Item], clo: Vec3, extent: Vec3) -> Option<usize> {
     (left > 0 && left < items.len()).then_some(left)
 }
 
+#[cfg(any(test, feature = "twins"))]
 fn slab(node: &GpuBvhNode, o: [f32; 3], inv: [f32; 3], t_max: f32) -> bool {
     let mut t0 = 0.0f32;
     let mut t1 = t_max;
@@ -235,6 +238,7 @@ fn slab(node: &GpuBvhNode, o: [f32; 3], inv: [f32; 3], t_max: f32) -> bool {
     t0 <= t1
 }
 
+#[cfg(any(test, feature = "twins"))]
 fn min_f(a: f32, b: f32) -> f32 {
     if a < b {
         a
@@ -242,6 +246,7 @@ fn min_f(a: f32, b: f32) -> f32 {
         b
     }
 }
+#[cfg(any(test, feature = "twins"))]
 fn max_f(a: f32, b: f32) -> f32 {
     if a > b {
         a
@@ -250,6 +255,7 @@ fn max_f(a: f32, b: f32) -> f32 {
     }
 }
 
+#[cfg(any(test, feature = "twins"))]
 fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -257,11 +263,13 @@ fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
         a[0] * b[1] - a[1] * b[0],
     ]
 }
+#[cfg(any(test, feature = "twins"))]
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Möller–Trumbore, two-sided, edges closed.
+#[cfg(any(test, feature = "twins"))]
 fn hit(t: &GpuTriangle, o: [f32; 3], d: [f32; 3], t_max: f32) -> bool {
     let v0 = [t.v0[0], t.v0[1], t.v0[2]];
     let e1 = [t.e1[0], t.e1[1], t.e1[2]];

@@ -6,18 +6,18 @@ use crate::gpu::structs::GpuCamera;
 use crate::gpu::{pipeline, readback, GpuContext, Stage};
 use crate::{Error, Result};
 
-pub use crate::gpu::adapter::POSITION_FORMAT;
+pub(crate) use crate::gpu::adapter::POSITION_FORMAT;
 
 pub struct GBuffer {
-    pub width: u32,
-    pub height: u32,
-    pub position: wgpu::Texture,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) position: wgpu::Texture,
     /// Geometric normal facing the camera (w = material): what every shadow test reads.
-    pub normal: wgpu::Texture,
+    pub(crate) normal: wgpu::Texture,
     /// Interpolated smooth normal: shading only.
-    pub shading_normal: wgpu::Texture,
-    pub position_view: wgpu::TextureView,
-    pub normal_view: wgpu::TextureView,
+    pub(crate) shading_normal: wgpu::Texture,
+    pub(crate) position_view: wgpu::TextureView,
+    pub(crate) normal_view: wgpu::TextureView,
     shading_normal_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
 }
@@ -198,7 +198,10 @@ pub fn camera_uniform(scene: &crate::scene::Scene) -> GpuCamera {
 }
 
 /// [`camera_uniform`] for another camera over the same meshes (a renderer whose camera moved).
-pub fn camera_uniform_for(scene: &crate::scene::Scene, camera: &crate::scene::Camera) -> GpuCamera {
+pub(crate) fn camera_uniform_for(
+    scene: &crate::scene::Scene,
+    camera: &crate::scene::Camera,
+) -> GpuCamera {
     let aspect = scene.render.width as f32 / scene.render.height as f32;
     GpuCamera {
         clip_from_world: camera
@@ -209,7 +212,7 @@ pub fn camera_uniform_for(scene: &crate::scene::Scene, camera: &crate::scene::Ca
 }
 
 /// One screen-sized 2D texture (the G-buffer's attachments, and passes that must match its pixels).
-pub fn screen_texture(
+pub(crate) fn screen_texture(
     ctx: &GpuContext,
     label: &str,
     width: u32,

@@ -22,13 +22,13 @@ use std::cell::RefCell;
 /// angle, depth linearisation, projection kind and cube face (not its layer, array or lattice
 /// index, which only say where it is kept), and the map's side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct MapKey {
+pub(crate) struct MapKey {
     view: [u32; 25],
     size: u32,
 }
 
 impl MapKey {
-    pub fn of(sample: &GpuSample, size: u32) -> MapKey {
+    pub(crate) fn of(sample: &GpuSample, size: u32) -> MapKey {
         let mut view = [0u32; 25];
         let depth = [sample.texel_angle, sample.depth_lin_a, sample.depth_lin_b];
         let matrix = sample
@@ -54,7 +54,7 @@ impl MapKey {
     /// The texel rectangle `[x, y, w, h]` that `b`'s projection covers, one texel of margin around
     /// it (the raster snaps vertices by less than a texel) and clamped to the map; None when it
     /// misses the map; the whole map when a corner lies at or behind the light's plane.
-    pub fn footprint(&self, b: &Bounds) -> Option<[u32; 4]> {
+    pub(crate) fn footprint(&self, b: &Bounds) -> Option<[u32; 4]> {
         let m = self.clip_from_world();
         let size = self.size as f32;
         let (mut lo, mut hi) = (
@@ -84,7 +84,7 @@ impl MapKey {
 
 /// What a kept layer still needs before it is the map its key names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Redraw {
+pub(crate) enum Redraw {
     /// Nothing: the layer is the map, bit for bit.
     Kept,
     /// The texels of `[x, y, w, h]` (what a moved mesh covered before or covers now): cleared and
@@ -95,7 +95,7 @@ pub enum Redraw {
 }
 
 /// A rectangle larger than this share of the map is drawn whole instead.
-pub const WHOLE_SHARE: f64 = 0.5;
+pub(crate) const WHOLE_SHARE: f64 = 0.5;
 
 #[derive(Clone, Copy, Debug)]
 struct Slot {
@@ -127,7 +127,7 @@ pub struct ReuseCounts {
 }
 
 impl ReuseCounts {
-    pub fn add(&mut self, other: &ReuseCounts) {
+    pub(crate) fn add(&mut self, other: &ReuseCounts) {
         self.rendered += other.rendered;
         self.kept += other.kept;
         self.redrawn += other.redrawn;
@@ -137,7 +137,7 @@ impl ReuseCounts {
     }
 
     /// A frame that rasterized all of its `maps` maps of `size`².
-    pub fn all_rendered(maps: u32, size: u32) -> ReuseCounts {
+    pub(crate) fn all_rendered(maps: u32, size: u32) -> ReuseCounts {
         let texels = maps as u64 * size as u64 * size as u64;
         ReuseCounts {
             rendered: maps,
@@ -153,18 +153,18 @@ impl ReuseCounts {
 /// The layers of a method's arrays and the keys they hold. `keeps = false` (reuse off, or maps
 /// that depend on the frame's pixels: culled or scissored) hands out every layer as `Whole`.
 #[derive(Clone, Debug)]
-pub struct Slots {
+pub(crate) struct Slots {
     slots: Vec<Slot>,
     frame: u64,
     keeps: bool,
-    pub counts: ReuseCounts,
+    pub(crate) counts: ReuseCounts,
     /// The keys this frame and the frame before placed (what `evicted` counts against); boxed, so
     /// the slots stay small beside the enums that hold them.
     keys: Box<[std::collections::HashSet<MapKey>; 2]>,
 }
 
 impl Slots {
-    pub fn new(capacity: u32, keeps: bool) -> Slots {
+    pub(crate) fn new(capacity: u32, keeps: bool) -> Slots {
         Slots {
             slots: vec![
                 Slot {
@@ -182,17 +182,17 @@ impl Slots {
         }
     }
 
-    pub fn capacity(&self) -> u32 {
+    pub(crate) fn capacity(&self) -> u32 {
         self.slots.len() as u32
     }
 
-    pub fn keeps(&self) -> bool {
+    pub(crate) fn keeps(&self) -> bool {
         self.keeps
     }
 
     /// Starts a frame: the counts at zero; a layer a failed frame claimed but may not have drawn
     /// is forgotten.
-    pub fn begin_frame(&mut self) {
+    pub(crate) fn begin_frame(&mut self) {
         self.frame += 1;
         self.counts = ReuseCounts::default();
         let [used, last] = &mut *self.keys;
@@ -210,14 +210,14 @@ impl Slots {
     }
 
     /// The frame's maps were all drawn (its commands are submitted).
-    pub fn commit(&mut self) {
+    pub(crate) fn commit(&mut self) {
         for s in &mut self.slots {
             s.pending = false;
         }
     }
 
     /// The layer holding `key`, if any.
-    pub fn find(&self, key: &MapKey) -> Option<u32> {
+    pub(crate) fn find(&self, key: &MapKey) -> Option<u32> {
         if !self.keeps {
             return None;
         }
@@ -228,19 +228,19 @@ impl Slots {
     }
 
     /// The least recently used layer that `busy` does not hold (the current chunk's).
-    pub fn least_recent(&self, busy: impl Fn(u32) -> bool) -> Option<u32> {
+    pub(crate) fn least_recent(&self, busy: impl Fn(u32) -> bool) -> Option<u32> {
         (0..self.capacity())
             .filter(|&i| !busy(i))
             .min_by_key(|&i| (self.slots[i as usize].used, i))
     }
 
     /// Whether layer `slot` was used by the current frame.
-    pub fn used_now(&self, slot: u32) -> bool {
+    pub(crate) fn used_now(&self, slot: u32) -> bool {
         self.slots[slot as usize].used == self.frame
     }
 
     /// Layer `slot` will hold `key` this frame: what must be drawn for it (and the counts).
-    pub fn place(&mut self, key: MapKey, slot: u32) -> Redraw {
+    pub(crate) fn place(&mut self, key: MapKey, slot: u32) -> Redraw {
         let s = &mut self.slots[slot as usize];
         let redraw = if self.keeps && s.key == Some(key) {
             s.redraw
@@ -278,7 +278,7 @@ impl Slots {
 
     /// The geometry inside `before` moved to `after`: every kept map draws again what either box
     /// covers, or all of it where that is more than `WHOLE_SHARE` of the map.
-    pub fn moved(&mut self, before: &Bounds, after: &Bounds) {
+    pub(crate) fn moved(&mut self, before: &Bounds, after: &Bounds) {
         for s in &mut self.slots {
             let Some(key) = s.key else { continue };
             let rect = union_rect(key.footprint(before), key.footprint(after));
@@ -298,21 +298,8 @@ impl Slots {
         }
     }
 
-    /// Forgets every key: the next frame renders every map (none of them evicted).
-    pub fn forget(&mut self) {
-        self.keys[0].clear();
-        for s in &mut self.slots {
-            *s = Slot {
-                key: None,
-                redraw: Redraw::Whole,
-                used: 0,
-                pending: false,
-            };
-        }
-    }
-
     /// Layers holding a key.
-    pub fn held(&self) -> u32 {
+    pub(crate) fn held(&self) -> u32 {
         self.slots.iter().filter(|s| s.key.is_some()).count() as u32
     }
 }
@@ -332,17 +319,15 @@ fn union_rect(a: Option<[u32; 4]>, b: Option<[u32; 4]>) -> Option<[u32; 4]> {
 /// A method's arrays and their slots, kept between two states of the same renderer.
 pub struct KeptMaps {
     /// Which of the method's map sets this is (`fixed`, `adaptive`, `auto 5x512`, ...).
-    pub owner: String,
-    pub size: u32,
-    /// Layers per array (the last array may hold fewer).
-    pub per_array: u32,
+    pub(crate) owner: String,
+    pub(crate) size: u32,
     pub arrays: Vec<ShadowMapArray>,
-    pub slots: Slots,
+    pub(crate) slots: Slots,
 }
 
 impl KeptMaps {
     /// Bytes the arrays hold.
-    pub fn bytes(&self) -> u64 {
+    pub(crate) fn bytes(&self) -> u64 {
         self.arrays.iter().map(|a| a.layers() as u64).sum::<u64>()
             * self.size as u64
             * self.size as u64
@@ -354,12 +339,12 @@ impl KeptMaps {
 /// frame). With `on` false it keeps nothing.
 #[derive(Default)]
 pub struct MapCache {
-    pub on: bool,
+    pub(crate) on: bool,
     kept: RefCell<Vec<KeptMaps>>,
 }
 
 impl MapCache {
-    pub fn new(on: bool) -> MapCache {
+    pub(crate) fn new(on: bool) -> MapCache {
         MapCache {
             on,
             kept: RefCell::new(Vec::new()),
@@ -368,7 +353,7 @@ impl MapCache {
 
     /// The kept maps of `owner` when they have this size and shape (`layers` per array); None
     /// otherwise (the caller allocates, and what was kept is dropped).
-    pub fn take(&self, owner: &str, size: u32, layers: &[u32]) -> Option<KeptMaps> {
+    pub(crate) fn take(&self, owner: &str, size: u32, layers: &[u32]) -> Option<KeptMaps> {
         let mut kept = self.kept.borrow_mut();
         let at = kept.iter().position(|k| k.owner == owner)?;
         let k = kept.swap_remove(at);
@@ -377,7 +362,7 @@ impl MapCache {
     }
 
     /// Keeps `maps` for the next state (nothing with reuse off).
-    pub fn give(&self, maps: KeptMaps) {
+    pub(crate) fn give(&self, maps: KeptMaps) {
         if self.on && maps.slots.keeps() {
             let mut kept = self.kept.borrow_mut();
             kept.retain(|k| k.owner != maps.owner);
@@ -386,7 +371,7 @@ impl MapCache {
     }
 
     /// See [`Slots::moved`], for every kept map.
-    pub fn moved(&self, before: &Bounds, after: &Bounds) {
+    pub(crate) fn moved(&self, before: &Bounds, after: &Bounds) {
         for k in self.kept.borrow_mut().iter_mut() {
             k.slots.moved(before, after);
         }
@@ -395,7 +380,7 @@ impl MapCache {
     /// Keeps at most `budget` bytes of maps between frames: the sets that hold the most maps
     /// first, the rest dropped (a method with several sets, `regions`' groups, can hold more than
     /// one budget's worth in a frame; what it keeps for the next is bounded).
-    pub fn trim(&self, budget: u64) {
+    pub(crate) fn trim(&self, budget: u64) {
         let mut kept = self.kept.borrow_mut();
         kept.sort_by_key(|k| std::cmp::Reverse(k.slots.held()));
         let mut total = 0;
@@ -406,7 +391,7 @@ impl MapCache {
     }
 
     /// Drops every kept map.
-    pub fn clear(&self) {
+    pub(crate) fn clear(&self) {
         self.kept.borrow_mut().clear();
     }
 
@@ -423,7 +408,7 @@ impl MapCache {
 
 /// What moved between two versions of a scene's meshes.
 #[derive(Clone, Copy, Debug)]
-pub enum Moved {
+pub(crate) enum Moved {
     /// No vertex position changed.
     Nothing,
     /// The boxes of the moved triangles before and after.
@@ -435,7 +420,7 @@ pub enum Moved {
 /// The boxes of the geometry that moved between two versions of one mesh set (the same
 /// triangles, vertices in the same order), before and after: over every vertex of each triangle
 /// that has a vertex whose position changed (a triangle covers texels between all three).
-pub fn moved_boxes(
+pub(crate) fn moved_boxes(
     before: &[crate::scene::Vertex],
     after: &[crate::scene::Vertex],
     indices: &[u32],

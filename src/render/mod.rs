@@ -1,12 +1,12 @@
 //! Raster passes: scene upload, G-buffer, shadow-map raster.
 
 pub(crate) mod barycentrics;
-pub mod bvh;
-pub mod gbuffer;
-pub mod kept_maps;
-pub mod redraw_cull;
-pub mod shadow_order;
-pub mod shadow_raster;
+pub(crate) mod bvh;
+pub(crate) mod gbuffer;
+pub(crate) mod kept_maps;
+pub(crate) mod redraw_cull;
+pub(crate) mod shadow_order;
+pub(crate) mod shadow_raster;
 
 use crate::gpu::GpuContext;
 use crate::scene::Scene;
@@ -14,23 +14,23 @@ use wgpu::util::DeviceExt;
 
 /// The scene's geometry on the GPU.
 pub struct SceneGpu {
-    pub vertices: wgpu::Buffer,
-    pub indices: wgpu::Buffer,
+    pub(crate) vertices: wgpu::Buffer,
+    pub(crate) indices: wgpu::Buffer,
     /// The same triangles in the shadow raster's order (`shadow_order`): what shadow maps draw and
     /// the cull pass reads.
-    pub shadow_indices: wgpu::Buffer,
+    pub(crate) shadow_indices: wgpu::Buffer,
     /// `shadow_indices` on the CPU (the cull pass's runs are built from it).
     pub shadow_order: Vec<u32>,
     /// Box and normal cone of each run of CULL_RUN triangles of the shadow order
     /// (`shadow_order::runs`): the cull pass and the compute raster drop runs facing away.
-    pub runs: wgpu::Buffer,
+    pub(crate) runs: wgpu::Buffer,
     /// Vertex positions alone, a vec4 each: what the compute raster reads.
-    pub positions: wgpu::Buffer,
+    pub(crate) positions: wgpu::Buffer,
     pub index_count: u32,
     /// Vertex positions and the box of each run of CULL_RUN triangles of the shadow order, on
     /// the CPU: what a kept map's redraw leaves out (`redraw_cull`).
-    pub cpu_positions: Vec<glam::Vec3>,
-    pub run_boxes: Vec<[glam::Vec3; 2]>,
+    pub(crate) cpu_positions: Vec<glam::Vec3>,
+    pub(crate) run_boxes: Vec<[glam::Vec3; 2]>,
 }
 
 impl SceneGpu {
@@ -99,10 +99,10 @@ impl SceneGpu {
 }
 
 /// Vertex layout of `scene::Vertex`: position, normal, material.
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+pub(crate) const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
 
-pub fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
+pub(crate) fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
     wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,

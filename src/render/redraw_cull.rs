@@ -14,12 +14,12 @@ use glam::{Mat4, Vec3, Vec4};
 
 /// Texels added around the rectangle before the test, far above the CPU's and the raster's
 /// rounding of a vertex's position (a vertex is snapped by a fraction of a texel).
-pub const MARGIN: f32 = 2.0;
+pub(crate) const MARGIN: f32 = 2.0;
 
 /// The four planes (world space, `plane · (p, 1) >= 0` inside) of the pyramid through the texels
 /// `[x, y, w, h]` of a `size`² map whose clip-from-world matrix is `m` (texel y runs down, as the
 /// scissor and `MapKey::footprint` count it).
-pub fn planes(m: Mat4, size: u32, rect: [u32; 4]) -> [Vec4; 4] {
+pub(crate) fn planes(m: Mat4, size: u32, rect: [u32; 4]) -> [Vec4; 4] {
     let s = size as f32;
     let [x, y, w, h] = rect.map(|v| v as f32);
     let x0 = 2.0 * (x - MARGIN) / s - 1.0;
@@ -47,7 +47,7 @@ fn box_outside(planes: &[Vec4; 4], lo: Vec3, hi: Vec3) -> bool {
 
 /// Appends to `out` the triangles of `order` (three indices each, grouped in runs of `run`
 /// triangles whose boxes `boxes` holds) that may cover a texel of the rectangle.
-pub fn triangles(
+pub(crate) fn triangles(
     planes: &[Vec4; 4],
     positions: &[Vec3],
     order: &[u32],
@@ -71,7 +71,7 @@ pub fn triangles(
 }
 
 /// The box of each run of `run` triangles of `order`.
-pub fn run_boxes(positions: &[Vec3], order: &[u32], run: usize) -> Vec<[Vec3; 2]> {
+pub(crate) fn run_boxes(positions: &[Vec3], order: &[u32], run: usize) -> Vec<[Vec3; 2]> {
     order
         .chunks(3 * run)
         .map(|tris| {

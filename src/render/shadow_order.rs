@@ -57,7 +57,7 @@ fn spread(v: u32) -> u64 {
 /// Per run of CULL_RUN triangles, three vec4s: (box min, cos θ), (box max, sin θ), (cone axis,
 /// 1 when every face normal (b−a)×(c−a) lies within θ < 90° of the axis, else 0). θ is widened a
 /// little so the cone holds every normal despite rounding.
-pub fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
+pub(crate) fn runs(positions: &[Vec3], indices: &[u32]) -> Vec<[f32; 4]> {
     indices
         .chunks(3 * crate::gpu::stages::CULL_RUN as usize)
         .flat_map(|run| {

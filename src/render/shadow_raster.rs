@@ -12,17 +12,17 @@ pub struct ShadowMapArray {
     /// `Depth32Float` (this raster's) or `R32Uint` depth bits (the compute raster's, copied in).
     pub texture: wgpu::Texture,
     pub array_view: wgpu::TextureView,
-    pub layer_views: Vec<wgpu::TextureView>,
+    pub(crate) layer_views: Vec<wgpu::TextureView>,
 }
 
 impl ShadowMapArray {
-    pub fn layers(&self) -> u32 {
+    pub(crate) fn layers(&self) -> u32 {
         self.layer_views.len() as u32
     }
 }
 
 /// How many maps one array may hold: the device's layer limit and the memory budget, whichever is less.
-pub fn maps_per_array(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
+pub(crate) fn maps_per_array(ctx: &GpuContext, map_size: u32, budget_mib: u32) -> Result<u32> {
     let max_dim = ctx.limits().max_texture_dimension_2d;
     if map_size > max_dim {
         return Err(Error::Limit(format!(
@@ -231,7 +231,7 @@ impl ShadowRasterPass {
     /// covering its centre, whatever else is drawn, so the rectangle ends as a fresh map's
     /// (docs/reuse.md).
     #[allow(clippy::too_many_arguments)] // one per input of the pass: the encoder, scene, samples on both sides, layers, jobs
-    pub fn record_redraw(
+    pub(crate) fn record_redraw(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
@@ -378,7 +378,7 @@ impl ShadowRasterPass {
     /// arguments (count, first index, the sample as first instance) come from the GPU, the
     /// arguments at the byte offset given with each job.
     #[allow(clippy::too_many_arguments)]
-    pub fn record_culled(
+    pub(crate) fn record_culled(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,

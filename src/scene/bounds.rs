@@ -10,7 +10,7 @@ pub struct Bounds {
 }
 
 impl Bounds {
-    pub fn corners(&self) -> [Vec3; 8] {
+    pub(crate) fn corners(&self) -> [Vec3; 8] {
         let (a, b) = (self.min, self.max);
         [
             Vec3::new(a.x, a.y, a.z),

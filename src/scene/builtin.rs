@@ -4,7 +4,7 @@
 include!(concat!(env!("OUT_DIR"), "/embedded_scenes.rs"));
 
 /// (name, TOML text) of every shipped scene, `default` first.
-pub const BUILTIN_SCENES: &[(&str, &str)] = SCENE_FILES;
+pub(crate) const BUILTIN_SCENES: &[(&str, &str)] = SCENE_FILES;
 
 pub fn builtin_source(name: &str) -> Option<&'static str> {
     BUILTIN_SCENES
@@ -18,6 +18,6 @@ pub fn builtin_names() -> Vec<&'static str> {
 }
 
 /// An embedded mesh file (relative `file =` paths of built-in scenes).
-pub fn embedded_mesh(file: &str) -> Option<&'static str> {
+pub(crate) fn embedded_mesh(file: &str) -> Option<&'static str> {
     MESH_FILES.iter().find(|(n, _)| *n == file).map(|(_, t)| *t)
 }

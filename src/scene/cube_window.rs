@@ -14,16 +14,16 @@ use glam::{Mat4, Vec3};
 
 /// A face's window in tangent units of its view from `y`: x in [l, r], y in [b, t].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Window {
-    pub l: f32,
-    pub r: f32,
-    pub b: f32,
-    pub t: f32,
+pub(crate) struct Window {
+    pub(crate) l: f32,
+    pub(crate) r: f32,
+    pub(crate) b: f32,
+    pub(crate) t: f32,
 }
 
 /// The symmetric 90° face: what a face gets where the fit cannot help (the light inside the
 /// bounds, or a face that serves no part of them).
-pub const FULL: Window = Window {
+pub(crate) const FULL: Window = Window {
     l: -1.0,
     r: 1.0,
     b: -1.0,
@@ -54,7 +54,7 @@ fn in_box(p: Vec3, b: &Bounds, eps: f32) -> bool {
 /// extremes of its projection lie among them): the box's corners inside the pyramid, its edges'
 /// crossings of the pyramid's four side planes, and the pyramid's four edge rays' crossings of the
 /// box's faces.
-pub fn clipped_vertices(c: Vec3, face: u32, b: &Bounds) -> Vec<Vec3> {
+pub(crate) fn clipped_vertices(c: Vec3, face: u32, b: &Bounds) -> Vec<Vec3> {
     let eps = b.diagonal().max(1e-6) * 1e-5;
     let corners = b.corners();
     let mut out: Vec<Vec3> = corners
@@ -108,7 +108,7 @@ pub fn clipped_vertices(c: Vec3, face: u32, b: &Bounds) -> Vec<Vec3> {
 /// `point-edge` that leaked light along the occluder's edge and doubled `regular:n=8`'s error.
 /// Those receivers take the edge texel, as on the 90° face.) [`FULL`] where the face serves
 /// nothing, or where that part reaches behind `y` (the light inside or at the bounds).
-pub fn fitted(c: Vec3, face: u32, bounds: &Bounds, view: &Mat4) -> Window {
+pub(crate) fn fitted(c: Vec3, face: u32, bounds: &Bounds, view: &Mat4) -> Window {
     if in_box(c, bounds, 0.0) {
         return FULL;
     }

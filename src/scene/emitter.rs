@@ -19,14 +19,6 @@ pub enum LightKind {
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 5] = [
-        LightKind::Rect,
-        LightKind::Disk,
-        LightKind::Sun,
-        LightKind::Spot,
-        LightKind::Point,
-    ];
-
     pub fn name(self) -> &'static str {
         match self {
             LightKind::Rect => "rect",
@@ -156,7 +148,7 @@ impl Emitter {
 
     /// The same emitter moved by `by` (a sequence's moving light; `Scene::light` moves with it).
     /// A sun is at infinity and a rectangle is `Scene::light` itself: both are returned as they are.
-    pub fn moved(&self, by: Vec3) -> Emitter {
+    pub(crate) fn moved(&self, by: Vec3) -> Emitter {
         match *self {
             Emitter::Disk(d) => Emitter::Disk(DiskLight {
                 center: d.center + by,
@@ -234,7 +226,7 @@ impl Emitter {
     /// a perspective map from `sample_point` (rectangle, disk, spot); for the sun an orthographic map
     /// along the direction the concentric map sends `(s, t)` to on the sun's disk of directions
     /// (radius `tan(α/2)` around `toward`, as the reference samples it). Each is fitted to `bounds`.
-    pub fn sample_map(
+    pub(crate) fn sample_map(
         &self,
         light: &AreaLight,
         s: f32,
@@ -340,14 +332,14 @@ pub fn spot_light_point(light: &AreaLight, spot: &SpotLight, s: f32, t: f32) -> 
 
 /// The depth across the disk of a ball point over disk point (x, y) = concentric(s, t):
 /// √(1 − x² − y²)·sin(π(w − ½)) with w = `ball_w(s, t)`, the arcsine law on the chord.
-pub fn ball_depth(x: f32, y: f32, s: f32, t: f32) -> f32 {
+pub(crate) fn ball_depth(x: f32, y: f32, s: f32, t: f32) -> f32 {
     (1.0 - x * x - y * y).max(0.0).sqrt() * (std::f32::consts::PI * (ball_w(s, t) - 0.5)).sin()
 }
 
 /// The depth coordinate's uniform variate for sample `(s, t)`: ½ at the centre (the hard shadow's
 /// point stays the sphere's centre), 1 − w at the point mirrored through it (the depths of a
 /// symmetric grid cancel in pairs), otherwise spread by irrational slopes.
-pub fn ball_w(s: f32, t: f32) -> f32 {
+pub(crate) fn ball_w(s: f32, t: f32) -> f32 {
     let w = 0.5 + (s - 0.5) * 16.180_34 + (t - 0.5) * 14.142_136;
     w - w.floor()
 }
@@ -370,7 +362,7 @@ pub fn concentric(s: f32, t: f32) -> (f32, f32) {
 
 /// Edges of a square of `side` whose `edge_u × edge_v` points along the unit `normal` (the `size`
 /// form's rule: u along +x, or +z when the normal is close to x).
-pub fn square_edges(normal: Vec3, side: f32) -> (Vec3, Vec3) {
+pub(crate) fn square_edges(normal: Vec3, side: f32) -> (Vec3, Vec3) {
     let hint = if normal.x.abs() < 0.9 {
         Vec3::X
     } else {

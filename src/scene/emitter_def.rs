@@ -13,25 +13,25 @@ use serde::Deserialize;
 /// keys belong to which kind.
 #[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
-pub struct LightDef {
+pub(crate) struct LightDef {
     #[serde(default)]
-    pub kind: LightKind,
-    pub center: Option<[f32; 3]>,
-    pub edge_u: Option<[f32; 3]>,
-    pub edge_v: Option<[f32; 3]>,
-    pub size: Option<[f32; 2]>,
-    pub normal: Option<[f32; 3]>,
-    pub u_axis: Option<[f32; 3]>,
-    pub radius: Option<f32>,
-    pub position: Option<[f32; 3]>,
-    pub direction: Option<[f32; 3]>,
-    pub angular_diameter_deg: Option<f32>,
-    pub inner_cone_deg: Option<f32>,
-    pub outer_cone_deg: Option<f32>,
+    pub(crate) kind: LightKind,
+    pub(crate) center: Option<[f32; 3]>,
+    pub(crate) edge_u: Option<[f32; 3]>,
+    pub(crate) edge_v: Option<[f32; 3]>,
+    pub(crate) size: Option<[f32; 2]>,
+    pub(crate) normal: Option<[f32; 3]>,
+    pub(crate) u_axis: Option<[f32; 3]>,
+    pub(crate) radius: Option<f32>,
+    pub(crate) position: Option<[f32; 3]>,
+    pub(crate) direction: Option<[f32; 3]>,
+    pub(crate) angular_diameter_deg: Option<f32>,
+    pub(crate) inner_cone_deg: Option<f32>,
+    pub(crate) outer_cone_deg: Option<f32>,
 }
 
 /// The keys of each kind besides `kind` itself.
-pub const KIND_KEYS: [(LightKind, &[&str]); 5] = [
+pub(crate) const KIND_KEYS: [(LightKind, &[&str]); 5] = [
     (
         LightKind::Rect,
         &["center", "edge_u", "edge_v", "size", "normal", "u_axis"],
@@ -55,7 +55,7 @@ pub const KIND_KEYS: [(LightKind, &[&str]); 5] = [
 /// `hard`'s job), at most 30 (ours is 0.53; wider is a sky, not a sun).
 pub const MAX_SUN_DIAMETER_DEG: f32 = 30.0;
 /// Cone half-angles stay below 90°: a spot is a cone, not a half-space (that is `point`).
-pub const MAX_CONE_DEG: f32 = 90.0;
+pub(crate) const MAX_CONE_DEG: f32 = 90.0;
 
 fn keys_of(kind: LightKind) -> &'static [&'static str] {
     KIND_KEYS

@@ -15,29 +15,29 @@ use serde::Deserialize;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct SceneDef {
-    pub name: Option<String>,
-    pub description: Option<String>,
+pub(crate) struct SceneDef {
+    pub(crate) name: Option<String>,
+    pub(crate) description: Option<String>,
     /// Triangle count the author states; checked against what loads.
-    pub triangles: Option<u64>,
-    pub camera: CameraDef,
+    pub(crate) triangles: Option<u64>,
+    pub(crate) camera: CameraDef,
     /// Optional when `[environment]` lights the scene.
-    pub light: Option<LightDef>,
-    pub environment: Option<crate::scene::environment::scene::EnvironmentDef>,
+    pub(crate) light: Option<LightDef>,
+    pub(crate) environment: Option<crate::scene::environment::scene::EnvironmentDef>,
     #[serde(default)]
-    pub render: RenderSettings,
+    pub(crate) render: RenderSettings,
     #[serde(default, rename = "mesh")]
-    pub meshes: Vec<MeshDef>,
+    pub(crate) meshes: Vec<MeshDef>,
 }
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct CameraDef {
-    pub eye: [f32; 3],
-    pub target: [f32; 3],
+pub(crate) struct CameraDef {
+    pub(crate) eye: [f32; 3],
+    pub(crate) target: [f32; 3],
     #[serde(default = "default_up")]
-    pub up: [f32; 3],
-    pub fov_y_deg: f32,
+    pub(crate) up: [f32; 3],
+    pub(crate) fov_y_deg: f32,
 }
 
 fn default_up() -> [f32; 3] {
@@ -46,7 +46,7 @@ fn default_up() -> [f32; 3] {
 
 /// TOML text → definition, with `key=value` overrides of its render settings applied. Errors in
 /// the file give the line, column, key and value; an override's is an [`Error::Setting`] naming it.
-pub fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result<SceneDef> {
+pub(crate) fn parse(text: &str, origin: &str, overrides: &[(String, String)]) -> Result<SceneDef> {
     let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
         Error::scene(origin, toml_message(text, &e, "TOML syntax error"))
     })?;
@@ -145,7 +145,7 @@ pub(super) fn albedo(origin: &str, k: usize, v: [f32; 3]) -> Result<Vec3> {
     Ok(Vec3::from(v))
 }
 
-pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
+pub(crate) fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
     let camera = camera(origin, &def.camera)?;
     let environment = match &def.environment {
         Some(e) => Some(crate::scene::environment::scene::build(e, origin, dirs)?),
@@ -201,17 +201,17 @@ pub fn build(def: SceneDef, origin: &str, dirs: MeshDirs) -> Result<Scene> {
 
 /// A scene's checked parts besides its meshes: what [`assemble`] joins to the meshes.
 pub(crate) struct Parts {
-    pub name: Option<String>,
-    pub description: Option<String>,
+    pub(crate) name: Option<String>,
+    pub(crate) description: Option<String>,
     /// Triangle count the author states; checked against the meshes.
-    pub stated_triangles: Option<u64>,
-    pub camera: Camera,
+    pub(crate) stated_triangles: Option<u64>,
+    pub(crate) camera: Camera,
     /// `None`: a panorama lights the scene and the light is a nominal square above the meshes, or
     /// the emitter is not a rectangle and the light is its stand-in.
-    pub light: Option<AreaLight>,
-    pub emitter: Emitter,
-    pub environment: Option<crate::scene::environment::Environment>,
-    pub render: RenderSettings,
+    pub(crate) light: Option<AreaLight>,
+    pub(crate) emitter: Emitter,
+    pub(crate) environment: Option<crate::scene::environment::Environment>,
+    pub(crate) render: RenderSettings,
 }
 
 /// The checked `[camera]`.
@@ -261,12 +261,12 @@ pub(crate) fn camera(origin: &str, def: &CameraDef) -> Result<Camera> {
 
 /// The camera's vertical field of view, in degrees: near 180 the scene shrinks to a point, and at
 /// tiny angles the projection's scale (1/tan) overflows f32 with coordinates of ±MAX_COORDINATE.
-pub const MIN_FOV_DEG: f32 = 0.01;
-pub const MAX_FOV_DEG: f32 = 179.0;
+pub(crate) const MIN_FOV_DEG: f32 = 0.01;
+pub(crate) const MAX_FOV_DEG: f32 = 179.0;
 
 /// Smallest shadow map per side: below it a map holds a handful of texels (1² or 3² maps were
 /// accepted and rendered nonsense); the failure gallery's smallest map is the same.
-pub const MIN_SHADOW_MAP_SIZE: u32 = 16;
+pub(crate) const MIN_SHADOW_MAP_SIZE: u32 = 16;
 
 /// The checked `[render]` table, with a hybrid map's raster size in `shadow_map_size`.
 pub(crate) fn render_settings(origin: &str, r: &RenderSettings) -> Result<RenderSettings> {

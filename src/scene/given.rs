@@ -71,7 +71,7 @@ fn light_def(l: &AreaLight) -> LightDef {
 
 impl Scene {
     /// A scene of `meshes` under a rectangular light; `render` comes from [`settings_from_pairs`].
-    pub fn from_meshes(
+    pub(crate) fn from_meshes(
         origin: &str,
         camera: &Camera,
         light: &AreaLight,
@@ -207,7 +207,7 @@ impl Scene {
     }
 
     /// `camera` checked as a scene file's `[camera]` is, and against these meshes' bounds.
-    pub fn check_camera(&self, camera: &Camera) -> Result<Camera> {
+    pub(crate) fn check_camera(&self, camera: &Camera) -> Result<Camera> {
         let camera = format::camera(&self.origin, &camera_def(camera))?;
         if self.bounds_outside(&camera) {
             return Err(self.nothing_visible_from(&camera));
@@ -216,7 +216,7 @@ impl Scene {
     }
 
     /// `light` checked as a scene file's `[light]` is, and against these meshes (src/scene/light_checks.rs).
-    pub fn check_light(&self, light: &AreaLight) -> Result<AreaLight> {
+    pub(crate) fn check_light(&self, light: &AreaLight) -> Result<AreaLight> {
         let light = build_light(&light_def(light), &self.origin)?;
         let lit = super::light_checks::Lit {
             bounds: &self.bounds,

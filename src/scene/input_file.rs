@@ -10,7 +10,7 @@ use std::path::Path;
 use std::time::Duration;
 
 /// How a size reads in messages: MiB with one decimal, and the exact bytes.
-pub fn show_size(bytes: u64) -> String {
+pub(crate) fn show_size(bytes: u64) -> String {
     format!(
         "{:.1} MiB ({bytes} bytes)",
         bytes as f64 / (1u64 << 20) as f64
@@ -25,7 +25,7 @@ pub const TEXT_CAP: u64 = 256 << 20;
 const QUIET: Duration = Duration::from_secs(1);
 
 /// `path` as messages show it: with its target when it is a link.
-pub fn shown(path: &Path) -> String {
+pub(crate) fn shown(path: &Path) -> String {
     match std::fs::canonicalize(path) {
         Ok(target) if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) => {
             format!("{} (a link to {})", path.display(), target.display())

@@ -5,10 +5,10 @@ use super::mesh_def::{GridDef, MeshDef};
 use glam::{Mat4, Quat, Vec3};
 
 /// Placements a scene may ask for in one `[[mesh]]` (a guard against a typo such as `count = [600, 600]`).
-pub const MAX_INSTANCES: usize = 100_000;
+pub(crate) const MAX_INSTANCES: usize = 100_000;
 
 /// The placements of a `[[mesh]]`: its `instances` list, its `grid`, or the identity once.
-pub fn placements(m: &MeshDef) -> Result<Vec<Mat4>, String> {
+pub(crate) fn placements(m: &MeshDef) -> Result<Vec<Mat4>, String> {
     match (&m.instances, &m.grid) {
         (Some(_), Some(_)) => Err("give either `instances` or `grid`, not both".into()),
         (Some(list), None) => {

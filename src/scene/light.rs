@@ -29,11 +29,11 @@ pub use super::bounds::Bounds;
 
 /// Widest field of view a sample's frustum may take (tan of the half-angle): beyond it the map's
 /// texels grow too large to be useful; geometry outside counts as unoccluding.
-pub const MAX_TAN_HALF: f32 = 6.0;
+pub(crate) const MAX_TAN_HALF: f32 = 6.0;
 
 /// Where `p` lies in the view of a map from light point `y` (the frame `sample_view` builds):
 /// its tangents across the two axes, or None where it lies at or behind `y`'s plane.
-pub fn tangents_seen(light: &AreaLight, y: Vec3, p: Vec3) -> Option<(f32, f32)> {
+pub(crate) fn tangents_seen(light: &AreaLight, y: Vec3, p: Vec3) -> Option<(f32, f32)> {
     let forward = light.normal();
     let right = (light.edge_u - forward * light.edge_u.dot(forward)).normalize();
     let up = forward.cross(right).normalize() * -1.0;
@@ -58,7 +58,7 @@ pub fn sample_view(
 /// `bounds`), its depth range still to `bounds`: every occluder between the light point and a
 /// receiver in the window projects into the window, so the map's texels go to those receivers
 /// alone. With `window = bounds` it is `sample_view`, bit for bit.
-pub fn sample_view_window(
+pub(crate) fn sample_view_window(
     light: &AreaLight,
     y: Vec3,
     bounds: &Bounds,
@@ -127,7 +127,7 @@ pub fn sample_view_window(
 /// `cube_window::fitted`), or the symmetric 90° face where no fit applies. Far reaches the bounds'
 /// farthest corner, near the bounds' nearest point (for depth precision), and `cube_face` is
 /// `face + 1` (the lookup's face test).
-pub fn cube_face_view(
+pub(crate) fn cube_face_view(
     centre: Vec3,
     y: Vec3,
     face: u32,
@@ -171,7 +171,7 @@ pub fn cube_face_view(
 /// `texel_angle` is the texel's world size (clip.w is 1, so the lookup's `depth·texel_angle` is
 /// that size at every depth: bias in texels is a fixed world distance); `position` is `toward`
 /// with w = 0, the direction the lookup's facing test and slope read.
-pub fn orthographic_view(
+pub(crate) fn orthographic_view(
     toward: Vec3,
     right_hint: Vec3,
     bounds: &Bounds,
@@ -220,7 +220,7 @@ pub fn orthographic_view(
 /// same bounds. The light-space frame is fixed by the bounds alone, and the square's centre is
 /// moved to a whole number of texels in it, so every texel edge keeps its world place while the
 /// square follows the camera: the map does not shimmer.
-pub fn orthographic_square(
+pub(crate) fn orthographic_square(
     toward: Vec3,
     right_hint: Vec3,
     bounds: &Bounds,

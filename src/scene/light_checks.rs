@@ -26,15 +26,15 @@ use glam::Vec3;
 pub const MAX_LIGHT_DIAGONALS: f32 = 10.0;
 
 /// What a light is checked against: the meshes (placed, as one list), their bounds and the eye.
-pub struct Lit<'a> {
-    pub bounds: &'a Bounds,
-    pub eye: Vec3,
-    pub vertices: &'a [Vertex],
-    pub indices: &'a [u32],
+pub(crate) struct Lit<'a> {
+    pub(crate) bounds: &'a Bounds,
+    pub(crate) eye: Vec3,
+    pub(crate) vertices: &'a [Vertex],
+    pub(crate) indices: &'a [u32],
 }
 
 /// All checks of the scene's light (`light` is the rectangle, or the stand-in of another kind).
-pub fn check(origin: &str, light: &AreaLight, emitter: &Emitter, lit: &Lit) -> Result<()> {
+pub(crate) fn check(origin: &str, light: &AreaLight, emitter: &Emitter, lit: &Lit) -> Result<()> {
     check_side(origin, light, emitter, lit.bounds)?;
     check_sun(origin, emitter)?;
     check_sphere(origin, emitter, lit)?;
@@ -264,7 +264,7 @@ fn outline(light: &AreaLight, emitter: &Emitter) -> Vec<Vec3> {
 /// middle: a disk of radius 200 at height 8 over a 53-unit scene gave `regular:n=3` an RMSE of
 /// 0.865 against hard's 0.11, within the 10-diagonal bound. The sun's maps are orthographic, and
 /// the point's are cube faces that see every way: neither has the limit.
-pub fn check_field(
+pub(crate) fn check_field(
     origin: &str,
     light: &AreaLight,
     emitter: &Emitter,

@@ -12,7 +12,7 @@ struct Edge {
     new_vertex: u32,
 }
 
-pub fn once(mesh: RawMesh) -> RawMesh {
+pub(crate) fn once(mesh: RawMesh) -> RawMesh {
     let (positions, triangles) = weld(&mesh);
     let n = positions.len();
     let mut edges: HashMap<(u32, u32), Edge> = HashMap::with_capacity(triangles.len() * 2);

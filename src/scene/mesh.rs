@@ -22,7 +22,7 @@ pub struct Vertex {
 /// Loads (or builds) one `[[mesh]]`, subdivides it, applies its transform, then places one copy per
 /// instance. Normals are computed once and turned with each placement. Also returns a mesh file's
 /// boundary edges as loaded (0 for the built-ins: the plane is open by design).
-pub fn instantiate(
+pub(crate) fn instantiate(
     m: &MeshDef,
     k: usize,
     origin: &str,
@@ -124,9 +124,9 @@ pub fn instantiate(
 }
 
 /// Scale factors per axis, by size (0 flattens the mesh; beyond 1e6 f32 loses it).
-pub const SCALE_RANGE: [f32; 2] = [1e-6, 1e6];
+pub(crate) const SCALE_RANGE: [f32; 2] = [1e-6, 1e6];
 /// `rotate_deg` per axis: ten turns; larger angles are typos, and lose precision in f32.
-pub const MAX_ROTATE_DEG: f32 = 3600.0;
+pub(crate) const MAX_ROTATE_DEG: f32 = 3600.0;
 
 /// The `[[mesh]]` transform: every message names the mesh, the key and its value.
 fn check_transform(m: &MeshDef, k: usize, origin: &str) -> Result<()> {
@@ -169,7 +169,7 @@ fn check_transform(m: &MeshDef, k: usize, origin: &str) -> Result<()> {
 }
 
 /// Triangles a scene may hold after instancing and subdivision (64M: 4 GB of vertices and indices).
-pub const MAX_SCENE_TRIANGLES: u64 = 1 << 26;
+pub(crate) const MAX_SCENE_TRIANGLES: u64 = 1 << 26;
 
 /// Area-weighted vertex normals (the cross product's length is twice the area).
 pub(super) fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {

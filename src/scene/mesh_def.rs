@@ -6,45 +6,45 @@ use serde::Deserialize;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct MeshDef {
-    pub builtin: Option<String>,
-    pub file: Option<String>,
+pub(crate) struct MeshDef {
+    pub(crate) builtin: Option<String>,
+    pub(crate) file: Option<String>,
     #[serde(default)]
-    pub translate: [f32; 3],
+    pub(crate) translate: [f32; 3],
     #[serde(default)]
-    pub rotate_deg: [f32; 3],
+    pub(crate) rotate_deg: [f32; 3],
     #[serde(default)]
-    pub scale: Scale,
+    pub(crate) scale: Scale,
     #[serde(default = "default_albedo")]
-    pub albedo: [f32; 3],
+    pub(crate) albedo: [f32; 3],
     #[serde(default = "default_segments")]
-    pub segments: u32,
+    pub(crate) segments: u32,
     /// Rounds of subdivision (×4 triangles each): reaches a seed's triangle count.
     #[serde(default)]
-    pub subdivide: u32,
+    pub(crate) subdivide: u32,
     /// `midpoint` (default: the surface unchanged) or `loop` (smooth).
     #[serde(default)]
-    pub subdivision: Scheme,
+    pub(crate) subdivision: Scheme,
     /// Placements `[x, y, z, rot_y_deg, scale]`, each applied after the mesh's own transform.
-    pub instances: Option<Vec<[f32; 5]>>,
+    pub(crate) instances: Option<Vec<[f32; 5]>>,
     /// A grid of placements in the xz plane (see `GridDef`); exclusive with `instances`.
-    pub grid: Option<GridDef>,
+    pub(crate) grid: Option<GridDef>,
 }
 
 /// `grid = { count = [nx, nz], spacing = [dx, dz], rotate_step_deg = 0 }`: centred on the origin;
 /// instance k (x fastest) is turned k · rotate_step_deg about y.
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct GridDef {
-    pub count: [u32; 2],
-    pub spacing: [f32; 2],
+pub(crate) struct GridDef {
+    pub(crate) count: [u32; 2],
+    pub(crate) spacing: [f32; 2],
     #[serde(default)]
-    pub rotate_step_deg: f32,
+    pub(crate) rotate_step_deg: f32,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]
 #[serde(untagged)]
-pub enum Scale {
+pub(crate) enum Scale {
     Uniform(f32),
     Axes([f32; 3]),
 }

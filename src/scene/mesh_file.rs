@@ -26,7 +26,7 @@ pub struct AssetLayer {
 }
 
 /// A loaded mesh: positions and triangle indices.
-pub type MeshArrays = (Vec<[f32; 3]>, Vec<u32>);
+pub(crate) type MeshArrays = (Vec<[f32; 3]>, Vec<u32>);
 
 static ASSET_LAYER: OnceLock<AssetLayer> = OnceLock::new();
 
@@ -40,7 +40,7 @@ fn asset_layer(what: &str) -> Result<&'static AssetLayer> {
 }
 
 /// The asset cache folder: the registered layer's default (`$PENUMBRA_CACHE`, else `~/.cache/penumbra`).
-pub fn default_cache_dir() -> Result<PathBuf> {
+pub(crate) fn default_cache_dir() -> Result<PathBuf> {
     (asset_layer("the asset cache")?.default_cache_dir)().map_err(Error::Asset)
 }
 
@@ -55,7 +55,7 @@ pub(crate) fn fetch_group(rel: &str) -> &str {
 /// `file = "cache:meshes/cow.off"` reads `<cache>/meshes/cow.off`.
 pub const CACHE_PREFIX: &str = "cache:";
 
-pub const FORMATS: &str = ".obj, .off, .ply, .ply.gz or .js";
+pub(crate) const FORMATS: &str = ".obj, .off, .ply, .ply.gz or .js";
 
 /// Where relative and `cache:` mesh paths resolve.
 #[derive(Clone, Copy, Debug, Default)]
@@ -101,7 +101,7 @@ pub fn cache_path(file: &str, cache: Option<&Path>) -> Result<PathBuf> {
 /// (the scene file) and `which` (`mesh 2`) name the key in errors about the file itself.
 /// Every error is one line naming the scene file, the mesh and its `file` once:
 /// `s.toml: mesh 2: file = "m.off": line 2: file ends early: …`.
-pub fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<RawMesh> {
+pub(crate) fn load(file: &str, origin: &str, which: &str, dirs: MeshDirs) -> Result<RawMesh> {
     // The loaders lead with what they read (`lead`: the path, or `file` itself); `file = …` names it.
     let named = |lead: &str, e: Error| {
         // A missing asset keeps its kind: each front end says how to fetch it.

@@ -29,7 +29,7 @@ pub fn max_mesh_bytes() -> u64 {
 /// Why a mesh file may not be read, in the engine's words; over the cap apart, since each front
 /// end says how to raise it.
 #[derive(Debug)]
-pub enum Refusal {
+pub(crate) enum Refusal {
     Unreadable(String),
     OverCap { why: String, cap_mib: u64 },
 }
@@ -44,7 +44,7 @@ impl std::fmt::Display for Refusal {
 
 /// Why `path` (symlinks followed) may not be read as a mesh: not a regular file, or over `max`
 /// bytes. Looks at the metadata only, so a FIFO is never opened (opening one blocks).
-pub fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), Refusal> {
+pub(crate) fn check_mesh_file(path: &Path, max: u64) -> std::result::Result<(), Refusal> {
     use super::input_file::{kind, show_size, shown};
     // The callers name the file and say "cannot read"; the reason alone, so neither repeats.
     let meta = std::fs::metadata(path).map_err(|e| Refusal::Unreadable(e.to_string()))?;

@@ -5,44 +5,41 @@ mod builtin;
 mod catalog;
 mod coords;
 mod cube_window;
-pub mod emitter;
+pub(crate) mod emitter;
 mod emitter_def;
-pub mod environment;
+pub(crate) mod environment;
 mod format;
 mod given;
-pub mod input_file;
+pub(crate) mod input_file;
 mod instances;
-pub mod light;
-pub mod light_checks;
+pub(crate) mod light;
+pub(crate) mod light_checks;
 mod loop_subdivision;
 mod mesh;
 mod mesh_def;
 pub(crate) mod mesh_file;
-pub mod mesh_input;
+pub(crate) mod mesh_input;
 mod model;
 mod obj;
 mod overrides;
 mod raw_mesh;
-pub mod rays;
+pub(crate) mod rays;
 mod settings;
 mod subdivide;
 
-pub use builtin::{builtin_names, builtin_source, BUILTIN_SCENES};
-pub use catalog::{area_light_names, catalog, CatalogEntry};
+pub use builtin::{builtin_names, builtin_source};
+pub use catalog::{area_light_names, catalog};
 pub use coords::MAX_COORDINATE;
-pub use emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight, SunLight};
+pub use emitter::{DiskLight, Emitter, LightKind, PointLight, SpotLight};
 pub use emitter_def::MAX_SUN_DIAMETER_DEG;
 pub use given::{settings_from_pairs, GivenMesh};
 pub use mesh::Vertex;
-pub use mesh_file::{
-    cache_path, default_cache_dir, register_asset_layer, AssetLayer, MeshDirs, CACHE_PREFIX,
-};
+pub use mesh_file::{cache_path, register_asset_layer, AssetLayer, MeshDirs, CACHE_PREFIX};
 pub use model::{Camera, Scene};
 pub use obj::embedded_source;
-pub use overrides::{apply_overrides, is_render_key};
-pub use settings::{
-    BiasDef, CullMode, HybridDef, MapKind, RasterChoice, RenderSettings, SelfShadow,
-};
+pub use overrides::is_render_key;
+pub use settings::{BiasDef, CullMode, HybridDef, MapKind};
+pub(crate) use settings::{RasterChoice, RenderSettings, SelfShadow};
 
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};

@@ -16,7 +16,7 @@ pub struct Camera {
 }
 
 impl Camera {
-    pub fn clip_from_world(&self, aspect: f32, bounds: &Bounds) -> Mat4 {
+    pub(crate) fn clip_from_world(&self, aspect: f32, bounds: &Bounds) -> Mat4 {
         let dist = (bounds.min.lerp(bounds.max, 0.5) - self.eye).length() + bounds.diagonal();
         let near = (dist * 1e-4).max(1e-4);
         // Reversed depth (near → 1, far → 0): float depth keeps its relative precision far from
@@ -78,7 +78,7 @@ impl Scene {
     }
 
     /// [`Self::nothing_visible`] for another camera over these meshes (the embedding API moves it).
-    pub fn nothing_visible_from(&self, c: &Camera) -> Error {
+    pub(crate) fn nothing_visible_from(&self, c: &Camera) -> Error {
         if self.bounds_within_a_pixel(c) {
             // In view, but smaller than a pixel (a field of view near 180°, or a far camera).
             return Error::scene(
@@ -106,12 +106,12 @@ impl Scene {
     }
 
     /// Whether the meshes' bounding box lies wholly outside the camera's view (then nothing shows).
-    pub fn bounds_outside_view(&self) -> bool {
+    pub(crate) fn bounds_outside_view(&self) -> bool {
         self.bounds_outside(&self.camera)
     }
 
     /// [`Self::bounds_outside_view`] for another camera.
-    pub fn bounds_outside(&self, camera: &Camera) -> bool {
+    pub(crate) fn bounds_outside(&self, camera: &Camera) -> bool {
         let aspect = self.render.width as f32 / self.render.height as f32;
         let m = camera.clip_from_world(aspect, &self.bounds);
         let (lo, hi) = (self.bounds.min, self.bounds.max);

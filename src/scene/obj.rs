@@ -12,14 +12,14 @@ pub fn embedded_source(file: &str) -> Option<&'static str> {
 }
 
 /// An OBJ embedded in the binary (built-in scenes: every scenes/*.obj).
-pub fn load_embedded(file: &str) -> Result<RawMesh> {
+pub(crate) fn load_embedded(file: &str) -> Result<RawMesh> {
     let text = super::builtin::embedded_mesh(file).ok_or_else(|| Error::mesh(file, "not a mesh file shipped in scenes/ (built-in scenes can only name those, or `cache:` paths)"))?;
     parse(text, file)
 }
 
 /// Reads at most `max` bytes; the caller has checked it is a regular file within the cap, and
 /// the read stays bounded should it grow meanwhile.
-pub fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
+pub(crate) fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
     use std::io::Read;
     let label = path.display().to_string();
     let cannot = |e: std::io::Error| Error::mesh(&label, format!("cannot read: {e}"));
@@ -44,7 +44,7 @@ pub fn load_file(path: &Path, max: u64) -> Result<RawMesh> {
 }
 
 /// Checks every `v` and `f` line, then lets tobj triangulate.
-pub fn parse(text: &str, label: &str) -> Result<RawMesh> {
+pub(crate) fn parse(text: &str, label: &str) -> Result<RawMesh> {
     check_lines(text, label)?;
     let mut reader = std::io::BufReader::new(text.as_bytes());
     let options = tobj::LoadOptions {

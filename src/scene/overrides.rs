@@ -3,7 +3,7 @@
 
 use crate::Error;
 
-pub const RENDER_KEYS: &[&str] = &[
+pub(crate) const RENDER_KEYS: &[&str] = &[
     "width",
     "height",
     "resolution",
@@ -32,7 +32,7 @@ pub fn is_render_key(key: &str) -> bool {
 }
 
 /// Value text as TOML (numbers, booleans), else as a string.
-pub fn parse_value(text: &str) -> toml::Value {
+pub(crate) fn parse_value(text: &str) -> toml::Value {
     format!("v = {text}")
         .parse::<toml::Table>()
         .ok()
@@ -42,7 +42,7 @@ pub fn parse_value(text: &str) -> toml::Value {
 
 /// Sets each `key=value` pair in `table`'s `[render]`; an unknown key is a [`Error::Setting`]
 /// naming `origin`, the scene it was given for.
-pub fn apply_overrides(
+pub(crate) fn apply_overrides(
     table: &mut toml::Table,
     overrides: &[(String, String)],
     origin: &str,

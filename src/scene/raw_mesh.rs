@@ -4,17 +4,17 @@ use glam::Vec3;
 
 /// Positions + triangle indices in object space; normals are derived after the transform.
 #[derive(Debug)]
-pub struct RawMesh {
-    pub positions: Vec<Vec3>,
-    pub normals: Option<Vec<Vec3>>,
-    pub indices: Vec<u32>,
+pub(crate) struct RawMesh {
+    pub(crate) positions: Vec<Vec3>,
+    pub(crate) normals: Option<Vec<Vec3>>,
+    pub(crate) indices: Vec<u32>,
 }
 
 impl RawMesh {
     /// Edges used by one triangle only, in one direction (vertices welded by their exact position,
     /// so a file's seam copies count as one): 0 for a closed, consistently wound mesh. Culling back
     /// faces in the shadow raster is exact only then (docs/scene-format.md).
-    pub fn boundary_edges(&self) -> usize {
+    pub(crate) fn boundary_edges(&self) -> usize {
         use std::collections::{HashMap, HashSet};
         let mut weld: HashMap<[u32; 3], u32> = HashMap::with_capacity(self.positions.len());
         let id: Vec<u32> = self

@@ -10,17 +10,17 @@ pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
     pub shadow_map_size: u32,
-    pub bias: BiasDef,
+    pub(crate) bias: BiasDef,
     pub cull: CullMode,
     pub ambient: f32,
     pub shadow_map_budget_mib: u32,
-    pub self_shadow: SelfShadow,
+    pub(crate) self_shadow: SelfShadow,
     /// Shadow-map representation (docs/hybrid.md): `plain` depth arrays or `hybrid` merged maps.
     pub maps: MapKind,
     pub hybrid: HybridDef,
     /// Who rasterizes the shadow maps (docs/gpu-frame.md §7): the fixed-function `hardware` raster,
     /// the `compute` kernels, or `auto`, whichever this adapter runs faster on the scene.
-    pub raster: RasterChoice,
+    pub(crate) raster: RasterChoice,
 }
 
 pub use crate::gpu::kernels::MapKind;
@@ -28,7 +28,7 @@ pub use crate::gpu::kernels::MapKind;
 /// The `raster` setting.
 #[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[serde(rename_all = "lowercase")]
-pub enum RasterChoice {
+pub(crate) enum RasterChoice {
     #[default]
     Hardware,
     Compute,
@@ -61,7 +61,7 @@ impl Default for HybridDef {
 /// How a surface shadows itself in the shadow-map methods.
 #[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
-pub enum SelfShadow {
+pub(crate) enum SelfShadow {
     /// A light point below the surface's geometric tangent plane is blocked, as a ray finds it
     /// (the ground truth's rule): attached shadows are part of V.
     Facing,

@@ -10,18 +10,18 @@ use glam::Vec3;
 use std::collections::HashMap;
 
 /// Triangles one mesh may reach by subdivision (memory guard: 32M triangles ≈ 1.3 GB of vertices).
-pub const MAX_TRIANGLES: u64 = 1 << 25;
+pub(crate) const MAX_TRIANGLES: u64 = 1 << 25;
 
 #[derive(serde::Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
-pub enum Scheme {
+pub(crate) enum Scheme {
     #[default]
     Midpoint,
     Loop,
 }
 
 /// `levels` rounds of 1→4 splits; `Err` says why when the result would be too large.
-pub fn subdivide(mesh: RawMesh, levels: u32, scheme: Scheme) -> Result<RawMesh, String> {
+pub(crate) fn subdivide(mesh: RawMesh, levels: u32, scheme: Scheme) -> Result<RawMesh, String> {
     let triangles = (mesh.indices.len() / 3) as u64;
     let after = triangles
         .checked_shl(2 * levels)

@@ -21,7 +21,7 @@ pub const CONTROL_BYTES: u64 = std::mem::size_of::<GpuControl>() as u64;
 
 /// Workgroups in one dimension of scope = local's list passes (kernels/shared/common.wgsl
 /// `LIST_GROUPS_X`, WebGPU's guaranteed limit): a longer list's workgroups go on in rows.
-pub const LIST_GROUPS_X: u32 = 65535;
+pub(crate) const LIST_GROUPS_X: u32 = 65535;
 
 /// The CPU twin of common.wgsl `list_dispatch`: the indirect dispatch size that reproject_count's
 /// and probe's `begin` write for a list of `n` items, 64 per workgroup.
@@ -74,7 +74,7 @@ pub struct Masks {
     /// Bit k = lattice sample k lights the pixel (tested samples only).
     pub lit: wgpu::Buffer,
     /// scope = local: bit k = the pixel consulted sample k (shadow_test tested it).
-    pub consulted: wgpu::Buffer,
+    pub(crate) consulted: wgpu::Buffer,
 }
 
 /// reproject_count's output: the comparison maps (one count byte per pixel and quad).
@@ -103,7 +103,7 @@ pub struct Decisions {
     /// First child index per quad of the level, or NO_SPLIT.
     pub split_base: wgpu::Buffer,
     /// The next level's quad_count dispatch (flag words x quads).
-    pub dispatch_args: wgpu::Buffer,
+    pub(crate) dispatch_args: wgpu::Buffer,
     /// One bit per quad node (`quad_node`): split in the previous frame (hysteresis, `hold`).
     pub held: wgpu::Buffer,
 }
@@ -136,8 +136,8 @@ pub struct ItemLists {
 /// Per lattice sample, what compact grows for the next maps: texel rectangles (scissor) and
 /// CULL_TILE_WORDS culling tiles (the largest depth limit each tile's pixels test).
 pub struct Footprints {
-    pub rects: wgpu::Buffer,
-    pub tiles: wgpu::Buffer,
+    pub(crate) rects: wgpu::Buffer,
+    pub(crate) tiles: wgpu::Buffer,
 }
 
 /// What a count pass reads of the frame and the level: the frame uniform (the screen), the level

@@ -5,7 +5,7 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct Blur {
+pub(crate) struct Blur {
     horizontal: ComputeKernel,
     vertical: ComputeKernel,
 }
@@ -13,16 +13,16 @@ pub struct Blur {
 /// The moment maps a blur reads and writes: `layers` maps of `size`², blurred from `source`
 /// through `scratch` (horizontal) into `target` (vertical).
 #[derive(Clone, Copy)]
-pub struct BlurMaps<'b> {
-    pub size: u32,
-    pub layers: u32,
-    pub source: &'b wgpu::Buffer,
-    pub scratch: &'b wgpu::Buffer,
-    pub target: &'b wgpu::Buffer,
+pub(crate) struct BlurMaps<'b> {
+    pub(crate) size: u32,
+    pub(crate) layers: u32,
+    pub(crate) source: &'b wgpu::Buffer,
+    pub(crate) scratch: &'b wgpu::Buffer,
+    pub(crate) target: &'b wgpu::Buffer,
 }
 
 impl Blur {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             horizontal: ComputeKernel::new(ctx, Stage::BLUR, "horizontal")?,
             vertical: ComputeKernel::new(ctx, Stage::BLUR, "vertical")?,
@@ -31,7 +31,7 @@ impl Blur {
 
     /// `source` → (horizontal) → `scratch` → (vertical) → `target`; `frame` is the frame uniform
     /// and `map_size` its `map_size` (the dispatch covers the map).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -15,27 +15,27 @@ pub const NO_CASCADE: u32 = u32::MAX;
 pub const FILTER_HARD: u32 = 0;
 pub const FILTER_PCF: u32 = 1;
 
-pub struct Cascades {
+pub(crate) struct Cascades {
     kernel: ComputeKernel,
     sampler: wgpu::Sampler,
 }
 
 /// What the kernel reads besides the frame's buffers.
-pub struct CascadeInputs<'a> {
+pub(crate) struct CascadeInputs<'a> {
     /// pcf's filter uniform and tap offsets (read when `filter = pcf`).
-    pub filter: &'a wgpu::Buffer,
-    pub disk: &'a wgpu::Buffer,
+    pub(crate) filter: &'a wgpu::Buffer,
+    pub(crate) disk: &'a wgpu::Buffer,
     /// One sample per cascade, `samples[i].layer = i`.
-    pub samples: &'a wgpu::Buffer,
-    pub maps: &'a wgpu::TextureView,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) maps: &'a wgpu::TextureView,
     /// The `GpuCascades` uniform.
-    pub cascades: &'a wgpu::Buffer,
+    pub(crate) cascades: &'a wgpu::Buffer,
     /// One u32 per pixel: the cascade taken, `NO_CASCADE` on background.
-    pub chosen: &'a wgpu::Buffer,
+    pub(crate) chosen: &'a wgpu::Buffer,
 }
 
 impl Cascades {
-    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new_for(ctx, Stage::CASCADES, "main", maps)?,
             sampler: comparison_sampler(ctx),
@@ -43,7 +43,7 @@ impl Cascades {
     }
 
     /// Writes `visibility` and `chosen` at every pixel of the G-buffer (V at geometry pixels).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -50,7 +50,7 @@ impl Compact {
     }
 
     /// Every geometry pixel of `g` becomes an item of the root (`items.items[0]`), counted in `control`.
-    pub fn record_seed(
+    pub(crate) fn record_seed(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -127,7 +127,7 @@ impl Compact {
     }
 
     /// V from the integer sums (`items.visibility_fixed`) into the screen's V.
-    pub fn record_resolve(
+    pub(crate) fn record_resolve(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

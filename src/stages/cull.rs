@@ -40,7 +40,7 @@ pub struct Cull {
     /// GpuCull.cull_face: the face the shadow raster culls.
     cull_face: u32,
     /// Maps per batch.
-    pub slots: u32,
+    pub(crate) slots: u32,
     stride: u32,
 }
 
@@ -175,7 +175,7 @@ impl Cull {
     }
 
     /// Byte offset of slot n's draw arguments.
-    pub fn args_offset(slot: u32) -> u64 {
+    pub(crate) fn args_offset(slot: u32) -> u64 {
         slot as u64 * ARGS_WORDS as u64 * 4
     }
 }

@@ -10,28 +10,28 @@ use crate::Result;
 /// One level's count: its parameters, the corner rays, `cell_count` cells and their counts, over
 /// every `stride`-th pixel.
 #[derive(Clone, Copy)]
-pub struct EnvCountInputs<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub corners: &'a wgpu::Buffer,
-    pub cells: &'a wgpu::Buffer,
-    pub counts: &'a wgpu::Buffer,
-    pub cell_count: u32,
-    pub stride: u32,
+pub(crate) struct EnvCountInputs<'a> {
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) corners: &'a wgpu::Buffer,
+    pub(crate) cells: &'a wgpu::Buffer,
+    pub(crate) counts: &'a wgpu::Buffer,
+    pub(crate) cell_count: u32,
+    pub(crate) stride: u32,
 }
 
-pub struct EnvCount {
+pub(crate) struct EnvCount {
     kernel: ComputeKernel,
 }
 
 impl EnvCount {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_COUNT, "main")?,
         })
     }
 
     /// `counts` must be zeroed for the `cells` active cells.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -73,7 +73,7 @@ impl EnvCount {
 }
 
 /// Pixels counted with every `stride`-th pixel in x and y.
-pub fn counted_pixels(width: u32, height: u32, stride: u32) -> u32 {
+pub(crate) fn counted_pixels(width: u32, height: u32, stride: u32) -> u32 {
     let s = stride.max(1);
     width.div_ceil(s) * height.div_ceil(s)
 }

@@ -8,7 +8,7 @@ use crate::gpu::{GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
-pub struct EnvShadowmaps {
+pub(crate) struct EnvShadowmaps {
     kernel: ComputeKernel,
     /// The comparison sampler of `filter=bilinear`, as pcf's.
     sampler: wgpu::Sampler,
@@ -17,26 +17,26 @@ pub struct EnvShadowmaps {
 /// What the kernel reads besides the G-buffer: the method's frame uniform and parameters, one
 /// sample and map per light, the lights, AO and the PCF filter.
 #[derive(Clone, Copy)]
-pub struct EnvMapInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub params: &'a wgpu::Buffer,
-    pub samples: &'a wgpu::Buffer,
-    pub maps: &'a wgpu::TextureView,
-    pub lights: &'a wgpu::Buffer,
-    pub ao: &'a wgpu::Buffer,
-    pub filter: FilterBuffers<'a>,
+pub(crate) struct EnvMapInputs<'a> {
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) maps: &'a wgpu::TextureView,
+    pub(crate) lights: &'a wgpu::Buffer,
+    pub(crate) ao: &'a wgpu::Buffer,
+    pub(crate) filter: FilterBuffers<'a>,
 }
 
 /// The filter's uniform and tap offsets (the pcf family's `GpuFilter` and disk).
 #[derive(Clone, Copy)]
-pub struct FilterBuffers<'a> {
-    pub settings: &'a wgpu::Buffer,
-    pub disk: &'a wgpu::Buffer,
+pub(crate) struct FilterBuffers<'a> {
+    pub(crate) settings: &'a wgpu::Buffer,
+    pub(crate) disk: &'a wgpu::Buffer,
 }
 
 impl EnvShadowmaps {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
-    pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new_for(ctx, Stage::ENV_SHADOWMAPS, "main", raster)?,
             sampler: super::pcf::comparison_sampler(ctx),
@@ -45,7 +45,7 @@ impl EnvShadowmaps {
 
     /// `frame` is the method's own frame uniform (its light-side plane passes every point); `ao` is read
     /// when `params.use_ao` is 1. Writes `visibility` at every `gbuffer` pixel.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -5,30 +5,30 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct EnvSplit {
+pub(crate) struct EnvSplit {
     kernel: ComputeKernel,
 }
 
 /// Buffers of one split dispatch.
-pub struct EnvSplitIo<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub cells: &'a wgpu::Buffer,
-    pub counts: &'a wgpu::Buffer,
-    pub cell_power: &'a wgpu::Buffer,
-    pub next_cells: &'a wgpu::Buffer,
-    pub leaves: &'a wgpu::Buffer,
+pub(crate) struct EnvSplitIo<'a> {
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) cells: &'a wgpu::Buffer,
+    pub(crate) counts: &'a wgpu::Buffer,
+    pub(crate) cell_power: &'a wgpu::Buffer,
+    pub(crate) next_cells: &'a wgpu::Buffer,
+    pub(crate) leaves: &'a wgpu::Buffer,
     /// [next cells, leaves, 0, 0] as atomics.
-    pub control: &'a wgpu::Buffer,
+    pub(crate) control: &'a wgpu::Buffer,
 }
 
 impl EnvSplit {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_SPLIT, "main")?,
         })
     }
 
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

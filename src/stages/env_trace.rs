@@ -10,13 +10,13 @@ use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
 /// The BVH on the GPU (bindings 20 and 21 of every ray-casting env kernel).
-pub struct BvhBuffers {
-    pub nodes: wgpu::Buffer,
-    pub triangles: wgpu::Buffer,
+pub(crate) struct BvhBuffers {
+    pub(crate) nodes: wgpu::Buffer,
+    pub(crate) triangles: wgpu::Buffer,
 }
 
 impl BvhBuffers {
-    pub fn upload(ctx: &GpuContext, bvh: &Bvh) -> BvhBuffers {
+    pub(crate) fn upload(ctx: &GpuContext, bvh: &Bvh) -> BvhBuffers {
         let tris = if bvh.triangles.is_empty() {
             vec![Default::default()]
         } else {
@@ -39,47 +39,47 @@ impl BvhBuffers {
     }
 }
 
-pub struct EnvTrace {
+pub(crate) struct EnvTrace {
     kernel: ComputeKernel,
 }
 
 /// The `vertex` entry point (the per-vertex variant), built only where a method asks for it.
-pub struct EnvTraceVertex {
+pub(crate) struct EnvTraceVertex {
     kernel: ComputeKernel,
 }
 
 /// The mesh the per-vertex rays start from and test: its vertex buffer, its length and its BVH.
 #[derive(Clone, Copy)]
-pub struct VertexMesh<'a> {
-    pub vertices: &'a wgpu::Buffer,
-    pub vertex_count: u32,
-    pub bvh: &'a BvhBuffers,
+pub(crate) struct VertexMesh<'a> {
+    pub(crate) vertices: &'a wgpu::Buffer,
+    pub(crate) vertex_count: u32,
+    pub(crate) bvh: &'a BvhBuffers,
 }
 
 /// What the `vertex` entry point writes: V, blocked rays and running sums per vertex.
-pub struct VertexOutputs<'a> {
-    pub visibility: &'a wgpu::Buffer,
-    pub blocked: &'a wgpu::Buffer,
-    pub sums: &'a wgpu::Buffer,
+pub(crate) struct VertexOutputs<'a> {
+    pub(crate) visibility: &'a wgpu::Buffer,
+    pub(crate) blocked: &'a wgpu::Buffer,
+    pub(crate) sums: &'a wgpu::Buffer,
 }
 
 /// What env_trace reads and writes besides the G-buffer and V.
-pub struct EnvTraceInputs<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub lights: &'a wgpu::Buffer,
-    pub blocked: &'a wgpu::Buffer,
+pub(crate) struct EnvTraceInputs<'a> {
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) lights: &'a wgpu::Buffer,
+    pub(crate) blocked: &'a wgpu::Buffer,
     /// Ambient occlusion per pixel (read when `params.use_ao` is 1; any buffer otherwise).
-    pub ao: &'a wgpu::Buffer,
+    pub(crate) ao: &'a wgpu::Buffer,
     /// Running sums between chunks, 8 bytes per pixel.
-    pub sums: &'a wgpu::Buffer,
-    pub bvh: &'a BvhBuffers,
+    pub(crate) sums: &'a wgpu::Buffer,
+    pub(crate) bvh: &'a BvhBuffers,
 }
 
 /// Lights per env_trace dispatch (see kernels/env_trace.wgsl).
-pub const ENV_TRACE_CHUNK: u32 = 256;
+pub(crate) const ENV_TRACE_CHUNK: u32 = 256;
 
 /// The per-chunk parameter blocks of `light_count` lights (at least one, which writes V).
-pub fn chunk_params(
+pub(crate) fn chunk_params(
     base: &crate::gpu::structs::GpuEnvParams,
     light_count: u32,
 ) -> Vec<crate::gpu::structs::GpuEnvParams> {
@@ -96,14 +96,14 @@ pub fn chunk_params(
 }
 
 impl EnvTrace {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "main")?,
         })
     }
 
     /// Writes `visibility` at every `gbuffer` pixel.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -136,7 +136,7 @@ impl EnvTrace {
 }
 
 impl EnvTraceVertex {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_TRACE, "vertex")?,
         })
@@ -144,7 +144,7 @@ impl EnvTraceVertex {
 
     /// One chunk of lights at every mesh vertex (`params.vertex_count` of them): `scene_vertices`
     /// is the scene's vertex buffer, `vertex_count` its length (the dispatch covers it).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

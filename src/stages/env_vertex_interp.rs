@@ -11,20 +11,20 @@ use crate::Result;
 /// What the interpolation reads: the scene's indices, the parameters, each pixel's triangle and
 /// barycentrics, the per-vertex visibility and AO.
 #[derive(Clone, Copy)]
-pub struct InterpInputs<'a> {
-    pub scene_indices: &'a wgpu::Buffer,
-    pub params: &'a wgpu::Buffer,
-    pub ids: &'a TriangleIds,
-    pub vertex_visibility: &'a wgpu::Buffer,
-    pub ao: &'a wgpu::Buffer,
+pub(crate) struct InterpInputs<'a> {
+    pub(crate) scene_indices: &'a wgpu::Buffer,
+    pub(crate) params: &'a wgpu::Buffer,
+    pub(crate) ids: &'a TriangleIds,
+    pub(crate) vertex_visibility: &'a wgpu::Buffer,
+    pub(crate) ao: &'a wgpu::Buffer,
 }
 
-pub struct EnvVertexInterp {
+pub(crate) struct EnvVertexInterp {
     kernel: ComputeKernel,
 }
 
 impl EnvVertexInterp {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::ENV_VERTEX_INTERP, "main")?,
         })
@@ -32,7 +32,7 @@ impl EnvVertexInterp {
 
     /// `ao` is read when `params.use_ao` is 1 (any buffer otherwise); `scene_indices` is the scene's
     /// index buffer (the ids name its triangles); `gbuffer` sizes the dispatch.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

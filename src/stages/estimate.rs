@@ -13,31 +13,31 @@ use crate::Result;
 
 /// One pixel's sums: V's half-set differences (columns, rows), Q, B, then the half-set
 /// differences of Q (columns, rows) and of B (kernels/estimate.wgsl `EstimateSums`).
-pub type Sums = [f32; 8];
+pub(crate) type Sums = [f32; 8];
 
 /// Bytes per pixel of the sums (two vec4 of f32).
-pub const SUM_BYTES: u64 = 32;
+pub(crate) const SUM_BYTES: u64 = 32;
 
-pub struct EstimatePass {
+pub(crate) struct EstimatePass {
     /// One kernel per entry of `shade::BLOCK_SIZES`.
     blocks: Vec<ComputeKernel>,
 }
 
 /// What every range reads and the sums it adds to.
-pub struct EstimateInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub samples: &'a wgpu::Buffer,
-    pub weights: &'a wgpu::Buffer,
+pub(crate) struct EstimateInputs<'a> {
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) weights: &'a wgpu::Buffer,
     /// Each sample's signed weights in the column and row half-set differences (vec2 of f32).
-    pub split: &'a wgpu::Buffer,
-    pub gbuffer: &'a GBuffer,
-    pub tiles: &'a GeometryTiles,
-    pub sums: &'a wgpu::Buffer,
+    pub(crate) split: &'a wgpu::Buffer,
+    pub(crate) gbuffer: &'a GBuffer,
+    pub(crate) tiles: &'a GeometryTiles,
+    pub(crate) sums: &'a wgpu::Buffer,
 }
 
 impl EstimatePass {
     /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
-    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self {
             blocks: BLOCK_SIZES
                 .iter()
@@ -50,7 +50,7 @@ impl EstimatePass {
 
     /// Adds samples `first .. first + count` (all in `maps`) to the sums. The sums are bound
     /// whole, so the frame must be one band (`check_bands`).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -112,7 +112,7 @@ impl EstimatePass {
 }
 
 /// The sums are bound whole: a frame whose V is split into bands of rows is refused.
-pub fn check_bands(tiles: &GeometryTiles, width: u32, height: u32) -> Result<()> {
+pub(crate) fn check_bands(tiles: &GeometryTiles, width: u32, height: u32) -> Result<()> {
     if tiles.bands.len() > 1 {
         return Err(crate::Error::Param(format!(
             "estimate = on binds its per-pixel sums whole, and a {width}×{height} frame is split into {} bands; use a smaller resolution",

@@ -18,9 +18,9 @@ use crate::scene::Scene;
 /// so the renderer can own its context and scene (`frame::Held`) without borrowing itself.
 #[derive(Clone, Copy)]
 pub struct FrameGpu<'a> {
-    pub ctx: &'a GpuContext,
-    pub scene: &'a Scene,
-    pub parts: &'a FrameParts,
+    pub(crate) ctx: &'a GpuContext,
+    pub(crate) scene: &'a Scene,
+    pub(crate) parts: &'a FrameParts,
 }
 
 impl std::ops::Deref for FrameGpu<'_> {
@@ -32,23 +32,23 @@ impl std::ops::Deref for FrameGpu<'_> {
 
 /// The frame's own GPU objects, which the renderer owns and every method shares.
 pub struct FrameParts {
-    pub scene_gpu: SceneGpu,
-    pub gbuffer: GBuffer,
-    pub frame: GpuFrame,
-    pub frame_buffer: wgpu::Buffer,
+    pub(crate) scene_gpu: SceneGpu,
+    pub(crate) gbuffer: GBuffer,
+    pub(crate) frame: GpuFrame,
+    pub(crate) frame_buffer: wgpu::Buffer,
     /// The shadow-map raster the `raster` setting chose; methods allocate their arrays from it.
-    pub raster: Raster,
-    pub shade: ShadePass,
+    pub(crate) raster: Raster,
+    pub(crate) shade: ShadePass,
     /// This frame's 8x8 tiles with a geometry pixel, listed with the G-buffer.
-    pub geometry_tiles: GeometryTiles,
-    pub visibility: wgpu::Buffer,
+    pub(crate) geometry_tiles: GeometryTiles,
+    pub(crate) visibility: wgpu::Buffer,
     /// Shadow maps kept from the renderer's earlier frames, for the method's state to take
     /// (docs/reuse.md); empty with reuse off.
-    pub maps_kept: crate::render::kept_maps::MapCache,
+    pub(crate) maps_kept: crate::render::kept_maps::MapCache,
 }
 
 impl FrameGpu<'_> {
-    pub fn shade_inputs<'b>(
+    pub(crate) fn shade_inputs<'b>(
         &'b self,
         samples: &'b wgpu::Buffer,
         weights: &'b wgpu::Buffer,
@@ -63,7 +63,7 @@ impl FrameGpu<'_> {
         }
     }
     /// The frame's screen: what every per-pixel pass covers, and V.
-    pub fn screen(&self) -> Screen<'_> {
+    pub(crate) fn screen(&self) -> Screen<'_> {
         Screen {
             frame: &self.frame_buffer,
             gbuffer: &self.gbuffer,
@@ -72,17 +72,17 @@ impl FrameGpu<'_> {
         }
     }
     /// How this frame's map-reading kernels read the scene's maps.
-    pub fn map_access(&self) -> MapAccess {
+    pub(crate) fn map_access(&self) -> MapAccess {
         self.raster.access(self.scene.render.maps)
     }
     /// V cleared in a submission of its own, ahead of what is recorded after it (a method that
     /// renders V more than once a frame: auto's tries and one-map checks).
-    pub fn clear_visibility(&self) {
+    pub(crate) fn clear_visibility(&self) {
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&self.visibility, 0, None);
         self.ctx.queue.submit([enc.finish()]);
     }
-    pub fn pixel_count(&self) -> u32 {
+    pub(crate) fn pixel_count(&self) -> u32 {
         self.gbuffer.width * self.gbuffer.height
     }
 }

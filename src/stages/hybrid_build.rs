@@ -12,7 +12,7 @@ use crate::{Error, Result};
 
 /// Pool texel (a % 4096, a / 4096) holds word a (`HYBRID_POOL_WIDTH_LOG2` in the kernels).
 pub const POOL_WIDTH_LOG2: u32 = 12;
-pub const POOL_WIDTH: u32 = 1 << POOL_WIDTH_LOG2;
+pub(crate) const POOL_WIDTH: u32 = 1 << POOL_WIDTH_LOG2;
 /// A node with this bit points at 4 child nodes; without it, it is a depth's f32 bits.
 pub const CHILDREN: u32 = 0x8000_0000;
 /// One 16-bit depth unit in [0, 1] depth: `eps` is given in these (the seed's ε0 = 0.25).
@@ -21,7 +21,7 @@ pub const DEPTH_UNIT: f32 = 1.0 / 65535.0;
 pub const FRAME_LEVELS_SHIFT: u32 = 8;
 
 /// The four entry points of `kernels/hybrid_build.wgsl`.
-pub struct HybridBuild {
+pub(crate) struct HybridBuild {
     /// Nearest, clamped: textureGather returns the four texels exactly.
     sampler: wgpu::Sampler,
     classify: ComputeKernel,
@@ -31,25 +31,25 @@ pub struct HybridBuild {
 }
 
 /// The pool texture and the build's scratch buffers, sized once per scene and settings.
-pub struct HybridStore {
-    pub pool: wgpu::Texture,
+pub(crate) struct HybridStore {
+    pub(crate) pool: wgpu::Texture,
     /// Sampled view, what map-reading kernels bind in place of a depth array.
-    pub view: wgpu::TextureView,
+    pub(crate) view: wgpu::TextureView,
     storage_view: wgpu::TextureView,
-    pub control: wgpu::Buffer,
+    pub(crate) control: wgpu::Buffer,
     offsets: wgpu::Buffer,
     row_starts: wgpu::Buffer,
     coarse_nodes: wgpu::Buffer,
-    pub settings: HybridDef,
-    pub coarse: u32,
+    pub(crate) settings: HybridDef,
+    pub(crate) coarse: u32,
     /// Root words at the start of the pool, one per slot.
-    pub slots: u32,
-    pub capacity_words: u32,
+    pub(crate) slots: u32,
+    pub(crate) capacity_words: u32,
 }
 
 impl HybridBuild {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
-    pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
         Ok(Self {
             sampler: ctx.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("hybrid_build gather"),
@@ -63,7 +63,7 @@ impl HybridBuild {
     }
 
     /// Merges `raster` layer `layer` into `store` as slot `slot` (four dispatches, no wait).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -149,7 +149,7 @@ impl HybridBuild {
 impl HybridStore {
     /// A store with `slots` roots and room for at least `capacity_bytes` (rounded up to whole pool
     /// rows, at most the device's texture height).
-    pub fn new(
+    pub(crate) fn new(
         ctx: &GpuContext,
         settings: HybridDef,
         slots: u32,
@@ -216,7 +216,7 @@ impl HybridStore {
     }
 
     /// Empties the store (its maps are no longer needed): allocation restarts after the roots.
-    pub fn reset(&self, ctx: &GpuContext) {
+    pub(crate) fn reset(&self, ctx: &GpuContext) {
         let empty = GpuHybridControl {
             used: self.slots,
             ..Default::default()
@@ -226,22 +226,22 @@ impl HybridStore {
     }
 
     /// The allocation state (one read-back; submit the builds first).
-    pub fn read_control(&self, ctx: &GpuContext) -> Result<GpuHybridControl> {
+    pub(crate) fn read_control(&self, ctx: &GpuContext) -> Result<GpuHybridControl> {
         Ok(readback::read_buffer::<GpuHybridControl>(ctx, &self.control, 16)?[0])
     }
 
     /// The first `words` words of the pool (tests and the twin comparison).
-    pub fn read_words(&self, ctx: &GpuContext, words: u32) -> Result<Vec<u32>> {
+    pub(crate) fn read_words(&self, ctx: &GpuContext, words: u32) -> Result<Vec<u32>> {
         let all: Vec<u32> = readback::read_texture(ctx, &self.pool, 0, 4)?;
         Ok(all[..words as usize].to_vec())
     }
 
-    pub fn capacity_bytes(&self) -> u64 {
+    pub(crate) fn capacity_bytes(&self) -> u64 {
         self.capacity_words as u64 * 4
     }
 
     /// The build's scratch buffers (offsets, row starts, coarse verdicts): reused by every map.
-    pub fn scratch_bytes(&self) -> u64 {
+    pub(crate) fn scratch_bytes(&self) -> u64 {
         (2 * self.coarse as u64 * self.coarse as u64 + self.coarse as u64) * 4
     }
 }

@@ -26,7 +26,8 @@ pub fn decode(pool: &[u32], slot: u32, map_size: u32, levels: u32) -> Vec<f32> {
         .collect()
 }
 
-/// Per full texel, the level its depth is stored at (see [`lookup`]).
+/// Per full texel, the level its depth is stored at (see [`lookup`]): for the twin's tests.
+#[cfg(any(test, feature = "twins"))]
 pub fn stored_levels(pool: &[u32], slot: u32, map_size: u32, levels: u32) -> Vec<u32> {
     (0..map_size * map_size)
         .map(|i| lookup(pool, slot, map_size, levels, i % map_size, i / map_size).1)

@@ -8,13 +8,13 @@ use crate::gpu::stages::{Bindings, Entry, Stage};
 use crate::gpu::{pipeline, GpuContext};
 use crate::{Error, Result};
 
-pub struct ComputeKernel {
-    pub stage: Stage,
-    pub entry: &'static Entry,
+pub(crate) struct ComputeKernel {
+    pub(crate) stage: Stage,
+    pub(crate) entry: &'static Entry,
     pipeline: wgpu::ComputePipeline,
 }
 
-pub enum Dispatch<'a> {
+pub(crate) enum Dispatch<'a> {
     Direct([u32; 3]),
     Indirect(&'a wgpu::Buffer),
     /// Arguments at a byte offset of the buffer.
@@ -22,12 +22,17 @@ pub enum Dispatch<'a> {
 }
 
 impl ComputeKernel {
-    pub fn new(ctx: &GpuContext, stage: Stage, entry: &str) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, stage: Stage, entry: &str) -> Result<Self> {
         Self::new_for(ctx, stage, entry, MapAccess::Depth)
     }
 
     /// A map-reading kernel built for one map access form (`FrameGpu::map_access`).
-    pub fn new_for(ctx: &GpuContext, stage: Stage, entry: &str, maps: MapAccess) -> Result<Self> {
+    pub(crate) fn new_for(
+        ctx: &GpuContext,
+        stage: Stage,
+        entry: &str,
+        maps: MapAccess,
+    ) -> Result<Self> {
         let table = stage.entry(entry).ok_or_else(|| Error::Kernel {
             name: stage.name.into(),
             message: format!("no entry point `{entry}` in the stage table"),
@@ -41,7 +46,7 @@ impl ComputeKernel {
 
     /// Records one dispatch of this entry point with its bindings (`bind::<stage>::<Set>`, generated
     /// from the stage table: the compiler checks that every variable is bound, once, by its name).
-    pub fn dispatch<'a, B: Bindings<'a>>(
+    pub(crate) fn dispatch<'a, B: Bindings<'a>>(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,

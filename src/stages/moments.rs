@@ -6,20 +6,20 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct Moments {
+pub(crate) struct Moments {
     kernel: ComputeKernel,
 }
 
 impl Moments {
     /// `raster`: how the raster's layers are read (`Raster::raster_access`).
-    pub fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, raster: MapAccess) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new_for(ctx, Stage::MOMENTS, "main", raster)?,
         })
     }
 
     /// `frame`: the frame uniform; `map_size`: its `map_size` (the dispatch covers the map).
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

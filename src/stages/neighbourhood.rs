@@ -46,7 +46,7 @@ impl Neighbourhood {
 
     /// scope = local: one item of `items.items[cur]` each; also counts each quad's low-quality
     /// pixels (`out.per_quad`, which the level cleared), so no quad_count pass follows.
-    pub fn record_list(
+    pub(crate) fn record_list(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

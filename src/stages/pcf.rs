@@ -7,14 +7,14 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct Pcf {
+pub(crate) struct Pcf {
     kernel: ComputeKernel,
     /// The hardware comparison sampler of `kernel = bilinear` (lit when reference <= stored).
     sampler: wgpu::Sampler,
 }
 
 /// The hardware comparison sampler of the bilinear pattern (lit when reference <= stored).
-pub fn comparison_sampler(ctx: &GpuContext) -> wgpu::Sampler {
+pub(crate) fn comparison_sampler(ctx: &GpuContext) -> wgpu::Sampler {
     ctx.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("pcf comparison"),
         mag_filter: wgpu::FilterMode::Linear,
@@ -26,7 +26,7 @@ pub fn comparison_sampler(ctx: &GpuContext) -> wgpu::Sampler {
 
 impl Pcf {
     /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
-    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new_for(ctx, Stage::PCF, "main", maps)?,
             sampler: comparison_sampler(ctx),
@@ -35,7 +35,7 @@ impl Pcf {
 
     /// `frame`: the frame uniform; `samples[0]` is the map's sample; `disk` the tap offsets of the
     /// disk kernels. Writes `visibility` at every G-buffer pixel.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

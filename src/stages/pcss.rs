@@ -7,20 +7,20 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct Pcss {
+pub(crate) struct Pcss {
     kernel: ComputeKernel,
 }
 
 impl Pcss {
     /// `maps`: how the kernel reads the frame's maps (`FrameGpu::map_access`).
-    pub fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext, maps: MapAccess) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new_for(ctx, Stage::PCSS, "main", maps)?,
         })
     }
 
     /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -16,15 +16,15 @@ use std::cell::RefCell;
 
 /// Maps one compute chain holds at most: enough (triangle, map) pairs to fill a large GPU, and a
 /// small share of the map budget.
-pub const CHAIN_MAPS: u32 = 32;
+pub(crate) const CHAIN_MAPS: u32 = 32;
 
 /// What a raster call draws: the scene, the sample records whose view-projections its jobs name,
 /// and the array whose layers the maps go into.
 #[derive(Clone, Copy)]
-pub struct RasterTarget<'b> {
-    pub scene: &'b SceneGpu,
-    pub samples: &'b wgpu::Buffer,
-    pub array: &'b ShadowMapArray,
+pub(crate) struct RasterTarget<'b> {
+    pub(crate) scene: &'b SceneGpu,
+    pub(crate) samples: &'b wgpu::Buffer,
+    pub(crate) array: &'b ShadowMapArray,
 }
 
 pub enum Raster {
@@ -53,13 +53,13 @@ impl Raster {
         })
     }
 
-    pub fn is_compute(&self) -> bool {
+    pub(crate) fn is_compute(&self) -> bool {
         matches!(self, Raster::Compute(_))
     }
 
     /// The stage its work is timed as, and named in `stages_ms`: `shadow_raster` (the
     /// fixed-function pipeline) or `raster_compute` (its kernels and copies into the layers).
-    pub fn stage(&self) -> Stage {
+    pub(crate) fn stage(&self) -> Stage {
         match self {
             Raster::Hardware(_) => Stage::SHADOW_RASTER,
             Raster::Compute(_) => Stage::RASTER_COMPUTE,
@@ -67,7 +67,7 @@ impl Raster {
     }
 
     /// `hardware` or `compute`, as run.json and the report name it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         if self.is_compute() {
             "compute"
         } else {
@@ -76,12 +76,12 @@ impl Raster {
     }
 
     /// How map-reading kernels read maps of representation `maps` filled by this raster.
-    pub fn access(&self, maps: MapKind) -> MapAccess {
+    pub(crate) fn access(&self, maps: MapKind) -> MapAccess {
         MapAccess::of(maps, self.is_compute())
     }
 
     /// How kernels read this raster's own layers (moments, hybrid_build).
-    pub fn raster_access(&self) -> MapAccess {
+    pub(crate) fn raster_access(&self) -> MapAccess {
         MapAccess::raster_of(self.is_compute())
     }
 
@@ -104,12 +104,12 @@ impl Raster {
     }
 
     /// An array of `layers` maps in the format this raster fills.
-    pub fn allocate(&self, ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray {
+    pub(crate) fn allocate(&self, ctx: &GpuContext, map_size: u32, layers: u32) -> ShadowMapArray {
         shadow_raster::allocate_as(ctx, map_size, layers, self.is_compute())
     }
 
     /// Rasterizes `jobs` (sample → layer, optionally inside a scissor rectangle) into `array`.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -134,7 +134,7 @@ impl Raster {
     /// kept map a moved mesh touched, docs/reuse.md); a job without a rectangle draws nothing.
     /// `records` are the sample records on the CPU (`job.sample` indexes them): the hardware
     /// raster draws only the triangles that may cover a job's rectangle (`redraw_cull`).
-    pub fn record_redraw(
+    pub(crate) fn record_redraw(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -158,7 +158,7 @@ impl Raster {
 
     /// Each job draws the triangles the cull pass kept for it: its slot's index list, whose draw
     /// arguments (index count first) sit at the byte offset given with the job, in `args`.
-    pub fn record_culled(
+    pub(crate) fn record_culled(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -191,7 +191,7 @@ impl Raster {
     /// The GPU-steered loop's draws over the whole mesh, each job's instance count a request flag
     /// the GPU set (`args` at the job's offset). The compute raster rasterizes every job instead
     /// (its own steered path is `record_requested`).
-    pub fn record_flagged(
+    pub(crate) fn record_flagged(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -231,7 +231,7 @@ impl Raster {
     /// `candidates` possible), into the layers their sample records name, with dispatches the GPU
     /// sizes from the list's count. The compute raster alone can: the fixed-function one draws
     /// every candidate layer (`record_culled` with GPU instance counts).
-    pub fn record_requested(
+    pub(crate) fn record_requested(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

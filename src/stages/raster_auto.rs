@@ -12,18 +12,18 @@ use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 
 /// Maps each raster draws per round: enough to amortise a submission, few enough to stay quick.
-pub const AUTO_MAPS: u32 = 8;
+pub(crate) const AUTO_MAPS: u32 = 8;
 /// Timed rounds per raster, alternating.
-pub const AUTO_ROUNDS: usize = 3;
+pub(crate) const AUTO_ROUNDS: usize = 3;
 
 /// What `auto` measured (wall clock, one round of AUTO_MAPS maps each, the least of AUTO_ROUNDS).
 #[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct AutoTiming {
-    pub hardware_ms: f64,
-    pub compute_ms: f64,
-    pub maps: u32,
-    pub map_size: u32,
-    pub compute: bool,
+pub(crate) struct AutoTiming {
+    pub(crate) hardware_ms: f64,
+    pub(crate) compute_ms: f64,
+    pub(crate) maps: u32,
+    pub(crate) map_size: u32,
+    pub(crate) compute: bool,
 }
 
 type Key = (String, u64, u32, String, u32);
@@ -34,7 +34,7 @@ fn remembered() -> &'static Mutex<HashMap<Key, AutoTiming>> {
 }
 
 /// The size the raster draws at: `hybrid.base` under maps = hybrid.
-pub fn raster_size(scene: &Scene) -> u32 {
+pub(crate) fn raster_size(scene: &Scene) -> u32 {
     match scene.render.maps {
         MapKind::Hybrid => scene.render.hybrid.base,
         MapKind::Plain => scene.render.shadow_map_size,
@@ -53,7 +53,7 @@ fn key(ctx: &GpuContext, scene: &Scene) -> Key {
 
 /// Whether the frame rasterizes in compute kernels, by the scene's `raster` setting, and what
 /// `auto` measured when it chose.
-pub fn compute_raster(
+pub(crate) fn compute_raster(
     ctx: &GpuContext,
     scene: &Scene,
     gpu: &SceneGpu,

@@ -24,18 +24,18 @@ pub const FAR: u32 = 0x3f80_0000;
 /// for its 289 maps a lattice frame took 10 s on an H100 against 147 ms with 2^24
 /// (results/bench-seed-table2-h100-rasters/). Maps fitted to a window (`regions`) make most of a
 /// mesh's triangles large: a per-map figure that ignores the mesh overflowed there.
-pub const LARGE_PAIRS_PER_MAP: u64 = 1 << 16;
-pub const LARGE_CAPACITY_MIN: u64 = 1 << 18;
-pub const LARGE_CAPACITY_MAX: u64 = 1 << 24;
+pub(crate) const LARGE_PAIRS_PER_MAP: u64 = 1 << 16;
+pub(crate) const LARGE_CAPACITY_MIN: u64 = 1 << 18;
+pub(crate) const LARGE_CAPACITY_MAX: u64 = 1 << 24;
 /// `requested`'s output words (the kernel's STEER_ARGS_*: the map count, then three dispatches).
-pub const STEER_ARGS_WORDS: u64 = 10;
+pub(crate) const STEER_ARGS_WORDS: u64 = 10;
 pub const STEER_ARGS_CLEAR: u64 = 1;
 pub const STEER_ARGS_MAIN: u64 = 4;
 pub const STEER_ARGS_STORE: u64 = 7;
 /// Words each invocation of `clear` sets (the kernel's RASTER_CLEAR_RUN).
 pub const CLEAR_RUN: u32 = 16;
 /// Most maps in one chain: a queued entry names its map in 16 bits (the kernel's RASTER_MAP_BITS).
-pub const MAX_CHAIN_MAPS: u64 = (1 << 16) - 1;
+pub(crate) const MAX_CHAIN_MAPS: u64 = (1 << 16) - 1;
 /// Workgroups along x of a 2D dispatch over many items (rows of at most this many).
 const ROW: u32 = 32768;
 
@@ -49,19 +49,19 @@ pub struct RasterCompute {
     kept_extent: ComputeKernel,
     store: ComputeKernel,
     /// `capacity` maps of `map_size`² words.
-    pub depth: wgpu::Buffer,
+    pub(crate) depth: wgpu::Buffer,
     large: wgpu::Buffer,
     /// Pairs `large` holds.
-    pub large_capacity: u32,
+    pub(crate) large_capacity: u32,
     control: wgpu::Buffer,
     dispatch: wgpu::Buffer,
     /// `requested`'s output: the chain's map count, then the dispatches of clear, main and store.
     steer_args: wgpu::Buffer,
-    pub map_size: u32,
+    pub(crate) map_size: u32,
     /// Maps one chain holds.
     pub capacity: u32,
     /// The mesh size the queue was sized for (0: the per-map floor alone).
-    pub triangles: u32,
+    pub(crate) triangles: u32,
     cull_face: u32,
 }
 
@@ -148,7 +148,7 @@ impl RasterCompute {
     }
 
     /// As `new`, with the queue sized for a mesh of `triangles` (large_capacity_for).
-    pub fn for_mesh(
+    pub(crate) fn for_mesh(
         ctx: &GpuContext,
         map_size: u32,
         cull: CullMode,
@@ -475,7 +475,7 @@ impl RasterCompute {
     /// Copies map `m` of the chain into layer `layer` of an R32Uint array of the same size (after
     /// `record`, in the same encoder). Rows go in one copy where their bytes meet the copy
     /// alignment (map sizes that are multiples of 64), else one copy per row.
-    pub fn copy_map(
+    pub(crate) fn copy_map(
         &self,
         enc: &mut wgpu::CommandEncoder,
         m: u32,
@@ -487,7 +487,7 @@ impl RasterCompute {
 
     /// `copy_map` of the texels `[x, y, w, h]` alone: a kept map's rectangle drawn again, the
     /// rest of the layer kept (docs/reuse.md).
-    pub fn copy_rect(
+    pub(crate) fn copy_rect(
         &self,
         enc: &mut wgpu::CommandEncoder,
         m: u32,
@@ -530,16 +530,6 @@ impl RasterCompute {
         }
     }
 
-    /// The depths of maps 0..maps of the last chain, one row-major `map_size`² map each (a read-back).
-    pub fn read_depths(&self, ctx: &GpuContext, maps: u32) -> Result<Vec<Vec<f32>>> {
-        let words: Vec<u32> = self.read_words(ctx, maps)?;
-        let texels = (self.map_size * self.map_size) as usize;
-        Ok(words
-            .chunks(texels)
-            .map(|m| m.iter().map(|&w| depth_of(w)).collect())
-            .collect())
-    }
-
     /// The stored words of maps 0..maps, as the kernel wrote them.
     pub fn read_words(&self, ctx: &GpuContext, maps: u32) -> Result<Vec<u32>> {
         assert!(maps <= self.capacity);
@@ -559,10 +549,10 @@ impl RasterCompute {
 pub struct RasterDifference {
     pub texels: usize,
     pub covered: usize,
-    pub exact: usize,
+    pub(crate) exact: usize,
     pub coverage: usize,
     pub tenth: usize,
-    pub hundredth: usize,
+    pub(crate) hundredth: usize,
 }
 
 impl RasterDifference {
@@ -611,7 +601,7 @@ impl RasterDifference {
 }
 
 /// A stored word's depth.
-pub fn depth_of(word: u32) -> f32 {
+pub(crate) fn depth_of(word: u32) -> f32 {
     f32::from_bits(word)
 }
 

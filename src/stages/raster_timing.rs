@@ -81,7 +81,7 @@ pub fn least_ms(
 }
 
 /// A hash of the scene's mesh, for remembering a timing per (adapter, mesh, …) in a process.
-pub fn mesh_hash(scene: &Scene) -> u64 {
+pub(crate) fn mesh_hash(scene: &Scene) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     bytemuck::cast_slice::<_, u8>(&scene.vertices).hash(&mut h);
     scene.indices.hash(&mut h);

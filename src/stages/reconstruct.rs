@@ -6,19 +6,19 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct Reconstruct {
+pub(crate) struct Reconstruct {
     kernel: ComputeKernel,
 }
 
 impl Reconstruct {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::RECONSTRUCT, "main")?,
         })
     }
 
     /// `frame`: the frame uniform; writes `visibility` at every G-buffer pixel.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -23,7 +23,7 @@ pub const WEIGHT_SCALE: f32 = 16.0;
 /// The sampling error's order in n (`SAMPLING_ORDER`; docs/error-estimate.md measured 1.5).
 pub const SAMPLING_ORDER: f32 = 1.5;
 /// Most classes (the ladder's length).
-pub const MAX_CLASSES: usize = 16;
+pub(crate) const MAX_CLASSES: usize = 16;
 
 /// The kernel's uniform (`RegionsParams` in kernels/regions.wgsl).
 #[repr(C)]
@@ -80,49 +80,49 @@ pub fn empty_region() -> [u32; REGION_WORDS] {
 }
 
 /// A class's words before any tile: no tiles, no texel need, an empty box.
-pub fn empty_class() -> [u32; CLASS_WORDS] {
+pub(crate) fn empty_class() -> [u32; CLASS_WORDS] {
     [0, u32::MAX, u32::MAX, u32::MAX, u32::MAX, 0, 0, 0]
 }
 
 /// What `record` reads: the frame uniform, the screen's G-buffer and geometry tiles, and the centre
 /// map (`samples[0]`, layer 0 of `maps`).
 #[derive(Clone, Copy)]
-pub struct RegionsInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub gbuffer: &'a GBuffer,
-    pub tiles: &'a GeometryTiles,
-    pub samples: &'a wgpu::Buffer,
-    pub maps: &'a wgpu::TextureView,
+pub(crate) struct RegionsInputs<'a> {
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) gbuffer: &'a GBuffer,
+    pub(crate) tiles: &'a GeometryTiles,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) maps: &'a wgpu::TextureView,
 }
 
 /// The passes and the buffers they fill, sized for one screen and ladder.
-pub struct RegionsPass {
+pub(crate) struct RegionsPass {
     measure: ComputeKernel,
     total: ComputeKernel,
     classify: ComputeKernel,
-    pub params: RegionsParams,
+    pub(crate) params: RegionsParams,
     params_buffer: wgpu::Buffer,
     /// REGION_WORDS per region.
-    pub regions: wgpu::Buffer,
+    pub(crate) regions: wgpu::Buffer,
     /// CLASS_WORDS per class.
-    pub classes: wgpu::Buffer,
+    pub(crate) classes: wgpu::Buffer,
     /// The weights' sum (fixed point) and the geometry pixels.
-    pub totals: wgpu::Buffer,
+    pub(crate) totals: wgpu::Buffer,
     /// A section of `section_words` per class: shade's tile-list header, then the tiles.
-    pub class_tiles: wgpu::Buffer,
+    pub(crate) class_tiles: wgpu::Buffer,
     /// A section per group of classes (the method's cost model joins classes): their lists one
     /// after another, so a group's shade is one pass per block.
-    pub group_tiles: wgpu::Buffer,
+    pub(crate) group_tiles: wgpu::Buffer,
     /// What `regions`, `classes` and `class_tiles` hold before a frame.
     regions_init: wgpu::Buffer,
     classes_init: wgpu::Buffer,
     tiles_init: wgpu::Buffer,
-    pub region_count: u32,
+    pub(crate) region_count: u32,
 }
 
 impl RegionsPass {
     /// `params`' ladder, step and search are the caller's; the sizes come from `gbuffer`.
-    pub fn new(
+    pub(crate) fn new(
         ctx: &GpuContext,
         maps: MapAccess,
         gbuffer: &GBuffer,
@@ -189,7 +189,12 @@ impl RegionsPass {
 
     /// Resets the buffers, then measures every pixel against the centre map (`inputs.samples[0]`,
     /// in `inputs.maps`) and classifies the frame's geometry tiles.
-    pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, inputs: &RegionsInputs) {
+    pub(crate) fn record(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        inputs: &RegionsInputs,
+    ) {
         let RegionsInputs {
             frame,
             gbuffer,
@@ -254,7 +259,7 @@ impl RegionsPass {
     /// Section `g` of the group lists holds `classes`' tiles (class, tile count as read back), one
     /// list after another: a header written from the counts, then one copy per class. Returns it as
     /// shade reads a list (a single band). The classes' own lists are left as the decision wrote them.
-    pub fn join(
+    pub(crate) fn join(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -286,7 +291,7 @@ impl RegionsPass {
     }
 
     /// Class `c`'s tile list as shade reads one (a single band).
-    pub fn class_list(&self, c: u32, height: u32) -> GeometryTiles {
+    pub(crate) fn class_list(&self, c: u32, height: u32) -> GeometryTiles {
         let words = self.params.section_words as u64;
         GeometryTiles::section(&self.class_tiles, c as u64 * words * 4, words * 4, height)
     }

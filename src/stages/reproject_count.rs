@@ -44,7 +44,7 @@ impl ReprojectCount {
     }
 
     /// [`Self::record_dense`] a band of rows at a time (`tiles.bands`), the masks bound by band.
-    pub fn record_dense_bands(
+    pub(crate) fn record_dense_bands(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -90,7 +90,7 @@ impl ReprojectCount {
     }
 
     /// scope = local: the counts of `items.items[lv.cur]` into `out`.
-    pub fn record_list(
+    pub(crate) fn record_list(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -118,7 +118,7 @@ impl ReprojectCount {
 
     /// The last level's items (scope = local): counts go straight into V's integer sums
     /// (`items.visibility_fixed`).
-    pub fn record_last(
+    pub(crate) fn record_last(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

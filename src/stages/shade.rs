@@ -7,11 +7,11 @@ use crate::gpu::{readback, GpuContext, Stage};
 use crate::render::gbuffer::GBuffer;
 use crate::Result;
 
-pub const WORKGROUP: [u32; 3] = super::PIXEL_WORKGROUP;
+pub(crate) const WORKGROUP: [u32; 3] = super::PIXEL_WORKGROUP;
 /// Samples per full block (`SHADE_BLOCK` in kernels/shade.wgsl, which unrolls them).
 pub const SHADE_BLOCK: u32 = 16;
 /// The block sizes, largest first; `block{size}` is the entry point that adds `size` samples.
-pub const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
+pub(crate) const BLOCK_SIZES: [u32; 5] = [16, 8, 4, 2, 1];
 
 pub struct ShadePass {
     /// One kernel per entry of `BLOCK_SIZES`.
@@ -24,19 +24,19 @@ pub struct ShadePass {
 /// pad (`TILE_LIST_HEADER` in kernels/shade.wgsl).
 pub const TILE_LIST_HEADER: usize = 4;
 /// Side of a tile: the blocks' workgroup.
-pub const TILE: u32 = 8;
+pub(crate) const TILE: u32 = 8;
 
 /// The 8x8 tiles that hold a geometry pixel, listed on the GPU once per frame with the G-buffer
 /// (`geometry_tiles`); shade's and shadow_test's blocks run one workgroup per listed tile, in any
 /// order (pixels are independent). With bands, each band's tiles are listed in its own section.
 pub struct GeometryTiles {
-    pub list: wgpu::Buffer,
+    pub(crate) list: wgpu::Buffer,
     /// The list's header before any tile: count 0, then y = z = 1; copied in every frame.
     header: wgpu::Buffer,
-    pub bytes: u64,
+    pub(crate) bytes: u64,
     /// Rows per band (0: one band) and the bands, top to bottom.
-    pub band_rows: u32,
-    pub bands: Vec<Band>,
+    pub(crate) band_rows: u32,
+    pub(crate) bands: Vec<Band>,
 }
 
 /// A band of rows. A per-pixel storage buffer larger than one binding may be (V at 5,793² and up
@@ -44,9 +44,9 @@ pub struct GeometryTiles {
 /// passes dispatch once per band, with the band's frame uniform (its `band_first_row`), its range
 /// of the buffer and its section of the tile list. Each pixel is computed as without bands, so V
 /// is the same bit for bit (lab/tests/large_frames.rs).
-pub struct Band {
-    pub first_row: u32,
-    pub rows: u32,
+pub(crate) struct Band {
+    pub(crate) first_row: u32,
+    pub(crate) rows: u32,
     /// The frame uniform with this band's first row; None for a single band (the frame's own).
     frame: Option<wgpu::Buffer>,
     tiles_offset: u64,
@@ -55,12 +55,12 @@ pub struct Band {
 
 impl Band {
     /// The frame uniform this band's dispatches bind.
-    pub fn frame<'b>(&'b self, whole: &'b wgpu::Buffer) -> &'b wgpu::Buffer {
+    pub(crate) fn frame<'b>(&'b self, whole: &'b wgpu::Buffer) -> &'b wgpu::Buffer {
         self.frame.as_ref().unwrap_or(whole)
     }
 
     /// This band's section of the tile list (header and tiles).
-    pub fn tiles<'b>(&self, tiles: &'b GeometryTiles) -> wgpu::BindingResource<'b> {
+    pub(crate) fn tiles<'b>(&self, tiles: &'b GeometryTiles) -> wgpu::BindingResource<'b> {
         wgpu::BindingResource::Buffer(wgpu::BufferBinding {
             buffer: &tiles.list,
             offset: self.tiles_offset,
@@ -69,12 +69,12 @@ impl Band {
     }
 
     /// The indirect dispatch arguments of this band's tiles: (count, 1, 1) at its section's start.
-    pub fn tiles_args<'b>(&self, tiles: &'b GeometryTiles) -> super::Dispatch<'b> {
+    pub(crate) fn tiles_args<'b>(&self, tiles: &'b GeometryTiles) -> super::Dispatch<'b> {
         super::Dispatch::IndirectAt(&tiles.list, self.tiles_offset)
     }
 
     /// This band's rows of a per-pixel buffer of `bytes_per_pixel` (the whole buffer for a single band).
-    pub fn pixels<'b>(
+    pub(crate) fn pixels<'b>(
         &self,
         tiles: &GeometryTiles,
         buffer: &'b wgpu::Buffer,
@@ -96,7 +96,12 @@ impl Band {
 impl GeometryTiles {
     /// A tile list in `bytes` of `list` from byte `offset` (256-aligned), one band of `height`
     /// rows: a subset of the geometry tiles that another pass listed (the regions' classes).
-    pub fn section(list: &wgpu::Buffer, offset: u64, bytes: u64, height: u32) -> GeometryTiles {
+    pub(crate) fn section(
+        list: &wgpu::Buffer,
+        offset: u64,
+        bytes: u64,
+        height: u32,
+    ) -> GeometryTiles {
         GeometryTiles {
             list: list.clone(),
             header: list.clone(),
@@ -114,7 +119,7 @@ impl GeometryTiles {
 
     /// Sets the frame uniform's band fields and writes each band's copy of it: the main frame
     /// buffer (made from `frame` after this) lists the tiles by band.
-    pub fn stamp(&self, ctx: &GpuContext, frame: &mut crate::gpu::structs::GpuFrame) {
+    pub(crate) fn stamp(&self, ctx: &GpuContext, frame: &mut crate::gpu::structs::GpuFrame) {
         frame.band_rows = self.band_rows;
         frame.bands = self.bands.len() as u32;
         frame.tile_section_words = (self.bytes / 4 / self.bands.len() as u64) as u32;
@@ -134,7 +139,7 @@ impl GeometryTiles {
 /// Rows per band for per-pixel buffers of `row_bytes` bytes per row under `max_binding`: whole
 /// tiles high and aligned for binding offsets of every per-pixel buffer (a multiple of 4 bytes per
 /// pixel); 0 when the image fits one binding. None when not even one band's minimum fits.
-pub fn band_rows(
+pub(crate) fn band_rows(
     width: u32,
     height: u32,
     row_bytes: u64,
@@ -151,7 +156,7 @@ pub fn band_rows(
 
 /// The least band height: a multiple of the tile side whose rows of 4 bytes per pixel start at an
 /// aligned offset.
-pub fn band_granule(width: u32, offset_alignment: u32) -> u32 {
+pub(crate) fn band_granule(width: u32, offset_alignment: u32) -> u32 {
     let mut rows = TILE;
     while (rows as u64 * width as u64 * 4) % offset_alignment.max(1) as u64 != 0 {
         rows += TILE;
@@ -182,28 +187,28 @@ pub fn blocks(first: u32, count: u32) -> Vec<(u32, u32)> {
 /// The screen a per-pixel pass covers and writes V over: the frame uniform, the G-buffer, its
 /// geometry tiles (whose bands split a dispatch where V passes one storage binding) and V.
 #[derive(Clone, Copy)]
-pub struct Screen<'b> {
-    pub frame: &'b wgpu::Buffer,
-    pub gbuffer: &'b GBuffer,
-    pub tiles: &'b GeometryTiles,
-    pub visibility: &'b wgpu::Buffer,
+pub(crate) struct Screen<'b> {
+    pub(crate) frame: &'b wgpu::Buffer,
+    pub(crate) gbuffer: &'b GBuffer,
+    pub(crate) tiles: &'b GeometryTiles,
+    pub(crate) visibility: &'b wgpu::Buffer,
 }
 
 /// One filtered map lookup's inputs (pcf, pcss): the filter uniform, the sample records and the maps.
 #[derive(Clone, Copy)]
-pub struct MapFilter<'b> {
-    pub filter: &'b wgpu::Buffer,
-    pub samples: &'b wgpu::Buffer,
-    pub maps: &'b wgpu::TextureView,
+pub(crate) struct MapFilter<'b> {
+    pub(crate) filter: &'b wgpu::Buffer,
+    pub(crate) samples: &'b wgpu::Buffer,
+    pub(crate) maps: &'b wgpu::TextureView,
 }
 
-pub struct ShadeInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
-    pub samples: &'a wgpu::Buffer,
-    pub weights: &'a wgpu::Buffer,
-    pub gbuffer: &'a GBuffer,
-    pub tiles: &'a GeometryTiles,
-    pub visibility: &'a wgpu::Buffer,
+pub(crate) struct ShadeInputs<'a> {
+    pub(crate) frame: &'a wgpu::Buffer,
+    pub(crate) samples: &'a wgpu::Buffer,
+    pub(crate) weights: &'a wgpu::Buffer,
+    pub(crate) gbuffer: &'a GBuffer,
+    pub(crate) tiles: &'a GeometryTiles,
+    pub(crate) visibility: &'a wgpu::Buffer,
 }
 
 impl ShadePass {
@@ -227,7 +232,7 @@ impl ShadePass {
     }
 
     /// A tile list with a section per band of `band_rows` rows (0: one band, no section padding).
-    pub fn tile_list_in_bands(
+    pub(crate) fn tile_list_in_bands(
         &self,
         ctx: &GpuContext,
         gbuffer: &GBuffer,
@@ -326,7 +331,7 @@ impl ShadePass {
 
     /// Adds samples `first .. first + count` (all in `maps`: a depth array, or a hybrid store's view)
     /// to the visibility buffer.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
@@ -391,7 +396,7 @@ impl ShadePass {
 
     /// Adaptive, scope = global: V = Σ_k ŵ_k · bit_k(p) from the cached lattice masks, a band of
     /// rows per dispatch (`tiles.bands`).
-    pub fn record_masks(
+    pub(crate) fn record_masks(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,

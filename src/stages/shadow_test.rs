@@ -115,7 +115,7 @@ impl ShadowTest {
 
     /// scope = local: tests the four corners of each of this level's items (`items.items[cur]`,
     /// counted by `items.total`) that no earlier item or probe of the frame tested for that pixel.
-    pub fn record_list(
+    pub(crate) fn record_list(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -138,7 +138,7 @@ impl ShadowTest {
 
     /// scope = local: tests the five new samples of each of this level's probes (`items.probes`,
     /// counted by `items.probe_total`; `work.quads` holds the probed parents' children), once per pixel.
-    pub fn record_probes(
+    pub(crate) fn record_probes(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -194,7 +194,7 @@ impl ShadowTest {
 
     /// Tests the samples the last subdivide requested (`rq.decisions.new_samples`, as many as it
     /// appended, at most `bound`): the GPU-steered loop, when a level's maps fit one array.
-    pub fn record_requested(
+    pub(crate) fn record_requested(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -303,10 +303,10 @@ pub struct TestFrame<'b> {
 /// scope = local, one level: its quads, its item lists and the two map arrays its samples' maps
 /// are layers of.
 #[derive(Clone, Copy)]
-pub struct LocalWork<'b> {
-    pub quads: &'b wgpu::Buffer,
-    pub items: &'b ItemLists,
-    pub maps: [&'b wgpu::TextureView; 2],
+pub(crate) struct LocalWork<'b> {
+    pub(crate) quads: &'b wgpu::Buffer,
+    pub(crate) items: &'b ItemLists,
+    pub(crate) maps: [&'b wgpu::TextureView; 2],
 }
 
 /// The samples one global test takes: `level` (its count, and whether it is subdivide's request

@@ -5,12 +5,12 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct Ssao {
+pub(crate) struct Ssao {
     kernel: ComputeKernel,
 }
 
 impl Ssao {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::SSAO, "main")?,
         })
@@ -18,7 +18,7 @@ impl Ssao {
 
     /// Writes `ao` and `occluded` at every pixel of a `size` (width, height) G-buffer, from the
     /// bindings the caller gives by name.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
@@ -40,7 +40,7 @@ impl Ssao {
 
 /// The fixed hemisphere kernel: `n` points, z ≥ 0.15 (off the tangent plane), lengths spread
 /// towards the centre (scale 0.1..1), from a fixed generator.
-pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
+pub(crate) fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = || {
         state = state

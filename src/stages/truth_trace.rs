@@ -7,13 +7,13 @@ use crate::gpu::stages::bind;
 use crate::gpu::{GpuContext, Stage};
 use crate::Result;
 
-pub struct TruthTrace {
+pub(crate) struct TruthTrace {
     kernel: ComputeKernel,
 }
 
 /// Workgroups for `count` points, one each: as many as one dimension takes, then rows of them
 /// (the kernel reads its point as `wid.y · groups.x + wid.x`).
-pub fn dispatch_size(count: u32, per_dimension: u32) -> [u32; 3] {
+pub(crate) fn dispatch_size(count: u32, per_dimension: u32) -> [u32; 3] {
     let per_dimension = per_dimension.max(1);
     if count <= per_dimension {
         [count, 1, 1]
@@ -23,14 +23,14 @@ pub fn dispatch_size(count: u32, per_dimension: u32) -> [u32; 3] {
 }
 
 impl TruthTrace {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(Self {
             kernel: ComputeKernel::new(ctx, Stage::TRUTH_TRACE, "main")?,
         })
     }
 
     /// Records one chunk: `count` points from the params' `first`.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -47,7 +47,7 @@ shadow_map_size = 64
     };
 }
 
-use penumbra::gpu::GpuContext;
+use penumbra::research::gpu::GpuContext;
 use std::path::PathBuf;
 use std::process::Output;
 
@@ -193,11 +193,12 @@ pub fn random_scene_toml(seed: u64, size: u32, map: u32) -> String {
 /// `Renderer::inspect` reads them after the frame (the CPU twins' inputs).
 pub fn inspected<T: 'static>(
     ctx: &GpuContext,
-    scene: &penumbra::scene::Scene,
-    method: &penumbra::methods::Method,
-    options: penumbra::frame::FrameOptions,
-) -> (penumbra::frame::FrameResult, T) {
-    let mut renderer = penumbra::frame::Renderer::new(ctx, scene, method).expect("renderer");
+    scene: &penumbra::research::scene::Scene,
+    method: &penumbra::research::methods::Method,
+    options: penumbra::research::frame::FrameOptions,
+) -> (penumbra::research::frame::FrameResult, T) {
+    let mut renderer =
+        penumbra::research::frame::Renderer::new(ctx, scene, method).expect("renderer");
     renderer.keep_intermediates();
     let r = renderer.frame(options).expect("frame");
     let t = renderer
@@ -210,22 +211,23 @@ pub fn inspected<T: 'static>(
 /// One adaptive frame with pictures, and its trace (`keep`: with the twins' intermediate buffers).
 pub fn traced(
     ctx: &GpuContext,
-    scene: &penumbra::scene::Scene,
-    p: &penumbra::methods::AdaptiveParams,
+    scene: &penumbra::research::scene::Scene,
+    p: &penumbra::research::methods::AdaptiveParams,
     keep: bool,
 ) -> (
-    penumbra::frame::FrameResult,
-    penumbra::methods::adaptive::AdaptiveTrace,
+    penumbra::research::frame::FrameResult,
+    penumbra::research::methods::adaptive::AdaptiveTrace,
 ) {
-    let options = penumbra::frame::FrameOptions {
-        mode: penumbra::gpu::timing::TimingMode::Frame,
+    let options = penumbra::research::frame::FrameOptions {
+        mode: penumbra::research::gpu::timing::TimingMode::Frame,
         pictures: true,
     };
-    let method = penumbra::methods::Method::adaptive(p.clone());
+    let method = penumbra::research::methods::Method::adaptive(p.clone());
     if keep {
         return inspected(ctx, scene, &method, options);
     }
-    let mut renderer = penumbra::frame::Renderer::new(ctx, scene, &method).expect("renderer");
+    let mut renderer =
+        penumbra::research::frame::Renderer::new(ctx, scene, &method).expect("renderer");
     let r = renderer.frame(options).expect("adaptive frame");
     let t = renderer
         .inspect()

@@ -10,8 +10,10 @@ use super::error::{AssetError, Result};
 
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
-use penumbra::scene::mesh_input::open_regular;
-pub use penumbra::scene::mesh_input::{max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB};
+use penumbra::research::scene::mesh_input::open_regular;
+pub use penumbra::research::scene::mesh_input::{
+    max_mesh_bytes, set_max_mesh_mib, DEFAULT_MAX_MESH_MIB,
+};
 
 /// Reads at most `max` bytes; more is an error, never a silent truncation.
 struct Capped<R> {

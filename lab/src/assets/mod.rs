@@ -66,7 +66,7 @@ pub fn load_mesh_capped(path: &Path, max: u64) -> Result<LoadedMesh> {
 /// Registers the asset layer with the engine's scene loading: the cache folder, the fetch
 /// groups, the pinned digests and the registry mesh formats.
 pub fn install() {
-    penumbra::scene::register_asset_layer(penumbra::scene::AssetLayer {
+    penumbra::research::scene::register_asset_layer(penumbra::research::scene::AssetLayer {
         default_cache_dir: || default_cache_dir().map_err(|e| e.to_string()),
         is_group: |g| g.parse::<Group>().is_ok(),
         check_pinned,

@@ -184,7 +184,7 @@ impl TracerChoice {
 
 /// Why the GPU tracer cannot trace this reference, if it cannot.
 fn gpu_unsupported(scene: &Scene, mode: &ReferenceMode) -> Option<&'static str> {
-    if let Some(why) = penumbra::certify::truth::unsupported(scene) {
+    if let Some(why) = penumbra::research::certify::truth::unsupported(scene) {
         return Some(why);
     }
     let maps_points = matches!(scene.emitter, Emitter::Point(_) | Emitter::Spot(_))
@@ -193,8 +193,8 @@ fn gpu_unsupported(scene: &Scene, mode: &ReferenceMode) -> Option<&'static str> 
 }
 
 /// The mode as the GPU tracer takes it.
-fn truth_samples(mode: &ReferenceMode) -> penumbra::certify::truth::TruthSamples {
-    use penumbra::certify::truth::TruthSamples;
+fn truth_samples(mode: &ReferenceMode) -> penumbra::research::certify::truth::TruthSamples {
+    use penumbra::research::certify::truth::TruthSamples;
     match *mode {
         ReferenceMode::Continuous { m, seed } => TruthSamples::Continuous { m, seed },
         ReferenceMode::Lattice => TruthSamples::Lattice,
@@ -496,13 +496,13 @@ fn trace_on_gpu(
     g: &GBufferCpu,
     mode: &ReferenceMode,
 ) -> Result<(Vec<f32>, TraceStats)> {
-    let tracer = penumbra::certify::truth::TruthTracer::new(ctx, scene)?;
+    let tracer = penumbra::research::certify::truth::TruthTracer::new(ctx, scene)?;
     let pixels: Vec<u32> = (0..g.position.len() as u32)
         .filter(|&i| g.is_geometry(i as usize))
         .collect();
     let points: Vec<_> = pixels
         .iter()
-        .map(|&p| penumbra::certify::truth::point_of(g, p))
+        .map(|&p| penumbra::research::certify::truth::point_of(g, p))
         .collect();
     let bar = progress::bar(
         points.len() as u64,

@@ -24,7 +24,7 @@ pub struct AdaptiveBuffers {
 
 impl AdaptiveBuffers {
     /// wgpu zero-fills a buffer lazily at its first use; doing it here keeps that out of the frame.
-    pub fn zero_fill(&self, ctx: &GpuContext) -> Result<()> {
+    pub(crate) fn zero_fill(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
             &self.masks.lit,
@@ -57,7 +57,7 @@ impl AdaptiveBuffers {
     /// Between frames of one renderer: like `zero_fill`, but without the item and probe lists and
     /// the comparison maps, which every level writes (or clears) before it reads them; they are the
     /// large ones.
-    pub fn reset_frame(&self, ctx: &GpuContext) -> Result<()> {
+    pub(crate) fn reset_frame(&self, ctx: &GpuContext) -> Result<()> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for buf in [
             &self.masks.lit,
@@ -248,7 +248,7 @@ fn count_quads(width: u32, height: u32, limits: &wgpu::Limits) -> u32 {
 /// The screen-sized buffers `AdaptiveBuffers::new` creates, by their labels (the masks by bands
 /// of rows under global scope, the rest whole):
 /// the frame's size plan (`methods::sizes`) checks them before anything is built.
-pub fn size_needs(
+pub(crate) fn size_needs(
     scene: &crate::scene::Scene,
     local: bool,
     limits: &wgpu::Limits,
@@ -285,7 +285,7 @@ pub fn size_needs(
 
 impl AdaptiveBuffers {
     /// The screen-sized buffers, by label, as [`size_needs`] plans them.
-    pub fn screen_sized(&self) -> Vec<(String, u64)> {
+    pub(crate) fn screen_sized(&self) -> Vec<(String, u64)> {
         let mut out = vec![
             ("lattice masks".to_string(), self.masks.lit.size()),
             ("counts".to_string(), self.counts.maps.size()),
@@ -309,7 +309,7 @@ impl AdaptiveBuffers {
     /// scope = local: item and probe lists of `capacity` items in place of the current ones (each
     /// old list is freed as its successor is made), cleared here as `zero_fill` clears the first
     /// ones; the rest is kept, and `reset_frame` restarts it.
-    pub fn grow_items(&mut self, ctx: &GpuContext, capacity: u32) -> Result<()> {
+    pub(crate) fn grow_items(&mut self, ctx: &GpuContext, capacity: u32) -> Result<()> {
         let bytes = capacity as u64 * 8;
         self.items.items = [
             readback::zeroed_storage(ctx, "items a", bytes),
@@ -329,7 +329,7 @@ impl AdaptiveBuffers {
         ctx.wait()
     }
 
-    pub fn requests(&self) -> Requests<'_> {
+    pub(crate) fn requests(&self) -> Requests<'_> {
         Requests {
             samples: &self.samples,
             decisions: &self.decisions,

@@ -10,19 +10,19 @@ use crate::stages::FrameGpu;
 /// What every step of one frame reads: the scene's GPU state, the settings, the method's buffers
 /// and passes.
 pub(super) struct Frame<'a> {
-    pub fg: &'a FrameGpu<'a>,
-    pub p: &'a AdaptiveParams,
-    pub b: &'a AdaptiveBuffers,
-    pub passes: &'a Passes,
-    pub local: bool,
+    pub(crate) fg: &'a FrameGpu<'a>,
+    pub(crate) p: &'a AdaptiveParams,
+    pub(crate) b: &'a AdaptiveBuffers,
+    pub(crate) passes: &'a Passes,
+    pub(crate) local: bool,
     /// This frame reads back what the decision pictures need (the frame driver's request).
-    pub pictures: bool,
+    pub(crate) pictures: bool,
     /// scope = local with culling: the index slots and the indices kept per lattice sample.
-    pub cull: Option<&'a (Cull, wgpu::Buffer)>,
+    pub(crate) cull: Option<&'a (Cull, wgpu::Buffer)>,
 }
 
 impl<'a> Frame<'a> {
-    pub fn new(
+    pub(crate) fn new(
         fg: &'a FrameGpu<'a>,
         p: &'a AdaptiveParams,
         b: &'a AdaptiveBuffers,

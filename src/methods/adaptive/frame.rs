@@ -23,7 +23,7 @@ use crate::Result;
 
 impl<'a> Frame<'a> {
     /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode).
-    pub fn uniform(&self, level: u32, quad_count: u32, first_quad: u32) -> wgpu::Buffer {
+    pub(crate) fn uniform(&self, level: u32, quad_count: u32, first_quad: u32) -> wgpu::Buffer {
         readback::uniform_buffer(
             self.fg.ctx,
             "level",
@@ -32,7 +32,7 @@ impl<'a> Frame<'a> {
     }
 
     /// What every shadow test of the frame reads and writes besides its maps.
-    pub fn test_frame(&self) -> TestFrame<'_> {
+    pub(crate) fn test_frame(&self) -> TestFrame<'_> {
         TestFrame {
             frame: &self.fg.frame_buffer,
             gbuffer: &self.fg.gbuffer,
@@ -43,7 +43,7 @@ impl<'a> Frame<'a> {
     }
 
     /// What the count passes read of level `uniform` whose quads are `quads[cur]`.
-    pub fn level<'l>(&'l self, uniform: &'l wgpu::Buffer, cur: usize) -> Level<'l> {
+    pub(crate) fn level<'l>(&'l self, uniform: &'l wgpu::Buffer, cur: usize) -> Level<'l> {
         Level {
             frame: &self.fg.frame_buffer,
             uniform,
@@ -56,7 +56,7 @@ impl<'a> Frame<'a> {
 
     /// Level 0 (queue writes, ahead of the frame's commands): the counters at zero, the whole light
     /// as the one quad, its four corners requested.
-    pub fn begin(&self) {
+    pub(crate) fn begin(&self) {
         let (ctx, b) = (self.fg.ctx, self.b);
         ctx.queue
             .write_buffer(&b.control, 0, &[0u8; CONTROL_BYTES as usize]);

@@ -5,24 +5,24 @@
 
 /// What frames that overflowed asked for, and what they cost, until the next frame reports it.
 #[derive(Clone, Debug, Default)]
-pub struct Growth {
+pub(crate) struct Growth {
     /// Set by a frame that overflowed the item list: the items (or probes) its level appended.
-    pub needed: Option<u64>,
+    pub(crate) needed: Option<u64>,
     /// Read-backs made by the frames that overflowed and ran again: the frame that fits counts them.
-    pub syncs: u32,
+    pub(crate) syncs: u32,
     /// The capacities the list grew to since the last frame that fitted.
-    pub grown: Vec<u32>,
+    pub(crate) grown: Vec<u32>,
     /// The list never grows (`PENUMBRA_ITEMS_FIXED`).
-    pub fixed: bool,
+    pub(crate) fixed: bool,
 }
 
 /// The variable of [`fixed_from_env`].
-pub const FIXED_VAR: &str = "PENUMBRA_ITEMS_FIXED";
+pub(crate) const FIXED_VAR: &str = "PENUMBRA_ITEMS_FIXED";
 
 /// `PENUMBRA_ITEMS_FIXED=N`: the item list of every scope = local setting that names no `items`
 /// holds N items and never grows. A test hook: it makes the local settings of a study whose
 /// settings come from a grid (frontier, bench) overflow, as a held-out scene does.
-pub fn fixed_from_env() -> crate::Result<Option<u32>> {
+pub(crate) fn fixed_from_env() -> crate::Result<Option<u32>> {
     let Some(v) = std::env::var_os(FIXED_VAR) else {
         return Ok(None);
     };
@@ -37,14 +37,14 @@ pub fn fixed_from_env() -> crate::Result<Option<u32>> {
 
 impl Growth {
     /// A frame overflowed the item list after `syncs` read-backs; its level appended `appended`.
-    pub fn overflowed(&mut self, appended: u64, syncs: u32) {
+    pub(crate) fn overflowed(&mut self, appended: u64, syncs: u32) {
         self.needed = Some(appended);
         self.syncs += syncs;
     }
 
     /// The frame that fitted (`out`, on a list of `capacity`): it counts the read-backs of the
     /// frames run before it, and its record says what the list grew to (run.json `items`).
-    pub fn report(&mut self, capacity: u32, out: &mut crate::methods::MethodOutput) {
+    pub(crate) fn report(&mut self, capacity: u32, out: &mut crate::methods::MethodOutput) {
         out.syncs += self.syncs;
         if out.record.get("syncs").is_some() {
             out.record["syncs"] = out.syncs.into();
@@ -58,7 +58,7 @@ impl Growth {
 /// The capacity to run again with after an overflow at `current` whose level appended `needed`:
 /// twice the larger of the two (the next levels split further), at most `max` (what one binding
 /// holds). None when the list is already at `max`: the frame fails with its overflow.
-pub fn next_capacity(current: u32, needed: u64, max: u64) -> Option<u32> {
+pub(crate) fn next_capacity(current: u32, needed: u64, max: u64) -> Option<u32> {
     if current as u64 >= max {
         return None;
     }

@@ -62,7 +62,7 @@ pub struct LevelReport {
 impl LevelReport {
     /// The run's error when a counter overflowed its buffer at this level (GpuControl.overflow's
     /// bits, the one place they are decoded): overflow is reported, never clipped.
-    pub fn overflow_error(&self, level: u32) -> Option<Error> {
+    pub(crate) fn overflow_error(&self, level: u32) -> Option<Error> {
         let cause = if self.overflow & OVERFLOW_ITEMS != 0 {
             "the (pixel, quad) item list exceeded its capacity"
         } else if self.overflow & OVERFLOW_PROBES != 0 {
@@ -82,7 +82,7 @@ impl LevelReport {
 
     /// Whether the overflow (if any) is one a longer item list removes: items or probes, not the
     /// quad list, whose 256 the lattice fixes.
-    pub fn item_overflow(&self) -> bool {
+    pub(crate) fn item_overflow(&self) -> bool {
         self.overflow & (OVERFLOW_ITEMS | OVERFLOW_PROBES) != 0
             && self.overflow & OVERFLOW_QUADS == 0
     }
@@ -90,34 +90,34 @@ impl LevelReport {
 
 /// Per-level summary for run.json.
 #[derive(serde::Serialize)]
-pub struct LevelRecord {
-    pub level: u32,
-    pub active_quads: usize,
+pub(crate) struct LevelRecord {
+    pub(crate) level: u32,
+    pub(crate) active_quads: usize,
     /// [i, j, size, parent index in the previous level] of each evaluated quad, in counter order.
-    pub quads: Vec<[u32; 4]>,
-    pub low_quality_per_quad: Vec<u32>,
-    pub split_quads: usize,
-    pub new_samples: usize,
-    pub pixels_evaluated: u64,
+    pub(crate) quads: Vec<[u32; 4]>,
+    pub(crate) low_quality_per_quad: Vec<u32>,
+    pub(crate) split_quads: usize,
+    pub(crate) new_samples: usize,
+    pub(crate) pixels_evaluated: u64,
     /// scope = local: shadow-map lookups (pixel, sample pairs tested for the first time).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub lookups: Option<u64>,
+    pub(crate) lookups: Option<u64>,
 }
 
 /// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling
 /// counts and tiles, the pictures' comparison map and flags, the twins' kept buffers.
 #[derive(Clone, Copy, Debug)]
-pub struct LevelRead {
-    pub n: u64,
-    pub kept: bool,
-    pub pictures: bool,
-    pub intermediates: bool,
+pub(crate) struct LevelRead {
+    pub(crate) n: u64,
+    pub(crate) kept: bool,
+    pub(crate) pictures: bool,
+    pub(crate) intermediates: bool,
     /// scope = local: the kept buffers include the consulted samples.
-    pub local: bool,
+    pub(crate) local: bool,
 }
 
 /// The buffers (and byte counts) of one level's record, in the order `parse_level` reads them.
-pub fn level_parts<'a>(
+pub(crate) fn level_parts<'a>(
     b: &'a AdaptiveBuffers,
     next_quads: &'a wgpu::Buffer,
     kept: Option<&'a wgpu::Buffer>,
@@ -159,7 +159,7 @@ pub fn level_parts<'a>(
 
 /// The one read-back of a level (the waiting loop).
 #[allow(clippy::too_many_arguments)]
-pub fn read_level(
+pub(crate) fn read_level(
     fg: &FrameGpu,
     b: &AdaptiveBuffers,
     level: u32,
@@ -199,7 +199,7 @@ pub fn read_level(
 }
 
 /// Reads one level's record (`level_parts`' layout) from `words`.
-pub fn parse_level(
+pub(crate) fn parse_level(
     b: &AdaptiveBuffers,
     words: &[u32],
     level: u32,
@@ -303,7 +303,7 @@ pub fn parse_level(
     }
 }
 
-pub fn record(
+pub(crate) fn record(
     p: &AdaptiveParams,
     trace: &super::AdaptiveTrace,
     syncs: u32,

@@ -21,17 +21,17 @@ use crate::Result;
 /// Where the renderer reuses maps (docs/reuse.md), `slots` keeps each lattice sample's map across
 /// frames: a frame rasterizes only the samples whose maps no layer holds.
 pub(super) struct MapStore {
-    pub arrays: Vec<ShadowMapArray>,
-    pub per_array: u32,
-    pub used: u32,
+    pub(crate) arrays: Vec<ShadowMapArray>,
+    pub(crate) per_array: u32,
+    pub(crate) used: u32,
     /// `maps = hybrid` (scope = global): a few raster layers merged into a store, tested, dropped.
-    pub hybrid: Option<HybridMaps>,
+    pub(crate) hybrid: Option<HybridMaps>,
     /// Which key each layer holds (`keeps` off: every map is drawn).
-    pub slots: Slots,
+    pub(crate) slots: Slots,
 }
 
 impl MapStore {
-    pub fn views(&self) -> [&wgpu::TextureView; 2] {
+    pub(crate) fn views(&self) -> [&wgpu::TextureView; 2] {
         let a = &self.arrays[0].array_view;
         [a, self.arrays.get(1).map(|x| &x.array_view).unwrap_or(a)]
     }

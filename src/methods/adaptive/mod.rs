@@ -4,7 +4,7 @@
 //! scope = global shades every pixel with every map (the seed); scope = local refines each pixel only
 //! inside the quads whose penumbra it lies in (method.md §4.2).
 
-pub mod buffers;
+pub(crate) mod buffers;
 mod context;
 mod frame;
 mod growth;
@@ -16,7 +16,7 @@ mod steer;
 mod weights;
 
 pub use frame::level_uniform;
-pub use levels::{LevelRecord, LevelReport};
+pub use levels::LevelReport;
 // LEVEL_LCM mirrors weights.wgsl's (tests/kernels.rs checks them).
 pub use weights::{lattice_numerators, sample_weights, LEVEL_LCM};
 
@@ -39,7 +39,7 @@ use crate::stages::{
 };
 use crate::{Error, Result};
 
-pub const HOLD: crate::methods::ParamDecl<u32> = crate::methods::ParamDecl::new(
+pub(crate) const HOLD: crate::methods::ParamDecl<u32> = crate::methods::ParamDecl::new(
     "hold",
     "0",
     0,
@@ -47,7 +47,7 @@ pub const HOLD: crate::methods::ParamDecl<u32> = crate::methods::ParamDecl::new(
     "hysteresis in low-quality pixels: a quad the previous frame did not split needs this many more to split; one it split stays split down to the threshold (docs/reuse.md)",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "adaptive",
     family: Family::MultiSample,
     summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
@@ -73,7 +73,7 @@ pub const INFO: MethodInfo = MethodInfo {
 
 /// The adaptive method with its parameters.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Adaptive(pub AdaptiveParams);
+pub(crate) struct Adaptive(pub AdaptiveParams);
 
 impl ShadowMethod for Adaptive {
     fn unsupported_light(&self, kind: crate::scene::LightKind) -> Option<&'static str> {
@@ -262,7 +262,6 @@ impl MethodState for State {
         vec![KeptMaps {
             owner: "adaptive".into(),
             size,
-            per_array: store.per_array,
             arrays: std::mem::take(&mut store.arrays),
             slots,
         }]
@@ -307,7 +306,7 @@ pub(super) const CORNERS: [u32; 4] = [
 /// Lattice indices level `d` can render, ascending: level 0 the light's corners; level d ≥ 1 the
 /// points of the level-d grid (spacing 2^(4−d)) that are not on the level-(d−1) grid. A quad that
 /// splits at level d−1 requests only such points (its edge midpoints and centre).
-pub fn candidates(d: u32) -> Vec<u32> {
+pub(crate) fn candidates(d: u32) -> Vec<u32> {
     if d == 0 {
         return CORNERS.to_vec();
     }
@@ -324,12 +323,12 @@ pub fn candidates(d: u32) -> Vec<u32> {
 }
 
 /// Lattice index of (i, j).
-pub const fn lattice_index(i: u32, j: u32) -> u32 {
+pub(crate) const fn lattice_index(i: u32, j: u32) -> u32 {
     j * LATTICE_SIDE + i
 }
 
 /// Views of all 289 lattice samples (layer and array are filled in when a map is rendered).
-pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
+pub(crate) fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
     let s = fg.scene;
     // The quad tree lives on the unit square; the disk, the sun, the spot and the point take its
     // points through the concentric map, which keeps area, so the area weights stay right. A point
@@ -354,7 +353,7 @@ pub fn lattice_samples(fg: &FrameGpu, p: &AdaptiveParams) -> Vec<GpuSample> {
 }
 
 /// Maps per lattice sample: six for a point light's cube, else one (`lattice_samples`).
-pub fn faces_per_sample(samples: &[GpuSample]) -> u32 {
+pub(crate) fn faces_per_sample(samples: &[GpuSample]) -> u32 {
     samples.len() as u32 / LATTICE_POINTS
 }
 
@@ -377,7 +376,7 @@ pub struct AdaptiveTrace {
 
 /// Buffers, shadow-map arrays and pipelines, allocated (and zero-filled) before the frame's clock
 /// starts, as a renderer would keep them from frame to frame.
-pub struct Prepared {
+pub(crate) struct Prepared {
     b: AdaptiveBuffers,
     store: maps::MapStore,
     passes: Passes,
@@ -391,7 +390,7 @@ pub struct Prepared {
     growth: growth::Growth,
 }
 
-pub fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
+pub(crate) fn prepare(fg: &FrameGpu, p: &AdaptiveParams) -> Result<Prepared> {
     let ctx = fg.ctx;
     let scene = fg.scene;
     let local = p.scope == Scope::Local;

@@ -48,9 +48,9 @@ pub enum Criterion {
 /// RMS error of a quad's 4-corner estimate, in units of the quad's share of the light, when a
 /// straight shadow edge crosses it and its corners disagree (measured: 0.199 over 3,000 random
 /// edges; docs/method.md §6).
-pub const KAPPA: f64 = 0.2;
+pub(crate) const KAPPA: f64 = 0.2;
 
-pub use crate::stages::subdivide::SplitRule;
+pub(crate) use crate::stages::subdivide::SplitRule;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -158,7 +158,7 @@ impl AdaptiveParams {
     /// The recommended setting (results/bench-fair-baselines/, "Choosing `balanced`"): the seed's zero threshold, no
     /// split below level 3 (at the seed's 512² maps the shadow maps' own error dominates past the
     /// 9x9 lattice), Coons weights, global scope.
-    pub fn balanced() -> Self {
+    pub(crate) fn balanced() -> Self {
         Self {
             preset: Some(Preset::Balanced),
             max_level: 3,
@@ -167,7 +167,7 @@ impl AdaptiveParams {
         }
     }
 
-    pub fn from_map(params: &BTreeMap<String, String>) -> Result<Self> {
+    pub(crate) fn from_map(params: &BTreeMap<String, String>) -> Result<Self> {
         let mut p = match params.get("preset").map(String::as_str) {
             None => Self::default(),
             Some("seed") => Self {
@@ -363,13 +363,13 @@ impl AdaptiveParams {
     }
 
     /// Whether new maps rasterize only the runs of triangles their tiles need (scope = local).
-    pub fn culls(&self) -> bool {
+    pub(crate) fn culls(&self) -> bool {
         self.scope == Scope::Local && self.cull.unwrap_or(false)
     }
 
     /// Whether each map rasterizes only the triangles the footprint of every geometry pixel needs
     /// (scope = global, where every pixel tests every map: `methods::culled_maps`).
-    pub fn culls_every_pixel(&self) -> bool {
+    pub(crate) fn culls_every_pixel(&self) -> bool {
         self.scope == Scope::Global && self.cull == Some(true)
     }
 
@@ -394,7 +394,7 @@ impl AdaptiveParams {
 
     /// Width of the border strip outside the inset lattice, in units of the lattice's side
     /// (half the finest spacing); 0 for the corner-to-corner lattice.
-    pub fn border_strip(&self) -> f64 {
+    pub(crate) fn border_strip(&self) -> f64 {
         match self.layout {
             Layout::Centred => 0.5 / (1u64 << self.max_level) as f64,
             _ => 0.0,
@@ -425,7 +425,7 @@ impl AdaptiveParams {
         }
     }
 
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         if let Some(preset) = self.preset {
             return format!(
                 "adaptive:preset={}",

@@ -22,7 +22,7 @@ const LEVEL_COLOURS: [[u8; 3]; 5] = [
 ];
 const BACKGROUND: [u8; 3] = [40, 44, 52];
 
-pub fn all(
+pub(crate) fn all(
     fg: &FrameGpu,
     trace: &AdaptiveTrace,
     consulted: Option<&[u32]>,

@@ -42,7 +42,7 @@ const ARGS_WORDS: u64 = 5;
 /// corner-to-corner lattice (the GPU weights cover its rules) where every level's quads fit one
 /// batch of comparison maps; local scope without scissor or cull (compact grows their rectangles
 /// and tiles for the host's list of new maps).
-pub fn eligible(p: &AdaptiveParams, b: &AdaptiveBuffers) -> bool {
+pub(crate) fn eligible(p: &AdaptiveParams, b: &AdaptiveBuffers) -> bool {
     let most_quads = 1u32 << (2 * p.max_level.saturating_sub(1));
     !p.steer_cpu
         && match p.scope {
@@ -52,7 +52,7 @@ pub fn eligible(p: &AdaptiveParams, b: &AdaptiveBuffers) -> bool {
 }
 
 /// Built once with the method: the weights pass, the raster arguments and the record buffer.
-pub struct Steer {
+pub(crate) struct Steer {
     weights: WeightsPass,
     /// ARGS_WORDS per lattice sample: whole-mesh indexed draw, first instance = the sample.
     raster_args: wgpu::Buffer,
@@ -61,7 +61,7 @@ pub struct Steer {
 }
 
 /// What `finish` needs of one steered frame.
-pub struct Pending {
+pub(crate) struct Pending {
     /// Per level: the record's layout, whether it was counted, its byte offset in the history.
     reads: Vec<(LevelRead, bool, u64)>,
     weights_at: u64,
@@ -86,7 +86,7 @@ fn record_parts(b: &AdaptiveBuffers, read: LevelRead) -> Vec<(&wgpu::Buffer, u64
 }
 
 impl Steer {
-    pub fn new(fg: &FrameGpu, p: &AdaptiveParams, b: &AdaptiveBuffers) -> Result<Self> {
+    pub(crate) fn new(fg: &FrameGpu, p: &AdaptiveParams, b: &AdaptiveBuffers) -> Result<Self> {
         let ctx = fg.ctx;
         let rule = match p.weights {
             Weights::Level => RULE_LEVEL,
@@ -345,7 +345,7 @@ impl Steering for Steered<'_> {
 }
 
 /// Records the whole frame; nothing waits (in stages mode the timer still waits per stage).
-pub fn run(
+pub(crate) fn run(
     fg: &FrameGpu,
     timer: &mut StageTimer,
     p: &AdaptiveParams,
@@ -441,7 +441,7 @@ pub fn run(
 
 /// After the frame: reads the level records and the weights (one read-back, outside the frame's
 /// clock) and fills in what the waiting loop reports.
-pub fn finish(
+pub(crate) fn finish(
     fg: &FrameGpu,
     p: &AdaptiveParams,
     prepared: &mut Prepared,

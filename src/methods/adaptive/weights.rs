@@ -206,7 +206,7 @@ pub fn lattice_numerators(
 
 /// `num / den` (den > 0, |num| < 2^31) rounded to the nearest f32, ties to even, by binary long
 /// division: the `ratio` of kernels/weights.wgsl, step for step.
-pub fn ratio_f32(num: i64, den: i64) -> f32 {
+pub(crate) fn ratio_f32(num: i64, den: i64) -> f32 {
     if num == 0 {
         return 0.0;
     }

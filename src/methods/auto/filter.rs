@@ -16,7 +16,7 @@ use crate::stages::FrameGpu;
 use crate::{Error, Result};
 
 /// `filters = none` or names joined by `+` (`pcss+msm`): one-map methods at their defaults.
-pub fn parse_list(text: &str) -> Result<Vec<Method>> {
+pub(crate) fn parse_list(text: &str) -> Result<Vec<Method>> {
     if text == "none" {
         return Ok(Vec::new());
     }
@@ -41,7 +41,7 @@ pub fn parse_list(text: &str) -> Result<Vec<Method>> {
 
 /// The filter's predicted RMSE, sqrt(max(D² − σ², 0)), and D: the RMS over geometry pixels of
 /// V_f − V_grid (both clamped to [0, 1], as the frame's V is), σ = `grid_rmse`.
-pub fn predicted(
+pub(crate) fn predicted(
     v_filter: &[f32],
     v_grid: &[f32],
     geometry: &[bool],
@@ -63,7 +63,7 @@ pub fn predicted(
 }
 
 /// Per pixel: |V_f − V_grid| plus the grid's bound (0 off geometry, as the grid's is).
-pub fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec<f32> {
+pub(crate) fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec<f32> {
     v_filter
         .iter()
         .zip(v_grid)
@@ -80,70 +80,70 @@ pub fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec<f32> {
 
 /// One candidate's check, as run.json's record keeps it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Check {
-    pub method: String,
-    pub maps: u32,
+pub(crate) struct Check {
+    pub(crate) method: String,
+    pub(crate) maps: u32,
     /// Wall clock from its render to its V read back, ms (the grid's try: `tries[…].ms`).
-    pub ms: f64,
+    pub(crate) ms: f64,
     /// Its predicted RMSE against the grid that met the target (the screen).
-    pub screened: f64,
+    pub(crate) screened: f64,
     /// Against the reference: RMS of V_f − V_r over geometry pixels, and the predicted RMSE F.
     /// None where the screen or the time ruled it out, or no reference was rendered.
-    pub difference: Option<f64>,
-    pub predicted_rmse: Option<f64>,
-    pub accepted: bool,
+    pub(crate) difference: Option<f64>,
+    pub(crate) predicted_rmse: Option<f64>,
+    pub(crate) accepted: bool,
 }
 
 /// The grid that met the target, its V in the frame's V now: its predicted RMSE and the wall
 /// clock of its try, which a filter must beat.
-pub struct Met {
-    pub rmse: f64,
-    pub ms: f64,
+pub(crate) struct Met {
+    pub(crate) rmse: f64,
+    pub(crate) ms: f64,
 }
 
 /// The frame the candidates are read in: its GPU state and its geometry pixels.
-pub struct Scope<'a> {
-    pub fg: &'a FrameGpu<'a>,
-    pub geometry: &'a [bool],
+pub(crate) struct Scope<'a> {
+    pub(crate) fg: &'a FrameGpu<'a>,
+    pub(crate) geometry: &'a [bool],
 }
 
 /// `check`'s rule: the grid that met the target, the screen a candidate must pass against it,
 /// auto's acceptance `accept(F, handed)`, and the filter the previous frame of a sequence chose.
-pub struct Against<'a> {
-    pub met: Met,
-    pub screen: f64,
-    pub accept: &'a dyn Fn(f64, bool) -> bool,
-    pub handed_on: Option<&'a str>,
+pub(crate) struct Against<'a> {
+    pub(crate) met: Met,
+    pub(crate) screen: f64,
+    pub(crate) accept: &'a dyn Fn(f64, bool) -> bool,
+    pub(crate) handed_on: Option<&'a str>,
 }
 
 /// `check_out_of_reach`'s rule: the grid the frame renders and its bound, the band `keep` a
 /// handed-on filter is kept within, and that filter.
-pub struct OutOfReach<'a> {
-    pub met: Met,
-    pub bound: &'a [f32],
-    pub keep: f64,
-    pub handed_on: Option<&'a str>,
+pub(crate) struct OutOfReach<'a> {
+    pub(crate) met: Met,
+    pub(crate) bound: &'a [f32],
+    pub(crate) keep: f64,
+    pub(crate) handed_on: Option<&'a str>,
 }
 
 /// The reference grid, rendered into V by auto when asked: its predicted RMSE, bound and maps,
 /// and its try as the record keeps it.
-pub struct Reference {
-    pub rmse: f64,
-    pub bound: Vec<f32>,
-    pub maps: u32,
-    pub record: super::Try,
+pub(crate) struct Reference {
+    pub(crate) rmse: f64,
+    pub(crate) bound: Vec<f32>,
+    pub(crate) maps: u32,
+    pub(crate) record: super::Try,
 }
 
 /// The check's outcome: the chosen candidate with its prediction and bound.
-pub struct Outcome {
-    pub chosen: Option<(usize, f64, Vec<f32>)>,
-    pub checks: Vec<Check>,
-    pub maps: u32,
-    pub reference: Option<super::Try>,
+pub(crate) struct Outcome {
+    pub(crate) chosen: Option<(usize, f64, Vec<f32>)>,
+    pub(crate) checks: Vec<Check>,
+    pub(crate) maps: u32,
+    pub(crate) reference: Option<super::Try>,
 }
 
 /// The candidates and their states (built on first use, then kept for the settled frames).
-pub struct Candidates {
+pub(crate) struct Candidates {
     methods: Vec<Method>,
     states: Vec<Option<Box<dyn MethodState>>>,
     /// Candidates of the default list that refuse the scene's light, by label.
@@ -151,7 +151,7 @@ pub struct Candidates {
 }
 
 impl Candidates {
-    pub fn new(methods: Vec<Method>, left_out: Vec<String>) -> Candidates {
+    pub(crate) fn new(methods: Vec<Method>, left_out: Vec<String>) -> Candidates {
         let states = methods.iter().map(|_| None).collect();
         Candidates {
             methods,
@@ -159,24 +159,29 @@ impl Candidates {
             left_out,
         }
     }
-    pub fn left_out(&self) -> &[String] {
+    pub(crate) fn left_out(&self) -> &[String] {
         &self.left_out
     }
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.methods.is_empty()
     }
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.methods.len()
     }
-    pub fn name(&self, i: usize) -> &'static str {
+    pub(crate) fn name(&self, i: usize) -> &'static str {
         self.methods[i].name()
     }
-    pub fn label(&self, i: usize) -> String {
+    pub(crate) fn label(&self, i: usize) -> String {
         self.methods[i].label()
     }
 
     /// Candidate `i` rendered into V (which the caller has cleared).
-    pub fn run(&mut self, i: usize, fg: &FrameGpu, timer: &mut StageTimer) -> Result<MethodOutput> {
+    pub(crate) fn run(
+        &mut self,
+        i: usize,
+        fg: &FrameGpu,
+        timer: &mut StageTimer,
+    ) -> Result<MethodOutput> {
         let state = self.built(i, fg)?;
         state.reset(fg)?;
         state.run(fg, timer, false)
@@ -196,7 +201,7 @@ impl Candidates {
     /// and those left are predicted against it, and taken where `accept(F, handed)` (auto's
     /// rule; `handed` for the filter the previous frame of a sequence chose). V is left holding
     /// what the frame renders: the chosen candidate's, else the grid that met the target.
-    pub fn check(
+    pub(crate) fn check(
         &mut self,
         at: &Scope,
         timer: &mut StageTimer,
@@ -282,7 +287,7 @@ impl Candidates {
     /// is not enough here: on `grazing-ground` pcss at 1024² read 0.060 against a grid predicted
     /// at 0.234, and errs 0.27 (their errors share the acne). V is left holding what the frame
     /// renders.
-    pub fn check_out_of_reach(
+    pub(crate) fn check_out_of_reach(
         &mut self,
         at: &Scope,
         timer: &mut StageTimer,
@@ -394,7 +399,7 @@ impl Candidates {
 }
 
 /// The frame's V as it stands, after what is pending.
-pub fn read_v(fg: &FrameGpu, timer: &mut StageTimer) -> Result<Vec<f32>> {
+pub(crate) fn read_v(fg: &FrameGpu, timer: &mut StageTimer) -> Result<Vec<f32>> {
     timer.flush(fg.ctx);
     timer.cpu(Stage::READBACK, || {
         readback::read_buffer(fg.ctx, &fg.visibility, fg.pixel_count() as u64 * 4)

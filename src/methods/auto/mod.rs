@@ -24,24 +24,26 @@ use crate::render::kept_maps::ReuseCounts;
 use crate::stages::FrameGpu;
 use crate::Result;
 use filter::{Against, Candidates, Met, OutOfReach, Reference, Scope};
-pub use record::{AutoRecord, Chosen, FilterCheck, MapCost};
-pub use search::{predicted_at, sides, sizes, At, Costs, Ladder, SAMPLING_ORDER};
+pub(crate) use record::FilterCheck;
+pub use record::{AutoRecord, Chosen, MapCost};
+pub use search::{predicted_at, At, Costs, Ladder, SAMPLING_ORDER};
+pub(crate) use search::{sides, sizes};
 use std::collections::BTreeMap;
 
 mod certified;
-pub mod filter;
-pub mod price;
-pub mod record;
-pub mod search;
+pub(crate) mod filter;
+pub(crate) mod price;
+pub(crate) mod record;
+pub(crate) mod search;
 
-pub const TARGET: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const TARGET: ParamDecl<f32> = ParamDecl::new(
     "target",
     "0.015",
     0.0005,
     0.5,
     "RMSE of V to reach, 0.0005..=0.5 (predicted without a reference; docs/error-estimate.md)",
 );
-pub const MAX_N: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const MAX_N: ParamDecl<u32> = ParamDecl::new(
     "max_n",
     "17",
     2,
@@ -49,21 +51,21 @@ pub const MAX_N: ParamDecl<u32> = ParamDecl::new(
     "largest grid side it may choose, 2..=32",
 );
 /// `parse` checks it is one of `SIZES`.
-pub const MAX_SIZE: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const MAX_SIZE: ParamDecl<u32> = ParamDecl::new(
     "max_size",
     "2048",
     0,
     u32::MAX,
     "largest map size it may choose: 256, 512, 1024 or 2048",
 );
-pub const COST: ChoiceDecl = ChoiceDecl::new(
+pub(crate) const COST: ChoiceDecl = ChoiceDecl::new(
     "cost",
     "measured",
     &["measured", "texels"],
     "how it prices a map of each size: `measured` (what a map of each size adds to this scene's frame on this device, timed before the clock, once per process) or `texels` (double per doubling of the side: the same choice on every device)",
 );
 /// K: the exact pixels a decision draws (`certified`).
-pub const PIXELS: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const PIXELS: ParamDecl<u32> = ParamDecl::new(
     "pixels",
     "2048",
     0,
@@ -71,7 +73,7 @@ pub const PIXELS: ParamDecl<u32> = ParamDecl::new(
     "K: pixels whose exact truth certifies the choice (docs/certify.md): the cheapest candidate whose bound on its RMSE is at most the target is rendered; 0 decides by the estimate alone",
 );
 /// `parse` checks the open range (0, 1).
-pub const DELTA: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const DELTA: ParamDecl<f32> = ParamDecl::new(
     "delta",
     "0.05",
     f32::MIN,
@@ -79,7 +81,7 @@ pub const DELTA: ParamDecl<f32> = ParamDecl::new(
     "each candidate's bound holds with probability 1 − delta, in (0, 1)",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "auto",
     family: Family::MultiSample,
     summary: "error budget: the centred grid's n and map size grown until the predicted RMSE of V meets the target (or one filtered map, where it is predicted to), then kept while the camera stays",
@@ -116,10 +118,10 @@ pub const INFO: MethodInfo = MethodInfo {
 
 /// The one-map candidates unless `filters` says otherwise: `pcss` for the soft edges of small
 /// scenes, `msm` for the acne-prone ones (`grazing-ground`: 0.126 against the grid's 0.189).
-pub const DEFAULT_FILTERS: &str = "pcss+msm";
+pub(crate) const DEFAULT_FILTERS: &str = "pcss+msm";
 
 /// The map sizes it steps through.
-pub const SIZES: [u32; 4] = [256, 512, 1024, 2048];
+pub(crate) const SIZES: [u32; 4] = [256, 512, 1024, 2048];
 /// The first frame's choice: the smallest grid with half sets in both axes at 512² maps.
 const START: (u32, u32) = (3, 512);
 /// At most this many tries in one frame (each a full render of a grid).
@@ -137,21 +139,21 @@ const REFERENCE: f64 = 0.5;
 const SCREEN: f64 = 1.5;
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct Auto {
-    pub target: f32,
-    pub max_n: u32,
-    pub max_size: u32,
-    pub cost: CostModel,
+pub(crate) struct Auto {
+    pub(crate) target: f32,
+    pub(crate) max_n: u32,
+    pub(crate) max_size: u32,
+    pub(crate) cost: CostModel,
     /// `none`, or one-map methods joined by `+` (filter::parse_list).
-    pub filters: String,
+    pub(crate) filters: String,
     /// K, the exact pixels that certify the choice; 0: the estimate alone decides.
-    pub pixels: u32,
-    pub delta: f32,
+    pub(crate) pixels: u32,
+    pub(crate) delta: f32,
 }
 
 /// How a map of each size is priced in the search (docs/error-estimate.md §6).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum CostModel {
+pub(crate) enum CostModel {
     /// What a map of each size adds to this scene's frame on this device (`price`).
     Measured,
     /// Double per doubling of the side, on every device.
@@ -266,26 +268,26 @@ impl ShadowMethod for Auto {
 /// One try of a frame: the grid, its maps and the prediction.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Try {
-    pub n: u32,
-    pub map_size: u32,
-    pub maps: u32,
+    pub(crate) n: u32,
+    pub(crate) map_size: u32,
+    pub(crate) maps: u32,
     /// Wall clock from the first map to the estimate read back, ms.
-    pub ms: f64,
+    pub(crate) ms: f64,
     /// The calibrated prediction (`calibration::calibrated`), what the search reads.
     #[serde(flatten)]
-    pub prediction: Prediction,
+    pub(crate) prediction: Prediction,
     /// The estimate's own predicted RMSE before the calibration's factors.
-    pub predicted_raw: f64,
+    pub(crate) predicted_raw: f64,
 }
 
 impl Try {
     /// The try as the search reads it.
-    pub fn at(&self) -> At {
+    pub(crate) fn at(&self) -> At {
         At::new(self.n, self.map_size, self.prediction)
     }
 }
 
-pub struct AutoState {
+pub(crate) struct AutoState {
     method: Auto,
     /// The grid the next frame starts with.
     choice: (u32, u32),

@@ -21,7 +21,7 @@ const ROUNDS: usize = 3;
 /// The price of one map from a frame's timed stages: everything the grid's `maps` added to the
 /// frame (its raster, clears and culling, shade's lookups), per map. The G-buffer, the clear of
 /// V and the read-back are the frame's whatever its maps, and are not in `stages_ms`.
-pub fn per_map(stages_ms: &std::collections::BTreeMap<String, f64>, maps: usize) -> f64 {
+pub(crate) fn per_map(stages_ms: &std::collections::BTreeMap<String, f64>, maps: usize) -> f64 {
     stages_ms.values().sum::<f64>() / maps.max(1) as f64
 }
 
@@ -29,7 +29,7 @@ pub fn per_map(stages_ms: &std::collections::BTreeMap<String, f64>, maps: usize)
 /// below a smaller one (a timing that says so is the clock's noise, and would send the search to
 /// it), and the wall time the pricing took (0 where this process had priced the same scene).
 /// The caller (`auto`) names the sizes, so this module needs nothing of its search.
-pub fn measured(fg: &FrameGpu, sizes: &[u32]) -> Result<(Vec<(u32, f64)>, f64)> {
+pub(crate) fn measured(fg: &FrameGpu, sizes: &[u32]) -> Result<(Vec<(u32, f64)>, f64)> {
     let key = key(fg, sizes);
     if let Some(costs) = remembered().lock().ok().and_then(|m| m.get(&key).cloned()) {
         return Ok((costs, 0.0));

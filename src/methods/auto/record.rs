@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// The tag: which method's record this is.
-pub const TAG: &str = "auto";
+pub(crate) const TAG: &str = "auto";
 
 fn tag() -> String {
     TAG.to_string()
@@ -54,8 +54,8 @@ pub struct AutoRecord {
 /// The centred grid chosen.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Chosen {
-    pub n: u32,
-    pub layout: String,
+    pub(crate) n: u32,
+    pub(crate) layout: String,
     pub map_size: u32,
     pub spec: String,
 }
@@ -83,22 +83,22 @@ pub struct MapCost {
 /// The one-map check (`filter`): the reference grid's try, the candidate taken, every check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FilterCheck {
-    pub reference: Option<Try>,
-    pub chosen: Option<String>,
-    pub checks: Vec<Check>,
-    pub left_out: Vec<String>,
+    pub(crate) reference: Option<Try>,
+    pub(crate) chosen: Option<String>,
+    pub(crate) checks: Vec<Check>,
+    pub(crate) left_out: Vec<String>,
 }
 
 /// The certified decision: the chosen candidate's bound and what it took; the rest of its
 /// detail (the design, the tests, the trace) as written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Certified {
-    pub bound: f64,
+    pub(crate) bound: f64,
     pub bound_kind: crate::certify::bound::BoundKind,
-    pub decision_ms: f64,
+    pub(crate) decision_ms: f64,
     pub tests: Vec<serde_json::Value>,
     #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
+    pub(crate) detail: BTreeMap<String, serde_json::Value>,
 }
 
 impl AutoRecord {

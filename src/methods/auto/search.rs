@@ -8,7 +8,7 @@ use crate::methods::estimate::Prediction;
 
 /// The grid sides it chooses from, 2 to `max_n`: those the calibration was fitted on
 /// (`calibration::fitted_side`: the odd ones, the even ones to 6 with their own sampling factor).
-pub fn sides(max_n: u32) -> Vec<u32> {
+pub(crate) fn sides(max_n: u32) -> Vec<u32> {
     (2..=max_n)
         .filter(|&n| calibration::fitted_side(n))
         .collect()
@@ -16,7 +16,7 @@ pub fn sides(max_n: u32) -> Vec<u32> {
 
 /// The map sizes it chooses from: 512² (`calibration::MIN_FITTED_SIZE`) to `max_size` (256²
 /// alone where `max_size` is 256).
-pub fn sizes(max_size: u32) -> Vec<u32> {
+pub(crate) fn sizes(max_size: u32) -> Vec<u32> {
     let fitted: Vec<u32> = SIZES
         .iter()
         .copied()
@@ -40,7 +40,7 @@ pub struct Costs(pub Vec<(u32, f64)>);
 impl Costs {
     /// Double per doubling of the side. From 512² to 1024² maps a map costs 1.1–1.3× more on the
     /// meshes and 1.6–2.9× on the small analytic scenes on lavapipe (docs/error-estimate.md §6).
-    pub fn texels(max_size: u32) -> Costs {
+    pub(crate) fn texels(max_size: u32) -> Costs {
         Costs(
             sizes(max_size)
                 .into_iter()
@@ -48,7 +48,7 @@ impl Costs {
                 .collect(),
         )
     }
-    pub fn of(&self, size: u32) -> f64 {
+    pub(crate) fn of(&self, size: u32) -> f64 {
         self.0
             .iter()
             .find(|(z, _)| *z == size)
@@ -68,9 +68,9 @@ fn sampling_at(class: Class, n: u32, sampling: f64, n2: u32) -> f64 {
 /// calibrated prediction.
 #[derive(Clone, Copy, Debug)]
 pub struct At {
-    pub n: u32,
-    pub size: u32,
-    pub p: Prediction,
+    pub(crate) n: u32,
+    pub(crate) size: u32,
+    pub(crate) p: Prediction,
 }
 
 impl At {
@@ -99,10 +99,10 @@ pub fn predicted_at(class: Class, at: &At, (n2, size2): (u32, u32)) -> f64 {
 /// `sizes(max_size)`, each map priced at `costs`, predicted for a scene of `class`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ladder {
-    pub class: Class,
-    pub max_n: u32,
-    pub max_size: u32,
-    pub costs: Costs,
+    pub(crate) class: Class,
+    pub(crate) max_n: u32,
+    pub(crate) max_size: u32,
+    pub(crate) costs: Costs,
 }
 
 impl Ladder {
@@ -116,7 +116,7 @@ impl Ladder {
     }
 
     /// The price of grid (n, size): n² maps at the size's price.
-    pub fn price(&self, (n, size): (u32, u32)) -> f64 {
+    pub(crate) fn price(&self, (n, size): (u32, u32)) -> f64 {
         (n * n) as f64 * self.costs.of(size)
     }
 
@@ -149,7 +149,7 @@ impl Ladder {
 
     /// The cheapest grid of sides ≥ the try's n and maps ≥ its size, other than the try's own,
     /// that `predicted_at` says meets `target`; None if none does.
-    pub fn cheapest_meeting(&self, at: &At, target: f64) -> Option<(u32, u32)> {
+    pub(crate) fn cheapest_meeting(&self, at: &At, target: f64) -> Option<(u32, u32)> {
         let (n, size) = (at.n, at.size);
         let mut best: Option<(f64, (u32, u32))> = None;
         for size2 in sizes(self.max_size).into_iter().filter(|&z| z >= size) {

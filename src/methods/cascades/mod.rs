@@ -3,7 +3,7 @@
 //! to its bounding sphere and snapped to whole texels, and every pixel reads the map of the slice
 //! it lies in (`stages::cascades`), with one test or pcf's taps.
 
-pub mod split;
+pub(crate) mod split;
 
 use super::pcf::Pcf;
 use super::{
@@ -27,28 +27,28 @@ use std::sync::Arc;
 pub const MAX_CASCADES: u32 = 8;
 pub const FILTERS: [&str; 2] = ["hard", "pcf"];
 
-pub const N: ParamDecl<u32> = ParamDecl::new("n", "4", 1, MAX_CASCADES, "cascades, 1..=8");
-pub const SPLIT: ChoiceDecl = ChoiceDecl::new(
+pub(crate) const N: ParamDecl<u32> = ParamDecl::new("n", "4", 1, MAX_CASCADES, "cascades, 1..=8");
+pub(crate) const SPLIT: ChoiceDecl = ChoiceDecl::new(
     "split",
     "practical",
     &Scheme::NAMES,
     "uniform, log or practical (λ·log + (1−λ)·uniform)",
 );
-pub const LAMBDA: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const LAMBDA: ParamDecl<f32> = ParamDecl::new(
     "lambda",
     "0.5",
     0.0,
     1.0,
     "practical: the log split's weight, 0..=1",
 );
-pub const FILTER: ChoiceDecl = ChoiceDecl::new(
+pub(crate) const FILTER: ChoiceDecl = ChoiceDecl::new(
     "filter",
     "hard",
     &FILTERS,
     "hard (one test per pixel) or pcf (pcf's default taps: Poisson 16, radius 2 texels)",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "cascades",
     family: Family::Pcf,
     summary: "the sun's cascaded shadow maps: the view's depth range split into N slices, an orthographic map per slice",
@@ -73,7 +73,7 @@ pub struct CascadeMaps {
 }
 
 impl CascadeMaps {
-    pub fn from_map(p: &ParamMap) -> Result<Self> {
+    pub(crate) fn from_map(p: &ParamMap) -> Result<Self> {
         let n = N.get(p, "cascades")?;
         let split = Scheme::parse(SPLIT.get(p)?).expect("a listed scheme");
         let lambda = LAMBDA.get(p, "cascades")?;
@@ -117,7 +117,7 @@ impl CascadeMaps {
     }
 
     /// The kernel's uniform for `placement`.
-    pub fn uniform(&self, scene: &Scene, placement: &Placement) -> GpuCascades {
+    pub(crate) fn uniform(&self, scene: &Scene, placement: &Placement) -> GpuCascades {
         let mut ends = [[0.0f32; 4]; 2];
         for (i, z) in placement.ends[1..].iter().enumerate() {
             ends[i / 4][i % 4] = *z;
@@ -146,7 +146,7 @@ pub struct Placement {
 
 impl Placement {
     /// run.json's figures: the slice ends and each map's texel in world units.
-    pub fn record(&self, m: &CascadeMaps) -> serde_json::Value {
+    pub(crate) fn record(&self, m: &CascadeMaps) -> serde_json::Value {
         serde_json::json!({
             "split_depths": self.ends,
             "texel_world": self.samples.iter().map(|s| s.texel_angle).collect::<Vec<_>>(),
@@ -242,7 +242,7 @@ impl ShadowMethod for CascadeMaps {
 }
 
 /// The per-pixel buffer of the cascade each pixel took (its label in the size plan).
-pub const CHOSEN: &str = "cascade index";
+pub(crate) const CHOSEN: &str = "cascade index";
 
 struct State {
     method: CascadeMaps,

@@ -20,7 +20,7 @@ pub enum Scheme {
 
 impl Scheme {
     pub const ALL: [Scheme; 3] = [Scheme::Uniform, Scheme::Log, Scheme::Practical];
-    pub const NAMES: [&'static str; 3] = ["uniform", "log", "practical"];
+    pub(crate) const NAMES: [&'static str; 3] = ["uniform", "log", "practical"];
 
     pub fn name(self) -> &'static str {
         Self::NAMES[Self::ALL.iter().position(|s| *s == self).unwrap_or(0)]
@@ -35,7 +35,7 @@ impl Scheme {
 
 /// The nearest view depth a slice starts at, as a share of the far end, when the scene's bounds
 /// reach behind the camera (a camera standing on the ground): a log split needs a near plane > 0.
-pub const NEAR_SHARE: f32 = 1.0 / 256.0;
+pub(crate) const NEAR_SHARE: f32 = 1.0 / 256.0;
 
 /// The camera's unit forward.
 pub fn forward(camera: &Camera) -> Vec3 {
@@ -44,7 +44,7 @@ pub fn forward(camera: &Camera) -> Vec3 {
 
 /// The depth range the cascades cover: from the nearest to the farthest corner of the bounds
 /// along the view, the near end at least `NEAR_SHARE` of the far one.
-pub fn depth_range(camera: &Camera, bounds: &Bounds) -> (f32, f32) {
+pub(crate) fn depth_range(camera: &Camera, bounds: &Bounds) -> (f32, f32) {
     let f = forward(camera);
     let depths = bounds.corners().map(|c| (c - camera.eye).dot(f));
     let far = depths
@@ -61,7 +61,7 @@ pub fn depth_range(camera: &Camera, bounds: &Bounds) -> (f32, f32) {
 }
 
 /// The N + 1 slice ends z_0 = near … z_N = far of `scheme` (`lambda` weights log in `practical`).
-pub fn split_depths(scheme: Scheme, lambda: f32, n: u32, near: f32, far: f32) -> Vec<f32> {
+pub(crate) fn split_depths(scheme: Scheme, lambda: f32, n: u32, near: f32, far: f32) -> Vec<f32> {
     let lambda = match scheme {
         Scheme::Uniform => 0.0,
         Scheme::Log => 1.0,
@@ -82,7 +82,7 @@ pub fn split_depths(scheme: Scheme, lambda: f32, n: u32, near: f32, far: f32) ->
 /// at the mean depth, through the farthest of the slice's eight corners. Its radius depends on the
 /// slice alone, so turning the camera moves the sphere without resizing it (its map's texels keep
 /// their size: rotation-stable).
-pub fn slice_sphere(camera: &Camera, aspect: f32, z0: f32, z1: f32) -> (Vec3, f32) {
+pub(crate) fn slice_sphere(camera: &Camera, aspect: f32, z0: f32, z1: f32) -> (Vec3, f32) {
     let tan_y = (0.5 * camera.fov_y_deg.to_radians()).tan();
     // A corner at depth z lies z·k off the axis.
     let k = tan_y * (1.0 + aspect * aspect).sqrt();
@@ -98,7 +98,7 @@ pub fn slice_sphere(camera: &Camera, aspect: f32, z0: f32, z1: f32) -> (Vec3, f3
 /// with the camera (the depth range follows the bounds), so the exact sphere would change its
 /// texel size, and with it every texel edge, at each step; rounded, a map keeps its texel through
 /// most moves and snapping keeps the edges in place.
-pub fn quantize(radius: f32) -> f32 {
+pub(crate) fn quantize(radius: f32) -> f32 {
     let step = 2f32.powi(radius.max(1e-6).log2().floor() as i32 - 4);
     (radius / step).ceil() * step
 }

@@ -4,7 +4,7 @@
 //! (env_split); cells under `min_share` of the power never split. Every leaf becomes one light at
 //! its power centroid carrying its power, and env_trace shades with them (docs/environment.md §2).
 
-pub use super::common::EnvLevelBuffers;
+pub(crate) use super::common::EnvLevelBuffers;
 use super::common::SsaoSettings;
 use super::common::{environment, gpu_lights, resolution, SceneRays};
 use super::picture;
@@ -25,30 +25,30 @@ use crate::{Error, Result};
 use glam::Vec3;
 use std::sync::Arc;
 
-pub const MAX_LEVEL: ParamDecl<u32> =
+pub(crate) const MAX_LEVEL: ParamDecl<u32> =
     ParamDecl::new("max_level", "4", 0, 6, "levels of splitting, 0..=6");
-pub const P_M: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const P_M: ParamDecl<u32> = ParamDecl::new(
     "p_m",
     "0",
     0,
     u32::MAX,
     "split when more than p_m pixels see the cell's corners disagree",
 );
-pub const CONTRAST: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const CONTRAST: ParamDecl<f32> = ParamDecl::new(
     "contrast",
     "4",
     1.0,
     1e9,
     "split when the cell's quadrants' powers differ by more than this factor",
 );
-pub const MIN_SHARE: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const MIN_SHARE: ParamDecl<f32> = ParamDecl::new(
     "min_share",
     "0.01",
     0.0,
     1.0,
     "cells under this share of the panorama's power never split",
 );
-pub const COUNT_STRIDE: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const COUNT_STRIDE: ParamDecl<u32> = ParamDecl::new(
     "count_stride",
     "2",
     1,
@@ -56,7 +56,7 @@ pub const COUNT_STRIDE: ParamDecl<u32> = ParamDecl::new(
     "count every n-th pixel in x and y (1..=8): p_m is in counted pixels",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "env-adaptive",
     family: Family::Environment,
     summary: "a quadtree over the panorama split where visibility or radiance disagrees (GPU atomics), one ray per leaf",
@@ -83,18 +83,18 @@ pub const INFO: MethodInfo = MethodInfo {
 };
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct EnvAdaptive {
-    pub base: (u32, u32),
-    pub max_level: u32,
-    pub p_m: u32,
-    pub contrast: f32,
-    pub min_share: f32,
-    pub count_stride: u32,
-    pub ssao: Option<SsaoSettings>,
+pub(crate) struct EnvAdaptive {
+    pub(crate) base: (u32, u32),
+    pub(crate) max_level: u32,
+    pub(crate) p_m: u32,
+    pub(crate) contrast: f32,
+    pub(crate) min_share: f32,
+    pub(crate) count_stride: u32,
+    pub(crate) ssao: Option<SsaoSettings>,
 }
 
 impl EnvAdaptive {
-    pub fn finest(&self) -> (u32, u32) {
+    pub(crate) fn finest(&self) -> (u32, u32) {
         (self.base.0 << self.max_level, self.base.1 << self.max_level)
     }
 }
@@ -240,14 +240,14 @@ impl ShadowMethod for EnvAdaptive {
 
 /// Summed-area tables of the full-resolution panorama: power (luminance · Δω) and power-weighted
 /// direction, so any cell's power and power centroid cost four reads.
-pub struct PowerTables {
+pub(crate) struct PowerTables {
     width: usize,
     height: usize,
     sat: Vec<[f64; 4]>,
 }
 
 impl PowerTables {
-    pub fn new(env: &Environment) -> PowerTables {
+    pub(crate) fn new(env: &Environment) -> PowerTables {
         let p = &env.panorama;
         let (w, h) = (p.width as usize, p.height as usize);
         let mut sat = vec![[0.0f64; 4]; (w + 1) * (h + 1)];
@@ -285,7 +285,7 @@ impl PowerTables {
     }
 
     /// Power of every cell of the `fw` × `fh` lattice, row-major.
-    pub fn finest(&self, fw: u32, fh: u32) -> Vec<f32> {
+    pub(crate) fn finest(&self, fw: u32, fh: u32) -> Vec<f32> {
         let (sx, sy) = (self.width / fw as usize, self.height / fh as usize);
         (0..fh as usize)
             .flat_map(|j| (0..fw as usize).map(move |i| (i, j)))
@@ -294,7 +294,7 @@ impl PowerTables {
     }
 
     /// The light of a leaf (in finest-lattice units of a `fw` × `fh` lattice): its power centroid.
-    pub fn leaf_light(&self, c: &GpuEnvCell, fw: u32, fh: u32) -> Option<EnvLight> {
+    pub(crate) fn leaf_light(&self, c: &GpuEnvCell, fw: u32, fh: u32) -> Option<EnvLight> {
         let (sx, sy) = (self.width / fw as usize, self.height / fh as usize);
         let (x0, y0) = (c.i as usize * sx, c.j as usize * sy);
         let s = self.sum(x0, y0, x0 + c.size as usize * sx, y0 + c.size as usize * sy);

@@ -15,7 +15,7 @@ use crate::stages::FrameGpu;
 use crate::{Error, Result};
 use std::sync::Arc;
 
-pub fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment> {
+pub(crate) fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment> {
     fg.scene.environment.as_ref().ok_or_else(|| {
         Error::Param(format!(
             "{method}: scene `{}` has no [environment] (see docs/environment.md)",
@@ -25,15 +25,15 @@ pub fn environment<'a>(fg: &'a FrameGpu, method: &str) -> Result<&'a Environment
 }
 
 /// The BVH, built once per scene and settings, kept on the CPU for the twins.
-pub struct SceneRays {
-    pub bvh: Arc<Bvh>,
-    pub buffers: BvhBuffers,
-    pub ray_offset: f32,
-    pub t_max: f32,
+pub(crate) struct SceneRays {
+    pub(crate) bvh: Arc<Bvh>,
+    pub(crate) buffers: BvhBuffers,
+    pub(crate) ray_offset: f32,
+    pub(crate) t_max: f32,
 }
 
 impl SceneRays {
-    pub fn build(fg: &FrameGpu) -> SceneRays {
+    pub(crate) fn build(fg: &FrameGpu) -> SceneRays {
         let bvh = Arc::new(Bvh::build(&fg.scene.triangles()));
         let buffers = BvhBuffers::upload(fg.ctx, &bvh);
         SceneRays {
@@ -44,7 +44,7 @@ impl SceneRays {
         }
     }
 
-    pub fn params(&self, fg: &FrameGpu) -> GpuEnvParams {
+    pub(crate) fn params(&self, fg: &FrameGpu) -> GpuEnvParams {
         GpuEnvParams {
             width: fg.gbuffer.width,
             height: fg.gbuffer.height,
@@ -55,7 +55,7 @@ impl SceneRays {
     }
 }
 
-pub fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
+pub(crate) fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
     lights
         .iter()
         .map(|l| GpuEnvLight {
@@ -65,27 +65,27 @@ pub fn gpu_lights(lights: &[EnvLight]) -> Vec<GpuEnvLight> {
 }
 
 /// ssao: parameters, buffers and pass. AO lands in `ao` (1 = open).
-pub struct SsaoStage {
-    pub pass: Ssao,
-    pub params: GpuEnvParams,
-    pub camera: GpuCamera,
-    pub kernel: Vec<[f32; 4]>,
-    pub params_buffer: wgpu::Buffer,
-    pub camera_buffer: wgpu::Buffer,
-    pub kernel_buffer: wgpu::Buffer,
-    pub ao: wgpu::Buffer,
-    pub occluded: wgpu::Buffer,
+pub(crate) struct SsaoStage {
+    pub(crate) pass: Ssao,
+    pub(crate) params: GpuEnvParams,
+    pub(crate) camera: GpuCamera,
+    pub(crate) kernel: Vec<[f32; 4]>,
+    pub(crate) params_buffer: wgpu::Buffer,
+    pub(crate) camera_buffer: wgpu::Buffer,
+    pub(crate) kernel_buffer: wgpu::Buffer,
+    pub(crate) ao: wgpu::Buffer,
+    pub(crate) occluded: wgpu::Buffer,
 }
 
 /// ssao settings: samples per pixel and radius as a share of the scene's bounding-box diagonal.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SsaoSettings {
-    pub samples: u32,
-    pub radius: f32,
+    pub(crate) samples: u32,
+    pub(crate) radius: f32,
 }
 
 impl SsaoStage {
-    pub fn new(fg: &FrameGpu, settings: SsaoSettings) -> Result<SsaoStage> {
+    pub(crate) fn new(fg: &FrameGpu, settings: SsaoSettings) -> Result<SsaoStage> {
         let s = fg.scene;
         let aspect = s.render.width as f32 / s.render.height as f32;
         let camera = GpuCamera {
@@ -126,7 +126,7 @@ impl SsaoStage {
         })
     }
 
-    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
+    pub(crate) fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         timer.stage(fg.ctx, Stage::SSAO, |enc| {
             let g = &fg.gbuffer;
             let bindings = bind::ssao::Main {
@@ -145,7 +145,7 @@ impl SsaoStage {
 }
 
 /// `WxH` (a panorama resolution).
-pub fn resolution(
+pub(crate) fn resolution(
     params: &crate::methods::ParamMap,
     method: &str,
     key: &str,

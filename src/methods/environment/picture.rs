@@ -5,7 +5,7 @@ use crate::scene::environment::Environment;
 use image::{Rgb, RgbImage};
 
 /// The panorama at `width` × `width/2` (nearest source pixel), Reinhard-mapped around its mean.
-pub fn panorama_picture(env: &Environment, width: u32) -> RgbImage {
+pub(crate) fn panorama_picture(env: &Environment, width: u32) -> RgbImage {
     let p = &env.panorama;
     let height = width / 2;
     let mean = (p.rgb.iter().map(|c| luminance(*c) as f64).sum::<f64>() / p.rgb.len() as f64)
@@ -23,7 +23,7 @@ pub fn panorama_picture(env: &Environment, width: u32) -> RgbImage {
 }
 
 /// Colour of quadtree level `l` (as the adaptive pictures: red, orange, yellow, green, blue, …).
-pub fn level_colour(l: u32) -> Rgb<u8> {
+pub(crate) fn level_colour(l: u32) -> Rgb<u8> {
     const C: [[u8; 3]; 6] = [
         [230, 40, 40],
         [240, 140, 30],
@@ -36,7 +36,7 @@ pub fn level_colour(l: u32) -> Rgb<u8> {
 }
 
 /// Outline of the rectangle [u0, u1) × [v0, v1) in panorama coordinates.
-pub fn rect(img: &mut RgbImage, uv0: (f32, f32), uv1: (f32, f32), colour: Rgb<u8>) {
+pub(crate) fn rect(img: &mut RgbImage, uv0: (f32, f32), uv1: (f32, f32), colour: Rgb<u8>) {
     let (w, h) = (img.width() as f32, img.height() as f32);
     let x0 = ((uv0.0 * w) as u32).min(img.width() - 1);
     let x1 = ((uv1.0 * w) as u32)
@@ -59,7 +59,7 @@ pub fn rect(img: &mut RgbImage, uv0: (f32, f32), uv1: (f32, f32), colour: Rgb<u8
 }
 
 /// A small cross at a direction (panorama coordinates of `d` under the environment's rotation).
-pub fn mark(img: &mut RgbImage, env: &Environment, d: glam::Vec3, colour: Rgb<u8>) {
+pub(crate) fn mark(img: &mut RgbImage, env: &Environment, d: glam::Vec3, colour: Rgb<u8>) {
     let theta = d.y.clamp(-1.0, 1.0).acos();
     let mut u = (d.z.atan2(d.x) - env.rotation_rad()) / std::f32::consts::TAU;
     u -= u.floor();

@@ -81,11 +81,11 @@ pub fn parse_ssao(p: &ParamMap, method: &str) -> Result<Option<SsaoSettings>> {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvPixels {
-    pub width: u32,
-    pub height: u32,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
     /// `at=vertex`: trace at the mesh vertices and interpolate.
-    pub per_vertex: bool,
-    pub ssao: Option<SsaoSettings>,
+    pub(crate) per_vertex: bool,
+    pub(crate) ssao: Option<SsaoSettings>,
 }
 
 impl ShadowMethod for EnvPixels {
@@ -153,25 +153,25 @@ impl ShadowMethod for EnvPixels {
 
 /// Fixed lights traced every frame (env-pixels; env-adaptive's final pass uses the same parts).
 pub struct RayLights {
-    pub rays: SceneRays,
-    pub trace: EnvTrace,
-    pub lights: Vec<GpuEnvLight>,
-    pub params: GpuEnvParams,
+    pub(crate) rays: SceneRays,
+    pub(crate) trace: EnvTrace,
+    pub(crate) lights: Vec<GpuEnvLight>,
+    pub(crate) params: GpuEnvParams,
     /// One parameter block per chunk of lights (enough for the most lights this state may hold).
-    pub chunk_buffers: Vec<wgpu::Buffer>,
+    pub(crate) chunk_buffers: Vec<wgpu::Buffer>,
     sums: wgpu::Buffer,
-    pub lights_buffer: wgpu::Buffer,
-    pub blocked: wgpu::Buffer,
+    pub(crate) lights_buffer: wgpu::Buffer,
+    pub(crate) blocked: wgpu::Buffer,
     /// Bound as `ao` when ssao is off (never read then).
     no_ao: wgpu::Buffer,
-    pub ssao: Option<SsaoStage>,
-    pub pictures: Vec<(String, image::RgbImage)>,
+    pub(crate) ssao: Option<SsaoStage>,
+    pub(crate) pictures: Vec<(String, image::RgbImage)>,
     /// `at=vertex`: rays from the mesh vertices instead of the pixels.
-    pub vertex: Option<VertexStage>,
+    pub(crate) vertex: Option<VertexStage>,
 }
 
 impl RayLights {
-    pub fn new(
+    pub(crate) fn new(
         fg: &FrameGpu,
         lights: Vec<GpuEnvLight>,
         ssao: Option<SsaoSettings>,
@@ -214,7 +214,7 @@ impl RayLights {
     }
 
     /// The per-vertex variant: the same lights, traced from every mesh vertex.
-    pub fn at_vertices(mut self, fg: &FrameGpu) -> Result<RayLights> {
+    pub(crate) fn at_vertices(mut self, fg: &FrameGpu) -> Result<RayLights> {
         let stage = VertexStage::new(fg)?;
         self.params.vertex_count = stage.vertex_count;
         self.vertex = Some(stage);
@@ -222,7 +222,7 @@ impl RayLights {
     }
 
     /// ssao (if on), then env_trace.
-    pub fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
+    pub(crate) fn run(&self, fg: &FrameGpu, timer: &mut StageTimer) -> Result<()> {
         if let Some(s) = &self.ssao {
             s.run(fg, timer)?;
         }
@@ -261,7 +261,7 @@ impl RayLights {
     }
 
     /// After a frame: env_trace's inputs and counts, for the twins.
-    pub fn read(&self, fg: &FrameGpu) -> Result<EnvTraceBuffers> {
+    pub(crate) fn read(&self, fg: &FrameGpu) -> Result<EnvTraceBuffers> {
         let bytes = fg.pixel_count() as u64 * 4;
         let ao = match &self.ssao {
             Some(s) => readback::read_buffer(fg.ctx, &s.ao, bytes)?,

@@ -73,12 +73,12 @@ pub const INFO: MethodInfo = MethodInfo {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvShadowmaps {
-    pub k: u32,
+    pub(crate) k: u32,
     /// One of the pcf family's patterns (`pcf::KERNELS`).
-    pub filter: &'static str,
-    pub pcf_radius: u32,
-    pub taps: u32,
-    pub ssao: Option<SsaoSettings>,
+    pub(crate) filter: &'static str,
+    pub(crate) pcf_radius: u32,
+    pub(crate) taps: u32,
+    pub(crate) ssao: Option<SsaoSettings>,
 }
 
 /// Box keeps the (2r+1)² texel grid it always had; the disk patterns default to 16 taps (as pcf's).
@@ -102,7 +102,7 @@ fn check_taps(filter: &str, taps: u32) -> Result<u32> {
 
 impl EnvShadowmaps {
     /// The pcf family's uniform: same kinds, tap counts and stratified order as `pcf`.
-    pub fn settings(&self) -> GpuFilter {
+    pub(crate) fn settings(&self) -> GpuFilter {
         GpuFilter {
             kind: KERNELS.iter().position(|k| *k == self.filter).unwrap_or(0) as u32,
             taps: self.taps,
@@ -113,7 +113,7 @@ impl EnvShadowmaps {
     }
 
     /// The unit-disk offsets the disk patterns read (one unused point for the grids).
-    pub fn disk(&self) -> Vec<[f32; 2]> {
+    pub(crate) fn disk(&self) -> Vec<[f32; 2]> {
         match self.filter {
             "box" | "bilinear" => vec![[0.0, 0.0]],
             "stratified" => poisson_disk(16),

@@ -11,13 +11,13 @@ use crate::stages::env_vertex_interp::{EnvVertexInterp, InterpInputs};
 use crate::stages::FrameGpu;
 use crate::Result;
 
-pub struct VertexStage {
+pub(crate) struct VertexStage {
     raster: BarycentricsPass,
     ids: TriangleIds,
     camera: wgpu::Buffer,
     trace: EnvTraceVertex,
     interp: EnvVertexInterp,
-    pub vertex_count: u32,
+    pub(crate) vertex_count: u32,
     visibility: wgpu::Buffer,
     blocked: wgpu::Buffer,
     sums: wgpu::Buffer,
@@ -34,7 +34,7 @@ pub struct VertexBuffers {
 }
 
 impl VertexStage {
-    pub fn new(fg: &FrameGpu) -> Result<VertexStage> {
+    pub(crate) fn new(fg: &FrameGpu) -> Result<VertexStage> {
         let ctx = fg.ctx;
         let vertex_count = fg.scene.vertices.len() as u32;
         // At least one element: wgpu has no empty bindings.
@@ -57,7 +57,7 @@ impl VertexStage {
 
     /// barycentrics, then env_trace at the vertices (one dispatch per chunk of lights, `chunks`
     /// holding `vertex_count`), then env_vertex_interp into V.
-    pub fn run(
+    pub(crate) fn run(
         &self,
         fg: &FrameGpu,
         timer: &mut StageTimer,
@@ -101,7 +101,7 @@ impl VertexStage {
         })
     }
 
-    pub fn read(&self, fg: &FrameGpu) -> Result<VertexBuffers> {
+    pub(crate) fn read(&self, fg: &FrameGpu) -> Result<VertexBuffers> {
         let bytes = self.vertex_count as u64 * 4;
         Ok(VertexBuffers {
             ids: barycentrics::read_back(fg.ctx, &self.ids)?,

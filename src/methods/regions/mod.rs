@@ -6,10 +6,10 @@
 //! each group's maps are a centred grid fitted to the box of its receivers, sized for the finest
 //! texel its pixels need, culled per map, and shaded on that group's tiles alone.
 
-pub mod budget;
+pub(crate) mod budget;
 mod certified;
 pub(crate) mod pictures;
-pub mod record;
+pub(crate) mod record;
 
 use super::fixed_samples::{self, regular_points, Layout, Prepared};
 use super::single_map::{light_size, CentreMap};
@@ -28,21 +28,21 @@ use crate::stages::regions::{
 };
 use crate::stages::FrameGpu;
 use crate::Result;
-pub use record::ClassRecord;
+pub(crate) use record::ClassRecord;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-pub const TARGET: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const TARGET: ParamDecl<f32> = ParamDecl::new(
     "target",
     "0.02",
     0.0005,
     0.5,
     "the frame's RMSE of V to meet: each region gets n = k·(P/A)^0.2 samples per side for P penumbra pixels of A, k from the target (docs/regions.md)",
 );
-pub const MAX_N: ParamDecl<u32> =
+pub(crate) const MAX_N: ParamDecl<u32> =
     ParamDecl::new("max_n", "16", 1, 64, "most samples per side, 1..=64");
 /// `power_of_two` checks it.
-pub const MIN_SIZE: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const MIN_SIZE: ParamDecl<u32> = ParamDecl::new(
     "min_size",
     "64",
     0,
@@ -50,21 +50,21 @@ pub const MIN_SIZE: ParamDecl<u32> = ParamDecl::new(
     "smallest map side, a power of two, 16..=8192",
 );
 /// `power_of_two` checks it.
-pub const MAX_SIZE: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const MAX_SIZE: ParamDecl<u32> = ParamDecl::new(
     "max_size",
     "2048",
     0,
     u32::MAX,
     "largest map side, a power of two, 16..=8192",
 );
-pub const DENSITY: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const DENSITY: ParamDecl<f32> = ParamDecl::new(
     "density",
     "0",
     0.0,
     64.0,
     "texels per pixel footprint; 0: the least that meets the maps' share of the target (T/√2, docs/regions.md), and at least 1 + the lookup's offsets in texels (bias constant + slope + normal offset)",
 );
-pub const REGION: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const REGION: ParamDecl<u32> = ParamDecl::new(
     "region",
     "16",
     8,
@@ -72,28 +72,28 @@ pub const REGION: ParamDecl<u32> = ParamDecl::new(
     "region side in pixels, a multiple of 8 up to 256",
 );
 /// `power_of_two` checks it (0: derived).
-pub const CENTRE_SIZE: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const CENTRE_SIZE: ParamDecl<u32> = ParamDecl::new(
     "centre_size",
     "0",
     0,
     u32::MAX,
     "side of the decision's map from the light's centre, a power of two 16..=8192; 0: twice the screen's larger side, at most shadow_map_size (the blocker search reads penumbra widths, not edges)",
 );
-pub const BLOCKER_TAPS: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const BLOCKER_TAPS: ParamDecl<u32> = ParamDecl::new(
     "blocker_taps",
     "6",
     1,
     16,
     "blocker-search taps per side on the centre map, 1..=16",
 );
-pub const MAP_COST: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const MAP_COST: ParamDecl<f32> = ParamDecl::new(
     "map_cost",
     "550000",
     0.0,
     1e9,
     "the cost model's price of one map beyond its texels, in texels (passes, culling, triangles; fitted on llvmpipe, docs/regions.md)",
 );
-pub const SAMPLE_COST: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const SAMPLE_COST: ParamDecl<f32> = ParamDecl::new(
     "sample_cost",
     "40",
     0.0,
@@ -101,14 +101,14 @@ pub const SAMPLE_COST: ParamDecl<f32> = ParamDecl::new(
     "the cost model's price of one pixel's test of one map, in texels",
 );
 /// `power_of_two` checks it (0: the scene's).
-pub const FORCE_SIZE: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const FORCE_SIZE: ParamDecl<u32> = ParamDecl::new(
     "force_size",
     "0",
     0,
     u32::MAX,
     "map side with force = N; 0: the scene's shadow_map_size",
 );
-pub const PIXELS: ParamDecl<u32> = ParamDecl::new(
+pub(crate) const PIXELS: ParamDecl<u32> = ParamDecl::new(
     "pixels",
     "256",
     16,
@@ -116,7 +116,7 @@ pub const PIXELS: ParamDecl<u32> = ParamDecl::new(
     "certify = on: exact pixels drawn per class, 16..=8192",
 );
 /// `parse` checks the half-open range (0, 0.5].
-pub const DELTA: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const DELTA: ParamDecl<f32> = ParamDecl::new(
     "delta",
     "0.05",
     f32::MIN,
@@ -124,30 +124,30 @@ pub const DELTA: ParamDecl<f32> = ParamDecl::new(
     "certify = on: the frame's bound holds with probability 1 − delta (each class's at delta / classes), in (0, 0.5]",
 );
 /// `parse` checks it (0 or 0.0005..=0.5).
-pub const PLAN_TARGET: ParamDecl<f32> = ParamDecl::new(
+pub(crate) const PLAN_TARGET: ParamDecl<f32> = ParamDecl::new(
     "plan_target",
     "0",
     f32::MIN,
     f32::MAX,
     "the target the plan is decided for; 0: target (a larger one makes a plan that under-counts, for studying the measurement)",
 );
-pub const MERGE: SwitchDecl = SwitchDecl::new(
+pub(crate) const MERGE: SwitchDecl = SwitchDecl::new(
     "merge",
     true,
     "on: a class joins the next one up (its tiles get more samples, one set of maps for both) when the cost model predicts the joined maps cheaper; off: every class its own maps",
 );
-pub const HOLD: SwitchDecl = SwitchDecl::new(
+pub(crate) const HOLD: SwitchDecl = SwitchDecl::new(
     "hold",
     true,
     "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh",
 );
-pub const CERTIFY: SwitchDecl = SwitchDecl::new(
+pub(crate) const CERTIFY: SwitchDecl = SwitchDecl::new(
     "certify",
     true,
     "on: each class's error is measured with the exact truth at pixels drawn within it and a class whose bound is over the target is stepped up; the frame is met only where the certified bound is at most the target (docs/regions.md, \"Certified classes\"); off: the plan alone, as decided",
 );
 
-pub const INFO: MethodInfo = MethodInfo {
+pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "regions",
     family: Family::MultiSample,
     summary: "per screen region: samples per side from its penumbra width, map texels from its footprint, maps fitted to its receivers",
@@ -309,37 +309,37 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Regions {
-    pub target: f32,
-    pub density: f32,
-    pub max_n: u32,
-    pub min_size: u32,
-    pub max_size: u32,
-    pub region: u32,
-    pub blocker_taps: u32,
+    pub(crate) target: f32,
+    pub(crate) density: f32,
+    pub(crate) max_n: u32,
+    pub(crate) min_size: u32,
+    pub(crate) max_size: u32,
+    pub(crate) region: u32,
+    pub(crate) blocker_taps: u32,
     /// Some(on/off) as given; None: auto (on where the adapter can cull).
-    pub cull: Option<bool>,
+    pub(crate) cull: Option<bool>,
     /// Classes join the next one up where the cost model predicts it cheaper.
-    pub merge: bool,
+    pub(crate) merge: bool,
     /// The cost model's prices in texels: one map beyond its texels, one pixel's test of one map.
-    pub map_cost: f32,
-    pub sample_cost: f32,
-    pub force: Option<u32>,
-    pub force_size: u32,
+    pub(crate) map_cost: f32,
+    pub(crate) sample_cost: f32,
+    pub(crate) force: Option<u32>,
+    pub(crate) force_size: u32,
     /// The decision's map side; 0: from the screen (`Regions::centre_side`).
-    pub centre_size: u32,
+    pub(crate) centre_size: u32,
     /// A group keeps the previous frame's window while it holds (`State::held_window`).
-    pub hold: bool,
+    pub(crate) hold: bool,
     /// Each class's error bounded against the exact truth and stepped up where over (certified.rs).
-    pub certify: bool,
+    pub(crate) certify: bool,
     /// Exact pixels drawn per class; the frame's confidence 1 − delta.
-    pub pixels: u32,
-    pub delta: f32,
+    pub(crate) pixels: u32,
+    pub(crate) delta: f32,
     /// A class may take `pcss` where it is certified within the target.
-    pub filter: bool,
+    pub(crate) filter: bool,
     /// The frame-wide grid is taken where it is predicted at most this times the plan's cost.
-    pub fallback: Option<f32>,
+    pub(crate) fallback: Option<f32>,
     /// The target the plan is decided for; 0: `target`.
-    pub plan_target: f32,
+    pub(crate) plan_target: f32,
 }
 
 impl Regions {
@@ -360,7 +360,7 @@ impl Regions {
     }
 
     /// The target the plan is decided for: `plan_target`, else `target`.
-    pub fn plan_target(&self) -> f32 {
+    pub(crate) fn plan_target(&self) -> f32 {
         match self.plan_target {
             t if t > 0.0 => t,
             _ => self.target,
@@ -368,7 +368,7 @@ impl Regions {
     }
 
     /// The classes' samples per side: the ladder up to `max_n`, `max_n` last; with `force`, N alone.
-    pub fn ladder(&self) -> Vec<u32> {
+    pub(crate) fn ladder(&self) -> Vec<u32> {
         if let Some(n) = self.force {
             return vec![n];
         }
@@ -998,10 +998,10 @@ pub struct RegionsBuffers {
     pub classes: Vec<u32>,
     pub totals: [u32; 2],
     /// A section of `params.section_words` per class: header, then tiles in the GPU's order.
-    pub class_tiles: Vec<u32>,
+    pub(crate) class_tiles: Vec<u32>,
     /// The same per group of two classes or more (`RegionsPass::join`); a group of one shades
     /// its class's own section.
-    pub group_tiles: Vec<u32>,
+    pub(crate) group_tiles: Vec<u32>,
     /// The frame's geometry tiles, sorted.
     pub geometry_tiles: Vec<u32>,
     pub records: Vec<ClassRecord>,

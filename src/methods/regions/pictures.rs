@@ -46,7 +46,7 @@ fn diverging(log2: f32) -> [u8; 3] {
     }
 }
 
-pub fn pictures(
+pub(crate) fn pictures(
     fg: &FrameGpu,
     pass: &RegionsPass,
     classes: &[ClassRecord],

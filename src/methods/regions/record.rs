@@ -12,13 +12,13 @@ pub struct ClassRecord {
     pub group: u32,
     /// The samples per side its tiles get: the group's, at or above `decided_n`.
     pub n: u32,
-    pub map_size: u32,
-    pub tiles: u32,
+    pub(crate) map_size: u32,
+    pub(crate) tiles: u32,
     /// The group's maps (shared by every class of the group).
-    pub maps: u32,
+    pub(crate) maps: u32,
     /// The finest texel its pixels need (tangent units from the light, per texel).
-    pub texel_need: f32,
+    pub(crate) texel_need: f32,
     /// The group's window side in tangent units, as the centre sees it.
-    pub extent: f32,
-    pub triangles_per_map_mean: f64,
+    pub(crate) extent: f32,
+    pub(crate) triangles_per_map_mean: f64,
 }

@@ -9,8 +9,8 @@ use glam::Vec3;
 /// A directional light: unit direction towards it and its power Σ L·Δω (luminance × intensity).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnvLight {
-    pub direction: Vec3,
-    pub power: f32,
+    pub(crate) direction: Vec3,
+    pub(crate) power: f32,
 }
 
 /// One light per pixel of the panorama downsampled to `width` × `height`, at the pixel's centre,
@@ -40,7 +40,7 @@ pub fn pixel_lights(env: &Environment, width: u32, height: u32) -> Result<Vec<En
 /// Median cut (Debevec 2005): split the panorama, weighted by luminance · Δω, into `k` regions of
 /// about equal power (always along the longer side, measured in angle), one light per region at its
 /// power centroid with the region's power. `k` is rounded down to a power of two.
-pub fn median_cut(env: &Environment, k: u32) -> Vec<(EnvLight, [u32; 4])> {
+pub(crate) fn median_cut(env: &Environment, k: u32) -> Vec<(EnvLight, [u32; 4])> {
     let p: &Panorama = &env.panorama;
     let (w, h) = (p.width as usize, p.height as usize);
     // Summed-area table of luminance · Δω.

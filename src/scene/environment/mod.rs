@@ -8,11 +8,11 @@
 //! with L the panorama's luminance (× intensity) and vis = 0 when the ray from p along ω hits a
 //! triangle; 0 where the denominator is 0.
 
-pub mod lights;
-pub mod panorama;
+pub(crate) mod lights;
+pub(crate) mod panorama;
 pub(crate) mod scene;
 
-pub use lights::{median_cut, pixel_lights, EnvLight};
+pub(crate) use lights::{median_cut, pixel_lights, EnvLight};
 pub use panorama::Panorama;
 
 use glam::Vec3;
@@ -42,7 +42,7 @@ impl Environment {
             intensity,
         }
     }
-    pub fn rotation_rad(&self) -> f32 {
+    pub(crate) fn rotation_rad(&self) -> f32 {
         self.rotation_deg.to_radians()
     }
     /// Direction of panorama coordinates (u, v) with this environment's rotation.

@@ -7,7 +7,7 @@ use std::f32::consts::{PI, TAU};
 use std::path::Path;
 
 /// Rec. 709 luminance weights: the pixel light's intensity (the seed's "Factor" weights).
-pub const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
+pub(crate) const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
 pub fn luminance(rgb: [f32; 3]) -> f32 {
     rgb[0] * LUMINANCE[0] + rgb[1] * LUMINANCE[1] + rgb[2] * LUMINANCE[2]
@@ -23,7 +23,7 @@ pub struct Panorama {
 
 /// Direction of panorama coordinates (u, v) ∈ [0,1]²: φ = 2πu + rotation, θ = πv from +y (up),
 /// d = (sin θ cos φ, cos θ, sin θ sin φ).
-pub fn direction(u: f32, v: f32, rotation_rad: f32) -> Vec3 {
+pub(crate) fn direction(u: f32, v: f32, rotation_rad: f32) -> Vec3 {
     let phi = TAU * u + rotation_rad;
     let theta = PI * v;
     let s = theta.sin();
@@ -46,7 +46,7 @@ impl Panorama {
     }
 
     /// Reads an equirectangular EXR or Radiance HDR file; the width must be twice the height.
-    pub fn load(path: &Path, what: &str) -> Result<Panorama> {
+    pub(crate) fn load(path: &Path, what: &str) -> Result<Panorama> {
         let bytes = std::fs::read(path).map_err(|e| Error::Io {
             path: path.display().to_string(),
             message: format!("{what}: cannot read the panorama: {e}"),
@@ -108,7 +108,7 @@ impl Panorama {
 
     /// Box-downsampled to `width` × `height` (each dividing the source size), every source pixel
     /// weighted by its solid angle, so Σ L·Δω (the panorama's power) is kept exactly per cell.
-    pub fn downsample(&self, width: u32, height: u32) -> Result<Panorama> {
+    pub(crate) fn downsample(&self, width: u32, height: u32) -> Result<Panorama> {
         if width == 0 || height == 0 || self.width % width != 0 || self.height % height != 0 {
             return Err(Error::Param(format!(
                 "panorama resolution {width}x{height} must divide the source's {}x{}",
@@ -147,7 +147,7 @@ impl Panorama {
     }
 
     /// Σ luminance · Δω over every pixel (the panorama's power per unit intensity).
-    pub fn power(&self) -> f64 {
+    pub(crate) fn power(&self) -> f64 {
         (0..self.height)
             .map(|y| {
                 let w = self.pixel_solid_angle(y) as f64;

@@ -17,19 +17,19 @@ use serde::Deserialize;
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
-pub struct EnvironmentDef {
-    pub panorama: String,
+pub(crate) struct EnvironmentDef {
+    pub(crate) panorama: String,
     #[serde(default)]
-    pub rotation_deg: f32,
+    pub(crate) rotation_deg: f32,
     #[serde(default = "one")]
-    pub intensity: f32,
+    pub(crate) intensity: f32,
 }
 
 fn one() -> f32 {
     1.0
 }
 
-pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Environment> {
+pub(crate) fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Environment> {
     if !def.rotation_deg.is_finite() {
         return Err(Error::scene(
             origin,
@@ -88,7 +88,7 @@ pub fn build(def: &EnvironmentDef, origin: &str, dirs: MeshDirs) -> Result<Envir
 
 /// A square light one diagonal above the meshes, facing down: what the area-light methods (and
 /// shadow-map frusta) read in an environment-lit scene. Environment methods ignore it.
-pub fn light_above(min: Vec3, max: Vec3) -> AreaLight {
+pub(crate) fn light_above(min: Vec3, max: Vec3) -> AreaLight {
     let diag = (max - min).length().max(1e-3);
     let mid = (min + max) * 0.5;
     AreaLight {

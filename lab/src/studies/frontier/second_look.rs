@@ -174,7 +174,7 @@ pub fn retime(
             crate::methods::sizes::plan(&scenes[*gi], m, &ctx.limits(), cpu).host_bytes
         })
         .collect();
-    let room = penumbra::gpu::size_plan::mem_available()
+    let room = penumbra::research::gpu::size_plan::mem_available()
         .map_or(u64::MAX, |b| (b as f64 * MEMORY_SHARE) as u64);
     let windows = windows(&bytes, room);
     log(&format!(
