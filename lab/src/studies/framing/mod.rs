@@ -122,9 +122,9 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
                         penumbra_width_px: width.map(|w| w.0),
                         penumbra_pixels: width.map_or(0, |w| w.1),
                         label: row.label(),
-                        shadow_maps: row.shadow_maps,
+                        shadow_maps: row.core.maps,
                         rmse: row.metrics.rmse,
-                        total_ms: row.total_ms,
+                        total_ms: row.core.frame_ms,
                         config: config.clone(),
                         row,
                     });
