@@ -342,7 +342,7 @@ fn estimate_records_a_failed_setting_and_goes_on() {
         (None, Some(256))
     );
     assert!(
-        lines[0]["measured_rmse"].as_f64().unwrap() > 0.0
+        lines[0]["rmse"].as_f64().unwrap() > 0.0
             && lines[0]["predicted_rmse"].as_f64().unwrap() > 0.0
     );
     assert_eq!(
