@@ -57,7 +57,7 @@ pub struct CascadeFigures {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CascadeLine {
     /// Scene, the label as spec, method, params, maps (one per cascade), map size, RMSE over
-    /// geometry pixels, the frame's wall clock, adapter, build.
+    /// geometry pixels, adapter, build; `frame_ms` 0: the study times no frame.
     #[serde(flatten)]
     pub core: RowCore,
     pub n: u32,
@@ -153,7 +153,6 @@ pub fn run(ctx: &GpuContext, job: &CascadeJob, log: &dyn Fn(&str)) -> Result<Vec
                     maps: f.output.shadow_maps,
                     map_size: scene.render.shadow_map_size,
                     rmse: (sq / count.max(1) as f64).sqrt(),
-                    frame_ms: f.total_ms,
                     adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend).into(),
                     ..RowCore::of(&scene.name, &method.label(), &method)
                 },

@@ -31,8 +31,9 @@ pub struct ConvergenceJob<'a> {
 /// One value of the swept parameter: the frame's shadow maps and its error over geometry pixels.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct ConvergenceRow {
-    /// Scene, the label as spec, method, params, maps, map size, RMSE over geometry pixels, the
-    /// frame's wall clock, adapter, build.
+    /// Scene, the label as spec, method, params, maps, map size, RMSE over geometry pixels,
+    /// adapter, build; `frame_ms` 0: the study times no frame (its files stay the same from run
+    /// to run).
     #[serde(flatten)]
     pub core: RowCore,
     pub value: String,
@@ -95,11 +96,10 @@ pub fn run(
                 Ok((
                     f.output.shadow_maps,
                     judge.judge(scene, &method.label(), &f)?.metrics,
-                    f.total_ms,
                 ))
             });
         match measured {
-            Ok((maps, m, ms)) => {
+            Ok((maps, m)) => {
                 log(&format!(
                     "{}: {maps} maps, RMSE {:.5}",
                     method.label(),
@@ -109,7 +109,6 @@ pub fn run(
                     core: RowCore {
                         maps,
                         rmse: m.rmse,
-                        frame_ms: ms,
                         ..core(method)
                     },
                     value: value.clone(),

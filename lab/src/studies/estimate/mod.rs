@@ -97,7 +97,8 @@ impl Setting {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EstimateLine {
     /// Scene, the setting's spec (without `estimate=on`), method and params (with it), maps, map
-    /// size, the measured RMSE, the one frame's wall clock, adapter, build.
+    /// size, the measured RMSE, adapter, build; `frame_ms` 0: the study times no frame (its
+    /// files stay the same from run to run).
     #[serde(flatten)]
     pub core: RowCore,
     pub layout: String,
@@ -325,7 +326,6 @@ impl Run<'_> {
                 maps: f.output.shadow_maps,
                 map_size: setting.map_size,
                 rmse: measured,
-                frame_ms: f.total_ms,
                 adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend).into(),
                 ..RowCore::of(&scene.name, &setting.spec, &method)
             },
