@@ -162,14 +162,14 @@ case_ spot-h400 1 "spot light radius 2 at height 400: hard RMSE under 0.1" ok "r
   "$(declare -f scene_head spot_far); spot_far 400 > s.toml" "$CMP --scene s.toml --methods hard,regular:n=3 --out out"
 
 # 2. A value near f64's largest in a rows file.
-case_ calibrate-1e308 2 "calibrate, measured_rmse 1e308" refuse 'e\.jsonl: line 1: measured_rmse = 1e308' \
+case_ calibrate-1e308 2 "calibrate, measured_rmse 1e308" refuse 'e\.jsonl: line 1: rmse = 1e308' \
   "$(declare -f estimate_row json_set); estimate_row measured_rmse=1e308 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 # (Beside the run's pictures, which the rows name.)
 case_ report-1e308 2 "report, a results.jsonl row with rmse 1e308" refuse 'r\.jsonl.*line 1: metrics\.rmse = 1e308' \
   "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && json_set metrics.rmse=1e308 < run/results.jsonl > run/r.jsonl" \
   "$P report run/r.jsonl --out out"
-case_ report-time-1e308 2 "report, a results.jsonl row with total_ms 1e308" refuse 'line 1: total_ms = 1e308' \
-  "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && json_set total_ms=1e308 < run/results.jsonl > run/r.jsonl" \
+case_ report-time-1e308 2 "report, a results.jsonl row with frame_ms 1e308" refuse 'line 1: frame_ms = 1e308' \
+  "$P compare --scene analytic-square --methods hard --set resolution=32 --repeats 1 --samples 4 --out run && json_set frame_ms=1e308 < run/results.jsonl > run/r.jsonl" \
   "$P report run/r.jsonl --out out"
 
 # 3. Special files.
@@ -223,8 +223,8 @@ case_ calibrate-own-folder 7 "calibrate --out the folder holding its --estimates
 case_ calibrate-empty 8 "calibrate, an empty file" refuse '--estimates e\.jsonl: holds no estimate row' ": > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 case_ calibrate-failed 8 "calibrate, only failed rows" refuse 'all 1 rows are failed settings' \
   "$(declare -f estimate_row json_set); estimate_row 'failed=\"out of memory\"' > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-zero 8 "calibrate, measured_rmse 0" refuse 'line 1: measured_rmse = 0:' "$(declare -f estimate_row json_set); estimate_row measured_rmse=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
-case_ calibrate-negative 8 "calibrate, measured_rmse -0.5" refuse 'line 1: measured_rmse = -0\.5:' "$(declare -f estimate_row json_set); estimate_row measured_rmse=-0.5 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-zero 8 "calibrate, measured_rmse 0" refuse 'line 1: rmse = 0:' "$(declare -f estimate_row json_set); estimate_row measured_rmse=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
+case_ calibrate-negative 8 "calibrate, measured_rmse -0.5" refuse 'line 1: rmse = -0\.5:' "$(declare -f estimate_row json_set); estimate_row measured_rmse=-0.5 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 case_ calibrate-sampling 8 "calibrate, predicted_sampling -1" refuse 'line 1: predicted_sampling = -1:' "$(declare -f estimate_row json_set); estimate_row predicted_sampling=-1 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 case_ calibrate-map-size 8 "calibrate, map_size 0" refuse 'line 1: map_size = 0' "$(declare -f estimate_row json_set); estimate_row map_size=0 > e.jsonl" "$P calibrate --estimates e.jsonl --out out"
 case_ calibrate-twice 8 "calibrate --estimates E,E" refuse '--estimates `e\.jsonl`: listed twice' "$(declare -f estimate_row json_set); estimate_row > e.jsonl" "$P calibrate --estimates e.jsonl,e.jsonl --out out"

@@ -136,7 +136,7 @@ echo "slurm, 4 shards + merge: $sharded_s s wall clock (submit to merged), $stat
 traced=$(grep -l '"cached": false' "$work"/sharded/shards/*/reference.json | wc -l)
 echo "shards that traced the reference: $traced of 4"
 
-strip='del(.total_ms, .total_ms_min, .total_ms_max, .total_ms_runs, .stages_ms, .setup_ms, .provenance.spec.shard)'
+strip='del(.frame_ms, .frame_ms_min, .frame_ms_max, .frame_ms_runs, .stages_ms, .setup_ms, .provenance.spec.shard)'
 if diff <(jq -cS "$strip" "$work/single/results.jsonl") <(jq -cS "$strip" "$work/sharded/results.jsonl") >"$work/diff.txt"; then
     echo "OK: the merged rows equal the single-process rows in everything but timings ($(wc -l <"$work/sharded/results.jsonl") rows)"
 else

@@ -130,9 +130,9 @@ fn a_scene_fifo_is_waited_for_with_a_word_and_a_pipe_works() {
 fn rows_read_back_are_checked_with_file_line_and_key() {
     let dir = temp_dir("bad_files_rows");
     let cases: [(&str, serde_json::Value, &str); 7] = [
-        ("huge", serde_json::json!({"measured_rmse": 1e308}), "line 1: measured_rmse = 1e308: an RMSE of V lies in (0, 1] (a pair with no error has no ratio to calibrate)"),
-        ("zero", serde_json::json!({"measured_rmse": 0.0}), "line 1: measured_rmse = 0: an RMSE of V lies in (0, 1]"),
-        ("negative", serde_json::json!({"measured_rmse": -0.5}), "line 1: measured_rmse = -0.5: an RMSE of V lies in (0, 1]"),
+        ("huge", serde_json::json!({"measured_rmse": 1e308}), "line 1: rmse = 1e308: an RMSE of V lies in (0, 1] (a pair with no error has no ratio to calibrate)"),
+        ("zero", serde_json::json!({"measured_rmse": 0.0}), "line 1: rmse = 0: an RMSE of V lies in (0, 1]"),
+        ("negative", serde_json::json!({"measured_rmse": -0.5}), "line 1: rmse = -0.5: an RMSE of V lies in (0, 1]"),
         ("sampling", serde_json::json!({"predicted_sampling": -1.0}), "line 1: predicted_sampling = -1: a predicted RMSE is a finite number, at least 0"),
         ("map", serde_json::json!({"measured_map": 1.5}), "line 1: measured_map = 1.5: an RMSE of V lies in [0, 1]"),
         ("size", serde_json::json!({"map_size": 0}), "line 1: map_size = 0, maps = 9: a setting has at least one map of at least one texel"),
@@ -198,7 +198,7 @@ fn report_refuses_result_rows_whose_figures_cannot_be() {
     let dir = temp_dir("bad_files_report_rows");
     let row = |changes: serde_json::Value| {
         let mut r = serde_json::json!({
-            "scene": "s", "method": "hard", "params": {}, "adapter": "a", "shadow_maps": 1, "total_ms": 2.0, "total_ms_min": 2.0, "total_ms_max": 2.0,
+            "scene": "s", "method": "hard", "params": {}, "adapter": "a", "maps": 1, "rmse": 0.1, "frame_ms": 2.0, "frame_ms_min": 2.0, "frame_ms_max": 2.0,
             "stages_ms": {"shade": 1.0}, "metrics": {"rmse": 0.1, "mae": 0.05, "max_abs": 0.5, "psnr": 20.0, "ssim": 0.9, "flip_mean": 0.01, "flip_p95": 0.02, "flip_p99": 0.03,
             "penumbra_rmse": 0.2, "bad_pixel_share": 0.1, "nan_count": 0}
         });
@@ -214,9 +214,10 @@ fn report_refuses_result_rows_whose_figures_cannot_be() {
     let o = run_in(&dir, &["report", "good.jsonl", "--out", "fine"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for (name, changes, want) in [
-        ("rmse", serde_json::json!({"metrics.rmse": 1e308}), "line 1: metrics.rmse = 1e308: an error or share of V lies in [0, 1]"),
-        ("negative", serde_json::json!({"metrics.rmse": -1.0}), "line 1: metrics.rmse = -1: an error or share of V lies in [0, 1]"),
-        ("time", serde_json::json!({"total_ms": 1e308}), "line 1: total_ms = 1e308: a time in ms must be finite, at least 0 and at most 1e12 (a year is 3.2e10)"),
+        ("rmse", serde_json::json!({"metrics.rmse": 1e308, "rmse": 1e308}), "line 1: metrics.rmse = 1e308: an error or share of V lies in [0, 1]"),
+        ("negative", serde_json::json!({"metrics.rmse": -1.0, "rmse": -1.0}), "line 1: metrics.rmse = -1: an error or share of V lies in [0, 1]"),
+        ("twice", serde_json::json!({"rmse": 0.2}), "line 1: rmse = 0.2: differs from metrics.rmse = 0.1"),
+        ("time", serde_json::json!({"frame_ms": 1e308}), "line 1: frame_ms = 1e308: a time in ms must be finite, at least 0 and at most 1e12 (a year is 3.2e10)"),
         ("stage", serde_json::json!({"stages_ms": {"shade": -3.0}}), "line 1: stages_ms.shade = -3: a time in ms must be finite"),
     ] {
         std::fs::write(dir.join(format!("{name}.jsonl")), row(changes)).unwrap();

@@ -170,7 +170,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         "adaptive, lattice, fair grid and per region, per scene"
     );
     for l in &lines {
-        assert_eq!(l["total_ms_runs"].as_array().unwrap().len(), 2, "{l}");
+        assert_eq!(l["frame_ms_runs"].as_array().unwrap().len(), 2, "{l}");
         let (rmse, flip) = (
             l["metrics"]["rmse"].as_f64().unwrap(),
             l["metrics"]["flip_mean"].as_f64().unwrap(),
@@ -189,7 +189,7 @@ fn seed_table2_suite_writes_table_and_jsonl() {
         );
     }
     assert_eq!(lines[1]["method"], "regular");
-    assert_eq!(lines[1]["shadow_maps"], 289);
+    assert_eq!(lines[1]["maps"], 289);
     check_fair_rows(&table, &lines);
 
     // One report from a compare output and the bench output together.
@@ -251,7 +251,7 @@ fn check_fair_rows(table: &str, lines: &[serde_json::Value]) {
         for r in rows {
             assert_eq!(r["scene"], *scene, "{r}");
         }
-        let maps = adaptive["shadow_maps"].as_u64().unwrap() as u32;
+        let maps = adaptive["maps"].as_u64().unwrap() as u32;
         let n = grid_n(maps);
         // The rule in full: no other N ≥ 2 puts N² nearer to the adaptive count.
         let dist = |k: u32| (i64::from(k * k) - i64::from(maps)).abs();
@@ -261,11 +261,7 @@ fn check_fair_rows(table: &str, lines: &[serde_json::Value]) {
             format!("regular:n={n},layout=centred"),
             "{fair}"
         );
-        assert_eq!(
-            fair["shadow_maps"].as_u64().unwrap(),
-            u64::from(n * n),
-            "{fair}"
-        );
+        assert_eq!(fair["maps"].as_u64().unwrap(), u64::from(n * n), "{fair}");
         for grid in [lattice, fair] {
             let label = grid["label"].as_str().unwrap();
             let line = table
@@ -273,8 +269,8 @@ fn check_fair_rows(table: &str, lines: &[serde_json::Value]) {
                 .find(|l| l.starts_with(&format!("| {scene} | `{label}` |")))
                 .unwrap_or_else(|| panic!("no fair-rows line for {scene} {label}: {table}"));
             let (a_ms, g_ms) = (
-                adaptive["total_ms"].as_f64().unwrap(),
-                grid["total_ms"].as_f64().unwrap(),
+                adaptive["frame_ms"].as_f64().unwrap(),
+                grid["frame_ms"].as_f64().unwrap(),
             );
             let (a_rmse, g_rmse) = (
                 adaptive["metrics"]["rmse"].as_f64().unwrap(),
@@ -321,10 +317,10 @@ fn check_region_row(
         .unwrap_or_else(|| panic!("no per-region line for {scene}: {table}"));
     let cells: Vec<&str> = line.split('|').map(str::trim).collect();
     let (r_ms, r_rmse) = (
-        regions["total_ms"].as_f64().unwrap(),
+        regions["frame_ms"].as_f64().unwrap(),
         regions["metrics"]["rmse"].as_f64().unwrap(),
     );
-    assert_eq!(cells[2], regions["shadow_maps"].to_string(), "{line}");
+    assert_eq!(cells[2], regions["maps"].to_string(), "{line}");
     assert_eq!(cells[4], format!("{r_rmse:.5}"), "{line}");
     assert_eq!(
         cells[8],
@@ -333,7 +329,7 @@ fn check_region_row(
     );
     for (grid, speed, verdict) in [(lattice, 5, 7), (fair, 9, 11)] {
         let (g_ms, g_rmse) = (
-            grid["total_ms"].as_f64().unwrap(),
+            grid["frame_ms"].as_f64().unwrap(),
             grid["metrics"]["rmse"].as_f64().unwrap(),
         );
         assert_eq!(cells[speed], format!("{:.2}x", g_ms / r_ms), "{line}");

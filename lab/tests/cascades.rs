@@ -191,6 +191,7 @@ fn the_study_on_the_stand_in_measures_error_and_density() {
             .iter()
             .find(|l| l.split == split && l.n == n)
             .unwrap()
+            .core
             .rmse
     };
     // One cascade is one map whatever the scheme.

@@ -98,8 +98,12 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
             "method",
             "params",
             "adapter",
-            "shadow_maps",
-            "total_ms",
+            "spec",
+            "maps",
+            "map_size",
+            "rmse",
+            "frame_ms",
+            "version",
             "stages_ms",
             "metrics",
             "syncs",
@@ -124,8 +128,13 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
         }
         assert_eq!(r["scene"], "analytic-square");
         assert_eq!(r["metrics"]["nan_count"], 0);
-        assert!(r["total_ms"].as_f64().unwrap() > 0.0);
-        assert!(r["total_ms_min"].as_f64().unwrap() <= r["total_ms_max"].as_f64().unwrap());
+        assert_eq!(r["rmse"], r["metrics"]["rmse"]);
+        assert!(
+            r.get("target").is_none(),
+            "no method here has a target: {r}"
+        );
+        assert!(r["frame_ms"].as_f64().unwrap() > 0.0);
+        assert!(r["frame_ms_min"].as_f64().unwrap() <= r["frame_ms_max"].as_f64().unwrap());
         assert!(
             r["stages_ms"].as_object().unwrap().contains_key("shade"),
             "{r}"
@@ -140,7 +149,7 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
         let path = out.join(format!("images/{slug}/run.json"));
         let run: serde_json::Value =
             serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
-        assert_eq!(run["total_ms"], r["total_ms"], "{}", path.display());
+        assert_eq!(run["total_ms"], r["frame_ms"], "{}", path.display());
         assert_eq!(run["stages_ms"], r["stages_ms"], "{}", path.display());
         let split: f64 = run["frame_split_ms"]
             .as_object()
@@ -192,8 +201,8 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
             path.display()
         );
     }
-    assert_eq!(rows[0]["shadow_maps"], 1);
-    assert_eq!(rows[1]["shadow_maps"], 9);
+    assert_eq!(rows[0]["maps"], 1);
+    assert_eq!(rows[1]["maps"], 9);
     // More light samples, less error than one hard shadow.
     let rmse = |i: usize| rows[i]["metrics"]["rmse"].as_f64().unwrap();
     assert!(
@@ -206,7 +215,7 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
 
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4);
-    assert!(csv.starts_with("scene,label,method,params,"));
+    assert!(csv.starts_with("scene,label,spec,method,params,adapter,map_size,maps,"));
     for f in [
         "reference.exr",
         "reference.png",
@@ -228,7 +237,7 @@ fn compare_writes_rows_pictures_charts_and_a_self_contained_report() {
     let verdicts = dominance.as_array().unwrap();
     assert_eq!(verdicts.len(), 1, "{dominance}");
     assert_eq!(verdicts[0]["regular"]["label"], "regular:n=3");
-    let ms = |i: usize| rows[i]["total_ms"].as_f64().unwrap();
+    let ms = |i: usize| rows[i]["frame_ms"].as_f64().unwrap();
     let dominated = rmse(2) <= rmse(1) && ms(2) <= ms(1);
     assert_eq!(
         !verdicts[0]["dominated_by"].is_null(),
@@ -336,7 +345,7 @@ fn sweep_expands_grids_and_charts_maps_against_p_m() {
         ]
     );
     // A threshold no quad reaches: the root quad's 4 corners only (method.md §3).
-    assert_eq!(rows[2]["shadow_maps"], 4);
+    assert_eq!(rows[2]["maps"], 4);
     assert!(
         out.join("charts/maps_vs_pm.svg").is_file(),
         "two P_M values: the maps-against-P_M chart is drawn"

@@ -45,10 +45,7 @@ fn error_falls_with_the_maps_and_jittered_falls_faster() {
     let jittered = study(&scene, "regular:layout=jittered", &dir.join("jittered"));
     for o in [&centred, &jittered] {
         let rows = o["rows"].as_array().unwrap();
-        let maps: Vec<u64> = rows
-            .iter()
-            .map(|r| r["shadow_maps"].as_u64().unwrap())
-            .collect();
+        let maps: Vec<u64> = rows.iter().map(|r| r["maps"].as_u64().unwrap()).collect();
         assert_eq!(maps, [4, 9, 16, 36, 64, 121, 256], "{o}");
         let rmse: Vec<f64> = rows.iter().map(|r| r["rmse"].as_f64().unwrap()).collect();
         // Measured: 0.039 → 0.0025 (centred), 0.041 → 0.0009 (jittered).
@@ -65,10 +62,14 @@ fn error_falls_with_the_maps_and_jittered_falls_faster() {
     // The CSV: a header and one row per value; the labels, which hold commas, quoted.
     let csv = std::fs::read_to_string(dir.join("jittered/convergence.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines[0], "value,label,shadow_maps,rmse,mae");
+    assert_eq!(lines[0], "scene,spec,method,params,maps,map_size,rmse,frame_ms,adapter,version,target,value,label,mae");
     assert_eq!(lines.len(), 8, "{csv}");
     assert!(
-        lines[7].starts_with("16,\"regular:n=16,layout=jittered\",256,"),
+        lines[7].contains(",regular,") && lines[7].contains(",256,"),
+        "{csv}"
+    );
+    assert!(
+        lines[7].contains(",16,\"regular:n=16,layout=jittered\","),
         "{csv}"
     );
     let md = std::fs::read_to_string(dir.join("jittered/convergence.md")).unwrap();
@@ -174,8 +175,8 @@ fn a_value_that_fails_at_run_time_is_a_row_and_the_study_goes_on() {
     );
     let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
     assert!(
-        csv.starts_with("value,label,shadow_maps,rmse,mae,failed\n1,")
-            && csv.contains(",,,,")
+        csv.starts_with("scene,spec,method,params,maps,map_size,rmse,frame_ms,adapter,version,target,value,label,mae,failed\n")
+            && csv.contains(",,,")
             && csv.contains("overflow: "),
         "{csv}"
     );

@@ -32,7 +32,7 @@ fn estimate_study_writes_its_set() {
     assert_eq!(lines.len(), 4, "two scenes × two settings");
     for l in &lines {
         let (m, p) = (
-            l["measured_rmse"].as_f64().unwrap(),
+            l["rmse"].as_f64().unwrap(),
             l["predicted_rmse"].as_f64().unwrap(),
         );
         assert!(m > 0.0 && p > 0.0, "{l}");
@@ -74,19 +74,19 @@ fn estimate_study_writes_its_set() {
         count(&|l| {
             band(
                 f(l, "measured_sampling").hypot(f(l, "predicted_map")),
-                f(l, "measured_rmse"),
+                f(l, "rmse"),
             )
         }),
         count(&|l| {
             band(
                 f(l, "predicted_sampling").hypot(f(l, "measured_map")),
-                f(l, "measured_rmse"),
+                f(l, "rmse"),
             )
         }),
         count(&|l| {
             band(
                 f(l, "measured_sampling").hypot(f(l, "measured_map")),
-                f(l, "measured_rmse"),
+                f(l, "rmse"),
             )
         }),
     );

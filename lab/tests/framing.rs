@@ -51,14 +51,14 @@ fn framing_study_measures_width_maps_and_error_per_configuration() {
     );
     for r in &outcome.rows {
         assert!(
-            r.rmse.is_finite() && r.rmse > 0.0 && r.shadow_maps >= 4,
+            r.core.rmse.is_finite() && r.core.rmse > 0.0 && r.core.maps >= 4,
             "{}: {} maps, RMSE {}",
             r.label,
-            r.shadow_maps,
-            r.rmse
+            r.core.maps,
+            r.core.rmse
         );
         if r.label.starts_with("regular") {
-            assert_eq!(r.shadow_maps, 9);
+            assert_eq!(r.core.maps, 9);
         }
     }
     let names: Vec<&str> = outcome.files.iter().map(|(n, _)| n.as_str()).collect();
@@ -125,6 +125,7 @@ fn framing_scales_the_emitter_the_reference_traces() {
             .iter()
             .find(|r| r.light_scale == scale)
             .unwrap()
+            .core
             .rmse
     };
     println!(

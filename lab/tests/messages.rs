@@ -26,7 +26,7 @@ fn merge_errors_are_merges_not_the_reports() {
     ]);
     assert_eq!(code, Some(1));
     let want = format!(
-        "error: merge: {}: line 1: not a result row: missing field `scene` at line 1 column 2",
+        "error: merge: {}: line 1: not a result row: missing field `frame_ms_min` at line 1 column 2",
         shard.join("results.jsonl").display()
     );
     assert_eq!(stderr.trim(), want);

@@ -373,10 +373,7 @@ fn compare_runs_the_methods_on_point_edge() {
     let rows = common::rows(&out);
     let methods: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
     assert_eq!(methods, ["hard", "pcf", "pcss", "regular"]);
-    let maps: Vec<u64> = rows
-        .iter()
-        .map(|r| r["shadow_maps"].as_u64().unwrap())
-        .collect();
+    let maps: Vec<u64> = rows.iter().map(|r| r["maps"].as_u64().unwrap()).collect();
     assert_eq!(maps, [6, 6, 6, 54]);
     let rmse = |i: usize| rows[i]["metrics"]["rmse"].as_f64().unwrap();
     println!(
@@ -430,7 +427,7 @@ fn the_seams_study_measures_the_band_against_the_rest() {
         .iter()
         .map(|r| {
             (
-                r["method"].as_str().unwrap(),
+                r["label"].as_str().unwrap(),
                 r["map_size"].as_u64().unwrap(),
             )
         })
@@ -453,7 +450,7 @@ fn the_seams_study_measures_the_band_against_the_rest() {
         };
         println!(
             "{} {}²: band {} px RMSE {:.4} MAE {:.4}, outside {} px RMSE {:.4} MAE {:.4}",
-            r["method"],
+            r["label"],
             r["map_size"],
             r["band_pixels"],
             f("band_rmse"),
@@ -464,6 +461,16 @@ fn the_seams_study_measures_the_band_against_the_rest() {
         );
         assert!(
             f("band_pixels") > 20.0 && f("outside_pixels") > 1000.0,
+            "{r}"
+        );
+        // The row's RMSE is over every geometry pixel: the band's and the rest's pooled.
+        let pooled = ((f("band_rmse").powi(2) * f("band_pixels")
+            + f("outside_rmse").powi(2) * f("outside_pixels"))
+            / (f("band_pixels") + f("outside_pixels")))
+        .sqrt();
+        assert!((f("rmse") - pooled).abs() <= 1e-9, "{r}");
+        assert!(
+            r["maps"].as_u64().unwrap() >= 1 && f("frame_ms") > 0.0,
             "{r}"
         );
         assert!(

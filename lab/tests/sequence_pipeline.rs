@@ -139,7 +139,7 @@ fn a_four_frame_sequence_end_to_end() {
     let maps: Vec<u64> = rows
         .iter()
         .filter(|r| r["label"] == "regular:n=3")
-        .map(|r| r["shadow_maps"].as_u64().unwrap())
+        .map(|r| r["maps"].as_u64().unwrap())
         .collect();
     assert_eq!(maps, [9, 9, 9, 9]);
     // Each frame has its own reference: the hard shadow's error is not the same in every frame.
@@ -240,8 +240,8 @@ fn reuse_both_runs_each_method_twice_with_equal_v() {
         .filter(|r| r["label"] == "regular:n=3 (reuse on)")
     {
         let (rendered, kept) = (
-            r["maps"]["rendered"].as_u64().unwrap(),
-            r["maps"]["kept"].as_u64().unwrap(),
+            r["reuse_counts"]["rendered"].as_u64().unwrap(),
+            r["reuse_counts"]["kept"].as_u64().unwrap(),
         );
         assert_eq!(
             (rendered, kept),
@@ -334,10 +334,10 @@ fn timing_stages_writes_each_stage_per_row() {
             .iter()
             .map(|k| stages[*k].as_f64().unwrap())
             .sum();
-        assert!(inside <= r["total_ms"].as_f64().unwrap() + 1.0, "{r}");
+        assert!(inside <= r["frame_ms"].as_f64().unwrap() + 1.0, "{r}");
     }
     // The second frame's maps are each rendered, kept or redrawn in part (the moved box).
-    let m = &rows[1]["maps"];
+    let m = &rows[1]["reuse_counts"];
     let n = |k: &str| m[k].as_u64().unwrap();
     assert_eq!(n("rendered") + n("kept") + n("redrawn"), 9, "{m}");
     assert_eq!(n("evicted"), 0, "{m}");

@@ -71,7 +71,7 @@ def main(out_dir: str, scene_name: str = "analytic-square", size: int = 128) -> 
         print("compare:", [(r["label"], r["metrics"]["rmse"]) for r in rows], "(pip install pandas for a DataFrame)")
         return
     frame = rows.to_frame()
-    print(frame[["label", "shadow_maps", "total_ms", "metrics.rmse", "metrics.flip_mean"]].to_string(index=False))
+    print(frame[["label", "maps", "frame_ms", "rmse", "metrics.flip_mean"]].to_string(index=False))
 
 
 if __name__ == "__main__":

@@ -79,7 +79,7 @@ def compare(
     Args:
         scene: the scene.
         methods: method specs, or one comma-separated string (`"hard,pcss,regular:n=5"`).
-        repeats: timed frames per method (1..=1000); the row's `total_ms` is their median.
+        repeats: timed frames per method (1..=1000); the row's `frame_ms` is their median.
         samples: the continuous reference's samples per side.
         reference: `continuous`, `lattice` or `point[:S,T]`, as for `reference`.
         no_cache: trace the reference afresh.
@@ -90,7 +90,7 @@ def compare(
 
     Returns:
         The rows of results.jsonl (without `images`: nothing is written but the reference cache),
-        one dict per method: `label`, `shadow_maps`, `total_ms`, `metrics` (`rmse`, `flip_mean`,
+        one dict per method: `label`, `maps`, `frame_ms`, `metrics` (`rmse`, `flip_mean`,
         ...), `adapter`, ... `.to_frame()` gives a pandas DataFrame.
 
     Raises:

@@ -10,8 +10,8 @@ import pytest
 import penumbra
 from conftest import ROOT
 from penumbra.analysis import RowError, build_line, calibration, engine, read, read_json, write_csv
-from penumbra.analysis.frontier import asked, read_frontier, target_of
-from penumbra.analysis.rows import Row, parse
+from penumbra.analysis.frontier import read_frontier, target_of
+from penumbra.analysis.rows import Row, asked, parse
 from penumbra.analysis.stats import least_covering, quantile, spearman
 
 RESULTS = ROOT / "results"
@@ -66,6 +66,25 @@ def test_the_build_comes_from_the_rows_own_version():
     out = io.StringIO()
     write_csv(out, ["a", "b"], [[1, "x,y"]])
     assert out.getvalue() == 'a,b\n1,"x,y"\n'
+
+
+def test_rows_written_before_the_one_schema_read_under_the_core_keys():
+    # compare's rows of old: shadow_maps, total_ms, the RMSE in metrics alone, no spec or target.
+    old = parse('{"scene": "s", "method": "auto", "params": {"target": 0.012000000104308128}, "shadow_maps": 9, '
+                '"shadow_map_size": 512, "total_ms": 4.5, "total_ms_runs": [4, 5], "metrics": {"rmse": 0.01}}\n', "r.jsonl", "jsonl")[0]
+    assert (old.integer("maps"), old.integer("map_size"), old.number("frame_ms"), old.number("rmse")) == (9, 512, 4.5, 0.01)
+    assert old.raw("frame_ms_runs") == [4, 5] and old.number("target") == 0.012
+    # The same row as the lab writes it now: the core keys themselves, nothing derived.
+    new = parse('{"scene": "s", "spec": "auto:target=0.012", "method": "auto", "params": {"target": 0.5}, "maps": 4, '
+                '"map_size": 256, "rmse": 0.02, "frame_ms": 3.0, "target": 0.012, "metrics": {"rmse": 0.03}}\n', "r.jsonl", "jsonl")[0]
+    assert (new.integer("maps"), new.number("rmse"), new.number("target")) == (4, 0.02, 0.012)
+    # An old frontier line (spec only): method and params from the engine's parse of the spec.
+    line = Row({"spec": "regular:n=5,layout=centred", "maps": 25})
+    assert (line.text("method"), line.integer("params.n"), line.text("params.layout")) == ("regular", 5, "centred")
+    assert not line.has("target")
+    # A spec the engine refuses derives nothing.
+    assert not Row({"spec": "regular:n=3@64"}).has("method")
+    assert Row({"spec": "regions:target=0.02"}).number("target") == 0.02
 
 
 def test_stats():

@@ -113,7 +113,7 @@ def test_compare_rows_go_straight_into_a_dataframe(scene):
     frame = rows.to_frame()
     assert isinstance(frame, pandas.DataFrame)
     assert list(frame["label"]) == ["hard", "regular:n=3"]
-    assert list(frame["shadow_maps"]) == [1, 9]
+    assert list(frame["maps"]) == [1, 9]
     assert frame["metrics.rmse"].tolist() == [r["metrics"]["rmse"] for r in rows]
     assert frame["metrics.rmse"].iloc[1] < frame["metrics.rmse"].iloc[0]
 

@@ -38,7 +38,7 @@ def test_reference_metrics_and_compare_equal_the_command_lines(scene, renderer, 
     assert [r["label"] for r in rows] == METHODS
     for r in rows:
         assert r["metrics"] == theirs[r["label"]]["metrics"]
-        assert r["repeats"] == 1 and r["shadow_maps"] == theirs[r["label"]]["shadow_maps"]
+        assert r["repeats"] == 1 and r["maps"] == theirs[r["label"]]["maps"]
     assert 0.0 < rows[0]["metrics"]["rmse"] < 0.5
 
 

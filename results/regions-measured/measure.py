@@ -43,10 +43,10 @@ def run(args):
         r = json.loads(line)
         record = json.loads(Path(out, Path(r["images"]["visibility"]).parent, "run.json").read_text())["method_record"]
         c = record.get("certified") or {}
-        regions = r["method"] == "regions" and "force=" not in r["label"]
+        regions = r["method"] == "regions" and r["params"].get("force") is None
         w.writerow([scene, opts["--resolution"], round(record["target"], 5) if regions else "", side, r["label"],
-                    "regions" if regions else "fixed", r["shadow_maps"],
-                    f"{r['metrics']['rmse']:.5f}", f"{r['total_ms']:.1f}",
+                    "regions" if regions else "fixed", r["maps"],
+                    f"{r['rmse']:.5f}", f"{r['frame_ms']:.1f}",
                     record.get("target_met", ""), f"{c['bound']:.5f}" if c else "",
                     (c.get("fallback") or {}).get("setting") or "",
                     sum(k["steps"] for k in c.get("classes", [])) if c else "",

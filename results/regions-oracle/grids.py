@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """The measured grids as rows (an analysis script): grids.py DIR... > grids.csv"""
-import json, os, sys
+import os, sys
+
+from penumbra.analysis.rows import read
+
 print("scene,resolution,n,map_size,maps,rmse,total_ms,gbuffer_ms,cull_ms,shadow_raster_ms,footprint_ms,shade_ms")
 for d in sys.argv[1:]:
-    for r in map(json.loads, open(os.path.join(d, 'results.jsonl'))):
-        st = r['stages_ms']
-        print(f"{r['scene']},{r['resolution'][0]},{r['params']['n']},{r['shadow_map_size']},{r['shadow_maps']},"
-              f"{r['metrics']['rmse']:.4f},{r['total_ms']:.1f},{st['gbuffer']:.1f},{st['cull']:.1f},"
-              f"{st['shadow_raster']:.1f},{st['footprint']:.1f},{st['shade']:.1f}")
+    for r in read(os.path.join(d, 'results.jsonl')):
+        st = lambda s: f"{r.number(f'stages_ms.{s}'):.1f}"
+        print(f"{r.text('scene')},{r.raw('resolution')[0]},{r.integer('params.n')},{r.integer('map_size')},{r.integer('maps')},"
+              f"{r.number('rmse'):.4f},{r.number('frame_ms'):.1f},{st('gbuffer')},{st('cull')},"
+              f"{st('shadow_raster')},{st('footprint')},{st('shade')}")

@@ -25,6 +25,6 @@ else:
     for s in scenes:
         for b, f in zip(*(read(os.path.join(a.args[0], f'{tag}-{s}', 'results.jsonl')) for tag in ('before', 'after'))):
             t = target_of(b)
-            side = lambda r: [f"{r.number('metrics.rmse'):.5f}", f"{r.number('metrics.rmse') / t:.2f}", r.integer('shadow_maps'), f"{r.number('total_ms'):.0f}"]
+            side = lambda r: [f"{r.number('rmse'):.5f}", f"{r.number('rmse') / t:.2f}", r.integer('maps'), f"{r.number('frame_ms'):.0f}"]
             rows.append([s, t, *side(b), *side(f)])
     write_csv(sys.stdout, ['scene', 'target', 'before_rmse', 'before_rmse_over_t', 'before_maps', 'before_ms', 'after_rmse', 'after_rmse_over_t', 'after_maps', 'after_ms'], rows)

@@ -39,5 +39,5 @@ else:
                 sys.exit(f'{s} {t}: {cmp.last_line() if not cmp.ok else next(x.last_line() for x in runs if not x.ok)}')
             for row, run, name in zip(cmp.results(), runs, ['as decided', 'halved', 'quartered']):
                 m = run.run_json().raw('method_record')
-                rows.append([s, t, name, row.integer('shadow_maps'), round(row.number('metrics.rmse'), 5), round(m['density'], 2), r.groups_label(m)])
+                rows.append([s, t, name, row.integer('maps'), round(row.number('rmse'), 5), round(m['density'], 2), r.groups_label(m)])
     write_csv(sys.stdout, r.HALVED_HEADER, rows)

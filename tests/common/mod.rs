@@ -92,10 +92,10 @@ pub fn untimed(r: &serde_json::Value) -> serde_json::Value {
     let mut r = r.clone();
     let o = r.as_object_mut().unwrap();
     for k in [
-        "total_ms",
-        "total_ms_min",
-        "total_ms_max",
-        "total_ms_runs",
+        "frame_ms",
+        "frame_ms_min",
+        "frame_ms_max",
+        "frame_ms_runs",
         "stages_ms",
         "setup_ms",
     ] {

@@ -39,14 +39,16 @@ pub fn render(rows: &[ResultRow]) -> String {
     let mut header: Vec<String> = [
         "scene",
         "label",
+        "spec",
         "method",
         "params",
         "adapter",
-        "shadow_maps",
+        "map_size",
+        "maps",
         "syncs",
-        "total_ms",
-        "total_ms_min",
-        "total_ms_max",
+        "frame_ms",
+        "frame_ms_min",
+        "frame_ms_max",
         "setup_ms",
         "rmse",
         "mae",
@@ -64,6 +66,8 @@ pub fn render(rows: &[ResultRow]) -> String {
         "mismatch_share",
         "reference",
         "raster",
+        "target",
+        "version",
     ]
     .map(String::from)
     .to_vec();
@@ -77,22 +81,25 @@ pub fn render(rows: &[ResultRow]) -> String {
     for r in rows {
         let m = &r.metrics;
         let adapter = r
+            .core
             .adapter
             .get("name")
             .and_then(|v| v.as_str())
             .map(String::from)
-            .unwrap_or_else(|| r.adapter.to_string());
+            .unwrap_or_else(|| r.core.adapter.to_string());
         let mut cells = vec![
-            r.scene.clone(),
+            r.core.scene.clone(),
             r.label(),
-            r.method.clone(),
-            r.params.to_string(),
+            r.core.spec.clone(),
+            r.core.method.clone(),
+            r.core.params.to_string(),
             adapter,
-            r.shadow_maps.to_string(),
+            r.core.map_size.to_string(),
+            r.core.maps.to_string(),
             r.syncs.to_string(),
-            r.total_ms.to_string(),
-            r.total_ms_min.to_string(),
-            r.total_ms_max.to_string(),
+            r.core.frame_ms.to_string(),
+            r.frame_ms_min.to_string(),
+            r.frame_ms_max.to_string(),
             opt(r.setup_ms),
             m.rmse.to_string(),
             m.mae.to_string(),
@@ -110,11 +117,19 @@ pub fn render(rows: &[ResultRow]) -> String {
             m.mismatch_share.to_string(),
             r.reference.clone(),
             r.raster.clone().unwrap_or_default(),
+            opt(r.core.target),
+            r.core
+                .version
+                .get("git")
+                .and_then(|v| v.as_str())
+                .unwrap_or_default()
+                .to_string(),
         ];
         cells.extend(stages.iter().map(|s| opt(r.stages_ms.get(*s).copied())));
         if let Some(reason) = &r.failed {
-            // Scene, label, method, params and adapter stay; the figures were never measured.
-            for c in &mut cells[5..25] {
+            // Scene, label, spec, method, params, adapter and map size stay; the figures were
+            // never measured.
+            for c in &mut cells[7..27] {
                 c.clear();
             }
             cells.push(reason.clone());

@@ -9,12 +9,14 @@ pub mod output_set;
 pub mod provenance;
 pub mod regression;
 pub(crate) mod row;
+pub mod row_core;
 pub mod run_files;
 pub(crate) mod shaded_environment;
 pub mod stats;
 
 pub use provenance::{Provenance, SpecRef};
 pub use row::{Certified, ResultRow};
+pub use row_core::RowCore;
 
 use crate::gpu::AdapterSummary;
 use crate::methods::Method;
@@ -24,8 +26,8 @@ use crate::{Error, Result};
 use measure::Timing;
 use std::collections::BTreeMap;
 
-/// How `total_ms` and `stages_ms` were taken (stored in every row).
-pub const CLOCK: &str = "wall clock (submit to device poll wait), ms; total_ms: frame mode (only the method's own waits); \
+/// How `frame_ms` and `stages_ms` were taken (stored in every row).
+pub const CLOCK: &str = "wall clock (submit to device poll wait), ms; frame_ms: frame mode (only the method's own waits); \
 stages_ms: one stages-mode run (a wait after every stage)";
 
 /// What every row of one run shares.
@@ -39,6 +41,18 @@ pub struct RunInfo<'a> {
     pub repeats: u32,
 }
 
+impl RunInfo<'_> {
+    /// The core of `method`'s row in this run, before its figures: its label as the spec, the
+    /// scene's map size, this adapter.
+    fn core(&self, method: &Method) -> RowCore {
+        RowCore {
+            map_size: self.shadow_map_size,
+            adapter: serde_json::to_value(self.adapter).unwrap_or_default(),
+            ..RowCore::of(self.scene, &method.label(), method)
+        }
+    }
+}
+
 /// The row of one measured method.
 pub fn row(
     run: &RunInfo,
@@ -49,27 +63,25 @@ pub fn row(
     provenance: Provenance,
 ) -> ResultRow {
     ResultRow {
-        scene: run.scene.to_string(),
-        method: method.name().to_string(),
-        params: method.params_json(),
-        adapter: serde_json::to_value(run.adapter).unwrap_or_default(),
-        shadow_maps: t.shadow_maps,
-        total_ms: t.median_ms,
-        total_ms_min: t.min_ms,
-        total_ms_max: t.max_ms,
+        core: RowCore {
+            maps: t.shadow_maps,
+            rmse: metrics.rmse,
+            frame_ms: t.median_ms,
+            ..run.core(method)
+        },
+        frame_ms_min: t.min_ms,
+        frame_ms_max: t.max_ms,
         stages_ms: t.stages_ms.clone(),
         metrics,
         label: method.label(),
         syncs: t.syncs,
-        total_ms_runs: t.totals_ms.clone(),
+        frame_ms_runs: t.totals_ms.clone(),
         setup_ms: t.setup_ms,
         resolution: Some(run.resolution),
-        shadow_map_size: Some(run.shadow_map_size),
         raster: Some(t.raster.to_string()),
         reference: run.reference.clone(),
         repeats: run.repeats,
         clock: CLOCK.into(),
-        version: run_files::version(),
         images,
         provenance: Some(provenance),
         failed: None,
@@ -85,17 +97,12 @@ pub fn failed_row(
     provenance: Provenance,
 ) -> ResultRow {
     ResultRow {
-        scene: run.scene.to_string(),
-        method: method.name().to_string(),
-        params: method.params_json(),
-        adapter: serde_json::to_value(run.adapter).unwrap_or_default(),
+        core: run.core(method),
         label: method.label(),
         resolution: Some(run.resolution),
-        shadow_map_size: Some(run.shadow_map_size),
         reference: run.reference.clone(),
         repeats: run.repeats,
         clock: CLOCK.into(),
-        version: run_files::version(),
         provenance: Some(provenance),
         failed: Some(reason.to_string()),
         ..Default::default()

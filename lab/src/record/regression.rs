@@ -26,13 +26,13 @@ const METRICS: &[MetricDef] = &[
         name: "time",
         worse: Worse::Up,
         timing: true,
-        value: |r| Some(r.total_ms),
+        value: |r| Some(r.core.frame_ms),
     },
     MetricDef {
         name: "maps",
         worse: Worse::Up,
         timing: false,
-        value: |r| Some(f64::from(r.shadow_maps)),
+        value: |r| Some(f64::from(r.core.maps)),
     },
     MetricDef {
         name: "syncs",
@@ -218,11 +218,11 @@ pub fn parse_max(text: &str) -> Result<Vec<Tolerance>> {
 
 /// The key rows are matched by.
 pub fn row_key(r: &ResultRow) -> String {
-    format!("{}|{}|{}", r.scene, r.method, r.params)
+    format!("{}|{}|{}", r.core.scene, r.core.method, r.core.params)
 }
 
 fn adapter_name(r: &ResultRow) -> String {
-    let a = &r.adapter;
+    let a = &r.core.adapter;
     let s = |k: &str| a.get(k).and_then(|v| v.as_str()).unwrap_or("").to_string();
     if a.is_object() {
         format!(
@@ -272,7 +272,7 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
             notes.push(format!(
                 "REGRESSION: `{}` on {} is in the baseline but not in the new results",
                 old.label(),
-                old.scene
+                old.core.scene
             ));
             regressions += 1;
             continue;
@@ -283,7 +283,7 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
             notes.push(format!(
                 "REGRESSION: `{}` on {} failed: {reason}",
                 old.label(),
-                old.scene
+                old.core.scene
             ));
             regressions += 1;
             continue;
@@ -292,7 +292,7 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
             notes.push(format!(
                 "not compared: `{}` on {} failed in the baseline ({reason})",
                 old.label(),
-                old.scene
+                old.core.scene
             ));
             continue;
         }
@@ -302,12 +302,12 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
             };
             notes.push(format!(
                 "REGRESSION: `{}` on {} was measured differently ({} against {}, now {} against {}): not comparable",
-                old.label(), old.scene, size(old.resolution), old.reference, size(cur.resolution), cur.reference
+                old.label(), old.core.scene, size(old.resolution), old.reference, size(cur.resolution), cur.reference
             ));
             regressions += 1;
             continue;
         }
-        let same_adapter = old.adapter == cur.adapter;
+        let same_adapter = old.core.adapter == cur.core.adapter;
         for t in max {
             let def = t.def();
             let (Some(a), Some(b)) = ((def.value)(old), (def.value)(cur)) else {
@@ -315,7 +315,7 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
             };
             let mut d = Delta {
                 label: old.label(),
-                scene: old.scene.clone(),
+                scene: old.core.scene.clone(),
                 metric: def.name,
                 old: a,
                 new: b,
@@ -354,7 +354,7 @@ pub fn check(baseline: &[ResultRow], new: &[ResultRow], max: &[Tolerance]) -> Ou
         notes.push(format!(
             "new: `{}` on {} has no baseline row",
             cur.label(),
-            cur.scene
+            cur.core.scene
         ));
     }
     notes.extend(timing_note);
@@ -432,11 +432,15 @@ mod tests {
 
     fn row(label: &str, ms: f64, maps: u32, rmse: f64) -> ResultRow {
         let mut r = ResultRow {
-            scene: "s".into(),
-            method: "regular".into(),
-            params: serde_json::json!({ "n": label }),
-            total_ms: ms,
-            shadow_maps: maps,
+            core: crate::record::RowCore {
+                scene: "s".into(),
+                method: "regular".into(),
+                params: serde_json::json!({ "n": label }),
+                frame_ms: ms,
+                maps,
+                rmse,
+                ..Default::default()
+            },
             ..Default::default()
         };
         r.metrics.rmse = rmse;
@@ -543,10 +547,10 @@ mod tests {
         // Another adapter: the 20% slower time is not judged, and the note says why.
         let mut other = slow.clone();
         for r in &mut other {
-            r.adapter = serde_json::json!({ "name": "other" });
-            r.shadow_maps = 10;
+            r.core.adapter = serde_json::json!({ "name": "other" });
+            r.core.maps = 10;
         }
-        other[1].shadow_maps = 4;
+        other[1].core.maps = 4;
         let o = check(&base, &other, &max);
         assert_eq!(o.regressions, 0, "{}", render(&o));
         assert!(

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use crate::metrics::Metrics;
+use crate::record::RowCore;
 
 /// A number as a message shows it: as written for ordinary sizes, in exponent form far from 1
 /// (`1e308`, not 309 digits).
@@ -23,17 +24,14 @@ pub const MAX_MS: f64 = 1e12;
 /// (all optional when read back) say how the row was measured and where its pictures are.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ResultRow {
-    pub scene: String,
-    pub method: String,
-    /// Method parameters, e.g. `{"p_m": 0, "scope": "local"}`.
-    pub params: serde_json::Value,
-    /// Adapter description (name, backend, …) the run was measured on.
-    pub adapter: serde_json::Value,
-    pub shadow_maps: u32,
-    /// Median over repeats.
-    pub total_ms: f64,
-    pub total_ms_min: f64,
-    pub total_ms_max: f64,
+    /// Scene, spec, method, params, maps, map size, RMSE (`metrics.rmse`), frame time (the median
+    /// over repeats), adapter, version and target: the keys every study's row shares.
+    #[serde(flatten)]
+    pub core: RowCore,
+    #[serde(alias = "total_ms_min")]
+    pub frame_ms_min: f64,
+    #[serde(alias = "total_ms_max")]
+    pub frame_ms_max: f64,
     /// Median time per stage, keyed by stage name (`reproject_count`, …).
     pub stages_ms: BTreeMap<String, f64>,
     pub metrics: Metrics,
@@ -43,17 +41,15 @@ pub struct ResultRow {
     /// CPU↔GPU synchronisations the method needs per frame (read-backs), timing waits excluded.
     #[serde(default)]
     pub syncs: u32,
-    /// Every timed frame, in run order (`total_ms` is their median).
-    #[serde(default)]
-    pub total_ms_runs: Vec<f64>,
-    /// Per-frame setup outside `total_ms` (pipelines, upload), from the stages-mode run.
+    /// Every timed frame, in run order (`frame_ms` is their median).
+    #[serde(default, alias = "total_ms_runs")]
+    pub frame_ms_runs: Vec<f64>,
+    /// Per-frame setup outside `frame_ms` (pipelines, upload), from the stages-mode run.
     #[serde(default)]
     pub setup_ms: Option<f64>,
     /// `[width, height]` of the image the metrics are taken over.
     #[serde(default)]
     pub resolution: Option<[u32; 2]>,
-    #[serde(default)]
-    pub shadow_map_size: Option<u32>,
     /// `hardware` or `compute`: who rasterized the maps (the `raster` setting, `auto` resolved).
     #[serde(default)]
     pub raster: Option<String>,
@@ -65,8 +61,6 @@ pub struct ResultRow {
     /// Which clock the times come from and how they were taken.
     #[serde(default)]
     pub clock: String,
-    #[serde(default)]
-    pub version: serde_json::Value,
     /// Picture files (`shaded`, `visibility`, `abs_error`, `signed_error`, `reference`), relative
     /// to the results file.
     #[serde(default)]
@@ -127,6 +121,16 @@ pub fn confidence(delta: f64) -> String {
 }
 
 impl ResultRow {
+    /// One line of `results.jsonl`. A row written before the one schema carries its RMSE only in
+    /// `metrics.rmse`: the core's `rmse` is filled from it.
+    pub fn from_json(line: &str) -> serde_json::Result<ResultRow> {
+        let mut row: ResultRow = serde_json::from_str(line)?;
+        if row.core.rmse == 0.0 {
+            row.core.rmse = row.metrics.rmse;
+        }
+        Ok(row)
+    }
+
     /// Whether the row was measured (not a failed setting).
     pub fn measured(&self) -> bool {
         self.failed.is_none()
@@ -139,11 +143,11 @@ impl ResultRow {
         if !self.label.is_empty() {
             return self.label.clone();
         }
-        let p = params_short(&self.params);
+        let p = params_short(&self.core.params);
         if p.is_empty() {
-            self.method.clone()
+            self.core.method.clone()
         } else {
-            format!("{}({p})", self.method)
+            format!("{}({p})", self.core.method)
         }
     }
 
@@ -176,15 +180,22 @@ impl ResultRow {
                 ));
             }
         }
+        if self.core.rmse.to_bits() != m.rmse.to_bits() {
+            return Some(format!(
+                "rmse = {}: differs from metrics.rmse = {} (one figure, written twice)",
+                shown(self.core.rmse),
+                shown(m.rmse)
+            ));
+        }
         if let Some(v) = m.psnr.filter(|v| !v.is_finite()) {
             return Some(format!(
                 "metrics.psnr = {v}: must be a finite number (null where the error is 0)"
             ));
         }
         let times = [
-            ("total_ms", self.total_ms),
-            ("total_ms_min", self.total_ms_min),
-            ("total_ms_max", self.total_ms_max),
+            ("frame_ms", self.core.frame_ms),
+            ("frame_ms_min", self.frame_ms_min),
+            ("frame_ms_max", self.frame_ms_max),
             ("setup_ms", self.setup_ms.unwrap_or(0.0)),
         ];
         let stages = self
@@ -192,10 +203,10 @@ impl ResultRow {
             .iter()
             .map(|(k, v)| (format!("stages_ms.{k}"), *v));
         let runs = self
-            .total_ms_runs
+            .frame_ms_runs
             .iter()
             .enumerate()
-            .map(|(i, v)| (format!("total_ms_runs[{i}]"), *v));
+            .map(|(i, v)| (format!("frame_ms_runs[{i}]"), *v));
         for (key, v) in times
             .into_iter()
             .map(|(k, v)| (k.to_string(), v))
@@ -211,7 +222,11 @@ impl ResultRow {
 
     /// A numeric parameter, if present and finite.
     pub fn param_f64(&self, key: &str) -> Option<f64> {
-        self.params.get(key)?.as_f64().filter(|v| v.is_finite())
+        self.core
+            .params
+            .get(key)?
+            .as_f64()
+            .filter(|v| v.is_finite())
     }
 }
 

@@ -8,12 +8,12 @@ use crate::report::charts::ResultRow;
 
 pub(super) fn tables(baseline: &[ResultRow], rows: &[ResultRow]) -> Vec<Table> {
     let cell = |text: String| Cell { text, best: false };
-    scenes(rows.iter().map(|r| r.scene.as_str()))
+    scenes(rows.iter().map(|r| r.core.scene.as_str()))
         .into_iter()
         .map(|scene| {
             let body = rows
                 .iter()
-                .filter(|r| r.scene == scene)
+                .filter(|r| r.core.scene == scene)
                 .map(
                     |r| match baseline.iter().find(|o| row_key(o) == row_key(r)) {
                         None => vec![
@@ -26,9 +26,9 @@ pub(super) fn tables(baseline: &[ResultRow], rows: &[ResultRow]) -> Vec<Table> {
                         ],
                         Some(o) => vec![
                             cell(r.label()),
-                            cell(format!("{} → {}", o.shadow_maps, r.shadow_maps)),
-                            cell(if o.adapter == r.adapter {
-                                change(o.total_ms, r.total_ms)
+                            cell(format!("{} → {}", o.core.maps, r.core.maps)),
+                            cell(if o.core.adapter == r.core.adapter {
+                                change(o.core.frame_ms, r.core.frame_ms)
                             } else {
                                 "other adapter".into()
                             }),

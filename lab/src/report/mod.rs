@@ -232,7 +232,7 @@ fn viewers(images: &[MethodImages], rows: &[ResultRow]) -> Result<Vec<String>, R
         for m in methods {
             let row = rows
                 .iter()
-                .find(|r| r.scene == m.scene && r.label() == m.label);
+                .find(|r| r.core.scene == m.scene && r.label() == m.label);
             let mut layers = vec![
                 png("shaded", "shaded", &m.shaded_png),
                 png("visibility", "visibility V", &m.visibility_png),
@@ -262,14 +262,14 @@ fn viewers(images: &[MethodImages], rows: &[ResultRow]) -> Result<Vec<String>, R
 
 /// The figures beside a method in the viewer: what the tables say of it, on one line.
 fn figures(r: &ResultRow) -> String {
-    let maps = if r.shadow_maps == 1 {
+    let maps = if r.core.maps == 1 {
         "1 map".to_string()
     } else {
-        format!("{} maps", r.shadow_maps)
+        format!("{} maps", r.core.maps)
     };
     format!(
         "RMSE {:.4} · FLIP {:.4} · {maps} · {:.2} ms",
-        r.metrics.rmse, r.metrics.flip_mean, r.total_ms
+        r.metrics.rmse, r.metrics.flip_mean, r.core.frame_ms
     )
 }
 

@@ -49,7 +49,7 @@ pub fn parse_results(text: &str, path: &Path) -> Result<Vec<ResultRow>> {
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
     {
-        let row: ResultRow = serde_json::from_str(line)
+        let row = ResultRow::from_json(line)
             .map_err(|e| err(format!("line {}: not a result row: {e}", n + 1)))?;
         if let Some(why) = row.check() {
             return Err(err(format!("line {}: {why}", n + 1)).into());
@@ -96,7 +96,7 @@ pub fn charts(rows: &[ResultRow]) -> Result<Vec<(&'static str, String, String)>>
     // Maps against P_M needs P_M to vary; one value would plot a lone point per series.
     let mut pms: Vec<f64> = rows
         .iter()
-        .filter(|r| r.method == "adaptive")
+        .filter(|r| r.core.method == "adaptive")
         .filter_map(|r| r.param_f64("p_m"))
         .collect();
     pms.sort_by(f64::total_cmp);
@@ -178,7 +178,7 @@ fn shard_list(rows: &[ResultRow]) -> String {
 
 /// The settings table of the report, from what the rows record, as ordered `[key, value]` pairs.
 pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
-    let version = |r: &ResultRow| match &r.version {
+    let version = |r: &ResultRow| match &r.core.version {
         serde_json::Value::Object(v) => format!(
             "penumbra {} (git {})",
             v.get("crate").and_then(|x| x.as_str()).unwrap_or("?"),
@@ -187,10 +187,10 @@ pub fn settings(rows: &[ResultRow]) -> serde_json::Value {
         _ => String::new(),
     };
     let pairs = [
-        ("scene", shared(rows, |r| r.scene.clone())),
-        ("adapter", shared(rows, |r| adapter_text(&r.adapter))),
+        ("scene", shared(rows, |r| r.core.scene.clone())),
+        ("adapter", shared(rows, |r| adapter_text(&r.core.adapter))),
         ("resolution", shared(rows, |r| r.resolution.map(|[w, h]| format!("{w}x{h}")).unwrap_or_default())),
-        ("shadow map size", shared(rows, |r| r.shadow_map_size.map(|s| format!("{s}x{s}")).unwrap_or_default())),
+        ("shadow map size", shared(rows, |r| Some(r.core.map_size).filter(|s| *s > 0).map(|s| format!("{s}x{s}")).unwrap_or_default())),
         ("shadow-map raster", shared(rows, |r| r.raster.clone().unwrap_or_default())),
         ("reference", shared(rows, |r| r.reference.clone())),
         (
@@ -245,7 +245,7 @@ fn images(r: &LoadedRow) -> Result<Option<MethodImages>> {
     };
     Ok(Some(MethodImages {
         label: r.row.label(),
-        scene: r.row.scene.clone(),
+        scene: r.row.core.scene.clone(),
         shaded_png,
         visibility_png,
         abs_error_png,
@@ -268,7 +268,7 @@ fn write_rows(
     let plain: Vec<ResultRow> = rows.iter().map(|r| r.row.clone()).collect();
     let title = format!(
         "Penumbra: speed against accuracy, {}",
-        super::table::scenes(plain.iter().map(|r| r.scene.as_str())).join(", ")
+        super::table::scenes(plain.iter().map(|r| r.core.scene.as_str())).join(", ")
     );
     let mut pictures = Vec::new();
     for r in rows {

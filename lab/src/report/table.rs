@@ -82,11 +82,11 @@ fn col(
 /// Cost: how many maps, waits and milliseconds a frame takes.
 fn speed_columns() -> Vec<Column> {
     vec![
-        col("maps", LOWER, |r| f64::from(r.shadow_maps), int),
+        col("maps", LOWER, |r| f64::from(r.core.maps), int),
         col("syncs", LOWER, |r| f64::from(r.syncs), int),
-        col("median ms", LOWER, |r| r.total_ms, fixed2),
-        col("min ms", LOWER, |r| r.total_ms_min, fixed2),
-        col("max ms", LOWER, |r| r.total_ms_max, fixed2),
+        col("median ms", LOWER, |r| r.core.frame_ms, fixed2),
+        col("min ms", LOWER, |r| r.frame_ms_min, fixed2),
+        col("max ms", LOWER, |r| r.frame_ms_max, fixed2),
         col(
             "setup ms",
             LOWER,
@@ -137,12 +137,13 @@ pub(super) fn scenes<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<&'a st
 
 /// Two tables (speed, accuracy) per scene, scenes in first-appearance order.
 pub(super) fn tables(rows: &[ResultRow]) -> Vec<Table> {
-    scenes(rows.iter().map(|r| r.scene.as_str()))
+    scenes(rows.iter().map(|r| r.core.scene.as_str()))
         .into_iter()
         .flat_map(|scene| {
             // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
-            let mut group: Vec<&ResultRow> = rows.iter().filter(|r| r.scene == scene).collect();
-            group.sort_by_key(|r| Family::of_name(&r.method));
+            let mut group: Vec<&ResultRow> =
+                rows.iter().filter(|r| r.core.scene == scene).collect();
+            group.sort_by_key(|r| Family::of_name(&r.core.method));
             [
                 table(scene, "speed", speed_columns(), &group),
                 table(scene, "accuracy", accuracy_columns(), &group),
@@ -156,7 +157,7 @@ pub(super) fn failed_tables(rows: &[ResultRow]) -> Vec<Table> {
     scenes(
         rows.iter()
             .filter(|r| !r.measured())
-            .map(|r| r.scene.as_str()),
+            .map(|r| r.core.scene.as_str()),
     )
     .into_iter()
     .map(|scene| Table {
@@ -165,7 +166,7 @@ pub(super) fn failed_tables(rows: &[ResultRow]) -> Vec<Table> {
         header: vec!["method", "outcome"],
         rows: rows
             .iter()
-            .filter(|r| r.scene == scene)
+            .filter(|r| r.core.scene == scene)
             .filter_map(|r| {
                 r.failed.as_ref().map(|reason| {
                     vec![
@@ -191,7 +192,7 @@ pub(super) fn certified_tables(rows: &[ResultRow]) -> Vec<Table> {
     scenes(
         rows.iter()
             .filter(|r| r.certify.is_some() && r.measured())
-            .map(|r| r.scene.as_str()),
+            .map(|r| r.core.scene.as_str()),
     )
     .into_iter()
     .map(|scene| Table {
@@ -200,7 +201,7 @@ pub(super) fn certified_tables(rows: &[ResultRow]) -> Vec<Table> {
         header: vec!["method", "measured RMSE", "certified", "covered"],
         rows: rows
             .iter()
-            .filter(|r| r.scene == scene && r.measured())
+            .filter(|r| r.core.scene == scene && r.measured())
             .filter_map(|r| {
                 let c = r.certify.as_ref()?;
                 let text = |t: String| Cell {
@@ -231,7 +232,7 @@ fn table(scene: &str, kind: &'static str, cols: Vec<Column>, rows: &[&ResultRow]
         .map(|r| {
             vec![
                 Cell {
-                    text: Family::of_name(&r.method).title().to_string(),
+                    text: Family::of_name(&r.core.method).title().to_string(),
                     best: false,
                 },
                 Cell {

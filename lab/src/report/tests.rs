@@ -28,7 +28,7 @@ fn images(rows: &[ResultRow]) -> Vec<MethodImages> {
         .enumerate()
         .map(|(i, r)| MethodImages {
             label: r.label(),
-            scene: r.scene.clone(),
+            scene: r.core.scene.clone(),
             shaded_png: png(32, 24, i as u8 * 30),
             visibility_png: png(32, 24, i as u8 * 30 + 1),
             abs_error_png: png(32, 24, i as u8 * 30 + 2),
@@ -112,12 +112,12 @@ fn html_is_self_contained() {
     );
     assert_eq!(
         html.matches("<circle class=\"hit\"").count(),
-        rows.iter().filter(|r| r.total_ms > 0.0).count()
+        rows.iter().filter(|r| r.core.frame_ms > 0.0).count()
     );
     assert!(html.contains(&format!(
         "data-label=\"{}\" data-scene=\"{}\"",
         r.label(),
-        r.scene
+        r.core.scene
     )));
     assert!(
         html.contains("Penumbra &lt;test&gt; report"),

@@ -81,9 +81,8 @@ class Pair:
         return self.measured_map / self.predicted_map
 
 
-def _grid(spec: str) -> tuple[int, str]:
-    p = engine.method_params(spec)
-    return int(p["n"]), str(p["layout"])
+def _grid(row: Row) -> tuple[int, str]:
+    return row.integer("params.n"), row.text("params.layout")
 
 
 def pair_of(row: Row, half: Optional[str] = None, light_class: Optional[str] = None) -> Pair:
@@ -98,7 +97,7 @@ def pair_of(row: Row, half: Optional[str] = None, light_class: Optional[str] = N
         The pair.
     """
     spec = row.text("spec")
-    n, layout = _grid(spec)
+    n, layout = _grid(row)
     maps = row.integer("maps")
     extra = {k: row.number(k) for k in ("predicted_quantization", "predicted_map_averaging", "bound_coverage") if row.has(k)}
     return Pair(
@@ -106,7 +105,7 @@ def pair_of(row: Row, half: Optional[str] = None, light_class: Optional[str] = N
         half=row.text("half") if row.has("half") else (half or engine.calibration().half(row.text("scene"))),
         light_class=row.text("class") if row.has("class") else (light_class or engine.light_class_of_try(maps, n)),
         spec=spec, n=n, layout=layout, map_size=row.integer("map_size"), maps=maps,
-        measured_rmse=row.number("measured_rmse"), predicted_sampling=row.number("predicted_sampling"),
+        measured_rmse=row.number("rmse"), predicted_sampling=row.number("predicted_sampling"),
         predicted_map=row.number("predicted_map"), measured_sampling=row.number("measured_sampling"),
         measured_map=row.number("measured_map"), calibrated=row.optional_number("calibrated"), extra=extra,
     )

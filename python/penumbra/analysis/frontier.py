@@ -13,31 +13,15 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Optional, Union, overload
 
-from . import engine
 from .rows import PathLike, Row, RowError, Table, read
 
 BUDGET = "error budget"
 
 
-def asked(value: float) -> float:
-    """A target as it was asked: the methods keep T as a 32-bit float, which JSON widens
-    (0.03 reads 0.029999999329447746); its shortest decimal is what was written.
-
-    Args:
-        value: The widened value.
-
-    Returns:
-        The value as asked.
-    """
-    import numpy
-
-    return float(str(numpy.float32(value)))
-
-
 def target_of(row: Row) -> Optional[float]:
-    """A row's target T: the ``target`` column the lab writes, else the method's ``params``
-    (compare's rows), else the engine's parse of the row's spec (frontier rows written before the
-    column). Never parsed here from the spec's text.
+    """A row's target T: its ``target`` column, which the lab writes in every row whose method
+    has one (rows written before the column: the reader derives it, see
+    :func:`~penumbra.analysis.rows.Row.raw`).
 
     Args:
         row: A frontier or compare row.
@@ -45,15 +29,7 @@ def target_of(row: Row) -> Optional[float]:
     Returns:
         T, or None for a method without a target.
     """
-    if row.has("target"):
-        return row.number("target")
-    if row.has("params.target"):
-        return asked(row.number("params.target"))
-    spec = row.optional_text("spec")
-    if spec is None:
-        return None
-    t = engine.method_params(spec).get("target")
-    return None if t is None else asked(float(t))
+    return row.optional_number("target")
 
 
 @dataclass(frozen=True)
@@ -81,6 +57,7 @@ class Setting:
     Attributes:
         scene: The scene.
         spec: The method spec as the grid writes it.
+        method: The method's name.
         map_config: ``plain 512``, ``hybrid 2048→512``, …
         kind: ``regular centred``, …, ``error budget``.
         maps: Shadow maps of the judged frame.
@@ -98,6 +75,7 @@ class Setting:
 
     scene: str
     spec: str
+    method: str
     map_config: str
     kind: str
     maps: int
@@ -122,11 +100,6 @@ class Setting:
         """An error budget's row (judged against the frontier, never on it)."""
         return self.kind == BUDGET
 
-    @property
-    def method(self) -> str:
-        """The method's name (the spec before its first colon)."""
-        return self.spec.split(":", 1)[0]
-
     @classmethod
     def of(cls, row: Row) -> Setting:
         """Reads one frontier line.
@@ -148,6 +121,7 @@ class Setting:
         return cls(
             scene=row.text("scene"),
             spec=row.text("spec"),
+            method=row.text("method"),
             map_config=row.text("map_config"),
             kind=kind,
             maps=row.integer("maps"),

@@ -101,9 +101,9 @@ def compare_row(results: Table) -> list[object]:
     f = next(x for x in results if x.text("method") != "regions")
     t = target_of(r)
     assert t is not None
-    return [r.text("scene"), f"{t:.3g}", r.integer("shadow_map_size"), f"{r.number('total_ms'):.1f}", f"{r.number('metrics.rmse'):.5f}", r.integer("shadow_maps"),
-            f.text("label"), f"{f.number('total_ms'):.1f}", f"{f.number('metrics.rmse'):.5f}", f.integer("shadow_maps"),
-            f"{r.number('total_ms') / f.number('total_ms'):.2f}", "yes" if f.number("metrics.rmse") <= r.number("metrics.rmse") else "no"]
+    return [r.text("scene"), f"{t:.3g}", r.integer("map_size"), f"{r.number('frame_ms'):.1f}", f"{r.number('rmse'):.5f}", r.integer("maps"),
+            f.text("label"), f"{f.number('frame_ms'):.1f}", f"{f.number('rmse'):.5f}", f.integer("maps"),
+            f"{r.number('frame_ms') / f.number('frame_ms'):.2f}", "yes" if f.number("rmse") <= r.number("rmse") else "no"]
 
 
 # --- where the time goes ----------------------------------------------------------------------

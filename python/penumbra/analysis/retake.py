@@ -80,14 +80,14 @@ def retake_row(binary: str, frontier: Frontier, row: Setting, stretch: float = 1
         # it decided by its certified bound, the bound is what it reports, and the decision's
         # time is part of its search; out of reach, the record's warning says so.
         chosen, reach = rec.choice(), rec.warning or ""
-        rmse = a.number("metrics.rmse")
+        rmse = a.number("rmse")
         return [
-            row.scene, t, a.integer("shadow_maps"), chosen, rmse, rmse / t, _text(rec.target_met),
-            rec.reported(), rec.search_ms(), len(rec.tries), reach, a.number("total_ms"),
+            row.scene, t, a.integer("maps"), chosen, rmse, rmse / t, _text(rec.target_met),
+            rec.reported(), rec.search_ms(), len(rec.tries), reach, a.number("frame_ms"),
             oracle.name if b is not None and oracle else unpaired,
-            b.integer("shadow_maps") if b is not None else "", b.number("metrics.rmse") if b is not None else "",
-            oracle.rmse if oracle else "", b.number("total_ms") if b is not None else "",
-            a.number("total_ms") / b.number("total_ms") if b is not None else "", a.text("version.git"),
+            b.integer("maps") if b is not None else "", b.number("rmse") if b is not None else "",
+            oracle.rmse if oracle else "", b.number("frame_ms") if b is not None else "",
+            a.number("frame_ms") / b.number("frame_ms") if b is not None else "", a.text("version.git"),
         ]
 
 

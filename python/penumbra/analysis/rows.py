@@ -5,6 +5,10 @@ malformed value is one :class:`RowError` naming the file, the line and the colum
 ``KeyError`` deep in an analysis. A JSON Lines row's nested keys read with dots
 (``row.number("metrics.rmse")``, ``row.flag("budget.target_met")``). A CSV value is text until a
 typed read converts it; an empty cell, like a JSON ``null``, is a missing value.
+
+Every rows file the lab writes carries the same core keys (``scene``, ``spec``, ``method``,
+``params``, ``maps``, ``map_size``, ``rmse``, ``frame_ms``, ``adapter``, ``version``, ``target``;
+docs/formats.md); a row written before them is read under its old names (:data:`OLD_NAMES`).
 """
 
 from __future__ import annotations
@@ -19,8 +23,40 @@ from pathlib import Path
 from typing import IO, Any, Callable, Optional, TypeVar, Union, overload
 
 PathLike = Union[str, Path]
+
+#: The keys every study's row shares (the lab's ``RowCore``, docs/formats.md) under the names
+#: rows written before the one schema used: a read of ``maps`` in such a row finds
+#: ``shadow_maps``, as the lab reads it.
+OLD_NAMES: dict[str, tuple[str, ...]] = {
+    "maps": ("shadow_maps",),
+    "map_size": ("shadow_map_size",),
+    "frame_ms": ("total_ms",),
+    "frame_ms_min": ("total_ms_min",),
+    "frame_ms_max": ("total_ms_max",),
+    "frame_ms_runs": ("total_ms_runs",),
+    "rmse": ("metrics.rmse", "measured_rmse"),
+}
 T = TypeVar("T")
 D = TypeVar("D")
+
+
+#: The core keys a row written before them lacks and the reader derives (``Row._derived``).
+DERIVED = ("method", "params", "target")
+
+
+def asked(value: float) -> float:
+    """A target as it was asked: the methods keep T as a 32-bit float, which JSON widens
+    (0.03 reads 0.029999999329447746); its shortest decimal is what was written.
+
+    Args:
+        value: The widened value.
+
+    Returns:
+        The value as asked.
+    """
+    import numpy
+
+    return float(str(numpy.float32(value)))
 
 
 class RowError(ValueError):
@@ -47,6 +83,42 @@ class Row:
         return f"{self.path}:{self.line}: column {name!r}"
 
     def _lookup(self, name: str) -> Any:
+        value = self._path(name)
+        for old in OLD_NAMES.get(name, ()) if value is None else ():
+            value = self._path(old)
+            if value is not None:
+                break
+        if value is None and (name in DERIVED or name.startswith("params.")):
+            value = self._derived(name)
+        return value
+
+    def _derived(self, name: str) -> Any:
+        """``method``, ``params`` (or one of them, ``params.n``) or ``target`` of a row written
+        before the core keys: from its ``params``, else from the engine's parse of its ``spec``
+        (never from the spec's text)."""
+        method, params = self._path("method"), self._path("params")
+        if not isinstance(params, Mapping) or (name == "method" and method is None):
+            spec = self._path("spec")
+            if not isinstance(spec, str) or not spec:
+                return None
+            from . import engine
+            from .. import PenumbraError
+
+            try:
+                parsed = engine.method_params(spec)
+            except PenumbraError:
+                return None
+            method, params = parsed.pop("method"), parsed
+        if name == "method":
+            return method
+        if name == "params":
+            return params
+        if name.startswith("params."):
+            return params.get(name[len("params."):])
+        t = params.get("target")
+        return None if t is None else asked(float(t))
+
+    def _path(self, name: str) -> Any:
         if name in self._values:
             return self._values[name]
         value: Any = self._values

@@ -2,7 +2,8 @@
 
     python3 -m penumbra.analysis.table OUT/*/results.jsonl --columns scene,setting,maps,rmse,median_ms,runs_ms
 
-Named columns: ``scene``, ``setting`` (the method's label), ``target``, ``shadow_map_size``,
+Named columns: ``scene``, ``setting`` (the method's label), ``target``, ``map_size`` (or
+``shadow_map_size``),
 ``maps``, ``rmse`` (5 decimals), ``median_ms`` (1 decimal), ``ms`` (whole), ``runs_ms`` (each
 timed frame, whole, joined by ``/``), ``shadow_raster_ms`` (1 decimal); any other name is the
 row's own key, nested keys joined by dots (``params.centre_size``), as stored; ``NAME=KEY`` heads
@@ -23,12 +24,13 @@ COLUMNS: dict[str, Callable[[Row], object]] = {
     "scene": lambda r: r.text("scene"),
     "setting": lambda r: r.text("label"),
     "target": lambda r: target_of(r),
-    "shadow_map_size": lambda r: r.integer("shadow_map_size"),
-    "maps": lambda r: r.integer("shadow_maps"),
-    "rmse": lambda r: f"{r.number('metrics.rmse'):.5f}",
-    "median_ms": lambda r: f"{r.number('total_ms'):.1f}",
-    "ms": lambda r: f"{r.number('total_ms'):.0f}",
-    "runs_ms": lambda r: "/".join(f"{x:.0f}" for x in r.raw("total_ms_runs") or []),
+    "shadow_map_size": lambda r: r.integer("map_size"),
+    "map_size": lambda r: r.integer("map_size"),
+    "maps": lambda r: r.integer("maps"),
+    "rmse": lambda r: f"{r.number('rmse'):.5f}",
+    "median_ms": lambda r: f"{r.number('frame_ms'):.1f}",
+    "ms": lambda r: f"{r.number('frame_ms'):.0f}",
+    "runs_ms": lambda r: "/".join(f"{x:.0f}" for x in r.raw("frame_ms_runs") or []),
     "shadow_raster_ms": lambda r: f"{r.number('stages_ms.shadow_raster'):.1f}",
 }
 

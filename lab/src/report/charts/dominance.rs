@@ -22,11 +22,11 @@ impl Point {
     fn of(r: &ResultRow) -> Self {
         Self {
             label: r.label(),
-            maps: r.shadow_maps,
+            maps: r.core.maps,
             rmse: r.metrics.rmse,
-            median_ms: r.total_ms,
-            min_ms: r.total_ms_min,
-            max_ms: r.total_ms_max,
+            median_ms: r.core.frame_ms,
+            min_ms: r.frame_ms_min,
+            max_ms: r.frame_ms_max,
         }
     }
 }
@@ -50,16 +50,16 @@ pub struct Verdict {
 /// One verdict per `regular` row of a scene that also has `adaptive` rows on the same adapter, in
 /// row order; empty when no scene has both.
 pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
-    let usable = |r: &ResultRow| r.total_ms.is_finite() && r.metrics.rmse.is_finite();
+    let usable = |r: &ResultRow| r.core.frame_ms.is_finite() && r.metrics.rmse.is_finite();
     rows.iter()
-        .filter(|g| g.method == "regular" && usable(g))
+        .filter(|g| g.core.method == "regular" && usable(g))
         .filter_map(|g| {
             let rivals: Vec<&ResultRow> = rows
                 .iter()
                 .filter(|a| {
-                    a.method == "adaptive"
-                        && a.scene == g.scene
-                        && a.adapter == g.adapter
+                    a.core.method == "adaptive"
+                        && a.core.scene == g.core.scene
+                        && a.core.adapter == g.core.adapter
                         && usable(a)
                 })
                 .collect();
@@ -67,12 +67,13 @@ pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
                 return None;
             }
             let accurate = |a: &&&ResultRow| a.metrics.rmse <= g.metrics.rmse;
-            let fast = |a: &&&ResultRow| a.total_ms <= g.total_ms;
+            let fast = |a: &&&ResultRow| a.core.frame_ms <= g.core.frame_ms;
             // Ties on time go to the more accurate row, ties on error to the faster one.
             let fastest = |it: &mut dyn Iterator<Item = &&ResultRow>| {
                 it.min_by(|a, b| {
-                    a.total_ms
-                        .total_cmp(&b.total_ms)
+                    a.core
+                        .frame_ms
+                        .total_cmp(&b.core.frame_ms)
                         .then(a.metrics.rmse.total_cmp(&b.metrics.rmse))
                 })
                 .map(|r| Point::of(r))
@@ -84,18 +85,18 @@ pub fn verdicts(rows: &[ResultRow]) -> Vec<Verdict> {
                     a.metrics
                         .rmse
                         .total_cmp(&b.metrics.rmse)
-                        .then(a.total_ms.total_cmp(&b.total_ms))
+                        .then(a.core.frame_ms.total_cmp(&b.core.frame_ms))
                 })
                 .map(|r| Point::of(r));
             Some(Verdict {
-                scene: g.scene.clone(),
+                scene: g.core.scene.clone(),
                 regular: Point::of(g),
                 dominated_by: fastest(&mut rivals.iter().filter(accurate).filter(fast)),
                 firmly_dominated_by: fastest(
                     &mut rivals
                         .iter()
                         .filter(accurate)
-                        .filter(|a| a.total_ms_max <= g.total_ms_min),
+                        .filter(|a| a.frame_ms_max <= g.frame_ms_min),
                 ),
                 fastest_as_accurate: fastest(&mut rivals.iter().filter(accurate)),
                 most_accurate_as_fast: most_accurate,

@@ -11,11 +11,15 @@ pub fn error_vs_maps_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let mut series: Vec<Series> = Vec::new();
     for r in rows
         .iter()
-        .filter(|r| r.shadow_maps > 0 && r.metrics.rmse.is_finite())
+        .filter(|r| r.core.maps > 0 && r.metrics.rmse.is_finite())
     {
-        let name = with_scene(multi, &r.scene, Family::of_name(&r.method).title());
+        let name = with_scene(
+            multi,
+            &r.core.scene,
+            Family::of_name(&r.core.method).title(),
+        );
         let point = Point {
-            x: f64::from(r.shadow_maps),
+            x: f64::from(r.core.maps),
             y: r.metrics.rmse,
             label: Some(r.label()),
             x_span: None,

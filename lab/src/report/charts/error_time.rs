@@ -12,7 +12,9 @@ use crate::methods::Family;
 pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let rows: Vec<&ResultRow> = rows
         .iter()
-        .filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0 && r.metrics.rmse.is_finite())
+        .filter(|r| {
+            r.core.frame_ms.is_finite() && r.core.frame_ms > 0.0 && r.metrics.rmse.is_finite()
+        })
         .collect();
     if rows.is_empty() {
         return Err(ChartError::NoData(
@@ -22,27 +24,30 @@ pub fn error_vs_time_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter().copied());
     let mut series: Vec<Series> = Vec::new();
     for r in &rows {
-        let family = Family::of_name(&r.method);
+        let family = Family::of_name(&r.core.method);
         let group = match family {
-            Family::MultiSample => format!("{} ({})", family.title(), r.method),
+            Family::MultiSample => format!("{} ({})", family.title(), r.core.method),
             _ => family.title().to_string(),
         };
-        let name = with_scene(multi, &r.scene, &group);
+        let name = with_scene(multi, &r.core.scene, &group);
         let point = Point {
-            x: r.total_ms,
+            x: r.core.frame_ms,
             y: r.metrics.rmse,
             label: Some(r.label()),
-            x_span: (r.total_ms_min.is_finite()
-                && r.total_ms_max.is_finite()
-                && r.total_ms_min > 0.0)
-                .then_some((r.total_ms_min, r.total_ms_max)),
+            x_span: (r.frame_ms_min.is_finite()
+                && r.frame_ms_max.is_finite()
+                && r.frame_ms_min > 0.0)
+                .then_some((r.frame_ms_min, r.frame_ms_max)),
             hit: Some(Hit::of(r)),
         };
         push_point(&mut series, name, point);
     }
     // A front across scenes would compare unlike things, so draw it only for one scene.
     let front = (!multi).then(|| {
-        let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.total_ms, r.metrics.rmse)).collect();
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .map(|r| (r.core.frame_ms, r.metrics.rmse))
+            .collect();
         pareto_steps(&pts, &pareto_front(&pts))
     });
     render(&Scatter {

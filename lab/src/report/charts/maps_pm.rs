@@ -10,18 +10,21 @@ use super::{params_short, ChartError, ResultRow};
 /// only lengthen the legend). A non-numeric `p_m` (e.g. the string "inf") is skipped.
 pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter());
-    let adaptive: Vec<&ResultRow> = rows.iter().filter(|r| r.method == "adaptive").collect();
+    let adaptive: Vec<&ResultRow> = rows
+        .iter()
+        .filter(|r| r.core.method == "adaptive")
+        .collect();
     let shared = |key: &str| {
         adaptive
             .iter()
-            .all(|r| r.params.get(key) == adaptive[0].params.get(key))
+            .all(|r| r.core.params.get(key) == adaptive[0].core.params.get(key))
     };
     let mut series: Vec<Series> = Vec::new();
     for r in &adaptive {
         let Some(pm) = r.param_f64("p_m").filter(|&p| p >= 0.0) else {
             continue;
         };
-        let mut others = r.params.clone();
+        let mut others = r.core.params.clone();
         if let Some(map) = others.as_object_mut() {
             map.retain(|k, _| k != "p_m" && !shared(k));
         }
@@ -31,10 +34,10 @@ pub fn maps_vs_pm_svg(rows: &[ResultRow]) -> Result<String, ChartError> {
         } else {
             format!("adaptive({rest})")
         };
-        let name = with_scene(multi, &r.scene, &key);
+        let name = with_scene(multi, &r.core.scene, &key);
         let point = Point {
             x: pm + 1.0,
-            y: f64::from(r.shadow_maps),
+            y: f64::from(r.core.maps),
             label: None,
             x_span: None,
             hit: Some(Hit::of(r)),

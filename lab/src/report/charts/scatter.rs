@@ -33,27 +33,27 @@ impl Hit {
     /// The row's setting, maps, RMSE, FLIP and time, as a tooltip says them.
     pub fn of(r: &super::ResultRow) -> Hit {
         let spread =
-            if r.total_ms_min.is_finite() && r.total_ms_max.is_finite() && r.total_ms_max > 0.0 {
-                format!(" ({:.2}–{:.2})", r.total_ms_min, r.total_ms_max)
+            if r.frame_ms_min.is_finite() && r.frame_ms_max.is_finite() && r.frame_ms_max > 0.0 {
+                format!(" ({:.2}–{:.2})", r.frame_ms_min, r.frame_ms_max)
             } else {
                 String::new()
             };
-        let maps = if r.shadow_maps == 1 {
+        let maps = if r.core.maps == 1 {
             "1 map".to_string()
         } else {
-            format!("{} maps", r.shadow_maps)
+            format!("{} maps", r.core.maps)
         };
         let text = format!(
             "{} ({})\n{maps} · RMSE {:.4} · FLIP {:.4} · {:.2} ms{spread}",
             r.label(),
-            r.scene,
+            r.core.scene,
             r.metrics.rmse,
             r.metrics.flip_mean,
-            r.total_ms
+            r.core.frame_ms
         );
         Hit {
             label: r.label(),
-            scene: r.scene.clone(),
+            scene: r.core.scene.clone(),
             text,
         }
     }

@@ -51,7 +51,7 @@ fn bars_svg(rows: &[ResultRow], title: &str) -> Result<String, ChartError> {
     let multi = spans_scenes(rows.iter().copied());
     let labels: Vec<String> = rows
         .iter()
-        .map(|r| with_scene(multi, &r.scene, &r.label()))
+        .map(|r| with_scene(multi, &r.core.scene, &r.label()))
         .collect();
     let total = |r: &ResultRow| {
         r.stages_ms

@@ -59,5 +59,5 @@ pub(crate) fn spans_scenes<'a>(mut rows: impl Iterator<Item = &'a super::ResultR
     let Some(first) = rows.next() else {
         return false;
     };
-    rows.any(|r| r.scene != first.scene)
+    rows.any(|r| r.core.scene != first.core.scene)
 }

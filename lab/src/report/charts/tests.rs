@@ -42,14 +42,18 @@ pub(crate) fn row(
     .map(|(k, v)| (k.to_string(), v))
     .collect();
     ResultRow {
-        scene: "bunny".into(),
-        method: method.into(),
-        params,
-        adapter: json!({"name": "llvmpipe", "backend": "vulkan"}),
-        shadow_maps: maps,
-        total_ms: ms,
-        total_ms_min: ms * 0.9,
-        total_ms_max: ms * 1.2,
+        core: crate::record::RowCore {
+            scene: "bunny".into(),
+            method: method.into(),
+            params,
+            adapter: json!({"name": "llvmpipe", "backend": "vulkan"}),
+            maps,
+            rmse,
+            frame_ms: ms,
+            ..Default::default()
+        },
+        frame_ms_min: ms * 0.9,
+        frame_ms_max: ms * 1.2,
         stages_ms: stages,
         metrics: metrics(rmse),
         ..Default::default()
@@ -175,7 +179,7 @@ fn maps_vs_pm_uses_adaptive_rows_only() {
     );
     let no_adaptive: Vec<ResultRow> = sample_rows()
         .into_iter()
-        .filter(|r| r.method != "adaptive")
+        .filter(|r| r.core.method != "adaptive")
         .collect();
     assert!(matches!(
         maps_vs_pm_svg(&no_adaptive),
@@ -205,11 +209,11 @@ fn every_point_of_error_against_time_answers_with_its_row() {
         mark.contains(&format!(
             "<title>{} ({})\n{} maps · RMSE {:.4} · FLIP {:.4} · {:.2} ms",
             r.label(),
-            r.scene,
-            r.shadow_maps,
+            r.core.scene,
+            r.core.maps,
             r.metrics.rmse,
             r.metrics.flip_mean,
-            r.total_ms
+            r.core.frame_ms
         )),
         "{mark}"
     );
@@ -428,7 +432,7 @@ fn dominance_on_known_points() {
     );
     // Equal medians with overlapping spreads (9-12 ms each) are not firm.
     assert!(verdicts(&tie)[0].firmly_dominated_by.is_none());
-    tie[1].adapter = json!({"name": "other"});
+    tie[1].core.adapter = json!({"name": "other"});
     assert!(verdicts(&tie).is_empty());
     // A scene without adaptive rows gets no verdict.
     assert!(verdicts(&rows[..4]).is_empty());

@@ -37,12 +37,12 @@ pub fn verdict(adaptive: &ResultRow, grid: &ResultRow) -> String {
 
 /// `verdict` for any method against a grid, the method named `name` in the words.
 pub fn verdict_of(name: &str, method: &ResultRow, grid: &ResultRow) -> String {
-    let usable = |r: &ResultRow| r.total_ms.is_finite() && r.metrics.rmse.is_finite();
+    let usable = |r: &ResultRow| r.core.frame_ms.is_finite() && r.metrics.rmse.is_finite();
     if !usable(method) || !usable(grid) {
         return "no verdict (rows without a time or an RMSE)".into();
     }
     let (faster, accurate) = (
-        method.total_ms <= grid.total_ms,
+        method.core.frame_ms <= grid.core.frame_ms,
         method.metrics.rmse <= grid.metrics.rmse,
     );
     if faster && accurate {
@@ -53,7 +53,7 @@ pub fn verdict_of(name: &str, method: &ResultRow, grid: &ResultRow) -> String {
     }
     trade_off(
         name,
-        grid.total_ms / method.total_ms,
+        grid.core.frame_ms / method.core.frame_ms,
         method.metrics.rmse / grid.metrics.rmse,
     )
 }

@@ -83,9 +83,9 @@ fn run(args: CalibrateArgs) -> Result<()> {
                 failed += 1;
                 continue;
             }
-            let kind = match extra.iter().find(|s| s.name == l.scene) {
+            let kind = match extra.iter().find(|s| s.name == l.core.scene) {
                 Some(s) => s.emitter.kind(),
-                None => Scene::load(&l.scene, &[]).map_err(|_| anyhow::anyhow!("--estimates {}: line {}: scene `{}` is not built in; name its TOML in --scenes", file.display(), i + 1, l.scene))?.emitter.kind(),
+                None => Scene::load(&l.core.scene, &[]).map_err(|_| anyhow::anyhow!("--estimates {}: line {}: scene `{}` is not built in; name its TOML in --scenes", file.display(), i + 1, l.core.scene))?.emitter.kind(),
             };
             pairs.push(Pair::from_line(&l, Class::of(kind)));
         }

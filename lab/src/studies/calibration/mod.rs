@@ -81,13 +81,13 @@ pub struct Pair {
 impl Pair {
     pub fn from_line(l: &EstimateLine, class: Class) -> Pair {
         Pair {
-            scene: l.scene.clone(),
-            half: half(&l.scene),
+            scene: l.core.scene.clone(),
+            half: half(&l.core.scene),
             class,
-            spec: l.spec.clone(),
-            map_size: l.map_size,
-            maps: l.maps,
-            measured: l.measured_rmse,
+            spec: l.core.spec.clone(),
+            map_size: l.core.map_size,
+            maps: l.core.maps,
+            measured: l.core.rmse,
             predicted_sampling: l.predicted_sampling,
             predicted_map: l.predicted_map,
             measured_sampling: l.measured_sampling,

@@ -3,6 +3,7 @@
 
 use super::charts::{cascades_svg, CascadePoint};
 use super::CascadeLine;
+use crate::record::row_core::CSV_HEADER;
 use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
@@ -13,13 +14,13 @@ pub fn files(lines: &[CascadeLine]) -> Result<Vec<(String, Vec<u8>)>> {
             .map_err(|e| Error::io_text("cascades.jsonl".into(), e.to_string()))?;
         jsonl.push('\n');
     }
-    let scene = lines.first().map_or("", |l| l.scene.as_str());
+    let scene = lines.first().map_or("", |l| l.core.scene.as_str());
     let points: Vec<CascadePoint> = lines
         .iter()
         .map(|l| CascadePoint {
             scheme: l.scheme(),
             n: l.n,
-            rmse: l.rmse,
+            rmse: l.core.rmse,
         })
         .collect();
     let svg = cascades_svg(scene, &points)?;
@@ -45,29 +46,46 @@ fn density(d: Option<f64>) -> String {
 
 /// One row per cascade of every setting.
 pub fn csv(lines: &[CascadeLine]) -> String {
-    let mut s = String::from("scene,split,lambda,filter,n,rmse,cascade,near,far,texel_world,pixels,share,density_median\n");
+    let own = [
+        "split",
+        "lambda",
+        "filter",
+        "n",
+        "cascade",
+        "near",
+        "far",
+        "texel_world",
+        "pixels",
+        "share",
+        "density_median",
+    ];
+    let header: Vec<String> = CSV_HEADER
+        .iter()
+        .chain(&own)
+        .map(|s| s.to_string())
+        .collect();
+    let mut rows = vec![header];
     for l in lines {
         for c in &l.cascades {
-            s += &format!(
-                "{},{},{},{},{},{:.6},{},{:.4},{:.4},{:.6},{},{:.6},{}\n",
-                l.scene,
-                l.split,
-                l.lambda,
-                l.filter,
-                l.n,
-                l.rmse,
-                c.index,
-                c.near,
-                c.far,
-                c.texel_world,
-                c.pixels,
-                c.share,
+            let mut r = l.core.cells();
+            r.extend([
+                l.split.clone(),
+                l.lambda.to_string(),
+                l.filter.clone(),
+                l.n.to_string(),
+                c.index.to_string(),
+                format!("{:.4}", c.near),
+                format!("{:.4}", c.far),
+                format!("{:.6}", c.texel_world),
+                c.pixels.to_string(),
+                format!("{:.6}", c.share),
                 c.density_median
-                    .map_or(String::new(), |d| format!("{d:.4}"))
-            );
+                    .map_or(String::new(), |d| format!("{d:.4}")),
+            ]);
+            rows.push(r);
         }
     }
-    s
+    crate::record::csv::lines(rows)
 }
 
 /// The error table (schemes against n), then each setting's cascades.
@@ -77,13 +95,13 @@ pub fn markdown(lines: &[CascadeLine]) -> String {
     };
     let mut s = format!(
         "# Cascades: {}\n\n{}x{} screen, {}² maps, filter `{}`; reference {}; {}.\n\n",
-        first.scene,
+        first.core.scene,
         first.resolution[0],
         first.resolution[1],
-        first.map_size,
+        first.core.map_size,
         first.filter,
         first.reference,
-        first.adapter
+        first.core.adapter
     );
     let mut ns: Vec<u32> = lines.iter().map(|l| l.n).collect();
     ns.sort();
@@ -103,7 +121,7 @@ pub fn markdown(lines: &[CascadeLine]) -> String {
             let cell = lines
                 .iter()
                 .find(|l| &l.scheme() == scheme && l.n == *n)
-                .map_or("-".into(), |l| format!("{:.5}", l.rmse));
+                .map_or("-".into(), |l| format!("{:.5}", l.core.rmse));
             s += &format!(" {cell} |");
         }
         s += "\n";

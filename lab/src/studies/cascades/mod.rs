@@ -12,6 +12,7 @@ use crate::gpu::GpuContext;
 use crate::methods::cascades::{split::Scheme, CascadeBuffers, CascadeMaps};
 use crate::methods::Method;
 use crate::record::stats::median;
+use crate::record::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::render::gbuffer::GBufferCpu;
@@ -55,19 +56,19 @@ pub struct CascadeFigures {
 /// One line of `cascades.jsonl`: one (scheme, n) setting.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CascadeLine {
-    pub scene: String,
+    /// Scene, the label as spec, method, params, maps (one per cascade), map size, RMSE over
+    /// geometry pixels, adapter, build; `frame_ms` 0: the study times no frame.
+    #[serde(flatten)]
+    pub core: RowCore,
     pub n: u32,
     pub split: String,
     pub lambda: f32,
     pub filter: String,
     pub label: String,
-    pub rmse: f64,
     pub geometry_pixels: usize,
     pub cascades: Vec<CascadeFigures>,
     pub resolution: [u32; 2],
-    pub map_size: u32,
     pub reference: String,
-    pub adapter: String,
 }
 
 impl CascadeLine {
@@ -148,22 +149,27 @@ pub fn run(ctx: &GpuContext, job: &CascadeJob, log: &dyn Fn(&str)) -> Result<Vec
                 })
                 .collect();
             let line = CascadeLine {
-                scene: scene.name.clone(),
+                core: RowCore {
+                    maps: f.output.shadow_maps,
+                    map_size: scene.render.shadow_map_size,
+                    rmse: (sq / count.max(1) as f64).sqrt(),
+                    adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend).into(),
+                    ..RowCore::of(&scene.name, &method.label(), &method)
+                },
                 n,
                 split: split.name().to_string(),
                 lambda: job.lambda,
                 filter: job.filter.to_string(),
                 label: method.label(),
-                rmse: (sq / count.max(1) as f64).sqrt(),
                 geometry_pixels: count,
                 cascades,
                 resolution: [scene.render.width, scene.render.height],
-                map_size: scene.render.shadow_map_size,
                 reference: truth::mode_label(&reference.mode),
-                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
             };
             bar.inc(1);
-            crate::progress::suspend(|| log(&format!("{}: RMSE {:.5}", line.label, line.rmse)));
+            crate::progress::suspend(|| {
+                log(&format!("{}: RMSE {:.5}", line.label, line.core.rmse))
+            });
             lines.push(line);
         }
     }

@@ -48,7 +48,7 @@ pub struct PromiseRow {
 fn budget_rows(lines: &[FrontierLine]) -> Vec<&FrontierLine> {
     lines
         .iter()
-        .filter(|l| l.is_budget() && l.spec.starts_with("auto:"))
+        .filter(|l| l.is_budget() && l.core.spec.starts_with("auto:"))
         .collect()
 }
 
@@ -75,14 +75,18 @@ pub fn run_frontier(
     let mut rows = Vec::new();
     for b in budget_rows(&lines) {
         let target = b.target().ok_or_else(|| {
-            Error::param(format!("{}: `{}` has no target", dir.display(), b.spec))
+            Error::param(format!(
+                "{}: `{}` has no target",
+                dir.display(),
+                b.core.spec
+            ))
         })?;
         let oracle = b.oracle.as_ref().and_then(|o| {
             lines
                 .iter()
                 .find(|l| !l.is_budget() && l.failed.is_none() && &l.setting() == o)
         });
-        let size = oracle.map_or(512, |o| o.map_size);
+        let size = oracle.map_or(512, |o| o.core.map_size);
         let mut sets = vec![
             ("resolution".to_string(), b.resolution[0].to_string()),
             ("shadow_map_size".to_string(), size.to_string()),
@@ -91,10 +95,10 @@ pub fn run_frontier(
             sets[0] = ("width".into(), b.resolution[0].to_string());
             sets.push(("height".into(), b.resolution[1].to_string()));
         }
-        let scene = Scene::load(&b.scene, &sets)?;
+        let scene = Scene::load(&b.core.scene, &sets)?;
         let mut specs = vec![format!("auto:target={target}")];
         if let Some(o) = oracle {
-            specs.push(o.spec.clone());
+            specs.push(o.core.spec.clone());
         }
         let methods = specs
             .iter()
@@ -117,7 +121,7 @@ pub fn run_frontier(
         if let Some(why) = &a.failed {
             return Err(Error::param(format!(
                 "{} at {target}: auto failed: {why}",
-                b.scene
+                b.core.scene
             )));
         }
         let record = outcome
@@ -126,18 +130,20 @@ pub fn run_frontier(
             .find(|(name, _)| name.starts_with("images/auto") && name.ends_with("/run.json"))
             .and_then(|(_, bytes)| serde_json::from_slice::<serde_json::Value>(bytes).ok())
             .and_then(|r| crate::methods::auto::AutoRecord::read(&r["method_record"]))
-            .ok_or_else(|| Error::param(format!("{} at {target}: no run.json of auto", b.scene)))?;
+            .ok_or_else(|| {
+                Error::param(format!("{} at {target}: no run.json of auto", b.core.scene))
+            })?;
         let o = outcome.rows.get(1).filter(|r| r.failed.is_none());
         let choice = match &record.renders {
             Some(filter) => filter.clone(),
             None => format!("{} @ {}", record.chosen.spec, record.chosen.map_size),
         };
         let row = PromiseRow {
-            scene: b.scene.clone(),
-            half: half(&b.scene).name().to_string(),
+            scene: b.core.scene.clone(),
+            half: half(&b.core.scene).name().to_string(),
             target,
             choice,
-            maps: a.shadow_maps,
+            maps: a.core.maps,
             rmse: a.metrics.rmse,
             target_met: record.target_met,
             bound: record.reported(),
@@ -148,13 +154,13 @@ pub fn run_frontier(
                 .to_string(),
             decision_ms: record.decision_ms(),
             tests: record.certified.as_ref().map_or(0, |c| c.tests.len()),
-            ms: a.total_ms,
+            ms: a.core.frame_ms,
             oracle: oracle.map(FrontierLine::setting),
-            oracle_maps: o.map(|o| o.shadow_maps),
+            oracle_maps: o.map(|o| o.core.maps),
             oracle_rmse: o.map(|o| o.metrics.rmse),
-            frontier_oracle_rmse: oracle.map(|o| o.rmse),
-            oracle_ms: o.map(|o| o.total_ms),
-            time_over_oracle: o.map(|o| a.total_ms / o.total_ms),
+            frontier_oracle_rmse: oracle.map(|o| o.core.rmse),
+            oracle_ms: o.map(|o| o.core.frame_ms),
+            time_over_oracle: o.map(|o| a.core.frame_ms / o.core.frame_ms),
         };
         log(&format!(
             "{} at {target}: {} ({} maps), RMSE {:.5} ({:.2} T), {} bound {:.5}{}",

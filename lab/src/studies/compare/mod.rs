@@ -283,10 +283,10 @@ pub fn run(ctx: &GpuContext, job: &CompareJob, log: &dyn Fn(&str)) -> Result<Com
         log(&format!(
             "{}: {} shadow maps, median {:.1} ms (min {:.1}, max {:.1}), RMSE {:.4}",
             row.label,
-            row.shadow_maps,
-            row.total_ms,
-            row.total_ms_min,
-            row.total_ms_max,
+            row.core.maps,
+            row.core.frame_ms,
+            row.frame_ms_min,
+            row.frame_ms_max,
             row.metrics.rmse
         ));
         rows.push(row);

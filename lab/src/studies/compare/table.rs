@@ -34,7 +34,7 @@ pub fn render(rows: &[ResultRow]) -> String {
     );
     // Grouped by family (hard, pcf family, filtered maps, multi-sample), in order within each.
     let mut rows: Vec<&ResultRow> = rows.iter().collect();
-    rows.sort_by_key(|r| Family::of_name(&r.method));
+    rows.sort_by_key(|r| Family::of_name(&r.core.method));
     for r in rows {
         if let Some(reason) = &r.failed {
             out += &format!("{:width$}  failed: {reason}\n", r.label());
@@ -44,10 +44,10 @@ pub fn render(rows: &[ResultRow]) -> String {
         out += &format!(
             "{:width$}  {:>5} {:>5}  {:>10.1} {:>21}  {:>9} {:>7} {:>6.4} {:>9.4} {:>9} {:>6.2}%\n",
             r.label(),
-            r.shadow_maps,
+            r.core.maps,
             r.syncs,
-            r.total_ms,
-            format!("({:.1}-{:.1})", r.total_ms_min, r.total_ms_max),
+            r.core.frame_ms,
+            format!("({:.1}-{:.1})", r.frame_ms_min, r.frame_ms_max),
             err(m.rmse),
             m.psnr.map_or("inf".into(), |p| format!("{p:.2}")),
             m.ssim,

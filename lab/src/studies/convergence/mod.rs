@@ -11,6 +11,7 @@ use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::record::judge::Judge;
+use crate::record::row_core::{RowCore, CSV_HEADER};
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::Scene;
@@ -30,10 +31,13 @@ pub struct ConvergenceJob<'a> {
 /// One value of the swept parameter: the frame's shadow maps and its error over geometry pixels.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct ConvergenceRow {
+    /// Scene, the label as spec, method, params, maps, map size, RMSE over geometry pixels,
+    /// adapter, build; `frame_ms` 0: the study times no frame (its files stay the same from run
+    /// to run).
+    #[serde(flatten)]
+    pub core: RowCore,
     pub value: String,
     pub label: String,
-    pub shadow_maps: u32,
-    pub rmse: f64,
     pub mae: f64,
     /// The value failed at run time (an overflow, out of memory, a map over the budget): the
     /// reason. Its figures are zero and mean nothing; the fit and the table skip it.
@@ -77,6 +81,11 @@ pub fn run(
     let scene = job.scene;
     let (g, reference) = truth::for_scene(ctx, scene, job.reference, &job.cache)?;
     let judge = Judge::new(scene, &g, reference.values);
+    let core = |method: &Method| RowCore {
+        map_size: scene.render.shadow_map_size,
+        adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend).into(),
+        ..RowCore::of(&scene.name, &method.label(), method)
+    };
     let mut rows = Vec::new();
     for (value, method) in job.values.iter().zip(&methods) {
         // A value that fails at run time is a row saying why, and the study goes on
@@ -97,10 +106,13 @@ pub fn run(
                     m.rmse
                 ));
                 rows.push(ConvergenceRow {
+                    core: RowCore {
+                        maps,
+                        rmse: m.rmse,
+                        ..core(method)
+                    },
                     value: value.clone(),
                     label: method.label(),
-                    shadow_maps: maps,
-                    rmse: m.rmse,
                     mae: m.mae,
                     failed: None,
                 });
@@ -112,10 +124,9 @@ pub fn run(
                     &reason,
                 ));
                 rows.push(ConvergenceRow {
+                    core: core(method),
                     value: value.clone(),
                     label: method.label(),
-                    shadow_maps: 0,
-                    rmse: 0.0,
                     mae: 0.0,
                     failed: Some(reason),
                 });
@@ -132,7 +143,7 @@ pub fn run(
         &rows
             .iter()
             .filter(|r| r.failed.is_none())
-            .map(|r| (r.shadow_maps as f64, r.rmse))
+            .map(|r| (r.core.maps as f64, r.core.rmse))
             .collect::<Vec<_>>(),
     );
     Ok(ConvergenceOutcome {
@@ -167,30 +178,24 @@ pub fn fitted_slope(points: &[(f64, f64)]) -> Option<f64> {
 pub fn files(outcome: &ConvergenceOutcome) -> Result<Vec<(String, Vec<u8>)>> {
     let json = serde_json::to_vec_pretty(outcome).map_err(|e| Error::param(e.to_string()))?;
     let any_failed = outcome.rows.iter().any(|r| r.failed.is_some());
-    let mut header = ["value", "label", "shadow_maps", "rmse", "mae"]
-        .map(String::from)
-        .to_vec();
+    let mut header: Vec<String> = CSV_HEADER
+        .iter()
+        .chain(&["value", "label", "mae"])
+        .map(|s| s.to_string())
+        .collect();
     if any_failed {
         header.push("failed".into());
     }
     let mut records = vec![header];
     records.extend(outcome.rows.iter().map(|r| {
-        let mut cells = match &r.failed {
-            None => vec![
-                r.value.clone(),
-                r.label.clone(),
-                r.shadow_maps.to_string(),
-                r.rmse.to_string(),
-                r.mae.to_string(),
-            ],
-            Some(_) => vec![
-                r.value.clone(),
-                r.label.clone(),
-                String::new(),
-                String::new(),
-                String::new(),
-            ],
-        };
+        let mut cells = r.core.cells();
+        cells.extend([r.value.clone(), r.label.clone(), r.mae.to_string()]);
+        if r.failed.is_some() {
+            // Maps, RMSE, time and MAE were never measured.
+            for i in [4, 6, 7, cells.len() - 1] {
+                cells[i].clear();
+            }
+        }
         if any_failed {
             cells.push(r.failed.clone().unwrap_or_default());
         }
@@ -212,7 +217,7 @@ pub fn markdown(o: &ConvergenceOutcome) -> String {
         md += &match &r.failed {
             None => format!(
                 "| {} | {} | {:.5} | {:.5} |\n",
-                r.value, r.shadow_maps, r.rmse, r.mae
+                r.value, r.core.maps, r.core.rmse, r.mae
             ),
             Some(why) => format!(
                 "| {} | failed: {} | | |\n",

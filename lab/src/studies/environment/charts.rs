@@ -18,11 +18,12 @@ pub enum EnvAxis {
 /// The series a row joins. A variant that is another estimator, not another sample count, is its
 /// own line: per vertex (`at=vertex`), a non-box env-shadowmaps filter, and ssao=on.
 fn series_key(r: &ResultRow) -> String {
-    let mut key = r.method.clone();
-    if r.params.get("at").and_then(|v| v.as_str()) == Some("vertex") {
+    let mut key = r.core.method.clone();
+    if r.core.params.get("at").and_then(|v| v.as_str()) == Some("vertex") {
         key += " per vertex";
     }
     if let Some(f) = r
+        .core
         .params
         .get("filter")
         .and_then(|v| v.as_str())
@@ -44,8 +45,8 @@ pub fn env_chart_svg(rows: &[ResultRow], axis: EnvAxis) -> Result<String, ChartE
         .filter(|r| r.metrics.rmse.is_finite() && r.metrics.rmse > 0.0)
     {
         let x = match axis {
-            EnvAxis::Time => r.total_ms,
-            EnvAxis::Samples if r.shadow_maps > 0 => f64::from(r.shadow_maps),
+            EnvAxis::Time => r.core.frame_ms,
+            EnvAxis::Samples if r.core.maps > 0 => f64::from(r.core.maps),
             EnvAxis::Samples => continue,
         };
         let point = Point {
@@ -57,7 +58,7 @@ pub fn env_chart_svg(rows: &[ResultRow], axis: EnvAxis) -> Result<String, ChartE
         };
         push_point(
             &mut series,
-            with_scene(multi, &r.scene, &series_key(r)),
+            with_scene(multi, &r.core.scene, &series_key(r)),
             point,
         );
     }

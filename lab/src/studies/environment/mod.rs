@@ -165,11 +165,12 @@ pub fn run(
 /// The best (lowest-RMSE) row of `method` whose RMSE is at most `target`, by samples then time.
 fn reaching<'a>(rows: &'a [ResultRow], method: &str, target: f64) -> Option<&'a ResultRow> {
     rows.iter()
-        .filter(|r| r.method == method && r.metrics.rmse <= target)
+        .filter(|r| r.core.method == method && r.metrics.rmse <= target)
         .min_by(|a, b| {
-            a.shadow_maps
-                .cmp(&b.shadow_maps)
-                .then(a.total_ms.total_cmp(&b.total_ms))
+            a.core
+                .maps
+                .cmp(&b.core.maps)
+                .then(a.core.frame_ms.total_cmp(&b.core.frame_ms))
         })
 }
 
@@ -187,20 +188,20 @@ pub fn closing_table(outcomes: &[SceneOutcome]) -> String {
             s += &format!(
                 "| `{}` | {} | {:.1} | {:.4} | {:.4} |\n",
                 r.label(),
-                r.shadow_maps,
-                r.total_ms,
+                r.core.maps,
+                r.core.frame_ms,
                 r.metrics.rmse,
                 r.metrics.flip_mean
             );
         }
         s += "\n";
-        for base in o.rows.iter().filter(|r| r.method == "env-shadowmaps") {
+        for base in o.rows.iter().filter(|r| r.core.method == "env-shadowmaps") {
             let line = match reaching(&o.rows, "env-adaptive", base.metrics.rmse) {
                 Some(a) => format!(
                     "- `{}` (RMSE {:.4}, {} maps, {:.1} ms): `{}` reaches RMSE {:.4} with {} samples ({}) in {:.1} ms ({}).\n",
-                    base.label(), base.metrics.rmse, base.shadow_maps, base.total_ms, a.label(), a.metrics.rmse, a.shadow_maps,
-                    if a.shadow_maps < base.shadow_maps { "fewer" } else { "not fewer" }, a.total_ms,
-                    if a.total_ms < base.total_ms { "less time" } else { "more time" }
+                    base.label(), base.metrics.rmse, base.core.maps, base.core.frame_ms, a.label(), a.metrics.rmse, a.core.maps,
+                    if a.core.maps < base.core.maps { "fewer" } else { "not fewer" }, a.core.frame_ms,
+                    if a.core.frame_ms < base.core.frame_ms { "less time" } else { "more time" }
                 ),
                 None => format!("- `{}` (RMSE {:.4}): no env-adaptive row reaches its error.\n", base.label(), base.metrics.rmse),
             };

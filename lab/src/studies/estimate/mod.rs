@@ -14,6 +14,7 @@ use crate::gpu::GpuContext;
 use crate::methods::fixed_samples::{regular_points, FixedBuffers, Layout};
 use crate::methods::{estimate, Method};
 use crate::record::judge::Judge;
+use crate::record::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::report::charts::svg_to_png;
@@ -95,12 +96,12 @@ impl Setting {
 /// One line of `estimate.jsonl`: one (scene, setting) pair.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EstimateLine {
-    pub scene: String,
-    pub spec: String,
+    /// Scene, the setting's spec (without `estimate=on`), method and params (with it), maps, map
+    /// size, the measured RMSE, adapter, build; `frame_ms` 0: the study times no frame (its
+    /// files stay the same from run to run).
+    #[serde(flatten)]
+    pub core: RowCore,
     pub layout: String,
-    pub map_size: u32,
-    pub maps: u32,
-    pub measured_rmse: f64,
     pub predicted_rmse: f64,
     pub predicted_sampling: f64,
     pub predicted_map: f64,
@@ -124,7 +125,6 @@ pub struct EstimateLine {
     pub exact: String,
     pub resolution: [u32; 2],
     pub reference: String,
-    pub adapter: String,
     /// A setting that failed at run time: the reason (its figures are zero and mean nothing; the
     /// summary and the chart skip it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -141,8 +141,8 @@ impl EstimateLine {
         if self.failed.is_some() {
             return None;
         }
-        if !(self.measured_rmse > 0.0 && self.measured_rmse <= 1.0) {
-            return Some(format!("measured_rmse = {}: an RMSE of V lies in (0, 1] (a pair with no error has no ratio to calibrate)", shown(self.measured_rmse)));
+        if !(self.core.rmse > 0.0 && self.core.rmse <= 1.0) {
+            return Some(format!("rmse = {}: an RMSE of V lies in (0, 1] (a pair with no error has no ratio to calibrate)", shown(self.core.rmse)));
         }
         for (key, v) in [
             ("measured_map", self.measured_map),
@@ -171,10 +171,10 @@ impl EstimateLine {
         if self.predicted_sampling.hypot(self.predicted_map) == 0.0 {
             return Some("predicted_sampling = 0 and predicted_map = 0: a prediction of no error has nothing to calibrate".into());
         }
-        if self.map_size == 0 || self.maps == 0 {
+        if self.core.map_size == 0 || self.core.maps == 0 {
             return Some(format!(
                 "map_size = {}, maps = {}: a setting has at least one map of at least one texel",
-                self.map_size, self.maps
+                self.core.map_size, self.core.maps
             ));
         }
         None
@@ -247,7 +247,10 @@ pub fn run_scene(
         let line = run.setting(setting).unwrap_or_else(|e| {
             let line = EstimateLine::failed(&base.name, setting, &run, e.to_string());
             log(&crate::record::failed_line(
-                &format!("{} {} @{}", line.scene, line.spec, line.map_size),
+                &format!(
+                    "{} {} @{}",
+                    line.core.scene, line.core.spec, line.core.map_size
+                ),
                 &e.to_string(),
             ));
             line
@@ -255,10 +258,10 @@ pub fn run_scene(
         if line.failed.is_none() {
             log(&format!(
                 "{} {} @{}: measured {:.5}, predicted {:.5} ({:.2}×), bound covers {:.1}%",
-                line.scene,
-                line.spec,
-                line.map_size,
-                line.measured_rmse,
+                line.core.scene,
+                line.core.spec,
+                line.core.map_size,
+                line.core.rmse,
                 line.predicted_rmse,
                 line.ratio,
                 100.0 * line.bound_coverage
@@ -319,12 +322,14 @@ impl Run<'_> {
         let (exact, exact_name) = exact_reference(&scene, g, n, layout)?;
         let ratio = p.predicted_rmse / measured.max(1e-12);
         Ok(EstimateLine {
-            scene: scene.name.clone(),
-            spec: setting.spec.clone(),
+            core: RowCore {
+                maps: f.output.shadow_maps,
+                map_size: setting.map_size,
+                rmse: measured,
+                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend).into(),
+                ..RowCore::of(&scene.name, &setting.spec, &method)
+            },
             layout: params["layout"].as_str().unwrap_or("lattice").to_string(),
-            map_size: setting.map_size,
-            maps: f.output.shadow_maps,
-            measured_rmse: measured,
             predicted_rmse: p.predicted_rmse,
             predicted_sampling: p.predicted_sampling,
             predicted_map: p.predicted_map,
@@ -339,7 +344,6 @@ impl Run<'_> {
             exact: exact_name,
             resolution: [scene.render.width, scene.render.height],
             reference: truth::mode_label(&reference.mode),
-            adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
             failed: None,
         })
     }
@@ -349,12 +353,12 @@ impl EstimateLine {
     /// The line of a setting that failed: what it was and why, no figures.
     fn failed(scene: &str, setting: &Setting, run: &Run, reason: String) -> EstimateLine {
         EstimateLine {
-            scene: scene.to_string(),
-            spec: setting.spec.clone(),
+            core: RowCore {
+                map_size: setting.map_size,
+                adapter: format!("{} ({})", run.ctx.summary.name, run.ctx.summary.backend).into(),
+                ..RowCore::of_spec(scene, &setting.spec)
+            },
             layout: String::new(),
-            map_size: setting.map_size,
-            maps: 0,
-            measured_rmse: 0.0,
             predicted_rmse: 0.0,
             predicted_sampling: 0.0,
             predicted_map: 0.0,
@@ -369,7 +373,6 @@ impl EstimateLine {
             exact: String::new(),
             resolution: [run.g.width, run.g.height],
             reference: truth::mode_label(&run.reference.mode),
-            adapter: format!("{} ({})", run.ctx.summary.name, run.ctx.summary.backend),
             failed: Some(reason),
         }
     }
@@ -388,8 +391,13 @@ pub fn files(lines: &[EstimateLine]) -> Result<Vec<(String, Vec<u8>)>> {
         .filter(|l| l.failed.is_none())
         .map(|l| EstimatePoint {
             layout: l.layout.clone(),
-            label: format!("{} {}@{}", l.scene, short(&l.spec), l.map_size),
-            measured: l.measured_rmse,
+            label: format!(
+                "{} {}@{}",
+                l.core.scene,
+                short(&l.core.spec),
+                l.core.map_size
+            ),
+            measured: l.core.rmse,
             predicted: l.predicted_rmse,
         })
         .collect();
@@ -428,13 +436,13 @@ pub fn part_limits(lines: &[EstimateLine]) -> PartLimits {
         sampling_within: count(&|l| within(l.predicted_sampling, l.measured_sampling)),
         map_within: count(&|l| within(l.predicted_map, l.measured_map)),
         with_measured_sampling: count(&|l| {
-            within(l.measured_sampling.hypot(l.predicted_map), l.measured_rmse)
+            within(l.measured_sampling.hypot(l.predicted_map), l.core.rmse)
         }),
         with_measured_map: count(&|l| {
-            within(l.predicted_sampling.hypot(l.measured_map), l.measured_rmse)
+            within(l.predicted_sampling.hypot(l.measured_map), l.core.rmse)
         }),
         with_both_measured: count(&|l| {
-            within(l.measured_sampling.hypot(l.measured_map), l.measured_rmse)
+            within(l.measured_sampling.hypot(l.measured_map), l.core.rmse)
         }),
     }
 }
@@ -470,7 +478,7 @@ pub fn markdown(all: &[EstimateLine]) -> String {
         first.resolution[0],
         first.resolution[1],
         first.reference,
-        first.adapter,
+        first.core.adapter,
         RATIO_BAND.0,
         RATIO_BAND.1,
         within,
@@ -493,20 +501,20 @@ pub fn markdown(all: &[EstimateLine]) -> String {
         if let Some(reason) = &l.failed {
             s += &format!(
                 "| {} | {} @{} | failed: {} | | | | | | |\n",
-                l.scene,
-                short(&l.spec),
-                l.map_size,
+                l.core.scene,
+                short(&l.core.spec),
+                l.core.map_size,
                 reason.replace('|', "\\|")
             );
             continue;
         }
         s += &format!(
             "| {} | {} @{} | {} | {:.5} | {:.5} | {:.2}{} | {:.1}% | {:.5} / {:.5} | {:.5} / {:.5} |\n",
-            l.scene,
-            short(&l.spec),
-            l.map_size,
-            l.maps,
-            l.measured_rmse,
+            l.core.scene,
+            short(&l.core.spec),
+            l.core.map_size,
+            l.core.maps,
+            l.core.rmse,
             l.predicted_rmse,
             l.ratio,
             if l.within { "" } else { " (out)" },
@@ -528,12 +536,16 @@ mod tests {
     fn line(measured: f64, sampling: (f64, f64), map: (f64, f64)) -> EstimateLine {
         let predicted = sampling.0.hypot(map.0);
         EstimateLine {
-            scene: "s".into(),
-            spec: "regular:n=3,layout=centred".into(),
+            core: crate::record::RowCore {
+                scene: "s".into(),
+                spec: "regular:n=3,layout=centred".into(),
+                maps: 9,
+                map_size: 512,
+                rmse: measured,
+                adapter: "none".into(),
+                ..Default::default()
+            },
             layout: "centred".into(),
-            map_size: 512,
-            maps: 9,
-            measured_rmse: measured,
             predicted_rmse: predicted,
             predicted_sampling: sampling.0,
             predicted_map: map.0,
@@ -548,7 +560,6 @@ mod tests {
             exact: "mean of 9 point references".into(),
             resolution: [64, 64],
             reference: "continuous 32x32".into(),
-            adapter: "none".into(),
             failed: None,
         }
     }

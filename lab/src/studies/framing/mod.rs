@@ -9,6 +9,7 @@ pub(crate) mod width;
 use self::charts::{framing_svg, WidthAxis, WidthPoint};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
+use crate::record::row_core::{RowCore, CSV_HEADER};
 use crate::reference::truth::Cache;
 use crate::reference::ReferenceMode;
 use crate::report::charts::{svg_to_png, ResultRow};
@@ -32,16 +33,16 @@ pub struct FramingJob {
 /// One method at one configuration: the compare row plus where it was taken.
 #[derive(Serialize)]
 pub struct FramingRow {
-    pub scene: String,
+    /// The compare row's core (scene, spec, method, params, maps, map size, RMSE, frame time,
+    /// adapter, build), at the top level as in every study's row.
+    #[serde(flatten)]
+    pub core: RowCore,
     pub resolution: u32,
     pub light_scale: f32,
     /// Median penumbra width in pixels of the reference (`width`), and the pixels it was taken over.
     pub penumbra_width_px: Option<f64>,
     pub penumbra_pixels: usize,
     pub label: String,
-    pub shadow_maps: u32,
-    pub rmse: f64,
-    pub total_ms: f64,
     /// Folder (relative to the study's output) with this configuration's compare output.
     pub config: String,
     pub row: ResultRow,
@@ -116,15 +117,12 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
                 ));
                 for row in outcome.rows {
                     rows.push(FramingRow {
-                        scene: base.name.clone(),
+                        core: row.core.clone(),
                         resolution,
                         light_scale: scale,
                         penumbra_width_px: width.map(|w| w.0),
                         penumbra_pixels: width.map_or(0, |w| w.1),
                         label: row.label(),
-                        shadow_maps: row.shadow_maps,
-                        rmse: row.metrics.rmse,
-                        total_ms: row.total_ms,
                         config: config.clone(),
                         row,
                     });
@@ -142,15 +140,15 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
         .iter()
         .filter_map(|r| {
             let series = if job.scenes.len() > 1 {
-                format!("{}: {}", r.scene, r.label)
+                format!("{}: {}", r.core.scene, r.label)
             } else {
                 r.label.clone()
             };
             r.penumbra_width_px.map(|w| WidthPoint {
                 series,
                 width_px: w,
-                maps: r.shadow_maps as f64,
-                rmse: r.rmse,
+                maps: r.core.maps as f64,
+                rmse: r.core.rmse,
             })
         })
         .collect();
@@ -177,25 +175,30 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
 }
 
 fn csv(rows: &[FramingRow]) -> String {
-    let mut s = String::from(
-        "scene,resolution,light_scale,penumbra_width_px,method,shadow_maps,rmse,total_ms\n",
-    );
-    for r in rows {
-        let w = r
-            .penumbra_width_px
-            .map_or(String::new(), |w| format!("{w:.2}"));
-        s += &format!(
-            "{},{},{},{w},\"{}\",{},{:.6},{:.2}\n",
-            r.scene, r.resolution, r.light_scale, r.label, r.shadow_maps, r.rmse, r.total_ms
-        );
-    }
-    s
+    let own = ["resolution", "light_scale", "penumbra_width_px", "label"];
+    let header: Vec<String> = CSV_HEADER
+        .iter()
+        .chain(&own)
+        .map(|s| s.to_string())
+        .collect();
+    let cells = rows.iter().map(|r| {
+        let mut c = r.core.cells();
+        c.extend([
+            r.resolution.to_string(),
+            r.light_scale.to_string(),
+            r.penumbra_width_px
+                .map_or(String::new(), |w| format!("{w:.2}")),
+            r.label.clone(),
+        ]);
+        c
+    });
+    crate::record::csv::lines(std::iter::once(header).chain(cells))
 }
 
 /// One table per scene: a row per configuration, maps and RMSE per method.
 pub fn markdown(rows: &[FramingRow]) -> String {
     let mut s = String::from("# Framing study\n\nMaps used and RMSE of V (continuous reference) against the penumbra's median width on screen.\n");
-    let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
+    let mut scenes: Vec<&str> = rows.iter().map(|r| r.core.scene.as_str()).collect();
     scenes.dedup();
     let mut methods: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
     methods.sort();
@@ -210,7 +213,7 @@ pub fn markdown(rows: &[FramingRow]) -> String {
         s += "\n";
         let mut configs: Vec<&str> = rows
             .iter()
-            .filter(|r| r.scene == scene)
+            .filter(|r| r.core.scene == scene)
             .map(|r| r.config.as_str())
             .collect();
         configs.dedup();
@@ -227,7 +230,7 @@ pub fn markdown(rows: &[FramingRow]) -> String {
             );
             for m in &methods {
                 match of.iter().find(|r| r.label == *m) {
-                    Some(r) => s += &format!(" {} / {:.4} |", r.shadow_maps, r.rmse),
+                    Some(r) => s += &format!(" {} / {:.4} |", r.core.maps, r.core.rmse),
                     None => s += " – |",
                 }
             }

@@ -112,7 +112,7 @@ pub fn pair(
             &mut |_, f| Ok(f.output.shadow_maps),
         )?;
         match &measured[..] {
-            [Ok(a), Ok(o)] if a.judged == l.maps => {
+            [Ok(a), Ok(o)] if a.judged == l.core.maps => {
                 l.paired = Some(Paired {
                     ms: a.timing.median_ms,
                     oracle_ms: o.timing.median_ms,
@@ -123,7 +123,7 @@ pub fn pair(
                 l.setting(),
                 oracle,
                 a.judged,
-                l.maps
+                l.core.maps
             )),
             _ => log(&format!(
                 "{}: side-by-side timing against {oracle} failed: time/oracle from the windows",
@@ -152,8 +152,8 @@ pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
     for l in &budget {
         let Some(target) = l.target() else { continue };
         let r = l.budget.clone().unwrap_or_default();
-        under += usize::from(l.rmse <= target);
-        false_met += usize::from(r.target_met && l.rmse > target);
+        under += usize::from(l.core.rmse <= target);
+        false_met += usize::from(r.target_met && l.core.rmse > target);
         let reported = r.reported();
         let o = l
             .oracle
@@ -163,20 +163,22 @@ pub fn table(lines: &[FrontierLine], budget: &[&FrontierLine]) -> String {
             Some(o) => {
                 let (ratio, mark) = l
                     .paired
-                    .map_or((l.frame_ms / o.frame_ms, "*"), |p| (p.ms / p.oracle_ms, ""));
+                    .map_or((l.core.frame_ms / o.core.frame_ms, "*"), |p| {
+                        (p.ms / p.oracle_ms, "")
+                    });
                 timed += 1;
                 quick += usize::from(ratio <= TIME_RATIO);
-                reachable_under += usize::from(l.rmse <= target);
+                reachable_under += usize::from(l.core.rmse <= target);
                 (
                     o.setting(),
-                    format!("{:.2}", o.rmse / target),
-                    format!("{:.1}", o.frame_ms),
+                    format!("{:.2}", o.core.rmse / target),
+                    format!("{:.1}", o.core.frame_ms),
                     format!("{ratio:.2}{mark}"),
                 )
             }
             None => ("none reaches it".into(), "-".into(), "-".into(), "-".into()),
         };
-        s += &format!("| {} | {} | {:.5} | {:.2} | {reported} | {:.1} | {:.0} | {name} | {e} | {t} | {ratio} |\n", l.spec, l.maps, l.rmse, l.rmse / target, l.frame_ms, r.search_ms);
+        s += &format!("| {} | {} | {:.5} | {:.2} | {reported} | {:.1} | {:.0} | {name} | {e} | {t} | {ratio} |\n", l.core.spec, l.core.maps, l.core.rmse, l.core.rmse / target, l.core.frame_ms, r.search_ms);
     }
     let n = budget.len();
     s += &format!(
@@ -195,10 +197,10 @@ pub fn chart(budget: &[&FrontierLine]) -> Option<String> {
         .filter_map(|l| {
             let r = l.budget.as_ref()?;
             Some(EstimatePoint {
-                layout: format!("{} half", half(&l.scene).name())
+                layout: format!("{} half", half(&l.core.scene).name())
                     .replace("held out half", "held out"),
-                label: l.spec.clone(),
-                measured: l.rmse,
+                label: l.core.spec.clone(),
+                measured: l.core.rmse,
                 predicted: r.predicted,
             })
         })
@@ -206,7 +208,7 @@ pub fn chart(budget: &[&FrontierLine]) -> Option<String> {
     calibration_svg(
         &format!(
             "{}: the budget's predicted against measured RMSE of V",
-            budget.first()?.scene
+            budget.first()?.core.scene
         ),
         &points,
     )

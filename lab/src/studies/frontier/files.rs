@@ -13,7 +13,7 @@ pub fn files(lines: &[FrontierLine]) -> Result<Vec<(String, Vec<u8>)>> {
             .map_err(|e| Error::io_text("frontier.jsonl".into(), e.to_string()))?;
         jsonl.push('\n');
     }
-    let scene = lines.first().map_or("", |l| l.scene.as_str());
+    let scene = lines.first().map_or("", |l| l.core.scene.as_str());
     let points: Vec<FrontierPoint> = lines
         .iter()
         .filter(|l| l.failed.is_none())
@@ -23,10 +23,10 @@ pub fn files(lines: &[FrontierLine]) -> Result<Vec<(String, Vec<u8>)>> {
             } else {
                 l.kind.clone()
             },
-            label: format!("{} @{}", l.spec, short_maps(&l.map_config)),
-            ms: l.frame_ms,
+            label: format!("{} @{}", l.core.spec, short_maps(&l.map_config)),
+            ms: l.core.frame_ms,
             ms_span: (l.frame_ms_min, l.frame_ms_max),
-            rmse: l.rmse,
+            rmse: l.core.rmse,
             on_frontier: l.on_frontier,
         })
         .collect();
@@ -100,7 +100,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
     };
     let mut s = format!(
         "# Frontier of fixed settings: {}\n\n{} settings ({}); {}x{} screen; reference {}; median of {} timed frames; {} on {}.\n",
-        first.scene,
+        first.core.scene,
         lines.len(),
         first.thinning,
         first.resolution[0],
@@ -108,7 +108,7 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
         first.reference,
         first.repeats,
         first.clock.split(';').next().unwrap_or(&first.clock),
-        first.adapter
+        first.core.adapter
     );
     s += &rasters(lines);
     // The budget's rows are judged against the frontier of the fixed settings, not part of it.
@@ -122,11 +122,11 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
         let l = &lines[i];
         s += &format!(
             "| {:.5} | {} | {} | {} | {:.1} ({:.1}–{:.1}) | {} |\n",
-            l.rmse,
+            l.core.rmse,
             l.setting(),
-            l.maps,
-            l.map_size,
-            l.frame_ms,
+            l.core.maps,
+            l.core.map_size,
+            l.core.frame_ms,
             l.frame_ms_min,
             l.frame_ms_max,
             flip(l)
@@ -142,9 +142,9 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             s += &format!(
                 "| {} | {:.5} | {} | {} |\n",
                 l.setting(),
-                l.rmse,
+                l.core.rmse,
                 c.line(),
-                if c.bound >= l.rmse { "yes" } else { "no" }
+                if c.bound >= l.core.rmse { "yes" } else { "no" }
             );
         }
     }
@@ -167,19 +167,19 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             let (name, e, t, ratio) = match rival {
                 Some(r) => (
                     r.setting(),
-                    format!("{:.5}", r.rmse),
-                    format!("{:.1}", r.frame_ms),
-                    format!("{:.2}×", l.frame_ms / r.frame_ms),
+                    format!("{:.5}", r.core.rmse),
+                    format!("{:.1}", r.core.frame_ms),
+                    format!("{:.2}×", l.core.frame_ms / r.core.frame_ms),
                 ),
                 None => ("none reaches it".into(), "-".into(), "-".into(), "-".into()),
             };
             s += &format!(
                 "| {} | {} | {:.5} | {:.2} | {:.1} | {name} | {e} | {t} | {ratio} |\n",
-                l.spec,
-                l.maps,
-                l.rmse,
-                l.rmse / target,
-                l.frame_ms
+                l.core.spec,
+                l.core.maps,
+                l.core.rmse,
+                l.core.rmse / target,
+                l.core.frame_ms
             );
         }
         s += &super::budget::table(lines, &budget);
@@ -199,17 +199,21 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             let (name, e, t) = match rival {
                 Some(r) => (
                     r.setting(),
-                    format!("{:.5} ({:.2}×)", r.rmse, r.rmse / l.rmse),
-                    format!("{:.1} ({:.2}×)", r.frame_ms, r.frame_ms / l.frame_ms),
+                    format!("{:.5} ({:.2}×)", r.core.rmse, r.core.rmse / l.core.rmse),
+                    format!(
+                        "{:.1} ({:.2}×)",
+                        r.core.frame_ms,
+                        r.core.frame_ms / l.core.frame_ms
+                    ),
                 ),
                 None => ("-".into(), "-".into(), "-".into()),
             };
             s += &format!(
                 "| {} | {} | {:.5} | {:.1} | {} | {name} | {e} | {t} |\n",
                 l.setting(),
-                l.maps,
-                l.rmse,
-                l.frame_ms,
+                l.core.maps,
+                l.core.rmse,
+                l.core.frame_ms,
                 if l.on_frontier { "yes" } else { "no" }
             );
         }
@@ -229,11 +233,11 @@ pub fn markdown(lines: &[FrontierLine]) -> String {
             "| {} | {} | {} | {} | {:.5} | {} | {:.1} ({:.1}–{:.1}) | {} |\n",
             l.setting(),
             l.kind,
-            l.maps,
-            l.map_size,
-            l.rmse,
+            l.core.maps,
+            l.core.map_size,
+            l.core.rmse,
             flip(l),
-            l.frame_ms,
+            l.core.frame_ms,
             l.frame_ms_min,
             l.frame_ms_max,
             if l.on_frontier { "yes" } else { "" }

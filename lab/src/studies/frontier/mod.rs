@@ -16,6 +16,7 @@ use crate::gpu::GpuContext;
 use crate::methods::{Family, Method};
 use crate::record::judge::Judge;
 use crate::record::measure::{self, Phase};
+use crate::record::{row_core, RowCore};
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::Scene;
@@ -41,25 +42,21 @@ pub struct FrontierJob<'a> {
 /// One line of `frontier.jsonl`: one setting.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FrontierLine {
-    pub scene: String,
-    /// The method spec as the grid writes it and its map configuration (`plain 512`, `hybrid 2048→512`).
-    pub spec: String,
+    /// Scene, the method spec as the grid writes it, method, params, maps of the judged frame,
+    /// map size (for a budget row, the size its frame rendered, `rendered_map_size`, not the
+    /// group's), RMSE, median frame time, adapter, build and a budget row's target.
+    #[serde(flatten)]
+    pub core: RowCore,
+    /// The map configuration (`plain 512`, `hybrid 2048→512`).
     pub map_config: String,
     /// `regular lattice`, `regular centred`, `adaptive global`, `adaptive local`, `single map` or
     /// `filtered maps`.
     pub kind: String,
     /// The method's label (`penumbra compare`'s name for it; a preset may be spelt out).
     pub label: String,
-    /// Shadow maps of the judged frame.
-    pub maps: u32,
-    /// Raster size of a map per side (the base of hybrid maps); for a budget row, the size its
-    /// frame rendered (`rendered_map_size`), not the group's.
-    pub map_size: u32,
-    pub rmse: f64,
     /// Mean FLIP of the shaded image; `null` when not computed.
     pub flip: Option<f64>,
-    /// Median, min and max frame time over the timed frames.
-    pub frame_ms: f64,
+    /// Fastest and slowest frame over the timed frames.
     pub frame_ms_min: f64,
     pub frame_ms_max: f64,
     pub on_frontier: bool,
@@ -71,7 +68,6 @@ pub struct FrontierLine {
     pub reference: String,
     pub repeats: u32,
     pub clock: String,
-    pub adapter: String,
     /// `hardware` or `compute`: who rasterized the setting's maps (`--set raster=auto` picks per
     /// map size, so the times of one frontier may come from both).
     #[serde(default)]
@@ -98,19 +94,12 @@ pub struct FrontierLine {
     /// `--certify K`: the certified bound on this setting's RMSE (docs/certify.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub certify: Option<crate::record::Certified>,
-    /// A budget row's target T as its method was asked (`budget_target`), so that nothing reading
-    /// the rows parses it out of `spec`. Lines written before the column have none.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub target: Option<f64>,
-    /// The build that measured the line (crate version and git hash), as every record carries it.
-    #[serde(default)]
-    pub version: serde_json::Value,
 }
 
 impl FrontierLine {
     /// `spec @ map_config`: a setting's name across map configurations.
     pub fn setting(&self) -> String {
-        format!("{} @ {}", self.spec, self.map_config)
+        format!("{} @ {}", self.core.spec, self.map_config)
     }
 
     /// (frame ms, RMSE) as the front reads it: budget rows at an infinite time (they neither join
@@ -118,8 +107,8 @@ impl FrontierLine {
     pub fn point(&self) -> (f64, f64) {
         match (&self.failed, self.is_budget()) {
             (Some(_), _) => (f64::INFINITY, f64::INFINITY),
-            (None, true) => (f64::INFINITY, self.rmse),
-            (None, false) => (self.frame_ms, self.rmse),
+            (None, true) => (f64::INFINITY, self.core.rmse),
+            (None, false) => (self.core.frame_ms, self.core.rmse),
         }
     }
 
@@ -137,20 +126,13 @@ impl FrontierLine {
     /// A budget row's target T: its `target`, or for a line written before that column, the
     /// method's own parse of its spec.
     pub fn target(&self) -> Option<f64> {
-        self.target.or_else(|| {
-            let m = Method::parse(&self.spec, &[])
+        self.core.target.or_else(|| {
+            let m = Method::parse(&self.core.spec, &[])
                 .ok()
                 .filter(|m| kind(m) == BUDGET)?;
-            budget_target(&m)
+            row_core::target(&m)
         })
     }
-}
-
-/// A budget method's target as it was asked: the methods keep T as f32, whose shortest decimal is
-/// what was written (0.03, not the 0.029999999329447746 its widening reads).
-pub fn budget_target(m: &Method) -> Option<f64> {
-    let t = m.params_json().get("target")?.as_f64()? as f32;
-    t.to_string().parse().ok()
 }
 
 /// The kind of `auto:target=T` and `regions:target=T` rows.
@@ -222,7 +204,7 @@ pub fn mark(lines: &mut [FrontierLine]) {
             .and_then(|t| front::cheapest_reaching(&points, t))
             .map(|j| names[j].clone());
         l.beaten_by = if l.is_budget() {
-            front::cheapest_reaching(&points, l.rmse)
+            front::cheapest_reaching(&points, l.core.rmse)
                 .filter(|&j| j != i && points[j].0.is_finite())
                 .map(|j| names[j].clone())
         } else if on[i] {
@@ -405,16 +387,18 @@ fn measure_group(
             ),
         };
         let line = FrontierLine {
-            scene: scene.name.clone(),
-            spec: spec.clone(),
+            core: RowCore {
+                maps: r.timing.shadow_maps,
+                map_size: rendered_map_size(record, s.render.shadow_map_size),
+                rmse: r.judged.rmse,
+                frame_ms: r.timing.median_ms,
+                adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend).into(),
+                ..RowCore::of(&scene.name, spec, m)
+            },
             map_config: maps.label(),
             kind: kind(m),
             label: m.label(),
-            maps: r.timing.shadow_maps,
-            map_size: rendered_map_size(record, s.render.shadow_map_size),
-            rmse: r.judged.rmse,
             flip: Some(r.judged.flip_mean).filter(|f| f.is_finite()),
-            frame_ms: r.timing.median_ms,
             frame_ms_min: r.timing.min_ms,
             frame_ms_max: r.timing.max_ms,
             on_frontier: false,
@@ -424,17 +408,12 @@ fn measure_group(
             reference: reference.to_string(),
             repeats: job.repeats,
             clock: crate::record::CLOCK.to_string(),
-            adapter: format!("{} ({})", ctx.summary.name, ctx.summary.backend),
             raster: r.timing.raster.to_string(),
             oracle: None,
             budget: (m.name() == "auto" && failed.is_none()).then(|| budget::Reading::of(record)),
             paired: None,
             second_look: None,
             certify: certified.filter(|_| failed.is_none()),
-            target: Some(m)
-                .filter(|m| kind(m) == BUDGET)
-                .and_then(budget_target),
-            version: crate::version(),
             failed,
         };
         crate::progress::suspend(|| match &line.failed {
@@ -442,9 +421,9 @@ fn measure_group(
             None => log(&format!(
                 "{}: {} maps, median {:.1} ms, RMSE {:.4}",
                 line.setting(),
-                line.maps,
-                line.frame_ms,
-                line.rmse
+                line.core.maps,
+                line.core.frame_ms,
+                line.core.rmse
             )),
         });
         lines.push(line);

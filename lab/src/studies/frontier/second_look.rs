@@ -55,7 +55,7 @@ fn grid_n(spec: &str) -> Option<(u32, String)> {
 pub fn fill(groups: &mut [grid::Group], lines: &[FrontierLine]) -> Vec<grid::Group> {
     let mut out: Vec<grid::Group> = Vec::new();
     for l in lines.iter().filter(|l| l.on_frontier && l.failed.is_none()) {
-        let Some((n, pattern)) = grid_n(&l.spec) else {
+        let Some((n, pattern)) = grid_n(&l.core.spec) else {
             continue;
         };
         let Some(g) = groups.iter_mut().find(|g| g.maps.label() == l.map_config) else {
@@ -109,8 +109,8 @@ pub fn chosen(lines: &[FrontierLine]) -> Vec<(usize, &'static str)> {
         if l.on_frontier || l.is_budget() || l.failed.is_some() {
             continue;
         }
-        let Some(j) =
-            front::cheapest_reaching(&points, l.rmse).filter(|&j| j != i && lines[j].on_frontier)
+        let Some(j) = front::cheapest_reaching(&points, l.core.rmse)
+            .filter(|&j| j != i && lines[j].on_frontier)
         else {
             continue;
         };
@@ -158,7 +158,7 @@ pub fn retime(
                 .then(|| {
                     g.specs
                         .iter()
-                        .position(|s| *s == l.spec)
+                        .position(|s| *s == l.core.spec)
                         .map(|k| (gi, g.methods[k].clone()))
                 })
                 .flatten()
@@ -192,8 +192,8 @@ pub fn retime(
             let l = &mut lines[*i];
             match t {
                 Ok(t) if !t.is_empty() => {
-                    let first = [l.frame_ms, l.frame_ms_min, l.frame_ms_max];
-                    l.frame_ms = median(&t);
+                    let first = [l.core.frame_ms, l.frame_ms_min, l.frame_ms_max];
+                    l.core.frame_ms = median(&t);
                     l.frame_ms_min = t.iter().copied().fold(f64::INFINITY, f64::min);
                     l.frame_ms_max = t.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                     let look = l.second_look.get_or_insert_with(Look::default);
@@ -202,7 +202,7 @@ pub fn retime(
                     log(&format!(
                         "second look: {}: {:.1} ms (first {:.1})",
                         l.setting(),
-                        l.frame_ms,
+                        l.core.frame_ms,
                         first[0]
                     ));
                 }
@@ -314,14 +314,14 @@ pub fn table(lines: &[FrontierLine]) -> String {
     let yes = |b: bool| if b { "yes" } else { "no" };
     for (l, k) in &shown {
         let (first, again) = match k.first_ms {
-            Some(f) => (format!("{:.1}", f[0]), format!("{:.1}", l.frame_ms)),
-            None => (format!("{:.1}", l.frame_ms), "-".to_string()),
+            Some(f) => (format!("{:.1}", f[0]), format!("{:.1}", l.core.frame_ms)),
+            None => (format!("{:.1}", l.core.frame_ms), "-".to_string()),
         };
         s += &format!(
             "| {} | {} | {:.5} | {first} | {again} | {} → {} |\n",
             l.setting(),
             k.retimed_as.as_deref().unwrap_or("not timed again"),
-            l.rmse,
+            l.core.rmse,
             yes(k.was_on),
             yes(l.on_frontier)
         );
@@ -410,13 +410,13 @@ mod tests {
             lines
                 .iter()
                 .filter(|l| l.on_frontier)
-                .map(|l| l.spec.as_str())
+                .map(|l| l.core.spec.as_str())
                 .collect::<Vec<_>>(),
             ["a", "c"]
         );
         let picked: Vec<(&str, &str)> = chosen(&lines)
             .into_iter()
-            .map(|(i, w)| (lines[i].spec.as_str(), w))
+            .map(|(i, w)| (lines[i].core.spec.as_str(), w))
             .collect();
         assert_eq!(
             picked,

@@ -3,6 +3,7 @@
 
 use super::charts::{error_memory_svg, MemoryPoint};
 use super::HybridRow;
+use crate::record::row_core::CSV_HEADER;
 use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
@@ -30,7 +31,7 @@ pub fn files(rows: &[HybridRow]) -> Result<Vec<(String, Vec<u8>)>> {
             } else {
                 format!("hybrid, {} level(s)", r.levels)
             },
-            label: r.maps.clone(),
+            label: r.map_config.clone(),
             bytes_per_map: r.bytes_per_map,
             mismatch_share: r.mismatch_share,
         })
@@ -60,17 +61,52 @@ pub fn files(rows: &[HybridRow]) -> Result<Vec<(String, Vec<u8>)>> {
 }
 
 fn csv(rows: &[HybridRow]) -> String {
-    let mut s = String::from(
-        "scene,part,method,maps,kind,size,levels,bytes_per_map,share_of_plain,reference,mismatch_share,rmse,shadow_maps,syncs,total_ms,total_ms_min,total_ms_max,raster_ms,build_ms,lookup_ms,resolution,adapter\n",
-    );
-    for r in rows {
-        s += &format!(
-            "{},{},\"{}\",{},{},{},{},{:.0},{:.6},\"{}\",{:.6},{:.6},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},\"{}\"\n",
-            r.scene, r.part, r.method, r.maps, r.kind, r.size, r.levels, r.bytes_per_map, r.share_of_plain, r.reference, r.mismatch_share, r.rmse,
-            r.shadow_maps, r.syncs, r.total_ms, r.total_ms_min, r.total_ms_max, r.raster_ms, r.build_ms, r.lookup_ms, r.resolution, r.adapter
-        );
-    }
-    s
+    let own = [
+        "part",
+        "label",
+        "map_config",
+        "kind",
+        "levels",
+        "bytes_per_map",
+        "share_of_plain",
+        "reference",
+        "mismatch_share",
+        "syncs",
+        "frame_ms_min",
+        "frame_ms_max",
+        "raster_ms",
+        "build_ms",
+        "lookup_ms",
+        "resolution",
+    ];
+    let header: Vec<String> = CSV_HEADER
+        .iter()
+        .chain(&own)
+        .map(|s| s.to_string())
+        .collect();
+    let cells = rows.iter().map(|r| {
+        let mut c = r.core.cells();
+        c.extend([
+            r.part.clone(),
+            r.label.clone(),
+            r.map_config.clone(),
+            r.kind.clone(),
+            r.levels.to_string(),
+            format!("{:.0}", r.bytes_per_map),
+            format!("{:.6}", r.share_of_plain),
+            r.reference.clone(),
+            format!("{:.6}", r.mismatch_share),
+            r.syncs.to_string(),
+            format!("{:.3}", r.frame_ms_min),
+            format!("{:.3}", r.frame_ms_max),
+            format!("{:.3}", r.raster_ms),
+            format!("{:.3}", r.build_ms),
+            format!("{:.3}", r.lookup_ms),
+            r.resolution.to_string(),
+        ]);
+        c
+    });
+    crate::record::csv::lines(std::iter::once(header).chain(cells))
 }
 
 fn mib(bytes: f64) -> String {
@@ -86,16 +122,16 @@ pub fn markdown(rows: &[HybridRow]) -> String {
         s += &format!(
             "\n## Hard shadows on {} ({}², reference: {}; times: {} on {})\n\n\
              | maps | MiB per map | of plain at its raster size | mismatched pixels | median ms | raster ms | build ms | lookup ms |\n|---|---:|---:|---:|---:|---:|---:|---:|\n",
-            first.scene, first.resolution, first.reference, first.clock, first.adapter
+            first.core.scene, first.resolution, first.reference, first.clock, first.core.adapter.as_str().unwrap_or_default()
         );
         for r in &hard {
             s += &format!(
                 "| {} | {} | {:.1}% | {:.3}% | {:.1} | {:.1} | {:.1} | {:.1} |\n",
-                r.maps,
+                r.map_config,
                 mib(r.bytes_per_map),
                 100.0 * r.share_of_plain,
                 100.0 * r.mismatch_share,
-                r.total_ms,
+                r.core.frame_ms,
                 r.raster_ms,
                 r.build_ms,
                 r.lookup_ms
@@ -106,7 +142,7 @@ pub fn markdown(rows: &[HybridRow]) -> String {
             .filter(|r| r.kind == "hybrid")
             .filter_map(|h| {
                 hard.iter()
-                    .find(|p| p.kind == "plain" && p.size == h.size)
+                    .find(|p| p.kind == "plain" && p.core.map_size == h.core.map_size)
                     .map(|p| (h, p))
             })
             .collect();
@@ -116,9 +152,9 @@ pub fn markdown(rows: &[HybridRow]) -> String {
             for (h, p) in pairs {
                 s += &format!(
                     "| {} | {} | {:+.1}% | {:+.1}% | {:.1}% |\n",
-                    h.maps,
-                    p.maps,
-                    100.0 * (h.total_ms / p.total_ms - 1.0),
+                    h.map_config,
+                    p.map_config,
+                    100.0 * (h.core.frame_ms / p.core.frame_ms - 1.0),
                     100.0 * ((h.raster_ms + h.lookup_ms) / (p.raster_ms + p.lookup_ms) - 1.0),
                     100.0 * h.build_ms / (h.raster_ms + h.build_ms + h.lookup_ms).max(1e-9)
                 );
@@ -130,7 +166,7 @@ pub fn markdown(rows: &[HybridRow]) -> String {
         s += &format!(
             "\n## Multi-map methods on {} ({}², reference: {})\n\n\
              | method | maps | MiB per map | RMSE | median ms | raster ms | build ms | lookup ms | store peak MiB | flushes |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-            first.scene, first.resolution, first.reference
+            first.core.scene, first.resolution, first.reference
         );
         for r in &multi {
             let peak = r.store["store_peak_bytes"]
@@ -141,11 +177,11 @@ pub fn markdown(rows: &[HybridRow]) -> String {
                 .map_or("-".to_string(), |f| f.to_string());
             s += &format!(
                 "| {} | {} | {} | {:.5} | {:.0} | {:.0} | {:.0} | {:.0} | {} | {} |\n",
-                r.method,
-                r.maps,
+                r.label,
+                r.map_config,
                 mib(r.bytes_per_map),
-                r.rmse,
-                r.total_ms,
+                r.core.rmse,
+                r.core.frame_ms,
                 r.raster_ms,
                 r.build_ms,
                 r.lookup_ms,

@@ -20,6 +20,7 @@ use crate::methods::Method;
 use crate::metrics::Metrics;
 use crate::record::judge::Judge;
 use crate::record::measure::median;
+use crate::record::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::{MapKind, Scene};
@@ -107,28 +108,28 @@ pub struct HybridJob {
 /// One method with one map representation.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct HybridRow {
-    pub scene: String,
+    /// Scene, the label as spec, method, params, maps, map size (the raster's side, the base of
+    /// a hybrid map), RMSE, median frame time, adapter (by name), build.
+    #[serde(flatten)]
+    pub core: RowCore,
     /// `hard` (point reference) or `multi` (continuous reference).
     pub part: String,
-    pub method: String,
-    pub maps: String,
+    /// The method's label (`regular:n=5`).
+    pub label: String,
+    /// The map representation (`plain 512`, `hybrid 2048→512`).
+    pub map_config: String,
     pub kind: String,
-    /// Raster resolution per side (the base of a hybrid map).
-    pub size: u32,
     pub levels: u32,
     pub bytes_per_map: f64,
     /// `bytes_per_map` over a plain map of the raster's size.
     pub share_of_plain: f64,
     pub reference: String,
     pub mismatch_share: f64,
-    pub rmse: f64,
     pub metrics: Metrics,
-    pub shadow_maps: u32,
     pub syncs: u32,
-    /// Frame wall clock: median, min, max over the timed frames.
-    pub total_ms: f64,
-    pub total_ms_min: f64,
-    pub total_ms_max: f64,
+    /// Frame wall clock: min and max over the timed frames (the median is `frame_ms`).
+    pub frame_ms_min: f64,
+    pub frame_ms_max: f64,
     /// From the stages-mode frame: `shadow_raster`, `hybrid_build` and the lookup stages.
     pub raster_ms: f64,
     pub build_ms: f64,
@@ -137,7 +138,6 @@ pub struct HybridRow {
     /// Hybrid only: the method record's `hybrid` entry (store, transient raster, flushes).
     pub store: serde_json::Value,
     pub resolution: u32,
-    pub adapter: String,
     pub clock: String,
 }
 
@@ -242,24 +242,27 @@ fn row(
         m.totals.clone()
     };
     Ok(HybridRow {
-        scene: scene.name.clone(),
+        core: RowCore {
+            maps: f.output.shadow_maps,
+            map_size: size,
+            rmse: judged.metrics.rmse,
+            frame_ms: median(&totals),
+            adapter: ctx.summary.name.clone().into(),
+            ..RowCore::of(&scene.name, &method.label(), method)
+        },
         part: part.into(),
-        method: method.label(),
-        maps: maps.label(),
+        label: method.label(),
+        map_config: maps.label(),
         kind: kind.into(),
-        size,
         levels,
         bytes_per_map: bytes,
         share_of_plain: bytes / plain,
         reference: reference.into(),
         mismatch_share: judged.metrics.mismatch_share,
-        rmse: judged.metrics.rmse,
         metrics: judged.metrics,
-        shadow_maps: f.output.shadow_maps,
         syncs: f.output.syncs,
-        total_ms: median(&totals),
-        total_ms_min: totals.iter().copied().fold(f64::INFINITY, f64::min),
-        total_ms_max: totals.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        frame_ms_min: totals.iter().copied().fold(f64::INFINITY, f64::min),
+        frame_ms_max: totals.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         // Whichever raster drew the maps (`raster = auto` may pick either); the other reads 0.
         raster_ms: stage(Stage::SHADOW_RASTER.name) + stage(Stage::RASTER_COMPUTE.name),
         build_ms: stage(Stage::HYBRID_BUILD.name),
@@ -276,7 +279,6 @@ fn row(
             .collect(),
         store,
         resolution: scene.render.width,
-        adapter: ctx.summary.name.clone(),
         clock: "wall clock (submit to wait)".into(),
     })
 }
@@ -308,10 +310,10 @@ pub fn run(ctx: &GpuContext, job: &HybridJob, log: &dyn Fn(&str)) -> Result<Hybr
             let r = row(ctx, "hard", scene, &hard, *maps, m, &judge, &label)?;
             log(&format!(
                 "  {}: {:.3} MiB per map, {:.3}% mismatched, median {:.1} ms (raster {:.1}, build {:.1}, lookup {:.1})",
-                r.maps,
+                r.map_config,
                 r.bytes_per_map / 1048576.0,
                 100.0 * r.mismatch_share,
-                r.total_ms,
+                r.core.frame_ms,
                 r.raster_ms,
                 r.build_ms,
                 r.lookup_ms
@@ -354,11 +356,11 @@ pub fn run(ctx: &GpuContext, job: &HybridJob, log: &dyn Fn(&str)) -> Result<Hybr
             sizes.dedup();
             log(&format!(
                 "  {}: {:.3} MiB per map (plain {} has the same), RMSE {:.5}, median {:.0} ms",
-                h.maps,
+                h.map_config,
                 h.bytes_per_map / 1048576.0,
                 equal_memory_size(h.bytes_per_map),
-                h.rmse,
-                h.total_ms
+                h.core.rmse,
+                h.core.frame_ms
             ));
             rows.push(h);
             for size in sizes {
@@ -375,7 +377,7 @@ pub fn run(ctx: &GpuContext, job: &HybridJob, log: &dyn Fn(&str)) -> Result<Hybr
                 let r = row(ctx, "multi", &scene, method, maps, &m[0], &judge, &label)?;
                 log(&format!(
                     "  {}: RMSE {:.5}, median {:.0} ms",
-                    r.maps, r.rmse, r.total_ms
+                    r.map_config, r.core.rmse, r.core.frame_ms
                 ));
                 rows.push(r);
             }

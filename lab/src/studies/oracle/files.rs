@@ -116,15 +116,15 @@ pub fn candidates_csv(lines_in: &[CandidateLine]) -> String {
     let mut records = vec![head];
     for l in lines_in {
         let mut r = vec![
-            l.scene.clone(),
+            l.core.scene.clone(),
             l.resolution.to_string(),
             l.name.clone(),
-            l.spec.clone(),
+            l.core.spec.clone(),
             l.map_config.clone(),
             l.kind.name().to_string(),
-            l.maps.to_string(),
-            format!("{:.5}", l.rmse),
-            format!("{:.2}", l.frame_ms),
+            l.core.maps.to_string(),
+            format!("{:.5}", l.core.rmse),
+            format!("{:.2}", l.core.frame_ms),
             format!("{:.2}", l.frame_ms_min),
             format!("{:.2}", l.frame_ms_max),
             format!("{:.3}", l.price.fixed_ms),

@@ -17,9 +17,11 @@ pub mod tiles;
 use crate::gpu::GpuContext;
 use crate::record::judge::Judge;
 use crate::record::measure;
+use crate::record::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::Scene;
+use crate::studies::hybrid::Maps;
 use crate::Result;
 use family::{Candidate, Kind, Price};
 use serde::Serialize;
@@ -39,17 +41,16 @@ pub struct OracleJob {
 /// One candidate as measured on one scene and screen: `candidates.csv`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CandidateLine {
-    pub scene: String,
+    /// Scene, spec, method, params, maps, map size (the base of hybrid maps), RMSE, median frame
+    /// time, adapter, build.
+    #[serde(flatten)]
+    pub core: RowCore,
     pub resolution: u32,
     /// Short name (`n=4@512`, `pcss@1024`, `n=4@h2048→512`, `balanced@512`).
     pub name: String,
-    pub spec: String,
     pub map_config: String,
     pub kind: Kind,
-    pub maps: u32,
-    pub rmse: f64,
-    /// Median, fastest and slowest timed frame, wall clock.
-    pub frame_ms: f64,
+    /// Fastest and slowest timed frame, wall clock.
     pub frame_ms_min: f64,
     pub frame_ms_max: f64,
     /// Its price: the stages-mode frame's split scaled to the median.
@@ -277,8 +278,10 @@ fn measure_scene(
             &mut on_frame,
             &mut judge_frame,
         )?;
+        let adapter =
+            serde_json::Value::from(format!("{} ({})", ctx.summary.name, ctx.summary.backend));
         for (c, r) in group.candidates.iter().zip(measured) {
-            let m = measured_line(scene, c, r);
+            let m = measured_line(scene, c, &adapter, r);
             crate::progress::suspend(|| match &m.line.failed {
                 Some(why) => log(&crate::record::failed_line(&m.line.name, why)),
                 None => log(&format!(
@@ -286,9 +289,9 @@ fn measure_scene(
                     scene.name,
                     scene.render.width,
                     m.line.name,
-                    m.line.maps,
-                    m.line.frame_ms,
-                    m.line.rmse
+                    m.line.core.maps,
+                    m.line.core.frame_ms,
+                    m.line.core.rmse
                 )),
             });
             out.push(m);
@@ -298,17 +301,28 @@ fn measure_scene(
     Ok((out, tiles, judge))
 }
 
-fn measured_line(scene: &Scene, c: &Candidate, r: measure::Outcome<(f64, Vec<f64>)>) -> Measured {
+fn measured_line(
+    scene: &Scene,
+    c: &Candidate,
+    adapter: &serde_json::Value,
+    r: measure::Outcome<(f64, Vec<f64>)>,
+) -> Measured {
+    let map_size = match c.maps {
+        Maps::Plain(size) => size,
+        Maps::Hybrid { base, .. } => base,
+    };
     let mut line = CandidateLine {
-        scene: scene.name.clone(),
+        core: RowCore {
+            map_size,
+            rmse: f64::NAN,
+            frame_ms: f64::NAN,
+            adapter: adapter.clone(),
+            ..RowCore::of(&scene.name, &c.spec, &c.method)
+        },
         resolution: scene.render.width,
         name: c.name(),
-        spec: c.spec.clone(),
         map_config: c.maps.label(),
         kind: c.kind,
-        maps: 0,
-        rmse: f64::NAN,
-        frame_ms: f64::NAN,
         frame_ms_min: f64::NAN,
         frame_ms_max: f64::NAN,
         price: Price::default(),
@@ -319,9 +333,9 @@ fn measured_line(scene: &Scene, c: &Candidate, r: measure::Outcome<(f64, Vec<f64
         Ok(m) => {
             let t = &m.timing;
             (
-                line.maps,
-                line.rmse,
-                line.frame_ms,
+                line.core.maps,
+                line.core.rmse,
+                line.core.frame_ms,
                 line.frame_ms_min,
                 line.frame_ms_max,
             ) = (t.shadow_maps, m.judged.0, t.median_ms, t.min_ms, t.max_ms);
@@ -356,7 +370,7 @@ fn oracle_row(
     let model = |m: &Measured| fixed + m.line.price.maps_ms + m.line.price.tests_ms;
     let single = cands
         .iter()
-        .filter(|m| m.line.rmse <= target)
+        .filter(|m| m.line.core.rmse <= target)
         .min_by(|a, b| model(a).total_cmp(&model(b)));
     // The tiles that pay: geometry, not uniformly lit or dark.
     let paying: Vec<usize> = (0..tiles.px.len())
@@ -391,9 +405,9 @@ fn oracle_row(
         menu: menu.to_string(),
         candidates: nk,
         single: single.map(|m| m.line.name.clone()),
-        single_rmse: single.map(|m| m.line.rmse),
+        single_rmse: single.map(|m| m.line.core.rmse),
         single_model_ms: single.map(|m| model(m)),
-        single_measured_ms: single.map(|m| m.line.frame_ms),
+        single_measured_ms: single.map(|m| m.line.core.frame_ms),
         oracle_ms: None,
         oracle_rmse: None,
         bound_ms: None,

@@ -9,6 +9,7 @@ use crate::frame;
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
+use crate::record::row_core::{RowCore, CSV_HEADER};
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::render::gbuffer::GBufferCpu;
@@ -31,9 +32,12 @@ pub struct SeamsJob {
 /// One method at one map size: error inside the band and outside it (geometry pixels only).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct SeamRow {
-    pub scene: String,
-    pub method: String,
-    pub map_size: u32,
+    /// Scene, the method's label as spec, method, params, maps, map size, RMSE over all geometry
+    /// pixels, the frame's wall clock, adapter, build.
+    #[serde(flatten)]
+    pub core: RowCore,
+    /// The method's label (`regular:n=5`).
+    pub label: String,
     pub band_texels: f32,
     pub band_pixels: usize,
     pub outside_pixels: usize,
@@ -47,7 +51,6 @@ pub struct SeamRow {
     pub band_penumbra_rmse: f64,
     pub outside_penumbra_pixels: usize,
     pub outside_penumbra_rmse: f64,
-    pub frame_ms: f64,
 }
 
 /// Texels of a `map_size` cube face from direction `d` to its face's nearest edge: the face's
@@ -83,6 +86,8 @@ pub fn run(ctx: &GpuContext, job: &SeamsJob, log: &dyn Fn(&str)) -> Result<Seams
     let mut rows = Vec::new();
     let mut files = Vec::new();
     let mut reference: Option<Vec<f32>> = None;
+    let adapter =
+        serde_json::Value::from(format!("{} ({})", ctx.summary.name, ctx.summary.backend));
     for &size in &job.map_sizes {
         let mut sets = job.sets.clone();
         sets.push(("shadow_map_size".into(), size.to_string()));
@@ -100,18 +105,15 @@ pub fn run(ctx: &GpuContext, job: &SeamsJob, log: &dyn Fn(&str)) -> Result<Seams
                     .insert(truth::compute(&scene, &r.gbuffer, job.reference, &job.cache)?.values),
             };
             let band = band_mask(&r.gbuffer, point.position, size, job.band);
-            let row = errors(
-                &scene.name,
-                method,
-                size,
-                job.band,
-                &r.gbuffer,
-                &band,
-                &r.visibility,
-                values,
-                r.total_ms,
-            );
-            log(&format!("{} at {size}²: band {} px RMSE {:.4} MAE {:.4}; outside {} px RMSE {:.4} MAE {:.4}", row.method, row.band_pixels, row.band_rmse, row.band_mae, row.outside_pixels, row.outside_rmse, row.outside_mae));
+            let core = RowCore {
+                maps: r.output.shadow_maps,
+                map_size: size,
+                frame_ms: r.total_ms,
+                adapter: adapter.clone(),
+                ..RowCore::of(&scene.name, &method.label(), method)
+            };
+            let row = errors(core, job.band, &r.gbuffer, &band, &r.visibility, values);
+            log(&format!("{} at {size}²: band {} px RMSE {:.4} MAE {:.4}; outside {} px RMSE {:.4} MAE {:.4}", row.label, row.band_pixels, row.band_rmse, row.band_mae, row.outside_pixels, row.outside_rmse, row.outside_mae));
             rows.push(row);
             if method == &job.methods[0] {
                 files.push((
@@ -133,17 +135,15 @@ pub fn run(ctx: &GpuContext, job: &SeamsJob, log: &dyn Fn(&str)) -> Result<Seams
     Ok(SeamsOutcome { rows, files })
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The row of one frame: `core` with its RMSE over every geometry pixel, and the errors inside
+/// the band and outside it.
 fn errors(
-    scene: &str,
-    method: &Method,
-    map_size: u32,
+    core: RowCore,
     band_texels: f32,
     g: &GBufferCpu,
     band: &[bool],
     v: &[f32],
     reference: &[f32],
-    frame_ms: f64,
 ) -> SeamRow {
     // (squared error, absolute error, pixels) inside the band and outside it.
     // Then the same over the penumbra pixels.
@@ -161,10 +161,13 @@ fn errors(
     }
     let rmse = |s: (f64, f64, usize)| (s.0 / s.2.max(1) as f64).sqrt();
     let mae = |s: (f64, f64, usize)| s.1 / s.2.max(1) as f64;
+    let whole = (sums[0].0 + sums[1].0, 0.0, sums[0].2 + sums[1].2);
     SeamRow {
-        scene: scene.to_string(),
-        method: method.label(),
-        map_size,
+        label: core.spec.clone(),
+        core: RowCore {
+            rmse: rmse(whole),
+            ..core
+        },
         band_texels,
         band_pixels: sums[0].2,
         outside_pixels: sums[1].2,
@@ -176,7 +179,6 @@ fn errors(
         band_penumbra_rmse: rmse(sums[2]),
         outside_penumbra_pixels: sums[3].2,
         outside_penumbra_rmse: rmse(sums[3]),
-        frame_ms,
     }
 }
 
@@ -196,28 +198,44 @@ fn band_picture(g: &GBufferCpu, band: &[bool]) -> image::RgbImage {
 }
 
 pub fn csv(rows: &[SeamRow]) -> String {
-    let mut out = String::from("scene,method,map_size,band_texels,band_pixels,outside_pixels,band_rmse,band_mae,outside_rmse,outside_mae,band_penumbra_pixels,band_penumbra_rmse,outside_penumbra_pixels,outside_penumbra_rmse,frame_ms\n");
-    for r in rows {
-        out += &format!(
-            "{},\"{}\",{},{},{},{},{:.6},{:.6},{:.6},{:.6},{},{:.6},{},{:.6},{:.2}\n",
-            r.scene,
-            r.method,
-            r.map_size,
-            r.band_texels,
-            r.band_pixels,
-            r.outside_pixels,
-            r.band_rmse,
-            r.band_mae,
-            r.outside_rmse,
-            r.outside_mae,
-            r.band_penumbra_pixels,
-            r.band_penumbra_rmse,
-            r.outside_penumbra_pixels,
-            r.outside_penumbra_rmse,
-            r.frame_ms
-        );
-    }
-    out
+    let own = [
+        "label",
+        "band_texels",
+        "band_pixels",
+        "outside_pixels",
+        "band_rmse",
+        "band_mae",
+        "outside_rmse",
+        "outside_mae",
+        "band_penumbra_pixels",
+        "band_penumbra_rmse",
+        "outside_penumbra_pixels",
+        "outside_penumbra_rmse",
+    ];
+    let header: Vec<String> = CSV_HEADER
+        .iter()
+        .chain(&own)
+        .map(|s| s.to_string())
+        .collect();
+    let cells = rows.iter().map(|r| {
+        let mut c = r.core.cells();
+        c.extend([
+            r.label.clone(),
+            r.band_texels.to_string(),
+            r.band_pixels.to_string(),
+            r.outside_pixels.to_string(),
+            format!("{:.6}", r.band_rmse),
+            format!("{:.6}", r.band_mae),
+            format!("{:.6}", r.outside_rmse),
+            format!("{:.6}", r.outside_mae),
+            r.band_penumbra_pixels.to_string(),
+            format!("{:.6}", r.band_penumbra_rmse),
+            r.outside_penumbra_pixels.to_string(),
+            format!("{:.6}", r.outside_penumbra_rmse),
+        ]);
+        c
+    });
+    crate::record::csv::lines(std::iter::once(header).chain(cells))
 }
 
 pub fn markdown(rows: &[SeamRow]) -> String {
@@ -227,8 +245,8 @@ pub fn markdown(rows: &[SeamRow]) -> String {
     for r in rows {
         out += &format!(
             "| `{}` | {}² | {} | {:.4} | {:.4} | {} | {:.4} | {:.4} | {} | {:.4} | {} | {:.4} |\n",
-            r.method,
-            r.map_size,
+            r.label,
+            r.core.map_size,
             r.band_pixels,
             r.band_rmse,
             r.band_mae,

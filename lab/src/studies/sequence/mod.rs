@@ -19,6 +19,7 @@ use crate::methods::Method;
 use crate::metrics::{self, abs_error_image, Metrics};
 use crate::record::measure::median;
 use crate::record::run_files;
+use crate::record::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::render::kept_maps::ReuseCounts;
@@ -86,14 +87,12 @@ impl Reuse {
 /// One method in one frame: a line of `frames.jsonl`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FrameRow {
-    pub scene: String,
+    /// Scene, the label as spec, method, params, maps, map size, RMSE, the wall clock of this one
+    /// frame in frame mode (no repeats, pipelines built before the clock), adapter, build.
+    #[serde(flatten)]
+    pub core: RowCore,
     pub label: String,
-    pub method: String,
-    pub params: serde_json::Value,
     pub frame: u32,
-    pub shadow_maps: u32,
-    /// Wall clock of this one frame in frame mode (no repeats, pipelines built before the clock).
-    pub total_ms: f64,
     pub metrics: Metrics,
     /// Against the frame before; `None` in frame 0.
     pub temporal: Option<FramePair>,
@@ -104,7 +103,7 @@ pub struct FrameRow {
     pub reuse: bool,
     /// Maps rendered, kept and partly drawn again this frame, and the texels rasterized.
     #[serde(default)]
-    pub maps: ReuseCounts,
+    pub reuse_counts: ReuseCounts,
     /// `--reuse both`, a reuse run's frame: V equal bit for bit to the same frame without reuse.
     #[serde(default)]
     pub v_equal_without_reuse: Option<bool>,
@@ -228,6 +227,8 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
         })
         .collect();
     let n = runs.len();
+    let adapter =
+        serde_json::Value::from(format!("{} ({})", ctx.summary.name, ctx.summary.backend));
     let mut rows: Vec<FrameRow> = Vec::new();
     let mut method_frames: Vec<Vec<image::RgbImage>> = vec![Vec::new(); n];
     let mut reference_frames = Vec::new();
@@ -324,19 +325,22 @@ pub fn run(ctx: &GpuContext, job: &SequenceJob, log: &dyn Fn(&str)) -> Result<Se
                 line += " V DIFFERS from the frame without reuse";
             }
             rows.push(FrameRow {
-                scene: scene.name.clone(),
+                core: RowCore {
+                    maps: f.output.shadow_maps,
+                    map_size: scene_t.render.shadow_map_size,
+                    rmse: m.rmse,
+                    frame_ms: f.total_ms,
+                    adapter: adapter.clone(),
+                    ..RowCore::of(&scene.name, &method.label(), method)
+                },
                 label: label.clone(),
-                method: method.name().to_string(),
-                params: method.params_json(),
                 frame: i,
-                shadow_maps: f.output.shadow_maps,
-                total_ms: f.total_ms,
                 metrics: m,
                 temporal: pair,
                 light_center: scene_t.light.center.to_array(),
                 camera_eye: scene_t.camera.eye.to_array(),
                 reuse: *reuse,
-                maps: f.reuse,
+                reuse_counts: f.reuse,
                 v_equal_without_reuse: equal,
                 kept_bytes,
                 stages_ms,
@@ -406,7 +410,7 @@ pub fn time_ratios(summaries: &mut [MethodSummary], rows: &[FrameRow]) {
             let ms = |label: &str, frame: u32| {
                 rows.iter()
                     .find(|r| r.label == label && r.frame == frame)
-                    .map(|r| r.total_ms)
+                    .map(|r| r.core.frame_ms)
             };
             let ratios: Vec<f64> = rows
                 .iter()
@@ -414,7 +418,7 @@ pub fn time_ratios(summaries: &mut [MethodSummary], rows: &[FrameRow]) {
                 .filter_map(|r| {
                     ms(&off.label, r.frame)
                         .filter(|&o| o > 0.0)
-                        .map(|o| r.total_ms / o)
+                        .map(|o| r.core.frame_ms / o)
                 })
                 .collect();
             on.time_ratio_to_without_reuse = (!ratios.is_empty()).then(|| median(&ratios));
@@ -427,7 +431,7 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
     let mine: Vec<&FrameRow> = rows.iter().filter(|r| r.label == label).collect();
     let count = mine.len().max(1) as f64;
     let pairs: Vec<FramePair> = mine.iter().filter_map(|r| r.temporal).collect();
-    let times: Vec<f64> = mine.iter().map(|r| r.total_ms).collect();
+    let times: Vec<f64> = mine.iter().map(|r| r.core.frame_ms).collect();
     let worst = mine
         .iter()
         .filter_map(|r| r.temporal.map(|t| (r.frame, t.popping_pixels)))
@@ -441,7 +445,7 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         }
     };
     let (texels, used) = later.iter().fold((0u64, 0u64), |(a, b), r| {
-        (a + r.maps.texels, b + r.maps.texels_used)
+        (a + r.reuse_counts.texels, b + r.reuse_counts.texels_used)
     });
     let compared: Vec<bool> = mine
         .iter()
@@ -454,9 +458,9 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         mean_rmse: mine.iter().map(|r| r.metrics.rmse).sum::<f64>() / count,
         mean_bad_pixel_share: mine.iter().map(|r| r.metrics.bad_pixel_share).sum::<f64>() / count,
         temporal: temporal::sequence(&pairs),
-        maps_mean: mine.iter().map(|r| f64::from(r.shadow_maps)).sum::<f64>() / count,
-        maps_min: mine.iter().map(|r| r.shadow_maps).min().unwrap_or(0),
-        maps_max: mine.iter().map(|r| r.shadow_maps).max().unwrap_or(0),
+        maps_mean: mine.iter().map(|r| f64::from(r.core.maps)).sum::<f64>() / count,
+        maps_min: mine.iter().map(|r| r.core.maps).min().unwrap_or(0),
+        maps_max: mine.iter().map(|r| r.core.maps).max().unwrap_or(0),
         median_ms: if times.is_empty() {
             0.0
         } else {
@@ -464,14 +468,14 @@ pub fn summarise(label: &str, method: &str, rows: &[FrameRow]) -> MethodSummary 
         },
         worst_pop_frame: worst,
         reuse: mine.first().is_some_and(|r| r.reuse),
-        mean_ms_after_first: mean_later(&|r| r.total_ms),
+        mean_ms_after_first: mean_later(&|r| r.core.frame_ms),
         median_ms_after_first: if later.is_empty() {
             0.0
         } else {
-            median(&later.iter().map(|r| r.total_ms).collect::<Vec<_>>())
+            median(&later.iter().map(|r| r.core.frame_ms).collect::<Vec<_>>())
         },
-        rendered_mean_after_first: mean_later(&|r| f64::from(r.maps.rendered)),
-        kept_mean_after_first: mean_later(&|r| f64::from(r.maps.kept)),
+        rendered_mean_after_first: mean_later(&|r| f64::from(r.reuse_counts.rendered)),
+        kept_mean_after_first: mean_later(&|r| f64::from(r.reuse_counts.kept)),
         texel_share_after_first: if used == 0 {
             0.0
         } else {
@@ -543,19 +547,19 @@ fn charts_of(rows: &[FrameRow], labels: &[String]) -> Result<Vec<(String, String
         charts::per_frame_svg(
             "Frame time per frame",
             "frame time (ms)",
-            &series(rows, labels, all, |r| Some(r.total_ms)),
+            &series(rows, labels, all, |r| Some(r.core.frame_ms)),
         )?,
     ));
     out.push((
         "maps_rendered_per_frame".to_string(),
         "Shadow maps rasterized whole per frame (the rest were kept, or partly drawn again where a mesh moved; docs/reuse.md)".to_string(),
-        charts::per_frame_svg("Shadow maps rendered per frame", "maps rendered", &series(rows, labels, all, |r| Some(f64::from(r.maps.rendered))))?,
+        charts::per_frame_svg("Shadow maps rendered per frame", "maps rendered", &series(rows, labels, all, |r| Some(f64::from(r.reuse_counts.rendered))))?,
     ));
     let adaptive = series(
         rows,
         labels,
-        |r| r.method == "adaptive",
-        |r| Some(f64::from(r.shadow_maps)),
+        |r| r.core.method == "adaptive",
+        |r| Some(f64::from(r.core.maps)),
     );
     if !adaptive.is_empty() {
         out.push((
@@ -650,19 +654,21 @@ mod tests {
         equal: Option<bool>,
     ) -> FrameRow {
         FrameRow {
-            scene: "s".into(),
+            core: RowCore {
+                scene: "s".into(),
+                method: "regular".into(),
+                maps: rendered + kept,
+                frame_ms: ms,
+                ..Default::default()
+            },
             label: label.into(),
-            method: "regular".into(),
-            params: serde_json::json!({}),
             frame,
-            shadow_maps: rendered + kept,
-            total_ms: ms,
             metrics: Metrics::default(),
             temporal: None,
             light_center: [0.0; 3],
             camera_eye: [0.0; 3],
             reuse,
-            maps: ReuseCounts {
+            reuse_counts: ReuseCounts {
                 rendered,
                 kept,
                 redrawn: 0,

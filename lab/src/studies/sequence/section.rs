@@ -45,18 +45,19 @@ pub fn pop_sentences(summaries: &[MethodSummary], pixels_per_frame: u64) -> Vec<
 pub fn decision_sentence(label: &str, rows: &[FrameRow]) -> Option<String> {
     let mine: Vec<&FrameRow> = rows.iter().filter(|r| r.label == label).collect();
     let (a, b) = mine.windows(2).map(|w| (w[0], w[1])).max_by(|x, y| {
-        x.0.shadow_maps
-            .abs_diff(x.1.shadow_maps)
-            .cmp(&y.0.shadow_maps.abs_diff(y.1.shadow_maps))
+        x.0.core
+            .maps
+            .abs_diff(x.1.core.maps)
+            .cmp(&y.0.core.maps.abs_diff(y.1.core.maps))
             .then(y.1.frame.cmp(&x.1.frame))
     })?;
-    if a.shadow_maps == b.shadow_maps {
+    if a.core.maps == b.core.maps {
         return None;
     }
     let pops = b.temporal.map_or(0, |t| t.popping_pixels);
     Some(format!(
         "{label}'s decision changes most between frames {} and {}: {} → {} shadow maps, and {pops} pixels pop in frame {}.",
-        a.frame, b.frame, a.shadow_maps, b.shadow_maps, b.frame
+        a.frame, b.frame, a.core.maps, b.core.maps, b.frame
     ))
 }
 
@@ -148,13 +149,15 @@ mod tests {
 
     fn row(label: &str, frame: u32, maps: u32, pops: u64) -> FrameRow {
         FrameRow {
-            scene: "s".into(),
+            core: crate::record::RowCore {
+                scene: "s".into(),
+                method: "adaptive".into(),
+                maps,
+                frame_ms: 1.0,
+                ..Default::default()
+            },
             label: label.into(),
-            method: "adaptive".into(),
-            params: serde_json::json!({}),
             frame,
-            shadow_maps: maps,
-            total_ms: 1.0,
             metrics: Metrics::default(),
             temporal: (frame > 0).then_some(FramePair {
                 popping_pixels: pops,
@@ -164,7 +167,7 @@ mod tests {
             light_center: [0.0; 3],
             camera_eye: [0.0; 3],
             reuse: false,
-            maps: Default::default(),
+            reuse_counts: Default::default(),
             v_equal_without_reuse: None,
             kept_bytes: 0,
             stages_ms: Default::default(),

@@ -2,6 +2,7 @@
 //! plain-text table for the terminal.
 
 use super::{FrameRow, MethodSummary};
+use crate::record::row_core::CSV_HEADER;
 
 /// A CSV field, quoted as in results.csv when it holds a comma or a quote.
 fn field(text: &str) -> String {
@@ -13,39 +14,58 @@ fn field(text: &str) -> String {
 }
 
 pub fn frames_csv(rows: &[FrameRow]) -> String {
-    let mut s = String::from(
-        "scene,label,frame,shadow_maps,total_ms,rmse,mae,max_abs,bad_pixel_share,flip_mean,temporal_rmse,popping_share,popping_pixels,temporal_pixels,reuse,maps_rendered,maps_kept,maps_redrawn,texels_rasterized,texels_used,v_equal_without_reuse,kept_bytes\n",
-    );
-    for r in rows {
+    let own = [
+        "label",
+        "frame",
+        "mae",
+        "max_abs",
+        "bad_pixel_share",
+        "flip_mean",
+        "temporal_rmse",
+        "popping_share",
+        "popping_pixels",
+        "temporal_pixels",
+        "reuse",
+        "maps_rendered",
+        "maps_kept",
+        "maps_redrawn",
+        "texels_rasterized",
+        "texels_used",
+        "v_equal_without_reuse",
+        "kept_bytes",
+    ];
+    let header: Vec<String> = CSV_HEADER
+        .iter()
+        .chain(&own)
+        .map(|s| s.to_string())
+        .collect();
+    let cells = rows.iter().map(|r| {
         let t = r.temporal;
         let opt = |v: Option<String>| v.unwrap_or_default();
-        s += &format!(
-            "{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            field(&r.scene),
-            field(&r.label),
-            r.frame,
-            r.shadow_maps,
-            r.total_ms,
-            r.metrics.rmse,
-            r.metrics.mae,
-            r.metrics.max_abs,
-            r.metrics.bad_pixel_share,
-            r.metrics.flip_mean,
+        let mut c = r.core.cells();
+        c.extend([
+            r.label.clone(),
+            r.frame.to_string(),
+            format!("{:.6}", r.metrics.mae),
+            format!("{:.6}", r.metrics.max_abs),
+            format!("{:.6}", r.metrics.bad_pixel_share),
+            format!("{:.6}", r.metrics.flip_mean),
             opt(t.map(|t| format!("{:.6}", t.temporal_rmse))),
             opt(t.map(|t| format!("{:.6}", t.popping_share))),
             opt(t.map(|t| t.popping_pixels.to_string())),
             opt(t.map(|t| t.pixels.to_string())),
-            r.reuse,
-            r.maps.rendered,
-            r.maps.kept,
-            r.maps.redrawn,
-            r.maps.texels,
-            r.maps.texels_used,
+            r.reuse.to_string(),
+            r.reuse_counts.rendered.to_string(),
+            r.reuse_counts.kept.to_string(),
+            r.reuse_counts.redrawn.to_string(),
+            r.reuse_counts.texels.to_string(),
+            r.reuse_counts.texels_used.to_string(),
             opt(r.v_equal_without_reuse.map(|e| e.to_string())),
-            r.kept_bytes,
-        );
-    }
-    s
+            r.kept_bytes.to_string(),
+        ]);
+        c
+    });
+    crate::record::csv::lines(std::iter::once(header).chain(cells))
 }
 
 pub fn summary_csv(rows: &[MethodSummary]) -> String {

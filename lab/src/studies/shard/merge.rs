@@ -143,26 +143,26 @@ pub fn merge(dirs: &[PathBuf], allow: &[String]) -> Result<MergeOutcome> {
                     "spec",
                 ));
             }
-            if r.version != r0.version && !allowed("version") {
+            if r.core.version != r0.core.version && !allowed("version") {
                 return Err(at(
                     "version",
-                    text(&r.version),
-                    text(&r0.version),
+                    text(&r.core.version),
+                    text(&r0.core.version),
                     "version",
                 ));
             }
-            if r.adapter != r0.adapter && !allowed("adapter") {
+            if r.core.adapter != r0.core.adapter && !allowed("adapter") {
                 return Err(at(
                     "adapter",
-                    text(&r.adapter),
-                    text(&r0.adapter),
+                    text(&r.core.adapter),
+                    text(&r0.core.adapter),
                     "adapter",
                 ));
             }
             let scene = |p: &Provenance, r: &ResultRow| {
                 format!(
                     "{} {} (sha256 {:.12}, {:?})",
-                    r.scene, p.scene_file, p.geometry_sha256, p.overrides
+                    r.core.scene, p.scene_file, p.geometry_sha256, p.overrides
                 )
             };
             if (p.scene_sha256 != p0.scene_sha256
