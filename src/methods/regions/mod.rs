@@ -542,6 +542,7 @@ impl ShadowMethod for Regions {
             keep: false,
             reuse: ReuseCounts::default(),
             held: Vec::new(),
+            settled: certified::Settled::default(),
             certifying: None,
         }))
     }
@@ -570,6 +571,8 @@ struct State {
     reuse: ReuseCounts,
     /// The previous frame's groups, (n, size, window), where `hold` keeps their windows.
     held: Vec<(u32, u32, Bounds)>,
+    /// With `hold` and `certify`: the classes' settings the previous frame ended on.
+    settled: certified::Settled,
     /// `certify = on`: the truth tracer and the filter, built on the first certified frame.
     certifying: Option<certified::Certifying>,
 }
@@ -605,6 +608,26 @@ fn widened(words: &[u32], scene: &Bounds) -> Bounds {
     Bounds {
         min: min.max(scene.min),
         max: max.min(scene.max),
+    }
+}
+
+/// `g` with the window of `held`'s group of its (n, size), grown to hold its own receivers, where
+/// the grown window's extent stays within the band of its own (`State::held_window`).
+fn held_window(held: &[(u32, u32, Bounds)], fg: &FrameGpu, g: &mut Group) {
+    let Some((_, _, w)) = held
+        .iter()
+        .find(|(n, size, _)| (*n, *size) == (g.n, g.size))
+    else {
+        return;
+    };
+    let grown = Bounds {
+        min: w.min.min(g.window.min),
+        max: w.max.max(g.window.max),
+    };
+    let extent = window_extent(fg, &grown);
+    if super::hold::standing(extent as f64, g.extent as f64) != super::hold::Standing::Above {
+        g.window = grown;
+        g.extent = extent;
     }
 }
 
@@ -728,22 +751,7 @@ impl State {
     /// band (`hold::standing`) of its own window's: the texel it gives is then at most that much
     /// coarser than the one it asked for. An unchanged window keeps its maps (their keys).
     fn held_window(&self, fg: &FrameGpu, g: &mut Group) {
-        let Some((_, _, w)) = self
-            .held
-            .iter()
-            .find(|(n, size, _)| (*n, *size) == (g.n, g.size))
-        else {
-            return;
-        };
-        let grown = Bounds {
-            min: w.min.min(g.window.min),
-            max: w.max.max(g.window.max),
-        };
-        let extent = window_extent(fg, &grown);
-        if super::hold::standing(extent as f64, g.extent as f64) != super::hold::Standing::Above {
-            g.window = grown;
-            g.extent = extent;
-        }
+        held_window(&self.held, fg, g);
     }
 
     fn grid(&mut self, fg: &FrameGpu, n: u32, size: u32) -> Result<&mut Prepared> {
@@ -800,14 +808,16 @@ impl MethodState for State {
             .filter_map(Prepared::release)
             .collect()
     }
-    /// With `hold`, the groups' windows: the next frame's state starts from them.
+    /// With `hold`, the groups' windows and the certified classes' settings: the next frame's
+    /// state starts from them.
     fn memory(&self) -> Option<serde_json::Value> {
-        let held: Vec<serde_json::Value> = self
+        let windows: Vec<serde_json::Value> = self
             .held
             .iter()
             .map(|(n, size, w)| serde_json::json!([n, size, w.min.to_array(), w.max.to_array()]))
             .collect();
-        (self.method.hold && !held.is_empty()).then(|| serde_json::json!(held))
+        (self.method.hold && !(windows.is_empty() && self.settled.is_empty()))
+            .then(|| serde_json::json!({"windows": windows, "settled": self.settled.to_json()}))
     }
     fn recall(&mut self, memory: &serde_json::Value) {
         let v3 = |v: &serde_json::Value| -> Option<glam::Vec3> {
@@ -817,7 +827,7 @@ impl MethodState for State {
                 v[2].as_f64()? as f32,
             ))
         };
-        self.held = memory
+        self.held = memory["windows"]
             .as_array()
             .into_iter()
             .flatten()
@@ -832,6 +842,7 @@ impl MethodState for State {
                 ))
             })
             .collect();
+        self.settled = certified::Settled::from_json(&memory["settled"]);
     }
     fn run(
         &mut self,
