@@ -88,7 +88,8 @@ pub mod methods {
     }
     pub mod auto {
         pub use crate::methods::auto::{
-            predicted_at, At, AutoRecord, Chosen, Costs, Ladder, MapCost, SAMPLING_ORDER,
+            predicted_at, At, AutoRecord, Check, Chosen, Costs, FilterCheck, Ladder, MapCost, Try,
+            SAMPLING_ORDER,
         };
     }
     pub mod calibration {

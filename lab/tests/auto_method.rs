@@ -6,6 +6,7 @@
 mod common;
 use penumbra::research::frame::{FrameOptions, Renderer};
 use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::auto::{AutoRecord, Try};
 use penumbra::research::methods::Method;
 use penumbra::research::scene::Scene;
 
@@ -14,6 +15,11 @@ fn options() -> FrameOptions {
         mode: TimingMode::Frame,
         pictures: false,
     }
+}
+
+/// A frame's record read as auto's, typed.
+fn auto(record: &serde_json::Value) -> AutoRecord {
+    AutoRecord::read(record).unwrap_or_else(|| panic!("not auto's record: {record}"))
 }
 
 #[test]
@@ -26,71 +32,57 @@ fn auto_renders_its_choice_and_keeps_it() {
     let mut r = Renderer::new(ctx, &scene, &method).unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
-    let tries = rec["tries"].as_array().unwrap();
+    let a = auto(rec);
+    let tries = &a.tries;
     println!("first frame: {}", serde_json::to_string(rec).unwrap());
     assert!(
         tries.len() >= 2,
         "the start (3×3 at 512²) should miss 0.03 on this scene: {rec}"
     );
-    assert_eq!(rec["target_met"], true, "{rec}");
+    assert!(a.target_met, "{rec}");
     let last = tries.last().unwrap();
-    assert!(last["predicted_rmse"].as_f64().unwrap() <= 0.03);
+    assert!(last.prediction.predicted_rmse <= 0.03);
     // It rises until a try meets the target; past that only steps down to cheaper grids (the
     // state's first search), so the last try meets it.
     let first_met = tries
         .iter()
-        .position(|t| t["predicted_rmse"].as_f64().unwrap() <= 0.03)
+        .position(|t| t.prediction.predicted_rmse <= 0.03)
         .unwrap();
     for t in &tries[..first_met] {
-        assert!(t["predicted_rmse"].as_f64().unwrap() > 0.03, "{rec}");
+        assert!(t.prediction.predicted_rmse > 0.03, "{rec}");
     }
-    let cost = |t: &serde_json::Value| {
-        t["maps"].as_f64().unwrap()
-            * rec["map_cost"]["per_map"][t["map_size"].to_string()]
-                .as_f64()
-                .unwrap()
-    };
+    let cost = |t: &Try| t.maps as f64 * a.map_cost.per_map[&t.map_size.to_string()];
     assert!(
         tries[first_met..]
             .iter()
             .all(|t| cost(t) <= cost(&tries[first_met])),
         "steps down only: {rec}"
     );
-    let (n, size) = (
-        rec["chosen"]["n"].as_u64().unwrap(),
-        rec["chosen"]["map_size"].as_u64().unwrap(),
-    );
-    assert_eq!(
-        (last["n"].as_u64(), last["map_size"].as_u64()),
-        (Some(n), Some(size))
-    );
+    let (n, size) = (a.chosen.n, a.chosen.map_size);
+    assert_eq!((last.n, last.map_size), (n, size));
     // pcss (about 0.06 here) is read against the grid that met 0.03 at more than 1.5 × 0.03:
     // screened out, so no reference grid is rendered.
-    let checks = rec["filter"]["checks"].as_array().unwrap();
+    let filter = a.filter.as_ref().expect("the one-map check ran");
+    let checks = &filter.checks;
     assert_eq!(
         (
             checks.len(),
-            &checks[0]["method"],
-            &checks[0]["accepted"],
-            &rec["filter"]["chosen"]
+            checks[0].method.as_str(),
+            checks[0].accepted,
+            &filter.chosen
         ),
-        (1, &"pcss".into(), &false.into(), &serde_json::Value::Null),
+        (1, "pcss", false, &None),
         "{rec}"
     );
-    assert!(checks[0]["screened"].as_f64().unwrap() > 0.045, "{rec}");
+    assert!(checks[0].screened > 0.045, "{rec}");
     assert_eq!(
-        (&checks[0]["predicted_rmse"], &rec["filter"]["reference"]),
-        (&serde_json::Value::Null, &serde_json::Value::Null),
+        (checks[0].predicted_rmse, &filter.reference),
+        (None, &None),
         "{rec}"
     );
-    let check_maps = checks[0]["maps"].as_u64().unwrap();
     assert_eq!(
-        first.output.shadow_maps as u64,
-        tries
-            .iter()
-            .map(|t| t["maps"].as_u64().unwrap())
-            .sum::<u64>()
-            + check_maps,
+        first.output.shadow_maps,
+        tries.iter().map(|t| t.maps).sum::<u32>() + checks[0].maps,
         "every try's and the check's maps count"
     );
 
@@ -98,17 +90,11 @@ fn auto_renders_its_choice_and_keeps_it() {
     // frame's and the fixed grid's, bit for bit; the record keeps the settling frame's prediction.
     let second = r.frame(options()).unwrap();
     let rec2 = &second.output.record;
-    assert_eq!(rec2["tries"], rec["tries"], "the settling frame's tries");
-    assert_eq!(
-        (
-            rec2["estimated"].as_bool(),
-            first.output.record["estimated"].as_bool()
-        ),
-        (Some(false), Some(true)),
-        "{rec2}"
-    );
-    assert_eq!(rec2["predicted_rmse"], rec["predicted_rmse"]);
-    assert_eq!(second.output.shadow_maps as u64, n * n, "{rec2}");
+    let a2 = auto(rec2);
+    assert_eq!(a2.tries, a.tries, "the settling frame's tries");
+    assert_eq!((a2.estimated, a.estimated), (false, true), "{rec2}");
+    assert_eq!(a2.predicted_rmse, a.predicted_rmse);
+    assert_eq!(second.output.shadow_maps, n * n, "{rec2}");
     assert!(
         second.visibility == first.visibility,
         "the settled frame's V is the first frame's"
@@ -135,10 +121,10 @@ fn auto_renders_its_choice_and_keeps_it() {
     // A moved camera unsettles it: the next frame estimates again, starting from the choice.
     r.set_camera(&scene.camera);
     let third = r.frame(options()).unwrap();
-    let tries = third.output.record["tries"].as_array().unwrap();
+    let a3 = auto(&third.output.record);
     assert_eq!(
-        (tries.len(), third.output.record["estimated"].as_bool()),
-        (1, Some(true)),
+        (a3.tries.len(), a3.estimated),
+        (1, true),
         "{}",
         third.output.record
     );
@@ -154,17 +140,14 @@ fn auto_renders_its_choice_and_keeps_it() {
         .unwrap()
         .frame(options())
         .unwrap();
-    let tries = moved.output.record["tries"].as_array().unwrap();
-    assert_eq!(tries.len(), 1, "{}", moved.output.record);
-    assert_eq!(
-        moved.output.record["kept"], false,
+    let am = auto(&moved.output.record);
+    assert_eq!(am.tries.len(), 1, "{}", moved.output.record);
+    assert!(
+        !am.kept,
         "its prediction meets the target itself: {}",
         moved.output.record
     );
-    assert_eq!(
-        (tries[0]["n"].as_u64(), tries[0]["map_size"].as_u64()),
-        (Some(n), Some(size))
-    );
+    assert_eq!((am.tries[0].n, am.tries[0].map_size), (n, size));
 }
 
 /// Each try after the first is the grid the search picks from the try before, at the prices the
@@ -175,7 +158,6 @@ fn auto_renders_its_choice_and_keeps_it() {
 fn auto_prices_maps_by_measure_or_by_texels() {
     use penumbra::research::methods::auto::{At, Costs, Ladder};
     use penumbra::research::methods::calibration::Class;
-    use penumbra::research::methods::estimate::Prediction;
     let ctx = common::gpu();
     let scene = Scene::load(
         "overlapping-occluders",
@@ -196,12 +178,13 @@ fn auto_prices_maps_by_measure_or_by_texels() {
             .unwrap()
             .output
             .record;
-        assert_eq!(rec["map_cost"]["model"], model, "{rec}");
-        let prices: Vec<(u32, f64)> = rec["map_cost"]["per_map"]
-            .as_object()
-            .unwrap()
+        let a = auto(&rec);
+        assert_eq!(a.map_cost.model, model, "{rec}");
+        let prices: Vec<(u32, f64)> = a
+            .map_cost
+            .per_map
             .iter()
-            .map(|(k, v)| (k.parse().unwrap(), v.as_f64().unwrap()))
+            .map(|(k, &v)| (k.parse().unwrap(), v))
             .collect();
         let mut sizes: Vec<u32> = prices.iter().map(|p| p.0).collect();
         sizes.sort();
@@ -219,7 +202,7 @@ fn auto_prices_maps_by_measure_or_by_texels() {
         ordered.sort_by_key(|p| p.0);
         assert!(ordered.windows(2).all(|w| w[1].1 >= w[0].1), "{rec}");
         let ladder = Ladder::new(Class::Plane, 17, 1024, Costs(ordered));
-        let tries = rec["tries"].as_array().unwrap();
+        let tries = &a.tries;
         assert!(
             tries.len() >= 2,
             "3×3 at 512² misses 0.02 on this scene: {rec}"
@@ -229,32 +212,10 @@ fn auto_prices_maps_by_measure_or_by_texels() {
         let mut back = false;
         for (k, pair) in tries.windows(2).enumerate() {
             let t = &pair[0];
-            let f = |k: &str| t[k].as_f64().unwrap();
-            let p = Prediction {
-                predicted_rmse: f("predicted_rmse"),
-                predicted_sampling: f("predicted_sampling"),
-                predicted_map: f("predicted_map"),
-                predicted_quantization: f("predicted_quantization"),
-                predicted_bias: f("predicted_bias"),
-                predicted_map_averaging: f("predicted_map_averaging"),
-            };
-            let (n, size) = (
-                t["n"].as_u64().unwrap() as u32,
-                t["map_size"].as_u64().unwrap() as u32,
-            );
-            let next = (
-                pair[1]["n"].as_u64().unwrap() as u32,
-                pair[1]["map_size"].as_u64().unwrap() as u32,
-            );
-            let tried: Vec<(u32, u32)> = tries[..=k]
-                .iter()
-                .map(|t| {
-                    (
-                        t["n"].as_u64().unwrap() as u32,
-                        t["map_size"].as_u64().unwrap() as u32,
-                    )
-                })
-                .collect();
+            let p = t.prediction;
+            let (n, size) = (t.n, t.map_size);
+            let next = (pair[1].n, pair[1].map_size);
+            let tried: Vec<(u32, u32)> = tries[..=k].iter().map(|t| (t.n, t.map_size)).collect();
             let expect = if p.predicted_rmse <= target {
                 met = Some((n, size));
                 ladder.cheaper_meeting(&At::new(n, size, p), target, &tried)
@@ -265,10 +226,7 @@ fn auto_prices_maps_by_measure_or_by_texels() {
                 ladder.next_choice(&At::new(n, size, p), target)
             };
             assert_eq!(expect, Some(next), "{model}, try {k}: {rec}");
-            assert!(
-                t["ms"].as_f64().unwrap() > 0.0,
-                "each try's wall clock: {rec}"
-            );
+            assert!(t.ms > 0.0, "each try's wall clock: {rec}");
         }
     }
 }
@@ -298,12 +256,12 @@ fn auto_prices_each_scene_once_and_reports_what_it_took() {
     };
     let spec = "auto:target=0.03,max_size=1024,filters=none,pixels=0";
     let first = record(&scene("40"), spec);
-    let pricing = |r: &serde_json::Value| r["map_cost"]["pricing_ms"].as_f64().unwrap();
+    let pricing = |r: &serde_json::Value| auto(r).map_cost.pricing_ms;
     assert!(pricing(&first) > 0.0, "{first}");
     let again = record(&scene("40"), spec);
     assert_eq!(
-        (pricing(&again), &again["map_cost"]["per_map"]),
-        (0.0, &first["map_cost"]["per_map"]),
+        (pricing(&again), auto(&again).map_cost.per_map),
+        (0.0, auto(&first).map_cost.per_map),
         "{again}"
     );
     let other = record(&scene("24"), spec);
@@ -331,7 +289,7 @@ fn a_priced_2048_map_costs_at_least_its_raster_alone() {
     )
     .unwrap();
     let rec = r.frame(options()).unwrap().output.record;
-    let price = rec["map_cost"]["per_map"]["2048"].as_f64().unwrap();
+    let price = auto(&rec).map_cost.per_map.get("2048").copied().unwrap();
     let raster = Raster::new(
         ctx,
         scene.render.cull,
@@ -386,62 +344,42 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     .unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
+    let a = auto(rec);
     println!("first frame: {}", serde_json::to_string(rec).unwrap());
+    let filter = a.filter.as_ref().expect("the one-map check ran");
     assert_eq!(
-        (
-            &rec["renders"],
-            &rec["filter"]["chosen"],
-            &rec["target_met"]
-        ),
-        (&"pcss".into(), &"pcss".into(), &true.into()),
+        (a.renders.as_deref(), filter.chosen.as_deref(), a.target_met),
+        (Some("pcss"), Some("pcss"), true),
         "{rec}"
     );
-    let check = &rec["filter"]["checks"][0];
+    let check = &filter.checks[0];
     // F is calibrated by the larger of the plane lights' two factors before it is held to T (and
     // the screen's 1.5 T), and the record reports the calibrated figure (docs/budget.md).
     let k = penumbra::research::methods::calibration::PLANE.largest();
-    let f = check["predicted_rmse"].as_f64().unwrap();
+    let f = check.predicted_rmse.unwrap();
     assert!(
-        check["accepted"] == true
-            && k * f <= 0.03
-            && k * check["screened"].as_f64().unwrap() <= 0.045,
+        check.accepted && k * f <= 0.03 && k * check.screened <= 0.045,
         "{rec}"
     );
     // The screen's renders (an untimed first one, then the timed one), the reference's maps and
     // the render of pcss against it: all counted.
-    let tries_maps: u64 = rec["tries"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t["maps"].as_u64().unwrap())
-        .sum();
-    assert_eq!(check["maps"], 2, "{rec}");
-    assert_eq!(
-        first.output.shadow_maps as u64,
-        tries_maps + rec["filter"]["reference"]["maps"].as_u64().unwrap() + 3,
-        "{rec}"
-    );
+    let tries_maps: u32 = a.tries.iter().map(|t| t.maps).sum();
+    assert_eq!(check.maps, 2, "{rec}");
     // Judged against a finer grid than the one that met the target; the bound is the reference's.
-    let reference = &rec["filter"]["reference"];
-    assert!(
-        reference["maps"].as_u64().unwrap() * reference["map_size"].as_u64().unwrap()
-            > rec["chosen"]["n"].as_u64().unwrap().pow(2)
-                * rec["chosen"]["map_size"].as_u64().unwrap(),
+    let reference = filter.reference.expect("a reference grid was rendered");
+    assert_eq!(
+        first.output.shadow_maps,
+        tries_maps + reference.maps + 3,
         "{rec}"
     );
     assert!(
-        check["ms"].as_f64().unwrap()
-            < rec["tries"].as_array().unwrap().last().unwrap()["ms"]
-                .as_f64()
-                .unwrap(),
+        reference.maps * reference.map_size > a.chosen.n.pow(2) * a.chosen.map_size,
         "{rec}"
     );
+    assert!(check.ms < a.tries.last().unwrap().ms, "{rec}");
+    assert!((a.predicted_rmse - k * f).abs() < 1e-12, "{rec}");
     assert!(
-        (rec["predicted_rmse"].as_f64().unwrap() - k * f).abs() < 1e-12,
-        "{rec}"
-    );
-    assert!(
-        rec["chosen"]["n"].as_u64().unwrap() >= 2,
+        a.chosen.n >= 2,
         "the grid it was judged by stays named: {rec}"
     );
     assert!(
@@ -456,22 +394,17 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
         options(),
     )
     .unwrap();
+    let alone_rec = auto(&alone.output.record);
     assert_eq!(
-        (
-            &alone.output.record["filter"],
-            alone.output.record.get("renders")
-        ),
-        (&serde_json::Value::Null, None),
+        (&alone_rec.filter, &alone_rec.renders),
+        (&None, &None),
         "{}",
         alone.output.record
     );
-    assert_eq!(alone.output.record["chosen"], rec["chosen"]);
+    assert_eq!(alone_rec.chosen, a.chosen);
     assert!(alone.visibility != pcss.visibility);
     // The bound is |V_pcss − V_reference| plus the reference grid's bound.
-    let (rn, rsize) = (
-        reference["n"].as_u64().unwrap(),
-        reference["map_size"].as_u64().unwrap(),
-    );
+    let (rn, rsize) = (reference.n, reference.map_size);
     let mut reference_sets = sets.to_vec();
     reference_sets.push(("shadow_map_size".into(), rsize.to_string()));
     let reference_scene = Scene::load("analytic-square", &reference_sets).unwrap();
@@ -503,9 +436,9 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
     assert_eq!(
         (
             second.output.shadow_maps,
-            &second.output.record["estimated"]
+            auto(&second.output.record).estimated
         ),
-        (1, &false.into()),
+        (1, false),
         "{}",
         second.output.record
     );
@@ -522,7 +455,8 @@ fn auto_renders_one_filtered_map_where_it_meets_the_target() {
         .frame(options())
         .unwrap();
     assert_eq!(
-        moved.output.record["renders"], "pcss",
+        auto(&moved.output.record).renders.as_deref(),
+        Some("pcss"),
         "{}",
         moved.output.record
     );
@@ -548,9 +482,10 @@ fn an_unreachable_target_says_so() {
     assert!(stderr.contains("auto: target RMSE 0.001 is out of reach within n ≤ 3 and 256² maps: the best predicted is"), "{stderr}");
     let run: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
-    assert_eq!(run["method_record"]["target_met"], false);
+    let a = auto(&run["method_record"]);
+    assert!(!a.target_met);
     // The best predicted error the line names is the record's (calibrated) prediction, over T.
-    let best = run["method_record"]["predicted_rmse"].as_f64().unwrap();
+    let best = a.predicted_rmse;
     assert!(
         best > 0.001
             && stderr.contains(&format!(
@@ -558,10 +493,9 @@ fn an_unreachable_target_says_so() {
             )),
         "{best}: {stderr}"
     );
-    assert_eq!(run["method_record"]["chosen"]["n"], 3);
-    assert_eq!(run["method_record"]["chosen"]["map_size"], 256);
+    assert_eq!((a.chosen.n, a.chosen.map_size), (3, 256));
     // The engine prints nothing: the line is the record's `warning`, which the binary printed once.
-    let warning = run["method_record"]["warning"].as_str().unwrap_or_default();
+    let warning = a.warning.as_deref().unwrap_or_default();
     assert!(
         warning.starts_with("auto: target RMSE 0.001 is out of reach")
             && stderr.lines().filter(|l| *l == warning).count() == 1,

@@ -6,6 +6,7 @@
 mod common;
 use penumbra::research::frame::{FrameOptions, Renderer};
 use penumbra::research::gpu::timing::TimingMode;
+use penumbra::research::methods::auto::AutoRecord;
 use penumbra::research::methods::Method;
 use penumbra::research::scene::Scene;
 
@@ -14,6 +15,11 @@ fn options() -> FrameOptions {
         mode: TimingMode::Frame,
         pictures: false,
     }
+}
+
+/// A frame's record read as auto's, typed.
+fn auto(record: &serde_json::Value) -> AutoRecord {
+    AutoRecord::read(record).unwrap_or_else(|| panic!("not auto's record: {record}"))
 }
 
 fn tempfile_dir(name: &str) -> std::path::PathBuf {
@@ -43,72 +49,55 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     let mut r = Renderer::new(ctx, &scene, &Method::parse(spec, &[]).unwrap()).unwrap();
     let first = r.frame(options()).unwrap();
     let rec = &first.output.record;
+    let a = auto(rec);
     println!("first frame: {}", serde_json::to_string(rec).unwrap());
+    let filter = a.filter.as_ref().expect("the one-map check ran");
     assert_eq!(
         (
-            &rec["target_met"],
-            &rec["renders"],
-            &rec["filter"]["chosen"],
-            &rec["filter"]["reference"]
+            a.target_met,
+            a.renders.as_deref(),
+            filter.chosen.as_deref(),
+            &filter.reference
         ),
-        (
-            &false.into(),
-            &"msm".into(),
-            &"msm".into(),
-            &serde_json::Value::Null
-        ),
+        (false, Some("msm"), Some("msm"), &None),
         "{rec}"
     );
-    let grid_rmse = rec["tries"].as_array().unwrap().last().unwrap()["predicted_rmse"]
-        .as_f64()
-        .unwrap();
-    let checks = rec["filter"]["checks"].as_array().unwrap();
+    let grid_rmse = a.tries.last().unwrap().prediction.predicted_rmse;
+    let checks = &filter.checks;
     assert_eq!(
-        checks
-            .iter()
-            .map(|c| c["method"].as_str().unwrap())
-            .collect::<Vec<_>>(),
+        checks.iter().map(|c| c.method.as_str()).collect::<Vec<_>>(),
         ["pcss", "msm"],
         "{rec}"
     );
-    let d = |c: &serde_json::Value| c["difference"].as_f64().unwrap();
+    let d = |c: &penumbra::research::methods::auto::Check| c.difference.unwrap();
     assert!(
-        d(&checks[1]) <= grid_rmse && checks[1]["accepted"] == true,
+        d(&checks[1]) <= grid_rmse && checks[1].accepted,
         "msm within the grid's {grid_rmse}: {rec}"
     );
     assert!(
-        d(&checks[0]) > grid_rmse && checks[0]["accepted"] == false,
+        d(&checks[0]) > grid_rmse && !checks[0].accepted,
         "pcss differs by more than the grid's {grid_rmse}: {rec}"
     );
     assert_eq!(
-        rec["predicted_rmse"].as_f64(),
-        Some(grid_rmse),
+        a.predicted_rmse, grid_rmse,
         "the grid's prediction stays: {rec}"
     );
     assert!(
         first.visibility == msm.visibility,
         "the settling frame's V is msm's"
     );
-    let tries_maps: u64 = rec["tries"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t["maps"].as_u64().unwrap())
-        .sum();
+    let tries_maps: u32 = a.tries.iter().map(|t| t.maps).sum();
     assert!(
-        checks.iter().all(|c| c["maps"] == 2),
+        checks.iter().all(|c| c.maps == 2),
         "an untimed first render and the timed one: {rec}"
     );
     assert_eq!(
-        first.output.shadow_maps as u64,
+        first.output.shadow_maps,
         tries_maps + 4,
         "the tries, and two maps per candidate: {rec}"
     );
     // The bound: |V_msm − V_grid| plus the grid's own bound.
-    let (n, size) = (
-        rec["chosen"]["n"].as_u64().unwrap(),
-        rec["chosen"]["map_size"].as_u64().unwrap(),
-    );
+    let (n, size) = (a.chosen.n, a.chosen.map_size);
     let mut grid_sets = sets.to_vec();
     grid_sets.push(("shadow_map_size".into(), size.to_string()));
     let grid = penumbra::research::frame::render(
@@ -138,9 +127,9 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     assert_eq!(
         (
             second.output.shadow_maps,
-            &second.output.record["estimated"]
+            auto(&second.output.record).estimated
         ),
-        (1, &false.into()),
+        (1, false),
         "{}",
         second.output.record
     );
@@ -178,7 +167,7 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
                 String::from_utf8_lossy(&o.stderr)
             );
         }
-        let row: serde_json::Value = serde_json::from_str(
+        let row = penumbra_lab::record::ResultRow::from_json(
             std::fs::read_to_string(out.join("results.jsonl"))
                 .unwrap()
                 .lines()
@@ -186,7 +175,8 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
                 .unwrap(),
         )
         .unwrap();
-        row["metrics"]["rmse"].as_f64().unwrap()
+        assert_eq!(row.core.rmse, row.metrics.rmse);
+        row.metrics.rmse
     };
     let grid_measured = measured(
         &format!("regular:n={n},layout=centred"),
@@ -209,8 +199,8 @@ fn auto_renders_a_filter_where_no_grid_reaches_the_target() {
     )
     .unwrap();
     assert_eq!(
-        p.output.record["filter"]["left_out"],
-        serde_json::json!(["msm"]),
+        auto(&p.output.record).filter.map(|f| f.left_out),
+        Some(vec!["msm".to_string()]),
         "{}",
         p.output.record
     );

@@ -318,7 +318,7 @@ fn the_study_writes_every_draw_and_fits_the_stretch_on_the_fitting_half() {
     )
     .unwrap();
     // analytic-square fits, disk-bar checks; hard and pcss, 2 proxies × 2 K × 2 draws each.
-    let on = |scene: &str| rows.iter().filter(|r| r.scene == scene).count();
+    let on = |scene: &str| rows.iter().filter(|r| r.core.scene == scene).count();
     assert_eq!(
         (on("analytic-square"), on("disk-bar")),
         (16, 16),
@@ -326,10 +326,22 @@ fn the_study_writes_every_draw_and_fits_the_stretch_on_the_fitting_half() {
     );
     assert!(
         rows.iter()
-            .all(|r| r.measured_rmse > 0.0 && r.t_bound > 0.0 && r.per_frame_bound >= r.t_bound),
+            .all(|r| r.core.rmse > 0.0 && r.t_bound > 0.0 && r.per_frame_bound >= r.t_bound),
         "{rows:?}"
     );
     assert_eq!(rows.iter().filter(|r| r.half == "fitting").count(), 16);
+    // Each row carries the core: the method by its label and name, one map at the scenes' 512²,
+    // the frame's wall clock, the adapter and the build.
+    assert!(
+        rows.iter()
+            .all(|r| ["hard", "pcss"].contains(&r.core.spec.as_str())
+                && r.core.method == r.core.spec
+                && (r.core.maps, r.core.map_size) == (1, 512)
+                && r.core.frame_ms > 0.0
+                && r.core.adapter.is_string()
+                && r.core.version.is_string()),
+        "{rows:?}"
+    );
     let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
     assert!(
         md.contains("| fitting | band | 512 | calibrated (t × ")
@@ -388,15 +400,28 @@ fn the_promise_retake_renders_auto_beside_its_standing_oracle() {
     assert_eq!(rows.len(), 1, "{rows:?}");
     let r = &rows[0];
     assert_eq!(
-        (r.scene.as_str(), r.target, r.half.as_str()),
+        (r.core.scene.as_str(), r.target(), r.half.as_str()),
         ("analytic-square", 0.05, "fitting")
+    );
+    // The core is auto's row as compare measured it.
+    assert_eq!(
+        (r.core.spec.as_str(), r.core.method.as_str(), r.core.target),
+        ("auto:target=0.05", "auto", Some(0.05)),
+        "{r:?}"
+    );
+    assert!(
+        r.core.maps >= 1 && r.core.map_size >= 512 && r.core.version.is_string(),
+        "{r:?}"
     );
     // The oracle rendered again beside auto reads the frontier's RMSE, bit for bit.
     assert!(
         r.oracle.is_some() && r.oracle_rmse == r.frontier_oracle_rmse,
         "{r:?}"
     );
-    assert_eq!(r.time_over_oracle, Some(r.ms / r.oracle_ms.unwrap()));
+    assert_eq!(
+        r.time_over_oracle,
+        Some(r.core.frame_ms / r.oracle_ms.unwrap())
+    );
     assert_eq!(r.target_met, r.bound <= 0.05, "{r:?}");
     assert!(
         r.tests >= 1 && r.decision_ms > 0.0 && r.bound_kind == "calibrated",

@@ -73,7 +73,26 @@ pub const CSV_HEADER: [&str; 11] = [
     "version", "target",
 ];
 
+/// The core's columns renamed when the schema became one, as (column, its old name): a CSV
+/// written before reads under the old name as JSON rows do (the serde aliases above).
+pub const CSV_ALIASES: [(&str, &str); 4] = [
+    ("maps", "shadow_maps"),
+    ("map_size", "shadow_map_size"),
+    ("rmse", "measured_rmse"),
+    ("frame_ms", "total_ms"),
+];
+
 impl RowCore {
+    /// A study's CSV header: the core's columns, then the study's own (`own`), in the order its
+    /// cells are written (`cells()` then its own).
+    pub fn csv_header(own: &[&str]) -> Vec<String> {
+        CSV_HEADER
+            .iter()
+            .chain(own)
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     /// The core's cells of a CSV row under [`CSV_HEADER`]: `params` as compact JSON, the adapter
     /// by name, the version by git hash, an absent target empty.
     pub fn cells(&self) -> Vec<String> {
@@ -115,6 +134,86 @@ impl RowCore {
     }
 }
 
+/// A study's CSV rows read back by header: each row's core from the core's columns (typed, each
+/// under its name, an old name of [`CSV_ALIASES`] or of `aliases`, a study's own renames), and
+/// the study's own columns into `T` by csv's serde (which ignores the core's columns). The
+/// csv crate's serde cannot read the core into a `#[serde(flatten)]` field: flattening buffers
+/// each cell by its look, so a digit-only string (a git hash, a scene) reads as a number and an
+/// empty target as text. A column the file lacks leaves its field empty (0, none), as JSON rows
+/// written before a key read. Errors name the line, the column and the cell.
+pub fn read_csv<T: serde::de::DeserializeOwned>(
+    text: &str,
+    aliases: &[(&str, &str)],
+) -> std::result::Result<Vec<(RowCore, T)>, String> {
+    let mut reader = ::csv::Reader::from_reader(text.as_bytes());
+    let header = reader.headers().map_err(|e| e.to_string())?.clone();
+    let column = |name: &str| {
+        let old = CSV_ALIASES
+            .iter()
+            .chain(aliases)
+            .filter(|(new, _)| *new == name)
+            .map(|(_, old)| *old);
+        std::iter::once(name)
+            .chain(old)
+            .find_map(|n| header.iter().position(|h| h == n))
+    };
+    let at: Vec<Option<usize>> = CSV_HEADER.iter().map(|c| column(c)).collect();
+    let mut rows = Vec::new();
+    for record in reader.records() {
+        let record = record.map_err(|e| e.to_string())?;
+        let line = record.position().map_or(0, |p| p.line());
+        let cell = |k: usize| at[k].and_then(|i| record.get(i)).unwrap_or("");
+        let core = RowCore::from_cells(cell).map_err(|e| format!("line {line}: {e}"))?;
+        let own: T = record
+            .deserialize(Some(&header))
+            .map_err(|e| format!("line {line}: {e}"))?;
+        rows.push((core, own));
+    }
+    Ok(rows)
+}
+
+impl RowCore {
+    /// The inverse of [`RowCore::cells`]: cell `k` under `CSV_HEADER[k]`. Empty cells read as
+    /// empty fields; `params` as JSON; the adapter and the build as the text written (their
+    /// name and git hash).
+    fn from_cells<'a>(cell: impl Fn(usize) -> &'a str) -> std::result::Result<RowCore, String> {
+        fn number<N: std::str::FromStr + Default>(
+            k: usize,
+            text: &str,
+        ) -> std::result::Result<N, String> {
+            if text.is_empty() {
+                return Ok(N::default());
+            }
+            text.parse()
+                .map_err(|_| format!("{} = `{text}`: not a number", CSV_HEADER[k]))
+        }
+        let text = |k: usize| match cell(k) {
+            "" => serde_json::Value::Null,
+            s => serde_json::Value::String(s.to_string()),
+        };
+        let params = match cell(3) {
+            "" => serde_json::Value::Null,
+            s => serde_json::from_str(s).map_err(|e| format!("params = `{s}`: {e}"))?,
+        };
+        Ok(RowCore {
+            scene: cell(0).to_string(),
+            spec: cell(1).to_string(),
+            method: cell(2).to_string(),
+            params,
+            maps: number(4, cell(4))?,
+            map_size: number(5, cell(5))?,
+            rmse: number(6, cell(6))?,
+            frame_ms: number(7, cell(7))?,
+            adapter: text(8),
+            version: text(9),
+            target: match cell(10) {
+                "" => None,
+                t => Some(number(10, t)?),
+            },
+        })
+    }
+}
+
 /// A method's target as it was asked: the methods keep T as f32, whose shortest decimal is what
 /// was written (0.03, not the 0.029999999329447746 its widening reads). None without a target.
 pub fn target(m: &Method) -> Option<f64> {
@@ -138,6 +237,73 @@ mod tests {
         assert_eq!(written["frame_ms"], 4.5);
         assert!(written.get("shadow_maps").is_none() && written.get("total_ms").is_none());
         assert!(written.get("target").is_none());
+    }
+
+    #[derive(Debug, PartialEq, serde::Deserialize)]
+    struct Own {
+        half: String,
+        draws: u32,
+        oracle: Option<f64>,
+    }
+
+    #[test]
+    fn csv_rows_read_back_typed_under_new_and_old_names() {
+        // Digit-only text (a scene, a git hash) stays text; an empty target is none; the study's
+        // own columns come typed, an empty option none.
+        let core = RowCore {
+            scene: "1024".into(),
+            spec: "auto:target=0.03".into(),
+            method: "auto".into(),
+            params: json!({"target": 0.03, "filters": "pcss"}),
+            maps: 9,
+            map_size: 512,
+            rmse: 0.012345678901234567,
+            frame_ms: 4.5,
+            adapter: json!("llvmpipe (LLVM 15.0.6, 256 bits)"),
+            version: json!("605512345678"),
+            target: Some(0.03),
+        };
+        let mut text = crate::record::csv::lines(
+            std::iter::once(RowCore::csv_header(&["half", "draws", "oracle"])).chain([
+                [core.cells(), vec!["fitting".into(), "3".into(), "".into()]].concat(),
+                [
+                    RowCore::default().cells(),
+                    vec!["held-out".into(), "0".into(), "0.5".into()],
+                ]
+                .concat(),
+            ]),
+        );
+        let rows = read_csv::<Own>(&text, &[]).unwrap();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].0, core);
+        assert_eq!(rows[1].0, RowCore::default());
+        let own = |half: &str, draws, oracle| Own {
+            half: half.into(),
+            draws,
+            oracle,
+        };
+        assert_eq!(rows[0].1, own("fitting", 3, None));
+        assert_eq!(rows[1].1, own("held-out", 0, Some(0.5)));
+        // A file written before: old names, a study's own rename, columns it never had.
+        let old =
+            "scene,measured_rmse,shadow_maps,ms,half,draws,oracle\n123,0.25,4,7.5,fitting,1,\n";
+        let rows = read_csv::<Own>(old, &[("frame_ms", "ms")]).unwrap();
+        assert_eq!(
+            rows[0].0,
+            RowCore {
+                scene: "123".into(),
+                rmse: 0.25,
+                maps: 4,
+                frame_ms: 7.5,
+                ..RowCore::default()
+            }
+        );
+        // A bad cell names its line, column and text.
+        text = text.replace(",9,512,", ",nine,512,");
+        assert_eq!(
+            read_csv::<Own>(&text, &[]).unwrap_err(),
+            "line 2: maps = `nine`: not a number"
+        );
     }
 
     #[test]

@@ -80,18 +80,18 @@ pub(crate) fn bound(v_filter: &[f32], v_grid: &[f32], grid_bound: &[f32]) -> Vec
 
 /// One candidate's check, as run.json's record keeps it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub(crate) struct Check {
-    pub(crate) method: String,
-    pub(crate) maps: u32,
+pub struct Check {
+    pub method: String,
+    pub maps: u32,
     /// Wall clock from its render to its V read back, ms (the grid's try: `tries[…].ms`).
-    pub(crate) ms: f64,
+    pub ms: f64,
     /// Its predicted RMSE against the grid that met the target (the screen).
-    pub(crate) screened: f64,
+    pub screened: f64,
     /// Against the reference: RMS of V_f − V_r over geometry pixels, and the predicted RMSE F.
     /// None where the screen or the time ruled it out, or no reference was rendered.
-    pub(crate) difference: Option<f64>,
-    pub(crate) predicted_rmse: Option<f64>,
-    pub(crate) accepted: bool,
+    pub difference: Option<f64>,
+    pub predicted_rmse: Option<f64>,
+    pub accepted: bool,
 }
 
 /// The grid that met the target, its V in the frame's V now: its predicted RMSE and the wall

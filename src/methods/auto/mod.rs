@@ -23,9 +23,9 @@ use crate::methods::fixed_samples::{self, regular_points, Layout, Prepared};
 use crate::render::kept_maps::ReuseCounts;
 use crate::stages::FrameGpu;
 use crate::Result;
+pub use filter::Check;
 use filter::{Against, Candidates, Met, OutOfReach, Reference, Scope};
-pub(crate) use record::FilterCheck;
-pub use record::{AutoRecord, Chosen, MapCost};
+pub use record::{AutoRecord, Chosen, FilterCheck, MapCost};
 pub use search::{predicted_at, At, Costs, Ladder, SAMPLING_ORDER};
 pub(crate) use search::{sides, sizes};
 use std::collections::BTreeMap;
@@ -268,16 +268,16 @@ impl ShadowMethod for Auto {
 /// One try of a frame: the grid, its maps and the prediction.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Try {
-    pub(crate) n: u32,
-    pub(crate) map_size: u32,
-    pub(crate) maps: u32,
+    pub n: u32,
+    pub map_size: u32,
+    pub maps: u32,
     /// Wall clock from the first map to the estimate read back, ms.
-    pub(crate) ms: f64,
+    pub ms: f64,
     /// The calibrated prediction (`calibration::calibrated`), what the search reads.
     #[serde(flatten)]
-    pub(crate) prediction: Prediction,
+    pub prediction: Prediction,
     /// The estimate's own predicted RMSE before the calibration's factors.
-    pub(crate) predicted_raw: f64,
+    pub predicted_raw: f64,
 }
 
 impl Try {

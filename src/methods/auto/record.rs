@@ -54,8 +54,8 @@ pub struct AutoRecord {
 /// The centred grid chosen.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Chosen {
-    pub(crate) n: u32,
-    pub(crate) layout: String,
+    pub n: u32,
+    pub layout: String,
     pub map_size: u32,
     pub spec: String,
 }
@@ -83,10 +83,10 @@ pub struct MapCost {
 /// The one-map check (`filter`): the reference grid's try, the candidate taken, every check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FilterCheck {
-    pub(crate) reference: Option<Try>,
-    pub(crate) chosen: Option<String>,
-    pub(crate) checks: Vec<Check>,
-    pub(crate) left_out: Vec<String>,
+    pub reference: Option<Try>,
+    pub chosen: Option<String>,
+    pub checks: Vec<Check>,
+    pub left_out: Vec<String>,
 }
 
 /// The certified decision: the chosen candidate's bound and what it took; the rest of its

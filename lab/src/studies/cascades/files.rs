@@ -3,7 +3,7 @@
 
 use super::charts::{cascades_svg, CascadePoint};
 use super::CascadeLine;
-use crate::record::row_core::CSV_HEADER;
+use crate::record::RowCore;
 use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
@@ -59,11 +59,7 @@ pub fn csv(lines: &[CascadeLine]) -> String {
         "share",
         "density_median",
     ];
-    let header: Vec<String> = CSV_HEADER
-        .iter()
-        .chain(&own)
-        .map(|s| s.to_string())
-        .collect();
+    let header = RowCore::csv_header(&own);
     let mut rows = vec![header];
     for l in lines {
         for c in &l.cascades {

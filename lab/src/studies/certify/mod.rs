@@ -19,6 +19,8 @@ use crate::frame::{FrameOptions, Renderer};
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
+use crate::record::row_core::read_csv;
+use crate::record::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::Scene;
@@ -37,16 +39,20 @@ pub const FIT_COVERAGE: f64 = 0.95;
 pub const PROXIES: [ProxyKind; 2] = [ProxyKind::Band, ProxyKind::SecondOpinion];
 
 /// One draw: its bounds against the measured RMSE.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+///
+/// Its serde reads the study's own columns of `certify.csv`; [`parse_csv`] reads the core from
+/// the core's columns (see [`crate::record::row_core::read_csv`]).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
 pub struct Row {
-    pub scene: String,
+    /// Scene, the method (its label as the spec), its maps and map size, the RMSE measured over
+    /// every geometry pixel (`rmse`), the frame's wall clock, adapter and build.
+    #[serde(skip)]
+    pub core: RowCore,
     pub half: String,
-    pub method: String,
     pub proxy: String,
     pub pixels: usize,
     pub draw: u32,
     pub unique_pixels: usize,
-    pub measured_rmse: f64,
     pub sampled_rmse: f64,
     /// Student t at 1 − δ (no stretch), the distribution-free per-frame bound.
     pub t_bound: f64,
@@ -56,15 +62,13 @@ pub struct Row {
 }
 
 impl Row {
-    pub const HEADER: [&'static str; 14] = [
-        "scene",
+    /// The study's own columns, after the core's.
+    pub const OWN: [&'static str; 11] = [
         "half",
-        "method",
         "proxy",
         "pixels",
         "draw",
         "unique_pixels",
-        "measured_rmse",
         "sampled_rmse",
         "t_bound",
         "per_frame_bound",
@@ -74,22 +78,21 @@ impl Row {
     ];
 
     fn cells(&self) -> Vec<String> {
-        vec![
-            self.scene.clone(),
+        let mut c = self.core.cells();
+        c.extend([
             self.half.clone(),
-            self.method.clone(),
             self.proxy.clone(),
             self.pixels.to_string(),
             self.draw.to_string(),
             self.unique_pixels.to_string(),
-            self.measured_rmse.to_string(),
             self.sampled_rmse.to_string(),
             self.t_bound.to_string(),
             self.per_frame_bound.to_string(),
             self.delta.to_string(),
             self.resolution.to_string(),
             (bound::STRETCH * self.t_bound).to_string(),
-        ]
+        ]);
+        c
     }
 
     /// The bound of `kind` with the t bound stretched by `stretch`.
@@ -104,23 +107,26 @@ impl Row {
 /// The rows as CSV (with the calibrated bound at the engine's stretch as the last column).
 pub fn csv(rows: &[Row]) -> String {
     crate::record::csv::lines(
-        std::iter::once(
-            Row::HEADER
-                .iter()
-                .map(|s| s.to_string())
-                .collect::<Vec<_>>(),
-        )
-        .chain(rows.iter().map(Row::cells)),
+        std::iter::once(RowCore::csv_header(&Row::OWN)).chain(rows.iter().map(Row::cells)),
     )
 }
 
-/// Rows from the CSV [`csv`] writes (the committed results' reader).
+/// Rows from the CSV [`csv`] writes (the committed results' reader). Files written before the
+/// core (results/certify-coverage) name the method by its label in `method`, have no `spec`,
+/// and call the RMSE `measured_rmse`: the label becomes the spec, its name the method.
 pub fn parse_csv(text: &str) -> Result<Vec<Row>> {
-    let mut reader = ::csv::Reader::from_reader(text.as_bytes());
-    reader
-        .deserialize::<Row>()
-        .map(|r| r.map_err(|e| Error::param(format!("certify rows: {e}"))))
-        .collect()
+    let rows =
+        read_csv::<Row>(text, &[]).map_err(|e| Error::param(format!("certify rows: {e}")))?;
+    Ok(rows
+        .into_iter()
+        .map(|(mut core, row)| {
+            if core.spec.is_empty() {
+                core.spec = core.method.clone();
+                core.method = core.spec.split(':').next().unwrap_or_default().into();
+            }
+            Row { core, ..row }
+        })
+        .collect())
 }
 
 /// The seed of draw `d` at K pixels: the same pixels for every method with the same proxy values.
@@ -172,6 +178,8 @@ pub fn run_scene(
             scene.name
         ));
     }
+    let adapter =
+        serde_json::Value::from(format!("{} ({})", ctx.summary.name, ctx.summary.backend));
     let mut rows = Vec::new();
     for spec in job.methods {
         let method = Method::parse(spec, &[])?;
@@ -184,6 +192,14 @@ pub fn run_scene(
             pictures: false,
         })?;
         let measured = rmse(&f.visibility, &reference.values, &subset);
+        let core = RowCore {
+            maps: f.output.shadow_maps,
+            map_size: scene.render.shadow_map_size,
+            rmse: measured,
+            frame_ms: f.total_ms,
+            adapter: adapter.clone(),
+            ..RowCore::of(&scene.name, &method.label(), &method)
+        };
         for kind in PROXIES {
             let q = proxy(
                 kind,
@@ -210,14 +226,12 @@ pub fn run_scene(
                         BoundKind::Calibrated,
                     );
                     rows.push(Row {
-                        scene: scene.name.clone(),
+                        core: core.clone(),
                         half: half(&scene.name).name().to_string(),
-                        method: method.label(),
                         proxy: kind.name().to_string(),
                         pixels: k,
                         draw: d,
                         unique_pixels: c.unique_pixels,
-                        measured_rmse: measured,
                         sampled_rmse: c.sampled_rmse,
                         t_bound: c.student_t_bound,
                         per_frame_bound: c.per_frame_bound,
@@ -289,23 +303,23 @@ pub fn summarize(rows: &[Row], stretch: f64) -> Vec<Summary> {
                 .iter()
                 .filter(|r| group(&r.half) == g && r.proxy == proxy && r.pixels == k)
                 .collect();
-            let covered = |r: &Row| r.bound(kind, stretch) >= r.measured_rmse;
+            let covered = |r: &Row| r.bound(kind, stretch) >= r.core.rmse;
             let ratios: Vec<f64> = draws
                 .iter()
-                .filter(|r| r.measured_rmse > 0.0)
-                .map(|r| r.bound(kind, stretch) / r.measured_rmse)
+                .filter(|r| r.core.rmse > 0.0)
+                .map(|r| r.bound(kind, stretch) / r.core.rmse)
                 .collect();
             let mut per_row: Vec<(String, f64)> = Vec::new();
             let mut pairs: Vec<(String, String)> = draws
                 .iter()
-                .map(|r| (r.scene.clone(), r.method.clone()))
+                .map(|r| (r.core.scene.clone(), r.core.spec.clone()))
                 .collect();
             pairs.sort();
             pairs.dedup();
             for (s, m) in pairs {
                 let mine: Vec<&&Row> = draws
                     .iter()
-                    .filter(|r| r.scene == s && r.method == m)
+                    .filter(|r| r.core.scene == s && r.core.spec == m)
                     .collect();
                 per_row.push((
                     format!("{m} on {s}"),
@@ -346,8 +360,8 @@ pub fn fit_stretch(rows: &[Row], proxy: &str) -> Option<f64> {
         .filter(|r| r.half == Half::Fitting.name() && r.proxy == proxy && r.pixels == FIT_PIXELS)
         .map(|r| {
             if r.t_bound > 0.0 {
-                r.measured_rmse / r.t_bound
-            } else if r.measured_rmse > 0.0 {
+                r.core.rmse / r.t_bound
+            } else if r.core.rmse > 0.0 {
                 f64::INFINITY
             } else {
                 0.0
@@ -419,14 +433,18 @@ mod tests {
 
     fn row(half: &str, method: &str, draw: u32, measured: f64, t: f64) -> Row {
         Row {
-            scene: "s".into(),
+            core: RowCore {
+                scene: "s".into(),
+                spec: method.into(),
+                method: method.into(),
+                rmse: measured,
+                ..RowCore::default()
+            },
             half: half.into(),
-            method: method.into(),
             proxy: "band".into(),
             pixels: FIT_PIXELS,
             draw,
             unique_pixels: 2000,
-            measured_rmse: measured,
             sampled_rmse: t * 0.9,
             t_bound: t,
             per_frame_bound: 0.1,
@@ -468,6 +486,35 @@ mod tests {
             .find(|l| l.half == "checking + held out" && l.bound.starts_with("calibrated"))
             .unwrap();
         assert_eq!((check.coverage, check.worst_coverage), (0.0, 0.0));
+        assert_eq!(parse_csv(&csv(&rows)).unwrap(), rows);
+    }
+
+    /// The committed rows (written before the core: the label in `method`, `measured_rmse`)
+    /// read, and give the committed summary and fit, byte for byte.
+    #[test]
+    fn the_committed_rows_read_and_give_the_committed_summary() {
+        let dir =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/certify-coverage");
+        let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+        let rows = parse_csv(&read("certify.csv")).unwrap();
+        assert_eq!(rows.len(), 4380);
+        let first = &rows[0].core;
+        assert_eq!(
+            (
+                first.scene.as_str(),
+                first.spec.as_str(),
+                first.method.as_str()
+            ),
+            ("analytic-square", "hard", "hard")
+        );
+        assert_eq!(first.rmse, 0.1074769045732458);
+        assert!(rows
+            .iter()
+            .any(|r| r.core.spec == "regular:n=5,layout=centred" && r.core.method == "regular"));
+        let files = files(&rows).unwrap();
+        assert_eq!(String::from_utf8_lossy(&files[1].1), read("summary.md"));
+        assert_eq!(String::from_utf8_lossy(&files[2].1), read("summary.json"));
+        // Written again with the core first, they read back the same.
         assert_eq!(parse_csv(&csv(&rows)).unwrap(), rows);
     }
 }

@@ -5,7 +5,8 @@
 //! window under the oracle's map size (their frames interleaved, so both see the same load), or
 //! alone at 512² where no fixed setting reaches T. The counts are the promise's.
 
-use crate::record::Provenance;
+use crate::record::row_core::read_csv;
+use crate::record::{Provenance, RowCore};
 use crate::reference::truth::Cache;
 use crate::scene::Scene;
 use crate::studies::calibration::half;
@@ -17,15 +18,20 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// One row: `auto:target=T` on a scene, beside its oracle where one reaches T.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+///
+/// Its serde reads the study's own columns of `promise.csv`; [`parse_csv`] reads the core from
+/// the core's columns (see [`crate::record::row_core::read_csv`]).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
 pub struct PromiseRow {
-    pub scene: String,
+    /// auto's row as `compare` measured it: scene, spec (`auto:target=T`), its maps and the map
+    /// size it rendered, the RMSE, the median frame time of the timed frames (the chosen
+    /// setting alone, after the deciding frame; `ms` in files written before), adapter, build
+    /// and T (always there: [`parse_csv`] refuses a row without it).
+    #[serde(skip)]
+    pub core: RowCore,
     pub half: String,
-    pub target: f64,
     /// What auto rendered: `regular:n=5,layout=centred @ 1024` or a filter's label.
     pub choice: String,
-    pub maps: u32,
-    pub rmse: f64,
     pub target_met: bool,
     /// The chosen candidate's certified bound (the least tested where out of reach), its kind.
     pub bound: f64,
@@ -33,8 +39,6 @@ pub struct PromiseRow {
     /// The frame that chose: the estimate's tries and the certified decision, ms; candidates tested.
     pub decision_ms: f64,
     pub tests: usize,
-    /// Median frame time of the timed frames (the chosen setting alone, after the deciding frame).
-    pub ms: f64,
     /// The oracle (`spec @ map_config`), its maps, its RMSE rendered again and in the frontier, its ms.
     pub oracle: Option<String>,
     pub oracle_maps: Option<u32>,
@@ -42,6 +46,30 @@ pub struct PromiseRow {
     pub frontier_oracle_rmse: Option<f64>,
     pub oracle_ms: Option<f64>,
     pub time_over_oracle: Option<f64>,
+}
+
+impl PromiseRow {
+    /// The study's own columns, after the core's.
+    pub const OWN: [&'static str; 13] = [
+        "half",
+        "choice",
+        "target_met",
+        "bound",
+        "bound_kind",
+        "decision_ms",
+        "tests",
+        "oracle",
+        "oracle_maps",
+        "oracle_rmse",
+        "frontier_oracle_rmse",
+        "oracle_ms",
+        "time_over_oracle",
+    ];
+
+    /// T, the target auto was asked for.
+    pub fn target(&self) -> f64 {
+        self.core.target.unwrap_or(f64::NAN)
+    }
 }
 
 /// The auto rows of one frontier (its `frontier.jsonl` lines).
@@ -139,12 +167,18 @@ pub fn run_frontier(
             None => format!("{} @ {}", record.chosen.spec, record.chosen.map_size),
         };
         let row = PromiseRow {
-            scene: b.core.scene.clone(),
+            core: RowCore {
+                scene: b.core.scene.clone(),
+                // auto renders its grid at the size it chose, a one-map filter at the scene's.
+                map_size: match record.renders {
+                    Some(_) => a.core.map_size,
+                    None => record.chosen.map_size,
+                },
+                target: Some(target),
+                ..a.core.clone()
+            },
             half: half(&b.core.scene).name().to_string(),
-            target,
             choice,
-            maps: a.core.maps,
-            rmse: a.metrics.rmse,
             target_met: record.target_met,
             bound: record.reported(),
             bound_kind: record
@@ -154,7 +188,6 @@ pub fn run_frontier(
                 .to_string(),
             decision_ms: record.decision_ms(),
             tests: record.certified.as_ref().map_or(0, |c| c.tests.len()),
-            ms: a.core.frame_ms,
             oracle: oracle.map(FrontierLine::setting),
             oracle_maps: o.map(|o| o.core.maps),
             oracle_rmse: o.map(|o| o.metrics.rmse),
@@ -164,11 +197,11 @@ pub fn run_frontier(
         };
         log(&format!(
             "{} at {target}: {} ({} maps), RMSE {:.5} ({:.2} T), {} bound {:.5}{}",
-            row.scene,
+            row.core.scene,
             row.choice,
-            row.maps,
-            row.rmse,
-            row.rmse / target,
+            row.core.maps,
+            row.core.rmse,
+            row.core.rmse / target,
             if row.target_met {
                 "met,"
             } else {
@@ -208,12 +241,12 @@ pub fn counts(rows: &[PromiseRow]) -> Counts {
     let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
     Counts {
         rows: rows.len(),
-        under: rows.iter().filter(|r| r.rmse <= r.target).count(),
+        under: rows.iter().filter(|r| r.core.rmse <= r.target()).count(),
         reachable: reach.len(),
-        reachable_under: reach.iter().filter(|r| r.rmse <= r.target).count(),
+        reachable_under: reach.iter().filter(|r| r.core.rmse <= r.target()).count(),
         false_met: rows
             .iter()
-            .filter(|r| r.target_met && r.rmse > r.target)
+            .filter(|r| r.target_met && r.core.rmse > r.target())
             .count(),
         not_met: rows.iter().filter(|r| !r.target_met).count(),
         timed: ratios.len(),
@@ -258,12 +291,12 @@ pub fn markdown(rows: &[PromiseRow]) -> String {
         };
         s += &format!(
             "| {} | {} | {} | {} | {} | {:.2} | {reported} | {:.0} | {} | {} |\n",
-            r.scene,
+            r.core.scene,
             r.half,
-            r.target,
+            r.target(),
             r.choice,
-            r.maps,
-            r.rmse / r.target,
+            r.core.maps,
+            r.core.rmse / r.target(),
             r.decision_ms,
             r.oracle.as_deref().unwrap_or("none reaches it"),
             r.time_over_oracle.map_or("-".into(), |t| format!("{t:.2}"))
@@ -272,62 +305,45 @@ pub fn markdown(rows: &[PromiseRow]) -> String {
     s
 }
 
-/// The rows as CSV.
+/// The rows as CSV: the core's columns, then the study's own.
 pub fn csv(rows: &[PromiseRow]) -> String {
-    let header = [
-        "scene",
-        "half",
-        "target",
-        "choice",
-        "maps",
-        "rmse",
-        "target_met",
-        "bound",
-        "bound_kind",
-        "decision_ms",
-        "tests",
-        "ms",
-        "oracle",
-        "oracle_maps",
-        "oracle_rmse",
-        "frontier_oracle_rmse",
-        "oracle_ms",
-        "time_over_oracle",
-    ];
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
     let cells = rows.iter().map(|r| {
-        vec![
-            r.scene.clone(),
+        let mut c = r.core.cells();
+        c.extend([
             r.half.clone(),
-            r.target.to_string(),
             r.choice.clone(),
-            r.maps.to_string(),
-            r.rmse.to_string(),
             r.target_met.to_string(),
             r.bound.to_string(),
             r.bound_kind.clone(),
             r.decision_ms.to_string(),
             r.tests.to_string(),
-            r.ms.to_string(),
             r.oracle.clone().unwrap_or_default(),
             r.oracle_maps.map_or(String::new(), |m| m.to_string()),
             opt(r.oracle_rmse),
             opt(r.frontier_oracle_rmse),
             opt(r.oracle_ms),
             opt(r.time_over_oracle),
-        ]
+        ]);
+        c
     });
-    crate::record::csv::lines(
-        std::iter::once(header.iter().map(|s| s.to_string()).collect::<Vec<_>>()).chain(cells),
-    )
+    crate::record::csv::lines(std::iter::once(RowCore::csv_header(&PromiseRow::OWN)).chain(cells))
 }
 
-/// Rows from the CSV [`csv`] writes (empty cells: none).
+/// Rows from the CSV [`csv`] writes (empty cells: none). Files written before the core
+/// (results/certify-promise) call the frame time `ms`.
 pub fn parse_csv(text: &str) -> Result<Vec<PromiseRow>> {
-    let mut reader = ::csv::Reader::from_reader(text.as_bytes());
-    reader
-        .deserialize::<PromiseRow>()
-        .map(|r| r.map_err(|e| Error::param(format!("promise rows: {e}"))))
+    let rows = read_csv::<PromiseRow>(text, &[("frame_ms", "ms")])
+        .map_err(|e| Error::param(format!("promise rows: {e}")))?;
+    rows.into_iter()
+        .enumerate()
+        .map(|(i, (core, row))| match core.target {
+            Some(_) => Ok(PromiseRow { core, ..row }),
+            None => Err(Error::param(format!(
+                "promise rows: row {}: no target",
+                i + 1
+            ))),
+        })
         .collect()
 }
 
@@ -351,18 +367,23 @@ mod tests {
 
     fn row(target: f64, rmse: f64, met: bool, ratio: Option<f64>) -> PromiseRow {
         PromiseRow {
-            scene: "s".into(),
+            core: RowCore {
+                scene: "s".into(),
+                spec: format!("auto:target={target}"),
+                method: "auto".into(),
+                maps: 1,
+                rmse,
+                frame_ms: 2.0,
+                target: Some(target),
+                ..RowCore::default()
+            },
             half: "fitting".into(),
-            target,
             choice: "pcss".into(),
-            maps: 1,
-            rmse,
             target_met: met,
             bound: rmse * 1.1,
             bound_kind: "calibrated".into(),
             decision_ms: 100.0,
             tests: 1,
-            ms: 2.0,
             oracle: ratio.map(|_| "pcss @ plain 512".into()),
             oracle_maps: ratio.map(|_| 1),
             oracle_rmse: ratio.map(|_| rmse),
@@ -406,6 +427,37 @@ mod tests {
             ),
             "{md}"
         );
+        assert_eq!(parse_csv(&csv(&rows)).unwrap(), rows);
+        let mut untargeted = rows[1].clone();
+        untargeted.core.target = None;
+        assert_eq!(
+            parse_csv(&csv(&[rows[0].clone(), untargeted]))
+                .unwrap_err()
+                .to_string(),
+            "promise rows: row 2: no target"
+        );
+    }
+
+    /// The committed rows (written before the core: `ms` for the frame time, no spec) read, and
+    /// give the committed counts and table, byte for byte.
+    #[test]
+    fn the_committed_rows_read_and_give_the_committed_table() {
+        let dir =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/certify-promise");
+        let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+        let rows = parse_csv(&read("promise.csv")).unwrap();
+        assert_eq!(rows.len(), 45);
+        let first = &rows[0];
+        assert_eq!(
+            (
+                first.core.scene.as_str(),
+                first.target(),
+                first.core.maps,
+                first.core.frame_ms
+            ),
+            ("analytic-square", 0.03, 1, 4.136334000000001)
+        );
+        assert_eq!(markdown(&rows), read("promise.md"));
         assert_eq!(parse_csv(&csv(&rows)).unwrap(), rows);
     }
 }

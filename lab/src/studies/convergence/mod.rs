@@ -11,7 +11,7 @@ use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
 use crate::record::judge::Judge;
-use crate::record::row_core::{RowCore, CSV_HEADER};
+use crate::record::row_core::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::scene::Scene;
@@ -178,11 +178,7 @@ pub fn fitted_slope(points: &[(f64, f64)]) -> Option<f64> {
 pub fn files(outcome: &ConvergenceOutcome) -> Result<Vec<(String, Vec<u8>)>> {
     let json = serde_json::to_vec_pretty(outcome).map_err(|e| Error::param(e.to_string()))?;
     let any_failed = outcome.rows.iter().any(|r| r.failed.is_some());
-    let mut header: Vec<String> = CSV_HEADER
-        .iter()
-        .chain(&["value", "label", "mae"])
-        .map(|s| s.to_string())
-        .collect();
+    let mut header = RowCore::csv_header(&["value", "label", "mae"]);
     if any_failed {
         header.push("failed".into());
     }

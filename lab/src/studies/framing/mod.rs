@@ -9,7 +9,7 @@ pub(crate) mod width;
 use self::charts::{framing_svg, WidthAxis, WidthPoint};
 use crate::gpu::GpuContext;
 use crate::methods::Method;
-use crate::record::row_core::{RowCore, CSV_HEADER};
+use crate::record::row_core::RowCore;
 use crate::reference::truth::Cache;
 use crate::reference::ReferenceMode;
 use crate::report::charts::{svg_to_png, ResultRow};
@@ -176,11 +176,7 @@ pub fn run(ctx: &GpuContext, job: &FramingJob, log: &dyn Fn(&str)) -> Result<Fra
 
 fn csv(rows: &[FramingRow]) -> String {
     let own = ["resolution", "light_scale", "penumbra_width_px", "label"];
-    let header: Vec<String> = CSV_HEADER
-        .iter()
-        .chain(&own)
-        .map(|s| s.to_string())
-        .collect();
+    let header = RowCore::csv_header(&own);
     let cells = rows.iter().map(|r| {
         let mut c = r.core.cells();
         c.extend([

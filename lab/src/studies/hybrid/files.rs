@@ -3,7 +3,7 @@
 
 use super::charts::{error_memory_svg, MemoryPoint};
 use super::HybridRow;
-use crate::record::row_core::CSV_HEADER;
+use crate::record::RowCore;
 use crate::report::charts::svg_to_png;
 use crate::{Error, Result};
 
@@ -79,11 +79,7 @@ fn csv(rows: &[HybridRow]) -> String {
         "lookup_ms",
         "resolution",
     ];
-    let header: Vec<String> = CSV_HEADER
-        .iter()
-        .chain(&own)
-        .map(|s| s.to_string())
-        .collect();
+    let header = RowCore::csv_header(&own);
     let cells = rows.iter().map(|r| {
         let mut c = r.core.cells();
         c.extend([

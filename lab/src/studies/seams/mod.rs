@@ -9,7 +9,7 @@ use crate::frame;
 use crate::gpu::timing::TimingMode;
 use crate::gpu::GpuContext;
 use crate::methods::Method;
-use crate::record::row_core::{RowCore, CSV_HEADER};
+use crate::record::row_core::RowCore;
 use crate::reference::truth::{self, Cache};
 use crate::reference::ReferenceMode;
 use crate::render::gbuffer::GBufferCpu;
@@ -212,11 +212,7 @@ pub fn csv(rows: &[SeamRow]) -> String {
         "outside_penumbra_pixels",
         "outside_penumbra_rmse",
     ];
-    let header: Vec<String> = CSV_HEADER
-        .iter()
-        .chain(&own)
-        .map(|s| s.to_string())
-        .collect();
+    let header = RowCore::csv_header(&own);
     let cells = rows.iter().map(|r| {
         let mut c = r.core.cells();
         c.extend([

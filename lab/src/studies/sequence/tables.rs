@@ -2,7 +2,7 @@
 //! plain-text table for the terminal.
 
 use super::{FrameRow, MethodSummary};
-use crate::record::row_core::CSV_HEADER;
+use crate::record::RowCore;
 
 /// A CSV field, quoted as in results.csv when it holds a comma or a quote.
 fn field(text: &str) -> String {
@@ -34,11 +34,7 @@ pub fn frames_csv(rows: &[FrameRow]) -> String {
         "v_equal_without_reuse",
         "kept_bytes",
     ];
-    let header: Vec<String> = CSV_HEADER
-        .iter()
-        .chain(&own)
-        .map(|s| s.to_string())
-        .collect();
+    let header = RowCore::csv_header(&own);
     let cells = rows.iter().map(|r| {
         let t = r.temporal;
         let opt = |v: Option<String>| v.unwrap_or_default();
