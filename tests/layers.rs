@@ -56,7 +56,7 @@ fn cli_words_in(line: &str) -> Vec<String> {
         .collect()
 }
 
-/// Every product line of src/ (a file's text before its `#[cfg(test)]` module), as `file:line`.
+/// Every product line of src/ (a file's lines outside its `#[cfg(test)]` items), as `file:line`.
 fn product_lines(dir: &Path, out: &mut Vec<(String, String)>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().collect();
     entries.sort_by_key(|e| e.path());
@@ -66,14 +66,25 @@ fn product_lines(dir: &Path, out: &mut Vec<(String, String)>) {
             product_lines(&path, out);
         } else if path.extension().is_some_and(|x| x == "rs") {
             let text = std::fs::read_to_string(&path).unwrap();
-            for (i, line) in text.lines().enumerate() {
-                if line.trim_start().starts_with("#[cfg(test)]") {
-                    break;
-                }
-                out.push((format!("{}:{}", path.display(), i + 1), line.to_string()));
+            for (n, line) in common::layers::product_lines(&text) {
+                out.push((format!("{}:{n}", path.display()), line.to_string()));
             }
         }
     }
+}
+
+#[test]
+fn only_the_test_items_are_left_out_of_the_product_lines() {
+    let src = "fn a() {}\n#[cfg(test)]\npub(crate) fn helper() -> &'static str {\n    let c = '}';\n    let q = '\\'';\n    \"}\" // }\n}\n#[cfg(test)]\nuse std::fmt;\npub fn b() {}\n#[cfg(test)]\nmod tests {\n    /* } */\n    fn t() { let _ = r#\"}\"#; }\n}\npub fn c<'a>(x: &'a str) -> &'a str { x }\n";
+    let kept: Vec<(usize, &str)> = common::layers::product_lines(src);
+    assert_eq!(
+        kept,
+        [
+            (1, "fn a() {}"),
+            (10, "pub fn b() {}"),
+            (16, "pub fn c<'a>(x: &'a str) -> &'a str { x }")
+        ]
+    );
 }
 
 #[test]

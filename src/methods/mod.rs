@@ -26,7 +26,7 @@ pub(crate) mod ssao;
 
 pub use adaptive::params::{AdaptiveParams, Criterion, Scope, Weights};
 pub use fixed_samples::Layout;
-pub(crate) use param_decl::{ChoiceDecl, ParamDecl, SwitchDecl};
+pub(crate) use param_decl::{ChoiceDecl, OptionalDecl, ParamDecl, SwitchDecl, WordDecl};
 
 use crate::gpu::timing::StageTimer;
 use crate::scene::LightKind;

@@ -35,6 +35,24 @@ impl ParamValue for f32 {
     }
 }
 
+/// Any number, the infinities included (`p_m = inf`: a threshold never reached), never NaN.
+impl ParamValue for f64 {
+    fn parse_param(key: &str, v: &str) -> Result<f64> {
+        let x: f64 = match v {
+            "inf" | "+inf" | "infinity" => f64::INFINITY,
+            _ => v
+                .parse()
+                .map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a number")))?,
+        };
+        if x.is_nan() {
+            return Err(Error::Param(format!(
+                "parameter {key} = `{v}` must not be NaN"
+            )));
+        }
+        Ok(x)
+    }
+}
+
 /// A number in `lo..=hi` (the full range of the type where the method takes any value).
 pub struct ParamDecl<T> {
     pub(crate) key: &'static str,
@@ -42,6 +60,10 @@ pub struct ParamDecl<T> {
     pub(crate) lo: T,
     pub(crate) hi: T,
     pub(crate) help: &'static str,
+    /// What a valid value is, where the method says it in its own words: then a value that does
+    /// not parse or lies outside `lo..=hi` is told `key = `text`: why` instead of the type's
+    /// message or the bare range.
+    pub(crate) why: Option<&'static str>,
 }
 
 impl<T: ParamValue> ParamDecl<T> {
@@ -58,6 +80,14 @@ impl<T: ParamValue> ParamDecl<T> {
             lo,
             hi,
             help,
+            why: None,
+        }
+    }
+    /// The same declaration, its refusals worded by `why` (what a valid value is).
+    pub(crate) const fn why(self, why: &'static str) -> Self {
+        ParamDecl {
+            why: Some(why),
+            ..self
         }
     }
     /// The line `penumbra methods` lists.
@@ -79,14 +109,50 @@ impl<T: ParamValue> ParamDecl<T> {
     /// The given value, or the default, parsed and checked against the range; `method` names the
     /// method in the range's message (`regular: n = 0 is outside 1..=128`).
     pub(crate) fn get(&self, p: &ParamMap, method: &str) -> Result<T> {
-        let text = p.get(self.key).map_or(self.default, String::as_str);
-        check_range(
-            method,
-            self.key,
-            T::parse_param(self.key, text)?,
-            self.lo,
-            self.hi,
-        )
+        self.read(p.get(self.key).map_or(self.default, String::as_str), method)
+    }
+    /// `text` parsed and checked against the range.
+    fn read(&self, text: &str, method: &str) -> Result<T> {
+        let value = T::parse_param(self.key, text)
+            .and_then(|v| check_range(method, self.key, v, self.lo, self.hi));
+        match self.why {
+            Some(why) if value.is_err() => Err(Error::Param(format!(
+                "{method}: {} = `{text}`: {why}",
+                self.key
+            ))),
+            _ => value,
+        }
+    }
+}
+
+/// A number that may be left out: its listed default says what leaving it out does (`none`,
+/// `32 per pixel`), so only a given value is parsed.
+pub(crate) struct OptionalDecl<T>(ParamDecl<T>);
+
+impl<T: ParamValue> OptionalDecl<T> {
+    pub(crate) const fn new(
+        key: &'static str,
+        absent: &'static str,
+        lo: T,
+        hi: T,
+        help: &'static str,
+    ) -> Self {
+        OptionalDecl(ParamDecl::new(key, absent, lo, hi, help))
+    }
+    pub(crate) const fn why(self, why: &'static str) -> Self {
+        OptionalDecl(self.0.why(why))
+    }
+    pub(crate) const fn key(&self) -> &'static str {
+        self.0.key
+    }
+    pub(crate) const fn param(&self) -> Param {
+        self.0.param()
+    }
+    /// The given value parsed and checked against the range; None when it is not given.
+    pub(crate) fn get(&self, p: &ParamMap, method: &str) -> Result<Option<T>> {
+        p.get(self.0.key)
+            .map(|text| self.0.read(text, method))
+            .transpose()
     }
 }
 
@@ -136,11 +202,73 @@ impl ChoiceDecl {
     }
 }
 
-/// `on` or `off`.
+/// One of a fixed list of words, each standing for a value of `T` (an enum): the parser and the
+/// label read the same table. A bad word is told `key = `v`: use `a`, `b` or `c`` (table order).
+pub(crate) struct WordDecl<T: 'static> {
+    pub(crate) key: &'static str,
+    pub(crate) default: &'static str,
+    pub(crate) words: &'static [(&'static str, T)],
+    pub(crate) help: &'static str,
+}
+
+impl<T: Copy + PartialEq> WordDecl<T> {
+    pub(crate) const fn new(
+        key: &'static str,
+        default: &'static str,
+        words: &'static [(&'static str, T)],
+        help: &'static str,
+    ) -> Self {
+        WordDecl {
+            key,
+            default,
+            words,
+            help,
+        }
+    }
+    pub(crate) const fn param(&self) -> Param {
+        Param {
+            key: self.key,
+            default: self.default,
+            help: self.help,
+        }
+    }
+    /// The given word's value, or the default's.
+    pub(crate) fn get(&self, p: &ParamMap) -> Result<T> {
+        self.read(p.get(self.key).map_or(self.default, String::as_str))
+    }
+    /// The given word's value; None when it is not given (a listed default such as `none` that
+    /// stands for no word at all).
+    pub(crate) fn given(&self, p: &ParamMap) -> Result<Option<T>> {
+        p.get(self.key).map(|v| self.read(v)).transpose()
+    }
+    /// The word that stands for `value`, if one does.
+    pub(crate) fn word(&self, value: T) -> Option<&'static str> {
+        self.words
+            .iter()
+            .find(|(_, v)| *v == value)
+            .map(|(w, _)| *w)
+    }
+    fn read(&self, v: &str) -> Result<T> {
+        if let Some((_, value)) = self.words.iter().find(|(w, _)| *w == v) {
+            return Ok(*value);
+        }
+        let quoted: Vec<String> = self.words.iter().map(|(w, _)| format!("`{w}`")).collect();
+        let choices = match quoted.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+            _ => quoted.join(""),
+        };
+        Err(Error::Param(format!("{} = `{v}`: use {choices}", self.key)))
+    }
+}
+
+/// `on` or `off` (and, where the method also takes them, `true` or `false`).
 pub struct SwitchDecl {
     pub(crate) key: &'static str,
     pub(crate) default: &'static str,
     pub(crate) help: &'static str,
+    /// `true` and `false` are taken too (the adaptive method's switches, as a TOML grid's
+    /// booleans arrive).
+    pub(crate) true_false: bool,
 }
 
 impl SwitchDecl {
@@ -149,6 +277,14 @@ impl SwitchDecl {
             key,
             default: if on { "on" } else { "off" },
             help,
+            true_false: false,
+        }
+    }
+    /// The same switch, taking `true` and `false` as well.
+    pub(crate) const fn or_true_false(self) -> Self {
+        SwitchDecl {
+            true_false: true,
+            ..self
         }
     }
     pub(crate) const fn param(&self) -> Param {
@@ -160,9 +296,18 @@ impl SwitchDecl {
     }
     /// The given switch, or the default; `method` names the method in the message.
     pub(crate) fn get(&self, p: &ParamMap, method: &str) -> Result<bool> {
-        match p.get(self.key).map_or(self.default, String::as_str) {
+        self.read(p.get(self.key).map_or(self.default, String::as_str), method)
+    }
+    /// The given switch; None when it is not given.
+    pub(crate) fn given(&self, p: &ParamMap, method: &str) -> Result<Option<bool>> {
+        p.get(self.key).map(|v| self.read(v, method)).transpose()
+    }
+    fn read(&self, v: &str, method: &str) -> Result<bool> {
+        match v {
             "on" => Ok(true),
             "off" => Ok(false),
+            "true" if self.true_false => Ok(true),
+            "false" if self.true_false => Ok(false),
             v => Err(Error::Param(format!(
                 "{method}: {} = `{v}`: use `on` or `off`",
                 self.key
@@ -180,6 +325,10 @@ pub(crate) fn all_defaults() -> Vec<(&'static str, Result<()>)> {
     let num = |d: &ParamDecl<f32>| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
     let word = |d: &ChoiceDecl| (d.key, d.get(&ParamMap::new()).map(|_| ()));
     let switch = |d: &SwitchDecl| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
+    let wide = |d: &ParamDecl<f64>| (d.key, d.get(&ParamMap::new(), "default").map(|_| ()));
+    fn words<T: Copy + PartialEq>(d: &WordDecl<T>) -> (&'static str, Result<()>) {
+        (d.key, d.get(&ParamMap::new()).map(|_| ()))
+    }
     vec![
         int(&fixed_samples::N),
         word(&pcf::KERNEL),
@@ -235,7 +384,17 @@ pub(crate) fn all_defaults() -> Vec<(&'static str, Result<()>)> {
         switch(&regions::HOLD),
         switch(&regions::CERTIFY),
         switch(&environment::pixels::SSAO),
-        int(&adaptive::HOLD),
+        wide(&adaptive::params::P_M),
+        wide(&adaptive::params::GROWTH),
+        int(&adaptive::params::MAX_LEVEL),
+        words(&adaptive::params::WEIGHTS),
+        words(&adaptive::params::SCOPE),
+        words(&adaptive::params::LAYOUT),
+        switch(&adaptive::params::SCISSOR),
+        words(&adaptive::params::STEER),
+        switch(&adaptive::params::CULL),
+        int(&adaptive::params::HOLD),
+        switch(&adaptive::params::ITEMS_GROW),
     ]
 }
 

@@ -6,7 +6,7 @@
 use super::buffers::{Level, Shape, CONTROL_BYTES, CULL_TILE_WORDS, LATTICE_POINTS, QUAD_CAPACITY};
 pub(super) use super::context::Frame;
 use super::levels::{self, LevelReport};
-use super::maps::{render_new, MapStore};
+use super::maps::{render_new, MapStore, NewMaps};
 use super::params::SplitRule;
 use super::{candidates, pictures, sample_weights, AdaptiveTrace, Prepared, CORNERS, ROOT};
 use crate::gpu::readback;
@@ -115,8 +115,7 @@ pub(super) fn levels(
                 fx,
                 timer,
                 level,
-                &lv,
-                cur,
+                &fx.level(&lv, cur),
                 steering.quad_count(),
                 steering.maps(),
             )?;
@@ -216,21 +215,19 @@ fn count_batch(
 
 /// scope = local: probes (level > 0), then the level's (pixel, quad) items: their corners'
 /// tests, counts and (before the last level) low-quality flags and per-quad counters.
-#[allow(clippy::too_many_arguments)]
 /// `quad_count`: the level's quads where the host knows them (the clears cover only those), None
 /// under the GPU-steered loop (they cover the buffers).
 fn count_items(
     fx: &Frame,
     timer: &mut StageTimer,
     level: u32,
-    uniform: &wgpu::Buffer,
-    cur: usize,
+    lv: &Level,
     quad_count: Option<u32>,
     maps: [&wgpu::TextureView; 2],
 ) -> Result<()> {
     let (b, passes, ctx) = (fx.b, fx.passes, fx.fg.ctx);
+    let (uniform, cur) = (lv.uniform, lv.cur);
     let last = level == fx.p.max_level;
-    let lv = &fx.level(uniform, cur);
     let (quads, items) = (&b.quads[cur], &b.items);
     if level > 0 {
         // Uniform pixels of last level's split quads test the new samples (the blind-spot fix).
@@ -435,8 +432,10 @@ impl Steering for Waiting<'_> {
             timer,
             self.store,
             self.samples,
-            &self.new,
-            self.rects.as_deref(),
+            NewMaps {
+                new: &self.new,
+                rects: self.rects.as_deref(),
+            },
             &mut self.trace,
             self.keep,
         )?;
@@ -485,18 +484,19 @@ impl Steering for Waiting<'_> {
         let kept = fx.cull.map(|c| &c.1);
         let keep = self.keep;
         let report = timer.cpu(Stage::READBACK_LEVEL, || {
-            levels::read_level(
-                fg,
-                b,
+            let r = levels::LevelRead {
+                n: quads.len() as u64,
+                kept: kept.is_some(),
+                pictures: pictures || keep,
+                intermediates: keep,
+                local,
+            };
+            let of = levels::LevelOf {
                 level,
                 quads,
-                &b.quads[nxt],
-                kept,
-                pictures,
                 evaluated,
-                local,
-                keep,
-            )
+            };
+            levels::read_level(fg, b, of, &b.quads[nxt], kept, r)
         })?;
         self.syncs += 1;
         if let Some(e) = report.overflow_error(level) {

@@ -157,28 +157,25 @@ pub(crate) fn level_parts<'a>(
     parts
 }
 
-/// The one read-back of a level (the waiting loop).
-#[allow(clippy::too_many_arguments)]
+/// The level a record belongs to: its number, the quads it evaluated, and whether its count
+/// stages ran (scope = global skips them at max_level).
+pub(crate) struct LevelOf {
+    pub(crate) level: u32,
+    pub(crate) quads: Vec<GpuQuad>,
+    pub(crate) evaluated: bool,
+}
+
+/// The one read-back of a level (the waiting loop): its record, `next_quads` and (culling)
+/// `kept` among its buffers.
 pub(crate) fn read_level(
     fg: &FrameGpu,
     b: &AdaptiveBuffers,
-    level: u32,
-    quads: Vec<GpuQuad>,
+    of: LevelOf,
     next_quads: &wgpu::Buffer,
     kept: Option<&wgpu::Buffer>,
-    pictures: bool,
-    evaluated: bool,
-    local: bool,
-    keep: bool,
+    r: LevelRead,
 ) -> Result<LevelReport> {
     let ctx = fg.ctx;
-    let r = LevelRead {
-        n: quads.len() as u64,
-        kept: kept.is_some(),
-        pictures: pictures || keep,
-        intermediates: keep,
-        local,
-    };
     let parts = level_parts(b, next_quads, kept, r);
     let total: u64 = parts.iter().map(|(_, s)| s).sum();
     let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -195,18 +192,21 @@ pub(crate) fn read_level(
     }
     ctx.queue.submit([enc.finish()]);
     let words: Vec<u32> = readback::map_staging(ctx, &staging)?;
-    Ok(parse_level(b, &words, level, quads, evaluated, r))
+    Ok(parse_level(b, &words, of, r))
 }
 
 /// Reads one level's record (`level_parts`' layout) from `words`.
 pub(crate) fn parse_level(
     b: &AdaptiveBuffers,
     words: &[u32],
-    level: u32,
-    quads: Vec<GpuQuad>,
-    evaluated: bool,
+    of: LevelOf,
     r: LevelRead,
 ) -> LevelReport {
+    let LevelOf {
+        level,
+        quads,
+        evaluated,
+    } = of;
     let n = r.n;
     let lattice = LATTICE_POINTS as u64 * 4;
     let quad_bytes = QUAD_CAPACITY as u64 * 16;

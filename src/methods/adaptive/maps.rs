@@ -50,20 +50,26 @@ impl MapStore {
     }
 }
 
+/// What a level asks of the map store: the lattice samples it renders, and (scope = local with
+/// scissor) the texel rectangle each sample's pixels test.
+pub(super) struct NewMaps<'a> {
+    pub(super) new: &'a [u32],
+    pub(super) rects: Option<&'a [[u32; 4]]>,
+}
+
 /// Rasterizes the maps of `new` (sorted, so layer assignment is deterministic) and, under
 /// scope = global, caches their shadow tests; chunks when more maps than one array holds.
 /// `keep` (tests) reads every map back into the trace.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn render_new(
     fx: &Frame,
     timer: &mut StageTimer,
     store: &mut MapStore,
     samples: &mut [GpuSample],
-    new: &[u32],
-    rects: Option<&[[u32; 4]]>,
+    request: NewMaps,
     trace: &mut AdaptiveTrace,
     keep: bool,
 ) -> Result<()> {
+    let NewMaps { new, rects } = request;
     let (fg, b, local) = (fx.fg, fx.b, fx.local);
     let ctx = fg.ctx;
     let mut ks = new.to_vec();

@@ -22,9 +22,7 @@ pub use weights::{lattice_numerators, sample_weights, LEVEL_LCM};
 
 use super::culled_maps::CulledMaps;
 use super::hybrid_maps::{self, HybridMaps};
-use super::{
-    AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Param, Scope, ShadowMethod,
-};
+use super::{AdaptiveParams, Family, MethodInfo, MethodOutput, MethodState, Scope, ShadowMethod};
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
 use crate::gpu::timing::StageTimer;
@@ -39,35 +37,12 @@ use crate::stages::{
 };
 use crate::{Error, Result};
 
-pub(crate) const HOLD: crate::methods::ParamDecl<u32> = crate::methods::ParamDecl::new(
-    "hold",
-    "0",
-    0,
-    u32::MAX,
-    "hysteresis in low-quality pixels: a quad the previous frame did not split needs this many more to split; one it split stays split down to the threshold (docs/reuse.md)",
-);
-
 pub(crate) const INFO: MethodInfo = MethodInfo {
     name: "adaptive",
     family: Family::MultiSample,
     summary: "adaptive light-source sampling (seed 000): split light quads whose penumbra pixels exceed p_m",
-    params: &[
-        Param { key: "preset", default: "none", help: "seed (the seed's settings) or balanced (p_m 0, max_level 3, Coons weights; results/bench-fair-baselines/)" },
-        Param { key: "p_m", default: "0", help: "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)" },
-        Param { key: "p_share", default: "none", help: "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)" },
-        Param { key: "growth", default: "1", help: "threshold factor per level for p_m or p_share, 1..=1e6" },
-        Param { key: "tol", default: "none", help: "error budget: split when a quad's estimated RMSE exceeds tol (instead of p_m)" },
-        Param { key: "max_level", default: "4", help: "deepest quadtree level, 0..=4 (4 = the 17×17 lattice)" },
-        Param { key: "weights", default: "level", help: "sample weights: level (the seed's 1/(2^l+1)²), area or coons" },
-        Param { key: "scope", default: "global", help: "global (every map shades every pixel) or local (region-local refinement)" },
-        Param { key: "layout", default: "lattice", help: "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)" },
-        Param { key: "scissor", default: "off", help: "scope=local only: raster each map only over the texels its pixels test" },
-        Param { key: "steer", default: "cpu", help: "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, results/bench-seed-table2-h100/)" },
-        Param { key: "cull", default: "off", help: "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)" },
-        Param { key: "items", default: "32 per pixel", help: "scope=local only: the (pixel, quad) item list's starting capacity, at most what one binding holds; a frame that overflows it runs again on a list grown from the count" },
-        HOLD.param(),
-        Param { key: "items_grow", default: "on", help: "scope=local only: off fails a frame that overflows the item list (reported, never clipped) instead of growing it" },
-    ],
+    // Each parameter's declaration (params.rs) is read by the parser and this listing alike.
+    params: params::LISTED,
     parse: |p| Ok(std::sync::Arc::new(Adaptive(AdaptiveParams::from_map(p)?))),
 };
 

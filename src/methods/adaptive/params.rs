@@ -1,9 +1,8 @@
 //! Adaptive method parameters (`adaptive:p_m=0,scope=local`, or `penumbra render --param p_m=0`).
 
-use super::super::{get_u32, Layout};
+use super::super::{Layout, OptionalDecl, Param, ParamDecl, ParamMap, SwitchDecl, WordDecl};
 use crate::{Error, Result};
 use serde::Serialize;
-use std::collections::BTreeMap;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -114,164 +113,217 @@ fn number_or_inf<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::
     }
 }
 
+/// The declared defaults (`penumbra methods` lists them): the parameters parsed with none given.
 impl Default for AdaptiveParams {
     fn default() -> Self {
-        Self {
-            preset: None,
-            criterion: Criterion::Pixels {
-                p_m: 0.0,
-                growth: 1.0,
-            },
-            max_level: 4,
-            weights: Weights::Level,
-            scope: Scope::Global,
-            scissor: false,
-            layout: Layout::Lattice,
-            cull: None,
-            steer_cpu: true,
-            items: None,
-            items_grow: true,
-            hold: 0,
-        }
+        // Every declared default parses (params::tests and param_decl's test over all of them).
+        Self::from_map(&ParamMap::new()).expect("the adaptive method's declared defaults parse")
     }
 }
 
-fn get_f64(params: &BTreeMap<String, String>, key: &str) -> Result<Option<f64>> {
-    let Some(v) = params.get(key) else {
-        return Ok(None);
+/// The method's name in the range messages.
+const METHOD: &str = "adaptive";
+
+/// The balanced preset beside the declared defaults, as a spec writes it, and as the listing's
+/// help quotes it (a macro so that `concat!` can). Chosen from measurements
+/// (results/bench-fair-baselines/, "Choosing `balanced`"): the seed's zero threshold, no split
+/// below level 3 (at the seed's 512² maps the maps' own error dominates past the 9x9 lattice),
+/// Coons weights, global scope.
+macro_rules! balanced {
+    () => {
+        "max_level=3,weights=coons"
     };
-    let x: f64 = match v.as_str() {
-        "inf" | "+inf" | "infinity" => f64::INFINITY,
-        _ => v
-            .parse()
-            .map_err(|_| Error::Param(format!("parameter {key} = `{v}` is not a number")))?,
-    };
-    if x.is_nan() {
-        return Err(Error::Param(format!(
-            "parameter {key} = `{v}` must not be NaN"
-        )));
+}
+
+pub(crate) const PRESET: WordDecl<Preset> = WordDecl::new(
+    "preset",
+    "none",
+    &[("seed", Preset::Seed), ("balanced", Preset::Balanced)],
+    concat!(
+        "seed (the seed's settings: the defaults) or balanced (",
+        balanced!(),
+        "; results/bench-fair-baselines/)"
+    ),
+);
+pub(crate) const P_M: ParamDecl<f64> = ParamDecl::new(
+    "p_m",
+    "0",
+    f64::NEG_INFINITY,
+    f64::INFINITY,
+    "split when a quad's low-quality pixels exceed p_m (-1 always, inf never)",
+);
+pub(crate) const P_SHARE: OptionalDecl<f64> = OptionalDecl::new(
+    "p_share",
+    "none",
+    0.0,
+    1.0,
+    "split threshold as a share of the geometry pixels, 0..=1 (instead of p_m)",
+)
+.why("a share of the geometry pixels, in [0, 1]");
+pub(crate) const GROWTH: ParamDecl<f64> = ParamDecl::new(
+    "growth",
+    "1",
+    1.0,
+    1e6,
+    "threshold factor per level for p_m or p_share, 1..=1e6",
+)
+.why("the level factor must be in [1, 1e6]");
+/// Positive and finite: the smallest positive f64 up to the largest finite one.
+pub(crate) const TOL: OptionalDecl<f64> = OptionalDecl::new(
+    "tol",
+    "none",
+    f64::from_bits(1),
+    f64::MAX,
+    "error budget: split when a quad's estimated RMSE exceeds tol (instead of p_m)",
+)
+.why("the error budget must be a positive finite RMSE");
+pub(crate) const MAX_LEVEL: ParamDecl<u32> = ParamDecl::new(
+    "max_level",
+    "4",
+    0,
+    4,
+    "deepest quadtree level, 0..=4 (4 = the 17×17 lattice)",
+)
+.why("use 0..=4, the lattice of docs/method.md §3 (L_max = 4, 17x17 points)");
+pub(crate) const WEIGHTS: WordDecl<Weights> = WordDecl::new(
+    "weights",
+    "level",
+    &[
+        ("level", Weights::Level),
+        ("area", Weights::Area),
+        ("coons", Weights::Coons),
+    ],
+    "sample weights: level (the seed's 1/(2^l+1)²), area or coons",
+);
+pub(crate) const SCOPE: WordDecl<Scope> = WordDecl::new(
+    "scope",
+    "global",
+    &[("global", Scope::Global), ("local", Scope::Local)],
+    "global (every map shades every pixel) or local (region-local refinement)",
+);
+/// `centered` is read as `centred`; `jittered` (regular's) is refused with its own reason.
+pub(crate) const LAYOUT: WordDecl<Layout> = WordDecl::new(
+    "layout",
+    "lattice",
+    &[("lattice", Layout::Lattice), ("centred", Layout::Centred)],
+    "lattice (the seed: corner to corner) or centred (inset half a finest cell: the midpoint rule when fully split; global scope)",
+);
+pub(crate) const SCISSOR: SwitchDecl = SwitchDecl::new(
+    "scissor",
+    false,
+    "scope=local only: raster each map only over the texels its pixels test",
+)
+.or_true_false();
+/// The value is `steer_cpu`.
+pub(crate) const STEER: WordDecl<bool> = WordDecl::new(
+    "steer",
+    "cpu",
+    &[("gpu", false), ("cpu", true)],
+    "cpu: one read-back per level; gpu: the levels drive each other on the GPU, no read-back (scope=global on the lattice layout, or scope=local without scissor or cull; slower on an H100 today, results/bench-seed-table2-h100/)",
+);
+/// Left out it is recorded as unset (`"cull": null`), which runs as `off`.
+pub(crate) const CULL: SwitchDecl = SwitchDecl::new(
+    "cull",
+    false,
+    "raster each map only with the triangles that can change a texel its pixels test (scope=local: the pixels that test it; scope=global: every geometry pixel); the same V (docs/gpu-frame.md)",
+)
+.or_true_false();
+pub(crate) const ITEMS: OptionalDecl<u32> = OptionalDecl::new(
+    "items",
+    "32 per pixel",
+    1,
+    u32::MAX,
+    "scope=local only: the (pixel, quad) item list's starting capacity, at most what one binding holds; a frame that overflows it runs again on a list grown from the count",
+)
+.why("use a whole number of items, at least 1");
+pub(crate) const HOLD: ParamDecl<u32> = ParamDecl::new(
+    "hold",
+    "0",
+    0,
+    u32::MAX,
+    "hysteresis in low-quality pixels: a quad the previous frame did not split needs this many more to split; one it split stays split down to the threshold (docs/reuse.md)",
+);
+pub(crate) const ITEMS_GROW: SwitchDecl = SwitchDecl::new(
+    "items_grow",
+    true,
+    "scope=local only: off fails a frame that overflows the item list (reported, never clipped) instead of growing it",
+)
+.or_true_false();
+
+/// The listing, in the order `penumbra methods adaptive` prints it.
+pub(crate) const LISTED: &[Param] = &[
+    PRESET.param(),
+    P_M.param(),
+    P_SHARE.param(),
+    GROWTH.param(),
+    TOL.param(),
+    MAX_LEVEL.param(),
+    WEIGHTS.param(),
+    SCOPE.param(),
+    LAYOUT.param(),
+    SCISSOR.param(),
+    STEER.param(),
+    CULL.param(),
+    ITEMS.param(),
+    HOLD.param(),
+    ITEMS_GROW.param(),
+];
+
+impl Preset {
+    /// The settings a preset stands for beside the declared defaults (`seed`: none).
+    fn settings(self) -> ParamMap {
+        let spec = match self {
+            Preset::Seed => "",
+            Preset::Balanced => balanced!(),
+        };
+        spec.split(',')
+            .filter_map(|kv| kv.split_once('='))
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
     }
-    Ok(Some(x))
 }
 
 impl AdaptiveParams {
-    /// The recommended setting (results/bench-fair-baselines/, "Choosing `balanced`"): the seed's zero threshold, no
-    /// split below level 3 (at the seed's 512² maps the shadow maps' own error dominates past the
-    /// 9x9 lattice), Coons weights, global scope.
-    pub(crate) fn balanced() -> Self {
-        Self {
-            preset: Some(Preset::Balanced),
-            max_level: 3,
-            weights: Weights::Coons,
-            ..Self::default()
-        }
-    }
-
-    pub(crate) fn from_map(params: &BTreeMap<String, String>) -> Result<Self> {
-        let mut p = match params.get("preset").map(String::as_str) {
-            None => Self::default(),
-            Some("seed") => Self {
-                preset: Some(Preset::Seed),
-                ..Self::default()
-            },
-            Some("balanced") => Self::balanced(),
-            Some(v) => {
-                return Err(Error::Param(format!(
-                    "preset = `{v}`: use `seed` or `balanced`"
-                )))
-            }
-        };
-        let given: Vec<&str> = ["p_m", "p_share", "tol"]
+    /// The parameters `given` name, each read through its declaration; a preset's settings stand
+    /// under the given ones, as if written before them.
+    pub(crate) fn from_map(given: &ParamMap) -> Result<Self> {
+        let preset = PRESET.given(given)?;
+        let mut p = preset.map(Preset::settings).unwrap_or_default();
+        p.extend(given.iter().map(|(k, v)| (k.clone(), v.clone())));
+        let criteria: Vec<&str> = [P_M.key, P_SHARE.key(), TOL.key()]
             .into_iter()
-            .filter(|k| params.contains_key(*k))
+            .filter(|k| p.contains_key(*k))
             .collect();
-        if given.len() > 1 {
+        if criteria.len() > 1 {
             return Err(Error::Param(format!(
                 "adaptive: give one split criterion, not {}",
-                given.join(" and ")
+                criteria.join(" and ")
             )));
         }
-        let growth = get_f64(params, "growth")?;
-        if let Some(g) = growth {
-            if !(1.0..=1e6).contains(&g) {
-                return Err(Error::Param(format!(
-                    "growth = {g}: the level factor must be in [1, 1e6]"
-                )));
+        let growth = GROWTH.get(&p, METHOD)?;
+        let criterion = if let Some(tol) = TOL.get(&p, METHOD)? {
+            if p.contains_key(GROWTH.key) {
+                return Err(Error::Param(
+                    "growth applies to p_m or p_share; tol sets its own level factor (16)".into(),
+                ));
             }
-        }
-        if let Some(p_m) = get_f64(params, "p_m")? {
-            p.criterion = Criterion::Pixels {
-                p_m,
-                growth: growth.unwrap_or(1.0),
-            };
-        } else if let Some(p_share) = get_f64(params, "p_share")? {
-            if !(0.0..=1.0).contains(&p_share) {
-                return Err(Error::Param(format!(
-                    "p_share = {p_share}: a share of the geometry pixels, in [0, 1]"
-                )));
+            Criterion::Tol { tol }
+        } else if let Some(p_share) = P_SHARE.get(&p, METHOD)? {
+            Criterion::Share { p_share, growth }
+        } else {
+            Criterion::Pixels {
+                p_m: P_M.get(&p, METHOD)?,
+                growth,
             }
-            p.criterion = Criterion::Share {
-                p_share,
-                growth: growth.unwrap_or(1.0),
-            };
-        } else if let Some(tol) = get_f64(params, "tol")? {
-            if !(tol > 0.0 && tol.is_finite()) {
-                return Err(Error::Param(format!(
-                    "tol = {tol}: the error budget must be a positive finite RMSE"
-                )));
-            }
-            p.criterion = Criterion::Tol { tol };
-        } else if let Some(g) = growth {
-            match &mut p.criterion {
-                Criterion::Pixels { growth, .. } | Criterion::Share { growth, .. } => *growth = g,
-                Criterion::Tol { .. } => {
-                    return Err(Error::Param(
-                        "growth applies to p_m or p_share; tol sets its own level factor (16)"
-                            .into(),
-                    ))
-                }
-            }
-        }
-        if growth.is_some() && matches!(p.criterion, Criterion::Tol { .. }) {
-            return Err(Error::Param(
-                "growth applies to p_m or p_share; tol sets its own level factor (16)".into(),
-            ));
-        }
-        p.max_level = get_u32(params, "max_level", p.max_level)?;
-        if p.max_level > 4 {
-            return Err(Error::Param(format!(
-                "max_level = {} exceeds the lattice of docs/method.md §3 (L_max = 4, 17x17 points)",
-                p.max_level
-            )));
-        }
-        if let Some(v) = params.get("weights") {
-            p.weights = match v.as_str() {
-                "level" => Weights::Level,
-                "area" => Weights::Area,
-                "coons" => Weights::Coons,
-                _ => {
-                    return Err(Error::Param(format!(
-                        "weights = `{v}`: use `level`, `area` or `coons`"
-                    )))
-                }
-            };
-        }
-        if let Some(v) = params.get("scope") {
-            p.scope = match v.as_str() {
-                "global" => Scope::Global,
-                "local" => Scope::Local,
-                _ => {
-                    return Err(Error::Param(format!(
-                        "scope = `{v}`: use `global` or `local`"
-                    )))
-                }
-            };
-        }
+        };
+        let max_level = MAX_LEVEL.get(&p, METHOD)?;
+        let mut weights = WEIGHTS.get(&p)?;
+        let scope = SCOPE.get(&p)?;
         // Local scope sums each pixel's own leaf quads by area (docs/method.md §4.2); it has no use
         // for sample weights, so a preset's weights become area there and others are refused.
-        if p.scope == Scope::Local {
-            match params.get("weights").map(String::as_str) {
-                None | Some("area") => p.weights = Weights::Area,
+        if scope == Scope::Local {
+            match given.get(WEIGHTS.key).map(String::as_str) {
+                None | Some("area") => weights = Weights::Area,
                 Some(v) => {
                     return Err(Error::Param(format!(
                         "weights = `{v}` applies to scope = global; scope = local integrates each pixel's own quads by area (use weights=area or leave it out)"
@@ -279,87 +331,53 @@ impl AdaptiveParams {
                 }
             }
         }
-        if let Some(v) = params.get("scissor") {
-            p.scissor = match v.as_str() {
-                "on" | "true" => true,
-                "off" | "false" => false,
-                _ => return Err(Error::Param(format!("scissor = `{v}`: use `on` or `off`"))),
-            };
+        let scissor = SCISSOR.get(&p, METHOD)?;
+        let cull = CULL.given(&p, METHOD)?;
+        let steer_cpu = STEER.get(&p)?;
+        let items = ITEMS.get(&p, METHOD)?;
+        if items.is_some() && scope != Scope::Local {
+            return Err(Error::Param(
+                "adaptive: items needs scope = local (only it keeps an item list)".into(),
+            ));
         }
-        if let Some(v) = params.get("cull") {
-            p.cull = Some(match v.as_str() {
-                "on" | "true" => true,
-                "off" | "false" => false,
-                _ => return Err(Error::Param(format!("cull = `{v}`: use `on` or `off`"))),
-            });
+        let items_grow = ITEMS_GROW.get(&p, METHOD)?;
+        if p.contains_key(ITEMS_GROW.key) && scope != Scope::Local {
+            return Err(Error::Param(
+                "adaptive: items_grow needs scope = local (only it keeps an item list)".into(),
+            ));
         }
-        if let Some(v) = params.get("steer") {
-            p.steer_cpu = match v.as_str() {
-                "gpu" => false,
-                "cpu" => true,
-                _ => {
-                    return Err(Error::Param(format!(
-                        "adaptive: steer = `{v}`: use `gpu` or `cpu`"
-                    )))
-                }
-            };
-        }
-        if let Some(v) = params.get("items") {
-            match v.parse::<u32>() {
-                Ok(n) if n >= 1 => p.items = Some(n),
-                _ => {
-                    return Err(Error::Param(format!(
-                        "adaptive: items = `{v}`: use a whole number of items, at least 1"
-                    )))
-                }
-            }
-            if p.scope != Scope::Local {
-                return Err(Error::Param(
-                    "adaptive: items needs scope = local (only it keeps an item list)".into(),
-                ));
-            }
-        }
-        if let Some(v) = params.get("items_grow") {
-            p.items_grow = match v.as_str() {
-                "on" | "true" => true,
-                "off" | "false" => false,
-                _ => {
-                    return Err(Error::Param(format!(
-                        "adaptive: items_grow = `{v}`: use `on` or `off`"
-                    )))
-                }
-            };
-            if p.scope != Scope::Local {
-                return Err(Error::Param(
-                    "adaptive: items_grow needs scope = local (only it keeps an item list)".into(),
-                ));
-            }
-        }
-        p.hold = super::HOLD.get(params, "adaptive")?;
-        if let Some(v) = params.get("layout") {
-            p.layout = match v.as_str() {
-                "lattice" => Layout::Lattice,
-                "centred" | "centered" => Layout::Centred,
-                "jittered" => return Err(Error::Param("adaptive: layout = `jittered`: the quadtree needs nested samples; use `lattice` or `centred`".into())),
-                _ => return Err(Error::Param(format!("adaptive: layout = `{v}`: use `lattice` or `centred`"))),
-            };
-        }
-        if p.layout == Layout::Centred && p.scope == Scope::Local {
+        let hold = HOLD.get(&p, METHOD)?;
+        let layout = match p.get(LAYOUT.key).map(String::as_str) {
+            Some("centered") => Layout::Centred,
+            Some("jittered") => return Err(Error::Param("adaptive: layout = `jittered`: the quadtree needs nested samples; use `lattice` or `centred`".into())),
+            _ => LAYOUT.get(&p)?,
+        };
+        if layout == Layout::Centred && scope == Scope::Local {
             return Err(Error::Param("adaptive: layout = centred needs scope = global (local scope counts uniform quad shares; the border strips are not uniform)".into()));
         }
-        if p.layout == Layout::Centred && p.weights == Weights::Level {
+        if layout == Layout::Centred && weights == Weights::Level {
             return Err(Error::Param("adaptive: layout = centred needs weights = area or coons (the level rule has no border strips)".into()));
         }
-        if p.scissor && p.scope != Scope::Local {
+        if scissor && scope != Scope::Local {
             return Err(Error::Param(
                 "scissor = on needs scope = local (only then are a map's pixels known)".into(),
             ));
         }
-        // A preset names a setting; any parameter given beside it makes it another setting.
-        if p.preset.is_some() && params.keys().any(|k| k != "preset") {
-            p.preset = None;
-        }
-        Ok(p)
+        Ok(Self {
+            // A preset names a setting; any parameter given beside it makes it another setting.
+            preset: preset.filter(|_| given.keys().all(|k| k == PRESET.key)),
+            criterion,
+            max_level,
+            weights,
+            scope,
+            scissor,
+            cull,
+            steer_cpu,
+            layout,
+            items,
+            items_grow,
+            hold,
+        })
     }
 
     /// Whether new maps rasterize only the runs of triangles their tiles need (scope = local).
@@ -425,69 +443,49 @@ impl AdaptiveParams {
         }
     }
 
+    /// `adaptive:preset=…`, or the criterion and every parameter whose value differs from the
+    /// listed default, in the listing's order.
     pub(crate) fn label(&self) -> String {
-        if let Some(preset) = self.preset {
-            return format!(
-                "adaptive:preset={}",
-                if preset == Preset::Seed {
-                    "seed"
-                } else {
-                    "balanced"
-                }
-            );
+        if let Some(word) = self.preset.and_then(|p| PRESET.word(p)) {
+            return format!("adaptive:{}={word}", PRESET.key);
         }
-        let mut s = match self.criterion {
-            Criterion::Pixels { p_m, growth } => {
-                format!("adaptive:p_m={p_m}{}", growth_label(growth))
+        let growth = |g: f64| {
+            let g = g.to_string();
+            if g == GROWTH.default {
+                String::new()
+            } else {
+                format!(",{}={g}", GROWTH.key)
             }
-            Criterion::Share { p_share, growth } => {
-                format!("adaptive:p_share={p_share}{}", growth_label(growth))
+        };
+        let mut s = match self.criterion {
+            Criterion::Pixels { p_m, growth: g } => format!("adaptive:p_m={p_m}{}", growth(g)),
+            Criterion::Share { p_share, growth: g } => {
+                format!("adaptive:p_share={p_share}{}", growth(g))
             }
             Criterion::Tol { tol } => format!("adaptive:tol={tol}"),
         };
-        if self.max_level != 4 {
-            s += &format!(",max_level={}", self.max_level);
-        }
-        match self.weights {
-            // Local scope has one rule (area along each pixel's quads); naming it adds nothing.
-            _ if self.scope == Scope::Local => {}
-            Weights::Level => {}
-            Weights::Area => s += ",weights=area",
-            Weights::Coons => s += ",weights=coons",
-        }
-        if self.layout == Layout::Centred {
-            s += ",layout=centred";
-        }
-        if self.scope == Scope::Local {
-            s += ",scope=local";
-        }
-        if self.scissor {
-            s += ",scissor=on";
-        }
-        if self.cull == Some(true) {
-            s += ",cull=on";
-        }
-        if !self.steer_cpu {
-            s += ",steer=gpu";
-        }
-        if let Some(n) = self.items {
-            s += &format!(",items={n}");
-        }
-        if !self.items_grow {
-            s += ",items_grow=off";
-        }
-        if self.hold != 0 {
-            s += &format!(",hold={}", self.hold);
+        let word = |w: Option<&str>| w.map(str::to_string);
+        let on_off = |on: bool| Some(if on { "on" } else { "off" }.to_string());
+        // Local scope has one rule (area along each pixel's quads): naming it adds nothing.
+        let weights = word(WEIGHTS.word(self.weights)).filter(|_| self.scope != Scope::Local);
+        let values = [
+            (MAX_LEVEL.param(), Some(self.max_level.to_string())),
+            (WEIGHTS.param(), weights),
+            (LAYOUT.param(), word(LAYOUT.word(self.layout))),
+            (SCOPE.param(), word(SCOPE.word(self.scope))),
+            (SCISSOR.param(), on_off(self.scissor)),
+            (CULL.param(), self.cull.and_then(on_off)),
+            (STEER.param(), word(STEER.word(self.steer_cpu))),
+            (ITEMS.param(), self.items.map(|n| n.to_string())),
+            (ITEMS_GROW.param(), on_off(self.items_grow)),
+            (HOLD.param(), Some(self.hold.to_string())),
+        ];
+        for (param, value) in values {
+            if let Some(v) = value.filter(|v| v != param.default) {
+                s += &format!(",{}={v}", param.key);
+            }
         }
         s
-    }
-}
-
-fn growth_label(g: f64) -> String {
-    if g == 1.0 {
-        String::new()
-    } else {
-        format!(",growth={g}")
     }
 }
 
@@ -496,7 +494,7 @@ mod tests {
     use super::*;
 
     fn parse(spec: &str) -> Result<AdaptiveParams> {
-        let map: BTreeMap<String, String> = spec
+        let map: ParamMap = spec
             .split(',')
             .filter(|kv| !kv.is_empty())
             .map(|kv| {
@@ -533,6 +531,100 @@ mod tests {
             parse("weights=coons,layout=centred").unwrap().label(),
             "adaptive:p_m=0,weights=coons,layout=centred"
         );
+    }
+
+    #[test]
+    fn the_defaults_and_the_presets_are_their_declarations() {
+        let d = AdaptiveParams::default();
+        assert_eq!(
+            d.criterion,
+            Criterion::Pixels {
+                p_m: 0.0,
+                growth: 1.0
+            }
+        );
+        assert_eq!(
+            (d.max_level, d.weights, d.scope, d.layout),
+            (4, Weights::Level, Scope::Global, Layout::Lattice)
+        );
+        assert_eq!(
+            (d.preset, d.scissor, d.cull, d.steer_cpu),
+            (None, false, None, true)
+        );
+        assert_eq!((d.items, d.items_grow, d.hold), (None, true, 0));
+        assert_eq!(d.label(), "adaptive:p_m=0");
+        // seed is the defaults; balanced is its settings, as the listing quotes them.
+        let seed = parse("preset=seed").unwrap();
+        assert_eq!(seed.preset, Some(Preset::Seed));
+        assert_eq!(
+            AdaptiveParams {
+                preset: None,
+                ..seed
+            },
+            d
+        );
+        let balanced = parse("preset=balanced").unwrap();
+        assert_eq!((balanced.max_level, balanced.weights), (3, Weights::Coons));
+        assert_eq!(
+            AdaptiveParams {
+                preset: Some(Preset::Balanced),
+                ..parse(balanced!()).unwrap()
+            },
+            balanced
+        );
+        assert!(PRESET.help.contains(balanced!()), "{}", PRESET.help);
+        // A parameter given beside a preset overrides the preset's and names another setting.
+        let p = parse("preset=balanced,max_level=2").unwrap();
+        assert_eq!(
+            (p.preset, p.max_level, p.weights),
+            (None, 2, Weights::Coons)
+        );
+        assert_eq!(p.label(), "adaptive:p_m=0,max_level=2,weights=coons");
+    }
+
+    #[test]
+    fn bad_values_are_refused_with_the_key_the_value_and_why() {
+        for (spec, message) in [
+            ("preset=none", "preset = `none`: use `seed` or `balanced`"),
+            ("p_m=banana", "parameter p_m = `banana` is not a number"),
+            ("p_m=nan", "parameter p_m = `nan` must not be NaN"),
+            ("p_m=1,p_share=0.1", "adaptive: give one split criterion, not p_m and p_share"),
+            ("growth=0.5", "adaptive: growth = `0.5`: the level factor must be in [1, 1e6]"),
+            ("growth=abc", "adaptive: growth = `abc`: the level factor must be in [1, 1e6]"),
+            ("p_share=2", "adaptive: p_share = `2`: a share of the geometry pixels, in [0, 1]"),
+            ("tol=0", "adaptive: tol = `0`: the error budget must be a positive finite RMSE"),
+            ("tol=inf", "adaptive: tol = `inf`: the error budget must be a positive finite RMSE"),
+            ("tol=0.01,growth=2", "growth applies to p_m or p_share; tol sets its own level factor (16)"),
+            ("max_level=5", "adaptive: max_level = `5`: use 0..=4, the lattice of docs/method.md §3 (L_max = 4, 17x17 points)"),
+            ("weights=x", "weights = `x`: use `level`, `area` or `coons`"),
+            ("scope=x", "scope = `x`: use `global` or `local`"),
+            ("scissor=x", "adaptive: scissor = `x`: use `on` or `off`"),
+            ("scissor=on", "scissor = on needs scope = local (only then are a map's pixels known)"),
+            ("cull=x", "adaptive: cull = `x`: use `on` or `off`"),
+            ("steer=x", "steer = `x`: use `gpu` or `cpu`"),
+            ("scope=local,items=0", "adaptive: items = `0`: use a whole number of items, at least 1"),
+            ("scope=local,items=-1", "adaptive: items = `-1`: use a whole number of items, at least 1"),
+            ("items=100", "adaptive: items needs scope = local (only it keeps an item list)"),
+            ("items_grow=off", "adaptive: items_grow needs scope = local (only it keeps an item list)"),
+            ("hold=-1", "parameter hold = `-1` is not a non-negative integer"),
+            ("layout=jittered", "adaptive: layout = `jittered`: the quadtree needs nested samples; use `lattice` or `centred`"),
+            ("layout=x", "layout = `x`: use `lattice` or `centred`"),
+            ("layout=centred", "adaptive: layout = centred needs weights = area or coons (the level rule has no border strips)"),
+        ] {
+            let e = parse(spec).unwrap_err().to_string();
+            assert_eq!(e, message, "{spec}");
+        }
+        // What is taken: the infinities, the least positive tol, `centered`, `true` and `false`.
+        assert_eq!(parse("p_m=-inf").unwrap().split_rule(2), SplitRule::Always);
+        assert_eq!(parse("p_m=inf").unwrap().split_rule(0), SplitRule::Never);
+        assert!(parse("tol=1e-320").is_ok());
+        assert_eq!(
+            parse("layout=centered,weights=area").unwrap().layout,
+            Layout::Centred
+        );
+        let p = parse("scope=local,scissor=true,cull=false,items_grow=true").unwrap();
+        assert_eq!((p.scissor, p.cull, p.items_grow), (true, Some(false), true));
+        assert_eq!(p.label(), "adaptive:p_m=0,scope=local,scissor=on");
     }
 
     #[test]

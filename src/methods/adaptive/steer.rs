@@ -464,9 +464,11 @@ pub(crate) fn finish(
         let report = levels::parse_level(
             &prepared.b,
             &words[(at / 4) as usize..],
-            level as u32,
-            quads,
-            evaluated,
+            levels::LevelOf {
+                level: level as u32,
+                quads,
+                evaluated,
+            },
             read,
         );
         if let Some(e) = report.overflow_error(level as u32) {
