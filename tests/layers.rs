@@ -150,8 +150,9 @@ fn declares_pub(line: &str) -> bool {
 /// The engine's public surface, counted: the product lines of src/ that declare something `pub`,
 /// the twins (`stages/twin/`, built only with the tests' `twins` feature) apart. src/lib.rs warns
 /// on `unreachable_pub` (CI denies warnings), so each of these is reachable from outside: the API,
-/// or the research façade (src/research.rs) and what its items carry.
-const PUBLIC_SURFACE: usize = 1222;
+/// or the research façade (src/research.rs) and what its items carry. (1222 before auto's record
+/// was read typed outside the engine: its tries, checks and filter check joined the façade.)
+const PUBLIC_SURFACE: usize = 1243;
 
 #[test]
 fn the_public_surface_is_the_api_and_the_research_facade() {
