@@ -139,7 +139,7 @@ pub(crate) const MERGE: SwitchDecl = SwitchDecl::new(
 pub(crate) const HOLD: SwitchDecl = SwitchDecl::new(
     "hold",
     true,
-    "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md); off: every frame fits its windows afresh",
+    "on: a group keeps the previous frame's window, grown to the union with its receivers', while that window's extent stays within the band of what its receivers need (docs/reuse.md), and with certify a class starts from the setting the previous frame ended on (docs/regions.md, Certified classes, item 7); off: every frame fits its windows and decides afresh",
 );
 pub(crate) const CERTIFY: SwitchDecl = SwitchDecl::new(
     "certify",
@@ -329,7 +329,7 @@ pub struct Regions {
     pub(crate) centre_size: u32,
     /// A group keeps the previous frame's window while it holds (`State::held_window`).
     pub(crate) hold: bool,
-    /// Each class's error bounded against the exact truth and stepped up where over (certified.rs).
+    /// Each class's error bounded against the exact truth and stepped up where over (certified/).
     pub(crate) certify: bool,
     /// Exact pixels drawn per class; the frame's confidence 1 − delta.
     pub(crate) pixels: u32,
