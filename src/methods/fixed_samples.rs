@@ -969,7 +969,33 @@ pub(crate) fn geometry_mask(fg: &FrameGpu) -> Result<Vec<bool>> {
 
 #[cfg(test)]
 mod tests {
-    use super::{regular_points, Layout};
+    use super::{regular_points, FixedRecord, Layout};
+
+    /// run.json's shape: entries a frame does not fill are absent, not null; the mean stays a
+    /// float where it is whole.
+    #[test]
+    fn the_record_leaves_out_what_the_frame_did_not_fill() {
+        let plain = FixedRecord {
+            maps_per_chunk: 25,
+            chunks: 1,
+            triangles_per_map_mean: Some(12.0),
+            ..FixedRecord::default()
+        };
+        assert_eq!(
+            serde_json::to_string(&plain).unwrap(),
+            r#"{"maps_per_chunk":25,"chunks":1,"triangles_per_map_mean":12.0}"#
+        );
+        let culled = FixedRecord {
+            triangles_per_map: Some(vec![3, 4]),
+            culled_maps: Some(2),
+            triangles_per_map_mean: Some(3.5),
+            ..plain
+        };
+        assert_eq!(
+            serde_json::to_string(&culled).unwrap(),
+            r#"{"maps_per_chunk":25,"chunks":1,"triangles_per_map_mean":3.5,"triangles_per_map":[3,4],"culled_maps":2}"#
+        );
+    }
 
     #[test]
     fn centred_and_jittered_are_stratified() {

@@ -361,3 +361,34 @@ impl MethodState for RayLights {
         Ok(Some(Box::new(self.read(fg)?)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{EnvPixelsRecord, TracedAt};
+
+    /// `at` is the tag of where the rays start, beside its own counts, in the record's one map.
+    #[test]
+    fn the_record_names_where_rays_start_beside_its_counts() {
+        let record = |at| EnvPixelsRecord {
+            samples: 8,
+            at,
+            bvh_nodes: 5,
+            bvh_depth: 3,
+            ssao: false,
+        };
+        let value = serde_json::to_value(record(TracedAt::Vertex {
+            vertices_traced: 40,
+            rays_per_vertex: 8,
+        }))
+        .unwrap();
+        assert_eq!(
+            serde_json::to_string(&value).unwrap(),
+            r#"{"at":"vertex","bvh_depth":3,"bvh_nodes":5,"rays_per_vertex":8,"samples":8,"ssao":false,"vertices_traced":40}"#
+        );
+        let value = serde_json::to_value(record(TracedAt::Pixel { rays_per_pixel: 8 })).unwrap();
+        assert_eq!(
+            serde_json::to_string(&value).unwrap(),
+            r#"{"at":"pixel","bvh_depth":3,"bvh_nodes":5,"rays_per_pixel":8,"samples":8,"ssao":false}"#
+        );
+    }
+}
