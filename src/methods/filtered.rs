@@ -356,6 +356,14 @@ struct State {
     reconstruct: Reconstruct,
 }
 
+/// A filtered map's record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct FilteredRecord {
+    blur_radius_texels: u32,
+    /// Planes of the prefiltered statistic.
+    planes: u32,
+}
+
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // every stage writes all of its output
@@ -406,7 +414,13 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: 1,
             syncs: 0,
-            record: serde_json::json!({ "blur_radius_texels": self.filter.blur_radius, "planes": self.filter.layers }),
+            record: super::record_value(
+                "filtered",
+                &FilteredRecord {
+                    blur_radius_texels: self.filter.blur_radius,
+                    planes: self.filter.layers,
+                },
+            )?,
             pictures: Vec::new(),
             bound: None,
         })

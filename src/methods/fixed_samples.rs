@@ -3,7 +3,7 @@
 //! few at a time and merged into a hybrid store, which is shaded whenever it is full.
 
 use super::culled_maps::CulledMaps;
-use super::hybrid_maps::HybridMaps;
+use super::hybrid_maps::{HybridMaps, HybridRecord};
 use super::{
     Family, MethodInfo, MethodOutput, MethodState, Param, ParamDecl, ParamMap, ShadowMethod,
     SwitchDecl,
@@ -688,7 +688,11 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
     }
     slots.commit();
     let chunk = chunks.iter().map(|c| c.1).max().unwrap_or(0);
-    let mut record = serde_json::json!({ "maps_per_chunk": chunk, "chunks": chunks.len() });
+    let mut record = FixedRecord {
+        maps_per_chunk: chunk,
+        chunks: chunks.len() as u32,
+        ..FixedRecord::default()
+    };
     let mut syncs = 0;
     match culled.as_ref() {
         Some(c) => {
@@ -697,21 +701,18 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             let ks: Vec<u32> = (0..points as u32).collect();
             let triangles = timer.cpu(Stage::READBACK, || c.triangles(fg, &ks))?;
             syncs = 1;
-            record["triangles_per_map_mean"] =
-                serde_json::json!(triangles.iter().sum::<u64>() as f64 / points as f64);
-            record["triangles_per_map"] = serde_json::json!(triangles);
-            record["culled_maps"] = serde_json::json!(points);
+            record.triangles_per_map_mean =
+                Some(triangles.iter().sum::<u64>() as f64 / points as f64);
+            record.triangles_per_map = Some(triangles);
+            record.culled_maps = Some(points as u32);
         }
         // Every map rasterizes the whole mesh.
-        None => {
-            record["triangles_per_map_mean"] =
-                serde_json::json!(fg.scene_gpu.index_count as f64 / 3.0)
-        }
+        None => record.triangles_per_map_mean = Some(fg.scene_gpu.index_count as f64 / 3.0),
     }
     let out = Ok(MethodOutput {
         shadow_maps: points as u32,
         syncs,
-        record,
+        record: super::record_value("regular", &record)?,
         pictures: Vec::new(),
         bound: None,
     });
@@ -804,12 +805,42 @@ fn run_hybrid(
     let out = Ok(MethodOutput {
         shadow_maps: points as u32,
         syncs: maps.stats.syncs,
-        record: serde_json::json!({ "maps_per_chunk": layers, "chunks": maps.stats.flushes, "hybrid": maps.record() }),
+        record: super::record_value(
+            "regular",
+            &FixedRecord {
+                maps_per_chunk: layers,
+                chunks: maps.stats.flushes,
+                hybrid: Some(maps.record()),
+                ..FixedRecord::default()
+            },
+        )?,
         pictures: Vec::new(),
         bound: None,
     });
     *kept = cap;
     out
+}
+
+/// A fixed sample set's record in run.json (`method_record`); `estimate = on` adds the
+/// prediction's fields after the frame (`finish`).
+#[derive(Default, serde::Serialize)]
+struct FixedRecord {
+    /// Maps drawn and shaded together: the largest chunk (maps = hybrid: the raster's layers).
+    maps_per_chunk: u32,
+    /// Chunks drawn (maps = hybrid: times the store was handed to shade).
+    chunks: u32,
+    /// Plain maps: triangles each map rasterized, on average.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    triangles_per_map_mean: Option<f64>,
+    /// cull = on: the counts the GPU wrote, per map.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    triangles_per_map: Option<Vec<u64>>,
+    /// cull = on: maps drawn from a culled index list.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    culled_maps: Option<u32>,
+    /// maps = hybrid: the hybrid store's figures.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hybrid: Option<HybridRecord>,
 }
 
 /// Tests only: the listed tiles, sorted (the GPU appends them in any order).
@@ -938,7 +969,33 @@ pub(crate) fn geometry_mask(fg: &FrameGpu) -> Result<Vec<bool>> {
 
 #[cfg(test)]
 mod tests {
-    use super::{regular_points, Layout};
+    use super::{regular_points, FixedRecord, Layout};
+
+    /// run.json's shape: entries a frame does not fill are absent, not null; the mean stays a
+    /// float where it is whole.
+    #[test]
+    fn the_record_leaves_out_what_the_frame_did_not_fill() {
+        let plain = FixedRecord {
+            maps_per_chunk: 25,
+            chunks: 1,
+            triangles_per_map_mean: Some(12.0),
+            ..FixedRecord::default()
+        };
+        assert_eq!(
+            serde_json::to_string(&plain).unwrap(),
+            r#"{"maps_per_chunk":25,"chunks":1,"triangles_per_map_mean":12.0}"#
+        );
+        let culled = FixedRecord {
+            triangles_per_map: Some(vec![3, 4]),
+            culled_maps: Some(2),
+            triangles_per_map_mean: Some(3.5),
+            ..plain
+        };
+        assert_eq!(
+            serde_json::to_string(&culled).unwrap(),
+            r#"{"maps_per_chunk":25,"chunks":1,"triangles_per_map_mean":3.5,"triangles_per_map":[3,4],"culled_maps":2}"#
+        );
+    }
 
     #[test]
     fn centred_and_jittered_are_stratified() {

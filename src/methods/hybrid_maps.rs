@@ -29,6 +29,27 @@ pub(crate) struct HybridMaps {
     pub(crate) stats: HybridStats,
 }
 
+/// run.json's `hybrid` entry of a method that reads hybrid maps (`HybridMaps::record`).
+#[derive(Clone, Debug, serde::Serialize)]
+pub(crate) struct HybridRecord {
+    pub(crate) base: u32,
+    pub(crate) levels: u32,
+    /// Merge tolerance in 16-bit depth units.
+    pub(crate) eps: f32,
+    pub(crate) coarse: u32,
+    pub(crate) maps: u32,
+    pub(crate) bytes_per_map: f64,
+    pub(crate) plain_bytes_per_map: f64,
+    pub(crate) share_of_plain: f64,
+    pub(crate) store_peak_bytes: u64,
+    pub(crate) store_capacity_bytes: u64,
+    pub(crate) build_scratch_bytes: u64,
+    pub(crate) transient_layers: u32,
+    pub(crate) transient_bytes: u64,
+    pub(crate) flushes: u32,
+    pub(crate) syncs: u32,
+}
+
 /// What one frame's maps cost (per frame; `record` writes it into run.json).
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub(crate) struct HybridStats {
@@ -195,7 +216,7 @@ impl HybridMaps {
 
     /// The run record's `hybrid` entry: settings, bytes per map against a plain map of the same
     /// resolution, the store and the transient raster.
-    pub(crate) fn record(&self) -> serde_json::Value {
+    pub(crate) fn record(&self) -> HybridRecord {
         let h = self.store.settings;
         let st = &self.stats;
         // A map's bytes: its words in the pool plus its root word.
@@ -205,22 +226,22 @@ impl HybridMaps {
             (st.words as f64 / st.maps as f64 + 1.0) * 4.0
         };
         let plain = h.base as f64 * h.base as f64 * 4.0;
-        serde_json::json!({
-            "base": h.base,
-            "levels": h.levels,
-            "eps": h.eps,
-            "coarse": self.store.coarse,
-            "maps": st.maps,
-            "bytes_per_map": bytes_per_map,
-            "plain_bytes_per_map": plain,
-            "share_of_plain": bytes_per_map / plain,
-            "store_peak_bytes": st.peak_words as u64 * 4,
-            "store_capacity_bytes": self.store.capacity_bytes(),
-            "build_scratch_bytes": self.store.scratch_bytes(),
-            "transient_layers": self.layers(),
-            "transient_bytes": self.layers() as u64 * plain as u64,
-            "flushes": st.flushes,
-            "syncs": st.syncs,
-        })
+        HybridRecord {
+            base: h.base,
+            levels: h.levels,
+            eps: h.eps,
+            coarse: self.store.coarse,
+            maps: st.maps,
+            bytes_per_map,
+            plain_bytes_per_map: plain,
+            share_of_plain: bytes_per_map / plain,
+            store_peak_bytes: st.peak_words as u64 * 4,
+            store_capacity_bytes: self.store.capacity_bytes(),
+            build_scratch_bytes: self.store.scratch_bytes(),
+            transient_layers: self.layers(),
+            transient_bytes: self.layers() as u64 * plain as u64,
+            flushes: st.flushes,
+            syncs: st.syncs,
+        }
     }
 }

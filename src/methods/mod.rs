@@ -49,6 +49,14 @@ pub struct MethodOutput {
     pub bound: Option<Vec<f32>>,
 }
 
+/// A method's typed record (each method's own struct) as `MethodOutput.record` carries it.
+pub(crate) fn record_value(
+    method: &str,
+    record: &impl serde::Serialize,
+) -> Result<serde_json::Value> {
+    serde_json::to_value(record).map_err(|e| Error::Limit(format!("{method}: its record: {e}")))
+}
+
 /// The families the charts and tables group methods by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]

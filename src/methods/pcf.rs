@@ -1,6 +1,7 @@
 //! Percentage-closer filtering of one shadow map (seeds 001 and 004): every pixel averages the
 //! binary shadow test over taps around its place in the map.
 
+use super::hybrid_maps::HybridRecord;
 use super::single_map::{CentreMap, SingleMapBuffers};
 use super::{
     check_range, get_u32, ChoiceDecl, Family, MethodInfo, MethodOutput, MethodState, Param,
@@ -244,6 +245,16 @@ struct State {
     pass: PcfPass,
 }
 
+/// pcf's record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct PcfRecord {
+    radius_texels: f32,
+    taps: u32,
+    /// `maps = hybrid`: the hybrid store's figures.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hybrid: Option<HybridRecord>,
+}
+
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(()) // the raster clears its map; pcf writes every geometry pixel
@@ -272,7 +283,14 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: self.map.count(),
             syncs: self.map.syncs(),
-            record: self.map.with_record(serde_json::json!({ "radius_texels": self.filter.radius, "taps": self.filter.taps })),
+            record: super::record_value(
+                "pcf",
+                &PcfRecord {
+                    radius_texels: self.filter.radius,
+                    taps: self.filter.taps,
+                    hybrid: self.map.hybrid_record(),
+                },
+            )?,
             pictures: Vec::new(),
             bound: None,
         })

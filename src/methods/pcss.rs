@@ -1,6 +1,7 @@
 //! Percentage-closer soft shadows (Fernando 2005): blocker search, penumbra width from the light
 //! size by similar triangles, then PCF of that width, all on the centre map.
 
+use super::hybrid_maps::HybridRecord;
 use super::single_map::{light_size, CentreMap, SingleMapBuffers};
 use super::{label_from, Family, MethodInfo, MethodOutput, MethodState, ParamDecl, ShadowMethod};
 use crate::gpu::readback;
@@ -118,6 +119,16 @@ struct State {
     pass: PcssPass,
 }
 
+/// pcss's record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct PcssRecord {
+    /// The light's edge lengths the penumbra estimate used.
+    light_size: [f32; 2],
+    /// `maps = hybrid`: the hybrid store's figures.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hybrid: Option<HybridRecord>,
+}
+
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
@@ -145,9 +156,13 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: self.map.count(),
             syncs: self.map.syncs(),
-            record: self.map.with_record(
-                serde_json::json!({ "light_size": [self.filter.light_u, self.filter.light_v] }),
-            ),
+            record: super::record_value(
+                "pcss",
+                &PcssRecord {
+                    light_size: [self.filter.light_u, self.filter.light_v],
+                    hybrid: self.map.hybrid_record(),
+                },
+            )?,
             pictures: Vec::new(),
             bound: None,
         })

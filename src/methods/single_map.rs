@@ -1,7 +1,7 @@
 //! What the single-map methods (pcf, pcss and the filtered maps) share: one shadow map from the
 //! light's centre, the filter uniform, and the buffers their twin tests read.
 
-use super::hybrid_maps::HybridMaps;
+use super::hybrid_maps::{HybridMaps, HybridRecord};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuFilter, GpuSample};
 use crate::gpu::timing::StageTimer;
@@ -162,12 +162,12 @@ impl CentreMap {
         }
     }
 
-    /// A method's record with the `hybrid` entry added when the maps are hybrid.
-    pub(crate) fn with_record(&self, mut record: serde_json::Value) -> serde_json::Value {
-        if let CentreMaps::Hybrid(h) = &self.maps {
-            record["hybrid"] = h.record();
+    /// A method's record's `hybrid` entry: present when the maps are hybrid.
+    pub(crate) fn hybrid_record(&self) -> Option<HybridRecord> {
+        match &self.maps {
+            CentreMaps::Plain(_) => None,
+            CentreMaps::Hybrid(h) => Some(h.record()),
         }
-        record
     }
 
     /// The map's far plane: linear depth of the cleared depth 1, a / (1 + b), or a + b on an

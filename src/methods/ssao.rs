@@ -67,6 +67,13 @@ pub struct SsaoBuffers {
     pub occluded: Vec<u32>,
 }
 
+/// ssao's record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct SsaoRecord {
+    samples: u32,
+    radius_world: f32,
+}
+
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
@@ -87,7 +94,13 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: 0,
             syncs: 0,
-            record: serde_json::json!({ "samples": s.params.light_count, "radius_world": s.params.radius }),
+            record: super::record_value(
+                "ssao",
+                &SsaoRecord {
+                    samples: s.params.light_count,
+                    radius_world: s.params.radius,
+                },
+            )?,
             pictures: Vec::new(),
             bound: None,
         })

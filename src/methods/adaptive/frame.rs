@@ -584,7 +584,7 @@ pub(super) fn run(
     } else {
         end_global(&fx, timer, &trace.weights)?
     };
-    let out = output(&fx, &trace, syncs, store, consulted.as_deref());
+    let out = output(&fx, &trace, syncs, store, consulted.as_deref())?;
     Ok((out, trace))
 }
 
@@ -667,7 +667,7 @@ fn output(
     syncs: u32,
     store: &MapStore,
     consulted: Option<&[u32]>,
-) -> MethodOutput {
+) -> Result<MethodOutput> {
     let fg = fx.fg;
     let pictures = if fx.pictures {
         pictures::all(fg, trace, consulted)
@@ -677,18 +677,16 @@ fn output(
     // The hybrid store's allocation read-backs are syncs the representation needs.
     let syncs = syncs + store.hybrid.as_ref().map_or(0, |h| h.stats.syncs);
     let mut record = levels::record(fx.p, trace, syncs, consulted, &fg.gbuffer);
-    if let Some(h) = &store.hybrid {
-        record["hybrid"] = h.record();
-    }
+    record.hybrid = store.hybrid.as_ref().map(|h| h.record());
     // A point light's lattice sample is its cube's six maps.
     let maps = trace.rendered.len() as u32 * super::faces_per_sample(&trace.samples).max(1);
-    MethodOutput {
+    Ok(MethodOutput {
         shadow_maps: maps,
         syncs,
-        record,
+        record: record.to_value()?,
         pictures,
         bound: None,
-    }
+    })
 }
 
 /// The uniform of one level (a batch of `quad_count` quads from `first_quad` in dense mode) on

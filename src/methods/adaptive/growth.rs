@@ -3,6 +3,8 @@
 //! from what that level counted and the whole frame runs again. V sums integers in any order, so
 //! the frame that fits gives the V it would have given on a list that was large enough at once.
 
+use super::record::ItemsRecord;
+
 /// What frames that overflowed asked for, and what they cost, until the next frame reports it.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Growth {
@@ -44,14 +46,25 @@ impl Growth {
 
     /// The frame that fitted (`out`, on a list of `capacity`): it counts the read-backs of the
     /// frames run before it, and its record says what the list grew to (run.json `items`).
-    pub(crate) fn report(&mut self, capacity: u32, out: &mut crate::methods::MethodOutput) {
+    /// The record is adaptive's (`AdaptiveRecord`), already a value: `items` joins it here,
+    /// after the frame, since only the frame that fitted knows it was the last.
+    pub(crate) fn report(
+        &mut self,
+        capacity: u32,
+        out: &mut crate::methods::MethodOutput,
+    ) -> crate::Result<()> {
         out.syncs += self.syncs;
         if out.record.get("syncs").is_some() {
             out.record["syncs"] = out.syncs.into();
         }
-        out.record["items"] = serde_json::json!({ "capacity": capacity, "frames_run_again": self.grown.len(), "grown_to": self.grown });
-        self.grown.clear();
+        let items = ItemsRecord {
+            capacity,
+            frames_run_again: self.grown.len(),
+            grown_to: std::mem::take(&mut self.grown),
+        };
+        out.record["items"] = crate::methods::record_value("adaptive", &items)?;
         self.syncs = 0;
+        Ok(())
     }
 }
 
@@ -96,13 +109,13 @@ mod tests {
             pictures: Vec::new(),
             bound: None,
         };
-        g.report(10_000, &mut out);
+        g.report(10_000, &mut out).unwrap();
         assert_eq!((out.syncs, out.record["syncs"].as_u64()), (7, Some(7)));
         assert_eq!(
             out.record["items"],
             serde_json::json!({ "capacity": 10_000, "frames_run_again": 1, "grown_to": [10_000] })
         );
-        g.report(10_000, &mut out);
+        g.report(10_000, &mut out).unwrap();
         assert_eq!(out.syncs, 7);
         assert_eq!(out.record["items"]["frames_run_again"], 0);
     }

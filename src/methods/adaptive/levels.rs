@@ -1,5 +1,6 @@
 //! The one read-back per level, and the per-level record in run.json.
 
+use super::record::AdaptiveRecord;
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuQuad, OVERFLOW_ITEMS, OVERFLOW_PROBES, OVERFLOW_QUADS};
 use crate::methods::adaptive::buffers::{
@@ -309,7 +310,7 @@ pub(crate) fn record(
     syncs: u32,
     consulted: Option<&[u32]>,
     g: &GBuffer,
-) -> serde_json::Value {
+) -> AdaptiveRecord {
     let pixels = g.width as u64 * g.height as u64;
     let levels: Vec<LevelRecord> = trace
         .levels
@@ -335,15 +336,21 @@ pub(crate) fn record(
             },
         })
         .collect();
-    let mut out = serde_json::json!({
-        "levels": levels,
-        "syncs": syncs,
-        "shadow_maps_used": trace.rendered,
-        "triangles_per_map": trace.triangles,
-        "triangles_per_map_mean": trace.triangles.iter().sum::<u64>() as f64 / trace.triangles.len().max(1) as f64,
-        "culled_maps": trace.culled.len(),
-        "weights": weights_rule(p),
-    });
+    let mut out = AdaptiveRecord {
+        levels,
+        syncs,
+        shadow_maps_used: trace.rendered.clone(),
+        triangles_per_map: trace.triangles.clone(),
+        triangles_per_map_mean: trace.triangles.iter().sum::<u64>() as f64
+            / trace.triangles.len().max(1) as f64,
+        culled_maps: trace.culled.len(),
+        weights: weights_rule(p),
+        samples_per_pixel_mean: None,
+        samples_per_pixel_max: None,
+        hybrid: None,
+        steer: None,
+        steer_raster: None,
+    };
     if let Some(masks) = consulted {
         let counts: Vec<u32> = masks
             .chunks_exact(10)
@@ -351,8 +358,8 @@ pub(crate) fn record(
             .collect();
         let geo: Vec<u32> = counts.iter().copied().filter(|&c| c > 0).collect();
         let mean = geo.iter().map(|&c| c as f64).sum::<f64>() / geo.len().max(1) as f64;
-        out["samples_per_pixel_mean"] = serde_json::json!(mean);
-        out["samples_per_pixel_max"] = serde_json::json!(geo.iter().max().copied().unwrap_or(0));
+        out.samples_per_pixel_mean = Some(mean);
+        out.samples_per_pixel_max = Some(geo.iter().max().copied().unwrap_or(0));
     }
     out
 }

@@ -12,6 +12,7 @@ mod levels;
 mod maps;
 pub(crate) mod params;
 mod pictures;
+mod record;
 mod steer;
 mod weights;
 
@@ -177,7 +178,7 @@ impl MethodState for State {
         if self.p.scope == Scope::Local {
             self.prepared
                 .growth
-                .report(self.prepared.b.shape.item_capacity, &mut out);
+                .report(self.prepared.b.shape.item_capacity, &mut out)?;
         }
         Ok(out)
     }
@@ -189,7 +190,7 @@ impl MethodState for State {
             if self.p.scope == Scope::Local {
                 self.prepared
                     .growth
-                    .report(self.prepared.b.shape.item_capacity, out);
+                    .report(self.prepared.b.shape.item_capacity, out)?;
             }
         }
         Ok(())

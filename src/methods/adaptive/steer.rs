@@ -509,9 +509,8 @@ pub(crate) fn finish(
     };
     out.shadow_maps = trace.rendered.len() as u32;
     out.syncs = 0;
-    out.record = levels::record(p, &trace, 0, consulted.as_deref(), &fg.gbuffer);
-    out.record["steer"] =
-        serde_json::json!("gpu: no read-back in the frame; the level records are read after it");
+    let mut record = levels::record(p, &trace, 0, consulted.as_deref(), &fg.gbuffer);
+    record.steer = Some("gpu: no read-back in the frame; the level records are read after it");
     // What each level rasterized past level 0 (new_maps' `requested_only`).
     let one_chunk = (1..=p.max_level).all(|l| {
         let arrays: std::collections::BTreeSet<u32> = candidates(l)
@@ -520,11 +519,12 @@ pub(crate) fn finish(
             .collect();
         candidates(l).len() <= prepared.store.per_array as usize && arrays.len() == 1
     });
-    out.record["steer_raster"] = serde_json::json!(if fg.raster.is_compute() && one_chunk {
+    record.steer_raster = Some(if fg.raster.is_compute() && one_chunk {
         "compute: only the maps subdivide requested, dispatches sized on the GPU"
     } else {
         "every candidate layer cleared, drawn with the request flag as instance count"
     });
+    out.record = record.to_value()?;
     out.pictures = if pending.pictures {
         pictures::all(fg, &trace, consulted.as_deref())
     } else {

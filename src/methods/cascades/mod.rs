@@ -146,16 +146,29 @@ pub struct Placement {
 
 impl Placement {
     /// run.json's figures: the slice ends and each map's texel in world units.
-    pub(crate) fn record(&self, m: &CascadeMaps) -> serde_json::Value {
-        serde_json::json!({
-            "split_depths": self.ends,
-            "texel_world": self.samples.iter().map(|s| s.texel_angle).collect::<Vec<_>>(),
-            "n": m.n,
-            "split": m.split.name(),
-            "lambda": m.lambda,
-            "filter": m.filter,
-        })
+    pub(crate) fn record(&self, m: &CascadeMaps) -> CascadesRecord {
+        CascadesRecord {
+            split_depths: self.ends.clone(),
+            texel_world: self.samples.iter().map(|s| s.texel_angle).collect(),
+            n: m.n,
+            split: m.split.name(),
+            lambda: m.lambda,
+            filter: m.filter,
+        }
     }
+}
+
+/// cascades' record in run.json (`method_record`): the placement and the settings it came from.
+#[derive(Clone, Debug, serde::Serialize)]
+pub(crate) struct CascadesRecord {
+    /// The slices' ends z_0 … z_N.
+    pub(crate) split_depths: Vec<f32>,
+    /// Each cascade's texel in world units.
+    pub(crate) texel_world: Vec<f32>,
+    pub(crate) n: u32,
+    pub(crate) split: &'static str,
+    pub(crate) lambda: f32,
+    pub(crate) filter: &'static str,
 }
 
 impl ShadowMethod for CascadeMaps {
@@ -316,7 +329,7 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: self.method.n,
             syncs: 0,
-            record: self.placement.record(&self.method),
+            record: super::record_value("cascades", &self.placement.record(&self.method))?,
             pictures: Vec::new(),
             bound: None,
         })

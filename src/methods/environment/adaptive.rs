@@ -328,6 +328,29 @@ struct State {
     kept: Vec<EnvLevelBuffers>,
 }
 
+/// env-adaptive's record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct EnvAdaptiveRecord {
+    /// Lights traced per pixel: one per leaf that carries power.
+    samples: usize,
+    rays_per_pixel: usize,
+    leaves_per_level: Vec<u32>,
+    /// Cells per side of the finest lattice.
+    finest: [u32; 2],
+    levels: Vec<EnvLevelRecord>,
+}
+
+/// One level of env-adaptive's cell tree.
+#[derive(serde::Serialize)]
+struct EnvLevelRecord {
+    level: u32,
+    active_cells: u32,
+    split_cells: u32,
+    leaves: u32,
+    /// Whether env_count ran (the last level splits nothing).
+    counted: bool,
+}
+
 impl MethodState for State {
     fn reset(&mut self, fg: &FrameGpu) -> Result<()> {
         fg.ctx
@@ -428,13 +451,13 @@ impl MethodState for State {
                     cell_power: self.cell_power.clone(),
                 });
             }
-            levels.push(serde_json::json!({
-                "level": level,
-                "active_cells": cell_count,
-                "split_cells": next_count / 4,
-                "leaves": leaf_count - leaves_so_far,
-                "counted": counted,
-            }));
+            levels.push(EnvLevelRecord {
+                level,
+                active_cells: cell_count,
+                split_cells: next_count / 4,
+                leaves: leaf_count - leaves_so_far,
+                counted,
+            });
             leaves_so_far = leaf_count;
             cell_count = next_count;
             if next_count == 0 {
@@ -484,13 +507,16 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: lights.len() as u32,
             syncs,
-            record: serde_json::json!({
-                "samples": lights.len(),
-                "rays_per_pixel": lights.len(),
-                "leaves_per_level": per_level,
-                "finest": [fw, fh],
-                "levels": levels,
-            }),
+            record: crate::methods::record_value(
+                "env-adaptive",
+                &EnvAdaptiveRecord {
+                    samples: lights.len(),
+                    rays_per_pixel: lights.len(),
+                    leaves_per_level: per_level,
+                    finest: [fw, fh],
+                    levels,
+                },
+            )?,
             pictures,
             bound: None,
         })

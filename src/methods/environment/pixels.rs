@@ -291,6 +291,32 @@ pub struct EnvTraceBuffers {
     pub vertex: Option<VertexBuffers>,
 }
 
+/// The ray-traced environment methods' record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct EnvPixelsRecord {
+    /// Lights traced per pixel or vertex.
+    samples: u32,
+    /// Where the rays start: the `at` key and its counts.
+    #[serde(flatten)]
+    at: TracedAt,
+    bvh_nodes: usize,
+    bvh_depth: usize,
+    ssao: bool,
+}
+
+/// Where the rays start (run.json's `at`).
+#[derive(serde::Serialize)]
+#[serde(tag = "at", rename_all = "lowercase")]
+enum TracedAt {
+    Pixel {
+        rays_per_pixel: u32,
+    },
+    Vertex {
+        vertices_traced: u32,
+        rays_per_vertex: u32,
+    },
+}
+
 impl MethodState for RayLights {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
@@ -306,14 +332,22 @@ impl MethodState for RayLights {
         Ok(MethodOutput {
             shadow_maps: n,
             syncs: 0,
-            record: match &self.vertex {
-                None => {
-                    serde_json::json!({ "samples": n, "at": "pixel", "rays_per_pixel": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() })
-                }
-                Some(v) => {
-                    serde_json::json!({ "samples": n, "at": "vertex", "vertices_traced": v.vertex_count, "rays_per_vertex": n, "bvh_nodes": self.rays.bvh.nodes.len(), "bvh_depth": self.rays.bvh.depth, "ssao": self.ssao.is_some() })
-                }
-            },
+            record: crate::methods::record_value(
+                "env-pixels",
+                &EnvPixelsRecord {
+                    samples: n,
+                    at: match &self.vertex {
+                        None => TracedAt::Pixel { rays_per_pixel: n },
+                        Some(v) => TracedAt::Vertex {
+                            vertices_traced: v.vertex_count,
+                            rays_per_vertex: n,
+                        },
+                    },
+                    bvh_nodes: self.rays.bvh.nodes.len(),
+                    bvh_depth: self.rays.bvh.depth,
+                    ssao: self.ssao.is_some(),
+                },
+            )?,
             pictures: if pictures {
                 self.pictures.clone()
             } else {
@@ -325,5 +359,36 @@ impl MethodState for RayLights {
     /// [`EnvTraceBuffers`].
     fn inspect(&mut self, fg: &FrameGpu) -> Result<Option<Box<dyn std::any::Any>>> {
         Ok(Some(Box::new(self.read(fg)?)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{EnvPixelsRecord, TracedAt};
+
+    /// `at` is the tag of where the rays start, beside its own counts, in the record's one map.
+    #[test]
+    fn the_record_names_where_rays_start_beside_its_counts() {
+        let record = |at| EnvPixelsRecord {
+            samples: 8,
+            at,
+            bvh_nodes: 5,
+            bvh_depth: 3,
+            ssao: false,
+        };
+        let value = serde_json::to_value(record(TracedAt::Vertex {
+            vertices_traced: 40,
+            rays_per_vertex: 8,
+        }))
+        .unwrap();
+        assert_eq!(
+            serde_json::to_string(&value).unwrap(),
+            r#"{"at":"vertex","bvh_depth":3,"bvh_nodes":5,"rays_per_vertex":8,"samples":8,"ssao":false,"vertices_traced":40}"#
+        );
+        let value = serde_json::to_value(record(TracedAt::Pixel { rays_per_pixel: 8 })).unwrap();
+        assert_eq!(
+            serde_json::to_string(&value).unwrap(),
+            r#"{"at":"pixel","bvh_depth":3,"bvh_nodes":5,"rays_per_pixel":8,"samples":8,"ssao":false}"#
+        );
     }
 }

@@ -309,6 +309,18 @@ pub struct EnvShadowmapsBuffers {
     pub ao: Vec<f32>,
 }
 
+/// env-shadowmaps' record in run.json (`method_record`).
+#[derive(serde::Serialize)]
+struct EnvShadowmapsRecord {
+    samples: u32,
+    /// Median-cut lights, one map each.
+    lights: u32,
+    /// pcf's kernel.
+    filter: &'static str,
+    pcf_taps: u32,
+    ssao: bool,
+}
+
 impl MethodState for State {
     fn reset(&mut self, _fg: &FrameGpu) -> Result<()> {
         Ok(())
@@ -365,7 +377,20 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: k,
             syncs: 0,
-            record: serde_json::json!({ "samples": k, "lights": k, "filter": KERNELS[self.filter.kind as usize], "pcf_taps": self.filter.taps.pow(if self.filter.kind <= 1 { 2 } else { 1 }), "ssao": self.ssao.is_some() }),
+            record: crate::methods::record_value(
+                "env-shadowmaps",
+                &EnvShadowmapsRecord {
+                    samples: k,
+                    lights: k,
+                    filter: KERNELS[self.filter.kind as usize],
+                    // box and bilinear take taps per side, the disk kernels a tap count.
+                    pcf_taps: self
+                        .filter
+                        .taps
+                        .pow(if self.filter.kind <= 1 { 2 } else { 1 }),
+                    ssao: self.ssao.is_some(),
+                },
+            )?,
             pictures: if pictures {
                 vec![("panorama_lights.png".into(), self.picture.clone())]
             } else {
