@@ -29,6 +29,7 @@ use crate::stages::regions::{
 use crate::stages::FrameGpu;
 use crate::Result;
 pub(crate) use record::ClassRecord;
+use record::RegionsRecord;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -925,14 +926,20 @@ impl MethodState for State {
             };
             groups.push(self.sized(fg, group));
         }
-        let mut record = serde_json::json!({
-            "region": self.method.region,
-            "ladder": self.ladder,
-            "decision_maps": self.probe.count(),
-            "centre_size": self.centre,
-            "density": self.density,
-            "predicted_map": budget::predicted_map(edges, pixels, self.density as f64),
-        });
+        let mut record = RegionsRecord {
+            region: self.method.region,
+            ladder: self.ladder.clone(),
+            decision_maps: self.probe.count(),
+            centre_size: self.centre,
+            density: self.density,
+            predicted_map: budget::predicted_map(edges, pixels, self.density as f64),
+            classes: Vec::new(),
+            triangle_map_pairs: None,
+            texels_written: None,
+            target: None,
+            target_met: None,
+            certified: None,
+        };
         let (maps, syncs) = if self.method.certify && self.method.force.is_none() {
             let (maps, more) = self.certified_frame(fg, timer, &words, groups, &mut record)?;
             (maps, syncs + more)
@@ -954,7 +961,7 @@ impl MethodState for State {
         Ok(MethodOutput {
             shadow_maps: maps + self.probe.count(),
             syncs,
-            record,
+            record: super::record_value("regions", &record)?,
             pictures,
             bound: None,
         })
@@ -1149,7 +1156,7 @@ impl State {
         timer: &mut StageTimer,
         groups: &[Group],
         words: &[u32],
-        record: &mut serde_json::Value,
+        record: &mut RegionsRecord,
     ) -> Result<(u32, u32)> {
         let (mut maps, mut syncs) = (0u32, 0u32);
         let (mut pairs, mut texels) = (0f64, 0f64);
@@ -1163,9 +1170,9 @@ impl State {
             texels += out.shadow_maps as f64 * (group.size as f64).powi(2);
             records.extend(Self::class_records(g, group, words, &self.ladder, &out));
         }
-        record["classes"] = serde_json::json!(records);
-        record["triangle_map_pairs"] = pairs.into();
-        record["texels_written"] = texels.into();
+        record.classes = records.clone();
+        record.triangle_map_pairs = Some(pairs);
+        record.texels_written = Some(texels);
         self.classes = records;
         Ok((maps, syncs))
     }

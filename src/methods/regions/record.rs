@@ -22,3 +22,28 @@ pub struct ClassRecord {
     pub(crate) extent: f32,
     pub(crate) triangles_per_map_mean: f64,
 }
+
+/// A frame's record (`run.json`'s `method_record`): the decision, the classes as shaded, and
+/// with `certify` what the measurement found.
+#[derive(Debug, serde::Serialize)]
+pub(crate) struct RegionsRecord {
+    pub(crate) region: u32,
+    pub(crate) ladder: Vec<u32>,
+    pub(crate) decision_maps: u32,
+    pub(crate) centre_size: u32,
+    pub(crate) density: f32,
+    pub(crate) predicted_map: f64,
+    pub(crate) classes: Vec<ClassRecord>,
+    /// Σ triangles per map × maps over the rendered groups (absent where no grid rendered).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) triangle_map_pairs: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) texels_written: Option<f64>,
+    /// With `certify`: the target measured and whether the frame's bound is within it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) target: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) target_met: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) certified: Option<super::certified::CertifiedRecord>,
+}

@@ -12,7 +12,8 @@ use super::{certified_on, frame_bound, part, test, Class, Measure, Setting};
 use crate::certify::Certificate;
 use crate::gpu::timing::StageTimer;
 use crate::methods::hold::BAND;
-use crate::methods::regions::{window_extent, ClassRecord, Group, State};
+use crate::methods::regions::record::RegionsRecord;
+use crate::methods::regions::{window_extent, Group, State};
 use crate::scene::light::Bounds;
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -84,7 +85,7 @@ impl State {
         m: &mut Measure,
         settled: &Settled,
         words: &[u32],
-        record: &mut serde_json::Value,
+        record: &mut RegionsRecord,
     ) -> Result<Vec<f32>> {
         let target = self.method.target as f64;
         for cl in m.classes.iter_mut() {
@@ -110,7 +111,7 @@ impl State {
             g.extent = window_extent(fg, &g.window);
         }
         if groups.is_empty() {
-            record["classes"] = serde_json::json!(Vec::<ClassRecord>::new());
+            record.classes = Vec::new();
             self.classes.clear();
             return Ok(m.v_filter.clone().unwrap_or_default());
         }

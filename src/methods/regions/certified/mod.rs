@@ -31,6 +31,7 @@ mod held;
 mod split;
 mod steps;
 
+use super::record::RegionsRecord;
 use super::{Group, State};
 use crate::certify::bound::BoundKind;
 use crate::certify::design::{self, Design};
@@ -78,6 +79,49 @@ struct ClassMeasure {
     /// Geometry pixels in the class (N_c) and their share of the frame's.
     pixels: usize,
     share: f64,
+}
+
+/// What the certified decision adds to the frame's record (`method_record.certified`).
+#[derive(Debug, serde::Serialize)]
+pub(crate) struct CertifiedRecord {
+    decision_ms: f64,
+    /// The frame's bound on its RMSE, at confidence 1 − delta.
+    bound: f64,
+    delta: f32,
+    pixels_per_class: u32,
+    traced_pixels: usize,
+    trace_ms: f64,
+    rays: u64,
+    classes: Vec<ClassMeasure>,
+    /// The frame started from the settings the previous frame ended on (`hold`).
+    held: bool,
+    fallback: FallbackRecord,
+    clock: &'static str,
+}
+
+/// Whether a fresh frame took the frame-wide setting, and why (the predicted costs); a held frame
+/// decides none and carries neither cost.
+#[derive(Debug, serde::Serialize)]
+pub(crate) struct FallbackRecord {
+    taken: bool,
+    setting: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    plan_cost: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame_wide_cost: Option<f64>,
+    ratio: Option<f32>,
+}
+
+impl FallbackRecord {
+    fn held() -> FallbackRecord {
+        FallbackRecord {
+            taken: false,
+            setting: None,
+            plan_cost: None,
+            frame_wide_cost: None,
+            ratio: None,
+        }
+    }
 }
 
 /// A class being measured: its mask, its design and draws, and where it stands.
@@ -194,7 +238,7 @@ impl State {
         timer: &mut StageTimer,
         words: &[u32],
         class_groups: Vec<Group>,
-        record: &mut serde_json::Value,
+        record: &mut RegionsRecord,
     ) -> Result<(u32, u32)> {
         let start = std::time::Instant::now();
         let mut m = self.measure(fg, timer, &class_groups)?;
@@ -203,7 +247,7 @@ impl State {
         let (v, fallback) = if held {
             let v = self.held_choice(fg, timer, &mut m, &settled, words, record)?;
             // A held frame decides no fallback: its classes keep what they ended on.
-            (v, serde_json::json!({"taken": false, "setting": null}))
+            (v, FallbackRecord::held())
         } else {
             self.fresh_choice(fg, timer, &mut m, &class_groups, words, record)?
         };
@@ -212,18 +256,18 @@ impl State {
         if self.method.hold {
             self.settled = Settled::after(&m.classes);
         }
-        record["certified"] = serde_json::json!({
-            "decision_ms": start.elapsed().as_secs_f64() * 1e3,
-            "bound": bound,
-            "delta": self.method.delta,
-            "pixels_per_class": self.method.pixels,
-            "traced_pixels": m.traced,
-            "trace_ms": m.trace_ms,
-            "rays": m.rays,
-            "classes": Self::measures(&m, self.method.target as f64),
-            "held": held,
-            "fallback": fallback,
-            "clock": "wall clock, ms: decision_ms from the filter to V written (the grids' renders and step-ups included); trace_ms the exact pixels' trace (stages_ms.truth_trace)",
+        record.certified = Some(CertifiedRecord {
+            decision_ms: start.elapsed().as_secs_f64() * 1e3,
+            bound,
+            delta: self.method.delta,
+            pixels_per_class: self.method.pixels,
+            traced_pixels: m.traced,
+            trace_ms: m.trace_ms,
+            rays: m.rays,
+            classes: Self::measures(&m, self.method.target as f64),
+            held,
+            fallback,
+            clock: "wall clock, ms: decision_ms from the filter to V written (the grids' renders and step-ups included); trace_ms the exact pixels' trace (stages_ms.truth_trace)",
         });
         Ok((m.maps, m.syncs))
     }
@@ -380,7 +424,7 @@ impl State {
         m: &mut Measure,
         groups: &mut [Group],
         words: &[u32],
-        record: &mut serde_json::Value,
+        record: &mut RegionsRecord,
     ) -> Result<Vec<f32>> {
         self.hold_windows(fg, groups);
         fg.clear_visibility();
@@ -397,7 +441,7 @@ impl State {
         fg: &FrameGpu,
         m: &Measure,
         mut v: Vec<f32>,
-        record: &mut serde_json::Value,
+        record: &mut RegionsRecord,
     ) -> f64 {
         if v.is_empty() {
             v = vec![0.0; m.screen];
@@ -424,9 +468,9 @@ impl State {
             .write_buffer(&fg.visibility, 0, bytemuck::cast_slice(&v));
         let target = self.method.target as f64;
         let bound = frame_bound(&m.classes, m.geometry_pixels);
-        record["classes"] = serde_json::json!(self.classes);
-        record["target"] = target.into();
-        record["target_met"] = (bound <= target).into();
+        record.classes = self.classes.clone();
+        record.target = Some(target);
+        record.target_met = Some(bound <= target);
         bound
     }
 

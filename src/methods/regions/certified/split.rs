@@ -1,8 +1,9 @@
 //! A fresh frame's settings: which classes keep the filter (`filter_split`), the plan's grids
 //! for the rest, or the frame-wide grid where it is predicted about as cheap.
 
-use super::{frame_bound, test, Class, Measure, Setting};
+use super::{frame_bound, test, Class, FallbackRecord, Measure, Setting};
 use crate::gpu::timing::StageTimer;
+use crate::methods::regions::record::RegionsRecord;
 use crate::methods::regions::{Group, State};
 use crate::stages::FrameGpu;
 use crate::Result;
@@ -62,8 +63,8 @@ impl State {
         m: &mut Measure,
         class_groups: &[Group],
         words: &[u32],
-        record: &mut serde_json::Value,
-    ) -> Result<(Vec<f32>, serde_json::Value)> {
+        record: &mut RegionsRecord,
+    ) -> Result<(Vec<f32>, FallbackRecord)> {
         let target = self.method.target as f64;
         if let Some(v) = &m.v_filter {
             for cl in m.classes.iter_mut() {
@@ -115,17 +116,16 @@ impl State {
                 _ => None,
             }
         };
-        let record_fallback = serde_json::json!({
-            "taken": fallback.is_some(),
-            "setting": fallback,
-            "plan_cost": plan_cost,
-            "frame_wide_cost": frame_cost,
-            "ratio": self.method.fallback,
-        });
+        let record_fallback = FallbackRecord {
+            taken: fallback.is_some(),
+            setting: fallback.clone(),
+            plan_cost: Some(plan_cost),
+            frame_wide_cost: Some(frame_cost),
+            ratio: self.method.fallback,
+        };
         let mut v = m.v_filter.clone().unwrap_or_default();
         if all_filter || groups.is_empty() {
-            record["classes"] =
-                serde_json::json!(Vec::<crate::methods::regions::ClassRecord>::new());
+            record.classes = Vec::new();
             self.classes.clear();
             return Ok((v, record_fallback));
         }
