@@ -1,6 +1,6 @@
 //! The one read-back per level, and the per-level record in run.json.
 
-use super::record::AdaptiveRecord;
+use super::record::{AdaptiveRecord, LevelRecord};
 use crate::gpu::readback;
 use crate::gpu::structs::{GpuQuad, OVERFLOW_ITEMS, OVERFLOW_PROBES, OVERFLOW_QUADS};
 use crate::methods::adaptive::buffers::{
@@ -87,22 +87,6 @@ impl LevelReport {
         self.overflow & (OVERFLOW_ITEMS | OVERFLOW_PROBES) != 0
             && self.overflow & OVERFLOW_QUADS == 0
     }
-}
-
-/// Per-level summary for run.json.
-#[derive(serde::Serialize)]
-pub(crate) struct LevelRecord {
-    pub(crate) level: u32,
-    pub(crate) active_quads: usize,
-    /// [i, j, size, parent index in the previous level] of each evaluated quad, in counter order.
-    pub(crate) quads: Vec<[u32; 4]>,
-    pub(crate) low_quality_per_quad: Vec<u32>,
-    pub(crate) split_quads: usize,
-    pub(crate) new_samples: usize,
-    pub(crate) pixels_evaluated: u64,
-    /// scope = local: shadow-map lookups (pixel, sample pairs tested for the first time).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) lookups: Option<u64>,
 }
 
 /// What one level's record holds besides its fixed parts: `n` quads evaluated, the culling

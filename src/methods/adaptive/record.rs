@@ -2,7 +2,6 @@
 //! run.json files have always had. `levels::record` fills the frame's figures; the host- and
 //! GPU-steered loops add what only they know, and `growth` the item list's growth.
 
-use super::levels::LevelRecord;
 use crate::methods::hybrid_maps::HybridRecord;
 
 /// One frame of `adaptive`.
@@ -47,4 +46,20 @@ pub(crate) struct ItemsRecord {
     pub(crate) capacity: u32,
     pub(crate) frames_run_again: usize,
     pub(crate) grown_to: Vec<u32>,
+}
+
+/// Per-level summary for run.json.
+#[derive(serde::Serialize)]
+pub(crate) struct LevelRecord {
+    pub(crate) level: u32,
+    pub(crate) active_quads: usize,
+    /// [i, j, size, parent index in the previous level] of each evaluated quad, in counter order.
+    pub(crate) quads: Vec<[u32; 4]>,
+    pub(crate) low_quality_per_quad: Vec<u32>,
+    pub(crate) split_quads: usize,
+    pub(crate) new_samples: usize,
+    pub(crate) pixels_evaluated: u64,
+    /// scope = local: shadow-map lookups (pixel, sample pairs tested for the first time).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) lookups: Option<u64>,
 }

@@ -1,5 +1,6 @@
-//! What `regions` decided for one class of a frame, shared by the method's run record and its
-//! pictures (so neither module imports the other).
+//! `regions`' frame record (run.json's `method_record`): what it decided for each class, shared
+//! by the record and the pictures (so neither module imports the other), and with `certify` what
+//! the measurement found. The types sit here, below the modules that fill them.
 
 /// One class of a frame: the group whose maps it is shaded with, that group's grid, map size and
 /// window, and the class's own tiles.
@@ -45,5 +46,67 @@ pub(crate) struct RegionsRecord {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) target_met: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) certified: Option<super::certified::CertifiedRecord>,
+    pub(crate) certified: Option<CertifiedRecord>,
+}
+
+/// One class's measurement, as the record keeps it.
+#[derive(Clone, Debug, serde::Serialize)]
+pub(crate) struct ClassMeasure {
+    pub(crate) class: u32,
+    /// `pcss`, or `regular:n=N,layout=centred @ SIZE`.
+    pub(crate) setting: String,
+    /// Step-ups after the plan (0: the plan, or the filter, was certified).
+    pub(crate) steps: u32,
+    /// The bound on the class's RMSE at confidence 1 − δ/C, and the sampled RMSE.
+    pub(crate) bound: f64,
+    pub(crate) sampled_rmse: f64,
+    pub(crate) certified: bool,
+    /// The bound of each setting tried, in order.
+    pub(crate) tried: Vec<(String, f64)>,
+    /// Geometry pixels in the class (N_c) and their share of the frame's.
+    pub(crate) pixels: usize,
+    pub(crate) share: f64,
+}
+
+/// What the certified decision adds to the frame's record (`method_record.certified`).
+#[derive(Debug, serde::Serialize)]
+pub(crate) struct CertifiedRecord {
+    pub(crate) decision_ms: f64,
+    /// The frame's bound on its RMSE, at confidence 1 − delta.
+    pub(crate) bound: f64,
+    pub(crate) delta: f32,
+    pub(crate) pixels_per_class: u32,
+    pub(crate) traced_pixels: usize,
+    pub(crate) trace_ms: f64,
+    pub(crate) rays: u64,
+    pub(crate) classes: Vec<ClassMeasure>,
+    /// The frame started from the settings the previous frame ended on (`hold`).
+    pub(crate) held: bool,
+    pub(crate) fallback: FallbackRecord,
+    pub(crate) clock: &'static str,
+}
+
+/// Whether a fresh frame took the frame-wide setting, and why (the predicted costs); a held frame
+/// decides none and carries neither cost.
+#[derive(Debug, serde::Serialize)]
+pub(crate) struct FallbackRecord {
+    pub(crate) taken: bool,
+    pub(crate) setting: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) plan_cost: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) frame_wide_cost: Option<f64>,
+    pub(crate) ratio: Option<f32>,
+}
+
+impl FallbackRecord {
+    pub(crate) fn held() -> FallbackRecord {
+        FallbackRecord {
+            taken: false,
+            setting: None,
+            plan_cost: None,
+            frame_wide_cost: None,
+            ratio: None,
+        }
+    }
 }

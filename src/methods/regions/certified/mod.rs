@@ -31,7 +31,7 @@ mod held;
 mod split;
 mod steps;
 
-use super::record::RegionsRecord;
+use super::record::{CertifiedRecord, ClassMeasure, FallbackRecord, RegionsRecord};
 use super::{Group, State};
 use crate::certify::bound::BoundKind;
 use crate::certify::design::{self, Design};
@@ -60,68 +60,6 @@ pub(super) enum Setting {
     Grid { n: u32, size: u32 },
     /// The one-map filter's V.
     Filter,
-}
-
-/// One class's measurement, as the record keeps it.
-#[derive(Clone, Debug, serde::Serialize)]
-struct ClassMeasure {
-    class: u32,
-    /// `pcss`, or `regular:n=N,layout=centred @ SIZE`.
-    setting: String,
-    /// Step-ups after the plan (0: the plan, or the filter, was certified).
-    steps: u32,
-    /// The bound on the class's RMSE at confidence 1 − δ/C, and the sampled RMSE.
-    bound: f64,
-    sampled_rmse: f64,
-    certified: bool,
-    /// The bound of each setting tried, in order.
-    tried: Vec<(String, f64)>,
-    /// Geometry pixels in the class (N_c) and their share of the frame's.
-    pixels: usize,
-    share: f64,
-}
-
-/// What the certified decision adds to the frame's record (`method_record.certified`).
-#[derive(Debug, serde::Serialize)]
-pub(crate) struct CertifiedRecord {
-    decision_ms: f64,
-    /// The frame's bound on its RMSE, at confidence 1 − delta.
-    bound: f64,
-    delta: f32,
-    pixels_per_class: u32,
-    traced_pixels: usize,
-    trace_ms: f64,
-    rays: u64,
-    classes: Vec<ClassMeasure>,
-    /// The frame started from the settings the previous frame ended on (`hold`).
-    held: bool,
-    fallback: FallbackRecord,
-    clock: &'static str,
-}
-
-/// Whether a fresh frame took the frame-wide setting, and why (the predicted costs); a held frame
-/// decides none and carries neither cost.
-#[derive(Debug, serde::Serialize)]
-pub(crate) struct FallbackRecord {
-    taken: bool,
-    setting: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    plan_cost: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    frame_wide_cost: Option<f64>,
-    ratio: Option<f32>,
-}
-
-impl FallbackRecord {
-    fn held() -> FallbackRecord {
-        FallbackRecord {
-            taken: false,
-            setting: None,
-            plan_cost: None,
-            frame_wide_cost: None,
-            ratio: None,
-        }
-    }
 }
 
 /// A class being measured: its mask, its design and draws, and where it stands.

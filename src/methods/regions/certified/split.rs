@@ -1,9 +1,9 @@
 //! A fresh frame's settings: which classes keep the filter (`filter_split`), the plan's grids
 //! for the rest, or the frame-wide grid where it is predicted about as cheap.
 
-use super::{frame_bound, test, Class, FallbackRecord, Measure, Setting};
+use super::{frame_bound, test, Class, Measure, Setting};
 use crate::gpu::timing::StageTimer;
-use crate::methods::regions::record::RegionsRecord;
+use crate::methods::regions::record::{FallbackRecord, RegionsRecord};
 use crate::methods::regions::{Group, State};
 use crate::stages::FrameGpu;
 use crate::Result;
