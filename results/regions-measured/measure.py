@@ -8,6 +8,9 @@
   measure.py figures rows.csv ORACLE.csv...
       the issue's must-show figures: per `regions:target=T` row, the cheapest fixed setting of the
       same run whose measured RMSE is at most T, and the oracle's bound for (scene, T).
+  measure.py targets ROWS.csv
+      the target kept, over every scene of ROWS (`run` rows of `regions:target=T` alone): per
+      scene and T the measured RMSE against T, `target_met` and the bound; the issue's counts.
 """
 
 import csv
@@ -19,7 +22,7 @@ import tempfile
 from pathlib import Path
 
 COLUMNS = ["scene", "resolution", "target", "shadow_map_size", "spec", "kind", "maps", "rmse", "ms",
-           "met", "bound", "fallback", "steps", "trace_ms", "version", "adapter"]
+           "met", "bound", "fallback", "steps", "trace_ms", "version", "adapter", "held"]
 
 
 def run(args):
@@ -50,7 +53,8 @@ def run(args):
                     record.get("target_met", ""), f"{c['bound']:.5f}" if c else "",
                     (c.get("fallback") or {}).get("setting") or "",
                     sum(k["steps"] for k in c.get("classes", [])) if c else "",
-                    f"{c['trace_ms']:.1f}" if c else "", r["version"]["git"], r["adapter"]["name"]])
+                    f"{c['trace_ms']:.1f}" if c else "", r["version"]["git"], r["adapter"]["name"],
+                    c.get("held", "") if c else ""])
 
 
 def figures(rows_path, *oracle_paths):
@@ -105,10 +109,32 @@ def figures(rows_path, *oracle_paths):
           f"regions' ms less the trace over the fixed setting's: {min(c[1] for c in costs):.2f}–{max(c[1] for c in costs):.2f}")
 
 
+def targets(rows_path):
+    rows = [r for r in csv.DictReader(open(rows_path)) if r["kind"] == "regions"]
+    print(f"build: {', '.join(sorted({r['version'] for r in rows}))}")
+    print("| scene | T | measured RMSE | RMSE / T | met | bound | maps |")
+    print("|---|---:|---:|---:|---|---:|---:|")
+    rows.sort(key=lambda r: (r["scene"], -float(r["target"])))
+    for r in rows:
+        t, rmse = float(r["target"]), float(r["rmse"])
+        print(f"| {r['scene']} | {t} | {rmse:.4f} | {rmse / t:.2f} | {r['met']} | {r['bound']} | {r['maps']} |")
+    kept = [r for r in rows if float(r["rmse"]) <= float(r["target"])]
+    over_met = [r for r in rows if r["met"] == "True" and float(r["rmse"]) > float(r["target"])]
+    unmet = [r for r in rows if r["met"] != "True"]
+    print(f"\nscenes: {len({r['scene'] for r in rows})}; rows: {len(rows)}")
+    print(f"measured RMSE ≤ T: {len(kept)} of {len(rows)} rows ({100 * len(kept) / len(rows):.0f}%; 90% asked)")
+    print(f"reported met while measured over T: {len(over_met)} (0 asked)")
+    print(f"reported not met: {len(unmet)}: " + ", ".join(f"{r['scene']} {float(r['target'])} (RMSE {float(r['rmse']):.4f}, bound {r['bound']})" for r in unmet))
+    over = [r for r in rows if float(r["rmse"]) > float(r["target"])]
+    print("over T: " + (", ".join(f"{r['scene']} {float(r['target'])} ({float(r['rmse']) / float(r['target']):.2f} T, met {r['met']})" for r in over) or "none"))
+
+
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "run":
         run(sys.argv[2:])
     elif len(sys.argv) >= 4 and sys.argv[1] == "figures":
         figures(*sys.argv[2:])
+    elif len(sys.argv) == 3 and sys.argv[1] == "targets":
+        targets(sys.argv[2])
     else:
         sys.exit(__doc__)
