@@ -310,12 +310,13 @@ fn a_priced_2048_map_costs_at_least_its_raster_alone() {
     .unwrap()[0]
         / 4.0;
     println!("2048² map: priced {price} ms, raster alone {raster_ms} ms");
-    // Both are least-of wall clocks of the same raster on a shared CPU device; on this tiny
-    // scene the price's share beyond the raster is under 1%, so two quiet minimums may cross by
-    // that much (4.378 against 4.386 ms, seen under load). A price that left the raster out
-    // would be a fraction of it.
+    // Both are least-of wall clocks of the same raster on a shared CPU device, taken one after
+    // the other: under a changing load they cross (4.378 against 4.386 ms; 4.656 against 5.508 ms
+    // beside a build and two studies, load average 5). What the test guards against is a price
+    // that leaves the raster out: on this tiny scene the price's share beyond the raster is under
+    // 1%, so such a price would be a few percent of the raster, far under half of it.
     assert!(
-        price >= 0.9 * raster_ms,
+        price >= 0.5 * raster_ms,
         "a 2048² map priced {price} ms against its raster's {raster_ms} ms: {rec}"
     );
 }
