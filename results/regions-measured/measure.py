@@ -8,9 +8,12 @@
   measure.py figures rows.csv ORACLE.csv...
       the issue's must-show figures: per `regions:target=T` row, the cheapest fixed setting of the
       same run whose measured RMSE is at most T, and the oracle's bound for (scene, T).
-  measure.py targets ROWS.csv
+  measure.py targets ROWS.csv [ORACLE.csv...]
       the target kept, over every scene of ROWS (`run` rows of `regions:target=T` alone): per
       scene and T the measured RMSE against T, `target_met` and the bound; the issue's counts.
+      With the oracle's rows, the same counts split by what the oracle's family menu reaches:
+      rows where one frame-wide setting of the menu meets T (its `single`), rows only a per-tile
+      choice with the truth reaches, and rows nothing of the menu reaches.
 """
 
 import csv
@@ -109,7 +112,7 @@ def figures(rows_path, *oracle_paths):
           f"regions' ms less the trace over the fixed setting's: {min(c[1] for c in costs):.2f}–{max(c[1] for c in costs):.2f}")
 
 
-def targets(rows_path):
+def targets(rows_path, *oracle_paths):
     rows = [r for r in csv.DictReader(open(rows_path)) if r["kind"] == "regions"]
     print(f"build: {', '.join(sorted({r['version'] for r in rows}))}")
     print("| scene | T | measured RMSE | RMSE / T | met | bound | maps |")
@@ -127,6 +130,23 @@ def targets(rows_path):
     print(f"reported not met: {len(unmet)}: " + ", ".join(f"{r['scene']} {float(r['target'])} (RMSE {float(r['rmse']):.4f}, bound {r['bound']})" for r in unmet))
     over = [r for r in rows if float(r["rmse"]) > float(r["target"])]
     print("over T: " + (", ".join(f"{r['scene']} {float(r['target'])} ({float(r['rmse']) / float(r['target']):.2f} T, met {r['met']})" for r in over) or "none"))
+    if not oracle_paths:
+        return
+    # The family menu's rows: `single` names the cheapest frame-wide setting meeting T, empty
+    # where none does; `best_per_tile_rmse` is the lowest a per-tile choice with the truth gives.
+    family = {(o["scene"], o["resolution"], float(o["target"])): o
+              for path in oracle_paths for o in csv.DictReader(open(path)) if o["menu"] == "family"}
+    reach = {"one frame-wide setting": [], "only a per-tile choice": [], "nothing": [], "not in the oracle": []}
+    for r in rows:
+        o = family.get((r["scene"], r["resolution"], float(r["target"])))
+        kind = ("not in the oracle" if o is None else "one frame-wide setting" if o["single"]
+                else "only a per-tile choice" if float(o["best_per_tile_rmse"]) <= float(r["target"]) else "nothing")
+        reach[kind].append(r)
+    for kind, group in reach.items():
+        if group:
+            k = sum(float(r["rmse"]) <= float(r["target"]) for r in group)
+            names = "" if kind == "one frame-wide setting" else " (" + ", ".join(f"{r['scene']} {float(r['target'])}" for r in group) + ")"
+            print(f"T reached by {kind} of the menu: {len(group)} rows{names}; regions measures ≤ T on {k}")
 
 
 if __name__ == "__main__":
@@ -134,7 +154,7 @@ if __name__ == "__main__":
         run(sys.argv[2:])
     elif len(sys.argv) >= 4 and sys.argv[1] == "figures":
         figures(*sys.argv[2:])
-    elif len(sys.argv) == 3 and sys.argv[1] == "targets":
-        targets(sys.argv[2])
+    elif len(sys.argv) >= 3 and sys.argv[1] == "targets":
+        targets(*sys.argv[2:])
     else:
         sys.exit(__doc__)
