@@ -96,6 +96,19 @@ fn met_only_where_the_certified_bound_is_at_most_the_target() {
     let bound = c["bound"].as_f64().unwrap();
     assert!(bound > 0.002, "bound {bound}");
     assert_eq!(r.output.record["target_met"], false);
+    // Each setting a class could end on is bounded at δ/(C·S): here the filter and n = 1 at 64².
+    let per_setting = |c: &serde_json::Value, settings: u64| {
+        assert_eq!(c["reachable_settings"], settings);
+        // δ is shared by the plan's class groups, at least the classes kept (an empty one is
+        // dropped after its share is set).
+        let classes = c["classes"].as_array().unwrap().len() as f64;
+        let groups = 0.05 / (c["delta_per_setting"].as_f64().unwrap() * settings as f64);
+        assert!(
+            (groups - groups.round()).abs() < 1e-6 && groups.round() >= classes,
+            "δ shared by {groups} groups, {classes} classes"
+        );
+    };
+    per_setting(c, 2);
     // Within reach: the same frame at a loose target is met, its bound at most T.
     let r = frame(
         &sc,
@@ -109,6 +122,8 @@ fn met_only_where_the_certified_bound_is_at_most_the_target() {
         "bound {bound}"
     );
     assert_eq!(r.output.record["target_met"], true, "bound {bound}");
+    // n of 1, 2, 3, 4, 6, 8, 11, 16 at sides 64, 96, 128, 192, 256, 368, 512, and the filter.
+    per_setting(c, 1 + 8 * 7);
     // The frame's bound is the classes' in quadrature, weighted by their pixels.
     let sum: f64 = c["classes"]
         .as_array()

@@ -378,6 +378,26 @@ impl Regions {
         l.truncate(MAX_CLASSES);
         l
     }
+
+    /// How many settings a certified class could end on: the filter, and a centred grid of
+    /// every n of the ladder and of its rungs up to `max_n` at every half-octave side from
+    /// `min_size` to `max_size` (89 at the defaults). Which setting a class tries next depends on
+    /// the bounds of those it tried on the same draws, so the union bound that keeps the chosen
+    /// setting's bound at 1 − δ/C runs over all of them: each is bounded at δ/(C · this)
+    /// (docs/regions.md, "Certified classes", item 6).
+    pub(crate) fn reachable_settings(&self) -> usize {
+        let mut n = self.ladder();
+        n.extend(LADDER.iter().copied().filter(|&r| r <= self.max_n));
+        n.sort_unstable();
+        n.dedup();
+        // half_octave's sides, 2^(k/2) to a multiple of 16, for every k in the range.
+        let mut sides: Vec<u32> = (0..=26)
+            .map(|k| (2f32.powf(k as f32 / 2.0).round() as u32).div_ceil(16) * 16)
+            .filter(|s| (self.min_size..=self.max_size).contains(s))
+            .collect();
+        sides.dedup();
+        1 + n.len() * sides.len()
+    }
 }
 
 impl ShadowMethod for Regions {

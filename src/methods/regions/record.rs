@@ -57,7 +57,8 @@ pub(crate) struct ClassMeasure {
     pub(crate) setting: String,
     /// Step-ups after the plan (0: the plan, or the filter, was certified).
     pub(crate) steps: u32,
-    /// The bound on the class's RMSE at confidence 1 − δ/C, and the sampled RMSE.
+    /// The bound on the class's RMSE at confidence 1 − δ/C (each setting's at δ/(C·S)), and the
+    /// sampled RMSE.
     pub(crate) bound: f64,
     pub(crate) sampled_rmse: f64,
     pub(crate) certified: bool,
@@ -75,6 +76,10 @@ pub(crate) struct CertifiedRecord {
     /// The frame's bound on its RMSE, at confidence 1 − delta.
     pub(crate) bound: f64,
     pub(crate) delta: f32,
+    /// Each setting's bound is at this confidence, δ/(C·S): C classes, S settings a class could
+    /// end on (`reachable_settings`), so the chosen ones hold at 1 − δ however they were chosen.
+    pub(crate) delta_per_setting: f64,
+    pub(crate) reachable_settings: usize,
     pub(crate) pixels_per_class: u32,
     pub(crate) traced_pixels: usize,
     pub(crate) trace_ms: f64,

@@ -23,7 +23,10 @@
 //! frame to frame (`held`).
 //!
 //! Each class's bound is over its own pixels at confidence 1 − δ/C (C classes), so by the union
-//! bound the frame's MSE is at most Σ_c (N_c/N) b_c² with probability 1 − δ. The frame is `met`
+//! bound the frame's MSE is at most Σ_c (N_c/N) b_c² with probability 1 − δ. A class chooses
+//! its setting on the same draws that bound it, so each setting it could end on is bounded at
+//! δ/(C·S), S the settings reachable (`Regions::reachable_settings`), and the union over them
+//! keeps the chosen one's at 1 − δ/C. The frame is `met`
 //! only where that bound is at most T. The truth's trace is timed as its own stage
 //! (`truth_trace`) inside the frame: the measurement's cost is part of the frame's time.
 
@@ -198,6 +201,8 @@ impl State {
             decision_ms: start.elapsed().as_secs_f64() * 1e3,
             bound,
             delta: self.method.delta,
+            delta_per_setting: m.delta,
+            reachable_settings: self.method.reachable_settings(),
             pixels_per_class: self.method.pixels,
             traced_pixels: m.traced,
             trace_ms: m.trace_ms,
@@ -258,7 +263,9 @@ impl State {
             }
             None => None,
         };
-        let delta = self.method.delta as f64 / class_groups.len().max(1) as f64;
+        // The union bound over the classes and over every setting a class could end on.
+        let delta = self.method.delta as f64
+            / (class_groups.len().max(1) * self.method.reachable_settings()) as f64;
         let k = self.method.pixels as usize;
         let mut classes: Vec<Class> = Vec::new();
         for group in class_groups {
