@@ -128,6 +128,9 @@ def targets(rows_path, *oracle_paths):
     print(f"measured RMSE ≤ T: {len(kept)} of {len(rows)} rows ({100 * len(kept) / len(rows):.0f}%; 90% asked)")
     print(f"reported met while measured over T: {len(over_met)} (0 asked)")
     print(f"reported not met: {len(unmet)}: " + ", ".join(f"{r['scene']} {float(r['target'])} (RMSE {float(r['rmse']):.4f}, bound {r['bound']})" for r in unmet))
+    ratios = [float(r["bound"]) / float(r["rmse"]) for r in rows]
+    print(f"maps over the rows: {sum(int(r['maps']) for r in rows)}; certified bound over measured RMSE: "
+          f"{min(ratios):.2f}–{max(ratios):.2f} (median {sorted(ratios)[len(ratios) // 2]:.2f})")
     over = [r for r in rows if float(r["rmse"]) > float(r["target"])]
     print("over T: " + (", ".join(f"{r['scene']} {float(r['target'])} ({float(r['rmse']) / float(r['target']):.2f} T, met {r['met']})" for r in over) or "none"))
     if not oracle_paths:
