@@ -390,13 +390,10 @@ impl Regions {
         n.extend(LADDER.iter().copied().filter(|&r| r <= self.max_n));
         n.sort_unstable();
         n.dedup();
-        // half_octave's sides, 2^(k/2) to a multiple of 16, for every k in the range.
-        let mut sides: Vec<u32> = (0..=26)
-            .map(|k| (2f32.powf(k as f32 / 2.0).round() as u32).div_ceil(16) * 16)
+        let sides = half_octave_sides()
             .filter(|s| (self.min_size..=self.max_size).contains(s))
-            .collect();
-        sides.dedup();
-        1 + n.len() * sides.len()
+            .count();
+        1 + n.len() * sides
     }
 }
 
@@ -662,6 +659,19 @@ struct Group {
     window: Bounds,
     size: u32,
     extent: f32,
+}
+
+/// Every side `half_octave` gives, ascending and distinct: 2^(k/2) to a multiple of 16, up to
+/// 8192.
+pub(crate) fn half_octave_sides() -> impl Iterator<Item = u32> {
+    (0..=26u32)
+        .map(|k| (2f32.powf(k as f32 / 2.0).round() as u32).div_ceil(16) * 16)
+        .scan(0, |last, s| {
+            let new = s > *last;
+            *last = s;
+            Some(new.then_some(s))
+        })
+        .flatten()
 }
 
 /// The least side of the form 2^(k/2), rounded up to a multiple of 16, at or above `want`

@@ -29,10 +29,13 @@ struct Step {
     paid: f64,
 }
 
-/// The next side up by half an octave (a multiple of 16), at most `max`.
+/// The next half-octave side above `size`, at most `max`. Found among the sides themselves:
+/// from a power of two, size·√2 is exactly the next half-octave, and rounding it up by the log
+/// landed a whole octave higher (64 → 128), a step 2× the texels the rung's model prices.
 fn half_octave_up(size: u32, max: u32) -> u32 {
-    crate::methods::regions::half_octave(size as f32 * std::f32::consts::SQRT_2 * 1.001)
-        .max(size + 16)
+    crate::methods::regions::half_octave_sides()
+        .find(|&s| s > size)
+        .unwrap_or(max)
         .min(max)
 }
 
@@ -215,5 +218,30 @@ impl State {
         }
         let size2 = half_octave_up(size, max_size);
         (size2 > size).then_some((n, size2, Rung::Texels, std::f64::consts::FRAC_1_SQRT_2))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::half_octave_up;
+
+    #[test]
+    fn a_texel_rung_is_half_an_octave() {
+        let steps: Vec<(u32, u32)> = [64, 96, 128, 192, 1024, 1456, 2048]
+            .into_iter()
+            .map(|s| (s, half_octave_up(s, 2048)))
+            .collect();
+        assert_eq!(
+            steps,
+            [
+                (64, 96),
+                (96, 128),
+                (128, 192),
+                (192, 256),
+                (1024, 1456),
+                (1456, 2048),
+                (2048, 2048)
+            ]
+        );
     }
 }
