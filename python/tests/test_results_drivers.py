@@ -262,16 +262,23 @@ def test_certify_cost_sets_the_pixels_against_the_whole_reference():
 
 
 FIGURES_REGIONS_MEASURED = (
-    "build: 54e48a94c71a",
-    "| yard | 0.02 | 0.0164 | True | 0.01859 | – | 0 | 917 (294) | adaptive:preset=seed @ 512 | 0.01855 | 144.6 | 0.16 | 2.16 / 4.36 |",
-    "| pergola-garden | 0.012 | 0.0154 | False | 0.01767 | – | 0 | 2728 (327) | none of the run meets T | – | – | – | – / – |",
+    "build: ee1fe26b305f",
+    "| yard | 0.02 | 0.0169 | True | 0.01996 | – | 0 | 898 (292) | adaptive:preset=seed @ 512 | 0.01855 | 143.8 | 0.16 | 2.16 / 4.36 |",
+    "| pergola-garden | 0.012 | 0.0154 | False | 0.01854 | – | 0 | 2768 (355) | none of the run meets T | – | – | – | – / – |",
     "measured RMSE ≤ T: 11 of 12 rows (92%; 90% asked)",
     "reported met while measured over T: 0 (0 asked)",
     "rows with bound ≥ 1.5×: 8; gain − 1 ≥ 0.6 (bound − 1) on 0:",
-    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.12 bound 1.04, default 0.012 gain 0.19 bound 1.04",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.08 bound 1.04, default 0.012 gain 0.23 bound 1.04",
+    "certified bound over measured RMSE: 1.17–1.86",
+    "regions rows' maps: 2376; steps: 0",
+    "the trace alone over the fixed setting's frame: 8 of 11 rows; regions' ms less the trace over the fixed setting's: 0.30–11.25",
+)
+# The same commands with each setting at δ/C (rows-54e48a9.csv): the README's middle column.
+FIGURES_EACH_AT_DELTA_OVER_C = (
+    "build: 54e48a94c71a",
     "certified bound over measured RMSE: 0.99–1.57",
     "regions rows' maps: 1952; steps: 0",
-    "the trace alone over the fixed setting's frame: 8 of 11 rows; regions' ms less the trace over the fixed setting's: 0.69–6.06",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.12 bound 1.04, default 0.012 gain 0.19 bound 1.04",
 )
 # The same commands before the hold (rows-18e3d57.csv): the README's "before" column.
 FIGURES_BEFORE_THE_HOLD = (
@@ -307,6 +314,9 @@ def test_regions_measured_counts_its_figures_and_renders_a_row_of_each_kind():
     out = run(here, "figures", "rows.csv", "../oracle/oracle.csv", "oracle-more.csv")
     for line in FIGURES_REGIONS_MEASURED:
         assert line in out, line
+    at_c = run(here, "figures", "rows-54e48a9.csv", "../oracle/oracle.csv", "oracle-more.csv")
+    for line in FIGURES_EACH_AT_DELTA_OVER_C:
+        assert line in at_c, line
     before = run(here, "figures", "rows-18e3d57.csv", "../oracle/oracle.csv", "oracle-more.csv")
     for line in FIGURES_BEFORE_THE_HOLD:
         assert line in before, line
