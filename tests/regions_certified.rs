@@ -284,3 +284,51 @@ fn a_held_frame_starts_from_the_settings_it_ended_on() {
     assert_eq!(settings(&with_filter[2]), second);
     assert_eq!(same_v(&with_filter[2], &with_filter[1]), 0);
 }
+
+#[test]
+fn a_paired_truth_traces_two_estimates_of_fewer_rays_and_bounds_alike() {
+    // The plan under-counts (decided for 0.3), so its classes have error to measure; no filter,
+    // no fallback: every class's first bound is the plan's, whose V does not depend on the truth.
+    let sc = scene(17);
+    let base =
+        "regions:target=0.03,plan_target=0.3,filter=none,fallback=off,pixels=256,max_size=512";
+    let full = frame(&sc, base);
+    let paired = frame(&sc, &format!("{base},truth_side=4"));
+    let (f, p) = (certified(&full), certified(&paired));
+    // The same pixels, each traced twice at 4 × 4 instead of once at 32 × 32.
+    assert_eq!(f["traced_pixels"], p["traced_pixels"]);
+    let (rf, rp) = (f["rays"].as_u64().unwrap(), p["rays"].as_u64().unwrap());
+    assert!(rf > 0);
+    // A sample whose light point the receiver faces away from casts no ray, so the counts are
+    // per traced pixel at most 1,024 and 2 × 16, and in the same proportion within 1%.
+    let traced = f["traced_pixels"].as_u64().unwrap();
+    assert!(rf <= traced * 1024 && rp <= traced * 2 * 16);
+    let per_pixel = (rf as f64 / 1024.0, rp as f64 / 32.0);
+    assert!(
+        (per_pixel.0 / per_pixel.1 - 1.0).abs() < 0.01,
+        "rays: full {rf}, paired {rp}"
+    );
+    // The plan's bound per class, measured on the same draws with either truth: the pair's
+    // noise widens it a little and moves it either way, never far.
+    let firsts = |c: &serde_json::Value| -> Vec<f64> {
+        c["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|k| k["tried"][0][1].as_f64().unwrap())
+            .collect()
+    };
+    let (bf, bp) = (firsts(f), firsts(p));
+    println!("plan's bounds: full {bf:?}, paired {bp:?}");
+    assert_eq!(bf.len(), bp.len());
+    for (a, b) in bf.iter().zip(&bp) {
+        assert!(b / a > 0.7 && b / a < 1.5, "full {a}, paired {b}");
+    }
+    // The frame is met exactly where its paired bound is at most T.
+    let bound = p["bound"].as_f64().unwrap();
+    assert_eq!(
+        paired.output.record["target_met"],
+        bound <= 0.03,
+        "bound {bound}"
+    );
+}

@@ -26,6 +26,26 @@ pub const REFERENCE_SAMPLES: TruthSamples = TruthSamples::Continuous {
     m: 32,
     seed: 0x5eed,
 };
+/// The second stream of a paired truth (`paired`): a seed no per-pixel stream of the
+/// reference's shares, so the two estimates at a pixel are independent.
+const PAIR_SEED: u64 = 0xd1b5_4a32_d192_ed03;
+
+/// Two independent m × m stratified estimates per pixel (2m² rays, against the reference's
+/// 1,024): the first is the reference's integrator at m × m, the second the same on another
+/// stream. `certify::Sampled::from_pair` turns them into an unbiased estimate of e².
+pub(crate) fn paired(m: u32) -> [TruthSamples; 2] {
+    let TruthSamples::Continuous { seed, .. } = REFERENCE_SAMPLES else {
+        unreachable!("the reference's samples are continuous")
+    };
+    [
+        TruthSamples::Continuous { m, seed },
+        TruthSamples::Continuous {
+            m,
+            seed: seed ^ PAIR_SEED,
+        },
+    ]
+}
+
 /// Points per dispatch: a real GPU's watchdog never sees a long one, and progress is reported
 /// between them.
 pub(crate) const CHUNK_POINTS: usize = 16384;

@@ -116,6 +116,13 @@ pub(crate) const PIXELS: ParamDecl<u32> = ParamDecl::new(
     8192,
     "certify = on: exact pixels drawn per class, 16..=8192",
 );
+pub(crate) const TRUTH_SIDE: ParamDecl<u32> = ParamDecl::new(
+    "truth_side",
+    "32",
+    2,
+    32,
+    "certify = on: the exact pixels' stratified samples per side; 32: the reference's own 32 × 32; below: two independent m × m estimates per pixel (2m² rays), the product of their errors unbiased for e² (docs/regions.md, \"Certified classes\")",
+);
 /// `parse` checks the half-open range (0, 0.5].
 pub(crate) const DELTA: ParamDecl<f32> = ParamDecl::new(
     "delta",
@@ -170,6 +177,7 @@ pub(crate) const INFO: MethodInfo = MethodInfo {
         HOLD.param(),
         CERTIFY.param(),
         PIXELS.param(),
+        TRUTH_SIDE.param(),
         DELTA.param(),
         Param { key: "filter", default: "pcss", help: "certify = on: a one-map filter each class may take where it is certified within the target (pcss, or none)" },
         Param { key: "fallback", default: "1.2", help: "certify = on: the frame-wide grid (the top class's samples on every tile) is taken where its predicted cost is at most this many times the plan's; off: never" },
@@ -238,6 +246,7 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
     let hold = HOLD.get(p, "regions")?;
     let certify = CERTIFY.get(p, "regions")?;
     let pixels = PIXELS.get(p, "regions")?;
+    let truth_side = TRUTH_SIDE.get(p, "regions")?;
     let delta = DELTA.get(p, "regions")?;
     if !(delta > 0.0 && delta <= 0.5) {
         return Err(crate::Error::Param(format!(
@@ -301,6 +310,7 @@ fn parse(p: &ParamMap) -> Result<Arc<dyn ShadowMethod>> {
         hold,
         certify,
         pixels,
+        truth_side,
         delta,
         filter,
         fallback,
@@ -334,6 +344,8 @@ pub struct Regions {
     pub(crate) certify: bool,
     /// Exact pixels drawn per class; the frame's confidence 1 − delta.
     pub(crate) pixels: u32,
+    /// The exact pixels' samples per side: 32, the reference's; below, a paired estimate.
+    pub(crate) truth_side: u32,
     pub(crate) delta: f32,
     /// A class may take `pcss` where it is certified within the target.
     pub(crate) filter: bool,
@@ -449,6 +461,7 @@ impl ShadowMethod for Regions {
                     if self.certify { "on" } else { "off" }.to_string(),
                 ),
                 ("pixels", self.pixels.to_string()),
+                ("truth_side", self.truth_side.to_string()),
                 ("delta", self.delta.to_string()),
                 (
                     "filter",
@@ -467,7 +480,7 @@ impl ShadowMethod for Regions {
             "target": self.target, "density": self.density, "max_n": self.max_n, "min_size": self.min_size, "max_size": self.max_size, "region": self.region,
             "blocker_taps": self.blocker_taps, "cull": match self.cull { None => "auto", Some(true) => "on", Some(false) => "off" },
             "merge": self.merge, "map_cost": self.map_cost, "sample_cost": self.sample_cost, "force": self.force, "force_size": self.force_size, "centre_size": self.centre_size, "hold": self.hold,
-            "certify": self.certify, "pixels": self.pixels, "delta": self.delta, "filter": if self.filter { "pcss" } else { "none" }, "fallback": self.fallback, "plan_target": self.plan_target,
+            "certify": self.certify, "pixels": self.pixels, "truth_side": self.truth_side, "delta": self.delta, "filter": if self.filter { "pcss" } else { "none" }, "fallback": self.fallback, "plan_target": self.plan_target,
         })
     }
     /// Shade binds V whole on each class's tile list (one band). With `force`, the map side and

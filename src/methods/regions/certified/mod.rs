@@ -38,7 +38,7 @@ use super::record::{CertifiedRecord, ClassMeasure, FallbackRecord, RegionsRecord
 use super::{Group, State};
 use crate::certify::bound::BoundKind;
 use crate::certify::design::{self, Design};
-use crate::certify::truth::{self, TruthTracer};
+use crate::certify::truth::{self, TruthSamples, TruthTracer};
 use crate::certify::{self, Certificate, Sampled};
 use crate::gpu::timing::StageTimer;
 use crate::gpu::{readback, Stage};
@@ -335,16 +335,31 @@ impl State {
         unique.dedup();
         let tracer = &self.certifying.as_ref().expect("built above").tracer;
         let points: Vec<_> = unique.iter().map(|&p| truth::point_of(&g, p)).collect();
-        let counts = timer.cpu(Stage::TRUTH_TRACE, || {
-            tracer.trace(ctx, &truth::REFERENCE_SAMPLES, &points, &|_| {})
-        })?;
-        syncs += 1;
-        let mut values = vec![0.0f32; geometry.len()];
-        for (i, &p) in unique.iter().enumerate() {
-            values[p as usize] = counts.visibility(i);
+        // The reference's 32 × 32 samples, or two independent estimates of fewer (`truth_side`).
+        let samples: Vec<TruthSamples> = match self.method.truth_side {
+            32 => vec![truth::REFERENCE_SAMPLES],
+            m => truth::paired(m).to_vec(),
+        };
+        let (mut estimates, mut trace_ms, mut rays) = (Vec::new(), 0.0, 0u64);
+        for s in &samples {
+            let counts = timer.cpu(Stage::TRUTH_TRACE, || {
+                tracer.trace(ctx, s, &points, &|_| {})
+            })?;
+            syncs += 1;
+            let mut values = vec![0.0f32; geometry.len()];
+            for (i, &p) in unique.iter().enumerate() {
+                values[p as usize] = counts.visibility(i);
+            }
+            estimates.push(values);
+            trace_ms += counts.ms;
+            rays += counts.rays();
         }
         for (cl, draw) in classes.iter_mut().zip(draws) {
-            cl.sampled = Some(Sampled::from_values(draw, &values));
+            cl.sampled = Some(match &estimates[..] {
+                [one] => Sampled::from_values(draw, one),
+                [first, second] => Sampled::from_pair(draw, first, second),
+                _ => unreachable!("one or two estimates"),
+            });
         }
         Ok(Measure {
             classes,
@@ -353,8 +368,8 @@ impl State {
             v_filter,
             delta,
             traced: unique.len(),
-            trace_ms: counts.ms,
-            rays: counts.rays(),
+            trace_ms,
+            rays,
             maps,
             syncs,
             previous: self.held.clone(),
