@@ -287,6 +287,38 @@ FIGURES_BEFORE_THE_HOLD = (
     "regions rows' maps: 2813; steps: 21",
 )
 
+# Two 8 × 8 estimates per exact pixel beside the reference's truth (rows-truth-side-8.csv).
+FIGURES_TRUTH_SIDE_8 = (
+    "| yard | 0.012 | 0.0091 | False | 0.01314 | – | 0 | 3001 (101) | regions:force=16,force_size=2048 @ 512 | 0.00966 | 2095.2 | 0.70 | 2.87 / 3.21 |",
+    "measured RMSE ≤ T: 11 of 12 rows (92%; 90% asked)",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.16 bound 1.04, default 0.012 gain 0.39 bound 1.04",
+    "certified bound over measured RMSE: 1.21–1.90",
+    "the exact pixels' trace: 77–196 ms",
+    "the trace alone over the fixed setting's frame: 4 of 11 rows; regions' ms less the trace over the fixed setting's: 1.38–6.89",
+)
+FIGURES_TRUTH_SIDE_8_REFERENCE = (
+    "certified bound over measured RMSE: 1.17–1.86",
+    "the exact pixels' trace: 317–1158 ms",
+    "the trace alone over the fixed setting's frame: 8 of 11 rows; regions' ms less the trace over the fixed setting's: 1.85–5.81",
+)
+
+# Every fixed setting culled and uncut, regions with and without culling (rows-cull.csv).
+FIGURES_CULL = (
+    "culled over uncut, same V (11 fixed settings): yard regular:layout=centred,n=6 2.45,",
+    "canopy-market regular:layout=centred,n=4 1.64, canopy-market regular:layout=centred,n=6 1.78,",
+    "default regions:force=2,force_size=512 0.89, default regions:force=2,force_size=2048 0.97, default regions:force=3,force_size=2048 0.96, pergola-garden regular:layout=centred,n=8 2.15, pergola-garden regular:layout=centred,n=16 2.03",
+    "yard regions:force=6,force_size=2048 1.31, yard regions:force=16,force_size=2048 1.38",
+    "canopy-market regions:force=11,force_size=2048 1.40",
+    "| yard | 0.03 | 0.0197 | True | 0.02621 | – | 0 | 639 (334) | regular:n=6,layout=centred @ 512 | 0.02662 | 47.4 | 0.07 | 1.87 / 5.95 |",
+    "rows with bound ≥ 1.5×: 8; gain − 1 ≥ 0.6 (bound − 1) on 0:",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.06 bound 1.04, default 0.012 gain 0.11 bound 1.04",
+    "regions' ms less the trace over the fixed setting's: 2.08–11.56",
+)
+FIGURES_CULL_OFF = (
+    "| yard | 0.012 | 0.0089 | True | 0.01184 | – | 0 | 3811 (344) | regions:cull=off,force=16,force_size=2048 @ 512 | 0.00966 | 1329.1 | 0.35 | 2.87 / 3.21 |",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.06 bound 1.04, default 0.012 gain 0.12 bound 1.04",
+)
+
 
 # The target over every shipped scene regions takes (rows-targets.csv): the README's counts.
 TARGETS_REGIONS_MEASURED = (
@@ -320,6 +352,19 @@ def test_regions_measured_counts_its_figures_and_renders_a_row_of_each_kind():
     before = run(here, "figures", "rows-18e3d57.csv", "../oracle/oracle.csv", "oracle-more.csv")
     for line in FIGURES_BEFORE_THE_HOLD:
         assert line in before, line
+    paired = run(here, "figures", "rows-truth-side-8.csv", "../oracle/oracle.csv", "oracle-more.csv", "--variant", "truth_side=8")
+    for line in FIGURES_TRUTH_SIDE_8:
+        assert line in paired, line
+    reference = run(here, "figures", "rows-truth-side-8.csv", "../oracle/oracle.csv", "oracle-more.csv")
+    for line in FIGURES_TRUTH_SIDE_8_REFERENCE:
+        assert line in reference, line
+    assert "truth_side=8" not in reference and "0.01314" not in reference
+    cull = run(here, "figures", "rows-cull.csv", "../oracle/oracle.csv", "oracle-more.csv")
+    for line in FIGURES_CULL:
+        assert line in cull, line
+    cull_off = run(here, "figures", "rows-cull.csv", "../oracle/oracle.csv", "oracle-more.csv", "--variant", "cull=off")
+    for line in FIGURES_CULL_OFF:
+        assert line in cull_off, line
     targets = run(here, "targets", "rows-targets.csv", "../oracle/oracle.csv", "oracle-more.csv")
     for line in TARGETS_REGIONS_MEASURED:
         assert line in targets, line

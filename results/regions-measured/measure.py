@@ -5,9 +5,11 @@
       another side as `regions:force=N,force_size=S`, which renders its V bit for bit), side by
       side in one run (frames interleaved round by round), the scene's maps at SIDE²; prints one
       CSV row each.
-  measure.py figures rows.csv ORACLE.csv...
+  measure.py figures rows.csv ORACLE.csv... [--variant P]
       the issue's must-show figures: per `regions:target=T` row, the cheapest fixed setting of the
       same run whose measured RMSE is at most T, and the oracle's bound for (scene, T).
+      --variant P: the `regions` rows whose spec sets P besides the target (`truth_side=8`,
+      `cull=off`; several sorted and joined by commas); without it, the rows of `target` alone.
   measure.py targets ROWS.csv [ORACLE.csv...]
       the target kept, over every scene of ROWS (`run` rows of `regions:target=T` alone): per
       scene and T the measured RMSE against T, `target_met` and the bound; the issue's counts.
@@ -60,8 +62,47 @@ def run(args):
                     c.get("held", "") if c else ""])
 
 
-def figures(rows_path, *oracle_paths):
-    rows = list(csv.DictReader(open(rows_path)))
+def variant(spec):
+    """A `regions` row's parameters besides the target, sorted and joined: '' for the default."""
+    params = spec.split(":", 1)[1].split(",") if ":" in spec else []
+    return ",".join(sorted(p for p in params if not p.startswith("target=")))
+
+
+def split_variant(args):
+    """(the arguments without `--variant P`, P or '')."""
+    if "--variant" in args:
+        i = args.index("--variant")
+        return args[:i] + args[i + 2:], args[i + 1]
+    return args, ""
+
+
+def culled(spec):
+    """Whether a row's maps are culled: `cull=on`, or `regions` without `cull=off` (its `auto` is
+    on wherever the adapter can cull, as llvmpipe can)."""
+    return "cull=on" in spec or (spec.startswith("regions") and "cull=off" not in spec)
+
+
+def uncut_key(spec):
+    """The spec without its culling: a culled row and its uncut twin share it (and their V)."""
+    head, _, params = spec.partition(":")
+    kept = [p for p in params.split(",") if p and not p.startswith("cull=")]
+    return head + (":" + ",".join(sorted(kept)) if kept else "")
+
+
+def culling(rows):
+    """Each fixed setting run both culled and uncut in one run: culled ms over uncut ms."""
+    pairs = {}
+    for r in rows:
+        if r["kind"] == "fixed":
+            pairs.setdefault((r["scene"], uncut_key(r["spec"])), {})[culled(r["spec"])] = float(r["ms"])
+    ratios = [(k, p[True] / p[False]) for k, p in pairs.items() if len(p) == 2]
+    if ratios:
+        print(f"culled over uncut, same V ({len(ratios)} fixed settings): "
+              + ", ".join(f"{k[0]} {k[1]} {x:.2f}" for k, x in ratios))
+
+
+def figures(rows_path, *oracle_paths, only=""):
+    rows = [r for r in csv.DictReader(open(rows_path)) if r["kind"] == "fixed" or variant(r["spec"]) == only]
     bounds = {}
     for o in (o for path in oracle_paths for o in csv.DictReader(open(path))):
         if o["gain_bound"]:
@@ -108,12 +149,15 @@ def figures(rows_path, *oracle_paths):
     print(f"certified bound over measured RMSE: {min(ratios):.2f}–{max(ratios):.2f}")
     print(f"frame-wide setting taken: {sum(1 for r in regs if r['fallback'])} of {len(regs)} rows")
     print(f"regions rows' maps: {sum(int(r['maps']) for r in regs)}; steps: {sum(int(r['steps']) for r in regs)}")
+    culling(rows)
+    traces = [float(r["trace_ms"]) for r in regs]
+    print(f"the exact pixels' trace: {min(traces):.0f}–{max(traces):.0f} ms")
     print(f"the trace alone over the fixed setting's frame: {sum(c[0] for c in costs)} of {len(costs)} rows; "
           f"regions' ms less the trace over the fixed setting's: {min(c[1] for c in costs):.2f}–{max(c[1] for c in costs):.2f}")
 
 
-def targets(rows_path, *oracle_paths):
-    rows = [r for r in csv.DictReader(open(rows_path)) if r["kind"] == "regions"]
+def targets(rows_path, *oracle_paths, only=""):
+    rows = [r for r in csv.DictReader(open(rows_path)) if r["kind"] == "regions" and variant(r["spec"]) == only]
     print(f"build: {', '.join(sorted({r['version'] for r in rows}))}")
     print("| scene | T | measured RMSE | RMSE / T | met | bound | maps |")
     print("|---|---:|---:|---:|---|---:|---:|")
@@ -156,8 +200,10 @@ if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "run":
         run(sys.argv[2:])
     elif len(sys.argv) >= 4 and sys.argv[1] == "figures":
-        figures(*sys.argv[2:])
+        args, only = split_variant(sys.argv[2:])
+        figures(*args, only=only)
     elif len(sys.argv) >= 3 and sys.argv[1] == "targets":
-        targets(*sys.argv[2:])
+        args, only = split_variant(sys.argv[2:])
+        targets(*args, only=only)
     else:
         sys.exit(__doc__)
