@@ -12,15 +12,29 @@
 @group(0) @binding(4) var<storage, read_write> tiles: array<atomic<u32>>;
 // x: the batch's slots.
 @group(0) @binding(5) var<uniform> batch: vec4<u32>;
+// `listed`: the tiles whose pixels test the batch's maps (a shade tile list: header, then tiles).
+@group(0) @binding(6) var<storage, read> tile_list: array<u32>;
 
 // One invocation per pixel loops over the batch's slots: the G-buffer is read once, and the loop
 // bound is uniform (a dispatch over (pixel, slot) was four times slower on a CPU device).
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
+    footprint_pixel(gid.xy);
+}
+
+// The same over the pixels of a tile list alone, one workgroup per listed tile (dispatched
+// indirectly from the list's header): where a map is tested by some tiles only (a `regions`
+// group's), only their pixels raise its culling tiles, so `cull` keeps only their triangles.
+@compute @workgroup_size(8, 8, 1)
+fn listed(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    footprint_pixel(tile_pixel(tile_list[TILE_LIST_HEADER + group.x], lid, frame.width).xy);
+}
+
+fn footprint_pixel(p: vec2<u32>) {
+    if (p.x >= frame.width || p.y >= frame.height) {
         return;
     }
-    let pixel = vec2<i32>(gid.xy);
+    let pixel = vec2<i32>(p);
     let position = textureLoad(gbuffer_position, pixel, 0);
     if (position.w == 0.0) {
         return;

@@ -257,7 +257,9 @@ pub mod stages {
         pub use crate::stages::reproject_count::ReprojectCount;
     }
     pub mod shade {
-        pub use crate::stages::shade::{blocks, ShadePass, SHADE_BLOCK, TILE_LIST_HEADER};
+        pub use crate::stages::shade::{
+            blocks, GeometryTiles, ShadePass, SHADE_BLOCK, TILE_LIST_HEADER,
+        };
     }
     pub mod shadow_test {
         pub use crate::stages::shadow_test::{

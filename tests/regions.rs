@@ -362,3 +362,53 @@ fn the_decisions_map_is_twice_the_screen_within_the_scenes_size() {
         "{e}"
     );
 }
+
+#[test]
+fn each_group_culled_by_its_own_tiles_keeps_v() {
+    // A group's maps are culled from the pixels of its own tiles (footprint `listed`): V equals
+    // the uncut frame's bit for bit, and a group's maps keep fewer triangles than the mesh.
+    let mut split = 0;
+    for seed in [7u64, 19] {
+        let sc = Scene::parse(
+            &common::random_scene_toml(seed, 128, 256),
+            "random",
+            None,
+            &[],
+        )
+        .unwrap();
+        let spec = "regions:target=0.03,certify=off,max_size=512";
+        let run = |cull: &str| {
+            let method = Method::parse(&format!("{spec},cull={cull}"), &[]).unwrap();
+            let mut renderer = Renderer::new(common::gpu(), &sc, &method).expect("renderer");
+            renderer
+                .frame(FrameOptions {
+                    mode: TimingMode::Frame,
+                    pictures: false,
+                })
+                .expect("frame")
+        };
+        let (on, off) = (run("on"), run("off"));
+        assert_eq!(
+            on.visibility, off.visibility,
+            "seed {seed}: culling changed V"
+        );
+        let classes = on.output.record["classes"].as_array().unwrap().clone();
+        let triangles = sc.triangle_count() as f64;
+        for k in &classes {
+            let kept = k["triangles_per_map_mean"].as_f64().unwrap();
+            assert!(kept <= triangles, "seed {seed}: {kept} of {triangles}: {k}");
+        }
+        split += classes
+            .iter()
+            .filter(|k| k["triangles_per_map_mean"].as_f64().unwrap() < triangles)
+            .count();
+        println!(
+            "seed {seed}: {} classes, {triangles} triangles: {classes:?}",
+            classes.len()
+        );
+    }
+    assert!(
+        split > 0,
+        "no group's maps kept fewer triangles than the mesh"
+    );
+}

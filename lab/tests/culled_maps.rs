@@ -22,6 +22,7 @@ fn footprint_and_its_cull_equal_their_twins() {
     use penumbra::research::scene::light::sample_view;
     use penumbra::research::stages::cull::{cull_face, Cull, CullBatch, ARGS_WORDS};
     use penumbra::research::stages::footprint::Footprint;
+    use penumbra::research::stages::shade::GeometryTiles;
     let ctx = common::gpu();
     let (mut raised, mut kept_all, mut culled_away) = (0usize, 0usize, 0usize);
     for seed in [2u64, 31] {
@@ -130,6 +131,63 @@ fn footprint_and_its_cull_equal_their_twins() {
             "seed {seed}: a tile's limit is {worst} ulps from the twin's"
         );
         raised += twin_tiles.iter().filter(|&&w| w != 0).count();
+        // `listed`: the same from the pixels of every third 8 × 8 tile alone (a shade tile
+        // list: header (count, 1, 1, 0), then the tiles), against its twin; every limit it
+        // raises is at most the whole frame's, and fewer tiles are raised.
+        let tiles_x = fr.width.div_ceil(8);
+        let chosen: Vec<u32> = (0..tiles_x * fr.height.div_ceil(8))
+            .filter(|t| t % 3 == 0)
+            .collect();
+        let mut words = vec![chosen.len() as u32, 1, 1, 0];
+        words.extend(&chosen);
+        let list = readback::storage_buffer(ctx, "tile list", &words, wgpu::BufferUsages::INDIRECT);
+        let listed_tiles = readback::zeroed_storage(
+            ctx,
+            "listed tiles",
+            samples.len() as u64 * CULL_TILE_WORDS as u64 * 4,
+        );
+        let geometry_tiles = GeometryTiles::section(&list, 0, words.len() as u64 * 4, fr.height);
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        assert!(Footprint::new(ctx).unwrap().record_listed(
+            ctx,
+            &mut enc,
+            &frame,
+            &g,
+            &CullBatch {
+                samples: &samples_buffer,
+                tiles: &listed_tiles,
+            },
+            samples.len() as u32,
+            &geometry_tiles,
+        ));
+        ctx.queue.submit([enc.finish()]);
+        let gpu_listed: Vec<u32> = readback::read_buffer(
+            ctx,
+            &listed_tiles,
+            samples.len() as u64 * CULL_TILE_WORDS as u64 * 4,
+        )
+        .unwrap();
+        let twin_listed = twin::footprint::footprint_listed(&fr, &samples, &gcpu, &chosen);
+        let one_side = gpu_listed
+            .iter()
+            .zip(&twin_listed)
+            .filter(|(a, b)| (**a == 0) != (**b == 0))
+            .count();
+        assert_eq!(
+            one_side, 0,
+            "seed {seed}: listed: {one_side} tiles raised on one side only"
+        );
+        assert!(gpu_listed
+            .iter()
+            .zip(&twin_listed)
+            .all(|(a, b)| (*a as i64 - *b as i64).abs() <= ULPS));
+        assert!(twin_listed.iter().zip(&twin_tiles).all(|(l, w)| l <= w));
+        let (listed_raised, whole_raised) = (
+            twin_listed.iter().filter(|&&w| w != 0).count(),
+            twin_tiles.iter().filter(|&&w| w != 0).count(),
+        );
+        println!("seed {seed}: listed raised {listed_raised} of the whole frame's {whole_raised}");
+        assert!(listed_raised > 0 && listed_raised < whole_raised);
         let stride = scene_gpu.index_count as usize;
         let args: Vec<u32> =
             readback::read_buffer(ctx, &cull.args, slots.len() as u64 * ARGS_WORDS as u64 * 4)

@@ -315,9 +315,10 @@ stage_table! {
         compute Main(main) LINE { level: 1, probes: 2, quads: 3, masks: 4, items: 9, control: 10, visibility_fixed: 11, probe_total: 13 },
         compute Begin(begin) SINGLE { level: 1, control: 10, probe_total: 13, probe_args: 14 },
     ];
-    /// cull = on where every geometry pixel tests every map: the culling tiles of a batch of maps.
+    /// cull = on: the culling tiles of a batch of maps, from every geometry pixel or a tile list's.
     FOOTPRINT = footprint kernel, Some(Raster), [
         compute Main(main) PIXEL { frame: 0, samples: 1, gbuffer_position: 2, gbuffer_normal: 3, tiles: 4, batch: 5 },
+        compute Listed(listed) PIXEL { frame: 0, samples: 1, gbuffer_position: 2, gbuffer_normal: 3, tiles: 4, batch: 5, tile_list: 6 },
     ];
     /// Per new map, the triangles that can change a texel its pixels test.
     CULL = cull kernel, Some(Raster), [

@@ -1,7 +1,8 @@
-//! `cull = on` where every geometry pixel tests every map (the regular grid, scope = global): a
-//! batch's culling tiles come from the footprint pass over the whole G-buffer, `cull` keeps per map
-//! only the triangles that can change a tested texel, and the raster draws those. Each tested
-//! pixel's outcome is the whole mesh's, so V is unchanged (docs/gpu-frame.md §7).
+//! `cull = on` where a list of tiles tests every map (the regular grid and scope = global: the
+//! frame's geometry tiles; a `regions` group: its own): a batch's culling tiles come from the
+//! footprint pass over those tiles' pixels, `cull` keeps per map only the triangles that can change
+//! a tested texel, and the raster draws those. Each tested pixel's outcome is the whole mesh's, so
+//! V is unchanged (docs/gpu-frame.md §7).
 
 use crate::gpu::readback;
 use crate::gpu::structs::GpuSample;
@@ -12,6 +13,7 @@ use crate::stages::adaptive_buffers::CULL_TILE_WORDS;
 use crate::stages::cull::{Cull, CullBatch};
 use crate::stages::footprint::Footprint;
 use crate::stages::raster::RasterTarget;
+use crate::stages::shade::GeometryTiles;
 use crate::stages::FrameGpu;
 use crate::Result;
 
@@ -60,6 +62,11 @@ impl CulledMaps {
 
     /// Rasterizes `jobs` (their `sample` indexes `samples`) into `array`, batch by batch: footprint,
     /// cull, then each map draws what it kept. `frame`: the frame uniform with the maps' size.
+    /// `tested`: the tiles whose pixels test these maps (the frame's geometry tiles, or a
+    /// `regions` group's), whose pixels alone raise the culling tiles: a map then keeps only the
+    /// triangles those pixels can see change, and the footprint costs their pixels, not the
+    /// frame's. A list in bands falls back to every geometry pixel (the same V either way).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn record(
         &self,
         fg: &FrameGpu,
@@ -68,6 +75,7 @@ impl CulledMaps {
         samples: &wgpu::Buffer,
         array: &ShadowMapArray,
         jobs: &[RasterJob],
+        tested: &GeometryTiles,
     ) -> Result<()> {
         let ctx = fg.ctx;
         for batch in jobs.chunks(self.cull.slots as usize) {
@@ -83,17 +91,17 @@ impl CulledMaps {
                     );
                 }
                 enc.clear_buffer(&self.tiles, 0, Some(n as u64 * CULL_TILE_WORDS as u64 * 4));
-                self.footprint.record(
-                    ctx,
-                    enc,
-                    frame,
-                    &fg.gbuffer,
-                    &CullBatch {
-                        samples: &self.batch_samples,
-                        tiles: &self.tiles,
-                    },
-                    n,
-                );
+                let batch = CullBatch {
+                    samples: &self.batch_samples,
+                    tiles: &self.tiles,
+                };
+                if !self
+                    .footprint
+                    .record_listed(ctx, enc, frame, &fg.gbuffer, &batch, n, tested)
+                {
+                    self.footprint
+                        .record(ctx, enc, frame, &fg.gbuffer, &batch, n);
+                }
                 Ok(())
             })?;
             let slots: Vec<u32> = (0..n).collect();

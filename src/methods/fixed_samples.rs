@@ -638,7 +638,7 @@ fn run(fg: &FrameGpu, timer: &mut StageTimer, prepared: &mut Prepared) -> Result
             }
         }
         match culled.as_ref() {
-            Some(c) => c.record(fg, timer, frame, samples_buffer, array, &jobs)?,
+            Some(c) => c.record(fg, timer, frame, samples_buffer, array, &jobs, tiles)?,
             None if jobs.is_empty() && redraw.is_empty() => {}
             None => timer.stage(ctx, fg.raster.stage(), |enc| {
                 let target = RasterTarget {

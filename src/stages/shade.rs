@@ -96,12 +96,7 @@ impl Band {
 impl GeometryTiles {
     /// A tile list in `bytes` of `list` from byte `offset` (256-aligned), one band of `height`
     /// rows: a subset of the geometry tiles that another pass listed (the regions' classes).
-    pub(crate) fn section(
-        list: &wgpu::Buffer,
-        offset: u64,
-        bytes: u64,
-        height: u32,
-    ) -> GeometryTiles {
+    pub fn section(list: &wgpu::Buffer, offset: u64, bytes: u64, height: u32) -> GeometryTiles {
         GeometryTiles {
             list: list.clone(),
             header: list.clone(),

@@ -171,7 +171,15 @@ pub(super) fn render_new(
                 continue;
             }
             if let Some(culled) = fx.passes.culled_maps.as_ref() {
-                culled.record(fg, timer, &fg.frame_buffer, &b.samples, array, &mine)?;
+                culled.record(
+                    fg,
+                    timer,
+                    &fg.frame_buffer,
+                    &b.samples,
+                    array,
+                    &mine,
+                    &fg.geometry_tiles,
+                )?;
                 trace.culled.extend(mine.iter().map(|j| j.sample));
                 continue;
             }
