@@ -304,7 +304,7 @@ FIGURES_TRUTH_SIDE_8_REFERENCE = (
 
 # Every fixed setting culled and uncut, regions with and without culling (rows-cull.csv).
 FIGURES_CULL = (
-    "culled over uncut, same V (11 fixed settings): yard regular:layout=centred,n=6 2.45,",
+    "culled over uncut (11 fixed settings, same V): yard regular:layout=centred,n=6 2.45,",
     "canopy-market regular:layout=centred,n=4 1.64, canopy-market regular:layout=centred,n=6 1.78,",
     "default regions:force=2,force_size=512 0.89, default regions:force=2,force_size=2048 0.97, default regions:force=3,force_size=2048 0.96, pergola-garden regular:layout=centred,n=8 2.15, pergola-garden regular:layout=centred,n=16 2.03",
     "yard regions:force=6,force_size=2048 1.31, yard regions:force=16,force_size=2048 1.38",
@@ -313,6 +313,13 @@ FIGURES_CULL = (
     "rows with bound ≥ 1.5×: 8; gain − 1 ≥ 0.6 (bound − 1) on 0:",
     "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.06 bound 1.04, default 0.012 gain 0.11 bound 1.04",
     "regions' ms less the trace over the fixed setting's: 2.08–11.56",
+    "culled over uncut (12 regions rows): yard 0.03 1.31, yard 0.02 1.41, yard 0.012 1.33, canopy-market 0.03 1.07, canopy-market 0.02 0.90, canopy-market 0.012 0.89, default 0.03 0.91, default 0.02 0.99, default 0.012 1.01, pergola-garden 0.03 0.97, pergola-garden 0.02 1.00, pergola-garden 0.012 1.16",
+)
+FIGURES_CULL_LISTED = (
+    "culled over uncut (12 regions rows): yard 0.03 1.09, yard 0.02 1.19, yard 0.012 1.12, canopy-market 0.03 1.04, canopy-market 0.02 1.02, canopy-market 0.012 1.14, default 0.03 0.94, default 0.02 0.99, default 0.012 1.00, pergola-garden 0.03 1.09, pergola-garden 0.02 1.38, pergola-garden 0.012 1.06",
+    "rows with bound ≥ 1.5×: 8; gain − 1 ≥ 0.6 (bound − 1) on 0:",
+    "yard 0.012 gain 0.30 bound 3.21",
+    "rows with bound < 1.2×: 2; within 1.15× of the fixed setting on 0: default 0.03 gain 0.05 bound 1.04, default 0.012 gain 0.13 bound 1.04",
 )
 FIGURES_CULL_OFF = (
     "| yard | 0.012 | 0.0089 | True | 0.01184 | – | 0 | 3811 (344) | regions:cull=off,force=16,force_size=2048 @ 512 | 0.00966 | 1329.1 | 0.35 | 2.87 / 3.21 |",
@@ -362,6 +369,9 @@ def test_regions_measured_counts_its_figures_and_renders_a_row_of_each_kind():
     cull = run(here, "figures", "rows-cull.csv", "../oracle/oracle.csv", "oracle-more.csv")
     for line in FIGURES_CULL:
         assert line in cull, line
+    listed = run(here, "figures", "rows-cull-listed.csv", "../oracle/oracle.csv", "oracle-more.csv")
+    for line in FIGURES_CULL_LISTED:
+        assert line in listed, line
     cull_off = run(here, "figures", "rows-cull.csv", "../oracle/oracle.csv", "oracle-more.csv", "--variant", "cull=off")
     for line in FIGURES_CULL_OFF:
         assert line in cull_off, line

@@ -90,19 +90,23 @@ def uncut_key(spec):
 
 
 def culling(rows):
-    """Each fixed setting run both culled and uncut in one run: culled ms over uncut ms."""
-    pairs = {}
-    for r in rows:
-        if r["kind"] == "fixed":
-            pairs.setdefault((r["scene"], uncut_key(r["spec"])), {})[culled(r["spec"])] = float(r["ms"])
-    ratios = [(k, p[True] / p[False]) for k, p in pairs.items() if len(p) == 2]
-    if ratios:
-        print(f"culled over uncut, same V ({len(ratios)} fixed settings): "
-              + ", ".join(f"{k[0]} {k[1]} {x:.2f}" for k, x in ratios))
+    """Each setting run both culled and uncut in one run: culled ms over uncut ms, the fixed
+    settings' (the same V) and `regions`' per T."""
+    for kind, label in (("fixed", "fixed settings, same V"), ("regions", "regions rows")):
+        pairs = {}
+        for r in rows:
+            if r["kind"] == kind:
+                key = (r["scene"], r["target"] if kind == "regions" else uncut_key(r["spec"]))
+                pairs.setdefault(key, {})[culled(r["spec"])] = float(r["ms"])
+        ratios = [(k, p[True] / p[False]) for k, p in pairs.items() if len(p) == 2]
+        if ratios:
+            print(f"culled over uncut ({len(ratios)} {label}): "
+                  + ", ".join(f"{k[0]} {k[1]} {x:.2f}" for k, x in ratios))
 
 
 def figures(rows_path, *oracle_paths, only=""):
-    rows = [r for r in csv.DictReader(open(rows_path)) if r["kind"] == "fixed" or variant(r["spec"]) == only]
+    everything = list(csv.DictReader(open(rows_path)))
+    rows = [r for r in everything if r["kind"] == "fixed" or variant(r["spec"]) == only]
     bounds = {}
     for o in (o for path in oracle_paths for o in csv.DictReader(open(path))):
         if o["gain_bound"]:
@@ -149,7 +153,7 @@ def figures(rows_path, *oracle_paths, only=""):
     print(f"certified bound over measured RMSE: {min(ratios):.2f}–{max(ratios):.2f}")
     print(f"frame-wide setting taken: {sum(1 for r in regs if r['fallback'])} of {len(regs)} rows")
     print(f"regions rows' maps: {sum(int(r['maps']) for r in regs)}; steps: {sum(int(r['steps']) for r in regs)}")
-    culling(rows)
+    culling(everything)
     traces = [float(r["trace_ms"]) for r in regs]
     print(f"the exact pixels' trace: {min(traces):.0f}–{max(traces):.0f} ms")
     print(f"the trace alone over the fixed setting's frame: {sum(c[0] for c in costs)} of {len(costs)} rows; "
