@@ -341,6 +341,15 @@ TARGETS_REGIONS_MEASURED = (
     "T reached by only a per-tile choice of the menu: 2 rows (grazing-ground 0.03, grazing-ground 0.02); regions measures ≤ T on 0",
     "T reached by nothing of the menu: 5 rows (grazing-ground 0.012, pergola-garden 0.012, pole-between-corners 0.012, slat-roof 0.02, slat-roof 0.012); regions measures ≤ T on 0",
 )
+# The four scenes at 256² (rows-targets-256.csv).
+TARGETS_256 = (
+    "scenes: 4; rows: 12",
+    "measured RMSE ≤ T: 11 of 12 rows (92%; 90% asked)",
+    "reported met while measured over T: 0 (0 asked)",
+    "reported not met: 2: pergola-garden 0.02 (RMSE 0.0155, bound 0.02038), pergola-garden 0.012 (RMSE 0.0156, bound 0.01937)",
+    "certified bound over measured RMSE: 1.20–1.70 (median 1.32)",
+    "over T: pergola-garden 0.012 (1.30 T, met False)",
+)
 # The same before each setting's δ was shared over the settings reachable (rows-targets-54e48a9.csv).
 TARGETS_BEFORE_THE_UNION = (
     "measured RMSE ≤ T: 26 of 33 rows (79%; 90% asked)",
@@ -378,6 +387,9 @@ def test_regions_measured_counts_its_figures_and_renders_a_row_of_each_kind():
     targets = run(here, "targets", "rows-targets.csv", "../oracle/oracle.csv", "oracle-more.csv")
     for line in TARGETS_REGIONS_MEASURED:
         assert line in targets, line
+    at_256 = run(here, "targets", "rows-targets-256.csv")
+    for line in TARGETS_256:
+        assert line in at_256, line
     before = run(here, "targets", "rows-targets-54e48a9.csv")
     for line in TARGETS_BEFORE_THE_UNION:
         assert line in before, line
